@@ -1,0 +1,1 @@
+//! Benchmarks of memsnav-core live in `benches/`; run them with `cargo bench`.

@@ -1,0 +1,71 @@
+//! Rotation helpers on nalgebra types: skew matrices, Euler angles, rotation
+//! vectors, and re-orthonormalisation. Euler angles are the aerospace
+//! z-y-x sequence (yaw ψ, pitch θ, roll φ) from the reference frame to body.
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+
+/// Skew-symmetric matrix [v×] with [v×] w = v × w.
+pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+    Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+}
+
+/// Body-to-reference rotation C_b^n from roll, pitch, yaw (Groves eq. 2.22, transposed).
+pub fn euler_to_dcm(roll_rad: f64, pitch_rad: f64, yaw_rad: f64) -> Matrix3<f64> {
+    Rotation3::from_euler_angles(roll_rad, pitch_rad, yaw_rad).into_inner()
+}
+
+/// Roll, pitch, yaw of a body-to-reference rotation C_b^n (Groves eq. 2.23).
+pub fn dcm_to_euler(c_b_n: &Matrix3<f64>) -> Vector3<f64> {
+    let roll = c_b_n[(2, 1)].atan2(c_b_n[(2, 2)]);
+    let pitch = -c_b_n[(2, 0)].clamp(-1.0, 1.0).asin();
+    let yaw = c_b_n[(1, 0)].atan2(c_b_n[(0, 0)]);
+    Vector3::new(roll, pitch, yaw)
+}
+
+/// Rotation matrix of a rotation vector (axis × angle), by Rodrigues' formula.
+pub fn rotation_vector_to_dcm(rotation_vector: &Vector3<f64>) -> Matrix3<f64> {
+    Rotation3::new(*rotation_vector).into_inner()
+}
+
+/// Rotation vector of a rotation matrix (inverse of [`rotation_vector_to_dcm`]).
+pub fn dcm_to_rotation_vector(c: &Matrix3<f64>) -> Vector3<f64> {
+    Rotation3::from_matrix_unchecked(*c).scaled_axis()
+}
+
+/// The nearest rotation matrix (polar decomposition by nalgebra), to remove
+/// the slow loss of orthogonality of an integrated attitude.
+pub fn orthonormalize(c: &Matrix3<f64>) -> Matrix3<f64> {
+    Rotation3::from_matrix_eps(c, 1e-15, 20, Rotation3::identity()).into_inner()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn euler_round_trip_and_axes() {
+        let (r, p, y) = (0.1, -0.2, 2.5);
+        let c = euler_to_dcm(r, p, y);
+        let e = dcm_to_euler(&c);
+        assert!((e - Vector3::new(r, p, y)).norm() < 1e-14);
+        // A pure yaw of 90° turns body x (forward) into reference y (east).
+        let c = euler_to_dcm(0.0, 0.0, std::f64::consts::FRAC_PI_2);
+        assert!((c * Vector3::x() - Vector3::y()).norm() < 1e-15);
+    }
+
+    #[test]
+    fn rotation_vector_round_trip_and_skew() {
+        let v = Vector3::new(0.3, -0.1, 0.7);
+        assert!((dcm_to_rotation_vector(&rotation_vector_to_dcm(&v)) - v).norm() < 1e-14);
+        let w = Vector3::new(-2.0, 0.5, 1.0);
+        assert!((skew(&v) * w - v.cross(&w)).norm() < 1e-15);
+        let noisy = rotation_vector_to_dcm(&v) + Matrix3::from_element(1e-7);
+        let fixed = orthonormalize(&noisy);
+        assert!(
+            (fixed.transpose() * fixed - Matrix3::identity())
+                .abs()
+                .max()
+                < 1e-14
+        );
+    }
+}

@@ -1,0 +1,55 @@
+//! The typed errors of memsnav-core.
+
+use thiserror::Error as ThisError;
+
+/// Everything that can go wrong in memsnav-core.
+#[derive(Debug, Clone, PartialEq, ThisError)]
+pub enum Error {
+    /// An argument has the wrong shape, a non-finite value or an
+    /// out-of-range value. `argument` is the caller-visible name.
+    #[error("{argument}: {reason}")]
+    InvalidArgument { argument: String, reason: String },
+
+    /// The data cannot determine a parameter (rank-deficient or badly
+    /// conditioned least-squares problem).
+    #[error("{axis} axis: {parameter} cannot be determined from the data: {reason}")]
+    Unobservable {
+        axis: String,
+        parameter: String,
+        reason: String,
+    },
+
+    /// An estimator diverged: its covariance stopped being symmetric
+    /// positive definite, or its state became non-finite.
+    #[error("filter diverged at t = {time_s} s: {reason}")]
+    Divergence { time_s: f64, reason: String },
+
+    /// A file could not be parsed. `line` is 1-based, 0 when unknown.
+    #[error("{file}:{line}: {reason}")]
+    Parse {
+        file: String,
+        line: usize,
+        reason: String,
+    },
+
+    /// The operating system refused a file operation.
+    #[error("{path}: {reason}")]
+    Io { path: String, reason: String },
+
+    /// The caller asked a long computation to stop.
+    #[error("interrupted")]
+    Interrupted,
+}
+
+impl Error {
+    /// Shorthand for [`Error::InvalidArgument`].
+    pub fn invalid(argument: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::InvalidArgument {
+            argument: argument.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// `Result` with the memsnav [`Error`].
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,10 @@
+//! WGS84 geodesy: the ellipsoid, geodetic ↔ ECEF, the NED frame, gravity.
+
+mod ellipsoid;
+mod gravity;
+pub mod wgs84;
+
+pub use ellipsoid::{
+    c_n_e, ecef_to_geodetic, geodetic_to_ecef, meridian_radius, transverse_radius, Geodetic,
+};
+pub use gravity::{gravitation_ecef, gravity_ecef, normal_gravity_somigliana};

@@ -1,0 +1,25 @@
+//! # memsnav-core
+//!
+//! The numerics of memsnav: MEMS inertial sensor error models, their
+//! calibration and inversion, a strapdown INS in ECEF, GNSS simulation and
+//! GNSS/INS coupled filters (de Boer et al., ION GNSS 2008; the method is
+//! restated in `design/method.md`).
+//!
+//! ## Frames, units and conventions
+//!
+//! - Everything is SI: m, m/s, m/s², rad, rad/s, s. Degrees, g and °/s
+//!   appear only at the edges (presets, reports), in names that say so.
+//! - Frames: `e` = ECEF (WGS84), `b` = body (x forward, y right, z down),
+//!   `n` = local NED. Vectors carry their frame in their name
+//!   (`position_ecef`, `f_ib_b`); a matrix `c_b_e` maps body vectors to ECEF.
+//! - IMU samples are instantaneous values at their time stamps.
+//! - Every random draw comes from an RNG the caller seeds.
+//! - Fallible functions return [`Result`] with a typed [`Error`] that names
+//!   the argument or the parameter at fault.
+
+pub mod attitude;
+pub mod error;
+pub mod geodesy;
+pub mod validate;
+
+pub use error::{Error, Result};

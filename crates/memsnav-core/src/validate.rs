@@ -1,0 +1,133 @@
+//! Argument checks shared by every public entry point. Each names the
+//! argument at fault so the message tells the user what to fix.
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::{Error, Result};
+
+/// Every component of every vector is finite.
+pub fn finite_vectors(argument: &str, values: &[Vector3<f64>]) -> Result<()> {
+    match values.iter().position(|v| !v.iter().all(|x| x.is_finite())) {
+        None => Ok(()),
+        Some(k) => Err(Error::invalid(
+            argument,
+            format!("row {k} contains NaN or infinite values"),
+        )),
+    }
+}
+
+/// Every value is finite.
+pub fn finite_scalars(argument: &str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(k) => Err(Error::invalid(
+            argument,
+            format!("element {k} is NaN or infinite"),
+        )),
+    }
+}
+
+/// A finite matrix.
+pub fn finite_matrix(argument: &str, m: &Matrix3<f64>) -> Result<()> {
+    if m.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::invalid(argument, "contains NaN or infinite values"))
+    }
+}
+
+/// A finite value that is zero or more.
+pub fn non_negative(argument: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("must be finite and non-negative, got {value}"),
+        ))
+    }
+}
+
+/// A finite value greater than zero.
+pub fn positive(argument: &str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("must be finite and positive, got {value}"),
+        ))
+    }
+}
+
+/// Times that are finite and strictly increasing.
+pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
+    finite_scalars(argument, time_s)?;
+    match time_s.windows(2).position(|w| w[1] <= w[0]) {
+        None => Ok(()),
+        Some(k) => Err(Error::invalid(
+            argument,
+            format!(
+                "times must be strictly increasing: element {} ({}) does not follow element {k} ({})",
+                k + 1,
+                time_s[k + 1],
+                time_s[k]
+            ),
+        )),
+    }
+}
+
+/// Two series have the same length.
+pub fn same_length(
+    argument: &str,
+    len: usize,
+    reference: &str,
+    reference_len: usize,
+) -> Result<()> {
+    if len == reference_len {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("has {len} rows but {reference} has {reference_len}"),
+        ))
+    }
+}
+
+/// A proper rotation matrix: orthonormal to `1e-6` and determinant +1.
+pub fn rotation(argument: &str, m: &Matrix3<f64>) -> Result<()> {
+    finite_matrix(argument, m)?;
+    let orthogonality = (m.transpose() * m - Matrix3::identity()).abs().max();
+    if orthogonality > 1e-6 || m.determinant() < 0.0 {
+        return Err(Error::invalid(
+            argument,
+            format!(
+                "is not a rotation matrix (|CᵀC − I| = {orthogonality:.2e}, det = {:.6})",
+                m.determinant()
+            ),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_name_the_argument() {
+        let e = increasing_times("time", &[0.0, 1.0, 1.0]).unwrap_err();
+        assert!(e.to_string().starts_with("time:"), "{e}");
+        let e = finite_vectors("specific_force", &[Vector3::new(0.0, f64::NAN, 0.0)]).unwrap_err();
+        assert!(e.to_string().contains("specific_force: row 0"), "{e}");
+        assert!(positive("rate", 0.0).is_err());
+        assert!(non_negative("noise_std", -1.0).is_err());
+        assert!(rotation("attitude", &(Matrix3::identity() * 2.0)).is_err());
+        assert!(rotation(
+            "attitude",
+            &Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, -1.0))
+        )
+        .is_err());
+        assert!(rotation("attitude", &Matrix3::identity()).is_ok());
+    }
+}

@@ -1,0 +1,176 @@
+//! numpy ↔ core conversions. Every input is converted to float64 (lists and
+//! integer arrays are accepted), checked for shape and finiteness, and the
+//! error names the argument.
+
+use memsnav_core::validate;
+use nalgebra::{Matrix3, Vector3};
+use numpy::{
+    AllowTypeChange, PyArray1, PyArray2, PyArray3, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::errors::IntoPyResult;
+
+/// An array-like converted to a contiguous float64 vector, with its shape.
+pub struct Floats {
+    pub values: Vec<f64>,
+    pub shape: Vec<usize>,
+}
+
+/// Any array-like as float64 values and shape; NaN and infinities rejected.
+pub fn floats(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Floats> {
+    let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
+    })?;
+    let shape = array.shape().to_vec();
+    let values: Vec<f64> = array.as_array().iter().copied().collect();
+    validate::finite_scalars(argument, &values).py()?;
+    Ok(Floats { values, shape })
+}
+
+/// An array of shape `(..., 3)` as vectors, with the leading shape.
+pub fn vectors_nd(
+    obj: &Bound<'_, PyAny>,
+    argument: &str,
+) -> PyResult<(Vec<Vector3<f64>>, Vec<usize>)> {
+    let f = floats(obj, argument)?;
+    if f.shape.last() != Some(&3) {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (..., 3), got {:?}",
+            f.shape
+        )));
+    }
+    let leading = f.shape[..f.shape.len() - 1].to_vec();
+    Ok((to_vectors(&f.values), leading))
+}
+
+/// An `(N, 3)` array as N vectors.
+pub fn vectors(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Vector3<f64>>> {
+    let f = floats(obj, argument)?;
+    if f.shape.len() != 2 || f.shape[1] != 3 {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (N, 3), got {:?}",
+            f.shape
+        )));
+    }
+    Ok(to_vectors(&f.values))
+}
+
+/// A `(3,)` vector.
+pub fn vector3(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vector3<f64>> {
+    let f = floats(obj, argument)?;
+    if f.shape != [3] {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (3,), got {:?}",
+            f.shape
+        )));
+    }
+    Ok(Vector3::from_column_slice(&f.values))
+}
+
+/// A scalar broadcast to three axes, or a `(3,)` vector.
+pub fn per_axis(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vector3<f64>> {
+    let f = floats(obj, argument)?;
+    match f.shape.as_slice() {
+        [] | [1] => Ok(Vector3::repeat(f.values[0])),
+        [3] => Ok(Vector3::from_column_slice(&f.values)),
+        s => Err(PyValueError::new_err(format!(
+            "{argument}: expected a scalar or shape (3,), got {s:?}"
+        ))),
+    }
+}
+
+/// A `(3, 3)` matrix (row-major as numpy shows it).
+pub fn matrix3(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Matrix3<f64>> {
+    let f = floats(obj, argument)?;
+    if f.shape != [3, 3] {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (3, 3), got {:?}",
+            f.shape
+        )));
+    }
+    Ok(Matrix3::from_row_slice(&f.values))
+}
+
+/// An `(N, 3, 3)` array as N matrices.
+pub fn matrices3(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Matrix3<f64>>> {
+    let f = floats(obj, argument)?;
+    if f.shape.len() != 3 || f.shape[1..] != [3, 3] {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (N, 3, 3), got {:?}",
+            f.shape
+        )));
+    }
+    Ok(f.values
+        .chunks_exact(9)
+        .map(Matrix3::from_row_slice)
+        .collect())
+}
+
+/// A 1-D array.
+pub fn scalars(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<f64>> {
+    let f = floats(obj, argument)?;
+    if f.shape.len() != 1 {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected a 1-D array, got shape {:?}",
+            f.shape
+        )));
+    }
+    Ok(f.values)
+}
+
+fn to_vectors(values: &[f64]) -> Vec<Vector3<f64>> {
+    values
+        .chunks_exact(3)
+        .map(Vector3::from_column_slice)
+        .collect()
+}
+
+/// Vectors → numpy array of shape `leading + (3,)`.
+pub fn vectors_to_numpy_nd<'py>(
+    py: Python<'py>,
+    vectors: &[Vector3<f64>],
+    leading: &[usize],
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let flat: Vec<f64> = vectors.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+    let mut shape = leading.to_vec();
+    shape.push(3);
+    PyArray1::from_vec(py, flat).reshape(shape)
+}
+
+/// Vectors → `(N, 3)` array.
+pub fn vectors_to_numpy<'py>(
+    py: Python<'py>,
+    vectors: &[Vector3<f64>],
+) -> Bound<'py, PyArray2<f64>> {
+    let flat: Vec<f64> = vectors.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
+    PyArray1::from_vec(py, flat)
+        .reshape([vectors.len(), 3])
+        .expect("length is 3 N by construction")
+}
+
+/// `Vector3` → `(3,)` array.
+pub fn vector3_to_numpy<'py>(py: Python<'py>, v: &Vector3<f64>) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_slice(py, v.as_slice())
+}
+
+/// `Matrix3` → `(3, 3)` array (row-major).
+pub fn matrix3_to_numpy<'py>(py: Python<'py>, m: &Matrix3<f64>) -> Bound<'py, PyArray2<f64>> {
+    let rows: Vec<f64> = m.transpose().as_slice().to_vec();
+    PyArray1::from_vec(py, rows)
+        .reshape([3, 3])
+        .expect("9 elements")
+}
+
+/// Matrices → `(N, 3, 3)` array.
+pub fn matrices3_to_numpy<'py>(py: Python<'py>, ms: &[Matrix3<f64>]) -> Bound<'py, PyArray3<f64>> {
+    let flat: Vec<f64> = ms
+        .iter()
+        .flat_map(|m| m.transpose().as_slice().to_vec())
+        .collect();
+    PyArray1::from_vec(py, flat)
+        .reshape([ms.len(), 3, 3])
+        .expect("length is 9 N by construction")
+}

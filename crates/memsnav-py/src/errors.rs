@@ -1,0 +1,64 @@
+//! Core errors → Python exceptions: `ValueError` for bad arguments, the
+//! `MemsnavError` family for estimation failures.
+
+use memsnav_core::Error;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    memsnav,
+    MemsnavError,
+    pyo3::exceptions::PyException,
+    "Base class of memsnav's estimation failures."
+);
+pyo3::create_exception!(
+    memsnav,
+    UnobservableError,
+    MemsnavError,
+    "The data cannot determine a parameter (rank-deficient or badly conditioned problem)."
+);
+pyo3::create_exception!(
+    memsnav,
+    DivergenceError,
+    MemsnavError,
+    "A filter diverged: its covariance stopped being positive definite or its state became non-finite."
+);
+pyo3::create_exception!(
+    memsnav,
+    ParseError,
+    PyValueError,
+    "A data file could not be read; the message names the file and the line."
+);
+
+/// Converts a core error into the matching Python exception.
+pub fn to_py(error: Error) -> PyErr {
+    let message = error.to_string();
+    match error {
+        Error::InvalidArgument { .. } => PyValueError::new_err(message),
+        Error::Unobservable { .. } => UnobservableError::new_err(message),
+        Error::Divergence { .. } => DivergenceError::new_err(message),
+        Error::Parse { .. } => ParseError::new_err(message),
+        Error::Io { .. } => PyOSError::new_err(message),
+        Error::Interrupted => PyKeyboardInterrupt::new_err(message),
+    }
+}
+
+/// `Result<T, core::Error>` → `PyResult<T>`.
+pub trait IntoPyResult<T> {
+    fn py(self) -> PyResult<T>;
+}
+
+impl<T> IntoPyResult<T> for memsnav_core::Result<T> {
+    fn py(self) -> PyResult<T> {
+        self.map_err(to_py)
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("MemsnavError", py.get_type::<MemsnavError>())?;
+    m.add("UnobservableError", py.get_type::<UnobservableError>())?;
+    m.add("DivergenceError", py.get_type::<DivergenceError>())?;
+    m.add("ParseError", py.get_type::<ParseError>())?;
+    Ok(())
+}

@@ -1,0 +1,48 @@
+//! `geodetic_to_ecef`, `ecef_to_geodetic`, `gravity_ecef`: vectorised over `(..., 3)`.
+
+use memsnav_core::geodesy::{self, Geodetic};
+use nalgebra::Vector3;
+use numpy::PyArrayDyn;
+use pyo3::prelude::*;
+
+use crate::convert;
+
+fn map_nd<'py>(
+    obj: &Bound<'py, PyAny>,
+    argument: &str,
+    f: impl Fn(&Vector3<f64>) -> Vector3<f64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let (vectors, leading) = convert::vectors_nd(obj, argument)?;
+    let out: Vec<Vector3<f64>> = vectors.iter().map(f).collect();
+    convert::vectors_to_numpy_nd(obj.py(), &out, &leading)
+}
+
+/// Geodetic [latitude rad, longitude rad, height m] → ECEF position, m.
+#[pyfunction]
+fn geodetic_to_ecef<'py>(lla: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    map_nd(lla, "lla", |v| {
+        geodesy::geodetic_to_ecef(Geodetic::new(v.x, v.y, v.z))
+    })
+}
+
+/// ECEF position, m → geodetic [latitude rad, longitude rad, height m].
+#[pyfunction]
+fn ecef_to_geodetic<'py>(xyz: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    map_nd(xyz, "xyz", |r| {
+        let g = geodesy::ecef_to_geodetic(r);
+        Vector3::new(g.latitude_rad, g.longitude_rad, g.height_m)
+    })
+}
+
+/// Gravity (J2 gravitation plus centrifugal) in ECEF, m/s².
+#[pyfunction]
+fn gravity_ecef<'py>(position_ecef: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    map_nd(position_ecef, "position_ecef", geodesy::gravity_ecef)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(geodetic_to_ecef, m)?)?;
+    m.add_function(wrap_pyfunction!(ecef_to_geodetic, m)?)?;
+    m.add_function(wrap_pyfunction!(gravity_ecef, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,32 @@
+"""memsnav: MEMS inertial sensors aided by GNSS.
+
+Error models of low-cost accelerometers and gyroscopes, their calibration
+and inversion (de Boer et al., ION GNSS 2008), a strapdown INS in ECEF,
+GNSS simulation, and tightly/loosely coupled GNSS/INS filters. The
+numerics run in Rust (``memsnav._memsnav``); this package drives them.
+
+Conventions: SI units everywhere (m, m/s, m/s², rad, rad/s, s); frames in
+names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
+"""
+
+from memsnav._memsnav import (
+    DivergenceError,
+    MemsnavError,
+    ParseError,
+    UnobservableError,
+    __version__,
+    ecef_to_geodetic,
+    geodetic_to_ecef,
+    gravity_ecef,
+)
+
+__all__ = [
+    "DivergenceError",
+    "MemsnavError",
+    "ParseError",
+    "UnobservableError",
+    "__version__",
+    "ecef_to_geodetic",
+    "geodetic_to_ecef",
+    "gravity_ecef",
+]

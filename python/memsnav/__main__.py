@@ -1,0 +1,3 @@
+from memsnav.cli import main
+
+raise SystemExit(main())
