@@ -20,6 +20,9 @@
 pub mod attitude;
 pub mod error;
 pub mod geodesy;
+pub mod montecarlo;
+pub mod random;
+pub mod sensors;
 pub mod validate;
 
 pub use error::{Error, Result};

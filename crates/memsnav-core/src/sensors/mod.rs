@@ -1,0 +1,51 @@
+//! MEMS accelerometer and gyroscope error models (method §2, paper eq. 1-3),
+//! their stochastic errors, and IMU grade presets.
+
+mod accelerometer;
+mod gyroscope;
+mod noise;
+
+pub use accelerometer::AccelerometerModel;
+pub use gyroscope::GyroscopeModel;
+pub use noise::NoiseModel;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::{validate, Error, Result};
+
+/// A = I − D − M, the output matrix of both models (method §2).
+pub fn output_matrix(scale_factor: &Vector3<f64>, misalignment: &Matrix3<f64>) -> Matrix3<f64> {
+    Matrix3::identity() - Matrix3::from_diagonal(scale_factor) - misalignment
+}
+
+/// Checks the parameters shared by both sensors: finite values and a
+/// misalignment matrix with a zero diagonal.
+fn validate_common(
+    bias: &Vector3<f64>,
+    scale_factor: &Vector3<f64>,
+    misalignment: &Matrix3<f64>,
+) -> Result<()> {
+    validate::finite_vectors("bias", std::slice::from_ref(bias))?;
+    validate::finite_vectors("scale_factor", std::slice::from_ref(scale_factor))?;
+    validate::finite_matrix("misalignment", misalignment)?;
+    if misalignment.diagonal().iter().any(|d| *d != 0.0) {
+        return Err(Error::invalid(
+            "misalignment",
+            format!(
+                "diagonal must be zero (scale factors go in scale_factor), got {:?}",
+                misalignment.diagonal().as_slice()
+            ),
+        ));
+    }
+    if output_matrix(scale_factor, misalignment)
+        .determinant()
+        .abs()
+        < 1e-6
+    {
+        return Err(Error::invalid(
+            "scale_factor",
+            "I - D - M is singular: the sensor would not respond to its input",
+        ));
+    }
+    Ok(())
+}
