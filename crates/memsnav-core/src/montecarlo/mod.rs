@@ -12,6 +12,7 @@ use crate::random::{self, Rng};
 use crate::{Error, Result};
 
 /// How a Monte Carlo set runs: threads, progress reporting and cancellation.
+#[derive(Default)]
 pub struct RunOptions<'a> {
     /// Worker threads; `None` uses every core.
     pub threads: Option<usize>,
@@ -19,16 +20,6 @@ pub struct RunOptions<'a> {
     pub progress: Option<&'a (dyn Fn(usize) + Sync)>,
     /// When set, runs not yet started are skipped; completed runs are kept.
     pub cancel: Option<&'a AtomicBool>,
-}
-
-impl Default for RunOptions<'_> {
-    fn default() -> Self {
-        Self {
-            threads: None,
-            progress: None,
-            cancel: None,
-        }
-    }
 }
 
 /// The results of a Monte Carlo set: `runs[i]` is run i, `None` when the set
