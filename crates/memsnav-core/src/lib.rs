@@ -18,6 +18,7 @@
 //!   the argument or the parameter at fault.
 
 pub mod attitude;
+pub mod calibration;
 pub mod error;
 pub mod geodesy;
 pub mod montecarlo;
