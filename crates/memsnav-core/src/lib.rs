@@ -21,6 +21,7 @@ pub mod attitude;
 pub mod calibration;
 pub mod error;
 pub mod geodesy;
+pub mod inversion;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;
