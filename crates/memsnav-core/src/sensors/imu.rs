@@ -194,6 +194,13 @@ impl ImuSpec {
     }
 }
 
+/// Simulated readings of an IMU: measured f_ib^b (m/s²) and ω_ib^b (rad/s).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImuReadings {
+    pub specific_force_b: Vec<Vector3<f64>>,
+    pub angular_rate_b: Vec<Vector3<f64>>,
+}
+
 /// An accelerometer triad and a gyroscope triad sampled together.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImuModel {
@@ -269,26 +276,29 @@ impl ImuModel {
 
     /// Readings of both triads for true specific forces Γ_k (m/s²) and
     /// angular rates Ω_k (rad/s) at the IMU's rate: accelerometer first,
-    /// then gyroscope, from the same generator. Returns (accel, gyro).
+    /// then gyroscope, from the same generator.
     pub fn measure(
         &self,
         specific_force: &[Vector3<f64>],
         angular_rate: &[Vector3<f64>],
         rng: &mut Rng,
-    ) -> Result<(Vec<Vector3<f64>>, Vec<Vector3<f64>>)> {
+    ) -> Result<ImuReadings> {
         validate::same_length(
             "angular_rate",
             angular_rate.len(),
             "specific_force",
             specific_force.len(),
         )?;
-        let accel = self
-            .accelerometer
-            .measure(specific_force, self.sample_rate_hz, rng)?;
-        let gyro =
+        let specific_force_b =
+            self.accelerometer
+                .measure(specific_force, self.sample_rate_hz, rng)?;
+        let angular_rate_b =
             self.gyroscope
                 .measure(angular_rate, specific_force, self.sample_rate_hz, rng)?;
-        Ok((accel, gyro))
+        Ok(ImuReadings {
+            specific_force_b,
+            angular_rate_b,
+        })
     }
 }
 

@@ -19,7 +19,7 @@ pub mod presets;
 
 pub use accelerometer::AccelerometerModel;
 pub use gyroscope::GyroscopeModel;
-pub use imu::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec};
+pub use imu::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuReadings, ImuSpec};
 pub use noise::{NoiseModel, NoiseProcess, NoiseSample};
 
 use nalgebra::{Matrix3, Vector3};

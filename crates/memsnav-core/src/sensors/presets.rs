@@ -121,8 +121,8 @@ pub fn paper_mems() -> ImuSpec {
 /// (assumed: ten times the paper's MEMS); noise density 175 µg/√Hz;
 /// bias instability 0.1 mg with τ = 300 s (assumed; not in the data
 /// sheet); no random walk; quantisation 0.183 mg (16 bits over ±6 g).
-/// Gyroscope: bias 1 °/s (zero-rate offset; Groves table 4.2 gives
-/// > 100 °/h for this grade); scale factor and cross-axis 1e-2 (Groves
+/// Gyroscope: bias 1 °/s (zero-rate offset; Groves table 4.2 gives more
+/// than 100 °/h for this grade); scale factor and cross-axis 1e-2 (Groves
 /// §4.4.2); g-sensitivity 0.05 (°/s)/g (assumed, typical of vibratory MEMS
 /// gyros); noise density 0.014 °/s/√Hz; bias instability 2 °/h with
 /// τ = 300 s (assumed); quantisation 0.0153 °/s (16 bits over ±500 °/s).
@@ -244,7 +244,7 @@ pub fn tactical() -> ImuSpec {
 /// `"navigation"`: a navigation-grade IMU; figures of the Honeywell HG9900
 /// product sheet where it gives them.
 ///
-/// Accelerometer: bias 25 µg (Groves table 4.1 aviation: 30–100 µg);
+/// Accelerometer: bias 25 µg (Groves table 4.1: aviation grade 30–100 µg);
 /// scale factor 100 ppm; misalignment 1e-5 (assumed); no nonlinearity;
 /// noise density 10 µg/√Hz (assumed; the sheet lists none); bias
 /// instability 5 µg with τ = 3600 s (assumed). Gyroscope (ring laser):
