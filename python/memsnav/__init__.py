@@ -10,7 +10,10 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
 from memsnav._memsnav import (
+    AccelerometerModel,
     DivergenceError,
+    GyroscopeModel,
+    ImuModel,
     MemsnavError,
     ParseError,
     UnobservableError,
@@ -21,7 +24,10 @@ from memsnav._memsnav import (
 )
 
 __all__ = [
+    "AccelerometerModel",
     "DivergenceError",
+    "GyroscopeModel",
+    "ImuModel",
     "MemsnavError",
     "ParseError",
     "UnobservableError",
