@@ -20,6 +20,7 @@
 pub mod attitude;
 pub mod calibration;
 pub mod error;
+pub mod experiments;
 pub mod geodesy;
 pub mod inversion;
 pub mod montecarlo;
