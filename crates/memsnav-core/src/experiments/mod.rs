@@ -18,6 +18,7 @@
 //!   errors of ~0.1° add g · 0.0017 ≈ 0.017 m/s² on the horizontal axes.
 //! - angular rate: 0.1 °/s per axis: attitude from a multi-antenna receiver
 //!   (~0.05-0.1°) differenced over 1 s.
+//!
 //! White noise at the IMU rate is a simplification (GNSS gives 1 Hz values
 //! interpolated to 100 Hz, whose errors are correlated over a second); it
 //! is what the paper's per-sample regression assumes.
