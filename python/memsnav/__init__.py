@@ -9,8 +9,10 @@ Conventions: SI units everywhere (m, m/s, m/s², rad, rad/s, s); frames in
 names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
+from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
+    Calibration,
     DivergenceError,
     GyroscopeModel,
     ImuModel,
@@ -18,13 +20,18 @@ from memsnav._memsnav import (
     ParseError,
     UnobservableError,
     __version__,
+    calibrate_accelerometer,
+    calibrate_gyroscope,
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
+    invert_accelerometer,
+    invert_gyroscope,
 )
 
 __all__ = [
     "AccelerometerModel",
+    "Calibration",
     "DivergenceError",
     "GyroscopeModel",
     "ImuModel",
@@ -32,7 +39,12 @@ __all__ = [
     "ParseError",
     "UnobservableError",
     "__version__",
+    "calibrate_accelerometer",
+    "calibrate_gyroscope",
     "ecef_to_geodetic",
+    "experiments",
     "geodetic_to_ecef",
     "gravity_ecef",
+    "invert_accelerometer",
+    "invert_gyroscope",
 ]

@@ -3,11 +3,14 @@
 
 use pyo3::prelude::*;
 
+mod calibration;
 #[allow(dead_code)]
 // per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
 mod convert;
 mod errors;
+mod experiments;
 mod geodesy;
+mod inversion;
 mod sensors;
 
 #[pymodule]
@@ -16,5 +19,8 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     geodesy::register(m)?;
     sensors::register(m)?;
+    calibration::register(m)?;
+    inversion::register(m)?;
+    experiments::register(m)?;
     Ok(())
 }
