@@ -41,10 +41,17 @@ pub enum Orbit<'a> {
 impl Orbit<'_> {
     /// The satellite's state at `gps_time_s`.
     pub fn state(&self, gps_time_s: f64) -> SatelliteState {
+        self.state_at(gps_time_s, 0.0)
+    }
+
+    /// The state at `gps_time_s + offset_s`, precise for small offsets at
+    /// large GPS times (see [`GpsEphemeris::state_at`]).
+    pub fn state_at(&self, gps_time_s: f64, offset_s: f64) -> SatelliteState {
         match *self {
-            Orbit::Broadcast(e) => e.state(gps_time_s),
+            Orbit::Broadcast(e) => e.state_at(gps_time_s, offset_s),
             Orbit::Walker(w, i) => {
-                let (position_ecef, velocity_ecef) = w.position_velocity(i, gps_time_s);
+                let (position_ecef, velocity_ecef) =
+                    w.position_velocity_at(i, gps_time_s, offset_s);
                 SatelliteState {
                     position_ecef,
                     velocity_ecef,

@@ -54,10 +54,17 @@ impl GpsEphemeris {
     /// Position and velocity (ECEF at `gps_time_s`, antenna phase centre as
     /// broadcast) and the L1 C/A clock correction at GPS time `gps_time_s`.
     pub fn state(&self, gps_time_s: f64) -> SatelliteState {
+        self.state_at(gps_time_s, 0.0)
+    }
+
+    /// The state at `gps_time_s + offset_s`. Absolute GPS times (~1e9 s)
+    /// carry only ~0.2 µs of resolution (~1 mm of orbit); a small offset
+    /// (light time, a difference step) added to t − t_oe keeps full precision.
+    pub fn state_at(&self, gps_time_s: f64, offset_s: f64) -> SatelliteState {
         let a = self.sqrt_a_sqrt_m * self.sqrt_a_sqrt_m;
         let e = self.eccentricity;
         let n0 = (GPS_GM_M3_S2 / (a * a * a)).sqrt();
-        let tk = gps_time_s - self.toe_gps_s;
+        let tk = (gps_time_s - self.toe_gps_s) + offset_s;
         let n = n0 + self.delta_n_rad_s;
         let mk = self.m0_rad + n * tk;
         // Kepler's equation M = E − e sin E by Newton's method; e < 0.03 for
@@ -116,7 +123,7 @@ impl GpsEphemeris {
 
         // Clock: Δt_sv = a_f0 + a_f1 (t − t_oc) + a_f2 (t − t_oc)² + Δt_r − T_GD
         // (IS-GPS-200 eqs. in §20.3.3.3.3.1 and §20.3.3.3.3.2, L1 C/A user).
-        let dt = gps_time_s - self.toc_gps_s;
+        let dt = (gps_time_s - self.toc_gps_s) + offset_s;
         let relativistic = RELATIVITY_F * e * self.sqrt_a_sqrt_m * sin_e;
         let relativistic_rate = RELATIVITY_F * e * self.sqrt_a_sqrt_m * cos_e * e_dot;
         SatelliteState {

@@ -174,17 +174,20 @@ pub fn simulate(
 /// Light-time solution: the satellite state at transmission time t_r − τ,
 /// with τ iterated until |Δτ| < 1e-15 s and the satellite position turned
 /// into the ECEF frame of the reception time by the Earth angle ω_ie τ.
-/// Returns (range at reception, state at transmission).
+/// Returns (range at reception, state at transmission). The reception time
+/// is `rx_gps_s + rx_offset_s` (see [`Orbit::state_at`] for why the offset
+/// is separate).
 fn light_time(
     orbit: &Orbit<'_>,
     rx_gps_s: f64,
+    rx_offset_s: f64,
     rx_pos: &Vector3<f64>,
 ) -> (f64, super::SatelliteState) {
     let mut tau = 0.07;
-    let mut state = orbit.state(rx_gps_s - tau);
+    let mut state = orbit.state_at(rx_gps_s, rx_offset_s - tau);
     let mut range = 0.0;
     for _ in 0..12 {
-        state = orbit.state(rx_gps_s - tau);
+        state = orbit.state_at(rx_gps_s, rx_offset_s - tau);
         let (s, c) = (EARTH_RATE_RAD_S * tau).sin_cos();
         let p = state.position_ecef;
         let in_rx_frame = Vector3::new(c * p.x + s * p.y, -s * p.x + c * p.y, p.z);
@@ -383,9 +386,9 @@ pub fn simulate_with_truth(
             let orbit = constellation
                 .orbit(i, rx_gps)
                 .expect("visible satellites have an orbit");
-            let (range, tx_state) = light_time(&orbit, rx_gps, &rx);
-            let (range_plus, _) = light_time(&orbit, rx_gps + h, &(rx + rx_vel * h));
-            let (range_minus, _) = light_time(&orbit, rx_gps - h, &(rx - rx_vel * h));
+            let (range, tx_state) = light_time(&orbit, rx_gps, 0.0, &rx);
+            let (range_plus, _) = light_time(&orbit, rx_gps, h, &(rx + rx_vel * h));
+            let (range_minus, _) = light_time(&orbit, rx_gps, -h, &(rx - rx_vel * h));
             let range_rate = (range_plus - range_minus) / (2.0 * h);
             let atmosphere = match config.residual {
                 Some(r) if r.std_m > 0.0 => {

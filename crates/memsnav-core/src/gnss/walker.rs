@@ -134,9 +134,22 @@ impl Walker {
     /// ECEF by the Earth angle θ = ω_ie t; v_e = C_I^e v_I − ω_ie × r_e
     /// (Groves eq. 2.146 rearranged).
     pub fn position_velocity(&self, index: usize, gps_time_s: f64) -> (Vector3<f64>, Vector3<f64>) {
+        self.position_velocity_at(index, gps_time_s, 0.0)
+    }
+
+    /// The state at `gps_time_s + offset_s`; the angles are reduced with an
+    /// exact floating-point remainder by the orbital and sidereal periods so
+    /// that large GPS times keep full precision.
+    pub fn position_velocity_at(
+        &self,
+        index: usize,
+        gps_time_s: f64,
+        offset_s: f64,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let tau = std::f64::consts::TAU;
         let a = self.config.semi_major_axis_m;
         let n = self.mean_motion_rad_s;
-        let u = self.u0_rad[index] + n * gps_time_s;
+        let u = self.u0_rad[index] + n * (gps_time_s % (tau / n)) + n * offset_s;
         let (sin_u, cos_u) = u.sin_cos();
         let (sin_o, cos_o) = self.raan_rad[index].sin_cos();
         let (sin_i, cos_i) = self.config.inclination_rad.sin_cos();
@@ -152,7 +165,8 @@ impl Walker {
                 -sin_u * sin_o + cos_u * cos_i * cos_o,
                 cos_u * sin_i,
             );
-        let theta = EARTH_RATE_RAD_S * gps_time_s;
+        let theta = EARTH_RATE_RAD_S * (gps_time_s % (tau / EARTH_RATE_RAD_S))
+            + EARTH_RATE_RAD_S * offset_s;
         let (s, c) = theta.sin_cos();
         // C_I^e = R_z(θ): frame rotation by the Earth angle.
         let rot = |v: Vector3<f64>| Vector3::new(c * v.x + s * v.y, -s * v.x + c * v.y, v.z);
