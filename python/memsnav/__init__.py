@@ -10,6 +10,10 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
 from memsnav._memsnav import (
+    Constellation,
+    FixSeries,
+    GnssMeasurements,
+    Sp3,
     DivergenceError,
     MemsnavError,
     ParseError,
@@ -18,9 +22,16 @@ from memsnav._memsnav import (
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
+    read_sp3,
+    simulate_gnss,
+    solve_fix,
 )
 
 __all__ = [
+    "Constellation",
+    "FixSeries",
+    "GnssMeasurements",
+    "Sp3",
     "DivergenceError",
     "MemsnavError",
     "ParseError",
@@ -29,4 +40,7 @@ __all__ = [
     "ecef_to_geodetic",
     "geodetic_to_ecef",
     "gravity_ecef",
+    "read_sp3",
+    "simulate_gnss",
+    "solve_fix",
 ]

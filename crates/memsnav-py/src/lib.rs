@@ -7,11 +7,13 @@ use pyo3::prelude::*;
 mod convert;
 mod errors;
 mod geodesy;
+mod gnss;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
     geodesy::register(m)?;
+    gnss::register(m)?;
     Ok(())
 }
