@@ -11,12 +11,12 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 
 from memsnav._memsnav import (
     Constellation,
+    DivergenceError,
     FixSeries,
     GnssMeasurements,
-    Sp3,
-    DivergenceError,
     MemsnavError,
     ParseError,
+    Sp3,
     UnobservableError,
     __version__,
     ecef_to_geodetic,
@@ -29,12 +29,12 @@ from memsnav._memsnav import (
 
 __all__ = [
     "Constellation",
+    "DivergenceError",
     "FixSeries",
     "GnssMeasurements",
-    "Sp3",
-    "DivergenceError",
     "MemsnavError",
     "ParseError",
+    "Sp3",
     "UnobservableError",
     "__version__",
     "ecef_to_geodetic",

@@ -2,6 +2,7 @@
 
 import os
 from collections.abc import Sequence
+from typing import final
 
 import numpy as np
 import numpy.typing as npt
@@ -24,6 +25,7 @@ def gravity_ecef(position_ecef: npt.ArrayLike) -> npt.NDArray[np.float64]:
 
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
+@final
 class Constellation:
     """GPS satellites from broadcast ephemerides, or a synthetic Walker constellation.
 
@@ -63,8 +65,9 @@ class Constellation:
 
     def clock_correction(self, gps_time: float) -> npt.NDArray[np.float64]:
         """Satellite clock corrections Δt_sv, s, (n_sat,): a_f0 + a_f1 dt + a_f2 dt² +
-        relativistic term − T_GD; NaN without a valid ephemeris; zero for Walker."""
+        relativistic term - T_GD; NaN without a valid ephemeris; zero for Walker."""
 
+@final
 class Sp3:
     """Precise orbits from an SP3 file (centre of mass), in SI units."""
 
@@ -87,6 +90,7 @@ class Sp3:
 def read_sp3(path: str | os.PathLike[str]) -> Sp3:
     """Reads an SP3-c/d file (GPS time system; km and µs converted to m and s)."""
 
+@final
 class GnssMeasurements:
     """Simulated measurements; per-epoch arrays padded to n_max = n_satellites
     (NaN for values, -1 for sat_id, where fewer satellites are tracked)."""
@@ -177,6 +181,7 @@ def simulate_gnss(
     Walker).
     """
 
+@final
 class FixSeries:
     """Least-squares fixes per epoch; NaN rows where ``valid`` is False."""
 
