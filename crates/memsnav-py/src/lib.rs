@@ -3,11 +3,12 @@
 
 use pyo3::prelude::*;
 
-#[allow(dead_code)]
 // per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
+#[allow(dead_code)] // until the INS and inversion bindings use per_axis and matrices3
 mod convert;
 mod errors;
 mod geodesy;
+mod gnss;
 mod sensors;
 
 #[pymodule]
@@ -16,5 +17,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     geodesy::register(m)?;
     sensors::register(m)?;
+    gnss::register(m)?;
     Ok(())
 }
