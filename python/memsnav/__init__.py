@@ -12,21 +12,31 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 from memsnav._memsnav import (
     DivergenceError,
     MemsnavError,
+    NavSolution,
     ParseError,
+    Trajectory,
     UnobservableError,
     __version__,
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
+    imu_increments,
+    strapdown,
+    strapdown_increments,
 )
 
 __all__ = [
     "DivergenceError",
     "MemsnavError",
+    "NavSolution",
     "ParseError",
+    "Trajectory",
     "UnobservableError",
     "__version__",
     "ecef_to_geodetic",
     "geodetic_to_ecef",
     "gravity_ecef",
+    "imu_increments",
+    "strapdown",
+    "strapdown_increments",
 ]

@@ -7,11 +7,15 @@ use pyo3::prelude::*;
 mod convert;
 mod errors;
 mod geodesy;
+mod ins;
+mod trajectory;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
     geodesy::register(m)?;
+    ins::register(m)?;
+    trajectory::register(m)?;
     Ok(())
 }
