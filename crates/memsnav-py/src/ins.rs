@@ -119,6 +119,9 @@ fn strapdown_increments(
     Ok(PyNavSolution { time_s, states })
 }
 
+/// Two `(N, 3)` arrays.
+type ArrayPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+
 /// Velocity and angle increments per interval from instantaneous samples.
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate))]
@@ -127,7 +130,7 @@ fn imu_increments<'py>(
     time: &Bound<'py, PyAny>,
     specific_force: &Bound<'py, PyAny>,
     angular_rate: &Bound<'py, PyAny>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+) -> PyResult<ArrayPair<'py>> {
     let time_s = convert::scalars(time, "time")?;
     let f = convert::vectors(specific_force, "specific_force")?;
     let w = convert::vectors(angular_rate, "angular_rate")?;
