@@ -10,7 +10,10 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
 from memsnav._memsnav import (
+    AccelerometerModel,
     DivergenceError,
+    GyroscopeModel,
+    ImuModel,
     MemsnavError,
     NavSolution,
     ParseError,
@@ -26,7 +29,10 @@ from memsnav._memsnav import (
 )
 
 __all__ = [
+    "AccelerometerModel",
     "DivergenceError",
+    "GyroscopeModel",
+    "ImuModel",
     "MemsnavError",
     "NavSolution",
     "ParseError",
