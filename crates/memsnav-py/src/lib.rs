@@ -3,13 +3,14 @@
 
 use pyo3::prelude::*;
 
-// per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
-#[allow(dead_code)] // until the INS and inversion bindings use per_axis and matrices3
+#[allow(dead_code)] // per_axis and matrices3 wait for the inversion bindings
 mod convert;
 mod errors;
 mod geodesy;
 mod gnss;
+mod ins;
 mod sensors;
+mod trajectory;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -18,5 +19,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     geodesy::register(m)?;
     sensors::register(m)?;
     gnss::register(m)?;
+    ins::register(m)?;
+    trajectory::register(m)?;
     Ok(())
 }
