@@ -22,10 +22,13 @@ pub mod calibration;
 pub mod error;
 pub mod experiments;
 pub mod geodesy;
+pub mod gnss;
+pub mod ins;
 pub mod inversion;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;
+pub mod trajectory;
 pub mod validate;
 
 pub use error::{Error, Result};

@@ -4,14 +4,16 @@
 use pyo3::prelude::*;
 
 mod calibration;
-#[allow(dead_code)]
-// per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
+#[allow(dead_code)] // matrices3 waits for a binding that takes attitude series
 mod convert;
 mod errors;
 mod experiments;
 mod geodesy;
+mod gnss;
+mod ins;
 mod inversion;
 mod sensors;
+mod trajectory;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -22,5 +24,8 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
+    gnss::register(m)?;
+    ins::register(m)?;
+    trajectory::register(m)?;
     Ok(())
 }
