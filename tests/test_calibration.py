@@ -195,3 +195,10 @@ def test_experiment_summary_and_reproducibility():
 
     matplotlib.use("Agg")
     assert len(one.plot()) == 8
+
+
+def test_experiment_on_random_trajectories_and_bad_motion():
+    r = mn.experiments.calibration(parameter_sets=1, runs=1, duration=60.0, motion="trajectory")
+    assert np.all(np.isfinite(r.accelerometer.mse_eiv))
+    with pytest.raises(ValueError, match=r"^motion"):
+        mn.experiments.calibration(parameter_sets=1, runs=1, motion="boat")

@@ -365,6 +365,7 @@ def calibration_experiment(
     preset: str = "paper-mems",
     reference_specific_force_std: float = 0.03,
     reference_angular_rate_std: float = 0.0017453292519943296,
+    motion: str = "land-vehicle",
     seed: int = 0,
     threads: int | None = None,
     progress: Callable[[int], None] | None = None,
@@ -387,6 +388,7 @@ def inversion_experiment(
     progress: Callable[[int], None] | None = None,
 ) -> dict[str, Any]:
     """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI."""
+
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
 @final
