@@ -19,6 +19,7 @@
 
 pub mod attitude;
 pub mod error;
+pub mod filter;
 pub mod geodesy;
 pub mod montecarlo;
 pub mod random;
