@@ -8,6 +8,12 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
+mod quantile;
+mod stats;
+
+pub use quantile::P2Quantile;
+pub use stats::{CurveStats, PERCENTILES};
+
 use crate::random::{self, Rng};
 use crate::{Error, Result};
 
@@ -37,7 +43,8 @@ impl<T> Runs<T> {
     }
 }
 
-/// Runs `run(i, rng_i)` for i in `0..runs` over a rayon pool.
+/// Runs `run(i, rng_i)` for i in `0..runs` over a rayon pool and keeps
+/// every result.
 ///
 /// The first error (by run index) is returned; a cancelled set returns the
 /// completed runs with `cancelled = true`.
@@ -46,40 +53,99 @@ where
     T: Send,
     F: Fn(usize, &mut Rng) -> Result<T> + Sync,
 {
-    let done = AtomicUsize::new(0);
-    let body = || {
-        (0..runs)
-            .into_par_iter()
-            .map(|i| {
-                if options.cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-                    return Ok(None);
-                }
-                let mut rng = random::stream(seed, i as u64);
-                let out = run(i, &mut rng)?;
-                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                if let Some(progress) = options.progress {
-                    progress(n);
-                }
-                Ok(Some(out))
-            })
-            .collect::<Vec<Result<Option<T>>>>()
-    };
-    let results = match options.threads {
-        None => body(),
-        Some(n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
-            .build()
-            .map_err(|e| Error::invalid("threads", e.to_string()))?
-            .install(body),
-    };
     let mut out = Vec::with_capacity(runs);
-    for r in results {
-        out.push(r?);
-    }
-    let cancelled = out.iter().any(Option::is_none);
+    let summary = fold(seed, runs, runs.max(1), options, run, |i, result| {
+        out.resize_with(i, || None);
+        out.push(Some(result));
+        Ok(())
+    })?;
+    out.resize_with(runs, || None);
     Ok(Runs {
         runs: out,
-        cancelled,
+        cancelled: summary.cancelled,
+    })
+}
+
+/// What [`fold`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FoldSummary {
+    pub completed: usize,
+    pub cancelled: bool,
+}
+
+/// Runs `run(i, rng_i)` for i in `0..runs`, `batch` runs at a time in
+/// parallel, and hands each result to `consume(i, result)` in increasing
+/// run order. Memory holds one batch of results, so aggregates (e.g.
+/// [`CurveStats`]) stay bounded for any number of runs; because results are
+/// consumed in run order, the aggregate does not depend on the thread count
+/// or the batch size.
+pub fn fold<T, F, C>(
+    seed: u64,
+    runs: usize,
+    batch: usize,
+    options: &RunOptions<'_>,
+    run: F,
+    mut consume: C,
+) -> Result<FoldSummary>
+where
+    T: Send,
+    F: Fn(usize, &mut Rng) -> Result<T> + Sync,
+    C: FnMut(usize, T) -> Result<()>,
+{
+    if batch == 0 {
+        return Err(Error::invalid("batch", "must be at least 1"));
+    }
+    let pool = match options.threads {
+        None => None,
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| Error::invalid("threads", e.to_string()))?,
+        ),
+    };
+    let done = AtomicUsize::new(0);
+    let cancelled = || options.cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+    let run_one = |i: usize| -> Result<Option<T>> {
+        if cancelled() {
+            return Ok(None);
+        }
+        let mut rng = random::stream(seed, i as u64);
+        let out = run(i, &mut rng)?;
+        let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+        if let Some(progress) = options.progress {
+            progress(n);
+        }
+        Ok(Some(out))
+    };
+    let mut completed = 0;
+    let mut start = 0;
+    while start < runs {
+        let end = (start + batch).min(runs);
+        let body = || {
+            (start..end)
+                .into_par_iter()
+                .map(run_one)
+                .collect::<Vec<_>>()
+        };
+        let results = match &pool {
+            None => body(),
+            Some(pool) => pool.install(body),
+        };
+        for (i, result) in (start..end).zip(results) {
+            if let Some(value) = result? {
+                consume(i, value)?;
+                completed += 1;
+            }
+        }
+        if cancelled() {
+            break;
+        }
+        start = end;
+    }
+    Ok(FoldSummary {
+        completed,
+        cancelled: completed < runs,
     })
 }
 
@@ -145,5 +211,30 @@ mod tests {
         })
         .unwrap_err();
         assert_eq!(e, Error::invalid("x", "run 3"));
+    }
+
+    #[test]
+    fn folded_statistics_do_not_depend_on_batch_or_threads() {
+        let curve =
+            |_: usize, rng: &mut Rng| Ok((0..3).map(|_| rng.random::<f64>()).collect::<Vec<f64>>());
+        let stats_with = |batch: usize, threads: usize| {
+            let mut stats = CurveStats::new(3);
+            let options = RunOptions {
+                threads: Some(threads),
+                ..Default::default()
+            };
+            let summary = fold(9, 37, batch, &options, curve, |_, c| stats.push(&c)).unwrap();
+            assert_eq!(
+                summary,
+                FoldSummary {
+                    completed: 37,
+                    cancelled: false
+                }
+            );
+            (stats.mean().to_vec(), stats.std(), stats.percentile(2))
+        };
+        let reference = stats_with(1, 1);
+        assert_eq!(reference, stats_with(8, 2));
+        assert_eq!(reference, stats_with(100, 2));
     }
 }
