@@ -10,23 +10,43 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
 from memsnav._memsnav import (
+    AccelerometerModel,
+    Constellation,
     DivergenceError,
+    FixSeries,
+    GnssMeasurements,
+    GyroscopeModel,
+    ImuModel,
     MemsnavError,
     ParseError,
+    Sp3,
     UnobservableError,
     __version__,
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
+    read_sp3,
+    simulate_gnss,
+    solve_fix,
 )
 
 __all__ = [
+    "AccelerometerModel",
+    "Constellation",
     "DivergenceError",
+    "FixSeries",
+    "GnssMeasurements",
+    "GyroscopeModel",
+    "ImuModel",
     "MemsnavError",
     "ParseError",
+    "Sp3",
     "UnobservableError",
     "__version__",
     "ecef_to_geodetic",
     "geodetic_to_ecef",
     "gravity_ecef",
+    "read_sp3",
+    "simulate_gnss",
+    "solve_fix",
 ]

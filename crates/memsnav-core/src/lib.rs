@@ -21,6 +21,7 @@ pub mod attitude;
 pub mod error;
 pub mod filter;
 pub mod geodesy;
+pub mod gnss;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;

@@ -3,15 +3,20 @@
 
 use pyo3::prelude::*;
 
-#[allow(dead_code)] // TEMPORARY: used by the sensor bindings (issue 2).
+#[allow(dead_code)]
+// per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
 mod convert;
 mod errors;
 mod geodesy;
+mod gnss;
+mod sensors;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
     geodesy::register(m)?;
+    gnss::register(m)?;
+    sensors::register(m)?;
     Ok(())
 }
