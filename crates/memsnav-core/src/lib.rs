@@ -18,13 +18,16 @@
 //!   the argument or the parameter at fault.
 
 pub mod attitude;
+pub mod coupling;
 pub mod error;
 pub mod filter;
 pub mod geodesy;
 pub mod gnss;
+pub mod ins;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;
+pub mod trajectory;
 pub mod validate;
 
 pub use error::{Error, Result};
