@@ -13,7 +13,9 @@ use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
 use memsnav_core::geodesy::wgs84::EARTH_RATE_RAD_S;
 use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, Geodetic};
-use memsnav_core::gnss::{self, Constellation, GnssEpoch, Outage, ReceiverTrack, SimulationConfig, WalkerConfig};
+use memsnav_core::gnss::{
+    self, Constellation, GnssEpoch, Outage, ReceiverTrack, SimulationConfig, WalkerConfig,
+};
 use memsnav_core::ins::{self, ImuSample, NavState};
 use memsnav_core::random::{stream, Rng};
 use memsnav_core::sensors::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
@@ -30,7 +32,11 @@ struct Truth {
 }
 
 fn origin() -> Vector3<f64> {
-    geodetic_to_ecef(Geodetic::new(43.6_f64.to_radians(), 1.44_f64.to_radians(), 150.0))
+    geodetic_to_ecef(Geodetic::new(
+        43.6_f64.to_radians(),
+        1.44_f64.to_radians(),
+        150.0,
+    ))
 }
 
 /// A land-vehicle drive at `rate_hz`: 12 m/s heading north-east, weaving
@@ -57,7 +63,11 @@ fn drive(duration_s: f64, rate_hz: f64, moving: bool) -> Truth {
         };
         let w_eb_b = Vector3::new(0.0, 0.0, yaw_rate);
         let v = s.velocity_ecef;
-        let along_e = if v.norm() > 0.1 { v.normalize() * along } else { Vector3::zeros() };
+        let along_e = if v.norm() > 0.1 {
+            v.normalize() * along
+        } else {
+            Vector3::zeros()
+        };
         let a_e = (s.c_b_e * w_eb_b).cross(&v) + along_e;
         let f_e = a_e - gravity_ecef(&s.position_ecef) + 2.0 * wie.cross(&v);
         ImuSample {
@@ -66,7 +76,11 @@ fn drive(duration_s: f64, rate_hz: f64, moving: bool) -> Truth {
         }
     };
     // Pass 1: the samples, from an approximately propagated state.
-    let mut s = NavState { position_ecef: r0, velocity_ecef: v0, c_b_e: c0 };
+    let mut s = NavState {
+        position_ecef: r0,
+        velocity_ecef: v0,
+        c_b_e: c0,
+    };
     let mut samples = Vec::with_capacity(n);
     for k in 0..n {
         let smp = sample(k as f64 * dt, &s);
@@ -74,7 +88,11 @@ fn drive(duration_s: f64, rate_hz: f64, moving: bool) -> Truth {
         s = ins::step(&s, &smp, &smp, dt);
     }
     // Pass 2: the truth is the INS on these samples.
-    let mut s = NavState { position_ecef: r0, velocity_ecef: v0, c_b_e: c0 };
+    let mut s = NavState {
+        position_ecef: r0,
+        velocity_ecef: v0,
+        c_b_e: c0,
+    };
     let mut nav = Vec::with_capacity(n);
     nav.push(s);
     for k in 1..n {
@@ -94,7 +112,11 @@ fn gnss_for(truth: &Truth, config: &SimulationConfig, rng: &mut Rng) -> Vec<Gnss
     let vel: Vec<_> = truth.nav.iter().map(|s| s.velocity_ecef).collect();
     let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
     gnss::simulate(
-        &ReceiverTrack { time_s: &truth.time_s, position_ecef: &pos, velocity_ecef: &vel },
+        &ReceiverTrack {
+            time_s: &truth.time_s,
+            position_ecef: &pos,
+            velocity_ecef: &vel,
+        },
         &sky,
         config,
         rng,
@@ -104,23 +126,38 @@ fn gnss_for(truth: &Truth, config: &SimulationConfig, rng: &mut Rng) -> Vec<Gnss
 
 /// An IMU spec with biases and white noise only: the errors the 17-state
 /// filter models exactly.
-fn bias_and_noise_spec(accel_bias: f64, gyro_bias: f64, accel_density: f64, gyro_density: f64) -> ImuSpec {
+fn bias_and_noise_spec(
+    accel_bias: f64,
+    gyro_bias: f64,
+    accel_density: f64,
+    gyro_density: f64,
+) -> ImuSpec {
     ImuSpec {
         accelerometer: AccelerometerSpec {
             bias_std: accel_bias,
-            noise: NoiseModel { white_density: accel_density, ..Default::default() },
+            noise: NoiseModel {
+                white_density: accel_density,
+                ..Default::default()
+            },
             ..Default::default()
         },
         gyroscope: GyroscopeSpec {
             bias_std: gyro_bias,
-            noise: NoiseModel { white_density: gyro_density, ..Default::default() },
+            noise: NoiseModel {
+                white_density: gyro_density,
+                ..Default::default()
+            },
             ..Default::default()
         },
     }
 }
 
 fn n3(rng: &mut Rng) -> Vector3<f64> {
-    Vector3::new(rng.sample(StandardNormal), rng.sample(StandardNormal), rng.sample(StandardNormal))
+    Vector3::new(
+        rng.sample(StandardNormal),
+        rng.sample(StandardNormal),
+        rng.sample(StandardNormal),
+    )
 }
 
 /// The true state perturbed by a draw from P₀ (so NEES starts consistent).
@@ -147,8 +184,10 @@ fn nav_error(est: &NavState, truth: &NavState) -> SVector<f64, 9> {
     let psi = dcm_to_rotation_vector(&(est.c_b_e * truth.c_b_e.transpose()));
     let mut e = SVector::<f64, 9>::zeros();
     e.fixed_rows_mut::<3>(0).copy_from(&psi);
-    e.fixed_rows_mut::<3>(3).copy_from(&(est.velocity_ecef - truth.velocity_ecef));
-    e.fixed_rows_mut::<3>(6).copy_from(&(est.position_ecef - truth.position_ecef));
+    e.fixed_rows_mut::<3>(3)
+        .copy_from(&(est.velocity_ecef - truth.velocity_ecef));
+    e.fixed_rows_mut::<3>(6)
+        .copy_from(&(est.position_ecef - truth.position_ecef));
     e
 }
 
@@ -157,7 +196,14 @@ struct Run {
     records: Vec<MeasurementRecord>,
 }
 
-fn run_tight(truth: &Truth, epochs: &[GnssEpoch], imu: &ImuModel, tuning: &FilterTuning, initial: &InitialState, rng: &mut Rng) -> Run {
+fn run_tight(
+    truth: &Truth,
+    epochs: &[GnssEpoch],
+    imu: &ImuModel,
+    tuning: &FilterTuning,
+    initial: &InitialState,
+    rng: &mut Rng,
+) -> Run {
     let readings = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
     let data = ImuData {
         time_s: &truth.time_s,
@@ -200,7 +246,11 @@ fn consistent_when_the_imu_errors_are_modelled_exactly() {
         for (s, v) in nees_sum.iter_mut().zip(&run.nees_1hz) {
             *s += v / 9.0;
         }
-        for r in run.records.iter().filter(|r| r.status == MeasurementStatus::Accepted) {
+        for r in run
+            .records
+            .iter()
+            .filter(|r| r.status == MeasurementStatus::Accepted)
+        {
             nis_sum += r.nis;
             nis_n += 1;
         }
@@ -210,7 +260,10 @@ fn consistent_when_the_imu_errors_are_modelled_exactly() {
     let (lo, hi) = mean_per_dof_band(9.0, runs as usize, 0.95);
     let mean = nees_sum.iter().sum::<f64>() / (nees_sum.len() as f64 * runs as f64);
     println!("mean NEES/dof = {mean:.3}, band [{lo:.3}, {hi:.3}]");
-    assert!(mean > lo && mean < hi, "mean NEES/dof {mean} outside [{lo}, {hi}]");
+    assert!(
+        mean > lo && mean < hi,
+        "mean NEES/dof {mean} outside [{lo}, {hi}]"
+    );
     let inside = nees_sum.iter().filter(|v| {
         let m = **v / runs as f64;
         m > lo && m < hi
@@ -222,8 +275,11 @@ fn consistent_when_the_imu_errors_are_modelled_exactly() {
     assert!(nis > lo && nis < hi, "mean NIS {nis}");
 }
 
-
-fn readings(truth: &Truth, imu: &ImuModel, rng: &mut Rng) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+fn readings(
+    truth: &Truth,
+    imu: &ImuModel,
+    rng: &mut Rng,
+) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
     let r = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
     (r.specific_force_b, r.angular_rate_b)
 }
@@ -249,7 +305,11 @@ fn outliers_are_rejected_and_counted() {
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
     let mut epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData { time_s: &truth.time_s, specific_force_b: &f, angular_rate_b: &w };
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
     let clean = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let clean_rejections = clean.rejected().count();
     let hit = epochs[30].measurements[2].sat_id;
@@ -257,16 +317,34 @@ fn outliers_are_rejected_and_counted() {
     epochs[40].measurements[0].pseudorange_m = f64::NAN;
     epochs[45].measurements[1].pseudorange_m = 1e9;
     let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
-    let find = |t: f64, kind| sol.measurements.iter().find(|r| r.time_s == t && r.kind == kind && r.status != MeasurementStatus::Accepted && (t != 30.0 || r.id == hit));
+    let find = |t: f64, kind| {
+        sol.measurements.iter().find(|r| {
+            r.time_s == t
+                && r.kind == kind
+                && r.status != MeasurementStatus::Accepted
+                && (t != 30.0 || r.id == hit)
+        })
+    };
     let r = find(30.0, MeasurementKind::Pseudorange).expect("the 100 m outlier is rejected");
     assert_eq!(r.status, MeasurementStatus::RejectedByGate);
     assert!((r.innovation - 100.0).abs() < 15.0, "{r:?}");
-    assert_eq!(find(40.0, MeasurementKind::Pseudorange).unwrap().status, MeasurementStatus::RejectedInvalid);
-    assert_eq!(find(45.0, MeasurementKind::Pseudorange).unwrap().status, MeasurementStatus::RejectedByGate);
+    assert_eq!(
+        find(40.0, MeasurementKind::Pseudorange).unwrap().status,
+        MeasurementStatus::RejectedInvalid
+    );
+    assert_eq!(
+        find(45.0, MeasurementKind::Pseudorange).unwrap().status,
+        MeasurementStatus::RejectedByGate
+    );
     assert_eq!(sol.rejected().count(), clean_rejections + 3);
     // The solution is unharmed: same error as without the outliers.
     let err = |s: &Solution| (s.position_ecef[6000] - truth.nav[6000].position_ecef).norm();
-    assert!((err(&sol) - err(&clean)).abs() < 0.5, "{} vs {}", err(&sol), err(&clean));
+    assert!(
+        (err(&sol) - err(&clean)).abs() < 0.5,
+        "{} vs {}",
+        err(&sol),
+        err(&clean)
+    );
     // Without the gate the 1e9 m pseudorange is applied and wrecks the fix.
     let mut open = tuning;
     open.gate_probability = 1.0;
@@ -279,18 +357,31 @@ fn outliers_are_rejected_and_counted() {
 #[test]
 fn tight_coupling_survives_three_satellites() {
     let truth = drive(240.0, 100.0, true);
-    let spec = bias_and_noise_spec(0.05, 1e-3_f64.to_radians() * 10.0, 2e-3, 1e-3_f64.to_radians());
+    let spec = bias_and_noise_spec(
+        0.05,
+        1e-3_f64.to_radians() * 10.0,
+        2e-3,
+        1e-3_f64.to_radians(),
+    );
     let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
     let mut rng = stream(5, 0);
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
     let config = SimulationConfig {
-        outages: vec![Outage { start_s: 30.0, duration_s: 1e6, n_satellites: 3 }],
+        outages: vec![Outage {
+            start_s: 30.0,
+            duration_s: 1e6,
+            n_satellites: 3,
+        }],
         ..Default::default()
     };
     let epochs = gnss_for(&truth, &config, &mut rng);
     assert_eq!(epochs[100].measurements.len(), 3);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData { time_s: &truth.time_s, specific_force_b: &f, angular_rate_b: &w };
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
     let init = exact_initial(&truth);
     let tight = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
     let fixes: Vec<PositionFix> = epochs
@@ -299,17 +390,29 @@ fn tight_coupling_survives_three_satellites() {
         .map(|(t, fx)| PositionFix {
             time_s: t,
             position_ecef: fx.position_ecef,
-            position_covariance: fx.position_clock_covariance.fixed_view::<3, 3>(0, 0).into_owned(),
+            position_covariance: fx
+                .position_clock_covariance
+                .fixed_view::<3, 3>(0, 0)
+                .into_owned(),
             velocity_ecef: Some(fx.velocity_ecef),
-            velocity_covariance: fx.velocity_drift_covariance.fixed_view::<3, 3>(0, 0).into_owned(),
+            velocity_covariance: fx
+                .velocity_drift_covariance
+                .fixed_view::<3, 3>(0, 0)
+                .into_owned(),
         })
         .collect();
-    assert_eq!(fixes.len(), 30, "fixes only while six satellites are tracked");
+    assert_eq!(
+        fixes.len(),
+        30,
+        "fixes only while six satellites are tracked"
+    );
     let loose = loosely_coupled::<17>(&data, &fixes, &init, &tuning).unwrap();
     let last = truth.time_s.len() - 1;
     let e_tight = (tight.position_ecef[last] - truth.nav[last].position_ecef).norm();
     let e_loose = (loose.position_ecef[last] - truth.nav[last].position_ecef).norm();
-    let worst_tight = (0..=last).map(|k| (tight.position_ecef[k] - truth.nav[k].position_ecef).norm()).fold(0.0, f64::max);
+    let worst_tight = (0..=last)
+        .map(|k| (tight.position_ecef[k] - truth.nav[k].position_ecef).norm())
+        .fold(0.0, f64::max);
     println!("3 satellites: tight final {e_tight:.1} m (worst {worst_tight:.1}), loose final {e_loose:.1} m");
     assert!(worst_tight < 60.0, "{worst_tight}");
     assert!(e_loose > 10.0 * e_tight);
@@ -326,17 +429,31 @@ fn outage_drift_follows_half_b_t_squared() {
     let config = SimulationConfig {
         pseudorange_std_m: 0.3,
         pseudorange_rate_std_m_s: 0.01,
-        outages: vec![Outage { start_s: 120.0, duration_s: 30.0, n_satellites: 0 }],
+        outages: vec![Outage {
+            start_s: 120.0,
+            duration_s: 30.0,
+            n_satellites: 0,
+        }],
         ..Default::default()
     };
     let epochs = gnss_for(&truth, &config, &mut rng);
     let step = Vector3::new(0.05, 0.0, 0.0);
-    let f: Vec<_> = truth.f_b.iter().zip(&truth.time_s).map(|(f, t)| if *t > 120.0 { f + step } else { *f }).collect();
-    let data = ImuData { time_s: &truth.time_s, specific_force_b: &f, angular_rate_b: &truth.w_b };
+    let f: Vec<_> = truth
+        .f_b
+        .iter()
+        .zip(&truth.time_s)
+        .map(|(f, t)| if *t > 120.0 { f + step } else { *f })
+        .collect();
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &truth.w_b,
+    };
     let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let k0 = 12000;
     let drift = |k: usize| {
-        (sol.position_ecef[k] - truth.nav[k].position_ecef) - (sol.position_ecef[k0] - truth.nav[k0].position_ecef)
+        (sol.position_ecef[k] - truth.nav[k].position_ecef)
+            - (sol.position_ecef[k0] - truth.nav[k0].position_ecef)
             - (sol.velocity_ecef[k0] - truth.nav[k0].velocity_ecef) * (truth.time_s[k] - 120.0)
     };
     // ½ b t² along the turning body axis: ∬ C_b^e(t) Δb dt² by the trapezoid rule.
@@ -353,8 +470,16 @@ fn outage_drift_follows_half_b_t_squared() {
     for secs in [5usize, 15, 30] {
         let k = k0 + secs * 100;
         let (got, want) = (drift(k), expected[secs * 100]);
-        println!("outage {secs} s: drift {:.3} m, ½ b t² = {:.3} m (straight: {:.3})", got.norm(), want.norm(), 0.025 * (secs * secs) as f64);
-        assert!((got - want).norm() < 0.05 * want.norm() + 0.05, "{secs} s: {got} vs {want}");
+        println!(
+            "outage {secs} s: drift {:.3} m, ½ b t² = {:.3} m (straight: {:.3})",
+            got.norm(),
+            want.norm(),
+            0.025 * (secs * secs) as f64
+        );
+        assert!(
+            (got - want).norm() < 0.05 * want.norm() + 0.05,
+            "{secs} s: {got} vs {want}"
+        );
     }
 }
 
@@ -369,7 +494,11 @@ fn covariance_stays_positive_definite_over_two_hours() {
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
     let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData { time_s: &truth.time_s, specific_force_b: &f, angular_rate_b: &w };
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
     let mut worst: f64 = 0.0;
     let mut last_p = None;
     let start = std::time::Instant::now();
@@ -381,7 +510,10 @@ fn covariance_stays_positive_definite_over_two_hours() {
     })
     .unwrap();
     let secs = start.elapsed().as_secs_f64();
-    println!("2 h run: {:.0} IMU epochs/s including INS and updates; worst error {worst:.1} m", 720_000.0 / secs);
+    println!(
+        "2 h run: {:.0} IMU epochs/s including INS and updates; worst error {worst:.1} m",
+        720_000.0 / secs
+    );
     let p = last_p.unwrap();
     assert!((p - p.transpose()).abs().max() <= 1e-12 * p.abs().max());
     assert!(p.cholesky().is_some());
@@ -393,9 +525,15 @@ fn bad_input_is_a_clear_error() {
     let truth = drive(10.0, 100.0, true);
     let mut rng = stream(2, 0);
     let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
-    let tuning = FilterTuning::from_imu_spec(&bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4), 100.0, false).unwrap();
+    let tuning =
+        FilterTuning::from_imu_spec(&bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4), 100.0, false)
+            .unwrap();
     let init = exact_initial(&truth);
-    let data = ImuData { time_s: &truth.time_s, specific_force_b: &truth.f_b, angular_rate_b: &truth.w_b };
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &truth.f_b,
+        angular_rate_b: &truth.w_b,
+    };
     let msg = |r: Result<Solution, Error>| match r {
         Err(Error::InvalidArgument { argument, reason }) => format!("{argument}: {reason}"),
         other => panic!("expected InvalidArgument, got {other:?}"),
@@ -403,16 +541,24 @@ fn bad_input_is_a_clear_error() {
     // GNSS outside the IMU span, and not increasing.
     let mut late = epochs.clone();
     late[10].time_s = 20.0;
-    assert!(msg(tightly_coupled::<17>(&data, &late, &init, &tuning)).contains("outside the IMU span"));
+    assert!(
+        msg(tightly_coupled::<17>(&data, &late, &init, &tuning)).contains("outside the IMU span")
+    );
     let mut swapped = epochs.clone();
     swapped.swap(3, 4);
     assert!(msg(tightly_coupled::<17>(&data, &swapped, &init, &tuning)).contains("increase"));
     // Mismatched lengths and NaN IMU data.
-    let short = ImuData { angular_rate_b: &truth.w_b[1..], ..data };
+    let short = ImuData {
+        angular_rate_b: &truth.w_b[1..],
+        ..data
+    };
     assert!(msg(tightly_coupled::<17>(&short, &epochs, &init, &tuning)).starts_with("angular_rate"));
     let mut nan_f = truth.f_b.clone();
     nan_f[7].y = f64::NAN;
-    let nan = ImuData { specific_force_b: &nan_f, ..data };
+    let nan = ImuData {
+        specific_force_b: &nan_f,
+        ..data
+    };
     assert!(msg(tightly_coupled::<17>(&nan, &epochs, &init, &tuning)).starts_with("specific_force"));
     // No satellites at the first epoch: no initial fix.
     let mut empty = epochs.clone();

@@ -186,7 +186,8 @@ impl<const N: usize> FilterState<N> {
         let mut p0 = SMatrix::<f64, N, N>::zeros();
         let geo = ecef_to_geodetic(&init.nav.position_ecef);
         let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
-        let p_att = cne * Matrix3::from_diagonal(&s.attitude_ned_rad.map(|v| v * v)) * cne.transpose();
+        let p_att =
+            cne * Matrix3::from_diagonal(&s.attitude_ned_rad.map(|v| v * v)) * cne.transpose();
         p0.fixed_view_mut::<3, 3>(ATTITUDE, ATTITUDE)
             .copy_from(&(0.5 * (p_att + p_att.transpose())));
         for k in 0..3 {
@@ -195,8 +196,7 @@ impl<const N: usize> FilterState<N> {
             p0[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = s.accel_bias_m_s2.powi(2);
             p0[(GYRO_BIAS + k, GYRO_BIAS + k)] = s.gyro_bias_rad_s.powi(2);
             if N >= WITH_SCALE_FACTORS {
-                p0[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] =
-                    s.accel_scale_factor.powi(2);
+                p0[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] = s.accel_scale_factor.powi(2);
                 p0[(GYRO_SCALE_FACTOR + k, GYRO_SCALE_FACTOR + k)] = s.gyro_scale_factor.powi(2);
             }
         }
@@ -215,7 +215,10 @@ impl<const N: usize> FilterState<N> {
             gyro_scale_factor: Vector3::zeros(),
             clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
             clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
-            clock_known: (init.clock_offset_m.is_some(), init.clock_drift_m_s.is_some()),
+            clock_known: (
+                init.clock_offset_m.is_some(),
+                init.clock_drift_m_s.is_some(),
+            ),
             kf: ErrorStateKf::new(p0)?,
             noise: tuning.process_noise,
             gate,
@@ -353,7 +356,10 @@ pub(crate) fn validate_epoch_times<E: AidingEpoch>(
     for (i, e) in epochs.iter().enumerate() {
         let t = e.time_s();
         if !t.is_finite() {
-            return Err(Error::invalid(argument, format!("epoch {i} has a non-finite time")));
+            return Err(Error::invalid(
+                argument,
+                format!("epoch {i} has a non-finite time"),
+            ));
         }
         if t < t0 - tolerance || t > t1 + tolerance {
             return Err(Error::invalid(
@@ -468,7 +474,11 @@ pub struct Solution {
 
 impl Solution {
     pub(crate) fn with_capacity(len: usize, n_states: usize) -> Self {
-        let sf = if n_states >= WITH_SCALE_FACTORS { len } else { 0 };
+        let sf = if n_states >= WITH_SCALE_FACTORS {
+            len
+        } else {
+            0
+        };
         Self {
             time_s: Vec::with_capacity(len),
             position_ecef: Vec::with_capacity(len),

@@ -23,7 +23,7 @@ pub fn coarse_attitude(
     velocity_ecef: &Vector3<f64>,
 ) -> Result<Matrix3<f64>> {
     let f = mean_specific_force_b;
-    if !(f.iter().all(|v| v.is_finite()) && f.norm() > 1.0) {
+    if !f.iter().all(|v| v.is_finite()) || f.norm() <= 1.0 {
         return Err(Error::invalid(
             "specific_force",
             "the first second of specific force does not show gravity: cannot level",
@@ -35,7 +35,7 @@ pub fn coarse_attitude(
     let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
     let v_ned = cne.transpose() * velocity_ecef;
     let speed = (v_ned.x * v_ned.x + v_ned.y * v_ned.y).sqrt();
-    if !(speed >= MIN_SPEED_FOR_HEADING_M_S) {
+    if speed.is_nan() || speed < MIN_SPEED_FOR_HEADING_M_S {
         return Err(Error::invalid(
             "initial_attitude",
             format!(
@@ -80,7 +80,12 @@ pub fn initial_state_from_fix(
             c
         }
         None => {
-            let k = imu.time_s.iter().take_while(|t| **t <= t0 + 1.0).count().max(1);
+            let k = imu
+                .time_s
+                .iter()
+                .take_while(|t| **t <= t0 + 1.0)
+                .count()
+                .max(1);
             let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
             coarse_attitude(&mean, &position_ecef, &fix.velocity_ecef)?
         }

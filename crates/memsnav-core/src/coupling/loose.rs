@@ -116,9 +116,23 @@ where
         tuning.time_tolerance_s,
         |s, i, f: &PositionFix| {
             let (lp, lv) = &whiten[i];
-            update_block(s, f.time_s, POSITION, s.nav.position_ecef - f.position_ecef, lp, MeasurementKind::Position);
+            update_block(
+                s,
+                f.time_s,
+                POSITION,
+                s.nav.position_ecef - f.position_ecef,
+                lp,
+                MeasurementKind::Position,
+            );
             if let Some(v) = f.velocity_ecef {
-                update_block(s, f.time_s, VELOCITY, s.nav.velocity_ecef - v, lv, MeasurementKind::Velocity);
+                update_block(
+                    s,
+                    f.time_s,
+                    VELOCITY,
+                    s.nav.velocity_ecef - v,
+                    lv,
+                    MeasurementKind::Velocity,
+                );
             }
         },
         observe,

@@ -58,7 +58,12 @@ fn initialise_clock<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch, u
     let mut range = [0.0; 64];
     let mut rate = [0.0; 64];
     let (mut nr, mut nd) = (0, 0);
-    for m in epoch.measurements.iter().filter(|m| satellite_usable(m)).take(64) {
+    for m in epoch
+        .measurements
+        .iter()
+        .filter(|m| satellite_usable(m))
+        .take(64)
+    {
         let p = gnss::predicted_range(
             &m.position_ecef,
             &m.velocity_ecef,

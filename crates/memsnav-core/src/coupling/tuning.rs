@@ -199,7 +199,8 @@ impl FilterTuning {
         let na = errors.accel_nonlinearity_per_m_s2;
         // Constant parts: gravity through scale factor, nonlinearity and the two
         // misalignment terms of each horizontal axis; g-sensitivity of the gyro.
-        let accel_constant2 = (sa * g).powi(2) + (na * g * g).powi(2) + (errors.accel_misalignment * g).powi(2);
+        let accel_constant2 =
+            (sa * g).powi(2) + (na * g * g).powi(2) + (errors.accel_misalignment * g).powi(2);
         let gyro_constant2 = (errors.gyro_g_sensitivity_rad_s_per_m_s2 * g).powi(2);
         let i = &mut self.initial_std;
         i.accel_bias_m_s2 = (i.accel_bias_m_s2.powi(2) + accel_constant2).sqrt();
@@ -233,11 +234,17 @@ impl FilterTuning {
             validate::non_negative(name, v)?;
         }
         for (name, v) in [
-            ("accel_bias_correlation_time", q.accel_bias_correlation_time_s),
+            (
+                "accel_bias_correlation_time",
+                q.accel_bias_correlation_time_s,
+            ),
             ("gyro_bias_correlation_time", q.gyro_bias_correlation_time_s),
         ] {
-            if !(v > 0.0) {
-                return Err(Error::invalid(name, format!("must be positive (inf for a random walk), got {v}")));
+            if v.is_nan() || v <= 0.0 {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be positive (inf for a random walk), got {v}"),
+                ));
             }
         }
         let i = &self.initial_std;
@@ -304,7 +311,7 @@ impl BiasProcess {
         validate::non_negative(&format!("{name}.initial_std"), self.initial_std)?;
         validate::non_negative(&format!("{name}.instability_std"), self.instability_std)?;
         validate::non_negative(&format!("{name}.random_walk"), self.random_walk)?;
-        if !(self.correlation_time_s > 0.0) {
+        if self.correlation_time_s.is_nan() || self.correlation_time_s <= 0.0 {
             return Err(Error::invalid(
                 format!("{name}.correlation_time"),
                 "must be positive (inf for none)",
