@@ -69,7 +69,9 @@ def test_walker_against_the_circular_orbit_formula():
     n = math.sqrt(3.986004418e14 / a**3)
     # Satellite 0: plane 0 (node at 0), slot 0, argument of latitude n t.
     u, inc, theta = n * t, math.radians(55.0), OMEGA_E * t
-    r_inertial = a * np.array([math.cos(u), math.sin(u) * math.cos(inc), math.sin(u) * math.sin(inc)])
+    r_inertial = a * np.array(
+        [math.cos(u), math.sin(u) * math.cos(inc), math.sin(u) * math.sin(inc)]
+    )
     rot = np.array(
         [[math.cos(theta), math.sin(theta), 0], [-math.sin(theta), math.cos(theta), 0], [0, 0, 1]]
     )
@@ -168,28 +170,28 @@ def test_bad_inputs(tmp_path):
     with pytest.raises(ValueError, match="gps_time"):
         sky.position_velocity(float("nan"))
     t, p, v = track(5.0)
-    with pytest.raises(ValueError, match="^time:"):
+    with pytest.raises(ValueError, match=r"^time:"):
         mn.simulate_gnss(t[::-1], p, v, sky)
     bad = p.copy()
     bad[3, 1] = np.nan
-    with pytest.raises(ValueError, match="^position_ecef:"):
+    with pytest.raises(ValueError, match=r"^position_ecef:"):
         mn.simulate_gnss(t, bad, v, sky)
-    with pytest.raises(ValueError, match="^velocity_ecef:"):
+    with pytest.raises(ValueError, match=r"^velocity_ecef:"):
         mn.simulate_gnss(t, p, v[:, :2], sky)
-    with pytest.raises(ValueError, match="^velocity_ecef:"):
+    with pytest.raises(ValueError, match=r"^velocity_ecef:"):
         mn.simulate_gnss(t, p, v[1:], sky)
-    with pytest.raises(ValueError, match="^rate:"):
+    with pytest.raises(ValueError, match=r"^rate:"):
         mn.simulate_gnss(t, p, v, sky, rate=0.0)
-    with pytest.raises(ValueError, match="^elevation_mask"):
+    with pytest.raises(ValueError, match=r"^elevation_mask"):
         mn.simulate_gnss(t, p, v, sky, elevation_mask_deg=95.0)
-    with pytest.raises(ValueError, match="^pseudorange_std:"):
+    with pytest.raises(ValueError, match=r"^pseudorange_std:"):
         mn.simulate_gnss(t, p, v, sky, pseudorange_std=-1.0)
-    with pytest.raises(ValueError, match="^outages:"):
+    with pytest.raises(ValueError, match=r"^outages:"):
         mn.simulate_gnss(t, p, v, sky, outages=[(1.0,)])
-    with pytest.raises(ValueError, match="^outages:"):
+    with pytest.raises(ValueError, match=r"^outages:"):
         mn.simulate_gnss(t, p, v, sky, outages=[(1.0, -2.0)])
-    with pytest.raises(ValueError, match="^start_gps_time:"):
+    with pytest.raises(ValueError, match=r"^start_gps_time:"):
         mn.simulate_gnss(t, p, v, mn.Constellation.from_rinex_nav(BRDC_2015), start_gps_time=0.0)
     meas = mn.simulate_gnss(t, p, v, sky)
-    with pytest.raises(ValueError, match="^prior:"):
+    with pytest.raises(ValueError, match=r"^prior:"):
         mn.solve_fix(meas, prior=[1.0, 2.0])

@@ -14,18 +14,39 @@ use pyo3::prelude::*;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
-fn array2<'py>(py: Python<'py>, flat: Vec<f64>, rows: usize, cols: usize) -> Bound<'py, PyArray2<f64>> {
-    PyArray1::from_vec(py, flat).reshape([rows, cols]).expect("rows × cols elements by construction")
+fn array2<'py>(
+    py: Python<'py>,
+    flat: Vec<f64>,
+    rows: usize,
+    cols: usize,
+) -> Bound<'py, PyArray2<f64>> {
+    PyArray1::from_vec(py, flat)
+        .reshape([rows, cols])
+        .expect("rows × cols elements by construction")
 }
 
-fn array3<'py>(py: Python<'py>, flat: Vec<f64>, a: usize, b: usize, c: usize) -> Bound<'py, PyArray3<f64>> {
-    PyArray1::from_vec(py, flat).reshape([a, b, c]).expect("a × b × c elements by construction")
+fn array3<'py>(
+    py: Python<'py>,
+    flat: Vec<f64>,
+    a: usize,
+    b: usize,
+    c: usize,
+) -> Bound<'py, PyArray3<f64>> {
+    PyArray1::from_vec(py, flat)
+        .reshape([a, b, c])
+        .expect("a × b × c elements by construction")
 }
 
 fn matrices4<'py>(py: Python<'py>, ms: &[Matrix4<f64>]) -> Bound<'py, PyArray3<f64>> {
-    let flat: Vec<f64> = ms.iter().flat_map(|m| m.transpose().as_slice().to_vec()).collect();
+    let flat: Vec<f64> = ms
+        .iter()
+        .flat_map(|m| m.transpose().as_slice().to_vec())
+        .collect();
     array3(py, flat, ms.len(), 4, 4)
 }
+
+/// Positions and velocities as two `(n, 3)` arrays.
+type ArrayPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
 
 /// GPS satellites from broadcast ephemerides, or a synthetic Walker constellation.
 #[pyclass(name = "Constellation", module = "memsnav._memsnav", frozen)]
@@ -62,7 +83,9 @@ impl PyConstellation {
             raan0_rad: raan0_deg.to_radians(),
             ..WalkerConfig::default()
         };
-        Ok(PyConstellation { inner: Constellation::walker(&config).py()? })
+        Ok(PyConstellation {
+            inner: Constellation::walker(&config).py()?,
+        })
     }
 
     /// Satellite names, e.g. ``["G01", "G02", ...]``.
@@ -85,19 +108,25 @@ impl PyConstellation {
 
     /// ECEF positions (m) and velocities (m/s), each ``(n_sat, 3)``, at
     /// ``gps_time`` (s since 1980-01-06 GPST); NaN rows without a valid ephemeris.
-    fn position_velocity<'py>(
-        &self,
-        py: Python<'py>,
-        gps_time: f64,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+    fn position_velocity<'py>(&self, py: Python<'py>, gps_time: f64) -> PyResult<ArrayPair<'py>> {
         let (p, v) = self.inner.position_velocity(gps_time).py()?;
-        Ok((convert::vectors_to_numpy(py, &p), convert::vectors_to_numpy(py, &v)))
+        Ok((
+            convert::vectors_to_numpy(py, &p),
+            convert::vectors_to_numpy(py, &v),
+        ))
     }
 
     /// Satellite clock corrections Δt_sv (s, L1 C/A: relativistic term and
     /// −T_GD included) at ``gps_time``; NaN without a valid ephemeris.
-    fn clock_correction<'py>(&self, py: Python<'py>, gps_time: f64) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        Ok(PyArray1::from_vec(py, self.inner.clock_correction(gps_time).py()?))
+    fn clock_correction<'py>(
+        &self,
+        py: Python<'py>,
+        gps_time: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_vec(
+            py,
+            self.inner.clock_correction(gps_time).py()?,
+        ))
     }
 }
 
@@ -124,21 +153,39 @@ impl PySp3 {
     /// Centre-of-mass positions, ECEF m, ``(n_epochs, n_sat, 3)``; NaN if missing.
     #[getter]
     fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
-        let flat = self.inner.position_ecef.iter().flat_map(|v| [v.x, v.y, v.z]).collect();
-        array3(py, flat, self.inner.time_gps_s.len(), self.inner.satellites.len(), 3)
+        let flat = self
+            .inner
+            .position_ecef
+            .iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .collect();
+        array3(
+            py,
+            flat,
+            self.inner.time_gps_s.len(),
+            self.inner.satellites.len(),
+            3,
+        )
     }
 
     /// Satellite clocks, s, ``(n_epochs, n_sat)``; NaN if missing.
     #[getter]
     fn clock<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        array2(py, self.inner.clock_s.clone(), self.inner.time_gps_s.len(), self.inner.satellites.len())
+        array2(
+            py,
+            self.inner.clock_s.clone(),
+            self.inner.time_gps_s.len(),
+            self.inner.satellites.len(),
+        )
     }
 }
 
 /// Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s).
 #[pyfunction]
 fn read_sp3(py: Python<'_>, path: PathBuf) -> PyResult<PySp3> {
-    Ok(PySp3 { inner: py.detach(|| gnss::read_sp3(&path)).py()? })
+    Ok(PySp3 {
+        inner: py.detach(|| gnss::read_sp3(&path)).py()?,
+    })
 }
 
 /// Simulated measurements: per-epoch arrays padded to ``n_max`` satellites.
@@ -151,7 +198,11 @@ pub struct PyGnssMeasurements {
 }
 
 impl PyGnssMeasurements {
-    fn padded<'py>(&self, py: Python<'py>, f: impl Fn(&gnss::SatelliteMeasurement) -> f64) -> Bound<'py, PyArray2<f64>> {
+    fn padded<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::SatelliteMeasurement) -> f64,
+    ) -> Bound<'py, PyArray2<f64>> {
         let mut flat = vec![f64::NAN; self.epochs.len() * self.n_max];
         for (k, e) in self.epochs.iter().enumerate() {
             for (j, m) in e.measurements.iter().enumerate() {
@@ -161,7 +212,11 @@ impl PyGnssMeasurements {
         array2(py, flat, self.epochs.len(), self.n_max)
     }
 
-    fn padded_vectors<'py>(&self, py: Python<'py>, f: impl Fn(&gnss::SatelliteMeasurement) -> Vector3<f64>) -> Bound<'py, PyArray3<f64>> {
+    fn padded_vectors<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::SatelliteMeasurement) -> Vector3<f64>,
+    ) -> Bound<'py, PyArray3<f64>> {
         let mut flat = vec![f64::NAN; self.epochs.len() * self.n_max * 3];
         for (k, e) in self.epochs.iter().enumerate() {
             for (j, m) in e.measurements.iter().enumerate() {
@@ -185,7 +240,12 @@ impl PyGnssMeasurements {
     #[getter]
     fn gps_time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let t0 = self.epochs.first().map_or(0.0, |e| e.time_s);
-        PyArray1::from_iter(py, self.epochs.iter().map(|e| self.start_gps_time_s + (e.time_s - t0)))
+        PyArray1::from_iter(
+            py,
+            self.epochs
+                .iter()
+                .map(|e| self.start_gps_time_s + (e.time_s - t0)),
+        )
     }
 
     /// Number of satellites tracked at each epoch, ``(T,)``.
@@ -203,7 +263,9 @@ impl PyGnssMeasurements {
                 flat[k * self.n_max + j] = m.sat_id as i64;
             }
         }
-        PyArray1::from_vec(py, flat).reshape([self.epochs.len(), self.n_max]).expect("T × n_max")
+        PyArray1::from_vec(py, flat)
+            .reshape([self.epochs.len(), self.n_max])
+            .expect("T × n_max")
     }
 
     /// Satellite positions at transmission time (ECEF of that time), m, ``(T, n_max, 3)``, NaN-padded.
@@ -260,7 +322,9 @@ impl PyGnssMeasurements {
 }
 
 fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
-    let Some(obj) = obj else { return Ok(Vec::new()) };
+    let Some(obj) = obj else {
+        return Ok(Vec::new());
+    };
     let items: Vec<Vec<f64>> = obj.extract().map_err(|_| {
         PyValueError::new_err("outages: expected a sequence of (start, length) or (start, length, n_satellites) tuples")
     })?;
@@ -313,7 +377,9 @@ fn simulate_gnss(
     let position = convert::vectors(position_ecef, "position_ecef")?;
     let velocity = convert::vectors(velocity_ecef, "velocity_ecef")?;
     if !elevation_mask_deg.is_finite() {
-        return Err(PyValueError::new_err(format!("elevation_mask_deg: must be finite, got {elevation_mask_deg}")));
+        return Err(PyValueError::new_err(format!(
+            "elevation_mask_deg: must be finite, got {elevation_mask_deg}"
+        )));
     }
     let config = SimulationConfig {
         rate_hz: rate,
@@ -334,7 +400,11 @@ fn simulate_gnss(
         outages: outage_list(outages)?,
         start_gps_time_s: start_gps_time,
     };
-    let track = gnss::ReceiverTrack { time_s: &time, position_ecef: &position, velocity_ecef: &velocity };
+    let track = gnss::ReceiverTrack {
+        time_s: &time,
+        position_ecef: &position,
+        velocity_ecef: &velocity,
+    };
     let sky = &constellation.inner;
     let sim = py
         .detach(|| gnss::simulate_with_truth(&track, sky, &config, &mut random::stream(seed, 0)))
@@ -355,17 +425,40 @@ pub struct PyFixSeries {
 }
 
 impl PyFixSeries {
-    fn scalar<'py>(&self, py: Python<'py>, f: impl Fn(&gnss::Fix) -> f64) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_iter(py, self.fixes.iter().map(|x| x.as_ref().map_or(f64::NAN, &f)))
+    fn scalar<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::Fix) -> f64,
+    ) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(
+            py,
+            self.fixes.iter().map(|x| x.as_ref().map_or(f64::NAN, &f)),
+        )
     }
 
-    fn vectors<'py>(&self, py: Python<'py>, f: impl Fn(&gnss::Fix) -> Vector3<f64>) -> Bound<'py, PyArray2<f64>> {
-        let v: Vec<Vector3<f64>> = self.fixes.iter().map(|x| x.as_ref().map_or(Vector3::repeat(f64::NAN), &f)).collect();
+    fn vectors<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::Fix) -> Vector3<f64>,
+    ) -> Bound<'py, PyArray2<f64>> {
+        let v: Vec<Vector3<f64>> = self
+            .fixes
+            .iter()
+            .map(|x| x.as_ref().map_or(Vector3::repeat(f64::NAN), &f))
+            .collect();
         convert::vectors_to_numpy(py, &v)
     }
 
-    fn covariances<'py>(&self, py: Python<'py>, f: impl Fn(&gnss::Fix) -> Matrix4<f64>) -> Bound<'py, PyArray3<f64>> {
-        let m: Vec<Matrix4<f64>> = self.fixes.iter().map(|x| x.as_ref().map_or(Matrix4::repeat(f64::NAN), &f)).collect();
+    fn covariances<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::Fix) -> Matrix4<f64>,
+    ) -> Bound<'py, PyArray3<f64>> {
+        let m: Vec<Matrix4<f64>> = self
+            .fixes
+            .iter()
+            .map(|x| x.as_ref().map_or(Matrix4::repeat(f64::NAN), &f))
+            .collect();
         matrices4(py, &m)
     }
 }
@@ -466,7 +559,10 @@ fn solve_fix(
                 .collect::<Result<Vec<_>, Error>>()
         })
         .py()?;
-    Ok(PyFixSeries { time: epochs.iter().map(|e| e.time_s).collect(), fixes })
+    Ok(PyFixSeries {
+        time: epochs.iter().map(|e| e.time_s).collect(),
+        fixes,
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

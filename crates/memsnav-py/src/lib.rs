@@ -3,8 +3,8 @@
 
 use pyo3::prelude::*;
 
-#[allow(dead_code)]
 // per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
+#[allow(dead_code)] // until the INS and inversion bindings use per_axis and matrices3
 mod convert;
 mod errors;
 mod geodesy;
@@ -16,7 +16,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
     geodesy::register(m)?;
-    gnss::register(m)?;
     sensors::register(m)?;
+    gnss::register(m)?;
     Ok(())
 }

@@ -14,6 +14,9 @@ use crate::{validate, Error, Result};
 /// used, s (IS-GPS-200: a 4 h fit interval centred on t_oe).
 pub const EPHEMERIS_VALIDITY_S: f64 = 7_200.0;
 
+/// Satellite ECEF positions (m) and velocities (m/s), one row per satellite.
+pub type PositionsVelocities = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
+
 /// A satellite's state at one GPS time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SatelliteState {
@@ -188,10 +191,7 @@ impl Constellation {
 
     /// Positions and velocities of every satellite (in `prns()` order) at
     /// `gps_time_s`; NaN rows where no valid ephemeris.
-    pub fn position_velocity(
-        &self,
-        gps_time_s: f64,
-    ) -> Result<(Vec<Vector3<f64>>, Vec<Vector3<f64>>)> {
+    pub fn position_velocity(&self, gps_time_s: f64) -> Result<PositionsVelocities> {
         validate::finite_scalars("gps_time", &[gps_time_s])?;
         let nan = Vector3::repeat(f64::NAN);
         Ok((0..self.len())

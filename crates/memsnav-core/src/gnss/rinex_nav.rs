@@ -166,7 +166,7 @@ fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     match major {
         2 if file_type == "N" => {}
         3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "M" | "") => {}
-        2 | 3 | 4 => {
+        2..=4 => {
             return Err(cur.error(
                 0,
                 format!("not a GPS navigation file (type {file_type:?}, system {system:?}); expected type N with system G or M"),
