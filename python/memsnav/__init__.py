@@ -18,8 +18,10 @@ from memsnav._memsnav import (
     GyroscopeModel,
     ImuModel,
     MemsnavError,
+    NavSolution,
     ParseError,
     Sp3,
+    Trajectory,
     UnobservableError,
     __version__,
     ecef_to_geodetic,
@@ -28,6 +30,9 @@ from memsnav._memsnav import (
     read_sp3,
     simulate_gnss,
     solve_fix,
+    imu_increments,
+    strapdown,
+    strapdown_increments,
 )
 
 __all__ = [
@@ -39,8 +44,10 @@ __all__ = [
     "GyroscopeModel",
     "ImuModel",
     "MemsnavError",
+    "NavSolution",
     "ParseError",
     "Sp3",
+    "Trajectory",
     "UnobservableError",
     "__version__",
     "ecef_to_geodetic",
@@ -49,4 +56,7 @@ __all__ = [
     "read_sp3",
     "simulate_gnss",
     "solve_fix",
+    "imu_increments",
+    "strapdown",
+    "strapdown_increments",
 ]

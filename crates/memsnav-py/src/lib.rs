@@ -9,7 +9,9 @@ mod convert;
 mod errors;
 mod geodesy;
 mod gnss;
+mod ins;
 mod sensors;
+mod trajectory;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -18,5 +20,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     geodesy::register(m)?;
     sensors::register(m)?;
     gnss::register(m)?;
+    ins::register(m)?;
+    trajectory::register(m)?;
     Ok(())
 }
