@@ -9,9 +9,11 @@ Conventions: SI units everywhere (m, m/s, m/s², rad, rad/s, s); frames in
 names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
+from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
     Constellation,
+    Calibration,
     DivergenceError,
     FixSeries,
     GnssMeasurements,
@@ -24,6 +26,8 @@ from memsnav._memsnav import (
     Trajectory,
     UnobservableError,
     __version__,
+    calibrate_accelerometer,
+    calibrate_gyroscope,
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
@@ -33,11 +37,14 @@ from memsnav._memsnav import (
     imu_increments,
     strapdown,
     strapdown_increments,
+    invert_accelerometer,
+    invert_gyroscope,
 )
 
 __all__ = [
     "AccelerometerModel",
     "Constellation",
+    "Calibration",
     "DivergenceError",
     "FixSeries",
     "GnssMeasurements",
@@ -50,7 +57,10 @@ __all__ = [
     "Trajectory",
     "UnobservableError",
     "__version__",
+    "calibrate_accelerometer",
+    "calibrate_gyroscope",
     "ecef_to_geodetic",
+    "experiments",
     "geodetic_to_ecef",
     "gravity_ecef",
     "read_sp3",
@@ -59,4 +69,6 @@ __all__ = [
     "imu_increments",
     "strapdown",
     "strapdown_increments",
+    "invert_accelerometer",
+    "invert_gyroscope",
 ]

@@ -3,13 +3,15 @@
 
 use pyo3::prelude::*;
 
-// per_axis, scalars, matrices3, matrices3_to_numpy: for the trajectory, INS and calibration bindings.
-#[allow(dead_code)] // until the INS and inversion bindings use per_axis and matrices3
+mod calibration;
+#[allow(dead_code)] // not every helper is used by every binding
 mod convert;
 mod errors;
+mod experiments;
 mod geodesy;
 mod gnss;
 mod ins;
+mod inversion;
 mod sensors;
 mod trajectory;
 
@@ -22,5 +24,8 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gnss::register(m)?;
     ins::register(m)?;
     trajectory::register(m)?;
+    calibration::register(m)?;
+    inversion::register(m)?;
+    experiments::register(m)?;
     Ok(())
 }
