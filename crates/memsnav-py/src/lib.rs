@@ -6,12 +6,14 @@ use pyo3::prelude::*;
 mod calibration;
 #[allow(dead_code)] // not every helper is used by every binding
 mod convert;
+mod coupling;
 mod errors;
 mod experiments;
 mod geodesy;
 mod gnss;
 mod ins;
 mod inversion;
+mod navigation;
 mod sensors;
 mod trajectory;
 
@@ -27,5 +29,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
+    coupling::register(m)?;
+    navigation::register(m)?;
     Ok(())
 }

@@ -254,7 +254,9 @@ pub struct ImuOutcome {
     pub run_rms_early: Vec<f64>,
     /// Per run: position error norm at the last epoch, m.
     pub run_final: Vec<f64>,
-    /// Per run: largest error norm inside the outage window (NaN without), m.
+    /// Per run: largest error norm at the epochs inside the outage window
+    /// [start, start + length) — before the first update after it (NaN
+    /// without outage), m.
     pub run_max_in_outage: Vec<f64>,
     /// Per run: mean NEES per degree of freedom over the epochs.
     pub run_mean_nees_per_dof: Vec<f64>,
@@ -516,7 +518,7 @@ pub fn navigation_experiment(
         .count();
     let in_outage: Vec<usize> = match config.outage {
         Some((start, length)) => (0..epochs)
-            .filter(|&m| time_s[m] >= start && time_s[m] <= start + length)
+            .filter(|&m| time_s[m] >= start && time_s[m] < start + length)
             .collect(),
         None => Vec::new(),
     };
