@@ -717,6 +717,42 @@ fn bad_profiles_name_the_file_and_line() {
 }
 
 #[test]
+fn a_hand_built_vehicle_motion_matches_its_segments() {
+    use memsnav_core::trajectory::VehicleMotion;
+    let origin = Geodetic::new(0.7, 0.1, 20.0);
+    let mut m = VehicleMotion::at_rest(1.0);
+    m.speed_m_s.ramp_to(10.0, 12.0);
+    m.speed_m_s.hold(10.0);
+    m.yaw_rate_rad_s.hold(10.0);
+    m.yaw_rate_rad_s.ramp_to(2.5, 0.2);
+    m.yaw_rate_rad_s.hold(5.0);
+    m.yaw_rate_rad_s.ramp_to(2.5, 0.0);
+    let hand = Trajectory::from_vehicle_motion(&m, origin, 20.0, 50.0).unwrap();
+    let scripted = Trajectory::from_segments(
+        origin,
+        1.0,
+        &[
+            Segment::Accelerate {
+                duration_s: 10.0,
+                target_speed_m_s: 12.0,
+            },
+            Segment::Turn {
+                duration_s: 10.0,
+                heading_change_rad: 0.2 * 7.5,
+            },
+        ],
+        50.0,
+    )
+    .unwrap();
+    assert_eq!(hand.len(), 1001);
+    for k in 0..hand.len() {
+        assert!((hand.position_ecef[k] - scripted.position_ecef[k]).norm() < 1e-6);
+        assert!((hand.angular_rate_b[k] - scripted.angular_rate_b[k]).norm() < 1e-12);
+    }
+    assert!(Trajectory::from_vehicle_motion(&m, origin, 0.0, 50.0).is_err());
+}
+
+#[test]
 fn increments_of_the_first_interval_need_no_history() {
     // A constant rotation rate with constant specific force along the
     // axis: no coning, no sculling; the first step must equal the exact

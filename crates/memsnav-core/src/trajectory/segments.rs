@@ -133,6 +133,22 @@ impl Trajectory {
     }
 }
 
+impl Trajectory {
+    /// The truth of a custom [`VehicleMotion`] (speed, yaw-rate and
+    /// path-angle signals built by hand) from t = 0 for `duration_s`.
+    pub fn from_vehicle_motion(
+        motion: &VehicleMotion,
+        origin: Geodetic,
+        duration_s: f64,
+        rate_hz: f64,
+    ) -> Result<Trajectory> {
+        validate_origin(&origin)?;
+        validate::finite_scalars("initial_heading", &[motion.initial_heading_rad])?;
+        let time = time_grid(0.0, duration_s, rate_hz)?;
+        Ok(build(motion, origin, time))
+    }
+}
+
 /// A finite origin with latitude within ±89° (the NED description of the
 /// motion is singular at the poles) and a height between −1 km and 100 km.
 pub(crate) fn validate_origin(origin: &Geodetic) -> Result<()> {
