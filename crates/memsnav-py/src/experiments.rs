@@ -79,9 +79,10 @@ fn with_progress<T: Send>(
 /// random IMUs from `preset`, `runs` runs each on fresh land-vehicle motion
 /// of `duration` s, GNSS-like references with white noise
 /// `reference_specific_force_std` (m/s²) and `reference_angular_rate_std`
-/// (rad/s) per sample. Returns a dict of per-set arrays (SI).
+/// (rad/s) per sample (defaults: `memsnav_core::experiments` constants).
+/// Returns a dict of per-set arrays (SI).
 #[pyfunction]
-#[pyo3(signature = (*, parameter_sets=50, runs=20, duration=300.0, preset="paper-mems", reference_specific_force_std=experiments::REFERENCE_SPECIFIC_FORCE_STD, reference_angular_rate_std=experiments::REFERENCE_ANGULAR_RATE_STD, seed=0, threads=None, progress=None))]
+#[pyo3(signature = (*, parameter_sets=50, runs=20, duration=300.0, preset="paper-mems", reference_specific_force_std=0.03, reference_angular_rate_std=0.0017453292519943296, seed=0, threads=None, progress=None))]
 fn calibration_experiment<'py>(
     py: Python<'py>,
     parameter_sets: usize,
@@ -125,7 +126,7 @@ fn calibration_experiment<'py>(
 /// random-walk increments `accel_process_std` (m/s²) and
 /// `gyro_process_std` (rad/s) per sample. Returns a dict of arrays (SI).
 #[pyfunction]
-#[pyo3(signature = (*, runs=50, duration=120.0, calibration_duration=300.0, preset="paper-mems", method="eiv", reference_specific_force_std=experiments::REFERENCE_SPECIFIC_FORCE_STD, reference_angular_rate_std=experiments::REFERENCE_ANGULAR_RATE_STD, accel_process_std=experiments::inversion::DEFAULT_ACCEL_PROCESS_STD, gyro_process_std=experiments::inversion::DEFAULT_GYRO_PROCESS_STD, seed=0, threads=None, progress=None))]
+#[pyo3(signature = (*, runs=50, duration=120.0, calibration_duration=300.0, preset="paper-mems", method="eiv", reference_specific_force_std=0.03, reference_angular_rate_std=0.0017453292519943296, accel_process_std=0.1, gyro_process_std=0.017453292519943295, seed=0, threads=None, progress=None))]
 fn inversion_experiment<'py>(
     py: Python<'py>,
     runs: usize,
