@@ -23,11 +23,6 @@ use crate::errors::IntoPyResult;
 use crate::gnss::{PyFixSeries, PyGnssMeasurements};
 use crate::sensors::PyImuModel;
 
-/// Default initial tilt (north, east) one-sigma, rad (1°).
-const DEFAULT_TILT_STD_RAD: f64 = 0.017453292519943295;
-/// Default initial heading one-sigma, rad (5°).
-const DEFAULT_HEADING_STD_RAD: f64 = 0.08726646259971647;
-
 /// Names of the error states, in order (units in the filter::state docs).
 fn state_names(n: usize) -> Vec<&'static str> {
     let mut v = vec![
@@ -483,7 +478,7 @@ macro_rules! filter_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=DEFAULT_TILT_STD_RAD, initial_heading_std=DEFAULT_HEADING_STD_RAD, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true))]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true))]
             #[allow(clippy::too_many_arguments)]
             fn new(
                 imu: &PyImuModel,

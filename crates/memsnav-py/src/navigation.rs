@@ -104,7 +104,7 @@ fn to_dict<'py>(py: Python<'py>, r: &NavigationExperiment, interrupted: bool) ->
 /// Navigation Monte Carlo (paper §5.3, figs 14-18); see
 /// `memsnav.experiments.navigation` for the documented interface.
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=memsnav_core::experiments::navigation::DEFAULT_CALIBRATION_DURATION_S, early_window=memsnav_core::experiments::navigation::DEFAULT_EARLY_WINDOW_S, keep_runs=false, threads=None, progress=None))]
+#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, keep_runs=false, threads=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn navigation_experiment<'py>(
     py: Python<'py>,

@@ -4,7 +4,8 @@
 over random parameter sets, with the Cramér-Rao bound) and ``inversion``
 figures 11-12 (MSE of the specific force and angular rate recovered by the
 inversion filters), ``navigation`` figures 14-18 (position error of the
-tightly coupled GNSS/INS filter with INS, raw and calibrated MEMS). Each runs a whole Monte Carlo set in Rust.
+tightly coupled GNSS/INS filter with INS, raw and calibrated MEMS).
+Each runs a whole Monte Carlo set in Rust.
 """
 
 from memsnav.experiments.calibration import CalibrationResult, calibration

@@ -83,7 +83,7 @@ class NavigationResult:
       the same grid inside an outage).
     - ``mean`` / ``std`` / ``percentiles``: per IMU name, the mean, sample
       standard deviation and 5/25/50/75/95 % percentiles ((5, T), P²
-      estimates) over runs of the position error norm |r̂ − r| per epoch.
+      estimates) over runs of the position error norm |r_hat - r| per epoch.
     - ``nees_mean``: per IMU, the mean over runs of the NEES per epoch
       (position, velocity, attitude: 9 degrees of freedom; 9 when the
       filter is consistent).
@@ -133,7 +133,7 @@ class NavigationResult:
           the last epoch of the outage, before GNSS returns). The outage
           covers the epochs in [start, start + length).
         """
-        early = int(round(self.config.get("early_window", 150.0)))
+        early = round(self.config.get("early_window", 150.0))
         out: dict[str, dict[str, float]] = {}
         outage = self.config.get("outage")
         for name, runs in self.runs_summary.items():
@@ -150,9 +150,7 @@ class NavigationResult:
                 start, length = outage
                 inside = (self.time >= start) & (self.time < start + length)
                 s["max_position_error_during_outage_m"] = float(np.max(self.mean[name][inside]))
-                s["mean_max_position_error_during_outage_m"] = float(
-                    np.mean(runs["max_in_outage"])
-                )
+                s["mean_max_position_error_during_outage_m"] = float(np.mean(runs["max_in_outage"]))
                 s["position_error_at_outage_end_m"] = float(self.mean[name][inside][-1])
             out[name] = s
         return out
@@ -182,10 +180,17 @@ class NavigationResult:
                 (line,) = ax.plot(t[sel], m, label=f"{name} (mean)")
                 if np.all(np.isfinite(s)):
                     ax.fill_between(
-                        t[sel], m - s, m + s, color=line.get_color(), alpha=0.2, label=f"{name} ± std"
+                        t[sel],
+                        m - s,
+                        m + s,
+                        color=line.get_color(),
+                        alpha=0.2,
+                        label=f"{name} ± std",
                     )
             if outage is not None:
-                ax.axvspan(outage[0], outage[0] + outage[1], color="grey", alpha=0.15, label="GNSS outage")
+                ax.axvspan(
+                    outage[0], outage[0] + outage[1], color="grey", alpha=0.15, label="GNSS outage"
+                )
             ax.set_title(f"{title} ({n} runs)")
             ax.set_xlabel("time [s]")
             ax.set_ylabel("position error norm [m]")
@@ -247,7 +252,9 @@ def navigation(
         try:
             start, length = (float(v) for v in outage)
         except (TypeError, ValueError):
-            raise ValueError(f"outage: expected (start_s, length_s) or None, got {outage!r}") from None
+            raise ValueError(
+                f"outage: expected (start_s, length_s) or None, got {outage!r}"
+            ) from None
         outage = (start, length)
     keep = bool(keep_runs) or runs <= KEEP_RUNS_UP_TO
     raw = _memsnav.navigation_experiment(
@@ -270,10 +277,14 @@ def navigation(
         time=raw["time"],
         mean={n: e["position_error_mean"] for n, e in zip(names, entries, strict=True)},
         std={n: e["position_error_std"] for n, e in zip(names, entries, strict=True)},
-        percentiles={n: e["position_error_percentiles"] for n, e in zip(names, entries, strict=True)},
+        percentiles={
+            n: e["position_error_percentiles"] for n, e in zip(names, entries, strict=True)
+        },
         nees_mean={n: e["nees_mean"] for n, e in zip(names, entries, strict=True)},
         position_error=(
-            {n: e["position_error_runs"] for n, e in zip(names, entries, strict=True)} if kept else None
+            {n: e["position_error_runs"] for n, e in zip(names, entries, strict=True)}
+            if kept
+            else None
         ),
         nees={n: e["nees_runs"] for n, e in zip(names, entries, strict=True)} if kept else None,
         runs_summary={
