@@ -41,9 +41,7 @@ def gnss_dict(gnss):
 
 def test_tight_filter_is_consistent(scenario):
     traj, gnss, imu, f, w = scenario
-    sol = mn.TightlyCoupledFilter(imu).run(
-        traj.time, f, w, gnss, initial_attitude=traj.attitude[0]
-    )
+    sol = mn.TightlyCoupledFilter(imu).run(traj.time, f, w, gnss, initial_attitude=traj.attitude[0])
     assert len(sol) == len(traj)
     assert sol.attitude.shape == (len(traj), 3, 3)
     assert sol.covariance_diagonal.shape == (len(traj), 17)
@@ -146,7 +144,7 @@ def test_bad_inputs_name_the_argument(scenario):
     d = gnss_dict(gnss)
     d["sat_id"] = d["sat_id"].copy()
     d["sat_id"][0, 3:] = -1
-    with pytest.raises(ValueError, match="gnss.*at least 4"):
+    with pytest.raises(ValueError, match=r"gnss.*at least 4"):
         flt.run(traj.time, f, w, d, initial_attitude=traj.attitude[0])
     d = gnss_dict(gnss)
     d["pseudorange"] = d["pseudorange"][:, :3]
@@ -202,9 +200,7 @@ def test_experiment_reproducible_across_threads(tiny):
     for name in tiny.imus:
         np.testing.assert_array_equal(again.position_error[name], tiny.position_error[name])
         np.testing.assert_array_equal(again.nees[name], tiny.nees[name])
-    other = mn.experiments.navigation(
-        runs=1, duration=40.0, seed=2, imus=("ins",), threads=1
-    )
+    other = mn.experiments.navigation(runs=1, duration=40.0, seed=2, imus=("ins",), threads=1)
     assert not np.array_equal(other.position_error["ins"][0], tiny.position_error["ins"][0])
 
 

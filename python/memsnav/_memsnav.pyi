@@ -859,8 +859,8 @@ class TightlyCoupledFilter:
     Raises ValueError naming the argument for a bad value.
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         imu: ImuModel,
         *,
         scale_factor_states: bool = False,
@@ -878,7 +878,7 @@ class TightlyCoupledFilter:
         initial_clock_offset_std: float = 50.0,
         initial_clock_drift_std: float = 10.0,
         use_pseudorange_rate: bool = True,
-    ) -> None: ...
+    ) -> TightlyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:
         """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
@@ -921,8 +921,8 @@ class LooselyCoupledFilter:
     clock settings have no effect).
     """
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         imu: ImuModel,
         *,
         scale_factor_states: bool = False,
@@ -940,7 +940,7 @@ class LooselyCoupledFilter:
         initial_clock_offset_std: float = 50.0,
         initial_clock_drift_std: float = 10.0,
         use_pseudorange_rate: bool = True,
-    ) -> None: ...
+    ) -> LooselyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:
         """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""

@@ -11,9 +11,7 @@ use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
 use memsnav_core::ins::NavState;
 use memsnav_core::Error;
 use nalgebra::{Matrix3, Vector3};
-use numpy::{
-    AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods,
-};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -258,8 +256,16 @@ fn settings(
         FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
     let q = &mut tuning.process_noise;
     for (name, value, target) in [
-        ("accel_noise_density", accel_noise_density, &mut q.accel_white_psd),
-        ("gyro_noise_density", gyro_noise_density, &mut q.gyro_white_psd),
+        (
+            "accel_noise_density",
+            accel_noise_density,
+            &mut q.accel_white_psd,
+        ),
+        (
+            "gyro_noise_density",
+            gyro_noise_density,
+            &mut q.gyro_white_psd,
+        ),
     ] {
         if let Some(d) = value {
             memsnav_core::validate::non_negative(name, d).py()?;
@@ -365,11 +371,15 @@ impl PyFilterSolution {
         py: Python<'py>,
         keep: impl Fn(&MeasurementRecord) -> bool,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let r: Vec<&MeasurementRecord> = self.inner.measurements.iter().filter(|m| keep(m)).collect();
+        let r: Vec<&MeasurementRecord> =
+            self.inner.measurements.iter().filter(|m| keep(m)).collect();
         let d = PyDict::new(py);
         d.set_item("time", PyArray1::from_iter(py, r.iter().map(|m| m.time_s)))?;
         d.set_item("id", PyArray1::from_iter(py, r.iter().map(|m| m.id as i64)))?;
-        d.set_item("kind", r.iter().map(|m| kind_name(m.kind)).collect::<Vec<_>>())?;
+        d.set_item(
+            "kind",
+            r.iter().map(|m| kind_name(m.kind)).collect::<Vec<_>>(),
+        )?;
         d.set_item(
             "innovation",
             PyArray1::from_iter(py, r.iter().map(|m| m.innovation)),
@@ -443,7 +453,10 @@ impl PyFilterSolution {
     }
     /// Diagonal of the error covariance, (N, n_states), order `state_names`.
     #[getter]
-    fn covariance_diagonal<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    fn covariance_diagonal<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
         PyArray1::from_slice(py, &self.inner.covariance_diagonal)
             .reshape([self.inner.time_s.len(), self.inner.n_states])
     }
@@ -558,16 +571,16 @@ macro_rules! filter_class {
     };
 }
 
-
 fn run_filter(
     settings: &Settings,
     run: impl FnOnce(&FilterTuning, bool) -> memsnav_core::Result<Solution> + Send,
     py: Python<'_>,
 ) -> PyResult<PyFilterSolution> {
-    let inner = py.detach(|| run(&settings.tuning, settings.scale_factor_states)).py()?;
+    let inner = py
+        .detach(|| run(&settings.tuning, settings.scale_factor_states))
+        .py()?;
     Ok(PyFilterSolution { inner })
 }
-
 
 /// The initial state of the loose filter: the first fix, moved back to the
 /// first IMU time along its velocity; attitude as given or coarse.
@@ -585,7 +598,12 @@ fn loose_initial(
     let c_b_e = match attitude {
         Some(c) => c,
         None => {
-            let k = imu.time_s.iter().take_while(|t| **t <= t0 + 1.0).count().max(1);
+            let k = imu
+                .time_s
+                .iter()
+                .take_while(|t| **t <= t0 + 1.0)
+                .count()
+                .max(1);
             let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
             coarse_attitude(&mean, &position, &velocity)?
         }
@@ -603,8 +621,9 @@ fn loose_initial(
     })
 }
 
-
-filter_class!(PyTightlyCoupledFilter, "TightlyCoupledFilter",
+filter_class!(
+    PyTightlyCoupledFilter,
+    "TightlyCoupledFilter",
     /// Runs the filter over the whole IMU series with the GNSS measurements.
     #[pyo3(signature = (time, specific_force, angular_rate, gnss, *, initial_attitude=None))]
     fn run(
@@ -627,16 +646,24 @@ filter_class!(PyTightlyCoupledFilter, "TightlyCoupledFilter",
             &self.settings,
             |tuning, sf| {
                 if sf {
-                    coupling::tightly_coupled::<WITH_SCALE_FACTORS>(&imu.data(), &epochs, &initial, tuning)
+                    coupling::tightly_coupled::<WITH_SCALE_FACTORS>(
+                        &imu.data(),
+                        &epochs,
+                        &initial,
+                        tuning,
+                    )
                 } else {
                     coupling::tightly_coupled::<BASE_STATES>(&imu.data(), &epochs, &initial, tuning)
                 }
             },
             py,
         )
-    });
+    }
+);
 
-filter_class!(PyLooselyCoupledFilter, "LooselyCoupledFilter",
+filter_class!(
+    PyLooselyCoupledFilter,
+    "LooselyCoupledFilter",
     /// Runs the filter over the whole IMU series with the position fixes.
     #[pyo3(signature = (time, specific_force, angular_rate, fixes, *, initial_attitude=None))]
     fn run(
@@ -656,14 +683,20 @@ filter_class!(PyLooselyCoupledFilter, "LooselyCoupledFilter",
             &self.settings,
             |tuning, sf| {
                 if sf {
-                    coupling::loosely_coupled::<WITH_SCALE_FACTORS>(&imu.data(), &fixes, &initial, tuning)
+                    coupling::loosely_coupled::<WITH_SCALE_FACTORS>(
+                        &imu.data(),
+                        &fixes,
+                        &initial,
+                        tuning,
+                    )
                 } else {
                     coupling::loosely_coupled::<BASE_STATES>(&imu.data(), &fixes, &initial, tuning)
                 }
             },
             py,
         )
-    });
+    }
+);
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyTightlyCoupledFilter>()?;

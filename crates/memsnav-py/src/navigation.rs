@@ -22,15 +22,18 @@ use crate::sensors::PyImuModel;
 
 /// `(name, source)` pairs: a preset name, `"calibrated:<raw name>"` or an `ImuModel`.
 fn imu_list(imus: &Bound<'_, PyAny>) -> PyResult<Vec<(String, NavigationImu)>> {
-    let pairs: Vec<(String, Bound<'_, PyAny>)> = imus.extract().map_err(|_| {
-        PyValueError::new_err("imus: expected a list of (name, source) pairs")
-    })?;
+    let pairs: Vec<(String, Bound<'_, PyAny>)> = imus
+        .extract()
+        .map_err(|_| PyValueError::new_err("imus: expected a list of (name, source) pairs"))?;
     let names: Vec<String> = pairs.iter().map(|(n, _)| n.clone()).collect();
     pairs
         .iter()
         .map(|(name, source)| {
             if let Ok(model) = source.cast::<PyImuModel>() {
-                return Ok((name.clone(), NavigationImu::Fixed(model.get().inner.clone())));
+                return Ok((
+                    name.clone(),
+                    NavigationImu::Fixed(Box::new(model.get().inner.clone())),
+                ));
             }
             let text: String = source.extract().map_err(|_| {
                 PyValueError::new_err(format!(
@@ -59,7 +62,11 @@ fn rows<'py>(py: Python<'py>, rows: &[Vec<f64>], cols: usize) -> PyResult<Bound<
         .into_any())
 }
 
-fn to_dict<'py>(py: Python<'py>, r: &NavigationExperiment, interrupted: bool) -> PyResult<Bound<'py, PyDict>> {
+fn to_dict<'py>(
+    py: Python<'py>,
+    r: &NavigationExperiment,
+    interrupted: bool,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let epochs = r.time_s.len();
     d.set_item("time", PyArray1::from_slice(py, &r.time_s))?;
@@ -69,8 +76,14 @@ fn to_dict<'py>(py: Python<'py>, r: &NavigationExperiment, interrupted: bool) ->
     for o in &r.imus {
         let e = PyDict::new(py);
         e.set_item("name", &o.name)?;
-        e.set_item("position_error_mean", PyArray1::from_slice(py, &o.position_error_mean))?;
-        e.set_item("position_error_std", PyArray1::from_slice(py, &o.position_error_std))?;
+        e.set_item(
+            "position_error_mean",
+            PyArray1::from_slice(py, &o.position_error_mean),
+        )?;
+        e.set_item(
+            "position_error_std",
+            PyArray1::from_slice(py, &o.position_error_std),
+        )?;
         e.set_item(
             "position_error_percentiles",
             rows(py, &o.position_error_percentiles, epochs)?,
@@ -80,13 +93,19 @@ fn to_dict<'py>(py: Python<'py>, r: &NavigationExperiment, interrupted: bool) ->
             e.set_item("position_error_runs", py.None())?;
             e.set_item("nees_runs", py.None())?;
         } else {
-            e.set_item("position_error_runs", rows(py, &o.position_error_runs, epochs)?)?;
+            e.set_item(
+                "position_error_runs",
+                rows(py, &o.position_error_runs, epochs)?,
+            )?;
             e.set_item("nees_runs", rows(py, &o.nees_runs, epochs)?)?;
         }
         e.set_item("run_rms", PyArray1::from_slice(py, &o.run_rms))?;
         e.set_item("run_rms_early", PyArray1::from_slice(py, &o.run_rms_early))?;
         e.set_item("run_final", PyArray1::from_slice(py, &o.run_final))?;
-        e.set_item("run_max_in_outage", PyArray1::from_slice(py, &o.run_max_in_outage))?;
+        e.set_item(
+            "run_max_in_outage",
+            PyArray1::from_slice(py, &o.run_max_in_outage),
+        )?;
         e.set_item(
             "run_mean_nees_per_dof",
             PyArray1::from_slice(py, &o.run_mean_nees_per_dof),
@@ -121,7 +140,9 @@ fn navigation_experiment<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     if threads == Some(0) {
-        return Err(PyValueError::new_err("threads: must be at least 1 (or None)"));
+        return Err(PyValueError::new_err(
+            "threads: must be at least 1 (or None)",
+        ));
     }
     let config = NavigationExperimentConfig {
         runs,

@@ -47,9 +47,11 @@ use rand::Rng as _;
 use rand_distr::StandardNormal;
 
 use crate::attitude::{dcm_to_rotation_vector, rotation_vector_to_dcm};
-use crate::calibration::{calibrate_accelerometer, calibrate_gyroscope, CalibrationOptions, Method};
-use crate::coupling::{initial_state_from_fix, run_tightly_coupled, FilterTuning, ImuData};
+use crate::calibration::{
+    calibrate_accelerometer, calibrate_gyroscope, CalibrationOptions, Method,
+};
 use crate::coupling::InitialUncertainty;
+use crate::coupling::{initial_state_from_fix, run_tightly_coupled, FilterTuning, ImuData};
 use crate::filter::state::{ATTITUDE, BASE_STATES};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{self, Constellation, Outage, ReceiverTrack, SimulationConfig, WalkerConfig};
@@ -78,7 +80,7 @@ pub enum NavigationImu {
     Drawn(ImuSpec),
     /// This very sensor in every run (its noise is drawn per run); its
     /// sample rate must equal the trajectory rate.
-    Fixed(ImuModel),
+    Fixed(Box<ImuModel>),
     /// The sensor and readings of IMU `source` (an earlier, non-calibrated
     /// entry) passed through calibration and inversion (module docs).
     Calibrated { source: usize },
@@ -168,7 +170,10 @@ impl NavigationExperimentConfig {
         }
         for (j, (name, imu)) in self.imus.iter().enumerate() {
             if self.imus[..j].iter().any(|(n, _)| n == name) {
-                return Err(Error::invalid("imus", format!("name {name:?} appears twice")));
+                return Err(Error::invalid(
+                    "imus",
+                    format!("name {name:?} appears twice"),
+                ));
             }
             match imu {
                 NavigationImu::Drawn(spec) => spec.validate()?,
@@ -200,7 +205,10 @@ impl NavigationExperimentConfig {
         if self.n_satellites < 4 {
             return Err(Error::invalid(
                 "n_satellites",
-                format!("needs at least 4 for the initial fix, got {}", self.n_satellites),
+                format!(
+                    "needs at least 4 for the initial fix, got {}",
+                    self.n_satellites
+                ),
             ));
         }
         if let Some((start, length)) = self.outage {
@@ -219,7 +227,10 @@ impl NavigationExperimentConfig {
             "reference_specific_force_std",
             self.reference_specific_force_std,
         )?;
-        validate::positive("reference_angular_rate_std", self.reference_angular_rate_std)?;
+        validate::positive(
+            "reference_angular_rate_std",
+            self.reference_angular_rate_std,
+        )?;
         validate::positive("early_window", self.early_window_s)
     }
 
@@ -383,26 +394,27 @@ fn navigate(
     let mut position_error = Vec::with_capacity(out.len());
     let mut nees = Vec::with_capacity(out.len());
     let mut next = 0;
-    let records = run_tightly_coupled::<BASE_STATES, _>(&imu, epochs, &initial, &tuning, |k, s| {
-        if next < out.len() && out[next] == k {
-            let t = truth.nav_state(k);
-            let mut e = SVector::<f64, NEES_DOF>::zeros();
-            e.fixed_rows_mut::<3>(0)
-                .copy_from(&dcm_to_rotation_vector(&(s.nav.c_b_e * t.c_b_e.transpose())));
-            e.fixed_rows_mut::<3>(3)
-                .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
-            e.fixed_rows_mut::<3>(6)
-                .copy_from(&(s.nav.position_ecef - t.position_ecef));
-            let p = s
-                .kf
-                .p
-                .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
-                .into_owned();
-            position_error.push(e.fixed_rows::<3>(6).norm());
-            nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
-            next += 1;
-        }
-    })?;
+    let records =
+        run_tightly_coupled::<BASE_STATES, _>(&imu, epochs, &initial, &tuning, |k, s| {
+            if next < out.len() && out[next] == k {
+                let t = truth.nav_state(k);
+                let mut e = SVector::<f64, NEES_DOF>::zeros();
+                e.fixed_rows_mut::<3>(0).copy_from(&dcm_to_rotation_vector(
+                    &(s.nav.c_b_e * t.c_b_e.transpose()),
+                ));
+                e.fixed_rows_mut::<3>(3)
+                    .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
+                e.fixed_rows_mut::<3>(6)
+                    .copy_from(&(s.nav.position_ecef - t.position_ecef));
+                let p =
+                    s.kf.p
+                        .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
+                        .into_owned();
+                position_error.push(e.fixed_rows::<3>(6).norm());
+                nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
+                next += 1;
+            }
+        })?;
     Ok(ImuRun {
         position_error,
         nees,
@@ -451,7 +463,7 @@ fn one_run(
             NavigationImu::Drawn(_) | NavigationImu::Fixed(_) => {
                 let model = match kind {
                     NavigationImu::Drawn(spec) => ImuModel::from_spec(spec, rate, &mut r)?,
-                    NavigationImu::Fixed(model) => model.clone(),
+                    NavigationImu::Fixed(model) => model.as_ref().clone(),
                     NavigationImu::Calibrated { .. } => unreachable!("matched above"),
                 };
                 let readings =
@@ -622,8 +634,8 @@ mod tests {
         assert_eq!(format!("{one:?}"), format!("{two:?}"));
         assert_eq!(one.time_s.len(), 61);
         assert_eq!(one.imus[0].position_error_runs.len(), 2);
-        let ins_only = navigation_experiment(&small(2, paper_imus()[..1].to_vec()), &threads(2))
-            .unwrap();
+        let ins_only =
+            navigation_experiment(&small(2, paper_imus()[..1].to_vec()), &threads(2)).unwrap();
         assert_eq!(
             ins_only.imus[0].position_error_runs,
             one.imus[0].position_error_runs
