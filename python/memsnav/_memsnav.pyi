@@ -743,3 +743,244 @@ def imu_increments(
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """(delta_velocity m/s, delta_angle rad), each (N - 1, 3): the integrals
     of the cubic through the samples over each interval (fourth order)."""
+
+# --- coupled GNSS/INS filters (method §5) and the navigation experiment (paper §5.3) ---
+
+@final
+class FilterSolution:
+    """The whole solution of a coupled filter, at every IMU sample (SI units).
+
+    Measurement records (``measurements``, ``rejected``) are dicts of arrays:
+    ``time`` (s), ``id`` (satellite id; fix component 0-2 for the loose
+    filter), ``kind`` ("pseudorange" m, "pseudorange_rate" m/s, "position" /
+    "velocity" whitened, unit variance), ``innovation`` (measurement minus
+    prediction), ``innovation_std``, ``nis`` (nu²/s), ``status`` ("accepted",
+    "gate": rejected by the chi-square gate, "invalid": NaN/inf value or
+    non-positive std).
+    """
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """IMU sample times, s, (N,)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Position, ECEF m, (N, 3)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Velocity, ECEF m/s, (N, 3)."""
+
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Attitude C_b^e (body to ECEF), (N, 3, 3)."""
+
+    @property
+    def accel_bias(self) -> npt.NDArray[np.float64]:
+        """Accelerometer bias estimate, m/s², (N, 3), additive: reading = truth +
+        bias (an ``AccelerometerModel.bias`` enters as S = Γ - b, so the
+        estimate converges to minus it)."""
+
+    @property
+    def gyro_bias(self) -> npt.NDArray[np.float64]:
+        """Gyro bias estimate, rad/s, (N, 3), additive like ``accel_bias``."""
+
+    @property
+    def accel_scale_factor(self) -> npt.NDArray[np.float64] | None:
+        """Accelerometer scale-factor estimate, (N, 3); None with 17 states."""
+
+    @property
+    def gyro_scale_factor(self) -> npt.NDArray[np.float64] | None:
+        """Gyro scale-factor estimate, (N, 3); None with 17 states."""
+
+    @property
+    def clock_offset(self) -> npt.NDArray[np.float64]:
+        """Receiver clock offset, m, (N,)."""
+
+    @property
+    def clock_drift(self) -> npt.NDArray[np.float64]:
+        """Receiver clock drift, m/s, (N,)."""
+
+    @property
+    def covariance_diagonal(self) -> npt.NDArray[np.float64]:
+        """Diagonal of the error covariance, (N, n_states), order ``state_names``
+        (rad², (m/s)², m², (m/s²)², (rad/s)², m², (m/s)², dimensionless²)."""
+
+    @property
+    def state_names(self) -> list[str]:
+        """Error-state names: attitude_x..z (ECEF, rad), velocity_x..z, position_x..z,
+        accel_bias_x..z, gyro_bias_x..z, clock_offset, clock_drift
+        [, accel_scale_factor_x..z, gyro_scale_factor_x..z]."""
+
+    @property
+    def measurements(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """Every scalar measurement (see the class docstring)."""
+
+    @property
+    def rejected(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """The measurements not applied (status "gate" or "invalid")."""
+
+    def __len__(self) -> int: ...
+
+@final
+class TightlyCoupledFilter:
+    """Closed-loop error-state EKF in ECEF on pseudoranges and pseudorange rates
+    (method §5; Groves §14.3.3): 17 states (attitude, velocity, position, accel
+    and gyro biases, clock offset and drift), 23 with ``scale_factor_states``.
+    Each satellite is a gated scalar Joseph update (Sagnac and light time in
+    the prediction), so fewer than four satellites still help; with none the
+    INS coasts.
+
+    Tuning from ``imu.spec`` at ``imu.sample_rate`` (``FilterTuning::from_imu_spec``):
+    white-noise PSDs = noise density² (or per-sample std² / rate); bias
+    processes from bias instability (Gauss-Markov, 2 sigma²/tau) and random walk;
+    initial bias std = sqrt(bias_std² + instability²), floored at 1e-6 m/s² and
+    1e-9 rad/s; errors the states lack (scale factor unless estimated,
+    misalignment, nonlinearity, g-sensitivity) absorbed for a land vehicle
+    (2 m/s² manoeuvres, 0.2 rad/s turns, 10 s correlation): their
+    gravity-driven part widens the initial bias std, their motion-driven part
+    adds 2 sigma² tau to the white PSD. Receiver clock: TCXO, S_cφ = 0.01 m²/s,
+    S_cf = 0.04 m²/s³. Every default below can be overridden:
+
+    - ``accel_noise_density`` (m/s²/√Hz), ``gyro_noise_density`` (rad/s/√Hz):
+      replace the white PSDs (after absorption) by density².
+    - ``accel_bias_psd`` ((m/s²)²/s), ``gyro_bias_psd`` ((rad/s)²/s): bias
+      driving-noise PSDs.
+    - ``gate_probability``: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
+      and reported); 1.0 disables it.
+    - initial one-sigmas: ``initial_position_std`` 5 m and
+      ``initial_velocity_std`` 0.5 m/s per ECEF axis (a code fix),
+      ``initial_tilt_std`` 1° and ``initial_heading_std`` 5° (in rad),
+      ``initial_accel_bias_std`` / ``initial_gyro_bias_std`` (None: from the
+      spec as above), ``initial_clock_offset_std`` 50 m,
+      ``initial_clock_drift_std`` 10 m/s; scale factors (23 states): the
+      spec's scale_factor_std (floored at 1e-6).
+    - ``use_pseudorange_rate``: use rates when the epoch carries them.
+
+    Raises ValueError naming the argument for a bad value.
+    """
+
+    def __new__(
+        cls,
+        imu: ImuModel,
+        *,
+        scale_factor_states: bool = False,
+        accel_noise_density: float | None = None,
+        gyro_noise_density: float | None = None,
+        accel_bias_psd: float | None = None,
+        gyro_bias_psd: float | None = None,
+        gate_probability: float = 0.999,
+        initial_position_std: float = 5.0,
+        initial_velocity_std: float = 0.5,
+        initial_tilt_std: float = 0.017453292519943295,
+        initial_heading_std: float = 0.08726646259971647,
+        initial_accel_bias_std: float | None = None,
+        initial_gyro_bias_std: float | None = None,
+        initial_clock_offset_std: float = 50.0,
+        initial_clock_drift_std: float = 10.0,
+        use_pseudorange_rate: bool = True,
+    ) -> TightlyCoupledFilter: ...
+    @property
+    def tuning(self) -> dict[str, float | bool]:
+        """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
+
+    def run(
+        self,
+        time: npt.ArrayLike,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        gnss: GnssMeasurements | Any,
+        *,
+        initial_attitude: npt.ArrayLike | None = None,
+    ) -> FilterSolution:
+        """Filters the whole series in one call (GIL released).
+
+        ``time`` (N,) s, increasing; ``specific_force`` (N, 3) m/s² and
+        ``angular_rate`` (N, 3) rad/s: raw IMU samples (instantaneous values).
+        ``gnss``: a ``simulate_gnss`` result, or an object/dict with padded
+        arrays ``time`` (T,) on the IMU time scale, ``sat_id`` (T, n), negative
+        = padding, ``satellite_position_ecef`` / ``satellite_velocity_ecef``
+        (T, n, 3), ``pseudorange`` and ``pseudorange_std`` (T, n), optional
+        ``pseudorange_rate`` and ``pseudorange_rate_std`` (T, n). Epoch times
+        must increase and lie in the IMU span; NaN or absurd measurements are
+        rejected and reported, not fatal.
+
+        Initialisation: position, velocity and clock of the least-squares fix
+        of the first epoch (≥ 4 satellites, else ValueError), moved back to
+        ``time[0]``; attitude ``initial_attitude`` (C_b^e, 3x3) or a coarse one
+        (levelling on the first second of specific force, heading from the fix
+        velocity; needs ≥ 1 m/s ground speed); zero bias estimates.
+        """
+
+@final
+class LooselyCoupledFilter:
+    """Closed-loop error-state EKF on GNSS position (and velocity) fixes (Groves
+    §14.3.2): each fix is whitened by its covariance's Cholesky factor into
+    unit-variance scalar updates, gated like pseudoranges; the clock states are
+    not observed (their process noise is off). Same states, tuning, defaults
+    and overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate`` and the
+    clock settings have no effect).
+    """
+
+    def __new__(
+        cls,
+        imu: ImuModel,
+        *,
+        scale_factor_states: bool = False,
+        accel_noise_density: float | None = None,
+        gyro_noise_density: float | None = None,
+        accel_bias_psd: float | None = None,
+        gyro_bias_psd: float | None = None,
+        gate_probability: float = 0.999,
+        initial_position_std: float = 5.0,
+        initial_velocity_std: float = 0.5,
+        initial_tilt_std: float = 0.017453292519943295,
+        initial_heading_std: float = 0.08726646259971647,
+        initial_accel_bias_std: float | None = None,
+        initial_gyro_bias_std: float | None = None,
+        initial_clock_offset_std: float = 50.0,
+        initial_clock_drift_std: float = 10.0,
+        use_pseudorange_rate: bool = True,
+    ) -> LooselyCoupledFilter: ...
+    @property
+    def tuning(self) -> dict[str, float | bool]:
+        """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
+
+    def run(
+        self,
+        time: npt.ArrayLike,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        fixes: FixSeries | Any,
+        *,
+        initial_attitude: npt.ArrayLike | None = None,
+    ) -> FilterSolution:
+        """Filters the whole series in one call (GIL released).
+
+        ``fixes``: a ``solve_fix`` result (invalid epochs skipped; covariances =
+        the position and velocity blocks of the LS covariance) or an
+        object/dict with ``time`` (T,), ``position_ecef`` (T, 3) m,
+        ``position_covariance`` (T, 3, 3) m², optional ``velocity_ecef`` (T, 3)
+        m/s and ``velocity_covariance`` (T, 3, 3). Initial position and velocity
+        from the first fix (moved back to ``time[0]``); attitude as for the
+        tight filter.
+        """
+
+def navigation_experiment(
+    imus: Sequence[tuple[str, str | ImuModel]],
+    *,
+    runs: int = 20,
+    duration: float = 600.0,
+    seed: int = 0,
+    n_satellites: int = 6,
+    outage: tuple[float, float] | None = None,
+    calibration_duration: float = 300.0,
+    early_window: float = 150.0,
+    keep_runs: bool = False,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> dict[str, Any]:
+    """Navigation Monte Carlo (paper §5.3) as a dict of arrays; use
+    ``memsnav.experiments.navigation``, which documents it. ``imus``: (name,
+    source) with source a preset name, ``"calibrated:<raw name>"`` or an
+    ``ImuModel``."""

@@ -19,8 +19,10 @@
 
 pub mod attitude;
 pub mod calibration;
+pub mod coupling;
 pub mod error;
 pub mod experiments;
+pub mod filter;
 pub mod geodesy;
 pub mod gnss;
 pub mod ins;

@@ -4,14 +4,16 @@
 use pyo3::prelude::*;
 
 mod calibration;
-#[allow(dead_code)] // matrices3 waits for a binding that takes attitude series
+#[allow(dead_code)] // not every helper is used by every binding
 mod convert;
+mod coupling;
 mod errors;
 mod experiments;
 mod geodesy;
 mod gnss;
 mod ins;
 mod inversion;
+mod navigation;
 mod sensors;
 mod trajectory;
 
@@ -21,11 +23,13 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     geodesy::register(m)?;
     sensors::register(m)?;
-    calibration::register(m)?;
-    inversion::register(m)?;
-    experiments::register(m)?;
     gnss::register(m)?;
     ins::register(m)?;
     trajectory::register(m)?;
+    calibration::register(m)?;
+    inversion::register(m)?;
+    experiments::register(m)?;
+    coupling::register(m)?;
+    navigation::register(m)?;
     Ok(())
 }
