@@ -7,6 +7,7 @@ use pyo3::prelude::*;
 mod convert;
 mod errors;
 mod geodesy;
+mod progress;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
