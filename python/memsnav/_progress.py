@@ -18,7 +18,7 @@ class ProgressBar:
 
     def __call__(self, done: int, total: int) -> None:
         fraction = done / total if total else 1.0
-        filled = int(round(self.width * fraction))
+        filled = round(self.width * fraction)
         elapsed = time.perf_counter() - self.start
         eta = elapsed / fraction - elapsed if fraction > 0 else float("nan")
         bar = "#" * filled + "-" * (self.width - filled)

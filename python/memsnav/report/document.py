@@ -44,7 +44,9 @@ def figure_to_csv(fig: Figure) -> str:
             # Filled bands (mean ± std): their outline vertices.
             for path in getattr(coll, "get_paths", list)():
                 for x, y in path.vertices:
-                    writer.writerow([title, f"band{c}", coll.get_label(), repr(float(x)), repr(float(y))])
+                    writer.writerow(
+                        [title, f"band{c}", coll.get_label(), repr(float(x)), repr(float(y))]
+                    )
     return out.getvalue()
 
 
