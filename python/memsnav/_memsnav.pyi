@@ -1,5 +1,9 @@
 """Type stubs of the native module (checked by ``mypy.stubtest``)."""
 
+import os
+from collections.abc import Sequence
+from typing import final
+
 import numpy as np
 import numpy.typing as npt
 
@@ -18,3 +22,596 @@ def ecef_to_geodetic(xyz: npt.ArrayLike) -> npt.NDArray[np.float64]:
 
 def gravity_ecef(position_ecef: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Gravity (J2 gravitation plus centrifugal) in ECEF, m/s²."""
+
+# --- sensors (method §2) -------------------------------------------------------
+
+@final
+class AccelerometerModel:
+    """Accelerometer triad, method §2 (paper eq. 2), SI units.
+
+    ``S = Q((I - D - M) (Γ - (b + β + r) - N (Γ ⊙ Γ) - nu))``
+
+    ``bias`` (3,) m/s²; ``scale_factor`` (3,) D; ``misalignment`` (3, 3) M with
+    a zero diagonal (``M[i, j]`` couples input axis j into output axis i);
+    ``nonlinearity`` (3,) N, 1/(m/s²).
+
+    Noise (all optional, zero = off, m/s² based): ``noise_std`` white
+    input-referred noise nu, std per sample; or ``noise_density`` the same per
+    √Hz (velocity random walk, m/s²/√Hz), std per sample = density ·
+    √sample_rate (give one, not both); ``sample_rate`` Hz;
+    ``bias_instability`` steady-state std (m/s²) of a first-order Gauss-Markov
+    bias β with correlation time ``bias_correlation_time`` s, started from its
+    stationary distribution; ``bias_random_walk`` r's growth, m/s²/√s,
+    starting at zero; ``quantization`` output LSB, m/s². β and r add to
+    ``bias``; quantisation rounds the output to a multiple of the LSB.
+    """
+
+    def __new__(
+        cls,
+        bias: npt.ArrayLike,
+        scale_factor: npt.ArrayLike,
+        misalignment: npt.ArrayLike,
+        nonlinearity: npt.ArrayLike,
+        noise_std: float = 0.0,
+        *,
+        noise_density: float | None = None,
+        sample_rate: float = 100.0,
+        bias_instability: float = 0.0,
+        bias_correlation_time: float = 0.0,
+        bias_random_walk: float = 0.0,
+        quantization: float = 0.0,
+    ) -> AccelerometerModel: ...
+    def measure(
+        self, specific_force: npt.ArrayLike, seed: int | None = None
+    ) -> npt.NDArray[np.float64]:
+        """Readings (N, 3) m/s² for true specific forces (N, 3) m/s² at ``sample_rate``."""
+
+    @property
+    def bias(self) -> npt.NDArray[np.float64]:
+        """b, (3,) m/s²."""
+
+    @property
+    def scale_factor(self) -> npt.NDArray[np.float64]:
+        """D, (3,) dimensionless."""
+
+    @property
+    def misalignment(self) -> npt.NDArray[np.float64]:
+        """M, (3, 3) dimensionless, zero diagonal."""
+
+    @property
+    def nonlinearity(self) -> npt.NDArray[np.float64]:
+        """N, (3,) 1/(m/s²)."""
+
+    @property
+    def noise_std(self) -> float:
+        """White noise std per sample at ``sample_rate``, m/s²."""
+
+    @property
+    def noise_density(self) -> float:
+        """White noise density, m/s²/√Hz (= noise_std / √sample_rate)."""
+
+    @property
+    def sample_rate(self) -> float:
+        """Sample rate, Hz."""
+
+    @property
+    def bias_instability(self) -> float:
+        """Gauss-Markov bias steady-state std, m/s²."""
+
+    @property
+    def bias_correlation_time(self) -> float:
+        """Gauss-Markov bias correlation time, s."""
+
+    @property
+    def bias_random_walk(self) -> float:
+        """Random-walk bias growth, m/s²/√s."""
+
+    @property
+    def quantization(self) -> float:
+        """Output LSB, m/s² (0: none)."""
+
+    def __getnewargs_ex__(self) -> tuple[tuple[object, ...], dict[str, object]]: ...
+    def __eq__(self, value: object, /) -> bool: ...
+
+@final
+class GyroscopeModel:
+    """Gyroscope triad, method §2 (paper eq. 3), SI units.
+
+    ``S = Q((I - D - M) (Ω - (b + β + r) - K Γ - nu))``
+
+    ``bias`` (3,) rad/s; ``scale_factor`` (3,) D; ``misalignment`` (3, 3) M
+    with a zero diagonal; ``g_sensitivity`` (3, 3) K, (rad/s)/(m/s²), row i =
+    gyro axis i's sensitivity to the three specific-force components.
+
+    Noise keywords as :class:`AccelerometerModel`, in rad/s: ``noise_density``
+    is the angle random walk (rad/s/√Hz), ``bias_random_walk`` the rate random
+    walk (rad/s/√s).
+    """
+
+    def __new__(
+        cls,
+        bias: npt.ArrayLike,
+        scale_factor: npt.ArrayLike,
+        misalignment: npt.ArrayLike,
+        g_sensitivity: npt.ArrayLike,
+        noise_std: float = 0.0,
+        *,
+        noise_density: float | None = None,
+        sample_rate: float = 100.0,
+        bias_instability: float = 0.0,
+        bias_correlation_time: float = 0.0,
+        bias_random_walk: float = 0.0,
+        quantization: float = 0.0,
+    ) -> GyroscopeModel: ...
+    def measure(
+        self,
+        angular_rate: npt.ArrayLike,
+        specific_force: npt.ArrayLike,
+        seed: int | None = None,
+    ) -> npt.NDArray[np.float64]:
+        """Readings (N, 3) rad/s for true rates (N, 3) rad/s and specific forces (N, 3) m/s²."""
+
+    @property
+    def bias(self) -> npt.NDArray[np.float64]:
+        """b, (3,) rad/s."""
+
+    @property
+    def scale_factor(self) -> npt.NDArray[np.float64]:
+        """D, (3,) dimensionless."""
+
+    @property
+    def misalignment(self) -> npt.NDArray[np.float64]:
+        """M, (3, 3) dimensionless, zero diagonal."""
+
+    @property
+    def g_sensitivity(self) -> npt.NDArray[np.float64]:
+        """K, (3, 3) (rad/s)/(m/s²)."""
+
+    @property
+    def noise_std(self) -> float:
+        """White noise std per sample at ``sample_rate``, rad/s."""
+
+    @property
+    def noise_density(self) -> float:
+        """White noise density (angle random walk), rad/s/√Hz."""
+
+    @property
+    def sample_rate(self) -> float:
+        """Sample rate, Hz."""
+
+    @property
+    def bias_instability(self) -> float:
+        """Gauss-Markov bias steady-state std, rad/s."""
+
+    @property
+    def bias_correlation_time(self) -> float:
+        """Gauss-Markov bias correlation time, s."""
+
+    @property
+    def bias_random_walk(self) -> float:
+        """Random-walk bias growth (rate random walk), rad/s/√s."""
+
+    @property
+    def quantization(self) -> float:
+        """Output LSB, rad/s (0: none)."""
+
+    def __getnewargs_ex__(self) -> tuple[tuple[object, ...], dict[str, object]]: ...
+    def __eq__(self, value: object, /) -> bool: ...
+
+@final
+class ImuModel:
+    """An accelerometer and a gyroscope triad sampled together, plus the spec
+    (one-sigma magnitudes) their errors come from.
+
+    ``sample_rate=None`` takes the sensors' common rate (an error if they
+    differ); another rate keeps each sensor's noise *density* (noise given per
+    sample is converted at the sensor's own rate). ``spec`` overrides keys of
+    the derived spec, whose defaults are the RMS of the models' own values
+    (noise: the models' own). ``.spec`` is a dict of floats, SI units, keys
+    ``accel_`` / ``gyro_`` + ``bias_std``, ``scale_factor_std``,
+    ``misalignment_std``, ``nonlinearity_std`` (accel, 1/(m/s²)) or
+    ``g_sensitivity_std`` (gyro, (rad/s)/(m/s²)), ``noise_density`` (per √Hz),
+    ``bias_instability``, ``bias_correlation_time`` (s), ``bias_random_walk``
+    (per √s), ``quantization``. The coupled filters tune Q and the initial
+    bias covariance from it.
+    """
+
+    def __new__(
+        cls,
+        acc: AccelerometerModel,
+        gyr: GyroscopeModel,
+        sample_rate: float | None = None,
+        *,
+        spec: dict[str, float] | None = None,
+    ) -> ImuModel: ...
+    @staticmethod
+    def preset(name: str, seed: int | None = None, sample_rate: float = 100.0) -> ImuModel:
+        """A named grade ("paper-mems", "consumer", "industrial", "tactical",
+        "navigation"), every error term drawn zero-mean Gaussian from its spec."""
+
+    @staticmethod
+    def presets() -> list[str]:
+        """The names :meth:`preset` accepts."""
+
+    def measure(
+        self,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        seed: int | None = None,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Readings ``(accel m/s², gyro rad/s)``, each (N, 3), for true specific
+        forces (N, 3) m/s² and angular rates (N, 3) rad/s."""
+
+    @property
+    def accelerometer(self) -> AccelerometerModel:
+        """The accelerometer triad (at the IMU's rate)."""
+
+    @property
+    def gyroscope(self) -> GyroscopeModel:
+        """The gyroscope triad (at the IMU's rate)."""
+
+    @property
+    def sample_rate(self) -> float:
+        """Sample rate of both triads, Hz."""
+
+    @property
+    def spec(self) -> dict[str, float]:
+        """One-sigma magnitudes of every error term and the noise parameters, SI."""
+
+    def __getnewargs_ex__(self) -> tuple[tuple[object, ...], dict[str, object]]: ...
+    def __eq__(self, value: object, /) -> bool: ...
+
+# --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
+
+@final
+class Constellation:
+    """GPS satellites from broadcast ephemerides, or a synthetic Walker constellation.
+
+    Times are GPS seconds since 1980-01-06 00:00:00 GPST; positions ECEF m,
+    velocities m/s.
+    """
+
+    @staticmethod
+    def from_rinex_nav(path: str | os.PathLike[str]) -> Constellation:
+        """GPS ephemerides of a RINEX 2 or 3 navigation file (other systems skipped).
+
+        Raises ParseError naming the file and the 1-based line for unreadable
+        or truncated records.
+        """
+
+    @staticmethod
+    def walker(
+        n_satellites: int = 24,
+        planes: int = 6,
+        inclination_deg: float = 55.0,
+        semi_major_axis_m: float = 26560000.0,
+        phasing: int = 1,
+        raan0_deg: float = 0.0,
+    ) -> Constellation:
+        """Walker delta constellation i: t/p/f, circular orbits, ECEF with Earth rotation."""
+
+    @property
+    def prns(self) -> list[str]:
+        """Satellite names, e.g. ["G01", "G02", ...] (Walker slots are named G01..GNN)."""
+
+    def __len__(self) -> int: ...
+    def position_velocity(
+        self, gps_time: float
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """ECEF positions (m) and velocities (m/s), each (n_sat, 3); NaN rows without a
+        valid ephemeris (healthy, t_oe within ±2 h)."""
+
+    def clock_correction(self, gps_time: float) -> npt.NDArray[np.float64]:
+        """Satellite clock corrections Δt_sv, s, (n_sat,): a_f0 + a_f1 dt + a_f2 dt² +
+        relativistic term - T_GD; NaN without a valid ephemeris; zero for Walker."""
+
+@final
+class Sp3:
+    """Precise orbits from an SP3 file (centre of mass), in SI units."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Epochs, GPS s since 1980-01-06, (n_epochs,)."""
+
+    @property
+    def satellites(self) -> list[str]:
+        """Satellite names as in the file ("G01", "E05", ...)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Positions, ECEF m, (n_epochs, n_sat, 3); NaN where missing."""
+
+    @property
+    def clock(self) -> npt.NDArray[np.float64]:
+        """Satellite clocks, s, (n_epochs, n_sat); NaN where missing."""
+
+def read_sp3(path: str | os.PathLike[str]) -> Sp3:
+    """Reads an SP3-c/d file (GPS time system; km and µs converted to m and s)."""
+
+@final
+class GnssMeasurements:
+    """Simulated measurements; per-epoch arrays padded to n_max = n_satellites
+    (NaN for values, -1 for sat_id, where fewer satellites are tracked)."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Epoch times on the trajectory's time axis, s, (T,)."""
+
+    @property
+    def gps_time(self) -> npt.NDArray[np.float64]:
+        """Epoch times, GPS s since 1980-01-06, (T,)."""
+
+    @property
+    def n_satellites(self) -> npt.NDArray[np.int64]:
+        """Satellites tracked per epoch, (T,)."""
+
+    @property
+    def sat_id(self) -> npt.NDArray[np.int64]:
+        """Satellite ids (PRN numbers), (T, n_max), -1 where padded."""
+
+    @property
+    def satellite_position_ecef(self) -> npt.NDArray[np.float64]:
+        """Satellite positions at transmission time (ECEF of that time), m, (T, n_max, 3)."""
+
+    @property
+    def satellite_velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Satellite velocities at transmission time, m/s, (T, n_max, 3)."""
+
+    @property
+    def pseudorange(self) -> npt.NDArray[np.float64]:
+        """Pseudoranges (satellite clock corrected), m, (T, n_max)."""
+
+    @property
+    def pseudorange_rate(self) -> npt.NDArray[np.float64]:
+        """Pseudorange rates, m/s, (T, n_max)."""
+
+    @property
+    def pseudorange_std(self) -> npt.NDArray[np.float64]:
+        """Pseudorange noise one-sigma, m, (T, n_max)."""
+
+    @property
+    def pseudorange_rate_std(self) -> npt.NDArray[np.float64]:
+        """Pseudorange-rate noise one-sigma, m/s, (T, n_max)."""
+
+    @property
+    def clock_offset(self) -> npt.NDArray[np.float64]:
+        """True receiver clock offset, m, (T,)."""
+
+    @property
+    def clock_drift(self) -> npt.NDArray[np.float64]:
+        """True receiver clock drift, m/s, (T,)."""
+
+    def __len__(self) -> int: ...
+
+def simulate_gnss(
+    time: npt.ArrayLike,
+    position_ecef: npt.ArrayLike,
+    velocity_ecef: npt.ArrayLike,
+    constellation: Constellation,
+    rate: float = 1.0,
+    n_satellites: int = 6,
+    elevation_mask_deg: float = 10.0,
+    pseudorange_std: float = 3.0,
+    pseudorange_rate_std: float = 0.1,
+    residual_std: float = 0.0,
+    residual_correlation_time: float = 300.0,
+    clock_h0: float = 2e-19,
+    clock_h_minus2: float = 2e-20,
+    clock_initial_offset_std: float = 30.0,
+    clock_initial_drift_std: float = 1.0,
+    outages: Sequence[tuple[float, float] | tuple[float, float, int]] | None = None,
+    seed: int = 0,
+    start_gps_time: float | None = None,
+) -> GnssMeasurements:
+    """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
+
+    time (N,) s, position_ecef (N, 3) m, velocity_ecef (N, 3) m/s. Epochs at
+    ``rate`` Hz fall on the trajectory samples nearest to t0 + k/rate. At the
+    first epoch the ``n_satellites`` with the best GDOP above the mask are
+    chosen (greedy elimination) and kept while visible; a setting satellite
+    is replaced by the one giving the best GDOP. Pseudorange = exact
+    light-time range with Earth rotation + receiver clock + optional
+    Gauss-Markov residual (residual_std m, residual_correlation_time s) +
+    white noise. Clock: two-state, h0 and h_minus2 Allan coefficients (TCXO
+    defaults). Outages: (start s, length s) total, or (start, length,
+    n_satellites) partial, on the trajectory's time axis. start_gps_time:
+    GPS time of time[0] (default: earliest t_oe of a broadcast file, 0 for
+    Walker).
+    """
+
+@final
+class FixSeries:
+    """Least-squares fixes per epoch; NaN rows where ``valid`` is False."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Epoch times, s, (T,)."""
+
+    @property
+    def valid(self) -> npt.NDArray[np.bool_]:
+        """True where the epoch had at least 4 satellites, (T,)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF position, m, (T, 3)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF velocity, m/s, (T, 3)."""
+
+    @property
+    def clock_offset(self) -> npt.NDArray[np.float64]:
+        """Receiver clock offset, m, (T,)."""
+
+    @property
+    def clock_drift(self) -> npt.NDArray[np.float64]:
+        """Receiver clock drift, m/s, (T,)."""
+
+    @property
+    def position_clock_covariance(self) -> npt.NDArray[np.float64]:
+        """Covariance of (x, y, z, clock offset), m², (T, 4, 4)."""
+
+    @property
+    def velocity_drift_covariance(self) -> npt.NDArray[np.float64]:
+        """Covariance of (vx, vy, vz, clock drift), (m/s)², (T, 4, 4)."""
+
+    @property
+    def gdop(self) -> npt.NDArray[np.float64]:
+        """Geometric dilution of precision, (T,)."""
+
+    @property
+    def pdop(self) -> npt.NDArray[np.float64]:
+        """Position dilution of precision, (T,)."""
+
+    @property
+    def hdop(self) -> npt.NDArray[np.float64]:
+        """Horizontal dilution of precision, (T,)."""
+
+    @property
+    def vdop(self) -> npt.NDArray[np.float64]:
+        """Vertical dilution of precision, (T,)."""
+
+    @property
+    def tdop(self) -> npt.NDArray[np.float64]:
+        """Time dilution of precision, (T,)."""
+
+def solve_fix(
+    measurements: GnssMeasurements, prior: npt.ArrayLike | None = None, strict: bool = False
+) -> FixSeries:
+    """Gauss-Newton position/velocity/clock fix of every epoch (Sagnac-corrected
+    predicted ranges). prior: (3,) ECEF start for the first epoch (default the
+    Earth's centre; later epochs start from the previous fix). Epochs with
+    fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
+
+# --- trajectory (issue 4) ---
+
+@final
+class Trajectory:
+    """Truth of a vehicle's motion at the IMU rate: position, velocity and
+    attitude in ECEF, and the exact specific force and angular rate in body
+    axes (Earth rotation and the gravity model of ``gravity_ecef`` included).
+    """
+
+    @staticmethod
+    def random(
+        duration: float = 600.0,
+        rate: float = 100.0,
+        seed: int = 0,
+        origin: npt.ArrayLike | None = None,
+        *,
+        heading: float | None = None,
+        max_speed: float = 30.0,
+        max_longitudinal_acceleration: float = 2.0,
+        max_lateral_acceleration: float = 3.0,
+        max_yaw_rate: float = 0.4,
+        max_slope: float = 0.05,
+        stationary_start: float = 0.0,
+    ) -> Trajectory:
+        """Random land-vehicle motion: cruises, speed changes (sometimes to a
+        stop), turns, road slope, body lean and squat; C² smooth.
+
+        duration s, rate Hz, origin [lat rad, lon rad, h m] (default
+        Toulouse 43.6° N 1.44° E 150 m), heading rad from north (None:
+        random), speeds m/s, accelerations m/s², yaw rate rad/s, slope rad,
+        stationary_start: seconds at rest before moving off (0: start moving).
+        """
+
+    @staticmethod
+    def from_segments(
+        segments: Sequence[tuple[str, float] | tuple[str, float, float]],
+        origin: npt.ArrayLike | None = None,
+        heading: float = 0.0,
+        rate: float = 100.0,
+    ) -> Trajectory:
+        """Scripted motion from rest: ``("accelerate", duration_s,
+        target_speed_m_s)``, ``("cruise", duration_s)``, ``("turn",
+        duration_s, heading_change_rad)`` (positive right),
+        ``("climb", duration_s, path_angle_rad)`` (ramps up and back to
+        level), ``("stop", duration_s)``. heading rad, rate Hz."""
+
+    @staticmethod
+    def from_profile(path: str | os.PathLike[str], rate: float = 100.0) -> Trajectory:
+        """A profile CSV of Groves' book software (t, lat, lon deg, h m,
+        v_NED m/s, roll, pitch, yaw deg), smoothed by splines through knots
+        0.5 s apart and sampled at ``rate`` Hz. ParseError names file and line."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Sample times, s, (N,)."""
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF position, m, (N, 3)."""
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF velocity, m/s, (N, 3)."""
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Body-to-ECEF rotation matrices, (N, 3, 3)."""
+    @property
+    def specific_force(self) -> npt.NDArray[np.float64]:
+        """True specific force f_ib^b, m/s², (N, 3)."""
+    @property
+    def angular_rate(self) -> npt.NDArray[np.float64]:
+        """True angular rate ω_ib^b, rad/s, (N, 3)."""
+    def position_geodetic(self) -> npt.NDArray[np.float64]:
+        """[latitude rad, longitude rad, height m], (N, 3)."""
+    def velocity_ned(self) -> npt.NDArray[np.float64]:
+        """NED velocity, m/s, (N, 3)."""
+    def euler_ned(self) -> npt.NDArray[np.float64]:
+        """[roll, pitch, yaw] of the body relative to local NED, rad, (N, 3)."""
+    def __len__(self) -> int: ...
+
+# --- ins (issue 4) ---
+
+@final
+class NavSolution:
+    """An INS solution: the state at every input time."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Times, s, (N,)."""
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF position, m, (N, 3)."""
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF velocity, m/s, (N, 3)."""
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Body-to-ECEF rotation matrices, (N, 3, 3)."""
+    def __len__(self) -> int: ...
+
+def strapdown(
+    time: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    angular_rate: npt.ArrayLike,
+    position_ecef: npt.ArrayLike,
+    velocity_ecef: npt.ArrayLike,
+    attitude: npt.ArrayLike,
+    *,
+    scheme: str = "cubic",
+) -> NavSolution:
+    """Strapdown INS in ECEF (Earth rate, Coriolis, J2 gravity) from
+    instantaneous samples: time s (N,), specific_force m/s² and angular_rate
+    rad/s (N, 3) in body axes, initial position m, velocity m/s (3,) and
+    body-to-ECEF attitude (3, 3). scheme "cubic" (default): cubic
+    interpolation of the samples with coning/sculling, fourth order;
+    "trapezoid": the two-sample second-order step the filters chain."""
+
+def strapdown_increments(
+    time: npt.ArrayLike,
+    delta_velocity: npt.ArrayLike,
+    delta_angle: npt.ArrayLike,
+    position_ecef: npt.ArrayLike,
+    velocity_ecef: npt.ArrayLike,
+    attitude: npt.ArrayLike,
+) -> NavSolution:
+    """Strapdown INS from increments with coning and sculling corrections:
+    time s (N + 1,), delta_velocity m/s and delta_angle rad (N, 3), row k
+    integrated over [time[k], time[k + 1]]; initial state as ``strapdown``."""
+
+def imu_increments(
+    time: npt.ArrayLike, specific_force: npt.ArrayLike, angular_rate: npt.ArrayLike
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """(delta_velocity m/s, delta_angle rad), each (N - 1, 3): the integrals
+    of the cubic through the samples over each interval (fourth order)."""

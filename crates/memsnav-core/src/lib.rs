@@ -20,9 +20,12 @@
 pub mod attitude;
 pub mod error;
 pub mod geodesy;
+pub mod gnss;
+pub mod ins;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;
+pub mod trajectory;
 pub mod validate;
 
 pub use error::{Error, Result};

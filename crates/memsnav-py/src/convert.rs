@@ -121,6 +121,19 @@ pub fn scalars(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<f64>> {
     Ok(f.values)
 }
 
+/// An optional seed: `None` or an integer in `[0, 2**64)`.
+pub fn seed(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<u64>> {
+    match obj {
+        None => Ok(None),
+        Some(o) if o.is_none() => Ok(None),
+        Some(o) => o.extract::<u64>().map(Some).map_err(|_| {
+            PyValueError::new_err(format!(
+                "seed: must be None or an integer in [0, 2**64), got {o}"
+            ))
+        }),
+    }
+}
+
 fn to_vectors(values: &[f64]) -> Vec<Vector3<f64>> {
     values
         .chunks_exact(3)

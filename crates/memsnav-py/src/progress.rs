@@ -74,7 +74,8 @@ where
         }
         worker.join()
     });
-    let output = output.map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("Monte Carlo worker panicked"))?;
+    let output = output
+        .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("Monte Carlo worker panicked"))?;
     match callback_error {
         Some(e) => Err(e),
         None => Ok((output, interrupted)),

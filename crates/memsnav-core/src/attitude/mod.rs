@@ -32,10 +32,18 @@ pub fn dcm_to_rotation_vector(c: &Matrix3<f64>) -> Vector3<f64> {
     Rotation3::from_matrix_unchecked(*c).scaled_axis()
 }
 
-/// The nearest rotation matrix (polar decomposition by nalgebra), to remove
-/// the slow loss of orthogonality of an integrated attitude.
+/// The nearest rotation matrix in the Frobenius norm: the orthogonal factor
+/// U Vᵀ of the SVD C = U Σ Vᵀ (polar decomposition; Higham, *Functions of
+/// Matrices*, §8.1), with the sign fixed so the determinant is +1. Removes the
+/// slow loss of orthogonality of an integrated attitude, whatever the
+/// rotation's angle.
 pub fn orthonormalize(c: &Matrix3<f64>) -> Matrix3<f64> {
-    Rotation3::from_matrix_eps(c, 1e-15, 20, Rotation3::identity()).into_inner()
+    let svd = c.svd(true, true);
+    let (mut u, v_t) = (svd.u.expect("requested"), svd.v_t.expect("requested"));
+    if (u * v_t).determinant() < 0.0 {
+        u.column_mut(2).neg_mut();
+    }
+    u * v_t
 }
 
 #[cfg(test)]

@@ -3,7 +3,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{output_matrix, validate_common, NoiseModel};
+use super::{output_matrix, validate_common, NoiseModel, NoiseProcess};
+use crate::random::Rng;
 use crate::{validate, Result};
 
 /// Deterministic errors of a triad of accelerometers plus its noise.
@@ -29,16 +30,55 @@ impl AccelerometerModel {
         nonlinearity: Vector3<f64>,
         noise: NoiseModel,
     ) -> Result<Self> {
-        validate_common(&bias, &scale_factor, &misalignment)?;
-        validate::finite_vectors("nonlinearity", std::slice::from_ref(&nonlinearity))?;
-        noise.validate()?;
-        Ok(Self {
+        let model = Self {
             bias,
             scale_factor,
             misalignment,
             nonlinearity,
             noise,
-        })
+        };
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// Finite values, zero-diagonal misalignment, non-singular I − D − M,
+    /// valid noise (the fields are public, so [`Self::measure`] checks again).
+    pub fn validate(&self) -> Result<()> {
+        validate_common(&self.bias, &self.scale_factor, &self.misalignment)?;
+        validate::finite_vectors("nonlinearity", std::slice::from_ref(&self.nonlinearity))?;
+        self.noise.validate()
+    }
+
+    /// Simulated readings for a series of true specific forces Γ_k (m/s²)
+    /// sampled at `sample_rate_hz`: the exact eq. 2 with the stochastic
+    /// terms of [`NoiseModel`] (see `sensors::noise` for where each enters):
+    ///
+    /// S_k = Q((I − D_a − M_a)(Γ_k − (b_a + β_k + ρ_k) − N_a (Γ_k ⊙ Γ_k) − ν_k)).
+    ///
+    /// Errors name the argument: `specific_force` (non-finite rows),
+    /// `sample_rate` (not positive), or the model's own parameters.
+    pub fn measure(
+        &self,
+        specific_force: &[Vector3<f64>],
+        sample_rate_hz: f64,
+        rng: &mut Rng,
+    ) -> Result<Vec<Vector3<f64>>> {
+        self.validate()?;
+        validate::positive("sample_rate", sample_rate_hz)?;
+        validate::finite_vectors("specific_force", specific_force)?;
+        let a = self.output_matrix();
+        let mut noise = NoiseProcess::new(&self.noise, sample_rate_hz, rng);
+        Ok(specific_force
+            .iter()
+            .map(|g| {
+                let n = noise.next_sample(rng);
+                let input = g
+                    - (self.bias + n.bias_drift)
+                    - self.nonlinearity.component_mul(&g.component_mul(g))
+                    - n.white;
+                self.noise.quantize(a * input)
+            })
+            .collect())
     }
 
     /// An error-free accelerometer (output equals input).
@@ -77,5 +117,64 @@ impl AccelerometerModel {
     pub fn jacobian(&self, specific_force: &Vector3<f64>) -> Matrix3<f64> {
         let d = Vector3::repeat(1.0) - 2.0 * self.nonlinearity.component_mul(specific_force);
         self.output_matrix() * Matrix3::from_diagonal(&d)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::stream;
+
+    fn model(noise: NoiseModel) -> AccelerometerModel {
+        AccelerometerModel::new(
+            Vector3::new(0.1, -0.2, 0.05),
+            Vector3::new(1e-3, -2e-3, 5e-4),
+            Matrix3::new(0.0, 0.01, -0.02, 0.015, 0.0, 0.005, -0.01, 0.02, 0.0),
+            Vector3::new(1e-4, -2e-4, 3e-4),
+            noise,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn noise_free_measure_is_eq_2_written_out() {
+        let acc = model(NoiseModel::default());
+        let f = [Vector3::new(1.0, -2.0, -9.81), Vector3::new(20.0, 5.0, 0.0)];
+        let out = acc.measure(&f, 100.0, &mut stream(0, 0)).unwrap();
+        for (g, s) in f.iter().zip(&out) {
+            // Row u of eq. 2 expanded by hand: (1 − D_u) x_u − M_uv x_v − M_uw x_w,
+            // x = Γ − b − N Γ².
+            let x = Vector3::new(
+                g.x - 0.1 - 1e-4 * g.x * g.x,
+                g.y + 0.2 + 2e-4 * g.y * g.y,
+                g.z - 0.05 - 3e-4 * g.z * g.z,
+            );
+            let u = (1.0 - 1e-3) * x.x - 0.01 * x.y + 0.02 * x.z;
+            let w = 0.01 * x.x - 0.02 * x.y + (1.0 - 5e-4) * x.z;
+            assert!((s.x - u).abs() < 1e-12 && (s.z - w).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn bad_arguments_are_named() {
+        let acc = model(NoiseModel::default());
+        let mut rng = stream(0, 0);
+        let nan = [Vector3::new(0.0, f64::NAN, 0.0)];
+        let e = acc.measure(&nan, 100.0, &mut rng).unwrap_err().to_string();
+        assert!(e.starts_with("specific_force: row 0"), "{e}");
+        let e = acc.measure(&[], 0.0, &mut rng).unwrap_err().to_string();
+        assert!(e.starts_with("sample_rate:"), "{e}");
+        let mut m = Matrix3::zeros();
+        m[(1, 1)] = 0.1;
+        let e = AccelerometerModel::new(
+            Vector3::zeros(),
+            Vector3::zeros(),
+            m,
+            Vector3::zeros(),
+            NoiseModel::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.starts_with("misalignment: diagonal must be zero"), "{e}");
     }
 }

@@ -3,7 +3,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{output_matrix, validate_common, NoiseModel};
+use super::{output_matrix, validate_common, NoiseModel, NoiseProcess};
+use crate::random::Rng;
 use crate::{validate, Result};
 
 /// Deterministic errors of a triad of gyroscopes plus its noise.
@@ -30,16 +31,63 @@ impl GyroscopeModel {
         g_sensitivity: Matrix3<f64>,
         noise: NoiseModel,
     ) -> Result<Self> {
-        validate_common(&bias, &scale_factor, &misalignment)?;
-        validate::finite_matrix("g_sensitivity", &g_sensitivity)?;
-        noise.validate()?;
-        Ok(Self {
+        let model = Self {
             bias,
             scale_factor,
             misalignment,
             g_sensitivity,
             noise,
-        })
+        };
+        model.validate()?;
+        Ok(model)
+    }
+
+    /// Finite values, zero-diagonal misalignment, non-singular I − D − M,
+    /// valid noise (the fields are public, so [`Self::measure`] checks again).
+    pub fn validate(&self) -> Result<()> {
+        validate_common(&self.bias, &self.scale_factor, &self.misalignment)?;
+        validate::finite_matrix("g_sensitivity", &self.g_sensitivity)?;
+        self.noise.validate()
+    }
+
+    /// Simulated readings for series of true angular rates Ω_k (rad/s) and
+    /// specific forces Γ_k (m/s², for the g-sensitivity) sampled at
+    /// `sample_rate_hz`: the exact eq. 3 with the stochastic terms of
+    /// [`NoiseModel`] (see `sensors::noise` for where each enters):
+    ///
+    /// S_k = Q((I − D_g − M_g)(Ω_k − (b_g + β_k + ρ_k) − K_g Γ_k − ν_k)).
+    ///
+    /// Errors name the argument: `angular_rate`, `specific_force`
+    /// (non-finite rows, different lengths), `sample_rate`, or the model's
+    /// own parameters.
+    pub fn measure(
+        &self,
+        angular_rate: &[Vector3<f64>],
+        specific_force: &[Vector3<f64>],
+        sample_rate_hz: f64,
+        rng: &mut Rng,
+    ) -> Result<Vec<Vector3<f64>>> {
+        self.validate()?;
+        validate::positive("sample_rate", sample_rate_hz)?;
+        validate::finite_vectors("angular_rate", angular_rate)?;
+        validate::finite_vectors("specific_force", specific_force)?;
+        validate::same_length(
+            "specific_force",
+            specific_force.len(),
+            "angular_rate",
+            angular_rate.len(),
+        )?;
+        let a = self.output_matrix();
+        let mut noise = NoiseProcess::new(&self.noise, sample_rate_hz, rng);
+        Ok(angular_rate
+            .iter()
+            .zip(specific_force)
+            .map(|(w, g)| {
+                let n = noise.next_sample(rng);
+                let input = w - (self.bias + n.bias_drift) - self.g_sensitivity * g - n.white;
+                self.noise.quantize(a * input)
+            })
+            .collect())
     }
 
     /// An error-free gyroscope (output equals input).
@@ -75,5 +123,38 @@ impl GyroscopeModel {
         nu: &Vector3<f64>,
     ) -> Vector3<f64> {
         self.output_matrix() * (angular_rate - self.bias - self.g_sensitivity * specific_force - nu)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::stream;
+
+    #[test]
+    fn noise_free_measure_is_eq_3_and_lengths_are_checked() {
+        let k = Matrix3::from_fn(|i, j| 1e-4 * (1 + i + 3 * j) as f64);
+        let gyr = GyroscopeModel::new(
+            Vector3::new(1e-3, -2e-3, 3e-3),
+            Vector3::new(1e-4, 2e-4, -1e-4),
+            Matrix3::new(0.0, 0.01, 0.0, 0.0, 0.0, -0.02, 0.03, 0.0, 0.0),
+            k,
+            NoiseModel::default(),
+        )
+        .unwrap();
+        let w = [Vector3::new(0.1, -0.2, 0.3)];
+        let f = [Vector3::new(0.5, 1.0, -9.8)];
+        let s = gyr.measure(&w, &f, 100.0, &mut stream(0, 0)).unwrap()[0];
+        // Row q of eq. 3 by hand: (1 − D_q) y_q − M_qr y_r, y = Ω − b − K Γ.
+        let y = |i: usize| w[0][i] - gyr.bias[i] - (0..3).map(|j| k[(i, j)] * f[0][j]).sum::<f64>();
+        assert!((s.y - ((1.0 - 2e-4) * y(1) + 0.02 * y(2))).abs() < 1e-15);
+        let e = gyr
+            .measure(&w, &[f[0], f[0]], 100.0, &mut stream(0, 0))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("specific_force: has 2 rows but angular_rate has 1"),
+            "{e}"
+        );
     }
 }

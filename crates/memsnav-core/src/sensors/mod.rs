@@ -1,13 +1,26 @@
 //! MEMS accelerometer and gyroscope error models (method §2, paper eq. 1-3),
 //! their stochastic errors, and IMU grade presets.
+//!
+//! - [`AccelerometerModel`], [`GyroscopeModel`]: the exact forward model and
+//!   `measure`, which simulates a whole series in one call.
+//! - [`NoiseModel`] (module `noise`): white noise (input-referred ν),
+//!   Gauss-Markov and random-walk biases (added to b), quantisation (on the
+//!   output), and where each enters eq. 2-3.
+//! - [`ImuModel`], [`ImuSpec`]: both triads, their rate and the one-sigma
+//!   magnitudes their errors come from (the filters tune from it).
+//! - [`presets`]: `"paper-mems"`, `"consumer"`, `"industrial"`, `"tactical"`,
+//!   `"navigation"`, each with the sources of its figures.
 
 mod accelerometer;
 mod gyroscope;
+mod imu;
 mod noise;
+pub mod presets;
 
 pub use accelerometer::AccelerometerModel;
 pub use gyroscope::GyroscopeModel;
-pub use noise::NoiseModel;
+pub use imu::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuReadings, ImuSpec};
+pub use noise::{NoiseModel, NoiseProcess, NoiseSample};
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -1,0 +1,216 @@
+//! One constellation type for the simulator: GPS broadcast ephemerides or a
+//! synthetic Walker pattern.
+
+use std::path::Path;
+
+use nalgebra::Vector3;
+
+use super::ephemeris::GpsEphemeris;
+use super::rinex_nav::read_rinex_nav;
+use super::walker::{Walker, WalkerConfig};
+use crate::{validate, Error, Result};
+
+/// Half-width of the window around t_oe in which a broadcast ephemeris is
+/// used, s (IS-GPS-200: a 4 h fit interval centred on t_oe).
+pub const EPHEMERIS_VALIDITY_S: f64 = 7_200.0;
+
+/// Satellite ECEF positions (m) and velocities (m/s), one row per satellite.
+pub type PositionsVelocities = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
+
+/// A satellite's state at one GPS time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SatelliteState {
+    /// ECEF position (of the instant), m.
+    pub position_ecef: Vector3<f64>,
+    /// ECEF velocity, m/s.
+    pub velocity_ecef: Vector3<f64>,
+    /// Satellite clock correction Δt_sv for an L1 C/A user, s (including the
+    /// relativistic term and −T_GD); zero for a Walker satellite.
+    pub clock_bias_s: f64,
+    /// Its rate, s/s.
+    pub clock_drift_s_s: f64,
+    /// The relativistic part Δt_r of `clock_bias_s`, s (precise clock
+    /// products exclude it).
+    pub relativistic_s: f64,
+}
+
+/// One satellite's orbit: a broadcast ephemeris or a Walker slot.
+#[derive(Debug, Clone, Copy)]
+pub enum Orbit<'a> {
+    Broadcast(&'a GpsEphemeris),
+    Walker(&'a Walker, usize),
+}
+
+impl Orbit<'_> {
+    /// The satellite's state at `gps_time_s`.
+    pub fn state(&self, gps_time_s: f64) -> SatelliteState {
+        self.state_at(gps_time_s, 0.0)
+    }
+
+    /// The state at `gps_time_s + offset_s`, precise for small offsets at
+    /// large GPS times (see [`GpsEphemeris::state_at`]).
+    pub fn state_at(&self, gps_time_s: f64, offset_s: f64) -> SatelliteState {
+        match *self {
+            Orbit::Broadcast(e) => e.state_at(gps_time_s, offset_s),
+            Orbit::Walker(w, i) => {
+                let (position_ecef, velocity_ecef) =
+                    w.position_velocity_at(i, gps_time_s, offset_s);
+                SatelliteState {
+                    position_ecef,
+                    velocity_ecef,
+                    clock_bias_s: 0.0,
+                    clock_drift_s_s: 0.0,
+                    relativistic_s: 0.0,
+                }
+            }
+        }
+    }
+}
+
+/// Satellites the simulator can see.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Constellation {
+    /// GPS broadcast ephemerides, grouped per PRN and sorted by t_oe.
+    Broadcast {
+        prns: Vec<u16>,
+        ephemerides: Vec<Vec<GpsEphemeris>>,
+    },
+    /// Synthetic Walker delta constellation.
+    Walker(Walker),
+}
+
+impl Constellation {
+    /// The GPS satellites of a RINEX 2 or 3 navigation file.
+    pub fn from_rinex_nav(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let records = read_rinex_nav(path)?;
+        if records.is_empty() {
+            return Err(Error::Parse {
+                file: path.display().to_string(),
+                line: 0,
+                reason: "no GPS ephemeris in the file".into(),
+            });
+        }
+        Ok(Self::from_ephemerides(records))
+    }
+
+    /// From ephemeris records (any order).
+    pub fn from_ephemerides(mut records: Vec<GpsEphemeris>) -> Self {
+        records.sort_by(|a, b| a.prn.cmp(&b.prn).then(a.toe_gps_s.total_cmp(&b.toe_gps_s)));
+        let mut prns: Vec<u16> = Vec::new();
+        let mut ephemerides: Vec<Vec<GpsEphemeris>> = Vec::new();
+        for r in records {
+            if prns.last() != Some(&r.prn) {
+                prns.push(r.prn);
+                ephemerides.push(Vec::new());
+            }
+            ephemerides.last_mut().expect("pushed above").push(r);
+        }
+        Constellation::Broadcast { prns, ephemerides }
+    }
+
+    /// A synthetic Walker constellation.
+    pub fn walker(config: &WalkerConfig) -> Result<Self> {
+        Ok(Constellation::Walker(Walker::new(config)?))
+    }
+
+    /// Number of satellites.
+    pub fn len(&self) -> usize {
+        match self {
+            Constellation::Broadcast { prns, .. } => prns.len(),
+            Constellation::Walker(w) => w.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Satellite identifier of index `i` (PRN, or Walker slot 1..N).
+    pub fn sat_id(&self, i: usize) -> u16 {
+        match self {
+            Constellation::Broadcast { prns, .. } => prns[i],
+            Constellation::Walker(_) => (i + 1) as u16,
+        }
+    }
+
+    /// Identifiers as RINEX names: "G01", ... (Walker slots are named
+    /// like GPS PRNs, 1..N).
+    pub fn prns(&self) -> Vec<String> {
+        (0..self.len())
+            .map(|i| format!("G{:02}", self.sat_id(i)))
+            .collect()
+    }
+
+    /// A sensible default start time: the earliest t_oe of the file, or 0
+    /// for a Walker constellation.
+    pub fn default_start_gps_time_s(&self) -> f64 {
+        match self {
+            Constellation::Broadcast { ephemerides, .. } => ephemerides
+                .iter()
+                .filter_map(|e| e.first().map(|r| r.toe_gps_s))
+                .fold(f64::INFINITY, f64::min),
+            Constellation::Walker(_) => 0.0,
+        }
+    }
+
+    /// The healthy broadcast ephemeris of satellite `i` with t_oe nearest
+    /// to `gps_time_s`, if one lies within ±2 h.
+    pub fn select_ephemeris(&self, i: usize, gps_time_s: f64) -> Option<&GpsEphemeris> {
+        match self {
+            Constellation::Broadcast { ephemerides, .. } => ephemerides[i]
+                .iter()
+                .filter(|e| {
+                    e.health == 0 && (gps_time_s - e.toe_gps_s).abs() <= EPHEMERIS_VALIDITY_S
+                })
+                .min_by(|a, b| {
+                    (gps_time_s - a.toe_gps_s)
+                        .abs()
+                        .total_cmp(&(gps_time_s - b.toe_gps_s).abs())
+                }),
+            Constellation::Walker(_) => None,
+        }
+    }
+
+    /// The orbit of satellite `i` that applies at `gps_time_s` (the
+    /// selected ephemeris), to be evaluated at nearby times without
+    /// switching ephemeris; `None` when no valid ephemeris.
+    pub fn orbit(&self, i: usize, gps_time_s: f64) -> Option<Orbit<'_>> {
+        match self {
+            Constellation::Broadcast { .. } => {
+                self.select_ephemeris(i, gps_time_s).map(Orbit::Broadcast)
+            }
+            Constellation::Walker(w) => Some(Orbit::Walker(w, i)),
+        }
+    }
+
+    /// State of satellite `i` at `gps_time_s`; `None` when no valid ephemeris.
+    pub fn state(&self, i: usize, gps_time_s: f64) -> Option<SatelliteState> {
+        self.orbit(i, gps_time_s).map(|o| o.state(gps_time_s))
+    }
+
+    /// Positions and velocities of every satellite (in `prns()` order) at
+    /// `gps_time_s`; NaN rows where no valid ephemeris.
+    pub fn position_velocity(&self, gps_time_s: f64) -> Result<PositionsVelocities> {
+        validate::finite_scalars("gps_time", &[gps_time_s])?;
+        let nan = Vector3::repeat(f64::NAN);
+        Ok((0..self.len())
+            .map(|i| match self.state(i, gps_time_s) {
+                Some(s) => (s.position_ecef, s.velocity_ecef),
+                None => (nan, nan),
+            })
+            .unzip())
+    }
+
+    /// Satellite clock corrections Δt_sv (s) at `gps_time_s`; NaN where no
+    /// valid ephemeris.
+    pub fn clock_correction(&self, gps_time_s: f64) -> Result<Vec<f64>> {
+        validate::finite_scalars("gps_time", &[gps_time_s])?;
+        Ok((0..self.len())
+            .map(|i| {
+                self.state(i, gps_time_s)
+                    .map_or(f64::NAN, |s| s.clock_bias_s)
+            })
+            .collect())
+    }
+}

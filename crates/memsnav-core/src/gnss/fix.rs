@@ -1,0 +1,219 @@
+//! Single-epoch least-squares position/velocity/clock fix from
+//! pseudoranges and pseudorange rates (Groves §9.4.1), for the loosely
+//! coupled filter.
+
+use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
+
+use super::range::predicted_range;
+use super::GnssEpoch;
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::{Error, Result};
+
+/// Dilutions of precision (unweighted geometry, Groves eqs. 9.42-9.44).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dops {
+    pub gdop: f64,
+    pub pdop: f64,
+    pub hdop: f64,
+    pub vdop: f64,
+    pub tdop: f64,
+}
+
+/// A least-squares fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fix {
+    pub time_s: f64,
+    pub position_ecef: Vector3<f64>,
+    pub velocity_ecef: Vector3<f64>,
+    /// Receiver clock offset, m.
+    pub clock_offset_m: f64,
+    /// Receiver clock drift, m/s.
+    pub clock_drift_m_s: f64,
+    /// Covariance of (x, y, z, clock offset), m², from the measurement stds.
+    pub position_clock_covariance: Matrix4<f64>,
+    /// Covariance of (vx, vy, vz, clock drift), (m/s)².
+    pub velocity_drift_covariance: Matrix4<f64>,
+    pub dops: Dops,
+    pub n_satellites: usize,
+    /// Gauss-Newton iterations used for the position.
+    pub iterations: usize,
+}
+
+/// Checks the stds; returns true when every σ is zero (noise-free data:
+/// unit weights and a zero covariance), else the weights are 1/σ².
+fn unit_weights(stds: impl Iterator<Item = f64> + Clone, what: &str, time_s: f64) -> Result<bool> {
+    let all_zero = stds.clone().all(|s| s == 0.0);
+    if let Some(bad) = stds.clone().find(|s| !(s.is_finite() && *s >= 0.0)) {
+        return Err(Error::invalid(
+            "epoch",
+            format!("{what} must be finite and non-negative at t = {time_s} s, got {bad}"),
+        ));
+    }
+    if !all_zero && stds.clone().any(|s| s == 0.0) {
+        return Err(Error::invalid(
+            "epoch",
+            format!("{what} mixes zero and non-zero values at t = {time_s} s"),
+        ));
+    }
+    Ok(all_zero)
+}
+
+/// Gauss-Newton fix (Groves eqs. 9.35-9.41) using [`predicted_range`] (so
+/// the Sagnac correction is applied exactly as in the filters).
+///
+/// `prior`: a starting position (e.g. the INS position); `None` starts from
+/// the Earth's centre, from which GPS geometry converges in a few steps.
+/// Errors: fewer than 4 satellites → `InvalidArgument` naming `epoch`;
+/// singular geometry → `Unobservable`; no convergence in 20 iterations →
+/// `Divergence`.
+pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> {
+    let m = &epoch.measurements;
+    let t = epoch.time_s;
+    if m.len() < 4 {
+        return Err(Error::invalid(
+            "epoch",
+            format!(
+                "a fix needs at least 4 satellites, got {} at t = {t} s",
+                m.len()
+            ),
+        ));
+    }
+    for s in m {
+        let finite = s
+            .position_ecef
+            .iter()
+            .chain(s.velocity_ecef.iter())
+            .all(|x| x.is_finite())
+            && s.pseudorange_m.is_finite()
+            && s.pseudorange_rate_m_s.is_finite();
+        if !finite {
+            return Err(Error::invalid(
+                "epoch",
+                format!(
+                    "satellite {} at t = {t} s has NaN or infinite values",
+                    s.sat_id
+                ),
+            ));
+        }
+    }
+    let unit_range = unit_weights(m.iter().map(|s| s.pseudorange_std_m), "pseudorange_std", t)?;
+    let unit_rate = unit_weights(
+        m.iter().map(|s| s.pseudorange_rate_std_m_s),
+        "pseudorange_rate_std",
+        t,
+    )?;
+    if let Some(p) = prior {
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(Error::invalid("prior", "contains NaN or infinite values"));
+        }
+    }
+    let singular = || Error::Unobservable {
+        axis: "ecef".into(),
+        parameter: "position and clock".into(),
+        reason: format!("the satellite geometry at t = {t} s is singular"),
+    };
+
+    // Position and clock offset.
+    let mut x = prior.unwrap_or_else(Vector3::zeros);
+    let mut b = 0.0;
+    let zero = Vector3::zeros();
+    let mut iterations = 0;
+    let mut converged = false;
+    let mut normal = Matrix4::zeros();
+    let mut geometry = Matrix4::zeros();
+    while iterations < 20 {
+        iterations += 1;
+        normal = Matrix4::zeros();
+        geometry = Matrix4::zeros();
+        let mut rhs = Vector4::zeros();
+        for s in m {
+            let p = predicted_range(&s.position_ecef, &s.velocity_ecef, &x, &zero);
+            let u = p.line_of_sight_ecef;
+            let h = Vector4::new(-u.x, -u.y, -u.z, 1.0);
+            let w = if unit_range {
+                1.0
+            } else {
+                1.0 / (s.pseudorange_std_m * s.pseudorange_std_m)
+            };
+            normal += w * h * h.transpose();
+            geometry += h * h.transpose();
+            rhs += w * h * (s.pseudorange_m - p.range_m - b);
+        }
+        let dx = normal.try_inverse().ok_or_else(singular)? * rhs;
+        x += dx.fixed_rows::<3>(0);
+        b += dx[3];
+        if dx.norm() < 1e-4 {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return Err(Error::Divergence {
+            time_s: t,
+            reason: "the least-squares fix did not converge in 20 iterations".into(),
+        });
+    }
+    let covariance = if unit_range {
+        Matrix4::zeros()
+    } else {
+        normal.try_inverse().ok_or_else(singular)?
+    };
+    let q = geometry.try_inverse().ok_or_else(singular)?;
+
+    // Velocity and clock drift: the rate model is linear in (v, ḃ) up to
+    // the light-time factor, so a few Gauss-Newton passes converge.
+    let mut v = Vector3::zeros();
+    let mut d = 0.0;
+    let mut rate_normal = Matrix4::zeros();
+    for _ in 0..5 {
+        rate_normal = Matrix4::zeros();
+        let mut rhs = Vector4::zeros();
+        for s in m {
+            let p = predicted_range(&s.position_ecef, &s.velocity_ecef, &x, &v);
+            let u = p.line_of_sight_ecef;
+            let h = Vector4::new(-u.x, -u.y, -u.z, 1.0);
+            let w = if unit_rate {
+                1.0
+            } else {
+                1.0 / (s.pseudorange_rate_std_m_s * s.pseudorange_rate_std_m_s)
+            };
+            rate_normal += w * h * h.transpose();
+            rhs += w * h * (s.pseudorange_rate_m_s - p.range_rate_m_s - d);
+        }
+        let dv = rate_normal.try_inverse().ok_or_else(singular)? * rhs;
+        v += dv.fixed_rows::<3>(0);
+        d += dv[3];
+        if dv.norm() < 1e-9 {
+            break;
+        }
+    }
+    let rate_covariance = if unit_rate {
+        Matrix4::zeros()
+    } else {
+        rate_normal.try_inverse().ok_or_else(singular)?
+    };
+
+    // DOPs: position block in NED (Groves eq. 9.44).
+    let g = ecef_to_geodetic(&x);
+    let c = c_n_e(g.latitude_rad, g.longitude_rad);
+    let q_pos: Matrix3<f64> = q.fixed_view::<3, 3>(0, 0).into_owned();
+    let q_ned = c.transpose() * q_pos * c;
+    Ok(Fix {
+        time_s: t,
+        position_ecef: x,
+        velocity_ecef: v,
+        clock_offset_m: b,
+        clock_drift_m_s: d,
+        position_clock_covariance: covariance,
+        velocity_drift_covariance: rate_covariance,
+        dops: Dops {
+            gdop: q.trace().sqrt(),
+            pdop: q_pos.trace().sqrt(),
+            hdop: (q_ned[(0, 0)] + q_ned[(1, 1)]).sqrt(),
+            vdop: q_ned[(2, 2)].sqrt(),
+            tdop: q[(3, 3)].sqrt(),
+        },
+        n_satellites: m.len(),
+        iterations,
+    })
+}

@@ -1,0 +1,65 @@
+//! GNSS: satellite orbits from broadcast ephemerides (IS-GPS-200) or a
+//! synthetic Walker constellation, precise orbits (SP3) for checking them,
+//! predicted ranges with the Sagnac correction, a two-state receiver clock,
+//! the measurement simulator (method §5) and the least-squares fix.
+//!
+//! Time is GPS time in seconds since 1980-01-06 00:00:00 GPST
+//! (`gps_time_s`); positions and velocities are in ECEF (WGS84), m and m/s;
+//! receiver clock offset and drift are in metres and m/s (c × seconds).
+
+mod clock;
+mod constellation;
+mod ephemeris;
+mod fix;
+mod range;
+mod rinex_nav;
+mod simulate;
+mod sp3;
+mod time;
+mod walker;
+
+pub use clock::{ClockState, ReceiverClockModel};
+pub use constellation::{Constellation, Orbit, SatelliteState, EPHEMERIS_VALIDITY_S};
+pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
+pub use fix::{solve_fix, Dops, Fix};
+pub use range::{predicted_range, RangePrediction};
+pub use rinex_nav::read_rinex_nav;
+pub use simulate::{
+    simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage, ReceiverTrack,
+    SimulationConfig,
+};
+pub use sp3::{read_sp3, Sp3};
+pub use time::{gps_time_from_calendar, SECONDS_PER_WEEK};
+pub use walker::{Walker, WalkerConfig};
+
+use nalgebra::Vector3;
+
+/// One satellite's measurements at one epoch, as the coupled filters use them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SatelliteMeasurement {
+    /// Satellite identifier (the GPS PRN number, or the Walker slot 1..N).
+    pub sat_id: u16,
+    /// Satellite position at signal transmission time, in the ECEF frame of
+    /// the transmission time, m (apply [`predicted_range`] for the Sagnac
+    /// rotation to the reception frame).
+    pub position_ecef: Vector3<f64>,
+    /// Satellite velocity at transmission time, ECEF, m/s.
+    pub velocity_ecef: Vector3<f64>,
+    /// Pseudorange, m (satellite clock already corrected).
+    pub pseudorange_m: f64,
+    /// Pseudorange rate, m/s (satellite clock drift already corrected).
+    pub pseudorange_rate_m_s: f64,
+    /// One-sigma pseudorange noise the measurement was simulated with, m.
+    pub pseudorange_std_m: f64,
+    /// One-sigma pseudorange-rate noise, m/s.
+    pub pseudorange_rate_std_m_s: f64,
+}
+
+/// All measurements at one receiver epoch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GnssEpoch {
+    /// Reception time on the trajectory's time axis, s.
+    pub time_s: f64,
+    /// The satellites tracked at this epoch (empty during a total outage).
+    pub measurements: Vec<SatelliteMeasurement>,
+}

@@ -1,0 +1,351 @@
+//! RINEX 2.x and 3.x navigation files: the GPS broadcast ephemerides.
+//! Other systems in a mixed RINEX 3 file (Galileo, GLONASS, BeiDou, ...)
+//! are skipped. Numbers may use Fortran `D` exponents. Every error names the
+//! file and the 1-based line.
+
+use std::path::Path;
+
+use super::ephemeris::GpsEphemeris;
+use super::time::{gps_time_from_calendar, SECONDS_PER_WEEK};
+use crate::{Error, Result};
+
+/// Reads every GPS ephemeris of a RINEX 2 or 3 navigation file, in file order.
+pub fn read_rinex_nav(path: impl AsRef<Path>) -> Result<Vec<GpsEphemeris>> {
+    let path = path.as_ref();
+    let text = std::fs::read(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    let text = String::from_utf8_lossy(&text);
+    parse_rinex_nav(&text, &path.display().to_string())
+}
+
+struct Cursor<'a> {
+    file: &'a str,
+    lines: Vec<&'a str>,
+}
+
+impl Cursor<'_> {
+    fn error(&self, line_index: usize, reason: impl Into<String>) -> Error {
+        Error::Parse {
+            file: self.file.to_string(),
+            line: line_index + 1,
+            reason: reason.into(),
+        }
+    }
+
+    /// Field `[start, start + width)` of line `k`, trimmed ("" when the line is short).
+    fn field(&self, k: usize, start: usize, width: usize) -> &str {
+        let line = self.lines[k];
+        let end = (start + width).min(line.len());
+        if start >= end {
+            return "";
+        }
+        line.get(start..end).unwrap_or("").trim()
+    }
+
+    fn number(&self, k: usize, start: usize, width: usize, what: &str) -> Result<f64> {
+        let f = self.field(k, start, width);
+        parse_number(f).ok_or_else(|| {
+            self.error(
+                k,
+                format!(
+                    "expected a number for {what} in columns {}-{}, got {f:?}",
+                    start + 1,
+                    start + width
+                ),
+            )
+        })
+    }
+
+    fn optional_number(
+        &self,
+        k: usize,
+        start: usize,
+        width: usize,
+        what: &str,
+    ) -> Result<Option<f64>> {
+        if self.field(k, start, width).is_empty() {
+            Ok(None)
+        } else {
+            self.number(k, start, width, what).map(Some)
+        }
+    }
+
+    fn integer(&self, k: usize, start: usize, width: usize, what: &str) -> Result<i64> {
+        let f = self.field(k, start, width);
+        f.parse::<i64>().map_err(|_| {
+            self.error(
+                k,
+                format!(
+                    "expected an integer {what} in columns {}-{}, got {f:?}",
+                    start + 1,
+                    start + width
+                ),
+            )
+        })
+    }
+}
+
+/// A real number in Fortran or C notation (`0.12D+02`, `-.5E-3`, `12`).
+fn parse_number(field: &str) -> Option<f64> {
+    if field.is_empty()
+        || field
+            .chars()
+            .any(|c| c.is_ascii_alphabetic() && !matches!(c, 'D' | 'd' | 'E' | 'e'))
+    {
+        return None;
+    }
+    let value: f64 = field.replace(['D', 'd'], "E").parse().ok()?;
+    value.is_finite().then_some(value)
+}
+
+/// The 29 broadcast-orbit values of a GPS record, in RINEX order
+/// (`values[0..3]` = a_f0, a_f1, a_f2 on the epoch line; then seven lines of four).
+const ORBIT_NAMES: [&str; 29] = [
+    "SV clock bias",
+    "SV clock drift",
+    "SV clock drift rate",
+    "IODE",
+    "Crs",
+    "Delta n",
+    "M0",
+    "Cuc",
+    "e",
+    "Cus",
+    "sqrt(A)",
+    "Toe",
+    "Cic",
+    "OMEGA0",
+    "Cis",
+    "i0",
+    "Crc",
+    "omega",
+    "OMEGA DOT",
+    "IDOT",
+    "codes on L2",
+    "GPS week",
+    "L2 P flag",
+    "SV accuracy",
+    "SV health",
+    "TGD",
+    "IODC",
+    "transmission time",
+    "fit interval",
+];
+
+/// Values a file may leave blank (spares, flags, the fit interval).
+fn may_be_blank(index: usize) -> bool {
+    matches!(index, 3 | 20 | 22 | 23 | 26 | 27 | 28)
+}
+
+fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
+    let cur = Cursor {
+        file,
+        lines: text.lines().collect(),
+    };
+    if cur.lines.is_empty() {
+        return Err(cur.error(0, "empty file: expected a RINEX navigation header"));
+    }
+    // Header line 1: version (F9.2), file type at column 21, system at column 41 (v3).
+    let first = cur.lines[0];
+    if !first
+        .get(60..)
+        .unwrap_or("")
+        .starts_with("RINEX VERSION / TYPE")
+    {
+        return Err(cur.error(
+            0,
+            "expected 'RINEX VERSION / TYPE' in columns 61-80: not a RINEX file",
+        ));
+    }
+    let version = cur.number(0, 0, 9, "the RINEX version")?;
+    let file_type = cur.field(0, 20, 1).to_string();
+    let system = cur.field(0, 40, 1).to_string();
+    let major = version.floor() as i64;
+    match major {
+        2 if file_type == "N" => {}
+        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "M" | "") => {}
+        2..=4 => {
+            return Err(cur.error(
+                0,
+                format!("not a GPS navigation file (type {file_type:?}, system {system:?}); expected type N with system G or M"),
+            ))
+        }
+        _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x or 3.x"))),
+    }
+    let mut k = 1;
+    while k < cur.lines.len()
+        && !cur.lines[k]
+            .get(60..)
+            .unwrap_or("")
+            .starts_with("END OF HEADER")
+    {
+        k += 1;
+    }
+    if k == cur.lines.len() {
+        return Err(cur.error(k.saturating_sub(1), "end of file before 'END OF HEADER'"));
+    }
+    k += 1;
+
+    // Field layout: RINEX 2 records start with I2 PRN + epoch (22 columns)
+    // and orbit lines with 3 blanks; RINEX 3 with "Gnn" + epoch (23 columns)
+    // and orbit lines with 4 blanks. Each value is 19 columns wide.
+    let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
+    let mut out = Vec::new();
+    while k < cur.lines.len() {
+        if cur.lines[k].trim().is_empty() {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        let prn: u16;
+        let (year, month, day, hour, minute, second);
+        if major == 2 {
+            prn = cur.integer(k, 0, 2, "satellite PRN")? as u16;
+            let yy = cur.integer(k, 2, 3, "year")?;
+            year = if yy < 80 {
+                2000 + yy
+            } else if yy < 100 {
+                1900 + yy
+            } else {
+                yy
+            };
+            month = cur.integer(k, 5, 3, "month")?;
+            day = cur.integer(k, 8, 3, "day")?;
+            hour = cur.integer(k, 11, 3, "hour")?;
+            minute = cur.integer(k, 14, 3, "minute")?;
+            second = cur.number(k, 17, 5, "second")?;
+        } else {
+            let sys = cur.field(k, 0, 1).to_string();
+            if sys != "G" {
+                // Another system: skip its continuation lines (they start with blanks).
+                if sys.is_empty() || !sys.chars().all(|c| c.is_ascii_uppercase()) {
+                    return Err(cur.error(k, format!("expected a satellite record starting with a system letter (G, E, R, C, J, S, I), got {:?}", cur.lines[k].get(..3).unwrap_or(cur.lines[k]))));
+                }
+                k += 1;
+                while k < cur.lines.len() && cur.lines[k].starts_with(' ') {
+                    k += 1;
+                }
+                continue;
+            }
+            prn = cur.integer(k, 1, 2, "satellite PRN")? as u16;
+            year = cur.integer(k, 3, 5, "year")?;
+            month = cur.integer(k, 8, 3, "month")?;
+            day = cur.integer(k, 11, 3, "day")?;
+            hour = cur.integer(k, 14, 3, "hour")?;
+            minute = cur.integer(k, 17, 3, "minute")?;
+            second = cur.number(k, 20, 3, "second")?;
+        }
+        if !(1..=12).contains(&month)
+            || !(1..=31).contains(&day)
+            || !(0..=23).contains(&hour)
+            || !(0..=59).contains(&minute)
+            || !(0.0..61.0).contains(&second)
+        {
+            return Err(cur.error(
+                k,
+                "epoch out of range: expected year month day hour minute second",
+            ));
+        }
+        let mut values = [0.0_f64; 29];
+        let mut blank = [false; 29];
+        for (j, (v, b)) in values.iter_mut().zip(blank.iter_mut()).enumerate().take(3) {
+            let col = epoch_width + 19 * j;
+            match cur.optional_number(k, col, 19, ORBIT_NAMES[j])? {
+                Some(x) => *v = x,
+                None => *b = true,
+            }
+        }
+        for line in 1..=7 {
+            let kk = start + line;
+            let is_continuation = kk < cur.lines.len()
+                && cur.lines[kk].len() > indent
+                && cur.lines[kk]
+                    .get(..indent)
+                    .is_some_and(|s| s.trim().is_empty());
+            if !is_continuation {
+                let reason = format!(
+                    "truncated record for G{prn:02} starting at line {}: expected broadcast orbit line {line} of 7, got {}",
+                    start + 1,
+                    if kk < cur.lines.len() { "a new record or a malformed line" } else { "end of file" }
+                );
+                // Named by the 1-based line where the orbit line was expected
+                // (one past the last line when the file ends early).
+                return Err(Error::Parse {
+                    file: file.to_string(),
+                    line: kk + 1,
+                    reason,
+                });
+            }
+            for j in 0..4 {
+                let index = 3 + 4 * (line - 1) + j;
+                if index >= 29 {
+                    break;
+                }
+                match cur.optional_number(kk, indent + 19 * j, 19, ORBIT_NAMES[index])? {
+                    Some(x) => values[index] = x,
+                    None => blank[index] = true,
+                }
+            }
+        }
+        if let Some(missing) = (0..29).find(|&i| blank[i] && !may_be_blank(i)) {
+            let line = start
+                + if missing < 3 {
+                    0
+                } else {
+                    1 + (missing - 3) / 4
+                };
+            return Err(cur.error(
+                line,
+                format!(
+                    "expected a value for {} for G{prn:02}, the field is blank",
+                    ORBIT_NAMES[missing]
+                ),
+            ));
+        }
+        let toc = gps_time_from_calendar(year, month, day, hour, minute, second);
+        // t_oe is seconds of the week given in the record; put it in the
+        // week that brings it within half a week of t_oc (handles records
+        // whose week number belongs to t_oc across a week boundary).
+        let mut toe = values[21] * SECONDS_PER_WEEK + values[11];
+        while toe - toc > SECONDS_PER_WEEK / 2.0 {
+            toe -= SECONDS_PER_WEEK;
+        }
+        while toc - toe > SECONDS_PER_WEEK / 2.0 {
+            toe += SECONDS_PER_WEEK;
+        }
+        out.push(GpsEphemeris {
+            prn,
+            toc_gps_s: toc,
+            toe_gps_s: toe,
+            af0_s: values[0],
+            af1_s_s: values[1],
+            af2_s_s2: values[2],
+            crs_m: values[4],
+            delta_n_rad_s: values[5],
+            m0_rad: values[6],
+            cuc_rad: values[7],
+            eccentricity: values[8],
+            cus_rad: values[9],
+            sqrt_a_sqrt_m: values[10],
+            cic_rad: values[12],
+            omega0_rad: values[13],
+            cis_rad: values[14],
+            i0_rad: values[15],
+            crc_m: values[16],
+            omega_rad: values[17],
+            omega_dot_rad_s: values[18],
+            idot_rad_s: values[19],
+            health: values[24] as u32,
+            tgd_s: values[25],
+            fit_interval_h: if blank[28] || values[28] == 0.0 {
+                4.0
+            } else {
+                values[28]
+            },
+        });
+        k = start + 8;
+    }
+    Ok(out)
+}

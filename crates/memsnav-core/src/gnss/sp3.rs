@@ -1,0 +1,178 @@
+//! SP3-c/d precise orbit files (positions in km, clocks in µs, GPS time):
+//! read into SI units for checking broadcast orbits.
+
+use std::path::Path;
+
+use nalgebra::Vector3;
+
+use super::time::gps_time_from_calendar;
+use crate::{Error, Result};
+
+/// Precise orbits: `n_epochs × n_satellites` positions (ECEF, m, centre
+/// of mass) and clocks (s), NaN where the file marks a value missing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sp3 {
+    /// Epochs, GPS s since 1980-01-06.
+    pub time_gps_s: Vec<f64>,
+    /// Satellite names as in the file ("G01", "E05", ...).
+    pub satellites: Vec<String>,
+    /// Row-major `[epoch * n_satellites + satellite]`, m.
+    pub position_ecef: Vec<Vector3<f64>>,
+    /// Row-major like `position_ecef`, s.
+    pub clock_s: Vec<f64>,
+}
+
+impl Sp3 {
+    /// Position of satellite `sat` at epoch `epoch`, m (NaN if missing).
+    pub fn position(&self, epoch: usize, sat: usize) -> Vector3<f64> {
+        self.position_ecef[epoch * self.satellites.len() + sat]
+    }
+
+    /// Clock of satellite `sat` at epoch `epoch`, s (NaN if missing).
+    pub fn clock(&self, epoch: usize, sat: usize) -> f64 {
+        self.clock_s[epoch * self.satellites.len() + sat]
+    }
+}
+
+/// Reads an SP3-c or SP3-d file (GPS time system).
+pub fn read_sp3(path: impl AsRef<Path>) -> Result<Sp3> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    parse_sp3(
+        &String::from_utf8_lossy(&bytes),
+        &path.display().to_string(),
+    )
+}
+
+fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
+    let err = |k: usize, reason: String| Error::Parse {
+        file: file.to_string(),
+        line: k + 1,
+        reason,
+    };
+    let field = |line: &str, a: usize, b: usize| {
+        line.get(a..b.min(line.len()))
+            .unwrap_or("")
+            .trim()
+            .to_string()
+    };
+    let num = |line: &str, k: usize, a: usize, b: usize, what: &str| -> Result<f64> {
+        let f = field(line, a, b);
+        f.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| {
+                err(
+                    k,
+                    format!(
+                        "expected a number for {what} in columns {}-{}, got {f:?}",
+                        a + 1,
+                        b
+                    ),
+                )
+            })
+    };
+    let lines: Vec<&str> = text.lines().collect();
+    let first = lines.first().copied().unwrap_or("");
+    if !(first.starts_with("#c") || first.starts_with("#d")) {
+        return Err(err(
+            0,
+            "expected an SP3-c or SP3-d header ('#c' or '#d')".into(),
+        ));
+    }
+    let mut satellites: Vec<String> = Vec::new();
+    let mut declared = None;
+    let mut time_gps_s = Vec::new();
+    let mut position_ecef = Vec::new();
+    let mut clock_s = Vec::new();
+    let mut time_system_seen = false;
+    for (k, line) in lines.iter().enumerate().skip(1) {
+        if line.starts_with("+ ") {
+            if declared.is_none() {
+                declared = Some(num(line, k, 1, 6, "the number of satellites")? as usize);
+            }
+            let mut c = 9;
+            while c + 3 <= line.len().min(60) {
+                let id = field(line, c, c + 3);
+                if !id.is_empty()
+                    && id != "0"
+                    && id != "00"
+                    && satellites.len() < declared.unwrap_or(0)
+                {
+                    satellites.push(id.replace(' ', "0"));
+                }
+                c += 3;
+            }
+        } else if line.starts_with("%c") && !time_system_seen {
+            time_system_seen = true;
+            let system = field(line, 9, 12);
+            if system != "GPS" && system != "ccc" {
+                return Err(err(
+                    k,
+                    format!("time system {system:?} is not supported: expected GPS"),
+                ));
+            }
+        } else if line.starts_with('*') {
+            if satellites.len() != declared.unwrap_or(0) || satellites.is_empty() {
+                return Err(err(
+                    k,
+                    "epoch before a complete satellite list in the header".into(),
+                ));
+            }
+            let year = num(line, k, 3, 7, "year")? as i64;
+            let month = num(line, k, 8, 10, "month")? as i64;
+            let day = num(line, k, 11, 13, "day")? as i64;
+            let hour = num(line, k, 14, 16, "hour")? as i64;
+            let minute = num(line, k, 17, 19, "minute")? as i64;
+            let second = num(line, k, 20, 31, "second")?;
+            time_gps_s.push(gps_time_from_calendar(
+                year, month, day, hour, minute, second,
+            ));
+            position_ecef.extend(std::iter::repeat_n(
+                Vector3::repeat(f64::NAN),
+                satellites.len(),
+            ));
+            clock_s.extend(std::iter::repeat_n(f64::NAN, satellites.len()));
+        } else if line.starts_with('P') {
+            if time_gps_s.is_empty() {
+                return Err(err(
+                    k,
+                    "position record before the first epoch line ('*')".into(),
+                ));
+            }
+            let id = field(line, 1, 4).replace(' ', "0");
+            let s = satellites
+                .iter()
+                .position(|x| *x == id)
+                .ok_or_else(|| err(k, format!("satellite {id:?} is not in the header's list")))?;
+            let x = num(line, k, 4, 18, "x")?;
+            let y = num(line, k, 18, 32, "y")?;
+            let z = num(line, k, 32, 46, "z")?;
+            let clock = num(line, k, 46, 60, "clock")?;
+            let row = (time_gps_s.len() - 1) * satellites.len() + s;
+            // SP3 marks a missing position with 0.000000 and a missing
+            // clock with 999999.999999.
+            if x != 0.0 || y != 0.0 || z != 0.0 {
+                position_ecef[row] = Vector3::new(x, y, z) * 1e3;
+            }
+            if clock.abs() < 999_999.0 {
+                clock_s[row] = clock * 1e-6;
+            }
+        }
+    }
+    if time_gps_s.is_empty() {
+        return Err(err(
+            lines.len().saturating_sub(1),
+            "no epoch in the file".into(),
+        ));
+    }
+    Ok(Sp3 {
+        time_gps_s,
+        satellites,
+        position_ecef,
+        clock_s,
+    })
+}

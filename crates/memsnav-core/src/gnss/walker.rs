@@ -1,0 +1,178 @@
+//! A synthetic GPS-like Walker delta constellation (method §5): circular
+//! Keplerian orbits in equally spaced planes, expressed in ECEF with the
+//! Earth's rotation, for runs not tied to a date.
+
+use nalgebra::Vector3;
+
+use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2};
+use crate::{validate, Error, Result};
+
+/// Walker delta pattern i: t/p/f (t satellites, p planes, phasing f).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WalkerConfig {
+    /// Total number of satellites t (a multiple of `planes`). Default 24.
+    pub n_satellites: usize,
+    /// Number of orbital planes p. Default 6.
+    pub planes: usize,
+    /// Inclination i, rad. Default 55°.
+    pub inclination_rad: f64,
+    /// Orbit radius (semi-major axis of the circular orbit), m. Default 26 560 km.
+    pub semi_major_axis_m: f64,
+    /// Walker phasing parameter f (0 ≤ f < p): satellites in adjacent planes
+    /// are offset by 2π f / t in argument of latitude. Default 1.
+    pub phasing: usize,
+    /// Right ascension of the first plane's node at `gps_time_s = 0`,
+    /// measured from the ECEF x axis at that instant, rad. Default 0.
+    pub raan0_rad: f64,
+    /// Argument of latitude of the first satellite at `gps_time_s = 0`, rad. Default 0.
+    pub argument_of_latitude0_rad: f64,
+}
+
+impl Default for WalkerConfig {
+    fn default() -> Self {
+        WalkerConfig {
+            n_satellites: 24,
+            planes: 6,
+            inclination_rad: 55f64.to_radians(),
+            semi_major_axis_m: 26_560_000.0,
+            phasing: 1,
+            raan0_rad: 0.0,
+            argument_of_latitude0_rad: 0.0,
+        }
+    }
+}
+
+/// The validated constellation: per satellite its node and initial
+/// argument of latitude.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Walker {
+    pub config: WalkerConfig,
+    /// Mean motion n = √(μ/a³), rad/s.
+    pub mean_motion_rad_s: f64,
+    raan_rad: Vec<f64>,
+    u0_rad: Vec<f64>,
+}
+
+impl Walker {
+    pub fn new(config: &WalkerConfig) -> Result<Self> {
+        let c = *config;
+        if c.planes == 0 {
+            return Err(Error::invalid("planes", "must be at least 1"));
+        }
+        if c.n_satellites == 0 || c.n_satellites % c.planes != 0 {
+            return Err(Error::invalid(
+                "n_satellites",
+                format!(
+                    "must be a positive multiple of planes ({}), got {}",
+                    c.planes, c.n_satellites
+                ),
+            ));
+        }
+        if c.n_satellites > u16::MAX as usize {
+            return Err(Error::invalid("n_satellites", "must be at most 65535"));
+        }
+        if c.phasing >= c.planes {
+            return Err(Error::invalid(
+                "phasing",
+                format!("must be in 0..planes ({}), got {}", c.planes, c.phasing),
+            ));
+        }
+        if !(c.inclination_rad.is_finite()
+            && (0.0..=std::f64::consts::PI).contains(&c.inclination_rad))
+        {
+            return Err(Error::invalid(
+                "inclination",
+                format!("must be within [0°, 180°], got {} rad", c.inclination_rad),
+            ));
+        }
+        validate::positive("semi_major_axis_m", c.semi_major_axis_m)?;
+        if c.semi_major_axis_m <= crate::geodesy::wgs84::SEMI_MAJOR_AXIS_M {
+            return Err(Error::invalid(
+                "semi_major_axis_m",
+                format!(
+                    "must exceed the Earth's radius, got {} m",
+                    c.semi_major_axis_m
+                ),
+            ));
+        }
+        validate::finite_scalars("raan0", &[c.raan0_rad])?;
+        validate::finite_scalars("argument_of_latitude0", &[c.argument_of_latitude0_rad])?;
+        let per_plane = c.n_satellites / c.planes;
+        let tau = std::f64::consts::TAU;
+        let mut raan_rad = Vec::with_capacity(c.n_satellites);
+        let mut u0_rad = Vec::with_capacity(c.n_satellites);
+        for plane in 0..c.planes {
+            for slot in 0..per_plane {
+                raan_rad.push(c.raan0_rad + tau * plane as f64 / c.planes as f64);
+                u0_rad.push(
+                    c.argument_of_latitude0_rad
+                        + tau * slot as f64 / per_plane as f64
+                        + tau * (c.phasing * plane) as f64 / c.n_satellites as f64,
+                );
+            }
+        }
+        let a = c.semi_major_axis_m;
+        Ok(Walker {
+            config: c,
+            mean_motion_rad_s: (GM_M3_S2 / (a * a * a)).sqrt(),
+            raan_rad,
+            u0_rad,
+        })
+    }
+
+    pub fn len(&self) -> usize {
+        self.raan_rad.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.raan_rad.is_empty()
+    }
+
+    /// ECEF position and velocity of satellite `index` at `gps_time_s`:
+    /// the inertial circular orbit r_I = a (cos u cos Ω − sin u cos i sin Ω,
+    /// cos u sin Ω + sin u cos i cos Ω, sin u sin i), u = u0 + n t, rotated to
+    /// ECEF by the Earth angle θ = ω_ie t; v_e = C_I^e v_I − ω_ie × r_e
+    /// (Groves eq. 2.146 rearranged).
+    pub fn position_velocity(&self, index: usize, gps_time_s: f64) -> (Vector3<f64>, Vector3<f64>) {
+        self.position_velocity_at(index, gps_time_s, 0.0)
+    }
+
+    /// The state at `gps_time_s + offset_s`; the angles are reduced with an
+    /// exact floating-point remainder by the orbital and sidereal periods so
+    /// that large GPS times keep full precision.
+    pub fn position_velocity_at(
+        &self,
+        index: usize,
+        gps_time_s: f64,
+        offset_s: f64,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let tau = std::f64::consts::TAU;
+        let a = self.config.semi_major_axis_m;
+        let n = self.mean_motion_rad_s;
+        let u = self.u0_rad[index] + n * (gps_time_s % (tau / n)) + n * offset_s;
+        let (sin_u, cos_u) = u.sin_cos();
+        let (sin_o, cos_o) = self.raan_rad[index].sin_cos();
+        let (sin_i, cos_i) = self.config.inclination_rad.sin_cos();
+        let r_i = a * Vector3::new(
+            cos_u * cos_o - sin_u * cos_i * sin_o,
+            cos_u * sin_o + sin_u * cos_i * cos_o,
+            sin_u * sin_i,
+        );
+        let v_i = a
+            * n
+            * Vector3::new(
+                -sin_u * cos_o - cos_u * cos_i * sin_o,
+                -sin_u * sin_o + cos_u * cos_i * cos_o,
+                cos_u * sin_i,
+            );
+        let theta = EARTH_RATE_RAD_S * (gps_time_s % (tau / EARTH_RATE_RAD_S))
+            + EARTH_RATE_RAD_S * offset_s;
+        let (s, c) = theta.sin_cos();
+        // C_I^e = R_z(θ): frame rotation by the Earth angle.
+        let rot = |v: Vector3<f64>| Vector3::new(c * v.x + s * v.y, -s * v.x + c * v.y, v.z);
+        let r_e = rot(r_i);
+        let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+        let v_e = rot(v_i) - omega.cross(&r_e);
+        (r_e, v_e)
+    }
+}

@@ -1,0 +1,328 @@
+//! Trajectories with exact IMU truth (method §5, "Trajectory generation").
+//!
+//! A motion is described in the local navigation frame: the NED velocity
+//! and its derivative, and the body's roll, pitch and yaw and their rates,
+//! as smooth (C²) functions of time. The geodetic position is integrated
+//! from the velocity (RK4 on Groves eq. 2.111 / 5.56), and the IMU truth
+//! follows by inverse mechanization in ECEF:
+//!
+//! - ω_ib^b = ω_nb^b + C_n^b ω_en^n + C_e^b ω_ie^e (Groves eq. 2.48 chain,
+//!   transport rate eq. 5.44, Euler-rate kinematics eq. 2.56),
+//! - f_ib^b = C_e^b (a_eb^e + 2 Ω_ie v_eb^e − g^e(r)) with
+//!   g = γ − Ω_ie Ω_ie r from [`crate::geodesy::gravity_ecef`] (Groves
+//!   eq. 5.36 solved for f), a_eb^e = C_n^e (v̇^n + ω_en^n × v^n).
+//!
+//! So an INS using the same gravity model and fed this truth reproduces the
+//! trajectory to its own integration accuracy.
+
+mod profile;
+mod random;
+mod segments;
+mod smooth;
+mod spline;
+mod vehicle;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::attitude::{dcm_to_euler, euler_to_dcm};
+use crate::geodesy::{
+    c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, meridian_radius, transverse_radius,
+    wgs84::EARTH_RATE_RAD_S, Geodetic,
+};
+use crate::ins::{ImuSample, NavState};
+use crate::{validate, Error, Result};
+
+pub use profile::PROFILE_KNOT_SPACING_S;
+pub use random::RandomTrajectoryConfig;
+pub use segments::Segment;
+pub use smooth::{SignalValue, SmoothSignal};
+pub use vehicle::{VehicleMotion, PITCH_PER_LONGITUDINAL_ACCEL, ROLL_PER_LATERAL_ACCEL};
+
+/// Truth at the IMU rate: the vehicle's position, velocity and attitude and
+/// what an ideal IMU on it measures.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trajectory {
+    /// Sample times, s, strictly increasing.
+    pub time_s: Vec<f64>,
+    /// r_eb^e, m.
+    pub position_ecef: Vec<Vector3<f64>>,
+    /// v_eb^e, m/s.
+    pub velocity_ecef: Vec<Vector3<f64>>,
+    /// C_b^e, body to ECEF.
+    pub c_b_e: Vec<Matrix3<f64>>,
+    /// f_ib^b, m/s² (specific force).
+    pub specific_force_b: Vec<Vector3<f64>>,
+    /// ω_ib^b, rad/s.
+    pub angular_rate_b: Vec<Vector3<f64>>,
+}
+
+/// The local-level description of a motion at one instant.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LocalMotion {
+    /// v_eb^n, m/s.
+    pub velocity_ned: Vector3<f64>,
+    /// d/dt of the NED components of v_eb^n, m/s².
+    pub velocity_ned_rate: Vector3<f64>,
+    /// Roll, pitch, yaw of C_b^n, rad.
+    pub euler_rad: Vector3<f64>,
+    /// Their time derivatives, rad/s.
+    pub euler_rate_rad_s: Vector3<f64>,
+}
+
+/// A motion the generator can sample at any time.
+pub(crate) trait Motion {
+    fn at(&self, t_s: f64) -> LocalMotion;
+    /// Only the NED velocity (the position integration needs no more).
+    fn velocity_ned(&self, t_s: f64) -> Vector3<f64> {
+        self.at(t_s).velocity_ned
+    }
+}
+
+/// Longest RK4 sub-step of the position integration, s: keeps the
+/// truncation error far below a millimetre whatever the output rate.
+const MAX_POSITION_STEP_S: f64 = 0.01;
+
+/// Most samples a trajectory may have (guards against absurd requests).
+const MAX_SAMPLES: usize = 100_000_000;
+
+/// d(lat, lon, h)/dt from the NED velocity (Groves eq. 2.111).
+fn geodetic_rate(g: &Vector3<f64>, v_ned: &Vector3<f64>) -> Vector3<f64> {
+    let (lat, h) = (g.x, g.z);
+    Vector3::new(
+        v_ned.x / (meridian_radius(lat) + h),
+        v_ned.y / ((transverse_radius(lat) + h) * lat.cos()),
+        -v_ned.z,
+    )
+}
+
+/// Euler-angle rates → ω_nb^b for C_b^n = R_z(ψ) R_y(θ) R_x(φ) (Groves
+/// eq. 2.56 inverted).
+fn body_rate_from_euler(euler: &Vector3<f64>, rate: &Vector3<f64>) -> Vector3<f64> {
+    let (sr, cr) = euler.x.sin_cos();
+    let (sp, cp) = euler.y.sin_cos();
+    Vector3::new(
+        rate.x - rate.z * sp,
+        rate.y * cr + rate.z * sr * cp,
+        -rate.y * sr + rate.z * cr * cp,
+    )
+}
+
+/// Builds the truth of `motion` at `time_s`, starting at `origin`.
+pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -> Trajectory {
+    let n = time_s.len();
+    let mut out = Trajectory {
+        position_ecef: Vec::with_capacity(n),
+        velocity_ecef: Vec::with_capacity(n),
+        c_b_e: Vec::with_capacity(n),
+        specific_force_b: Vec::with_capacity(n),
+        angular_rate_b: Vec::with_capacity(n),
+        time_s: Vec::new(),
+    };
+    let omega_ie = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+    let mut geodetic = Vector3::new(origin.latitude_rad, origin.longitude_rad, origin.height_m);
+    for k in 0..n {
+        let t = time_s[k];
+        let m = motion.at(t);
+        let (lat, lon, h) = (geodetic.x, geodetic.y, geodetic.z);
+        let rate = geodetic_rate(&geodetic, &m.velocity_ned);
+        // Transport rate ω_en^n (Groves eq. 5.44).
+        let omega_en_n = Vector3::new(rate.y * lat.cos(), -rate.x, -rate.y * lat.sin());
+        let c_ne = c_n_e(lat, lon);
+        let r = geodetic_to_ecef(Geodetic::new(lat, lon, h));
+        let v = c_ne * m.velocity_ned;
+        let a = c_ne * (m.velocity_ned_rate + omega_en_n.cross(&m.velocity_ned));
+        let c_bn = euler_to_dcm(m.euler_rad.x, m.euler_rad.y, m.euler_rad.z);
+        let c_be = c_ne * c_bn;
+        let c_eb = c_be.transpose();
+        let omega_nb_b = body_rate_from_euler(&m.euler_rad, &m.euler_rate_rad_s);
+        let omega_ib_b = omega_nb_b + c_bn.transpose() * omega_en_n + c_eb * omega_ie;
+        let f_ib_b = c_eb * (a + 2.0 * omega_ie.cross(&v) - gravity_ecef(&r));
+        out.position_ecef.push(r);
+        out.velocity_ecef.push(v);
+        out.c_b_e.push(c_be);
+        out.specific_force_b.push(f_ib_b);
+        out.angular_rate_b.push(omega_ib_b);
+        if k + 1 < n {
+            // RK4 on the geodetic position, sub-stepped.
+            let span = time_s[k + 1] - t;
+            let steps = (span / MAX_POSITION_STEP_S).ceil().max(1.0) as usize;
+            let dt = span / steps as f64;
+            for j in 0..steps {
+                let t0 = t + j as f64 * dt;
+                let k1 = geodetic_rate(&geodetic, &motion.velocity_ned(t0));
+                let vm = motion.velocity_ned(t0 + 0.5 * dt);
+                let k2 = geodetic_rate(&(geodetic + 0.5 * dt * k1), &vm);
+                let k3 = geodetic_rate(&(geodetic + 0.5 * dt * k2), &vm);
+                let k4 = geodetic_rate(&(geodetic + dt * k3), &motion.velocity_ned(t0 + dt));
+                geodetic += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+            }
+        }
+    }
+    out.time_s = time_s;
+    out
+}
+
+/// `duration_s · rate_hz + 1` sample times from 0, validated.
+pub(crate) fn time_grid(start_s: f64, duration_s: f64, rate_hz: f64) -> Result<Vec<f64>> {
+    validate::positive("duration", duration_s)?;
+    validate::positive("rate", rate_hz)?;
+    let intervals = (duration_s * rate_hz + 1e-9).floor();
+    if intervals < 1.0 {
+        return Err(Error::invalid(
+            "rate",
+            format!("{rate_hz} Hz gives no sample interval within {duration_s} s"),
+        ));
+    }
+    if intervals >= MAX_SAMPLES as f64 {
+        return Err(Error::invalid(
+            "rate",
+            format!("{duration_s} s at {rate_hz} Hz is more than {MAX_SAMPLES} samples"),
+        ));
+    }
+    Ok((0..=intervals as usize)
+        .map(|k| start_s + k as f64 / rate_hz)
+        .collect())
+}
+
+impl Trajectory {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.time_s.len()
+    }
+
+    /// True when there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.time_s.is_empty()
+    }
+
+    /// The navigation state at sample `k` (to initialise an INS).
+    pub fn nav_state(&self, k: usize) -> NavState {
+        NavState {
+            position_ecef: self.position_ecef[k],
+            velocity_ecef: self.velocity_ecef[k],
+            c_b_e: self.c_b_e[k],
+        }
+    }
+
+    /// The ideal IMU sample at `k`.
+    pub fn imu_sample(&self, k: usize) -> ImuSample {
+        ImuSample {
+            specific_force_b: self.specific_force_b[k],
+            angular_rate_b: self.angular_rate_b[k],
+        }
+    }
+
+    /// Geodetic position of each sample.
+    pub fn position_geodetic(&self) -> Vec<Geodetic> {
+        self.position_ecef.iter().map(ecef_to_geodetic).collect()
+    }
+
+    /// NED velocity at the true position of each sample, m/s.
+    pub fn velocity_ned(&self) -> Vec<Vector3<f64>> {
+        self.position_ecef
+            .iter()
+            .zip(&self.velocity_ecef)
+            .map(|(r, v)| {
+                let g = ecef_to_geodetic(r);
+                c_n_e(g.latitude_rad, g.longitude_rad).transpose() * v
+            })
+            .collect()
+    }
+
+    /// Roll, pitch, yaw of C_b^n at the true position of each sample, rad.
+    pub fn euler_ned(&self) -> Vec<Vector3<f64>> {
+        self.position_ecef
+            .iter()
+            .zip(&self.c_b_e)
+            .map(|(r, c)| {
+                let g = ecef_to_geodetic(r);
+                dcm_to_euler(&(c_n_e(g.latitude_rad, g.longitude_rad).transpose() * c))
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A motion with every term switched on, smooth, in closed form.
+    struct Wavy;
+    impl Motion for Wavy {
+        fn at(&self, t: f64) -> LocalMotion {
+            LocalMotion {
+                velocity_ned: Vector3::new(
+                    10.0 * (0.1 * t).cos(),
+                    8.0 * (0.13 * t).sin() + 3.0,
+                    0.5 * (0.2 * t).sin(),
+                ),
+                velocity_ned_rate: Vector3::new(
+                    -(0.1 * t).sin(),
+                    1.04 * (0.13 * t).cos(),
+                    0.1 * (0.2 * t).cos(),
+                ),
+                euler_rad: Vector3::new(0.1 * (0.3 * t).sin(), 0.05 * (0.2 * t).cos(), 0.2 * t),
+                euler_rate_rad_s: Vector3::new(
+                    0.03 * (0.3 * t).cos(),
+                    -0.01 * (0.2 * t).sin(),
+                    0.2,
+                ),
+            }
+        }
+    }
+
+    #[test]
+    fn truth_agrees_with_finite_differences_of_itself() {
+        // Independent of the inverse-mechanization formulas: differentiate
+        // the generated position and attitude numerically, form f and ω
+        // from their definitions (Groves eq. 5.36 and Ċ_b^i = C_b^i Ω_ib)
+        // and compare.
+        let dt = 1e-3;
+        let time: Vec<f64> = (0..2001).map(|k| 10.0 + k as f64 * dt).collect();
+        let tr = build(&Wavy, Geodetic::new(0.7, 0.2, 300.0), time);
+        let we = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+        for k in (1..2000).step_by(97) {
+            let v_fd = (tr.position_ecef[k + 1] - tr.position_ecef[k - 1]) / (2.0 * dt);
+            assert!((v_fd - tr.velocity_ecef[k]).norm() < 1e-5, "{k}");
+            let a_fd = (tr.velocity_ecef[k + 1] - tr.velocity_ecef[k - 1]) / (2.0 * dt);
+            let f_e =
+                a_fd + 2.0 * we.cross(&tr.velocity_ecef[k]) - gravity_ecef(&tr.position_ecef[k]);
+            assert!(
+                (tr.c_b_e[k] * tr.specific_force_b[k] - f_e).norm() < 1e-5,
+                "{k}"
+            );
+            // Ċ_b^e = C_b^e [ω_eb^b ×] − [ω_ie ×] C_b^e, so
+            // ω_ib^b = vee(C_e^b Ċ_b^e) + C_e^b ω_ie.
+            let c_dot = (tr.c_b_e[k + 1] - tr.c_b_e[k - 1]) / (2.0 * dt);
+            let m = tr.c_b_e[k].transpose() * c_dot;
+            let w_eb = Vector3::new(
+                m[(2, 1)] - m[(1, 2)],
+                m[(0, 2)] - m[(2, 0)],
+                m[(1, 0)] - m[(0, 1)],
+            ) / 2.0;
+            let w_ib = w_eb + tr.c_b_e[k].transpose() * we;
+            assert!((w_ib - tr.angular_rate_b[k]).norm() < 1e-7, "{k}");
+        }
+    }
+
+    #[test]
+    fn time_grid_validates() {
+        assert_eq!(
+            time_grid(0.0, 1.0, 4.0).unwrap(),
+            vec![0.0, 0.25, 0.5, 0.75, 1.0]
+        );
+        assert!(time_grid(0.0, 0.0, 100.0)
+            .unwrap_err()
+            .to_string()
+            .starts_with("duration:"));
+        assert!(time_grid(0.0, 10.0, -1.0)
+            .unwrap_err()
+            .to_string()
+            .starts_with("rate:"));
+        assert!(time_grid(0.0, 1.0, 0.5)
+            .unwrap_err()
+            .to_string()
+            .starts_with("rate:"));
+        assert!(time_grid(0.0, f64::NAN, 1.0).is_err());
+    }
+}

@@ -1,0 +1,92 @@
+//! A land vehicle described by its speed, heading and path angle, leaning
+//! in turns and pitching when it accelerates.
+
+use nalgebra::Vector3;
+
+use super::smooth::SmoothSignal;
+use super::{LocalMotion, Motion};
+
+/// Body roll per m/s² of lateral acceleration, rad/(m/s²): 0.01 is about
+/// 5.6°/g, a soft passenger car's roll gradient. The body leans out of the
+/// turn (negative roll in a right turn).
+pub const ROLL_PER_LATERAL_ACCEL: f64 = 0.01;
+
+/// Body pitch per m/s² of longitudinal acceleration, rad/(m/s²): 0.004 is
+/// about 2.2°/g; the nose rises when accelerating and dives when braking.
+pub const PITCH_PER_LONGITUDINAL_ACCEL: f64 = 0.004;
+
+/// Speed s (m/s), yaw rate r (rad/s) and path angle γ (rad, positive up)
+/// as C² signals; heading ψ = ψ₀ + ∫ r dt in closed form.
+///
+/// - v^n = s (cos γ cos ψ, cos γ sin ψ, −sin γ): no sideslip.
+/// - roll φ = −k_φ s r (lean out of the turn), pitch θ = γ + k_θ ṡ, yaw ψ.
+///
+/// φ̇ needs ṡ and ṙ, θ̇ needs s̈: all continuous for smoothstep signals,
+/// so the angular rate and the specific force are continuous.
+#[derive(Debug, Clone)]
+pub struct VehicleMotion {
+    pub speed_m_s: SmoothSignal,
+    pub yaw_rate_rad_s: SmoothSignal,
+    pub path_angle_rad: SmoothSignal,
+    pub initial_heading_rad: f64,
+    pub roll_per_lateral_accel: f64,
+    pub pitch_per_longitudinal_accel: f64,
+}
+
+impl VehicleMotion {
+    /// A vehicle at rest, level, heading `initial_heading_rad`, with the
+    /// default lean coefficients.
+    pub fn at_rest(initial_heading_rad: f64) -> Self {
+        Self {
+            speed_m_s: SmoothSignal::new(0.0),
+            yaw_rate_rad_s: SmoothSignal::new(0.0),
+            path_angle_rad: SmoothSignal::new(0.0),
+            initial_heading_rad,
+            roll_per_lateral_accel: ROLL_PER_LATERAL_ACCEL,
+            pitch_per_longitudinal_accel: PITCH_PER_LONGITUDINAL_ACCEL,
+        }
+    }
+
+    /// The heading at `t_s`, rad.
+    pub fn heading_rad(&self, t_s: f64) -> f64 {
+        self.initial_heading_rad + self.yaw_rate_rad_s.integral(t_s)
+    }
+}
+
+impl Motion for VehicleMotion {
+    fn at(&self, t: f64) -> LocalMotion {
+        let s = self.speed_m_s.at(t);
+        let r = self.yaw_rate_rad_s.at(t);
+        let g = self.path_angle_rad.at(t);
+        let psi = self.heading_rad(t);
+        let (sg, cg) = g.value.sin_cos();
+        let (sp, cp) = psi.sin_cos();
+        let direction = Vector3::new(cg * cp, cg * sp, -sg);
+        let direction_rate = Vector3::new(
+            -sg * cp * g.rate - cg * sp * r.value,
+            -sg * sp * g.rate + cg * cp * r.value,
+            -cg * g.rate,
+        );
+        let k_roll = self.roll_per_lateral_accel;
+        let k_pitch = self.pitch_per_longitudinal_accel;
+        LocalMotion {
+            velocity_ned: s.value * direction,
+            velocity_ned_rate: s.rate * direction + s.value * direction_rate,
+            euler_rad: Vector3::new(-k_roll * s.value * r.value, g.value + k_pitch * s.rate, psi),
+            euler_rate_rad_s: Vector3::new(
+                -k_roll * (s.rate * r.value + s.value * r.rate),
+                g.rate + k_pitch * s.accel,
+                r.value,
+            ),
+        }
+    }
+
+    fn velocity_ned(&self, t: f64) -> Vector3<f64> {
+        let s = self.speed_m_s.at(t).value;
+        let g = self.path_angle_rad.at(t).value;
+        let psi = self.heading_rad(t);
+        let (sg, cg) = g.sin_cos();
+        let (sp, cp) = psi.sin_cos();
+        s * Vector3::new(cg * cp, cg * sp, -sg)
+    }
+}

@@ -1,0 +1,791 @@
+//! GNSS: RINEX and SP3 readers, IS-GPS-200 orbits against precise orbits and
+//! an independent implementation, Walker geometry, the simulator against
+//! `predicted_range`, the least-squares fix, reproducibility, outages and
+//! bad input.
+
+use memsnav_core::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2, SPEED_OF_LIGHT_M_S};
+use memsnav_core::geodesy::{geodetic_to_ecef, Geodetic};
+use memsnav_core::gnss::*;
+use memsnav_core::random::stream;
+use memsnav_core::Error;
+use nalgebra::{Rotation3, Vector3};
+
+const BRDC_2015: &str = "/work/shared/data/gnss-products/2015-280/brdc2800.15n";
+const BRDC_2021: &str = "/work/shared/data/gnss-products/2021-118/brdc1180.21n";
+const SP3_2021: &str =
+    "/work/shared/data/gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3";
+const NAV_RINEX3: &str = "/work/shared/data/real-imu-gnss/walk_0827/gnss_1730.nav";
+
+#[test]
+fn reads_rinex2_and_mixed_rinex3() {
+    let records = read_rinex_nav(BRDC_2015).unwrap();
+    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    // 32 distinct PRNs (counted with awk over the record lines of the file).
+    assert_eq!(sky.len(), 32);
+    assert!(records.len() > 300, "{}", records.len());
+    // First record of the file, written out by hand from its text:
+    // PRN 1, 2015-10-07 00:00:00, a_f0 = 0.187428668141D-05, sqrt(A) = 0.515366233826D+04,
+    // toe = 259200 s of week 1865, TGD = 0.512227416039D-08.
+    let r = records[0];
+    assert_eq!(r.prn, 1);
+    assert_eq!(r.af0_s, 0.187428668141e-5);
+    assert_eq!(r.sqrt_a_sqrt_m, 0.515366233826e4);
+    assert_eq!(r.toe_gps_s, 1865.0 * 604_800.0 + 259_200.0);
+    assert_eq!(r.toc_gps_s, gps_time_from_calendar(2015, 10, 7, 0, 0, 0.0));
+    assert_eq!(r.tgd_s, 0.512227416039e-8);
+
+    let mixed = Constellation::from_rinex_nav(NAV_RINEX3).unwrap();
+    assert_eq!(mixed.prns(), ["G10", "G23", "G27", "G32"]);
+}
+
+/// IS-GPS-200 written independently: orbit-plane position rotated by
+/// R3(−Ω) R1(−i) with nalgebra rotations, Kepler solved by fixed-point
+/// iteration, the velocity by a 5-point central difference.
+fn independent_position(e: &GpsEphemeris, t: f64) -> Vector3<f64> {
+    let mu = 3.986005e14;
+    let we = 7.2921151467e-5;
+    let a = e.sqrt_a_sqrt_m.powi(2);
+    let tk = t - e.toe_gps_s;
+    let m = e.m0_rad + ((mu / a.powi(3)).sqrt() + e.delta_n_rad_s) * tk;
+    let mut ecc = m;
+    for _ in 0..60 {
+        ecc = m + e.eccentricity * ecc.sin();
+    }
+    let nu =
+        2.0 * (((1.0 + e.eccentricity) / (1.0 - e.eccentricity)).sqrt() * (ecc / 2.0).tan()).atan();
+    let phi = nu + e.omega_rad;
+    let u = phi + e.cus_rad * (2.0 * phi).sin() + e.cuc_rad * (2.0 * phi).cos();
+    let r = a * (1.0 - e.eccentricity * ecc.cos())
+        + e.crs_m * (2.0 * phi).sin()
+        + e.crc_m * (2.0 * phi).cos();
+    let i = e.i0_rad
+        + e.idot_rad_s * tk
+        + e.cis_rad * (2.0 * phi).sin()
+        + e.cic_rad * (2.0 * phi).cos();
+    let toe_sow = e.toe_gps_s.rem_euclid(604_800.0);
+    let node = e.omega0_rad + (e.omega_dot_rad_s - we) * tk - we * toe_sow;
+    let in_plane = Vector3::new(r * u.cos(), r * u.sin(), 0.0);
+    Rotation3::from_axis_angle(&Vector3::z_axis(), node)
+        * Rotation3::from_axis_angle(&Vector3::x_axis(), i)
+        * in_plane
+}
+
+#[test]
+fn ephemeris_matches_an_independent_implementation() {
+    let records = read_rinex_nav(BRDC_2021).unwrap();
+    for e in records.iter().step_by(7) {
+        for dt in [-7000.0, -1234.5, 0.0, 3600.0, 7000.0] {
+            let t = e.toe_gps_s + dt;
+            let s = e.state(t);
+            let p = independent_position(e, t);
+            assert!(
+                (s.position_ecef - p).norm() < 1e-5,
+                "G{:02} {dt}: {}",
+                e.prn,
+                (s.position_ecef - p).norm()
+            );
+            let h = 0.5;
+            let v = (independent_position(e, t - 2.0 * h) - 8.0 * independent_position(e, t - h)
+                + 8.0 * independent_position(e, t + h)
+                - independent_position(e, t + 2.0 * h))
+                / (12.0 * h);
+            assert!(
+                (s.velocity_ecef - v).norm() < 1e-5,
+                "G{:02} {dt}: velocity off by {}",
+                e.prn,
+                (s.velocity_ecef - v).norm()
+            );
+        }
+    }
+}
+
+#[test]
+fn broadcast_orbits_agree_with_precise_orbits() {
+    let sky = Constellation::from_rinex_nav(BRDC_2021).unwrap();
+    let sp3 = read_sp3(SP3_2021).unwrap();
+    let mut sum_sq = 0.0;
+    let mut count = 0usize;
+    // Per satellite: the mean radial difference (broadcast − precise), the
+    // antenna phase centre offset along the nadir axis that broadcast
+    // orbits include and CODE's centre-of-mass orbits do not.
+    let mut per_sat: Vec<(String, Vec<Vector3<f64>>, Vec<f64>)> = Vec::new();
+    for (s, name) in sp3.satellites.iter().enumerate() {
+        let Some(i) = sky.prns().iter().position(|p| p == name) else {
+            continue;
+        };
+        let mut diffs = Vec::new();
+        let mut radial = Vec::new();
+        for (k, &t) in sp3.time_gps_s.iter().enumerate() {
+            let precise = sp3.position(k, s);
+            let Some(state) = sky.state(i, t) else {
+                continue;
+            };
+            if !precise.x.is_finite() {
+                continue;
+            }
+            let d = state.position_ecef - precise;
+            radial.push(d.dot(&precise.normalize()));
+            diffs.push(d);
+            sum_sq += d.norm_squared();
+            count += 1;
+        }
+        per_sat.push((name.clone(), diffs, radial));
+    }
+    assert!(count > 1500, "{count} comparisons");
+    let rms_raw = (sum_sq / count as f64).sqrt();
+    let mut sum_sq_pco = 0.0;
+    let mut mean_radials = Vec::new();
+    for (_, diffs, radial) in &per_sat {
+        if diffs.is_empty() {
+            continue;
+        }
+        let mean_radial = radial.iter().sum::<f64>() / radial.len() as f64;
+        mean_radials.push(mean_radial);
+        for (d, r) in diffs.iter().zip(radial) {
+            // Remove the constant radial part only.
+            sum_sq_pco += d.norm_squared() - r * r + (r - mean_radial).powi(2);
+        }
+    }
+    let rms_pco = (sum_sq_pco / count as f64).sqrt();
+    let mean_offset = mean_radials.iter().sum::<f64>() / mean_radials.len() as f64;
+    println!(
+        "broadcast vs SP3: {count} comparisons, 3D RMS {rms_raw:.3} m raw, {rms_pco:.3} m after a constant radial offset per satellite (mean offset {mean_offset:.3} m)"
+    );
+    // Broadcast orbits reach about 1-2 m (IS-GPS-200 URE); allow 3 m raw.
+    assert!(rms_raw < 3.0, "{rms_raw}");
+    assert!(rms_pco < 2.0, "{rms_pco}");
+}
+
+#[test]
+fn broadcast_clocks_agree_with_precise_clocks() {
+    // Precise clocks (SP3) exclude the relativistic term and refer to the
+    // ionosphere-free combination like a_f0 (so no T_GD); CODE's clocks are
+    // aligned to a station clock, so a common offset per epoch is removed.
+    let sky = Constellation::from_rinex_nav(BRDC_2021).unwrap();
+    let sp3 = read_sp3(SP3_2021).unwrap();
+    let prns = sky.prns();
+    let mut sum_sq = 0.0;
+    let mut count = 0;
+    for (k, &t) in sp3.time_gps_s.iter().enumerate() {
+        let mut diffs = Vec::new();
+        for (s, name) in sp3.satellites.iter().enumerate() {
+            let Some(i) = prns.iter().position(|p| p == name) else {
+                continue;
+            };
+            let Some(e) = sky.select_ephemeris(i, t) else {
+                continue;
+            };
+            let precise = sp3.clock(k, s);
+            if precise.is_finite() {
+                let st = e.state(t);
+                diffs.push(st.clock_bias_s - st.relativistic_s + e.tgd_s - precise);
+            }
+        }
+        let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+        for d in diffs {
+            sum_sq += (d - mean).powi(2);
+            count += 1;
+        }
+    }
+    let rms_m = (sum_sq / count as f64).sqrt() * SPEED_OF_LIGHT_M_S;
+    println!("broadcast vs precise clocks: RMS {rms_m:.3} m over {count} values");
+    // The broadcast clock error is about 1 m (a few ns).
+    assert!(rms_m < 3.0, "{rms_m}");
+}
+
+#[test]
+fn walker_geometry() {
+    let config = WalkerConfig {
+        n_satellites: 24,
+        ..WalkerConfig::default()
+    };
+    let sky = Constellation::walker(&config).unwrap();
+    assert_eq!(sky.len(), 24);
+    let a = 26_560_000.0;
+    let period = std::f64::consts::TAU * (a * a * a / GM_M3_S2).sqrt();
+    let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+    for i in 0..24 {
+        let s0 = sky.state(i, 1000.0).unwrap();
+        assert!((s0.position_ecef.norm() - a).abs() < 1e-6);
+        // Inertial velocity v_I = v_e + ω × r has the circular speed √(μ/a)
+        // and the orbit normal h = r × v_I makes 55° with the Earth's axis.
+        let v_i = s0.velocity_ecef + omega.cross(&s0.position_ecef);
+        assert!((v_i.norm() - (GM_M3_S2 / a).sqrt()).abs() < 1e-6);
+        let h = s0.position_ecef.cross(&v_i);
+        assert!((h.z / h.norm() - 55f64.to_radians().cos()).abs() < 1e-12);
+        // After one period, the satellite is back at the same inertial
+        // point: its ECEF position is the old one turned by ω_ie T.
+        let s1 = sky.state(i, 1000.0 + period).unwrap();
+        let turned = Rotation3::from_axis_angle(&Vector3::z_axis(), -EARTH_RATE_RAD_S * period)
+            * s0.position_ecef;
+        assert!(
+            (s1.position_ecef - turned).norm() < 1e-4,
+            "{}",
+            (s1.position_ecef - turned).norm()
+        );
+        // Velocity is the derivative of position.
+        let h = 0.01;
+        let fd = (sky.state(i, 1000.0 + h).unwrap().position_ecef
+            - sky.state(i, 1000.0 - h).unwrap().position_ecef)
+            / (2.0 * h);
+        assert!((fd - s0.velocity_ecef).norm() < 1e-5);
+    }
+    // Six planes: six distinct orbit normals, four satellites each.
+    let mut normals: Vec<Vector3<f64>> = Vec::new();
+    for i in 0..24 {
+        let s = sky.state(i, 0.0).unwrap();
+        let n = s
+            .position_ecef
+            .cross(&(s.velocity_ecef + omega.cross(&s.position_ecef)))
+            .normalize();
+        if !normals.iter().any(|m| (m - n).norm() < 1e-9) {
+            normals.push(n);
+        }
+    }
+    assert_eq!(normals.len(), 6);
+    assert!(Constellation::walker(&WalkerConfig {
+        n_satellites: 25,
+        ..WalkerConfig::default()
+    })
+    .is_err());
+}
+
+/// A receiver written in the test: from Toulouse, 20 m/s east with a
+/// gentle constant climb, sampled at 10 Hz.
+fn track(duration_s: f64) -> (Vec<f64>, Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+    let origin = geodetic_to_ecef(Geodetic::new(
+        43.6f64.to_radians(),
+        1.44f64.to_radians(),
+        150.0,
+    ));
+    let east = Vector3::new(
+        -(1.44f64.to_radians()).sin(),
+        (1.44f64.to_radians()).cos(),
+        0.0,
+    );
+    let up = origin.normalize();
+    let velocity = 20.0 * east + 0.5 * up;
+    let n = (duration_s * 10.0) as usize + 1;
+    let time: Vec<f64> = (0..n).map(|k| k as f64 * 0.1).collect();
+    let pos = time.iter().map(|t| origin + velocity * *t).collect();
+    (time, pos, vec![velocity; n])
+}
+
+fn noise_free() -> SimulationConfig {
+    SimulationConfig {
+        pseudorange_std_m: 0.0,
+        pseudorange_rate_std_m_s: 0.0,
+        start_gps_time_s: Some(gps_time_from_calendar(2015, 10, 7, 10, 0, 0.0)),
+        ..SimulationConfig::default()
+    }
+}
+
+#[test]
+fn predicted_range_matches_the_simulators_light_time() {
+    let (time, pos, vel) = track(120.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    for sky in [
+        Constellation::from_rinex_nav(BRDC_2015).unwrap(),
+        Constellation::walker(&WalkerConfig::default()).unwrap(),
+    ] {
+        let sim = simulate_with_truth(&t, &sky, &noise_free(), &mut stream(1, 0)).unwrap();
+        assert_eq!(sim.epochs.len(), 121);
+        let mut worst = (0.0f64, 0.0f64);
+        for (epoch, clock) in sim.epochs.iter().zip(&sim.clock) {
+            let k = (epoch.time_s * 10.0).round() as usize;
+            assert_eq!(time[k], epoch.time_s, "epochs fall on track samples");
+            assert_eq!(epoch.measurements.len(), 6);
+            for m in &epoch.measurements {
+                let p = predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[k], &vel[k]);
+                worst.0 = worst
+                    .0
+                    .max((m.pseudorange_m - clock.offset_m - p.range_m).abs());
+                worst.1 = worst
+                    .1
+                    .max((m.pseudorange_rate_m_s - clock.drift_m_s - p.range_rate_m_s).abs());
+            }
+        }
+        println!(
+            "predicted_range vs light-time iteration: range {:.2e} m, rate {:.2e} m/s",
+            worst.0, worst.1
+        );
+        assert!(worst.0 < 1e-3, "{}", worst.0);
+        assert!(worst.1 < 1e-4, "{}", worst.1);
+    }
+}
+
+#[test]
+fn sagnac_correction_has_the_textbook_size() {
+    // The first-order Sagnac term ω_ie (x_s y_a − y_s x_a) / c (Groves eq.
+    // 8.46; RTKLIB's geodist writes the same), up to ~40 m for GPS geometry.
+    let rx = Vector3::new(6_378_137.0, 0.0, 0.0);
+    let sat = Vector3::new(15_000_000.0, 20_000_000.0, 5_000_000.0);
+    let p = predicted_range(&sat, &Vector3::zeros(), &rx, &Vector3::zeros());
+    let geometric = (sat - rx).norm();
+    let sagnac = EARTH_RATE_RAD_S * (sat.x * rx.y - sat.y * rx.x) / SPEED_OF_LIGHT_M_S;
+    assert!(
+        (p.range_m - geometric - sagnac).abs() < 5e-3,
+        "{} vs {sagnac}",
+        p.range_m - geometric
+    );
+    assert!((p.line_of_sight_ecef.norm() - 1.0).abs() < 1e-12);
+}
+
+fn residual_stats(
+    sim: &GnssSimulation,
+    pos: &[Vector3<f64>],
+    vel: &[Vector3<f64>],
+) -> (f64, f64, f64, f64, usize) {
+    let (mut s1, mut s2, mut r1, mut r2, mut n) = (0.0, 0.0, 0.0, 0.0, 0usize);
+    for (epoch, clock) in sim.epochs.iter().zip(&sim.clock) {
+        let k = (epoch.time_s * 10.0).round() as usize;
+        for m in &epoch.measurements {
+            let p = predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[k], &vel[k]);
+            let e = m.pseudorange_m - p.range_m - clock.offset_m;
+            let er = m.pseudorange_rate_m_s - p.range_rate_m_s - clock.drift_m_s;
+            s1 += e;
+            s2 += e * e;
+            r1 += er;
+            r2 += er * er;
+            n += 1;
+        }
+    }
+    let nf = n as f64;
+    (
+        s1 / nf,
+        (s2 / nf - (s1 / nf).powi(2)).sqrt(),
+        r1 / nf,
+        (r2 / nf - (r1 / nf).powi(2)).sqrt(),
+        n,
+    )
+}
+
+#[test]
+fn pseudorange_minus_range_is_clock_plus_noise() {
+    let (time, pos, vel) = track(600.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let config = SimulationConfig {
+        start_gps_time_s: noise_free().start_gps_time_s,
+        ..SimulationConfig::default()
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(2, 0)).unwrap();
+    let (mean, std, mean_rate, std_rate, n) = residual_stats(&sim, &pos, &vel);
+    assert_eq!(n, 601 * 6);
+    // Mean within 4 standard errors, std within 4 % (n = 3606: se of a std is ~1.2 %).
+    assert!(mean.abs() < 4.0 * 3.0 / (n as f64).sqrt(), "{mean}");
+    assert!((std / 3.0 - 1.0).abs() < 0.04, "{std}");
+    assert!(
+        mean_rate.abs() < 4.0 * 0.1 / (n as f64).sqrt(),
+        "{mean_rate}"
+    );
+    assert!((std_rate / 0.1 - 1.0).abs() < 0.04, "{std_rate}");
+    // The selection is kept; a satellite leaves only when it sets below the
+    // 10° mask (G20 sets near t = 580 s here) and is then replaced.
+    let mut changes = 0;
+    for w in sim.epochs.windows(2) {
+        let before: Vec<u16> = w[0].measurements.iter().map(|m| m.sat_id).collect();
+        let after: Vec<u16> = w[1].measurements.iter().map(|m| m.sat_id).collect();
+        assert_eq!(after.len(), 6);
+        for id in before.iter().filter(|id| !after.contains(id)) {
+            changes += 1;
+            let i = sky
+                .prns()
+                .iter()
+                .position(|p| *p == format!("G{id:02}"))
+                .unwrap();
+            let k = (w[1].time_s * 10.0).round() as usize;
+            let sat = sky
+                .state(i, sim.start_gps_time_s + w[1].time_s)
+                .unwrap()
+                .position_ecef;
+            let up = geodetic_to_ecef(Geodetic::new(
+                43.6f64.to_radians(),
+                1.44f64.to_radians(),
+                1.0,
+            )) - geodetic_to_ecef(Geodetic::new(
+                43.6f64.to_radians(),
+                1.44f64.to_radians(),
+                0.0,
+            ));
+            let elevation = ((sat - pos[k]).normalize().dot(&up)).asin();
+            assert!(
+                elevation < 10f64.to_radians(),
+                "G{id:02} dropped at {}° elevation",
+                elevation.to_degrees()
+            );
+        }
+    }
+    assert!(changes <= 1, "{changes}");
+
+    // With the Gauss-Markov residual the error is wider and correlated.
+    let config = SimulationConfig {
+        pseudorange_std_m: 0.0,
+        residual: Some(AtmosphericResidual {
+            std_m: 2.0,
+            correlation_time_s: 300.0,
+        }),
+        ..config
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(2, 0)).unwrap();
+    let e = |k: usize| {
+        let epoch = &sim.epochs[k];
+        let m = &epoch.measurements[0];
+        let j = (epoch.time_s * 10.0).round() as usize;
+        m.pseudorange_m
+            - predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[j], &vel[j]).range_m
+            - sim.clock[k].offset_m
+    };
+    let step: Vec<f64> = (1..601).map(|k| e(k) - e(k - 1)).collect();
+    let step_rms = (step.iter().map(|x| x * x).sum::<f64>() / 600.0).sqrt();
+    // Over 1 s the GM residual moves by σ √(2 Δt/τ) ≈ 0.16 m.
+    let expected = 2.0 * (1.0 - (-2.0f64 / 300.0).exp()).sqrt();
+    assert!(
+        (step_rms / expected - 1.0).abs() < 0.15,
+        "{step_rms} vs {expected}"
+    );
+}
+
+#[test]
+fn receiver_clock_process_noise_matches_its_covariance() {
+    let model = ReceiverClockModel::default();
+    let q = model.process_noise(1.0);
+    let mut rng = stream(3, 0);
+    let zero = ClockState {
+        offset_m: 0.0,
+        drift_m_s: 0.0,
+    };
+    let n = 20_000;
+    let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
+    for _ in 0..n {
+        let s = model.step(&zero, 1.0, &mut rng).unwrap();
+        a += s.offset_m * s.offset_m;
+        b += s.offset_m * s.drift_m_s;
+        c += s.drift_m_s * s.drift_m_s;
+    }
+    let nf = n as f64;
+    assert!((a / nf / q[(0, 0)] - 1.0).abs() < 0.05);
+    assert!((c / nf / q[(1, 1)] - 1.0).abs() < 0.05);
+    assert!((b / nf - q[(0, 1)]).abs() < 0.05 * (q[(0, 0)] * q[(1, 1)]).sqrt());
+    // Brown & Hwang: S_f = c² h0 / 2, S_g = 2π² c² h−2.
+    let c2 = SPEED_OF_LIGHT_M_S * SPEED_OF_LIGHT_M_S;
+    assert!(
+        (q[(0, 0)] - (c2 * 2e-19 / 2.0 + 2.0 * std::f64::consts::PI.powi(2) * c2 * 2e-20 / 3.0))
+            .abs()
+            < 1e-12
+    );
+}
+
+#[test]
+fn least_squares_fix_recovers_position_and_its_covariance_fits() {
+    let (time, pos, vel) = track(60.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let sim = simulate_with_truth(&t, &sky, &noise_free(), &mut stream(4, 0)).unwrap();
+    for (epoch, clock) in sim.epochs.iter().zip(&sim.clock) {
+        let k = (epoch.time_s * 10.0).round() as usize;
+        let fix = solve_fix(epoch, None).unwrap();
+        assert!(
+            (fix.position_ecef - pos[k]).norm() < 1e-3,
+            "{}",
+            (fix.position_ecef - pos[k]).norm()
+        );
+        assert!((fix.velocity_ecef - vel[k]).norm() < 1e-4);
+        assert!((fix.clock_offset_m - clock.offset_m).abs() < 1e-3);
+        assert!((fix.clock_drift_m_s - clock.drift_m_s).abs() < 1e-4);
+        assert!(
+            fix.dops.pdop > 1.0 && fix.dops.gdop >= fix.dops.pdop && fix.dops.hdop < fix.dops.pdop
+        );
+        let dop_sum = fix.dops.hdop.powi(2) + fix.dops.vdop.powi(2) + fix.dops.tdop.powi(2);
+        assert!((dop_sum - fix.dops.gdop.powi(2)).abs() < 1e-9);
+    }
+    // Spread over 400 seeds at one epoch vs the predicted covariance.
+    let config = SimulationConfig {
+        start_gps_time_s: noise_free().start_gps_time_s,
+        ..SimulationConfig::default()
+    };
+    let short: Vec<f64> = time[..11].to_vec();
+    let t = ReceiverTrack {
+        time_s: &short,
+        position_ecef: &pos[..11],
+        velocity_ecef: &vel[..11],
+    };
+    let runs = 400;
+    let mut err = Vec::new();
+    let mut predicted = None;
+    for seed in 0..runs {
+        let sim = simulate_with_truth(&t, &sky, &config, &mut stream(5, seed)).unwrap();
+        let fix = solve_fix(&sim.epochs[1], Some(pos[10] + Vector3::repeat(1000.0))).unwrap();
+        err.push((fix.position_ecef - pos[10], fix.velocity_ecef - vel[10]));
+        predicted = Some(fix);
+    }
+    let fix = predicted.unwrap();
+    for axis in 0..3 {
+        let var = err.iter().map(|e| e.0[axis].powi(2)).sum::<f64>() / runs as f64;
+        let ratio = var / fix.position_clock_covariance[(axis, axis)];
+        // 400 samples: the variance ratio is within ±20 % at > 4σ.
+        assert!((ratio - 1.0).abs() < 0.2, "position axis {axis}: {ratio}");
+        let var = err.iter().map(|e| e.1[axis].powi(2)).sum::<f64>() / runs as f64;
+        let ratio = var / fix.velocity_drift_covariance[(axis, axis)];
+        assert!((ratio - 1.0).abs() < 0.2, "velocity axis {axis}: {ratio}");
+    }
+}
+
+#[test]
+fn seeded_runs_are_reproducible() {
+    let (time, pos, vel) = track(30.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    let config = SimulationConfig {
+        residual: Some(AtmosphericResidual {
+            std_m: 1.0,
+            correlation_time_s: 100.0,
+        }),
+        ..SimulationConfig::default()
+    };
+    let a = simulate_with_truth(&t, &sky, &config, &mut stream(9, 1)).unwrap();
+    let b = simulate_with_truth(&t, &sky, &config, &mut stream(9, 1)).unwrap();
+    let c = simulate_with_truth(&t, &sky, &config, &mut stream(9, 2)).unwrap();
+    assert_eq!(a, b);
+    assert_ne!(a.epochs, c.epochs);
+}
+
+#[test]
+fn outages_are_honoured() {
+    let (time, pos, vel) = track(120.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let config = SimulationConfig {
+        outages: vec![
+            Outage {
+                start_s: 30.0,
+                duration_s: 30.0,
+                n_satellites: 0,
+            },
+            Outage {
+                start_s: 80.0,
+                duration_s: 10.0,
+                n_satellites: 3,
+            },
+        ],
+        ..noise_free()
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(6, 0)).unwrap();
+    for e in &sim.epochs {
+        let expected = if (30.0..60.0).contains(&e.time_s) {
+            0
+        } else if (80.0..90.0).contains(&e.time_s) {
+            3
+        } else {
+            6
+        };
+        assert_eq!(e.measurements.len(), expected, "t = {}", e.time_s);
+    }
+    let e = &sim.epochs[85];
+    assert!(matches!(
+        solve_fix(e, None),
+        Err(Error::InvalidArgument { .. })
+    ));
+    assert!(solve_fix(e, None)
+        .unwrap_err()
+        .to_string()
+        .contains("at least 4 satellites"));
+}
+
+fn write_temp(name: &str, text: &str) -> std::path::PathBuf {
+    let path =
+        std::env::temp_dir().join(format!("memsnav-gnss-test-{}-{name}", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn bad_rinex_files_are_named_with_the_line() {
+    let full = std::fs::read_to_string(BRDC_2015).unwrap();
+    let lines: Vec<&str> = full.lines().collect();
+    // Cut in the middle of the second record (header 8 lines + 8 + 3).
+    let truncated = lines[..19].join("\n");
+    let path = write_temp("truncated.15n", &truncated);
+    let e = Constellation::from_rinex_nav(&path).unwrap_err();
+    let Error::Parse { file, line, reason } = &e else {
+        panic!("{e}")
+    };
+    assert!(file.ends_with("truncated.15n"));
+    assert_eq!(*line, 20, "{e}");
+    assert!(reason.contains("truncated record for G02"), "{e}");
+
+    // A corrupted number: named by line and column.
+    let mut bad: Vec<String> = lines[..24].iter().map(|s| s.to_string()).collect();
+    bad[10] = bad[10].replacen('D', "X", 1);
+    let path = write_temp("corrupt.15n", &bad.join("\n"));
+    let e = Constellation::from_rinex_nav(&path).unwrap_err();
+    assert!(matches!(e, Error::Parse { line: 11, .. }), "{e}");
+    assert!(e.to_string().contains("Cuc in columns 4-22"), "{e}");
+
+    let path = write_temp("not-rinex.txt", "hello\n");
+    assert!(matches!(
+        Constellation::from_rinex_nav(&path),
+        Err(Error::Parse { line: 1, .. })
+    ));
+    assert!(matches!(
+        Constellation::from_rinex_nav("/nonexistent/brdc.15n"),
+        Err(Error::Io { .. })
+    ));
+
+    // A RINEX 3 file with only Galileo records: skipped cleanly, then "no GPS ephemeris".
+    let nav = std::fs::read_to_string(NAV_RINEX3).unwrap();
+    let header_end = nav
+        .lines()
+        .position(|l| l.contains("END OF HEADER"))
+        .unwrap();
+    let galileo: Vec<&str> = nav
+        .lines()
+        .take(header_end + 1)
+        .chain(
+            nav.lines()
+                .skip(header_end + 1)
+                .skip_while(|l| !l.starts_with('E'))
+                .take_while(|l| !l.starts_with('G')),
+        )
+        .collect();
+    let path = write_temp("galileo.nav", &galileo.join("\n"));
+    let e = Constellation::from_rinex_nav(&path).unwrap_err();
+    assert!(e.to_string().contains("no GPS ephemeris"), "{e}");
+
+    // SP3 with a bad number.
+    let sp3 = std::fs::read_to_string(SP3_2021).unwrap();
+    let sp3_lines: Vec<String> = sp3.lines().map(|s| s.to_string()).collect();
+    let k = sp3_lines
+        .iter()
+        .position(|l| l.starts_with("PG01"))
+        .unwrap();
+    let mut bad = sp3_lines.clone();
+    bad[k].replace_range(5..10, "x.xxx");
+    let path = write_temp("bad.sp3", &bad.join("\n"));
+    assert!(matches!(read_sp3(&path), Err(Error::Parse { line, .. }) if line == k + 1));
+}
+
+#[test]
+fn bad_simulation_inputs_name_the_argument() {
+    let (time, pos, vel) = track(5.0);
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    let ok = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let run = |t: &ReceiverTrack<'_>, c: &SimulationConfig| {
+        simulate(t, &sky, c, &mut stream(0, 0))
+            .unwrap_err()
+            .to_string()
+    };
+    let mut bad_time = time.clone();
+    bad_time[3] = bad_time[2];
+    assert!(run(
+        &ReceiverTrack {
+            time_s: &bad_time,
+            ..ok
+        },
+        &SimulationConfig::default()
+    )
+    .starts_with("time:"));
+    let mut nan = pos.clone();
+    nan[4].y = f64::NAN;
+    assert!(run(
+        &ReceiverTrack {
+            position_ecef: &nan,
+            ..ok
+        },
+        &SimulationConfig::default()
+    )
+    .starts_with("position_ecef:"));
+    assert!(run(
+        &ReceiverTrack {
+            velocity_ecef: &vel[1..],
+            ..ok
+        },
+        &SimulationConfig::default()
+    )
+    .starts_with("velocity_ecef:"));
+    let d = SimulationConfig::default();
+    assert!(run(
+        &ok,
+        &SimulationConfig {
+            rate_hz: 0.0,
+            ..d.clone()
+        }
+    )
+    .starts_with("rate:"));
+    assert!(run(
+        &ok,
+        &SimulationConfig {
+            n_satellites: 0,
+            ..d.clone()
+        }
+    )
+    .starts_with("n_satellites:"));
+    assert!(run(
+        &ok,
+        &SimulationConfig {
+            elevation_mask_rad: 2.0,
+            ..d.clone()
+        }
+    )
+    .starts_with("elevation_mask:"));
+    assert!(run(
+        &ok,
+        &SimulationConfig {
+            pseudorange_std_m: -1.0,
+            ..d.clone()
+        }
+    )
+    .starts_with("pseudorange_std:"));
+    assert!(run(
+        &ok,
+        &SimulationConfig {
+            outages: vec![Outage {
+                start_s: 1.0,
+                duration_s: -1.0,
+                n_satellites: 0
+            }],
+            ..d.clone()
+        }
+    )
+    .starts_with("outages:"));
+    let brdc = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let e = simulate(
+        &ok,
+        &brdc,
+        &SimulationConfig {
+            start_gps_time_s: Some(0.0),
+            ..d
+        },
+        &mut stream(0, 0),
+    )
+    .unwrap_err();
+    assert!(e.to_string().starts_with("start_gps_time:"), "{e}");
+    // Before any valid ephemeris: NaN rows.
+    let (p, v) = brdc.position_velocity(0.0).unwrap();
+    assert!(p.iter().chain(&v).all(|x| x.iter().all(|c| c.is_nan())));
+    assert!(brdc.position_velocity(f64::NAN).is_err());
+}

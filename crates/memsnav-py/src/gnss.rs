@@ -1,0 +1,577 @@
+//! GNSS bindings: constellations, SP3, measurement simulation and the
+//! least-squares fix. Conversions and error mapping only.
+
+use std::path::PathBuf;
+
+use memsnav_core::gnss::{self, Constellation, GnssEpoch, SimulationConfig, WalkerConfig};
+use memsnav_core::random;
+use memsnav_core::Error;
+use nalgebra::{Matrix4, Vector3};
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::convert;
+use crate::errors::IntoPyResult;
+
+fn array2<'py>(
+    py: Python<'py>,
+    flat: Vec<f64>,
+    rows: usize,
+    cols: usize,
+) -> Bound<'py, PyArray2<f64>> {
+    PyArray1::from_vec(py, flat)
+        .reshape([rows, cols])
+        .expect("rows × cols elements by construction")
+}
+
+fn array3<'py>(
+    py: Python<'py>,
+    flat: Vec<f64>,
+    a: usize,
+    b: usize,
+    c: usize,
+) -> Bound<'py, PyArray3<f64>> {
+    PyArray1::from_vec(py, flat)
+        .reshape([a, b, c])
+        .expect("a × b × c elements by construction")
+}
+
+fn matrices4<'py>(py: Python<'py>, ms: &[Matrix4<f64>]) -> Bound<'py, PyArray3<f64>> {
+    let flat: Vec<f64> = ms
+        .iter()
+        .flat_map(|m| m.transpose().as_slice().to_vec())
+        .collect();
+    array3(py, flat, ms.len(), 4, 4)
+}
+
+/// Positions and velocities as two `(n, 3)` arrays.
+type ArrayPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// GPS satellites from broadcast ephemerides, or a synthetic Walker constellation.
+#[pyclass(name = "Constellation", module = "memsnav._memsnav", frozen)]
+pub struct PyConstellation {
+    pub inner: Constellation,
+}
+
+#[pymethods]
+impl PyConstellation {
+    /// The GPS satellites of a RINEX 2 or 3 navigation file (other systems skipped).
+    #[staticmethod]
+    fn from_rinex_nav(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let inner = py.detach(|| Constellation::from_rinex_nav(&path)).py()?;
+        Ok(PyConstellation { inner })
+    }
+
+    /// A Walker delta constellation i: t/p/f of circular orbits.
+    #[staticmethod]
+    #[pyo3(signature = (n_satellites=24, planes=6, inclination_deg=55.0, semi_major_axis_m=26_560_000.0, phasing=1, raan0_deg=0.0))]
+    fn walker(
+        n_satellites: usize,
+        planes: usize,
+        inclination_deg: f64,
+        semi_major_axis_m: f64,
+        phasing: usize,
+        raan0_deg: f64,
+    ) -> PyResult<Self> {
+        let config = WalkerConfig {
+            n_satellites,
+            planes,
+            inclination_rad: inclination_deg.to_radians(),
+            semi_major_axis_m,
+            phasing,
+            raan0_rad: raan0_deg.to_radians(),
+            ..WalkerConfig::default()
+        };
+        Ok(PyConstellation {
+            inner: Constellation::walker(&config).py()?,
+        })
+    }
+
+    /// Satellite names, e.g. ``["G01", "G02", ...]``.
+    #[getter]
+    fn prns(&self) -> Vec<String> {
+        self.inner.prns()
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.len()
+    }
+
+    fn __repr__(&self) -> String {
+        let kind = match self.inner {
+            Constellation::Broadcast { .. } => "broadcast",
+            Constellation::Walker(_) => "walker",
+        };
+        format!("Constellation({kind}, {} satellites)", self.inner.len())
+    }
+
+    /// ECEF positions (m) and velocities (m/s), each ``(n_sat, 3)``, at
+    /// ``gps_time`` (s since 1980-01-06 GPST); NaN rows without a valid ephemeris.
+    fn position_velocity<'py>(&self, py: Python<'py>, gps_time: f64) -> PyResult<ArrayPair<'py>> {
+        let (p, v) = self.inner.position_velocity(gps_time).py()?;
+        Ok((
+            convert::vectors_to_numpy(py, &p),
+            convert::vectors_to_numpy(py, &v),
+        ))
+    }
+
+    /// Satellite clock corrections Δt_sv (s, L1 C/A: relativistic term and
+    /// −T_GD included) at ``gps_time``; NaN without a valid ephemeris.
+    fn clock_correction<'py>(
+        &self,
+        py: Python<'py>,
+        gps_time: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_vec(
+            py,
+            self.inner.clock_correction(gps_time).py()?,
+        ))
+    }
+}
+
+/// Precise orbits from an SP3 file, in SI units.
+#[pyclass(name = "Sp3", module = "memsnav._memsnav", frozen)]
+pub struct PySp3 {
+    inner: gnss::Sp3,
+}
+
+#[pymethods]
+impl PySp3 {
+    /// Epochs, GPS s since 1980-01-06, ``(n_epochs,)``.
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.time_gps_s)
+    }
+
+    /// Satellite names as in the file.
+    #[getter]
+    fn satellites(&self) -> Vec<String> {
+        self.inner.satellites.clone()
+    }
+
+    /// Centre-of-mass positions, ECEF m, ``(n_epochs, n_sat, 3)``; NaN if missing.
+    #[getter]
+    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        let flat = self
+            .inner
+            .position_ecef
+            .iter()
+            .flat_map(|v| [v.x, v.y, v.z])
+            .collect();
+        array3(
+            py,
+            flat,
+            self.inner.time_gps_s.len(),
+            self.inner.satellites.len(),
+            3,
+        )
+    }
+
+    /// Satellite clocks, s, ``(n_epochs, n_sat)``; NaN if missing.
+    #[getter]
+    fn clock<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        array2(
+            py,
+            self.inner.clock_s.clone(),
+            self.inner.time_gps_s.len(),
+            self.inner.satellites.len(),
+        )
+    }
+}
+
+/// Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s).
+#[pyfunction]
+fn read_sp3(py: Python<'_>, path: PathBuf) -> PyResult<PySp3> {
+    Ok(PySp3 {
+        inner: py.detach(|| gnss::read_sp3(&path)).py()?,
+    })
+}
+
+/// Simulated measurements: per-epoch arrays padded to ``n_max`` satellites.
+#[pyclass(name = "GnssMeasurements", module = "memsnav._memsnav", frozen)]
+pub struct PyGnssMeasurements {
+    epochs: Vec<GnssEpoch>,
+    clock: Vec<gnss::ClockState>,
+    start_gps_time_s: f64,
+    n_max: usize,
+}
+
+impl PyGnssMeasurements {
+    fn padded<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::SatelliteMeasurement) -> f64,
+    ) -> Bound<'py, PyArray2<f64>> {
+        let mut flat = vec![f64::NAN; self.epochs.len() * self.n_max];
+        for (k, e) in self.epochs.iter().enumerate() {
+            for (j, m) in e.measurements.iter().enumerate() {
+                flat[k * self.n_max + j] = f(m);
+            }
+        }
+        array2(py, flat, self.epochs.len(), self.n_max)
+    }
+
+    fn padded_vectors<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::SatelliteMeasurement) -> Vector3<f64>,
+    ) -> Bound<'py, PyArray3<f64>> {
+        let mut flat = vec![f64::NAN; self.epochs.len() * self.n_max * 3];
+        for (k, e) in self.epochs.iter().enumerate() {
+            for (j, m) in e.measurements.iter().enumerate() {
+                let v = f(m);
+                flat[(k * self.n_max + j) * 3..][..3].copy_from_slice(v.as_slice());
+            }
+        }
+        array3(py, flat, self.epochs.len(), self.n_max, 3)
+    }
+}
+
+#[pymethods]
+impl PyGnssMeasurements {
+    /// Epoch times on the trajectory's time axis, s, ``(T,)``.
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(py, self.epochs.iter().map(|e| e.time_s))
+    }
+
+    /// Epoch times in GPS s since 1980-01-06, ``(T,)``.
+    #[getter]
+    fn gps_time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let t0 = self.epochs.first().map_or(0.0, |e| e.time_s);
+        PyArray1::from_iter(
+            py,
+            self.epochs
+                .iter()
+                .map(|e| self.start_gps_time_s + (e.time_s - t0)),
+        )
+    }
+
+    /// Number of satellites tracked at each epoch, ``(T,)``.
+    #[getter]
+    fn n_satellites<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        PyArray1::from_iter(py, self.epochs.iter().map(|e| e.measurements.len() as i64))
+    }
+
+    /// Satellite ids (PRN numbers), ``(T, n_max)``, −1 where padded.
+    #[getter]
+    fn sat_id<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let mut flat = vec![-1i64; self.epochs.len() * self.n_max];
+        for (k, e) in self.epochs.iter().enumerate() {
+            for (j, m) in e.measurements.iter().enumerate() {
+                flat[k * self.n_max + j] = m.sat_id as i64;
+            }
+        }
+        PyArray1::from_vec(py, flat)
+            .reshape([self.epochs.len(), self.n_max])
+            .expect("T × n_max")
+    }
+
+    /// Satellite positions at transmission time (ECEF of that time), m, ``(T, n_max, 3)``, NaN-padded.
+    #[getter]
+    fn satellite_position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        self.padded_vectors(py, |m| m.position_ecef)
+    }
+
+    /// Satellite velocities at transmission time, m/s, ``(T, n_max, 3)``, NaN-padded.
+    #[getter]
+    fn satellite_velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        self.padded_vectors(py, |m| m.velocity_ecef)
+    }
+
+    /// Pseudoranges, m, ``(T, n_max)``, NaN-padded.
+    #[getter]
+    fn pseudorange<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.padded(py, |m| m.pseudorange_m)
+    }
+
+    /// Pseudorange rates, m/s, ``(T, n_max)``, NaN-padded.
+    #[getter]
+    fn pseudorange_rate<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.padded(py, |m| m.pseudorange_rate_m_s)
+    }
+
+    /// Pseudorange noise one-sigma, m, ``(T, n_max)``, NaN-padded.
+    #[getter]
+    fn pseudorange_std<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.padded(py, |m| m.pseudorange_std_m)
+    }
+
+    /// Pseudorange-rate noise one-sigma, m/s, ``(T, n_max)``, NaN-padded.
+    #[getter]
+    fn pseudorange_rate_std<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.padded(py, |m| m.pseudorange_rate_std_m_s)
+    }
+
+    /// True receiver clock offset, m, ``(T,)``.
+    #[getter]
+    fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(py, self.clock.iter().map(|c| c.offset_m))
+    }
+
+    /// True receiver clock drift, m/s, ``(T,)``.
+    #[getter]
+    fn clock_drift<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(py, self.clock.iter().map(|c| c.drift_m_s))
+    }
+
+    fn __len__(&self) -> usize {
+        self.epochs.len()
+    }
+}
+
+fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
+    let Some(obj) = obj else {
+        return Ok(Vec::new());
+    };
+    let items: Vec<Vec<f64>> = obj.extract().map_err(|_| {
+        PyValueError::new_err("outages: expected a sequence of (start, length) or (start, length, n_satellites) tuples")
+    })?;
+    items
+        .iter()
+        .enumerate()
+        .map(|(k, item)| match item.as_slice() {
+            [start, length] => Ok(gnss::Outage { start_s: *start, duration_s: *length, n_satellites: 0 }),
+            [start, length, n] if *n >= 0.0 && n.fract() == 0.0 => Ok(gnss::Outage {
+                start_s: *start,
+                duration_s: *length,
+                n_satellites: *n as usize,
+            }),
+            _ => Err(PyValueError::new_err(format!(
+                "outages: item {k} must be (start, length) or (start, length, n_satellites) with a non-negative integer n_satellites, got {item:?}"
+            ))),
+        })
+        .collect()
+}
+
+/// Simulates pseudoranges and rates along a trajectory (method §5).
+#[pyfunction]
+#[pyo3(signature = (time, position_ecef, velocity_ecef, constellation, rate=1.0, n_satellites=6,
+    elevation_mask_deg=10.0, pseudorange_std=3.0, pseudorange_rate_std=0.1, residual_std=0.0,
+    residual_correlation_time=300.0, clock_h0=2e-19, clock_h_minus2=2e-20,
+    clock_initial_offset_std=30.0, clock_initial_drift_std=1.0, outages=None, seed=0,
+    start_gps_time=None))]
+fn simulate_gnss(
+    py: Python<'_>,
+    time: &Bound<'_, PyAny>,
+    position_ecef: &Bound<'_, PyAny>,
+    velocity_ecef: &Bound<'_, PyAny>,
+    constellation: &PyConstellation,
+    rate: f64,
+    n_satellites: usize,
+    elevation_mask_deg: f64,
+    pseudorange_std: f64,
+    pseudorange_rate_std: f64,
+    residual_std: f64,
+    residual_correlation_time: f64,
+    clock_h0: f64,
+    clock_h_minus2: f64,
+    clock_initial_offset_std: f64,
+    clock_initial_drift_std: f64,
+    outages: Option<&Bound<'_, PyAny>>,
+    seed: u64,
+    start_gps_time: Option<f64>,
+) -> PyResult<PyGnssMeasurements> {
+    let time = convert::scalars(time, "time")?;
+    let position = convert::vectors(position_ecef, "position_ecef")?;
+    let velocity = convert::vectors(velocity_ecef, "velocity_ecef")?;
+    if !elevation_mask_deg.is_finite() {
+        return Err(PyValueError::new_err(format!(
+            "elevation_mask_deg: must be finite, got {elevation_mask_deg}"
+        )));
+    }
+    let config = SimulationConfig {
+        rate_hz: rate,
+        n_satellites,
+        elevation_mask_rad: elevation_mask_deg.to_radians(),
+        pseudorange_std_m: pseudorange_std,
+        pseudorange_rate_std_m_s: pseudorange_rate_std,
+        residual: (residual_std != 0.0).then_some(gnss::AtmosphericResidual {
+            std_m: residual_std,
+            correlation_time_s: residual_correlation_time,
+        }),
+        clock: gnss::ReceiverClockModel {
+            h0: clock_h0,
+            h_minus2: clock_h_minus2,
+            initial_offset_std_m: clock_initial_offset_std,
+            initial_drift_std_m_s: clock_initial_drift_std,
+        },
+        outages: outage_list(outages)?,
+        start_gps_time_s: start_gps_time,
+    };
+    let track = gnss::ReceiverTrack {
+        time_s: &time,
+        position_ecef: &position,
+        velocity_ecef: &velocity,
+    };
+    let sky = &constellation.inner;
+    let sim = py
+        .detach(|| gnss::simulate_with_truth(&track, sky, &config, &mut random::stream(seed, 0)))
+        .py()?;
+    Ok(PyGnssMeasurements {
+        epochs: sim.epochs,
+        clock: sim.clock,
+        start_gps_time_s: sim.start_gps_time_s,
+        n_max: n_satellites,
+    })
+}
+
+/// Least-squares fixes of every epoch.
+#[pyclass(name = "FixSeries", module = "memsnav._memsnav", frozen)]
+pub struct PyFixSeries {
+    time: Vec<f64>,
+    fixes: Vec<Option<gnss::Fix>>,
+}
+
+impl PyFixSeries {
+    fn scalar<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::Fix) -> f64,
+    ) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(
+            py,
+            self.fixes.iter().map(|x| x.as_ref().map_or(f64::NAN, &f)),
+        )
+    }
+
+    fn vectors<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::Fix) -> Vector3<f64>,
+    ) -> Bound<'py, PyArray2<f64>> {
+        let v: Vec<Vector3<f64>> = self
+            .fixes
+            .iter()
+            .map(|x| x.as_ref().map_or(Vector3::repeat(f64::NAN), &f))
+            .collect();
+        convert::vectors_to_numpy(py, &v)
+    }
+
+    fn covariances<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::Fix) -> Matrix4<f64>,
+    ) -> Bound<'py, PyArray3<f64>> {
+        let m: Vec<Matrix4<f64>> = self
+            .fixes
+            .iter()
+            .map(|x| x.as_ref().map_or(Matrix4::repeat(f64::NAN), &f))
+            .collect();
+        matrices4(py, &m)
+    }
+}
+
+#[pymethods]
+impl PyFixSeries {
+    /// Epoch times, s, ``(T,)``.
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.time)
+    }
+    /// True where the epoch had at least 4 satellites and a fix, ``(T,)``.
+    #[getter]
+    fn valid<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        PyArray1::from_iter(py, self.fixes.iter().map(Option::is_some))
+    }
+    /// ECEF position, m, ``(T, 3)`` (NaN rows where not valid).
+    #[getter]
+    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.vectors(py, |f| f.position_ecef)
+    }
+    /// ECEF velocity, m/s, ``(T, 3)``.
+    #[getter]
+    fn velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.vectors(py, |f| f.velocity_ecef)
+    }
+    /// Receiver clock offset, m, ``(T,)``.
+    #[getter]
+    fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.clock_offset_m)
+    }
+    /// Receiver clock drift, m/s, ``(T,)``.
+    #[getter]
+    fn clock_drift<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.clock_drift_m_s)
+    }
+    /// Covariance of (x, y, z, clock offset), m², ``(T, 4, 4)``.
+    #[getter]
+    fn position_clock_covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        self.covariances(py, |f| f.position_clock_covariance)
+    }
+    /// Covariance of (vx, vy, vz, clock drift), (m/s)², ``(T, 4, 4)``.
+    #[getter]
+    fn velocity_drift_covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        self.covariances(py, |f| f.velocity_drift_covariance)
+    }
+    /// Geometric DOP, ``(T,)``.
+    #[getter]
+    fn gdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.dops.gdop)
+    }
+    /// Position DOP, ``(T,)``.
+    #[getter]
+    fn pdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.dops.pdop)
+    }
+    /// Horizontal DOP, ``(T,)``.
+    #[getter]
+    fn hdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.dops.hdop)
+    }
+    /// Vertical DOP, ``(T,)``.
+    #[getter]
+    fn vdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.dops.vdop)
+    }
+    /// Time DOP, ``(T,)``.
+    #[getter]
+    fn tdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.dops.tdop)
+    }
+}
+
+/// Least-squares position/velocity/clock fix of every epoch.
+#[pyfunction]
+#[pyo3(signature = (measurements, prior=None, strict=false))]
+fn solve_fix(
+    py: Python<'_>,
+    measurements: &PyGnssMeasurements,
+    prior: Option<&Bound<'_, PyAny>>,
+    strict: bool,
+) -> PyResult<PyFixSeries> {
+    let prior = prior.map(|p| convert::vector3(p, "prior")).transpose()?;
+    let epochs = &measurements.epochs;
+    let fixes = py
+        .detach(|| {
+            let mut start = prior;
+            epochs
+                .iter()
+                .map(|e| {
+                    if e.measurements.len() < 4 && !strict {
+                        return Ok(None);
+                    }
+                    let fix = gnss::solve_fix(e, start)?;
+                    start = Some(fix.position_ecef);
+                    Ok(Some(fix))
+                })
+                .collect::<Result<Vec<_>, Error>>()
+        })
+        .py()?;
+    Ok(PyFixSeries {
+        time: epochs.iter().map(|e| e.time_s).collect(),
+        fixes,
+    })
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyConstellation>()?;
+    m.add_class::<PySp3>()?;
+    m.add_class::<PyGnssMeasurements>()?;
+    m.add_class::<PyFixSeries>()?;
+    m.add_function(wrap_pyfunction!(read_sp3, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_gnss, m)?)?;
+    m.add_function(wrap_pyfunction!(solve_fix, m)?)?;
+    Ok(())
+}

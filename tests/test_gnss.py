@@ -1,0 +1,197 @@
+"""GNSS from Python: constellations against SP3 and an independent Walker
+formula, the simulator against geometry written here, the least-squares fix,
+reproducibility, outages and every bad input."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+
+PRODUCTS = Path("/work/shared/data/gnss-products")
+BRDC_2015 = PRODUCTS / "2015-280/brdc2800.15n"
+BRDC_2021 = PRODUCTS / "2021-118/brdc1180.21n"
+SP3_2021 = PRODUCTS / "2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3"
+NAV_RINEX3 = Path("/work/shared/data/real-imu-gnss/walk_0827/gnss_1730.nav")
+OMEGA_E = 7.292115e-5
+C = 299792458.0
+# 2015-10-07 10:00 GPST: GPS week 1865 (starts 2015-10-04) + 3 days 10 h.
+START_2015 = 1865 * 604800.0 + 3 * 86400.0 + 10 * 3600.0
+
+
+def track(duration=60.0, rate=10.0):
+    """Straight east-bound motion at 20 m/s from Toulouse, written here."""
+    lat, lon = math.radians(43.6), math.radians(1.44)
+    origin = mn.geodetic_to_ecef([lat, lon, 150.0])
+    east = np.array([-math.sin(lon), math.cos(lon), 0.0])
+    t = np.arange(int(duration * rate) + 1) / rate
+    v = np.tile(20.0 * east, (t.size, 1))
+    return t, origin + t[:, None] * 20.0 * east, v
+
+
+def test_broadcast_orbits_match_sp3():
+    sky = mn.Constellation.from_rinex_nav(BRDC_2021)
+    sp3 = mn.read_sp3(SP3_2021)
+    assert sp3.position_ecef.shape == (sp3.time.size, len(sp3.satellites), 3)
+    errors = []
+    for k in range(0, sp3.time.size, 6):
+        pos, vel = sky.position_velocity(sp3.time[k])
+        assert pos.shape == vel.shape == (len(sky.prns), 3)
+        for i, prn in enumerate(sky.prns):
+            if prn in sp3.satellites and np.isfinite(pos[i, 0]):
+                precise = sp3.position_ecef[k, sp3.satellites.index(prn)]
+                if np.isfinite(precise[0]):
+                    errors.append(np.linalg.norm(pos[i] - precise))
+    rms = math.sqrt(np.mean(np.square(errors)))
+    assert len(errors) > 150
+    assert rms < 3.0, rms
+    # Clock corrections are microseconds to a millisecond, finite where orbits are.
+    clk = sky.clock_correction(sp3.time[0])
+    assert np.all(np.abs(clk[np.isfinite(clk)]) < 1e-3)
+
+
+def test_prns_and_mixed_rinex3():
+    assert mn.Constellation.from_rinex_nav(BRDC_2015).prns[:3] == ["G01", "G02", "G03"]
+    sky = mn.Constellation.from_rinex_nav(NAV_RINEX3)
+    assert sky.prns == ["G10", "G23", "G27", "G32"]
+    pos, _ = sky.position_velocity(0.0)
+    assert np.isnan(pos).all()
+
+
+def test_walker_against_the_circular_orbit_formula():
+    sky = mn.Constellation.walker(n_satellites=24, planes=6, inclination_deg=55.0)
+    assert len(sky) == 24
+    t = 1234.0
+    pos, vel = sky.position_velocity(t)
+    a = 26_560_000.0
+    n = math.sqrt(3.986004418e14 / a**3)
+    # Satellite 0: plane 0 (node at 0), slot 0, argument of latitude n t.
+    u, inc, theta = n * t, math.radians(55.0), OMEGA_E * t
+    r_inertial = a * np.array(
+        [math.cos(u), math.sin(u) * math.cos(inc), math.sin(u) * math.sin(inc)]
+    )
+    rot = np.array(
+        [[math.cos(theta), math.sin(theta), 0], [-math.sin(theta), math.cos(theta), 0], [0, 0, 1]]
+    )
+    np.testing.assert_allclose(pos[0], rot @ r_inertial, atol=1e-5)
+    np.testing.assert_allclose(np.linalg.norm(pos, axis=1), a, rtol=1e-12)
+    inertial_v = vel + np.cross([0, 0, OMEGA_E], pos)
+    np.testing.assert_allclose(np.linalg.norm(inertial_v, axis=1), a * n, rtol=1e-12)
+
+
+def test_pseudorange_minus_range_is_clock_plus_noise():
+    t, p, v = track(300.0)
+    sky = mn.Constellation.from_rinex_nav(BRDC_2015)
+    meas = mn.simulate_gnss(t, p, v, sky, seed=3, start_gps_time=START_2015)
+    assert len(meas) == 301
+    assert meas.pseudorange.shape == (301, 6)
+    assert meas.satellite_position_ecef.shape == (301, 6, 3)
+    k = np.round(meas.time * 10).astype(int)
+    sat = meas.satellite_position_ecef
+    rx = p[k][:, None, :]
+    # Independent geometry: rotate the transmission-time position by ω τ.
+    tau = np.linalg.norm(sat - rx, axis=2) / C
+    for _ in range(3):
+        ang = OMEGA_E * tau
+        x = np.cos(ang) * sat[..., 0] + np.sin(ang) * sat[..., 1]
+        y = -np.sin(ang) * sat[..., 0] + np.cos(ang) * sat[..., 1]
+        rng = np.linalg.norm(np.stack([x, y, sat[..., 2]], axis=-1) - rx, axis=2)
+        tau = rng / C
+    residual = meas.pseudorange - rng - meas.clock_offset[:, None]
+    n = residual.size
+    assert abs(residual.mean()) < 4 * 3.0 / math.sqrt(n)
+    assert abs(residual.std() / 3.0 - 1) < 0.05
+    assert np.all(meas.pseudorange_std == 3.0)
+
+
+def test_fix_recovers_the_track():
+    t, p, v = track(30.0)
+    sky = mn.Constellation.walker()
+    quiet = mn.simulate_gnss(t, p, v, sky, pseudorange_std=0.0, pseudorange_rate_std=0.0, seed=1)
+    fix = mn.solve_fix(quiet)
+    k = np.round(quiet.time * 10).astype(int)
+    assert fix.valid.all()
+    np.testing.assert_allclose(fix.position_ecef, p[k], atol=1e-3)
+    np.testing.assert_allclose(fix.velocity_ecef, v[k], atol=1e-4)
+    np.testing.assert_allclose(fix.clock_offset, quiet.clock_offset, atol=1e-3)
+    np.testing.assert_allclose(fix.clock_drift, quiet.clock_drift, atol=1e-4)
+    assert np.all(fix.gdop >= fix.pdop)
+    noisy = mn.solve_fix(mn.simulate_gnss(t, p, v, sky, seed=2))
+    err = noisy.position_ecef - p[k]
+    predicted = np.sqrt(np.trace(noisy.position_clock_covariance[:, :3, :3], axis1=1, axis2=2))
+    ratio = np.sqrt(np.mean(np.sum(err**2, axis=1))) / np.mean(predicted)
+    assert 0.6 < ratio < 1.5, ratio
+
+
+def test_seeded_reproducibility_and_outages():
+    t, p, v = track(60.0)
+    sky = mn.Constellation.walker()
+    kw = dict(residual_std=1.0, outages=[(10.0, 5.0), (20.0, 10.0, 4)])
+    a = mn.simulate_gnss(t, p, v, sky, seed=7, **kw)
+    b = mn.simulate_gnss(t, p, v, sky, seed=7, **kw)
+    c = mn.simulate_gnss(t, p, v, sky, seed=8, **kw)
+    np.testing.assert_array_equal(a.pseudorange, b.pseudorange)
+    assert not np.array_equal(a.pseudorange, c.pseudorange, equal_nan=True)
+    total = (a.time >= 10.0) & (a.time < 15.0)
+    partial = (a.time >= 20.0) & (a.time < 30.0)
+    assert np.all(a.n_satellites[total] == 0)
+    assert np.all(a.n_satellites[partial] == 4)
+    assert np.all(a.n_satellites[~total & ~partial] == 6)
+    assert np.all(a.sat_id[total] == -1)
+    assert np.isnan(a.pseudorange[partial][:, 4:]).all()
+    fix = mn.solve_fix(a)
+    assert not fix.valid[total].any() and fix.valid[partial].all()
+    assert np.isnan(fix.position_ecef[total]).all()
+    with pytest.raises(ValueError, match="at least 4 satellites"):
+        mn.solve_fix(a, strict=True)
+
+
+def test_bad_inputs(tmp_path):
+    lines = BRDC_2015.read_text().splitlines()
+    cut = tmp_path / "cut.15n"
+    cut.write_text("\n".join(lines[:19]))
+    with pytest.raises(mn.ParseError, match=r"cut\.15n:20: truncated record for G02"):
+        mn.Constellation.from_rinex_nav(cut)
+    junk = tmp_path / "junk.txt"
+    junk.write_text("not a rinex file\n")
+    with pytest.raises(mn.ParseError, match=r"junk\.txt:1:"):
+        mn.Constellation.from_rinex_nav(junk)
+    with pytest.raises(OSError):
+        mn.Constellation.from_rinex_nav(tmp_path / "missing.15n")
+    with pytest.raises(mn.ParseError, match=r"junk\.txt:1:"):
+        mn.read_sp3(junk)
+    with pytest.raises(ValueError, match="n_satellites"):
+        mn.Constellation.walker(n_satellites=25)
+    with pytest.raises(ValueError, match="inclination"):
+        mn.Constellation.walker(inclination_deg=200.0)
+    sky = mn.Constellation.walker()
+    with pytest.raises(ValueError, match="gps_time"):
+        sky.position_velocity(float("nan"))
+    t, p, v = track(5.0)
+    with pytest.raises(ValueError, match=r"^time:"):
+        mn.simulate_gnss(t[::-1], p, v, sky)
+    bad = p.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"^position_ecef:"):
+        mn.simulate_gnss(t, bad, v, sky)
+    with pytest.raises(ValueError, match=r"^velocity_ecef:"):
+        mn.simulate_gnss(t, p, v[:, :2], sky)
+    with pytest.raises(ValueError, match=r"^velocity_ecef:"):
+        mn.simulate_gnss(t, p, v[1:], sky)
+    with pytest.raises(ValueError, match=r"^rate:"):
+        mn.simulate_gnss(t, p, v, sky, rate=0.0)
+    with pytest.raises(ValueError, match=r"^elevation_mask"):
+        mn.simulate_gnss(t, p, v, sky, elevation_mask_deg=95.0)
+    with pytest.raises(ValueError, match=r"^pseudorange_std:"):
+        mn.simulate_gnss(t, p, v, sky, pseudorange_std=-1.0)
+    with pytest.raises(ValueError, match=r"^outages:"):
+        mn.simulate_gnss(t, p, v, sky, outages=[(1.0,)])
+    with pytest.raises(ValueError, match=r"^outages:"):
+        mn.simulate_gnss(t, p, v, sky, outages=[(1.0, -2.0)])
+    with pytest.raises(ValueError, match=r"^start_gps_time:"):
+        mn.simulate_gnss(t, p, v, mn.Constellation.from_rinex_nav(BRDC_2015), start_gps_time=0.0)
+    meas = mn.simulate_gnss(t, p, v, sky)
+    with pytest.raises(ValueError, match=r"^prior:"):
+        mn.solve_fix(meas, prior=[1.0, 2.0])
