@@ -9,8 +9,10 @@ Conventions: SI units everywhere (m, m/s, m/s², rad, rad/s, s); frames in
 names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
+from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
+    Calibration,
     Constellation,
     DivergenceError,
     FixSeries,
@@ -24,10 +26,14 @@ from memsnav._memsnav import (
     Trajectory,
     UnobservableError,
     __version__,
+    calibrate_accelerometer,
+    calibrate_gyroscope,
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
     imu_increments,
+    invert_accelerometer,
+    invert_gyroscope,
     read_sp3,
     simulate_gnss,
     solve_fix,
@@ -37,6 +43,7 @@ from memsnav._memsnav import (
 
 __all__ = [
     "AccelerometerModel",
+    "Calibration",
     "Constellation",
     "DivergenceError",
     "FixSeries",
@@ -50,10 +57,15 @@ __all__ = [
     "Trajectory",
     "UnobservableError",
     "__version__",
+    "calibrate_accelerometer",
+    "calibrate_gyroscope",
     "ecef_to_geodetic",
+    "experiments",
     "geodetic_to_ecef",
     "gravity_ecef",
     "imu_increments",
+    "invert_accelerometer",
+    "invert_gyroscope",
     "read_sp3",
     "simulate_gnss",
     "solve_fix",

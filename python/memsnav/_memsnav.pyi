@@ -1,8 +1,8 @@
 """Type stubs of the native module (checked by ``mypy.stubtest``)."""
 
 import os
-from collections.abc import Sequence
-from typing import final
+from collections.abc import Callable, Sequence
+from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
@@ -260,6 +260,134 @@ class ImuModel:
 
     def __getnewargs_ex__(self) -> tuple[tuple[object, ...], dict[str, object]]: ...
     def __eq__(self, value: object, /) -> bool: ...
+
+# --- calibration (method §3), inversion (method §4), experiments (paper §5.1-5.2) ---
+
+@final
+class Calibration:
+    """A calibrated sensor model with its uncertainties (method §3)."""
+
+    @property
+    def model(self) -> AccelerometerModel | GyroscopeModel:
+        """The estimated model (same class as the calibrated sensor)."""
+
+    @property
+    def std(self) -> AccelerometerModel | GyroscopeModel:
+        """One-sigma uncertainties in the model's attributes (SI)."""
+
+    @property
+    def covariance(self) -> npt.NDArray[np.float64]:
+        """Covariance of the parameter vector, ordered as ``parameter_names``."""
+
+    @property
+    def crb(self) -> npt.NDArray[np.float64] | None:
+        """Cramér-Rao bound of the parameter vector (exact references), if
+        ``noise_std`` was given."""
+
+    @property
+    def crb_std(self) -> AccelerometerModel | GyroscopeModel | None:
+        """Square root of the bound's diagonal, in the model's attributes."""
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """Names of the parameters in covariance order (``bias_u``, ...)."""
+
+    @property
+    def residual_std(self) -> npt.NDArray[np.float64]:
+        """Residual standard deviation per output axis (3,), SI."""
+
+    @property
+    def condition_number(self) -> npt.NDArray[np.float64]:
+        """Condition number of the column-equilibrated regressors per axis (3,)."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Parameters that are only poorly determined (also raised as UserWarning)."""
+
+def calibrate_accelerometer(
+    measured: npt.ArrayLike,
+    reference_specific_force: npt.ArrayLike,
+    *,
+    method: str = "ls",
+    reference_noise_std: float | None = None,
+    noise_std: float | None = None,
+    sample_rate: float = 100.0,
+) -> Calibration:
+    """Accelerometer calibration from outputs and reference specific forces,
+    both (N, 3) m/s². ``method``: "ls" or "eiv" (needs ``reference_noise_std``,
+    m/s² per sample). ``noise_std`` (m/s² per sample) enables ``.crb``.
+    Raises UnobservableError naming the axis and parameter."""
+
+def calibrate_gyroscope(
+    measured: npt.ArrayLike,
+    reference_angular_rate: npt.ArrayLike,
+    reference_specific_force: npt.ArrayLike,
+    *,
+    method: str = "ls",
+    reference_noise_std: float | None = None,
+    reference_specific_force_noise_std: float | None = None,
+    noise_std: float | None = None,
+    sample_rate: float = 100.0,
+) -> Calibration:
+    """Gyroscope calibration from outputs (N, 3) rad/s, reference angular
+    rates (N, 3) rad/s and specific forces (N, 3) m/s². ``method``: "ls" or
+    "eiv" (needs ``reference_noise_std``, rad/s per sample)."""
+
+def invert_accelerometer(
+    measured: npt.ArrayLike,
+    model: AccelerometerModel,
+    process_std: npt.ArrayLike,
+    measurement_std: npt.ArrayLike,
+    *,
+    return_variance: bool = False,
+) -> Any:
+    """Specific force (N, 3) m/s² from accelerometer outputs by the random-walk
+    EKF (method §4); noise stds per sample, scalar or (3,). With
+    ``return_variance=True``: ``(estimate, variance)``."""
+
+def invert_gyroscope(
+    measured: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    model: GyroscopeModel,
+    process_std: npt.ArrayLike,
+    measurement_std: npt.ArrayLike,
+    *,
+    return_variance: bool = False,
+) -> Any:
+    """Angular rate (N, 3) rad/s from gyro outputs and the estimated specific
+    force (N, 3) m/s² by the EKF of method §4; noise stds in rad/s per sample."""
+
+def calibration_experiment(
+    *,
+    parameter_sets: int = 50,
+    runs: int = 20,
+    duration: float = 300.0,
+    preset: str = "paper-mems",
+    reference_specific_force_std: float = 0.03,
+    reference_angular_rate_std: float = 0.0017453292519943296,
+    motion: str = "land-vehicle",
+    seed: int = 0,
+    threads: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, Any]:
+    """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI."""
+
+def inversion_experiment(
+    *,
+    runs: int = 50,
+    duration: float = 120.0,
+    calibration_duration: float = 300.0,
+    preset: str = "paper-mems",
+    method: str = "eiv",
+    reference_specific_force_std: float = 0.03,
+    reference_angular_rate_std: float = 0.0017453292519943296,
+    accel_process_std: float = 0.1,
+    gyro_process_std: float = 0.017453292519943295,
+    seed: int = 0,
+    threads: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, Any]:
+    """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI."""
 
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 

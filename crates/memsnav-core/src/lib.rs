@@ -18,10 +18,13 @@
 //!   the argument or the parameter at fault.
 
 pub mod attitude;
+pub mod calibration;
 pub mod error;
+pub mod experiments;
 pub mod geodesy;
 pub mod gnss;
 pub mod ins;
+pub mod inversion;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;

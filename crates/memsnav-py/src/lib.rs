@@ -3,12 +3,15 @@
 
 use pyo3::prelude::*;
 
-#[allow(dead_code)] // per_axis and matrices3 wait for the inversion bindings
+mod calibration;
+#[allow(dead_code)] // matrices3 waits for a binding that takes attitude series
 mod convert;
 mod errors;
+mod experiments;
 mod geodesy;
 mod gnss;
 mod ins;
+mod inversion;
 mod progress;
 mod sensors;
 mod trajectory;
@@ -19,6 +22,9 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     errors::register(m)?;
     geodesy::register(m)?;
     sensors::register(m)?;
+    calibration::register(m)?;
+    inversion::register(m)?;
+    experiments::register(m)?;
     gnss::register(m)?;
     ins::register(m)?;
     trajectory::register(m)?;
