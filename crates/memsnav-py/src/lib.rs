@@ -14,6 +14,7 @@ mod gnss;
 mod ins;
 mod inversion;
 mod navigation;
+mod progress;
 mod sensors;
 mod trajectory;
 
