@@ -4,6 +4,7 @@ public name or docstring; a test checks that docs/api.md is current."""
 
 from __future__ import annotations
 
+import ast
 import inspect
 import sys
 from pathlib import Path
@@ -14,6 +15,23 @@ import memsnav
 import memsnav.experiments
 
 
+def _stub_docstrings() -> dict[str, str]:
+    """Docstrings of the hand-written stubs of the native module, keyed
+    ``Class.member`` or ``function``: PyO3 getters carry none at runtime."""
+    stub = Path(memsnav.__file__).with_name("_memsnav.pyi")
+    docs: dict[str, str] = {}
+    for node in ast.parse(stub.read_text(encoding="utf-8")).body:
+        if isinstance(node, ast.ClassDef):
+            docs[node.name] = ast.get_docstring(node) or ""
+            for member in node.body:
+                if isinstance(member, ast.FunctionDef) and ast.get_docstring(member):
+                    docs[f"{node.name}.{member.name}"] = ast.get_docstring(member) or ""
+    return docs
+
+
+_STUB_DOCS = _stub_docstrings()
+
+
 def _signature(name: str, obj: Any) -> str:
     try:
         return f"{name}{inspect.signature(obj)}"
@@ -21,8 +39,10 @@ def _signature(name: str, obj: Any) -> str:
         return f"{name}(...)"
 
 
-def _doc(obj: Any) -> str:
-    return inspect.cleandoc(obj.__doc__) if obj.__doc__ else "(undocumented)"
+def _doc(obj: Any, qualified: str = "") -> str:
+    if getattr(obj, "__doc__", None):
+        return inspect.cleandoc(obj.__doc__)
+    return _STUB_DOCS.get(qualified, "(undocumented)")
 
 
 def _members(cls: type) -> list[str]:
@@ -32,10 +52,11 @@ def _members(cls: type) -> list[str]:
             continue
         if isinstance(member, (staticmethod, classmethod)):
             member = member.__func__
+        qualified = f"{cls.__name__}.{name}"
         if isinstance(member, property) or type(member).__name__ == "getset_descriptor":
-            lines.append(f"- `{name}` (attribute): {_doc(member).splitlines()[0]}")
+            lines.append(f"- `{name}` (attribute): {_doc(member, qualified).splitlines()[0]}")
         elif callable(member) and name not in ("__init__", "__new__"):
-            first = _doc(member).splitlines()[0]
+            first = _doc(member, qualified).splitlines()[0]
             lines.append(f"- `{_signature(name, member)}`: {first}")
     return lines
 
@@ -44,7 +65,7 @@ def _entry(prefix: str, name: str, obj: Any) -> list[str]:
     if inspect.isclass(obj):
         if issubclass(obj, BaseException):
             return [f"### `{prefix}{name}` (exception)", "", _doc(obj), ""]
-        out = [f"### `{prefix}{_signature(name, obj)}`", "", _doc(obj), ""]
+        out = [f"### `{prefix}{_signature(name, obj)}`", "", _doc(obj, name), ""]
         members = _members(obj)
         return out + members + ([""] if members else [])
     if callable(obj):

@@ -563,10 +563,10 @@ fn bad_input_is_a_clear_error() {
     // No satellites at the first epoch: no initial fix.
     let mut empty = epochs.clone();
     empty[0].measurements.clear();
-    let e = initial_state_from_fix(&empty[0], &data, None).unwrap_err();
+    let e = initial_state_from_fix(&empty[..1], &data, None).unwrap_err();
     assert!(e.to_string().contains("0 usable satellites"), "{e}");
     // From a proper first epoch the fix-based initialisation is close to the truth.
-    let from_fix = initial_state_from_fix(&epochs[0], &data, None).unwrap();
+    let from_fix = initial_state_from_fix(&epochs, &data, None).unwrap();
     assert!((from_fix.nav.position_ecef - truth.nav[0].position_ecef).norm() < 30.0);
     let psi = dcm_to_rotation_vector(&(from_fix.nav.c_b_e * truth.nav[0].c_b_e.transpose()));
     assert!(psi.norm() < 0.1, "{psi}");

@@ -638,10 +638,7 @@ filter_class!(
         let imu = ImuArrays::new(time, specific_force, angular_rate)?;
         let epochs = gnss_epochs(gnss)?;
         let attitude = attitude_arg(initial_attitude)?;
-        let first = epochs
-            .first()
-            .ok_or_else(|| PyValueError::new_err("gnss: has no epochs"))?;
-        let initial = initial_state_from_fix(first, &imu.data(), attitude).py()?;
+        let initial = initial_state_from_fix(&epochs, &imu.data(), attitude).py()?;
         run_filter(
             &self.settings,
             |tuning, sf| {

@@ -47,21 +47,44 @@ pub fn coarse_attitude(
     Ok(cne * euler_to_dcm(roll, pitch, yaw))
 }
 
-/// The initial state from the first GNSS epoch: position, velocity, clock
-/// offset and drift of its least-squares fix ([`solve_fix`]), moved back to
-/// the first IMU time along the fix velocity; attitude as given, else
-/// [`coarse_attitude`] from the IMU's first second; zero bias estimates.
+/// The measurements of `epoch` a fix can use: finite pseudorange and
+/// satellite position (NaN entries are the filter's to reject and report).
+fn usable(epoch: &GnssEpoch) -> GnssEpoch {
+    GnssEpoch {
+        time_s: epoch.time_s,
+        measurements: epoch
+            .measurements
+            .iter()
+            .filter(|m| {
+                m.pseudorange_m.is_finite() && m.position_ecef.iter().all(|x| x.is_finite())
+            })
+            .copied()
+            .collect(),
+    }
+}
+
+/// The initial state from the first GNSS epochs: position, velocity, clock
+/// offset and drift of the least-squares fix ([`solve_fix`]) of the first
+/// epoch, moved back to the first IMU time along the fix velocity; attitude
+/// as given, else [`coarse_attitude`] from the IMU's first second; zero bias
+/// estimates.
+///
+/// Without pseudorange rates in the first epoch the velocity and clock
+/// drift come from the difference of the first two fixes (their error is
+/// about √2·σ_position/Δt: raise the filter's initial velocity std
+/// accordingly, e.g. 5 m/s for 3 m pseudoranges at 1 Hz).
 pub fn initial_state_from_fix(
-    first_epoch: &GnssEpoch,
+    epochs: &[GnssEpoch],
     imu: &ImuData,
     attitude: Option<Matrix3<f64>>,
 ) -> Result<InitialState> {
     imu.validate()?;
-    let n = first_epoch
-        .measurements
-        .iter()
-        .filter(|m| m.pseudorange_m.is_finite())
-        .count();
+    let first_epoch = usable(
+        epochs
+            .first()
+            .ok_or_else(|| Error::invalid("gnss", "has no epochs"))?,
+    );
+    let n = first_epoch.measurements.len();
     if n < 4 {
         return Err(Error::invalid(
             "gnss",
@@ -71,7 +94,23 @@ pub fn initial_state_from_fix(
             ),
         ));
     }
-    let fix = solve_fix(first_epoch, None)?;
+    let mut fix = solve_fix(&first_epoch, None)?;
+    if !fix.velocity_ecef.iter().all(|v| v.is_finite()) {
+        let second = epochs[1..]
+            .iter()
+            .map(usable)
+            .find(|e| e.measurements.len() >= 4)
+            .ok_or_else(|| {
+                Error::invalid(
+                    "gnss",
+                    "no pseudorange rates in the first epoch and no second epoch with 4 satellites: the initial velocity is unknown",
+                )
+            })?;
+        let next = solve_fix(&second, Some(fix.position_ecef))?;
+        let dt = next.time_s - fix.time_s;
+        fix.velocity_ecef = (next.position_ecef - fix.position_ecef) / dt;
+        fix.clock_drift_m_s = (next.clock_offset_m - fix.clock_offset_m) / dt;
+    }
     let t0 = imu.time_s[0];
     let position_ecef = fix.position_ecef - fix.velocity_ecef * (first_epoch.time_s - t0);
     let c_b_e = match attitude {

@@ -390,7 +390,7 @@ fn navigate(
         angular_rate_b: &readings.angular_rate_b,
     };
     let tuning = FilterTuning::from_imu_spec(spec, rate_hz, false)?;
-    let initial = initial_state_from_fix(&epochs[0], &imu, Some(*initial_attitude))?;
+    let initial = initial_state_from_fix(epochs, &imu, Some(*initial_attitude))?;
     let mut position_error = Vec::with_capacity(out.len());
     let mut nees = Vec::with_capacity(out.len());
     let mut next = 0;

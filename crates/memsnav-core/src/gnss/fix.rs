@@ -5,7 +5,7 @@
 use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 
 use super::range::predicted_range;
-use super::GnssEpoch;
+use super::{GnssEpoch, SatelliteMeasurement};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::{Error, Result};
 
@@ -24,10 +24,11 @@ pub struct Dops {
 pub struct Fix {
     pub time_s: f64,
     pub position_ecef: Vector3<f64>,
+    /// NaN when fewer than 4 satellites carry a usable pseudorange rate.
     pub velocity_ecef: Vector3<f64>,
     /// Receiver clock offset, m.
     pub clock_offset_m: f64,
-    /// Receiver clock drift, m/s.
+    /// Receiver clock drift, m/s (NaN without usable rates).
     pub clock_drift_m_s: f64,
     /// Covariance of (x, y, z, clock offset), m², from the measurement stds.
     pub position_clock_covariance: Matrix4<f64>,
@@ -79,26 +80,30 @@ pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> 
         ));
     }
     for s in m {
-        let finite = s
-            .position_ecef
-            .iter()
-            .chain(s.velocity_ecef.iter())
-            .all(|x| x.is_finite())
-            && s.pseudorange_m.is_finite()
-            && s.pseudorange_rate_m_s.is_finite();
+        let finite = s.position_ecef.iter().all(|x| x.is_finite()) && s.pseudorange_m.is_finite();
         if !finite {
             return Err(Error::invalid(
                 "epoch",
                 format!(
-                    "satellite {} at t = {t} s has NaN or infinite values",
+                    "satellite {} at t = {t} s has a NaN or infinite position or pseudorange",
                     s.sat_id
                 ),
             ));
         }
     }
     let unit_range = unit_weights(m.iter().map(|s| s.pseudorange_std_m), "pseudorange_std", t)?;
+    // Rates are optional: the velocity is solved from the satellites whose
+    // rate, rate std and satellite velocity are finite, when there are 4.
+    let rated: Vec<&SatelliteMeasurement> = m
+        .iter()
+        .filter(|s| {
+            s.pseudorange_rate_m_s.is_finite()
+                && s.pseudorange_rate_std_m_s.is_finite()
+                && s.velocity_ecef.iter().all(|x| x.is_finite())
+        })
+        .collect();
     let unit_rate = unit_weights(
-        m.iter().map(|s| s.pseudorange_rate_std_m_s),
+        rated.iter().map(|s| s.pseudorange_rate_std_m_s),
         "pseudorange_rate_std",
         t,
     )?;
@@ -161,37 +166,43 @@ pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> 
     let q = geometry.try_inverse().ok_or_else(singular)?;
 
     // Velocity and clock drift: the rate model is linear in (v, ḃ) up to
-    // the light-time factor, so a few Gauss-Newton passes converge.
-    let mut v = Vector3::zeros();
-    let mut d = 0.0;
-    let mut rate_normal = Matrix4::zeros();
-    for _ in 0..5 {
-        rate_normal = Matrix4::zeros();
-        let mut rhs = Vector4::zeros();
-        for s in m {
-            let p = predicted_range(&s.position_ecef, &s.velocity_ecef, &x, &v);
-            let u = p.line_of_sight_ecef;
-            let h = Vector4::new(-u.x, -u.y, -u.z, 1.0);
-            let w = if unit_rate {
-                1.0
-            } else {
-                1.0 / (s.pseudorange_rate_std_m_s * s.pseudorange_rate_std_m_s)
-            };
-            rate_normal += w * h * h.transpose();
-            rhs += w * h * (s.pseudorange_rate_m_s - p.range_rate_m_s - d);
+    // the light-time factor, so a few Gauss-Newton passes converge. Without
+    // four usable rates both stay NaN.
+    let mut v = Vector3::repeat(f64::NAN);
+    let mut d = f64::NAN;
+    let mut rate_covariance = Matrix4::repeat(f64::NAN);
+    if rated.len() >= 4 {
+        v = Vector3::zeros();
+        d = 0.0;
+        let mut rate_normal = Matrix4::zeros();
+        for _ in 0..5 {
+            rate_normal = Matrix4::zeros();
+            let mut rhs = Vector4::zeros();
+            for s in &rated {
+                let p = predicted_range(&s.position_ecef, &s.velocity_ecef, &x, &v);
+                let u = p.line_of_sight_ecef;
+                let h = Vector4::new(-u.x, -u.y, -u.z, 1.0);
+                let w = if unit_rate {
+                    1.0
+                } else {
+                    1.0 / (s.pseudorange_rate_std_m_s * s.pseudorange_rate_std_m_s)
+                };
+                rate_normal += w * h * h.transpose();
+                rhs += w * h * (s.pseudorange_rate_m_s - p.range_rate_m_s - d);
+            }
+            let dv = rate_normal.try_inverse().ok_or_else(singular)? * rhs;
+            v += dv.fixed_rows::<3>(0);
+            d += dv[3];
+            if dv.norm() < 1e-9 {
+                break;
+            }
         }
-        let dv = rate_normal.try_inverse().ok_or_else(singular)? * rhs;
-        v += dv.fixed_rows::<3>(0);
-        d += dv[3];
-        if dv.norm() < 1e-9 {
-            break;
-        }
+        rate_covariance = if unit_rate {
+            Matrix4::zeros()
+        } else {
+            rate_normal.try_inverse().ok_or_else(singular)?
+        };
     }
-    let rate_covariance = if unit_rate {
-        Matrix4::zeros()
-    } else {
-        rate_normal.try_inverse().ok_or_else(singular)?
-    };
 
     // DOPs: position block in NED (Groves eq. 9.44).
     let g = ecef_to_geodetic(&x);

@@ -1,0 +1,31 @@
+"""The documentation stays true: every Python example in the README and
+docs/ runs, and docs/api.md is what docs/build_api.py generates from the
+docstrings of the installed package."""
+
+import re
+import runpy
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+
+def _python_blocks(page: Path) -> str:
+    return "\n".join(re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S))
+
+
+@pytest.mark.parametrize("page", [p for p in PAGES if _python_blocks(p)], ids=lambda p: p.name)
+def test_examples_run(page, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    # All blocks of a page form one session, as a reader would type them.
+    exec(compile(_python_blocks(page), str(page), "exec"), {"__name__": "__docs__"})
+    assert capsys.readouterr().out  # the examples print what they show
+
+
+def test_api_reference_is_current():
+    build = runpy.run_path(str(ROOT / "docs" / "build_api.py"))
+    assert (ROOT / "docs" / "api.md").read_text() == build["render"](), (
+        "docs/api.md is stale: run python docs/build_api.py"
+    )
