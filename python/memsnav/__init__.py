@@ -9,9 +9,11 @@ Conventions: SI units everywhere (m, m/s, m/s², rad, rad/s, s); frames in
 names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 """
 
+from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
     Constellation,
+    Calibration,
     DivergenceError,
     FixSeries,
     GnssMeasurements,
@@ -24,20 +26,25 @@ from memsnav._memsnav import (
     Trajectory,
     UnobservableError,
     __version__,
+    calibrate_accelerometer,
+    calibrate_gyroscope,
     ecef_to_geodetic,
     geodetic_to_ecef,
     gravity_ecef,
-    imu_increments,
     read_sp3,
     simulate_gnss,
     solve_fix,
+    imu_increments,
     strapdown,
     strapdown_increments,
+    invert_accelerometer,
+    invert_gyroscope,
 )
 
 __all__ = [
     "AccelerometerModel",
     "Constellation",
+    "Calibration",
     "DivergenceError",
     "FixSeries",
     "GnssMeasurements",
@@ -50,13 +57,18 @@ __all__ = [
     "Trajectory",
     "UnobservableError",
     "__version__",
+    "calibrate_accelerometer",
+    "calibrate_gyroscope",
     "ecef_to_geodetic",
+    "experiments",
     "geodetic_to_ecef",
     "gravity_ecef",
-    "imu_increments",
     "read_sp3",
     "simulate_gnss",
     "solve_fix",
+    "imu_increments",
     "strapdown",
     "strapdown_increments",
+    "invert_accelerometer",
+    "invert_gyroscope",
 ]

@@ -482,7 +482,6 @@ def solve_fix(
     predicted ranges). prior: (3,) ECEF start for the first epoch (default the
     Earth's centre; later epochs start from the previous fix). Epochs with
     fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
-
 # --- trajectory (issue 4) ---
 
 @final

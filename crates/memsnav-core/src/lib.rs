@@ -18,10 +18,15 @@
 //!   the argument or the parameter at fault.
 
 pub mod attitude;
+pub mod calibration;
+pub mod coupling;
 pub mod error;
+pub mod experiments;
+pub mod filter;
 pub mod geodesy;
 pub mod gnss;
 pub mod ins;
+pub mod inversion;
 pub mod montecarlo;
 pub mod random;
 pub mod sensors;

@@ -3,12 +3,15 @@
 
 use pyo3::prelude::*;
 
-#[allow(dead_code)] // per_axis and matrices3 wait for the inversion bindings
+mod calibration;
+#[allow(dead_code)] // not every helper is used by every binding
 mod convert;
 mod errors;
+mod experiments;
 mod geodesy;
 mod gnss;
 mod ins;
+mod inversion;
 mod sensors;
 mod trajectory;
 
@@ -21,5 +24,8 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gnss::register(m)?;
     ins::register(m)?;
     trajectory::register(m)?;
+    calibration::register(m)?;
+    inversion::register(m)?;
+    experiments::register(m)?;
     Ok(())
 }

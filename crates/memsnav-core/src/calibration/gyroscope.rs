@@ -1,0 +1,205 @@
+//! Gyroscope calibration (method §3, paper eq. 6-7): the output is exactly
+//! linear in [1, Ω^p, Ω^q, Ω^r, Γ^u, Γ^v, Γ^w], so one factorisation serves
+//! the three rows and the conversion b = −A⁻¹c₀, K = −A⁻¹C is exact.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+use super::least_squares::Regression;
+use super::{
+    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, std_of,
+    validate_inputs, Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES, GYROSCOPE_AXES,
+};
+use crate::sensors::{GyroscopeModel, NoiseModel};
+use crate::{Error, Result};
+
+/// Coefficients per row: [1, Ω^p, Ω^q, Ω^r, Γ^u, Γ^v, Γ^w].
+const P: usize = 7;
+
+fn column_names(i: usize) -> Vec<String> {
+    let g = GYROSCOPE_AXES;
+    let mut names = vec!["bias".to_string()];
+    for (j, axis) in g.iter().enumerate() {
+        names.push(if j == i {
+            "scale_factor".to_string()
+        } else {
+            format!("misalignment_{}{axis}", g[i])
+        });
+    }
+    names.extend(
+        ACCELEROMETER_AXES
+            .iter()
+            .map(|u| format!("g_sensitivity_{}{u}", g[i])),
+    );
+    names
+}
+
+fn regressors(angular_rate: &[Vector3<f64>], specific_force: &[Vector3<f64>]) -> DMatrix<f64> {
+    DMatrix::from_fn(angular_rate.len(), P, |k, c| match c {
+        0 => 1.0,
+        1..=3 => angular_rate[k][c - 1],
+        _ => specific_force[k][c - 4],
+    })
+}
+
+fn model_from_rows(rows: &[DVector<f64>; 3]) -> Result<GyroscopeModel> {
+    let a = Matrix3::from_fn(|i, j| rows[i][1 + j]);
+    let a_inv = a.try_inverse().ok_or_else(|| Error::Unobservable {
+        axis: "p".into(),
+        parameter: "scale_factor".into(),
+        reason: "the estimated I − D − M is singular".into(),
+    })?;
+    let c0 = Vector3::from_fn(|i, _| rows[i][0]);
+    let c = Matrix3::from_fn(|i, j| rows[i][4 + j]);
+    let mut misalignment = -a;
+    misalignment.fill_diagonal(0.0);
+    Ok(GyroscopeModel {
+        bias: -(a_inv * c0),
+        scale_factor: Vector3::from_fn(|i, _| 1.0 - a[(i, i)]),
+        misalignment,
+        g_sensitivity: -(a_inv * c),
+        noise: NoiseModel::default(),
+    })
+}
+
+/// ∂(parameters)/∂(coefficients), 21 × 21, at a model.
+fn jacobian(m: &GyroscopeModel) -> DMatrix<f64> {
+    let a_inv = m
+        .output_matrix()
+        .try_inverse()
+        .unwrap_or_else(Matrix3::zeros);
+    let mut jac = DMatrix::zeros(21, 3 * P);
+    common_jacobian(&a_inv, &m.bias, P, &mut jac);
+    let k = &m.g_sensitivity;
+    for r in 0..3 {
+        for l in 0..3 {
+            for i in 0..3 {
+                // K = −A⁻¹C: dK = −A⁻¹ dC for dC = E_il; dK = −A⁻¹ dA K for dA = E_ij.
+                jac[(12 + 3 * r + l, P * i + 4 + l)] = -a_inv[(r, i)];
+                for j in 0..3 {
+                    jac[(12 + 3 * r + l, P * i + 1 + j)] = -a_inv[(r, i)] * k[(j, l)];
+                }
+            }
+        }
+    }
+    jac
+}
+
+/// Cramér-Rao bound (21 × 21) of the gyroscope parameters for exact
+/// references and white input noise of std `noise_std` (rad/s) per sample.
+pub fn gyroscope_crb(
+    reference_angular_rate: &[Vector3<f64>],
+    reference_specific_force: &[Vector3<f64>],
+    model: &GyroscopeModel,
+    noise_std: f64,
+) -> Result<DMatrix<f64>> {
+    crate::validate::positive("noise_std", noise_std)?;
+    crate::validate::same_length(
+        "reference_specific_force",
+        reference_specific_force.len(),
+        "reference_angular_rate",
+        reference_angular_rate.len(),
+    )?;
+    let reg = Regression::new(regressors(reference_angular_rate, reference_specific_force));
+    Ok(crb_from(&reg, model, noise_std))
+}
+
+fn crb_from(reg: &Regression, model: &GyroscopeModel, noise_std: f64) -> DMatrix<f64> {
+    let unit = reg.unit_covariance();
+    let a = model.output_matrix();
+    let blocks: Vec<DMatrix<f64>> = (0..3)
+        .map(|i| &unit * (noise_std * a.row(i).norm()).powi(2))
+        .collect();
+    let jac = jacobian(model);
+    &jac * block_diagonal(&blocks) * jac.transpose()
+}
+
+/// Calibrates a gyroscope triad from its outputs `measured` (rad/s), the
+/// reference angular rate (rad/s) and the reference specific force (m/s²),
+/// all in body axes. See [`crate::calibration`].
+pub fn calibrate_gyroscope(
+    measured: &[Vector3<f64>],
+    reference_angular_rate: &[Vector3<f64>],
+    reference_specific_force: &[Vector3<f64>],
+    options: &CalibrationOptions,
+) -> Result<Calibration<GyroscopeModel>> {
+    validate_inputs(
+        measured,
+        &[
+            ("reference_angular_rate", reference_angular_rate),
+            ("reference_specific_force", reference_specific_force),
+        ],
+        P,
+        options,
+    )?;
+    check_excitation(reference_angular_rate, GYROSCOPE_AXES, "angular rate")?;
+    let reg = Regression::new(regressors(reference_angular_rate, reference_specific_force));
+    let mut warnings = Vec::new();
+    for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
+        diagnose(&reg, axis, &column_names(i), &mut warnings)?;
+        if reg.condition_number > super::least_squares::POORLY_DETERMINED_CONDITION {
+            break; // the three rows share the regressors: one report suffices
+        }
+    }
+    let noise = (options.method == Method::ErrorsInVariables).then(|| {
+        // White reference noise: uncorrelated columns, Σ_k E[e eᵀ] = n diag(σ_Ω², σ_Γ²).
+        let n = measured.len() as f64;
+        let so2 = options.reference_noise_std.unwrap_or(0.0).powi(2);
+        let sf2 = options
+            .reference_specific_force_noise_std
+            .unwrap_or(0.0)
+            .powi(2);
+        DMatrix::from_diagonal(&DVector::from_vec(vec![
+            0.0,
+            n * so2,
+            n * so2,
+            n * so2,
+            n * sf2,
+            n * sf2,
+            n * sf2,
+        ]))
+    });
+    let n = measured.len();
+    let mut solutions = Vec::with_capacity(3);
+    for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
+        let y = DVector::from_fn(n, |k, _| measured[k][i]);
+        solutions.push(reg.solve(&y, noise.as_ref(), axis)?);
+    }
+    let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
+    let mut model = model_from_rows(&rows)?;
+    let jac = jacobian(&model);
+    let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
+    let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
+    let crb = options.noise_std.map(|sigma| crb_from(&reg, &model, sigma));
+    let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
+    model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
+    let sd = std_of(&covariance);
+    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+    Ok(Calibration {
+        model,
+        std: GyroscopeModel {
+            bias,
+            scale_factor,
+            misalignment,
+            g_sensitivity: Matrix3::from_row_slice(&sd[12..21]),
+            noise: NoiseModel::default(),
+        },
+        covariance,
+        residual_std,
+        condition_number: Vector3::repeat(reg.condition_number),
+        crb,
+        warnings,
+    })
+}
+
+#[cfg(test)]
+pub(super) mod tests_support {
+    use super::*;
+
+    pub fn jacobian(m: &GyroscopeModel) -> DMatrix<f64> {
+        super::jacobian(m)
+    }
+
+    pub fn model_from_rows(rows: &[DVector<f64>; 3]) -> GyroscopeModel {
+        super::model_from_rows(rows).unwrap()
+    }
+}

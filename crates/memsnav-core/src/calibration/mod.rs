@@ -1,0 +1,337 @@
+//! Calibration of the accelerometer and gyroscope models (method §3, paper
+//! eq. 4-7): per-axis linear least squares on reference inputs, converted
+//! back to the physical parameters exactly, with uncertainties, the
+//! Cramér-Rao bound and observability diagnostics.
+//!
+//! ## Regression models and their exact conversion
+//!
+//! Write A = I − D − M. The gyroscope output (method §2) is *exactly*
+//! linear in the regressors [1, Ω^p, Ω^q, Ω^r, Γ^u, Γ^v, Γ^w]: row i of
+//! S_g = A Ω − A b − A K Γ − A ν has coefficients [−(A b)_i, A_i·, −(A K)_i·].
+//! From the three rows, A is read directly and b = −A⁻¹ c₀, K = −A⁻¹ C.
+//!
+//! The accelerometer row i is S_a^i = −(A b)_i + A_i·Γ − Σ_j A_ij N_j (Γ^j)²;
+//! the paper's regressors [1, Γ^u, Γ^v, Γ^w, (Γ^i)²] (method §3) carry only the
+//! j = i square, with coefficient −A_ii N_i, so N_i = −c₄/A_ii. The j ≠ i
+//! squares, of size |M_ij N_j (Γ^j)²| ≈ 1e-2 · 1e-5/g · g² = 1e-7 g for the
+//! paper's MEMS, are what "the accuracy the regression model allows" would
+//! leave. They are not left: after each solve the omitted terms are
+//! evaluated with the current estimates and moved to the left-hand side
+//! (y_i = S_i + Σ_{j≠i} Â_ij N̂_j (Γ^j)²), and the same factorisation is
+//! re-used; each pass multiplies the error by about |M| ≈ 1e-2, so noise-free
+//! data give the parameters to rounding. (Adding the squares of every axis
+//! to every row would make the model exactly linear too, but on a land
+//! vehicle (Γ^w)² ≈ g² is nearly the constant column, which would ruin the
+//! bias of every axis.)
+//!
+//! The first-order shortcut (b ≈ −c₀, K ≈ −C) is off by (D + M) b ≈ 1e-4 g
+//! for the paper's magnitudes, far above the statistical error of a few
+//! minutes of data; the exact conversion is used throughout.
+//!
+//! ## Uncertainties and the Cramér-Rao bound
+//!
+//! Each row is solved independently; the coefficient covariance is
+//! σ̂_i² (G_iᵀG_i)⁻¹ with σ̂_i² = RSS_i/(n − p) and is propagated through the
+//! Jacobian J of the conversion (covariance = J Σ_c Jᵀ). The output noise
+//! A ν is correlated across axes only through M (≈ 1 %), which is neglected.
+//! The Cramér-Rao bound of the linear Gaussian model with known input noise
+//! σ (output noise σ‖A_i‖ on row i) and exact references is σ_i² (G_iᵀG_i)⁻¹
+//! per row, propagated the same way (the bound of a function of the
+//! parameters is J I⁻¹ Jᵀ).
+//!
+//! ## Errors in the references
+//!
+//! References from GNSS are noisy, so the regressors carry errors and plain
+//! LS is biased towards zero (attenuation: a scale factor is pulled by
+//! σ²/var(input)). [`Method::ErrorsInVariables`] removes that bias with the
+//! corrected-score estimator of [`least_squares`], given the reference
+//! noise standard deviation.
+
+mod accelerometer;
+mod gyroscope;
+pub mod least_squares;
+
+pub use accelerometer::{accelerometer_crb, calibrate_accelerometer};
+pub use gyroscope::{calibrate_gyroscope, gyroscope_crb};
+
+use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
+
+use crate::sensors::{AccelerometerModel, GyroscopeModel};
+use crate::{validate, Error, Result};
+
+/// Axis names of the accelerometer (u, v, w) and gyroscope (p, q, r) triads.
+pub const ACCELEROMETER_AXES: [&str; 3] = ["u", "v", "w"];
+pub const GYROSCOPE_AXES: [&str; 3] = ["p", "q", "r"];
+
+/// The off-diagonal elements of a misalignment matrix in parameter order.
+pub const OFF_DIAGONAL: [(usize, usize); 6] = [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)];
+
+/// Estimator of the regression coefficients.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Ordinary least squares (the paper's eq. 5 and 7, solved by QR).
+    #[default]
+    LeastSquares,
+    /// Bias-corrected least squares for noisy references (errors in variables).
+    ErrorsInVariables,
+}
+
+/// What the calibration knows about the noise.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CalibrationOptions {
+    pub method: Method,
+    /// Std per sample of the main reference input (specific force m/s² for
+    /// the accelerometer, angular rate rad/s for the gyroscope). Required by
+    /// [`Method::ErrorsInVariables`].
+    pub reference_noise_std: Option<f64>,
+    /// Gyroscope only: std per sample of the reference specific force, m/s²
+    /// (errors-in-variables correction of the g-sensitivity columns).
+    pub reference_specific_force_noise_std: Option<f64>,
+    /// Std per sample of the sensor's own white noise (input-referred, SI):
+    /// when given, the Cramér-Rao bound is computed.
+    pub noise_std: Option<f64>,
+}
+
+/// A calibrated sensor model with its uncertainties.
+#[derive(Debug, Clone)]
+pub struct Calibration<M> {
+    /// The estimated model; its `noise.white_std` is the RMS residual
+    /// (an upper estimate of the sensor noise: it also holds reference errors).
+    pub model: M,
+    /// One-sigma uncertainties in the fields of the model (zero where a
+    /// field is not a parameter, e.g. the misalignment diagonal).
+    pub std: M,
+    /// Covariance of the parameter vector (order: [`accelerometer_parameter_names`]
+    /// or [`gyroscope_parameter_names`]).
+    pub covariance: DMatrix<f64>,
+    /// Residual standard deviation per output axis (SI).
+    pub residual_std: Vector3<f64>,
+    /// Condition number of the column-equilibrated regressors, per axis.
+    pub condition_number: Vector3<f64>,
+    /// Cramér-Rao bound of the parameter vector (when `noise_std` is given),
+    /// evaluated at the estimate, for exact references.
+    pub crb: Option<DMatrix<f64>>,
+    /// Parameters that are determined only poorly.
+    pub warnings: Vec<String>,
+}
+
+/// Names of the 15 accelerometer parameters, in covariance order.
+pub fn accelerometer_parameter_names() -> Vec<String> {
+    let a = ACCELEROMETER_AXES;
+    let mut names: Vec<String> = a.iter().map(|x| format!("bias_{x}")).collect();
+    names.extend(a.iter().map(|x| format!("scale_factor_{x}")));
+    names.extend(
+        OFF_DIAGONAL
+            .iter()
+            .map(|&(i, j)| format!("misalignment_{}{}", a[i], a[j])),
+    );
+    names.extend(a.iter().map(|x| format!("nonlinearity_{x}")));
+    names
+}
+
+/// Names of the 21 gyroscope parameters, in covariance order.
+pub fn gyroscope_parameter_names() -> Vec<String> {
+    let g = GYROSCOPE_AXES;
+    let mut names: Vec<String> = g.iter().map(|x| format!("bias_{x}")).collect();
+    names.extend(g.iter().map(|x| format!("scale_factor_{x}")));
+    names.extend(
+        OFF_DIAGONAL
+            .iter()
+            .map(|&(i, j)| format!("misalignment_{}{}", g[i], g[j])),
+    );
+    for p in g {
+        names.extend(
+            ACCELEROMETER_AXES
+                .iter()
+                .map(|u| format!("g_sensitivity_{p}{u}")),
+        );
+    }
+    names
+}
+
+/// The accelerometer parameter vector [b, D, M (off-diagonal), N].
+pub fn accelerometer_parameters(m: &AccelerometerModel) -> SVector<f64, 15> {
+    let mut p = SVector::<f64, 15>::zeros();
+    common_parameters(&m.bias, &m.scale_factor, &m.misalignment, &mut p);
+    p.fixed_rows_mut::<3>(12).copy_from(&m.nonlinearity);
+    p
+}
+
+/// The gyroscope parameter vector [b, D, M (off-diagonal), K (row-major)].
+pub fn gyroscope_parameters(m: &GyroscopeModel) -> SVector<f64, 21> {
+    let mut p = SVector::<f64, 21>::zeros();
+    common_parameters(&m.bias, &m.scale_factor, &m.misalignment, &mut p);
+    for i in 0..3 {
+        for j in 0..3 {
+            p[12 + 3 * i + j] = m.g_sensitivity[(i, j)];
+        }
+    }
+    p
+}
+
+fn common_parameters<const P: usize>(
+    bias: &Vector3<f64>,
+    scale_factor: &Vector3<f64>,
+    misalignment: &Matrix3<f64>,
+    p: &mut SVector<f64, P>,
+) {
+    p.fixed_rows_mut::<3>(0).copy_from(bias);
+    p.fixed_rows_mut::<3>(3).copy_from(scale_factor);
+    for (m, &(i, j)) in OFF_DIAGONAL.iter().enumerate() {
+        p[6 + m] = misalignment[(i, j)];
+    }
+}
+
+/// Fills (b, D, M) of a model-shaped value from the first 12 entries of a
+/// parameter-ordered vector (used for the one-sigma `std` models).
+fn common_from_vector(v: &[f64]) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
+    let mut m = Matrix3::zeros();
+    for (k, &(i, j)) in OFF_DIAGONAL.iter().enumerate() {
+        m[(i, j)] = v[6 + k];
+    }
+    (
+        Vector3::new(v[0], v[1], v[2]),
+        Vector3::new(v[3], v[4], v[5]),
+        m,
+    )
+}
+
+/// Argument checks shared by both calibrations.
+fn validate_inputs(
+    measured: &[Vector3<f64>],
+    references: &[(&str, &[Vector3<f64>])],
+    parameters_per_axis: usize,
+    options: &CalibrationOptions,
+) -> Result<()> {
+    validate::finite_vectors("measured", measured)?;
+    for (name, r) in references {
+        validate::same_length(name, r.len(), "measured", measured.len())?;
+        validate::finite_vectors(name, r)?;
+    }
+    if measured.len() <= parameters_per_axis {
+        return Err(Error::invalid(
+            "measured",
+            format!(
+                "needs at least {} samples ({parameters_per_axis} parameters per axis plus one \
+                 for the residual), got {}",
+                parameters_per_axis + 1,
+                measured.len()
+            ),
+        ));
+    }
+    for (name, v) in [
+        ("reference_noise_std", options.reference_noise_std),
+        (
+            "reference_specific_force_noise_std",
+            options.reference_specific_force_noise_std,
+        ),
+        ("noise_std", options.noise_std),
+    ] {
+        if let Some(x) = v {
+            validate::positive(name, x)?;
+        }
+    }
+    if options.method == Method::ErrorsInVariables && options.reference_noise_std.is_none() {
+        return Err(Error::invalid(
+            "reference_noise_std",
+            "the errors-in-variables method needs the reference noise standard deviation",
+        ));
+    }
+    Ok(())
+}
+
+/// An input component that never varies makes its own axis' scale factor
+/// inseparable from the bias (method §3: excitation).
+fn check_excitation(reference: &[Vector3<f64>], axes: [&str; 3], what: &str) -> Result<()> {
+    let n = reference.len() as f64;
+    for j in 0..3 {
+        let mean = reference.iter().map(|v| v[j]).sum::<f64>() / n;
+        let var = reference.iter().map(|v| (v[j] - mean).powi(2)).sum::<f64>() / n;
+        if var.sqrt() <= 1e-9 * mean.abs() || var == 0.0 {
+            return Err(Error::Unobservable {
+                axis: axes[j].to_string(),
+                parameter: "scale_factor".to_string(),
+                reason: format!(
+                    "the reference {what} on this axis never varies (constant {mean:.6e}), so its \
+                     scale factor cannot be separated from its bias"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Condition-number diagnostics of one row: an error when rank-deficient,
+/// a warning when poorly determined.
+fn diagnose(
+    regression: &least_squares::Regression,
+    axis: &str,
+    column_names: &[String],
+    warnings: &mut Vec<String>,
+) -> Result<()> {
+    let cond = regression.condition_number;
+    if cond > least_squares::POORLY_DETERMINED_CONDITION || !cond.is_finite() {
+        let parameter = &column_names[regression.weakest_column(0)];
+        if cond > least_squares::UNOBSERVABLE_CONDITION || !cond.is_finite() {
+            return Err(Error::Unobservable {
+                axis: axis.to_string(),
+                parameter: parameter.clone(),
+                reason: format!(
+                    "the regressors are rank-deficient (condition number {cond:.2e}): the motion \
+                     does not excite this parameter independently of the others"
+                ),
+            });
+        }
+        warnings.push(format!(
+            "{axis} axis: {parameter} is poorly determined (condition number {cond:.2e})"
+        ));
+    }
+    Ok(())
+}
+
+/// Block-diagonal coefficient covariance from per-row blocks.
+fn block_diagonal(blocks: &[DMatrix<f64>]) -> DMatrix<f64> {
+    let n: usize = blocks.iter().map(|b| b.nrows()).sum();
+    let mut out = DMatrix::zeros(n, n);
+    let mut k = 0;
+    for b in blocks {
+        out.view_mut((k, k), b.shape()).copy_from(b);
+        k += b.nrows();
+    }
+    out
+}
+
+/// Partial derivatives common to both conversions: bias b = −A⁻¹c₀ and the
+/// diagonal/off-diagonal reading of A (D_i = 1 − A_ii, M_ij = −A_ij).
+/// `row_len` is the number of coefficients per row; coefficient 0 of a row
+/// is c₀, coefficients 1..4 are the row of A.
+fn common_jacobian(
+    a_inv: &Matrix3<f64>,
+    bias: &Vector3<f64>,
+    row_len: usize,
+    jac: &mut DMatrix<f64>,
+) {
+    for k in 0..3 {
+        for i in 0..3 {
+            jac[(k, row_len * i)] = -a_inv[(k, i)];
+            for j in 0..3 {
+                // db = −A⁻¹ dA b for dA = E_ij.
+                jac[(k, row_len * i + 1 + j)] = -a_inv[(k, i)] * bias[j];
+            }
+        }
+    }
+    for i in 0..3 {
+        jac[(3 + i, row_len * i + 1 + i)] = -1.0;
+    }
+    for (m, &(i, j)) in OFF_DIAGONAL.iter().enumerate() {
+        jac[(6 + m, row_len * i + 1 + j)] = -1.0;
+    }
+}
+
+/// √diag of a covariance.
+fn std_of(cov: &DMatrix<f64>) -> Vec<f64> {
+    cov.diagonal().iter().map(|v| v.max(0.0).sqrt()).collect()
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,522 @@
+//! The closed-loop error-state machinery both coupled filters share: the
+//! corrected INS, propagation at the IMU rate, aiding epochs matched to IMU
+//! times, feedback of the estimated errors, and the solution record.
+
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+use super::tuning::FilterTuning;
+use crate::attitude::rotation_vector_to_dcm;
+use crate::filter::chi_square::chi_square_quantile;
+use crate::filter::state::{
+    ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, VELOCITY, WITH_SCALE_FACTORS,
+};
+use crate::filter::{ErrorStateKf, ProcessNoise, ScalarOutcome, SparseRow, SystemInputs};
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::ins::{self, ImuSample, NavState};
+use crate::{validate, Error, Result};
+
+/// A series of raw IMU samples (instantaneous values at `time_s`).
+#[derive(Debug, Clone, Copy)]
+pub struct ImuData<'a> {
+    /// Sample times, s, strictly increasing.
+    pub time_s: &'a [f64],
+    /// Measured specific force f̃_ib^b, m/s².
+    pub specific_force_b: &'a [Vector3<f64>],
+    /// Measured angular rate ω̃_ib^b, rad/s.
+    pub angular_rate_b: &'a [Vector3<f64>],
+}
+
+impl ImuData<'_> {
+    /// Same lengths (at least two samples), increasing finite times, finite values.
+    pub fn validate(&self) -> Result<()> {
+        if self.time_s.len() < 2 {
+            return Err(Error::invalid("time", "needs at least two IMU samples"));
+        }
+        validate::increasing_times("time", self.time_s)?;
+        validate::same_length(
+            "specific_force",
+            self.specific_force_b.len(),
+            "time",
+            self.time_s.len(),
+        )?;
+        validate::same_length(
+            "angular_rate",
+            self.angular_rate_b.len(),
+            "time",
+            self.time_s.len(),
+        )?;
+        validate::finite_vectors("specific_force", self.specific_force_b)?;
+        validate::finite_vectors("angular_rate", self.angular_rate_b)
+    }
+
+    fn sample(&self, k: usize) -> ImuSample {
+        ImuSample {
+            specific_force_b: self.specific_force_b[k],
+            angular_rate_b: self.angular_rate_b[k],
+        }
+    }
+}
+
+/// The navigation state and sensor/clock estimates the filter starts from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialState {
+    /// Position, velocity and attitude at the first IMU time.
+    pub nav: NavState,
+    /// Accelerometer bias estimate, m/s².
+    pub accel_bias_m_s2: Vector3<f64>,
+    /// Gyro bias estimate, rad/s.
+    pub gyro_bias_rad_s: Vector3<f64>,
+    /// Receiver clock offset, m; `None`: set at the first GNSS epoch to the
+    /// median of pseudorange minus predicted range (robust to an outlier).
+    pub clock_offset_m: Option<f64>,
+    /// Receiver clock drift, m/s; `None`: the median of the range-rate
+    /// residuals at the first epoch with rates (0 without them).
+    pub clock_drift_m_s: Option<f64>,
+}
+
+impl InitialState {
+    /// Checks finiteness and the attitude matrix.
+    pub fn validate(&self) -> Result<()> {
+        validate::finite_vectors("initial.position_ecef", &[self.nav.position_ecef])?;
+        validate::finite_vectors("initial.velocity_ecef", &[self.nav.velocity_ecef])?;
+        validate::rotation("initial.attitude", &self.nav.c_b_e)?;
+        if self.nav.position_ecef.norm() < 6.0e6 {
+            return Err(Error::invalid(
+                "initial.position_ecef",
+                format!(
+                    "{:.0} m from the Earth's centre: not an ECEF position near the surface",
+                    self.nav.position_ecef.norm()
+                ),
+            ));
+        }
+        validate::finite_vectors("initial.accel_bias", &[self.accel_bias_m_s2])?;
+        validate::finite_vectors("initial.gyro_bias", &[self.gyro_bias_rad_s])?;
+        for (name, v) in [
+            ("initial.clock_offset", self.clock_offset_m),
+            ("initial.clock_drift", self.clock_drift_m_s),
+        ] {
+            if let Some(v) = v {
+                validate::finite_scalars(name, &[v])?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Which measurement a record is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeasurementKind {
+    /// A pseudorange, m.
+    Pseudorange,
+    /// A pseudorange rate, m/s.
+    PseudorangeRate,
+    /// One whitened component of a position fix (dimensionless, unit variance).
+    Position,
+    /// One whitened component of a velocity fix (dimensionless).
+    Velocity,
+}
+
+/// What the filter did with a measurement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeasurementStatus {
+    /// Applied.
+    Accepted,
+    /// Rejected by the chi-square innovation gate.
+    RejectedByGate,
+    /// Rejected because a value (measurement, satellite state, std) was NaN,
+    /// infinite or a non-positive standard deviation.
+    RejectedInvalid,
+}
+
+/// One scalar measurement's innovation and fate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasurementRecord {
+    /// Epoch time, s.
+    pub time_s: f64,
+    /// Satellite id (tight) or fix component 0-2 (loose).
+    pub id: u16,
+    /// Which measurement.
+    pub kind: MeasurementKind,
+    /// Innovation z − ẑ (measurement minus the corrected prediction), in the
+    /// measurement's unit (m, m/s; whitened units for fixes).
+    pub innovation: f64,
+    /// Predicted innovation std √(h P hᵀ + r), same unit.
+    pub innovation_std: f64,
+    /// Normalised innovation squared ν²/s.
+    pub nis: f64,
+    /// Applied or why not.
+    pub status: MeasurementStatus,
+}
+
+/// The running state of a closed-loop coupled filter.
+#[derive(Debug, Clone)]
+pub struct FilterState<const N: usize> {
+    /// The corrected INS solution.
+    pub nav: NavState,
+    /// Accelerometer bias estimate, m/s² (subtracted from raw samples).
+    pub accel_bias_m_s2: Vector3<f64>,
+    /// Gyro bias estimate, rad/s.
+    pub gyro_bias_rad_s: Vector3<f64>,
+    /// Accelerometer scale-factor estimate (zero unless N = 23).
+    pub accel_scale_factor: Vector3<f64>,
+    /// Gyro scale-factor estimate (zero unless N = 23).
+    pub gyro_scale_factor: Vector3<f64>,
+    /// Receiver clock offset estimate, m.
+    pub clock_offset_m: f64,
+    /// Receiver clock drift estimate, m/s.
+    pub clock_drift_m_s: f64,
+    /// Whether the clock offset / drift have been initialised.
+    pub(crate) clock_known: (bool, bool),
+    /// Error state and covariance.
+    pub kf: ErrorStateKf<N>,
+    noise: ProcessNoise,
+    gate: f64,
+    /// Every scalar measurement seen, in time order.
+    pub records: Vec<MeasurementRecord>,
+}
+
+impl<const N: usize> FilterState<N> {
+    /// The filter at the first IMU time: P₀ from `tuning.initial_std`
+    /// (attitude rotated from NED into ECEF at the initial position).
+    pub fn new(init: &InitialState, tuning: &FilterTuning) -> Result<Self> {
+        init.validate()?;
+        tuning.validate()?;
+        let s = &tuning.initial_std;
+        let mut p0 = SMatrix::<f64, N, N>::zeros();
+        let geo = ecef_to_geodetic(&init.nav.position_ecef);
+        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+        let p_att =
+            cne * Matrix3::from_diagonal(&s.attitude_ned_rad.map(|v| v * v)) * cne.transpose();
+        p0.fixed_view_mut::<3, 3>(ATTITUDE, ATTITUDE)
+            .copy_from(&(0.5 * (p_att + p_att.transpose())));
+        for k in 0..3 {
+            p0[(VELOCITY + k, VELOCITY + k)] = s.velocity_m_s.powi(2);
+            p0[(POSITION + k, POSITION + k)] = s.position_m.powi(2);
+            p0[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = s.accel_bias_m_s2.powi(2);
+            p0[(GYRO_BIAS + k, GYRO_BIAS + k)] = s.gyro_bias_rad_s.powi(2);
+            if N >= WITH_SCALE_FACTORS {
+                p0[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] = s.accel_scale_factor.powi(2);
+                p0[(GYRO_SCALE_FACTOR + k, GYRO_SCALE_FACTOR + k)] = s.gyro_scale_factor.powi(2);
+            }
+        }
+        p0[(CLOCK_OFFSET, CLOCK_OFFSET)] = s.clock_offset_m.powi(2);
+        p0[(CLOCK_DRIFT, CLOCK_DRIFT)] = s.clock_drift_m_s.powi(2);
+        let gate = if tuning.gate_probability >= 1.0 {
+            f64::INFINITY
+        } else {
+            chi_square_quantile(1.0, tuning.gate_probability)
+        };
+        Ok(Self {
+            nav: init.nav,
+            accel_bias_m_s2: init.accel_bias_m_s2,
+            gyro_bias_rad_s: init.gyro_bias_rad_s,
+            accel_scale_factor: Vector3::zeros(),
+            gyro_scale_factor: Vector3::zeros(),
+            clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
+            clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
+            clock_known: (
+                init.clock_offset_m.is_some(),
+                init.clock_drift_m_s.is_some(),
+            ),
+            kf: ErrorStateKf::new(p0)?,
+            noise: tuning.process_noise,
+            gate,
+            records: Vec::new(),
+        })
+    }
+
+    /// Raw sample corrected by the current estimates: f̂ = (f̃ − b̂_a) ⊘ (1 + ŝ_a),
+    /// ω̂ likewise (the inverse of the filter's sensor model, §state).
+    pub fn corrected(&self, raw: &ImuSample) -> ImuSample {
+        ImuSample {
+            specific_force_b: (raw.specific_force_b - self.accel_bias_m_s2)
+                .component_div(&self.accel_scale_factor.add_scalar(1.0)),
+            angular_rate_b: (raw.angular_rate_b - self.gyro_bias_rad_s)
+                .component_div(&self.gyro_scale_factor.add_scalar(1.0)),
+        }
+    }
+
+    /// INS step between two raw samples, clock prediction and P propagation.
+    pub(crate) fn propagate(
+        &mut self,
+        prev_raw: &ImuSample,
+        curr_raw: &ImuSample,
+        dt: f64,
+        time_s: f64,
+    ) -> Result<()> {
+        if dt <= 0.0 {
+            return Ok(());
+        }
+        let prev = self.corrected(prev_raw);
+        let curr = self.corrected(curr_raw);
+        self.nav = ins::step(&self.nav, &prev, &curr, dt);
+        self.clock_offset_m += self.clock_drift_m_s * dt;
+        let inputs = SystemInputs {
+            c_b_e: self.nav.c_b_e,
+            specific_force_b: curr.specific_force_b,
+            angular_rate_b: curr.angular_rate_b,
+            position_ecef: self.nav.position_ecef,
+        };
+        self.kf.propagate(&inputs, &self.noise, dt, time_s)
+    }
+
+    /// One gated scalar update, recorded. `y` is prediction minus measurement.
+    pub(crate) fn scalar(
+        &mut self,
+        h: &SparseRow,
+        y: f64,
+        variance: f64,
+        meta: (f64, u16, MeasurementKind),
+    ) -> ScalarOutcome {
+        let out = if variance.is_finite() && variance > 0.0 {
+            self.kf.update_scalar(h, y, variance, self.gate)
+        } else {
+            ScalarOutcome {
+                innovation: f64::NAN,
+                innovation_variance: variance,
+                nis: f64::NAN,
+                accepted: false,
+            }
+        };
+        let status = if out.accepted {
+            MeasurementStatus::Accepted
+        } else if out.nis.is_finite() {
+            MeasurementStatus::RejectedByGate
+        } else {
+            MeasurementStatus::RejectedInvalid
+        };
+        self.records.push(MeasurementRecord {
+            time_s: meta.0,
+            id: meta.1,
+            kind: meta.2,
+            innovation: -out.innovation,
+            innovation_std: out.innovation_variance.max(0.0).sqrt(),
+            nis: out.nis,
+            status,
+        });
+        out
+    }
+
+    /// Records a measurement rejected before it reached the filter.
+    pub(crate) fn reject_invalid(&mut self, meta: (f64, u16, MeasurementKind)) {
+        self.records.push(MeasurementRecord {
+            time_s: meta.0,
+            id: meta.1,
+            kind: meta.2,
+            innovation: f64::NAN,
+            innovation_std: f64::NAN,
+            nis: f64::NAN,
+            status: MeasurementStatus::RejectedInvalid,
+        });
+    }
+
+    /// Closed loop: subtract the estimated errors from the INS, sensor and
+    /// clock estimates (errors are estimate − truth) and zero the error
+    /// state; then the full health check of P.
+    pub(crate) fn feedback(&mut self, time_s: f64) -> Result<()> {
+        let x = self.kf.x;
+        // Ĉ = (I + [ψ×]) C  ⇒  C = R(−ψ) Ĉ: a product of rotations, then one
+        // step of C ← C (3I − CᵀC)/2 (the first-order polar factor) against
+        // round-off. (Not `attitude::orthonormalize`: its iteration from the
+        // identity can land on a wrong rotation far from the identity, as
+        // ECEF attitudes are.)
+        let c = rotation_vector_to_dcm(&(-x.attitude())) * self.nav.c_b_e;
+        self.nav.c_b_e = 0.5 * c * (3.0 * Matrix3::identity() - c.transpose() * c);
+        self.nav.velocity_ecef -= x.velocity();
+        self.nav.position_ecef -= x.position();
+        self.accel_bias_m_s2 -= x.accel_bias();
+        self.gyro_bias_rad_s -= x.gyro_bias();
+        self.clock_offset_m -= x.clock_offset();
+        self.clock_drift_m_s -= x.clock_drift();
+        if let Some((sa, sg)) = x.scale_factors() {
+            self.accel_scale_factor -= sa;
+            self.gyro_scale_factor -= sg;
+        }
+        self.kf.x = crate::filter::ErrorState::zero();
+        self.kf.check_health(time_s)
+    }
+}
+
+/// Anything with a time stamp that aids the INS.
+pub trait AidingEpoch {
+    /// Epoch time, s, on the IMU's time scale.
+    fn time_s(&self) -> f64;
+}
+
+/// Checks that aiding times increase strictly and lie inside the IMU span
+/// (within `tolerance`).
+pub(crate) fn validate_epoch_times<E: AidingEpoch>(
+    argument: &str,
+    epochs: &[E],
+    imu_time_s: &[f64],
+    tolerance: f64,
+) -> Result<()> {
+    let (t0, t1) = (imu_time_s[0], imu_time_s[imu_time_s.len() - 1]);
+    for (i, e) in epochs.iter().enumerate() {
+        let t = e.time_s();
+        if !t.is_finite() {
+            return Err(Error::invalid(
+                argument,
+                format!("epoch {i} has a non-finite time"),
+            ));
+        }
+        if t < t0 - tolerance || t > t1 + tolerance {
+            return Err(Error::invalid(
+                argument,
+                format!("epoch {i} at t = {t} s lies outside the IMU span [{t0}, {t1}] s"),
+            ));
+        }
+        if i > 0 && t <= epochs[i - 1].time_s() {
+            return Err(Error::invalid(
+                argument,
+                format!(
+                    "epoch times must increase strictly: epoch {i} ({t} s) does not follow epoch {} ({} s)",
+                    i - 1,
+                    epochs[i - 1].time_s()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Runs the closed-loop filter over the IMU series.
+///
+/// Time matching: an aiding epoch within `tolerance` of an IMU sample is
+/// applied right after that sample; one strictly between two samples is
+/// applied at its own time, the INS being stepped there with a linearly
+/// interpolated IMU sample and then on to the next sample. `update` applies
+/// one epoch's measurements to the error state; feedback follows each epoch.
+/// `observe(k, state)` sees the solution at every IMU sample k (after any
+/// update at that sample).
+pub(crate) fn run<const N: usize, E, U, O>(
+    imu: &ImuData,
+    epochs: &[E],
+    state: &mut FilterState<N>,
+    tolerance: f64,
+    mut update: U,
+    mut observe: O,
+) -> Result<()>
+where
+    E: AidingEpoch,
+    U: FnMut(&mut FilterState<N>, usize, &E),
+    O: FnMut(usize, &FilterState<N>),
+{
+    let t = imu.time_s;
+    let mut j = 0;
+    let mut apply = |state: &mut FilterState<N>, i: usize| -> Result<()> {
+        update(state, i, &epochs[i]);
+        state.feedback(epochs[i].time_s())
+    };
+    while j < epochs.len() && epochs[j].time_s() <= t[0] + tolerance {
+        apply(state, j)?;
+        j += 1;
+    }
+    observe(0, state);
+    for k in 0..t.len() - 1 {
+        let (ta, tb) = (t[k], t[k + 1]);
+        let (sa, sb) = (imu.sample(k), imu.sample(k + 1));
+        let (mut t_cur, mut s_cur) = (ta, sa);
+        while j < epochs.len() && epochs[j].time_s() < tb - tolerance {
+            let tg = epochs[j].time_s();
+            let w = (tg - ta) / (tb - ta);
+            let sg = ImuSample {
+                specific_force_b: sa.specific_force_b.lerp(&sb.specific_force_b, w),
+                angular_rate_b: sa.angular_rate_b.lerp(&sb.angular_rate_b, w),
+            };
+            state.propagate(&s_cur, &sg, tg - t_cur, tg)?;
+            apply(state, j)?;
+            (t_cur, s_cur) = (tg, sg);
+            j += 1;
+        }
+        state.propagate(&s_cur, &sb, tb - t_cur, tb)?;
+        while j < epochs.len() && epochs[j].time_s() <= tb + tolerance {
+            apply(state, j)?;
+            j += 1;
+        }
+        observe(k + 1, state);
+    }
+    Ok(())
+}
+
+/// The whole solution of a coupled filter at every IMU sample.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// IMU sample times, s.
+    pub time_s: Vec<f64>,
+    /// Position r^e, m.
+    pub position_ecef: Vec<Vector3<f64>>,
+    /// Velocity v^e, m/s.
+    pub velocity_ecef: Vec<Vector3<f64>>,
+    /// Attitude C_b^e.
+    pub c_b_e: Vec<Matrix3<f64>>,
+    /// Accelerometer bias estimate, m/s².
+    pub accel_bias_m_s2: Vec<Vector3<f64>>,
+    /// Gyro bias estimate, rad/s.
+    pub gyro_bias_rad_s: Vec<Vector3<f64>>,
+    /// Accelerometer scale-factor estimate (empty for 17 states).
+    pub accel_scale_factor: Vec<Vector3<f64>>,
+    /// Gyro scale-factor estimate (empty for 17 states).
+    pub gyro_scale_factor: Vec<Vector3<f64>>,
+    /// Receiver clock offset, m.
+    pub clock_offset_m: Vec<f64>,
+    /// Receiver clock drift, m/s.
+    pub clock_drift_m_s: Vec<f64>,
+    /// Number of error states (17 or 23).
+    pub n_states: usize,
+    /// Diagonal of P at each sample, row-major `(len, n_states)`, in the
+    /// units of [`crate::filter::state`] squared.
+    pub covariance_diagonal: Vec<f64>,
+    /// Every scalar measurement: innovation, NIS, status.
+    pub measurements: Vec<MeasurementRecord>,
+}
+
+impl Solution {
+    pub(crate) fn with_capacity(len: usize, n_states: usize) -> Self {
+        let sf = if n_states >= WITH_SCALE_FACTORS {
+            len
+        } else {
+            0
+        };
+        Self {
+            time_s: Vec::with_capacity(len),
+            position_ecef: Vec::with_capacity(len),
+            velocity_ecef: Vec::with_capacity(len),
+            c_b_e: Vec::with_capacity(len),
+            accel_bias_m_s2: Vec::with_capacity(len),
+            gyro_bias_rad_s: Vec::with_capacity(len),
+            accel_scale_factor: Vec::with_capacity(sf),
+            gyro_scale_factor: Vec::with_capacity(sf),
+            clock_offset_m: Vec::with_capacity(len),
+            clock_drift_m_s: Vec::with_capacity(len),
+            n_states,
+            covariance_diagonal: Vec::with_capacity(len * n_states),
+            measurements: Vec::new(),
+        }
+    }
+
+    pub(crate) fn push<const N: usize>(&mut self, time_s: f64, s: &FilterState<N>) {
+        self.time_s.push(time_s);
+        self.position_ecef.push(s.nav.position_ecef);
+        self.velocity_ecef.push(s.nav.velocity_ecef);
+        self.c_b_e.push(s.nav.c_b_e);
+        self.accel_bias_m_s2.push(s.accel_bias_m_s2);
+        self.gyro_bias_rad_s.push(s.gyro_bias_rad_s);
+        if N >= WITH_SCALE_FACTORS {
+            self.accel_scale_factor.push(s.accel_scale_factor);
+            self.gyro_scale_factor.push(s.gyro_scale_factor);
+        }
+        self.clock_offset_m.push(s.clock_offset_m);
+        self.clock_drift_m_s.push(s.clock_drift_m_s);
+        self.covariance_diagonal
+            .extend(s.kf.p.diagonal().iter().copied());
+    }
+
+    /// The measurements that were not applied.
+    pub fn rejected(&self) -> impl Iterator<Item = &MeasurementRecord> {
+        self.measurements
+            .iter()
+            .filter(|m| m.status != MeasurementStatus::Accepted)
+    }
+}

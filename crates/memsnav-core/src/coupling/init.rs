@@ -1,0 +1,129 @@
+//! Initialisation from the first GNSS fix and a given or coarse attitude.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::engine::{ImuData, InitialState};
+use crate::attitude::euler_to_dcm;
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::gnss::{solve_fix, GnssEpoch};
+use crate::ins::NavState;
+use crate::{validate, Error, Result};
+
+/// Speed below which the GNSS velocity gives no usable heading, m/s.
+pub const MIN_SPEED_FOR_HEADING_M_S: f64 = 1.0;
+
+/// Coarse attitude C_b^e: roll and pitch by levelling the mean specific force
+/// `mean_specific_force_b` (Groves eq. 5.101: at rest f^b = −C_n^b g^n), heading
+/// from the course over ground of `velocity_ecef`. Levelling on a moving,
+/// accelerating vehicle errs by about a/g rad, which the default initial
+/// tilt uncertainty of 1° covers for gentle motion (a ≲ 0.17 m/s²).
+pub fn coarse_attitude(
+    mean_specific_force_b: &Vector3<f64>,
+    position_ecef: &Vector3<f64>,
+    velocity_ecef: &Vector3<f64>,
+) -> Result<Matrix3<f64>> {
+    let f = mean_specific_force_b;
+    if !f.iter().all(|v| v.is_finite()) || f.norm() <= 1.0 {
+        return Err(Error::invalid(
+            "specific_force",
+            "the first second of specific force does not show gravity: cannot level",
+        ));
+    }
+    let roll = (-f.y).atan2(-f.z);
+    let pitch = f.x.atan2((f.y * f.y + f.z * f.z).sqrt());
+    let geo = ecef_to_geodetic(position_ecef);
+    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+    let v_ned = cne.transpose() * velocity_ecef;
+    let speed = (v_ned.x * v_ned.x + v_ned.y * v_ned.y).sqrt();
+    if speed.is_nan() || speed < MIN_SPEED_FOR_HEADING_M_S {
+        return Err(Error::invalid(
+            "initial_attitude",
+            format!(
+                "not given, and the ground speed {speed:.2} m/s is below {MIN_SPEED_FOR_HEADING_M_S} m/s: no heading from the GNSS velocity"
+            ),
+        ));
+    }
+    let yaw = v_ned.y.atan2(v_ned.x);
+    Ok(cne * euler_to_dcm(roll, pitch, yaw))
+}
+
+/// The initial state from the first GNSS epoch: position, velocity, clock
+/// offset and drift of its least-squares fix ([`solve_fix`]), moved back to
+/// the first IMU time along the fix velocity; attitude as given, else
+/// [`coarse_attitude`] from the IMU's first second; zero bias estimates.
+pub fn initial_state_from_fix(
+    first_epoch: &GnssEpoch,
+    imu: &ImuData,
+    attitude: Option<Matrix3<f64>>,
+) -> Result<InitialState> {
+    imu.validate()?;
+    let n = first_epoch
+        .measurements
+        .iter()
+        .filter(|m| m.pseudorange_m.is_finite())
+        .count();
+    if n < 4 {
+        return Err(Error::invalid(
+            "gnss",
+            format!(
+                "the first epoch (t = {} s) has {n} usable satellites: at least 4 are needed for the initial fix",
+                first_epoch.time_s
+            ),
+        ));
+    }
+    let fix = solve_fix(first_epoch, None)?;
+    let t0 = imu.time_s[0];
+    let position_ecef = fix.position_ecef - fix.velocity_ecef * (first_epoch.time_s - t0);
+    let c_b_e = match attitude {
+        Some(c) => {
+            validate::rotation("initial_attitude", &c)?;
+            c
+        }
+        None => {
+            let k = imu
+                .time_s
+                .iter()
+                .take_while(|t| **t <= t0 + 1.0)
+                .count()
+                .max(1);
+            let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
+            coarse_attitude(&mean, &position_ecef, &fix.velocity_ecef)?
+        }
+    };
+    Ok(InitialState {
+        nav: NavState {
+            position_ecef,
+            velocity_ecef: fix.velocity_ecef,
+            c_b_e,
+        },
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: Some(fix.clock_offset_m - fix.clock_drift_m_s * (first_epoch.time_s - t0)),
+        clock_drift_m_s: Some(fix.clock_drift_m_s),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geodesy::{geodetic_to_ecef, gravity_ecef, Geodetic};
+
+    /// Levelling and course over ground recover a known attitude.
+    #[test]
+    fn coarse_attitude_recovers_roll_pitch_heading() {
+        let r = geodetic_to_ecef(Geodetic::new(0.76, 0.025, 150.0));
+        let geo = ecef_to_geodetic(&r);
+        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+        let c_b_n = euler_to_dcm(0.05, -0.03, 2.0);
+        let c_b_e = cne * c_b_n;
+        // At constant velocity the specific force is −g in body axes
+        // (plus a negligible Coriolis term).
+        let f_b = -(c_b_e.transpose() * gravity_ecef(&r));
+        let v = cne * Vector3::new(2.0_f64.cos(), 2.0_f64.sin(), 0.0) * 10.0;
+        let c = coarse_attitude(&f_b, &r, &v).unwrap();
+        let err = crate::attitude::dcm_to_rotation_vector(&(c * c_b_e.transpose()));
+        // Gravity deflection from the ellipsoid normal leaves ~1e-3 rad.
+        assert!(err.norm() < 2e-3, "{err}");
+        assert!(coarse_attitude(&f_b, &r, &(v * 0.01)).is_err());
+    }
+}

@@ -1,0 +1,59 @@
+//! Tightly and loosely coupled GNSS/INS closed-loop error-state filters in
+//! ECEF (method §5; Groves ch. 14).
+//!
+//! ## How they work
+//!
+//! - The INS ([`crate::ins::step`]) runs at the IMU rate on samples
+//!   corrected by the current bias (and scale-factor) estimates; the error
+//!   covariance is propagated alongside ([`crate::filter`]).
+//! - At each GNSS epoch every measurement is a gated scalar Joseph update:
+//!   pseudoranges and pseudorange rates per satellite through
+//!   [`crate::gnss::predicted_range`] (Sagnac, light time) in
+//!   [`tightly_coupled`]; whitened position/velocity components in
+//!   [`loosely_coupled`]. Then the estimated errors are fed back into the
+//!   INS, the sensor estimates and the clock, and the error state is zeroed
+//!   (closed loop).
+//! - GNSS epoch times must increase and lie within the IMU span; an epoch
+//!   within `time_tolerance_s` of an IMU sample is applied there, otherwise
+//!   the INS is stepped to the epoch's own time with an interpolated sample.
+//! - Rejections are never silent: every scalar measurement gets a
+//!   [`MeasurementRecord`] (innovation, its std, NIS, status).
+//!
+//! ## Initialisation
+//!
+//! [`InitialState`] gives position, velocity, attitude, biases and
+//! optionally the clock (unknown clock: the median pseudorange residual of
+//! the first epoch). [`initial_state_from_fix`] builds one from the first
+//! GNSS epoch's least-squares fix and a given attitude, or a coarse one:
+//! roll and pitch from the mean specific force of the first second
+//! (levelling), heading from the fix velocity. P₀ comes from
+//! [`InitialUncertainty`] (documented defaults there).
+//!
+//! ## Tuning and unmodelled errors
+//!
+//! [`FilterTuning`] holds noise densities, bias processes and initial
+//! uncertainties; `FilterTuning::from_imu_spec` derives them from an IMU's
+//! specification and everything stays overridable. Errors the state does
+//! not contain — raw MEMS scale factors (unless the 23-state filter is
+//! used), misalignments, nonlinearity, g-sensitivity — are absorbed by
+//! inflated uncertainty, see [`UnmodelledErrors`]: their gravity-driven
+//! (constant) part widens the initial bias uncertainty, their
+//! motion-driven part is added to the white-noise densities as the
+//! white-noise equivalent of a coloured noise. That keeps the filter
+//! honest (NIS near 1) on raw MEMS data at the price of a looser solution;
+//! calibration and inversion (method §3-4) remove these errors instead.
+
+mod engine;
+mod init;
+mod loose;
+mod tight;
+mod tuning;
+
+pub use engine::{
+    AidingEpoch, FilterState, ImuData, InitialState, MeasurementKind, MeasurementRecord,
+    MeasurementStatus, Solution,
+};
+pub use init::{coarse_attitude, initial_state_from_fix};
+pub use loose::{loosely_coupled, run_loosely_coupled, PositionFix};
+pub use tight::{run_tightly_coupled, tightly_coupled};
+pub use tuning::{BiasProcess, Dynamics, FilterTuning, InitialUncertainty, UnmodelledErrors};

@@ -1,0 +1,378 @@
+//! Filter tuning: process noise, initial uncertainties, gate and timing
+//! rules, and how errors the filter does not estimate are absorbed.
+
+use nalgebra::Vector3;
+
+use crate::filter::ProcessNoise;
+use crate::geodesy::wgs84::STANDARD_GRAVITY_M_S2;
+use crate::{validate, Error, Result};
+
+/// One-sigma initial uncertainties (the diagonal of P₀).
+///
+/// Attitude is given in the local NED frame (north and east tilt, heading)
+/// and rotated into the ECEF attitude-error block. Defaults (documented, used
+/// when the caller states nothing): 5 m position and 0.5 m/s velocity per axis
+/// (a code-based single-point fix), 1° tilt and 5° heading (a coarse
+/// alignment), 50 m clock offset and 10 m/s drift (resolved by the first
+/// pseudoranges), and the IMU's own bias and scale-factor spreads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialUncertainty {
+    /// Position, m, per ECEF axis.
+    pub position_m: f64,
+    /// Velocity, m/s, per ECEF axis.
+    pub velocity_m_s: f64,
+    /// Attitude in NED: north tilt, east tilt, heading, rad.
+    pub attitude_ned_rad: Vector3<f64>,
+    /// Accelerometer bias, m/s².
+    pub accel_bias_m_s2: f64,
+    /// Gyro bias, rad/s.
+    pub gyro_bias_rad_s: f64,
+    /// Receiver clock offset, m.
+    pub clock_offset_m: f64,
+    /// Receiver clock drift, m/s.
+    pub clock_drift_m_s: f64,
+    /// Accelerometer scale-factor error (23-state filters only).
+    pub accel_scale_factor: f64,
+    /// Gyro scale-factor error (23-state filters only).
+    pub gyro_scale_factor: f64,
+}
+
+impl Default for InitialUncertainty {
+    fn default() -> Self {
+        Self {
+            position_m: 5.0,
+            velocity_m_s: 0.5,
+            attitude_ned_rad: Vector3::new(1.0_f64, 1.0, 5.0).map(f64::to_radians),
+            accel_bias_m_s2: 0.1,
+            gyro_bias_rad_s: 1e-2_f64.to_radians(),
+            clock_offset_m: 50.0,
+            clock_drift_m_s: 10.0,
+            accel_scale_factor: 1e-3,
+            gyro_scale_factor: 1e-3,
+        }
+    }
+}
+
+/// The deterministic sensor errors a filter does not estimate (one-sigma
+/// magnitudes), and the vehicle dynamics they act through.
+///
+/// How they are absorbed (documented choice, no extra states): an error
+/// that multiplies a *constant* input (gravity on the vertical axis, the
+/// g-sensitivity) looks like a bias, so its size is added in quadrature to
+/// the initial bias uncertainty; an error that multiplies the *varying*
+/// part of the input (horizontal accelerations, turn rates) is a coloured
+/// noise of variance σ² = (error · input)² and correlation time τ, whose
+/// white-noise equivalent PSD 2σ²τ is added to the sensor's white noise.
+/// With `N` = 23 the scale factors are states and only misalignment,
+/// nonlinearity and g-sensitivity are absorbed this way.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct UnmodelledErrors {
+    /// Accelerometer scale-factor error std (dimensionless).
+    pub accel_scale_factor: f64,
+    /// Accelerometer misalignment std (dimensionless, per off-diagonal term).
+    pub accel_misalignment: f64,
+    /// Accelerometer second-order nonlinearity std, 1/(m/s²).
+    pub accel_nonlinearity_per_m_s2: f64,
+    /// Gyro scale-factor error std (dimensionless).
+    pub gyro_scale_factor: f64,
+    /// Gyro misalignment std (dimensionless).
+    pub gyro_misalignment: f64,
+    /// Gyro g-sensitivity std, (rad/s)/(m/s²), per term.
+    pub gyro_g_sensitivity_rad_s_per_m_s2: f64,
+}
+
+/// Vehicle dynamics the unmodelled errors act through.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dynamics {
+    /// Typical varying specific force (horizontal manoeuvres), m/s².
+    pub specific_force_m_s2: f64,
+    /// Typical turn rate, rad/s.
+    pub angular_rate_rad_s: f64,
+    /// Correlation time of manoeuvres, s.
+    pub correlation_time_s: f64,
+}
+
+impl Default for Dynamics {
+    /// A land vehicle: 2 m/s² manoeuvres, 0.2 rad/s turns, 10 s each.
+    fn default() -> Self {
+        Self {
+            specific_force_m_s2: 2.0,
+            angular_rate_rad_s: 0.2,
+            correlation_time_s: 10.0,
+        }
+    }
+}
+
+/// Everything a coupled filter needs besides the data.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilterTuning {
+    /// Process noise densities (Groves §14.2.4).
+    pub process_noise: ProcessNoise,
+    /// Initial one-sigma uncertainties.
+    pub initial_std: InitialUncertainty,
+    /// Probability of the chi-square(1) innovation gate; a measurement whose
+    /// NIS exceeds the quantile is rejected and reported (default 0.999,
+    /// i.e. |ν| > 3.29 σ). 1.0 disables the gate.
+    pub gate_probability: f64,
+    /// Use pseudorange rates when the epoch carries them (tight coupling).
+    pub use_pseudorange_rate: bool,
+    /// A GNSS epoch within this many seconds of an IMU sample is applied at
+    /// that sample; otherwise the INS is propagated to the GNSS time with an
+    /// interpolated IMU sample. Default 1e-4 s.
+    pub time_tolerance_s: f64,
+}
+
+impl FilterTuning {
+    /// Tuning from sensor noise per sample at `sample_rate_hz` and bias
+    /// processes (std and correlation time; ∞ for a random walk), with the
+    /// initial uncertainties defaulted and the bias spreads as given.
+    /// Receiver clock: the default TCXO densities of Groves §9.4.2
+    /// (S_cφ = 0.01 m²/s, S_cf = 0.04 m²/s³).
+    pub fn new(
+        sample_rate_hz: f64,
+        accel_white_std_m_s2: f64,
+        gyro_white_std_rad_s: f64,
+        accel_bias: BiasProcess,
+        gyro_bias: BiasProcess,
+    ) -> Result<Self> {
+        validate::positive("sample_rate_hz", sample_rate_hz)?;
+        validate::non_negative("accel_white_std", accel_white_std_m_s2)?;
+        validate::non_negative("gyro_white_std", gyro_white_std_rad_s)?;
+        accel_bias.validate("accel_bias")?;
+        gyro_bias.validate("gyro_bias")?;
+        let initial_std = InitialUncertainty {
+            // A floor keeps P₀ positive definite for a bias-free IMU.
+            accel_bias_m_s2: accel_bias.initial_std.max(1e-6),
+            gyro_bias_rad_s: gyro_bias.initial_std.max(1e-9),
+            ..Default::default()
+        };
+        Ok(Self {
+            process_noise: ProcessNoise {
+                // σ per sample of a white noise sampled at f_s ⇔ PSD σ²/f_s.
+                accel_white_psd: accel_white_std_m_s2.powi(2) / sample_rate_hz,
+                gyro_white_psd: gyro_white_std_rad_s.powi(2) / sample_rate_hz,
+                accel_bias_psd: accel_bias.psd(),
+                accel_bias_correlation_time_s: accel_bias.correlation_time_s,
+                gyro_bias_psd: gyro_bias.psd(),
+                gyro_bias_correlation_time_s: gyro_bias.correlation_time_s,
+                clock_phase_psd: 0.01,
+                clock_frequency_psd: 0.04,
+                accel_scale_factor_psd: 0.0,
+                gyro_scale_factor_psd: 0.0,
+            },
+            initial_std,
+            gate_probability: 0.999,
+            use_pseudorange_rate: true,
+            time_tolerance_s: 1e-4,
+        }
+        .floor_noise())
+    }
+
+    /// A small floor on the white-noise densities so a noise-free IMU still
+    /// gives a well-conditioned filter (1e-4 m/s/√h and 1e-4 °/√h: far
+    /// below any real sensor).
+    fn floor_noise(mut self) -> Self {
+        let q = &mut self.process_noise;
+        q.accel_white_psd = q.accel_white_psd.max((1e-4_f64 / 60.0).powi(2));
+        q.gyro_white_psd = q.gyro_white_psd.max((1e-4_f64.to_radians() / 60.0).powi(2));
+        self
+    }
+
+    /// Absorbs the errors the filter does not estimate (see
+    /// [`UnmodelledErrors`]); `scale_factor_states` says whether the filter
+    /// estimates the scale factors (N = 23).
+    pub fn absorb_unmodelled(
+        mut self,
+        errors: &UnmodelledErrors,
+        dynamics: &Dynamics,
+        scale_factor_states: bool,
+    ) -> Self {
+        let g = STANDARD_GRAVITY_M_S2;
+        let a = dynamics.specific_force_m_s2;
+        let w = dynamics.angular_rate_rad_s;
+        let tau = dynamics.correlation_time_s;
+        let (sa, sg) = if scale_factor_states {
+            (0.0, 0.0)
+        } else {
+            (errors.accel_scale_factor, errors.gyro_scale_factor)
+        };
+        let na = errors.accel_nonlinearity_per_m_s2;
+        // Constant parts: gravity through scale factor, nonlinearity and the two
+        // misalignment terms of each horizontal axis; g-sensitivity of the gyro.
+        let accel_constant2 =
+            (sa * g).powi(2) + (na * g * g).powi(2) + (errors.accel_misalignment * g).powi(2);
+        let gyro_constant2 = (errors.gyro_g_sensitivity_rad_s_per_m_s2 * g).powi(2);
+        let i = &mut self.initial_std;
+        i.accel_bias_m_s2 = (i.accel_bias_m_s2.powi(2) + accel_constant2).sqrt();
+        i.gyro_bias_rad_s = (i.gyro_bias_rad_s.powi(2) + gyro_constant2).sqrt();
+        // Varying parts: coloured noise σ², τ ⇒ white PSD 2σ²τ.
+        let accel_varying2 = (sa * a).powi(2)
+            + 2.0 * (errors.accel_misalignment * a).powi(2)
+            + (2.0 * na * g * a).powi(2);
+        let gyro_varying2 = (sg * w).powi(2)
+            + 2.0 * (errors.gyro_misalignment * w).powi(2)
+            + 2.0 * (errors.gyro_g_sensitivity_rad_s_per_m_s2 * a).powi(2);
+        let q = &mut self.process_noise;
+        q.accel_white_psd += 2.0 * accel_varying2 * tau;
+        q.gyro_white_psd += 2.0 * gyro_varying2 * tau;
+        self
+    }
+
+    /// Checks every field (names the field at fault).
+    pub fn validate(&self) -> Result<()> {
+        let q = &self.process_noise;
+        for (name, v) in [
+            ("accel_white_psd", q.accel_white_psd),
+            ("gyro_white_psd", q.gyro_white_psd),
+            ("accel_bias_psd", q.accel_bias_psd),
+            ("gyro_bias_psd", q.gyro_bias_psd),
+            ("clock_phase_psd", q.clock_phase_psd),
+            ("clock_frequency_psd", q.clock_frequency_psd),
+            ("accel_scale_factor_psd", q.accel_scale_factor_psd),
+            ("gyro_scale_factor_psd", q.gyro_scale_factor_psd),
+        ] {
+            validate::non_negative(name, v)?;
+        }
+        for (name, v) in [
+            (
+                "accel_bias_correlation_time",
+                q.accel_bias_correlation_time_s,
+            ),
+            ("gyro_bias_correlation_time", q.gyro_bias_correlation_time_s),
+        ] {
+            if v.is_nan() || v <= 0.0 {
+                return Err(Error::invalid(
+                    name,
+                    format!("must be positive (inf for a random walk), got {v}"),
+                ));
+            }
+        }
+        let i = &self.initial_std;
+        for (name, v) in [
+            ("initial_position_std", i.position_m),
+            ("initial_velocity_std", i.velocity_m_s),
+            ("initial_attitude_std", i.attitude_ned_rad.min()),
+            ("initial_accel_bias_std", i.accel_bias_m_s2),
+            ("initial_gyro_bias_std", i.gyro_bias_rad_s),
+            ("initial_clock_offset_std", i.clock_offset_m),
+            ("initial_clock_drift_std", i.clock_drift_m_s),
+            ("initial_accel_scale_factor_std", i.accel_scale_factor),
+            ("initial_gyro_scale_factor_std", i.gyro_scale_factor),
+        ] {
+            validate::positive(name, v)?;
+        }
+        if !(self.gate_probability > 0.0 && self.gate_probability <= 1.0) {
+            return Err(Error::invalid(
+                "gate_probability",
+                format!("must be in (0, 1], got {}", self.gate_probability),
+            ));
+        }
+        validate::non_negative("time_tolerance", self.time_tolerance_s)?;
+        Ok(())
+    }
+}
+
+/// A bias process: initial spread and its evolution.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BiasProcess {
+    /// One-sigma of the turn-on bias (initial uncertainty), SI unit.
+    pub initial_std: f64,
+    /// Steady-state std of a Gauss-Markov variation, SI unit (0: none).
+    pub instability_std: f64,
+    /// Its correlation time, s (`f64::INFINITY` with a random walk).
+    pub correlation_time_s: f64,
+    /// Random-walk coefficient, SI unit per √s (used when the correlation
+    /// time is infinite).
+    pub random_walk: f64,
+}
+
+impl BiasProcess {
+    /// A constant bias of spread `initial_std`.
+    pub fn constant(initial_std: f64) -> Self {
+        Self {
+            initial_std,
+            instability_std: 0.0,
+            correlation_time_s: f64::INFINITY,
+            random_walk: 0.0,
+        }
+    }
+
+    /// Driving-noise PSD: 2σ²/τ for Gauss-Markov plus the random walk's q².
+    fn psd(&self) -> f64 {
+        let gm = if self.correlation_time_s.is_finite() {
+            2.0 * self.instability_std.powi(2) / self.correlation_time_s
+        } else {
+            0.0
+        };
+        gm + self.random_walk.powi(2)
+    }
+
+    fn validate(&self, name: &str) -> Result<()> {
+        validate::non_negative(&format!("{name}.initial_std"), self.initial_std)?;
+        validate::non_negative(&format!("{name}.instability_std"), self.instability_std)?;
+        validate::non_negative(&format!("{name}.random_walk"), self.random_walk)?;
+        if self.correlation_time_s.is_nan() || self.correlation_time_s <= 0.0 {
+            return Err(Error::invalid(
+                format!("{name}.correlation_time"),
+                "must be positive (inf for none)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl FilterTuning {
+    /// Tuning from an IMU specification ([`crate::sensors::ImuSpec`]): white
+    /// noise densities (σ²/f_s when the spec gives a per-sample std), the
+    /// bias spreads as initial uncertainties, the Gauss-Markov / random-walk
+    /// bias dynamics, and the deterministic terms the state lacks absorbed
+    /// as in [`FilterTuning::absorb_unmodelled`] with the default land-vehicle
+    /// [`Dynamics`]. `scale_factor_states`: whether the filter has the 23-state
+    /// layout (then the scale-factor spreads seed P₀ instead).
+    pub fn from_imu_spec(
+        spec: &crate::sensors::ImuSpec,
+        sample_rate_hz: f64,
+        scale_factor_states: bool,
+    ) -> Result<Self> {
+        spec.validate()?;
+        validate::positive("sample_rate_hz", sample_rate_hz)?;
+        let per_sample = |n: &crate::sensors::NoiseModel| {
+            if n.white_density > 0.0 {
+                n.white_density * sample_rate_hz.sqrt()
+            } else {
+                n.white_std
+            }
+        };
+        let bias = |initial_std: f64, n: &crate::sensors::NoiseModel| BiasProcess {
+            initial_std: (initial_std.powi(2) + n.bias_instability_std.powi(2)).sqrt(),
+            instability_std: n.bias_instability_std,
+            correlation_time_s: if n.bias_instability_std > 0.0 {
+                n.bias_correlation_time_s
+            } else {
+                f64::INFINITY
+            },
+            random_walk: n.bias_random_walk,
+        };
+        let (a, g) = (&spec.accelerometer, &spec.gyroscope);
+        let mut t = Self::new(
+            sample_rate_hz,
+            per_sample(&a.noise),
+            per_sample(&g.noise),
+            bias(a.bias_std, &a.noise),
+            bias(g.bias_std, &g.noise),
+        )?;
+        if scale_factor_states {
+            t.initial_std.accel_scale_factor = a.scale_factor_std.max(1e-6);
+            t.initial_std.gyro_scale_factor = g.scale_factor_std.max(1e-6);
+        }
+        let unmodelled = UnmodelledErrors {
+            accel_scale_factor: a.scale_factor_std,
+            accel_misalignment: a.misalignment_std,
+            accel_nonlinearity_per_m_s2: a.nonlinearity_std,
+            gyro_scale_factor: g.scale_factor_std,
+            gyro_misalignment: g.misalignment_std,
+            gyro_g_sensitivity_rad_s_per_m_s2: g.g_sensitivity_std,
+        };
+        Ok(t.absorb_unmodelled(&unmodelled, &Dynamics::default(), scale_factor_states))
+    }
+}

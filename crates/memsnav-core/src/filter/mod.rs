@@ -1,0 +1,206 @@
+//! Shared pieces of the GNSS/INS error-state Kalman filters (method §5):
+//! named state indices, the ECEF error-state system model and its
+//! structured covariance propagation, the sequential scalar Joseph-form
+//! update with chi-square gating, NIS/NEES and divergence checks.
+//!
+//! ## Error-state convention
+//!
+//! Every error is *estimate minus truth*: δv = v̂ − v, δr = r̂ − r, δb = b̂ − b,
+//! δc = ĉ − c, and the attitude error ψ is the small rotation with
+//! Ĉ_b^e = (I + [ψ×]) C_b^e (Groves eq. 5.109 / 14.5, closed-loop form). The
+//! IMU error model the filter assumes is f̃ = f + b_a + w_a and
+//! ω̃ = ω + b_g + w_g; with scale-factor states also f̃ = (I + diag(s_a)) f + …
+//! (see [`state`]). A correction is therefore *subtracted* when fed back
+//! ([`ErrorState`] carries the convention in one place).
+//!
+//! ## Sizes
+//!
+//! The filters are generic over the state size `N`: [`state::BASE_STATES`]
+//! (17: attitude, velocity, position, accelerometer bias, gyro bias, clock
+//! offset and drift) or [`state::WITH_SCALE_FACTORS`] (23: plus accelerometer
+//! and gyro scale-factor errors). Everything is fixed-size nalgebra, so no
+//! per-epoch allocation happens.
+
+pub mod chi_square;
+mod propagation;
+pub mod state;
+mod update;
+
+pub use propagation::{system_matrix, ProcessNoise, SystemInputs};
+pub use state::{ErrorState, StateLayout};
+pub use update::{ScalarOutcome, SparseRow};
+
+use nalgebra::SMatrix;
+
+use crate::{Error, Result};
+
+/// The state and covariance of an error-state filter of size `N`, with the
+/// pieces every filter shares: propagation, scalar update, health checks.
+#[derive(Debug, Clone)]
+pub struct ErrorStateKf<const N: usize> {
+    /// The error-state estimate (zero after each closed-loop feedback).
+    pub x: ErrorState<N>,
+    /// Its covariance, symmetric positive definite.
+    pub p: SMatrix<f64, N, N>,
+    /// Epochs propagated since the last Cholesky check.
+    since_check: usize,
+}
+
+/// Propagation epochs between two full (Cholesky) positive-definiteness
+/// checks; the cheap diagonal check runs every epoch.
+pub const CHOLESKY_CHECK_INTERVAL: usize = 1000;
+
+impl<const N: usize> ErrorStateKf<N> {
+    /// A filter with zero error state and covariance `p0` (checked for
+    /// finiteness, symmetry and positive definiteness).
+    pub fn new(p0: SMatrix<f64, N, N>) -> Result<Self> {
+        const { assert!(N == state::BASE_STATES || N == state::WITH_SCALE_FACTORS) };
+        if !p0.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid(
+                "initial_covariance",
+                "contains NaN or infinite values",
+            ));
+        }
+        if (p0 - p0.transpose()).abs().max() > 1e-9 * p0.abs().max() {
+            return Err(Error::invalid("initial_covariance", "is not symmetric"));
+        }
+        if p0.cholesky().is_none() {
+            return Err(Error::invalid(
+                "initial_covariance",
+                "is not positive definite",
+            ));
+        }
+        Ok(Self {
+            x: ErrorState::zero(),
+            p: p0,
+            since_check: 0,
+        })
+    }
+
+    /// Propagates P over one IMU interval (and x, which is normally zero in
+    /// closed loop): P ← Φ P Φᵀ + Q with Φ = I + F Δt applied block-wise
+    /// (see [`propagation`](self::system_matrix)). Cheap health check each
+    /// epoch; a Cholesky factorisation every [`CHOLESKY_CHECK_INTERVAL`].
+    pub fn propagate(
+        &mut self,
+        inputs: &SystemInputs,
+        noise: &ProcessNoise,
+        dt: f64,
+        time_s: f64,
+    ) -> Result<()> {
+        propagation::propagate(&mut self.x.0, &mut self.p, inputs, noise, dt);
+        self.since_check += 1;
+        if self.since_check >= CHOLESKY_CHECK_INTERVAL {
+            self.check_health(time_s)?;
+        } else {
+            self.check_diagonal(time_s)?;
+        }
+        Ok(())
+    }
+
+    /// One scalar measurement y = h·x + v, var(v) = `variance`, where `y` is
+    /// prediction minus measurement (the convention of [`ErrorState`]).
+    /// Gated: rejected when its NIS exceeds `gate` (a chi-square(1)
+    /// quantile; `f64::INFINITY` disables the gate). A non-finite `y` is
+    /// rejected, never applied. Joseph form, rank one.
+    pub fn update_scalar(
+        &mut self,
+        h: &SparseRow,
+        y: f64,
+        variance: f64,
+        gate: f64,
+    ) -> ScalarOutcome {
+        update::scalar_joseph(&mut self.x.0, &mut self.p, h, y, variance, gate)
+    }
+
+    /// The full check: finite state, finite positive diagonal and a Cholesky
+    /// factorisation of P; symmetrises P on the way.
+    pub fn check_health(&mut self, time_s: f64) -> Result<()> {
+        self.since_check = 0;
+        self.p = (self.p + self.p.transpose()) * 0.5;
+        self.check_diagonal(time_s)?;
+        if self.p.cholesky().is_none() {
+            return Err(Error::Divergence {
+                time_s,
+                reason: "state covariance is no longer positive definite".into(),
+            });
+        }
+        Ok(())
+    }
+
+    fn check_diagonal(&self, time_s: f64) -> Result<()> {
+        if let Some(i) = (0..N).find(|&i| !self.x.0[i].is_finite()) {
+            return Err(Error::Divergence {
+                time_s,
+                reason: format!("error state {} is not finite", StateLayout::name(i)),
+            });
+        }
+        if let Some(i) = (0..N).find(|&i| !(self.p[(i, i)] > 0.0 && self.p[(i, i)].is_finite())) {
+            return Err(Error::Divergence {
+                time_s,
+                reason: format!(
+                    "variance of {} is {} (not finite and positive)",
+                    StateLayout::name(i),
+                    self.p[(i, i)]
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Normalised estimation error squared eᵀ P⁻¹ e (Bar-Shalom et al. 2001,
+/// §5.4.2) of an error `e` with covariance `p`; `None` when `p` is not
+/// positive definite. Its expectation is the dimension `K` for a consistent
+/// filter.
+pub fn nees<const K: usize>(e: &nalgebra::SVector<f64, K>, p: &SMatrix<f64, K, K>) -> Option<f64> {
+    let chol = p.cholesky()?;
+    let z = chol.l().solve_lower_triangular(e)?;
+    Some(z.norm_squared())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{SVector, Vector3};
+
+    #[test]
+    fn nees_matches_the_explicit_inverse() {
+        let a = SMatrix::<f64, 3, 3>::new(2.0, 0.3, 0.1, 0.3, 1.0, -0.2, 0.1, -0.2, 0.5);
+        let e = Vector3::new(0.4, -1.0, 0.7);
+        let explicit = (e.transpose() * a.try_inverse().unwrap() * e)[0];
+        assert!((nees(&e, &a).unwrap() - explicit).abs() < 1e-12);
+        assert!(nees(&e, &(-a)).is_none());
+    }
+
+    #[test]
+    fn divergence_is_a_typed_error() {
+        let mut kf = ErrorStateKf::<17>::new(SMatrix::identity()).unwrap();
+        kf.p[(7, 7)] = -1.0;
+        let e = kf.check_health(12.0).unwrap_err();
+        assert!(
+            matches!(e, Error::Divergence { time_s, .. } if time_s == 12.0),
+            "{e}"
+        );
+        assert!(e.to_string().contains("position_y"), "{e}");
+        let mut kf = ErrorStateKf::<17>::new(SMatrix::identity()).unwrap();
+        kf.x.0[3] = f64::NAN;
+        assert!(matches!(
+            kf.check_health(0.0),
+            Err(Error::Divergence { .. })
+        ));
+        // A symmetric matrix with a positive diagonal that is not positive definite.
+        let mut kf = ErrorStateKf::<17>::new(SMatrix::identity()).unwrap();
+        kf.p[(0, 1)] = 2.0;
+        kf.p[(1, 0)] = 2.0;
+        assert!(matches!(
+            kf.check_health(0.0),
+            Err(Error::Divergence { .. })
+        ));
+        let bad = SMatrix::<f64, 17, 17>::from_diagonal(&SVector::from_element(-1.0));
+        assert!(matches!(
+            ErrorStateKf::<17>::new(bad),
+            Err(Error::InvalidArgument { .. })
+        ));
+    }
+}

@@ -1,0 +1,580 @@
+//! Coupled GNSS/INS filters: consistency (NEES, NIS) over seeded Monte
+//! Carlo runs whose IMU errors the filter models exactly, outlier gating,
+//! tight coupling with three satellites, outage drift against ½ b t²,
+//! a two-hour positive-definiteness run, and bad input.
+//!
+//! Truth here is the INS itself fed error-free samples (the ins tests show
+//! that this reproduces a trajectory), so every error the filters see comes
+//! from the IMU and GNSS errors the tests inject.
+
+use memsnav_core::attitude::dcm_to_rotation_vector;
+use memsnav_core::coupling::*;
+use memsnav_core::filter::chi_square::mean_per_dof_band;
+use memsnav_core::filter::nees;
+use memsnav_core::geodesy::wgs84::EARTH_RATE_RAD_S;
+use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, Geodetic};
+use memsnav_core::gnss::{
+    self, Constellation, GnssEpoch, Outage, ReceiverTrack, SimulationConfig, WalkerConfig,
+};
+use memsnav_core::ins::{self, ImuSample, NavState};
+use memsnav_core::random::{stream, Rng};
+use memsnav_core::sensors::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
+use memsnav_core::Error;
+use nalgebra::{SMatrix, SVector, Vector3};
+use rand::Rng as _;
+use rand_distr::StandardNormal;
+
+struct Truth {
+    time_s: Vec<f64>,
+    nav: Vec<NavState>,
+    f_b: Vec<Vector3<f64>>,
+    w_b: Vec<Vector3<f64>>,
+}
+
+fn origin() -> Vector3<f64> {
+    geodetic_to_ecef(Geodetic::new(
+        43.6_f64.to_radians(),
+        1.44_f64.to_radians(),
+        150.0,
+    ))
+}
+
+/// A land-vehicle drive at `rate_hz`: 12 m/s heading north-east, weaving
+/// turns and speed changes (`moving = false`: parked).
+fn drive(duration_s: f64, rate_hz: f64, moving: bool) -> Truth {
+    let n = (duration_s * rate_hz).round() as usize + 1;
+    let dt = 1.0 / rate_hz;
+    let r0 = origin();
+    let geo = ecef_to_geodetic(&r0);
+    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+    let yaw0 = 0.8_f64;
+    let c0 = cne * memsnav_core::attitude::euler_to_dcm(0.0, 0.0, yaw0);
+    let speed = if moving { 12.0 } else { 0.0 };
+    let v0 = cne * Vector3::new(yaw0.cos(), yaw0.sin(), 0.0) * speed;
+    let wie = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+    let sample = |t: f64, s: &NavState| {
+        let (yaw_rate, along) = if moving {
+            (
+                0.12 * (2.0 * std::f64::consts::PI * t / 40.0).sin(),
+                0.4 * (2.0 * std::f64::consts::PI * t / 55.0).sin(),
+            )
+        } else {
+            (0.0, 0.0)
+        };
+        let w_eb_b = Vector3::new(0.0, 0.0, yaw_rate);
+        let v = s.velocity_ecef;
+        let along_e = if v.norm() > 0.1 {
+            v.normalize() * along
+        } else {
+            Vector3::zeros()
+        };
+        let a_e = (s.c_b_e * w_eb_b).cross(&v) + along_e;
+        let f_e = a_e - gravity_ecef(&s.position_ecef) + 2.0 * wie.cross(&v);
+        ImuSample {
+            specific_force_b: s.c_b_e.transpose() * f_e,
+            angular_rate_b: s.c_b_e.transpose() * wie + w_eb_b,
+        }
+    };
+    // Pass 1: the samples, from an approximately propagated state.
+    let mut s = NavState {
+        position_ecef: r0,
+        velocity_ecef: v0,
+        c_b_e: c0,
+    };
+    let mut samples = Vec::with_capacity(n);
+    for k in 0..n {
+        let smp = sample(k as f64 * dt, &s);
+        samples.push(smp);
+        s = ins::step(&s, &smp, &smp, dt);
+    }
+    // Pass 2: the truth is the INS on these samples.
+    let mut s = NavState {
+        position_ecef: r0,
+        velocity_ecef: v0,
+        c_b_e: c0,
+    };
+    let mut nav = Vec::with_capacity(n);
+    nav.push(s);
+    for k in 1..n {
+        s = ins::step(&s, &samples[k - 1], &samples[k], dt);
+        nav.push(s);
+    }
+    Truth {
+        time_s: (0..n).map(|k| k as f64 * dt).collect(),
+        nav,
+        f_b: samples.iter().map(|s| s.specific_force_b).collect(),
+        w_b: samples.iter().map(|s| s.angular_rate_b).collect(),
+    }
+}
+
+fn gnss_for(truth: &Truth, config: &SimulationConfig, rng: &mut Rng) -> Vec<GnssEpoch> {
+    let pos: Vec<_> = truth.nav.iter().map(|s| s.position_ecef).collect();
+    let vel: Vec<_> = truth.nav.iter().map(|s| s.velocity_ecef).collect();
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    gnss::simulate(
+        &ReceiverTrack {
+            time_s: &truth.time_s,
+            position_ecef: &pos,
+            velocity_ecef: &vel,
+        },
+        &sky,
+        config,
+        rng,
+    )
+    .unwrap()
+}
+
+/// An IMU spec with biases and white noise only: the errors the 17-state
+/// filter models exactly.
+fn bias_and_noise_spec(
+    accel_bias: f64,
+    gyro_bias: f64,
+    accel_density: f64,
+    gyro_density: f64,
+) -> ImuSpec {
+    ImuSpec {
+        accelerometer: AccelerometerSpec {
+            bias_std: accel_bias,
+            noise: NoiseModel {
+                white_density: accel_density,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+        gyroscope: GyroscopeSpec {
+            bias_std: gyro_bias,
+            noise: NoiseModel {
+                white_density: gyro_density,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+    }
+}
+
+fn n3(rng: &mut Rng) -> Vector3<f64> {
+    Vector3::new(
+        rng.sample(StandardNormal),
+        rng.sample(StandardNormal),
+        rng.sample(StandardNormal),
+    )
+}
+
+/// The true state perturbed by a draw from P₀ (so NEES starts consistent).
+fn perturbed_initial(truth: &Truth, std: &InitialUncertainty, rng: &mut Rng) -> InitialState {
+    let s = truth.nav[0];
+    let geo = ecef_to_geodetic(&s.position_ecef);
+    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+    let psi = cne * n3(rng).component_mul(&std.attitude_ned_rad);
+    InitialState {
+        nav: NavState {
+            position_ecef: s.position_ecef + n3(rng) * std.position_m,
+            velocity_ecef: s.velocity_ecef + n3(rng) * std.velocity_m_s,
+            c_b_e: memsnav_core::attitude::rotation_vector_to_dcm(&psi) * s.c_b_e,
+        },
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: None,
+        clock_drift_m_s: None,
+    }
+}
+
+/// (ψ, δv, δr) of a solution against the truth.
+fn nav_error(est: &NavState, truth: &NavState) -> SVector<f64, 9> {
+    let psi = dcm_to_rotation_vector(&(est.c_b_e * truth.c_b_e.transpose()));
+    let mut e = SVector::<f64, 9>::zeros();
+    e.fixed_rows_mut::<3>(0).copy_from(&psi);
+    e.fixed_rows_mut::<3>(3)
+        .copy_from(&(est.velocity_ecef - truth.velocity_ecef));
+    e.fixed_rows_mut::<3>(6)
+        .copy_from(&(est.position_ecef - truth.position_ecef));
+    e
+}
+
+struct Run {
+    nees_1hz: Vec<f64>,
+    records: Vec<MeasurementRecord>,
+}
+
+fn run_tight(
+    truth: &Truth,
+    epochs: &[GnssEpoch],
+    imu: &ImuModel,
+    tuning: &FilterTuning,
+    initial: &InitialState,
+    rng: &mut Rng,
+) -> Run {
+    let readings = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &readings.specific_force_b,
+        angular_rate_b: &readings.angular_rate_b,
+    };
+    let mut nees_1hz = Vec::new();
+    let mut position_error = Vec::with_capacity(truth.time_s.len());
+    let rate = imu.sample_rate_hz.round() as usize;
+    let records = run_tightly_coupled::<17, _>(&data, epochs, initial, tuning, |k, s| {
+        let e = nav_error(&s.nav, &truth.nav[k]);
+        position_error.push(e.fixed_rows::<3>(6).norm());
+        if k % rate == 0 {
+            let p: SMatrix<f64, 9, 9> = s.kf.p.fixed_view::<9, 9>(0, 0).into_owned();
+            nees_1hz.push(nees(&e, &p).unwrap());
+        }
+    })
+    .unwrap();
+    let _ = position_error;
+    Run { nees_1hz, records }
+}
+
+/// Mean NEES/dof over 10 seeded runs of 120 s within its chi-square 95 %
+/// band, and the mean pseudorange NIS near 1.
+#[test]
+fn consistent_when_the_imu_errors_are_modelled_exactly() {
+    let truth = drive(120.0, 100.0, true);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let mut tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    tuning.initial_std.attitude_ned_rad = Vector3::new(0.2, 0.2, 0.5).map(f64::to_radians);
+    let runs = 10;
+    let mut nees_sum = vec![0.0; 121];
+    let (mut nis_sum, mut nis_n) = (0.0, 0);
+    for i in 0..runs {
+        let mut rng = stream(11, i);
+        let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+        let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+        let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
+        let run = run_tight(&truth, &epochs, &imu, &tuning, &init, &mut rng);
+        for (s, v) in nees_sum.iter_mut().zip(&run.nees_1hz) {
+            *s += v / 9.0;
+        }
+        for r in run
+            .records
+            .iter()
+            .filter(|r| r.status == MeasurementStatus::Accepted)
+        {
+            nis_sum += r.nis;
+            nis_n += 1;
+        }
+    }
+    // Per epoch the run average of NEES/dof is χ²(9·runs)/(9·runs); the time
+    // average of correlated epochs varies no more than one epoch's.
+    let (lo, hi) = mean_per_dof_band(9.0, runs as usize, 0.95);
+    let mean = nees_sum.iter().sum::<f64>() / (nees_sum.len() as f64 * runs as f64);
+    println!("mean NEES/dof = {mean:.3}, band [{lo:.3}, {hi:.3}]");
+    assert!(
+        mean > lo && mean < hi,
+        "mean NEES/dof {mean} outside [{lo}, {hi}]"
+    );
+    let inside = nees_sum.iter().filter(|v| {
+        let m = **v / runs as f64;
+        m > lo && m < hi
+    });
+    assert!(inside.count() as f64 > 0.8 * nees_sum.len() as f64);
+    let nis = nis_sum / nis_n as f64;
+    let (lo, hi) = mean_per_dof_band(1.0, nis_n / 10, 0.95);
+    println!("mean NIS = {nis:.3} over {nis_n}, band [{lo:.3}, {hi:.3}]");
+    assert!(nis > lo && nis < hi, "mean NIS {nis}");
+}
+
+fn readings(
+    truth: &Truth,
+    imu: &ImuModel,
+    rng: &mut Rng,
+) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+    let r = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
+    (r.specific_force_b, r.angular_rate_b)
+}
+
+fn exact_initial(truth: &Truth) -> InitialState {
+    InitialState {
+        nav: truth.nav[0],
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: None,
+        clock_drift_m_s: None,
+    }
+}
+
+/// A 100 m error on one pseudorange is rejected by the gate and reported;
+/// NaN and absurd (1e9 m) pseudoranges are rejected and reported too.
+#[test]
+fn outliers_are_rejected_and_counted() {
+    let truth = drive(60.0, 100.0, true);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    let mut rng = stream(3, 0);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let mut epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
+    let clean = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let clean_rejections = clean.rejected().count();
+    let hit = epochs[30].measurements[2].sat_id;
+    epochs[30].measurements[2].pseudorange_m += 100.0;
+    epochs[40].measurements[0].pseudorange_m = f64::NAN;
+    epochs[45].measurements[1].pseudorange_m = 1e9;
+    let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let find = |t: f64, kind| {
+        sol.measurements.iter().find(|r| {
+            r.time_s == t
+                && r.kind == kind
+                && r.status != MeasurementStatus::Accepted
+                && (t != 30.0 || r.id == hit)
+        })
+    };
+    let r = find(30.0, MeasurementKind::Pseudorange).expect("the 100 m outlier is rejected");
+    assert_eq!(r.status, MeasurementStatus::RejectedByGate);
+    assert!((r.innovation - 100.0).abs() < 15.0, "{r:?}");
+    assert_eq!(
+        find(40.0, MeasurementKind::Pseudorange).unwrap().status,
+        MeasurementStatus::RejectedInvalid
+    );
+    assert_eq!(
+        find(45.0, MeasurementKind::Pseudorange).unwrap().status,
+        MeasurementStatus::RejectedByGate
+    );
+    assert_eq!(sol.rejected().count(), clean_rejections + 3);
+    // The solution is unharmed: same error as without the outliers.
+    let err = |s: &Solution| (s.position_ecef[6000] - truth.nav[6000].position_ecef).norm();
+    assert!(
+        (err(&sol) - err(&clean)).abs() < 0.5,
+        "{} vs {}",
+        err(&sol),
+        err(&clean)
+    );
+    // Without the gate the 1e9 m pseudorange is applied and wrecks the fix.
+    let mut open = tuning;
+    open.gate_probability = 1.0;
+    let ungated = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &open);
+    assert!(ungated.map(|s| err(&s) > 100.0).unwrap_or(true));
+}
+
+/// With three satellites (after 30 s of six), tight coupling stays bounded
+/// where the loosely coupled filter gets no fix and coasts on a MEMS IMU.
+#[test]
+fn tight_coupling_survives_three_satellites() {
+    let truth = drive(240.0, 100.0, true);
+    let spec = bias_and_noise_spec(
+        0.05,
+        1e-3_f64.to_radians() * 10.0,
+        2e-3,
+        1e-3_f64.to_radians(),
+    );
+    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    let mut rng = stream(5, 0);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let config = SimulationConfig {
+        outages: vec![Outage {
+            start_s: 30.0,
+            duration_s: 1e6,
+            n_satellites: 3,
+        }],
+        ..Default::default()
+    };
+    let epochs = gnss_for(&truth, &config, &mut rng);
+    assert_eq!(epochs[100].measurements.len(), 3);
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
+    let init = exact_initial(&truth);
+    let tight = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
+    let fixes: Vec<PositionFix> = epochs
+        .iter()
+        .filter_map(|e| gnss::solve_fix(e, None).ok().map(|fx| (e.time_s, fx)))
+        .map(|(t, fx)| PositionFix {
+            time_s: t,
+            position_ecef: fx.position_ecef,
+            position_covariance: fx
+                .position_clock_covariance
+                .fixed_view::<3, 3>(0, 0)
+                .into_owned(),
+            velocity_ecef: Some(fx.velocity_ecef),
+            velocity_covariance: fx
+                .velocity_drift_covariance
+                .fixed_view::<3, 3>(0, 0)
+                .into_owned(),
+        })
+        .collect();
+    assert_eq!(
+        fixes.len(),
+        30,
+        "fixes only while six satellites are tracked"
+    );
+    let loose = loosely_coupled::<17>(&data, &fixes, &init, &tuning).unwrap();
+    let last = truth.time_s.len() - 1;
+    let e_tight = (tight.position_ecef[last] - truth.nav[last].position_ecef).norm();
+    let e_loose = (loose.position_ecef[last] - truth.nav[last].position_ecef).norm();
+    let worst_tight = (0..=last)
+        .map(|k| (tight.position_ecef[k] - truth.nav[k].position_ecef).norm())
+        .fold(0.0, f64::max);
+    println!("3 satellites: tight final {e_tight:.1} m (worst {worst_tight:.1}), loose final {e_loose:.1} m");
+    assert!(worst_tight < 60.0, "{worst_tight}");
+    assert!(e_loose > 10.0 * e_tight);
+}
+
+/// A step in the accelerometer bias at the start of a 30 s total outage,
+/// unknown to the filter, drifts the position by ½ Δb t² (noise-free IMU).
+#[test]
+fn outage_drift_follows_half_b_t_squared() {
+    let truth = drive(150.0, 100.0, true);
+    let spec = bias_and_noise_spec(1e-3, 1e-6, 1e-5, 1e-7);
+    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    let mut rng = stream(9, 0);
+    let config = SimulationConfig {
+        pseudorange_std_m: 0.3,
+        pseudorange_rate_std_m_s: 0.01,
+        outages: vec![Outage {
+            start_s: 120.0,
+            duration_s: 30.0,
+            n_satellites: 0,
+        }],
+        ..Default::default()
+    };
+    let epochs = gnss_for(&truth, &config, &mut rng);
+    let step = Vector3::new(0.05, 0.0, 0.0);
+    let f: Vec<_> = truth
+        .f_b
+        .iter()
+        .zip(&truth.time_s)
+        .map(|(f, t)| if *t > 120.0 { f + step } else { *f })
+        .collect();
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &truth.w_b,
+    };
+    let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let k0 = 12000;
+    let drift = |k: usize| {
+        (sol.position_ecef[k] - truth.nav[k].position_ecef)
+            - (sol.position_ecef[k0] - truth.nav[k0].position_ecef)
+            - (sol.velocity_ecef[k0] - truth.nav[k0].velocity_ecef) * (truth.time_s[k] - 120.0)
+    };
+    // ½ b t² along the turning body axis: ∬ C_b^e(t) Δb dt² by the trapezoid rule.
+    let (mut v, mut r) = (Vector3::zeros(), Vector3::zeros());
+    let mut expected = vec![Vector3::zeros()];
+    for k in k0..k0 + 3000 {
+        let a0 = truth.nav[k].c_b_e * step;
+        let a1 = truth.nav[k + 1].c_b_e * step;
+        let v1 = v + 0.005 * (a0 + a1);
+        r += 0.005 * (v + v1);
+        v = v1;
+        expected.push(r);
+    }
+    for secs in [5usize, 15, 30] {
+        let k = k0 + secs * 100;
+        let (got, want) = (drift(k), expected[secs * 100]);
+        println!(
+            "outage {secs} s: drift {:.3} m, ½ b t² = {:.3} m (straight: {:.3})",
+            got.norm(),
+            want.norm(),
+            0.025 * (secs * secs) as f64
+        );
+        assert!(
+            (got - want).norm() < 0.05 * want.norm() + 0.05,
+            "{secs} s: {got} vs {want}"
+        );
+    }
+}
+
+/// Two hours at 100 Hz (parked receiver, tactical-like IMU): P stays
+/// symmetric positive definite and the solution bounded.
+#[test]
+fn covariance_stays_positive_definite_over_two_hours() {
+    let truth = drive(7200.0, 100.0, false);
+    let spec = bias_and_noise_spec(1e-2, 1e-5, 5e-4, 5e-6);
+    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    let mut rng = stream(1, 0);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
+    let mut worst: f64 = 0.0;
+    let mut last_p = None;
+    let start = std::time::Instant::now();
+    run_tightly_coupled::<17, _>(&data, &epochs, &exact_initial(&truth), &tuning, |k, s| {
+        worst = worst.max((s.nav.position_ecef - truth.nav[k].position_ecef).norm());
+        if k + 1 == truth.time_s.len() {
+            last_p = Some(s.kf.p);
+        }
+    })
+    .unwrap();
+    let secs = start.elapsed().as_secs_f64();
+    println!(
+        "2 h run: {:.0} IMU epochs/s including INS and updates; worst error {worst:.1} m",
+        720_000.0 / secs
+    );
+    let p = last_p.unwrap();
+    assert!((p - p.transpose()).abs().max() <= 1e-12 * p.abs().max());
+    assert!(p.cholesky().is_some());
+    assert!(worst < 30.0, "{worst}");
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let truth = drive(10.0, 100.0, true);
+    let mut rng = stream(2, 0);
+    let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+    let tuning =
+        FilterTuning::from_imu_spec(&bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4), 100.0, false)
+            .unwrap();
+    let init = exact_initial(&truth);
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &truth.f_b,
+        angular_rate_b: &truth.w_b,
+    };
+    let msg = |r: Result<Solution, Error>| match r {
+        Err(Error::InvalidArgument { argument, reason }) => format!("{argument}: {reason}"),
+        other => panic!("expected InvalidArgument, got {other:?}"),
+    };
+    // GNSS outside the IMU span, and not increasing.
+    let mut late = epochs.clone();
+    late[10].time_s = 20.0;
+    assert!(
+        msg(tightly_coupled::<17>(&data, &late, &init, &tuning)).contains("outside the IMU span")
+    );
+    let mut swapped = epochs.clone();
+    swapped.swap(3, 4);
+    assert!(msg(tightly_coupled::<17>(&data, &swapped, &init, &tuning)).contains("increase"));
+    // Mismatched lengths and NaN IMU data.
+    let short = ImuData {
+        angular_rate_b: &truth.w_b[1..],
+        ..data
+    };
+    assert!(msg(tightly_coupled::<17>(&short, &epochs, &init, &tuning)).starts_with("angular_rate"));
+    let mut nan_f = truth.f_b.clone();
+    nan_f[7].y = f64::NAN;
+    let nan = ImuData {
+        specific_force_b: &nan_f,
+        ..data
+    };
+    assert!(msg(tightly_coupled::<17>(&nan, &epochs, &init, &tuning)).starts_with("specific_force"));
+    // No satellites at the first epoch: no initial fix.
+    let mut empty = epochs.clone();
+    empty[0].measurements.clear();
+    let e = initial_state_from_fix(&empty[0], &data, None).unwrap_err();
+    assert!(e.to_string().contains("0 usable satellites"), "{e}");
+    // From a proper first epoch the fix-based initialisation is close to the truth.
+    let from_fix = initial_state_from_fix(&epochs[0], &data, None).unwrap();
+    assert!((from_fix.nav.position_ecef - truth.nav[0].position_ecef).norm() < 30.0);
+    let psi = dcm_to_rotation_vector(&(from_fix.nav.c_b_e * truth.nav[0].c_b_e.transpose()));
+    assert!(psi.norm() < 0.1, "{psi}");
+    // A filter with no GNSS at all still runs (pure INS) and reports nothing.
+    let sol = tightly_coupled::<17>(&data, &[], &init, &tuning).unwrap();
+    assert!(sol.measurements.is_empty());
+    // A bad tuning value names its field.
+    let mut t = tuning;
+    t.gate_probability = 0.0;
+    assert!(msg(tightly_coupled::<17>(&data, &epochs, &init, &t)).starts_with("gate_probability"));
+}

@@ -1,0 +1,247 @@
+//! `calibrate_accelerometer`, `calibrate_gyroscope` (method §3) and their
+//! result class. Conversions only; the numerics are in
+//! `memsnav_core::calibration`.
+
+use std::ffi::CString;
+
+use memsnav_core::calibration::{
+    accelerometer_parameter_names, calibrate_accelerometer as core_accel,
+    calibrate_gyroscope as core_gyro, gyroscope_parameter_names, Calibration, CalibrationOptions,
+    Method,
+};
+use nalgebra::{DMatrix, Vector3};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::{PyUserWarning, PyValueError};
+use pyo3::prelude::*;
+
+use crate::convert;
+use crate::errors::IntoPyResult;
+use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel};
+
+/// A calibrated sensor model with its uncertainties (method §3).
+///
+/// `model`: the estimated `AccelerometerModel` / `GyroscopeModel`.
+/// `std`: an object of the same class whose parameter attributes hold the
+/// one-sigma uncertainties (SI). `covariance`: covariance of the parameter
+/// vector ordered as `parameter_names`. `residual_std` (3,): residual
+/// standard deviation per output axis. `condition_number` (3,): of the
+/// column-equilibrated regressors per axis. `crb`: Cramér-Rao bound of the
+/// parameter vector for exact references (None unless `noise_std` was
+/// given); `crb_std`: its square-root diagonal as a model-shaped object.
+/// `warnings`: parameters that are only poorly determined.
+#[pyclass(module = "memsnav", name = "Calibration", frozen)]
+pub struct PyCalibration {
+    #[pyo3(get)]
+    model: Py<PyAny>,
+    #[pyo3(get)]
+    std: Py<PyAny>,
+    #[pyo3(get)]
+    crb_std: Option<Py<PyAny>>,
+    #[pyo3(get)]
+    parameter_names: Vec<String>,
+    #[pyo3(get)]
+    warnings: Vec<String>,
+    covariance: DMatrix<f64>,
+    crb: Option<DMatrix<f64>>,
+    residual_std: Vector3<f64>,
+    condition_number: Vector3<f64>,
+}
+
+fn dmatrix_to_numpy<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArray2<f64>> {
+    let rows: Vec<f64> = m.transpose().as_slice().to_vec();
+    PyArray1::from_vec(py, rows)
+        .reshape([m.nrows(), m.ncols()])
+        .expect("rows × cols elements")
+}
+
+#[pymethods]
+impl PyCalibration {
+    #[getter]
+    fn covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        dmatrix_to_numpy(py, &self.covariance)
+    }
+
+    #[getter]
+    fn crb<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        self.crb.as_ref().map(|c| dmatrix_to_numpy(py, c))
+    }
+
+    #[getter]
+    fn residual_std<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        convert::vector3_to_numpy(py, &self.residual_std)
+    }
+
+    #[getter]
+    fn condition_number<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        convert::vector3_to_numpy(py, &self.condition_number)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Calibration(residual_std={:?}, condition_number={:?}, warnings={})",
+            self.residual_std.as_slice(),
+            self.condition_number.as_slice(),
+            self.warnings.len()
+        )
+    }
+}
+
+fn method(name: &str) -> PyResult<Method> {
+    match name {
+        "ls" => Ok(Method::LeastSquares),
+        "eiv" => Ok(Method::ErrorsInVariables),
+        other => Err(PyValueError::new_err(format!(
+            "method: expected 'ls' or 'eiv', got '{other}'"
+        ))),
+    }
+}
+
+/// Emits each "poorly determined" diagnostic as a Python `UserWarning`.
+fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
+    for w in warnings {
+        let message = CString::new(w.as_str()).unwrap_or_default();
+        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 2)?;
+    }
+    Ok(())
+}
+
+fn wrap<M>(
+    py: Python<'_>,
+    cal: Calibration<M>,
+    names: Vec<String>,
+    to_py: impl Fn(M) -> PyResult<Py<PyAny>>,
+    crb_std: impl Fn(&DMatrix<f64>) -> PyResult<Py<PyAny>>,
+) -> PyResult<PyCalibration> {
+    warn_all(py, &cal.warnings)?;
+    Ok(PyCalibration {
+        crb_std: cal.crb.as_ref().map(crb_std).transpose()?,
+        model: to_py(cal.model)?,
+        std: to_py(cal.std)?,
+        parameter_names: names,
+        warnings: cal.warnings,
+        covariance: cal.covariance,
+        crb: cal.crb,
+        residual_std: cal.residual_std,
+        condition_number: cal.condition_number,
+    })
+}
+
+/// Calibrates an accelerometer triad (method §3): `measured` (N, 3) outputs
+/// and `reference_specific_force` (N, 3) reference inputs, m/s², body axes.
+/// `method`: "ls" (plain least squares) or "eiv" (errors-in-variables
+/// correction for noisy references; needs `reference_noise_std`, m/s² per
+/// sample). `noise_std`: the sensor's white noise per sample (m/s²); when
+/// given, `.crb` holds the Cramér-Rao bound. `sample_rate` (Hz) is stored
+/// in the returned model.
+#[pyfunction]
+#[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=100.0))]
+fn calibrate_accelerometer(
+    py: Python<'_>,
+    measured: &Bound<'_, PyAny>,
+    reference_specific_force: &Bound<'_, PyAny>,
+    method: &str,
+    reference_noise_std: Option<f64>,
+    noise_std: Option<f64>,
+    sample_rate: f64,
+) -> PyResult<PyCalibration> {
+    let s = convert::vectors(measured, "measured")?;
+    let f = convert::vectors(reference_specific_force, "reference_specific_force")?;
+    memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
+    let options = CalibrationOptions {
+        method: self::method(method)?,
+        reference_noise_std,
+        noise_std,
+        ..Default::default()
+    };
+    let cal = py.detach(|| core_accel(&s, &f, &options)).py()?;
+    let to_py = |m| {
+        Ok(Py::new(
+            py,
+            PyAccelerometerModel {
+                inner: m,
+                sample_rate_hz: sample_rate,
+            },
+        )?
+        .into_any())
+    };
+    let crb_std = |c: &DMatrix<f64>| {
+        let mut m = cal.std.clone();
+        let sd: Vec<f64> = c.diagonal().iter().map(|v| v.max(0.0).sqrt()).collect();
+        m.bias = Vector3::from_column_slice(&sd[0..3]);
+        m.scale_factor = Vector3::from_column_slice(&sd[3..6]);
+        for (k, &(i, j)) in memsnav_core::calibration::OFF_DIAGONAL.iter().enumerate() {
+            m.misalignment[(i, j)] = sd[6 + k];
+        }
+        m.nonlinearity = Vector3::from_column_slice(&sd[12..15]);
+        to_py(m)
+    };
+    wrap(
+        py,
+        cal.clone(),
+        accelerometer_parameter_names(),
+        to_py,
+        crb_std,
+    )
+}
+
+/// Calibrates a gyroscope triad (method §3): `measured` (N, 3) outputs
+/// (rad/s), `reference_angular_rate` (N, 3) rad/s and
+/// `reference_specific_force` (N, 3) m/s², body axes. `method`: "ls" or
+/// "eiv" (needs `reference_noise_std`, rad/s per sample; the optional
+/// `reference_specific_force_noise_std`, m/s², corrects the g-sensitivity
+/// columns too). `noise_std`: the gyro white noise per sample (rad/s), for
+/// the Cramér-Rao bound.
+#[pyfunction]
+#[pyo3(signature = (measured, reference_angular_rate, reference_specific_force, *, method="ls", reference_noise_std=None, reference_specific_force_noise_std=None, noise_std=None, sample_rate=100.0))]
+fn calibrate_gyroscope(
+    py: Python<'_>,
+    measured: &Bound<'_, PyAny>,
+    reference_angular_rate: &Bound<'_, PyAny>,
+    reference_specific_force: &Bound<'_, PyAny>,
+    method: &str,
+    reference_noise_std: Option<f64>,
+    reference_specific_force_noise_std: Option<f64>,
+    noise_std: Option<f64>,
+    sample_rate: f64,
+) -> PyResult<PyCalibration> {
+    let s = convert::vectors(measured, "measured")?;
+    let w = convert::vectors(reference_angular_rate, "reference_angular_rate")?;
+    let f = convert::vectors(reference_specific_force, "reference_specific_force")?;
+    memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
+    let options = CalibrationOptions {
+        method: self::method(method)?,
+        reference_noise_std,
+        reference_specific_force_noise_std,
+        noise_std,
+    };
+    let cal = py.detach(|| core_gyro(&s, &w, &f, &options)).py()?;
+    let to_py = |m| {
+        Ok(Py::new(
+            py,
+            PyGyroscopeModel {
+                inner: m,
+                sample_rate_hz: sample_rate,
+            },
+        )?
+        .into_any())
+    };
+    let crb_std = |c: &DMatrix<f64>| {
+        let mut m = cal.std.clone();
+        let sd: Vec<f64> = c.diagonal().iter().map(|v| v.max(0.0).sqrt()).collect();
+        m.bias = Vector3::from_column_slice(&sd[0..3]);
+        m.scale_factor = Vector3::from_column_slice(&sd[3..6]);
+        for (k, &(i, j)) in memsnav_core::calibration::OFF_DIAGONAL.iter().enumerate() {
+            m.misalignment[(i, j)] = sd[6 + k];
+        }
+        m.g_sensitivity = nalgebra::Matrix3::from_row_slice(&sd[12..21]);
+        to_py(m)
+    };
+    wrap(py, cal.clone(), gyroscope_parameter_names(), to_py, crb_std)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyCalibration>()?;
+    m.add_function(wrap_pyfunction!(calibrate_accelerometer, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate_gyroscope, m)?)?;
+    Ok(())
+}

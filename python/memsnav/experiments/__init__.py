@@ -1,0 +1,12 @@
+"""The paper's experiments (de Boer et al., ION GNSS 2008, §5).
+
+``calibration`` reproduces figures 3-10 (MSE of every calibrated parameter
+over random parameter sets, with the Cramér-Rao bound) and ``inversion``
+figures 11-12 (MSE of the specific force and angular rate recovered by the
+inversion filters). Both run a whole Monte Carlo set in Rust.
+"""
+
+from memsnav.experiments.calibration import CalibrationResult, calibration
+from memsnav.experiments.inversion import InversionResult, inversion
+
+__all__ = ["CalibrationResult", "InversionResult", "calibration", "inversion"]
