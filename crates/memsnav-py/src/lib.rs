@@ -12,6 +12,7 @@ mod geodesy;
 mod gnss;
 mod ins;
 mod inversion;
+mod navigate;
 mod sensors;
 mod trajectory;
 
@@ -27,5 +28,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
+    navigate::register(m)?;
     Ok(())
 }
