@@ -39,7 +39,17 @@ from memsnav._memsnav import (
     strapdown_increments,
     invert_accelerometer,
     invert_gyroscope,
+    CoupledSolution,
+    RinexObservations,
+    loosely_coupled,
+    read_klobuchar,
+    read_rinex_obs,
+    tightly_coupled,
 )
+from memsnav.allan import allan_deviation
+from memsnav.realdata.config import load_config
+from memsnav.realdata.pipeline import NavigationResult, navigate
+from memsnav.realdata.readers import read_imu_csv, read_pos, read_time_tag
 
 __all__ = [
     "AccelerometerModel",
@@ -71,4 +81,17 @@ __all__ = [
     "strapdown_increments",
     "invert_accelerometer",
     "invert_gyroscope",
+    "CoupledSolution",
+    "NavigationResult",
+    "RinexObservations",
+    "allan_deviation",
+    "load_config",
+    "loosely_coupled",
+    "navigate",
+    "read_imu_csv",
+    "read_klobuchar",
+    "read_pos",
+    "read_rinex_obs",
+    "read_time_tag",
+    "tightly_coupled",
 ]
