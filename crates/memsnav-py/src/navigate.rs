@@ -368,10 +368,11 @@ fn loosely_coupled(
 /// with receiver clock offset and drift) on the pseudoranges (and rates) of
 /// ``measurements``, whose epoch times share the IMU time axis. Tuning as
 /// in ``loosely_coupled``; the clock starts from the given values or, when
-/// None, from the median residual of the first epoch.
+/// None, from the median residual of the first epoch. ``epoch_mask``: a
+/// ``(T,)`` boolean array choosing the epochs to use (outages; default all).
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate, measurements, initial_position_ecef,
-    initial_velocity_ecef, initial_attitude, *, initial_clock_offset=None,
+    initial_velocity_ecef, initial_attitude, *, epoch_mask=None, initial_clock_offset=None,
     initial_clock_drift=None, use_pseudorange_rate=true, accel_noise_density=0.003,
     gyro_noise_density=0.0005, accel_bias_std=0.1, gyro_bias_std=0.005,
     accel_bias_instability=0.0, gyro_bias_instability=0.0, bias_correlation_time=f64::INFINITY,
@@ -387,6 +388,7 @@ fn tightly_coupled(
     initial_position_ecef: &Bound<'_, PyAny>,
     initial_velocity_ecef: &Bound<'_, PyAny>,
     initial_attitude: &Bound<'_, PyAny>,
+    epoch_mask: Option<Vec<bool>>,
     initial_clock_offset: Option<f64>,
     initial_clock_drift: Option<f64>,
     use_pseudorange_rate: bool,
@@ -423,7 +425,22 @@ fn tightly_coupled(
         gate_probability,
     )?;
     tuning.use_pseudorange_rate = use_pseudorange_rate;
-    let epochs = measurements.epochs();
+    let all = measurements.epochs();
+    let epochs: Vec<_> = match epoch_mask {
+        Some(mask) if mask.len() != all.len() => {
+            return Err(PyValueError::new_err(format!(
+                "epoch_mask: {} values, but measurements has {} epochs",
+                mask.len(),
+                all.len()
+            )))
+        }
+        Some(mask) => all
+            .iter()
+            .zip(mask)
+            .filter_map(|(e, k)| k.then(|| e.clone()))
+            .collect(),
+        None => all.to_vec(),
+    };
     py.detach(|| {
         let data = ImuData {
             time_s: &imu.time,
@@ -431,7 +448,7 @@ fn tightly_coupled(
             angular_rate_b: &imu.w,
         };
         let mut out = PyCoupledSolution::with_capacity(imu.time.len());
-        let records = coupling::run_tightly_coupled::<N, _>(&data, epochs, &init, &tuning, |k, s| {
+        let records = coupling::run_tightly_coupled::<N, _>(&data, &epochs, &init, &tuning, |k, s| {
             out.push(imu.time[k], s)
         })?;
         out.records = records;

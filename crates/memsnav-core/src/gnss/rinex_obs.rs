@@ -88,7 +88,17 @@ fn field(line: &str, start: usize, width: usize) -> &str {
 
 /// Parses the text of a RINEX 3 observation file; `file` names it in errors.
 pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
-    let lines: Vec<&str> = text.lines().collect();
+    let mut lines: Vec<&str> = text.lines().collect();
+    // A file that does not end with a newline was cut mid-line: its last
+    // line is not trusted (a cut number would still parse).
+    let mut warnings = Vec::new();
+    if !text.is_empty() && !text.ends_with('\n') && lines.len() > 1 {
+        warnings.push(format!(
+            "{file}:{}: the last line has no end of line (cut short); skipped",
+            lines.len()
+        ));
+        lines.pop();
+    }
     let error = |k: usize, reason: String| Error::Parse {
         file: file.to_string(),
         line: k + 1,
@@ -204,7 +214,6 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
     k += 1;
 
     let mut epochs = Vec::new();
-    let mut warnings = Vec::new();
     let truncated = |k: usize, what: &str| {
         format!("{file}:{}: the last record is cut short ({what}); skipped", k + 1)
     };
