@@ -1,8 +1,8 @@
 """Type stubs of the native module (checked by ``mypy.stubtest``)."""
 
 import os
-from collections.abc import Sequence
-from typing import final
+from collections.abc import Callable, Sequence
+from typing import Any, final
 
 import numpy as np
 import numpy.typing as npt
@@ -261,6 +261,134 @@ class ImuModel:
     def __getnewargs_ex__(self) -> tuple[tuple[object, ...], dict[str, object]]: ...
     def __eq__(self, value: object, /) -> bool: ...
 
+# --- calibration (method §3), inversion (method §4), experiments (paper §5.1-5.2) ---
+
+@final
+class Calibration:
+    """A calibrated sensor model with its uncertainties (method §3)."""
+
+    @property
+    def model(self) -> AccelerometerModel | GyroscopeModel:
+        """The estimated model (same class as the calibrated sensor)."""
+
+    @property
+    def std(self) -> AccelerometerModel | GyroscopeModel:
+        """One-sigma uncertainties in the model's attributes (SI)."""
+
+    @property
+    def covariance(self) -> npt.NDArray[np.float64]:
+        """Covariance of the parameter vector, ordered as ``parameter_names``."""
+
+    @property
+    def crb(self) -> npt.NDArray[np.float64] | None:
+        """Cramér-Rao bound of the parameter vector (exact references), if
+        ``noise_std`` was given."""
+
+    @property
+    def crb_std(self) -> AccelerometerModel | GyroscopeModel | None:
+        """Square root of the bound's diagonal, in the model's attributes."""
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """Names of the parameters in covariance order (``bias_u``, ...)."""
+
+    @property
+    def residual_std(self) -> npt.NDArray[np.float64]:
+        """Residual standard deviation per output axis (3,), SI."""
+
+    @property
+    def condition_number(self) -> npt.NDArray[np.float64]:
+        """Condition number of the column-equilibrated regressors per axis (3,)."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Parameters that are only poorly determined (also raised as UserWarning)."""
+
+def calibrate_accelerometer(
+    measured: npt.ArrayLike,
+    reference_specific_force: npt.ArrayLike,
+    *,
+    method: str = "ls",
+    reference_noise_std: float | None = None,
+    noise_std: float | None = None,
+    sample_rate: float = 100.0,
+) -> Calibration:
+    """Accelerometer calibration from outputs and reference specific forces,
+    both (N, 3) m/s². ``method``: "ls" or "eiv" (needs ``reference_noise_std``,
+    m/s² per sample). ``noise_std`` (m/s² per sample) enables ``.crb``.
+    Raises UnobservableError naming the axis and parameter."""
+
+def calibrate_gyroscope(
+    measured: npt.ArrayLike,
+    reference_angular_rate: npt.ArrayLike,
+    reference_specific_force: npt.ArrayLike,
+    *,
+    method: str = "ls",
+    reference_noise_std: float | None = None,
+    reference_specific_force_noise_std: float | None = None,
+    noise_std: float | None = None,
+    sample_rate: float = 100.0,
+) -> Calibration:
+    """Gyroscope calibration from outputs (N, 3) rad/s, reference angular
+    rates (N, 3) rad/s and specific forces (N, 3) m/s². ``method``: "ls" or
+    "eiv" (needs ``reference_noise_std``, rad/s per sample)."""
+
+def invert_accelerometer(
+    measured: npt.ArrayLike,
+    model: AccelerometerModel,
+    process_std: npt.ArrayLike,
+    measurement_std: npt.ArrayLike,
+    *,
+    return_variance: bool = False,
+) -> Any:
+    """Specific force (N, 3) m/s² from accelerometer outputs by the random-walk
+    EKF (method §4); noise stds per sample, scalar or (3,). With
+    ``return_variance=True``: ``(estimate, variance)``."""
+
+def invert_gyroscope(
+    measured: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    model: GyroscopeModel,
+    process_std: npt.ArrayLike,
+    measurement_std: npt.ArrayLike,
+    *,
+    return_variance: bool = False,
+) -> Any:
+    """Angular rate (N, 3) rad/s from gyro outputs and the estimated specific
+    force (N, 3) m/s² by the EKF of method §4; noise stds in rad/s per sample."""
+
+def calibration_experiment(
+    *,
+    parameter_sets: int = 50,
+    runs: int = 20,
+    duration: float = 300.0,
+    preset: str = "paper-mems",
+    reference_specific_force_std: float = 0.03,
+    reference_angular_rate_std: float = 0.0017453292519943296,
+    motion: str = "land-vehicle",
+    seed: int = 0,
+    threads: int | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, Any]:
+    """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI."""
+
+def inversion_experiment(
+    *,
+    runs: int = 50,
+    duration: float = 120.0,
+    calibration_duration: float = 300.0,
+    preset: str = "paper-mems",
+    method: str = "eiv",
+    reference_specific_force_std: float = 0.03,
+    reference_angular_rate_std: float = 0.0017453292519943296,
+    accel_process_std: float = 0.1,
+    gyro_process_std: float = 0.017453292519943295,
+    seed: int = 0,
+    threads: int | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, Any]:
+    """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI."""
+
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
 @final
@@ -482,6 +610,7 @@ def solve_fix(
     predicted ranges). prior: (3,) ECEF start for the first epoch (default the
     Earth's centre; later epochs start from the previous fix). Epochs with
     fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
+
 # --- trajectory (issue 4) ---
 
 @final
@@ -614,3 +743,244 @@ def imu_increments(
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """(delta_velocity m/s, delta_angle rad), each (N - 1, 3): the integrals
     of the cubic through the samples over each interval (fourth order)."""
+
+# --- coupled GNSS/INS filters (method §5) and the navigation experiment (paper §5.3) ---
+
+@final
+class FilterSolution:
+    """The whole solution of a coupled filter, at every IMU sample (SI units).
+
+    Measurement records (``measurements``, ``rejected``) are dicts of arrays:
+    ``time`` (s), ``id`` (satellite id; fix component 0-2 for the loose
+    filter), ``kind`` ("pseudorange" m, "pseudorange_rate" m/s, "position" /
+    "velocity" whitened, unit variance), ``innovation`` (measurement minus
+    prediction), ``innovation_std``, ``nis`` (nu²/s), ``status`` ("accepted",
+    "gate": rejected by the chi-square gate, "invalid": NaN/inf value or
+    non-positive std).
+    """
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """IMU sample times, s, (N,)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Position, ECEF m, (N, 3)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Velocity, ECEF m/s, (N, 3)."""
+
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Attitude C_b^e (body to ECEF), (N, 3, 3)."""
+
+    @property
+    def accel_bias(self) -> npt.NDArray[np.float64]:
+        """Accelerometer bias estimate, m/s², (N, 3), additive: reading = truth +
+        bias (an ``AccelerometerModel.bias`` enters as S = Γ - b, so the
+        estimate converges to minus it)."""
+
+    @property
+    def gyro_bias(self) -> npt.NDArray[np.float64]:
+        """Gyro bias estimate, rad/s, (N, 3), additive like ``accel_bias``."""
+
+    @property
+    def accel_scale_factor(self) -> npt.NDArray[np.float64] | None:
+        """Accelerometer scale-factor estimate, (N, 3); None with 17 states."""
+
+    @property
+    def gyro_scale_factor(self) -> npt.NDArray[np.float64] | None:
+        """Gyro scale-factor estimate, (N, 3); None with 17 states."""
+
+    @property
+    def clock_offset(self) -> npt.NDArray[np.float64]:
+        """Receiver clock offset, m, (N,)."""
+
+    @property
+    def clock_drift(self) -> npt.NDArray[np.float64]:
+        """Receiver clock drift, m/s, (N,)."""
+
+    @property
+    def covariance_diagonal(self) -> npt.NDArray[np.float64]:
+        """Diagonal of the error covariance, (N, n_states), order ``state_names``
+        (rad², (m/s)², m², (m/s²)², (rad/s)², m², (m/s)², dimensionless²)."""
+
+    @property
+    def state_names(self) -> list[str]:
+        """Error-state names: attitude_x..z (ECEF, rad), velocity_x..z, position_x..z,
+        accel_bias_x..z, gyro_bias_x..z, clock_offset, clock_drift
+        [, accel_scale_factor_x..z, gyro_scale_factor_x..z]."""
+
+    @property
+    def measurements(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """Every scalar measurement (see the class docstring)."""
+
+    @property
+    def rejected(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """The measurements not applied (status "gate" or "invalid")."""
+
+    def __len__(self) -> int: ...
+
+@final
+class TightlyCoupledFilter:
+    """Closed-loop error-state EKF in ECEF on pseudoranges and pseudorange rates
+    (method §5; Groves §14.3.3): 17 states (attitude, velocity, position, accel
+    and gyro biases, clock offset and drift), 23 with ``scale_factor_states``.
+    Each satellite is a gated scalar Joseph update (Sagnac and light time in
+    the prediction), so fewer than four satellites still help; with none the
+    INS coasts.
+
+    Tuning from ``imu.spec`` at ``imu.sample_rate`` (``FilterTuning::from_imu_spec``):
+    white-noise PSDs = noise density² (or per-sample std² / rate); bias
+    processes from bias instability (Gauss-Markov, 2 sigma²/tau) and random walk;
+    initial bias std = sqrt(bias_std² + instability²), floored at 1e-6 m/s² and
+    1e-9 rad/s; errors the states lack (scale factor unless estimated,
+    misalignment, nonlinearity, g-sensitivity) absorbed for a land vehicle
+    (2 m/s² manoeuvres, 0.2 rad/s turns, 10 s correlation): their
+    gravity-driven part widens the initial bias std, their motion-driven part
+    adds 2 sigma² tau to the white PSD. Receiver clock: TCXO, S_cφ = 0.01 m²/s,
+    S_cf = 0.04 m²/s³. Every default below can be overridden:
+
+    - ``accel_noise_density`` (m/s²/√Hz), ``gyro_noise_density`` (rad/s/√Hz):
+      replace the white PSDs (after absorption) by density².
+    - ``accel_bias_psd`` ((m/s²)²/s), ``gyro_bias_psd`` ((rad/s)²/s): bias
+      driving-noise PSDs.
+    - ``gate_probability``: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
+      and reported); 1.0 disables it.
+    - initial one-sigmas: ``initial_position_std`` 5 m and
+      ``initial_velocity_std`` 0.5 m/s per ECEF axis (a code fix),
+      ``initial_tilt_std`` 1° and ``initial_heading_std`` 5° (in rad),
+      ``initial_accel_bias_std`` / ``initial_gyro_bias_std`` (None: from the
+      spec as above), ``initial_clock_offset_std`` 50 m,
+      ``initial_clock_drift_std`` 10 m/s; scale factors (23 states): the
+      spec's scale_factor_std (floored at 1e-6).
+    - ``use_pseudorange_rate``: use rates when the epoch carries them.
+
+    Raises ValueError naming the argument for a bad value.
+    """
+
+    def __new__(
+        cls,
+        imu: ImuModel,
+        *,
+        scale_factor_states: bool = False,
+        accel_noise_density: float | None = None,
+        gyro_noise_density: float | None = None,
+        accel_bias_psd: float | None = None,
+        gyro_bias_psd: float | None = None,
+        gate_probability: float = 0.999,
+        initial_position_std: float = 5.0,
+        initial_velocity_std: float = 0.5,
+        initial_tilt_std: float = 0.017453292519943295,
+        initial_heading_std: float = 0.08726646259971647,
+        initial_accel_bias_std: float | None = None,
+        initial_gyro_bias_std: float | None = None,
+        initial_clock_offset_std: float = 50.0,
+        initial_clock_drift_std: float = 10.0,
+        use_pseudorange_rate: bool = True,
+    ) -> TightlyCoupledFilter: ...
+    @property
+    def tuning(self) -> dict[str, float | bool]:
+        """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
+
+    def run(
+        self,
+        time: npt.ArrayLike,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        gnss: GnssMeasurements | Any,
+        *,
+        initial_attitude: npt.ArrayLike | None = None,
+    ) -> FilterSolution:
+        """Filters the whole series in one call (GIL released).
+
+        ``time`` (N,) s, increasing; ``specific_force`` (N, 3) m/s² and
+        ``angular_rate`` (N, 3) rad/s: raw IMU samples (instantaneous values).
+        ``gnss``: a ``simulate_gnss`` result, or an object/dict with padded
+        arrays ``time`` (T,) on the IMU time scale, ``sat_id`` (T, n), negative
+        = padding, ``satellite_position_ecef`` / ``satellite_velocity_ecef``
+        (T, n, 3), ``pseudorange`` and ``pseudorange_std`` (T, n), optional
+        ``pseudorange_rate`` and ``pseudorange_rate_std`` (T, n). Epoch times
+        must increase and lie in the IMU span; NaN or absurd measurements are
+        rejected and reported, not fatal.
+
+        Initialisation: position, velocity and clock of the least-squares fix
+        of the first epoch (≥ 4 satellites, else ValueError), moved back to
+        ``time[0]``; attitude ``initial_attitude`` (C_b^e, 3x3) or a coarse one
+        (levelling on the first second of specific force, heading from the fix
+        velocity; needs ≥ 1 m/s ground speed); zero bias estimates.
+        """
+
+@final
+class LooselyCoupledFilter:
+    """Closed-loop error-state EKF on GNSS position (and velocity) fixes (Groves
+    §14.3.2): each fix is whitened by its covariance's Cholesky factor into
+    unit-variance scalar updates, gated like pseudoranges; the clock states are
+    not observed (their process noise is off). Same states, tuning, defaults
+    and overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate`` and the
+    clock settings have no effect).
+    """
+
+    def __new__(
+        cls,
+        imu: ImuModel,
+        *,
+        scale_factor_states: bool = False,
+        accel_noise_density: float | None = None,
+        gyro_noise_density: float | None = None,
+        accel_bias_psd: float | None = None,
+        gyro_bias_psd: float | None = None,
+        gate_probability: float = 0.999,
+        initial_position_std: float = 5.0,
+        initial_velocity_std: float = 0.5,
+        initial_tilt_std: float = 0.017453292519943295,
+        initial_heading_std: float = 0.08726646259971647,
+        initial_accel_bias_std: float | None = None,
+        initial_gyro_bias_std: float | None = None,
+        initial_clock_offset_std: float = 50.0,
+        initial_clock_drift_std: float = 10.0,
+        use_pseudorange_rate: bool = True,
+    ) -> LooselyCoupledFilter: ...
+    @property
+    def tuning(self) -> dict[str, float | bool]:
+        """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
+
+    def run(
+        self,
+        time: npt.ArrayLike,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        fixes: FixSeries | Any,
+        *,
+        initial_attitude: npt.ArrayLike | None = None,
+    ) -> FilterSolution:
+        """Filters the whole series in one call (GIL released).
+
+        ``fixes``: a ``solve_fix`` result (invalid epochs skipped; covariances =
+        the position and velocity blocks of the LS covariance) or an
+        object/dict with ``time`` (T,), ``position_ecef`` (T, 3) m,
+        ``position_covariance`` (T, 3, 3) m², optional ``velocity_ecef`` (T, 3)
+        m/s and ``velocity_covariance`` (T, 3, 3). Initial position and velocity
+        from the first fix (moved back to ``time[0]``); attitude as for the
+        tight filter.
+        """
+
+def navigation_experiment(
+    imus: Sequence[tuple[str, str | ImuModel]],
+    *,
+    runs: int = 20,
+    duration: float = 600.0,
+    seed: int = 0,
+    n_satellites: int = 6,
+    outage: tuple[float, float] | None = None,
+    calibration_duration: float = 300.0,
+    early_window: float = 150.0,
+    keep_runs: bool = False,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> dict[str, Any]:
+    """Navigation Monte Carlo (paper §5.3) as a dict of arrays; use
+    ``memsnav.experiments.navigation``, which documents it. ``imus``: (name,
+    source) with source a preset name, ``"calibrated:<raw name>"`` or an
+    ``ImuModel``."""

@@ -79,9 +79,13 @@ fn with_progress<T: Send>(
 /// random IMUs from `preset`, `runs` runs each on fresh land-vehicle motion
 /// of `duration` s, GNSS-like references with white noise
 /// `reference_specific_force_std` (m/s²) and `reference_angular_rate_std`
-/// (rad/s) per sample. Returns a dict of per-set arrays (SI).
+/// (rad/s) per sample (defaults: `memsnav_core::experiments` constants).
+/// `motion`: "land-vehicle" (body-frame land-vehicle motion with roll and
+/// pitch dynamics) or "trajectory" (`Trajectory.random`, weaker roll/pitch
+/// excitation).
+/// Returns a dict of per-set arrays (SI).
 #[pyfunction]
-#[pyo3(signature = (*, parameter_sets=50, runs=20, duration=300.0, preset="paper-mems", reference_specific_force_std=experiments::REFERENCE_SPECIFIC_FORCE_STD, reference_angular_rate_std=experiments::REFERENCE_ANGULAR_RATE_STD, seed=0, threads=None, progress=None))]
+#[pyo3(signature = (*, parameter_sets=50, runs=20, duration=300.0, preset="paper-mems", reference_specific_force_std=0.03, reference_angular_rate_std=0.0017453292519943296, motion="land-vehicle", seed=0, threads=None, progress=None))]
 fn calibration_experiment<'py>(
     py: Python<'py>,
     parameter_sets: usize,
@@ -90,10 +94,20 @@ fn calibration_experiment<'py>(
     preset: &str,
     reference_specific_force_std: f64,
     reference_angular_rate_std: f64,
+    motion: &str,
     seed: u64,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let source: &experiments::MotionSource<'_> = match motion {
+        "land-vehicle" => &motion::land_vehicle,
+        "trajectory" => &motion::random_trajectory,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "motion: expected 'land-vehicle' or 'trajectory', got '{other}'"
+            )))
+        }
+    };
     let config = CalibrationExperimentConfig {
         parameter_sets,
         runs_per_set: runs,
@@ -104,7 +118,7 @@ fn calibration_experiment<'py>(
         seed,
     };
     let r = with_progress(py, progress, threads, |o| {
-        experiments::calibration_experiment(&config, &motion::land_vehicle, o)
+        experiments::calibration_experiment(&config, source, o)
     })?;
     let d = PyDict::new(py);
     d.set_item(
@@ -125,7 +139,7 @@ fn calibration_experiment<'py>(
 /// random-walk increments `accel_process_std` (m/s²) and
 /// `gyro_process_std` (rad/s) per sample. Returns a dict of arrays (SI).
 #[pyfunction]
-#[pyo3(signature = (*, runs=50, duration=120.0, calibration_duration=300.0, preset="paper-mems", method="eiv", reference_specific_force_std=experiments::REFERENCE_SPECIFIC_FORCE_STD, reference_angular_rate_std=experiments::REFERENCE_ANGULAR_RATE_STD, accel_process_std=experiments::inversion::DEFAULT_ACCEL_PROCESS_STD, gyro_process_std=experiments::inversion::DEFAULT_GYRO_PROCESS_STD, seed=0, threads=None, progress=None))]
+#[pyo3(signature = (*, runs=50, duration=120.0, calibration_duration=300.0, preset="paper-mems", method="eiv", reference_specific_force_std=0.03, reference_angular_rate_std=0.0017453292519943296, accel_process_std=0.1, gyro_process_std=0.017453292519943295, seed=0, threads=None, progress=None))]
 fn inversion_experiment<'py>(
     py: Python<'py>,
     runs: usize,

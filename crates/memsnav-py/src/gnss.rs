@@ -191,7 +191,7 @@ fn read_sp3(py: Python<'_>, path: PathBuf) -> PyResult<PySp3> {
 /// Simulated measurements: per-epoch arrays padded to ``n_max`` satellites.
 #[pyclass(name = "GnssMeasurements", module = "memsnav._memsnav", frozen)]
 pub struct PyGnssMeasurements {
-    epochs: Vec<GnssEpoch>,
+    pub(crate) epochs: Vec<GnssEpoch>,
     clock: Vec<gnss::ClockState>,
     start_gps_time_s: f64,
     n_max: usize,
@@ -421,7 +421,7 @@ fn simulate_gnss(
 #[pyclass(name = "FixSeries", module = "memsnav._memsnav", frozen)]
 pub struct PyFixSeries {
     time: Vec<f64>,
-    fixes: Vec<Option<gnss::Fix>>,
+    pub(crate) fixes: Vec<Option<gnss::Fix>>,
 }
 
 impl PyFixSeries {

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 mod calibration;
 #[allow(dead_code)] // not every helper is used by every binding
 mod convert;
+mod coupling;
 mod errors;
 mod experiments;
 mod geodesy;
@@ -13,6 +14,7 @@ mod gnss;
 mod ins;
 mod inversion;
 mod navigate;
+mod navigation;
 mod sensors;
 mod trajectory;
 
@@ -28,6 +30,8 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
+    coupling::register(m)?;
+    navigation::register(m)?;
     navigate::register(m)?;
     Ok(())
 }

@@ -3,10 +3,20 @@
 ``calibration`` reproduces figures 3-10 (MSE of every calibrated parameter
 over random parameter sets, with the Cramér-Rao bound) and ``inversion``
 figures 11-12 (MSE of the specific force and angular rate recovered by the
-inversion filters). Both run a whole Monte Carlo set in Rust.
+inversion filters), ``navigation`` figures 14-18 (position error of the
+tightly coupled GNSS/INS filter with INS, raw and calibrated MEMS).
+Each runs a whole Monte Carlo set in Rust.
 """
 
 from memsnav.experiments.calibration import CalibrationResult, calibration
 from memsnav.experiments.inversion import InversionResult, inversion
+from memsnav.experiments.navigation import NavigationResult, navigation
 
-__all__ = ["CalibrationResult", "InversionResult", "calibration", "inversion"]
+__all__ = [
+    "CalibrationResult",
+    "InversionResult",
+    "NavigationResult",
+    "calibration",
+    "inversion",
+    "navigation",
+]

@@ -146,6 +146,7 @@ def calibration(
     method: str = "eiv",
     reference_specific_force_std: float = 0.03,
     reference_angular_rate_std: float = math.radians(0.1),
+    motion: str = "land-vehicle",
     seed: int = 0,
     threads: int | None = None,
     progress: Callable[[int], None] | None = None,
@@ -154,7 +155,10 @@ def calibration(
 
     ``duration``: calibration segment, s. Reference noise per 100 Hz sample:
     ``reference_specific_force_std`` m/s², ``reference_angular_rate_std``
-    rad/s. ``method`` ("eiv" or "ls") selects the estimator the summary
+    rad/s. ``motion``: "land-vehicle" (body-frame vehicle motion with roll and
+    pitch dynamics) or "trajectory" (``Trajectory.random``, whose roll and
+    pitch follow the manoeuvres only: p/q scale factors and the vertical
+    terms are then barely observable). ``method`` ("eiv" or "ls") selects the estimator the summary
     reports first; both are always run. ``progress(n)`` is called with the
     number of completed runs. Same ``seed`` -> same numbers, whatever
     ``threads``.
@@ -168,6 +172,7 @@ def calibration(
         "preset": preset,
         "reference_specific_force_std": reference_specific_force_std,
         "reference_angular_rate_std": reference_angular_rate_std,
+        "motion": motion,
         "seed": seed,
     }
     raw = _memsnav.calibration_experiment(**config, threads=threads, progress=progress)

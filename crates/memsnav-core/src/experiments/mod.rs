@@ -26,6 +26,7 @@
 pub mod calibration;
 pub mod inversion;
 pub mod motion;
+pub mod navigation;
 
 use nalgebra::Vector3;
 use rand::Rng as _;
@@ -36,6 +37,9 @@ use crate::Result;
 
 pub use calibration::{calibration_experiment, CalibrationExperiment, CalibrationExperimentConfig};
 pub use inversion::{inversion_experiment, InversionExperiment, InversionExperimentConfig};
+pub use navigation::{
+    navigation_experiment, NavigationExperiment, NavigationExperimentConfig, NavigationImu,
+};
 
 /// Default reference specific-force noise, m/s² per sample (see module docs).
 pub const REFERENCE_SPECIFIC_FORCE_STD: f64 = 0.03;

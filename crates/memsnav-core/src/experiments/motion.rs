@@ -108,3 +108,22 @@ pub fn land_vehicle(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Moti
         angular_rate_b,
     })
 }
+
+/// Body-frame truth of [`crate::trajectory::Trajectory::random`] (a full
+/// ECEF land-vehicle trajectory: Earth rotation, J2 gravity, speed changes,
+/// turns, slopes) with its default vehicle limits. Its roll and pitch follow
+/// the lateral and longitudinal accelerations only, so the roll and pitch
+/// rates are small: the p and q scale factors and the vertical terms are
+/// much less observable than with [`land_vehicle`] (method §3: excitation).
+pub fn random_trajectory(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Motion> {
+    let config = crate::trajectory::RandomTrajectoryConfig {
+        duration_s,
+        rate_hz,
+        ..Default::default()
+    };
+    let t = crate::trajectory::Trajectory::random(&config, rng)?;
+    Ok(Motion {
+        specific_force_b: t.specific_force_b,
+        angular_rate_b: t.angular_rate_b,
+    })
+}

@@ -2,8 +2,10 @@
 //! estimate the true specific force Γ and angular rate Ω from the sensor
 //! outputs and a calibrated model.
 //!
-//!     Γ_k = Γ_{k−1} + w_Γ,  S_a,k = A_a (Γ_k − b_a − N_a (Γ_k ⊙ Γ_k)) + v_a
-//!     Ω_k = Ω_{k−1} + w_Ω,  S_g,k = A_g (Ω_k − b_g − K_g Γ̂_k) + v_g
+//! ```text
+//! Γ_k = Γ_{k−1} + w_Γ,  S_a,k = A_a (Γ_k − b_a − N_a (Γ_k ⊙ Γ_k)) + v_a
+//! Ω_k = Ω_{k−1} + w_Ω,  S_g,k = A_g (Ω_k − b_g − K_g Γ̂_k) + v_g
+//! ```
 //!
 //! The gyroscope filter runs after the accelerometer filter and takes its
 //! estimate Γ̂_k. Measurement Jacobians: H_a = A_a (I − 2 N_a diag(Γ)),

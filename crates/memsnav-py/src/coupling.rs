@@ -1,0 +1,706 @@
+//! `TightlyCoupledFilter`, `LooselyCoupledFilter` and their `FilterSolution`:
+//! the coupled GNSS/INS filters of memsnav-core (method §5) on the user's
+//! arrays, one Rust call per series with the GIL released.
+
+use memsnav_core::coupling::{
+    self, coarse_attitude, initial_state_from_fix, FilterTuning, ImuData, InitialState,
+    MeasurementKind, MeasurementRecord, MeasurementStatus, PositionFix, Solution,
+};
+use memsnav_core::filter::state::{BASE_STATES, WITH_SCALE_FACTORS};
+use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
+use memsnav_core::ins::NavState;
+use memsnav_core::Error;
+use nalgebra::{Matrix3, Vector3};
+use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert;
+use crate::errors::IntoPyResult;
+use crate::gnss::{PyFixSeries, PyGnssMeasurements};
+use crate::sensors::PyImuModel;
+
+/// Names of the error states, in order (units in the filter::state docs).
+fn state_names(n: usize) -> Vec<&'static str> {
+    let mut v = vec![
+        "attitude_x",
+        "attitude_y",
+        "attitude_z",
+        "velocity_x",
+        "velocity_y",
+        "velocity_z",
+        "position_x",
+        "position_y",
+        "position_z",
+        "accel_bias_x",
+        "accel_bias_y",
+        "accel_bias_z",
+        "gyro_bias_x",
+        "gyro_bias_y",
+        "gyro_bias_z",
+        "clock_offset",
+        "clock_drift",
+    ];
+    if n >= WITH_SCALE_FACTORS {
+        v.extend([
+            "accel_scale_factor_x",
+            "accel_scale_factor_y",
+            "accel_scale_factor_z",
+            "gyro_scale_factor_x",
+            "gyro_scale_factor_y",
+            "gyro_scale_factor_z",
+        ]);
+    }
+    v
+}
+
+/// A float array that may hold NaN (padding), with its shape.
+fn floats_with_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<(Vec<f64>, Vec<usize>)> {
+    let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
+    })?;
+    Ok((
+        array.as_array().iter().copied().collect(),
+        array.shape().to_vec(),
+    ))
+}
+
+/// `obj.name` or `obj[name]` (a dict of arrays).
+fn field<'py>(obj: &Bound<'py, PyAny>, name: &str, argument: &str) -> PyResult<Bound<'py, PyAny>> {
+    if let Ok(d) = obj.cast::<PyDict>() {
+        return d.get_item(name)?.ok_or_else(|| {
+            PyValueError::new_err(format!("{argument}: the dict has no {name:?} entry"))
+        });
+    }
+    obj.getattr(name).map_err(|_| {
+        PyValueError::new_err(format!(
+            "{argument}: expected GnssMeasurements, FixSeries or an object/dict with {name:?}"
+        ))
+    })
+}
+
+fn optional_field<'py>(obj: &Bound<'py, PyAny>, name: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+    if let Ok(d) = obj.cast::<PyDict>() {
+        return Ok(d.get_item(name)?.filter(|v| !v.is_none()));
+    }
+    Ok(obj.getattr(name).ok().filter(|v| !v.is_none()))
+}
+
+fn shape_error(argument: &str, name: &str, expected: &str, got: &[usize]) -> PyErr {
+    PyValueError::new_err(format!(
+        "{argument}: {name} must have shape {expected}, got {got:?}"
+    ))
+}
+
+/// GNSS epochs from a `GnssMeasurements` or padded user arrays: `time`
+/// (T,), `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
+/// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n), `pseudorange_std`
+/// (T, n), optional `pseudorange_rate` and `pseudorange_rate_std` (T, n).
+fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
+    const ARG: &str = "gnss";
+    if let Ok(m) = obj.cast::<PyGnssMeasurements>() {
+        return Ok(m.get().epochs.clone());
+    }
+    let time = convert::scalars(&field(obj, "time", ARG)?, "gnss.time")?;
+    let t = time.len();
+    let (sat_id, s) = floats_with_nan(&field(obj, "sat_id", ARG)?, "gnss.sat_id")?;
+    if s.len() != 2 || s[0] != t {
+        return Err(shape_error(ARG, "sat_id", "(T, n)", &s));
+    }
+    let n = s[1];
+    let get2 = |name: &str| -> PyResult<Vec<f64>> {
+        let (v, s) = floats_with_nan(&field(obj, name, ARG)?, &format!("gnss.{name}"))?;
+        if s != [t, n] {
+            return Err(shape_error(ARG, name, &format!("({t}, {n})"), &s));
+        }
+        Ok(v)
+    };
+    let get3 = |name: &str| -> PyResult<Vec<f64>> {
+        let (v, s) = floats_with_nan(&field(obj, name, ARG)?, &format!("gnss.{name}"))?;
+        if s != [t, n, 3] {
+            return Err(shape_error(ARG, name, &format!("({t}, {n}, 3)"), &s));
+        }
+        Ok(v)
+    };
+    let pos = get3("satellite_position_ecef")?;
+    let vel = get3("satellite_velocity_ecef")?;
+    let rho = get2("pseudorange")?;
+    let rho_std = get2("pseudorange_std")?;
+    let (rate, rate_std) = match optional_field(obj, "pseudorange_rate")? {
+        Some(_) => (get2("pseudorange_rate")?, get2("pseudorange_rate_std")?),
+        None => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
+    };
+    let mut epochs = Vec::with_capacity(t);
+    for (k, &time_s) in time.iter().enumerate() {
+        let mut measurements = Vec::with_capacity(n);
+        for j in 0..n {
+            let i = k * n + j;
+            let id = sat_id[i];
+            if !(id.is_finite() && id >= 0.0) {
+                continue;
+            }
+            if id > u16::MAX as f64 || id.fract() != 0.0 {
+                return Err(PyValueError::new_err(format!(
+                    "gnss: sat_id[{k}, {j}] = {id} is not a satellite number"
+                )));
+            }
+            measurements.push(SatelliteMeasurement {
+                sat_id: id as u16,
+                position_ecef: Vector3::from_column_slice(&pos[3 * i..3 * i + 3]),
+                velocity_ecef: Vector3::from_column_slice(&vel[3 * i..3 * i + 3]),
+                pseudorange_m: rho[i],
+                pseudorange_rate_m_s: rate[i],
+                pseudorange_std_m: rho_std[i],
+                pseudorange_rate_std_m_s: rate_std[i],
+            });
+        }
+        epochs.push(GnssEpoch {
+            time_s,
+            measurements,
+        });
+    }
+    Ok(epochs)
+}
+
+/// Position fixes from a `FixSeries` (invalid epochs skipped; covariances
+/// the position and velocity blocks of the LS covariance) or user arrays:
+/// `time` (T,), `position_ecef` (T, 3), `position_covariance` (T, 3, 3),
+/// optional `velocity_ecef` (T, 3) and `velocity_covariance` (T, 3, 3).
+fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix>> {
+    const ARG: &str = "fixes";
+    if let Ok(f) = obj.cast::<PyFixSeries>() {
+        return Ok(f
+            .get()
+            .fixes
+            .iter()
+            .flatten()
+            .map(|x| PositionFix {
+                time_s: x.time_s,
+                position_ecef: x.position_ecef,
+                position_covariance: x.position_clock_covariance.fixed_view::<3, 3>(0, 0).into(),
+                velocity_ecef: Some(x.velocity_ecef),
+                velocity_covariance: x.velocity_drift_covariance.fixed_view::<3, 3>(0, 0).into(),
+            })
+            .collect());
+    }
+    let time = convert::scalars(&field(obj, "time", ARG)?, "fixes.time")?;
+    let t = time.len();
+    let position = convert::vectors(&field(obj, "position_ecef", ARG)?, "fixes.position_ecef")?;
+    let pcov = convert::matrices3(
+        &field(obj, "position_covariance", ARG)?,
+        "fixes.position_covariance",
+    )?;
+    let velocity = optional_field(obj, "velocity_ecef")?
+        .map(|v| convert::vectors(&v, "fixes.velocity_ecef"))
+        .transpose()?;
+    let vcov = match &velocity {
+        Some(_) => Some(convert::matrices3(
+            &field(obj, "velocity_covariance", ARG)?,
+            "fixes.velocity_covariance",
+        )?),
+        None => None,
+    };
+    for (name, len) in [
+        ("position_ecef", position.len()),
+        ("position_covariance", pcov.len()),
+        ("velocity_ecef", velocity.as_ref().map_or(t, Vec::len)),
+        ("velocity_covariance", vcov.as_ref().map_or(t, Vec::len)),
+    ] {
+        if len != t {
+            return Err(PyValueError::new_err(format!(
+                "fixes: {name} has {len} rows but time has {t}"
+            )));
+        }
+    }
+    Ok((0..t)
+        .map(|k| PositionFix {
+            time_s: time[k],
+            position_ecef: position[k],
+            position_covariance: pcov[k],
+            velocity_ecef: velocity.as_ref().map(|v| v[k]),
+            velocity_covariance: vcov.as_ref().map_or(Matrix3::zeros(), |v| v[k]),
+        })
+        .collect())
+}
+
+/// The tuning both filter classes share (see the class docstrings).
+#[derive(Clone, Copy)]
+struct Settings {
+    tuning: FilterTuning,
+    scale_factor_states: bool,
+    sample_rate_hz: f64,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn settings(
+    imu: &PyImuModel,
+    scale_factor_states: bool,
+    accel_noise_density: Option<f64>,
+    gyro_noise_density: Option<f64>,
+    accel_bias_psd: Option<f64>,
+    gyro_bias_psd: Option<f64>,
+    gate_probability: f64,
+    initial_position_std: f64,
+    initial_velocity_std: f64,
+    initial_tilt_std: f64,
+    initial_heading_std: f64,
+    initial_accel_bias_std: Option<f64>,
+    initial_gyro_bias_std: Option<f64>,
+    initial_clock_offset_std: f64,
+    initial_clock_drift_std: f64,
+    use_pseudorange_rate: bool,
+) -> PyResult<Settings> {
+    let model = &imu.inner;
+    let mut tuning =
+        FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
+    let q = &mut tuning.process_noise;
+    for (name, value, target) in [
+        (
+            "accel_noise_density",
+            accel_noise_density,
+            &mut q.accel_white_psd,
+        ),
+        (
+            "gyro_noise_density",
+            gyro_noise_density,
+            &mut q.gyro_white_psd,
+        ),
+    ] {
+        if let Some(d) = value {
+            memsnav_core::validate::non_negative(name, d).py()?;
+            *target = d * d;
+        }
+    }
+    if let Some(v) = accel_bias_psd {
+        q.accel_bias_psd = v;
+    }
+    if let Some(v) = gyro_bias_psd {
+        q.gyro_bias_psd = v;
+    }
+    let s = &mut tuning.initial_std;
+    s.position_m = initial_position_std;
+    s.velocity_m_s = initial_velocity_std;
+    s.attitude_ned_rad = Vector3::new(initial_tilt_std, initial_tilt_std, initial_heading_std);
+    if let Some(v) = initial_accel_bias_std {
+        s.accel_bias_m_s2 = v;
+    }
+    if let Some(v) = initial_gyro_bias_std {
+        s.gyro_bias_rad_s = v;
+    }
+    s.clock_offset_m = initial_clock_offset_std;
+    s.clock_drift_m_s = initial_clock_drift_std;
+    tuning.gate_probability = gate_probability;
+    tuning.use_pseudorange_rate = use_pseudorange_rate;
+    tuning.validate().py()?;
+    Ok(Settings {
+        tuning,
+        scale_factor_states,
+        sample_rate_hz: model.sample_rate_hz,
+    })
+}
+
+/// The IMU arrays of `run`, validated with the argument names.
+struct ImuArrays {
+    time: Vec<f64>,
+    specific_force: Vec<Vector3<f64>>,
+    angular_rate: Vec<Vector3<f64>>,
+}
+
+impl ImuArrays {
+    fn new(
+        time: &Bound<'_, PyAny>,
+        specific_force: &Bound<'_, PyAny>,
+        angular_rate: &Bound<'_, PyAny>,
+    ) -> PyResult<Self> {
+        let out = Self {
+            time: convert::scalars(time, "time")?,
+            specific_force: convert::vectors(specific_force, "specific_force")?,
+            angular_rate: convert::vectors(angular_rate, "angular_rate")?,
+        };
+        out.data().validate().py()?;
+        Ok(out)
+    }
+
+    fn data(&self) -> ImuData<'_> {
+        ImuData {
+            time_s: &self.time,
+            specific_force_b: &self.specific_force,
+            angular_rate_b: &self.angular_rate,
+        }
+    }
+}
+
+fn attitude_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Matrix3<f64>>> {
+    match obj {
+        Some(o) if !o.is_none() => {
+            let c = convert::matrix3(o, "initial_attitude")?;
+            memsnav_core::validate::rotation("initial_attitude", &c).py()?;
+            Ok(Some(c))
+        }
+        _ => Ok(None),
+    }
+}
+
+fn kind_name(k: MeasurementKind) -> &'static str {
+    match k {
+        MeasurementKind::Pseudorange => "pseudorange",
+        MeasurementKind::PseudorangeRate => "pseudorange_rate",
+        MeasurementKind::Position => "position",
+        MeasurementKind::Velocity => "velocity",
+    }
+}
+
+fn status_name(s: MeasurementStatus) -> &'static str {
+    match s {
+        MeasurementStatus::Accepted => "accepted",
+        MeasurementStatus::RejectedByGate => "gate",
+        MeasurementStatus::RejectedInvalid => "invalid",
+    }
+}
+
+/// The whole solution of a coupled filter run.
+#[pyclass(name = "FilterSolution", module = "memsnav._memsnav", frozen)]
+pub struct PyFilterSolution {
+    inner: Solution,
+}
+
+impl PyFilterSolution {
+    fn records<'py>(
+        &self,
+        py: Python<'py>,
+        keep: impl Fn(&MeasurementRecord) -> bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let r: Vec<&MeasurementRecord> =
+            self.inner.measurements.iter().filter(|m| keep(m)).collect();
+        let d = PyDict::new(py);
+        d.set_item("time", PyArray1::from_iter(py, r.iter().map(|m| m.time_s)))?;
+        d.set_item("id", PyArray1::from_iter(py, r.iter().map(|m| m.id as i64)))?;
+        d.set_item(
+            "kind",
+            r.iter().map(|m| kind_name(m.kind)).collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "innovation",
+            PyArray1::from_iter(py, r.iter().map(|m| m.innovation)),
+        )?;
+        d.set_item(
+            "innovation_std",
+            PyArray1::from_iter(py, r.iter().map(|m| m.innovation_std)),
+        )?;
+        d.set_item("nis", PyArray1::from_iter(py, r.iter().map(|m| m.nis)))?;
+        d.set_item(
+            "status",
+            r.iter().map(|m| status_name(m.status)).collect::<Vec<_>>(),
+        )?;
+        Ok(d)
+    }
+}
+
+#[pymethods]
+impl PyFilterSolution {
+    /// IMU sample times, s, (N,).
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.time_s)
+    }
+    /// Position, ECEF m, (N, 3).
+    #[getter]
+    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.position_ecef)
+    }
+    /// Velocity, ECEF m/s, (N, 3).
+    #[getter]
+    fn velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.velocity_ecef)
+    }
+    /// Attitude C_b^e (body to ECEF), (N, 3, 3).
+    #[getter]
+    fn attitude<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
+        convert::matrices3_to_numpy(py, &self.inner.c_b_e)
+    }
+    /// Accelerometer bias estimate, m/s², (N, 3).
+    #[getter]
+    fn accel_bias<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.accel_bias_m_s2)
+    }
+    /// Gyro bias estimate, rad/s, (N, 3).
+    #[getter]
+    fn gyro_bias<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.gyro_bias_rad_s)
+    }
+    /// Accelerometer scale-factor estimate, (N, 3); None without scale-factor states.
+    #[getter]
+    fn accel_scale_factor<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
+        (self.inner.n_states >= WITH_SCALE_FACTORS)
+            .then(|| convert::vectors_to_numpy(py, &self.inner.accel_scale_factor))
+    }
+    /// Gyro scale-factor estimate, (N, 3); None without scale-factor states.
+    #[getter]
+    fn gyro_scale_factor<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
+        (self.inner.n_states >= WITH_SCALE_FACTORS)
+            .then(|| convert::vectors_to_numpy(py, &self.inner.gyro_scale_factor))
+    }
+    /// Receiver clock offset, m, (N,).
+    #[getter]
+    fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.clock_offset_m)
+    }
+    /// Receiver clock drift, m/s, (N,).
+    #[getter]
+    fn clock_drift<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.clock_drift_m_s)
+    }
+    /// Diagonal of the error covariance, (N, n_states), order `state_names`.
+    #[getter]
+    fn covariance_diagonal<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        PyArray1::from_slice(py, &self.inner.covariance_diagonal)
+            .reshape([self.inner.time_s.len(), self.inner.n_states])
+    }
+    /// Error-state names, in covariance order.
+    #[getter]
+    fn state_names(&self) -> Vec<&'static str> {
+        state_names(self.inner.n_states)
+    }
+    /// Every scalar measurement: dict of arrays `time`, `id`, `kind`,
+    /// `innovation`, `innovation_std`, `nis`, `status`.
+    #[getter]
+    fn measurements<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.records(py, |_| true)
+    }
+    /// The rejected measurements only (status "gate" or "invalid").
+    #[getter]
+    fn rejected<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.records(py, |m| m.status != MeasurementStatus::Accepted)
+    }
+    fn __len__(&self) -> usize {
+        self.inner.time_s.len()
+    }
+}
+
+macro_rules! filter_class {
+    ($rust:ident, $py:literal, $($run:item)*) => {
+        #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
+        pub struct $rust {
+            settings: Settings,
+        }
+
+        #[pymethods]
+        impl $rust {
+            #[new]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true))]
+            #[allow(clippy::too_many_arguments)]
+            fn new(
+                imu: &PyImuModel,
+                scale_factor_states: bool,
+                accel_noise_density: Option<f64>,
+                gyro_noise_density: Option<f64>,
+                accel_bias_psd: Option<f64>,
+                gyro_bias_psd: Option<f64>,
+                gate_probability: f64,
+                initial_position_std: f64,
+                initial_velocity_std: f64,
+                initial_tilt_std: f64,
+                initial_heading_std: f64,
+                initial_accel_bias_std: Option<f64>,
+                initial_gyro_bias_std: Option<f64>,
+                initial_clock_offset_std: f64,
+                initial_clock_drift_std: f64,
+                use_pseudorange_rate: bool,
+            ) -> PyResult<Self> {
+                Ok(Self {
+                    settings: settings(
+                        imu,
+                        scale_factor_states,
+                        accel_noise_density,
+                        gyro_noise_density,
+                        accel_bias_psd,
+                        gyro_bias_psd,
+                        gate_probability,
+                        initial_position_std,
+                        initial_velocity_std,
+                        initial_tilt_std,
+                        initial_heading_std,
+                        initial_accel_bias_std,
+                        initial_gyro_bias_std,
+                        initial_clock_offset_std,
+                        initial_clock_drift_std,
+                        use_pseudorange_rate,
+                    )?,
+                })
+            }
+
+            /// The tuning in effect, SI: white-noise PSDs, bias processes,
+            /// initial one-sigmas, gate.
+            #[getter]
+            fn tuning<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+                let t = &self.settings.tuning;
+                let q = &t.process_noise;
+                let s = &t.initial_std;
+                let d = PyDict::new(py);
+                d.set_item("sample_rate", self.settings.sample_rate_hz)?;
+                d.set_item("scale_factor_states", self.settings.scale_factor_states)?;
+                d.set_item("accel_white_psd", q.accel_white_psd)?;
+                d.set_item("gyro_white_psd", q.gyro_white_psd)?;
+                d.set_item("accel_bias_psd", q.accel_bias_psd)?;
+                d.set_item("accel_bias_correlation_time", q.accel_bias_correlation_time_s)?;
+                d.set_item("gyro_bias_psd", q.gyro_bias_psd)?;
+                d.set_item("gyro_bias_correlation_time", q.gyro_bias_correlation_time_s)?;
+                d.set_item("clock_phase_psd", q.clock_phase_psd)?;
+                d.set_item("clock_frequency_psd", q.clock_frequency_psd)?;
+                d.set_item("gate_probability", t.gate_probability)?;
+                d.set_item("use_pseudorange_rate", t.use_pseudorange_rate)?;
+                d.set_item("initial_position_std", s.position_m)?;
+                d.set_item("initial_velocity_std", s.velocity_m_s)?;
+                d.set_item("initial_tilt_std", s.attitude_ned_rad.x)?;
+                d.set_item("initial_heading_std", s.attitude_ned_rad.z)?;
+                d.set_item("initial_accel_bias_std", s.accel_bias_m_s2)?;
+                d.set_item("initial_gyro_bias_std", s.gyro_bias_rad_s)?;
+                d.set_item("initial_clock_offset_std", s.clock_offset_m)?;
+                d.set_item("initial_clock_drift_std", s.clock_drift_m_s)?;
+                d.set_item("initial_accel_scale_factor_std", s.accel_scale_factor)?;
+                d.set_item("initial_gyro_scale_factor_std", s.gyro_scale_factor)?;
+                Ok(d)
+            }
+
+            $($run)*
+        }
+    };
+}
+
+fn run_filter(
+    settings: &Settings,
+    run: impl FnOnce(&FilterTuning, bool) -> memsnav_core::Result<Solution> + Send,
+    py: Python<'_>,
+) -> PyResult<PyFilterSolution> {
+    let inner = py
+        .detach(|| run(&settings.tuning, settings.scale_factor_states))
+        .py()?;
+    Ok(PyFilterSolution { inner })
+}
+
+/// The initial state of the loose filter: the first fix, moved back to the
+/// first IMU time along its velocity; attitude as given or coarse.
+fn loose_initial(
+    fixes: &[PositionFix],
+    imu: &ImuData,
+    attitude: Option<Matrix3<f64>>,
+) -> Result<InitialState, Error> {
+    let fix = fixes
+        .first()
+        .ok_or_else(|| Error::invalid("fixes", "has no valid fix"))?;
+    let velocity = fix.velocity_ecef.unwrap_or_else(Vector3::zeros);
+    let t0 = imu.time_s[0];
+    let position = fix.position_ecef - velocity * (fix.time_s - t0);
+    let c_b_e = match attitude {
+        Some(c) => c,
+        None => {
+            let k = imu
+                .time_s
+                .iter()
+                .take_while(|t| **t <= t0 + 1.0)
+                .count()
+                .max(1);
+            let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
+            coarse_attitude(&mean, &position, &velocity)?
+        }
+    };
+    Ok(InitialState {
+        nav: NavState {
+            position_ecef: position,
+            velocity_ecef: velocity,
+            c_b_e,
+        },
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: Some(0.0),
+        clock_drift_m_s: Some(0.0),
+    })
+}
+
+filter_class!(
+    PyTightlyCoupledFilter,
+    "TightlyCoupledFilter",
+    /// Runs the filter over the whole IMU series with the GNSS measurements.
+    #[pyo3(signature = (time, specific_force, angular_rate, gnss, *, initial_attitude=None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        time: &Bound<'_, PyAny>,
+        specific_force: &Bound<'_, PyAny>,
+        angular_rate: &Bound<'_, PyAny>,
+        gnss: &Bound<'_, PyAny>,
+        initial_attitude: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyFilterSolution> {
+        let imu = ImuArrays::new(time, specific_force, angular_rate)?;
+        let epochs = gnss_epochs(gnss)?;
+        let attitude = attitude_arg(initial_attitude)?;
+        let first = epochs
+            .first()
+            .ok_or_else(|| PyValueError::new_err("gnss: has no epochs"))?;
+        let initial = initial_state_from_fix(first, &imu.data(), attitude).py()?;
+        run_filter(
+            &self.settings,
+            |tuning, sf| {
+                if sf {
+                    coupling::tightly_coupled::<WITH_SCALE_FACTORS>(
+                        &imu.data(),
+                        &epochs,
+                        &initial,
+                        tuning,
+                    )
+                } else {
+                    coupling::tightly_coupled::<BASE_STATES>(&imu.data(), &epochs, &initial, tuning)
+                }
+            },
+            py,
+        )
+    }
+);
+
+filter_class!(
+    PyLooselyCoupledFilter,
+    "LooselyCoupledFilter",
+    /// Runs the filter over the whole IMU series with the position fixes.
+    #[pyo3(signature = (time, specific_force, angular_rate, fixes, *, initial_attitude=None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        time: &Bound<'_, PyAny>,
+        specific_force: &Bound<'_, PyAny>,
+        angular_rate: &Bound<'_, PyAny>,
+        fixes: &Bound<'_, PyAny>,
+        initial_attitude: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyFilterSolution> {
+        let imu = ImuArrays::new(time, specific_force, angular_rate)?;
+        let fixes = position_fixes(fixes)?;
+        let attitude = attitude_arg(initial_attitude)?;
+        let initial = loose_initial(&fixes, &imu.data(), attitude).py()?;
+        run_filter(
+            &self.settings,
+            |tuning, sf| {
+                if sf {
+                    coupling::loosely_coupled::<WITH_SCALE_FACTORS>(
+                        &imu.data(),
+                        &fixes,
+                        &initial,
+                        tuning,
+                    )
+                } else {
+                    coupling::loosely_coupled::<BASE_STATES>(&imu.data(), &fixes, &initial, tuning)
+                }
+            },
+            py,
+        )
+    }
+);
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyTightlyCoupledFilter>()?;
+    m.add_class::<PyLooselyCoupledFilter>()?;
+    m.add_class::<PyFilterSolution>()?;
+    Ok(())
+}

@@ -1,0 +1,214 @@
+//! `navigation_experiment`: the navigation Monte Carlo of memsnav-core
+//! (paper §5.3) in one call. The work runs on a worker thread while the
+//! calling (main) thread polls Ctrl-C and reports progress; an interrupt
+//! cancels the remaining runs and returns the completed ones.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Duration;
+
+use memsnav_core::experiments::navigation::{
+    navigation_experiment as run_experiment, NavigationExperiment, NavigationExperimentConfig,
+    NavigationImu,
+};
+use memsnav_core::montecarlo::RunOptions;
+use memsnav_core::sensors::presets;
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::errors::IntoPyResult;
+use crate::sensors::PyImuModel;
+
+/// `(name, source)` pairs: a preset name, `"calibrated:<raw name>"` or an `ImuModel`.
+fn imu_list(imus: &Bound<'_, PyAny>) -> PyResult<Vec<(String, NavigationImu)>> {
+    let pairs: Vec<(String, Bound<'_, PyAny>)> = imus
+        .extract()
+        .map_err(|_| PyValueError::new_err("imus: expected a list of (name, source) pairs"))?;
+    let names: Vec<String> = pairs.iter().map(|(n, _)| n.clone()).collect();
+    pairs
+        .iter()
+        .map(|(name, source)| {
+            if let Ok(model) = source.cast::<PyImuModel>() {
+                return Ok((
+                    name.clone(),
+                    NavigationImu::Fixed(Box::new(model.get().inner.clone())),
+                ));
+            }
+            let text: String = source.extract().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "imus: {name:?} must be an ImuModel, a preset name or ('calibrated', source)"
+                ))
+            })?;
+            if let Some(raw) = text.strip_prefix("calibrated:") {
+                let source = names.iter().position(|n| n == raw).ok_or_else(|| {
+                    PyValueError::new_err(format!(
+                        "imus: {name:?} is calibrated from {raw:?}, which is not in the set"
+                    ))
+                })?;
+                return Ok((name.clone(), NavigationImu::Calibrated { source }));
+            }
+            let spec = presets::preset_spec(&text)
+                .map_err(|e| PyValueError::new_err(format!("imus: {name:?}: {e}")))?;
+            Ok((name.clone(), NavigationImu::Drawn(spec)))
+        })
+        .collect()
+}
+
+fn rows<'py>(py: Python<'py>, rows: &[Vec<f64>], cols: usize) -> PyResult<Bound<'py, PyAny>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    Ok(PyArray1::from_vec(py, flat)
+        .reshape([rows.len(), cols])?
+        .into_any())
+}
+
+fn to_dict<'py>(
+    py: Python<'py>,
+    r: &NavigationExperiment,
+    interrupted: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let epochs = r.time_s.len();
+    d.set_item("time", PyArray1::from_slice(py, &r.time_s))?;
+    d.set_item("completed_runs", r.completed_runs)?;
+    d.set_item("interrupted", interrupted || r.cancelled)?;
+    let imus = PyList::empty(py);
+    for o in &r.imus {
+        let e = PyDict::new(py);
+        e.set_item("name", &o.name)?;
+        e.set_item(
+            "position_error_mean",
+            PyArray1::from_slice(py, &o.position_error_mean),
+        )?;
+        e.set_item(
+            "position_error_std",
+            PyArray1::from_slice(py, &o.position_error_std),
+        )?;
+        e.set_item(
+            "position_error_percentiles",
+            rows(py, &o.position_error_percentiles, epochs)?,
+        )?;
+        e.set_item("nees_mean", PyArray1::from_slice(py, &o.nees_mean))?;
+        if o.position_error_runs.is_empty() {
+            e.set_item("position_error_runs", py.None())?;
+            e.set_item("nees_runs", py.None())?;
+        } else {
+            e.set_item(
+                "position_error_runs",
+                rows(py, &o.position_error_runs, epochs)?,
+            )?;
+            e.set_item("nees_runs", rows(py, &o.nees_runs, epochs)?)?;
+        }
+        e.set_item("run_rms", PyArray1::from_slice(py, &o.run_rms))?;
+        e.set_item("run_rms_early", PyArray1::from_slice(py, &o.run_rms_early))?;
+        e.set_item("run_final", PyArray1::from_slice(py, &o.run_final))?;
+        e.set_item(
+            "run_max_in_outage",
+            PyArray1::from_slice(py, &o.run_max_in_outage),
+        )?;
+        e.set_item(
+            "run_mean_nees_per_dof",
+            PyArray1::from_slice(py, &o.run_mean_nees_per_dof),
+        )?;
+        e.set_item(
+            "run_rejected",
+            PyArray1::from_iter(py, o.run_rejected.iter().map(|&n| n as i64)),
+        )?;
+        imus.append(e)?;
+    }
+    d.set_item("imus", imus)?;
+    Ok(d)
+}
+
+/// Navigation Monte Carlo (paper §5.3, figs 14-18); see
+/// `memsnav.experiments.navigation` for the documented interface.
+#[pyfunction]
+#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, keep_runs=false, threads=None, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn navigation_experiment<'py>(
+    py: Python<'py>,
+    imus: &Bound<'py, PyAny>,
+    runs: usize,
+    duration: f64,
+    seed: u64,
+    n_satellites: usize,
+    outage: Option<(f64, f64)>,
+    calibration_duration: f64,
+    early_window: f64,
+    keep_runs: bool,
+    threads: Option<usize>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if threads == Some(0) {
+        return Err(PyValueError::new_err(
+            "threads: must be at least 1 (or None)",
+        ));
+    }
+    let config = NavigationExperimentConfig {
+        runs,
+        seed,
+        duration_s: duration,
+        imus: imu_list(imus)?,
+        n_satellites,
+        outage,
+        calibration_duration_s: calibration_duration,
+        early_window_s: early_window,
+        keep_runs,
+        ..Default::default()
+    };
+    let cancel = AtomicBool::new(false);
+    let done = AtomicUsize::new(0);
+    let on_run = |n: usize| {
+        done.fetch_max(n, Ordering::Relaxed);
+    };
+    let mut interrupted = false;
+    let mut callback_error: Option<PyErr> = None;
+    let result = py.detach(|| {
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(|| {
+                run_experiment(
+                    &config,
+                    &RunOptions {
+                        threads,
+                        progress: Some(&on_run),
+                        cancel: Some(&cancel),
+                    },
+                )
+            });
+            let mut reported = 0;
+            loop {
+                let finished = worker.is_finished();
+                Python::attach(|py| {
+                    if !interrupted && py.check_signals().is_err() {
+                        // Ctrl-C: finish the runs under way, start no more.
+                        interrupted = true;
+                        cancel.store(true, Ordering::Relaxed);
+                    }
+                    let n = done.load(Ordering::Relaxed);
+                    if let (Some(cb), true, None) = (&progress, n != reported, &callback_error) {
+                        reported = n;
+                        if let Err(e) = cb.call1(py, (n, runs)) {
+                            cancel.store(true, Ordering::Relaxed);
+                            callback_error = Some(e);
+                        }
+                    }
+                });
+                if finished {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            worker.join().expect("the experiment worker does not panic")
+        })
+    });
+    if let Some(e) = callback_error {
+        return Err(e);
+    }
+    let result = result.py()?;
+    to_dict(py, &result, interrupted)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(navigation_experiment, m)?)?;
+    Ok(())
+}

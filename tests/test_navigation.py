@@ -1,0 +1,244 @@
+"""Coupled filters from Python and the navigation experiment (paper §5.3).
+
+Truth comes from the trajectory generator (exact IMU inputs) and the GNSS
+simulator; the filter sees IMU readings with biases and white noise only
+(what its 17 states model exactly), so its errors must stay inside its own
+covariance and its innovations must be unit-variance.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+import numpy as np
+import pytest
+
+import memsnav as mn
+
+matplotlib.use("Agg")
+
+
+@pytest.fixture(scope="module")
+def scenario():
+    traj = mn.Trajectory.random(duration=300.0, seed=3)
+    sky = mn.Constellation.walker()
+    gnss = mn.simulate_gnss(traj.time, traj.position_ecef, traj.velocity_ecef, sky, seed=4)
+    rng = np.random.default_rng(5)
+    z3, z33 = np.zeros(3), np.zeros((3, 3))
+    acc = mn.AccelerometerModel(rng.normal(0, 0.03, 3), z3, z33, z3, noise_density=2e-3)
+    gyr = mn.GyroscopeModel(rng.normal(0, 2e-4, 3), z3, z33, z33, noise_density=2e-4)
+    imu = mn.ImuModel(acc, gyr)
+    f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
+    return traj, gnss, imu, f, w
+
+
+def gnss_dict(gnss):
+    names = (
+        "time sat_id satellite_position_ecef satellite_velocity_ecef pseudorange "
+        "pseudorange_std pseudorange_rate pseudorange_rate_std"
+    ).split()
+    return {n: np.array(getattr(gnss, n)) for n in names}
+
+
+def test_tight_filter_is_consistent(scenario):
+    traj, gnss, imu, f, w = scenario
+    sol = mn.TightlyCoupledFilter(imu).run(traj.time, f, w, gnss, initial_attitude=traj.attitude[0])
+    assert len(sol) == len(traj)
+    assert sol.attitude.shape == (len(traj), 3, 3)
+    assert sol.covariance_diagonal.shape == (len(traj), 17)
+    assert sol.state_names[6:9] == ["position_x", "position_y", "position_z"]
+    assert sol.accel_scale_factor is None
+    after = sol.time >= 10.0
+    err = (sol.position_ecef - traj.position_ecef)[after]
+    sigma = np.sqrt(sol.covariance_diagonal[after, 6:9])
+    assert np.mean(np.abs(err) < 3 * sigma) > 0.97
+    verr = (sol.velocity_ecef - traj.velocity_ecef)[after]
+    assert np.mean(np.abs(verr) < 3 * np.sqrt(sol.covariance_diagonal[after, 3:6])) > 0.97
+    assert np.sqrt(np.mean(np.sum(err**2, axis=1))) < 5.0
+    m = sol.measurements
+    accepted = np.array(m["status"]) == "accepted"
+    nis = m["nis"][accepted]
+    # Mean of chi-square(1) over ~3600 values: 1 ± 0.05 (2 sigma ≈ 0.047);
+    # the gate trims the tail (p = 0.999 removes ~1 % of the mean).
+    assert 0.85 < nis.mean() < 1.1
+    # Bias estimates converge towards the true biases. The filter's bias is
+    # additive (reading = truth + bias); the sensor model's enters as
+    # S = Γ - b (method §2), hence the sign.
+    assert np.linalg.norm(sol.accel_bias[-1] + imu.accelerometer.bias) < 0.01
+
+
+def test_user_arrays_match_simulator_object_and_outliers_are_reported(scenario):
+    traj, gnss, imu, f, w = scenario
+    k = slice(None)
+    flt = mn.TightlyCoupledFilter(imu)
+    a = flt.run(traj.time[k], f[k], w[k], gnss, initial_attitude=traj.attitude[0])
+    d = gnss_dict(gnss)
+    b = flt.run(traj.time[k], f[k], w[k], d, initial_attitude=traj.attitude[0])
+    np.testing.assert_array_equal(a.position_ecef, b.position_ecef)
+    assert len(a.rejected["time"]) == len(b.rejected["time"])
+    d["pseudorange"] = d["pseudorange"].copy()
+    d["pseudorange"][40, 2] += 100.0
+    d["pseudorange"][45, 1] = np.nan
+    c = flt.run(traj.time[k], f[k], w[k], d, initial_attitude=traj.attitude[0])
+    r = c.rejected
+    hits = [
+        (t, i, kind, status)
+        for t, i, kind, status in zip(r["time"], r["id"], r["kind"], r["status"], strict=True)
+        if kind == "pseudorange"
+    ]
+    assert (d["time"][40], d["sat_id"][40, 2], "pseudorange", "gate") in hits
+    assert (d["time"][45], d["sat_id"][45, 1], "pseudorange", "invalid") in hits
+    # The outlier did not pull the solution: same accuracy as without it.
+    e_b = np.linalg.norm(b.position_ecef[-1] - traj.position_ecef[-1])
+    e_c = np.linalg.norm(c.position_ecef[-1] - traj.position_ecef[-1])
+    assert abs(e_c - e_b) < 1.0
+
+
+def test_loose_filter_on_fixes(scenario):
+    traj, gnss, imu, f, w = scenario
+    fixes = mn.solve_fix(gnss)
+    sol = mn.LooselyCoupledFilter(imu, scale_factor_states=True).run(
+        traj.time, f, w, fixes, initial_attitude=traj.attitude[0]
+    )
+    assert sol.covariance_diagonal.shape == (len(traj), 23)
+    assert sol.gyro_scale_factor is not None and sol.gyro_scale_factor.shape == (len(traj), 3)
+    after = sol.time >= 10.0
+    err = (sol.position_ecef - traj.position_ecef)[after]
+    sigma = np.sqrt(sol.covariance_diagonal[after, 6:9])
+    assert np.mean(np.abs(err) < 3 * sigma) > 0.95
+    assert set(sol.measurements["kind"]) == {"position", "velocity"}
+
+
+def test_tuning_defaults_and_overrides(scenario):
+    _, _, imu, _, _ = scenario
+    t = mn.TightlyCoupledFilter(imu).tuning
+    # From the spec: white PSD = density², initial bias std = RMS of the biases.
+    assert t["accel_white_psd"] == pytest.approx(2e-3**2)
+    assert t["initial_accel_bias_std"] == pytest.approx(imu.spec["accel_bias_std"])
+    assert t["initial_position_std"] == 5.0 and t["gate_probability"] == 0.999
+    assert t["initial_heading_std"] == pytest.approx(np.radians(5.0))
+    o = mn.TightlyCoupledFilter(imu, accel_noise_density=0.01, initial_position_std=2.0).tuning
+    assert o["accel_white_psd"] == pytest.approx(1e-4) and o["initial_position_std"] == 2.0
+
+
+def test_bad_inputs_name_the_argument(scenario):
+    traj, gnss, imu, f, w = scenario
+    flt = mn.TightlyCoupledFilter(imu)
+    with pytest.raises(ValueError, match="specific_force"):
+        flt.run(traj.time, f[:-1], w, gnss)
+    with pytest.raises(ValueError, match="angular_rate"):
+        flt.run(traj.time, f, np.full_like(w, np.nan), gnss)
+    with pytest.raises(ValueError, match="gate_probability"):
+        mn.TightlyCoupledFilter(imu, gate_probability=1.5)
+    with pytest.raises(ValueError, match="initial_position_std"):
+        mn.TightlyCoupledFilter(imu, initial_position_std=-1.0)
+    with pytest.raises(ValueError, match="initial_attitude"):
+        flt.run(traj.time, f, w, gnss, initial_attitude=np.eye(3) * 2)
+    d = gnss_dict(gnss)
+    d["time"] = d["time"][::-1].copy()
+    with pytest.raises(ValueError, match="gnss"):
+        flt.run(traj.time, f, w, d, initial_attitude=traj.attitude[0])
+    d = gnss_dict(gnss)
+    d["time"] = d["time"] + 1000.0
+    with pytest.raises(ValueError, match="gnss"):
+        flt.run(traj.time, f, w, d, initial_attitude=traj.attitude[0])
+    d = gnss_dict(gnss)
+    d["sat_id"] = d["sat_id"].copy()
+    d["sat_id"][0, 3:] = -1
+    with pytest.raises(ValueError, match=r"gnss.*at least 4"):
+        flt.run(traj.time, f, w, d, initial_attitude=traj.attitude[0])
+    d = gnss_dict(gnss)
+    d["pseudorange"] = d["pseudorange"][:, :3]
+    with pytest.raises(ValueError, match="pseudorange"):
+        flt.run(traj.time, f, w, d)
+    with pytest.raises(ValueError, match="fixes"):
+        mn.LooselyCoupledFilter(imu).run(traj.time, f, w, {"time": [1.0]})
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    return mn.experiments.navigation(
+        runs=2, duration=40.0, seed=1, threads=1, calibration_duration=60.0
+    )
+
+
+def test_experiment_shapes_and_summary(tiny):
+    assert tiny.imus == ["ins", "mems", "calibrated_mems"]
+    np.testing.assert_array_equal(tiny.time, np.arange(41.0))
+    assert tiny.completed_runs == 2 and not tiny.interrupted
+    assert tiny.position_error is not None and tiny.nees is not None
+    for name in tiny.imus:
+        assert tiny.position_error[name].shape == (2, 41)
+        assert tiny.nees[name].shape == (2, 41)
+        assert tiny.mean[name].shape == tiny.std[name].shape == (41,)
+        assert tiny.percentiles[name].shape == (5, 41)
+        np.testing.assert_allclose(tiny.mean[name], tiny.position_error[name].mean(axis=0))
+        np.testing.assert_allclose(tiny.std[name], tiny.position_error[name].std(axis=0, ddof=1))
+    s = tiny.summary()
+    assert set(s) == set(tiny.imus)
+    keys = {
+        "rms_position_error_m",
+        "rms_position_error_first_150s_m",
+        "final_position_error_m",
+        "mean_nees_per_dof",
+        "rejected_measurements_per_run",
+    }
+    assert set(s["ins"]) == keys
+    pe = tiny.position_error["ins"]
+    assert s["ins"]["rms_position_error_m"] == pytest.approx(np.sqrt(np.mean(pe**2)))
+    assert s["ins"]["final_position_error_m"] == pytest.approx(pe[:, -1].mean())
+    assert s["ins"]["mean_nees_per_dof"] == pytest.approx(tiny.nees["ins"].mean() / 9)
+    figs = tiny.plot()
+    assert set(figs) == {"fig14", "fig15"}
+    ax = figs["fig14"].axes[0]
+    assert "[m]" in ax.get_ylabel() and "[s]" in ax.get_xlabel() and ax.get_title()
+
+
+def test_experiment_reproducible_across_threads(tiny):
+    again = mn.experiments.navigation(
+        runs=2, duration=40.0, seed=1, threads=2, calibration_duration=60.0
+    )
+    for name in tiny.imus:
+        np.testing.assert_array_equal(again.position_error[name], tiny.position_error[name])
+        np.testing.assert_array_equal(again.nees[name], tiny.nees[name])
+    other = mn.experiments.navigation(runs=1, duration=40.0, seed=2, imus=("ins",), threads=1)
+    assert not np.array_equal(other.position_error["ins"][0], tiny.position_error["ins"][0])
+
+
+def test_experiment_bad_input_and_custom_imus():
+    with pytest.raises(ValueError, match="runs"):
+        mn.experiments.navigation(runs=0)
+    with pytest.raises(ValueError, match="outage"):
+        mn.experiments.navigation(outage=(0.0, 30.0), runs=1, duration=10.0)
+    with pytest.raises(ValueError, match="imus"):
+        mn.experiments.navigation(imus=("calibrated_mems",), runs=1, duration=10.0)
+    with pytest.raises(ValueError, match="imus"):
+        mn.experiments.navigation(imus=("no-such-grade",), runs=1, duration=10.0)
+    with pytest.raises(ValueError, match="n_satellites"):
+        mn.experiments.navigation(n_satellites=3, runs=1, duration=10.0)
+    calls = []
+    r = mn.experiments.navigation(
+        imus={"mine": mn.ImuModel.preset("tactical", seed=1), "grade": "industrial"},
+        runs=2,
+        duration=10.0,
+        progress=lambda done, total: calls.append((done, total)),
+    )
+    assert r.imus == ["mine", "grade"] and calls[-1] == (2, 2)
+
+
+def test_paper_claims_outage_drift_and_calibration():
+    """MEMS drifts far more than INS during a total outage, and calibration
+    removes most of the MEMS drift (see the module docs for why our
+    calibration helps more in the outage than the paper's)."""
+    r = mn.experiments.navigation(
+        outage=(40.0, 30.0), runs=3, duration=75.0, seed=0, calibration_duration=120.0
+    )
+    s = r.summary()
+    ins, mems, cal = (s[n]["max_position_error_during_outage_m"] for n in r.imus)
+    assert mems > 4 * ins
+    assert cal < 0.5 * mems
+    figs = r.plot()
+    assert set(figs) == {"fig16", "fig17", "fig18"}
+    # Outside the outage all three stay at the GNSS level (a few metres).
+    before = r.time < 40.0
+    for name in r.imus:
+        assert np.all(r.mean[name][before][5:] < 6.0)
