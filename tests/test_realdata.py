@@ -13,7 +13,6 @@ import pytest
 
 import memsnav as mn
 from memsnav import cli
-from memsnav.realdata import readers
 
 DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
@@ -58,7 +57,9 @@ def test_imu_csv_other_layout_and_units(tmp_path):
 def test_imu_csv_bad_files_name_file_and_line(tmp_path):
     p = tmp_path / "bad.csv"
     p.write_text("1,2,3,4,5,6,0\n1,2,3,4,5,10\n1,2,3,4,5,6,20\n")
-    with pytest.raises(mn.ParseError, match=r"bad.csv:2: expected 7 comma-separated fields .* got 6"):
+    with pytest.raises(
+        mn.ParseError, match=r"bad.csv:2: expected 7 comma-separated fields .* got 6"
+    ):
         mn.read_imu_csv(p)
     p.write_text("1,2,3,4,5,6,0\n1,2,x,4,5,6,10\n1,2,3,4,5,6,20\n")
     with pytest.raises(mn.ParseError, match=r"bad.csv:2: expected numbers"):
@@ -80,7 +81,7 @@ def test_imu_csv_bad_files_name_file_and_line(tmp_path):
 def test_time_tag_header_and_records():
     raw = (EX / "walk_head.csv.tag").read_bytes()
     tag = mn.read_time_tag(EX / "walk_head.csv.tag")
-    seconds, fraction = struct.unpack_from("<Id", raw, 64)  # written by RTKLIB's strfile
+    seconds, _ = struct.unpack_from("<Id", raw, 64)  # written by RTKLIB's strfile
     assert seconds == 1756402240  # 2025-08-28 17:30:40 GPST as a 1970-based count
     assert tag.start_gps_time == pytest.approx(1756402240 - 315964800 + 0.961, abs=1e-9)
     assert len(tag.tick_ms) == 20
@@ -100,10 +101,13 @@ def test_time_tag_bad_file(tmp_path):
 
 def test_pos_fields():
     sol = mn.read_pos(EX / "walk_head.pos")
-    # 2025/08/28 17:30:39.749 40.0966916 -105.1471665 1601.4350000 1 25 0.0098995 0.0098995 0.0100000
+    # 2025/08/28 17:30:39.749 40.0966916 -105.1471665 1601.4350000 1 25
+    # 0.0098995 0.0098995 0.0100000
     # ... vn 0.001 ve -0.002 vu 0.027, sdv 0.0494975 x3
     assert sol.gps_time[0] == pytest.approx(GPS_WEEK_2381_THURSDAY + 17 * 3600 + 30 * 60 + 39.749)
-    np.testing.assert_allclose(sol.lla[0], [np.radians(40.0966916), np.radians(-105.1471665), 1601.435])
+    np.testing.assert_allclose(
+        sol.lla[0], [np.radians(40.0966916), np.radians(-105.1471665), 1601.435]
+    )
     assert sol.quality[0] == 1 and sol.n_satellites[0] == 25
     np.testing.assert_allclose(sol.std_ned[0], [0.0098995, 0.0098995, 0.01])
     np.testing.assert_allclose(sol.velocity_ned[0], [0.001, -0.002, -0.027])
@@ -133,7 +137,9 @@ def test_rinex_obs_fields():
     assert len(obs) == 4 and obs.warnings == []
     assert obs.observation_types["G"] == ["C1C", "L1C", "D1C", "S1C", "C2L", "L2L", "D2L", "S2L"]
     assert obs.observation_types["E"] == ["C1C", "L1C", "D1C", "S1C"]
-    np.testing.assert_allclose(obs.approx_position_ecef, [-1276965.2487, -4717231.7278, 4087230.1460])
+    np.testing.assert_allclose(
+        obs.approx_position_ecef, [-1276965.2487, -4717231.7278, 4087230.1460]
+    )
     t = obs.time
     assert t[0] == pytest.approx(GPS_WEEK_2381_THURSDAY + 17 * 3600 + 30 * 60 + 39.748, abs=1e-6)
     assert t[1] - t[0] == pytest.approx(0.25, abs=1e-6)
@@ -169,7 +175,9 @@ def test_gps_l1_measurements_against_independent_corrections():
     obs = mn.read_rinex_obs(EX / "walk_head.obs")
     assert mn.read_klobuchar(EX / "walk.nav") is None  # this header has no ION ALPHA/BETA
     raw = mn.read_rinex_obs(EX / "walk_head.obs")
-    m = obs.gps_l1(sky, ionosphere=False, troposphere=False, elevation_mask_deg=0.0, min_cn0_db_hz=0.0)
+    m = obs.gps_l1(
+        sky, ionosphere=False, troposphere=False, elevation_mask_deg=0.0, min_cn0_db_hz=0.0
+    )
     ids = np.asarray(m.sat_id)[0]
     assert sorted(ids[ids >= 0]) == [10, 23, 27, 32]
     t = obs.time[0]
@@ -178,7 +186,7 @@ def test_gps_l1_measurements_against_independent_corrections():
         d = raw.observation("D1C")[0, raw.satellites.index(f"G{prn:02d}")]
         i = sky.prns.index(f"G{prn:02d}")
         dt_sv = sky.clock_correction(t - p / C)[i]
-        # P + c Δt_sv (IS-GPS-200 20.3.3.3.3.1), and −λ D for the rate.
+        # P + c Δt_sv (IS-GPS-200 20.3.3.3.3.1), and -λ D for the rate.
         assert np.asarray(m.pseudorange)[0, col] == pytest.approx(p + C * dt_sv, abs=1e-3)
         rate = np.asarray(m.pseudorange_rate)[0, col]
         assert rate == pytest.approx(-d * C / 1575.42e6, abs=0.01)
@@ -248,13 +256,17 @@ def test_config_unknown_keys_and_bad_values(tmp_path):
     with pytest.raises(ValueError, match=r"gnss.mode must be one of \['loose', 'tight'\]"):
         mn.load_config(_test_config(tmp_path, **{'mode = "loose"': 'mode = "lose"'}), DATA)
     with pytest.raises(ValueError, match=r"filter.accel_bias_std must be a number"):
-        mn.load_config(_test_config(tmp_path, **{"accel_bias_std = 0.2": 'accel_bias_std = "0.2"'}), DATA)
+        mn.load_config(
+            _test_config(tmp_path, **{"accel_bias_std = 0.2": 'accel_bias_std = "0.2"'}), DATA
+        )
     with pytest.raises(ValueError, match=r"missing required key imu.gyro_unit"):
         mn.load_config(_test_config(tmp_path, **{'gyro_unit = "deg/s"': ""}), DATA)
     with pytest.raises(ValueError, match=r"imu.file: no such file"):
-        mn.navigate(_test_config(tmp_path, **{"drive_60s.csv\"": 'nope.csv"'}), data_root=DATA)
+        mn.navigate(_test_config(tmp_path, **{'drive_60s.csv"': 'nope.csv"'}), data_root=DATA)
     with pytest.raises(ValueError, match=r"unknown unit 'G'"):
-        mn.navigate(_test_config(tmp_path, **{'accel_unit = "g"': 'accel_unit = "G"'}), data_root=DATA)
+        mn.navigate(
+            _test_config(tmp_path, **{'accel_unit = "g"': 'accel_unit = "G"'}), data_root=DATA
+        )
 
 
 def test_data_root_from_environment(tmp_path, monkeypatch):
@@ -293,7 +305,10 @@ def test_navigate_loose_excerpt_end_to_end(tmp_path):
 
 def test_navigate_cli(tmp_path, capsys):
     cfg = _test_config(tmp_path)
-    assert cli.main(["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "20"]) == 0
+    assert (
+        cli.main(["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "20"])
+        == 0
+    )
     out = capsys.readouterr().out
     assert "report:" in out and "within 3 sigma" in out
     assert cli.main(["navigate", "--config", str(tmp_path / "missing.toml")]) == 1
@@ -323,6 +338,8 @@ def test_allan_deviation_of_white_noise():
     x = np.random.default_rng(5).normal(0.0, sigma, (60_000, 2))
     taus, adev = mn.allan_deviation(x, rate, taus=[0.1, 1.0, 5.0])
     density = sigma / np.sqrt(rate)  # white noise: adev(tau) = q / sqrt(tau)
-    np.testing.assert_allclose(adev, np.repeat(density / np.sqrt(taus)[:, None], 2, axis=1), rtol=0.15)
+    np.testing.assert_allclose(
+        adev, np.repeat(density / np.sqrt(taus)[:, None], 2, axis=1), rtol=0.15
+    )
     with pytest.raises(ValueError, match="taus"):
         mn.allan_deviation(x, rate, taus=[1000.0])

@@ -1034,8 +1034,8 @@ class RinexObservations:
         corrected for the satellite clock, the Klobuchar ionosphere
         (``klobuchar=(alpha, beta)``, default RTKLIB's coefficients) and the
         Saastamoinen troposphere at ``reference_position_ecef`` (default the
-        header's approximate position); rates from the Doppler. Noise σ at
-        45 dB-Hz and zenith (m, m/s), scaled by √10^((45−C/N0)/10)/sin(el)."""
+        header's approximate position); rates from the Doppler. Noise sigma at
+        45 dB-Hz and zenith (m, m/s), scaled by √10^((45-C/N0)/10)/sin(el)."""
 
     def __len__(self) -> int: ...
 
@@ -1125,14 +1125,15 @@ def loosely_coupled(
     bias_correlation_time: float = ...,
     initial_position_std: float = 5.0,
     initial_velocity_std: float = 0.5,
-    initial_attitude_std_deg: Sequence[float] = [1.0, 1.0, 5.0],
+    initial_attitude_std_deg: Sequence[float] = ...,
     gate_probability: float = 0.999,
 ) -> CoupledSolution:
     """Loosely coupled 17-state closed-loop EKF from an explicit initial state
     (position m, velocity m/s, C_b^e) on position fixes (T, 3) with (T, 3, 3)
     covariances, optionally velocity fixes. Densities: accelerometer m/s/√s,
     gyro rad/√s; bias stds m/s², rad/s; Gauss-Markov instabilities with
-    ``bias_correlation_time`` s (default inf: constant biases)."""
+    ``bias_correlation_time`` s (default inf: constant biases); initial
+    attitude stds about N, E, D in degrees (default (1, 1, 5))."""
 
 def tightly_coupled(
     time: npt.ArrayLike,
@@ -1156,7 +1157,7 @@ def tightly_coupled(
     bias_correlation_time: float = ...,
     initial_position_std: float = 5.0,
     initial_velocity_std: float = 0.5,
-    initial_attitude_std_deg: Sequence[float] = [1.0, 1.0, 5.0],
+    initial_attitude_std_deg: Sequence[float] = ...,
     gate_probability: float = 0.999,
 ) -> CoupledSolution:
     """Tightly coupled 17-state closed-loop EKF (with receiver clock offset and

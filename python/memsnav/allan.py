@@ -8,7 +8,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 
-def allan_deviation(samples: ArrayLike, rate_hz: float, taus: ArrayLike | None = None) -> tuple[np.ndarray, np.ndarray]:
+def allan_deviation(
+    samples: ArrayLike, rate_hz: float, taus: ArrayLike | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Overlapping Allan deviation of ``samples`` ``(N,)`` or ``(N, k)``
     taken at ``rate_hz``.
 
@@ -16,7 +18,7 @@ def allan_deviation(samples: ArrayLike, rate_hz: float, taus: ArrayLike | None =
     sample to a ninth of the record). Returns ``(taus, adev)``, ``adev`` of
     shape ``(len(taus),)`` or ``(len(taus), k)`` in the samples' unit.
     For white noise of density q (unit·√s), adev(τ) = q/√τ, so the white
-    noise density is adev read at τ = 1 s on the −1/2 slope.
+    noise density is adev read at τ = 1 s on the -1/2 slope.
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim not in (1, 2) or x.shape[0] < 3 or not np.all(np.isfinite(x)):
@@ -30,8 +32,11 @@ def allan_deviation(samples: ArrayLike, rate_hz: float, taus: ArrayLike | None =
         tau_in = np.asarray(taus, dtype=float)
         m = np.round(tau_in * rate_hz).astype(int)
         if np.any(m < 1) or np.any(2 * m >= n):
-            raise ValueError(f"taus: each must lie between 1/rate_hz and half the record ({n / rate_hz / 2:.1f} s)")
-    theta = np.concatenate([np.zeros((1,) + x.shape[1:]), np.cumsum(x, axis=0)]) / rate_hz
+            raise ValueError(
+                "taus: each must lie between 1/rate_hz and "
+                f"half the record ({n / rate_hz / 2:.1f} s)"
+            )
+    theta = np.concatenate([np.zeros((1, *x.shape[1:])), np.cumsum(x, axis=0)]) / rate_hz
     adev = []
     for mi in m:
         tau = mi / rate_hz

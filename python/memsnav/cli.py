@@ -23,15 +23,23 @@ def build_parser() -> argparse.ArgumentParser:
         description="Read the logs of a TOML run configuration, align, run the loosely or tightly "
         "coupled filter, write the solution (CSV, RTKLIB .pos), summary.json and report.html.",
     )
-    nav.add_argument("--config", required=True, help="run configuration (TOML), e.g. examples/drive_0708.toml")
+    nav.add_argument(
+        "--config", required=True, help="run configuration (TOML), e.g. examples/drive_0708.toml"
+    )
     nav.add_argument(
         "--data-root",
         default=None,
-        help="folder relative data paths point into (default: $MEMSNAV_DATA_ROOT, else ../shared/data "
-        "next to the repository)",
+        help=(
+            "folder relative data paths point into (default: "
+            "$MEMSNAV_DATA_ROOT, else ../shared/data next to the repository)"
+        ),
     )
-    nav.add_argument("--output", default=None, help="output folder (default: the configuration's 'output')")
-    nav.add_argument("--duration", type=float, default=None, help="stop this many seconds after alignment")
+    nav.add_argument(
+        "--output", default=None, help="output folder (default: the configuration's 'output')"
+    )
+    nav.add_argument(
+        "--duration", type=float, default=None, help="stop this many seconds after alignment"
+    )
     return parser
 
 
@@ -45,7 +53,9 @@ def main(argv: list[str] | None = None) -> int:
         from memsnav.realdata.pipeline import navigate
 
         try:
-            result = navigate(args.config, data_root=args.data_root, output=args.output, duration_s=args.duration)
+            result = navigate(
+                args.config, data_root=args.data_root, output=args.output, duration_s=args.duration
+            )
         except (ValueError, memsnav.MemsnavError) as e:
             print(f"memsnav navigate: {e}", file=sys.stderr)
             return 1
@@ -54,7 +64,8 @@ def main(argv: list[str] | None = None) -> int:
         stats = result.summary.get("errors_vs_truth", {}).get("aided")
         if stats and stats.get("epochs"):
             print(
-                f"aided: RMS horizontal {stats['rms_horizontal_m']:.2f} m, vertical {stats['rms_vertical_m']:.2f} m, "
+                f"aided: RMS horizontal {stats['rms_horizontal_m']:.2f} "
+                f"m, vertical {stats['rms_vertical_m']:.2f} m, "
                 f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
             )
     return 0

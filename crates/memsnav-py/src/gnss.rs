@@ -585,7 +585,11 @@ impl PyGnssMeasurements {
     /// Measurements of a real receiver: epoch times are GPS times; the
     /// receiver clock is unknown (NaN).
     pub(crate) fn from_epochs(epochs: Vec<GnssEpoch>) -> Self {
-        let n_max = epochs.iter().map(|e| e.measurements.len()).max().unwrap_or(0);
+        let n_max = epochs
+            .iter()
+            .map(|e| e.measurements.len())
+            .max()
+            .unwrap_or(0);
         let nan = gnss::ClockState {
             offset_m: f64::NAN,
             drift_m_s: f64::NAN,
@@ -707,9 +711,11 @@ impl PyRinexObservations {
         options.elevation_mask_rad = elevation_mask_deg.to_radians();
         options.min_cn0_db_hz = min_cn0_db_hz;
         options.ionosphere = if ionosphere {
-            Some(klobuchar.map_or(gnss::Klobuchar::RTKLIB_DEFAULT, |(alpha, beta)| {
-                gnss::Klobuchar { alpha, beta }
-            }))
+            Some(
+                klobuchar.map_or(gnss::Klobuchar::RTKLIB_DEFAULT, |(alpha, beta)| {
+                    gnss::Klobuchar { alpha, beta }
+                }),
+            )
         } else {
             None
         };

@@ -58,7 +58,9 @@ impl PyCoupledSolution {
         let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
         let ned_std = |first: usize| -> Vector3<f64> {
             let p: Matrix3<f64> = s.kf.p.fixed_view::<3, 3>(first, first).into();
-            (cne.transpose() * p * cne).diagonal().map(|v| v.max(0.0).sqrt())
+            (cne.transpose() * p * cne)
+                .diagonal()
+                .map(|v| v.max(0.0).sqrt())
         };
         self.time_s.push(time_s);
         self.nav.push(s.nav);
@@ -330,7 +332,10 @@ fn loosely_coupled(
         ("fix_position_ecef", p.len()),
         ("fix_position_covariance", pc.len()),
         ("fix_velocity_ecef", v.as_ref().map_or(t.len(), Vec::len)),
-        ("fix_velocity_covariance", vc.as_ref().map_or(t.len(), Vec::len)),
+        (
+            "fix_velocity_covariance",
+            vc.as_ref().map_or(t.len(), Vec::len),
+        ),
     ] {
         if n != t.len() {
             return Err(PyValueError::new_err(format!(
@@ -355,9 +360,10 @@ fn loosely_coupled(
             angular_rate_b: &imu.w,
         };
         let mut out = PyCoupledSolution::with_capacity(imu.time.len());
-        let records = coupling::run_loosely_coupled::<N, _>(&data, &fixes, &init, &tuning, |k, s| {
-            out.push(imu.time[k], s)
-        })?;
+        let records =
+            coupling::run_loosely_coupled::<N, _>(&data, &fixes, &init, &tuning, |k, s| {
+                out.push(imu.time[k], s)
+            })?;
         out.records = records;
         Ok(out)
     })
@@ -437,7 +443,8 @@ fn tightly_coupled(
         Some(mask) => all
             .iter()
             .zip(mask)
-            .filter_map(|(e, k)| k.then(|| e.clone()))
+            .filter(|(_, k)| *k)
+            .map(|(e, _)| e.clone())
             .collect(),
         None => all.to_vec(),
     };
@@ -448,9 +455,10 @@ fn tightly_coupled(
             angular_rate_b: &imu.w,
         };
         let mut out = PyCoupledSolution::with_capacity(imu.time.len());
-        let records = coupling::run_tightly_coupled::<N, _>(&data, &epochs, &init, &tuning, |k, s| {
-            out.push(imu.time[k], s)
-        })?;
+        let records =
+            coupling::run_tightly_coupled::<N, _>(&data, &epochs, &init, &tuning, |k, s| {
+                out.push(imu.time[k], s)
+            })?;
         out.records = records;
         Ok(out)
     })

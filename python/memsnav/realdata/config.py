@@ -129,7 +129,7 @@ def default_data_root(config_path: Path) -> Path:
 
 def _check(file: Path, where: str, key: str, value: Any, kind: Any) -> Any:
     name = f"{where}.{key}" if where else key
-    if kind is _NUM and isinstance(value, bool) or not isinstance(value, kind):
+    if (kind is _NUM and isinstance(value, bool)) or not isinstance(value, kind):
         expected = "a number" if kind is _NUM else kind.__name__
         raise ValueError(f"{file}: {name} must be {expected}, got {value!r}")
     return float(value) if kind is _NUM else value
@@ -150,23 +150,31 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
     tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
     for name in tables:
         if name not in SCHEMA or name == "":
-            raise ValueError(f"{path}: unknown table [{name}]; expected one of {sorted(k for k in SCHEMA if k)}")
+            raise ValueError(
+                f"{path}: unknown table [{name}]; expected one of {sorted(k for k in SCHEMA if k)}"
+            )
     for section, schema in SCHEMA.items():
         given = top if section == "" else tables.get(section, {})
         unknown = sorted(set(given) - set(schema))
         if unknown:
             where = f"[{section}]" if section else "the top level"
-            raise ValueError(f"{path}: unknown key(s) {unknown} in {where}; expected some of {sorted(schema)}")
+            raise ValueError(
+                f"{path}: unknown key(s) {unknown} in {where}; expected some of {sorted(schema)}"
+            )
         out: dict[str, Any] = {}
         for key, (kind, default) in schema.items():
             if key in given:
                 out[key] = _check(path, section, key, given[key], kind)
             elif default is REQUIRED:
-                raise ValueError(f"{path}: missing required key {section + '.' if section else ''}{key}")
+                raise ValueError(
+                    f"{path}: missing required key {section + '.' if section else ''}{key}"
+                )
             else:
                 out[key] = default
             choices = CHOICES.get((section, key))
             if choices and out[key] not in choices:
-                raise ValueError(f"{path}: {section}.{key} must be one of {list(choices)}, got {out[key]!r}")
+                raise ValueError(
+                    f"{path}: {section}.{key} must be one of {list(choices)}, got {out[key]!r}"
+                )
         cfg.values[section] = out
     return cfg

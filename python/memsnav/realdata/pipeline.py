@@ -8,7 +8,7 @@ coupling), align (level from the mean specific force, heading from the GNSS
 course at the first epoch above a speed, or a given heading at rest), drop
 the GNSS in the scheduled outage windows, run the filter, write the
 solution (CSV and RTKLIB ``.pos``), errors against the truth with the
-filter's 3σ bounds, ``summary.json`` and an HTML report.
+filter's 3sigma bounds, ``summary.json`` and an HTML report.
 """
 
 from __future__ import annotations
@@ -41,7 +41,14 @@ def c_n_e(lat: np.ndarray, lon: np.ndarray) -> np.ndarray:
 
 def euler_to_dcm(roll: float, pitch: float, yaw: float) -> np.ndarray:
     """C_b^n from roll, pitch, yaw, rad (Groves eq. 2.22 transposed)."""
-    cr, sr, cp, sp, cy, sy = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
+    cr, sr, cp, sp, cy, sy = (
+        np.cos(roll),
+        np.sin(roll),
+        np.cos(pitch),
+        np.sin(pitch),
+        np.cos(yaw),
+        np.sin(yaw),
+    )
     return np.array(
         [
             [cp * cy, -cr * sy + sr * sp * cy, sr * sy + cr * sp * cy],
@@ -70,7 +77,9 @@ def mounting_matrix(rpy_deg: list[list[float]]) -> np.ndarray:
     c = np.eye(3)
     for triple in rpy_deg:
         if len(triple) != 3:
-            raise ValueError(f"imu.mounting_rpy_deg: each rotation needs roll, pitch, yaw; got {triple}")
+            raise ValueError(
+                f"imu.mounting_rpy_deg: each rotation needs roll, pitch, yaw; got {triple}"
+            )
         c = euler_to_dcm(*np.radians(triple)) @ c
     return c
 
@@ -107,7 +116,9 @@ def _require(cfg: RunConfig, section: str, key: str) -> Path:
     if p is None:
         raise ValueError(f"{cfg.path}: {section}.{key} is required for this run")
     if not p.exists():
-        raise ValueError(f"{cfg.path}: {section}.{key}: no such file {p} (data root {cfg.data_root})")
+        raise ValueError(
+            f"{cfg.path}: {section}.{key}: no such file {p} (data root {cfg.data_root})"
+        )
     return p
 
 
@@ -191,8 +202,13 @@ def tight_input(cfg: RunConfig) -> GnssInput:
     obs = _mn.read_rinex_obs(_require(cfg, "gnss", "obs"))
     alpha, beta = g["klobuchar_alpha"], g["klobuchar_beta"]
     if bool(alpha) != bool(beta) or (alpha and (len(alpha) != 4 or len(beta) != 4)):
-        raise ValueError(f"{cfg.path}: gnss.klobuchar_alpha and klobuchar_beta: give four numbers each, or neither")
-    klobuchar = (tuple(alpha), tuple(beta)) if alpha else _mn.read_klobuchar(_require(cfg, "gnss", "nav"))
+        raise ValueError(
+            f"{cfg.path}: gnss.klobuchar_alpha and "
+            "klobuchar_beta: give four numbers each, or neither"
+        )
+    klobuchar = (
+        (tuple(alpha), tuple(beta)) if alpha else _mn.read_klobuchar(_require(cfg, "gnss", "nav"))
+    )
     meas = obs.gps_l1(
         sky,
         elevation_mask_deg=g["elevation_mask_deg"],
@@ -230,7 +246,8 @@ def _align(
         cand = np.nonzero(valid & (speed >= a["min_speed_m_s"]))[0]
         if cand.size == 0:
             raise ValueError(
-                f"{cfg.path}: alignment: no GNSS epoch reaches alignment.min_speed_m_s = {a['min_speed_m_s']} m/s"
+                f"{cfg.path}: alignment: no GNSS epoch reaches "
+                f"alignment.min_speed_m_s = {a['min_speed_m_s']} m/s"
             )
         k = int(cand[0])
         yaw = np.arctan2(v_ned[k, 1], v_ned[k, 0])
@@ -242,7 +259,7 @@ def _align(
     t0 = gnss.time[k]
     window = (t > t0 - a["level_window_s"]) & (t <= t0)
     f = f_b[window].mean(axis=0)
-    # Levelling (Groves eq. 5.101): f_b = −C_n^b g^n.
+    # Levelling (Groves eq. 5.101): f_b = -C_n^b g^n.
     roll, pitch = np.arctan2(-f[1], -f[2]), np.arctan2(f[0], np.hypot(f[1], f[2]))
     c_b_e = cne[k] @ euler_to_dcm(roll, pitch, yaw)
     v0 = gnss.velocity_ecef[k] if a["method"] == "gnss_velocity" else np.zeros(3)
@@ -292,9 +309,10 @@ def navigate(
     lever = _vec3(cfg, "gnss", "antenna_lever_arm_m") - lever_imu  # IMU → antenna, body axes
     if g["mode"] == "tight" and np.any(lever != 0):
         raise ValueError(
-            f"{cfg.path}: tight coupling here needs the antenna at the IMU (gnss.antenna_lever_arm_m = imu.lever_arm_m)"
+            f"{cfg.path}: tight coupling here needs the antenna at "
+            "the IMU (gnss.antenna_lever_arm_m = imu.lever_arm_m)"
         )
-    k0, t0, r0, v0, c0 = _align(cfg, t, f_b, gnss)
+    _, t0, r0, v0, c0 = _align(cfg, t, f_b, gnss)
     t_end = t[-1] if duration_s is None else min(t[-1], t0 + duration_s)
     # From the last IMU sample at or before the alignment epoch, so every GNSS epoch lies inside.
     imu_sel = (t >= t[max(np.searchsorted(t, t0, side="right") - 1, 0)]) & (t <= t_end)
@@ -302,7 +320,9 @@ def navigate(
     windows = []
     for w in cfg["outages"]["windows_s"]:
         if len(w) != 2 or not all(isinstance(x, (int, float)) for x in w) or w[1] <= 0:
-            raise ValueError(f"{cfg.path}: outages.windows_s: each window is [start_s, length_s > 0], got {w!r}")
+            raise ValueError(
+                f"{cfg.path}: outages.windows_s: each window is [start_s, length_s > 0], got {w!r}"
+            )
         windows.append((t0 + float(w[0]), float(w[1])))
     fil = cfg["filter"]
     tuning = {
@@ -319,7 +339,7 @@ def navigate(
         "gate_probability": fil["gate_probability"],
     }
     ti, fi, wi = t[imu_sel], f_b[imu_sel], w_b[imu_sel]
-    # The filter's point is the IMU: antenna fixes move by −C_b^e l (lever arm).
+    # The filter's point is the IMU: antenna fixes move by -C_b^e l (lever arm).
     r0_imu = r0 - c0 @ lever
     run_started = _time.perf_counter()
     if g["mode"] == "loose":
@@ -331,7 +351,10 @@ def navigate(
         v_ned = np.einsum("nji,nj->ni", cne, gnss.velocity_ecef[sel])
         yaw = np.arctan2(v_ned[:, 1], v_ned[:, 0])
         l_ned = np.column_stack(
-            [np.cos(yaw) * lever[0] - np.sin(yaw) * lever[1], np.sin(yaw) * lever[0] + np.cos(yaw) * lever[1]]
+            [
+                np.cos(yaw) * lever[0] - np.sin(yaw) * lever[1],
+                np.sin(yaw) * lever[0] + np.cos(yaw) * lever[1],
+            ]
         )
         l_ned = np.column_stack([l_ned, np.full(len(yaw), lever[2])])
         fix_r = gnss.position_ecef[sel] - np.einsum("nij,nj->ni", cne, l_ned)
@@ -400,7 +423,7 @@ def navigate(
         "start_gps_time_s": float(t0),
         "duration_s": float(time_out[-1] - time_out[0]),
         "imu_samples": len(time_out),
-        "gnss_epochs_used": int(len(np.unique(np.asarray(rec["time"])))),
+        "gnss_epochs_used": len(np.unique(np.asarray(rec["time"]))),
         "measurements_accepted": int(np.sum(status == "accepted")),
         "measurements_gated": int(np.sum(status == "gated")),
         "outages_s": [[s - t0, d] for s, d in windows],
@@ -418,11 +441,23 @@ def navigate(
         cn = c_n_e(truth.lla[tsel, 0], truth.lla[tsel, 1])
         e_ned = np.einsum("nji,nj->ni", cn, r_est - r_truth)
         in_out = _outage_mask(tt, windows)
-        result.truth = {"time": tt - t0, "lla": truth.lla[tsel], "error_ned": e_ned, "std_ned": std_est}
-        stats = {"all": _error_stats(e_ned, std_est), "aided": _error_stats(e_ned[~in_out], std_est[~in_out])}
+        result.truth = {
+            "time": tt - t0,
+            "lla": truth.lla[tsel],
+            "error_ned": e_ned,
+            "std_ned": std_est,
+        }
+        stats = {
+            "all": _error_stats(e_ned, std_est),
+            "aided": _error_stats(e_ned[~in_out], std_est[~in_out]),
+        }
         for i, (s, d) in enumerate(windows):
             m = (tt >= s) & (tt < s + d)
-            stats[f"outage_{i + 1}"] = {"start_s": s - t0, "length_s": d, **_error_stats(e_ned[m], std_est[m])}
+            stats[f"outage_{i + 1}"] = {
+                "start_s": s - t0,
+                "length_s": d,
+                **_error_stats(e_ned[m], std_est[m]),
+            }
         summary["errors_vs_truth"] = stats
         if g["mode"] == "tight":
             ft = gnss.time[gnss.spp_valid]
@@ -430,7 +465,9 @@ def navigate(
             # Pair each fix with the truth epoch within 20 ms (receiver epochs
             # and RTKLIB's output times differ by its millisecond rounding).
             j = np.clip(np.searchsorted(tt, ft), 1, max(len(tt) - 1, 1))
-            j = np.where(np.abs(tt[j - 1] - ft) < np.abs(tt[np.minimum(j, len(tt) - 1)] - ft), j - 1, j)
+            j = np.where(
+                np.abs(tt[j - 1] - ft) < np.abs(tt[np.minimum(j, len(tt) - 1)] - ft), j - 1, j
+            )
             j = np.minimum(j, len(tt) - 1)
             a = np.abs(tt[j] - ft) < 0.02
             b = j[a]

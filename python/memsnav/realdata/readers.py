@@ -35,7 +35,9 @@ def _parse_error(file: Path | str, line: int, reason: str) -> ParseError:
 
 def _unit(table: dict[str, float], value: str, what: str, file: Path | str) -> float:
     if value not in table:
-        raise ValueError(f"{what}: unknown unit {value!r} for {file}; expected one of {sorted(table)}")
+        raise ValueError(
+            f"{what}: unknown unit {value!r} for {file}; expected one of {sorted(table)}"
+        )
     return table[value]
 
 
@@ -82,7 +84,9 @@ def read_imu_csv(
     columns = list(columns)
     missing = [c for c in IMU_COLUMNS if c not in columns]
     if missing:
-        raise ValueError(f"columns: the layout for {path} lacks {missing}; it needs {list(IMU_COLUMNS)}")
+        raise ValueError(
+            f"columns: the layout for {path} lacks {missing}; it needs {list(IMU_COLUMNS)}"
+        )
     if len(set(columns)) != len(columns):
         raise ValueError(f"columns: duplicate names in {columns}")
     sa = _unit(ACCEL_UNITS, accel_unit, "accel_unit", path)
@@ -108,12 +112,16 @@ def read_imu_csv(
         fields = text.split(b",")
         reason = None
         if len(fields) != len(columns):
-            reason = f"expected {len(columns)} comma-separated fields ({', '.join(columns)}), got {len(fields)}"
+            reason = (
+                f"expected {len(columns)} comma-separated fields ({', '.join(columns)}), "
+                f"got {len(fields)}"
+            )
         else:
             try:
                 values = [float(fields[j]) for j in idx]
             except ValueError:
-                reason = f"expected numbers in columns {list(IMU_COLUMNS)}, got {text.decode(errors='replace')!r}"
+                got = text.decode(errors="replace")
+                reason = f"expected numbers in columns {list(IMU_COLUMNS)}, got {got!r}"
             else:
                 if not np.all(np.isfinite(values)):
                     reason = "expected finite numbers"
@@ -134,7 +142,9 @@ def read_imu_csv(
     bad = np.nonzero(np.diff(time) <= 0)[0]
     if bad.size:
         k = bad[0] + 1
-        raise _parse_error(path, line_no[k], f"time {a[k, 6]} does not increase (previous {a[k - 1, 6]})")
+        raise _parse_error(
+            path, line_no[k], f"time {a[k, 6]} does not increase (previous {a[k - 1, 6]})"
+        )
     return ImuLog(
         time=time,
         specific_force=a[:, 0:3] * sa,
@@ -170,9 +180,13 @@ def read_time_tag(path: str | Path) -> TimeTag:
     path = Path(path)
     b = path.read_bytes()
     if not b.startswith(b"TIMETAG RTKLIB"):
-        raise _parse_error(path, 1, "expected the header 'TIMETAG RTKLIB ...': not an RTKLIB time-tag file")
+        raise _parse_error(
+            path, 1, "expected the header 'TIMETAG RTKLIB ...': not an RTKLIB time-tag file"
+        )
     if len(b) < 76:
-        raise _parse_error(path, 1, f"expected at least 76 bytes (header and start time), got {len(b)}")
+        raise _parse_error(
+            path, 1, f"expected at least 76 bytes (header and start time), got {len(b)}"
+        )
     seconds, fraction = struct.unpack_from("<Id", b, 64)
     n = (len(b) - 76) // 8
     if (len(b) - 76) % 8:
@@ -192,7 +206,7 @@ def gps_time_from_tag(imu: ImuLog, tag: TimeTag) -> tuple[np.ndarray, float]:
     RTK course rate at one constant offset over the whole log, see
     ``docs/real-data.md``) while later arrival tags drift by seconds with the
     logger's buffering, so a line fitted to all tags would stretch the time
-    axis. Returns the times and the spread (max − min) of arrival − mapped
+    axis. Returns the times and the spread (max - min) of arrival - mapped
     time over the log, s, a measure of that buffering.
     """
     arrival = tag.arrival_gps_time(imu.line_end_offset)
@@ -238,9 +252,13 @@ def read_pos(path: str | Path) -> PosSolution:
     with or without the velocity columns."""
     path = Path(path)
     lines = path.read_text(errors="replace").splitlines()
-    header = next((i for i, s in enumerate(lines) if s.startswith("%") and "latitude(deg)" in s), None)
+    header = next(
+        (i for i, s in enumerate(lines) if s.startswith("%") and "latitude(deg)" in s), None
+    )
     if header is None:
-        raise _parse_error(path, 1, "expected a '%  GPST  latitude(deg) longitude(deg) height(m) Q ns ...' header")
+        raise _parse_error(
+            path, 1, "expected a '%  GPST  latitude(deg) longitude(deg) height(m) Q ns ...' header"
+        )
     names = lines[header].lstrip("%").split()
     if names[0] != "GPST":
         raise _parse_error(path, header + 1, f"expected times in GPST, got {names[0]!r}")
@@ -248,12 +266,20 @@ def read_pos(path: str | Path) -> PosSolution:
     n_fields = 24 if has_velocity else 15
     rows: list[list[float]] = []
     notes: list[str] = []
-    data = [i for i in range(header + 1, len(lines)) if lines[i].strip() and not lines[i].startswith("%")]
+    data = [
+        i
+        for i in range(header + 1, len(lines))
+        if lines[i].strip() and not lines[i].startswith("%")
+    ]
     for i in data:
         f = lines[i].split()
         reason = None
         if len(f) != n_fields:
-            reason = f"expected {n_fields} fields (date, time, lat, lon, height, Q, ns, stds, age, ratio{', velocity and its stds' if has_velocity else ''}), got {len(f)}"
+            extra = ", velocity and its stds" if has_velocity else ""
+            reason = (
+                f"expected {n_fields} fields (date, time, lat, lon, height, Q, ns, stds, age, "
+                f"ratio{extra}), got {len(f)}"
+            )
         else:
             try:
                 rows.append([_gps_seconds(f[0], f[1])] + [float(v) for v in f[2:]])
@@ -299,14 +325,16 @@ def write_pos(
     ns = np.zeros(len(gps_time), dtype=int) if n_satellites is None else n_satellites
     head = (
         f"% program   : {program}\n"
-        "%  GPST                  latitude(deg) longitude(deg)  height(m)   Q  ns   sdn(m)   sde(m)   sdu(m)  "
-        "sdne(m)  sdeu(m)  sdun(m) age(s)  ratio    vn(m/s)    ve(m/s)    vu(m/s)      sdvn     sdve     sdvu    "
+        "%  GPST                  latitude(deg) longitude(deg) "
+        " height(m)   Q  ns   sdn(m)   sde(m)   sdu(m)  "
+        "sdne(m)  sdeu(m)  sdun(m) age(s)  ratio    vn(m/s)   "
+        " ve(m/s)    vu(m/s)      sdvn     sdve     sdvu    "
         "sdvne    sdveu    sdvun\n"
     )
     week_start = np.datetime64("1980-01-06T00:00:00", "ms")
     out = [head]
     for k in range(len(gps_time)):
-        stamp = week_start + np.timedelta64(int(round(gps_time[k] * 1000.0)), "ms")
+        stamp = week_start + np.timedelta64(round(gps_time[k] * 1000.0), "ms")
         s = str(stamp).replace("-", "/").replace("T", " ")
         lat, lon = np.degrees(lla[k, :2])
         sn, se, sd = std_ned[k]
@@ -315,6 +343,7 @@ def write_pos(
         out.append(
             f"{s} {lat:14.9f} {lon:14.9f} {lla[k, 2]:10.4f} {quality:3d} {ns[k]:3d} "
             f"{sn:8.4f} {se:8.4f} {sd:8.4f} {0.0:8.4f} {0.0:8.4f} {0.0:8.4f} {0.0:6.2f} {0.0:6.1f} "
-            f"{vn:10.5f} {ve:10.5f} {-vd:10.5f} {svn:9.5f} {sve:9.5f} {svd:9.5f} {0.0:9.5f} {0.0:9.5f} {0.0:9.5f}\n"
+            f"{vn:10.5f} {ve:10.5f} {-vd:10.5f} {svn:9.5f} {sve:9.5f} "
+            f"{svd:9.5f} {0.0:9.5f} {0.0:9.5f} {0.0:9.5f}\n"
         )
     Path(path).write_text("".join(out))

@@ -1,5 +1,5 @@
 """The HTML report of a ``navigate`` run: the track on a map-like
-east/north plot, the errors against the truth with the filter's 3σ bounds,
+east/north plot, the errors against the truth with the filter's 3sigma bounds,
 and the statistics while aided and in each outage."""
 
 from __future__ import annotations
@@ -46,8 +46,9 @@ def write_report(result: NavigationResult, out: Path) -> Path:
     t = result.time - s["start_gps_time_s"]
     parts = [
         f"<h1>memsnav navigate: {html.escape(name)}</h1>",
-        f"<p>{html.escape(s['mode'])} coupling, {s['duration_s']:.1f} s, {s['imu_samples']} IMU samples, "
-        f"{s['gnss_epochs_used']} GNSS epochs used ({s['measurements_gated']} scalar measurements gated); "
+        f"<p>{html.escape(s['mode'])} coupling, {s['duration_s']:.1f} s, "
+        f"{s['imu_samples']} IMU samples, {s['gnss_epochs_used']} GNSS epochs used "
+        f"({s['measurements_gated']} scalar measurements gated); "
         f"processing {s['processing_s']:.1f} s (filter {s['filter_run_s']:.1f} s). "
         f"Configuration: <code>{html.escape(str(result.config.path))}</code>.</p>",
     ]
@@ -71,18 +72,27 @@ def write_report(result: NavigationResult, out: Path) -> Path:
     fig.tight_layout()
     fig.savefig(out / "track.png", dpi=110)
     plt.close(fig)
-    parts.append('<h2>Track</h2><img src="track.png" alt="track"><p>East/north metres from the start.</p>')
+    parts.append(
+        '<h2>Track</h2><img src="track.png" alt="track"><p>East/north metres from the start.</p>'
+    )
 
     if result.truth is not None:
         tr = result.truth
         fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
         for j, label in enumerate(("north", "east", "down")):
             a = axes[j]
-            a.plot(tr["time"], tr["error_ned"][:, j], lw=0.8, label="memsnav − truth")
-            a.plot(tr["time"], 3 * tr["std_ned"][:, j], "r--", lw=0.8, label="±3σ")
+            a.plot(tr["time"], tr["error_ned"][:, j], lw=0.8, label="memsnav - truth")
+            a.plot(tr["time"], 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
             a.plot(tr["time"], -3 * tr["std_ned"][:, j], "r--", lw=0.8)
             if result.spp is not None:
-                a.plot(result.spp["time"], result.spp["error_ned"][:, j], ".", ms=2, color="tab:gray", label="SPP − truth")
+                a.plot(
+                    result.spp["time"],
+                    result.spp["error_ned"][:, j],
+                    ".",
+                    ms=2,
+                    color="tab:gray",
+                    label="SPP - truth",
+                )
             for st, d in result.outages:
                 a.axvspan(st, st + d, color="tab:red", alpha=0.1)
             a.set_ylabel(f"{label} [m]")
@@ -94,8 +104,8 @@ def write_report(result: NavigationResult, out: Path) -> Path:
         plt.close(fig)
         parts.append(
             '<h2>Errors against the truth</h2><img src="errors.png" alt="errors">'
-            "<p>Position error of the solution at the antenna against the RTK solution, with the filter's "
-            "3σ bounds; shaded: scheduled GNSS outages.</p>"
+            "<p>Position error of the solution at the antenna against the RTK solution, "
+            "with the filter's 3-sigma bounds; shaded: scheduled GNSS outages.</p>"
         )
         rows = []
         for key, st in s["errors_vs_truth"].items():
@@ -113,19 +123,37 @@ def write_report(result: NavigationResult, out: Path) -> Path:
             )
         if "spp_errors_vs_truth" in s:
             st = s["spp_errors_vs_truth"]
-            rows.append(["SPP (pseudorange only)", st["epochs"], st["rms_horizontal_m"], st["rms_vertical_m"], st["max_horizontal_m"], "-"])
+            rows.append(
+                [
+                    "SPP (pseudorange only)",
+                    st["epochs"],
+                    st["rms_horizontal_m"],
+                    st["rms_vertical_m"],
+                    st["max_horizontal_m"],
+                    "-",
+                ]
+            )
         parts.append(
             "<h2>Statistics</h2>"
-            + _table(rows, ["segment", "epochs", "RMS horiz. [m]", "RMS vert. [m]", "max horiz. [m]", "share within 3σ"])
+            + _table(
+                rows,
+                [
+                    "segment",
+                    "epochs",
+                    "RMS horiz. [m]",
+                    "RMS vert. [m]",
+                    "max horiz. [m]",
+                    "share within 3sigma",
+                ],
+            )
         )
     doc = (
         "<!DOCTYPE html><html><head><meta charset='utf-8'><title>memsnav: "
         + html.escape(name)
         + "</title><style>body{font-family:sans-serif;max-width:60em;margin:auto}"
-        "table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 6px;text-align:right}"
-        "img{max-width:100%}</style></head><body>"
-        + "\n".join(parts)
-        + "</body></html>\n"
+        "table{border-collapse:collapse}"
+        "td,th{border:1px solid #999;padding:2px 6px;text-align:right}"
+        "img{max-width:100%}</style></head><body>" + "\n".join(parts) + "</body></html>\n"
     )
     path = out / "report.html"
     path.write_text(doc)

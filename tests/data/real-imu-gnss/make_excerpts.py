@@ -22,7 +22,9 @@ from memsnav.realdata import readers
 root = Path(sys.argv[1]) / "real-imu-gnss"
 here = Path(__file__).parent
 walk = root / "walk_0827"
-(here / "walk_head.csv").write_bytes(b"\n".join((walk / "imu_1730.csv").read_bytes().split(b"\n")[:40]) + b"\n0.01")
+(here / "walk_head.csv").write_bytes(
+    b"\n".join((walk / "imu_1730.csv").read_bytes().split(b"\n")[:40]) + b"\n0.01"
+)
 (here / "walk_head.csv.tag").write_bytes((walk / "imu_1730.csv.tag").read_bytes()[: 76 + 8 * 20])
 obs = (walk / "gnss_1730.obs").read_text().splitlines(keepends=True)
 end = [i for i, s in enumerate(obs) if s.startswith(">")][4]
@@ -49,4 +51,6 @@ keep = (sol.gps_time >= gps[sel[0]] - 1.0) & (sol.gps_time <= gps[sel[-1]] + 1.0
 pos = (drive / "gnss_1934_sf.pos").read_text().splitlines(keepends=True)
 head = [s for s in pos if s.startswith("%")]
 body = [s for s in pos if not s.startswith("%")]
-(here / "drive_60s.pos").write_text("".join(head + [b for b, k in zip(body, keep) if k]))
+(here / "drive_60s.pos").write_text(
+    "".join(head + [b for b, k in zip(body, keep, strict=True) if k])
+)

@@ -123,17 +123,21 @@ pub fn read_klobuchar(path: impl AsRef<Path>) -> Result<Option<Klobuchar>> {
         let mut v = [0.0; 4];
         for (j, x) in v.iter_mut().enumerate() {
             let f = line.get(start + 12 * j..start + 12 * (j + 1)).unwrap_or("");
-            *x = f.trim().replace(['D', 'd'], "E").parse().map_err(|_| Error::Parse {
-                file: file.clone(),
-                line: k + 1,
-                reason: format!(
-                    "expected Klobuchar coefficient {} of {label} in columns {}-{}, got {:?}",
-                    j + 1,
-                    start + 12 * j + 1,
-                    start + 12 * (j + 1),
-                    f.trim()
-                ),
-            })?;
+            *x = f
+                .trim()
+                .replace(['D', 'd'], "E")
+                .parse()
+                .map_err(|_| Error::Parse {
+                    file: file.clone(),
+                    line: k + 1,
+                    reason: format!(
+                        "expected Klobuchar coefficient {} of {label} in columns {}-{}, got {:?}",
+                        j + 1,
+                        start + 12 * j + 1,
+                        start + 12 * (j + 1),
+                        f.trim()
+                    ),
+                })?;
         }
         *target = Some(v);
     }
@@ -199,7 +203,10 @@ mod tests {
                                                             END OF HEADER       \n",
         )
         .unwrap();
-        assert_eq!(read_klobuchar(&p2).unwrap(), Some(Klobuchar::RTKLIB_DEFAULT));
+        assert_eq!(
+            read_klobuchar(&p2).unwrap(),
+            Some(Klobuchar::RTKLIB_DEFAULT)
+        );
         let p3 = dir.join("b.nav");
         std::fs::write(
             &p3,

@@ -134,7 +134,13 @@ pub fn gps_l1_epochs(
             }
             let azimuth = los_ned.y.atan2(los_ned.x);
             let iono = options.ionosphere.map_or(0.0, |k| {
-                k.delay_m(e.gps_time_s, geo.latitude_rad, geo.longitude_rad, azimuth, elevation)
+                k.delay_m(
+                    e.gps_time_s,
+                    geo.latitude_rad,
+                    geo.longitude_rad,
+                    azimuth,
+                    elevation,
+                )
             });
             let tropo = if options.troposphere {
                 saastamoinen_delay_m(geo.latitude_rad, geo.height_m, elevation, 0.7)

@@ -157,7 +157,10 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     })?
                 } else {
                     let n: usize = field(line, 3, 3).parse().map_err(|_| {
-                        error(k, "expected the number of observation types in columns 4-6".into())
+                        error(
+                            k,
+                            "expected the number of observation types in columns 4-6".into(),
+                        )
                     })?;
                     observation_types.insert(sys, Vec::with_capacity(n));
                     (sys, n)
@@ -185,7 +188,10 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 let mut v = [0.0; 3];
                 for (j, x) in v.iter_mut().enumerate() {
                     *x = field(line, 14 * j, 14).parse().map_err(|_| {
-                        error(k, format!("expected coordinate {} of APPROX POSITION XYZ", j + 1))
+                        error(
+                            k,
+                            format!("expected coordinate {} of APPROX POSITION XYZ", j + 1),
+                        )
                     })?;
                 }
                 let p = Vector3::from(v);
@@ -215,7 +221,10 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
 
     let mut epochs = Vec::new();
     let truncated = |k: usize, what: &str| {
-        format!("{file}:{}: the last record is cut short ({what}); skipped", k + 1)
+        format!(
+            "{file}:{}: the last record is cut short ({what}); skipped",
+            k + 1
+        )
     };
     while k < lines.len() {
         let line = lines[k];
@@ -226,7 +235,10 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
         if !line.starts_with('>') {
             return Err(error(
                 k,
-                format!("expected an epoch line starting with '>', got {:?}", line.trim_end()),
+                format!(
+                    "expected an epoch line starting with '>', got {:?}",
+                    line.trim_end()
+                ),
             ));
         }
         let last_line = k + 1 == lines.len();
@@ -342,7 +354,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
 mod tests {
     use super::*;
 
-    const HEADER: &str = "     3.04           OBSERVATION DATA    M: Mixed            RINEX VERSION / TYPE
+    const HEADER: &str =
+        "     3.04           OBSERVATION DATA    M: Mixed            RINEX VERSION / TYPE
  -1276965.2487 -4717231.7278  4087230.1460                  APPROX POSITION XYZ 
 G    4 C1C L1C D1C S1C                                      SYS / # / OBS TYPES 
 E    2 C1C S1C                                              SYS / # / OBS TYPES 
@@ -369,7 +382,12 @@ E07  23205808.406                  \n"
         assert_eq!(e.satellites[0].prn, 10);
         assert_eq!(
             e.satellites[0].values,
-            [Some(20576396.770), Some(108129693.934), Some(1064.326), Some(51.0)]
+            [
+                Some(20576396.770),
+                Some(108129693.934),
+                Some(1064.326),
+                Some(51.0)
+            ]
         );
         assert_eq!((e.satellites[1].system, e.satellites[1].prn), ('E', 7));
         assert_eq!(e.satellites[1].values, [Some(23205808.406), None]);
