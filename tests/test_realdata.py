@@ -300,7 +300,8 @@ def test_navigate_loose_excerpt_end_to_end(tmp_path):
     np.testing.assert_allclose(back.velocity_ned[5], csv[k, 4:7], atol=1e-5)
     assert json.loads((out / "summary.json").read_text())["errors_vs_truth"]["aided"] == aided
     html = (out / "report.html").read_text()
-    assert "track.png" in html and "errors.png" in html and "outage_1" in html
+    assert 'id="track"' in html and 'id="errors"' in html and "outage_1" in html
+    assert (out / "figures" / "errors.png").exists()
 
 
 def test_navigate_cli(tmp_path, capsys):

@@ -368,7 +368,7 @@ def calibration_experiment(
     motion: str = "land-vehicle",
     seed: int = 0,
     threads: int | None = None,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
     """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI."""
 
@@ -385,7 +385,7 @@ def inversion_experiment(
     gyro_process_std: float = 0.017453292519943295,
     seed: int = 0,
     threads: int | None = None,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
     """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI."""
 

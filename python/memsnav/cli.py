@@ -8,6 +8,51 @@ import sys
 import memsnav
 
 
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
+    return value
+
+
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be zero or more, got {value}")
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
+    return value
+
+
+def _outage(text: str) -> tuple[float, float]:
+    start, sep, length = text.partition(":")
+    try:
+        if not sep:
+            raise ValueError
+        window = (float(start), float(length))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected START:LENGTH in seconds, got {text!r}"
+        ) from None
+    if window[0] < 0 or not window[1] > 0:
+        raise argparse.ArgumentTypeError(f"start must be >= 0 and length > 0, got {text!r}")
+    return window
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="memsnav",
@@ -17,6 +62,91 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"memsnav {memsnav.__version__}")
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    reproduce = commands.add_parser(
+        "reproduce",
+        help="reproduce the paper's experiments (figures 3-18) and write the report",
+        description=(
+            "Run the calibration, inversion and navigation experiments (nominal and with a "
+            "30 s outage) and write report.html, summary.json, the figures (PNG, SVG) and "
+            "their curves (CSV) into DIR."
+        ),
+    )
+    reproduce.add_argument(
+        "--out", default="results", metavar="DIR", help="output directory (default: results)"
+    )
+    reproduce.add_argument(
+        "--full",
+        action="store_true",
+        help="the paper's Monte Carlo sizes (1000 x 50 calibration, 300 inversion, "
+        "200 navigation runs) instead of the quick defaults",
+    )
+    reproduce.add_argument(
+        "--runs",
+        type=_positive_int,
+        metavar="N",
+        help="Monte Carlo runs of every experiment (calibration: runs per parameter set)",
+    )
+    reproduce.add_argument(
+        "--seed", type=_non_negative_int, default=0, metavar="S", help="base seed (default: 0)"
+    )
+    reproduce.add_argument(
+        "--threads", type=_positive_int, metavar="T", help="worker threads (default: all cores)"
+    )
+    reproduce.add_argument("--quiet", action="store_true", help="no progress bars")
+
+    simulate = commands.add_parser(
+        "simulate",
+        help="write a random trajectory, its IMU outputs and GNSS measurements as CSV",
+        description=(
+            "Simulate a random land-vehicle trajectory, the outputs of an IMU preset along it "
+            "and GNSS pseudoranges and rates, and write trajectory.csv, imu.csv, gnss.csv and "
+            "simulation.json into DIR."
+        ),
+    )
+    simulate.add_argument(
+        "--out", default="simulation", metavar="DIR", help="output directory (default: simulation)"
+    )
+    simulate.add_argument(
+        "--duration",
+        type=_positive_float,
+        default=600.0,
+        metavar="S",
+        help="seconds (default: 600)",
+    )
+    simulate.add_argument(
+        "--rate", type=_positive_float, default=100.0, metavar="HZ", help="IMU rate (default: 100)"
+    )
+    simulate.add_argument(
+        "--imu",
+        default="paper-mems",
+        choices=memsnav.ImuModel.presets(),
+        help="IMU preset (default: paper-mems)",
+    )
+    simulate.add_argument(
+        "--satellites", type=_positive_int, default=6, metavar="N", help="tracked (default: 6)"
+    )
+    simulate.add_argument(
+        "--gnss-rate", type=_positive_float, default=1.0, metavar="HZ", help="(default: 1)"
+    )
+    simulate.add_argument(
+        "--constellation",
+        default="walker",
+        metavar="NAV",
+        help="'walker' (GPS-like, 24 satellites; default) or a RINEX navigation file",
+    )
+    simulate.add_argument(
+        "--outage",
+        action="append",
+        type=_outage,
+        default=[],
+        metavar="START:LENGTH",
+        help="a total GNSS outage, seconds (repeatable)",
+    )
+    simulate.add_argument(
+        "--seed", type=_non_negative_int, default=0, metavar="S", help="base seed (default: 0)"
+    )
+
     nav = commands.add_parser(
         "navigate",
         help="run real IMU/GNSS logs through a coupled filter (see docs/real-data.md)",
@@ -68,4 +198,40 @@ def main(argv: list[str] | None = None) -> int:
                 f"m, vertical {stats['rms_vertical_m']:.2f} m, "
                 f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
             )
+    try:
+        if args.command == "reproduce":
+            from memsnav.reproduce import reproduce
+
+            result = reproduce(
+                out=args.out,
+                full=args.full,
+                runs=args.runs,
+                seed=args.seed,
+                threads=args.threads,
+                progress=not args.quiet,
+            )
+            print(f"memsnav: report written to {result.report}", file=sys.stderr)
+            return 130 if result.interrupted else 0
+        if args.command == "simulate":
+            from memsnav.simulate import simulate
+
+            files = simulate(
+                out=args.out,
+                duration=args.duration,
+                rate=args.rate,
+                imu=args.imu,
+                seed=args.seed,
+                n_satellites=args.satellites,
+                gnss_rate=args.gnss_rate,
+                constellation=args.constellation,
+                outages=args.outage,
+            )
+            print(f"memsnav: wrote {files.trajectory.parent}", file=sys.stderr)
+            return 0
+    except KeyboardInterrupt:
+        print("memsnav: interrupted", file=sys.stderr)
+        return 130
+    except (OSError, ValueError, memsnav.MemsnavError) as e:
+        print(f"memsnav: error: {e}", file=sys.stderr)
+        return 1
     return 0

@@ -7,13 +7,13 @@ use memsnav_core::experiments::{
     self, calibration::SensorStatistics, motion, CalibrationExperimentConfig,
     InversionExperimentConfig,
 };
-use memsnav_core::montecarlo::RunOptions;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::IntoPyResult;
+use crate::progress::run_interruptible;
 
 fn table<'py>(py: Python<'py>, values: &[f64], cols: usize) -> PyResult<Bound<'py, PyAny>> {
     Ok(PyArray1::from_slice(py, values)
@@ -49,32 +49,6 @@ fn sensor_dict<'py>(
     Ok(d)
 }
 
-/// Progress callback from the worker threads: reattaches to call Python;
-/// a failing callback does not stop the experiment.
-fn with_progress<T: Send>(
-    py: Python<'_>,
-    progress: Option<Py<PyAny>>,
-    threads: Option<usize>,
-    work: impl FnOnce(&RunOptions<'_>) -> memsnav_core::Result<T> + Send,
-) -> PyResult<T> {
-    let callback = |n: usize| {
-        if let Some(cb) = &progress {
-            Python::attach(|py| {
-                let _ = cb.call1(py, (n,));
-            });
-        }
-    };
-    py.detach(|| {
-        let options = RunOptions {
-            threads,
-            progress: Some(&callback),
-            cancel: None,
-        };
-        work(&options)
-    })
-    .py()
-}
-
 /// Calibration Monte Carlo (paper §5.1, figs 3-10): `parameter_sets`
 /// random IMUs from `preset`, `runs` runs each on fresh land-vehicle motion
 /// of `duration` s, GNSS-like references with white noise
@@ -97,7 +71,7 @@ fn calibration_experiment<'py>(
     motion: &str,
     seed: u64,
     threads: Option<usize>,
-    progress: Option<Py<PyAny>>,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let source: &experiments::MotionSource<'_> = match motion {
         "land-vehicle" => &motion::land_vehicle,
@@ -117,9 +91,11 @@ fn calibration_experiment<'py>(
         reference_angular_rate_std,
         seed,
     };
-    let r = with_progress(py, progress, threads, |o| {
+    let total = parameter_sets * runs;
+    let (r, interrupted) = run_interruptible(py, progress.as_ref(), total, threads, |o| {
         experiments::calibration_experiment(&config, source, o)
     })?;
+    let r = r.py()?;
     let d = PyDict::new(py);
     d.set_item(
         "accelerometer",
@@ -130,6 +106,7 @@ fn calibration_experiment<'py>(
         sensor_dict(py, &r.gyroscope, gyroscope_parameter_names())?,
     )?;
     d.set_item("completed_runs", r.completed_runs)?;
+    d.set_item("interrupted", interrupted || r.cancelled)?;
     Ok(d)
 }
 
@@ -153,7 +130,7 @@ fn inversion_experiment<'py>(
     gyro_process_std: f64,
     seed: u64,
     threads: Option<usize>,
-    progress: Option<Py<PyAny>>,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let method = match method {
         "ls" => Method::LeastSquares,
@@ -176,9 +153,10 @@ fn inversion_experiment<'py>(
         gyro_process_std,
         seed,
     };
-    let r = with_progress(py, progress, threads, |o| {
+    let (r, interrupted) = run_interruptible(py, progress.as_ref(), runs, threads, |o| {
         experiments::inversion_experiment(&config, &motion::land_vehicle, o)
     })?;
+    let r = r.py()?;
     let d = PyDict::new(py);
     d.set_item("accel_mse", rows3(py, &r.accel_mse)?)?;
     d.set_item("gyro_mse", rows3(py, &r.gyro_mse)?)?;
@@ -193,6 +171,8 @@ fn inversion_experiment<'py>(
         rows3(py, &r.gyro_squared_error_vs_time)?,
     )?;
     d.set_item("sample_rate", r.sample_rate_hz)?;
+    d.set_item("completed_runs", r.accel_mse.len())?;
+    d.set_item("interrupted", interrupted || r.cancelled)?;
     Ok(d)
 }
 

@@ -15,6 +15,7 @@ mod ins;
 mod inversion;
 mod navigate;
 mod navigation;
+mod progress;
 mod sensors;
 mod trajectory;
 

@@ -1,16 +1,11 @@
 //! `navigation_experiment`: the navigation Monte Carlo of memsnav-core
-//! (paper §5.3) in one call. The work runs on a worker thread while the
-//! calling (main) thread polls Ctrl-C and reports progress; an interrupt
-//! cancels the remaining runs and returns the completed ones.
-
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Duration;
+//! (paper §5.3) in one call, through [`run_interruptible`]: Ctrl-C cancels
+//! the remaining runs and returns the completed ones.
 
 use memsnav_core::experiments::navigation::{
     navigation_experiment as run_experiment, NavigationExperiment, NavigationExperimentConfig,
     NavigationImu,
 };
-use memsnav_core::montecarlo::RunOptions;
 use memsnav_core::sensors::presets;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -18,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::errors::IntoPyResult;
+use crate::progress::run_interruptible;
 use crate::sensors::PyImuModel;
 
 /// `(name, source)` pairs: a preset name, `"calibrated:<raw name>"` or an `ImuModel`.
@@ -137,7 +133,7 @@ fn navigation_experiment<'py>(
     early_window: f64,
     keep_runs: bool,
     threads: Option<usize>,
-    progress: Option<Py<PyAny>>,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     if threads == Some(0) {
         return Err(PyValueError::new_err(
@@ -156,54 +152,10 @@ fn navigation_experiment<'py>(
         keep_runs,
         ..Default::default()
     };
-    let cancel = AtomicBool::new(false);
-    let done = AtomicUsize::new(0);
-    let on_run = |n: usize| {
-        done.fetch_max(n, Ordering::Relaxed);
-    };
-    let mut interrupted = false;
-    let mut callback_error: Option<PyErr> = None;
-    let result = py.detach(|| {
-        std::thread::scope(|scope| {
-            let worker = scope.spawn(|| {
-                run_experiment(
-                    &config,
-                    &RunOptions {
-                        threads,
-                        progress: Some(&on_run),
-                        cancel: Some(&cancel),
-                    },
-                )
-            });
-            let mut reported = 0;
-            loop {
-                let finished = worker.is_finished();
-                Python::attach(|py| {
-                    if !interrupted && py.check_signals().is_err() {
-                        // Ctrl-C: finish the runs under way, start no more.
-                        interrupted = true;
-                        cancel.store(true, Ordering::Relaxed);
-                    }
-                    let n = done.load(Ordering::Relaxed);
-                    if let (Some(cb), true, None) = (&progress, n != reported, &callback_error) {
-                        reported = n;
-                        if let Err(e) = cb.call1(py, (n, runs)) {
-                            cancel.store(true, Ordering::Relaxed);
-                            callback_error = Some(e);
-                        }
-                    }
-                });
-                if finished {
-                    break;
-                }
-                std::thread::sleep(Duration::from_millis(50));
-            }
-            worker.join().expect("the experiment worker does not panic")
-        })
-    });
-    if let Some(e) = callback_error {
-        return Err(e);
-    }
+    let (result, interrupted) =
+        run_interruptible(py, progress.as_ref(), runs, threads, |options| {
+            run_experiment(&config, options)
+        })?;
     let result = result.py()?;
     to_dict(py, &result, interrupted)
 }

@@ -77,6 +77,8 @@ class CalibrationResult:
     gyroscope: SensorStatistics
     method: str
     config: dict[str, Any]
+    completed_runs: int = 0
+    interrupted: bool = False
 
     def _groups(self, stat: str) -> dict[str, dict[str, float]]:
         out: dict[str, dict[str, float]] = {}
@@ -149,7 +151,7 @@ def calibration(
     motion: str = "land-vehicle",
     seed: int = 0,
     threads: int | None = None,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> CalibrationResult:
     """Runs the calibration Monte Carlo (paper: 50 sets x 1000 runs).
 
@@ -158,9 +160,11 @@ def calibration(
     rad/s. ``motion``: "land-vehicle" (body-frame vehicle motion with roll and
     pitch dynamics) or "trajectory" (``Trajectory.random``, whose roll and
     pitch follow the manoeuvres only: p/q scale factors and the vertical
-    terms are then barely observable). ``method`` ("eiv" or "ls") selects the estimator the summary
-    reports first; both are always run. ``progress(n)`` is called with the
-    number of completed runs. Same ``seed`` -> same numbers, whatever
+    terms are then barely observable). ``method`` ("eiv" or "ls") selects
+    the estimator the summary reports first; both are always run.
+    ``progress(done, total)`` is called with the number of completed runs.
+    Ctrl-C stops the set: the result then covers the completed runs and has
+    ``interrupted = True``. Same ``seed`` -> same numbers, whatever
     ``threads``.
     """
     if method not in ("ls", "eiv"):
@@ -181,4 +185,6 @@ def calibration(
         gyroscope=_stats(raw["gyroscope"]),
         method=method,
         config=config,
+        completed_runs=int(raw["completed_runs"]),
+        interrupted=bool(raw["interrupted"]),
     )

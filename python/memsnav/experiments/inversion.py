@@ -40,6 +40,8 @@ class InversionResult:
     gyro_squared_error_vs_time: npt.NDArray[np.float64]
     sample_rate: float
     config: dict[str, Any]
+    completed_runs: int = 0
+    interrupted: bool = False
 
     def summary(self) -> dict[str, Any]:
         """MSE per component averaged over axes and runs: ``accel_mse_g2``
@@ -88,7 +90,7 @@ def inversion(
     gyro_process_std: float = math.radians(1.0),
     seed: int = 0,
     threads: int | None = None,
-    progress: Callable[[int], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> InversionResult:
     """Runs the inversion Monte Carlo (paper: 300 runs x 120 s).
 
@@ -97,6 +99,8 @@ def inversion(
     follow the motion (method §4); the measurement noise is the preset's
     white noise per sample. ``method``: calibration estimator, "eiv" or
     "ls". Same ``seed`` -> same numbers, whatever ``threads``.
+    ``progress(done, total)`` is called as runs complete; Ctrl-C stops the
+    set and the result covers the completed runs (``interrupted = True``).
     """
     config = {
         "runs": runs,
@@ -120,4 +124,6 @@ def inversion(
         gyro_squared_error_vs_time=raw["gyro_squared_error_vs_time"],
         sample_rate=float(raw["sample_rate"]),
         config=config,
+        completed_runs=int(raw["completed_runs"]),
+        interrupted=bool(raw["interrupted"]),
     )

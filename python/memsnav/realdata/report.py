@@ -4,11 +4,12 @@ and the statistics while aided and in each outage."""
 
 from __future__ import annotations
 
-import html
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+from memsnav.report.document import Report
 
 if TYPE_CHECKING:
     from memsnav.realdata.pipeline import NavigationResult
@@ -24,17 +25,9 @@ def _east_north(lla: np.ndarray, origin: np.ndarray) -> tuple[np.ndarray, np.nda
     return east, north
 
 
-def _table(rows: list[list[Any]], header: list[str]) -> str:
-    def cell(v: Any) -> str:
-        return f"{v:.3f}" if isinstance(v, float) else html.escape(str(v))
-
-    head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
-    body = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in r) + "</tr>" for r in rows)
-    return f"<table><tr>{head}</tr>{body}</table>"
-
-
 def write_report(result: NavigationResult, out: Path) -> Path:
-    """Writes ``report.html`` and its PNG figures into ``out``."""
+    """Writes ``report.html`` (figures embedded) and ``figures/`` (PNG, SVG,
+    CSV of the curves) into ``out`` with the shared report helper."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -44,14 +37,15 @@ def write_report(result: NavigationResult, out: Path) -> Path:
     s = result.summary
     origin = result.lla[0]
     t = result.time - s["start_gps_time_s"]
-    parts = [
-        f"<h1>memsnav navigate: {html.escape(name)}</h1>",
-        f"<p>{html.escape(s['mode'])} coupling, {s['duration_s']:.1f} s, "
-        f"{s['imu_samples']} IMU samples, {s['gnss_epochs_used']} GNSS epochs used "
-        f"({s['measurements_gated']} scalar measurements gated); "
-        f"processing {s['processing_s']:.1f} s (filter {s['filter_run_s']:.1f} s). "
-        f"Configuration: <code>{html.escape(str(result.config.path))}</code>.</p>",
-    ]
+    doc = Report(f"memsnav navigate: {name}")
+    doc.paragraph(
+        f"{s['mode']} coupling, {s['duration_s']:.1f} s, {s['imu_samples']} IMU samples, "
+        f"{s['gnss_epochs_used']} GNSS epochs used ({s['measurements_gated']} scalar "
+        f"measurements gated); processing {s['processing_s']:.1f} s (filter "
+        f"{s['filter_run_s']:.2f} s). Configuration: {result.config.path}."
+    )
+    # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
+    step = max(1, round(0.1 / max(np.median(np.diff(t)), 1e-6)))
     fig, ax = plt.subplots(figsize=(7, 6))
     if result.truth is not None:
         e, n = _east_north(result.truth["lla"], origin)
@@ -59,22 +53,19 @@ def write_report(result: NavigationResult, out: Path) -> Path:
     if len(result.gnss_lla):
         e, n = _east_north(result.gnss_lla, origin)
         ax.plot(e, n, ".", ms=2, color="tab:orange", label="GNSS input")
-    e, n = _east_north(result.lla, origin)
+    e, n = _east_north(result.lla[::step], origin)
     ax.plot(e, n, "-", lw=1, color="tab:blue", label="memsnav")
     for i, (st, d) in enumerate(result.outages):
-        m = (t >= st) & (t < st + d)
+        m = (t[::step] >= st) & (t[::step] < st + d)
         ax.plot(e[m], n[m], "-", lw=2, color="tab:red", label="outages" if i == 0 else None)
     ax.set_xlabel("east [m]")
     ax.set_ylabel("north [m]")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend()
     ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out / "track.png", dpi=110)
+    doc.section("Track")
+    doc.figure("track", fig, "East/north metres from the start; red: scheduled GNSS outages.")
     plt.close(fig)
-    parts.append(
-        '<h2>Track</h2><img src="track.png" alt="track"><p>East/north metres from the start.</p>'
-    )
 
     if result.truth is not None:
         tr = result.truth
@@ -99,15 +90,15 @@ def write_report(result: NavigationResult, out: Path) -> Path:
             a.grid(alpha=0.3)
         axes[0].legend(loc="upper right", fontsize=8)
         axes[-1].set_xlabel("time since alignment [s]")
-        fig.tight_layout()
-        fig.savefig(out / "errors.png", dpi=110)
-        plt.close(fig)
-        parts.append(
-            '<h2>Errors against the truth</h2><img src="errors.png" alt="errors">'
-            "<p>Position error of the solution at the antenna against the RTK solution, "
-            "with the filter's 3-sigma bounds; shaded: scheduled GNSS outages.</p>"
+        doc.section("Errors against the truth")
+        doc.figure(
+            "errors",
+            fig,
+            "Position error of the solution at the antenna against the RTK solution, with "
+            "the filter's 3-sigma bounds; shaded: scheduled GNSS outages.",
         )
-        rows = []
+        plt.close(fig)
+        rows: list[list[object]] = []
         for key, st in s["errors_vs_truth"].items():
             if st.get("epochs", 0) == 0:
                 continue
@@ -133,28 +124,16 @@ def write_report(result: NavigationResult, out: Path) -> Path:
                     "-",
                 ]
             )
-        parts.append(
-            "<h2>Statistics</h2>"
-            + _table(
-                rows,
-                [
-                    "segment",
-                    "epochs",
-                    "RMS horiz. [m]",
-                    "RMS vert. [m]",
-                    "max horiz. [m]",
-                    "share within 3sigma",
-                ],
-            )
+        doc.section("Statistics")
+        doc.table(
+            [
+                "segment",
+                "epochs",
+                "RMS horiz. [m]",
+                "RMS vert. [m]",
+                "max horiz. [m]",
+                "share within 3 sigma",
+            ],
+            rows,
         )
-    doc = (
-        "<!DOCTYPE html><html><head><meta charset='utf-8'><title>memsnav: "
-        + html.escape(name)
-        + "</title><style>body{font-family:sans-serif;max-width:60em;margin:auto}"
-        "table{border-collapse:collapse}"
-        "td,th{border:1px solid #999;padding:2px 6px;text-align:right}"
-        "img{max-width:100%}</style></head><body>" + "\n".join(parts) + "</body></html>\n"
-    )
-    path = out / "report.html"
-    path.write_text(doc)
-    return path
+    return doc.write(out)

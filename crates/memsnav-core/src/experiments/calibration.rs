@@ -81,6 +81,28 @@ impl SensorStatistics {
         }
     }
 
+    /// Turns the sums of [`Self::accumulate`] into means over each set's
+    /// completed runs (NaN where none completed).
+    fn normalize(&mut self, counts: &[usize]) {
+        let p = self.parameters;
+        for (set, &n) in counts.iter().enumerate() {
+            let scale = if n > 0 { 1.0 / n as f64 } else { f64::NAN };
+            for field in [
+                &mut self.mse_ls,
+                &mut self.mse_eiv,
+                &mut self.mean_error_ls,
+                &mut self.mean_error_eiv,
+                &mut self.reported_variance_ls,
+                &mut self.reported_variance_eiv,
+                &mut self.crb,
+            ] {
+                field[set * p..(set + 1) * p]
+                    .iter_mut()
+                    .for_each(|x| *x *= scale);
+            }
+        }
+    }
+
     fn accumulate(&mut self, set: usize, run: &RunStatistics, weight: f64) {
         let p = self.parameters;
         for k in 0..p {
@@ -104,6 +126,9 @@ pub struct CalibrationExperiment {
     pub gyroscope: SensorStatistics,
     /// Runs completed (fewer than asked when cancelled).
     pub completed_runs: usize,
+    /// The set was cancelled: statistics cover the completed runs only
+    /// (NaN for parameter sets none of whose runs completed).
+    pub cancelled: bool,
 }
 
 struct RunStatistics {
@@ -224,20 +249,22 @@ pub fn calibration_experiment(
         gyroscope.truth[s * 21..(s + 1) * 21]
             .copy_from_slice(gyroscope_parameters(&imu.gyroscope).as_slice());
     }
-    let weight = 1.0 / config.runs_per_set as f64;
     let total = sets * config.runs_per_set;
+    let mut counts = vec![0usize; sets];
     let summary = montecarlo::fold(config.seed, total, 64, options, run, |i, (a, g)| {
-        accelerometer.accumulate(i / config.runs_per_set, &a, weight);
-        gyroscope.accumulate(i / config.runs_per_set, &g, weight);
+        let set = i / config.runs_per_set;
+        counts[set] += 1;
+        accelerometer.accumulate(set, &a, 1.0);
+        gyroscope.accumulate(set, &g, 1.0);
         Ok(())
     })?;
-    if summary.cancelled {
-        return Err(Error::Interrupted);
-    }
+    accelerometer.normalize(&counts);
+    gyroscope.normalize(&counts);
     Ok(CalibrationExperiment {
         config: config.clone(),
         accelerometer,
         gyroscope,
         completed_runs: summary.completed,
+        cancelled: summary.cancelled,
     })
 }

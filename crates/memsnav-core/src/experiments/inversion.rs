@@ -80,6 +80,8 @@ pub struct InversionExperiment {
     pub gyro_squared_error_vs_time: Vec<[f64; 3]>,
     /// Sample rate of the series, Hz.
     pub sample_rate_hz: f64,
+    /// The set was cancelled: the arrays cover the completed runs only.
+    pub cancelled: bool,
 }
 
 struct RunResult {
@@ -181,8 +183,8 @@ pub fn inversion_experiment(
         accel_squared_error_vs_time: Vec::new(),
         gyro_squared_error_vs_time: Vec::new(),
         sample_rate_hz: 0.0,
+        cancelled: false,
     };
-    let weight = 1.0 / config.runs as f64;
     let summary = montecarlo::fold(config.seed, config.runs, 64, options, run, |_, r| {
         out.accel_mse.push(mean_sq(&r.accel));
         out.gyro_mse.push(mean_sq(&r.gyro));
@@ -198,14 +200,20 @@ pub fn inversion_experiment(
             }
             for (c, v) in curve.iter_mut().zip(e) {
                 for i in 0..3 {
-                    c[i] += v[i] * v[i] * weight;
+                    c[i] += v[i] * v[i];
                 }
             }
         }
         Ok(())
     })?;
-    if summary.cancelled {
-        return Err(Error::Interrupted);
+    // Sums → means over the completed runs.
+    let completed = summary.completed.max(1) as f64;
+    for curve in [
+        &mut out.accel_squared_error_vs_time,
+        &mut out.gyro_squared_error_vs_time,
+    ] {
+        curve.iter_mut().flatten().for_each(|x| *x /= completed);
     }
+    out.cancelled = summary.cancelled;
     Ok(out)
 }

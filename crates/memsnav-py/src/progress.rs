@@ -1,0 +1,83 @@
+//! Long Monte Carlo work from Python: run it on a worker thread with the GIL
+//! released, while the calling (main) thread reports progress to an optional
+//! Python callback and watches for Ctrl-C. Python only delivers signals to the
+//! main thread, so this is where `check_signals` must run.
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Duration;
+
+use memsnav_core::montecarlo::RunOptions;
+use pyo3::exceptions::PyKeyboardInterrupt;
+use pyo3::prelude::*;
+
+/// How often the main thread wakes to report progress and check signals.
+const POLL: Duration = Duration::from_millis(100);
+
+/// Runs `work(options)` on a worker thread. `progress(done, total)` is called
+/// from this thread when the count of completed runs changes. Ctrl-C (or an
+/// exception raised by the callback) sets the cancel flag: runs not yet
+/// started are skipped and `work` returns what completed. Returns the work's
+/// output and whether it was interrupted by Ctrl-C; a callback exception is
+/// re-raised after the work stops.
+pub fn run_interruptible<T, W>(
+    py: Python<'_>,
+    progress: Option<&Bound<'_, PyAny>>,
+    total: usize,
+    threads: Option<usize>,
+    work: W,
+) -> PyResult<(T, bool)>
+where
+    T: Send,
+    W: FnOnce(&RunOptions<'_>) -> T + Send,
+{
+    let done = AtomicUsize::new(0);
+    let cancel = AtomicBool::new(false);
+    let count = |n: usize| {
+        done.fetch_max(n, Ordering::Relaxed);
+    };
+    let options = RunOptions {
+        threads,
+        progress: Some(&count),
+        cancel: Some(&cancel),
+    };
+    let mut interrupted = false;
+    let mut callback_error = None;
+    let mut reported = usize::MAX;
+    let output = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| work(&options));
+        loop {
+            let finished = worker.is_finished();
+            if let Err(e) = py.check_signals() {
+                cancel.store(true, Ordering::Relaxed);
+                if e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                    interrupted = true;
+                } else {
+                    callback_error.get_or_insert(e);
+                }
+            }
+            let n = done.load(Ordering::Relaxed);
+            if let Some(cb) = progress.filter(|_| n != reported && callback_error.is_none()) {
+                reported = n;
+                if let Err(e) = cb.call1((n, total)) {
+                    cancel.store(true, Ordering::Relaxed);
+                    if e.is_instance_of::<PyKeyboardInterrupt>(py) {
+                        interrupted = true;
+                    } else {
+                        callback_error = Some(e);
+                    }
+                }
+            }
+            if finished {
+                break;
+            }
+            py.detach(|| std::thread::sleep(POLL));
+        }
+        worker.join()
+    });
+    let output = output
+        .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("Monte Carlo worker panicked"))?;
+    match callback_error {
+        Some(e) => Err(e),
+        None => Ok((output, interrupted)),
+    }
+}

@@ -1,0 +1,131 @@
+"""A report: sections of prose, tables and figures, written as one HTML page
+with every figure embedded, plus each figure as PNG and SVG and its curves as
+CSV."""
+
+from __future__ import annotations
+
+import base64
+import csv
+import html
+import io
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from matplotlib.figure import Figure
+
+from memsnav._files import write_bytes, write_text
+
+_STYLE = """
+body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto;
+       padding: 0 1rem; line-height: 1.5; color: #1d1d1f; }
+h1 { font-size: 1.8rem; } h2 { border-bottom: 1px solid #ddd; margin-top: 2.5rem; }
+figure { margin: 1.5rem 0; } figure img { max-width: 100%; }
+figcaption { font-size: 0.9rem; color: #555; }
+table { border-collapse: collapse; margin: 1rem 0; font-size: 0.9rem; }
+th, td { border: 1px solid #ccc; padding: 0.3rem 0.6rem; text-align: left; }
+th { background: #f4f4f4; } .ok { color: #1a7f37; } .no { color: #b42318; }
+code { background: #f4f4f4; padding: 0 0.2rem; }
+"""
+
+
+def figure_to_csv(fig: Figure) -> str:
+    """The curves of every axes of ``fig`` in long format:
+    ``axes,curve,label,x,y`` (one row per point)."""
+    out = io.StringIO()
+    writer = csv.writer(out)
+    writer.writerow(["axes", "curve", "label", "x", "y"])
+    for a, ax in enumerate(fig.axes):
+        title = ax.get_title() or f"axes {a}"
+        for c, line in enumerate(ax.get_lines()):
+            label = line.get_label()
+            for x, y in zip(line.get_xdata(), line.get_ydata(), strict=True):
+                writer.writerow([title, c, label, repr(float(x)), repr(float(y))])
+        for c, coll in enumerate(ax.collections):
+            # Filled bands (mean ± std): their outline vertices.
+            for path in getattr(coll, "get_paths", list)():
+                for x, y in path.vertices:
+                    writer.writerow(
+                        [title, f"band{c}", coll.get_label(), repr(float(x)), repr(float(y))]
+                    )
+    return out.getvalue()
+
+
+@dataclass
+class _Figure:
+    name: str
+    caption: str
+    png: bytes
+    svg: bytes
+    csv: str
+
+
+@dataclass
+class Report:
+    """Build with :meth:`section`, :meth:`paragraph`, :meth:`table` and
+    :meth:`figure`, then :meth:`write` into a directory."""
+
+    title: str
+    _body: list[str] = field(default_factory=list)
+    _figures: list[_Figure] = field(default_factory=list)
+
+    def section(self, title: str) -> None:
+        self._body.append(f"<h2>{html.escape(title)}</h2>")
+
+    def paragraph(self, text: str) -> None:
+        self._body.append(f"<p>{html.escape(text)}</p>")
+
+    def html(self, fragment: str) -> None:
+        """Trusted HTML written by memsnav itself (lists, code)."""
+        self._body.append(fragment)
+
+    def table(self, header: list[str], rows: list[list[object]]) -> None:
+        head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
+        body = "".join(
+            "<tr>" + "".join(f"<td>{_cell(v)}</td>" for v in row) + "</tr>" for row in rows
+        )
+        self._body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
+
+    def figure(self, name: str, fig: Figure, caption: str) -> None:
+        """Adds ``fig`` (saved as ``name``.png/.svg/.csv) with a caption."""
+        png, svg = io.BytesIO(), io.BytesIO()
+        fig.savefig(png, format="png", dpi=110, bbox_inches="tight")
+        fig.savefig(svg, format="svg", bbox_inches="tight")
+        entry = _Figure(name, caption, png.getvalue(), svg.getvalue(), figure_to_csv(fig))
+        self._figures.append(entry)
+        data = base64.b64encode(entry.png).decode("ascii")
+        self._body.append(
+            f'<figure id="{html.escape(name)}"><img alt="{html.escape(caption)}" '
+            f'src="data:image/png;base64,{data}"><figcaption>{html.escape(caption)}'
+            f"</figcaption></figure>"
+        )
+
+    @property
+    def figure_names(self) -> list[str]:
+        return [f.name for f in self._figures]
+
+    def render(self) -> str:
+        return (
+            "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+            f"<title>{html.escape(self.title)}</title><style>{_STYLE}</style></head><body>"
+            f"<h1>{html.escape(self.title)}</h1>" + "\n".join(self._body) + "</body></html>\n"
+        )
+
+    def write(self, directory: Path, name: str = "report.html") -> Path:
+        """Writes the figures (PNG, SVG, CSV) and then the page, each atomically."""
+        figures = directory / "figures"
+        figures.mkdir(parents=True, exist_ok=True)
+        for f in self._figures:
+            write_bytes(figures / f"{f.name}.png", f.png)
+            write_bytes(figures / f"{f.name}.svg", f.svg)
+            write_text(figures / f"{f.name}.csv", f.csv)
+        path = directory / name
+        write_text(path, self.render())
+        return path
+
+
+def _cell(value: object) -> str:
+    if isinstance(value, bool):
+        return '<span class="ok">yes</span>' if value else '<span class="no">no</span>'
+    if isinstance(value, float):
+        return f"{value:.3g}"
+    return html.escape(str(value))

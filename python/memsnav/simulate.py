@@ -1,0 +1,168 @@
+"""``memsnav simulate``: a trajectory, the IMU's outputs along it and the GNSS
+measurements, written as CSV files a user can feed to any tool."""
+
+from __future__ import annotations
+
+import io
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+
+import memsnav as mn
+from memsnav._files import ensure_writable_directory, write_text
+
+
+@dataclass(frozen=True)
+class SimulationFiles:
+    """Paths of the files :func:`simulate` wrote."""
+
+    trajectory: Path
+    imu: Path
+    gnss: Path
+    metadata: Path
+
+
+def _csv(header: Sequence[str], columns: Sequence[npt.ArrayLike], fmt: str = "%.10g") -> str:
+    table = np.column_stack([np.asarray(c, dtype=float) for c in columns])
+    out = io.StringIO()
+    np.savetxt(out, table, delimiter=",", header=",".join(header), comments="", fmt=fmt)
+    return out.getvalue()
+
+
+def simulate(
+    out: str | Path = "simulation",
+    *,
+    duration: float = 600.0,
+    rate: float = 100.0,
+    imu: str = "paper-mems",
+    seed: int = 0,
+    n_satellites: int = 6,
+    gnss_rate: float = 1.0,
+    constellation: str | Path = "walker",
+    outages: Sequence[tuple[float, float]] = (),
+) -> SimulationFiles:
+    """Simulates a random land-vehicle trajectory (``duration`` s at ``rate``
+    Hz), the outputs of the IMU preset ``imu`` along it, and GNSS
+    pseudoranges and rates of ``n_satellites`` satellites at ``gnss_rate`` Hz
+    from ``constellation`` ("walker" for a 24-satellite GPS-like Walker
+    constellation, or the path of a RINEX navigation file), with total
+    outages ``[(start_s, length_s), ...]``. Writes into ``out``:
+
+    - ``trajectory.csv``: time s, ECEF position m, ECEF velocity m/s, roll,
+      pitch, yaw (NED) rad, true specific force m/s² and angular rate rad/s
+      (body axes);
+    - ``imu.csv``: time s, accelerometer m/s², gyroscope rad/s (body axes);
+    - ``gnss.csv``: one row per satellite per epoch: time s, GPS time s,
+      satellite id, satellite ECEF position m and velocity m/s at
+      transmission, pseudorange m, pseudorange rate m/s;
+    - ``simulation.json``: the parameters, the IMU's drawn errors and seeds.
+
+    Every draw comes from ``seed``: trajectory (seed), IMU errors (seed + 1),
+    IMU noise (seed + 2), GNSS (seed + 3).
+    """
+    directory = ensure_writable_directory(out)
+    if isinstance(constellation, str) and constellation == "walker":
+        sky = mn.Constellation.walker()
+    else:
+        sky = mn.Constellation.from_rinex_nav(constellation)
+    trajectory = mn.Trajectory.random(duration=duration, rate=rate, seed=seed)
+    model = mn.ImuModel.preset(imu, seed=seed + 1, sample_rate=rate)
+    accel, gyro = model.measure(trajectory.specific_force, trajectory.angular_rate, seed=seed + 2)
+    gnss = mn.simulate_gnss(
+        trajectory.time,
+        trajectory.position_ecef,
+        trajectory.velocity_ecef,
+        sky,
+        rate=gnss_rate,
+        n_satellites=n_satellites,
+        outages=[(float(s), float(length)) for s, length in outages],
+        seed=seed + 3,
+    )
+
+    files = SimulationFiles(
+        directory / "trajectory.csv",
+        directory / "imu.csv",
+        directory / "gnss.csv",
+        directory / "simulation.json",
+    )
+    xyz = ("x", "y", "z")
+    write_text(
+        files.trajectory,
+        _csv(
+            ["time_s"]
+            + [f"position_ecef_{a}_m" for a in xyz]
+            + [f"velocity_ecef_{a}_m_s" for a in xyz]
+            + ["roll_rad", "pitch_rad", "yaw_rad"]
+            + [f"specific_force_{a}_m_s2" for a in xyz]
+            + [f"angular_rate_{a}_rad_s" for a in xyz],
+            [
+                trajectory.time,
+                *trajectory.position_ecef.T,
+                *trajectory.velocity_ecef.T,
+                *trajectory.euler_ned().T,
+                *trajectory.specific_force.T,
+                *trajectory.angular_rate.T,
+            ],
+            fmt="%.12g",
+        ),
+    )
+    write_text(
+        files.imu,
+        _csv(
+            ["time_s"] + [f"accel_{a}_m_s2" for a in xyz] + [f"gyro_{a}_rad_s" for a in xyz],
+            [trajectory.time, *accel.T, *gyro.T],
+        ),
+    )
+    tracked = gnss.sat_id >= 0
+    epoch, slot = np.nonzero(tracked)
+    write_text(
+        files.gnss,
+        _csv(
+            ["time_s", "gps_time_s", "sat_id"]
+            + [f"sat_position_ecef_{a}_m" for a in xyz]
+            + [f"sat_velocity_ecef_{a}_m_s" for a in xyz]
+            + ["pseudorange_m", "pseudorange_rate_m_s"],
+            [
+                gnss.time[epoch],
+                gnss.gps_time[epoch],
+                gnss.sat_id[epoch, slot],
+                *gnss.satellite_position_ecef[epoch, slot].T,
+                *gnss.satellite_velocity_ecef[epoch, slot].T,
+                gnss.pseudorange[epoch, slot],
+                gnss.pseudorange_rate[epoch, slot],
+            ],
+            fmt="%.12g",
+        ),
+    )
+    metadata = {
+        "memsnav_version": mn.__version__,
+        "duration_s": duration,
+        "rate_hz": rate,
+        "imu": imu,
+        "imu_errors": {
+            "accelerometer": {
+                "bias_m_s2": model.accelerometer.bias.tolist(),
+                "scale_factor": model.accelerometer.scale_factor.tolist(),
+                "misalignment": model.accelerometer.misalignment.tolist(),
+                "nonlinearity_s2_m": model.accelerometer.nonlinearity.tolist(),
+            },
+            "gyroscope": {
+                "bias_rad_s": model.gyroscope.bias.tolist(),
+                "scale_factor": model.gyroscope.scale_factor.tolist(),
+                "misalignment": model.gyroscope.misalignment.tolist(),
+                "g_sensitivity_rad_s_per_m_s2": model.gyroscope.g_sensitivity.tolist(),
+            },
+            "spec": model.spec,
+        },
+        "seed": seed,
+        "n_satellites": n_satellites,
+        "gnss_rate_hz": gnss_rate,
+        "constellation": str(constellation),
+        "outages": [list(o) for o in outages],
+    }
+    write_text(files.metadata, json.dumps(metadata, indent=2) + "\n")
+    return files

@@ -1,0 +1,75 @@
+"""The ``memsnav`` command: simulate's files, and one-line errors with a
+non-zero status and no traceback for bad options."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+
+
+def run(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "memsnav", *args], capture_output=True, text=True, check=False
+    )
+
+
+def test_simulate_writes_consistent_files(tmp_path):
+    out = tmp_path / "sim"
+    done = run("simulate", "--out", str(out), "--duration", "30", "--outage", "10:5", "--seed", "3")
+    assert done.returncode == 0, done.stderr
+    trajectory = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    imu = np.loadtxt(out / "imu.csv", delimiter=",", skiprows=1)
+    gnss = np.loadtxt(out / "gnss.csv", delimiter=",", skiprows=1)
+    meta = json.loads((out / "simulation.json").read_text())
+    assert trajectory.shape == (3001, 16) and imu.shape == (3001, 7)
+    # The files hold what the API computes from the same seeds.
+    truth = mn.Trajectory.random(duration=30.0, rate=100.0, seed=3)
+    np.testing.assert_allclose(trajectory[:, 1:4], truth.position_ecef, rtol=0, atol=1e-3)
+    model = mn.ImuModel.preset("paper-mems", seed=4)
+    accel, _ = model.measure(truth.specific_force, truth.angular_rate, seed=5)
+    np.testing.assert_allclose(imu[:, 1:4], accel, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        meta["imu_errors"]["accelerometer"]["bias_m_s2"], model.accelerometer.bias
+    )
+    # 6 satellites per epoch at 1 Hz, none inside the outage [10, 15).
+    epochs, counts = np.unique(gnss[:, 0], return_counts=True)
+    assert set(counts) == {6}
+    assert not np.any((epochs >= 10) & (epochs < 15))
+    assert len(epochs) == 31 - 5
+    # Pseudoranges are ranges to satellites plus the receiver clock: the
+    # spread of (pseudorange - range) over satellites at one epoch is the
+    # 3 m noise, not the 20 000 km range.
+    first = gnss[gnss[:, 0] == 0]
+    ranges = np.linalg.norm(first[:, 3:6] - trajectory[0, 1:4], axis=1)
+    assert np.std(first[:, 9] - ranges) < 30.0
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["reproduce", "--runs", "0"], "--runs: must be positive"),
+        (["reproduce", "--bogus"], "unrecognized arguments: --bogus"),
+        (["simulate", "--duration", "nan"], "--duration: must be positive"),
+        (["simulate", "--outage", "5"], "expected START:LENGTH"),
+        (["simulate", "--imu", "cheap"], "invalid choice: 'cheap'"),
+    ],
+)
+def test_bad_options_fail_in_one_line(args, message):
+    done = run(*args)
+    assert done.returncode != 0
+    assert message in done.stderr
+    assert "Traceback" not in done.stderr
+
+
+def test_unwritable_output_directory(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a directory")
+    done = run("simulate", "--out", str(blocker / "sub"), "--duration", "5")
+    assert done.returncode == 1
+    assert done.stderr.startswith("memsnav: error: cannot write into")
+    assert "Traceback" not in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1
