@@ -17,6 +17,10 @@ class ProgressBar:
         self.start = time.perf_counter()
 
     def __call__(self, done: int, total: int) -> None:
+        # Redrawing in place only makes sense on a terminal; a log gets the
+        # final line only.
+        if done < total and not self.stream.isatty():
+            return
         fraction = done / total if total else 1.0
         filled = round(self.width * fraction)
         elapsed = time.perf_counter() - self.start

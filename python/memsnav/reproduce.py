@@ -5,6 +5,7 @@ behind them (CSV)."""
 from __future__ import annotations
 
 import json
+import math
 import platform
 import time
 from collections.abc import Callable
@@ -13,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import matplotlib
+import numpy as np
 
 import memsnav
 from memsnav import experiments
@@ -46,7 +48,7 @@ class Sizes:
 
 
 # Quick: readable curves in about two minutes on two cores.
-QUICK = Sizes(calibration_sets=50, calibration_runs=10, inversion_runs=30, navigation_runs=16)
+QUICK = Sizes(calibration_sets=50, calibration_runs=20, inversion_runs=100, navigation_runs=40)
 # The paper's Monte Carlo counts (§5): 1000 runs x 50 sets, 300, 200.
 FULL = Sizes(calibration_sets=50, calibration_runs=1000, inversion_runs=300, navigation_runs=200)
 
@@ -167,8 +169,24 @@ def reproduce(
     }
     report = build_report(results, summary, outage=OUTAGE)
     report_path = report.write(directory)
-    write_text(directory / "summary.json", json.dumps(summary, indent=2, default=float) + "\n")
+    write_text(
+        directory / "summary.json",
+        json.dumps(_json_safe(summary), indent=2, allow_nan=False) + "\n",
+    )
     return ReproduceResult(directory, report_path, summary, interrupted, report.figure_names)
+
+
+def _json_safe(value: Any) -> Any:
+    """Plain JSON: numpy scalars as numbers, NaN and infinities as null."""
+    if isinstance(value, dict):
+        return {str(k): _json_safe(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_json_safe(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _summary_of(result: Any) -> dict[str, Any] | None:

@@ -87,7 +87,12 @@ class CalibrationResult:
             ("gyroscope", GYROSCOPE_GROUPS),
         ):
             values = getattr(getattr(self, sensor), stat)
-            out[sensor] = {g: float(values[:, s].mean()) for g, s in groups.items()}
+            # Sets none of whose runs completed (an interrupted experiment)
+            # hold NaN: average over the sets that ran.
+            ran = values[np.isfinite(values).all(axis=1)]
+            out[sensor] = {
+                g: float(ran[:, s].mean()) if len(ran) else math.nan for g, s in groups.items()
+            }
         return out
 
     def summary(self) -> dict[str, Any]:
