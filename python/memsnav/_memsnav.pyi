@@ -984,3 +984,184 @@ def navigation_experiment(
     ``memsnav.experiments.navigation``, which documents it. ``imus``: (name,
     source) with source a preset name, ``"calibrated:<raw name>"`` or an
     ``ImuModel``."""
+
+# --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
+
+@final
+class RinexObservations:
+    """A RINEX 3 observation file (every system kept; GPS time)."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Epoch times, GPS s since 1980-01-06, (T,)."""
+
+    @property
+    def satellites(self) -> list[str]:
+        """Every satellite seen, e.g. ["E07", "G10", ...], sorted."""
+
+    @property
+    def observation_types(self) -> dict[str, list[str]]:
+        """Observation types per system letter, in header order."""
+
+    @property
+    def approx_position_ecef(self) -> npt.NDArray[np.float64] | None:
+        """APPROX POSITION XYZ of the header, ECEF m, or None."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Non-fatal problems met while reading (a truncated last record)."""
+
+    def observation(self, code: str) -> npt.NDArray[np.float64]:
+        """Values of observation ``code`` ("C1C" m, "D1C" Hz, "S1C" dB-Hz),
+        (T, len(satellites)); NaN where absent."""
+
+    def gps_l1(
+        self,
+        constellation: Constellation,
+        reference_position_ecef: npt.ArrayLike | None = None,
+        *,
+        elevation_mask_deg: float = 10.0,
+        min_cn0_db_hz: float = 25.0,
+        ionosphere: bool = True,
+        klobuchar: tuple[Sequence[float], Sequence[float]] | None = None,
+        troposphere: bool = True,
+        pseudorange_std: float = 3.0,
+        pseudorange_rate_std: float = 0.1,
+        satellites: Sequence[int] | None = None,
+    ) -> GnssMeasurements:
+        """GPS L1 C/A measurements (time = GPS time) for the coupled filters and
+        ``solve_fix``: satellite states at transmission time, pseudoranges
+        corrected for the satellite clock, the Klobuchar ionosphere
+        (``klobuchar=(alpha, beta)``, default RTKLIB's coefficients) and the
+        Saastamoinen troposphere at ``reference_position_ecef`` (default the
+        header's approximate position); rates from the Doppler. Noise sigma at
+        45 dB-Hz and zenith (m, m/s), scaled by √10^((45-C/N0)/10)/sin(el)."""
+
+    def __len__(self) -> int: ...
+
+def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
+    """Reads a RINEX 3 observation file; errors name the file and line, a
+    truncated last record is dropped and reported in ``warnings``."""
+
+def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
+    """Klobuchar (alpha, beta) of a RINEX navigation header (ION ALPHA/BETA or
+    IONOSPHERIC CORR GPSA/GPSB), or None when it has none."""
+
+@final
+class CoupledSolution:
+    """A coupled filter's solution at every IMU sample, one-sigma
+    uncertainties in local NED axes, and every measurement's record."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """IMU sample times, s, (N,)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF position of the IMU, m, (N, 3)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """ECEF velocity, m/s, (N, 3)."""
+
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Body-to-ECEF rotations, (N, 3, 3)."""
+
+    @property
+    def accel_bias(self) -> npt.NDArray[np.float64]:
+        """Estimated accelerometer bias, m/s², (N, 3)."""
+
+    @property
+    def gyro_bias(self) -> npt.NDArray[np.float64]:
+        """Estimated gyro bias, rad/s, (N, 3)."""
+
+    @property
+    def clock_offset(self) -> npt.NDArray[np.float64]:
+        """Receiver clock offset, m, (N,) (zero in loose coupling)."""
+
+    @property
+    def clock_drift(self) -> npt.NDArray[np.float64]:
+        """Receiver clock drift, m/s, (N,)."""
+
+    @property
+    def position_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma position uncertainty along north, east, down, m, (N, 3)."""
+
+    @property
+    def velocity_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma velocity uncertainty, NED, m/s, (N, 3)."""
+
+    @property
+    def attitude_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma attitude uncertainty about N, E, D, rad, (N, 3)."""
+
+    @property
+    def measurements(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """Every scalar measurement: time s, id, kind, innovation, innovation_std,
+        nis, status ("accepted", "gated", "invalid")."""
+
+    def __len__(self) -> int: ...
+
+def loosely_coupled(
+    time: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    angular_rate: npt.ArrayLike,
+    fix_time: npt.ArrayLike,
+    fix_position_ecef: npt.ArrayLike,
+    fix_position_covariance: npt.ArrayLike,
+    initial_position_ecef: npt.ArrayLike,
+    initial_velocity_ecef: npt.ArrayLike,
+    initial_attitude: npt.ArrayLike,
+    *,
+    fix_velocity_ecef: npt.ArrayLike | None = None,
+    fix_velocity_covariance: npt.ArrayLike | None = None,
+    accel_noise_density: float = 0.003,
+    gyro_noise_density: float = 0.0005,
+    accel_bias_std: float = 0.1,
+    gyro_bias_std: float = 0.005,
+    accel_bias_instability: float = 0.0,
+    gyro_bias_instability: float = 0.0,
+    bias_correlation_time: float = ...,
+    initial_position_std: float = 5.0,
+    initial_velocity_std: float = 0.5,
+    initial_attitude_std_deg: Sequence[float] = ...,
+    gate_probability: float = 0.999,
+) -> CoupledSolution:
+    """Loosely coupled 17-state closed-loop EKF from an explicit initial state
+    (position m, velocity m/s, C_b^e) on position fixes (T, 3) with (T, 3, 3)
+    covariances, optionally velocity fixes. Densities: accelerometer m/s/√s,
+    gyro rad/√s; bias stds m/s², rad/s; Gauss-Markov instabilities with
+    ``bias_correlation_time`` s (default inf: constant biases); initial
+    attitude stds about N, E, D in degrees (default (1, 1, 5))."""
+
+def tightly_coupled(
+    time: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    angular_rate: npt.ArrayLike,
+    measurements: GnssMeasurements,
+    initial_position_ecef: npt.ArrayLike,
+    initial_velocity_ecef: npt.ArrayLike,
+    initial_attitude: npt.ArrayLike,
+    *,
+    epoch_mask: Sequence[bool] | None = None,
+    initial_clock_offset: float | None = None,
+    initial_clock_drift: float | None = None,
+    use_pseudorange_rate: bool = True,
+    accel_noise_density: float = 0.003,
+    gyro_noise_density: float = 0.0005,
+    accel_bias_std: float = 0.1,
+    gyro_bias_std: float = 0.005,
+    accel_bias_instability: float = 0.0,
+    gyro_bias_instability: float = 0.0,
+    bias_correlation_time: float = ...,
+    initial_position_std: float = 5.0,
+    initial_velocity_std: float = 0.5,
+    initial_attitude_std_deg: Sequence[float] = ...,
+    gate_probability: float = 0.999,
+) -> CoupledSolution:
+    """Tightly coupled 17-state closed-loop EKF (with receiver clock offset and
+    drift) from an explicit initial state on the pseudoranges (and rates) of
+    ``measurements`` (epoch times on the IMU time axis); ``epoch_mask`` (T,)
+    chooses the epochs (outages). The clock starts from the given values or
+    the median residual of the first epoch. Tuning as ``loosely_coupled``."""

@@ -573,5 +573,194 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_sp3, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_gnss, m)?)?;
     m.add_function(wrap_pyfunction!(solve_fix, m)?)?;
+    m.add_class::<PyRinexObservations>()?;
+    m.add_function(wrap_pyfunction!(read_rinex_obs, m)?)?;
+    m.add_function(wrap_pyfunction!(read_klobuchar, m)?)?;
     Ok(())
+}
+
+// --- real receiver data (issue 8) ---
+
+impl PyGnssMeasurements {
+    /// Measurements of a real receiver: epoch times are GPS times; the
+    /// receiver clock is unknown (NaN).
+    pub(crate) fn from_epochs(epochs: Vec<GnssEpoch>) -> Self {
+        let n_max = epochs
+            .iter()
+            .map(|e| e.measurements.len())
+            .max()
+            .unwrap_or(0);
+        let nan = gnss::ClockState {
+            offset_m: f64::NAN,
+            drift_m_s: f64::NAN,
+        };
+        Self {
+            clock: vec![nan; epochs.len()],
+            start_gps_time_s: epochs.first().map_or(0.0, |e| e.time_s),
+            n_max,
+            epochs,
+        }
+    }
+
+    pub(crate) fn epochs(&self) -> &[GnssEpoch] {
+        &self.epochs
+    }
+}
+
+/// A RINEX 3 observation file.
+#[pyclass(name = "RinexObservations", module = "memsnav._memsnav", frozen)]
+pub struct PyRinexObservations {
+    inner: gnss::ObservationFile,
+}
+
+#[pymethods]
+impl PyRinexObservations {
+    /// Epoch times, GPS s since 1980-01-06, ``(T,)``.
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(py, self.inner.epochs.iter().map(|e| e.gps_time_s))
+    }
+
+    /// Every satellite seen, e.g. ``["E07", "G10", ...]`` (sorted).
+    #[getter]
+    fn satellites(&self) -> Vec<String> {
+        self.sat_keys()
+            .iter()
+            .map(|(s, p)| format!("{s}{p:02}"))
+            .collect()
+    }
+
+    /// Observation types per system letter, in header order.
+    #[getter]
+    fn observation_types(&self) -> std::collections::BTreeMap<String, Vec<String>> {
+        self.inner
+            .observation_types
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.clone()))
+            .collect()
+    }
+
+    /// ``APPROX POSITION XYZ`` of the header, ECEF m, or None.
+    #[getter]
+    fn approx_position_ecef<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.inner
+            .approx_position_ecef
+            .map(|p| convert::vector3_to_numpy(py, &p))
+    }
+
+    /// Non-fatal problems met while reading (a truncated last record).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings.clone()
+    }
+
+    /// Values of observation ``code`` (e.g. ``"C1C"`` m, ``"D1C"`` Hz,
+    /// ``"S1C"`` dB-Hz), ``(T, len(satellites))``; NaN where absent.
+    fn observation<'py>(&self, py: Python<'py>, code: &str) -> Bound<'py, PyArray2<f64>> {
+        let keys = self.sat_keys();
+        let mut flat = vec![f64::NAN; self.inner.epochs.len() * keys.len()];
+        for (k, e) in self.inner.epochs.iter().enumerate() {
+            for s in &e.satellites {
+                let (Some(j), Some(i)) = (
+                    keys.iter().position(|x| *x == (s.system, s.prn)),
+                    self.inner.type_index(s.system, code),
+                ) else {
+                    continue;
+                };
+                if let Some(v) = s.values[i] {
+                    flat[k * keys.len() + j] = v;
+                }
+            }
+        }
+        array2(py, flat, self.inner.epochs.len(), keys.len())
+    }
+
+    /// GPS L1 C/A measurements for the coupled filters and ``solve_fix``:
+    /// satellite states at transmission time from ``constellation``,
+    /// pseudoranges corrected for the satellite clock, the Klobuchar
+    /// ionosphere (``klobuchar=(alpha, beta)``; default RTKLIB's
+    /// coefficients; ``ionosphere=False`` to leave it in) and the
+    /// Saastamoinen troposphere; rates from the Doppler. Noise: σ at 45 dB-Hz
+    /// and zenith, scaled by √10^((45−C/N0)/10)/sin(el).
+    #[pyo3(signature = (constellation, reference_position_ecef=None, *, elevation_mask_deg=10.0,
+        min_cn0_db_hz=25.0, ionosphere=true, klobuchar=None, troposphere=true,
+        pseudorange_std=3.0, pseudorange_rate_std=0.1, satellites=None))]
+    fn gps_l1(
+        &self,
+        py: Python<'_>,
+        constellation: &PyConstellation,
+        reference_position_ecef: Option<&Bound<'_, PyAny>>,
+        elevation_mask_deg: f64,
+        min_cn0_db_hz: f64,
+        ionosphere: bool,
+        klobuchar: Option<([f64; 4], [f64; 4])>,
+        troposphere: bool,
+        pseudorange_std: f64,
+        pseudorange_rate_std: f64,
+        satellites: Option<Vec<u16>>,
+    ) -> PyResult<PyGnssMeasurements> {
+        let reference = match reference_position_ecef {
+            Some(r) => convert::vector3(r, "reference_position_ecef")?,
+            None => self.inner.approx_position_ecef.ok_or_else(|| {
+                PyValueError::new_err(
+                    "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
+                )
+            })?,
+        };
+        let mut options = gnss::ObservableOptions::new(reference);
+        options.elevation_mask_rad = elevation_mask_deg.to_radians();
+        options.min_cn0_db_hz = min_cn0_db_hz;
+        options.ionosphere = if ionosphere {
+            Some(
+                klobuchar.map_or(gnss::Klobuchar::RTKLIB_DEFAULT, |(alpha, beta)| {
+                    gnss::Klobuchar { alpha, beta }
+                }),
+            )
+        } else {
+            None
+        };
+        options.troposphere = troposphere;
+        options.pseudorange_std_m = pseudorange_std;
+        options.pseudorange_rate_std_m_s = pseudorange_rate_std;
+        options.satellites = satellites.unwrap_or_default();
+        let epochs = py
+            .detach(|| gnss::gps_l1_epochs(&self.inner, &constellation.inner, &options))
+            .py()?;
+        Ok(PyGnssMeasurements::from_epochs(epochs))
+    }
+
+    fn __len__(&self) -> usize {
+        self.inner.epochs.len()
+    }
+}
+
+impl PyRinexObservations {
+    fn sat_keys(&self) -> Vec<(char, u16)> {
+        let mut keys: Vec<(char, u16)> = self
+            .inner
+            .epochs
+            .iter()
+            .flat_map(|e| e.satellites.iter().map(|s| (s.system, s.prn)))
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        keys
+    }
+}
+
+/// Reads a RINEX 3 observation file (errors name the file and line; a
+/// truncated last record is dropped and reported in ``warnings``).
+#[pyfunction]
+fn read_rinex_obs(py: Python<'_>, path: PathBuf) -> PyResult<PyRinexObservations> {
+    Ok(PyRinexObservations {
+        inner: py.detach(|| gnss::read_rinex_obs(&path)).py()?,
+    })
+}
+
+/// The Klobuchar coefficients ``(alpha, beta)`` of a RINEX navigation
+/// header (``ION ALPHA``/``ION BETA`` or ``IONOSPHERIC CORR GPSA/GPSB``),
+/// or None when it has none.
+#[pyfunction]
+fn read_klobuchar(path: PathBuf) -> PyResult<Option<([f64; 4], [f64; 4])>> {
+    Ok(gnss::read_klobuchar(&path).py()?.map(|k| (k.alpha, k.beta)))
 }

@@ -7,23 +7,31 @@
 //! (`gps_time_s`); positions and velocities are in ECEF (WGS84), m and m/s;
 //! receiver clock offset and drift are in metres and m/s (c × seconds).
 
+mod atmosphere;
 mod clock;
 mod constellation;
 mod ephemeris;
 mod fix;
+mod observables;
 mod range;
 mod rinex_nav;
+mod rinex_obs;
 mod simulate;
 mod sp3;
 mod time;
 mod walker;
 
+pub use atmosphere::{read_klobuchar, saastamoinen_delay_m, Klobuchar};
 pub use clock::{ClockState, ReceiverClockModel};
 pub use constellation::{Constellation, Orbit, SatelliteState, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
 pub use fix::{solve_fix, Dops, Fix};
+pub use observables::{gps_l1_epochs, ObservableOptions, GPS_L1_WAVELENGTH_M};
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::read_rinex_nav;
+pub use rinex_obs::{
+    parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
+};
 pub use simulate::{
     simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage, ReceiverTrack,
     SimulationConfig,

@@ -1,0 +1,421 @@
+//! RINEX 3 observation files (RINEX 3.05 format description, IGS/RTCM
+//! 2020, §5 and tables A2-A3): header observation types per system and the
+//! epoch records (pseudorange `C..`, carrier phase `L..`, Doppler `D..`,
+//! signal strength `S..`), every system kept. Errors name the file, the
+//! 1-based line and what was expected; a record cut short at the end of the
+//! file (a log that stopped mid-write) is dropped with a warning instead.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use nalgebra::Vector3;
+
+use super::time::gps_time_from_calendar;
+use crate::{Error, Result};
+
+/// One satellite's observations at one epoch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SatelliteObservations {
+    /// System letter (`G` GPS, `E` Galileo, `R`, `C`, `J`, `S`, `I`).
+    pub system: char,
+    /// Satellite number within the system (PRN).
+    pub prn: u16,
+    /// One value per observation type of the system (header order); `None`
+    /// where the field is blank. Units as in RINEX: m, cycles, Hz, dB-Hz.
+    pub values: Vec<Option<f64>>,
+}
+
+/// One epoch record (flag 0 or 1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObservationEpoch {
+    /// Reception time, GPS s since 1980-01-06 (the file's GPS time system).
+    pub gps_time_s: f64,
+    /// Epoch flag: 0 OK, 1 power failure since the previous epoch.
+    pub flag: u8,
+    /// The satellites of the record, in file order.
+    pub satellites: Vec<SatelliteObservations>,
+}
+
+/// A RINEX 3 observation file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ObservationFile {
+    /// Format version (3.xx).
+    pub version: f64,
+    /// Observation types per system letter, in header order (`C1C`, `D1C`, ...).
+    pub observation_types: BTreeMap<char, Vec<String>>,
+    /// `APPROX POSITION XYZ` of the header, ECEF m (absent or all zero: `None`).
+    pub approx_position_ecef: Option<Vector3<f64>>,
+    /// Epoch records in file order (special-event records skipped).
+    pub epochs: Vec<ObservationEpoch>,
+    /// Non-fatal problems (a truncated last record), one sentence each.
+    pub warnings: Vec<String>,
+}
+
+impl ObservationFile {
+    /// Index of observation `code` (e.g. `"C1C"`) of `system`, if the header declares it.
+    pub fn type_index(&self, system: char, code: &str) -> Option<usize> {
+        self.observation_types
+            .get(&system)?
+            .iter()
+            .position(|c| c == code)
+    }
+}
+
+/// Reads a RINEX 3 observation file.
+pub fn read_rinex_obs(path: impl AsRef<Path>) -> Result<ObservationFile> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    parse_rinex_obs(
+        &String::from_utf8_lossy(&bytes),
+        &path.display().to_string(),
+    )
+}
+
+fn label(line: &str) -> &str {
+    line.get(60..).unwrap_or("").trim_end()
+}
+
+fn field(line: &str, start: usize, width: usize) -> &str {
+    let end = (start + width).min(line.len());
+    if start >= end {
+        return "";
+    }
+    line.get(start..end).unwrap_or("").trim()
+}
+
+/// Parses the text of a RINEX 3 observation file; `file` names it in errors.
+pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
+    let mut lines: Vec<&str> = text.lines().collect();
+    // A file that does not end with a newline was cut mid-line: its last
+    // line is not trusted (a cut number would still parse).
+    let mut warnings = Vec::new();
+    if !text.is_empty() && !text.ends_with('\n') && lines.len() > 1 {
+        warnings.push(format!(
+            "{file}:{}: the last line has no end of line (cut short); skipped",
+            lines.len()
+        ));
+        lines.pop();
+    }
+    let error = |k: usize, reason: String| Error::Parse {
+        file: file.to_string(),
+        line: k + 1,
+        reason,
+    };
+    let first = lines.first().copied().unwrap_or("");
+    if label(first) != "RINEX VERSION / TYPE" {
+        return Err(error(
+            0,
+            "expected 'RINEX VERSION / TYPE' in columns 61-80: not a RINEX file".into(),
+        ));
+    }
+    let version: f64 = field(first, 0, 9)
+        .parse()
+        .map_err(|_| error(0, "expected the RINEX version in columns 1-9".into()))?;
+    if !(3.0..4.0).contains(&version) {
+        return Err(error(
+            0,
+            format!("unsupported RINEX version {version}: expected 3.xx"),
+        ));
+    }
+    if field(first, 20, 1) != "O" {
+        return Err(error(
+            0,
+            format!(
+                "expected file type 'O' (observation data) in column 21, got {:?}",
+                field(first, 20, 1)
+            ),
+        ));
+    }
+
+    // Header.
+    let mut observation_types: BTreeMap<char, Vec<String>> = BTreeMap::new();
+    let mut approx_position_ecef = None;
+    let mut time_system_gps = true;
+    let mut pending: Option<(char, usize)> = None;
+    let mut k = 1;
+    loop {
+        let Some(&line) = lines.get(k) else {
+            return Err(error(
+                k.saturating_sub(1),
+                "end of file before 'END OF HEADER'".into(),
+            ));
+        };
+        match label(line) {
+            "END OF HEADER" => break,
+            "SYS / # / OBS TYPES" => {
+                // A system letter starts a list; a blank one continues it (13 types a line).
+                let sys = line.chars().next().unwrap_or(' ');
+                let (sys, total) = if sys == ' ' {
+                    pending.ok_or_else(|| {
+                        error(
+                            k,
+                            "a continuation 'SYS / # / OBS TYPES' line without a system".into(),
+                        )
+                    })?
+                } else {
+                    let n: usize = field(line, 3, 3).parse().map_err(|_| {
+                        error(
+                            k,
+                            "expected the number of observation types in columns 4-6".into(),
+                        )
+                    })?;
+                    observation_types.insert(sys, Vec::with_capacity(n));
+                    (sys, n)
+                };
+                let list = observation_types.get_mut(&sys).expect("inserted above");
+                for j in 0..13 {
+                    if list.len() == total {
+                        break;
+                    }
+                    let code = field(line, 7 + 4 * j, 3);
+                    if code.len() != 3 {
+                        return Err(error(
+                            k,
+                            format!(
+                                "expected {total} observation types for system {sys}, found {}",
+                                list.len()
+                            ),
+                        ));
+                    }
+                    list.push(code.to_string());
+                }
+                pending = (list.len() < total).then_some((sys, total));
+            }
+            "APPROX POSITION XYZ" => {
+                let mut v = [0.0; 3];
+                for (j, x) in v.iter_mut().enumerate() {
+                    *x = field(line, 14 * j, 14).parse().map_err(|_| {
+                        error(
+                            k,
+                            format!("expected coordinate {} of APPROX POSITION XYZ", j + 1),
+                        )
+                    })?;
+                }
+                let p = Vector3::from(v);
+                approx_position_ecef = (p.norm() > 0.0).then_some(p);
+            }
+            "TIME OF FIRST OBS" => {
+                let ts = field(line, 48, 3);
+                time_system_gps = ts.is_empty() || ts == "GPS";
+            }
+            _ => {}
+        }
+        k += 1;
+    }
+    if !time_system_gps {
+        return Err(error(
+            k,
+            "only GPS time is supported: TIME OF FIRST OBS declares another time system".into(),
+        ));
+    }
+    if observation_types.is_empty() {
+        return Err(error(
+            k,
+            "the header declares no 'SYS / # / OBS TYPES'".into(),
+        ));
+    }
+    k += 1;
+
+    let mut epochs = Vec::new();
+    let truncated = |k: usize, what: &str| {
+        format!(
+            "{file}:{}: the last record is cut short ({what}); skipped",
+            k + 1
+        )
+    };
+    while k < lines.len() {
+        let line = lines[k];
+        if line.trim().is_empty() {
+            k += 1;
+            continue;
+        }
+        if !line.starts_with('>') {
+            return Err(error(
+                k,
+                format!(
+                    "expected an epoch line starting with '>', got {:?}",
+                    line.trim_end()
+                ),
+            ));
+        }
+        let last_line = k + 1 == lines.len();
+        let header_fields = (|| {
+            let n = |s: usize, w: usize| field(line, s, w).parse::<i64>().ok();
+            let y = n(2, 4)?;
+            let mo = n(7, 2)?;
+            let d = n(10, 2)?;
+            let h = n(13, 2)?;
+            let mi = n(16, 2)?;
+            let s: f64 = field(line, 18, 11).parse().ok()?;
+            let flag = n(31, 1)?;
+            let count = n(32, 3)?;
+            Some((gps_time_from_calendar(y, mo, d, h, mi, s), flag, count))
+        })();
+        let Some((gps_time_s, flag, count)) = header_fields else {
+            if last_line {
+                warnings.push(truncated(k, "incomplete epoch line"));
+                break;
+            }
+            return Err(error(
+                k,
+                "expected '> yyyy mm dd hh mm ss.sssssss  f nnn' (epoch, flag, number of satellites)"
+                    .into(),
+            ));
+        };
+        let count = count as usize;
+        if flag > 1 {
+            // Special events (2-5: header lines follow; 6: cycle slips): skipped.
+            k += 1 + count;
+            continue;
+        }
+        if k + count >= lines.len() {
+            warnings.push(truncated(k, "fewer satellite lines than announced"));
+            break;
+        }
+        let mut satellites = Vec::with_capacity(count);
+        let mut cut = false;
+        for j in 1..=count {
+            let sl = lines[k + j];
+            let is_last = k + j + 1 == lines.len();
+            let sys = sl.chars().next().unwrap_or(' ');
+            let prn: Option<u16> = field(sl, 1, 2).parse().ok();
+            let (Some(types), Some(prn)) = (observation_types.get(&sys), prn) else {
+                if is_last {
+                    cut = true;
+                    break;
+                }
+                return Err(error(
+                    k + j,
+                    format!(
+                        "expected a satellite 'Xnn' of a system declared in the header, got {:?}",
+                        sl.get(..3).unwrap_or(sl)
+                    ),
+                ));
+            };
+            let mut values = Vec::with_capacity(types.len());
+            for (i, code) in types.iter().enumerate() {
+                // Each observation: F14.3, then LLI and signal strength digits.
+                let f = field(sl, 3 + 16 * i, 14);
+                if f.is_empty() {
+                    values.push(None);
+                    continue;
+                }
+                match f.parse::<f64>() {
+                    Ok(v) if v.is_finite() => values.push(Some(v)),
+                    _ if is_last => {
+                        cut = true;
+                        break;
+                    }
+                    _ => {
+                        return Err(error(
+                            k + j,
+                            format!(
+                                "expected a number for {sys}{prn:02} {code} in columns {}-{}, got {f:?}",
+                                4 + 16 * i,
+                                17 + 16 * i
+                            ),
+                        ))
+                    }
+                }
+            }
+            if cut {
+                break;
+            }
+            satellites.push(SatelliteObservations {
+                system: sys,
+                prn,
+                values,
+            });
+        }
+        if cut {
+            warnings.push(truncated(k + count, "incomplete satellite line"));
+            break;
+        }
+        epochs.push(ObservationEpoch {
+            gps_time_s,
+            flag: flag as u8,
+            satellites,
+        });
+        k += 1 + count;
+    }
+    Ok(ObservationFile {
+        version,
+        observation_types,
+        approx_position_ecef,
+        epochs,
+        warnings,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str =
+        "     3.04           OBSERVATION DATA    M: Mixed            RINEX VERSION / TYPE
+ -1276965.2487 -4717231.7278  4087230.1460                  APPROX POSITION XYZ 
+G    4 C1C L1C D1C S1C                                      SYS / # / OBS TYPES 
+E    2 C1C S1C                                              SYS / # / OBS TYPES 
+  2025    08    28    17    30   39.7480000     GPS         TIME OF FIRST OBS   
+                                                            END OF HEADER       
+";
+
+    #[test]
+    fn reads_fields_and_skips_blanks() {
+        let text = format!(
+            "{HEADER}> 2025 08 28 17 30 39.7480000  0  2\n\
+G10  20576396.770   108129693.9341       1064.326          51.000  \n\
+E07  23205808.406                  \n"
+        );
+        let f = parse_rinex_obs(&text, "x.obs").unwrap();
+        assert_eq!(f.observation_types[&'G'], ["C1C", "L1C", "D1C", "S1C"]);
+        let p = f.approx_position_ecef.unwrap();
+        assert_eq!(p, Vector3::new(-1276965.2487, -4717231.7278, 4087230.1460));
+        assert_eq!(f.epochs.len(), 1);
+        let e = &f.epochs[0];
+        // 2025-08-28 is GPS week 2381, Thursday: 4 days + 17:30:39.748.
+        let expected = 2381.0 * 604_800.0 + 4.0 * 86_400.0 + 17.0 * 3600.0 + 30.0 * 60.0 + 39.748;
+        assert!((e.gps_time_s - expected).abs() < 1e-6);
+        assert_eq!(e.satellites[0].prn, 10);
+        assert_eq!(
+            e.satellites[0].values,
+            [
+                Some(20576396.770),
+                Some(108129693.934),
+                Some(1064.326),
+                Some(51.0)
+            ]
+        );
+        assert_eq!((e.satellites[1].system, e.satellites[1].prn), ('E', 7));
+        assert_eq!(e.satellites[1].values, [Some(23205808.406), None]);
+        assert!(f.warnings.is_empty());
+    }
+
+    #[test]
+    fn truncated_last_record_is_a_warning_and_a_bad_field_an_error() {
+        let text = format!(
+            "{HEADER}> 2025 08 28 17 30 39.7480000  0  1\nG10  20576396.770\n> 2025 08 28 17 30 39.9980000  0  2\nG10  20576396.770\n"
+        );
+        let f = parse_rinex_obs(&text, "x.obs").unwrap();
+        assert_eq!(f.epochs.len(), 1);
+        assert_eq!(f.warnings.len(), 1);
+        assert!(f.warnings[0].contains("x.obs:9"), "{}", f.warnings[0]);
+
+        let text = format!(
+            "{HEADER}> 2025 08 28 17 30 39.7480000  0  1\nG10  2057x396.770\n> 2025 08 28 17 30 39.9980000  0  1\nG10  1.0\n"
+        );
+        match parse_rinex_obs(&text, "x.obs") {
+            Err(Error::Parse { file, line, reason }) => {
+                assert_eq!((file.as_str(), line), ("x.obs", 8));
+                assert!(reason.contains("G10 C1C"), "{reason}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let text = HEADER.replace("OBSERVATION DATA", "NAVIGATION DATA ");
+        let err = parse_rinex_obs(&text, "x").unwrap_err();
+        assert!(err.to_string().contains("file type"), "{err}");
+    }
+}

@@ -1,0 +1,180 @@
+"""The ``navigate`` run configuration (TOML, read with :mod:`tomllib`).
+
+Every table and key is checked: an unknown key (a typo) is an error naming
+the file and the key, not silently ignored; a wrong type or value names the
+key and what was expected. Relative data paths resolve against the data
+root: ``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data``
+relative to the repository that holds the configuration (the parent of its
+``examples/`` folder, or the nearest ``shared/data`` above it; for a
+configuration elsewhere, the same from its own folder).
+"""
+
+from __future__ import annotations
+
+import os
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+#: Environment variable naming the data root.
+DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"
+
+# Each key: (type or tuple of types, default; REQUIRED when it must be given).
+REQUIRED = object()
+_NUM = (int, float)
+SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
+    "": {"name": (str, REQUIRED), "output": (str, "out")},
+    "imu": {
+        "file": (str, REQUIRED),
+        "columns": (list, ["ax", "ay", "az", "gx", "gy", "gz", "t"]),
+        "accel_unit": (str, REQUIRED),
+        "gyro_unit": (str, REQUIRED),
+        "time_unit": (str, REQUIRED),
+        "time_reference": (str, "tag"),
+        "time_tag": (str, ""),
+        "skip_first_line": (bool, False),
+        "header_lines": (int, 0),
+        "time_offset_s": (_NUM, 0.0),
+        "mounting_rpy_deg": (list, [[0.0, 0.0, 0.0]]),
+        "lever_arm_m": (list, [0.0, 0.0, 0.0]),
+    },
+    "gnss": {
+        "mode": (str, REQUIRED),
+        "pos": (str, ""),
+        "quality": (list, [1, 2]),
+        "rate_hz": (_NUM, 1.0),
+        "position_noise_m": (list, [0.0, 0.0, 0.0]),
+        "velocity_noise_m_s": (_NUM, 0.0),
+        "use_velocity": (bool, True),
+        "seed": (int, 0),
+        "obs": (str, ""),
+        "nav": (str, ""),
+        "satellites": (list, []),
+        "elevation_mask_deg": (_NUM, 10.0),
+        "min_cn0_db_hz": (_NUM, 25.0),
+        "pseudorange_std_m": (_NUM, 3.0),
+        "pseudorange_rate_std_m_s": (_NUM, 0.1),
+        "use_pseudorange_rate": (bool, True),
+        "ionosphere": (bool, True),
+        "troposphere": (bool, True),
+        "klobuchar_alpha": (list, []),
+        "klobuchar_beta": (list, []),
+        "antenna_lever_arm_m": (list, [0.0, 0.0, 0.0]),
+    },
+    "alignment": {
+        "method": (str, "gnss_velocity"),
+        "min_speed_m_s": (_NUM, 2.0),
+        "level_window_s": (_NUM, 1.0),
+        "heading_deg": (_NUM, float("nan")),
+    },
+    "filter": {
+        "accel_noise_density": (_NUM, 0.003),
+        "gyro_noise_density_deg": (_NUM, 0.03),
+        "accel_bias_std": (_NUM, 0.1),
+        "gyro_bias_std_deg_s": (_NUM, 0.3),
+        "accel_bias_instability": (_NUM, 0.0),
+        "gyro_bias_instability_deg_s": (_NUM, 0.0),
+        "bias_correlation_time_s": (_NUM, float("inf")),
+        "initial_position_std_m": (_NUM, 5.0),
+        "initial_velocity_std_m_s": (_NUM, 0.5),
+        "initial_attitude_std_deg": (list, [2.0, 2.0, 10.0]),
+        "gate_probability": (_NUM, 0.999),
+    },
+    "truth": {"pos": (str, ""), "quality": (list, [1, 2])},
+    "outages": {"windows_s": (list, [])},
+    "report": {"html": (bool, True)},
+}
+CHOICES = {
+    ("imu", "time_reference"): ("tag", "column_gps", "column_unix_gpst"),
+    ("gnss", "mode"): ("loose", "tight"),
+    ("alignment", "method"): ("gnss_velocity", "static"),
+}
+
+
+@dataclass
+class RunConfig:
+    """A checked configuration: ``section[key]`` values with defaults filled
+    in, data paths resolved, and where it came from."""
+
+    path: Path
+    data_root: Path
+    values: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+    def __getitem__(self, section: str) -> dict[str, Any]:
+        return self.values[section]
+
+    def data_path(self, section: str, key: str) -> Path | None:
+        """The file named by ``section.key``, resolved against the data root
+        (None when not given)."""
+        v = self.values[section][key]
+        if not v:
+            return None
+        p = Path(v).expanduser()
+        return p if p.is_absolute() else self.data_root / p
+
+
+def default_data_root(config_path: Path) -> Path:
+    """``../shared/data`` next to the repository holding ``config_path``
+    (for a checkout nested deeper, e.g. a git worktree, the nearest
+    ``shared/data`` above it)."""
+    folder = config_path.resolve().parent
+    repo = folder.parent if folder.name == "examples" else folder
+    for parent in repo.parents:
+        candidate = parent / "shared" / "data"
+        if candidate.is_dir():
+            return candidate
+    return (repo / ".." / "shared" / "data").resolve()
+
+
+def _check(file: Path, where: str, key: str, value: Any, kind: Any) -> Any:
+    name = f"{where}.{key}" if where else key
+    if (kind is _NUM and isinstance(value, bool)) or not isinstance(value, kind):
+        expected = "a number" if kind is _NUM else kind.__name__
+        raise ValueError(f"{file}: {name} must be {expected}, got {value!r}")
+    return float(value) if kind is _NUM else value
+
+
+def load_config(path: str | Path, data_root: str | Path | None = None) -> RunConfig:
+    """Reads and checks a run configuration (see the module docstring)."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as e:
+        raise ValueError(f"{path}: not valid TOML: {e}") from None
+    except OSError as e:
+        raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
+    root = data_root or os.environ.get(DATA_ROOT_ENV) or default_data_root(path)
+    cfg = RunConfig(path=path, data_root=Path(root).expanduser().resolve())
+    top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
+    tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
+    for name in tables:
+        if name not in SCHEMA or name == "":
+            raise ValueError(
+                f"{path}: unknown table [{name}]; expected one of {sorted(k for k in SCHEMA if k)}"
+            )
+    for section, schema in SCHEMA.items():
+        given = top if section == "" else tables.get(section, {})
+        unknown = sorted(set(given) - set(schema))
+        if unknown:
+            where = f"[{section}]" if section else "the top level"
+            raise ValueError(
+                f"{path}: unknown key(s) {unknown} in {where}; expected some of {sorted(schema)}"
+            )
+        out: dict[str, Any] = {}
+        for key, (kind, default) in schema.items():
+            if key in given:
+                out[key] = _check(path, section, key, given[key], kind)
+            elif default is REQUIRED:
+                raise ValueError(
+                    f"{path}: missing required key {section + '.' if section else ''}{key}"
+                )
+            else:
+                out[key] = default
+            choices = CHOICES.get((section, key))
+            if choices and out[key] not in choices:
+                raise ValueError(
+                    f"{path}: {section}.{key} must be one of {list(choices)}, got {out[key]!r}"
+                )
+        cfg.values[section] = out
+    return cfg

@@ -1,0 +1,346 @@
+"""Real-data readers and the navigate pipeline (issue 8), on excerpts of the
+BSD-3 real-imu-gnss logs kept in tests/data/real-imu-gnss (LICENSE there)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import struct
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+from memsnav import cli
+
+DATA = Path(__file__).parent / "data"
+EX = DATA / "real-imu-gnss"
+G = 9.80665
+C = 299_792_458.0
+GPS_WEEK_2381_THURSDAY = 2381 * 604_800.0 + 4 * 86_400.0
+
+
+# --- IMU CSV -------------------------------------------------------------
+
+
+def test_imu_csv_fields_units_and_cut_lines():
+    with pytest.warns(UserWarning, match=r"walk_head.csv:41: last line cut short"):
+        log = mn.read_imu_csv(EX / "walk_head.csv", skip_first_line=True)
+    assert len(log.time) == 39  # 40 lines (the first skipped) and the cut "0.01" dropped
+    # Second line of the file: -0.017,-0.007,1.011,0.038,-0.160,0.160,3326345
+    np.testing.assert_allclose(log.specific_force[0], np.array([-0.017, -0.007, 1.011]) * G)
+    np.testing.assert_allclose(log.angular_rate[0], np.radians([0.038, -0.160, 0.160]))
+    assert log.time[0] == pytest.approx(3326.345)
+    assert log.line[0] == 2
+    # Line 4: -0.018,-0.006,1.012,0.099,-0.153,0.183,3326357
+    np.testing.assert_allclose(log.specific_force[2], np.array([-0.018, -0.006, 1.012]) * G)
+    assert log.time[2] == pytest.approx(3326.357)
+
+
+def test_imu_csv_other_layout_and_units(tmp_path):
+    p = tmp_path / "imu.csv"
+    p.write_text("t,gx,gy,gz,ax,ay,az,temp\n0.00,0.1,0.2,0.3,1,2,3,25\n0.01,0.1,0.2,0.3,1,2,3,25\n")
+    log = mn.read_imu_csv(
+        p,
+        ["t", "gx", "gy", "gz", "ax", "ay", "az", "temp"],
+        accel_unit="m/s^2",
+        gyro_unit="rad/s",
+        time_unit="s",
+        header_lines=1,
+    )
+    np.testing.assert_allclose(log.specific_force, [[1, 2, 3]] * 2)
+    np.testing.assert_allclose(log.angular_rate, [[0.1, 0.2, 0.3]] * 2)
+    np.testing.assert_allclose(log.time, [0.0, 0.01])
+
+
+def test_imu_csv_bad_files_name_file_and_line(tmp_path):
+    p = tmp_path / "bad.csv"
+    p.write_text("1,2,3,4,5,6,0\n1,2,3,4,5,10\n1,2,3,4,5,6,20\n")
+    with pytest.raises(
+        mn.ParseError, match=r"bad.csv:2: expected 7 comma-separated fields .* got 6"
+    ):
+        mn.read_imu_csv(p)
+    p.write_text("1,2,3,4,5,6,0\n1,2,x,4,5,6,10\n1,2,3,4,5,6,20\n")
+    with pytest.raises(mn.ParseError, match=r"bad.csv:2: expected numbers"):
+        mn.read_imu_csv(p)
+    p.write_text("1,2,3,4,5,6,10\n1,2,3,4,5,6,10\n1,2,3,4,5,6,20\n")
+    with pytest.raises(mn.ParseError, match=r"bad.csv:2: time 10.0 does not increase"):
+        mn.read_imu_csv(p)
+    with pytest.raises(ValueError, match=r"accel_unit: unknown unit 'gee'"):
+        mn.read_imu_csv(p, accel_unit="gee")
+    with pytest.raises(ValueError, match=r"gyro_unit"):
+        mn.read_imu_csv(p, gyro_unit="dps")
+    with pytest.raises(ValueError, match=r"lacks \['t'\]"):
+        mn.read_imu_csv(p, ["ax", "ay", "az", "gx", "gy", "gz", "time"])
+
+
+# --- RTKLIB time tags and .pos --------------------------------------------
+
+
+def test_time_tag_header_and_records():
+    raw = (EX / "walk_head.csv.tag").read_bytes()
+    tag = mn.read_time_tag(EX / "walk_head.csv.tag")
+    seconds, _ = struct.unpack_from("<Id", raw, 64)  # written by RTKLIB's strfile
+    assert seconds == 1756402240  # 2025-08-28 17:30:40 GPST as a 1970-based count
+    assert tag.start_gps_time == pytest.approx(1756402240 - 315964800 + 0.961, abs=1e-9)
+    assert len(tag.tick_ms) == 20
+    assert (tag.tick_ms[0], tag.file_offset[0]) == (113, 835)
+    assert (tag.tick_ms[1], tag.file_offset[1]) == (113, 841)
+    # Byte 900 was written by the record at offset 841 (tick 113 ms).
+    assert tag.arrival_gps_time(np.array([900]))[0] == pytest.approx(tag.start_gps_time + 0.113)
+    assert np.isnan(tag.arrival_gps_time(np.array([10]))[0])
+
+
+def test_time_tag_bad_file(tmp_path):
+    p = tmp_path / "x.tag"
+    p.write_bytes(b"NOT A TAG" + bytes(80))
+    with pytest.raises(mn.ParseError, match=r"x.tag:1: expected the header 'TIMETAG RTKLIB"):
+        mn.read_time_tag(p)
+
+
+def test_pos_fields():
+    sol = mn.read_pos(EX / "walk_head.pos")
+    # 2025/08/28 17:30:39.749 40.0966916 -105.1471665 1601.4350000 1 25
+    # 0.0098995 0.0098995 0.0100000
+    # ... vn 0.001 ve -0.002 vu 0.027, sdv 0.0494975 x3
+    assert sol.gps_time[0] == pytest.approx(GPS_WEEK_2381_THURSDAY + 17 * 3600 + 30 * 60 + 39.749)
+    np.testing.assert_allclose(
+        sol.lla[0], [np.radians(40.0966916), np.radians(-105.1471665), 1601.435]
+    )
+    assert sol.quality[0] == 1 and sol.n_satellites[0] == 25
+    np.testing.assert_allclose(sol.std_ned[0], [0.0098995, 0.0098995, 0.01])
+    np.testing.assert_allclose(sol.velocity_ned[0], [0.001, -0.002, -0.027])
+    np.testing.assert_allclose(sol.velocity_std_ned[0], [0.0494975] * 3)
+
+
+def test_pos_bad_and_cut_lines(tmp_path):
+    text = (EX / "walk_head.pos").read_text()
+    p = tmp_path / "cut.pos"
+    p.write_text(text[:-40])
+    with pytest.warns(UserWarning, match=r"cut.pos:\d+: last line cut short"):
+        sol = mn.read_pos(p)
+    assert len(sol.gps_time) == len(mn.read_pos(EX / "walk_head.pos").gps_time) - 1
+    lines = text.splitlines()
+    k = next(i for i, s in enumerate(lines) if not s.startswith("%"))
+    lines[k + 1] = lines[k + 1].replace("1601.", "16x1.")
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(mn.ParseError, match=rf"cut.pos:{k + 2}: expected 'yyyy/mm/dd"):
+        mn.read_pos(p)
+
+
+# --- RINEX -----------------------------------------------------------------
+
+
+def test_rinex_obs_fields():
+    obs = mn.read_rinex_obs(EX / "walk_head.obs")
+    assert len(obs) == 4 and obs.warnings == []
+    assert obs.observation_types["G"] == ["C1C", "L1C", "D1C", "S1C", "C2L", "L2L", "D2L", "S2L"]
+    assert obs.observation_types["E"] == ["C1C", "L1C", "D1C", "S1C"]
+    np.testing.assert_allclose(
+        obs.approx_position_ecef, [-1276965.2487, -4717231.7278, 4087230.1460]
+    )
+    t = obs.time
+    assert t[0] == pytest.approx(GPS_WEEK_2381_THURSDAY + 17 * 3600 + 30 * 60 + 39.748, abs=1e-6)
+    assert t[1] - t[0] == pytest.approx(0.25, abs=1e-6)
+    j = obs.satellites.index("G10")
+    assert obs.observation("C1C")[0, j] == 20576396.770
+    assert obs.observation("D1C")[0, j] == 1064.326
+    assert obs.observation("S1C")[0, j] == 51.0
+    assert obs.observation("C2L")[0, j] == 20576399.569
+    assert obs.observation("C1C")[1, j] == 20576346.113
+    g8 = obs.satellites.index("G08")
+    assert np.isnan(obs.observation("C1C")[0, g8]) and obs.observation("C2L")[0, g8] == 22846861.832
+    assert obs.observation("D1C")[0, obs.satellites.index("E29")] == 2175.723
+    assert np.isnan(obs.observation("C2L")[0, obs.satellites.index("E29")])  # not a Galileo type
+
+
+def test_rinex_obs_truncated_and_bad(tmp_path):
+    text = (EX / "walk_head.obs").read_text()
+    p = tmp_path / "cut.obs"
+    p.write_text(text[:-30])
+    obs = mn.read_rinex_obs(p)
+    assert len(obs) == 3 and "cut short" in obs.warnings[0] and "cut.obs:" in obs.warnings[0]
+    assert obs.time[-1] == pytest.approx(mn.read_rinex_obs(EX / "walk_head.obs").time[2])
+    lines = text.splitlines()
+    k = next(i for i, s in enumerate(lines) if s.startswith("G10"))
+    lines[k] = lines[k][:8] + "x" + lines[k][9:]
+    p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(mn.ParseError, match=rf"cut.obs:{k + 1}: expected a number for G10 C1C"):
+        mn.read_rinex_obs(p)
+
+
+def test_gps_l1_measurements_against_independent_corrections():
+    sky = mn.Constellation.from_rinex_nav(EX / "walk.nav")
+    obs = mn.read_rinex_obs(EX / "walk_head.obs")
+    assert mn.read_klobuchar(EX / "walk.nav") is None  # this header has no ION ALPHA/BETA
+    raw = mn.read_rinex_obs(EX / "walk_head.obs")
+    m = obs.gps_l1(
+        sky, ionosphere=False, troposphere=False, elevation_mask_deg=0.0, min_cn0_db_hz=0.0
+    )
+    ids = np.asarray(m.sat_id)[0]
+    assert sorted(ids[ids >= 0]) == [10, 23, 27, 32]
+    t = obs.time[0]
+    for col, prn in enumerate(ids[ids >= 0]):
+        p = raw.observation("C1C")[0, raw.satellites.index(f"G{prn:02d}")]
+        d = raw.observation("D1C")[0, raw.satellites.index(f"G{prn:02d}")]
+        i = sky.prns.index(f"G{prn:02d}")
+        dt_sv = sky.clock_correction(t - p / C)[i]
+        # P + c Δt_sv (IS-GPS-200 20.3.3.3.3.1), and -λ D for the rate.
+        assert np.asarray(m.pseudorange)[0, col] == pytest.approx(p + C * dt_sv, abs=1e-3)
+        rate = np.asarray(m.pseudorange_rate)[0, col]
+        assert rate == pytest.approx(-d * C / 1575.42e6, abs=0.01)
+    # With the atmosphere the ranges shrink by a few metres (zenith ~2 m troposphere at 1.6 km).
+    m2 = obs.gps_l1(sky, elevation_mask_deg=0.0, min_cn0_db_hz=0.0)
+    delay = np.asarray(m.pseudorange)[0] - np.asarray(m2.pseudorange)[0]
+    assert np.all((delay[ids >= 0] > 2.0) & (delay[ids >= 0] < 40.0))
+    # Pseudorange-only fix with 4 satellites: tens of metres from the RTK truth at most.
+    fix = mn.solve_fix(m2)
+    truth = mn.read_pos(EX / "walk_head.pos")
+    r_truth = mn.geodetic_to_ecef(truth.lla[0])
+    assert np.linalg.norm(np.asarray(fix.position_ecef)[0] - r_truth) < 40.0
+
+
+# --- configuration ---------------------------------------------------------
+
+
+def _test_config(tmp_path: Path, extra: str = "", **replace: str) -> Path:
+    text = f"""
+name = "drive_60s"
+output = "{tmp_path / "out"}"
+[imu]
+file = "real-imu-gnss/drive_60s.csv"
+accel_unit = "g"
+gyro_unit = "deg/s"
+time_unit = "ms"
+time_tag = "real-imu-gnss/drive_60s.csv.tag"
+time_offset_s = -0.125
+mounting_rpy_deg = [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]]
+lever_arm_m = [0.0, 0.0, -0.65]
+[gnss]
+mode = "loose"
+pos = "real-imu-gnss/drive_60s.pos"
+position_noise_m = [1.0, 1.0, 2.0]
+velocity_noise_m_s = 0.05
+seed = 3
+antenna_lever_arm_m = [0.0, -0.05, -0.65]
+[alignment]
+min_speed_m_s = 3.0
+[filter]
+accel_noise_density = 0.01
+gyro_noise_density_deg = 0.05
+accel_bias_std = 0.2
+gyro_bias_std_deg_s = 0.5
+initial_position_std_m = 2.0
+initial_velocity_std_m_s = 0.3
+initial_attitude_std_deg = [2.0, 2.0, 5.0]
+gate_probability = 1.0
+[truth]
+pos = "real-imu-gnss/drive_60s.pos"
+quality = [1]
+[outages]
+windows_s = [[30.0, 10.0]]
+{extra}"""
+    for k, v in replace.items():
+        text = text.replace(k, v)
+    p = tmp_path / "run.toml"
+    p.write_text(text)
+    return p
+
+
+def test_config_unknown_keys_and_bad_values(tmp_path):
+    with pytest.raises(ValueError, match=r"unknown key\(s\) \['acel_unit'\] in \[imu\]"):
+        mn.load_config(_test_config(tmp_path, **{'accel_unit = "g"': 'acel_unit = "g"'}), DATA)
+    with pytest.raises(ValueError, match=r"unknown table \[filtre\]"):
+        mn.load_config(_test_config(tmp_path, extra="[filtre]\nx = 1\n"), DATA)
+    with pytest.raises(ValueError, match=r"gnss.mode must be one of \['loose', 'tight'\]"):
+        mn.load_config(_test_config(tmp_path, **{'mode = "loose"': 'mode = "lose"'}), DATA)
+    with pytest.raises(ValueError, match=r"filter.accel_bias_std must be a number"):
+        mn.load_config(
+            _test_config(tmp_path, **{"accel_bias_std = 0.2": 'accel_bias_std = "0.2"'}), DATA
+        )
+    with pytest.raises(ValueError, match=r"missing required key imu.gyro_unit"):
+        mn.load_config(_test_config(tmp_path, **{'gyro_unit = "deg/s"': ""}), DATA)
+    with pytest.raises(ValueError, match=r"imu.file: no such file"):
+        mn.navigate(_test_config(tmp_path, **{'drive_60s.csv"': 'nope.csv"'}), data_root=DATA)
+    with pytest.raises(ValueError, match=r"unknown unit 'G'"):
+        mn.navigate(
+            _test_config(tmp_path, **{'accel_unit = "g"': 'accel_unit = "G"'}), data_root=DATA
+        )
+
+
+def test_data_root_from_environment(tmp_path, monkeypatch):
+    monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(DATA))
+    cfg = mn.load_config(_test_config(tmp_path))
+    assert cfg.data_path("imu", "file") == (DATA / "real-imu-gnss/drive_60s.csv").resolve()
+
+
+# --- the pipeline end to end -----------------------------------------------
+
+
+def test_navigate_loose_excerpt_end_to_end(tmp_path):
+    result = mn.navigate(_test_config(tmp_path), data_root=DATA)
+    s = result.summary
+    assert s["mode"] == "loose" and 50.0 < s["duration_s"] < 61.0
+    aided = s["errors_vs_truth"]["aided"]
+    # 1 m / 2 m of added noise at 1 Hz; the truth is RTK (cm): metre-level and consistent.
+    assert aided["epochs"] > 150
+    assert aided["rms_horizontal_m"] < 1.5 and aided["rms_vertical_m"] < 2.0
+    assert aided["within_3sigma_share"] > 0.8
+    outage = s["errors_vs_truth"]["outage_1"]
+    assert outage["length_s"] == 10.0 and outage["epochs"] == 40
+    assert outage["max_horizontal_m"] < 20.0
+    # The outputs: CSV, RTKLIB .pos readable by the .pos reader, summary and report.
+    out = tmp_path / "out"
+    csv = np.loadtxt(out / "drive_60s.csv", delimiter=",", skiprows=1)
+    assert csv.shape == (len(result.time), 16)
+    back = mn.read_pos(out / "drive_60s.pos")
+    k = np.searchsorted(csv[:, 0], back.gps_time[5])
+    np.testing.assert_allclose(np.degrees(back.lla[5, :2]), csv[k, 1:3], atol=1e-9)
+    np.testing.assert_allclose(back.velocity_ned[5], csv[k, 4:7], atol=1e-5)
+    assert json.loads((out / "summary.json").read_text())["errors_vs_truth"]["aided"] == aided
+    html = (out / "report.html").read_text()
+    assert 'id="track"' in html and 'id="errors"' in html and "outage_1" in html
+    assert (out / "figures" / "errors.png").exists()
+
+
+def test_navigate_cli(tmp_path, capsys):
+    cfg = _test_config(tmp_path)
+    assert (
+        cli.main(["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "20"])
+        == 0
+    )
+    out = capsys.readouterr().out
+    assert "report:" in out and "within 3 sigma" in out
+    assert cli.main(["navigate", "--config", str(tmp_path / "missing.toml")]) == 1
+    assert "cannot read" in capsys.readouterr().err
+
+
+def test_navigate_reports_a_cut_imu_log(tmp_path):
+    shutil.copy(EX / "drive_60s.csv.tag", tmp_path / "imu.csv.tag")
+    text = (EX / "drive_60s.csv").read_text()
+    (tmp_path / "imu.csv").write_text(text + "0.1,0.0")
+    cfg = _test_config(
+        tmp_path,
+        **{
+            '"real-imu-gnss/drive_60s.csv"': f'"{tmp_path / "imu.csv"}"',
+            '"real-imu-gnss/drive_60s.csv.tag"': f'"{tmp_path / "imu.csv.tag"}"',
+        },
+    )
+    with pytest.warns(UserWarning, match=r"imu.csv:\d+: last line cut short"):
+        mn.navigate(cfg, data_root=DATA, duration_s=5.0)
+
+
+# --- Allan deviation -------------------------------------------------------
+
+
+def test_allan_deviation_of_white_noise():
+    rate, sigma = 100.0, 0.02
+    x = np.random.default_rng(5).normal(0.0, sigma, (60_000, 2))
+    taus, adev = mn.allan_deviation(x, rate, taus=[0.1, 1.0, 5.0])
+    density = sigma / np.sqrt(rate)  # white noise: adev(tau) = q / sqrt(tau)
+    np.testing.assert_allclose(
+        adev, np.repeat(density / np.sqrt(taus)[:, None], 2, axis=1), rtol=0.15
+    )
+    with pytest.raises(ValueError, match="taus"):
+        mn.allan_deviation(x, rate, taus=[1000.0])
