@@ -84,7 +84,7 @@ _NAMED = {"ins": "tactical", "mems": "paper-mems"}
 
 def _imu_sources(imus: Sequence[str] | Mapping[str, Any]) -> list[tuple[str, Any]]:
     """(name, source) pairs for the Rust call: a preset name,
-    ``"calibrated:<raw>"`` or an ``ImuModel``."""
+    ``(preset name, spec dict)``, ``"calibrated:<raw>"`` or an ``ImuModel``."""
     if isinstance(imus, Mapping):
         items = list(imus.items())
     elif isinstance(imus, str):
@@ -97,6 +97,9 @@ def _imu_sources(imus: Sequence[str] | Mapping[str, Any]) -> list[tuple[str, Any
             raise ValueError(f"imus: names must be strings, got {name!r}")
         if isinstance(source, tuple) and len(source) == 2 and source[0] == "calibrated":
             out.append((name, f"calibrated:{source[1]}"))
+        elif isinstance(source, tuple) and len(source) == 2 and isinstance(source[1], Mapping):
+            preset = _NAMED.get(source[0], source[0])
+            out.append((name, (preset, dict(source[1]))))
         elif source == "calibrated_mems":
             out.append((name, "calibrated:mems"))
         elif isinstance(source, str):
@@ -123,7 +126,8 @@ class NavigationResult:
       ``None`` (the set is then folded run by run in bounded memory).
     - ``runs_summary``: per IMU, per-run scalars ``rms`` (m), ``rms_early``
       (m, first ``early_window`` s), ``final`` (m), ``max_in_outage`` (m,
-      NaN without outage), ``mean_nees_per_dof``, ``rejected`` (count).
+      NaN without outage), ``mean_nees_per_dof``, ``rejected`` (count),
+      ``accepted`` (count of scalar measurements applied).
     - ``completed_runs``; ``interrupted``: True when Ctrl-C (or a failing
       progress callback) stopped the set early — the statistics then cover
       the completed runs only.
@@ -256,6 +260,12 @@ def navigation(
     *,
     calibration_duration: float = 300.0,
     early_window: float = 150.0,
+    pseudorange_rate: bool = True,
+    pseudorange_std: float = 3.0,
+    pseudorange_rate_std: float = 0.1,
+    initial_attitude_std_deg: tuple[float, float, float] = (1.0, 1.0, 5.0),
+    scale_factor_states: bool = False,
+    absorb_unmodelled: bool = True,
 ) -> NavigationResult:
     """Runs the navigation Monte Carlo (paper §5.3) in Rust, GIL released.
 
@@ -275,6 +285,21 @@ def navigation(
     ``calibration_duration``: calibration segment of calibrated IMUs, s.
     ``early_window``: window of the early RMS summary and of fig. 15, s.
 
+    Study options (``docs/paper-comparison.md``; defaults unchanged):
+    ``pseudorange_rate``: the filters also use the pseudorange rates (True)
+    or pseudoranges only (False, the paper's wording of its tight
+    coupling). ``pseudorange_std`` (m) and ``pseudorange_rate_std`` (m/s):
+    the simulated GNSS white noise, one sigma, also the filters' measurement
+    std. ``initial_attitude_std_deg``: (north tilt, east tilt, heading) one
+    sigma, degrees, of the initial attitude error drawn per run (shared by
+    the IMUs of a run) and of every filter's initial attitude uncertainty.
+    ``scale_factor_states``: every filter carries accelerometer and gyro
+    scale-factor states (23 instead of 17). ``absorb_unmodelled``: every
+    filter's tuning covers the deterministic errors its state lacks
+    (scale factor, misalignment, nonlinearity, g-sensitivity) by inflated
+    initial bias uncertainty and white noise (True), or ignores them (False:
+    tuned from the spec's biases and noise only).
+
     Raises ValueError naming the argument for bad input.
     """
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 1:
@@ -287,6 +312,15 @@ def navigation(
                 f"outage: expected (start_s, length_s) or None, got {outage!r}"
             ) from None
         outage = (start, length)
+    try:
+        attitude_std = tuple(float(v) for v in initial_attitude_std_deg)
+    except (TypeError, ValueError):
+        attitude_std = ()
+    if len(attitude_std) != 3:
+        raise ValueError(
+            "initial_attitude_std_deg: expected three numbers (north tilt, east tilt, "
+            f"heading), got {initial_attitude_std_deg!r}"
+        )
     keep = bool(keep_runs) or runs <= KEEP_RUNS_UP_TO
     raw = _memsnav.navigation_experiment(
         _imu_sources(imus),
@@ -297,6 +331,12 @@ def navigation(
         outage=outage,
         calibration_duration=float(calibration_duration),
         early_window=float(early_window),
+        pseudorange_rate=bool(pseudorange_rate),
+        pseudorange_std=float(pseudorange_std),
+        pseudorange_rate_std=float(pseudorange_rate_std),
+        initial_attitude_std_deg=attitude_std,
+        scale_factor_states=bool(scale_factor_states),
+        absorb_unmodelled=bool(absorb_unmodelled),
         keep_runs=keep,
         threads=threads,
         progress=progress,
@@ -326,6 +366,7 @@ def navigation(
                 "max_in_outage": e["run_max_in_outage"],
                 "mean_nees_per_dof": e["run_mean_nees_per_dof"],
                 "rejected": e["run_rejected"],
+                "accepted": e["run_accepted"],
             }
             for n, e in zip(names, entries, strict=True)
         },
@@ -340,5 +381,11 @@ def navigation(
             "n_satellites": n_satellites,
             "calibration_duration": float(calibration_duration),
             "early_window": float(early_window),
+            "pseudorange_rate": bool(pseudorange_rate),
+            "pseudorange_std": float(pseudorange_std),
+            "pseudorange_rate_std": float(pseudorange_rate_std),
+            "initial_attitude_std_deg": attitude_std,
+            "scale_factor_states": bool(scale_factor_states),
+            "absorb_unmodelled": bool(absorb_unmodelled),
         },
     )
