@@ -195,11 +195,11 @@ def budget_analytic(n_trajectories: int) -> None:
                         out.append(e)
             return [e - e[0] for e in out]
 
-        def accel(errors: list[np.ndarray]) -> float:
+        def accel(errors: list[np.ndarray], c: np.ndarray = c) -> float:
             a = np.stack([np.einsum("nij,nj->ni", c, e) for e in errors], -1)
             return float(np.sum(_double_integral(a, dt) ** 2))
 
-        def gyro(errors: list[np.ndarray]) -> float:
+        def gyro(errors: list[np.ndarray], c: np.ndarray = c, f_e: np.ndarray = f_e) -> float:
             total = 0.0
             for e in errors:
                 w_e = np.einsum("nij,nj->ni", c, e)

@@ -88,7 +88,7 @@ def test_study_options_bad_input():
         mn.experiments.navigation(pseudorange_std=0.0, **kw)
     with pytest.raises(ValueError, match="pseudorange_rate_std"):
         mn.experiments.navigation(pseudorange_rate_std=float("nan"), **kw)
-    with pytest.raises(ValueError, match="imus.*unknown key"):
+    with pytest.raises(ValueError, match=r"imus.*unknown key"):
         mn.experiments.navigation(imus={"x": ("mems", {"no_such_key": 0.0})}, runs=1, duration=10.0)
     with pytest.raises(ValueError, match="imus"):
         mn.experiments.navigation(imus={"x": ("no-grade", {})}, runs=1, duration=10.0)
