@@ -979,7 +979,7 @@ def navigation_experiment(
     pseudorange_rate: bool = True,
     pseudorange_std: float = 3.0,
     pseudorange_rate_std: float = 0.1,
-    initial_attitude_std_deg: tuple[float, float, float] = (1.0, 1.0, 5.0),
+    initial_attitude_std_deg: tuple[float, float, float] | None = None,
     scale_factor_states: bool = False,
     absorb_unmodelled: bool = True,
     keep_runs: bool = False,
@@ -991,4 +991,4 @@ def navigation_experiment(
     source) with source a preset name, ``(preset name, spec overrides)``,
     ``"calibrated:<raw name>"`` or an ``ImuModel``. ``pseudorange_std`` m,
     ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
-    east tilt, heading) degrees."""
+    east tilt, heading) degrees, None for (1, 1, 5)."""

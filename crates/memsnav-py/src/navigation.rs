@@ -137,7 +137,7 @@ fn to_dict<'py>(
 /// Navigation Monte Carlo (paper §5.3, figs 14-18); see
 /// `memsnav.experiments.navigation` for the documented interface.
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=(1.0, 1.0, 5.0), scale_factor_states=false, absorb_unmodelled=true, keep_runs=false, threads=None, progress=None))]
+#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, keep_runs=false, threads=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn navigation_experiment<'py>(
     py: Python<'py>,
@@ -152,7 +152,7 @@ fn navigation_experiment<'py>(
     pseudorange_rate: bool,
     pseudorange_std: f64,
     pseudorange_rate_std: f64,
-    initial_attitude_std_deg: (f64, f64, f64),
+    initial_attitude_std_deg: Option<(f64, f64, f64)>,
     scale_factor_states: bool,
     absorb_unmodelled: bool,
     keep_runs: bool,
@@ -176,7 +176,8 @@ fn navigation_experiment<'py>(
             )));
         }
     }
-    let (n, e, d) = initial_attitude_std_deg;
+    // None: the default 1°, 1°, 5° (tilt N, tilt E, heading).
+    let (n, e, d) = initial_attitude_std_deg.unwrap_or((1.0, 1.0, 5.0));
     let config = NavigationExperimentConfig {
         runs,
         seed,
