@@ -1,13 +1,13 @@
 //! Runs the reference 600 s tightly coupled filter `REPEATS` times (default
-//! 20) for profilers and cycle counters, which are steadier than wall time
-//! on a shared machine:
-//! `cargo run --release -p memsnav-benches --example tight_run -- 20` under
-//! `perf stat -e cycles:u,instructions:u` or `perf record`.
+//! 20) for profilers (`perf record`), and prints the best and median wall
+//! time per run, with an empty observer (`records`) and with the whole
+//! solution stored (`solution`, what the Python API returns):
+//! `cargo run --release -p memsnav-benches --example tight_run -- 20`.
 
 use std::time::Instant;
 
 use memsnav_benches::TightScenario;
-use memsnav_core::coupling::run_tightly_coupled;
+use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled};
 use memsnav_core::filter::state::BASE_STATES;
 
 fn main() {
@@ -17,25 +17,28 @@ fn main() {
         .unwrap_or(20);
     let sc = TightScenario::new(600.0, 6);
     let imu = sc.imu();
-    let start = Instant::now();
-    let mut accepted = 0;
+    let mut records = Vec::with_capacity(repeats);
+    let mut solution = Vec::with_capacity(repeats);
     for _ in 0..repeats {
-        let records = run_tightly_coupled::<BASE_STATES, _>(
-            &imu,
-            &sc.epochs,
-            &sc.initial,
-            &sc.tuning,
-            |_, _| {},
-        )
-        .expect("the reference run");
-        accepted += records.len();
+        let t = Instant::now();
+        run_tightly_coupled::<BASE_STATES, _>(&imu, &sc.epochs, &sc.initial, &sc.tuning, |_, _| {})
+            .expect("the reference run");
+        records.push(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
+            .expect("the reference run");
+        solution.push(t.elapsed().as_secs_f64());
     }
-    let seconds = start.elapsed().as_secs_f64();
-    println!(
-        "{repeats} runs of {} IMU epochs: {:.1} ms per run, {:.0} k epochs/s (wall), {} records",
-        sc.imu_epochs(),
-        1e3 * seconds / repeats as f64,
-        (repeats * sc.imu_epochs()) as f64 / seconds / 1e3,
-        accepted / repeats
-    );
+    let n = sc.imu_epochs() as f64;
+    for (name, mut times) in [("records", records), ("solution", solution)] {
+        times.sort_by(f64::total_cmp);
+        let (best, median) = (times[0], times[times.len() / 2]);
+        println!(
+            "{name:>8}: best {:.1} ms ({:.0} k epochs/s), median {:.1} ms ({:.0} k epochs/s) over {repeats} runs of {n} IMU epochs",
+            best * 1e3,
+            n / best / 1e3,
+            median * 1e3,
+            n / median / 1e3,
+        );
+    }
 }
