@@ -47,7 +47,7 @@ fn strapdown_and_propagation(c: &mut Criterion) {
         b.iter(|| {
             // Restart from P₀ now and then so P stays in a realistic range.
             k += 1;
-            if k % 512 == 0 {
+            if k.is_multiple_of(512) {
                 kf.p = p0;
             }
             kf.propagate(black_box(&inputs), &noise, 0.01, 1.0).unwrap()
