@@ -68,7 +68,7 @@ impl TightScenario {
         .expect("GNSS simulation");
         let tuning = FilterTuning::from_imu_spec(&imu.spec, imu.sample_rate_hz, false)
             .expect("tuning from the IMU spec");
-        let initial = initial_state_from_fix(&epochs[0], &Self::imu_of(&truth, &readings), None)
+        let initial = initial_state_from_fix(&epochs, &Self::imu_of(&truth, &readings), None)
             .expect("initial fix");
         Self {
             truth,
