@@ -1,11 +1,12 @@
 //! Accelerometer calibration (method §3, paper eq. 4-5), exact conversion.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
-use super::least_squares::Regression;
+use super::least_squares::{IncrementalQr, Regression};
 use super::{
-    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, std_of,
-    validate_inputs, Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES,
+    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, factor_column,
+    std_of, validate_data, validate_options, Calibration, CalibrationOptions, Method,
+    ACCELEROMETER_AXES,
 };
 use crate::sensors::{AccelerometerModel, NoiseModel};
 use crate::{Error, Result};
@@ -31,35 +32,30 @@ fn column_names(i: usize) -> Vec<String> {
     names
 }
 
-/// The squared references, less the noise variance `s2` (E[(Γ+η)²] = Γ² + σ²).
-fn squares(reference: &[Vector3<f64>], s2: f64) -> [Vec<f64>; 3] {
-    std::array::from_fn(|j| reference.iter().map(|v| v[j] * v[j] - s2).collect())
-}
+/// Columns of the factored data X: [1, Γ^u, Γ^v, Γ^w, (Γ^u)², (Γ^v)², (Γ^w)², S^u, S^v, S^w].
+const COLUMNS: usize = 10;
+/// First column of the squares and of the outputs in X.
+const SQUARES: usize = 4;
+const OUTPUTS: usize = 7;
 
-fn regressors(reference: &[Vector3<f64>], square: &[f64]) -> DMatrix<f64> {
-    DMatrix::from_fn(reference.len(), P, |k, c| match c {
-        0 => 1.0,
-        1..=3 => reference[k][c - 1],
-        _ => square[k],
-    })
-}
+/// Columns of the factor of the noise-free inputs for the Cramér-Rao bound:
+/// [1, Γ^u, Γ^v, Γ^w, (Γ^u)², (Γ^v)², (Γ^w)²].
+const CRB_COLUMNS: usize = 7;
 
-/// Σ_k E[e_k e_kᵀ] of the regressor errors of row i when every reference
-/// component carries white noise η of variance s2: η on the Γ columns,
-/// 2Γη + η² − σ² on the square column (variance 4Γ²σ² + 2σ⁴, covariance
-/// 2Γσ² with η), with Γ² estimated without bias by Γ_obs² − σ².
-fn regressor_noise(reference: &[Vector3<f64>], i: usize, s2: f64) -> DMatrix<f64> {
-    let n = reference.len() as f64;
-    let mut c = DMatrix::zeros(P, P);
-    for j in 0..3 {
-        c[(1 + j, 1 + j)] = n * s2;
+/// The regressors of row i in compressed form: [1, Γ, (Γ^i)² − s2].
+fn regressors<const C: usize>(r: &SMatrix<f64, C, C>, i: usize, s2: f64) -> DMatrix<f64> {
+    let mut g = DMatrix::zeros(C, P);
+    for c in 0..4 {
+        g.set_column(c, &r.column(c));
     }
-    let sum_g: f64 = reference.iter().map(|v| v[i]).sum();
-    let sum_g2: f64 = reference.iter().map(|v| v[i] * v[i] - s2).sum();
-    c[(4, 4)] = 4.0 * s2 * sum_g2 + 2.0 * n * s2 * s2;
-    c[(1 + i, 4)] = 2.0 * s2 * sum_g;
-    c[(4, 1 + i)] = c[(1 + i, 4)];
-    c
+    g.set_column(4, &square(r, i, s2));
+    g
+}
+
+/// (Γ^j)² − s2 in compressed form: the square column less s2 times the
+/// constant (E[(Γ+η)²] = Γ² + σ²).
+fn square<const C: usize>(r: &SMatrix<f64, C, C>, j: usize, s2: f64) -> DVector<f64> {
+    factor_column(r, SQUARES + j) - factor_column(r, 0) * s2
 }
 
 /// Coefficient rows → model: A from the Γ columns, b = −A⁻¹c₀, N_i = −c₄/A_ii.
@@ -98,6 +94,7 @@ fn jacobian(m: &AccelerometerModel) -> DMatrix<f64> {
 
 /// Cramér-Rao bound (15 × 15) of the accelerometer parameters for exact
 /// references and white input noise of std `noise_std` (m/s²) per sample.
+/// One pass over the references (module docs of [`crate::calibration`]).
 pub fn accelerometer_crb(
     reference_specific_force: &[Vector3<f64>],
     model: &AccelerometerModel,
@@ -105,10 +102,16 @@ pub fn accelerometer_crb(
 ) -> Result<DMatrix<f64>> {
     crate::validate::positive("noise_std", noise_std)?;
     crate::validate::finite_vectors("reference_specific_force", reference_specific_force)?;
-    let sq = squares(reference_specific_force, 0.0);
+    let mut qr = IncrementalQr::<CRB_COLUMNS>::new();
+    for g in reference_specific_force {
+        let sq = g.component_mul(g);
+        qr.push(&[1.0, g.x, g.y, g.z, sq.x, sq.y, sq.z]);
+    }
+    let n = qr.rows();
+    let r = qr.finish();
     let blocks: Vec<DMatrix<f64>> = (0..3)
         .map(|i| {
-            let reg = Regression::new(regressors(reference_specific_force, &sq[i]));
+            let reg = Regression::new(regressors(&r, i, 0.0), n);
             crb_block(&reg, model.output_matrix().row(i).norm(), noise_std)
         })
         .collect();
@@ -122,8 +125,200 @@ fn crb_block(reg: &Regression, row_norm: f64, noise_std: f64) -> DMatrix<f64> {
     reg.unit_covariance() * (noise_std * row_norm).powi(2)
 }
 
+/// Accelerometer calibration data reduced by one pass over the samples to
+/// the factor R_X of X = [1, Γ, Γ², S] (module docs of
+/// [`crate::calibration`]), from which [`Self::calibrate`] solves any
+/// [`CalibrationOptions`] (plain LS and EIV from the same pass) without
+/// touching the samples again.
+#[derive(Debug, Clone)]
+pub struct FactoredAccelerometer {
+    r: SMatrix<f64, COLUMNS, COLUMNS>,
+    samples: usize,
+    /// Σ_k Γ_k and Σ_k (Γ_k)² per axis (the EIV noise moments).
+    sum_reference: Vector3<f64>,
+    sum_square: Vector3<f64>,
+    /// Smallest and largest (Γ^j)² over all samples and axes, and the
+    /// largest |S| (the refinement's stopping tolerance).
+    square_range: (f64, f64),
+    largest_output: f64,
+}
+
+impl FactoredAccelerometer {
+    /// Factors the outputs `measured` (m/s²) against the reference specific
+    /// forces (m/s², body axes).
+    pub fn new(
+        measured: &[Vector3<f64>],
+        reference_specific_force: &[Vector3<f64>],
+    ) -> Result<Self> {
+        validate_data(
+            measured,
+            &[("reference_specific_force", reference_specific_force)],
+            P,
+        )?;
+        let mut qr = IncrementalQr::<COLUMNS>::new();
+        let mut sum_reference = Vector3::zeros();
+        let mut sum_square = Vector3::zeros();
+        let (mut smallest, mut largest) = (f64::INFINITY, 0.0f64);
+        let mut largest_output = 0.0f64;
+        for (s, g) in measured.iter().zip(reference_specific_force) {
+            let sq = g.component_mul(g);
+            qr.push(&[1.0, g.x, g.y, g.z, sq.x, sq.y, sq.z, s.x, s.y, s.z]);
+            sum_reference += g;
+            sum_square += sq;
+            smallest = smallest.min(sq.min());
+            largest = largest.max(sq.max());
+            largest_output = largest_output.max(s.amax());
+        }
+        Ok(Self {
+            samples: qr.rows(),
+            r: qr.finish(),
+            sum_reference,
+            sum_square,
+            square_range: (smallest, largest),
+            largest_output,
+        })
+    }
+
+    /// Σ_k E[e_k e_kᵀ] of the regressor errors of row i when every reference
+    /// component carries white noise η of variance s2: η on the Γ columns,
+    /// 2Γη + η² − σ² on the square column (variance 4Γ²σ² + 2σ⁴, covariance
+    /// 2Γσ² with η), with Γ² estimated without bias by Γ_obs² − σ².
+    fn regressor_noise(&self, i: usize, s2: f64) -> DMatrix<f64> {
+        let n = self.samples as f64;
+        let mut c = DMatrix::zeros(P, P);
+        for j in 0..3 {
+            c[(1 + j, 1 + j)] = n * s2;
+        }
+        let sum_g2 = self.sum_square[i] - n * s2;
+        c[(4, 4)] = 4.0 * s2 * sum_g2 + 2.0 * n * s2 * s2;
+        c[(1 + i, 4)] = 2.0 * s2 * self.sum_reference[i];
+        c[(4, 1 + i)] = c[(1 + i, 4)];
+        c
+    }
+
+    /// Calibrates from the factored data. See the module docs of
+    /// [`crate::calibration`] for the model, the exact conversion and the
+    /// uncertainties.
+    pub fn calibrate(
+        &self,
+        options: &CalibrationOptions,
+    ) -> Result<Calibration<AccelerometerModel>> {
+        validate_options(options)?;
+        let (r, n) = (&self.r, self.samples);
+        check_excitation(
+            r,
+            n,
+            1,
+            &self.sum_reference,
+            ACCELEROMETER_AXES,
+            "specific force",
+        )?;
+        let eiv = options.method == Method::ErrorsInVariables;
+        let s2 = if eiv {
+            options.reference_noise_std.unwrap_or(0.0).powi(2)
+        } else {
+            0.0
+        };
+        let mut warnings = Vec::new();
+        let mut regressions = Vec::with_capacity(3);
+        let mut noise = Vec::with_capacity(3);
+        for i in 0..3 {
+            let reg = Regression::new(regressors(r, i, s2), n);
+            diagnose(&reg, ACCELEROMETER_AXES[i], &column_names(i), &mut warnings)?;
+            regressions.push(reg);
+            noise.push(eiv.then(|| self.regressor_noise(i, s2)));
+        }
+        let squares: [DVector<f64>; 3] = std::array::from_fn(|j| square(r, j, s2));
+        let mut solutions = Vec::with_capacity(3);
+        // The refinement stops when the omitted terms change by less than
+        // rounding of the outputs. Γ² − s2 is monotone in Γ², so its largest
+        // magnitude is at one end of the range of Γ².
+        let (smallest, largest) = self.square_range;
+        let largest_square = (largest - s2).abs().max((smallest - s2).abs());
+        let tolerance = 1e-15 * (1.0 + self.largest_output) / largest_square.max(f64::MIN_POSITIVE);
+        // Both estimators are linear in y, and y_i = S_i + Σ_{j≠i} (A N)_ij (Γ^j)²
+        // changes between passes only through the 3×3 matrix A N. So each row's
+        // coefficients are solved once for S_i and once per omitted square, and a
+        // pass combines them (O(p)); the final solve with the converged y gives
+        // the residuals and covariance. Every y is a combination of columns of
+        // X, so each solve is O(p²) on the factor.
+        let mut parts: Vec<[DVector<f64>; 3]> = Vec::with_capacity(3);
+        for i in 0..3 {
+            let part = |y: &DVector<f64>| -> Result<DVector<f64>> {
+                Ok(regressions[i]
+                    .solve(y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?
+                    .coefficients)
+            };
+            let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
+            parts.push([
+                part(&factor_column(r, OUTPUTS + i))?,
+                part(&squares[j1])?,
+                part(&squares[j2])?,
+            ]);
+        }
+        let mut an = Matrix3::zeros();
+        let mut converged_an = an;
+        for _ in 0..MAX_REFINEMENT_PASSES {
+            let rows: [DVector<f64>; 3] = std::array::from_fn(|i| {
+                let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
+                &parts[i][0] + &parts[i][1] * an[(i, j1)] + &parts[i][2] * an[(i, j2)]
+            });
+            let m = model_from_rows(&rows)?;
+            // A_ij N_j at the new estimate, for the next pass.
+            let next = m.output_matrix() * Matrix3::from_diagonal(&m.nonlinearity);
+            let change = (next - an).amax();
+            converged_an = an;
+            an = next;
+            if change <= tolerance {
+                break;
+            }
+        }
+        // The last pass's right-hand side, solved in full.
+        for i in 0..3 {
+            // y_i = S_i + Σ_{j≠i} A_ij N_j (Γ^j)²: the squares the row's
+            // regressors omit, evaluated at the converged estimate.
+            let mut y = factor_column(r, OUTPUTS + i);
+            for j in (0..3).filter(|&j| j != i) {
+                y += &squares[j] * converged_an[(i, j)];
+            }
+            solutions.push(regressions[i].solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?);
+        }
+        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
+        let mut model = model_from_rows(&rows)?;
+        let jac = jacobian(&model);
+        let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
+        let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
+        let crb = options.noise_std.map(|sigma| {
+            let blocks: Vec<DMatrix<f64>> = (0..3)
+                .map(|i| crb_block(&regressions[i], model.output_matrix().row(i).norm(), sigma))
+                .collect();
+            &jac * block_diagonal(&blocks) * jac.transpose()
+        });
+        let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
+        model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
+        let sd = std_of(&covariance);
+        let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+        Ok(Calibration {
+            model,
+            std: AccelerometerModel {
+                bias,
+                scale_factor,
+                misalignment,
+                nonlinearity: Vector3::new(sd[12], sd[13], sd[14]),
+                noise: NoiseModel::default(),
+            },
+            covariance,
+            residual_std,
+            condition_number: Vector3::from_fn(|i, _| regressions[i].condition_number),
+            crb,
+            warnings,
+        })
+    }
+}
+
 /// Calibrates an accelerometer triad from its outputs `measured` (m/s²) and
-/// reference specific forces (m/s², body axes). See the module docs of
+/// reference specific forces (m/s², body axes): [`FactoredAccelerometer`]
+/// then [`FactoredAccelerometer::calibrate`]. See the module docs of
 /// [`crate::calibration`] for the model, the exact conversion and the
 /// uncertainties.
 pub fn calibrate_accelerometer(
@@ -131,117 +326,7 @@ pub fn calibrate_accelerometer(
     reference_specific_force: &[Vector3<f64>],
     options: &CalibrationOptions,
 ) -> Result<Calibration<AccelerometerModel>> {
-    let reference = reference_specific_force;
-    validate_inputs(
-        measured,
-        &[("reference_specific_force", reference)],
-        P,
-        options,
-    )?;
-    check_excitation(reference, ACCELEROMETER_AXES, "specific force")?;
-    let eiv = options.method == Method::ErrorsInVariables;
-    let s2 = if eiv {
-        options.reference_noise_std.unwrap_or(0.0).powi(2)
-    } else {
-        0.0
-    };
-    let sq = squares(reference, s2);
-    let mut warnings = Vec::new();
-    let mut regressions = Vec::with_capacity(3);
-    let mut noise = Vec::with_capacity(3);
-    for i in 0..3 {
-        let reg = Regression::new(regressors(reference, &sq[i]));
-        diagnose(&reg, ACCELEROMETER_AXES[i], &column_names(i), &mut warnings)?;
-        regressions.push(reg);
-        noise.push(eiv.then(|| regressor_noise(reference, i, s2)));
-    }
-    let n = measured.len();
-    let mut solutions = Vec::with_capacity(3);
-    // The refinement stops when the omitted terms change by less than
-    // rounding of the outputs.
-    let largest_square = sq.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
-    let largest_output = measured.iter().fold(0.0f64, |m, v| m.max(v.amax()));
-    let tolerance = 1e-15 * (1.0 + largest_output) / largest_square.max(f64::MIN_POSITIVE);
-    // Both estimators are linear in y, and y_i = S_i + Σ_{j≠i} (A N)_ij (Γ^j)²
-    // changes between passes only through the 3×3 matrix A N. So each row's
-    // coefficients are solved once for S_i and once per omitted square, and a
-    // pass combines them (O(p) instead of a solve over all n samples); the
-    // final solve with the converged y gives the residuals and covariance.
-    let mut parts: Vec<[DVector<f64>; 3]> = Vec::with_capacity(3);
-    for i in 0..3 {
-        let part = |column: &dyn Fn(usize) -> f64| -> Result<DVector<f64>> {
-            let y = DVector::from_fn(n, |k, _| column(k));
-            Ok(regressions[i]
-                .solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?
-                .coefficients)
-        };
-        let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
-        parts.push([
-            part(&|k| measured[k][i])?,
-            part(&|k| sq[j1][k])?,
-            part(&|k| sq[j2][k])?,
-        ]);
-    }
-    let mut an = Matrix3::zeros();
-    let mut converged_an = an;
-    for _ in 0..MAX_REFINEMENT_PASSES {
-        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| {
-            let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
-            &parts[i][0] + &parts[i][1] * an[(i, j1)] + &parts[i][2] * an[(i, j2)]
-        });
-        let m = model_from_rows(&rows)?;
-        // A_ij N_j at the new estimate, for the next pass.
-        let next = m.output_matrix() * Matrix3::from_diagonal(&m.nonlinearity);
-        let change = (next - an).amax();
-        converged_an = an;
-        an = next;
-        if change <= tolerance {
-            break;
-        }
-    }
-    // The last pass's right-hand side, solved in full.
-    for i in 0..3 {
-        // y_i = S_i + Σ_{j≠i} A_ij N_j (Γ^j)²: the squares the row's
-        // regressors omit, evaluated at the converged estimate.
-        let y = DVector::from_fn(n, |k, _| {
-            let mut y = measured[k][i];
-            for j in (0..3).filter(|&j| j != i) {
-                y += converged_an[(i, j)] * sq[j][k];
-            }
-            y
-        });
-        solutions.push(regressions[i].solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?);
-    }
-    let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
-    let mut model = model_from_rows(&rows)?;
-    let jac = jacobian(&model);
-    let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
-    let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
-    let crb = options.noise_std.map(|sigma| {
-        let blocks: Vec<DMatrix<f64>> = (0..3)
-            .map(|i| crb_block(&regressions[i], model.output_matrix().row(i).norm(), sigma))
-            .collect();
-        &jac * block_diagonal(&blocks) * jac.transpose()
-    });
-    let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
-    model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
-    let sd = std_of(&covariance);
-    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
-    Ok(Calibration {
-        model,
-        std: AccelerometerModel {
-            bias,
-            scale_factor,
-            misalignment,
-            nonlinearity: Vector3::new(sd[12], sd[13], sd[14]),
-            noise: NoiseModel::default(),
-        },
-        covariance,
-        residual_std,
-        condition_number: Vector3::from_fn(|i, _| regressions[i].condition_number),
-        crb,
-        warnings,
-    })
+    FactoredAccelerometer::new(measured, reference_specific_force)?.calibrate(options)
 }
 
 #[cfg(test)]

@@ -2,12 +2,13 @@
 //! linear in [1, Ω^p, Ω^q, Ω^r, Γ^u, Γ^v, Γ^w], so one factorisation serves
 //! the three rows and the conversion b = −A⁻¹c₀, K = −A⁻¹C is exact.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
-use super::least_squares::Regression;
+use super::least_squares::{IncrementalQr, Regression};
 use super::{
-    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, std_of,
-    validate_inputs, Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES, GYROSCOPE_AXES,
+    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, factor_column,
+    std_of, validate_data, validate_options, Calibration, CalibrationOptions, Method,
+    ACCELEROMETER_AXES, GYROSCOPE_AXES,
 };
 use crate::sensors::{GyroscopeModel, NoiseModel};
 use crate::{Error, Result};
@@ -33,12 +34,34 @@ fn column_names(i: usize) -> Vec<String> {
     names
 }
 
-fn regressors(angular_rate: &[Vector3<f64>], specific_force: &[Vector3<f64>]) -> DMatrix<f64> {
-    DMatrix::from_fn(angular_rate.len(), P, |k, c| match c {
-        0 => 1.0,
-        1..=3 => angular_rate[k][c - 1],
-        _ => specific_force[k][c - 4],
-    })
+/// Columns of the factored data X: [1, Ω^p, Ω^q, Ω^r, Γ^u, Γ^v, Γ^w, S^p, S^q, S^r]:
+/// the regressors (shared by the three rows), then the outputs.
+const COLUMNS: usize = P + 3;
+
+/// Factor R of the regressors [1, Ω, Γ] (and of `outputs`, when given,
+/// as three more columns) by one pass over the samples.
+fn factor<const C: usize>(
+    angular_rate: &[Vector3<f64>],
+    specific_force: &[Vector3<f64>],
+    outputs: Option<&[Vector3<f64>]>,
+) -> SMatrix<f64, C, C> {
+    let mut qr = IncrementalQr::<C>::new();
+    let mut row = [0.0; C];
+    row[0] = 1.0;
+    for (k, (w, f)) in angular_rate.iter().zip(specific_force).enumerate() {
+        row[1..4].copy_from_slice(w.as_slice());
+        row[4..7].copy_from_slice(f.as_slice());
+        if let Some(s) = outputs {
+            row[P..P + 3].copy_from_slice(s[k].as_slice());
+        }
+        qr.push(&row);
+    }
+    qr.finish()
+}
+
+/// The regressors [1, Ω, Γ] in compressed form: the first P columns of R.
+fn regressors<const C: usize>(r: &SMatrix<f64, C, C>) -> DMatrix<f64> {
+    DMatrix::from_fn(C, P, |i, j| r[(i, j)])
 }
 
 fn model_from_rows(rows: &[DVector<f64>; 3]) -> Result<GyroscopeModel> {
@@ -99,7 +122,10 @@ pub fn gyroscope_crb(
         "reference_angular_rate",
         reference_angular_rate.len(),
     )?;
-    let reg = Regression::new(regressors(reference_angular_rate, reference_specific_force));
+    // One pass over the exact references; no outputs (module docs of
+    // [`crate::calibration`]).
+    let r = factor::<P>(reference_angular_rate, reference_specific_force, None);
+    let reg = Regression::new(regressors(&r), reference_angular_rate.len());
     Ok(crb_from(&reg, model, noise_std))
 }
 
@@ -113,82 +139,127 @@ fn crb_from(reg: &Regression, model: &GyroscopeModel, noise_std: f64) -> DMatrix
     &jac * block_diagonal(&blocks) * jac.transpose()
 }
 
+/// Gyroscope calibration data reduced by one pass over the samples to the
+/// factor R_X of X = [1, Ω, Γ, S] (module docs of [`crate::calibration`]),
+/// from which [`Self::calibrate`] solves any [`CalibrationOptions`] (plain
+/// LS and EIV from the same pass) without touching the samples again.
+#[derive(Debug, Clone)]
+pub struct FactoredGyroscope {
+    r: SMatrix<f64, COLUMNS, COLUMNS>,
+    samples: usize,
+    /// Σ_k Ω_k (the excitation check).
+    sum_angular_rate: Vector3<f64>,
+}
+
+impl FactoredGyroscope {
+    /// Factors the outputs `measured` (rad/s) against the reference angular
+    /// rate (rad/s) and the reference specific force (m/s²), body axes.
+    pub fn new(
+        measured: &[Vector3<f64>],
+        reference_angular_rate: &[Vector3<f64>],
+        reference_specific_force: &[Vector3<f64>],
+    ) -> Result<Self> {
+        validate_data(
+            measured,
+            &[
+                ("reference_angular_rate", reference_angular_rate),
+                ("reference_specific_force", reference_specific_force),
+            ],
+            P,
+        )?;
+        Ok(Self {
+            r: factor(
+                reference_angular_rate,
+                reference_specific_force,
+                Some(measured),
+            ),
+            samples: measured.len(),
+            sum_angular_rate: reference_angular_rate.iter().sum(),
+        })
+    }
+
+    /// Calibrates from the factored data. See [`crate::calibration`].
+    pub fn calibrate(&self, options: &CalibrationOptions) -> Result<Calibration<GyroscopeModel>> {
+        validate_options(options)?;
+        let (r, n) = (&self.r, self.samples);
+        check_excitation(
+            r,
+            n,
+            1,
+            &self.sum_angular_rate,
+            GYROSCOPE_AXES,
+            "angular rate",
+        )?;
+        let reg = Regression::new(regressors(r), n);
+        let mut warnings = Vec::new();
+        for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
+            diagnose(&reg, axis, &column_names(i), &mut warnings)?;
+            if reg.condition_number > super::least_squares::POORLY_DETERMINED_CONDITION {
+                break; // the three rows share the regressors: one report suffices
+            }
+        }
+        let noise = (options.method == Method::ErrorsInVariables).then(|| {
+            // White reference noise: uncorrelated columns, Σ_k E[e eᵀ] = n diag(σ_Ω², σ_Γ²).
+            let n = n as f64;
+            let so2 = options.reference_noise_std.unwrap_or(0.0).powi(2);
+            let sf2 = options
+                .reference_specific_force_noise_std
+                .unwrap_or(0.0)
+                .powi(2);
+            DMatrix::from_diagonal(&DVector::from_vec(vec![
+                0.0,
+                n * so2,
+                n * so2,
+                n * so2,
+                n * sf2,
+                n * sf2,
+                n * sf2,
+            ]))
+        });
+        let mut solutions = Vec::with_capacity(3);
+        for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
+            solutions.push(reg.solve(&factor_column(r, P + i), noise.as_ref(), axis)?);
+        }
+        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
+        let mut model = model_from_rows(&rows)?;
+        let jac = jacobian(&model);
+        let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
+        let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
+        let crb = options.noise_std.map(|sigma| crb_from(&reg, &model, sigma));
+        let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
+        model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
+        let sd = std_of(&covariance);
+        let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+        Ok(Calibration {
+            model,
+            std: GyroscopeModel {
+                bias,
+                scale_factor,
+                misalignment,
+                g_sensitivity: Matrix3::from_row_slice(&sd[12..21]),
+                noise: NoiseModel::default(),
+            },
+            covariance,
+            residual_std,
+            condition_number: Vector3::repeat(reg.condition_number),
+            crb,
+            warnings,
+        })
+    }
+}
+
 /// Calibrates a gyroscope triad from its outputs `measured` (rad/s), the
 /// reference angular rate (rad/s) and the reference specific force (m/s²),
-/// all in body axes. See [`crate::calibration`].
+/// all in body axes: [`FactoredGyroscope`] then
+/// [`FactoredGyroscope::calibrate`]. See [`crate::calibration`].
 pub fn calibrate_gyroscope(
     measured: &[Vector3<f64>],
     reference_angular_rate: &[Vector3<f64>],
     reference_specific_force: &[Vector3<f64>],
     options: &CalibrationOptions,
 ) -> Result<Calibration<GyroscopeModel>> {
-    validate_inputs(
-        measured,
-        &[
-            ("reference_angular_rate", reference_angular_rate),
-            ("reference_specific_force", reference_specific_force),
-        ],
-        P,
-        options,
-    )?;
-    check_excitation(reference_angular_rate, GYROSCOPE_AXES, "angular rate")?;
-    let reg = Regression::new(regressors(reference_angular_rate, reference_specific_force));
-    let mut warnings = Vec::new();
-    for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
-        diagnose(&reg, axis, &column_names(i), &mut warnings)?;
-        if reg.condition_number > super::least_squares::POORLY_DETERMINED_CONDITION {
-            break; // the three rows share the regressors: one report suffices
-        }
-    }
-    let noise = (options.method == Method::ErrorsInVariables).then(|| {
-        // White reference noise: uncorrelated columns, Σ_k E[e eᵀ] = n diag(σ_Ω², σ_Γ²).
-        let n = measured.len() as f64;
-        let so2 = options.reference_noise_std.unwrap_or(0.0).powi(2);
-        let sf2 = options
-            .reference_specific_force_noise_std
-            .unwrap_or(0.0)
-            .powi(2);
-        DMatrix::from_diagonal(&DVector::from_vec(vec![
-            0.0,
-            n * so2,
-            n * so2,
-            n * so2,
-            n * sf2,
-            n * sf2,
-            n * sf2,
-        ]))
-    });
-    let n = measured.len();
-    let mut solutions = Vec::with_capacity(3);
-    for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
-        let y = DVector::from_fn(n, |k, _| measured[k][i]);
-        solutions.push(reg.solve(&y, noise.as_ref(), axis)?);
-    }
-    let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
-    let mut model = model_from_rows(&rows)?;
-    let jac = jacobian(&model);
-    let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
-    let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
-    let crb = options.noise_std.map(|sigma| crb_from(&reg, &model, sigma));
-    let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
-    model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
-    let sd = std_of(&covariance);
-    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
-    Ok(Calibration {
-        model,
-        std: GyroscopeModel {
-            bias,
-            scale_factor,
-            misalignment,
-            g_sensitivity: Matrix3::from_row_slice(&sd[12..21]),
-            noise: NoiseModel::default(),
-        },
-        covariance,
-        residual_std,
-        condition_number: Vector3::repeat(reg.condition_number),
-        crb,
-        warnings,
-    })
+    FactoredGyroscope::new(measured, reference_angular_rate, reference_specific_force)?
+        .calibrate(options)
 }
 
 #[cfg(test)]

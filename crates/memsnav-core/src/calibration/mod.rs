@@ -46,15 +46,36 @@
 //! σ²/var(input)). [`Method::ErrorsInVariables`] removes that bias with the
 //! corrected-score estimator of [`least_squares`], given the reference
 //! noise standard deviation.
+//!
+//! ## One pass over the samples
+//!
+//! Every regressor and right-hand side of a triad is a column of one tall
+//! matrix X, reduced once to its 10 × 10 triangular factor R_X
+//! ([`least_squares::IncrementalQr`]; [`FactoredAccelerometer`],
+//! [`FactoredGyroscope`]); nothing of size n is formed or kept. From R_X:
+//! - each axis' regressors and right-hand sides are columns of R_X or
+//!   combinations of them (the accelerometer's EIV squares Γ² − σ² are
+//!   column Γ² minus σ² times the constant column), so LS and EIV, with or
+//!   without `noise_std`, are solved from the same factor by p × p algebra;
+//! - the accelerometer's refinement of the omitted cross squares changes
+//!   only y, whose columns are in X: every pass costs O(p²);
+//! - the excitation check reads each input's variance from R_X.
+//!
+//! The Cramér-Rao bound of [`accelerometer_crb`] and [`gyroscope_crb`] is
+//! that of exact references, so it needs (GᵀG)⁻¹ of the noise-free inputs,
+//! a different matrix from the noisy references' (by the regressor-noise
+//! moment C): it takes its own pass over those inputs, with 7 columns and
+//! no right-hand side. The bound in [`Calibration::crb`] (from `noise_std`)
+//! uses the calibration's own regressors and costs nothing more.
 
 mod accelerometer;
 mod gyroscope;
 pub mod least_squares;
 
-pub use accelerometer::{accelerometer_crb, calibrate_accelerometer};
-pub use gyroscope::{calibrate_gyroscope, gyroscope_crb};
+pub use accelerometer::{accelerometer_crb, calibrate_accelerometer, FactoredAccelerometer};
+pub use gyroscope::{calibrate_gyroscope, gyroscope_crb, FactoredGyroscope};
 
-use nalgebra::{DMatrix, Matrix3, SVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
 
 use crate::sensors::{AccelerometerModel, GyroscopeModel};
 use crate::{validate, Error, Result};
@@ -196,12 +217,11 @@ fn common_from_vector(v: &[f64]) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
     )
 }
 
-/// Argument checks shared by both calibrations.
-fn validate_inputs(
+/// Checks of the data shared by both calibrations.
+fn validate_data(
     measured: &[Vector3<f64>],
     references: &[(&str, &[Vector3<f64>])],
     parameters_per_axis: usize,
-    options: &CalibrationOptions,
 ) -> Result<()> {
     validate::finite_vectors("measured", measured)?;
     for (name, r) in references {
@@ -219,6 +239,11 @@ fn validate_inputs(
             ),
         ));
     }
+    Ok(())
+}
+
+/// Checks of the options shared by both calibrations.
+fn validate_options(options: &CalibrationOptions) -> Result<()> {
     for (name, v) in [
         ("reference_noise_std", options.reference_noise_std),
         (
@@ -242,11 +267,23 @@ fn validate_inputs(
 
 /// An input component that never varies makes its own axis' scale factor
 /// inseparable from the bias (method §3: excitation).
-fn check_excitation(reference: &[Vector3<f64>], axes: [&str; 3], what: &str) -> Result<()> {
-    let n = reference.len() as f64;
+///
+/// Read from the data's factor R_X (column 0 the constant): the part of
+/// column c orthogonal to the constant has squared norm Σ_{k≥1} R_kc²
+/// = n · variance, free of the cancellation of Σx² − n x̄². The reference
+/// components are columns `first .. first + 3`; `sums` are their sums.
+fn check_excitation<const C: usize>(
+    r: &SMatrix<f64, C, C>,
+    samples: usize,
+    first: usize,
+    sums: &Vector3<f64>,
+    axes: [&str; 3],
+    what: &str,
+) -> Result<()> {
+    let n = samples as f64;
     for j in 0..3 {
-        let mean = reference.iter().map(|v| v[j]).sum::<f64>() / n;
-        let var = reference.iter().map(|v| (v[j] - mean).powi(2)).sum::<f64>() / n;
+        let mean = sums[j] / n;
+        let var = r.column(first + j).rows(1, C - 1).norm_squared() / n;
         if var.sqrt() <= 1e-9 * mean.abs() || var == 0.0 {
             return Err(Error::Unobservable {
                 axis: axes[j].to_string(),
@@ -287,6 +324,11 @@ fn diagnose(
         ));
     }
     Ok(())
+}
+
+/// Column c of a factor R_X as a compressed column (see [`least_squares`]).
+fn factor_column<const C: usize>(r: &SMatrix<f64, C, C>, c: usize) -> DVector<f64> {
+    DVector::from_iterator(C, r.column(c).iter().copied())
 }
 
 /// Block-diagonal coefficient covariance from per-row blocks.

@@ -3,7 +3,7 @@
 //! bound, the bias of the first-order shortcut and of plain LS with noisy
 //! references, and the observability diagnostics.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, SVector, Vector3};
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
@@ -420,4 +420,214 @@ fn bad_inputs_name_the_argument() {
     )
     .unwrap_err();
     assert!(e.to_string().starts_with("reference_noise_std:"), "{e}");
+}
+
+/// One row solved densely on the whole n × p matrix: LS by SVD, EIV by a
+/// dense QR (c = R⁻¹ (I − R⁻ᵀ C R⁻¹)⁻¹ Qᵀ y); coefficients, their covariance
+/// (σ̂² (GᵀG)⁻¹, or the EIV sandwich) and σ̂.
+fn dense_solve(
+    g: &DMatrix<f64>,
+    y: &DVector<f64>,
+    noise: Option<&DMatrix<f64>>,
+) -> (DVector<f64>, DMatrix<f64>, f64) {
+    let (n, p) = g.shape();
+    let qr = g.clone().qr();
+    let r_inv = qr.r().try_inverse().unwrap();
+    let (c, m) = match noise {
+        None => (
+            g.clone().svd(true, true).solve(y, 0.0).unwrap(),
+            r_inv.clone(),
+        ),
+        Some(noise) => {
+            let inv = (DMatrix::identity(p, p) - r_inv.transpose() * noise * &r_inv)
+                .try_inverse()
+                .unwrap();
+            let m = &r_inv * inv;
+            (&m * (qr.q().transpose() * y), m)
+        }
+    };
+    let var = (y - g * &c).norm_squared() / (n - p) as f64;
+    (c, &m * m.transpose() * var, var.sqrt())
+}
+
+fn block_diag(blocks: &[DMatrix<f64>]) -> DMatrix<f64> {
+    let p = blocks[0].nrows();
+    let mut out = DMatrix::zeros(3 * p, 3 * p);
+    for (i, b) in blocks.iter().enumerate() {
+        out.view_mut((p * i, p * i), (p, p)).copy_from(b);
+    }
+    out
+}
+
+/// The parameters, their covariance and the residual std of a calibration
+/// against those of the dense solve, to 1e-10 relative.
+fn assert_matches_dense<const N: usize>(
+    what: &str,
+    estimate: &SVector<f64, N>,
+    dense: &SVector<f64, N>,
+    covariance: &DMatrix<f64>,
+    dense_covariance: &DMatrix<f64>,
+    residual_std: &Vector3<f64>,
+    dense_residual_std: &Vector3<f64>,
+) {
+    for k in 0..N {
+        let scale = dense[k].abs().max(dense_covariance[(k, k)].sqrt());
+        assert!(
+            (estimate[k] - dense[k]).abs() <= 1e-10 * scale,
+            "{what} parameter {k}: {:e} vs {:e}",
+            estimate[k],
+            dense[k]
+        );
+        let (v, d) = (covariance[(k, k)], dense_covariance[(k, k)]);
+        assert!(
+            (v / d - 1.0).abs() < 1e-10,
+            "{what} variance {k}: {v:e} vs {d:e}"
+        );
+    }
+    for i in 0..3 {
+        let (s, d) = (residual_std[i], dense_residual_std[i]);
+        assert!(
+            (s / d - 1.0).abs() < 1e-10,
+            "{what} residual {i}: {s:e} vs {d:e}"
+        );
+    }
+}
+
+/// The factored path (one pass, compressed solves, the cross-square
+/// refinement by superposition) against the textbook procedure written
+/// here on the dense n × p matrices: a straightforward fixed-point
+/// iteration of full dense solves for the accelerometer, one dense solve
+/// per row for the gyroscope, both estimators, noisy references, several
+/// blocks of rows plus a partial one.
+#[test]
+fn factored_calibration_equals_a_dense_solve() {
+    let mut rng = stream(12, 0);
+    let acc = accel_truth(&mut rng);
+    let gyr = gyro_truth(&mut rng);
+    let n = 64 * 40 + 17;
+    let (f, w) = motion(n, &mut rng);
+    let (sf, sw) = (0.5, 0.02);
+    let sa = accel_measure(&acc, &f, 0.01, &mut rng);
+    let sg = gyro_measure(&gyr, &w, &f, 1e-3, &mut rng);
+    let f_ref: Vec<_> = f.iter().map(|x| x + gauss3(&mut rng) * sf).collect();
+    let w_ref: Vec<_> = w.iter().map(|x| x + gauss3(&mut rng) * sw).collect();
+
+    for eiv in [false, true] {
+        // Accelerometer: G_i = [1, Γ, Γ_i² − s2], y_i = S_i + Σ_{j≠i} A_ij N_j (Γ_j² − s2).
+        let s2 = if eiv { sf * sf } else { 0.0 };
+        let sq = |k: usize, j: usize| f_ref[k][j] * f_ref[k][j] - s2;
+        let gs: Vec<DMatrix<f64>> = (0..3)
+            .map(|i| {
+                DMatrix::from_fn(n, 5, |k, c| match c {
+                    0 => 1.0,
+                    1..=3 => f_ref[k][c - 1],
+                    _ => sq(k, i),
+                })
+            })
+            .collect();
+        let noise: Vec<Option<DMatrix<f64>>> = (0..3)
+            .map(|i| {
+                eiv.then(|| {
+                    let mut c = DMatrix::zeros(5, 5);
+                    for j in 1..4 {
+                        c[(j, j)] = n as f64 * s2;
+                    }
+                    let sum_g: f64 = f_ref.iter().map(|v| v[i]).sum();
+                    let sum_g2: f64 = (0..n).map(|k| sq(k, i)).sum();
+                    c[(4, 4)] = 4.0 * s2 * sum_g2 + 2.0 * n as f64 * s2 * s2;
+                    c[(1 + i, 4)] = 2.0 * s2 * sum_g;
+                    c[(4, 1 + i)] = c[(1 + i, 4)];
+                    c
+                })
+            })
+            .collect();
+        let mut an = Matrix3::zeros();
+        let mut dense = Vec::new();
+        for _ in 0..30 {
+            dense = (0..3)
+                .map(|i| {
+                    let y = DVector::from_fn(n, |k, _| {
+                        sa[k][i]
+                            + (0..3)
+                                .filter(|&j| j != i)
+                                .map(|j| an[(i, j)] * sq(k, j))
+                                .sum::<f64>()
+                    });
+                    dense_solve(&gs[i], &y, noise[i].as_ref())
+                })
+                .collect();
+            let rows: [DVector<f64>; 3] = std::array::from_fn(|i| dense[i].0.clone());
+            let m = accelerometer::tests_support::model_from_rows(&rows);
+            an = m.output_matrix() * Matrix3::from_diagonal(&m.nonlinearity);
+        }
+        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| dense[i].0.clone());
+        let model = accelerometer::tests_support::model_from_rows(&rows);
+        let jac = accelerometer::tests_support::jacobian(&model);
+        let blocks: Vec<DMatrix<f64>> = dense.iter().map(|d| d.1.clone()).collect();
+        let options = CalibrationOptions {
+            method: if eiv {
+                Method::ErrorsInVariables
+            } else {
+                Method::LeastSquares
+            },
+            reference_noise_std: Some(sf),
+            ..Default::default()
+        };
+        let cal = calibrate_accelerometer(&sa, &f_ref, &options).unwrap();
+        assert_matches_dense(
+            &format!("accelerometer (EIV {eiv})"),
+            &accelerometer_parameters(&cal.model),
+            &accelerometer_parameters(&model),
+            &cal.covariance,
+            &(&jac * block_diag(&blocks) * jac.transpose()),
+            &cal.residual_std,
+            &Vector3::from_fn(|i, _| dense[i].2),
+        );
+
+        // Gyroscope: G = [1, Ω, Γ] for every row, y_i = S_i.
+        let g = DMatrix::from_fn(n, 7, |k, c| match c {
+            0 => 1.0,
+            1..=3 => w_ref[k][c - 1],
+            _ => f_ref[k][c - 4],
+        });
+        let noise = eiv.then(|| {
+            let (so2, sf2) = (n as f64 * sw * sw, n as f64 * sf * sf);
+            DMatrix::from_diagonal(&DVector::from_vec(vec![0.0, so2, so2, so2, sf2, sf2, sf2]))
+        });
+        let dense: Vec<_> = (0..3)
+            .map(|i| dense_solve(&g, &DVector::from_fn(n, |k, _| sg[k][i]), noise.as_ref()))
+            .collect();
+        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| dense[i].0.clone());
+        let model = gyroscope::tests_support::model_from_rows(&rows);
+        let jac = gyroscope::tests_support::jacobian(&model);
+        let blocks: Vec<DMatrix<f64>> = dense.iter().map(|d| d.1.clone()).collect();
+        let options = CalibrationOptions {
+            method: if eiv {
+                Method::ErrorsInVariables
+            } else {
+                Method::LeastSquares
+            },
+            reference_noise_std: Some(sw),
+            reference_specific_force_noise_std: Some(sf),
+            ..Default::default()
+        };
+        let cal = calibrate_gyroscope(&sg, &w_ref, &f_ref, &options).unwrap();
+        assert_matches_dense(
+            &format!("gyroscope (EIV {eiv})"),
+            &gyroscope_parameters(&cal.model),
+            &gyroscope_parameters(&model),
+            &cal.covariance,
+            &(&jac * block_diag(&blocks) * jac.transpose()),
+            &cal.residual_std,
+            &Vector3::from_fn(|i, _| dense[i].2),
+        );
+        // Condition number of the equilibrated gyroscope regressors, by SVD.
+        let mut gs = g.clone();
+        for mut col in gs.column_iter_mut() {
+            let norm = col.norm();
+            col /= norm;
+        }
+        let sv = gs.singular_values();
+        assert!((cal.condition_number[0] / (sv.max() / sv.min()) - 1.0).abs() < 1e-10);
+    }
 }
