@@ -38,27 +38,6 @@ fn column_names(i: usize) -> Vec<String> {
 /// the regressors (shared by the three rows), then the outputs.
 const COLUMNS: usize = P + 3;
 
-/// Factor R of the regressors [1, Ω, Γ] (and of `outputs`, when given,
-/// as three more columns) by one pass over the samples.
-fn factor<const C: usize>(
-    angular_rate: &[Vector3<f64>],
-    specific_force: &[Vector3<f64>],
-    outputs: Option<&[Vector3<f64>]>,
-) -> SMatrix<f64, C, C> {
-    let mut qr = IncrementalQr::<C>::new();
-    let mut row = [0.0; C];
-    row[0] = 1.0;
-    for (k, (w, f)) in angular_rate.iter().zip(specific_force).enumerate() {
-        row[1..4].copy_from_slice(w.as_slice());
-        row[4..7].copy_from_slice(f.as_slice());
-        if let Some(s) = outputs {
-            row[P..P + 3].copy_from_slice(s[k].as_slice());
-        }
-        qr.push(&row);
-    }
-    qr.finish()
-}
-
 /// The regressors [1, Ω, Γ] in compressed form: the first P columns of R.
 fn regressors<const C: usize>(r: &SMatrix<f64, C, C>) -> DMatrix<f64> {
     DMatrix::from_fn(C, P, |i, j| r[(i, j)])
@@ -124,8 +103,12 @@ pub fn gyroscope_crb(
     )?;
     // One pass over the exact references; no outputs (module docs of
     // [`crate::calibration`]).
-    let r = factor::<P>(reference_angular_rate, reference_specific_force, None);
-    let reg = Regression::new(regressors(&r), reference_angular_rate.len());
+    let mut qr = IncrementalQr::<P>::new();
+    for (w, f) in reference_angular_rate.iter().zip(reference_specific_force) {
+        qr.push(&[1.0, w.x, w.y, w.z, f.x, f.y, f.z]);
+    }
+    let n = qr.rows();
+    let reg = Regression::new(regressors(&qr.finish()), n);
     Ok(crb_from(&reg, model, noise_std))
 }
 
@@ -167,14 +150,20 @@ impl FactoredGyroscope {
             ],
             P,
         )?;
+        let mut qr = IncrementalQr::<COLUMNS>::new();
+        let mut sum_angular_rate = Vector3::zeros();
+        for ((s, w), f) in measured
+            .iter()
+            .zip(reference_angular_rate)
+            .zip(reference_specific_force)
+        {
+            qr.push(&[1.0, w.x, w.y, w.z, f.x, f.y, f.z, s.x, s.y, s.z]);
+            sum_angular_rate += w;
+        }
         Ok(Self {
-            r: factor(
-                reference_angular_rate,
-                reference_specific_force,
-                Some(measured),
-            ),
-            samples: measured.len(),
-            sum_angular_rate: reference_angular_rate.iter().sum(),
+            samples: qr.rows(),
+            r: qr.finish(),
+            sum_angular_rate,
         })
     }
 

@@ -134,7 +134,7 @@ impl<const C: usize> IncrementalQr<C> {
 }
 
 /// Dot product of two blocks with [`LANES`] independent partial sums.
-#[inline]
+#[inline(always)]
 fn dot(a: &[f64; BLOCK_ROWS], b: &[f64; BLOCK_ROWS]) -> f64 {
     let mut acc = [0.0; LANES];
     for (x, y) in a.chunks_exact(LANES).zip(b.chunks_exact(LANES)) {

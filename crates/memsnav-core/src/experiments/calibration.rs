@@ -3,8 +3,8 @@
 //! errors-in-variables estimator, with the Cramér-Rao bound.
 
 use crate::calibration::{
-    accelerometer_crb, accelerometer_parameters, calibrate_accelerometer, calibrate_gyroscope,
-    gyroscope_crb, gyroscope_parameters, CalibrationOptions, Method,
+    accelerometer_crb, accelerometer_parameters, gyroscope_crb, gyroscope_parameters,
+    CalibrationOptions, FactoredAccelerometer, FactoredGyroscope, Method,
 };
 use crate::montecarlo::{self, RunOptions};
 use crate::random::{self, Rng};
@@ -193,8 +193,10 @@ pub fn calibration_experiment(
             reference_noise_std: Some(sf),
             ..Default::default()
         };
-        let a_ls = calibrate_accelerometer(&readings.specific_force_b, &f_ref, &ls)?;
-        let a_eiv = calibrate_accelerometer(&readings.specific_force_b, &f_ref, &eiv)?;
+        // One pass over the samples serves both estimators.
+        let factored = FactoredAccelerometer::new(&readings.specific_force_b, &f_ref)?;
+        let a_ls = factored.calibrate(&ls)?;
+        let a_eiv = factored.calibrate(&eiv)?;
         let sigma_a = imu.accelerometer.noise.white_std_per_sample(rate);
         let acc = RunStatistics {
             error_ls: (accelerometer_parameters(&a_ls.model) - acc_truth)
@@ -219,8 +221,9 @@ pub fn calibration_experiment(
             reference_specific_force_noise_std: Some(sf),
             ..Default::default()
         };
-        let g_ls = calibrate_gyroscope(&readings.angular_rate_b, &w_ref, &f_ref, &ls)?;
-        let g_eiv = calibrate_gyroscope(&readings.angular_rate_b, &w_ref, &f_ref, &eiv)?;
+        let factored = FactoredGyroscope::new(&readings.angular_rate_b, &w_ref, &f_ref)?;
+        let g_ls = factored.calibrate(&ls)?;
+        let g_eiv = factored.calibrate(&eiv)?;
         let sigma_g = imu.gyroscope.noise.white_std_per_sample(rate);
         let gyr = RunStatistics {
             error_ls: (gyroscope_parameters(&g_ls.model) - gyr_truth)
