@@ -109,8 +109,7 @@ fn main() {
         lap(6, &mut times);
         calibrate_gyroscope(&readings.angular_rate_b, &w_ref, &f_ref, &eiv_g).expect("EIV");
         lap(7, &mut times);
-        gyroscope_crb(&m.angular_rate_b, &m.specific_force_b, &imu.gyroscope, 1e-4)
-            .expect("CRB");
+        gyroscope_crb(&m.angular_rate_b, &m.specific_force_b, &imu.gyroscope, 1e-4).expect("CRB");
         lap(8, &mut times);
         let config = CalibrationExperimentConfig {
             seed: SEED + r as u64,
@@ -119,7 +118,9 @@ fn main() {
         calibration_experiment(&config, &motion::land_vehicle, &one_thread).expect("run");
         lap(9, &mut times);
     }
-    println!("one calibration-experiment run, 300 s at 100 Hz (30 001 samples), {repeats} repeats:");
+    println!(
+        "one calibration-experiment run, 300 s at 100 Hz (30 001 samples), {repeats} repeats:"
+    );
     for (name, t) in names.iter().zip(times) {
         report(name, t);
     }

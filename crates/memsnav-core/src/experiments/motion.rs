@@ -24,11 +24,10 @@
 //! θ̇ cos φ + ψ̇ sin φ cos θ, −θ̇ sin φ + ψ̇ cos φ cos θ], and the specific
 //! force is f_b = C_l^b (a_l − g_l) with g_l = [0, 0, g0] (NED-like, z down).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
-use crate::attitude::euler_to_dcm;
 use crate::random::Rng;
 use crate::{validate, Result};
 
@@ -90,10 +89,13 @@ pub fn land_vehicle(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Moti
         let roll_dot = roll_drive.next(rng) - roll / leak_s;
         let pitch_dot = pitch_drive.next(rng) - pitch / leak_s;
         let a_level = Vector3::new(a_x, speed * psi_dot, vertical.next(rng));
-        let c_b_l = euler_to_dcm(roll, pitch, 0.0);
-        specific_force_b.push(c_b_l.transpose() * (a_level - Vector3::new(0.0, 0.0, G0)));
         let (sr, cr) = roll.sin_cos();
         let (sp, cp) = pitch.sin_cos();
+        // C_b^l = euler_to_dcm(roll, pitch, 0) (Groves eq. 2.22 transposed)
+        // written out for ψ = 0, so one pair of sines and cosines serves it
+        // and the Euler kinematics below.
+        let c_b_l = Matrix3::new(cp, sp * sr, sp * cr, 0.0, cr, -sr, -sp, cp * sr, cp * cr);
+        specific_force_b.push(c_b_l.transpose() * (a_level - Vector3::new(0.0, 0.0, G0)));
         angular_rate_b.push(Vector3::new(
             roll_dot - psi_dot * sp,
             pitch_dot * cr + psi_dot * sr * cp,
