@@ -222,9 +222,9 @@ impl FactoredAccelerometer {
         let mut warnings = Vec::new();
         let mut regressions = Vec::with_capacity(3);
         let mut noise = Vec::with_capacity(3);
-        for i in 0..3 {
+        for (i, axis) in ACCELEROMETER_AXES.iter().enumerate() {
             let reg = Regression::new(regressors(r, i, s2), n);
-            diagnose(&reg, ACCELEROMETER_AXES[i], &column_names(i), &mut warnings)?;
+            diagnose(&reg, axis, &column_names(i), &mut warnings)?;
             regressions.push(reg);
             noise.push(eiv.then(|| self.regressor_noise(i, s2)));
         }
