@@ -73,10 +73,14 @@ impl<const C: usize> IncrementalQr<C> {
     /// Appends one row of X.
     #[inline]
     pub fn push(&mut self, row: &[f64; C]) {
+        // `filled` < BLOCK_ROWS always (a full block is folded at once); the
+        // remainder says so to the compiler, which then keeps the index in a
+        // register with no bounds check per column.
+        let i = self.filled % BLOCK_ROWS;
         for (column, &x) in self.block.iter_mut().zip(row) {
-            column[self.filled] = x;
+            column[i] = x;
         }
-        self.filled += 1;
+        self.filled = i + 1;
         self.rows += 1;
         if self.filled == BLOCK_ROWS {
             self.fold_block();
@@ -117,12 +121,30 @@ impl<const C: usize> IncrementalQr<C> {
             let tau = (beta - alpha) / beta;
             let inv_v0 = 1.0 / (alpha - beta);
             v.iter_mut().for_each(|x| *x *= inv_v0);
-            for (offset, column) in rest.iter_mut().enumerate() {
-                let k = j + 1 + offset;
-                let w = tau * (self.r[(j, k)] + dot(v, column));
-                self.r[(j, k)] -= w;
-                for (x, &vi) in column.iter_mut().zip(v.iter()) {
-                    *x -= w * vi;
+            // Two columns per sweep: each load of v serves both (the loops
+            // are bound by loads, not arithmetic).
+            for (pair, columns) in rest.chunks_mut(2).enumerate() {
+                let k = j + 1 + 2 * pair;
+                match columns {
+                    [a, b] => {
+                        let (da, db) = dot2(v, a, b);
+                        let wa = tau * (self.r[(j, k)] + da);
+                        let wb = tau * (self.r[(j, k + 1)] + db);
+                        self.r[(j, k)] -= wa;
+                        self.r[(j, k + 1)] -= wb;
+                        for ((x, y), &vi) in a.iter_mut().zip(b.iter_mut()).zip(v.iter()) {
+                            *x -= wa * vi;
+                            *y -= wb * vi;
+                        }
+                    }
+                    [a] => {
+                        let w = tau * (self.r[(j, k)] + dot(v, a));
+                        self.r[(j, k)] -= w;
+                        for (x, &vi) in a.iter_mut().zip(v.iter()) {
+                            *x -= w * vi;
+                        }
+                    }
+                    _ => unreachable!("chunks of at most two columns"),
                 }
             }
             self.r[(j, j)] = beta;
@@ -131,6 +153,24 @@ impl<const C: usize> IncrementalQr<C> {
         self.block = [[0.0; BLOCK_ROWS]; C];
         self.filled = 0;
     }
+}
+
+/// v·a and v·b in one sweep, each summed exactly as [`dot`] sums it.
+#[inline(always)]
+fn dot2(v: &[f64; BLOCK_ROWS], a: &[f64; BLOCK_ROWS], b: &[f64; BLOCK_ROWS]) -> (f64, f64) {
+    let mut acc_a = [0.0; LANES];
+    let mut acc_b = [0.0; LANES];
+    for ((x, y), z) in v
+        .chunks_exact(LANES)
+        .zip(a.chunks_exact(LANES))
+        .zip(b.chunks_exact(LANES))
+    {
+        for l in 0..LANES {
+            acc_a[l] += x[l] * y[l];
+            acc_b[l] += x[l] * z[l];
+        }
+    }
+    (acc_a.iter().sum(), acc_b.iter().sum())
 }
 
 /// Dot product of two blocks with [`LANES`] independent partial sums.
