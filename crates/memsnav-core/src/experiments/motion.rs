@@ -64,6 +64,14 @@ impl Smooth {
     }
 }
 
+/// C_b^l = `euler_to_dcm(roll, pitch, 0)` (Groves eq. 2.22 transposed)
+/// written out for ψ = 0 from the sines and cosines of roll and pitch, so
+/// one pair of each serves it and the Euler kinematics.
+#[inline]
+fn level_from_body(sr: f64, cr: f64, sp: f64, cp: f64) -> Matrix3<f64> {
+    Matrix3::new(cp, sp * sr, sp * cr, 0.0, cr, -sr, -sp, cp * sr, cp * cr)
+}
+
 /// A random land-vehicle motion of `duration_s` at `rate_hz` (module docs).
 pub fn land_vehicle(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Motion> {
     validate::positive("duration", duration_s)?;
@@ -91,10 +99,7 @@ pub fn land_vehicle(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Moti
         let a_level = Vector3::new(a_x, speed * psi_dot, vertical.next(rng));
         let (sr, cr) = roll.sin_cos();
         let (sp, cp) = pitch.sin_cos();
-        // C_b^l = euler_to_dcm(roll, pitch, 0) (Groves eq. 2.22 transposed)
-        // written out for ψ = 0, so one pair of sines and cosines serves it
-        // and the Euler kinematics below.
-        let c_b_l = Matrix3::new(cp, sp * sr, sp * cr, 0.0, cr, -sr, -sp, cp * sr, cp * cr);
+        let c_b_l = level_from_body(sr, cr, sp, cp);
         specific_force_b.push(c_b_l.transpose() * (a_level - Vector3::new(0.0, 0.0, G0)));
         angular_rate_b.push(Vector3::new(
             roll_dot - psi_dot * sp,
@@ -128,4 +133,25 @@ pub fn random_trajectory(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result
         specific_force_b: t.specific_force_b,
         angular_rate_b: t.angular_rate_b,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attitude::euler_to_dcm;
+
+    #[test]
+    fn the_written_out_attitude_is_euler_to_dcm_without_yaw() {
+        for k in 0..200 {
+            let roll = -0.7 + 0.007 * k as f64;
+            let pitch = 0.5 - 0.0061 * k as f64;
+            let (sr, cr) = roll.sin_cos();
+            let (sp, cp) = pitch.sin_cos();
+            assert_eq!(
+                level_from_body(sr, cr, sp, cp),
+                euler_to_dcm(roll, pitch, 0.0),
+                "roll {roll}, pitch {pitch}"
+            );
+        }
+    }
 }
