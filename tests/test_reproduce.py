@@ -141,13 +141,25 @@ def test_no_temporary_files_left_behind(study):
 def test_ctrl_c_keeps_the_completed_runs_and_writes_the_report(tmp_path):
     # The test runner may run with SIGINT ignored (a background job): give the
     # child the default disposition, as a terminal would.
+    # 50 sets x 400 runs: a calibration experiment of a minute or more on 2
+    # cores (20 000 runs), so the signal lands in it however fast the runs are.
     child = subprocess.Popen(
-        [sys.executable, "-m", "memsnav", "reproduce", "--out", str(tmp_path), "--quiet"],
+        [
+            sys.executable,
+            "-m",
+            "memsnav",
+            "reproduce",
+            "--out",
+            str(tmp_path),
+            "--runs",
+            "400",
+            "--quiet",
+        ],
         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
         stderr=subprocess.PIPE,
         text=True,
     )
-    time.sleep(6.0)  # well into the calibration experiment (about 30 s)
+    time.sleep(6.0)  # well into the calibration experiment
     child.send_signal(signal.SIGINT)
     _, stderr = child.communicate(timeout=120)
     assert child.returncode == 130, stderr
