@@ -1,8 +1,10 @@
-//! Initialisation from the first GNSS fix and a given or coarse attitude.
+//! Initialisation from the first GNSS fix (tight) or position fix (loose)
+//! and a given or coarse attitude.
 
 use nalgebra::{Matrix3, Vector3};
 
 use super::engine::{ImuData, InitialState};
+use super::loose::PositionFix;
 use crate::attitude::euler_to_dcm;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
@@ -111,8 +113,62 @@ pub fn initial_state_from_fix(
         fix.velocity_ecef = (next.position_ecef - fix.position_ecef) / dt;
         fix.clock_drift_m_s = (next.clock_offset_m - fix.clock_offset_m) / dt;
     }
+    let nav = start_at_first_sample(
+        &fix.position_ecef,
+        &fix.velocity_ecef,
+        first_epoch.time_s,
+        imu,
+        attitude,
+    )?;
+    Ok(InitialState {
+        nav,
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: Some(
+            fix.clock_offset_m - fix.clock_drift_m_s * (first_epoch.time_s - imu.time_s[0]),
+        ),
+        clock_drift_m_s: Some(fix.clock_drift_m_s),
+    })
+}
+
+/// The initial state of the loosely coupled filter from its first position
+/// fix: position moved back to the first IMU time along the fix velocity
+/// (zero when the fix has none, and then `attitude` must be given: there is
+/// no course for a heading); attitude as given, else [`coarse_attitude`];
+/// zero bias estimates; clock zero (loose coupling does not observe it).
+pub fn initial_state_from_position_fix(
+    fixes: &[PositionFix],
+    imu: &ImuData,
+    attitude: Option<Matrix3<f64>>,
+) -> Result<InitialState> {
+    imu.validate()?;
+    let fix = fixes
+        .first()
+        .ok_or_else(|| Error::invalid("fixes", "has no valid fix"))?;
+    let velocity = fix.velocity_ecef.unwrap_or_else(Vector3::zeros);
+    let nav = start_at_first_sample(&fix.position_ecef, &velocity, fix.time_s, imu, attitude)?;
+    Ok(InitialState {
+        nav,
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: Some(0.0),
+        clock_drift_m_s: Some(0.0),
+    })
+}
+
+/// The navigation state at the first IMU time from a fix at `fix_time_s`:
+/// its position moved back along its velocity (constant over the gap);
+/// attitude as given (checked), else [`coarse_attitude`] from the mean
+/// specific force of the IMU's first second and the fix velocity.
+fn start_at_first_sample(
+    position_ecef: &Vector3<f64>,
+    velocity_ecef: &Vector3<f64>,
+    fix_time_s: f64,
+    imu: &ImuData,
+    attitude: Option<Matrix3<f64>>,
+) -> Result<NavState> {
     let t0 = imu.time_s[0];
-    let position_ecef = fix.position_ecef - fix.velocity_ecef * (first_epoch.time_s - t0);
+    let position_ecef = position_ecef - velocity_ecef * (fix_time_s - t0);
     let c_b_e = match attitude {
         Some(c) => {
             validate::rotation("initial_attitude", &c)?;
@@ -126,19 +182,13 @@ pub fn initial_state_from_fix(
                 .count()
                 .max(1);
             let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
-            coarse_attitude(&mean, &position_ecef, &fix.velocity_ecef)?
+            coarse_attitude(&mean, &position_ecef, velocity_ecef)?
         }
     };
-    Ok(InitialState {
-        nav: NavState {
-            position_ecef,
-            velocity_ecef: fix.velocity_ecef,
-            c_b_e,
-        },
-        accel_bias_m_s2: Vector3::zeros(),
-        gyro_bias_rad_s: Vector3::zeros(),
-        clock_offset_m: Some(fix.clock_offset_m - fix.clock_drift_m_s * (first_epoch.time_s - t0)),
-        clock_drift_m_s: Some(fix.clock_drift_m_s),
+    Ok(NavState {
+        position_ecef,
+        velocity_ecef: *velocity_ecef,
+        c_b_e,
     })
 }
 
