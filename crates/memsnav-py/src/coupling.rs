@@ -361,7 +361,8 @@ fn initial_state_arg(obj: &Bound<'_, PyAny>) -> PyResult<InitialState> {
             let name: String = key.extract().unwrap_or_default();
             if !INITIAL_STATE_KEYS.contains(&name.as_str()) {
                 return Err(PyValueError::new_err(format!(
-                    "{ARG}: unknown entry {key}; expected some of {}",
+                    "{ARG}: unknown entry {}; expected some of {}",
+                    key.repr()?,
                     INITIAL_STATE_KEYS.join(", ")
                 )));
             }
@@ -719,7 +720,7 @@ filter_class!(
     gnss_epochs,
     initial_state_from_fix,
     tightly_coupled,
-    "Runs the filter over the whole IMU series with the GNSS measurements."
+    "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`."
 );
 
 filter_class!(
@@ -729,7 +730,7 @@ filter_class!(
     position_fixes,
     initial_state_from_position_fix,
     loosely_coupled,
-    "Runs the filter over the whole IMU series with the position fixes."
+    "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e)."
 );
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
