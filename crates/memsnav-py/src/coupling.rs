@@ -231,74 +231,6 @@ struct Settings {
     sample_rate_hz: f64,
 }
 
-#[allow(clippy::too_many_arguments)]
-fn settings(
-    imu: &PyImuModel,
-    scale_factor_states: bool,
-    accel_noise_density: Option<f64>,
-    gyro_noise_density: Option<f64>,
-    accel_bias_psd: Option<f64>,
-    gyro_bias_psd: Option<f64>,
-    gate_probability: f64,
-    initial_position_std: f64,
-    initial_velocity_std: f64,
-    initial_tilt_std: f64,
-    initial_heading_std: f64,
-    initial_accel_bias_std: Option<f64>,
-    initial_gyro_bias_std: Option<f64>,
-    initial_clock_offset_std: f64,
-    initial_clock_drift_std: f64,
-    use_pseudorange_rate: bool,
-) -> PyResult<Settings> {
-    let model = &imu.inner;
-    let mut tuning =
-        FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
-    let q = &mut tuning.process_noise;
-    for (name, value, target) in [
-        (
-            "accel_noise_density",
-            accel_noise_density,
-            &mut q.accel_white_psd,
-        ),
-        (
-            "gyro_noise_density",
-            gyro_noise_density,
-            &mut q.gyro_white_psd,
-        ),
-    ] {
-        if let Some(d) = value {
-            memsnav_core::validate::non_negative(name, d).py()?;
-            *target = d * d;
-        }
-    }
-    if let Some(v) = accel_bias_psd {
-        q.accel_bias_psd = v;
-    }
-    if let Some(v) = gyro_bias_psd {
-        q.gyro_bias_psd = v;
-    }
-    let s = &mut tuning.initial_std;
-    s.position_m = initial_position_std;
-    s.velocity_m_s = initial_velocity_std;
-    s.attitude_ned_rad = Vector3::new(initial_tilt_std, initial_tilt_std, initial_heading_std);
-    if let Some(v) = initial_accel_bias_std {
-        s.accel_bias_m_s2 = v;
-    }
-    if let Some(v) = initial_gyro_bias_std {
-        s.gyro_bias_rad_s = v;
-    }
-    s.clock_offset_m = initial_clock_offset_std;
-    s.clock_drift_m_s = initial_clock_drift_std;
-    tuning.gate_probability = gate_probability;
-    tuning.use_pseudorange_rate = use_pseudorange_rate;
-    tuning.validate().py()?;
-    Ok(Settings {
-        tuning,
-        scale_factor_states,
-        sample_rate_hz: model.sample_rate_hz,
-    })
-}
-
 /// The IMU arrays of `run`, validated with the argument names.
 struct ImuArrays {
     time: Vec<f64>,
@@ -622,25 +554,54 @@ macro_rules! filter_class {
                 initial_clock_drift_std: f64,
                 use_pseudorange_rate: bool,
             ) -> PyResult<Self> {
-                Ok(Self {
-                    settings: settings(
-                        imu,
-                        scale_factor_states,
+                let model = &imu.inner;
+                let mut tuning =
+                    FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
+                let q = &mut tuning.process_noise;
+                for (name, value, target) in [
+                    (
+                        "accel_noise_density",
                         accel_noise_density,
+                        &mut q.accel_white_psd,
+                    ),
+                    (
+                        "gyro_noise_density",
                         gyro_noise_density,
-                        accel_bias_psd,
-                        gyro_bias_psd,
-                        gate_probability,
-                        initial_position_std,
-                        initial_velocity_std,
-                        initial_tilt_std,
-                        initial_heading_std,
-                        initial_accel_bias_std,
-                        initial_gyro_bias_std,
-                        initial_clock_offset_std,
-                        initial_clock_drift_std,
-                        use_pseudorange_rate,
-                    )?,
+                        &mut q.gyro_white_psd,
+                    ),
+                ] {
+                    if let Some(d) = value {
+                        memsnav_core::validate::non_negative(name, d).py()?;
+                        *target = d * d;
+                    }
+                }
+                if let Some(v) = accel_bias_psd {
+                    q.accel_bias_psd = v;
+                }
+                if let Some(v) = gyro_bias_psd {
+                    q.gyro_bias_psd = v;
+                }
+                let s = &mut tuning.initial_std;
+                s.position_m = initial_position_std;
+                s.velocity_m_s = initial_velocity_std;
+                s.attitude_ned_rad = Vector3::new(initial_tilt_std, initial_tilt_std, initial_heading_std);
+                if let Some(v) = initial_accel_bias_std {
+                    s.accel_bias_m_s2 = v;
+                }
+                if let Some(v) = initial_gyro_bias_std {
+                    s.gyro_bias_rad_s = v;
+                }
+                s.clock_offset_m = initial_clock_offset_std;
+                s.clock_drift_m_s = initial_clock_drift_std;
+                tuning.gate_probability = gate_probability;
+                tuning.use_pseudorange_rate = use_pseudorange_rate;
+                tuning.validate().py()?;
+                Ok(Self {
+                    settings: Settings {
+                        tuning,
+                        scale_factor_states,
+                        sample_rate_hz: model.sample_rate_hz,
+                    },
                 })
             }
 

@@ -215,4 +215,41 @@ mod tests {
         assert!(err.norm() < 2e-3, "{err}");
         assert!(coarse_attitude(&f_b, &r, &(v * 0.01)).is_err());
     }
+
+    /// The loose start moves the first fix back along its velocity to the
+    /// first IMU time; without a velocity there is no heading to take.
+    #[test]
+    fn position_fix_start_moves_back_along_the_velocity() {
+        let r = geodetic_to_ecef(Geodetic::new(0.76, 0.025, 150.0));
+        let geo = ecef_to_geodetic(&r);
+        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+        let v = cne * Vector3::new(8.0, 6.0, 0.0);
+        let c_b_e = cne * euler_to_dcm(0.0, 0.0, (6.0_f64).atan2(8.0));
+        let f_b = -(c_b_e.transpose() * gravity_ecef(&r));
+        let time_s: Vec<f64> = (0..300).map(|k| k as f64 * 0.01).collect();
+        let f = vec![f_b; time_s.len()];
+        let w = vec![Vector3::zeros(); time_s.len()];
+        let imu = ImuData {
+            time_s: &time_s,
+            specific_force_b: &f,
+            angular_rate_b: &w,
+        };
+        let mut fix = PositionFix {
+            time_s: 2.0,
+            position_ecef: r,
+            position_covariance: Matrix3::identity(),
+            velocity_ecef: Some(v),
+            velocity_covariance: Matrix3::identity(),
+        };
+        let s = initial_state_from_position_fix(&[fix], &imu, None).unwrap();
+        assert!((s.nav.position_ecef - (r - 2.0 * v)).norm() < 1e-9);
+        assert_eq!(s.nav.velocity_ecef, v);
+        let err = crate::attitude::dcm_to_rotation_vector(&(s.nav.c_b_e * c_b_e.transpose()));
+        assert!(err.norm() < 2e-3, "{err}");
+        fix.velocity_ecef = None;
+        assert!(initial_state_from_position_fix(&[fix], &imu, None).is_err());
+        let given = initial_state_from_position_fix(&[fix], &imu, Some(c_b_e)).unwrap();
+        assert_eq!((given.nav.position_ecef, given.nav.c_b_e), (r, c_b_e));
+        assert!(initial_state_from_position_fix(&[], &imu, Some(c_b_e)).is_err());
+    }
 }
