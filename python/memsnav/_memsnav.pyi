@@ -1003,7 +1003,7 @@ class LooselyCoupledFilter:
         """
 
 def navigation_experiment(
-    imus: Sequence[tuple[str, str | ImuModel]],
+    imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
     *,
     runs: int = 20,
     duration: float = 600.0,
@@ -1012,14 +1012,22 @@ def navigation_experiment(
     outage: tuple[float, float] | None = None,
     calibration_duration: float = 300.0,
     early_window: float = 150.0,
+    pseudorange_rate: bool = True,
+    pseudorange_std: float = 3.0,
+    pseudorange_rate_std: float = 0.1,
+    initial_attitude_std_deg: tuple[float, float, float] | None = None,
+    scale_factor_states: bool = False,
+    absorb_unmodelled: bool = True,
     keep_runs: bool = False,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
 ) -> dict[str, Any]:
     """Navigation Monte Carlo (paper §5.3) as a dict of arrays; use
     ``memsnav.experiments.navigation``, which documents it. ``imus``: (name,
-    source) with source a preset name, ``"calibrated:<raw name>"`` or an
-    ``ImuModel``."""
+    source) with source a preset name, ``(preset name, spec overrides)``,
+    ``"calibrated:<raw name>"`` or an ``ImuModel``. ``pseudorange_std`` m,
+    ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
+    east tilt, heading) degrees, None for (1, 1, 5)."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
 

@@ -6,7 +6,9 @@ use memsnav_core::experiments::navigation::{
     navigation_experiment as run_experiment, NavigationExperiment, NavigationExperimentConfig,
     NavigationImu,
 };
+use memsnav_core::gnss::SimulationConfig;
 use memsnav_core::sensors::presets;
+use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -14,9 +16,10 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::errors::IntoPyResult;
 use crate::progress::run_interruptible;
-use crate::sensors::PyImuModel;
+use crate::sensors::{update_spec, PyImuModel};
 
-/// `(name, source)` pairs: a preset name, `"calibrated:<raw name>"` or an `ImuModel`.
+/// `(name, source)` pairs: a preset name, `(preset name, spec overrides)`,
+/// `"calibrated:<raw name>"` or an `ImuModel`.
 fn imu_list(imus: &Bound<'_, PyAny>) -> PyResult<Vec<(String, NavigationImu)>> {
     let pairs: Vec<(String, Bound<'_, PyAny>)> = imus
         .extract()
@@ -31,9 +34,20 @@ fn imu_list(imus: &Bound<'_, PyAny>) -> PyResult<Vec<(String, NavigationImu)>> {
                     NavigationImu::Fixed(Box::new(model.get().inner.clone())),
                 ));
             }
+            if let Ok((preset, overrides)) = source.extract::<(String, Bound<'_, PyDict>)>() {
+                // A preset's spec with some terms changed, drawn per run
+                // (and the filter tuned from it), e.g. a MEMS without
+                // misalignment for an error budget.
+                let mut spec = presets::preset_spec(&preset)
+                    .map_err(|e| PyValueError::new_err(format!("imus: {name:?}: {e}")))?;
+                update_spec(&mut spec, &overrides).map_err(|e| {
+                    PyValueError::new_err(format!("imus: {name:?}: {}", e.value(imus.py())))
+                })?;
+                return Ok((name.clone(), NavigationImu::Drawn(spec)));
+            }
             let text: String = source.extract().map_err(|_| {
                 PyValueError::new_err(format!(
-                    "imus: {name:?} must be an ImuModel, a preset name or ('calibrated', source)"
+                    "imus: {name:?} must be an ImuModel, a preset name, (preset name, spec dict) or ('calibrated', source)"
                 ))
             })?;
             if let Some(raw) = text.strip_prefix("calibrated:") {
@@ -110,6 +124,10 @@ fn to_dict<'py>(
             "run_rejected",
             PyArray1::from_iter(py, o.run_rejected.iter().map(|&n| n as i64)),
         )?;
+        e.set_item(
+            "run_accepted",
+            PyArray1::from_iter(py, o.run_accepted.iter().map(|&n| n as i64)),
+        )?;
         imus.append(e)?;
     }
     d.set_item("imus", imus)?;
@@ -119,7 +137,7 @@ fn to_dict<'py>(
 /// Navigation Monte Carlo (paper §5.3, figs 14-18); see
 /// `memsnav.experiments.navigation` for the documented interface.
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, keep_runs=false, threads=None, progress=None))]
+#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, keep_runs=false, threads=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn navigation_experiment<'py>(
     py: Python<'py>,
@@ -131,6 +149,12 @@ fn navigation_experiment<'py>(
     outage: Option<(f64, f64)>,
     calibration_duration: f64,
     early_window: f64,
+    pseudorange_rate: bool,
+    pseudorange_std: f64,
+    pseudorange_rate_std: f64,
+    initial_attitude_std_deg: Option<(f64, f64, f64)>,
+    scale_factor_states: bool,
+    absorb_unmodelled: bool,
     keep_runs: bool,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
@@ -140,6 +164,20 @@ fn navigation_experiment<'py>(
             "threads: must be at least 1 (or None)",
         ));
     }
+    // The GNSS simulator checks its own settings, but only once a run
+    // starts: name the Python arguments here.
+    for (name, v) in [
+        ("pseudorange_std", pseudorange_std),
+        ("pseudorange_rate_std", pseudorange_rate_std),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "{name}: must be finite and positive, got {v}"
+            )));
+        }
+    }
+    // None: the default 1°, 1°, 5° (tilt N, tilt E, heading).
+    let (n, e, d) = initial_attitude_std_deg.unwrap_or((1.0, 1.0, 5.0));
     let config = NavigationExperimentConfig {
         runs,
         seed,
@@ -149,6 +187,15 @@ fn navigation_experiment<'py>(
         outage,
         calibration_duration_s: calibration_duration,
         early_window_s: early_window,
+        use_pseudorange_rate: pseudorange_rate,
+        initial_attitude_std_rad: Vector3::new(n, e, d).map(f64::to_radians),
+        scale_factor_states,
+        absorb_unmodelled,
+        gnss: SimulationConfig {
+            pseudorange_std_m: pseudorange_std,
+            pseudorange_rate_std_m_s: pseudorange_rate_std,
+            ..Default::default()
+        },
         keep_runs,
         ..Default::default()
     };

@@ -446,7 +446,7 @@ fn spec_to_dict<'py>(py: Python<'py>, spec: &ImuSpec) -> PyResult<Bound<'py, PyD
 /// Overrides `spec` with the entries of a user dict; unknown keys, values
 /// that are not non-negative finite numbers, and a Gauss-Markov term
 /// without a positive correlation time are errors naming the key.
-fn update_spec(spec: &mut ImuSpec, dict: &Bound<'_, PyDict>) -> PyResult<()> {
+pub(crate) fn update_spec(spec: &mut ImuSpec, dict: &Bound<'_, PyDict>) -> PyResult<()> {
     for (key, value) in dict.iter() {
         let key: String = key
             .extract()

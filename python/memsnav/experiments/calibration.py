@@ -113,19 +113,40 @@ class CalibrationResult:
         }
 
     def plot(self) -> list[Any]:
-        """Figures 3-10: per parameter set, the group's MSE with plain LS and
-        with the errors-in-variables estimator, beside the Cramér-Rao bound."""
+        """Figures 3-10: per parameter set, the MSE of the group's parameters
+        per output axis (errors-in-variables estimator), the group's MSE with
+        plain LS, the Cramér-Rao bound and the mean square of the true
+        parameters (an MSE above it is worse than no estimate)."""
         figures = []
         for sensor, groups in (
             ("accelerometer", ACCELEROMETER_GROUPS),
             ("gyroscope", GYROSCOPE_GROUPS),
         ):
             stats: SensorStatistics = getattr(self, sensor)
+            sets = np.arange(1, stats.mse_ls.shape[0] + 1)
             for group, cols in groups.items():
                 fig, ax = new_figure(_FIGURES[(sensor, group)])
-                sets = np.arange(1, stats.mse_ls.shape[0] + 1)
-                ax.plot(sets, stats.mse_ls[:, cols].mean(axis=1), "o-", label="MSE, plain LS")
-                ax.plot(sets, stats.mse_eiv[:, cols].mean(axis=1), "s-", label="MSE, EIV")
+                names = stats.parameter_names[cols]
+                # Output axis of each parameter: the first letter after the
+                # group name (bias_u -> u, misalignment_pq -> p).
+                axes = [name[len(group) + 1] for name in names]
+                for axis in dict.fromkeys(axes):
+                    columns = [cols.start + i for i, a in enumerate(axes) if a == axis]
+                    ax.plot(
+                        sets,
+                        stats.mse_eiv[:, columns].mean(axis=1),
+                        "o-",
+                        ms=3,
+                        label=f"MSE, EIV, axis {axis}",
+                    )
+                ax.plot(
+                    sets,
+                    stats.mse_ls[:, cols].mean(axis=1),
+                    "-",
+                    color="0.6",
+                    lw=1,
+                    label="MSE, plain LS (all axes)",
+                )
                 ax.plot(sets, stats.crb[:, cols].mean(axis=1), "k--", label="Cramér-Rao bound")
                 ax.plot(
                     sets,
@@ -135,7 +156,7 @@ class CalibrationResult:
                     label="parameter² (scale)",
                 )
                 ax.set_xlabel("parameter set")
-                ax.legend(fontsize="small")
+                ax.legend(fontsize="x-small", ncol=2)
                 figures.append(fig)
         return figures
 

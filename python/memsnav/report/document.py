@@ -11,6 +11,7 @@ import io
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 from matplotlib.figure import Figure
 
 from memsnav._files import write_bytes, write_text
@@ -91,6 +92,8 @@ class Report:
         fig.savefig(png, format="png", dpi=110, bbox_inches="tight")
         fig.savefig(svg, format="svg", bbox_inches="tight")
         entry = _Figure(name, caption, png.getvalue(), svg.getvalue(), figure_to_csv(fig))
+        # Release pyplot's reference: a report holds dozens of figures.
+        plt.close(fig)
         self._figures.append(entry)
         data = base64.b64encode(entry.png).decode("ascii")
         self._body.append(

@@ -156,40 +156,64 @@ pub fn calibrate_accelerometer(
         noise.push(eiv.then(|| regressor_noise(reference, i, s2)));
     }
     let n = measured.len();
-    let mut model: Option<AccelerometerModel> = None;
-    let mut solutions = Vec::new();
+    let mut solutions = Vec::with_capacity(3);
     // The refinement stops when the omitted terms change by less than
     // rounding of the outputs.
     let largest_square = sq.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     let largest_output = measured.iter().fold(0.0f64, |m, v| m.max(v.amax()));
     let tolerance = 1e-15 * (1.0 + largest_output) / largest_square.max(f64::MIN_POSITIVE);
+    // Both estimators are linear in y, and y_i = S_i + Σ_{j≠i} (A N)_ij (Γ^j)²
+    // changes between passes only through the 3×3 matrix A N. So each row's
+    // coefficients are solved once for S_i and once per omitted square, and a
+    // pass combines them (O(p) instead of a solve over all n samples); the
+    // final solve with the converged y gives the residuals and covariance.
+    let mut parts: Vec<[DVector<f64>; 3]> = Vec::with_capacity(3);
+    for i in 0..3 {
+        let part = |column: &dyn Fn(usize) -> f64| -> Result<DVector<f64>> {
+            let y = DVector::from_fn(n, |k, _| column(k));
+            Ok(regressions[i]
+                .solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?
+                .coefficients)
+        };
+        let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
+        parts.push([
+            part(&|k| measured[k][i])?,
+            part(&|k| sq[j1][k])?,
+            part(&|k| sq[j2][k])?,
+        ]);
+    }
     let mut an = Matrix3::zeros();
+    let mut converged_an = an;
     for _ in 0..MAX_REFINEMENT_PASSES {
-        solutions.clear();
-        for i in 0..3 {
-            // y_i = S_i + Σ_{j≠i} A_ij N_j (Γ^j)²: the squares the row's
-            // regressors omit, evaluated at the current estimate.
-            let y = DVector::from_fn(n, |k, _| {
-                let mut y = measured[k][i];
-                for j in (0..3).filter(|&j| j != i) {
-                    y += an[(i, j)] * sq[j][k];
-                }
-                y
-            });
-            solutions.push(regressions[i].solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?);
-        }
-        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
+        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| {
+            let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
+            &parts[i][0] + &parts[i][1] * an[(i, j1)] + &parts[i][2] * an[(i, j2)]
+        });
         let m = model_from_rows(&rows)?;
         // A_ij N_j at the new estimate, for the next pass.
         let next = m.output_matrix() * Matrix3::from_diagonal(&m.nonlinearity);
         let change = (next - an).amax();
+        converged_an = an;
         an = next;
-        model = Some(m);
         if change <= tolerance {
             break;
         }
     }
-    let mut model = model.expect("at least one pass");
+    // The last pass's right-hand side, solved in full.
+    for i in 0..3 {
+        // y_i = S_i + Σ_{j≠i} A_ij N_j (Γ^j)²: the squares the row's
+        // regressors omit, evaluated at the converged estimate.
+        let y = DVector::from_fn(n, |k, _| {
+            let mut y = measured[k][i];
+            for j in (0..3).filter(|&j| j != i) {
+                y += converged_an[(i, j)] * sq[j][k];
+            }
+            y
+        });
+        solutions.push(regressions[i].solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?);
+    }
+    let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
+    let mut model = model_from_rows(&rows)?;
     let jac = jacobian(&model);
     let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
     let covariance = &jac * block_diagonal(&blocks) * jac.transpose();

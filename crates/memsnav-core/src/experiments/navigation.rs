@@ -52,7 +52,7 @@ use crate::calibration::{
 };
 use crate::coupling::InitialUncertainty;
 use crate::coupling::{initial_state_from_fix, run_tightly_coupled, FilterTuning, ImuData};
-use crate::filter::state::{ATTITUDE, BASE_STATES};
+use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{self, Constellation, Outage, ReceiverTrack, SimulationConfig, WalkerConfig};
 use crate::inversion::{invert_accelerometer, invert_gyroscope, InversionNoise};
@@ -115,6 +115,27 @@ pub struct NavigationExperimentConfig {
     pub reference_angular_rate_std: f64,
     /// Early window of [`ImuOutcome::run_rms_early`], s.
     pub early_window_s: f64,
+    /// Whether the filters use the pseudorange rates (default true). The
+    /// paper's tight coupling names pseudoranges only; with rates (0.1 m/s
+    /// at 1 Hz) the velocity is pinned every second and every IMU
+    /// converges within ~30 s (see `docs/paper-comparison.md`).
+    pub use_pseudorange_rate: bool,
+    /// One-sigma initial attitude error in NED (north tilt, east tilt,
+    /// heading), rad: each run draws the initial attitude error from it
+    /// and every filter's P₀ attitude block is set to it (default 1°, 1°,
+    /// 5°, [`InitialUncertainty::default`]).
+    pub initial_attitude_std_rad: Vector3<f64>,
+    /// Whether every filter carries the accelerometer and gyro scale-factor
+    /// states (23 instead of 17, seeded from each IMU's scale-factor spec);
+    /// misalignment, nonlinearity and g-sensitivity stay absorbed as noise.
+    pub scale_factor_states: bool,
+    /// Whether every filter's tuning absorbs the deterministic errors its
+    /// state lacks (scale factor unless `scale_factor_states`,
+    /// misalignment, nonlinearity, g-sensitivity) as inflated initial bias
+    /// uncertainty and white noise ([`FilterTuning::absorb_unmodelled`];
+    /// default true). False tunes from the spec's bias and noise only, as a
+    /// filter that ignores those errors would.
+    pub absorb_unmodelled: bool,
     /// Keep every run's curves (memory: runs × epochs × 2 per IMU).
     pub keep_runs: bool,
 }
@@ -148,6 +169,10 @@ impl Default for NavigationExperimentConfig {
             reference_specific_force_std: super::REFERENCE_SPECIFIC_FORCE_STD,
             reference_angular_rate_std: super::REFERENCE_ANGULAR_RATE_STD,
             early_window_s: DEFAULT_EARLY_WINDOW_S,
+            use_pseudorange_rate: true,
+            initial_attitude_std_rad: InitialUncertainty::default().attitude_ned_rad,
+            scale_factor_states: false,
+            absorb_unmodelled: true,
             keep_runs: false,
         }
     }
@@ -231,7 +256,11 @@ impl NavigationExperimentConfig {
             "reference_angular_rate_std",
             self.reference_angular_rate_std,
         )?;
-        validate::positive("early_window", self.early_window_s)
+        validate::positive("early_window", self.early_window_s)?;
+        for v in self.initial_attitude_std_rad.iter() {
+            validate::positive("initial_attitude_std", *v)?;
+        }
+        Ok(())
     }
 
     /// Sample indices of the whole seconds 0, 1, …, ⌊duration⌋.
@@ -273,6 +302,9 @@ pub struct ImuOutcome {
     pub run_mean_nees_per_dof: Vec<f64>,
     /// Per run: measurements rejected by the gate or as invalid.
     pub run_rejected: Vec<usize>,
+    /// Per run: scalar measurements applied (pseudoranges, and rates when
+    /// used).
+    pub run_accepted: Vec<usize>,
 }
 
 /// Results of [`navigation_experiment`].
@@ -293,6 +325,7 @@ struct ImuRun {
     position_error: Vec<f64>,
     nees: Vec<f64>,
     rejected: usize,
+    accepted: usize,
 }
 
 /// An IMU spec from a calibration's parameter uncertainties (the RMS of
@@ -373,14 +406,71 @@ fn calibrate_and_invert(
     ))
 }
 
-/// The tightly coupled filter on one IMU's readings; error curves at `out`.
-#[allow(clippy::too_many_arguments)]
+/// What a run's filters share: the options of the configuration that set
+/// their tuning, and the output epochs.
+struct FilterSetup<'a> {
+    rate_hz: f64,
+    use_pseudorange_rate: bool,
+    initial_attitude_std_rad: Vector3<f64>,
+    scale_factor_states: bool,
+    absorb_unmodelled: bool,
+    out: &'a [usize],
+}
+
+/// The tightly coupled filter on one IMU's readings (17 or 23 states as
+/// configured); error curves at `setup.out`.
 fn navigate(
     truth: &Trajectory,
     epochs: &[gnss::GnssEpoch],
     readings: &ImuReadings,
     spec: &ImuSpec,
-    rate_hz: f64,
+    initial_attitude: &Matrix3<f64>,
+    setup: &FilterSetup,
+) -> Result<ImuRun> {
+    let mut tuning_spec = *spec;
+    if !setup.absorb_unmodelled {
+        // Nothing left to absorb: the filter sees biases and noise only
+        // (and the scale factors when they are states).
+        let (a, g) = (&mut tuning_spec.accelerometer, &mut tuning_spec.gyroscope);
+        if !setup.scale_factor_states {
+            a.scale_factor_std = 0.0;
+            g.scale_factor_std = 0.0;
+        }
+        a.misalignment_std = 0.0;
+        a.nonlinearity_std = 0.0;
+        g.misalignment_std = 0.0;
+        g.g_sensitivity_std = 0.0;
+    }
+    let mut tuning =
+        FilterTuning::from_imu_spec(&tuning_spec, setup.rate_hz, setup.scale_factor_states)?;
+    tuning.use_pseudorange_rate = setup.use_pseudorange_rate;
+    tuning.initial_std.attitude_ned_rad = setup.initial_attitude_std_rad;
+    if setup.scale_factor_states {
+        navigate_with::<WITH_SCALE_FACTORS>(
+            truth,
+            epochs,
+            readings,
+            &tuning,
+            initial_attitude,
+            setup.out,
+        )
+    } else {
+        navigate_with::<BASE_STATES>(
+            truth,
+            epochs,
+            readings,
+            &tuning,
+            initial_attitude,
+            setup.out,
+        )
+    }
+}
+
+fn navigate_with<const N: usize>(
+    truth: &Trajectory,
+    epochs: &[gnss::GnssEpoch],
+    readings: &ImuReadings,
+    tuning: &FilterTuning,
     initial_attitude: &Matrix3<f64>,
     out: &[usize],
 ) -> Result<ImuRun> {
@@ -389,39 +479,39 @@ fn navigate(
         specific_force_b: &readings.specific_force_b,
         angular_rate_b: &readings.angular_rate_b,
     };
-    let tuning = FilterTuning::from_imu_spec(spec, rate_hz, false)?;
     let initial = initial_state_from_fix(epochs, &imu, Some(*initial_attitude))?;
     let mut position_error = Vec::with_capacity(out.len());
     let mut nees = Vec::with_capacity(out.len());
     let mut next = 0;
-    let records =
-        run_tightly_coupled::<BASE_STATES, _>(&imu, epochs, &initial, &tuning, |k, s| {
-            if next < out.len() && out[next] == k {
-                let t = truth.nav_state(k);
-                let mut e = SVector::<f64, NEES_DOF>::zeros();
-                e.fixed_rows_mut::<3>(0).copy_from(&dcm_to_rotation_vector(
-                    &(s.nav.c_b_e * t.c_b_e.transpose()),
-                ));
-                e.fixed_rows_mut::<3>(3)
-                    .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
-                e.fixed_rows_mut::<3>(6)
-                    .copy_from(&(s.nav.position_ecef - t.position_ecef));
-                let p =
-                    s.kf.p
-                        .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
-                        .into_owned();
-                position_error.push(e.fixed_rows::<3>(6).norm());
-                nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
-                next += 1;
-            }
-        })?;
+    let records = run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, |k, s| {
+        if next < out.len() && out[next] == k {
+            let t = truth.nav_state(k);
+            let mut e = SVector::<f64, NEES_DOF>::zeros();
+            e.fixed_rows_mut::<3>(0).copy_from(&dcm_to_rotation_vector(
+                &(s.nav.c_b_e * t.c_b_e.transpose()),
+            ));
+            e.fixed_rows_mut::<3>(3)
+                .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
+            e.fixed_rows_mut::<3>(6)
+                .copy_from(&(s.nav.position_ecef - t.position_ecef));
+            let p =
+                s.kf.p
+                    .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
+                    .into_owned();
+            position_error.push(e.fixed_rows::<3>(6).norm());
+            nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
+            next += 1;
+        }
+    })?;
+    let accepted = records
+        .iter()
+        .filter(|r| r.status == crate::coupling::MeasurementStatus::Accepted)
+        .count();
     Ok(ImuRun {
         position_error,
         nees,
-        rejected: records
-            .iter()
-            .filter(|r| r.status != crate::coupling::MeasurementStatus::Accepted)
-            .count(),
+        rejected: records.len() - accepted,
+        accepted,
     })
 }
 
@@ -435,6 +525,14 @@ fn one_run(
     rng: &mut Rng,
 ) -> Result<Vec<ImuRun>> {
     let rate = trajectory_config.rate_hz;
+    let setup = FilterSetup {
+        rate_hz: rate,
+        use_pseudorange_rate: config.use_pseudorange_rate,
+        initial_attitude_std_rad: config.initial_attitude_std_rad,
+        scale_factor_states: config.scale_factor_states,
+        absorb_unmodelled: config.absorb_unmodelled,
+        out,
+    };
     let truth = Trajectory::random(trajectory_config, rng)?;
     let epochs = gnss::simulate(
         &ReceiverTrack {
@@ -448,7 +546,7 @@ fn one_run(
     )?;
     // Shared initial attitude error: ψ ~ N(0, diag(σ_N², σ_E², σ_D²)) in
     // NED, Ĉ = R(ψ) C (the filter's P₀ attitude block).
-    let attitude_std = InitialUncertainty::default().attitude_ned_rad;
+    let attitude_std = config.initial_attitude_std_rad;
     let geo = ecef_to_geodetic(&truth.position_ecef[0]);
     let psi_ned = Vector3::from_fn(|i, _| attitude_std[i] * rng.sample::<f64, _>(StandardNormal));
     let psi = c_n_e(geo.latitude_rad, geo.longitude_rad) * psi_ned;
@@ -486,9 +584,8 @@ fn one_run(
             &epochs,
             &readings,
             &spec,
-            rate,
             &initial_attitude,
-            out,
+            &setup,
         )?);
     }
     Ok(runs)
@@ -551,6 +648,7 @@ pub fn navigation_experiment(
             run_max_in_outage: Vec::with_capacity(config.runs),
             run_mean_nees_per_dof: Vec::with_capacity(config.runs),
             run_rejected: Vec::with_capacity(config.runs),
+            run_accepted: Vec::with_capacity(config.runs),
         })
         .collect();
     let mut stats: Vec<(CurveStats, CurveStats)> = (0..imus.len())
@@ -578,6 +676,7 @@ pub fn navigation_experiment(
                 o.run_mean_nees_per_dof
                     .push(r.nees.iter().sum::<f64>() / (epochs * NEES_DOF) as f64);
                 o.run_rejected.push(r.rejected);
+                o.run_accepted.push(r.accepted);
                 if config.keep_runs {
                     o.position_error_runs.push(r.position_error);
                     o.nees_runs.push(r.nees);
@@ -642,6 +741,31 @@ mod tests {
         );
     }
 
+    /// Pseudoranges only: one scalar update per satellite and epoch instead
+    /// of two, and the filter still converges to the GNSS level.
+    #[test]
+    fn pseudorange_only_halves_the_updates() {
+        let ins = paper_imus()[..1].to_vec();
+        let with_rates = navigation_experiment(&small(1, ins.clone()), &threads(1)).unwrap();
+        let ranges_only = navigation_experiment(
+            &NavigationExperimentConfig {
+                use_pseudorange_rate: false,
+                ..small(1, ins)
+            },
+            &threads(1),
+        )
+        .unwrap();
+        let (a, b) = (
+            with_rates.imus[0].run_accepted[0] + with_rates.imus[0].run_rejected[0],
+            ranges_only.imus[0].run_accepted[0] + ranges_only.imus[0].run_rejected[0],
+        );
+        // 6 satellites at 61 epochs.
+        assert_eq!(b, 6 * 61);
+        assert_eq!(a, 2 * 6 * 61);
+        let late = &ranges_only.imus[0].position_error_runs[0][30..];
+        assert!(late.iter().all(|e| *e < 10.0), "{late:?}");
+    }
+
     #[test]
     fn bad_configurations_name_the_argument() {
         let mut c = small(1, paper_imus());
@@ -666,5 +790,13 @@ mod tests {
             .unwrap_err()
             .to_string()
             .starts_with("n_satellites:"));
+        let c = NavigationExperimentConfig {
+            initial_attitude_std_rad: Vector3::new(0.01, 0.0, 0.1),
+            ..small(1, paper_imus())
+        };
+        assert!(navigation_experiment(&c, &threads(1))
+            .unwrap_err()
+            .to_string()
+            .starts_with("initial_attitude_std:"));
     }
 }

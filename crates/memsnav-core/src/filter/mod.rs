@@ -44,6 +44,8 @@ pub struct ErrorStateKf<const N: usize> {
     pub p: SMatrix<f64, N, N>,
     /// Epochs propagated since the last Cholesky check.
     since_check: usize,
+    /// The last interval's Δt-dependent constants (reused at a fixed rate).
+    discretisation: Option<propagation::Discretisation>,
 }
 
 /// Propagation epochs between two full (Cholesky) positive-definiteness
@@ -74,6 +76,7 @@ impl<const N: usize> ErrorStateKf<N> {
             x: ErrorState::zero(),
             p: p0,
             since_check: 0,
+            discretisation: None,
         })
     }
 
@@ -88,7 +91,15 @@ impl<const N: usize> ErrorStateKf<N> {
         dt: f64,
         time_s: f64,
     ) -> Result<()> {
-        propagation::propagate(&mut self.x.0, &mut self.p, inputs, noise, dt);
+        let d = match self.discretisation {
+            Some(d) if d.is_for(noise, dt) => d,
+            _ => {
+                let d = propagation::Discretisation::new(noise, dt);
+                self.discretisation = Some(d);
+                d
+            }
+        };
+        propagation::propagate(&mut self.x.0, &mut self.p, inputs, &d);
         self.since_check += 1;
         if self.since_check >= CHOLESKY_CHECK_INTERVAL {
             self.check_health(time_s)?;
@@ -129,6 +140,15 @@ impl<const N: usize> ErrorStateKf<N> {
     }
 
     fn check_diagonal(&self, time_s: f64) -> Result<()> {
+        // The common case in one branch-free sweep; the slow search below
+        // only names the culprit.
+        let healthy = (0..N).fold(true, |ok, i| {
+            let v = self.p[(i, i)];
+            ok & self.x.0[i].is_finite() & (v > 0.0) & v.is_finite()
+        });
+        if healthy {
+            return Ok(());
+        }
         if let Some(i) = (0..N).find(|&i| !self.x.0[i].is_finite()) {
             return Err(Error::Divergence {
                 time_s,
@@ -171,6 +191,48 @@ mod tests {
         let explicit = (e.transpose() * a.try_inverse().unwrap() * e)[0];
         assert!((nees(&e, &a).unwrap() - explicit).abs() < 1e-12);
         assert!(nees(&e, &(-a)).is_none());
+    }
+
+    /// The Δt-dependent constants are cached: a change of Δt or of the
+    /// noise settings between epochs must give what a fresh filter gives.
+    #[test]
+    fn a_change_of_interval_or_noise_is_not_served_from_the_cache() {
+        let inputs = SystemInputs {
+            c_b_e: crate::attitude::euler_to_dcm(0.1, 0.2, 0.3),
+            specific_force_b: Vector3::new(0.3, -0.1, -9.8),
+            angular_rate_b: Vector3::new(0.01, 0.02, -0.03),
+            position_ecef: Vector3::new(4.6e6, 1.2e5, 4.4e6),
+        };
+        let noise = ProcessNoise {
+            accel_white_psd: 1e-4,
+            gyro_white_psd: 1e-8,
+            accel_bias_psd: 1e-7,
+            accel_bias_correlation_time_s: 100.0,
+            gyro_bias_psd: 1e-11,
+            gyro_bias_correlation_time_s: 200.0,
+            clock_phase_psd: 0.01,
+            clock_frequency_psd: 0.04,
+            accel_scale_factor_psd: 0.0,
+            gyro_scale_factor_psd: 0.0,
+        };
+        let other = ProcessNoise {
+            accel_bias_correlation_time_s: 5.0,
+            ..noise
+        };
+        let fresh = |n: &ProcessNoise, dt: f64| {
+            let mut kf = ErrorStateKf::<17>::new(SMatrix::identity()).unwrap();
+            kf.propagate(&inputs, n, dt, 0.0).unwrap();
+            kf.p
+        };
+        let mut kf = ErrorStateKf::<17>::new(SMatrix::identity()).unwrap();
+        kf.propagate(&inputs, &noise, 0.01, 0.0).unwrap();
+        kf.p = SMatrix::identity();
+        kf.propagate(&inputs, &noise, 0.005, 0.0).unwrap();
+        assert_eq!(kf.p, fresh(&noise, 0.005));
+        kf.p = SMatrix::identity();
+        kf.propagate(&inputs, &other, 0.005, 0.0).unwrap();
+        assert_eq!(kf.p, fresh(&other, 0.005));
+        assert_ne!(kf.p, fresh(&noise, 0.005));
     }
 
     #[test]

@@ -29,9 +29,12 @@
 //! Δt; Ĉ S Ĉᵀ = S I for isotropic noise) plus the exact two-state clock
 //! block (S_φ Δt + S_f Δt³/3, S_f Δt²/2, S_f Δt).
 //!
-//! P ← Φ P Φᵀ + Q is computed as Φ (Φ P)ᵀ + Q, applying Φ block-row by
-//! block-row: only the non-zero 3×3 blocks of F are multiplied (≈ 65·N
-//! multiply-adds per application instead of N³).
+//! P ← Φ P Φᵀ + Q is computed as (P Φᵀ)ᵀ Φᵀ + Q (P is symmetric), each
+//! product by whole contiguous columns, visiting only the non-zero blocks
+//! of Φ and using the structure of the Earth-rate and specific-force
+//! blocks (≈ 45 column axpys of length N per product instead of N² dot
+//! products). The `exp` of the bias decays and variances is computed once
+//! per (Δt, noise) and reused.
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -160,106 +163,234 @@ pub fn system_matrix<const N: usize>(
     f
 }
 
-/// The non-identity blocks of Φ = I + FΔt for one interval.
+/// The parts of one interval's discretisation that depend only on Δt and
+/// the noise settings (two `exp` for the bias decays, two for their
+/// variances): computed once and reused while Δt and the noise stay the
+/// same, as they do at a fixed IMU rate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Discretisation {
+    dt: f64,
+    noise: ProcessNoise,
+    ba_decay: f64,
+    bg_decay: f64,
+    /// Discrete variances of the bias driving noise per interval.
+    ba_variance: f64,
+    bg_variance: f64,
+}
+
+impl Discretisation {
+    pub(super) fn new(noise: &ProcessNoise, dt: f64) -> Self {
+        let bias_q = |psd: f64, tau: f64| {
+            if tau.is_finite() {
+                // Exact discrete variance of a Gauss-Markov process driven by psd.
+                0.5 * psd * tau * (1.0 - (-2.0 * dt / tau).exp())
+            } else {
+                psd * dt
+            }
+        };
+        Self {
+            dt,
+            noise: *noise,
+            ba_decay: decay(dt, noise.accel_bias_correlation_time_s),
+            bg_decay: decay(dt, noise.gyro_bias_correlation_time_s),
+            ba_variance: bias_q(noise.accel_bias_psd, noise.accel_bias_correlation_time_s),
+            bg_variance: bias_q(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s),
+        }
+    }
+
+    /// Whether this discretisation is the one of (`noise`, `dt`).
+    pub(super) fn is_for(&self, noise: &ProcessNoise, dt: f64) -> bool {
+        self.dt == dt && self.noise == *noise
+    }
+}
+
+/// The non-identity blocks of Φ = I + FΔt for one interval, stored
+/// transposed (propagation multiplies by Φᵀ from the right, see
+/// [`Transition::times_transpose`]). The blocks with a known structure
+/// are kept as their few parameters: I − Ω_ie Δt through ω_ie Δt, and
+/// −[(Ĉ f̂ Δt)×] through Ĉ f̂ Δt.
 struct Transition {
-    psi_psi: Matrix3<f64>,
-    psi_bg: Matrix3<f64>,
-    psi_sg: Matrix3<f64>,
-    v_psi: Matrix3<f64>,
-    v_v: Matrix3<f64>,
-    v_r: Matrix3<f64>,
-    v_ba: Matrix3<f64>,
-    v_sa: Matrix3<f64>,
+    /// ω_ie Δt.
+    earth_angle: f64,
+    /// Ĉ f̂ Δt, the specific-force velocity increment in ECEF.
+    f_dt: Vector3<f64>,
+    /// (−Ĉ Δt)ᵀ, the ψ-b_g and v-b_a blocks.
+    minus_c_dt_t: Matrix3<f64>,
+    /// (−Ĉ diag(ω̂) Δt)ᵀ.
+    psi_sg_t: Matrix3<f64>,
+    /// (Γ Δt)ᵀ.
+    v_r_t: Matrix3<f64>,
+    /// (−Ĉ diag(f̂) Δt)ᵀ.
+    v_sa_t: Matrix3<f64>,
     dt: f64,
     ba_decay: f64,
     bg_decay: f64,
 }
 
 impl Transition {
-    fn new(inputs: &SystemInputs, noise: &ProcessNoise, dt: f64) -> Self {
-        let omega_ie_dt = skew(&Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S * dt));
+    fn new<const N: usize>(inputs: &SystemInputs, d: &Discretisation) -> Self {
+        let dt = d.dt;
         let c_dt = inputs.c_b_e * dt;
+        let (psi_sg_t, v_sa_t) = if N >= WITH_SCALE_FACTORS {
+            (
+                (-c_dt * Matrix3::from_diagonal(&inputs.angular_rate_b)).transpose(),
+                (-c_dt * Matrix3::from_diagonal(&inputs.specific_force_b)).transpose(),
+            )
+        } else {
+            (Matrix3::zeros(), Matrix3::zeros())
+        };
         Self {
-            psi_psi: Matrix3::identity() - omega_ie_dt,
-            psi_bg: -c_dt,
-            psi_sg: -c_dt * Matrix3::from_diagonal(&inputs.angular_rate_b),
-            v_psi: -skew(&(c_dt * inputs.specific_force_b)),
-            v_v: Matrix3::identity() - 2.0 * omega_ie_dt,
-            v_r: gravity_gradient(&inputs.position_ecef) * dt,
-            v_ba: -c_dt,
-            v_sa: -c_dt * Matrix3::from_diagonal(&inputs.specific_force_b),
+            earth_angle: EARTH_RATE_RAD_S * dt,
+            f_dt: c_dt * inputs.specific_force_b,
+            minus_c_dt_t: -c_dt.transpose(),
+            psi_sg_t,
+            // Γ is symmetric: no transpose needed.
+            v_r_t: gravity_gradient(&inputs.position_ecef) * dt,
+            v_sa_t,
             dt,
-            ba_decay: decay(dt, noise.accel_bias_correlation_time_s),
-            bg_decay: decay(dt, noise.gyro_bias_correlation_time_s),
+            ba_decay: d.ba_decay,
+            bg_decay: d.bg_decay,
         }
     }
 
-    /// Φ M, block-row by block-row, touching only the non-zero blocks.
-    fn apply<const N: usize, const C: usize>(&self, m: &SMatrix<f64, N, C>) -> SMatrix<f64, N, C> {
-        let mut out = *m;
-        let rows = |i: usize| m.fixed_rows::<3>(i);
-        let mut psi = self.psi_psi * rows(ATTITUDE) + self.psi_bg * rows(GYRO_BIAS);
-        let mut v = self.v_psi * rows(ATTITUDE)
-            + self.v_v * rows(VELOCITY)
-            + self.v_r * rows(POSITION)
-            + self.v_ba * rows(ACCEL_BIAS);
-        if N >= WITH_SCALE_FACTORS {
-            psi += self.psi_sg * rows(GYRO_SCALE_FACTOR);
-            v += self.v_sa * rows(ACCEL_SCALE_FACTOR);
-        }
-        out.fixed_rows_mut::<3>(ATTITUDE).copy_from(&psi);
-        out.fixed_rows_mut::<3>(VELOCITY).copy_from(&v);
-        for j in 0..C {
-            for k in 0..3 {
-                out[(POSITION + k, j)] += self.dt * m[(VELOCITY + k, j)];
+    /// M Φᵀ for any number of rows `R`, written into `out`, column by
+    /// column. nalgebra stores matrices by column, so every term is an axpy
+    /// over a whole contiguous column (vectorised), each output column is
+    /// written once (no copy of M first), and only the non-zero blocks of Φ
+    /// are visited. Column j of M Φᵀ is Σ_k M_{·k} Φ_jk:
+    ///
+    /// - ψ: M_ψ (I − Ω_ie Δt)ᵀ + M_bg (−ĈΔt)ᵀ [+ M_sg (−Ĉ diag(ω̂) Δt)ᵀ];
+    ///   with I − Ω_ie Δt = [[1, ωΔt, 0], [−ωΔt, 1, 0], [0, 0, 1]];
+    /// - v: M_ψ (−[a×])ᵀ + M_v (I − 2Ω_ie Δt)ᵀ + M_r (ΓΔt)ᵀ + M_ba (−ĈΔt)ᵀ
+    ///   [+ M_sa (−Ĉ diag(f̂) Δt)ᵀ], a = Ĉ f̂ Δt, −[a×] = [[0, a_z, −a_y],
+    ///   [−a_z, 0, a_x], [a_y, −a_x, 0]];
+    /// - r: M_r + Δt M_v; biases: decay; clock offset: M_δc + Δt M_δċ.
+    fn times_transpose_into<const R: usize, const N: usize>(
+        &self,
+        m: &SMatrix<f64, R, N>,
+        out: &mut SMatrix<f64, R, N>,
+    ) {
+        let src = m.as_slice();
+        let dst = out.as_mut_slice();
+        let col = |k: usize| -> &[f64; R] {
+            src[k * R..(k + 1) * R]
+                .try_into()
+                .expect("a column has R rows")
+        };
+        // out_j = Σ terms (coefficient, source column), accumulated in a
+        // local column (kept in registers) and stored once.
+        let mut set = |j: usize, terms: &[(f64, usize)]| {
+            let mut acc = [0.0; R];
+            for &(a, k) in terms {
+                let c = col(k);
+                for i in 0..R {
+                    acc[i] += a * c[i];
+                }
             }
-            out[(CLOCK_OFFSET, j)] += self.dt * m[(CLOCK_DRIFT, j)];
+            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+        };
+        let (w, w2, a) = (self.earth_angle, 2.0 * self.earth_angle, &self.f_dt);
+        let (bc, ba, bg, sa, sg) = (
+            &self.minus_c_dt_t,
+            ACCEL_BIAS,
+            GYRO_BIAS,
+            ACCEL_SCALE_FACTOR,
+            GYRO_SCALE_FACTOR,
+        );
+        let g = &self.v_r_t;
+        let (ps, ve, po) = (ATTITUDE, VELOCITY, POSITION);
+        let scale = N >= WITH_SCALE_FACTORS;
+        // ψ columns. Row j of (−ĈΔt) is column j of its transpose `bc`.
+        let psi_extra: [(f64, usize); 2] = [(w, ps + 1), (-w, ps)];
+        for j in 0..3 {
+            let mut terms = [(0.0, 0); 8];
+            let mut n = 0;
+            let mut push = |t: (f64, usize)| {
+                terms[n] = t;
+                n += 1;
+            };
+            push((1.0, ps + j));
+            if j < 2 {
+                push(psi_extra[j]);
+            }
+            for k in 0..3 {
+                push((bc[(k, j)], bg + k));
+            }
+            if scale {
+                for k in 0..3 {
+                    push((self.psi_sg_t[(k, j)], sg + k));
+                }
+            }
+            set(ps + j, &terms[..n]);
         }
-        if self.ba_decay != 1.0 {
-            out.fixed_rows_mut::<3>(ACCEL_BIAS).scale_mut(self.ba_decay);
+        // v columns: Ω (two terms), −[a×] (two terms), Γ, −Ĉ, [−Ĉ diag(f̂)].
+        let structured: [[(f64, usize); 4]; 3] = [
+            [(1.0, ve), (w2, ve + 1), (a.z, ps + 1), (-a.y, ps + 2)],
+            [(1.0, ve + 1), (-w2, ve), (-a.z, ps), (a.x, ps + 2)],
+            [(1.0, ve + 2), (a.y, ps), (-a.x, ps + 1), (0.0, ps)],
+        ];
+        for j in 0..3 {
+            let mut terms = [(0.0, 0); 13];
+            let k0 = if j == 2 { 3 } else { 4 };
+            terms[..k0].copy_from_slice(&structured[j][..k0]);
+            let mut n = k0;
+            for k in 0..3 {
+                terms[n] = (g[(k, j)], po + k);
+                terms[n + 1] = (bc[(k, j)], ba + k);
+                n += 2;
+            }
+            if scale {
+                for k in 0..3 {
+                    terms[n] = (self.v_sa_t[(k, j)], sa + k);
+                    n += 1;
+                }
+            }
+            set(ve + j, &terms[..n]);
         }
-        if self.bg_decay != 1.0 {
-            out.fixed_rows_mut::<3>(GYRO_BIAS).scale_mut(self.bg_decay);
+        for j in 0..3 {
+            set(po + j, &[(1.0, po + j), (self.dt, ve + j)]);
+            set(ba + j, &[(self.ba_decay, ba + j)]);
+            set(bg + j, &[(self.bg_decay, bg + j)]);
+            if scale {
+                set(sa + j, &[(1.0, sa + j)]);
+                set(sg + j, &[(1.0, sg + j)]);
+            }
         }
-        out
+        set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET), (self.dt, CLOCK_DRIFT)]);
+        set(CLOCK_DRIFT, &[(1.0, CLOCK_DRIFT)]);
     }
 }
 
-/// x ← Φ x, P ← Φ P Φᵀ + Q over one interval `dt`.
+/// x ← Φ x, P ← Φ P Φᵀ + Q over one interval.
 pub(super) fn propagate<const N: usize>(
     x: &mut SVector<f64, N>,
     p: &mut SMatrix<f64, N, N>,
     inputs: &SystemInputs,
-    noise: &ProcessNoise,
-    dt: f64,
+    d: &Discretisation,
 ) {
-    let phi = Transition::new(inputs, noise, dt);
+    let phi = Transition::new::<N>(inputs, d);
     if x.iter().any(|v| *v != 0.0) {
-        *x = phi.apply(x);
+        // (Φ x)ᵀ = xᵀ Φᵀ.
+        let mut row = x.transpose();
+        phi.times_transpose_into(&x.transpose(), &mut row);
+        *x = row.transpose();
     }
-    // Φ P Φᵀ = Φ (Φ P)ᵀ because P is symmetric.
-    let phi_p = phi.apply(p);
-    *p = phi.apply(&phi_p.transpose());
-    add_process_noise(p, noise, dt);
+    // B = P Φᵀ; then Φ P Φᵀ = Φ B = (Bᵀ Φᵀ)ᵀ, and Bᵀ Φᵀ is symmetric, so
+    // P ← Bᵀ Φᵀ: two passes of column operations and one transpose.
+    let mut b = SMatrix::<f64, N, N>::zeros();
+    phi.times_transpose_into(p, &mut b);
+    phi.times_transpose_into(&b.transpose(), p);
+    add_process_noise(p, d);
 }
 
 /// Q for one interval (Groves eq. 14.82 plus the exact clock block).
-fn add_process_noise<const N: usize>(p: &mut SMatrix<f64, N, N>, noise: &ProcessNoise, dt: f64) {
-    let bias_q = |psd: f64, tau: f64| {
-        if tau.is_finite() {
-            // Exact discrete variance of a Gauss-Markov process driven by psd.
-            0.5 * psd * tau * (1.0 - (-2.0 * dt / tau).exp())
-        } else {
-            psd * dt
-        }
-    };
-    let qa = bias_q(noise.accel_bias_psd, noise.accel_bias_correlation_time_s);
-    let qg = bias_q(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s);
+fn add_process_noise<const N: usize>(p: &mut SMatrix<f64, N, N>, d: &Discretisation) {
+    let (noise, dt) = (&d.noise, d.dt);
     for k in 0..3 {
         p[(ATTITUDE + k, ATTITUDE + k)] += noise.gyro_white_psd * dt;
         p[(VELOCITY + k, VELOCITY + k)] += noise.accel_white_psd * dt;
-        p[(ACCEL_BIAS + k, ACCEL_BIAS + k)] += qa;
-        p[(GYRO_BIAS + k, GYRO_BIAS + k)] += qg;
+        p[(ACCEL_BIAS + k, ACCEL_BIAS + k)] += d.ba_variance;
+        p[(GYRO_BIAS + k, GYRO_BIAS + k)] += d.bg_variance;
         if N >= WITH_SCALE_FACTORS {
             p[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] +=
                 noise.accel_scale_factor_psd * dt;
@@ -319,12 +450,12 @@ mod tests {
         }
         let p0 = random_spd::<N>();
         let mut q = SMatrix::<f64, N, N>::zeros();
-        add_process_noise(&mut q, &nz, dt);
+        add_process_noise(&mut q, &Discretisation::new(&nz, dt));
         let dense = phi * p0 * phi.transpose() + q;
         let mut p = p0;
         let mut x = SVector::<f64, N>::from_fn(|i, _| i as f64 * 0.1);
         let x_dense = phi * x;
-        propagate(&mut x, &mut p, &inp, &nz, dt);
+        propagate(&mut x, &mut p, &inp, &Discretisation::new(&nz, dt));
         assert!((p - dense).abs().max() < 1e-12 * dense.abs().max(), "P");
         assert!((x - x_dense).abs().max() < 1e-13, "x");
         assert!((p - p.transpose()).abs().max() < 1e-13);
