@@ -200,7 +200,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "reproduce":
             from memsnav.reproduce import reproduce
 
-            result = reproduce(
+            study = reproduce(
                 out=args.out,
                 full=args.full,
                 runs=args.runs,
@@ -208,8 +208,8 @@ def main(argv: list[str] | None = None) -> int:
                 threads=args.threads,
                 progress=not args.quiet,
             )
-            print(f"memsnav: report written to {result.report}", file=sys.stderr)
-            return 130 if result.interrupted else 0
+            print(f"memsnav: report written to {study.report}", file=sys.stderr)
+            return 130 if study.interrupted else 0
         if args.command == "simulate":
             from memsnav.simulate import simulate
 

@@ -377,7 +377,7 @@ def navigate(
     _, t0, r0, v0, c0 = _align(cfg, t, f_b, gnss)
     t_end = t[-1] if duration_s is None else min(t[-1], t0 + duration_s)
     # From the last IMU sample at or before the alignment epoch, so every GNSS epoch lies inside.
-    imu_sel = (t >= t[max(np.searchsorted(t, t0, side="right") - 1, 0)]) & (t <= t_end)
+    imu_sel = (t >= t[max(int(np.searchsorted(t, t0, side="right")) - 1, 0)]) & (t <= t_end)
     t_end = t[imu_sel][-1]
     windows = []
     for w in cfg["outages"]["windows_s"]:
@@ -406,6 +406,7 @@ def navigate(
             ]
         )
         l_ned = np.column_stack([l_ned, np.full(len(yaw), lever[2])])
+        assert gnss.position_cov is not None and gnss.velocity_cov is not None  # loose input
         fixes = {
             "time": gnss.time[sel],
             "position_ecef": gnss.position_ecef[sel] - np.einsum("nij,nj->ni", cne, l_ned),
@@ -509,6 +510,7 @@ def navigate(
             spp_stats = _error_stats(e_spp, np.full_like(e_spp, np.inf))
             spp_stats.pop("within_3sigma_share", None)
             summary["spp_errors_vs_truth"] = spp_stats
+            assert gnss.spp_valid is not None  # set with the tight input
             summary["spp_epochs_without_fix"] = int(np.sum(~gnss.spp_valid & (gnss.time >= t0)))
     summary["filter_run_s"] = run_s
     summary["processing_s"] = _time.perf_counter() - started

@@ -92,7 +92,7 @@ def _setup(report: Report, results: dict[str, Any], summary: dict[str, Any]) -> 
             else ""
         )
     )
-    rows = []
+    rows: list[list[object]] = []
     for label, name in (("INS (paper's good IMU)", "tactical"), ("MEMS", "paper-mems")):
         spec = memsnav.ImuModel.preset(name, seed=0).spec
         rows.append(
