@@ -242,3 +242,133 @@ def test_paper_claims_outage_drift_and_calibration():
     before = r.time < 40.0
     for name in r.imus:
         assert np.all(r.mean[name][before][5:] < 6.0)
+
+
+def truth_state(traj, k=0):
+    return {
+        "position_ecef": traj.position_ecef[k],
+        "velocity_ecef": traj.velocity_ecef[k],
+        "attitude": traj.attitude[k],
+    }
+
+
+def without_first_epoch(gnss):
+    """The measurements from the second epoch on, so the first output sample
+    is the initial state itself (no update at time[0])."""
+    return {n: v[1:] for n, v in gnss_dict(gnss).items()}
+
+
+def test_initial_state_is_the_start_and_beats_the_fix_start(scenario):
+    traj, gnss, imu, f, w = scenario
+    d = without_first_epoch(gnss)
+    flt = mn.TightlyCoupledFilter(imu)
+    sol = flt.run(traj.time, f, w, d, initial_state=truth_state(traj))
+    np.testing.assert_array_equal(sol.position_ecef[0], traj.position_ecef[0])
+    np.testing.assert_array_equal(sol.velocity_ecef[0], traj.velocity_ecef[0])
+    np.testing.assert_array_equal(sol.attitude[0], traj.attitude[0])
+    # No clock given: the median pseudorange residual of the first epoch,
+    # i.e. the true clock (at t = 1 s) to within the noise of a median of six
+    # 3 m pseudoranges (1.25 · 3 / √6 ≈ 1.5 m; 3 sigma).
+    k1 = np.searchsorted(traj.time, 1.0)
+    assert abs(sol.clock_offset[k1] - gnss.clock_offset[1]) < 4.6
+    given = flt.run(traj.time, f, w, d, initial_state={**truth_state(traj), "clock_offset": 7.0})
+    assert given.clock_offset[0] == 7.0
+    # A filter told to trust the (true) start stays on the truth; the start
+    # from the first fix and a coarse attitude carries the fix's metres.
+    sure = mn.TightlyCoupledFilter(
+        imu,
+        initial_position_std=0.01,
+        initial_velocity_std=0.01,
+        initial_tilt_std=1e-4,
+        initial_heading_std=1e-4,
+    )
+    early = traj.time < 10.0
+    exact = sure.run(traj.time, f, w, gnss, initial_state=truth_state(traj))
+    coarse = flt.run(traj.time, f, w, gnss)
+    err = {
+        name: np.linalg.norm(s.position_ecef - traj.position_ecef, axis=1)[early].mean()
+        for name, s in (("exact", exact), ("coarse", coarse))
+    }
+    # (3 m pseudoranges: the fix starts metres off; the exact start stays
+    # within the few decimetres a 0.03 m/s² bias drifts before it is estimated.)
+    assert err["exact"] < 0.5 and err["coarse"] > 5 * err["exact"], err
+    loose = mn.LooselyCoupledFilter(imu).run(
+        traj.time, f, w, mn.solve_fix(gnss), initial_state=truth_state(traj)
+    )
+    # The fix at time[0] cannot move the attitude (uncorrelated in P₀).
+    np.testing.assert_allclose(loose.attitude[0], traj.attitude[0], atol=1e-12)
+
+
+def c_n_e(lat, lon):
+    """NED → ECEF (Groves eq. 2.150 transposed), written here independently."""
+    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
+    north = np.stack([-sl * co, -sl * so, cl], -1)
+    east = np.stack([-so, co, np.zeros_like(lat)], -1)
+    down = np.stack([-cl * co, -cl * so, -sl], -1)
+    return np.stack([north, east, down], -1)  # columns: N, E, D axes in ECEF
+
+
+def test_ned_stds_are_the_rotated_ecef_covariance(scenario):
+    traj, gnss, imu, f, w = scenario
+    sol = mn.TightlyCoupledFilter(imu).run(
+        traj.time, f, w, without_first_epoch(gnss), initial_state=truth_state(traj)
+    )
+    lla = mn.ecef_to_geodetic(sol.position_ecef)
+    c = c_n_e(lla[:, 0], lla[:, 1])
+    for first, name in ((0, "attitude"), (3, "velocity"), (6, "position")):
+        block = getattr(sol, f"{name}_covariance_ecef")
+        assert block.shape == (len(traj), 3, 3)
+        np.testing.assert_allclose(
+            np.diagonal(block, axis1=1, axis2=2), sol.covariance_diagonal[:, first : first + 3]
+        )
+        ned = np.einsum("nji,njk,nkl->nil", c, block, c)
+        np.testing.assert_allclose(
+            getattr(sol, f"{name}_std_ned"),
+            np.sqrt(np.diagonal(ned, axis1=1, axis2=2)),
+            rtol=1e-9,
+        )
+    # At the start P₀ is the tuning: 5 m per axis, tilt 1°, 1°, heading 5° (NED).
+    np.testing.assert_allclose(sol.position_std_ned[0], [5.0] * 3, rtol=1e-12)
+    np.testing.assert_allclose(sol.attitude_std_ned[0], np.radians([1.0, 1.0, 5.0]), rtol=1e-9)
+    # GNSS observes the horizontal better than the vertical (satellites above).
+    assert np.all(sol.position_std_ned[-1, :2] < sol.position_std_ned[-1, 2])
+
+
+def test_outage_by_leaving_epochs_out(scenario):
+    traj, gnss, imu, f, w = scenario
+    flt = mn.TightlyCoupledFilter(imu)
+    full = flt.run(traj.time, f, w, gnss, initial_attitude=traj.attitude[0])
+    d = gnss_dict(gnss)
+    gap = (d["time"] >= 100.0) & (d["time"] < 160.0)
+    cut = flt.run(
+        traj.time, f, w, {n: v[~gap] for n, v in d.items()}, initial_attitude=traj.attitude[0]
+    )
+    before = traj.time < 100.0
+    np.testing.assert_array_equal(cut.position_ecef[before], full.position_ecef[before])
+    inside = (traj.time >= 100.0) & (traj.time < 160.0)
+    # The uncertainty grows while coasting and bounds the error.
+    std = cut.position_std_ned[inside]
+    assert std[-1, 0] > 2 * full.position_std_ned[inside][-1, 0]
+    lla = mn.ecef_to_geodetic(traj.position_ecef[inside])
+    e = np.einsum(
+        "nji,nj->ni", c_n_e(lla[:, 0], lla[:, 1]), (cut.position_ecef - traj.position_ecef)[inside]
+    )
+    assert np.mean(np.abs(e) < 3 * std) > 0.95
+
+
+def test_bad_initial_state_names_the_entry(scenario):
+    traj, gnss, imu, f, w = scenario
+    flt = mn.TightlyCoupledFilter(imu)
+    state = truth_state(traj)
+    for bad, match in (
+        ({**state, "heading": 1.0}, "initial_state: unknown entry 'heading'"),
+        ({k: v for k, v in state.items() if k != "velocity_ecef"}, "velocity_ecef"),
+        ({**state, "attitude": np.eye(3) * 2}, "initial_state.attitude"),
+        ({**state, "position_ecef": [1.0, 2.0, 3.0]}, "position_ecef"),
+        ({**state, "clock_offset": np.nan}, "initial_state.clock_offset"),
+        ({**state, "position_ecef": [np.nan, 0.0, 0.0]}, "initial_state.position_ecef"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            flt.run(traj.time, f, w, gnss, initial_state=bad)
+    with pytest.raises(ValueError, match=r"initial_attitude.*not both"):
+        flt.run(traj.time, f, w, gnss, initial_state=state, initial_attitude=traj.attitude[0])

@@ -14,7 +14,6 @@ from memsnav._memsnav import (
     AccelerometerModel,
     Calibration,
     Constellation,
-    CoupledSolution,
     DivergenceError,
     FilterSolution,
     FixSeries,
@@ -39,7 +38,6 @@ from memsnav._memsnav import (
     imu_increments,
     invert_accelerometer,
     invert_gyroscope,
-    loosely_coupled,
     read_klobuchar,
     read_rinex_obs,
     read_sp3,
@@ -47,7 +45,6 @@ from memsnav._memsnav import (
     solve_fix,
     strapdown,
     strapdown_increments,
-    tightly_coupled,
 )
 from memsnav.allan import allan_deviation
 from memsnav.realdata.config import load_config
@@ -58,7 +55,6 @@ __all__ = [
     "AccelerometerModel",
     "Calibration",
     "Constellation",
-    "CoupledSolution",
     "DivergenceError",
     "FilterSolution",
     "FixSeries",
@@ -87,7 +83,6 @@ __all__ = [
     "invert_accelerometer",
     "invert_gyroscope",
     "load_config",
-    "loosely_coupled",
     "navigate",
     "read_imu_csv",
     "read_klobuchar",
@@ -99,5 +94,4 @@ __all__ = [
     "solve_fix",
     "strapdown",
     "strapdown_increments",
-    "tightly_coupled",
 ]

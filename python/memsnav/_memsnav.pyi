@@ -807,6 +807,31 @@ class FilterSolution:
         (rad², (m/s)², m², (m/s²)², (rad/s)², m², (m/s)², dimensionless²)."""
 
     @property
+    def position_covariance_ecef(self) -> npt.NDArray[np.float64]:
+        """Position-error covariance block (ECEF axes), m², (N, 3, 3)."""
+
+    @property
+    def velocity_covariance_ecef(self) -> npt.NDArray[np.float64]:
+        """Velocity-error covariance block (ECEF axes), (m/s)², (N, 3, 3)."""
+
+    @property
+    def attitude_covariance_ecef(self) -> npt.NDArray[np.float64]:
+        """Attitude-error covariance block (ECEF axes), rad², (N, 3, 3)."""
+
+    @property
+    def position_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma position uncertainty along north, east, down, m, (N, 3): the
+        position block rotated into the local NED axes of each sample."""
+
+    @property
+    def velocity_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma velocity uncertainty along north, east, down, m/s, (N, 3)."""
+
+    @property
+    def attitude_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma attitude uncertainty about north, east, down, rad, (N, 3)."""
+
+    @property
     def state_names(self) -> list[str]:
         """Error-state names: attitude_x..z (ECEF, rad), velocity_x..z, position_x..z,
         accel_bias_x..z, gyro_bias_x..z, clock_offset, clock_drift
@@ -892,6 +917,7 @@ class TightlyCoupledFilter:
         gnss: GnssMeasurements | Any,
         *,
         initial_attitude: npt.ArrayLike | None = None,
+        initial_state: dict[str, Any] | Any | None = None,
     ) -> FilterSolution:
         """Filters the whole series in one call (GIL released).
 
@@ -910,6 +936,14 @@ class TightlyCoupledFilter:
         ``time[0]``; attitude ``initial_attitude`` (C_b^e, 3x3) or a coarse one
         (levelling on the first second of specific force, heading from the fix
         velocity; needs ≥ 1 m/s ground speed); zero bias estimates.
+
+        ``initial_state`` replaces that initialisation with the caller's own
+        (e.g. an alignment): a dict (no other keys) or an object with
+        ``position_ecef`` (3,) m and ``velocity_ecef`` (3,) m/s at ``time[0]``,
+        ``attitude`` C_b^e (3, 3), optional ``clock_offset`` m and
+        ``clock_drift`` m/s (absent or None: the median pseudorange (rate)
+        residual of the first epoch). Give it or ``initial_attitude``, not both.
+        Outages: leave the epochs out of ``gnss``.
         """
 
 @final
@@ -954,6 +988,7 @@ class LooselyCoupledFilter:
         fixes: FixSeries | Any,
         *,
         initial_attitude: npt.ArrayLike | None = None,
+        initial_state: dict[str, Any] | Any | None = None,
     ) -> FilterSolution:
         """Filters the whole series in one call (GIL released).
 
@@ -963,7 +998,8 @@ class LooselyCoupledFilter:
         ``position_covariance`` (T, 3, 3) m², optional ``velocity_ecef`` (T, 3)
         m/s and ``velocity_covariance`` (T, 3, 3). Initial position and velocity
         from the first fix (moved back to ``time[0]``); attitude as for the
-        tight filter.
+        tight filter. ``initial_state`` as for the tight filter (a clock there
+        is carried but never observed).
         """
 
 def navigation_experiment(
@@ -1054,122 +1090,3 @@ def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
 def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
     """Klobuchar (alpha, beta) of a RINEX navigation header (ION ALPHA/BETA or
     IONOSPHERIC CORR GPSA/GPSB), or None when it has none."""
-
-@final
-class CoupledSolution:
-    """A coupled filter's solution at every IMU sample, one-sigma
-    uncertainties in local NED axes, and every measurement's record."""
-
-    @property
-    def time(self) -> npt.NDArray[np.float64]:
-        """IMU sample times, s, (N,)."""
-
-    @property
-    def position_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF position of the IMU, m, (N, 3)."""
-
-    @property
-    def velocity_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF velocity, m/s, (N, 3)."""
-
-    @property
-    def attitude(self) -> npt.NDArray[np.float64]:
-        """Body-to-ECEF rotations, (N, 3, 3)."""
-
-    @property
-    def accel_bias(self) -> npt.NDArray[np.float64]:
-        """Estimated accelerometer bias, m/s², (N, 3)."""
-
-    @property
-    def gyro_bias(self) -> npt.NDArray[np.float64]:
-        """Estimated gyro bias, rad/s, (N, 3)."""
-
-    @property
-    def clock_offset(self) -> npt.NDArray[np.float64]:
-        """Receiver clock offset, m, (N,) (zero in loose coupling)."""
-
-    @property
-    def clock_drift(self) -> npt.NDArray[np.float64]:
-        """Receiver clock drift, m/s, (N,)."""
-
-    @property
-    def position_std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma position uncertainty along north, east, down, m, (N, 3)."""
-
-    @property
-    def velocity_std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma velocity uncertainty, NED, m/s, (N, 3)."""
-
-    @property
-    def attitude_std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma attitude uncertainty about N, E, D, rad, (N, 3)."""
-
-    @property
-    def measurements(self) -> dict[str, npt.NDArray[Any] | list[str]]:
-        """Every scalar measurement: time s, id, kind, innovation, innovation_std,
-        nis, status ("accepted", "gated", "invalid")."""
-
-    def __len__(self) -> int: ...
-
-def loosely_coupled(
-    time: npt.ArrayLike,
-    specific_force: npt.ArrayLike,
-    angular_rate: npt.ArrayLike,
-    fix_time: npt.ArrayLike,
-    fix_position_ecef: npt.ArrayLike,
-    fix_position_covariance: npt.ArrayLike,
-    initial_position_ecef: npt.ArrayLike,
-    initial_velocity_ecef: npt.ArrayLike,
-    initial_attitude: npt.ArrayLike,
-    *,
-    fix_velocity_ecef: npt.ArrayLike | None = None,
-    fix_velocity_covariance: npt.ArrayLike | None = None,
-    accel_noise_density: float = 0.003,
-    gyro_noise_density: float = 0.0005,
-    accel_bias_std: float = 0.1,
-    gyro_bias_std: float = 0.005,
-    accel_bias_instability: float = 0.0,
-    gyro_bias_instability: float = 0.0,
-    bias_correlation_time: float = ...,
-    initial_position_std: float = 5.0,
-    initial_velocity_std: float = 0.5,
-    initial_attitude_std_deg: Sequence[float] = ...,
-    gate_probability: float = 0.999,
-) -> CoupledSolution:
-    """Loosely coupled 17-state closed-loop EKF from an explicit initial state
-    (position m, velocity m/s, C_b^e) on position fixes (T, 3) with (T, 3, 3)
-    covariances, optionally velocity fixes. Densities: accelerometer m/s/√s,
-    gyro rad/√s; bias stds m/s², rad/s; Gauss-Markov instabilities with
-    ``bias_correlation_time`` s (default inf: constant biases); initial
-    attitude stds about N, E, D in degrees (default (1, 1, 5))."""
-
-def tightly_coupled(
-    time: npt.ArrayLike,
-    specific_force: npt.ArrayLike,
-    angular_rate: npt.ArrayLike,
-    measurements: GnssMeasurements,
-    initial_position_ecef: npt.ArrayLike,
-    initial_velocity_ecef: npt.ArrayLike,
-    initial_attitude: npt.ArrayLike,
-    *,
-    epoch_mask: Sequence[bool] | None = None,
-    initial_clock_offset: float | None = None,
-    initial_clock_drift: float | None = None,
-    use_pseudorange_rate: bool = True,
-    accel_noise_density: float = 0.003,
-    gyro_noise_density: float = 0.0005,
-    accel_bias_std: float = 0.1,
-    gyro_bias_std: float = 0.005,
-    accel_bias_instability: float = 0.0,
-    gyro_bias_instability: float = 0.0,
-    bias_correlation_time: float = ...,
-    initial_position_std: float = 5.0,
-    initial_velocity_std: float = 0.5,
-    initial_attitude_std_deg: Sequence[float] = ...,
-    gate_probability: float = 0.999,
-) -> CoupledSolution:
-    """Tightly coupled 17-state closed-loop EKF (with receiver clock offset and
-    drift) from an explicit initial state on the pseudoranges (and rates) of
-    ``measurements`` (epoch times on the IMU time axis); ``epoch_mask`` (T,)
-    chooses the epochs (outages). The clock starts from the given values or
-    the median residual of the first epoch. Tuning as ``loosely_coupled``."""

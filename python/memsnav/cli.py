@@ -3,39 +3,37 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
+from collections.abc import Callable
+from typing import TypeVar
 
 import memsnav
 
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if value <= 0:
-        raise argparse.ArgumentTypeError(f"must be positive, got {value}")
-    return value
+T = TypeVar("T", int, float)
 
 
-def _non_negative_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be zero or more, got {value}")
-    return value
+def _checked(
+    parse: Callable[[str], T], kind: str, ok: Callable[[T], bool], rule: str
+) -> Callable[[str], T]:
+    """An argparse type: ``parse`` the text (else "expected <kind>"), then
+    require ``ok`` of the value (else "must be <rule>")."""
+
+    def convert(text: str) -> T:
+        try:
+            value = parse(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {kind}, got {text!r}") from None
+        if not ok(value):
+            raise argparse.ArgumentTypeError(f"must be {rule}, got {text}")
+        return value
+
+    return convert
 
 
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be positive and finite, got {text}")
-    return value
+_positive_int = _checked(int, "a positive integer", lambda v: v > 0, "positive")
+_non_negative_int = _checked(int, "an integer", lambda v: v >= 0, "zero or more")
+_positive_float = _checked(float, "a number", lambda v: 0 < v < math.inf, "positive and finite")
 
 
 def _outage(text: str) -> tuple[float, float]:
@@ -202,7 +200,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "reproduce":
             from memsnav.reproduce import reproduce
 
-            result = reproduce(
+            study = reproduce(
                 out=args.out,
                 full=args.full,
                 runs=args.runs,
@@ -210,8 +208,8 @@ def main(argv: list[str] | None = None) -> int:
                 threads=args.threads,
                 progress=not args.quiet,
             )
-            print(f"memsnav: report written to {result.report}", file=sys.stderr)
-            return 130 if result.interrupted else 0
+            print(f"memsnav: report written to {study.report}", file=sys.stderr)
+            return 130 if study.interrupted else 0
         if args.command == "simulate":
             from memsnav.simulate import simulate
 

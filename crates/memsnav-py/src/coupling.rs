@@ -3,13 +3,12 @@
 //! arrays, one Rust call per series with the GIL released.
 
 use memsnav_core::coupling::{
-    self, coarse_attitude, initial_state_from_fix, FilterTuning, ImuData, InitialState,
-    MeasurementKind, MeasurementRecord, MeasurementStatus, PositionFix, Solution,
+    self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, ImuData,
+    InitialState, MeasurementKind, MeasurementRecord, MeasurementStatus, PositionFix, Solution,
 };
 use memsnav_core::filter::state::{BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
 use memsnav_core::ins::NavState;
-use memsnav_core::Error;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -75,7 +74,7 @@ fn field<'py>(obj: &Bound<'py, PyAny>, name: &str, argument: &str) -> PyResult<B
     }
     obj.getattr(name).map_err(|_| {
         PyValueError::new_err(format!(
-            "{argument}: expected GnssMeasurements, FixSeries or an object/dict with {name:?}"
+            "{argument}: has no {name:?} (expected the documented class, or an object or dict with that entry)"
         ))
     })
 }
@@ -232,74 +231,6 @@ struct Settings {
     sample_rate_hz: f64,
 }
 
-#[allow(clippy::too_many_arguments)]
-fn settings(
-    imu: &PyImuModel,
-    scale_factor_states: bool,
-    accel_noise_density: Option<f64>,
-    gyro_noise_density: Option<f64>,
-    accel_bias_psd: Option<f64>,
-    gyro_bias_psd: Option<f64>,
-    gate_probability: f64,
-    initial_position_std: f64,
-    initial_velocity_std: f64,
-    initial_tilt_std: f64,
-    initial_heading_std: f64,
-    initial_accel_bias_std: Option<f64>,
-    initial_gyro_bias_std: Option<f64>,
-    initial_clock_offset_std: f64,
-    initial_clock_drift_std: f64,
-    use_pseudorange_rate: bool,
-) -> PyResult<Settings> {
-    let model = &imu.inner;
-    let mut tuning =
-        FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
-    let q = &mut tuning.process_noise;
-    for (name, value, target) in [
-        (
-            "accel_noise_density",
-            accel_noise_density,
-            &mut q.accel_white_psd,
-        ),
-        (
-            "gyro_noise_density",
-            gyro_noise_density,
-            &mut q.gyro_white_psd,
-        ),
-    ] {
-        if let Some(d) = value {
-            memsnav_core::validate::non_negative(name, d).py()?;
-            *target = d * d;
-        }
-    }
-    if let Some(v) = accel_bias_psd {
-        q.accel_bias_psd = v;
-    }
-    if let Some(v) = gyro_bias_psd {
-        q.gyro_bias_psd = v;
-    }
-    let s = &mut tuning.initial_std;
-    s.position_m = initial_position_std;
-    s.velocity_m_s = initial_velocity_std;
-    s.attitude_ned_rad = Vector3::new(initial_tilt_std, initial_tilt_std, initial_heading_std);
-    if let Some(v) = initial_accel_bias_std {
-        s.accel_bias_m_s2 = v;
-    }
-    if let Some(v) = initial_gyro_bias_std {
-        s.gyro_bias_rad_s = v;
-    }
-    s.clock_offset_m = initial_clock_offset_std;
-    s.clock_drift_m_s = initial_clock_drift_std;
-    tuning.gate_probability = gate_probability;
-    tuning.use_pseudorange_rate = use_pseudorange_rate;
-    tuning.validate().py()?;
-    Ok(Settings {
-        tuning,
-        scale_factor_states,
-        sample_rate_hz: model.sample_rate_hz,
-    })
-}
-
 /// The IMU arrays of `run`, validated with the argument names.
 struct ImuArrays {
     time: Vec<f64>,
@@ -339,6 +270,84 @@ fn attitude_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Matrix3<f64>>
             Ok(Some(c))
         }
         _ => Ok(None),
+    }
+}
+
+/// The entries `initial_state=` may have.
+const INITIAL_STATE_KEYS: [&str; 5] = [
+    "position_ecef",
+    "velocity_ecef",
+    "attitude",
+    "clock_offset",
+    "clock_drift",
+];
+
+/// `initial_state=`: a dict (no other keys) or an object with
+/// `position_ecef` (3,) m and `velocity_ecef` (3,) m/s at the first IMU
+/// time, `attitude` C_b^e (3, 3), optional `clock_offset` m and
+/// `clock_drift` m/s (None: from the first epoch's residuals).
+fn initial_state_arg(obj: &Bound<'_, PyAny>) -> PyResult<InitialState> {
+    const ARG: &str = "initial_state";
+    if let Ok(d) = obj.cast::<PyDict>() {
+        for key in d.keys() {
+            let name: String = key.extract().unwrap_or_default();
+            if !INITIAL_STATE_KEYS.contains(&name.as_str()) {
+                return Err(PyValueError::new_err(format!(
+                    "{ARG}: unknown entry {}; expected some of {}",
+                    key.repr()?,
+                    INITIAL_STATE_KEYS.join(", ")
+                )));
+            }
+        }
+    }
+    let vector = |name: &str| convert::vector3(&field(obj, name, ARG)?, &format!("{ARG}.{name}"));
+    let clock = |name: &str| -> PyResult<Option<f64>> {
+        optional_field(obj, name)?
+            .map(|v| {
+                let x: f64 = v.extract().map_err(|_| {
+                    PyValueError::new_err(format!("{ARG}.{name}: must be a number or None"))
+                })?;
+                memsnav_core::validate::finite_scalars(&format!("{ARG}.{name}"), &[x]).py()?;
+                Ok(x)
+            })
+            .transpose()
+    };
+    let c_b_e = convert::matrix3(&field(obj, "attitude", ARG)?, "initial_state.attitude")?;
+    memsnav_core::validate::rotation("initial_state.attitude", &c_b_e).py()?;
+    let state = InitialState {
+        nav: NavState {
+            position_ecef: vector("position_ecef")?,
+            velocity_ecef: vector("velocity_ecef")?,
+            c_b_e,
+        },
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: clock("clock_offset")?,
+        clock_drift_m_s: clock("clock_drift")?,
+    };
+    state.validate().py()?;
+    Ok(state)
+}
+
+/// Where a run starts: the caller's state, or one the filter builds from
+/// its first aiding epoch with this attitude (None: coarse).
+enum Start {
+    Given(InitialState),
+    FromAiding(Option<Matrix3<f64>>),
+}
+
+fn start(
+    initial_state: Option<&Bound<'_, PyAny>>,
+    initial_attitude: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Start> {
+    let state = initial_state.filter(|o| !o.is_none());
+    let attitude = attitude_arg(initial_attitude)?;
+    match (state, attitude) {
+        (Some(_), Some(_)) => Err(PyValueError::new_err(
+            "initial_attitude: give it or initial_state (which holds the attitude), not both",
+        )),
+        (Some(s), None) => Ok(Start::Given(initial_state_arg(s)?)),
+        (None, a) => Ok(Start::FromAiding(a)),
     }
 }
 
@@ -460,6 +469,36 @@ impl PyFilterSolution {
         PyArray1::from_slice(py, &self.inner.covariance_diagonal)
             .reshape([self.inner.time_s.len(), self.inner.n_states])
     }
+    /// Position-error covariance (ECEF axes), m², (N, 3, 3).
+    #[getter]
+    fn position_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
+        convert::matrices3_to_numpy(py, &self.inner.position_covariance_ecef)
+    }
+    /// Velocity-error covariance (ECEF axes), m²/s², (N, 3, 3).
+    #[getter]
+    fn velocity_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
+        convert::matrices3_to_numpy(py, &self.inner.velocity_covariance_ecef)
+    }
+    /// Attitude-error covariance (ECEF axes), rad², (N, 3, 3).
+    #[getter]
+    fn attitude_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
+        convert::matrices3_to_numpy(py, &self.inner.attitude_covariance_ecef)
+    }
+    /// One-sigma position uncertainty along north, east, down, m, (N, 3).
+    #[getter]
+    fn position_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.position_std_ned())
+    }
+    /// One-sigma velocity uncertainty along north, east, down, m/s, (N, 3).
+    #[getter]
+    fn velocity_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.velocity_std_ned())
+    }
+    /// One-sigma attitude uncertainty about north, east, down, rad, (N, 3).
+    #[getter]
+    fn attitude_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.attitude_std_ned())
+    }
     /// Error-state names, in covariance order.
     #[getter]
     fn state_names(&self) -> Vec<&'static str> {
@@ -481,8 +520,12 @@ impl PyFilterSolution {
     }
 }
 
+/// A filter class: the shared constructor and `tuning`, and `run`, which
+/// reads the aiding argument `$aiding` with `$read`, starts from the given
+/// state or `$initial` (from the first aiding epoch), and runs
+/// `coupling::$filter` with 17 or 23 states.
 macro_rules! filter_class {
-    ($rust:ident, $py:literal, $($run:item)*) => {
+    ($rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $filter:ident, $doc:literal) => {
         #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
         pub struct $rust {
             settings: Settings,
@@ -511,25 +554,54 @@ macro_rules! filter_class {
                 initial_clock_drift_std: f64,
                 use_pseudorange_rate: bool,
             ) -> PyResult<Self> {
-                Ok(Self {
-                    settings: settings(
-                        imu,
-                        scale_factor_states,
+                let model = &imu.inner;
+                let mut tuning =
+                    FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
+                let q = &mut tuning.process_noise;
+                for (name, value, target) in [
+                    (
+                        "accel_noise_density",
                         accel_noise_density,
+                        &mut q.accel_white_psd,
+                    ),
+                    (
+                        "gyro_noise_density",
                         gyro_noise_density,
-                        accel_bias_psd,
-                        gyro_bias_psd,
-                        gate_probability,
-                        initial_position_std,
-                        initial_velocity_std,
-                        initial_tilt_std,
-                        initial_heading_std,
-                        initial_accel_bias_std,
-                        initial_gyro_bias_std,
-                        initial_clock_offset_std,
-                        initial_clock_drift_std,
-                        use_pseudorange_rate,
-                    )?,
+                        &mut q.gyro_white_psd,
+                    ),
+                ] {
+                    if let Some(d) = value {
+                        memsnav_core::validate::non_negative(name, d).py()?;
+                        *target = d * d;
+                    }
+                }
+                if let Some(v) = accel_bias_psd {
+                    q.accel_bias_psd = v;
+                }
+                if let Some(v) = gyro_bias_psd {
+                    q.gyro_bias_psd = v;
+                }
+                let s = &mut tuning.initial_std;
+                s.position_m = initial_position_std;
+                s.velocity_m_s = initial_velocity_std;
+                s.attitude_ned_rad = Vector3::new(initial_tilt_std, initial_tilt_std, initial_heading_std);
+                if let Some(v) = initial_accel_bias_std {
+                    s.accel_bias_m_s2 = v;
+                }
+                if let Some(v) = initial_gyro_bias_std {
+                    s.gyro_bias_rad_s = v;
+                }
+                s.clock_offset_m = initial_clock_offset_std;
+                s.clock_drift_m_s = initial_clock_drift_std;
+                tuning.gate_probability = gate_probability;
+                tuning.use_pseudorange_rate = use_pseudorange_rate;
+                tuning.validate().py()?;
+                Ok(Self {
+                    settings: Settings {
+                        tuning,
+                        scale_factor_states,
+                        sample_rate_hz: model.sample_rate_hz,
+                    },
                 })
             }
 
@@ -566,133 +638,60 @@ macro_rules! filter_class {
                 Ok(d)
             }
 
-            $($run)*
+            #[doc = $doc]
+            #[pyo3(signature = (time, specific_force, angular_rate, $aiding, *, initial_attitude=None, initial_state=None))]
+            #[allow(clippy::too_many_arguments)]
+            fn run(
+                &self,
+                py: Python<'_>,
+                time: &Bound<'_, PyAny>,
+                specific_force: &Bound<'_, PyAny>,
+                angular_rate: &Bound<'_, PyAny>,
+                $aiding: &Bound<'_, PyAny>,
+                initial_attitude: Option<&Bound<'_, PyAny>>,
+                initial_state: Option<&Bound<'_, PyAny>>,
+            ) -> PyResult<PyFilterSolution> {
+                let imu = ImuArrays::new(time, specific_force, angular_rate)?;
+                let aiding = $read($aiding)?;
+                let initial = match start(initial_state, initial_attitude)? {
+                    Start::Given(state) => state,
+                    Start::FromAiding(attitude) => $initial(&aiding, &imu.data(), attitude).py()?,
+                };
+                let Settings { tuning, scale_factor_states, .. } = self.settings;
+                let inner = py
+                    .detach(|| {
+                        let data = imu.data();
+                        if scale_factor_states {
+                            coupling::$filter::<WITH_SCALE_FACTORS>(&data, &aiding, &initial, &tuning)
+                        } else {
+                            coupling::$filter::<BASE_STATES>(&data, &aiding, &initial, &tuning)
+                        }
+                    })
+                    .py()?;
+                Ok(PyFilterSolution { inner })
+            }
         }
     };
-}
-
-fn run_filter(
-    settings: &Settings,
-    run: impl FnOnce(&FilterTuning, bool) -> memsnav_core::Result<Solution> + Send,
-    py: Python<'_>,
-) -> PyResult<PyFilterSolution> {
-    let inner = py
-        .detach(|| run(&settings.tuning, settings.scale_factor_states))
-        .py()?;
-    Ok(PyFilterSolution { inner })
-}
-
-/// The initial state of the loose filter: the first fix, moved back to the
-/// first IMU time along its velocity; attitude as given or coarse.
-fn loose_initial(
-    fixes: &[PositionFix],
-    imu: &ImuData,
-    attitude: Option<Matrix3<f64>>,
-) -> Result<InitialState, Error> {
-    let fix = fixes
-        .first()
-        .ok_or_else(|| Error::invalid("fixes", "has no valid fix"))?;
-    let velocity = fix.velocity_ecef.unwrap_or_else(Vector3::zeros);
-    let t0 = imu.time_s[0];
-    let position = fix.position_ecef - velocity * (fix.time_s - t0);
-    let c_b_e = match attitude {
-        Some(c) => c,
-        None => {
-            let k = imu
-                .time_s
-                .iter()
-                .take_while(|t| **t <= t0 + 1.0)
-                .count()
-                .max(1);
-            let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
-            coarse_attitude(&mean, &position, &velocity)?
-        }
-    };
-    Ok(InitialState {
-        nav: NavState {
-            position_ecef: position,
-            velocity_ecef: velocity,
-            c_b_e,
-        },
-        accel_bias_m_s2: Vector3::zeros(),
-        gyro_bias_rad_s: Vector3::zeros(),
-        clock_offset_m: Some(0.0),
-        clock_drift_m_s: Some(0.0),
-    })
 }
 
 filter_class!(
     PyTightlyCoupledFilter,
     "TightlyCoupledFilter",
-    /// Runs the filter over the whole IMU series with the GNSS measurements.
-    #[pyo3(signature = (time, specific_force, angular_rate, gnss, *, initial_attitude=None))]
-    fn run(
-        &self,
-        py: Python<'_>,
-        time: &Bound<'_, PyAny>,
-        specific_force: &Bound<'_, PyAny>,
-        angular_rate: &Bound<'_, PyAny>,
-        gnss: &Bound<'_, PyAny>,
-        initial_attitude: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<PyFilterSolution> {
-        let imu = ImuArrays::new(time, specific_force, angular_rate)?;
-        let epochs = gnss_epochs(gnss)?;
-        let attitude = attitude_arg(initial_attitude)?;
-        let initial = initial_state_from_fix(&epochs, &imu.data(), attitude).py()?;
-        run_filter(
-            &self.settings,
-            |tuning, sf| {
-                if sf {
-                    coupling::tightly_coupled::<WITH_SCALE_FACTORS>(
-                        &imu.data(),
-                        &epochs,
-                        &initial,
-                        tuning,
-                    )
-                } else {
-                    coupling::tightly_coupled::<BASE_STATES>(&imu.data(), &epochs, &initial, tuning)
-                }
-            },
-            py,
-        )
-    }
+    gnss,
+    gnss_epochs,
+    initial_state_from_fix,
+    tightly_coupled,
+    "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`."
 );
 
 filter_class!(
     PyLooselyCoupledFilter,
     "LooselyCoupledFilter",
-    /// Runs the filter over the whole IMU series with the position fixes.
-    #[pyo3(signature = (time, specific_force, angular_rate, fixes, *, initial_attitude=None))]
-    fn run(
-        &self,
-        py: Python<'_>,
-        time: &Bound<'_, PyAny>,
-        specific_force: &Bound<'_, PyAny>,
-        angular_rate: &Bound<'_, PyAny>,
-        fixes: &Bound<'_, PyAny>,
-        initial_attitude: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<PyFilterSolution> {
-        let imu = ImuArrays::new(time, specific_force, angular_rate)?;
-        let fixes = position_fixes(fixes)?;
-        let attitude = attitude_arg(initial_attitude)?;
-        let initial = loose_initial(&fixes, &imu.data(), attitude).py()?;
-        run_filter(
-            &self.settings,
-            |tuning, sf| {
-                if sf {
-                    coupling::loosely_coupled::<WITH_SCALE_FACTORS>(
-                        &imu.data(),
-                        &fixes,
-                        &initial,
-                        tuning,
-                    )
-                } else {
-                    coupling::loosely_coupled::<BASE_STATES>(&imu.data(), &fixes, &initial, tuning)
-                }
-            },
-            py,
-        )
-    }
+    fixes,
+    position_fixes,
+    initial_state_from_position_fix,
+    loosely_coupled,
+    "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e)."
 );
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

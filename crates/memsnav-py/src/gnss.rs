@@ -601,10 +601,6 @@ impl PyGnssMeasurements {
             epochs,
         }
     }
-
-    pub(crate) fn epochs(&self) -> &[GnssEpoch] {
-        &self.epochs
-    }
 }
 
 /// A RINEX 3 observation file.

@@ -13,7 +13,6 @@ mod geodesy;
 mod gnss;
 mod ins;
 mod inversion;
-mod navigate;
 mod navigation;
 mod progress;
 mod sensors;
@@ -33,6 +32,5 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     experiments::register(m)?;
     coupling::register(m)?;
     navigation::register(m)?;
-    navigate::register(m)?;
     Ok(())
 }

@@ -195,7 +195,7 @@ def calibration(
     """
     if method not in ("ls", "eiv"):
         raise ValueError(f"method: expected 'ls' or 'eiv', got {method!r}")
-    config = {
+    config: dict[str, Any] = {
         "parameter_sets": parameter_sets,
         "runs": runs,
         "duration": duration,

@@ -102,7 +102,7 @@ def inversion(
     ``progress(done, total)`` is called as runs complete; Ctrl-C stops the
     set and the result covers the completed runs (``interrupted = True``).
     """
-    config = {
+    config: dict[str, Any] = {
         "runs": runs,
         "duration": duration,
         "calibration_duration": calibration_duration,

@@ -273,6 +273,68 @@ def _outage_mask(times: np.ndarray, windows: list[tuple[float, float]]) -> np.nd
     return out
 
 
+def _filter(cfg: RunConfig) -> _mn.TightlyCoupledFilter | _mn.LooselyCoupledFilter:
+    """The coupled filter of ``cfg["gnss"]["mode"]`` tuned by ``[filter]``:
+    the configured noise densities, bias spreads and initial uncertainties
+    are the filter's own; the IMU model is ideal but for its spec, which
+    carries the Gauss-Markov bias processes (instability, correlation time)."""
+    fil = cfg["filter"]
+    attitude_std = np.radians(_vec3(cfg, "filter", "initial_attitude_std_deg"))
+    if attitude_std[0] != attitude_std[1]:
+        raise ValueError(
+            f"{cfg.path}: filter.initial_attitude_std_deg: the filter takes one tilt "
+            f"std for north and east; got {fil['initial_attitude_std_deg']}"
+        )
+    tau = fil["bias_correlation_time_s"]
+    spec = {}
+    for prefix, instability in (
+        ("accel", fil["accel_bias_instability"]),
+        ("gyro", np.radians(fil["gyro_bias_instability_deg_s"])),
+    ):
+        # Without a finite correlation time an instability drives nothing: a constant bias.
+        if instability > 0 and np.isfinite(tau):
+            spec[f"{prefix}_bias_instability"] = instability
+            spec[f"{prefix}_bias_correlation_time"] = tau
+    zero, zero33 = np.zeros(3), np.zeros((3, 3))
+    imu = _mn.ImuModel(
+        _mn.AccelerometerModel(zero, zero, zero33, zero),
+        _mn.GyroscopeModel(zero, zero, zero33, zero33),
+        spec=spec,
+    )
+    tuning: dict[str, Any] = {
+        "accel_noise_density": fil["accel_noise_density"],
+        "gyro_noise_density": np.radians(fil["gyro_noise_density_deg"]),
+        "initial_accel_bias_std": fil["accel_bias_std"],
+        "initial_gyro_bias_std": np.radians(fil["gyro_bias_std_deg_s"]),
+        "initial_position_std": fil["initial_position_std_m"],
+        "initial_velocity_std": fil["initial_velocity_std_m_s"],
+        "initial_tilt_std": attitude_std[0],
+        "initial_heading_std": attitude_std[2],
+        "gate_probability": fil["gate_probability"],
+    }
+    if cfg["gnss"]["mode"] == "loose":
+        return _mn.LooselyCoupledFilter(imu, **tuning)
+    return _mn.TightlyCoupledFilter(
+        imu, use_pseudorange_rate=cfg["gnss"]["use_pseudorange_rate"], **tuning
+    )
+
+
+def _epochs(meas: Any, keep: np.ndarray) -> dict[str, np.ndarray]:
+    """The epochs of ``meas`` (a ``GnssMeasurements``) where ``keep``, as the
+    padded arrays ``TightlyCoupledFilter.run`` reads."""
+    names = (
+        "time",
+        "sat_id",
+        "satellite_position_ecef",
+        "satellite_velocity_ecef",
+        "pseudorange",
+        "pseudorange_std",
+        "pseudorange_rate",
+        "pseudorange_rate_std",
+    )
+    return {n: np.asarray(getattr(meas, n))[keep] for n in names}
+
+
 def _error_stats(e_ned: np.ndarray, std_ned: np.ndarray) -> dict[str, float]:
     if len(e_ned) == 0:
         return {"epochs": 0}
@@ -315,7 +377,7 @@ def navigate(
     _, t0, r0, v0, c0 = _align(cfg, t, f_b, gnss)
     t_end = t[-1] if duration_s is None else min(t[-1], t0 + duration_s)
     # From the last IMU sample at or before the alignment epoch, so every GNSS epoch lies inside.
-    imu_sel = (t >= t[max(np.searchsorted(t, t0, side="right") - 1, 0)]) & (t <= t_end)
+    imu_sel = (t >= t[max(int(np.searchsorted(t, t0, side="right")) - 1, 0)]) & (t <= t_end)
     t_end = t[imu_sel][-1]
     windows = []
     for w in cfg["outages"]["windows_s"]:
@@ -324,23 +386,10 @@ def navigate(
                 f"{cfg.path}: outages.windows_s: each window is [start_s, length_s > 0], got {w!r}"
             )
         windows.append((t0 + float(w[0]), float(w[1])))
-    fil = cfg["filter"]
-    tuning = {
-        "accel_noise_density": fil["accel_noise_density"],
-        "gyro_noise_density": np.radians(fil["gyro_noise_density_deg"]),
-        "accel_bias_std": fil["accel_bias_std"],
-        "gyro_bias_std": np.radians(fil["gyro_bias_std_deg_s"]),
-        "accel_bias_instability": fil["accel_bias_instability"],
-        "gyro_bias_instability": np.radians(fil["gyro_bias_instability_deg_s"]),
-        "bias_correlation_time": fil["bias_correlation_time_s"],
-        "initial_position_std": fil["initial_position_std_m"],
-        "initial_velocity_std": fil["initial_velocity_std_m_s"],
-        "initial_attitude_std_deg": _vec3(cfg, "filter", "initial_attitude_std_deg").tolist(),
-        "gate_probability": fil["gate_probability"],
-    }
     ti, fi, wi = t[imu_sel], f_b[imu_sel], w_b[imu_sel]
     # The filter's point is the IMU: antenna fixes move by -C_b^e l (lever arm).
-    r0_imu = r0 - c0 @ lever
+    initial = {"position_ecef": r0 - c0 @ lever, "velocity_ecef": v0, "attitude": c0}
+    kf = _filter(cfg)
     run_started = _time.perf_counter()
     if g["mode"] == "loose":
         sel = (gnss.time >= t0) & (gnss.time <= t_end) & ~_outage_mask(gnss.time, windows)
@@ -357,38 +406,23 @@ def navigate(
             ]
         )
         l_ned = np.column_stack([l_ned, np.full(len(yaw), lever[2])])
-        fix_r = gnss.position_ecef[sel] - np.einsum("nij,nj->ni", cne, l_ned)
-        sol = _mn.loosely_coupled(
-            ti,
-            fi,
-            wi,
-            gnss.time[sel],
-            fix_r,
-            gnss.position_cov[sel],
-            r0_imu,
-            v0,
-            c0,
-            fix_velocity_ecef=gnss.velocity_ecef[sel] if g["use_velocity"] else None,
-            fix_velocity_covariance=gnss.velocity_cov[sel] if g["use_velocity"] else None,
-            **tuning,
-        )
+        assert gnss.position_cov is not None and gnss.velocity_cov is not None  # loose input
+        fixes = {
+            "time": gnss.time[sel],
+            "position_ecef": gnss.position_ecef[sel] - np.einsum("nij,nj->ni", cne, l_ned),
+            "position_covariance": gnss.position_cov[sel],
+        }
+        if g["use_velocity"]:
+            fixes["velocity_ecef"] = gnss.velocity_ecef[sel]
+            fixes["velocity_covariance"] = gnss.velocity_cov[sel]
+        sol = kf.run(ti, fi, wi, fixes, initial_state=initial)
         gnss_used = gnss.position_ecef[sel]
     else:
         meas = gnss.measurements
         mt = np.asarray(meas.time)
         keep = (mt >= t0) & (mt <= t_end) & ~_outage_mask(mt, windows)
-        sol = _mn.tightly_coupled(
-            ti,
-            fi,
-            wi,
-            meas,
-            r0_imu,
-            v0,
-            c0,
-            epoch_mask=keep.tolist(),
-            use_pseudorange_rate=g["use_pseudorange_rate"],
-            **tuning,
-        )
+        # The clock starts from the first epoch's residuals (no clock in ``initial``).
+        sol = kf.run(ti, fi, wi, _epochs(meas, keep), initial_state=initial)
         ok = keep & gnss.spp_valid
         gnss_used = gnss.position_ecef[ok]
     run_s = _time.perf_counter() - run_started
@@ -425,7 +459,7 @@ def navigate(
         "imu_samples": len(time_out),
         "gnss_epochs_used": len(np.unique(np.asarray(rec["time"]))),
         "measurements_accepted": int(np.sum(status == "accepted")),
-        "measurements_gated": int(np.sum(status == "gated")),
+        "measurements_gated": int(np.sum(status == "gate")),
         "outages_s": [[s - t0, d] for s, d in windows],
         **notes,
     }
@@ -476,6 +510,7 @@ def navigate(
             spp_stats = _error_stats(e_spp, np.full_like(e_spp, np.inf))
             spp_stats.pop("within_3sigma_share", None)
             summary["spp_errors_vs_truth"] = spp_stats
+            assert gnss.spp_valid is not None  # set with the tight input
             summary["spp_epochs_without_fix"] = int(np.sum(~gnss.spp_valid & (gnss.time >= t0)))
     summary["filter_run_s"] = run_s
     summary["processing_s"] = _time.perf_counter() - started

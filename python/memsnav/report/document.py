@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import matplotlib.pyplot as plt
+import numpy as np
 from matplotlib.figure import Figure
 
 from memsnav._files import write_bytes, write_text
@@ -39,7 +40,9 @@ def figure_to_csv(fig: Figure) -> str:
         title = ax.get_title() or f"axes {a}"
         for c, line in enumerate(ax.get_lines()):
             label = line.get_label()
-            for x, y in zip(line.get_xdata(), line.get_ydata(), strict=True):
+            xs = np.asarray(line.get_xdata(), dtype=float)
+            ys = np.asarray(line.get_ydata(), dtype=float)
+            for x, y in zip(xs, ys, strict=True):
                 writer.writerow([title, c, label, repr(float(x)), repr(float(y))])
         for c, coll in enumerate(ax.collections):
             # Filled bands (mean ± std): their outline vertices.

@@ -92,7 +92,7 @@ def _setup(report: Report, results: dict[str, Any], summary: dict[str, Any]) -> 
             else ""
         )
     )
-    rows = []
+    rows: list[list[object]] = []
     for label, name in (("INS (paper's good IMU)", "tactical"), ("MEMS", "paper-mems")):
         spec = memsnav.ImuModel.preset(name, seed=0).spec
         rows.append(
@@ -286,6 +286,37 @@ def build_report(
     report.section("The paper's claims and ours")
     rows = _claims(results, summary)
     report.table(["claim", "paper", "memsnav", "holds"], rows)
+    if any(row[-1] is False for row in rows):
+        report.section("Where memsnav differs from the paper, and why")
+        report.html(
+            "<ul>"
+            "<li><b>Calibration of the vertical axis and of the gyro biases.</b> A land "
+            "vehicle's vertical specific force stays within a few percent of g, so the "
+            "regressors 1, Γ<sub>w</sub> and Γ<sub>w</sub>² are nearly collinear: the "
+            "w-axis accelerometer bias, scale factor and nonlinearity cannot be told apart, "
+            "and each gyro bias is indistinguishable from its g-sensitivity to Γ<sub>w</sub> "
+            "times g. Their sum is estimated well (the residuals and the inversion MSE show "
+            "it); the split is not. The horizontal axes and every misalignment behave as the "
+            "paper says. The Cramér-Rao bound, drawn in every figure, shows this is the "
+            "data's limit, not the estimator's.</li>"
+            "<li><b>No early benefit of calibration while GNSS is available.</b> With "
+            "pseudorange rates at 1 Hz every filter converges within about 30 s; after that "
+            "the raw and the calibrated MEMS differ only by their white noise, which "
+            "calibration does not change. Pseudorange-only coupling and larger initial "
+            "errors do not bring the paper's gap back either; it appears only when the raw "
+            "MEMS filter ignores its unmodelled errors, and that filter then diverges.</li>"
+            "<li><b>Calibration helps a lot during the outage.</b> The raw MEMS drift over "
+            "30 s is mostly the gyro misalignment turning the vehicle's turns into tilt "
+            "(an analytic error budget gives 18 m of the 19 m), and calibration estimates "
+            "the misalignments well. The paper attributes the outage drift to sensor noise; "
+            "our paper-MEMS noise, fitted to the paper's inversion MSE, drifts about as "
+            "little as the tactical IMU.</li>"
+            "</ul><p>The study behind these statements (pseudorange-only coupling, larger "
+            "initial attitude errors, noisier GNSS, scale-factor states, no absorption of "
+            "unmodelled errors, and the error budget) is in <code>docs/paper-comparison.md"
+            "</code> of the memsnav sources; the options it uses are keywords of "
+            "<code>mn.experiments.navigation</code>.</p>"
+        )
 
     cal = results.get("calibration")
     if cal is not None:

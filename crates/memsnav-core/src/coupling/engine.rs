@@ -468,6 +468,12 @@ pub struct Solution {
     /// Diagonal of P at each sample, row-major `(len, n_states)`, in the
     /// units of [`crate::filter::state`] squared.
     pub covariance_diagonal: Vec<f64>,
+    /// Attitude-error block of P (ECEF axes), rad², at each sample.
+    pub attitude_covariance_ecef: Vec<Matrix3<f64>>,
+    /// Velocity-error block of P (ECEF axes), m²/s², at each sample.
+    pub velocity_covariance_ecef: Vec<Matrix3<f64>>,
+    /// Position-error block of P (ECEF axes), m², at each sample.
+    pub position_covariance_ecef: Vec<Matrix3<f64>>,
     /// Every scalar measurement: innovation, NIS, status.
     pub measurements: Vec<MeasurementRecord>,
 }
@@ -492,6 +498,9 @@ impl Solution {
             clock_drift_m_s: Vec::with_capacity(len),
             n_states,
             covariance_diagonal: Vec::with_capacity(len * n_states),
+            attitude_covariance_ecef: Vec::with_capacity(len),
+            velocity_covariance_ecef: Vec::with_capacity(len),
+            position_covariance_ecef: Vec::with_capacity(len),
             measurements: Vec::new(),
         }
     }
@@ -511,6 +520,11 @@ impl Solution {
         self.clock_drift_m_s.push(s.clock_drift_m_s);
         self.covariance_diagonal
             .extend(s.kf.p.diagonal().iter().copied());
+        let block =
+            |first: usize| -> Matrix3<f64> { s.kf.p.fixed_view::<3, 3>(first, first).into() };
+        self.attitude_covariance_ecef.push(block(ATTITUDE));
+        self.velocity_covariance_ecef.push(block(VELOCITY));
+        self.position_covariance_ecef.push(block(POSITION));
     }
 
     /// The measurements that were not applied.

@@ -1,8 +1,10 @@
-//! Initialisation from the first GNSS fix and a given or coarse attitude.
+//! Initialisation from the first GNSS fix (tight) or position fix (loose)
+//! and a given or coarse attitude.
 
 use nalgebra::{Matrix3, Vector3};
 
 use super::engine::{ImuData, InitialState};
+use super::loose::PositionFix;
 use crate::attitude::euler_to_dcm;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
@@ -111,8 +113,62 @@ pub fn initial_state_from_fix(
         fix.velocity_ecef = (next.position_ecef - fix.position_ecef) / dt;
         fix.clock_drift_m_s = (next.clock_offset_m - fix.clock_offset_m) / dt;
     }
+    let nav = start_at_first_sample(
+        &fix.position_ecef,
+        &fix.velocity_ecef,
+        first_epoch.time_s,
+        imu,
+        attitude,
+    )?;
+    Ok(InitialState {
+        nav,
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: Some(
+            fix.clock_offset_m - fix.clock_drift_m_s * (first_epoch.time_s - imu.time_s[0]),
+        ),
+        clock_drift_m_s: Some(fix.clock_drift_m_s),
+    })
+}
+
+/// The initial state of the loosely coupled filter from its first position
+/// fix: position moved back to the first IMU time along the fix velocity
+/// (zero when the fix has none, and then `attitude` must be given: there is
+/// no course for a heading); attitude as given, else [`coarse_attitude`];
+/// zero bias estimates; clock zero (loose coupling does not observe it).
+pub fn initial_state_from_position_fix(
+    fixes: &[PositionFix],
+    imu: &ImuData,
+    attitude: Option<Matrix3<f64>>,
+) -> Result<InitialState> {
+    imu.validate()?;
+    let fix = fixes
+        .first()
+        .ok_or_else(|| Error::invalid("fixes", "has no valid fix"))?;
+    let velocity = fix.velocity_ecef.unwrap_or_else(Vector3::zeros);
+    let nav = start_at_first_sample(&fix.position_ecef, &velocity, fix.time_s, imu, attitude)?;
+    Ok(InitialState {
+        nav,
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: Some(0.0),
+        clock_drift_m_s: Some(0.0),
+    })
+}
+
+/// The navigation state at the first IMU time from a fix at `fix_time_s`:
+/// its position moved back along its velocity (constant over the gap);
+/// attitude as given (checked), else [`coarse_attitude`] from the mean
+/// specific force of the IMU's first second and the fix velocity.
+fn start_at_first_sample(
+    position_ecef: &Vector3<f64>,
+    velocity_ecef: &Vector3<f64>,
+    fix_time_s: f64,
+    imu: &ImuData,
+    attitude: Option<Matrix3<f64>>,
+) -> Result<NavState> {
     let t0 = imu.time_s[0];
-    let position_ecef = fix.position_ecef - fix.velocity_ecef * (first_epoch.time_s - t0);
+    let position_ecef = position_ecef - velocity_ecef * (fix_time_s - t0);
     let c_b_e = match attitude {
         Some(c) => {
             validate::rotation("initial_attitude", &c)?;
@@ -126,19 +182,13 @@ pub fn initial_state_from_fix(
                 .count()
                 .max(1);
             let mean = imu.specific_force_b[..k].iter().sum::<Vector3<f64>>() / k as f64;
-            coarse_attitude(&mean, &position_ecef, &fix.velocity_ecef)?
+            coarse_attitude(&mean, &position_ecef, velocity_ecef)?
         }
     };
-    Ok(InitialState {
-        nav: NavState {
-            position_ecef,
-            velocity_ecef: fix.velocity_ecef,
-            c_b_e,
-        },
-        accel_bias_m_s2: Vector3::zeros(),
-        gyro_bias_rad_s: Vector3::zeros(),
-        clock_offset_m: Some(fix.clock_offset_m - fix.clock_drift_m_s * (first_epoch.time_s - t0)),
-        clock_drift_m_s: Some(fix.clock_drift_m_s),
+    Ok(NavState {
+        position_ecef,
+        velocity_ecef: *velocity_ecef,
+        c_b_e,
     })
 }
 
@@ -164,5 +214,42 @@ mod tests {
         // Gravity deflection from the ellipsoid normal leaves ~1e-3 rad.
         assert!(err.norm() < 2e-3, "{err}");
         assert!(coarse_attitude(&f_b, &r, &(v * 0.01)).is_err());
+    }
+
+    /// The loose start moves the first fix back along its velocity to the
+    /// first IMU time; without a velocity there is no heading to take.
+    #[test]
+    fn position_fix_start_moves_back_along_the_velocity() {
+        let r = geodetic_to_ecef(Geodetic::new(0.76, 0.025, 150.0));
+        let geo = ecef_to_geodetic(&r);
+        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+        let v = cne * Vector3::new(8.0, 6.0, 0.0);
+        let c_b_e = cne * euler_to_dcm(0.0, 0.0, (6.0_f64).atan2(8.0));
+        let f_b = -(c_b_e.transpose() * gravity_ecef(&r));
+        let time_s: Vec<f64> = (0..300).map(|k| k as f64 * 0.01).collect();
+        let f = vec![f_b; time_s.len()];
+        let w = vec![Vector3::zeros(); time_s.len()];
+        let imu = ImuData {
+            time_s: &time_s,
+            specific_force_b: &f,
+            angular_rate_b: &w,
+        };
+        let mut fix = PositionFix {
+            time_s: 2.0,
+            position_ecef: r,
+            position_covariance: Matrix3::identity(),
+            velocity_ecef: Some(v),
+            velocity_covariance: Matrix3::identity(),
+        };
+        let s = initial_state_from_position_fix(&[fix], &imu, None).unwrap();
+        assert!((s.nav.position_ecef - (r - 2.0 * v)).norm() < 1e-9);
+        assert_eq!(s.nav.velocity_ecef, v);
+        let err = crate::attitude::dcm_to_rotation_vector(&(s.nav.c_b_e * c_b_e.transpose()));
+        assert!(err.norm() < 2e-3, "{err}");
+        fix.velocity_ecef = None;
+        assert!(initial_state_from_position_fix(&[fix], &imu, None).is_err());
+        let given = initial_state_from_position_fix(&[fix], &imu, Some(c_b_e)).unwrap();
+        assert_eq!((given.nav.position_ecef, given.nav.c_b_e), (r, c_b_e));
+        assert!(initial_state_from_position_fix(&[], &imu, Some(c_b_e)).is_err());
     }
 }

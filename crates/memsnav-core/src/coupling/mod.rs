@@ -29,6 +29,12 @@
 //! (levelling), heading from the fix velocity. P₀ comes from
 //! [`InitialUncertainty`] (documented defaults there).
 //!
+//! ## Uncertainty
+//!
+//! [`Solution`] keeps the diagonal of P and its attitude, velocity and
+//! position blocks (ECEF axes) at every sample; `Solution::position_std_ned`
+//! and its siblings rotate the blocks into local NED ([`covariance_ned`]).
+//!
 //! ## Tuning and unmodelled errors
 //!
 //! [`FilterTuning`] holds noise densities, bias processes and initial
@@ -46,6 +52,7 @@
 mod engine;
 mod init;
 mod loose;
+mod ned;
 mod tight;
 mod tuning;
 
@@ -53,7 +60,8 @@ pub use engine::{
     AidingEpoch, FilterState, ImuData, InitialState, MeasurementKind, MeasurementRecord,
     MeasurementStatus, Solution,
 };
-pub use init::{coarse_attitude, initial_state_from_fix};
+pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix};
 pub use loose::{loosely_coupled, run_loosely_coupled, PositionFix};
+pub use ned::covariance_ned;
 pub use tight::{run_tightly_coupled, tightly_coupled};
 pub use tuning::{BiasProcess, Dynamics, FilterTuning, InitialUncertainty, UnmodelledErrors};
