@@ -48,7 +48,7 @@ class Sizes:
 
 
 # Quick: readable curves in about two minutes on two cores.
-QUICK = Sizes(calibration_sets=50, calibration_runs=20, inversion_runs=100, navigation_runs=40)
+QUICK = Sizes(calibration_sets=50, calibration_runs=100, inversion_runs=300, navigation_runs=100)
 # The paper's Monte Carlo counts (§5): 1000 runs x 50 sets, 300, 200.
 FULL = Sizes(calibration_sets=50, calibration_runs=1000, inversion_runs=300, navigation_runs=200)
 
