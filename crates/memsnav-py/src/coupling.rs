@@ -535,7 +535,6 @@ macro_rules! filter_class {
         impl $rust {
             #[new]
             #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true))]
-            #[allow(clippy::too_many_arguments)]
             fn new(
                 imu: &PyImuModel,
                 scale_factor_states: bool,
@@ -640,7 +639,6 @@ macro_rules! filter_class {
 
             #[doc = $doc]
             #[pyo3(signature = (time, specific_force, angular_rate, $aiding, *, initial_attitude=None, initial_state=None))]
-            #[allow(clippy::too_many_arguments)]
             fn run(
                 &self,
                 py: Python<'_>,

@@ -4,7 +4,6 @@
 use pyo3::prelude::*;
 
 mod calibration;
-#[allow(dead_code)] // not every helper is used by every binding
 mod convert;
 mod coupling;
 mod errors;

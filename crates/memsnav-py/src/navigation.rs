@@ -138,7 +138,6 @@ fn to_dict<'py>(
 /// `memsnav.experiments.navigation` for the documented interface.
 #[pyfunction]
 #[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, keep_runs=false, threads=None, progress=None))]
-#[allow(clippy::too_many_arguments)]
 fn navigation_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
