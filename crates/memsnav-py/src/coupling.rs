@@ -6,7 +6,7 @@ use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, ImuData,
     InitialState, MeasurementKind, MeasurementRecord, MeasurementStatus, PositionFix, Solution,
 };
-use memsnav_core::filter::state::{BASE_STATES, WITH_SCALE_FACTORS};
+use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
 use memsnav_core::ins::NavState;
 use nalgebra::{Matrix3, Vector3};
@@ -19,40 +19,6 @@ use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::{PyFixSeries, PyGnssMeasurements};
 use crate::sensors::PyImuModel;
-
-/// Names of the error states, in order (units in the filter::state docs).
-fn state_names(n: usize) -> Vec<&'static str> {
-    let mut v = vec![
-        "attitude_x",
-        "attitude_y",
-        "attitude_z",
-        "velocity_x",
-        "velocity_y",
-        "velocity_z",
-        "position_x",
-        "position_y",
-        "position_z",
-        "accel_bias_x",
-        "accel_bias_y",
-        "accel_bias_z",
-        "gyro_bias_x",
-        "gyro_bias_y",
-        "gyro_bias_z",
-        "clock_offset",
-        "clock_drift",
-    ];
-    if n >= WITH_SCALE_FACTORS {
-        v.extend([
-            "accel_scale_factor_x",
-            "accel_scale_factor_y",
-            "accel_scale_factor_z",
-            "gyro_scale_factor_x",
-            "gyro_scale_factor_y",
-            "gyro_scale_factor_z",
-        ]);
-    }
-    v
-}
 
 /// A float array that may hold NaN (padding), with its shape.
 fn floats_with_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<(Vec<f64>, Vec<usize>)> {
@@ -502,7 +468,7 @@ impl PyFilterSolution {
     /// Error-state names, in covariance order.
     #[getter]
     fn state_names(&self) -> Vec<&'static str> {
-        state_names(self.inner.n_states)
+        StateLayout::names(self.inner.n_states).to_vec()
     }
     /// Every scalar measurement: dict of arrays `time`, `id`, `kind`,
     /// `innovation`, `innovation_std`, `nis`, `status`.

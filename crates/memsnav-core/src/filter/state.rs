@@ -72,6 +72,11 @@ impl StateLayout {
         "gyro_scale_factor_z",
     ];
 
+    /// The names of the first `n` states (17, or 23 with scale factors).
+    pub fn names(n: usize) -> &'static [&'static str] {
+        &Self::NAMES[..n.min(WITH_SCALE_FACTORS)]
+    }
+
     /// The name of state `i`.
     pub fn name(i: usize) -> &'static str {
         Self::NAMES.get(i).copied().unwrap_or("unknown")
