@@ -222,6 +222,9 @@ class NavigationResult:
                 ax.axvspan(
                     outage[0], outage[0] + outage[1], color="grey", alpha=0.15, label="GNSS outage"
                 )
+            if window is not None:
+                # The outage band must not widen a zoom beyond its window.
+                ax.set_xlim(*window)
             ax.set_title(f"{title} ({n} runs)")
             ax.set_xlabel("time [s]")
             ax.set_ylabel("position error norm [m]")
