@@ -5,9 +5,9 @@
 use std::ffi::CString;
 
 use memsnav_core::calibration::{
-    accelerometer_parameter_names, calibrate_accelerometer as core_accel,
-    calibrate_gyroscope as core_gyro, gyroscope_parameter_names, Calibration, CalibrationOptions,
-    Method,
+    accelerometer_parameter_names, accelerometer_std_model, calibrate_accelerometer as core_accel,
+    calibrate_gyroscope as core_gyro, gyroscope_parameter_names, gyroscope_std_model, Calibration,
+    CalibrationOptions, Method,
 };
 use nalgebra::{DMatrix, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -164,17 +164,7 @@ fn calibrate_accelerometer(
         )?
         .into_any())
     };
-    let crb_std = |c: &DMatrix<f64>| {
-        let mut m = cal.std.clone();
-        let sd: Vec<f64> = c.diagonal().iter().map(|v| v.max(0.0).sqrt()).collect();
-        m.bias = Vector3::from_column_slice(&sd[0..3]);
-        m.scale_factor = Vector3::from_column_slice(&sd[3..6]);
-        for (k, &(i, j)) in memsnav_core::calibration::OFF_DIAGONAL.iter().enumerate() {
-            m.misalignment[(i, j)] = sd[6 + k];
-        }
-        m.nonlinearity = Vector3::from_column_slice(&sd[12..15]);
-        to_py(m)
-    };
+    let crb_std = |c: &DMatrix<f64>| to_py(accelerometer_std_model(c));
     wrap(
         py,
         cal.clone(),
@@ -225,17 +215,7 @@ fn calibrate_gyroscope(
         )?
         .into_any())
     };
-    let crb_std = |c: &DMatrix<f64>| {
-        let mut m = cal.std.clone();
-        let sd: Vec<f64> = c.diagonal().iter().map(|v| v.max(0.0).sqrt()).collect();
-        m.bias = Vector3::from_column_slice(&sd[0..3]);
-        m.scale_factor = Vector3::from_column_slice(&sd[3..6]);
-        for (k, &(i, j)) in memsnav_core::calibration::OFF_DIAGONAL.iter().enumerate() {
-            m.misalignment[(i, j)] = sd[6 + k];
-        }
-        m.g_sensitivity = nalgebra::Matrix3::from_row_slice(&sd[12..21]);
-        to_py(m)
-    };
+    let crb_std = |c: &DMatrix<f64>| to_py(gyroscope_std_model(c));
     wrap(py, cal.clone(), gyroscope_parameter_names(), to_py, crb_std)
 }
 

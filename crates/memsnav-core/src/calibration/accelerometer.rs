@@ -4,8 +4,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
-    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, factor_column,
-    std_of, validate_data, validate_options, Calibration, CalibrationOptions, Method,
+    accelerometer_std_model, block_diagonal, check_excitation, common_jacobian, diagnose,
+    factor_column, validate_data, validate_options, Calibration, CalibrationOptions, Method,
     ACCELEROMETER_AXES,
 };
 use crate::sensors::{AccelerometerModel, NoiseModel};
@@ -296,17 +296,9 @@ impl FactoredAccelerometer {
         });
         let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
         model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
-        let sd = std_of(&covariance);
-        let (bias, scale_factor, misalignment) = common_from_vector(&sd);
         Ok(Calibration {
             model,
-            std: AccelerometerModel {
-                bias,
-                scale_factor,
-                misalignment,
-                nonlinearity: Vector3::new(sd[12], sd[13], sd[14]),
-                noise: NoiseModel::default(),
-            },
+            std: accelerometer_std_model(&covariance),
             covariance,
             residual_std,
             condition_number: Vector3::from_fn(|i, _| regressions[i].condition_number),

@@ -6,8 +6,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
-    block_diagonal, check_excitation, common_from_vector, common_jacobian, diagnose, factor_column,
-    std_of, validate_data, validate_options, Calibration, CalibrationOptions, Method,
+    block_diagonal, check_excitation, common_jacobian, diagnose, factor_column,
+    gyroscope_std_model, validate_data, validate_options, Calibration, CalibrationOptions, Method,
     ACCELEROMETER_AXES, GYROSCOPE_AXES,
 };
 use crate::sensors::{GyroscopeModel, NoiseModel};
@@ -217,17 +217,9 @@ impl FactoredGyroscope {
         let crb = options.noise_std.map(|sigma| crb_from(&reg, &model, sigma));
         let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
         model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
-        let sd = std_of(&covariance);
-        let (bias, scale_factor, misalignment) = common_from_vector(&sd);
         Ok(Calibration {
             model,
-            std: GyroscopeModel {
-                bias,
-                scale_factor,
-                misalignment,
-                g_sensitivity: Matrix3::from_row_slice(&sd[12..21]),
-                noise: NoiseModel::default(),
-            },
+            std: gyroscope_std_model(&covariance),
             covariance,
             residual_std,
             condition_number: Vector3::repeat(reg.condition_number),

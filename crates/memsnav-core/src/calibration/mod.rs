@@ -77,7 +77,7 @@ pub use gyroscope::{calibrate_gyroscope, gyroscope_crb, FactoredGyroscope};
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
 
-use crate::sensors::{AccelerometerModel, GyroscopeModel};
+use crate::sensors::{AccelerometerModel, GyroscopeModel, NoiseModel};
 use crate::{validate, Error, Result};
 
 /// Axis names of the accelerometer (u, v, w) and gyroscope (p, q, r) triads.
@@ -373,6 +373,34 @@ fn common_jacobian(
 /// √diag of a covariance.
 fn std_of(cov: &DMatrix<f64>) -> Vec<f64> {
     cov.diagonal().iter().map(|v| v.max(0.0).sqrt()).collect()
+}
+
+/// One-sigma values of a covariance of the accelerometer parameter vector
+/// ([`accelerometer_parameters`] order), laid out as a model (noise zero).
+pub fn accelerometer_std_model(covariance: &DMatrix<f64>) -> AccelerometerModel {
+    let sd = std_of(covariance);
+    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+    AccelerometerModel {
+        bias,
+        scale_factor,
+        misalignment,
+        nonlinearity: Vector3::new(sd[12], sd[13], sd[14]),
+        noise: NoiseModel::default(),
+    }
+}
+
+/// One-sigma values of a covariance of the gyroscope parameter vector
+/// ([`gyroscope_parameters`] order), laid out as a model (noise zero).
+pub fn gyroscope_std_model(covariance: &DMatrix<f64>) -> GyroscopeModel {
+    let sd = std_of(covariance);
+    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+    GyroscopeModel {
+        bias,
+        scale_factor,
+        misalignment,
+        g_sensitivity: Matrix3::from_row_slice(&sd[12..21]),
+        noise: NoiseModel::default(),
+    }
 }
 
 #[cfg(test)]
