@@ -90,10 +90,14 @@ def test_spread_matches_sigma_and_the_cramer_rao_bound():
         ea.append(params(cal.model) - params(acc))
         va.append(params(cal.std) ** 2)
         ca.append(np.diag(cal.crb))
+        if seed == 0:  # crb_std is the bound's diagonal in the model's layout
+            np.testing.assert_allclose(params(cal.crb_std) ** 2, ca[-1], rtol=1e-12)
         cal = mn.calibrate_gyroscope(gyr.measure(w, f, seed=seed), w, f, noise_std=sg)
         eg.append(params(cal.model) - params(gyr))
         vg.append(params(cal.std) ** 2)
         cg.append(np.diag(cal.crb))
+        if seed == 0:
+            np.testing.assert_allclose(params(cal.crb_std) ** 2, cg[-1], rtol=1e-12)
     for e, v, c in ((ea, va, ca), (eg, vg, cg)):
         mse = np.mean(np.square(e), axis=0)
         # 200 runs: the MSE has a relative std of 10 %; ±35 % is 3.5 sigma.
