@@ -294,8 +294,9 @@ fn exact_initial(truth: &Truth) -> InitialState {
     }
 }
 
-/// A 100 m error on one pseudorange is rejected by the gate and reported;
-/// NaN and absurd (1e9 m) pseudoranges are rejected and reported too.
+/// A 100 m error on one pseudorange is excluded from its epoch (the other
+/// satellites of that epoch are applied) and reported; NaN and absurd
+/// (1e9 m) pseudoranges are rejected and reported too.
 #[test]
 fn outliers_are_rejected_and_counted() {
     let truth = drive(60.0, 100.0, true);
@@ -326,15 +327,23 @@ fn outliers_are_rejected_and_counted() {
         })
     };
     let r = find(30.0, MeasurementKind::Pseudorange).expect("the 100 m outlier is rejected");
-    assert_eq!(r.status, MeasurementStatus::RejectedByGate);
+    assert_eq!(r.status, MeasurementStatus::Excluded);
     assert!((r.innovation - 100.0).abs() < 15.0, "{r:?}");
+    let others_at_30 = sol
+        .measurements
+        .iter()
+        .filter(|m| m.time_s == 30.0 && m.kind == MeasurementKind::Pseudorange && m.id != hit);
+    assert!(others_at_30
+        .clone()
+        .all(|m| m.status == MeasurementStatus::Accepted));
+    assert_eq!(others_at_30.count(), epochs[30].measurements.len() - 1);
     assert_eq!(
         find(40.0, MeasurementKind::Pseudorange).unwrap().status,
         MeasurementStatus::RejectedInvalid
     );
     assert_eq!(
         find(45.0, MeasurementKind::Pseudorange).unwrap().status,
-        MeasurementStatus::RejectedByGate
+        MeasurementStatus::Excluded
     );
     assert_eq!(sol.rejected().count(), clean_rejections + 3);
     // The solution is unharmed: same error as without the outliers.

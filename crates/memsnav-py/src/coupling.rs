@@ -4,7 +4,7 @@
 
 use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, ImuData,
-    InitialState, MeasurementKind, MeasurementRecord, MeasurementStatus, PositionFix, Solution,
+    InitialState, MeasurementRecord, MeasurementStatus, PositionFix, ResetRecord, Solution,
 };
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
@@ -317,21 +317,29 @@ fn start(
     }
 }
 
-fn kind_name(k: MeasurementKind) -> &'static str {
-    match k {
-        MeasurementKind::Pseudorange => "pseudorange",
-        MeasurementKind::PseudorangeRate => "pseudorange_rate",
-        MeasurementKind::Position => "position",
-        MeasurementKind::Velocity => "velocity",
-    }
-}
-
-fn status_name(s: MeasurementStatus) -> &'static str {
-    match s {
-        MeasurementStatus::Accepted => "accepted",
-        MeasurementStatus::RejectedByGate => "gate",
-        MeasurementStatus::RejectedInvalid => "invalid",
-    }
+/// Resets as a dict of arrays `time`, `kind`, `change`, `failed_epochs`.
+pub(crate) fn resets_to_dict<'py>(
+    py: Python<'py>,
+    resets: &[ResetRecord],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item(
+        "time",
+        PyArray1::from_iter(py, resets.iter().map(|r| r.time_s)),
+    )?;
+    d.set_item(
+        "kind",
+        resets.iter().map(|r| r.kind.name()).collect::<Vec<_>>(),
+    )?;
+    d.set_item(
+        "change",
+        PyArray1::from_iter(py, resets.iter().map(|r| r.change)),
+    )?;
+    d.set_item(
+        "failed_epochs",
+        PyArray1::from_iter(py, resets.iter().map(|r| r.failed_epochs as i64)),
+    )?;
+    Ok(d)
 }
 
 /// The whole solution of a coupled filter run.
@@ -351,10 +359,7 @@ impl PyFilterSolution {
         let d = PyDict::new(py);
         d.set_item("time", PyArray1::from_iter(py, r.iter().map(|m| m.time_s)))?;
         d.set_item("id", PyArray1::from_iter(py, r.iter().map(|m| m.id as i64)))?;
-        d.set_item(
-            "kind",
-            r.iter().map(|m| kind_name(m.kind)).collect::<Vec<_>>(),
-        )?;
+        d.set_item("kind", r.iter().map(|m| m.kind.name()).collect::<Vec<_>>())?;
         d.set_item(
             "innovation",
             PyArray1::from_iter(py, r.iter().map(|m| m.innovation)),
@@ -366,7 +371,7 @@ impl PyFilterSolution {
         d.set_item("nis", PyArray1::from_iter(py, r.iter().map(|m| m.nis)))?;
         d.set_item(
             "status",
-            r.iter().map(|m| status_name(m.status)).collect::<Vec<_>>(),
+            r.iter().map(|m| m.status.name()).collect::<Vec<_>>(),
         )?;
         Ok(d)
     }
@@ -468,7 +473,42 @@ impl PyFilterSolution {
     /// Error-state names, in covariance order.
     #[getter]
     fn state_names(&self) -> Vec<&'static str> {
-        StateLayout::names(self.inner.n_states).to_vec()
+        StateLayout::names(self.inner.n_states)
+    }
+    /// Every batch test (an epoch's measurements of one kind): dict of
+    /// arrays `time`, `kind`, `nis`, `dof`, `threshold`, `excluded`, `accepted`.
+    #[getter]
+    fn batches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let b = &self.inner.batches;
+        let d = PyDict::new(py);
+        d.set_item("time", PyArray1::from_iter(py, b.iter().map(|r| r.time_s)))?;
+        d.set_item("kind", b.iter().map(|r| r.kind.name()).collect::<Vec<_>>())?;
+        d.set_item("nis", PyArray1::from_iter(py, b.iter().map(|r| r.nis)))?;
+        d.set_item(
+            "dof",
+            PyArray1::from_iter(py, b.iter().map(|r| r.dof as i64)),
+        )?;
+        d.set_item(
+            "threshold",
+            PyArray1::from_iter(py, b.iter().map(|r| r.threshold)),
+        )?;
+        d.set_item(
+            "excluded",
+            PyArray1::from_iter(py, b.iter().map(|r| r.excluded as i64)),
+        )?;
+        d.set_item(
+            "accepted",
+            PyArray1::from_iter(py, b.iter().map(|r| r.accepted)),
+        )?;
+        Ok(d)
+    }
+    /// Every reset the filter made (position or velocity to a fix, clock
+    /// jumps, covariance inflation, heading alignment): dict of arrays
+    /// `time`, `kind`, `change` (m, m/s, rad, or the inflation factor),
+    /// `failed_epochs`.
+    #[getter]
+    fn resets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        resets_to_dict(py, &self.inner.resets)
     }
     /// Every scalar measurement: dict of arrays `time`, `id`, `kind`,
     /// `innovation`, `innovation_std`, `nis`, `status`.

@@ -1,17 +1,20 @@
 //! The closed-loop error-state machinery both coupled filters share: the
 //! corrected INS, propagation at the IMU rate, aiding epochs matched to IMU
 //! times, feedback of the estimated errors, and the solution record.
+//! Measurement batches, their tests and the recovery from failing ones are
+//! in [`super::batch`]; the lever arm in [`super::antenna`].
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
+use super::range_bias::RangeBiasSlots;
+use super::records::{BatchRecord, MeasurementKind, MeasurementRecord, ResetRecord};
 use super::tuning::FilterTuning;
 use crate::attitude::rotation_vector_to_dcm;
-use crate::filter::chi_square::chi_square_quantile;
 use crate::filter::state::{
-    ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, VELOCITY, WITH_SCALE_FACTORS,
+    Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
 };
-use crate::filter::{ErrorStateKf, ProcessNoise, ScalarOutcome, SparseRow, SystemInputs};
+use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::ins::{self, ImuSample, NavState};
 use crate::{validate, Error, Result};
@@ -50,7 +53,8 @@ impl ImuData<'_> {
         validate::finite_vectors("angular_rate", self.angular_rate_b)
     }
 
-    fn sample(&self, k: usize) -> ImuSample {
+    /// Sample `k`.
+    pub fn sample(&self, k: usize) -> ImuSample {
         ImuSample {
             specific_force_b: self.specific_force_b[k],
             angular_rate_b: self.angular_rate_b[k],
@@ -104,76 +108,48 @@ impl InitialState {
     }
 }
 
-/// Which measurement a record is about.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MeasurementKind {
-    /// A pseudorange, m.
-    Pseudorange,
-    /// A pseudorange rate, m/s.
-    PseudorangeRate,
-    /// One whitened component of a position fix (dimensionless, unit variance).
-    Position,
-    /// One whitened component of a velocity fix (dimensionless).
-    Velocity,
-}
-
-/// What the filter did with a measurement.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MeasurementStatus {
-    /// Applied.
-    Accepted,
-    /// Rejected by the chi-square innovation gate.
-    RejectedByGate,
-    /// Rejected because a value (measurement, satellite state, std) was NaN,
-    /// infinite or a non-positive standard deviation.
-    RejectedInvalid,
-}
-
-/// One scalar measurement's innovation and fate.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MeasurementRecord {
-    /// Epoch time, s.
-    pub time_s: f64,
-    /// Satellite id (tight) or fix component 0-2 (loose).
-    pub id: u16,
-    /// Which measurement.
-    pub kind: MeasurementKind,
-    /// Innovation z − ẑ (measurement minus the corrected prediction), in the
-    /// measurement's unit (m, m/s; whitened units for fixes).
-    pub innovation: f64,
-    /// Predicted innovation std √(h P hᵀ + r), same unit.
-    pub innovation_std: f64,
-    /// Normalised innovation squared ν²/s.
-    pub nis: f64,
-    /// Applied or why not.
-    pub status: MeasurementStatus,
-}
-
 /// The running state of a closed-loop coupled filter.
 #[derive(Debug, Clone)]
 pub struct FilterState<const N: usize> {
-    /// The corrected INS solution.
+    /// The corrected INS solution at the IMU.
     pub nav: NavState,
     /// Accelerometer bias estimate, m/s² (subtracted from raw samples).
     pub accel_bias_m_s2: Vector3<f64>,
     /// Gyro bias estimate, rad/s.
     pub gyro_bias_rad_s: Vector3<f64>,
-    /// Accelerometer scale-factor estimate (zero unless N = 23).
+    /// Accelerometer scale-factor estimate (zero without scale-factor states).
     pub accel_scale_factor: Vector3<f64>,
-    /// Gyro scale-factor estimate (zero unless N = 23).
+    /// Gyro scale-factor estimate (zero without scale-factor states).
     pub gyro_scale_factor: Vector3<f64>,
     /// Receiver clock offset estimate, m.
     pub clock_offset_m: f64,
     /// Receiver clock drift estimate, m/s.
     pub clock_drift_m_s: f64,
+    /// Pseudorange-bias estimate of the satellite in each range-bias slot, m
+    /// (zero without range-bias states).
+    pub range_bias_m: [f64; RANGE_BIAS_SLOTS],
     /// Whether the clock offset / drift have been initialised.
     pub(crate) clock_known: (bool, bool),
+    /// Which satellite holds which range-bias slot.
+    pub(crate) slots: RangeBiasSlots,
     /// Error state and covariance.
     pub kf: ErrorStateKf<N>,
-    noise: ProcessNoise,
-    gate: f64,
+    /// The tuning the filter runs with.
+    pub(crate) tuning: FilterTuning,
+    /// The last corrected IMU sample propagated to (for the lever-arm
+    /// velocity and the velocity latency).
+    pub(crate) last_sample: ImuSample,
+    /// Consecutive epochs whose batch of each kind failed (index: position
+    /// of the kind in [`MeasurementKind::ALL`]).
+    pub(crate) failed_epochs: [usize; MeasurementKind::ALL.len()],
+    /// The batch being assembled (see [`super::batch`]).
+    pub(crate) staged: super::batch::Batch,
     /// Every scalar measurement seen, in time order.
     pub records: Vec<MeasurementRecord>,
+    /// Every batch test, in time order.
+    pub batches: Vec<BatchRecord>,
+    /// Every reset, in time order.
+    pub resets: Vec<ResetRecord>,
 }
 
 impl<const N: usize> FilterState<N> {
@@ -182,6 +158,7 @@ impl<const N: usize> FilterState<N> {
     pub fn new(init: &InitialState, tuning: &FilterTuning) -> Result<Self> {
         init.validate()?;
         tuning.validate()?;
+        let layout = Layout::for_size::<N>();
         let s = &tuning.initial_std;
         let mut p0 = SMatrix::<f64, N, N>::zeros();
         let geo = ecef_to_geodetic(&init.nav.position_ecef);
@@ -195,18 +172,18 @@ impl<const N: usize> FilterState<N> {
             p0[(POSITION + k, POSITION + k)] = s.position_m.powi(2);
             p0[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = s.accel_bias_m_s2.powi(2);
             p0[(GYRO_BIAS + k, GYRO_BIAS + k)] = s.gyro_bias_rad_s.powi(2);
-            if N >= WITH_SCALE_FACTORS {
+            if layout.scale_factors {
                 p0[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] = s.accel_scale_factor.powi(2);
                 p0[(GYRO_SCALE_FACTOR + k, GYRO_SCALE_FACTOR + k)] = s.gyro_scale_factor.powi(2);
             }
         }
         p0[(CLOCK_OFFSET, CLOCK_OFFSET)] = s.clock_offset_m.powi(2);
         p0[(CLOCK_DRIFT, CLOCK_DRIFT)] = s.clock_drift_m_s.powi(2);
-        let gate = if tuning.gate_probability >= 1.0 {
-            f64::INFINITY
-        } else {
-            chi_square_quantile(1.0, tuning.gate_probability)
-        };
+        if let Some(first) = layout.range_bias {
+            for j in first..first + RANGE_BIAS_SLOTS {
+                p0[(j, j)] = s.range_bias_m.powi(2);
+            }
+        }
         Ok(Self {
             nav: init.nav,
             accel_bias_m_s2: init.accel_bias_m_s2,
@@ -215,14 +192,23 @@ impl<const N: usize> FilterState<N> {
             gyro_scale_factor: Vector3::zeros(),
             clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
             clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
+            range_bias_m: [0.0; RANGE_BIAS_SLOTS],
             clock_known: (
                 init.clock_offset_m.is_some(),
                 init.clock_drift_m_s.is_some(),
             ),
+            slots: RangeBiasSlots::default(),
             kf: ErrorStateKf::new(p0)?,
-            noise: tuning.process_noise,
-            gate,
+            tuning: *tuning,
+            last_sample: ImuSample {
+                specific_force_b: Vector3::zeros(),
+                angular_rate_b: Vector3::zeros(),
+            },
+            failed_epochs: [0; MeasurementKind::ALL.len()],
+            staged: super::batch::Batch::default(),
             records: Vec::new(),
+            batches: Vec::new(),
+            resets: Vec::new(),
         })
     }
 
@@ -252,68 +238,20 @@ impl<const N: usize> FilterState<N> {
         let curr = self.corrected(curr_raw);
         self.nav = ins::step(&self.nav, &prev, &curr, dt);
         self.clock_offset_m += self.clock_drift_m_s * dt;
+        self.last_sample = curr;
         let inputs = SystemInputs {
             c_b_e: self.nav.c_b_e,
             specific_force_b: curr.specific_force_b,
             angular_rate_b: curr.angular_rate_b,
             position_ecef: self.nav.position_ecef,
         };
-        self.kf.propagate(&inputs, &self.noise, dt, time_s)
+        self.kf
+            .propagate(&inputs, &self.tuning.process_noise, dt, time_s)
     }
 
-    /// One gated scalar update, recorded. `y` is prediction minus measurement.
-    pub(crate) fn scalar(
-        &mut self,
-        h: &SparseRow,
-        y: f64,
-        variance: f64,
-        meta: (f64, u16, MeasurementKind),
-    ) -> ScalarOutcome {
-        let out = if variance.is_finite() && variance > 0.0 {
-            self.kf.update_scalar(h, y, variance, self.gate)
-        } else {
-            ScalarOutcome {
-                innovation: f64::NAN,
-                innovation_variance: variance,
-                nis: f64::NAN,
-                accepted: false,
-            }
-        };
-        let status = if out.accepted {
-            MeasurementStatus::Accepted
-        } else if out.nis.is_finite() {
-            MeasurementStatus::RejectedByGate
-        } else {
-            MeasurementStatus::RejectedInvalid
-        };
-        self.records.push(MeasurementRecord {
-            time_s: meta.0,
-            id: meta.1,
-            kind: meta.2,
-            innovation: -out.innovation,
-            innovation_std: out.innovation_variance.max(0.0).sqrt(),
-            nis: out.nis,
-            status,
-        });
-        out
-    }
-
-    /// Records a measurement rejected before it reached the filter.
-    pub(crate) fn reject_invalid(&mut self, meta: (f64, u16, MeasurementKind)) {
-        self.records.push(MeasurementRecord {
-            time_s: meta.0,
-            id: meta.1,
-            kind: meta.2,
-            innovation: f64::NAN,
-            innovation_std: f64::NAN,
-            nis: f64::NAN,
-            status: MeasurementStatus::RejectedInvalid,
-        });
-    }
-
-    /// Closed loop: subtract the estimated errors from the INS, sensor and
-    /// clock estimates (errors are estimate − truth) and zero the error
-    /// state; then the full health check of P.
+    /// Closed loop: subtract the estimated errors from the INS, sensor,
+    /// clock and range-bias estimates (errors are estimate − truth) and zero
+    /// the error state; then the full health check of P.
     pub(crate) fn feedback(&mut self, time_s: f64) -> Result<()> {
         let x = self.kf.x;
         // Ĉ = (I + [ψ×]) C  ⇒  C = R(−ψ) Ĉ: a product of rotations, then one
@@ -333,8 +271,18 @@ impl<const N: usize> FilterState<N> {
             self.accel_scale_factor -= sa;
             self.gyro_scale_factor -= sg;
         }
+        if let Some(first) = Layout::for_size::<N>().range_bias {
+            for (k, b) in self.range_bias_m.iter_mut().enumerate() {
+                *b -= x.0[first + k];
+            }
+        }
         self.kf.x = crate::filter::ErrorState::zero();
         self.kf.check_health(time_s)
+    }
+
+    /// The tuning the filter runs with.
+    pub fn tuning(&self) -> &FilterTuning {
+        &self.tuning
     }
 }
 
@@ -381,39 +329,55 @@ pub(crate) fn validate_epoch_times<E: AidingEpoch>(
     Ok(())
 }
 
+/// What a run does at each IMU sample besides propagating: aids that use
+/// the IMU itself (zero-velocity, zero-rate, non-holonomic updates, an
+/// alignment), then whatever records the solution.
+pub(crate) trait SampleHook<const N: usize> {
+    /// Called after the INS reached sample `k` and any aiding epoch at that
+    /// sample was applied.
+    fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()>;
+}
+
+/// A hook that only observes the state.
+pub(crate) struct Observe<O>(pub O);
+
+impl<const N: usize, O: FnMut(usize, &FilterState<N>)> SampleHook<N> for Observe<O> {
+    fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()> {
+        (self.0)(k, state);
+        Ok(())
+    }
+}
+
 /// Runs the closed-loop filter over the IMU series.
 ///
 /// Time matching: an aiding epoch within `tolerance` of an IMU sample is
 /// applied right after that sample; one strictly between two samples is
 /// applied at its own time, the INS being stepped there with a linearly
-/// interpolated IMU sample and then on to the next sample. `update` applies
-/// one epoch's measurements to the error state; feedback follows each epoch.
-/// `observe(k, state)` sees the solution at every IMU sample k (after any
-/// update at that sample).
-pub(crate) fn run<const N: usize, E, U, O>(
+/// interpolated IMU sample and then on to the next sample. `update`
+/// applies one epoch's measurements (each batch fed back when it is
+/// accepted, see [`super::batch`]); `hook` runs at every IMU sample after
+/// the updates at that sample.
+pub(crate) fn run<const N: usize, E, U, H>(
     imu: &ImuData,
     epochs: &[E],
     state: &mut FilterState<N>,
     tolerance: f64,
     mut update: U,
-    mut observe: O,
+    hook: &mut H,
 ) -> Result<()>
 where
     E: AidingEpoch,
-    U: FnMut(&mut FilterState<N>, usize, &E),
-    O: FnMut(usize, &FilterState<N>),
+    U: FnMut(&mut FilterState<N>, usize, &E) -> Result<()>,
+    H: SampleHook<N>,
 {
     let t = imu.time_s;
     let mut j = 0;
-    let mut apply = |state: &mut FilterState<N>, i: usize| -> Result<()> {
-        update(state, i, &epochs[i]);
-        state.feedback(epochs[i].time_s())
-    };
+    state.last_sample = state.corrected(&imu.sample(0));
     while j < epochs.len() && epochs[j].time_s() <= t[0] + tolerance {
-        apply(state, j)?;
+        update(state, j, &epochs[j])?;
         j += 1;
     }
-    observe(0, state);
+    hook.at_sample(0, state)?;
     for k in 0..t.len() - 1 {
         let (ta, tb) = (t[k], t[k + 1]);
         let (sa, sb) = (imu.sample(k), imu.sample(k + 1));
@@ -426,16 +390,16 @@ where
                 angular_rate_b: sa.angular_rate_b.lerp(&sb.angular_rate_b, w),
             };
             state.propagate(&s_cur, &sg, tg - t_cur, tg)?;
-            apply(state, j)?;
+            update(state, j, &epochs[j])?;
             (t_cur, s_cur) = (tg, sg);
             j += 1;
         }
         state.propagate(&s_cur, &sb, tb - t_cur, tb)?;
         while j < epochs.len() && epochs[j].time_s() <= tb + tolerance {
-            apply(state, j)?;
+            update(state, j, &epochs[j])?;
             j += 1;
         }
-        observe(k + 1, state);
+        hook.at_sample(k + 1, state)?;
     }
     Ok(())
 }
@@ -445,9 +409,9 @@ where
 pub struct Solution {
     /// IMU sample times, s.
     pub time_s: Vec<f64>,
-    /// Position r^e, m.
+    /// Position r^e of the IMU, m.
     pub position_ecef: Vec<Vector3<f64>>,
-    /// Velocity v^e, m/s.
+    /// Velocity v^e of the IMU, m/s.
     pub velocity_ecef: Vec<Vector3<f64>>,
     /// Attitude C_b^e.
     pub c_b_e: Vec<Matrix3<f64>>,
@@ -455,15 +419,15 @@ pub struct Solution {
     pub accel_bias_m_s2: Vec<Vector3<f64>>,
     /// Gyro bias estimate, rad/s.
     pub gyro_bias_rad_s: Vec<Vector3<f64>>,
-    /// Accelerometer scale-factor estimate (empty for 17 states).
+    /// Accelerometer scale-factor estimate (empty without scale-factor states).
     pub accel_scale_factor: Vec<Vector3<f64>>,
-    /// Gyro scale-factor estimate (empty for 17 states).
+    /// Gyro scale-factor estimate (empty without scale-factor states).
     pub gyro_scale_factor: Vec<Vector3<f64>>,
     /// Receiver clock offset, m.
     pub clock_offset_m: Vec<f64>,
     /// Receiver clock drift, m/s.
     pub clock_drift_m_s: Vec<f64>,
-    /// Number of error states (17 or 23).
+    /// Number of error states (17, 23, 29 or 35).
     pub n_states: usize,
     /// Diagonal of P at each sample, row-major `(len, n_states)`, in the
     /// units of [`crate::filter::state`] squared.
@@ -476,11 +440,15 @@ pub struct Solution {
     pub position_covariance_ecef: Vec<Matrix3<f64>>,
     /// Every scalar measurement: innovation, NIS, status.
     pub measurements: Vec<MeasurementRecord>,
+    /// Every batch test.
+    pub batches: Vec<BatchRecord>,
+    /// Every reset.
+    pub resets: Vec<ResetRecord>,
 }
 
 impl Solution {
     pub(crate) fn with_capacity(len: usize, n_states: usize) -> Self {
-        let sf = if n_states >= WITH_SCALE_FACTORS {
+        let sf = if Layout::of(n_states).is_some_and(|l| l.scale_factors) {
             len
         } else {
             0
@@ -502,6 +470,8 @@ impl Solution {
             velocity_covariance_ecef: Vec::with_capacity(len),
             position_covariance_ecef: Vec::with_capacity(len),
             measurements: Vec::new(),
+            batches: Vec::new(),
+            resets: Vec::new(),
         }
     }
 
@@ -512,7 +482,7 @@ impl Solution {
         self.c_b_e.push(s.nav.c_b_e);
         self.accel_bias_m_s2.push(s.accel_bias_m_s2);
         self.gyro_bias_rad_s.push(s.gyro_bias_rad_s);
-        if N >= WITH_SCALE_FACTORS {
+        if Layout::for_size::<N>().scale_factors {
             self.accel_scale_factor.push(s.accel_scale_factor);
             self.gyro_scale_factor.push(s.gyro_scale_factor);
         }
@@ -527,10 +497,17 @@ impl Solution {
         self.position_covariance_ecef.push(block(POSITION));
     }
 
+    /// Moves the filter's records into the solution at the end of a run.
+    pub(crate) fn take_records<const N: usize>(&mut self, s: &mut FilterState<N>) {
+        self.measurements = std::mem::take(&mut s.records);
+        self.batches = std::mem::take(&mut s.batches);
+        self.resets = std::mem::take(&mut s.resets);
+    }
+
     /// The measurements that were not applied.
     pub fn rejected(&self) -> impl Iterator<Item = &MeasurementRecord> {
         self.measurements
             .iter()
-            .filter(|m| m.status != MeasurementStatus::Accepted)
+            .filter(|m| m.status != super::records::MeasurementStatus::Accepted)
     }
 }

@@ -3,9 +3,11 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::engine::{ImuData, InitialState};
+use super::engine::{FilterState, ImuData, InitialState};
 use super::loose::PositionFix;
-use crate::attitude::euler_to_dcm;
+use super::records::{ResetKind, ResetRecord};
+use crate::attitude::{dcm_to_euler, euler_to_dcm};
+use crate::filter::state::ATTITUDE;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
 use crate::ins::NavState;
@@ -190,6 +192,37 @@ fn start_at_first_sample(
         velocity_ecef: *velocity_ecef,
         c_b_e,
     })
+}
+
+impl<const N: usize> FilterState<N> {
+    /// Sets the heading (yaw of the body x axis from north) to
+    /// `heading_rad`, one-sigma `std_rad`, keeping roll and pitch: the
+    /// attitude turns about the local vertical, and the heading component
+    /// of the attitude error becomes a new, independent error
+    /// ([`crate::filter::ErrorStateKf::reset_component`]). Recorded as a
+    /// [`ResetKind::Heading`] reset. For an alignment to the GNSS course at
+    /// the first motion, when the heading was unknown.
+    pub fn align_heading(&mut self, time_s: f64, heading_rad: f64, std_rad: f64) -> Result<()> {
+        validate::finite_scalars("heading", &[heading_rad])?;
+        validate::positive("heading_std", std_rad)?;
+        let geo = ecef_to_geodetic(&self.nav.position_ecef);
+        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+        let euler = dcm_to_euler(&(cne.transpose() * self.nav.c_b_e));
+        let change = (heading_rad - euler.z + std::f64::consts::PI)
+            .rem_euclid(2.0 * std::f64::consts::PI)
+            - std::f64::consts::PI;
+        self.nav.c_b_e = cne * euler_to_dcm(euler.x, euler.y, heading_rad);
+        let down_ecef = cne * Vector3::new(0.0, 0.0, 1.0);
+        self.kf
+            .reset_component(ATTITUDE, &down_ecef, std_rad * std_rad);
+        self.resets.push(ResetRecord {
+            time_s,
+            kind: ResetKind::Heading,
+            change,
+            failed_epochs: 0,
+        });
+        self.kf.check_health(time_s)
+    }
 }
 
 #[cfg(test)]

@@ -2,17 +2,22 @@
 //! §14.3.2): the common baseline, and the filter for logs without raw
 //! pseudoranges.
 //!
-//! A fix z = r + v, cov(v) = R, gives ẑ − z = δr + v. R is whitened by its
-//! Cholesky factor L (z' = L⁻¹ z) so the three components become independent
-//! unit-variance scalar updates, each gated like a pseudorange. The clock
-//! states are not observed and their process noise is switched off.
+//! A fix of the antenna z = r_a + v, cov(v) = R, gives ẑ − z = δr_a + v
+//! ([`super::antenna`] for δr_a, δv_a through the lever arm). R is whitened
+//! by its Cholesky factor L (z' = L⁻¹ z) so the three components become
+//! independent unit-variance measurements; the three are one batch, tested
+//! together ([`super::batch`]): a fix is applied whole or not at all. A
+//! velocity with a latency L is compared with the prediction moved back by
+//! L along the INS acceleration. When fixes keep failing, position
+//! (velocity) is reset to the fix. The clock states are not observed and
+//! their process noise is switched off.
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::engine::{self, FilterState, ImuData, InitialState, MeasurementKind, Solution};
+use super::batch::BatchRules;
+use super::engine::{self, FilterState, ImuData, InitialState, Observe, SampleHook, Solution};
+use super::records::MeasurementKind;
 use super::tuning::FilterTuning;
-use crate::filter::state::{POSITION, VELOCITY};
-use crate::filter::SparseRow;
 use crate::{validate, Error, Result};
 
 /// A GNSS position (and optionally velocity) fix with its covariance.
@@ -36,7 +41,17 @@ impl engine::AidingEpoch for PositionFix {
     }
 }
 
-fn whitening(argument: &str, i: usize, r: &Matrix3<f64>) -> Result<Matrix3<f64>> {
+/// A fix block's covariance as the filter uses it, and its whitening.
+#[derive(Debug, Clone, Copy)]
+struct Whitened {
+    /// R with its eigenvalues raised to at least floor² (the floor of
+    /// [`super::MeasurementFloor`] in every direction).
+    covariance: Matrix3<f64>,
+    /// L⁻¹ with L Lᵀ = the floored R.
+    l_inv: Matrix3<f64>,
+}
+
+fn whitening(argument: &str, i: usize, r: &Matrix3<f64>, floor: f64) -> Result<Whitened> {
     let bad = || {
         Error::invalid(
             argument,
@@ -46,61 +61,89 @@ fn whitening(argument: &str, i: usize, r: &Matrix3<f64>) -> Result<Matrix3<f64>>
     if !r.iter().all(|v| v.is_finite()) || (r - r.transpose()).abs().max() > 1e-9 * r.abs().max() {
         return Err(bad());
     }
-    let l = r.cholesky().ok_or_else(bad)?.l();
-    l.try_inverse().ok_or_else(bad)
+    r.cholesky().ok_or_else(bad)?;
+    let mut eig = r.symmetric_eigen();
+    eig.eigenvalues.apply(|v| *v = v.max(floor * floor));
+    let covariance = eig.recompose();
+    let l = covariance.cholesky().ok_or_else(bad)?.l();
+    Ok(Whitened {
+        covariance,
+        l_inv: l.try_inverse().ok_or_else(bad)?,
+    })
 }
 
-/// Applies the whitened components of one fix block (position or velocity).
+/// Applies the whitened components of one fix block (position or
+/// velocity) as one batch; after `reset_after_failed_epochs` failures in a
+/// row, resets the block to the fix.
 fn update_block<const N: usize>(
     s: &mut FilterState<N>,
     t: f64,
-    first_state: usize,
-    predicted_minus_measured: Vector3<f64>,
-    l_inv: &Matrix3<f64>,
     kind: MeasurementKind,
-) {
-    let y = l_inv * predicted_minus_measured;
+    measured: &Vector3<f64>,
+    w: &Whitened,
+) -> Result<()> {
+    let antenna = s.antenna();
+    let predicted = match kind {
+        MeasurementKind::Position => antenna.position_ecef,
+        _ => antenna.velocity_ecef - s.tuning.velocity_latency_s * s.acceleration_ecef(),
+    };
+    let y = w.l_inv * (predicted - measured);
     for i in 0..3u16 {
-        let row = i as usize;
-        let meta = (t, i, kind);
-        if !y[row].is_finite() {
-            s.reject_invalid(meta);
-            continue;
-        }
-        let mut entries = [(0, 0.0); 3];
-        for (j, e) in entries.iter_mut().enumerate().take(row + 1) {
-            *e = (first_state + j, l_inv[(row, j)]);
-        }
-        s.scalar(&SparseRow::new(&entries[..=row]), y[row], 1.0, meta);
+        let row = w.l_inv.row(i as usize).transpose();
+        let h = match kind {
+            MeasurementKind::Position => antenna.position_row(&row),
+            _ => antenna.velocity_row(&row),
+        };
+        s.stage(t, kind, i, h, y[i as usize], 1.0);
     }
+    let rules = BatchRules {
+        exclusion: false,
+        common_mode: None,
+    };
+    if !s.apply_staged(t, kind, rules)? && s.reset_due(kind) {
+        match kind {
+            MeasurementKind::Position => s.reset_position(t, kind, measured, &w.covariance)?,
+            _ => s.reset_velocity(t, kind, measured, &w.covariance)?,
+        }
+    }
+    Ok(())
 }
 
-/// Runs the loosely coupled filter; `observe(k, state)` sees the state after
-/// IMU sample k. Returns the measurement records.
-pub fn run_loosely_coupled<const N: usize, O>(
+/// Runs the loosely coupled filter, calling `hook` at every IMU sample;
+/// returns the final filter state (its records).
+pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     imu: &ImuData,
     fixes: &[PositionFix],
     initial: &InitialState,
     tuning: &FilterTuning,
-    observe: O,
-) -> Result<Vec<super::MeasurementRecord>>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
+    hook: &mut H,
+) -> Result<FilterState<N>> {
     imu.validate()?;
     engine::validate_epoch_times("fixes", fixes, imu.time_s, tuning.time_tolerance_s)?;
+    tuning.validate()?;
+    let floor = &tuning.floor;
     let mut whiten = Vec::with_capacity(fixes.len());
     for (i, f) in fixes.iter().enumerate() {
+        validate::finite_vectors("fixes.position_ecef", &[f.position_ecef])
+            .map_err(|_| Error::invalid("fixes", format!("fix {i}: position is not finite")))?;
         let lv = match f.velocity_ecef {
             Some(v) => {
                 validate::finite_vectors("fixes.velocity_ecef", &[v]).map_err(|_| {
                     Error::invalid("fixes", format!("fix {i}: velocity is not finite"))
                 })?;
-                whitening("fixes", i, &f.velocity_covariance)?
+                Some(whitening(
+                    "fixes",
+                    i,
+                    &f.velocity_covariance,
+                    floor.velocity_m_s,
+                )?)
             }
-            None => Matrix3::zeros(),
+            None => None,
         };
-        whiten.push((whitening("fixes", i, &f.position_covariance)?, lv));
+        whiten.push((
+            whitening("fixes", i, &f.position_covariance, floor.position_m)?,
+            lv,
+        ));
     }
     let mut tuning = *tuning;
     tuning.process_noise.clock_phase_psd = 0.0;
@@ -115,29 +158,31 @@ where
         &mut state,
         tuning.time_tolerance_s,
         |s, i, f: &PositionFix| {
-            let (lp, lv) = &whiten[i];
-            update_block(
-                s,
-                f.time_s,
-                POSITION,
-                s.nav.position_ecef - f.position_ecef,
-                lp,
-                MeasurementKind::Position,
-            );
-            if let Some(v) = f.velocity_ecef {
-                update_block(
-                    s,
-                    f.time_s,
-                    VELOCITY,
-                    s.nav.velocity_ecef - v,
-                    lv,
-                    MeasurementKind::Velocity,
-                );
+            let (wp, wv) = &whiten[i];
+            update_block(s, f.time_s, MeasurementKind::Position, &f.position_ecef, wp)?;
+            if let (Some(v), Some(wv)) = (f.velocity_ecef, wv) {
+                update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv)?;
             }
+            Ok(())
         },
-        observe,
+        hook,
     )?;
-    Ok(state.records)
+    Ok(state)
+}
+
+/// Runs the loosely coupled filter; `observe(k, state)` sees the state after
+/// IMU sample k. Returns the measurement records.
+pub fn run_loosely_coupled<const N: usize, O>(
+    imu: &ImuData,
+    fixes: &[PositionFix],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    observe: O,
+) -> Result<Vec<super::MeasurementRecord>>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    Ok(run_with_hook(imu, fixes, initial, tuning, &mut Observe(observe))?.records)
 }
 
 /// The loosely coupled filter's whole solution at every IMU sample.
@@ -148,9 +193,13 @@ pub fn loosely_coupled<const N: usize>(
     tuning: &FilterTuning,
 ) -> Result<Solution> {
     let mut sol = Solution::with_capacity(imu.time_s.len(), N);
-    let records = run_loosely_coupled::<N, _>(imu, fixes, initial, tuning, |k, s| {
-        sol.push(imu.time_s[k], s)
-    })?;
-    sol.measurements = records;
+    let mut state = run_with_hook::<N, _>(
+        imu,
+        fixes,
+        initial,
+        tuning,
+        &mut Observe(|k, s: &FilterState<N>| sol.push(imu.time_s[k], s)),
+    )?;
+    sol.take_records(&mut state);
     Ok(sol)
 }

@@ -49,19 +49,27 @@
 //! honest (NIS near 1) on raw MEMS data at the price of a looser solution;
 //! calibration and inversion (method §3-4) remove these errors instead.
 
+mod aids;
+mod antenna;
+mod batch;
 mod engine;
 mod init;
 mod loose;
 mod ned;
+mod range_bias;
+mod records;
 mod tight;
 mod tuning;
 
-pub use engine::{
-    AidingEpoch, FilterState, ImuData, InitialState, MeasurementKind, MeasurementRecord,
-    MeasurementStatus, Solution,
-};
+pub use engine::{AidingEpoch, FilterState, ImuData, InitialState, Solution};
 pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix};
 pub use loose::{loosely_coupled, run_loosely_coupled, PositionFix};
 pub use ned::covariance_ned;
+pub use records::{
+    BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
+};
 pub use tight::{run_tightly_coupled, tightly_coupled};
-pub use tuning::{BiasProcess, Dynamics, FilterTuning, InitialUncertainty, UnmodelledErrors};
+pub use tuning::{
+    BiasProcess, Dynamics, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel,
+    Recovery, UnmodelledErrors,
+};

@@ -1,27 +1,35 @@
 //! Tightly coupled GNSS/INS: pseudorange and pseudorange-rate updates per
 //! satellite (method §5; Groves §14.3.3).
 //!
-//! Measurement model (errors = estimate − truth, u = line of sight from
-//! the receiver to the satellite):
+//! Measurement model at the antenna (errors = estimate − truth, u = line of
+//! sight from the receiver to the satellite, [`super::antenna`] for δr_a
+//! and δv_a):
 //!
 //! ```text
-//! ρ̂ − ρ  = −u · δr + δc + v_ρ           ρ̂ = range(r̂, v̂) + ĉ (Sagnac, light time)
-//! ρ̂̇ − ρ̇  = −u · δv + δċ + v_ρ̇
+//! ρ̂ − ρ  = −u · δr_a + δc + δb_ρ + v_ρ      ρ̂ = range(r̂_a, v̂_a) + ĉ + b̂_ρ
+//! ρ̂̇ − ρ̇  = −u · δv_a + δċ + v_ρ̇
 //! ```
 //!
-//! The range-rate row neglects the line-of-sight change with position
-//! (|v_sat − v| / ρ ≈ 2e-4 per metre of position error), as Groves eq. 14.127
-//! does. Each satellite is a scalar update, so any number of satellites —
-//! fewer than four included — refines the solution; with none the INS
-//! coasts on its propagated covariance.
+//! (Sagnac and light time in [`crate::gnss::predicted_range`]; b_ρ the
+//! satellite's range bias when the filter has range-bias states.) The
+//! range-rate row neglects the line-of-sight change with position
+//! (|v_sat − v| / ρ ≈ 2e-4 per metre of position error), as Groves eq.
+//! 14.127 does. An epoch's pseudoranges are one batch and its rates
+//! another ([`super::batch`]): tested together, a faulty satellite
+//! excluded, a receiver clock jump moved into the clock; any number of
+//! satellites (fewer than four included) refines the solution, and with
+//! none the INS coasts. When the pseudoranges keep failing, the filter
+//! resets to the epoch's least-squares fix (position, velocity, clock), or
+//! opens its covariance when the epoch has fewer than four satellites.
 
-use nalgebra::Vector3;
+use nalgebra::Matrix3;
 
-use super::engine::{self, FilterState, ImuData, InitialState, MeasurementKind, Solution};
+use super::batch::{median, BatchRules, CommonMode};
+use super::engine::{self, FilterState, ImuData, InitialState, Observe, SampleHook, Solution};
+use super::records::MeasurementKind;
 use super::tuning::FilterTuning;
-use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY};
-use crate::filter::SparseRow;
-use crate::gnss::{self, GnssEpoch, SatelliteMeasurement};
+use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET};
+use crate::gnss::{self, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::Result;
 
 impl engine::AidingEpoch for GnssEpoch {
@@ -30,145 +38,204 @@ impl engine::AidingEpoch for GnssEpoch {
     }
 }
 
-fn finite3(v: &Vector3<f64>) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
 fn satellite_usable(m: &SatelliteMeasurement) -> bool {
-    finite3(&m.position_ecef) && finite3(&m.velocity_ecef) && m.position_ecef.norm() > 1.0e7
-}
-
-fn median(values: &mut [f64]) -> Option<f64> {
-    if values.is_empty() {
-        return None;
-    }
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    Some(if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    })
+    m.position_ecef.iter().all(|x| x.is_finite())
+        && m.velocity_ecef.iter().all(|x| x.is_finite())
+        && m.position_ecef.norm() > 1.0e7
 }
 
 /// Sets an unknown clock offset (drift) to the median residual of this
-/// epoch's finite pseudoranges (rates), so the gate starts from a sane
-/// prediction. At most 64 satellites are used.
+/// epoch's finite pseudoranges (rates), so the test starts from a sane
+/// prediction.
 fn initialise_clock<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch, use_rate: bool) {
-    let mut range = [0.0; 64];
-    let mut rate = [0.0; 64];
-    let (mut nr, mut nd) = (0, 0);
-    for m in epoch
-        .measurements
-        .iter()
-        .filter(|m| satellite_usable(m))
-        .take(64)
-    {
+    let antenna = s.antenna();
+    let residual = |m: &SatelliteMeasurement| {
         let p = gnss::predicted_range(
             &m.position_ecef,
             &m.velocity_ecef,
-            &s.nav.position_ecef,
-            &s.nav.velocity_ecef,
+            &antenna.position_ecef,
+            &antenna.velocity_ecef,
         );
-        let r = m.pseudorange_m - p.range_m;
-        if r.is_finite() {
-            range[nr] = r;
-            nr += 1;
-        }
-        let d = m.pseudorange_rate_m_s - p.range_rate_m_s;
-        if d.is_finite() {
-            rate[nd] = d;
-            nd += 1;
-        }
+        (
+            m.pseudorange_m - p.range_m,
+            m.pseudorange_rate_m_s - p.range_rate_m_s,
+        )
+    };
+    let usable = epoch.measurements.iter().filter(|m| satellite_usable(m));
+    let mut range: Vec<f64> = usable
+        .clone()
+        .map(|m| residual(m).0)
+        .filter(|r| r.is_finite())
+        .collect();
+    let mut rate: Vec<f64> = usable
+        .map(|m| residual(m).1)
+        .filter(|r| r.is_finite())
+        .collect();
+    if !s.clock_known.0 && !range.is_empty() {
+        s.clock_offset_m = median(&mut range);
+        s.clock_known.0 = true;
     }
-    if !s.clock_known.0 {
-        if let Some(c) = median(&mut range[..nr]) {
-            s.clock_offset_m = c;
-            s.clock_known.0 = true;
-        }
-    }
-    if !s.clock_known.1 && use_rate {
-        if let Some(d) = median(&mut rate[..nd]) {
-            s.clock_drift_m_s = d;
-            s.clock_known.1 = true;
-        }
+    if !s.clock_known.1 && use_rate && !rate.is_empty() {
+        s.clock_drift_m_s = median(&mut rate);
+        s.clock_known.1 = true;
     }
 }
 
-/// Applies one GNSS epoch: every pseudorange, then every pseudorange rate.
+/// Applies one GNSS epoch: the pseudoranges as one batch, then the rates.
 pub(crate) fn update_epoch<const N: usize>(
     s: &mut FilterState<N>,
     epoch: &GnssEpoch,
     use_rate: bool,
-) {
+) -> Result<()> {
     if !(s.clock_known.0 && (s.clock_known.1 || !use_rate)) {
         initialise_clock(s, epoch, use_rate);
     }
     let t = epoch.time_s;
-    let predictions = |s: &FilterState<N>, m: &SatelliteMeasurement| {
-        gnss::predicted_range(
-            &m.position_ecef,
-            &m.velocity_ecef,
-            &s.nav.position_ecef,
-            &s.nav.velocity_ecef,
-        )
+    let rules = |mode| BatchRules {
+        exclusion: true,
+        common_mode: Some(mode),
     };
+    let kind = MeasurementKind::Pseudorange;
+    let antenna = s.antenna();
     for m in &epoch.measurements {
-        let meta = (t, m.sat_id, MeasurementKind::Pseudorange);
         if !satellite_usable(m) || !m.pseudorange_m.is_finite() {
-            s.reject_invalid(meta);
+            s.reject_invalid(t, kind, m.sat_id);
             continue;
         }
-        let p = predictions(s, m);
-        let u = p.line_of_sight_ecef;
-        let h = SparseRow::new(&[
-            (POSITION, -u.x),
-            (POSITION + 1, -u.y),
-            (POSITION + 2, -u.z),
-            (CLOCK_OFFSET, 1.0),
-        ]);
-        let y = p.range_m + s.clock_offset_m - m.pseudorange_m;
-        s.scalar(&h, y, m.pseudorange_std_m.powi(2), meta);
+        let p = gnss::predicted_range(
+            &m.position_ecef,
+            &m.velocity_ecef,
+            &antenna.position_ecef,
+            &antenna.velocity_ecef,
+        );
+        let mut h = antenna.position_row(&(-p.line_of_sight_ecef));
+        h.push(CLOCK_OFFSET, 1.0);
+        let mut y = p.range_m + s.clock_offset_m - m.pseudorange_m;
+        let mut std = m.pseudorange_std_m;
+        match s.range_bias_state(m.sat_id, t) {
+            Some((i, bias)) => {
+                h.push(i, 1.0);
+                y += bias;
+            }
+            None if crate::filter::Layout::for_size::<N>().range_bias.is_some() => {
+                std = std.hypot(s.tuning.initial_std.range_bias_m);
+            }
+            None => {}
+        }
+        s.stage(t, kind, m.sat_id, h, y, std);
+    }
+    if !s.apply_staged(t, kind, rules(CommonMode::ClockOffset))? && s.reset_due(kind) {
+        recover(s, epoch, use_rate)?;
     }
     if !use_rate {
-        return;
+        return Ok(());
     }
+    let kind = MeasurementKind::PseudorangeRate;
+    let antenna = s.antenna();
     for m in &epoch.measurements {
-        let meta = (t, m.sat_id, MeasurementKind::PseudorangeRate);
         // A rate with no usable std is absent (not every receiver gives one).
         if !(m.pseudorange_rate_std_m_s.is_finite() && m.pseudorange_rate_std_m_s > 0.0) {
             continue;
         }
         if !satellite_usable(m) || !m.pseudorange_rate_m_s.is_finite() {
-            s.reject_invalid(meta);
+            s.reject_invalid(t, kind, m.sat_id);
             continue;
         }
-        let p = predictions(s, m);
-        let u = p.line_of_sight_ecef;
-        let h = SparseRow::new(&[
-            (VELOCITY, -u.x),
-            (VELOCITY + 1, -u.y),
-            (VELOCITY + 2, -u.z),
-            (CLOCK_DRIFT, 1.0),
-        ]);
+        let p = gnss::predicted_range(
+            &m.position_ecef,
+            &m.velocity_ecef,
+            &antenna.position_ecef,
+            &antenna.velocity_ecef,
+        );
+        let mut h = antenna.velocity_row(&(-p.line_of_sight_ecef));
+        h.push(CLOCK_DRIFT, 1.0);
         let y = p.range_rate_m_s + s.clock_drift_m_s - m.pseudorange_rate_m_s;
-        s.scalar(&h, y, m.pseudorange_rate_std_m_s.powi(2), meta);
+        s.stage(t, kind, m.sat_id, h, y, m.pseudorange_rate_std_m_s);
+    }
+    if !s.apply_staged(t, kind, rules(CommonMode::ClockDrift))? && s.reset_due(kind) {
+        recover_velocity(s, epoch)?;
+    }
+    Ok(())
+}
+
+/// The epoch's satellites with finite pseudorange and satellite state.
+fn usable_epoch(epoch: &GnssEpoch) -> GnssEpoch {
+    GnssEpoch {
+        time_s: epoch.time_s,
+        measurements: epoch
+            .measurements
+            .iter()
+            .filter(|m| satellite_usable(m) && m.pseudorange_m.is_finite())
+            .copied()
+            .collect(),
     }
 }
 
-/// Runs the tightly coupled filter with `N` error states (17, or 23 with
-/// scale factors) over the IMU series and GNSS epochs; `observe(k, state)`
-/// sees the state after IMU sample k. Returns the measurement records.
-pub fn run_tightly_coupled<const N: usize, O>(
+/// The pseudoranges kept failing: reset position, clock (and velocity and
+/// drift from the rates, when the fix has them) to the epoch's
+/// least-squares fix; with fewer than four satellites, or a fix that cannot
+/// be solved, inflate the covariance instead.
+fn recover<const N: usize>(
+    s: &mut FilterState<N>,
+    epoch: &GnssEpoch,
+    use_rate: bool,
+) -> Result<()> {
+    let kind = MeasurementKind::Pseudorange;
+    let usable = usable_epoch(epoch);
+    let fix = if usable.measurements.len() >= 4 {
+        solve_fix(&usable, Some(s.antenna().position_ecef)).ok()
+    } else {
+        None
+    };
+    let Some(fix) = fix.filter(|f| f.position_ecef.iter().all(|v| v.is_finite())) else {
+        // Open the covariance by the factor the epoch missed its test by,
+        // four times over, so its next epoch can pass.
+        let factor = 4.0 * s.last_failure_ratio(kind).max(1.0);
+        return s.inflate(epoch.time_s, kind, factor);
+    };
+    let pc = fix.position_clock_covariance;
+    let position_cov: Matrix3<f64> = pc.fixed_view::<3, 3>(0, 0).into();
+    let drift = (use_rate && fix.velocity_ecef.iter().all(|v| v.is_finite()))
+        .then(|| (fix.clock_drift_m_s, fix.velocity_drift_covariance[(3, 3)]));
+    s.reset_clock(fix.clock_offset_m, pc[(3, 3)], drift);
+    if drift.is_some() {
+        let vd = fix.velocity_drift_covariance;
+        let velocity_cov: Matrix3<f64> = vd.fixed_view::<3, 3>(0, 0).into();
+        s.reset_velocity(epoch.time_s, kind, &fix.velocity_ecef, &velocity_cov)?;
+    }
+    s.reset_position(epoch.time_s, kind, &fix.position_ecef, &position_cov)
+}
+
+/// The rates kept failing: reset velocity and clock drift to the epoch's
+/// Doppler velocity when a fix gives one.
+fn recover_velocity<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -> Result<()> {
+    let kind = MeasurementKind::PseudorangeRate;
+    let usable = usable_epoch(epoch);
+    let fix = (usable.measurements.len() >= 4)
+        .then(|| solve_fix(&usable, Some(s.antenna().position_ecef)).ok())
+        .flatten()
+        .filter(|f| f.velocity_ecef.iter().all(|v| v.is_finite()));
+    let Some(fix) = fix else {
+        let factor = 4.0 * s.last_failure_ratio(kind).max(1.0);
+        return s.inflate(epoch.time_s, kind, factor);
+    };
+    let vd = fix.velocity_drift_covariance;
+    s.clock_drift_m_s = fix.clock_drift_m_s;
+    s.kf.reset_block::<1>(CLOCK_DRIFT, &nalgebra::Matrix1::new(vd[(3, 3)]));
+    let velocity_cov: Matrix3<f64> = vd.fixed_view::<3, 3>(0, 0).into();
+    s.reset_velocity(epoch.time_s, kind, &fix.velocity_ecef, &velocity_cov)
+}
+
+/// Runs the tightly coupled filter with `N` error states over the IMU
+/// series and GNSS epochs, calling `hook` at every IMU sample; returns the
+/// final filter state (its records: measurements, batches, resets).
+pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     imu: &ImuData,
     gnss: &[GnssEpoch],
     initial: &InitialState,
     tuning: &FilterTuning,
-    observe: O,
-) -> Result<Vec<super::MeasurementRecord>>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
+    hook: &mut H,
+) -> Result<FilterState<N>> {
     imu.validate()?;
     engine::validate_epoch_times("gnss", gnss, imu.time_s, tuning.time_tolerance_s)?;
     let mut state = FilterState::<N>::new(initial, tuning)?;
@@ -179,9 +246,25 @@ where
         &mut state,
         tuning.time_tolerance_s,
         |s, _, e| update_epoch(s, e, use_rate),
-        observe,
+        hook,
     )?;
-    Ok(state.records)
+    Ok(state)
+}
+
+/// Runs the tightly coupled filter with `N` error states (17, 23, 29 or
+/// 35) over the IMU series and GNSS epochs; `observe(k, state)` sees the
+/// state after IMU sample k. Returns the measurement records.
+pub fn run_tightly_coupled<const N: usize, O>(
+    imu: &ImuData,
+    gnss: &[GnssEpoch],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    observe: O,
+) -> Result<Vec<super::MeasurementRecord>>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    Ok(run_with_hook(imu, gnss, initial, tuning, &mut Observe(observe))?.records)
 }
 
 /// The tightly coupled filter's whole solution at every IMU sample.
@@ -192,9 +275,13 @@ pub fn tightly_coupled<const N: usize>(
     tuning: &FilterTuning,
 ) -> Result<Solution> {
     let mut sol = Solution::with_capacity(imu.time_s.len(), N);
-    let records = run_tightly_coupled::<N, _>(imu, gnss, initial, tuning, |k, s| {
-        sol.push(imu.time_s[k], s)
-    })?;
-    sol.measurements = records;
+    let mut state = run_with_hook::<N, _>(
+        imu,
+        gnss,
+        initial,
+        tuning,
+        &mut Observe(|k, s: &FilterState<N>| sol.push(imu.time_s[k], s)),
+    )?;
+    sol.take_records(&mut state);
     Ok(sol)
 }

@@ -35,6 +35,9 @@ pub struct InitialUncertainty {
     pub accel_scale_factor: f64,
     /// Gyro scale-factor error (23-state filters only).
     pub gyro_scale_factor: f64,
+    /// Each satellite's pseudorange bias when it enters a range-bias slot,
+    /// m (filters with range-bias states only).
+    pub range_bias_m: f64,
 }
 
 impl Default for InitialUncertainty {
@@ -49,7 +52,114 @@ impl Default for InitialUncertainty {
             clock_drift_m_s: 10.0,
             accel_scale_factor: 1e-3,
             gyro_scale_factor: 1e-3,
+            range_bias_m: RangeBiasModel::default().std_m,
         }
+    }
+}
+
+/// The smallest measurement standard deviations the filter believes.
+///
+/// A receiver's formal stds can be far smaller than the errors of the
+/// model that uses them (lever arm, time tags, an antenna phase centre, the
+/// INS between epochs): an RTK solution reports 5 mm on fixed epochs that
+/// the data's authors state good to 1-2 cm. A measurement whose std is
+/// below its floor is used with the floor instead, so a few millimetres of
+/// model error cannot lock the filter out (ArduPilot EKF3 and PX4 EKF2
+/// floor their GNSS noise the same way).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasurementFloor {
+    /// Pseudorange, m. Default 0.5 m (code multipath of a good antenna).
+    pub pseudorange_m: f64,
+    /// Pseudorange rate, m/s. Default 0.02 m/s.
+    pub pseudorange_rate_m_s: f64,
+    /// Position fix, m per axis. Default 0.02 m (the accuracy RTK fixed
+    /// solutions are quoted to).
+    pub position_m: f64,
+    /// Velocity fix, m/s per axis. Default 0.02 m/s.
+    pub velocity_m_s: f64,
+}
+
+impl Default for MeasurementFloor {
+    fn default() -> Self {
+        Self {
+            pseudorange_m: 0.5,
+            pseudorange_rate_m_s: 0.02,
+            position_m: 0.02,
+            velocity_m_s: 0.02,
+        }
+    }
+}
+
+/// How the filter recovers when measurements keep failing their test.
+///
+/// A batch that fails is first tried without its worst measurements (fault
+/// exclusion, for satellites); a pseudorange batch whose innovations share
+/// one large common part is a receiver clock jump and is moved into the
+/// clock. When a kind of measurement still fails at
+/// `reset_after_failed_epochs` consecutive epochs, the filter trusts the
+/// measurements over itself: position (velocity, clock) is reset to the
+/// epoch's fix with the fix's covariance, or, with too few satellites for
+/// a fix, the position, velocity and clock covariance is inflated until
+/// the epoch passes. Every such event is a [`super::ResetRecord`].
+/// (ArduPilot EKF3 resets its position to GNSS after its innovation checks
+/// fail for a timeout; PX4 EKF2 after a fusion timeout.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Recovery {
+    /// Consecutive failed epochs before a reset. Default 3 (0.75 s of 4 Hz
+    /// fixes, 3 s at 1 Hz: one outlier never resets the filter, a
+    /// persistent disagreement soon does).
+    pub reset_after_failed_epochs: usize,
+    /// A common part of all pseudorange (rate) innovations beyond this many
+    /// of its predicted std is a clock (drift) jump. Default 10.
+    pub clock_jump_sigma: f64,
+    /// At most this share of a batch's measurements is excluded. Default
+    /// 1/3 (one of 3-5 satellites, two of 6-8).
+    pub max_excluded_share: f64,
+}
+
+impl Default for Recovery {
+    fn default() -> Self {
+        Self {
+            reset_after_failed_epochs: 3,
+            clock_jump_sigma: 10.0,
+            max_excluded_share: 1.0 / 3.0,
+        }
+    }
+}
+
+/// The per-satellite pseudorange bias of a filter with range-bias states:
+/// a first-order Gauss-Markov process of steady-state std `std_m` and
+/// correlation time `correlation_time_s` for the slowly varying errors a
+/// code measurement carries (multipath of a slowly moving antenna, the
+/// residual of the ionosphere and troposphere models, orbit and clock
+/// errors of the broadcast ephemeris): treating them as white noise lets
+/// the filter average them away and become overconfident.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RangeBiasModel {
+    /// Steady-state std, m. Default 3 m: the broadcast signal-in-space
+    /// error (≈ 1 m), half a Klobuchar-corrected ionospheric delay (2-5 m
+    /// at mid-latitudes, Klobuchar 1987) and near-static multipath of a
+    /// few metres, in quadrature.
+    pub std_m: f64,
+    /// Correlation time, s. Default 600 s: ionospheric and ephemeris
+    /// errors change over tens of minutes, multipath of a walking antenna
+    /// over tens of seconds to minutes.
+    pub correlation_time_s: f64,
+}
+
+impl Default for RangeBiasModel {
+    fn default() -> Self {
+        Self {
+            std_m: 3.0,
+            correlation_time_s: 600.0,
+        }
+    }
+}
+
+impl RangeBiasModel {
+    /// Driving-noise PSD 2σ²/τ, m²/s.
+    pub fn psd(&self) -> f64 {
+        2.0 * self.std_m.powi(2) / self.correlation_time_s
     }
 }
 
@@ -120,6 +230,18 @@ pub struct FilterTuning {
     /// that sample; otherwise the INS is propagated to the GNSS time with an
     /// interpolated IMU sample. Default 1e-4 s.
     pub time_tolerance_s: f64,
+    /// Floors on the measurement stds.
+    pub floor: MeasurementFloor,
+    /// Fault exclusion, clock jumps and resets.
+    pub recovery: Recovery,
+    /// GNSS antenna relative to the IMU, body axes (forward, right, down), m:
+    /// the measurements are modelled at the antenna (Groves eq. 14.121 and
+    /// 14.127 with the lever arm). Default zero.
+    pub antenna_lever_arm_b_m: Vector3<f64>,
+    /// Latency of a position fix's velocity, s: the velocity given at t is
+    /// the antenna's velocity at t − latency (receivers that difference
+    /// positions or carrier phases report a mid-interval velocity). Default 0.
+    pub velocity_latency_s: f64,
 }
 
 impl FilterTuning {
@@ -159,11 +281,17 @@ impl FilterTuning {
                 clock_frequency_psd: 0.04,
                 accel_scale_factor_psd: 0.0,
                 gyro_scale_factor_psd: 0.0,
+                range_bias_psd: RangeBiasModel::default().psd(),
+                range_bias_correlation_time_s: RangeBiasModel::default().correlation_time_s,
             },
             initial_std,
             gate_probability: 0.999,
             use_pseudorange_rate: true,
             time_tolerance_s: 1e-4,
+            floor: MeasurementFloor::default(),
+            recovery: Recovery::default(),
+            antenna_lever_arm_b_m: Vector3::zeros(),
+            velocity_latency_s: 0.0,
         }
         .floor_noise())
     }
@@ -230,6 +358,7 @@ impl FilterTuning {
             ("clock_frequency_psd", q.clock_frequency_psd),
             ("accel_scale_factor_psd", q.accel_scale_factor_psd),
             ("gyro_scale_factor_psd", q.gyro_scale_factor_psd),
+            ("range_bias_psd", q.range_bias_psd),
         ] {
             validate::non_negative(name, v)?;
         }
@@ -239,6 +368,10 @@ impl FilterTuning {
                 q.accel_bias_correlation_time_s,
             ),
             ("gyro_bias_correlation_time", q.gyro_bias_correlation_time_s),
+            (
+                "range_bias_correlation_time",
+                q.range_bias_correlation_time_s,
+            ),
         ] {
             if v.is_nan() || v <= 0.0 {
                 return Err(Error::invalid(
@@ -258,9 +391,35 @@ impl FilterTuning {
             ("initial_clock_drift_std", i.clock_drift_m_s),
             ("initial_accel_scale_factor_std", i.accel_scale_factor),
             ("initial_gyro_scale_factor_std", i.gyro_scale_factor),
+            ("initial_range_bias_std", i.range_bias_m),
         ] {
             validate::positive(name, v)?;
         }
+        let f = &self.floor;
+        for (name, v) in [
+            ("pseudorange_std_floor", f.pseudorange_m),
+            ("pseudorange_rate_std_floor", f.pseudorange_rate_m_s),
+            ("position_std_floor", f.position_m),
+            ("velocity_std_floor", f.velocity_m_s),
+        ] {
+            validate::non_negative(name, v)?;
+        }
+        let r = &self.recovery;
+        if r.reset_after_failed_epochs == 0 {
+            return Err(Error::invalid(
+                "reset_after_failed_epochs",
+                "must be at least 1",
+            ));
+        }
+        validate::positive("clock_jump_sigma", r.clock_jump_sigma)?;
+        if !(0.0..1.0).contains(&r.max_excluded_share) {
+            return Err(Error::invalid(
+                "max_excluded_share",
+                format!("must be in [0, 1), got {}", r.max_excluded_share),
+            ));
+        }
+        validate::finite_vectors("antenna_lever_arm", &[self.antenna_lever_arm_b_m])?;
+        validate::finite_scalars("velocity_latency", &[self.velocity_latency_s])?;
         if !(self.gate_probability > 0.0 && self.gate_probability <= 1.0) {
             return Err(Error::invalid(
                 "gate_probability",

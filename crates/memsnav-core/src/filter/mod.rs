@@ -17,18 +17,29 @@
 //!
 //! The filters are generic over the state size `N`: [`state::BASE_STATES`]
 //! (17: attitude, velocity, position, accelerometer bias, gyro bias, clock
-//! offset and drift) or [`state::WITH_SCALE_FACTORS`] (23: plus accelerometer
-//! and gyro scale-factor errors). Everything is fixed-size nalgebra, so no
-//! per-epoch allocation happens.
+//! offset and drift), [`state::WITH_SCALE_FACTORS`] (23: plus accelerometer
+//! and gyro scale-factor errors), and either with [`state::RANGE_BIAS_SLOTS`]
+//! per-satellite pseudorange biases (29, 35); [`state::Layout`] says which.
+//! Everything is fixed-size nalgebra, so no per-epoch allocation happens.
+//!
+//! ## Measurements in batches
+//!
+//! The measurements of one epoch (a fix, a satellite set, a zero-velocity
+//! update) are tested together: they are applied one by one to a copy of
+//! the filter, and the sum of their NIS — the batch νᵀ S⁻¹ ν — is compared
+//! with a chi-square quantile of as many degrees of freedom; the copy is
+//! kept only when the batch passes ([`ErrorStateKf::update_batch`]). A fix
+//! is never half accepted.
 
 pub mod chi_square;
 mod propagation;
+mod reset;
 pub mod state;
 mod update;
 
 pub use propagation::{system_matrix, ProcessNoise, SystemInputs};
-pub use state::{ErrorState, StateLayout};
-pub use update::{ScalarOutcome, SparseRow};
+pub use state::{ErrorState, Layout, StateLayout};
+pub use update::{BatchOutcome, ScalarMeasurement, ScalarOutcome, SparseRow, MAX_ROW_ENTRIES};
 
 use nalgebra::SMatrix;
 
@@ -56,7 +67,7 @@ impl<const N: usize> ErrorStateKf<N> {
     /// A filter with zero error state and covariance `p0` (checked for
     /// finiteness, symmetry and positive definiteness).
     pub fn new(p0: SMatrix<f64, N, N>) -> Result<Self> {
-        const { assert!(N == state::BASE_STATES || N == state::WITH_SCALE_FACTORS) };
+        const { Layout::for_size::<N>() };
         if !p0.iter().all(|v| v.is_finite()) {
             return Err(Error::invalid(
                 "initial_covariance",
@@ -124,6 +135,40 @@ impl<const N: usize> ErrorStateKf<N> {
         update::scalar_joseph(&mut self.x.0, &mut self.p, h, y, variance, gate)
     }
 
+    /// Tests `measurements` (those with `active[i]`) as one batch: applies
+    /// them sequentially, ungated, to a copy of the filter and keeps the
+    /// copy when the batch NIS (see [`update::sequential`]'s note) is at
+    /// most `threshold` (a chi-square quantile for as many degrees of
+    /// freedom as active measurements; `f64::INFINITY` accepts any finite
+    /// batch). Each measurement's outcome is written to `outcomes`, its
+    /// `accepted` flag saying whether it was applied.
+    pub fn update_batch(
+        &mut self,
+        measurements: &[ScalarMeasurement],
+        active: &[bool],
+        threshold: f64,
+        outcomes: &mut [ScalarOutcome],
+    ) -> BatchOutcome {
+        let (mut x, mut p) = (self.x.0, self.p);
+        let nis = update::sequential(&mut x, &mut p, measurements, active, outcomes);
+        let dof = active.iter().filter(|a| **a).count();
+        let accepted = dof > 0 && nis.is_finite() && nis <= threshold;
+        if accepted {
+            (self.x.0, self.p) = (x, p);
+        }
+        for (o, &on) in outcomes.iter_mut().zip(active) {
+            o.accepted = accepted && on;
+        }
+        BatchOutcome { nis, dof, accepted }
+    }
+
+    /// The innovation y − h x of `m` against the current state and its
+    /// predicted variance h P hᵀ + r (before any update).
+    pub fn innovation(&self, m: &ScalarMeasurement) -> (f64, f64) {
+        let u = m.h.times(&self.p);
+        (m.y - m.h.dot(&self.x.0), m.h.dot(&u) + m.variance)
+    }
+
     /// The full check: finite state, finite positive diagonal and a Cholesky
     /// factorisation of P; symmetrises P on the way.
     pub fn check_health(&mut self, time_s: f64) -> Result<()> {
@@ -152,7 +197,7 @@ impl<const N: usize> ErrorStateKf<N> {
         if let Some(i) = (0..N).find(|&i| !self.x.0[i].is_finite()) {
             return Err(Error::Divergence {
                 time_s,
-                reason: format!("error state {} is not finite", StateLayout::name(i)),
+                reason: format!("error state {} is not finite", StateLayout::name_in(N, i)),
             });
         }
         if let Some(i) = (0..N).find(|&i| !(self.p[(i, i)] > 0.0 && self.p[(i, i)].is_finite())) {
@@ -160,7 +205,7 @@ impl<const N: usize> ErrorStateKf<N> {
                 time_s,
                 reason: format!(
                     "variance of {} is {} (not finite and positive)",
-                    StateLayout::name(i),
+                    StateLayout::name_in(N, i),
                     self.p[(i, i)]
                 ),
             });
@@ -214,6 +259,8 @@ mod tests {
             clock_frequency_psd: 0.04,
             accel_scale_factor_psd: 0.0,
             gyro_scale_factor_psd: 0.0,
+            range_bias_psd: 0.0,
+            range_bias_correlation_time_s: f64::INFINITY,
         };
         let other = ProcessNoise {
             accel_bias_correlation_time_s: 5.0,

@@ -12,6 +12,7 @@
 //! δṙ = δv
 //! δḃ = −δb / τ + w_b        (τ = ∞: random walk)
 //! δċ = δd,  δḋ = w_d       (receiver clock, two-state model)
+//! δḃ_ρ = −δb_ρ / τ_ρ + w_ρ  (per-satellite pseudorange bias, optional)
 //! ```
 //!
 //! Γ = ∂g/∂r is the gravity gradient: the point-mass term
@@ -39,8 +40,8 @@
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 use super::state::{
-    ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, VELOCITY, WITH_SCALE_FACTORS,
+    Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
+    GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
 };
 use crate::attitude::skew;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2};
@@ -84,6 +85,11 @@ pub struct ProcessNoise {
     pub accel_scale_factor_psd: f64,
     /// Driving noise of the gyro scale-factor states, 1/s (23-state filters).
     pub gyro_scale_factor_psd: f64,
+    /// Driving noise of each satellite's pseudorange-bias state, m²/s
+    /// (2σ²/τ of a Gauss-Markov bias; filters with range-bias states).
+    pub range_bias_psd: f64,
+    /// Correlation time of the pseudorange biases, s.
+    pub range_bias_correlation_time_s: f64,
 }
 
 /// Gravity gradient Γ = ∂g^e/∂r^e: point mass plus centrifugal term.
@@ -146,7 +152,13 @@ pub fn system_matrix<const N: usize>(
         );
     }
     f[(CLOCK_OFFSET, CLOCK_DRIFT)] = 1.0;
-    if N >= WITH_SCALE_FACTORS {
+    let layout = Layout::for_size::<N>();
+    if let Some(first) = layout.range_bias {
+        for k in 0..RANGE_BIAS_SLOTS {
+            f[(first + k, first + k)] = -1.0 / noise.range_bias_correlation_time_s;
+        }
+    }
+    if layout.scale_factors {
         set(
             &mut f,
             ATTITUDE,
@@ -176,6 +188,9 @@ pub(super) struct Discretisation {
     /// Discrete variances of the bias driving noise per interval.
     ba_variance: f64,
     bg_variance: f64,
+    /// Decay and discrete variance of the pseudorange-bias states.
+    rb_decay: f64,
+    rb_variance: f64,
 }
 
 impl Discretisation {
@@ -195,6 +210,8 @@ impl Discretisation {
             bg_decay: decay(dt, noise.gyro_bias_correlation_time_s),
             ba_variance: bias_q(noise.accel_bias_psd, noise.accel_bias_correlation_time_s),
             bg_variance: bias_q(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s),
+            rb_decay: decay(dt, noise.range_bias_correlation_time_s),
+            rb_variance: bias_q(noise.range_bias_psd, noise.range_bias_correlation_time_s),
         }
     }
 
@@ -225,13 +242,14 @@ struct Transition {
     dt: f64,
     ba_decay: f64,
     bg_decay: f64,
+    rb_decay: f64,
 }
 
 impl Transition {
     fn new<const N: usize>(inputs: &SystemInputs, d: &Discretisation) -> Self {
         let dt = d.dt;
         let c_dt = inputs.c_b_e * dt;
-        let (psi_sg_t, v_sa_t) = if N >= WITH_SCALE_FACTORS {
+        let (psi_sg_t, v_sa_t) = if Layout::for_size::<N>().scale_factors {
             (
                 (-c_dt * Matrix3::from_diagonal(&inputs.angular_rate_b)).transpose(),
                 (-c_dt * Matrix3::from_diagonal(&inputs.specific_force_b)).transpose(),
@@ -250,6 +268,7 @@ impl Transition {
             dt,
             ba_decay: d.ba_decay,
             bg_decay: d.bg_decay,
+            rb_decay: d.rb_decay,
         }
     }
 
@@ -264,7 +283,8 @@ impl Transition {
     /// - v: M_ψ (−[a×])ᵀ + M_v (I − 2Ω_ie Δt)ᵀ + M_r (ΓΔt)ᵀ + M_ba (−ĈΔt)ᵀ
     ///   [+ M_sa (−Ĉ diag(f̂) Δt)ᵀ], a = Ĉ f̂ Δt, −[a×] = [[0, a_z, −a_y],
     ///   [−a_z, 0, a_x], [a_y, −a_x, 0]];
-    /// - r: M_r + Δt M_v; biases: decay; clock offset: M_δc + Δt M_δċ.
+    /// - r: M_r + Δt M_v; biases (sensor and range): decay; clock offset:
+    ///   M_δc + Δt M_δċ.
     fn times_transpose_into<const R: usize, const N: usize>(
         &self,
         m: &SMatrix<f64, R, N>,
@@ -299,7 +319,8 @@ impl Transition {
         );
         let g = &self.v_r_t;
         let (ps, ve, po) = (ATTITUDE, VELOCITY, POSITION);
-        let scale = N >= WITH_SCALE_FACTORS;
+        let layout = Layout::for_size::<N>();
+        let scale = layout.scale_factors;
         // ψ columns. Row j of (−ĈΔt) is column j of its transpose `bc`.
         let psi_extra: [(f64, usize); 2] = [(w, ps + 1), (-w, ps)];
         for j in 0..3 {
@@ -358,6 +379,11 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET), (self.dt, CLOCK_DRIFT)]);
         set(CLOCK_DRIFT, &[(1.0, CLOCK_DRIFT)]);
+        if let Some(first) = layout.range_bias {
+            for j in first..first + RANGE_BIAS_SLOTS {
+                set(j, &[(self.rb_decay, j)]);
+            }
+        }
     }
 }
 
@@ -386,12 +412,13 @@ pub(super) fn propagate<const N: usize>(
 /// Q for one interval (Groves eq. 14.82 plus the exact clock block).
 fn add_process_noise<const N: usize>(p: &mut SMatrix<f64, N, N>, d: &Discretisation) {
     let (noise, dt) = (&d.noise, d.dt);
+    let layout = Layout::for_size::<N>();
     for k in 0..3 {
         p[(ATTITUDE + k, ATTITUDE + k)] += noise.gyro_white_psd * dt;
         p[(VELOCITY + k, VELOCITY + k)] += noise.accel_white_psd * dt;
         p[(ACCEL_BIAS + k, ACCEL_BIAS + k)] += d.ba_variance;
         p[(GYRO_BIAS + k, GYRO_BIAS + k)] += d.bg_variance;
-        if N >= WITH_SCALE_FACTORS {
+        if layout.scale_factors {
             p[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] +=
                 noise.accel_scale_factor_psd * dt;
             p[(GYRO_SCALE_FACTOR + k, GYRO_SCALE_FACTOR + k)] += noise.gyro_scale_factor_psd * dt;
@@ -402,6 +429,11 @@ fn add_process_noise<const N: usize>(p: &mut SMatrix<f64, N, N>, d: &Discretisat
     p[(CLOCK_OFFSET, CLOCK_DRIFT)] += 0.5 * sf * dt * dt;
     p[(CLOCK_DRIFT, CLOCK_OFFSET)] += 0.5 * sf * dt * dt;
     p[(CLOCK_DRIFT, CLOCK_DRIFT)] += sf * dt;
+    if let Some(first) = layout.range_bias {
+        for j in first..first + RANGE_BIAS_SLOTS {
+            p[(j, j)] += d.rb_variance;
+        }
+    }
 }
 
 #[cfg(test)]
@@ -431,6 +463,8 @@ mod tests {
             clock_frequency_psd: 0.04,
             accel_scale_factor_psd: 1e-9,
             gyro_scale_factor_psd: 2e-9,
+            range_bias_psd: 0.05,
+            range_bias_correlation_time_s: 0.5 * tau,
         }
     }
 
@@ -447,6 +481,11 @@ mod tests {
         for k in 0..3 {
             phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(dt, nz.accel_bias_correlation_time_s);
             phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(dt, nz.gyro_bias_correlation_time_s);
+        }
+        if let Some(first) = Layout::for_size::<N>().range_bias {
+            for j in first..N {
+                phi[(j, j)] = decay(dt, nz.range_bias_correlation_time_s);
+            }
         }
         let p0 = random_spd::<N>();
         let mut q = SMatrix::<f64, N, N>::zeros();
@@ -466,6 +505,8 @@ mod tests {
         structured_equals_dense::<17>(300.0);
         structured_equals_dense::<17>(f64::INFINITY);
         structured_equals_dense::<23>(300.0);
+        structured_equals_dense::<29>(300.0);
+        structured_equals_dense::<35>(300.0);
     }
 
     /// Γ against a central difference of the J2 gravity model the INS uses

@@ -11,11 +11,14 @@
 //! | 16 | receiver clock drift δċ | m/s |
 //! | 17-19 | accelerometer scale-factor error s_a (optional) | 1 |
 //! | 20-22 | gyro scale-factor error s_g (optional) | 1 |
+//! | last 12 | pseudorange bias of the satellite in each slot (optional) | m |
 //!
-//! The optional scale-factor states are a compile-time extension: a filter
-//! of size [`WITH_SCALE_FACTORS`] has them, one of size [`BASE_STATES`]
-//! does not. Misalignments and nonlinearity are not states; how the
-//! filters absorb them is documented in `coupling`.
+//! The optional states are a compile-time extension selected by the size
+//! `N` alone ([`Layout::of`]): [`BASE_STATES`] (17), [`WITH_SCALE_FACTORS`]
+//! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
+//! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both).
+//! Misalignments and nonlinearity are not states; how the filters absorb
+//! them is documented in `coupling`.
 
 use nalgebra::{SVector, Vector3};
 
@@ -41,6 +44,66 @@ pub const GYRO_SCALE_FACTOR: usize = 20;
 pub const BASE_STATES: usize = 17;
 /// Size of the state with accelerometer and gyro scale factors.
 pub const WITH_SCALE_FACTORS: usize = 23;
+/// Satellites whose pseudorange bias a filter with range-bias states can
+/// carry at once (a receiver tracks about 8-12 GPS satellites).
+pub const RANGE_BIAS_SLOTS: usize = 12;
+/// Size of the base state plus the per-satellite range biases.
+pub const WITH_RANGE_BIASES: usize = BASE_STATES + RANGE_BIAS_SLOTS;
+/// Size of the state with scale factors and range biases.
+pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
+
+/// Which optional blocks a state of size `N` has (the sizes above are the
+/// only valid ones).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Layout {
+    /// Accelerometer and gyro scale-factor states at 17-22.
+    pub scale_factors: bool,
+    /// Index of the first range-bias state, when there are any.
+    pub range_bias: Option<usize>,
+}
+
+impl Layout {
+    /// The layout of a state of size `n`; `None` for any other size.
+    pub const fn of(n: usize) -> Option<Self> {
+        match n {
+            BASE_STATES => Some(Self {
+                scale_factors: false,
+                range_bias: None,
+            }),
+            WITH_SCALE_FACTORS => Some(Self {
+                scale_factors: true,
+                range_bias: None,
+            }),
+            WITH_RANGE_BIASES => Some(Self {
+                scale_factors: false,
+                range_bias: Some(BASE_STATES),
+            }),
+            WITH_ALL => Some(Self {
+                scale_factors: true,
+                range_bias: Some(WITH_SCALE_FACTORS),
+            }),
+            _ => None,
+        }
+    }
+
+    /// The layout of size `N`, checked at compile time.
+    pub const fn for_size<const N: usize>() -> Self {
+        match Self::of(N) {
+            Some(l) => l,
+            None => panic!("the error state has 17, 23, 29 or 35 states"),
+        }
+    }
+
+    /// The size for these options.
+    pub const fn size(scale_factors: bool, range_biases: bool) -> usize {
+        match (scale_factors, range_biases) {
+            (false, false) => BASE_STATES,
+            (true, false) => WITH_SCALE_FACTORS,
+            (false, true) => WITH_RANGE_BIASES,
+            (true, true) => WITH_ALL,
+        }
+    }
+}
 
 /// Names of the states, for messages and for the Python solution.
 pub struct StateLayout;
@@ -72,14 +135,36 @@ impl StateLayout {
         "gyro_scale_factor_z",
     ];
 
-    /// The names of the first `n` states (17, or 23 with scale factors).
-    pub fn names(n: usize) -> &'static [&'static str] {
-        &Self::NAMES[..n.min(WITH_SCALE_FACTORS)]
+    const RANGE_BIAS_NAMES: [&'static str; RANGE_BIAS_SLOTS] = [
+        "range_bias_0",
+        "range_bias_1",
+        "range_bias_2",
+        "range_bias_3",
+        "range_bias_4",
+        "range_bias_5",
+        "range_bias_6",
+        "range_bias_7",
+        "range_bias_8",
+        "range_bias_9",
+        "range_bias_10",
+        "range_bias_11",
+    ];
+
+    /// The names of the states of a filter of size `n` (17, 23, 29 or 35).
+    pub fn names(n: usize) -> Vec<&'static str> {
+        (0..n).map(|i| Self::name_in(n, i)).collect()
     }
 
-    /// The name of state `i`.
-    pub fn name(i: usize) -> &'static str {
-        Self::NAMES.get(i).copied().unwrap_or("unknown")
+    /// The name of state `i` of a filter of size `n`.
+    pub fn name_in(n: usize, i: usize) -> &'static str {
+        let layout = Layout::of(n);
+        match layout.and_then(|l| l.range_bias) {
+            Some(first) if i >= first => Self::RANGE_BIAS_NAMES
+                .get(i - first)
+                .copied()
+                .unwrap_or("unknown"),
+            _ => Self::NAMES.get(i).copied().unwrap_or("unknown"),
+        }
     }
 }
 
@@ -125,7 +210,7 @@ impl<const N: usize> ErrorState<N> {
     }
     /// Scale-factor errors (accelerometer, gyro), when the state has them.
     pub fn scale_factors(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {
-        (N >= WITH_SCALE_FACTORS).then(|| {
+        Layout::for_size::<N>().scale_factors.then(|| {
             (
                 self.block(ACCEL_SCALE_FACTOR),
                 self.block(GYRO_SCALE_FACTOR),

@@ -4,28 +4,63 @@
 
 use nalgebra::{SMatrix, SVector};
 
-/// A measurement row h with at most four non-zero entries (a pseudorange
-/// touches position and clock offset; a range rate velocity and drift; a
-/// position fix one position state).
+/// Most non-zero entries a measurement row has: a pseudorange rate at an
+/// antenna away from the IMU touches velocity, attitude and gyro bias
+/// (through the lever arm) and the clock drift (10); a whitened velocity-fix
+/// component velocity, attitude and gyro bias (9).
+pub const MAX_ROW_ENTRIES: usize = 12;
+
+/// A measurement row h with at most [`MAX_ROW_ENTRIES`] non-zero entries.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SparseRow {
-    index: [usize; 4],
-    value: [f64; 4],
+    index: [usize; MAX_ROW_ENTRIES],
+    value: [f64; MAX_ROW_ENTRIES],
     len: usize,
 }
 
+impl Default for SparseRow {
+    fn default() -> Self {
+        Self::new(&[])
+    }
+}
+
 impl SparseRow {
-    /// A row from (index, value) pairs (at most four).
+    /// A row from (index, value) pairs (at most [`MAX_ROW_ENTRIES`]).
     pub fn new(entries: &[(usize, f64)]) -> Self {
-        assert!(entries.len() <= 4, "a SparseRow holds at most four entries");
         let mut row = Self {
-            index: [0; 4],
-            value: [0.0; 4],
-            len: entries.len(),
+            index: [0; MAX_ROW_ENTRIES],
+            value: [0.0; MAX_ROW_ENTRIES],
+            len: 0,
         };
-        for (k, (i, v)) in entries.iter().enumerate() {
-            row.index[k] = *i;
-            row.value[k] = *v;
+        for &(i, v) in entries {
+            row.push(i, v);
+        }
+        row
+    }
+
+    /// Adds `value` at state `index` (summed with an entry already there).
+    pub fn push(&mut self, index: usize, value: f64) {
+        if let Some(k) = self.index[..self.len].iter().position(|&i| i == index) {
+            self.value[k] += value;
+            return;
+        }
+        assert!(
+            self.len < MAX_ROW_ENTRIES,
+            "a SparseRow holds at most {MAX_ROW_ENTRIES} entries"
+        );
+        self.index[self.len] = index;
+        self.value[self.len] = value;
+        self.len += 1;
+    }
+
+    /// `a` times this row plus `b` times `other`.
+    pub fn combine(&self, a: f64, other: &SparseRow, b: f64) -> Self {
+        let mut row = Self::default();
+        for k in 0..self.len {
+            row.push(self.index[k], a * self.value[k]);
+        }
+        for k in 0..other.len {
+            row.push(other.index[k], b * other.value[k]);
         }
         row
     }
@@ -111,6 +146,55 @@ pub(super) fn scalar_joseph<const N: usize>(
     }
 }
 
+/// One scalar measurement y = h·x + v, var(v) = `variance`, with `y`
+/// prediction minus measurement (the convention of
+/// [`super::ErrorState`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ScalarMeasurement {
+    /// The measurement row.
+    pub h: SparseRow,
+    /// Prediction minus measurement.
+    pub y: f64,
+    /// Measurement-noise variance.
+    pub variance: f64,
+}
+
+/// What the test of a batch of measurements found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BatchOutcome {
+    /// Normalised innovation squared of the batch, νᵀ S⁻¹ ν.
+    pub nis: f64,
+    /// Its degrees of freedom (the number of measurements tested).
+    pub dof: usize,
+    /// Whether the batch passed the test and was applied.
+    pub accepted: bool,
+}
+
+/// Applies `measurements` (those with `active[i]`) one after the other to
+/// x and P, ungated, writing each one's outcome, and returns the summed
+/// NIS. For measurements with independent noise the sequential
+/// innovations are the batch innovation vector whitened by the Cholesky
+/// factor of its covariance S = HPHᵀ + R (each is the part of its
+/// measurement the earlier ones do not predict), so the sum of their NIS
+/// is the batch νᵀ S⁻¹ ν: a chi-square with as many degrees of freedom as
+/// measurements (Bar-Shalom et al. 2001 §5.4; Groves §3.4.1).
+pub(super) fn sequential<const N: usize>(
+    x: &mut SVector<f64, N>,
+    p: &mut SMatrix<f64, N, N>,
+    measurements: &[ScalarMeasurement],
+    active: &[bool],
+    outcomes: &mut [ScalarOutcome],
+) -> f64 {
+    let mut nis = 0.0;
+    for ((m, &on), out) in measurements.iter().zip(active).zip(outcomes.iter_mut()) {
+        if on {
+            *out = scalar_joseph(x, p, &m.h, m.y, m.variance, f64::INFINITY);
+            nis += out.nis;
+        }
+    }
+    nis
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -137,6 +221,65 @@ mod tests {
         assert!((x - x_ref).abs().max() < 1e-12);
         assert!((p - p_ref).abs().max() < 1e-12);
         assert!((p - (p0 - p0 * hd * hd.transpose() * p0 / s)).abs().max() < 1e-12);
+    }
+
+    /// The summed sequential NIS is the batch νᵀ S⁻¹ ν, and the final state
+    /// and covariance are those of the batch update.
+    #[test]
+    fn sequential_nis_is_the_batch_nis() {
+        let a = SMatrix::<f64, 17, 17>::from_fn(|i, j| ((i * 3 + j * 7) % 5) as f64 / 5.0 - 0.4);
+        let p0 = a * a.transpose() + SMatrix::identity();
+        let x0 = SVector::<f64, 17>::from_fn(|i, _| 0.02 * i as f64 - 0.1);
+        let rows = [
+            SparseRow::new(&[(6, 0.6), (7, -0.8), (15, 1.0), (0, 0.2)]),
+            SparseRow::new(&[(6, -0.1), (8, 0.99), (15, 1.0)]),
+            SparseRow::new(&[(3, 0.5), (4, 0.5), (16, 1.0)]),
+        ];
+        let ms: Vec<ScalarMeasurement> = rows
+            .iter()
+            .enumerate()
+            .map(|(i, h)| ScalarMeasurement {
+                h: *h,
+                y: 1.5 - i as f64,
+                variance: 0.5 + i as f64,
+            })
+            .collect();
+        let h = nalgebra::SMatrix::<f64, 3, 17>::from_fn(|i, j| rows[i].to_dense::<17>()[j]);
+        let r = nalgebra::Matrix3::from_diagonal(&nalgebra::Vector3::new(0.5, 1.5, 2.5));
+        let nu = nalgebra::Vector3::from_fn(|i, _| ms[i].y) - h * x0;
+        let s = h * p0 * h.transpose() + r;
+        let k = p0 * h.transpose() * s.try_inverse().unwrap();
+        let batch_nis = (nu.transpose() * s.try_inverse().unwrap() * nu)[0];
+        let (mut x, mut p) = (x0, p0);
+        let mut out = [ScalarOutcome {
+            innovation: 0.0,
+            innovation_variance: 0.0,
+            nis: 0.0,
+            accepted: false,
+        }; 3];
+        let nis = sequential(&mut x, &mut p, &ms, &[true; 3], &mut out);
+        assert!(
+            (nis - batch_nis).abs() < 1e-10 * batch_nis,
+            "{nis} vs {batch_nis}"
+        );
+        assert!((x - (x0 + k * nu)).abs().max() < 1e-12);
+        assert!((p - (p0 - k * h * p0)).abs().max() < 1e-12);
+        // An inactive measurement is skipped entirely.
+        let (mut x2, mut p2) = (x0, p0);
+        let nis2 = sequential(&mut x2, &mut p2, &ms, &[true, false, true], &mut out);
+        let (mut x3, mut p3) = (x0, p0);
+        let nis3 = sequential(&mut x3, &mut p3, &[ms[0], ms[2]], &[true; 2], &mut out[..2]);
+        assert_eq!((nis2, x2, p2), (nis3, x3, p3));
+    }
+
+    #[test]
+    fn rows_merge_repeated_states() {
+        let a = SparseRow::new(&[(6, 1.0), (0, 2.0)]);
+        let b = SparseRow::new(&[(6, 3.0), (15, 1.0)]);
+        let c = a.combine(2.0, &b, -1.0);
+        let d = c.to_dense::<17>();
+        assert_eq!((d[6], d[0], d[15]), (-1.0, 4.0, -1.0));
+        assert_eq!(c.len, 3);
     }
 
     #[test]

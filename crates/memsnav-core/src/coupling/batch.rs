@@ -1,0 +1,458 @@
+//! An epoch's measurements of one kind as one batch: staged, floored,
+//! tested together, thinned by fault exclusion, and recorded; a clock jump
+//! moved into the clock; and the resets that keep failing measurements
+//! from locking the filter out (see [`super::Recovery`]).
+//!
+//! The test is the chi-square test of the batch innovation, νᵀ S⁻¹ ν against
+//! the `gate_probability` quantile of as many degrees of freedom
+//! (Bar-Shalom et al. 2001 §5.4; Groves §17.3.1 for its use on GNSS/INS
+//! innovations). Fault exclusion drops the measurement with the largest
+//! normalised innovation and tests the rest (Groves §17.4.2, the
+//! innovation-based form of RAIM's fault detection and exclusion), at most
+//! `max_excluded_share` of the batch.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::engine::FilterState;
+use super::records::{
+    BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
+};
+use crate::filter::chi_square::chi_square_quantile;
+use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY};
+use crate::filter::{ScalarMeasurement, ScalarOutcome, SparseRow};
+use crate::Result;
+
+/// The batch being assembled: parallel columns, kept between epochs so a
+/// batch allocates nothing once the buffers have grown to an epoch's size.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Batch {
+    measurements: Vec<ScalarMeasurement>,
+    ids: Vec<u16>,
+    active: Vec<bool>,
+    outcomes: Vec<ScalarOutcome>,
+    /// Innovation and its variance against the prior, per measurement.
+    prior: Vec<(f64, f64)>,
+    scratch: Vec<f64>,
+}
+
+impl Batch {
+    fn len(&self) -> usize {
+        self.measurements.len()
+    }
+
+    fn clear(&mut self) {
+        self.measurements.clear();
+        self.ids.clear();
+        self.active.clear();
+        self.outcomes.clear();
+        self.prior.clear();
+    }
+
+    fn active_count(&self) -> usize {
+        self.active.iter().filter(|a| **a).count()
+    }
+}
+
+/// The state variable a common part of all innovations of a batch belongs
+/// to: a receiver clock (drift) jump.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum CommonMode {
+    ClockOffset,
+    ClockDrift,
+}
+
+impl CommonMode {
+    fn state(self) -> usize {
+        match self {
+            CommonMode::ClockOffset => CLOCK_OFFSET,
+            CommonMode::ClockDrift => CLOCK_DRIFT,
+        }
+    }
+}
+
+/// How a batch is tested.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BatchRules {
+    /// Drop the worst measurements when the batch fails.
+    pub(crate) exclusion: bool,
+    /// The clock state a common part of the innovations may jump into.
+    pub(crate) common_mode: Option<CommonMode>,
+}
+
+fn kind_index(kind: MeasurementKind) -> usize {
+    MeasurementKind::ALL
+        .iter()
+        .position(|k| *k == kind)
+        .expect("every kind is in ALL")
+}
+
+impl<const N: usize> FilterState<N> {
+    /// The smallest std the filter believes for `kind` (fixes are floored
+    /// before whitening, see `loose`; aids carry their own std).
+    fn floor(&self, kind: MeasurementKind) -> f64 {
+        let f = &self.tuning.floor;
+        match kind {
+            MeasurementKind::Pseudorange => f.pseudorange_m,
+            MeasurementKind::PseudorangeRate => f.pseudorange_rate_m_s,
+            _ => 0.0,
+        }
+    }
+
+    /// Adds a measurement y = h·x + v with std `std` (floored for its kind)
+    /// to the batch; one with a non-finite value or std is recorded as
+    /// invalid instead.
+    pub(crate) fn stage(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        id: u16,
+        h: SparseRow,
+        y: f64,
+        std: f64,
+    ) {
+        if !(y.is_finite() && std.is_finite() && std > 0.0) {
+            self.reject_invalid(time_s, kind, id);
+            return;
+        }
+        let std = std.max(self.floor(kind));
+        let b = &mut self.staged;
+        b.measurements.push(ScalarMeasurement {
+            h,
+            y,
+            variance: std * std,
+        });
+        b.ids.push(id);
+        b.active.push(true);
+        b.outcomes.push(ScalarOutcome {
+            innovation: f64::NAN,
+            innovation_variance: f64::NAN,
+            nis: f64::NAN,
+            accepted: false,
+        });
+    }
+
+    /// Records a measurement rejected before it reached the filter.
+    pub(crate) fn reject_invalid(&mut self, time_s: f64, kind: MeasurementKind, id: u16) {
+        self.records.push(MeasurementRecord {
+            time_s,
+            id,
+            kind,
+            innovation: f64::NAN,
+            innovation_std: f64::NAN,
+            nis: f64::NAN,
+            status: MeasurementStatus::RejectedInvalid,
+        });
+    }
+
+    /// Consecutive epochs whose `kind` batch failed, this one included.
+    pub(crate) fn failed_epochs(&self, kind: MeasurementKind) -> usize {
+        self.failed_epochs[kind_index(kind)]
+    }
+
+    /// Whether the batch of `kind` has failed often enough for a reset.
+    pub(crate) fn reset_due(&self, kind: MeasurementKind) -> bool {
+        self.failed_epochs(kind) >= self.tuning.recovery.reset_after_failed_epochs
+    }
+
+    /// The chi-square threshold for a batch of `dof` measurements.
+    fn threshold(&self, dof: usize) -> f64 {
+        if self.tuning.gate_probability >= 1.0 {
+            f64::INFINITY
+        } else {
+            chi_square_quantile(dof as f64, self.tuning.gate_probability)
+        }
+    }
+
+    /// Tests the staged batch against the prior: as a whole, then (when it
+    /// fails) with a clock jump moved into the clock, then without its worst
+    /// measurements. An accepted batch is applied and fed back. Every
+    /// measurement and the test are recorded, the batch is emptied, and the
+    /// count of consecutive failed epochs of `kind` is updated. Returns
+    /// whether the batch was applied.
+    pub(crate) fn apply_staged(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        rules: BatchRules,
+    ) -> Result<bool> {
+        if self.staged.len() == 0 {
+            return Ok(false);
+        }
+        // Innovations against the prior, for the records and the exclusion order.
+        for i in 0..self.staged.len() {
+            let p = self.kf.innovation(&self.staged.measurements[i]);
+            self.staged.prior.push(p);
+        }
+        let mut outcome = self.test_active();
+        if !outcome.0 {
+            if let Some(mode) = rules.common_mode {
+                if self.absorb_common_mode(time_s, mode) {
+                    outcome = (true, self.batches_nis_of_last_test());
+                }
+            }
+        }
+        let mut excluded = 0;
+        let max_excluded = if rules.exclusion {
+            (self.staged.len() as f64 * self.tuning.recovery.max_excluded_share).floor() as usize
+        } else {
+            0
+        };
+        while !outcome.0 && excluded < max_excluded {
+            let b = &self.staged;
+            let z = |i: usize| b.prior[i].0.abs() / b.prior[i].1.sqrt();
+            let worst = (0..b.len())
+                .filter(|&i| b.active[i])
+                .max_by(|&x, &y| z(x).total_cmp(&z(y)))
+                .expect("a failed batch has an active measurement");
+            self.staged.active[worst] = false;
+            excluded += 1;
+            outcome = self.test_active();
+        }
+        let (accepted, nis) = outcome;
+        let dof = self.staged.active_count();
+        self.batches.push(BatchRecord {
+            time_s,
+            kind,
+            nis,
+            dof,
+            threshold: self.threshold(dof),
+            excluded,
+            accepted,
+        });
+        let b = &self.staged;
+        for i in 0..b.len() {
+            let (nu, var) = b.prior[i];
+            let status = match (accepted, b.active[i]) {
+                (true, true) => MeasurementStatus::Accepted,
+                (true, false) => MeasurementStatus::Excluded,
+                (false, _) => MeasurementStatus::RejectedByGate,
+            };
+            self.records.push(MeasurementRecord {
+                time_s,
+                id: b.ids[i],
+                kind,
+                // ν = y − h x is prediction minus measurement: the record
+                // keeps measurement minus prediction.
+                innovation: -nu,
+                innovation_std: var.max(0.0).sqrt(),
+                nis: nu * nu / var,
+                status,
+            });
+        }
+        self.staged.clear();
+        let failed = &mut self.failed_epochs[kind_index(kind)];
+        *failed = if accepted { 0 } else { *failed + 1 };
+        if accepted {
+            self.feedback(time_s)?;
+        }
+        Ok(accepted)
+    }
+
+    /// Tests the active staged measurements; applies them when they pass.
+    /// Returns (accepted, batch NIS).
+    fn test_active(&mut self) -> (bool, f64) {
+        let b = &mut self.staged;
+        let dof = b.active_count();
+        let threshold = if self.tuning.gate_probability >= 1.0 {
+            f64::INFINITY
+        } else {
+            chi_square_quantile(dof as f64, self.tuning.gate_probability)
+        };
+        let out = self
+            .kf
+            .update_batch(&b.measurements, &b.active, threshold, &mut b.outcomes);
+        (out.accepted, out.nis)
+    }
+
+    /// The NIS of the active measurements' last test (their outcomes).
+    fn batches_nis_of_last_test(&self) -> f64 {
+        let b = &self.staged;
+        (0..b.len())
+            .filter(|&i| b.active[i])
+            .map(|i| b.outcomes[i].nis)
+            .sum()
+    }
+
+    /// A receiver clock (drift) jump shows as one common part in every
+    /// innovation of a batch. When the median innovation exceeds
+    /// `clock_jump_sigma` times its predicted std, it is moved into the
+    /// clock (the clock's variance grows by one measurement variance, the
+    /// jump being estimated from this epoch) and the batch tested again;
+    /// kept (and recorded as a reset) only when the batch then passes.
+    fn absorb_common_mode(&mut self, time_s: f64, mode: CommonMode) -> bool {
+        let b = &mut self.staged;
+        if b.len() < 2 {
+            return false;
+        }
+        b.scratch.clear();
+        b.scratch.extend(b.prior.iter().map(|p| p.0));
+        let common = median(&mut b.scratch);
+        b.scratch.clear();
+        b.scratch.extend(b.measurements.iter().map(|m| m.variance));
+        let r = median(&mut b.scratch);
+        let i = mode.state();
+        let sigma = (self.kf.p[(i, i)] + r).sqrt();
+        if !(common.abs() > self.tuning.recovery.clock_jump_sigma * sigma) {
+            return false;
+        }
+        let variance_before = self.kf.p[(i, i)];
+        self.kf.p[(i, i)] += r;
+        for m in &mut self.staged.measurements {
+            m.y -= common;
+        }
+        let (accepted, _) = self.test_active();
+        if !accepted {
+            self.kf.p[(i, i)] = variance_before;
+            for m in &mut self.staged.measurements {
+                m.y += common;
+            }
+            return false;
+        }
+        // ν = prediction − measurement: the clock moves by −common.
+        let kind = match mode {
+            CommonMode::ClockOffset => {
+                self.clock_offset_m -= common;
+                ResetKind::ClockJump
+            }
+            CommonMode::ClockDrift => {
+                self.clock_drift_m_s -= common;
+                ResetKind::ClockDriftJump
+            }
+        };
+        self.resets.push(ResetRecord {
+            time_s,
+            kind,
+            change: -common,
+            failed_epochs: 0,
+        });
+        true
+    }
+
+    /// Marks the measurements of the last, failed batch as used for a reset.
+    fn mark_used_for_reset(&mut self, time_s: f64, kind: MeasurementKind) {
+        for r in self.records.iter_mut().rev() {
+            if r.time_s != time_s || r.kind != kind {
+                break;
+            }
+            if r.status == MeasurementStatus::RejectedByGate {
+                r.status = MeasurementStatus::UsedForReset;
+            }
+        }
+    }
+
+    /// Resets the IMU position to a fix of the antenna position
+    /// `position_ecef` with covariance `covariance` (the lever arm taken
+    /// with the current attitude), after `kind` kept failing; recorded.
+    pub(crate) fn reset_position(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        antenna_position_ecef: &Vector3<f64>,
+        covariance: &Matrix3<f64>,
+    ) -> Result<()> {
+        let new = antenna_position_ecef - self.nav.c_b_e * self.tuning.antenna_lever_arm_b_m;
+        let change = (new - self.nav.position_ecef).norm();
+        self.nav.position_ecef = new;
+        self.kf.reset_block::<3>(POSITION, covariance);
+        self.finish_reset(time_s, kind, ResetKind::PositionToFix, change)
+    }
+
+    /// Resets the IMU velocity to a fix of the antenna velocity (lever-arm
+    /// terms with the current attitude and rate); recorded.
+    pub(crate) fn reset_velocity(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        antenna_velocity_ecef: &Vector3<f64>,
+        covariance: &Matrix3<f64>,
+    ) -> Result<()> {
+        let new = antenna_velocity_ecef - self.lever_arm_velocity();
+        let change = (new - self.nav.velocity_ecef).norm();
+        self.nav.velocity_ecef = new;
+        self.kf.reset_block::<3>(VELOCITY, covariance);
+        self.finish_reset(time_s, kind, ResetKind::VelocityToFix, change)
+    }
+
+    /// Resets the receiver clock offset and drift (tight coupling, with a
+    /// position reset from a fix); recorded with the position reset.
+    pub(crate) fn reset_clock(
+        &mut self,
+        offset_m: f64,
+        offset_variance: f64,
+        drift_m_s: Option<(f64, f64)>,
+    ) {
+        self.clock_offset_m = offset_m;
+        self.kf
+            .reset_block::<1>(CLOCK_OFFSET, &nalgebra::Matrix1::new(offset_variance));
+        if let Some((d, var)) = drift_m_s {
+            self.clock_drift_m_s = d;
+            self.kf
+                .reset_block::<1>(CLOCK_DRIFT, &nalgebra::Matrix1::new(var));
+        }
+        self.clock_known = (true, self.clock_known.1 || drift_m_s.is_some());
+    }
+
+    /// Multiplies the position, velocity and clock variances by `factor`
+    /// (too few satellites for a fix to reset to); recorded.
+    pub(crate) fn inflate(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        factor: f64,
+    ) -> Result<()> {
+        let states: [usize; 8] = [
+            POSITION,
+            POSITION + 1,
+            POSITION + 2,
+            VELOCITY,
+            VELOCITY + 1,
+            VELOCITY + 2,
+            CLOCK_OFFSET,
+            CLOCK_DRIFT,
+        ];
+        self.kf.inflate(&states, factor);
+        self.finish_reset(time_s, kind, ResetKind::Inflation, factor)
+    }
+
+    fn finish_reset(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        reset: ResetKind,
+        change: f64,
+    ) -> Result<()> {
+        self.mark_used_for_reset(time_s, kind);
+        self.resets.push(ResetRecord {
+            time_s,
+            kind: reset,
+            change,
+            failed_epochs: self.failed_epochs(kind),
+        });
+        self.failed_epochs[kind_index(kind)] = 0;
+        self.kf.check_health(time_s)
+    }
+
+    /// The batch NIS of the last failed test of `kind` over its threshold
+    /// (how far the filter is from accepting it).
+    pub(crate) fn last_failure_ratio(&self, kind: MeasurementKind) -> f64 {
+        self.batches
+            .iter()
+            .rev()
+            .find(|b| b.kind == kind)
+            .map_or(1.0, |b| b.nis / b.threshold)
+    }
+}
+
+/// The median of `values` (reordered); 0 when empty.
+pub(crate) fn median(values: &mut [f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    if n % 2 == 1 {
+        values[n / 2]
+    } else {
+        0.5 * (values[n / 2 - 1] + values[n / 2])
+    }
+}

@@ -1,0 +1,172 @@
+//! What a coupled filter reports besides its state: every scalar
+//! measurement with its innovation and fate, every batch test, and every
+//! reset. Nothing a filter does to its measurements or its state is silent.
+
+/// Which measurement a record is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeasurementKind {
+    /// A pseudorange, m.
+    Pseudorange,
+    /// A pseudorange rate, m/s.
+    PseudorangeRate,
+    /// One whitened component of a position fix (dimensionless, unit variance).
+    Position,
+    /// One whitened component of a velocity fix (dimensionless).
+    Velocity,
+    /// One axis of a zero-velocity update (ZUPT), m/s.
+    ZeroVelocity,
+    /// One axis of a zero-angular-rate update (ZARU), rad/s.
+    ZeroRate,
+    /// The lateral or vertical body velocity of a non-holonomic constraint, m/s.
+    NonHolonomic,
+}
+
+impl MeasurementKind {
+    /// Every kind, in a fixed order (for per-kind counts).
+    pub const ALL: [MeasurementKind; 7] = [
+        MeasurementKind::Pseudorange,
+        MeasurementKind::PseudorangeRate,
+        MeasurementKind::Position,
+        MeasurementKind::Velocity,
+        MeasurementKind::ZeroVelocity,
+        MeasurementKind::ZeroRate,
+        MeasurementKind::NonHolonomic,
+    ];
+
+    /// A short name (`"pseudorange"`, `"zero_velocity"`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            MeasurementKind::Pseudorange => "pseudorange",
+            MeasurementKind::PseudorangeRate => "pseudorange_rate",
+            MeasurementKind::Position => "position",
+            MeasurementKind::Velocity => "velocity",
+            MeasurementKind::ZeroVelocity => "zero_velocity",
+            MeasurementKind::ZeroRate => "zero_rate",
+            MeasurementKind::NonHolonomic => "non_holonomic",
+        }
+    }
+}
+
+/// What the filter did with a measurement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeasurementStatus {
+    /// Applied.
+    Accepted,
+    /// Its batch (the epoch's measurements of its kind) failed the
+    /// chi-square test, so none of them was applied.
+    RejectedByGate,
+    /// Left out of its batch by fault exclusion (its innovation was the
+    /// largest when the batch failed); the rest of the batch was applied.
+    Excluded,
+    /// Rejected because a value (measurement, satellite state, std) was NaN,
+    /// infinite or a non-positive standard deviation.
+    RejectedInvalid,
+    /// Its batch failed, and the filter was reset from this epoch's
+    /// measurements instead (see [`ResetRecord`]).
+    UsedForReset,
+}
+
+impl MeasurementStatus {
+    /// A short name (`"accepted"`, `"gate"`, `"excluded"`, `"invalid"`, `"reset"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            MeasurementStatus::Accepted => "accepted",
+            MeasurementStatus::RejectedByGate => "gate",
+            MeasurementStatus::Excluded => "excluded",
+            MeasurementStatus::RejectedInvalid => "invalid",
+            MeasurementStatus::UsedForReset => "reset",
+        }
+    }
+}
+
+/// One scalar measurement's innovation and fate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasurementRecord {
+    /// Epoch time, s.
+    pub time_s: f64,
+    /// Satellite id (tight), fix component 0-2 (loose) or axis 0-2 (aids).
+    pub id: u16,
+    /// Which measurement.
+    pub kind: MeasurementKind,
+    /// Innovation z − ẑ (measurement minus the prediction of the filter
+    /// before this epoch's updates), in the measurement's unit (m, m/s;
+    /// whitened units for fixes).
+    pub innovation: f64,
+    /// Predicted innovation std √(h P hᵀ + r), same unit.
+    pub innovation_std: f64,
+    /// Normalised innovation squared ν²/s.
+    pub nis: f64,
+    /// Applied or why not.
+    pub status: MeasurementStatus,
+}
+
+/// The chi-square test of one batch (an epoch's measurements of one kind).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BatchRecord {
+    /// Epoch time, s.
+    pub time_s: f64,
+    /// The measurements' kind.
+    pub kind: MeasurementKind,
+    /// Batch NIS νᵀ S⁻¹ ν of the measurements finally tested.
+    pub nis: f64,
+    /// Its degrees of freedom.
+    pub dof: usize,
+    /// The chi-square quantile it was compared with.
+    pub threshold: f64,
+    /// Measurements left out by fault exclusion.
+    pub excluded: usize,
+    /// Whether the batch was applied.
+    pub accepted: bool,
+}
+
+/// What a reset changed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ResetKind {
+    /// Position (and velocity, when the epoch gives one) set to a GNSS
+    /// fix after the measurements kept failing their test.
+    PositionToFix,
+    /// Velocity (and clock drift for tight coupling) set to a GNSS velocity
+    /// after the velocity measurements kept failing their test.
+    VelocityToFix,
+    /// The receiver clock offset jumped: the common part of all
+    /// pseudorange innovations was moved into the clock.
+    ClockJump,
+    /// The receiver clock drift jumped (the common part of all
+    /// pseudorange-rate innovations).
+    ClockDriftJump,
+    /// Position, velocity and clock covariance inflated (too few
+    /// satellites for a fix to reset to).
+    Inflation,
+    /// Heading set from the GNSS course over ground (alignment).
+    Heading,
+}
+
+impl ResetKind {
+    /// A short name (`"position_to_fix"`, `"clock_jump"`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            ResetKind::PositionToFix => "position_to_fix",
+            ResetKind::VelocityToFix => "velocity_to_fix",
+            ResetKind::ClockJump => "clock_jump",
+            ResetKind::ClockDriftJump => "clock_drift_jump",
+            ResetKind::Inflation => "inflation",
+            ResetKind::Heading => "heading",
+        }
+    }
+}
+
+/// One reset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResetRecord {
+    /// When, s.
+    pub time_s: f64,
+    /// What.
+    pub kind: ResetKind,
+    /// How much the state moved: metres for a position or clock reset, m/s
+    /// for velocity and drift, radians for the heading, the factor for an
+    /// inflation.
+    pub change: f64,
+    /// Consecutive epochs whose test had failed before it (0 for jumps and
+    /// the heading).
+    pub failed_epochs: usize,
+}
