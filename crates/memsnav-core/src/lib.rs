@@ -28,6 +28,7 @@ pub mod gnss;
 pub mod ins;
 pub mod inversion;
 pub mod montecarlo;
+pub mod navigate;
 pub mod random;
 pub mod sensors;
 pub mod trajectory;

@@ -46,6 +46,26 @@ pub fn vectors_nd(
     Ok((to_vectors(&f.values), leading))
 }
 
+/// An `(N, 3)` array as N vectors, NaN allowed (absent values).
+pub fn vectors_allow_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Vector3<f64>>> {
+    let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
+    })?;
+    let shape = array.shape().to_vec();
+    if shape.len() != 2 || shape[1] != 3 {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (N, 3), got {shape:?}"
+        )));
+    }
+    let values: Vec<f64> = array.as_array().iter().copied().collect();
+    if let Some(v) = values.iter().find(|v| v.is_infinite()) {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: contains {v} (NaN marks an absent value; infinities are not allowed)"
+        )));
+    }
+    Ok(to_vectors(&values))
+}
+
 /// An `(N, 3)` array as N vectors.
 pub fn vectors(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Vector3<f64>>> {
     let f = floats(obj, argument)?;

@@ -58,11 +58,18 @@ fn shape_error(argument: &str, name: &str, expected: &str, got: &[usize]) -> PyE
     ))
 }
 
+/// Whether `obj` holds pseudoranges (a `GnssMeasurements`, or arrays with
+/// a `sat_id`) rather than position fixes.
+pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
+    obj.cast::<PyGnssMeasurements>().is_ok()
+        || optional_field(obj, "sat_id").is_ok_and(|v| v.is_some())
+}
+
 /// GNSS epochs from a `GnssMeasurements` or padded user arrays: `time`
 /// (T,), `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
 /// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n), `pseudorange_std`
 /// (T, n), optional `pseudorange_rate` and `pseudorange_rate_std` (T, n).
-fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
+pub(crate) fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
     const ARG: &str = "gnss";
     if let Ok(m) = obj.cast::<PyGnssMeasurements>() {
         return Ok(m.get().epochs.clone());
@@ -132,8 +139,11 @@ fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
 /// the position and velocity blocks of the LS covariance) or user arrays:
 /// `time` (T,), `position_ecef` (T, 3), `position_covariance` (T, 3, 3),
 /// optional `velocity_ecef` (T, 3) and `velocity_covariance` (T, 3, 3).
-fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix>> {
+pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix>> {
     const ARG: &str = "fixes";
+    if let Ok(f) = obj.cast::<crate::log_navigation::PyPositionFixes>() {
+        return Ok(f.get().fixes.clone());
+    }
     if let Ok(f) = obj.cast::<PyFixSeries>() {
         return Ok(f
             .get()
@@ -349,6 +359,10 @@ pub struct PyFilterSolution {
 }
 
 impl PyFilterSolution {
+    pub(crate) fn new(inner: Solution) -> Self {
+        Self { inner }
+    }
+
     fn records<'py>(
         &self,
         py: Python<'py>,

@@ -1,4 +1,5 @@
-//! `geodetic_to_ecef`, `ecef_to_geodetic`, `gravity_ecef`: vectorised over `(..., 3)`.
+//! `geodetic_to_ecef`, `ecef_to_geodetic`, `ecef_to_ned`, `gravity_ecef`:
+//! vectorised over `(..., 3)`.
 
 use memsnav_core::geodesy::{self, Geodetic};
 use nalgebra::Vector3;
@@ -40,7 +41,21 @@ fn gravity_ecef<'py>(position_ecef: &Bound<'py, PyAny>) -> PyResult<Bound<'py, P
     map_nd(position_ecef, "position_ecef", geodesy::gravity_ecef)
 }
 
+/// `position_ecef` (..., 3) minus `origin_ecef` (3,) in the local
+/// north, east, down axes at the origin, m.
+#[pyfunction]
+fn ecef_to_ned<'py>(
+    position_ecef: &Bound<'py, PyAny>,
+    origin_ecef: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let origin = convert::vector3(origin_ecef, "origin_ecef")?;
+    map_nd(position_ecef, "position_ecef", |r| {
+        geodesy::ned_offset(r, &origin)
+    })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(ecef_to_ned, m)?)?;
     m.add_function(wrap_pyfunction!(geodetic_to_ecef, m)?)?;
     m.add_function(wrap_pyfunction!(ecef_to_geodetic, m)?)?;
     m.add_function(wrap_pyfunction!(gravity_ecef, m)?)?;

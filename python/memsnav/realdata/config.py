@@ -1,12 +1,20 @@
 """The ``navigate`` run configuration (TOML, read with :mod:`tomllib`).
 
-Every table and key is checked: an unknown key (a typo) is an error naming
-the file and the key, not silently ignored; a wrong type or value names the
-key and what was expected. Relative data paths resolve against the data
-root: ``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data``
-relative to the repository that holds the configuration (the parent of its
-``examples/`` folder, or the nearest ``shared/data`` above it; for a
-configuration elsewhere, the same from its own folder).
+A configuration has two kinds of keys. The ones that say where the data
+are and how to read them (files, column layouts, units, the GNSS input)
+are listed in :data:`SCHEMA` with their defaults. The ones that tune the
+navigation engine (mounting, lever arms, filter, alignment, standstill
+detection, aids, outages) belong to the core engine: their names, units
+and defaults live there (``memsnav.navigate_settings()`` lists them) and a
+key left out keeps the engine's default. Either way, an unknown table or
+key (a typo) is an error naming the file and the key, and so is a value of
+the wrong kind; the engine's keys are checked when the file is loaded.
+
+Relative data paths resolve against the data root: ``--data-root``, else
+``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` relative to the repository
+that holds the configuration (the parent of its ``examples/`` folder, or the
+nearest ``shared/data`` above it; for a configuration elsewhere, the same
+from its own folder).
 """
 
 from __future__ import annotations
@@ -17,10 +25,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import memsnav._memsnav as _mn
+
 #: Environment variable naming the data root.
 DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"
 
-# Each key: (type or tuple of types, default; REQUIRED when it must be given).
+# The reading keys: (type or tuple of types, default; REQUIRED when it must be
+# given; None: not given, the reader's own default applies).
 REQUIRED = object()
 _NUM = (int, float)
 SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
@@ -35,18 +46,15 @@ SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
         "time_tag": (str, ""),
         "skip_first_line": (bool, False),
         "header_lines": (int, 0),
-        "time_offset_s": (_NUM, 0.0),
-        "mounting_rpy_deg": (list, [[0.0, 0.0, 0.0]]),
-        "lever_arm_m": (list, [0.0, 0.0, 0.0]),
     },
     "gnss": {
         "mode": (str, REQUIRED),
         "pos": (str, ""),
         "quality": (list, [1, 2]),
-        "rate_hz": (_NUM, 1.0),
-        "position_noise_m": (list, [0.0, 0.0, 0.0]),
-        "velocity_noise_m_s": (_NUM, 0.0),
-        "use_velocity": (bool, True),
+        "rate_hz": (_NUM, None),
+        "position_noise_m": (list, None),
+        "velocity_noise_m_s": (_NUM, None),
+        "use_velocity": (bool, None),
         "seed": (int, 0),
         "obs": (str, ""),
         "nav": (str, ""),
@@ -55,51 +63,32 @@ SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
         "min_cn0_db_hz": (_NUM, 25.0),
         "pseudorange_std_m": (_NUM, 3.0),
         "pseudorange_rate_std_m_s": (_NUM, 0.1),
-        "use_pseudorange_rate": (bool, True),
         "ionosphere": (bool, True),
         "troposphere": (bool, True),
         "klobuchar_alpha": (list, []),
         "klobuchar_beta": (list, []),
-        "antenna_lever_arm_m": (list, [0.0, 0.0, 0.0]),
-    },
-    "alignment": {
-        "method": (str, "gnss_velocity"),
-        "min_speed_m_s": (_NUM, 2.0),
-        "level_window_s": (_NUM, 1.0),
-        "heading_deg": (_NUM, float("nan")),
-    },
-    "filter": {
-        "accel_noise_density": (_NUM, 0.003),
-        "gyro_noise_density_deg": (_NUM, 0.03),
-        "accel_bias_std": (_NUM, 0.1),
-        "gyro_bias_std_deg_s": (_NUM, 0.3),
-        "accel_bias_instability": (_NUM, 0.0),
-        "gyro_bias_instability_deg_s": (_NUM, 0.0),
-        "bias_correlation_time_s": (_NUM, float("inf")),
-        "initial_position_std_m": (_NUM, 5.0),
-        "initial_velocity_std_m_s": (_NUM, 0.5),
-        "initial_attitude_std_deg": (list, [2.0, 2.0, 10.0]),
-        "gate_probability": (_NUM, 0.999),
     },
     "truth": {"pos": (str, ""), "quality": (list, [1, 2])},
-    "outages": {"windows_s": (list, [])},
     "report": {"html": (bool, True)},
 }
 CHOICES = {
     ("imu", "time_reference"): ("tag", "column_gps", "column_unix_gpst"),
     ("gnss", "mode"): ("loose", "tight"),
-    ("alignment", "method"): ("gnss_velocity", "static"),
 }
+#: The engine's tables and keys, from the core.
+ENGINE: dict[str, dict[str, str]] = _mn.navigate_settings()
 
 
 @dataclass
 class RunConfig:
-    """A checked configuration: ``section[key]`` values with defaults filled
-    in, data paths resolved, and where it came from."""
+    """A checked configuration: ``section[key]`` values of the reading keys
+    with defaults filled in, the engine's keys as given (``engine``), data
+    paths resolved, and where it came from."""
 
     path: Path
     data_root: Path
     values: dict[str, dict[str, Any]] = field(default_factory=dict)
+    engine: dict[str, dict[str, Any]] = field(default_factory=dict)
 
     def __getitem__(self, section: str) -> dict[str, Any]:
         return self.values[section]
@@ -148,19 +137,19 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
     cfg = RunConfig(path=path, data_root=Path(root).expanduser().resolve())
     top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
     tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
+    known_tables = sorted(({k for k in SCHEMA if k} | set(ENGINE)))
     for name in tables:
-        if name not in SCHEMA or name == "":
-            raise ValueError(
-                f"{path}: unknown table [{name}]; expected one of {sorted(k for k in SCHEMA if k)}"
-            )
-    for section, schema in SCHEMA.items():
+        if name not in known_tables:
+            raise ValueError(f"{path}: unknown table [{name}]; expected one of {known_tables}")
+    for section in [""] + known_tables:
+        schema = SCHEMA.get(section, {})
+        engine_keys = ENGINE.get(section, {})
         given = top if section == "" else tables.get(section, {})
-        unknown = sorted(set(given) - set(schema))
+        unknown = sorted(set(given) - set(schema) - set(engine_keys))
         if unknown:
             where = f"[{section}]" if section else "the top level"
-            raise ValueError(
-                f"{path}: unknown key(s) {unknown} in {where}; expected some of {sorted(schema)}"
-            )
+            expected = sorted(set(schema) | set(engine_keys))
+            raise ValueError(f"{path}: unknown key(s) {unknown} in {where}; expected some of {expected}")
         out: dict[str, Any] = {}
         for key, (kind, default) in schema.items():
             if key in given:
@@ -177,4 +166,11 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
                     f"{path}: {section}.{key} must be one of {list(choices)}, got {out[key]!r}"
                 )
         cfg.values[section] = out
+        engine = {k: v for k, v in given.items() if k in engine_keys}
+        if engine:
+            cfg.engine[section] = engine
+    try:
+        _mn.check_navigate_settings(cfg.engine)
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
     return cfg

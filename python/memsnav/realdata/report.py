@@ -1,6 +1,6 @@
-"""The HTML report of a ``navigate`` run: the track on a map-like
-east/north plot, the errors against the truth with the filter's 3sigma bounds,
-and the statistics while aided and in each outage."""
+"""The HTML report of a ``navigate`` run: the track in local east/north
+metres, the errors against the truth with the filter's 3sigma bounds, the
+statistics while aided and in each outage, and every reset the filter made."""
 
 from __future__ import annotations
 
@@ -9,20 +9,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+import memsnav._memsnav as _mn
 from memsnav.report.document import Report
 
 if TYPE_CHECKING:
     from memsnav.realdata.pipeline import NavigationResult
-
-_EARTH_RADIUS_M = 6_378_137.0
-
-
-def _east_north(lla: np.ndarray, origin: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Local east/north metres about ``origin`` (equirectangular: exact to
-    well under a centimetre over a few km)."""
-    east = (lla[:, 1] - origin[1]) * np.cos(origin[0]) * (_EARTH_RADIUS_M + origin[2])
-    north = (lla[:, 0] - origin[0]) * (_EARTH_RADIUS_M + origin[2])
-    return east, north
 
 
 def write_report(result: NavigationResult, out: Path) -> Path:
@@ -35,29 +26,39 @@ def write_report(result: NavigationResult, out: Path) -> Path:
 
     name = result.config[""]["name"]
     s = result.summary
-    origin = result.lla[0]
-    t = result.time - s["start_gps_time_s"]
+    run = result.run
+    t0 = s["start_gps_time_s"]
+    t = np.asarray(run.time) - t0
+    position = np.asarray(run.position_ecef)
+    origin = position[0]
     doc = Report(f"memsnav navigate: {name}")
+    counts = s["measurements"]
+    excluded = sum(c.get("excluded", 0) for c in counts.values())
+    gated = sum(c.get("gate", 0) for c in counts.values())
     doc.paragraph(
-        f"{s['mode']} coupling, {s['duration_s']:.1f} s, {s['imu_samples']} IMU samples, "
-        f"{s['gnss_epochs_used']} GNSS epochs used ({s['measurements_gated']} scalar "
-        f"measurements gated); processing {s['processing_s']:.1f} s (filter "
+        f"{s['mode']} coupling, {s['start']['kind']} start, {s['duration_s']:.1f} s, "
+        f"{s['imu_samples']} IMU samples, {s['gnss_epochs_used']} GNSS epochs used; "
+        f"{gated} scalar measurements in failed batches, {excluded} excluded, "
+        f"{len(s['resets'])} resets; processing {s['processing_s']:.1f} s (engine "
         f"{s['filter_run_s']:.2f} s). Configuration: {result.config.path}."
     )
     # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
-    step = max(1, round(0.1 / max(np.median(np.diff(t)), 1e-6)))
+    step = max(1, round(0.1 / max(float(np.median(np.diff(t))), 1e-6)))
     fig, ax = plt.subplots(figsize=(7, 6))
     if result.truth is not None:
-        e, n = _east_north(result.truth["lla"], origin)
-        ax.plot(e, n, "k-", lw=2.5, alpha=0.35, label="truth (RTK)")
-    if len(result.gnss_lla):
-        e, n = _east_north(result.gnss_lla, origin)
-        ax.plot(e, n, ".", ms=2, color="tab:orange", label="GNSS input")
-    e, n = _east_north(result.lla[::step], origin)
-    ax.plot(e, n, "-", lw=1, color="tab:blue", label="memsnav")
-    for i, (st, d) in enumerate(result.outages):
-        m = (t[::step] >= st) & (t[::step] < st + d)
-        ax.plot(e[m], n[m], "-", lw=2, color="tab:red", label="outages" if i == 0 else None)
+        ned = np.asarray(_mn.ecef_to_ned(result.truth["position_ecef"], origin))
+        ax.plot(ned[:, 1], ned[:, 0], "k-", lw=2.5, alpha=0.35, label="truth (RTK)")
+    gnss = run.gnss
+    used = np.asarray(gnss["used"]) & np.all(np.isfinite(gnss["position_ecef"]), axis=1)
+    if used.any():
+        ned = np.asarray(_mn.ecef_to_ned(np.asarray(gnss["position_ecef"])[used], origin))
+        ax.plot(ned[:, 1], ned[:, 0], ".", ms=2, color="tab:orange", label="GNSS input")
+    ned = np.asarray(_mn.ecef_to_ned(position[::step], origin))
+    ax.plot(ned[:, 1], ned[:, 0], "-", lw=1, color="tab:blue", label="memsnav")
+    ts = np.asarray(run.time)[::step]
+    for i, (a, b) in enumerate(run.outages):
+        m = (ts >= a) & (ts < b)
+        ax.plot(ned[m, 1], ned[m, 0], "-", lw=2, color="tab:red", label="outages" if i == 0 else None)
     ax.set_xlabel("east [m]")
     ax.set_ylabel("north [m]")
     ax.set_aspect("equal", adjustable="datalim")
@@ -69,61 +70,50 @@ def write_report(result: NavigationResult, out: Path) -> Path:
 
     if result.truth is not None:
         tr = result.truth
+        tt = np.asarray(tr["time"]) - t0
         fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
         for j, label in enumerate(("north", "east", "down")):
             a = axes[j]
-            a.plot(tr["time"], tr["error_ned"][:, j], lw=0.8, label="memsnav - truth")
-            a.plot(tr["time"], 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
-            a.plot(tr["time"], -3 * tr["std_ned"][:, j], "r--", lw=0.8)
+            a.plot(tt, tr["error_ned"][:, j], lw=0.8, label="memsnav - truth")
+            a.plot(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
+            a.plot(tt, -3 * tr["std_ned"][:, j], "r--", lw=0.8)
             if result.spp is not None:
                 a.plot(
-                    result.spp["time"],
+                    np.asarray(result.spp["time"]) - t0,
                     result.spp["error_ned"][:, j],
                     ".",
                     ms=2,
                     color="tab:gray",
                     label="SPP - truth",
                 )
-            for st, d in result.outages:
-                a.axvspan(st, st + d, color="tab:red", alpha=0.1)
+            for start, end in run.outages:
+                a.axvspan(start - t0, end - t0, color="tab:red", alpha=0.1)
+            for start, end in run.standstills:
+                a.axvspan(start - t0, end - t0, color="tab:green", alpha=0.08)
             a.set_ylabel(f"{label} [m]")
             a.grid(alpha=0.3)
         axes[0].legend(loc="upper right", fontsize=8)
-        axes[-1].set_xlabel("time since alignment [s]")
+        axes[-1].set_xlabel("time since the start [s]")
         doc.section("Errors against the truth")
         doc.figure(
             "errors",
             fig,
             "Position error of the solution at the antenna against the RTK solution, with "
-            "the filter's 3-sigma bounds; shaded: scheduled GNSS outages.",
+            "the filter's 3-sigma bounds; shaded red: scheduled GNSS outages; green: "
+            "standstills (zero-velocity and zero-rate updates).",
         )
         plt.close(fig)
         rows: list[list[object]] = []
-        for key, st in s["errors_vs_truth"].items():
-            if st.get("epochs", 0) == 0:
+        errors = s["errors_vs_truth"]
+        for key, st in errors.items():
+            if key == "by_outage_length_s" or st.get("epochs", 0) == 0:
                 continue
-            rows.append(
-                [
-                    key,
-                    st["epochs"],
-                    st["rms_horizontal_m"],
-                    st["rms_vertical_m"],
-                    st["max_horizontal_m"],
-                    st["within_3sigma_share"],
-                ]
-            )
-        if "spp_errors_vs_truth" in s:
-            st = s["spp_errors_vs_truth"]
-            rows.append(
-                [
-                    "SPP (pseudorange only)",
-                    st["epochs"],
-                    st["rms_horizontal_m"],
-                    st["rms_vertical_m"],
-                    st["max_horizontal_m"],
-                    "-",
-                ]
-            )
+            rows.append(_row(key, st))
+        for length, st in errors["by_outage_length_s"].items():
+            if st.get("epochs", 0):
+                rows.append(_row(f"all {length} s outages", st))
+        if "spp_errors_vs_truth" in s and s["spp_errors_vs_truth"].get("epochs"):
+            rows.append(_row("SPP (pseudorange only)", s["spp_errors_vs_truth"]))
         doc.section("Statistics")
         doc.table(
             [
@@ -136,4 +126,23 @@ def write_report(result: NavigationResult, out: Path) -> Path:
             ],
             rows,
         )
+    doc.section("Resets")
+    if s["resets"]:
+        doc.table(
+            ["time [s]", "kind", "change", "failed epochs before"],
+            [[r["time_s"], r["kind"], r["change"], r["failed_epochs"]] for r in s["resets"]],
+        )
+    else:
+        doc.paragraph("The filter made no reset.")
     return doc.write(out)
+
+
+def _row(label: str, st: dict[str, float]) -> list[object]:
+    return [
+        label,
+        st["epochs"],
+        st["rms_horizontal_m"],
+        st["rms_vertical_m"],
+        st["max_horizontal_m"],
+        st.get("within_3sigma_share", "-"),
+    ]

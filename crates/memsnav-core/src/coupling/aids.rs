@@ -95,18 +95,18 @@ impl<const N: usize> FilterState<N> {
     }
 
     /// ZARU: the raw gyro reading averaged over a standstill,
-    /// `mean_raw_rate_b`, with std `std_rad_s` per axis (of the mean).
+    /// `mean_raw_rate_b`, with std `std_rad_s` (of the mean, per axis).
     /// Returns whether it was applied.
     pub fn zero_rate_update(
         &mut self,
         time_s: f64,
         mean_raw_rate_b: &Vector3<f64>,
-        std_rad_s: f64,
+        std_rad_s: &Vector3<f64>,
     ) -> Result<bool> {
         let kind = MeasurementKind::ZeroRate;
         let rows = zero_rate_rows(&self.nav.c_b_e, &self.gyro_bias_rad_s, mean_raw_rate_b);
         for (k, (h, y)) in rows.into_iter().enumerate() {
-            self.stage(time_s, kind, k as u16, h, y, std_rad_s);
+            self.stage(time_s, kind, k as u16, h, y, std_rad_s[k]);
         }
         self.apply_staged(time_s, kind, AIDS)
     }
@@ -222,7 +222,9 @@ mod tests {
         s.kf.p
             .fixed_view_mut::<3, 3>(GYRO_BIAS, GYRO_BIAS)
             .fill_diagonal(0.05f64.powi(2));
-        assert!(s.zero_rate_update(1.0, &reading, 1e-4).unwrap());
+        assert!(s
+            .zero_rate_update(1.0, &reading, &Vector3::from_element(1e-4))
+            .unwrap());
         assert!(
             (s.gyro_bias_rad_s - true_bias).norm() < 1e-4,
             "{}",

@@ -16,6 +16,23 @@ use crate::{validate, Error, Result};
 /// Speed below which the GNSS velocity gives no usable heading, m/s.
 pub const MIN_SPEED_FOR_HEADING_M_S: f64 = 1.0;
 
+/// Roll and pitch, rad, from the mean specific force of a body at rest or
+/// in gentle motion (Groves eq. 5.101: at rest f^b = −C_n^b g^n);
+/// an error when it does not show gravity.
+pub fn level(mean_specific_force_b: &Vector3<f64>) -> Result<(f64, f64)> {
+    let f = mean_specific_force_b;
+    if !f.iter().all(|v| v.is_finite()) || f.norm() <= 1.0 {
+        return Err(Error::invalid(
+            "specific_force",
+            "the mean specific force does not show gravity: cannot level",
+        ));
+    }
+    Ok((
+        (-f.y).atan2(-f.z),
+        f.x.atan2((f.y * f.y + f.z * f.z).sqrt()),
+    ))
+}
+
 /// Coarse attitude C_b^e: roll and pitch by levelling the mean specific force
 /// `mean_specific_force_b` (Groves eq. 5.101: at rest f^b = −C_n^b g^n), heading
 /// from the course over ground of `velocity_ecef`. Levelling on a moving,
@@ -26,15 +43,7 @@ pub fn coarse_attitude(
     position_ecef: &Vector3<f64>,
     velocity_ecef: &Vector3<f64>,
 ) -> Result<Matrix3<f64>> {
-    let f = mean_specific_force_b;
-    if !f.iter().all(|v| v.is_finite()) || f.norm() <= 1.0 {
-        return Err(Error::invalid(
-            "specific_force",
-            "the first second of specific force does not show gravity: cannot level",
-        ));
-    }
-    let roll = (-f.y).atan2(-f.z);
-    let pitch = f.x.atan2((f.y * f.y + f.z * f.z).sqrt());
+    let (roll, pitch) = level(mean_specific_force_b)?;
     let geo = ecef_to_geodetic(position_ecef);
     let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
     let v_ned = cne.transpose() * velocity_ecef;

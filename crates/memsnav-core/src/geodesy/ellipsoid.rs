@@ -98,6 +98,13 @@ pub fn c_n_e(latitude_rad: f64, longitude_rad: f64) -> Matrix3<f64> {
     )
 }
 
+/// `position_ecef − origin_ecef` in the local NED axes at `origin_ecef`
+/// (a tangent-plane offset: north, east, down metres from the origin).
+pub fn ned_offset(position_ecef: &Vector3<f64>, origin_ecef: &Vector3<f64>) -> Vector3<f64> {
+    let g = ecef_to_geodetic(origin_ecef);
+    c_n_e(g.latitude_rad, g.longitude_rad).transpose() * (position_ecef - origin_ecef)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -129,6 +136,15 @@ mod tests {
         let equator = ecef_to_geodetic(&Vector3::new(A + 10.0, 0.0, 0.0));
         assert!(equator.latitude_rad.abs() < 1e-15);
         assert!((equator.height_m - 10.0).abs() < 1e-9);
+    }
+
+    /// A point moved 10 m north, 5 m east and 2 m up from the origin.
+    #[test]
+    fn ned_offsets_of_a_nearby_point() {
+        let (lat, lon) = (0.7_f64, -1.2_f64);
+        let origin = geodetic_to_ecef(Geodetic::new(lat, lon, 100.0));
+        let p = origin + c_n_e(lat, lon) * Vector3::new(10.0, 5.0, -2.0);
+        assert!((ned_offset(&p, &origin) - Vector3::new(10.0, 5.0, -2.0)).norm() < 1e-9);
     }
 
     #[test]

@@ -5,6 +5,7 @@ mod gravity;
 pub mod wgs84;
 
 pub use ellipsoid::{
-    c_n_e, ecef_to_geodetic, geodetic_to_ecef, meridian_radius, transverse_radius, Geodetic,
+    c_n_e, ecef_to_geodetic, geodetic_to_ecef, meridian_radius, ned_offset, transverse_radius,
+    Geodetic,
 };
 pub use gravity::{gravitation_ecef, gravity_ecef, normal_gravity_somigliana};

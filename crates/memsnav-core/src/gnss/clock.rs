@@ -57,6 +57,38 @@ impl ReceiverClockModel {
         validate::non_negative("clock_initial_drift_std", self.initial_drift_std_m_s)
     }
 
+    /// The model of an oscillator class, by name (initial stds as the
+    /// default's):
+    ///
+    /// - `"ocxo"`: oven-controlled crystal, h0 = 8e-20, h−2 = 4e-23
+    ///   (Brown & Hwang table 9.1);
+    /// - `"tcxo"`: temperature-compensated crystal, h0 = 2e-19, h−2 = 2e-20
+    ///   (Brown & Hwang table 9.1; Groves' S_cf ≈ 0.04 m²/s³);
+    /// - `"consumer"`: the TCXO of a consumer receiver moved through
+    ///   temperature changes (in a hand, a car cabin), h0 = 2e-19,
+    ///   h−2 = 2e-18 (S_cf ≈ 3.5 m²/s³, a hundred times the TCXO's): the
+    ///   u-blox receiver of walk_0827 changed its drift by 25 m/s in 134 s
+    ///   (docs/real-data.md), which a TCXO's 0.2 m/s/√s random walk makes a
+    ///   13σ event and this model a 1.2σ one.
+    pub fn oscillator(name: &str) -> Result<Self> {
+        let (h0, h_minus2) = match name {
+            "ocxo" => (8e-20, 4e-23),
+            "tcxo" => (2e-19, 2e-20),
+            "consumer" => (2e-19, 2e-18),
+            _ => {
+                return Err(Error::invalid(
+                    "receiver_clock",
+                    format!("must be \"ocxo\", \"tcxo\" or \"consumer\", got {name:?}"),
+                ))
+            }
+        };
+        Ok(Self {
+            h0,
+            h_minus2,
+            ..Self::default()
+        })
+    }
+
     /// White-noise PSD of the offset, S_f = c² h0 / 2, m²/s.
     pub fn offset_psd_m2_s(&self) -> f64 {
         SPEED_OF_LIGHT_M_S * SPEED_OF_LIGHT_M_S * self.h0 / 2.0

@@ -1,0 +1,232 @@
+//! Position fixes from a solution file's geodetic rows (an RTKLIB `.pos`):
+//! thinned to a rate, optionally degraded by seeded white noise (to play a
+//! metre-class receiver from an RTK solution), with their NED covariance
+//! rotated into ECEF.
+
+use nalgebra::{Matrix3, Vector3};
+use rand_distr::{Distribution, StandardNormal};
+
+use crate::coupling::PositionFix;
+use crate::geodesy::{c_n_e, geodetic_to_ecef, Geodetic};
+use crate::random::Rng;
+use crate::{validate, Error, Result};
+
+/// Velocity std used where a solution gives a velocity without its std,
+/// m/s (a Doppler velocity's usual accuracy).
+pub const MISSING_VELOCITY_STD_M_S: f64 = 0.1;
+
+/// The rows of a geodetic solution.
+#[derive(Debug, Clone, Copy)]
+pub struct GeodeticSolution<'a> {
+    /// Epoch times, s (GNSS time), increasing.
+    pub time_s: &'a [f64],
+    /// Latitude, longitude (rad), ellipsoidal height (m).
+    pub geodetic: &'a [Vector3<f64>],
+    /// One-sigma north, east, down (up) position, m.
+    pub std_ned_m: &'a [Vector3<f64>],
+    /// Velocity north, east, down, m/s (NaN where absent), if any.
+    pub velocity_ned_m_s: Option<&'a [Vector3<f64>]>,
+    /// Its one-sigma, m/s (NaN where absent).
+    pub velocity_std_ned_m_s: Option<&'a [Vector3<f64>]>,
+}
+
+/// How the rows become fixes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixOptions {
+    /// Keep only epochs on this rate's grid (within 20 ms, RTKLIB rounds
+    /// its times to the millisecond); `None` keeps every epoch.
+    pub rate_hz: Option<f64>,
+    /// White noise added to the positions, north, east, down one-sigma, m.
+    pub added_position_noise_ned_m: Vector3<f64>,
+    /// White noise added to each velocity component, m/s.
+    pub added_velocity_noise_m_s: f64,
+    /// Use the velocities (when the solution has them).
+    pub use_velocity: bool,
+}
+
+impl Default for FixOptions {
+    fn default() -> Self {
+        Self {
+            rate_hz: None,
+            added_position_noise_ned_m: Vector3::zeros(),
+            added_velocity_noise_m_s: 0.0,
+            use_velocity: true,
+        }
+    }
+}
+
+/// The fixes of `solution` with `options`; noise drawn from `rng`. The
+/// covariance of each fix is its stated std² plus the added noise², rotated
+/// from NED into ECEF (C_n^e diag(σ²) C_e^n).
+pub fn fixes_from_geodetic(
+    solution: &GeodeticSolution,
+    options: &FixOptions,
+    rng: &mut Rng,
+) -> Result<Vec<PositionFix>> {
+    let n = solution.time_s.len();
+    validate::same_length("geodetic", solution.geodetic.len(), "time", n)?;
+    validate::same_length("std_ned", solution.std_ned_m.len(), "time", n)?;
+    validate::increasing_times("time", solution.time_s)?;
+    for (name, rows) in [
+        ("velocity_ned", solution.velocity_ned_m_s),
+        ("velocity_std_ned", solution.velocity_std_ned_m_s),
+    ] {
+        if let Some(v) = rows {
+            validate::same_length(name, v.len(), "time", n)?;
+        }
+    }
+    validate::finite_vectors(
+        "added_position_noise",
+        &[options.added_position_noise_ned_m],
+    )?;
+    if options.added_position_noise_ned_m.min() < 0.0 {
+        return Err(Error::invalid(
+            "added_position_noise",
+            "must not be negative",
+        ));
+    }
+    validate::non_negative("added_velocity_noise", options.added_velocity_noise_m_s)?;
+    if let Some(r) = options.rate_hz {
+        validate::positive("rate_hz", r)?;
+    }
+    let on_grid = |t: f64| match options.rate_hz {
+        Some(rate) => {
+            let step = 1.0 / rate;
+            ((t / step) - (t / step).round()).abs() * step < 0.02
+        }
+        None => true,
+    };
+    let noise = options.added_position_noise_ned_m;
+    let mut out = Vec::new();
+    for k in 0..n {
+        let t = solution.time_s[k];
+        let g = solution.geodetic[k];
+        let std = solution.std_ned_m[k];
+        if !on_grid(t) {
+            continue;
+        }
+        if !(g.iter().all(|v| v.is_finite()) && std.iter().all(|v| v.is_finite() && *v >= 0.0)) {
+            return Err(Error::invalid(
+                "solution",
+                format!("epoch {k} (t = {t} s) has a non-finite position or a negative or non-finite std"),
+            ));
+        }
+        let cne = c_n_e(g.x, g.y);
+        let draw =
+            |rng: &mut Rng| -> Vector3<f64> { Vector3::from_fn(|_, _| StandardNormal.sample(rng)) };
+        let dn = draw(rng).component_mul(&noise);
+        let position_ecef = geodetic_to_ecef(Geodetic::new(g.x, g.y, g.z)) + cne * dn;
+        let var = std.component_mul(&std) + noise.component_mul(&noise);
+        let position_covariance = cne * Matrix3::from_diagonal(&var) * cne.transpose();
+        let velocity = solution
+            .velocity_ned_m_s
+            .map(|v| v[k])
+            .filter(|v| options.use_velocity && v.iter().all(|x| x.is_finite()));
+        let (velocity_ecef, velocity_covariance) = match velocity {
+            Some(v) => {
+                let vn = options.added_velocity_noise_m_s;
+                let sv = solution
+                    .velocity_std_ned_m_s
+                    .map(|s| s[k])
+                    .unwrap_or(Vector3::from_element(f64::NAN))
+                    .map(|s| {
+                        if s.is_finite() && s >= 0.0 {
+                            s
+                        } else {
+                            MISSING_VELOCITY_STD_M_S
+                        }
+                    });
+                let dv = draw(rng) * vn;
+                let var = sv.component_mul(&sv).add_scalar(vn * vn);
+                (
+                    Some(cne * (v + dv)),
+                    cne * Matrix3::from_diagonal(&var) * cne.transpose(),
+                )
+            }
+            None => (None, Matrix3::zeros()),
+        };
+        out.push(PositionFix {
+            time_s: t,
+            position_ecef,
+            position_covariance,
+            velocity_ecef,
+            velocity_covariance,
+        });
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::stream;
+
+    /// Thinning keeps the rate's grid; without noise the fix is the point
+    /// and its covariance has the NED stds along the local axes.
+    #[test]
+    fn fixes_keep_the_grid_and_rotate_the_covariance() {
+        let t: Vec<f64> = (0..12).map(|k| 100.0 + k as f64 * 0.25 + 0.001).collect();
+        let g = vec![Vector3::new(0.7, 0.2, 50.0); t.len()];
+        let s = vec![Vector3::new(0.01, 0.02, 0.03); t.len()];
+        let v = vec![Vector3::new(1.0, 2.0, 0.0); t.len()];
+        let sol = GeodeticSolution {
+            time_s: &t,
+            geodetic: &g,
+            std_ned_m: &s,
+            velocity_ned_m_s: Some(&v),
+            velocity_std_ned_m_s: None,
+        };
+        let opts = FixOptions {
+            rate_hz: Some(1.0),
+            ..Default::default()
+        };
+        let fixes = fixes_from_geodetic(&sol, &opts, &mut stream(1, 0)).unwrap();
+        assert_eq!(fixes.len(), 3);
+        let cne = c_n_e(0.7, 0.2);
+        let f = &fixes[0];
+        assert!((f.position_ecef - geodetic_to_ecef(Geodetic::new(0.7, 0.2, 50.0))).norm() < 1e-9);
+        let ned = cne.transpose() * f.position_covariance * cne;
+        assert!(
+            (ned - Matrix3::from_diagonal(&Vector3::new(1e-4, 4e-4, 9e-4)))
+                .abs()
+                .max()
+                < 1e-15
+        );
+        let vned = cne.transpose() * f.velocity_ecef.unwrap();
+        assert!((vned - Vector3::new(1.0, 2.0, 0.0)).norm() < 1e-12);
+        let vcov = cne.transpose() * f.velocity_covariance * cne;
+        assert!((vcov[(0, 0)] - MISSING_VELOCITY_STD_M_S.powi(2)).abs() < 1e-15);
+    }
+
+    /// Added noise has the requested std in each NED direction.
+    #[test]
+    fn added_noise_has_its_std() {
+        let n = 4000;
+        let t: Vec<f64> = (0..n).map(|k| k as f64).collect();
+        let g = vec![Vector3::new(-0.3, 2.0, 10.0); n];
+        let s = vec![Vector3::zeros(); n];
+        let sol = GeodeticSolution {
+            time_s: &t,
+            geodetic: &g,
+            std_ned_m: &s,
+            velocity_ned_m_s: None,
+            velocity_std_ned_m_s: None,
+        };
+        let opts = FixOptions {
+            added_position_noise_ned_m: Vector3::new(1.0, 2.0, 3.0),
+            ..Default::default()
+        };
+        let fixes = fixes_from_geodetic(&sol, &opts, &mut stream(5, 0)).unwrap();
+        let cne = c_n_e(-0.3, 2.0);
+        let origin = geodetic_to_ecef(Geodetic::new(-0.3, 2.0, 10.0));
+        let e: Vec<Vector3<f64>> = fixes
+            .iter()
+            .map(|f| cne.transpose() * (f.position_ecef - origin))
+            .collect();
+        for (axis, want) in [1.0, 2.0, 3.0].into_iter().enumerate() {
+            let std = (e.iter().map(|x| x[axis] * x[axis]).sum::<f64>() / n as f64).sqrt();
+            assert!((std / want - 1.0).abs() < 0.05, "axis {axis}: {std}");
+        }
+        assert!(fixes[0].velocity_ecef.is_none());
+    }
+}

@@ -1,0 +1,35 @@
+//! Navigation of a real IMU/GNSS log: the engine behind `memsnav navigate`.
+//!
+//! [`navigate_log`] takes the raw IMU series (sensor axes, on GNSS time)
+//! and the GNSS input (fixes for loose coupling, pseudoranges for tight),
+//! and does everything between them and a solution:
+//!
+//! 1. IMU into body axes ([`LogConfig::mounting`], [`mounting_matrix`]) and
+//!    onto GNSS time ([`LogConfig::imu_time_offset_s`]);
+//! 2. the start ([`align`]): static (levelled at rest, heading at the first
+//!    motion) or in motion (heading from the course);
+//! 3. the scheduled outages ([`LogConfig::outages`], [`periodic_outages`]);
+//! 4. the coupled filter with the lever arm in its measurement models, its
+//!    batch tests, fault exclusion and resets (see [`crate::coupling`]),
+//!    and at every IMU sample the aids ([`AidsConfig`]): ZUPT and ZARU at
+//!    standstills ([`standstill`]), the non-holonomic constraint of land
+//!    vehicles, the heading from the first motion;
+//! 5. the solution at the antenna in geodetic, NED and Euler terms
+//!    ([`output`]), and its errors against a truth ([`score`]).
+
+pub mod align;
+mod config;
+pub mod fixes;
+pub mod output;
+mod run;
+pub mod score;
+mod settings;
+pub mod standstill;
+
+pub use config::{
+    mounting_matrix, periodic_outages, AidsConfig, AlignmentConfig, AlignmentMethod, LogConfig,
+    StandstillConfig, StartOverrides,
+};
+pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
+pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun};
+pub use settings::{tables, SettingValue, KEYS};

@@ -1,0 +1,434 @@
+//! The run of a log: IMU into body axes and onto GNSS time, the start,
+//! the scheduled outages, the coupled filter with the aids at every IMU
+//! sample, and the solution.
+
+use nalgebra::Vector3;
+
+use super::align::{find_start, GnssKinematics, Start};
+use super::config::{periodic_outages, LogConfig};
+use super::standstill::Window;
+use crate::coupling::{self, FilterState, ImuData, InitialState, PositionFix, Solution};
+use crate::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
+use crate::gnss::{solve_fix, GnssEpoch, SatelliteMeasurement};
+use crate::ins::ImuSample;
+use crate::{validate, Error, Result};
+
+/// The GNSS side of a log.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GnssInput {
+    /// Position (and velocity) fixes of the antenna: loose coupling.
+    Fixes(Vec<PositionFix>),
+    /// Pseudoranges (and rates): tight coupling.
+    Measurements(Vec<GnssEpoch>),
+}
+
+/// What a log run produced.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogRun {
+    /// The filter's solution at every IMU sample from the start, at the IMU.
+    pub solution: Solution,
+    /// Where and how it started.
+    pub start: Start,
+    /// Every GNSS epoch's antenna position and velocity (the fixes, or the
+    /// least-squares fixes of the pseudoranges: the single-point solution).
+    pub gnss: Vec<GnssKinematics>,
+    /// Whether each GNSS epoch reached the filter (inside the run, outside
+    /// the outages).
+    pub gnss_used: Vec<bool>,
+    /// The outage windows, absolute (start, end) times, s.
+    pub outages: Vec<(f64, f64)>,
+    /// The standstills the run detected, (start, end) times, s.
+    pub standstills: Vec<(f64, f64)>,
+    /// The satellites holding range-bias slots at the end, with their bias
+    /// estimates, m.
+    pub range_biases: Vec<(u16, f64)>,
+    /// The antenna lever arm (IMU to antenna, body axes), m.
+    pub antenna_lever_arm_b_m: Vector3<f64>,
+}
+
+/// Runs a log: `time_s` the IMU time stamps on GNSS time (before the
+/// configured offset), `specific_force_s` and `angular_rate_s` in sensor
+/// axes (SI).
+pub fn navigate_log(
+    time_s: &[f64],
+    specific_force_s: &[Vector3<f64>],
+    angular_rate_s: &[Vector3<f64>],
+    gnss: &GnssInput,
+    config: &LogConfig,
+) -> Result<LogRun> {
+    config.validate()?;
+    let raw = ImuData {
+        time_s,
+        specific_force_b: specific_force_s,
+        angular_rate_b: angular_rate_s,
+    };
+    raw.validate()?;
+    validate_gnss(gnss)?;
+    let time: Vec<f64> = time_s
+        .iter()
+        .map(|t| t + config.imu_time_offset_s)
+        .collect();
+    let imu_b: Vec<ImuSample> = specific_force_s
+        .iter()
+        .zip(angular_rate_s)
+        .map(|(f, w)| ImuSample {
+            specific_force_b: config.mounting * f,
+            angular_rate_b: config.mounting * w,
+        })
+        .collect();
+    let range_biases = config.range_bias_states && matches!(gnss, GnssInput::Measurements(_));
+    // With range-bias states the pseudorange errors the fixes see include
+    // the biases: their covariance (the start's position uncertainty) must.
+    let bias_std_m = if range_biases {
+        config.tuning.initial_std.range_bias_m
+    } else {
+        0.0
+    };
+    let kinematics = gnss_kinematics(gnss, bias_std_m)?;
+    let start = find_start(&time, &imu_b, &kinematics, config)?;
+    let t_end = match config.duration_s {
+        Some(d) => (start.time_s + d).min(time[time.len() - 1]),
+        None => time[time.len() - 1],
+    };
+    let k0 = start.first_sample;
+    let k1 = time.partition_point(|t| *t <= t_end);
+    if k1 < k0 + 2 {
+        return Err(Error::invalid(
+            "duration_s",
+            "leaves fewer than two IMU samples after the start",
+        ));
+    }
+    let mut relative = config.outages.clone();
+    if let Some((first, length, every)) = config.periodic_outages {
+        relative.extend(periodic_outages(
+            first,
+            length,
+            every,
+            t_end - start.time_s,
+        )?);
+    }
+    let outages: Vec<(f64, f64)> = relative
+        .iter()
+        .map(|&(s, l)| (start.time_s + s, start.time_s + s + l))
+        .collect();
+    let in_run = |t: f64| {
+        t >= time[k0] && t <= time[k1 - 1] && !outages.iter().any(|&(a, b)| t >= a && t < b)
+    };
+    let gnss_used: Vec<bool> = kinematics.iter().map(|g| in_run(g.time_s)).collect();
+    let run = Inputs {
+        time: &time[k0..k1],
+        imu_b: &imu_b[k0..k1],
+        gnss,
+        kinematics: &kinematics,
+        used: &gnss_used,
+        start: &start,
+        config,
+    };
+    let (solution, range_biases) = match (config.scale_factor_states, range_biases) {
+        (false, false) => run.filter::<BASE_STATES>()?,
+        (true, false) => run.filter::<WITH_SCALE_FACTORS>()?,
+        (false, true) => run.filter::<WITH_RANGE_BIASES>()?,
+        (true, true) => run.filter::<WITH_ALL>()?,
+    };
+    let standstills = standstill_intervals(&solution);
+    Ok(LogRun {
+        solution,
+        start,
+        gnss: kinematics,
+        gnss_used,
+        outages,
+        standstills,
+        range_biases,
+        antenna_lever_arm_b_m: config.tuning.antenna_lever_arm_b_m,
+    })
+}
+
+/// The standstills as intervals: runs of accepted or rejected ZUPTs.
+fn standstill_intervals(solution: &Solution) -> Vec<(f64, f64)> {
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    let gap = 1.0;
+    for m in solution
+        .measurements
+        .iter()
+        .filter(|m| m.kind == coupling::MeasurementKind::ZeroVelocity && m.id == 0)
+    {
+        match out.last_mut() {
+            Some(last) if m.time_s - last.1 <= gap => last.1 = m.time_s,
+            _ => out.push((m.time_s, m.time_s)),
+        }
+    }
+    out
+}
+
+/// Antenna position and velocity of every GNSS epoch: the fixes as they
+/// are, or least-squares fixes of the pseudoranges (NaN where an epoch has
+/// fewer than four usable satellites or no solution), their covariance with
+/// each pseudorange's std raised by `bias_std_m` in quadrature.
+fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinematics>> {
+    let nan = Vector3::from_element(f64::NAN);
+    Ok(match gnss {
+        GnssInput::Fixes(fixes) => fixes
+            .iter()
+            .map(|f| GnssKinematics {
+                time_s: f.time_s,
+                position_ecef: f.position_ecef,
+                position_covariance: f.position_covariance,
+                velocity_ecef: f.velocity_ecef,
+                velocity_covariance: f.velocity_covariance,
+            })
+            .collect(),
+        GnssInput::Measurements(epochs) => {
+            let mut prior = None;
+            epochs
+                .iter()
+                .map(|e| {
+                    let usable = GnssEpoch {
+                        time_s: e.time_s,
+                        measurements: e
+                            .measurements
+                            .iter()
+                            .filter(|m| {
+                                m.pseudorange_m.is_finite()
+                                    && m.position_ecef.iter().all(|v| v.is_finite())
+                            })
+                            .map(|m| SatelliteMeasurement {
+                                pseudorange_std_m: m.pseudorange_std_m.hypot(bias_std_m),
+                                ..*m
+                            })
+                            .collect(),
+                    };
+                    match solve_fix(&usable, prior) {
+                        Ok(f) => {
+                            prior = Some(f.position_ecef);
+                            let v = f.velocity_ecef;
+                            GnssKinematics {
+                                time_s: e.time_s,
+                                position_ecef: f.position_ecef,
+                                position_covariance: f
+                                    .position_clock_covariance
+                                    .fixed_view::<3, 3>(0, 0)
+                                    .into(),
+                                velocity_ecef: v.iter().all(|x| x.is_finite()).then_some(v),
+                                velocity_covariance: f
+                                    .velocity_drift_covariance
+                                    .fixed_view::<3, 3>(0, 0)
+                                    .into(),
+                            }
+                        }
+                        Err(_) => GnssKinematics {
+                            time_s: e.time_s,
+                            position_ecef: nan,
+                            position_covariance: nalgebra::Matrix3::from_element(f64::NAN),
+                            velocity_ecef: None,
+                            velocity_covariance: nalgebra::Matrix3::from_element(f64::NAN),
+                        },
+                    }
+                })
+                .collect()
+        }
+    })
+}
+
+/// The pieces of one run.
+struct Inputs<'a> {
+    time: &'a [f64],
+    imu_b: &'a [ImuSample],
+    gnss: &'a GnssInput,
+    kinematics: &'a [GnssKinematics],
+    used: &'a [bool],
+    start: &'a Start,
+    config: &'a LogConfig,
+}
+
+impl Inputs<'_> {
+    /// Runs the filter with `N` states; the solution and the final range biases.
+    fn filter<const N: usize>(&self) -> Result<(Solution, Vec<(u16, f64)>)> {
+        let f: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.specific_force_b).collect();
+        let w: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.angular_rate_b).collect();
+        let data = ImuData {
+            time_s: self.time,
+            specific_force_b: &f,
+            angular_rate_b: &w,
+        };
+        let s = self.start;
+        let mut tuning = self.config.tuning;
+        let i = &mut tuning.initial_std;
+        let o = &self.config.alignment_overrides;
+        i.position_m = o.position_std_m.unwrap_or(s.position_std_m);
+        i.velocity_m_s = o.velocity_std_m_s.unwrap_or(s.velocity_std_m_s);
+        i.attitude_ned_rad = Vector3::new(s.tilt_std_rad, s.tilt_std_rad, s.heading_std_rad);
+        let lever = tuning.antenna_lever_arm_b_m;
+        let initial = InitialState {
+            nav: crate::ins::NavState {
+                position_ecef: s.antenna.position_ecef - s.antenna.c_b_e * lever,
+                ..s.antenna
+            },
+            accel_bias_m_s2: Vector3::zeros(),
+            gyro_bias_rad_s: Vector3::zeros(),
+            clock_offset_m: None,
+            clock_drift_m_s: None,
+        };
+        let mut hook = Aids::new(self, Solution::with_capacity(self.time.len(), N));
+        let mut state: FilterState<N> = match self.gnss {
+            GnssInput::Fixes(fixes) => {
+                let used: Vec<PositionFix> = fixes
+                    .iter()
+                    .zip(self.used)
+                    .filter_map(|(f, &u)| u.then_some(*f))
+                    .collect();
+                coupling::run_loose_with_hook(&data, &used, &initial, &tuning, &mut hook)?
+            }
+            GnssInput::Measurements(epochs) => {
+                let used: Vec<GnssEpoch> = epochs
+                    .iter()
+                    .zip(self.used)
+                    .filter_map(|(e, &u)| u.then(|| e.clone()))
+                    .collect();
+                coupling::run_tight_with_hook(&data, &used, &initial, &tuning, &mut hook)?
+            }
+        };
+        let mut solution = hook.solution;
+        solution.take_records(&mut state);
+        Ok((solution, state.range_biases().collect()))
+    }
+}
+
+/// The aids and the heading alignment, run at every IMU sample, and the
+/// solution record.
+struct Aids<'a> {
+    inputs: &'a Inputs<'a>,
+    solution: Solution,
+    window: Window,
+    /// Next GNSS epoch (into `inputs.kinematics`) not yet seen.
+    next_epoch: usize,
+    /// Time, ground speed, course and its std of the last used GNSS epoch with a velocity.
+    last_course: Option<(f64, f64, f64, f64)>,
+    heading_known: bool,
+    still: bool,
+    next_decision_s: f64,
+    next_zupt_s: f64,
+    next_zaru_s: f64,
+    next_nhc_s: f64,
+}
+
+impl<'a> Aids<'a> {
+    fn new(inputs: &'a Inputs<'a>, solution: Solution) -> Self {
+        let rate_hz =
+            (inputs.time.len() - 1) as f64 / (inputs.time[inputs.time.len() - 1] - inputs.time[0]);
+        Self {
+            inputs,
+            solution,
+            window: Window::new(inputs.config.standstill.window_s, rate_hz),
+            next_epoch: 0,
+            last_course: None,
+            heading_known: inputs.start.heading_known,
+            still: false,
+            next_decision_s: f64::NEG_INFINITY,
+            next_zupt_s: f64::NEG_INFINITY,
+            next_zaru_s: f64::NEG_INFINITY,
+            next_nhc_s: f64::NEG_INFINITY,
+        }
+    }
+
+    /// Whether the latest GNSS velocity (or, without a recent one, the
+    /// solution) says the vehicle is slow enough to be at rest.
+    fn slow<const N: usize>(&self, t: f64, state: &FilterState<N>) -> bool {
+        let c = &self.inputs.config.standstill;
+        match self.last_course {
+            Some((tg, speed, _, _)) if t - tg <= c.gnss_age_s => speed < c.gnss_speed_m_s,
+            _ => state.nav.velocity_ecef.norm() < c.solution_speed_m_s,
+        }
+    }
+
+    /// Sets the heading from the GNSS course at the first motion (speed at
+    /// least `min_speed_m_s`, course known to `max_course_std_rad`), the
+    /// body's x axis taken along the direction of travel. A vehicle that
+    /// reverses out of its parking place needs `alignment.heading_deg`:
+    /// nothing the filter holds by then tells forward from backward (the
+    /// GNSS velocity updates of the unaligned phase have already mixed the
+    /// wrong heading into the body-frame velocity).
+    fn align_heading<const N: usize>(&mut self, t: f64, state: &mut FilterState<N>) -> Result<()> {
+        let a = &self.inputs.config.alignment;
+        let Some((_, speed, heading, course_std)) = self.last_course else {
+            return Ok(());
+        };
+        if self.heading_known || speed < a.min_speed_m_s || course_std > a.max_course_std_rad {
+            return Ok(());
+        }
+        state.align_heading(t, heading, a.heading_std_rad.hypot(course_std))?;
+        self.heading_known = true;
+        Ok(())
+    }
+}
+
+impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
+    fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()> {
+        let t = self.inputs.time[k];
+        self.window.push(self.inputs.imu_b[k]);
+        let kin = self.inputs.kinematics;
+        while self.next_epoch < kin.len() && kin[self.next_epoch].time_s <= t {
+            let i = self.next_epoch;
+            self.next_epoch += 1;
+            if !self.inputs.used[i] {
+                continue;
+            }
+            if let Some((speed, course, std)) = kin[i].course() {
+                self.last_course = Some((kin[i].time_s, speed, course, std));
+                self.align_heading(t, state)?;
+            }
+        }
+        let config = self.inputs.config;
+        let aids = &config.aids;
+        if t >= self.next_decision_s && self.window.full() {
+            self.next_decision_s = t + aids.zupt_interval_s.min(config.standstill.window_s);
+            let stats = self.window.stats();
+            self.still = stats.still(&config.standstill) && self.slow(t, state);
+            if self.still && aids.zaru && t >= self.next_zaru_s {
+                let n = stats.samples as f64;
+                let std = stats
+                    .std_angular_rate_b
+                    .map(|s| (s / n.sqrt()).max(aids.zaru_min_std_rad_s));
+                // Each ZARU uses its own window of samples.
+                state.zero_rate_update(t, &stats.mean_angular_rate_b, &std)?;
+                self.next_zaru_s = t + config.standstill.window_s;
+            }
+        }
+        if self.still {
+            if aids.zupt && t >= self.next_zupt_s {
+                state.zero_velocity_update(t, aids.zupt_std_m_s)?;
+                self.next_zupt_s = t + aids.zupt_interval_s;
+            }
+        } else if aids.nhc
+            && self.heading_known
+            && t >= self.next_nhc_s
+            && state.nav.velocity_ecef.norm() >= aids.nhc_min_speed_m_s
+        {
+            state.non_holonomic_update(t, &config.reference_from_imu_b_m, aids.nhc_std_m_s)?;
+            self.next_nhc_s = t + aids.nhc_interval_s;
+        }
+        self.solution.push(t, state);
+        Ok(())
+    }
+}
+
+/// The mean sample rate of increasing times, Hz (the IMU's, for its tuning).
+pub fn sample_rate_hz(time_s: &[f64]) -> Result<f64> {
+    if time_s.len() < 2 {
+        return Err(Error::invalid("time", "needs at least two samples"));
+    }
+    validate::increasing_times("time", time_s)?;
+    Ok((time_s.len() - 1) as f64 / (time_s[time_s.len() - 1] - time_s[0]))
+}
+
+/// Checks that the GNSS series is usable before a run: times finite and
+/// increasing (the filter checks the rest).
+pub fn validate_gnss(gnss: &GnssInput) -> Result<()> {
+    let times: Vec<f64> = match gnss {
+        GnssInput::Fixes(f) => f.iter().map(|x| x.time_s).collect(),
+        GnssInput::Measurements(e) => e.iter().map(|x| x.time_s).collect(),
+    };
+    if times.is_empty() {
+        return Err(Error::invalid("gnss", "has no epochs"));
+    }
+    validate::increasing_times("gnss.time", &times)
+}

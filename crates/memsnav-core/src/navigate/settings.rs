@@ -1,0 +1,582 @@
+//! A [`LogConfig`] from named settings (the tables of a `navigate`
+//! configuration file): every key the engine understands, its unit, and
+//! the checks, in one place. A key left out keeps the default of
+//! [`LogConfig`]; an unknown key or a value of the wrong kind is an error
+//! naming `table.key`.
+
+use nalgebra::Vector3;
+
+use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
+use crate::coupling::FilterTuning;
+use crate::gnss::ReceiverClockModel;
+use crate::sensors::presets::preset_spec;
+use crate::{validate, Error, Result};
+
+/// A setting's value, as a configuration file holds it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SettingValue {
+    Bool(bool),
+    Number(f64),
+    Text(String),
+    List(Vec<SettingValue>),
+}
+
+/// The tables and keys the engine reads, with what each holds.
+pub const KEYS: &[(&str, &[(&str, &str)])] = &[
+    (
+        "imu",
+        &[
+            ("time_offset_s", "added to the IMU time stamps, s"),
+            ("mounting_rpy_deg", "list of [roll, pitch, yaw] sensor-to-body rotations, deg"),
+            ("lever_arm_m", "IMU position from the vehicle reference point, body axes (forward, right, down), m"),
+        ],
+    ),
+    (
+        "gnss",
+        &[
+            ("antenna_lever_arm_m", "antenna position from the vehicle reference point, body axes, m"),
+            ("velocity_latency_s", "latency of the fixes' velocity, s"),
+            ("use_pseudorange_rate", "use Doppler (tight coupling)"),
+            ("receiver_clock", "oscillator class: \"tcxo\", \"ocxo\", \"consumer\""),
+            ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling)"),
+            ("range_bias_std_m", "their steady-state std, m"),
+            ("range_bias_correlation_time_s", "their correlation time, s"),
+        ],
+    ),
+    (
+        "filter",
+        &[
+            ("imu_preset", "IMU class the tuning starts from: \"consumer\", \"industrial\", \"tactical\", \"navigation\", \"paper-mems\""),
+            ("accel_noise_density", "accelerometer white noise, m/s/sqrt(s)"),
+            ("gyro_noise_density_deg", "gyro white noise, deg/sqrt(s)"),
+            ("accel_bias_std", "initial accelerometer bias std, m/s^2"),
+            ("gyro_bias_std_deg_s", "initial gyro bias std, deg/s"),
+            ("accel_bias_instability", "Gauss-Markov accelerometer bias std, m/s^2"),
+            ("gyro_bias_instability_deg_s", "Gauss-Markov gyro bias std, deg/s"),
+            ("bias_correlation_time_s", "their correlation time, s"),
+            ("initial_position_std_m", "overrides the start's position std, m"),
+            ("initial_velocity_std_m_s", "overrides the start's velocity std, m/s"),
+            ("initial_attitude_std_deg", "[tilt, tilt, heading] stds after alignment, deg"),
+            ("gate_probability", "probability of the chi-square test of each batch (1: no test)"),
+            ("scale_factor_states", "accelerometer and gyro scale-factor states"),
+            ("pseudorange_std_floor_m", "smallest pseudorange std believed, m"),
+            ("pseudorange_rate_std_floor_m_s", "smallest pseudorange-rate std, m/s"),
+            ("position_std_floor_m", "smallest position-fix std, m"),
+            ("velocity_std_floor_m_s", "smallest velocity-fix std, m/s"),
+            ("reset_after_failed_epochs", "failed epochs in a row before a reset"),
+            ("clock_jump_sigma", "common innovation taken for a clock jump, in stds"),
+            ("max_excluded_share", "largest share of a batch fault exclusion may drop"),
+        ],
+    ),
+    (
+        "alignment",
+        &[
+            ("method", "\"auto\" (static or moving start), \"static\" (needs heading_deg), \"gnss_velocity\" (moving start only)"),
+            ("min_speed_m_s", "speed from which the GNSS course gives the heading, m/s"),
+            ("max_course_std_deg", "largest course std an alignment accepts, deg"),
+            ("level_window_s", "levelling window before a moving start, s"),
+            ("heading_deg", "known heading for a static start, deg"),
+            ("heading_std_deg", "heading std after alignment, deg"),
+            ("tilt_std_deg", "roll/pitch std after levelling, deg"),
+        ],
+    ),
+    (
+        "standstill",
+        &[
+            ("window_s", "detector window, s"),
+            ("accel_std_m_s2", "largest specific-force spread at rest, m/s^2"),
+            ("gyro_std_deg_s", "largest angular-rate spread at rest, deg/s"),
+            ("gnss_speed_m_s", "largest GNSS speed at rest, m/s"),
+            ("gnss_age_s", "oldest GNSS velocity used, s"),
+            ("solution_speed_m_s", "largest solution speed at rest without GNSS, m/s"),
+        ],
+    ),
+    (
+        "aids",
+        &[
+            ("zupt", "zero-velocity updates at standstills"),
+            ("zupt_std_m_s", "their std, m/s"),
+            ("zupt_interval_s", "their interval, s"),
+            ("zaru", "zero-angular-rate updates at standstills"),
+            ("zaru_min_std_deg_s", "their smallest std, deg/s"),
+            ("nhc", "non-holonomic constraint (land vehicles)"),
+            ("nhc_std_m_s", "its std, m/s"),
+            ("nhc_interval_s", "its interval, s"),
+            ("nhc_min_speed_m_s", "lowest speed it applies at, m/s"),
+        ],
+    ),
+    (
+        "outages",
+        &[
+            ("windows_s", "list of [start, length] after the start, s"),
+            ("first_s", "periodic outages: start of the first, s"),
+            ("length_s", "periodic outages: length, s"),
+            ("every_s", "periodic outages: period, s"),
+        ],
+    ),
+];
+
+/// Reads a value as the kind a key needs.
+struct Reader<'a> {
+    table: &'a str,
+    key: &'a str,
+    value: &'a SettingValue,
+}
+
+impl Reader<'_> {
+    fn name(&self) -> String {
+        format!("{}.{}", self.table, self.key)
+    }
+
+    fn wrong(&self, expected: &str) -> Error {
+        Error::invalid(
+            self.name(),
+            format!("expected {expected}, got {:?}", self.value),
+        )
+    }
+
+    fn number(&self) -> Result<f64> {
+        match self.value {
+            SettingValue::Number(v) if v.is_finite() => Ok(*v),
+            SettingValue::Number(v) => Err(Error::invalid(
+                self.name(),
+                format!("must be finite, got {v}"),
+            )),
+            _ => Err(self.wrong("a number")),
+        }
+    }
+
+    fn positive(&self) -> Result<f64> {
+        let v = self.number()?;
+        validate::positive(&self.name(), v)?;
+        Ok(v)
+    }
+
+    fn non_negative(&self) -> Result<f64> {
+        let v = self.number()?;
+        validate::non_negative(&self.name(), v)?;
+        Ok(v)
+    }
+
+    fn flag(&self) -> Result<bool> {
+        match self.value {
+            SettingValue::Bool(b) => Ok(*b),
+            _ => Err(self.wrong("true or false")),
+        }
+    }
+
+    fn text(&self) -> Result<&str> {
+        match self.value {
+            SettingValue::Text(s) => Ok(s),
+            _ => Err(self.wrong("a string")),
+        }
+    }
+
+    fn numbers(value: &SettingValue, len: Option<usize>) -> Option<Vec<f64>> {
+        let SettingValue::List(items) = value else {
+            return None;
+        };
+        let v: Option<Vec<f64>> = items
+            .iter()
+            .map(|x| match x {
+                SettingValue::Number(v) if v.is_finite() => Some(*v),
+                _ => None,
+            })
+            .collect();
+        v.filter(|v| len.is_none_or(|n| v.len() == n))
+    }
+
+    fn vector3(&self) -> Result<Vector3<f64>> {
+        Self::numbers(self.value, Some(3))
+            .map(|v| Vector3::new(v[0], v[1], v[2]))
+            .ok_or_else(|| self.wrong("three finite numbers"))
+    }
+
+    fn pairs(&self, what: &str) -> Result<Vec<[f64; 2]>> {
+        self.list_of(2, what)
+            .map(|v| v.into_iter().map(|x| [x[0], x[1]]).collect())
+    }
+
+    fn triples(&self, what: &str) -> Result<Vec<[f64; 3]>> {
+        self.list_of(3, what)
+            .map(|v| v.into_iter().map(|x| [x[0], x[1], x[2]]).collect())
+    }
+
+    fn list_of(&self, n: usize, what: &str) -> Result<Vec<Vec<f64>>> {
+        let SettingValue::List(items) = self.value else {
+            return Err(self.wrong(what));
+        };
+        items
+            .iter()
+            .enumerate()
+            .map(|(i, x)| {
+                Self::numbers(x, Some(n)).ok_or_else(|| {
+                    Error::invalid(
+                        self.name(),
+                        format!("entry {i}: expected {n} finite numbers ({what}), got {x:?}"),
+                    )
+                })
+            })
+            .collect()
+    }
+}
+
+/// The IMU's filter tuning and the overrides that need each other.
+#[derive(Default)]
+struct Pending {
+    accel_instability: Option<f64>,
+    gyro_instability: Option<f64>,
+    correlation_time: Option<f64>,
+    imu_lever: Option<Vector3<f64>>,
+    antenna_lever: Option<Vector3<f64>>,
+    heading_deg: Option<f64>,
+    method: Option<String>,
+    periodic: [Option<f64>; 3],
+}
+
+impl LogConfig {
+    /// The configuration of `tables` (table name, keys and values): the
+    /// tuning from `filter.imu_preset` (default `"consumer"`) at the IMU's
+    /// `imu_rate_hz`, then every key applied over the defaults.
+    pub fn from_settings(
+        tables: &[(String, Vec<(String, SettingValue)>)],
+        imu_rate_hz: f64,
+    ) -> Result<Self> {
+        validate::positive("imu_rate_hz", imu_rate_hz)?;
+        for (table, entries) in tables {
+            let known = KEYS
+                .iter()
+                .find(|(t, _)| t == table)
+                .ok_or_else(|| {
+                    Error::invalid(
+                        table.clone(),
+                        format!(
+                            "unknown table; expected one of {}",
+                            KEYS.iter().map(|(t, _)| *t).collect::<Vec<_>>().join(", ")
+                        ),
+                    )
+                })?
+                .1;
+            for (key, _) in entries {
+                if !known.iter().any(|(k, _)| k == key) {
+                    return Err(Error::invalid(
+                        format!("{table}.{key}"),
+                        format!(
+                            "unknown key; [{table}] takes {}",
+                            known.iter().map(|(k, _)| *k).collect::<Vec<_>>().join(", ")
+                        ),
+                    ));
+                }
+            }
+        }
+        let find = |table: &str, key: &str| {
+            tables
+                .iter()
+                .filter(|(t, _)| t == table)
+                .flat_map(|(_, e)| e.iter())
+                .find(|(k, _)| k == key)
+                .map(|(_, v)| v)
+        };
+        let preset = match find("filter", "imu_preset") {
+            Some(v) => Reader {
+                table: "filter",
+                key: "imu_preset",
+                value: v,
+            }
+            .text()?
+            .to_string(),
+            None => "consumer".into(),
+        };
+        let scale = match find("filter", "scale_factor_states") {
+            Some(v) => Reader {
+                table: "filter",
+                key: "scale_factor_states",
+                value: v,
+            }
+            .flag()?,
+            None => false,
+        };
+        let spec =
+            preset_spec(&preset).map_err(|e| Error::invalid("filter.imu_preset", e.to_string()))?;
+        let mut config = LogConfig::new(FilterTuning::from_imu_spec(&spec, imu_rate_hz, scale)?);
+        config.scale_factor_states = scale;
+        let mut pending = Pending::default();
+        for (table, entries) in tables {
+            for (key, value) in entries {
+                let r = Reader { table, key, value };
+                config.apply(&r, &mut pending)?;
+            }
+        }
+        config.finish(pending)?;
+        config.validate()?;
+        Ok(config)
+    }
+
+    fn apply(&mut self, r: &Reader, p: &mut Pending) -> Result<()> {
+        let t = &mut self.tuning;
+        let q = &mut t.process_noise;
+        let i = &mut t.initial_std;
+        let deg = f64::to_radians;
+        match (r.table, r.key) {
+            ("imu", "time_offset_s") => self.imu_time_offset_s = r.number()?,
+            ("imu", "mounting_rpy_deg") => {
+                let triples = r.triples("roll, pitch, yaw")?;
+                let rad: Vec<[f64; 3]> = triples.iter().map(|t| t.map(deg)).collect();
+                self.mounting = mounting_matrix(&rad)?;
+            }
+            ("imu", "lever_arm_m") => p.imu_lever = Some(r.vector3()?),
+            ("gnss", "antenna_lever_arm_m") => p.antenna_lever = Some(r.vector3()?),
+            ("gnss", "velocity_latency_s") => t.velocity_latency_s = r.number()?,
+            ("gnss", "use_pseudorange_rate") => t.use_pseudorange_rate = r.flag()?,
+            ("gnss", "receiver_clock") => {
+                let clock = ReceiverClockModel::oscillator(r.text()?)
+                    .map_err(|e| Error::invalid(r.name(), e.to_string()))?;
+                q.clock_phase_psd = clock.offset_psd_m2_s();
+                q.clock_frequency_psd = clock.drift_psd_m2_s3();
+            }
+            ("gnss", "range_bias_states") => self.range_bias_states = r.flag()?,
+            ("gnss", "range_bias_std_m") => {
+                let s = r.positive()?;
+                i.range_bias_m = s;
+                q.range_bias_psd = 2.0 * s * s / q.range_bias_correlation_time_s;
+            }
+            ("gnss", "range_bias_correlation_time_s") => {
+                let tau = r.positive()?;
+                q.range_bias_correlation_time_s = tau;
+                q.range_bias_psd = 2.0 * i.range_bias_m.powi(2) / tau;
+            }
+            ("filter", "imu_preset" | "scale_factor_states") => {}
+            ("filter", "accel_noise_density") => q.accel_white_psd = r.non_negative()?.powi(2),
+            ("filter", "gyro_noise_density_deg") => {
+                q.gyro_white_psd = deg(r.non_negative()?).powi(2)
+            }
+            ("filter", "accel_bias_std") => i.accel_bias_m_s2 = r.positive()?,
+            ("filter", "gyro_bias_std_deg_s") => i.gyro_bias_rad_s = deg(r.positive()?),
+            ("filter", "accel_bias_instability") => p.accel_instability = Some(r.non_negative()?),
+            ("filter", "gyro_bias_instability_deg_s") => {
+                p.gyro_instability = Some(deg(r.non_negative()?))
+            }
+            ("filter", "bias_correlation_time_s") => p.correlation_time = Some(r.positive()?),
+            ("filter", "initial_position_std_m") => {
+                self.alignment_overrides.position_std_m = Some(r.positive()?)
+            }
+            ("filter", "initial_velocity_std_m_s") => {
+                self.alignment_overrides.velocity_std_m_s = Some(r.positive()?)
+            }
+            ("filter", "initial_attitude_std_deg") => {
+                let v = r.vector3()?;
+                if v.x != v.y {
+                    return Err(Error::invalid(
+                        r.name(),
+                        format!("the filter takes one tilt std for north and east; got {v:?}"),
+                    ));
+                }
+                self.alignment.tilt_std_rad = deg(v.x);
+                self.alignment.heading_std_rad = deg(v.z);
+            }
+            ("filter", "gate_probability") => t.gate_probability = r.number()?,
+            ("filter", "pseudorange_std_floor_m") => t.floor.pseudorange_m = r.non_negative()?,
+            ("filter", "pseudorange_rate_std_floor_m_s") => {
+                t.floor.pseudorange_rate_m_s = r.non_negative()?
+            }
+            ("filter", "position_std_floor_m") => t.floor.position_m = r.non_negative()?,
+            ("filter", "velocity_std_floor_m_s") => t.floor.velocity_m_s = r.non_negative()?,
+            ("filter", "reset_after_failed_epochs") => {
+                let v = r.positive()?;
+                if v.fract() != 0.0 || v > 1e6 {
+                    return Err(Error::invalid(
+                        r.name(),
+                        format!("must be a whole number, got {v}"),
+                    ));
+                }
+                t.recovery.reset_after_failed_epochs = v as usize;
+            }
+            ("filter", "clock_jump_sigma") => t.recovery.clock_jump_sigma = r.positive()?,
+            ("filter", "max_excluded_share") => t.recovery.max_excluded_share = r.non_negative()?,
+            ("alignment", "method") => p.method = Some(r.text()?.to_string()),
+            ("alignment", "min_speed_m_s") => self.alignment.min_speed_m_s = r.positive()?,
+            ("alignment", "level_window_s") => self.alignment.level_window_s = r.positive()?,
+            ("alignment", "max_course_std_deg") => {
+                self.alignment.max_course_std_rad = deg(r.positive()?)
+            }
+            ("alignment", "heading_deg") => p.heading_deg = Some(r.number()?),
+            ("alignment", "heading_std_deg") => self.alignment.heading_std_rad = deg(r.positive()?),
+            ("alignment", "tilt_std_deg") => self.alignment.tilt_std_rad = deg(r.positive()?),
+            ("standstill", "window_s") => self.standstill.window_s = r.positive()?,
+            ("standstill", "accel_std_m_s2") => self.standstill.accel_std_m_s2 = r.positive()?,
+            ("standstill", "gyro_std_deg_s") => self.standstill.gyro_std_rad_s = deg(r.positive()?),
+            ("standstill", "gnss_speed_m_s") => self.standstill.gnss_speed_m_s = r.positive()?,
+            ("standstill", "gnss_age_s") => self.standstill.gnss_age_s = r.positive()?,
+            ("standstill", "solution_speed_m_s") => {
+                self.standstill.solution_speed_m_s = r.positive()?
+            }
+            ("aids", "zupt") => self.aids.zupt = r.flag()?,
+            ("aids", "zupt_std_m_s") => self.aids.zupt_std_m_s = r.positive()?,
+            ("aids", "zupt_interval_s") => self.aids.zupt_interval_s = r.positive()?,
+            ("aids", "zaru") => self.aids.zaru = r.flag()?,
+            ("aids", "zaru_min_std_deg_s") => self.aids.zaru_min_std_rad_s = deg(r.positive()?),
+            ("aids", "nhc") => self.aids.nhc = r.flag()?,
+            ("aids", "nhc_std_m_s") => self.aids.nhc_std_m_s = r.positive()?,
+            ("aids", "nhc_interval_s") => self.aids.nhc_interval_s = r.positive()?,
+            ("aids", "nhc_min_speed_m_s") => self.aids.nhc_min_speed_m_s = r.non_negative()?,
+            ("outages", "windows_s") => {
+                self.outages = r
+                    .pairs("start and length")?
+                    .into_iter()
+                    .map(|[s, l]| (s, l))
+                    .collect()
+            }
+            ("outages", "first_s") => p.periodic[0] = Some(r.non_negative()?),
+            ("outages", "length_s") => p.periodic[1] = Some(r.positive()?),
+            ("outages", "every_s") => p.periodic[2] = Some(r.positive()?),
+            _ => unreachable!("keys are checked against KEYS before they are applied"),
+        }
+        Ok(())
+    }
+
+    /// The settings that need others: the bias processes, the lever arms,
+    /// the alignment method and the periodic outages.
+    fn finish(&mut self, p: Pending) -> Result<()> {
+        let q = &mut self.tuning.process_noise;
+        if p.accel_instability.is_some() || p.gyro_instability.is_some() {
+            let tau = p.correlation_time.ok_or_else(|| {
+                Error::invalid(
+                    "filter.bias_correlation_time_s",
+                    "is needed with a bias instability",
+                )
+            })?;
+            if let Some(s) = p.accel_instability {
+                q.accel_bias_psd = 2.0 * s * s / tau;
+                q.accel_bias_correlation_time_s = tau;
+            }
+            if let Some(s) = p.gyro_instability {
+                q.gyro_bias_psd = 2.0 * s * s / tau;
+                q.gyro_bias_correlation_time_s = tau;
+            }
+        }
+        let imu = p.imu_lever.unwrap_or_else(Vector3::zeros);
+        self.reference_from_imu_b_m = -imu;
+        self.tuning.antenna_lever_arm_b_m = p.antenna_lever.unwrap_or(imu) - imu;
+        self.alignment.method =
+            match (p.method.as_deref(), p.heading_deg) {
+                (None | Some("auto"), None) => AlignmentMethod::Auto,
+                (Some("gnss_velocity"), None) => AlignmentMethod::Moving,
+                (None | Some("static") | Some("auto"), Some(h)) => {
+                    AlignmentMethod::StaticHeading(h.to_radians())
+                }
+                (Some("static"), None) => {
+                    return Err(Error::invalid(
+                        "alignment.heading_deg",
+                        "is needed with alignment.method = \"static\"",
+                    ))
+                }
+                (Some("gnss_velocity"), Some(_)) => return Err(Error::invalid(
+                    "alignment.heading_deg",
+                    "is for a static start; alignment.method = \"gnss_velocity\" takes the course",
+                )),
+                (Some(m), _) => {
+                    return Err(Error::invalid(
+                        "alignment.method",
+                        format!("must be \"auto\", \"static\" or \"gnss_velocity\", got {m:?}"),
+                    ))
+                }
+            };
+        match p.periodic {
+            [_, None, None] => {}
+            [first, Some(length), Some(every)] => {
+                self.periodic_outages = Some((first.unwrap_or(every - length), length, every));
+            }
+            _ => {
+                return Err(Error::invalid(
+                    "outages",
+                    "periodic outages need both length_s and every_s",
+                ))
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Settings from plain (table, key, value) triples, for Rust callers and tests.
+pub fn tables(
+    entries: &[(&str, &str, SettingValue)],
+) -> Vec<(String, Vec<(String, SettingValue)>)> {
+    let mut out: Vec<(String, Vec<(String, SettingValue)>)> = Vec::new();
+    for (t, k, v) in entries {
+        match out.iter_mut().find(|(name, _)| name == t) {
+            Some((_, e)) => e.push((k.to_string(), v.clone())),
+            None => out.push((t.to_string(), vec![(k.to_string(), v.clone())])),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use SettingValue::*;
+
+    #[test]
+    fn keys_apply_with_their_units_and_unknown_ones_are_refused() {
+        let t = tables(&[
+            (
+                "imu",
+                "lever_arm_m",
+                List(vec![Number(0.0), Number(0.0), Number(-0.65)]),
+            ),
+            (
+                "gnss",
+                "antenna_lever_arm_m",
+                List(vec![Number(0.0), Number(-0.05), Number(-0.65)]),
+            ),
+            ("filter", "gyro_noise_density_deg", Number(0.05)),
+            ("filter", "gyro_bias_instability_deg_s", Number(0.01)),
+            ("filter", "bias_correlation_time_s", Number(300.0)),
+            ("alignment", "heading_deg", Number(90.0)),
+            ("aids", "nhc", Bool(true)),
+            ("outages", "length_s", Number(15.0)),
+            ("outages", "every_s", Number(60.0)),
+        ]);
+        let c = LogConfig::from_settings(&t, 100.0).unwrap();
+        assert!((c.tuning.antenna_lever_arm_b_m - Vector3::new(0.0, -0.05, 0.0)).norm() < 1e-15);
+        assert!((c.reference_from_imu_b_m - Vector3::new(0.0, 0.0, 0.65)).norm() < 1e-15);
+        let q = &c.tuning.process_noise;
+        assert!((q.gyro_white_psd - 0.05f64.to_radians().powi(2)).abs() < 1e-18);
+        assert!((q.gyro_bias_psd - 2.0 * 0.01f64.to_radians().powi(2) / 300.0).abs() < 1e-18);
+        assert_eq!(
+            c.alignment.method,
+            AlignmentMethod::StaticHeading(90f64.to_radians())
+        );
+        assert!(c.aids.nhc);
+        assert_eq!(c.periodic_outages, Some((45.0, 15.0, 60.0)));
+        let bad = |e: Vec<(String, Vec<(String, SettingValue)>)>| {
+            LogConfig::from_settings(&e, 100.0).unwrap_err().to_string()
+        };
+        assert!(
+            bad(tables(&[("filter", "gyro_noise_density", Number(1.0))]))
+                .starts_with("filter.gyro_noise_density: unknown key")
+        );
+        assert!(bad(tables(&[("filtre", "x", Number(1.0))])).starts_with("filtre: unknown table"));
+        assert!(bad(tables(&[("aids", "zupt", Number(1.0))])).contains("expected true or false"));
+        assert!(bad(tables(&[(
+            "filter",
+            "accel_bias_instability",
+            Number(0.01)
+        )]))
+        .starts_with("filter.bias_correlation_time_s"));
+        assert!(
+            bad(tables(&[("alignment", "method", Text("static".into()))]))
+                .starts_with("alignment.heading_deg")
+        );
+        assert!(bad(tables(&[(
+            "outages",
+            "windows_s",
+            List(vec![List(vec![Number(1.0)])])
+        )]))
+        .contains("entry 0"));
+        assert!(
+            bad(tables(&[("filter", "imu_preset", Text("cheap".into()))]))
+                .starts_with("filter.imu_preset")
+        );
+    }
+}

@@ -1,0 +1,452 @@
+//! `navigate_log` and its `LogRun`; `fixes_from_solution` and its
+//! `PositionFixes`: the real-log engine of memsnav-core
+//! (`memsnav_core::navigate`) on the user's arrays, one call per log with
+//! the GIL released.
+
+use memsnav_core::coupling::PositionFix;
+use memsnav_core::navigate::{
+    self, fixes_from_geodetic, score, FixOptions, GeodeticSolution, GnssInput, LogConfig, LogRun,
+    SettingValue,
+};
+use memsnav_core::random::stream;
+use nalgebra::{Matrix3, Vector3};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
+
+use crate::convert;
+use crate::coupling::{gnss_epochs, is_measurements, position_fixes, PyFilterSolution};
+use crate::errors::IntoPyResult;
+
+/// A Python value of a settings table as a core setting.
+fn setting(value: &Bound<'_, PyAny>, name: &str) -> PyResult<SettingValue> {
+    if value.is_instance_of::<PyBool>() {
+        return Ok(SettingValue::Bool(value.extract()?));
+    }
+    if value.is_instance_of::<PyString>() {
+        return Ok(SettingValue::Text(value.extract()?));
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let items: Vec<Bound<'_, PyAny>> = value.try_iter()?.collect::<PyResult<_>>()?;
+        return Ok(SettingValue::List(
+            items
+                .iter()
+                .map(|v| setting(v, name))
+                .collect::<PyResult<_>>()?,
+        ));
+    }
+    value
+        .extract::<f64>()
+        .map(SettingValue::Number)
+        .map_err(|_| {
+            PyValueError::new_err(format!(
+                "{name}: expected a number, true/false, a string or a list, got {}",
+                value.repr().map(|r| r.to_string()).unwrap_or_default()
+            ))
+        })
+}
+
+/// `{table: {key: value}}` → the core's tables.
+fn settings_tables(
+    settings: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Vec<(String, Vec<(String, SettingValue)>)>> {
+    let Some(d) = settings else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for (table, entries) in d.iter() {
+        let table: String = table
+            .extract()
+            .map_err(|_| PyValueError::new_err("settings: table names must be strings"))?;
+        let entries = entries.cast::<PyDict>().map_err(|_| {
+            PyValueError::new_err(format!("settings.{table}: must be a dict of key: value"))
+        })?;
+        let mut keys = Vec::new();
+        for (k, v) in entries.iter() {
+            let key: String = k.extract().map_err(|_| {
+                PyValueError::new_err(format!("settings.{table}: keys must be strings"))
+            })?;
+            keys.push((key.clone(), setting(&v, &format!("{table}.{key}"))?));
+        }
+        out.push((table, keys));
+    }
+    Ok(out)
+}
+
+/// The tables and keys `navigate_log(settings=...)` reads, each with what
+/// it holds: `{table: {key: description}}`.
+#[pyfunction]
+fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (table, keys) in navigate::KEYS {
+        let t = PyDict::new(py);
+        for (k, desc) in *keys {
+            t.set_item(k, desc)?;
+        }
+        d.set_item(table, t)?;
+    }
+    Ok(d)
+}
+
+/// Checks `settings` (`{table: {key: value}}`) as `navigate_log` would,
+/// without data: unknown tables or keys, values of the wrong kind or out of
+/// range raise `ValueError` naming `table.key`.
+#[pyfunction]
+fn check_navigate_settings(settings: &Bound<'_, PyDict>) -> PyResult<()> {
+    // Any IMU rate serves: it only scales the preset's noise per sample.
+    LogConfig::from_settings(&settings_tables(Some(settings))?, 100.0).py()?;
+    Ok(())
+}
+
+/// Position (and velocity) fixes of an antenna, ready for
+/// `navigate_log` or `LooselyCoupledFilter.run`.
+#[pyclass(name = "PositionFixes", module = "memsnav._memsnav", frozen)]
+pub struct PyPositionFixes {
+    pub(crate) fixes: Vec<PositionFix>,
+}
+
+#[pymethods]
+impl PyPositionFixes {
+    /// Fix times, s, (T,).
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_iter(py, self.fixes.iter().map(|f| f.time_s))
+    }
+    /// Antenna positions, ECEF m, (T, 3).
+    #[getter]
+    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let v: Vec<Vector3<f64>> = self.fixes.iter().map(|f| f.position_ecef).collect();
+        convert::vectors_to_numpy(py, &v)
+    }
+    /// Their covariances, m², (T, 3, 3).
+    #[getter]
+    fn position_covariance<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
+        let m: Vec<Matrix3<f64>> = self.fixes.iter().map(|f| f.position_covariance).collect();
+        convert::matrices3_to_numpy(py, &m)
+    }
+    /// Antenna velocities, ECEF m/s, (T, 3); NaN where a fix has none.
+    #[getter]
+    fn velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let v: Vec<Vector3<f64>> = self
+            .fixes
+            .iter()
+            .map(|f| f.velocity_ecef.unwrap_or(Vector3::from_element(f64::NAN)))
+            .collect();
+        convert::vectors_to_numpy(py, &v)
+    }
+    fn __len__(&self) -> usize {
+        self.fixes.len()
+    }
+}
+
+/// Fixes from a geodetic solution (e.g. an RTKLIB `.pos` read with
+/// `read_pos`): `time` (T,) s, `geodetic` (T, 3) [lat rad, lon rad, h m],
+/// `std_ned` (T, 3) m, optional `velocity_ned` and `velocity_std_ned`
+/// (T, 3) (NaN where absent). Keeps the epochs on the `rate_hz` grid, adds
+/// seeded white noise of `added_position_noise_ned` (N, E, D one-sigma, m)
+/// and `added_velocity_noise` (m/s), and rotates the covariance
+/// (std² + noise²) into ECEF.
+#[pyfunction]
+#[pyo3(signature = (time, geodetic, std_ned, *, velocity_ned=None, velocity_std_ned=None, rate_hz=None, added_position_noise_ned=None, added_velocity_noise=None, use_velocity=None, seed=None))]
+#[allow(clippy::too_many_arguments)]
+fn fixes_from_solution(
+    time: &Bound<'_, PyAny>,
+    geodetic: &Bound<'_, PyAny>,
+    std_ned: &Bound<'_, PyAny>,
+    velocity_ned: Option<&Bound<'_, PyAny>>,
+    velocity_std_ned: Option<&Bound<'_, PyAny>>,
+    rate_hz: Option<f64>,
+    added_position_noise_ned: Option<&Bound<'_, PyAny>>,
+    added_velocity_noise: Option<f64>,
+    use_velocity: Option<bool>,
+    seed: Option<&Bound<'_, PyAny>>,
+) -> PyResult<PyPositionFixes> {
+    let time = convert::scalars(time, "time")?;
+    let geodetic = convert::vectors(geodetic, "geodetic")?;
+    let std_ned = convert::vectors(std_ned, "std_ned")?;
+    let with_nan = |o: Option<&Bound<'_, PyAny>>, name: &str| {
+        o.filter(|v| !v.is_none())
+            .map(|v| convert::vectors_allow_nan(v, name))
+            .transpose()
+    };
+    let velocity = with_nan(velocity_ned, "velocity_ned")?;
+    let velocity_std = with_nan(velocity_std_ned, "velocity_std_ned")?;
+    let defaults = FixOptions::default();
+    let options = FixOptions {
+        rate_hz,
+        added_position_noise_ned_m: added_position_noise_ned
+            .filter(|v| !v.is_none())
+            .map(|v| convert::vector3(v, "added_position_noise_ned"))
+            .transpose()?
+            .unwrap_or(defaults.added_position_noise_ned_m),
+        added_velocity_noise_m_s: added_velocity_noise.unwrap_or(defaults.added_velocity_noise_m_s),
+        use_velocity: use_velocity.unwrap_or(defaults.use_velocity),
+    };
+    let mut rng = stream(convert::seed(seed)?.unwrap_or(0), 0);
+    let solution = GeodeticSolution {
+        time_s: &time,
+        geodetic: &geodetic,
+        std_ned_m: &std_ned,
+        velocity_ned_m_s: velocity.as_deref(),
+        velocity_std_ned_m_s: velocity_std.as_deref(),
+    };
+    let fixes = fixes_from_geodetic(&solution, &options, &mut rng).py()?;
+    Ok(PyPositionFixes { fixes })
+}
+
+/// A real log's navigation: the solution at the antenna in local terms,
+/// the filter's own solution at the IMU, the start, the aids, the resets.
+#[pyclass(name = "LogRun", module = "memsnav._memsnav", frozen)]
+pub struct PyLogRun {
+    run: LogRun,
+    local: navigate::output::LocalSolution,
+}
+
+fn stats_dict<'py>(py: Python<'py>, s: &score::ErrorStats) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("epochs", s.epochs)?;
+    if s.epochs > 0 {
+        d.set_item("rms_horizontal_m", s.rms_horizontal_m)?;
+        d.set_item("rms_vertical_m", s.rms_vertical_m)?;
+        d.set_item("max_horizontal_m", s.max_horizontal_m)?;
+        if s.within_3sigma_share.is_finite() {
+            d.set_item("within_3sigma_share", s.within_3sigma_share)?;
+        }
+    }
+    Ok(d)
+}
+
+#[pymethods]
+impl PyLogRun {
+    /// Times, s (GNSS time), (N,).
+    #[getter]
+    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.local.time_s)
+    }
+    /// Antenna position, ECEF m, (N, 3).
+    #[getter]
+    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.local.antenna_position_ecef)
+    }
+    /// Antenna latitude, longitude (rad), ellipsoidal height (m), (N, 3).
+    #[getter]
+    fn geodetic<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let v: Vec<Vector3<f64>> = self
+            .local
+            .antenna_geodetic
+            .iter()
+            .map(|g| Vector3::new(g.latitude_rad, g.longitude_rad, g.height_m))
+            .collect();
+        convert::vectors_to_numpy(py, &v)
+    }
+    /// Velocity (of the IMU) north, east, down, m/s, (N, 3).
+    #[getter]
+    fn velocity_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.local.velocity_ned)
+    }
+    /// Roll, pitch, yaw of the body relative to local NED, rad, (N, 3).
+    #[getter]
+    fn euler<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.local.euler_rad)
+    }
+    /// One-sigma position north, east, down, m, (N, 3).
+    #[getter]
+    fn position_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.local.position_std_ned)
+    }
+    /// One-sigma velocity north, east, down, m/s, (N, 3).
+    #[getter]
+    fn velocity_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.local.velocity_std_ned)
+    }
+    /// One-sigma attitude about north, east, down, rad, (N, 3).
+    #[getter]
+    fn attitude_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.local.attitude_std_ned)
+    }
+    /// The filter's own solution at the IMU (ECEF, covariance, every
+    /// measurement, batch and reset).
+    #[getter]
+    fn solution(&self) -> PyFilterSolution {
+        PyFilterSolution::new(self.run.solution.clone())
+    }
+    /// How the run started: dict `kind` ("static", "static_with_heading",
+    /// "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`.
+    #[getter]
+    fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.run.start;
+        let d = PyDict::new(py);
+        d.set_item("kind", s.kind.name())?;
+        d.set_item("time", s.time_s)?;
+        d.set_item("epoch", s.epoch)?;
+        d.set_item("heading_known", s.heading_known)?;
+        Ok(d)
+    }
+    /// Every GNSS epoch's antenna position and velocity (the fixes, or the
+    /// single-point solution of the pseudoranges; NaN where none) and
+    /// whether it reached the filter: dict `time`, `position_ecef`,
+    /// `velocity_ecef`, `used`.
+    #[getter]
+    fn gnss<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let g = &self.run.gnss;
+        let d = PyDict::new(py);
+        d.set_item("time", PyArray1::from_iter(py, g.iter().map(|x| x.time_s)))?;
+        let p: Vec<Vector3<f64>> = g.iter().map(|x| x.position_ecef).collect();
+        let v: Vec<Vector3<f64>> = g
+            .iter()
+            .map(|x| x.velocity_ecef.unwrap_or(Vector3::from_element(f64::NAN)))
+            .collect();
+        d.set_item("position_ecef", convert::vectors_to_numpy(py, &p))?;
+        d.set_item("velocity_ecef", convert::vectors_to_numpy(py, &v))?;
+        d.set_item("used", PyArray1::from_slice(py, &self.run.gnss_used))?;
+        Ok(d)
+    }
+    /// The outage windows, absolute (start, end) times, s, (K, 2).
+    #[getter]
+    fn outages<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        pairs(py, &self.run.outages)
+    }
+    /// The detected standstills, (start, end) times, s, (M, 2).
+    #[getter]
+    fn standstills<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        pairs(py, &self.run.standstills)
+    }
+    /// The satellites holding range-bias states at the end: {prn: bias m}.
+    #[getter]
+    fn range_biases<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (sat, b) in &self.run.range_biases {
+            d.set_item(sat, b)?;
+        }
+        Ok(d)
+    }
+    /// Errors of the antenna solution against a truth (`time` (T,) s,
+    /// `position_ecef` (T, 3)), interpolated at the truth epochs: dict
+    /// `time`, `error_ned` (T', 3), `std_ned`, `outage` (index or −1),
+    /// and statistics `all`, `aided`, `outages` (list), `by_outage_length`
+    /// ({length s: stats}); each statistic `epochs`, `rms_horizontal_m`,
+    /// `rms_vertical_m`, `max_horizontal_m`, `within_3sigma_share`.
+    fn score<'py>(
+        &self,
+        py: Python<'py>,
+        time: &Bound<'_, PyAny>,
+        position_ecef: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let truth_t = convert::scalars(time, "time")?;
+        let truth_r = convert::vectors(position_ecef, "position_ecef")?;
+        let l = &self.local;
+        let s = score::score_solution(
+            &l.time_s,
+            &l.antenna_position_ecef,
+            &l.position_std_ned,
+            &truth_t,
+            &truth_r,
+            &self.run.outages,
+        )
+        .py()?;
+        let d = PyDict::new(py);
+        d.set_item("time", PyArray1::from_slice(py, &s.time_s))?;
+        d.set_item("error_ned", convert::vectors_to_numpy(py, &s.error_ned))?;
+        d.set_item("std_ned", convert::vectors_to_numpy(py, &s.std_ned))?;
+        d.set_item(
+            "outage",
+            PyArray1::from_iter(py, s.outage.iter().map(|o| o.map_or(-1, |w| w as i64))),
+        )?;
+        d.set_item("all", stats_dict(py, &s.all)?)?;
+        d.set_item("aided", stats_dict(py, &s.aided)?)?;
+        let windows = PyList::empty(py);
+        for w in &s.outages {
+            windows.append(stats_dict(py, w)?)?;
+        }
+        d.set_item("outages", windows)?;
+        let by_length = PyDict::new(py);
+        for (length, st) in &s.by_outage_length {
+            by_length.set_item(length, stats_dict(py, st)?)?;
+        }
+        d.set_item("by_outage_length", by_length)?;
+        Ok(d)
+    }
+    /// Errors of the GNSS epochs' own positions (the single-point solution
+    /// for tight coupling) against a truth, each paired with the truth epoch
+    /// within `tolerance` s: dict `time`, `error_ned`, `stats`.
+    #[pyo3(signature = (time, position_ecef, *, tolerance=0.02))]
+    fn score_gnss<'py>(
+        &self,
+        py: Python<'py>,
+        time: &Bound<'_, PyAny>,
+        position_ecef: &Bound<'_, PyAny>,
+        tolerance: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let truth_t = convert::scalars(time, "time")?;
+        let truth_r = convert::vectors(position_ecef, "position_ecef")?;
+        let g = &self.run.gnss;
+        let t: Vec<f64> = g.iter().map(|x| x.time_s).collect();
+        let r: Vec<Vector3<f64>> = g.iter().map(|x| x.position_ecef).collect();
+        let (times, errors, stats) =
+            score::score_fixes(&t, &r, &truth_t, &truth_r, tolerance).py()?;
+        let d = PyDict::new(py);
+        d.set_item("time", PyArray1::from_slice(py, &times))?;
+        d.set_item("error_ned", convert::vectors_to_numpy(py, &errors))?;
+        d.set_item("stats", stats_dict(py, &stats)?)?;
+        Ok(d)
+    }
+    fn __len__(&self) -> usize {
+        self.local.time_s.len()
+    }
+}
+
+fn pairs<'py>(py: Python<'py>, v: &[(f64, f64)]) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = v.iter().flat_map(|&(a, b)| [a, b]).collect();
+    PyArray1::from_vec(py, flat).reshape([v.len(), 2])
+}
+
+/// Navigates a real log: `time` (N,) IMU time stamps on GNSS time, s;
+/// `specific_force`, `angular_rate` (N, 3) in the sensor's axes, SI; `gnss`
+/// the GNSS measurements (`GnssMeasurements` or its padded arrays: tight
+/// coupling) or position fixes (`PositionFixes`, `FixSeries` or a dict of
+/// arrays: loose coupling). `settings`: `{table: {key: value}}` as in a
+/// `navigate` configuration (`navigate_settings()` lists them; left-out
+/// keys keep the engine's defaults). `duration_s` stops that long after
+/// the start.
+#[pyfunction]
+#[pyo3(signature = (time, specific_force, angular_rate, gnss, *, settings=None, duration_s=None))]
+fn navigate_log(
+    py: Python<'_>,
+    time: &Bound<'_, PyAny>,
+    specific_force: &Bound<'_, PyAny>,
+    angular_rate: &Bound<'_, PyAny>,
+    gnss: &Bound<'_, PyAny>,
+    settings: Option<&Bound<'_, PyDict>>,
+    duration_s: Option<f64>,
+) -> PyResult<PyLogRun> {
+    let time = convert::scalars(time, "time")?;
+    let f = convert::vectors(specific_force, "specific_force")?;
+    let w = convert::vectors(angular_rate, "angular_rate")?;
+    let input = if let Ok(fixes) = gnss.cast::<PyPositionFixes>() {
+        GnssInput::Fixes(fixes.get().fixes.clone())
+    } else if is_measurements(gnss) {
+        GnssInput::Measurements(gnss_epochs(gnss)?)
+    } else {
+        GnssInput::Fixes(position_fixes(gnss)?)
+    };
+    let tables = settings_tables(settings)?;
+    let mut config =
+        LogConfig::from_settings(&tables, navigate::sample_rate_hz(&time).py()?).py()?;
+    config.duration_s = duration_s;
+    let run = py
+        .detach(|| navigate::navigate_log(&time, &f, &w, &input, &config))
+        .py()?;
+    let local = run.local_solution();
+    Ok(PyLogRun { run, local })
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(navigate_log, m)?)?;
+    m.add_function(wrap_pyfunction!(navigate_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(check_navigate_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(fixes_from_solution, m)?)?;
+    m.add_class::<PyLogRun>()?;
+    m.add_class::<PyPositionFixes>()?;
+    Ok(())
+}
