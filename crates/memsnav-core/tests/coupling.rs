@@ -11,154 +11,16 @@ use memsnav_core::attitude::dcm_to_rotation_vector;
 use memsnav_core::coupling::*;
 use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
-use memsnav_core::geodesy::wgs84::EARTH_RATE_RAD_S;
-use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, Geodetic};
-use memsnav_core::gnss::{
-    self, Constellation, GnssEpoch, Outage, ReceiverTrack, SimulationConfig, WalkerConfig,
-};
-use memsnav_core::ins::{self, ImuSample, NavState};
+use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic};
+use memsnav_core::gnss::{self, GnssEpoch, Outage, SimulationConfig};
+use memsnav_core::ins::NavState;
 use memsnav_core::random::{stream, Rng};
-use memsnav_core::sensors::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
+use memsnav_core::sensors::ImuModel;
 use memsnav_core::Error;
 use nalgebra::{SMatrix, SVector, Vector3};
-use rand::Rng as _;
-use rand_distr::StandardNormal;
 
-struct Truth {
-    time_s: Vec<f64>,
-    nav: Vec<NavState>,
-    f_b: Vec<Vector3<f64>>,
-    w_b: Vec<Vector3<f64>>,
-}
-
-fn origin() -> Vector3<f64> {
-    geodetic_to_ecef(Geodetic::new(
-        43.6_f64.to_radians(),
-        1.44_f64.to_radians(),
-        150.0,
-    ))
-}
-
-/// A land-vehicle drive at `rate_hz`: 12 m/s heading north-east, weaving
-/// turns and speed changes (`moving = false`: parked).
-fn drive(duration_s: f64, rate_hz: f64, moving: bool) -> Truth {
-    let n = (duration_s * rate_hz).round() as usize + 1;
-    let dt = 1.0 / rate_hz;
-    let r0 = origin();
-    let geo = ecef_to_geodetic(&r0);
-    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
-    let yaw0 = 0.8_f64;
-    let c0 = cne * memsnav_core::attitude::euler_to_dcm(0.0, 0.0, yaw0);
-    let speed = if moving { 12.0 } else { 0.0 };
-    let v0 = cne * Vector3::new(yaw0.cos(), yaw0.sin(), 0.0) * speed;
-    let wie = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
-    let sample = |t: f64, s: &NavState| {
-        let (yaw_rate, along) = if moving {
-            (
-                0.12 * (2.0 * std::f64::consts::PI * t / 40.0).sin(),
-                0.4 * (2.0 * std::f64::consts::PI * t / 55.0).sin(),
-            )
-        } else {
-            (0.0, 0.0)
-        };
-        let w_eb_b = Vector3::new(0.0, 0.0, yaw_rate);
-        let v = s.velocity_ecef;
-        let along_e = if v.norm() > 0.1 {
-            v.normalize() * along
-        } else {
-            Vector3::zeros()
-        };
-        let a_e = (s.c_b_e * w_eb_b).cross(&v) + along_e;
-        let f_e = a_e - gravity_ecef(&s.position_ecef) + 2.0 * wie.cross(&v);
-        ImuSample {
-            specific_force_b: s.c_b_e.transpose() * f_e,
-            angular_rate_b: s.c_b_e.transpose() * wie + w_eb_b,
-        }
-    };
-    // Pass 1: the samples, from an approximately propagated state.
-    let mut s = NavState {
-        position_ecef: r0,
-        velocity_ecef: v0,
-        c_b_e: c0,
-    };
-    let mut samples = Vec::with_capacity(n);
-    for k in 0..n {
-        let smp = sample(k as f64 * dt, &s);
-        samples.push(smp);
-        s = ins::step(&s, &smp, &smp, dt);
-    }
-    // Pass 2: the truth is the INS on these samples.
-    let mut s = NavState {
-        position_ecef: r0,
-        velocity_ecef: v0,
-        c_b_e: c0,
-    };
-    let mut nav = Vec::with_capacity(n);
-    nav.push(s);
-    for k in 1..n {
-        s = ins::step(&s, &samples[k - 1], &samples[k], dt);
-        nav.push(s);
-    }
-    Truth {
-        time_s: (0..n).map(|k| k as f64 * dt).collect(),
-        nav,
-        f_b: samples.iter().map(|s| s.specific_force_b).collect(),
-        w_b: samples.iter().map(|s| s.angular_rate_b).collect(),
-    }
-}
-
-fn gnss_for(truth: &Truth, config: &SimulationConfig, rng: &mut Rng) -> Vec<GnssEpoch> {
-    let pos: Vec<_> = truth.nav.iter().map(|s| s.position_ecef).collect();
-    let vel: Vec<_> = truth.nav.iter().map(|s| s.velocity_ecef).collect();
-    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
-    gnss::simulate(
-        &ReceiverTrack {
-            time_s: &truth.time_s,
-            position_ecef: &pos,
-            velocity_ecef: &vel,
-        },
-        &sky,
-        config,
-        rng,
-    )
-    .unwrap()
-}
-
-/// An IMU spec with biases and white noise only: the errors the 17-state
-/// filter models exactly.
-fn bias_and_noise_spec(
-    accel_bias: f64,
-    gyro_bias: f64,
-    accel_density: f64,
-    gyro_density: f64,
-) -> ImuSpec {
-    ImuSpec {
-        accelerometer: AccelerometerSpec {
-            bias_std: accel_bias,
-            noise: NoiseModel {
-                white_density: accel_density,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
-        gyroscope: GyroscopeSpec {
-            bias_std: gyro_bias,
-            noise: NoiseModel {
-                white_density: gyro_density,
-                ..Default::default()
-            },
-            ..Default::default()
-        },
-    }
-}
-
-fn n3(rng: &mut Rng) -> Vector3<f64> {
-    Vector3::new(
-        rng.sample(StandardNormal),
-        rng.sample(StandardNormal),
-        rng.sample(StandardNormal),
-    )
-}
+mod common;
+use common::*;
 
 /// The true state perturbed by a draw from P₀ (so NEES starts consistent).
 fn perturbed_initial(truth: &Truth, std: &InitialUncertainty, rng: &mut Rng) -> InitialState {
@@ -273,25 +135,6 @@ fn consistent_when_the_imu_errors_are_modelled_exactly() {
     let (lo, hi) = mean_per_dof_band(1.0, nis_n / 10, 0.95);
     println!("mean NIS = {nis:.3} over {nis_n}, band [{lo:.3}, {hi:.3}]");
     assert!(nis > lo && nis < hi, "mean NIS {nis}");
-}
-
-fn readings(
-    truth: &Truth,
-    imu: &ImuModel,
-    rng: &mut Rng,
-) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
-    let r = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
-    (r.specific_force_b, r.angular_rate_b)
-}
-
-fn exact_initial(truth: &Truth) -> InitialState {
-    InitialState {
-        nav: truth.nav[0],
-        accel_bias_m_s2: Vector3::zeros(),
-        gyro_bias_rad_s: Vector3::zeros(),
-        clock_offset_m: None,
-        clock_drift_m_s: None,
-    }
 }
 
 /// A 100 m error on one pseudorange is excluded from its epoch (the other

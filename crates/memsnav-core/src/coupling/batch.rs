@@ -243,6 +243,7 @@ impl<const N: usize> FilterState<N> {
         let failed = &mut self.failed_epochs[kind_index(kind)];
         *failed = if accepted { 0 } else { *failed + 1 };
         if accepted {
+            self.last_accepted_s[kind_index(kind)] = time_s;
             self.feedback(time_s)?;
         }
         Ok(accepted)
@@ -343,17 +344,32 @@ impl<const N: usize> FilterState<N> {
     /// Resets the IMU position to a fix of the antenna position
     /// `position_ecef` with covariance `covariance` (the lever arm taken
     /// with the current attitude), after `kind` kept failing; recorded.
+    ///
+    /// A position that was this far off means the velocity may be off by
+    /// as much per second of the time the position went unchecked: without
+    /// a velocity to reset to (`velocity_reset_too` false), the velocity
+    /// becomes independent of the rest with that variance (at least its
+    /// own, at most (1000 m/s)²), so the next fixes can correct it.
     pub(crate) fn reset_position(
         &mut self,
         time_s: f64,
         kind: MeasurementKind,
         antenna_position_ecef: &Vector3<f64>,
         covariance: &Matrix3<f64>,
+        velocity_reset_too: bool,
     ) -> Result<()> {
         let new = antenna_position_ecef - self.nav.c_b_e * self.tuning.antenna_lever_arm_b_m;
         let change = (new - self.nav.position_ecef).norm();
         self.nav.position_ecef = new;
         self.kf.reset_block::<3>(POSITION, covariance);
+        if !velocity_reset_too {
+            let unchecked_s = (time_s - self.last_accepted_s[kind_index(kind)]).max(1.0);
+            let std = (change / unchecked_s).min(1000.0);
+            let own = self.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY).max();
+            let variance = (std * std).max(own);
+            self.kf
+                .reset_block::<3>(VELOCITY, &(Matrix3::identity() * variance));
+        }
         self.finish_reset(time_s, kind, ResetKind::PositionToFix, change)
     }
 
@@ -411,7 +427,9 @@ impl<const N: usize> FilterState<N> {
             CLOCK_DRIFT,
         ];
         self.kf.inflate(&states, factor);
-        self.finish_reset(time_s, kind, ResetKind::Inflation, factor)
+        self.finish_reset(time_s, kind, ResetKind::Inflation, factor)?;
+        self.recovered(time_s, kind);
+        Ok(())
     }
 
     fn finish_reset(
@@ -428,8 +446,14 @@ impl<const N: usize> FilterState<N> {
             change,
             failed_epochs: self.failed_epochs(kind),
         });
-        self.failed_epochs[kind_index(kind)] = 0;
         self.kf.check_health(time_s)
+    }
+
+    /// After the resets a failing kind led to: its measurements are
+    /// trusted again (the count of failed epochs restarts).
+    pub(crate) fn recovered(&mut self, time_s: f64, kind: MeasurementKind) {
+        self.failed_epochs[kind_index(kind)] = 0;
+        self.last_accepted_s[kind_index(kind)] = time_s;
     }
 
     /// The batch NIS of the last failed test of `kind` over its threshold

@@ -142,6 +142,8 @@ pub struct FilterState<const N: usize> {
     /// Consecutive epochs whose batch of each kind failed (index: position
     /// of the kind in [`MeasurementKind::ALL`]).
     pub(crate) failed_epochs: [usize; MeasurementKind::ALL.len()],
+    /// When each kind last had a batch accepted (the start when never).
+    pub(crate) last_accepted_s: [f64; MeasurementKind::ALL.len()],
     /// The batch being assembled (see [`super::batch`]).
     pub(crate) staged: super::batch::Batch,
     /// Every scalar measurement seen, in time order.
@@ -205,6 +207,8 @@ impl<const N: usize> FilterState<N> {
                 angular_rate_b: Vector3::zeros(),
             },
             failed_epochs: [0; MeasurementKind::ALL.len()],
+            // Set at the first propagation (the run's first IMU time).
+            last_accepted_s: [f64::NAN; MeasurementKind::ALL.len()],
             staged: super::batch::Batch::default(),
             records: Vec::new(),
             batches: Vec::new(),
@@ -373,6 +377,7 @@ where
     let t = imu.time_s;
     let mut j = 0;
     state.last_sample = state.corrected(&imu.sample(0));
+    state.last_accepted_s = [t[0]; MeasurementKind::ALL.len()];
     while j < epochs.len() && epochs[j].time_s() <= t[0] + tolerance {
         update(state, j, &epochs[j])?;
         j += 1;

@@ -81,6 +81,7 @@ fn update_block<const N: usize>(
     kind: MeasurementKind,
     measured: &Vector3<f64>,
     w: &Whitened,
+    has_velocity: bool,
 ) -> Result<()> {
     let antenna = s.antenna();
     let predicted = match kind {
@@ -102,9 +103,12 @@ fn update_block<const N: usize>(
     };
     if !s.apply_staged(t, kind, rules)? && s.reset_due(kind) {
         match kind {
-            MeasurementKind::Position => s.reset_position(t, kind, measured, &w.covariance)?,
+            MeasurementKind::Position => {
+                s.reset_position(t, kind, measured, &w.covariance, has_velocity)?
+            }
             _ => s.reset_velocity(t, kind, measured, &w.covariance)?,
         }
+        s.recovered(t, kind);
     }
     Ok(())
 }
@@ -159,9 +163,17 @@ pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
         tuning.time_tolerance_s,
         |s, i, f: &PositionFix| {
             let (wp, wv) = &whiten[i];
-            update_block(s, f.time_s, MeasurementKind::Position, &f.position_ecef, wp)?;
+            let has_velocity = wv.is_some();
+            update_block(
+                s,
+                f.time_s,
+                MeasurementKind::Position,
+                &f.position_ecef,
+                wp,
+                has_velocity,
+            )?;
             if let (Some(v), Some(wv)) = (f.velocity_ecef, wv) {
-                update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv)?;
+                update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv, true)?;
             }
             Ok(())
         },

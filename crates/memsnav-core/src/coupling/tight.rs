@@ -203,7 +203,15 @@ fn recover<const N: usize>(
         let velocity_cov: Matrix3<f64> = vd.fixed_view::<3, 3>(0, 0).into();
         s.reset_velocity(epoch.time_s, kind, &fix.velocity_ecef, &velocity_cov)?;
     }
-    s.reset_position(epoch.time_s, kind, &fix.position_ecef, &position_cov)
+    s.reset_position(
+        epoch.time_s,
+        kind,
+        &fix.position_ecef,
+        &position_cov,
+        drift.is_some(),
+    )?;
+    s.recovered(epoch.time_s, kind);
+    Ok(())
 }
 
 /// The rates kept failing: reset velocity and clock drift to the epoch's
@@ -223,7 +231,9 @@ fn recover_velocity<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -
     s.clock_drift_m_s = fix.clock_drift_m_s;
     s.kf.reset_block::<1>(CLOCK_DRIFT, &nalgebra::Matrix1::new(vd[(3, 3)]));
     let velocity_cov: Matrix3<f64> = vd.fixed_view::<3, 3>(0, 0).into();
-    s.reset_velocity(epoch.time_s, kind, &fix.velocity_ecef, &velocity_cov)
+    s.reset_velocity(epoch.time_s, kind, &fix.velocity_ecef, &velocity_cov)?;
+    s.recovered(epoch.time_s, kind);
+    Ok(())
 }
 
 /// Runs the tightly coupled filter with `N` error states over the IMU
