@@ -1,10 +1,8 @@
-"""Real-data readers and the navigate pipeline (issue 8), on excerpts of the
+"""Real-data readers (issue 8), on excerpts of the
 BSD-3 real-imu-gnss logs kept in tests/data/real-imu-gnss (LICENSE there)."""
 
 from __future__ import annotations
 
-import json
-import shutil
 import struct
 from pathlib import Path
 
@@ -12,7 +10,6 @@ import numpy as np
 import pytest
 
 import memsnav as mn
-from memsnav import cli
 
 DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
@@ -199,136 +196,6 @@ def test_gps_l1_measurements_against_independent_corrections():
     truth = mn.read_pos(EX / "walk_head.pos")
     r_truth = mn.geodetic_to_ecef(truth.lla[0])
     assert np.linalg.norm(np.asarray(fix.position_ecef)[0] - r_truth) < 40.0
-
-
-# --- configuration ---------------------------------------------------------
-
-
-def _test_config(tmp_path: Path, extra: str = "", **replace: str) -> Path:
-    text = f"""
-name = "drive_60s"
-output = "{tmp_path / "out"}"
-[imu]
-file = "real-imu-gnss/drive_60s.csv"
-accel_unit = "g"
-gyro_unit = "deg/s"
-time_unit = "ms"
-time_tag = "real-imu-gnss/drive_60s.csv.tag"
-time_offset_s = -0.125
-mounting_rpy_deg = [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]]
-lever_arm_m = [0.0, 0.0, -0.65]
-[gnss]
-mode = "loose"
-pos = "real-imu-gnss/drive_60s.pos"
-position_noise_m = [1.0, 1.0, 2.0]
-velocity_noise_m_s = 0.05
-seed = 3
-antenna_lever_arm_m = [0.0, -0.05, -0.65]
-[alignment]
-min_speed_m_s = 3.0
-[filter]
-accel_noise_density = 0.01
-gyro_noise_density_deg = 0.05
-accel_bias_std = 0.2
-gyro_bias_std_deg_s = 0.5
-initial_position_std_m = 2.0
-initial_velocity_std_m_s = 0.3
-initial_attitude_std_deg = [2.0, 2.0, 5.0]
-gate_probability = 1.0
-[truth]
-pos = "real-imu-gnss/drive_60s.pos"
-quality = [1]
-[outages]
-windows_s = [[30.0, 10.0]]
-{extra}"""
-    for k, v in replace.items():
-        text = text.replace(k, v)
-    p = tmp_path / "run.toml"
-    p.write_text(text)
-    return p
-
-
-def test_config_unknown_keys_and_bad_values(tmp_path):
-    with pytest.raises(ValueError, match=r"unknown key\(s\) \['acel_unit'\] in \[imu\]"):
-        mn.load_config(_test_config(tmp_path, **{'accel_unit = "g"': 'acel_unit = "g"'}), DATA)
-    with pytest.raises(ValueError, match=r"unknown table \[filtre\]"):
-        mn.load_config(_test_config(tmp_path, extra="[filtre]\nx = 1\n"), DATA)
-    with pytest.raises(ValueError, match=r"gnss.mode must be one of \['loose', 'tight'\]"):
-        mn.load_config(_test_config(tmp_path, **{'mode = "loose"': 'mode = "lose"'}), DATA)
-    with pytest.raises(ValueError, match=r"filter.accel_bias_std must be a number"):
-        mn.load_config(
-            _test_config(tmp_path, **{"accel_bias_std = 0.2": 'accel_bias_std = "0.2"'}), DATA
-        )
-    with pytest.raises(ValueError, match=r"missing required key imu.gyro_unit"):
-        mn.load_config(_test_config(tmp_path, **{'gyro_unit = "deg/s"': ""}), DATA)
-    with pytest.raises(ValueError, match=r"imu.file: no such file"):
-        mn.navigate(_test_config(tmp_path, **{'drive_60s.csv"': 'nope.csv"'}), data_root=DATA)
-    with pytest.raises(ValueError, match=r"unknown unit 'G'"):
-        mn.navigate(
-            _test_config(tmp_path, **{'accel_unit = "g"': 'accel_unit = "G"'}), data_root=DATA
-        )
-
-
-def test_data_root_from_environment(tmp_path, monkeypatch):
-    monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(DATA))
-    cfg = mn.load_config(_test_config(tmp_path))
-    assert cfg.data_path("imu", "file") == (DATA / "real-imu-gnss/drive_60s.csv").resolve()
-
-
-# --- the pipeline end to end -----------------------------------------------
-
-
-def test_navigate_loose_excerpt_end_to_end(tmp_path):
-    result = mn.navigate(_test_config(tmp_path), data_root=DATA)
-    s = result.summary
-    assert s["mode"] == "loose" and 50.0 < s["duration_s"] < 61.0
-    aided = s["errors_vs_truth"]["aided"]
-    # 1 m / 2 m of added noise at 1 Hz; the truth is RTK (cm): metre-level and consistent.
-    assert aided["epochs"] > 150
-    assert aided["rms_horizontal_m"] < 1.5 and aided["rms_vertical_m"] < 2.0
-    assert aided["within_3sigma_share"] > 0.8
-    outage = s["errors_vs_truth"]["outage_1"]
-    assert outage["length_s"] == 10.0 and outage["epochs"] == 40
-    assert outage["max_horizontal_m"] < 20.0
-    # The outputs: CSV, RTKLIB .pos readable by the .pos reader, summary and report.
-    out = tmp_path / "out"
-    csv = np.loadtxt(out / "drive_60s.csv", delimiter=",", skiprows=1)
-    assert csv.shape == (len(result.time), 16)
-    back = mn.read_pos(out / "drive_60s.pos")
-    k = np.searchsorted(csv[:, 0], back.gps_time[5])
-    np.testing.assert_allclose(np.degrees(back.lla[5, :2]), csv[k, 1:3], atol=1e-9)
-    np.testing.assert_allclose(back.velocity_ned[5], csv[k, 4:7], atol=1e-5)
-    assert json.loads((out / "summary.json").read_text())["errors_vs_truth"]["aided"] == aided
-    html = (out / "report.html").read_text()
-    assert 'id="track"' in html and 'id="errors"' in html and "outage_1" in html
-    assert (out / "figures" / "errors.png").exists()
-
-
-def test_navigate_cli(tmp_path, capsys):
-    cfg = _test_config(tmp_path)
-    assert (
-        cli.main(["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "20"])
-        == 0
-    )
-    out = capsys.readouterr().out
-    assert "report:" in out and "within 3 sigma" in out
-    assert cli.main(["navigate", "--config", str(tmp_path / "missing.toml")]) == 1
-    assert "cannot read" in capsys.readouterr().err
-
-
-def test_navigate_reports_a_cut_imu_log(tmp_path):
-    shutil.copy(EX / "drive_60s.csv.tag", tmp_path / "imu.csv.tag")
-    text = (EX / "drive_60s.csv").read_text()
-    (tmp_path / "imu.csv").write_text(text + "0.1,0.0")
-    cfg = _test_config(
-        tmp_path,
-        **{
-            '"real-imu-gnss/drive_60s.csv"': f'"{tmp_path / "imu.csv"}"',
-            '"real-imu-gnss/drive_60s.csv.tag"': f'"{tmp_path / "imu.csv.tag"}"',
-        },
-    )
-    with pytest.warns(UserWarning, match=r"imu.csv:\d+: last line cut short"):
-        mn.navigate(cfg, data_root=DATA, duration_s=5.0)
 
 
 # --- Allan deviation -------------------------------------------------------

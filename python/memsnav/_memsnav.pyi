@@ -20,6 +20,12 @@ def geodetic_to_ecef(lla: npt.ArrayLike) -> npt.NDArray[np.float64]:
 def ecef_to_geodetic(xyz: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """ECEF position, m -> geodetic [latitude rad, longitude rad, height m]."""
 
+def ecef_to_ned(
+    position_ecef: npt.ArrayLike, origin_ecef: npt.ArrayLike
+) -> npt.NDArray[np.float64]:
+    """``position_ecef`` (..., 3) minus ``origin_ecef`` (3,) in the local
+    north, east, down axes at the origin, m."""
+
 def gravity_ecef(position_ecef: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Gravity (J2 gravitation plus centrifugal) in ECEF, m/s²."""
 
@@ -752,11 +758,14 @@ class FilterSolution:
 
     Measurement records (``measurements``, ``rejected``) are dicts of arrays:
     ``time`` (s), ``id`` (satellite id; fix component 0-2 for the loose
-    filter), ``kind`` ("pseudorange" m, "pseudorange_rate" m/s, "position" /
-    "velocity" whitened, unit variance), ``innovation`` (measurement minus
-    prediction), ``innovation_std``, ``nis`` (nu²/s), ``status`` ("accepted",
-    "gate": rejected by the chi-square gate, "invalid": NaN/inf value or
-    non-positive std).
+    filter; axis for the aids), ``kind`` ("pseudorange" m, "pseudorange_rate"
+    m/s, "position" / "velocity" whitened, unit variance, "zero_velocity",
+    "zero_rate", "non_holonomic"), ``innovation`` (measurement minus the
+    prediction before the epoch's updates), ``innovation_std``, ``nis``
+    (nu²/s), ``status`` ("accepted"; "gate": its batch failed the chi-square
+    test; "excluded": left out of its batch by fault exclusion; "invalid":
+    NaN/inf value or non-positive std; "reset": its batch failed and the
+    filter was reset from it).
     """
 
     @property
@@ -843,7 +852,21 @@ class FilterSolution:
 
     @property
     def rejected(self) -> dict[str, npt.NDArray[Any] | list[str]]:
-        """The measurements not applied (status "gate" or "invalid")."""
+        """The measurements not applied (any status but "accepted")."""
+
+    @property
+    def batches(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """Every batch test (an epoch's measurements of one kind): dict of arrays
+        ``time``, ``kind``, ``nis`` (the batch's nu' S^-1 nu), ``dof``,
+        ``threshold`` (its chi-square quantile), ``excluded`` (measurements left
+        out by fault exclusion), ``accepted``."""
+
+    @property
+    def resets(self) -> dict[str, npt.NDArray[Any] | list[str]]:
+        """Every reset the filter made: dict of arrays ``time``, ``kind``
+        ("position_to_fix", "velocity_to_fix", "clock_jump", "clock_drift_jump",
+        "inflation", "heading"), ``change`` (m, m/s, rad, or the inflation
+        factor), ``failed_epochs`` (consecutive failed epochs before it)."""
 
     def __len__(self) -> int: ...
 
@@ -852,9 +875,14 @@ class TightlyCoupledFilter:
     """Closed-loop error-state EKF in ECEF on pseudoranges and pseudorange rates
     (method §5; Groves §14.3.3): 17 states (attitude, velocity, position, accel
     and gyro biases, clock offset and drift), 23 with ``scale_factor_states``.
-    Each satellite is a gated scalar Joseph update (Sagnac and light time in
-    the prediction), so fewer than four satellites still help; with none the
-    INS coasts.
+    An epoch's pseudoranges are one batch and its rates another (sequential
+    Joseph updates, Sagnac and light time in the prediction), tested together
+    by the chi-square test of the batch NIS: a faulty satellite is excluded, a
+    receiver clock jump moved into the clock, and when the pseudoranges keep
+    failing (3 epochs) the filter resets to the epoch's least-squares fix (or
+    opens its covariance with fewer than 4 satellites); every reset is in
+    ``FilterSolution.resets``. Fewer than four satellites still help; with
+    none the INS coasts. Measurement stds are floored (0.5 m, 0.02 m/s).
 
     Tuning from ``imu.spec`` at ``imu.sample_rate`` (``FilterTuning::from_imu_spec``):
     white-noise PSDs = noise density² (or per-sample std² / rate); bias
@@ -949,10 +977,12 @@ class TightlyCoupledFilter:
 @final
 class LooselyCoupledFilter:
     """Closed-loop error-state EKF on GNSS position (and velocity) fixes (Groves
-    §14.3.2): each fix is whitened by its covariance's Cholesky factor into
-    unit-variance scalar updates, gated like pseudoranges; the clock states are
-    not observed (their process noise is off). Same states, tuning, defaults
-    and overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate`` and the
+    §14.3.2): each fix (floored at 2 cm, 2 cm/s) is whitened by its
+    covariance's Cholesky factor into unit-variance updates tested together
+    (a fix is applied whole or not at all); after 3 failed fixes in a row the
+    position (velocity) is reset to the fix. The clock states are not
+    observed (their process noise is off). Same states, tuning, defaults and
+    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate`` and the
     clock settings have no effect).
     """
 
@@ -985,7 +1015,7 @@ class LooselyCoupledFilter:
         time: npt.ArrayLike,
         specific_force: npt.ArrayLike,
         angular_rate: npt.ArrayLike,
-        fixes: FixSeries | Any,
+        fixes: FixSeries | PositionFixes | Any,
         *,
         initial_attitude: npt.ArrayLike | None = None,
         initial_state: dict[str, Any] | Any | None = None,
@@ -1090,3 +1120,157 @@ def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
 def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
     """Klobuchar (alpha, beta) of a RINEX navigation header (ION ALPHA/BETA or
     IONOSPHERIC CORR GPSA/GPSB), or None when it has none."""
+
+def navigate_settings() -> dict[str, dict[str, str]]:
+    """The tables and keys ``navigate_log(settings=...)`` reads (the engine's
+    part of a ``navigate`` configuration), each with what it holds."""
+
+def check_navigate_settings(settings: dict[str, dict[str, Any]]) -> None:
+    """Checks ``settings`` as ``navigate_log`` would, without data; ValueError
+    naming ``table.key`` for an unknown key or a bad value."""
+
+@final
+class PositionFixes:
+    """Position (and velocity) fixes of an antenna, for ``navigate_log`` or
+    ``LooselyCoupledFilter.run``."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Fix times, s, (T,)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Antenna positions, ECEF m, (T, 3)."""
+
+    @property
+    def position_covariance(self) -> npt.NDArray[np.float64]:
+        """Their covariances, m², (T, 3, 3)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Antenna velocities, ECEF m/s, (T, 3); NaN where a fix has none."""
+
+    def __len__(self) -> int: ...
+
+def fixes_from_solution(
+    time: npt.ArrayLike,
+    geodetic: npt.ArrayLike,
+    std_ned: npt.ArrayLike,
+    *,
+    velocity_ned: npt.ArrayLike | None = None,
+    velocity_std_ned: npt.ArrayLike | None = None,
+    rate_hz: float | None = None,
+    added_position_noise_ned: npt.ArrayLike | None = None,
+    added_velocity_noise: float | None = None,
+    use_velocity: bool | None = None,
+    seed: int | None = None,
+) -> PositionFixes:
+    """Fixes from a geodetic solution (e.g. an RTKLIB ``.pos`` read with
+    ``read_pos``): ``time`` (T,) s, ``geodetic`` (T, 3) [lat rad, lon rad, h m],
+    ``std_ned`` (T, 3) m, optional ``velocity_ned`` and ``velocity_std_ned``
+    (T, 3) (NaN where absent; a missing velocity std counts as 0.1 m/s). Keeps
+    the epochs on the ``rate_hz`` grid (None: all), adds seeded white noise of
+    ``added_position_noise_ned`` (N, E, D one-sigma, m) and
+    ``added_velocity_noise`` (m/s), and rotates the covariance (std² +
+    noise²) into ECEF."""
+
+@final
+class LogRun:
+    """A real log's navigation (``navigate_log``): the solution at the antenna in
+    local terms at every IMU sample from the start, the filter's own solution
+    at the IMU, the start, the GNSS epochs, outages, standstills and range
+    biases, and the scoring against a truth."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """Times, s (GNSS time), (N,)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Antenna position, ECEF m, (N, 3)."""
+
+    @property
+    def geodetic(self) -> npt.NDArray[np.float64]:
+        """Antenna latitude, longitude (rad), ellipsoidal height (m), (N, 3)."""
+
+    @property
+    def velocity_ned(self) -> npt.NDArray[np.float64]:
+        """Velocity (of the IMU) north, east, down, m/s, (N, 3)."""
+
+    @property
+    def euler(self) -> npt.NDArray[np.float64]:
+        """Roll, pitch, yaw of the body relative to local NED, rad, (N, 3)."""
+
+    @property
+    def position_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma position north, east, down, m, (N, 3)."""
+
+    @property
+    def velocity_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma velocity north, east, down, m/s, (N, 3)."""
+
+    @property
+    def attitude_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma attitude about north, east, down, rad, (N, 3)."""
+
+    @property
+    def solution(self) -> FilterSolution:
+        """The filter's own solution at the IMU (ECEF, covariance, every
+        measurement, batch and reset)."""
+
+    @property
+    def start(self) -> dict[str, Any]:
+        """How the run started: ``kind`` ("static", "static_with_heading",
+        "moving"), ``time`` (s), ``epoch`` (GNSS epoch index), ``heading_known``."""
+
+    @property
+    def gnss(self) -> dict[str, npt.NDArray[Any]]:
+        """Every GNSS epoch's antenna ``position_ecef`` and ``velocity_ecef``
+        (the fixes, or the single-point solution of the pseudoranges; NaN where
+        none), ``time``, and ``used`` (reached the filter)."""
+
+    @property
+    def outages(self) -> npt.NDArray[np.float64]:
+        """The outage windows, absolute (start, end) times, s, (K, 2)."""
+
+    @property
+    def standstills(self) -> npt.NDArray[np.float64]:
+        """The detected standstills, (start, end) times, s, (M, 2)."""
+
+    @property
+    def range_biases(self) -> dict[int, float]:
+        """Satellites holding range-bias states at the end: {prn: bias m}."""
+
+    def score(self, time: npt.ArrayLike, position_ecef: npt.ArrayLike) -> dict[str, Any]:
+        """Errors of the antenna solution against a truth (``time`` (T,) s,
+        ``position_ecef`` (T, 3)), interpolated at the truth epochs: ``time``,
+        ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1), and
+        statistics ``all``, ``aided``, ``outages`` (list), ``by_outage_length``
+        ({length s: stats}); each ``epochs``, ``rms_horizontal_m``,
+        ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share``."""
+
+    def score_gnss(
+        self, time: npt.ArrayLike, position_ecef: npt.ArrayLike, *, tolerance: float = 0.02
+    ) -> dict[str, Any]:
+        """Errors of the GNSS epochs' own positions (the single-point solution for
+        tight coupling) against a truth, each paired with the truth epoch within
+        ``tolerance`` s: ``time``, ``error_ned``, ``stats``."""
+
+    def __len__(self) -> int: ...
+
+def navigate_log(
+    time: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    angular_rate: npt.ArrayLike,
+    gnss: GnssMeasurements | PositionFixes | FixSeries | Any,
+    *,
+    settings: dict[str, dict[str, Any]] | None = None,
+    duration_s: float | None = None,
+) -> LogRun:
+    """Navigates a real log in one call (GIL released): ``time`` (N,) IMU time
+    stamps on GNSS time, s; ``specific_force``, ``angular_rate`` (N, 3) in the
+    sensor's axes, SI; ``gnss`` pseudoranges (tight coupling) or fixes (loose
+    coupling). ``settings``: ``{table: {key: value}}`` as in a ``navigate``
+    configuration (``navigate_settings()`` lists them; left-out keys keep the
+    engine's defaults). ``duration_s`` stops that long after the start.
+    See docs/real-data.md."""

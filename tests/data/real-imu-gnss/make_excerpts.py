@@ -54,3 +54,35 @@ body = [s for s in pos if not s.startswith("%")]
 (here / "drive_60s.pos").write_text(
     "".join(head + [b for b, k in zip(body, keep, strict=True) if k])
 )
+
+# ``walk_40s.*``: the first 40 s of the walk (9 s at rest, then walking),
+# byte for byte: the IMU lines and their time-tag records, the RINEX
+# observations and the RTK solution over the same span (tight coupling from
+# a static start).
+imu_log = readers.read_imu_csv(walk / "imu_1730.csv", skip_first_line=True)
+walk_tag = readers.read_time_tag(walk / "imu_1730.csv.tag")
+walk_gps, _ = readers.gps_time_from_tag(imu_log, walk_tag)
+end_line = int(imu_log.line[np.searchsorted(walk_gps, walk_gps[0] + 40.0)])
+walk_lines = (walk / "imu_1730.csv").read_bytes().split(b"\n")
+walk_csv = b"\n".join(walk_lines[:end_line]) + b"\n"
+(here / "walk_40s.csv").write_bytes(walk_csv)
+walk_raw = (walk / "imu_1730.csv.tag").read_bytes()
+records = np.frombuffer(walk_raw[76:], dtype="<u4").reshape(-1, 2)
+n_records = int(np.searchsorted(records[:, 1], len(walk_csv), side="right"))
+(here / "walk_40s.csv.tag").write_bytes(walk_raw[: 76 + 8 * n_records])
+
+
+def rinex_epoch_gps_seconds(line: str) -> float:
+    """GPS seconds of a RINEX 3 epoch line ``> yyyy mm dd hh mm ss.sssssss ...``."""
+    y, mo, d, hh, mm, ss = line[1:].split()[:6]
+    return readers._gps_seconds(f"{y}/{mo}/{d}", f"{hh}:{mm}:{ss}")
+
+
+t_end = walk_gps[0] + 40.0
+late = [i for i, s in enumerate(obs) if s.startswith(">") and rinex_epoch_gps_seconds(s) > t_end]
+(here / "walk_40s.obs").write_text("".join(obs[: late[0]]))
+walk_pos = (walk / "gnss_1730_sf.pos").read_text().splitlines(keepends=True)
+walk_sol = readers.read_pos(walk / "gnss_1730_sf.pos")
+n_head = sum(1 for s in walk_pos if s.startswith("%"))
+n_body = int(np.searchsorted(walk_sol.gps_time, t_end, side="right"))
+(here / "walk_40s.pos").write_text("".join(walk_pos[: n_head + n_body]))

@@ -170,7 +170,10 @@ pub struct LogConfig {
     /// The filter: noise, initial uncertainties, gate, floors, recovery,
     /// the antenna lever arm and the GNSS velocity latency.
     pub tuning: FilterTuning,
-    /// Range-bias states for tight coupling (12 more states).
+    /// Range-bias states for tight coupling (12 more states). Default on:
+    /// a real receiver's pseudorange errors are mostly slow biases, and a
+    /// filter that takes them for white noise averages them away and
+    /// reports bounds several times too tight (docs/real-data.md, walk_0827).
     pub range_bias_states: bool,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,
@@ -205,7 +208,7 @@ impl LogConfig {
             imu_time_offset_s: 0.0,
             reference_from_imu_b_m: Vector3::zeros(),
             tuning,
-            range_bias_states: false,
+            range_bias_states: true,
             scale_factor_states: false,
             alignment: AlignmentConfig::default(),
             alignment_overrides: StartOverrides::default(),

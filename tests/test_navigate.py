@@ -1,0 +1,219 @@
+"""``memsnav navigate`` (issue 11): the configuration, the core engine's
+defaults on real excerpts (tests/data/real-imu-gnss, BSD-3, LICENSE there),
+the outputs and the command line."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+from memsnav import cli
+
+DATA = Path(__file__).parent / "data"
+EX = DATA / "real-imu-gnss"
+
+# The drive excerpt: 65 s of a car, RTK fixes at 4 Hz, the data authors'
+# mounting, lever arms and IMU time offset; the RTK velocity lags its
+# positions by 0.125 s (docs/real-data.md).
+DRIVE = """
+name = "drive_60s"
+output = "{out}"
+[imu]
+file = "real-imu-gnss/drive_60s.csv"
+accel_unit = "g"
+gyro_unit = "deg/s"
+time_unit = "ms"
+time_tag = "real-imu-gnss/drive_60s.csv.tag"
+time_offset_s = -0.125
+mounting_rpy_deg = [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]]
+lever_arm_m = [0.0, 0.0, -0.65]
+[gnss]
+mode = "loose"
+pos = "real-imu-gnss/drive_60s.pos"
+antenna_lever_arm_m = [0.0, -0.05, -0.65]
+velocity_latency_s = 0.125
+[truth]
+pos = "real-imu-gnss/drive_60s.pos"
+quality = [1]
+"""
+
+# The walk excerpt: 40 s of a hand-held walk starting with 9 s at rest,
+# raw GPS L1 pseudoranges and Dopplers of four satellites.
+WALK = """
+name = "walk_40s"
+output = "{out}"
+[imu]
+file = "real-imu-gnss/walk_40s.csv"
+accel_unit = "g"
+gyro_unit = "deg/s"
+time_unit = "ms"
+skip_first_line = true
+time_tag = "real-imu-gnss/walk_40s.csv.tag"
+mounting_rpy_deg = [[180.0, 0.0, -90.0]]
+[gnss]
+mode = "tight"
+obs = "real-imu-gnss/walk_40s.obs"
+nav = "real-imu-gnss/walk.nav"
+elevation_mask_deg = 5.0
+min_cn0_db_hz = 20.0
+[truth]
+pos = "real-imu-gnss/walk_40s.pos"
+quality = [1, 2]
+"""
+
+
+def _config(tmp_path: Path, template: str = DRIVE, extra: str = "", **replace: str) -> Path:
+    text = template.format(out=tmp_path / "out") + extra
+    for k, v in replace.items():
+        text = text.replace(k, v)
+    p = tmp_path / "run.toml"
+    p.write_text(text)
+    return p
+
+
+# --- configuration ---------------------------------------------------------
+
+
+def test_config_unknown_keys_and_bad_values(tmp_path):
+    with pytest.raises(ValueError, match=r"unknown key\(s\) \['acel_unit'\] in \[imu\]"):
+        mn.load_config(_config(tmp_path, **{'accel_unit = "g"': 'acel_unit = "g"'}), DATA)
+    with pytest.raises(ValueError, match=r"unknown table \[filtre\]"):
+        mn.load_config(_config(tmp_path, extra="[filtre]\nx = 1\n"), DATA)
+    with pytest.raises(ValueError, match=r"gnss.mode must be one of \['loose', 'tight'\]"):
+        mn.load_config(_config(tmp_path, **{'mode = "loose"': 'mode = "lose"'}), DATA)
+    with pytest.raises(ValueError, match=r"missing required key imu.gyro_unit"):
+        mn.load_config(_config(tmp_path, **{'gyro_unit = "deg/s"': ""}), DATA)
+    # The engine's keys are checked by the core when the file is loaded.
+    with pytest.raises(ValueError, match=r"run.toml: filter.accel_bias_std: expected a number"):
+        mn.load_config(_config(tmp_path, extra='[filter]\naccel_bias_std = "0.2"\n'), DATA)
+    with pytest.raises(ValueError, match=r"aids.zupt_std_m_s: must be finite and positive, got -1"):
+        mn.load_config(_config(tmp_path, extra="[aids]\nzupt_std_m_s = -1.0\n"), DATA)
+    with pytest.raises(ValueError, match=r"alignment.heading_deg: is needed"):
+        mn.load_config(_config(tmp_path, extra='[alignment]\nmethod = "static"\n'), DATA)
+    with pytest.raises(ValueError, match=r"imu.file: no such file"):
+        mn.navigate(_config(tmp_path, **{'drive_60s.csv"': 'nope.csv"'}), data_root=DATA)
+    with pytest.raises(ValueError, match=r"unknown unit 'G'"):
+        mn.navigate(_config(tmp_path, **{'accel_unit = "g"': 'accel_unit = "G"'}), data_root=DATA)
+
+
+def test_data_root_from_environment(tmp_path, monkeypatch):
+    monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(DATA))
+    cfg = mn.load_config(_config(tmp_path))
+    assert cfg.data_path("imu", "file") == (DATA / "real-imu-gnss/drive_60s.csv").resolve()
+
+
+def test_every_engine_key_is_documented():
+    keys = mn.navigate_settings()
+    assert {"filter", "alignment", "standstill", "aids", "outages"} <= set(keys)
+    text = (Path(__file__).parents[1] / "docs" / "real-data.md").read_text()
+    missing = [f"{t}.{k}" for t, ks in keys.items() for k in ks if f"`{k}`" not in text]
+    assert not missing, f"docs/real-data.md does not mention {missing}"
+
+
+# --- the engine's defaults on real data -------------------------------------
+
+
+def test_defaults_follow_rtk_fixes_to_centimetres(tmp_path):
+    """No [filter] or [alignment] table, RTK fixes at their full 4 Hz: the
+    filter converges and stays on them (the issue's bar: 0.1 m while aided)."""
+    result = mn.navigate(_config(tmp_path), data_root=DATA)
+    s = result.summary
+    assert s["start"]["kind"] == "moving"
+    aided = s["errors_vs_truth"]["aided"]
+    assert aided["epochs"] > 200
+    assert aided["rms_horizontal_m"] < 0.1 and aided["rms_vertical_m"] < 0.1
+    assert aided["within_3sigma_share"] > 0.95
+    accepted = s["measurements"]["position"]["accepted"]
+    assert accepted > 0.95 * 3 * aided["epochs"]
+
+
+def test_walk_starts_at_rest_and_stays_consistent(tmp_path):
+    """Tight coupling with Doppler from a static start: levelled and
+    bias-settled at rest (ZUPT, ZARU), heading from the first steps' course,
+    the range-bias states keep the bounds honest against the metres of
+    pseudorange bias of a hand-held antenna."""
+    result = mn.navigate(_config(tmp_path, WALK), data_root=DATA)
+    s = result.summary
+    assert s["start"]["kind"] == "static"
+    heading = [r for r in s["resets"] if r["kind"] == "heading"]
+    assert len(heading) == 1 and 8.0 < heading[0]["time_s"] < 15.0
+    assert s["standstills_s"] and s["standstills_s"][0][0] < 2.0
+    assert s["measurements"]["zero_velocity"]["accepted"] > 20
+    assert s["measurements"]["pseudorange_rate"]["accepted"] > 400
+    assert set(s["range_biases_m"]) == {"G10", "G23", "G27", "G32"}
+    aided = s["errors_vs_truth"]["aided"]
+    assert aided["within_3sigma_share"] >= 0.9
+    # The common bias of four satellites dominates both; the filter is no worse.
+    assert aided["rms_horizontal_m"] < s["spp_errors_vs_truth"]["rms_horizontal_m"] + 1.0
+
+
+def test_periodic_outages_are_scheduled_and_scored(tmp_path):
+    extra = "[outages]\nfirst_s = 10.0\nlength_s = 5.0\nevery_s = 20.0\n"
+    result = mn.navigate(_config(tmp_path, extra=extra), data_root=DATA)
+    e = result.summary["errors_vs_truth"]
+    assert result.summary["outages_s"] == [[10.0, 5.0], [30.0, 5.0], [50.0, 5.0]]
+    assert [e[f"outage_{i}"]["epochs"] for i in (1, 2, 3)] == [20, 20, 20]
+    assert e["by_outage_length_s"]["5"]["epochs"] == 60
+    assert e["by_outage_length_s"]["5"]["max_horizontal_m"] < 5.0
+
+
+# --- outputs ----------------------------------------------------------------
+
+
+def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
+    extra = "[outages]\nwindows_s = [[30.0, 10.0]]\n"
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "stale.csv").write_text("from an earlier run")
+    result = mn.navigate(_config(tmp_path, extra=extra), data_root=DATA)
+    assert not (out / "stale.csv").exists()
+    csv = np.loadtxt(out / "drive_60s.csv", delimiter=",", skiprows=1)
+    assert csv.shape == (len(result.run), 16)
+    back = mn.read_pos(out / "drive_60s.pos")
+    k = np.searchsorted(csv[:, 0], back.gps_time[5])
+    np.testing.assert_allclose(np.degrees(back.lla[5, :2]), csv[k, 1:3], atol=1e-9)
+    np.testing.assert_allclose(back.velocity_ned[5], csv[k, 4:7], atol=1e-5)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["errors_vs_truth"] == result.summary["errors_vs_truth"]
+    html = (out / "report.html").read_text()
+    assert 'id="track"' in html and 'id="errors"' in html and "outage_1" in html
+    assert (out / "figures" / "errors.png").exists()
+    assert (out / "summary.json").stat().st_mode & 0o777 == 0o644
+
+
+def test_a_name_must_not_leave_the_output_folder(tmp_path):
+    for name in ("../x", "sub/x", ""):
+        cfg = _config(tmp_path, **{'name = "drive_60s"': f'name = "{name}"'})
+        with pytest.raises(ValueError, match="name must be a plain file name"):
+            mn.navigate(cfg, data_root=DATA, duration_s=5.0)
+    assert not (tmp_path / "x").exists() and not (tmp_path / "out").exists()
+
+
+def test_navigate_cli(tmp_path, capsys):
+    cfg = _config(tmp_path)
+    args = ["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "20"]
+    assert cli.main(args) == 0
+    out = capsys.readouterr().out
+    assert "report:" in out and "within 3 sigma" in out
+    assert cli.main(["navigate", "--config", str(tmp_path / "missing.toml")]) == 1
+    assert "cannot read" in capsys.readouterr().err
+
+
+def test_navigate_reports_a_cut_imu_log(tmp_path):
+    shutil.copy(EX / "drive_60s.csv.tag", tmp_path / "imu.csv.tag")
+    text = (EX / "drive_60s.csv").read_text()
+    (tmp_path / "imu.csv").write_text(text + "0.1,0.0")
+    cfg = _config(
+        tmp_path,
+        **{
+            '"real-imu-gnss/drive_60s.csv"': f'"{tmp_path / "imu.csv"}"',
+            '"real-imu-gnss/drive_60s.csv.tag"': f'"{tmp_path / "imu.csv.tag"}"',
+        },
+    )
+    with pytest.warns(UserWarning, match=r"imu.csv:\d+: last line cut short"):
+        mn.navigate(cfg, data_root=DATA, duration_s=5.0)
