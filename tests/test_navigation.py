@@ -85,7 +85,15 @@ def test_user_arrays_match_simulator_object_and_outliers_are_reported(scenario):
         for t, i, kind, status in zip(r["time"], r["id"], r["kind"], r["status"], strict=True)
         if kind == "pseudorange"
     ]
-    assert (d["time"][40], d["sat_id"][40, 2], "pseudorange", "gate") in hits
+    # The 100 m outlier is excluded from its epoch; the other satellites are applied.
+    assert (d["time"][40], d["sat_id"][40, 2], "pseudorange", "excluded") in hits
+    m = c.measurements
+    at_40 = [
+        s
+        for t, kind, s in zip(m["time"], m["kind"], m["status"], strict=True)
+        if t == d["time"][40] and kind == "pseudorange"
+    ]
+    assert at_40.count("accepted") == len(at_40) - 1
     assert (d["time"][45], d["sat_id"][45, 1], "pseudorange", "invalid") in hits
     # The outlier did not pull the solution: same accuracy as without it.
     e_b = np.linalg.norm(b.position_ecef[-1] - traj.position_ecef[-1])

@@ -6,7 +6,7 @@
 use memsnav_core::coupling::PositionFix;
 use memsnav_core::navigate::{
     self, fixes_from_geodetic, score, FixOptions, GeodeticSolution, GnssInput, LogConfig, LogRun,
-    SettingValue,
+    SettingTables, SettingValue,
 };
 use memsnav_core::random::stream;
 use nalgebra::{Matrix3, Vector3};
@@ -48,9 +48,7 @@ fn setting(value: &Bound<'_, PyAny>, name: &str) -> PyResult<SettingValue> {
 }
 
 /// `{table: {key: value}}` → the core's tables.
-fn settings_tables(
-    settings: Option<&Bound<'_, PyDict>>,
-) -> PyResult<Vec<(String, Vec<(String, SettingValue)>)>> {
+fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTables> {
     let Some(d) = settings else {
         return Ok(Vec::new());
     };

@@ -137,11 +137,11 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
     cfg = RunConfig(path=path, data_root=Path(root).expanduser().resolve())
     top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
     tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
-    known_tables = sorted(({k for k in SCHEMA if k} | set(ENGINE)))
+    known_tables = sorted({k for k in SCHEMA if k} | set(ENGINE))
     for name in tables:
         if name not in known_tables:
             raise ValueError(f"{path}: unknown table [{name}]; expected one of {known_tables}")
-    for section in [""] + known_tables:
+    for section in ["", *known_tables]:
         schema = SCHEMA.get(section, {})
         engine_keys = ENGINE.get(section, {})
         given = top if section == "" else tables.get(section, {})
@@ -149,7 +149,9 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
         if unknown:
             where = f"[{section}]" if section else "the top level"
             expected = sorted(set(schema) | set(engine_keys))
-            raise ValueError(f"{path}: unknown key(s) {unknown} in {where}; expected some of {expected}")
+            raise ValueError(
+                f"{path}: unknown key(s) {unknown} in {where}; expected some of {expected}"
+            )
         out: dict[str, Any] = {}
         for key, (kind, default) in schema.items():
             if key in given:

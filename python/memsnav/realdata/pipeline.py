@@ -215,7 +215,11 @@ def navigate(
                 "failed_epochs": int(n),
             }
             for tr, k, c, n in zip(
-                resets["time"], resets["kind"], resets["change"], resets["failed_epochs"], strict=True
+                resets["time"],
+                resets["kind"],
+                resets["change"],
+                resets["failed_epochs"],
+                strict=True,
             )
         ],
         "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],

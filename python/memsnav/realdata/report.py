@@ -58,7 +58,9 @@ def write_report(result: NavigationResult, out: Path) -> Path:
     ts = np.asarray(run.time)[::step]
     for i, (a, b) in enumerate(run.outages):
         m = (ts >= a) & (ts < b)
-        ax.plot(ned[m, 1], ned[m, 0], "-", lw=2, color="tab:red", label="outages" if i == 0 else None)
+        ax.plot(
+            ned[m, 1], ned[m, 0], "-", lw=2, color="tab:red", label="outages" if i == 0 else None
+        )
     ax.set_xlabel("east [m]")
     ax.set_ylabel("north [m]")
     ax.set_aspect("equal", adjustable="datalim")

@@ -293,7 +293,12 @@ impl<const N: usize> FilterState<N> {
         let r = median(&mut b.scratch);
         let i = mode.state();
         let sigma = (self.kf.p[(i, i)] + r).sqrt();
-        if !(common.abs() > self.tuning.recovery.clock_jump_sigma * sigma) {
+        // NaN (no clock variance yet) is no jump either.
+        if common
+            .abs()
+            .partial_cmp(&(self.tuning.recovery.clock_jump_sigma * sigma))
+            != Some(std::cmp::Ordering::Greater)
+        {
             return false;
         }
         let variance_before = self.kf.p[(i, i)];

@@ -32,4 +32,4 @@ pub use config::{
 };
 pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
 pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun};
-pub use settings::{tables, SettingValue, KEYS};
+pub use settings::{tables, SettingTables, SettingValue, KEYS};

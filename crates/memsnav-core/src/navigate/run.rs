@@ -282,7 +282,8 @@ impl Inputs<'_> {
                 let used: Vec<GnssEpoch> = epochs
                     .iter()
                     .zip(self.used)
-                    .filter_map(|(e, &u)| u.then(|| e.clone()))
+                    .filter(|(_, &u)| u)
+                    .map(|(e, _)| e.clone())
                     .collect();
                 coupling::run_tight_with_hook(&data, &used, &initial, &tuning, &mut hook)?
             }

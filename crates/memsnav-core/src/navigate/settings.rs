@@ -21,6 +21,9 @@ pub enum SettingValue {
     List(Vec<SettingValue>),
 }
 
+/// Settings as (table, [(key, value)]) pairs, in the file's order.
+pub type SettingTables = Vec<(String, Vec<(String, SettingValue)>)>;
+
 /// The tables and keys the engine reads, with what each holds.
 pub const KEYS: &[(&str, &[(&str, &str)])] = &[
     (
@@ -549,9 +552,7 @@ mod tests {
         );
         assert!(c.aids.nhc);
         assert_eq!(c.periodic_outages, Some((45.0, 15.0, 60.0)));
-        let bad = |e: Vec<(String, Vec<(String, SettingValue)>)>| {
-            LogConfig::from_settings(&e, 100.0).unwrap_err().to_string()
-        };
+        let bad = |e: SettingTables| LogConfig::from_settings(&e, 100.0).unwrap_err().to_string();
         assert!(
             bad(tables(&[("filter", "gyro_noise_density", Number(1.0))]))
                 .starts_with("filter.gyro_noise_density: unknown key")
