@@ -141,9 +141,11 @@ pub struct RangeBiasModel {
     /// at mid-latitudes, Klobuchar 1987) and near-static multipath of a
     /// few metres, in quadrature.
     pub std_m: f64,
-    /// Correlation time, s. Default 600 s: ionospheric and ephemeris
-    /// errors change over tens of minutes, multipath of a walking antenna
-    /// over tens of seconds to minutes.
+    /// Correlation time, s. Default 1800 s: the ionosphere model's residual
+    /// and the broadcast orbit and clock errors change over tens of minutes
+    /// to hours; a bias that wanders faster becomes indistinguishable from
+    /// the drift of a dead-reckoned position between epochs (on walk_0827,
+    /// 600 s lets 1 m of Doppler-integrated drift pass into the biases).
     pub correlation_time_s: f64,
 }
 
@@ -151,7 +153,7 @@ impl Default for RangeBiasModel {
     fn default() -> Self {
         Self {
             std_m: 3.0,
-            correlation_time_s: 600.0,
+            correlation_time_s: 1800.0,
         }
     }
 }
