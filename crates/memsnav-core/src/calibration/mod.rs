@@ -71,6 +71,7 @@
 mod accelerometer;
 mod gyroscope;
 pub mod least_squares;
+pub mod static_detector;
 
 pub use accelerometer::{accelerometer_crb, calibrate_accelerometer, FactoredAccelerometer};
 pub use gyroscope::{calibrate_gyroscope, gyroscope_crb, FactoredGyroscope};
