@@ -69,9 +69,11 @@
 //! uses the calibration's own regressors and costs nothing more.
 
 mod accelerometer;
+pub mod determinable;
 mod gyroscope;
 pub mod least_squares;
 pub mod static_detector;
+pub mod static_poses;
 
 pub use accelerometer::{accelerometer_crb, calibrate_accelerometer, FactoredAccelerometer};
 pub use gyroscope::{calibrate_gyroscope, gyroscope_crb, FactoredGyroscope};

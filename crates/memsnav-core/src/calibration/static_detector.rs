@@ -219,33 +219,14 @@ fn variance(samples: &[Vector3<f64>]) -> Vector3<f64> {
 }
 
 /// ς(k) for windows k − half ..= k + half; +∞ where the window does not fit.
-/// Running sums of the deviations from the first sample keep the
-/// cancellation of Σx² − n x̄² small for readings with a large offset (raw
-/// counts near 32768).
+/// Each window is summed afresh (two passes): running sums would carry
+/// their rounding from window to window, which swamps the variance of a
+/// quiet sensor whose readings have a large offset (raw counts near 32768).
 fn sliding_variance_magnitude(samples: &[Vector3<f64>], half: usize) -> Vec<f64> {
     let n = samples.len();
-    let width = 2 * half + 1;
     let mut out = vec![f64::INFINITY; n];
-    if n < width {
-        return out;
-    }
-    let origin = samples[0];
-    let mut sum = Vector3::zeros();
-    let mut sum_sq = Vector3::zeros();
-    for s in &samples[..width] {
-        let d = s - origin;
-        sum += d;
-        sum_sq += d.component_mul(&d);
-    }
-    let w = width as f64;
-    for k in half..n - half {
-        if k > half {
-            let (leaving, entering) = (samples[k - half - 1] - origin, samples[k + half] - origin);
-            sum += entering - leaving;
-            sum_sq += entering.component_mul(&entering) - leaving.component_mul(&leaving);
-        }
-        let var = (sum_sq - sum.component_mul(&sum) / w) / (w - 1.0);
-        out[k] = var.map(|v| v.max(0.0)).norm();
+    for k in half..n.saturating_sub(half) {
+        out[k] = variance(&samples[k - half..=k + half]).norm();
     }
     out
 }
@@ -258,7 +239,10 @@ mod tests {
     use rand_distr::StandardNormal;
 
     /// 100 Hz: 60 s rest, then poses of `hold` s joined by 2 s moves.
-    fn session(hold: &[f64], seed: u64) -> (Vec<f64>, Vec<Vector3<f64>>, Vec<(f64, f64)>) {
+    /// Times, readings and the true (start, end) of each still interval.
+    type Session = (Vec<f64>, Vec<Vector3<f64>>, Vec<(f64, f64)>);
+
+    fn session(hold: &[f64], seed: u64) -> Session {
         let mut rng = stream(seed, 0);
         let mut time = Vec::new();
         let mut accel = Vec::new();

@@ -130,7 +130,7 @@ impl AccelerometerModel {
         let mut gamma = Vector3::zeros();
         for i in 0..3 {
             let discriminant = 1.0 - 4.0 * self.nonlinearity[i] * x[i];
-            if !(discriminant >= 0.0) {
+            if discriminant.is_nan() || discriminant < 0.0 {
                 return Err(crate::Error::invalid(
                     "measured",
                     format!(
