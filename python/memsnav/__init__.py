@@ -26,6 +26,7 @@ from memsnav._memsnav import (
     ParseError,
     RinexObservations,
     Sp3,
+    StaticCalibration,
     TightlyCoupledFilter,
     Trajectory,
     UnobservableError,
@@ -47,6 +48,13 @@ from memsnav._memsnav import (
     strapdown_increments,
 )
 from memsnav.allan import allan_deviation
+from memsnav.calibration import (
+    ImuCalibration,
+    calibrate_static,
+    load_calibration,
+    save_calibration,
+    static_summary,
+)
 from memsnav.realdata.config import load_config
 from memsnav.realdata.pipeline import NavigationResult, navigate
 from memsnav.realdata.readers import read_imu_csv, read_pos, read_time_tag
@@ -60,6 +68,7 @@ __all__ = [
     "FixSeries",
     "GnssMeasurements",
     "GyroscopeModel",
+    "ImuCalibration",
     "ImuModel",
     "LooselyCoupledFilter",
     "MemsnavError",
@@ -68,6 +77,7 @@ __all__ = [
     "ParseError",
     "RinexObservations",
     "Sp3",
+    "StaticCalibration",
     "TightlyCoupledFilter",
     "Trajectory",
     "UnobservableError",
@@ -75,6 +85,7 @@ __all__ = [
     "allan_deviation",
     "calibrate_accelerometer",
     "calibrate_gyroscope",
+    "calibrate_static",
     "ecef_to_geodetic",
     "experiments",
     "geodetic_to_ecef",
@@ -82,6 +93,7 @@ __all__ = [
     "imu_increments",
     "invert_accelerometer",
     "invert_gyroscope",
+    "load_calibration",
     "load_config",
     "navigate",
     "read_imu_csv",
@@ -90,8 +102,10 @@ __all__ = [
     "read_rinex_obs",
     "read_sp3",
     "read_time_tag",
+    "save_calibration",
     "simulate_gnss",
     "solve_fix",
+    "static_summary",
     "strapdown",
     "strapdown_increments",
 ]

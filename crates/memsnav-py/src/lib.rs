@@ -15,6 +15,7 @@ mod inversion;
 mod navigation;
 mod progress;
 mod sensors;
+mod static_calibration;
 mod trajectory;
 
 #[pymodule]
@@ -27,6 +28,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     ins::register(m)?;
     trajectory::register(m)?;
     calibration::register(m)?;
+    static_calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
     coupling::register(m)?;
