@@ -91,6 +91,22 @@ impl PyStaticCalibration {
             .expect("rows × cols elements")
     }
 
+    /// Cramér-Rao bound (36, 36) for white noise of the initial rest's level.
+    #[getter]
+    fn crb<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let m = &self.inner.crb;
+        PyArray1::from_vec(py, m.transpose().as_slice().to_vec())
+            .reshape([m.nrows(), m.ncols()])
+            .expect("rows × cols elements")
+    }
+
+    /// White-noise variance per sample at the initial rest, (2, 3):
+    /// accelerometer (m/s²)², gyroscope (rad/s)², nominal readings.
+    #[getter]
+    fn white_noise_variance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        convert::vectors_to_numpy(py, &self.inner.white_noise_variance)
+    }
+
     /// "accelerometer bias_u", …, "gyroscope g_sensitivity_rw".
     #[getter]
     fn parameter_names(&self) -> Vec<String> {
@@ -199,15 +215,28 @@ impl PyStaticCalibration {
         self.inner.warnings.clone()
     }
 
-    /// The detector's variance magnitude per sample (+inf at the ends).
+    /// The detector's accelerometer and gyroscope variance magnitudes per
+    /// sample, (N, 2) (+inf within half a window of the ends).
     #[getter]
-    fn variance_magnitude<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.inner.detection.variance_magnitude)
+    fn variance_magnitude<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let d = &self.inner.detection;
+        let flat: Vec<f64> = d
+            .accel
+            .variance_magnitude
+            .iter()
+            .zip(&d.gyro.variance_magnitude)
+            .flat_map(|(a, g)| [*a, *g])
+            .collect();
+        PyArray1::from_vec(py, flat)
+            .reshape([d.accel.variance_magnitude.len(), 2])
+            .expect("2 N elements")
     }
 
+    /// The detector's two thresholds (accelerometer, gyroscope).
     #[getter]
-    fn detector_threshold(&self) -> f64 {
-        self.inner.detection.threshold
+    fn detector_threshold(&self) -> (f64, f64) {
+        let d = &self.inner.detection;
+        (d.accel.threshold, d.gyro.threshold)
     }
 
     /// Residual std of the magnitude fit (m/s²), of the rest fit per gyro

@@ -12,8 +12,12 @@
 //! of the accelerometer readings in a window of `window_s` seconds, and the
 //! same magnitude ς_init over the whole initial rest (its sensor noise plus
 //! any slow drift). Sample k is static when ς(k) < `threshold_factor` · ς_init
-//! (Tedaldi's threshold k · ς_init; the unit of the readings cancels). A
-//! static run of at least `min_pose_s` seconds is a pose: [start, end) in
+//! (Tedaldi's threshold k · ς_init; the unit of the readings cancels) and the
+//! same holds for the gyroscope's readings against their own initial rest.
+//! The gyroscope test is ours: a turn about the vertical leaves the
+//! accelerometer still, and without it such a turn would be averaged into
+//! a pose's gyro rest. A static run of at least `min_pose_s` seconds is a
+//! pose: [start, end) in
 //! sample indices, the centres of quiet windows, so every sample of a pose
 //! is at least half a window away from the motion.
 //!
@@ -76,11 +80,9 @@ impl Pose {
     }
 }
 
-/// What the detector found.
+/// The variance magnitude of one triad and its threshold.
 #[derive(Debug, Clone, PartialEq)]
-pub struct StaticDetection {
-    /// The poses in time order; the first is the initial rest.
-    pub poses: Vec<Pose>,
+pub struct VarianceTest {
     /// ς(k) per sample (squared reading units); +∞ within half a window of
     /// either end, where no full window fits.
     pub variance_magnitude: Vec<f64>,
@@ -88,6 +90,15 @@ pub struct StaticDetection {
     pub rest_variance_magnitude: f64,
     /// threshold_factor · ς_init.
     pub threshold: f64,
+}
+
+/// What the detector found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticDetection {
+    /// The poses in time order; the first is the initial rest.
+    pub poses: Vec<Pose>,
+    pub accel: VarianceTest,
+    pub gyro: VarianceTest,
 }
 
 impl StaticDetector {
@@ -99,15 +110,21 @@ impl StaticDetector {
         Ok(())
     }
 
-    /// Finds the static poses of `accel` (any unit) sampled at `time_s`
-    /// (increasing, s). Errors name the argument: too short a session, an
-    /// initial rest that is not at rest (no pose covers most of it), no
-    /// pose after it.
-    pub fn detect(&self, time_s: &[f64], accel: &[Vector3<f64>]) -> Result<StaticDetection> {
+    /// Finds the static poses of `accel` and `gyro` (any units) sampled at
+    /// `time_s` (increasing, s). Errors name the argument: too short a
+    /// session, an initial rest that is not at rest, no pose after it.
+    pub fn detect(
+        &self,
+        time_s: &[f64],
+        accel: &[Vector3<f64>],
+        gyro: &[Vector3<f64>],
+    ) -> Result<StaticDetection> {
         self.validate()?;
         validate::increasing_times("time", time_s)?;
         validate::same_length("accel", accel.len(), "time", time_s.len())?;
+        validate::same_length("gyro", gyro.len(), "time", time_s.len())?;
         validate::finite_vectors("accel", accel)?;
+        validate::finite_vectors("gyro", gyro)?;
         let n = time_s.len();
         let duration =
             time_s.last().copied().unwrap_or(0.0) - time_s.first().copied().unwrap_or(0.0);
@@ -131,35 +148,16 @@ impl StaticDetector {
                 format!("the initial rest holds {rest_end} samples, fewer than one window"),
             ));
         }
-        let rest_variance_magnitude = variance(&accel[..rest_end]).norm();
-        let threshold = self.threshold_factor * rest_variance_magnitude;
-        let variance_magnitude = sliding_variance_magnitude(accel, half);
-        // At rest, the variance of the whole rest is that of its windows
-        // (white noise, a little more for slow drift). Motion inside the
-        // rest inflates the former far above the typical window's, and
-        // would make the threshold meaningless.
-        let mut rest_windows: Vec<f64> = variance_magnitude[half..rest_end - half].to_vec();
-        rest_windows.sort_by(f64::total_cmp);
-        let typical = rest_windows[rest_windows.len() / 2];
-        if rest_variance_magnitude > self.threshold_factor * typical {
-            return Err(Error::invalid(
-                "initial_rest_s",
-                format!(
-                    "the first {} s are not at rest: their variance magnitude {:.3e} is {:.0} \
-                     times that of a typical {}-sample window in them (the IMU must lie still \
-                     for the whole initial rest)",
-                    self.initial_rest_s,
-                    rest_variance_magnitude,
-                    rest_variance_magnitude / typical,
-                    2 * half + 1
-                ),
-            ));
-        }
+        let accel_test = self.variance_test(accel, half, rest_end, "accel")?;
+        let gyro_test = self.variance_test(gyro, half, rest_end, "gyro")?;
         let min_samples = ((self.min_pose_s / period).round() as usize).max(1);
         let mut poses = Vec::new();
         let mut start = None;
-        for (k, &v) in variance_magnitude.iter().enumerate() {
-            match (v < threshold, start) {
+        for k in 0..=n {
+            let still = k < n
+                && accel_test.variance_magnitude[k] < accel_test.threshold
+                && gyro_test.variance_magnitude[k] < gyro_test.threshold;
+            match (still, start) {
                 (true, None) => start = Some(k),
                 (false, Some(s)) => {
                     if k - s >= min_samples {
@@ -170,13 +168,7 @@ impl StaticDetector {
                 _ => {}
             }
         }
-        if let Some(s) = start {
-            if n - s >= min_samples {
-                poses.push(Pose { start: s, end: n });
-            }
-        }
-        // The initial rest must be the first pose and cover most of T_init:
-        // otherwise the reference level ς_init includes motion.
+        // The initial rest must be the first pose and cover most of T_init.
         let covered = poses
             .first()
             .map(|p| p.end.min(rest_end).saturating_sub(p.start))
@@ -200,9 +192,46 @@ impl StaticDetector {
         }
         Ok(StaticDetection {
             poses,
+            accel: accel_test,
+            gyro: gyro_test,
+        })
+    }
+
+    /// ς(k), ς_init and the threshold of one triad (`name` in errors).
+    fn variance_test(
+        &self,
+        samples: &[Vector3<f64>],
+        half: usize,
+        rest_end: usize,
+        name: &str,
+    ) -> Result<VarianceTest> {
+        let rest_variance_magnitude = variance(&samples[..rest_end]).norm();
+        let variance_magnitude = sliding_variance_magnitude(samples, half);
+        // At rest, the variance of the whole rest is that of its windows
+        // (white noise, a little more for slow drift). Motion inside the
+        // rest inflates the former far above the typical window's, and
+        // would make the threshold meaningless.
+        let mut rest_windows: Vec<f64> = variance_magnitude[half..rest_end - half].to_vec();
+        rest_windows.sort_by(f64::total_cmp);
+        let typical = rest_windows[rest_windows.len() / 2];
+        if rest_variance_magnitude > self.threshold_factor * typical {
+            return Err(Error::invalid(
+                "initial_rest_s",
+                format!(
+                    "the first {} s are not at rest: the {name} variance magnitude over them, \
+                     {:.3e}, is {:.0} times that of a typical {}-sample window in them (the \
+                     IMU must lie still for the whole initial rest)",
+                    self.initial_rest_s,
+                    rest_variance_magnitude,
+                    rest_variance_magnitude / typical,
+                    2 * half + 1
+                ),
+            ));
+        }
+        Ok(VarianceTest {
             variance_magnitude,
             rest_variance_magnitude,
-            threshold,
+            threshold: self.threshold_factor * rest_variance_magnitude,
         })
     }
 }
@@ -241,6 +270,14 @@ mod tests {
     /// 100 Hz: 60 s rest, then poses of `hold` s joined by 2 s moves.
     /// Times, readings and the true (start, end) of each still interval.
     type Session = (Vec<f64>, Vec<Vector3<f64>>, Vec<(f64, f64)>);
+
+    /// A quiet gyroscope (noise only) for the sessions below.
+    fn quiet_gyro(n: usize, seed: u64) -> Vec<Vector3<f64>> {
+        let mut rng = stream(seed, 1);
+        (0..n)
+            .map(|_| Vector3::from_fn(|_, _| 0.01 * rng.sample::<f64, _>(StandardNormal)))
+            .collect()
+    }
 
     fn session(hold: &[f64], seed: u64) -> Session {
         let mut rng = stream(seed, 0);
@@ -283,7 +320,9 @@ mod tests {
             initial_rest_s: 50.0,
             ..Default::default()
         };
-        let found = det.detect(&time, &accel).unwrap();
+        let found = det
+            .detect(&time, &accel, &quiet_gyro(time.len(), 1))
+            .unwrap();
         assert_eq!(found.poses.len(), truth.len());
         for (p, (t0, t1)) in found.poses.iter().zip(&truth) {
             let (s, e) = (time[p.start], time[p.end - 1]);
@@ -291,43 +330,65 @@ mod tests {
             assert!(s >= *t0 - 0.011 && s <= t0 + 0.55, "start {s} vs {t0}");
             assert!(e <= *t1 + 0.011 && e >= t1 - 0.56, "end {e} vs {t1}");
         }
-        let expected = det.threshold_factor * found.rest_variance_magnitude;
-        assert_eq!(found.threshold, expected);
+        let expected = det.threshold_factor * found.accel.rest_variance_magnitude;
+        assert_eq!(found.accel.threshold, expected);
     }
 
     #[test]
     fn short_poses_are_dropped_and_the_window_matches_a_direct_variance() {
         let (time, accel, _) = session(&[3.0, 0.6, 3.0], 2);
-        let found = StaticDetector::default().detect(&time, &accel).unwrap();
+        let found = StaticDetector::default()
+            .detect(&time, &accel, &quiet_gyro(time.len(), 2))
+            .unwrap();
         // The 0.6 s pose is shorter than min_pose_s once trimmed.
         assert_eq!(found.poses.len(), 3);
         let k = 700;
         let direct = variance(&accel[k - 50..=k + 50]).norm();
-        assert!((found.variance_magnitude[k] / direct - 1.0).abs() < 1e-9);
-        assert!(found.variance_magnitude[10].is_infinite());
+        assert!((found.accel.variance_magnitude[k] / direct - 1.0).abs() < 1e-9);
+        assert!(found.accel.variance_magnitude[10].is_infinite());
+    }
+
+    #[test]
+    fn a_turn_the_accelerometer_cannot_see_splits_a_pose() {
+        let (time, accel, _) = session(&[3.0, 8.0, 3.0], 4);
+        let mut gyro = quiet_gyro(time.len(), 4);
+        let det = StaticDetector::default();
+        let whole = det.detect(&time, &accel, &gyro).unwrap();
+        assert_eq!(whole.poses.len(), 4);
+        // A 1 s turn about the vertical in the middle of the 8 s pose.
+        let middle = (whole.poses[2].start + whole.poses[2].end) / 2;
+        for (k, w) in gyro.iter_mut().enumerate().skip(middle).take(100) {
+            w.z += (std::f64::consts::PI * (k - middle) as f64 / 100.0).sin();
+        }
+        let split = det.detect(&time, &accel, &gyro).unwrap();
+        assert_eq!(split.poses.len(), 5);
+        assert!(split.poses[2].end <= middle && split.poses[3].start >= middle + 100);
     }
 
     #[test]
     fn a_moving_start_and_bad_settings_are_named() {
         let (time, mut accel, _) = session(&[3.0, 3.0], 3);
+        let gyro = quiet_gyro(time.len(), 3);
         let err = StaticDetector {
             window_s: 0.0,
             ..Default::default()
         }
-        .detect(&time, &accel)
+        .detect(&time, &accel, &gyro)
         .unwrap_err();
         assert!(err.to_string().starts_with("window_s:"), "{err}");
         let err = StaticDetector {
             initial_rest_s: 500.0,
             ..Default::default()
         }
-        .detect(&time, &accel)
+        .detect(&time, &accel, &gyro)
         .unwrap_err();
         assert!(err.to_string().starts_with("time:"), "{err}");
         for (k, a) in accel.iter_mut().enumerate().take(3000).skip(1000) {
             a.x += 3.0 * (k as f64 * 0.05).sin();
         }
-        let err = StaticDetector::default().detect(&time, &accel).unwrap_err();
+        let err = StaticDetector::default()
+            .detect(&time, &accel, &gyro)
+            .unwrap_err();
         assert!(err.to_string().starts_with("initial_rest_s:"), "{err}");
     }
 }

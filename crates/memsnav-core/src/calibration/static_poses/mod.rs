@@ -29,6 +29,14 @@
 //! parameters (b_a, D_a, M_a, N_a; b_g, D_g, M_g, K_g) are functions of z:
 //! their 36 × 36 covariance follows through the Jacobian of that map.
 //!
+//! The Cramér-Rao bound runs the same chain with each stage's inverse
+//! Fisher information for white noise of the level measured at the initial
+//! rest (half the variance of first differences): pose magnitudes with
+//! variance dᵀ diag(σ_a²) d / n_k, rest means σ_g,i²/n_k, turn directions
+//! σ_ω² Σ Δt² + σ_a²/g² (1/n_k + 1/n_{k+1}). Where the covariance is well
+//! above the bound, the session's errors are not white: hand tremor,
+//! settling, the Earth's rate at rest, bias drift.
+//!
 //! ## Hold-out
 //!
 //! `holdout_every = h` leaves poses h−1, 2h−1, … (never the initial rest)
@@ -158,6 +166,14 @@ pub struct StaticCalibration {
     /// (21)] in the order of [`accelerometer_parameter_names`] then
     /// [`gyroscope_parameter_names`].
     pub covariance: DMatrix<f64>,
+    /// Cramér-Rao bound of the same parameters for white sensor noise of
+    /// the level measured at the initial rest (module docs): the floor the
+    /// covariance would reach if drift, tremor and the Earth's rate were
+    /// absent.
+    pub crb: DMatrix<f64>,
+    /// White noise variance per sample and axis at the initial rest, in
+    /// nominal units squared: accelerometer, gyroscope.
+    pub white_noise_variance: [Vector3<f64>; 2],
     pub nominal: Nominal,
     pub gravity_m_s2: f64,
     pub detection: StaticDetection,
@@ -354,7 +370,9 @@ pub fn calibrate_static(
     let nominal = &options.nominal;
     let accel_nominal: Vec<Vector3<f64>> = accel.iter().map(|a| nominal.accel(a)).collect();
     let gyro_nominal: Vec<Vector3<f64>> = gyro.iter().map(|g| nominal.gyro(g)).collect();
-    let detection = options.detector.detect(time, &accel_nominal)?;
+    let detection = options
+        .detector
+        .detect(time, &accel_nominal, &gyro_nominal)?;
     let poses = &detection.poses;
     let held_out: Vec<bool> = (0..poses.len())
         .map(|k| options.holdout_every.is_some_and(|h| k % h == h - 1))
@@ -615,9 +633,14 @@ pub fn calibrate_static(
     let gyro_model = gyroscope_model(&t, &rest_fit.offsets)
         .ok_or_else(|| Error::invalid("gyro", "the fitted T = A⁻¹ is singular"))?;
 
+    // White noise per sample and axis, from the initial rest: half the
+    // variance of first differences (immune to slow drift).
+    let white_accel = white_variance(&accel_nominal[poses[0].start..poses[0].end]);
+    let white_gyro = white_variance(&gyro_nominal[poses[0].start..poses[0].end]);
+
     // Uncertainty (module docs).
     let c_hat = offsets_to(&rest_fit.offsets);
-    let covariance = {
+    let (covariance, crb) = {
         let free_c = free_columns.clone();
         let c_of = |theta: &DVector<f64>| -> Option<DVector<f64>> {
             let d = gyro_data(
@@ -643,6 +666,38 @@ pub fn calibrate_static(
         blocks
             .view_mut((12, 12), (12, 12))
             .copy_from(&rest_fit.covariance);
+        // The Cramér-Rao bound: the same chain with each stage's inverse
+        // Fisher information for white sensor noise (module docs).
+        let mut bound_blocks = DMatrix::zeros(33, 33);
+        {
+            let a_inv = accel_model
+                .output_matrix()
+                .try_inverse()
+                .unwrap_or_else(Matrix3::zeros);
+            let weights: Vec<f64> = fit_poses
+                .iter()
+                .map(|&k| {
+                    let d = a_inv.transpose() * data.force_means[k].normalize();
+                    poses[k].len() as f64 / d.component_mul(&d).dot(&white_accel)
+                })
+                .collect();
+            let fisher = weighted_gram(&accel_fit.jacobian, &weights);
+            let bound = fisher.try_inverse().unwrap_or_else(|| DMatrix::zeros(0, 0));
+            for (a, &i) in free_a.iter().enumerate() {
+                for (b, &j) in free_a.iter().enumerate() {
+                    bound_blocks[(i, j)] = bound.get((a, b)).copied().unwrap_or(0.0);
+                }
+            }
+            let counts: Vec<f64> = fit_poses.iter().map(|&k| poses[k].len() as f64).collect();
+            bound_blocks
+                .view_mut((12, 12), (12, 12))
+                .copy_from(&rests::bound(
+                    &rest_force,
+                    &counts,
+                    &free_columns,
+                    &white_gyro,
+                ));
+        }
         if let Some(f) = &t_fit {
             let t_vec = t_to_vector(&t);
             let residuals_of = |theta: &DVector<f64>, c: &DVector<f64>| -> Option<DVector<f64>> {
@@ -689,12 +744,32 @@ pub fn calibrate_static(
                 .copy_from(&(&g_a + &g_c * &h1));
             phi.view_mut((24, 12), (9, 12)).copy_from(&g_c);
             blocks.view_mut((24, 24), (9, 9)).copy_from(&f.covariance);
+            // A turn's direction error: the gyro noise integrated over its
+            // m intervals (σ_ω² Σ Δt² per axis) plus the two poses' gravity
+            // directions (σ_a²/g² (1/n_k + 1/n_{k+1})).
+            let rate_var = (t * Matrix3::from_diagonal(&white_gyro) * t.transpose()).trace() / 3.0;
+            let direction_var = white_accel.mean() / (g * g);
+            let weights: Vec<f64> = fit_segments
+                .iter()
+                .flat_map(|s| {
+                    let gyro_part: f64 = s.increments.iter().map(|(_, _, dt)| dt * dt).sum();
+                    let v = rate_var * gyro_part
+                        + direction_var
+                            * (1.0 / poses[s.from].len() as f64
+                                + 1.0 / poses[s.from + 1].len() as f64);
+                    [1.0 / v, 1.0 / v]
+                })
+                .collect();
+            if let Some(bound) = weighted_gram(&f.jacobian, &weights).try_inverse() {
+                bound_blocks.view_mut((24, 24), (9, 9)).copy_from(&bound);
+            }
         } else {
             // T held: it neither varies nor depends on the other stages.
             phi.view_mut((24, 24), (9, 9)).fill(0.0);
         }
         // Held entries of θ_a and C have zero variance: no propagation either.
         let sigma_z = &phi * blocks * phi.transpose();
+        let bound_z = &phi * bound_blocks * phi.transpose();
         let z = {
             let mut z = DVector::zeros(33);
             z.rows_mut(0, 12).copy_from(&theta_a);
@@ -718,7 +793,10 @@ pub fn calibrate_static(
         h_z.extend([1e-6 * t.amax(); 9]);
         let jac = central_jacobian(physical, &z, &h_z)
             .ok_or_else(|| Error::invalid("gyro", "the fitted T = A⁻¹ is singular"))?;
-        &jac * sigma_z * jac.transpose()
+        (
+            &jac * sigma_z * jac.transpose(),
+            &jac * bound_z * jac.transpose(),
+        )
     };
     let accelerometer_std =
         accelerometer_std_model(&covariance.view((0, 0), (15, 15)).into_owned());
@@ -857,6 +935,8 @@ pub fn calibrate_static(
         accelerometer_std,
         gyroscope_std,
         covariance,
+        crb,
+        white_noise_variance: [white_accel, white_gyro],
         nominal: *nominal,
         gravity_m_s2: g,
         detection: detection.clone(),
@@ -876,6 +956,26 @@ pub fn calibrate_static(
                 .unwrap_or(f64::NAN),
         ],
     })
+}
+
+/// Half the variance of first differences per axis: the white-noise
+/// variance of a still sensor, free of slow drift.
+fn white_variance(samples: &[Vector3<f64>]) -> Vector3<f64> {
+    let n = samples.len().saturating_sub(1).max(1) as f64;
+    samples
+        .windows(2)
+        .map(|w| (w[1] - w[0]).component_mul(&(w[1] - w[0])))
+        .sum::<Vector3<f64>>()
+        / (2.0 * n)
+}
+
+/// Jᵀ diag(w) J.
+fn weighted_gram(jacobian: &DMatrix<f64>, weights: &[f64]) -> DMatrix<f64> {
+    let mut weighted = jacobian.clone();
+    for (k, mut row) in weighted.row_iter_mut().enumerate() {
+        row *= weights[k];
+    }
+    jacobian.transpose() * weighted
 }
 
 /// Central-difference step of the offsets: a millionth of their size.

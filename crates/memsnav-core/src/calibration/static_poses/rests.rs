@@ -89,6 +89,44 @@ pub fn fit(
     })
 }
 
+/// Inverse Fisher information (12 × 12, the layout of [`RestFit`]) of the
+/// rest fit for white gyro noise of variance `white[i]` per sample on axis
+/// i: per row, (Gᵀ W G)⁻¹ with W = diag(n_k / σ_i²), `counts` the samples of
+/// each pose.
+pub fn bound(
+    specific_force_means: &[Vector3<f64>],
+    counts: &[f64],
+    free_columns: &[usize],
+    white: &Vector3<f64>,
+) -> DMatrix<f64> {
+    let p = 1 + free_columns.len();
+    let mut gram = DMatrix::zeros(p, p);
+    for (f, n) in specific_force_means.iter().zip(counts) {
+        let row = DVector::from_iterator(
+            p,
+            std::iter::once(1.0).chain(free_columns.iter().map(|&l| f[l])),
+        );
+        gram += &row * row.transpose() * *n;
+    }
+    let unit = gram.try_inverse().unwrap_or_else(|| DMatrix::zeros(p, p));
+    let mut out = DMatrix::zeros(12, 12);
+    for i in 0..3 {
+        let index = |c: usize| {
+            if c == 0 {
+                c0_index(i)
+            } else {
+                c_index(i, free_columns[c - 1])
+            }
+        };
+        for a in 0..p {
+            for b in 0..p {
+                out[(index(a), index(b))] = unit[(a, b)] * white[i];
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -210,6 +210,15 @@ fn parameters_are_recovered_within_their_sigma_over_seeds() {
         let inv = cov.clone().try_inverse().unwrap();
         chi2 += (e.transpose() * inv * &e)[(0, 0)];
         dof += estimated.len();
+        // White noise: the covariance from the residuals sits on the
+        // Cramér-Rao bound (the median ratio of σ, within the spread of σ̂).
+        let mut ratios: Vec<f64> = estimated
+            .iter()
+            .map(|&k| (cal.covariance[(k, k)] / cal.crb[(k, k)]).sqrt())
+            .collect();
+        ratios.sort_by(f64::total_cmp);
+        let median = ratios[ratios.len() / 2];
+        assert!((0.8..1.25).contains(&median), "sigma/CRB {ratios:?}");
         for j in 0..estimated.len() {
             z_scores.push(e[j] / cov[(j, j)].sqrt());
         }
