@@ -10,7 +10,10 @@ use memsnav_core::calibration::static_poses::{
     calibrate_static as core_calibrate_static, correct as core_correct, Nominal, StaticCalibration,
     StaticCalibrationOptions,
 };
-use memsnav_core::calibration::{accelerometer_parameter_names, gyroscope_parameter_names};
+use memsnav_core::calibration::{
+    accelerometer_parameter_names, accelerometer_parameters, gyroscope_parameter_names,
+    gyroscope_parameters,
+};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -105,6 +108,14 @@ impl PyStaticCalibration {
     #[getter]
     fn white_noise_variance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.white_noise_variance)
+    }
+
+    /// The 36 parameters in the order of `parameter_names` (SI).
+    #[getter]
+    fn parameters<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        let a = accelerometer_parameters(&self.inner.accelerometer);
+        let g = gyroscope_parameters(&self.inner.gyroscope);
+        PyArray1::from_iter(py, a.iter().chain(g.iter()).copied())
     }
 
     /// "accelerometer bias_u", …, "gyroscope g_sensitivity_rw".

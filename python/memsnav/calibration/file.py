@@ -105,9 +105,7 @@ class ImuCalibration:
         readings: nominal scale and offset, then the exact inverses of the
         models (the gyroscope's g-sensitivity uses the corrected specific
         force)."""
-        return _memsnav.correct_imu(
-            accel, gyro, self.accelerometer, self.gyroscope, **self.nominal
-        )
+        return _memsnav.correct_imu(accel, gyro, self.accelerometer, self.gyroscope, **self.nominal)
 
     @classmethod
     def from_static(
@@ -148,28 +146,30 @@ class ImuCalibration:
         def fields(model: Any, names: tuple[str, ...]) -> dict[str, Any]:
             return {n: np.asarray(getattr(model, n)).tolist() for n in names}
 
-        return _plain({
-            "format": FORMAT,
-            "version": VERSION,
-            "session": self.session,
-            "created": self.created
-            or datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-            "memsnav": memsnav.__version__,
-            "source": self.source,
-            "units": _UNITS,
-            "nominal": {k: np.asarray(self.nominal[k]).tolist() for k in _NOMINAL},
-            "sample_rate_hz": self.sample_rate,
-            "gravity_m_s2": self.gravity,
-            "accelerometer": fields(self.accelerometer, _ACCEL_FIELDS),
-            "accelerometer_std": fields(self.accelerometer_std, _ACCEL_FIELDS),
-            "gyroscope": fields(self.gyroscope, _GYRO_FIELDS),
-            "gyroscope_std": fields(self.gyroscope_std, _GYRO_FIELDS),
-            "parameter_names": self.parameter_names,
-            "covariance": np.asarray(self.covariance).tolist(),
-            "held": [{"parameter": p, "reason": r} for p, r in self.held],
-            "warnings": self.warnings,
-            "fit": self.fit,
-        })
+        return _plain(
+            {
+                "format": FORMAT,
+                "version": VERSION,
+                "session": self.session,
+                "created": self.created
+                or datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+                "memsnav": memsnav.__version__,
+                "source": self.source,
+                "units": _UNITS,
+                "nominal": {k: np.asarray(self.nominal[k]).tolist() for k in _NOMINAL},
+                "sample_rate_hz": self.sample_rate,
+                "gravity_m_s2": self.gravity,
+                "accelerometer": fields(self.accelerometer, _ACCEL_FIELDS),
+                "accelerometer_std": fields(self.accelerometer_std, _ACCEL_FIELDS),
+                "gyroscope": fields(self.gyroscope, _GYRO_FIELDS),
+                "gyroscope_std": fields(self.gyroscope_std, _GYRO_FIELDS),
+                "parameter_names": self.parameter_names,
+                "covariance": np.asarray(self.covariance).tolist(),
+                "held": [{"parameter": p, "reason": r} for p, r in self.held],
+                "warnings": self.warnings,
+                "fit": self.fit,
+            }
+        )
 
     def save(self, path: str | Path) -> Path:
         """Writes the calibration file (atomically) and returns its path."""
@@ -201,7 +201,9 @@ def load_calibration(path: str | Path) -> ImuCalibration:
     except OSError as e:
         raise ValueError(f"calibration: cannot read {path}: {e.strerror}") from None
     except json.JSONDecodeError as e:
-        raise ValueError(f"{path}:{e.lineno}: not a calibration file (invalid JSON: {e.msg})") from None
+        raise ValueError(
+            f"{path}:{e.lineno}: not a calibration file (invalid JSON: {e.msg})"
+        ) from None
 
     def need(mapping: Any, key: str, where: str = "") -> Any:
         if not isinstance(mapping, dict) or key not in mapping:
@@ -229,10 +231,7 @@ def load_calibration(path: str | Path) -> ImuCalibration:
             raise ValueError(f"{path}: {key}: {e}") from None
 
     nominal_table = need(raw, "nominal")
-    nominal = {
-        k: np.asarray(need(nominal_table, k, "nominal."), dtype=float)
-        for k in _NOMINAL
-    }
+    nominal = {k: np.asarray(need(nominal_table, k, "nominal."), dtype=float) for k in _NOMINAL}
     names = list(need(raw, "parameter_names"))
     covariance = np.asarray(need(raw, "covariance"), dtype=float)
     if covariance.shape != (len(names), len(names)):
