@@ -4,7 +4,6 @@
 
 use std::collections::HashMap;
 
-use memsnav_core::calibration::determinable::Estimate;
 use memsnav_core::calibration::static_detector::StaticDetector;
 use memsnav_core::calibration::static_poses::{
     calibrate_static as core_calibrate_static, correct as core_correct, Nominal, StaticCalibration,
@@ -15,7 +14,6 @@ use memsnav_core::calibration::{
     gyroscope_parameters,
 };
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::convert;
@@ -316,16 +314,6 @@ fn static_calibration_defaults() -> HashMap<&'static str, f64> {
     ])
 }
 
-fn estimate(name: &str) -> PyResult<Estimate> {
-    match name {
-        "all" => Ok(Estimate::All),
-        "determinable" => Ok(Estimate::Determinable),
-        other => Err(PyValueError::new_err(format!(
-            "estimate: expected 'all' or 'determinable', got '{other}'"
-        ))),
-    }
-}
-
 fn nominal(
     accel_scale: &Bound<'_, PyAny>,
     accel_offset: &Bound<'_, PyAny>,
@@ -373,7 +361,7 @@ fn calibrate_static(
             initial_rest_s: initial_rest,
             min_pose_s: min_pose,
         },
-        estimate: self::estimate(estimate)?,
+        estimate: crate::calibration::estimate(estimate)?,
         holdout_every,
     };
     let inner = py
