@@ -135,7 +135,7 @@ class ImuCalibration:
                 "rest_residual_std_rad_s": np.asarray(cal.rest_residual_std).tolist(),
                 "turn_residual_std_rad": cal.turn_residual_std,
                 "condition_number": np.asarray(cal.condition_number).tolist(),
-                "poses": np.asarray(cal.poses).tolist(),
+                "pose_samples": np.asarray(cal.poses).tolist(),
                 "pose_held_out": list(cal.pose_held_out),
             },
         )
