@@ -99,7 +99,9 @@ def test_the_calibration_file_round_trips(calibration, tmp_path):
     assert loaded.gyroscope == calibration.gyroscope
     assert loaded.gyroscope_std == calibration.gyroscope_std
     accel, gyro = excerpt_arrays()
-    for mine, theirs in zip(loaded.correct(accel, gyro), calibration.correct(accel, gyro), strict=True):
+    for mine, theirs in zip(
+        loaded.correct(accel, gyro), calibration.correct(accel, gyro), strict=True
+    ):
         assert np.array_equal(mine, theirs)
     # Saved again, the file is the same (floats round-trip exactly).
     again = loaded.save(tmp_path / "again.json")
@@ -145,11 +147,11 @@ def test_bad_arguments_name_the_argument(excerpt, kwargs, argument):
     with pytest.raises(ValueError, match=f"^{argument}:"):
         mn.calibrate_static(*excerpt, **kwargs)
     t, a, g = excerpt
-    with pytest.raises(ValueError, match="^accel:"):
+    with pytest.raises(ValueError, match=r"^accel:"):
         mn.calibrate_static(t, a[:, :2], g, gravity=GRAVITY)
     moving = a.copy()
     moving[1000:1500, 0] += 500.0 * np.sin(np.arange(500) / 10.0)
-    with pytest.raises(ValueError, match="^initial_rest_s: the first 50 s are not at rest"):
+    with pytest.raises(ValueError, match=r"^initial_rest_s: the first 50 s are not at rest"):
         mn.calibrate_static(t, moving, g, gravity=GRAVITY, **NOMINAL)
 
 

@@ -49,7 +49,7 @@ def write_report(run: CalibrationRun, out: Path) -> Path:
     )
 
     doc.section("Figures of merit")
-    rows = []
+    rows: list[list[object]] = []
     for label, key, scale, unit in (
         ("‖f‖ − g over the poses, RMS", "magnitude", 1e3, "mm/s²"),
         ("gravity direction after a turn, RMS", "turn", 1.0, "°"),
@@ -145,7 +145,7 @@ def write_report(run: CalibrationRun, out: Path) -> Path:
     sigma = np.sqrt(np.clip(np.diag(cal.covariance), 0.0, None))
     bound = np.sqrt(np.clip(np.diag(cal.crb), 0.0, None))
     held = dict(cal.held)
-    rows = []
+    parameter_rows: list[list[object]] = []
     for k, name in enumerate(names):
         if name in _FRAME:
             status = "0 by the frame convention (body x = u, y in the u-v plane)"
@@ -153,7 +153,7 @@ def write_report(run: CalibrationRun, out: Path) -> Path:
             status = f"held: {held[name]}"
         else:
             status = "estimated"
-        rows.append(
+        parameter_rows.append(
             [
                 name,
                 f"{value[k]:.6g}",
@@ -163,7 +163,7 @@ def write_report(run: CalibrationRun, out: Path) -> Path:
                 status,
             ]
         )
-    doc.table(["parameter (SI)", "value", "σ", "CRB σ", "σ / CRB", "status"], rows)
+    doc.table(["parameter (SI)", "value", "σ", "CRB σ", "σ / CRB", "status"], parameter_rows)
     white = np.sqrt(np.asarray(cal.white_noise_variance))
     doc.paragraph(
         "Models of the nominal readings (method §2): S = (I − D − M)(Γ − b − N Γ²) and "
