@@ -151,20 +151,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Read the logs of a TOML run configuration, align, run the loosely or tightly "
         "coupled filter, write the solution (CSV, RTKLIB .pos), summary.json and report.html.",
     )
-    nav.add_argument(
-        "--config", required=True, help="run configuration (TOML), e.g. examples/drive_0708.toml"
-    )
-    nav.add_argument(
-        "--data-root",
-        default=None,
-        help=(
-            "folder relative data paths point into (default: "
-            "$MEMSNAV_DATA_ROOT, else ../shared/data next to the repository)"
-        ),
-    )
-    nav.add_argument(
-        "--output", default=None, help="output folder (default: the configuration's 'output')"
-    )
+    _configured_run(nav, "run configuration (TOML), e.g. examples/drive_0708.toml")
     nav.add_argument(
         "--duration", type=float, default=None, help="stop this many seconds after alignment"
     )
@@ -175,10 +162,14 @@ def build_parser() -> argparse.ArgumentParser:
         "multi-position static-pose session), fit the accelerometer and gyroscope models and "
         "write calibration.json (the calibration file) and report.html.",
     )
-    cal.add_argument(
-        "--config", required=True, help="configuration (TOML), e.g. examples/xsens_static.toml"
-    )
-    cal.add_argument(
+    _configured_run(cal, "configuration (TOML), e.g. examples/xsens_static.toml")
+    return parser
+
+
+def _configured_run(command: argparse.ArgumentParser, config_help: str) -> None:
+    """The arguments of a command driven by a TOML configuration."""
+    command.add_argument("--config", required=True, help=config_help)
+    command.add_argument(
         "--data-root",
         default=None,
         help=(
@@ -186,10 +177,9 @@ def build_parser() -> argparse.ArgumentParser:
             "$MEMSNAV_DATA_ROOT, else ../shared/data next to the repository)"
         ),
     )
-    cal.add_argument(
+    command.add_argument(
         "--output", default=None, help="output folder (default: the configuration's 'output')"
     )
-    return parser
 
 
 def _calibrate(args: argparse.Namespace) -> int:

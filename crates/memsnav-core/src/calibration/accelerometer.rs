@@ -3,7 +3,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
 use super::determinable::{
-    scales, uncertainty_warnings, worst_uncertain, Estimate, UNDETERMINED_CONDITION,
+    next_uncertain, scales, uncertainty_warnings, Estimate, UNDETERMINED_CONDITION,
 };
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
@@ -252,26 +252,14 @@ impl FactoredAccelerometer {
                 }
             }
             let cal = self.fit(options, &held)?;
-            let names = accelerometer_parameter_names();
-            let std: Vec<f64> = cal
-                .covariance
-                .diagonal()
-                .iter()
-                .map(|v| v.max(0.0).sqrt())
-                .collect();
-            let scale = scales("accelerometer", &names, None);
-            let fixed: Vec<bool> = (0..names.len()).map(|k| std[k] == 0.0).collect();
-            match worst_uncertain(&names, &std, &scale, &fixed) {
-                Some(k) => {
+            match next_uncertain(
+                "accelerometer",
+                &accelerometer_parameter_names(),
+                &cal.covariance,
+            ) {
+                Some((k, why)) => {
                     let (row, c) = parameter_column(k);
-                    held.push((
-                        row,
-                        c,
-                        format!(
-                            "{}'s sigma {:.3e} would exceed its physical size {:.3e}",
-                            names[k], std[k], scale[k]
-                        ),
-                    ))
+                    held.push((row, c, why))
                 }
                 None => return Ok(cal),
             }

@@ -33,6 +33,8 @@
 //!   (n − p < p: the residual σ̂ behind every σ is itself uncertain by more
 //!   than about 1/√(2p)).
 
+use nalgebra::DMatrix;
+
 use super::least_squares;
 
 /// What a calibration estimates.
@@ -115,6 +117,32 @@ pub fn worst_uncertain(
         }
     }
     worst
+}
+
+/// Rule 3 on a fit's covariance of the parameters `names` of `sensor`
+/// (zero variance: held or fixed): the parameter to hold next, with the
+/// reason.
+pub fn next_uncertain(
+    sensor: &str,
+    names: &[String],
+    covariance: &DMatrix<f64>,
+) -> Option<(usize, String)> {
+    let std: Vec<f64> = covariance
+        .diagonal()
+        .iter()
+        .map(|v| v.max(0.0).sqrt())
+        .collect();
+    let scale = scales(sensor, names, None);
+    let fixed: Vec<bool> = std.iter().map(|s| *s == 0.0).collect();
+    worst_uncertain(names, &std, &scale, &fixed).map(|k| {
+        (
+            k,
+            format!(
+                "{}'s sigma {:.3e} would exceed its physical size {:.3e}",
+                names[k], std[k], scale[k]
+            ),
+        )
+    })
 }
 
 /// The warnings of rule 3 and of the residual degrees of freedom (module

@@ -5,7 +5,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
 use super::determinable::{
-    scales, uncertainty_warnings, worst_uncertain, Estimate, POOR_CONDITIONING,
+    next_uncertain, scales, uncertainty_warnings, Estimate, POOR_CONDITIONING,
     UNDETERMINED_CONDITION,
 };
 use super::least_squares::{IncrementalQr, Regression};
@@ -210,23 +210,8 @@ impl FactoredGyroscope {
                 continue;
             }
             let cal = self.fit(options, &held, reg)?;
-            let names = gyroscope_parameter_names();
-            let std: Vec<f64> = cal
-                .covariance
-                .diagonal()
-                .iter()
-                .map(|v| v.max(0.0).sqrt())
-                .collect();
-            let scale = scales("gyroscope", &names, None);
-            let fixed: Vec<bool> = (0..names.len()).map(|k| std[k] == 0.0).collect();
-            match worst_uncertain(&names, &std, &scale, &fixed) {
-                Some(k) => held.push((
-                    parameter_column(k),
-                    format!(
-                        "{}'s sigma {:.3e} would exceed its physical size {:.3e}",
-                        names[k], std[k], scale[k]
-                    ),
-                )),
+            match next_uncertain("gyroscope", &gyroscope_parameter_names(), &cal.covariance) {
+                Some((k, why)) => held.push((parameter_column(k), why)),
                 None => return Ok(cal),
             }
         }

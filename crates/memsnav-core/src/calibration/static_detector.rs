@@ -7,7 +7,9 @@
 //! series of poses, each held still for a few seconds. For every sample k
 //! the detector computes the variance magnitude
 //!
-//!     ς(k) = ‖ (var a_x, var a_y, var a_z) over the window centred on k ‖
+//! ```text
+//! ς(k) = ‖ (var a_x, var a_y, var a_z) over the window centred on k ‖
+//! ```
 //!
 //! of the accelerometer readings in a window of `window_s` seconds, and the
 //! same magnitude ς_init over the whole initial rest (its sensor noise plus
