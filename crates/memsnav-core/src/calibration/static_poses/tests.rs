@@ -242,6 +242,13 @@ fn parameters_are_recovered_within_their_sigma_over_seeds() {
                 .max((cdf - (i + 1) as f64 / n).abs())
         })
         .fold(0.0, f64::max);
+    eprintln!(
+        "chi2 {chi2:.0} for {dof} degrees of freedom; KS distance {ks:.4} (1 % critical {:.4}); \
+         mean z {:.3}, rms z {:.3}",
+        1.63 / n.sqrt(),
+        z_scores.iter().sum::<f64>() / n,
+        (z_scores.iter().map(|z| z * z).sum::<f64>() / n).sqrt()
+    );
     assert!(ks < 1.63 / n.sqrt(), "KS distance {ks:.3}");
 }
 
