@@ -28,6 +28,7 @@ from memsnav._memsnav import (
     PositionFixes,
     RinexObservations,
     Sp3,
+    StaticCalibration,
     TightlyCoupledFilter,
     Trajectory,
     UnobservableError,
@@ -53,6 +54,13 @@ from memsnav._memsnav import (
     strapdown_increments,
 )
 from memsnav.allan import allan_deviation
+from memsnav.calibration import (
+    ImuCalibration,
+    calibrate_static,
+    load_calibration,
+    save_calibration,
+    static_summary,
+)
 from memsnav.realdata.config import load_config
 from memsnav.realdata.pipeline import NavigationResult, navigate
 from memsnav.realdata.readers import read_imu_csv, read_pos, read_time_tag
@@ -66,6 +74,7 @@ __all__ = [
     "FixSeries",
     "GnssMeasurements",
     "GyroscopeModel",
+    "ImuCalibration",
     "ImuModel",
     "LogRun",
     "LooselyCoupledFilter",
@@ -76,6 +85,7 @@ __all__ = [
     "PositionFixes",
     "RinexObservations",
     "Sp3",
+    "StaticCalibration",
     "TightlyCoupledFilter",
     "Trajectory",
     "UnobservableError",
@@ -83,6 +93,7 @@ __all__ = [
     "allan_deviation",
     "calibrate_accelerometer",
     "calibrate_gyroscope",
+    "calibrate_static",
     "ecef_to_geodetic",
     "ecef_to_ned",
     "experiments",
@@ -92,6 +103,7 @@ __all__ = [
     "imu_increments",
     "invert_accelerometer",
     "invert_gyroscope",
+    "load_calibration",
     "load_config",
     "navigate",
     "navigate_log",
@@ -102,8 +114,10 @@ __all__ = [
     "read_rinex_obs",
     "read_sp3",
     "read_time_tag",
+    "save_calibration",
     "simulate_gnss",
     "solve_fix",
+    "static_summary",
     "strapdown",
     "strapdown_increments",
 ]

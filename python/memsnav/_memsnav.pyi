@@ -310,6 +310,11 @@ class Calibration:
     def warnings(self) -> list[str]:
         """Parameters that are only poorly determined (also raised as UserWarning)."""
 
+    @property
+    def held(self) -> list[tuple[str, str]]:
+        """(parameter, reason) of the parameters not estimated under
+        ``estimate="determinable"`` (held at zero, zero variance)."""
+
 def calibrate_accelerometer(
     measured: npt.ArrayLike,
     reference_specific_force: npt.ArrayLike,
@@ -318,11 +323,14 @@ def calibrate_accelerometer(
     reference_noise_std: float | None = None,
     noise_std: float | None = None,
     sample_rate: float = 100.0,
+    estimate: str = "all",
 ) -> Calibration:
     """Accelerometer calibration from outputs and reference specific forces,
     both (N, 3) m/s². ``method``: "ls" or "eiv" (needs ``reference_noise_std``,
     m/s² per sample). ``noise_std`` (m/s² per sample) enables ``.crb``.
-    Raises UnobservableError naming the axis and parameter."""
+    ``estimate``: "all" (raises UnobservableError naming the axis and
+    parameter the data cannot determine) or "determinable" (holds those at
+    zero and lists them in ``.held``; the rule: docs/calibration.md)."""
 
 def calibrate_gyroscope(
     measured: npt.ArrayLike,
@@ -334,10 +342,171 @@ def calibrate_gyroscope(
     reference_specific_force_noise_std: float | None = None,
     noise_std: float | None = None,
     sample_rate: float = 100.0,
+    estimate: str = "all",
 ) -> Calibration:
     """Gyroscope calibration from outputs (N, 3) rad/s, reference angular
     rates (N, 3) rad/s and specific forces (N, 3) m/s². ``method``: "ls" or
-    "eiv" (needs ``reference_noise_std``, rad/s per sample)."""
+    "eiv" (needs ``reference_noise_std``, rad/s per sample). ``estimate``:
+    "all" or "determinable" (static data: bias and g-sensitivity only)."""
+
+@final
+class StaticCalibration:
+    """A multi-position calibration (``memsnav.calibrate_static``)."""
+
+    @property
+    def accelerometer(self) -> AccelerometerModel:
+        """Model of the nominal accelerometer readings (SI), method §2."""
+
+    @property
+    def gyroscope(self) -> GyroscopeModel:
+        """Model of the nominal gyroscope readings (SI), method §2."""
+
+    @property
+    def accelerometer_std(self) -> AccelerometerModel:
+        """One-sigma values in the accelerometer's attributes (0 where not estimated)."""
+
+    @property
+    def gyroscope_std(self) -> GyroscopeModel:
+        """One-sigma values in the gyroscope's attributes (0 where not estimated)."""
+
+    @property
+    def covariance(self) -> npt.NDArray[np.float64]:
+        """Covariance (36, 36) of ``parameters``."""
+
+    @property
+    def crb(self) -> npt.NDArray[np.float64]:
+        """Cramér-Rao bound (36, 36) for white noise of the initial rest's level."""
+
+    @property
+    def white_noise_variance(self) -> npt.NDArray[np.float64]:
+        """(2, 3) white-noise variance per sample at the initial rest:
+        accelerometer (m/s²)², gyroscope (rad/s)² (nominal readings)."""
+
+    @property
+    def parameters(self) -> npt.NDArray[np.float64]:
+        """The 36 parameters (SI) in the order of ``parameter_names``."""
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """ "accelerometer bias_u", ..., "gyroscope g_sensitivity_rw"."""
+
+    @property
+    def nominal(self) -> dict[str, npt.NDArray[np.float64]]:
+        """accel_scale, accel_offset, gyro_scale, gyro_offset, each (3,)."""
+
+    @property
+    def gravity(self) -> float:
+        """Local gravity magnitude used, m/s²."""
+
+    @property
+    def sample_rate(self) -> float:
+        """Mean sample rate of the session, Hz."""
+
+    @property
+    def poses(self) -> npt.NDArray[np.int64]:
+        """(P, 2) first and one-past-last sample index of each pose."""
+
+    @property
+    def pose_held_out(self) -> list[bool]:
+        """(P,) True for poses left out of the fits."""
+
+    @property
+    def magnitude_error_before(self) -> npt.NDArray[np.float64]:
+        """(P,) ‖f‖ − g per pose with the nominal readings, m/s²."""
+
+    @property
+    def magnitude_error_after(self) -> npt.NDArray[np.float64]:
+        """(P,) ‖f‖ − g per pose after the calibration, m/s²."""
+
+    @property
+    def turn_from(self) -> npt.NDArray[np.int64]:
+        """(T,) the first pose of each turn (turn k: pose k to k + 1)."""
+
+    @property
+    def turn_held_out(self) -> list[bool]:
+        """(T,) True for turns into or out of a held-out pose."""
+
+    @property
+    def turn_error_before(self) -> npt.NDArray[np.float64]:
+        """(T,) gravity-direction error after each turn, nominal readings, rad."""
+
+    @property
+    def turn_error_after(self) -> npt.NDArray[np.float64]:
+        """(T,) gravity-direction error after each turn, calibrated, rad."""
+
+    @property
+    def held(self) -> list[tuple[str, str]]:
+        """(parameter, reason) of the parameters not estimated."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Poor conditioning, sigma above physical size, too few poses, a
+        nominal scale far off (also emitted as UserWarning)."""
+
+    @property
+    def variance_magnitude(self) -> npt.NDArray[np.float64]:
+        """(N, 2) the detector's accelerometer and gyroscope variance magnitudes."""
+
+    @property
+    def detector_threshold(self) -> tuple[float, float]:
+        """The detector's thresholds (accelerometer, gyroscope)."""
+
+    @property
+    def accelerometer_residual_std(self) -> float:
+        """Residual std of the gravity-magnitude fit, m/s²."""
+
+    @property
+    def rest_residual_std(self) -> npt.NDArray[np.float64]:
+        """(3,) residual std of the gyro rest fit per axis, rad/s."""
+
+    @property
+    def turn_residual_std(self) -> float:
+        """Residual std of the turn fit per direction component, rad."""
+
+    @property
+    def condition_number(self) -> npt.NDArray[np.float64]:
+        """(3,) condition numbers of the magnitude, rest and turn problems."""
+
+    def correct(
+        self, accel: npt.ArrayLike, gyro: npt.ArrayLike
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """SI specific force and angular rate, each (N, 3), of raw readings."""
+
+def calibrate_static(
+    time: npt.ArrayLike,
+    accel: npt.ArrayLike,
+    gyro: npt.ArrayLike,
+    *,
+    gravity: float,
+    accel_scale: npt.ArrayLike,
+    accel_offset: npt.ArrayLike,
+    gyro_scale: npt.ArrayLike,
+    gyro_offset: npt.ArrayLike,
+    window: float,
+    threshold_factor: float,
+    initial_rest: float,
+    min_pose: float,
+    estimate: str,
+    holdout_every: int | None,
+) -> StaticCalibration:
+    """The binding of ``memsnav.calibrate_static`` (every argument required)."""
+
+def correct_imu(
+    accel: npt.ArrayLike,
+    gyro: npt.ArrayLike,
+    accelerometer: AccelerometerModel,
+    gyroscope: GyroscopeModel,
+    *,
+    accel_scale: npt.ArrayLike,
+    accel_offset: npt.ArrayLike,
+    gyro_scale: npt.ArrayLike,
+    gyro_offset: npt.ArrayLike,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """SI specific force and angular rate of raw readings: nominal scale and
+    offset, then the exact inverses of the models."""
+
+def static_calibration_defaults() -> dict[str, float]:
+    """The core's detector defaults and nominal scale (1) and offset (0)."""
 
 def invert_accelerometer(
     measured: npt.ArrayLike,

@@ -151,10 +151,25 @@ def build_parser() -> argparse.ArgumentParser:
         description="Read the logs of a TOML run configuration, align, run the loosely or tightly "
         "coupled filter, write the solution (CSV, RTKLIB .pos), summary.json and report.html.",
     )
+    _configured_run(nav, "run configuration (TOML), e.g. examples/drive_0708.toml")
     nav.add_argument(
-        "--config", required=True, help="run configuration (TOML), e.g. examples/drive_0708.toml"
+        "--duration", type=float, default=None, help="stop this many seconds after alignment"
     )
-    nav.add_argument(
+    cal = commands.add_parser(
+        "calibrate",
+        help="calibrate an IMU from a recorded session (see docs/calibration.md)",
+        description="Read a calibration session described by a TOML configuration (today: a "
+        "multi-position static-pose session), fit the accelerometer and gyroscope models and "
+        "write calibration.json (the calibration file) and report.html.",
+    )
+    _configured_run(cal, "configuration (TOML), e.g. examples/xsens_static.toml")
+    return parser
+
+
+def _configured_run(command: argparse.ArgumentParser, config_help: str) -> None:
+    """The arguments of a command driven by a TOML configuration."""
+    command.add_argument("--config", required=True, help=config_help)
+    command.add_argument(
         "--data-root",
         default=None,
         help=(
@@ -162,13 +177,35 @@ def build_parser() -> argparse.ArgumentParser:
             "$MEMSNAV_DATA_ROOT, else ../shared/data next to the repository)"
         ),
     )
-    nav.add_argument(
+    command.add_argument(
         "--output", default=None, help="output folder (default: the configuration's 'output')"
     )
-    nav.add_argument(
-        "--duration", type=float, default=None, help="stop this many seconds after alignment"
-    )
-    return parser
+
+
+def _calibrate(args: argparse.Namespace) -> int:
+    from memsnav.calibration.command import run_calibration
+
+    try:
+        run = run_calibration(args.config, data_root=args.data_root, output=args.output)
+    except (ValueError, memsnav.MemsnavError) as e:
+        print(f"memsnav calibrate: {e}", file=sys.stderr)
+        return 1
+    for kind, path in run.files.items():
+        print(f"{kind}: {path}")
+    s = run.summary
+    for subset in ("fit", "held_out"):
+        magnitude = s[f"magnitude_rms_after_{subset}_m_s2"]
+        turn = s[f"turn_rms_after_{subset}_deg"]
+        if magnitude is not None:
+            print(
+                f"{subset.replace('_', ' ')}: |f| - g RMS {1e3 * magnitude:.2f} mm/s^2 "
+                f"(nominal {1e3 * s[f'magnitude_rms_before_{subset}_m_s2']:.0f}), gravity "
+                f"direction after a turn RMS {turn:.3f} deg "
+                f"(nominal {s[f'turn_rms_before_{subset}_deg']:.1f})"
+            )
+    for warning in run.calibration.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    return 0
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -177,6 +214,8 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
+    if args.command == "calibrate":
+        return _calibrate(args)
     if args.command == "navigate":
         from memsnav.realdata.pipeline import navigate
 

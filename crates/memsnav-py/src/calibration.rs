@@ -7,7 +7,7 @@ use std::ffi::CString;
 use memsnav_core::calibration::{
     accelerometer_parameter_names, accelerometer_std_model, calibrate_accelerometer as core_accel,
     calibrate_gyroscope as core_gyro, gyroscope_parameter_names, gyroscope_std_model, Calibration,
-    CalibrationOptions, Method,
+    CalibrationOptions, Estimate, Method,
 };
 use nalgebra::{DMatrix, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -28,7 +28,8 @@ use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel};
 /// column-equilibrated regressors per axis. `crb`: Cramér-Rao bound of the
 /// parameter vector for exact references (None unless `noise_std` was
 /// given); `crb_std`: its square-root diagonal as a model-shaped object.
-/// `warnings`: parameters that are only poorly determined.
+/// `warnings`: parameters that are only poorly determined. `held`:
+/// [(parameter, reason)] not estimated under `estimate="determinable"`.
 #[pyclass(module = "memsnav", name = "Calibration", frozen)]
 pub struct PyCalibration {
     #[pyo3(get)]
@@ -41,6 +42,8 @@ pub struct PyCalibration {
     parameter_names: Vec<String>,
     #[pyo3(get)]
     warnings: Vec<String>,
+    #[pyo3(get)]
+    held: Vec<(String, String)>,
     covariance: DMatrix<f64>,
     crb: Option<DMatrix<f64>>,
     residual_std: Vector3<f64>,
@@ -96,6 +99,17 @@ fn method(name: &str) -> PyResult<Method> {
     }
 }
 
+/// `estimate`: "all" or "determinable" (see `memsnav_core::calibration::determinable`).
+pub(crate) fn estimate(name: &str) -> PyResult<Estimate> {
+    match name {
+        "all" => Ok(Estimate::All),
+        "determinable" => Ok(Estimate::Determinable),
+        other => Err(PyValueError::new_err(format!(
+            "estimate: expected 'all' or 'determinable', got '{other}'"
+        ))),
+    }
+}
+
 /// Emits each "poorly determined" diagnostic as a Python `UserWarning`.
 fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
     for w in warnings {
@@ -119,6 +133,7 @@ fn wrap<M>(
         std: to_py(cal.std)?,
         parameter_names: names,
         warnings: cal.warnings,
+        held: cal.held,
         covariance: cal.covariance,
         crb: cal.crb,
         residual_std: cal.residual_std,
@@ -132,9 +147,12 @@ fn wrap<M>(
 /// correction for noisy references; needs `reference_noise_std`, m/s² per
 /// sample). `noise_std`: the sensor's white noise per sample (m/s²); when
 /// given, `.crb` holds the Cramér-Rao bound. `sample_rate` (Hz) is stored
-/// in the returned model.
+/// in the returned model. `estimate`: "all" (every parameter; data that
+/// cannot determine one raise `UnobservableError`) or "determinable" (only
+/// what the data determine; the rest held at zero and listed in `.held`;
+/// the rule is in docs/calibration.md).
 #[pyfunction]
-#[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=100.0))]
+#[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=100.0, estimate="all"))]
 fn calibrate_accelerometer(
     py: Python<'_>,
     measured: &Bound<'_, PyAny>,
@@ -143,6 +161,7 @@ fn calibrate_accelerometer(
     reference_noise_std: Option<f64>,
     noise_std: Option<f64>,
     sample_rate: f64,
+    estimate: &str,
 ) -> PyResult<PyCalibration> {
     let s = convert::vectors(measured, "measured")?;
     let f = convert::vectors(reference_specific_force, "reference_specific_force")?;
@@ -151,6 +170,7 @@ fn calibrate_accelerometer(
         method: self::method(method)?,
         reference_noise_std,
         noise_std,
+        estimate: self::estimate(estimate)?,
         ..Default::default()
     };
     let cal = py.detach(|| core_accel(&s, &f, &options)).py()?;
@@ -180,9 +200,10 @@ fn calibrate_accelerometer(
 /// "eiv" (needs `reference_noise_std`, rad/s per sample; the optional
 /// `reference_specific_force_noise_std`, m/s², corrects the g-sensitivity
 /// columns too). `noise_std`: the gyro white noise per sample (rad/s), for
-/// the Cramér-Rao bound.
+/// the Cramér-Rao bound. `estimate`: "all" or "determinable" (static data:
+/// bias and g-sensitivity only), as for `calibrate_accelerometer`.
 #[pyfunction]
-#[pyo3(signature = (measured, reference_angular_rate, reference_specific_force, *, method="ls", reference_noise_std=None, reference_specific_force_noise_std=None, noise_std=None, sample_rate=100.0))]
+#[pyo3(signature = (measured, reference_angular_rate, reference_specific_force, *, method="ls", reference_noise_std=None, reference_specific_force_noise_std=None, noise_std=None, sample_rate=100.0, estimate="all"))]
 fn calibrate_gyroscope(
     py: Python<'_>,
     measured: &Bound<'_, PyAny>,
@@ -193,6 +214,7 @@ fn calibrate_gyroscope(
     reference_specific_force_noise_std: Option<f64>,
     noise_std: Option<f64>,
     sample_rate: f64,
+    estimate: &str,
 ) -> PyResult<PyCalibration> {
     let s = convert::vectors(measured, "measured")?;
     let w = convert::vectors(reference_angular_rate, "reference_angular_rate")?;
@@ -203,6 +225,7 @@ fn calibrate_gyroscope(
         reference_noise_std,
         reference_specific_force_noise_std,
         noise_std,
+        estimate: self::estimate(estimate)?,
     };
     let cal = py.detach(|| core_gyro(&s, &w, &f, &options)).py()?;
     let to_py = |m| {

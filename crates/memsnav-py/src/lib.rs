@@ -16,6 +16,7 @@ mod log_navigation;
 mod navigation;
 mod progress;
 mod sensors;
+mod static_calibration;
 mod trajectory;
 
 #[pymodule]
@@ -28,6 +29,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     ins::register(m)?;
     trajectory::register(m)?;
     calibration::register(m)?;
+    static_calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
     coupling::register(m)?;

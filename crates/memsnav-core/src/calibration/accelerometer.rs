@@ -2,11 +2,14 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
+use super::determinable::{
+    next_uncertain, scales, uncertainty_warnings, Estimate, UNDETERMINED_CONDITION,
+};
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
-    accelerometer_std_model, block_diagonal, check_excitation, common_jacobian, diagnose,
-    factor_column, validate_data, validate_options, Calibration, CalibrationOptions, Method,
-    ACCELEROMETER_AXES,
+    accelerometer_parameter_names, accelerometer_std_model, block_diagonal, check_excitation,
+    common_jacobian, constant_column, diagnose, expand_block, factor_column, validate_data,
+    validate_options, Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES, OFF_DIAGONAL,
 };
 use crate::sensors::{AccelerometerModel, NoiseModel};
 use crate::{Error, Result};
@@ -198,35 +201,106 @@ impl FactoredAccelerometer {
 
     /// Calibrates from the factored data. See the module docs of
     /// [`crate::calibration`] for the model, the exact conversion and the
-    /// uncertainties.
+    /// uncertainties; under [`Estimate::Determinable`] only what the data
+    /// determine ([`super::determinable`]): a held Γ column keeps D_j and
+    /// M_ij at zero (A's column j is the identity's), a held square keeps
+    /// N_i at zero.
     pub fn calibrate(
         &self,
         options: &CalibrationOptions,
     ) -> Result<Calibration<AccelerometerModel>> {
         validate_options(options)?;
         let (r, n) = (&self.r, self.samples);
-        check_excitation(
-            r,
-            n,
-            1,
-            &self.sum_reference,
-            ACCELEROMETER_AXES,
-            "specific force",
-        )?;
-        let eiv = options.method == Method::ErrorsInVariables;
-        let s2 = if eiv {
+        if options.estimate == Estimate::All {
+            check_excitation(
+                r,
+                n,
+                1,
+                &self.sum_reference,
+                ACCELEROMETER_AXES,
+                "specific force",
+            )?;
+            return self.fit(options, &[]);
+        }
+        // Held (row, column): row None for a Γ column held in every row.
+        let mut held: Vec<Held> = Vec::new();
+        for j in 0..3 {
+            if let Some(mean) = constant_column(r, n, 1 + j) {
+                let why = format!("its input never varies (constant {mean:.6e})");
+                held.push((None, 1 + j, why.clone()));
+                held.push((Some(j), 4, why));
+            }
+        }
+        let s2 = self.reference_variance(options);
+        'refit: loop {
+            for i in 0..3 {
+                let free = free_columns(&held, i);
+                let reg = Regression::new(regressors(r, i, s2).select_columns(free.iter()), n);
+                if reg.condition_number > UNDETERMINED_CONDITION
+                    || !reg.condition_number.is_finite()
+                {
+                    let c = free[reg.weakest_column(0)];
+                    held.push((
+                        (c == 4).then_some(i),
+                        c,
+                        format!(
+                            "the data do not separate it from the others (condition number {:.2e})",
+                            reg.condition_number
+                        ),
+                    ));
+                    continue 'refit;
+                }
+            }
+            let cal = self.fit(options, &held)?;
+            match next_uncertain(
+                "accelerometer",
+                &accelerometer_parameter_names(),
+                &cal.covariance,
+            ) {
+                Some((k, why)) => {
+                    let (row, c) = parameter_column(k);
+                    held.push((row, c, why))
+                }
+                None => return Ok(cal),
+            }
+        }
+    }
+
+    /// s2, the reference noise variance of the EIV estimator (0 for LS).
+    fn reference_variance(&self, options: &CalibrationOptions) -> f64 {
+        if options.method == Method::ErrorsInVariables {
             options.reference_noise_std.unwrap_or(0.0).powi(2)
         } else {
             0.0
-        };
+        }
+    }
+
+    /// The fit with the coefficients `held` at the ideal sensor's.
+    fn fit(
+        &self,
+        options: &CalibrationOptions,
+        held: &[Held],
+    ) -> Result<Calibration<AccelerometerModel>> {
+        let (r, n) = (&self.r, self.samples);
+        let eiv = options.method == Method::ErrorsInVariables;
+        let s2 = self.reference_variance(options);
+        let free: [Vec<usize>; 3] = std::array::from_fn(|i| free_columns(held, i));
         let mut warnings = Vec::new();
         let mut regressions = Vec::with_capacity(3);
         let mut noise = Vec::with_capacity(3);
         for (i, axis) in ACCELEROMETER_AXES.iter().enumerate() {
-            let reg = Regression::new(regressors(r, i, s2), n);
-            diagnose(&reg, axis, &column_names(i), &mut warnings)?;
+            let reg = Regression::new(regressors(r, i, s2).select_columns(free[i].iter()), n);
+            let names: Vec<String> = free[i]
+                .iter()
+                .map(|&c| column_names(i)[c].clone())
+                .collect();
+            diagnose(&reg, axis, &names, &mut warnings)?;
             regressions.push(reg);
-            noise.push(eiv.then(|| self.regressor_noise(i, s2)));
+            noise.push(eiv.then(|| {
+                self.regressor_noise(i, s2)
+                    .select_rows(free[i].iter())
+                    .select_columns(free[i].iter())
+            }));
         }
         let squares: [DVector<f64>; 3] = std::array::from_fn(|j| square(r, j, s2));
         let mut solutions = Vec::with_capacity(3);
@@ -250,18 +324,21 @@ impl FactoredAccelerometer {
                     .coefficients)
             };
             let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
-            parts.push([
-                part(&factor_column(r, OUTPUTS + i))?,
-                part(&squares[j1])?,
-                part(&squares[j2])?,
-            ]);
+            // A held Γ column i keeps A_ii = 1: the row's own input moves to
+            // the left-hand side.
+            let mut y = factor_column(r, OUTPUTS + i);
+            if held.iter().any(|h| h.0.is_none() && h.1 == 1 + i) {
+                y -= factor_column(r, 1 + i);
+            }
+            parts.push([part(&y)?, part(&squares[j1])?, part(&squares[j2])?]);
         }
         let mut an = Matrix3::zeros();
         let mut converged_an = an;
         for _ in 0..MAX_REFINEMENT_PASSES {
             let rows: [DVector<f64>; 3] = std::array::from_fn(|i| {
                 let (j1, j2) = ((i + 1) % 3, (i + 2) % 3);
-                &parts[i][0] + &parts[i][1] * an[(i, j1)] + &parts[i][2] * an[(i, j2)]
+                let part = &parts[i][0] + &parts[i][1] * an[(i, j1)] + &parts[i][2] * an[(i, j2)];
+                full_row(&part, &free[i], held, i)
             });
             let m = model_from_rows(&rows)?;
             // A_ij N_j at the new estimate, for the next pass.
@@ -278,24 +355,56 @@ impl FactoredAccelerometer {
             // y_i = S_i + Σ_{j≠i} A_ij N_j (Γ^j)²: the squares the row's
             // regressors omit, evaluated at the converged estimate.
             let mut y = factor_column(r, OUTPUTS + i);
+            if held.iter().any(|h| h.0.is_none() && h.1 == 1 + i) {
+                y -= factor_column(r, 1 + i);
+            }
             for j in (0..3).filter(|&j| j != i) {
                 y += &squares[j] * converged_an[(i, j)];
             }
             solutions.push(regressions[i].solve(&y, noise[i].as_ref(), ACCELEROMETER_AXES[i])?);
         }
-        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
+        let rows: [DVector<f64>; 3] =
+            std::array::from_fn(|i| full_row(&solutions[i].coefficients, &free[i], held, i));
         let mut model = model_from_rows(&rows)?;
         let jac = jacobian(&model);
-        let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
+        let blocks: Vec<DMatrix<f64>> = (0..3)
+            .map(|i| expand_block(&solutions[i].covariance, &free[i], P))
+            .collect();
         let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
         let crb = options.noise_std.map(|sigma| {
             let blocks: Vec<DMatrix<f64>> = (0..3)
-                .map(|i| crb_block(&regressions[i], model.output_matrix().row(i).norm(), sigma))
+                .map(|i| {
+                    let block =
+                        crb_block(&regressions[i], model.output_matrix().row(i).norm(), sigma);
+                    expand_block(&block, &free[i], P)
+                })
                 .collect();
             &jac * block_diagonal(&blocks) * jac.transpose()
         });
         let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
         model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
+        let names = accelerometer_parameter_names();
+        let std: Vec<f64> = covariance
+            .diagonal()
+            .iter()
+            .map(|v| v.max(0.0).sqrt())
+            .collect();
+        let held_reason = |k: usize| {
+            let (row, c) = parameter_column(k);
+            held.iter()
+                .find(|h| h.1 == c && (h.0.is_none() || h.0 == row))
+                .map(|h| h.2.clone())
+        };
+        let held_parameters: Vec<bool> =
+            (0..names.len()).map(|k| held_reason(k).is_some()).collect();
+        uncertainty_warnings(
+            "accelerometer",
+            &names,
+            &std,
+            &scales("accelerometer", &names, None),
+            &held_parameters,
+            &mut warnings,
+        );
         Ok(Calibration {
             model,
             std: accelerometer_std_model(&covariance),
@@ -304,7 +413,56 @@ impl FactoredAccelerometer {
             condition_number: Vector3::from_fn(|i, _| regressions[i].condition_number),
             crb,
             warnings,
+            held: names
+                .iter()
+                .enumerate()
+                .filter_map(|(k, name)| held_reason(k).map(|why| (name.clone(), why)))
+                .collect(),
         })
+    }
+}
+
+/// A held coefficient: (row, or None for every row; column; reason).
+type Held = (Option<usize>, usize, String);
+
+/// The free columns of row i.
+fn free_columns(held: &[Held], i: usize) -> Vec<usize> {
+    (0..P)
+        .filter(|&c| {
+            !held
+                .iter()
+                .any(|h| h.1 == c && (h.0.is_none() || h.0 == Some(i)))
+        })
+        .collect()
+}
+
+/// Row i's full coefficients: the free ones, A_ii = 1 for a held Γ column
+/// i, zero for every other held one.
+fn full_row(
+    free_coefficients: &DVector<f64>,
+    free: &[usize],
+    held: &[Held],
+    i: usize,
+) -> DVector<f64> {
+    let mut row = DVector::zeros(P);
+    for (k, &c) in free.iter().enumerate() {
+        row[c] = free_coefficients[k];
+    }
+    if held.iter().any(|h| h.0.is_none() && h.1 == 1 + i) {
+        row[1 + i] = 1.0;
+    }
+    row
+}
+
+/// The coefficient of an accelerometer parameter (its index in
+/// [`accelerometer_parameter_names`]): (row or None for every row, column).
+/// D_j and M_ij: the Γ column 1 + j in every row; N_i: row i's square.
+fn parameter_column(k: usize) -> (Option<usize>, usize) {
+    match k {
+        0..=2 => (None, 0),
+        3..=5 => (None, 1 + (k - 3)),
+        6..=11 => (None, 1 + OFF_DIAGONAL[k - 6].1),
+        _ => (Some(k - 12), 4),
     }
 }
 

@@ -4,11 +4,15 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
 
+use super::determinable::{
+    next_uncertain, scales, uncertainty_warnings, Estimate, POOR_CONDITIONING,
+    UNDETERMINED_CONDITION,
+};
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
-    block_diagonal, check_excitation, common_jacobian, diagnose, factor_column,
-    gyroscope_std_model, validate_data, validate_options, Calibration, CalibrationOptions, Method,
-    ACCELEROMETER_AXES, GYROSCOPE_AXES,
+    block_diagonal, check_excitation, common_jacobian, constant_column, diagnose, expand_block,
+    factor_column, gyroscope_parameter_names, gyroscope_std_model, validate_data, validate_options,
+    Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES, GYROSCOPE_AXES, OFF_DIAGONAL,
 };
 use crate::sensors::{GyroscopeModel, NoiseModel};
 use crate::{Error, Result};
@@ -109,14 +113,13 @@ pub fn gyroscope_crb(
     }
     let n = qr.rows();
     let reg = Regression::new(regressors(&qr.finish()), n);
-    Ok(crb_from(&reg, model, noise_std))
+    Ok(crb_from(&reg.unit_covariance(), model, noise_std))
 }
 
-fn crb_from(reg: &Regression, model: &GyroscopeModel, noise_std: f64) -> DMatrix<f64> {
-    let unit = reg.unit_covariance();
+fn crb_from(unit: &DMatrix<f64>, model: &GyroscopeModel, noise_std: f64) -> DMatrix<f64> {
     let a = model.output_matrix();
     let blocks: Vec<DMatrix<f64>> = (0..3)
-        .map(|i| &unit * (noise_std * a.row(i).norm()).powi(2))
+        .map(|i| unit * (noise_std * a.row(i).norm()).powi(2))
         .collect();
     let jac = jacobian(model);
     &jac * block_diagonal(&blocks) * jac.transpose()
@@ -167,23 +170,68 @@ impl FactoredGyroscope {
         })
     }
 
-    /// Calibrates from the factored data. See [`crate::calibration`].
+    /// Calibrates from the factored data. See [`crate::calibration`];
+    /// under [`Estimate::Determinable`] only what the data determine
+    /// ([`super::determinable`]): a held regressor column keeps its
+    /// parameters at the ideal sensor's (D = M = 0 for an Ω column, K = 0
+    /// for a Γ column).
     pub fn calibrate(&self, options: &CalibrationOptions) -> Result<Calibration<GyroscopeModel>> {
         validate_options(options)?;
         let (r, n) = (&self.r, self.samples);
-        check_excitation(
-            r,
-            n,
-            1,
-            &self.sum_angular_rate,
-            GYROSCOPE_AXES,
-            "angular rate",
-        )?;
-        let reg = Regression::new(regressors(r), n);
+        if options.estimate == Estimate::All {
+            check_excitation(
+                r,
+                n,
+                1,
+                &self.sum_angular_rate,
+                GYROSCOPE_AXES,
+                "angular rate",
+            )?;
+            return self.fit(options, &[], Regression::new(regressors(r), n));
+        }
+        let mut held: Vec<(usize, String)> = (1..P)
+            .filter_map(|c| {
+                constant_column(r, n, c)
+                    .map(|mean| (c, format!("its input never varies (constant {mean:.6e})")))
+            })
+            .collect();
+        loop {
+            let free: Vec<usize> = (0..P).filter(|c| !held.iter().any(|h| h.0 == *c)).collect();
+            let reg = Regression::new(regressors(r).select_columns(free.iter()), n);
+            if reg.condition_number > UNDETERMINED_CONDITION || !reg.condition_number.is_finite() {
+                let c = free[reg.weakest_column(0)];
+                held.push((
+                    c,
+                    format!(
+                        "the data do not separate it from the others (condition number {:.2e})",
+                        reg.condition_number
+                    ),
+                ));
+                continue;
+            }
+            let cal = self.fit(options, &held, reg)?;
+            match next_uncertain("gyroscope", &gyroscope_parameter_names(), &cal.covariance) {
+                Some((k, why)) => held.push((parameter_column(k), why)),
+                None => return Ok(cal),
+            }
+        }
+    }
+
+    /// The fit with the regressor columns `held` (with their reasons) at
+    /// the ideal sensor's coefficients and `reg` the free columns' regression.
+    fn fit(
+        &self,
+        options: &CalibrationOptions,
+        held: &[(usize, String)],
+        reg: Regression,
+    ) -> Result<Calibration<GyroscopeModel>> {
+        let (r, n) = (&self.r, self.samples);
+        let free: Vec<usize> = (0..P).filter(|c| !held.iter().any(|h| h.0 == *c)).collect();
         let mut warnings = Vec::new();
         for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
-            diagnose(&reg, axis, &column_names(i), &mut warnings)?;
-            if reg.condition_number > super::least_squares::POORLY_DETERMINED_CONDITION {
+            let names: Vec<String> = free.iter().map(|&c| column_names(i)[c].clone()).collect();
+            diagnose(&reg, axis, &names, &mut warnings)?;
+            if reg.condition_number > POOR_CONDITIONING {
                 break; // the three rows share the regressors: one report suffices
             }
         }
@@ -204,19 +252,55 @@ impl FactoredGyroscope {
                 n * sf2,
                 n * sf2,
             ]))
+            .select_rows(free.iter())
+            .select_columns(free.iter())
         });
         let mut solutions = Vec::with_capacity(3);
+        let mut rows: [DVector<f64>; 3] = std::array::from_fn(|_| DVector::zeros(P));
         for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
-            solutions.push(reg.solve(&factor_column(r, P + i), noise.as_ref(), axis)?);
+            // A held Ω column j keeps A_ij = δ_ij: row i's own rate moves to
+            // the left-hand side.
+            let mut y = factor_column(r, P + i);
+            if held.iter().any(|h| h.0 == 1 + i) {
+                y -= factor_column(r, 1 + i);
+                rows[i][1 + i] = 1.0;
+            }
+            let solution = reg.solve(&y, noise.as_ref(), axis)?;
+            for (k, &c) in free.iter().enumerate() {
+                rows[i][c] = solution.coefficients[k];
+            }
+            solutions.push(solution);
         }
-        let rows: [DVector<f64>; 3] = std::array::from_fn(|i| solutions[i].coefficients.clone());
         let mut model = model_from_rows(&rows)?;
         let jac = jacobian(&model);
-        let blocks: Vec<DMatrix<f64>> = solutions.iter().map(|s| s.covariance.clone()).collect();
+        let blocks: Vec<DMatrix<f64>> = solutions
+            .iter()
+            .map(|s| expand_block(&s.covariance, &free, P))
+            .collect();
         let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
-        let crb = options.noise_std.map(|sigma| crb_from(&reg, &model, sigma));
+        let crb = options.noise_std.map(|sigma| {
+            let unit = expand_block(&reg.unit_covariance(), &free, P);
+            crb_from(&unit, &model, sigma)
+        });
         let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
         model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();
+        let names = gyroscope_parameter_names();
+        let std: Vec<f64> = covariance
+            .diagonal()
+            .iter()
+            .map(|v| v.max(0.0).sqrt())
+            .collect();
+        let held_parameters: Vec<bool> = (0..names.len())
+            .map(|k| held.iter().any(|h| h.0 == parameter_column(k)))
+            .collect();
+        uncertainty_warnings(
+            "gyroscope",
+            &names,
+            &std,
+            &scales("gyroscope", &names, None),
+            &held_parameters,
+            &mut warnings,
+        );
         Ok(Calibration {
             model,
             std: gyroscope_std_model(&covariance),
@@ -225,7 +309,28 @@ impl FactoredGyroscope {
             condition_number: Vector3::repeat(reg.condition_number),
             crb,
             warnings,
+            held: names
+                .iter()
+                .enumerate()
+                .filter_map(|(k, name)| {
+                    held.iter()
+                        .find(|h| h.0 == parameter_column(k))
+                        .map(|h| (name.clone(), h.1.clone()))
+                })
+                .collect(),
         })
+    }
+}
+
+/// The regressor column of a gyroscope parameter (its index in
+/// [`gyroscope_parameter_names`]): bias 0, D_j and M_ij the Ω column 1 + j,
+/// K_il the Γ column 4 + l.
+fn parameter_column(k: usize) -> usize {
+    match k {
+        0..=2 => 0,
+        3..=5 => 1 + (k - 3),
+        6..=11 => 1 + OFF_DIAGONAL[k - 6].1,
+        _ => 4 + (k - 12) % 3,
     }
 }
 

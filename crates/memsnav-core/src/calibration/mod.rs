@@ -69,10 +69,14 @@
 //! uses the calibration's own regressors and costs nothing more.
 
 mod accelerometer;
+pub mod determinable;
 mod gyroscope;
 pub mod least_squares;
+pub mod static_detector;
+pub mod static_poses;
 
 pub use accelerometer::{accelerometer_crb, calibrate_accelerometer, FactoredAccelerometer};
+pub use determinable::Estimate;
 pub use gyroscope::{calibrate_gyroscope, gyroscope_crb, FactoredGyroscope};
 
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
@@ -111,6 +115,9 @@ pub struct CalibrationOptions {
     /// Std per sample of the sensor's own white noise (input-referred, SI):
     /// when given, the Cramér-Rao bound is computed.
     pub noise_std: Option<f64>,
+    /// Every parameter (the paper's setting, the default) or only what the
+    /// data determine ([`determinable`]).
+    pub estimate: Estimate,
 }
 
 /// A calibrated sensor model with its uncertainties.
@@ -134,6 +141,9 @@ pub struct Calibration<M> {
     pub crb: Option<DMatrix<f64>>,
     /// Parameters that are determined only poorly.
     pub warnings: Vec<String>,
+    /// Parameters not estimated (held at the ideal sensor's value, zero
+    /// variance) with the reason ([`Estimate::Determinable`]).
+    pub held: Vec<(String, String)>,
 }
 
 /// Names of the 15 accelerometer parameters, in covariance order.
@@ -307,7 +317,7 @@ fn diagnose(
     warnings: &mut Vec<String>,
 ) -> Result<()> {
     let cond = regression.condition_number;
-    if cond > least_squares::POORLY_DETERMINED_CONDITION || !cond.is_finite() {
+    if cond > determinable::POOR_CONDITIONING || !cond.is_finite() {
         let parameter = &column_names[regression.weakest_column(0)];
         if cond > least_squares::UNOBSERVABLE_CONDITION || !cond.is_finite() {
             return Err(Error::Unobservable {
@@ -320,10 +330,36 @@ fn diagnose(
             });
         }
         warnings.push(format!(
-            "{axis} axis: {parameter} is poorly determined (condition number {cond:.2e})"
+            "{axis} axis: {parameter} is poorly determined (condition number {cond:.2e} of the \
+             equilibrated regressors)"
         ));
     }
     Ok(())
+}
+
+/// The mean of column c of the data behind a factor R_X (column 0 the
+/// constant) when the column never varies (the check of
+/// [`check_excitation`]), else None.
+fn constant_column<const C: usize>(
+    r: &SMatrix<f64, C, C>,
+    samples: usize,
+    c: usize,
+) -> Option<f64> {
+    // R_0c / R_00 = Σx/√n / √n: the mean.
+    let mean = r[(0, c)] / r[(0, 0)];
+    let var = r.column(c).rows(1, C - 1).norm_squared() / samples as f64;
+    (var.sqrt() <= 1e-9 * mean.abs() || var == 0.0).then_some(mean)
+}
+
+/// A p_free × p_free block in the rows and columns `free` of a p × p zero matrix.
+fn expand_block(block: &DMatrix<f64>, free: &[usize], p: usize) -> DMatrix<f64> {
+    let mut out = DMatrix::zeros(p, p);
+    for (a, &i) in free.iter().enumerate() {
+        for (b, &j) in free.iter().enumerate() {
+            out[(i, j)] = block[(a, b)];
+        }
+    }
+    out
 }
 
 /// Column c of a factor R_X as a compressed column (see [`least_squares`]).

@@ -113,6 +113,38 @@ impl AccelerometerModel {
             * (g - self.bias - self.nonlinearity.component_mul(&g.component_mul(g)) - nu)
     }
 
+    /// The true specific force Γ (m/s²) behind a noise-free output S: the
+    /// exact inverse of eq. 2. With x = A⁻¹S + b, each axis solves
+    /// Γ_i − N_i Γ_i² = x_i; the root that tends to x_i as N_i → 0 is
+    /// Γ_i = 2x_i / (1 + √(1 − 4 N_i x_i)) (the stable form of the quadratic
+    /// formula). An output whose discriminant is negative lies beyond the
+    /// turning point of the model's parabola (|Γ_i| > 1/(2|N_i|)): an error
+    /// naming `measured`.
+    pub fn correct(&self, measured: &Vector3<f64>) -> Result<Vector3<f64>> {
+        let x = self
+            .output_matrix()
+            .try_inverse()
+            .ok_or_else(|| crate::Error::invalid("scale_factor", "I - D - M is singular"))?
+            * measured
+            + self.bias;
+        let mut gamma = Vector3::zeros();
+        for i in 0..3 {
+            let discriminant = 1.0 - 4.0 * self.nonlinearity[i] * x[i];
+            if discriminant.is_nan() || discriminant < 0.0 {
+                return Err(crate::Error::invalid(
+                    "measured",
+                    format!(
+                        "axis {i}: output {:.6e} is beyond the range of the second-order model \
+                         (nonlinearity {:.3e})",
+                        measured[i], self.nonlinearity[i]
+                    ),
+                ));
+            }
+            gamma[i] = 2.0 * x[i] / (1.0 + discriminant.sqrt());
+        }
+        Ok(gamma)
+    }
+
     /// ∂S_a/∂Γ = (I − D − M)(I − 2 N diag(Γ)) (method §4).
     pub fn jacobian(&self, specific_force: &Vector3<f64>) -> Matrix3<f64> {
         let d = Vector3::repeat(1.0) - 2.0 * self.nonlinearity.component_mul(specific_force);
@@ -134,6 +166,28 @@ mod tests {
             noise,
         )
         .unwrap()
+    }
+
+    #[test]
+    fn correct_inverts_eq_2_exactly() {
+        let acc = model(NoiseModel::default());
+        for f in [
+            Vector3::new(1.0, -2.0, -9.81),
+            Vector3::new(20.0, 5.0, 0.0),
+            Vector3::new(-30.0, 0.0, 12.0),
+        ] {
+            let back = acc.correct(&acc.output(&f)).unwrap();
+            assert!((back - f).amax() < 1e-12 * f.amax(), "{back} vs {f}");
+        }
+        // Zero nonlinearity: the linear inverse A⁻¹S + b.
+        let mut linear = acc.clone();
+        linear.nonlinearity = Vector3::zeros();
+        let s = Vector3::new(3.0, -4.0, 9.0);
+        let expected = linear.output_matrix().try_inverse().unwrap() * s + linear.bias;
+        assert!((linear.correct(&s).unwrap() - expected).amax() < 1e-14);
+        // Beyond the parabola's turning point (1/(2N) = 1667 m/s² on w).
+        let err = acc.correct(&Vector3::new(0.0, 0.0, 1e4)).unwrap_err();
+        assert!(err.to_string().starts_with("measured:"), "{err}");
     }
 
     #[test]

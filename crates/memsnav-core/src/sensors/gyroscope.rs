@@ -106,6 +106,21 @@ impl GyroscopeModel {
         output_matrix(&self.scale_factor, &self.misalignment)
     }
 
+    /// The true angular rate Ω (rad/s) behind a noise-free output S given
+    /// the true specific force Γ (m/s²): the exact inverse of eq. 3,
+    /// Ω = A⁻¹S + b + K Γ.
+    pub fn correct(
+        &self,
+        measured: &Vector3<f64>,
+        specific_force: &Vector3<f64>,
+    ) -> Result<Vector3<f64>> {
+        let a_inv = self
+            .output_matrix()
+            .try_inverse()
+            .ok_or_else(|| crate::Error::invalid("scale_factor", "I - D - M is singular"))?;
+        Ok(a_inv * measured + self.bias + self.g_sensitivity * specific_force)
+    }
+
     /// Noise-free output for true angular rate Ω and specific force Γ (exact eq. 3, ν = 0).
     pub fn output(
         &self,
@@ -130,6 +145,21 @@ impl GyroscopeModel {
 mod tests {
     use super::*;
     use crate::random::stream;
+
+    #[test]
+    fn correct_inverts_eq_3_exactly() {
+        let gyr = GyroscopeModel::new(
+            Vector3::new(1e-3, -2e-3, 3e-3),
+            Vector3::new(1e-2, 2e-2, -1e-2),
+            Matrix3::new(0.0, 0.01, 0.0, 0.0, 0.0, -0.02, 0.03, 0.0, 0.0),
+            Matrix3::from_fn(|i, j| 1e-4 * (1 + i + 3 * j) as f64),
+            NoiseModel::default(),
+        )
+        .unwrap();
+        let (w, f) = (Vector3::new(0.5, -1.0, 2.0), Vector3::new(0.3, 9.0, -2.0));
+        let back = gyr.correct(&gyr.output(&w, &f), &f).unwrap();
+        assert!((back - w).amax() < 1e-14, "{back} vs {w}");
+    }
 
     #[test]
     fn noise_free_measure_is_eq_3_and_lengths_are_checked() {

@@ -1,0 +1,352 @@
+//! Which parameters the data determine, and the warnings of a calibration.
+//!
+//! ## The rule
+//!
+//! Under [`Estimate::Determinable`] a parameter is estimated when
+//!
+//! 1. its regressor is excited: the input it multiplies varies over the
+//!    data (a constant input makes a scale factor, a misalignment, a
+//!    g-sensitivity or a nonlinearity indistinguishable from the bias);
+//! 2. with it, the column-equilibrated regressors (or Jacobian) keep a
+//!    condition number below [`least_squares::POORLY_DETERMINED_CONDITION`]
+//!    (1e6): the data separate it from the other parameters;
+//! 3. its one-sigma uncertainty is below its scale: the prior's σ when one
+//!    is given, else the physical size of [`physical_size`] (the largest
+//!    value of the term in consumer-grade MEMS): the data say more about it
+//!    than the prior or the physics already did.
+//!
+//! Parameters that fail are held at the prior's value (or zero) one at a
+//! time, worst first (for 2: the parameter that dominates the weakest
+//! direction; for 3: the largest σ/scale), and the rest are fitted again.
+//! Biases are always estimated. Held parameters have zero variance in the
+//! covariance and are listed with the reason.
+//!
+//! ## Warnings
+//!
+//! Whatever is estimated, a calibration warns when
+//! - the equilibrated condition number of a row exceeds
+//!   [`POOR_CONDITIONING`] (1e3; Belsley, Kuh and Welsch, *Regression
+//!   Diagnostics*, 1980, count condition indices above 30 as strong
+//!   collinearity, so 1000 flags only severe cases);
+//! - an estimated parameter's σ exceeds its scale (rule 3);
+//! - the data hold fewer residual degrees of freedom than parameters
+//!   (n − p < p: the residual σ̂ behind every σ is itself uncertain by more
+//!   than about 1/√(2p)).
+
+use nalgebra::DMatrix;
+
+use super::least_squares;
+
+/// What a calibration estimates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Estimate {
+    /// Every parameter of the model; data that cannot determine one are an
+    /// error (the paper's setting, method §3).
+    #[default]
+    All,
+    /// Only what the data determine (module docs); the rest is held.
+    Determinable,
+}
+
+/// Above this equilibrated condition number a calibration warns of poor
+/// conditioning (module docs).
+pub const POOR_CONDITIONING: f64 = 1e3;
+
+/// Rule 2's threshold (module docs).
+pub const UNDETERMINED_CONDITION: f64 = least_squares::POORLY_DETERMINED_CONDITION;
+
+/// Physical size of a parameter (SI) by its name in the covariance order of
+/// [`super::accelerometer_parameter_names`] / [`super::gyroscope_parameter_names`]
+/// (`sensor` "accelerometer" or "gyroscope"): the largest value of the term
+/// in consumer-grade MEMS, the scale of rule 3 when no prior σ is given.
+///
+/// | term | accelerometer | gyroscope |
+/// |---|---|---|
+/// | bias | 0.5 m/s² (≈ 50 mg) | 0.1 rad/s (≈ 6 °/s) |
+/// | scale factor | 0.05 (5 %) | 0.05 |
+/// | misalignment | 0.05 (≈ 3°) | 0.05 |
+/// | nonlinearity | 1e-3 per m/s² (1 % of the reading at 10 m/s²) | — |
+/// | g-sensitivity | — | 1e-3 (rad/s)/(m/s²) (≈ 0.6 °/s per g) |
+///
+/// These bound, by an order of magnitude, the datasheet figures of consumer
+/// parts (e.g. bias ±40-60 mg and ±3-5 °/s, sensitivity ±1-3 %, cross-axis
+/// ±1-2 %, g-sensitivity ≈ 0.1 °/s/g for the MPU-6000 family and its
+/// successors).
+pub fn physical_size(sensor: &str, parameter: &str) -> f64 {
+    let accelerometer = sensor == "accelerometer";
+    match parameter.rsplit_once('_').map(|(group, _)| group) {
+        Some("bias") if accelerometer => 0.5,
+        Some("bias") => 0.1,
+        Some("scale_factor") | Some("misalignment") => 0.05,
+        Some("nonlinearity") | Some("g_sensitivity") => 1e-3,
+        _ => f64::INFINITY,
+    }
+}
+
+/// Rule 3's and the warnings' scale of each parameter: `prior_std` where
+/// given and positive, else [`physical_size`].
+pub fn scales(sensor: &str, names: &[String], prior_std: Option<&[f64]>) -> Vec<f64> {
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| match prior_std.map(|p| p[k]) {
+            Some(s) if s > 0.0 => s,
+            _ => physical_size(sensor, name),
+        })
+        .collect()
+}
+
+/// The estimated parameter whose σ/scale is largest, when above 1 (rule 3):
+/// its index. `held[k]` parameters and biases are skipped.
+pub fn worst_uncertain(
+    names: &[String],
+    std: &[f64],
+    scale: &[f64],
+    held: &[bool],
+) -> Option<usize> {
+    let mut worst = None;
+    let mut worst_ratio = 1.0;
+    for k in 0..names.len() {
+        if held[k] || names[k].starts_with("bias") {
+            continue;
+        }
+        let ratio = std[k] / scale[k];
+        if ratio > worst_ratio {
+            worst = Some(k);
+            worst_ratio = ratio;
+        }
+    }
+    worst
+}
+
+/// Rule 3 on a fit's covariance of the parameters `names` of `sensor`
+/// (zero variance: held or fixed): the parameter to hold next, with the
+/// reason.
+pub fn next_uncertain(
+    sensor: &str,
+    names: &[String],
+    covariance: &DMatrix<f64>,
+) -> Option<(usize, String)> {
+    let std: Vec<f64> = covariance
+        .diagonal()
+        .iter()
+        .map(|v| v.max(0.0).sqrt())
+        .collect();
+    let scale = scales(sensor, names, None);
+    let fixed: Vec<bool> = std.iter().map(|s| *s == 0.0).collect();
+    worst_uncertain(names, &std, &scale, &fixed).map(|k| {
+        (
+            k,
+            format!(
+                "{}'s sigma {:.3e} would exceed its physical size {:.3e}",
+                names[k], std[k], scale[k]
+            ),
+        )
+    })
+}
+
+/// The warnings of rule 3 and of the residual degrees of freedom (module
+/// docs), appended to `warnings`. `what` names the fit ("accelerometer").
+pub fn uncertainty_warnings(
+    what: &str,
+    names: &[String],
+    std: &[f64],
+    scale: &[f64],
+    held: &[bool],
+    warnings: &mut Vec<String>,
+) {
+    for k in 0..names.len() {
+        if !held[k] && std[k] > scale[k] {
+            warnings.push(format!(
+                "{what} {}: sigma {:.3e} exceeds its scale {:.3e} (prior sigma or physical size): \
+                 the data hardly determine it",
+                names[k], std[k], scale[k]
+            ));
+        }
+    }
+}
+
+/// The warning for fewer residual degrees of freedom than parameters.
+pub fn degrees_of_freedom_warning(
+    what: &str,
+    observations: usize,
+    parameters: usize,
+    warnings: &mut Vec<String>,
+) {
+    if observations < 2 * parameters {
+        warnings.push(format!(
+            "{what}: too few observations ({observations}) for {parameters} parameters: fewer \
+             residual degrees of freedom than parameters, so the sigmas are themselves uncertain \
+             (use at least {})",
+            2 * parameters
+        ));
+    }
+}
+
+/// The poor-conditioning warning of one row or fit.
+pub fn conditioning_warning(
+    what: &str,
+    condition_number: f64,
+    weakest: &str,
+    warnings: &mut Vec<String>,
+) {
+    if condition_number > POOR_CONDITIONING {
+        warnings.push(format!(
+            "{what}: poorly conditioned (condition number {condition_number:.2e} of the \
+             equilibrated regressors); {weakest} is the least determined"
+        ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibration::{calibrate_accelerometer, calibrate_gyroscope, CalibrationOptions};
+    use crate::random::stream;
+    use crate::sensors::{AccelerometerModel, GyroscopeModel, NoiseModel};
+    use nalgebra::{Matrix3, Vector3};
+    use rand::Rng as _;
+    use rand_distr::StandardNormal;
+
+    fn gaussian(rng: &mut crate::random::Rng) -> Vector3<f64> {
+        Vector3::from_fn(|_, _| rng.sample::<f64, _>(StandardNormal))
+    }
+
+    /// A gyro at rest in 40 orientations (Ω = 0): the bias and the
+    /// g-sensitivity are determined, the scale factors and misalignments not.
+    #[test]
+    fn a_static_gyro_gives_bias_and_g_sensitivity_only() {
+        let mut rng = stream(3, 0);
+        let truth = GyroscopeModel {
+            bias: Vector3::new(0.01, -0.02, 0.005),
+            scale_factor: Vector3::new(0.01, 0.02, -0.01),
+            misalignment: Matrix3::new(0.0, 0.01, 0.0, 0.0, 0.0, 0.02, 0.0, -0.01, 0.0),
+            g_sensitivity: Matrix3::from_fn(|i, j| 2e-4 * (1.0 + i as f64 - j as f64)),
+            noise: NoiseModel::default(),
+        };
+        let mut w = Vec::new();
+        let mut f = Vec::new();
+        let mut s = Vec::new();
+        for _ in 0..40 {
+            let up = gaussian(&mut rng).normalize() * 9.8;
+            for _ in 0..50 {
+                let nu = gaussian(&mut rng) * 1e-4;
+                w.push(Vector3::zeros());
+                f.push(up);
+                s.push(truth.output_with_input_noise(&Vector3::zeros(), &up, &nu));
+            }
+        }
+        let all = calibrate_gyroscope(&s, &w, &f, &CalibrationOptions::default());
+        assert!(all.unwrap_err().to_string().contains("scale_factor"));
+        let options = CalibrationOptions {
+            estimate: Estimate::Determinable,
+            ..Default::default()
+        };
+        let cal = calibrate_gyroscope(&s, &w, &f, &options).unwrap();
+        let held: Vec<&str> = cal.held.iter().map(|h| h.0.as_str()).collect();
+        assert_eq!(held.len(), 9, "{held:?}");
+        assert!(held
+            .iter()
+            .all(|h| h.starts_with("scale_factor") || h.starts_with("misalignment")));
+        assert!(cal.held[0].1.contains("never varies"), "{:?}", cal.held);
+        // Held at the ideal sensor's values, with zero variance.
+        assert_eq!(cal.model.scale_factor, Vector3::zeros());
+        assert_eq!(cal.std.misalignment, Matrix3::zeros());
+        // At rest S = A(−b − KΓ): with A held at I the estimates are A b and
+        // A K, the truth seen through the unmodelled A (a ~2 % effect).
+        let a = truth.output_matrix();
+        assert!((cal.model.bias - a * truth.bias).amax() < 5.0 * cal.std.bias.amax());
+        assert!(
+            (cal.model.g_sensitivity - a * truth.g_sensitivity).amax()
+                < 5.0 * cal.std.g_sensitivity.amax()
+        );
+        assert!(cal.std.g_sensitivity.amax() > 0.0);
+    }
+
+    /// The how-to's case: a land vehicle hardly varies the vertical
+    /// specific force. Estimating everything warns (conditioning and
+    /// sigma); the determinable rule holds the vertical scale factor and
+    /// the bias of that axis comes out well determined.
+    #[test]
+    fn a_weak_vertical_axis_warns_and_is_held_when_asked() {
+        let mut rng = stream(4, 0);
+        let truth = AccelerometerModel {
+            bias: Vector3::new(0.1, 0.2, 0.3),
+            scale_factor: Vector3::new(1e-3, 0.0, 2e-3),
+            misalignment: Matrix3::zeros(),
+            nonlinearity: Vector3::zeros(),
+            noise: NoiseModel::default(),
+        };
+        let f: Vec<Vector3<f64>> = (0..2000)
+            .map(|_| {
+                let v = gaussian(&mut rng);
+                Vector3::new(3.0 * v.x, 3.0 * v.y, -9.8 + 0.01 * v.z)
+            })
+            .collect();
+        let s: Vec<Vector3<f64>> = f
+            .iter()
+            .map(|g| truth.output_with_input_noise(g, &(gaussian(&mut rng) * 0.03)))
+            .collect();
+        let all = calibrate_accelerometer(&s, &f, &CalibrationOptions::default()).unwrap();
+        assert!(all.held.is_empty());
+        assert!(
+            all.warnings
+                .iter()
+                .any(|w| w.contains("w axis") && w.contains("condition")),
+            "{:?}",
+            all.warnings
+        );
+        assert!(
+            all.warnings.iter().any(|w| w.contains("bias_w: sigma")),
+            "{:?}",
+            all.warnings
+        );
+        let options = CalibrationOptions {
+            estimate: Estimate::Determinable,
+            ..Default::default()
+        };
+        let cal = calibrate_accelerometer(&s, &f, &options).unwrap();
+        let held: Vec<&str> = cal.held.iter().map(|h| h.0.as_str()).collect();
+        assert!(held.contains(&"scale_factor_w"), "{:?}", cal.held);
+        assert!(cal.std.bias.z < 0.05 && cal.std.bias.z < all.std.bias.z / 10.0);
+        // Holding D_w = 0 against a true 2e-3 moves the bias by D_w g ≈ 0.02 m/s².
+        assert!((cal.model.bias.z - truth.bias.z).abs() < 0.03);
+    }
+
+    #[test]
+    fn sizes_follow_the_table_and_priors_override_them() {
+        assert_eq!(physical_size("accelerometer", "bias_u"), 0.5);
+        assert_eq!(physical_size("gyroscope", "bias_p"), 0.1);
+        assert_eq!(physical_size("gyroscope", "misalignment_pq"), 0.05);
+        assert_eq!(physical_size("gyroscope", "g_sensitivity_pu"), 1e-3);
+        let names: Vec<String> = ["bias_u", "scale_factor_u"].map(String::from).to_vec();
+        assert_eq!(
+            scales("accelerometer", &names, Some(&[0.0, 0.01])),
+            vec![0.5, 0.01]
+        );
+        let std = [10.0, 0.02];
+        // The bias is never the one held; the scale factor exceeds 0.01.
+        assert_eq!(
+            worst_uncertain(&names, &std, &[0.5, 0.01], &[false, false]),
+            Some(1)
+        );
+        assert_eq!(
+            worst_uncertain(&names, &std, &[0.5, 0.01], &[false, true]),
+            None
+        );
+        let mut w = Vec::new();
+        uncertainty_warnings(
+            "accelerometer",
+            &names,
+            &std,
+            &[0.5, 0.01],
+            &[false, false],
+            &mut w,
+        );
+        assert_eq!(w.len(), 2, "{w:?}");
+        degrees_of_freedom_warning("accelerometer", 20, 12, &mut w);
+        conditioning_warning("u axis", 1.8e4, "scale_factor", &mut w);
+        conditioning_warning("v axis", 10.0, "scale_factor", &mut w);
+        assert_eq!(w.len(), 4, "{w:?}");
+    }
+}

@@ -1,0 +1,115 @@
+"""``memsnav calibrate --config cal.toml``: read a calibration session, fit,
+write the calibration file and its report."""
+
+from __future__ import annotations
+
+import time as _time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from memsnav._memsnav import StaticCalibration
+from memsnav.calibration.config import CalibrationConfig, load_calibration_config
+from memsnav.calibration.file import ImuCalibration
+from memsnav.calibration.static import calibrate_static, static_summary
+
+
+@dataclass
+class CalibrationRun:
+    """What a ``calibrate`` run produced: the fit, the file's content, the
+    files written (``calibration``, ``report``) and the summary."""
+
+    config: CalibrationConfig
+    calibration: StaticCalibration
+    imu_calibration: ImuCalibration
+    time: np.ndarray
+    accel: np.ndarray
+    gyro: np.ndarray
+    files: dict[str, Path] = field(default_factory=dict)
+    summary: dict[str, Any] = field(default_factory=dict)
+
+
+def read_triad_table(path: Path, time_unit: str) -> tuple[np.ndarray, np.ndarray]:
+    """A whitespace- or comma-separated text table of ``t x y z`` rows (as
+    the Xsens logs of ``imu-static-poses``): time (s) and readings (N, 3).
+    Errors name the file."""
+    try:
+        table = np.loadtxt(path, ndmin=2, delimiter=None)
+    except OSError as e:
+        raise ValueError(f"{path}: cannot read: {e.strerror or e}") from None
+    except ValueError as e:
+        raise ValueError(f"{path}: not a table of numbers: {e}") from None
+    if table.shape[1] != 4 or table.shape[0] < 2:
+        raise ValueError(
+            f"{path}: expected rows of 4 columns (t, x, y, z), got shape {table.shape}"
+        )
+    if not np.isfinite(table).all():
+        row = int(np.argwhere(~np.isfinite(table))[0, 0]) + 1
+        raise ValueError(f"{path}:{row}: not a finite number")
+    scale = 1e-3 if time_unit == "ms" else 1.0
+    return table[:, 0] * scale, table[:, 1:]
+
+
+def run_calibration(
+    config: str | Path,
+    *,
+    data_root: str | Path | None = None,
+    output: str | Path | None = None,
+) -> CalibrationRun:
+    """Runs the calibration a configuration describes (module docstring) and
+    writes ``calibration.json`` and, unless ``[report] html = false``,
+    ``report.html`` with its figures into the output folder."""
+    cfg = load_calibration_config(config, data_root)
+    imu, static = cfg["imu"], cfg["static"]
+    accel_path, gyro_path = cfg.data_path("imu", "accel_file"), cfg.data_path("imu", "gyro_file")
+    t_accel, accel = read_triad_table(accel_path, imu["time_unit"])
+    t_gyro, gyro = read_triad_table(gyro_path, imu["time_unit"])
+    if len(t_accel) != len(t_gyro) or np.abs(t_accel - t_gyro).max() > 1e-6:
+        raise ValueError(
+            f"{gyro_path}: its time stamps differ from {accel_path}'s "
+            f"({len(t_gyro)} and {len(t_accel)} rows): the two triads must be sampled together"
+        )
+    started = _time.perf_counter()
+    with warnings.catch_warnings(record=True):
+        # The warnings are in the file and the report; the CLI prints them.
+        warnings.simplefilter("always")
+        cal = calibrate_static(
+            t_accel,
+            accel,
+            gyro,
+            gravity=static["gravity_m_s2"],
+            accel_scale=imu["accel_scale"],
+            accel_offset=imu["accel_offset"],
+            gyro_scale=imu["gyro_scale"],
+            gyro_offset=imu["gyro_offset"],
+            window=static["window_s"],
+            threshold_factor=static["threshold_factor"],
+            initial_rest=static["initial_rest_s"],
+            min_pose=static["min_pose_s"],
+            estimate=static["estimate"],
+            holdout_every=static["holdout_every"] or None,
+        )
+    elapsed = _time.perf_counter() - started
+    source = {
+        "config": str(cfg.path),
+        "name": cfg[""]["name"],
+        "accel_file": str(accel_path),
+        "gyro_file": str(gyro_path),
+        "samples": len(t_accel),
+        "duration_s": float(t_accel[-1] - t_accel[0]),
+        "settings": cfg["static"],
+    }
+    imu_cal = ImuCalibration.from_static(cal, source)
+    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    out.mkdir(parents=True, exist_ok=True)
+    run = CalibrationRun(cfg, cal, imu_cal, t_accel, accel, gyro)
+    run.summary = {**static_summary(cal), "processing_s": elapsed}
+    run.files["calibration"] = imu_cal.save(out / "calibration.json")
+    if cfg["report"]["html"]:
+        from memsnav.calibration.report import write_report
+
+        run.files["report"] = write_report(run, out)
+    return run

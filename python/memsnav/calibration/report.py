@@ -1,0 +1,181 @@
+"""The HTML report of a ``calibrate`` run: the session with its poses, the
+gravity-magnitude and gravity-direction errors of every pose and turn
+before and after, and the parameters with σ and the Cramér-Rao bound."""
+
+from __future__ import annotations
+
+import html
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from memsnav.report.document import Report
+
+if TYPE_CHECKING:
+    from memsnav.calibration.command import CalibrationRun
+
+# Misalignments the gravity magnitude cannot see: they define the body frame.
+_FRAME = {
+    "accelerometer misalignment_uv",
+    "accelerometer misalignment_uw",
+    "accelerometer misalignment_vw",
+}
+
+
+def _rms_text(value: float | None, scale: float, unit: str) -> str:
+    return "—" if value is None else f"{value * scale:.3g} {unit}"
+
+
+def write_report(run: CalibrationRun, out: Path) -> Path:
+    """Writes ``report.html`` (figures embedded) and ``figures/`` into ``out``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cal, cfg, s = run.calibration, run.config, run.summary
+    poses = np.asarray(cal.poses)
+    pose_out = np.asarray(cal.pose_held_out, dtype=bool)
+    turn_out = np.asarray(cal.turn_held_out, dtype=bool)
+    t = run.time - run.time[0]
+    doc = Report(f"memsnav calibrate: {cfg['']['name']}")
+    doc.paragraph(
+        f"Static-pose (multi-position) calibration, {s['poses']} poses "
+        f"({s['poses_held_out']} held out of the fit) and {s['turns']} turns between them, "
+        f"{len(t)} samples over {t[-1]:.1f} s; local gravity {cal.gravity} m/s². "
+        f"Processing {s['processing_s']:.2f} s. Configuration: {cfg.path}. "
+        "Method: docs/calibration.md (Tedaldi et al., ICRA 2014, in the models of method §2)."
+    )
+
+    doc.section("Figures of merit")
+    rows: list[list[object]] = []
+    for label, key, scale, unit in (
+        ("‖f‖ − g over the poses, RMS", "magnitude", 1e3, "mm/s²"),
+        ("gravity direction after a turn, RMS", "turn", 1.0, "°"),
+    ):
+        suffix = "m_s2" if key == "magnitude" else "deg"
+        for subset in ("fit", "held_out"):
+            rows.append(
+                [
+                    f"{label} ({'in the fit' if subset == 'fit' else 'held out'})",
+                    _rms_text(s[f"{key}_rms_before_{subset}_{suffix}"], scale, unit),
+                    _rms_text(s[f"{key}_rms_after_{subset}_{suffix}"], scale, unit),
+                ]
+            )
+    doc.table(["", "nominal readings", "calibrated"], rows)
+    doc.paragraph(
+        "Nominal readings: scale × (raw − offset) with the configuration's nominal values, "
+        "no bias or offset estimated. Held-out poses (every "
+        f"{cfg['static']['holdout_every'] or '—'}-th) and the turns into and out of them "
+        "never enter the fit."
+    )
+
+    # 1. The session.
+    nominal_accel = np.asarray(cal.nominal["accel_scale"]) * (
+        run.accel - np.asarray(cal.nominal["accel_offset"])
+    )
+    magnitude = np.linalg.norm(nominal_accel, axis=1)
+    step = max(1, len(t) // 5000)
+    fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
+    axes[0].plot(t[::step], magnitude[::step], lw=0.6, color="k", label="‖nominal specific force‖")
+    for k, (a, b) in enumerate(poses):
+        colour = "tab:orange" if pose_out[k] else "tab:green"
+        axes[0].axvspan(t[a], t[b - 1], color=colour, alpha=0.25, lw=0)
+    axes[0].axhline(cal.gravity, color="tab:blue", lw=0.8, ls="--", label="local gravity")
+    axes[0].set_ylabel("m/s²")
+    axes[0].set_title("session: poses in the fit (green) and held out (orange)")
+    axes[0].legend(loc="upper right")
+    ratio = np.asarray(cal.variance_magnitude) / np.asarray(cal.detector_threshold)
+    for j, name in enumerate(("accelerometer", "gyroscope")):
+        axes[1].semilogy(t[::step], ratio[::step, j], lw=0.6, label=name)
+    axes[1].axhline(1.0, color="k", lw=0.8, ls="--", label="threshold")
+    axes[1].set_ylabel("variance / threshold")
+    axes[1].set_xlabel("time since start [s]")
+    axes[1].set_title("static-interval detector: static where both are below 1")
+    axes[1].legend(loc="upper right")
+    doc.section("The session")
+    doc.figure(
+        "session",
+        fig,
+        "Top: magnitude of the nominal accelerometer readings with the detected poses. Bottom: "
+        "the detector's variance magnitudes over a sliding window, divided by their thresholds.",
+    )
+
+    # 2. Poses and turns, before and after.
+    index = np.arange(len(poses))
+    fig, axes = plt.subplots(2, 2, figsize=(11, 6.5))
+    for col, when in enumerate(("before", "after")):
+        a = axes[0, col]
+        v = np.asarray(getattr(cal, f"magnitude_error_{when}")) * 1e3
+        a.plot(index[~pose_out], v[~pose_out], "o", color="tab:green", label="in the fit")
+        a.plot(index[pose_out], v[pose_out], "s", color="tab:orange", label="held out")
+        a.axhline(0.0, color="k", lw=0.6)
+        a.set_title(f"‖f‖ − g per pose, {'nominal' if when == 'before' else 'calibrated'}")
+        a.set_xlabel("pose")
+        a.set_ylabel("mm/s²")
+        a.legend()
+    turns = np.asarray(cal.turn_from)
+    for col, when in enumerate(("before", "after")):
+        a = axes[1, col]
+        v = np.degrees(np.asarray(getattr(cal, f"turn_error_{when}")))
+        a.semilogy(turns[~turn_out], v[~turn_out], "o", color="tab:green", label="in the fit")
+        a.semilogy(turns[turn_out], v[turn_out], "s", color="tab:orange", label="held out")
+        a.set_title(
+            f"gravity direction after each turn, {'nominal' if when == 'before' else 'calibrated'}"
+        )
+        a.set_xlabel("turn (from pose)")
+        a.set_ylabel("degrees")
+        a.legend()
+    fig.tight_layout()
+    doc.section("Residuals before and after")
+    doc.figure(
+        "residuals",
+        fig,
+        "Top: the specific-force magnitude of every pose minus local gravity. Bottom: the angle "
+        "between the gravity direction carried through each turn by the gyroscope and the one "
+        "the accelerometer measures in the next pose.",
+    )
+    plt.close("all")
+
+    # 3. Parameters.
+    doc.section("Parameters")
+    names = list(cal.parameter_names)
+    value = np.asarray(cal.parameters)
+    sigma = np.sqrt(np.clip(np.diag(cal.covariance), 0.0, None))
+    bound = np.sqrt(np.clip(np.diag(cal.crb), 0.0, None))
+    held = dict(cal.held)
+    parameter_rows: list[list[object]] = []
+    for k, name in enumerate(names):
+        if name in _FRAME:
+            status = "0 by the frame convention (body x = u, y in the u-v plane)"
+        elif name in held:
+            status = f"held: {held[name]}"
+        else:
+            status = "estimated"
+        parameter_rows.append(
+            [
+                name,
+                f"{value[k]:.6g}",
+                f"{sigma[k]:.3g}" if sigma[k] > 0 else "—",
+                f"{bound[k]:.3g}" if bound[k] > 0 else "—",
+                f"{sigma[k] / bound[k]:.2f}" if bound[k] > 0 else "—",
+                status,
+            ]
+        )
+    doc.table(["parameter (SI)", "value", "σ", "CRB σ", "σ / CRB", "status"], parameter_rows)
+    white = np.sqrt(np.asarray(cal.white_noise_variance))
+    doc.paragraph(
+        "Models of the nominal readings (method §2): S = (I − D − M)(Γ − b − N Γ²) and "
+        "S = (I − D − M)(Ω − b − K Γ). σ from the residuals of each stage, propagated through "
+        "the later stages; CRB σ: the Cramér-Rao bound for white noise of the level measured "
+        f"at the initial rest (accelerometer {white[0].mean():.3g} m/s², gyroscope "
+        f"{white[1].mean():.3g} rad/s per sample). σ well above the bound means errors that "
+        "are not white: hand tremor, settling, bias drift, the Earth's rate at rest."
+    )
+    doc.section("Warnings")
+    if cal.warnings:
+        doc.html("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in cal.warnings) + "</ul>")
+    else:
+        doc.paragraph("None: every parameter is determined well below its physical size.")
+    return doc.write(out)
