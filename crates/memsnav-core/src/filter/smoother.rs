@@ -395,13 +395,13 @@ mod tests {
         let (mut x, mut p) = (SVector::<f64, N>::zeros(), p0);
         let mut forward = Vec::new();
         let h = SparseRow::new(&[(0, 1.0)]);
-        for k in 0..=steps {
+        for (k, zk) in z.iter().enumerate() {
             if k > 0 {
                 x = phi * x;
                 p = phi * p * phi.transpose() + q;
                 log.step(());
             }
-            if let Some(zk) = z[k] {
+            if let Some(zk) = *zk {
                 // y = h x + v in the filter's convention: y is the measurement here.
                 let hd = h.to_dense::<N>();
                 let s = (hd.transpose() * p * hd)[0] + r;

@@ -233,6 +233,10 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
     })
 }
 
+/// What a filter run gives: the solution, the smoothed one when asked
+/// for, and the final range biases (satellite, m).
+type FilterOutput = (Solution, Option<Solution>, Vec<(u16, f64)>);
+
 /// The pieces of one run.
 struct Inputs<'a> {
     time: &'a [f64],
@@ -247,7 +251,7 @@ struct Inputs<'a> {
 impl Inputs<'_> {
     /// Runs the filter with `N` states; the solution, the smoothed one when
     /// asked for, and the final range biases.
-    fn filter<const N: usize>(&self) -> Result<(Solution, Option<Solution>, Vec<(u16, f64)>)> {
+    fn filter<const N: usize>(&self) -> Result<FilterOutput> {
         let f: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.specific_force_b).collect();
         let w: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.angular_rate_b).collect();
         let data = ImuData {
