@@ -1024,6 +1024,11 @@ class FilterSolution:
         """The measurements not applied (any status but "accepted")."""
 
     @property
+    def smoothed(self) -> FilterSolution | None:
+        """The fixed-interval smoothed solution (``run(..., smooth=True)``),
+        else None."""
+
+    @property
     def batches(self) -> dict[str, npt.NDArray[Any] | list[str]]:
         """Every batch test (an epoch's measurements of one kind): dict of arrays
         ``time``, ``kind``, ``nis`` (the batch's nu' S^-1 nu), ``dof``,
@@ -1115,8 +1120,11 @@ class TightlyCoupledFilter:
         *,
         initial_attitude: npt.ArrayLike | None = None,
         initial_state: dict[str, Any] | Any | None = None,
+        smooth: bool = False,
     ) -> FilterSolution:
-        """Filters the whole series in one call (GIL released).
+        """Filters the whole series in one call (GIL released); with ``smooth``
+        also the fixed-interval smoothed solution, as ``.smoothed``
+        (docs/smoothing.md).
 
         ``time`` (N,) s, increasing; ``specific_force`` (N, 3) m/s² and
         ``angular_rate`` (N, 3) rad/s: raw IMU samples (instantaneous values).
@@ -1188,8 +1196,10 @@ class LooselyCoupledFilter:
         *,
         initial_attitude: npt.ArrayLike | None = None,
         initial_state: dict[str, Any] | Any | None = None,
+        smooth: bool = False,
     ) -> FilterSolution:
-        """Filters the whole series in one call (GIL released).
+        """Filters the whole series in one call (GIL released); with ``smooth``
+        also the fixed-interval smoothed solution, as ``.smoothed``.
 
         ``fixes``: a ``solve_fix`` result (invalid epochs skipped; covariances =
         the position and velocity blocks of the LS covariance) or an
@@ -1386,6 +1396,11 @@ class LogRun:
     def solution(self) -> FilterSolution:
         """The filter's own solution at the IMU (ECEF, covariance, every
         measurement, batch and reset)."""
+
+    @property
+    def smoothed(self) -> LogRun | None:
+        """The fixed-interval smoothed run (``[filter] smoother = true``): the same
+        views of the smoothed solution; None without."""
 
     @property
     def start(self) -> dict[str, Any]:

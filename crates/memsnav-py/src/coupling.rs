@@ -356,11 +356,27 @@ pub(crate) fn resets_to_dict<'py>(
 #[pyclass(name = "FilterSolution", module = "memsnav._memsnav", frozen)]
 pub struct PyFilterSolution {
     inner: Solution,
+    smoothed: Option<Py<PyFilterSolution>>,
 }
 
 impl PyFilterSolution {
     pub(crate) fn new(inner: Solution) -> Self {
-        Self { inner }
+        Self {
+            inner,
+            smoothed: None,
+        }
+    }
+
+    /// A forward solution and, when there is one, its smoothed solution.
+    fn with_smoothed(
+        py: Python<'_>,
+        forward: Solution,
+        smoothed: Option<Solution>,
+    ) -> PyResult<Self> {
+        Ok(Self {
+            inner: forward,
+            smoothed: smoothed.map(|s| Py::new(py, Self::new(s))).transpose()?,
+        })
     }
 
     fn records<'py>(
@@ -484,6 +500,12 @@ impl PyFilterSolution {
     fn attitude_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.attitude_std_ned())
     }
+    /// The fixed-interval smoothed solution (``run(..., smooth=True)``),
+    /// else None.
+    #[getter]
+    fn smoothed(&self, py: Python<'_>) -> Option<Py<PyFilterSolution>> {
+        self.smoothed.as_ref().map(|s| s.clone_ref(py))
+    }
     /// Error-state names, in covariance order.
     #[getter]
     fn state_names(&self) -> Vec<&'static str> {
@@ -543,9 +565,10 @@ impl PyFilterSolution {
 /// A filter class: the shared constructor and `tuning`, and `run`, which
 /// reads the aiding argument `$aiding` with `$read`, starts from the given
 /// state or `$initial` (from the first aiding epoch), and runs
-/// `coupling::$filter` with 17 or 23 states.
+/// `coupling::$filter` (or `$smoothed` with `smooth=True`) with 17 or 23
+/// states.
 macro_rules! filter_class {
-    ($rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $filter:ident, $doc:literal) => {
+    ($rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $filter:ident, $smoothed:ident, $doc:literal) => {
         #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
         pub struct $rust {
             settings: Settings,
@@ -658,7 +681,7 @@ macro_rules! filter_class {
             }
 
             #[doc = $doc]
-            #[pyo3(signature = (time, specific_force, angular_rate, $aiding, *, initial_attitude=None, initial_state=None))]
+            #[pyo3(signature = (time, specific_force, angular_rate, $aiding, *, initial_attitude=None, initial_state=None, smooth=false))]
             fn run(
                 &self,
                 py: Python<'_>,
@@ -668,6 +691,7 @@ macro_rules! filter_class {
                 $aiding: &Bound<'_, PyAny>,
                 initial_attitude: Option<&Bound<'_, PyAny>>,
                 initial_state: Option<&Bound<'_, PyAny>>,
+                smooth: bool,
             ) -> PyResult<PyFilterSolution> {
                 let imu = ImuArrays::new(time, specific_force, angular_rate)?;
                 let aiding = $read($aiding)?;
@@ -676,17 +700,22 @@ macro_rules! filter_class {
                     Start::FromAiding(attitude) => $initial(&aiding, &imu.data(), attitude).py()?,
                 };
                 let Settings { tuning, scale_factor_states, .. } = self.settings;
-                let inner = py
+                let (forward, smoothed) = py
                     .detach(|| {
                         let data = imu.data();
-                        if scale_factor_states {
-                            coupling::$filter::<WITH_SCALE_FACTORS>(&data, &aiding, &initial, &tuning)
-                        } else {
-                            coupling::$filter::<BASE_STATES>(&data, &aiding, &initial, &tuning)
+                        match (scale_factor_states, smooth) {
+                            (true, true) => coupling::$smoothed::<WITH_SCALE_FACTORS>(&data, &aiding, &initial, &tuning)
+                                .map(|(f, s)| (f, Some(s))),
+                            (false, true) => coupling::$smoothed::<BASE_STATES>(&data, &aiding, &initial, &tuning)
+                                .map(|(f, s)| (f, Some(s))),
+                            (true, false) => coupling::$filter::<WITH_SCALE_FACTORS>(&data, &aiding, &initial, &tuning)
+                                .map(|f| (f, None)),
+                            (false, false) => coupling::$filter::<BASE_STATES>(&data, &aiding, &initial, &tuning)
+                                .map(|f| (f, None)),
                         }
                     })
                     .py()?;
-                Ok(PyFilterSolution { inner })
+                PyFilterSolution::with_smoothed(py, forward, smoothed)
             }
         }
     };
@@ -699,7 +728,8 @@ filter_class!(
     gnss_epochs,
     initial_state_from_fix,
     tightly_coupled,
-    "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`."
+    tightly_coupled_smoothed,
+    "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`. `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
 );
 
 filter_class!(
@@ -709,7 +739,8 @@ filter_class!(
     position_fixes,
     initial_state_from_position_fix,
     loosely_coupled,
-    "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e)."
+    loosely_coupled_smoothed,
+    "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e). `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
 );
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -199,6 +199,7 @@ fn fixes_from_solution(
 pub struct PyLogRun {
     run: LogRun,
     local: navigate::output::LocalSolution,
+    smoothed: Option<Py<PyLogRun>>,
 }
 
 fn stats_dict<'py>(py: Python<'py>, s: &score::ErrorStats) -> PyResult<Bound<'py, PyDict>> {
@@ -268,6 +269,12 @@ impl PyLogRun {
     #[getter]
     fn solution(&self) -> PyFilterSolution {
         PyFilterSolution::new(self.run.solution.clone())
+    }
+    /// The fixed-interval smoothed run (``[filter] smoother = true``): the
+    /// same views of the smoothed solution; None without.
+    #[getter]
+    fn smoothed(&self, py: Python<'_>) -> Option<Py<PyLogRun>> {
+        self.smoothed.as_ref().map(|s| s.clone_ref(py))
     }
     /// How the run started: dict `kind` ("static", "static_with_heading",
     /// "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`.
@@ -435,8 +442,33 @@ fn navigate_log(
     let run = py
         .detach(|| navigate::navigate_log(&time, &f, &w, &input, &config))
         .py()?;
+    let mut run = run;
     let local = run.local_solution();
-    Ok(PyLogRun { run, local })
+    let smoothed = match (run.local_smoothed(), run.smoothed.take()) {
+        (Some(local), Some(solution)) => Some(Py::new(
+            py,
+            PyLogRun {
+                run: LogRun {
+                    solution,
+                    smoothed: None,
+                    gnss: run.gnss.clone(),
+                    gnss_used: run.gnss_used.clone(),
+                    outages: run.outages.clone(),
+                    standstills: run.standstills.clone(),
+                    range_biases: run.range_biases.clone(),
+                    ..run
+                },
+                local,
+                smoothed: None,
+            },
+        )?),
+        _ => None,
+    };
+    Ok(PyLogRun {
+        run,
+        local,
+        smoothed,
+    })
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -31,9 +31,10 @@ from memsnav.realdata.config import RunConfig, load_config
 
 @dataclass
 class NavigationResult:
-    """Everything a run produced: the engine's ``run`` (a ``LogRun``), the
-    scores against the truth and the single-point solution, and
-    ``summary``, the plain dict written to ``summary.json``."""
+    """Everything a run produced: the engine's ``run`` (a ``LogRun``; its
+    ``smoothed`` when ``[filter] smoother = true``), the scores against the
+    truth (``truth``, ``truth_smoothed``) and of the single-point solution,
+    and ``summary``, the plain dict written to ``summary.json``."""
 
     config: RunConfig
     run: Any
@@ -41,6 +42,7 @@ class NavigationResult:
     spp: dict[str, Any] | None
     summary: dict[str, Any] = field(default_factory=dict)
     files: dict[str, str] = field(default_factory=dict)
+    truth_smoothed: dict[str, Any] | None = None
 
 
 def _require(cfg: RunConfig, section: str, key: str) -> Path:
@@ -164,6 +166,21 @@ def _finite(value: Any) -> Any:
     return value
 
 
+def _statistics(score: dict[str, Any], outages: Any, t0: float) -> dict[str, Any]:
+    """The statistics of a ``LogRun.score`` for ``summary.json``."""
+    stats: dict[str, Any] = {"all": score["all"], "aided": score["aided"]}
+    for i, (window, st) in enumerate(zip(outages, score["outages"], strict=True)):
+        stats[f"outage_{i + 1}"] = {
+            "start_s": float(window[0] - t0),
+            "length_s": float(window[1] - window[0]),
+            **st,
+        }
+    stats["by_outage_length_s"] = {
+        f"{length:g}": st for length, st in score["by_outage_length"].items()
+    }
+    return stats
+
+
 def navigate(
     config: str | Path | RunConfig,
     *,
@@ -241,17 +258,11 @@ def navigate(
         r_truth = np.asarray(_mn.geodetic_to_ecef(truth.lla[keep]))
         score = run.score(tt, r_truth)
         result.truth = {**score, "position_ecef": r_truth, "all_time": tt}
-        stats: dict[str, Any] = {"all": score["all"], "aided": score["aided"]}
-        for i, (window, st) in enumerate(zip(run.outages, score["outages"], strict=True)):
-            stats[f"outage_{i + 1}"] = {
-                "start_s": float(window[0] - t0),
-                "length_s": float(window[1] - window[0]),
-                **st,
-            }
-        stats["by_outage_length_s"] = {
-            f"{length:g}": st for length, st in score["by_outage_length"].items()
-        }
-        summary["errors_vs_truth"] = stats
+        summary["errors_vs_truth"] = _statistics(score, run.outages, t0)
+        if run.smoothed is not None:
+            smoothed = run.smoothed.score(tt, r_truth)
+            result.truth_smoothed = smoothed
+            summary["errors_vs_truth_smoothed"] = _statistics(smoothed, run.outages, t0)
         if mode == "tight":
             spp = run.score_gnss(tt, r_truth)
             result.spp = spp
@@ -291,11 +302,8 @@ def _fresh_folder(out: Path) -> Any:
         raise
 
 
-def _write_outputs(result: NavigationResult, out: Path) -> None:
-    name = result.config[""]["name"]
-    if not name or name != Path(name).name or name in (".", ".."):
-        raise ValueError(f"{result.config.path}: name must be a plain file name, got {name!r}")
-    run = result.run
+def _write_solution(run: Any, folder: Path, stem: str) -> None:
+    """``<stem>.csv`` (every IMU sample) and ``<stem>.pos`` (10 Hz) of a run."""
     lla = np.asarray(run.geodetic)
     cols = np.column_stack(
         [
@@ -308,36 +316,46 @@ def _write_outputs(result: NavigationResult, out: Path) -> None:
             run.velocity_std_ned,
         ]
     )
+    np.savetxt(
+        folder / f"{stem}.csv",
+        cols,
+        delimiter=",",
+        fmt=["%.4f", "%.9f", "%.9f", "%.4f"] + ["%.5f"] * 12,
+        header="gps_time_s,lat_deg,lon_deg,height_m,vn_m_s,ve_m_s,vd_m_s,"
+        "roll_deg,pitch_deg,yaw_deg,sdn_m,sde_m,sdd_m,sdvn_m_s,sdve_m_s,sdvd_m_s",
+        comments="",
+    )
+    # The .pos at 10 Hz at most (RTKLIB files are per GNSS epoch; 100 Hz is unwieldy).
+    t = np.asarray(run.time)
+    keep = np.concatenate([[True], np.diff(np.floor((t - t[0]) * 10.0)) > 0])
+    readers.write_pos(
+        folder / f"{stem}.pos",
+        t[keep],
+        lla[keep],
+        np.asarray(run.position_std_ned)[keep],
+        np.asarray(run.velocity_ned)[keep],
+        np.asarray(run.velocity_std_ned)[keep],
+    )
+
+
+def _write_outputs(result: NavigationResult, out: Path) -> None:
+    name = result.config[""]["name"]
+    if not name or name != Path(name).name or name in (".", ".."):
+        raise ValueError(f"{result.config.path}: name must be a plain file name, got {name!r}")
+    run = result.run
+    files = {"csv": f"{name}.csv", "pos": f"{name}.pos", "summary": "summary.json"}
     with _fresh_folder(out) as tmp:
-        csv = tmp / f"{name}.csv"
-        np.savetxt(
-            csv,
-            cols,
-            delimiter=",",
-            fmt=["%.4f", "%.9f", "%.9f", "%.4f"] + ["%.5f"] * 12,
-            header="gps_time_s,lat_deg,lon_deg,height_m,vn_m_s,ve_m_s,vd_m_s,"
-            "roll_deg,pitch_deg,yaw_deg,sdn_m,sde_m,sdd_m,sdvn_m_s,sdve_m_s,sdvd_m_s",
-            comments="",
-        )
-        # The .pos at 10 Hz at most (RTKLIB files are per GNSS epoch; 100 Hz is unwieldy).
-        t = np.asarray(run.time)
-        keep = np.concatenate([[True], np.diff(np.floor((t - t[0]) * 10.0)) > 0])
-        readers.write_pos(
-            tmp / f"{name}.pos",
-            t[keep],
-            lla[keep],
-            np.asarray(run.position_std_ned)[keep],
-            np.asarray(run.velocity_ned)[keep],
-            np.asarray(run.velocity_std_ned)[keep],
-        )
+        _write_solution(run, tmp, name)
+        if run.smoothed is not None:
+            _write_solution(run.smoothed, tmp, f"{name}_smoothed")
+            files["smoothed_csv"] = f"{name}_smoothed.csv"
+            files["smoothed_pos"] = f"{name}_smoothed.pos"
         (tmp / "summary.json").write_text(json.dumps(result.summary, indent=2, allow_nan=False))
         if result.config["report"]["html"]:
             from memsnav.realdata.report import write_report
 
             write_report(result, tmp)
+            files["report"] = "report.html"
         for p in tmp.rglob("*"):
             os.chmod(p, 0o755 if p.is_dir() else 0o644)
-    files = {"csv": f"{name}.csv", "pos": f"{name}.pos", "summary": "summary.json"}
-    if result.config["report"]["html"]:
-        files["report"] = "report.html"
     result.files = {k: str(out / v) for k, v in files.items()}

@@ -76,7 +76,16 @@ def write_report(result: NavigationResult, out: Path) -> Path:
         fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
         for j, label in enumerate(("north", "east", "down")):
             a = axes[j]
-            a.plot(tt, tr["error_ned"][:, j], lw=0.8, label="memsnav - truth")
+            a.plot(tt, tr["error_ned"][:, j], lw=0.8, label="memsnav (forward) - truth")
+            if result.truth_smoothed is not None:
+                smoothed = result.truth_smoothed
+                a.plot(
+                    np.asarray(smoothed["time"]) - t0,
+                    smoothed["error_ned"][:, j],
+                    lw=0.8,
+                    color="tab:green",
+                    label="smoothed - truth",
+                )
             a.plot(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
             a.plot(tt, -3 * tr["std_ned"][:, j], "r--", lw=0.8)
             if result.spp is not None:
@@ -100,9 +109,10 @@ def write_report(result: NavigationResult, out: Path) -> Path:
         doc.figure(
             "errors",
             fig,
-            "Position error of the solution at the antenna against the RTK solution, with "
-            "the filter's 3-sigma bounds; shaded red: scheduled GNSS outages; green: "
-            "standstills (zero-velocity and zero-rate updates).",
+            "Position error of the solution at the antenna against the RTK solution (the "
+            "smoothed one too when asked for), with the forward filter's 3-sigma bounds; "
+            "shaded red: scheduled GNSS outages; green: standstills (zero-velocity and "
+            "zero-rate updates).",
         )
         plt.close(fig)
         rows: list[list[object]] = []
@@ -114,6 +124,15 @@ def write_report(result: NavigationResult, out: Path) -> Path:
         for length, st in errors["by_outage_length_s"].items():
             if st.get("epochs", 0):
                 rows.append(_row(f"all {length} s outages", st))
+        for key, st in s.get("errors_vs_truth_smoothed", {}).items():
+            if key == "by_outage_length_s" or st.get("epochs", 0) == 0:
+                continue
+            rows.append(_row(f"{key} (smoothed)", st))
+        for length, st in (
+            s.get("errors_vs_truth_smoothed", {}).get("by_outage_length_s", {}).items()
+        ):
+            if st.get("epochs", 0):
+                rows.append(_row(f"all {length} s outages (smoothed)", st))
         if "spp_errors_vs_truth" in s and s["spp_errors_vs_truth"].get("epochs"):
             rows.append(_row("SPP (pseudorange only)", s["spp_errors_vs_truth"]))
         doc.section("Statistics")

@@ -301,14 +301,16 @@ impl<const N: usize> FilterState<N> {
         {
             return false;
         }
-        let variance_before = self.kf.p[(i, i)];
-        self.kf.p[(i, i)] += r;
+        // Try the jump: the clock's variance grows and the innovations lose
+        // their common part; undone (and the undoing recorded) if the batch
+        // still fails.
+        self.kf.add_variance(i, r);
         for m in &mut self.staged.measurements {
             m.y -= common;
         }
         let (accepted, _) = self.test_active();
         if !accepted {
-            self.kf.p[(i, i)] = variance_before;
+            self.kf.add_variance(i, -r);
             for m in &mut self.staged.measurements {
                 m.y += common;
             }

@@ -258,15 +258,7 @@ impl<const N: usize> FilterState<N> {
     /// the error state; then the full health check of P.
     pub(crate) fn feedback(&mut self, time_s: f64) -> Result<()> {
         let x = self.kf.x;
-        // Ĉ = (I + [ψ×]) C  ⇒  C = R(−ψ) Ĉ: a product of rotations, then one
-        // step of C ← C (3I − CᵀC)/2 (the first-order polar factor) against
-        // round-off. (Not `attitude::orthonormalize`: its iteration from the
-        // identity can land on a wrong rotation far from the identity, as
-        // ECEF attitudes are.)
-        let c = rotation_vector_to_dcm(&(-x.attitude())) * self.nav.c_b_e;
-        self.nav.c_b_e = 0.5 * c * (3.0 * Matrix3::identity() - c.transpose() * c);
-        self.nav.velocity_ecef -= x.velocity();
-        self.nav.position_ecef -= x.position();
+        self.nav = corrected_nav(&self.nav, &x);
         self.accel_bias_m_s2 -= x.accel_bias();
         self.gyro_bias_rad_s -= x.gyro_bias();
         self.clock_offset_m -= x.clock_offset();
@@ -287,6 +279,26 @@ impl<const N: usize> FilterState<N> {
     /// The tuning the filter runs with.
     pub fn tuning(&self) -> &FilterTuning {
         &self.tuning
+    }
+
+    /// Records the run for a smoother ([`Solution::smoothed`]).
+    pub(crate) fn enable_smoother(&mut self) {
+        self.kf.record_for_smoother(&self.tuning.process_noise);
+    }
+}
+
+/// The navigation state corrected by the error estimate `x` (errors are
+/// estimate − truth, so they are subtracted): Ĉ = (I + [ψ×]) C  ⇒
+/// C = R(−ψ) Ĉ, a product of rotations, then one step of C ← C (3I − CᵀC)/2
+/// (the first-order polar factor) against round-off. (Not
+/// `attitude::orthonormalize`: its iteration from the identity can land on
+/// a wrong rotation far from the identity, as ECEF attitudes are.)
+fn corrected_nav<const N: usize>(nav: &NavState, x: &crate::filter::ErrorState<N>) -> NavState {
+    let c = rotation_vector_to_dcm(&(-x.attitude())) * nav.c_b_e;
+    NavState {
+        c_b_e: 0.5 * c * (3.0 * Matrix3::identity() - c.transpose() * c),
+        velocity_ecef: nav.velocity_ecef - x.velocity(),
+        position_ecef: nav.position_ecef - x.position(),
     }
 }
 
@@ -383,6 +395,7 @@ where
         j += 1;
     }
     hook.at_sample(0, state)?;
+    state.kf.mark_output();
     for k in 0..t.len() - 1 {
         let (ta, tb) = (t[k], t[k + 1]);
         let (sa, sb) = (imu.sample(k), imu.sample(k + 1));
@@ -405,6 +418,7 @@ where
             j += 1;
         }
         hook.at_sample(k + 1, state)?;
+        state.kf.mark_output();
     }
     Ok(())
 }
@@ -500,6 +514,59 @@ impl Solution {
         self.attitude_covariance_ecef.push(block(ATTITUDE));
         self.velocity_covariance_ecef.push(block(VELOCITY));
         self.position_covariance_ecef.push(block(POSITION));
+    }
+
+    /// The smoothed solution: each sample of this forward solution corrected
+    /// by its smoothed error estimate (the way feedback corrects the
+    /// filter's state) with the smoothed covariance, from the backward pass
+    /// over the run's `log` (see [`crate::filter::smoother`]). The records
+    /// (measurements, batches, resets) are the forward run's.
+    pub(crate) fn smoothed<const N: usize>(
+        &self,
+        log: &mut crate::filter::smoother::SmootherLog<N, crate::filter::InsStepModel>,
+    ) -> Result<Solution> {
+        if log.outputs() != self.time_s.len() {
+            return Err(Error::invalid(
+                "smoother",
+                format!(
+                    "{} outputs recorded for {} samples",
+                    log.outputs(),
+                    self.time_s.len()
+                ),
+            ));
+        }
+        let mut out = self.clone();
+        log.smooth(|s| {
+            let k = s.output;
+            let x = crate::filter::ErrorState::<N>(s.error);
+            let nav = corrected_nav(
+                &NavState {
+                    position_ecef: self.position_ecef[k],
+                    velocity_ecef: self.velocity_ecef[k],
+                    c_b_e: self.c_b_e[k],
+                },
+                &x,
+            );
+            out.position_ecef[k] = nav.position_ecef;
+            out.velocity_ecef[k] = nav.velocity_ecef;
+            out.c_b_e[k] = nav.c_b_e;
+            out.accel_bias_m_s2[k] -= x.accel_bias();
+            out.gyro_bias_rad_s[k] -= x.gyro_bias();
+            if let Some((sa, sg)) = x.scale_factors() {
+                out.accel_scale_factor[k] -= sa;
+                out.gyro_scale_factor[k] -= sg;
+            }
+            out.clock_offset_m[k] -= x.clock_offset();
+            out.clock_drift_m_s[k] -= x.clock_drift();
+            let p = &s.covariance;
+            out.covariance_diagonal[k * N..(k + 1) * N].copy_from_slice(p.diagonal().as_slice());
+            let block =
+                |first: usize| -> Matrix3<f64> { p.fixed_view::<3, 3>(first, first).into() };
+            out.attitude_covariance_ecef[k] = block(ATTITUDE);
+            out.velocity_covariance_ecef[k] = block(VELOCITY);
+            out.position_covariance_ecef[k] = block(POSITION);
+        });
+        Ok(out)
     }
 
     /// Moves the filter's records into the solution at the end of a run.

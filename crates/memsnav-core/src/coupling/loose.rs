@@ -120,6 +120,7 @@ pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     fixes: &[PositionFix],
     initial: &InitialState,
     tuning: &FilterTuning,
+    smooth: bool,
     hook: &mut H,
 ) -> Result<FilterState<N>> {
     imu.validate()?;
@@ -156,6 +157,9 @@ pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     initial.clock_offset_m.get_or_insert(0.0);
     initial.clock_drift_m_s.get_or_insert(0.0);
     let mut state = FilterState::<N>::new(&initial, &tuning)?;
+    if smooth {
+        state.enable_smoother();
+    }
     engine::run(
         imu,
         fixes,
@@ -194,7 +198,7 @@ pub fn run_loosely_coupled<const N: usize, O>(
 where
     O: FnMut(usize, &FilterState<N>),
 {
-    Ok(run_with_hook(imu, fixes, initial, tuning, &mut Observe(observe))?.records)
+    Ok(run_with_hook(imu, fixes, initial, tuning, false, &mut Observe(observe))?.records)
 }
 
 /// The loosely coupled filter's whole solution at every IMU sample.
@@ -204,14 +208,42 @@ pub fn loosely_coupled<const N: usize>(
     initial: &InitialState,
     tuning: &FilterTuning,
 ) -> Result<Solution> {
+    Ok(solve::<N>(imu, fixes, initial, tuning, false)?.0)
+}
+
+/// The loosely coupled filter's forward solution and its fixed-interval
+/// smoothed solution ([`crate::filter::smoother`]).
+pub fn loosely_coupled_smoothed<const N: usize>(
+    imu: &ImuData,
+    fixes: &[PositionFix],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+) -> Result<(Solution, Solution)> {
+    let (forward, smoothed) = solve::<N>(imu, fixes, initial, tuning, true)?;
+    Ok((forward, smoothed.expect("asked for")))
+}
+
+fn solve<const N: usize>(
+    imu: &ImuData,
+    fixes: &[PositionFix],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+) -> Result<(Solution, Option<Solution>)> {
     let mut sol = Solution::with_capacity(imu.time_s.len(), N);
     let mut state = run_with_hook::<N, _>(
         imu,
         fixes,
         initial,
         tuning,
+        smooth,
         &mut Observe(|k, s: &FilterState<N>| sol.push(imu.time_s[k], s)),
     )?;
     sol.take_records(&mut state);
-    Ok(sol)
+    let smoothed = state
+        .kf
+        .take_smoother()
+        .map(|mut log| sol.smoothed(&mut log))
+        .transpose()?;
+    Ok((sol, smoothed))
 }

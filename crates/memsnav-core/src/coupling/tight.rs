@@ -244,11 +244,15 @@ pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     gnss: &[GnssEpoch],
     initial: &InitialState,
     tuning: &FilterTuning,
+    smooth: bool,
     hook: &mut H,
 ) -> Result<FilterState<N>> {
     imu.validate()?;
     engine::validate_epoch_times("gnss", gnss, imu.time_s, tuning.time_tolerance_s)?;
     let mut state = FilterState::<N>::new(initial, tuning)?;
+    if smooth {
+        state.enable_smoother();
+    }
     let use_rate = tuning.use_pseudorange_rate;
     engine::run(
         imu,
@@ -274,7 +278,7 @@ pub fn run_tightly_coupled<const N: usize, O>(
 where
     O: FnMut(usize, &FilterState<N>),
 {
-    Ok(run_with_hook(imu, gnss, initial, tuning, &mut Observe(observe))?.records)
+    Ok(run_with_hook(imu, gnss, initial, tuning, false, &mut Observe(observe))?.records)
 }
 
 /// The tightly coupled filter's whole solution at every IMU sample.
@@ -284,14 +288,42 @@ pub fn tightly_coupled<const N: usize>(
     initial: &InitialState,
     tuning: &FilterTuning,
 ) -> Result<Solution> {
+    Ok(solve::<N>(imu, gnss, initial, tuning, false)?.0)
+}
+
+/// The tightly coupled filter's forward solution and its fixed-interval
+/// smoothed solution ([`crate::filter::smoother`]).
+pub fn tightly_coupled_smoothed<const N: usize>(
+    imu: &ImuData,
+    gnss: &[GnssEpoch],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+) -> Result<(Solution, Solution)> {
+    let (forward, smoothed) = solve::<N>(imu, gnss, initial, tuning, true)?;
+    Ok((forward, smoothed.expect("asked for")))
+}
+
+fn solve<const N: usize>(
+    imu: &ImuData,
+    gnss: &[GnssEpoch],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+) -> Result<(Solution, Option<Solution>)> {
     let mut sol = Solution::with_capacity(imu.time_s.len(), N);
     let mut state = run_with_hook::<N, _>(
         imu,
         gnss,
         initial,
         tuning,
+        smooth,
         &mut Observe(|k, s: &FilterState<N>| sol.push(imu.time_s[k], s)),
     )?;
     sol.take_records(&mut state);
-    Ok(sol)
+    let smoothed = state
+        .kf
+        .take_smoother()
+        .map(|mut log| sol.smoothed(&mut log))
+        .transpose()?;
+    Ok((sol, smoothed))
 }

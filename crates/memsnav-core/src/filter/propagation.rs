@@ -385,6 +385,188 @@ impl Transition {
             }
         }
     }
+
+    /// M Φ for any number of rows `R`, written into `out`, column by column
+    /// (the mirror of [`Self::times_transpose_into`]: column j of M Φ is
+    /// Σ_k M_{·k} Φ_kj over the non-zeros of column j of Φ), for the
+    /// smoother's backward pass, which needs Φᵀ λ and Φᵀ Λ Φ. Column j of Φ:
+    ///
+    /// - ψ_j: (I − Ω_ie Δt)_{·j} on the ψ rows, (−[a×])_{·j} on the v rows;
+    /// - v_j: (I − 2Ω_ie Δt)_{·j} on the v rows, Δt on r_j;
+    /// - r_j: (ΓΔt)_{·j} on the v rows, 1 on r_j;
+    /// - b_a,j (b_g,j): (−ĈΔt)_{·j} on the v (ψ) rows, the decay on itself;
+    /// - s_a,j (s_g,j): the scale-factor blocks' column on the v (ψ) rows, 1;
+    /// - clock offset: 1; clock drift: Δt on the offset, 1; range biases: decay.
+    fn times_into<const R: usize, const N: usize>(
+        &self,
+        m: &SMatrix<f64, R, N>,
+        out: &mut SMatrix<f64, R, N>,
+    ) {
+        let src = m.as_slice();
+        let dst = out.as_mut_slice();
+        let col = |k: usize| -> &[f64; R] {
+            src[k * R..(k + 1) * R]
+                .try_into()
+                .expect("a column has R rows")
+        };
+        let mut set = |j: usize, terms: &[(f64, usize)]| {
+            let mut acc = [0.0; R];
+            for &(a, k) in terms {
+                let c = col(k);
+                for i in 0..R {
+                    acc[i] += a * c[i];
+                }
+            }
+            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+        };
+        let (w, w2, a) = (self.earth_angle, 2.0 * self.earth_angle, &self.f_dt);
+        let bc = &self.minus_c_dt_t;
+        let (ps, ve, po) = (ATTITUDE, VELOCITY, POSITION);
+        let (ba, bg, sa, sg) = (ACCEL_BIAS, GYRO_BIAS, ACCEL_SCALE_FACTOR, GYRO_SCALE_FACTOR);
+        let layout = Layout::for_size::<N>();
+        // ψ columns: (I − Ω Δt) = [[1, w, 0], [−w, 1, 0], [0, 0, 1]] and
+        // −[a×] = [[0, a_z, −a_y], [−a_z, 0, a_x], [a_y, −a_x, 0]].
+        let psi: [[(f64, usize); 4]; 3] = [
+            [(1.0, ps), (-w, ps + 1), (-a.z, ve + 1), (a.y, ve + 2)],
+            [(w, ps), (1.0, ps + 1), (a.z, ve), (-a.x, ve + 2)],
+            [(1.0, ps + 2), (-a.y, ve), (a.x, ve + 1), (0.0, ps)],
+        ];
+        // v columns: (I − 2Ω Δt) and Δt on r_j.
+        let vel: [[(f64, usize); 3]; 3] = [
+            [(1.0, ve), (-w2, ve + 1), (self.dt, po)],
+            [(w2, ve), (1.0, ve + 1), (self.dt, po + 1)],
+            [(1.0, ve + 2), (self.dt, po + 2), (0.0, ve)],
+        ];
+        for j in 0..3 {
+            set(ps + j, &psi[j]);
+            set(ve + j, &vel[j]);
+            let g = &self.v_r_t;
+            set(
+                po + j,
+                &[
+                    (g[(0, j)], ve),
+                    (g[(1, j)], ve + 1),
+                    (g[(2, j)], ve + 2),
+                    (1.0, po + j),
+                ],
+            );
+            // Column j of −ĈΔt is row j of its stored transpose.
+            let c = |i: usize| bc[(j, i)];
+            set(
+                ba + j,
+                &[
+                    (c(0), ve),
+                    (c(1), ve + 1),
+                    (c(2), ve + 2),
+                    (self.ba_decay, ba + j),
+                ],
+            );
+            set(
+                bg + j,
+                &[
+                    (c(0), ps),
+                    (c(1), ps + 1),
+                    (c(2), ps + 2),
+                    (self.bg_decay, bg + j),
+                ],
+            );
+            if layout.scale_factors {
+                let (va, pg) = (&self.v_sa_t, &self.psi_sg_t);
+                set(
+                    sa + j,
+                    &[
+                        (va[(j, 0)], ve),
+                        (va[(j, 1)], ve + 1),
+                        (va[(j, 2)], ve + 2),
+                        (1.0, sa + j),
+                    ],
+                );
+                set(
+                    sg + j,
+                    &[
+                        (pg[(j, 0)], ps),
+                        (pg[(j, 1)], ps + 1),
+                        (pg[(j, 2)], ps + 2),
+                        (1.0, sg + j),
+                    ],
+                );
+            }
+        }
+        set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET)]);
+        set(CLOCK_DRIFT, &[(self.dt, CLOCK_OFFSET), (1.0, CLOCK_DRIFT)]);
+        if let Some(first) = layout.range_bias {
+            for j in first..first + RANGE_BIAS_SLOTS {
+                set(j, &[(self.rb_decay, j)]);
+            }
+        }
+    }
+}
+
+/// The smoother's backward step over one interval (the adjoint of
+/// [`propagate`]): λ ← Φᵀ λ and Λ ← Φᵀ Λ Φ (Λ symmetric: with B = Λ Φ,
+/// Φᵀ Λ Φ = Φᵀ B = Bᵀ Φ, two passes of [`Transition::times_into`]).
+pub(super) fn adjoint<const N: usize>(
+    lambda: &mut SVector<f64, N>,
+    big_lambda: &mut SMatrix<f64, N, N>,
+    inputs: &SystemInputs,
+    d: &Discretisation,
+) {
+    let phi = Transition::new::<N>(inputs, d);
+    let mut row = lambda.transpose();
+    phi.times_into(&lambda.transpose(), &mut row);
+    *lambda = row.transpose();
+    let mut b = SMatrix::<f64, N, N>::zeros();
+    phi.times_into(big_lambda, &mut b);
+    phi.times_into(&b.transpose(), big_lambda);
+}
+
+/// The filter's own propagation as the smoother replays and reverses it:
+/// a step is the linearisation point and the interval; Φ and Q are rebuilt
+/// from them with the run's process noise.
+#[derive(Debug, Clone)]
+pub struct InsStepModel {
+    noise: ProcessNoise,
+    discretisation: Option<Discretisation>,
+}
+
+impl InsStepModel {
+    /// The model of a filter with process noise `noise`.
+    pub fn new(noise: ProcessNoise) -> Self {
+        Self {
+            noise,
+            discretisation: None,
+        }
+    }
+
+    fn discretisation(&mut self, dt: f64) -> Discretisation {
+        match self.discretisation {
+            Some(d) if d.is_for(&self.noise, dt) => d,
+            _ => {
+                let d = Discretisation::new(&self.noise, dt);
+                self.discretisation = Some(d);
+                d
+            }
+        }
+    }
+}
+
+impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
+    type Step = (SystemInputs, f64);
+
+    fn propagate(&mut self, step: &Self::Step, p: &mut SMatrix<f64, N, N>) {
+        let d = self.discretisation(step.1);
+        propagate(&mut SVector::zeros(), p, &step.0, &d);
+    }
+
+    fn adjoint(
+        &mut self,
+        step: &Self::Step,
+        lambda: &mut SVector<f64, N>,
+        big_lambda: &mut SMatrix<f64, N, N>,
+    ) {
+        let d = self.discretisation(step.1);
+        adjoint(lambda, big_lambda, &step.0, &d);
+    }
 }
 
 /// x ← Φ x, P ← Φ P Φᵀ + Q over one interval.
@@ -498,6 +680,41 @@ mod tests {
         assert!((p - dense).abs().max() < 1e-12 * dense.abs().max(), "P");
         assert!((x - x_dense).abs().max() < 1e-13, "x");
         assert!((p - p.transpose()).abs().max() < 1e-13);
+    }
+
+    /// The adjoint step equals Φᵀ λ and Φᵀ Λ Φ with the dense Φ.
+    fn adjoint_equals_dense<const N: usize>(tau: f64) {
+        let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
+        let mut phi = SMatrix::<f64, N, N>::identity() + system_matrix::<N>(&inp, &nz) * dt;
+        for k in 0..3 {
+            phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(dt, nz.accel_bias_correlation_time_s);
+            phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(dt, nz.gyro_bias_correlation_time_s);
+        }
+        if let Some(first) = Layout::for_size::<N>().range_bias {
+            for j in first..N {
+                phi[(j, j)] = decay(dt, nz.range_bias_correlation_time_s);
+            }
+        }
+        let big = random_spd::<N>();
+        let mut lambda = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
+        let mut big_lambda = big;
+        let (l_dense, b_dense) = (phi.transpose() * lambda, phi.transpose() * big * phi);
+        adjoint(
+            &mut lambda,
+            &mut big_lambda,
+            &inp,
+            &Discretisation::new(&nz, dt),
+        );
+        assert!((lambda - l_dense).abs().max() < 1e-13 * l_dense.abs().max().max(1.0));
+        assert!((big_lambda - b_dense).abs().max() < 1e-12 * b_dense.abs().max());
+    }
+
+    #[test]
+    fn adjoint_step_matches_dense() {
+        adjoint_equals_dense::<17>(300.0);
+        adjoint_equals_dense::<23>(f64::INFINITY);
+        adjoint_equals_dense::<29>(300.0);
+        adjoint_equals_dense::<35>(300.0);
     }
 
     #[test]

@@ -13,6 +13,7 @@
 
 use nalgebra::{SMatrix, Vector3};
 
+use super::smoother::ResetStep;
 use super::ErrorStateKf;
 
 impl<const N: usize> ErrorStateKf<N> {
@@ -27,6 +28,23 @@ impl<const N: usize> ErrorStateKf<N> {
         }
         let sym = 0.5 * (covariance + covariance.transpose());
         self.p.fixed_view_mut::<K, K>(first, first).copy_from(&sym);
+        const {
+            assert!(
+                K <= 3,
+                "the smoother records resets of at most three states"
+            )
+        };
+        let mut block = [0.0; 9];
+        for a in 0..K {
+            for b in 0..K {
+                block[a + 3 * b] = sym[(a, b)];
+            }
+        }
+        self.record_reset(ResetStep::Block {
+            first,
+            len: K,
+            covariance: block,
+        });
     }
 
     /// The component along the unit vector `direction` of the three states
@@ -58,6 +76,14 @@ impl<const N: usize> ErrorStateKf<N> {
             self.p.row_mut(i).scale_mut(s);
             self.p.column_mut(i).scale_mut(s);
         }
+        let mut recorded = [0; 8];
+        let count = states.len().min(8);
+        recorded[..count].copy_from_slice(&states[..count]);
+        self.record_reset(ResetStep::Inflate {
+            states: recorded,
+            count,
+            factor,
+        });
     }
 }
 

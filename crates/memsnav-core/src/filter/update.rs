@@ -178,16 +178,29 @@ pub struct BatchOutcome {
 /// measurement the earlier ones do not predict), so the sum of their NIS
 /// is the batch νᵀ S⁻¹ ν: a chi-square with as many degrees of freedom as
 /// measurements (Bar-Shalom et al. 2001 §5.4; Groves §3.4.1).
+/// When `gains` is given, each applied measurement's gain k = P hᵀ / s
+/// (before it) is pushed there with its innovation, for a smoother.
 pub(super) fn sequential<const N: usize>(
     x: &mut SVector<f64, N>,
     p: &mut SMatrix<f64, N, N>,
     measurements: &[ScalarMeasurement],
     active: &[bool],
     outcomes: &mut [ScalarOutcome],
+    mut gains: Option<&mut Vec<super::smoother::ScalarStep<N>>>,
 ) -> f64 {
     let mut nis = 0.0;
     for ((m, &on), out) in measurements.iter().zip(active).zip(outcomes.iter_mut()) {
         if on {
+            if let Some(g) = gains.as_deref_mut() {
+                let u = m.h.times(p);
+                let s = m.h.dot(&u) + m.variance;
+                g.push(super::smoother::ScalarStep {
+                    measurement: *m,
+                    innovation: m.y - m.h.dot(x),
+                    innovation_variance: s,
+                    gain: u / s,
+                });
+            }
             *out = scalar_joseph(x, p, &m.h, m.y, m.variance, f64::INFINITY);
             nis += out.nis;
         }
@@ -257,7 +270,7 @@ mod tests {
             nis: 0.0,
             accepted: false,
         }; 3];
-        let nis = sequential(&mut x, &mut p, &ms, &[true; 3], &mut out);
+        let nis = sequential(&mut x, &mut p, &ms, &[true; 3], &mut out, None);
         assert!(
             (nis - batch_nis).abs() < 1e-10 * batch_nis,
             "{nis} vs {batch_nis}"
@@ -266,9 +279,16 @@ mod tests {
         assert!((p - (p0 - k * h * p0)).abs().max() < 1e-12);
         // An inactive measurement is skipped entirely.
         let (mut x2, mut p2) = (x0, p0);
-        let nis2 = sequential(&mut x2, &mut p2, &ms, &[true, false, true], &mut out);
+        let nis2 = sequential(&mut x2, &mut p2, &ms, &[true, false, true], &mut out, None);
         let (mut x3, mut p3) = (x0, p0);
-        let nis3 = sequential(&mut x3, &mut p3, &[ms[0], ms[2]], &[true; 2], &mut out[..2]);
+        let nis3 = sequential(
+            &mut x3,
+            &mut p3,
+            &[ms[0], ms[2]],
+            &[true; 2],
+            &mut out[..2],
+            None,
+        );
         assert_eq!((nis2, x2, p2), (nis3, x3, p3));
     }
 

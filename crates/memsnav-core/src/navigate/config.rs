@@ -177,6 +177,9 @@ pub struct LogConfig {
     pub range_bias_states: bool,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,
+    /// Also a fixed-interval smoothed solution (post-processing; see
+    /// `filter::smoother`). Default off.
+    pub smoother: bool,
     /// Alignment.
     pub alignment: AlignmentConfig,
     /// Initial stds given instead of the start's own.
@@ -210,6 +213,7 @@ impl LogConfig {
             tuning,
             range_bias_states: true,
             scale_factor_states: false,
+            smoother: false,
             alignment: AlignmentConfig::default(),
             alignment_overrides: StartOverrides::default(),
             standstill: StandstillConfig::default(),

@@ -33,7 +33,15 @@ pub struct LocalSolution {
 impl LogRun {
     /// The solution in local terms (see [`LocalSolution`]).
     pub fn local_solution(&self) -> LocalSolution {
-        let s = &self.solution;
+        self.local(&self.solution)
+    }
+
+    /// The smoothed solution in local terms, when there is one.
+    pub fn local_smoothed(&self) -> Option<LocalSolution> {
+        self.smoothed.as_ref().map(|s| self.local(s))
+    }
+
+    fn local(&self, s: &crate::coupling::Solution) -> LocalSolution {
         let n = s.time_s.len();
         let mut out = LocalSolution {
             time_s: s.time_s.clone(),

@@ -27,6 +27,9 @@ pub enum GnssInput {
 pub struct LogRun {
     /// The filter's solution at every IMU sample from the start, at the IMU.
     pub solution: Solution,
+    /// Its fixed-interval smoothed solution, when asked for
+    /// ([`LogConfig::smoother`]).
+    pub smoothed: Option<Solution>,
     /// Where and how it started.
     pub start: Start,
     /// Every GNSS epoch's antenna position and velocity (the fixes, or the
@@ -124,7 +127,7 @@ pub fn navigate_log(
         start: &start,
         config,
     };
-    let (solution, range_biases) = match (config.scale_factor_states, range_biases) {
+    let (solution, smoothed, range_biases) = match (config.scale_factor_states, range_biases) {
         (false, false) => run.filter::<BASE_STATES>()?,
         (true, false) => run.filter::<WITH_SCALE_FACTORS>()?,
         (false, true) => run.filter::<WITH_RANGE_BIASES>()?,
@@ -133,6 +136,7 @@ pub fn navigate_log(
     let standstills = standstill_intervals(&solution);
     Ok(LogRun {
         solution,
+        smoothed,
         start,
         gnss: kinematics,
         gnss_used,
@@ -229,6 +233,10 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
     })
 }
 
+/// What a filter run gives: the solution, the smoothed one when asked
+/// for, and the final range biases (satellite, m).
+type FilterOutput = (Solution, Option<Solution>, Vec<(u16, f64)>);
+
 /// The pieces of one run.
 struct Inputs<'a> {
     time: &'a [f64],
@@ -241,8 +249,9 @@ struct Inputs<'a> {
 }
 
 impl Inputs<'_> {
-    /// Runs the filter with `N` states; the solution and the final range biases.
-    fn filter<const N: usize>(&self) -> Result<(Solution, Vec<(u16, f64)>)> {
+    /// Runs the filter with `N` states; the solution, the smoothed one when
+    /// asked for, and the final range biases.
+    fn filter<const N: usize>(&self) -> Result<FilterOutput> {
         let f: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.specific_force_b).collect();
         let w: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.angular_rate_b).collect();
         let data = ImuData {
@@ -269,6 +278,7 @@ impl Inputs<'_> {
             clock_drift_m_s: None,
         };
         let mut hook = Aids::new(self, Solution::with_capacity(self.time.len(), N));
+        let smooth = self.config.smoother;
         let mut state: FilterState<N> = match self.gnss {
             GnssInput::Fixes(fixes) => {
                 let used: Vec<PositionFix> = fixes
@@ -276,7 +286,7 @@ impl Inputs<'_> {
                     .zip(self.used)
                     .filter_map(|(f, &u)| u.then_some(*f))
                     .collect();
-                coupling::run_loose_with_hook(&data, &used, &initial, &tuning, &mut hook)?
+                coupling::run_loose_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
             GnssInput::Measurements(epochs) => {
                 let used: Vec<GnssEpoch> = epochs
@@ -285,12 +295,17 @@ impl Inputs<'_> {
                     .filter(|(_, &u)| u)
                     .map(|(e, _)| e.clone())
                     .collect();
-                coupling::run_tight_with_hook(&data, &used, &initial, &tuning, &mut hook)?
+                coupling::run_tight_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
         };
         let mut solution = hook.solution;
         solution.take_records(&mut state);
-        Ok((solution, state.range_biases().collect()))
+        let smoothed = state
+            .kf
+            .take_smoother()
+            .map(|mut log| solution.smoothed(&mut log))
+            .transpose()?;
+        Ok((solution, smoothed, state.range_biases().collect()))
     }
 }
 

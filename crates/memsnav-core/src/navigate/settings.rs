@@ -62,6 +62,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("initial_attitude_std_deg", "[tilt, tilt, heading] stds after alignment, deg"),
             ("gate_probability", "probability of the chi-square test of each batch (1: no test)"),
             ("scale_factor_states", "accelerometer and gyro scale-factor states"),
+            ("smoother", "also the fixed-interval smoothed solution (post-processing)"),
             ("pseudorange_std_floor_m", "smallest pseudorange std believed, m"),
             ("pseudorange_rate_std_floor_m_s", "smallest pseudorange-rate std, m/s"),
             ("position_std_floor_m", "smallest position-fix std, m"),
@@ -349,6 +350,7 @@ impl LogConfig {
                 q.range_bias_psd = 2.0 * i.range_bias_m.powi(2) / tau;
             }
             ("filter", "imu_preset" | "scale_factor_states") => {}
+            ("filter", "smoother") => self.smoother = r.flag()?,
             ("filter", "accel_noise_density") => q.accel_white_psd = r.non_negative()?.powi(2),
             ("filter", "gyro_noise_density_deg") => {
                 q.gyro_white_psd = deg(r.non_negative()?).powi(2)

@@ -1,0 +1,88 @@
+"""The fixed-interval smoother through the Python API and ``navigate``
+(issue 12); its equations are tested in Rust (filter/smoother.rs against the
+batch solution of a linear model, tests/smoother.rs for consistency)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+
+DATA = Path(__file__).parent / "data"
+
+
+@pytest.fixture(scope="module")
+def drive():
+    truth = mn.Trajectory.random(duration=150.0, rate=100.0, seed=7)
+    imu = mn.ImuModel.preset("consumer", seed=8)
+    accel, gyro = imu.measure(truth.specific_force, truth.angular_rate, seed=9)
+    gnss = mn.simulate_gnss(
+        truth.time,
+        truth.position_ecef,
+        truth.velocity_ecef,
+        mn.Constellation.walker(),
+        outages=[(60.0, 30.0)],
+        seed=10,
+    )
+    return truth, imu, accel, gyro, gnss
+
+
+def test_smoothing_keeps_the_forward_solution_and_improves_the_outage(drive):
+    truth, imu, accel, gyro, gnss = drive
+    flt = mn.TightlyCoupledFilter(imu)
+    plain = flt.run(truth.time, accel, gyro, gnss, initial_attitude=truth.attitude[0])
+    both = flt.run(truth.time, accel, gyro, gnss, initial_attitude=truth.attitude[0], smooth=True)
+    assert plain.smoothed is None
+    # Recording for the smoother does not change the forward filter.
+    np.testing.assert_array_equal(plain.position_ecef, both.position_ecef)
+    s = both.smoothed
+    assert s is not None and len(s) == len(both)
+    # The smoothed variance never exceeds the forward one.
+    assert np.all(s.covariance_diagonal <= both.covariance_diagonal * (1 + 1e-9) + 1e-15)
+    inside = (truth.time > 60.0) & (truth.time < 90.0)
+
+    def rms(sol):
+        e = np.linalg.norm(sol.position_ecef - truth.position_ecef, axis=1)[inside]
+        return np.sqrt(np.mean(e**2))
+
+    assert rms(s) < 0.25 * rms(both)
+    # Outside the outage both agree to the fixes' level.
+    aided = truth.time > 100.0
+    e = np.linalg.norm(s.position_ecef - truth.position_ecef, axis=1)[aided]
+    assert np.sqrt(np.mean(e**2)) < 3.0
+
+
+def test_loose_smoothing(drive):
+    truth, imu, accel, gyro, gnss = drive
+    fixes = mn.solve_fix(gnss)
+    sol = mn.LooselyCoupledFilter(imu).run(
+        truth.time, accel, gyro, fixes, initial_attitude=truth.attitude[0], smooth=True
+    )
+    assert sol.smoothed is not None
+    inside = (truth.time > 60.0) & (truth.time < 90.0)
+    ef = np.linalg.norm(sol.position_ecef - truth.position_ecef, axis=1)[inside]
+    es = np.linalg.norm(sol.smoothed.position_ecef - truth.position_ecef, axis=1)[inside]
+    assert es.max() < ef.max()
+
+
+def test_navigate_writes_and_scores_both(tmp_path):
+    text = (Path(__file__).parent / "test_navigate.py").read_text()
+    template = text.split('DRIVE = """', 1)[1].split('"""', 1)[0]
+    extra = "[filter]\nsmoother = true\n[outages]\nwindows_s = [[30.0, 10.0]]\n"
+    cfg = tmp_path / "run.toml"
+    cfg.write_text(template.format(out=tmp_path / "out") + extra)
+    result = mn.navigate(cfg, data_root=DATA)
+    out = tmp_path / "out"
+    assert (out / "drive_60s_smoothed.csv").exists() and (out / "drive_60s_smoothed.pos").exists()
+    summary = json.loads((out / "summary.json").read_text())
+    forward = summary["errors_vs_truth"]["outage_1"]
+    smoothed = summary["errors_vs_truth_smoothed"]["outage_1"]
+    assert smoothed["epochs"] == forward["epochs"] == 40
+    assert smoothed["rms_horizontal_m"] < forward["rms_horizontal_m"]
+    assert smoothed["within_3sigma_share"] > 0.9
+    assert result.run.smoothed is not None
+    assert "smoothed - truth" in (out / "figures" / "errors.csv").read_text()
