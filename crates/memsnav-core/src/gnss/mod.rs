@@ -37,7 +37,10 @@ pub use simulate::{
     SimulationConfig,
 };
 pub use sp3::{read_sp3, Sp3};
-pub use time::{gps_time_from_calendar, SECONDS_PER_WEEK};
+pub use time::{
+    calendar_from_gps_time, checked_gps_time_from_calendar, gps_time_from_calendar, CALENDAR_YEARS,
+    SECONDS_PER_WEEK,
+};
 pub use walker::{Walker, WalkerConfig};
 
 use nalgebra::Vector3;
