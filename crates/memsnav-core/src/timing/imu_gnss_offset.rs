@@ -28,6 +28,7 @@
 use nalgebra::Vector3;
 
 use super::gnss_track::{segments, validate_track};
+use super::integral::Integrals;
 use super::lag_search::{lag_grid, search, Criterion, LagEstimate};
 use crate::validate;
 use crate::{Error, Result};
@@ -68,54 +69,6 @@ pub struct TimeOffsetOptions {
     pub min_speed_m_s: f64,
     /// Consecutive stretches of the log searched on their own for the spread.
     pub blocks: usize,
-}
-
-/// Twice-integrated samples, for the exact mean of a piecewise-linear
-/// signal under a triangle.
-struct DoubleIntegral<'a> {
-    time: &'a [f64],
-    value: Vec<f64>,
-    first: Vec<f64>,
-    second: Vec<f64>,
-}
-
-impl<'a> DoubleIntegral<'a> {
-    fn new(time: &'a [f64], value: Vec<f64>) -> Self {
-        let n = time.len();
-        let (mut first, mut second) = (vec![0.0; n], vec![0.0; n]);
-        for i in 1..n {
-            let dt = time[i] - time[i - 1];
-            first[i] = first[i - 1] + 0.5 * (value[i - 1] + value[i]) * dt;
-            // ∫ of the piecewise-linear X1: trapezoid plus its exact correction.
-            second[i] = second[i - 1]
-                + 0.5 * (first[i - 1] + first[i]) * dt
-                + (value[i - 1] - value[i]) * dt * dt / 12.0;
-        }
-        Self {
-            time,
-            value,
-            first,
-            second,
-        }
-    }
-
-    /// X(t), t inside the samples' span.
-    fn at(&self, t: f64) -> f64 {
-        let i = self
-            .time
-            .partition_point(|&x| x <= t)
-            .clamp(1, self.time.len() - 1)
-            - 1;
-        let dt = self.time[i + 1] - self.time[i];
-        let s = t - self.time[i];
-        let (x0, x1) = (self.value[i], self.value[i + 1]);
-        self.second[i] + self.first[i] * s + x0 * s * s / 2.0 + (x1 - x0) * s * s * s / (6.0 * dt)
-    }
-
-    /// Mean under a triangle of half-width `h` centred on `t`.
-    fn triangle_mean(&self, t: f64, h: f64) -> f64 {
-        (self.at(t + h) - 2.0 * self.at(t) + self.at(t - h)) / (h * h)
-    }
 }
 
 /// The wrapped difference of two angles, rad, in (−π, π].
@@ -210,7 +163,7 @@ pub fn estimate_time_offset(
     // The mean only shifts the triangle means (unit area), which the
     // correlation ignores; removing it keeps the double integral small.
     let mean = raw.iter().sum::<f64>() / n_imu as f64;
-    let integral = DoubleIntegral::new(imu_time_s, raw.iter().map(|x| x - mean).collect());
+    let integral = Integrals::new(imu_time_s, raw.iter().map(|x| x - mean).collect());
     // An IMU sample stamped t was taken at t + offset: the GNSS window
     // around t_k is the IMU window around t_k − offset.
     search(
@@ -232,13 +185,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn triangle_means_are_exact_for_linear_pieces() {
-        let time: Vec<f64> = (0..101).map(|k| k as f64 * 0.01).collect();
-        // x = 2 + 3 t: every triangle mean is the value at its centre.
-        let d = DoubleIntegral::new(&time, time.iter().map(|t| 2.0 + 3.0 * t).collect());
-        for &c in &[0.3, 0.5, 0.677] {
-            assert!((d.triangle_mean(c, 0.25) - (2.0 + 3.0 * c)).abs() < 1e-10);
-        }
+    fn angles_wrap() {
         assert!((angle_difference(3.1, -3.1) - (6.2 - std::f64::consts::TAU)).abs() < 1e-12);
     }
 }

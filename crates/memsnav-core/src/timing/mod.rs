@@ -5,6 +5,7 @@
 
 mod gnss_track;
 mod imu_gnss_offset;
+mod integral;
 mod lag_search;
 mod tag_clock;
 mod velocity_latency;

@@ -2,17 +2,20 @@
 //!
 //! A receiver or RTK engine may report at t_k a velocity that belongs to
 //! an earlier instant (a velocity from the last position difference, a
-//! filtered Doppler velocity). The reference is the mean velocity of the
-//! segment between consecutive positions, placed at the segment's
-//! mid-time, where it has no latency (to second order in the interval).
-//! The latency L minimises the RMS of v_reported(t_k) − v_segment(t_k − L),
-//! the segment velocities interpolated linearly between mid-times; a
-//! velocity computed as the backward difference of the positions has
-//! L = h/2 exactly.
+//! filtered Doppler velocity). The reference is the segment velocity
+//! (r_{j+1} − r_j) / h_j: the exact mean of the true velocity over
+//! [t_j, t_{j+1}], with no latency. A velocity late by L has the same mean
+//! over [t_j + L, t_{j+1} + L]; that mean of the reported samples, joined
+//! by straight lines, is compared with the segment velocity, and L
+//! minimises the RMS difference. Both sides are means over the same
+//! interval, so neither the averaging nor the noise of an interpolated
+//! reference (which would vary with L) moves the minimum; a velocity
+//! computed as the backward difference of the positions has L = h/2.
 
 use nalgebra::Vector3;
 
 use super::gnss_track::{segments, validate_track};
+use super::integral::Integrals;
 use super::lag_search::{lag_grid, search, Criterion, LagEstimate};
 use crate::validate;
 use crate::{Error, Result};
@@ -59,48 +62,44 @@ pub fn estimate_velocity_latency(
     )?;
     let max_lag = grid[grid.len() - 1];
     let segs = segments(gnss_time_s, lla);
-    let mid: Vec<f64> = segs.iter().map(|s| s.mid_time_s).collect();
     // irregular_before[j]: irregular segments among 0..j.
     let mut irregular_before = vec![0_usize; segs.len() + 1];
     for (j, s) in segs.iter().enumerate() {
         irregular_before[j + 1] = irregular_before[j] + usize::from(!s.regular);
     }
-    // Index of the segment whose mid-time starts the bracket of `t`.
-    let bracket = |t: f64| mid.partition_point(|&m| m <= t).checked_sub(1);
-    let epochs: Vec<usize> = (0..gnss_time_s.len())
-        .filter(|&k| {
-            let t = gnss_time_s[k];
-            match (bracket(t - max_lag), bracket(t + max_lag)) {
-                (Some(a), Some(b)) => {
-                    b + 1 < segs.len() && irregular_before[b + 2] == irregular_before[a]
-                }
-                _ => false,
-            }
+    // Segments j whose shifted interval stays among regular segments for
+    // every latency of the grid.
+    let last = gnss_time_s.len() - 1;
+    let usable: Vec<usize> = (0..segs.len())
+        .filter(|&j| {
+            let first = gnss_time_s.partition_point(|&t| t <= gnss_time_s[j] - max_lag);
+            let end = gnss_time_s.partition_point(|&t| t < gnss_time_s[j + 1] + max_lag);
+            first >= 1 && end <= last && irregular_before[end] == irregular_before[first - 1]
         })
         .collect();
-    if epochs.len() < 3 {
+    if usable.len() < 3 {
         return Err(Error::invalid(
             "gnss_time",
             format!(
-                "only {} epochs have regular segments within ±max_latency_s = {max_lag} s",
-                epochs.len()
+                "only {} position intervals lie within regular epochs ±max_latency_s = {max_lag} s",
+                usable.len()
             ),
         ));
     }
+    let components: Vec<Integrals> = (0..3)
+        .map(|axis| Integrals::new(gnss_time_s, velocity_ned.iter().map(|v| v[axis]).collect()))
+        .collect();
     search(
         &grid,
-        epochs.len(),
+        usable.len(),
         options.blocks,
         Criterion::RootMeanSquare,
         "max_latency_s",
         |latency, out| {
-            for (j, &k) in epochs.iter().enumerate() {
-                let t = gnss_time_s[k] - latency;
-                let a = bracket(t).expect("checked for the whole window");
-                let w = (t - mid[a]) / (mid[a + 1] - mid[a]);
-                let reference = segs[a].velocity_ned * (1.0 - w) + segs[a + 1].velocity_ned * w;
-                for axis in 0..3 {
-                    out.push((j, reference[axis], velocity_ned[k][axis]));
+            for (i, &j) in usable.iter().enumerate() {
+                let (start, end) = (gnss_time_s[j] + latency, gnss_time_s[j + 1] + latency);
+                for (axis, reported) in components.iter().enumerate() {
+                    out.push((i, reported.box_mean(start, end), segs[j].velocity_ned[axis]));
                 }
             }
         },
