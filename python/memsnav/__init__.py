@@ -49,7 +49,17 @@ from memsnav._memsnav import (
 from memsnav.allan import allan_deviation
 from memsnav.realdata.config import load_config
 from memsnav.realdata.pipeline import NavigationResult, navigate
-from memsnav.realdata.readers import read_imu_csv, read_pos, read_time_tag
+from memsnav.realdata.readers import (
+    ImuLog,
+    PosSolution,
+    TagClock,
+    TimeTag,
+    fit_tag_clock,
+    read_imu_csv,
+    read_pos,
+    read_time_tag,
+)
+from memsnav.realdata.timing import estimate_time_offset, estimate_velocity_latency
 
 __all__ = [
     "AccelerometerModel",
@@ -60,15 +70,19 @@ __all__ = [
     "FixSeries",
     "GnssMeasurements",
     "GyroscopeModel",
+    "ImuLog",
     "ImuModel",
     "LooselyCoupledFilter",
     "MemsnavError",
     "NavSolution",
     "NavigationResult",
     "ParseError",
+    "PosSolution",
     "RinexObservations",
     "Sp3",
+    "TagClock",
     "TightlyCoupledFilter",
+    "TimeTag",
     "Trajectory",
     "UnobservableError",
     "__version__",
@@ -76,7 +90,10 @@ __all__ = [
     "calibrate_accelerometer",
     "calibrate_gyroscope",
     "ecef_to_geodetic",
+    "estimate_time_offset",
+    "estimate_velocity_latency",
     "experiments",
+    "fit_tag_clock",
     "geodetic_to_ecef",
     "gravity_ecef",
     "imu_increments",

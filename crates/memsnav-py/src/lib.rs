@@ -12,6 +12,7 @@ mod geodesy;
 mod gnss;
 mod ins;
 mod inversion;
+mod logs;
 mod navigation;
 mod progress;
 mod sensors;
@@ -31,5 +32,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     experiments::register(m)?;
     coupling::register(m)?;
     navigation::register(m)?;
+    logs::register(m)?;
     Ok(())
 }

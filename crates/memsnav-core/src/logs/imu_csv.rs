@@ -326,7 +326,7 @@ pub fn parse_imu_csv(bytes: &[u8], file: &str, layout: &ImuCsvLayout) -> Result<
     let unterminated = &bytes[terminated_end..];
     if !unterminated.iter().all(u8::is_ascii_whitespace) {
         warnings.push(format!(
-            "{file}:{}: last line has no end of line (the log stopped mid-line); skipped",
+            "{file}:{}: last line cut short (no end of line: the log stopped mid-line); skipped",
             newlines.len() + 1
         ));
     }
@@ -539,7 +539,7 @@ mod tests {
     fn cut_last_lines_are_warnings_and_other_bad_lines_errors() {
         let log = parse("0,0,1,0,0,0,10\n0,0,1,0,0,0,20\n0,0,1,0,0,0,3").unwrap();
         assert_eq!(log.time_s.len(), 2);
-        assert!(log.warnings[0].contains("x.csv:3: last line has no end of line"));
+        assert!(log.warnings[0].contains("x.csv:3: last line cut short (no end of line"));
         let log = parse("0,0,1,0,0,0,10\n0,0,1,0,0,0,20\n0,0,1,0\n\n").unwrap();
         assert!(
             log.warnings[0].contains("x.csv:3: last line cut short (expected 7"),

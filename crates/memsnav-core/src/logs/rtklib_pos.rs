@@ -189,7 +189,7 @@ pub fn parse_pos(text: &str, file: &str) -> Result<PosSolution> {
         .collect();
     if !text.ends_with('\n') && data.last() == Some(&(lines.len() - 1)) {
         warnings.push(format!(
-            "{file}:{}: last line has no end of line (the file stopped mid-line); skipped",
+            "{file}:{}: last line cut short (no end of line: the file stopped mid-line); skipped",
             lines.len()
         ));
         data.pop();
@@ -458,6 +458,6 @@ mod tests {
         let cut = format!("{HEAD}{LINE}{}", &LINE[..60]);
         let sol = parse_pos(&cut, "x.pos").unwrap();
         assert_eq!(sol.gps_time_s.len(), 1);
-        assert!(sol.warnings[0].contains("x.pos:4: last line has no end of line"));
+        assert!(sol.warnings[0].contains("x.pos:4: last line cut short (no end of line"));
     }
 }

@@ -54,25 +54,34 @@ pub struct TagClock {
     pub warnings: Vec<String>,
 }
 
-/// Detects how `tag` counted the bytes of `log` from their sizes.
+/// Detects how `tag` counted the bytes of `log`: its last position must
+/// lie between the end of the last sample line and the end of the file
+/// (a cut last line may follow the samples) when counted one way, and not
+/// the other.
 fn detect_line_ends(log: &ImuLog, tag: &TimeTag) -> Result<LineEnds> {
     let last = *tag
         .file_offset
         .last()
         .ok_or_else(|| Error::invalid("tag", "the time tag has no records"))?;
-    if last == log.file_bytes {
-        Ok(LineEnds::AsInFile)
-    } else if last == log.file_bytes + log.newline_count {
-        Ok(LineEnds::CrLfCounted)
-    } else {
-        Err(Error::invalid(
+    let samples_end = log.line_end_offset.last().map_or(0, |&o| o + 1);
+    let lines = log.line.last().map_or(0, |&l| l as u64);
+    let as_in_file = samples_end..=log.file_bytes;
+    let crlf = samples_end + lines..=log.file_bytes + log.newline_count;
+    match (as_in_file.contains(&last), crlf.contains(&last)) {
+        (true, false) => Ok(LineEnds::AsInFile),
+        (false, true) => Ok(LineEnds::CrLfCounted),
+        (true, true) if last == log.file_bytes => Ok(LineEnds::AsInFile),
+        (true, true) => Ok(LineEnds::CrLfCounted),
+        (false, false) => Err(Error::invalid(
             "tag",
             format!(
-                "the time tag's last file position ({last}) matches neither the log's size ({} bytes) nor its size counted with CR LF line ends ({}): tag and log do not belong together (give line_ends to map them anyway)",
-                log.file_bytes,
-                log.file_bytes + log.newline_count
+                "the time tag's last file position ({last}) fits neither the log's bytes (the samples end at {}, the file at {}) nor its bytes counted with CR LF line ends ({} and {}): tag and log do not belong together (give line_ends to map them anyway)",
+                as_in_file.start(),
+                as_in_file.end(),
+                crlf.start(),
+                crlf.end()
             ),
-        ))
+        )),
     }
 }
 
@@ -154,7 +163,10 @@ pub fn tag_clock(log: &ImuLog, tag: &TimeTag, line_ends: Option<LineEnds>) -> Re
         .collect();
     let rate_ppm = slope * 1e6;
     let mut warnings = Vec::new();
-    if rate_ppm.abs() > SUSPICIOUS_RATE_PPM {
+    // Over a short log the rate is free within the buffering (its effect,
+    // |rate| × span, stays below the spread) and means nothing.
+    let span = points[points.len() - 1].1 - t_first;
+    if rate_ppm.abs() > SUSPICIOUS_RATE_PPM && slope.abs() * span > spread {
         warnings.push(format!(
             "the IMU clock runs {rate_ppm:.0} ppm off the logger's clock (crystals stay within ±100 ppm): check that the time tag belongs to this log and how it counts line ends"
         ));
@@ -245,11 +257,12 @@ mod tests {
         let wrong = tag_clock(&log, &tag, Some(LineEnds::AsInFile)).unwrap();
         assert!(wrong.rate_ppm.abs() > 1_000.0, "{}", wrong.rate_ppm);
         assert!(wrong.warnings[0].contains("ppm off the logger's clock"));
+        // A tag that stops before the last sample line ends does not fit.
         let mut short = tag.clone();
-        *short.file_offset.last_mut().unwrap() -= 1;
+        *short.file_offset.last_mut().unwrap() -= 2;
         let e = tag_clock(&log, &short, None).unwrap_err();
         assert!(
-            e.to_string().contains("matches neither the log's size"),
+            e.to_string().contains("fits neither the log's bytes"),
             "{e}"
         );
         let mut empty = tag.clone();
