@@ -122,7 +122,12 @@ pub fn read_klobuchar(path: impl AsRef<Path>) -> Result<Option<Klobuchar>> {
         path: file.clone(),
         reason: e.to_string(),
     })?;
-    let text = String::from_utf8_lossy(&text);
+    parse_klobuchar(&String::from_utf8_lossy(&text), &file)
+}
+
+/// [`read_klobuchar`] on the text of a navigation file; `file` names it in errors.
+pub fn parse_klobuchar(text: &str, file: &str) -> Result<Option<Klobuchar>> {
+    let file = file.to_string();
     let (mut alpha, mut beta) = (None, None);
     for (k, line) in text.lines().enumerate() {
         let label = line.get(60..).unwrap_or("").trim_end();

@@ -190,7 +190,8 @@ fn may_be_blank(index: usize) -> bool {
     matches!(index, 3 | 20 | 22 | 23 | 26 | 27 | 28)
 }
 
-fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
+/// Parses the text of a RINEX 2 or 3 navigation file; `file` names it in errors.
+pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     let cur = Cursor {
         file,
         lines: text.lines().collect(),

@@ -55,7 +55,8 @@ pub fn read_sp3(path: impl AsRef<Path>) -> Result<Sp3> {
     )
 }
 
-fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
+/// Parses the text of an SP3-c or SP3-d file; `file` names it in errors.
+pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
     let err = |k: usize, reason: String| Error::Parse {
         file: file.to_string(),
         line: k + 1,
