@@ -17,18 +17,39 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
 from memsnav import _memsnav
-from memsnav._memsnav import PosSolution
 
 __all__ = [
+    "GnssPositions",
+    "GnssVelocities",
     "TimeOffsetEstimate",
     "VelocityLatencyEstimate",
     "estimate_time_offset",
     "estimate_velocity_latency",
 ]
+
+
+class GnssPositions(Protocol):
+    """GNSS positions: a ``PosSolution`` (``read_pos``) or any object with
+    ``gps_time`` (N,) s and ``lla`` (N, 3) [lat rad, lon rad, h m] (and
+    ``quality`` (N,), RTKLIB's Q, to select epochs by)."""
+
+    @property
+    def gps_time(self) -> np.ndarray: ...
+
+    @property
+    def lla(self) -> np.ndarray: ...
+
+
+class GnssVelocities(GnssPositions, Protocol):
+    """``GnssPositions`` with ``velocity_ned`` (N, 3) m/s."""
+
+    @property
+    def velocity_ned(self) -> np.ndarray: ...
 
 
 @dataclass(frozen=True)
@@ -75,18 +96,20 @@ class VelocityLatencyEstimate:
     epochs: int
 
 
-def _epochs(gnss: PosSolution, quality: Sequence[int] | None) -> np.ndarray:
-    """Indices of the epochs whose Q is in ``quality`` (all for None)."""
-    if quality is None:
+def _epochs(gnss: GnssPositions, quality: Sequence[int] | None) -> np.ndarray:
+    """Indices of the epochs whose Q is in ``quality`` (all for None or
+    when ``gnss`` has no ``quality``)."""
+    q = getattr(gnss, "quality", None)
+    if quality is None or q is None:
         return np.arange(len(gnss.gps_time))
-    return np.flatnonzero(np.isin(gnss.quality, list(quality)))
+    return np.flatnonzero(np.isin(q, list(quality)))
 
 
 def estimate_time_offset(
     imu_time: np.ndarray,
     specific_force: np.ndarray,
     angular_rate: np.ndarray,
-    gnss: PosSolution,
+    gnss: GnssPositions,
     *,
     signal: str = "along_track",
     quality: Sequence[int] | None = (1, 2),
@@ -96,7 +119,8 @@ def estimate_time_offset(
     blocks: int = 4,
 ) -> TimeOffsetEstimate:
     """The offset to add to ``imu_time`` that best aligns the IMU with the
-    GNSS positions of ``gnss`` (an RTKLIB solution, ``read_pos``).
+    GNSS positions of ``gnss`` (a ``PosSolution`` from ``read_pos``, or any
+    object with ``gps_time`` and ``lla`` arrays, see ``GnssPositions``).
 
     ``imu_time``: the IMU on GPS time as mapped so far (for example by
     ``fit_tag_clock``), s, ``(N,)``; ``specific_force`` m/s² and
@@ -117,8 +141,8 @@ def estimate_time_offset(
         imu_time,
         specific_force,
         angular_rate,
-        gnss.gps_time[keep],
-        gnss.lla[keep],
+        np.asarray(gnss.gps_time)[keep],
+        np.asarray(gnss.lla)[keep],
         signal,
         max_offset_s,
         step_s,
@@ -138,15 +162,16 @@ def estimate_time_offset(
 
 
 def estimate_velocity_latency(
-    gnss: PosSolution,
+    gnss: GnssVelocities,
     *,
     quality: Sequence[int] | None = (1, 2),
     max_latency_s: float = 0.5,
     step_s: float = 0.005,
     blocks: int = 4,
 ) -> VelocityLatencyEstimate:
-    """How late the velocity of ``gnss`` (an RTKLIB solution with velocity
-    columns, ``read_pos``) is behind its own positions, s.
+    """How late the velocity of ``gnss`` (a ``PosSolution`` with velocity
+    columns, or any object with ``gps_time``, ``lla`` and ``velocity_ned``
+    arrays) is behind its own positions, s.
 
     The velocity's mean over each interval [t_j + L, t_{j+1} + L] is compared
     with the mean velocity of the positions over [t_j, t_{j+1}]; the
@@ -158,9 +183,9 @@ def estimate_velocity_latency(
     """
     keep = _epochs(gnss, quality)
     e = _memsnav.estimate_velocity_latency(
-        gnss.gps_time[keep],
-        gnss.lla[keep],
-        gnss.velocity_ned[keep],
+        np.asarray(gnss.gps_time)[keep],
+        np.asarray(gnss.lla)[keep],
+        np.asarray(gnss.velocity_ned)[keep],
         max_latency_s,
         step_s,
         blocks,
