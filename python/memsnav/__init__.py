@@ -59,7 +59,12 @@ from memsnav.realdata.readers import (
     read_pos,
     read_time_tag,
 )
-from memsnav.realdata.timing import estimate_time_offset, estimate_velocity_latency
+from memsnav.realdata.timing import (
+    TimeOffsetEstimate,
+    VelocityLatencyEstimate,
+    estimate_time_offset,
+    estimate_velocity_latency,
+)
 
 __all__ = [
     "AccelerometerModel",
@@ -82,9 +87,11 @@ __all__ = [
     "Sp3",
     "TagClock",
     "TightlyCoupledFilter",
+    "TimeOffsetEstimate",
     "TimeTag",
     "Trajectory",
     "UnobservableError",
+    "VelocityLatencyEstimate",
     "__version__",
     "allan_deviation",
     "calibrate_accelerometer",

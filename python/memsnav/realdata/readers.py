@@ -52,7 +52,7 @@ def _warn(messages: Iterable[str]) -> None:
 def _count(value: object, argument: str) -> int:
     """A non-negative integer argument, or a ValueError naming it."""
     try:
-        n = operator.index(value)  # type: ignore[call-overload]
+        n = operator.index(value)  # type: ignore[arg-type]
     except TypeError:
         raise ValueError(f"{argument}: must be an integer, got {value!r}") from None
     if n < 0:

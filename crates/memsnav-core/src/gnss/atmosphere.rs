@@ -161,7 +161,7 @@ pub fn parse_klobuchar(text: &str, file: &str) -> Result<Option<Klobuchar>> {
                 })?;
         }
         for (j, (&x, limit)) in v.iter().zip(limits).enumerate() {
-            if !(x.abs() <= limit) {
+            if x.is_nan() || x.abs() > limit {
                 return Err(Error::Parse {
                     file: file.clone(),
                     line: k + 1,

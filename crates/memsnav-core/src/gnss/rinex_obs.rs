@@ -212,7 +212,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 pending = (list.len() < total).then_some((sys, total));
             }
             "APPROX POSITION XYZ" => {
-                let mut v = [0.0; 3];
+                let mut v = [0.0_f64; 3];
                 for (j, x) in v.iter_mut().enumerate() {
                     *x = field(line, 14 * j, 14).parse().map_err(|_| {
                         error(
@@ -222,7 +222,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     })?;
                 }
                 let p = Vector3::from(v);
-                if !(p.norm() <= MAX_APPROX_POSITION_M) {
+                if p.norm().is_nan() || p.norm() > MAX_APPROX_POSITION_M {
                     return Err(error(
                         k,
                         format!(

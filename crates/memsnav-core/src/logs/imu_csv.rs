@@ -289,7 +289,7 @@ fn parse_record(
             ),
         };
         v[k] = x * scale;
-        if !(v[k].abs() <= limit) {
+        if !v[k].is_finite() || v[k].abs() > limit {
             return Err(format!(
                 "column {} ({name}): {text} {unit} is out of range (|{name}| ≤ {} {unit})",
                 column + 1,

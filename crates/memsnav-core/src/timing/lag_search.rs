@@ -136,7 +136,7 @@ fn refine(grid: &[f64], curve: &[f64], i: usize) -> (f64, f64, f64) {
     let (a, b, c) = (curve[i - 1], curve[i], curve[i + 1]);
     let step = grid[1] - grid[0];
     let second = a - 2.0 * b + c;
-    if !(second.abs() > 0.0) {
+    if second.is_nan() || second == 0.0 {
         return (grid[i], b, 0.0);
     }
     let delta = (0.5 * (a - c) / second).clamp(-0.5, 0.5);
