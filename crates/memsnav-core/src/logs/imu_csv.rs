@@ -264,7 +264,9 @@ fn parse_record(
     }
     let mut v = [0.0; 7];
     for (k, (&column, name)) in indices.iter().zip(IMU_COLUMNS).enumerate() {
-        let text = String::from_utf8_lossy(&record[column]);
+        let bytes = record[column].trim_ascii();
+        let text =
+            std::str::from_utf8(bytes).map_or_else(|_| String::from_utf8_lossy(bytes), Into::into);
         let x = finite_number(&text).ok_or_else(|| {
             format!(
                 "column {} ({name}): expected a finite number, got {text:?}",
@@ -340,7 +342,6 @@ pub fn parse_imu_csv(bytes: &[u8], file: &str, layout: &ImuCsvLayout) -> Result<
         .has_headers(false)
         .flexible(true)
         .quoting(false)
-        .trim(csv::Trim::All)
         .from_reader(data);
     let mut time_s = Vec::new();
     let mut specific_force_m_s2 = Vec::new();
@@ -362,7 +363,7 @@ pub fn parse_imu_csv(bytes: &[u8], file: &str, layout: &ImuCsvLayout) -> Result<
         // start positions it gives).
         let end = data_start + reader.position().byte() as usize;
         let n = newlines.partition_point(|&o| o + 1 < end) + 1;
-        if record.len() == 1 && record[0].is_empty() {
+        if record.len() == 1 && record[0].trim_ascii().is_empty() {
             continue; // a line of blanks
         }
         if let Some((k, reason)) = pending.take() {
