@@ -76,6 +76,23 @@ def test_imu_csv_bad_files_name_file_and_line(tmp_path):
         mn.read_imu_csv(p, ["ax", "ay", "az", "gx", "gy", "gz", "time"])
 
 
+def test_imu_csv_magnitudes_that_do_not_fit_the_units_warn(tmp_path):
+    # Issue 15: a gyro in °/s declared as rad/s ran to kilometres silently;
+    # 1e308 g became inf.
+    p = tmp_path / "imu.csv"
+    p.write_text("".join(f"0,0,1,0,0,{30 if k > 50 else 0},{10 * k}\n" for k in range(100)))
+    with pytest.warns(UserWarning, match=r'imu.csv: gyro_unit: .* is gyro_unit "deg/s"\?'):
+        mn.read_imu_csv(p, gyro_unit="rad/s")
+    p.write_text("".join(f"0,0,9.81,0,0,0,{10 * k}\n" for k in range(10)))
+    with pytest.warns(UserWarning, match=r'accel_unit: .* is accel_unit "m/s\^2"\?'):
+        mn.read_imu_csv(p)
+    p.write_text("0,0,1,0,0,0,0\n0,0,1e308,0,0,0,10\n0,0,1,0,0,0,20\n")
+    with pytest.raises(mn.ParseError, match=r"imu.csv:2: column 3 \(az\): 1e308 g is out of range"):
+        mn.read_imu_csv(p)
+    with pytest.raises(ValueError, match=r"header_lines: must be >= 0, got -5"):
+        mn.read_imu_csv(p, header_lines=-5)
+
+
 # --- RTKLIB time tags and .pos --------------------------------------------
 
 
