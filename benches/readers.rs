@@ -9,7 +9,6 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use memsnav_core::logs::{
     parse_imu_csv, parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
-    IMU_COLUMNS,
 };
 use memsnav_core::timing::tag_clock;
 
@@ -24,12 +23,12 @@ fn real(name: &str) -> PathBuf {
 
 fn readers(c: &mut Criterion) {
     let layout = ImuCsvLayout {
-        columns: IMU_COLUMNS.iter().map(|s| s.to_string()).collect(),
-        accel_unit: AccelUnit::StandardGravity,
-        gyro_unit: GyroUnit::DegreesPerSecond,
-        time_unit: TimeUnit::Milliseconds,
-        header_lines: 0,
         skip_first_line: true,
+        ..ImuCsvLayout::new(
+            AccelUnit::StandardGravity,
+            GyroUnit::DegreesPerSecond,
+            TimeUnit::Milliseconds,
+        )
     };
     let csv = std::fs::read(real("drive_0708/imu_1934.csv")).unwrap();
     let tag = std::fs::read(real("drive_0708/imu_1934.csv.tag")).unwrap();

@@ -17,8 +17,7 @@ use std::time::Duration;
 use memsnav_core::gnss::{parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar};
 use memsnav_core::logs::{
     parse_imu_csv, parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
-    IMU_COLUMNS, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S,
-    POS_HEIGHT_RANGE_M,
+    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 
@@ -95,14 +94,11 @@ fn seed(reader: Reader) -> &'static [u8] {
 }
 
 fn layout() -> ImuCsvLayout {
-    ImuCsvLayout {
-        columns: IMU_COLUMNS.iter().map(|s| s.to_string()).collect(),
-        accel_unit: AccelUnit::StandardGravity,
-        gyro_unit: GyroUnit::DegreesPerSecond,
-        time_unit: TimeUnit::Milliseconds,
-        header_lines: 0,
-        skip_first_line: false,
-    }
+    ImuCsvLayout::new(
+        AccelUnit::StandardGravity,
+        GyroUnit::DegreesPerSecond,
+        TimeUnit::Milliseconds,
+    )
 }
 
 fn increasing(times: &[f64]) -> bool {

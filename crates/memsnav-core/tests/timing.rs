@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use memsnav_core::geodesy::{meridian_radius, transverse_radius};
 use memsnav_core::logs::{
-    read_imu_csv, read_pos, read_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit, IMU_COLUMNS,
+    read_imu_csv, read_pos, read_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
 };
 use memsnav_core::random::stream;
 use memsnav_core::timing::*;
@@ -194,12 +194,12 @@ fn real(name: &str) -> PathBuf {
 
 fn layout() -> ImuCsvLayout {
     ImuCsvLayout {
-        columns: IMU_COLUMNS.iter().map(|s| s.to_string()).collect(),
-        accel_unit: AccelUnit::StandardGravity,
-        gyro_unit: GyroUnit::DegreesPerSecond,
-        time_unit: TimeUnit::Milliseconds,
-        header_lines: 0,
         skip_first_line: true,
+        ..ImuCsvLayout::new(
+            AccelUnit::StandardGravity,
+            GyroUnit::DegreesPerSecond,
+            TimeUnit::Milliseconds,
+        )
     }
 }
 

@@ -176,6 +176,19 @@ pub struct ImuCsvLayout {
 }
 
 impl ImuCsvLayout {
+    /// The columns `ax ay az gx gy gz t` in that order with the given
+    /// units, no header, the first line read; change the fields for others.
+    pub fn new(accel_unit: AccelUnit, gyro_unit: GyroUnit, time_unit: TimeUnit) -> Self {
+        Self {
+            columns: IMU_COLUMNS.iter().map(|s| s.to_string()).collect(),
+            accel_unit,
+            gyro_unit,
+            time_unit,
+            header_lines: 0,
+            skip_first_line: false,
+        }
+    }
+
     /// Positions of `ax ay az gx gy gz t` in the columns; an error names
     /// the missing or repeated names.
     fn indices(&self) -> Result<[usize; 7]> {
@@ -507,14 +520,11 @@ mod tests {
     use super::*;
 
     fn layout() -> ImuCsvLayout {
-        ImuCsvLayout {
-            columns: IMU_COLUMNS.iter().map(|s| s.to_string()).collect(),
-            accel_unit: AccelUnit::StandardGravity,
-            gyro_unit: GyroUnit::DegreesPerSecond,
-            time_unit: TimeUnit::Milliseconds,
-            header_lines: 0,
-            skip_first_line: false,
-        }
+        ImuCsvLayout::new(
+            AccelUnit::StandardGravity,
+            GyroUnit::DegreesPerSecond,
+            TimeUnit::Milliseconds,
+        )
     }
 
     fn parse(text: &str) -> Result<ImuLog> {

@@ -26,6 +26,34 @@ const MAX_STD: f64 = 1.0e7;
 /// 4 DGPS, 5 single, 6 PPP, 7 dead reckoning (demo5).
 const QUALITY_RANGE: std::ops::RangeInclusive<f64> = 0.0..=7.0;
 
+/// The columns after the GPST date and time, as RTKLIB names them in the
+/// header; the velocity columns (RTKLIB demo5) from [`VELOCITY_COLUMN`] on.
+const COLUMNS: [&str; 22] = [
+    "latitude(deg)",
+    "longitude(deg)",
+    "height(m)",
+    "Q",
+    "ns",
+    "sdn(m)",
+    "sde(m)",
+    "sdu(m)",
+    "sdne(m)",
+    "sdeu(m)",
+    "sdun(m)",
+    "age(s)",
+    "ratio",
+    "vn(m/s)",
+    "ve(m/s)",
+    "vu(m/s)",
+    "sdvn",
+    "sdve",
+    "sdvu",
+    "sdvne",
+    "sdveu",
+    "sdvun",
+];
+const VELOCITY_COLUMN: usize = 13;
+
 /// An RTKLIB solution in geodetic form.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PosSolution {
@@ -129,48 +157,11 @@ pub fn parse_pos(text: &str, file: &str) -> Result<PosSolution> {
         ));
     }
     let has_velocity = names.contains(&"vn(m/s)");
-    let expected: &[&str] = if has_velocity {
-        &[
-            "latitude(deg)",
-            "longitude(deg)",
-            "height(m)",
-            "Q",
-            "ns",
-            "sdn(m)",
-            "sde(m)",
-            "sdu(m)",
-            "sdne(m)",
-            "sdeu(m)",
-            "sdun(m)",
-            "age(s)",
-            "ratio",
-            "vn(m/s)",
-            "ve(m/s)",
-            "vu(m/s)",
-            "sdvn",
-            "sdve",
-            "sdvu",
-            "sdvne",
-            "sdveu",
-            "sdvun",
-        ]
+    let expected = &COLUMNS[..if has_velocity {
+        COLUMNS.len()
     } else {
-        &[
-            "latitude(deg)",
-            "longitude(deg)",
-            "height(m)",
-            "Q",
-            "ns",
-            "sdn(m)",
-            "sde(m)",
-            "sdu(m)",
-            "sdne(m)",
-            "sdeu(m)",
-            "sdun(m)",
-            "age(s)",
-            "ratio",
-        ]
-    };
+        VELOCITY_COLUMN
+    }];
     if names[1..] != *expected {
         return Err(parse_error(
             file,

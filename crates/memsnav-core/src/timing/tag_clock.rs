@@ -185,7 +185,7 @@ pub fn tag_clock(log: &ImuLog, tag: &TimeTag, line_ends: Option<LineEnds>) -> Re
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::logs::{parse_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit, IMU_COLUMNS};
+    use crate::logs::{parse_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit};
 
     /// A log of `n` lines `0,0,1,0,0,0,<ms>` (one every 10 ms, IMU clock
     /// starting at 5 s) and the tag a logger writing it in chunks with CR LF
@@ -197,14 +197,11 @@ mod tests {
             .map(|k| format!("0,0,1,0,0,0,{}\n", 5000 + 10 * k))
             .collect();
         let text: String = lines.concat();
-        let layout = ImuCsvLayout {
-            columns: IMU_COLUMNS.iter().map(|s| s.to_string()).collect(),
-            accel_unit: AccelUnit::StandardGravity,
-            gyro_unit: GyroUnit::DegreesPerSecond,
-            time_unit: TimeUnit::Milliseconds,
-            header_lines: 0,
-            skip_first_line: false,
-        };
+        let layout = ImuCsvLayout::new(
+            AccelUnit::StandardGravity,
+            GyroUnit::DegreesPerSecond,
+            TimeUnit::Milliseconds,
+        );
         let log = parse_imu_csv(text.as_bytes(), "x.csv", &layout).unwrap();
         let (mut tick_ms, mut file_offset) = (Vec::new(), Vec::new());
         let mut written = 0_u64;
