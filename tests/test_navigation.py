@@ -380,3 +380,13 @@ def test_bad_initial_state_names_the_entry(scenario):
             flt.run(traj.time, f, w, gnss, initial_state=bad)
     with pytest.raises(ValueError, match=r"initial_attitude.*not both"):
         flt.run(traj.time, f, w, gnss, initial_state=state, initial_attitude=traj.attitude[0])
+
+
+def test_a_nan_sat_id_is_an_error_not_a_silently_dropped_satellite(scenario):
+    # Issue 15: a NaN sat_id was dropped like padding, without a word.
+    traj, gnss, imu, f, w = scenario
+    d = gnss_dict(gnss)
+    d["sat_id"] = d["sat_id"].astype(float)
+    d["sat_id"][7, 2] = np.nan
+    with pytest.raises(ValueError, match=r"gnss: sat_id\[7, 2\] is NaN: mark an empty slot"):
+        mn.TightlyCoupledFilter(imu).run(traj.time, f, w, d, initial_attitude=traj.attitude[0])

@@ -4,6 +4,7 @@ BSD-3 real-imu-gnss logs kept in tests/data/real-imu-gnss (LICENSE there)."""
 from __future__ import annotations
 
 import struct
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +23,7 @@ GPS_WEEK_2381_THURSDAY = 2381 * 604_800.0 + 4 * 86_400.0
 
 
 def test_imu_csv_fields_units_and_cut_lines():
-    with pytest.warns(UserWarning, match=r"walk_head.csv:41: last line cut short"):
+    with pytest.warns(UserWarning, match=r"walk_head.csv:41: last line cut short \(no end of line"):
         log = mn.read_imu_csv(EX / "walk_head.csv", skip_first_line=True)
     assert len(log.time) == 39  # 40 lines (the first skipped) and the cut "0.01" dropped
     # Second line of the file: -0.017,-0.007,1.011,0.038,-0.160,0.160,3326345
@@ -37,7 +38,7 @@ def test_imu_csv_fields_units_and_cut_lines():
 
 def test_imu_csv_other_layout_and_units(tmp_path):
     p = tmp_path / "imu.csv"
-    p.write_text("t,gx,gy,gz,ax,ay,az,temp\n0.00,0.1,0.2,0.3,1,2,3,25\n0.01,0.1,0.2,0.3,1,2,3,25\n")
+    p.write_text("t,gx,gy,gz,ax,ay,az,temp\n0.00,0.1,0.2,0.3,1,2,9,25\n0.01,0.1,0.2,0.3,1,2,9,25\n")
     log = mn.read_imu_csv(
         p,
         ["t", "gx", "gy", "gz", "ax", "ay", "az", "temp"],
@@ -46,7 +47,7 @@ def test_imu_csv_other_layout_and_units(tmp_path):
         time_unit="s",
         header_lines=1,
     )
-    np.testing.assert_allclose(log.specific_force, [[1, 2, 3]] * 2)
+    np.testing.assert_allclose(log.specific_force, [[1, 2, 9]] * 2)
     np.testing.assert_allclose(log.angular_rate, [[0.1, 0.2, 0.3]] * 2)
     np.testing.assert_allclose(log.time, [0.0, 0.01])
 
@@ -59,17 +60,34 @@ def test_imu_csv_bad_files_name_file_and_line(tmp_path):
     ):
         mn.read_imu_csv(p)
     p.write_text("1,2,3,4,5,6,0\n1,2,x,4,5,6,10\n1,2,3,4,5,6,20\n")
-    with pytest.raises(mn.ParseError, match=r"bad.csv:2: expected numbers"):
+    with pytest.raises(mn.ParseError, match=r"bad.csv:2: column 3 \(az\): expected a finite"):
         mn.read_imu_csv(p)
     p.write_text("1,2,3,4,5,6,10\n1,2,3,4,5,6,10\n1,2,3,4,5,6,20\n")
-    with pytest.raises(mn.ParseError, match=r"bad.csv:2: time 10.0 does not increase"):
+    with pytest.raises(mn.ParseError, match=r"bad.csv:2: time 10 does not increase"):
         mn.read_imu_csv(p)
     with pytest.raises(ValueError, match=r"accel_unit: unknown unit 'gee'"):
         mn.read_imu_csv(p, accel_unit="gee")
     with pytest.raises(ValueError, match=r"gyro_unit"):
         mn.read_imu_csv(p, gyro_unit="dps")
-    with pytest.raises(ValueError, match=r"lacks \['t'\]"):
+    with pytest.raises(ValueError, match=r"columns: the layout lacks \[\"t\"\]"):
         mn.read_imu_csv(p, ["ax", "ay", "az", "gx", "gy", "gz", "time"])
+
+
+def test_imu_csv_magnitudes_that_do_not_fit_the_units_warn(tmp_path):
+    # Issue 15: a gyro in °/s declared as rad/s ran to kilometres silently;
+    # 1e308 g became inf.
+    p = tmp_path / "imu.csv"
+    p.write_text("".join(f"0,0,1,0,0,{30 if k > 50 else 0},{10 * k}\n" for k in range(100)))
+    with pytest.warns(UserWarning, match=r'imu.csv: gyro_unit: .* is gyro_unit "deg/s"\?'):
+        mn.read_imu_csv(p, gyro_unit="rad/s")
+    p.write_text("".join(f"0,0,9.81,0,0,0,{10 * k}\n" for k in range(10)))
+    with pytest.warns(UserWarning, match=r'accel_unit: .* is accel_unit "m/s\^2"\?'):
+        mn.read_imu_csv(p)
+    p.write_text("0,0,1,0,0,0,0\n0,0,1e308,0,0,0,10\n0,0,1,0,0,0,20\n")
+    with pytest.raises(mn.ParseError, match=r"imu.csv:2: column 3 \(az\): 1e308 g is out of range"):
+        mn.read_imu_csv(p)
+    with pytest.raises(ValueError, match=r"header_lines: must be >= 0, got -5"):
+        mn.read_imu_csv(p, header_lines=-5)
 
 
 # --- RTKLIB time tags and .pos --------------------------------------------
@@ -81,18 +99,62 @@ def test_time_tag_header_and_records():
     seconds, _ = struct.unpack_from("<Id", raw, 64)  # written by RTKLIB's strfile
     assert seconds == 1756402240  # 2025-08-28 17:30:40 GPST as a 1970-based count
     assert tag.start_gps_time == pytest.approx(1756402240 - 315964800 + 0.961, abs=1e-9)
-    assert len(tag.tick_ms) == 20
+    assert tag.start_tick_ms == struct.unpack_from("<I", raw, 60)[0]
+    assert len(tag.tick_ms) == (len(raw) - 76) // 8 == 16
     assert (tag.tick_ms[0], tag.file_offset[0]) == (113, 835)
-    assert (tag.tick_ms[1], tag.file_offset[1]) == (113, 841)
-    # Byte 900 was written by the record at offset 841 (tick 113 ms).
-    assert tag.arrival_gps_time(np.array([900]))[0] == pytest.approx(tag.start_gps_time + 0.113)
-    assert np.isnan(tag.arrival_gps_time(np.array([10]))[0])
+    assert (tag.tick_ms[2], tag.file_offset[2]) == (128, 943)
+    # RTKLIB records the file position after each write: bytes 0-834 came
+    # with the first write (tick 113 ms), byte 900 with the third (128 ms).
+    t = tag.arrival_gps_time(np.array([0, 834, 900, 10**6, -1]))
+    assert t[0] == t[1] == pytest.approx(tag.start_gps_time + 0.113)
+    assert t[2] == pytest.approx(tag.start_gps_time + 0.128)
+    assert np.isnan(t[3]) and np.isnan(t[4])
+
+
+def test_time_tags_count_the_crlf_line_ends_of_the_excerpts():
+    # The logger wrote CR LF; the files keep LF: a tag's last position is
+    # the file size plus its number of newlines.
+    for name, skip in [("walk_head.csv", True), ("drive_60s.csv", False)]:
+        raw = (EX / name).read_bytes()
+        tag = mn.read_time_tag(EX / f"{name}.tag")
+        assert tag.file_offset[-1] == len(raw) + raw.count(b"\n")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # walk_head's cut last line
+            log = mn.read_imu_csv(EX / name, skip_first_line=skip)
+        clock = mn.fit_tag_clock(log, tag)
+        assert clock.line_ends == "crlf_counted"
+        assert clock.tagged_samples == len(log)
+        # Every sample arrives after it was taken, at the minimum latency
+        # on the fitted line.
+        end = log.line_end_offset + 1 + log.line
+        lag = tag.arrival_gps_time(end - 1) - clock.gps_time
+        assert lag.min() == pytest.approx(0.0, abs=1e-6)
+        assert clock.arrival_lag_spread_s == pytest.approx(lag.max(), abs=1e-6)
+    # drive_60s: within 40 ms, the IMU clock within 100 ppm of the logger's.
+    assert clock.arrival_lag_spread_s < 0.04 and abs(clock.rate_ppm) < 100.0
+    gps, spread = mn.realdata.readers.gps_time_from_tag(log, tag)
+    np.testing.assert_array_equal(gps, clock.gps_time)
+    assert spread == clock.arrival_lag_spread_s
+    # Counted as LF alone the lines seem to arrive later and later (the
+    # "12.2 s drift" of the full drive): the rate says the tag is misread.
+    with pytest.warns(UserWarning, match=r"ppm off the logger's clock"):
+        wrong = mn.fit_tag_clock(log, tag, line_ends="as_in_file")
+    assert wrong.rate_ppm < -10_000.0
+    with pytest.raises(ValueError, match=r"line_ends: unknown convention 'lf'"):
+        mn.fit_tag_clock(log, tag, line_ends="lf")
+
+
+def test_time_tag_and_log_that_do_not_belong_together():
+    log = mn.read_imu_csv(EX / "drive_60s.csv")
+    tag = mn.read_time_tag(EX / "walk_head.csv.tag")
+    with pytest.raises(ValueError, match=r"tag: the time tag's last file position \(1916\) fits"):
+        mn.fit_tag_clock(log, tag)
 
 
 def test_time_tag_bad_file(tmp_path):
     p = tmp_path / "x.tag"
     p.write_bytes(b"NOT A TAG" + bytes(80))
-    with pytest.raises(mn.ParseError, match=r"x.tag:1: expected the header 'TIMETAG RTKLIB"):
+    with pytest.raises(mn.ParseError, match=r"x.tag: byte 0: expected the header 'TIMETAG RTKLIB"):
         mn.read_time_tag(p)
 
 
@@ -115,14 +177,16 @@ def test_pos_bad_and_cut_lines(tmp_path):
     text = (EX / "walk_head.pos").read_text()
     p = tmp_path / "cut.pos"
     p.write_text(text[:-40])
-    with pytest.warns(UserWarning, match=r"cut.pos:\d+: last line cut short"):
+    with pytest.warns(UserWarning, match=r"cut.pos:\d+: last line cut short \(no end of line"):
         sol = mn.read_pos(p)
     assert len(sol.gps_time) == len(mn.read_pos(EX / "walk_head.pos").gps_time) - 1
     lines = text.splitlines()
     k = next(i for i, s in enumerate(lines) if not s.startswith("%"))
     lines[k + 1] = lines[k + 1].replace("1601.", "16x1.")
     p.write_text("\n".join(lines) + "\n")
-    with pytest.raises(mn.ParseError, match=rf"cut.pos:{k + 2}: expected 'yyyy/mm/dd"):
+    with pytest.raises(
+        mn.ParseError, match=rf"cut.pos:{k + 2}: field 5 \(height\(m\)\): expected a finite number"
+    ):
         mn.read_pos(p)
 
 

@@ -43,6 +43,7 @@ from memsnav._memsnav import (
     imu_increments,
     invert_accelerometer,
     invert_gyroscope,
+    mounting_matrix,
     navigate_log,
     navigate_settings,
     read_klobuchar,
@@ -63,7 +64,22 @@ from memsnav.calibration import (
 )
 from memsnav.realdata.config import load_config
 from memsnav.realdata.pipeline import NavigationResult, navigate
-from memsnav.realdata.readers import read_imu_csv, read_pos, read_time_tag
+from memsnav.realdata.readers import (
+    ImuLog,
+    PosSolution,
+    TagClock,
+    TimeTag,
+    fit_tag_clock,
+    read_imu_csv,
+    read_pos,
+    read_time_tag,
+)
+from memsnav.realdata.timing import (
+    TimeOffsetEstimate,
+    VelocityLatencyEstimate,
+    estimate_time_offset,
+    estimate_velocity_latency,
+)
 
 __all__ = [
     "AccelerometerModel",
@@ -75,6 +91,7 @@ __all__ = [
     "GnssMeasurements",
     "GyroscopeModel",
     "ImuCalibration",
+    "ImuLog",
     "ImuModel",
     "LogRun",
     "LooselyCoupledFilter",
@@ -82,13 +99,18 @@ __all__ = [
     "NavSolution",
     "NavigationResult",
     "ParseError",
+    "PosSolution",
     "PositionFixes",
     "RinexObservations",
     "Sp3",
     "StaticCalibration",
+    "TagClock",
     "TightlyCoupledFilter",
+    "TimeOffsetEstimate",
+    "TimeTag",
     "Trajectory",
     "UnobservableError",
+    "VelocityLatencyEstimate",
     "__version__",
     "allan_deviation",
     "calibrate_accelerometer",
@@ -96,7 +118,10 @@ __all__ = [
     "calibrate_static",
     "ecef_to_geodetic",
     "ecef_to_ned",
+    "estimate_time_offset",
+    "estimate_velocity_latency",
     "experiments",
+    "fit_tag_clock",
     "fixes_from_solution",
     "geodetic_to_ecef",
     "gravity_ecef",
@@ -105,6 +130,7 @@ __all__ = [
     "invert_gyroscope",
     "load_calibration",
     "load_config",
+    "mounting_matrix",
     "navigate",
     "navigate_log",
     "navigate_settings",

@@ -1304,6 +1304,11 @@ def navigate_settings() -> dict[str, dict[str, str]]:
     """The tables and keys ``navigate_log(settings=...)`` reads (the engine's
     part of a ``navigate`` configuration), each with what it holds."""
 
+def mounting_matrix(rpy_deg: Sequence[Sequence[float]]) -> npt.NDArray[np.float64]:
+    """C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
+    triples in degrees applied in order (``[imu] mounting_rpy_deg``):
+    f_b = C(last) ··· C(first) f_s, (3, 3)."""
+
 def check_navigate_settings(settings: dict[str, dict[str, Any]]) -> None:
     """Checks ``settings`` as ``navigate_log`` would, without data; ValueError
     naming ``table.key`` for an unknown key or a bad value."""
@@ -1458,3 +1463,237 @@ def navigate_log(
     configuration (``navigate_settings()`` lists them; left-out keys keep the
     engine's defaults). ``duration_s`` stops that long after the start.
     See docs/real-data.md."""
+
+# --- real logs: readers, writers and time alignment (memsnav_core::logs, ::timing) ---
+
+@final
+class ImuLog:
+    """IMU samples read from a CSV log, SI units, sensor axes."""
+
+    @property
+    def time(self) -> npt.NDArray[np.float64]:
+        """The log's own clock, s, (N,)."""
+
+    @property
+    def specific_force(self) -> npt.NDArray[np.float64]:
+        """Specific force, m/s², (N, 3)."""
+
+    @property
+    def angular_rate(self) -> npt.NDArray[np.float64]:
+        """Angular rate, rad/s, (N, 3)."""
+
+    @property
+    def line(self) -> npt.NDArray[np.int64]:
+        """The 1-based line of each sample, (N,)."""
+
+    @property
+    def line_end_offset(self) -> npt.NDArray[np.int64]:
+        """Byte offset of each sample line's newline, (N,)."""
+
+    @property
+    def file_bytes(self) -> int:
+        """Size of the file, bytes."""
+
+    @property
+    def newline_count(self) -> int:
+        """Newline characters in the file."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Lines skipped and implausible contents, one sentence each."""
+
+    def __len__(self) -> int: ...
+
+def read_imu_csv(
+    path: str | os.PathLike[str],
+    columns: Sequence[str],
+    accel_unit: str,
+    gyro_unit: str,
+    time_unit: str,
+    skip_first_line: bool,
+    header_lines: int,
+) -> ImuLog:
+    """Reads an IMU CSV log with a declared layout (see memsnav.read_imu_csv)."""
+
+@final
+class TimeTag:
+    """An RTKLIB time-tag file."""
+
+    @property
+    def start_gps_time(self) -> float:
+        """GPS time of the log's opening, s since 1980-01-06."""
+
+    @property
+    def start_tick_ms(self) -> int:
+        """The logger's absolute tick at the opening, ms."""
+
+    @property
+    def tick_ms(self) -> npt.NDArray[np.float64]:
+        """Per write: ms since the opening, (M,)."""
+
+    @property
+    def file_offset(self) -> npt.NDArray[np.int64]:
+        """Per write: size of the log after it, bytes, (M,)."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """A cut last record, one sentence."""
+
+    def arrival_gps_time(self, byte_offset: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """GPS time at which the write holding each byte began; NaN past the
+        last tagged write or for a negative offset."""
+
+    def __len__(self) -> int: ...
+
+def read_time_tag(path: str | os.PathLike[str]) -> TimeTag:
+    """Reads an RTKLIB .tag file (see memsnav.read_time_tag)."""
+
+@final
+class TagClock:
+    """The GPS times of a log's samples from its time tag, and how they were found."""
+
+    @property
+    def gps_time(self) -> npt.NDArray[np.float64]:
+        """GPS time of every sample, s since 1980-01-06, (N,)."""
+
+    @property
+    def offset_s(self) -> float:
+        """GPS time minus IMU time at the first sample, s."""
+
+    @property
+    def rate_ppm(self) -> float:
+        """Rate of the mapped time against the IMU clock, minus one, ppm."""
+
+    @property
+    def arrival_lag_spread_s(self) -> float:
+        """Largest arrival lag above the fitted line, s (the logger's buffering)."""
+
+    @property
+    def line_ends(self) -> str:
+        """How the tag counted line ends: "as_in_file" or "crlf_counted"."""
+
+    @property
+    def tagged_samples(self) -> int:
+        """Samples inside the tagged part of the log."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Implausible results, one sentence each."""
+
+def fit_tag_clock(imu: ImuLog, tag: TimeTag, line_ends: str | None) -> TagClock:
+    """Maps the IMU clock to GPS time with the log's time tag (see memsnav.fit_tag_clock)."""
+
+@final
+class PosSolution:
+    """An RTKLIB solution in geodetic form."""
+
+    @property
+    def gps_time(self) -> npt.NDArray[np.float64]:
+        """Epochs, GPS s since 1980-01-06, (N,)."""
+
+    @property
+    def lla(self) -> npt.NDArray[np.float64]:
+        """[latitude rad, longitude rad, ellipsoidal height m], (N, 3)."""
+
+    @property
+    def quality(self) -> npt.NDArray[np.int64]:
+        """RTKLIB's Q (1 fix, 2 float, 5 single, ...), (N,)."""
+
+    @property
+    def n_satellites(self) -> npt.NDArray[np.int64]:
+        """Satellites used, (N,)."""
+
+    @property
+    def std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma position uncertainty N, E, D, m, (N, 3)."""
+
+    @property
+    def velocity_ned(self) -> npt.NDArray[np.float64]:
+        """NED velocity, m/s, (N, 3); NaN when the file has none."""
+
+    @property
+    def velocity_std_ned(self) -> npt.NDArray[np.float64]:
+        """One-sigma velocity uncertainty N, E, D, m/s, (N, 3); NaN likewise."""
+
+    @property
+    def warnings(self) -> list[str]:
+        """Lines skipped, one sentence each."""
+
+    def __len__(self) -> int: ...
+
+def read_pos(path: str | os.PathLike[str]) -> PosSolution:
+    """Reads an RTKLIB .pos file (see memsnav.read_pos)."""
+
+def write_pos(
+    path: str | os.PathLike[str],
+    gps_time: npt.ArrayLike,
+    lla: npt.ArrayLike,
+    std_ned: npt.ArrayLike,
+    velocity_ned: npt.ArrayLike,
+    velocity_std_ned: npt.ArrayLike,
+    quality: int,
+    n_satellites: npt.ArrayLike,
+    program: str,
+) -> None:
+    """Writes an RTKLIB-compatible .pos (see memsnav.realdata.readers.write_pos)."""
+
+@final
+class LagEstimate:
+    """A lag found by a search: the best lag, its score and spread, the curve."""
+
+    @property
+    def lag_s(self) -> float:
+        """The refined best lag, s."""
+
+    @property
+    def score(self) -> float:
+        """The score there: the correlation, or the RMS difference."""
+
+    @property
+    def curvature(self) -> float:
+        """Second derivative of the correlation (or mean square) at the best lag, per s²."""
+
+    @property
+    def std_s(self) -> float:
+        """Standard error of the lag from its spread over the blocks, s."""
+
+    @property
+    def block_lag_s(self) -> npt.NDArray[np.float64]:
+        """Best lag of each consecutive block of the data, s."""
+
+    @property
+    def curve_lag_s(self) -> npt.NDArray[np.float64]:
+        """The searched lags, s."""
+
+    @property
+    def curve_score(self) -> npt.NDArray[np.float64]:
+        """The score at each searched lag."""
+
+    @property
+    def samples(self) -> int:
+        """Epochs that entered the score."""
+
+def estimate_time_offset(
+    imu_time: npt.ArrayLike,
+    specific_force: npt.ArrayLike,
+    angular_rate: npt.ArrayLike,
+    gnss_time: npt.ArrayLike,
+    lla: npt.ArrayLike,
+    signal: str,
+    max_offset_s: float,
+    step_s: float,
+    min_speed_m_s: float,
+    blocks: int,
+) -> LagEstimate:
+    """The offset to add to IMU times (see memsnav.estimate_time_offset)."""
+
+def estimate_velocity_latency(
+    gnss_time: npt.ArrayLike,
+    lla: npt.ArrayLike,
+    velocity_ned: npt.ArrayLike,
+    max_latency_s: float,
+    step_s: float,
+    blocks: int,
+) -> LagEstimate:
+    """The latency of a GNSS velocity behind its positions
+    (see memsnav.estimate_velocity_latency)."""

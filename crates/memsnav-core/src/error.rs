@@ -32,6 +32,15 @@ pub enum Error {
         reason: String,
     },
 
+    /// A binary file could not be parsed; `byte_offset` is where the bad
+    /// field starts.
+    #[error("{file}: byte {byte_offset}: {reason}")]
+    ParseBinary {
+        file: String,
+        byte_offset: u64,
+        reason: String,
+    },
+
     /// The operating system refused a file operation.
     #[error("{path}: {reason}")]
     Io { path: String, reason: String },

@@ -27,10 +27,12 @@ pub mod geodesy;
 pub mod gnss;
 pub mod ins;
 pub mod inversion;
+pub mod logs;
 pub mod montecarlo;
 pub mod navigate;
 pub mod random;
 pub mod sensors;
+pub mod timing;
 pub mod trajectory;
 pub mod validate;
 

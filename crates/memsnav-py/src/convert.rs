@@ -129,6 +129,22 @@ pub fn matrices3(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Matrix3
         .collect())
 }
 
+/// An `(N, 3)` array as N vectors, NaN allowed (the core names what a NaN
+/// means for the argument).
+pub fn vectors_allowing_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Vector3<f64>>> {
+    let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
+    })?;
+    if array.shape().len() != 2 || array.shape()[1] != 3 {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (N, 3), got {:?}",
+            array.shape()
+        )));
+    }
+    let values: Vec<f64> = array.as_array().iter().copied().collect();
+    Ok(to_vectors(&values))
+}
+
 /// A 1-D array.
 pub fn scalars(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<f64>> {
     let f = floats(obj, argument)?;

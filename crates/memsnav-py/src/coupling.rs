@@ -109,8 +109,13 @@ pub(crate) fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
         for j in 0..n {
             let i = k * n + j;
             let id = sat_id[i];
-            if !(id.is_finite() && id >= 0.0) {
-                continue;
+            if id.is_nan() {
+                return Err(PyValueError::new_err(format!(
+                    "gnss: sat_id[{k}, {j}] is NaN: mark an empty slot with a negative number"
+                )));
+            }
+            if id < 0.0 {
+                continue; // padding
             }
             if id > u16::MAX as f64 || id.fract() != 0.0 {
                 return Err(PyValueError::new_err(format!(

@@ -37,7 +37,7 @@ pub fn to_py(error: Error) -> PyErr {
         Error::InvalidArgument { .. } => PyValueError::new_err(message),
         Error::Unobservable { .. } => UnobservableError::new_err(message),
         Error::Divergence { .. } => DivergenceError::new_err(message),
-        Error::Parse { .. } => ParseError::new_err(message),
+        Error::Parse { .. } | Error::ParseBinary { .. } => ParseError::new_err(message),
         Error::Io { .. } => PyOSError::new_err(message),
         Error::Interrupted => PyKeyboardInterrupt::new_err(message),
     }

@@ -13,6 +13,7 @@ mod gnss;
 mod ins;
 mod inversion;
 mod log_navigation;
+mod logs;
 mod navigation;
 mod progress;
 mod sensors;
@@ -35,5 +36,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     coupling::register(m)?;
     navigation::register(m)?;
     log_navigation::register(m)?;
+    logs::register(m)?;
     Ok(())
 }

@@ -87,6 +87,19 @@ fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     Ok(d)
 }
 
+/// C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
+/// triples in degrees applied in order (`[imu] mounting_rpy_deg`):
+/// f_b = C(last) ··· C(first) f_s, (3, 3).
+#[pyfunction]
+fn mounting_matrix<'py>(
+    py: Python<'py>,
+    rpy_deg: Vec<[f64; 3]>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let rad: Vec<[f64; 3]> = rpy_deg.iter().map(|t| t.map(f64::to_radians)).collect();
+    let c = navigate::mounting_matrix(&rad).py()?;
+    Ok(convert::matrix3_to_numpy(py, &c))
+}
+
 /// Checks `settings` (`{table: {key: value}}`) as `navigate_log` would,
 /// without data: unknown tables or keys, values of the wrong kind or out of
 /// range raise `ValueError` naming `table.key`.
@@ -475,6 +488,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(navigate_log, m)?)?;
     m.add_function(wrap_pyfunction!(navigate_settings, m)?)?;
     m.add_function(wrap_pyfunction!(check_navigate_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(mounting_matrix, m)?)?;
     m.add_function(wrap_pyfunction!(fixes_from_solution, m)?)?;
     m.add_class::<PyLogRun>()?;
     m.add_class::<PyPositionFixes>()?;

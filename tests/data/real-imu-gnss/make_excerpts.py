@@ -3,12 +3,19 @@
 
 - ``walk_head.*``: the first lines/records/epochs of the walk_0827 files,
   byte for byte (reader tests), ``walk.nav`` the whole navigation file.
-- ``drive_60s.csv``: 65 s of raw drive_0708 IMU lines around the first
-  motion, byte for byte; ``drive_60s.csv.tag``: the original tag header
-  and one record (tick, offset 0) that gives the excerpt's first line the
-  GPS time the full log's tag assigns it (RTKLIB tags are relative to the
-  start of the whole file, so a cut file needs its own);
-  ``drive_60s.pos``: the RTK solution over the same span.
+- ``walk_40s.*``: the first 40 s of the walk (9 s at rest, then walking),
+  byte for byte: IMU lines, their tag records, the RINEX observations and
+  the RTK solution over the same span (tight coupling from a static start).
+- ``drive_60s.csv``: lines 3379-9878 of drive_0708's IMU log, byte for
+  byte: 65 s from 5 s before the first motion; ``drive_60s.pos``: the RTK
+  solution over the same span (±1 s).
+- ``*.csv.tag``: the original tag's header (start time and ticks stay
+  relative to the opening of the whole log) and the records of the
+  excerpt's bytes, their file positions made relative to the excerpt's
+  first byte, the last cut at the excerpt's end. Positions count the CR LF
+  line ends the logger wrote (the CSV files are stored with LF), so a tag
+  ends at the excerpt's size plus its number of newlines, like the full
+  logs' tags.
 """
 
 import struct
@@ -21,11 +28,29 @@ from memsnav.realdata import readers
 
 root = Path(sys.argv[1]) / "real-imu-gnss"
 here = Path(__file__).parent
+
+
+def excerpt_tag(tag: bytes, log: bytes, first_line: int, excerpt: bytes) -> bytes:
+    """The records of ``excerpt`` (starting at 1-based ``first_line`` of
+    ``log``), positions relative to its first byte and counted with CR LF."""
+    start = sum(len(s) + 2 for s in log.split(b"\n")[: first_line - 1])
+    end = start + len(excerpt) + excerpt.count(b"\n")
+    out = bytearray(tag[:76])
+    for tick, offset in struct.iter_unpack("<II", tag[76 : 76 + (len(tag) - 76) // 8 * 8]):
+        if offset > start:
+            out += struct.pack("<II", tick, min(offset, end) - start)
+        if offset >= end:
+            break
+    return bytes(out)
+
+
 walk = root / "walk_0827"
-(here / "walk_head.csv").write_bytes(
-    b"\n".join((walk / "imu_1730.csv").read_bytes().split(b"\n")[:40]) + b"\n0.01"
+walk_log = (walk / "imu_1730.csv").read_bytes()
+walk_head = b"\n".join(walk_log.split(b"\n")[:40]) + b"\n0.01"
+(here / "walk_head.csv").write_bytes(walk_head)
+(here / "walk_head.csv.tag").write_bytes(
+    excerpt_tag((walk / "imu_1730.csv.tag").read_bytes(), walk_log, 1, walk_head)
 )
-(here / "walk_head.csv.tag").write_bytes((walk / "imu_1730.csv.tag").read_bytes()[: 76 + 8 * 20])
 obs = (walk / "gnss_1730.obs").read_text().splitlines(keepends=True)
 end = [i for i, s in enumerate(obs) if s.startswith(">")][4]
 (here / "walk_head.obs").write_text("".join(obs[:end]))
@@ -34,20 +59,18 @@ pos = (walk / "gnss_1730_sf.pos").read_text().splitlines(keepends=True)
 (here / "walk_head.pos").write_text("".join(pos[:30]))
 
 drive = root / "drive_0708"
-log = readers.read_imu_csv(drive / "imu_1934.csv", skip_first_line=True)
-tag = readers.read_time_tag(drive / "imu_1934.csv.tag")
-gps, _ = readers.gps_time_from_tag(log, tag)
-sol = readers.read_pos(drive / "gnss_1934_sf.pos")
-t_move = sol.gps_time[np.argmax(np.hypot(sol.velocity_ned[:, 0], sol.velocity_ned[:, 1]) > 3.0)]
-sel = np.nonzero((gps >= t_move - 5.0) & (gps <= t_move + 60.0))[0]
-lines = (drive / "imu_1934.csv").read_bytes().split(b"\n")
-chunk = b"\n".join(lines[log.line[sel[0]] - 1 : log.line[sel[-1]]]) + b"\n"
+first, last = 3379, 9878
+drive_log = (drive / "imu_1934.csv").read_bytes()
+chunk = b"\n".join(drive_log.split(b"\n")[first - 1 : last]) + b"\n"
 (here / "drive_60s.csv").write_bytes(chunk)
-raw = (drive / "imu_1934.csv.tag").read_bytes()
-# First line's newline is at its length; it arrives at the mapped time.
-tick = round((gps[sel[0]] - tag.start_gps_time) * 1000.0)
-(here / "drive_60s.csv.tag").write_bytes(raw[:76] + struct.pack("<II", tick, 0))
-keep = (sol.gps_time >= gps[sel[0]] - 1.0) & (sol.gps_time <= gps[sel[-1]] + 1.0)
+(here / "drive_60s.csv.tag").write_bytes(
+    excerpt_tag((drive / "imu_1934.csv.tag").read_bytes(), drive_log, first, chunk)
+)
+log = readers.read_imu_csv(drive / "imu_1934.csv", skip_first_line=True)
+gps, _ = readers.gps_time_from_tag(log, readers.read_time_tag(drive / "imu_1934.csv.tag"))
+span = gps[np.isin(log.line, [first, last])]
+sol = readers.read_pos(drive / "gnss_1934_sf.pos")
+keep = (sol.gps_time >= span[0] - 1.0) & (sol.gps_time <= span[1] + 1.0)
 pos = (drive / "gnss_1934_sf.pos").read_text().splitlines(keepends=True)
 head = [s for s in pos if s.startswith("%")]
 body = [s for s in pos if not s.startswith("%")]
@@ -60,22 +83,20 @@ body = [s for s in pos if not s.startswith("%")]
 # observations and the RTK solution over the same span (tight coupling from
 # a static start).
 imu_log = readers.read_imu_csv(walk / "imu_1730.csv", skip_first_line=True)
-walk_tag = readers.read_time_tag(walk / "imu_1730.csv.tag")
-walk_gps, _ = readers.gps_time_from_tag(imu_log, walk_tag)
+walk_gps, _ = readers.gps_time_from_tag(imu_log, readers.read_time_tag(walk / "imu_1730.csv.tag"))
 end_line = int(imu_log.line[np.searchsorted(walk_gps, walk_gps[0] + 40.0)])
-walk_lines = (walk / "imu_1730.csv").read_bytes().split(b"\n")
-walk_csv = b"\n".join(walk_lines[:end_line]) + b"\n"
+walk_csv = b"\n".join(walk_log.split(b"\n")[:end_line]) + b"\n"
 (here / "walk_40s.csv").write_bytes(walk_csv)
-walk_raw = (walk / "imu_1730.csv.tag").read_bytes()
-records = np.frombuffer(walk_raw[76:], dtype="<u4").reshape(-1, 2)
-n_records = int(np.searchsorted(records[:, 1], len(walk_csv), side="right"))
-(here / "walk_40s.csv.tag").write_bytes(walk_raw[: 76 + 8 * n_records])
+(here / "walk_40s.csv.tag").write_bytes(
+    excerpt_tag((walk / "imu_1730.csv.tag").read_bytes(), walk_log, 1, walk_csv)
+)
 
 
 def rinex_epoch_gps_seconds(line: str) -> float:
     """GPS seconds of a RINEX 3 epoch line ``> yyyy mm dd hh mm ss.sssssss ...``."""
-    y, mo, d, hh, mm, ss = line[1:].split()[:6]
-    return readers._gps_seconds(f"{y}/{mo}/{d}", f"{hh}:{mm}:{ss}")
+    y, mo, d, hh, mm, ss = (float(v) for v in line[1:].split()[:6])
+    day = np.datetime64(f"{int(y):04d}-{int(mo):02d}-{int(d):02d}") - np.datetime64("1980-01-06")
+    return day.astype(int) * 86400.0 + hh * 3600.0 + mm * 60.0 + ss
 
 
 t_end = walk_gps[0] + 40.0

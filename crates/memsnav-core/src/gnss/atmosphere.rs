@@ -96,6 +96,22 @@ pub fn saastamoinen_delay_m(
     hydrostatic + wet
 }
 
+/// Largest |α_n| the navigation message can carry (8 signed bits × 2⁻³⁰,
+/// 2⁻²⁷, 2⁻²⁴, 2⁻²⁴ s/semicircleⁿ; IS-GPS-200 table 20-X), s.
+const ALPHA_LIMITS: [f64; 4] = [
+    128.0 * 9.313_225_746_154_785e-10,
+    128.0 * 7.450_580_596_923_828e-9,
+    128.0 * 5.960_464_477_539_063e-8,
+    128.0 * 5.960_464_477_539_063e-8,
+];
+/// Largest |β_n| (8 signed bits × 2¹¹, 2¹⁴, 2¹⁶, 2¹⁶ s/semicircleⁿ), s.
+const BETA_LIMITS: [f64; 4] = [
+    128.0 * 2048.0,
+    128.0 * 16384.0,
+    128.0 * 65536.0,
+    128.0 * 65536.0,
+];
+
 /// The Klobuchar coefficients in a RINEX navigation header: `ION ALPHA` /
 /// `ION BETA` (RINEX 2) or `IONOSPHERIC CORR` `GPSA` / `GPSB` (RINEX 3);
 /// `None` when the header has neither.
@@ -106,21 +122,26 @@ pub fn read_klobuchar(path: impl AsRef<Path>) -> Result<Option<Klobuchar>> {
         path: file.clone(),
         reason: e.to_string(),
     })?;
-    let text = String::from_utf8_lossy(&text);
+    parse_klobuchar(&String::from_utf8_lossy(&text), &file)
+}
+
+/// [`read_klobuchar`] on the text of a navigation file; `file` names it in errors.
+pub fn parse_klobuchar(text: &str, file: &str) -> Result<Option<Klobuchar>> {
+    let file = file.to_string();
     let (mut alpha, mut beta) = (None, None);
     for (k, line) in text.lines().enumerate() {
         let label = line.get(60..).unwrap_or("").trim_end();
         if label == "END OF HEADER" {
             break;
         }
-        let (target, start) = match label {
-            "ION ALPHA" => (&mut alpha, 2),
-            "ION BETA" => (&mut beta, 2),
-            "IONOSPHERIC CORR" if line.starts_with("GPSA") => (&mut alpha, 5),
-            "IONOSPHERIC CORR" if line.starts_with("GPSB") => (&mut beta, 5),
+        let (target, start, limits) = match label {
+            "ION ALPHA" => (&mut alpha, 2, ALPHA_LIMITS),
+            "ION BETA" => (&mut beta, 2, BETA_LIMITS),
+            "IONOSPHERIC CORR" if line.starts_with("GPSA") => (&mut alpha, 5, ALPHA_LIMITS),
+            "IONOSPHERIC CORR" if line.starts_with("GPSB") => (&mut beta, 5, BETA_LIMITS),
             _ => continue,
         };
-        let mut v = [0.0; 4];
+        let mut v = [0.0_f64; 4];
         for (j, x) in v.iter_mut().enumerate() {
             let f = line.get(start + 12 * j..start + 12 * (j + 1)).unwrap_or("");
             *x = f
@@ -138,6 +159,18 @@ pub fn read_klobuchar(path: impl AsRef<Path>) -> Result<Option<Klobuchar>> {
                         f.trim()
                     ),
                 })?;
+        }
+        for (j, (&x, limit)) in v.iter().zip(limits).enumerate() {
+            if x.is_nan() || x.abs() > limit {
+                return Err(Error::Parse {
+                    file: file.clone(),
+                    line: k + 1,
+                    reason: format!(
+                        "Klobuchar coefficient {} of {label} = {x:e} is out of range (±{limit:e}): not a value the GPS navigation message can carry",
+                        j + 1
+                    ),
+                });
+            }
         }
         *target = Some(v);
     }

@@ -21,14 +21,14 @@ mod sp3;
 mod time;
 mod walker;
 
-pub use atmosphere::{read_klobuchar, saastamoinen_delay_m, Klobuchar};
+pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
 pub use clock::{ClockState, ReceiverClockModel};
 pub use constellation::{Constellation, Orbit, SatelliteState, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
 pub use fix::{solve_fix, Dops, Fix};
 pub use observables::{gps_l1_epochs, ObservableOptions, GPS_L1_WAVELENGTH_M};
 pub use range::{predicted_range, RangePrediction};
-pub use rinex_nav::read_rinex_nav;
+pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
@@ -36,8 +36,11 @@ pub use simulate::{
     simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage, ReceiverTrack,
     SimulationConfig,
 };
-pub use sp3::{read_sp3, Sp3};
-pub use time::{gps_time_from_calendar, SECONDS_PER_WEEK};
+pub use sp3::{parse_sp3, read_sp3, Sp3};
+pub use time::{
+    calendar_from_gps_time, checked_gps_time_from_calendar, gps_time_from_calendar, CALENDAR_YEARS,
+    SECONDS_PER_WEEK,
+};
 pub use walker::{Walker, WalkerConfig};
 
 use nalgebra::Vector3;

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::ephemeris::GpsEphemeris;
-use super::time::{gps_time_from_calendar, SECONDS_PER_WEEK};
+use super::time::{checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
 /// Reads every GPS ephemeris of a RINEX 2 or 3 navigation file, in file order.
@@ -87,6 +87,15 @@ impl Cursor<'_> {
     }
 }
 
+/// A GPS PRN, 1-63 (two digits in RINEX; 1-32 in use).
+fn satellite_prn(cur: &Cursor<'_>, k: usize, prn: i64) -> Result<u16> {
+    if (1..=63).contains(&prn) {
+        Ok(prn as u16)
+    } else {
+        Err(cur.error(k, format!("satellite PRN {prn} is out of range (1-63)")))
+    }
+}
+
 /// A real number in Fortran or C notation (`0.12D+02`, `-.5E-3`, `12`).
 fn parse_number(field: &str) -> Option<f64> {
     if field.is_empty()
@@ -134,12 +143,55 @@ const ORBIT_NAMES: [&str; 29] = [
     "fit interval",
 ];
 
+/// The range of each broadcast value, from the bits and scale factors of
+/// its field in the navigation message (IS-GPS-200 tables 20-I, 20-III):
+/// a value outside cannot have been broadcast. Angles in semicircles in
+/// the message are radians in RINEX; `None`: no limit (spares, flags).
+const ORBIT_RANGES: [Option<(f64, f64)>; 29] = {
+    const PI: f64 = std::f64::consts::PI;
+    const fn sym(x: f64) -> Option<(f64, f64)> {
+        Some((-x, x))
+    }
+    [
+        sym(9.765_625e-4),         // a_f0: 22 bits × 2⁻³¹ s
+        sym(3.725_290_3e-9),       // a_f1: 16 bits × 2⁻⁴³ s/s
+        sym(3.552_713_7e-15),      // a_f2: 8 bits × 2⁻⁵⁵ s/s²
+        Some((0.0, 1023.0)),       // IODE (8 bits; 10 in RINEX 3 files of IODC)
+        sym(1024.0),               // Crs: 16 bits × 2⁻⁵ m
+        sym(3.725_290_3e-9 * PI),  // Δn: 16 bits × 2⁻⁴³ semicircles/s
+        sym(PI),                   // M0: 32 bits × 2⁻³¹ semicircles
+        sym(6.103_515_7e-5),       // Cuc: 16 bits × 2⁻²⁹ rad
+        Some((0.0, 0.5)),          // e: 32 bits unsigned × 2⁻³³
+        sym(6.103_515_7e-5),       // Cus
+        Some((2530.0, 8192.0)),    // √A, √m (the ICD's range)
+        Some((0.0, 604_800.0)),    // t_oe, s of the week
+        sym(6.103_515_7e-5),       // Cic
+        sym(PI),                   // Ω0
+        sym(6.103_515_7e-5),       // Cis
+        sym(PI),                   // i0
+        sym(1024.0),               // Crc
+        sym(PI),                   // ω
+        sym(9.536_743_2e-7 * PI),  // Ω̇: 24 bits × 2⁻⁴³ semicircles/s
+        sym(9.313_225_8e-10 * PI), // IDOT: 14 bits × 2⁻⁴³ semicircles/s
+        None,                      // codes on L2
+        Some((0.0, 9999.0)),       // GPS week (continuous in RINEX)
+        None,                      // L2 P flag
+        None,                      // SV accuracy
+        Some((0.0, 63.0)),         // SV health (6 bits)
+        sym(5.960_464_5e-8),       // T_GD: 8 bits × 2⁻³¹ s
+        Some((0.0, 1023.0)),       // IODC (10 bits)
+        None,                      // transmission time
+        Some((0.0, 1000.0)),       // fit interval, h
+    ]
+};
+
 /// Values a file may leave blank (spares, flags, the fit interval).
 fn may_be_blank(index: usize) -> bool {
     matches!(index, 3 | 20 | 22 | 23 | 26 | 27 | 28)
 }
 
-fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
+/// Parses the text of a RINEX 2 or 3 navigation file; `file` names it in errors.
+pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     let cur = Cursor {
         file,
         lines: text.lines().collect(),
@@ -202,7 +254,7 @@ fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
         let prn: u16;
         let (year, month, day, hour, minute, second);
         if major == 2 {
-            prn = cur.integer(k, 0, 2, "satellite PRN")? as u16;
+            prn = satellite_prn(&cur, k, cur.integer(k, 0, 2, "satellite PRN")?)?;
             let yy = cur.integer(k, 2, 3, "year")?;
             year = if yy < 80 {
                 2000 + yy
@@ -229,7 +281,7 @@ fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
                 }
                 continue;
             }
-            prn = cur.integer(k, 1, 2, "satellite PRN")? as u16;
+            prn = satellite_prn(&cur, k, cur.integer(k, 1, 2, "satellite PRN")?)?;
             year = cur.integer(k, 3, 5, "year")?;
             month = cur.integer(k, 8, 3, "month")?;
             day = cur.integer(k, 11, 3, "day")?;
@@ -237,17 +289,8 @@ fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
             minute = cur.integer(k, 17, 3, "minute")?;
             second = cur.number(k, 20, 3, "second")?;
         }
-        if !(1..=12).contains(&month)
-            || !(1..=31).contains(&day)
-            || !(0..=23).contains(&hour)
-            || !(0..=59).contains(&minute)
-            || !(0.0..61.0).contains(&second)
-        {
-            return Err(cur.error(
-                k,
-                "epoch out of range: expected year month day hour minute second",
-            ));
-        }
+        let toc = checked_gps_time_from_calendar(year, month, day, hour, minute, second)
+            .map_err(|reason| cur.error(k, format!("epoch of G{prn:02}: {reason}")))?;
         let mut values = [0.0_f64; 29];
         let mut blank = [false; 29];
         for (j, (v, b)) in values.iter_mut().zip(blank.iter_mut()).enumerate().take(3) {
@@ -304,17 +347,27 @@ fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
                 ),
             ));
         }
-        let toc = gps_time_from_calendar(year, month, day, hour, minute, second);
+        for (index, value) in values.iter().enumerate() {
+            let Some((low, high)) = ORBIT_RANGES[index] else {
+                continue;
+            };
+            if !blank[index] && !(low..=high).contains(value) {
+                let line = start + if index < 3 { 0 } else { 1 + (index - 3) / 4 };
+                return Err(cur.error(
+                    line,
+                    format!(
+                        "{} = {value:e} for G{prn:02} is out of range ({low:e} to {high:e}): not a value the GPS navigation message can carry",
+                        ORBIT_NAMES[index]
+                    ),
+                ));
+            }
+        }
         // t_oe is seconds of the week given in the record; put it in the
         // week that brings it within half a week of t_oc (handles records
-        // whose week number belongs to t_oc across a week boundary).
-        let mut toe = values[21] * SECONDS_PER_WEEK + values[11];
-        while toe - toc > SECONDS_PER_WEEK / 2.0 {
-            toe -= SECONDS_PER_WEEK;
-        }
-        while toc - toe > SECONDS_PER_WEEK / 2.0 {
-            toe += SECONDS_PER_WEEK;
-        }
+        // whose week number belongs to t_oc across a week boundary). The
+        // ranges above bound the weeks to move by, so no loop is needed.
+        let toe = values[21] * SECONDS_PER_WEEK + values[11];
+        let toe = toe - ((toe - toc) / SECONDS_PER_WEEK).round() * SECONDS_PER_WEEK;
         out.push(GpsEphemeris {
             prn,
             toc_gps_s: toc,

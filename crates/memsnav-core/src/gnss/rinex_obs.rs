@@ -10,7 +10,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::time::gps_time_from_calendar;
+use super::time::checked_gps_time_from_calendar;
 use crate::{Error, Result};
 
 /// One satellite's observations at one epoch.
@@ -72,6 +72,33 @@ pub fn read_rinex_obs(path: impl AsRef<Path>) -> Result<ObservationFile> {
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),
     )
+}
+
+/// Largest |APPROX POSITION XYZ| accepted, m (beyond geostationary orbit).
+const MAX_APPROX_POSITION_M: f64 = 1e8;
+
+/// Values an observation of type `code` can take (RINEX 3.05 §5.7): code
+/// pseudoranges 0-1e8 m (beyond geostationary range plus a 1 ms receiver
+/// clock error), carrier phases and other types up to the F14.3 field's
+/// 1e10, Dopplers ±1 MHz, signal strengths 0-200 dB-Hz.
+fn observation_range(code: &str) -> std::ops::RangeInclusive<f64> {
+    match code.as_bytes().first() {
+        Some(b'C') => 0.0..=1e8,
+        Some(b'D') => -1e6..=1e6,
+        Some(b'S') => 0.0..=200.0,
+        _ => -1e10..=1e10,
+    }
+}
+
+/// The accepted range and unit of `code`, in words.
+fn observation_range_text(code: &str) -> &'static str {
+    match code.as_bytes().first() {
+        Some(b'C') => "0 to 1e8 m",
+        Some(b'L') => "±1e10 cycles",
+        Some(b'D') => "±1e6 Hz",
+        Some(b'S') => "0 to 200 dB-Hz",
+        _ => "±1e10",
+    }
 }
 
 fn label(line: &str) -> &str {
@@ -185,7 +212,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 pending = (list.len() < total).then_some((sys, total));
             }
             "APPROX POSITION XYZ" => {
-                let mut v = [0.0; 3];
+                let mut v = [0.0_f64; 3];
                 for (j, x) in v.iter_mut().enumerate() {
                     *x = field(line, 14 * j, 14).parse().map_err(|_| {
                         error(
@@ -195,6 +222,15 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     })?;
                 }
                 let p = Vector3::from(v);
+                if p.norm().is_nan() || p.norm() > MAX_APPROX_POSITION_M {
+                    return Err(error(
+                        k,
+                        format!(
+                            "APPROX POSITION XYZ {:?} m is out of range (|r| ≤ {MAX_APPROX_POSITION_M:e} m)",
+                            v
+                        ),
+                    ));
+                }
                 approx_position_ecef = (p.norm() > 0.0).then_some(p);
             }
             "TIME OF FIRST OBS" => {
@@ -252,9 +288,9 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
             let s: f64 = field(line, 18, 11).parse().ok()?;
             let flag = n(31, 1)?;
             let count = n(32, 3)?;
-            Some((gps_time_from_calendar(y, mo, d, h, mi, s), flag, count))
+            Some(((y, mo, d, h, mi, s), flag, count))
         })();
-        let Some((gps_time_s, flag, count)) = header_fields else {
+        let Some(((y, mo, d, h, mi, s), flag, count)) = header_fields else {
             if last_line {
                 warnings.push(truncated(k, "incomplete epoch line"));
                 break;
@@ -265,11 +301,32 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     .into(),
             ));
         };
-        let count = count as usize;
+        // Epoch flags 0-6 (RINEX 3.05 table A13); the count is 3 digits.
+        if !(0..=6).contains(&flag) {
+            return Err(error(k, format!("epoch flag {flag} is out of range (0-6)")));
+        }
+        let Ok(count) = usize::try_from(count) else {
+            return Err(error(
+                k,
+                format!("number of satellites {count} is negative"),
+            ));
+        };
         if flag > 1 {
             // Special events (2-5: header lines follow; 6: cycle slips): skipped.
             k += 1 + count;
             continue;
+        }
+        let gps_time_s = checked_gps_time_from_calendar(y, mo, d, h, mi, s)
+            .map_err(|reason| error(k, format!("epoch: {reason}")))?;
+        if let Some(previous) = epochs.last().map(|e: &ObservationEpoch| e.gps_time_s) {
+            if gps_time_s <= previous {
+                return Err(error(
+                    k,
+                    format!(
+                        "epoch {y}-{mo:02}-{d:02} {h:02}:{mi:02}:{s} does not follow the previous epoch: epochs must increase"
+                    ),
+                ));
+            }
         }
         if k + count >= lines.len() {
             warnings.push(truncated(k, "fewer satellite lines than announced"));
@@ -304,7 +361,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     continue;
                 }
                 match f.parse::<f64>() {
-                    Ok(v) if v.is_finite() => values.push(Some(v)),
+                    Ok(v) if observation_range(code).contains(&v) => values.push(Some(v)),
                     _ if is_last => {
                         cut = true;
                         break;
@@ -313,9 +370,10 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                         return Err(error(
                             k + j,
                             format!(
-                                "expected a number for {sys}{prn:02} {code} in columns {}-{}, got {f:?}",
+                                "expected a number for {sys}{prn:02} {code} in columns {}-{} ({}), got {f:?}",
                                 4 + 16 * i,
-                                17 + 16 * i
+                                17 + 16 * i,
+                                observation_range_text(code),
                             ),
                         ))
                     }
@@ -417,5 +475,69 @@ E07  23205808.406                  \n"
         let text = HEADER.replace("OBSERVATION DATA", "NAVIGATION DATA ");
         let err = parse_rinex_obs(&text, "x").unwrap_err();
         assert!(err.to_string().contains("file type"), "{err}");
+    }
+
+    #[test]
+    fn out_of_range_epochs_counts_and_values_name_line_and_field() {
+        let record = "> 2025 08 28 17 30 39.7480000  0  1\nG10  20576396.770\n";
+        let next = "> 2025 08 28 17 30 39.9980000  0  1\nG10  20576396.770\n";
+        // (the records after the header, the line at fault, what is said)
+        let cases = [
+            // Issue 15: a negative count used to panic (usize overflow).
+            (
+                record.replace("0  1\n", "0 -1\n") + next,
+                7,
+                "number of satellites -1 is negative",
+            ),
+            (
+                record.replace("2025 08", "2025 13") + next,
+                7,
+                "epoch: month 13 is out of range",
+            ),
+            (
+                record.replace("28 17", "28 25") + next,
+                7,
+                "epoch: hour 25 is out of range",
+            ),
+            (
+                record.replace("> 2025", ">    0") + next,
+                7,
+                "epoch: year 0 is out of range",
+            ),
+            (
+                record.replace("0  1\n", "9  1\n") + next,
+                7,
+                "epoch flag 9 is out of range",
+            ),
+            (
+                record.replace("20576396.770", "       1e300") + next,
+                8,
+                "G10 C1C in columns 4-17 (0 to 1e8 m)",
+            ),
+            (
+                record.replace("20576396.770", "  -20576.770") + next,
+                8,
+                "(0 to 1e8 m)",
+            ),
+            (
+                record.to_string() + &next.replace("39.998", "38.998") + next,
+                9,
+                "does not follow the previous epoch",
+            ),
+        ];
+        for (records, line, words) in cases {
+            let e = parse_rinex_obs(&format!("{HEADER}{records}"), "x.obs").unwrap_err();
+            let message = e.to_string();
+            assert!(
+                message.starts_with(&format!("x.obs:{line}: ")) && message.contains(words),
+                "{message}"
+            );
+        }
+        let header = HEADER.replace("-1276965.2487", "      1.0e300");
+        let e = parse_rinex_obs(&format!("{header}{record}"), "x.obs").unwrap_err();
+        assert!(
+            e.to_string().contains("x.obs:2: APPROX POSITION XYZ"),
+            "{e}"
+        );
     }
 }

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::time::gps_time_from_calendar;
+use super::time::checked_gps_time_from_calendar;
 use crate::{Error, Result};
 
 /// Precise orbits: `n_epochs × n_satellites` positions (ECEF, m, centre
@@ -34,6 +34,14 @@ impl Sp3 {
     }
 }
 
+/// Largest |coordinate| accepted, km (beyond geostationary orbit, 42 164 km).
+const MAX_COORDINATE_KM: f64 = 1e5;
+
+/// Most satellites × epochs an [`Sp3`] may hold (a day of 30-s orbits of
+/// every GNSS satellite is under 0.5 million): more is a corrupted header,
+/// refused before it allocates gigabytes.
+const MAX_SATELLITE_EPOCHS: usize = 10_000_000;
+
 /// Reads an SP3-c or SP3-d file (GPS time system).
 pub fn read_sp3(path: impl AsRef<Path>) -> Result<Sp3> {
     let path = path.as_ref();
@@ -47,7 +55,8 @@ pub fn read_sp3(path: impl AsRef<Path>) -> Result<Sp3> {
     )
 }
 
-fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
+/// Parses the text of an SP3-c or SP3-d file; `file` names it in errors.
+pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
     let err = |k: usize, reason: String| Error::Parse {
         file: file.to_string(),
         line: k + 1,
@@ -92,7 +101,14 @@ fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
     for (k, line) in lines.iter().enumerate().skip(1) {
         if line.starts_with("+ ") {
             if declared.is_none() {
-                declared = Some(num(line, k, 1, 6, "the number of satellites")? as usize);
+                let n = num(line, k, 1, 6, "the number of satellites")?;
+                if !(n.fract() == 0.0 && (1.0..=999.0).contains(&n)) {
+                    return Err(err(
+                        k,
+                        format!("number of satellites {n} is out of range (1-999)"),
+                    ));
+                }
+                declared = Some(n as usize);
             }
             let mut c = 9;
             while c + 3 <= line.len().min(60) {
@@ -128,9 +144,28 @@ fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
             let hour = num(line, k, 14, 16, "hour")? as i64;
             let minute = num(line, k, 17, 19, "minute")? as i64;
             let second = num(line, k, 20, 31, "second")?;
-            time_gps_s.push(gps_time_from_calendar(
-                year, month, day, hour, minute, second,
-            ));
+            let t = checked_gps_time_from_calendar(year, month, day, hour, minute, second)
+                .map_err(|reason| err(k, format!("epoch: {reason}")))?;
+            if let Some(&previous) = time_gps_s.last() {
+                if t <= previous {
+                    return Err(err(
+                        k,
+                        format!(
+                            "epoch {year}-{month:02}-{day:02} {hour:02}:{minute:02}:{second} does not follow the previous epoch: epochs must increase"
+                        ),
+                    ));
+                }
+            }
+            if (time_gps_s.len() + 1) * satellites.len() > MAX_SATELLITE_EPOCHS {
+                return Err(err(
+                    k,
+                    format!(
+                        "more than {MAX_SATELLITE_EPOCHS} satellite-epochs ({} satellites): too large for an orbit file",
+                        satellites.len()
+                    ),
+                ));
+            }
+            time_gps_s.push(t);
             position_ecef.extend(std::iter::repeat_n(
                 Vector3::repeat(f64::NAN),
                 satellites.len(),
@@ -152,6 +187,23 @@ fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
             let y = num(line, k, 18, 32, "y")?;
             let z = num(line, k, 32, 46, "z")?;
             let clock = num(line, k, 46, 60, "clock")?;
+            for (name, value) in [("x", x), ("y", y), ("z", z)] {
+                if value.abs() > MAX_COORDINATE_KM {
+                    return Err(err(
+                        k,
+                        format!(
+                            "{id} {name} = {value:e} km is out of range (±{MAX_COORDINATE_KM:e} km)"
+                        ),
+                    ));
+                }
+            }
+            // 999999.999999 marks a missing clock; anything beyond is garbage.
+            if clock.abs() > 1e6 {
+                return Err(err(
+                    k,
+                    format!("{id} clock = {clock:e} µs is out of range (±999999.999999 µs)"),
+                ));
+            }
             let row = (time_gps_s.len() - 1) * satellites.len() + s;
             // SP3 marks a missing position with 0.000000 and a missing
             // clock with 999999.999999.

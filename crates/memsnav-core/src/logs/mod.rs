@@ -1,0 +1,39 @@
+//! Readers and writers of real sensor logs, one file per format: IMU CSV
+//! logs with a declared column layout and units, RTKLIB time-tag files
+//! (`.tag`) and RTKLIB solution files (`.pos`). RINEX and SP3 live in
+//! [`crate::gnss`].
+//!
+//! Every reader checks each field it parses against a physical range and
+//! names the file, the 1-based line, the column and the field in its
+//! error ([`crate::Error::Parse`]; [`crate::Error::ParseBinary`] with the
+//! byte offset for binary files). Values come out in SI units (s, m, m/s,
+//! m/s², rad, rad/s). A line cut short at the end of a log (the recording
+//! stopped mid-line) is skipped and reported in the result's `warnings`,
+//! as are implausible but possible contents (units that do not fit the
+//! magnitudes, gaps in time).
+
+mod fields;
+mod imu_csv;
+mod rtklib_pos;
+mod time_tag;
+
+pub use imu_csv::{
+    parse_imu_csv, read_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, ImuLog, TimeUnit, IMU_COLUMNS,
+    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
+};
+pub use rtklib_pos::{
+    format_pos, parse_pos, read_pos, write_pos, PosSolution, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+};
+pub use time_tag::{parse_time_tag, read_time_tag, TimeTag, TIME_TAG_HEADER_BYTES};
+
+use std::path::Path;
+
+use crate::{Error, Result};
+
+/// The bytes of a file, or [`Error::Io`] naming it.
+fn read_bytes(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })
+}

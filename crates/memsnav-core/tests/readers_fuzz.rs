@@ -1,0 +1,428 @@
+//! Fuzzing the readers (issue 15): every reader, fed valid files with
+//! bytes flipped, lines cut, duplicated or dropped, numbers replaced by huge,
+//! negative or non-finite ones, and pure garbage, returns a result or an
+//! error in bounded time: never a panic, a hang (10 s per input), or a
+//! result that breaks its own guarantees (times that do not increase,
+//! values out of range, orbits 1e67 m away).
+//!
+//! CI runs `MEMSNAV_FUZZ_CASES` inputs per reader and kind (default 256);
+//! maintainers raise it (`MEMSNAV_FUZZ_CASES=100000`, docs/robustness.md).
+//! The files in `tests/data/regressions/` are replayed every time.
+
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::sync::OnceLock;
+use std::time::Duration;
+
+use memsnav_core::gnss::{parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar};
+use memsnav_core::logs::{
+    parse_imu_csv, parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
+    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+};
+use proptest::prelude::*;
+
+/// Longest a reader may take on one small input before it counts as hung.
+const HANG: Duration = Duration::from_secs(10);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Reader {
+    ImuCsv,
+    TimeTag,
+    Pos,
+    RinexObs,
+    RinexNav,
+    Klobuchar,
+    Sp3,
+}
+
+fn data(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data")
+        .join(relative)
+}
+
+/// The first `n` lines of a file (all for `usize::MAX`), with their newlines.
+fn head(relative: &str, n: usize) -> Vec<u8> {
+    let bytes = std::fs::read(data(relative)).unwrap();
+    let mut out = Vec::new();
+    for line in bytes.split_inclusive(|&b| b == b'\n').take(n) {
+        out.extend_from_slice(line);
+    }
+    out
+}
+
+const KLOBUCHAR_SEED: &str =
+    "     3.04           N: GNSS NAV DATA    M: Mixed            RINEX VERSION / TYPE
+GPSA   1.1176D-08 -7.4506D-09 -5.9605D-08  1.1921D-07       IONOSPHERIC CORR
+GPSB   1.1674D+05 -2.2938D+05 -1.3107D+05  1.0486D+06       IONOSPHERIC CORR
+     2.11           N: GPS NAV DATA                         RINEX VERSION / TYPE
+    0.1118D-07 -0.7451D-08 -0.5961D-07  0.1192D-06          ION ALPHA
+    0.1167D+06 -0.2294D+06 -0.1311D+06  0.1049D+07          ION BETA
+                                                            END OF HEADER
+";
+
+const SP3_SEED: &str = "#dP2021  4 28  0  0  0.00000000       3 ORBIT IGb14 HLM  COD
++    3   G01G02E05  0  0  0  0  0  0  0  0  0  0  0  0  0  0
+%c M  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc
+*  2021  4 28  0  0  0.00000000
+PG01  13744.405346 -22569.713946   3524.563484    -35.471733
+PG02 -17432.166712   2895.601632 -19885.125497    -19.893412
+PE05      0.000000      0.000000      0.000000 999999.999999
+*  2021  4 28  0  5  0.00000000
+PG01  13848.512383 -22211.297941   6208.223406    -35.472146
+PG02 -17005.224919   3838.417103 -20029.707301    -19.893417
+PE05  10000.000000  20000.000000   5000.000000      1.000000
+*  2021  4 28  0 10  0.00000000
+PG01  13974.113220 -21737.434722   8797.941102    -35.472561
+EOF
+";
+
+fn seed(reader: Reader) -> &'static [u8] {
+    static SEEDS: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
+    let seeds = SEEDS.get_or_init(|| {
+        vec![
+            head("real-imu-gnss/drive_60s.csv", 20),
+            head("real-imu-gnss/walk_head.csv.tag", usize::MAX),
+            head("real-imu-gnss/walk_head.pos", 12),
+            head("real-imu-gnss/walk_head.obs", usize::MAX),
+            head("real-imu-gnss/walk.nav", 21),
+            KLOBUCHAR_SEED.as_bytes().to_vec(),
+            SP3_SEED.as_bytes().to_vec(),
+        ]
+    });
+    &seeds[reader as usize]
+}
+
+fn layout() -> ImuCsvLayout {
+    ImuCsvLayout::new(
+        AccelUnit::StandardGravity,
+        GyroUnit::DegreesPerSecond,
+        TimeUnit::Milliseconds,
+    )
+}
+
+fn increasing(times: &[f64]) -> bool {
+    times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[1] > w[0])
+}
+
+/// Reads `bytes` as `reader` would a file named `file`: `Ok(true)` for a
+/// result that keeps the reader's guarantees, `Ok(false)` for an error
+/// naming the file, `Err` for anything else (a broken guarantee, an error
+/// that does not say which file).
+fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
+    let text = String::from_utf8_lossy(bytes);
+    let outcome: Result<Result<(), String>, memsnav_core::Error> = match reader {
+        Reader::ImuCsv => parse_imu_csv(bytes, file, &layout()).map(|log| {
+            let ok = increasing(&log.time_s)
+                && log
+                    .specific_force_m_s2
+                    .iter()
+                    .all(|f| f.amax() <= MAX_SPECIFIC_FORCE_M_S2)
+                && log
+                    .angular_rate_rad_s
+                    .iter()
+                    .all(|w| w.amax() <= MAX_ANGULAR_RATE_RAD_S)
+                && log.line.windows(2).all(|w| w[1] > w[0])
+                && log.line_end_offset.iter().all(|&o| o < log.file_bytes);
+            ok.then_some(()).ok_or(format!("{log:?}"))
+        }),
+        Reader::TimeTag => parse_time_tag(bytes, file).map(|tag| {
+            let ok = tag.start_gps_time_s >= 0.0
+                && tag.start_gps_time_s.is_finite()
+                && tag.tick_ms.windows(2).all(|w| w[1] >= w[0])
+                && tag.file_offset.windows(2).all(|w| w[1] >= w[0]);
+            ok.then_some(()).ok_or(format!("{tag:?}"))
+        }),
+        Reader::Pos => parse_pos(&text, file).map(|sol| {
+            let ok = increasing(&sol.gps_time_s)
+                && sol.lla.iter().all(|p| {
+                    p.x.abs() <= std::f64::consts::FRAC_PI_2
+                        && p.y.abs() <= std::f64::consts::PI
+                        && POS_HEIGHT_RANGE_M.contains(&p.z)
+                })
+                && sol.std_ned_m.iter().all(|s| s.iter().all(|&x| x >= 0.0))
+                && sol
+                    .velocity_ned_m_s
+                    .iter()
+                    .all(|v| v.iter().all(|x| x.abs() <= MAX_SPEED_M_S || x.is_nan()));
+            ok.then_some(()).ok_or(format!("{sol:?}"))
+        }),
+        Reader::RinexObs => parse_rinex_obs(&text, file).map(|obs| {
+            let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();
+            let ok = increasing(&times)
+                && obs.epochs.iter().all(|e| {
+                    e.satellites
+                        .iter()
+                        .all(|s| s.values.iter().flatten().all(|v| v.abs() <= 1e10))
+                });
+            ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
+        }),
+        Reader::RinexNav => parse_rinex_nav(&text, file).map(|records| {
+            // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
+            // orbit to |r| ≤ a (1 + e) + 2 × 1024 m < 1.01e8 m.
+            let bad = records.iter().find(|r| {
+                let s = r.state(r.toc_gps_s);
+                !(s.position_ecef.norm() < 1.01e8
+                    && s.velocity_ecef.norm() < 1e5
+                    && s.clock_bias_s.is_finite()
+                    && (r.toe_gps_s - r.toc_gps_s).abs() <= 302_400.0)
+            });
+            bad.map_or(Ok(()), |r| Err(format!("{r:?}")))
+        }),
+        Reader::Klobuchar => parse_klobuchar(&text, file).map(|k| match k {
+            Some(Klobuchar { alpha, beta }) if alpha.iter().chain(&beta).all(|x| x.is_finite()) => {
+                Ok(())
+            }
+            None => Ok(()),
+            Some(k) => Err(format!("{k:?}")),
+        }),
+        Reader::Sp3 => parse_sp3(&text, file).map(|sp3| {
+            let ok = increasing(&sp3.time_gps_s)
+                && sp3
+                    .position_ecef
+                    .iter()
+                    .all(|p| p.iter().all(|x| x.is_nan() || x.abs() <= 1e8))
+                && sp3.clock_s.iter().all(|c| c.is_nan() || c.abs() <= 1.0)
+                && sp3.position_ecef.len() == sp3.time_gps_s.len() * sp3.satellites.len();
+            ok.then_some(()).ok_or(format!("{:?}", sp3.time_gps_s))
+        }),
+    };
+    match outcome {
+        Ok(Ok(())) => Ok(true),
+        Ok(Err(garbage)) => Err(format!(
+            "a result that breaks the reader's guarantees: {garbage}"
+        )),
+        Err(e) if e.to_string().contains(file) => Ok(false),
+        Err(e) => Err(format!("an error that does not name the file: {e}")),
+    }
+}
+
+/// [`read`] on its own thread: a panic or a run longer than [`HANG`] is a
+/// failure too.
+fn read_in_time(reader: Reader, bytes: Vec<u8>, file: &'static str) -> Result<bool, String> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(read(reader, &bytes, file));
+    });
+    match rx.recv_timeout(HANG) {
+        Ok(outcome) => outcome,
+        Err(mpsc::RecvTimeoutError::Timeout) => Err(format!("no answer within {HANG:?}: a hang")),
+        Err(mpsc::RecvTimeoutError::Disconnected) => Err("the reader panicked".into()),
+    }
+}
+
+/// Values that break naive readers.
+const NASTY_NUMBERS: [&str; 14] = [
+    "1e308",
+    "-1e308",
+    "1e29",
+    "1D+30",
+    "NaN",
+    "nan",
+    "inf",
+    "-inf",
+    "-1",
+    "0",
+    "-0",
+    "99999999999999999999",
+    "4294967296",
+    "1e-320",
+];
+
+#[derive(Debug, Clone)]
+enum Mutation {
+    FlipByte { at: usize, value: u8 },
+    Truncate { at: usize },
+    ReplaceNumber { nth: usize, with: usize },
+    Insert { at: usize, bytes: Vec<u8> },
+    DuplicateLine { nth: usize },
+    DeleteLine { nth: usize },
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        3 => (any::<usize>(), any::<u8>()).prop_map(|(at, value)| Mutation::FlipByte { at, value }),
+        1 => any::<usize>().prop_map(|at| Mutation::Truncate { at }),
+        3 => (any::<usize>(), 0..NASTY_NUMBERS.len()).prop_map(|(nth, with)| Mutation::ReplaceNumber { nth, with }),
+        1 => (any::<usize>(), proptest::collection::vec(any::<u8>(), 1..16)).prop_map(|(at, bytes)| Mutation::Insert { at, bytes }),
+        1 => any::<usize>().prop_map(|nth| Mutation::DuplicateLine { nth }),
+        1 => any::<usize>().prop_map(|nth| Mutation::DeleteLine { nth }),
+    ]
+}
+
+/// Byte ranges of the numbers in `bytes` (runs of digits, signs, points
+/// and exponent letters that hold a digit).
+fn numbers(bytes: &[u8]) -> Vec<(usize, usize)> {
+    let part = |b: u8| b.is_ascii_digit() || matches!(b, b'.' | b'+' | b'-' | b'e' | b'E' | b'D');
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < bytes.len() {
+        if part(bytes[k]) {
+            let start = k;
+            while k < bytes.len() && part(bytes[k]) {
+                k += 1;
+            }
+            if bytes[start..k].iter().any(u8::is_ascii_digit) {
+                out.push((start, k));
+            }
+        } else {
+            k += 1;
+        }
+    }
+    out
+}
+
+/// Byte ranges of the lines of `bytes`, newline included.
+fn lines(bytes: &[u8]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for line in bytes.split_inclusive(|&b| b == b'\n') {
+        out.push((start, start + line.len()));
+        start += line.len();
+    }
+    out
+}
+
+fn apply(seed: &[u8], mutations: &[Mutation]) -> Vec<u8> {
+    let mut b = seed.to_vec();
+    for m in mutations {
+        match m {
+            Mutation::FlipByte { at, value } if !b.is_empty() => {
+                let k = at % b.len();
+                b[k] = *value;
+            }
+            Mutation::Truncate { at } => b.truncate(at % (b.len() + 1)),
+            Mutation::ReplaceNumber { nth, with } => {
+                let found = numbers(&b);
+                if !found.is_empty() {
+                    let (s, e) = found[nth % found.len()];
+                    // Keep column-based formats aligned where the number fits.
+                    let new = NASTY_NUMBERS[*with].as_bytes();
+                    let mut field = vec![b' '; (e - s).saturating_sub(new.len())];
+                    field.extend_from_slice(new);
+                    b.splice(s..e, field);
+                }
+            }
+            Mutation::Insert { at, bytes } => {
+                let k = at % (b.len() + 1);
+                b.splice(k..k, bytes.iter().copied());
+            }
+            Mutation::DuplicateLine { nth } => {
+                let found = lines(&b);
+                if !found.is_empty() {
+                    let (s, e) = found[nth % found.len()];
+                    let line = b[s..e].to_vec();
+                    b.splice(e..e, line);
+                }
+            }
+            Mutation::DeleteLine { nth } => {
+                let found = lines(&b);
+                if !found.is_empty() {
+                    let (s, e) = found[nth % found.len()];
+                    b.drain(s..e);
+                }
+            }
+            _ => {}
+        }
+    }
+    b
+}
+
+fn config() -> ProptestConfig {
+    let cases = std::env::var("MEMSNAV_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(256);
+    ProptestConfig {
+        cases,
+        // Shrinking a failure is worth a minute; the regression file keeps it.
+        max_shrink_time: 60_000,
+        ..ProptestConfig::default()
+    }
+}
+
+fn check_mutated(reader: Reader, mutations: &[Mutation]) -> Result<(), TestCaseError> {
+    let bytes = apply(seed(reader), mutations);
+    read_in_time(reader, bytes, "fuzzed")
+        .map(|_| ())
+        .map_err(TestCaseError::fail)
+}
+
+fn check_garbage(reader: Reader, prefix_len: usize, tail: &[u8]) -> Result<(), TestCaseError> {
+    // A valid beginning (for the header checks to pass) and garbage after.
+    let seed = seed(reader);
+    let mut bytes = seed[..prefix_len % (seed.len() + 1)].to_vec();
+    bytes.extend_from_slice(tail);
+    read_in_time(reader, bytes, "fuzzed")
+        .map(|_| ())
+        .map_err(TestCaseError::fail)
+}
+
+macro_rules! fuzz_reader {
+    ($mutated:ident, $garbage:ident, $reader:expr) => {
+        proptest! {
+            #![proptest_config(config())]
+            #[test]
+            fn $mutated(mutations in proptest::collection::vec(mutation(), 1..5)) {
+                check_mutated($reader, &mutations)?;
+            }
+
+            #[test]
+            fn $garbage(prefix_len in any::<usize>(), tail in proptest::collection::vec(any::<u8>(), 0..600)) {
+                check_garbage($reader, prefix_len, &tail)?;
+            }
+        }
+    };
+}
+
+fuzz_reader!(imu_csv_mutated, imu_csv_garbage, Reader::ImuCsv);
+fuzz_reader!(time_tag_mutated, time_tag_garbage, Reader::TimeTag);
+fuzz_reader!(pos_mutated, pos_garbage, Reader::Pos);
+fuzz_reader!(rinex_obs_mutated, rinex_obs_garbage, Reader::RinexObs);
+fuzz_reader!(rinex_nav_mutated, rinex_nav_garbage, Reader::RinexNav);
+fuzz_reader!(klobuchar_mutated, klobuchar_garbage, Reader::Klobuchar);
+fuzz_reader!(sp3_mutated, sp3_garbage, Reader::Sp3);
+
+#[test]
+fn the_seeds_read_cleanly() {
+    for reader in [
+        Reader::ImuCsv,
+        Reader::TimeTag,
+        Reader::Pos,
+        Reader::RinexObs,
+        Reader::RinexNav,
+        Reader::Klobuchar,
+        Reader::Sp3,
+    ] {
+        assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
+    }
+}
+
+#[test]
+fn regression_files_are_refused_with_their_name() {
+    let dir = data("regressions");
+    let mut replayed = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let reader = match path.extension().and_then(|e| e.to_str()) {
+            Some("csv") => Reader::ImuCsv,
+            Some("tag") => Reader::TimeTag,
+            Some("pos") => Reader::Pos,
+            Some("obs") => Reader::RinexObs,
+            Some("nav") => Reader::RinexNav,
+            Some("sp3") => Reader::Sp3,
+            _ => continue,
+        };
+        let name: &'static str = path
+            .file_name()
+            .unwrap()
+            .to_str()
+            .unwrap()
+            .to_string()
+            .leak();
+        let outcome = read_in_time(reader, std::fs::read(&path).unwrap(), name);
+        assert_eq!(outcome, Ok(false), "{name} must be an error naming it");
+        replayed += 1;
+    }
+    assert!(replayed >= 19, "{replayed} files replayed");
+}

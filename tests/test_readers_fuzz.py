@@ -1,0 +1,202 @@
+"""Fuzzing the Python faces of the readers (issue 15, hypothesis): valid
+files with bytes flipped, cut, numbers replaced by huge or non-finite ones
+and garbage appended give a result or a ``ValueError`` (``ParseError``)
+naming the file: never another exception, a crash or a hang. What
+``write_pos`` accepts, ``read_pos`` reads back.
+
+CI runs a fixed, derandomised budget; ``MEMSNAV_FUZZ_EXAMPLES=N`` raises it
+and draws new inputs each run (docs/robustness.md). The Rust suite
+(``crates/memsnav-core/tests/readers_fuzz.rs``) fuzzes the parsers
+themselves far faster; this one covers the bindings and the wrappers.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import memsnav as mn
+
+DATA = Path(__file__).parent / "data"
+EX = DATA / "real-imu-gnss"
+LONG = "MEMSNAV_FUZZ_EXAMPLES" in os.environ
+FUZZ = settings(
+    max_examples=int(os.environ.get("MEMSNAV_FUZZ_EXAMPLES", "40")),
+    derandomize=not LONG,
+    database=None,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+
+SP3 = """#dP2021  4 28  0  0  0.00000000       2 ORBIT IGb14 HLM  COD
++    2   G01G02  0  0  0  0  0  0  0  0  0  0  0  0  0  0  0
+%c M  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc
+*  2021  4 28  0  0  0.00000000
+PG01  13744.405346 -22569.713946   3524.563484    -35.471733
+PG02 -17432.166712   2895.601632 -19885.125497    -19.893412
+*  2021  4 28  0  5  0.00000000
+PG01  13848.512383 -22211.297941   6208.223406    -35.472146
+PG02 -17005.224919   3838.417103 -20029.707301    -19.893417
+EOF
+"""
+
+
+KLOBUCHAR = """     3.04           N: GNSS NAV DATA    M: Mixed            RINEX VERSION / TYPE
+GPSA   1.1176D-08 -7.4506D-09 -5.9605D-08  1.1921D-07       IONOSPHERIC CORR
+GPSB   1.1674D+05 -2.2938D+05 -1.3107D+05  1.0486D+06       IONOSPHERIC CORR
+                                                            END OF HEADER
+"""
+
+
+def _head(name: str, lines: int) -> bytes:
+    return b"".join((EX / name).read_bytes().splitlines(keepends=True)[:lines])
+
+
+#: (seed bytes, file extension, reader) per reader.
+READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
+    "imu_csv": (_head("drive_60s.csv", 20), "csv", mn.read_imu_csv),
+    "time_tag": ((EX / "walk_head.csv.tag").read_bytes(), "tag", mn.read_time_tag),
+    "pos": (_head("walk_head.pos", 12), "pos", mn.read_pos),
+    "rinex_obs": ((EX / "walk_head.obs").read_bytes(), "obs", mn.read_rinex_obs),
+    "rinex_nav": (_head("walk.nav", 21), "nav", mn.Constellation.from_rinex_nav),
+    "klobuchar": (KLOBUCHAR.encode(), "nav", mn.read_klobuchar),
+    "sp3": (SP3.encode(), "sp3", mn.read_sp3),
+}
+
+NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]
+
+mutation = st.one_of(
+    st.tuples(st.just("flip"), st.integers(0, 10**6), st.integers(0, 255)),
+    st.tuples(st.just("cut"), st.integers(0, 10**6), st.just(0)),
+    st.tuples(st.just("number"), st.integers(0, 10**6), st.integers(0, len(NASTY) - 1)),
+    st.tuples(st.just("garbage"), st.integers(0, 10**6), st.integers(0, 2**32 - 1)),
+)
+
+
+def _mutate(seed: bytes, mutations: list[tuple[str, int, int]]) -> bytes:
+    b = bytearray(seed)
+    for kind, at, value in mutations:
+        if kind == "flip" and b:
+            b[at % len(b)] = value
+        elif kind == "cut":
+            del b[at % (len(b) + 1) :]
+        elif kind == "number":
+            # Replace the digit run that holds byte `at` (or the next one).
+            digits = [i for i, c in enumerate(b) if chr(c).isdigit()]
+            if digits:
+                i = digits[at % len(digits)]
+                s, e = i, i
+                while s > 0 and chr(b[s - 1]) in "0123456789.+-eED":
+                    s -= 1
+                while e < len(b) and chr(b[e]) in "0123456789.+-eED":
+                    e += 1
+                b[s:e] = NASTY[value].rjust(e - s)
+        else:
+            k = at % (len(b) + 1)
+            b[k:k] = value.to_bytes(4, "little") * (1 + at % 7)
+    return bytes(b)
+
+
+def _read(name: str, content: bytes) -> None:
+    """Reads ``content`` with reader ``name``: a result or a ValueError
+    naming the file, in bounded time."""
+    _, ext, reader = READERS[name]
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / f"fuzzed.{ext}"
+        path.write_bytes(content)
+        start = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # cut lines and implausible units warn
+            try:
+                reader(path)
+            except ValueError as e:
+                assert "fuzzed." in str(e), e
+        assert time.perf_counter() - start < 10.0
+
+
+@pytest.mark.parametrize("name", sorted(READERS))
+@FUZZ
+@given(mutations=st.lists(mutation, min_size=1, max_size=4))
+def test_mutated_files_give_a_result_or_an_error_naming_the_file(name, mutations):
+    _read(name, _mutate(READERS[name][0], mutations))
+
+
+@pytest.mark.parametrize("name", sorted(READERS))
+@FUZZ
+@given(prefix=st.integers(0, 10**6), tail=st.binary(max_size=400))
+def test_garbage_after_a_valid_beginning(name, prefix, tail):
+    seed = READERS[name][0]
+    _read(name, seed[: prefix % (len(seed) + 1)] + tail)
+
+
+@pytest.mark.parametrize("name", sorted(READERS))
+def test_the_seeds_read(name):
+    seed, ext, reader = READERS[name]
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / f"seed.{ext}"
+        path.write_bytes(seed)
+        assert reader(path) is not None
+
+
+REGRESSIONS = [p for p in sorted((DATA / "regressions").iterdir()) if p.suffix != ".md"]
+
+
+@pytest.mark.parametrize("path", REGRESSIONS, ids=[p.name for p in REGRESSIONS])
+def test_regression_files_are_refused_with_their_name(path):
+    reader = {
+        ".csv": mn.read_imu_csv,
+        ".tag": mn.read_time_tag,
+        ".pos": mn.read_pos,
+        ".obs": mn.read_rinex_obs,
+        ".nav": mn.Constellation.from_rinex_nav,
+        ".sp3": mn.read_sp3,
+    }[path.suffix]
+    with pytest.raises(mn.ParseError, match=path.name):
+        reader(path)
+
+
+@FUZZ
+@given(
+    n=st.integers(1, 6),
+    start=st.floats(0.0, 2e9),
+    steps=st.lists(st.floats(0.001, 1e5), min_size=6, max_size=6),
+    lat=st.floats(-90.0, 90.0),
+    lon=st.floats(-180.0, 180.0),
+    height=st.floats(-1e4, 1e7),
+    std=st.floats(0.0, 1e6),
+    speed=st.floats(-1e4, 1e4),
+)
+def test_what_write_pos_accepts_read_pos_reads_back(n, start, steps, lat, lon, height, std, speed):
+    t = start + np.cumsum(steps[:n])
+    lla = np.tile([np.radians(lat), np.radians(lon), height], (n, 1))
+    s = np.full((n, 3), std)
+    v = np.full((n, 3), speed)
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "x.pos"
+        try:
+            mn.realdata.readers.write_pos(path, t, lla, s, v, s)
+        except ValueError as e:
+            # Two epochs within the same millisecond cannot be told apart.
+            assert "gps_time" in str(e) or "lla" in str(e), e
+            return
+        try:
+            back = mn.read_pos(path)
+        except ValueError as e:
+            # Times within 0.5 ms of each other round to the same ms.
+            assert "must increase" in str(e) and np.min(np.diff(t)) < 0.001, e
+            return
+    np.testing.assert_allclose(back.gps_time, np.round(t * 1000) / 1000, atol=1e-6)
+    np.testing.assert_allclose(np.degrees(back.lla[:, :2]), [[lat, lon]] * n, atol=1e-9)
+    np.testing.assert_allclose(back.lla[:, 2], height, atol=1e-4 + 1e-12 * abs(height))
+    np.testing.assert_allclose(back.std_ned, s, atol=1e-4 + 1e-12 * std)
+    np.testing.assert_allclose(back.velocity_ned, v, atol=1e-5)
