@@ -18,8 +18,8 @@ DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
 
 # The drive excerpt: 65 s of a car, RTK fixes at 4 Hz, the data authors'
-# mounting, lever arms and IMU time offset; the RTK velocity lags its
-# positions by 0.125 s (docs/real-data.md).
+# mounting and lever arms, the IMU latency and the RTK velocity's latency
+# behind its positions that the data give (docs/real-data.md, "Time").
 DRIVE = """
 name = "drive_60s"
 output = "{out}"
@@ -29,14 +29,14 @@ accel_unit = "g"
 gyro_unit = "deg/s"
 time_unit = "ms"
 time_tag = "real-imu-gnss/drive_60s.csv.tag"
-time_offset_s = -0.125
+time_offset_s = -0.22
 mounting_rpy_deg = [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]]
 lever_arm_m = [0.0, 0.0, -0.65]
 [gnss]
 mode = "loose"
 pos = "real-imu-gnss/drive_60s.pos"
 antenna_lever_arm_m = [0.0, -0.05, -0.65]
-velocity_latency_s = 0.125
+velocity_latency_s = 0.132
 [truth]
 pos = "real-imu-gnss/drive_60s.pos"
 quality = [1]

@@ -1434,7 +1434,7 @@ class LogRun:
         """Errors of the antenna solution against a truth (``time`` (T,) s,
         ``position_ecef`` (T, 3)), interpolated at the truth epochs: ``time``,
         ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1), and
-        statistics ``all``, ``aided``, ``outages`` (list), ``by_outage_length``
+        statistics ``all``, ``aided``, ``in_outages`` (every outage epoch), ``outages`` (list), ``by_outage_length``
         ({length s: stats}); each ``epochs``, ``rms_horizontal_m``,
         ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share``."""
 

@@ -342,7 +342,7 @@ impl PyLogRun {
     /// Errors of the antenna solution against a truth (`time` (T,) s,
     /// `position_ecef` (T, 3)), interpolated at the truth epochs: dict
     /// `time`, `error_ned` (T', 3), `std_ned`, `outage` (index or −1),
-    /// and statistics `all`, `aided`, `outages` (list), `by_outage_length`
+    /// and statistics `all`, `aided`, `in_outages` (every outage epoch), `outages` (list), `by_outage_length`
     /// ({length s: stats}); each statistic `epochs`, `rms_horizontal_m`,
     /// `rms_vertical_m`, `max_horizontal_m`, `within_3sigma_share`.
     fn score<'py>(
@@ -373,6 +373,7 @@ impl PyLogRun {
         )?;
         d.set_item("all", stats_dict(py, &s.all)?)?;
         d.set_item("aided", stats_dict(py, &s.aided)?)?;
+        d.set_item("in_outages", stats_dict(py, &s.in_outages)?)?;
         let windows = PyList::empty(py);
         for w in &s.outages {
             windows.append(stats_dict(py, w)?)?;

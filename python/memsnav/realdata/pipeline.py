@@ -168,7 +168,11 @@ def _finite(value: Any) -> Any:
 
 def _statistics(score: dict[str, Any], outages: Any, t0: float) -> dict[str, Any]:
     """The statistics of a ``LogRun.score`` for ``summary.json``."""
-    stats: dict[str, Any] = {"all": score["all"], "aided": score["aided"]}
+    stats: dict[str, Any] = {
+        "all": score["all"],
+        "aided": score["aided"],
+        "in_outages": score["in_outages"],
+    }
     for i, (window, st) in enumerate(zip(outages, score["outages"], strict=True)):
         stats[f"outage_{i + 1}"] = {
             "start_s": float(window[0] - t0),

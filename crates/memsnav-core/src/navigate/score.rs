@@ -72,6 +72,8 @@ pub struct Score {
     pub all: ErrorStats,
     /// Epochs outside the outages.
     pub aided: ErrorStats,
+    /// Epochs inside any outage.
+    pub in_outages: ErrorStats,
     /// Each outage window.
     pub outages: Vec<ErrorStats>,
     /// The epochs of all outages of each length (lengths in increasing
@@ -112,6 +114,7 @@ pub fn score_solution(
         outage: Vec::new(),
         all: ErrorStats::of(&[], &[]),
         aided: ErrorStats::of(&[], &[]),
+        in_outages: ErrorStats::of(&[], &[]),
         outages: Vec::new(),
         by_outage_length: Vec::new(),
     };
@@ -145,6 +148,7 @@ pub fn score_solution(
     };
     score.all = pick(&|_| true);
     score.aided = pick(&|o| o.is_none());
+    score.in_outages = pick(&|o| o.is_some());
     score.outages = (0..outages.len())
         .map(|w| pick(&|o| o == Some(w)))
         .collect();
@@ -257,6 +261,7 @@ mod tests {
         // 3.6 and 4.8 exceed 3σ = 3: only D inside.
         assert!((s.outages[0].within_3sigma_share - 1.0 / 3.0).abs() < 1e-12);
         assert!((s.aided.rms_horizontal_m - 0.1).abs() < 1e-6);
+        assert_eq!(s.in_outages.epochs, s.all.epochs - s.aided.epochs);
         assert_eq!(s.by_outage_length.len(), 2);
         assert_eq!(s.by_outage_length[0].0, 0.5);
         assert_eq!(s.by_outage_length[1].1.epochs, 20);
