@@ -333,6 +333,12 @@ def calibrate_gyroscope(
     rates (N, 3) rad/s and specific forces (N, 3) m/s². ``method``: "ls" or
     "eiv" (needs ``reference_noise_std``, rad/s per sample)."""
 
+def derive_seed(seed: int, purpose: str) -> int:
+    """The seed of the independent draw named ``purpose`` made from user
+    seed ``seed`` (the first output of its own stream of ``seed``; see
+    ``docs/concepts.md``, "Seeds"). Use it when one seed feeds several
+    functions that each take a seed, instead of ``seed + 1``, ``seed + 2``."""
+
 def invert_accelerometer(
     measured: npt.ArrayLike,
     model: AccelerometerModel,

@@ -86,7 +86,7 @@ impl PyCalibration {
     }
 }
 
-fn method(name: &str) -> PyResult<Method> {
+pub(crate) fn method(name: &str) -> PyResult<Method> {
     match name {
         "ls" => Ok(Method::LeastSquares),
         "eiv" => Ok(Method::ErrorsInVariables),

@@ -14,6 +14,7 @@ mod ins;
 mod inversion;
 mod navigation;
 mod progress;
+mod random;
 mod sensors;
 mod trajectory;
 
@@ -31,5 +32,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     experiments::register(m)?;
     coupling::register(m)?;
     navigation::register(m)?;
+    random::register(m)?;
     Ok(())
 }

@@ -299,12 +299,8 @@ impl BiasProcess {
 
     /// Driving-noise PSD: 2σ²/τ for Gauss-Markov plus the random walk's q².
     fn psd(&self) -> f64 {
-        let gm = if self.correlation_time_s.is_finite() {
-            2.0 * self.instability_std.powi(2) / self.correlation_time_s
-        } else {
-            0.0
-        };
-        gm + self.random_walk.powi(2)
+        crate::gauss_markov::psd_of_stationary(self.instability_std, self.correlation_time_s)
+            + self.random_walk.powi(2)
     }
 
     fn validate(&self, name: &str) -> Result<()> {

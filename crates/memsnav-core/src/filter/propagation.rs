@@ -21,7 +21,8 @@
 //! bias states are corrections rather than errors.
 //!
 //! Discretisation: Φ = I + F Δt (Groves eq. 14.72, first order), except the
-//! Gauss-Markov bias decay, which uses the exact e^{−Δt/τ}. The neglected
+//! Gauss-Markov bias decay, which uses the exact e^{−Δt/τ} and the exact
+//! discrete variance of [`crate::gauss_markov`]. The neglected
 //! ½F²Δt² terms scale with (ω_ie Δt)² ≈ 5e-13 and |f| Δt² ≈ 1e-3 m/s at
 //! 100 Hz, below the process noise of any IMU grade.
 //!
@@ -43,6 +44,7 @@ use super::state::{
     GYRO_SCALE_FACTOR, POSITION, VELOCITY, WITH_SCALE_FACTORS,
 };
 use crate::attitude::skew;
+use crate::gauss_markov::discretise;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2};
 
 /// The navigation solution the system matrix is linearised about.
@@ -94,14 +96,6 @@ fn gravity_gradient(r: &Vector3<f64>) -> Matrix3<f64> {
     let w2 = EARTH_RATE_RAD_S * EARTH_RATE_RAD_S;
     -GM_M3_S2 / (r2 * rn) * (Matrix3::identity() - 3.0 * u * u.transpose())
         + Matrix3::from_diagonal(&Vector3::new(w2, w2, 0.0))
-}
-
-fn decay(dt: f64, tau: f64) -> f64 {
-    if tau.is_finite() {
-        (-dt / tau).exp()
-    } else {
-        1.0
-    }
 }
 
 /// The continuous system matrix F (dense), for tests and for users who
@@ -180,21 +174,20 @@ pub(super) struct Discretisation {
 
 impl Discretisation {
     pub(super) fn new(noise: &ProcessNoise, dt: f64) -> Self {
-        let bias_q = |psd: f64, tau: f64| {
-            if tau.is_finite() {
-                // Exact discrete variance of a Gauss-Markov process driven by psd.
-                0.5 * psd * tau * (1.0 - (-2.0 * dt / tau).exp())
-            } else {
-                psd * dt
-            }
-        };
+        // The exact Gauss-Markov step of each bias (random walk for τ = ∞).
+        let ba = discretise(
+            noise.accel_bias_psd,
+            noise.accel_bias_correlation_time_s,
+            dt,
+        );
+        let bg = discretise(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s, dt);
         Self {
             dt,
             noise: *noise,
-            ba_decay: decay(dt, noise.accel_bias_correlation_time_s),
-            bg_decay: decay(dt, noise.gyro_bias_correlation_time_s),
-            ba_variance: bias_q(noise.accel_bias_psd, noise.accel_bias_correlation_time_s),
-            bg_variance: bias_q(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s),
+            ba_decay: ba.decay,
+            bg_decay: bg.decay,
+            ba_variance: ba.drive_variance,
+            bg_variance: bg.drive_variance,
         }
     }
 
@@ -444,9 +437,16 @@ mod tests {
     fn structured_equals_dense<const N: usize>(tau: f64) {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
         let mut phi = SMatrix::<f64, N, N>::identity() + system_matrix::<N>(&inp, &nz) * dt;
+        let decay = |tau: f64| {
+            if tau.is_finite() {
+                (-dt / tau).exp()
+            } else {
+                1.0
+            }
+        };
         for k in 0..3 {
-            phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(dt, nz.accel_bias_correlation_time_s);
-            phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(dt, nz.gyro_bias_correlation_time_s);
+            phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(nz.accel_bias_correlation_time_s);
+            phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(nz.gyro_bias_correlation_time_s);
         }
         let p0 = random_spd::<N>();
         let mut q = SMatrix::<f64, N, N>::zeros();
