@@ -365,35 +365,60 @@ def invert_gyroscope(
 
 def calibration_experiment(
     *,
-    parameter_sets: int = 50,
-    runs: int = 20,
-    duration: float = 300.0,
-    preset: str = "paper-mems",
-    reference_specific_force_std: float = 0.03,
-    reference_angular_rate_std: float = 0.0017453292519943296,
-    motion: str = "land-vehicle",
-    seed: int = 0,
+    parameter_sets: int | None = None,
+    runs: int | None = None,
+    duration: float | None = None,
+    preset: str | None = None,
+    reference_specific_force_std: float | None = None,
+    reference_angular_rate_std: float | None = None,
+    motion: str | None = None,
+    seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
-    """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI."""
+    """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI, and the
+    ``config`` that ran. ``None``: the core's default (documented in
+    ``memsnav.experiments.calibration``)."""
 
 def inversion_experiment(
     *,
-    runs: int = 50,
-    duration: float = 120.0,
-    calibration_duration: float = 300.0,
-    preset: str = "paper-mems",
-    method: str = "eiv",
-    reference_specific_force_std: float = 0.03,
-    reference_angular_rate_std: float = 0.0017453292519943296,
-    accel_process_std: float = 0.1,
-    gyro_process_std: float = 0.017453292519943295,
-    seed: int = 0,
+    runs: int | None = None,
+    duration: float | None = None,
+    calibration_duration: float | None = None,
+    preset: str | None = None,
+    method: str | None = None,
+    reference_specific_force_std: float | None = None,
+    reference_angular_rate_std: float | None = None,
+    accel_process_std: float | None = None,
+    gyro_process_std: float | None = None,
+    seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
-    """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI."""
+    """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI, and
+    the ``config`` that ran. ``None``: the core's default (documented in
+    ``memsnav.experiments.inversion``)."""
+
+def partial_outage_experiment(
+    imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
+    *,
+    runs: int | None = None,
+    duration: float | None = None,
+    seed: int | None = None,
+    outage_start: float | None = None,
+    outage_length: float | None = None,
+    satellites: Sequence[int] | None = None,
+    loose: bool | None = None,
+    calibration_duration: float | None = None,
+    keep_runs: bool | None = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> dict[str, Any]:
+    """Partial-outage study (0-3 satellites through a window, tight against
+    loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
+    ``imus`` as in ``navigation_experiment``), ``completed_runs``,
+    ``interrupted``, ``config``. ``None``: the core's default (documented in
+    ``memsnav.experiments.partial_outage``)."""
 
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
@@ -1015,7 +1040,7 @@ def navigation_experiment(
     duration: float = 600.0,
     seed: int = 0,
     n_satellites: int = 6,
-    outage: tuple[float, float] | None = None,
+    outage: tuple[float, float] | tuple[float, float, int] | None = None,
     calibration_duration: float = 300.0,
     early_window: float = 150.0,
     pseudorange_rate: bool = True,
@@ -1033,7 +1058,9 @@ def navigation_experiment(
     source) with source a preset name, ``(preset name, spec overrides)``,
     ``"calibrated:<raw name>"`` or an ``ImuModel``. ``pseudorange_std`` m,
     ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
-    east tilt, heading) degrees, None for (1, 1, 5)."""
+    east tilt, heading) degrees, None for (1, 1, 5). ``outage``: (start_s,
+    length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
+    satellites."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
 

@@ -15,7 +15,6 @@ import numpy.typing as npt
 import memsnav as mn
 from memsnav._files import ensure_writable_directory, write_text
 
-
 _DRAWS = ("trajectory", "imu errors", "imu noise", "gnss")
 """The independent draws of a simulation, each seeded by ``derive_seed``."""
 

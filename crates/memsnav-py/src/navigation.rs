@@ -127,6 +127,14 @@ pub(crate) fn imu_outcomes<'py>(
             PyArray1::from_slice(py, &o.run_max_in_outage),
         )?;
         e.set_item(
+            "run_max_horizontal_in_outage",
+            PyArray1::from_slice(py, &o.run_max_horizontal_in_outage),
+        )?;
+        e.set_item(
+            "run_max_vertical_in_outage",
+            PyArray1::from_slice(py, &o.run_max_vertical_in_outage),
+        )?;
+        e.set_item(
             "run_mean_nees_per_dof",
             PyArray1::from_slice(py, &o.run_mean_nees_per_dof),
         )?;

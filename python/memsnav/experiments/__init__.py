@@ -11,12 +11,15 @@ Each runs a whole Monte Carlo set in Rust.
 from memsnav.experiments.calibration import CalibrationResult, calibration
 from memsnav.experiments.inversion import InversionResult, inversion
 from memsnav.experiments.navigation import NavigationResult, navigation
+from memsnav.experiments.partial_outage import PartialOutageResult, partial_outage
 
 __all__ = [
     "CalibrationResult",
     "InversionResult",
     "NavigationResult",
+    "PartialOutageResult",
     "calibration",
     "inversion",
     "navigation",
+    "partial_outage",
 ]

@@ -9,6 +9,7 @@ use crate::coupling::{
     ImuData, InitialState, MeasurementRecord, MeasurementStatus, PositionFix,
 };
 use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
 use crate::ins::NavState;
 use crate::sensors::ImuSpec;
@@ -59,6 +60,10 @@ pub(super) struct FilterSetup<'a> {
 /// One run's curves for one IMU.
 pub(super) struct ImuRun {
     pub position_error: Vec<f64>,
+    /// Horizontal and vertical (|down|) parts of the position error in the
+    /// local NED frame of the true position, m.
+    pub horizontal_error: Vec<f64>,
+    pub vertical_error: Vec<f64>,
     pub nees: Vec<f64>,
     pub rejected: usize,
     pub accepted: usize,
@@ -161,6 +166,8 @@ fn navigate_with<const N: usize>(
     };
     let out = setup.out;
     let mut position_error = Vec::with_capacity(out.len());
+    let mut horizontal_error = Vec::with_capacity(out.len());
+    let mut vertical_error = Vec::with_capacity(out.len());
     let mut nees = Vec::with_capacity(out.len());
     let mut next = 0;
     let observe = |k: usize, s: &FilterState<N>| {
@@ -178,7 +185,12 @@ fn navigate_with<const N: usize>(
                 s.kf.p
                     .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
                     .into_owned();
-            position_error.push(e.fixed_rows::<3>(6).norm());
+            let dr = e.fixed_rows::<3>(6).into_owned();
+            let geo = ecef_to_geodetic(&t.position_ecef);
+            let ned = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose() * dr;
+            position_error.push(dr.norm());
+            horizontal_error.push(ned.x.hypot(ned.y));
+            vertical_error.push(ned.z.abs());
             nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
             next += 1;
         }
@@ -193,6 +205,8 @@ fn navigate_with<const N: usize>(
         .count();
     Ok(ImuRun {
         position_error,
+        horizontal_error,
+        vertical_error,
         nees,
         rejected: records.len() - accepted,
         accepted,

@@ -36,6 +36,10 @@ pub struct ImuOutcome {
     /// [start, start + length) — before the first update after it (NaN
     /// without outage), m.
     pub run_max_in_outage: Vec<f64>,
+    /// Per run: the same for the horizontal and the vertical part of the
+    /// error (local NED of the true position), m.
+    pub run_max_horizontal_in_outage: Vec<f64>,
+    pub run_max_vertical_in_outage: Vec<f64>,
     /// Per run: mean NEES per degree of freedom over the epochs.
     pub run_mean_nees_per_dof: Vec<f64>,
     /// Per run: measurements rejected by the gate or as invalid.
@@ -85,6 +89,8 @@ impl OutcomeFold {
                 run_rms_late: Vec::new(),
                 run_final: Vec::new(),
                 run_max_in_outage: Vec::new(),
+                run_max_horizontal_in_outage: Vec::new(),
+                run_max_vertical_in_outage: Vec::new(),
                 run_mean_nees_per_dof: Vec::new(),
                 run_rejected: Vec::new(),
                 run_accepted: Vec::new(),
@@ -112,12 +118,17 @@ impl OutcomeFold {
         o.run_rms_early.push(rms(&r.position_error[..self.early]));
         o.run_rms_late.push(rms(&r.position_error[self.early..]));
         o.run_final.push(r.position_error[epochs - 1]);
-        o.run_max_in_outage.push(
+        let max_in_outage = |curve: &[f64]| {
             self.in_outage
                 .iter()
-                .map(|&m| r.position_error[m])
-                .fold(f64::NAN, f64::max),
-        );
+                .map(|&m| curve[m])
+                .fold(f64::NAN, f64::max)
+        };
+        o.run_max_in_outage.push(max_in_outage(&r.position_error));
+        o.run_max_horizontal_in_outage
+            .push(max_in_outage(&r.horizontal_error));
+        o.run_max_vertical_in_outage
+            .push(max_in_outage(&r.vertical_error));
         o.run_mean_nees_per_dof
             .push(r.nees.iter().sum::<f64>() / (epochs * NEES_DOF) as f64);
         o.run_rejected.push(r.rejected);

@@ -24,9 +24,10 @@ use super::{output_times, run, NavigationExperimentConfig};
 pub struct PartialOutageConfig {
     /// Runs, seed, IMUs and every filter and simulation setting; its
     /// `outage` must be `None` and its `coupling` is not used (default:
-    /// the navigation defaults with 240 s runs).
+    /// the navigation defaults with 180 s runs).
     pub navigation: NavigationExperimentConfig,
-    /// Start of the window, s (default 150: after the filters converged).
+    /// Start of the window, s (default 100: the filters converge within
+    /// about 30 s).
     pub outage_start_s: f64,
     /// Length of the window, s (default 60).
     pub outage_length_s: f64,
@@ -42,10 +43,10 @@ impl Default for PartialOutageConfig {
     fn default() -> Self {
         Self {
             navigation: NavigationExperimentConfig {
-                duration_s: 240.0,
+                duration_s: 180.0,
                 ..Default::default()
             },
-            outage_start_s: 150.0,
+            outage_start_s: 100.0,
             outage_length_s: 60.0,
             satellites: vec![0, 1, 2, 3],
             loose: true,
