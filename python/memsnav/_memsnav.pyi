@@ -281,8 +281,9 @@ class Calibration:
 
     @property
     def crb(self) -> npt.NDArray[np.float64] | None:
-        """Cramér-Rao bound of the parameter vector (exact references), if
-        ``noise_std`` was given."""
+        """Cramér-Rao bound of the parameter vector, if ``noise_std`` was
+        given: for references with the noise given as ``reference_noise_std``
+        (the errors-in-variables bound; exact references without)."""
 
     @property
     def crb_std(self) -> AccelerometerModel | GyroscopeModel | None:
@@ -333,6 +334,22 @@ def calibrate_gyroscope(
     rates (N, 3) rad/s and specific forces (N, 3) m/s². ``method``: "ls" or
     "eiv" (needs ``reference_noise_std``, rad/s per sample)."""
 
+def calibrated_imu(
+    accelerometer: Calibration,
+    gyroscope: Calibration,
+    *,
+    accel_noise_std: float,
+    gyro_noise_std: float,
+) -> ImuModel:
+    """The IMU to tune a coupled filter with on outputs corrected by these
+    calibrations (``invert_accelerometer``, ``invert_gyroscope``): the
+    calibrated models with the sensors' white noise per sample
+    (``accel_noise_std`` m/s², ``gyro_noise_std`` rad/s) and a spec holding
+    what the calibrations leave uncertain at a land vehicle's operating point
+    (level, g on the vertical axis), from their full covariances: terms the
+    motion could not separate count by the combination that reaches the
+    output, not by their own large stds."""
+
 def derive_seed(seed: int, purpose: str) -> int:
     """The seed of the independent draw named ``purpose`` made from user
     seed ``seed`` (the first output of its own stream of ``seed``; see
@@ -362,6 +379,13 @@ def invert_gyroscope(
 ) -> Any:
     """Angular rate (N, 3) rad/s from gyro outputs and the estimated specific
     force (N, 3) m/s² by the EKF of method §4; noise stds in rad/s per sample."""
+
+def land_vehicle_motion(
+    duration: float, rate: float, seed: int
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Body-frame land-vehicle motion of the calibration experiment: (specific
+    force (N, 3) m/s², angular rate (N, 3) rad/s); see
+    ``memsnav.experiments.land_vehicle_motion``."""
 
 def calibration_experiment(
     *,

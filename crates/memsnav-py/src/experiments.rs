@@ -302,7 +302,37 @@ fn partial_outage_experiment<'py>(
     Ok(out)
 }
 
+/// The body-frame land-vehicle motion of the calibration experiment
+/// (`memsnav_core::experiments::motion::land_vehicle`: speed changes,
+/// turns, road roughness, roll and pitch dynamics): `duration` s at `rate`
+/// Hz from `seed`, as (specific force (N, 3) m/s², angular rate (N, 3) rad/s).
+#[pyfunction]
+#[pyo3(signature = (duration, rate, seed))]
+fn land_vehicle_motion<'py>(
+    py: Python<'py>,
+    duration: f64,
+    rate: f64,
+    seed: u64,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let m = py
+        .detach(|| {
+            experiments::motion::land_vehicle(
+                duration,
+                rate,
+                &mut memsnav_core::random::stream(seed, 0),
+            )
+        })
+        .py()?;
+    let rows =
+        |v: &[Vector3<f64>]| -> Vec<[f64; 3]> { v.iter().map(|x| [x.x, x.y, x.z]).collect() };
+    Ok((
+        rows3(py, &rows(&m.specific_force_b))?,
+        rows3(py, &rows(&m.angular_rate_b))?,
+    ))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(land_vehicle_motion, m)?)?;
     m.add_function(wrap_pyfunction!(calibration_experiment, m)?)?;
     m.add_function(wrap_pyfunction!(inversion_experiment, m)?)?;
     m.add_function(wrap_pyfunction!(partial_outage_experiment, m)?)?;

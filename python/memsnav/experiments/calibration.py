@@ -252,6 +252,19 @@ class CalibrationResult:
         return figures
 
 
+def land_vehicle_motion(
+    duration: float = 300.0, rate: float = 100.0, seed: int = 0
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The motion the calibration experiment calibrates on: ``duration`` s at
+    ``rate`` Hz of a land vehicle's body-frame true specific force (N, 3)
+    m/s² and angular rate (N, 3) rad/s (speed changes, turns, road
+    roughness, roll and pitch dynamics; Earth rotation neglected). Unlike
+    ``Trajectory.random``, whose roll and pitch follow the manoeuvres only,
+    it excites the roll and pitch rates, so the gyro scale factors and the
+    misalignments onto p and q are determined."""
+    return _memsnav.land_vehicle_motion(duration, rate, seed)
+
+
 def _stats(d: dict[str, Any]) -> SensorStatistics:
     return SensorStatistics(**d)
 

@@ -110,13 +110,17 @@ class PartialOutageResult:
             for k, (label, result) in enumerate(self.scenarios.items()):
                 t = result.time
                 sel = (t >= start - 10.0) & (t <= start + length + 20.0)
+                # Loose coupling is blind below 4 satellites, so its curve
+                # follows "tight, 0 satellites" through the window: a wide
+                # grey band behind the others keeps that one visible.
                 loose = self.coupling[label] == "loose"
                 ax.plot(
                     t[sel],
                     result.mean[imu][sel],
-                    styles[k % len(styles)],
-                    color="k" if loose else None,
-                    lw=2.4 if loose else 1.6,
+                    "-" if loose else styles[k % len(styles)],
+                    color="0.7" if loose else f"C{k}",
+                    lw=5.0 if loose else 1.6,
+                    zorder=1 if loose else 2,
                     label=label,
                 )
             ax.axvspan(start, start + length, color="grey", alpha=0.15)

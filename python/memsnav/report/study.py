@@ -511,7 +511,8 @@ def _navigation(report: Report, results: dict[str, Any], summary: dict[str, Any]
             d = paired["rms_position_error_m"]
             difference = _pm(d["difference"], d["standard_error"])
             text += (
-                f" Raw minus calibrated MEMS, run by run: {difference} m of RMS error (both fly the same trajectories with the same sensor; the curves "
+                f" Raw minus calibrated MEMS, run by run: {difference} m of RMS error "
+                "(both fly the same trajectories with the same sensor; the curves "
                 "lie on each other where this is small: the raw MEMS is the dashed one)."
             )
         report.paragraph(text + _incomplete_note(summary, experiment))

@@ -4,14 +4,18 @@
 //! calibrated model. The inversion and navigation experiments both do this,
 //! through this one sequence.
 
-use nalgebra::Vector3;
+use nalgebra::{DMatrix, Vector3};
 
 use crate::calibration::{
     calibrate_accelerometer, calibrate_gyroscope, Calibration, CalibrationOptions, Method,
+    OFF_DIAGONAL,
 };
 use crate::inversion::{invert_accelerometer, invert_gyroscope, InversionNoise};
 use crate::random::Rng;
-use crate::sensors::{AccelerometerModel, GyroscopeModel, ImuModel, ImuReadings, ImuSpec};
+use crate::sensors::{
+    AccelerometerModel, AccelerometerSpec, GyroscopeModel, GyroscopeSpec, ImuModel, ImuReadings,
+    ImuSpec, NoiseModel,
+};
 use crate::{validate, Result};
 
 use super::{with_white_noise, MotionSource};
@@ -177,14 +181,80 @@ impl CalibratedImu {
         })
     }
 
-    /// The spec a filter on the inverted outputs is tuned from: the RMS of
-    /// each term's one-sigma calibration uncertainty (as
-    /// [`ImuSpec::of_models`] takes the RMS of a model's values) and the
-    /// sensor's own noise `raw`.
-    pub fn spec(&self, raw: &ImuSpec, rate_hz: f64) -> ImuSpec {
-        let mut spec = ImuSpec::of_models(&self.accelerometer.std, &self.gyroscope.std, rate_hz);
-        spec.accelerometer.noise = raw.accelerometer.noise;
-        spec.gyroscope.noise = raw.gyroscope.noise;
-        spec
+    /// The spec a filter on the inverted outputs is tuned from
+    /// ([`calibrated_spec`]), with the sensor's own noise from `raw`.
+    pub fn spec(&self, raw: &ImuSpec) -> ImuSpec {
+        calibrated_spec(
+            &self.accelerometer.covariance,
+            &self.gyroscope.covariance,
+            raw.accelerometer.noise,
+            raw.gyroscope.noise,
+        )
+    }
+}
+
+fn rms(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v * v, n + 1));
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// The one-sigma of parameter `k` of a covariance.
+fn std(covariance: &DMatrix<f64>, k: usize) -> f64 {
+    covariance[(k, k)].max(0.0).sqrt()
+}
+
+/// The spec that describes what a calibration leaves uncertain, for a
+/// land vehicle, from the calibrations' parameter covariances (orders of
+/// [`crate::calibration::accelerometer_parameters`] and
+/// [`crate::calibration::gyroscope_parameters`]) and the sensors' noise.
+///
+/// A filter on calibrated outputs absorbs the spec's terms as uncertainty
+/// ([`crate::coupling::FilterTuning::from_imu_spec`]): the part of each
+/// term that multiplies a constant input widens the bias uncertainty, the
+/// part that multiplies the varying inputs becomes white noise, for
+/// isotropic vehicle dynamics. On a land vehicle the vertical specific
+/// force stays near −g, so the w-axis scale factor and nonlinearity, the
+/// misalignments onto Γw and the g-sensitivity to Γw act as biases (which
+/// the filter estimates; their stds are also huge, because the motion
+/// cannot separate them from the biases, while their sum at −g is well
+/// determined). Taken per term and isotropically they would be charged to
+/// the horizontal dynamics and drown the calibrated sensor in noise. So:
+/// - bias: the calibrated biases' RMS std, all axes (initial uncertainty);
+/// - accelerometer scale factor, nonlinearity: the u and v axes';
+/// - misalignments: the terms whose input varies (accelerometer M_ij with
+///   j = u, v; gyroscope all, the rates vary about zero on every axis);
+/// - g-sensitivity: the terms on Γu, Γv.
+pub fn calibrated_spec(
+    accelerometer_covariance: &DMatrix<f64>,
+    gyroscope_covariance: &DMatrix<f64>,
+    accelerometer_noise: NoiseModel,
+    gyroscope_noise: NoiseModel,
+) -> ImuSpec {
+    let (ca, cg) = (accelerometer_covariance, gyroscope_covariance);
+    let horizontal = [0usize, 1];
+    // Misalignment M_ij sits at 6 + its position in OFF_DIAGONAL.
+    let varying_input_misalignments = OFF_DIAGONAL
+        .iter()
+        .enumerate()
+        .filter(|(_, &(_, j))| j != 2)
+        .map(|(k, _)| std(ca, 6 + k));
+    ImuSpec {
+        accelerometer: AccelerometerSpec {
+            bias_std: rms((0..3).map(|k| std(ca, k))),
+            scale_factor_std: rms(horizontal.iter().map(|&i| std(ca, 3 + i))),
+            misalignment_std: rms(varying_input_misalignments),
+            nonlinearity_std: rms(horizontal.iter().map(|&i| std(ca, 12 + i))),
+            noise: accelerometer_noise,
+        },
+        gyroscope: GyroscopeSpec {
+            bias_std: rms((0..3).map(|k| std(cg, k))),
+            scale_factor_std: rms((3..6).map(|k| std(cg, k))),
+            misalignment_std: rms((6..12).map(|k| std(cg, k))),
+            // K_il at 12 + 3i + l.
+            g_sensitivity_std: rms(
+                (0..3).flat_map(|i| horizontal.iter().map(move |&l| std(cg, 12 + 3 * i + l)))
+            ),
+            noise: gyroscope_noise,
+        },
     }
 }

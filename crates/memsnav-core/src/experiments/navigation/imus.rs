@@ -122,7 +122,7 @@ pub(super) fn imu_inputs(
                 let calibrated = calibration.calibrate(model, &motion::land_vehicle, &mut r)?;
                 let input = ImuInput {
                     readings: calibrated.invert(model, raw, &InversionProcess::default())?,
-                    spec: calibrated.spec(&model.spec, rate),
+                    spec: calibrated.spec(&model.spec),
                 };
                 sensors.push(None);
                 input
