@@ -571,33 +571,42 @@ def simulate_gnss(
     position_ecef: npt.ArrayLike,
     velocity_ecef: npt.ArrayLike,
     constellation: Constellation,
-    rate: float = 1.0,
-    n_satellites: int = 6,
-    elevation_mask_deg: float = 10.0,
-    pseudorange_std: float = 3.0,
-    pseudorange_rate_std: float = 0.1,
-    residual_std: float = 0.0,
-    residual_correlation_time: float = 300.0,
-    clock_h0: float = 2e-19,
-    clock_h_minus2: float = 2e-20,
-    clock_initial_offset_std: float = 30.0,
-    clock_initial_drift_std: float = 1.0,
+    rate: float | None = None,
+    n_satellites: int | None = None,
+    elevation_mask_deg: float | None = None,
+    pseudorange_std: float | None = None,
+    pseudorange_rate_std: float | None = None,
+    residual_std: float | None = None,
+    residual_correlation_time: float | None = None,
+    clock_h0: float | None = None,
+    clock_h_minus2: float | None = None,
+    clock_initial_offset_std: float | None = None,
+    clock_initial_drift_std: float | None = None,
     outages: Sequence[tuple[float, float] | tuple[float, float, int]] | None = None,
     seed: int = 0,
     start_gps_time: float | None = None,
 ) -> GnssMeasurements:
     """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
 
-    time (N,) s, position_ecef (N, 3) m, velocity_ecef (N, 3) m/s. Epochs at
+    time (N,) s, position_ecef (N, 3) m, velocity_ecef (N, 3) m/s. ``None``
+    takes the core's default (``memsnav_core::gnss::SimulationConfig``):
+    ``rate`` 1 Hz, ``n_satellites`` 6, ``elevation_mask_deg`` 10,
+    ``pseudorange_std`` 3 m, ``pseudorange_rate_std`` 0.1 m/s, no residual
+    (``residual_std`` m; ``residual_correlation_time`` 300 s), a TCXO clock
+    (``clock_h0`` 2e-19, ``clock_h_minus2`` 2e-20, initial offset 30 m and
+    drift 1 m/s one-sigma). Epochs at
     ``rate`` Hz fall on the trajectory samples nearest to t0 + k/rate. At the
     first epoch the ``n_satellites`` with the best GDOP above the mask are
     chosen (greedy elimination) and kept while visible; a setting satellite
     is replaced by the one giving the best GDOP. Pseudorange = exact
     light-time range with Earth rotation + receiver clock + optional
     Gauss-Markov residual (residual_std m, residual_correlation_time s) +
-    white noise. Clock: two-state, h0 and h_minus2 Allan coefficients (TCXO
-    defaults). Outages: (start s, length s) total, or (start, length,
-    n_satellites) partial, on the trajectory's time axis. start_gps_time:
+    white noise. Clock: two-state, h0 and h_minus2 Allan coefficients.
+    Outages: (start s, length s) total, or (start, length, n_satellites)
+    partial, keeping the highest of the tracked satellites (an urban
+    canyon's view), on the trajectory's time axis; they are applied after
+    every random draw, so the kept satellites' noise does not depend on
+    them. start_gps_time:
     GPS time of time[0] (default: earliest t_oe of a broadcast file, 0 for
     Walker).
     """

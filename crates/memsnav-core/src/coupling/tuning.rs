@@ -332,13 +332,6 @@ impl FilterTuning {
     ) -> Result<Self> {
         spec.validate()?;
         validate::positive("sample_rate_hz", sample_rate_hz)?;
-        let per_sample = |n: &crate::sensors::NoiseModel| {
-            if n.white_density > 0.0 {
-                n.white_density * sample_rate_hz.sqrt()
-            } else {
-                n.white_std
-            }
-        };
         let bias = |initial_std: f64, n: &crate::sensors::NoiseModel| BiasProcess {
             initial_std: (initial_std.powi(2) + n.bias_instability_std.powi(2)).sqrt(),
             instability_std: n.bias_instability_std,
@@ -352,8 +345,8 @@ impl FilterTuning {
         let (a, g) = (&spec.accelerometer, &spec.gyroscope);
         let mut t = Self::new(
             sample_rate_hz,
-            per_sample(&a.noise),
-            per_sample(&g.noise),
+            a.noise.white_std_per_sample(sample_rate_hz),
+            g.noise.white_std_per_sample(sample_rate_hz),
             bias(a.bias_std, &a.noise),
             bias(g.bias_std, &g.noise),
         )?;

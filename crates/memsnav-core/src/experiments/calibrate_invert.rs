@@ -82,12 +82,8 @@ impl SegmentCalibration {
     /// Checks every setting; errors name the Python keyword.
     pub fn validate(&self) -> Result<()> {
         validate::positive("calibration_duration", self.duration_s)?;
-        validate::positive(
-            "reference_specific_force_std",
+        super::validate_reference_noise(
             self.reference_specific_force_std,
-        )?;
-        validate::positive(
-            "reference_angular_rate_std",
             self.reference_angular_rate_std,
         )
     }

@@ -43,12 +43,8 @@ impl CalibrationExperimentConfig {
         }
         validate::positive("duration", self.duration_s)?;
         super::validate_preset(&self.preset)?;
-        validate::positive(
-            "reference_specific_force_std",
+        super::validate_reference_noise(
             self.reference_specific_force_std,
-        )?;
-        validate::positive(
-            "reference_angular_rate_std",
             self.reference_angular_rate_std,
         )
     }

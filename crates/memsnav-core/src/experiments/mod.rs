@@ -74,6 +74,15 @@ pub(crate) fn validate_preset(preset: &str) -> Result<()> {
         })
 }
 
+/// The references' noise per sample: positive and finite.
+pub(crate) fn validate_reference_noise(
+    specific_force_std: f64,
+    angular_rate_std: f64,
+) -> Result<()> {
+    crate::validate::positive("reference_specific_force_std", specific_force_std)?;
+    crate::validate::positive("reference_angular_rate_std", angular_rate_std)
+}
+
 /// The truth plus white Gaussian noise of std `std` on every component.
 pub(crate) fn with_white_noise(
     truth: &[Vector3<f64>],

@@ -535,60 +535,41 @@ mod tests {
         assert!(late.iter().all(|e| *e < 10.0), "{late:?}");
     }
 
+    /// Every setting is checked before a run starts (the derived GNSS
+    /// settings included), and the error names the Python keyword.
     #[test]
     fn bad_configurations_name_the_argument() {
-        let mut c = small(1, paper_imus());
-        c.imus.swap(1, 2);
-        assert!(navigation_experiment(&c, &threads(1))
-            .unwrap_err()
-            .to_string()
-            .starts_with("imus:"));
-        let c = NavigationExperimentConfig {
+        let refused = |c: NavigationExperimentConfig| {
+            let e = navigation_experiment(&c, &threads(1))
+                .unwrap_err()
+                .to_string();
+            e[..e.find(':').unwrap()].to_string()
+        };
+        let with_outage = |start_s: f64, n_satellites: usize| NavigationExperimentConfig {
             outage: Some(Outage {
-                start_s: 0.0,
+                start_s,
                 duration_s: 30.0,
-                n_satellites: 0,
+                n_satellites,
             }),
             ..small(1, paper_imus())
         };
-        assert!(navigation_experiment(&c, &threads(1))
-            .unwrap_err()
-            .to_string()
-            .starts_with("outage:"));
-        let c = NavigationExperimentConfig {
-            outage: Some(Outage {
-                start_s: 10.0,
-                duration_s: 30.0,
-                n_satellites: 4,
-            }),
-            ..small(1, paper_imus())
-        };
-        assert!(navigation_experiment(&c, &threads(1))
-            .unwrap_err()
-            .to_string()
-            .starts_with("outage:"));
-        let c = NavigationExperimentConfig {
+        let mut swapped = small(1, paper_imus());
+        swapped.imus.swap(1, 2);
+        assert_eq!(refused(swapped), "imus");
+        assert_eq!(refused(with_outage(0.0, 0)), "outage");
+        assert_eq!(refused(with_outage(10.0, 4)), "outage");
+        let three = NavigationExperimentConfig {
             n_satellites: 3,
             ..small(1, paper_imus())
         };
-        assert!(navigation_experiment(&c, &threads(1))
-            .unwrap_err()
-            .to_string()
-            .starts_with("n_satellites:"));
-        // A bad GNSS setting is refused before any run, with its name.
-        let mut c = small(1, paper_imus());
-        c.gnss.pseudorange_std_m = -1.0;
-        assert!(navigation_experiment(&c, &threads(1))
-            .unwrap_err()
-            .to_string()
-            .starts_with("pseudorange_std:"));
-        let c = NavigationExperimentConfig {
+        assert_eq!(refused(three), "n_satellites");
+        let mut noisy = small(1, paper_imus());
+        noisy.gnss.pseudorange_std_m = -1.0;
+        assert_eq!(refused(noisy), "pseudorange_std");
+        let attitude = NavigationExperimentConfig {
             initial_attitude_std_rad: Vector3::new(0.01, 0.0, 0.1),
             ..small(1, paper_imus())
         };
-        assert!(navigation_experiment(&c, &threads(1))
-            .unwrap_err()
-            .to_string()
-            .starts_with("initial_attitude_std:"));
+        assert_eq!(refused(attitude), "initial_attitude_std");
     }
 }

@@ -55,12 +55,23 @@ pub struct Outage {
 
 /// First-order Gauss-Markov residual per satellite (unmodelled atmosphere
 /// and multipath, [`crate::gauss_markov`]), stationary std `std_m`.
+/// Default: 1 m with a 300 s correlation time (a slowly varying
+/// tropospheric/ionospheric residual after broadcast corrections).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AtmosphericResidual {
     /// Stationary one-sigma, m.
     pub std_m: f64,
     /// Correlation time τ, s.
     pub correlation_time_s: f64,
+}
+
+impl Default for AtmosphericResidual {
+    fn default() -> Self {
+        Self {
+            std_m: 1.0,
+            correlation_time_s: 300.0,
+        }
+    }
 }
 
 /// Settings of [`simulate`]. Defaults: 1 Hz, 6 satellites, 10° mask,
