@@ -686,26 +686,28 @@ class Trajectory:
 
     @staticmethod
     def random(
-        duration: float = 600.0,
-        rate: float = 100.0,
+        duration: float | None = None,
+        rate: float | None = None,
         seed: int = 0,
         origin: npt.ArrayLike | None = None,
         *,
         heading: float | None = None,
-        max_speed: float = 30.0,
-        max_longitudinal_acceleration: float = 2.0,
-        max_lateral_acceleration: float = 3.0,
-        max_yaw_rate: float = 0.4,
-        max_slope: float = 0.05,
-        stationary_start: float = 0.0,
+        max_speed: float | None = None,
+        max_longitudinal_acceleration: float | None = None,
+        max_lateral_acceleration: float | None = None,
+        max_yaw_rate: float | None = None,
+        max_slope: float | None = None,
+        stationary_start: float | None = None,
     ) -> Trajectory:
         """Random land-vehicle motion: cruises, speed changes (sometimes to a
         stop), turns, road slope, body lean and squat; C² smooth.
 
-        duration s, rate Hz, origin [lat rad, lon rad, h m] (default
-        Toulouse 43.6° N 1.44° E 150 m), heading rad from north (None:
-        random), speeds m/s, accelerations m/s², yaw rate rad/s, slope rad,
-        stationary_start: seconds at rest before moving off (0: start moving).
+        ``None`` takes the core's default (``RandomTrajectoryConfig``):
+        duration 600 s, rate 100 Hz, origin [lat rad, lon rad, h m] Toulouse
+        43.6° N 1.44° E 150 m, heading rad from north (None: random),
+        max_speed 30 m/s, max_longitudinal_acceleration 2 m/s²,
+        max_lateral_acceleration 3 m/s², max_yaw_rate 0.4 rad/s, max_slope
+        0.05 rad, stationary_start 0 s (seconds at rest before moving off).
         """
 
     @staticmethod
