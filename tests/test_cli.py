@@ -26,11 +26,16 @@ def test_simulate_writes_consistent_files(tmp_path):
     gnss = np.loadtxt(out / "gnss.csv", delimiter=",", skiprows=1)
     meta = json.loads((out / "simulation.json").read_text())
     assert trajectory.shape == (3001, 16) and imu.shape == (3001, 7)
-    # The files hold what the API computes from the same seeds.
-    truth = mn.Trajectory.random(duration=30.0, rate=100.0, seed=3)
+    # The files hold what the API computes from the seeds derived from 3,
+    # one per independent draw, recorded in simulation.json.
+    seeds = meta["derived_seeds"]
+    assert seeds == {
+        n: mn.derive_seed(3, n) for n in ("trajectory", "imu errors", "imu noise", "gnss")
+    }
+    truth = mn.Trajectory.random(duration=30.0, rate=100.0, seed=seeds["trajectory"])
     np.testing.assert_allclose(trajectory[:, 1:4], truth.position_ecef, rtol=0, atol=1e-3)
-    model = mn.ImuModel.preset("paper-mems", seed=4)
-    accel, _ = model.measure(truth.specific_force, truth.angular_rate, seed=5)
+    model = mn.ImuModel.preset("paper-mems", seed=seeds["imu errors"])
+    accel, _ = model.measure(truth.specific_force, truth.angular_rate, seed=seeds["imu noise"])
     np.testing.assert_allclose(imu[:, 1:4], accel, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(
         meta["imu_errors"]["accelerometer"]["bias_m_s2"], model.accelerometer.bias
@@ -46,6 +51,14 @@ def test_simulate_writes_consistent_files(tmp_path):
     first = gnss[gnss[:, 0] == 0]
     ranges = np.linalg.norm(first[:, 3:6] - trajectory[0, 1:4], axis=1)
     assert np.std(first[:, 9] - ranges) < 30.0
+
+
+def test_derived_seeds_do_not_overlap_between_user_seeds():
+    # seed + 1 would make seed 0's IMU errors seed 1's trajectory.
+    names = ("trajectory", "imu errors", "imu noise", "gnss")
+    derived = [mn.derive_seed(seed, name) for seed in range(20) for name in names]
+    assert len(set(derived)) == len(derived)
+    assert not set(derived) & set(range(1000))
 
 
 @pytest.mark.parametrize(

@@ -112,7 +112,11 @@ def test_inversion_experiment_lands_near_the_paper():
     assert 3e-4 < s["gyro_mse_dps2"] < 2e-3
     assert s["raw_accel_mse_g2"] > 3 * s["accel_mse_g2"]
     assert one.gyro_mse.shape == (4, 3)
-    assert math.isfinite(s["gyro_mse"])
+    assert math.isfinite(s["gyro_mse_rad2_s2"])
+    assert s["accel_mse_se_g2"] > 0 and s["completed_runs"] == 4
+    # The defaults of the core ran, and the config says which.
+    assert one.config["runs"] == 4 and one.config["method"] == "eiv"
+    assert one.config["accel_process_std"] == 0.1
     import matplotlib
 
     matplotlib.use("Agg")

@@ -186,14 +186,30 @@ def test_experiment_shapes_and_summary(tiny):
     keys = {
         "rms_position_error_m",
         "rms_position_error_first_150s_m",
+        "rms_position_error_after_150s_m",
         "final_position_error_m",
         "mean_nees_per_dof",
         "rejected_measurements_per_run",
     }
-    assert set(s["ins"]) == keys
+    assert set(s["ins"]) == keys | {"standard_error"}
+    assert set(s["ins"]["standard_error"]) == keys
     pe = tiny.position_error["ins"]
     assert s["ins"]["rms_position_error_m"] == pytest.approx(np.sqrt(np.mean(pe**2)))
     assert s["ins"]["final_position_error_m"] == pytest.approx(pe[:, -1].mean())
+    # Standard errors: of the final error directly; of an RMS by the δ method
+    # from the per-run mean squares.
+    assert s["ins"]["standard_error"]["final_position_error_m"] == pytest.approx(
+        pe[:, -1].std(ddof=1) / np.sqrt(2)
+    )
+    ms = np.mean(pe**2, axis=1)
+    assert s["ins"]["standard_error"]["rms_position_error_m"] == pytest.approx(
+        ms.std(ddof=1) / np.sqrt(2) / (2 * np.sqrt(ms.mean()))
+    )
+    # The paired difference is the mean of per-run differences.
+    d = tiny.paired_difference("mems", "calibrated_mems")["final_position_error_m"]
+    diffs = tiny.position_error["mems"][:, -1] - tiny.position_error["calibrated_mems"][:, -1]
+    assert d["difference"] == pytest.approx(diffs.mean())
+    assert d["standard_error"] == pytest.approx(diffs.std(ddof=1) / np.sqrt(2))
     assert s["ins"]["mean_nees_per_dof"] == pytest.approx(tiny.nees["ins"].mean() / 9)
     figs = tiny.plot()
     assert set(figs) == {"fig14", "fig15"}

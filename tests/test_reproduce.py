@@ -1,10 +1,15 @@
-"""``memsnav reproduce`` end to end in a small mode: the files, the keys of
-summary.json, and a report whose every figure is present and decodes as an
-image (parsed from the HTML, as a browser would load it)."""
+"""``memsnav reproduce`` end to end in a small mode: the files and their
+permissions, the keys of summary.json, verdicts recomputed from it by an
+independent statement of each criterion, a report whose every figure is
+present and decodes as an image (parsed from the HTML, as a browser would
+load it), and an interrupted run's report and summary."""
 
 import base64
 import csv
 import json
+import math
+import os
+import re
 import signal
 import subprocess
 import sys
@@ -12,12 +17,21 @@ import time
 from html.parser import HTMLParser
 
 import matplotlib.image
-import numpy as np
 import pytest
 
 import memsnav as mn
 
-FIGURES = [f"fig{n:02d}" for n in range(3, 19)]
+FIGURES = sorted([f"fig{n:02d}" for n in range(3, 19)] + ["partial_outage"])
+CLAIM_IDS = [
+    "accel_bias_misalignment_well_estimated",
+    "gyro_bias_misalignment_well_estimated",
+    "inversion_accel_mse",
+    "inversion_gyro_mse",
+    "calibration_helps_first_150s",
+    "calibrated_mems_like_ins",
+    "mems_drifts_in_outage",
+    "calibration_helps_little_in_outage",
+]
 IMUS = {"ins", "mems", "calibrated_mems"}
 
 
@@ -63,46 +77,169 @@ def study(tmp_path_factory):
 def test_summary_json_has_the_documented_keys(study):
     summary = json.loads((study / "summary.json").read_text())
     assert {
+        "experiments",
+        "claims",
         "calibration",
         "inversion",
         "navigation",
+        "partial_outage",
         "runs",
         "seed",
         "elapsed_s",
         "memsnav_version",
+        "machine",
     } <= summary.keys()
     assert summary["seed"] == 5 and summary["memsnav_version"] == mn.__version__
     assert summary["runs"]["navigation"] == 2
-    assert summary["calibration"]["accelerometer"].keys() >= {
-        "bias",
-        "scale_factor",
-        "misalignment",
-        "nonlinearity",
-    }
-    assert summary["calibration"]["gyroscope"].keys() >= {
-        "bias",
-        "scale_factor",
-        "misalignment",
-        "g_sensitivity",
-    }
-    assert summary["inversion"].keys() >= {"accel_mse_g2", "gyro_mse_dps2"}
+    assert summary["machine"]["threads"] >= 1
+    for name, state in summary["experiments"].items():
+        assert state == {
+            "planned_runs": state["completed_runs"],
+            "completed_runs": state["completed_runs"],
+            "state": "completed",
+        }, name
+    cal = summary["calibration"]
+    assert cal["accelerometer"].keys() == {"bias", "scale_factor", "misalignment", "nonlinearity"}
+    assert cal["gyroscope"].keys() == {"bias", "scale_factor", "misalignment", "g_sensitivity"}
+    assert cal["accelerometer"]["bias"]["unit"] == "(m/s²)²"
+    for sensor, axes in (("accelerometer", "uvw"), ("gyroscope", "pqr")):
+        for group in cal[sensor].values():
+            assert set(group["per_axis"]) == set(axes)
+            for entry in [group, *group["per_axis"].values(), *group["per_parameter"].values()]:
+                assert entry["mse_eiv"] > 0 and entry["mse_ls"] > 0 and entry["crb"] > 0
+                assert entry["efficiency_eiv"] == pytest.approx(entry["mse_eiv"] / entry["crb"])
+    assert summary["inversion"].keys() >= {"accel_mse_g2", "gyro_mse_dps2", "accel_mse_se_g2"}
+    assert 0 < summary["inversion"]["accel_mse_g2"] < 1
     for scenario in ("nominal", "outage"):
-        per_imu = summary["navigation"][scenario]
-        assert per_imu.keys() == IMUS
-        for values in per_imu.values():
+        nav = summary["navigation"][scenario]
+        assert nav["imus"].keys() == IMUS and nav["completed_runs"] == 2
+        for values in nav["imus"].values():
             assert values.keys() >= {
                 "rms_position_error_m",
+                "rms_position_error_first_150s_m",
+                "rms_position_error_after_150s_m",
                 "final_position_error_m",
                 "mean_nees_per_dof",
+                "standard_error",
             }
-            assert all(np.isfinite(v) and v >= 0 for v in values.values())
-    for values in summary["navigation"]["outage"].values():
+            assert all(v >= 0 for k, v in values.items() if k != "standard_error")
+    for values in summary["navigation"]["outage"]["imus"].values():
         assert values["max_position_error_during_outage_m"] > 0
-    # MSEs are positive numbers in SI units.
-    assert 0 < summary["inversion"]["accel_mse_g2"] < 1
-    assert all(
-        v > 0 for v in summary["calibration"]["accelerometer"].values() if isinstance(v, float)
+    assert (
+        "max_position_error_during_outage_m" not in summary["navigation"]["nominal"]["imus"]["ins"]
     )
+    scenarios = summary["partial_outage"]["scenarios"]
+    assert list(scenarios) == [
+        "tight, 0 satellites",
+        "tight, 1 satellite",
+        "tight, 2 satellites",
+        "tight, 3 satellites",
+        "loose",
+    ]
+    assert [c["id"] for c in summary["claims"]] == CLAIM_IDS
+    for claim in summary["claims"]:
+        assert claim.keys() >= {"id", "paper", "memsnav", "criterion", "verdict"}
+
+
+def _verdict(value, holds, partly):
+    """holds / partly / does not hold for a figure where smaller is better."""
+    return "holds" if value <= holds else "partly" if value <= partly else "does not hold"
+
+
+def _recomputed(summary):
+    """Every verdict from summary.json, each criterion restated here from
+    its printed text, independently of memsnav.report.claims."""
+    cal, inv = summary["calibration"], summary["inversion"]
+    nominal = summary["navigation"]["nominal"]
+    outage = summary["navigation"]["outage"]["imus"]
+    out = {}
+    for claim_id, sensor, good, worse in (
+        (
+            "accel_bias_misalignment_well_estimated",
+            "accelerometer",
+            ("bias", "misalignment"),
+            ("scale_factor", "nonlinearity"),
+        ),
+        (
+            "gyro_bias_misalignment_well_estimated",
+            "gyroscope",
+            ("bias", "misalignment"),
+            ("scale_factor", "g_sensitivity"),
+        ),
+    ):
+        rms = [
+            math.sqrt(cal[sensor][g]["per_axis"][a]["normalized_mse_eiv"])
+            for g in good
+            for a in cal[sensor][g]["per_axis"]
+        ]
+        floor = min(math.sqrt(cal[sensor][g]["normalized_mse_eiv"]) for g in worse)
+        well = [r for r in rms if r <= 0.3]
+        if well and all(r < floor for r in well):
+            out[claim_id] = "holds" if len(well) == len(rms) else "partly"
+        else:
+            out[claim_id] = "does not hold"
+    for claim_id, key, paper in (
+        ("inversion_accel_mse", "accel_mse_g2", 1e-5),
+        ("inversion_gyro_mse", "gyro_mse_dps2", 1e-3),
+    ):
+        out[claim_id] = _verdict(max(inv[key] / paper, paper / inv[key]), 2.0, 10.0)
+    mems = nominal["imus"]["mems"]
+    early = nominal["paired"]["rms_position_error_first_150s_m"]
+    late = nominal["paired"]["rms_position_error_after_150s_m"]
+    gain_early = early["difference"] / mems["rms_position_error_first_150s_m"]
+    gain_late = late["difference"] / mems["rms_position_error_after_150s_m"]
+    se = early["standard_error"]
+    significant = se is not None and early["difference"] > 3 * se
+    out["calibration_helps_first_150s"] = (
+        "holds"
+        if significant and gain_early >= 0.1 and gain_early > gain_late
+        else "partly"
+        if significant
+        else "does not hold"
+    )
+    key = "rms_position_error_after_150s_m"
+    out["calibrated_mems_like_ins"] = _verdict(
+        nominal["imus"]["calibrated_mems"][key] / nominal["imus"]["ins"][key], 1.25, 2.0
+    )
+    key = "max_position_error_during_outage_m"
+    ratio = outage["mems"][key] / outage["ins"][key]
+    out["mems_drifts_in_outage"] = (
+        "holds" if ratio >= 3 else "partly" if ratio >= 1.5 else "does not hold"
+    )
+    out["calibration_helps_little_in_outage"] = _verdict(
+        1 - outage["calibrated_mems"][key] / outage["mems"][key], 0.25, 0.5
+    )
+    return out
+
+
+def test_verdicts_follow_from_summary_json(study):
+    summary = json.loads((study / "summary.json").read_text())
+    verdicts = {c["id"]: c["verdict"] for c in summary["claims"]}
+    assert verdicts == _recomputed(summary)
+    # Every verdict is stated in the report beside its criterion.
+    report = (study / "report.html").read_text()
+    for claim in summary["claims"]:
+        assert claim["id"] in report and claim["verdict"] in report
+
+
+def _prose(html_text):
+    """The page's text: the body without its embedded images."""
+    body = html_text[html_text.index("<body>") :]
+    return re.sub(r'src="data:image/png;base64,[^"]*"', "", body)
+
+
+def test_report_prose_has_no_python_reprs_or_nan(study):
+    prose = _prose((study / "report.html").read_text())
+    for bad in ("None", "nan", "True", "False", "(1.0, 1.0, 5.0)"):
+        assert bad not in prose, bad
+
+
+def test_files_have_the_permissions_of_plain_files(study):
+    umask = os.umask(0)
+    os.umask(umask)
+    expected = 0o666 & ~umask
+    for path in [study / "report.html", study / "summary.json", *study.glob("figures/*")]:
+        assert path.stat().st_mode & 0o777 == expected, path
 
 
 def test_report_embeds_every_figure_as_a_decodable_image(study):
@@ -123,6 +260,10 @@ def test_report_embeds_every_figure_as_a_decodable_image(study):
 def test_figures_are_written_as_png_svg_and_csv(study):
     for name in FIGURES:
         for ext in ("png", "svg", "csv"):
+            if name == "fig13" and ext == "csv":
+                # A drawing, no data: no empty CSV.
+                assert not (study / "figures" / "fig13.csv").exists()
+                continue
             assert (study / "figures" / f"{name}.{ext}").stat().st_size > 0, (name, ext)
         assert (study / "figures" / f"{name}.svg").read_text().lstrip().startswith("<?xml")
     # The curves behind fig. 14 are there: position error vs time per IMU.
@@ -166,8 +307,23 @@ def test_ctrl_c_keeps_the_completed_runs_and_writes_the_report(tmp_path):
     assert "Traceback" not in stderr
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["interrupted"] is True
+    state = summary["experiments"]["calibration"]
+    assert state["state"] == "interrupted"
+    assert 0 < state["completed_runs"] < state["planned_runs"] == 50 * 400
+    assert summary["experiments"]["inversion"] == {
+        "planned_runs": 400,
+        "completed_runs": 0,
+        "state": "not run",
+    }
     assert summary["inversion"] is None  # never started
+    # The terminal says how far each experiment got.
+    assert f"calibration: {state['completed_runs']}/20000 runs, interrupted" in stderr
+    assert "inversion: 0/400 runs, not run" in stderr
+    # No claim is judged on an incomplete experiment.
+    assert {c["verdict"] for c in summary["claims"]} == {"not evaluated"}
     # The calibration runs completed before Ctrl-C are kept and summarised.
-    assert summary["calibration"]["accelerometer"]["bias"] > 0
-    assert (tmp_path / "report.html").read_text().count("<figure") >= 8
+    assert summary["calibration"]["accelerometer"]["bias"]["mse_eiv"] > 0
+    report = (tmp_path / "report.html").read_text()
+    assert report.count("<figure") >= 8
+    assert "Interrupted after" in report and "nan" not in _prose(report)
     assert not list(tmp_path.rglob("*.tmp"))

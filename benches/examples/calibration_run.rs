@@ -103,13 +103,26 @@ fn main() {
         lap(3, &mut times);
         calibrate_accelerometer(&readings.specific_force_b, &f_ref, &eiv_a).expect("EIV");
         lap(4, &mut times);
-        accelerometer_crb(&m.specific_force_b, &imu.accelerometer, 1e-3).expect("CRB");
+        accelerometer_crb(
+            &m.specific_force_b,
+            &imu.accelerometer,
+            1e-3,
+            &Default::default(),
+        )
+        .expect("CRB");
         lap(5, &mut times);
         calibrate_gyroscope(&readings.angular_rate_b, &w_ref, &f_ref, &ls).expect("LS");
         lap(6, &mut times);
         calibrate_gyroscope(&readings.angular_rate_b, &w_ref, &f_ref, &eiv_g).expect("EIV");
         lap(7, &mut times);
-        gyroscope_crb(&m.angular_rate_b, &m.specific_force_b, &imu.gyroscope, 1e-4).expect("CRB");
+        gyroscope_crb(
+            &m.angular_rate_b,
+            &m.specific_force_b,
+            &imu.gyroscope,
+            1e-4,
+            &Default::default(),
+        )
+        .expect("CRB");
         lap(8, &mut times);
         let config = CalibrationExperimentConfig {
             seed: SEED + r as u64,

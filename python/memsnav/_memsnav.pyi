@@ -287,8 +287,9 @@ class Calibration:
 
     @property
     def crb(self) -> npt.NDArray[np.float64] | None:
-        """Cramér-Rao bound of the parameter vector (exact references), if
-        ``noise_std`` was given."""
+        """Cramér-Rao bound of the parameter vector, if ``noise_std`` was
+        given: for references with the noise given as ``reference_noise_std``
+        (the errors-in-variables bound; exact references without)."""
 
     @property
     def crb_std(self) -> AccelerometerModel | GyroscopeModel | None:
@@ -508,6 +509,28 @@ def correct_imu(
 def static_calibration_defaults() -> dict[str, float]:
     """The core's detector defaults and nominal scale (1) and offset (0)."""
 
+def calibrated_imu(
+    accelerometer: Calibration,
+    gyroscope: Calibration,
+    *,
+    accel_noise_std: float,
+    gyro_noise_std: float,
+) -> ImuModel:
+    """The IMU to tune a coupled filter with on outputs corrected by these
+    calibrations (``invert_accelerometer``, ``invert_gyroscope``): the
+    calibrated models with the sensors' white noise per sample
+    (``accel_noise_std`` m/s², ``gyro_noise_std`` rad/s) and a spec holding
+    what the calibrations leave uncertain at a land vehicle's operating point
+    (level, g on the vertical axis), from their full covariances: terms the
+    motion could not separate count by the combination that reaches the
+    output, not by their own large stds."""
+
+def derive_seed(seed: int, purpose: str) -> int:
+    """The seed of the independent draw named ``purpose`` made from user
+    seed ``seed`` (the first output of its own stream of ``seed``; see
+    ``docs/concepts.md``, "Seeds"). Use it when one seed feeds several
+    functions that each take a seed, instead of ``seed + 1``, ``seed + 2``."""
+
 def invert_accelerometer(
     measured: npt.ArrayLike,
     model: AccelerometerModel,
@@ -532,37 +555,69 @@ def invert_gyroscope(
     """Angular rate (N, 3) rad/s from gyro outputs and the estimated specific
     force (N, 3) m/s² by the EKF of method §4; noise stds in rad/s per sample."""
 
+def land_vehicle_motion(
+    duration: float, rate: float, seed: int
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Body-frame land-vehicle motion of the calibration experiment: (specific
+    force (N, 3) m/s², angular rate (N, 3) rad/s); see
+    ``memsnav.experiments.land_vehicle_motion``."""
+
 def calibration_experiment(
     *,
-    parameter_sets: int = 50,
-    runs: int = 20,
-    duration: float = 300.0,
-    preset: str = "paper-mems",
-    reference_specific_force_std: float = 0.03,
-    reference_angular_rate_std: float = 0.0017453292519943296,
-    motion: str = "land-vehicle",
-    seed: int = 0,
+    parameter_sets: int | None = None,
+    runs: int | None = None,
+    duration: float | None = None,
+    preset: str | None = None,
+    reference_specific_force_std: float | None = None,
+    reference_angular_rate_std: float | None = None,
+    motion: str | None = None,
+    seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
-    """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI."""
+    """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI, and the
+    ``config`` that ran. ``None``: the core's default (documented in
+    ``memsnav.experiments.calibration``)."""
 
 def inversion_experiment(
     *,
-    runs: int = 50,
-    duration: float = 120.0,
-    calibration_duration: float = 300.0,
-    preset: str = "paper-mems",
-    method: str = "eiv",
-    reference_specific_force_std: float = 0.03,
-    reference_angular_rate_std: float = 0.0017453292519943296,
-    accel_process_std: float = 0.1,
-    gyro_process_std: float = 0.017453292519943295,
-    seed: int = 0,
+    runs: int | None = None,
+    duration: float | None = None,
+    calibration_duration: float | None = None,
+    preset: str | None = None,
+    method: str | None = None,
+    reference_specific_force_std: float | None = None,
+    reference_angular_rate_std: float | None = None,
+    accel_process_std: float | None = None,
+    gyro_process_std: float | None = None,
+    seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, Any]:
-    """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI."""
+    """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI, and
+    the ``config`` that ran. ``None``: the core's default (documented in
+    ``memsnav.experiments.inversion``)."""
+
+def partial_outage_experiment(
+    imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
+    *,
+    runs: int | None = None,
+    duration: float | None = None,
+    seed: int | None = None,
+    outage_start: float | None = None,
+    outage_length: float | None = None,
+    satellites: Sequence[int] | None = None,
+    loose: bool | None = None,
+    calibration_duration: float | None = None,
+    keep_runs: bool | None = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+) -> dict[str, Any]:
+    """Partial-outage study (0-3 satellites through a window, tight against
+    loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
+    ``imus`` as in ``navigation_experiment``), ``completed_runs``,
+    ``interrupted``, ``config``. ``None``: the core's default (documented in
+    ``memsnav.experiments.partial_outage``)."""
 
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
@@ -691,33 +746,42 @@ def simulate_gnss(
     position_ecef: npt.ArrayLike,
     velocity_ecef: npt.ArrayLike,
     constellation: Constellation,
-    rate: float = 1.0,
-    n_satellites: int = 6,
-    elevation_mask_deg: float = 10.0,
-    pseudorange_std: float = 3.0,
-    pseudorange_rate_std: float = 0.1,
-    residual_std: float = 0.0,
-    residual_correlation_time: float = 300.0,
-    clock_h0: float = 2e-19,
-    clock_h_minus2: float = 2e-20,
-    clock_initial_offset_std: float = 30.0,
-    clock_initial_drift_std: float = 1.0,
+    rate: float | None = None,
+    n_satellites: int | None = None,
+    elevation_mask_deg: float | None = None,
+    pseudorange_std: float | None = None,
+    pseudorange_rate_std: float | None = None,
+    residual_std: float | None = None,
+    residual_correlation_time: float | None = None,
+    clock_h0: float | None = None,
+    clock_h_minus2: float | None = None,
+    clock_initial_offset_std: float | None = None,
+    clock_initial_drift_std: float | None = None,
     outages: Sequence[tuple[float, float] | tuple[float, float, int]] | None = None,
     seed: int = 0,
     start_gps_time: float | None = None,
 ) -> GnssMeasurements:
     """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
 
-    time (N,) s, position_ecef (N, 3) m, velocity_ecef (N, 3) m/s. Epochs at
+    time (N,) s, position_ecef (N, 3) m, velocity_ecef (N, 3) m/s. ``None``
+    takes the core's default (``memsnav_core::gnss::SimulationConfig``):
+    ``rate`` 1 Hz, ``n_satellites`` 6, ``elevation_mask_deg`` 10,
+    ``pseudorange_std`` 3 m, ``pseudorange_rate_std`` 0.1 m/s, no residual
+    (``residual_std`` m; ``residual_correlation_time`` 300 s), a TCXO clock
+    (``clock_h0`` 2e-19, ``clock_h_minus2`` 2e-20, initial offset 30 m and
+    drift 1 m/s one-sigma). Epochs at
     ``rate`` Hz fall on the trajectory samples nearest to t0 + k/rate. At the
     first epoch the ``n_satellites`` with the best GDOP above the mask are
     chosen (greedy elimination) and kept while visible; a setting satellite
     is replaced by the one giving the best GDOP. Pseudorange = exact
     light-time range with Earth rotation + receiver clock + optional
     Gauss-Markov residual (residual_std m, residual_correlation_time s) +
-    white noise. Clock: two-state, h0 and h_minus2 Allan coefficients (TCXO
-    defaults). Outages: (start s, length s) total, or (start, length,
-    n_satellites) partial, on the trajectory's time axis. start_gps_time:
+    white noise. Clock: two-state, h0 and h_minus2 Allan coefficients.
+    Outages: (start s, length s) total, or (start, length, n_satellites)
+    partial, keeping the highest of the tracked satellites (an urban
+    canyon's view), on the trajectory's time axis; they are applied after
+    every random draw, so the kept satellites' noise does not depend on
+    them. start_gps_time:
     GPS time of time[0] (default: earliest t_oe of a broadcast file, 0 for
     Walker).
     """
@@ -797,26 +861,28 @@ class Trajectory:
 
     @staticmethod
     def random(
-        duration: float = 600.0,
-        rate: float = 100.0,
+        duration: float | None = None,
+        rate: float | None = None,
         seed: int = 0,
         origin: npt.ArrayLike | None = None,
         *,
         heading: float | None = None,
-        max_speed: float = 30.0,
-        max_longitudinal_acceleration: float = 2.0,
-        max_lateral_acceleration: float = 3.0,
-        max_yaw_rate: float = 0.4,
-        max_slope: float = 0.05,
-        stationary_start: float = 0.0,
+        max_speed: float | None = None,
+        max_longitudinal_acceleration: float | None = None,
+        max_lateral_acceleration: float | None = None,
+        max_yaw_rate: float | None = None,
+        max_slope: float | None = None,
+        stationary_start: float | None = None,
     ) -> Trajectory:
         """Random land-vehicle motion: cruises, speed changes (sometimes to a
         stop), turns, road slope, body lean and squat; C² smooth.
 
-        duration s, rate Hz, origin [lat rad, lon rad, h m] (default
-        Toulouse 43.6° N 1.44° E 150 m), heading rad from north (None:
-        random), speeds m/s, accelerations m/s², yaw rate rad/s, slope rad,
-        stationary_start: seconds at rest before moving off (0: start moving).
+        ``None`` takes the core's default (``RandomTrajectoryConfig``):
+        duration 600 s, rate 100 Hz, origin [lat rad, lon rad, h m] Toulouse
+        43.6° N 1.44° E 150 m, heading rad from north (None: random),
+        max_speed 30 m/s, max_longitudinal_acceleration 2 m/s²,
+        max_lateral_acceleration 3 m/s², max_yaw_rate 0.4 rad/s, max_slope
+        0.05 rad, stationary_start 0 s (seconds at rest before moving off).
         """
 
     @staticmethod
@@ -1218,7 +1284,7 @@ def navigation_experiment(
     duration: float = 600.0,
     seed: int = 0,
     n_satellites: int = 6,
-    outage: tuple[float, float] | None = None,
+    outage: tuple[float, float] | tuple[float, float, int] | None = None,
     calibration_duration: float = 300.0,
     early_window: float = 150.0,
     pseudorange_rate: bool = True,
@@ -1236,7 +1302,9 @@ def navigation_experiment(
     source) with source a preset name, ``(preset name, spec overrides)``,
     ``"calibrated:<raw name>"`` or an ``ImuModel``. ``pseudorange_std`` m,
     ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
-    east tilt, heading) degrees, None for (1, 1, 5)."""
+    east tilt, heading) degrees, None for (1, 1, 5). ``outage``: (start_s,
+    length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
+    satellites."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
 
@@ -1434,7 +1502,8 @@ class LogRun:
         """Errors of the antenna solution against a truth (``time`` (T,) s,
         ``position_ecef`` (T, 3)), interpolated at the truth epochs: ``time``,
         ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1), and
-        statistics ``all``, ``aided``, ``in_outages`` (every outage epoch), ``outages`` (list), ``by_outage_length``
+        statistics ``all``, ``aided``, ``in_outages`` (every outage epoch),
+        ``outages`` (list), ``by_outage_length``
         ({length s: stats}); each ``epochs``, ``rms_horizontal_m``,
         ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share``."""
 

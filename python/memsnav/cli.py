@@ -6,7 +6,7 @@ import argparse
 import math
 import sys
 from collections.abc import Callable
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import memsnav
 
@@ -51,6 +51,19 @@ def _outage(text: str) -> tuple[float, float]:
     return window
 
 
+def _print_study(summary: dict[str, Any]) -> None:
+    """What ran and what it found, on stderr: each experiment's completed
+    runs and state, then each claim's verdict."""
+    for name, state in summary["experiments"].items():
+        print(
+            f"memsnav: {name}: {state['completed_runs']}/{state['planned_runs']} runs, "
+            f"{state['state']}",
+            file=sys.stderr,
+        )
+    for claim in summary["claims"]:
+        print(f"memsnav: {claim['id']}: {claim['verdict']}", file=sys.stderr)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="memsnav",
@@ -65,9 +78,10 @@ def build_parser() -> argparse.ArgumentParser:
         "reproduce",
         help="reproduce the paper's experiments (figures 3-18) and write the report",
         description=(
-            "Run the calibration, inversion and navigation experiments (nominal and with a "
-            "30 s outage) and write report.html, summary.json, the figures (PNG, SVG) and "
-            "their curves (CSV) into DIR."
+            "Run the calibration, inversion and navigation experiments (nominal, with a "
+            "30 s outage, and with partial outages of 0-3 satellites) and write report.html, "
+            "summary.json (every number, each experiment's completed runs, and each paper "
+            "claim's verdict), the figures (PNG, SVG) and their curves (CSV) into DIR."
         ),
     )
     reproduce.add_argument(
@@ -77,7 +91,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--full",
         action="store_true",
         help="the paper's Monte Carlo sizes (1000 x 50 calibration, 300 inversion, "
-        "200 navigation runs) instead of the quick defaults",
+        "200 navigation runs; 100 partial-outage runs) instead of the quick defaults",
     )
     reproduce.add_argument(
         "--runs",
@@ -247,6 +261,7 @@ def main(argv: list[str] | None = None) -> int:
                 threads=args.threads,
                 progress=not args.quiet,
             )
+            _print_study(study.summary)
             print(f"memsnav: report written to {study.report}", file=sys.stderr)
             return 130 if study.interrupted else 0
         if args.command == "simulate":

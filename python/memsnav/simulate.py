@@ -15,6 +15,9 @@ import numpy.typing as npt
 import memsnav as mn
 from memsnav._files import ensure_writable_directory, write_text
 
+_DRAWS = ("trajectory", "imu errors", "imu noise", "gnss")
+"""The independent draws of a simulation, each seeded by ``derive_seed``."""
+
 
 @dataclass(frozen=True)
 class SimulationFiles:
@@ -61,17 +64,23 @@ def simulate(
       transmission, pseudorange m, pseudorange rate m/s;
     - ``simulation.json``: the parameters, the IMU's drawn errors and seeds.
 
-    Every draw comes from ``seed``: trajectory (seed), IMU errors (seed + 1),
-    IMU noise (seed + 2), GNSS (seed + 3).
+    Every draw comes from ``seed``, each from its own seed
+    ``memsnav.derive_seed(seed, name)`` with the names ``"trajectory"``,
+    ``"imu errors"``, ``"imu noise"`` and ``"gnss"`` (recorded in
+    ``simulation.json``): independent draws, none shared with another
+    ``seed``.
     """
     directory = ensure_writable_directory(out)
     if isinstance(constellation, str) and constellation == "walker":
         sky = mn.Constellation.walker()
     else:
         sky = mn.Constellation.from_rinex_nav(constellation)
-    trajectory = mn.Trajectory.random(duration=duration, rate=rate, seed=seed)
-    model = mn.ImuModel.preset(imu, seed=seed + 1, sample_rate=rate)
-    accel, gyro = model.measure(trajectory.specific_force, trajectory.angular_rate, seed=seed + 2)
+    seeds = {name: mn.derive_seed(seed, name) for name in _DRAWS}
+    trajectory = mn.Trajectory.random(duration=duration, rate=rate, seed=seeds["trajectory"])
+    model = mn.ImuModel.preset(imu, seed=seeds["imu errors"], sample_rate=rate)
+    accel, gyro = model.measure(
+        trajectory.specific_force, trajectory.angular_rate, seed=seeds["imu noise"]
+    )
     gnss = mn.simulate_gnss(
         trajectory.time,
         trajectory.position_ecef,
@@ -80,7 +89,7 @@ def simulate(
         rate=gnss_rate,
         n_satellites=n_satellites,
         outages=[(float(s), float(length)) for s, length in outages],
-        seed=seed + 3,
+        seed=seeds["gnss"],
     )
 
     files = SimulationFiles(
@@ -159,6 +168,7 @@ def simulate(
             "spec": model.spec,
         },
         "seed": seed,
+        "derived_seeds": seeds,
         "n_satellites": n_satellites,
         "gnss_rate_hz": gnss_rate,
         "constellation": str(constellation),

@@ -23,6 +23,7 @@ pub mod coupling;
 pub mod error;
 pub mod experiments;
 pub mod filter;
+pub mod gauss_markov;
 pub mod geodesy;
 pub mod gnss;
 pub mod ins;

@@ -1,11 +1,36 @@
 //! Seeded random streams. Every draw in memsnav comes from an [`Rng`] built
 //! here, so a result depends only on the seeds the user passes.
+//!
+//! ## One seed, many independent draws
+//!
+//! A ChaCha8 key (the seed) has 2⁶⁴ independent streams; memsnav gives
+//! each use of a seed its own range of them, so no two draws share numbers
+//! and no seed's draws are another seed's:
+//!
+//! | stream of `seed` | drawn from it |
+//! |---|---|
+//! | 0 | a single draw from a user seed (`seed=` of the Python functions) |
+//! | i < 2⁶² | Monte Carlo run i ([`crate::montecarlo`]) |
+//! | 2⁶² + h(purpose) | [`derive_seed`]: the seed of a named independent draw |
+//! | 2⁶³ + s | parameter set s of the calibration experiment ([`parameter_set_stream`]) |
+//!
+//! When one user seed must feed several functions that each take a seed
+//! (a trajectory, the IMU's errors, its noise, the GNSS: `memsnav
+//! simulate`), each gets `derive_seed(seed, "its name")`, not `seed + 1`,
+//! `seed + 2`, ...: those would make seed 0's second draw seed 1's first.
+//! A derived seed is the first output of its own stream, so it is as
+//! unrelated to small user seeds as two random 64-bit numbers.
 
-use rand::SeedableRng;
+use rand::{Rng as _, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// The generator used everywhere: ChaCha8, fast and with 2⁶⁴ independent streams.
 pub type Rng = ChaCha8Rng;
+
+/// First stream of the derived seeds (module docs).
+const DERIVED_STREAMS: u64 = 1 << 62;
+/// First stream of the parameter sets (module docs).
+const PARAMETER_SET_STREAMS: u64 = 1 << 63;
 
 /// The stream `stream` of base seed `seed`. Monte Carlo run i draws from
 /// `stream(seed, i)`, so its numbers do not depend on which thread runs it,
@@ -16,18 +41,35 @@ pub fn stream(seed: u64, stream: u64) -> Rng {
     rng
 }
 
-/// A generator from an optional user seed; `None` draws a seed from the OS.
+/// A generator from an optional user seed (its stream 0); `None` draws a
+/// seed from the OS.
 pub fn from_optional_seed(seed: Option<u64>) -> Rng {
     match seed {
-        Some(s) => ChaCha8Rng::seed_from_u64(s),
+        Some(s) => stream(s, 0),
         None => ChaCha8Rng::from_os_rng(),
     }
+}
+
+/// The seed of the independent draw named `purpose` made from user seed
+/// `seed` (module docs): the first output of stream 2⁶² + h, h the 64-bit
+/// FNV-1a hash of `purpose` reduced below 2⁶², so the name, not a position
+/// in a list, fixes the draw.
+pub fn derive_seed(seed: u64, purpose: &str) -> u64 {
+    let hash = purpose.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    stream(seed, DERIVED_STREAMS + hash % DERIVED_STREAMS).random()
+}
+
+/// Stream of parameter set `s` of a Monte Carlo whose runs use streams
+/// 0, 1, ...: far above any run index (module docs).
+pub fn parameter_set_stream(s: usize) -> u64 {
+    PARAMETER_SET_STREAMS + s as u64
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand::Rng as _;
 
     #[test]
     fn streams_are_reproducible_and_distinct() {
@@ -38,5 +80,30 @@ mod tests {
         assert_eq!(a, b);
         assert_ne!(a, c);
         assert_ne!(a, d);
+        let e: f64 = from_optional_seed(Some(7)).random();
+        let f: f64 = stream(7, 0).random();
+        assert_eq!(e, f);
+    }
+
+    /// Derived seeds depend on the name and the seed, and never reproduce
+    /// the `seed + 1` overlap: seed 0's derived draws differ from seed 1's
+    /// plain stream.
+    #[test]
+    fn derived_seeds_are_distinct_and_unrelated_to_small_seeds() {
+        let names = ["trajectory", "imu errors", "imu noise", "gnss"];
+        let mut seen = std::collections::HashSet::new();
+        for seed in 0..50u64 {
+            for name in names {
+                let d = derive_seed(seed, name);
+                assert!(d >= 1 << 16, "{seed} {name}: {d}");
+                assert!(seen.insert(d), "{seed} {name} repeats");
+            }
+        }
+        assert_eq!(derive_seed(3, "gnss"), derive_seed(3, "gnss"));
+        // FNV-1a of the empty name is its offset basis.
+        assert_eq!(
+            derive_seed(0, ""),
+            stream(0, DERIVED_STREAMS + 0xcbf2_9ce4_8422_2325 % DERIVED_STREAMS).random::<u64>()
+        );
     }
 }

@@ -9,6 +9,8 @@ use memsnav_core::calibration::{
     calibrate_gyroscope as core_gyro, gyroscope_parameter_names, gyroscope_std_model, Calibration,
     CalibrationOptions, Estimate, Method,
 };
+use memsnav_core::experiments::calibrate_invert::calibrated_spec;
+use memsnav_core::sensors::{ImuModel, NoiseModel};
 use nalgebra::{DMatrix, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyUserWarning, PyValueError};
@@ -16,7 +18,7 @@ use pyo3::prelude::*;
 
 use crate::convert;
 use crate::errors::IntoPyResult;
-use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel};
+use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel, PyImuModel};
 
 /// A calibrated sensor model with its uncertainties (method §3).
 ///
@@ -26,8 +28,10 @@ use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel};
 /// vector ordered as `parameter_names`. `residual_std` (3,): residual
 /// standard deviation per output axis. `condition_number` (3,): of the
 /// column-equilibrated regressors per axis. `crb`: Cramér-Rao bound of the
-/// parameter vector for exact references (None unless `noise_std` was
-/// given); `crb_std`: its square-root diagonal as a model-shaped object.
+/// parameter vector (None unless `noise_std` was given) for references with
+/// the noise the calibration was given (`reference_noise_std`: the
+/// errors-in-variables bound; exact references without); `crb_std`: its
+/// square-root diagonal as a model-shaped object.
 /// `warnings`: parameters that are only poorly determined. `held`:
 /// [(parameter, reason)] not estimated under `estimate="determinable"`.
 #[pyclass(module = "memsnav", name = "Calibration", frozen)]
@@ -89,7 +93,7 @@ impl PyCalibration {
     }
 }
 
-fn method(name: &str) -> PyResult<Method> {
+pub(crate) fn method(name: &str) -> PyResult<Method> {
     match name {
         "ls" => Ok(Method::LeastSquares),
         "eiv" => Ok(Method::ErrorsInVariables),
@@ -242,8 +246,64 @@ fn calibrate_gyroscope(
     wrap(py, cal.clone(), gyroscope_parameter_names(), to_py, crb_std)
 }
 
+/// The IMU to tune a coupled filter with when it runs on outputs corrected
+/// by these calibrations (`invert_accelerometer`, `invert_gyroscope`): the
+/// calibrated models with the sensors' white noise per sample
+/// (`accel_noise_std` m/s², `gyro_noise_std` rad/s), and a spec holding
+/// what the calibrations leave uncertain at a land vehicle's operating
+/// point (level, g on the vertical axis), from their full covariances:
+/// terms the motion could not separate count by the combination that
+/// reaches the output, not by their own large stds
+/// (`memsnav_core::experiments::calibrate_invert::calibrated_spec`).
+#[pyfunction]
+#[pyo3(signature = (accelerometer, gyroscope, *, accel_noise_std, gyro_noise_std))]
+fn calibrated_imu(
+    py: Python<'_>,
+    accelerometer: &PyCalibration,
+    gyroscope: &PyCalibration,
+    accel_noise_std: f64,
+    gyro_noise_std: f64,
+) -> PyResult<PyImuModel> {
+    let acc = accelerometer
+        .model
+        .bind(py)
+        .cast::<PyAccelerometerModel>()
+        .map_err(|_| PyValueError::new_err("accelerometer: expected an accelerometer Calibration"))?
+        .get();
+    let gyr = gyroscope
+        .model
+        .bind(py)
+        .cast::<PyGyroscopeModel>()
+        .map_err(|_| PyValueError::new_err("gyroscope: expected a gyroscope Calibration"))?
+        .get();
+    let noise = |name: &str, std: f64| -> PyResult<NoiseModel> {
+        memsnav_core::validate::non_negative(name, std).py()?;
+        Ok(NoiseModel {
+            white_std: std,
+            ..Default::default()
+        })
+    };
+    let (noise_a, noise_g) = (
+        noise("accel_noise_std", accel_noise_std)?,
+        noise("gyro_noise_std", gyro_noise_std)?,
+    );
+    let spec = calibrated_spec(
+        &accelerometer.covariance,
+        &gyroscope.covariance,
+        noise_a,
+        noise_g,
+    );
+    let mut a = acc.inner.clone();
+    a.noise = noise_a;
+    let mut g = gyr.inner.clone();
+    g.noise = noise_g;
+    let inner = ImuModel::with_spec(a, g, acc.sample_rate_hz, spec).py()?;
+    Ok(PyImuModel { inner })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyCalibration>()?;
+    m.add_function(wrap_pyfunction!(calibrated_imu, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate_accelerometer, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate_gyroscope, m)?)?;
     Ok(())

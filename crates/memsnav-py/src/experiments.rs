@@ -1,18 +1,24 @@
-//! The calibration and inversion Monte Carlo experiments (paper §5.1-5.2):
-//! one call runs a whole set in Rust with the GIL released and returns a
-//! dict of numpy arrays; `memsnav.experiments` shapes and plots them.
+//! The calibration, inversion and partial-outage Monte Carlo experiments
+//! (paper §5.1-5.3): one call runs a whole set in Rust with the GIL
+//! released and returns a dict of numpy arrays; `memsnav.experiments`
+//! shapes and plots them.
+//!
+//! Every keyword defaults to `None`, which means the core's `Default`
+//! configuration: the defaults are written once, in memsnav-core. Each
+//! result carries the `config` that ran, with every value filled in.
 
 use memsnav_core::calibration::{accelerometer_parameter_names, gyroscope_parameter_names, Method};
 use memsnav_core::experiments::{
-    self, calibration::SensorStatistics, motion, CalibrationExperimentConfig,
-    InversionExperimentConfig,
+    self, calibration::SensorStatistics, motion::MotionKind, navigation::Coupling,
+    CalibrationExperimentConfig, InversionExperimentConfig, PartialOutageConfig,
 };
+use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use crate::errors::IntoPyResult;
+use crate::navigation::{imu_list, imu_outcomes};
 use crate::progress::run_interruptible;
 
 fn table<'py>(py: Python<'py>, values: &[f64], cols: usize) -> PyResult<Bound<'py, PyAny>> {
@@ -49,51 +55,52 @@ fn sensor_dict<'py>(
     Ok(d)
 }
 
-/// Calibration Monte Carlo (paper §5.1, figs 3-10): `parameter_sets`
-/// random IMUs from `preset`, `runs` runs each on fresh land-vehicle motion
-/// of `duration` s, GNSS-like references with white noise
-/// `reference_specific_force_std` (m/s²) and `reference_angular_rate_std`
-/// (rad/s) per sample (defaults: `memsnav_core::experiments` constants).
-/// `motion`: "land-vehicle" (body-frame land-vehicle motion with roll and
-/// pitch dynamics) or "trajectory" (`Trajectory.random`, weaker roll/pitch
-/// excitation).
-/// Returns a dict of per-set arrays (SI).
+fn method_name(method: Method) -> &'static str {
+    match method {
+        Method::LeastSquares => "ls",
+        Method::ErrorsInVariables => "eiv",
+    }
+}
+
+/// Calibration Monte Carlo (paper §5.1, figs 3-10); keywords and defaults
+/// in `memsnav.experiments.calibration`. Returns a dict of per-set arrays
+/// (SI) and the `config` that ran.
 #[pyfunction]
-#[pyo3(signature = (*, parameter_sets=50, runs=20, duration=300.0, preset="paper-mems", reference_specific_force_std=0.03, reference_angular_rate_std=0.0017453292519943296, motion="land-vehicle", seed=0, threads=None, progress=None))]
+#[pyo3(signature = (*, parameter_sets=None, runs=None, duration=None, preset=None, reference_specific_force_std=None, reference_angular_rate_std=None, motion=None, seed=None, threads=None, progress=None))]
 fn calibration_experiment<'py>(
     py: Python<'py>,
-    parameter_sets: usize,
-    runs: usize,
-    duration: f64,
-    preset: &str,
-    reference_specific_force_std: f64,
-    reference_angular_rate_std: f64,
-    motion: &str,
-    seed: u64,
+    parameter_sets: Option<usize>,
+    runs: Option<usize>,
+    duration: Option<f64>,
+    preset: Option<String>,
+    reference_specific_force_std: Option<f64>,
+    reference_angular_rate_std: Option<f64>,
+    motion: Option<&str>,
+    seed: Option<u64>,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let source: &experiments::MotionSource<'_> = match motion {
-        "land-vehicle" => &motion::land_vehicle,
-        "trajectory" => &motion::random_trajectory,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "motion: expected 'land-vehicle' or 'trajectory', got '{other}'"
-            )))
-        }
-    };
+    let kind = motion
+        .map(MotionKind::from_name)
+        .transpose()
+        .py()?
+        .unwrap_or_default();
+    let d = CalibrationExperimentConfig::default();
     let config = CalibrationExperimentConfig {
-        parameter_sets,
-        runs_per_set: runs,
-        duration_s: duration,
-        preset: preset.to_string(),
-        reference_specific_force_std,
-        reference_angular_rate_std,
-        seed,
+        parameter_sets: parameter_sets.unwrap_or(d.parameter_sets),
+        runs_per_set: runs.unwrap_or(d.runs_per_set),
+        duration_s: duration.unwrap_or(d.duration_s),
+        preset: preset.unwrap_or(d.preset),
+        reference_specific_force_std: reference_specific_force_std
+            .unwrap_or(d.reference_specific_force_std),
+        reference_angular_rate_std: reference_angular_rate_std
+            .unwrap_or(d.reference_angular_rate_std),
+        seed: seed.unwrap_or(d.seed),
     };
-    let total = parameter_sets * runs;
+    config.validate().py()?;
+    let total = config.parameter_sets * config.runs_per_set;
     let (r, interrupted) = run_interruptible(py, progress.as_ref(), total, threads, |o| {
-        experiments::calibration_experiment(&config, source, o)
+        experiments::calibration_experiment(&config, kind.source(), o)
     })?;
     let r = r.py()?;
     let d = PyDict::new(py);
@@ -107,54 +114,71 @@ fn calibration_experiment<'py>(
     )?;
     d.set_item("completed_runs", r.completed_runs)?;
     d.set_item("interrupted", interrupted || r.cancelled)?;
+    let c = PyDict::new(py);
+    c.set_item("parameter_sets", config.parameter_sets)?;
+    c.set_item("runs", config.runs_per_set)?;
+    c.set_item("duration", config.duration_s)?;
+    c.set_item("preset", &config.preset)?;
+    c.set_item(
+        "reference_specific_force_std",
+        config.reference_specific_force_std,
+    )?;
+    c.set_item(
+        "reference_angular_rate_std",
+        config.reference_angular_rate_std,
+    )?;
+    c.set_item("motion", kind.name())?;
+    c.set_item("seed", config.seed)?;
+    d.set_item("config", c)?;
     Ok(d)
 }
 
-/// Inversion Monte Carlo (paper §5.2, figs 11-12): `runs` runs, each
-/// drawing an IMU from `preset`, calibrating it (`method` "eiv" or "ls") on
-/// `calibration_duration` s of motion, then inverting `duration` s with
-/// random-walk increments `accel_process_std` (m/s²) and
-/// `gyro_process_std` (rad/s) per sample. Returns a dict of arrays (SI).
+/// Inversion Monte Carlo (paper §5.2, figs 11-12); keywords and defaults
+/// in `memsnav.experiments.inversion`. Returns a dict of arrays (SI) and
+/// the `config` that ran.
 #[pyfunction]
-#[pyo3(signature = (*, runs=50, duration=120.0, calibration_duration=300.0, preset="paper-mems", method="eiv", reference_specific_force_std=0.03, reference_angular_rate_std=0.0017453292519943296, accel_process_std=0.1, gyro_process_std=0.017453292519943295, seed=0, threads=None, progress=None))]
+#[pyo3(signature = (*, runs=None, duration=None, calibration_duration=None, preset=None, method=None, reference_specific_force_std=None, reference_angular_rate_std=None, accel_process_std=None, gyro_process_std=None, seed=None, threads=None, progress=None))]
 fn inversion_experiment<'py>(
     py: Python<'py>,
-    runs: usize,
-    duration: f64,
-    calibration_duration: f64,
-    preset: &str,
-    method: &str,
-    reference_specific_force_std: f64,
-    reference_angular_rate_std: f64,
-    accel_process_std: f64,
-    gyro_process_std: f64,
-    seed: u64,
+    runs: Option<usize>,
+    duration: Option<f64>,
+    calibration_duration: Option<f64>,
+    preset: Option<String>,
+    method: Option<&str>,
+    reference_specific_force_std: Option<f64>,
+    reference_angular_rate_std: Option<f64>,
+    accel_process_std: Option<f64>,
+    gyro_process_std: Option<f64>,
+    seed: Option<u64>,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = match method {
-        "ls" => Method::LeastSquares,
-        "eiv" => Method::ErrorsInVariables,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "method: expected 'ls' or 'eiv', got '{other}'"
-            )))
-        }
-    };
+    let d = InversionExperimentConfig::default();
+    let (dc, dp) = (d.calibration, d.process);
     let config = InversionExperimentConfig {
-        runs,
-        duration_s: duration,
-        calibration_duration_s: calibration_duration,
-        preset: preset.to_string(),
-        reference_specific_force_std,
-        reference_angular_rate_std,
-        method,
-        accel_process_std,
-        gyro_process_std,
-        seed,
+        runs: runs.unwrap_or(d.runs),
+        duration_s: duration.unwrap_or(d.duration_s),
+        preset: preset.unwrap_or(d.preset),
+        calibration: experiments::SegmentCalibration {
+            duration_s: calibration_duration.unwrap_or(dc.duration_s),
+            reference_specific_force_std: reference_specific_force_std
+                .unwrap_or(dc.reference_specific_force_std),
+            reference_angular_rate_std: reference_angular_rate_std
+                .unwrap_or(dc.reference_angular_rate_std),
+            method: method
+                .map(crate::calibration::method)
+                .transpose()?
+                .unwrap_or(dc.method),
+        },
+        process: experiments::InversionProcess {
+            accel_process_std: accel_process_std.unwrap_or(dp.accel_process_std),
+            gyro_process_std: gyro_process_std.unwrap_or(dp.gyro_process_std),
+        },
+        seed: seed.unwrap_or(d.seed),
     };
-    let (r, interrupted) = run_interruptible(py, progress.as_ref(), runs, threads, |o| {
-        experiments::inversion_experiment(&config, &motion::land_vehicle, o)
+    config.validate().py()?;
+    let (r, interrupted) = run_interruptible(py, progress.as_ref(), config.runs, threads, |o| {
+        experiments::inversion_experiment(&config, &experiments::motion::land_vehicle, o)
     })?;
     let r = r.py()?;
     let d = PyDict::new(py);
@@ -173,11 +197,144 @@ fn inversion_experiment<'py>(
     d.set_item("sample_rate", r.sample_rate_hz)?;
     d.set_item("completed_runs", r.accel_mse.len())?;
     d.set_item("interrupted", interrupted || r.cancelled)?;
+    let c = PyDict::new(py);
+    let cal = &config.calibration;
+    c.set_item("runs", config.runs)?;
+    c.set_item("duration", config.duration_s)?;
+    c.set_item("calibration_duration", cal.duration_s)?;
+    c.set_item("preset", &config.preset)?;
+    c.set_item("method", method_name(cal.method))?;
+    c.set_item(
+        "reference_specific_force_std",
+        cal.reference_specific_force_std,
+    )?;
+    c.set_item("reference_angular_rate_std", cal.reference_angular_rate_std)?;
+    c.set_item("accel_process_std", config.process.accel_process_std)?;
+    c.set_item("gyro_process_std", config.process.gyro_process_std)?;
+    c.set_item("seed", config.seed)?;
+    d.set_item("config", c)?;
     Ok(d)
 }
 
+/// Partial-outage study (0-3 satellites through one window, tight against
+/// loose coupling); keywords and defaults in
+/// `memsnav.experiments.partial_outage`. Returns the scenarios' IMU
+/// outcomes (the keys of the navigation experiment) and the `config`.
+#[pyfunction]
+#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, keep_runs=None, threads=None, progress=None))]
+fn partial_outage_experiment<'py>(
+    py: Python<'py>,
+    imus: &Bound<'py, PyAny>,
+    runs: Option<usize>,
+    duration: Option<f64>,
+    seed: Option<u64>,
+    outage_start: Option<f64>,
+    outage_length: Option<f64>,
+    satellites: Option<Vec<usize>>,
+    loose: Option<bool>,
+    calibration_duration: Option<f64>,
+    keep_runs: Option<bool>,
+    threads: Option<usize>,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PartialOutageConfig::default();
+    let n = &d.navigation;
+    let config = PartialOutageConfig {
+        navigation: experiments::NavigationExperimentConfig {
+            runs: runs.unwrap_or(n.runs),
+            duration_s: duration.unwrap_or(n.duration_s),
+            seed: seed.unwrap_or(n.seed),
+            imus: imu_list(imus)?,
+            calibration_duration_s: calibration_duration.unwrap_or(n.calibration_duration_s),
+            keep_runs: keep_runs.unwrap_or(n.keep_runs),
+            ..n.clone()
+        },
+        outage_start_s: outage_start.unwrap_or(d.outage_start_s),
+        outage_length_s: outage_length.unwrap_or(d.outage_length_s),
+        satellites: satellites.unwrap_or(d.satellites.clone()),
+        loose: loose.unwrap_or(d.loose),
+    };
+    config.validate().py()?;
+    let (r, interrupted) = run_interruptible(
+        py,
+        progress.as_ref(),
+        config.navigation.runs,
+        threads,
+        |o| experiments::partial_outage_experiment(&config, o),
+    )?;
+    let r = r.py()?;
+    let out = PyDict::new(py);
+    out.set_item("time", PyArray1::from_slice(py, &r.time_s))?;
+    out.set_item("completed_runs", r.completed_runs)?;
+    out.set_item("interrupted", interrupted || r.cancelled)?;
+    let scenarios = PyList::empty(py);
+    for s in &r.scenarios {
+        let e = PyDict::new(py);
+        e.set_item(
+            "coupling",
+            match s.scenario.coupling {
+                Coupling::Tight => "tight",
+                Coupling::Loose => "loose",
+            },
+        )?;
+        e.set_item("n_visible", s.scenario.n_visible)?;
+        e.set_item("imus", imu_outcomes(py, &s.imus, r.time_s.len())?)?;
+        scenarios.append(e)?;
+    }
+    out.set_item("scenarios", scenarios)?;
+    let nav = &config.navigation;
+    let c = PyDict::new(py);
+    c.set_item("runs", nav.runs)?;
+    c.set_item("duration", nav.duration_s)?;
+    c.set_item("seed", nav.seed)?;
+    c.set_item("n_satellites", nav.n_satellites)?;
+    c.set_item("outage_start", config.outage_start_s)?;
+    c.set_item("outage_length", config.outage_length_s)?;
+    c.set_item("satellites", config.satellites.clone())?;
+    c.set_item("loose", config.loose)?;
+    c.set_item("calibration_duration", nav.calibration_duration_s)?;
+    c.set_item("early_window", nav.early_window_s)?;
+    c.set_item("pseudorange_std", nav.gnss.pseudorange_std_m)?;
+    c.set_item("pseudorange_rate_std", nav.gnss.pseudorange_rate_std_m_s)?;
+    let deg: Vector3<f64> = nav.initial_attitude_std_rad.map(f64::to_degrees);
+    c.set_item("initial_attitude_std_deg", (deg.x, deg.y, deg.z))?;
+    out.set_item("config", c)?;
+    Ok(out)
+}
+
+/// The body-frame land-vehicle motion of the calibration experiment
+/// (`memsnav_core::experiments::motion::land_vehicle`: speed changes,
+/// turns, road roughness, roll and pitch dynamics): `duration` s at `rate`
+/// Hz from `seed`, as (specific force (N, 3) m/s², angular rate (N, 3) rad/s).
+#[pyfunction]
+#[pyo3(signature = (duration, rate, seed))]
+fn land_vehicle_motion<'py>(
+    py: Python<'py>,
+    duration: f64,
+    rate: f64,
+    seed: u64,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    let m = py
+        .detach(|| {
+            experiments::motion::land_vehicle(
+                duration,
+                rate,
+                &mut memsnav_core::random::stream(seed, 0),
+            )
+        })
+        .py()?;
+    let rows =
+        |v: &[Vector3<f64>]| -> Vec<[f64; 3]> { v.iter().map(|x| [x.x, x.y, x.z]).collect() };
+    Ok((
+        rows3(py, &rows(&m.specific_force_b))?,
+        rows3(py, &rows(&m.angular_rate_b))?,
+    ))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(land_vehicle_motion, m)?)?;
     m.add_function(wrap_pyfunction!(calibration_experiment, m)?)?;
     m.add_function(wrap_pyfunction!(inversion_experiment, m)?)?;
+    m.add_function(wrap_pyfunction!(partial_outage_experiment, m)?)?;
     Ok(())
 }

@@ -347,10 +347,10 @@ fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
 
 /// Simulates pseudoranges and rates along a trajectory (method §5).
 #[pyfunction]
-#[pyo3(signature = (time, position_ecef, velocity_ecef, constellation, rate=1.0, n_satellites=6,
-    elevation_mask_deg=10.0, pseudorange_std=3.0, pseudorange_rate_std=0.1, residual_std=0.0,
-    residual_correlation_time=300.0, clock_h0=2e-19, clock_h_minus2=2e-20,
-    clock_initial_offset_std=30.0, clock_initial_drift_std=1.0, outages=None, seed=0,
+#[pyo3(signature = (time, position_ecef, velocity_ecef, constellation, rate=None, n_satellites=None,
+    elevation_mask_deg=None, pseudorange_std=None, pseudorange_rate_std=None, residual_std=None,
+    residual_correlation_time=None, clock_h0=None, clock_h_minus2=None,
+    clock_initial_offset_std=None, clock_initial_drift_std=None, outages=None, seed=0,
     start_gps_time=None))]
 fn simulate_gnss(
     py: Python<'_>,
@@ -358,17 +358,17 @@ fn simulate_gnss(
     position_ecef: &Bound<'_, PyAny>,
     velocity_ecef: &Bound<'_, PyAny>,
     constellation: &PyConstellation,
-    rate: f64,
-    n_satellites: usize,
-    elevation_mask_deg: f64,
-    pseudorange_std: f64,
-    pseudorange_rate_std: f64,
-    residual_std: f64,
-    residual_correlation_time: f64,
-    clock_h0: f64,
-    clock_h_minus2: f64,
-    clock_initial_offset_std: f64,
-    clock_initial_drift_std: f64,
+    rate: Option<f64>,
+    n_satellites: Option<usize>,
+    elevation_mask_deg: Option<f64>,
+    pseudorange_std: Option<f64>,
+    pseudorange_rate_std: Option<f64>,
+    residual_std: Option<f64>,
+    residual_correlation_time: Option<f64>,
+    clock_h0: Option<f64>,
+    clock_h_minus2: Option<f64>,
+    clock_initial_offset_std: Option<f64>,
+    clock_initial_drift_std: Option<f64>,
     outages: Option<&Bound<'_, PyAny>>,
     seed: u64,
     start_gps_time: Option<f64>,
@@ -376,30 +376,41 @@ fn simulate_gnss(
     let time = convert::scalars(time, "time")?;
     let position = convert::vectors(position_ecef, "position_ecef")?;
     let velocity = convert::vectors(velocity_ecef, "velocity_ecef")?;
-    if !elevation_mask_deg.is_finite() {
-        return Err(PyValueError::new_err(format!(
-            "elevation_mask_deg: must be finite, got {elevation_mask_deg}"
-        )));
-    }
+    // None: the core's default (SimulationConfig, ReceiverClockModel,
+    // AtmosphericResidual); no residual unless residual_std is given.
+    let d = SimulationConfig::default();
+    let (dc, dr) = (d.clock, gnss::AtmosphericResidual::default());
+    let elevation_mask_rad = match elevation_mask_deg {
+        Some(deg) if !deg.is_finite() => {
+            return Err(PyValueError::new_err(format!(
+                "elevation_mask_deg: must be finite, got {deg}"
+            )))
+        }
+        Some(deg) => deg.to_radians(),
+        None => d.elevation_mask_rad,
+    };
     let config = SimulationConfig {
-        rate_hz: rate,
-        n_satellites,
-        elevation_mask_rad: elevation_mask_deg.to_radians(),
-        pseudorange_std_m: pseudorange_std,
-        pseudorange_rate_std_m_s: pseudorange_rate_std,
-        residual: (residual_std != 0.0).then_some(gnss::AtmosphericResidual {
-            std_m: residual_std,
-            correlation_time_s: residual_correlation_time,
-        }),
+        rate_hz: rate.unwrap_or(d.rate_hz),
+        n_satellites: n_satellites.unwrap_or(d.n_satellites),
+        elevation_mask_rad,
+        pseudorange_std_m: pseudorange_std.unwrap_or(d.pseudorange_std_m),
+        pseudorange_rate_std_m_s: pseudorange_rate_std.unwrap_or(d.pseudorange_rate_std_m_s),
+        residual: residual_std
+            .filter(|std| *std != 0.0)
+            .map(|std_m| gnss::AtmosphericResidual {
+                std_m,
+                correlation_time_s: residual_correlation_time.unwrap_or(dr.correlation_time_s),
+            }),
         clock: gnss::ReceiverClockModel {
-            h0: clock_h0,
-            h_minus2: clock_h_minus2,
-            initial_offset_std_m: clock_initial_offset_std,
-            initial_drift_std_m_s: clock_initial_drift_std,
+            h0: clock_h0.unwrap_or(dc.h0),
+            h_minus2: clock_h_minus2.unwrap_or(dc.h_minus2),
+            initial_offset_std_m: clock_initial_offset_std.unwrap_or(dc.initial_offset_std_m),
+            initial_drift_std_m_s: clock_initial_drift_std.unwrap_or(dc.initial_drift_std_m_s),
         },
         outages: outage_list(outages)?,
         start_gps_time_s: start_gps_time,
     };
+    let n_max = config.n_satellites;
     let track = gnss::ReceiverTrack {
         time_s: &time,
         position_ecef: &position,
@@ -413,7 +424,7 @@ fn simulate_gnss(
         epochs: sim.epochs,
         clock: sim.clock,
         start_gps_time_s: sim.start_gps_time_s,
-        n_max: n_satellites,
+        n_max,
     })
 }
 

@@ -16,6 +16,7 @@ mod log_navigation;
 mod logs;
 mod navigation;
 mod progress;
+mod random;
 mod sensors;
 mod static_calibration;
 mod trajectory;
@@ -37,5 +38,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     navigation::register(m)?;
     log_navigation::register(m)?;
     logs::register(m)?;
+    random::register(m)?;
     Ok(())
 }

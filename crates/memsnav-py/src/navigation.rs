@@ -3,10 +3,10 @@
 //! the remaining runs and returns the completed ones.
 
 use memsnav_core::experiments::navigation::{
-    navigation_experiment as run_experiment, NavigationExperiment, NavigationExperimentConfig,
-    NavigationImu,
+    navigation_experiment as run_experiment, ImuOutcome, NavigationExperiment,
+    NavigationExperimentConfig, NavigationImu,
 };
-use memsnav_core::gnss::SimulationConfig;
+use memsnav_core::gnss::{Outage, SimulationConfig};
 use memsnav_core::sensors::presets;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
@@ -20,7 +20,7 @@ use crate::sensors::{update_spec, PyImuModel};
 
 /// `(name, source)` pairs: a preset name, `(preset name, spec overrides)`,
 /// `"calibrated:<raw name>"` or an `ImuModel`.
-fn imu_list(imus: &Bound<'_, PyAny>) -> PyResult<Vec<(String, NavigationImu)>> {
+pub(crate) fn imu_list(imus: &Bound<'_, PyAny>) -> PyResult<Vec<(String, NavigationImu)>> {
     let pairs: Vec<(String, Bound<'_, PyAny>)> = imus
         .extract()
         .map_err(|_| PyValueError::new_err("imus: expected a list of (name, source) pairs"))?;
@@ -78,12 +78,21 @@ fn to_dict<'py>(
     interrupted: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let epochs = r.time_s.len();
     d.set_item("time", PyArray1::from_slice(py, &r.time_s))?;
     d.set_item("completed_runs", r.completed_runs)?;
     d.set_item("interrupted", interrupted || r.cancelled)?;
+    d.set_item("imus", imu_outcomes(py, &r.imus, r.time_s.len())?)?;
+    Ok(d)
+}
+
+/// One dict per IMU outcome (the keys of `memsnav.experiments.navigation`).
+pub(crate) fn imu_outcomes<'py>(
+    py: Python<'py>,
+    outcomes: &[ImuOutcome],
+    epochs: usize,
+) -> PyResult<Bound<'py, PyList>> {
     let imus = PyList::empty(py);
-    for o in &r.imus {
+    for o in outcomes {
         let e = PyDict::new(py);
         e.set_item("name", &o.name)?;
         e.set_item(
@@ -111,10 +120,19 @@ fn to_dict<'py>(
         }
         e.set_item("run_rms", PyArray1::from_slice(py, &o.run_rms))?;
         e.set_item("run_rms_early", PyArray1::from_slice(py, &o.run_rms_early))?;
+        e.set_item("run_rms_late", PyArray1::from_slice(py, &o.run_rms_late))?;
         e.set_item("run_final", PyArray1::from_slice(py, &o.run_final))?;
         e.set_item(
             "run_max_in_outage",
             PyArray1::from_slice(py, &o.run_max_in_outage),
+        )?;
+        e.set_item(
+            "run_max_horizontal_in_outage",
+            PyArray1::from_slice(py, &o.run_max_horizontal_in_outage),
+        )?;
+        e.set_item(
+            "run_max_vertical_in_outage",
+            PyArray1::from_slice(py, &o.run_max_vertical_in_outage),
         )?;
         e.set_item(
             "run_mean_nees_per_dof",
@@ -130,8 +148,26 @@ fn to_dict<'py>(
         )?;
         imus.append(e)?;
     }
-    d.set_item("imus", imus)?;
-    Ok(d)
+    Ok(imus)
+}
+
+/// An outage `(start_s, length_s)` (total) or `(start_s, length_s, n_visible)`.
+pub(crate) fn outage_window(values: &[f64]) -> PyResult<Outage> {
+    match *values {
+        [start_s, duration_s] => Ok(Outage {
+            start_s,
+            duration_s,
+            n_satellites: 0,
+        }),
+        [start_s, duration_s, n] if n >= 0.0 && n.fract() == 0.0 => Ok(Outage {
+            start_s,
+            duration_s,
+            n_satellites: n as usize,
+        }),
+        _ => Err(PyValueError::new_err(format!(
+            "outage: expected (start_s, length_s) or (start_s, length_s, n_visible) with a whole n_visible, got {values:?}"
+        ))),
+    }
 }
 
 /// Navigation Monte Carlo (paper §5.3, figs 14-18); see
@@ -145,7 +181,7 @@ fn navigation_experiment<'py>(
     duration: f64,
     seed: u64,
     n_satellites: usize,
-    outage: Option<(f64, f64)>,
+    outage: Option<Vec<f64>>,
     calibration_duration: f64,
     early_window: f64,
     pseudorange_rate: bool,
@@ -183,7 +219,7 @@ fn navigation_experiment<'py>(
         duration_s: duration,
         imus: imu_list(imus)?,
         n_satellites,
-        outage,
+        outage: outage.as_deref().map(outage_window).transpose()?,
         calibration_duration_s: calibration_duration,
         early_window_s: early_window,
         use_pseudorange_rate: pseudorange_rate,

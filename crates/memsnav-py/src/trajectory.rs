@@ -106,37 +106,41 @@ impl PyTrajectory {
     /// lean and squat), reproducible from `seed`.
     #[staticmethod]
     #[pyo3(signature = (
-        duration=600.0, rate=100.0, seed=0, origin=None, *, heading=None,
-        max_speed=30.0, max_longitudinal_acceleration=2.0,
-        max_lateral_acceleration=3.0, max_yaw_rate=0.4, max_slope=0.05,
-        stationary_start=0.0
+        duration=None, rate=None, seed=0, origin=None, *, heading=None,
+        max_speed=None, max_longitudinal_acceleration=None,
+        max_lateral_acceleration=None, max_yaw_rate=None, max_slope=None,
+        stationary_start=None
     ))]
     fn random(
         py: Python<'_>,
-        duration: f64,
-        rate: f64,
+        duration: Option<f64>,
+        rate: Option<f64>,
         seed: u64,
         origin: Option<&Bound<'_, PyAny>>,
         heading: Option<f64>,
-        max_speed: f64,
-        max_longitudinal_acceleration: f64,
-        max_lateral_acceleration: f64,
-        max_yaw_rate: f64,
-        max_slope: f64,
-        stationary_start: f64,
+        max_speed: Option<f64>,
+        max_longitudinal_acceleration: Option<f64>,
+        max_lateral_acceleration: Option<f64>,
+        max_yaw_rate: Option<f64>,
+        max_slope: Option<f64>,
+        stationary_start: Option<f64>,
     ) -> PyResult<Self> {
+        // None: the core's default (RandomTrajectoryConfig).
+        let d = RandomTrajectoryConfig::default();
         let config = RandomTrajectoryConfig {
-            duration_s: duration,
-            rate_hz: rate,
+            duration_s: duration.unwrap_or(d.duration_s),
+            rate_hz: rate.unwrap_or(d.rate_hz),
             origin: origin_from(origin)?,
             initial_heading_rad: heading,
-            max_speed_m_s: max_speed,
-            max_longitudinal_acceleration_m_s2: max_longitudinal_acceleration,
-            max_lateral_acceleration_m_s2: max_lateral_acceleration,
-            max_yaw_rate_rad_s: max_yaw_rate,
-            max_slope_rad: max_slope,
-            stationary_start_s: stationary_start,
-            ..RandomTrajectoryConfig::default()
+            max_speed_m_s: max_speed.unwrap_or(d.max_speed_m_s),
+            max_longitudinal_acceleration_m_s2: max_longitudinal_acceleration
+                .unwrap_or(d.max_longitudinal_acceleration_m_s2),
+            max_lateral_acceleration_m_s2: max_lateral_acceleration
+                .unwrap_or(d.max_lateral_acceleration_m_s2),
+            max_yaw_rate_rad_s: max_yaw_rate.unwrap_or(d.max_yaw_rate_rad_s),
+            max_slope_rad: max_slope.unwrap_or(d.max_slope_rad),
+            stationary_start_s: stationary_start.unwrap_or(d.stationary_start_s),
+            ..d
         };
         let inner = py
             .detach(|| Trajectory::random(&config, &mut random::stream(seed, 0)))

@@ -8,15 +8,23 @@ tightly coupled GNSS/INS filter with INS, raw and calibrated MEMS).
 Each runs a whole Monte Carlo set in Rust.
 """
 
-from memsnav.experiments.calibration import CalibrationResult, calibration
+from memsnav.experiments.calibration import (
+    CalibrationResult,
+    calibration,
+    land_vehicle_motion,
+)
 from memsnav.experiments.inversion import InversionResult, inversion
 from memsnav.experiments.navigation import NavigationResult, navigation
+from memsnav.experiments.partial_outage import PartialOutageResult, partial_outage
 
 __all__ = [
     "CalibrationResult",
     "InversionResult",
     "NavigationResult",
+    "PartialOutageResult",
     "calibration",
     "inversion",
+    "land_vehicle_motion",
     "navigation",
+    "partial_outage",
 ]

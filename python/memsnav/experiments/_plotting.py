@@ -17,3 +17,17 @@ def new_figure(title: str) -> tuple[Any, Any]:
     ax.set_yscale("log")
     ax.grid(True, which="both", alpha=0.3)
     return fig, ax
+
+
+def legend_below(fig: Any, ax: Any, ncol: int = 4) -> None:
+    """The legend of ``ax``'s curves under the figure, never over the data."""
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(
+        handles,
+        labels,
+        loc="lower center",
+        ncol=min(ncol, len(labels)),
+        fontsize="small",
+        frameon=False,
+    )
+    fig.tight_layout(rect=(0.0, 0.1, 1.0, 1.0))

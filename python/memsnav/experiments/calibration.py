@@ -6,8 +6,13 @@ outputs, and GNSS-like references (truth plus white noise: 0.03 m/s² for
 the specific force, from Doppler/RTK velocity differenced over 1 s, and
 0.1 °/s for the angular rate, from differenced GNSS attitude), then
 calibrates with plain least squares and with the errors-in-variables
-estimator. The Cramér-Rao bound is that of exact references: the floor
-that only the sensor noise sets.
+estimator. The Cramér-Rao bound is that of the problem solved: noisy
+references, the errors-in-variables model (``memsnav_core::calibration``
+docs), at each run's true inputs — per parameter and per output axis.
+
+Axes: the accelerometer's u, v, w and the gyroscope's p, q, r are the body
+axes x, y, z (forward, right, down); a parameter's output axis is the first
+letter after its group (``misalignment_uw``: axis u).
 """
 
 from __future__ import annotations
@@ -21,7 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 from memsnav import _memsnav
-from memsnav.experiments._plotting import new_figure
+from memsnav.experiments._plotting import legend_below
 
 ACCELEROMETER_GROUPS = {
     "bias": slice(0, 3),
@@ -35,17 +40,37 @@ GYROSCOPE_GROUPS = {
     "misalignment": slice(6, 12),
     "g_sensitivity": slice(12, 21),
 }
+AXES = {"accelerometer": ("u", "v", "w"), "gyroscope": ("p", "q", "r")}
+"""Output axes of each triad: the body axes x, y, z (forward, right, down)."""
+
+# The unit of each group's MSE (SI).
+MSE_UNITS = {
+    ("accelerometer", "bias"): "(m/s²)²",
+    ("accelerometer", "scale_factor"): "1",
+    ("accelerometer", "misalignment"): "1",
+    ("accelerometer", "nonlinearity"): "(s²/m)²",
+    ("gyroscope", "bias"): "(rad/s)²",
+    ("gyroscope", "scale_factor"): "1",
+    ("gyroscope", "misalignment"): "1",
+    ("gyroscope", "g_sensitivity"): "(rad/s per m/s²)²",
+}
 # The paper's figure numbers and titles, in group order.
 _FIGURES = {
-    ("accelerometer", "bias"): "Fig. 3: MSE of the accelerometer biases [(m/s²)²]",
+    ("accelerometer", "bias"): "Fig. 3: MSE of the accelerometer biases",
     ("accelerometer", "scale_factor"): "Fig. 4: MSE of the accelerometer scale factors",
     ("accelerometer", "misalignment"): "Fig. 5: MSE of the accelerometer misalignments",
-    ("accelerometer", "nonlinearity"): "Fig. 6: MSE of the accelerometer nonlinearity [(m/s²)⁻²]",
-    ("gyroscope", "bias"): "Fig. 7: MSE of the gyro biases [(rad/s)²]",
+    ("accelerometer", "nonlinearity"): "Fig. 6: MSE of the accelerometer nonlinearity",
+    ("gyroscope", "bias"): "Fig. 7: MSE of the gyro biases",
     ("gyroscope", "scale_factor"): "Fig. 8: MSE of the gyro scale factors",
     ("gyroscope", "misalignment"): "Fig. 9: MSE of the gyro misalignments",
-    ("gyroscope", "g_sensitivity"): "Fig. 10: MSE of the gyro g-sensitivity [((rad/s)/(m/s²))²]",
+    ("gyroscope", "g_sensitivity"): "Fig. 10: MSE of the gyro g-sensitivity",
 }
+
+
+def output_axis(name: str, group: str) -> str:
+    """The output axis of parameter ``name`` of ``group``
+    (``misalignment_uw`` -> ``u``)."""
+    return name[len(group) + 1]
 
 
 @dataclass(frozen=True)
@@ -62,6 +87,45 @@ class SensorStatistics:
     reported_variance_eiv: npt.NDArray[np.float64]
     crb: npt.NDArray[np.float64]
 
+    def ran(self) -> npt.NDArray[np.bool_]:
+        """Sets with at least one completed run (an interrupted experiment
+        leaves the others NaN)."""
+        return np.asarray(np.isfinite(self.mse_eiv).all(axis=1))
+
+
+def _mean_and_se(per_set: npt.NDArray[np.float64]) -> tuple[float, float]:
+    """Mean over sets and its standard error (NaN with fewer than 2 sets)."""
+    if len(per_set) == 0:
+        return math.nan, math.nan
+    se = float(per_set.std(ddof=1) / math.sqrt(len(per_set))) if len(per_set) > 1 else math.nan
+    return float(per_set.mean()), se
+
+
+def _figures(stats: SensorStatistics, columns: list[int]) -> dict[str, float]:
+    """MSE (both estimators, with standard errors over sets), bound,
+    efficiencies and normalised MSE of a set of parameters, averaged over
+    them and over the sets that ran."""
+    ran = stats.ran()
+    out: dict[str, float] = {}
+    for key in ("mse_eiv", "mse_ls"):
+        mean, se = _mean_and_se(getattr(stats, key)[ran][:, columns].mean(axis=1))
+        out[key] = mean
+        out[f"{key}_se"] = se
+    out["crb"] = float(stats.crb[ran][:, columns].mean()) if ran.any() else math.nan
+    scale = float((stats.truth[ran][:, columns] ** 2).mean()) if ran.any() else math.nan
+    out["parameter_mean_square"] = scale
+    for estimator in ("eiv", "ls"):
+        out[f"efficiency_{estimator}"] = out[f"mse_{estimator}"] / out["crb"]
+        # The share of the MSE that is the estimator's bias (mean error)².
+        bias2 = getattr(stats, f"mean_error_{estimator}")[ran][:, columns] ** 2
+        out[f"bias_share_{estimator}"] = (
+            float(bias2.mean()) / out[f"mse_{estimator}"] if ran.any() else math.nan
+        )
+        out[f"normalized_mse_{estimator}"] = (
+            out[f"mse_{estimator}"] / scale if scale > 0 else math.nan
+        )
+    return out
+
 
 @dataclass(frozen=True)
 class CalibrationResult:
@@ -70,7 +134,8 @@ class CalibrationResult:
     ``accelerometer`` and ``gyroscope`` hold per-set arrays (MSE of plain LS
     and of the errors-in-variables estimator, their mean errors, the mean
     variance each calibration reported, and the mean Cramér-Rao bound).
-    ``method`` is the estimator the summary reports first.
+    ``method`` is the estimator the summary reports first; ``config`` the
+    settings that ran (every default filled in).
     """
 
     accelerometer: SensorStatistics
@@ -80,43 +145,62 @@ class CalibrationResult:
     completed_runs: int = 0
     interrupted: bool = False
 
-    def _groups(self, stat: str) -> dict[str, dict[str, float]]:
-        out: dict[str, dict[str, float]] = {}
-        for sensor, groups in (
-            ("accelerometer", ACCELEROMETER_GROUPS),
-            ("gyroscope", GYROSCOPE_GROUPS),
-        ):
-            values = getattr(getattr(self, sensor), stat)
-            # Sets none of whose runs completed (an interrupted experiment)
-            # hold NaN: average over the sets that ran.
-            ran = values[np.isfinite(values).all(axis=1)]
-            out[sensor] = {
-                g: float(ran[:, s].mean()) if len(ran) else math.nan for g, s in groups.items()
-            }
-        return out
+    def group_summary(self, sensor: str, group: str) -> dict[str, Any]:
+        """One parameter group: its MSE unit, the figures of
+        :func:`_figures` over the whole group, ``per_axis`` (u, v, w or p,
+        q, r) and ``per_parameter``."""
+        stats: SensorStatistics = getattr(self, sensor)
+        cols = (ACCELEROMETER_GROUPS if sensor == "accelerometer" else GYROSCOPE_GROUPS)[group]
+        names = stats.parameter_names[cols]
+        indices = list(range(cols.start, cols.stop))
+        return {
+            "unit": MSE_UNITS[(sensor, group)],
+            **_figures(stats, indices),
+            "per_axis": {
+                axis: _figures(
+                    stats,
+                    [
+                        i
+                        for i, n in zip(indices, names, strict=True)
+                        if output_axis(n, group) == axis
+                    ],
+                )
+                for axis in AXES[sensor]
+            },
+            "per_parameter": {n: _figures(stats, [i]) for i, n in zip(indices, names, strict=True)},
+        }
 
     def summary(self) -> dict[str, Any]:
-        """MSE per parameter group, averaged over the group's components and
-        the parameter sets (SI units): ``{"accelerometer": {"bias",
-        "scale_factor", "misalignment", "nonlinearity"}, "gyroscope": {"bias",
-        "scale_factor", "misalignment", "g_sensitivity"}}`` for ``method``,
-        plus the same for ``"ls"``, ``"eiv"`` and the Cramér-Rao bound
-        (``"crb"``), and the configuration."""
-        main = self._groups(f"mse_{self.method}")
+        """Per sensor and parameter group (``bias``, ``scale_factor``,
+        ``misalignment``, ``nonlinearity`` / ``g_sensitivity``): the MSE
+        unit and, over the group, per output axis and per parameter, the
+        MSE of each estimator (``mse_eiv``, ``mse_ls``, SI, mean over the
+        sets, with its standard error over sets ``*_se``), the Cramér-Rao
+        bound ``crb``, the efficiencies ``efficiency_eiv`` / ``_ls``
+        (MSE / bound: 1 attains it), ``bias_share_eiv`` / ``_ls`` (the
+        share of the MSE that is the squared mean error), the normalised MSE (MSE / mean square
+        of the true values: 1 is no better than knowing nothing) and
+        ``parameter_mean_square``. Also ``estimator``, ``completed_runs``,
+        ``interrupted`` and ``config``."""
         return {
-            **main,
-            "method": self.method,
-            "ls": self._groups("mse_ls"),
-            "eiv": self._groups("mse_eiv"),
-            "crb": self._groups("crb"),
+            "estimator": self.method,
+            "accelerometer": {
+                g: self.group_summary("accelerometer", g) for g in ACCELEROMETER_GROUPS
+            },
+            "gyroscope": {g: self.group_summary("gyroscope", g) for g in GYROSCOPE_GROUPS},
+            "completed_runs": self.completed_runs,
+            "interrupted": self.interrupted,
             "config": dict(self.config),
         }
 
     def plot(self) -> list[Any]:
-        """Figures 3-10: per parameter set, the MSE of the group's parameters
-        per output axis (errors-in-variables estimator), the group's MSE with
-        plain LS, the Cramér-Rao bound and the mean square of the true
-        parameters (an MSE above it is worse than no estimate)."""
+        """Figures 3-10, one panel per output axis: per parameter set, the
+        axis' MSE with the errors-in-variables estimator (markers) and plain
+        LS (line), its Cramér-Rao bound (dashed) and the mean square of the
+        true parameters (dotted: an MSE above it is worse than no
+        estimate). Log scale, SI units."""
+        import matplotlib.pyplot as plt
+
         figures = []
         for sensor, groups in (
             ("accelerometer", ACCELEROMETER_GROUPS),
@@ -125,40 +209,60 @@ class CalibrationResult:
             stats: SensorStatistics = getattr(self, sensor)
             sets = np.arange(1, stats.mse_ls.shape[0] + 1)
             for group, cols in groups.items():
-                fig, ax = new_figure(_FIGURES[(sensor, group)])
+                fig, panels = plt.subplots(1, 3, figsize=(10.5, 3.6), sharex=True)
+                fig.suptitle(_FIGURES[(sensor, group)])
                 names = stats.parameter_names[cols]
-                # Output axis of each parameter: the first letter after the
-                # group name (bias_u -> u, misalignment_pq -> p).
-                axes = [name[len(group) + 1] for name in names]
-                for axis in dict.fromkeys(axes):
-                    columns = [cols.start + i for i, a in enumerate(axes) if a == axis]
+                unit = MSE_UNITS[(sensor, group)]
+                for ax, axis in zip(panels, AXES[sensor], strict=True):
+                    columns = [
+                        cols.start + i for i, n in enumerate(names) if output_axis(n, group) == axis
+                    ]
+                    ax.plot(
+                        sets, stats.mse_eiv[:, columns].mean(axis=1), "o", ms=3, label="MSE, EIV"
+                    )
                     ax.plot(
                         sets,
-                        stats.mse_eiv[:, columns].mean(axis=1),
-                        "o-",
-                        ms=3,
-                        label=f"MSE, EIV, axis {axis}",
+                        stats.mse_ls[:, columns].mean(axis=1),
+                        "-",
+                        color="tab:orange",
+                        lw=1,
+                        label="MSE, plain LS",
                     )
-                ax.plot(
-                    sets,
-                    stats.mse_ls[:, cols].mean(axis=1),
-                    "-",
-                    color="0.6",
-                    lw=1,
-                    label="MSE, plain LS (all axes)",
-                )
-                ax.plot(sets, stats.crb[:, cols].mean(axis=1), "k--", label="Cramér-Rao bound")
-                ax.plot(
-                    sets,
-                    (stats.truth[:, cols] ** 2).mean(axis=1),
-                    ":",
-                    color="grey",
-                    label="parameter² (scale)",
-                )
-                ax.set_xlabel("parameter set")
-                ax.legend(fontsize="x-small", ncol=2)
+                    ax.plot(
+                        sets,
+                        stats.crb[:, columns].mean(axis=1),
+                        "k--",
+                        lw=1,
+                        label="Cramér-Rao bound (noisy references)",
+                    )
+                    ax.plot(
+                        sets,
+                        (stats.truth[:, columns] ** 2).mean(axis=1),
+                        ":",
+                        color="grey",
+                        label="parameter² (no estimate)",
+                    )
+                    ax.set_yscale("log")
+                    ax.grid(True, which="both", alpha=0.3)
+                    ax.set_title(f"axis {axis}")
+                    ax.set_xlabel("parameter set")
+                panels[0].set_ylabel(f"MSE [{unit}]")
+                legend_below(fig, panels[0])
                 figures.append(fig)
         return figures
+
+
+def land_vehicle_motion(
+    duration: float = 300.0, rate: float = 100.0, seed: int = 0
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The motion the calibration experiment calibrates on: ``duration`` s at
+    ``rate`` Hz of a land vehicle's body-frame true specific force (N, 3)
+    m/s² and angular rate (N, 3) rad/s (speed changes, turns, road
+    roughness, roll and pitch dynamics; Earth rotation neglected). Unlike
+    ``Trajectory.random``, whose roll and pitch follow the manoeuvres only,
+    it excites the roll and pitch rates, so the gyro scale factors and the
+    misalignments onto p and q are determined."""
+    return _memsnav.land_vehicle_motion(duration, rate, seed)
 
 
 def _stats(d: dict[str, Any]) -> SensorStatistics:
@@ -167,50 +271,55 @@ def _stats(d: dict[str, Any]) -> SensorStatistics:
 
 def calibration(
     *,
-    parameter_sets: int = 50,
-    runs: int = 20,
-    duration: float = 300.0,
-    preset: str = "paper-mems",
+    parameter_sets: int | None = None,
+    runs: int | None = None,
+    duration: float | None = None,
+    preset: str | None = None,
     method: str = "eiv",
-    reference_specific_force_std: float = 0.03,
-    reference_angular_rate_std: float = math.radians(0.1),
-    motion: str = "land-vehicle",
-    seed: int = 0,
+    reference_specific_force_std: float | None = None,
+    reference_angular_rate_std: float | None = None,
+    motion: str | None = None,
+    seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
 ) -> CalibrationResult:
     """Runs the calibration Monte Carlo (paper: 50 sets x 1000 runs).
 
-    ``duration``: calibration segment, s. Reference noise per 100 Hz sample:
-    ``reference_specific_force_std`` m/s², ``reference_angular_rate_std``
-    rad/s. ``motion``: "land-vehicle" (body-frame vehicle motion with roll and
-    pitch dynamics) or "trajectory" (``Trajectory.random``, whose roll and
-    pitch follow the manoeuvres only: p/q scale factors and the vertical
-    terms are then barely observable). ``method`` ("eiv" or "ls") selects
-    the estimator the summary reports first; both are always run.
-    ``progress(done, total)`` is called with the number of completed runs.
-    Ctrl-C stops the set: the result then covers the completed runs and has
-    ``interrupted = True``. Same ``seed`` -> same numbers, whatever
-    ``threads``.
+    ``None`` takes the core's default (``memsnav_core`` writes each default
+    once; ``result.config`` shows the values that ran): ``parameter_sets``
+    50, ``runs`` 20 per set, ``duration`` 300 s of motion per run,
+    ``preset`` "paper-mems", reference noise per 100 Hz sample
+    ``reference_specific_force_std`` 0.03 m/s² and
+    ``reference_angular_rate_std`` 0.1 °/s (in rad/s), ``motion``
+    "land-vehicle", ``seed`` 0. ``motion``: "land-vehicle" (body-frame
+    vehicle motion with roll and pitch dynamics) or "trajectory"
+    (``Trajectory.random``, whose roll and pitch follow the manoeuvres
+    only: p/q scale factors and the vertical terms are then barely
+    observable). ``method`` ("eiv" or "ls") selects the estimator the
+    summary reports first; both are always run. ``progress(done, total)``
+    is called with the number of completed runs. Ctrl-C stops the set: the
+    result then covers the completed runs and has ``interrupted = True``.
+    Same ``seed`` -> same numbers, whatever ``threads``.
     """
     if method not in ("ls", "eiv"):
         raise ValueError(f"method: expected 'ls' or 'eiv', got {method!r}")
-    config: dict[str, Any] = {
-        "parameter_sets": parameter_sets,
-        "runs": runs,
-        "duration": duration,
-        "preset": preset,
-        "reference_specific_force_std": reference_specific_force_std,
-        "reference_angular_rate_std": reference_angular_rate_std,
-        "motion": motion,
-        "seed": seed,
-    }
-    raw = _memsnav.calibration_experiment(**config, threads=threads, progress=progress)
+    raw = _memsnav.calibration_experiment(
+        parameter_sets=parameter_sets,
+        runs=runs,
+        duration=duration,
+        preset=preset,
+        reference_specific_force_std=reference_specific_force_std,
+        reference_angular_rate_std=reference_angular_rate_std,
+        motion=motion,
+        seed=seed,
+        threads=threads,
+        progress=progress,
+    )
     return CalibrationResult(
         accelerometer=_stats(raw["accelerometer"]),
         gyroscope=_stats(raw["gyroscope"]),
         method=method,
-        config=config,
+        config=dict(raw["config"]),
         completed_runs=int(raw["completed_runs"]),
         interrupted=bool(raw["interrupted"]),
     )

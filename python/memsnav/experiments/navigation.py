@@ -30,36 +30,15 @@ Every run is reproducible from ``(seed, run index)`` whatever the thread
 count; each IMU draws from its own stream, so dropping an IMU from the set
 does not change the others' numbers.
 
-What our numbers show against the paper (20 runs x 600 s, seed 0; the full
-study, error budget and the options behind it are in
-``docs/paper-comparison.md``):
-
-- Calibrated MEMS close to INS with GNSS (RMS 1.08 / 1.18 m after 150 s
-  for INS / calibrated MEMS) and MEMS drifting far more than INS in a 30 s
-  total outage at 300 s (34 m vs 3.6 m): both as in the paper.
-- Calibration does *not* help visibly in the first 150 s (1.42 vs 1.43 m):
-  every filter converges within ~30 s and, while aided, MEMS errors are set
-  by the white noise, which calibration does not change. Pseudoranges only
-  (``pseudorange_rate=False``) or larger initial attitude errors do not
-  change that; only a raw-MEMS filter that ignores its misalignments
-  (``absorb_unmodelled=False``) shows the paper's early gap (2.10 vs
-  1.41 m), and it then diverges.
-- Calibration helps *a lot* in the outage (34 -> 6.8 m; paper: "light"):
-  the paper-mems 1e-2 gyro misalignment turns yaw rate into tilt (18 m
-  after 30 s analytically; 32 -> 6.3 m in simulation without it), the
-  accelerometer misalignment adds 6 m, white noise only ~1 m. Calibration
-  removes the misalignments. The paper's "drift due to noise" needs a
-  MEMS much noisier than our preset, whose density (fitted to the
-  inversion MSE) is tactical-grade.
-- Mean NEES per degree of freedom is 0.6-0.7 for every IMU: the tuning is
-  conservative (the absorbed unmodelled terms, and the spec's one-sigma
-  magnitudes as bias uncertainties for IMUs whose draws are smaller). On
-  errors the filter models exactly it is consistent (NEES/dof 0.95, Rust
-  test ``consistent_when_the_imu_errors_are_modelled_exactly``).
+What our numbers show against the paper: the report of ``memsnav
+reproduce`` (each claim's verdict computed from its numbers by a criterion
+fixed in ``memsnav.report.claims``) and ``docs/paper-comparison.md`` (the
+study behind the differences and the options it uses).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -68,6 +47,15 @@ import numpy as np
 import numpy.typing as npt
 
 from memsnav import _memsnav
+from memsnav.experiments._plotting import legend_below
+
+_STYLES: list[dict[str, Any]] = [
+    {"ls": "-", "lw": 1.6},
+    {"ls": "--", "lw": 2.4},
+    {"ls": "-.", "lw": 1.2},
+    {"ls": ":", "lw": 2.0},
+]
+"""Line styles of the IMUs, in the set's order."""
 
 PAPER_IMUS = ("ins", "mems", "calibrated_mems")
 """The paper's three IMUs (figures 14-18)."""
@@ -121,7 +109,9 @@ class NavigationResult:
       run, kept when ``keep_runs=True`` or ``runs <= 50``; otherwise
       ``None`` (the set is then folded run by run in bounded memory).
     - ``runs_summary``: per IMU, per-run scalars ``rms`` (m), ``rms_early``
-      (m, first ``early_window`` s), ``final`` (m), ``max_in_outage`` (m,
+      (m, t ≤ ``early_window`` s), ``rms_late`` (m, after it), ``final``
+      (m), ``max_in_outage``, ``max_horizontal_in_outage`` and
+      ``max_vertical_in_outage`` (m, the error norm and its NED parts,
       NaN without outage), ``mean_nees_per_dof``, ``rejected`` (count),
       ``accepted`` (count of scalar measurements applied).
     - ``completed_runs``; ``interrupted``: True when Ctrl-C (or a failing
@@ -146,44 +136,120 @@ class NavigationResult:
         """IMU names, in the set's order."""
         return list(self.mean)
 
-    def summary(self) -> dict[str, dict[str, float]]:
-        """Per IMU name:
+    @property
+    def early_key(self) -> str:
+        """The name of the early-window keys: ``first_150s`` for 150 s."""
+        return f"first_{round(self.config.get('early_window', 150.0))}s"
+
+    @property
+    def late_key(self) -> str:
+        """The name of the keys after the early window: ``after_150s``."""
+        return f"after_{round(self.config.get('early_window', 150.0))}s"
+
+    def _outage_window(self) -> npt.NDArray[np.bool_]:
+        outage = self.config.get("outage")
+        if outage is None:
+            return np.zeros_like(self.time, dtype=bool)
+        start, length = outage[0], outage[1]
+        return (self.time >= start) & (self.time < start + length)
+
+    def _per_run(self, name: str) -> dict[str, npt.NDArray[np.float64]]:
+        """Per-run values whose mean over runs is each summary figure (the
+        RMS figures are means of per-run mean squares)."""
+        runs = self.runs_summary[name]
+        out = {
+            "rms_position_error_m": runs["rms"] ** 2,
+            f"rms_position_error_{self.early_key}_m": runs["rms_early"] ** 2,
+            f"rms_position_error_{self.late_key}_m": runs["rms_late"] ** 2,
+            "final_position_error_m": runs["final"],
+            "mean_nees_per_dof": runs["mean_nees_per_dof"],
+            "rejected_measurements_per_run": runs["rejected"].astype(float),
+        }
+        if self.config.get("outage") is not None:
+            out["mean_max_position_error_during_outage_m"] = runs["max_in_outage"]
+            out["mean_max_horizontal_error_during_outage_m"] = runs["max_horizontal_in_outage"]
+            out["mean_max_vertical_error_during_outage_m"] = runs["max_vertical_in_outage"]
+        return out
+
+    def summary(self) -> dict[str, dict[str, Any]]:
+        """Per IMU name, means over the completed runs (m unless stated),
+        each with its Monte Carlo standard error in ``standard_error``:
 
         - ``rms_position_error_m``: √(mean over runs and epochs of |δr|²);
-        - ``rms_position_error_first_150s_m`` (named after ``early_window``):
-          the same over the first ``early_window`` s;
+          ``rms_position_error_first_150s_m`` (named after ``early_window``)
+          and ``rms_position_error_after_150s_m``: the same over the epochs
+          t ≤ 150 s and after;
         - ``final_position_error_m``: mean over runs of |δr| at the last epoch;
         - ``mean_nees_per_dof``: mean over runs and epochs of NEES / 9
           (≈ 1 for a consistent filter);
         - ``rejected_measurements_per_run``: mean count of gated/invalid
           measurements;
         - with an outage: ``max_position_error_during_outage_m`` (maximum over
-          the outage of the mean-over-runs error curve, what figs 16-18 show),
+          the outage of the mean-over-runs error curve, what figs 16-18 show;
+          its standard error is the runs' spread at that epoch over √runs),
           ``mean_max_position_error_during_outage_m`` (mean over runs of each
-          run's maximum) and ``position_error_at_outage_end_m`` (mean curve at
+          run's maximum; ``mean_max_horizontal_error_during_outage_m`` and
+          ``mean_max_vertical_error_during_outage_m`` the same for the
+          horizontal and vertical parts of the error in local NED) and
+          ``position_error_at_outage_end_m`` (mean curve at
           the last epoch of the outage, before GNSS returns). The outage
           covers the epochs in [start, start + length).
+
+        Standard errors of RMS figures follow from those of the mean squares
+        (δ method); all are NaN for a single run.
         """
-        early = round(self.config.get("early_window", 150.0))
-        out: dict[str, dict[str, float]] = {}
-        outage = self.config.get("outage")
-        for name, runs in self.runs_summary.items():
-            s = {
-                "rms_position_error_m": float(np.sqrt(np.mean(runs["rms"] ** 2))),
-                f"rms_position_error_first_{early}s_m": float(
-                    np.sqrt(np.mean(runs["rms_early"] ** 2))
-                ),
-                "final_position_error_m": float(np.mean(runs["final"])),
-                "mean_nees_per_dof": float(np.mean(runs["mean_nees_per_dof"])),
-                "rejected_measurements_per_run": float(np.mean(runs["rejected"])),
-            }
-            if outage is not None:
-                start, length = outage
-                inside = (self.time >= start) & (self.time < start + length)
-                s["max_position_error_during_outage_m"] = float(np.max(self.mean[name][inside]))
-                s["mean_max_position_error_during_outage_m"] = float(np.mean(runs["max_in_outage"]))
-                s["position_error_at_outage_end_m"] = float(self.mean[name][inside][-1])
+        n = self.completed_runs
+        inside = self._outage_window()
+        out: dict[str, dict[str, Any]] = {}
+        for name in self.runs_summary:
+            s: dict[str, Any] = {}
+            se: dict[str, float] = {}
+            for key, values in self._per_run(name).items():
+                mean = float(np.mean(values)) if n else math.nan
+                error = float(np.std(values, ddof=1) / math.sqrt(n)) if n > 1 else math.nan
+                if key.startswith("rms_"):
+                    mean = math.sqrt(mean)
+                    error = error / (2.0 * mean) if mean > 0 else math.nan
+                s[key] = mean
+                se[key] = error
+            if inside.any():
+                curve = self.mean[name][inside]
+                peak = int(np.argmax(curve))
+                s["max_position_error_during_outage_m"] = float(curve[peak])
+                se["max_position_error_during_outage_m"] = (
+                    float(self.std[name][inside][peak] / math.sqrt(n)) if n > 1 else math.nan
+                )
+                s["position_error_at_outage_end_m"] = float(curve[-1])
+                se["position_error_at_outage_end_m"] = (
+                    float(self.std[name][inside][-1] / math.sqrt(n)) if n > 1 else math.nan
+                )
+            s["standard_error"] = se
             out[name] = s
+        return out
+
+    def paired_difference(self, first: str, second: str) -> dict[str, dict[str, float]]:
+        """``first`` minus ``second`` (IMU names) run by run, for the per-run
+        figures of :meth:`summary` (RMS figures as differences of per-run
+        RMS): ``{key: {"difference", "standard_error"}}`` — the paired
+        comparison's own uncertainty, smaller than the two standard errors
+        combined because both IMUs fly the same trajectories."""
+        n = self.completed_runs
+        a, b = self.runs_summary[first], self.runs_summary[second]
+        pairs = {
+            "rms_position_error_m": ("rms",),
+            f"rms_position_error_{self.early_key}_m": ("rms_early",),
+            f"rms_position_error_{self.late_key}_m": ("rms_late",),
+            "final_position_error_m": ("final",),
+        }
+        if self.config.get("outage") is not None:
+            pairs["mean_max_position_error_during_outage_m"] = ("max_in_outage",)
+        out = {}
+        for key, (field_name,) in pairs.items():
+            d = np.asarray(a[field_name], dtype=float) - np.asarray(b[field_name], dtype=float)
+            out[key] = {
+                "difference": float(d.mean()) if n else math.nan,
+                "standard_error": float(d.std(ddof=1) / math.sqrt(n)) if n > 1 else math.nan,
+            }
         return out
 
     def plot(self) -> dict[str, Any]:
@@ -206,16 +272,19 @@ class NavigationResult:
             sel = np.ones_like(t, dtype=bool)
             if window is not None:
                 sel = (t >= window[0]) & (t <= window[1])
-            for name in self.imus:
+            for k, name in enumerate(self.imus):
                 m, s = self.mean[name][sel], self.std[name][sel]
-                (line,) = ax.plot(t[sel], m, label=f"{name} (mean)")
+                # Distinct dashes and widths: curves that coincide (raw and
+                # calibrated MEMS while aided) stay visible over each other.
+                style = _STYLES[k % len(_STYLES)]
+                (line,) = ax.plot(t[sel], m, label=f"{name} (mean)", **style)
                 if np.all(np.isfinite(s)):
                     ax.fill_between(
                         t[sel],
                         m - s,
                         m + s,
                         color=line.get_color(),
-                        alpha=0.2,
+                        alpha=0.12,
                         label=f"{name} ± std",
                     )
             if outage is not None:
@@ -229,7 +298,7 @@ class NavigationResult:
             ax.set_xlabel("time [s]")
             ax.set_ylabel("position error norm [m]")
             ax.grid(True, alpha=0.3)
-            ax.legend(fontsize="small")
+            legend_below(fig, ax, ncol=3)
             return fig
 
         if outage is None:
@@ -239,15 +308,16 @@ class NavigationResult:
                 "fig15": figure(f"Fig. 15: position error, first {early:.0f} s", (0.0, early)),
             }
         start = float(outage[0])
+        kept = "no satellite" if len(outage) < 3 or outage[2] == 0 else f"{outage[2]} satellites"
         return {
-            "fig16": figure(f"Fig. 16: position error, {outage[1]:.0f} s outage", None),
+            "fig16": figure(f"Fig. 16: position error, {outage[1]:.0f} s with {kept}", None),
             "fig17": figure("Fig. 17: outage, first 15 s", (start - 2.0, start + 15.0)),
             "fig18": figure("Fig. 18: outage, first 5 s", (start - 2.0, start + 5.0)),
         }
 
 
 def navigation(
-    outage: tuple[float, float] | None = None,
+    outage: tuple[float, float] | tuple[float, float, int] | None = None,
     runs: int = 20,
     duration: float = 600.0,
     seed: int = 0,
@@ -268,8 +338,14 @@ def navigation(
 ) -> NavigationResult:
     """Runs the navigation Monte Carlo (paper §5.3) in Rust, GIL released.
 
-    ``outage``: ``(start_s, length_s)`` total GNSS outage (no satellites;
-    paper: 30 s), start ≥ 1 s; ``None``: 6 satellites all along (figs 14-15).
+    ``outage``: ``(start_s, length_s)``, a total GNSS outage (paper: 30 s),
+    or ``(start_s, length_s, n_visible)`` keeping ``n_visible`` satellites
+    (0-3) through the window: the highest of those tracked — an urban
+    canyon's view, and the worst horizontal geometry of the set (high
+    satellites constrain mostly the height and the clock); start ≥ 1 s.
+    ``None``: 6 satellites all along (figs 14-15). The window's satellites
+    carry the same noise as without the outage (outages are applied after
+    every draw), so runs with different outages are paired.
     ``runs`` (paper: 200) of ``duration`` s each (paper: 600). ``imus``: names
     among ``"ins"``, ``"mems"``, ``"calibrated_mems"`` (needs ``"mems"``
     earlier in the set) or any preset name of ``ImuModel.presets()``; or a
@@ -303,14 +379,18 @@ def navigation(
     """
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 1:
         raise ValueError(f"runs: must be a positive integer, got {runs!r}")
+    window: tuple[float, float, int] | None = None
     if outage is not None:
         try:
-            start, length = (float(v) for v in outage)
+            values = [float(v) for v in outage]
+            if len(values) not in (2, 3) or (len(values) == 3 and not values[2].is_integer()):
+                raise ValueError
         except (TypeError, ValueError):
             raise ValueError(
-                f"outage: expected (start_s, length_s) or None, got {outage!r}"
+                "outage: expected (start_s, length_s) or (start_s, length_s, n_visible) "
+                f"or None, got {outage!r}"
             ) from None
-        outage = (start, length)
+        window = (values[0], values[1], int(values[2]) if len(values) == 3 else 0)
     try:
         attitude_std = tuple(float(v) for v in initial_attitude_std_deg)
     except (TypeError, ValueError):
@@ -327,7 +407,7 @@ def navigation(
         duration=float(duration),
         seed=seed,
         n_satellites=n_satellites,
-        outage=outage,
+        outage=window,
         calibration_duration=float(calibration_duration),
         early_window=float(early_window),
         pseudorange_rate=bool(pseudorange_rate),
@@ -340,6 +420,30 @@ def navigation(
         threads=threads,
         progress=progress,
     )
+    return result_from_raw(
+        raw,
+        {
+            "outage": window,
+            "runs": runs,
+            "duration": float(duration),
+            "seed": seed,
+            "imus": [name for name, _ in _imu_sources(imus)],
+            "n_satellites": n_satellites,
+            "calibration_duration": float(calibration_duration),
+            "early_window": float(early_window),
+            "pseudorange_rate": bool(pseudorange_rate),
+            "pseudorange_std": float(pseudorange_std),
+            "pseudorange_rate_std": float(pseudorange_rate_std),
+            "initial_attitude_std_deg": attitude_std,
+            "scale_factor_states": bool(scale_factor_states),
+            "absorb_unmodelled": bool(absorb_unmodelled),
+        },
+    )
+
+
+def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> NavigationResult:
+    """A :class:`NavigationResult` from the binding's dict (``time``,
+    ``imus``, ``completed_runs``, ``interrupted``) and its ``config``."""
     entries = raw["imus"]
     names = [e["name"] for e in entries]
     kept = entries[0]["position_error_runs"] is not None
@@ -361,8 +465,11 @@ def navigation(
             n: {
                 "rms": e["run_rms"],
                 "rms_early": e["run_rms_early"],
+                "rms_late": e["run_rms_late"],
                 "final": e["run_final"],
                 "max_in_outage": e["run_max_in_outage"],
+                "max_horizontal_in_outage": e["run_max_horizontal_in_outage"],
+                "max_vertical_in_outage": e["run_max_vertical_in_outage"],
                 "mean_nees_per_dof": e["run_mean_nees_per_dof"],
                 "rejected": e["run_rejected"],
                 "accepted": e["run_accepted"],
@@ -371,20 +478,5 @@ def navigation(
         },
         completed_runs=int(raw["completed_runs"]),
         interrupted=bool(raw["interrupted"]),
-        config={
-            "outage": outage,
-            "runs": runs,
-            "duration": float(duration),
-            "seed": seed,
-            "imus": names,
-            "n_satellites": n_satellites,
-            "calibration_duration": float(calibration_duration),
-            "early_window": float(early_window),
-            "pseudorange_rate": bool(pseudorange_rate),
-            "pseudorange_std": float(pseudorange_std),
-            "pseudorange_rate_std": float(pseudorange_rate_std),
-            "initial_attitude_std_deg": attitude_std,
-            "scale_factor_states": bool(scale_factor_states),
-            "absorb_unmodelled": bool(absorb_unmodelled),
-        },
+        config=config,
     )

@@ -26,6 +26,7 @@ figcaption { font-size: 0.9rem; color: #555; }
 table { border-collapse: collapse; margin: 1rem 0; font-size: 0.9rem; }
 th, td { border: 1px solid #ccc; padding: 0.3rem 0.6rem; text-align: left; }
 th { background: #f4f4f4; } .ok { color: #1a7f37; } .no { color: #b42318; }
+.partly { color: #9a6700; } .none { color: #57606a; }
 code { background: #f4f4f4; padding: 0 0.2rem; }
 """
 
@@ -60,7 +61,8 @@ class _Figure:
     caption: str
     png: bytes
     svg: bytes
-    csv: str
+    # The curves behind it; None for a drawing without data (fig. 13).
+    csv: str | None
 
 
 @dataclass
@@ -94,7 +96,14 @@ class Report:
         png, svg = io.BytesIO(), io.BytesIO()
         fig.savefig(png, format="png", dpi=110, bbox_inches="tight")
         fig.savefig(svg, format="svg", bbox_inches="tight")
-        entry = _Figure(name, caption, png.getvalue(), svg.getvalue(), figure_to_csv(fig))
+        has_curves = any(ax.get_lines() or ax.collections for ax in fig.axes)
+        entry = _Figure(
+            name,
+            caption,
+            png.getvalue(),
+            svg.getvalue(),
+            figure_to_csv(fig) if has_curves else None,
+        )
         # Release pyplot's reference: a report holds dozens of figures.
         plt.close(fig)
         self._figures.append(entry)
@@ -117,19 +126,31 @@ class Report:
         )
 
     def write(self, directory: Path, name: str = "report.html") -> Path:
-        """Writes the figures (PNG, SVG, CSV) and then the page, each atomically."""
+        """Writes the figures (PNG, SVG, and CSV when they plot data) and then
+        the page, each atomically."""
         figures = directory / "figures"
         figures.mkdir(parents=True, exist_ok=True)
         for f in self._figures:
             write_bytes(figures / f"{f.name}.png", f.png)
             write_bytes(figures / f"{f.name}.svg", f.svg)
-            write_text(figures / f"{f.name}.csv", f.csv)
+            if f.csv is not None:
+                write_text(figures / f"{f.name}.csv", f.csv)
         path = directory / name
         write_text(path, self.render())
         return path
 
 
+class Verdict(str):
+    """A claim's verdict in a table cell, coloured by what it says."""
+
+
+_VERDICT_CLASSES = {"holds": "ok", "partly": "partly", "does not hold": "no"}
+
+
 def _cell(value: object) -> str:
+    if isinstance(value, Verdict):
+        css = _VERDICT_CLASSES.get(str(value), "none")
+        return f'<span class="{css}">{html.escape(str(value))}</span>'
     if isinstance(value, bool):
         return '<span class="ok">yes</span>' if value else '<span class="no">no</span>'
     if isinstance(value, float):

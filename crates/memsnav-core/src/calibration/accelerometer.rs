@@ -8,8 +8,9 @@ use super::determinable::{
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
     accelerometer_parameter_names, accelerometer_std_model, block_diagonal, check_excitation,
-    common_jacobian, constant_column, diagnose, expand_block, factor_column, validate_data,
-    validate_options, Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES, OFF_DIAGONAL,
+    common_jacobian, constant_column, diagnose, expand_block, factor_column, row_noise_variance,
+    validate_data, validate_options, Calibration, CalibrationOptions, Method, ReferenceNoise,
+    ACCELEROMETER_AXES, OFF_DIAGONAL,
 };
 use crate::sensors::{AccelerometerModel, NoiseModel};
 use crate::{Error, Result};
@@ -95,37 +96,64 @@ fn jacobian(m: &AccelerometerModel) -> DMatrix<f64> {
     jac
 }
 
-/// Cramér-Rao bound (15 × 15) of the accelerometer parameters for exact
-/// references and white input noise of std `noise_std` (m/s²) per sample.
-/// One pass over the references (module docs of [`crate::calibration`]).
+/// Cramér-Rao bound (15 × 15) of the accelerometer parameters at the true
+/// specific forces `true_specific_force` (m/s²), for white sensor noise of
+/// std `noise_std` (m/s²) per sample and references carrying
+/// `reference.specific_force_std` (the errors-in-variables bound of the
+/// module docs of [`crate::calibration`]; exact references for 0). One
+/// pass over the inputs.
 pub fn accelerometer_crb(
-    reference_specific_force: &[Vector3<f64>],
+    true_specific_force: &[Vector3<f64>],
     model: &AccelerometerModel,
     noise_std: f64,
+    reference: &ReferenceNoise,
 ) -> Result<DMatrix<f64>> {
     crate::validate::positive("noise_std", noise_std)?;
-    crate::validate::finite_vectors("reference_specific_force", reference_specific_force)?;
+    reference.validate()?;
+    crate::validate::finite_vectors("true_specific_force", true_specific_force)?;
     let mut qr = IncrementalQr::<CRB_COLUMNS>::new();
-    for g in reference_specific_force {
+    for g in true_specific_force {
         let sq = g.component_mul(g);
         qr.push(&[1.0, g.x, g.y, g.z, sq.x, sq.y, sq.z]);
     }
     let n = qr.rows();
     let r = qr.finish();
-    let blocks: Vec<DMatrix<f64>> = (0..3)
-        .map(|i| {
-            let reg = Regression::new(regressors(&r, i, 0.0), n);
-            crb_block(&reg, model.output_matrix().row(i).norm(), noise_std)
-        })
+    let regressions: Vec<Regression> = (0..3)
+        .map(|i| Regression::new(regressors(&r, i, 0.0), n))
         .collect();
-    let jac = jacobian(model);
-    Ok(&jac * block_diagonal(&blocks) * jac.transpose())
+    let all_columns: Vec<Vec<usize>> = vec![(0..P).collect(); 3];
+    Ok(crb(
+        &regressions,
+        &all_columns,
+        model,
+        noise_std,
+        reference.specific_force_std,
+    ))
 }
 
-/// σ_i² (GᵀG)⁻¹: the inverse Fisher information of one row whose output
-/// noise is the input noise σ scaled by ‖A_i‖.
-fn crb_block(reg: &Regression, row_norm: f64, noise_std: f64) -> DMatrix<f64> {
-    reg.unit_covariance() * (noise_std * row_norm).powi(2)
+/// J diag(σ_i² (G_iᵀG_i)⁻¹) Jᵀ with the errors-in-variables row variances;
+/// row i's regression covers its columns `free[i]` (held ones carry zero).
+fn crb(
+    regressions: &[Regression],
+    free: &[Vec<usize>],
+    model: &AccelerometerModel,
+    noise_std: f64,
+    reference_std: f64,
+) -> DMatrix<f64> {
+    let variance = row_noise_variance(
+        &model.output_matrix(),
+        &Matrix3::zeros(),
+        noise_std,
+        reference_std,
+        0.0,
+    );
+    let blocks: Vec<DMatrix<f64>> = regressions
+        .iter()
+        .enumerate()
+        .map(|(i, reg)| expand_block(&(reg.unit_covariance() * variance[i]), &free[i], P))
+        .collect();
+    let jac = jacobian(model);
+    &jac * block_diagonal(&blocks) * jac.transpose()
 }
 
 /// Accelerometer calibration data reduced by one pass over the samples to
@@ -372,14 +400,13 @@ impl FactoredAccelerometer {
             .collect();
         let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
         let crb = options.noise_std.map(|sigma| {
-            let blocks: Vec<DMatrix<f64>> = (0..3)
-                .map(|i| {
-                    let block =
-                        crb_block(&regressions[i], model.output_matrix().row(i).norm(), sigma);
-                    expand_block(&block, &free[i], P)
-                })
-                .collect();
-            &jac * block_diagonal(&blocks) * jac.transpose()
+            crb(
+                &regressions,
+                &free,
+                &model,
+                sigma,
+                options.reference_noise_std.unwrap_or(0.0),
+            )
         });
         let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
         model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();

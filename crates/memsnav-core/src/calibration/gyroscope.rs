@@ -11,8 +11,9 @@ use super::determinable::{
 use super::least_squares::{IncrementalQr, Regression};
 use super::{
     block_diagonal, check_excitation, common_jacobian, constant_column, diagnose, expand_block,
-    factor_column, gyroscope_parameter_names, gyroscope_std_model, validate_data, validate_options,
-    Calibration, CalibrationOptions, Method, ACCELEROMETER_AXES, GYROSCOPE_AXES, OFF_DIAGONAL,
+    factor_column, gyroscope_parameter_names, gyroscope_std_model, row_noise_variance,
+    validate_data, validate_options, Calibration, CalibrationOptions, Method, ReferenceNoise,
+    ACCELEROMETER_AXES, GYROSCOPE_AXES, OFF_DIAGONAL,
 };
 use crate::sensors::{GyroscopeModel, NoiseModel};
 use crate::{Error, Result};
@@ -90,37 +91,59 @@ fn jacobian(m: &GyroscopeModel) -> DMatrix<f64> {
     jac
 }
 
-/// Cramér-Rao bound (21 × 21) of the gyroscope parameters for exact
-/// references and white input noise of std `noise_std` (rad/s) per sample.
+/// Cramér-Rao bound (21 × 21) of the gyroscope parameters at the true
+/// angular rates (rad/s) and specific forces (m/s²), for white sensor noise
+/// of std `noise_std` (rad/s) per sample and references carrying
+/// `reference` (the errors-in-variables bound of the module docs of
+/// [`crate::calibration`]; exact references for zeros).
 pub fn gyroscope_crb(
-    reference_angular_rate: &[Vector3<f64>],
-    reference_specific_force: &[Vector3<f64>],
+    true_angular_rate: &[Vector3<f64>],
+    true_specific_force: &[Vector3<f64>],
     model: &GyroscopeModel,
     noise_std: f64,
+    reference: &ReferenceNoise,
 ) -> Result<DMatrix<f64>> {
     crate::validate::positive("noise_std", noise_std)?;
+    reference.validate()?;
     crate::validate::same_length(
-        "reference_specific_force",
-        reference_specific_force.len(),
-        "reference_angular_rate",
-        reference_angular_rate.len(),
+        "true_specific_force",
+        true_specific_force.len(),
+        "true_angular_rate",
+        true_angular_rate.len(),
     )?;
-    // One pass over the exact references; no outputs (module docs of
+    // One pass over the true inputs; no outputs (module docs of
     // [`crate::calibration`]).
     let mut qr = IncrementalQr::<P>::new();
-    for (w, f) in reference_angular_rate.iter().zip(reference_specific_force) {
+    for (w, f) in true_angular_rate.iter().zip(true_specific_force) {
         qr.push(&[1.0, w.x, w.y, w.z, f.x, f.y, f.z]);
     }
     let n = qr.rows();
     let reg = Regression::new(regressors(&qr.finish()), n);
-    Ok(crb_from(&reg.unit_covariance(), model, noise_std))
+    Ok(crb_from(
+        &reg.unit_covariance(),
+        model,
+        noise_std,
+        reference,
+    ))
 }
 
-fn crb_from(unit: &DMatrix<f64>, model: &GyroscopeModel, noise_std: f64) -> DMatrix<f64> {
+/// J diag(σ_i² (GᵀG)⁻¹) Jᵀ with the errors-in-variables row variances;
+/// `unit` is (GᵀG)⁻¹ over all P columns (zero rows for held ones).
+fn crb_from(
+    unit: &DMatrix<f64>,
+    model: &GyroscopeModel,
+    noise_std: f64,
+    reference: &ReferenceNoise,
+) -> DMatrix<f64> {
     let a = model.output_matrix();
-    let blocks: Vec<DMatrix<f64>> = (0..3)
-        .map(|i| unit * (noise_std * a.row(i).norm()).powi(2))
-        .collect();
+    let variance = row_noise_variance(
+        &a,
+        &(a * model.g_sensitivity),
+        noise_std,
+        reference.angular_rate_std,
+        reference.specific_force_std,
+    );
+    let blocks: Vec<DMatrix<f64>> = (0..3).map(|i| unit * variance[i]).collect();
     let jac = jacobian(model);
     &jac * block_diagonal(&blocks) * jac.transpose()
 }
@@ -278,9 +301,13 @@ impl FactoredGyroscope {
             .map(|s| expand_block(&s.covariance, &free, P))
             .collect();
         let covariance = &jac * block_diagonal(&blocks) * jac.transpose();
+        let reference = ReferenceNoise {
+            specific_force_std: options.reference_specific_force_noise_std.unwrap_or(0.0),
+            angular_rate_std: options.reference_noise_std.unwrap_or(0.0),
+        };
         let crb = options.noise_std.map(|sigma| {
             let unit = expand_block(&reg.unit_covariance(), &free, P);
-            crb_from(&unit, &model, sigma)
+            crb_from(&unit, &model, sigma, &reference)
         });
         let residual_std = Vector3::from_fn(|i, _| solutions[i].residual_std);
         model.noise.white_std = (residual_std.norm_squared() / 3.0).sqrt();

@@ -33,11 +33,45 @@
 //! Each row is solved independently; the coefficient covariance is
 //! σ̂_i² (G_iᵀG_i)⁻¹ with σ̂_i² = RSS_i/(n − p) and is propagated through the
 //! Jacobian J of the conversion (covariance = J Σ_c Jᵀ). The output noise
-//! A ν is correlated across axes only through M (≈ 1 %), which is neglected.
-//! The Cramér-Rao bound of the linear Gaussian model with known input noise
-//! σ (output noise σ‖A_i‖ on row i) and exact references is σ_i² (G_iᵀG_i)⁻¹
-//! per row, propagated the same way (the bound of a function of the
-//! parameters is J I⁻¹ Jᵀ).
+//! A ν is correlated across axes only through M (≈ 1 %), which is neglected
+//! (a correlation ρ changes a row's information by O(ρ²) ≈ 1e-4).
+//!
+//! The Cramér-Rao bound is that of the problem actually solved: the true
+//! inputs x_k (Γ_k, and Ω_k for the gyroscope) are unknown and observed
+//! only through references z_k = x_k + η_k with white noise of covariance
+//! R_z (the errors-in-variables model, in its functional form: the x_k are
+//! nuisance parameters). Per sample the data are the output
+//! y_k = h(x_k; θ) + e_k, cov R_y, and z_k. With J = ∂h/∂θ and H = ∂h/∂x,
+//! the Fisher information of (θ, x_k) has blocks JᵀR_y⁻¹J, JᵀR_y⁻¹H and
+//! HᵀR_y⁻¹H + R_z⁻¹; eliminating x_k (Schur complement) and Woodbury's
+//! identity leave
+//!
+//! ```text
+//! I(θ) = Σ_k Jᵀ (R_y + H R_z Hᵀ)⁻¹ J,
+//! ```
+//!
+//! the exact-reference information with the output noise raised by the
+//! reference noise pushed through the model. Here J at the true inputs is
+//! the regression G (through the conversion Jacobian), R_y = σ² A Aᵀ, and
+//! H = A (I − 2 N diag Γ) for the accelerometer, [A, −A K] on (Ω, Γ) for
+//! the gyroscope, so row i's output variance is
+//!
+//! ```text
+//! accelerometer  σ_i² = (σ² + σ_Γ²) ‖A_i‖²                       (2NΓ ≈ 2e-5 neglected)
+//! gyroscope      σ_i² = (σ² + σ_Ω²) ‖A_i‖² + σ_Γ² ‖(A K)_i‖²
+//! ```
+//!
+//! and the bound is σ_i² (G_iᵀG_i)⁻¹ per row with G_i from the *true*
+//! inputs, propagated through J (the bound of a function of the parameters
+//! is J I⁻¹ Jᵀ). With exact references (σ_Γ = σ_Ω = 0) it is the linear
+//! Gaussian bound, which plain LS attains. With noisy references plain LS
+//! is biased (attenuation) and does not attain it; the corrected-score
+//! estimator of [`Method::ErrorsInVariables`] is consistent and its
+//! asymptotic covariance is the bound plus (GᵀG)⁻¹ C σ_i² (GᵀG)⁻¹ (Fuller,
+//! *Measurement Error Models*, 1987, thm. 2.2.1), C the regressor-noise
+//! moment: a share σ_Γ²/var(Γ) ≈ 1e-3 of it for land-vehicle motion, so
+//! it attains the bound to that order (test
+//! `errors_in_variables_attains_the_noisy_reference_bound`).
 //!
 //! ## Errors in the references
 //!
@@ -61,12 +95,13 @@
 //!   only y, whose columns are in X: every pass costs O(p²);
 //! - the excitation check reads each input's variance from R_X.
 //!
-//! The Cramér-Rao bound of [`accelerometer_crb`] and [`gyroscope_crb`] is
-//! that of exact references, so it needs (GᵀG)⁻¹ of the noise-free inputs,
-//! a different matrix from the noisy references' (by the regressor-noise
-//! moment C): it takes its own pass over those inputs, with 7 columns and
-//! no right-hand side. The bound in [`Calibration::crb`] (from `noise_std`)
-//! uses the calibration's own regressors and costs nothing more.
+//! The Cramér-Rao bound of [`accelerometer_crb`] and [`gyroscope_crb`]
+//! needs (GᵀG)⁻¹ of the true inputs, a different matrix from the noisy
+//! references' (by the regressor-noise moment C): it takes its own pass
+//! over those inputs, with 7 columns and no right-hand side. The bound in
+//! [`Calibration::crb`] (from `noise_std`) uses the calibration's own
+//! regressors — the references, in place of the unknown true inputs; they
+//! differ by the share σ_Γ²/var(Γ) — and costs nothing more.
 
 mod accelerometer;
 pub mod determinable;
@@ -120,6 +155,44 @@ pub struct CalibrationOptions {
     pub estimate: Estimate,
 }
 
+/// White noise of the references of a calibration, one sigma per sample
+/// and component; zero for exact references. The errors-in-variables
+/// Cramér-Rao bound (module docs) depends on it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ReferenceNoise {
+    /// Specific force, m/s².
+    pub specific_force_std: f64,
+    /// Angular rate, rad/s (the gyroscope's main input).
+    pub angular_rate_std: f64,
+}
+
+impl ReferenceNoise {
+    fn validate(&self) -> Result<()> {
+        validate::non_negative("reference_specific_force_std", self.specific_force_std)?;
+        validate::non_negative("reference_angular_rate_std", self.angular_rate_std)
+    }
+}
+
+/// Output-noise variance of each row of the errors-in-variables model
+/// (module docs): σ_i² = (σ² + σ_x²) ‖A_i‖² + σ_Γ² ‖(A K)_i‖² for output
+/// matrix `a` = A, sensor noise σ = `noise_std`, main-input reference noise
+/// σ_x = `input_std` and, for the gyroscope's g-sensitivity regressors,
+/// specific-force reference noise σ_Γ = `specific_force_std` with
+/// `a_k` = A K (zero for the accelerometer).
+fn row_noise_variance(
+    a: &Matrix3<f64>,
+    a_k: &Matrix3<f64>,
+    noise_std: f64,
+    input_std: f64,
+    specific_force_std: f64,
+) -> Vector3<f64> {
+    let white = noise_std * noise_std + input_std * input_std;
+    Vector3::from_fn(|i, _| {
+        white * a.row(i).norm_squared()
+            + specific_force_std * specific_force_std * a_k.row(i).norm_squared()
+    })
+}
+
 /// A calibrated sensor model with its uncertainties.
 #[derive(Debug, Clone)]
 pub struct Calibration<M> {
@@ -137,7 +210,9 @@ pub struct Calibration<M> {
     /// Condition number of the column-equilibrated regressors, per axis.
     pub condition_number: Vector3<f64>,
     /// Cramér-Rao bound of the parameter vector (when `noise_std` is given),
-    /// evaluated at the estimate, for exact references.
+    /// evaluated at the estimate, for references with the noise given in
+    /// the options (`reference_noise_std`, and for the gyroscope
+    /// `reference_specific_force_noise_std`; exact references without).
     pub crb: Option<DMatrix<f64>>,
     /// Parameters that are determined only poorly.
     pub warnings: Vec<String>,

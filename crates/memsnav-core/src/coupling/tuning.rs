@@ -460,12 +460,8 @@ impl BiasProcess {
 
     /// Driving-noise PSD: 2σ²/τ for Gauss-Markov plus the random walk's q².
     fn psd(&self) -> f64 {
-        let gm = if self.correlation_time_s.is_finite() {
-            2.0 * self.instability_std.powi(2) / self.correlation_time_s
-        } else {
-            0.0
-        };
-        gm + self.random_walk.powi(2)
+        crate::gauss_markov::psd_of_stationary(self.instability_std, self.correlation_time_s)
+            + self.random_walk.powi(2)
     }
 
     fn validate(&self, name: &str) -> Result<()> {
@@ -497,13 +493,6 @@ impl FilterTuning {
     ) -> Result<Self> {
         spec.validate()?;
         validate::positive("sample_rate_hz", sample_rate_hz)?;
-        let per_sample = |n: &crate::sensors::NoiseModel| {
-            if n.white_density > 0.0 {
-                n.white_density * sample_rate_hz.sqrt()
-            } else {
-                n.white_std
-            }
-        };
         let bias = |initial_std: f64, n: &crate::sensors::NoiseModel| BiasProcess {
             initial_std: (initial_std.powi(2) + n.bias_instability_std.powi(2)).sqrt(),
             instability_std: n.bias_instability_std,
@@ -517,8 +506,8 @@ impl FilterTuning {
         let (a, g) = (&spec.accelerometer, &spec.gyroscope);
         let mut t = Self::new(
             sample_rate_hz,
-            per_sample(&a.noise),
-            per_sample(&g.noise),
+            a.noise.white_std_per_sample(sample_rate_hz),
+            g.noise.white_std_per_sample(sample_rate_hz),
             bias(a.bias_std, &a.noise),
             bias(g.bias_std, &g.noise),
         )?;

@@ -5,16 +5,13 @@
 
 use nalgebra::Vector3;
 
-use crate::calibration::{
-    calibrate_accelerometer, calibrate_gyroscope, CalibrationOptions, Method,
-};
-use crate::inversion::{invert_accelerometer, invert_gyroscope, InversionNoise};
 use crate::montecarlo::{self, RunOptions};
 use crate::random::Rng;
 use crate::sensors::ImuModel;
 use crate::{validate, Error, Result};
 
-use super::{with_white_noise, MotionSource};
+use super::calibrate_invert::{InversionProcess, SegmentCalibration};
+use super::MotionSource;
 
 /// What the inversion experiment runs.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,18 +20,12 @@ pub struct InversionExperimentConfig {
     pub runs: usize,
     /// Length of the inverted trajectory, s (paper: 120).
     pub duration_s: f64,
-    /// Length of the calibration segment before it, s.
-    pub calibration_duration_s: f64,
     pub preset: String,
-    /// Reference noise of the calibration, per sample (see [`super`]).
-    pub reference_specific_force_std: f64,
-    pub reference_angular_rate_std: f64,
-    /// Calibration estimator (default errors-in-variables: plain LS with
-    /// noisy references leaves scale-factor biases that dominate the MSE).
-    pub method: Method,
-    /// Random-walk increment std per sample of the two filters (m/s², rad/s).
-    pub accel_process_std: f64,
-    pub gyro_process_std: f64,
+    /// The calibration on its own segment before the run (default: 300 s,
+    /// GNSS-like references, errors-in-variables).
+    pub calibration: SegmentCalibration,
+    /// Random-walk increments per sample of the two filters.
+    pub process: InversionProcess,
     pub seed: u64,
 }
 
@@ -43,26 +34,26 @@ impl Default for InversionExperimentConfig {
         Self {
             runs: 50,
             duration_s: 120.0,
-            calibration_duration_s: 300.0,
             preset: "paper-mems".into(),
-            reference_specific_force_std: super::REFERENCE_SPECIFIC_FORCE_STD,
-            reference_angular_rate_std: super::REFERENCE_ANGULAR_RATE_STD,
-            method: Method::ErrorsInVariables,
-            accel_process_std: DEFAULT_ACCEL_PROCESS_STD,
-            gyro_process_std: DEFAULT_GYRO_PROCESS_STD,
+            calibration: SegmentCalibration::default(),
+            process: InversionProcess::default(),
             seed: 0,
         }
     }
 }
 
-/// Default accelerometer random-walk increment per sample, m/s²: "set high
-/// so fast motion is followed" (method §4): 0.1 m/s² per 10 ms, a jerk of
-/// 10 m/s³, above what a land vehicle produces, several times the
-/// paper-mems noise, so the filter mostly follows the outputs.
-pub const DEFAULT_ACCEL_PROCESS_STD: f64 = 0.1;
-/// Default gyroscope random-walk increment per sample, rad/s (1 °/s per
-/// 10 ms: angular accelerations of 100 °/s²).
-pub const DEFAULT_GYRO_PROCESS_STD: f64 = 1.0 * std::f64::consts::PI / 180.0;
+impl InversionExperimentConfig {
+    /// Checks every setting; errors name the Python keyword.
+    pub fn validate(&self) -> Result<()> {
+        if self.runs == 0 {
+            return Err(Error::invalid("runs", "must be at least 1"));
+        }
+        validate::positive("duration", self.duration_s)?;
+        super::validate_preset(&self.preset)?;
+        self.calibration.validate()?;
+        self.process.validate()
+    }
+}
 
 /// Results of [`inversion_experiment`], SI units.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,77 +92,29 @@ fn errors(est: &[Vector3<f64>], truth: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
     est.iter().zip(truth).map(|(a, b)| a - b).collect()
 }
 
-/// Runs the inversion Monte Carlo.
+/// Runs the inversion Monte Carlo. Run i draws, from its stream: the IMU,
+/// its calibration (segment, outputs, references), the inverted motion and
+/// the outputs along it.
 pub fn inversion_experiment(
     config: &InversionExperimentConfig,
     motion: &MotionSource<'_>,
     options: &RunOptions<'_>,
 ) -> Result<InversionExperiment> {
-    if config.runs == 0 {
-        return Err(Error::invalid("runs", "must be at least 1"));
-    }
-    validate::positive("duration", config.duration_s)?;
-    validate::positive("calibration_duration", config.calibration_duration_s)?;
-    validate::positive(
-        "reference_specific_force_std",
-        config.reference_specific_force_std,
-    )?;
-    validate::positive(
-        "reference_angular_rate_std",
-        config.reference_angular_rate_std,
-    )?;
-    validate::positive("accel_process_std", config.accel_process_std)?;
-    validate::positive("gyro_process_std", config.gyro_process_std)?;
-    let (sf, sw) = (
-        config.reference_specific_force_std,
-        config.reference_angular_rate_std,
-    );
+    config.validate()?;
     let run = |_: usize, rng: &mut Rng| -> Result<RunResult> {
         let imu = ImuModel::preset(&config.preset, rng)?;
-        let rate = imu.sample_rate_hz;
         // Calibration on its own segment (method §6: at t = 0, before the run).
-        let cal = motion(config.calibration_duration_s, rate, rng)?;
-        let readings = imu.measure(&cal.specific_force_b, &cal.angular_rate_b, rng)?;
-        let f_ref = with_white_noise(&cal.specific_force_b, sf, rng);
-        let w_ref = with_white_noise(&cal.angular_rate_b, sw, rng);
-        let eiv = config.method == Method::ErrorsInVariables;
-        let acc_opts = CalibrationOptions {
-            method: config.method,
-            reference_noise_std: eiv.then_some(sf),
-            ..Default::default()
-        };
-        let gyr_opts = CalibrationOptions {
-            method: config.method,
-            reference_noise_std: eiv.then_some(sw),
-            reference_specific_force_noise_std: eiv.then_some(sf),
-            ..Default::default()
-        };
-        let acc = calibrate_accelerometer(&readings.specific_force_b, &f_ref, &acc_opts)?;
-        let gyr = calibrate_gyroscope(&readings.angular_rate_b, &w_ref, &f_ref, &gyr_opts)?;
+        let calibrated = config.calibration.calibrate(&imu, motion, rng)?;
         // Inversion of a fresh trajectory.
-        let m = motion(config.duration_s, rate, rng)?;
+        let m = motion(config.duration_s, imu.sample_rate_hz, rng)?;
         let readings = imu.measure(&m.specific_force_b, &m.angular_rate_b, rng)?;
-        let accel_noise = InversionNoise {
-            process_std: Vector3::repeat(config.accel_process_std),
-            measurement_std: Vector3::repeat(imu.accelerometer.noise.white_std_per_sample(rate)),
-        };
-        let gyro_noise = InversionNoise {
-            process_std: Vector3::repeat(config.gyro_process_std),
-            measurement_std: Vector3::repeat(imu.gyroscope.noise.white_std_per_sample(rate)),
-        };
-        let f_hat = invert_accelerometer(&readings.specific_force_b, &acc.model, &accel_noise)?;
-        let w_hat = invert_gyroscope(
-            &readings.angular_rate_b,
-            &f_hat.estimate,
-            &gyr.model,
-            &gyro_noise,
-        )?;
+        let estimate = calibrated.invert(&imu, &readings, &config.process)?;
         Ok(RunResult {
-            accel: errors(&f_hat.estimate, &m.specific_force_b),
-            gyro: errors(&w_hat.estimate, &m.angular_rate_b),
+            accel: errors(&estimate.specific_force_b, &m.specific_force_b),
+            gyro: errors(&estimate.angular_rate_b, &m.angular_rate_b),
             raw_accel: mean_sq(&errors(&readings.specific_force_b, &m.specific_force_b)),
             raw_gyro: mean_sq(&errors(&readings.angular_rate_b, &m.angular_rate_b)),
-            sample_rate_hz: rate,
+            sample_rate_hz: imu.sample_rate_hz,
         })
     };
     let mut out = InversionExperiment {

@@ -23,6 +23,7 @@
 //! interpolated to 100 Hz, whose errors are correlated over a second); it
 //! is what the paper's per-sample regression assumes.
 
+pub mod calibrate_invert;
 pub mod calibration;
 pub mod inversion;
 pub mod motion;
@@ -33,12 +34,18 @@ use rand::Rng as _;
 use rand_distr::StandardNormal;
 
 use crate::random::Rng;
-use crate::Result;
+use crate::sensors::presets;
+use crate::{Error, Result};
 
+pub use calibrate_invert::{CalibratedImu, InversionProcess, SegmentCalibration};
 pub use calibration::{calibration_experiment, CalibrationExperiment, CalibrationExperimentConfig};
 pub use inversion::{inversion_experiment, InversionExperiment, InversionExperimentConfig};
+pub use navigation::partial_outage::{
+    partial_outage_experiment, PartialOutageConfig, PartialOutageExperiment,
+};
 pub use navigation::{
-    navigation_experiment, NavigationExperiment, NavigationExperimentConfig, NavigationImu,
+    navigation_experiment, Coupling, InitialStateSource, NavigationExperiment,
+    NavigationExperimentConfig, NavigationImu,
 };
 
 /// Default reference specific-force noise, m/s² per sample (see module docs).
@@ -57,6 +64,25 @@ pub struct Motion {
 /// Where motion comes from: `(duration_s, rate_hz, rng) -> Motion`.
 pub type MotionSource<'a> = dyn Fn(f64, f64, &mut Rng) -> Result<Motion> + Sync + 'a;
 
+/// A known preset name; the error names `preset`.
+pub(crate) fn validate_preset(preset: &str) -> Result<()> {
+    presets::preset_spec(preset)
+        .map(|_| ())
+        .map_err(|e| match e {
+            Error::InvalidArgument { reason, .. } => Error::invalid("preset", reason),
+            other => other,
+        })
+}
+
+/// The references' noise per sample: positive and finite.
+pub(crate) fn validate_reference_noise(
+    specific_force_std: f64,
+    angular_rate_std: f64,
+) -> Result<()> {
+    crate::validate::positive("reference_specific_force_std", specific_force_std)?;
+    crate::validate::positive("reference_angular_rate_std", angular_rate_std)
+}
+
 /// The truth plus white Gaussian noise of std `std` on every component.
 pub(crate) fn with_white_noise(
     truth: &[Vector3<f64>],
@@ -67,12 +93,6 @@ pub(crate) fn with_white_noise(
         .iter()
         .map(|v| v + Vector3::from_fn(|_, _| std * rng.sample::<f64, _>(StandardNormal)))
         .collect()
-}
-
-/// Stream index of parameter set s: far above any run index, so the sets'
-/// draws never share a stream with a run.
-pub(crate) fn set_stream(s: usize) -> u64 {
-    (1u64 << 63) + s as u64
 }
 
 #[cfg(test)]
@@ -101,7 +121,10 @@ mod tests {
         let config = InversionExperimentConfig {
             runs: 3,
             duration_s: 10.0,
-            calibration_duration_s: 30.0,
+            calibration: SegmentCalibration {
+                duration_s: 30.0,
+                ..Default::default()
+            },
             ..Default::default()
         };
         let one = inversion_experiment(&config, &motion::land_vehicle, &threads(1)).unwrap();
@@ -117,7 +140,10 @@ mod tests {
         let config = InversionExperimentConfig {
             runs: 4,
             duration_s: 30.0,
-            calibration_duration_s: 120.0,
+            calibration: SegmentCalibration {
+                duration_s: 120.0,
+                ..Default::default()
+            },
             ..Default::default()
         };
         let r = inversion_experiment(&config, &motion::land_vehicle, &threads(2)).unwrap();

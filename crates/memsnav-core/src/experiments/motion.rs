@@ -28,38 +28,79 @@ use nalgebra::{Matrix3, Vector3};
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
+use crate::gauss_markov::{GaussMarkov, GaussMarkovStep};
 use crate::random::Rng;
-use crate::{validate, Result};
+use crate::{validate, Error, Result};
 
-use super::Motion;
+use super::{Motion, MotionSource};
+
+/// The motions of this module by name, for the experiments' `motion` option.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MotionKind {
+    /// [`land_vehicle`], `"land-vehicle"`.
+    #[default]
+    LandVehicle,
+    /// [`random_trajectory`], `"trajectory"`.
+    Trajectory,
+}
+
+impl MotionKind {
+    /// `"land-vehicle"` or `"trajectory"`; other names are an error naming `motion`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        match name {
+            "land-vehicle" => Ok(Self::LandVehicle),
+            "trajectory" => Ok(Self::Trajectory),
+            other => Err(Error::invalid(
+                "motion",
+                format!("expected 'land-vehicle' or 'trajectory', got '{other}'"),
+            )),
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::LandVehicle => "land-vehicle",
+            Self::Trajectory => "trajectory",
+        }
+    }
+
+    /// The generator.
+    pub fn source(&self) -> &'static MotionSource<'static> {
+        match self {
+            Self::LandVehicle => &land_vehicle,
+            Self::Trajectory => &random_trajectory,
+        }
+    }
+}
 
 const G0: f64 = 9.80665;
 
+/// A stationary Gauss-Markov driver x ([`crate::gauss_markov`]) seen
+/// through a first-order low-pass y of time constant τ_s.
 struct Smooth {
-    phi: f64,
-    drive: f64,
+    driver: GaussMarkovStep,
     x: f64,
-    phi_smooth: f64,
+    /// e^{−Δt/τ_s}: the low-pass keeps this share of y per step.
+    smoothing_decay: f64,
     y: f64,
 }
 
 impl Smooth {
-    fn new(std: f64, tau_s: f64, smoothing_s: f64, dt: f64, rng: &mut Rng) -> Self {
-        let phi = (-dt / tau_s).exp();
+    fn new(std: f64, tau_s: f64, smoothing_s: f64, dt: f64, rng: &mut Rng) -> Result<Self> {
+        let driver = GaussMarkov::stationary(std, tau_s, ["driver std", "driver tau"])?.step(dt);
         let x = std * rng.sample::<f64, _>(StandardNormal);
-        Self {
-            phi,
-            drive: std * (1.0 - phi * phi).sqrt(),
+        Ok(Self {
+            driver,
             x,
-            phi_smooth: (-dt / smoothing_s).exp(),
+            smoothing_decay: (-dt / smoothing_s).exp(),
             y: x,
-        }
+        })
     }
 
     fn next(&mut self, rng: &mut Rng) -> f64 {
         let y = self.y;
-        self.y = self.phi_smooth * self.y + (1.0 - self.phi_smooth) * self.x;
-        self.x = self.phi * self.x + self.drive * rng.sample::<f64, _>(StandardNormal);
+        self.y = self.smoothing_decay * self.y + (1.0 - self.smoothing_decay) * self.x;
+        self.x = self.driver.next(self.x, rng.sample(StandardNormal));
         y
     }
 }
@@ -79,11 +120,11 @@ pub fn land_vehicle(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Moti
     let dt = 1.0 / rate_hz;
     let n = (duration_s * rate_hz).round() as usize + 1;
     let deg = std::f64::consts::PI / 180.0;
-    let mut accel = Smooth::new(1.0, 5.0, 0.5, dt, rng);
-    let mut yaw_rate = Smooth::new(8.0 * deg, 4.0, 0.5, dt, rng);
-    let mut vertical = Smooth::new(0.3, 0.5, 0.1, dt, rng);
-    let mut roll_drive = Smooth::new(2.0 * deg, 1.0, 0.2, dt, rng);
-    let mut pitch_drive = Smooth::new(2.0 * deg, 1.0, 0.2, dt, rng);
+    let mut accel = Smooth::new(1.0, 5.0, 0.5, dt, rng)?;
+    let mut yaw_rate = Smooth::new(8.0 * deg, 4.0, 0.5, dt, rng)?;
+    let mut vertical = Smooth::new(0.3, 0.5, 0.1, dt, rng)?;
+    let mut roll_drive = Smooth::new(2.0 * deg, 1.0, 0.2, dt, rng)?;
+    let mut pitch_drive = Smooth::new(2.0 * deg, 1.0, 0.2, dt, rng)?;
     let leak_s = 5.0;
     let (mut speed, mut roll, mut pitch) = (15.0f64, 0.0f64, 0.0f64);
     let mut specific_force_b = Vec::with_capacity(n);

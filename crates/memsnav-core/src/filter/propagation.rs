@@ -22,7 +22,8 @@
 //! bias states are corrections rather than errors.
 //!
 //! Discretisation: Φ = I + F Δt (Groves eq. 14.72, first order), except the
-//! Gauss-Markov bias decay, which uses the exact e^{−Δt/τ}. The neglected
+//! Gauss-Markov bias decay, which uses the exact e^{−Δt/τ} and the exact
+//! discrete variance of [`crate::gauss_markov`]. The neglected
 //! ½F²Δt² terms scale with (ω_ie Δt)² ≈ 5e-13 and |f| Δt² ≈ 1e-3 m/s at
 //! 100 Hz, below the process noise of any IMU grade.
 //!
@@ -44,6 +45,7 @@ use super::state::{
     GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
 };
 use crate::attitude::skew;
+use crate::gauss_markov::discretise;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2};
 
 /// The navigation solution the system matrix is linearised about.
@@ -100,14 +102,6 @@ fn gravity_gradient(r: &Vector3<f64>) -> Matrix3<f64> {
     let w2 = EARTH_RATE_RAD_S * EARTH_RATE_RAD_S;
     -GM_M3_S2 / (r2 * rn) * (Matrix3::identity() - 3.0 * u * u.transpose())
         + Matrix3::from_diagonal(&Vector3::new(w2, w2, 0.0))
-}
-
-fn decay(dt: f64, tau: f64) -> f64 {
-    if tau.is_finite() {
-        (-dt / tau).exp()
-    } else {
-        1.0
-    }
 }
 
 /// The continuous system matrix F (dense), for tests and for users who
@@ -195,23 +189,27 @@ pub(super) struct Discretisation {
 
 impl Discretisation {
     pub(super) fn new(noise: &ProcessNoise, dt: f64) -> Self {
-        let bias_q = |psd: f64, tau: f64| {
-            if tau.is_finite() {
-                // Exact discrete variance of a Gauss-Markov process driven by psd.
-                0.5 * psd * tau * (1.0 - (-2.0 * dt / tau).exp())
-            } else {
-                psd * dt
-            }
-        };
+        // The exact Gauss-Markov step of each bias (random walk for τ = ∞).
+        let ba = discretise(
+            noise.accel_bias_psd,
+            noise.accel_bias_correlation_time_s,
+            dt,
+        );
+        let bg = discretise(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s, dt);
+        let rb = discretise(
+            noise.range_bias_psd,
+            noise.range_bias_correlation_time_s,
+            dt,
+        );
         Self {
             dt,
             noise: *noise,
-            ba_decay: decay(dt, noise.accel_bias_correlation_time_s),
-            bg_decay: decay(dt, noise.gyro_bias_correlation_time_s),
-            ba_variance: bias_q(noise.accel_bias_psd, noise.accel_bias_correlation_time_s),
-            bg_variance: bias_q(noise.gyro_bias_psd, noise.gyro_bias_correlation_time_s),
-            rb_decay: decay(dt, noise.range_bias_correlation_time_s),
-            rb_variance: bias_q(noise.range_bias_psd, noise.range_bias_correlation_time_s),
+            ba_decay: ba.decay,
+            bg_decay: bg.decay,
+            ba_variance: ba.drive_variance,
+            bg_variance: bg.drive_variance,
+            rb_decay: rb.decay,
+            rb_variance: rb.drive_variance,
         }
     }
 
@@ -655,20 +653,32 @@ mod tests {
         a * a.transpose() + SMatrix::identity()
     }
 
-    /// The structured Φ P Φᵀ + Q equals the dense product with Φ = I + FΔt
-    /// (bias decay e^{−Δt/τ}) and the dense Q.
-    fn structured_equals_dense<const N: usize>(tau: f64) {
-        let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
-        let mut phi = SMatrix::<f64, N, N>::identity() + system_matrix::<N>(&inp, &nz) * dt;
+    /// Φ = I + FΔt with the Gauss-Markov decays e^{−Δt/τ} on the diagonal
+    /// of the bias and range-bias states: the dense reference.
+    fn dense_transition<const N: usize>(
+        inp: &SystemInputs,
+        nz: &ProcessNoise,
+        dt: f64,
+    ) -> SMatrix<f64, N, N> {
+        let mut phi = SMatrix::<f64, N, N>::identity() + system_matrix::<N>(inp, nz) * dt;
+        let decay = |tau: f64| crate::gauss_markov::discretise(0.0, tau, dt).decay;
         for k in 0..3 {
-            phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(dt, nz.accel_bias_correlation_time_s);
-            phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(dt, nz.gyro_bias_correlation_time_s);
+            phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(nz.accel_bias_correlation_time_s);
+            phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(nz.gyro_bias_correlation_time_s);
         }
         if let Some(first) = Layout::for_size::<N>().range_bias {
             for j in first..N {
-                phi[(j, j)] = decay(dt, nz.range_bias_correlation_time_s);
+                phi[(j, j)] = decay(nz.range_bias_correlation_time_s);
             }
         }
+        phi
+    }
+
+    /// The structured Φ P Φᵀ + Q equals the dense product with the dense Φ
+    /// and Q.
+    fn structured_equals_dense<const N: usize>(tau: f64) {
+        let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
+        let phi = dense_transition::<N>(&inp, &nz, dt);
         let p0 = random_spd::<N>();
         let mut q = SMatrix::<f64, N, N>::zeros();
         add_process_noise(&mut q, &Discretisation::new(&nz, dt));
@@ -685,16 +695,7 @@ mod tests {
     /// The adjoint step equals Φᵀ λ and Φᵀ Λ Φ with the dense Φ.
     fn adjoint_equals_dense<const N: usize>(tau: f64) {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
-        let mut phi = SMatrix::<f64, N, N>::identity() + system_matrix::<N>(&inp, &nz) * dt;
-        for k in 0..3 {
-            phi[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = decay(dt, nz.accel_bias_correlation_time_s);
-            phi[(GYRO_BIAS + k, GYRO_BIAS + k)] = decay(dt, nz.gyro_bias_correlation_time_s);
-        }
-        if let Some(first) = Layout::for_size::<N>().range_bias {
-            for j in first..N {
-                phi[(j, j)] = decay(dt, nz.range_bias_correlation_time_s);
-            }
-        }
+        let phi = dense_transition::<N>(&inp, &nz, dt);
         let big = random_spd::<N>();
         let mut lambda = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
         let mut big_lambda = big;

@@ -33,8 +33,8 @@ pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
 pub use simulate::{
-    simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage, ReceiverTrack,
-    SimulationConfig,
+    apply_outages, simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage,
+    ReceiverTrack, SimulationConfig,
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
 pub use time::{

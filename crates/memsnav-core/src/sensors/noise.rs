@@ -22,9 +22,7 @@
 //!   nearest multiple of the LSB (half-way values away from zero).
 //!
 //! Discretisation at dt = 1/sample_rate, exact for both processes (the
-//! solution of dβ/dt = −β/τ + w over one step, as in Brown & Hwang,
-//! *Introduction to Random Signals and Applied Kalman Filtering*, on the
-//! first-order Gauss-Markov process):
+//! solution of dβ/dt = −β/τ + w over one step, [`crate::gauss_markov`]):
 //!
 //! ```text
 //! β_k = e^{−dt/τ} β_{k−1} + σ_β √(1 − e^{−2 dt/τ}) w_k,   β_0 ~ N(0, σ_β²)  (stationary)
@@ -44,6 +42,7 @@ use nalgebra::Vector3;
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
+use crate::gauss_markov::{discretise, psd_of_stationary};
 use crate::random::Rng;
 use crate::{validate, Error, Result};
 
@@ -176,11 +175,16 @@ impl NoiseProcess {
     pub fn new(noise: &NoiseModel, sample_rate_hz: f64, rng: &mut Rng) -> Self {
         let dt = 1.0 / sample_rate_hz;
         let (markov_decay, markov_drive_std, markov) = if noise.bias_instability_std > 0.0 {
-            let phi = (-dt / noise.bias_correlation_time_s).exp();
-            // 1 − e^{−2dt/τ} computed as −expm1 to keep precision when dt ≪ τ.
-            let drive = noise.bias_instability_std
-                * (-(-2.0 * dt / noise.bias_correlation_time_s).exp_m1()).sqrt();
-            (phi, drive, noise.bias_instability_std * normal3(rng))
+            let step = discretise(
+                psd_of_stationary(noise.bias_instability_std, noise.bias_correlation_time_s),
+                noise.bias_correlation_time_s,
+                dt,
+            );
+            (
+                step.decay,
+                step.drive_std(),
+                noise.bias_instability_std * normal3(rng),
+            )
         } else {
             (0.0, 0.0, Vector3::zeros())
         };

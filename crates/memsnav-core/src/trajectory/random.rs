@@ -64,7 +64,8 @@ impl Default for RandomTrajectoryConfig {
 }
 
 impl RandomTrajectoryConfig {
-    fn validate(&self) -> Result<()> {
+    /// Checks every setting; errors name the Python keyword.
+    pub fn validate(&self) -> Result<()> {
         validate::positive("duration", self.duration_s)?;
         validate::positive("rate", self.rate_hz)?;
         validate_origin(&self.origin)?;

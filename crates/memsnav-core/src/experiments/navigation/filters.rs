@@ -1,0 +1,214 @@
+//! The coupled filter of one IMU in one run, and the error curves it leaves:
+//! position error norm and NEES at the output epochs.
+
+use nalgebra::{Matrix3, SVector, Vector3};
+
+use crate::attitude::dcm_to_rotation_vector;
+use crate::coupling::{
+    initial_state_from_fix, run_loosely_coupled, run_tightly_coupled, FilterState, FilterTuning,
+    ImuData, InitialState, MeasurementRecord, MeasurementStatus, PositionFix,
+};
+use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::gnss::{solve_fix, GnssEpoch};
+use crate::ins::NavState;
+use crate::sensors::ImuSpec;
+use crate::trajectory::Trajectory;
+use crate::Result;
+
+use super::imus::ImuInput;
+
+/// Degrees of freedom of the navigation NEES (attitude, velocity, position).
+pub const NEES_DOF: usize = 9;
+
+/// How the IMU is coupled with GNSS.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Coupling {
+    /// Pseudoranges (and rates) of every tracked satellite (the paper's).
+    #[default]
+    Tight,
+    /// Least-squares position/velocity fixes, only at epochs with at least
+    /// 4 satellites: blind below 4.
+    Loose,
+}
+
+/// Where the filters start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Start {
+    /// Position, velocity and clock from the first epoch's least-squares
+    /// fix (needs 4 satellites there); attitude as drawn.
+    FirstFix { attitude: Matrix3<f64> },
+    /// The given state (truth plus a drawn error); clock from the first
+    /// epoch's residuals, which needs one satellite.
+    Given { nav: NavState },
+}
+
+/// What a run's filters share: the options of the configuration that set
+/// their tuning, and the output epochs.
+pub(super) struct FilterSetup<'a> {
+    pub rate_hz: f64,
+    pub coupling: Coupling,
+    pub use_pseudorange_rate: bool,
+    pub initial_attitude_std_rad: Vector3<f64>,
+    /// Initial position and velocity std of a given start, m and m/s.
+    pub given_start_std: Option<(f64, f64)>,
+    pub scale_factor_states: bool,
+    pub absorb_unmodelled: bool,
+    pub out: &'a [usize],
+}
+
+/// One run's curves for one IMU.
+pub(super) struct ImuRun {
+    pub position_error: Vec<f64>,
+    /// Horizontal and vertical (|down|) parts of the position error in the
+    /// local NED frame of the true position, m.
+    pub horizontal_error: Vec<f64>,
+    pub vertical_error: Vec<f64>,
+    pub nees: Vec<f64>,
+    pub rejected: usize,
+    pub accepted: usize,
+}
+
+/// The fixes a loosely coupled filter uses: one per epoch whose
+/// least-squares fix succeeds (4 satellites or more, non-singular
+/// geometry), with the position and velocity blocks of its covariance;
+/// no velocity where the epoch lacks 4 usable rates.
+pub(super) fn position_fixes(epochs: &[GnssEpoch]) -> Vec<PositionFix> {
+    epochs
+        .iter()
+        .filter(|e| e.measurements.len() >= 4)
+        .filter_map(|e| solve_fix(e, None).ok())
+        .map(|f| PositionFix {
+            time_s: f.time_s,
+            position_ecef: f.position_ecef,
+            position_covariance: f.position_clock_covariance.fixed_view::<3, 3>(0, 0).into(),
+            velocity_ecef: f
+                .velocity_ecef
+                .iter()
+                .all(|v| v.is_finite())
+                .then_some(f.velocity_ecef),
+            velocity_covariance: f.velocity_drift_covariance.fixed_view::<3, 3>(0, 0).into(),
+        })
+        .collect()
+}
+
+/// The filter's tuning: from the IMU's spec (the errors its state lacks
+/// absorbed, or not, as configured), with the configured initial
+/// uncertainties.
+fn tuning(spec: &ImuSpec, setup: &FilterSetup) -> Result<FilterTuning> {
+    let mut tuning_spec = *spec;
+    if !setup.absorb_unmodelled {
+        // Nothing left to absorb: the filter sees biases and noise only
+        // (and the scale factors when they are states).
+        let (a, g) = (&mut tuning_spec.accelerometer, &mut tuning_spec.gyroscope);
+        if !setup.scale_factor_states {
+            a.scale_factor_std = 0.0;
+            g.scale_factor_std = 0.0;
+        }
+        a.misalignment_std = 0.0;
+        a.nonlinearity_std = 0.0;
+        g.misalignment_std = 0.0;
+        g.g_sensitivity_std = 0.0;
+    }
+    let mut tuning =
+        FilterTuning::from_imu_spec(&tuning_spec, setup.rate_hz, setup.scale_factor_states)?;
+    tuning.use_pseudorange_rate = setup.use_pseudorange_rate;
+    tuning.initial_std.attitude_ned_rad = setup.initial_attitude_std_rad;
+    if let Some((position_m, velocity_m_s)) = setup.given_start_std {
+        tuning.initial_std.position_m = position_m;
+        tuning.initial_std.velocity_m_s = velocity_m_s;
+    }
+    Ok(tuning)
+}
+
+/// The coupled filter on one IMU's readings (17 or 23 states as
+/// configured); error curves at `setup.out`. `fixes` are the loosely
+/// coupled filter's ([`position_fixes`] of `epochs`).
+pub(super) fn navigate(
+    truth: &Trajectory,
+    epochs: &[GnssEpoch],
+    fixes: &[PositionFix],
+    input: &ImuInput,
+    start: &Start,
+    setup: &FilterSetup,
+) -> Result<ImuRun> {
+    let tuning = tuning(&input.spec, setup)?;
+    if setup.scale_factor_states {
+        navigate_with::<WITH_SCALE_FACTORS>(truth, epochs, fixes, input, start, &tuning, setup)
+    } else {
+        navigate_with::<BASE_STATES>(truth, epochs, fixes, input, start, &tuning, setup)
+    }
+}
+
+fn navigate_with<const N: usize>(
+    truth: &Trajectory,
+    epochs: &[GnssEpoch],
+    fixes: &[PositionFix],
+    input: &ImuInput,
+    start: &Start,
+    tuning: &FilterTuning,
+    setup: &FilterSetup,
+) -> Result<ImuRun> {
+    let imu = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &input.readings.specific_force_b,
+        angular_rate_b: &input.readings.angular_rate_b,
+    };
+    let initial = match *start {
+        Start::FirstFix { attitude } => initial_state_from_fix(epochs, &imu, Some(attitude))?,
+        Start::Given { nav } => InitialState {
+            nav,
+            accel_bias_m_s2: Vector3::zeros(),
+            gyro_bias_rad_s: Vector3::zeros(),
+            clock_offset_m: None,
+            clock_drift_m_s: None,
+        },
+    };
+    let out = setup.out;
+    let mut position_error = Vec::with_capacity(out.len());
+    let mut horizontal_error = Vec::with_capacity(out.len());
+    let mut vertical_error = Vec::with_capacity(out.len());
+    let mut nees = Vec::with_capacity(out.len());
+    let mut next = 0;
+    let observe = |k: usize, s: &FilterState<N>| {
+        if next < out.len() && out[next] == k {
+            let t = truth.nav_state(k);
+            let mut e = SVector::<f64, NEES_DOF>::zeros();
+            e.fixed_rows_mut::<3>(0).copy_from(&dcm_to_rotation_vector(
+                &(s.nav.c_b_e * t.c_b_e.transpose()),
+            ));
+            e.fixed_rows_mut::<3>(3)
+                .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
+            e.fixed_rows_mut::<3>(6)
+                .copy_from(&(s.nav.position_ecef - t.position_ecef));
+            let p =
+                s.kf.p
+                    .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
+                    .into_owned();
+            let dr = e.fixed_rows::<3>(6).into_owned();
+            let geo = ecef_to_geodetic(&t.position_ecef);
+            let ned = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose() * dr;
+            position_error.push(dr.norm());
+            horizontal_error.push(ned.x.hypot(ned.y));
+            vertical_error.push(ned.z.abs());
+            nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
+            next += 1;
+        }
+    };
+    let records: Vec<MeasurementRecord> = match setup.coupling {
+        Coupling::Tight => run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, observe)?,
+        Coupling::Loose => run_loosely_coupled::<N, _>(&imu, fixes, &initial, tuning, observe)?,
+    };
+    let accepted = records
+        .iter()
+        .filter(|r| r.status == MeasurementStatus::Accepted)
+        .count();
+    Ok(ImuRun {
+        position_error,
+        horizontal_error,
+        vertical_error,
+        nees,
+        rejected: records.len() - accepted,
+        accepted,
+    })
+}

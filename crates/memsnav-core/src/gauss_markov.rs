@@ -1,0 +1,223 @@
+//! The first-order Gauss-Markov process, once: its parameters, their
+//! validation and its exact discretisation, shared by every place memsnav
+//! uses it — the sensors' bias instability ([`crate::sensors::NoiseProcess`]),
+//! the simulated atmospheric/multipath residual of the pseudoranges
+//! ([`crate::gnss::simulate`]), the smoothed drivers of the calibration
+//! motion ([`crate::experiments::motion`]) and the bias states of the
+//! navigation filters' process noise ([`crate::filter`]).
+//!
+//! ## The model
+//!
+//! ```text
+//! dx/dt = −x/τ + w(t),   E[w(t) w(t + s)] = q δ(s)
+//! ```
+//!
+//! with driving power spectral density q and correlation time τ; its
+//! stationary variance is σ² = q τ / 2, so a process given by (σ, τ) has
+//! q = 2σ²/τ (Brown & Hwang, *Introduction to Random Signals and Applied
+//! Kalman Filtering*, 4th ed., §2.9 and §4.2; Groves 2nd ed. §14.2.4).
+//! τ = ∞ is the random walk (q the squared random-walk coefficient).
+//!
+//! ## Exact discretisation over Δt
+//!
+//! ```text
+//! x_{k+1} = φ x_k + w_k,   φ = e^{−Δt/τ},
+//! Var w_k = (q τ / 2)(1 − e^{−2Δt/τ}) = σ² (1 − φ²)
+//! ```
+//!
+//! (Brown & Hwang eq. 4.2.11 and the Q of §4.2; τ = ∞: φ = 1, Var w_k = q Δt).
+//! 1 − e^{−2Δt/τ} is computed as −expm1(−2Δt/τ), which keeps its precision
+//! when Δt ≪ τ (a 100 Hz step of a 1 h bias: 2Δt/τ ≈ 6e-6). A stationary
+//! start draws x₀ ~ N(0, σ²), so Var x_k = σ² for every k.
+
+use crate::{validate, Error, Result};
+
+/// A first-order Gauss-Markov process (module docs), validated at
+/// construction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaussMarkov {
+    psd: f64,
+    correlation_time_s: f64,
+}
+
+/// One step of a [`GaussMarkov`] process over a fixed Δt:
+/// `x ← decay · x + drive_std · z`, z ~ N(0, 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaussMarkovStep {
+    /// φ = e^{−Δt/τ} (1 for a random walk).
+    pub decay: f64,
+    /// Variance of the driving noise over the step, Var w_k.
+    pub drive_variance: f64,
+}
+
+impl GaussMarkovStep {
+    /// Standard deviation of the driving noise over the step.
+    pub fn drive_std(&self) -> f64 {
+        self.drive_variance.sqrt()
+    }
+
+    /// The next value from `x` and a standard normal draw `z`.
+    #[inline]
+    pub fn next(&self, x: f64, z: f64) -> f64 {
+        self.decay * x + self.drive_std() * z
+    }
+}
+
+/// The step of the process of driving PSD `psd` and correlation time
+/// `correlation_time_s` (∞: random walk) over `dt_s` (module docs). The one
+/// formula every discretisation in memsnav uses; the arguments are taken as
+/// valid (a [`GaussMarkov`] checks them, and so does a filter's tuning).
+pub fn discretise(psd: f64, correlation_time_s: f64, dt_s: f64) -> GaussMarkovStep {
+    if correlation_time_s.is_finite() {
+        let ratio = dt_s / correlation_time_s;
+        GaussMarkovStep {
+            decay: (-ratio).exp(),
+            drive_variance: 0.5 * psd * correlation_time_s * -(-2.0 * ratio).exp_m1(),
+        }
+    } else {
+        GaussMarkovStep {
+            decay: 1.0,
+            drive_variance: psd * dt_s,
+        }
+    }
+}
+
+/// The driving PSD q = 2σ²/τ of a stationary process of std σ and
+/// correlation time τ (0 for τ = ∞: no stationary process has it).
+pub fn psd_of_stationary(std: f64, correlation_time_s: f64) -> f64 {
+    if correlation_time_s.is_finite() {
+        2.0 * std * std / correlation_time_s
+    } else {
+        0.0
+    }
+}
+
+impl GaussMarkov {
+    /// The stationary process of standard deviation `std` (≥ 0) and finite
+    /// correlation time `correlation_time_s` (> 0). `names` are the
+    /// caller-visible names of the two values, for the error message.
+    pub fn stationary(std: f64, correlation_time_s: f64, names: [&str; 2]) -> Result<Self> {
+        validate::non_negative(names[0], std)?;
+        validate::positive(names[1], correlation_time_s)?;
+        Ok(Self {
+            psd: psd_of_stationary(std, correlation_time_s),
+            correlation_time_s,
+        })
+    }
+
+    /// The process of driving PSD `psd` (≥ 0) and correlation time
+    /// `correlation_time_s` (> 0, `f64::INFINITY` for a random walk).
+    pub fn from_psd(psd: f64, correlation_time_s: f64, names: [&str; 2]) -> Result<Self> {
+        validate::non_negative(names[0], psd)?;
+        if correlation_time_s.is_nan() || correlation_time_s <= 0.0 {
+            return Err(Error::invalid(
+                names[1],
+                format!("must be positive (inf for a random walk), got {correlation_time_s}"),
+            ));
+        }
+        Ok(Self {
+            psd,
+            correlation_time_s,
+        })
+    }
+
+    /// Driving PSD q.
+    pub fn psd(&self) -> f64 {
+        self.psd
+    }
+
+    /// Correlation time τ, s (∞ for a random walk).
+    pub fn correlation_time_s(&self) -> f64 {
+        self.correlation_time_s
+    }
+
+    /// Stationary standard deviation √(q τ / 2) (∞ for a driven random walk).
+    pub fn stationary_std(&self) -> f64 {
+        (0.5 * self.psd * self.correlation_time_s).sqrt()
+    }
+
+    /// The exact step over `dt_s` (module docs).
+    pub fn step(&self, dt_s: f64) -> GaussMarkovStep {
+        discretise(self.psd, self.correlation_time_s, dt_s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::random::stream;
+    use rand::Rng as _;
+    use rand_distr::StandardNormal;
+
+    /// The discrete variance is the integral of the continuous model:
+    /// Var w = ∫₀^Δt e^{−2s/τ} q ds, checked by a midpoint sum, and it
+    /// keeps its precision for Δt ≪ τ (where 1 − e^{−2Δt/τ} would cancel).
+    #[test]
+    fn discrete_variance_is_the_integral_of_the_driving_noise() {
+        let (q, tau, dt) = (0.3, 2.0, 0.7);
+        let m = 200_000;
+        let h = dt / m as f64;
+        let integral: f64 = (0..m)
+            .map(|i| (-2.0 * (i as f64 + 0.5) * h / tau).exp() * q * h)
+            .sum();
+        let step = discretise(q, tau, dt);
+        assert!((step.drive_variance / integral - 1.0).abs() < 1e-9);
+        assert_eq!(step.decay, (-dt / tau).exp());
+        // Δt ≪ τ: Var w → q Δt (1 − Δt/τ).
+        let (dt, tau) = (0.01, 3600.0);
+        let small = discretise(q, tau, dt).drive_variance;
+        let expected = q * dt * (1.0 - dt / tau);
+        assert!(
+            (small / expected - 1.0).abs() < 1e-10,
+            "{small} vs {expected}"
+        );
+        // τ = ∞ is the random walk.
+        assert_eq!(
+            discretise(q, f64::INFINITY, dt),
+            GaussMarkovStep {
+                decay: 1.0,
+                drive_variance: q * dt
+            }
+        );
+    }
+
+    /// Stationary start and exact steps keep Var x = σ² at every step, for
+    /// any step length (unequal steps, as between GNSS epochs).
+    #[test]
+    fn stationary_variance_is_kept_by_unequal_steps() {
+        let (sigma, tau) = (2.0, 5.0);
+        let p = GaussMarkov::stationary(sigma, tau, ["std", "tau"]).unwrap();
+        assert!((p.stationary_std() - sigma).abs() < 1e-12);
+        let steps = [0.01, 3.0, 0.5, 12.0];
+        let runs = 40_000;
+        let mut rng = stream(11, 0);
+        let mut var = [0.0; 4];
+        for _ in 0..runs {
+            let mut x = sigma * rng.sample::<f64, _>(StandardNormal);
+            for (v, dt) in var.iter_mut().zip(steps) {
+                x = p.step(dt).next(x, rng.sample(StandardNormal));
+                *v += x * x / runs as f64;
+            }
+        }
+        for v in var {
+            // 5σ of a variance estimate from 40 000 draws: 3.5 %.
+            assert!((v / (sigma * sigma) - 1.0).abs() < 0.035, "{var:?}");
+        }
+    }
+
+    #[test]
+    fn invalid_parameters_name_the_argument() {
+        let e = GaussMarkov::stationary(-1.0, 1.0, ["residual_std", "tau"]).unwrap_err();
+        assert!(e.to_string().starts_with("residual_std:"), "{e}");
+        let e = GaussMarkov::stationary(1.0, 0.0, ["s", "residual_correlation_time"]).unwrap_err();
+        assert!(
+            e.to_string().starts_with("residual_correlation_time:"),
+            "{e}"
+        );
+        let e = GaussMarkov::from_psd(1.0, f64::NAN, ["q", "correlation_time"]).unwrap_err();
+        assert!(e.to_string().starts_with("correlation_time:"), "{e}");
+        let walk = GaussMarkov::from_psd(4.0, f64::INFINITY, ["q", "t"]).unwrap();
+        assert_eq!(walk.stationary_std(), f64::INFINITY);
+        assert_eq!(walk.step(0.25).drive_variance, 1.0);
+    }
+}

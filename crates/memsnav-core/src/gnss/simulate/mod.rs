@@ -1,0 +1,311 @@
+//! GNSS measurement simulation along a trajectory (method §5), one job
+//! per file:
+//! - [`epochs`]: which track samples carry a measurement epoch;
+//! - [`selection`]: visibility above the elevation mask and the selection of
+//!   N satellites kept while visible;
+//! - [`measure`]: pseudoranges and rates from the exact signal travel time
+//!   with the Earth's rotation, plus a two-state receiver clock, white noise
+//!   and an optional slowly varying atmospheric/multipath residual;
+//! - [`outage`]: windows with fewer satellites, applied to the finished
+//!   measurements (the satellites they keep are documented there).
+//!
+//! [`simulate_with_truth`] runs them in that order.
+
+mod epochs;
+mod measure;
+mod outage;
+mod selection;
+
+pub use outage::apply_outages;
+
+use nalgebra::Vector3;
+
+use super::clock::{ClockState, ReceiverClockModel};
+use super::constellation::Constellation;
+use super::GnssEpoch;
+use crate::gauss_markov::GaussMarkov;
+use crate::geodesy::ecef_to_geodetic;
+use crate::random::Rng;
+use crate::{validate, Error, Result};
+use measure::{MeasurementErrors, Receiver};
+use selection::{elevation, Selection};
+
+/// The receiver's motion: times (s, strictly increasing) with ECEF
+/// positions (m) and velocities (m/s), e.g. a trajectory's truth at the IMU
+/// rate.
+#[derive(Debug, Clone, Copy)]
+pub struct ReceiverTrack<'a> {
+    pub time_s: &'a [f64],
+    pub position_ecef: &'a [Vector3<f64>],
+    pub velocity_ecef: &'a [Vector3<f64>],
+}
+
+/// A time window with fewer satellites: none (total outage) or at most
+/// `n_satellites` (partial: the highest of the tracked ones are kept, see
+/// [`outage`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outage {
+    /// Start on the trajectory's time axis, s.
+    pub start_s: f64,
+    /// Length, s (the window is [start, start + duration)).
+    pub duration_s: f64,
+    /// Satellites still tracked during the window (0: total outage).
+    pub n_satellites: usize,
+}
+
+/// First-order Gauss-Markov residual per satellite (unmodelled atmosphere
+/// and multipath, [`crate::gauss_markov`]), stationary std `std_m`.
+/// Default: 1 m with a 300 s correlation time (a slowly varying
+/// tropospheric/ionospheric residual after broadcast corrections).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AtmosphericResidual {
+    /// Stationary one-sigma, m.
+    pub std_m: f64,
+    /// Correlation time τ, s.
+    pub correlation_time_s: f64,
+}
+
+impl Default for AtmosphericResidual {
+    fn default() -> Self {
+        Self {
+            std_m: 1.0,
+            correlation_time_s: 300.0,
+        }
+    }
+}
+
+/// Settings of [`simulate`]. Defaults: 1 Hz, 6 satellites, 10° mask,
+/// 3 m and 0.1 m/s white noise, no residual, a TCXO clock, no outage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationConfig {
+    /// Measurement rate, Hz (epochs fall on the track samples nearest to
+    /// t0 + k / rate).
+    pub rate_hz: f64,
+    /// Number of satellites tracked (the paper's 6).
+    pub n_satellites: usize,
+    /// Elevation mask, rad.
+    pub elevation_mask_rad: f64,
+    /// White pseudorange noise, one sigma, m.
+    pub pseudorange_std_m: f64,
+    /// White pseudorange-rate noise, one sigma, m/s.
+    pub pseudorange_rate_std_m_s: f64,
+    /// Optional slowly varying residual added to the pseudoranges.
+    pub residual: Option<AtmosphericResidual>,
+    /// Receiver clock model.
+    pub clock: ReceiverClockModel,
+    /// Outage windows.
+    pub outages: Vec<Outage>,
+    /// GPS time (s since 1980-01-06) of the track's first sample; `None`:
+    /// the constellation's default (earliest t_oe of a broadcast file, 0 for
+    /// a Walker constellation).
+    pub start_gps_time_s: Option<f64>,
+}
+
+impl Default for SimulationConfig {
+    fn default() -> Self {
+        SimulationConfig {
+            rate_hz: 1.0,
+            n_satellites: 6,
+            elevation_mask_rad: 10f64.to_radians(),
+            pseudorange_std_m: 3.0,
+            pseudorange_rate_std_m_s: 0.1,
+            residual: None,
+            clock: ReceiverClockModel::default(),
+            outages: Vec::new(),
+            start_gps_time_s: None,
+        }
+    }
+}
+
+/// The measurements and the truth they were made from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GnssSimulation {
+    pub epochs: Vec<GnssEpoch>,
+    /// True receiver clock at each epoch.
+    pub clock: Vec<ClockState>,
+    /// GPS time of the track's first sample, s.
+    pub start_gps_time_s: f64,
+}
+
+impl SimulationConfig {
+    /// Checks every setting; errors name the Python keyword.
+    pub fn validate(&self) -> Result<()> {
+        validate::positive("rate", self.rate_hz)?;
+        if self.n_satellites == 0 {
+            return Err(Error::invalid("n_satellites", "must be at least 1"));
+        }
+        if !(self.elevation_mask_rad.is_finite()
+            && (0.0..std::f64::consts::FRAC_PI_2).contains(&self.elevation_mask_rad))
+        {
+            return Err(Error::invalid(
+                "elevation_mask",
+                format!(
+                    "must be within [0°, 90°), got {}°",
+                    self.elevation_mask_rad.to_degrees()
+                ),
+            ));
+        }
+        validate::non_negative("pseudorange_std", self.pseudorange_std_m)?;
+        validate::non_negative("pseudorange_rate_std", self.pseudorange_rate_std_m_s)?;
+        self.residual_process()?;
+        self.clock.validate()?;
+        for (k, o) in self.outages.iter().enumerate() {
+            if !o.start_s.is_finite() {
+                return Err(Error::invalid(
+                    "outages",
+                    format!("outage {k}: start must be finite, got {}", o.start_s),
+                ));
+            }
+            if !(o.duration_s.is_finite() && o.duration_s > 0.0) {
+                return Err(Error::invalid(
+                    "outages",
+                    format!(
+                        "outage {k}: length must be finite and positive, got {}",
+                        o.duration_s
+                    ),
+                ));
+            }
+        }
+        if let Some(t) = self.start_gps_time_s {
+            validate::finite_scalars("start_gps_time", &[t])?;
+        }
+        Ok(())
+    }
+
+    /// The residual as a validated Gauss-Markov process.
+    fn residual_process(&self) -> Result<Option<GaussMarkov>> {
+        self.residual
+            .map(|r| {
+                GaussMarkov::stationary(
+                    r.std_m,
+                    r.correlation_time_s,
+                    ["residual_std", "residual_correlation_time"],
+                )
+            })
+            .transpose()
+    }
+}
+
+/// Simulates the measurements; see [`simulate_with_truth`] for the clock truth.
+pub fn simulate(
+    track: &ReceiverTrack<'_>,
+    constellation: &Constellation,
+    config: &SimulationConfig,
+    rng: &mut Rng,
+) -> Result<Vec<GnssEpoch>> {
+    simulate_with_truth(track, constellation, config, rng).map(|s| s.epochs)
+}
+
+/// Simulates measurements along `track` at `config.rate_hz` (module docs):
+/// per epoch the receiver clock steps, the selection is updated, every
+/// selected satellite is measured, and finally the outages remove
+/// satellites. Draw order: the initial clock (2), then per epoch the clock
+/// step (2, from the second epoch) and per selected satellite its residual
+/// (if enabled), pseudorange and rate noise.
+pub fn simulate_with_truth(
+    track: &ReceiverTrack<'_>,
+    constellation: &Constellation,
+    config: &SimulationConfig,
+    rng: &mut Rng,
+) -> Result<GnssSimulation> {
+    config.validate()?;
+    let n = track.time_s.len();
+    if n == 0 {
+        return Err(Error::invalid("time", "must hold at least one sample"));
+    }
+    validate::increasing_times("time", track.time_s)?;
+    validate::same_length("position_ecef", track.position_ecef.len(), "time", n)?;
+    validate::same_length("velocity_ecef", track.velocity_ecef.len(), "time", n)?;
+    validate::finite_vectors("position_ecef", track.position_ecef)?;
+    validate::finite_vectors("velocity_ecef", track.velocity_ecef)?;
+    if constellation.is_empty() {
+        return Err(Error::invalid("constellation", "has no satellites"));
+    }
+    let start_gps = config
+        .start_gps_time_s
+        .unwrap_or_else(|| constellation.default_start_gps_time_s());
+    if (0..constellation.len()).all(|i| constellation.orbit(i, start_gps).is_none()) {
+        return Err(Error::invalid(
+            "start_gps_time",
+            format!("no satellite has a valid ephemeris (within ±2 h of its t_oe) at GPS time {start_gps} s"),
+        ));
+    }
+    let t0 = track.time_s[0];
+    let samples = epochs::epoch_samples(track.time_s, config.rate_hz);
+    let n_sat = constellation.len();
+    let mut elevations = vec![f64::NAN; n_sat];
+    let mut approx_los = vec![Vector3::zeros(); n_sat];
+    let mut selection = Selection::default();
+    let mut errors = MeasurementErrors::new(
+        config.pseudorange_std_m,
+        config.pseudorange_rate_std_m_s,
+        config.residual_process()?,
+        n_sat,
+    );
+    let mut epochs = Vec::with_capacity(samples.len());
+    let mut clocks = Vec::with_capacity(samples.len());
+    let mut clock = config.clock.initial(rng);
+    let mut previous_t: Option<f64> = None;
+
+    for &s in &samples {
+        let t = track.time_s[s];
+        let rx = track.position_ecef[s];
+        if let Some(tp) = previous_t {
+            clock = config.clock.step(&clock, t - tp, rng)?;
+        }
+        previous_t = Some(t);
+        let receiver = Receiver {
+            time_s: t,
+            gps_time_s: start_gps + (t - t0),
+            position_ecef: rx,
+            velocity_ecef: track.velocity_ecef[s],
+            clock,
+        };
+
+        // Visibility at the reception time (the elevation is insensitive to
+        // the light time at the mask's precision).
+        let g = ecef_to_geodetic(&rx);
+        let (sl, cl) = g.latitude_rad.sin_cos();
+        let (so, co) = g.longitude_rad.sin_cos();
+        let up = Vector3::new(cl * co, cl * so, sl);
+        for i in 0..n_sat {
+            match constellation.state(i, receiver.gps_time_s) {
+                Some(st) => {
+                    elevations[i] = elevation(&st.position_ecef, &rx, &up);
+                    approx_los[i] = (st.position_ecef - rx).normalize();
+                }
+                None => elevations[i] = f64::NAN,
+            }
+        }
+        selection.update(
+            epochs.is_empty(),
+            config.n_satellites,
+            &elevations,
+            &approx_los,
+            config.elevation_mask_rad,
+        );
+
+        let measurements = selection
+            .selected
+            .iter()
+            .map(|&i| {
+                let orbit = constellation
+                    .orbit(i, receiver.gps_time_s)
+                    .expect("visible satellites have an orbit");
+                errors.measure(i, constellation.sat_id(i), &orbit, &receiver, rng)
+            })
+            .collect();
+        let mut epoch = GnssEpoch {
+            time_s: t,
+            measurements,
+        };
+        outage::apply(&config.outages, &mut epoch, &rx);
+        epochs.push(epoch);
+        clocks.push(clock);
+    }
+    Ok(GnssSimulation {
+        epochs,
+        clock: clocks,
+        start_gps_time_s: start_gps,
+    })
+}

@@ -1,0 +1,80 @@
+//! Outages: time windows in which the receiver keeps fewer satellites.
+//!
+//! An outage keeps, of the satellites tracked at an epoch, the
+//! `n_satellites` *highest* (0: a total outage). That is the urban-canyon
+//! view — buildings hide the low satellites first — and, of the tracked
+//! set, the *worst* geometry for the horizontal position: a line of sight
+//! at elevation e carries cos e of horizontal information, so the highest
+//! satellites constrain mostly the height and the clock. With 1-3
+//! satellites no fix exists (loose coupling is then blind), while a
+//! tightly coupled filter still uses every pseudorange and rate.
+//!
+//! Outages are applied to the finished measurements, after every random
+//! draw: the satellites kept inside a window carry the same noise as
+//! without the outage, so scenarios that differ only by their outages
+//! are a paired comparison on the same draws.
+
+use nalgebra::Vector3;
+
+use super::selection::elevation;
+use super::{Outage, ReceiverTrack};
+use crate::geodesy::ecef_to_geodetic;
+use crate::gnss::GnssEpoch;
+
+/// Satellites allowed at trajectory time `t`: the tightest active outage,
+/// else `usize::MAX`.
+fn allowed(outages: &[Outage], t: f64) -> usize {
+    outages
+        .iter()
+        .filter(|o| t >= o.start_s && t < o.start_s + o.duration_s)
+        .map(|o| o.n_satellites)
+        .min()
+        .unwrap_or(usize::MAX)
+}
+
+/// Applies `outages` to one epoch measured from `receiver_ecef`: keeps the
+/// allowed number of its highest satellites, in their original order.
+pub(super) fn apply(outages: &[Outage], epoch: &mut GnssEpoch, receiver_ecef: &Vector3<f64>) {
+    let n = allowed(outages, epoch.time_s);
+    if n >= epoch.measurements.len() {
+        return;
+    }
+    let geo = ecef_to_geodetic(receiver_ecef);
+    let (sl, cl) = geo.latitude_rad.sin_cos();
+    let (so, co) = geo.longitude_rad.sin_cos();
+    let up = Vector3::new(cl * co, cl * so, sl);
+    let mut by_elevation: Vec<(usize, f64)> = epoch
+        .measurements
+        .iter()
+        .enumerate()
+        .map(|(k, m)| (k, elevation(&m.position_ecef, receiver_ecef, &up)))
+        .collect();
+    by_elevation.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut keep = vec![false; epoch.measurements.len()];
+    for &(k, _) in &by_elevation[..n] {
+        keep[k] = true;
+    }
+    let mut k = 0;
+    epoch.measurements.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+}
+
+/// Applies `outages` to measurements simulated along `track` (the epochs
+/// [`super::simulate`] returned, or any epochs whose times are track
+/// times, within half a sample): the same selection as inside the
+/// simulator, for scenarios that share one simulation.
+pub fn apply_outages(epochs: &mut [GnssEpoch], track: &ReceiverTrack<'_>, outages: &[Outage]) {
+    for epoch in epochs {
+        let j = track.time_s.partition_point(|&t| t < epoch.time_s);
+        let nearest = if j == track.time_s.len()
+            || (j > 0 && epoch.time_s - track.time_s[j - 1] <= track.time_s[j] - epoch.time_s)
+        {
+            j.saturating_sub(1)
+        } else {
+            j
+        };
+        apply(outages, epoch, &track.position_ecef[nearest]);
+    }
+}
