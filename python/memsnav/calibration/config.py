@@ -13,7 +13,6 @@ repository). The detector's defaults are the core's.
 
 from __future__ import annotations
 
-import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,7 +20,7 @@ from typing import Any
 
 from memsnav import _memsnav
 from memsnav.calibration.file import SESSIONS
-from memsnav.realdata.config import DATA_ROOT_ENV, default_data_root
+from memsnav.realdata.config import resolve_data_root
 
 _DEFAULTS = _memsnav.static_calibration_defaults()
 REQUIRED = object()
@@ -110,8 +109,7 @@ def load_calibration_config(
         raise ValueError(f"{path}: not valid TOML: {e}") from None
     except OSError as e:
         raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
-    root = data_root or os.environ.get(DATA_ROOT_ENV) or default_data_root(path)
-    cfg = CalibrationConfig(path=path, data_root=Path(root).expanduser().resolve())
+    cfg = CalibrationConfig(path=path, data_root=resolve_data_root(path, data_root))
     tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
     top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
     for name in tables:

@@ -103,13 +103,20 @@ class RunConfig:
         return p if p.is_absolute() else self.data_root / p
 
 
-def default_data_root(config_path: Path) -> Path:
-    """``../shared/data`` next to the repository holding ``config_path``
-    (for a checkout nested deeper, e.g. a git worktree, the nearest
-    ``shared/data`` above it)."""
-    folder = config_path.resolve().parent
+def resolve_data_root(near: str | Path | None = None, explicit: str | Path | None = None) -> Path:
+    """Where relative data paths resolve: ``explicit`` (``--data-root``),
+    else ``$MEMSNAV_DATA_ROOT``, else the ``shared/data`` folder beside the
+    repository holding ``near`` (a configuration file or a folder; the
+    current directory when omitted): the nearest ``shared/data`` above it,
+    so a git worktree nested deeper finds it too. A configuration inside an
+    ``examples/`` folder counts from the repository, not from the folder."""
+    chosen = explicit or os.environ.get(DATA_ROOT_ENV)
+    if chosen:
+        return Path(chosen).expanduser().resolve()
+    start = Path.cwd() if near is None else Path(near).resolve()
+    folder = start if start.is_dir() else start.parent
     repo = folder.parent if folder.name == "examples" else folder
-    for parent in repo.parents:
+    for parent in (repo, *repo.parents):
         candidate = parent / "shared" / "data"
         if candidate.is_dir():
             return candidate
@@ -133,8 +140,7 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
         raise ValueError(f"{path}: not valid TOML: {e}") from None
     except OSError as e:
         raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
-    root = data_root or os.environ.get(DATA_ROOT_ENV) or default_data_root(path)
-    cfg = RunConfig(path=path, data_root=Path(root).expanduser().resolve())
+    cfg = RunConfig(path=path, data_root=resolve_data_root(path, data_root))
     top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
     tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
     known_tables = sorted({k for k in SCHEMA if k} | set(ENGINE))
