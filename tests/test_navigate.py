@@ -146,6 +146,9 @@ def test_walk_starts_at_rest_and_stays_consistent(tmp_path):
     assert s["measurements"]["zero_velocity"]["accepted"] > 20
     assert s["measurements"]["pseudorange_rate"]["accepted"] > 400
     assert set(s["range_biases_m"]) == {"G10", "G23", "G27", "G32"}
+    # 29 states (range biases, no scale factors): no scale-factor estimates.
+    assert result.run.solution.accel_scale_factor is None
+    assert "accel_scale_factor_ppm" not in s["sensor_estimates"]
     aided = s["errors_vs_truth"]["aided"]
     assert aided["within_3sigma_share"] >= 0.9
     # The common bias of four satellites dominates both; the filter is no worse.

@@ -72,7 +72,10 @@ def test_loose_smoothing(drive):
 def test_navigate_writes_and_scores_both(tmp_path):
     text = (Path(__file__).parent / "test_navigate.py").read_text()
     template = text.split('DRIVE = """', 1)[1].split('"""', 1)[0]
-    extra = "[filter]\nsmoother = true\n[outages]\nwindows_s = [[30.0, 10.0]]\n"
+    extra = (
+        "[filter]\nsmoother = true\nscale_factor_states = true\n"
+        "accel_scale_factor_std_ppm = 5000\n[outages]\nwindows_s = [[30.0, 10.0]]\n"
+    )
     cfg = tmp_path / "run.toml"
     cfg.write_text(template.format(out=tmp_path / "out") + extra)
     result = mn.navigate(cfg, data_root=DATA)
@@ -85,4 +88,16 @@ def test_navigate_writes_and_scores_both(tmp_path):
     assert smoothed["rms_horizontal_m"] < forward["rms_horizontal_m"]
     assert smoothed["within_3sigma_share"] > 0.9
     assert result.run.smoothed is not None
+    # Sensor states with their sigma, forward at the end and smoothed at the
+    # start; the data narrow the 5000 ppm prior, and smoothing never widens.
+    forward_sf = summary["sensor_estimates"]["accel_scale_factor_ppm"]
+    smoothed_sf = summary["sensor_estimates_smoothed"]["accel_scale_factor_ppm"]
+    assert all(0 < s <= 5000 for s in forward_sf["std"] + smoothed_sf["std"])
+    assert set(summary["sensor_estimates"]) == {
+        "gps_time_s",
+        "accel_bias_m_s2",
+        "gyro_bias_deg_s",
+        "accel_scale_factor_ppm",
+        "gyro_scale_factor_ppm",
+    }
     assert "smoothed - truth" in (out / "figures" / "errors.csv").read_text()

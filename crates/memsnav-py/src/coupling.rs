@@ -447,13 +447,15 @@ impl PyFilterSolution {
     /// Accelerometer scale-factor estimate, (N, 3); None without scale-factor states.
     #[getter]
     fn accel_scale_factor<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
-        (self.inner.n_states >= WITH_SCALE_FACTORS)
+        // Empty without the states (17 or 29 states with range biases).
+        (!self.inner.accel_scale_factor.is_empty())
             .then(|| convert::vectors_to_numpy(py, &self.inner.accel_scale_factor))
     }
     /// Gyro scale-factor estimate, (N, 3); None without scale-factor states.
     #[getter]
     fn gyro_scale_factor<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
-        (self.inner.n_states >= WITH_SCALE_FACTORS)
+        // Empty without the states (17 or 29 states with range biases).
+        (!self.inner.gyro_scale_factor.is_empty())
             .then(|| convert::vectors_to_numpy(py, &self.inner.gyro_scale_factor))
     }
     /// Receiver clock offset, m, (N,).

@@ -185,6 +185,35 @@ def _statistics(score: dict[str, Any], outages: Any, t0: float) -> dict[str, Any
     return stats
 
 
+# Sensor error states in the summary: (state-name prefix, summary key,
+# factor from the state's SI unit to the key's unit).
+_SENSOR_STATES = (
+    ("accel_bias", "accel_bias_m_s2", 1.0),
+    ("gyro_bias", "gyro_bias_deg_s", float(np.degrees(1.0))),
+    ("accel_scale_factor", "accel_scale_factor_ppm", 1e6),
+    ("gyro_scale_factor", "gyro_scale_factor_ppm", 1e6),
+)
+
+
+def _sensor_estimates(solution: _mn.FilterSolution, sample: int) -> dict[str, Any]:
+    """The sensor error states at one sample with their one-sigma from the
+    filter's covariance, in the summary's units (scale factors only when the
+    filter has them). The filter's model is f̃ = (1 + s) f + b per axis."""
+    names = solution.state_names
+    variances = np.asarray(solution.covariance_diagonal)[sample]
+    estimates: dict[str, Any] = {"gps_time_s": float(np.asarray(solution.time)[sample])}
+    for prefix, key, factor in _SENSOR_STATES:
+        values = getattr(solution, prefix)
+        if values is None:
+            continue
+        columns = [names.index(f"{prefix}_{axis}") for axis in "xyz"]
+        estimates[key] = {
+            "value": (factor * np.asarray(values)[sample]).tolist(),
+            "std": (factor * np.sqrt(variances[columns])).tolist(),
+        }
+    return estimates
+
+
 def navigate(
     config: str | Path | RunConfig,
     *,
@@ -245,12 +274,11 @@ def navigate(
         ],
         "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],
         "outages_s": [[float(a - t0), float(b - a)] for a, b in run.outages],
-        "final_bias": {
-            "accel_m_s2": np.asarray(solution.accel_bias)[-1].tolist(),
-            "gyro_deg_s": np.degrees(np.asarray(solution.gyro_bias)[-1]).tolist(),
-        },
+        "sensor_estimates": _sensor_estimates(solution, -1),
         **notes,
     }
+    if run.smoothed is not None:
+        summary["sensor_estimates_smoothed"] = _sensor_estimates(run.smoothed.solution, 0)
     if run.range_biases:
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
     result = NavigationResult(cfg, run, None, None)

@@ -558,13 +558,11 @@ impl Solution {
             }
             out.clock_offset_m[k] -= x.clock_offset();
             out.clock_drift_m_s[k] -= x.clock_drift();
-            let p = &s.covariance;
-            out.covariance_diagonal[k * N..(k + 1) * N].copy_from_slice(p.diagonal().as_slice());
-            let block =
-                |first: usize| -> Matrix3<f64> { p.fixed_view::<3, 3>(first, first).into() };
-            out.attitude_covariance_ecef[k] = block(ATTITUDE);
-            out.velocity_covariance_ecef[k] = block(VELOCITY);
-            out.position_covariance_ecef[k] = block(POSITION);
+            out.covariance_diagonal[k * N..(k + 1) * N]
+                .copy_from_slice(s.covariance_diagonal().as_slice());
+            out.attitude_covariance_ecef[k] = s.covariance_block::<3>(ATTITUDE);
+            out.velocity_covariance_ecef[k] = s.covariance_block::<3>(VELOCITY);
+            out.position_covariance_ecef[k] = s.covariance_block::<3>(POSITION);
         });
         Ok(out)
     }

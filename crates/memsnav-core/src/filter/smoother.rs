@@ -127,15 +127,50 @@ pub struct SmootherLog<const N: usize, M: StepModel<N>> {
     outputs: usize,
 }
 
-/// A smoothed output: the error-state estimate and its covariance.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Smoothed<const N: usize> {
+/// A smoothed output: the error-state estimate and, on demand, entries of
+/// its covariance Pˢ = P⁺ − P⁺ Λ P⁺. The product W = Λ P⁺ is formed once
+/// per output; an entry is then P⁺ᵢⱼ − P⁺ᵢ· W·ⱼ, so a caller that keeps the
+/// diagonal and a few blocks pays one N×N×N product instead of the two of
+/// the full Pˢ (the dominant cost of the backward pass at every IMU sample).
+#[derive(Debug, Clone, Copy)]
+pub struct Smoothed<'a, const N: usize> {
     /// Output index (the order in which outputs were recorded).
     pub output: usize,
     /// Smoothed error estimate x̂ˢ (estimate − truth of the forward nominal).
     pub error: SVector<f64, N>,
-    /// Its covariance Pˢ.
-    pub covariance: SMatrix<f64, N, N>,
+    forward_covariance: &'a SMatrix<f64, N, N>,
+    adjoint_times_covariance: &'a SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Smoothed<'_, N> {
+    /// Pˢᵢⱼ. P⁺ is symmetric, so its row i is its (contiguous) column i.
+    pub fn covariance_entry(&self, i: usize, j: usize) -> f64 {
+        let p = self.forward_covariance;
+        p[(i, j)] - p.column(i).dot(&self.adjoint_times_covariance.column(j))
+    }
+
+    /// The diagonal of Pˢ.
+    pub fn covariance_diagonal(&self) -> SVector<f64, N> {
+        SVector::from_fn(|i, _| self.covariance_entry(i, i))
+    }
+
+    /// The R×R diagonal block of Pˢ at states `first..first + R`.
+    pub fn covariance_block<const R: usize>(&self, first: usize) -> SMatrix<f64, R, R> {
+        SMatrix::from_fn(|a, b| {
+            if a <= b {
+                self.covariance_entry(first + a, first + b)
+            } else {
+                self.covariance_entry(first + b, first + a)
+            }
+        })
+    }
+
+    /// The whole Pˢ (symmetrised).
+    pub fn covariance(&self) -> SMatrix<f64, N, N> {
+        let full =
+            self.forward_covariance - self.forward_covariance * self.adjoint_times_covariance;
+        0.5 * (full + full.transpose())
+    }
 }
 
 impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
@@ -198,9 +233,10 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
 
     /// The backward pass: calls `emit` for every output, last first, with
     /// its smoothed error estimate and covariance.
-    pub fn smooth(&mut self, mut emit: impl FnMut(&Smoothed<N>)) {
+    pub fn smooth(&mut self, mut emit: impl FnMut(&Smoothed<'_, N>)) {
         let mut lambda = SVector::<f64, N>::zeros();
         let mut big = SMatrix::<f64, N, N>::zeros();
+        let mut big_times_p = SMatrix::<f64, N, N>::zeros();
         let mut covariances: Vec<SMatrix<f64, N, N>> = Vec::with_capacity(self.checkpoint_every);
         let mut output = self.outputs;
         let mut end = self.ops.len();
@@ -223,14 +259,12 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
                     Op::Output => {
                         output -= 1;
                         let p = covariances.pop().expect("one covariance per output");
-                        let error = -(p * lambda);
-                        let pl = p * big;
-                        let mut covariance = p - pl * p;
-                        covariance = 0.5 * (covariance + covariance.transpose());
+                        big.mul_to(&p, &mut big_times_p);
                         emit(&Smoothed {
                             output,
-                            error,
-                            covariance,
+                            error: -(p * lambda),
+                            forward_covariance: &p,
+                            adjoint_times_covariance: &big_times_p,
                         });
                     }
                     Op::Step(i) => {
@@ -425,7 +459,12 @@ mod tests {
             forward.push((x, p));
         }
         let mut smoothed = vec![None; steps + 1];
-        log.smooth(|s| smoothed[s.output] = Some((forward[s.output].0 + s.error, s.covariance)));
+        log.smooth(|s| {
+            let full = s.covariance();
+            assert!((s.covariance_diagonal() - full.diagonal()).norm() < 1e-12);
+            assert!((s.covariance_block::<2>(0) - full).norm() < 1e-12);
+            smoothed[s.output] = Some((forward[s.output].0 + s.error, full));
+        });
         // Batch: unknowns x_0..x_K (2(K+1)); rows whitened by their covariance.
         let n = N * (steps + 1);
         let mut a = DMatrix::<f64>::zeros(0, n);

@@ -62,6 +62,8 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("initial_attitude_std_deg", "[tilt, tilt, heading] stds after alignment, deg"),
             ("gate_probability", "probability of the chi-square test of each batch (1: no test)"),
             ("scale_factor_states", "accelerometer and gyro scale-factor states"),
+            ("accel_scale_factor_std_ppm", "accelerometer scale-factor prior std (the states' initial std, else the noise that absorbs them), ppm"),
+            ("gyro_scale_factor_std_ppm", "gyro scale-factor prior std, ppm"),
             ("smoother", "also the fixed-interval smoothed solution (post-processing)"),
             ("pseudorange_std_floor_m", "smallest pseudorange std believed, m"),
             ("pseudorange_rate_std_floor_m_s", "smallest pseudorange-rate std, m/s"),
@@ -300,8 +302,31 @@ impl LogConfig {
             .flag()?,
             None => false,
         };
-        let spec =
+        let mut spec =
             preset_spec(&preset).map_err(|e| Error::invalid("filter.imu_preset", e.to_string()))?;
+        // The scale-factor priors enter the tuning itself (the states' P₀, or
+        // the process noise that absorbs unmodelled scale factors), so they
+        // are read before it is built, like the preset.
+        for (key, triad) in [
+            (
+                "accel_scale_factor_std_ppm",
+                &mut spec.accelerometer.scale_factor_std,
+            ),
+            (
+                "gyro_scale_factor_std_ppm",
+                &mut spec.gyroscope.scale_factor_std,
+            ),
+        ] {
+            if let Some(value) = find("filter", key) {
+                *triad = Reader {
+                    table: "filter",
+                    key,
+                    value,
+                }
+                .positive()?
+                    * 1e-6;
+            }
+        }
         let mut config = LogConfig::new(FilterTuning::from_imu_spec(&spec, imu_rate_hz, scale)?);
         config.scale_factor_states = scale;
         let mut pending = Pending::default();
@@ -349,7 +374,13 @@ impl LogConfig {
                 q.range_bias_correlation_time_s = tau;
                 q.range_bias_psd = 2.0 * i.range_bias_m.powi(2) / tau;
             }
-            ("filter", "imu_preset" | "scale_factor_states") => {}
+            (
+                "filter",
+                "imu_preset"
+                | "scale_factor_states"
+                | "accel_scale_factor_std_ppm"
+                | "gyro_scale_factor_std_ppm",
+            ) => {}
             ("filter", "smoother") => self.smoother = r.flag()?,
             ("filter", "accel_noise_density") => q.accel_white_psd = r.non_negative()?.powi(2),
             ("filter", "gyro_noise_density_deg") => {
@@ -520,6 +551,43 @@ pub fn tables(
 mod tests {
     use super::*;
     use SettingValue::*;
+
+    /// The scale-factor priors seed the states' P₀ when the filter has them,
+    /// and otherwise widen the noise that absorbs the unmodelled scale
+    /// factors (a larger prior, a larger white-noise PSD).
+    #[test]
+    fn scale_factor_priors_reach_the_states_or_the_absorbed_noise() {
+        let with_states = LogConfig::from_settings(
+            &tables(&[
+                ("filter", "scale_factor_states", Bool(true)),
+                ("filter", "accel_scale_factor_std_ppm", Number(2000.0)),
+                ("filter", "gyro_scale_factor_std_ppm", Number(5000.0)),
+            ]),
+            100.0,
+        )
+        .unwrap();
+        let i = &with_states.tuning.initial_std;
+        assert!((i.accel_scale_factor - 2e-3).abs() < 1e-15);
+        assert!((i.gyro_scale_factor - 5e-3).abs() < 1e-15);
+        let absorbed = |ppm: f64| {
+            LogConfig::from_settings(
+                &tables(&[("filter", "accel_scale_factor_std_ppm", Number(ppm))]),
+                100.0,
+            )
+            .unwrap()
+            .tuning
+            .process_noise
+            .accel_white_psd
+        };
+        assert!(absorbed(20_000.0) > absorbed(100.0));
+        let err = LogConfig::from_settings(
+            &tables(&[("filter", "gyro_scale_factor_std_ppm", Number(-1.0))]),
+            100.0,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.starts_with("filter.gyro_scale_factor_std_ppm"), "{err}");
+    }
 
     #[test]
     fn keys_apply_with_their_units_and_unknown_ones_are_refused() {
