@@ -1,13 +1,13 @@
 //! Navigation benchmarks: strapdown step, 17-state propagation, GNSS
 //! updates (6 and 12 satellites, pseudorange + rate), the whole 600 s
-//! tightly coupled run. `cargo bench -p memsnav-benches --bench filter`.
+//! tightly coupled run, forward and with the fixed-interval smoother. `cargo bench -p memsnav-benches --bench filter`.
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use memsnav_benches::TightScenario;
-use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled};
+use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed};
 use memsnav_core::filter::state::{BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY};
 use memsnav_core::filter::{ErrorStateKf, ProcessNoise, SparseRow, SystemInputs};
 use memsnav_core::gnss;
@@ -157,6 +157,14 @@ fn tight_run(c: &mut Criterion) {
     g.bench_function("solution", |b| {
         b.iter(|| {
             tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning).unwrap()
+        })
+    });
+    // Forward (recording for the smoother) and backward pass: issue 12 asks
+    // that the smoother add at most twice the forward `solution` time.
+    g.bench_function("solution_and_smoothed", |b| {
+        b.iter(|| {
+            tightly_coupled_smoothed::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
+                .unwrap()
         })
     });
     g.finish();

@@ -140,18 +140,31 @@ pub struct Smoothed<'a, const N: usize> {
     pub error: SVector<f64, N>,
     forward_covariance: &'a SMatrix<f64, N, N>,
     adjoint_times_covariance: &'a SMatrix<f64, N, N>,
+    /// diag(P⁺ Λ P⁺), formed with W.
+    quadratic_forms: &'a SVector<f64, N>,
 }
 
 impl<const N: usize> Smoothed<'_, N> {
     /// Pˢᵢⱼ. P⁺ is symmetric, so its row i is its (contiguous) column i.
     pub fn covariance_entry(&self, i: usize, j: usize) -> f64 {
-        let p = self.forward_covariance;
-        p[(i, j)] - p.column(i).dot(&self.adjoint_times_covariance.column(j))
+        if i == j {
+            return self.forward_covariance[(i, i)] - self.quadratic_forms[i];
+        }
+        let column = |m: &SMatrix<f64, N, N>, k: usize| -> [f64; N] {
+            m.as_slice()[k * N..(k + 1) * N]
+                .try_into()
+                .expect("a column has N rows")
+        };
+        let (p_i, w_j) = (
+            column(self.forward_covariance, i),
+            column(self.adjoint_times_covariance, j),
+        );
+        self.forward_covariance[(i, j)] - p_i.iter().zip(&w_j).map(|(a, b)| a * b).sum::<f64>()
     }
 
     /// The diagonal of Pˢ.
     pub fn covariance_diagonal(&self) -> SVector<f64, N> {
-        SVector::from_fn(|i, _| self.covariance_entry(i, i))
+        self.forward_covariance.diagonal() - self.quadratic_forms
     }
 
     /// The R×R diagonal block of Pˢ at states `first..first + R`.
@@ -237,6 +250,7 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
         let mut lambda = SVector::<f64, N>::zeros();
         let mut big = SMatrix::<f64, N, N>::zeros();
         let mut big_times_p = SMatrix::<f64, N, N>::zeros();
+        let mut quadratic_forms = SVector::<f64, N>::zeros();
         let mut covariances: Vec<SMatrix<f64, N, N>> = Vec::with_capacity(self.checkpoint_every);
         let mut output = self.outputs;
         let mut end = self.ops.len();
@@ -253,18 +267,21 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
                     Op::Reset(i) => replay_reset(&self.resets[i as usize], &mut p),
                 }
             }
+            let first_output = output - covariances.len();
             // Backward through the segment.
             for op in self.ops[start..end].iter().rev() {
                 match *op {
                     Op::Output => {
                         output -= 1;
-                        let p = covariances.pop().expect("one covariance per output");
-                        big.mul_to(&p, &mut big_times_p);
+                        // The segment's outputs, last first (no copy out).
+                        let p = &covariances[output - first_output];
+                        adjoint_product(&big, p, &mut big_times_p, &mut quadratic_forms);
                         emit(&Smoothed {
                             output,
                             error: -(p * lambda),
-                            forward_covariance: &p,
+                            forward_covariance: p,
                             adjoint_times_covariance: &big_times_p,
+                            quadratic_forms: &quadratic_forms,
                         });
                     }
                     Op::Step(i) => {
@@ -279,6 +296,34 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
             }
             end = start;
         }
+    }
+}
+
+/// W = Λ P⁺ and the diagonal of P⁺ W (the quadratic forms p_jᵀ Λ p_j, P⁺
+/// symmetric): column j of W accumulated in registers as Σₖ Λ·ₖ Pₖⱼ, then
+/// dotted with column j of P⁺ while at hand. It is the backward pass's
+/// dominant cost (one per output), so it is also compiled for AVX2 with FMA
+/// and that version chosen at run time: the wheel targets baseline x86-64,
+/// and nalgebra's generic product is not inlined into code compiled for
+/// other features.
+#[multiversion::multiversion(targets("x86_64+avx2+fma"))]
+fn adjoint_product<const N: usize>(
+    big_lambda: &SMatrix<f64, N, N>,
+    p: &SMatrix<f64, N, N>,
+    w: &mut SMatrix<f64, N, N>,
+    p_w_diagonal: &mut SVector<f64, N>,
+) {
+    let (big_lambda, p) = (big_lambda.as_slice(), p.as_slice());
+    for (j, w_column) in w.as_mut_slice().chunks_exact_mut(N).enumerate() {
+        let p_column = &p[j * N..(j + 1) * N];
+        let mut column = [0.0; N];
+        for (lambda_column, p_kj) in big_lambda.chunks_exact(N).zip(p_column) {
+            for (c, lambda_ik) in column.iter_mut().zip(lambda_column) {
+                *c += lambda_ik * p_kj;
+            }
+        }
+        p_w_diagonal[j] = column.iter().zip(p_column).map(|(a, b)| a * b).sum();
+        w_column.copy_from_slice(&column);
     }
 }
 
@@ -404,6 +449,17 @@ mod tests {
             *l = self.phi.transpose() * *l;
             *b = self.phi.transpose() * *b * self.phi;
         }
+    }
+
+    #[test]
+    fn adjoint_product_matches_nalgebra() {
+        let big = SMatrix::<f64, 17, 17>::from_fn(|i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
+        let p = SMatrix::<f64, 17, 17>::from_fn(|i, j| ((i * 5 + j * 2) % 13) as f64 * 0.25);
+        let p = p + p.transpose();
+        let (mut w, mut forms) = (SMatrix::<f64, 17, 17>::zeros(), SVector::<f64, 17>::zeros());
+        adjoint_product(&big, &p, &mut w, &mut forms);
+        assert!((w - big * p).abs().max() < 1e-12);
+        assert!((forms - (p * big * p).diagonal()).abs().max() < 1e-9);
     }
 
     /// A constant-velocity target observed in position, some epochs
