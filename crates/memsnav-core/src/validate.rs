@@ -25,6 +25,21 @@ pub fn finite_vectors(argument: &str, values: &[Vector3<f64>]) -> Result<()> {
     }
 }
 
+/// Every component of every vector is at most `max` in magnitude (NaN
+/// fails too); the error names the row.
+pub fn bounded_vectors(argument: &str, values: &[Vector3<f64>], max: f64) -> Result<()> {
+    match values.iter().position(|v| !(v.amax() <= max)) {
+        None => Ok(()),
+        Some(k) => Err(Error::invalid(
+            argument,
+            format!(
+                "row {k} holds {:e}, beyond the limit of ±{max:e} (SI units)",
+                values[k].amax()
+            ),
+        )),
+    }
+}
+
 /// Every value is finite.
 pub fn finite_scalars(argument: &str, values: &[f64]) -> Result<()> {
     match values.iter().position(|x| !x.is_finite()) {
@@ -34,6 +49,32 @@ pub fn finite_scalars(argument: &str, values: &[f64]) -> Result<()> {
             format!("element {k} is NaN or infinite"),
         )),
     }
+}
+
+/// Every value of an array of `shape` (row-major) is finite; the error
+/// gives the index of the first bad value, `[row, column]` for a table.
+pub fn finite_array(argument: &str, values: &[f64], shape: &[usize]) -> Result<()> {
+    let Some(flat) = values.iter().position(|x| !x.is_finite()) else {
+        return Ok(());
+    };
+    let mut index = vec![0; shape.len()];
+    let mut rest = flat;
+    for (i, &n) in shape.iter().enumerate().rev() {
+        if n > 0 {
+            index[i] = rest % n;
+            rest /= n;
+        }
+    }
+    let at = match index.as_slice() {
+        [] => "the value".to_string(),
+        [k] => format!("element {k}"),
+        [row, column] => format!("row {row}, column {column}"),
+        more => format!("index {more:?}"),
+    };
+    Err(Error::invalid(
+        argument,
+        format!("{at} is {}", values[flat]),
+    ))
 }
 
 /// A finite matrix.
@@ -65,6 +106,18 @@ pub fn positive(argument: &str, value: f64) -> Result<()> {
         Err(Error::invalid(
             argument,
             format!("must be finite and positive, got {value}"),
+        ))
+    }
+}
+
+/// A value at most `max` (checked after finiteness).
+pub fn at_most(argument: &str, value: f64, max: f64) -> Result<()> {
+    if value <= max {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("{value:e} is beyond the limit of {max:e} (SI units)"),
         ))
     }
 }
@@ -140,6 +193,18 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_nan_in_a_table_is_reported_at_its_row_and_column() {
+        let mut values = vec![0.0; 600];
+        values[301] = f64::NAN;
+        let e = finite_array("xyz", &values, &[200, 3]).unwrap_err();
+        assert!(e.to_string().contains("row 100, column 1 is NaN"), "{e}");
+        let e = finite_array("t", &values, &[600]).unwrap_err();
+        assert!(e.to_string().contains("element 301"), "{e}");
+        let e = finite_array("c", &values, &[2, 100, 3]).unwrap_err();
+        assert!(e.to_string().contains("[1, 0, 1]"), "{e}");
     }
 
     #[test]

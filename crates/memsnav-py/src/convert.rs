@@ -26,7 +26,7 @@ pub fn floats(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Floats> {
     })?;
     let shape = array.shape().to_vec();
     let values: Vec<f64> = array.as_array().iter().copied().collect();
-    validate::finite_scalars(argument, &values).py()?;
+    validate::finite_array(argument, &values, &shape).py()?;
     Ok(Floats { values, shape })
 }
 

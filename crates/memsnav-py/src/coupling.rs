@@ -12,6 +12,7 @@ use memsnav_core::ins::NavState;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
+use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -412,6 +413,7 @@ impl PyFilterSolution {
     }
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyFilterSolution {
     /// IMU sample times, s, (N,).
@@ -579,6 +581,7 @@ macro_rules! filter_class {
             settings: Settings,
         }
 
+        #[catch_panics]
         #[pymethods]
         impl $rust {
             #[new]

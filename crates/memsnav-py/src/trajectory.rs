@@ -9,6 +9,7 @@ use memsnav_core::trajectory::{RandomTrajectoryConfig, Segment, Trajectory};
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
+use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::PySequence;
 
@@ -100,6 +101,7 @@ fn segment_from(item: &Bound<'_, PyAny>, i: usize) -> PyResult<Segment> {
     Ok(segment)
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyTrajectory {
     /// A random land-vehicle trajectory (speed changes, turns, road slope,
