@@ -139,6 +139,42 @@ pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
     }
 }
 
+/// An IMU sample interval beyond which the strapdown integration is not
+/// trusted: the larger of 1 s and 100 nominal (median) periods. Over such a
+/// gap the second-order integrator extrapolates the rates and forces of one
+/// sample for the whole gap (a 10⁶ s gap took an INS to 10¹⁷ m).
+pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
+    if time_s.len() < 3 {
+        return Ok(());
+    }
+    let mut periods: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
+    let largest = periods
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("at least two periods");
+    let middle = periods.len() / 2;
+    let median = *periods.select_nth_unstable_by(middle, f64::total_cmp).1;
+    let limit = (100.0 * median).max(1.0);
+    if largest.1 > limit {
+        return Err(Error::invalid(
+            argument,
+            format!(
+                "a gap of {} s between samples {} and {} (times {} s and {} s), more than \
+                 {limit} s (the larger of 1 s and 100 times the median period {median} s): \
+                 split the log at the gap",
+                largest.1,
+                largest.0,
+                largest.0 + 1,
+                time_s[largest.0],
+                time_s[largest.0 + 1]
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Two series have the same length.
 pub fn same_length(
     argument: &str,
@@ -205,6 +241,24 @@ mod tests {
         assert!(e.to_string().contains("element 301"), "{e}");
         let e = finite_array("c", &values, &[2, 100, 3]).unwrap_err();
         assert!(e.to_string().contains("[1, 0, 1]"), "{e}");
+    }
+
+    #[test]
+    fn an_imu_gap_beyond_the_rule_is_refused_with_its_samples() {
+        let mut time: Vec<f64> = (0..1000).map(|k| k as f64 * 0.01).collect();
+        assert!(imu_time_gaps("time", &time).is_ok());
+        // 0.9 s: under 1 s although 90 periods; 1.5 s: beyond both.
+        time[500..].iter_mut().for_each(|t| *t += 0.89);
+        assert!(imu_time_gaps("time", &time).is_ok());
+        time[700..].iter_mut().for_each(|t| *t += 1e6);
+        let e = imu_time_gaps("time", &time).unwrap_err().to_string();
+        assert!(e.contains("samples 699 and 700"), "{e}");
+        // A slow IMU (1 Hz) may have 5 s gaps but not 200 s ones.
+        let mut slow: Vec<f64> = (0..100).map(f64::from).collect();
+        slow[50..].iter_mut().for_each(|t| *t += 4.0);
+        assert!(imu_time_gaps("time", &slow).is_ok());
+        slow[80..].iter_mut().for_each(|t| *t += 200.0);
+        assert!(imu_time_gaps("time", &slow).is_err());
     }
 
     #[test]
