@@ -217,7 +217,7 @@ def test_other_bad_inputs_name_the_argument():
     rest = (inputs["position_ecef"], inputs["velocity_ecef"], inputs["attitude"])
     with pytest.raises(ValueError, match="delta_velocity: has 101 rows"):
         mn.strapdown_increments(inputs["time"], dv[:-1].tolist() + [[0, 0, 0]] * 2, da, *rest)
-    with pytest.raises(ValueError, match="delta_angle: element"):
+    with pytest.raises(ValueError, match="delta_angle: row 3, column 1 is NaN"):
         mn.strapdown_increments(inputs["time"], dv, nan_at(da), *rest)
     for kwargs, name in [
         ({"duration": 0.0}, "duration"),

@@ -28,13 +28,14 @@ pub fn finite_vectors(argument: &str, values: &[Vector3<f64>]) -> Result<()> {
 /// Every component of every vector is at most `max` in magnitude (NaN
 /// fails too); the error names the row.
 pub fn bounded_vectors(argument: &str, values: &[Vector3<f64>], max: f64) -> Result<()> {
-    match values.iter().position(|v| !(v.amax() <= max)) {
+    let outside = |x: &f64| x.is_nan() || x.abs() > max;
+    match values.iter().position(|v| v.iter().any(outside)) {
         None => Ok(()),
         Some(k) => Err(Error::invalid(
             argument,
             format!(
                 "row {k} holds {:e}, beyond the limit of ±{max:e} (SI units)",
-                values[k].amax()
+                values[k].iter().copied().find(outside).unwrap_or(f64::NAN)
             ),
         )),
     }

@@ -14,12 +14,11 @@
 //! argument), by a small generated `from_py_with` function per argument.
 
 use proc_macro::TokenStream;
-use quote::quote;
 use proc_macro2::TokenStream as Tokens;
 use quote::format_ident;
+use quote::quote;
 use syn::{
-    parse_macro_input, parse_quote, Block, FnArg, ImplItem, Item, Pat, ReturnType, Signature,
-    Type,
+    parse_macro_input, parse_quote, Block, FnArg, ImplItem, Item, Pat, ReturnType, Signature, Type,
 };
 
 /// Types read through `named_scalar`.
@@ -86,7 +85,8 @@ fn name_scalars(sig: &mut Signature, owner: &str) -> Tokens {
                 crate::convert::named_scalar(obj, #argument)
             }
         });
-        arg.attrs.push(parse_quote!(#[pyo3(from_py_with = #reader)]));
+        arg.attrs
+            .push(parse_quote!(#[pyo3(from_py_with = #reader)]));
     }
     readers
 }

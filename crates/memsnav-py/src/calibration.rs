@@ -11,10 +11,10 @@ use memsnav_core::calibration::{
 };
 use memsnav_core::experiments::calibrate_invert::calibrated_spec;
 use memsnav_core::sensors::{ImuModel, NoiseModel};
+use memsnav_py_macros::catch_panics;
 use nalgebra::{DMatrix, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyUserWarning, PyValueError};
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 
 use crate::convert;

@@ -9,10 +9,10 @@ use memsnav_core::coupling::{
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
 use memsnav_core::ins::NavState;
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 

@@ -12,9 +12,9 @@ use memsnav_core::experiments::{
     self, calibration::SensorStatistics, motion::MotionKind, navigation::Coupling,
     CalibrationExperimentConfig, InversionExperimentConfig, PartialOutageConfig,
 };
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 

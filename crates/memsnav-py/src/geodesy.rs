@@ -2,9 +2,9 @@
 //! vectorised over `(..., 3)`.
 
 use memsnav_core::geodesy::{self, domain, Geodetic};
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::PyArrayDyn;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 
 use crate::convert;

@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use memsnav_core::gnss::{self, Constellation, GnssEpoch, SimulationConfig, WalkerConfig};
 use memsnav_core::random;
 use memsnav_core::Error;
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix4, Vector3};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 
 use crate::convert;

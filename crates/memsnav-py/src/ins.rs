@@ -2,10 +2,10 @@
 //! one call, with the GIL released.
 
 use memsnav_core::ins::{self, NavState};
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 
 use crate::convert;

@@ -2,8 +2,8 @@
 //! the filters are in `memsnav_core::inversion`.
 
 use memsnav_core::inversion::{self, Inversion, InversionNoise};
-use numpy::PyArray2;
 use memsnav_py_macros::catch_panics;
+use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::IntoPyObjectExt;
 

@@ -9,10 +9,10 @@ use memsnav_core::navigate::{
     SettingTables, SettingValue,
 };
 use memsnav_core::random::stream;
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 

@@ -6,9 +6,9 @@ use std::path::PathBuf;
 
 use memsnav_core::logs::{self, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit};
 use memsnav_core::timing::{self, LineEnds, OffsetSignal};
+use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 
 use crate::convert;

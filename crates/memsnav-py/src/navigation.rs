@@ -8,10 +8,10 @@ use memsnav_core::experiments::navigation::{
 };
 use memsnav_core::gnss::{Outage, SimulationConfig};
 use memsnav_core::sensors::presets;
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 

@@ -6,10 +6,10 @@ use memsnav_core::random;
 use memsnav_core::sensors::{
     presets, AccelerometerModel, GyroscopeModel, ImuModel, ImuSpec, NoiseModel,
 };
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 

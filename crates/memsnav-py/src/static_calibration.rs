@@ -13,8 +13,8 @@ use memsnav_core::calibration::{
     accelerometer_parameter_names, accelerometer_parameters, gyroscope_parameter_names,
     gyroscope_parameters,
 };
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use memsnav_py_macros::catch_panics;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::convert;

@@ -6,10 +6,10 @@ use std::path::PathBuf;
 use memsnav_core::geodesy::Geodetic;
 use memsnav_core::random;
 use memsnav_core::trajectory::{RandomTrajectoryConfig, Segment, Trajectory};
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
-use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 use pyo3::types::PySequence;
 

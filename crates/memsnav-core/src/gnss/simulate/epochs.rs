@@ -71,7 +71,11 @@ mod tests {
             .map(|k| 0.3 + k as f64 / 7.0)
             .map(|target| {
                 (0..time.len())
-                    .min_by(|&a, &b| (time[a] - target).abs().total_cmp(&(time[b] - target).abs()))
+                    .min_by(|&a, &b| {
+                        (time[a] - target)
+                            .abs()
+                            .total_cmp(&(time[b] - target).abs())
+                    })
                     .unwrap()
             })
             .collect();
