@@ -80,7 +80,11 @@ mod tests {
                 .to_string();
             assert!(e.contains("xyz") && e.contains("row 1"), "{e}");
         }
-        assert!(check_geodetic("lla", &[Vector3::new(std::f64::consts::FRAC_PI_2, 3.0, -1e4)]).is_ok());
+        assert!(check_geodetic(
+            "lla",
+            &[Vector3::new(std::f64::consts::FRAC_PI_2, 3.0, -1e4)]
+        )
+        .is_ok());
         for bad in [
             Vector3::new(1.6, 0.0, 0.0),
             Vector3::new(0.0, 0.0, -1e7),
