@@ -320,10 +320,10 @@ def test_bad_construction_names_the_argument(build, message):
     [
         (lambda a, g, i: a.measure(np.zeros((5, 2))), r"specific_force: expected shape \(N, 3\)"),
         (lambda a, g, i: a.measure(np.zeros(3)), r"specific_force: expected shape \(N, 3\)"),
-        (lambda a, g, i: a.measure([[0, np.nan, 0]]), "specific_force: element 1 is NaN"),
+        (lambda a, g, i: a.measure([[0, np.nan, 0]]), "specific_force: row 0, column 1 is NaN"),
         (lambda a, g, i: a.measure("x"), "specific_force: must be an array of real numbers"),
         (lambda a, g, i: g.measure(np.zeros((5, 3)), np.zeros((4, 3))), "specific_force: has 4"),
-        (lambda a, g, i: g.measure([[np.inf, 0, 0]], [[0, 0, 0]]), "angular_rate: element 0"),
+        (lambda a, g, i: g.measure([[np.inf, 0, 0]], [[0, 0, 0]]), "angular_rate: row 0, column 0"),
         (lambda a, g, i: i.measure(np.zeros((5, 3)), np.zeros((6, 3))), "angular_rate: has 6"),
         (lambda a, g, i: a.measure(np.zeros((5, 3)), seed=1.5), "seed: must be None"),
     ],

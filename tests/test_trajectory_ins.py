@@ -194,8 +194,8 @@ def nan_at(a: np.ndarray) -> np.ndarray:
     [
         ("time", lambda t: np.r_[t[:5], t[4], t[6:]], "time: times must be strictly increasing"),
         ("time", lambda t: t[:-1], "specific_force: has 101 rows but time has 100"),
-        ("specific_force", nan_at, "specific_force: element 10 is NaN"),
-        ("angular_rate", nan_at, "angular_rate: element 10 is NaN"),
+        ("specific_force", nan_at, "specific_force: row 3, column 1 is NaN"),
+        ("angular_rate", nan_at, "angular_rate: row 3, column 1 is NaN"),
         ("angular_rate", lambda w: w[:, :2], r"angular_rate: expected shape \(N, 3\)"),
         ("position_ecef", lambda r: r[:2], r"position_ecef: expected shape \(3,\)"),
         ("attitude", lambda c: 2 * c, "attitude: is not a rotation matrix"),
@@ -217,7 +217,7 @@ def test_other_bad_inputs_name_the_argument():
     rest = (inputs["position_ecef"], inputs["velocity_ecef"], inputs["attitude"])
     with pytest.raises(ValueError, match="delta_velocity: has 101 rows"):
         mn.strapdown_increments(inputs["time"], dv[:-1].tolist() + [[0, 0, 0]] * 2, da, *rest)
-    with pytest.raises(ValueError, match="delta_angle: element"):
+    with pytest.raises(ValueError, match="delta_angle: row 3, column 1 is NaN"):
         mn.strapdown_increments(inputs["time"], dv, nan_at(da), *rest)
     for kwargs, name in [
         ({"duration": 0.0}, "duration"),

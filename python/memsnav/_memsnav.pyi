@@ -1766,3 +1766,7 @@ def estimate_velocity_latency(
 ) -> LagEstimate:
     """The latency of a GNSS velocity behind its positions
     (see memsnav.estimate_velocity_latency)."""
+
+def _panic_for_test(message: str) -> None:
+    """Test hook: panics in Rust with ``message``; the binding turns the
+    panic into a :class:`MemsnavError`."""

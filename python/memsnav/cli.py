@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+import warnings
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -72,6 +73,11 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     parser.add_argument("--version", action="version", version=f"memsnav {memsnav.__version__}")
+    parser.add_argument(
+        "--debug",
+        action="store_true",
+        help="show the full traceback of an error (default: one line)",
+    )
     commands = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     reproduce = commands.add_parser(
@@ -167,7 +173,10 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _configured_run(nav, "run configuration (TOML), e.g. examples/drive_0708.toml")
     nav.add_argument(
-        "--duration", type=float, default=None, help="stop this many seconds after alignment"
+        "--duration",
+        type=_positive_float,
+        default=None,
+        help="stop this many seconds after alignment",
     )
     cal = commands.add_parser(
         "calibrate",
@@ -199,11 +208,7 @@ def _configured_run(command: argparse.ArgumentParser, config_help: str) -> None:
 def _calibrate(args: argparse.Namespace) -> int:
     from memsnav.calibration.command import run_calibration
 
-    try:
-        run = run_calibration(args.config, data_root=args.data_root, output=args.output)
-    except (ValueError, memsnav.MemsnavError) as e:
-        print(f"memsnav calibrate: {e}", file=sys.stderr)
-        return 1
+    run = run_calibration(args.config, data_root=args.data_root, output=args.output)
     for kind, path in run.files.items():
         print(f"{kind}: {path}")
     s = run.summary
@@ -223,67 +228,94 @@ def _calibrate(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Runs a command; any error is one line ``memsnav: error: ...`` on
+    stderr and exit status 1 (the traceback with ``--debug``), an interrupt
+    exit status 130."""
     parser = build_parser()
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help(sys.stderr)
         return 2
-    if args.command == "calibrate":
-        return _calibrate(args)
-    if args.command == "navigate":
-        from memsnav.realdata.pipeline import navigate
-
-        try:
-            result = navigate(
-                args.config, data_root=args.data_root, output=args.output, duration_s=args.duration
-            )
-        except (ValueError, memsnav.MemsnavError) as e:
-            print(f"memsnav navigate: {e}", file=sys.stderr)
-            return 1
-        for kind, path in result.files.items():
-            print(f"{kind}: {path}")
-        stats = result.summary.get("errors_vs_truth", {}).get("aided")
-        if stats and stats.get("epochs"):
-            print(
-                f"aided: RMS horizontal {stats['rms_horizontal_m']:.2f} "
-                f"m, vertical {stats['rms_vertical_m']:.2f} m, "
-                f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
-            )
+    format_warning = warnings.formatwarning
+    if not args.debug:
+        warnings.formatwarning = _one_line_warning
     try:
-        if args.command == "reproduce":
-            from memsnav.reproduce import reproduce
-
-            study = reproduce(
-                out=args.out,
-                full=args.full,
-                runs=args.runs,
-                seed=args.seed,
-                threads=args.threads,
-                progress=not args.quiet,
-            )
-            _print_study(study.summary)
-            print(f"memsnav: report written to {study.report}", file=sys.stderr)
-            return 130 if study.interrupted else 0
-        if args.command == "simulate":
-            from memsnav.simulate import simulate
-
-            files = simulate(
-                out=args.out,
-                duration=args.duration,
-                rate=args.rate,
-                imu=args.imu,
-                seed=args.seed,
-                n_satellites=args.satellites,
-                gnss_rate=args.gnss_rate,
-                constellation=args.constellation,
-                outages=args.outage,
-            )
-            print(f"memsnav: wrote {files.trajectory.parent}", file=sys.stderr)
-            return 0
+        return _run(args)
     except KeyboardInterrupt:
         print("memsnav: interrupted", file=sys.stderr)
         return 130
-    except (OSError, ValueError, memsnav.MemsnavError) as e:
-        print(f"memsnav: error: {e}", file=sys.stderr)
+    except Exception as e:
+        if args.debug:
+            raise
+        message = " ".join(str(e).split()) or type(e).__name__
+        print(f"memsnav: error: {message}", file=sys.stderr)
         return 1
+    finally:
+        warnings.formatwarning = format_warning
+
+
+def _one_line_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    line: str | None = None,
+) -> str:
+    """A warning as ``memsnav: warning: ...`` (no source line)."""
+    return f"memsnav: warning: {message}\n"
+
+
+def _run(args: argparse.Namespace) -> int:
+    if args.command == "calibrate":
+        return _calibrate(args)
+    if args.command == "navigate":
+        return _navigate(args)
+    if args.command == "reproduce":
+        from memsnav.reproduce import reproduce
+
+        study = reproduce(
+            out=args.out,
+            full=args.full,
+            runs=args.runs,
+            seed=args.seed,
+            threads=args.threads,
+            progress=not args.quiet,
+        )
+        _print_study(study.summary)
+        print(f"memsnav: report written to {study.report}", file=sys.stderr)
+        return 130 if study.interrupted else 0
+    if args.command == "simulate":
+        from memsnav.simulate import simulate
+
+        files = simulate(
+            out=args.out,
+            duration=args.duration,
+            rate=args.rate,
+            imu=args.imu,
+            seed=args.seed,
+            n_satellites=args.satellites,
+            gnss_rate=args.gnss_rate,
+            constellation=args.constellation,
+            outages=args.outage,
+        )
+        print(f"memsnav: wrote {files.trajectory.parent}", file=sys.stderr)
+        return 0
+    raise AssertionError(f"unknown command {args.command}")
+
+
+def _navigate(args: argparse.Namespace) -> int:
+    from memsnav.realdata.pipeline import navigate
+
+    result = navigate(
+        args.config, data_root=args.data_root, output=args.output, duration_s=args.duration
+    )
+    for kind, path in result.files.items():
+        print(f"{kind}: {path}")
+    stats = result.summary.get("errors_vs_truth", {}).get("aided")
+    if stats and stats.get("epochs"):
+        print(
+            f"aided: RMS horizontal {stats['rms_horizontal_m']:.2f} "
+            f"m, vertical {stats['rms_vertical_m']:.2f} m, "
+            f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
+        )
     return 0

@@ -28,6 +28,7 @@ pub mod geodesy;
 pub mod gnss;
 pub mod ins;
 pub mod inversion;
+pub mod limits;
 pub mod logs;
 pub mod montecarlo;
 pub mod navigate;

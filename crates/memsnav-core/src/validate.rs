@@ -25,6 +25,22 @@ pub fn finite_vectors(argument: &str, values: &[Vector3<f64>]) -> Result<()> {
     }
 }
 
+/// Every component of every vector is at most `max` in magnitude (NaN
+/// fails too); the error names the row.
+pub fn bounded_vectors(argument: &str, values: &[Vector3<f64>], max: f64) -> Result<()> {
+    let outside = |x: &f64| x.is_nan() || x.abs() > max;
+    match values.iter().position(|v| v.iter().any(outside)) {
+        None => Ok(()),
+        Some(k) => Err(Error::invalid(
+            argument,
+            format!(
+                "row {k} holds {:e}, beyond the limit of ±{max:e} (SI units)",
+                values[k].iter().copied().find(outside).unwrap_or(f64::NAN)
+            ),
+        )),
+    }
+}
+
 /// Every value is finite.
 pub fn finite_scalars(argument: &str, values: &[f64]) -> Result<()> {
     match values.iter().position(|x| !x.is_finite()) {
@@ -34,6 +50,32 @@ pub fn finite_scalars(argument: &str, values: &[f64]) -> Result<()> {
             format!("element {k} is NaN or infinite"),
         )),
     }
+}
+
+/// Every value of an array of `shape` (row-major) is finite; the error
+/// gives the index of the first bad value, `[row, column]` for a table.
+pub fn finite_array(argument: &str, values: &[f64], shape: &[usize]) -> Result<()> {
+    let Some(flat) = values.iter().position(|x| !x.is_finite()) else {
+        return Ok(());
+    };
+    let mut index = vec![0; shape.len()];
+    let mut rest = flat;
+    for (i, &n) in shape.iter().enumerate().rev() {
+        if n > 0 {
+            index[i] = rest % n;
+            rest /= n;
+        }
+    }
+    let at = match index.as_slice() {
+        [] => "the value".to_string(),
+        [k] => format!("element {k}"),
+        [row, column] => format!("row {row}, column {column}"),
+        more => format!("index {more:?}"),
+    };
+    Err(Error::invalid(
+        argument,
+        format!("{at} is {}", values[flat]),
+    ))
 }
 
 /// A finite matrix.
@@ -69,6 +111,18 @@ pub fn positive(argument: &str, value: f64) -> Result<()> {
     }
 }
 
+/// A value at most `max` (checked after finiteness).
+pub fn at_most(argument: &str, value: f64, max: f64) -> Result<()> {
+    if value <= max {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("{value:e} is beyond the limit of {max:e} (SI units)"),
+        ))
+    }
+}
+
 /// Times that are finite and strictly increasing.
 pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
     finite_scalars(argument, time_s)?;
@@ -84,6 +138,42 @@ pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
             ),
         )),
     }
+}
+
+/// An IMU sample interval beyond which the strapdown integration is not
+/// trusted: the larger of 1 s and 100 nominal (median) periods. Over such a
+/// gap the second-order integrator extrapolates the rates and forces of one
+/// sample for the whole gap (a 10⁶ s gap took an INS to 10¹⁷ m).
+pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
+    if time_s.len() < 3 {
+        return Ok(());
+    }
+    let mut periods: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
+    let largest = periods
+        .iter()
+        .copied()
+        .enumerate()
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("at least two periods");
+    let middle = periods.len() / 2;
+    let median = *periods.select_nth_unstable_by(middle, f64::total_cmp).1;
+    let limit = (100.0 * median).max(1.0);
+    if largest.1 > limit {
+        return Err(Error::invalid(
+            argument,
+            format!(
+                "a gap of {} s between samples {} and {} (times {} s and {} s), more than \
+                 {limit} s (the larger of 1 s and 100 times the median period {median} s): \
+                 split the log at the gap",
+                largest.1,
+                largest.0,
+                largest.0 + 1,
+                time_s[largest.0],
+                time_s[largest.0 + 1]
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Two series have the same length.
@@ -140,6 +230,36 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_nan_in_a_table_is_reported_at_its_row_and_column() {
+        let mut values = vec![0.0; 600];
+        values[301] = f64::NAN;
+        let e = finite_array("xyz", &values, &[200, 3]).unwrap_err();
+        assert!(e.to_string().contains("row 100, column 1 is NaN"), "{e}");
+        let e = finite_array("t", &values, &[600]).unwrap_err();
+        assert!(e.to_string().contains("element 301"), "{e}");
+        let e = finite_array("c", &values, &[2, 100, 3]).unwrap_err();
+        assert!(e.to_string().contains("[1, 0, 1]"), "{e}");
+    }
+
+    #[test]
+    fn an_imu_gap_beyond_the_rule_is_refused_with_its_samples() {
+        let mut time: Vec<f64> = (0..1000).map(|k| k as f64 * 0.01).collect();
+        assert!(imu_time_gaps("time", &time).is_ok());
+        // 0.9 s: under 1 s although 90 periods; 1.5 s: beyond both.
+        time[500..].iter_mut().for_each(|t| *t += 0.89);
+        assert!(imu_time_gaps("time", &time).is_ok());
+        time[700..].iter_mut().for_each(|t| *t += 1e6);
+        let e = imu_time_gaps("time", &time).unwrap_err().to_string();
+        assert!(e.contains("samples 699 and 700"), "{e}");
+        // A slow IMU (1 Hz) may have 5 s gaps but not 200 s ones.
+        let mut slow: Vec<f64> = (0..100).map(f64::from).collect();
+        slow[50..].iter_mut().for_each(|t| *t += 4.0);
+        assert!(imu_time_gaps("time", &slow).is_ok());
+        slow[80..].iter_mut().for_each(|t| *t += 200.0);
+        assert!(imu_time_gaps("time", &slow).is_err());
     }
 
     #[test]

@@ -11,6 +11,7 @@ use memsnav_core::calibration::{
 };
 use memsnav_core::experiments::calibrate_invert::calibrated_spec;
 use memsnav_core::sensors::{ImuModel, NoiseModel};
+use memsnav_py_macros::catch_panics;
 use nalgebra::{DMatrix, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyUserWarning, PyValueError};
@@ -61,6 +62,7 @@ fn dmatrix_to_numpy<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArra
         .expect("rows × cols elements")
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyCalibration {
     #[getter]
@@ -155,6 +157,7 @@ fn wrap<M>(
 /// cannot determine one raise `UnobservableError`) or "determinable" (only
 /// what the data determine; the rest held at zero and listed in `.held`;
 /// the rule is in docs/calibration.md).
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=100.0, estimate="all"))]
 fn calibrate_accelerometer(
@@ -206,6 +209,7 @@ fn calibrate_accelerometer(
 /// columns too). `noise_std`: the gyro white noise per sample (rad/s), for
 /// the Cramér-Rao bound. `estimate`: "all" or "determinable" (static data:
 /// bias and g-sensitivity only), as for `calibrate_accelerometer`.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measured, reference_angular_rate, reference_specific_force, *, method="ls", reference_noise_std=None, reference_specific_force_noise_std=None, noise_std=None, sample_rate=100.0, estimate="all"))]
 fn calibrate_gyroscope(
@@ -255,6 +259,7 @@ fn calibrate_gyroscope(
 /// terms the motion could not separate count by the combination that
 /// reaches the output, not by their own large stds
 /// (`memsnav_core::experiments::calibrate_invert::calibrated_spec`).
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (accelerometer, gyroscope, *, accel_noise_std, gyro_noise_std))]
 fn calibrated_imu(

@@ -26,7 +26,7 @@ pub fn floats(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Floats> {
     })?;
     let shape = array.shape().to_vec();
     let values: Vec<f64> = array.as_array().iter().copied().collect();
-    validate::finite_scalars(argument, &values).py()?;
+    validate::finite_array(argument, &values, &shape).py()?;
     Ok(Floats { values, shape })
 }
 
@@ -168,6 +168,60 @@ pub fn seed(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<u64>> {
             ))
         }),
     }
+}
+
+/// What a scalar argument of type `Self` must be, in the user's words.
+pub trait ScalarKind {
+    const WHAT: &'static str;
+}
+
+macro_rules! scalar_kind {
+    ($($t:ty => $what:expr),* $(,)?) => {
+        $(impl ScalarKind for $t { const WHAT: &'static str = $what; })*
+    };
+}
+
+scalar_kind! {
+    f64 => "a real number",
+    f32 => "a real number",
+    usize => "an integer ≥ 0",
+    u64 => "an integer in [0, 2**64)",
+    u32 => "an integer in [0, 2**32)",
+    i64 => "an integer in [-2**63, 2**63)",
+    i32 => "an integer in [-2**31, 2**31)",
+}
+
+impl<T: ScalarKind> ScalarKind for Option<T> {
+    const WHAT: &'static str = T::WHAT;
+}
+
+/// A scalar argument (the `#[catch_panics]` attribute reads every one
+/// through here): the error names the argument and shows the value given.
+/// A number of the wrong kind or range is a `ValueError`, anything else a
+/// `TypeError`.
+pub fn named_scalar<'py, T>(obj: &Bound<'py, PyAny>, argument: &str) -> PyResult<T>
+where
+    T: ScalarKind + pyo3::conversion::FromPyObjectOwned<'py>,
+{
+    obj.extract::<T>().map_err(|_| {
+        let given = obj
+            .repr()
+            .map(|r| r.to_string())
+            .unwrap_or_else(|_| "?".into());
+        let type_name = obj
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_else(|_| "?".into());
+        let message = format!("{argument}: must be {}, got {given} ({type_name})", T::WHAT);
+        let is_number = obj.is_instance_of::<pyo3::types::PyInt>()
+            || obj.is_instance_of::<pyo3::types::PyFloat>();
+        if is_number {
+            PyValueError::new_err(message)
+        } else {
+            pyo3::exceptions::PyTypeError::new_err(message)
+        }
+    })
 }
 
 fn to_vectors(values: &[f64]) -> Vec<Vector3<f64>> {

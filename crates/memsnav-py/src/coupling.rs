@@ -9,6 +9,7 @@ use memsnav_core::coupling::{
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
 use memsnav_core::ins::NavState;
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -412,6 +413,7 @@ impl PyFilterSolution {
     }
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyFilterSolution {
     /// IMU sample times, s, (N,).
@@ -581,6 +583,7 @@ macro_rules! filter_class {
             settings: Settings,
         }
 
+        #[catch_panics]
         #[pymethods]
         impl $rust {
             #[new]

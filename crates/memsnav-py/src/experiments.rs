@@ -12,6 +12,7 @@ use memsnav_core::experiments::{
     self, calibration::SensorStatistics, motion::MotionKind, navigation::Coupling,
     CalibrationExperimentConfig, InversionExperimentConfig, PartialOutageConfig,
 };
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
@@ -65,6 +66,7 @@ fn method_name(method: Method) -> &'static str {
 /// Calibration Monte Carlo (paper §5.1, figs 3-10); keywords and defaults
 /// in `memsnav.experiments.calibration`. Returns a dict of per-set arrays
 /// (SI) and the `config` that ran.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (*, parameter_sets=None, runs=None, duration=None, preset=None, reference_specific_force_std=None, reference_angular_rate_std=None, motion=None, seed=None, threads=None, progress=None))]
 fn calibration_experiment<'py>(
@@ -136,6 +138,7 @@ fn calibration_experiment<'py>(
 /// Inversion Monte Carlo (paper §5.2, figs 11-12); keywords and defaults
 /// in `memsnav.experiments.inversion`. Returns a dict of arrays (SI) and
 /// the `config` that ran.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (*, runs=None, duration=None, calibration_duration=None, preset=None, method=None, reference_specific_force_std=None, reference_angular_rate_std=None, accel_process_std=None, gyro_process_std=None, seed=None, threads=None, progress=None))]
 fn inversion_experiment<'py>(
@@ -220,6 +223,7 @@ fn inversion_experiment<'py>(
 /// loose coupling); keywords and defaults in
 /// `memsnav.experiments.partial_outage`. Returns the scenarios' IMU
 /// outcomes (the keys of the navigation experiment) and the `config`.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, keep_runs=None, threads=None, progress=None))]
 fn partial_outage_experiment<'py>(
@@ -306,6 +310,7 @@ fn partial_outage_experiment<'py>(
 /// (`memsnav_core::experiments::motion::land_vehicle`: speed changes,
 /// turns, road roughness, roll and pitch dynamics): `duration` s at `rate`
 /// Hz from `seed`, as (specific force (N, 3) m/s², angular rate (N, 3) rad/s).
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (duration, rate, seed))]
 fn land_vehicle_motion<'py>(

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use memsnav_core::gnss::{self, Constellation, GnssEpoch, SimulationConfig, WalkerConfig};
 use memsnav_core::random;
 use memsnav_core::Error;
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix4, Vector3};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -54,6 +55,7 @@ pub struct PyConstellation {
     pub inner: Constellation,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyConstellation {
     /// The GPS satellites of a RINEX 2 or 3 navigation file (other systems skipped).
@@ -136,6 +138,7 @@ pub struct PySp3 {
     inner: gnss::Sp3,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PySp3 {
     /// Epochs, GPS s since 1980-01-06, ``(n_epochs,)``.
@@ -181,6 +184,7 @@ impl PySp3 {
 }
 
 /// Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s).
+#[catch_panics]
 #[pyfunction]
 fn read_sp3(py: Python<'_>, path: PathBuf) -> PyResult<PySp3> {
     Ok(PySp3 {
@@ -228,6 +232,7 @@ impl PyGnssMeasurements {
     }
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyGnssMeasurements {
     /// Epoch times on the trajectory's time axis, s, ``(T,)``.
@@ -346,6 +351,7 @@ fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
 }
 
 /// Simulates pseudoranges and rates along a trajectory (method §5).
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, position_ecef, velocity_ecef, constellation, rate=None, n_satellites=None,
     elevation_mask_deg=None, pseudorange_std=None, pseudorange_rate_std=None, residual_std=None,
@@ -474,6 +480,7 @@ impl PyFixSeries {
     }
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyFixSeries {
     /// Epoch times, s, ``(T,)``.
@@ -544,6 +551,7 @@ impl PyFixSeries {
 }
 
 /// Least-squares position/velocity/clock fix of every epoch.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measurements, prior=None, strict=false))]
 fn solve_fix(
@@ -620,6 +628,7 @@ pub struct PyRinexObservations {
     inner: gnss::ObservationFile,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyRinexObservations {
     /// Epoch times, GPS s since 1980-01-06, ``(T,)``.
@@ -757,6 +766,7 @@ impl PyRinexObservations {
 
 /// Reads a RINEX 3 observation file (errors name the file and line; a
 /// truncated last record is dropped and reported in ``warnings``).
+#[catch_panics]
 #[pyfunction]
 fn read_rinex_obs(py: Python<'_>, path: PathBuf) -> PyResult<PyRinexObservations> {
     Ok(PyRinexObservations {
@@ -767,6 +777,7 @@ fn read_rinex_obs(py: Python<'_>, path: PathBuf) -> PyResult<PyRinexObservations
 /// The Klobuchar coefficients ``(alpha, beta)`` of a RINEX navigation
 /// header (``ION ALPHA``/``ION BETA`` or ``IONOSPHERIC CORR GPSA/GPSB``),
 /// or None when it has none.
+#[catch_panics]
 #[pyfunction]
 fn read_klobuchar(path: PathBuf) -> PyResult<Option<([f64; 4], [f64; 4])>> {
     Ok(gnss::read_klobuchar(&path).py()?.map(|k| (k.alpha, k.beta)))

@@ -2,6 +2,7 @@
 //! one call, with the GIL released.
 
 use memsnav_core::ins::{self, NavState};
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
@@ -17,6 +18,7 @@ pub struct PyNavSolution {
     states: Vec<NavState>,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyNavSolution {
     /// Times, s, shape (N,).
@@ -68,6 +70,7 @@ fn initial_state(
 }
 
 /// Strapdown INS in ECEF from instantaneous IMU samples.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate, position_ecef, velocity_ecef, attitude, *, scheme="cubic"))]
 fn strapdown(
@@ -98,6 +101,7 @@ fn strapdown(
 }
 
 /// Strapdown INS in ECEF from velocity and angle increments.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, delta_velocity, delta_angle, position_ecef, velocity_ecef, attitude))]
 fn strapdown_increments(
@@ -123,6 +127,7 @@ fn strapdown_increments(
 type ArrayPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
 
 /// Velocity and angle increments per interval from instantaneous samples.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate))]
 fn imu_increments<'py>(

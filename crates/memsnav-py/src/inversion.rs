@@ -2,6 +2,7 @@
 //! the filters are in `memsnav_core::inversion`.
 
 use memsnav_core::inversion::{self, Inversion, InversionNoise};
+use memsnav_py_macros::catch_panics;
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::IntoPyObjectExt;
@@ -35,6 +36,7 @@ fn output(py: Python<'_>, inv: Inversion, return_variance: bool) -> PyResult<Py<
 /// sample, `measurement_std`: std of the output noise per sample (m/s²,
 /// scalar or (3,)). With `return_variance=True` returns `(estimate,
 /// variance)`, the second the per-sample covariance diagonal.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measured, model, process_std, measurement_std, *, return_variance=false))]
 fn invert_accelerometer(
@@ -58,6 +60,7 @@ fn invert_accelerometer(
 /// `measured` (N, 3) and the estimated specific force `specific_force`
 /// (N, 3, m/s², from `invert_accelerometer`) with the EKF of method §4.
 /// Noise arguments in rad/s per sample, scalar or (3,).
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measured, specific_force, model, process_std, measurement_std, *, return_variance=false))]
 fn invert_gyroscope(

@@ -9,6 +9,7 @@ use memsnav_core::navigate::{
     SettingTables, SettingValue,
 };
 use memsnav_core::random::stream;
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -74,6 +75,7 @@ fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTabl
 
 /// The tables and keys `navigate_log(settings=...)` reads, each with what
 /// it holds: `{table: {key: description}}`.
+#[catch_panics]
 #[pyfunction]
 fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -90,6 +92,7 @@ fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
 /// C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
 /// triples in degrees applied in order (`[imu] mounting_rpy_deg`):
 /// f_b = C(last) ··· C(first) f_s, (3, 3).
+#[catch_panics]
 #[pyfunction]
 fn mounting_matrix<'py>(
     py: Python<'py>,
@@ -103,6 +106,7 @@ fn mounting_matrix<'py>(
 /// Checks `settings` (`{table: {key: value}}`) as `navigate_log` would,
 /// without data: unknown tables or keys, values of the wrong kind or out of
 /// range raise `ValueError` naming `table.key`.
+#[catch_panics]
 #[pyfunction]
 fn check_navigate_settings(settings: &Bound<'_, PyDict>) -> PyResult<()> {
     // Any IMU rate serves: it only scales the preset's noise per sample.
@@ -117,6 +121,7 @@ pub struct PyPositionFixes {
     pub(crate) fixes: Vec<PositionFix>,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyPositionFixes {
     /// Fix times, s, (T,).
@@ -158,6 +163,7 @@ impl PyPositionFixes {
 /// seeded white noise of `added_position_noise_ned` (N, E, D one-sigma, m)
 /// and `added_velocity_noise` (m/s), and rotates the covariance
 /// (std² + noise²) into ECEF.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, geodetic, std_ned, *, velocity_ned=None, velocity_std_ned=None, rate_hz=None, added_position_noise_ned=None, added_velocity_noise=None, use_velocity=None, seed=None))]
 #[allow(clippy::too_many_arguments)]
@@ -229,6 +235,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &score::ErrorStats) -> PyResult<Bound<'py
     Ok(d)
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyLogRun {
     /// Times, s (GNSS time), (N,).
@@ -428,6 +435,7 @@ fn pairs<'py>(py: Python<'py>, v: &[(f64, f64)]) -> PyResult<Bound<'py, PyArray2
 /// `navigate` configuration (`navigate_settings()` lists them; left-out
 /// keys keep the engine's defaults). `duration_s` stops that long after
 /// the start.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate, gnss, *, settings=None, duration_s=None))]
 fn navigate_log(

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use memsnav_core::logs::{self, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit};
 use memsnav_core::timing::{self, LineEnds, OffsetSignal};
+use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -19,6 +20,7 @@ pub struct PyImuLog {
     inner: logs::ImuLog,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyImuLog {
     /// The log's own clock, s, ``(N,)``.
@@ -84,6 +86,7 @@ impl PyImuLog {
 }
 
 /// Reads an IMU CSV log with a declared layout (see ``memsnav.read_imu_csv``).
+#[catch_panics]
 #[pyfunction]
 fn read_imu_csv(
     py: Python<'_>,
@@ -114,6 +117,7 @@ pub struct PyTimeTag {
     inner: logs::TimeTag,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyTimeTag {
     /// GPS time of the log's opening, s since 1980-01-06.
@@ -173,6 +177,7 @@ impl PyTimeTag {
 }
 
 /// Reads an RTKLIB ``.tag`` file (see ``memsnav.read_time_tag``).
+#[catch_panics]
 #[pyfunction]
 fn read_time_tag(py: Python<'_>, path: PathBuf) -> PyResult<PyTimeTag> {
     Ok(PyTimeTag {
@@ -186,6 +191,7 @@ pub struct PyTagClock {
     inner: timing::TagClock,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyTagClock {
     /// GPS time of every sample, s since 1980-01-06, ``(N,)``.
@@ -240,6 +246,7 @@ fn line_ends_name(l: LineEnds) -> &'static str {
 
 /// Maps the IMU clock of ``imu`` to GPS time with its time tag (see
 /// ``memsnav.fit_tag_clock``).
+#[catch_panics]
 #[pyfunction]
 fn fit_tag_clock(
     py: Python<'_>,
@@ -270,6 +277,7 @@ pub struct PyPosSolution {
     inner: logs::PosSolution,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyPosSolution {
     /// Epochs, GPS s since 1980-01-06, ``(N,)``.
@@ -326,6 +334,7 @@ impl PyPosSolution {
 }
 
 /// Reads an RTKLIB ``.pos`` file (see ``memsnav.read_pos``).
+#[catch_panics]
 #[pyfunction]
 fn read_pos(py: Python<'_>, path: PathBuf) -> PyResult<PyPosSolution> {
     Ok(PyPosSolution {
@@ -347,6 +356,7 @@ fn integer<T: TryFrom<i64>>(value: f64, argument: &str, k: usize) -> PyResult<T>
 }
 
 /// Writes an RTKLIB-compatible ``.pos`` (see ``memsnav.realdata.readers.write_pos``).
+#[catch_panics]
 #[pyfunction]
 fn write_pos(
     py: Python<'_>,
@@ -388,6 +398,7 @@ pub struct PyLagEstimate {
     inner: timing::LagEstimate,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyLagEstimate {
     /// The refined best lag, s.
@@ -441,6 +452,7 @@ impl PyLagEstimate {
 
 /// The offset to add to IMU times that aligns them with GNSS positions
 /// (see ``memsnav.estimate_time_offset``).
+#[catch_panics]
 #[pyfunction]
 fn estimate_time_offset(
     py: Python<'_>,
@@ -477,6 +489,7 @@ fn estimate_time_offset(
 
 /// The latency of a GNSS solution's velocity behind its positions (see
 /// ``memsnav.estimate_velocity_latency``).
+#[catch_panics]
 #[pyfunction]
 fn estimate_velocity_latency(
     py: Python<'_>,

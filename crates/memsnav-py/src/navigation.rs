@@ -8,6 +8,7 @@ use memsnav_core::experiments::navigation::{
 };
 use memsnav_core::gnss::{Outage, SimulationConfig};
 use memsnav_core::sensors::presets;
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -172,6 +173,7 @@ pub(crate) fn outage_window(values: &[f64]) -> PyResult<Outage> {
 
 /// Navigation Monte Carlo (paper §5.3, figs 14-18); see
 /// `memsnav.experiments.navigation` for the documented interface.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, keep_runs=false, threads=None, progress=None))]
 fn navigation_experiment<'py>(

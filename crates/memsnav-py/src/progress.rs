@@ -74,8 +74,7 @@ where
         }
         worker.join()
     });
-    let output = output
-        .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("Monte Carlo worker panicked"))?;
+    let output = output.map_err(|payload| crate::errors::panic_error(payload.as_ref()))?;
     match callback_error {
         Some(e) => Err(e),
         None => Ok((output, interrupted)),

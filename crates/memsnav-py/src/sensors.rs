@@ -6,6 +6,7 @@ use memsnav_core::random;
 use memsnav_core::sensors::{
     presets, AccelerometerModel, GyroscopeModel, ImuModel, ImuSpec, NoiseModel,
 };
+use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
@@ -109,6 +110,7 @@ pub struct PyAccelerometerModel {
     pub sample_rate_hz: f64,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyAccelerometerModel {
     #[new]
@@ -229,10 +231,10 @@ impl PyAccelerometerModel {
         let args = PyTuple::new(
             py,
             [
-                self.bias(py).into_any(),
-                self.scale_factor(py).into_any(),
-                self.misalignment(py).into_any(),
-                self.nonlinearity(py).into_any(),
+                self.bias(py)?.into_any(),
+                self.scale_factor(py)?.into_any(),
+                self.misalignment(py)?.into_any(),
+                self.nonlinearity(py)?.into_any(),
             ],
         )?;
         Ok((
@@ -266,6 +268,7 @@ pub struct PyGyroscopeModel {
     pub sample_rate_hz: f64,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyGyroscopeModel {
     #[new]
@@ -389,10 +392,10 @@ impl PyGyroscopeModel {
         let args = PyTuple::new(
             py,
             [
-                self.bias(py).into_any(),
-                self.scale_factor(py).into_any(),
-                self.misalignment(py).into_any(),
-                self.g_sensitivity(py).into_any(),
+                self.bias(py)?.into_any(),
+                self.scale_factor(py)?.into_any(),
+                self.misalignment(py)?.into_any(),
+                self.g_sensitivity(py)?.into_any(),
             ],
         )?;
         Ok((
@@ -510,6 +513,7 @@ pub struct PyImuModel {
     pub inner: ImuModel,
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyImuModel {
     #[new]
@@ -607,8 +611,8 @@ impl PyImuModel {
     fn __repr__(&self) -> String {
         format!(
             "ImuModel({}, {}, sample_rate={:?})",
-            self.accelerometer().__repr__(),
-            self.gyroscope().__repr__(),
+            self.accelerometer()?.__repr__()?,
+            self.gyroscope()?.__repr__()?,
             self.inner.sample_rate_hz
         )
     }
@@ -620,8 +624,8 @@ impl PyImuModel {
         let args = PyTuple::new(
             py,
             [
-                Bound::new(py, self.accelerometer())?.into_any(),
-                Bound::new(py, self.gyroscope())?.into_any(),
+                Bound::new(py, self.accelerometer()?)?.into_any(),
+                Bound::new(py, self.gyroscope()?)?.into_any(),
             ],
         )?;
         let kwargs = PyDict::new(py);

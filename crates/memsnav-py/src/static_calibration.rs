@@ -13,6 +13,7 @@ use memsnav_core::calibration::{
     accelerometer_parameter_names, accelerometer_parameters, gyroscope_parameter_names,
     gyroscope_parameters,
 };
+use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 
@@ -60,6 +61,7 @@ fn gyro_py(
     .into_any())
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyStaticCalibration {
     /// The accelerometer model of the nominal readings (SI), method §2.
@@ -300,6 +302,7 @@ impl PyStaticCalibration {
 
 /// The core's defaults of the detector and of the nominal readings (scale
 /// 1, offset 0: readings already in SI), for the Python signature.
+#[catch_panics]
 #[pyfunction]
 fn static_calibration_defaults() -> HashMap<&'static str, f64> {
     let d = StaticDetector::default();
@@ -330,6 +333,7 @@ fn nominal(
 
 /// Every argument is required here; `memsnav.calibrate_static` documents
 /// them and holds the defaults (from the core).
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, accel, gyro, *, gravity, accel_scale, accel_offset, gyro_scale, gyro_offset, window, threshold_factor, initial_rest, min_pose, estimate, holdout_every))]
 fn calibrate_static(
@@ -378,6 +382,7 @@ fn calibrate_static(
 
 /// SI specific force and angular rate (each (N, 3)) of raw readings
 /// through nominal scales and offsets and the models' exact inverses.
+#[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (accel, gyro, accelerometer, gyroscope, *, accel_scale, accel_offset, gyro_scale, gyro_offset))]
 fn correct_imu<'py>(

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use memsnav_core::geodesy::Geodetic;
 use memsnav_core::random;
 use memsnav_core::trajectory::{RandomTrajectoryConfig, Segment, Trajectory};
+use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
@@ -100,6 +101,7 @@ fn segment_from(item: &Bound<'_, PyAny>, i: usize) -> PyResult<Segment> {
     Ok(segment)
 }
 
+#[catch_panics]
 #[pymethods]
 impl PyTrajectory {
     /// A random land-vehicle trajectory (speed changes, turns, road slope,

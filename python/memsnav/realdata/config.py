@@ -140,6 +140,8 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
         raise ValueError(f"{path}: not valid TOML: {e}") from None
     except OSError as e:
         raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: not UTF-8 text (byte {e.start}); TOML must be UTF-8") from None
     cfg = RunConfig(path=path, data_root=resolve_data_root(path, data_root))
     top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
     tables = {k: v for k, v in raw.items() if isinstance(v, dict)}

@@ -316,7 +316,10 @@ def _fresh_folder(out: Path) -> Any:
     and ``out`` is left as it was: a run's outputs are never mixed with an
     earlier run's, nor half written."""
     out = out.resolve()
-    out.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        raise ValueError(f"output: cannot create the folder {out}: a file is in the way") from None
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".new", dir=out.parent))
     try:
         yield tmp

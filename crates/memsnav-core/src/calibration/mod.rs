@@ -117,7 +117,7 @@ pub use gyroscope::{calibrate_gyroscope, gyroscope_crb, FactoredGyroscope};
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
 
 use crate::sensors::{AccelerometerModel, GyroscopeModel, NoiseModel};
-use crate::{validate, Error, Result};
+use crate::{limits, validate, Error, Result};
 
 /// Axis names of the accelerometer (u, v, w) and gyroscope (p, q, r) triads.
 pub const ACCELEROMETER_AXES: [&str; 3] = ["u", "v", "w"];
@@ -168,8 +168,14 @@ pub struct ReferenceNoise {
 
 impl ReferenceNoise {
     fn validate(&self) -> Result<()> {
-        validate::non_negative("reference_specific_force_std", self.specific_force_std)?;
-        validate::non_negative("reference_angular_rate_std", self.angular_rate_std)
+        for (name, std) in [
+            ("reference_specific_force_std", self.specific_force_std),
+            ("reference_angular_rate_std", self.angular_rate_std),
+        ] {
+            validate::non_negative(name, std)?;
+            validate::at_most(name, std, limits::MAX_CALIBRATION_INPUT)?;
+        }
+        Ok(())
     }
 }
 
@@ -309,9 +315,11 @@ fn validate_data(
     parameters_per_axis: usize,
 ) -> Result<()> {
     validate::finite_vectors("measured", measured)?;
+    validate::bounded_vectors("measured", measured, limits::MAX_CALIBRATION_INPUT)?;
     for (name, r) in references {
         validate::same_length(name, r.len(), "measured", measured.len())?;
         validate::finite_vectors(name, r)?;
+        validate::bounded_vectors(name, r, limits::MAX_CALIBRATION_INPUT)?;
     }
     if measured.len() <= parameters_per_axis {
         return Err(Error::invalid(
@@ -339,6 +347,7 @@ fn validate_options(options: &CalibrationOptions) -> Result<()> {
     ] {
         if let Some(x) = v {
             validate::positive(name, x)?;
+            validate::at_most(name, x, limits::MAX_CALIBRATION_INPUT)?;
         }
     }
     if options.method == Method::ErrorsInVariables && options.reference_noise_std.is_none() {

@@ -41,6 +41,13 @@ impl CalibrationExperimentConfig {
         if self.runs_per_set == 0 {
             return Err(Error::invalid("runs", "must be at least 1"));
         }
+        crate::limits::monte_carlo(
+            None,
+            &[
+                ("parameter_sets", self.parameter_sets),
+                ("runs", self.runs_per_set),
+            ],
+        )?;
         validate::positive("duration", self.duration_s)?;
         super::validate_preset(&self.preset)?;
         super::validate_reference_noise(

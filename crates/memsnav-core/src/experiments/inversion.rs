@@ -48,6 +48,7 @@ impl InversionExperimentConfig {
         if self.runs == 0 {
             return Err(Error::invalid("runs", "must be at least 1"));
         }
+        crate::limits::monte_carlo(None, &[("runs", self.runs)])?;
         validate::positive("duration", self.duration_s)?;
         super::validate_preset(&self.preset)?;
         self.calibration.validate()?;

@@ -79,8 +79,14 @@ pub(crate) fn validate_reference_noise(
     specific_force_std: f64,
     angular_rate_std: f64,
 ) -> Result<()> {
-    crate::validate::positive("reference_specific_force_std", specific_force_std)?;
-    crate::validate::positive("reference_angular_rate_std", angular_rate_std)
+    for (name, std) in [
+        ("reference_specific_force_std", specific_force_std),
+        ("reference_angular_rate_std", angular_rate_std),
+    ] {
+        crate::validate::positive(name, std)?;
+        crate::validate::at_most(name, std, crate::limits::MAX_CALIBRATION_INPUT)?;
+    }
+    Ok(())
 }
 
 /// The truth plus white Gaussian noise of std `std` on every component.

@@ -1,5 +1,6 @@
 //! WGS84 geodesy: the ellipsoid, geodetic ↔ ECEF, the NED frame, gravity.
 
+pub mod domain;
 mod ellipsoid;
 mod gravity;
 pub mod wgs84;

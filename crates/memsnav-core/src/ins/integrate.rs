@@ -28,6 +28,7 @@ fn validate_samples(
         return Err(Error::invalid("time", "needs at least one sample"));
     }
     validate::increasing_times("time", time_s)?;
+    validate::imu_time_gaps("time", time_s)?;
     validate::same_length(
         "specific_force",
         specific_force_b.len(),
@@ -121,6 +122,7 @@ pub fn integrate_increments(
         return Err(Error::invalid("time", "needs at least one sample"));
     }
     validate::increasing_times("time", time_s)?;
+    validate::imu_time_gaps("time", time_s)?;
     let intervals = time_s.len() - 1;
     validate::same_length(
         "delta_velocity",

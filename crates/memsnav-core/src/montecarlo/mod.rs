@@ -95,6 +95,7 @@ where
     if batch == 0 {
         return Err(Error::invalid("batch", "must be at least 1"));
     }
+    crate::limits::monte_carlo(options.threads, &[])?;
     let pool = match options.threads {
         None => None,
         Some(n) => Some(

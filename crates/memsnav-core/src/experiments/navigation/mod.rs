@@ -196,6 +196,7 @@ impl NavigationExperimentConfig {
         if self.runs == 0 {
             return Err(Error::invalid("runs", "must be at least 1"));
         }
+        crate::limits::monte_carlo(None, &[("runs", self.runs)])?;
         validate::positive("duration", self.duration_s)?;
         if self.duration_s < 2.0 {
             return Err(Error::invalid(

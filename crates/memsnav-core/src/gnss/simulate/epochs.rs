@@ -7,10 +7,14 @@ pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
     let n = time_s.len();
     let (t0, t_end) = (time_s[0], time_s[n - 1]);
     let step = 1.0 / rate_hz;
-    let mut samples: Vec<usize> = Vec::with_capacity(((t_end - t0) * rate_hz) as usize + 2);
-    let mut k = 0usize;
+    // At most one epoch per track sample: the output and the loop are
+    // bounded by the track, whatever the time span or the rate (a 1e20 s
+    // span at 1 Hz must not visit 1e20 targets). `k` is a float for spans
+    // beyond 2⁶⁴ periods.
+    let mut samples: Vec<usize> = Vec::new();
+    let mut k = 0.0f64;
     loop {
-        let target = t0 + k as f64 * step;
+        let target = t0 + k * step;
         if target > t_end + 0.5 * step {
             break;
         }
@@ -25,7 +29,15 @@ pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
         if samples.last() != Some(&nearest) && (time_s[nearest] - target).abs() <= 0.5 * step {
             samples.push(nearest);
         }
-        k += 1;
+        // Later targets select a new sample only if one lies within half a
+        // period of them: skip the targets before the first sample after
+        // this target (less half a period).
+        let after = time_s.partition_point(|&t| t <= target);
+        if after == n {
+            break;
+        }
+        let first_useful = ((time_s[after] - 0.5 * step - t0) / step).ceil();
+        k = (k + 1.0).max(first_useful);
     }
     samples
 }
@@ -45,5 +57,30 @@ mod tests {
         // A gap longer than half a period leaves its targets out.
         let gappy = [0.0, 0.1, 2.9, 3.0];
         assert_eq!(epoch_samples(&gappy, 1.0), vec![0, 3]);
+    }
+
+    #[test]
+    fn huge_spans_and_rates_cost_no_more_than_the_track() {
+        // Issue 15: a 1e20 s span at 1 Hz hung, 1e12 Hz aborted on allocation.
+        assert_eq!(epoch_samples(&[0.0, 1e20], 1.0), vec![0, 1]);
+        let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
+        assert_eq!(epoch_samples(&time, 1e12), (0..=100).collect::<Vec<_>>());
+        // The skip leaves the ordinary grid unchanged.
+        let time: Vec<f64> = (0..=1000).map(|k| 0.3 + k as f64 * 0.01).collect();
+        let naive: Vec<usize> = (0..=(10.0 * 7.0) as usize)
+            .map(|k| 0.3 + k as f64 / 7.0)
+            .map(|target| {
+                (0..time.len())
+                    .min_by(|&a, &b| {
+                        (time[a] - target)
+                            .abs()
+                            .total_cmp(&(time[b] - target).abs())
+                    })
+                    .unwrap()
+            })
+            .collect();
+        let mut expected = naive;
+        expected.dedup();
+        assert_eq!(epoch_samples(&time, 7.0), expected);
     }
 }

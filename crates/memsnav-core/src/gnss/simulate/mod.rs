@@ -134,6 +134,12 @@ impl SimulationConfig {
         if self.n_satellites == 0 {
             return Err(Error::invalid("n_satellites", "must be at least 1"));
         }
+        crate::limits::at_most(
+            "n_satellites",
+            self.n_satellites,
+            crate::limits::MAX_SATELLITES,
+            "satellites",
+        )?;
         if !(self.elevation_mask_rad.is_finite()
             && (0.0..std::f64::consts::FRAC_PI_2).contains(&self.elevation_mask_rad))
         {

@@ -1,0 +1,96 @@
+//! Size and range limits checked up front at the public entry points, so
+//! that no argument can make memsnav allocate more than a machine holds,
+//! loop for ever or overflow a float (issue 15; `docs/robustness.md` lists
+//! them). Each check names the argument and gives the figure.
+
+use crate::{Error, Result};
+
+/// Worker threads of a Monte Carlo set: far above any machine's cores;
+/// more would only exhaust the operating system's thread limit.
+pub const MAX_THREADS: usize = 1024;
+
+/// Monte Carlo runs per set (`runs`, `parameter_sets`): 10⁶ runs of the
+/// shortest experiment take hours; larger studies are split by seed.
+pub const MAX_RUNS: usize = 1_000_000;
+
+/// Runs of a whole experiment (sets × runs per set).
+pub const MAX_TOTAL_RUNS: usize = 10_000_000;
+
+/// Satellites tracked at once: every GNSS constellation together has fewer
+/// than 150; the simulated arrays are `(epochs, n_satellites)`.
+pub const MAX_SATELLITES: usize = 256;
+
+/// Largest magnitude of a calibration input (outputs, references and their
+/// noise, SI units: 10⁶ m/s² ≈ 10⁵ g, 10⁶ rad/s). Beyond it the products
+/// of the least-squares factorisation overflow.
+pub const MAX_CALIBRATION_INPUT: f64 = 1e6;
+
+/// Elements (f64) of one output array: 2³⁰, 8 GiB.
+pub const MAX_OUTPUT_ELEMENTS: f64 = 1_073_741_824.0;
+
+/// `value` of `argument` is at most `max`.
+pub fn at_most(argument: &str, value: usize, max: usize, what: &str) -> Result<()> {
+    if value <= max {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("{value} is more than the limit of {max} {what}"),
+        ))
+    }
+}
+
+/// An output of `elements` f64 values (computed in floating point so that
+/// the product cannot overflow) fits [`MAX_OUTPUT_ELEMENTS`].
+pub fn output_size(argument: &str, elements: f64, what: &str) -> Result<()> {
+    if elements <= MAX_OUTPUT_ELEMENTS {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!(
+                "would need {what}: {elements:.3e} values ({:.3e} bytes), more than the limit \
+                 of {MAX_OUTPUT_ELEMENTS:.0} values",
+                elements * 8.0
+            ),
+        ))
+    }
+}
+
+/// Monte Carlo sizes: `threads` and the run counts of an experiment
+/// (`(argument, count)` pairs, whose product is the total).
+pub fn monte_carlo(threads: Option<usize>, counts: &[(&str, usize)]) -> Result<()> {
+    if let Some(t) = threads {
+        at_most("threads", t, MAX_THREADS, "threads")?;
+    }
+    let mut total = 1usize;
+    for &(argument, n) in counts {
+        at_most(argument, n, MAX_RUNS, "runs per set")?;
+        total = total.saturating_mul(n);
+    }
+    let names: Vec<&str> = counts.iter().map(|c| c.0).collect();
+    at_most(
+        &names.join(" × "),
+        total,
+        MAX_TOTAL_RUNS,
+        "Monte Carlo runs in one experiment",
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_name_the_argument_and_the_figure() {
+        let e = monte_carlo(Some(1 << 31), &[("runs", 1)]).unwrap_err();
+        assert!(e.to_string().contains("threads") && e.to_string().contains("1024"));
+        let e = monte_carlo(None, &[("parameter_sets", 1 << 31)]).unwrap_err();
+        assert!(e.to_string().contains("parameter_sets"));
+        let e = monte_carlo(None, &[("parameter_sets", 1000), ("runs", 100_000)]).unwrap_err();
+        assert!(e.to_string().contains("parameter_sets × runs"));
+        assert!(monte_carlo(Some(4), &[("parameter_sets", 50), ("runs", 20)]).is_ok());
+        let e = output_size("n_satellites", 1e12 * 8.0, "the pseudorange array").unwrap_err();
+        assert!(e.to_string().contains("8.000e12"));
+    }
+}

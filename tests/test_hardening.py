@@ -1,0 +1,220 @@
+"""Issue 15: inputs that once killed, hung or panicked the interpreter, or
+were accepted as silent garbage, now fail up front with an error naming the
+argument (docs/robustness.md lists the limits)."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+from memsnav import _memsnav
+
+
+def short_track():
+    t = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
+    return t.time, t.position_ecef, t.velocity_ecef
+
+
+# --- no panic reaches Python ---------------------------------------------------
+
+
+def test_a_rust_panic_is_a_memsnav_error_with_its_message():
+    # The hook panics inside a binding entry, as a memsnav bug would: the
+    # #[catch_panics] wrapper turns it into an Exception (pyo3's own
+    # PanicException is a BaseException that `except Exception` misses).
+    with pytest.raises(mn.MemsnavError, match=r"internal error.*boom at row 3"):
+        _memsnav._panic_for_test("boom at row 3")
+    assert issubclass(mn.MemsnavError, Exception)
+
+
+# --- sizes and hangs -------------------------------------------------------------
+
+
+def test_simulate_gnss_sizes_are_bounded_before_allocating():
+    time, position, velocity = short_track()
+    sky = mn.Constellation.walker()
+    with pytest.raises(
+        ValueError, match="n_satellites: 1099511627776 is more than the limit of 256"
+    ):
+        mn.simulate_gnss(time, position, velocity, sky, n_satellites=2**40)
+    # A 1e12 Hz rate on a 10 Hz track: one epoch per track sample at most.
+    m = mn.simulate_gnss(time, position, velocity, sky, rate=1e12)
+    assert m.pseudorange.shape[0] == len(time)
+
+
+@pytest.mark.parametrize("span_s", [1e12, 1e20])
+def test_simulate_gnss_over_a_huge_span_is_two_epochs(span_s):
+    # Issue 15: 1e12 s aborted on allocation, 1e20 s hung (one loop turn per
+    # empty 1 s target); the epochs are bounded by the track's samples.
+    sky = mn.Constellation.walker()
+    position = np.tile(mn.geodetic_to_ecef([0.5, 0.1, 0.0]), (2, 1))
+    m = mn.simulate_gnss([0.0, span_s], position, np.zeros((2, 3)), sky)
+    np.testing.assert_array_equal(m.time, [0.0, span_s])
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: mn.experiments.inversion(runs=2**31), "runs: 2147483648 is more than the limit"),
+        (lambda: mn.experiments.inversion(runs=2**63), "runs: 9223372036854775808 is more"),
+        (lambda: mn.experiments.navigation(runs=2**31), "runs: 2147483648 is more than"),
+        (
+            lambda: mn.experiments.calibration(parameter_sets=2**31),
+            "parameter_sets: 2147483648 is more than",
+        ),
+        (lambda: mn.experiments.calibration(runs=2**31), "runs: 2147483648 is more than"),
+        (
+            lambda: mn.experiments.calibration(parameter_sets=10**5, runs=1000),
+            r"parameter_sets × runs: 100000000 is more than the limit of 10000000",
+        ),
+        (
+            lambda: mn.experiments.calibration(parameter_sets=2, runs=2, threads=2**31),
+            "threads: 2147483648 is more than the limit of 1024",
+        ),
+        (lambda: mn.experiments.inversion(runs=2, threads=2**31), "threads: 2147483648"),
+    ],
+)
+def test_monte_carlo_sizes_are_refused_with_the_figure(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def reference_poses(scale: float) -> np.ndarray:
+    six = np.vstack([np.eye(3), -np.eye(3)]) * scale
+    return np.tile(six, (4, 1))
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e7])
+def test_calibration_with_huge_inputs_is_refused_not_hung(scale):
+    # 1e300 overflowed the least-squares factors and the SVD never ended.
+    f = reference_poses(9.8)
+    with pytest.raises(ValueError, match=r"measured: row 0 holds .*beyond the limit of ±1e6"):
+        mn.calibrate_accelerometer(f * scale, f)
+    with pytest.raises(ValueError, match="reference_specific_force: row 0"):
+        mn.calibrate_accelerometer(f, f * scale)
+    w = reference_poses(1.0)
+    with pytest.raises(ValueError, match="reference_angular_rate: row 0"):
+        mn.calibrate_gyroscope(w, w * scale, np.tile([0.0, 0.0, 9.8], (len(w), 1)))
+
+
+def test_calibration_experiment_reference_noise_is_bounded():
+    with pytest.raises(ValueError, match="reference_specific_force_std: 1e300 is beyond"):
+        mn.experiments.calibration(
+            parameter_sets=1, runs=1, duration=10.0, reference_specific_force_std=1e300
+        )
+
+
+# --- geodesy domain ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("function", "value", "message"),
+    [
+        (mn.ecef_to_geodetic, [0.0, 0.0, 0.0], "xyz: row 0: 0 m from the Earth's centre"),
+        (mn.ecef_to_geodetic, [1e-3, 0.0, 0.0], "xyz: row 0: 0.001 m from"),
+        (mn.gravity_ecef, [0.0, 0.0, 0.0], "position_ecef: row 0: 0 m from"),
+        (mn.geodetic_to_ecef, [np.radians(100.0), 0.0, 0.0], "lla: row 0: latitude 100"),
+        (mn.geodetic_to_ecef, [0.0, 0.0, -1e7], r"lla: row 0: height -10000000 m is outside"),
+        (mn.geodetic_to_ecef, [0.0, 0.0, 1e12], "lla: row 0: height 1000000000000 m"),
+    ],
+)
+def test_geodesy_outside_its_domain_names_the_argument(function, value, message):
+    with pytest.raises(ValueError, match=message):
+        function(value)
+
+
+def test_geodesy_domain_edges_are_accepted():
+    # The poles, 100 km down and 1e9 m up are inside; so is a GPS orbit.
+    lla = np.array([[np.pi / 2, 0.0, -1e5], [-np.pi / 2, 1.0, 1e9], [0.3, 2.0, 2.02e7]])
+    xyz = mn.geodetic_to_ecef(lla)
+    np.testing.assert_allclose(mn.ecef_to_geodetic(xyz)[:, 2], lla[:, 2], rtol=1e-9, atol=1e-6)
+
+
+def test_nan_is_reported_at_row_and_column():
+    xyz = np.tile([6.4e6, 0.0, 0.0], (200, 1))
+    xyz[100, 2] = np.nan
+    with pytest.raises(ValueError, match="xyz: row 100, column 2 is NaN"):
+        mn.ecef_to_geodetic(xyz)
+
+
+# --- scalar arguments ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        (
+            {"pseudorange_std": "x"},
+            TypeError,
+            r"pseudorange_std: must be a real number, got 'x' \(str\)",
+        ),
+        ({"seed": -1}, ValueError, r"seed: must be an integer in \[0, 2\*\*64\), got -1"),
+        ({"n_satellites": 2.5}, ValueError, r"n_satellites: must be an integer ≥ 0, got 2.5"),
+        ({"rate": [1.0]}, TypeError, r"rate: must be a real number, got \[1.0\] \(list\)"),
+    ],
+)
+def test_scalar_arguments_are_named(kwargs, error, message):
+    time, position, velocity = short_track()
+    with pytest.raises(error, match=message):
+        mn.simulate_gnss(time, position, velocity, mn.Constellation.walker(), **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"n_satellites": -3}, "n_satellites: must be an integer ≥ 0, got -3"),
+        ({"planes": "a"}, "planes: must be an integer ≥ 0, got 'a'"),
+        ({"inclination_deg": None}, "inclination_deg: must be a real number, got None"),
+    ],
+)
+def test_constructor_scalars_are_named(kwargs, message):
+    with pytest.raises((TypeError, ValueError), match=message):
+        mn.Constellation.walker(**kwargs)
+
+
+# --- IMU time gaps --------------------------------------------------------------------
+
+
+def test_strapdown_refuses_an_imu_gap_far_beyond_the_period():
+    t = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
+    time = t.time.copy()
+    time[50:] += 1e6  # issue 15: integrated through, the INS reached 1e17 m
+    with pytest.raises(ValueError, match=r"time: a gap of 1000000\.1 s between samples 49 and 50"):
+        mn.strapdown(
+            time,
+            t.specific_force,
+            t.angular_rate,
+            t.position_ecef[0],
+            t.velocity_ecef[0],
+            t.attitude[0],
+        )
+
+
+# --- the command line -------------------------------------------------------------------
+
+
+def run_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "memsnav", *args], capture_output=True, text=True, check=False
+    )
+
+
+def test_cli_errors_are_one_line_and_debug_shows_the_traceback(tmp_path):
+    config = tmp_path / "bad.toml"
+    config.write_bytes(b'name = "\xff\xfe"\n')
+    done = run_cli("navigate", "--config", str(config))
+    assert done.returncode == 1
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith(f"memsnav: error: {config}: not UTF-8 text")
+    debug = run_cli("--debug", "navigate", "--config", str(config))
+    assert debug.returncode == 1 and "Traceback" in debug.stderr
+
+
+@pytest.mark.parametrize("duration", ["nan", "-5", "0", "inf"])
+def test_cli_navigate_duration_must_be_positive_and_finite(tmp_path, duration):
+    done = run_cli("navigate", "--config", str(tmp_path / "x.toml"), "--duration", duration)
+    assert done.returncode == 2
+    assert "argument --duration: must be positive and finite" in done.stderr
+    assert "Traceback" not in done.stderr
