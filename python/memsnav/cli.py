@@ -118,8 +118,9 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     study.add_argument(
-        "--config", required=True, help="study configuration (TOML), e.g. "
-        "examples/study_land_vehicle.toml"
+        "--config",
+        required=True,
+        help="study configuration (TOML), e.g. examples/study_land_vehicle.toml",
     )
     study.add_argument(
         "--output", default=None, help="output folder (default: the configuration's 'output')"
@@ -283,8 +284,8 @@ def main(argv: list[str] | None = None) -> int:
                 f"m, vertical {stats['rms_vertical_m']:.2f} m, "
                 f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
             )
+    client = None
     try:
-        client = None
         if getattr(args, "scheduler", None) is not None:
             from memsnav._distributed import connect
 
@@ -299,8 +300,8 @@ def main(argv: list[str] | None = None) -> int:
                 progress=not args.quiet,
                 client=client,
             )
-            for kind, path in run.files.items():
-                print(f"{kind}: {path}")
+            for kind, written in run.files.items():
+                print(f"{kind}: {written}")
             return 130 if run.interrupted else 0
         if args.command == "reproduce":
             from memsnav.reproduce import reproduce
@@ -339,4 +340,7 @@ def main(argv: list[str] | None = None) -> int:
     except (OSError, ValueError, memsnav.MemsnavError) as e:
         print(f"memsnav: error: {e}", file=sys.stderr)
         return 1
+    finally:
+        if client is not None:
+            client.close()
     return 0

@@ -175,9 +175,7 @@ def run_study(
         "completed_runs": result.completed_runs,
         "interrupted": result.interrupted,
         "elapsed_s": elapsed,
-        "forward": {
-            n: result.summary(n) for n in result.visible_satellites
-        },
+        "forward": {n: result.summary(n) for n in result.visible_satellites},
         "requirement": requirement,
     }
     if result.config["smooth"]:

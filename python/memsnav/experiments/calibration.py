@@ -309,7 +309,7 @@ def calibration(
     """
     if method not in ("ls", "eiv"):
         raise ValueError(f"method: expected 'ls' or 'eiv', got {method!r}")
-    kwargs = {
+    kwargs: dict[str, Any] = {
         "parameter_sets": parameter_sets,
         "runs": runs,
         "duration": duration,

@@ -130,7 +130,7 @@ def inversion(
     cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
     the same numbers bit for bit; ``threads`` must then be None.
     """
-    kwargs = {
+    kwargs: dict[str, Any] = {
         "runs": runs,
         "duration": duration,
         "calibration_duration": calibration_duration,

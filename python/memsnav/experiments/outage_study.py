@@ -147,7 +147,9 @@ class OutageStudyResult:
             out[grade] = [
                 length
                 for length in self.outage_lengths
-                if float(np.percentile(self.per_run(grade, length, n, metric, smoothed), percentile))
+                if float(
+                    np.percentile(self.per_run(grade, length, n, metric, smoothed), percentile)
+                )
                 <= max_error_m
             ]
         return out
