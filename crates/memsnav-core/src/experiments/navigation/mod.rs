@@ -581,6 +581,42 @@ mod tests {
         );
     }
 
+    /// Chunks of runs computed apart (as Dask workers do) fold to the
+    /// local numbers bit for bit, smoothed curves included; the smoother,
+    /// which sees the GNSS after the outage, stays below the forward
+    /// filter inside it.
+    #[test]
+    fn chunks_fold_to_the_local_numbers_and_smoothing_helps_in_outages() {
+        let config = NavigationExperimentConfig {
+            outage: Some(Outage {
+                start_s: 20.0,
+                duration_s: 20.0,
+                n_satellites: 0,
+            }),
+            smooth: true,
+            ..small(3, paper_imus()[1..2].to_vec())
+        };
+        let local = navigation_experiment(&config, &threads(2)).unwrap();
+        let runs = NavigationRuns::new(&config).unwrap();
+        let chunk =
+            |r: std::ops::Range<usize>| montecarlo::run_chunk(&runs, r, &threads(1)).unwrap();
+        let (a, b) = (chunk(2..3), chunk(0..2));
+        let folded = montecarlo::fold_chunks(&runs, &[&a, &b]).unwrap();
+        assert_eq!(format!("{local:?}"), format!("{folded:?}"));
+        let forward = &local.imus[0];
+        let smoothed = forward.smoothed.as_ref().unwrap();
+        for (s, f) in smoothed
+            .run_max_in_outage
+            .iter()
+            .zip(&forward.run_max_in_outage)
+        {
+            assert!(s < f, "smoothed {s} vs forward {f}");
+        }
+        // The error at the outage end is the curve's last epoch inside it.
+        let curve = &forward.position_error_runs[0];
+        assert_eq!(forward.run_at_outage_end[0], curve[39]);
+    }
+
     /// Pseudoranges only: one scalar update per satellite and epoch instead
     /// of two, and the filter still converges to the GNSS level.
     #[test]
