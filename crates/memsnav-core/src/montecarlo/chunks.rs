@@ -58,9 +58,14 @@ pub fn execute<M: MonteCarlo>(experiment: &M, options: &RunOptions<'_>) -> Resul
 
 #[derive(Serialize, Deserialize)]
 struct Chunk<T> {
+    /// The memsnav version that computed the runs: the fold refuses another
+    /// (its runs may not mean the same).
+    version: String,
     start: usize,
     runs: Vec<T>,
 }
+
+const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// The runs `range` of the set (every one; a worker is not cancelled
 /// mid-chunk), encoded for [`fold_chunks`].
@@ -98,8 +103,12 @@ pub fn run_chunk<M: MonteCarlo>(
             Ok(())
         },
     )?;
-    postcard::to_stdvec(&Chunk { start, runs })
-        .map_err(|e| Error::invalid("run_range", format!("cannot encode the runs: {e}")))
+    postcard::to_stdvec(&Chunk {
+        version: VERSION.to_string(),
+        start,
+        runs,
+    })
+    .map_err(|e| Error::invalid("run_range", format!("cannot encode the runs: {e}")))
 }
 
 /// Folds chunks of [`run_chunk`] in run order (any order given; they must
@@ -119,6 +128,15 @@ pub fn fold_chunks<M: MonteCarlo>(experiment: &M, chunks: &[&[u8]]) -> Result<M:
             })
         })
         .collect::<Result<_>>()?;
+    if let Some(c) = decoded.iter().find(|c| c.version != VERSION) {
+        return Err(Error::invalid(
+            "chunks",
+            format!(
+                "runs computed by memsnav {} cannot be folded by memsnav {VERSION}: install the same version on the workers",
+                c.version
+            ),
+        ));
+    }
     decoded.sort_by_key(|c| c.start);
     let mut fold = experiment.start();
     let mut next = 0;
