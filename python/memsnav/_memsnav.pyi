@@ -574,10 +574,15 @@ def calibration_experiment(
     seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-) -> dict[str, Any]:
+    run_range: tuple[int, int] | None = None,
+    chunks: Sequence[bytes] | None = None,
+) -> Any:
     """Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI, and the
     ``config`` that ran. ``None``: the core's default (documented in
-    ``memsnav.experiments.calibration``)."""
+    ``memsnav.experiments.calibration``). ``run_range=(start, end)``:
+    compute only those runs and return them encoded (bytes, a Dask task);
+    ``chunks``: fold such encoded runs instead of running (the same numbers
+    bit for bit; ``memsnav._distributed``)."""
 
 def inversion_experiment(
     *,
@@ -593,10 +598,13 @@ def inversion_experiment(
     seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
-) -> dict[str, Any]:
+    run_range: tuple[int, int] | None = None,
+    chunks: Sequence[bytes] | None = None,
+) -> Any:
     """Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI, and
     the ``config`` that ran. ``None``: the core's default (documented in
-    ``memsnav.experiments.inversion``)."""
+    ``memsnav.experiments.inversion``). ``run_range`` / ``chunks`` as in
+    ``calibration_experiment``."""
 
 def partial_outage_experiment(
     imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
@@ -609,15 +617,19 @@ def partial_outage_experiment(
     satellites: Sequence[int] | None = None,
     loose: bool | None = None,
     calibration_duration: float | None = None,
+    smooth: bool | None = None,
     keep_runs: bool | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
-) -> dict[str, Any]:
+    run_range: tuple[int, int] | None = None,
+    chunks: Sequence[bytes] | None = None,
+) -> Any:
     """Partial-outage study (0-3 satellites through a window, tight against
     loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
     ``imus`` as in ``navigation_experiment``), ``completed_runs``,
     ``interrupted``, ``config``. ``None``: the core's default (documented in
-    ``memsnav.experiments.partial_outage``)."""
+    ``memsnav.experiments.partial_outage``). ``run_range`` / ``chunks`` as
+    in ``calibration_experiment``."""
 
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
@@ -1293,11 +1305,16 @@ def navigation_experiment(
     initial_attitude_std_deg: tuple[float, float, float] | None = None,
     scale_factor_states: bool = False,
     absorb_unmodelled: bool = True,
+    smooth: bool = False,
     keep_runs: bool = False,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
-) -> dict[str, Any]:
-    """Navigation Monte Carlo (paper §5.3) as a dict of arrays; use
+    run_range: tuple[int, int] | None = None,
+    chunks: Sequence[bytes] | None = None,
+) -> Any:
+    """Navigation Monte Carlo (paper §5.3) as a dict of arrays (bytes with
+    ``run_range``; ``run_range`` / ``chunks`` as in
+    ``calibration_experiment``); use
     ``memsnav.experiments.navigation``, which documents it. ``imus``: (name,
     source) with source a preset name, ``(preset name, spec overrides)``,
     ``"calibrated:<raw name>"`` or an ``ImuModel``. ``pseudorange_std`` m,

@@ -112,6 +112,30 @@ def build_parser() -> argparse.ArgumentParser:
         "--threads", type=_positive_int, metavar="T", help="worker threads (default: all cores)"
     )
     reproduce.add_argument("--quiet", action="store_true", help="no progress bars")
+    _scheduler_argument(reproduce)
+
+    study = commands.add_parser(
+        "study",
+        help="which IMU grade is good enough through which GNSS outages (Monte Carlo sweep)",
+        description=(
+            "Run the outage study of a TOML configuration (IMU grades x outage lengths x "
+            "satellites kept; see examples/study_land_vehicle.toml) and write report.html, "
+            "summary.json and the figures into the output folder."
+        ),
+    )
+    study.add_argument(
+        "--config",
+        required=True,
+        help="study configuration (TOML), e.g. examples/study_land_vehicle.toml",
+    )
+    study.add_argument(
+        "--output", default=None, help="output folder (default: the configuration's 'output')"
+    )
+    study.add_argument(
+        "--threads", type=_positive_int, metavar="T", help="worker threads (default: all cores)"
+    )
+    study.add_argument("--quiet", action="store_true", help="no progress bar")
+    _scheduler_argument(study)
 
     simulate = commands.add_parser(
         "simulate",
@@ -189,6 +213,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _scheduler_argument(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        default=None,
+        help="run the Monte Carlo runs on the Dask cluster of this scheduler "
+        "(e.g. tcp://10.0.0.5:8786; needs pip install 'memsnav[dask]'); the numbers "
+        "do not change (docs/distributed.md)",
+    )
+
+
 def _configured_run(command: argparse.ArgumentParser, config_help: str) -> None:
     """The arguments of a command driven by a TOML configuration."""
     command.add_argument("--config", required=True, help=config_help)
@@ -239,8 +274,13 @@ def main(argv: list[str] | None = None) -> int:
     format_warning = warnings.formatwarning
     if not args.debug:
         warnings.formatwarning = _one_line_warning
+    client = None
     try:
-        return _run(args)
+        if getattr(args, "scheduler", None) is not None:
+            from memsnav._distributed import connect
+
+            client = connect(args.scheduler)
+        return _run(args, client)
     except KeyboardInterrupt:
         print("memsnav: interrupted", file=sys.stderr)
         return 130
@@ -252,6 +292,8 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     finally:
         warnings.formatwarning = format_warning
+        if client is not None:
+            client.close()
 
 
 def _one_line_warning(
@@ -265,11 +307,24 @@ def _one_line_warning(
     return f"memsnav: warning: {message}\n"
 
 
-def _run(args: argparse.Namespace) -> int:
+def _run(args: argparse.Namespace, client: Any) -> int:
     if args.command == "calibrate":
         return _calibrate(args)
     if args.command == "navigate":
         return _navigate(args)
+    if args.command == "study":
+        from memsnav.study_command import run_study
+
+        run = run_study(
+            args.config,
+            output=args.output,
+            threads=args.threads,
+            progress=not args.quiet,
+            client=client,
+        )
+        for kind, written in run.files.items():
+            print(f"{kind}: {written}")
+        return 130 if run.interrupted else 0
     if args.command == "reproduce":
         from memsnav.reproduce import reproduce
 
@@ -280,6 +335,7 @@ def _run(args: argparse.Namespace) -> int:
             seed=args.seed,
             threads=args.threads,
             progress=not args.quiet,
+            client=client,
         )
         _print_study(study.summary)
         print(f"memsnav: report written to {study.report}", file=sys.stderr)

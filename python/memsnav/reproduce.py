@@ -126,6 +126,7 @@ def reproduce(
     seed: int = 0,
     threads: int | None = None,
     progress: bool | Callable[[str], Callable[[int, int], None]] = True,
+    client: Any = None,
 ) -> ReproduceResult:
     """Runs the calibration, inversion and navigation experiments (nominal,
     with the 30 s total outage, and the partial-outage study) and writes
@@ -138,12 +139,16 @@ def reproduce(
     the running experiment, keeps its completed runs, skips the rest and
     still writes the report of what ran: the summary then records each
     experiment's completed runs and state, and the claims that need an
-    incomplete experiment are ``not evaluated``.
+    incomplete experiment are ``not evaluated``. ``client``: a
+    ``dask.distributed.Client`` to run every experiment on its cluster
+    (``docs/distributed.md``; the same numbers, ``threads`` unused).
     """
     if runs is not None and runs <= 0:
         raise ValueError(f"runs: must be positive, got {runs}")
     if threads is not None and threads <= 0:
         raise ValueError(f"threads: must be positive, got {threads}")
+    if client is not None and threads is not None:
+        raise ValueError("threads: not used with a client (each worker uses its own threads)")
     directory = ensure_writable_directory(out)
     matplotlib.use("Agg")
     sizes = FULL if full else QUICK
@@ -164,9 +169,14 @@ def reproduce(
             seed=seed,
             threads=threads,
             progress=bar("calibration"),
+            client=client,
         ),
         "inversion": lambda: experiments.inversion(
-            runs=sizes.inversion_runs, seed=seed, threads=threads, progress=bar("inversion")
+            runs=sizes.inversion_runs,
+            seed=seed,
+            threads=threads,
+            progress=bar("inversion"),
+            client=client,
         ),
         "navigation_nominal": lambda: experiments.navigation(
             outage=None,
@@ -174,6 +184,7 @@ def reproduce(
             seed=seed,
             threads=threads,
             progress=bar("navigation, nominal"),
+            client=client,
         ),
         "navigation_outage": lambda: experiments.navigation(
             outage=OUTAGE,
@@ -181,12 +192,14 @@ def reproduce(
             seed=seed,
             threads=threads,
             progress=bar("navigation, outage"),
+            client=client,
         ),
         "partial_outage": lambda: experiments.partial_outage(
             runs=sizes.partial_outage_runs,
             seed=seed,
             threads=threads,
             progress=bar("partial outages"),
+            client=client,
         ),
     }
     interrupted = False

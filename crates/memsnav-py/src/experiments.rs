@@ -16,11 +16,11 @@ use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict, PyList};
 
 use crate::errors::IntoPyResult;
 use crate::navigation::{imu_list, imu_outcomes};
-use crate::progress::run_interruptible;
+use crate::progress::{run_monte_carlo, Ran};
 
 fn table<'py>(py: Python<'py>, values: &[f64], cols: usize) -> PyResult<Bound<'py, PyAny>> {
     Ok(PyArray1::from_slice(py, values)
@@ -68,7 +68,7 @@ fn method_name(method: Method) -> &'static str {
 /// (SI) and the `config` that ran.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (*, parameter_sets=None, runs=None, duration=None, preset=None, reference_specific_force_std=None, reference_angular_rate_std=None, motion=None, seed=None, threads=None, progress=None))]
+#[pyo3(signature = (*, parameter_sets=None, runs=None, duration=None, preset=None, reference_specific_force_std=None, reference_angular_rate_std=None, motion=None, seed=None, threads=None, progress=None, run_range=None, chunks=None))]
 fn calibration_experiment<'py>(
     py: Python<'py>,
     parameter_sets: Option<usize>,
@@ -81,7 +81,9 @@ fn calibration_experiment<'py>(
     seed: Option<u64>,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+    run_range: Option<(usize, usize)>,
+    chunks: Option<Vec<Bound<'py, PyBytes>>>,
+) -> PyResult<Bound<'py, PyAny>> {
     let kind = motion
         .map(MotionKind::from_name)
         .transpose()
@@ -99,12 +101,18 @@ fn calibration_experiment<'py>(
             .unwrap_or(d.reference_angular_rate_std),
         seed: seed.unwrap_or(d.seed),
     };
-    config.validate().py()?;
-    let total = config.parameter_sets * config.runs_per_set;
-    let (r, interrupted) = run_interruptible(py, progress.as_ref(), total, threads, |o| {
-        experiments::calibration_experiment(&config, kind.source(), o)
-    })?;
-    let r = r.py()?;
+    let experiment = experiments::CalibrationRuns::new(&config, kind.source()).py()?;
+    let (r, interrupted) = match run_monte_carlo(
+        py,
+        &experiment,
+        run_range,
+        chunks,
+        threads,
+        progress.as_ref(),
+    )? {
+        Ran::Chunk(bytes) => return Ok(bytes.into_any()),
+        Ran::Done(r, interrupted) => (r, interrupted),
+    };
     let d = PyDict::new(py);
     d.set_item(
         "accelerometer",
@@ -132,7 +140,7 @@ fn calibration_experiment<'py>(
     c.set_item("motion", kind.name())?;
     c.set_item("seed", config.seed)?;
     d.set_item("config", c)?;
-    Ok(d)
+    Ok(d.into_any())
 }
 
 /// Inversion Monte Carlo (paper §5.2, figs 11-12); keywords and defaults
@@ -140,7 +148,7 @@ fn calibration_experiment<'py>(
 /// the `config` that ran.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (*, runs=None, duration=None, calibration_duration=None, preset=None, method=None, reference_specific_force_std=None, reference_angular_rate_std=None, accel_process_std=None, gyro_process_std=None, seed=None, threads=None, progress=None))]
+#[pyo3(signature = (*, runs=None, duration=None, calibration_duration=None, preset=None, method=None, reference_specific_force_std=None, reference_angular_rate_std=None, accel_process_std=None, gyro_process_std=None, seed=None, threads=None, progress=None, run_range=None, chunks=None))]
 fn inversion_experiment<'py>(
     py: Python<'py>,
     runs: Option<usize>,
@@ -155,7 +163,9 @@ fn inversion_experiment<'py>(
     seed: Option<u64>,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+    run_range: Option<(usize, usize)>,
+    chunks: Option<Vec<Bound<'py, PyBytes>>>,
+) -> PyResult<Bound<'py, PyAny>> {
     let d = InversionExperimentConfig::default();
     let (dc, dp) = (d.calibration, d.process);
     let config = InversionExperimentConfig {
@@ -179,11 +189,19 @@ fn inversion_experiment<'py>(
         },
         seed: seed.unwrap_or(d.seed),
     };
-    config.validate().py()?;
-    let (r, interrupted) = run_interruptible(py, progress.as_ref(), config.runs, threads, |o| {
-        experiments::inversion_experiment(&config, &experiments::motion::land_vehicle, o)
-    })?;
-    let r = r.py()?;
+    let experiment =
+        experiments::InversionRuns::new(&config, &experiments::motion::land_vehicle).py()?;
+    let (r, interrupted) = match run_monte_carlo(
+        py,
+        &experiment,
+        run_range,
+        chunks,
+        threads,
+        progress.as_ref(),
+    )? {
+        Ran::Chunk(bytes) => return Ok(bytes.into_any()),
+        Ran::Done(r, interrupted) => (r, interrupted),
+    };
     let d = PyDict::new(py);
     d.set_item("accel_mse", rows3(py, &r.accel_mse)?)?;
     d.set_item("gyro_mse", rows3(py, &r.gyro_mse)?)?;
@@ -216,7 +234,7 @@ fn inversion_experiment<'py>(
     c.set_item("gyro_process_std", config.process.gyro_process_std)?;
     c.set_item("seed", config.seed)?;
     d.set_item("config", c)?;
-    Ok(d)
+    Ok(d.into_any())
 }
 
 /// Partial-outage study (0-3 satellites through one window, tight against
@@ -225,7 +243,7 @@ fn inversion_experiment<'py>(
 /// outcomes (the keys of the navigation experiment) and the `config`.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, keep_runs=None, threads=None, progress=None))]
+#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, smooth=None, keep_runs=None, threads=None, progress=None, run_range=None, chunks=None))]
 fn partial_outage_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
@@ -237,10 +255,13 @@ fn partial_outage_experiment<'py>(
     satellites: Option<Vec<usize>>,
     loose: Option<bool>,
     calibration_duration: Option<f64>,
+    smooth: Option<bool>,
     keep_runs: Option<bool>,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
+    run_range: Option<(usize, usize)>,
+    chunks: Option<Vec<Bound<'py, PyBytes>>>,
+) -> PyResult<Bound<'py, PyAny>> {
     let d = PartialOutageConfig::default();
     let n = &d.navigation;
     let config = PartialOutageConfig {
@@ -250,6 +271,7 @@ fn partial_outage_experiment<'py>(
             seed: seed.unwrap_or(n.seed),
             imus: imu_list(imus)?,
             calibration_duration_s: calibration_duration.unwrap_or(n.calibration_duration_s),
+            smooth: smooth.unwrap_or(n.smooth),
             keep_runs: keep_runs.unwrap_or(n.keep_runs),
             ..n.clone()
         },
@@ -258,15 +280,18 @@ fn partial_outage_experiment<'py>(
         satellites: satellites.unwrap_or(d.satellites.clone()),
         loose: loose.unwrap_or(d.loose),
     };
-    config.validate().py()?;
-    let (r, interrupted) = run_interruptible(
+    let experiment = experiments::PartialOutageRuns::new(&config).py()?;
+    let (r, interrupted) = match run_monte_carlo(
         py,
-        progress.as_ref(),
-        config.navigation.runs,
+        &experiment,
+        run_range,
+        chunks,
         threads,
-        |o| experiments::partial_outage_experiment(&config, o),
-    )?;
-    let r = r.py()?;
+        progress.as_ref(),
+    )? {
+        Ran::Chunk(bytes) => return Ok(bytes.into_any()),
+        Ran::Done(r, interrupted) => (r, interrupted),
+    };
     let out = PyDict::new(py);
     out.set_item("time", PyArray1::from_slice(py, &r.time_s))?;
     out.set_item("completed_runs", r.completed_runs)?;
@@ -302,8 +327,9 @@ fn partial_outage_experiment<'py>(
     c.set_item("pseudorange_rate_std", nav.gnss.pseudorange_rate_std_m_s)?;
     let deg: Vector3<f64> = nav.initial_attitude_std_rad.map(f64::to_degrees);
     c.set_item("initial_attitude_std_deg", (deg.x, deg.y, deg.z))?;
+    c.set_item("smooth", nav.smooth)?;
     out.set_item("config", c)?;
-    Ok(out)
+    Ok(out.into_any())
 }
 
 /// The body-frame land-vehicle motion of the calibration experiment

@@ -3,8 +3,7 @@
 //! the remaining runs and returns the completed ones.
 
 use memsnav_core::experiments::navigation::{
-    navigation_experiment as run_experiment, ImuOutcome, NavigationExperiment,
-    NavigationExperimentConfig, NavigationImu,
+    ImuOutcome, NavigationExperiment, NavigationExperimentConfig, NavigationImu, NavigationRuns,
 };
 use memsnav_core::gnss::{Outage, SimulationConfig};
 use memsnav_core::sensors::presets;
@@ -13,10 +12,10 @@ use nalgebra::Vector3;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBytes, PyDict, PyList};
 
 use crate::errors::IntoPyResult;
-use crate::progress::run_interruptible;
+use crate::progress::{run_monte_carlo, Ran};
 use crate::sensors::{update_spec, PyImuModel};
 
 /// `(name, source)` pairs: a preset name, `(preset name, spec overrides)`,
@@ -94,6 +93,19 @@ pub(crate) fn imu_outcomes<'py>(
 ) -> PyResult<Bound<'py, PyList>> {
     let imus = PyList::empty(py);
     for o in outcomes {
+        imus.append(imu_outcome(py, o, epochs)?)?;
+    }
+    Ok(imus)
+}
+
+/// One IMU outcome as a dict; `smoothed`: the same dict of the smoothed
+/// solution, or None.
+fn imu_outcome<'py>(
+    py: Python<'py>,
+    o: &ImuOutcome,
+    epochs: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    {
         let e = PyDict::new(py);
         e.set_item("name", &o.name)?;
         e.set_item(
@@ -136,6 +148,14 @@ pub(crate) fn imu_outcomes<'py>(
             PyArray1::from_slice(py, &o.run_max_vertical_in_outage),
         )?;
         e.set_item(
+            "run_at_outage_end",
+            PyArray1::from_slice(py, &o.run_at_outage_end),
+        )?;
+        e.set_item(
+            "run_horizontal_at_outage_end",
+            PyArray1::from_slice(py, &o.run_horizontal_at_outage_end),
+        )?;
+        e.set_item(
             "run_mean_nees_per_dof",
             PyArray1::from_slice(py, &o.run_mean_nees_per_dof),
         )?;
@@ -147,9 +167,12 @@ pub(crate) fn imu_outcomes<'py>(
             "run_accepted",
             PyArray1::from_iter(py, o.run_accepted.iter().map(|&n| n as i64)),
         )?;
-        imus.append(e)?;
+        match &o.smoothed {
+            Some(s) => e.set_item("smoothed", imu_outcome(py, s, epochs)?)?,
+            None => e.set_item("smoothed", py.None())?,
+        }
+        Ok(e)
     }
-    Ok(imus)
 }
 
 /// An outage `(start_s, length_s)` (total) or `(start_s, length_s, n_visible)`.
@@ -175,7 +198,7 @@ pub(crate) fn outage_window(values: &[f64]) -> PyResult<Outage> {
 /// `memsnav.experiments.navigation` for the documented interface.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, keep_runs=false, threads=None, progress=None))]
+#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, smooth=false, keep_runs=false, threads=None, progress=None, run_range=None, chunks=None))]
 fn navigation_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
@@ -192,15 +215,13 @@ fn navigation_experiment<'py>(
     initial_attitude_std_deg: Option<(f64, f64, f64)>,
     scale_factor_states: bool,
     absorb_unmodelled: bool,
+    smooth: bool,
     keep_runs: bool,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
-) -> PyResult<Bound<'py, PyDict>> {
-    if threads == Some(0) {
-        return Err(PyValueError::new_err(
-            "threads: must be at least 1 (or None)",
-        ));
-    }
+    run_range: Option<(usize, usize)>,
+    chunks: Option<Vec<Bound<'py, PyBytes>>>,
+) -> PyResult<Bound<'py, PyAny>> {
     // The GNSS simulator checks its own settings, but only once a run
     // starts: name the Python arguments here.
     for (name, v) in [
@@ -233,15 +254,22 @@ fn navigation_experiment<'py>(
             pseudorange_rate_std_m_s: pseudorange_rate_std,
             ..Default::default()
         },
+        smooth,
         keep_runs,
         ..Default::default()
     };
-    let (result, interrupted) =
-        run_interruptible(py, progress.as_ref(), runs, threads, |options| {
-            run_experiment(&config, options)
-        })?;
-    let result = result.py()?;
-    to_dict(py, &result, interrupted)
+    let experiment = NavigationRuns::new(&config).py()?;
+    match run_monte_carlo(
+        py,
+        &experiment,
+        run_range,
+        chunks,
+        threads,
+        progress.as_ref(),
+    )? {
+        Ran::Chunk(bytes) => Ok(bytes.into_any()),
+        Ran::Done(result, interrupted) => Ok(to_dict(py, &result, interrupted)?.into_any()),
+    }
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

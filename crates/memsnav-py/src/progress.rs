@@ -6,9 +6,12 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use memsnav_core::montecarlo::RunOptions;
-use pyo3::exceptions::PyKeyboardInterrupt;
+use memsnav_core::montecarlo::{self, MonteCarlo, RunOptions};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+use crate::errors::IntoPyResult;
 
 /// How often the main thread wakes to report progress and check signals.
 const POLL: Duration = Duration::from_millis(100);
@@ -78,5 +81,64 @@ where
     match callback_error {
         Some(e) => Err(e),
         None => Ok((output, interrupted)),
+    }
+}
+
+/// How a Monte Carlo binding was asked to run: the whole set here, one
+/// chunk of runs (a Dask task), or a fold of chunks computed elsewhere.
+pub enum Ran<'py, T> {
+    /// The runs `run_range` encoded for a later fold.
+    Chunk(Bound<'py, PyBytes>),
+    /// The result and whether Ctrl-C interrupted it.
+    Done(T, bool),
+}
+
+/// Runs `experiment` as its binding's keywords ask: `run_range=(start,
+/// end)` computes those runs (every one, GIL released) and returns them
+/// encoded; `chunks=[...]` folds such encoded runs in run order; neither
+/// runs the whole set through [`run_interruptible`]. The numbers are the
+/// same bit for bit whichever way (`memsnav_core::montecarlo::fold_chunks`).
+pub fn run_monte_carlo<'py, M: MonteCarlo>(
+    py: Python<'py>,
+    experiment: &M,
+    run_range: Option<(usize, usize)>,
+    chunks: Option<Vec<Bound<'py, PyBytes>>>,
+    threads: Option<usize>,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Ran<'py, M::Output>>
+where
+    M::Output: Send,
+{
+    if threads == Some(0) {
+        return Err(PyValueError::new_err(
+            "threads: must be at least 1 (or None)",
+        ));
+    }
+    match (run_range, chunks) {
+        (Some(_), Some(_)) => Err(PyValueError::new_err(
+            "run_range, chunks: give one or the other",
+        )),
+        (Some((start, end)), None) => {
+            let options = RunOptions {
+                threads,
+                ..Default::default()
+            };
+            let bytes = py
+                .detach(|| montecarlo::run_chunk(experiment, start..end, &options))
+                .py()?;
+            Ok(Ran::Chunk(PyBytes::new(py, &bytes)))
+        }
+        (None, Some(chunks)) => {
+            let slices: Vec<&[u8]> = chunks.iter().map(|c| c.as_bytes()).collect();
+            let out = montecarlo::fold_chunks(experiment, &slices).py()?;
+            Ok(Ran::Done(out, false))
+        }
+        (None, None) => {
+            let (out, interrupted) =
+                run_interruptible(py, progress, experiment.runs(), threads, |o| {
+                    montecarlo::execute(experiment, o)
+                })?;
+            Ok(Ran::Done(out.py()?, interrupted))
+        }
     }
 }

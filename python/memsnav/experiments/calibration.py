@@ -26,6 +26,7 @@ import numpy as np
 import numpy.typing as npt
 
 from memsnav import _memsnav
+from memsnav._distributed import run_set
 from memsnav.experiments._plotting import legend_below
 
 ACCELEROMETER_GROUPS = {
@@ -282,6 +283,8 @@ def calibration(
     seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    client: Any = None,
+    chunk_runs: int | None = None,
 ) -> CalibrationResult:
     """Runs the calibration Monte Carlo (paper: 50 sets x 1000 runs).
 
@@ -300,20 +303,35 @@ def calibration(
     is called with the number of completed runs. Ctrl-C stops the set: the
     result then covers the completed runs and has ``interrupted = True``.
     Same ``seed`` -> same numbers, whatever ``threads``.
+    ``client``: a ``dask.distributed.Client`` to run the set on its
+    cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
+    the same numbers bit for bit; ``threads`` must then be None.
     """
     if method not in ("ls", "eiv"):
         raise ValueError(f"method: expected 'ls' or 'eiv', got {method!r}")
-    raw = _memsnav.calibration_experiment(
-        parameter_sets=parameter_sets,
-        runs=runs,
-        duration=duration,
-        preset=preset,
-        reference_specific_force_std=reference_specific_force_std,
-        reference_angular_rate_std=reference_angular_rate_std,
-        motion=motion,
-        seed=seed,
+    kwargs: dict[str, Any] = {
+        "parameter_sets": parameter_sets,
+        "runs": runs,
+        "duration": duration,
+        "preset": preset,
+        "reference_specific_force_std": reference_specific_force_std,
+        "reference_angular_rate_std": reference_angular_rate_std,
+        "motion": motion,
+        "seed": seed,
+    }
+    # The set's size, defaults filled in by the core (a fold of no chunk).
+    total = 0
+    if client is not None:
+        config = _memsnav.calibration_experiment(**kwargs, chunks=[])["config"]
+        total = int(config["parameter_sets"]) * int(config["runs"])
+    raw = run_set(
+        "calibration_experiment",
+        kwargs,
+        total,
+        client=client,
         threads=threads,
         progress=progress,
+        chunk_runs=chunk_runs,
     )
     return CalibrationResult(
         accelerometer=_stats(raw["accelerometer"]),

@@ -17,6 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from memsnav import _memsnav
+from memsnav._distributed import run_set
 from memsnav.experiments._plotting import G0, legend_below, new_figure
 
 DEG = math.pi / 180.0
@@ -109,6 +110,8 @@ def inversion(
     seed: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], None] | None = None,
+    client: Any = None,
+    chunk_runs: int | None = None,
 ) -> InversionResult:
     """Runs the inversion Monte Carlo (paper: 300 runs x 120 s).
 
@@ -123,20 +126,34 @@ def inversion(
     ``seed`` 0. Same ``seed`` -> same numbers, whatever ``threads``.
     ``progress(done, total)`` is called as runs complete; Ctrl-C stops the
     set and the result covers the completed runs (``interrupted = True``).
+    ``client``: a ``dask.distributed.Client`` to run the set on its
+    cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
+    the same numbers bit for bit; ``threads`` must then be None.
     """
-    raw = _memsnav.inversion_experiment(
-        runs=runs,
-        duration=duration,
-        calibration_duration=calibration_duration,
-        preset=preset,
-        method=method,
-        reference_specific_force_std=reference_specific_force_std,
-        reference_angular_rate_std=reference_angular_rate_std,
-        accel_process_std=accel_process_std,
-        gyro_process_std=gyro_process_std,
-        seed=seed,
+    kwargs: dict[str, Any] = {
+        "runs": runs,
+        "duration": duration,
+        "calibration_duration": calibration_duration,
+        "preset": preset,
+        "method": method,
+        "reference_specific_force_std": reference_specific_force_std,
+        "reference_angular_rate_std": reference_angular_rate_std,
+        "accel_process_std": accel_process_std,
+        "gyro_process_std": gyro_process_std,
+        "seed": seed,
+    }
+    total = 0
+    if client is not None:
+        # The set's size, defaults filled in by the core (a fold of no chunk).
+        total = int(_memsnav.inversion_experiment(**kwargs, chunks=[])["config"]["runs"])
+    raw = run_set(
+        "inversion_experiment",
+        kwargs,
+        total,
+        client=client,
         threads=threads,
         progress=progress,
+        chunk_runs=chunk_runs,
     )
     return InversionResult(
         accel_mse=raw["accel_mse"],

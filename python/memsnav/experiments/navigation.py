@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from memsnav import _memsnav
+from memsnav._distributed import run_set
 from memsnav.experiments._plotting import legend_below
 
 _STYLES: list[dict[str, Any]] = [
@@ -112,8 +112,15 @@ class NavigationResult:
       (m, t ≤ ``early_window`` s), ``rms_late`` (m, after it), ``final``
       (m), ``max_in_outage``, ``max_horizontal_in_outage`` and
       ``max_vertical_in_outage`` (m, the error norm and its NED parts,
-      NaN without outage), ``mean_nees_per_dof``, ``rejected`` (count),
-      ``accepted`` (count of scalar measurements applied).
+      NaN without outage), ``at_outage_end`` and
+      ``horizontal_at_outage_end`` (m, the error norm and its horizontal
+      part at the last epoch of the outage, NaN without outage),
+      ``mean_nees_per_dof``, ``rejected`` (count), ``accepted`` (count of
+      scalar measurements applied).
+    - ``smoothed``: with ``smooth=True``, the same result for the
+      fixed-interval smoothed solution of every filter (its NEES is NaN:
+      the smoother keeps the diagonal blocks of the covariance only);
+      otherwise ``None``.
     - ``completed_runs``; ``interrupted``: True when Ctrl-C (or a failing
       progress callback) stopped the set early — the statistics then cover
       the completed runs only.
@@ -130,6 +137,7 @@ class NavigationResult:
     completed_runs: int
     interrupted: bool
     config: dict[str, Any] = field(default_factory=dict)
+    smoothed: NavigationResult | None = None
 
     @property
     def imus(self) -> list[str]:
@@ -335,6 +343,9 @@ def navigation(
     initial_attitude_std_deg: tuple[float, float, float] = (1.0, 1.0, 5.0),
     scale_factor_states: bool = False,
     absorb_unmodelled: bool = True,
+    smooth: bool = False,
+    client: Any = None,
+    chunk_runs: int | None = None,
 ) -> NavigationResult:
     """Runs the navigation Monte Carlo (paper §5.3) in Rust, GIL released.
 
@@ -373,7 +384,16 @@ def navigation(
     filter's tuning covers the deterministic errors its state lacks
     (scale factor, misalignment, nonlinearity, g-sensitivity) by inflated
     initial bias uncertainty and white noise (True), or ignores them (False:
-    tuned from the spec's biases and noise only).
+    tuned from the spec's biases and noise only). ``smooth``: also run the
+    fixed-interval (RTS) smoother after every filter and report its error
+    in ``result.smoothed`` (``docs/smoothing.md``; about twice the time and
+    the memory of a forward solution per run in flight).
+
+    ``client``: a ``dask.distributed.Client``: the runs go to its cluster
+    in chunks of ``chunk_runs`` (default: about 4 chunks per worker
+    thread), folded here in run order, so the numbers are bit for bit
+    those of local threads (``docs/distributed.md``); ``threads`` must
+    then be None.
 
     Raises ValueError naming the argument for bad input.
     """
@@ -401,24 +421,31 @@ def navigation(
             f"heading), got {initial_attitude_std_deg!r}"
         )
     keep = bool(keep_runs) or runs <= KEEP_RUNS_UP_TO
-    raw = _memsnav.navigation_experiment(
-        _imu_sources(imus),
-        runs=runs,
-        duration=float(duration),
-        seed=seed,
-        n_satellites=n_satellites,
-        outage=window,
-        calibration_duration=float(calibration_duration),
-        early_window=float(early_window),
-        pseudorange_rate=bool(pseudorange_rate),
-        pseudorange_std=float(pseudorange_std),
-        pseudorange_rate_std=float(pseudorange_rate_std),
-        initial_attitude_std_deg=attitude_std,
-        scale_factor_states=bool(scale_factor_states),
-        absorb_unmodelled=bool(absorb_unmodelled),
-        keep_runs=keep,
+    raw = run_set(
+        "navigation_experiment",
+        dict(
+            imus=_imu_sources(imus),
+            runs=runs,
+            duration=float(duration),
+            seed=seed,
+            n_satellites=n_satellites,
+            outage=window,
+            calibration_duration=float(calibration_duration),
+            early_window=float(early_window),
+            pseudorange_rate=bool(pseudorange_rate),
+            pseudorange_std=float(pseudorange_std),
+            pseudorange_rate_std=float(pseudorange_rate_std),
+            initial_attitude_std_deg=attitude_std,
+            scale_factor_states=bool(scale_factor_states),
+            absorb_unmodelled=bool(absorb_unmodelled),
+            smooth=bool(smooth),
+            keep_runs=keep,
+        ),
+        runs,
+        client=client,
         threads=threads,
         progress=progress,
+        chunk_runs=chunk_runs,
     )
     return result_from_raw(
         raw,
@@ -437,6 +464,7 @@ def navigation(
             "initial_attitude_std_deg": attitude_std,
             "scale_factor_states": bool(scale_factor_states),
             "absorb_unmodelled": bool(absorb_unmodelled),
+            "smooth": bool(smooth),
         },
     )
 
@@ -447,6 +475,11 @@ def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> Navigatio
     entries = raw["imus"]
     names = [e["name"] for e in entries]
     kept = entries[0]["position_error_runs"] is not None
+    smoothed = None
+    if entries[0].get("smoothed") is not None:
+        smoothed = result_from_raw(
+            {**raw, "imus": [e["smoothed"] for e in entries]}, {**config, "smoothed": True}
+        )
     return NavigationResult(
         time=raw["time"],
         mean={n: e["position_error_mean"] for n, e in zip(names, entries, strict=True)},
@@ -470,6 +503,8 @@ def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> Navigatio
                 "max_in_outage": e["run_max_in_outage"],
                 "max_horizontal_in_outage": e["run_max_horizontal_in_outage"],
                 "max_vertical_in_outage": e["run_max_vertical_in_outage"],
+                "at_outage_end": e["run_at_outage_end"],
+                "horizontal_at_outage_end": e["run_horizontal_at_outage_end"],
                 "mean_nees_per_dof": e["run_mean_nees_per_dof"],
                 "rejected": e["run_rejected"],
                 "accepted": e["run_accepted"],
@@ -479,4 +514,5 @@ def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> Navigatio
         completed_runs=int(raw["completed_runs"]),
         interrupted=bool(raw["interrupted"]),
         config=config,
+        smoothed=smoothed,
     )

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from memsnav import _memsnav
+from memsnav._distributed import run_set
 from memsnav.experiments.navigation import (
     PAPER_IMUS,
     NavigationResult,
@@ -141,6 +142,32 @@ class PartialOutageResult:
         return fig
 
 
+def run_partial_outage(
+    kwargs: dict[str, Any],
+    *,
+    client: Any = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+    chunk_runs: int | None = None,
+) -> Any:
+    """The binding's raw dict for the study ``kwargs`` describe (the
+    keywords of ``_memsnav.partial_outage_experiment``), here or on
+    ``client``'s cluster."""
+    total = 0
+    if client is not None:
+        # The set's size, defaults filled in by the core (a fold of no chunk).
+        total = int(_memsnav.partial_outage_experiment(**kwargs, chunks=[])["config"]["runs"])
+    return run_set(
+        "partial_outage_experiment",
+        kwargs,
+        total,
+        client=client,
+        threads=threads,
+        progress=progress,
+        chunk_runs=chunk_runs,
+    )
+
+
 def partial_outage(
     *,
     imus: Sequence[str] | Mapping[str, Any] = PAPER_IMUS,
@@ -152,9 +179,12 @@ def partial_outage(
     satellites: Sequence[int] | None = None,
     loose: bool | None = None,
     calibration_duration: float | None = None,
+    smooth: bool | None = None,
     keep_runs: bool | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
+    client: Any = None,
+    chunk_runs: int | None = None,
 ) -> PartialOutageResult:
     """Runs the partial-outage study (module docs) in Rust, GIL released.
 
@@ -167,21 +197,31 @@ def partial_outage(
     experiment's default (6 satellites, 3 m and 0.1 m/s, 1°/1°/5° initial
     attitude error). ``imus`` as in :func:`~memsnav.experiments.navigation`.
     Ctrl-C stops the set and returns the completed runs
-    (``interrupted=True``). Raises ValueError naming the argument.
+    (``interrupted=True``). ``smooth``: also score every filter's
+    fixed-interval smoothed solution (each scenario's ``.smoothed``).
+    Raises ValueError naming the argument.
+    ``client``: a ``dask.distributed.Client`` to run the set on its
+    cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
+    the same numbers bit for bit; ``threads`` must then be None.
     """
-    raw = _memsnav.partial_outage_experiment(
-        _imu_sources(imus),
-        runs=runs,
-        duration=duration,
-        seed=seed,
-        outage_start=outage_start,
-        outage_length=outage_length,
-        satellites=None if satellites is None else [int(n) for n in satellites],
-        loose=loose,
-        calibration_duration=calibration_duration,
-        keep_runs=keep_runs,
+    raw = run_partial_outage(
+        {
+            "imus": _imu_sources(imus),
+            "runs": runs,
+            "duration": duration,
+            "seed": seed,
+            "outage_start": outage_start,
+            "outage_length": outage_length,
+            "satellites": None if satellites is None else [int(n) for n in satellites],
+            "loose": loose,
+            "calibration_duration": calibration_duration,
+            "smooth": smooth,
+            "keep_runs": keep_runs,
+        },
+        client=client,
         threads=threads,
         progress=progress,
+        chunk_runs=chunk_runs,
     )
     config = dict(raw["config"])
     results: dict[str, NavigationResult] = {}

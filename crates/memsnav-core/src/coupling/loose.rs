@@ -223,6 +223,23 @@ pub fn loosely_coupled_smoothed<const N: usize>(
     Ok((forward, smoothed.expect("asked for")))
 }
 
+/// [`run_loosely_coupled`] and the smoothed solution: `observe(k, state)`
+/// sees the forward filter after each IMU sample k; returns the forward
+/// measurement records and the fixed-interval smoothed solution.
+pub fn run_loosely_coupled_smoothed<const N: usize, O>(
+    imu: &ImuData,
+    fixes: &[PositionFix],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    observe: O,
+) -> Result<(Vec<super::MeasurementRecord>, Solution)>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    let (forward, smoothed) = solve_observed(imu, fixes, initial, tuning, true, observe)?;
+    Ok((forward.measurements, smoothed.expect("asked for")))
+}
+
 fn solve<const N: usize>(
     imu: &ImuData,
     fixes: &[PositionFix],
@@ -230,6 +247,28 @@ fn solve<const N: usize>(
     tuning: &FilterTuning,
     smooth: bool,
 ) -> Result<(Solution, Option<Solution>)> {
+    solve_observed(
+        imu,
+        fixes,
+        initial,
+        tuning,
+        smooth,
+        |_, _: &FilterState<N>| {},
+    )
+}
+
+/// [`solve`], with `observe(k, state)` called after each IMU sample k.
+fn solve_observed<const N: usize, O>(
+    imu: &ImuData,
+    fixes: &[PositionFix],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+    mut observe: O,
+) -> Result<(Solution, Option<Solution>)>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
     let mut sol = Solution::with_capacity(imu.time_s.len(), N);
     let mut state = run_with_hook::<N, _>(
         imu,
@@ -237,7 +276,10 @@ fn solve<const N: usize>(
         initial,
         tuning,
         smooth,
-        &mut Observe(|k, s: &FilterState<N>| sol.push(imu.time_s[k], s)),
+        &mut Observe(|k, s: &FilterState<N>| {
+            observe(k, s);
+            sol.push(imu.time_s[k], s)
+        }),
     )?;
     sol.take_records(&mut state);
     let smoothed = state

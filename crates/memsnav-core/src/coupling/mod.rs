@@ -65,13 +65,18 @@ pub(crate) use engine::SampleHook;
 pub use engine::{AidingEpoch, FilterState, ImuData, InitialState, Solution};
 pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix, level};
 pub(crate) use loose::run_with_hook as run_loose_with_hook;
-pub use loose::{loosely_coupled, loosely_coupled_smoothed, run_loosely_coupled, PositionFix};
+pub use loose::{
+    loosely_coupled, loosely_coupled_smoothed, run_loosely_coupled, run_loosely_coupled_smoothed,
+    PositionFix,
+};
 pub use ned::covariance_ned;
 pub use records::{
     BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
 };
 pub(crate) use tight::run_with_hook as run_tight_with_hook;
-pub use tight::{run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed};
+pub use tight::{
+    run_tightly_coupled, run_tightly_coupled_smoothed, tightly_coupled, tightly_coupled_smoothed,
+};
 pub use tuning::{
     BiasProcess, Dynamics, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel,
     Recovery, UnmodelledErrors,

@@ -8,7 +8,9 @@ use crate::calibration::{
     accelerometer_crb, accelerometer_parameters, gyroscope_crb, gyroscope_parameters,
     CalibrationOptions, FactoredAccelerometer, FactoredGyroscope, Method, ReferenceNoise,
 };
-use crate::montecarlo::{self, RunOptions};
+use serde::{Deserialize, Serialize};
+
+use crate::montecarlo::{self, FoldSummary, MonteCarlo, RunOptions};
 use crate::random::{self, Rng};
 use crate::sensors::ImuModel;
 use crate::{validate, Error, Result};
@@ -159,7 +161,9 @@ pub struct CalibrationExperiment {
     pub cancelled: bool,
 }
 
-struct RunStatistics {
+/// One run's errors, reported variances and bound for one sensor.
+#[derive(Serialize, Deserialize)]
+pub struct RunStatistics {
     error_ls: Vec<f64>,
     error_eiv: Vec<f64>,
     variance_ls: Vec<f64>,
@@ -171,35 +175,75 @@ fn diag(m: &nalgebra::DMatrix<f64>) -> Vec<f64> {
     m.diagonal().iter().copied().collect()
 }
 
-/// Runs the calibration Monte Carlo: `parameter_sets × runs_per_set` runs;
-/// run i uses set i / runs_per_set, fresh motion of `duration_s` from
-/// `motion`, fresh sensor noise and fresh reference noise.
-pub fn calibration_experiment(
-    config: &CalibrationExperimentConfig,
-    motion: &MotionSource<'_>,
-    options: &RunOptions<'_>,
-) -> Result<CalibrationExperiment> {
-    config.validate()?;
-    let imus: Vec<ImuModel> = (0..config.parameter_sets)
-        .map(|s| {
-            ImuModel::preset(
-                &config.preset,
-                &mut random::stream(config.seed, random::parameter_set_stream(s)),
-            )
+/// The calibration Monte Carlo as runs and a fold ([`MonteCarlo`]).
+pub struct CalibrationRuns<'a> {
+    config: &'a CalibrationExperimentConfig,
+    motion: &'a MotionSource<'a>,
+    /// The parameter sets, drawn from their own streams.
+    imus: Vec<ImuModel>,
+}
+
+impl<'a> CalibrationRuns<'a> {
+    /// Checks the configuration and draws the parameter sets.
+    pub fn new(
+        config: &'a CalibrationExperimentConfig,
+        motion: &'a MotionSource<'a>,
+    ) -> Result<Self> {
+        config.validate()?;
+        let imus = (0..config.parameter_sets)
+            .map(|s| {
+                ImuModel::preset(
+                    &config.preset,
+                    &mut random::stream(config.seed, random::parameter_set_stream(s)),
+                )
+            })
+            .collect::<Result<_>>()?;
+        Ok(Self {
+            config,
+            motion,
+            imus,
         })
-        .collect::<Result<_>>()?;
-    let (sf, sw) = (
-        config.reference_specific_force_std,
-        config.reference_angular_rate_std,
-    );
-    let reference = ReferenceNoise {
-        specific_force_std: sf,
-        angular_rate_std: sw,
-    };
-    let run = |i: usize, rng: &mut Rng| -> Result<(RunStatistics, RunStatistics)> {
-        let imu = &imus[i / config.runs_per_set];
+    }
+}
+
+/// The running sums of [`CalibrationRuns`]: per sensor, and the completed
+/// runs per set.
+pub struct CalibrationFold {
+    accelerometer: SensorStatistics,
+    gyroscope: SensorStatistics,
+    counts: Vec<usize>,
+}
+
+impl MonteCarlo for CalibrationRuns<'_> {
+    /// Accelerometer, gyroscope.
+    type Run = (RunStatistics, RunStatistics);
+    type Fold = CalibrationFold;
+    type Output = CalibrationExperiment;
+
+    fn seed(&self) -> u64 {
+        self.config.seed
+    }
+    fn runs(&self) -> usize {
+        self.config.parameter_sets * self.config.runs_per_set
+    }
+    fn batch(&self) -> usize {
+        64
+    }
+    /// Run i uses set i / runs_per_set, fresh motion of `duration_s`,
+    /// fresh sensor noise and fresh reference noise.
+    fn run(&self, i: usize, rng: &mut Rng) -> Result<Self::Run> {
+        let config = self.config;
+        let (sf, sw) = (
+            config.reference_specific_force_std,
+            config.reference_angular_rate_std,
+        );
+        let reference = ReferenceNoise {
+            specific_force_std: sf,
+            angular_rate_std: sw,
+        };
+        let imu = &self.imus[i / config.runs_per_set];
         let rate = imu.sample_rate_hz;
-        let m = motion(config.duration_s, rate, rng)?;
+        let m = (self.motion)(config.duration_s, rate, rng)?;
         let readings = imu.measure(&m.specific_force_b, &m.angular_rate_b, rng)?;
         let f_ref = with_white_noise(&m.specific_force_b, sf, rng);
         let w_ref = with_white_noise(&m.angular_rate_b, sw, rng);
@@ -262,34 +306,55 @@ pub fn calibration_experiment(
             )?),
         };
         Ok((acc, gyr))
-    };
-    let sets = config.parameter_sets;
-    let mut accelerometer = SensorStatistics::new(sets, 15);
-    let mut gyroscope = SensorStatistics::new(sets, 21);
-    for (s, imu) in imus.iter().enumerate() {
-        accelerometer.truth[s * 15..(s + 1) * 15]
-            .copy_from_slice(accelerometer_parameters(&imu.accelerometer).as_slice());
-        gyroscope.truth[s * 21..(s + 1) * 21]
-            .copy_from_slice(gyroscope_parameters(&imu.gyroscope).as_slice());
     }
-    let total = sets * config.runs_per_set;
-    let mut counts = vec![0usize; sets];
-    let summary = montecarlo::fold(config.seed, total, 64, options, run, |i, (a, g)| {
-        let set = i / config.runs_per_set;
-        counts[set] += 1;
-        accelerometer.accumulate(set, &a, 1.0);
-        gyroscope.accumulate(set, &g, 1.0);
+    fn start(&self) -> CalibrationFold {
+        let sets = self.config.parameter_sets;
+        let mut accelerometer = SensorStatistics::new(sets, 15);
+        let mut gyroscope = SensorStatistics::new(sets, 21);
+        for (s, imu) in self.imus.iter().enumerate() {
+            accelerometer.truth[s * 15..(s + 1) * 15]
+                .copy_from_slice(accelerometer_parameters(&imu.accelerometer).as_slice());
+            gyroscope.truth[s * 21..(s + 1) * 21]
+                .copy_from_slice(gyroscope_parameters(&imu.gyroscope).as_slice());
+        }
+        CalibrationFold {
+            accelerometer,
+            gyroscope,
+            counts: vec![0; sets],
+        }
+    }
+    fn push(&self, fold: &mut CalibrationFold, i: usize, (a, g): Self::Run) -> Result<()> {
+        let set = i / self.config.runs_per_set;
+        fold.counts[set] += 1;
+        fold.accelerometer.accumulate(set, &a, 1.0);
+        fold.gyroscope.accumulate(set, &g, 1.0);
         Ok(())
-    })?;
-    accelerometer.normalize(&counts);
-    gyroscope.normalize(&counts);
-    Ok(CalibrationExperiment {
-        config: config.clone(),
-        accelerometer,
-        gyroscope,
-        completed_runs: summary.completed,
-        cancelled: summary.cancelled,
-    })
+    }
+    fn finish(
+        &self,
+        mut fold: CalibrationFold,
+        summary: FoldSummary,
+    ) -> Result<CalibrationExperiment> {
+        fold.accelerometer.normalize(&fold.counts);
+        fold.gyroscope.normalize(&fold.counts);
+        Ok(CalibrationExperiment {
+            config: self.config.clone(),
+            accelerometer: fold.accelerometer,
+            gyroscope: fold.gyroscope,
+            completed_runs: summary.completed,
+            cancelled: summary.cancelled,
+        })
+    }
+}
+
+/// Runs the calibration Monte Carlo: `parameter_sets × runs_per_set` runs
+/// ([`CalibrationRuns`]) over a rayon pool.
+pub fn calibration_experiment(
+    config: &CalibrationExperimentConfig,
+    motion: &MotionSource<'_>,
+    options: &RunOptions<'_>,
+) -> Result<CalibrationExperiment> {
+    montecarlo::execute(&CalibrationRuns::new(config, motion)?, options)
 }
 
 #[cfg(test)]

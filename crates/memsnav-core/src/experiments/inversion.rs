@@ -5,7 +5,9 @@
 
 use nalgebra::Vector3;
 
-use crate::montecarlo::{self, RunOptions};
+use serde::{Deserialize, Serialize};
+
+use crate::montecarlo::{self, FoldSummary, MonteCarlo, RunOptions};
 use crate::random::Rng;
 use crate::sensors::ImuModel;
 use crate::{validate, Error, Result};
@@ -76,7 +78,9 @@ pub struct InversionExperiment {
     pub cancelled: bool,
 }
 
-struct RunResult {
+/// One run's inversion errors per sample and raw MSE.
+#[derive(Serialize, Deserialize)]
+pub struct RunResult {
     accel: Vec<Vector3<f64>>,
     gyro: Vec<Vector3<f64>>,
     raw_accel: [f64; 3],
@@ -93,16 +97,42 @@ fn errors(est: &[Vector3<f64>], truth: &[Vector3<f64>]) -> Vec<Vector3<f64>> {
     est.iter().zip(truth).map(|(a, b)| a - b).collect()
 }
 
-/// Runs the inversion Monte Carlo. Run i draws, from its stream: the IMU,
-/// its calibration (segment, outputs, references), the inverted motion and
-/// the outputs along it.
-pub fn inversion_experiment(
-    config: &InversionExperimentConfig,
-    motion: &MotionSource<'_>,
-    options: &RunOptions<'_>,
-) -> Result<InversionExperiment> {
-    config.validate()?;
-    let run = |_: usize, rng: &mut Rng| -> Result<RunResult> {
+/// The inversion Monte Carlo as runs and a fold ([`MonteCarlo`]).
+pub struct InversionRuns<'a> {
+    config: &'a InversionExperimentConfig,
+    motion: &'a MotionSource<'a>,
+}
+
+impl<'a> InversionRuns<'a> {
+    /// Checks the configuration.
+    pub fn new(
+        config: &'a InversionExperimentConfig,
+        motion: &'a MotionSource<'a>,
+    ) -> Result<Self> {
+        config.validate()?;
+        Ok(Self { config, motion })
+    }
+}
+
+impl MonteCarlo for InversionRuns<'_> {
+    type Run = RunResult;
+    /// The result, with sums in the per-sample curves until `finish`.
+    type Fold = InversionExperiment;
+    type Output = InversionExperiment;
+
+    fn seed(&self) -> u64 {
+        self.config.seed
+    }
+    fn runs(&self) -> usize {
+        self.config.runs
+    }
+    fn batch(&self) -> usize {
+        64
+    }
+    /// Run i draws, from its stream: the IMU, its calibration (segment,
+    /// outputs, references), the inverted motion and the outputs along it.
+    fn run(&self, _: usize, rng: &mut Rng) -> Result<RunResult> {
+        let (config, motion) = (self.config, self.motion);
         let imu = ImuModel::preset(&config.preset, rng)?;
         // Calibration on its own segment (method §6: at t = 0, before the run).
         let calibrated = config.calibration.calibrate(&imu, motion, rng)?;
@@ -117,27 +147,30 @@ pub fn inversion_experiment(
             raw_gyro: mean_sq(&errors(&readings.angular_rate_b, &m.angular_rate_b)),
             sample_rate_hz: imu.sample_rate_hz,
         })
-    };
-    let mut out = InversionExperiment {
-        config: config.clone(),
-        accel_mse: Vec::with_capacity(config.runs),
-        gyro_mse: Vec::with_capacity(config.runs),
-        raw_accel_mse: Vec::with_capacity(config.runs),
-        raw_gyro_mse: Vec::with_capacity(config.runs),
-        accel_squared_error_vs_time: Vec::new(),
-        gyro_squared_error_vs_time: Vec::new(),
-        sample_rate_hz: 0.0,
-        cancelled: false,
-    };
-    let summary = montecarlo::fold(config.seed, config.runs, 64, options, run, |_, r| {
-        out.accel_mse.push(mean_sq(&r.accel));
-        out.gyro_mse.push(mean_sq(&r.gyro));
-        out.raw_accel_mse.push(r.raw_accel);
-        out.raw_gyro_mse.push(r.raw_gyro);
-        out.sample_rate_hz = r.sample_rate_hz;
+    }
+    fn start(&self) -> InversionExperiment {
+        let runs = self.config.runs;
+        InversionExperiment {
+            config: self.config.clone(),
+            accel_mse: Vec::with_capacity(runs),
+            gyro_mse: Vec::with_capacity(runs),
+            raw_accel_mse: Vec::with_capacity(runs),
+            raw_gyro_mse: Vec::with_capacity(runs),
+            accel_squared_error_vs_time: Vec::new(),
+            gyro_squared_error_vs_time: Vec::new(),
+            sample_rate_hz: 0.0,
+            cancelled: false,
+        }
+    }
+    fn push(&self, fold: &mut InversionExperiment, _: usize, r: RunResult) -> Result<()> {
+        fold.accel_mse.push(mean_sq(&r.accel));
+        fold.gyro_mse.push(mean_sq(&r.gyro));
+        fold.raw_accel_mse.push(r.raw_accel);
+        fold.raw_gyro_mse.push(r.raw_gyro);
+        fold.sample_rate_hz = r.sample_rate_hz;
         for (curve, e) in [
-            (&mut out.accel_squared_error_vs_time, &r.accel),
-            (&mut out.gyro_squared_error_vs_time, &r.gyro),
+            (&mut fold.accel_squared_error_vs_time, &r.accel),
+            (&mut fold.gyro_squared_error_vs_time, &r.gyro),
         ] {
             if curve.len() < e.len() {
                 curve.resize(e.len(), [0.0; 3]);
@@ -149,15 +182,30 @@ pub fn inversion_experiment(
             }
         }
         Ok(())
-    })?;
-    // Sums → means over the completed runs.
-    let completed = summary.completed.max(1) as f64;
-    for curve in [
-        &mut out.accel_squared_error_vs_time,
-        &mut out.gyro_squared_error_vs_time,
-    ] {
-        curve.iter_mut().flatten().for_each(|x| *x /= completed);
     }
-    out.cancelled = summary.cancelled;
-    Ok(out)
+    fn finish(
+        &self,
+        mut out: InversionExperiment,
+        summary: FoldSummary,
+    ) -> Result<InversionExperiment> {
+        // Sums → means over the completed runs.
+        let completed = summary.completed.max(1) as f64;
+        for curve in [
+            &mut out.accel_squared_error_vs_time,
+            &mut out.gyro_squared_error_vs_time,
+        ] {
+            curve.iter_mut().flatten().for_each(|x| *x /= completed);
+        }
+        out.cancelled = summary.cancelled;
+        Ok(out)
+    }
+}
+
+/// Runs the inversion Monte Carlo ([`InversionRuns`]) over a rayon pool.
+pub fn inversion_experiment(
+    config: &InversionExperimentConfig,
+    motion: &MotionSource<'_>,
+    options: &RunOptions<'_>,
+) -> Result<InversionExperiment> {
+    montecarlo::execute(&InversionRuns::new(config, motion)?, options)
 }

@@ -38,14 +38,18 @@ use crate::sensors::presets;
 use crate::{Error, Result};
 
 pub use calibrate_invert::{CalibratedImu, InversionProcess, SegmentCalibration};
-pub use calibration::{calibration_experiment, CalibrationExperiment, CalibrationExperimentConfig};
-pub use inversion::{inversion_experiment, InversionExperiment, InversionExperimentConfig};
+pub use calibration::{
+    calibration_experiment, CalibrationExperiment, CalibrationExperimentConfig, CalibrationRuns,
+};
+pub use inversion::{
+    inversion_experiment, InversionExperiment, InversionExperimentConfig, InversionRuns,
+};
 pub use navigation::partial_outage::{
-    partial_outage_experiment, PartialOutageConfig, PartialOutageExperiment,
+    partial_outage_experiment, PartialOutageConfig, PartialOutageExperiment, PartialOutageRuns,
 };
 pub use navigation::{
     navigation_experiment, Coupling, InitialStateSource, NavigationExperiment,
-    NavigationExperimentConfig, NavigationImu,
+    NavigationExperimentConfig, NavigationImu, NavigationRuns,
 };
 
 /// Default reference specific-force noise, m/s² per sample (see module docs).

@@ -2,15 +2,21 @@
 //!
 //! Run i draws only from [`crate::random::stream`]`(seed, i)`; results come
 //! back in run order. So the numbers do not depend on the thread count, the
-//! order in which runs finish, or how the runs are batched.
+//! order in which runs finish, or how the runs are batched — nor where
+//! they run: [`MonteCarlo`] splits an experiment into its runs and its
+//! fold, so chunks of runs computed in other processes ([`run_chunk`], e.g.
+//! on Dask workers) fold ([`fold_chunks`]) to the numbers of [`execute`].
 
+use std::ops::Range;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 
+mod chunks;
 mod quantile;
 mod stats;
 
+pub use chunks::{execute, fold_chunks, run_chunk, MonteCarlo};
 pub use quantile::P2Quantile;
 pub use stats::{CurveStats, PERCENTILES};
 
@@ -85,6 +91,24 @@ pub fn fold<T, F, C>(
     batch: usize,
     options: &RunOptions<'_>,
     run: F,
+    consume: C,
+) -> Result<FoldSummary>
+where
+    T: Send,
+    F: Fn(usize, &mut Rng) -> Result<T> + Sync,
+    C: FnMut(usize, T) -> Result<()>,
+{
+    fold_range(seed, 0..runs, batch, options, run, consume)
+}
+
+/// [`fold`] over the runs `range` of a set: run i still draws from
+/// `stream(seed, i)`, so a range gives the same runs as the whole set.
+pub fn fold_range<T, F, C>(
+    seed: u64,
+    range: Range<usize>,
+    batch: usize,
+    options: &RunOptions<'_>,
+    run: F,
     mut consume: C,
 ) -> Result<FoldSummary>
 where
@@ -120,7 +144,7 @@ where
         Ok(Some(out))
     };
     let mut completed = 0;
-    let mut start = 0;
+    let (mut start, runs) = (range.start, range.end);
     while start < runs {
         let end = (start + batch).min(runs);
         let body = || {
@@ -146,7 +170,7 @@ where
     }
     Ok(FoldSummary {
         completed,
-        cancelled: completed < runs,
+        cancelled: completed < range.len(),
     })
 }
 

@@ -2,11 +2,13 @@
 //! position error norm and NEES at the output epochs.
 
 use nalgebra::{Matrix3, SVector, Vector3};
+use serde::{Deserialize, Serialize};
 
 use crate::attitude::dcm_to_rotation_vector;
 use crate::coupling::{
-    initial_state_from_fix, run_loosely_coupled, run_tightly_coupled, FilterState, FilterTuning,
-    ImuData, InitialState, MeasurementRecord, MeasurementStatus, PositionFix,
+    initial_state_from_fix, run_loosely_coupled, run_loosely_coupled_smoothed, run_tightly_coupled,
+    run_tightly_coupled_smoothed, FilterState, FilterTuning, ImuData, InitialState,
+    MeasurementRecord, MeasurementStatus, PositionFix, Solution,
 };
 use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
@@ -54,11 +56,14 @@ pub(super) struct FilterSetup<'a> {
     pub given_start_std: Option<(f64, f64)>,
     pub scale_factor_states: bool,
     pub absorb_unmodelled: bool,
+    /// Also run the fixed-interval smoother and score its solution.
+    pub smooth: bool,
     pub out: &'a [usize],
 }
 
-/// One run's curves for one IMU.
-pub(super) struct ImuRun {
+/// One run's curves for one IMU (what a chunk of runs carries).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ImuRun {
     pub position_error: Vec<f64>,
     /// Horizontal and vertical (|down|) parts of the position error in the
     /// local NED frame of the true position, m.
@@ -67,6 +72,9 @@ pub(super) struct ImuRun {
     pub nees: Vec<f64>,
     pub rejected: usize,
     pub accepted: usize,
+    /// The smoothed solution's curves (NEES NaN: the smoother keeps the
+    /// diagonal blocks of P only), when smoothing was asked.
+    pub smoothed: Option<Box<ImuRun>>,
 }
 
 /// The fixes a loosely coupled filter uses: one per epoch whose
@@ -186,29 +194,86 @@ fn navigate_with<const N: usize>(
                     .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
                     .into_owned();
             let dr = e.fixed_rows::<3>(6).into_owned();
-            let geo = ecef_to_geodetic(&t.position_ecef);
-            let ned = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose() * dr;
+            let (horizontal, vertical) = horizontal_vertical(&t.position_ecef, &dr);
             position_error.push(dr.norm());
-            horizontal_error.push(ned.x.hypot(ned.y));
-            vertical_error.push(ned.z.abs());
+            horizontal_error.push(horizontal);
+            vertical_error.push(vertical);
             nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
             next += 1;
         }
     };
-    let records: Vec<MeasurementRecord> = match setup.coupling {
-        Coupling::Tight => run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, observe)?,
-        Coupling::Loose => run_loosely_coupled::<N, _>(&imu, fixes, &initial, tuning, observe)?,
-    };
+    let (records, smoothed): (Vec<MeasurementRecord>, Option<Solution>) =
+        match (setup.coupling, setup.smooth) {
+            (Coupling::Tight, false) => (
+                run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, observe)?,
+                None,
+            ),
+            (Coupling::Loose, false) => (
+                run_loosely_coupled::<N, _>(&imu, fixes, &initial, tuning, observe)?,
+                None,
+            ),
+            (Coupling::Tight, true) => {
+                let (r, s) =
+                    run_tightly_coupled_smoothed::<N, _>(&imu, epochs, &initial, tuning, observe)?;
+                (r, Some(s))
+            }
+            (Coupling::Loose, true) => {
+                let (r, s) =
+                    run_loosely_coupled_smoothed::<N, _>(&imu, fixes, &initial, tuning, observe)?;
+                (r, Some(s))
+            }
+        };
     let accepted = records
         .iter()
         .filter(|r| r.status == MeasurementStatus::Accepted)
         .count();
+    let rejected = records.len() - accepted;
     Ok(ImuRun {
         position_error,
         horizontal_error,
         vertical_error,
         nees,
-        rejected: records.len() - accepted,
+        rejected,
         accepted,
+        smoothed: smoothed.map(|s| Box::new(smoothed_curves(truth, &s, out, rejected, accepted))),
     })
+}
+
+/// The position error curves of a smoothed solution at the output epochs.
+fn smoothed_curves(
+    truth: &Trajectory,
+    smoothed: &Solution,
+    out: &[usize],
+    rejected: usize,
+    accepted: usize,
+) -> ImuRun {
+    let mut run = ImuRun {
+        position_error: Vec::with_capacity(out.len()),
+        horizontal_error: Vec::with_capacity(out.len()),
+        vertical_error: Vec::with_capacity(out.len()),
+        nees: vec![f64::NAN; out.len()],
+        rejected,
+        accepted,
+        smoothed: None,
+    };
+    for &k in out {
+        let t = truth.nav_state(k);
+        let (horizontal, vertical) = horizontal_vertical(
+            &t.position_ecef,
+            &(smoothed.position_ecef[k] - t.position_ecef),
+        );
+        run.position_error
+            .push((smoothed.position_ecef[k] - t.position_ecef).norm());
+        run.horizontal_error.push(horizontal);
+        run.vertical_error.push(vertical);
+    }
+    run
+}
+
+/// Horizontal and vertical (|down|) parts of an ECEF error `dr` in the
+/// local NED frame of the true position, m.
+fn horizontal_vertical(position_ecef: &Vector3<f64>, dr: &Vector3<f64>) -> (f64, f64) {
+    let geo = ecef_to_geodetic(position_ecef);
+    let ned = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose() * dr;
+    (ned.x.hypot(ned.y), ned.z.abs())
 }

@@ -65,7 +65,7 @@ use nalgebra::Vector3;
 use crate::calibration::Method;
 use crate::coupling::InitialUncertainty;
 use crate::gnss::{Constellation, Outage, SimulationConfig, WalkerConfig};
-use crate::montecarlo::{self, RunOptions};
+use crate::montecarlo::{self, FoldSummary, MonteCarlo, RunOptions};
 use crate::trajectory::RandomTrajectoryConfig;
 use crate::{validate, Error, Result};
 
@@ -73,10 +73,10 @@ use super::calibrate_invert::SegmentCalibration;
 
 pub use filters::{Coupling, NEES_DOF};
 pub use imus::{paper_imus, NavigationImu};
-pub use outcome::ImuOutcome;
+pub use outcome::{ImuOutcome, OutcomeFold};
 
-use filters::{navigate, position_fixes, FilterSetup, ImuRun};
-use outcome::OutcomeFold;
+pub use filters::ImuRun;
+use filters::{navigate, position_fixes, FilterSetup};
 
 /// Default length of the calibration segment before the run, s.
 pub const DEFAULT_CALIBRATION_DURATION_S: f64 = 300.0;
@@ -157,6 +157,10 @@ pub struct NavigationExperimentConfig {
     /// true). False tunes from the spec's bias and noise only, as a filter
     /// that ignores those errors would.
     pub absorb_unmodelled: bool,
+    /// Also run the fixed-interval (RTS) smoother after each filter and
+    /// score its solution ([`ImuOutcome::smoothed`]): what post-processing
+    /// gets through the same outage (default false).
+    pub smooth: bool,
     /// Keep every run's curves (memory: runs × epochs × 2 per IMU).
     pub keep_runs: bool,
 }
@@ -184,6 +188,7 @@ impl Default for NavigationExperimentConfig {
             initial_attitude_std_rad: InitialUncertainty::default().attitude_ned_rad,
             scale_factor_states: false,
             absorb_unmodelled: true,
+            smooth: false,
             keep_runs: false,
         }
     }
@@ -287,6 +292,7 @@ impl NavigationExperimentConfig {
             },
             scale_factor_states: self.scale_factor_states,
             absorb_unmodelled: self.absorb_unmodelled,
+            smooth: self.smooth,
             out,
         }
     }
@@ -344,72 +350,137 @@ fn output_times(out: &[usize]) -> Vec<f64> {
     (0..out.len()).map(|m| m as f64).collect()
 }
 
+/// What the runs of a navigation set share, prepared once: the derived
+/// settings, the constellation and the output epochs.
+pub(super) struct Prepared {
+    pub trajectory: RandomTrajectoryConfig,
+    pub gnss: SimulationConfig,
+    pub sky: Constellation,
+    pub out: Vec<usize>,
+    pub time_s: Vec<f64>,
+}
+
+impl Prepared {
+    fn new(config: &NavigationExperimentConfig) -> Result<Self> {
+        config.validate()?;
+        let out = config.output_indices();
+        Ok(Self {
+            trajectory: config.trajectory_config(),
+            gnss: config.gnss_config(),
+            sky: Constellation::walker(&config.constellation)?,
+            time_s: output_times(&out),
+            out,
+        })
+    }
+
+    /// One fold per IMU over curves with this outage window.
+    pub fn folds(
+        &self,
+        config: &NavigationExperimentConfig,
+        window: Option<(f64, f64)>,
+    ) -> Vec<OutcomeFold> {
+        config
+            .imus
+            .iter()
+            .map(|(name, _)| {
+                OutcomeFold::new(
+                    name,
+                    &self.time_s,
+                    config.early_window_s,
+                    window,
+                    config.keep_runs,
+                )
+            })
+            .collect()
+    }
+}
+
+/// The navigation Monte Carlo as runs and a fold ([`MonteCarlo`]): run
+/// here with [`montecarlo::execute`], or in chunks elsewhere.
+pub struct NavigationRuns<'a> {
+    config: &'a NavigationExperimentConfig,
+    prepared: Prepared,
+}
+
+impl<'a> NavigationRuns<'a> {
+    /// Checks the configuration and prepares what the runs share.
+    pub fn new(config: &'a NavigationExperimentConfig) -> Result<Self> {
+        Ok(Self {
+            prepared: Prepared::new(config)?,
+            config,
+        })
+    }
+}
+
+impl MonteCarlo for NavigationRuns<'_> {
+    /// Per IMU, in the configuration's order.
+    type Run = Vec<ImuRun>;
+    type Fold = Vec<OutcomeFold>;
+    type Output = NavigationExperiment;
+
+    fn seed(&self) -> u64 {
+        self.config.seed
+    }
+    fn runs(&self) -> usize {
+        self.config.runs
+    }
+    fn batch(&self) -> usize {
+        16
+    }
+    fn run(&self, _: usize, rng: &mut crate::random::Rng) -> Result<Vec<ImuRun>> {
+        let (config, p) = (self.config, &self.prepared);
+        let draws = run::draw_run(config, &p.trajectory, &p.gnss, &p.sky, rng)?;
+        let fixes = match config.coupling {
+            Coupling::Tight => Vec::new(),
+            Coupling::Loose => position_fixes(&draws.epochs),
+        };
+        let setup = config.filter_setup(config.coupling, &p.out);
+        draws
+            .inputs
+            .iter()
+            .map(|input| {
+                navigate(
+                    &draws.truth,
+                    &draws.epochs,
+                    &fixes,
+                    input,
+                    &draws.start,
+                    &setup,
+                )
+            })
+            .collect()
+    }
+    fn start(&self) -> Vec<OutcomeFold> {
+        let window = self.config.outage.map(|o| (o.start_s, o.duration_s));
+        self.prepared.folds(self.config, window)
+    }
+    fn push(&self, folds: &mut Vec<OutcomeFold>, _: usize, runs: Vec<ImuRun>) -> Result<()> {
+        for (fold, r) in folds.iter_mut().zip(runs) {
+            fold.push(r)?;
+        }
+        Ok(())
+    }
+    fn finish(
+        &self,
+        folds: Vec<OutcomeFold>,
+        summary: FoldSummary,
+    ) -> Result<NavigationExperiment> {
+        Ok(NavigationExperiment {
+            time_s: self.prepared.time_s.clone(),
+            imus: folds.into_iter().map(OutcomeFold::finish).collect(),
+            completed_runs: summary.completed,
+            cancelled: summary.cancelled,
+        })
+    }
+}
+
 /// Runs the navigation Monte Carlo (module docs). A cancelled set returns
 /// the runs completed so far with `cancelled = true`.
 pub fn navigation_experiment(
     config: &NavigationExperimentConfig,
     options: &RunOptions<'_>,
 ) -> Result<NavigationExperiment> {
-    config.validate()?;
-    let trajectory_config = config.trajectory_config();
-    let gnss_config = config.gnss_config();
-    let sky = Constellation::walker(&config.constellation)?;
-    let out = config.output_indices();
-    let time_s = output_times(&out);
-    let setup = config.filter_setup(config.coupling, &out);
-    let window = config.outage.map(|o| (o.start_s, o.duration_s));
-    let mut folds: Vec<OutcomeFold> = config
-        .imus
-        .iter()
-        .map(|(name, _)| {
-            OutcomeFold::new(
-                name,
-                &time_s,
-                config.early_window_s,
-                window,
-                config.keep_runs,
-            )
-        })
-        .collect();
-    let summary = montecarlo::fold(
-        config.seed,
-        config.runs,
-        16,
-        options,
-        |_, rng| -> Result<Vec<ImuRun>> {
-            let draws = run::draw_run(config, &trajectory_config, &gnss_config, &sky, rng)?;
-            let fixes = match config.coupling {
-                Coupling::Tight => Vec::new(),
-                Coupling::Loose => position_fixes(&draws.epochs),
-            };
-            draws
-                .inputs
-                .iter()
-                .map(|input| {
-                    navigate(
-                        &draws.truth,
-                        &draws.epochs,
-                        &fixes,
-                        input,
-                        &draws.start,
-                        &setup,
-                    )
-                })
-                .collect()
-        },
-        |_, runs| {
-            for (fold, r) in folds.iter_mut().zip(runs) {
-                fold.push(r)?;
-            }
-            Ok(())
-        },
-    )?;
-    Ok(NavigationExperiment {
-        time_s,
-        imus: folds.into_iter().map(OutcomeFold::finish).collect(),
-        completed_runs: summary.completed,
-        cancelled: summary.cancelled,
-    })
+    montecarlo::execute(&NavigationRuns::new(config)?, options)
 }
 
 #[cfg(test)]
@@ -509,6 +580,42 @@ mod tests {
             ins_only.imus[0].position_error_runs,
             one.imus[0].position_error_runs
         );
+    }
+
+    /// Chunks of runs computed apart (as Dask workers do) fold to the
+    /// local numbers bit for bit, smoothed curves included; the smoother,
+    /// which sees the GNSS after the outage, stays below the forward
+    /// filter inside it.
+    #[test]
+    fn chunks_fold_to_the_local_numbers_and_smoothing_helps_in_outages() {
+        let config = NavigationExperimentConfig {
+            outage: Some(Outage {
+                start_s: 20.0,
+                duration_s: 20.0,
+                n_satellites: 0,
+            }),
+            smooth: true,
+            ..small(3, paper_imus()[1..2].to_vec())
+        };
+        let local = navigation_experiment(&config, &threads(2)).unwrap();
+        let runs = NavigationRuns::new(&config).unwrap();
+        let chunk =
+            |r: std::ops::Range<usize>| montecarlo::run_chunk(&runs, r, &threads(1)).unwrap();
+        let (a, b) = (chunk(2..3), chunk(0..2));
+        let folded = montecarlo::fold_chunks(&runs, &[&a, &b]).unwrap();
+        assert_eq!(format!("{local:?}"), format!("{folded:?}"));
+        let forward = &local.imus[0];
+        let smoothed = forward.smoothed.as_ref().unwrap();
+        for (s, f) in smoothed
+            .run_max_in_outage
+            .iter()
+            .zip(&forward.run_max_in_outage)
+        {
+            assert!(s < f, "smoothed {s} vs forward {f}");
+        }
+        // The error at the outage end is the curve's last epoch inside it.
+        let curve = &forward.position_error_runs[0];
+        assert_eq!(forward.run_at_outage_end[0], curve[39]);
     }
 
     /// Pseudoranges only: one scalar update per satellite and epoch instead

@@ -40,6 +40,11 @@ pub struct ImuOutcome {
     /// error (local NED of the true position), m.
     pub run_max_horizontal_in_outage: Vec<f64>,
     pub run_max_vertical_in_outage: Vec<f64>,
+    /// Per run: the error norm and its horizontal part at the last epoch
+    /// inside the outage window, before GNSS returns (NaN without
+    /// outage), m.
+    pub run_at_outage_end: Vec<f64>,
+    pub run_horizontal_at_outage_end: Vec<f64>,
     /// Per run: mean NEES per degree of freedom over the epochs.
     pub run_mean_nees_per_dof: Vec<f64>,
     /// Per run: measurements rejected by the gate or as invalid.
@@ -47,6 +52,9 @@ pub struct ImuOutcome {
     /// Per run: scalar measurements applied (pseudoranges, and rates when
     /// used; fix components for loose coupling).
     pub run_accepted: Vec<usize>,
+    /// The same statistics of the smoothed solution (NEES NaN), when the
+    /// set was run with `smooth`.
+    pub smoothed: Option<Box<ImuOutcome>>,
 }
 
 fn rms(values: &[f64]) -> f64 {
@@ -54,7 +62,7 @@ fn rms(values: &[f64]) -> f64 {
 }
 
 /// Folds the runs of one IMU into an [`ImuOutcome`].
-pub(super) struct OutcomeFold {
+pub struct OutcomeFold {
     outcome: ImuOutcome,
     position: CurveStats,
     nees: CurveStats,
@@ -63,11 +71,17 @@ pub(super) struct OutcomeFold {
     /// Epochs inside the outage window.
     in_outage: Vec<usize>,
     keep_runs: bool,
+    /// The fold of the smoothed curves, created by the first smoothed run.
+    smoothed: Option<Box<OutcomeFold>>,
+    /// What [`Self::new`] was given, to create `smoothed` alike.
+    time_s: Vec<f64>,
+    early_window_s: f64,
+    outage_window: Option<(f64, f64)>,
 }
 
 impl OutcomeFold {
     /// A fold over curves of `epochs` epochs at times `time_s`.
-    pub fn new(
+    pub(super) fn new(
         name: &str,
         time_s: &[f64],
         early_window_s: f64,
@@ -91,9 +105,12 @@ impl OutcomeFold {
                 run_max_in_outage: Vec::new(),
                 run_max_horizontal_in_outage: Vec::new(),
                 run_max_vertical_in_outage: Vec::new(),
+                run_at_outage_end: Vec::new(),
+                run_horizontal_at_outage_end: Vec::new(),
                 run_mean_nees_per_dof: Vec::new(),
                 run_rejected: Vec::new(),
                 run_accepted: Vec::new(),
+                smoothed: None,
             },
             position: CurveStats::new(epochs),
             nees: CurveStats::new(epochs),
@@ -105,11 +122,22 @@ impl OutcomeFold {
                 None => Vec::new(),
             },
             keep_runs,
+            smoothed: None,
+            time_s: time_s.to_vec(),
+            early_window_s,
+            outage_window,
         }
     }
 
     /// Adds the next run (runs come in run order).
-    pub fn push(&mut self, r: ImuRun) -> Result<()> {
+    pub(super) fn push(&mut self, mut r: ImuRun) -> Result<()> {
+        if let Some(smoothed) = r.smoothed.take() {
+            let (name, time_s) = (&self.outcome.name, &self.time_s);
+            let (early, window, keep) = (self.early_window_s, self.outage_window, self.keep_runs);
+            self.smoothed
+                .get_or_insert_with(|| Box::new(Self::new(name, time_s, early, window, keep)))
+                .push(*smoothed)?;
+        }
         let o = &mut self.outcome;
         let epochs = r.position_error.len();
         self.position.push(&r.position_error)?;
@@ -129,6 +157,10 @@ impl OutcomeFold {
             .push(max_in_outage(&r.horizontal_error));
         o.run_max_vertical_in_outage
             .push(max_in_outage(&r.vertical_error));
+        let at_end = |curve: &[f64]| self.in_outage.last().map_or(f64::NAN, |&m| curve[m]);
+        o.run_at_outage_end.push(at_end(&r.position_error));
+        o.run_horizontal_at_outage_end
+            .push(at_end(&r.horizontal_error));
         o.run_mean_nees_per_dof
             .push(r.nees.iter().sum::<f64>() / (epochs * NEES_DOF) as f64);
         o.run_rejected.push(r.rejected);
@@ -141,7 +173,7 @@ impl OutcomeFold {
     }
 
     /// The outcome with its per-epoch statistics.
-    pub fn finish(self) -> ImuOutcome {
+    pub(super) fn finish(self) -> ImuOutcome {
         let mut o = self.outcome;
         o.position_error_mean = self.position.mean().to_vec();
         o.position_error_std = self.position.std();
@@ -149,6 +181,7 @@ impl OutcomeFold {
             .map(|i| self.position.percentile(i))
             .collect();
         o.nees_mean = self.nees.mean().to_vec();
+        o.smoothed = self.smoothed.map(|f| Box::new(f.finish()));
         o
     }
 }

@@ -11,13 +11,14 @@
 //! that simulation ([`crate::gnss::apply_outages`]), so the comparison is
 //! paired and the study costs one trajectory per run.
 
-use crate::gnss::{apply_outages, Constellation, Outage, ReceiverTrack};
-use crate::montecarlo::{self, RunOptions};
+use crate::gnss::{apply_outages, Outage, ReceiverTrack};
+use crate::montecarlo::{self, FoldSummary, MonteCarlo, RunOptions};
+use crate::random::Rng;
 use crate::{validate, Error, Result};
 
 use super::filters::{navigate, position_fixes, Coupling, ImuRun};
 use super::outcome::{ImuOutcome, OutcomeFold};
-use super::{output_times, run, NavigationExperimentConfig};
+use super::{run, NavigationExperimentConfig, Prepared};
 
 /// What [`partial_outage_experiment`] runs.
 #[derive(Debug, Clone, PartialEq)]
@@ -137,85 +138,107 @@ pub struct PartialOutageExperiment {
     pub cancelled: bool,
 }
 
+/// The partial-outage study as runs and a fold ([`MonteCarlo`]).
+pub struct PartialOutageRuns<'a> {
+    config: &'a PartialOutageConfig,
+    prepared: Prepared,
+    scenarios: Vec<Scenario>,
+}
+
+impl<'a> PartialOutageRuns<'a> {
+    /// Checks the configuration and prepares what the runs share.
+    pub fn new(config: &'a PartialOutageConfig) -> Result<Self> {
+        config.validate()?;
+        Ok(Self {
+            prepared: Prepared::new(&config.navigation)?,
+            scenarios: config.scenarios(),
+            config,
+        })
+    }
+}
+
+impl MonteCarlo for PartialOutageRuns<'_> {
+    /// Per scenario, per IMU.
+    type Run = Vec<Vec<ImuRun>>;
+    type Fold = Vec<Vec<OutcomeFold>>;
+    type Output = PartialOutageExperiment;
+
+    fn seed(&self) -> u64 {
+        self.config.navigation.seed
+    }
+    fn runs(&self) -> usize {
+        self.config.navigation.runs
+    }
+    fn batch(&self) -> usize {
+        16
+    }
+    fn run(&self, _: usize, rng: &mut Rng) -> Result<Self::Run> {
+        let (nav, p) = (&self.config.navigation, &self.prepared);
+        let draws = run::draw_run(nav, &p.trajectory, &p.gnss, &p.sky, rng)?;
+        let track = ReceiverTrack {
+            time_s: &draws.truth.time_s,
+            position_ecef: &draws.truth.position_ecef,
+            velocity_ecef: &draws.truth.velocity_ecef,
+        };
+        self.scenarios
+            .iter()
+            .map(|s| {
+                let mut epochs = draws.epochs.clone();
+                apply_outages(&mut epochs, &track, &[self.config.outage(s.n_visible)]);
+                let fixes = match s.coupling {
+                    Coupling::Tight => Vec::new(),
+                    Coupling::Loose => position_fixes(&epochs),
+                };
+                let setup = nav.filter_setup(s.coupling, &p.out);
+                draws
+                    .inputs
+                    .iter()
+                    .map(|input| {
+                        navigate(&draws.truth, &epochs, &fixes, input, &draws.start, &setup)
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+    fn start(&self) -> Self::Fold {
+        let window = Some((self.config.outage_start_s, self.config.outage_length_s));
+        self.scenarios
+            .iter()
+            .map(|_| self.prepared.folds(&self.config.navigation, window))
+            .collect()
+    }
+    fn push(&self, folds: &mut Self::Fold, _: usize, runs: Self::Run) -> Result<()> {
+        for (scenario, scenario_runs) in folds.iter_mut().zip(runs) {
+            for (fold, r) in scenario.iter_mut().zip(scenario_runs) {
+                fold.push(r)?;
+            }
+        }
+        Ok(())
+    }
+    fn finish(&self, folds: Self::Fold, summary: FoldSummary) -> Result<PartialOutageExperiment> {
+        Ok(PartialOutageExperiment {
+            time_s: self.prepared.time_s.clone(),
+            scenarios: self
+                .scenarios
+                .iter()
+                .zip(folds)
+                .map(|(&scenario, f)| ScenarioOutcome {
+                    scenario,
+                    imus: f.into_iter().map(OutcomeFold::finish).collect(),
+                })
+                .collect(),
+            completed_runs: summary.completed,
+            cancelled: summary.cancelled,
+        })
+    }
+}
+
 /// Runs the partial-outage study (module docs).
 pub fn partial_outage_experiment(
     config: &PartialOutageConfig,
     options: &RunOptions<'_>,
 ) -> Result<PartialOutageExperiment> {
-    config.validate()?;
-    let nav = &config.navigation;
-    let trajectory_config = nav.trajectory_config();
-    let gnss_config = nav.gnss_config();
-    let sky = Constellation::walker(&nav.constellation)?;
-    let out = nav.output_indices();
-    let time_s = output_times(&out);
-    let scenarios = config.scenarios();
-    let window = Some((config.outage_start_s, config.outage_length_s));
-    let mut folds: Vec<Vec<OutcomeFold>> = scenarios
-        .iter()
-        .map(|_| {
-            nav.imus
-                .iter()
-                .map(|(name, _)| {
-                    OutcomeFold::new(name, &time_s, nav.early_window_s, window, nav.keep_runs)
-                })
-                .collect()
-        })
-        .collect();
-    let summary = montecarlo::fold(
-        nav.seed,
-        nav.runs,
-        16,
-        options,
-        |_, rng| -> Result<Vec<Vec<ImuRun>>> {
-            let draws = run::draw_run(nav, &trajectory_config, &gnss_config, &sky, rng)?;
-            let track = ReceiverTrack {
-                time_s: &draws.truth.time_s,
-                position_ecef: &draws.truth.position_ecef,
-                velocity_ecef: &draws.truth.velocity_ecef,
-            };
-            scenarios
-                .iter()
-                .map(|s| {
-                    let mut epochs = draws.epochs.clone();
-                    apply_outages(&mut epochs, &track, &[config.outage(s.n_visible)]);
-                    let fixes = match s.coupling {
-                        Coupling::Tight => Vec::new(),
-                        Coupling::Loose => position_fixes(&epochs),
-                    };
-                    let setup = nav.filter_setup(s.coupling, &out);
-                    draws
-                        .inputs
-                        .iter()
-                        .map(|input| {
-                            navigate(&draws.truth, &epochs, &fixes, input, &draws.start, &setup)
-                        })
-                        .collect()
-                })
-                .collect()
-        },
-        |_, runs| {
-            for (scenario, scenario_runs) in folds.iter_mut().zip(runs) {
-                for (fold, r) in scenario.iter_mut().zip(scenario_runs) {
-                    fold.push(r)?;
-                }
-            }
-            Ok(())
-        },
-    )?;
-    Ok(PartialOutageExperiment {
-        time_s,
-        scenarios: scenarios
-            .into_iter()
-            .zip(folds)
-            .map(|(scenario, f)| ScenarioOutcome {
-                scenario,
-                imus: f.into_iter().map(OutcomeFold::finish).collect(),
-            })
-            .collect(),
-        completed_runs: summary.completed,
-        cancelled: summary.cancelled,
-    })
+    montecarlo::execute(&PartialOutageRuns::new(config)?, options)
 }
 
 #[cfg(test)]

@@ -1,0 +1,199 @@
+"""``memsnav study --config study.toml``: the outage study
+(:func:`memsnav.experiments.outage_study`) from a TOML file, written as
+``report.html``, ``summary.json`` and the figures (PNG, SVG, CSV), like
+``memsnav reproduce``.
+
+The configuration (``examples/study_land_vehicle.toml``)::
+
+    output = "study_land_vehicle"      # folder, relative to the file
+    [study]                            # the keywords of outage_study
+    grades = ["consumer", "paper-mems", "industrial", "tactical", "navigation"]
+    outage_lengths = [10, 30, 60, 120]
+    visible_satellites = [0, 2, 3]
+    runs = 20
+    [requirement]                      # optional: what "good enough" means
+    max_error_m = 10.0
+    percentile = 95
+
+Unknown keys are refused with the file and the key named: a typo must not
+silently drop a setting.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+import tomllib
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+from memsnav._files import ensure_writable_directory, write_text
+from memsnav._progress import ProgressBar
+from memsnav.experiments.outage_study import METRICS, OutageStudyResult, outage_study
+from memsnav.report.document import Report
+from memsnav.reproduce import json_safe
+
+STUDY_KEYS = {
+    "grades": list,
+    "outage_lengths": list,
+    "visible_satellites": list,
+    "runs": int,
+    "duration": (int, float),
+    "outage_start": (int, float),
+    "seed": int,
+    "calibrated": bool,
+    "smooth": bool,
+    "calibration_duration": (int, float),
+    "chunk_runs": int,
+}
+"""The ``[study]`` keys and their TOML types (the keywords of outage_study)."""
+
+REQUIREMENT_KEYS = {"max_error_m": (int, float), "percentile": (int, float), "metric": str}
+
+
+@dataclass(frozen=True)
+class StudyRun:
+    """What ``memsnav study`` wrote and found."""
+
+    files: dict[str, Path]
+    result: OutageStudyResult
+    summary: dict[str, Any]
+    interrupted: bool
+
+
+def _checked(path: Path, table: str, values: Any, keys: dict[str, Any]) -> dict[str, Any]:
+    if not isinstance(values, dict):
+        raise ValueError(f"{path}: [{table}] must be a table")
+    for key, value in values.items():
+        if key not in keys:
+            raise ValueError(
+                f"{path}: [{table}] unknown key {key!r}; expected one of {sorted(keys)}"
+            )
+        kind = keys[key]
+        # TOML booleans are not numbers here.
+        if isinstance(value, bool) != (kind is bool) or not isinstance(value, kind):
+            raise ValueError(f"{path}: [{table}] {key}: wrong type {type(value).__name__}")
+    return dict(values)
+
+
+def read_config(path: str | Path) -> dict[str, Any]:
+    """The configuration: ``output``, ``study`` (outage_study keywords)
+    and ``requirement`` (may be empty); errors name the file and the key."""
+    path = Path(path)
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as e:
+        raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
+    except tomllib.TOMLDecodeError as e:
+        raise ValueError(f"{path}: not valid TOML: {e}") from None
+    unknown = set(raw) - {"output", "study", "requirement"}
+    if unknown:
+        raise ValueError(
+            f"{path}: unknown key(s) {sorted(unknown)}; expected output, [study], [requirement]"
+        )
+    if "study" not in raw:
+        raise ValueError(f"{path}: missing the [study] table")
+    output = raw.get("output", "study")
+    if not isinstance(output, str):
+        raise ValueError(f"{path}: output must be a folder name")
+    return {
+        "output": path.parent / output,
+        "study": _checked(path, "study", raw["study"], STUDY_KEYS),
+        "requirement": _checked(path, "requirement", raw.get("requirement", {}), REQUIREMENT_KEYS),
+    }
+
+
+def _report(result: OutageStudyResult, requirement: dict[str, Any], elapsed_s: float) -> Report:
+    report = Report("memsnav outage study")
+    c = result.config
+    report.paragraph(
+        f"{len(result.grades)} IMU grades x {len(result.outage_lengths)} outage lengths x "
+        f"{len(result.visible_satellites)} satellite counts, {result.completed_runs} runs per "
+        f"set of {c['duration']:.0f} s (outage from {c['outage_start']:.0f} s), seed "
+        f"{c['seed']}; paired draws across grades and lengths; {elapsed_s:.0f} s of wall time"
+        + (" (interrupted: partial results)." if result.interrupted else ".")
+    )
+    percentile = float(requirement.get("percentile", 95.0))
+    metric = str(requirement.get("metric", "horizontal_end"))
+    max_error = requirement.get("max_error_m")
+    for smoothed in (False, True) if c["smooth"] else (False,):
+        solution = "smoothed" if smoothed else "forward filter"
+        for n in result.visible_satellites:
+            report.section(f"{n} satellite{'' if n == 1 else 's'} kept, {solution}")
+            rows = []
+            for grade, per_length in result.summary(n, smoothed).items():
+                for length, f in per_length.items():
+                    rows.append(
+                        [grade, length]
+                        + [f[m][k] for m in METRICS for k in ("p50_m", "p95_m", "max_m")]
+                    )
+            header = ["grade", "outage [s]"] + [
+                f"{m} {k[:-2]} [m]" for m in METRICS for k in ("p50_m", "p95_m", "max_m")
+            ]
+            report.table(header, rows)
+    report.section("Error vs outage length")
+    report.figure(
+        "outage_study",
+        result.plot(max_error_m=max_error, percentile=percentile, metric=metric),
+        f"p{percentile:g} of {metric.replace('_', ' ')} error over the runs, per grade; "
+        + (f"requirement {max_error} m dotted." if max_error is not None else "no requirement."),
+    )
+    if max_error is not None:
+        report.section(f"Which grades meet {max_error} m (p{percentile:g}, {metric})")
+        rows = []
+        for n in result.visible_satellites:
+            meets = result.meets(float(max_error), percentile, n_visible=n, metric=metric)
+            for grade, lengths in meets.items():
+                rows.append([grade, n, ", ".join(f"{v:g} s" for v in lengths) or "none"])
+        report.table(["grade", "satellites kept", "outage lengths met"], rows)
+    return report
+
+
+def run_study(
+    config_path: str | Path,
+    *,
+    output: str | Path | None = None,
+    threads: int | None = None,
+    progress: bool | Callable[[int, int], object] = True,
+    client: Any = None,
+) -> StudyRun:
+    """Runs the study of ``config_path`` and writes its report."""
+    config = read_config(config_path)
+    directory = ensure_writable_directory(output if output is not None else config["output"])
+    matplotlib.use("Agg")
+    bar = progress if callable(progress) else (ProgressBar("outage study") if progress else None)
+    start = time.perf_counter()
+    result = outage_study(**config["study"], threads=threads, client=client, progress=bar)
+    elapsed = time.perf_counter() - start
+    requirement = config["requirement"]
+    summary: dict[str, Any] = {
+        "config": result.config,
+        "completed_runs": result.completed_runs,
+        "interrupted": result.interrupted,
+        "elapsed_s": elapsed,
+        "forward": {n: result.summary(n) for n in result.visible_satellites},
+        "requirement": requirement,
+    }
+    if result.config["smooth"]:
+        summary["smoothed"] = {n: result.summary(n, True) for n in result.visible_satellites}
+    if "max_error_m" in requirement:
+        summary["meets"] = {
+            n: result.meets(
+                float(requirement["max_error_m"]),
+                float(requirement.get("percentile", 95.0)),
+                n_visible=n,
+                metric=str(requirement.get("metric", "horizontal_end")),
+            )
+            for n in result.visible_satellites
+        }
+    summary = json_safe(summary)
+    report = _report(result, requirement, elapsed).write(directory)
+    summary_path = directory / "summary.json"
+    write_text(summary_path, json.dumps(summary, indent=2, allow_nan=False) + "\n")
+    return StudyRun(
+        {"report": report, "summary": summary_path}, result, summary, result.interrupted
+    )

@@ -1,0 +1,164 @@
+"""The outage study (issue 16): which IMU grade is good enough through which
+GNSS outage. Physics first: errors grow with the outage, better grades
+drift less, and a short free-inertial outage follows the analytic error
+budget (½ b t² from an accelerometer bias, g ω t³ / 6 from a gyro bias)."""
+
+import json
+import math
+
+import matplotlib
+import numpy as np
+import pytest
+
+import memsnav as mn
+from memsnav.cli import main
+
+matplotlib.use("Agg")
+
+G = 9.80665
+
+
+@pytest.fixture(scope="module")
+def study():
+    return mn.experiments.outage_study(
+        grades=("consumer", "tactical"),
+        outage_lengths=(10.0, 40.0),
+        visible_satellites=(0, 3),
+        runs=4,
+        outage_start=40.0,
+        seed=3,
+        smooth=True,
+        threads=2,
+    )
+
+
+def test_errors_grow_with_the_outage_and_shrink_with_the_grade(study):
+    s = study.summary(n_visible=0)
+    for grade in ("consumer", "tactical"):
+        # Every run drifts further in 40 s than in 10 s (same trajectories:
+        # the lengths are paired).
+        short = study.per_run(grade, 10.0, 0, "horizontal_end")
+        long = study.per_run(grade, 40.0, 0, "horizontal_end")
+        assert np.all(long > short), (grade, short, long)
+        assert s[grade][40.0]["p50_m"] > s[grade][10.0]["p50_m"]
+    # Paired draws: the tactical IMU beats the consumer one run by run.
+    for length in (10.0, 40.0):
+        tactical = study.per_run("tactical", length, 0, "error_3d_max")
+        consumer = study.per_run("consumer", length, 0, "error_3d_max")
+        assert np.all(tactical < consumer), (length, tactical, consumer)
+    # Keeping 3 satellites holds the consumer IMU's error far below the
+    # total outage's.
+    three = study.summary(n_visible=3)["consumer"][40.0]["p50_m"]
+    assert three < 0.3 * s["consumer"][40.0]["p50_m"]
+
+
+def test_summary_meets_and_smoothed_figures(study):
+    s = study.summary()
+    figures = s["consumer"][10.0]
+    assert set(figures) >= {"p50_m", "p95_m", "max_m", "runs", "horizontal_end", "error_3d_max"}
+    values = study.per_run("consumer", 10.0, 0, "horizontal_end")
+    assert figures["p50_m"] == pytest.approx(np.median(values))
+    assert figures["max_m"] == values.max()
+    assert figures["p50_m"] <= figures["p95_m"] <= figures["max_m"]
+    # The 3D error is never below its horizontal part, the largest error
+    # during the outage never below the one at its end.
+    for length in (10.0, 40.0):
+        h_end = study.per_run("consumer", length, 0, "horizontal_end")
+        assert np.all(study.per_run("consumer", length, 0, "error_3d_end") >= h_end)
+        assert np.all(study.per_run("consumer", length, 0, "horizontal_max") >= h_end)
+    # A requirement between the two grades' errors separates them.
+    tactical = study.per_run("tactical", 40.0, 0, "horizontal_end")
+    consumer = study.per_run("consumer", 40.0, 0, "horizontal_end")
+    requirement = math.sqrt(np.percentile(tactical, 95) * np.percentile(consumer, 95))
+    meets = study.meets(max_error_m=requirement, percentile=95)
+    assert 40.0 in meets["tactical"] and 40.0 not in meets["consumer"]
+    # The smoother uses the GNSS after the outage: smaller errors inside it.
+    smoothed = study.per_run("consumer", 40.0, 0, "error_3d_max", smoothed=True)
+    assert np.all(smoothed < study.per_run("consumer", 40.0, 0, "error_3d_max"))
+    fig = study.plot(max_error_m=requirement)
+    assert len(fig.axes) == 2
+    with pytest.raises(ValueError, match="n_visible"):
+        study.summary(n_visible=2)
+    with pytest.raises(ValueError, match="metric"):
+        study.per_run("consumer", 10.0, 0, "rms")
+    with pytest.raises(ValueError, match="max_error_m"):
+        study.meets(max_error_m=-1.0)
+
+
+def _fixed_imu(accel_bias, gyro_bias):
+    """An IMU with only these biases (and a trace of noise, so the filter's
+    process noise is not zero)."""
+    zero3, zero33 = np.zeros(3), np.zeros((3, 3))
+    acc = mn.AccelerometerModel(accel_bias, zero3, zero33, zero3, noise_std=1e-5)
+    gyr = mn.GyroscopeModel(gyro_bias, zero3, zero33, zero33, noise_std=1e-7)
+    return mn.ImuModel(acc, gyr)
+
+
+def _free_inertial(imu, length_s):
+    """A total outage from the first second on: nothing about the biases
+    was learnt, so they act in full; near-perfect initial state (1 cm,
+    1 mm/s GNSS, 0.001° attitude)."""
+    return mn.experiments.navigation(
+        imus={"imu": imu},
+        outage=(1.0, length_s, 0),
+        runs=4,
+        duration=length_s + 3.0,
+        pseudorange_std=0.01,
+        pseudorange_rate_std=0.001,
+        initial_attitude_std_deg=(1e-3, 1e-3, 1e-3),
+        threads=2,
+    ).runs_summary["imu"]
+
+
+def test_short_outage_follows_the_analytic_error_budget():
+    t = 20.0  # s since the last GNSS epoch at the end of the outage
+    # Accelerometer bias b along body z: a land vehicle stays within a few
+    # degrees of level, so it acts on the vertical channel as ½ b t²
+    # (Groves eq. 14.2; the vertical channel's instability adds a share
+    # 2g/R · t²/12 ≈ 2e-4 at 20 s). Tolerance 2 %: cos of a 10° tilt.
+    b = 0.05
+    vertical = _free_inertial(_fixed_imu([0.0, 0.0, b], [0.0, 0.0, 0.0]), t)
+    expected = 0.5 * b * t**2
+    assert np.allclose(vertical["max_vertical_in_outage"], expected, rtol=0.02), (
+        vertical["max_vertical_in_outage"],
+        expected,
+    )
+    # Gyro bias ω about the horizontal body axes: the tilt grows as ω t,
+    # the horizontal acceleration error as g ω t, the position error as
+    # g ω t³ / 6 (Groves eq. 14.5, t well below the Schuler period). The
+    # vehicle's turns rotate the tilt's direction in NED, which can only
+    # lower the accumulated error: between 80 % and 102 % of the budget.
+    w = 1e-3
+    horizontal = _free_inertial(
+        _fixed_imu([0.0, 0.0, 0.0], [w / math.sqrt(2), w / math.sqrt(2), 0.0]), t
+    )
+    bound = G * w * t**3 / 6.0
+    ratio = horizontal["horizontal_at_outage_end"] / bound
+    assert np.all((ratio > 0.8) & (ratio < 1.02)), ratio
+
+
+def test_bad_arguments_name_themselves():
+    with pytest.raises(ValueError, match="outage_lengths"):
+        mn.experiments.outage_study(outage_lengths=(10.0, -1.0))
+    with pytest.raises(ValueError, match="outage_lengths"):
+        mn.experiments.outage_study(outage_lengths=(10.0, 10.0))
+    with pytest.raises(ValueError, match="satellites"):
+        mn.experiments.outage_study(grades=("tactical",), visible_satellites=(5,), runs=1)
+    with pytest.raises(ValueError, match="unknown preset"):
+        mn.experiments.outage_study(grades=("gold",), runs=1)
+
+
+def test_study_command_writes_report_and_json(tmp_path):
+    config = tmp_path / "study.toml"
+    config.write_text(
+        'output = "out"\n[study]\ngrades = ["tactical"]\noutage_lengths = [5, 10]\n'
+        "visible_satellites = [0]\nruns = 2\nduration = 50\noutage_start = 35\n"
+        "[requirement]\nmax_error_m = 100.0\n"
+    )
+    assert main(["study", "--config", str(config), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["meets"]["0"]["tactical"] == [5.0, 10.0]
+    assert summary["forward"]["0"]["tactical"]["10.0"]["runs"] == 2
+    assert "<table>" in (tmp_path / "out" / "report.html").read_text()
+    config.write_text('[study]\ngrades = ["tactical"]\nrunz = 2\n')
+    assert main(["study", "--config", str(config), "--quiet"]) == 1
