@@ -1531,6 +1531,28 @@ class LogRun:
         tight coupling) against a truth, each paired with the truth epoch within
         ``tolerance`` s: ``time``, ``error_ned``, ``stats``."""
 
+    def calibration_references(
+        self,
+        time: npt.ArrayLike,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        *,
+        window_s: float = 1.0,
+        until_s: float | None = None,
+    ) -> dict[str, Any]:
+        """The GNSS-derived calibration references of this run's solution (use the
+        smoothed run; method §3): window means of the measured and reference
+        specific force and angular rate in the sensor's axes. ``time``,
+        ``specific_force``, ``angular_rate``: the arrays given to ``navigate_log``;
+        ``until_s``: only windows ending that long after the start. Keys ``time``,
+        ``measured_specific_force``, ``measured_angular_rate``,
+        ``reference_specific_force``, ``reference_angular_rate`` ((W, 3), SI),
+        ``window_s``, ``specific_force_std``, ``angular_rate_std``,
+        ``skipped_for_resets``, ``accel_bias_covariance``, ``gyro_bias_covariance``,
+        ``accel_scale_factor_covariance``, ``gyro_scale_factor_covariance`` ((3, 3),
+        the solution's own uncertainty of them in sensor axes, SI²; zero scale
+        factors without their states)."""
+
     def __len__(self) -> int: ...
 
 def navigate_log(

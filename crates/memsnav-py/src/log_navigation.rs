@@ -5,8 +5,8 @@
 
 use memsnav_core::coupling::PositionFix;
 use memsnav_core::navigate::{
-    self, fixes_from_geodetic, score, FixOptions, GeodeticSolution, GnssInput, LogConfig, LogRun,
-    SettingTables, SettingValue,
+    self, fixes_from_geodetic, references, score, FixOptions, GeodeticSolution, GnssInput,
+    LogConfig, LogRun, SettingTables, SettingValue,
 };
 use memsnav_core::random::stream;
 use memsnav_py_macros::catch_panics;
@@ -415,6 +415,66 @@ impl PyLogRun {
         d.set_item("time", PyArray1::from_slice(py, &times))?;
         d.set_item("error_ned", convert::vectors_to_numpy(py, &errors))?;
         d.set_item("stats", stats_dict(py, &stats)?)?;
+        Ok(d)
+    }
+    /// The GNSS-derived calibration references of this run's solution (use
+    /// the smoothed run): window means of the measured and the reference
+    /// specific force and angular rate in the sensor's axes
+    /// (`memsnav_core::navigate::references`). `time`, `specific_force`,
+    /// `angular_rate`: the arrays given to `navigate_log`; `window_s` the
+    /// window length; `until_s` only windows ending that long after the
+    /// start. Dict `time`, `measured_specific_force`, `measured_angular_rate`,
+    /// `reference_specific_force`, `reference_angular_rate` ((W, 3), SI),
+    /// `window_s`, `specific_force_std`, `angular_rate_std`,
+    /// `skipped_for_resets`, `accel_bias_covariance`, `gyro_bias_covariance`,
+    /// `accel_scale_factor_covariance`, `gyro_scale_factor_covariance` ((3, 3),
+    /// the solution's own uncertainty of them in sensor axes; zero scale
+    /// factors without their states).
+    #[pyo3(signature = (time, specific_force, angular_rate, *, window_s=1.0, until_s=None))]
+    fn calibration_references<'py>(
+        &self,
+        py: Python<'py>,
+        time: &Bound<'_, PyAny>,
+        specific_force: &Bound<'_, PyAny>,
+        angular_rate: &Bound<'_, PyAny>,
+        window_s: f64,
+        until_s: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let t = convert::scalars(time, "time")?;
+        let f = convert::vectors(specific_force, "specific_force")?;
+        let w = convert::vectors(angular_rate, "angular_rate")?;
+        let r =
+            references::calibration_references(&self.run, &t, &f, &w, window_s, until_s).py()?;
+        let d = PyDict::new(py);
+        d.set_item("time", PyArray1::from_slice(py, &r.time_s))?;
+        for (key, v) in [
+            ("measured_specific_force", &r.measured_specific_force_s),
+            ("measured_angular_rate", &r.measured_angular_rate_s),
+            ("reference_specific_force", &r.reference_specific_force_s),
+            ("reference_angular_rate", &r.reference_angular_rate_s),
+        ] {
+            d.set_item(key, convert::vectors_to_numpy(py, v))?;
+        }
+        d.set_item("window_s", r.window_s)?;
+        d.set_item("specific_force_std", r.specific_force_std_m_s2)?;
+        d.set_item("angular_rate_std", r.angular_rate_std_rad_s)?;
+        d.set_item("skipped_for_resets", r.skipped_for_resets)?;
+        d.set_item(
+            "accel_bias_covariance",
+            convert::matrix3_to_numpy(py, &r.accel_bias_covariance_s),
+        )?;
+        d.set_item(
+            "gyro_bias_covariance",
+            convert::matrix3_to_numpy(py, &r.gyro_bias_covariance_s),
+        )?;
+        d.set_item(
+            "accel_scale_factor_covariance",
+            convert::matrix3_to_numpy(py, &r.accel_scale_factor_covariance_s),
+        )?;
+        d.set_item(
+            "gyro_scale_factor_covariance",
+            convert::matrix3_to_numpy(py, &r.gyro_scale_factor_covariance_s),
+        )?;
         Ok(d)
     }
     fn __len__(&self) -> usize {

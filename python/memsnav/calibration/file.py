@@ -7,7 +7,7 @@ JSON rather than TOML: Python writes and reads it with the standard library
 The layout, version 1::
 
     {"format": "memsnav-imu-calibration", "version": 1,
-     "session": "static-poses", "created": ISO-8601 UTC, "memsnav": version,
+     "session": "static-poses" or "drive", "created": ISO-8601 UTC, "memsnav": version,
      "source": {...what the data were...},
      "units": {...per field...},
      "nominal": {"accel_scale": [3], "accel_offset": [3],
@@ -32,7 +32,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,11 +42,15 @@ from memsnav import _memsnav
 from memsnav._files import write_text
 from memsnav._memsnav import AccelerometerModel, GyroscopeModel, StaticCalibration
 
+if TYPE_CHECKING:
+    from memsnav.calibration.drive import DriveCalibration
+
 FORMAT = "memsnav-imu-calibration"
 VERSION = 1
-#: Kinds of calibration session a file can come from ("gnss-reference", the
-#: paper's calibration on a drive, is to come).
-SESSIONS = ("static-poses",)
+#: Kinds of calibration session a file can come from: a multi-position
+#: session of raw readings, or the paper's GNSS-reference calibration on a
+#: drive (SI readings: nominal scale 1, offset 0).
+SESSIONS = ("static-poses", "drive")
 
 _UNITS = {
     "accelerometer": {
@@ -98,6 +102,14 @@ class ImuCalibration:
     fit: dict[str, Any] = field(default_factory=dict)
     created: str = ""
 
+    @property
+    def identity_nominal(self) -> bool:
+        """Whether the file calibrates SI readings (nominal scale 1, offset
+        0), as the ``navigate`` reader produces them."""
+        return all(
+            np.allclose(self.nominal[k], 1.0 if k.endswith("scale") else 0.0) for k in _NOMINAL
+        )
+
     def correct(
         self, accel: ArrayLike, gyro: ArrayLike
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -137,6 +149,57 @@ class ImuCalibration:
                 "condition_number": np.asarray(cal.condition_number).tolist(),
                 "pose_samples": np.asarray(cal.poses).tolist(),
                 "pose_held_out": list(cal.pose_held_out),
+            },
+        )
+
+    @classmethod
+    def from_drive(
+        cls, cal: DriveCalibration, sample_rate: float, source: Mapping[str, Any] | None = None
+    ) -> ImuCalibration:
+        """The file's view of a :func:`memsnav.calibration.calibrate_drive`
+        result (readings in SI: nominal scale 1, offset 0), its covariance
+        the inflated one, block-diagonal (the two fits are separate);
+        ``sample_rate`` the IMU's, Hz."""
+        a_names = list(cal.accelerometer.parameter_names)
+        g_names = list(cal.gyroscope.parameter_names)
+        covariance = np.zeros((len(a_names) + len(g_names),) * 2)
+        covariance[: len(a_names), : len(a_names)] = cal.accelerometer_covariance
+        covariance[len(a_names) :, len(a_names) :] = cal.gyroscope_covariance
+        rms = np.sqrt(np.mean(cal.residual_before**2, axis=0)), np.sqrt(
+            np.mean(cal.residual_after**2, axis=0)
+        )
+        return cls(
+            session="drive",
+            accelerometer=cal.accelerometer.model,  # type: ignore[arg-type]
+            gyroscope=cal.gyroscope.model,  # type: ignore[arg-type]
+            accelerometer_std=cal.std("accelerometer"),  # type: ignore[arg-type]
+            gyroscope_std=cal.std("gyroscope"),  # type: ignore[arg-type]
+            parameter_names=[f"accelerometer {n}" for n in a_names]
+            + [f"gyroscope {n}" for n in g_names],
+            covariance=covariance,
+            nominal={k: np.ones(3) if k.endswith("scale") else np.zeros(3) for k in _NOMINAL},
+            sample_rate=sample_rate,
+            source=dict(source or {}),
+            held=[tuple(h) for h in (*cal.accelerometer.held, *cal.gyroscope.held)],  # type: ignore[misc]
+            warnings=list(cal.warnings),
+            fit={
+                "windows": len(cal.references["time"]),
+                "window_s": cal.window_s,
+                "until_s": cal.until_s,
+                "skipped_for_resets": cal.references["skipped_for_resets"],
+                "residual_rms_before": {
+                    "accelerometer_m_s2": rms[0][:3].tolist(),
+                    "gyroscope_deg_s": np.degrees(rms[0][3:]).tolist(),
+                },
+                "residual_rms_after": {
+                    "accelerometer_m_s2": rms[1][:3].tolist(),
+                    "gyroscope_deg_s": np.degrees(rms[1][3:]).tolist(),
+                },
+                "covariance_inflation": cal.inflation.tolist(),
+                "condition_number": {
+                    "accelerometer": np.asarray(cal.accelerometer.condition_number).tolist(),
+                    "gyroscope": np.asarray(cal.gyroscope.condition_number).tolist(),
+                },
             },
         )
 

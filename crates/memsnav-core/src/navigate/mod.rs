@@ -15,12 +15,15 @@
 //!    standstills ([`standstill`]), the non-holonomic constraint of land
 //!    vehicles, the heading from the first motion;
 //! 5. the solution at the antenna in geodetic, NED and Euler terms
-//!    ([`output`]), and its errors against a truth ([`score`]).
+//!    ([`output`]), and its errors against a truth ([`score`]);
+//! 6. from a (smoothed) solution, the GNSS-derived references that
+//!    calibrate the IMU on the drive itself ([`references`], method §3).
 
 pub mod align;
 mod config;
 pub mod fixes;
 pub mod output;
+pub mod references;
 mod run;
 pub mod score;
 mod settings;

@@ -2,7 +2,7 @@
 //! the scheduled outages, the coupled filter with the aids at every IMU
 //! sample, and the solution.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
@@ -47,6 +47,8 @@ pub struct LogRun {
     pub range_biases: Vec<(u16, f64)>,
     /// The antenna lever arm (IMU to antenna, body axes), m.
     pub antenna_lever_arm_b_m: Vector3<f64>,
+    /// The sensor-to-body rotation the run used (body = M · sensor).
+    pub mounting: Matrix3<f64>,
 }
 
 /// Runs a log: `time_s` the IMU time stamps on GNSS time (before the
@@ -144,6 +146,7 @@ pub fn navigate_log(
         standstills,
         range_biases,
         antenna_lever_arm_b_m: config.tuning.antenna_lever_arm_b_m,
+        mounting: config.mounting,
     })
 }
 

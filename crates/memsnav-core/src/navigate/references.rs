@@ -1,0 +1,241 @@
+//! Calibration references from a navigated log: the paper's GNSS-derived
+//! references (method §3) of specific force and angular rate in the IMU's
+//! own axes, taken from a (smoothed) GNSS/INS solution of the drive.
+//!
+//! A solution at every IMU sample knows the velocity and attitude far
+//! better than the IMU alone: the GNSS pins them at every epoch, the
+//! smoother carries each fix both ways. Its velocity and attitude at the
+//! ends of a window of length T give the window's mean specific force and
+//! angular rate; the IMU's mean output over the same samples is the
+//! measurement they are compared with. Windows, not samples: inside a
+//! window the solution moves with the IMU itself, so only changes over a
+//! window long against the GNSS epoch interval carry independent
+//! information.
+//!
+//! Specific force. The ECEF velocity equation (Groves eq. 5.35),
+//! v̇ = C_b^e f^b − 2 Ω_ie v + g(r), integrated over the window:
+//!
+//!   ∫ C_b^e f^b dt = Δv + ∫ (2 Ω_ie v − g(r)) dt.
+//!
+//! With R(t) = C_b^e(m)ᵀ C_b^e(t) the attitude relative to the window's
+//! middle sample m, ∫ C_b^e f^b dt = C_b^e(m) (∫ f^b dt + ∫ (R − I) f^b dt),
+//! so the mean body specific force is
+//!
+//!   f̄^b = [C_b^e(m)ᵀ (Δv + ∫ (2 Ω_ie v − g) dt) − ∫ (R − I) f̃^b dt] / T,
+//!
+//! where the small rotation term takes the measured f̃^b (an error of the
+//! IMU's scale factor times a rotation of a few degrees: second order).
+//!
+//! Angular rate. The body's rotation over the window relative to inertial
+//! space, with C_b^i = C_e^i C_b^e and C_e^i(t) = Rz(ω_ie t) (Groves §2.5.1),
+//! is ΔC = C_b^i(a)ᵀ C_b^i(b) = C_b^e(a)ᵀ Rz(ω_ie T) C_b^e(b), and
+//! ω̄^b = rotvec(ΔC) / T (exact for
+//! a rotation about a fixed axis; the coning error of a car is far below
+//! the IMU's noise).
+//!
+//! Both are rotated into the sensor's axes with the mounting (body =
+//! M · sensor, so sensor = Mᵀ · body). The IMU side is the trapezoidal mean
+//! of the raw samples a..=b, the same rule the strapdown integration uses.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::run::LogRun;
+use crate::attitude::dcm_to_rotation_vector;
+use crate::filter::state::{Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, GYRO_BIAS, GYRO_SCALE_FACTOR};
+use crate::geodesy::gravity_ecef;
+use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
+use crate::{Error, Result};
+
+/// Window means of the IMU's outputs and of the solution's references, all
+/// in the sensor's axes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CalibrationReferences {
+    /// Middle time of each window (the solution's time scale), s.
+    pub time_s: Vec<f64>,
+    /// Trapezoidal mean of the measured specific force, m/s².
+    pub measured_specific_force_s: Vec<Vector3<f64>>,
+    /// Trapezoidal mean of the measured angular rate, rad/s.
+    pub measured_angular_rate_s: Vec<Vector3<f64>>,
+    /// Reference mean specific force, m/s².
+    pub reference_specific_force_s: Vec<Vector3<f64>>,
+    /// Reference mean angular rate, rad/s.
+    pub reference_angular_rate_s: Vec<Vector3<f64>>,
+    /// The window length used, s (a whole number of IMU samples).
+    pub window_s: f64,
+    /// Median over the windows of the references' one-sigma from the
+    /// solution's covariance: √(σ_v(a)² + σ_v(b)²) / T per axis, m/s².
+    /// An upper bound: errors of neighbouring samples are correlated and
+    /// cancel partly in the difference.
+    pub specific_force_std_m_s2: f64,
+    /// The same for the angular rate from the attitude σ, rad/s.
+    pub angular_rate_std_rad_s: f64,
+    /// Windows left out because a reset of the filter falls inside them.
+    pub skipped_for_resets: usize,
+    /// The solution's own uncertainty of the accelerometer biases, mean over
+    /// the windows, in the sensor's axes, (m/s²)². The references inherit
+    /// it: a bias the solution has wrong tilts its attitude and so the
+    /// reference specific force by the same amount (the tilt-bias ambiguity
+    /// of a level drive), so a calibrated bias is never better known than
+    /// this.
+    pub accel_bias_covariance_s: Matrix3<f64>,
+    /// The same for the gyro biases, (rad/s)².
+    pub gyro_bias_covariance_s: Matrix3<f64>,
+    /// The same for the accelerometer and gyro scale factors when the
+    /// solution has scale-factor states (zero without), 1.
+    pub accel_scale_factor_covariance_s: Matrix3<f64>,
+    pub gyro_scale_factor_covariance_s: Matrix3<f64>,
+}
+
+/// The references of a log run (see the module docs). `time_s`,
+/// `specific_force_s`, `angular_rate_s`: the raw IMU series given to
+/// [`super::navigate_log`] (sensor axes, SI); `window_s`: the window length; `until_s`:
+/// only windows ending within that many seconds after the run's start
+/// (None: all).
+pub fn calibration_references(
+    run: &LogRun,
+    time_s: &[f64],
+    specific_force_s: &[Vector3<f64>],
+    angular_rate_s: &[Vector3<f64>],
+    window_s: f64,
+    until_s: Option<f64>,
+) -> Result<CalibrationReferences> {
+    let sol = &run.solution;
+    let mounting = &run.mounting;
+    let k0 = run.start.first_sample;
+    let n = sol.time_s.len();
+    if time_s.len() != specific_force_s.len() || time_s.len() != angular_rate_s.len() {
+        return Err(Error::invalid(
+            "specific_force",
+            "time, specific_force and angular_rate must have one row per sample",
+        ));
+    }
+    if time_s.len() < k0 + n {
+        return Err(Error::invalid(
+            "time",
+            format!(
+                "has {} samples; the run used samples {k0}..{}: give the arrays the run was given",
+                time_s.len(),
+                k0 + n
+            ),
+        ));
+    }
+    // The run's times are the raw ones plus one constant offset.
+    let offset = sol.time_s[0] - time_s[k0];
+    if sol
+        .time_s
+        .iter()
+        .zip(&time_s[k0..])
+        .any(|(s, t)| (s - t - offset).abs() > 1e-6)
+    {
+        return Err(Error::invalid(
+            "time",
+            "does not match the run's IMU times: give the arrays the run was given",
+        ));
+    }
+    if !(window_s.is_finite() && window_s > 0.0) {
+        return Err(Error::invalid(
+            "window_s",
+            format!("must be a positive number of seconds, got {window_s}"),
+        ));
+    }
+    let dt = (sol.time_s[n - 1] - sol.time_s[0]) / (n - 1).max(1) as f64;
+    let step = (window_s / dt).round().max(1.0) as usize;
+    let t_end = until_s.map_or(f64::INFINITY, |u| sol.time_s[0] + u);
+    let m_t = mounting.transpose();
+    let mut out = CalibrationReferences {
+        time_s: Vec::new(),
+        measured_specific_force_s: Vec::new(),
+        measured_angular_rate_s: Vec::new(),
+        reference_specific_force_s: Vec::new(),
+        reference_angular_rate_s: Vec::new(),
+        window_s: step as f64 * dt,
+        specific_force_std_m_s2: f64::NAN,
+        angular_rate_std_rad_s: f64::NAN,
+        skipped_for_resets: 0,
+        accel_bias_covariance_s: Matrix3::zeros(),
+        gyro_bias_covariance_s: Matrix3::zeros(),
+        accel_scale_factor_covariance_s: Matrix3::zeros(),
+        gyro_scale_factor_covariance_s: Matrix3::zeros(),
+    };
+    let scale_factors = Layout::of(sol.n_states).is_some_and(|l| l.scale_factors);
+    // The sensor-error states are in body axes; only their variances are
+    // stored.
+    let bias_covariance_s = |k: usize, first: usize| {
+        let row = &sol.covariance_diagonal[k * sol.n_states..(k + 1) * sol.n_states];
+        m_t * Matrix3::from_diagonal(&Vector3::from_column_slice(&row[first..first + 3])) * mounting
+    };
+    let (mut f_std, mut w_std) = (Vec::new(), Vec::new());
+    let starts = (0..n)
+        .step_by(step)
+        .take_while(|&a| a + step < n && sol.time_s[a + step] <= t_end);
+    for a in starts {
+        let b = a + step;
+        let (ta, tb) = (sol.time_s[a], sol.time_s[b]);
+        if sol.resets.iter().any(|r| r.time_s > ta && r.time_s <= tb) {
+            out.skipped_for_resets += 1;
+            continue;
+        }
+        let mid = a + step / 2;
+        let c_mid = sol.c_b_e[mid];
+        // Trapezoidal integrals over the samples a..=b.
+        let mut kinematic = Vector3::zeros(); // ∫ (2 Ω_ie v − g) dt
+        let mut rotation = Vector3::zeros(); // ∫ (R − I) f̃^b dt
+        let mut f_meas = Vector3::zeros();
+        let mut w_meas = Vector3::zeros();
+        for k in a..=b {
+            let h = if k == a || k == b { 0.5 } else { 1.0 } * (tb - ta) / step as f64;
+            let v = sol.velocity_ecef[k];
+            let coriolis = 2.0 * EARTH_RATE_RAD_S * Vector3::new(-v.y, v.x, 0.0);
+            kinematic += h * (coriolis - gravity_ecef(&sol.position_ecef[k]));
+            let f_b = mounting * specific_force_s[k0 + k];
+            rotation += h * (c_mid.transpose() * sol.c_b_e[k] - Matrix3::identity()) * f_b;
+            f_meas += h * specific_force_s[k0 + k];
+            w_meas += h * angular_rate_s[k0 + k];
+        }
+        let t = tb - ta;
+        let dv = sol.velocity_ecef[b] - sol.velocity_ecef[a];
+        let f_ref_b = (c_mid.transpose() * (dv + kinematic) - rotation) / t;
+        let (s, c) = (EARTH_RATE_RAD_S * t).sin_cos();
+        // Rz(ω_ie T): the Earth's rotation over the window.
+        let earth = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+        let delta = sol.c_b_e[a].transpose() * earth * sol.c_b_e[b];
+        let w_ref_b = dcm_to_rotation_vector(&delta) / t;
+        out.time_s.push(sol.time_s[mid]);
+        out.measured_specific_force_s.push(f_meas / t);
+        out.measured_angular_rate_s.push(w_meas / t);
+        out.reference_specific_force_s.push(m_t * f_ref_b);
+        out.reference_angular_rate_s.push(m_t * w_ref_b);
+        let var = |p: &[Matrix3<f64>]| (p[a].trace() + p[b].trace()) / 3.0;
+        f_std.push(var(&sol.velocity_covariance_ecef).sqrt() / t);
+        out.accel_bias_covariance_s += bias_covariance_s(mid, ACCEL_BIAS);
+        out.gyro_bias_covariance_s += bias_covariance_s(mid, GYRO_BIAS);
+        if scale_factors {
+            out.accel_scale_factor_covariance_s += bias_covariance_s(mid, ACCEL_SCALE_FACTOR);
+            out.gyro_scale_factor_covariance_s += bias_covariance_s(mid, GYRO_SCALE_FACTOR);
+        }
+        w_std.push(var(&sol.attitude_covariance_ecef).sqrt() / t);
+    }
+    if out.time_s.len() < 2 {
+        return Err(Error::invalid(
+            "window_s",
+            format!(
+                "leaves {} window(s) of {:.3} s in the run (until_s {until_s:?}): too few to calibrate",
+                out.time_s.len(),
+                out.window_s
+            ),
+        ));
+    }
+    let windows = out.time_s.len() as f64;
+    out.accel_bias_covariance_s /= windows;
+    out.gyro_bias_covariance_s /= windows;
+    out.accel_scale_factor_covariance_s /= windows;
+    out.gyro_scale_factor_covariance_s /= windows;
+    out.specific_force_std_m_s2 = median(&mut f_std);
+    out.angular_rate_std_rad_s = median(&mut w_std);
+    Ok(out)
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}

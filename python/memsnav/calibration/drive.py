@@ -1,0 +1,257 @@
+"""The paper's calibration on a real drive (method §3): GNSS-derived
+references of specific force and angular rate, taken from a smoothed
+GNSS/INS solution of the drive itself, and least squares against the IMU's
+outputs (see docs/calibration.md, "A drive").
+
+The numbers come from the core: ``navigate_log`` navigates the log with the
+smoother on and no outages, ``LogRun.calibration_references`` forms the
+window means (``memsnav_core::navigate::references``, equations there), and
+``calibrate_accelerometer`` / ``calibrate_gyroscope`` fit the models. This
+module chains them and makes the uncertainty honest: the fits' covariance
+comes from the residual variance as if the windows were independent, which
+they are not quite (the smoothed solution's errors are correlated over a few
+windows), so each output axis's covariance is scaled by the AR(1) variance
+factor (1 + ρ) / (1 − ρ) of its residuals' lag-one autocorrelation ρ (the
+effective-sample-size correction for a mean; e.g. Wilks, *Statistical
+Methods in the Atmospheric Sciences*, eq. 5.12), never below 1.
+"""
+
+from __future__ import annotations
+
+import copy
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from memsnav import _memsnav
+from memsnav._memsnav import AccelerometerModel, Calibration, GyroscopeModel, LogRun
+
+#: Window length of the references, s: long against the GNSS epoch interval
+#: (0.25 s on the shipped drive), so that a window's velocity and attitude
+#: change come from the GNSS more than from the IMU being calibrated; short
+#: enough that a car's manoeuvres are resolved (docs/calibration.md).
+DEFAULT_WINDOW_S = 2.0
+
+_ACCEL = ("bias", "scale_factor", "misalignment", "nonlinearity")
+_GYRO = ("bias", "scale_factor", "misalignment", "g_sensitivity")
+
+
+@dataclass(frozen=True)
+class DriveCalibration:
+    """A calibration from a drive (:func:`calibrate_drive`).
+
+    ``accelerometer`` / ``gyroscope``: the fits (``Calibration``: ``.model``,
+    ``.std``, ``.covariance``, ``.held``, ...), their covariance already
+    scaled by ``inflation`` (per output axis, accelerometer then gyroscope);
+    ``references``: the window means (``LogRun.calibration_references``);
+    ``residual_before`` / ``residual_after``: measured − reference per window
+    before and after the calibration, (W, 6) [accel m/s², gyro rad/s];
+    ``run``: the smoothed navigation the references came from;
+    ``warnings``: the fits' warnings (each also raised as a UserWarning).
+    """
+
+    accelerometer: Calibration
+    gyroscope: Calibration
+    accelerometer_covariance: NDArray[np.float64]
+    gyroscope_covariance: NDArray[np.float64]
+    inflation: NDArray[np.float64]
+    references: dict[str, Any]
+    residual_before: NDArray[np.float64]
+    residual_after: NDArray[np.float64]
+    run: LogRun
+    window_s: float
+    until_s: float | None
+    warnings: list[str] = field(default_factory=list)
+
+    def std(self, which: str) -> AccelerometerModel | GyroscopeModel:
+        """One-sigma of the ``"accelerometer"`` or ``"gyroscope"`` parameters
+        after the inflation, as a model of the same class."""
+        fit = self.accelerometer if which == "accelerometer" else self.gyroscope
+        cov = self.accelerometer_covariance if which == "accelerometer" else self.gyroscope_covariance
+        return _model_of(fit, np.sqrt(np.maximum(np.diag(cov), 0.0)))
+
+    def correct(
+        self, specific_force: ArrayLike, angular_rate: ArrayLike
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """SI specific force and angular rate (N, 3) of SI readings in the
+        sensor's axes: the exact inverses of the fitted models."""
+        return _correct(self.accelerometer, self.gyroscope, specific_force, angular_rate)
+
+
+def calibrate_drive(
+    time: ArrayLike,
+    specific_force: ArrayLike,
+    angular_rate: ArrayLike,
+    gnss: Any,
+    *,
+    settings: Mapping[str, Mapping[str, Any]] | None = None,
+    window_s: float = DEFAULT_WINDOW_S,
+    until_s: float | None = None,
+    estimate: str = "determinable",
+    scale_factor_states: bool = True,
+) -> DriveCalibration:
+    """Calibrates an IMU on a drive (module docs; method §3 on real data).
+
+    ``time``, ``specific_force``, ``angular_rate``, ``gnss``, ``settings``:
+    as for :func:`memsnav.navigate_log` (sensor axes, SI; the settings'
+    mounting, lever arms, aids and filter apply; their outages are dropped
+    and the smoother is switched on). ``window_s``: the references' window
+    length, s; ``until_s``: use only the first ``until_s`` seconds after the
+    start (keep the rest to test the calibration on); ``estimate``:
+    "determinable" (default: parameters the drive does not determine are
+    held at zero and listed in ``.held``) or "all".
+    """
+    tables = {k: dict(v) for k, v in copy.deepcopy(dict(settings or {})).items()}
+    tables.pop("outages", None)
+    tables.setdefault("filter", {})["smoother"] = True
+    tables["filter"].setdefault("scale_factor_states", scale_factor_states)
+    run = _memsnav.navigate_log(time, specific_force, angular_rate, gnss, settings=tables)
+    smoothed = run.smoothed
+    assert smoothed is not None  # the smoother is on
+    refs = smoothed.calibration_references(
+        time, specific_force, angular_rate, window_s=window_s, until_s=until_s
+    )
+    accel, gyro, messages = _fit(refs, estimate)
+    for message in messages:
+        warnings.warn(message, UserWarning, stacklevel=2)
+    predicted_f = _noise_free(accel).measure(refs["reference_specific_force"])  # type: ignore[call-arg]
+    predicted_w = _noise_free(gyro).measure(  # type: ignore[call-arg]
+        refs["reference_angular_rate"], refs["reference_specific_force"]
+    )
+    before = np.hstack(
+        [
+            refs["measured_specific_force"] - refs["reference_specific_force"],
+            refs["measured_angular_rate"] - refs["reference_angular_rate"],
+        ]
+    )
+    after = np.hstack(
+        [
+            refs["measured_specific_force"] - predicted_f,
+            refs["measured_angular_rate"] - predicted_w,
+        ]
+    )
+    inflation = np.array([_ar1_factor(after[:, i]) for i in range(6)])
+    return DriveCalibration(
+        accelerometer=accel,
+        gyroscope=gyro,
+        accelerometer_covariance=_inflate(accel, inflation[:3], refs, "accel"),
+        gyroscope_covariance=_inflate(gyro, inflation[3:], refs, "gyro"),
+        inflation=inflation,
+        references=refs,
+        residual_before=before,
+        residual_after=after,
+        run=run,
+        window_s=float(refs["window_s"]),
+        until_s=until_s,
+        warnings=messages,
+    )
+
+
+def _fit(refs: dict[str, Any], estimate: str) -> tuple[Calibration, Calibration, list[str]]:
+    """Both least-squares fits of one set of references, and their warnings."""
+    rate = 1.0 / refs["window_s"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        accel = _memsnav.calibrate_accelerometer(
+            refs["measured_specific_force"],
+            refs["reference_specific_force"],
+            sample_rate=rate,
+            estimate=estimate,
+        )
+        gyro = _memsnav.calibrate_gyroscope(
+            refs["measured_angular_rate"],
+            refs["reference_angular_rate"],
+            refs["reference_specific_force"],
+            sample_rate=rate,
+            estimate=estimate,
+        )
+    return accel, gyro, [str(w.message) for w in caught]
+
+
+def _correct(
+    accel: Calibration, gyro: Calibration, specific_force: ArrayLike, angular_rate: ArrayLike
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """SI readings corrected by the exact inverses of the fitted models."""
+    one, zero = np.ones(3), np.zeros(3)
+    return _memsnav.correct_imu(
+        specific_force,
+        angular_rate,
+        accel.model,  # type: ignore[arg-type]
+        gyro.model,  # type: ignore[arg-type]
+        accel_scale=one,
+        accel_offset=zero,
+        gyro_scale=one,
+        gyro_offset=zero,
+    )
+
+
+def _ar1_factor(residual: NDArray[np.float64]) -> float:
+    """(1 + ρ) / (1 − ρ) of the lag-one autocorrelation ρ, at least 1."""
+    r = residual - residual.mean()
+    denominator = float(r @ r)
+    if denominator == 0.0:
+        return 1.0
+    rho = min(float(r[1:] @ r[:-1]) / denominator, 0.9)
+    return max(1.0, (1.0 + rho) / (1.0 - rho))
+
+
+def _output_axis(name: str) -> int:
+    """The output axis of a parameter name (``bias_u``, ``misalignment_uv``,
+    ``g_sensitivity_pu``: the first letter after the last underscore)."""
+    return "uvwpqr".index(name.rsplit("_", 1)[1][0]) % 3
+
+
+def _inflate(
+    fit: Calibration, factors: NDArray[np.float64], refs: dict[str, Any], sensor: str
+) -> NDArray[np.float64]:
+    """The fit's covariance with each output axis scaled by its AR(1)
+    factor, plus the solution's own covariance of the biases and scale
+    factors on those blocks: the references inherit it
+    (``LogRun.calibration_references``). A held parameter stays at zero."""
+    names = list(fit.parameter_names)
+    axes = np.array([_output_axis(n) for n in names])
+    scale = np.sqrt(factors[axes])
+    covariance = np.asarray(fit.covariance) * np.outer(scale, scale)
+    held = {h[0] for h in fit.held}
+    for kind in ("bias", "scale_factor"):
+        index = [i for i, n in enumerate(names) if n.rsplit("_", 1)[0] == kind]
+        inherited = np.asarray(refs[f"{sensor}_{kind}_covariance"])
+        keep = [k for k, i in enumerate(index) if names[i] not in held]
+        sel = [index[k] for k in keep]
+        covariance[np.ix_(sel, sel)] += inherited[np.ix_(keep, keep)]
+    return covariance
+
+
+def _noise_free(fit: Calibration) -> AccelerometerModel | GyroscopeModel:
+    """The fitted model without its noise terms (its deterministic output)."""
+    fields = _ACCEL if isinstance(fit.model, AccelerometerModel) else _GYRO
+    kind_cls = AccelerometerModel if fields is _ACCEL else GyroscopeModel
+    return kind_cls(*(getattr(fit.model, f) for f in fields), sample_rate=fit.model.sample_rate)
+
+
+def _model_of(fit: Calibration, values: NDArray[np.float64]) -> AccelerometerModel | GyroscopeModel:
+    """A model of the fit's class whose attributes are ``values`` in the
+    order of ``fit.parameter_names``."""
+    fields = _ACCEL if isinstance(fit.model, AccelerometerModel) else _GYRO
+    parts: dict[str, NDArray[np.float64]] = {
+        "bias": np.zeros(3),
+        "scale_factor": np.zeros(3),
+        "misalignment": np.zeros((3, 3)),
+        "nonlinearity": np.zeros(3),
+        "g_sensitivity": np.zeros((3, 3)),
+    }
+    letters = "uvw" if fields is _ACCEL else "pqr"
+    for name, value in zip(fit.parameter_names, values, strict=True):
+        kind, index = name.rsplit("_", 1)
+        rows = [letters.index(c) if c in letters else "uvw".index(c) for c in index]
+        if len(rows) == 1:
+            parts[kind][rows[0]] = value
+        else:
+            parts[kind][rows[0], rows[1]] = value
+    kind_cls = AccelerometerModel if fields is _ACCEL else GyroscopeModel
+    return kind_cls(*(parts[f] for f in fields), sample_rate=fit.model.sample_rate)
+
