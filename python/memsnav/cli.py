@@ -205,11 +205,16 @@ def build_parser() -> argparse.ArgumentParser:
     cal = commands.add_parser(
         "calibrate",
         help="calibrate an IMU from a recorded session (see docs/calibration.md)",
-        description="Read a calibration session described by a TOML configuration (today: a "
-        "multi-position static-pose session), fit the accelerometer and gyroscope models and "
-        "write calibration.json (the calibration file) and report.html.",
+        description="Read a calibration session described by a TOML configuration (a "
+        "multi-position static-pose session, or a drive calibrated against its GNSS), fit the "
+        "accelerometer and gyroscope models and write calibration.json (the calibration file) "
+        "and report.html.",
     )
-    _configured_run(cal, "configuration (TOML), e.g. examples/xsens_static.toml")
+    _configured_run(
+        cal,
+        "configuration (TOML), e.g. examples/xsens_static.toml or "
+        "examples/drive_0708_calibration.toml",
+    )
     return parser
 
 
@@ -247,7 +252,18 @@ def _calibrate(args: argparse.Namespace) -> int:
     for kind, path in run.files.items():
         print(f"{kind}: {path}")
     s = run.summary
+    if run.config["session"]["kind"] == "drive":
+        for view in ("forward", "smoothed"):
+            for label in ("raw", "calibrated"):
+                st = s.get("navigation", {}).get(label, {}).get(view, {}).get("after_fit", {})
+                if st.get("outages"):
+                    print(
+                        f"{view}, {label}: outages after the calibration span: horizontal RMS "
+                        f"{st['rms_horizontal_m']:.2f} m, max {st['max_horizontal_m']:.2f} m"
+                    )
     for subset in ("fit", "held_out"):
+        if f"magnitude_rms_after_{subset}_m_s2" not in s:
+            continue
         magnitude = s[f"magnitude_rms_after_{subset}_m_s2"]
         turn = s[f"turn_rms_after_{subset}_deg"]
         if magnitude is not None:

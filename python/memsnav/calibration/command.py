@@ -1,11 +1,11 @@
-"""``memsnav calibrate --config cal.toml``: read a calibration session, fit,
-write the calibration file and its report."""
+"""``memsnav calibrate --config cal.toml``: read a calibration session
+(static poses or a drive), fit, write the calibration file and its report."""
 
 from __future__ import annotations
 
 import time as _time
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +13,7 @@ import numpy as np
 
 from memsnav._memsnav import StaticCalibration
 from memsnav.calibration.config import CalibrationConfig, load_calibration_config
+from memsnav.calibration.drive import DriveCalibration, calibrate_drive, compare_navigation
 from memsnav.calibration.file import ImuCalibration
 from memsnav.calibration.static import calibrate_static, static_summary
 
@@ -23,7 +24,7 @@ class CalibrationRun:
     files written (``calibration``, ``report``) and the summary."""
 
     config: CalibrationConfig
-    calibration: StaticCalibration
+    calibration: StaticCalibration | DriveCalibration
     imu_calibration: ImuCalibration
     time: np.ndarray
     accel: np.ndarray
@@ -63,6 +64,19 @@ def run_calibration(
     writes ``calibration.json`` and, unless ``[report] html = false``,
     ``report.html`` with its figures into the output folder."""
     cfg = load_calibration_config(config, data_root)
+    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    run = _drive(cfg) if cfg["session"]["kind"] == "drive" else _static(cfg)
+    out.mkdir(parents=True, exist_ok=True)
+    run.files["calibration"] = run.imu_calibration.save(out / "calibration.json")
+    if cfg["report"]["html"]:
+        from memsnav.calibration.report import write_report
+
+        run.files["report"] = write_report(run, out)
+    return run
+
+
+def _static(cfg: CalibrationConfig) -> CalibrationRun:
+    """A multi-position session (``[imu]``, ``[static]``)."""
     imu, static = cfg["imu"], cfg["static"]
     accel_path, gyro_path = cfg.data_path("imu", "accel_file"), cfg.data_path("imu", "gyro_file")
     t_accel, accel = read_triad_table(accel_path, imu["time_unit"])
@@ -103,13 +117,75 @@ def run_calibration(
         "settings": cfg["static"],
     }
     imu_cal = ImuCalibration.from_static(cal, source)
-    out = Path(output) if output is not None else Path(cfg[""]["output"])
-    out.mkdir(parents=True, exist_ok=True)
     run = CalibrationRun(cfg, cal, imu_cal, t_accel, accel, gyro)
     run.summary = {**static_summary(cal), "processing_s": elapsed}
-    run.files["calibration"] = imu_cal.save(out / "calibration.json")
-    if cfg["report"]["html"]:
-        from memsnav.calibration.report import write_report
+    return run
 
-        run.files["report"] = write_report(run, out)
+
+def _drive(cfg: CalibrationConfig) -> CalibrationRun:
+    """The paper's calibration on a drive (``[drive]``): the references from
+    the smoothed navigation of the drive's ``navigate`` configuration, the
+    fit, and (``compare``) the drive navigated with and without it."""
+    from memsnav.realdata import pipeline
+    from memsnav.realdata.config import load_config
+
+    drive = cfg["drive"]
+    nav = load_config(cfg.config_path("drive", "navigate"), cfg.data_root)
+    if nav["imu"]["calibration"]:
+        raise ValueError(
+            f"{cfg.path}: drive.navigate: {nav.path} applies a calibration already "
+            "([imu] calibration); a drive is calibrated from its raw readings"
+        )
+    t, f, w, _ = pipeline.read_imu(nav)
+    gnss = pipeline.gnss_input(nav)
+    until = drive["until_s"] or None
+    started = _time.perf_counter()
+    with warnings.catch_warnings(record=True):
+        # The warnings are in the file and the report; the CLI prints them.
+        warnings.simplefilter("always")
+        cal = calibrate_drive(
+            t,
+            f,
+            w,
+            gnss,
+            settings=nav.engine,
+            window_s=drive["window_s"],
+            until_s=until,
+            estimate=drive["estimate"],
+            scale_factor_states=drive["scale_factor_states"],
+        )
+    elapsed = _time.perf_counter() - started
+    truth = pipeline.read_truth(nav)
+    comparison = None
+    if drive["compare"] and truth is not None:
+        comparison = compare_navigation(
+            t,
+            f,
+            w,
+            gnss,
+            cal,
+            settings=nav.engine,
+            truth_time=truth[0],
+            truth_position_ecef=truth[1],
+        )
+    source = {
+        "config": str(cfg.path),
+        "name": cfg[""]["name"],
+        "navigate_config": str(nav.path),
+        "imu_file": str(nav.data_path("imu", "file")),
+        "samples": len(t),
+        "duration_s": float(t[-1] - t[0]),
+        "settings": drive,
+    }
+    rate = float(1.0 / np.median(np.diff(t)))
+    imu_cal = ImuCalibration.from_drive(cal, rate, source)
+    if comparison is not None:
+        imu_cal = replace(imu_cal, fit={**imu_cal.fit, "navigation": comparison})
+    run = CalibrationRun(cfg, cal, imu_cal, t, f, w)
+    run.summary = {
+        **imu_cal.fit,
+        "accelerometer_bias_m_s2": np.asarray(cal.accelerometer.model.bias).tolist(),
+        "gyroscope_bias_deg_s": np.degrees(np.asarray(cal.gyroscope.model.bias)).tolist(),
+        "processing_s": elapsed,
+    }
     return run

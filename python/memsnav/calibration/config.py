@@ -7,8 +7,12 @@ and relative data paths resolve against the data root (``--data-root``,
 else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` next to the
 repository). The detector's defaults are the core's.
 
-``[session] kind`` says what kind of calibration session the data are; today
-``"static-poses"`` (a multi-position session, docs/calibration.md).
+``[session] kind`` says what kind of calibration session the data are:
+``"static-poses"`` (a multi-position session of raw readings: tables
+``[imu]`` and ``[static]``) or ``"drive"`` (the paper's GNSS-reference
+calibration on a drive: table ``[drive]``, which names the drive's
+``navigate`` configuration); docs/calibration.md. A table of the other
+kind is an error.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from memsnav import _memsnav
+from memsnav.calibration.drive import DEFAULT_WINDOW_S
 from memsnav.calibration.file import SESSIONS
 from memsnav.realdata.config import resolve_data_root
 
@@ -49,12 +54,23 @@ SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
         "estimate": (str, "determinable"),
         "holdout_every": (int, 0),
     },
+    "drive": {
+        "navigate": (str, REQUIRED),
+        "window_s": (_NUM, DEFAULT_WINDOW_S),
+        "until_s": (_NUM, 0.0),
+        "estimate": (str, "determinable"),
+        "scale_factor_states": (bool, True),
+        "compare": (bool, True),
+    },
     "report": {"html": (bool, True)},
 }
+#: The tables each session kind reads (the others must be absent).
+KIND_TABLES = {"static-poses": ("imu", "static"), "drive": ("drive",)}
 CHOICES = {
     ("session", "kind"): SESSIONS,
     ("imu", "time_unit"): ("s", "ms"),
     ("static", "estimate"): ("determinable", "all"),
+    ("drive", "estimate"): ("determinable", "all"),
 }
 
 
@@ -74,6 +90,12 @@ class CalibrationConfig:
         """The file named by ``section.key``, resolved against the data root."""
         p = Path(self.values[section][key]).expanduser()
         return p if p.is_absolute() else self.data_root / p
+
+    def config_path(self, section: str, key: str) -> Path:
+        """The configuration file named by ``section.key``, resolved against
+        this configuration's folder."""
+        p = Path(self.values[section][key]).expanduser()
+        return p if p.is_absolute() else self.path.parent / p
 
 
 def _check(file: Path, name: str, value: Any, kind: Any) -> Any:
@@ -117,7 +139,21 @@ def load_calibration_config(
             raise ValueError(
                 f"{path}: unknown table [{name}]; expected one of {sorted(k for k in SCHEMA if k)}"
             )
+    session = tables.get("session", {}).get("kind")
+    for other, names in KIND_TABLES.items():
+        for name in names:
+            if name in tables and session in KIND_TABLES and session != other:
+                raise ValueError(
+                    f"{path}: table [{name}] is for session kind {other!r}, "
+                    f"not {session!r}; remove it"
+                )
     for section, schema in SCHEMA.items():
+        if (
+            session in KIND_TABLES
+            and section not in KIND_TABLES[session]
+            and any(section in names for names in KIND_TABLES.values())
+        ):
+            continue
         given = top if section == "" else tables.get(section, {})
         unknown = sorted(set(given) - set(schema))
         if unknown:
@@ -138,6 +174,14 @@ def load_calibration_config(
             if choices and out[key] not in choices:
                 raise ValueError(f"{path}: {name} must be one of {list(choices)}, got {out[key]!r}")
         cfg.values[section] = out
+    if session == "drive":
+        drive = cfg["drive"]
+        if drive["window_s"] <= 0 or drive["until_s"] < 0:
+            raise ValueError(
+                f"{path}: drive.window_s must be positive and drive.until_s at least 0 "
+                f"(0: the whole drive), got {drive['window_s']} and {drive['until_s']}"
+            )
+        return cfg
     if cfg["static"]["holdout_every"] == 1 or cfg["static"]["holdout_every"] < 0:
         raise ValueError(
             f"{path}: static.holdout_every must be 0 (none) or at least 2, "

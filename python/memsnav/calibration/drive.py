@@ -70,8 +70,10 @@ class DriveCalibration:
     def std(self, which: str) -> AccelerometerModel | GyroscopeModel:
         """One-sigma of the ``"accelerometer"`` or ``"gyroscope"`` parameters
         after the inflation, as a model of the same class."""
-        fit = self.accelerometer if which == "accelerometer" else self.gyroscope
-        cov = self.accelerometer_covariance if which == "accelerometer" else self.gyroscope_covariance
+        if which == "accelerometer":
+            fit, cov = self.accelerometer, self.accelerometer_covariance
+        else:
+            fit, cov = self.gyroscope, self.gyroscope_covariance
         return _model_of(fit, np.sqrt(np.maximum(np.diag(cov), 0.0)))
 
     def correct(
@@ -202,7 +204,7 @@ def _ar1_factor(residual: NDArray[np.float64]) -> float:
 def _output_axis(name: str) -> int:
     """The output axis of a parameter name (``bias_u``, ``misalignment_uv``,
     ``g_sensitivity_pu``: the first letter after the last underscore)."""
-    return "uvwpqr".index(name.rsplit("_", 1)[1][0]) % 3
+    return parameter_index(name)[1][0]
 
 
 def _inflate(
@@ -226,6 +228,15 @@ def _inflate(
     return covariance
 
 
+def parameter_index(name: str) -> tuple[str, tuple[int, ...]]:
+    """The model attribute and the index in it of a parameter name
+    (``bias_u`` → ("bias", (0,)), ``misalignment_uv`` → ("misalignment",
+    (0, 1)), ``g_sensitivity_pw`` → ("g_sensitivity", (0, 2))): gyro axes
+    p, q, r and accelerometer axes u, v, w are both 0, 1, 2."""
+    kind, letters = name.rsplit("_", 1)
+    return kind, tuple("uvwpqr".index(c) % 3 for c in letters)
+
+
 def _noise_free(fit: Calibration) -> AccelerometerModel | GyroscopeModel:
     """The fitted model without its noise terms (its deterministic output)."""
     fields = _ACCEL if isinstance(fit.model, AccelerometerModel) else _GYRO
@@ -244,14 +255,68 @@ def _model_of(fit: Calibration, values: NDArray[np.float64]) -> AccelerometerMod
         "nonlinearity": np.zeros(3),
         "g_sensitivity": np.zeros((3, 3)),
     }
-    letters = "uvw" if fields is _ACCEL else "pqr"
     for name, value in zip(fit.parameter_names, values, strict=True):
-        kind, index = name.rsplit("_", 1)
-        rows = [letters.index(c) if c in letters else "uvw".index(c) for c in index]
-        if len(rows) == 1:
-            parts[kind][rows[0]] = value
-        else:
-            parts[kind][rows[0], rows[1]] = value
+        kind, index = parameter_index(name)
+        parts[kind][index] = value
     kind_cls = AccelerometerModel if fields is _ACCEL else GyroscopeModel
-    return kind_cls(*(parts[f] for f in fields), sample_rate=fit.model.sample_rate)
+    return kind_cls(*(parts[f] for f in fields), sample_rate=fit.model.sample_rate)  # type: ignore[arg-type]
 
+
+def compare_navigation(
+    time: ArrayLike,
+    specific_force: ArrayLike,
+    angular_rate: ArrayLike,
+    gnss: Any,
+    calibration: DriveCalibration,
+    *,
+    settings: Mapping[str, Mapping[str, Any]] | None,
+    truth_time: ArrayLike,
+    truth_position_ecef: ArrayLike,
+) -> dict[str, Any]:
+    """The drive navigated with the raw and with the calibrated readings,
+    with the settings' outages and the smoother on, scored against a truth:
+    ``{"raw"|"calibrated": {"forward"|"smoothed": {...}}}``, each with the
+    pooled horizontal RMS and max over the outages inside the calibration
+    span (``in_fit``, where the calibration saw the GNSS) and after it
+    (``after_fit``, the honest test), the first outage alone (``first``: the
+    first minutes), and ``all`` (every outage)."""
+    tables = {k: dict(v) for k, v in copy.deepcopy(dict(settings or {})).items()}
+    tables.setdefault("filter", {})["smoother"] = True
+    corrected = calibration.correct(specific_force, angular_rate)
+    out: dict[str, Any] = {}
+    for label, (f, w) in (("raw", (specific_force, angular_rate)), ("calibrated", corrected)):
+        run = _memsnav.navigate_log(time, f, w, gnss, settings=tables)
+        t0 = run.start["time"]
+        windows = np.asarray(run.outages, dtype=float).reshape(-1, 2) - t0
+        until = np.inf if calibration.until_s is None else calibration.until_s
+        views = {"forward": run, "smoothed": run.smoothed}
+        out[label] = {}
+        for view, solution in views.items():
+            assert solution is not None
+            per_outage = solution.score(truth_time, truth_position_ecef)["outages"]
+            subsets = {
+                "in_fit": windows[:, 1] <= until,
+                "after_fit": windows[:, 0] >= until,
+                "first": np.arange(len(windows)) == 0,
+                "all": np.ones(len(windows), dtype=bool),
+            }
+            out[label][view] = {
+                name: _pooled([s for s, k in zip(per_outage, keep, strict=True) if k])
+                for name, keep in subsets.items()
+            }
+    return out
+
+
+def _pooled(stats: list[dict[str, Any]]) -> dict[str, Any]:
+    """Horizontal RMS pooled over outages (weighted by their epochs), the
+    largest max, and the number of outages."""
+    scored = [s for s in stats if s["epochs"] > 0]
+    if not scored:
+        return {"outages": 0}
+    epochs = np.array([s["epochs"] for s in scored], dtype=float)
+    rms = np.array([s["rms_horizontal_m"] for s in scored])
+    return {
+        "outages": len(scored),
+        "rms_horizontal_m": float(np.sqrt(np.sum(epochs * rms**2) / epochs.sum())),
+        "max_horizontal_m": float(max(s["max_horizontal_m"] for s in scored)),
+    }

@@ -165,8 +165,9 @@ class ImuCalibration:
         covariance = np.zeros((len(a_names) + len(g_names),) * 2)
         covariance[: len(a_names), : len(a_names)] = cal.accelerometer_covariance
         covariance[len(a_names) :, len(a_names) :] = cal.gyroscope_covariance
-        rms = np.sqrt(np.mean(cal.residual_before**2, axis=0)), np.sqrt(
-            np.mean(cal.residual_after**2, axis=0)
+        rms = (
+            np.sqrt(np.mean(cal.residual_before**2, axis=0)),
+            np.sqrt(np.mean(cal.residual_after**2, axis=0)),
         )
         return cls(
             session="drive",

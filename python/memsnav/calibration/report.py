@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from memsnav._memsnav import StaticCalibration
+from memsnav.calibration.drive import DriveCalibration, parameter_index
 from memsnav.report.document import Report
 
 if TYPE_CHECKING:
@@ -32,9 +34,15 @@ def write_report(run: CalibrationRun, out: Path) -> Path:
     import matplotlib
 
     matplotlib.use("Agg")
+    if isinstance(run.calibration, DriveCalibration):
+        return _drive_report(run, run.calibration, out)
+    return _static_report(run, run.calibration, out)
+
+
+def _static_report(run: CalibrationRun, cal: StaticCalibration, out: Path) -> Path:
     import matplotlib.pyplot as plt
 
-    cal, cfg, s = run.calibration, run.config, run.summary
+    cfg, s = run.config, run.summary
     poses = np.asarray(cal.poses)
     pose_out = np.asarray(cal.pose_held_out, dtype=bool)
     turn_out = np.asarray(cal.turn_held_out, dtype=bool)
@@ -179,3 +187,124 @@ def write_report(run: CalibrationRun, out: Path) -> Path:
     else:
         doc.paragraph("None: every parameter is determined well below its physical size.")
     return doc.write(out)
+
+
+_SUBSETS = (
+    ("after_fit", "outages after the calibration span (never seen by the fit)"),
+    ("in_fit", "outages inside the calibration span"),
+    ("first", "the first outage (the first minutes)"),
+    ("all", "every outage"),
+)
+
+
+def _drive_report(run: CalibrationRun, cal: DriveCalibration, out: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    cfg, s = run.config, run.summary
+    doc = Report(f"memsnav calibrate: {cfg['']['name']}")
+    span = "the whole drive" if cal.until_s is None else f"the first {cal.until_s:g} s"
+    doc.paragraph(
+        f"GNSS-reference calibration on a drive (method §3): {s['windows']} windows of "
+        f"{cal.window_s:g} s from {span} after the start ({s['skipped_for_resets']} left out for "
+        f"filter resets), references from the smoothed navigation of "
+        f"{html.escape(str(run.imu_calibration.source.get('navigate_config')))}. Processing "
+        f'{s["processing_s"]:.2f} s. Method: docs/calibration.md, "A drive".'
+    )
+
+    comparison = s.get("navigation")
+    doc.section("Navigation with and without the calibration")
+    if comparison is None:
+        doc.paragraph("Not computed ([drive] compare = false, or no truth in the configuration).")
+    else:
+        rows: list[list[object]] = []
+        for view in ("forward", "smoothed"):
+            for key, words in _SUBSETS:
+                raw, calibrated = comparison["raw"][view][key], comparison["calibrated"][view][key]
+                if not raw.get("outages"):
+                    continue
+                rows.append(
+                    [
+                        f"{view}: {words}",
+                        raw["outages"],
+                        f"{raw['rms_horizontal_m']:.2f} / {raw['max_horizontal_m']:.2f}",
+                        f"{calibrated['rms_horizontal_m']:.2f} / "
+                        f"{calibrated['max_horizontal_m']:.2f}",
+                    ]
+                )
+        doc.table(
+            ["horizontal error in GNSS outages", "outages", "raw: RMS / max m", "calibrated"],
+            rows,
+        )
+        doc.paragraph(
+            "The drive navigated twice with the outages of its navigate configuration: with the "
+            "raw readings and with the readings corrected by this calibration (exact inverse of "
+            "the models). Only the outages after the calibration span test it honestly: inside "
+            "the span the references saw the GNSS the outage removes."
+        )
+
+    before, after = cal.residual_before, cal.residual_after
+    t = np.asarray(cal.references["time"]) - float(np.asarray(cal.references["time"])[0])
+    fig, axes = plt.subplots(2, 3, figsize=(12, 6), sharex=True)
+    for j in range(6):
+        a = axes[j // 3, j % 3]
+        scale, unit = (1.0, "m/s²") if j < 3 else (float(np.degrees(1.0)), "°/s")
+        a.plot(t, scale * before[:, j], lw=0.7, color="tab:red", label="raw − reference")
+        a.plot(t, scale * after[:, j], lw=0.7, color="tab:green", label="calibrated − reference")
+        a.axhline(0.0, color="k", lw=0.5)
+        a.set_title(("accelerometer " + "uvw"[j]) if j < 3 else ("gyroscope " + "pqr"[j - 3]))
+        a.set_ylabel(unit)
+        if j >= 3:
+            a.set_xlabel("time since the first window [s]")
+    axes[0, 0].legend(loc="upper right")
+    fig.tight_layout()
+    doc.section("Residuals before and after")
+    doc.figure(
+        "residuals",
+        fig,
+        "Window means of the IMU's output minus the GNSS-derived reference, sensor axes: the raw "
+        "readings (red) and those predicted by the calibrated model (green).",
+    )
+    plt.close("all")
+
+    doc.section("Parameters")
+    rows = []
+    for sensor, fit, cov in (
+        ("accelerometer", cal.accelerometer, cal.accelerometer_covariance),
+        ("gyroscope", cal.gyroscope, cal.gyroscope_covariance),
+    ):
+        held = dict(fit.held)
+        names = list(fit.parameter_names)
+        least_squares = np.sqrt(np.clip(np.diag(np.asarray(fit.covariance)), 0.0, None))
+        sigma = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+        for k, name in enumerate(names):
+            rows.append(
+                [
+                    f"{sensor} {name}",
+                    _value(fit, name),
+                    f"{least_squares[k]:.3g}" if least_squares[k] > 0 else "—",
+                    f"{sigma[k]:.3g}" if sigma[k] > 0 else "—",
+                    f"held: {held[name]}" if name in held else "estimated",
+                ]
+            )
+    doc.table(["parameter (SI)", "value", "LS σ", "σ (reported)", "status"], rows)
+    doc.paragraph(
+        "LS σ: the least-squares covariance from the residual variance, as if the windows were "
+        "independent. σ (reported, and in the calibration file): per output axis scaled by the "
+        "AR(1) factor of the residuals (inflation "
+        + ", ".join(f"{x:.2f}" for x in cal.inflation)
+        + "), plus the smoothed solution's own uncertainty of the biases and scale factors that "
+        "the references inherit. No Cramér-Rao bound here: the references' errors are not "
+        "white noise of a known level."
+    )
+    doc.section("Warnings")
+    if cal.warnings:
+        doc.html("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in cal.warnings) + "</ul>")
+    else:
+        doc.paragraph("None.")
+    return doc.write(out)
+
+
+def _value(fit: object, name: str) -> str:
+    """A parameter's value by its name."""
+    kind, index = parameter_index(name)
+    return f"{np.asarray(getattr(fit.model, kind))[index]:.6g}"  # type: ignore[attr-defined]

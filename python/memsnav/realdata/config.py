@@ -46,6 +46,7 @@ SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
         "time_tag": (str, ""),
         "skip_first_line": (bool, False),
         "header_lines": (int, 0),
+        "calibration": (str, ""),
     },
     "gnss": {
         "mode": (str, REQUIRED),

@@ -80,7 +80,47 @@ def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[s
         t = log.time - readers.UNIX_TO_GPS_S
     else:
         t = log.time
-    return t, log.specific_force, log.angular_rate, notes
+    f, w = log.specific_force, log.angular_rate
+    if c["calibration"]:
+        f, w = apply_calibration(cfg, f, w)
+    return t, f, w, notes
+
+
+def apply_calibration(
+    cfg: RunConfig, specific_force: np.ndarray, angular_rate: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The readings corrected by the calibration file ``[imu] calibration``
+    (docs/calibration.md). Only a calibration of SI readings applies (nominal
+    scale 1, offset 0: a drive calibration, or a static one made from SI
+    readings): the reader has already converted the log's units."""
+    from memsnav.calibration.file import load_calibration
+
+    path = _require(cfg, "imu", "calibration")
+    cal = load_calibration(path)
+    if not cal.identity_nominal:
+        raise ValueError(
+            f"{cfg.path}: imu.calibration: {path} calibrates raw readings (nominal "
+            f"accelerometer scale {cal.nominal['accel_scale'].tolist()}, offset "
+            f"{cal.nominal['accel_offset'].tolist()}); "
+            "navigate reads the IMU in SI units (imu.accel_unit, imu.gyro_unit): calibrate "
+            "from SI readings (nominal scale 1, offset 0) to apply it here"
+        )
+    return cal.correct(specific_force, angular_rate)
+
+
+def read_truth(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray] | None:
+    """The truth's epochs of the chosen quality: GPS time (s) and ECEF
+    position (m), or None when the configuration names no truth."""
+    if cfg.data_path("truth", "pos") is None:
+        return None
+    truth = readers.read_pos(_require(cfg, "truth", "pos"))
+    keep = np.isin(truth.quality, cfg["truth"]["quality"])
+    return truth.gps_time[keep], np.asarray(_mn.geodetic_to_ecef(truth.lla[keep]))
+
+
+def gnss_input(cfg: RunConfig) -> Any:
+    """The GNSS side of the run: fixes (loose) or pseudoranges (tight)."""
+    return loose_input(cfg) if cfg["gnss"]["mode"] == "loose" else tight_input(cfg)
 
 
 def _optional(values: dict[str, Any], *keys: str) -> dict[str, Any]:
@@ -234,7 +274,7 @@ def navigate(
         raise ValueError(f"duration: must be a positive number of seconds, got {duration_s}")
     mode = cfg["gnss"]["mode"]
     t, f_s, w_s, notes = read_imu(cfg)
-    gnss = loose_input(cfg) if mode == "loose" else tight_input(cfg)
+    gnss = gnss_input(cfg)
     run_started = _time.perf_counter()
     run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
     run_s = _time.perf_counter() - run_started
@@ -254,6 +294,7 @@ def navigate(
         "start_gps_time_s": float(t0),
         "duration_s": float(run.time[-1] - run.time[0]),
         "imu_samples": len(run),
+        "imu_calibration": str(cfg.data_path("imu", "calibration") or "") or None,
         "gnss_epochs_used": int(np.sum(run.gnss["used"])),
         "measurements": _counts(run),
         "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
@@ -282,12 +323,9 @@ def navigate(
     if run.range_biases:
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
     result = NavigationResult(cfg, run, None, None)
-    truth_path = cfg.data_path("truth", "pos")
-    if truth_path is not None:
-        truth = readers.read_pos(_require(cfg, "truth", "pos"))
-        keep = np.isin(truth.quality, cfg["truth"]["quality"])
-        tt = truth.gps_time[keep]
-        r_truth = np.asarray(_mn.geodetic_to_ecef(truth.lla[keep]))
+    truth = read_truth(cfg)
+    if truth is not None:
+        tt, r_truth = truth
         score = run.score(tt, r_truth)
         result.truth = {**score, "position_ecef": r_truth, "all_time": tt}
         summary["errors_vs_truth"] = _statistics(score, run.outages, t0)
