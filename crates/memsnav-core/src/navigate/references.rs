@@ -69,7 +69,9 @@ pub struct CalibrationReferences {
     pub specific_force_std_m_s2: f64,
     /// The same for the angular rate from the attitude σ, rad/s.
     pub angular_rate_std_rad_s: f64,
-    /// Windows left out because a reset of the filter falls inside them.
+    /// Windows left out because a reset of the filter falls inside them, or
+    /// because the solution's covariance there is not valid (a smoothed
+    /// solution before a reset: see docs/calibration.md).
     pub skipped_for_resets: usize,
     /// The solution's own uncertainty of the accelerometer biases, mean over
     /// the windows, in the sensor's axes, (m/s²)². The references inherit
@@ -171,11 +173,18 @@ pub fn calibration_references(
     for a in starts {
         let b = a + step;
         let (ta, tb) = (sol.time_s[a], sol.time_s[b]);
-        if sol.resets.iter().any(|r| r.time_s > ta && r.time_s <= tb) {
+        let mid = a + step / 2;
+        // A reset inside the window breaks the kinematics; before a reset
+        // that re-initialises a state (the heading at the first motion) the
+        // smoothed covariance is not valid (negative variances), so those
+        // windows cannot carry an uncertainty either.
+        let variances = &sol.covariance_diagonal[mid * sol.n_states..(mid + 1) * sol.n_states];
+        if sol.resets.iter().any(|r| r.time_s > ta && r.time_s <= tb)
+            || variances.iter().any(|v| *v < 0.0)
+        {
             out.skipped_for_resets += 1;
             continue;
         }
-        let mid = a + step / 2;
         let c_mid = sol.c_b_e[mid];
         // Trapezoidal integrals over the samples a..=b.
         let mut kinematic = Vector3::zeros(); // ∫ (2 Ω_ie v − g) dt
