@@ -4,6 +4,7 @@ argument (docs/robustness.md lists the limits)."""
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,6 +28,39 @@ def test_a_rust_panic_is_a_memsnav_error_with_its_message():
     with pytest.raises(mn.MemsnavError, match=r"internal error.*boom at row 3"):
         _memsnav._panic_for_test("boom at row 3")
     assert issubclass(mn.MemsnavError, Exception)
+
+
+def binding_entries_without_catch_panics(source: str) -> list[int]:
+    """Lines (1-based) of `#[pyfunction]` / `#[pymethods]` whose attribute
+    block (the attributes and doc comments just above) lacks `#[catch_panics]`."""
+    lines = source.splitlines()
+    missing = []
+    for i, line in enumerate(lines):
+        if line.strip() not in ("#[pyfunction]", "#[pymethods]"):
+            continue
+        j, attributes = i - 1, []
+        while j >= 0 and lines[j].strip().startswith(("#[", "///")):
+            attributes.append(lines[j].strip())
+            j -= 1
+        if not any(a.endswith("catch_panics]") for a in attributes):
+            missing.append(i + 1)
+    return missing
+
+
+def test_every_binding_entry_catches_panics():
+    # Item 8 of issue 15: the scan, checked on a sample first so that it can fail.
+    assert binding_entries_without_catch_panics("/// doc\n#[pyfunction]\nfn f() {}") == [2]
+    assert binding_entries_without_catch_panics("#[catch_panics]\n#[pymethods]\nimpl X {}") == []
+    sources = sorted((Path(__file__).parents[1] / "crates" / "memsnav-py" / "src").glob("*.rs"))
+    assert len(sources) > 10
+    entries = sum(s.read_text().count("#[pyfunction]") for s in sources)
+    assert entries > 30
+    missing = {
+        s.name: lines
+        for s in sources
+        if (lines := binding_entries_without_catch_panics(s.read_text()))
+    }
+    assert missing == {}
 
 
 # --- sizes and hangs -------------------------------------------------------------
