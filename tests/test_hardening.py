@@ -208,6 +208,45 @@ def test_constructor_scalars_are_named(kwargs, message):
         mn.Constellation.walker(**kwargs)
 
 
+@pytest.mark.parametrize("filter_class", [mn.LooselyCoupledFilter, mn.TightlyCoupledFilter])
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"accel_noise_density": 1e200}, r"accel_noise_density: 1e200 is too large"),
+        ({"gyro_noise_density": 1e160}, r"gyro_noise_density: 1e160 is too large"),
+        ({"initial_position_std": 1e200}, r"initial_position_std: 1e200 is out of range"),
+        ({"initial_tilt_std": 1e-170}, r"initial_tilt_std: 1e-170 is out of range"),
+        ({"initial_heading_std": -1.0}, r"initial_heading_std: must be finite and positive"),
+    ],
+)
+def test_filter_constructor_errors_name_the_python_argument(filter_class, kwargs, message):
+    # Issue 15: these said "accel_white_psd", "initial_attitude_std" or, at
+    # run time, "initial_covariance": names the user never typed.
+    with pytest.raises(ValueError, match=message) as caught:
+        filter_class(mn.ImuModel.preset("consumer"), **kwargs)
+    assert not any(
+        internal in str(caught.value)
+        for internal in ("white_psd", "initial_attitude_std", "initial_covariance")
+    )
+
+
+def test_an_initial_covariance_that_is_not_one_names_the_stds():
+    t = np.arange(0.0, 5.0, 0.01)
+    f = np.tile([0.0, 0.0, -9.81], (len(t), 1))
+    position = np.array([4e6, 3e6, 3e6]) / np.linalg.norm([4e6, 3e6, 3e6]) * 6.371e6
+    fixes = {
+        "time": np.arange(0.0, 5.0, 1.0),
+        "position_ecef": np.tile(position, (5, 1)),
+        "position_covariance": np.tile(np.eye(3), (5, 1, 1)),
+    }
+    kf = mn.LooselyCoupledFilter(
+        mn.ImuModel.preset("consumer"), initial_tilt_std=1e-10, initial_heading_std=1e5
+    )
+    with pytest.raises(ValueError, match="initial_tilt_std, initial_heading_std: 1e-10 and") as e:
+        kf.run(t, f, np.zeros_like(f), fixes, initial_attitude=np.eye(3))
+    assert "initial_covariance" not in str(e.value)
+
+
 # --- IMU time gaps --------------------------------------------------------------------
 
 

@@ -623,8 +623,7 @@ macro_rules! filter_class {
                     ),
                 ] {
                     if let Some(d) = value {
-                        memsnav_core::validate::non_negative(name, d).py()?;
-                        *target = d * d;
+                        *target = memsnav_core::validate::squared_std(name, d).py()?;
                     }
                 }
                 if let Some(v) = accel_bias_psd {
