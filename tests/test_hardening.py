@@ -247,6 +247,43 @@ def test_an_initial_covariance_that_is_not_one_names_the_stds():
     assert "initial_covariance" not in str(e.value)
 
 
+def flat_imu(duration=10.0, rate=100.0):
+    t = np.arange(0.0, duration, 1.0 / rate)
+    f = np.tile([0.0, 0.0, -9.81], (len(t), 1))
+    return t, f, np.zeros_like(f)
+
+
+EMPTY_PSEUDORANGES = {"time": np.zeros(0), "sat_id": np.zeros(0)}
+EMPTY_FIXES = {"time": np.zeros(0), "position_ecef": np.zeros(0), "position_covariance": []}
+
+
+@pytest.mark.parametrize(
+    ("call", "argument"),
+    [
+        (
+            lambda: mn.TightlyCoupledFilter(mn.ImuModel.preset("consumer")).run(
+                *flat_imu(), EMPTY_PSEUDORANGES
+            ),
+            "gnss.time",
+        ),
+        (
+            lambda: mn.LooselyCoupledFilter(mn.ImuModel.preset("consumer")).run(
+                *flat_imu(), EMPTY_FIXES
+            ),
+            "fixes.time",
+        ),
+        (lambda: mn.navigate_log(*flat_imu(), EMPTY_PSEUDORANGES), "gnss.time"),
+        (lambda: mn.navigate_log(*flat_imu(), EMPTY_FIXES), "fixes.time"),
+        (lambda: mn.fixes_from_solution(np.zeros(0), np.zeros(0), np.zeros(0)), "time"),
+    ],
+)
+def test_empty_gnss_time_says_no_epochs(call, argument):
+    # Issue 15: an empty time array used to fail on the shape of sat_id.
+    with pytest.raises(ValueError, match=rf"^{argument}: has no epochs") as caught:
+        call()
+    assert "shape" not in str(caught.value)
+
+
 # --- IMU time gaps --------------------------------------------------------------------
 
 
