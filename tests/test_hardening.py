@@ -4,6 +4,7 @@ argument (docs/robustness.md lists the limits)."""
 
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,6 +28,39 @@ def test_a_rust_panic_is_a_memsnav_error_with_its_message():
     with pytest.raises(mn.MemsnavError, match=r"internal error.*boom at row 3"):
         _memsnav._panic_for_test("boom at row 3")
     assert issubclass(mn.MemsnavError, Exception)
+
+
+def binding_entries_without_catch_panics(source: str) -> list[int]:
+    """Lines (1-based) of `#[pyfunction]` / `#[pymethods]` whose attribute
+    block (the attributes and doc comments just above) lacks `#[catch_panics]`."""
+    lines = source.splitlines()
+    missing = []
+    for i, line in enumerate(lines):
+        if line.strip() not in ("#[pyfunction]", "#[pymethods]"):
+            continue
+        j, attributes = i - 1, []
+        while j >= 0 and lines[j].strip().startswith(("#[", "///")):
+            attributes.append(lines[j].strip())
+            j -= 1
+        if not any(a.endswith("catch_panics]") for a in attributes):
+            missing.append(i + 1)
+    return missing
+
+
+def test_every_binding_entry_catches_panics():
+    # Item 8 of issue 15: the scan, checked on a sample first so that it can fail.
+    assert binding_entries_without_catch_panics("/// doc\n#[pyfunction]\nfn f() {}") == [2]
+    assert binding_entries_without_catch_panics("#[catch_panics]\n#[pymethods]\nimpl X {}") == []
+    sources = sorted((Path(__file__).parents[1] / "crates" / "memsnav-py" / "src").glob("*.rs"))
+    assert len(sources) > 10
+    entries = sum(s.read_text().count("#[pyfunction]") for s in sources)
+    assert entries > 30
+    missing = {
+        s.name: lines
+        for s in sources
+        if (lines := binding_entries_without_catch_panics(s.read_text()))
+    }
+    assert missing == {}
 
 
 # --- sizes and hangs -------------------------------------------------------------
@@ -172,6 +206,82 @@ def test_scalar_arguments_are_named(kwargs, error, message):
 def test_constructor_scalars_are_named(kwargs, message):
     with pytest.raises((TypeError, ValueError), match=message):
         mn.Constellation.walker(**kwargs)
+
+
+@pytest.mark.parametrize("filter_class", [mn.LooselyCoupledFilter, mn.TightlyCoupledFilter])
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"accel_noise_density": 1e200}, r"accel_noise_density: 1e200 is too large"),
+        ({"gyro_noise_density": 1e160}, r"gyro_noise_density: 1e160 is too large"),
+        ({"initial_position_std": 1e200}, r"initial_position_std: 1e200 is out of range"),
+        ({"initial_tilt_std": 1e-170}, r"initial_tilt_std: 1e-170 is out of range"),
+        ({"initial_heading_std": -1.0}, r"initial_heading_std: must be finite and positive"),
+    ],
+)
+def test_filter_constructor_errors_name_the_python_argument(filter_class, kwargs, message):
+    # Issue 15: these said "accel_white_psd", "initial_attitude_std" or, at
+    # run time, "initial_covariance": names the user never typed.
+    with pytest.raises(ValueError, match=message) as caught:
+        filter_class(mn.ImuModel.preset("consumer"), **kwargs)
+    assert not any(
+        internal in str(caught.value)
+        for internal in ("white_psd", "initial_attitude_std", "initial_covariance")
+    )
+
+
+def test_an_initial_covariance_that_is_not_one_names_the_stds():
+    t = np.arange(0.0, 5.0, 0.01)
+    f = np.tile([0.0, 0.0, -9.81], (len(t), 1))
+    position = np.array([4e6, 3e6, 3e6]) / np.linalg.norm([4e6, 3e6, 3e6]) * 6.371e6
+    fixes = {
+        "time": np.arange(0.0, 5.0, 1.0),
+        "position_ecef": np.tile(position, (5, 1)),
+        "position_covariance": np.tile(np.eye(3), (5, 1, 1)),
+    }
+    kf = mn.LooselyCoupledFilter(
+        mn.ImuModel.preset("consumer"), initial_tilt_std=1e-10, initial_heading_std=1e5
+    )
+    with pytest.raises(ValueError, match="initial_tilt_std, initial_heading_std: 1e-10 and") as e:
+        kf.run(t, f, np.zeros_like(f), fixes, initial_attitude=np.eye(3))
+    assert "initial_covariance" not in str(e.value)
+
+
+def flat_imu(duration=10.0, rate=100.0):
+    t = np.arange(0.0, duration, 1.0 / rate)
+    f = np.tile([0.0, 0.0, -9.81], (len(t), 1))
+    return t, f, np.zeros_like(f)
+
+
+EMPTY_PSEUDORANGES = {"time": np.zeros(0), "sat_id": np.zeros(0)}
+EMPTY_FIXES = {"time": np.zeros(0), "position_ecef": np.zeros(0), "position_covariance": []}
+
+
+@pytest.mark.parametrize(
+    ("call", "argument"),
+    [
+        (
+            lambda: mn.TightlyCoupledFilter(mn.ImuModel.preset("consumer")).run(
+                *flat_imu(), EMPTY_PSEUDORANGES
+            ),
+            "gnss.time",
+        ),
+        (
+            lambda: mn.LooselyCoupledFilter(mn.ImuModel.preset("consumer")).run(
+                *flat_imu(), EMPTY_FIXES
+            ),
+            "fixes.time",
+        ),
+        (lambda: mn.navigate_log(*flat_imu(), EMPTY_PSEUDORANGES), "gnss.time"),
+        (lambda: mn.navigate_log(*flat_imu(), EMPTY_FIXES), "fixes.time"),
+        (lambda: mn.fixes_from_solution(np.zeros(0), np.zeros(0), np.zeros(0)), "time"),
+    ],
+)
+def test_empty_gnss_time_says_no_epochs(call, argument):
+    # Issue 15: an empty time array used to fail on the shape of sat_id.
+    with pytest.raises(ValueError, match=rf"^{argument}: has no epochs") as caught:
+        call()
+    assert "shape" not in str(caught.value)
 
 
 # --- IMU time gaps --------------------------------------------------------------------

@@ -99,6 +99,37 @@ pub fn non_negative(argument: &str, value: f64) -> Result<()> {
     }
 }
 
+/// A standard deviation or noise density `value` (finite, ≥ 0) whose
+/// square (the variance or PSD the filter uses) is finite; returns the
+/// square. The message names the user's argument and its own value.
+pub fn squared_std(argument: &str, value: f64) -> Result<f64> {
+    non_negative(argument, value)?;
+    let square = value * value;
+    if !square.is_finite() {
+        return Err(Error::invalid(
+            argument,
+            format!("{value:?} is too large: its square overflows (at most about 1e154)"),
+        ));
+    }
+    Ok(square)
+}
+
+/// An initial one-sigma `value` (finite, > 0) whose square, the initial
+/// variance, is a finite normal number.
+pub fn initial_std(argument: &str, value: f64) -> Result<()> {
+    positive(argument, value)?;
+    let square = value * value;
+    if !square.is_finite() || square < f64::MIN_POSITIVE {
+        return Err(Error::invalid(
+            argument,
+            format!(
+                "{value:?} is out of range: its square, the initial variance, must be a finite positive number (the std between about 1e-154 and 1e154)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// A finite value greater than zero.
 pub fn positive(argument: &str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {

@@ -59,6 +59,14 @@ fn shape_error(argument: &str, name: &str, expected: &str, got: &[usize]) -> PyE
     ))
 }
 
+/// The error of a GNSS argument without a single epoch (checked before
+/// the shapes of the other arrays, which an empty series cannot fix).
+pub(crate) fn no_epochs(argument: &str) -> PyErr {
+    PyValueError::new_err(format!(
+        "{argument}: has no epochs (length 0); give at least one GNSS epoch"
+    ))
+}
+
 /// Whether `obj` holds pseudoranges (a `GnssMeasurements`, or arrays with
 /// a `sat_id`) rather than position fixes.
 pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
@@ -73,10 +81,16 @@ pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
 pub(crate) fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
     const ARG: &str = "gnss";
     if let Ok(m) = obj.cast::<PyGnssMeasurements>() {
+        if m.get().epochs.is_empty() {
+            return Err(no_epochs(ARG));
+        }
         return Ok(m.get().epochs.clone());
     }
     let time = convert::scalars(&field(obj, "time", ARG)?, "gnss.time")?;
     let t = time.len();
+    if t == 0 {
+        return Err(no_epochs("gnss.time"));
+    }
     let (sat_id, s) = floats_with_nan(&field(obj, "sat_id", ARG)?, "gnss.sat_id")?;
     if s.len() != 2 || s[0] != t {
         return Err(shape_error(ARG, "sat_id", "(T, n)", &s));
@@ -148,9 +162,15 @@ pub(crate) fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
 pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix>> {
     const ARG: &str = "fixes";
     if let Ok(f) = obj.cast::<crate::log_navigation::PyPositionFixes>() {
+        if f.get().fixes.is_empty() {
+            return Err(no_epochs(ARG));
+        }
         return Ok(f.get().fixes.clone());
     }
     if let Ok(f) = obj.cast::<PyFixSeries>() {
+        if f.get().fixes.is_empty() {
+            return Err(no_epochs(ARG));
+        }
         return Ok(f
             .get()
             .fixes
@@ -167,6 +187,9 @@ pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix
     }
     let time = convert::scalars(&field(obj, "time", ARG)?, "fixes.time")?;
     let t = time.len();
+    if t == 0 {
+        return Err(no_epochs("fixes.time"));
+    }
     let position = convert::vectors(&field(obj, "position_ecef", ARG)?, "fixes.position_ecef")?;
     let pcov = convert::matrices3(
         &field(obj, "position_covariance", ARG)?,
@@ -623,8 +646,7 @@ macro_rules! filter_class {
                     ),
                 ] {
                     if let Some(d) = value {
-                        memsnav_core::validate::non_negative(name, d).py()?;
-                        *target = d * d;
+                        *target = memsnav_core::validate::squared_std(name, d).py()?;
                     }
                 }
                 if let Some(v) = accel_bias_psd {

@@ -180,6 +180,9 @@ fn fixes_from_solution(
     seed: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyPositionFixes> {
     let time = convert::scalars(time, "time")?;
+    if time.is_empty() {
+        return Err(crate::coupling::no_epochs("time"));
+    }
     let geodetic = convert::vectors(geodetic, "geodetic")?;
     let std_ned = convert::vectors(std_ned, "std_ned")?;
     let with_nan = |o: Option<&Bound<'_, PyAny>>, name: &str| {
@@ -510,8 +513,8 @@ fn navigate_log(
     let time = convert::scalars(time, "time")?;
     let f = convert::vectors(specific_force, "specific_force")?;
     let w = convert::vectors(angular_rate, "angular_rate")?;
-    let input = if let Ok(fixes) = gnss.cast::<PyPositionFixes>() {
-        GnssInput::Fixes(fixes.get().fixes.clone())
+    let input = if gnss.cast::<PyPositionFixes>().is_ok() {
+        GnssInput::Fixes(position_fixes(gnss)?)
     } else if is_measurements(gnss) {
         GnssInput::Measurements(gnss_epochs(gnss)?)
     } else {

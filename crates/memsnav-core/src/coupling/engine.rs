@@ -200,7 +200,7 @@ impl<const N: usize> FilterState<N> {
                 init.clock_drift_m_s.is_some(),
             ),
             slots: RangeBiasSlots::default(),
-            kf: ErrorStateKf::new(p0)?,
+            kf: ErrorStateKf::new(p0).map_err(|e| initial_uncertainty_error(e, s))?,
             tuning: *tuning,
             last_sample: ImuSample {
                 specific_force_b: Vector3::zeros(),
@@ -300,6 +300,29 @@ fn corrected_nav<const N: usize>(nav: &NavState, x: &crate::filter::ErrorState<N
         velocity_ecef: nav.velocity_ecef - x.velocity(),
         position_ecef: nav.position_ecef - x.position(),
     }
+}
+
+/// The error of a P₀ that is not a covariance, in the words of the
+/// arguments that built it (`initial_*_std`), not the internal matrix.
+fn initial_uncertainty_error(error: Error, s: &super::InitialUncertainty) -> Error {
+    let Error::InvalidArgument { reason, .. } = error else {
+        return error;
+    };
+    let a = &s.attitude_ned_rad;
+    let (small, large) = (a.min(), a.max());
+    if large > 1e6 * small {
+        return Error::invalid(
+            "initial_tilt_std, initial_heading_std",
+            format!(
+                "{:?} and {:?} rad are too far apart: rotated into ECEF they give an attitude covariance that {reason}; keep them within a factor of 10⁶",
+                a.x, a.z
+            ),
+        );
+    }
+    Error::invalid(
+        "initial uncertainties (initial_position_std, initial_velocity_std, initial_tilt_std, initial_heading_std, initial_*_bias_std, initial_clock_*_std)",
+        format!("their squares span too many orders of magnitude: the initial covariance {reason}"),
+    )
 }
 
 /// Anything with a time stamp that aids the INS.

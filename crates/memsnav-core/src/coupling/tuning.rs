@@ -351,9 +351,22 @@ impl FilterTuning {
     /// Checks every field (names the field at fault).
     pub fn validate(&self) -> Result<()> {
         let q = &self.process_noise;
+        // The white-noise PSDs are the squares of the noise densities the
+        // user gives (`accel_noise_density`, `gyro_noise_density`).
         for (name, v) in [
-            ("accel_white_psd", q.accel_white_psd),
-            ("gyro_white_psd", q.gyro_white_psd),
+            ("accel_noise_density", q.accel_white_psd),
+            ("gyro_noise_density", q.gyro_white_psd),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::invalid(
+                    name,
+                    format!(
+                        "its square, the white-noise PSD, must be finite and non-negative, got {v}"
+                    ),
+                ));
+            }
+        }
+        for (name, v) in [
             ("accel_bias_psd", q.accel_bias_psd),
             ("gyro_bias_psd", q.gyro_bias_psd),
             ("clock_phase_psd", q.clock_phase_psd),
@@ -386,7 +399,11 @@ impl FilterTuning {
         for (name, v) in [
             ("initial_position_std", i.position_m),
             ("initial_velocity_std", i.velocity_m_s),
-            ("initial_attitude_std", i.attitude_ned_rad.min()),
+            (
+                "initial_tilt_std",
+                i.attitude_ned_rad.x.min(i.attitude_ned_rad.y),
+            ),
+            ("initial_heading_std", i.attitude_ned_rad.z),
             ("initial_accel_bias_std", i.accel_bias_m_s2),
             ("initial_gyro_bias_std", i.gyro_bias_rad_s),
             ("initial_clock_offset_std", i.clock_offset_m),
@@ -395,7 +412,7 @@ impl FilterTuning {
             ("initial_gyro_scale_factor_std", i.gyro_scale_factor),
             ("initial_range_bias_std", i.range_bias_m),
         ] {
-            validate::positive(name, v)?;
+            validate::initial_std(name, v)?;
         }
         let f = &self.floor;
         for (name, v) in [
