@@ -90,6 +90,27 @@ def test_references_of_an_error_free_imu_match_its_outputs():
         run.smoothed.calibration_references(t, f, w, window_s=0.0)
 
 
+def test_smoothed_covariance_is_valid_across_the_heading_reset():
+    """A static start sets the heading at the first motion (a reset of the
+    heading component): the smoothed variances stay non-negative and never
+    exceed the forward ones, before the reset as after it."""
+    zero3, zero33 = np.zeros(3), np.zeros((3, 3))
+    t, f, w, fixes = _drive(
+        2,
+        mn.AccelerometerModel(zero3, zero3, zero33, zero3, noise_density=0.002),
+        mn.GyroscopeModel(zero3, zero3, zero33, zero33, noise_density=np.radians(0.01)),
+    )
+    run = mn.navigate_log(t, f, w, fixes, settings={**NO_STANDSTILL, "filter": {"smoother": True}})
+    resets = run.solution.resets
+    assert "heading" in [str(k) for k in resets["kind"]]
+    forward = np.asarray(run.solution.covariance_diagonal)
+    smoothed = np.asarray(run.smoothed.solution.covariance_diagonal)
+    assert smoothed.min() >= 0.0
+    assert np.all(smoothed <= forward * (1 + 1e-9) + 1e-15)
+    refs = run.smoothed.calibration_references(t, f, w)
+    assert refs["skipped_for_resets"] <= 1
+
+
 def test_drive_calibration_recovers_known_errors_within_sigma():
     """Biases and scale factors drawn at random over three seeds: the
     estimates' z-scores against the truth. The vertical accelerometer scale

@@ -65,6 +65,14 @@ impl<const N: usize> ErrorStateKf<N> {
         self.p
             .fixed_view_mut::<3, 3>(first, first)
             .copy_from(&block);
+        // The smoother must see it: without it the backward pass carries
+        // information through the reset and the smoothed covariance before
+        // it turns negative.
+        self.record_reset(ResetStep::Component {
+            first,
+            direction: d,
+            variance,
+        });
     }
 
     /// Multiplies the variances of `states` by `factor` ≥ 1, their
