@@ -225,7 +225,7 @@ def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
     ("edit", "message"),
     [
         (lambda s: s.replace("holdout_every", "hold_out"), r"unknown key\(s\) \['hold_out'\]"),
-        (lambda s: s.replace('kind = "static-poses"', 'kind = "turntable"'), "session.kind must be"),
+        (lambda s: s.replace('kind = "static-poses"', 'kind = "tilt"'), "session.kind must be"),
         (lambda s: s.replace("gravity_m_s2 = 9.81744", ""), "missing required key static.gravity"),
         (lambda s: s.replace("gyro_offset = 32768", 'gyro_offset = "x"'), "imu.gyro_offset must"),
         (lambda s: s.replace("[2.1e-4, 2.1e-4, 2.1e-4]", "[1, 2]"), "a list of 3 numbers"),

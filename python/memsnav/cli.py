@@ -261,6 +261,14 @@ def _calibrate(args: argparse.Namespace) -> int:
                         f"{view}, {label}: outages after the calibration span: horizontal RMS "
                         f"{st['rms_horizontal_m']:.2f} m, max {st['max_horizontal_m']:.2f} m"
                     )
+            draws = s.get("navigation", {}).get("draws") or []
+            rms = [d[view]["after_fit"].get("rms_horizontal_m") for d in draws]
+            finite = [r for r in rms if r is not None]
+            if finite:
+                print(
+                    f"{view}, {len(finite)} calibrations drawn from its covariance: RMS "
+                    f"{min(finite):.2f}-{max(finite):.2f} m"
+                )
     for subset in ("fit", "held_out"):
         if f"magnitude_rms_after_{subset}_m_s2" not in s:
             continue

@@ -167,6 +167,8 @@ def _drive(cfg: CalibrationConfig) -> CalibrationRun:
             settings=nav.engine,
             truth_time=truth[0],
             truth_position_ecef=truth[1],
+            draws=drive["draws"],
+            seed=drive["seed"],
         )
     source = {
         "config": str(cfg.path),

@@ -61,6 +61,8 @@ SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
         "estimate": (str, "determinable"),
         "scale_factor_states": (bool, True),
         "compare": (bool, True),
+        "draws": (int, 10),
+        "seed": (int, 0),
     },
     "report": {"html": (bool, True)},
 }
@@ -176,6 +178,8 @@ def load_calibration_config(
         cfg.values[section] = out
     if session == "drive":
         drive = cfg["drive"]
+        if drive["draws"] < 0:
+            raise ValueError(f"{path}: drive.draws must be 0 or more, got {drive['draws']}")
         if drive["window_s"] <= 0 or drive["until_s"] < 0:
             raise ValueError(
                 f"{path}: drive.window_s must be positive and drive.until_s at least 0 "

@@ -81,7 +81,9 @@ class DriveCalibration:
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """SI specific force and angular rate (N, 3) of SI readings in the
         sensor's axes: the exact inverses of the fitted models."""
-        return _correct(self.accelerometer, self.gyroscope, specific_force, angular_rate)
+        return _correct(
+            self.accelerometer.model, self.gyroscope.model, specific_force, angular_rate
+        )
 
 
 def calibrate_drive(
@@ -175,15 +177,18 @@ def _fit(refs: dict[str, Any], estimate: str) -> tuple[Calibration, Calibration,
 
 
 def _correct(
-    accel: Calibration, gyro: Calibration, specific_force: ArrayLike, angular_rate: ArrayLike
+    accel: AccelerometerModel | GyroscopeModel,
+    gyro: AccelerometerModel | GyroscopeModel,
+    specific_force: ArrayLike,
+    angular_rate: ArrayLike,
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """SI readings corrected by the exact inverses of the fitted models."""
+    """SI readings corrected by the exact inverses of the models."""
     one, zero = np.ones(3), np.zeros(3)
     return _memsnav.correct_imu(
         specific_force,
         angular_rate,
-        accel.model,  # type: ignore[arg-type]
-        gyro.model,  # type: ignore[arg-type]
+        accel,  # type: ignore[arg-type]
+        gyro,  # type: ignore[arg-type]
         accel_scale=one,
         accel_offset=zero,
         gyro_scale=one,
@@ -272,6 +277,8 @@ def compare_navigation(
     settings: Mapping[str, Mapping[str, Any]] | None,
     truth_time: ArrayLike,
     truth_position_ecef: ArrayLike,
+    draws: int = 0,
+    seed: int = 0,
 ) -> dict[str, Any]:
     """The drive navigated with the raw and with the calibrated readings,
     with the settings' outages and the smoother on, scored against a truth:
@@ -279,32 +286,63 @@ def compare_navigation(
     pooled horizontal RMS and max over the outages inside the calibration
     span (``in_fit``, where the calibration saw the GNSS) and after it
     (``after_fit``, the honest test), the first outage alone (``first``: the
-    first minutes), and ``all`` (every outage)."""
+    first minutes), and ``all`` (every outage).
+
+    ``draws`` > 0 adds ``"draws"``: the same scores of the drive navigated
+    with ``draws`` calibrations drawn from the calibration's covariance
+    (seeded by ``seed``), the calibration's uncertainty in navigation terms.
+    """
     tables = {k: dict(v) for k, v in copy.deepcopy(dict(settings or {})).items()}
     tables.setdefault("filter", {})["smoother"] = True
-    corrected = calibration.correct(specific_force, angular_rate)
-    out: dict[str, Any] = {}
-    for label, (f, w) in (("raw", (specific_force, angular_rate)), ("calibrated", corrected)):
+    until = np.inf if calibration.until_s is None else calibration.until_s
+
+    def scores(f: ArrayLike, w: ArrayLike) -> dict[str, Any]:
         run = _memsnav.navigate_log(time, f, w, gnss, settings=tables)
-        t0 = run.start["time"]
-        windows = np.asarray(run.outages, dtype=float).reshape(-1, 2) - t0
-        until = np.inf if calibration.until_s is None else calibration.until_s
-        views = {"forward": run, "smoothed": run.smoothed}
-        out[label] = {}
-        for view, solution in views.items():
+        windows = np.asarray(run.outages, dtype=float).reshape(-1, 2) - run.start["time"]
+        subsets = {
+            "in_fit": windows[:, 1] <= until,
+            "after_fit": windows[:, 0] >= until,
+            "first": np.arange(len(windows)) == 0,
+            "all": np.ones(len(windows), dtype=bool),
+        }
+        out: dict[str, Any] = {}
+        for view, solution in (("forward", run), ("smoothed", run.smoothed)):
             assert solution is not None
             per_outage = solution.score(truth_time, truth_position_ecef)["outages"]
-            subsets = {
-                "in_fit": windows[:, 1] <= until,
-                "after_fit": windows[:, 0] >= until,
-                "first": np.arange(len(windows)) == 0,
-                "all": np.ones(len(windows), dtype=bool),
-            }
-            out[label][view] = {
+            out[view] = {
                 name: _pooled([s for s, k in zip(per_outage, keep, strict=True) if k])
                 for name, keep in subsets.items()
             }
-    return out
+        return out
+
+    result: dict[str, Any] = {
+        "raw": scores(specific_force, angular_rate),
+        "calibrated": scores(*calibration.correct(specific_force, angular_rate)),
+    }
+    if draws > 0:
+        rng = np.random.default_rng(seed)
+        drawn = []
+        for _ in range(draws):
+            accel, gyro = (
+                _model_of(fit, rng.multivariate_normal(_values(fit), cov, method="eigh"))
+                for fit, cov in (
+                    (calibration.accelerometer, calibration.accelerometer_covariance),
+                    (calibration.gyroscope, calibration.gyroscope_covariance),
+                )
+            )
+            drawn.append(scores(*_correct(accel, gyro, specific_force, angular_rate)))
+        result["draws"] = drawn
+    return result
+
+
+def _values(fit: Calibration) -> NDArray[np.float64]:
+    """The fitted parameters in the order of ``fit.parameter_names``."""
+    return np.array(
+        [
+            np.asarray(getattr(fit.model, kind))[index]
+            for kind, index in map(parameter_index, fit.parameter_names)
+        ]
+    )
 
 
 def _pooled(stats: list[dict[str, Any]]) -> dict[str, Any]:
