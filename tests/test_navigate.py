@@ -220,3 +220,35 @@ def test_navigate_reports_a_cut_imu_log(tmp_path):
     )
     with pytest.warns(UserWarning, match=r"imu.csv:\d+: last line cut short"):
         mn.navigate(cfg, data_root=DATA, duration_s=5.0)
+
+
+def test_position_only_fixes_give_the_aids_a_ground_speed():
+    """Fixes without velocity: the engine takes the ground speed and course
+    from consecutive positions, so a vibration-free simulated IMU cruising
+    smoothly is not taken for a standstill (no ZUPT pins the velocity while
+    moving) and the heading is set at the first motion."""
+    trajectory = mn.Trajectory.random(300.0, seed=1, stationary_start=20.0)
+    t = trajectory.time
+    k = np.arange(0, len(t), 25)
+    fixes = mn.fixes_from_solution(
+        t[k],
+        trajectory.position_geodetic()[k],
+        np.full((len(k), 3), 0.02),
+        velocity_ned=np.full((len(k), 3), np.nan),
+    )
+    run = mn.navigate_log(t, trajectory.specific_force, trajectory.angular_rate, fixes)
+    sol = run.solution
+    measurements = sol.measurements
+    zupt = np.asarray(measurements["kind"]) == "zero_velocity"
+    speed = np.linalg.norm(trajectory.velocity_ecef, axis=1)
+    at = np.searchsorted(t, np.asarray(measurements["time"])[zupt])
+    assert np.all(speed[np.minimum(at, len(t) - 1)] < 0.5)
+    assert "heading" in [str(k) for k in sol.resets["kind"]]
+    # Attitude error against the truth after the first motion: about a
+    # degree at most (the heading from a course of position differences),
+    # not the tenth of a radian that ZUPTs while moving caused.
+    index = np.searchsorted(t, np.asarray(sol.time))
+    relative = np.einsum("nij,nkj->nik", trajectory.attitude[index], np.asarray(sol.attitude))
+    angle = np.arccos(np.clip((np.trace(relative, axis1=1, axis2=2) - 1) / 2, -1, 1))
+    moving = np.asarray(sol.time) > t[0] + 40.0
+    assert np.max(angle[moving]) < 0.03

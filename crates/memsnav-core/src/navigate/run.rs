@@ -167,6 +167,32 @@ fn standstill_intervals(solution: &Solution) -> Vec<(f64, f64)> {
     out
 }
 
+/// Longest interval between two fixes whose position difference stands in
+/// for a missing velocity, s.
+const MAX_DIFFERENCE_INTERVAL_S: f64 = 2.0;
+
+/// Fixes without a velocity get the backward difference of their position
+/// and the previous fix's (within [`MAX_DIFFERENCE_INTERVAL_S`]), with the
+/// covariance of independent positions, (P_a + P_b) / Δt²: the ground speed
+/// and course the aids need (the standstill test's GNSS speed, the heading
+/// at the first motion). Causal, so it is the velocity half an interval
+/// ago. Only the aids read it: the filter's fixes stay position-only.
+fn velocity_from_positions(kinematics: &mut [GnssKinematics]) {
+    for i in 1..kinematics.len() {
+        let (a, b) = (&kinematics[i - 1], &kinematics[i]);
+        let dt = b.time_s - a.time_s;
+        if b.velocity_ecef.is_some() || !(dt > 0.0 && dt <= MAX_DIFFERENCE_INTERVAL_S) {
+            continue;
+        }
+        let velocity = (b.position_ecef - a.position_ecef) / dt;
+        if velocity.iter().all(|v| v.is_finite()) {
+            let covariance = (a.position_covariance + b.position_covariance) / (dt * dt);
+            kinematics[i].velocity_ecef = Some(velocity);
+            kinematics[i].velocity_covariance = covariance;
+        }
+    }
+}
+
 /// Antenna position and velocity of every GNSS epoch: the fixes as they
 /// are, or least-squares fixes of the pseudoranges (NaN where an epoch has
 /// fewer than four usable satellites or no solution), their covariance with
@@ -174,16 +200,20 @@ fn standstill_intervals(solution: &Solution) -> Vec<(f64, f64)> {
 fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinematics>> {
     let nan = Vector3::from_element(f64::NAN);
     Ok(match gnss {
-        GnssInput::Fixes(fixes) => fixes
-            .iter()
-            .map(|f| GnssKinematics {
-                time_s: f.time_s,
-                position_ecef: f.position_ecef,
-                position_covariance: f.position_covariance,
-                velocity_ecef: f.velocity_ecef,
-                velocity_covariance: f.velocity_covariance,
-            })
-            .collect(),
+        GnssInput::Fixes(fixes) => {
+            let mut kinematics: Vec<GnssKinematics> = fixes
+                .iter()
+                .map(|f| GnssKinematics {
+                    time_s: f.time_s,
+                    position_ecef: f.position_ecef,
+                    position_covariance: f.position_covariance,
+                    velocity_ecef: f.velocity_ecef,
+                    velocity_covariance: f.velocity_covariance,
+                })
+                .collect();
+            velocity_from_positions(&mut kinematics);
+            kinematics
+        }
         GnssInput::Measurements(epochs) => {
             let mut prior = None;
             epochs
