@@ -284,6 +284,48 @@ def test_empty_gnss_time_says_no_epochs(call, argument):
     assert "shape" not in str(caught.value)
 
 
+def first_epochs_with(change):
+    track = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
+    g = mn.simulate_gnss(
+        track.time, track.position_ecef, track.velocity_ecef, mn.Constellation.walker(), seed=1
+    )
+    names = ("time", "sat_id", "satellite_position_ecef", "satellite_velocity_ecef")
+    arrays = {k: np.array(getattr(g, k))[:3] for k in (*names, "pseudorange", "pseudorange_std")}
+    change(arrays)
+    t = track.time[:50]
+    f = np.tile([0.0, 0.0, -9.8], (len(t), 1))
+    run = mn.TightlyCoupledFilter(mn.ImuModel.preset("consumer")).run
+    return lambda: run(t, f, np.zeros_like(f), arrays, initial_attitude=np.eye(3))
+
+
+@pytest.mark.parametrize("offset", [1e8, 1e9, 1e12, -2e7])
+def test_a_first_epoch_pseudorange_outlier_is_not_singular_geometry(offset):
+    # Issue 15: a 1e9 m error on one pseudorange of the first epoch was
+    # reported as "the satellite geometry at t = 0 s is singular".
+    corrupted = []
+
+    def corrupt(a):
+        a["pseudorange"][0, 2] += offset
+        corrupted.append(int(a["sat_id"][0, 2]))
+
+    run = first_epochs_with(corrupt)
+    with pytest.raises(mn.MemsnavError) as caught:
+        run()
+    message = str(caught.value)
+    assert "singular" not in message
+    assert not isinstance(caught.value, mn.UnobservableError)
+    assert f"the pseudorange of satellite {corrupted[0]} is an outlier" in message
+
+
+def test_a_truly_singular_geometry_is_still_reported_as_such():
+    def stack(a):
+        # Every satellite at the same place: no geometry at all.
+        a["satellite_position_ecef"][0] = a["satellite_position_ecef"][0, 0]
+
+    with pytest.raises(mn.UnobservableError, match="geometry at t = 0 s is singular"):
+        first_epochs_with(stack)()
+
+
 # --- IMU time gaps --------------------------------------------------------------------
 
 
