@@ -243,7 +243,7 @@ fn solve_fix_once(
         // do not fit one position.
         if iterations == 1 {
             let sv = geometry.singular_values();
-            if !(sv.min() > 1e-12 * sv.max()) {
+            if sv.min().is_nan() || sv.min() <= 1e-12 * sv.max() {
                 return Err(singular().into());
             }
         }
