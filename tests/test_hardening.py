@@ -4,6 +4,7 @@ argument (docs/robustness.md lists the limits)."""
 
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -282,6 +283,143 @@ def test_empty_gnss_time_says_no_epochs(call, argument):
     with pytest.raises(ValueError, match=rf"^{argument}: has no epochs") as caught:
         call()
     assert "shape" not in str(caught.value)
+
+
+def first_epochs_with(change):
+    track = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
+    g = mn.simulate_gnss(
+        track.time, track.position_ecef, track.velocity_ecef, mn.Constellation.walker(), seed=1
+    )
+    names = ("time", "sat_id", "satellite_position_ecef", "satellite_velocity_ecef")
+    arrays = {k: np.array(getattr(g, k))[:3] for k in (*names, "pseudorange", "pseudorange_std")}
+    change(arrays)
+    t = track.time[:50]
+    f = np.tile([0.0, 0.0, -9.8], (len(t), 1))
+    run = mn.TightlyCoupledFilter(mn.ImuModel.preset("consumer")).run
+    return lambda: run(t, f, np.zeros_like(f), arrays, initial_attitude=np.eye(3))
+
+
+@pytest.mark.parametrize("offset", [1e8, 1e9, 1e12, -2e7])
+def test_a_first_epoch_pseudorange_outlier_is_not_singular_geometry(offset):
+    # Issue 15: a 1e9 m error on one pseudorange of the first epoch was
+    # reported as "the satellite geometry at t = 0 s is singular".
+    corrupted = []
+
+    def corrupt(a):
+        a["pseudorange"][0, 2] += offset
+        corrupted.append(int(a["sat_id"][0, 2]))
+
+    run = first_epochs_with(corrupt)
+    with pytest.raises(mn.MemsnavError) as caught:
+        run()
+    message = str(caught.value)
+    assert "singular" not in message
+    assert not isinstance(caught.value, mn.UnobservableError)
+    assert f"the pseudorange of satellite {corrupted[0]} is an outlier" in message
+
+
+def test_a_truly_singular_geometry_is_still_reported_as_such():
+    def stack(a):
+        # Every satellite at the same place: no geometry at all.
+        a["satellite_position_ecef"][0] = a["satellite_position_ecef"][0, 0]
+
+    with pytest.raises(mn.UnobservableError, match="geometry at t = 0 s is singular"):
+        first_epochs_with(stack)()
+
+
+# --- warnings: units and divergence --------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def drive():
+    # A 300 s drive, its GNSS, an IMU the 17 states model exactly, and the
+    # least-squares fixes as loose-filter input.
+    traj = mn.Trajectory.random(duration=300.0, seed=3)
+    gnss = mn.simulate_gnss(
+        traj.time, traj.position_ecef, traj.velocity_ecef, mn.Constellation.walker(), seed=4
+    )
+    rng = np.random.default_rng(5)
+    z3, z33 = np.zeros(3), np.zeros((3, 3))
+    acc = mn.AccelerometerModel(rng.normal(0, 0.03, 3), z3, z33, z3, noise_density=2e-3)
+    gyr = mn.GyroscopeModel(rng.normal(0, 2e-4, 3), z3, z33, z33, noise_density=2e-4)
+    imu = mn.ImuModel(acc, gyr)
+    f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
+    fixes = mn.solve_fix(gnss)
+    arrays = {
+        "time": np.array(fixes.time),
+        "position_ecef": np.array(fixes.position_ecef),
+        "position_covariance": np.array(fixes.position_clock_covariance)[:, :3, :3],
+    }
+    return traj, gnss, imu, f, w, arrays
+
+
+def loose_run(drive, f=None, w=None, fixes=None):
+    traj, _, imu, f0, w0, arrays = drive
+    return mn.LooselyCoupledFilter(imu).run(
+        traj.time,
+        f0 if f is None else f,
+        w0 if w is None else w,
+        arrays if fixes is None else fixes,
+        initial_attitude=traj.attitude[0],
+    )
+
+
+def test_clean_simulated_runs_give_no_warning(drive):
+    traj, gnss, imu, f, w, _ = drive
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loose = loose_run(drive)
+        tight = mn.TightlyCoupledFilter(imu).run(
+            traj.time, f, w, gnss, initial_attitude=traj.attitude[0], smooth=True
+        )
+    for sol in (loose, tight, tight.smoothed):
+        assert sol.warnings == [] and not sol.diverged
+
+
+def test_specific_force_in_g_warns_naming_the_argument(drive):
+    _, _, _, f, _, _ = drive
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sol = loose_run(drive, f=f / 9.80665)
+    messages = [str(c.message) for c in caught]
+    assert all(issubclass(c.category, UserWarning) for c in caught)
+    assert messages[0].startswith("specific_force: the median magnitude is 1.0")
+    assert "g given as m/s²" in messages[0]
+    assert sol.warnings == messages
+
+
+def test_gyro_in_deg_per_s_warns_naming_the_argument(drive):
+    # A car's turns in deg/s read as rad/s (issue 15: 3.5 km error, silently).
+    _, _, _, _, w, _ = drive
+    with pytest.warns(UserWarning) as caught:
+        sol = loose_run(drive, w=np.degrees(w))
+    messages = [str(c.message) for c in caught]
+    assert any(m.startswith("angular_rate:") and "deg/s given as rad/s" in m for m in messages)
+    assert sol.warnings == messages
+
+
+@pytest.mark.parametrize("which", ["after_the_first", "first"])
+def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
+    traj, *_, arrays = drive
+    bad = {k: v.copy() for k, v in arrays.items()}
+    if which == "first":
+        bad["position_ecef"][0] += [1e9, 0.0, 0.0]
+    else:
+        bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sol = loose_run(drive, fixes=bad)
+    error = np.linalg.norm(sol.position_ecef - traj.position_ecef, axis=1)[-1]
+    if which == "first":
+        # Issue 15 item 4: never a silent 1e9 m finish. Either the filter
+        # recovers (resets to the later fixes) or it says it diverged.
+        assert error < 100.0 and len(sol.resets["time"]) >= 1
+    else:
+        # Every fix but the first is 1e9 m off the truth: the filter follows
+        # them by resets but its innovations stay far outside their covariance.
+        assert sol.diverged
+        assert any("diverged from its GNSS aiding" in str(c.message) for c in caught)
+        assert any("diverged" in m for m in sol.warnings)
 
 
 # --- IMU time gaps --------------------------------------------------------------------

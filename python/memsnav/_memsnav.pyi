@@ -1120,6 +1120,17 @@ class FilterSolution:
         "inflation", "heading"), ``change`` (m, m/s, rad, or the inflation
         factor), ``failed_epochs`` (consecutive failed epochs before it)."""
 
+    @property
+    def warnings(self) -> list[str]:
+        """What the run found implausible, one sentence each (also raised as
+        ``UserWarning``s by ``run``): IMU magnitudes that do not fit m/s² and
+        rad/s, a filter diverged from its GNSS aiding. Empty when all is well."""
+
+    @property
+    def diverged(self) -> bool:
+        """Whether the filter diverged from its GNSS aiding (most GNSS batches
+        failing their gate over the run; see ``warnings``)."""
+
     def __len__(self) -> int: ...
 
 @final

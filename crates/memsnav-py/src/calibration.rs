@@ -2,8 +2,6 @@
 //! result class. Conversions only; the numerics are in
 //! `memsnav_core::calibration`.
 
-use std::ffi::CString;
-
 use memsnav_core::calibration::{
     accelerometer_parameter_names, accelerometer_std_model, calibrate_accelerometer as core_accel,
     calibrate_gyroscope as core_gyro, gyroscope_parameter_names, gyroscope_std_model, Calibration,
@@ -14,7 +12,7 @@ use memsnav_core::sensors::{ImuModel, NoiseModel};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{DMatrix, Vector3};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use pyo3::exceptions::{PyUserWarning, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::convert;
@@ -116,15 +114,6 @@ pub(crate) fn estimate(name: &str) -> PyResult<Estimate> {
     }
 }
 
-/// Emits each "poorly determined" diagnostic as a Python `UserWarning`.
-fn warn_all(py: Python<'_>, warnings: &[String]) -> PyResult<()> {
-    for w in warnings {
-        let message = CString::new(w.as_str()).unwrap_or_default();
-        PyErr::warn(py, &py.get_type::<PyUserWarning>(), &message, 2)?;
-    }
-    Ok(())
-}
-
 fn wrap<M>(
     py: Python<'_>,
     cal: Calibration<M>,
@@ -132,7 +121,8 @@ fn wrap<M>(
     to_py: impl Fn(M) -> PyResult<Py<PyAny>>,
     crb_std: impl Fn(&DMatrix<f64>) -> PyResult<Py<PyAny>>,
 ) -> PyResult<PyCalibration> {
-    warn_all(py, &cal.warnings)?;
+    // Each "poorly determined" diagnostic as a Python `UserWarning`.
+    crate::warnings::warn_all(py, &cal.warnings)?;
     Ok(PyCalibration {
         crb_std: cal.crb.as_ref().map(crb_std).transpose()?,
         model: to_py(cal.model)?,

@@ -589,6 +589,19 @@ impl PyFilterSolution {
     fn rejected<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         self.records(py, |m| m.status != MeasurementStatus::Accepted)
     }
+    /// What the run found implausible, one sentence each (also raised as
+    /// `UserWarning`s by `run`): IMU magnitudes that do not fit m/s² and
+    /// rad/s, a filter diverged from its GNSS aiding. Empty when all is well.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings.clone()
+    }
+    /// Whether the filter diverged from its GNSS aiding (most GNSS batches
+    /// failing their gate over the run; see `warnings`).
+    #[getter]
+    fn diverged(&self) -> bool {
+        memsnav_core::coupling::divergence_warning(&self.inner.batches).is_some()
+    }
     fn __len__(&self) -> usize {
         self.inner.time_s.len()
     }
@@ -747,6 +760,7 @@ macro_rules! filter_class {
                         }
                     })
                     .py()?;
+                crate::warnings::warn_all(py, &forward.warnings)?;
                 PyFilterSolution::with_smoothed(py, forward, smoothed)
             }
         }

@@ -20,6 +20,7 @@ mod random;
 mod sensors;
 mod static_calibration;
 mod trajectory;
+mod warnings;
 
 #[pymodule]
 fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -527,6 +527,7 @@ fn navigate_log(
     let run = py
         .detach(|| navigate::navigate_log(&time, &f, &w, &input, &config))
         .py()?;
+    crate::warnings::warn_all(py, &run.solution.warnings)?;
     let mut run = run;
     let local = run.local_solution();
     let smoothed = match (run.local_smoothed(), run.smoothed.take()) {

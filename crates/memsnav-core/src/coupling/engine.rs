@@ -486,6 +486,9 @@ pub struct Solution {
     pub batches: Vec<BatchRecord>,
     /// Every reset.
     pub resets: Vec<ResetRecord>,
+    /// What the run found implausible (IMU units, divergence from the GNSS
+    /// aiding; see `coupling::diagnostics`), one sentence each.
+    pub warnings: Vec<String>,
 }
 
 impl Solution {
@@ -514,6 +517,7 @@ impl Solution {
             measurements: Vec::new(),
             batches: Vec::new(),
             resets: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 

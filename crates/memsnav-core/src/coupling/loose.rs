@@ -282,6 +282,11 @@ where
         }),
     )?;
     sol.take_records(&mut state);
+    super::diagnose(
+        &mut sol,
+        ("specific_force", imu.specific_force_b),
+        ("angular_rate", imu.angular_rate_b),
+    );
     let smoothed = state
         .kf
         .take_smoother()

@@ -52,6 +52,7 @@
 mod aids;
 mod antenna;
 mod batch;
+mod diagnostics;
 mod engine;
 mod init;
 mod loose;
@@ -61,6 +62,8 @@ mod records;
 mod tight;
 mod tuning;
 
+pub(crate) use diagnostics::diagnose;
+pub use diagnostics::{divergence_warning, imu_unit_warnings};
 pub(crate) use engine::SampleHook;
 pub use engine::{AidingEpoch, FilterState, ImuData, InitialState, Solution};
 pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix, level};

@@ -65,30 +65,120 @@ fn unit_weights(stds: impl Iterator<Item = f64> + Clone, what: &str, time_s: f64
 /// `prior`: a starting position (e.g. the INS position); `None` starts from
 /// the Earth's centre, from which GPS geometry converges in a few steps.
 /// Errors: fewer than 4 satellites → `InvalidArgument` naming `epoch`;
-/// singular geometry → `Unobservable`; no convergence in 20 iterations →
-/// `Divergence`.
+/// a geometry singular where the iteration starts → `Unobservable`;
+/// pseudoranges that do not fit one position (the iteration is driven to
+/// a degenerate geometry, or does not converge in 20 iterations) →
+/// `Divergence`, naming the satellite whose pseudorange is the outlier when
+/// leaving it out gives a fix that fits (5 or more satellites): an outlier
+/// is not reported as singular geometry.
 pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> {
+    match solve_fix_once(epoch, prior) {
+        Err(Failure::Inconsistent { farthest_m }) => Err(inconsistent(epoch, prior, farthest_m)),
+        Err(Failure::Error(e)) => Err(e),
+        Ok(fix) => Ok(fix),
+    }
+}
+
+/// Why [`solve_fix_once`] failed: an error to report as it is, or
+/// pseudoranges that drove the iteration astray (`farthest_m`: the largest
+/// distance from the Earth's centre the iteration reached).
+enum Failure {
+    Error(Error),
+    Inconsistent { farthest_m: f64 },
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Error(e)
+    }
+}
+
+/// The error of an epoch whose pseudoranges do not fit one position: the
+/// outlier satellite when leaving exactly one out gives a fix whose
+/// residuals are within 10 σ (and 1 km), else the inconsistency.
+fn inconsistent(epoch: &GnssEpoch, prior: Option<Vector3<f64>>, farthest_m: f64) -> Error {
+    let t = epoch.time_s;
+    let m = &epoch.measurements;
+    let mut fitting = Vec::new();
+    if m.len() >= 5 {
+        for j in 0..m.len() {
+            let rest = GnssEpoch {
+                time_s: t,
+                measurements: m
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| i != j)
+                    .map(|(_, s)| *s)
+                    .collect(),
+            };
+            if let Ok(fix) = solve_fix_once(&rest, prior) {
+                let zero = Vector3::zeros();
+                let fits = rest.measurements.iter().all(|s| {
+                    let p = predicted_range(
+                        &s.position_ecef,
+                        &s.velocity_ecef,
+                        &fix.position_ecef,
+                        &zero,
+                    );
+                    let r = (s.pseudorange_m - p.range_m - fix.clock_offset_m).abs();
+                    let std = if s.pseudorange_std_m > 0.0 {
+                        s.pseudorange_std_m
+                    } else {
+                        100.0
+                    };
+                    r <= (10.0 * std).min(1000.0)
+                });
+                if fits {
+                    let p = predicted_range(
+                        &m[j].position_ecef,
+                        &m[j].velocity_ecef,
+                        &fix.position_ecef,
+                        &zero,
+                    );
+                    let r = m[j].pseudorange_m - p.range_m - fix.clock_offset_m;
+                    fitting.push((m[j].sat_id, r));
+                }
+            }
+        }
+    }
+    let reason = match fitting.as_slice() {
+        [(id, r)] => format!(
+            "least-squares fix: the pseudorange of satellite {id} is an outlier ({r:.4e} m off the fix of the other {} satellites, which fit it); the geometry is fine: leave the satellite out or fix its pseudorange",
+            m.len() - 1
+        ),
+        _ => format!(
+            "least-squares fix: the pseudoranges of the {} satellites do not fit one position (the least-squares fix was driven {farthest_m:.3e} m from the Earth's centre, or did not converge in 20 iterations): an outlier or wrong satellite positions, not the geometry",
+            m.len()
+        ),
+    };
+    Error::Divergence { time_s: t, reason }
+}
+
+fn solve_fix_once(
+    epoch: &GnssEpoch,
+    prior: Option<Vector3<f64>>,
+) -> std::result::Result<Fix, Failure> {
     let m = &epoch.measurements;
     let t = epoch.time_s;
     if m.len() < 4 {
-        return Err(Error::invalid(
+        return Err(Failure::Error(Error::invalid(
             "epoch",
             format!(
                 "a fix needs at least 4 satellites, got {} at t = {t} s",
                 m.len()
             ),
-        ));
+        )));
     }
     for s in m {
         let finite = s.position_ecef.iter().all(|x| x.is_finite()) && s.pseudorange_m.is_finite();
         if !finite {
-            return Err(Error::invalid(
+            return Err(Failure::Error(Error::invalid(
                 "epoch",
                 format!(
                     "satellite {} at t = {t} s has a NaN or infinite position or pseudorange",
                     s.sat_id
                 ),
-            ));
+            )));
         }
     }
     let unit_range = unit_weights(m.iter().map(|s| s.pseudorange_std_m), "pseudorange_std", t)?;
@@ -109,7 +199,10 @@ pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> 
     )?;
     if let Some(p) = prior {
         if !p.iter().all(|x| x.is_finite()) {
-            return Err(Error::invalid("prior", "contains NaN or infinite values"));
+            return Err(Failure::Error(Error::invalid(
+                "prior",
+                "contains NaN or infinite values",
+            )));
         }
     }
     let singular = || Error::Unobservable {
@@ -126,6 +219,7 @@ pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> 
     let mut converged = false;
     let mut normal = Matrix4::zeros();
     let mut geometry = Matrix4::zeros();
+    let mut farthest_m: f64 = 0.0;
     while iterations < 20 {
         iterations += 1;
         normal = Matrix4::zeros();
@@ -144,19 +238,36 @@ pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> 
             geometry += h * h.transpose();
             rhs += w * h * (s.pseudorange_m - p.range_m - b);
         }
-        let dx = normal.try_inverse().ok_or_else(singular)? * rhs;
+        // Singular where the iteration starts: the geometry. Singular (or
+        // not finite) only after the pseudoranges moved the estimate: they
+        // do not fit one position.
+        if iterations == 1 {
+            let sv = geometry.singular_values();
+            if sv.min().is_nan() || sv.min() <= 1e-12 * sv.max() {
+                return Err(singular().into());
+            }
+        }
+        let Some(inverse) = normal.try_inverse() else {
+            return Err(if iterations == 1 {
+                singular().into()
+            } else {
+                Failure::Inconsistent { farthest_m }
+            });
+        };
+        let dx = inverse * rhs;
         x += dx.fixed_rows::<3>(0);
         b += dx[3];
+        farthest_m = farthest_m.max(x.norm());
+        if !(x.iter().all(|v| v.is_finite()) && b.is_finite()) {
+            return Err(Failure::Inconsistent { farthest_m });
+        }
         if dx.norm() < 1e-4 {
             converged = true;
             break;
         }
     }
     if !converged {
-        return Err(Error::Divergence {
-            time_s: t,
-            reason: "the least-squares fix did not converge in 20 iterations".into(),
-        });
+        return Err(Failure::Inconsistent { farthest_m });
     }
     let covariance = if unit_range {
         Matrix4::zeros()

@@ -333,6 +333,7 @@ impl Inputs<'_> {
         };
         let mut solution = hook.solution;
         solution.take_records(&mut state);
+        coupling::diagnose(&mut solution, ("specific_force", &f), ("angular_rate", &w));
         let smoothed = state
             .kf
             .take_smoother()
