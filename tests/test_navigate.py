@@ -130,6 +130,7 @@ def test_defaults_follow_rtk_fixes_to_centimetres(tmp_path):
     assert aided["within_3sigma_share"] > 0.95
     accepted = s["measurements"]["position"]["accepted"]
     assert accepted > 0.95 * 3 * aided["epochs"]
+    assert s["diverged"] is False and s["warnings"] == []
 
 
 def test_walk_starts_at_rest_and_stays_consistent(tmp_path):

@@ -298,6 +298,8 @@ def navigate(
         "gnss_epochs_used": int(np.sum(run.gnss["used"])),
         "measurements": _counts(run),
         "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
+        "diverged": bool(solution.diverged),
+        "warnings": list(solution.warnings),
         "resets": [
             {
                 "time_s": float(tr - t0),
