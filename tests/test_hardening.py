@@ -331,19 +331,10 @@ def test_a_truly_singular_geometry_is_still_reported_as_such():
 
 
 @pytest.fixture(scope="module")
-def drive():
-    # A 300 s drive, its GNSS, an IMU the 17 states model exactly, and the
-    # least-squares fixes as loose-filter input.
-    traj = mn.Trajectory.random(duration=300.0, seed=3)
-    gnss = mn.simulate_gnss(
-        traj.time, traj.position_ecef, traj.velocity_ecef, mn.Constellation.walker(), seed=4
-    )
-    rng = np.random.default_rng(5)
-    z3, z33 = np.zeros(3), np.zeros((3, 3))
-    acc = mn.AccelerometerModel(rng.normal(0, 0.03, 3), z3, z33, z3, noise_density=2e-3)
-    gyr = mn.GyroscopeModel(rng.normal(0, 2e-4, 3), z3, z33, z33, noise_density=2e-4)
-    imu = mn.ImuModel(acc, gyr)
-    f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
+def drive(drive_300s):
+    # The shared 300 s drive (conftest.py) and its least-squares fixes as
+    # loose-filter input.
+    traj, gnss, imu, f, w = drive_300s
     fixes = mn.solve_fix(gnss)
     arrays = {
         "time": np.array(fixes.time),

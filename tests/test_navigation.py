@@ -18,17 +18,8 @@ matplotlib.use("Agg")
 
 
 @pytest.fixture(scope="module")
-def scenario():
-    traj = mn.Trajectory.random(duration=300.0, seed=3)
-    sky = mn.Constellation.walker()
-    gnss = mn.simulate_gnss(traj.time, traj.position_ecef, traj.velocity_ecef, sky, seed=4)
-    rng = np.random.default_rng(5)
-    z3, z33 = np.zeros(3), np.zeros((3, 3))
-    acc = mn.AccelerometerModel(rng.normal(0, 0.03, 3), z3, z33, z3, noise_density=2e-3)
-    gyr = mn.GyroscopeModel(rng.normal(0, 2e-4, 3), z3, z33, z33, noise_density=2e-4)
-    imu = mn.ImuModel(acc, gyr)
-    f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
-    return traj, gnss, imu, f, w
+def scenario(drive_300s):
+    return drive_300s
 
 
 def gnss_dict(gnss):

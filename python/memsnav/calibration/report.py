@@ -181,11 +181,9 @@ def _static_report(run: CalibrationRun, cal: StaticCalibration, out: Path) -> Pa
         f"{white[1].mean():.3g} rad/s per sample). σ well above the bound means errors that "
         "are not white: hand tremor, settling, bias drift, the Earth's rate at rest."
     )
-    doc.section("Warnings")
-    if cal.warnings:
-        doc.html("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in cal.warnings) + "</ul>")
-    else:
-        doc.paragraph("None: every parameter is determined well below its physical size.")
+    _warnings(
+        doc, cal.warnings, "None: every parameter is determined well below its physical size."
+    )
     return doc.write(out)
 
 
@@ -312,12 +310,17 @@ def _drive_report(run: CalibrationRun, cal: DriveCalibration, out: Path) -> Path
         "the references inherit. No Cramér-Rao bound here: the references' errors are not "
         "white noise of a known level."
     )
-    doc.section("Warnings")
-    if cal.warnings:
-        doc.html("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in cal.warnings) + "</ul>")
-    else:
-        doc.paragraph("None.")
+    _warnings(doc, cal.warnings, "None.")
     return doc.write(out)
+
+
+def _warnings(doc: Report, warnings: list[str], none: str) -> None:
+    """The report's warnings section (``none`` when there are none)."""
+    doc.section("Warnings")
+    if warnings:
+        doc.html("<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in warnings) + "</ul>")
+    else:
+        doc.paragraph(none)
 
 
 def _value(fit: object, name: str) -> str:
