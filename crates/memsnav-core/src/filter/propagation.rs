@@ -288,24 +288,28 @@ impl Transition {
         m: &SMatrix<f64, R, N>,
         out: &mut SMatrix<f64, R, N>,
     ) {
-        let src = m.as_slice();
-        let dst = out.as_mut_slice();
-        let col = |k: usize| -> &[f64; R] {
-            src[k * R..(k + 1) * R]
-                .try_into()
-                .expect("a column has R rows")
+        let columns = self.columns::<N>();
+        sparse_product::<R, N, false>(&columns, m.as_slice(), out.as_mut_slice());
+    }
+
+    /// Φᵀ as sparse columns: column j of M Φᵀ is Σ_k M_{·k} Φ_jk over the
+    /// listed (Φ_jk, k), in the order the products accumulate them.
+    fn columns<const N: usize>(&self) -> Columns {
+        let mut out = Columns {
+            coefficient: [0.0; MAX_TERMS],
+            source: [0; MAX_TERMS],
+            start: [0; MAX_STATES],
+            end: [0; MAX_STATES],
         };
-        // out_j = Σ terms (coefficient, source column), accumulated in a
-        // local column (kept in registers) and stored once.
+        let mut n = 0;
         let mut set = |j: usize, terms: &[(f64, usize)]| {
-            let mut acc = [0.0; R];
+            out.start[j] = n as u8;
             for &(a, k) in terms {
-                let c = col(k);
-                for i in 0..R {
-                    acc[i] += a * c[i];
-                }
+                out.coefficient[n] = a;
+                out.source[n] = k as u8;
+                n += 1;
             }
-            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+            out.end[j] = n as u8;
         };
         let (w, w2, a) = (self.earth_angle, 2.0 * self.earth_angle, &self.f_dt);
         let (bc, ba, bg, sa, sg) = (
@@ -382,6 +386,7 @@ impl Transition {
                 set(j, &[(self.rb_decay, j)]);
             }
         }
+        out
     }
 
     /// M Φ for any number of rows `R`, written into `out`, column by column
@@ -581,12 +586,84 @@ pub(super) fn propagate<const N: usize>(
         phi.times_transpose_into(&x.transpose(), &mut row);
         *x = row.transpose();
     }
-    // B = P Φᵀ; then Φ P Φᵀ = Φ B = (Bᵀ Φᵀ)ᵀ, and Bᵀ Φᵀ is symmetric, so
-    // P ← Bᵀ Φᵀ: two passes of column operations and one transpose.
-    let mut b = SMatrix::<f64, N, N>::zeros();
-    phi.times_transpose_into(p, &mut b);
-    phi.times_transpose_into(&b.transpose(), p);
+    covariance_product(&phi.columns::<N>(), p);
     add_process_noise(p, d);
+}
+
+/// Most states of a filter ([`super::state::WITH_ALL`]).
+const MAX_STATES: usize = 35;
+/// Most non-zeros of Φ (the 35-state filter has 94).
+const MAX_TERMS: usize = 96;
+
+/// A sparse matrix by columns: column j holds the terms
+/// `start[j]..end[j]`, each a coefficient and the row it multiplies (here:
+/// Φᵀ, so column j lists row j of Φ).
+struct Columns {
+    coefficient: [f64; MAX_TERMS],
+    source: [u8; MAX_TERMS],
+    start: [u8; MAX_STATES],
+    end: [u8; MAX_STATES],
+}
+
+/// Column j of `dst` (R × N, by columns) ← Σ coefficient · column `source`
+/// of `src`, over the terms of column j of `columns`: M Φᵀ. Each output
+/// column is accumulated in registers and stored once. `TRANSPOSED`:
+/// stored as row j instead (R = N), the transpose folded into the stores.
+#[inline(always)]
+fn sparse_product_with<const R: usize, const N: usize, const TRANSPOSED: bool, const FMA: bool>(
+    columns: &Columns,
+    src: &[f64],
+    dst: &mut [f64],
+) {
+    for j in 0..N {
+        let (start, end) = (columns.start[j] as usize, columns.end[j] as usize);
+        let mut acc = [0.0; R];
+        for t in start..end {
+            let a = columns.coefficient[t];
+            let k = columns.source[t] as usize;
+            let c: &[f64; R] = src[k * R..(k + 1) * R]
+                .try_into()
+                .expect("a column has R rows");
+            for i in 0..R {
+                acc[i] = if FMA {
+                    a.mul_add(c[i], acc[i])
+                } else {
+                    acc[i] + a * c[i]
+                };
+            }
+        }
+        if TRANSPOSED {
+            for (i, v) in acc.iter().enumerate() {
+                dst[j + i * N] = *v;
+            }
+        } else {
+            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+        }
+    }
+}
+
+/// [`sparse_product_with`] without fused multiply-adds, for any target.
+fn sparse_product<const R: usize, const N: usize, const TRANSPOSED: bool>(
+    columns: &Columns,
+    src: &[f64],
+    dst: &mut [f64],
+) {
+    sparse_product_with::<R, N, TRANSPOSED, false>(columns, src, dst);
+}
+
+/// P ← Φ P Φᵀ. With B = P Φᵀ, Φ P Φᵀ = Φ B = (Bᵀ Φᵀ)ᵀ, and Bᵀ Φᵀ is
+/// symmetric, so P ← Bᵀ Φᵀ: two sparse products by columns, the first
+/// storing its columns as the rows of Bᵀ (the transpose folded into the
+/// stores). The dominant cost of the filter, so it is also compiled for
+/// AVX2 with FMA and that version chosen at run time (the wheel targets
+/// baseline x86-64); a fused multiply-add rounds once instead of twice, so
+/// the two versions agree to rounding, not bitwise.
+#[multiversion::multiversion(targets("x86_64+avx2+fma"))]
+fn covariance_product<const N: usize>(columns: &Columns, p: &mut SMatrix<f64, N, N>) {
+    const FMA: bool = multiversion::target::selected_target!().supports_feature_str("fma");
+    let mut b_t = SMatrix::<f64, N, N>::zeros();
+    sparse_product_with::<N, N, true, FMA>(columns, p.as_slice(), b_t.as_mut_slice());
+    sparse_product_with::<N, N, false, FMA>(columns, b_t.as_slice(), p.as_mut_slice());
 }
 
 /// Q for one interval (Groves eq. 14.82 plus the exact clock block).
