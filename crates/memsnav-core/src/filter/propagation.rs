@@ -31,12 +31,15 @@
 //! Δt; Ĉ S Ĉᵀ = S I for isotropic noise) plus the exact two-state clock
 //! block (S_φ Δt + S_f Δt³/3, S_f Δt²/2, S_f Δt).
 //!
-//! P ← Φ P Φᵀ + Q is computed as (P Φᵀ)ᵀ Φᵀ + Q (P is symmetric), each
-//! product by whole contiguous columns, visiting only the non-zero blocks
-//! of Φ and using the structure of the Earth-rate and specific-force
-//! blocks (≈ 45 column axpys of length N per product instead of N² dot
-//! products). The `exp` of the bias decays and variances is computed once
-//! per (Δt, noise) and reused.
+//! P ← Φ P Φᵀ + Q is computed as (P Φᵀ)ᵀ Φᵀ + Q (P is symmetric): Φᵀ is
+//! listed as sparse columns (its non-zeros only, 58 for 17 states, using
+//! the structure of the Earth-rate and specific-force blocks), and each
+//! product is one sparse-times-dense kernel over whole contiguous columns
+//! (58 column axpys of length N instead of N² dot products), the first
+//! storing its result transposed, compiled also for AVX2/FMA and chosen at
+//! run time. The `exp` of the bias decays and variances is computed once
+//! per (Δt, noise) and reused; the filter keeps the kernel's working
+//! storage, so nothing is zeroed or allocated per epoch.
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -221,7 +224,7 @@ impl Discretisation {
 
 /// The non-identity blocks of Φ = I + FΔt for one interval, stored
 /// transposed (propagation multiplies by Φᵀ from the right, see
-/// [`Transition::times_transpose`]). The blocks with a known structure
+/// [`Transition::columns_into`]). The blocks with a known structure
 /// are kept as their few parameters: I − Ω_ie Δt through ω_ie Δt, and
 /// −[(Ĉ f̂ Δt)×] through Ĉ f̂ Δt.
 struct Transition {
@@ -270,11 +273,10 @@ impl Transition {
         }
     }
 
-    /// M Φᵀ for any number of rows `R`, written into `out`, column by
-    /// column. nalgebra stores matrices by column, so every term is an axpy
-    /// over a whole contiguous column (vectorised), each output column is
-    /// written once (no copy of M first), and only the non-zero blocks of Φ
-    /// are visited. Column j of M Φᵀ is Σ_k M_{·k} Φ_jk:
+    /// Φᵀ as sparse columns, written over `out` (every entry the products
+    /// read is rewritten: nothing zeroed per epoch). Column j of M Φᵀ is
+    /// Σ_k M_{·k} Φ_jk over the listed (Φ_jk, k), in the order the
+    /// products accumulate them; only the non-zeros of Φ are listed:
     ///
     /// - ψ: M_ψ (I − Ω_ie Δt)ᵀ + M_bg (−ĈΔt)ᵀ [+ M_sg (−Ĉ diag(ω̂) Δt)ᵀ];
     ///   with I − Ω_ie Δt = [[1, ωΔt, 0], [−ωΔt, 1, 0], [0, 0, 1]];
@@ -283,24 +285,7 @@ impl Transition {
     ///   [−a_z, 0, a_x], [a_y, −a_x, 0]];
     /// - r: M_r + Δt M_v; biases (sensor and range): decay; clock offset:
     ///   M_δc + Δt M_δċ.
-    fn times_transpose_into<const R: usize, const N: usize>(
-        &self,
-        m: &SMatrix<f64, R, N>,
-        out: &mut SMatrix<f64, R, N>,
-    ) {
-        let columns = self.columns::<N>();
-        sparse_product::<R, N, false>(&columns, m.as_slice(), out.as_mut_slice());
-    }
-
-    /// Φᵀ as sparse columns: column j of M Φᵀ is Σ_k M_{·k} Φ_jk over the
-    /// listed (Φ_jk, k), in the order the products accumulate them.
-    fn columns<const N: usize>(&self) -> Columns {
-        let mut out = Columns {
-            coefficient: [0.0; MAX_TERMS],
-            source: [0; MAX_TERMS],
-            start: [0; MAX_STATES],
-            end: [0; MAX_STATES],
-        };
+    fn columns_into<const N: usize>(&self, out: &mut Columns) {
         let mut n = 0;
         let mut set = |j: usize, terms: &[(f64, usize)]| {
             out.start[j] = n as u8;
@@ -386,11 +371,10 @@ impl Transition {
                 set(j, &[(self.rb_decay, j)]);
             }
         }
-        out
     }
 
     /// M Φ for any number of rows `R`, written into `out`, column by column
-    /// (the mirror of [`Self::times_transpose_into`]: column j of M Φ is
+    /// (the mirror of [`Self::columns_into`]: column j of M Φ is
     /// Σ_k M_{·k} Φ_kj over the non-zeros of column j of Φ), for the
     /// smoother's backward pass, which needs Φᵀ λ and Φᵀ Λ Φ. Column j of Φ:
     ///
@@ -579,14 +563,43 @@ pub(super) fn propagate<const N: usize>(
     inputs: &SystemInputs,
     d: &Discretisation,
 ) {
+    propagate_with(x, p, inputs, d, &mut Scratch::new());
+}
+
+/// Working storage of [`propagate_with`], kept by a filter between epochs
+/// so that nothing is zeroed or allocated per epoch.
+#[derive(Debug, Clone)]
+pub(super) struct Scratch<const N: usize> {
+    columns: Columns,
+    b_t: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Scratch<N> {
+    pub(super) fn new() -> Self {
+        Self {
+            columns: Columns::new(),
+            b_t: SMatrix::zeros(),
+        }
+    }
+}
+
+/// [`propagate`] with the caller's working storage.
+pub(super) fn propagate_with<const N: usize>(
+    x: &mut SVector<f64, N>,
+    p: &mut SMatrix<f64, N, N>,
+    inputs: &SystemInputs,
+    d: &Discretisation,
+    scratch: &mut Scratch<N>,
+) {
     let phi = Transition::new::<N>(inputs, d);
+    phi.columns_into::<N>(&mut scratch.columns);
     if x.iter().any(|v| *v != 0.0) {
         // (Φ x)ᵀ = xᵀ Φᵀ.
         let mut row = x.transpose();
-        phi.times_transpose_into(&x.transpose(), &mut row);
+        sparse_product::<1, N, false>(&scratch.columns, x.as_slice(), row.as_mut_slice());
         *x = row.transpose();
     }
-    covariance_product(&phi.columns::<N>(), p);
+    covariance_product(&scratch.columns, p, &mut scratch.b_t);
     add_process_noise(p, d);
 }
 
@@ -598,11 +611,23 @@ const MAX_TERMS: usize = 96;
 /// A sparse matrix by columns: column j holds the terms
 /// `start[j]..end[j]`, each a coefficient and the row it multiplies (here:
 /// Φᵀ, so column j lists row j of Φ).
+#[derive(Debug, Clone)]
 struct Columns {
     coefficient: [f64; MAX_TERMS],
     source: [u8; MAX_TERMS],
     start: [u8; MAX_STATES],
     end: [u8; MAX_STATES],
+}
+
+impl Columns {
+    fn new() -> Self {
+        Self {
+            coefficient: [0.0; MAX_TERMS],
+            source: [0; MAX_TERMS],
+            start: [0; MAX_STATES],
+            end: [0; MAX_STATES],
+        }
+    }
 }
 
 /// Column j of `dst` (R × N, by columns) ← Σ coefficient · column `source`
@@ -659,9 +684,12 @@ fn sparse_product<const R: usize, const N: usize, const TRANSPOSED: bool>(
 /// baseline x86-64); a fused multiply-add rounds once instead of twice, so
 /// the two versions agree to rounding, not bitwise.
 #[multiversion::multiversion(targets("x86_64+avx2+fma"))]
-fn covariance_product<const N: usize>(columns: &Columns, p: &mut SMatrix<f64, N, N>) {
+fn covariance_product<const N: usize>(
+    columns: &Columns,
+    p: &mut SMatrix<f64, N, N>,
+    b_t: &mut SMatrix<f64, N, N>,
+) {
     const FMA: bool = multiversion::target::selected_target!().supports_feature_str("fma");
-    let mut b_t = SMatrix::<f64, N, N>::zeros();
     sparse_product_with::<N, N, true, FMA>(columns, p.as_slice(), b_t.as_mut_slice());
     sparse_product_with::<N, N, false, FMA>(columns, b_t.as_slice(), p.as_mut_slice());
 }
