@@ -182,7 +182,8 @@ impl<M: Motion> VelocityMemo<'_, M> {
 /// (latitude and longitude by the radii, C_n^e and the position; roll,
 /// pitch and yaw by C_b^n and the Euler-rate kinematics), the motion is
 /// looked up by cursors, and repeated velocity requests are served from a
-/// memo: the arithmetic of each output is the one of the formulas above,
+/// memo (the motion at the end of a sample's last RK4 sub-step, when that
+/// is the next sample's time, is the next sample's motion): the arithmetic of each output is the one of the formulas above,
 /// operation for operation, so the output is bitwise that of the plain
 /// evaluation (tests/test_simulator_reference.py).
 pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -> Trajectory {
@@ -203,9 +204,15 @@ pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -
         cursor: M::Cursor::default(),
         last: None,
     };
+    // The motion at the next sample when the last RK4 sub-step ended
+    // exactly (bitwise) on it, as it does whenever there is one sub-step.
+    let mut next: Option<LocalMotion> = None;
     for k in 0..n {
         let t = time_s[k];
-        let m = motion.at(t, &mut cursor);
+        let m = match next.take() {
+            Some(m) => m,
+            None => motion.at(t, &mut cursor),
+        };
         let (lat, h) = (geodetic.x, geodetic.z);
         let (sin_lat, cos_lat) = lat.sin_cos();
         let (sin_lon, cos_lon) = geodetic.y.sin_cos();
@@ -247,7 +254,15 @@ pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -
                 let vm = velocity.at(t0 + 0.5 * dt);
                 let k2 = geodetic_rate(&(geodetic + 0.5 * dt * k1), &vm);
                 let k3 = geodetic_rate(&(geodetic + 0.5 * dt * k2), &vm);
-                let k4 = geodetic_rate(&(geodetic + dt * k3), &velocity.at(t0 + dt));
+                let t1 = t0 + dt;
+                let v1 = if j + 1 == steps && t1.to_bits() == time_s[k + 1].to_bits() {
+                    let m1 = motion.at(t1, &mut cursor);
+                    next = Some(m1);
+                    m1.velocity_ned
+                } else {
+                    velocity.at(t1)
+                };
+                let k4 = geodetic_rate(&(geodetic + dt * k3), &v1);
                 geodetic += dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
             }
         }
