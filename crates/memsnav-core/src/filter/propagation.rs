@@ -832,6 +832,29 @@ mod tests {
         structured_equals_dense::<35>(300.0);
     }
 
+    /// A filter's kept working storage gives what fresh storage gives,
+    /// epoch after epoch (nothing stale survives between epochs).
+    #[test]
+    fn kept_scratch_equals_fresh_scratch() {
+        fn check<const N: usize>() {
+            let nz = noise(300.0);
+            let d = Discretisation::new(&nz, 0.01);
+            let mut scratch = Scratch::<N>::new();
+            let (mut p_kept, mut p_fresh) = (random_spd::<N>(), random_spd::<N>());
+            for k in 0..5 {
+                let mut inp = inputs();
+                inp.specific_force_b.x += k as f64;
+                inp.c_b_e = crate::attitude::euler_to_dcm(0.1 * k as f64, -0.2, 1.1);
+                let (mut x1, mut x2) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+                propagate_with(&mut x1, &mut p_kept, &inp, &d, &mut scratch);
+                propagate(&mut x2, &mut p_fresh, &inp, &d);
+                assert_eq!(p_kept, p_fresh, "epoch {k}");
+            }
+        }
+        check::<17>();
+        check::<35>();
+    }
+
     /// Γ against a central difference of the J2 gravity model the INS uses
     /// (J2 adds ~1e-3 relative, far below what the filter needs).
     #[test]
