@@ -381,6 +381,12 @@ def main() -> None:
         f"{result['memsnav_position_rms_m_first_span']:.2f} m, FilterPy "
         f"{result['filterpy_position_rms_m_first_span']:.2f} m"
     )
+    # Two working filters on the same data: within half again of each other.
+    fp_rms = result["filterpy_position_rms_m_first_span"]
+    ratio = fp_rms / result["memsnav_position_rms_m_first_span"]
+    result["same_accuracy"] = bool(1 / 1.5 <= ratio <= 1.5)
+    if not result["same_accuracy"]:
+        print(f"WARNING: the position RMS differ by {ratio:.2f}x: not the same job")
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.write_text(json.dumps(result, indent=2) + "\n")
 
