@@ -6,7 +6,9 @@
 //! - the inversion filters (accelerometer, gyroscope), throughput per sample;
 //! - one run of the calibration experiment (300 s, both triads, LS + EIV + CRB);
 //! - Monte Carlo throughput with 1 and 2 threads: the calibration
-//!   experiment and the navigation experiment (the paper's three IMUs).
+//!   experiment and the navigation experiment (the paper's three IMUs);
+//! - the simulator of the reference workload by part (600 s trajectory,
+//!   IMU errors, GNSS).
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -20,10 +22,12 @@ use memsnav_core::experiments::{
     calibration_experiment, motion, navigation_experiment, CalibrationExperimentConfig,
     NavigationExperimentConfig, REFERENCE_ANGULAR_RATE_STD, REFERENCE_SPECIFIC_FORCE_STD,
 };
+use memsnav_core::gnss::{self, Constellation, ReceiverTrack, SimulationConfig, WalkerConfig};
 use memsnav_core::inversion::{invert_accelerometer, invert_gyroscope, InversionNoise};
 use memsnav_core::montecarlo::RunOptions;
 use memsnav_core::random::stream;
 use memsnav_core::sensors::ImuModel;
+use memsnav_core::trajectory::{RandomTrajectoryConfig, Trajectory};
 use nalgebra::Vector3;
 use rand::Rng as _;
 use rand_distr::StandardNormal;
@@ -157,6 +161,46 @@ fn monte_carlo(c: &mut Criterion) {
     g.finish();
 }
 
+/// The simulator of the reference workload (600 s at 100 Hz): the random
+/// trajectory with its exact IMU truth, the IMU error synthesis and the
+/// GNSS simulation (6 satellites), each timed alone.
+fn simulator(c: &mut Criterion) {
+    let mut g = c.benchmark_group("simulator_600s");
+    g.sample_size(20);
+    let trajectory =
+        || Trajectory::random(&RandomTrajectoryConfig::default(), &mut stream(SEED, 0)).unwrap();
+    let truth = trajectory();
+    g.throughput(Throughput::Elements(truth.len() as u64));
+    g.bench_function("trajectory", |b| b.iter(trajectory));
+    let imu = ImuModel::preset("paper-mems", &mut stream(SEED, 1)).unwrap();
+    g.bench_function("imu_errors", |b| {
+        b.iter(|| {
+            imu.measure(
+                black_box(&truth.specific_force_b),
+                &truth.angular_rate_b,
+                &mut stream(SEED, 2),
+            )
+            .unwrap()
+        })
+    });
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    let track = ReceiverTrack {
+        time_s: &truth.time_s,
+        position_ecef: &truth.position_ecef,
+        velocity_ecef: &truth.velocity_ecef,
+    };
+    let gnss_config = SimulationConfig {
+        n_satellites: 6,
+        ..Default::default()
+    };
+    g.bench_function("gnss", |b| {
+        b.iter(|| {
+            gnss::simulate(black_box(&track), &sky, &gnss_config, &mut stream(SEED, 3)).unwrap()
+        })
+    });
+    g.finish();
+}
+
 fn config() -> Criterion {
     Criterion::default()
         .warm_up_time(Duration::from_millis(500))
@@ -166,6 +210,6 @@ fn config() -> Criterion {
 criterion_group! {
     name = benches;
     config = config();
-    targets = calibration_and_inversion, monte_carlo
+    targets = calibration_and_inversion, monte_carlo, simulator
 }
 criterion_main!(benches);

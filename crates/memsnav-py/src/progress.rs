@@ -4,6 +4,7 @@
 //! main thread, so this is where `check_signals` must run.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Condvar, Mutex};
 use std::time::Duration;
 
 use memsnav_core::montecarlo::{self, MonteCarlo, RunOptions};
@@ -15,6 +16,18 @@ use crate::errors::IntoPyResult;
 
 /// How often the main thread wakes to report progress and check signals.
 const POLL: Duration = Duration::from_millis(100);
+
+/// Sets the flag and wakes the waiting thread when dropped (when the
+/// worker returns or unwinds).
+struct SignalOnDrop<'a>(&'a (Mutex<bool>, Condvar));
+
+impl Drop for SignalOnDrop<'_> {
+    fn drop(&mut self) {
+        let (flag, wake) = self.0;
+        *flag.lock().unwrap_or_else(|e| e.into_inner()) = true;
+        wake.notify_all();
+    }
+}
 
 /// Runs `work(options)` on a worker thread. `progress(done, total)` is called
 /// from this thread when the count of completed runs changes. Ctrl-C (or an
@@ -46,10 +59,18 @@ where
     let mut interrupted = false;
     let mut callback_error = None;
     let mut reported = usize::MAX;
+    // The worker says when it is done, so the wait below ends then and not
+    // at the next poll (a whole POLL added to every call otherwise).
+    let done_signal = (Mutex::new(false), Condvar::new());
+    let mut finished = false;
     let output = std::thread::scope(|scope| {
-        let worker = scope.spawn(|| work(&options));
+        let worker = scope.spawn(|| {
+            // Signalled also when `work` panics (on drop).
+            let _signal = SignalOnDrop(&done_signal);
+            work(&options)
+        });
         loop {
-            let finished = worker.is_finished();
+            finished |= worker.is_finished();
             if let Err(e) = py.check_signals() {
                 cancel.store(true, Ordering::Relaxed);
                 if e.is_instance_of::<PyKeyboardInterrupt>(py) {
@@ -73,7 +94,14 @@ where
             if finished {
                 break;
             }
-            py.detach(|| std::thread::sleep(POLL));
+            finished = py.detach(|| {
+                let (flag, wake) = &done_signal;
+                let guard = flag.lock().unwrap_or_else(|e| e.into_inner());
+                let (guard, _) = wake
+                    .wait_timeout_while(guard, POLL, |done| !*done)
+                    .unwrap_or_else(|e| e.into_inner());
+                *guard
+            });
         }
         worker.join()
     });

@@ -534,8 +534,9 @@ impl Solution {
         }
         self.clock_offset_m.push(s.clock_offset_m);
         self.clock_drift_m_s.push(s.clock_drift_m_s);
+        // The diagonal of P (by columns: every N + 1-th element).
         self.covariance_diagonal
-            .extend(s.kf.p.diagonal().iter().copied());
+            .extend(s.kf.p.as_slice().iter().step_by(N + 1));
         let block =
             |first: usize| -> Matrix3<f64> { s.kf.p.fixed_view::<3, 3>(first, first).into() };
         self.attitude_covariance_ecef.push(block(ATTITUDE));

@@ -58,6 +58,8 @@ pub struct ErrorStateKf<const N: usize> {
     since_check: usize,
     /// The last interval's Δt-dependent constants (reused at a fixed rate).
     discretisation: Option<propagation::Discretisation>,
+    /// Working storage of the propagation (nothing zeroed per epoch).
+    scratch: Box<propagation::Scratch<N>>,
     /// What the filter did to P, for a smoother (when one was asked for).
     smoother: Option<Box<Recorder<N>>>,
 }
@@ -102,6 +104,7 @@ impl<const N: usize> ErrorStateKf<N> {
             p: p0,
             since_check: 0,
             discretisation: None,
+            scratch: Box::new(propagation::Scratch::new()),
             smoother: None,
         })
     }
@@ -158,7 +161,7 @@ impl<const N: usize> ErrorStateKf<N> {
                 d
             }
         };
-        propagation::propagate(&mut self.x.0, &mut self.p, inputs, &d);
+        propagation::propagate_with(&mut self.x.0, &mut self.p, inputs, &d, &mut self.scratch);
         if let Some(r) = self.smoother.as_mut() {
             r.log.step((*inputs, dt));
         }

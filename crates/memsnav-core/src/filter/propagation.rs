@@ -31,12 +31,15 @@
 //! Δt; Ĉ S Ĉᵀ = S I for isotropic noise) plus the exact two-state clock
 //! block (S_φ Δt + S_f Δt³/3, S_f Δt²/2, S_f Δt).
 //!
-//! P ← Φ P Φᵀ + Q is computed as (P Φᵀ)ᵀ Φᵀ + Q (P is symmetric), each
-//! product by whole contiguous columns, visiting only the non-zero blocks
-//! of Φ and using the structure of the Earth-rate and specific-force
-//! blocks (≈ 45 column axpys of length N per product instead of N² dot
-//! products). The `exp` of the bias decays and variances is computed once
-//! per (Δt, noise) and reused.
+//! P ← Φ P Φᵀ + Q is computed as (P Φᵀ)ᵀ Φᵀ + Q (P is symmetric): Φᵀ is
+//! listed as sparse columns (its non-zeros only, 58 for 17 states, using
+//! the structure of the Earth-rate and specific-force blocks), and each
+//! product is one sparse-times-dense kernel over whole contiguous columns
+//! (58 column axpys of length N instead of N² dot products), the first
+//! storing its result transposed, compiled also for AVX2/FMA and chosen at
+//! run time. The `exp` of the bias decays and variances is computed once
+//! per (Δt, noise) and reused; the filter keeps the kernel's working
+//! storage, so nothing is zeroed or allocated per epoch.
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -221,7 +224,7 @@ impl Discretisation {
 
 /// The non-identity blocks of Φ = I + FΔt for one interval, stored
 /// transposed (propagation multiplies by Φᵀ from the right, see
-/// [`Transition::times_transpose`]). The blocks with a known structure
+/// [`Transition::columns_into`]). The blocks with a known structure
 /// are kept as their few parameters: I − Ω_ie Δt through ω_ie Δt, and
 /// −[(Ĉ f̂ Δt)×] through Ĉ f̂ Δt.
 struct Transition {
@@ -270,11 +273,10 @@ impl Transition {
         }
     }
 
-    /// M Φᵀ for any number of rows `R`, written into `out`, column by
-    /// column. nalgebra stores matrices by column, so every term is an axpy
-    /// over a whole contiguous column (vectorised), each output column is
-    /// written once (no copy of M first), and only the non-zero blocks of Φ
-    /// are visited. Column j of M Φᵀ is Σ_k M_{·k} Φ_jk:
+    /// Φᵀ as sparse columns, written over `out` (every entry the products
+    /// read is rewritten: nothing zeroed per epoch). Column j of M Φᵀ is
+    /// Σ_k M_{·k} Φ_jk over the listed (Φ_jk, k), in the order the
+    /// products accumulate them; only the non-zeros of Φ are listed:
     ///
     /// - ψ: M_ψ (I − Ω_ie Δt)ᵀ + M_bg (−ĈΔt)ᵀ [+ M_sg (−Ĉ diag(ω̂) Δt)ᵀ];
     ///   with I − Ω_ie Δt = [[1, ωΔt, 0], [−ωΔt, 1, 0], [0, 0, 1]];
@@ -283,29 +285,16 @@ impl Transition {
     ///   [−a_z, 0, a_x], [a_y, −a_x, 0]];
     /// - r: M_r + Δt M_v; biases (sensor and range): decay; clock offset:
     ///   M_δc + Δt M_δċ.
-    fn times_transpose_into<const R: usize, const N: usize>(
-        &self,
-        m: &SMatrix<f64, R, N>,
-        out: &mut SMatrix<f64, R, N>,
-    ) {
-        let src = m.as_slice();
-        let dst = out.as_mut_slice();
-        let col = |k: usize| -> &[f64; R] {
-            src[k * R..(k + 1) * R]
-                .try_into()
-                .expect("a column has R rows")
-        };
-        // out_j = Σ terms (coefficient, source column), accumulated in a
-        // local column (kept in registers) and stored once.
+    fn columns_into<const N: usize>(&self, out: &mut Columns) {
+        let mut n = 0;
         let mut set = |j: usize, terms: &[(f64, usize)]| {
-            let mut acc = [0.0; R];
+            out.start[j] = n as u8;
             for &(a, k) in terms {
-                let c = col(k);
-                for i in 0..R {
-                    acc[i] += a * c[i];
-                }
+                out.coefficient[n] = a;
+                out.source[n] = k as u8;
+                n += 1;
             }
-            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+            out.end[j] = n as u8;
         };
         let (w, w2, a) = (self.earth_angle, 2.0 * self.earth_angle, &self.f_dt);
         let (bc, ba, bg, sa, sg) = (
@@ -385,7 +374,7 @@ impl Transition {
     }
 
     /// M Φ for any number of rows `R`, written into `out`, column by column
-    /// (the mirror of [`Self::times_transpose_into`]: column j of M Φ is
+    /// (the mirror of [`Self::columns_into`]: column j of M Φ is
     /// Σ_k M_{·k} Φ_kj over the non-zeros of column j of Φ), for the
     /// smoother's backward pass, which needs Φᵀ λ and Φᵀ Λ Φ. Column j of Φ:
     ///
@@ -574,19 +563,135 @@ pub(super) fn propagate<const N: usize>(
     inputs: &SystemInputs,
     d: &Discretisation,
 ) {
+    propagate_with(x, p, inputs, d, &mut Scratch::new());
+}
+
+/// Working storage of [`propagate_with`], kept by a filter between epochs
+/// so that nothing is zeroed or allocated per epoch.
+#[derive(Debug, Clone)]
+pub(super) struct Scratch<const N: usize> {
+    columns: Columns,
+    b_t: SMatrix<f64, N, N>,
+}
+
+impl<const N: usize> Scratch<N> {
+    pub(super) fn new() -> Self {
+        Self {
+            columns: Columns::new(),
+            b_t: SMatrix::zeros(),
+        }
+    }
+}
+
+/// [`propagate`] with the caller's working storage.
+pub(super) fn propagate_with<const N: usize>(
+    x: &mut SVector<f64, N>,
+    p: &mut SMatrix<f64, N, N>,
+    inputs: &SystemInputs,
+    d: &Discretisation,
+    scratch: &mut Scratch<N>,
+) {
     let phi = Transition::new::<N>(inputs, d);
+    phi.columns_into::<N>(&mut scratch.columns);
     if x.iter().any(|v| *v != 0.0) {
         // (Φ x)ᵀ = xᵀ Φᵀ.
         let mut row = x.transpose();
-        phi.times_transpose_into(&x.transpose(), &mut row);
+        sparse_product::<1, N, false>(&scratch.columns, x.as_slice(), row.as_mut_slice());
         *x = row.transpose();
     }
-    // B = P Φᵀ; then Φ P Φᵀ = Φ B = (Bᵀ Φᵀ)ᵀ, and Bᵀ Φᵀ is symmetric, so
-    // P ← Bᵀ Φᵀ: two passes of column operations and one transpose.
-    let mut b = SMatrix::<f64, N, N>::zeros();
-    phi.times_transpose_into(p, &mut b);
-    phi.times_transpose_into(&b.transpose(), p);
+    covariance_product(&scratch.columns, p, &mut scratch.b_t);
     add_process_noise(p, d);
+}
+
+/// Most states of a filter ([`super::state::WITH_ALL`]).
+const MAX_STATES: usize = 35;
+/// Most non-zeros of Φ (the 35-state filter has 94).
+const MAX_TERMS: usize = 96;
+
+/// A sparse matrix by columns: column j holds the terms
+/// `start[j]..end[j]`, each a coefficient and the row it multiplies (here:
+/// Φᵀ, so column j lists row j of Φ).
+#[derive(Debug, Clone)]
+struct Columns {
+    coefficient: [f64; MAX_TERMS],
+    source: [u8; MAX_TERMS],
+    start: [u8; MAX_STATES],
+    end: [u8; MAX_STATES],
+}
+
+impl Columns {
+    fn new() -> Self {
+        Self {
+            coefficient: [0.0; MAX_TERMS],
+            source: [0; MAX_TERMS],
+            start: [0; MAX_STATES],
+            end: [0; MAX_STATES],
+        }
+    }
+}
+
+/// Column j of `dst` (R × N, by columns) ← Σ coefficient · column `source`
+/// of `src`, over the terms of column j of `columns`: M Φᵀ. Each output
+/// column is accumulated in registers and stored once. `TRANSPOSED`:
+/// stored as row j instead (R = N), the transpose folded into the stores.
+#[inline(always)]
+fn sparse_product_with<const R: usize, const N: usize, const TRANSPOSED: bool, const FMA: bool>(
+    columns: &Columns,
+    src: &[f64],
+    dst: &mut [f64],
+) {
+    for j in 0..N {
+        let (start, end) = (columns.start[j] as usize, columns.end[j] as usize);
+        let mut acc = [0.0; R];
+        for t in start..end {
+            let a = columns.coefficient[t];
+            let k = columns.source[t] as usize;
+            let c: &[f64; R] = src[k * R..(k + 1) * R]
+                .try_into()
+                .expect("a column has R rows");
+            for i in 0..R {
+                acc[i] = if FMA {
+                    a.mul_add(c[i], acc[i])
+                } else {
+                    acc[i] + a * c[i]
+                };
+            }
+        }
+        if TRANSPOSED {
+            for (i, v) in acc.iter().enumerate() {
+                dst[j + i * N] = *v;
+            }
+        } else {
+            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+        }
+    }
+}
+
+/// [`sparse_product_with`] without fused multiply-adds, for any target.
+fn sparse_product<const R: usize, const N: usize, const TRANSPOSED: bool>(
+    columns: &Columns,
+    src: &[f64],
+    dst: &mut [f64],
+) {
+    sparse_product_with::<R, N, TRANSPOSED, false>(columns, src, dst);
+}
+
+/// P ← Φ P Φᵀ. With B = P Φᵀ, Φ P Φᵀ = Φ B = (Bᵀ Φᵀ)ᵀ, and Bᵀ Φᵀ is
+/// symmetric, so P ← Bᵀ Φᵀ: two sparse products by columns, the first
+/// storing its columns as the rows of Bᵀ (the transpose folded into the
+/// stores). The dominant cost of the filter, so it is also compiled for
+/// AVX2 with FMA and that version chosen at run time (the wheel targets
+/// baseline x86-64); a fused multiply-add rounds once instead of twice, so
+/// the two versions agree to rounding, not bitwise.
+#[multiversion::multiversion(targets("x86_64+avx2+fma"))]
+fn covariance_product<const N: usize>(
+    columns: &Columns,
+    p: &mut SMatrix<f64, N, N>,
+    b_t: &mut SMatrix<f64, N, N>,
+) {
+    const FMA: bool = multiversion::target::selected_target!().supports_feature_str("fma");
+    sparse_product_with::<N, N, true, FMA>(columns, p.as_slice(), b_t.as_mut_slice());
+    sparse_product_with::<N, N, false, FMA>(columns, b_t.as_slice(), p.as_mut_slice());
 }
 
 /// Q for one interval (Groves eq. 14.82 plus the exact clock block).
@@ -725,6 +830,29 @@ mod tests {
         structured_equals_dense::<23>(300.0);
         structured_equals_dense::<29>(300.0);
         structured_equals_dense::<35>(300.0);
+    }
+
+    /// A filter's kept working storage gives what fresh storage gives,
+    /// epoch after epoch (nothing stale survives between epochs).
+    #[test]
+    fn kept_scratch_equals_fresh_scratch() {
+        fn check<const N: usize>() {
+            let nz = noise(300.0);
+            let d = Discretisation::new(&nz, 0.01);
+            let mut scratch = Scratch::<N>::new();
+            let (mut p_kept, mut p_fresh) = (random_spd::<N>(), random_spd::<N>());
+            for k in 0..5 {
+                let mut inp = inputs();
+                inp.specific_force_b.x += k as f64;
+                inp.c_b_e = crate::attitude::euler_to_dcm(0.1 * k as f64, -0.2, 1.1);
+                let (mut x1, mut x2) = (SVector::<f64, N>::zeros(), SVector::<f64, N>::zeros());
+                propagate_with(&mut x1, &mut p_kept, &inp, &d, &mut scratch);
+                propagate(&mut x2, &mut p_fresh, &inp, &d);
+                assert_eq!(p_kept, p_fresh, "epoch {k}");
+            }
+        }
+        check::<17>();
+        check::<35>();
     }
 
     /// Γ against a central difference of the J2 gravity model the INS uses

@@ -34,13 +34,26 @@ pub fn meridian_radius(latitude_rad: f64) -> f64 {
 
 /// Geodetic → ECEF position, m (Groves eq. 2.112).
 pub fn geodetic_to_ecef(g: Geodetic) -> Vector3<f64> {
-    let (sin_lat, cos_lat) = g.latitude_rad.sin_cos();
-    let (sin_lon, cos_lon) = g.longitude_rad.sin_cos();
-    let r_e = transverse_radius(g.latitude_rad);
+    geodetic_to_ecef_with(
+        g.latitude_rad.sin_cos(),
+        g.longitude_rad.sin_cos(),
+        transverse_radius(g.latitude_rad),
+        g.height_m,
+    )
+}
+
+/// [`geodetic_to_ecef`] from (sin, cos) of the latitude and longitude and
+/// the transverse radius R_E at the latitude (same arithmetic).
+pub fn geodetic_to_ecef_with(
+    (sin_lat, cos_lat): (f64, f64),
+    (sin_lon, cos_lon): (f64, f64),
+    r_e: f64,
+    height_m: f64,
+) -> Vector3<f64> {
     Vector3::new(
-        (r_e + g.height_m) * cos_lat * cos_lon,
-        (r_e + g.height_m) * cos_lat * sin_lon,
-        ((1.0 - E2) * r_e + g.height_m) * sin_lat,
+        (r_e + height_m) * cos_lat * cos_lon,
+        (r_e + height_m) * cos_lat * sin_lon,
+        ((1.0 - E2) * r_e + height_m) * sin_lat,
     )
 }
 
@@ -83,8 +96,11 @@ fn ellipsoidal_height(p: f64, z: f64, latitude_rad: f64) -> f64 {
 
 /// Rotation from local NED to ECEF, C_n^e (Groves eq. 2.150, transposed).
 pub fn c_n_e(latitude_rad: f64, longitude_rad: f64) -> Matrix3<f64> {
-    let (sl, cl) = latitude_rad.sin_cos();
-    let (so, co) = longitude_rad.sin_cos();
+    c_n_e_with(latitude_rad.sin_cos(), longitude_rad.sin_cos())
+}
+
+/// [`c_n_e`] from (sin, cos) of the latitude and of the longitude.
+pub fn c_n_e_with((sl, cl): (f64, f64), (so, co): (f64, f64)) -> Matrix3<f64> {
     Matrix3::new(
         -sl * co,
         -so,

@@ -35,22 +35,28 @@ struct ProfileMotion {
 }
 
 impl Motion for ProfileMotion {
-    fn at(&self, t: f64) -> LocalMotion {
-        let v = self.velocity_ned.each_ref().map(|s| s.at(t));
-        let e = self.euler.each_ref().map(|s| s.at(t));
+    /// Interval hints of the velocity and angle splines (they share knots
+    /// only by construction, so each keeps its own).
+    type Cursor = [usize; 6];
+
+    fn at(&self, t: f64, cursor: &mut [usize; 6]) -> LocalMotion {
+        let (cv, ce) = cursor.split_at_mut(3);
+        let v: [_; 3] = std::array::from_fn(|i| self.velocity_ned[i].at_from(t, &mut cv[i]));
+        let e: [_; 3] = std::array::from_fn(|i| self.euler[i].at_from(t, &mut ce[i]));
         LocalMotion {
             velocity_ned: Vector3::new(v[0].value, v[1].value, v[2].value),
             velocity_ned_rate: Vector3::new(v[0].rate, v[1].rate, v[2].rate),
             euler_rad: Vector3::new(e[0].value, e[1].value, e[2].value),
             euler_rate_rad_s: Vector3::new(e[0].rate, e[1].rate, e[2].rate),
+            yaw_sin_cos: e[2].value.sin_cos(),
         }
     }
 
-    fn velocity_ned(&self, t: f64) -> Vector3<f64> {
+    fn velocity_ned(&self, t: f64, cursor: &mut [usize; 6]) -> Vector3<f64> {
         Vector3::new(
-            self.velocity_ned[0].at(t).value,
-            self.velocity_ned[1].at(t).value,
-            self.velocity_ned[2].at(t).value,
+            self.velocity_ned[0].at_from(t, &mut cursor[0]).value,
+            self.velocity_ned[1].at_from(t, &mut cursor[1]).value,
+            self.velocity_ned[2].at_from(t, &mut cursor[2]).value,
         )
     }
 }

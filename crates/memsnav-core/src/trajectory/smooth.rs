@@ -120,9 +120,46 @@ impl SmoothSignal {
         self.pieces.get(k)
     }
 
+    /// The piece holding `t_s` found by scanning forward from `*hint` (the
+    /// index found for an earlier, not later, time; 0 to start), which is
+    /// updated: O(1) per call over non-decreasing times. The same piece as
+    /// [`Self::piece_at`]; a time before the hint's falls back to the search.
+    fn piece_from(&self, t_s: f64, hint: &mut usize) -> Option<&Piece> {
+        if t_s < 0.0 {
+            return None;
+        }
+        let mut k = *hint;
+        if k > self.pieces.len() || (k > 0 && self.pieces[k - 1].end_s() > t_s) {
+            k = self.pieces.partition_point(|p| p.end_s() <= t_s);
+        } else {
+            while k < self.pieces.len() && self.pieces[k].end_s() <= t_s {
+                k += 1;
+            }
+        }
+        *hint = k;
+        self.pieces.get(k)
+    }
+
     /// Value and derivatives at `t_s`.
     pub fn at(&self, t_s: f64) -> SignalValue {
-        match self.piece_at(t_s) {
+        self.value_in(self.piece_at(t_s), t_s)
+    }
+
+    /// [`Self::at`] for times visited in non-decreasing order: `hint`
+    /// starts at 0 and is kept between calls (bitwise the same values).
+    pub fn at_from(&self, t_s: f64, hint: &mut usize) -> SignalValue {
+        self.value_in(self.piece_from(t_s, hint), t_s)
+    }
+
+    /// [`Self::at`] and [`Self::integral`] at one time from one lookup, for
+    /// times visited in non-decreasing order (as [`Self::at_from`]).
+    pub fn at_and_integral_from(&self, t_s: f64, hint: &mut usize) -> (SignalValue, f64) {
+        let piece = self.piece_from(t_s, hint);
+        (self.value_in(piece, t_s), self.integral_in(piece, t_s))
+    }
+
+    fn value_in(&self, piece: Option<&Piece>, t_s: f64) -> SignalValue {
+        match piece {
             Some(p) => {
                 let tau = ((t_s - p.start_s) / p.duration_s).clamp(0.0, 1.0);
                 let [s, ds, dds] = smoothstep(tau);
@@ -147,10 +184,14 @@ impl SmoothSignal {
 
     /// ∫₀^t of the signal, exact.
     pub fn integral(&self, t_s: f64) -> f64 {
+        self.integral_in(self.piece_at(t_s), t_s)
+    }
+
+    fn integral_in(&self, piece: Option<&Piece>, t_s: f64) -> f64 {
         if t_s <= 0.0 {
             return self.initial * t_s;
         }
-        match self.piece_at(t_s) {
+        match piece {
             Some(p) => p.integral_before + p.integral_over(t_s - p.start_s),
             None => {
                 let total = self
@@ -189,6 +230,23 @@ mod tests {
             assert!((v.rate - rate_fd).abs() < 1e-6, "{t}");
             assert!((v.accel - accel_fd).abs() < 1e-5, "{t}");
             assert!((v.value - integral_fd).abs() < 1e-7, "{t}");
+        }
+    }
+
+    #[test]
+    fn cursor_lookups_equal_the_search() {
+        let s = signal();
+        let mut hint = 0;
+        // Non-decreasing times (with repeats and joins), then a step back.
+        let times = [
+            -1.0, 0.0, 0.0, 1.0, 3.0, 3.0, 5.2, 7.0, 9.49, 9.5, 11.0, 30.0, 4.0, 6.0,
+        ];
+        for t in times {
+            let (v, integral) = s.at_and_integral_from(t, &mut hint);
+            assert_eq!(v, s.at(t), "{t}");
+            assert_eq!(integral.to_bits(), s.integral(t).to_bits(), "{t}");
+            let mut other = hint;
+            assert_eq!(s.at_from(t, &mut other), s.at(t), "{t}");
         }
     }
 

@@ -57,13 +57,39 @@ impl CubicSpline {
     }
 
     /// Value and first two derivatives at `t` (clamped to the knot range).
+    #[cfg(test)]
     pub fn at(&self, t: f64) -> SignalValue {
+        self.value_in(self.interval(t), t)
+    }
+
+    /// Value and first two derivatives at `t` (clamped to the knot range),
+    /// for times visited in non-decreasing order: `hint`
+    /// starts at 0 and is kept between calls; the interval is found by
+    /// scanning forward from it (bitwise the same values).
+    pub fn at_from(&self, t: f64, hint: &mut usize) -> SignalValue {
         let n = self.knots.len();
-        let i = self
-            .knots
+        let mut i = *hint;
+        if i > n - 2 || (i > 0 && self.knots[i] > t) {
+            i = self.interval(t);
+        } else {
+            while i < n - 2 && self.knots[i + 1] <= t {
+                i += 1;
+            }
+        }
+        *hint = i;
+        self.value_in(i, t)
+    }
+
+    /// Index of the knot interval holding `t` (the first or last for times
+    /// outside the knots).
+    fn interval(&self, t: f64) -> usize {
+        self.knots
             .partition_point(|&k| k <= t)
             .saturating_sub(1)
-            .min(n - 2);
+            .min(self.knots.len() - 2)
+    }
+
+    fn value_in(&self, i: usize, t: f64) -> SignalValue {
         let (t0, t1) = (self.knots[i], self.knots[i + 1]);
         let h = t1 - t0;
         let t = t.clamp(t0, t1);
@@ -103,6 +129,10 @@ mod tests {
             assert!((s.at(k).value - k.sin()).abs() < 1e-15);
             let (a, b) = (s.at(k - 1e-9), s.at(k + 1e-9));
             assert!((a.rate - b.rate).abs() < 1e-7 && (a.accel - b.accel).abs() < 1e-6);
+        }
+        let mut hint = 0;
+        for t in [-1.0, 0.0, 0.25, 0.3, 0.3, 5.55, 9.9, 10.0, 12.0, 3.0, 3.5] {
+            assert_eq!(s.at_from(t, &mut hint), s.at(t), "{t}");
         }
         let v = s.at(4.1);
         assert!((v.value - 4.1_f64.sin()).abs() < 1e-4);

@@ -54,11 +54,14 @@ impl VehicleMotion {
 }
 
 impl Motion for VehicleMotion {
-    fn at(&self, t: f64) -> LocalMotion {
-        let s = self.speed_m_s.at(t);
-        let r = self.yaw_rate_rad_s.at(t);
-        let g = self.path_angle_rad.at(t);
-        let psi = self.heading_rad(t);
+    /// Piece hints of the speed, yaw-rate and path-angle signals.
+    type Cursor = [usize; 3];
+
+    fn at(&self, t: f64, cursor: &mut [usize; 3]) -> LocalMotion {
+        let s = self.speed_m_s.at_from(t, &mut cursor[0]);
+        let (r, yaw_integral) = self.yaw_rate_rad_s.at_and_integral_from(t, &mut cursor[1]);
+        let g = self.path_angle_rad.at_from(t, &mut cursor[2]);
+        let psi = self.initial_heading_rad + yaw_integral;
         let (sg, cg) = g.value.sin_cos();
         let (sp, cp) = psi.sin_cos();
         let direction = Vector3::new(cg * cp, cg * sp, -sg);
@@ -78,13 +81,15 @@ impl Motion for VehicleMotion {
                 g.rate + k_pitch * s.accel,
                 r.value,
             ),
+            yaw_sin_cos: (sp, cp),
         }
     }
 
-    fn velocity_ned(&self, t: f64) -> Vector3<f64> {
-        let s = self.speed_m_s.at(t).value;
-        let g = self.path_angle_rad.at(t).value;
-        let psi = self.heading_rad(t);
+    fn velocity_ned(&self, t: f64, cursor: &mut [usize; 3]) -> Vector3<f64> {
+        let s = self.speed_m_s.at_from(t, &mut cursor[0]).value;
+        let (_, yaw_integral) = self.yaw_rate_rad_s.at_and_integral_from(t, &mut cursor[1]);
+        let g = self.path_angle_rad.at_from(t, &mut cursor[2]).value;
+        let psi = self.initial_heading_rad + yaw_integral;
         let (sg, cg) = g.sin_cos();
         let (sp, cp) = psi.sin_cos();
         s * Vector3::new(cg * cp, cg * sp, -sg)
