@@ -373,10 +373,11 @@ impl Transition {
         }
     }
 
-    /// M Φ for any number of rows `R`, written into `out`, column by column
-    /// (the mirror of [`Self::columns_into`]: column j of M Φ is
-    /// Σ_k M_{·k} Φ_kj over the non-zeros of column j of Φ), for the
-    /// smoother's backward pass, which needs Φᵀ λ and Φᵀ Λ Φ. Column j of Φ:
+    /// Φ itself as sparse columns, written over `out` (the mirror of
+    /// [`Self::columns_into`]: with these, the sparse products compute M Φ,
+    /// column j being Σ_k M_{·k} Φ_kj over the non-zeros of column j of Φ),
+    /// for the smoother's backward pass, which needs Φᵀ λ and Φᵀ Λ Φ.
+    /// Column j of Φ:
     ///
     /// - ψ_j: (I − Ω_ie Δt)_{·j} on the ψ rows, (−[a×])_{·j} on the v rows;
     /// - v_j: (I − 2Ω_ie Δt)_{·j} on the v rows, Δt on r_j;
@@ -384,27 +385,16 @@ impl Transition {
     /// - b_a,j (b_g,j): (−ĈΔt)_{·j} on the v (ψ) rows, the decay on itself;
     /// - s_a,j (s_g,j): the scale-factor blocks' column on the v (ψ) rows, 1;
     /// - clock offset: 1; clock drift: Δt on the offset, 1; range biases: decay.
-    fn times_into<const R: usize, const N: usize>(
-        &self,
-        m: &SMatrix<f64, R, N>,
-        out: &mut SMatrix<f64, R, N>,
-    ) {
-        let src = m.as_slice();
-        let dst = out.as_mut_slice();
-        let col = |k: usize| -> &[f64; R] {
-            src[k * R..(k + 1) * R]
-                .try_into()
-                .expect("a column has R rows")
-        };
+    fn phi_columns_into<const N: usize>(&self, out: &mut Columns) {
+        let mut n = 0;
         let mut set = |j: usize, terms: &[(f64, usize)]| {
-            let mut acc = [0.0; R];
+            out.start[j] = n as u8;
             for &(a, k) in terms {
-                let c = col(k);
-                for i in 0..R {
-                    acc[i] += a * c[i];
-                }
+                out.coefficient[n] = a;
+                out.source[n] = k as u8;
+                n += 1;
             }
-            dst[j * R..(j + 1) * R].copy_from_slice(&acc);
+            out.end[j] = n as u8;
         };
         let (w, w2, a) = (self.earth_angle, 2.0 * self.earth_angle, &self.f_dt);
         let bc = &self.minus_c_dt_t;
@@ -490,21 +480,21 @@ impl Transition {
 }
 
 /// The smoother's backward step over one interval (the adjoint of
-/// [`propagate`]): λ ← Φᵀ λ and Λ ← Φᵀ Λ Φ (Λ symmetric: with B = Λ Φ,
-/// Φᵀ Λ Φ = Φᵀ B = Bᵀ Φ, two passes of [`Transition::times_into`]).
+/// [`propagate`]): λ ← Φᵀ λ (as the row λᵀ Φ) and Λ ← Φᵀ Λ Φ, the
+/// forward's [`covariance_product`] with the columns of Φ in place of those
+/// of Φᵀ (with B = Λ Φ stored as Bᵀ = Φᵀ Λ, then Bᵀ Φ).
 pub(super) fn adjoint<const N: usize>(
     lambda: &mut SVector<f64, N>,
     big_lambda: &mut SMatrix<f64, N, N>,
     inputs: &SystemInputs,
     d: &Discretisation,
 ) {
-    let phi = Transition::new::<N>(inputs, d);
+    let mut scratch = Scratch::<N>::new();
+    Transition::new::<N>(inputs, d).phi_columns_into::<N>(&mut scratch.columns);
     let mut row = lambda.transpose();
-    phi.times_into(&lambda.transpose(), &mut row);
+    sparse_product::<1, N, false>(&scratch.columns, lambda.as_slice(), row.as_mut_slice());
     *lambda = row.transpose();
-    let mut b = SMatrix::<f64, N, N>::zeros();
-    phi.times_into(big_lambda, &mut b);
-    phi.times_into(&b.transpose(), big_lambda);
+    covariance_product(&scratch.columns, big_lambda, &mut scratch.b_t);
 }
 
 /// The filter's own propagation as the smoother replays and reverses it:
