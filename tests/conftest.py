@@ -1,5 +1,8 @@
 """Shared fixtures."""
 
+import importlib.util
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -21,3 +24,19 @@ def drive_300s():
     imu = mn.ImuModel(acc, gyr)
     f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
     return traj, gnss, imu, f, w
+
+
+@pytest.fixture(scope="session")
+def reference_script():
+    """Loads a stored reference's writer, ``tests/data/<folder>/make_reference.py``
+    (the tests compare against its arrays): ``reference_script(folder)``."""
+
+    def load(folder: str):
+        path = Path(__file__).parent / "data" / folder / "make_reference.py"
+        spec = importlib.util.spec_from_file_location(f"make_{folder}", path)
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    return load

@@ -7,7 +7,6 @@ to the start, so the tolerance is not 1e-12 of the Earth's radius."""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -15,18 +14,8 @@ import numpy as np
 REFERENCE_DIR = Path(__file__).parent / "data" / "simulator-reference"
 
 
-def load_reference_script():
-    spec = importlib.util.spec_from_file_location(
-        "make_simulator_reference", REFERENCE_DIR / "make_reference.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_simulator_output_matches_the_stored_reference() -> None:
-    script = load_reference_script()
+def test_simulator_output_matches_the_stored_reference(reference_script) -> None:
+    script = reference_script("simulator-reference")
     now = script.simulator_arrays()
     with np.load(REFERENCE_DIR / "simulator_reference.npz") as stored:
         expected = set(stored.files)

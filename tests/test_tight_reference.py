@@ -6,7 +6,6 @@ fused multiply-add rounds once instead of twice, so the comparison is to
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -14,18 +13,8 @@ import numpy as np
 REFERENCE_DIR = Path(__file__).parent / "data" / "tight-reference"
 
 
-def load_reference_script():
-    spec = importlib.util.spec_from_file_location(
-        "make_reference", REFERENCE_DIR / "make_reference.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_forward_and_smoothed_solutions_match_the_stored_reference() -> None:
-    script = load_reference_script()
+def test_forward_and_smoothed_solutions_match_the_stored_reference(reference_script) -> None:
+    script = reference_script("tight-reference")
     now = script.solution_arrays()
     with np.load(REFERENCE_DIR / "tight_reference.npz") as stored:
         assert sorted(stored.files) == sorted(now)

@@ -19,7 +19,6 @@ Methods in the Atmospheric Sciences*, eq. 5.12), never below 1.
 from __future__ import annotations
 
 import copy
-import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -119,9 +118,21 @@ def calibrate_drive(
     refs = smoothed.calibration_references(
         time, specific_force, angular_rate, window_s=window_s, until_s=until_s
     )
-    accel, gyro, messages = _fit(refs, estimate)
-    for message in messages:
-        warnings.warn(message, UserWarning, stacklevel=2)
+    # Each fit raises its own warnings (UserWarning) and keeps them.
+    rate = 1.0 / refs["window_s"]
+    accel = _memsnav.calibrate_accelerometer(
+        refs["measured_specific_force"],
+        refs["reference_specific_force"],
+        sample_rate=rate,
+        estimate=estimate,
+    )
+    gyro = _memsnav.calibrate_gyroscope(
+        refs["measured_angular_rate"],
+        refs["reference_angular_rate"],
+        refs["reference_specific_force"],
+        sample_rate=rate,
+        estimate=estimate,
+    )
     predicted_f = _noise_free(accel).measure(refs["reference_specific_force"])  # type: ignore[call-arg]
     predicted_w = _noise_free(gyro).measure(  # type: ignore[call-arg]
         refs["reference_angular_rate"], refs["reference_specific_force"]
@@ -151,29 +162,8 @@ def calibrate_drive(
         run=run,
         window_s=float(refs["window_s"]),
         until_s=until_s,
-        warnings=messages,
+        warnings=[*accel.warnings, *gyro.warnings],
     )
-
-
-def _fit(refs: dict[str, Any], estimate: str) -> tuple[Calibration, Calibration, list[str]]:
-    """Both least-squares fits of one set of references, and their warnings."""
-    rate = 1.0 / refs["window_s"]
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        accel = _memsnav.calibrate_accelerometer(
-            refs["measured_specific_force"],
-            refs["reference_specific_force"],
-            sample_rate=rate,
-            estimate=estimate,
-        )
-        gyro = _memsnav.calibrate_gyroscope(
-            refs["measured_angular_rate"],
-            refs["reference_angular_rate"],
-            refs["reference_specific_force"],
-            sample_rate=rate,
-            estimate=estimate,
-        )
-    return accel, gyro, [str(w.message) for w in caught]
 
 
 def _correct(

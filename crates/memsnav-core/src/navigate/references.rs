@@ -62,16 +62,7 @@ pub struct CalibrationReferences {
     pub reference_angular_rate_s: Vec<Vector3<f64>>,
     /// The window length used, s (a whole number of IMU samples).
     pub window_s: f64,
-    /// Median over the windows of the references' one-sigma from the
-    /// solution's covariance: √(σ_v(a)² + σ_v(b)²) / T per axis, m/s².
-    /// An upper bound: errors of neighbouring samples are correlated and
-    /// cancel partly in the difference.
-    pub specific_force_std_m_s2: f64,
-    /// The same for the angular rate from the attitude σ, rad/s.
-    pub angular_rate_std_rad_s: f64,
-    /// Windows left out because a reset of the filter falls inside them, or
-    /// because the solution's covariance there is not valid (a smoothed
-    /// solution before a reset: see docs/calibration.md).
+    /// Windows left out because a reset of the filter falls inside them.
     pub skipped_for_resets: usize,
     /// The solution's own uncertainty of the accelerometer biases, mean over
     /// the windows, in the sensor's axes, (m/s²)². The references inherit
@@ -140,6 +131,12 @@ pub fn calibration_references(
             format!("must be a positive number of seconds, got {window_s}"),
         ));
     }
+    if let Some(u) = until_s.filter(|u| !(u.is_finite() && *u > 0.0)) {
+        return Err(Error::invalid(
+            "until_s",
+            format!("must be a positive number of seconds, got {u}"),
+        ));
+    }
     let dt = (sol.time_s[n - 1] - sol.time_s[0]) / (n - 1).max(1) as f64;
     let step = (window_s / dt).round().max(1.0) as usize;
     let t_end = until_s.map_or(f64::INFINITY, |u| sol.time_s[0] + u);
@@ -151,8 +148,6 @@ pub fn calibration_references(
         reference_specific_force_s: Vec::new(),
         reference_angular_rate_s: Vec::new(),
         window_s: step as f64 * dt,
-        specific_force_std_m_s2: f64::NAN,
-        angular_rate_std_rad_s: f64::NAN,
         skipped_for_resets: 0,
         accel_bias_covariance_s: Matrix3::zeros(),
         gyro_bias_covariance_s: Matrix3::zeros(),
@@ -162,11 +157,10 @@ pub fn calibration_references(
     let scale_factors = Layout::of(sol.n_states).is_some_and(|l| l.scale_factors);
     // The sensor-error states are in body axes; only their variances are
     // stored.
-    let bias_covariance_s = |k: usize, first: usize| {
+    let state_covariance_s = |k: usize, first: usize| {
         let row = &sol.covariance_diagonal[k * sol.n_states..(k + 1) * sol.n_states];
         m_t * Matrix3::from_diagonal(&Vector3::from_column_slice(&row[first..first + 3])) * mounting
     };
-    let (mut f_std, mut w_std) = (Vec::new(), Vec::new());
     let starts = (0..n)
         .step_by(step)
         .take_while(|&a| a + step < n && sol.time_s[a + step] <= t_end);
@@ -174,14 +168,8 @@ pub fn calibration_references(
         let b = a + step;
         let (ta, tb) = (sol.time_s[a], sol.time_s[b]);
         let mid = a + step / 2;
-        // A reset inside the window breaks the kinematics; before a reset
-        // that re-initialises a state (the heading at the first motion) the
-        // smoothed covariance is not valid (negative variances), so those
-        // windows cannot carry an uncertainty either.
-        let variances = &sol.covariance_diagonal[mid * sol.n_states..(mid + 1) * sol.n_states];
-        if sol.resets.iter().any(|r| r.time_s > ta && r.time_s <= tb)
-            || variances.iter().any(|v| *v < 0.0)
-        {
+        // A reset inside the window breaks the kinematics.
+        if sol.resets.iter().any(|r| r.time_s > ta && r.time_s <= tb) {
             out.skipped_for_resets += 1;
             continue;
         }
@@ -218,15 +206,12 @@ pub fn calibration_references(
         out.measured_angular_rate_s.push(w_meas / t);
         out.reference_specific_force_s.push(m_t * f_ref_b);
         out.reference_angular_rate_s.push(m_t * w_ref_b);
-        let var = |p: &[Matrix3<f64>]| (p[a].trace() + p[b].trace()) / 3.0;
-        f_std.push(var(&sol.velocity_covariance_ecef).sqrt() / t);
-        out.accel_bias_covariance_s += bias_covariance_s(mid, ACCEL_BIAS);
-        out.gyro_bias_covariance_s += bias_covariance_s(mid, GYRO_BIAS);
+        out.accel_bias_covariance_s += state_covariance_s(mid, ACCEL_BIAS);
+        out.gyro_bias_covariance_s += state_covariance_s(mid, GYRO_BIAS);
         if scale_factors {
-            out.accel_scale_factor_covariance_s += bias_covariance_s(mid, ACCEL_SCALE_FACTOR);
-            out.gyro_scale_factor_covariance_s += bias_covariance_s(mid, GYRO_SCALE_FACTOR);
+            out.accel_scale_factor_covariance_s += state_covariance_s(mid, ACCEL_SCALE_FACTOR);
+            out.gyro_scale_factor_covariance_s += state_covariance_s(mid, GYRO_SCALE_FACTOR);
         }
-        w_std.push(var(&sol.attitude_covariance_ecef).sqrt() / t);
     }
     if out.time_s.len() < 2 {
         return Err(Error::invalid(
@@ -243,14 +228,7 @@ pub fn calibration_references(
     out.gyro_bias_covariance_s /= windows;
     out.accel_scale_factor_covariance_s /= windows;
     out.gyro_scale_factor_covariance_s /= windows;
-    out.specific_force_std_m_s2 = median(&mut f_std);
-    out.angular_rate_std_rad_s = median(&mut w_std);
     Ok(out)
-}
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }
 
 #[cfg(test)]
@@ -349,8 +327,6 @@ mod tests {
         assert!(w_err < 5e-6, "angular rate {w_err}");
         // The inherited covariances are the solution's, in sensor axes.
         assert!((r.accel_bias_covariance_s - Matrix3::identity() * 1e-6).amax() < 1e-15);
-        // Velocity σ 0.01 m/s at both ends over 1 s.
-        assert!((r.specific_force_std_m_s2 - 0.01 * 2f64.sqrt()).abs() < 1e-9);
     }
 
     /// The arrays must be the ones the run was given.
@@ -369,5 +345,8 @@ mod tests {
         assert!(err.to_string().contains("time"), "{err}");
         let err = calibration_references(&run, &truth.time_s, f, w, 20.0, None).unwrap_err();
         assert!(err.to_string().contains("window_s"), "{err}");
+        let err =
+            calibration_references(&run, &truth.time_s, f, w, 1.0, Some(f64::NAN)).unwrap_err();
+        assert!(err.to_string().contains("until_s"), "{err}");
     }
 }
