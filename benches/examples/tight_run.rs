@@ -1,13 +1,14 @@
 //! Runs the reference 600 s tightly coupled filter `REPEATS` times (default
 //! 20) for profilers (`perf record`), and prints the best and median wall
-//! time per run, with an empty observer (`records`) and with the whole
-//! solution stored (`solution`, what the Python API returns):
+//! time per run, with an empty observer (`records`), with the whole
+//! solution stored (`solution`, what the Python API returns) and with the
+//! smoothed solution too (`smoothed`, `smooth=True`):
 //! `cargo run --release -p memsnav-benches --example tight_run -- 20`.
 
 use std::time::Instant;
 
 use memsnav_benches::TightScenario;
-use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled};
+use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed};
 use memsnav_core::filter::state::BASE_STATES;
 
 fn main() {
@@ -19,6 +20,7 @@ fn main() {
     let imu = sc.imu();
     let mut records = Vec::with_capacity(repeats);
     let mut solution = Vec::with_capacity(repeats);
+    let mut smoothed = Vec::with_capacity(repeats);
     for _ in 0..repeats {
         let t = Instant::now();
         run_tightly_coupled::<BASE_STATES, _>(&imu, &sc.epochs, &sc.initial, &sc.tuning, |_, _| {})
@@ -28,9 +30,17 @@ fn main() {
         tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
             .expect("the reference run");
         solution.push(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        tightly_coupled_smoothed::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
+            .expect("the reference run");
+        smoothed.push(t.elapsed().as_secs_f64());
     }
     let n = sc.imu_epochs() as f64;
-    for (name, mut times) in [("records", records), ("solution", solution)] {
+    for (name, mut times) in [
+        ("records", records),
+        ("solution", solution),
+        ("smoothed", smoothed),
+    ] {
         times.sort_by(f64::total_cmp);
         let (best, median) = (times[0], times[times.len() / 2]);
         println!(
