@@ -21,13 +21,34 @@ pub struct Floats {
 
 /// Any array-like as float64 values and shape; NaN and infinities rejected.
 pub fn floats(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Floats> {
+    with_floats(obj, argument, |values, shape| Floats {
+        values: values.to_vec(),
+        shape: shape.to_vec(),
+    })
+}
+
+/// Any array-like as float64 values in C order, with its shape, lent to
+/// `read` (the array's own memory when it is C-contiguous float64, so
+/// that nothing is copied twice); NaN and infinities rejected.
+fn with_floats<R>(
+    obj: &Bound<'_, PyAny>,
+    argument: &str,
+    read: impl FnOnce(&[f64], &[usize]) -> R,
+) -> PyResult<R> {
     let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
         PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
     })?;
-    let shape = array.shape().to_vec();
-    let values: Vec<f64> = array.as_array().iter().copied().collect();
-    validate::finite_array(argument, &values, &shape).py()?;
-    Ok(Floats { values, shape })
+    let shape = array.shape();
+    let copy: Vec<f64>;
+    let values = match array.as_slice() {
+        Ok(values) if array.is_c_contiguous() => values,
+        _ => {
+            copy = array.as_array().iter().copied().collect();
+            &copy
+        }
+    };
+    validate::finite_array(argument, values, shape).py()?;
+    Ok(read(values, shape))
 }
 
 /// An array of shape `(..., 3)` as vectors, with the leading shape.
@@ -68,14 +89,14 @@ pub fn vectors_allow_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec
 
 /// An `(N, 3)` array as N vectors.
 pub fn vectors(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Vector3<f64>>> {
-    let f = floats(obj, argument)?;
-    if f.shape.len() != 2 || f.shape[1] != 3 {
-        return Err(PyValueError::new_err(format!(
-            "{argument}: expected shape (N, 3), got {:?}",
-            f.shape
-        )));
-    }
-    Ok(to_vectors(&f.values))
+    with_floats(obj, argument, |values, shape| {
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(PyValueError::new_err(format!(
+                "{argument}: expected shape (N, 3), got {shape:?}"
+            )));
+        }
+        Ok(to_vectors(values))
+    })?
 }
 
 /// A `(3,)` vector.
