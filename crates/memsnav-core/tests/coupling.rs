@@ -337,6 +337,55 @@ fn outage_drift_follows_half_b_t_squared() {
 
 /// Two hours at 100 Hz (parked receiver, tactical-like IMU): P stays
 /// symmetric positive definite and the solution bounded.
+/// The solution stores each navigation block of P as its diagonal (in
+/// `covariance_diagonal`) and upper triangle: the blocks it gives back are
+/// the filter's own P at every sample (the upper triangle and diagonal
+/// bitwise, the lower triangle to rounding: P is symmetric only to
+/// rounding between updates), with the other 3 × 3 blocks of P's diagonal
+/// in `covariance_diagonal`.
+#[test]
+fn solution_blocks_are_the_filters_covariance() {
+    let truth = drive(20.0, 100.0, true);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    let mut rng = stream(5, 0);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let data = ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: &f,
+        angular_rate_b: &w,
+    };
+    let init = exact_initial(&truth);
+    let mut ps = Vec::new();
+    run_tightly_coupled::<17, _>(&data, &epochs, &init, &tuning, |_, s| ps.push(s.kf.p)).unwrap();
+    let sol = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
+    assert_eq!(ps.len(), sol.time_s.len());
+    for (k, p) in ps.iter().enumerate() {
+        let blocks = [
+            sol.attitude_covariance_ecef(k),
+            sol.velocity_covariance_ecef(k),
+            sol.position_covariance_ecef(k),
+        ];
+        for (b, m) in blocks.iter().enumerate() {
+            let q = p.fixed_view::<3, 3>(3 * b, 3 * b);
+            for i in 0..3 {
+                for j in i..3 {
+                    assert_eq!(m[(i, j)], q[(i, j)], "sample {k}, block {b}, ({i}, {j})");
+                    let tol = 1e-12 * (q[(i, i)] * q[(j, j)]).sqrt();
+                    assert!(
+                        (m[(j, i)] - q[(j, i)]).abs() <= tol,
+                        "sample {k}, block {b}"
+                    );
+                }
+            }
+        }
+        let diagonal: Vec<f64> = (0..17).map(|i| p[(i, i)]).collect();
+        assert_eq!(sol.covariance_diagonal[17 * k..17 * (k + 1)], diagonal[..]);
+    }
+}
+
 #[test]
 fn covariance_stays_positive_definite_over_two_hours() {
     let truth = drive(7200.0, 100.0, false);

@@ -157,11 +157,11 @@ fn smoothed_errors_agree_with_their_covariance() {
             // take the three blocks as independent: a conservative NEES).
             let mut cov = SMatrix::<f64, 9, 9>::zeros();
             cov.fixed_view_mut::<3, 3>(0, 0)
-                .copy_from(&s.attitude_covariance_ecef[k]);
+                .copy_from(&s.attitude_covariance_ecef(k));
             cov.fixed_view_mut::<3, 3>(3, 3)
-                .copy_from(&s.velocity_covariance_ecef[k]);
+                .copy_from(&s.velocity_covariance_ecef(k));
             cov.fixed_view_mut::<3, 3>(6, 6)
-                .copy_from(&s.position_covariance_ecef[k]);
+                .copy_from(&s.position_covariance_ecef(k));
             sum += nees(&e, &cov).unwrap() / 9.0;
             count += 1;
         }

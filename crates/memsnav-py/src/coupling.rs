@@ -408,6 +408,19 @@ impl PyFilterSolution {
         })
     }
 
+    /// A navigation block of P at every sample, `(N, 3, 3)` (the solution
+    /// stores each block's upper triangle beside the diagonal).
+    fn navigation_covariance<'py>(
+        &self,
+        py: Python<'py>,
+        block: fn(&Solution, usize) -> Matrix3<f64>,
+    ) -> Bound<'py, numpy::PyArray3<f64>> {
+        let blocks: Vec<Matrix3<f64>> = (0..self.inner.time_s.len())
+            .map(|k| block(&self.inner, k))
+            .collect();
+        convert::matrices3_to_numpy(py, &blocks)
+    }
+
     fn records<'py>(
         &self,
         py: Python<'py>,
@@ -505,17 +518,17 @@ impl PyFilterSolution {
     /// Position-error covariance (ECEF axes), m², (N, 3, 3).
     #[getter]
     fn position_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
-        convert::matrices3_to_numpy(py, &self.inner.position_covariance_ecef)
+        self.navigation_covariance(py, Solution::position_covariance_ecef)
     }
     /// Velocity-error covariance (ECEF axes), m²/s², (N, 3, 3).
     #[getter]
     fn velocity_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
-        convert::matrices3_to_numpy(py, &self.inner.velocity_covariance_ecef)
+        self.navigation_covariance(py, Solution::velocity_covariance_ecef)
     }
     /// Attitude-error covariance (ECEF axes), rad², (N, 3, 3).
     #[getter]
     fn attitude_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
-        convert::matrices3_to_numpy(py, &self.inner.attitude_covariance_ecef)
+        self.navigation_covariance(py, Solution::attitude_covariance_ecef)
     }
     /// One-sigma position uncertainty along north, east, down, m, (N, 3).
     #[getter]

@@ -302,6 +302,13 @@ fn corrected_nav<const N: usize>(nav: &NavState, x: &crate::filter::ErrorState<N
     }
 }
 
+/// The upper triangles (P_xy, P_xz, P_yz) of three symmetric blocks, in
+/// the layout of [`Solution::navigation_covariance_off_diagonal`].
+fn off_diagonal(blocks: [Matrix3<f64>; 3]) -> [f64; 9] {
+    let [a, v, r] = blocks.map(|m| [m[(0, 1)], m[(0, 2)], m[(1, 2)]]);
+    [a[0], a[1], a[2], v[0], v[1], v[2], r[0], r[1], r[2]]
+}
+
 /// The error of a P₀ that is not a covariance, in the words of the
 /// arguments that built it (`initial_*_std`), not the internal matrix.
 fn initial_uncertainty_error(error: Error, s: &super::InitialUncertainty) -> Error {
@@ -474,12 +481,13 @@ pub struct Solution {
     /// Diagonal of P at each sample, row-major `(len, n_states)`, in the
     /// units of [`crate::filter::state`] squared.
     pub covariance_diagonal: Vec<f64>,
-    /// Attitude-error block of P (ECEF axes), rad², at each sample.
-    pub attitude_covariance_ecef: Vec<Matrix3<f64>>,
-    /// Velocity-error block of P (ECEF axes), m²/s², at each sample.
-    pub velocity_covariance_ecef: Vec<Matrix3<f64>>,
-    /// Position-error block of P (ECEF axes), m², at each sample.
-    pub position_covariance_ecef: Vec<Matrix3<f64>>,
+    /// The off-diagonal entries of the attitude (rad²), velocity (m²/s²)
+    /// and position (m²) blocks of P (ECEF axes) at each sample, three per
+    /// block in that order: P_xy, P_xz, P_yz (the upper triangle; P is
+    /// symmetric). Their diagonals are in `covariance_diagonal`; the whole
+    /// blocks: [`Self::attitude_covariance_ecef`],
+    /// [`Self::velocity_covariance_ecef`], [`Self::position_covariance_ecef`].
+    pub navigation_covariance_off_diagonal: Vec<[f64; 9]>,
     /// Every scalar measurement: innovation, NIS, status.
     pub measurements: Vec<MeasurementRecord>,
     /// Every batch test.
@@ -511,9 +519,7 @@ impl Solution {
             clock_drift_m_s: Vec::with_capacity(len),
             n_states,
             covariance_diagonal: Vec::with_capacity(len * n_states),
-            attitude_covariance_ecef: Vec::with_capacity(len),
-            velocity_covariance_ecef: Vec::with_capacity(len),
-            position_covariance_ecef: Vec::with_capacity(len),
+            navigation_covariance_off_diagonal: Vec::with_capacity(len),
             measurements: Vec::new(),
             batches: Vec::new(),
             resets: Vec::new(),
@@ -537,11 +543,40 @@ impl Solution {
         // The diagonal of P (by columns: every N + 1-th element).
         self.covariance_diagonal
             .extend(s.kf.p.as_slice().iter().step_by(N + 1));
-        let block =
-            |first: usize| -> Matrix3<f64> { s.kf.p.fixed_view::<3, 3>(first, first).into() };
-        self.attitude_covariance_ecef.push(block(ATTITUDE));
-        self.velocity_covariance_ecef.push(block(VELOCITY));
-        self.position_covariance_ecef.push(block(POSITION));
+        // The upper triangles of the three blocks, by columns: P_ij is
+        // element i + j N.
+        let p = s.kf.p.as_slice();
+        let upper = |first: usize| {
+            let at = |i: usize, j: usize| p[first + i + (first + j) * N];
+            [at(0, 1), at(0, 2), at(1, 2)]
+        };
+        let (a, v, r) = (upper(ATTITUDE), upper(VELOCITY), upper(POSITION));
+        self.navigation_covariance_off_diagonal
+            .push([a[0], a[1], a[2], v[0], v[1], v[2], r[0], r[1], r[2]]);
+    }
+
+    /// Attitude-error block of P (ECEF axes), rad², at sample `k`.
+    pub fn attitude_covariance_ecef(&self, k: usize) -> Matrix3<f64> {
+        self.navigation_covariance(k, 0)
+    }
+
+    /// Velocity-error block of P (ECEF axes), m²/s², at sample `k`.
+    pub fn velocity_covariance_ecef(&self, k: usize) -> Matrix3<f64> {
+        self.navigation_covariance(k, 1)
+    }
+
+    /// Position-error block of P (ECEF axes), m², at sample `k`.
+    pub fn position_covariance_ecef(&self, k: usize) -> Matrix3<f64> {
+        self.navigation_covariance(k, 2)
+    }
+
+    /// Block `block` (0 attitude, 1 velocity, 2 position) of P at sample
+    /// `k`, from its diagonal and its stored upper triangle.
+    fn navigation_covariance(&self, k: usize, block: usize) -> Matrix3<f64> {
+        let first = [ATTITUDE, VELOCITY, POSITION][block];
+        let d = &self.covariance_diagonal[k * self.n_states + first..][..3];
+        let o = &self.navigation_covariance_off_diagonal[k][3 * block..3 * block + 3];
+        Matrix3::new(d[0], o[0], o[1], o[0], d[1], o[2], o[1], o[2], d[2])
     }
 
     /// The smoothed solution: each sample of this forward solution corrected
@@ -588,9 +623,8 @@ impl Solution {
             out.clock_drift_m_s[k] -= x.clock_drift();
             out.covariance_diagonal[k * N..(k + 1) * N]
                 .copy_from_slice(s.covariance_diagonal().as_slice());
-            out.attitude_covariance_ecef[k] = s.covariance_block::<3>(ATTITUDE);
-            out.velocity_covariance_ecef[k] = s.covariance_block::<3>(VELOCITY);
-            out.position_covariance_ecef[k] = s.covariance_block::<3>(POSITION);
+            out.navigation_covariance_off_diagonal[k] =
+                off_diagonal([ATTITUDE, VELOCITY, POSITION].map(|b| s.covariance_block::<3>(b)));
         });
         Ok(out)
     }

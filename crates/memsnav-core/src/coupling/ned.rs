@@ -22,26 +22,30 @@ pub fn covariance_ned(
 impl Solution {
     /// One-sigma position uncertainty along north, east, down, m, per sample.
     pub fn position_std_ned(&self) -> Vec<Vector3<f64>> {
-        self.std_ned(&self.position_covariance_ecef)
+        self.std_ned(Self::position_covariance_ecef)
     }
 
     /// One-sigma velocity uncertainty along north, east, down, m/s, per sample.
     pub fn velocity_std_ned(&self) -> Vec<Vector3<f64>> {
-        self.std_ned(&self.velocity_covariance_ecef)
+        self.std_ned(Self::velocity_covariance_ecef)
     }
 
     /// One-sigma attitude uncertainty about north, east, down, rad, per sample.
     pub fn attitude_std_ned(&self) -> Vec<Vector3<f64>> {
-        self.std_ned(&self.attitude_covariance_ecef)
+        self.std_ned(Self::attitude_covariance_ecef)
     }
 
     /// Square roots of the NED diagonal of each sample's block, at the
     /// sample's own position (negative round-off variances read as zero).
-    fn std_ned(&self, blocks: &[Matrix3<f64>]) -> Vec<Vector3<f64>> {
+    fn std_ned(&self, block: fn(&Self, usize) -> Matrix3<f64>) -> Vec<Vector3<f64>> {
         self.position_ecef
             .iter()
-            .zip(blocks)
-            .map(|(r, p)| covariance_ned(r, p).diagonal().map(|v| v.max(0.0).sqrt()))
+            .enumerate()
+            .map(|(k, r)| {
+                covariance_ned(r, &block(self, k))
+                    .diagonal()
+                    .map(|v| v.max(0.0).sqrt())
+            })
             .collect()
     }
 }

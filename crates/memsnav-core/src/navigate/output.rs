@@ -66,11 +66,11 @@ impl LogRun {
             out.velocity_ned.push(cne.transpose() * s.velocity_ecef[k]);
             out.euler_rad.push(dcm_to_euler(&(cne.transpose() * c)));
             out.position_std_ned
-                .push(std(&s.position_covariance_ecef[k], &r));
+                .push(std(&s.position_covariance_ecef(k), &r));
             out.velocity_std_ned
-                .push(std(&s.velocity_covariance_ecef[k], &r));
+                .push(std(&s.velocity_covariance_ecef(k), &r));
             out.attitude_std_ned
-                .push(std(&s.attitude_covariance_ecef[k], &r));
+                .push(std(&s.attitude_covariance_ecef(k), &r));
         }
         out
     }

@@ -254,9 +254,17 @@ mod tests {
         solution.position_ecef = truth.position_ecef[range.clone()].to_vec();
         solution.velocity_ecef = truth.velocity_ecef[range.clone()].to_vec();
         solution.c_b_e = truth.c_b_e[range].to_vec();
-        solution.covariance_diagonal = vec![1e-6; n * BASE_STATES];
-        solution.velocity_covariance_ecef = vec![Matrix3::identity() * 1e-4; n];
-        solution.attitude_covariance_ecef = vec![Matrix3::identity() * 1e-8; n];
+        // Variances 1e-8 rad² (attitude), 1e-4 m²/s² (velocity), 1e-6
+        // elsewhere; no correlations.
+        let row: Vec<f64> = (0..BASE_STATES)
+            .map(|i| match i / 3 {
+                0 => 1e-8,
+                1 => 1e-4,
+                _ => 1e-6,
+            })
+            .collect();
+        solution.covariance_diagonal = row.repeat(n);
+        solution.navigation_covariance_off_diagonal = vec![[0.0; 9]; n];
         let antenna = NavState {
             position_ecef: truth.position_ecef[first_sample],
             velocity_ecef: truth.velocity_ecef[first_sample],
