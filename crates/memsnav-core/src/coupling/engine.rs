@@ -540,14 +540,13 @@ impl Solution {
         }
         self.clock_offset_m.push(s.clock_offset_m);
         self.clock_drift_m_s.push(s.clock_drift_m_s);
-        // The diagonal of P (by columns: every N + 1-th element).
-        self.covariance_diagonal
-            .extend(s.kf.p.as_slice().iter().step_by(N + 1));
-        // The upper triangles of the three blocks, by columns: P_ij is
-        // element i + j N.
-        let p = s.kf.p.as_slice();
+        // P through its array of columns (fixed sizes: no index checks).
+        let columns = &s.kf.p.data.0;
+        let diagonal: [f64; N] = std::array::from_fn(|i| columns[i][i]);
+        self.covariance_diagonal.extend_from_slice(&diagonal);
+        // The upper triangles of the three blocks: P_ij is columns[j][i].
         let upper = |first: usize| {
-            let at = |i: usize, j: usize| p[first + i + (first + j) * N];
+            let at = |i: usize, j: usize| columns[first + j][first + i];
             [at(0, 1), at(0, 2), at(1, 2)]
         };
         let (a, v, r) = (upper(ATTITUDE), upper(VELOCITY), upper(POSITION));

@@ -251,10 +251,14 @@ impl<const N: usize> ErrorStateKf<N> {
     fn check_diagonal(&self, time_s: f64) -> Result<()> {
         // The common case in one branch-free sweep; the slow search below
         // only names the culprit.
-        let healthy = (0..N).fold(true, |ok, i| {
-            let v = self.p[(i, i)];
-            ok & self.x.0[i].is_finite() & (v > 0.0) & v.is_finite()
-        });
+        // (|v| ≤ MAX is false for NaN and ±∞; P and x read through their
+        // fixed-size arrays, so without index checks.)
+        let (columns, x) = (&self.p.data.0, &self.x.0.data.0[0]);
+        let mut healthy = true;
+        for i in 0..N {
+            let v = columns[i][i];
+            healthy &= (x[i].abs() <= f64::MAX) & (v > 0.0) & (v <= f64::MAX);
+        }
         if healthy {
             return Ok(());
         }

@@ -12,10 +12,39 @@ use crate::geodesy::{gravity_ecef, wgs84::EARTH_RATE_RAD_S};
 pub(super) const EARTH_RATE_ECEF: Vector3<f64> = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
 
 /// C_{e(t)}^{e(t+dt)}: the Earth turns by ω_ie dt about z during the
-/// interval (exact; Groves eq. 5.73 keeps its first-order form).
-pub(super) fn earth_rotation(dt: f64) -> Matrix3<f64> {
+/// interval (exact; Groves eq. 5.73 keeps its first-order form). The
+/// mechanization applies it through [`earth_rotated`]; the tests check
+/// that against this matrix.
+#[cfg(test)]
+fn earth_rotation(dt: f64) -> Matrix3<f64> {
     let (s, c) = (EARTH_RATE_RAD_S * dt).sin_cos();
     Matrix3::new(c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// C_{e(t)}^{e(t+dt)} C: the rows of C turned about z, the zeros of the
+/// Earth rotation left out (the products and sums that remain are those
+/// of the full 3 × 3 product, in its order: the same result). sin/cos of
+/// ω_ie dt are kept per thread for the last dt: at a fixed IMU rate every
+/// step asks for the same one.
+fn earth_rotated(dt: f64, c: &Matrix3<f64>) -> Matrix3<f64> {
+    thread_local! {
+        static LAST: std::cell::Cell<(f64, f64, f64)> = const { std::cell::Cell::new((f64::NAN, 0.0, 1.0)) };
+    }
+    let (s, co) = LAST.with(|last| {
+        let (t, s, co) = last.get();
+        if t == dt {
+            (s, co)
+        } else {
+            let (s, co) = (EARTH_RATE_RAD_S * dt).sin_cos();
+            last.set((dt, s, co));
+            (s, co)
+        }
+    });
+    Matrix3::from_fn(|i, j| match i {
+        0 => co * c[(0, j)] + s * c[(1, j)],
+        1 => -s * c[(0, j)] + co * c[(1, j)],
+        _ => c[(2, j)],
+    })
 }
 
 /// Attitude update: C_b^e(+) = C_{e−}^{e+} C_b^e(−) exp([θ×]) where θ is
@@ -28,7 +57,7 @@ pub(super) fn update_attitude(
     rotation_vector_b: &Vector3<f64>,
     dt: f64,
 ) -> Matrix3<f64> {
-    let c = earth_rotation(dt) * c_b_e * rotation_vector_to_dcm(rotation_vector_b);
+    let c = earth_rotated(dt, c_b_e) * rotation_vector_to_dcm(rotation_vector_b);
     c - 0.5 * c * (c.transpose() * c - Matrix3::identity())
 }
 
@@ -85,6 +114,16 @@ pub fn step(state: &NavState, prev: &ImuSample, curr: &ImuSample, dt: f64) -> Na
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The structured product is the full one, bitwise, for any dt
+    /// (also when dt changes between calls).
+    #[test]
+    fn earth_rotated_is_the_full_product() {
+        let c = crate::attitude::euler_to_dcm(0.3, -1.2, 2.9);
+        for dt in [0.01, 0.005, 0.01, 3600.0, 1e-9] {
+            assert_eq!(earth_rotated(dt, &c), earth_rotation(dt) * c, "dt {dt}");
+        }
+    }
 
     #[test]
     fn earth_rotation_turns_ecef_axes_backwards() {
