@@ -82,6 +82,20 @@ impl SparseRow {
     }
 
     /// The dense row.
+    /// (h M)ᵀ = Mᵀ hᵀ: Σ h_k × row k of M, accumulated in the order of
+    /// [`Self::times`] of Mᵀ (the same result, without forming Mᵀ).
+    pub fn times_transposed<const N: usize>(&self, m: &SMatrix<f64, N, N>) -> SVector<f64, N> {
+        let mut w = [0.0; N];
+        let columns = &m.data.0;
+        for k in 0..self.len {
+            let (a, row) = (self.value[k], self.index[k]);
+            for (i, wi) in w.iter_mut().enumerate() {
+                *wi += a * columns[i][row];
+            }
+        }
+        SVector::from(w)
+    }
+
     pub fn to_dense<const N: usize>(&self) -> SVector<f64, N> {
         let mut h = SVector::zeros();
         for k in 0..self.len {
@@ -127,14 +141,16 @@ pub(super) fn scalar_joseph<const N: usize>(
         // A = (I − k h) P = P − k uᵀ.
         p.ger(-1.0, &k, &u, 1.0);
         // A hᵀ, then P⁺ = A (I − k h)ᵀ + r k kᵀ.
-        let w = h.times(&p.transpose());
+        let w = h.times_transposed(p);
         p.ger(-1.0, &w, &k, 1.0);
         p.ger(r, &k, &k, 1.0);
+        // Symmetrised through the fixed-size columns (no index checks).
+        let columns = &mut p.data.0;
         for i in 0..N {
             for j in (i + 1)..N {
-                let m = 0.5 * (p[(i, j)] + p[(j, i)]);
-                p[(i, j)] = m;
-                p[(j, i)] = m;
+                let m = 0.5 * (columns[j][i] + columns[i][j]);
+                columns[j][i] = m;
+                columns[i][j] = m;
             }
         }
     }
@@ -211,6 +227,14 @@ pub(super) fn sequential<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// h Mᵀ without the transpose is bitwise the product with it.
+    #[test]
+    fn times_transposed_is_times_of_the_transpose() {
+        let m = SMatrix::<f64, 17, 17>::from_fn(|i, j| ((i * 7 + j * 11) % 13) as f64 / 3.0 - 1.7);
+        let h = SparseRow::new(&[(6, 0.3), (0, -0.5), (8, 0.81), (15, 1.0 / 3.0)]);
+        assert_eq!(h.times_transposed(&m), h.times(&m.transpose()));
+    }
 
     /// The rank-one Joseph update equals the textbook dense Kalman update.
     #[test]
