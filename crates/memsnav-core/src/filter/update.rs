@@ -144,13 +144,16 @@ pub(super) fn scalar_joseph<const N: usize>(
         let w = h.times_transposed(p);
         p.ger(-1.0, &w, &k, 1.0);
         p.ger(r, &k, &k, 1.0);
-        // Symmetrised through the fixed-size columns (no index checks).
+        // Symmetrised through the fixed-size columns (no index checks):
+        // P_ij (column j, row i) and P_ji for i < j.
         let columns = &mut p.data.0;
-        for i in 0..N {
-            for j in (i + 1)..N {
-                let m = 0.5 * (columns[j][i] + columns[i][j]);
-                columns[j][i] = m;
-                columns[i][j] = m;
+        for j in 1..N {
+            let (left, right) = columns.split_at_mut(j);
+            let column_j = &mut right[0];
+            for (column_i, pij) in left.iter_mut().zip(column_j.iter_mut()) {
+                let m = 0.5 * (*pij + column_i[j]);
+                *pij = m;
+                column_i[j] = m;
             }
         }
     }
