@@ -27,8 +27,8 @@ pub fn imu_unit_warnings(
     angular_rate: &[Vector3<f64>],
 ) -> Vec<String> {
     let mut out = Vec::new();
-    if let Some(f) = median(specific_force.iter().map(|v| v.norm())) {
-        if f > G_UNITS_RANGE.0 && f < G_UNITS_RANGE.1 {
+    if median_within(specific_force.iter().map(|v| v.norm()), G_UNITS_RANGE) {
+        if let Some(f) = median(specific_force.iter().map(|v| v.norm())) {
             out.push(format!(
                 "{specific_force_name}: the median magnitude is {f:.3}, near 1 where gravity alone gives 9.8 m/s²: it looks like g given as m/s² (multiply by 9.80665)"
             ));
@@ -123,6 +123,22 @@ pub(crate) fn diagnose(
     solution.warnings.extend(w);
 }
 
+/// Whether [`median`] of `values` lies strictly inside `(lo, hi)`, by
+/// counting (no sort, no allocation): with m finite values and the median
+/// their order statistic mid = ⌊m/2⌋ (from 0), median > lo exactly when at
+/// most mid of them are ≤ lo, and median < hi exactly when more than mid
+/// are < hi.
+fn median_within(values: impl Iterator<Item = f64>, (lo, hi): (f64, f64)) -> bool {
+    let (mut m, mut at_most_lo, mut below_hi) = (0_usize, 0_usize, 0_usize);
+    for x in values.filter(|x| x.is_finite()) {
+        m += 1;
+        at_most_lo += usize::from(x <= lo);
+        below_hi += usize::from(x < hi);
+    }
+    let mid = m / 2;
+    m > 0 && at_most_lo <= mid && below_hi > mid
+}
+
 fn median(values: impl Iterator<Item = f64>) -> Option<f64> {
     let mut v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
     if v.is_empty() {
@@ -145,6 +161,33 @@ mod tests {
             threshold: 16.3,
             excluded: 0,
             accepted,
+        }
+    }
+
+    /// The count agrees with the median itself, also at the bounds, for
+    /// odd and even lengths, with ties and non-finite values.
+    #[test]
+    fn median_within_agrees_with_the_median() {
+        use rand::Rng as _;
+        let mut rng = crate::random::stream(17, 0);
+        for len in 0..40 {
+            for _ in 0..50 {
+                let v: Vec<f64> = (0..len)
+                    .map(|_| match rng.random_range(0..12) {
+                        0 => f64::NAN,
+                        1 => f64::INFINITY,
+                        2 => 0.5,
+                        3 => 1.5,
+                        _ => f64::from(rng.random_range(0..9_u8)) * 0.25,
+                    })
+                    .collect();
+                let expected = median(v.iter().copied()).is_some_and(|m| m > 0.5 && m < 1.5);
+                assert_eq!(
+                    median_within(v.iter().copied(), (0.5, 1.5)),
+                    expected,
+                    "{v:?}"
+                );
+            }
         }
     }
 
