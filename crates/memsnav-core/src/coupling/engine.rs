@@ -219,6 +219,15 @@ impl<const N: usize> FilterState<N> {
     /// Raw sample corrected by the current estimates: f̂ = (f̃ − b̂_a) ⊘ (1 + ŝ_a),
     /// ω̂ likewise (the inverse of the filter's sensor model, §state).
     pub fn corrected(&self, raw: &ImuSample) -> ImuSample {
+        if self.accel_scale_factor == Vector3::zeros() && self.gyro_scale_factor == Vector3::zeros()
+        {
+            // ŝ = 0 (always without scale-factor states): the division by
+            // 1 + 0 = 1 would return its dividend.
+            return ImuSample {
+                specific_force_b: raw.specific_force_b - self.accel_bias_m_s2,
+                angular_rate_b: raw.angular_rate_b - self.gyro_bias_rad_s,
+            };
+        }
         ImuSample {
             specific_force_b: (raw.specific_force_b - self.accel_bias_m_s2)
                 .component_div(&self.accel_scale_factor.add_scalar(1.0)),
