@@ -2,6 +2,8 @@
 //! the coupled GNSS/INS filters of memsnav-core (method §5) on the user's
 //! arrays, one Rust call per series with the GIL released.
 
+use std::borrow::Cow;
+
 use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, ImuData,
     InitialState, MeasurementRecord, MeasurementStatus, PositionFix, ResetRecord, Solution,
@@ -78,13 +80,15 @@ pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
 /// (T,), `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
 /// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n), `pseudorange_std`
 /// (T, n), optional `pseudorange_rate` and `pseudorange_rate_std` (T, n).
-pub(crate) fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
+/// A `GnssMeasurements` is lent, not copied: it is frozen (immutable), and
+/// `obj` keeps it alive while the epochs are in use.
+pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [GnssEpoch]>> {
     const ARG: &str = "gnss";
     if let Ok(m) = obj.cast::<PyGnssMeasurements>() {
         if m.get().epochs.is_empty() {
             return Err(no_epochs(ARG));
         }
-        return Ok(m.get().epochs.clone());
+        return Ok(Cow::Borrowed(&m.get().epochs));
     }
     let time = convert::scalars(&field(obj, "time", ARG)?, "gnss.time")?;
     let t = time.len();
@@ -152,7 +156,7 @@ pub(crate) fn gnss_epochs(obj: &Bound<'_, PyAny>) -> PyResult<Vec<GnssEpoch>> {
             measurements,
         });
     }
-    Ok(epochs)
+    Ok(Cow::Owned(epochs))
 }
 
 /// Position fixes from a `FixSeries` (invalid epochs skipped; covariances

@@ -513,7 +513,7 @@ fn navigate_log(
     let input = if gnss.cast::<PyPositionFixes>().is_ok() {
         GnssInput::Fixes(position_fixes(gnss)?)
     } else if is_measurements(gnss) {
-        GnssInput::Measurements(gnss_epochs(gnss)?)
+        GnssInput::Measurements(gnss_epochs(gnss)?.into_owned())
     } else {
         GnssInput::Fixes(position_fixes(gnss)?)
     };
