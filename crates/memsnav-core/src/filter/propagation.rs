@@ -491,8 +491,8 @@ pub(super) fn adjoint<const N: usize>(
 ) {
     let mut scratch = Scratch::<N>::new();
     Transition::new::<N>(inputs, d).phi_columns_into::<N>(&mut scratch.columns);
-    let mut row = lambda.transpose();
-    sparse_product::<1, N, false>(&scratch.columns, lambda.as_slice(), row.as_mut_slice());
+    let (source, mut row) = (lambda.transpose(), lambda.transpose());
+    sparse_product::<1, N, false>(&scratch.columns, &source.data.0, row.as_mut_slice());
     *lambda = row.transpose();
     covariance_product(&scratch.columns, big_lambda, &mut scratch.b_t);
 }
@@ -585,8 +585,8 @@ pub(super) fn propagate_with<const N: usize>(
     phi.columns_into::<N>(&mut scratch.columns);
     if x.iter().any(|v| *v != 0.0) {
         // (Φ x)ᵀ = xᵀ Φᵀ.
-        let mut row = x.transpose();
-        sparse_product::<1, N, false>(&scratch.columns, x.as_slice(), row.as_mut_slice());
+        let (source, mut row) = (x.transpose(), x.transpose());
+        sparse_product::<1, N, false>(&scratch.columns, &source.data.0, row.as_mut_slice());
         *x = row.transpose();
     }
     covariance_product(&scratch.columns, p, &mut scratch.b_t);
@@ -624,21 +624,22 @@ impl Columns {
 /// of `src`, over the terms of column j of `columns`: M Φᵀ. Each output
 /// column is accumulated in registers and stored once. `TRANSPOSED`:
 /// stored as row j instead (R = N), the transpose folded into the stores.
+/// The terms are walked as slices and the source columns read from the
+/// fixed-size array of columns (one index check per term, not three).
 #[inline(always)]
 fn sparse_product_with<const R: usize, const N: usize, const TRANSPOSED: bool, const FMA: bool>(
     columns: &Columns,
-    src: &[f64],
+    src: &[[f64; R]; N],
     dst: &mut [f64],
 ) {
     for j in 0..N {
         let (start, end) = (columns.start[j] as usize, columns.end[j] as usize);
+        let terms = columns.coefficient[start..end]
+            .iter()
+            .zip(&columns.source[start..end]);
         let mut acc = [0.0; R];
-        for t in start..end {
-            let a = columns.coefficient[t];
-            let k = columns.source[t] as usize;
-            let c: &[f64; R] = src[k * R..(k + 1) * R]
-                .try_into()
-                .expect("a column has R rows");
+        for (&a, &k) in terms {
+            let c = &src[k as usize];
             for i in 0..R {
                 acc[i] = if FMA {
                     a.mul_add(c[i], acc[i])
@@ -660,7 +661,7 @@ fn sparse_product_with<const R: usize, const N: usize, const TRANSPOSED: bool, c
 /// [`sparse_product_with`] without fused multiply-adds, for any target.
 fn sparse_product<const R: usize, const N: usize, const TRANSPOSED: bool>(
     columns: &Columns,
-    src: &[f64],
+    src: &[[f64; R]; N],
     dst: &mut [f64],
 ) {
     sparse_product_with::<R, N, TRANSPOSED, false>(columns, src, dst);
@@ -680,8 +681,8 @@ fn covariance_product<const N: usize>(
     b_t: &mut SMatrix<f64, N, N>,
 ) {
     const FMA: bool = multiversion::target::selected_target!().supports_feature_str("fma");
-    sparse_product_with::<N, N, true, FMA>(columns, p.as_slice(), b_t.as_mut_slice());
-    sparse_product_with::<N, N, false, FMA>(columns, b_t.as_slice(), p.as_mut_slice());
+    sparse_product_with::<N, N, true, FMA>(columns, &p.data.0, b_t.as_mut_slice());
+    sparse_product_with::<N, N, false, FMA>(columns, &b_t.data.0, p.as_mut_slice());
 }
 
 /// Q for one interval (Groves eq. 14.82 plus the exact clock block).
