@@ -281,9 +281,11 @@ impl<const N: usize> FilterState<N> {
         &self.tuning
     }
 
-    /// Records the run for a smoother ([`Solution::smoothed`]).
-    pub(crate) fn enable_smoother(&mut self) {
-        self.kf.record_for_smoother(&self.tuning.process_noise);
+    /// Records the run of `samples` IMU samples for a smoother
+    /// ([`Solution::smoothed`]).
+    pub(crate) fn enable_smoother(&mut self, samples: usize) {
+        self.kf
+            .record_for_smoother(&self.tuning.process_noise, samples);
     }
 }
 

@@ -109,10 +109,14 @@ impl<const N: usize> ErrorStateKf<N> {
         })
     }
 
-    /// Starts recording what the filter does to P, for [`Self::take_smoother`].
-    pub fn record_for_smoother(&mut self, noise: &ProcessNoise) {
+    /// Starts recording what the filter does to P, for [`Self::take_smoother`],
+    /// with room for `samples` output samples (the log grows past them).
+    pub fn record_for_smoother(&mut self, noise: &ProcessNoise, samples: usize) {
+        let mut log =
+            smoother::SmootherLog::new(InsStepModel::new(*noise), SMOOTHER_CHECKPOINT_EVERY);
+        log.reserve(samples);
         self.smoother = Some(Box::new(Recorder {
-            log: smoother::SmootherLog::new(InsStepModel::new(*noise), SMOOTHER_CHECKPOINT_EVERY),
+            log,
             gains: Vec::new(),
         }));
     }
