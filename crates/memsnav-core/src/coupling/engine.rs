@@ -588,11 +588,17 @@ impl Solution {
             }
             out.clock_offset_m[k] -= x.clock_offset();
             out.clock_drift_m_s[k] -= x.clock_drift();
-            out.covariance_diagonal[k * N..(k + 1) * N]
-                .copy_from_slice(s.covariance_diagonal().as_slice());
-            out.attitude_covariance_ecef[k] = s.covariance_block::<3>(ATTITUDE);
-            out.velocity_covariance_ecef[k] = s.covariance_block::<3>(VELOCITY);
-            out.position_covariance_ecef[k] = s.covariance_block::<3>(POSITION);
+            // Pˢ = P⁺ − P⁺ Λ P⁺ on the entries the forward solution keeps.
+            let reduction = s.reduction_diagonal();
+            for (p, r) in out.covariance_diagonal[k * N..(k + 1) * N]
+                .iter_mut()
+                .zip(reduction.iter())
+            {
+                *p -= r;
+            }
+            out.attitude_covariance_ecef[k] -= s.reduction_block::<3>(ATTITUDE);
+            out.velocity_covariance_ecef[k] -= s.reduction_block::<3>(VELOCITY);
+            out.position_covariance_ecef[k] -= s.reduction_block::<3>(POSITION);
         });
         Ok(out)
     }

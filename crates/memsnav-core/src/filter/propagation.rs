@@ -537,24 +537,25 @@ impl InsStepModel {
 impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
     type Step = (SystemInputs, f64);
 
-    fn propagate(
+    fn carry(
         &mut self,
         step: &Self::Step,
-        p: &mut SMatrix<f64, N, N>,
-        root: Option<super::smoother::Root<'_, N>>,
-        work: &mut SMatrix<f64, N, N>,
+        (z, factor, next): super::smoother::Root<'_, N>,
+        y: &mut SVector<f64, N>,
+        lambda_after: &SVector<f64, N>,
     ) {
         let (phi, d) = self.transition::<N>(step);
         phi.columns_into::<N>(&mut self.columns);
-        covariance_product(&self.columns, p, work);
-        add_process_noise(p, &d);
-        if let Some((z, factor, next)) = root {
-            // Z′ = Z Φᵀ + R′ Q.
-            column_product(&self.columns, z, next);
-            for_each_process_noise::<N>(&d, |i, j, q| {
-                next.column_mut(j).axpy(q, &factor.column(i), 1.0);
-            });
-        }
+        // Z′ = Z Φᵀ + R′ Q.
+        column_product(&self.columns, z, next);
+        for_each_process_noise::<N>(&d, |i, j, q| {
+            next.column_mut(j).axpy(q, &factor.column(i), 1.0);
+        });
+        // y ← Φ y + Q λ′, (Φ y)ᵀ = yᵀ Φᵀ.
+        let mut row = y.transpose();
+        sparse_product::<1, N, false>(&self.columns, y.as_slice(), row.as_mut_slice());
+        *y = row.transpose();
+        for_each_process_noise::<N>(&d, |i, j, q| y[i] += q * lambda_after[j]);
     }
 
     fn adjoint(
@@ -865,35 +866,32 @@ mod tests {
         adjoint_equals_dense::<35>(300.0);
     }
 
-    /// The smoother's replay step: P ← Φ P Φᵀ + Q and its root
-    /// Z ← Z Φᵀ + T Q, against the dense Φ and Q.
-    fn replay_equals_dense<const N: usize>(tau: f64) {
+    /// The smoother's forward step: Z′ = Z Φᵀ + R′ Q and y′ = Φ y + Q λ′,
+    /// against the dense Φ and Q.
+    fn carry_equals_dense<const N: usize>(tau: f64) {
         use super::super::smoother::StepModel;
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
         let phi = dense_transition::<N>(&inp, &nz, dt);
         let mut q = SMatrix::<f64, N, N>::zeros();
         add_process_noise(&mut q, &Discretisation::new(&nz, dt));
-        let (p0, t) = (random_spd::<N>(), random_spd::<N>() * 0.3);
+        let after = random_spd::<N>() * 0.3;
         let z0 = SMatrix::<f64, N, N>::from_fn(|i, j| ((i * 3 + j * 5) % 7) as f64 - 3.0);
-        let (p_dense, z_dense) = (phi * p0 * phi.transpose() + q, z0 * phi.transpose() + t * q);
-        let (mut p, mut z) = (p0, SMatrix::<f64, N, N>::zeros());
-        let mut model = InsStepModel::new(nz);
-        model.propagate(
-            &(inp, dt),
-            &mut p,
-            Some((&z0, &t, &mut z)),
-            &mut SMatrix::zeros(),
-        );
-        assert!((p - p_dense).abs().max() < 1e-12 * p_dense.abs().max(), "P");
+        let y0 = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.7).cos());
+        let lambda = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
+        let z_dense = z0 * phi.transpose() + after * q;
+        let y_dense = phi * y0 + q * lambda;
+        let (mut z, mut y) = (SMatrix::<f64, N, N>::zeros(), y0);
+        InsStepModel::new(nz).carry(&(inp, dt), (&z0, &after, &mut z), &mut y, &lambda);
         assert!((z - z_dense).abs().max() < 1e-12 * z_dense.abs().max(), "Z");
+        assert!((y - y_dense).abs().max() < 1e-12 * y_dense.abs().max(), "y");
     }
 
     #[test]
-    fn replay_step_matches_dense() {
-        replay_equals_dense::<17>(300.0);
-        replay_equals_dense::<23>(f64::INFINITY);
-        replay_equals_dense::<29>(300.0);
-        replay_equals_dense::<35>(300.0);
+    fn carry_step_matches_dense() {
+        carry_equals_dense::<17>(300.0);
+        carry_equals_dense::<23>(f64::INFINITY);
+        carry_equals_dense::<29>(300.0);
+        carry_equals_dense::<35>(300.0);
     }
 
     #[test]

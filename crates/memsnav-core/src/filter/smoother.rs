@@ -25,21 +25,29 @@
 //! instead of the two of Φᵀ Λ Φ), a measurement R ← R (I − k h) (rank one)
 //! plus a new row h/√s, and the rows a batch of measurements adds are folded
 //! back into a square R by a QR factorisation (R ← the triangle of
-//! QR([R; rows]), which keeps Rᵀ R). The smoothed covariance needs
-//! P⁺ Λ P⁺ = Zᵀ Z with Z = R P⁺, and Z follows P⁺ forward over a step
-//! without a dense product: with P⁺′ = Φ P⁺ Φᵀ + Q and R = R′ Φ (R′ the
-//! factor after the step),
+//! QR([R; rows]), which keeps Rᵀ R).
+//!
+//! **Carried forward, not replayed.** What smoothing removes from the
+//! forward covariance is P⁺ Λ P⁺ = Zᵀ Z with Z = R P⁺, and the smoothed
+//! error is −y with y = P⁺ λ. Over a step with no measurement or reset,
+//! P⁺′ = Φ P⁺ Φᵀ + Q, R = R′ Φ and λ = Φᵀ λ′ (primes: after the step), so
 //!
 //! ```text
-//! Z′ = R′ P⁺′ = R′ Φ P⁺ Φᵀ + R′ Q = Z Φᵀ + R′ Q.
+//! Z′ = R′ P⁺′ = R′ Φ P⁺ Φᵀ + R′ Q = Z Φᵀ + R′ Q,
+//! y′ = P⁺′ λ′ = Φ P⁺ Φᵀ λ′ + Q λ′ = Φ y + Q λ′
 //! ```
 //!
-//! Z is formed densely (R P⁺) only where a measurement or a reset broke
-//! that recursion (once per GNSS epoch) and at each checkpoint. Per IMU
-//! step the pass then costs four sparse products (R Φ; the replay's two for
-//! P⁺; Z Φᵀ) and a few vector products, where the unfactored form costs
-//! four sparse products and a dense N×N×N product Λ P⁺ (docs/smoothing.md).
-//!
+//! (the second is the smoothed error's own dynamics, x̂ˢ′ = Φ x̂ˢ − Q λ′,
+//! the smoothed process noise being −Q λ′). Neither needs P⁺ between its
+//! starts: the log keeps P⁺ at the first output after any measurement or
+//! reset (once per GNSS epoch) and every `checkpoint_every` outputs, and Z
+//! and y are formed there densely (R P⁺, P⁺ λ). The caller keeps the
+//! entries of P⁺ it wants smoothed (a filter's solution stores them) and
+//! subtracts the reduction. Per IMU step the pass costs two sparse products
+//! (R′ Φ backward, Z Φᵀ forward) and a few vector products; the
+//! unfactored form replays P⁺ (two sparse products), propagates Λ (two)
+//! and forms Λ P⁺ densely (N³) at every output (docs/smoothing.md).
+
 //! **Closed-loop feedback.** After each accepted batch the filter moves its
 //! estimated errors into the nominal state and zeroes the error state, so
 //! x̂⁺_k = 0 at every output and each recorded innovation is the one the
@@ -56,32 +64,23 @@
 //! it for those states. A covariance inflation, or the variance a clock jump
 //! adds, changes no error (T = I) and only enters through P⁺.
 //!
-//! **Memory.** The pass needs P⁺ at every output. Storing it would take N²
-//! numbers per sample (2.3 kB for 17 states); the log keeps a full P only
-//! every `checkpoint_every` outputs. Each segment between checkpoints is
-//! run backward (λ and R, keeping R after each step and λ at each output)
-//! and then forward from its checkpoint (P⁺ and Z, emitting the outputs).
-//! Per IMU step the log holds the propagation's inputs (19 numbers) and an
-//! op tag; per applied measurement its row, gain and scalars.
+//! **Memory.** Each segment between two kept covariances is run backward
+//! (λ and R, keeping R′ after each step and λ at each output) and then
+//! forward from its covariance (Z and y, emitting the outputs). Per IMU
+//! step the log holds the propagation's inputs (19 numbers) and an op tag;
+//! per applied measurement its row, gain and scalars; per kept covariance
+//! N² numbers.
 
 use nalgebra::{DMatrix, SMatrix, SVector, Vector3};
 
 use super::update::ScalarMeasurement;
 
-/// How one propagation step acts on P (forward, for the replay) and on the
-/// adjoints (backward): the filter's own structured ECEF model, or any
-/// other linear model. `work` is scratch storage, overwritten.
+/// How one propagation step acts on the adjoints (backward) and on what
+/// is carried forward from them: the filter's own structured ECEF model, or
+/// any other linear model.
 pub trait StepModel<const N: usize> {
     /// What a step needs to rebuild its Φ and Q.
     type Step: Copy;
-    /// P ← Φ P Φᵀ + Q, and with `root = (Z, R′, Z′)`: Z′ = Z Φᵀ + R′ Q.
-    fn propagate(
-        &mut self,
-        step: &Self::Step,
-        p: &mut SMatrix<f64, N, N>,
-        root: Option<Root<'_, N>>,
-        work: &mut SMatrix<f64, N, N>,
-    );
     /// λ ← Φᵀ λ and R = R′ Φ from the factor R′ `after` the step.
     fn adjoint(
         &mut self,
@@ -89,6 +88,15 @@ pub trait StepModel<const N: usize> {
         lambda: &mut SVector<f64, N>,
         after: &SMatrix<f64, N, N>,
         factor: &mut SMatrix<f64, N, N>,
+    );
+    /// Over the step: Z′ = Z Φᵀ + R′ Q (`root` = (Z, R′, Z′)) and
+    /// y ← Φ y + Q λ′, λ′ the adjoint after the step.
+    fn carry(
+        &mut self,
+        step: &Self::Step,
+        root: Root<'_, N>,
+        y: &mut SVector<f64, N>,
+        lambda_after: &SVector<f64, N>,
     );
 }
 
@@ -157,33 +165,37 @@ pub struct SmootherLog<const N: usize, M: StepModel<N>> {
     steps: Vec<M::Step>,
     scalars: Vec<ScalarStep<N>>,
     resets: Vec<ResetStep>,
-    /// (index into `ops` of an output, P⁺ at that output).
+    /// (index into `ops` of an output, P⁺ at that output): at the first
+    /// output after a measurement or a reset, and every `checkpoint_every`.
     checkpoints: Vec<(usize, SMatrix<f64, N, N>)>,
     checkpoint_every: usize,
     outputs: usize,
+    /// Outputs since the last kept covariance.
+    since_checkpoint: usize,
+    /// A measurement or reset since the last output.
+    changed: bool,
 }
 
 /// A smoothed output: the error-state estimate and, on demand, entries of
-/// its covariance Pˢ = P⁺ − P⁺ Λ P⁺ = P⁺ − Zᵀ Z (Z = R P⁺, Λ = Rᵀ R): an
-/// entry is P⁺ᵢⱼ − zᵢ · zⱼ over two columns of Z (the diagonal's, every
-/// caller's, formed once per output).
+/// what smoothing removes from the forward covariance,
+/// P⁺ − Pˢ = P⁺ Λ P⁺ = Zᵀ Z (Z = R P⁺, Λ = Rᵀ R): an entry is zᵢ · zⱼ over two
+/// columns of Z (the diagonal, every caller's, formed once per output).
 #[derive(Debug, Clone, Copy)]
 pub struct Smoothed<'a, const N: usize> {
     /// Output index (the order in which outputs were recorded).
     pub output: usize,
     /// Smoothed error estimate x̂ˢ (estimate − truth of the forward nominal).
     pub error: SVector<f64, N>,
-    forward_covariance: &'a SMatrix<f64, N, N>,
     root: &'a SMatrix<f64, N, N>,
     /// diag(Zᵀ Z).
-    information_diagonal: SVector<f64, N>,
+    reduction_diagonal: SVector<f64, N>,
 }
 
 impl<const N: usize> Smoothed<'_, N> {
     /// (P⁺ Λ P⁺)ᵢⱼ = zᵢ · zⱼ, columns of Z (contiguous).
-    fn information_term(&self, i: usize, j: usize) -> f64 {
+    pub fn reduction_entry(&self, i: usize, j: usize) -> f64 {
         if i == j {
-            return self.information_diagonal[i];
+            return self.reduction_diagonal[i];
         }
         let column = |k: usize| -> &[f64; N] {
             self.root.as_slice()[k * N..(k + 1) * N]
@@ -193,23 +205,18 @@ impl<const N: usize> Smoothed<'_, N> {
         dot::<N, false>(column(i), column(j))
     }
 
-    /// Pˢᵢⱼ.
-    pub fn covariance_entry(&self, i: usize, j: usize) -> f64 {
-        self.forward_covariance[(i, j)] - self.information_term(i, j)
+    /// diag(P⁺ Λ P⁺): Pˢ's diagonal is P⁺'s minus this.
+    pub fn reduction_diagonal(&self) -> SVector<f64, N> {
+        self.reduction_diagonal
     }
 
-    /// The diagonal of Pˢ.
-    pub fn covariance_diagonal(&self) -> SVector<f64, N> {
-        SVector::from_fn(|i, _| self.covariance_entry(i, i))
-    }
-
-    /// The R×R diagonal block of Pˢ at states `first..first + R` (each
+    /// The R×R diagonal block of P⁺ Λ P⁺ at states `first..first + R` (each
     /// entry computed once, the lower triangle mirrored).
-    pub fn covariance_block<const R: usize>(&self, first: usize) -> SMatrix<f64, R, R> {
+    pub fn reduction_block<const R: usize>(&self, first: usize) -> SMatrix<f64, R, R> {
         let mut block = SMatrix::<f64, R, R>::zeros();
         for b in 0..R {
             for a in 0..=b {
-                let v = self.covariance_entry(first + a, first + b);
+                let v = self.reduction_entry(first + a, first + b);
                 block[(a, b)] = v;
                 block[(b, a)] = v;
             }
@@ -217,16 +224,15 @@ impl<const N: usize> Smoothed<'_, N> {
         block
     }
 
-    /// The whole Pˢ (symmetrised).
-    pub fn covariance(&self) -> SMatrix<f64, N, N> {
-        let full = self.forward_covariance - self.root.transpose() * self.root;
-        0.5 * (full + full.transpose())
+    /// The whole P⁺ Λ P⁺.
+    pub fn reduction(&self) -> SMatrix<f64, N, N> {
+        self.root.transpose() * self.root
     }
 }
 
 impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
     /// An empty log for `model`, a full P kept every `checkpoint_every`
-    /// outputs (at least 1).
+    /// outputs (at least 1) and after every measurement or reset.
     pub fn new(model: M, checkpoint_every: usize) -> Self {
         Self {
             model,
@@ -237,6 +243,8 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
             checkpoints: Vec::new(),
             checkpoint_every: checkpoint_every.max(1),
             outputs: 0,
+            since_checkpoint: 0,
+            changed: false,
         }
     }
 
@@ -259,21 +267,26 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
     pub fn scalar(&mut self, s: ScalarStep<N>) {
         self.ops.push(Op::Scalar(self.scalars.len() as u32));
         self.scalars.push(s);
+        self.changed = true;
     }
 
     /// Records a reset.
     pub fn reset(&mut self, r: ResetStep) {
         self.ops.push(Op::Reset(self.resets.len() as u32));
         self.resets.push(r);
+        self.changed = true;
     }
 
     /// Records an output sample with the filter's covariance there.
     pub fn output(&mut self, p: &SMatrix<f64, N, N>) {
-        if self.outputs % self.checkpoint_every == 0 {
+        if self.outputs == 0 || self.changed || self.since_checkpoint == self.checkpoint_every {
             self.checkpoints.push((self.ops.len(), *p));
+            self.since_checkpoint = 0;
         }
         self.ops.push(Op::Output);
         self.outputs += 1;
+        self.since_checkpoint += 1;
+        self.changed = false;
     }
 
     /// Number of outputs recorded.
@@ -296,7 +309,6 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
     /// in recorded order within a segment).
     pub fn smooth(&mut self, mut emit: impl FnMut(&Smoothed<'_, N>)) {
         let mut lambda = SVector::<f64, N>::zeros();
-        let mut work = SMatrix::<f64, N, N>::zeros();
         let (mut roots, mut current) = ([SMatrix::<f64, N, N>::zeros(); 2], 0);
         let mut rows: Vec<SVector<f64, N>> = Vec::new();
         // Per segment: λ at each output (last first), and the chain of
@@ -362,61 +374,46 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
                     }
                 }
             }
-            // Forward through the segment from its checkpoint: P⁺ and Z
-            // (Z in one of two buffers, each step writing the other).
+            // Forward through the segment from its kept covariance: Z and y
+            // (Z in one of two buffers, each step writing the other). The
+            // segment's measurements and resets, if any, come after its last
+            // output: the next segment starts from the covariance after them.
             let first_output = output - lambdas.len();
-            let (mut p, mut root_valid) = (p0, false);
+            let lambda_at = |k: usize| &lambdas[lambdas.len() - 1 - (k - first_output)];
+            let mut y = p0 * lambda_at(first_output);
+            roots[current] = factors[factor_of_op[0] as usize] * p0;
             let mut k = first_output;
             for (i, op) in ops.iter().enumerate() {
-                let root = &mut roots[current];
                 match *op {
-                    Op::Step(s) => {
-                        let step = &self.steps[s as usize];
-                        if root_valid {
-                            let after = &factors[factor_of_op[i] as usize];
-                            let (first, second) = roots.split_at_mut(1);
-                            let (z, next) = match current {
-                                0 => (&first[0], &mut second[0]),
-                                _ => (&second[0], &mut first[0]),
-                            };
-                            self.model
-                                .propagate(step, &mut p, Some((z, after, next)), &mut work);
-                            current = 1 - current;
-                        } else {
-                            self.model.propagate(step, &mut p, None, &mut work);
-                        }
-                    }
-                    Op::Scalar(s) => {
-                        replay_scalar(&self.scalars[s as usize], &mut p);
-                        root_valid = false;
-                    }
-                    Op::Reset(r) => {
-                        replay_reset(&self.resets[r as usize], &mut p);
-                        root_valid = false;
+                    Op::Step(s) if k < output => {
+                        let after = &factors[factor_of_op[i] as usize];
+                        let (first, second) = roots.split_at_mut(1);
+                        let (z, next) = match current {
+                            0 => (&first[0], &mut second[0]),
+                            _ => (&second[0], &mut first[0]),
+                        };
+                        self.model.carry(
+                            &self.steps[s as usize],
+                            (z, after, next),
+                            &mut y,
+                            lambda_at(k),
+                        );
+                        current = 1 - current;
                     }
                     Op::Output => {
-                        if !root_valid {
-                            // R here: kept for this output, or the preceding
-                            // step's R′ (nothing between them).
-                            let kept = match factor_of_op[i] {
-                                u32::MAX => factor_of_op[i - 1],
-                                f => f,
-                            };
-                            *root = factors[kept as usize] * p;
-                            root_valid = true;
-                        }
-                        let lambda = &lambdas[lambdas.len() - 1 - (k - first_output)];
+                        let root = &roots[current];
                         emit(&Smoothed {
                             output: k,
-                            error: -(p * lambda),
-                            forward_covariance: &p,
+                            error: -y,
                             root,
-                            information_diagonal: column_norms(root),
+                            reduction_diagonal: column_norms(root),
                         });
                         k += 1;
                     }
+                    _ => {}
                 }
             }
+            debug_assert_eq!(k, output, "every output of the segment emitted");
             output = first_output;
             end = start;
         }
@@ -483,13 +480,6 @@ fn fold_rows<const N: usize>(factor: &mut SMatrix<f64, N, N>, rows: &mut Vec<SVe
     rows.clear();
 }
 
-/// P ← (I − k h) P (I − k h)ᵀ + k r kᵀ, as the forward update did.
-fn replay_scalar<const N: usize>(s: &ScalarStep<N>, p: &mut SMatrix<f64, N, N>) {
-    let mut x = SVector::<f64, N>::zeros();
-    let m = &s.measurement;
-    super::update::scalar_joseph(&mut x, p, &m.h, 0.0, m.variance, f64::INFINITY);
-}
-
 /// λ ← (I − k h)ᵀ λ − hᵀ ν / s; Λ ← (I − k h)ᵀ Λ (I − k h) + hᵀ h / s as
 /// R ← R (I − k h) = R − (R k) h and the pending rows alike, plus the new
 /// row h/√s (folded into R by [`fold_rows`] at the end of the batch).
@@ -510,52 +500,6 @@ fn adjoint_scalar<const N: usize>(
         row.axpy(-a, &h, 1.0);
     }
     rows.push(h / s.innovation_variance.sqrt());
-}
-
-fn replay_reset<const N: usize>(r: &ResetStep, p: &mut SMatrix<f64, N, N>) {
-    match *r {
-        ResetStep::Block {
-            first,
-            len,
-            covariance,
-        } => {
-            for i in first..first + len {
-                p.row_mut(i).fill(0.0);
-                p.column_mut(i).fill(0.0);
-            }
-            for a in 0..len {
-                for b in 0..len {
-                    p[(first + a, first + b)] = covariance[a + 3 * b];
-                }
-            }
-        }
-        ResetStep::Component {
-            first,
-            direction,
-            variance,
-        } => {
-            let t = nalgebra::Matrix3::identity() - direction * direction.transpose();
-            let rows = t * p.fixed_rows::<3>(first);
-            p.fixed_rows_mut::<3>(first).copy_from(&rows);
-            let cols = p.fixed_columns::<3>(first) * t;
-            p.fixed_columns_mut::<3>(first).copy_from(&cols);
-            let block =
-                p.fixed_view::<3, 3>(first, first) + variance * direction * direction.transpose();
-            p.fixed_view_mut::<3, 3>(first, first).copy_from(&block);
-        }
-        ResetStep::Inflate {
-            states,
-            count,
-            factor,
-        } => {
-            let s = factor.max(1.0).sqrt();
-            for &i in &states[..count] {
-                p.row_mut(i).scale_mut(s);
-                p.column_mut(i).scale_mut(s);
-            }
-        }
-        ResetStep::AddVariance { state, variance } => p[(state, state)] += variance,
-    }
 }
 
 /// λ ← Tᵀ λ, Λ ← Tᵀ Λ T (R ← R T) for the reset's map T (the identity for
@@ -599,18 +543,6 @@ mod tests {
 
     impl<const N: usize> StepModel<N> for Dense<N> {
         type Step = ();
-        fn propagate(
-            &mut self,
-            _: &(),
-            p: &mut SMatrix<f64, N, N>,
-            root: Option<Root<'_, N>>,
-            _: &mut SMatrix<f64, N, N>,
-        ) {
-            *p = self.phi * *p * self.phi.transpose() + self.q;
-            if let Some((z, r, next)) = root {
-                *next = z * self.phi.transpose() + r * self.q;
-            }
-        }
         fn adjoint(
             &mut self,
             _: &(),
@@ -620,6 +552,16 @@ mod tests {
         ) {
             *l = self.phi.transpose() * *l;
             *r = after * self.phi;
+        }
+        fn carry(
+            &mut self,
+            _: &(),
+            (z, r, next): Root<'_, N>,
+            y: &mut SVector<f64, N>,
+            lambda_after: &SVector<f64, N>,
+        ) {
+            *next = z * self.phi.transpose() + r * self.q;
+            *y = self.phi * *y + self.q * lambda_after;
         }
     }
 
@@ -677,10 +619,11 @@ mod tests {
         }
         let mut smoothed = vec![None; steps + 1];
         log.smooth(|s| {
-            let full = s.covariance();
-            assert!((s.covariance_diagonal() - full.diagonal()).norm() < 1e-12);
-            assert!((s.covariance_block::<2>(0) - full).norm() < 1e-12);
-            smoothed[s.output] = Some((forward[s.output].0 + s.error, full));
+            let reduction = s.reduction();
+            assert!((s.reduction_diagonal() - reduction.diagonal()).norm() < 1e-12);
+            assert!((s.reduction_block::<2>(0) - reduction).norm() < 1e-12);
+            let (x, p) = forward[s.output];
+            smoothed[s.output] = Some((x + s.error, p - reduction));
         });
         // Batch: unknowns x_0..x_K (2(K+1)); rows whitened by their covariance.
         let n = N * (steps + 1);
