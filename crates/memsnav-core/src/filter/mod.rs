@@ -71,8 +71,9 @@ struct Recorder<const N: usize> {
     gains: Vec<smoother::ScalarStep<N>>,
 }
 
-/// Outputs between two full covariances the smoother's log keeps (2 s of
-/// a 100 Hz IMU: 2.3 kB per checkpoint for 17 states).
+/// Most outputs between two full covariances the smoother's log keeps (2 s
+/// of a 100 Hz IMU: 2.3 kB each for 17 states; it also keeps one after each
+/// measurement batch or reset).
 pub const SMOOTHER_CHECKPOINT_EVERY: usize = 200;
 
 /// Propagation epochs between two full (Cholesky) positive-definiteness

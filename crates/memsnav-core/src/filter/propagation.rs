@@ -497,9 +497,10 @@ fn adjoint<const N: usize>(
     column_product(columns, after, factor);
 }
 
-/// The filter's own propagation as the smoother replays and reverses it:
-/// a step is the linearisation point and the interval; Φ and Q are rebuilt
-/// from them with the run's process noise.
+/// The filter's own propagation as the smoother reverses it and carries
+/// its smoothed quantities forward over it: a step is the linearisation
+/// point and the interval; Φ and Q are rebuilt from them with the run's
+/// process noise.
 #[derive(Debug, Clone)]
 pub struct InsStepModel {
     noise: ProcessNoise,
