@@ -101,3 +101,29 @@ def test_navigate_writes_and_scores_both(tmp_path):
         "gyro_scale_factor_ppm",
     }
     assert "smoothed - truth" in (out / "figures" / "errors.csv").read_text()
+
+
+def test_smoothed_sigma_is_positive_and_smooth_through_an_outage(tmp_path):
+    """At the end of an outage the forward variance is ~10⁴ times the
+    smoothed one, so Pˢ = P⁺ − P⁺ΛP⁺ cancels all but a few digits: the
+    smoothed σ must stay positive and vary smoothly from sample to sample
+    (a straightforward dense P⁺ΛP⁺ gave zero σ and 10-20 % jumps on
+    drive_0708)."""
+    text = (Path(__file__).parent / "test_navigate.py").read_text()
+    template = text.split('DRIVE = """', 1)[1].split('"""', 1)[0]
+    extra = "[filter]\nsmoother = true\n[outages]\nwindows_s = [[20.0, 25.0]]\n"
+    cfg = tmp_path / "run.toml"
+    cfg.write_text(template.format(out=tmp_path / "out") + extra)
+    mn.navigate(cfg, data_root=DATA)
+    out = tmp_path / "out"
+    forward = np.genfromtxt(out / "drive_60s.csv", delimiter=",", names=True)
+    smoothed = np.genfromtxt(out / "drive_60s_smoothed.csv", delimiter=",", names=True)
+    end = np.argmax(forward["sdn_m"])  # the end of the outage
+    assert forward["sdn_m"][end] > 100 * smoothed["sdn_m"][end]
+    for column in ("sdn_m", "sde_m", "sdd_m", "sdvn_m_s", "sdve_m_s", "sdvd_m_s"):
+        assert np.all(smoothed[column] > 0), column
+    # The position σ has no steps (velocity σ may kink at a fix).
+    for column in ("sdn_m", "sde_m", "sdd_m"):
+        sigma = smoothed[column]
+        roughness = np.abs(np.diff(sigma, 2)) / sigma[1:-1]
+        assert np.percentile(roughness, 99.9) < 0.05, (column, np.percentile(roughness, 99.9))

@@ -4,6 +4,8 @@
 //! solution stored (`solution`, what the Python API returns) and with the
 //! smoothed solution too (`smoothed`, `smooth=True`):
 //! `cargo run --release -p memsnav-benches --example tight_run -- 20`.
+//! A second argument runs one series only (to profile it):
+//! `target/release/examples/tight_run 20 smoothed`.
 
 use std::time::Instant;
 
@@ -11,36 +13,56 @@ use memsnav_benches::TightScenario;
 use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed};
 use memsnav_core::filter::state::BASE_STATES;
 
+const SERIES: [&str; 3] = ["records", "solution", "smoothed"];
+
 fn main() {
     let repeats: usize = std::env::args()
         .nth(1)
         .map(|a| a.parse().expect("REPEATS must be a whole number"))
         .unwrap_or(20);
+    let only = std::env::args().nth(2);
+    if let Some(name) = &only {
+        assert!(
+            SERIES.contains(&name.as_str()),
+            "the series is one of {SERIES:?}"
+        );
+    }
     let sc = TightScenario::new(600.0, 6);
     let imu = sc.imu();
-    let mut records = Vec::with_capacity(repeats);
-    let mut solution = Vec::with_capacity(repeats);
-    let mut smoothed = Vec::with_capacity(repeats);
+    let run = |name: &str| match name {
+        "records" => {
+            run_tightly_coupled::<BASE_STATES, _>(
+                &imu,
+                &sc.epochs,
+                &sc.initial,
+                &sc.tuning,
+                |_, _| {},
+            )
+            .expect("the reference run");
+        }
+        "solution" => {
+            tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
+                .expect("the reference run");
+        }
+        _ => {
+            tightly_coupled_smoothed::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
+                .expect("the reference run");
+        }
+    };
+    let names: Vec<&str> = SERIES
+        .into_iter()
+        .filter(|n| only.as_deref().is_none_or(|o| o == *n))
+        .collect();
+    let mut times = vec![Vec::with_capacity(repeats); names.len()];
     for _ in 0..repeats {
-        let t = Instant::now();
-        run_tightly_coupled::<BASE_STATES, _>(&imu, &sc.epochs, &sc.initial, &sc.tuning, |_, _| {})
-            .expect("the reference run");
-        records.push(t.elapsed().as_secs_f64());
-        let t = Instant::now();
-        tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
-            .expect("the reference run");
-        solution.push(t.elapsed().as_secs_f64());
-        let t = Instant::now();
-        tightly_coupled_smoothed::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
-            .expect("the reference run");
-        smoothed.push(t.elapsed().as_secs_f64());
+        for (name, series) in names.iter().zip(&mut times) {
+            let t = Instant::now();
+            run(name);
+            series.push(t.elapsed().as_secs_f64());
+        }
     }
     let n = sc.imu_epochs() as f64;
-    for (name, mut times) in [
-        ("records", records),
-        ("solution", solution),
-        ("smoothed", smoothed),
-    ] {
+    for (name, mut times) in names.into_iter().zip(times) {
         times.sort_by(f64::total_cmp);
         let (best, median) = (times[0], times[times.len() / 2]);
         println!(

@@ -4,7 +4,8 @@ careful version a Python user would otherwise write: FilterPy's
 strapdown mechanization (same second-order ECEF step, same measurement
 model, same tuning, closed loop; Φ rebuilt in place each epoch, Q and the
 constant blocks computed once, scalar work on floats), and whole Monte
-Carlo runs of the navigation experiment on 1 and 2 threads.
+Carlo runs of the navigation experiment on 1 and 2 threads; and what
+``smooth=True`` adds to the filter call (17 and 23 states).
 
     python benches/python/bench_tight.py results.json [--filterpy-seconds 600] [--mc-runs 8]
 
@@ -300,6 +301,22 @@ def main() -> None:
         lambda: filt.run(traj.time, acc, gyr, gnss, initial_attitude=traj.attitude[0]),
     )
 
+    # Issue 12: what the fixed-interval smoother adds to the forward run,
+    # for the 17-state filter and the 23-state one with scale factors.
+    smoother = {}
+    for states, scale_factor_states in ((17, False), (23, True)):
+        f = mn.TightlyCoupledFilter(imu, scale_factor_states=scale_factor_states)
+        runs = {
+            smooth: best_of(
+                args.repeats,
+                lambda f=f, smooth=smooth: f.run(
+                    traj.time, acc, gyr, gnss, initial_attitude=traj.attitude[0], smooth=smooth
+                ),
+            )[0]
+            for smooth in (False, True)
+        }
+        smoother[states] = (runs[False], runs[True])
+
     m = min(n, round(args.filterpy_seconds * RATE_HZ) + 1)
     start = (
         sol.position_ecef[0].copy(),
@@ -347,6 +364,14 @@ def main() -> None:
         "filterpy_epochs_per_second": 1.0 / filterpy_per_epoch,
         "filterpy_runs_per_second": 1.0 / filterpy_full_s,
         "speedup": filterpy_full_s / memsnav_s,
+        "smoother": {
+            f"{states}_states": {
+                "forward_seconds": forward,
+                "forward_and_smoothed_seconds": both,
+                "smoother_adds_times_forward": (both - forward) / forward,
+            }
+            for states, (forward, both) in smoother.items()
+        },
         "monte_carlo_run_seconds_1_thread": run_1,
         "monte_carlo_runs_per_second_1_thread": 1.0 / run_1,
         "monte_carlo_runs_per_second_2_threads": 1.0 / run_2,
@@ -370,6 +395,12 @@ def main() -> None:
         f"{extrapolated}: {filterpy_full_s:.2f} s per run"
     )
     print(f"filter ratio (FilterPy / memsnav): {result['speedup']:.0f}x")
+    for states, (forward, both) in smoother.items():
+        print(
+            f"{states} states: forward {forward * 1e3:.1f} ms, with smooth=True "
+            f"{both * 1e3:.1f} ms: the smoother adds {(both - forward) / forward:.2f}x "
+            "the forward run"
+        )
     print(
         f"navigation Monte Carlo, 1 IMU: {1.0 / run_1:.2f} runs/s on 1 thread "
         f"({run_1 * 1e3:.0f} ms per run), {1.0 / run_2:.2f} runs/s on 2 "

@@ -290,9 +290,11 @@ impl<const N: usize> FilterState<N> {
         &self.tuning
     }
 
-    /// Records the run for a smoother ([`Solution::smoothed`]).
-    pub(crate) fn enable_smoother(&mut self) {
-        self.kf.record_for_smoother(&self.tuning.process_noise);
+    /// Records the run of `samples` IMU samples for a smoother
+    /// ([`Solution::smoothed`]).
+    pub(crate) fn enable_smoother(&mut self, samples: usize) {
+        self.kf
+            .record_for_smoother(&self.tuning.process_noise, samples);
     }
 }
 
@@ -629,10 +631,22 @@ impl Solution {
             }
             out.clock_offset_m[k] -= x.clock_offset();
             out.clock_drift_m_s[k] -= x.clock_drift();
-            out.covariance_diagonal[k * N..(k + 1) * N]
-                .copy_from_slice(s.covariance_diagonal().as_slice());
-            out.navigation_covariance_off_diagonal[k] =
-                off_diagonal([ATTITUDE, VELOCITY, POSITION].map(|b| s.covariance_block::<3>(b)));
+            // Pˢ = P⁺ − P⁺ Λ P⁺ on the entries the forward solution keeps.
+            let reduction = s.reduction_diagonal();
+            for (p, r) in out.covariance_diagonal[k * N..(k + 1) * N]
+                .iter_mut()
+                .zip(reduction.iter())
+            {
+                *p -= r;
+            }
+            let reduction =
+                off_diagonal([ATTITUDE, VELOCITY, POSITION].map(|b| s.reduction_block::<3>(b)));
+            for (p, r) in out.navigation_covariance_off_diagonal[k]
+                .iter_mut()
+                .zip(reduction)
+            {
+                *p -= r;
+            }
         });
         Ok(out)
     }

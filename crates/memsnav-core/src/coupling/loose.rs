@@ -158,7 +158,7 @@ pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     initial.clock_drift_m_s.get_or_insert(0.0);
     let mut state = FilterState::<N>::new(&initial, &tuning)?;
     if smooth {
-        state.enable_smoother();
+        state.enable_smoother(imu.time_s.len());
     }
     engine::run(
         imu,

@@ -251,7 +251,7 @@ pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
     engine::validate_epoch_times("gnss", gnss, imu.time_s, tuning.time_tolerance_s)?;
     let mut state = FilterState::<N>::new(initial, tuning)?;
     if smooth {
-        state.enable_smoother();
+        state.enable_smoother(imu.time_s.len());
     }
     let use_rate = tuning.use_pseudorange_rate;
     engine::run(

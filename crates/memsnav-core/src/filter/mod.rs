@@ -71,8 +71,9 @@ struct Recorder<const N: usize> {
     gains: Vec<smoother::ScalarStep<N>>,
 }
 
-/// Outputs between two full covariances the smoother's log keeps (2 s of
-/// a 100 Hz IMU: 2.3 kB per checkpoint for 17 states).
+/// Most outputs between two full covariances the smoother's log keeps (2 s
+/// of a 100 Hz IMU: 2.3 kB each for 17 states; it also keeps one after each
+/// measurement batch or reset).
 pub const SMOOTHER_CHECKPOINT_EVERY: usize = 200;
 
 /// Propagation epochs between two full (Cholesky) positive-definiteness
@@ -109,10 +110,14 @@ impl<const N: usize> ErrorStateKf<N> {
         })
     }
 
-    /// Starts recording what the filter does to P, for [`Self::take_smoother`].
-    pub fn record_for_smoother(&mut self, noise: &ProcessNoise) {
+    /// Starts recording what the filter does to P, for [`Self::take_smoother`],
+    /// with room for `samples` output samples (the log grows past them).
+    pub fn record_for_smoother(&mut self, noise: &ProcessNoise, samples: usize) {
+        let mut log =
+            smoother::SmootherLog::new(InsStepModel::new(*noise), SMOOTHER_CHECKPOINT_EVERY);
+        log.reserve(samples);
         self.smoother = Some(Box::new(Recorder {
-            log: smoother::SmootherLog::new(InsStepModel::new(*noise), SMOOTHER_CHECKPOINT_EVERY),
+            log,
             gains: Vec::new(),
         }));
     }

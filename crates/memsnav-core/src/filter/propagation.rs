@@ -479,31 +479,34 @@ impl Transition {
     }
 }
 
-/// The smoother's backward step over one interval (the adjoint of
-/// [`propagate`]): λ ← Φᵀ λ (as the row λᵀ Φ) and Λ ← Φᵀ Λ Φ, the
-/// forward's [`covariance_product`] with the columns of Φ in place of those
-/// of Φᵀ (with B = Λ Φ stored as Bᵀ = Φᵀ Λ, then Bᵀ Φ).
-pub(super) fn adjoint<const N: usize>(
+/// The smoother's backward step over one interval (the adjoint of the
+/// propagation): λ ← Φᵀ λ (as the row λᵀ Φ) and R = R′ Φ for the factor
+/// R′ of the adjoint Λ′ = R′ᵀ R′ after the step (so that Λ = Φᵀ Λ′ Φ), one
+/// sparse product by the columns of Φ.
+fn adjoint<const N: usize>(
     lambda: &mut SVector<f64, N>,
-    big_lambda: &mut SMatrix<f64, N, N>,
-    inputs: &SystemInputs,
-    d: &Discretisation,
+    after: &SMatrix<f64, N, N>,
+    factor: &mut SMatrix<f64, N, N>,
+    phi: &Transition,
+    columns: &mut Columns,
 ) {
-    let mut scratch = Scratch::<N>::new();
-    Transition::new::<N>(inputs, d).phi_columns_into::<N>(&mut scratch.columns);
+    phi.phi_columns_into::<N>(columns);
     let (source, mut row) = (lambda.transpose(), lambda.transpose());
-    sparse_product::<1, N, false>(&scratch.columns, &source.data.0, row.as_mut_slice());
+    sparse_product::<1, N, false>(columns, &source.data.0, row.as_mut_slice());
     *lambda = row.transpose();
-    covariance_product(&scratch.columns, big_lambda, &mut scratch.b_t);
+    column_product(columns, after, factor);
 }
 
-/// The filter's own propagation as the smoother replays and reverses it:
-/// a step is the linearisation point and the interval; Φ and Q are rebuilt
-/// from them with the run's process noise.
+/// The filter's own propagation as the smoother reverses it and carries
+/// its smoothed quantities forward over it: a step is the linearisation
+/// point and the interval; Φ and Q are rebuilt from them with the run's
+/// process noise.
 #[derive(Debug, Clone)]
 pub struct InsStepModel {
     noise: ProcessNoise,
     discretisation: Option<Discretisation>,
+    /// Φ (or Φᵀ) by columns, rewritten at every step.
+    columns: Columns,
 }
 
 impl InsStepModel {
@@ -512,48 +515,60 @@ impl InsStepModel {
         Self {
             noise,
             discretisation: None,
+            columns: Columns::new(),
         }
     }
 
-    fn discretisation(&mut self, dt: f64) -> Discretisation {
-        match self.discretisation {
-            Some(d) if d.is_for(&self.noise, dt) => d,
+    fn transition<const N: usize>(
+        &mut self,
+        step: &(SystemInputs, f64),
+    ) -> (Transition, Discretisation) {
+        let d = match self.discretisation {
+            Some(d) if d.is_for(&self.noise, step.1) => d,
             _ => {
-                let d = Discretisation::new(&self.noise, dt);
+                let d = Discretisation::new(&self.noise, step.1);
                 self.discretisation = Some(d);
                 d
             }
-        }
+        };
+        (Transition::new::<N>(&step.0, &d), d)
     }
 }
 
 impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
     type Step = (SystemInputs, f64);
 
-    fn propagate(&mut self, step: &Self::Step, p: &mut SMatrix<f64, N, N>) {
-        let d = self.discretisation(step.1);
-        propagate(&mut SVector::zeros(), p, &step.0, &d);
+    fn carry(
+        &mut self,
+        step: &Self::Step,
+        (z, factor, next): super::smoother::Root<'_, N>,
+        y: &mut SVector<f64, N>,
+        lambda_after: &SVector<f64, N>,
+    ) {
+        let (phi, d) = self.transition::<N>(step);
+        phi.columns_into::<N>(&mut self.columns);
+        // Z′ = Z Φᵀ + R′ Q.
+        column_product(&self.columns, z, next);
+        for_each_process_noise::<N>(&d, |i, j, q| {
+            next.column_mut(j).axpy(q, &factor.column(i), 1.0);
+        });
+        // y ← Φ y + Q λ′, (Φ y)ᵀ = yᵀ Φᵀ.
+        let (source, mut row) = (y.transpose(), y.transpose());
+        sparse_product::<1, N, false>(&self.columns, &source.data.0, row.as_mut_slice());
+        *y = row.transpose();
+        for_each_process_noise::<N>(&d, |i, j, q| y[i] += q * lambda_after[j]);
     }
 
     fn adjoint(
         &mut self,
         step: &Self::Step,
         lambda: &mut SVector<f64, N>,
-        big_lambda: &mut SMatrix<f64, N, N>,
+        after: &SMatrix<f64, N, N>,
+        factor: &mut SMatrix<f64, N, N>,
     ) {
-        let d = self.discretisation(step.1);
-        adjoint(lambda, big_lambda, &step.0, &d);
+        let (phi, _) = self.transition::<N>(step);
+        adjoint(lambda, after, factor, &phi, &mut self.columns);
     }
-}
-
-/// x ← Φ x, P ← Φ P Φᵀ + Q over one interval.
-pub(super) fn propagate<const N: usize>(
-    x: &mut SVector<f64, N>,
-    p: &mut SMatrix<f64, N, N>,
-    inputs: &SystemInputs,
-    d: &Discretisation,
-) {
-    propagate_with(x, p, inputs, d, &mut Scratch::new());
 }
 
 /// Working storage of [`propagate_with`], kept by a filter between epochs
@@ -685,29 +700,55 @@ fn covariance_product<const N: usize>(
     sparse_product_with::<N, N, false, FMA>(columns, &b_t.data.0, p.as_mut_slice());
 }
 
-/// Q for one interval (Groves eq. 14.82 plus the exact clock block).
+/// M ← M S for a sparse S given by its columns (Φᵀ or Φ): one product of
+/// [`covariance_product`], for the smoother's factor and root (compiled for
+/// AVX2 with FMA as well, chosen at run time).
+#[multiversion::multiversion(targets("x86_64+avx2+fma"))]
+fn column_product<const N: usize>(
+    columns: &Columns,
+    m: &SMatrix<f64, N, N>,
+    product: &mut SMatrix<f64, N, N>,
+) {
+    const FMA: bool = multiversion::target::selected_target!().supports_feature_str("fma");
+    sparse_product_with::<N, N, false, FMA>(columns, &m.data.0, product.as_mut_slice());
+}
+
+/// P ← P + Q for one interval.
 fn add_process_noise<const N: usize>(p: &mut SMatrix<f64, N, N>, d: &Discretisation) {
+    for_each_process_noise::<N>(d, |i, j, q| p[(i, j)] += q);
+}
+
+/// Calls `f(i, j, Q_ij)` for every non-zero of Q over one interval (Groves
+/// eq. 14.82 plus the exact clock block), both triangles.
+fn for_each_process_noise<const N: usize>(
+    d: &Discretisation,
+    mut f: impl FnMut(usize, usize, f64),
+) {
     let (noise, dt) = (&d.noise, d.dt);
     let layout = Layout::for_size::<N>();
     for k in 0..3 {
-        p[(ATTITUDE + k, ATTITUDE + k)] += noise.gyro_white_psd * dt;
-        p[(VELOCITY + k, VELOCITY + k)] += noise.accel_white_psd * dt;
-        p[(ACCEL_BIAS + k, ACCEL_BIAS + k)] += d.ba_variance;
-        p[(GYRO_BIAS + k, GYRO_BIAS + k)] += d.bg_variance;
+        f(ATTITUDE + k, ATTITUDE + k, noise.gyro_white_psd * dt);
+        f(VELOCITY + k, VELOCITY + k, noise.accel_white_psd * dt);
+        f(ACCEL_BIAS + k, ACCEL_BIAS + k, d.ba_variance);
+        f(GYRO_BIAS + k, GYRO_BIAS + k, d.bg_variance);
         if layout.scale_factors {
-            p[(ACCEL_SCALE_FACTOR + k, ACCEL_SCALE_FACTOR + k)] +=
-                noise.accel_scale_factor_psd * dt;
-            p[(GYRO_SCALE_FACTOR + k, GYRO_SCALE_FACTOR + k)] += noise.gyro_scale_factor_psd * dt;
+            let (a, g) = (ACCEL_SCALE_FACTOR + k, GYRO_SCALE_FACTOR + k);
+            f(a, a, noise.accel_scale_factor_psd * dt);
+            f(g, g, noise.gyro_scale_factor_psd * dt);
         }
     }
     let sf = noise.clock_frequency_psd;
-    p[(CLOCK_OFFSET, CLOCK_OFFSET)] += noise.clock_phase_psd * dt + sf * dt * dt * dt / 3.0;
-    p[(CLOCK_OFFSET, CLOCK_DRIFT)] += 0.5 * sf * dt * dt;
-    p[(CLOCK_DRIFT, CLOCK_OFFSET)] += 0.5 * sf * dt * dt;
-    p[(CLOCK_DRIFT, CLOCK_DRIFT)] += sf * dt;
+    f(
+        CLOCK_OFFSET,
+        CLOCK_OFFSET,
+        noise.clock_phase_psd * dt + sf * dt * dt * dt / 3.0,
+    );
+    f(CLOCK_OFFSET, CLOCK_DRIFT, 0.5 * sf * dt * dt);
+    f(CLOCK_DRIFT, CLOCK_OFFSET, 0.5 * sf * dt * dt);
+    f(CLOCK_DRIFT, CLOCK_DRIFT, sf * dt);
     if let Some(first) = layout.range_bias {
         for j in first..first + RANGE_BIAS_SLOTS {
-            p[(j, j)] += d.rb_variance;
+            f(j, j, d.rb_variance);
         }
     }
 }
@@ -717,6 +758,16 @@ mod tests {
     use super::*;
     use crate::attitude::euler_to_dcm;
     use crate::geodesy::{geodetic_to_ecef, gravity_ecef, Geodetic};
+
+    /// x ← Φ x, P ← Φ P Φᵀ + Q over one interval, with fresh storage.
+    fn propagate<const N: usize>(
+        x: &mut SVector<f64, N>,
+        p: &mut SMatrix<f64, N, N>,
+        inputs: &SystemInputs,
+        d: &Discretisation,
+    ) {
+        propagate_with(x, p, inputs, d, &mut Scratch::new());
+    }
 
     fn inputs() -> SystemInputs {
         SystemInputs {
@@ -788,22 +839,25 @@ mod tests {
         assert!((p - p.transpose()).abs().max() < 1e-13);
     }
 
-    /// The adjoint step equals Φᵀ λ and Φᵀ Λ Φ with the dense Φ.
+    /// The adjoint step equals Φᵀ λ and T Φ with the dense Φ (so that the
+    /// adjoint Λ = Tᵀ T becomes Φᵀ Λ Φ).
     fn adjoint_equals_dense<const N: usize>(tau: f64) {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
         let phi = dense_transition::<N>(&inp, &nz, dt);
-        let big = random_spd::<N>();
+        let t = random_spd::<N>();
         let mut lambda = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
-        let mut big_lambda = big;
-        let (l_dense, b_dense) = (phi.transpose() * lambda, phi.transpose() * big * phi);
+        let mut factor = SMatrix::<f64, N, N>::zeros();
+        let (l_dense, t_dense) = (phi.transpose() * lambda, t * phi);
+        let d = Discretisation::new(&nz, dt);
         adjoint(
             &mut lambda,
-            &mut big_lambda,
-            &inp,
-            &Discretisation::new(&nz, dt),
+            &t,
+            &mut factor,
+            &Transition::new::<N>(&inp, &d),
+            &mut Columns::new(),
         );
         assert!((lambda - l_dense).abs().max() < 1e-13 * l_dense.abs().max().max(1.0));
-        assert!((big_lambda - b_dense).abs().max() < 1e-12 * b_dense.abs().max());
+        assert!((factor - t_dense).abs().max() < 1e-12 * t_dense.abs().max());
     }
 
     #[test]
@@ -812,6 +866,34 @@ mod tests {
         adjoint_equals_dense::<23>(f64::INFINITY);
         adjoint_equals_dense::<29>(300.0);
         adjoint_equals_dense::<35>(300.0);
+    }
+
+    /// The smoother's forward step: Z′ = Z Φᵀ + R′ Q and y′ = Φ y + Q λ′,
+    /// against the dense Φ and Q.
+    fn carry_equals_dense<const N: usize>(tau: f64) {
+        use super::super::smoother::StepModel;
+        let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
+        let phi = dense_transition::<N>(&inp, &nz, dt);
+        let mut q = SMatrix::<f64, N, N>::zeros();
+        add_process_noise(&mut q, &Discretisation::new(&nz, dt));
+        let after = random_spd::<N>() * 0.3;
+        let z0 = SMatrix::<f64, N, N>::from_fn(|i, j| ((i * 3 + j * 5) % 7) as f64 - 3.0);
+        let y0 = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.7).cos());
+        let lambda = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
+        let z_dense = z0 * phi.transpose() + after * q;
+        let y_dense = phi * y0 + q * lambda;
+        let (mut z, mut y) = (SMatrix::<f64, N, N>::zeros(), y0);
+        InsStepModel::new(nz).carry(&(inp, dt), (&z0, &after, &mut z), &mut y, &lambda);
+        assert!((z - z_dense).abs().max() < 1e-12 * z_dense.abs().max(), "Z");
+        assert!((y - y_dense).abs().max() < 1e-12 * y_dense.abs().max(), "y");
+    }
+
+    #[test]
+    fn carry_step_matches_dense() {
+        carry_equals_dense::<17>(300.0);
+        carry_equals_dense::<23>(f64::INFINITY);
+        carry_equals_dense::<29>(300.0);
+        carry_equals_dense::<35>(300.0);
     }
 
     #[test]

@@ -19,6 +19,35 @@
 //! propagation:    λ ← Φᵀ λ,   Λ ← Φᵀ Λ Φ
 //! ```
 //!
+//! **Factored adjoint.** Λ is kept as Λ = Rᵀ R with R square (the
+//! square-root information form of Λ, as in Bierman's square-root
+//! information smoother, 1977 §X): a step is R ← R Φ (one sparse product
+//! instead of the two of Φᵀ Λ Φ), a measurement R ← R (I − k h) (rank one)
+//! plus a new row h/√s, and the rows a batch of measurements adds are folded
+//! back into a square R by a QR factorisation (R ← the triangle of
+//! QR([R; rows]), which keeps Rᵀ R).
+//!
+//! **Carried forward, not replayed.** What smoothing removes from the
+//! forward covariance is P⁺ Λ P⁺ = Zᵀ Z with Z = R P⁺, and the smoothed
+//! error is −y with y = P⁺ λ. Over a step with no measurement or reset,
+//! P⁺′ = Φ P⁺ Φᵀ + Q, R = R′ Φ and λ = Φᵀ λ′ (primes: after the step), so
+//!
+//! ```text
+//! Z′ = R′ P⁺′ = R′ Φ P⁺ Φᵀ + R′ Q = Z Φᵀ + R′ Q,
+//! y′ = P⁺′ λ′ = Φ P⁺ Φᵀ λ′ + Q λ′ = Φ y + Q λ′
+//! ```
+//!
+//! (the second is the smoothed error's own dynamics, x̂ˢ′ = Φ x̂ˢ − Q λ′,
+//! the smoothed process noise being −Q λ′). Neither needs P⁺ between its
+//! starts: the log keeps P⁺ at the first output after any measurement or
+//! reset (once per GNSS epoch) and every `checkpoint_every` outputs, and Z
+//! and y are formed there densely (R P⁺, P⁺ λ). The caller keeps the
+//! entries of P⁺ it wants smoothed (a filter's solution stores them) and
+//! subtracts the reduction. Per IMU step the pass costs two sparse products
+//! (R′ Φ backward, Z Φᵀ forward) and a few vector products; the
+//! unfactored form replays P⁺ (two sparse products), propagates Λ (two)
+//! and forms Λ P⁺ densely (N³) at every output (docs/smoothing.md).
+
 //! **Closed-loop feedback.** After each accepted batch the filter moves its
 //! estimated errors into the nominal state and zeroes the error state, so
 //! x̂⁺_k = 0 at every output and each recorded innovation is the one the
@@ -35,34 +64,49 @@
 //! it for those states. A covariance inflation, or the variance a clock jump
 //! adds, changes no error (T = I) and only enters through P⁺.
 //!
-//! **Memory.** The backward pass needs P⁺ at every output. Storing it would
-//! take N² numbers per sample (2.3 kB for 17 states); the log keeps a full
-//! P only every `checkpoint_every` outputs and replays the covariance
-//! forward from the checkpoint over each segment during the backward pass
-//! (one more propagation of P, the cost of the forward filter's). Per IMU
+//! **Memory.** Each segment between two kept covariances is run backward
+//! (λ and R, keeping R′ after each step and λ at each output) and then
+//! forward from its covariance (Z and y, emitting the outputs). Per IMU
 //! step the log holds the propagation's inputs (19 numbers) and an op tag;
-//! per applied measurement its row, gain and scalars.
+//! per applied measurement its row, gain and scalars; per kept covariance
+//! N² numbers.
 
-use nalgebra::{SMatrix, SVector, Vector3};
+use nalgebra::{DMatrix, SMatrix, SVector, Vector3};
 
 use super::update::ScalarMeasurement;
 
-/// How one propagation step acts on P (forward, for the replay) and on the
-/// adjoints (backward): the filter's own structured ECEF model, or any
-/// other linear model.
+/// How one propagation step acts on the adjoints (backward) and on what
+/// is carried forward from them: the filter's own structured ECEF model, or
+/// any other linear model.
 pub trait StepModel<const N: usize> {
     /// What a step needs to rebuild its Φ and Q.
     type Step: Copy;
-    /// P ← Φ P Φᵀ + Q.
-    fn propagate(&mut self, step: &Self::Step, p: &mut SMatrix<f64, N, N>);
-    /// λ ← Φᵀ λ, Λ ← Φᵀ Λ Φ.
+    /// λ ← Φᵀ λ and R = R′ Φ from the factor R′ `after` the step.
     fn adjoint(
         &mut self,
         step: &Self::Step,
         lambda: &mut SVector<f64, N>,
-        big_lambda: &mut SMatrix<f64, N, N>,
+        after: &SMatrix<f64, N, N>,
+        factor: &mut SMatrix<f64, N, N>,
+    );
+    /// Over the step: Z′ = Z Φᵀ + R′ Q (`root` = (Z, R′, Z′)) and
+    /// y ← Φ y + Q λ′, λ′ the adjoint after the step.
+    fn carry(
+        &mut self,
+        step: &Self::Step,
+        root: Root<'_, N>,
+        y: &mut SVector<f64, N>,
+        lambda_after: &SVector<f64, N>,
     );
 }
+
+/// The root Z = R P⁺ before a step, the factor R′ after it, and where Z′
+/// goes.
+pub type Root<'a, const N: usize> = (
+    &'a SMatrix<f64, N, N>,
+    &'a SMatrix<f64, N, N>,
+    &'a mut SMatrix<f64, N, N>,
+);
 
 /// An applied scalar measurement as the smoother needs it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -121,74 +165,74 @@ pub struct SmootherLog<const N: usize, M: StepModel<N>> {
     steps: Vec<M::Step>,
     scalars: Vec<ScalarStep<N>>,
     resets: Vec<ResetStep>,
-    /// (index into `ops` of an output, P⁺ at that output).
+    /// (index into `ops` of an output, P⁺ at that output): at the first
+    /// output after a measurement or a reset, and every `checkpoint_every`.
     checkpoints: Vec<(usize, SMatrix<f64, N, N>)>,
     checkpoint_every: usize,
     outputs: usize,
+    /// Outputs since the last kept covariance.
+    since_checkpoint: usize,
+    /// A measurement or reset since the last output.
+    changed: bool,
 }
 
 /// A smoothed output: the error-state estimate and, on demand, entries of
-/// its covariance Pˢ = P⁺ − P⁺ Λ P⁺. The product W = Λ P⁺ is formed once
-/// per output; an entry is then P⁺ᵢⱼ − P⁺ᵢ· W·ⱼ, so a caller that keeps the
-/// diagonal and a few blocks pays one N×N×N product instead of the two of
-/// the full Pˢ (the dominant cost of the backward pass at every IMU sample).
+/// what smoothing removes from the forward covariance,
+/// P⁺ − Pˢ = P⁺ Λ P⁺ = Zᵀ Z (Z = R P⁺, Λ = Rᵀ R): an entry is zᵢ · zⱼ over two
+/// columns of Z (the diagonal, every caller's, formed once per output).
 #[derive(Debug, Clone, Copy)]
 pub struct Smoothed<'a, const N: usize> {
     /// Output index (the order in which outputs were recorded).
     pub output: usize,
     /// Smoothed error estimate x̂ˢ (estimate − truth of the forward nominal).
     pub error: SVector<f64, N>,
-    forward_covariance: &'a SMatrix<f64, N, N>,
-    adjoint_times_covariance: &'a SMatrix<f64, N, N>,
-    /// diag(P⁺ Λ P⁺), formed with W.
-    quadratic_forms: &'a SVector<f64, N>,
+    root: &'a SMatrix<f64, N, N>,
+    /// diag(Zᵀ Z).
+    reduction_diagonal: SVector<f64, N>,
 }
 
 impl<const N: usize> Smoothed<'_, N> {
-    /// Pˢᵢⱼ. P⁺ is symmetric, so its row i is its (contiguous) column i.
-    pub fn covariance_entry(&self, i: usize, j: usize) -> f64 {
+    /// (P⁺ Λ P⁺)ᵢⱼ = zᵢ · zⱼ, columns of Z (contiguous).
+    pub fn reduction_entry(&self, i: usize, j: usize) -> f64 {
         if i == j {
-            return self.forward_covariance[(i, i)] - self.quadratic_forms[i];
+            return self.reduction_diagonal[i];
         }
-        let column = |m: &SMatrix<f64, N, N>, k: usize| -> [f64; N] {
-            m.as_slice()[k * N..(k + 1) * N]
+        let column = |k: usize| -> &[f64; N] {
+            self.root.as_slice()[k * N..(k + 1) * N]
                 .try_into()
                 .expect("a column has N rows")
         };
-        let (p_i, w_j) = (
-            column(self.forward_covariance, i),
-            column(self.adjoint_times_covariance, j),
-        );
-        self.forward_covariance[(i, j)] - p_i.iter().zip(&w_j).map(|(a, b)| a * b).sum::<f64>()
+        dot::<N, false>(column(i), column(j))
     }
 
-    /// The diagonal of Pˢ.
-    pub fn covariance_diagonal(&self) -> SVector<f64, N> {
-        self.forward_covariance.diagonal() - self.quadratic_forms
+    /// diag(P⁺ Λ P⁺): Pˢ's diagonal is P⁺'s minus this.
+    pub fn reduction_diagonal(&self) -> SVector<f64, N> {
+        self.reduction_diagonal
     }
 
-    /// The R×R diagonal block of Pˢ at states `first..first + R`.
-    pub fn covariance_block<const R: usize>(&self, first: usize) -> SMatrix<f64, R, R> {
-        SMatrix::from_fn(|a, b| {
-            if a <= b {
-                self.covariance_entry(first + a, first + b)
-            } else {
-                self.covariance_entry(first + b, first + a)
+    /// The R×R diagonal block of P⁺ Λ P⁺ at states `first..first + R` (each
+    /// entry computed once, the lower triangle mirrored).
+    pub fn reduction_block<const R: usize>(&self, first: usize) -> SMatrix<f64, R, R> {
+        let mut block = SMatrix::<f64, R, R>::zeros();
+        for b in 0..R {
+            for a in 0..=b {
+                let v = self.reduction_entry(first + a, first + b);
+                block[(a, b)] = v;
+                block[(b, a)] = v;
             }
-        })
+        }
+        block
     }
 
-    /// The whole Pˢ (symmetrised).
-    pub fn covariance(&self) -> SMatrix<f64, N, N> {
-        let full =
-            self.forward_covariance - self.forward_covariance * self.adjoint_times_covariance;
-        0.5 * (full + full.transpose())
+    /// The whole P⁺ Λ P⁺.
+    pub fn reduction(&self) -> SMatrix<f64, N, N> {
+        self.root.transpose() * self.root
     }
 }
 
 impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
     /// An empty log for `model`, a full P kept every `checkpoint_every`
-    /// outputs (at least 1).
+    /// outputs (at least 1) and after every measurement or reset.
     pub fn new(model: M, checkpoint_every: usize) -> Self {
         Self {
             model,
@@ -199,7 +243,18 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
             checkpoints: Vec::new(),
             checkpoint_every: checkpoint_every.max(1),
             outputs: 0,
+            since_checkpoint: 0,
+            changed: false,
         }
+    }
+
+    /// Room for `outputs` more outputs, a step each, without regrowing
+    /// (measurements and resets are not known in advance).
+    pub fn reserve(&mut self, outputs: usize) {
+        self.ops.reserve(2 * outputs);
+        self.steps.reserve(outputs);
+        self.checkpoints
+            .reserve(outputs.div_ceil(self.checkpoint_every));
     }
 
     /// Records a propagation step.
@@ -212,21 +267,26 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
     pub fn scalar(&mut self, s: ScalarStep<N>) {
         self.ops.push(Op::Scalar(self.scalars.len() as u32));
         self.scalars.push(s);
+        self.changed = true;
     }
 
     /// Records a reset.
     pub fn reset(&mut self, r: ResetStep) {
         self.ops.push(Op::Reset(self.resets.len() as u32));
         self.resets.push(r);
+        self.changed = true;
     }
 
     /// Records an output sample with the filter's covariance there.
     pub fn output(&mut self, p: &SMatrix<f64, N, N>) {
-        if self.outputs % self.checkpoint_every == 0 {
+        if self.outputs == 0 || self.changed || self.since_checkpoint == self.checkpoint_every {
             self.checkpoints.push((self.ops.len(), *p));
+            self.since_checkpoint = 0;
         }
         self.ops.push(Op::Output);
         self.outputs += 1;
+        self.since_checkpoint += 1;
+        self.changed = false;
     }
 
     /// Number of outputs recorded.
@@ -244,173 +304,216 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
             + self.checkpoints.capacity() * size_of::<(usize, SMatrix<f64, N, N>)>()
     }
 
-    /// The backward pass: calls `emit` for every output, last first, with
-    /// its smoothed error estimate and covariance.
+    /// The smoother: calls `emit` for every output with its smoothed error
+    /// estimate and covariance, segment by segment from the last (outputs
+    /// in recorded order within a segment).
     pub fn smooth(&mut self, mut emit: impl FnMut(&Smoothed<'_, N>)) {
         let mut lambda = SVector::<f64, N>::zeros();
-        let mut big = SMatrix::<f64, N, N>::zeros();
-        let mut big_times_p = SMatrix::<f64, N, N>::zeros();
-        let mut quadratic_forms = SVector::<f64, N>::zeros();
-        let mut covariances: Vec<SMatrix<f64, N, N>> = Vec::with_capacity(self.checkpoint_every);
+        let (mut roots, mut current) = ([SMatrix::<f64, N, N>::zeros(); 2], 0);
+        let mut rows: Vec<SVector<f64, N>> = Vec::new();
+        // Per segment: λ at each output (last first), and the chain of
+        // factors: R′ after each step, each step's R = R′ Φ written into the
+        // next slot (no copies), `factor` the slot of the current R. An
+        // output not preceded by a step keeps the current slot and the pass
+        // goes on with a copy. Slots are reused from segment to segment.
+        let mut lambdas: Vec<SVector<f64, N>> = Vec::with_capacity(self.checkpoint_every);
+        let mut factors: Vec<SMatrix<f64, N, N>> = vec![SMatrix::zeros()];
+        let mut factor = 0;
+        let mut factor_of_op: Vec<u32> = Vec::new();
         let mut output = self.outputs;
         let mut end = self.ops.len();
         for c in (0..self.checkpoints.len()).rev() {
             let (start, p0) = self.checkpoints[c];
-            // Forward replay of the segment: P⁺ at each of its outputs.
-            covariances.clear();
-            let mut p = p0;
-            for op in &self.ops[start..end] {
-                match *op {
-                    Op::Output => covariances.push(p),
-                    Op::Step(i) => self.model.propagate(&self.steps[i as usize], &mut p),
-                    Op::Scalar(i) => replay_scalar(&self.scalars[i as usize], &mut p),
-                    Op::Reset(i) => replay_reset(&self.resets[i as usize], &mut p),
-                }
+            let ops = &self.ops[start..end];
+            // Backward through the segment: the adjoints.
+            lambdas.clear();
+            if factor != 0 {
+                let (head, tail) = factors.split_at_mut(factor);
+                head[0].copy_from(&tail[0]);
+                factor = 0;
             }
-            let first_output = output - covariances.len();
-            // Backward through the segment.
-            for op in self.ops[start..end].iter().rev() {
+            factor_of_op.clear();
+            factor_of_op.resize(ops.len(), u32::MAX);
+            for (i, op) in ops.iter().enumerate().rev() {
+                if !matches!(op, Op::Scalar(_)) {
+                    fold_rows(&mut factors[factor], &mut rows);
+                }
                 match *op {
                     Op::Output => {
-                        output -= 1;
-                        // The segment's outputs, last first (no copy out).
-                        let p = &covariances[output - first_output];
-                        adjoint_product(&big, p, &mut big_times_p, &mut quadratic_forms);
-                        emit(&Smoothed {
-                            output,
-                            error: -(p * lambda),
-                            forward_covariance: p,
-                            adjoint_times_covariance: &big_times_p,
-                            quadratic_forms: &quadratic_forms,
-                        });
+                        lambdas.push(lambda);
+                        if i == 0 || !matches!(ops[i - 1], Op::Step(_)) {
+                            factor_of_op[i] = factor as u32;
+                            if i > 0 {
+                                let next = next_slot(&mut factors, factor);
+                                let (head, tail) = factors.split_at_mut(next);
+                                tail[0].copy_from(&head[factor]);
+                                factor = next;
+                            }
+                        }
                     }
-                    Op::Step(i) => {
-                        self.model
-                            .adjoint(&self.steps[i as usize], &mut lambda, &mut big)
+                    Op::Step(s) => {
+                        factor_of_op[i] = factor as u32;
+                        let next = next_slot(&mut factors, factor);
+                        let (head, tail) = factors.split_at_mut(next);
+                        self.model.adjoint(
+                            &self.steps[s as usize],
+                            &mut lambda,
+                            &head[factor],
+                            &mut tail[0],
+                        );
+                        factor = next;
                     }
-                    Op::Scalar(i) => {
-                        adjoint_scalar(&self.scalars[i as usize], &mut lambda, &mut big)
+                    Op::Scalar(s) => adjoint_scalar(
+                        &self.scalars[s as usize],
+                        &mut lambda,
+                        &mut factors[factor],
+                        &mut rows,
+                    ),
+                    Op::Reset(r) => {
+                        adjoint_reset(&self.resets[r as usize], &mut lambda, &mut factors[factor])
                     }
-                    Op::Reset(i) => adjoint_reset(&self.resets[i as usize], &mut lambda, &mut big),
                 }
             }
+            // Forward through the segment from its kept covariance: Z and y
+            // (Z in one of two buffers, each step writing the other). The
+            // segment's measurements and resets, if any, come after its last
+            // output: the next segment starts from the covariance after them.
+            let first_output = output - lambdas.len();
+            let lambda_at = |k: usize| &lambdas[lambdas.len() - 1 - (k - first_output)];
+            let mut y = p0 * lambda_at(first_output);
+            roots[current] = factors[factor_of_op[0] as usize] * p0;
+            let mut k = first_output;
+            for (i, op) in ops.iter().enumerate() {
+                match *op {
+                    Op::Step(s) if k < output => {
+                        let after = &factors[factor_of_op[i] as usize];
+                        let (first, second) = roots.split_at_mut(1);
+                        let (z, next) = match current {
+                            0 => (&first[0], &mut second[0]),
+                            _ => (&second[0], &mut first[0]),
+                        };
+                        self.model.carry(
+                            &self.steps[s as usize],
+                            (z, after, next),
+                            &mut y,
+                            lambda_at(k),
+                        );
+                        current = 1 - current;
+                    }
+                    Op::Output => {
+                        let root = &roots[current];
+                        emit(&Smoothed {
+                            output: k,
+                            error: -y,
+                            root,
+                            reduction_diagonal: column_norms(root),
+                        });
+                        k += 1;
+                    }
+                    _ => {}
+                }
+            }
+            debug_assert_eq!(k, output, "every output of the segment emitted");
+            output = first_output;
             end = start;
         }
     }
 }
 
-/// W = Λ P⁺ and the diagonal of P⁺ W (the quadratic forms p_jᵀ Λ p_j, P⁺
-/// symmetric): column j of W accumulated in registers as Σₖ Λ·ₖ Pₖⱼ, then
-/// dotted with column j of P⁺ while at hand. It is the backward pass's
-/// dominant cost (one per output), so it is also compiled for AVX2 with FMA
-/// and that version chosen at run time: the wheel targets baseline x86-64,
-/// and nalgebra's generic product is not inlined into code compiled for
-/// other features.
-#[multiversion::multiversion(targets("x86_64+avx2+fma"))]
-fn adjoint_product<const N: usize>(
-    big_lambda: &SMatrix<f64, N, N>,
-    p: &SMatrix<f64, N, N>,
-    w: &mut SMatrix<f64, N, N>,
-    p_w_diagonal: &mut SVector<f64, N>,
-) {
-    let (big_lambda, p) = (big_lambda.as_slice(), p.as_slice());
-    for (j, w_column) in w.as_mut_slice().chunks_exact_mut(N).enumerate() {
-        let p_column = &p[j * N..(j + 1) * N];
-        let mut column = [0.0; N];
-        for (lambda_column, p_kj) in big_lambda.chunks_exact(N).zip(p_column) {
-            for (c, lambda_ik) in column.iter_mut().zip(lambda_column) {
-                *c += lambda_ik * p_kj;
-            }
+/// a · b in four independent partial sums (vectorised; a single running sum
+/// would be one dependent chain of N additions); `FMA`: fused multiply-adds.
+#[inline(always)]
+fn dot<const N: usize, const FMA: bool>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    let mut lanes = [0.0; 4];
+    let whole = N - N % 4;
+    for i in (0..whole).step_by(4) {
+        for l in 0..4 {
+            lanes[l] = if FMA {
+                a[i + l].mul_add(b[i + l], lanes[l])
+            } else {
+                lanes[l] + a[i + l] * b[i + l]
+            };
         }
-        p_w_diagonal[j] = column.iter().zip(p_column).map(|(a, b)| a * b).sum();
-        w_column.copy_from_slice(&column);
     }
+    let tail: f64 = (whole..N).map(|i| a[i] * b[i]).sum();
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
 }
 
-/// P ← (I − k h) P (I − k h)ᵀ + k r kᵀ, as the forward update did.
-fn replay_scalar<const N: usize>(s: &ScalarStep<N>, p: &mut SMatrix<f64, N, N>) {
-    let mut x = SVector::<f64, N>::zeros();
-    let m = &s.measurement;
-    super::update::scalar_joseph(&mut x, p, &m.h, 0.0, m.variance, f64::INFINITY);
+/// diag(Zᵀ Z), the squared norms of the columns of Z: at every output, so
+/// also compiled for AVX2 with FMA and chosen at run time.
+#[multiversion::multiversion(targets("x86_64+avx2+fma"))]
+fn column_norms<const N: usize>(z: &SMatrix<f64, N, N>) -> SVector<f64, N> {
+    const FMA: bool = multiversion::target::selected_target!().supports_feature_str("fma");
+    let mut norms = SVector::<f64, N>::zeros();
+    for (norm, column) in norms.iter_mut().zip(z.as_slice().chunks_exact(N)) {
+        let column: &[f64; N] = column.try_into().expect("a column has N rows");
+        *norm = dot::<N, FMA>(column, column);
+    }
+    norms
 }
 
-/// λ ← (I − k h)ᵀ λ − hᵀ ν / s; Λ ← (I − k h)ᵀ Λ (I − k h) + hᵀ h / s, the
-/// latter as Λ − h wᵀ − w hᵀ + (k·w) h hᵀ + hᵀh/s with w = Λ k (h sparse).
+/// The slot after `factor` in the chain, added when the chain is longer
+/// than any before.
+fn next_slot<const N: usize>(factors: &mut Vec<SMatrix<f64, N, N>>, factor: usize) -> usize {
+    if factor + 1 == factors.len() {
+        factors.push(SMatrix::zeros());
+    }
+    factor + 1
+}
+
+/// R ← the upper triangle of QR([R; rows]), and no rows left: the same
+/// Λ = Rᵀ R + Σ rowᵀ row (QᵀQ = I), in a square factor again. Once per
+/// batch of measurements (a GNSS epoch), so the stacked matrix is allocated
+/// here rather than kept.
+fn fold_rows<const N: usize>(factor: &mut SMatrix<f64, N, N>, rows: &mut Vec<SVector<f64, N>>) {
+    if rows.is_empty() {
+        return;
+    }
+    let stacked = DMatrix::from_fn(N + rows.len(), N, |i, j| {
+        if i < N {
+            factor[(i, j)]
+        } else {
+            rows[i - N][j]
+        }
+    });
+    factor.copy_from(&stacked.qr().r());
+    rows.clear();
+}
+
+/// λ ← (I − k h)ᵀ λ − hᵀ ν / s; Λ ← (I − k h)ᵀ Λ (I − k h) + hᵀ h / s as
+/// R ← R (I − k h) = R − (R k) h and the pending rows alike, plus the new
+/// row h/√s (folded into R by [`fold_rows`] at the end of the batch).
 fn adjoint_scalar<const N: usize>(
     s: &ScalarStep<N>,
     lambda: &mut SVector<f64, N>,
-    big: &mut SMatrix<f64, N, N>,
+    factor: &mut SMatrix<f64, N, N>,
+    rows: &mut Vec<SVector<f64, N>>,
 ) {
     let h = s.measurement.h.to_dense::<N>();
     let k = &s.gain;
     let kl = k.dot(lambda);
     *lambda -= h * (kl + s.innovation / s.innovation_variance);
-    let w = *big * k;
-    let kw = k.dot(&w);
-    big.ger(-1.0, &h, &w, 1.0);
-    big.ger(-1.0, &w, &h, 1.0);
-    big.ger(kw + 1.0 / s.innovation_variance, &h, &h, 1.0);
-}
-
-fn replay_reset<const N: usize>(r: &ResetStep, p: &mut SMatrix<f64, N, N>) {
-    match *r {
-        ResetStep::Block {
-            first,
-            len,
-            covariance,
-        } => {
-            for i in first..first + len {
-                p.row_mut(i).fill(0.0);
-                p.column_mut(i).fill(0.0);
-            }
-            for a in 0..len {
-                for b in 0..len {
-                    p[(first + a, first + b)] = covariance[a + 3 * b];
-                }
-            }
-        }
-        ResetStep::Component {
-            first,
-            direction,
-            variance,
-        } => {
-            let t = nalgebra::Matrix3::identity() - direction * direction.transpose();
-            let rows = t * p.fixed_rows::<3>(first);
-            p.fixed_rows_mut::<3>(first).copy_from(&rows);
-            let cols = p.fixed_columns::<3>(first) * t;
-            p.fixed_columns_mut::<3>(first).copy_from(&cols);
-            let block =
-                p.fixed_view::<3, 3>(first, first) + variance * direction * direction.transpose();
-            p.fixed_view_mut::<3, 3>(first, first).copy_from(&block);
-        }
-        ResetStep::Inflate {
-            states,
-            count,
-            factor,
-        } => {
-            let s = factor.max(1.0).sqrt();
-            for &i in &states[..count] {
-                p.row_mut(i).scale_mut(s);
-                p.column_mut(i).scale_mut(s);
-            }
-        }
-        ResetStep::AddVariance { state, variance } => p[(state, state)] += variance,
+    let rk = *factor * k;
+    factor.ger(-1.0, &rk, &h, 1.0);
+    for row in rows.iter_mut() {
+        let a = row.dot(k);
+        row.axpy(-a, &h, 1.0);
     }
+    rows.push(h / s.innovation_variance.sqrt());
 }
 
-/// λ ← Tᵀ λ, Λ ← Tᵀ Λ T for the reset's map T (the identity for changes
-/// of the covariance alone).
+/// λ ← Tᵀ λ, Λ ← Tᵀ Λ T (R ← R T) for the reset's map T (the identity for
+/// changes of the covariance alone).
 fn adjoint_reset<const N: usize>(
     r: &ResetStep,
     lambda: &mut SVector<f64, N>,
-    big: &mut SMatrix<f64, N, N>,
+    factor: &mut SMatrix<f64, N, N>,
 ) {
     match *r {
         ResetStep::Block { first, len, .. } => {
             for i in first..first + len {
                 lambda[i] = 0.0;
-                big.row_mut(i).fill(0.0);
-                big.column_mut(i).fill(0.0);
+                factor.column_mut(i).fill(0.0);
             }
         }
         ResetStep::Component {
@@ -419,10 +522,8 @@ fn adjoint_reset<const N: usize>(
             let t = nalgebra::Matrix3::identity() - direction * direction.transpose();
             let l = t * lambda.fixed_rows::<3>(first);
             lambda.fixed_rows_mut::<3>(first).copy_from(&l);
-            let rows = t * big.fixed_rows::<3>(first);
-            big.fixed_rows_mut::<3>(first).copy_from(&rows);
-            let cols = big.fixed_columns::<3>(first) * t;
-            big.fixed_columns_mut::<3>(first).copy_from(&cols);
+            let cols = factor.fixed_columns::<3>(first) * t;
+            factor.fixed_columns_mut::<3>(first).copy_from(&cols);
         }
         ResetStep::Inflate { .. } | ResetStep::AddVariance { .. } => {}
     }
@@ -442,24 +543,26 @@ mod tests {
 
     impl<const N: usize> StepModel<N> for Dense<N> {
         type Step = ();
-        fn propagate(&mut self, _: &(), p: &mut SMatrix<f64, N, N>) {
-            *p = self.phi * *p * self.phi.transpose() + self.q;
-        }
-        fn adjoint(&mut self, _: &(), l: &mut SVector<f64, N>, b: &mut SMatrix<f64, N, N>) {
+        fn adjoint(
+            &mut self,
+            _: &(),
+            l: &mut SVector<f64, N>,
+            after: &SMatrix<f64, N, N>,
+            r: &mut SMatrix<f64, N, N>,
+        ) {
             *l = self.phi.transpose() * *l;
-            *b = self.phi.transpose() * *b * self.phi;
+            *r = after * self.phi;
         }
-    }
-
-    #[test]
-    fn adjoint_product_matches_nalgebra() {
-        let big = SMatrix::<f64, 17, 17>::from_fn(|i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
-        let p = SMatrix::<f64, 17, 17>::from_fn(|i, j| ((i * 5 + j * 2) % 13) as f64 * 0.25);
-        let p = p + p.transpose();
-        let (mut w, mut forms) = (SMatrix::<f64, 17, 17>::zeros(), SVector::<f64, 17>::zeros());
-        adjoint_product(&big, &p, &mut w, &mut forms);
-        assert!((w - big * p).abs().max() < 1e-12);
-        assert!((forms - (p * big * p).diagonal()).abs().max() < 1e-9);
+        fn carry(
+            &mut self,
+            _: &(),
+            (z, r, next): Root<'_, N>,
+            y: &mut SVector<f64, N>,
+            lambda_after: &SVector<f64, N>,
+        ) {
+            *next = z * self.phi.transpose() + r * self.q;
+            *y = self.phi * *y + self.q * lambda_after;
+        }
     }
 
     /// A constant-velocity target observed in position, some epochs
@@ -516,10 +619,11 @@ mod tests {
         }
         let mut smoothed = vec![None; steps + 1];
         log.smooth(|s| {
-            let full = s.covariance();
-            assert!((s.covariance_diagonal() - full.diagonal()).norm() < 1e-12);
-            assert!((s.covariance_block::<2>(0) - full).norm() < 1e-12);
-            smoothed[s.output] = Some((forward[s.output].0 + s.error, full));
+            let reduction = s.reduction();
+            assert!((s.reduction_diagonal() - reduction.diagonal()).norm() < 1e-12);
+            assert!((s.reduction_block::<2>(0) - reduction).norm() < 1e-12);
+            let (x, p) = forward[s.output];
+            smoothed[s.output] = Some((x + s.error, p - reduction));
         });
         // Batch: unknowns x_0..x_K (2(K+1)); rows whitened by their covariance.
         let n = N * (steps + 1);
