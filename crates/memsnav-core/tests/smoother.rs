@@ -8,7 +8,7 @@ use memsnav_core::attitude::dcm_to_rotation_vector;
 use memsnav_core::coupling::*;
 use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
-use memsnav_core::filter::state::BASE_STATES;
+use memsnav_core::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{Outage, SimulationConfig};
 use memsnav_core::random::stream;
 use memsnav_core::sensors::ImuModel;
@@ -26,9 +26,15 @@ struct Pair {
 }
 
 fn run(seed: u64, loose: bool) -> Pair {
+    run_with::<BASE_STATES>(seed, loose)
+}
+
+/// [`run`] with `N` error states.
+fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
     let truth = drive(150.0, 100.0, true);
     let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
-    let mut tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+    let scale_factor_states = N == WITH_SCALE_FACTORS || N == WITH_ALL;
+    let mut tuning = FilterTuning::from_imu_spec(&spec, 100.0, scale_factor_states).unwrap();
     tuning.initial_std.attitude_ned_rad = Vector3::new(0.2, 0.2, 0.5).map(f64::to_radians);
     let mut rng = stream(seed, 0);
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
@@ -63,9 +69,9 @@ fn run(seed: u64, loose: bool) -> Pair {
                 }
             })
             .collect();
-        loosely_coupled_smoothed::<BASE_STATES>(&data, &fixes, &initial, &tuning).unwrap()
+        loosely_coupled_smoothed::<N>(&data, &fixes, &initial, &tuning).unwrap()
     } else {
-        tightly_coupled_smoothed::<BASE_STATES>(&data, &epochs, &initial, &tuning).unwrap()
+        tightly_coupled_smoothed::<N>(&data, &epochs, &initial, &tuning).unwrap()
     };
     Pair {
         truth,
@@ -130,6 +136,44 @@ fn smoothing_beats_the_forward_filter_in_an_outage() {
             mid.1.sqrt()
         );
     }
+}
+
+/// The larger layouts, whose range-bias slots are set anew when a
+/// satellite is given one (resets the smoother goes back through) and whose
+/// scale-factor states are weakly observable: every smoothed variance stays
+/// positive and at most the forward one at every sample, and the smoothed
+/// position mid-outage is the better one.
+#[test]
+fn larger_layouts_smooth_consistently() {
+    fn check<const N: usize>() {
+        let p = run_with::<N>(7, false);
+        assert_eq!(p.forward.n_states, N);
+        for (k, (f, s)) in p
+            .forward
+            .covariance_diagonal
+            .chunks(N)
+            .zip(p.smoothed.covariance_diagonal.chunks(N))
+            .enumerate()
+        {
+            for i in 0..N {
+                assert!(
+                    s[i] > 0.0 && s[i] <= f[i] * (1.0 + 1e-9) + 1e-15,
+                    "{N} states, sample {k}, state {i}: smoothed {} forward {}",
+                    s[i],
+                    f[i]
+                );
+            }
+        }
+        let mid = ((OUTAGE.0 + 0.5 * OUTAGE.1) * 100.0) as usize;
+        let (forward, smoothed) = (
+            position_error(&p.forward, &p.truth, mid),
+            position_error(&p.smoothed, &p.truth, mid),
+        );
+        assert!(smoothed < forward, "{N} states: {smoothed} ≥ {forward} m");
+    }
+    check::<WITH_SCALE_FACTORS>();
+    check::<WITH_RANGE_BIASES>();
+    check::<WITH_ALL>();
 }
 
 /// NEES of the smoothed attitude, velocity and position over 8 seeded runs,
