@@ -335,8 +335,6 @@ fn outage_drift_follows_half_b_t_squared() {
     }
 }
 
-/// Two hours at 100 Hz (parked receiver, tactical-like IMU): P stays
-/// symmetric positive definite and the solution bounded.
 /// The solution stores each navigation block of P as its diagonal (in
 /// `covariance_diagonal`) and upper triangle: the blocks it gives back are
 /// the filter's own P at every sample (the upper triangle and diagonal
@@ -386,6 +384,8 @@ fn solution_blocks_are_the_filters_covariance() {
     }
 }
 
+/// Two hours at 100 Hz (parked receiver, tactical-like IMU): P stays
+/// symmetric positive definite and the solution bounded.
 #[test]
 fn covariance_stays_positive_definite_over_two_hours() {
     let truth = drive(7200.0, 100.0, false);

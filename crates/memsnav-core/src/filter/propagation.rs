@@ -821,14 +821,22 @@ mod tests {
         phi
     }
 
+    /// Q over one interval as a dense matrix.
+    fn dense_noise<const N: usize>(nz: &ProcessNoise, dt: f64) -> SMatrix<f64, N, N> {
+        let mut q = SMatrix::zeros();
+        add_process_noise(&mut q, &Discretisation::new(nz, dt));
+        q
+    }
+
     /// The structured Φ P Φᵀ + Q equals the dense product with the dense Φ
     /// and Q.
     fn structured_equals_dense<const N: usize>(tau: f64) {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
-        let phi = dense_transition::<N>(&inp, &nz, dt);
+        let (phi, q) = (
+            dense_transition::<N>(&inp, &nz, dt),
+            dense_noise::<N>(&nz, dt),
+        );
         let p0 = random_spd::<N>();
-        let mut q = SMatrix::<f64, N, N>::zeros();
-        add_process_noise(&mut q, &Discretisation::new(&nz, dt));
         let dense = phi * p0 * phi.transpose() + q;
         let mut p = p0;
         let mut x = SVector::<f64, N>::from_fn(|i, _| i as f64 * 0.1);
@@ -839,25 +847,25 @@ mod tests {
         assert!((p - p.transpose()).abs().max() < 1e-13);
     }
 
-    /// The adjoint step equals Φᵀ λ and T Φ with the dense Φ (so that the
-    /// adjoint Λ = Tᵀ T becomes Φᵀ Λ Φ).
+    /// The adjoint step equals Φᵀ λ and R′ Φ with the dense Φ (so that the
+    /// adjoint Λ′ = R′ᵀ R′ becomes Φᵀ Λ′ Φ).
     fn adjoint_equals_dense<const N: usize>(tau: f64) {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
         let phi = dense_transition::<N>(&inp, &nz, dt);
-        let t = random_spd::<N>();
+        let after = random_spd::<N>();
         let mut lambda = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.37).sin());
         let mut factor = SMatrix::<f64, N, N>::zeros();
-        let (l_dense, t_dense) = (phi.transpose() * lambda, t * phi);
+        let (l_dense, r_dense) = (phi.transpose() * lambda, after * phi);
         let d = Discretisation::new(&nz, dt);
         adjoint(
             &mut lambda,
-            &t,
+            &after,
             &mut factor,
             &Transition::new::<N>(&inp, &d),
             &mut Columns::new(),
         );
         assert!((lambda - l_dense).abs().max() < 1e-13 * l_dense.abs().max().max(1.0));
-        assert!((factor - t_dense).abs().max() < 1e-12 * t_dense.abs().max());
+        assert!((factor - r_dense).abs().max() < 1e-12 * r_dense.abs().max());
     }
 
     #[test]
@@ -873,9 +881,10 @@ mod tests {
     fn carry_equals_dense<const N: usize>(tau: f64) {
         use super::super::smoother::StepModel;
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
-        let phi = dense_transition::<N>(&inp, &nz, dt);
-        let mut q = SMatrix::<f64, N, N>::zeros();
-        add_process_noise(&mut q, &Discretisation::new(&nz, dt));
+        let (phi, q) = (
+            dense_transition::<N>(&inp, &nz, dt),
+            dense_noise::<N>(&nz, dt),
+        );
         let after = random_spd::<N>() * 0.3;
         let z0 = SMatrix::<f64, N, N>::from_fn(|i, j| ((i * 3 + j * 5) % 7) as f64 - 3.0);
         let y0 = SVector::<f64, N>::from_fn(|i, _| (i as f64 * 0.7).cos());

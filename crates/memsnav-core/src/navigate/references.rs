@@ -295,17 +295,22 @@ mod tests {
         }
     }
 
+    /// A seeded random drive of `duration_s` at 100 Hz.
+    fn drive(duration_s: f64, substream: u64) -> Trajectory {
+        let config = RandomTrajectoryConfig {
+            duration_s,
+            rate_hz: 100.0,
+            ..Default::default()
+        };
+        Trajectory::random(&config, &mut crate::random::stream(7, substream)).unwrap()
+    }
+
     /// With the truth as the solution the references are the trapezoidal
     /// means of the exact outputs, in the sensor's axes, to the accuracy of
     /// the trapezoidal rule.
     #[test]
     fn references_of_the_truth_are_the_exact_outputs() {
-        let config = RandomTrajectoryConfig {
-            duration_s: 120.0,
-            rate_hz: 100.0,
-            ..Default::default()
-        };
-        let truth = Trajectory::random(&config, &mut crate::random::stream(7, 0)).unwrap();
+        let truth = drive(120.0, 0);
         let m = euler_to_dcm(3.0, -0.2, 1.7);
         let f_s: Vec<_> = truth
             .specific_force_b
@@ -340,12 +345,7 @@ mod tests {
     /// The arrays must be the ones the run was given.
     #[test]
     fn references_refuse_other_arrays() {
-        let config = RandomTrajectoryConfig {
-            duration_s: 10.0,
-            rate_hz: 100.0,
-            ..Default::default()
-        };
-        let truth = Trajectory::random(&config, &mut crate::random::stream(7, 1)).unwrap();
+        let truth = drive(10.0, 1);
         let run = exact_run(&truth, 0, Matrix3::identity());
         let (f, w) = (&truth.specific_force_b, &truth.angular_rate_b);
         let shifted: Vec<f64> = truth.time_s.iter().map(|t| t * 1.01).collect();
