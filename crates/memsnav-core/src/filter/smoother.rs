@@ -294,16 +294,6 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
         self.outputs
     }
 
-    /// Bytes the log holds (for the documented memory figure).
-    pub fn bytes(&self) -> usize {
-        use std::mem::size_of;
-        self.ops.capacity() * size_of::<Op>()
-            + self.steps.capacity() * size_of::<M::Step>()
-            + self.scalars.capacity() * size_of::<ScalarStep<N>>()
-            + self.resets.capacity() * size_of::<ResetStep>()
-            + self.checkpoints.capacity() * size_of::<(usize, SMatrix<f64, N, N>)>()
-    }
-
     /// The smoother: calls `emit` for every output with its smoothed error
     /// estimate and covariance, segment by segment from the last (outputs
     /// in recorded order within a segment).
