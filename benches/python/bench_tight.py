@@ -7,7 +7,8 @@ constant blocks computed once, scalar work on floats), and whole Monte
 Carlo runs of the navigation experiment on 1 and 2 threads; and what
 ``smooth=True`` adds to the filter call (17 and 23 states).
 
-    python benches/python/bench_tight.py results.json [--filterpy-seconds 600] [--mc-runs 8]
+    python benches/python/bench_tight.py results.json [--filterpy-seconds 600]
+        [--peer-seconds 600] [--mc-runs 8]
 
 FilterPy runs the whole 600 s by default (~50-90 µs per IMU epoch, a few
 seconds); with ``--filterpy-seconds`` shorter its time is extrapolated per
@@ -16,6 +17,53 @@ implementation) and the output says so. Both solutions are checked against
 the truth (position RMS over the common span) so the comparison is between
 two working filters. FilterPy is a benchmark-only dependency
 (``pip install memsnav[bench]``).
+
+Second peer: sidereon (PyPI ``sidereon==3.0.4``, MIT, a Rust + PyO3 GNSS
+engine), its ``InertialFilter`` with ``update_tight``: a closed-loop
+error-state EKF, 15 INS error states (position, velocity, attitude,
+accelerometer and gyro biases, all ECEF) plus its two receiver-clock states,
+17 in all. It runs on the same IMU samples (``ImuSample.rate``: specific
+force m/s² and angular rate rad/s, body axes, tagged by time in s), the same
+pseudoranges and pseudorange rates with their σ (``TightGnssObservation``
+with a ``TightRangeRateObservation``, satellite clock drift 0), from the same
+initial position, velocity and C_b^e as FilterPy (memsnav's solution at
+epoch 0) with the same initial covariance (reordered to sidereon's state
+order) and the same noise densities. sidereon has no whole-run call: it is
+driven as its API asks, one ``propagate`` per IMU sample and one
+``update_tight`` per GNSS epoch from Python, the position read back each
+epoch. ``--peer-seconds`` shortens its span (extrapolated per epoch as for
+FilterPy). If sidereon is not installed the comparison is skipped with a
+note. What differs from the memsnav / FilterPy job, and why:
+
+- Satellites: ``update_tight`` takes an ephemeris source, not positions per
+  measurement, and solves the light time and the Sagnac rotation itself. It
+  gets the same Walker orbits that made ``gnss.satellite_position_ecef``,
+  sampled every 10 s over the run ± 2 min (``PreciseEphemerisSamples``,
+  satellite clock 0: memsnav's pseudoranges are satellite-clock corrected).
+  The bench checks that sidereon's transmission-time positions from this
+  source match ``gnss.satellite_position_ecef`` (printed, sub-millimetre);
+  satellite velocities come from sidereon's interpolant, not from
+  ``gnss.satellite_velocity_ecef``.
+- Time axis: sidereon counts seconds since J2000; the IMU, GNSS and
+  ephemeris times are all given on the trajectory's time axis (the
+  simulated Walker constellation has no calendar date), so only differences
+  matter, as in the other two.
+- Receiver clock: sidereon starts its clock bias and drift at zero (no API
+  sets them). Their initial variances are memsnav's σ² plus the square of
+  memsnav's epoch-0 estimate, so the first update, which resolves the clock,
+  starts from a prior as wide as its error. Clock process noise: the same
+  phase and frequency PSDs (m²/s, m²/s³) in the same discrete form.
+- Propagation: sidereon's own ECEF mechanization from rate samples, each
+  held over its interval (rectangular), against the trapezoidal, coning-
+  corrected step of memsnav and FilterPy (trapezoidal increments through
+  ``ImuSample.increment`` changed the 60 s RMS by 0.2 mm). Its Φ is
+  I + FΔt + ½(FΔt)² (memsnav and FilterPy: I + FΔt), its Q adds the
+  Δt³/3 and Δt²/2 position terms of the accelerometer white noise, and it
+  re-projects the covariance to positive semi-definite each step.
+- Biases: memsnav's tuning makes them random constants (PSD 0, correlation
+  time ∞); ``ImuSpec`` with instability 0 and τ = ∞ gives the same (no
+  bias process noise).
+- No innovation gate (as FilterPy; memsnav gates at 0.999).
 """
 
 from __future__ import annotations
@@ -32,6 +80,11 @@ import numpy as np
 from filterpy.kalman import ExtendedKalmanFilter
 
 import memsnav as mn
+
+try:
+    import sidereon as sd
+except ImportError:  # the optional second peer (memsnav[bench])
+    sd = None
 
 OMEGA_IE = 7.292115e-5  # rad/s, WGS 84
 MU = 3.986004418e14  # m³/s², WGS 84
@@ -253,6 +306,130 @@ def filterpy_run(scenario, start, tuning, epochs_to_run: int):
     return positions
 
 
+EPHEMERIS_STEP_S = 10.0
+EPHEMERIS_MARGIN_S = 120.0
+
+
+def sidereon_ephemeris(gnss, t: np.ndarray):
+    """The Walker orbits that made ``gnss`` as a sidereon ephemeris source:
+    every satellite every ``EPHEMERIS_STEP_S`` over the run ± the margin,
+    on the trajectory's time axis, satellite clock 0."""
+    walker = mn.Constellation.walker()
+    gps_offset = float(gnss.gps_time[0] - gnss.time[0])
+    samples = []
+    for ts in np.arange(t[0] - EPHEMERIS_MARGIN_S, t[-1] + EPHEMERIS_MARGIN_S, EPHEMERIS_STEP_S):
+        position, _ = walker.position_velocity(gps_offset + ts)
+        samples += [
+            sd.PreciseEphemerisSample(name, float(ts), position[j], 0.0)
+            for j, name in enumerate(walker.prns)
+        ]
+    return sd.PreciseEphemerisSamples.from_samples(samples)
+
+
+def sidereon_satellite_check(scenario) -> float:
+    """Largest distance, m, between the transmission-time satellite positions
+    sidereon computes from its source (light time solved from the true
+    receiver position, Sagnac rotation off so the frames agree) and
+    ``gnss.satellite_position_ecef``, over every epoch and satellite."""
+    traj, _, _, gnss = scenario
+    t = traj.time
+    source = sidereon_ephemeris(gnss, t)
+    worst = 0.0
+    for i, te in enumerate(gnss.time):
+        k = round((te - t[0]) * RATE_HZ)
+        ok = gnss.sat_id[i] >= 0
+        requests = [
+            sd.RangePredictionRequest(f"G{s:02d}", traj.position_ecef[k], float(t[k]))
+            for s in gnss.sat_id[i][ok]
+        ]
+        out = sd.predict_ranges(source, requests, light_time=True, sagnac=False)
+        for o, p in zip(out, gnss.satellite_position_ecef[i][ok], strict=True):
+            worst = max(worst, float(np.linalg.norm(np.asarray(o.sat_pos_ecef_m) - p)))
+    return worst
+
+
+def sidereon_run(scenario, start, tuning, epochs_to_run: int):
+    """sidereon's closed-loop tight EKF over the first `epochs_to_run` IMU
+    epochs, driven as its API asks (module docstring: what differs): one
+    ``propagate`` per IMU sample, one ``update_tight`` with every
+    pseudorange and rate per GNSS epoch, the position read back each epoch.
+    Building the ephemeris source is part of the run."""
+    traj, acc, gyr, gnss = scenario
+    t = traj.time
+    r, v, c, clk, drift = start
+    source = sidereon_ephemeris(gnss, t)
+
+    def bias_instability(psd: float, tau: float) -> float:
+        # Gauss-Markov σ: PSD τ / 2; memsnav's default PSD 0 (random constant).
+        return math.sqrt(psd * tau / 2.0) if psd > 0.0 else 0.0
+
+    tau_a, tau_g = tuning["accel_bias_correlation_time"], tuning["gyro_bias_correlation_time"]
+    if (tuning["accel_bias_psd"] > 0.0 and not math.isfinite(tau_a)) or (
+        tuning["gyro_bias_psd"] > 0.0 and not math.isfinite(tau_g)
+    ):
+        raise ValueError("sidereon's ImuSpec has no random-walk bias with a PSD")
+    spec = sd.ImuSpec(
+        math.sqrt(tuning["accel_white_psd"]),
+        math.sqrt(tuning["gyro_white_psd"]),
+        bias_instability(tuning["accel_bias_psd"], tau_a),
+        bias_instability(tuning["gyro_bias_psd"], tau_g),
+        tau_a,
+        tau_g,
+    )
+    tight = sd.TightCouplingConfig(
+        light_time=True,
+        sagnac=True,
+        initial_clock_bias_variance_m2=tuning["initial_clock_offset_std"] ** 2 + clk**2,
+        initial_clock_drift_variance_m2_s2=tuning["initial_clock_drift_std"] ** 2 + drift**2,
+        clock_bias_random_walk_m2_s=tuning["clock_phase_psd"],
+        clock_drift_random_walk_m2_s3=tuning["clock_frequency_psd"],
+    )
+    # sidereon's error-state order: position, velocity, attitude, biases.
+    lat, lon, _ = mn.ecef_to_geodetic(r)
+    cne = c_n_e(lat, lon)
+    tilt, heading = tuning["initial_tilt_std"], tuning["initial_heading_std"]
+    p = np.zeros((15, 15))
+    p[0:3, 0:3] = np.eye(3) * tuning["initial_position_std"] ** 2
+    p[3:6, 3:6] = np.eye(3) * tuning["initial_velocity_std"] ** 2
+    p[6:9, 6:9] = cne @ np.diag([tilt**2, tilt**2, heading**2]) @ cne.T
+    p[9:12, 9:12] = np.eye(3) * tuning["initial_accel_bias_std"] ** 2
+    p[12:15, 12:15] = np.eye(3) * tuning["initial_gyro_bias_std"] ** 2
+    state = sd.InsFilterState.from_covariance(
+        sd.NavState(float(t[0]), r, v, c), sd.ErrorStateLayout.FIFTEEN, p
+    )
+    f = sd.InertialFilter.with_config(state, sd.InertialFilterConfig(spec, tight=tight))
+
+    epoch_at = {round((te - t[0]) * RATE_HZ): i for i, te in enumerate(gnss.time)}
+    times, f_list, w_list = t.tolist(), acc.tolist(), gyr.tolist()
+    positions = np.empty((epochs_to_run, 3))
+    positions[0] = r
+    for k in range(1, epochs_to_run):
+        nav = f.propagate(sd.ImuSample.rate(times[k], f_list[k], w_list[k]))
+        i = epoch_at.get(k)
+        if i is not None:
+            ok = gnss.sat_id[i] >= 0
+            observations = [
+                sd.TightGnssObservation(
+                    f"G{s:02d}",
+                    rho,
+                    rho_std,
+                    range_rate=sd.TightRangeRateObservation(rate, rate_std, 0.0),
+                )
+                for s, rho, rho_std, rate, rate_std in zip(
+                    gnss.sat_id[i][ok].tolist(),
+                    gnss.pseudorange[i][ok].tolist(),
+                    gnss.pseudorange_std[i][ok].tolist(),
+                    gnss.pseudorange_rate[i][ok].tolist(),
+                    gnss.pseudorange_rate_std[i][ok].tolist(),
+                    strict=True,
+                )
+            ]
+            f.update_tight(source, sd.TightGnssEpoch(times[k], observations))
+            nav = f.state
+        positions[k] = nav.nominal.position_ecef_m
+    return positions
+
+
 def scenario():
     traj = mn.Trajectory.random(DURATION_S, RATE_HZ, seed=SEED)
     imu = mn.ImuModel.preset("paper-mems", seed=SEED)
@@ -286,6 +463,12 @@ def main() -> None:
         type=float,
         default=DURATION_S,
         help="seconds of the run FilterPy processes (less: extrapolated per epoch)",
+    )
+    parser.add_argument(
+        "--peer-seconds",
+        type=float,
+        default=DURATION_S,
+        help="seconds of the run sidereon processes (less: extrapolated per epoch)",
     )
     parser.add_argument("--repeats", type=int, default=5, help="memsnav runs (best is kept)")
     parser.add_argument(
@@ -330,6 +513,15 @@ def main() -> None:
     filterpy_s = time.perf_counter() - t0
     filterpy_per_epoch = filterpy_s / m
     filterpy_full_s = filterpy_per_epoch * n
+
+    # The second peer, sidereon, on the same data from the same start.
+    peer = None
+    if sd is not None:
+        m_sd = min(n, round(args.peer_seconds * RATE_HZ) + 1)
+        t0 = time.perf_counter()
+        sd_positions = sidereon_run(sc, start, filt.tuning, m_sd)
+        sd_s = time.perf_counter() - t0
+        peer = (m_sd, sd_s, sd_positions, sidereon_satellite_check(sc))
 
     # Whole Monte Carlo runs (trajectory, IMU, GNSS, filter) of the paper's
     # navigation experiment with one IMU, on 1 and on 2 threads.
@@ -418,6 +610,44 @@ def main() -> None:
     result["same_accuracy"] = bool(1 / 1.5 <= ratio <= 1.5)
     if not result["same_accuracy"]:
         print(f"WARNING: the position RMS differ by {ratio:.2f}x: not the same job")
+    if peer is None:
+        result["sidereon"] = {"skipped": "sidereon is not installed (pip install memsnav[bench])"}
+        print("sidereon: not installed, second peer skipped (pip install memsnav[bench])")
+    else:
+        m_sd, sd_s, sd_positions, sat_diff = peer
+        sd_per_epoch = sd_s / m_sd
+        sd_full_s = sd_per_epoch * n
+        sd_rms, ms_rms = rms(sd_positions), rms(sol.position_ecef[:m_sd])
+        result["sidereon"] = {
+            "version": sd.__version__,
+            "epochs_timed": m_sd,
+            "seconds_timed": sd_s,
+            "seconds_per_epoch": sd_per_epoch,
+            "seconds_full_run": sd_full_s,
+            "extrapolated": m_sd < n,
+            "epochs_per_second": 1.0 / sd_per_epoch,
+            "runs_per_second": 1.0 / sd_full_s,
+            "speedup": sd_full_s / memsnav_s,
+            "position_rms_m": sd_rms,
+            "memsnav_position_rms_m_same_span": ms_rms,
+            "same_accuracy": bool(1 / 1.5 <= sd_rms / ms_rms <= 1.5),
+            "satellite_position_max_diff_m": sat_diff,
+        }
+        extrapolated = f", extrapolated per IMU epoch to {n} epochs" if m_sd < n else ""
+        print(
+            f"sidereon {sd.__version__} InertialFilter (Python loop): {sd_s:.2f} s for {m_sd} "
+            f"epochs ({(m_sd - 1) / RATE_HZ:g} s), {sd_per_epoch * 1e6:.0f} us/epoch "
+            f"({1.0 / sd_per_epoch:,.0f} epochs/s, {1.0 / sd_full_s:.3f} runs/s)"
+            f"{extrapolated}: {sd_full_s:.2f} s per run"
+        )
+        print(f"filter ratio (sidereon / memsnav): {result['sidereon']['speedup']:.0f}x")
+        print(
+            f"position RMS over {(m_sd - 1) / RATE_HZ:g} s: memsnav {ms_rms:.2f} m, "
+            f"sidereon {sd_rms:.2f} m; sidereon's satellites vs memsnav's: "
+            f"{sat_diff * 1e3:.2f} mm at most"
+        )
+        if not result["sidereon"]["same_accuracy"]:
+            print(f"WARNING: sidereon's position RMS is {sd_rms / ms_rms:.2f}x memsnav's")
     args.output.parent.mkdir(parents=True, exist_ok=True)
     args.output.write_text(json.dumps(result, indent=2) + "\n")
 
