@@ -88,6 +88,30 @@ pub(crate) trait Motion {
     fn velocity_ned(&self, t_s: f64, cursor: &mut Self::Cursor) -> Vector3<f64>;
 }
 
+/// `x.sin_cos()` with the last argument and result kept: an angle that
+/// holds still between calls (the path angle on a constant slope, the
+/// heading, roll and pitch while driving straight at constant speed) is
+/// not evaluated again. Keyed on the argument's bits, so the result is
+/// bitwise that of `sin_cos`.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SinCosMemo {
+    last: Option<(u64, (f64, f64))>,
+}
+
+impl SinCosMemo {
+    #[inline]
+    pub fn sin_cos(&mut self, x: f64) -> (f64, f64) {
+        match self.last {
+            Some((bits, sc)) if bits == x.to_bits() => sc,
+            _ => {
+                let sc = x.sin_cos();
+                self.last = Some((x.to_bits(), sc));
+                sc
+            }
+        }
+    }
+}
+
 /// Longest RK4 sub-step of the position integration, s: keeps the
 /// truncation error far below a millimetre whatever the output rate.
 const MAX_POSITION_STEP_S: f64 = 0.01;
@@ -201,7 +225,9 @@ impl<M: Motion> VelocityMemo<'_, M> {
 /// from memos (the motion at the end of a sample's last RK4 sub-step, when
 /// that is the next sample's time, is the next sample's motion). The
 /// output agrees with the plain evaluation of the formulas to ~1e-17
-/// relative (tests/test_simulator_reference.py: 1e-12).
+/// relative (tests/test_simulator_reference.py: 1e-12). Angles that hold
+/// still between samples (roll, pitch; the motion's path angle and
+/// heading) reuse their sine and cosine ([`SinCosMemo`]), bitwise.
 pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -> Trajectory {
     let n = time_s.len();
     let mut out = Trajectory {
@@ -223,6 +249,7 @@ pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -
     // The motion at the next sample when the last RK4 sub-step ended
     // exactly (bitwise) on it, as it does whenever there is one sub-step.
     let mut next: Option<LocalMotion> = None;
+    let (mut roll_memo, mut pitch_memo) = (SinCosMemo::default(), SinCosMemo::default());
     for k in 0..n {
         let t = time_s[k];
         let m = match next.take() {
@@ -240,8 +267,8 @@ pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -
         let r = geodetic_to_ecef_with((sin_lat, cos_lat), (sin_lon, cos_lon), r_e, h);
         let v = c_ne * m.velocity_ned;
         let a = c_ne * (m.velocity_ned_rate + omega_en_n.cross(&m.velocity_ned));
-        let roll = m.euler_rad.x.sin_cos();
-        let pitch = m.euler_rad.y.sin_cos();
+        let roll = roll_memo.sin_cos(m.euler_rad.x);
+        let pitch = pitch_memo.sin_cos(m.euler_rad.y);
         let c_bn = euler_dcm(roll, pitch, m.yaw_sin_cos);
         let c_be = c_ne * c_bn;
         let c_eb = c_be.transpose();

@@ -241,6 +241,7 @@ pub fn simulate_with_truth(
     let n_sat = constellation.len();
     let mut elevations = vec![f64::NAN; n_sat];
     let mut approx_los = vec![Vector3::zeros(); n_sat];
+    let mut positions = Vec::with_capacity(n_sat);
     let mut selection = Selection::default();
     let mut errors = MeasurementErrors::new(
         config.pseudorange_std_m,
@@ -274,11 +275,12 @@ pub fn simulate_with_truth(
         let (sl, cl) = g.latitude_rad.sin_cos();
         let (so, co) = g.longitude_rad.sin_cos();
         let up = Vector3::new(cl * co, cl * so, sl);
-        for i in 0..n_sat {
-            match constellation.state(i, receiver.gps_time_s) {
-                Some(st) => {
-                    elevations[i] = elevation(&st.position_ecef, &rx, &up);
-                    approx_los[i] = (st.position_ecef - rx).normalize();
+        constellation.positions_into(receiver.gps_time_s, &mut positions);
+        for (i, position) in positions.iter().enumerate() {
+            match position {
+                Some(p) => {
+                    elevations[i] = elevation(p, &rx, &up);
+                    approx_los[i] = (p - rx).normalize();
                 }
                 None => elevations[i] = f64::NAN,
             }
