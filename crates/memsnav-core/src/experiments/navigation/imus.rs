@@ -5,6 +5,7 @@
 use crate::random::{self, Rng};
 use crate::sensors::{presets, ImuModel, ImuReadings, ImuSpec};
 use crate::trajectory::Trajectory;
+use crate::validate::SeriesCheck;
 use crate::{Error, Result};
 
 use super::super::calibrate_invert::{InversionProcess, SegmentCalibration};
@@ -111,8 +112,13 @@ pub(super) fn imu_inputs(
                     NavigationImu::Fixed(model) => model.as_ref().clone(),
                     NavigationImu::Calibrated { .. } => unreachable!("matched above"),
                 };
-                let readings =
-                    model.measure(&truth.specific_force_b, &truth.angular_rate_b, &mut r)?;
+                // The truth is ours (finite): not checked again.
+                let readings = model.measure_series(
+                    &truth.specific_force_b,
+                    &truth.angular_rate_b,
+                    &mut r,
+                    SeriesCheck::Trusted,
+                )?;
                 let spec = model.spec;
                 sensors.push(Some(model));
                 ImuInput { readings, spec }
