@@ -6,7 +6,8 @@
 //! - the inversion filters (accelerometer, gyroscope), throughput per sample;
 //! - one run of the calibration experiment (300 s, both triads, LS + EIV + CRB);
 //! - Monte Carlo throughput with 1 and 2 threads: the calibration
-//!   experiment and the navigation experiment (the paper's three IMUs);
+//!   experiment and the navigation experiment (the paper's three IMUs),
+//!   and the whole run (the raw MEMS IMU alone, 1 thread);
 //! - the simulator of the reference workload by part (600 s trajectory,
 //!   IMU errors, GNSS).
 
@@ -18,6 +19,7 @@ use memsnav_benches::SEED;
 use memsnav_core::calibration::{
     calibrate_accelerometer, calibrate_gyroscope, CalibrationOptions, Method,
 };
+use memsnav_core::experiments::navigation::paper_imus;
 use memsnav_core::experiments::{
     calibration_experiment, motion, navigation_experiment, CalibrationExperimentConfig,
     NavigationExperimentConfig, REFERENCE_ANGULAR_RATE_STD, REFERENCE_SPECIFIC_FORCE_STD,
@@ -158,6 +160,28 @@ fn monte_carlo(c: &mut Criterion) {
             b.iter(|| navigation_experiment(&config, &threads(t)).unwrap())
         });
     }
+    g.finish();
+
+    // The whole-run figure: the raw MEMS IMU alone, as
+    // `experiments.navigation(runs=8, imus=["mems"], threads=1)` (the
+    // `nav_run` example times the same set outside criterion).
+    let mut g = c.benchmark_group("navigation_experiment_600s_mems");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(8));
+    let runs = 8;
+    g.throughput(Throughput::Elements(runs as u64));
+    let config = NavigationExperimentConfig {
+        runs,
+        seed: SEED,
+        imus: paper_imus()
+            .into_iter()
+            .filter(|(name, _)| name == "mems")
+            .collect(),
+        ..Default::default()
+    };
+    g.bench_function("threads_1", |b| {
+        b.iter(|| navigation_experiment(&config, &threads(1)).unwrap())
+    });
     g.finish();
 }
 

@@ -5,6 +5,16 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::{Error, Result};
 
+/// Whether a function checks the long series it is given (an O(n) pass
+/// over memory): always for what comes from outside; `Trusted` only
+/// inside the crate, for series it generated itself (a random
+/// trajectory's truth), where the check cannot fail.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SeriesCheck {
+    Finite,
+    Trusted,
+}
+
 /// Every component of every vector is finite.
 pub fn finite_vectors(argument: &str, values: &[Vector3<f64>]) -> Result<()> {
     // A branch-free sweep first (|x| ≤ MAX is false for NaN and ±∞; the

@@ -243,6 +243,21 @@ fn walker_geometry() {
         }
     }
     assert_eq!(normals.len(), 6);
+    // All positions at once (the simulator's visibility pass, the Earth
+    // angle shared) are bitwise each satellite's own state.
+    let mut positions = Vec::new();
+    for t in [0.0, 1000.0, 1000.0 + period, 604_799.99, 1.4e9 + 0.37] {
+        sky.positions_into(t, &mut positions);
+        assert_eq!(positions.len(), 24);
+        for (i, p) in positions.iter().enumerate() {
+            let own = sky.state(i, t).unwrap().position_ecef;
+            assert_eq!(
+                p.map(|p| p.map(f64::to_bits)),
+                Some(own.map(f64::to_bits)),
+                "{t} {i}"
+            );
+        }
+    }
     assert!(Constellation::walker(&WalkerConfig {
         n_satellites: 25,
         ..WalkerConfig::default()

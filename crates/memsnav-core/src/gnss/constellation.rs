@@ -189,6 +189,20 @@ impl Constellation {
         self.orbit(i, gps_time_s).map(|o| o.state(gps_time_s))
     }
 
+    /// ECEF positions of every satellite at `gps_time_s` into `out`
+    /// (cleared first), `None` where no valid ephemeris: bitwise the
+    /// positions of [`Self::state`], cheaper for a Walker constellation
+    /// ([`Walker::positions`]).
+    pub fn positions_into(&self, gps_time_s: f64, out: &mut Vec<Option<Vector3<f64>>>) {
+        out.clear();
+        match self {
+            Constellation::Walker(w) => out.extend(w.positions(gps_time_s).map(Some)),
+            Constellation::Broadcast { .. } => out.extend(
+                (0..self.len()).map(|i| self.state(i, gps_time_s).map(|s| s.position_ecef)),
+            ),
+        }
+    }
+
     /// Positions and velocities of every satellite (in `prns()` order) at
     /// `gps_time_s`; NaN rows where no valid ephemeris.
     pub fn position_velocity(&self, gps_time_s: f64) -> Result<PositionsVelocities> {

@@ -32,6 +32,7 @@ pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
+pub(crate) use simulate::simulate_track;
 pub use simulate::{
     apply_outages, simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage,
     ReceiverTrack, SimulationConfig,

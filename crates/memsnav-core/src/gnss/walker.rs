@@ -51,6 +51,10 @@ pub struct Walker {
     pub mean_motion_rad_s: f64,
     raan_rad: Vec<f64>,
     u0_rad: Vec<f64>,
+    /// `raan_rad[i].sin_cos()` and `config.inclination_rad.sin_cos()`,
+    /// computed once: every state needs them.
+    raan_sin_cos: Vec<(f64, f64)>,
+    inclination_sin_cos: (f64, f64),
 }
 
 impl Walker {
@@ -115,6 +119,8 @@ impl Walker {
         Ok(Walker {
             config: c,
             mean_motion_rad_s: (GM_M3_S2 / (a * a * a)).sqrt(),
+            raan_sin_cos: raan_rad.iter().map(|o| o.sin_cos()).collect(),
+            inclination_sin_cos: c.inclination_rad.sin_cos(),
             raan_rad,
             u0_rad,
         })
@@ -146,13 +152,57 @@ impl Walker {
         gps_time_s: f64,
         offset_s: f64,
     ) -> (Vector3<f64>, Vector3<f64>) {
+        let (r_i, v_i) = self.inertial(index, self.angle_travelled(gps_time_s, offset_s));
+        let (s, c) = Self::earth_angle_sin_cos(gps_time_s, offset_s);
+        // C_I^e = R_z(θ): frame rotation by the Earth angle.
+        let rot = |v: Vector3<f64>| Vector3::new(c * v.x + s * v.y, -s * v.x + c * v.y, v.z);
+        let r_e = rot(r_i);
+        let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+        let v_e = rot(v_i) - omega.cross(&r_e);
+        (r_e, v_e)
+    }
+
+    /// The ECEF positions of every satellite at `gps_time_s`, bitwise those
+    /// of [`Self::position_velocity`]: the Earth angle and the angle every
+    /// satellite has moved through, the same for all, are evaluated once.
+    pub fn positions(&self, gps_time_s: f64) -> impl Iterator<Item = Vector3<f64>> + '_ {
+        let (s, c) = Self::earth_angle_sin_cos(gps_time_s, 0.0);
+        let travelled = self.angle_travelled(gps_time_s, 0.0);
+        (0..self.len()).map(move |i| {
+            let (v, _) = self.inertial(i, travelled);
+            Vector3::new(c * v.x + s * v.y, -s * v.x + c * v.y, v.z)
+        })
+    }
+
+    /// sin and cos of the Earth angle θ = ω_ie t at `gps_time_s + offset_s`.
+    #[inline]
+    fn earth_angle_sin_cos(gps_time_s: f64, offset_s: f64) -> (f64, f64) {
         let tau = std::f64::consts::TAU;
+        let theta = EARTH_RATE_RAD_S * (gps_time_s % (tau / EARTH_RATE_RAD_S))
+            + EARTH_RATE_RAD_S * offset_s;
+        theta.sin_cos()
+    }
+
+    /// The argument of latitude every satellite has moved through since
+    /// GPS time 0 at `gps_time_s + offset_s`, as the two terms n (t mod T)
+    /// and n·offset (added in this order to each satellite's u0).
+    #[inline]
+    fn angle_travelled(&self, gps_time_s: f64, offset_s: f64) -> (f64, f64) {
+        let tau = std::f64::consts::TAU;
+        let n = self.mean_motion_rad_s;
+        (n * (gps_time_s % (tau / n)), n * offset_s)
+    }
+
+    /// Inertial position and velocity of satellite `index` on its circular
+    /// orbit, having moved through [`Self::angle_travelled`].
+    #[inline]
+    fn inertial(&self, index: usize, (turned, offset): (f64, f64)) -> (Vector3<f64>, Vector3<f64>) {
         let a = self.config.semi_major_axis_m;
         let n = self.mean_motion_rad_s;
-        let u = self.u0_rad[index] + n * (gps_time_s % (tau / n)) + n * offset_s;
+        let u = self.u0_rad[index] + turned + offset;
         let (sin_u, cos_u) = u.sin_cos();
-        let (sin_o, cos_o) = self.raan_rad[index].sin_cos();
-        let (sin_i, cos_i) = self.config.inclination_rad.sin_cos();
+        let (sin_o, cos_o) = self.raan_sin_cos[index];
+        let (sin_i, cos_i) = self.inclination_sin_cos;
         let r_i = a * Vector3::new(
             cos_u * cos_o - sin_u * cos_i * sin_o,
             cos_u * sin_o + sin_u * cos_i * cos_o,
@@ -165,14 +215,6 @@ impl Walker {
                 -sin_u * sin_o + cos_u * cos_i * cos_o,
                 cos_u * sin_i,
             );
-        let theta = EARTH_RATE_RAD_S * (gps_time_s % (tau / EARTH_RATE_RAD_S))
-            + EARTH_RATE_RAD_S * offset_s;
-        let (s, c) = theta.sin_cos();
-        // C_I^e = R_z(θ): frame rotation by the Earth angle.
-        let rot = |v: Vector3<f64>| Vector3::new(c * v.x + s * v.y, -s * v.x + c * v.y, v.z);
-        let r_e = rot(r_i);
-        let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
-        let v_e = rot(v_i) - omega.cross(&r_e);
-        (r_e, v_e)
+        (r_i, v_i)
     }
 }

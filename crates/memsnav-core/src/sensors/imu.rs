@@ -7,7 +7,8 @@ use rand_distr::StandardNormal;
 
 use super::{presets, AccelerometerModel, GyroscopeModel, NoiseModel};
 use crate::random::Rng;
-use crate::{validate, Result};
+use crate::validate::{self, SeriesCheck};
+use crate::Result;
 
 /// One-sigma magnitudes of an accelerometer triad's errors (method §2).
 ///
@@ -283,6 +284,18 @@ impl ImuModel {
         angular_rate: &[Vector3<f64>],
         rng: &mut Rng,
     ) -> Result<ImuReadings> {
+        self.measure_series(specific_force, angular_rate, rng, SeriesCheck::Finite)
+    }
+
+    /// [`Self::measure`] with the series' finiteness checked as `check`
+    /// says ([`SeriesCheck::Trusted`]: series this crate generated).
+    pub(crate) fn measure_series(
+        &self,
+        specific_force: &[Vector3<f64>],
+        angular_rate: &[Vector3<f64>],
+        rng: &mut Rng,
+        check: SeriesCheck,
+    ) -> Result<ImuReadings> {
         validate::same_length(
             "angular_rate",
             angular_rate.len(),
@@ -291,10 +304,14 @@ impl ImuModel {
         )?;
         let specific_force_b =
             self.accelerometer
-                .measure(specific_force, self.sample_rate_hz, rng)?;
-        let angular_rate_b =
-            self.gyroscope
-                .measure(angular_rate, specific_force, self.sample_rate_hz, rng)?;
+                .measure_series(specific_force, self.sample_rate_hz, rng, check)?;
+        let angular_rate_b = self.gyroscope.measure_series(
+            angular_rate,
+            specific_force,
+            self.sample_rate_hz,
+            rng,
+            check,
+        )?;
         Ok(ImuReadings {
             specific_force_b,
             angular_rate_b,

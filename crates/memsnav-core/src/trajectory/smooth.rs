@@ -9,10 +9,17 @@
 /// S(1) = 1, with S' and S'' zero at both ends, so joined pieces are C².
 fn smoothstep(tau: f64) -> [f64; 3] {
     let t2 = tau * tau;
-    let value = t2 * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
+    let value = smoothstep_value(tau);
     let rate = 30.0 * t2 * (1.0 - tau) * (1.0 - tau);
     let accel = 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau);
     [value, rate, accel]
+}
+
+/// S(τ) alone.
+#[inline]
+fn smoothstep_value(tau: f64) -> f64 {
+    let t2 = tau * tau;
+    t2 * tau * (10.0 + tau * (-15.0 + 6.0 * tau))
 }
 
 /// ∫₀^τ S(u) du = τ⁴ (5/2 − 3τ + τ²).
@@ -41,7 +48,18 @@ impl Piece {
     }
 
     fn integral_over(&self, elapsed_s: f64) -> f64 {
-        let tau = (elapsed_s / self.duration_s).clamp(0.0, 1.0);
+        self.integral_at_tau((elapsed_s / self.duration_s).clamp(0.0, 1.0))
+    }
+
+    /// The piece's normalised time τ ∈ [0, 1] at `t_s`.
+    #[inline]
+    fn tau(&self, t_s: f64) -> f64 {
+        ((t_s - self.start_s) / self.duration_s).clamp(0.0, 1.0)
+    }
+
+    /// ∫ of the piece from its start to normalised time `tau`.
+    #[inline]
+    fn integral_at_tau(&self, tau: f64) -> f64 {
         self.duration_s * (self.from * tau + (self.to - self.from) * smoothstep_integral(tau))
     }
 }
@@ -152,33 +170,65 @@ impl SmoothSignal {
     }
 
     /// [`Self::at`] and [`Self::integral`] at one time from one lookup, for
-    /// times visited in non-decreasing order (as [`Self::at_from`]).
+    /// times visited in non-decreasing order (as [`Self::at_from`]); τ is
+    /// computed once for both (the same arithmetic).
     pub fn at_and_integral_from(&self, t_s: f64, hint: &mut usize) -> (SignalValue, f64) {
         let piece = self.piece_from(t_s, hint);
-        (self.value_in(piece, t_s), self.integral_in(piece, t_s))
+        match piece {
+            Some(p) if t_s > 0.0 => {
+                let tau = p.tau(t_s);
+                (
+                    Self::value_at_tau(p, tau),
+                    p.integral_before + p.integral_at_tau(tau),
+                )
+            }
+            _ => (self.value_in(piece, t_s), self.integral_in(piece, t_s)),
+        }
+    }
+
+    /// `at_from(t_s, hint).value` alone (bitwise), for the position
+    /// integration's requests, which need no derivatives.
+    pub fn value_from(&self, t_s: f64, hint: &mut usize) -> f64 {
+        match self.piece_from(t_s, hint) {
+            Some(p) => p.from + (p.to - p.from) * smoothstep_value(p.tau(t_s)),
+            None => self.outside(t_s),
+        }
+    }
+
+    /// `at_and_integral_from(t_s, hint).1` alone (bitwise).
+    pub fn integral_from(&self, t_s: f64, hint: &mut usize) -> f64 {
+        let piece = self.piece_from(t_s, hint);
+        self.integral_in(piece, t_s)
     }
 
     fn value_in(&self, piece: Option<&Piece>, t_s: f64) -> SignalValue {
         match piece {
-            Some(p) => {
-                let tau = ((t_s - p.start_s) / p.duration_s).clamp(0.0, 1.0);
-                let [s, ds, dds] = smoothstep(tau);
-                let delta = p.to - p.from;
-                SignalValue {
-                    value: p.from + delta * s,
-                    rate: delta * ds / p.duration_s,
-                    accel: delta * dds / (p.duration_s * p.duration_s),
-                }
-            }
+            Some(p) => Self::value_at_tau(p, p.tau(t_s)),
             None => SignalValue {
-                value: if t_s < 0.0 {
-                    self.initial
-                } else {
-                    self.final_value()
-                },
+                value: self.outside(t_s),
                 rate: 0.0,
                 accel: 0.0,
             },
+        }
+    }
+
+    /// The value before 0 or after the last piece.
+    fn outside(&self, t_s: f64) -> f64 {
+        if t_s < 0.0 {
+            self.initial
+        } else {
+            self.final_value()
+        }
+    }
+
+    #[inline]
+    fn value_at_tau(p: &Piece, tau: f64) -> SignalValue {
+        let [s, ds, dds] = smoothstep(tau);
+        let delta = p.to - p.from;
+        SignalValue {
+            value: p.from + delta * s,
+            rate: delta * ds / p.duration_s,
+            accel: delta * dds / (p.duration_s * p.duration_s),
         }
     }
 
@@ -247,6 +297,10 @@ mod tests {
             assert_eq!(integral.to_bits(), s.integral(t).to_bits(), "{t}");
             let mut other = hint;
             assert_eq!(s.at_from(t, &mut other), s.at(t), "{t}");
+            let mut other = hint;
+            assert_eq!(s.value_from(t, &mut other).to_bits(), v.value.to_bits());
+            let mut other = hint;
+            assert_eq!(s.integral_from(t, &mut other).to_bits(), integral.to_bits());
         }
     }
 

@@ -4,7 +4,7 @@
 use nalgebra::Vector3;
 
 use super::smooth::SmoothSignal;
-use super::{LocalMotion, Motion};
+use super::{LocalMotion, Motion, SinCosMemo};
 
 /// Body roll per m/s² of lateral acceleration, rad/(m/s²): 0.01 is about
 /// 5.6°/g, a soft passenger car's roll gradient. The body leans out of the
@@ -53,17 +53,29 @@ impl VehicleMotion {
     }
 }
 
-impl Motion for VehicleMotion {
-    /// Piece hints of the speed, yaw-rate and path-angle signals.
-    type Cursor = [usize; 3];
+/// Lookup state of a [`VehicleMotion`] sampled at non-decreasing times:
+/// the piece hints of the speed, yaw-rate and path-angle signals, and the
+/// last sine and cosine of the path angle and heading (both hold still
+/// for long stretches: constant slopes, straight driving).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct VehicleCursor {
+    hints: [usize; 3],
+    path_angle: SinCosMemo,
+    heading: SinCosMemo,
+}
 
-    fn at(&self, t: f64, cursor: &mut [usize; 3]) -> LocalMotion {
-        let s = self.speed_m_s.at_from(t, &mut cursor[0]);
-        let (r, yaw_integral) = self.yaw_rate_rad_s.at_and_integral_from(t, &mut cursor[1]);
-        let g = self.path_angle_rad.at_from(t, &mut cursor[2]);
+impl Motion for VehicleMotion {
+    type Cursor = VehicleCursor;
+
+    fn at(&self, t: f64, cursor: &mut VehicleCursor) -> LocalMotion {
+        let s = self.speed_m_s.at_from(t, &mut cursor.hints[0]);
+        let (r, yaw_integral) = self
+            .yaw_rate_rad_s
+            .at_and_integral_from(t, &mut cursor.hints[1]);
+        let g = self.path_angle_rad.at_from(t, &mut cursor.hints[2]);
         let psi = self.initial_heading_rad + yaw_integral;
-        let (sg, cg) = g.value.sin_cos();
-        let (sp, cp) = psi.sin_cos();
+        let (sg, cg) = cursor.path_angle.sin_cos(g.value);
+        let (sp, cp) = cursor.heading.sin_cos(psi);
         let direction = Vector3::new(cg * cp, cg * sp, -sg);
         let direction_rate = Vector3::new(
             -sg * cp * g.rate - cg * sp * r.value,
@@ -85,13 +97,59 @@ impl Motion for VehicleMotion {
         }
     }
 
-    fn velocity_ned(&self, t: f64, cursor: &mut [usize; 3]) -> Vector3<f64> {
-        let s = self.speed_m_s.at_from(t, &mut cursor[0]).value;
-        let (_, yaw_integral) = self.yaw_rate_rad_s.at_and_integral_from(t, &mut cursor[1]);
-        let g = self.path_angle_rad.at_from(t, &mut cursor[2]).value;
+    fn velocity_ned(&self, t: f64, cursor: &mut VehicleCursor) -> Vector3<f64> {
+        let s = self.speed_m_s.value_from(t, &mut cursor.hints[0]);
+        let yaw_integral = self.yaw_rate_rad_s.integral_from(t, &mut cursor.hints[1]);
+        let g = self.path_angle_rad.value_from(t, &mut cursor.hints[2]);
         let psi = self.initial_heading_rad + yaw_integral;
-        let (sg, cg) = g.sin_cos();
-        let (sp, cp) = psi.sin_cos();
+        let (sg, cg) = cursor.path_angle.sin_cos(g);
+        let (sp, cp) = cursor.heading.sin_cos(psi);
         s * Vector3::new(cg * cp, cg * sp, -sg)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A drive with holds, speed ramps, a turn and a slope change, so the
+    /// held angles (heading, path angle) are reused and then change.
+    fn drive() -> VehicleMotion {
+        let mut m = VehicleMotion::at_rest(0.3);
+        m.speed_m_s.ramp_to(4.0, 12.0);
+        m.speed_m_s.hold(10.0);
+        m.yaw_rate_rad_s.hold(6.0);
+        m.yaw_rate_rad_s.ramp_to(2.0, 0.2);
+        m.yaw_rate_rad_s.ramp_to(2.0, 0.0);
+        m.path_angle_rad.hold(3.0);
+        m.path_angle_rad.ramp_to(5.0, -0.04);
+        m
+    }
+
+    #[test]
+    fn a_kept_cursor_gives_the_values_of_a_fresh_one() {
+        let m = drive();
+        let (mut kept, mut kept_velocity) = (VehicleCursor::default(), VehicleCursor::default());
+        let bits = |v: &Vector3<f64>| v.map(f64::to_bits);
+        for k in 0..1600 {
+            let t = k as f64 * 0.01;
+            let fresh = m.at(t, &mut VehicleCursor::default());
+            let again = m.at(t, &mut kept);
+            assert_eq!(bits(&again.velocity_ned), bits(&fresh.velocity_ned), "{t}");
+            assert_eq!(
+                bits(&again.velocity_ned_rate),
+                bits(&fresh.velocity_ned_rate)
+            );
+            assert_eq!(bits(&again.euler_rad), bits(&fresh.euler_rad), "{t}");
+            assert_eq!(bits(&again.euler_rate_rad_s), bits(&fresh.euler_rate_rad_s));
+            assert_eq!(again.yaw_sin_cos, fresh.yaw_sin_cos, "{t}");
+            // The velocity alone, half a step later, as the RK4 asks.
+            let th = t + 0.005;
+            assert_eq!(
+                bits(&m.velocity_ned(th, &mut kept_velocity)),
+                bits(&m.at(th, &mut VehicleCursor::default()).velocity_ned),
+                "{th}"
+            );
+        }
     }
 }

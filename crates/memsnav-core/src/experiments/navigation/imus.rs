@@ -5,6 +5,7 @@
 use crate::random::{self, Rng};
 use crate::sensors::{presets, ImuModel, ImuReadings, ImuSpec};
 use crate::trajectory::Trajectory;
+use crate::validate::SeriesCheck;
 use crate::{Error, Result};
 
 use super::super::calibrate_invert::{InversionProcess, SegmentCalibration};
@@ -98,8 +99,10 @@ pub(super) fn imu_inputs(
     calibration: &SegmentCalibration,
     imu_seed: u64,
 ) -> Result<Vec<ImuInput>> {
-    let mut sensors: Vec<Option<(ImuModel, ImuReadings)>> = Vec::with_capacity(imus.len());
-    let mut inputs = Vec::with_capacity(imus.len());
+    // Per IMU: its sensor, when drawn or fixed (a calibrated IMU reads the
+    // sensor here and its readings in `inputs`, not a copy).
+    let mut sensors: Vec<Option<ImuModel>> = Vec::with_capacity(imus.len());
+    let mut inputs: Vec<ImuInput> = Vec::with_capacity(imus.len());
     for (j, (_, kind)) in imus.iter().enumerate() {
         let mut r: Rng = random::stream(imu_seed, j as u64);
         let input = match kind {
@@ -109,16 +112,22 @@ pub(super) fn imu_inputs(
                     NavigationImu::Fixed(model) => model.as_ref().clone(),
                     NavigationImu::Calibrated { .. } => unreachable!("matched above"),
                 };
-                let readings =
-                    model.measure(&truth.specific_force_b, &truth.angular_rate_b, &mut r)?;
+                // The truth is ours (finite): not checked again.
+                let readings = model.measure_series(
+                    &truth.specific_force_b,
+                    &truth.angular_rate_b,
+                    &mut r,
+                    SeriesCheck::Trusted,
+                )?;
                 let spec = model.spec;
-                sensors.push(Some((model, readings.clone())));
+                sensors.push(Some(model));
                 ImuInput { readings, spec }
             }
             NavigationImu::Calibrated { source } => {
-                let (model, raw) = sensors[*source]
+                let model = sensors[*source]
                     .as_ref()
                     .expect("validated: the source is an earlier raw IMU");
+                let raw = &inputs[*source].readings;
                 let calibrated = calibration.calibrate(model, &motion::land_vehicle, &mut r)?;
                 let input = ImuInput {
                     readings: calibrated.invert(model, raw, &InversionProcess::default())?,

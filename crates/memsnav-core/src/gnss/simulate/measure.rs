@@ -32,23 +32,24 @@ fn light_time(
     rx_pos: &Vector3<f64>,
 ) -> (f64, SatelliteState) {
     let mut tau = 0.07;
-    let mut state = orbit.state_at(rx_gps_s, rx_offset_s - tau);
-    let mut range = 0.0;
-    for _ in 0..12 {
-        state = orbit.state_at(rx_gps_s, rx_offset_s - tau);
+    let mut pass = 0;
+    loop {
+        pass += 1;
+        let state = orbit.state_at(rx_gps_s, rx_offset_s - tau);
         let (s, c) = (EARTH_RATE_RAD_S * tau).sin_cos();
         let p = state.position_ecef;
         let in_rx_frame = Vector3::new(c * p.x + s * p.y, -s * p.x + c * p.y, p.z);
-        range = (in_rx_frame - rx_pos).norm();
+        let range = (in_rx_frame - rx_pos).norm();
         let next = range / SPEED_OF_LIGHT_M_S;
-        let converged = (next - tau).abs() < 1e-15;
-        tau = next;
-        if converged {
-            break;
+        if (next - tau).abs() < 1e-15 || pass == LIGHT_TIME_PASSES {
+            return (range, state);
         }
+        tau = next;
     }
-    (range, state)
 }
+
+/// Most passes of the light-time iteration (it converges in 3-5).
+const LIGHT_TIME_PASSES: usize = 12;
 
 /// The receiver at one epoch.
 pub(super) struct Receiver {

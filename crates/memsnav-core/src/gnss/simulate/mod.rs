@@ -26,7 +26,8 @@ use super::GnssEpoch;
 use crate::gauss_markov::GaussMarkov;
 use crate::geodesy::ecef_to_geodetic;
 use crate::random::Rng;
-use crate::{validate, Error, Result};
+use crate::validate::{self, SeriesCheck};
+use crate::{Error, Result};
 use measure::{MeasurementErrors, Receiver};
 use selection::{elevation, Selection};
 
@@ -214,16 +215,31 @@ pub fn simulate_with_truth(
     config: &SimulationConfig,
     rng: &mut Rng,
 ) -> Result<GnssSimulation> {
+    simulate_track(track, constellation, config, rng, SeriesCheck::Finite)
+}
+
+/// [`simulate_with_truth`] with the track's times and vectors checked as
+/// `check` says ([`SeriesCheck::Trusted`]: a trajectory this crate
+/// generated, increasing and finite by construction).
+pub(crate) fn simulate_track(
+    track: &ReceiverTrack<'_>,
+    constellation: &Constellation,
+    config: &SimulationConfig,
+    rng: &mut Rng,
+    check: SeriesCheck,
+) -> Result<GnssSimulation> {
     config.validate()?;
     let n = track.time_s.len();
     if n == 0 {
         return Err(Error::invalid("time", "must hold at least one sample"));
     }
-    validate::increasing_times("time", track.time_s)?;
     validate::same_length("position_ecef", track.position_ecef.len(), "time", n)?;
     validate::same_length("velocity_ecef", track.velocity_ecef.len(), "time", n)?;
-    validate::finite_vectors("position_ecef", track.position_ecef)?;
-    validate::finite_vectors("velocity_ecef", track.velocity_ecef)?;
+    if check == SeriesCheck::Finite {
+        validate::increasing_times("time", track.time_s)?;
+        validate::finite_vectors("position_ecef", track.position_ecef)?;
+        validate::finite_vectors("velocity_ecef", track.velocity_ecef)?;
+    }
     if constellation.is_empty() {
         return Err(Error::invalid("constellation", "has no satellites"));
     }
@@ -241,6 +257,7 @@ pub fn simulate_with_truth(
     let n_sat = constellation.len();
     let mut elevations = vec![f64::NAN; n_sat];
     let mut approx_los = vec![Vector3::zeros(); n_sat];
+    let mut positions = Vec::with_capacity(n_sat);
     let mut selection = Selection::default();
     let mut errors = MeasurementErrors::new(
         config.pseudorange_std_m,
@@ -274,11 +291,12 @@ pub fn simulate_with_truth(
         let (sl, cl) = g.latitude_rad.sin_cos();
         let (so, co) = g.longitude_rad.sin_cos();
         let up = Vector3::new(cl * co, cl * so, sl);
-        for i in 0..n_sat {
-            match constellation.state(i, receiver.gps_time_s) {
-                Some(st) => {
-                    elevations[i] = elevation(&st.position_ecef, &rx, &up);
-                    approx_los[i] = (st.position_ecef - rx).normalize();
+        constellation.positions_into(receiver.gps_time_s, &mut positions);
+        for (i, position) in positions.iter().enumerate() {
+            match position {
+                Some(p) => {
+                    elevations[i] = elevation(p, &rx, &up);
+                    approx_los[i] = (p - rx).normalize();
                 }
                 None => elevations[i] = f64::NAN,
             }
