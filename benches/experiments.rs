@@ -145,43 +145,45 @@ fn monte_carlo(c: &mut Criterion) {
     }
     g.finish();
 
-    let mut g = c.benchmark_group("navigation_experiment_600s_3imus");
+    navigation_group(
+        c,
+        "navigation_experiment_600s_3imus",
+        NavigationExperimentConfig {
+            runs: 4,
+            seed: SEED,
+            ..Default::default()
+        },
+    );
+    // The whole-run figure: the raw MEMS IMU alone, as
+    // `experiments.navigation(runs=8, imus=["mems"])` (the `nav_run`
+    // example times the same set outside criterion).
+    navigation_group(
+        c,
+        "navigation_experiment_600s_mems",
+        NavigationExperimentConfig {
+            runs: 8,
+            seed: SEED,
+            imus: paper_imus()
+                .into_iter()
+                .filter(|(name, _)| name == "mems")
+                .collect(),
+            ..Default::default()
+        },
+    );
+}
+
+/// One navigation Monte Carlo set of `config` on 1 and on 2 threads
+/// (throughput in runs).
+fn navigation_group(c: &mut Criterion, name: &str, config: NavigationExperimentConfig) {
+    let mut g = c.benchmark_group(name);
     g.sample_size(10);
     g.measurement_time(Duration::from_secs(8));
-    let runs = 4;
-    g.throughput(Throughput::Elements(runs as u64));
-    let config = NavigationExperimentConfig {
-        runs,
-        seed: SEED,
-        ..Default::default()
-    };
+    g.throughput(Throughput::Elements(config.runs as u64));
     for t in [1, 2] {
         g.bench_function(format!("threads_{t}"), |b| {
             b.iter(|| navigation_experiment(&config, &threads(t)).unwrap())
         });
     }
-    g.finish();
-
-    // The whole-run figure: the raw MEMS IMU alone, as
-    // `experiments.navigation(runs=8, imus=["mems"], threads=1)` (the
-    // `nav_run` example times the same set outside criterion).
-    let mut g = c.benchmark_group("navigation_experiment_600s_mems");
-    g.sample_size(10);
-    g.measurement_time(Duration::from_secs(8));
-    let runs = 8;
-    g.throughput(Throughput::Elements(runs as u64));
-    let config = NavigationExperimentConfig {
-        runs,
-        seed: SEED,
-        imus: paper_imus()
-            .into_iter()
-            .filter(|(name, _)| name == "mems")
-            .collect(),
-        ..Default::default()
-    };
-    g.bench_function("threads_1", |b| {
-        b.iter(|| navigation_experiment(&config, &threads(1)).unwrap())
-    });
     g.finish();
 }
 
