@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use memsnav_benches::TightScenario;
-use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed};
+use memsnav_core::coupling::run_tightly_coupled;
 use memsnav_core::filter::state::{BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY};
 use memsnav_core::filter::{ErrorStateKf, ProcessNoise, SparseRow, SystemInputs};
 use memsnav_core::gnss;
@@ -137,36 +137,15 @@ fn gnss_updates(c: &mut Criterion) {
 /// Python `TightlyCoupledFilter.run` returns).
 fn tight_run(c: &mut Criterion) {
     let sc = TightScenario::new(600.0, 6);
-    let imu = sc.imu();
     let mut g = c.benchmark_group("tight_600s_6sat");
     g.sample_size(10);
     g.measurement_time(Duration::from_secs(4));
     g.throughput(Throughput::Elements(sc.imu_epochs() as u64));
-    g.bench_function("records_only", |b| {
-        b.iter(|| {
-            run_tightly_coupled::<BASE_STATES, _>(
-                &imu,
-                &sc.epochs,
-                &sc.initial,
-                &sc.tuning,
-                |_, _| {},
-            )
-            .unwrap()
-        })
-    });
-    g.bench_function("solution", |b| {
-        b.iter(|| {
-            tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning).unwrap()
-        })
-    });
+    g.bench_function("records_only", |b| b.iter(|| sc.run_records_only()));
+    g.bench_function("solution", |b| b.iter(|| sc.run_solution()));
     // Forward (recording for the smoother) and backward pass: issue 12 asks
     // that the smoother add at most twice the forward `solution` time.
-    g.bench_function("solution_and_smoothed", |b| {
-        b.iter(|| {
-            tightly_coupled_smoothed::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
-                .unwrap()
-        })
-    });
+    g.bench_function("solution_and_smoothed", |b| b.iter(|| sc.run_smoothed()));
     g.finish();
 }
 

@@ -5,7 +5,11 @@
 //! Every input is drawn from a fixed seed, so two runs of a bench time the
 //! same arithmetic.
 
-use memsnav_core::coupling::{initial_state_from_fix, FilterTuning, ImuData, InitialState};
+use memsnav_core::coupling::{
+    initial_state_from_fix, run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed,
+    FilterTuning, ImuData, InitialState, Solution,
+};
+use memsnav_core::filter::state::BASE_STATES;
 use memsnav_core::gnss::{
     self, Constellation, GnssEpoch, ReceiverTrack, SimulationConfig, WalkerConfig,
 };
@@ -95,5 +99,35 @@ impl TightScenario {
     /// IMU epochs (samples) in the run.
     pub fn imu_epochs(&self) -> usize {
         self.truth.time_s.len()
+    }
+
+    /// The 17-state tight filter over the run with an empty observer
+    /// (nothing stored per sample).
+    pub fn run_records_only(&self) {
+        run_tightly_coupled::<BASE_STATES, _>(
+            &self.imu(),
+            &self.epochs,
+            &self.initial,
+            &self.tuning,
+            |_, _| {},
+        )
+        .expect("the reference run");
+    }
+
+    /// The 17-state tight filter's whole solution (what the Python API returns).
+    pub fn run_solution(&self) -> Solution {
+        tightly_coupled::<BASE_STATES>(&self.imu(), &self.epochs, &self.initial, &self.tuning)
+            .expect("the reference run")
+    }
+
+    /// The forward solution and the smoothed one (`smooth=True`).
+    pub fn run_smoothed(&self) -> (Solution, Solution) {
+        tightly_coupled_smoothed::<BASE_STATES>(
+            &self.imu(),
+            &self.epochs,
+            &self.initial,
+            &self.tuning,
+        )
+        .expect("the reference run")
     }
 }

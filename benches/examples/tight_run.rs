@@ -10,8 +10,6 @@
 use std::time::Instant;
 
 use memsnav_benches::TightScenario;
-use memsnav_core::coupling::{run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed};
-use memsnav_core::filter::state::BASE_STATES;
 
 const SERIES: [&str; 3] = ["records", "solution", "smoothed"];
 
@@ -28,26 +26,10 @@ fn main() {
         );
     }
     let sc = TightScenario::new(600.0, 6);
-    let imu = sc.imu();
     let run = |name: &str| match name {
-        "records" => {
-            run_tightly_coupled::<BASE_STATES, _>(
-                &imu,
-                &sc.epochs,
-                &sc.initial,
-                &sc.tuning,
-                |_, _| {},
-            )
-            .expect("the reference run");
-        }
-        "solution" => {
-            tightly_coupled::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
-                .expect("the reference run");
-        }
-        _ => {
-            tightly_coupled_smoothed::<BASE_STATES>(&imu, &sc.epochs, &sc.initial, &sc.tuning)
-                .expect("the reference run");
-        }
+        "records" => sc.run_records_only(),
+        "solution" => drop(sc.run_solution()),
+        _ => drop(sc.run_smoothed()),
     };
     let names: Vec<&str> = SERIES
         .into_iter()

@@ -67,11 +67,7 @@ fn run_tight(
     rng: &mut Rng,
 ) -> Run {
     let readings = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &readings.specific_force_b,
-        angular_rate_b: &readings.angular_rate_b,
-    };
+    let data = imu_data(truth, &readings.specific_force_b, &readings.angular_rate_b);
     let mut nees_1hz = Vec::new();
     let mut position_error = Vec::with_capacity(truth.time_s.len());
     let rate = imu.sample_rate_hz.round() as usize;
@@ -149,11 +145,7 @@ fn outliers_are_rejected_and_counted() {
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
     let mut epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &f,
-        angular_rate_b: &w,
-    };
+    let data = imu_data(&truth, &f, &w);
     let clean = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let clean_rejections = clean.rejected().count();
     let hit = epochs[30].measurements[2].sat_id;
@@ -229,11 +221,7 @@ fn tight_coupling_survives_three_satellites() {
     let epochs = gnss_for(&truth, &config, &mut rng);
     assert_eq!(epochs[100].measurements.len(), 3);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &f,
-        angular_rate_b: &w,
-    };
+    let data = imu_data(&truth, &f, &w);
     let init = exact_initial(&truth);
     let tight = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
     let fixes: Vec<PositionFix> = epochs
@@ -296,11 +284,7 @@ fn outage_drift_follows_half_b_t_squared() {
         .zip(&truth.time_s)
         .map(|(f, t)| if *t > 120.0 { f + step } else { *f })
         .collect();
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &f,
-        angular_rate_b: &truth.w_b,
-    };
+    let data = imu_data(&truth, &f, &truth.w_b);
     let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let k0 = 12000;
     let drift = |k: usize| {
@@ -350,11 +334,7 @@ fn solution_blocks_are_the_filters_covariance() {
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
     let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &f,
-        angular_rate_b: &w,
-    };
+    let data = imu_data(&truth, &f, &w);
     let init = exact_initial(&truth);
     let mut ps = Vec::new();
     run_tightly_coupled::<17, _>(&data, &epochs, &init, &tuning, |_, s| ps.push(s.kf.p)).unwrap();
@@ -395,11 +375,7 @@ fn covariance_stays_positive_definite_over_two_hours() {
     let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
     let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &f,
-        angular_rate_b: &w,
-    };
+    let data = imu_data(&truth, &f, &w);
     let mut worst: f64 = 0.0;
     let mut last_p = None;
     let start = std::time::Instant::now();
@@ -430,11 +406,7 @@ fn bad_input_is_a_clear_error() {
         FilterTuning::from_imu_spec(&bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4), 100.0, false)
             .unwrap();
     let init = exact_initial(&truth);
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &truth.f_b,
-        angular_rate_b: &truth.w_b,
-    };
+    let data = imu_data(&truth, &truth.f_b, &truth.w_b);
     let msg = |r: Result<Solution, Error>| match r {
         Err(Error::InvalidArgument { argument, reason }) => format!("{argument}: {reason}"),
         other => panic!("expected InvalidArgument, got {other:?}"),

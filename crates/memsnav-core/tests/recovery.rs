@@ -51,11 +51,7 @@ fn scenario(outages: Vec<Outage>, seed: u64) -> Scenario {
 
 impl Scenario {
     fn imu(&self) -> ImuData<'_> {
-        ImuData {
-            time_s: &self.truth.time_s,
-            specific_force_b: &self.f,
-            angular_rate_b: &self.w,
-        }
+        imu_data(&self.truth, &self.f, &self.w)
     }
 
     fn tight(&self, epochs: &[GnssEpoch], tuning: &FilterTuning) -> Solution {

@@ -48,11 +48,7 @@ fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
     };
     let epochs = gnss_for(&truth, &config, &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &f,
-        angular_rate_b: &w,
-    };
+    let data = imu_data(&truth, &f, &w);
     let initial = exact_initial(&truth);
     let (forward, smoothed) = if loose {
         let fixes: Vec<PositionFix> = epochs

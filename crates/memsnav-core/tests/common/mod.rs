@@ -4,7 +4,7 @@
 
 #![allow(dead_code)]
 
-use memsnav_core::coupling::InitialState;
+use memsnav_core::coupling::{ImuData, InitialState};
 use memsnav_core::geodesy::wgs84::EARTH_RATE_RAD_S;
 use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, Geodetic};
 use memsnav_core::gnss::{
@@ -160,6 +160,15 @@ pub fn readings(
 ) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
     let r = imu.measure(&truth.f_b, &truth.w_b, rng).unwrap();
     (r.specific_force_b, r.angular_rate_b)
+}
+
+/// The IMU series the filters read: the truth's times with readings `f`, `w`.
+pub fn imu_data<'a>(truth: &'a Truth, f: &'a [Vector3<f64>], w: &'a [Vector3<f64>]) -> ImuData<'a> {
+    ImuData {
+        time_s: &truth.time_s,
+        specific_force_b: f,
+        angular_rate_b: w,
+    }
 }
 
 pub fn exact_initial(truth: &Truth) -> InitialState {
