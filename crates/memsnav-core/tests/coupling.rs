@@ -81,7 +81,10 @@ fn run_tight(
     })
     .unwrap();
     let _ = position_error;
-    Run { nees_1hz, records }
+    Run {
+        nees_1hz,
+        records: records.measurements,
+    }
 }
 
 /// Mean NEES/dof over 10 seeded runs of 120 s within its chi-square 95 %

@@ -333,6 +333,44 @@ fn predicted_range_matches_the_simulators_light_time() {
     }
 }
 
+/// The rate's position gradient (the line of sight turning with the
+/// receiver, issue 23) against a central difference of the predicted rate,
+/// for the satellites above a moving receiver: to what it leaves out, the
+/// light-time factor (1e-5 relative) and the Earth's turn during the light
+/// time's change with position (ω_ie |v_s| / c ≈ 1e-9 per metre).
+#[test]
+fn range_rate_position_gradient_is_the_derivative_of_the_rate() {
+    let rx = geodetic_to_ecef(Geodetic::new(0.76, 0.025, 150.0));
+    let rx_vel = Vector3::new(12.0, -25.0, 3.0);
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    let mut checked = 0;
+    let (positions, velocities) = sky.position_velocity(1_000_000_000.0).unwrap();
+    for (sat_pos, sat_vel) in positions.iter().zip(&velocities) {
+        let p = predicted_range(sat_pos, sat_vel, &rx, &rx_vel);
+        if p.line_of_sight_ecef.dot(&rx.normalize()) < 0.0 {
+            continue; // below the horizon
+        }
+        let h = 10.0;
+        for k in 0..3 {
+            let mut d = Vector3::zeros();
+            d[k] = h;
+            let rate =
+                |r: Vector3<f64>| predicted_range(sat_pos, sat_vel, &r, &rx_vel).range_rate_m_s;
+            let numerical = (rate(rx + d) - rate(rx - d)) / (2.0 * h);
+            let analytic = p.range_rate_position_gradient[k];
+            assert!(
+                (numerical - analytic).abs() < 1e-5 * analytic.abs() + 2e-9,
+                "axis {k}: {analytic} vs {numerical}"
+            );
+        }
+        // The size the filter's row doc gives: about 1e-4 per metre.
+        let g = p.range_rate_position_gradient.norm();
+        assert!((2e-5..4e-4).contains(&g), "{g}");
+        checked += 1;
+    }
+    assert!(checked >= 4, "{checked}");
+}
+
 #[test]
 fn sagnac_correction_has_the_textbook_size() {
     // The first-order Sagnac term ω_ie (x_s y_a − y_s x_a) / c (Groves eq.

@@ -100,9 +100,12 @@ fn resets_of(sol: &Solution, kind: ResetKind) -> Vec<&ResetRecord> {
 }
 
 /// A 10-minute total outage: the consumer IMU coasts kilometres away; the
-/// first epochs after it fail their test, the filter resets to the fix and
-/// is back to metres (tight: final error < 20 m, the issue's bar; here it
-/// is a few metres).
+/// tight filter's first epochs after it fail their test, it resets to the
+/// fix and is back to metres (final error < 20 m, the issue's bar; here it
+/// is a few metres). The loose filter's covariance has grown with the
+/// drift (issue 23: the unmodelled sensor errors as input-shaped noise,
+/// the bias no longer forgotten), so its first fix passes the gate, with
+/// or without a reset; either way it is back within 10 m.
 #[test]
 fn tight_and_loose_recover_from_a_ten_minute_outage() {
     let outage = Outage {
@@ -139,8 +142,17 @@ fn tight_and_loose_recover_from_a_ten_minute_outage() {
     let loose =
         loosely_coupled::<BASE_STATES>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
             .unwrap();
-    println!("loose: final error {:.2} m", s.error_at(&loose, 900.0));
-    assert!(!resets_of(&loose, ResetKind::PositionToFix).is_empty());
+    println!(
+        "loose: final error {:.2} m, resets {}",
+        s.error_at(&loose, 900.0),
+        loose.resets.len()
+    );
+    let first_after = loose
+        .batches
+        .iter()
+        .find(|b| b.time_s >= 750.0)
+        .expect("fixes after the outage");
+    assert!(first_after.accepted || !resets_of(&loose, ResetKind::PositionToFix).is_empty());
     assert!(s.max_error_after(&loose, 800.0) < 10.0);
 }
 

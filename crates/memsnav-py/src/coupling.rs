@@ -6,7 +6,8 @@ use std::borrow::Cow;
 
 use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, ImuData,
-    InitialState, MeasurementRecord, MeasurementStatus, PositionFix, ResetRecord, Solution,
+    InitialState, Integrity, MeasurementRecord, MeasurementStatus, PositionFix, ResetRecord,
+    Solution,
 };
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
@@ -16,7 +17,7 @@ use nalgebra::{Matrix3, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use crate::convert;
 use crate::errors::IntoPyResult;
@@ -385,6 +386,36 @@ pub(crate) fn resets_to_dict<'py>(
     Ok(d)
 }
 
+/// A run's integrity as a dict (see `PyFilterSolution::integrity`).
+pub(crate) fn integrity_to_dict<'py>(
+    py: Python<'py>,
+    integrity: &Integrity,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("diverged", integrity.diverged())?;
+    let alerts = PyList::empty(py);
+    for a in &integrity.alerts {
+        let item = PyDict::new(py);
+        item.set_item("kind", a.name())?;
+        item.set_item("time", a.time_s())?;
+        item.set_item("message", a.message())?;
+        alerts.append(item)?;
+    }
+    d.set_item("alerts", alerts)?;
+    let consistency = PyList::empty(py);
+    for c in &integrity.consistency {
+        let item = PyDict::new(py);
+        item.set_item("kind", c.kind.name())?;
+        item.set_item("windows", c.windows)?;
+        item.set_item("above_band", c.above_band)?;
+        item.set_item("max_band_ratio", c.max_band_ratio)?;
+        item.set_item("max_at", c.max_at_s)?;
+        consistency.append(item)?;
+    }
+    d.set_item("consistency", consistency)?;
+    Ok(d)
+}
+
 /// The whole solution of a coupled filter run.
 #[pyclass(name = "FilterSolution", module = "memsnav._memsnav", frozen)]
 pub struct PyFilterSolution {
@@ -585,7 +616,19 @@ impl PyFilterSolution {
             "accepted",
             PyArray1::from_iter(py, b.iter().map(|r| r.accepted)),
         )?;
+        d.set_item(
+            "nonlinearity",
+            PyArray1::from_iter(py, b.iter().map(|r| r.nonlinearity)),
+        )?;
         Ok(d)
+    }
+    /// Whether the solution can be trusted (`coupling::integrity`): a dict
+    /// with `diverged` (bool), `alerts` (list of dicts `kind`, `time`,
+    /// `message`, in time order) and `consistency` (per GNSS kind: `kind`,
+    /// `windows`, `above_band`, `max_band_ratio`, `max_at`).
+    #[getter]
+    fn integrity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        integrity_to_dict(py, &self.inner.integrity)
     }
     /// Every reset the filter made (position or velocity to a fix, clock
     /// jumps, covariance inflation, heading alignment): dict of arrays
@@ -613,11 +656,13 @@ impl PyFilterSolution {
     fn warnings(&self) -> Vec<String> {
         self.inner.warnings.clone()
     }
-    /// Whether the filter diverged from its GNSS aiding (most GNSS batches
-    /// failing their gate over the run; see `warnings`).
+    /// Whether the run raised an integrity alert: its solution and
+    /// covariance are not trustworthy (GNSS batches mostly gated,
+    /// innovations far outside their chi-square band, or a position too
+    /// uncertain for the linearised model; see `integrity` and `warnings`).
     #[getter]
     fn diverged(&self) -> bool {
-        memsnav_core::coupling::divergence_warning(&self.inner.batches).is_some()
+        self.inner.integrity.diverged()
     }
     fn __len__(&self) -> usize {
         self.inner.time_s.len()

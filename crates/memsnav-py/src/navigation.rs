@@ -121,6 +121,10 @@ fn imu_outcome<'py>(
             rows(py, &o.position_error_percentiles, epochs)?,
         )?;
         e.set_item("nees_mean", PyArray1::from_slice(py, &o.nees_mean))?;
+        e.set_item(
+            "position_nees_mean",
+            PyArray1::from_slice(py, &o.position_nees_mean),
+        )?;
         if o.position_error_runs.is_empty() {
             e.set_item("position_error_runs", py.None())?;
             e.set_item("nees_runs", py.None())?;
@@ -158,6 +162,14 @@ fn imu_outcome<'py>(
         e.set_item(
             "run_mean_nees_per_dof",
             PyArray1::from_slice(py, &o.run_mean_nees_per_dof),
+        )?;
+        e.set_item(
+            "run_position_nees_per_dof_at_outage_end",
+            PyArray1::from_slice(py, &o.run_position_nees_per_dof_at_outage_end),
+        )?;
+        e.set_item(
+            "run_diverged",
+            PyArray1::from_iter(py, o.run_diverged.iter().copied()),
         )?;
         e.set_item(
             "run_rejected",

@@ -104,7 +104,8 @@ class NavigationResult:
       estimates) over runs of the position error norm |r_hat - r| per epoch.
     - ``nees_mean``: per IMU, the mean over runs of the NEES per epoch
       (position, velocity, attitude: 9 degrees of freedom; 9 when the
-      filter is consistent).
+      filter is consistent); ``position_nees_mean``: the same for the
+      position alone (3 degrees of freedom).
     - ``position_error`` / ``nees``: per IMU, ``(runs, T)`` arrays of every
       run, kept when ``keep_runs=True`` or ``runs <= 50``; otherwise
       ``None`` (the set is then folded run by run in bounded memory).
@@ -115,8 +116,12 @@ class NavigationResult:
       NaN without outage), ``at_outage_end`` and
       ``horizontal_at_outage_end`` (m, the error norm and its horizontal
       part at the last epoch of the outage, NaN without outage),
-      ``mean_nees_per_dof``, ``rejected`` (count), ``accepted`` (count of
-      scalar measurements applied).
+      ``mean_nees_per_dof``, ``position_nees_per_dof_at_outage_end``
+      (position NEES / 3 at the last epoch of the outage, NaN without
+      outage), ``diverged`` (bool: the run raised an integrity alert, its
+      solution flagged as not trustworthy; see ``FilterSolution.integrity``),
+      ``rejected`` (count), ``accepted`` (count of scalar measurements
+      applied).
     - ``smoothed``: with ``smooth=True``, the same result for the
       fixed-interval smoothed solution of every filter (its NEES is NaN:
       the smoother keeps the diagonal blocks of the covariance only);
@@ -131,6 +136,7 @@ class NavigationResult:
     std: dict[str, npt.NDArray[np.float64]]
     percentiles: dict[str, npt.NDArray[np.float64]]
     nees_mean: dict[str, npt.NDArray[np.float64]]
+    position_nees_mean: dict[str, npt.NDArray[np.float64]]
     position_error: dict[str, npt.NDArray[np.float64]] | None
     nees: dict[str, npt.NDArray[np.float64]] | None
     runs_summary: dict[str, dict[str, npt.NDArray[Any]]]
@@ -172,8 +178,12 @@ class NavigationResult:
             "final_position_error_m": runs["final"],
             "mean_nees_per_dof": runs["mean_nees_per_dof"],
             "rejected_measurements_per_run": runs["rejected"].astype(float),
+            "diverged_share": runs["diverged"].astype(float),
         }
         if self.config.get("outage") is not None:
+            out["position_nees_per_dof_at_outage_end"] = runs[
+                "position_nees_per_dof_at_outage_end"
+            ]
             out["mean_max_position_error_during_outage_m"] = runs["max_in_outage"]
             out["mean_max_horizontal_error_during_outage_m"] = runs["max_horizontal_in_outage"]
             out["mean_max_vertical_error_during_outage_m"] = runs["max_vertical_in_outage"]
@@ -192,6 +202,8 @@ class NavigationResult:
           (≈ 1 for a consistent filter);
         - ``rejected_measurements_per_run``: mean count of gated/invalid
           measurements;
+        - ``diverged_share``: the share of runs that raised an integrity
+          alert (their solution flagged as not trustworthy);
         - with an outage: ``max_position_error_during_outage_m`` (maximum over
           the outage of the mean-over-runs error curve, what figs 16-18 show;
           its standard error is the runs' spread at that epoch over √runs),
@@ -200,7 +212,9 @@ class NavigationResult:
           ``mean_max_vertical_error_during_outage_m`` the same for the
           horizontal and vertical parts of the error in local NED) and
           ``position_error_at_outage_end_m`` (mean curve at
-          the last epoch of the outage, before GNSS returns). The outage
+          the last epoch of the outage, before GNSS returns) and
+          ``position_nees_per_dof_at_outage_end`` (the Monte Carlo position
+          NEES / 3 there: 1 for a covariance that matches the errors). The outage
           covers the epochs in [start, start + length).
 
         Standard errors of RMS figures follow from those of the mean squares
@@ -488,6 +502,9 @@ def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> Navigatio
             n: e["position_error_percentiles"] for n, e in zip(names, entries, strict=True)
         },
         nees_mean={n: e["nees_mean"] for n, e in zip(names, entries, strict=True)},
+        position_nees_mean={
+            n: e["position_nees_mean"] for n, e in zip(names, entries, strict=True)
+        },
         position_error=(
             {n: e["position_error_runs"] for n, e in zip(names, entries, strict=True)}
             if kept
@@ -506,6 +523,10 @@ def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> Navigatio
                 "at_outage_end": e["run_at_outage_end"],
                 "horizontal_at_outage_end": e["run_horizontal_at_outage_end"],
                 "mean_nees_per_dof": e["run_mean_nees_per_dof"],
+                "position_nees_per_dof_at_outage_end": e[
+                    "run_position_nees_per_dof_at_outage_end"
+                ],
+                "diverged": e["run_diverged"],
                 "rejected": e["run_rejected"],
                 "accepted": e["run_accepted"],
             }

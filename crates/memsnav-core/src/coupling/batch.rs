@@ -33,6 +33,8 @@ pub(crate) struct Batch {
     /// Innovation and its variance against the prior, per measurement.
     prior: Vec<(f64, f64)>,
     scratch: Vec<f64>,
+    /// The largest nonlinearity of its measurements (NaN: none noted).
+    nonlinearity: Option<f64>,
 }
 
 impl Batch {
@@ -46,6 +48,13 @@ impl Batch {
         self.active.clear();
         self.outcomes.clear();
         self.prior.clear();
+        self.nonlinearity = None;
+    }
+
+    /// Notes the nonlinearity of a staged measurement (see
+    /// [`BatchRecord::nonlinearity`]); the batch records the largest.
+    pub(crate) fn note_nonlinearity(&mut self, value: f64) {
+        self.nonlinearity = Some(self.nonlinearity.map_or(value, |v| v.max(value)));
     }
 
     fn active_count(&self) -> usize {
@@ -218,6 +227,7 @@ impl<const N: usize> FilterState<N> {
             threshold: self.threshold(dof),
             excluded,
             accepted,
+            nonlinearity: self.staged.nonlinearity.unwrap_or(f64::NAN),
         });
         let b = &self.staged;
         for i in 0..b.len() {

@@ -1,12 +1,11 @@
 //! Warnings a run attaches to its [`Solution`] (issue 15): IMU data whose
-//! magnitudes do not fit the declared SI units, and a filter whose GNSS
-//! innovations stay far outside their covariance (divergence). They are
-//! warnings, not errors: the run's output is still returned, and the
-//! bindings raise each as a Python `UserWarning`.
+//! magnitudes do not fit the declared SI units, and the integrity alerts of
+//! [`super::integrity`] (a filter whose solution can no longer be trusted).
+//! They are warnings, not errors: the run's output is still returned, and
+//! the bindings raise each as a Python `UserWarning`.
 
 use nalgebra::Vector3;
 
-use super::records::{BatchRecord, MeasurementKind};
 use super::Solution;
 
 /// Share of samples whose |ω| may exceed [`RATE_LIMIT_RAD_S`] before the
@@ -53,61 +52,10 @@ pub fn imu_unit_warnings(
     out
 }
 
-/// A GNSS batch kind (the aiding whose innovations test the solution).
-fn is_gnss(kind: MeasurementKind) -> bool {
-    matches!(
-        kind,
-        MeasurementKind::Pseudorange
-            | MeasurementKind::PseudorangeRate
-            | MeasurementKind::Position
-            | MeasurementKind::Velocity
-    )
-}
-
-/// Share of GNSS batches that may fail their gate before a run counts as
-/// divergent (a consistent filter fails 1 − gate probability of them).
-pub const DIVERGENCE_REJECTED_SHARE: f64 = 0.25;
-/// ... and how many at least, over how long at least (s).
-pub const DIVERGENCE_MIN_REJECTED: usize = 10;
-/// See [`DIVERGENCE_MIN_REJECTED`].
-pub const DIVERGENCE_MIN_SPAN_S: f64 = 10.0;
-
-/// The divergence warning of a run, when its GNSS innovations stay far
-/// outside their covariance: at least [`DIVERGENCE_REJECTED_SHARE`] of the
-/// GNSS batches (and [`DIVERGENCE_MIN_REJECTED`], spread over
-/// [`DIVERGENCE_MIN_SPAN_S`]) fail their chi-square gate.
-pub fn divergence_warning(batches: &[BatchRecord]) -> Option<String> {
-    let gnss: Vec<&BatchRecord> = batches.iter().filter(|b| is_gnss(b.kind)).collect();
-    let rejected: Vec<&&BatchRecord> = gnss.iter().filter(|b| !b.accepted).collect();
-    let (first, last) = (rejected.first()?, rejected.last()?);
-    let share = rejected.len() as f64 / gnss.len() as f64;
-    let span = last.time_s - first.time_s;
-    if share < DIVERGENCE_REJECTED_SHARE
-        || rejected.len() < DIVERGENCE_MIN_REJECTED
-        || span < DIVERGENCE_MIN_SPAN_S
-    {
-        return None;
-    }
-    let mut ratios: Vec<f64> = rejected
-        .iter()
-        .map(|b| b.nis / b.threshold)
-        .filter(|r| r.is_finite())
-        .collect();
-    ratios.sort_by(f64::total_cmp);
-    let median_ratio = ratios.get(ratios.len() / 2).copied().unwrap_or(f64::NAN);
-    Some(format!(
-        "the filter diverged from its GNSS aiding: {} of {} GNSS batches ({:.0} %) failed their chi-square gate between t = {:.1} s and {:.1} s (median NIS {median_ratio:.3e} times the gate): the solution and its covariance are not trustworthy; check the GNSS input (offsets, outliers, units) and the IMU units",
-        rejected.len(),
-        gnss.len(),
-        100.0 * share,
-        first.time_s,
-        last.time_s
-    ))
-}
-
 /// Appends the run's warnings to `solution.warnings`: the IMU units (the
-/// argument names the caller's), then divergence (from the records, so
-/// after `take_records`).
+/// argument names the caller's), then its integrity alerts
+/// ([`super::integrity`], from the records, so after `take_records`),
+/// which it also keeps in `solution.integrity`.
 pub(crate) fn diagnose(
     solution: &mut Solution,
     specific_force: (&str, &[Vector3<f64>]),
@@ -119,7 +67,8 @@ pub(crate) fn diagnose(
         angular_rate.0,
         angular_rate.1,
     );
-    w.extend(divergence_warning(&solution.batches));
+    solution.integrity = super::integrity::assess(&solution.batches);
+    w.extend(solution.integrity.alerts.iter().map(|a| a.message()));
     solution.warnings.extend(w);
 }
 
@@ -151,18 +100,6 @@ fn median(values: impl Iterator<Item = f64>) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn batch(t: f64, accepted: bool) -> BatchRecord {
-        BatchRecord {
-            time_s: t,
-            kind: MeasurementKind::Position,
-            nis: if accepted { 2.0 } else { 1e12 },
-            dof: 3,
-            threshold: 16.3,
-            excluded: 0,
-            accepted,
-        }
-    }
 
     /// The count agrees with the median itself, also at the bounds, for
     /// odd and even lengths, with ties and non-finite values.
@@ -206,17 +143,5 @@ mod tests {
         assert!(
             w[0].starts_with("w: 100 % of the samples") && w[0].contains("deg/s given as rad/s")
         );
-    }
-
-    #[test]
-    fn divergence_needs_a_sustained_share_of_gated_batches() {
-        let ok: Vec<_> = (0..100).map(|k| batch(k as f64, k % 20 != 0)).collect();
-        assert_eq!(divergence_warning(&ok), None);
-        let bad: Vec<_> = (0..100).map(|k| batch(k as f64, k < 10)).collect();
-        let w = divergence_warning(&bad).expect("diverged");
-        assert!(w.contains("90 of 100 GNSS batches (90 %)"), "{w}");
-        // A short burst (5 s) is not divergence.
-        let burst: Vec<_> = (0..20).map(|k| batch(k as f64 * 0.5, k >= 10)).collect();
-        assert_eq!(divergence_warning(&burst), None);
     }
 }

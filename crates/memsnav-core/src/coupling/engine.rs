@@ -15,7 +15,7 @@ use crate::filter::state::{
     GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
-use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
 use crate::ins::{self, ImuSample, NavState};
 use crate::{validate, Error, Result};
 
@@ -160,6 +160,11 @@ impl<const N: usize> FilterState<N> {
     pub fn new(init: &InitialState, tuning: &FilterTuning) -> Result<Self> {
         init.validate()?;
         tuning.validate()?;
+        // The specific force at rest in the initial attitude is the one whose
+        // errors the bias states absorb (`filter::input_noise`).
+        let mut tuning = *tuning;
+        tuning.process_noise.input_errors.reference_specific_force_b =
+            -init.nav.c_b_e.transpose() * gravity_ecef(&init.nav.position_ecef);
         let layout = Layout::for_size::<N>();
         let s = &tuning.initial_std;
         let mut p0 = SMatrix::<f64, N, N>::zeros();
@@ -201,7 +206,7 @@ impl<const N: usize> FilterState<N> {
             ),
             slots: RangeBiasSlots::default(),
             kf: ErrorStateKf::new(p0).map_err(|e| initial_uncertainty_error(e, s))?,
-            tuning: *tuning,
+            tuning,
             last_sample: ImuSample {
                 specific_force_b: Vector3::zeros(),
                 angular_rate_b: Vector3::zeros(),
@@ -283,6 +288,15 @@ impl<const N: usize> FilterState<N> {
         }
         self.kf.x = crate::filter::ErrorState::zero();
         self.kf.check_health(time_s)
+    }
+
+    /// Moves out what the run recorded (measurements, batches, resets).
+    pub fn take_records(&mut self) -> super::records::RunRecords {
+        super::records::RunRecords {
+            measurements: std::mem::take(&mut self.records),
+            batches: std::mem::take(&mut self.batches),
+            resets: std::mem::take(&mut self.resets),
+        }
     }
 
     /// The tuning the filter runs with.
@@ -505,9 +519,12 @@ pub struct Solution {
     pub batches: Vec<BatchRecord>,
     /// Every reset.
     pub resets: Vec<ResetRecord>,
-    /// What the run found implausible (IMU units, divergence from the GNSS
-    /// aiding; see `coupling::diagnostics`), one sentence each.
+    /// What the run found implausible (IMU units, the integrity alerts;
+    /// see `coupling::diagnostics`), one sentence each.
     pub warnings: Vec<String>,
+    /// Whether the solution can be trusted: innovation consistency per GNSS
+    /// kind and the alerts ([`super::integrity`]).
+    pub integrity: super::integrity::Integrity,
 }
 
 impl Solution {
@@ -535,6 +552,7 @@ impl Solution {
             batches: Vec::new(),
             resets: Vec::new(),
             warnings: Vec::new(),
+            integrity: super::integrity::Integrity::default(),
         }
     }
 
@@ -653,9 +671,10 @@ impl Solution {
 
     /// Moves the filter's records into the solution at the end of a run.
     pub(crate) fn take_records<const N: usize>(&mut self, s: &mut FilterState<N>) {
-        self.measurements = std::mem::take(&mut s.records);
-        self.batches = std::mem::take(&mut s.batches);
-        self.resets = std::mem::take(&mut s.resets);
+        let records = s.take_records();
+        self.measurements = records.measurements;
+        self.batches = records.batches;
+        self.resets = records.resets;
     }
 
     /// The measurements that were not applied.

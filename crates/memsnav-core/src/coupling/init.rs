@@ -7,7 +7,7 @@ use super::engine::{FilterState, ImuData, InitialState};
 use super::loose::PositionFix;
 use super::records::{ResetKind, ResetRecord};
 use crate::attitude::{dcm_to_euler, euler_to_dcm};
-use crate::filter::state::ATTITUDE;
+use crate::filter::state::{ACCEL_BIAS, ATTITUDE};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
 use crate::ins::NavState;
@@ -231,6 +231,56 @@ impl<const N: usize> FilterState<N> {
             failed_epochs: 0,
         });
         self.kf.check_health(time_s)
+    }
+
+    /// Keeps an unknown heading unknown: the heading component of the
+    /// attitude error becomes independent of every other state again, with
+    /// one-sigma `std_rad` (not recorded as a reset: nothing changes in the
+    /// solution). For the time before [`Self::align_heading`], called at
+    /// every aiding epoch. A heading tens of degrees off is outside the
+    /// small-angle error model: left correlated, the filter reads heading
+    /// information into the Earth-rate and tilt couplings that a MEMS gyro's
+    /// bias hides (no gyrocompassing below a bias of 0.01 °/s), and carries
+    /// a wrong tilt and horizontal accelerometer bias out of a static start
+    /// (issue 23: 9 mrad and 0.08 m/s² after 20 s at rest on an error-free
+    /// IMU, 3σ off).
+    pub fn forget_heading(&mut self, std_rad: f64) {
+        let down_ecef = self.local_down_ecef();
+        self.kf
+            .reset_component(ATTITUDE, &down_ecef, std_rad * std_rad);
+    }
+
+    /// After moving with an unknown heading, the tilt and the horizontal
+    /// accelerometer bias become independent new errors again, with the
+    /// tilt one-sigma `tilt_std_rad` of the start and the bias its prior:
+    /// while the heading was tens of degrees off, the part of the velocity
+    /// error along the acceleration (1 − cos of the heading error, half
+    /// of it at 60°) has no small-angle heading term to go to and was read
+    /// as tilt and bias (issue 23: a 30 mrad tilt error held at σ 2 mrad
+    /// for the rest of a simulated drive). Their estimates stay; the
+    /// aiding corrects them from here on.
+    pub fn reopen_tilt_and_horizontal_bias(&mut self, tilt_std_rad: f64) {
+        let geo = ecef_to_geodetic(&self.nav.position_ecef);
+        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+        for axis in [Vector3::x(), Vector3::y()] {
+            self.kf
+                .reset_component(ATTITUDE, &(cne * axis), tilt_std_rad * tilt_std_rad);
+        }
+        let up_b = (self.nav.c_b_e.transpose() * cne * Vector3::new(0.0, 0.0, -1.0)).normalize();
+        let across = up_b
+            .cross(&Vector3::x())
+            .try_normalize(1e-6)
+            .unwrap_or_else(|| up_b.cross(&Vector3::y()).normalize());
+        let variance = self.tuning.initial_std.accel_bias_m_s2.powi(2);
+        for d in [across, up_b.cross(&across)] {
+            self.kf.reset_component(ACCEL_BIAS, &d, variance);
+        }
+    }
+
+    /// The local down direction at the current position, ECEF.
+    fn local_down_ecef(&self) -> Vector3<f64> {
+        let geo = ecef_to_geodetic(&self.nav.position_ecef);
+        c_n_e(geo.latitude_rad, geo.longitude_rad) * Vector3::new(0.0, 0.0, 1.0)
     }
 }
 

@@ -17,6 +17,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::batch::BatchRules;
 use super::engine::{self, FilterState, ImuData, InitialState, Observe, SampleHook, Solution};
 use super::records::MeasurementKind;
+use super::records::RunRecords;
 use super::tuning::FilterTuning;
 use crate::{validate, Error, Result};
 
@@ -194,11 +195,12 @@ pub fn run_loosely_coupled<const N: usize, O>(
     initial: &InitialState,
     tuning: &FilterTuning,
     observe: O,
-) -> Result<Vec<super::MeasurementRecord>>
+) -> Result<RunRecords>
 where
     O: FnMut(usize, &FilterState<N>),
 {
-    Ok(run_with_hook(imu, fixes, initial, tuning, false, &mut Observe(observe))?.records)
+    let mut state = run_with_hook(imu, fixes, initial, tuning, false, &mut Observe(observe))?;
+    Ok(state.take_records())
 }
 
 /// The loosely coupled filter's whole solution at every IMU sample.
@@ -232,12 +234,17 @@ pub fn run_loosely_coupled_smoothed<const N: usize, O>(
     initial: &InitialState,
     tuning: &FilterTuning,
     observe: O,
-) -> Result<(Vec<super::MeasurementRecord>, Solution)>
+) -> Result<(RunRecords, Solution)>
 where
     O: FnMut(usize, &FilterState<N>),
 {
     let (forward, smoothed) = solve_observed(imu, fixes, initial, tuning, true, observe)?;
-    Ok((forward.measurements, smoothed.expect("asked for")))
+    let records = RunRecords {
+        measurements: forward.measurements,
+        batches: forward.batches,
+        resets: forward.resets,
+    };
+    Ok((records, smoothed.expect("asked for")))
 }
 
 fn solve<const N: usize>(

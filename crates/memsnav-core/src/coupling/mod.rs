@@ -55,6 +55,7 @@ mod batch;
 mod diagnostics;
 mod engine;
 mod init;
+pub mod integrity;
 mod loose;
 mod ned;
 mod range_bias;
@@ -62,11 +63,13 @@ mod records;
 mod tight;
 mod tuning;
 
+pub use crate::filter::input_noise::UnmodelledErrors;
 pub(crate) use diagnostics::diagnose;
-pub use diagnostics::{divergence_warning, imu_unit_warnings};
+pub use diagnostics::imu_unit_warnings;
 pub(crate) use engine::SampleHook;
 pub use engine::{AidingEpoch, FilterState, ImuData, InitialState, Solution};
 pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix, level};
+pub use integrity::{Integrity, IntegrityAlert};
 pub(crate) use loose::run_with_hook as run_loose_with_hook;
 pub use loose::{
     loosely_coupled, loosely_coupled_smoothed, run_loosely_coupled, run_loosely_coupled_smoothed,
@@ -75,12 +78,12 @@ pub use loose::{
 pub use ned::covariance_ned;
 pub use records::{
     BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
+    RunRecords,
 };
 pub(crate) use tight::run_with_hook as run_tight_with_hook;
 pub use tight::{
     run_tightly_coupled, run_tightly_coupled_smoothed, tightly_coupled, tightly_coupled_smoothed,
 };
 pub use tuning::{
-    BiasProcess, Dynamics, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel,
-    Recovery, UnmodelledErrors,
+    BiasProcess, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel, Recovery,
 };

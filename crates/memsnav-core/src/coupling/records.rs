@@ -117,6 +117,11 @@ pub struct BatchRecord {
     pub excluded: usize,
     /// Whether the batch was applied.
     pub accepted: bool,
+    /// How far the batch's measurement model is from linear over the
+    /// filter's uncertainty: for pseudoranges the largest expected
+    /// curvature term E[|δr⊥|²] / (2ρ) in units of the measurement std
+    /// (`super::integrity`); NaN for measurements linear in the state.
+    pub nonlinearity: f64,
 }
 
 /// What a reset changed.
@@ -169,4 +174,23 @@ pub struct ResetRecord {
     /// Consecutive epochs whose test had failed before it (0 for jumps and
     /// the heading).
     pub failed_epochs: usize,
+}
+
+/// Everything a run recorded besides its solution: what the records-only
+/// runs (`run_tightly_coupled`, `run_loosely_coupled`) return.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RunRecords {
+    /// Every scalar measurement, in time order.
+    pub measurements: Vec<MeasurementRecord>,
+    /// Every batch test, in time order.
+    pub batches: Vec<BatchRecord>,
+    /// Every reset, in time order.
+    pub resets: Vec<ResetRecord>,
+}
+
+impl RunRecords {
+    /// The run's integrity ([`super::integrity::assess`]).
+    pub fn integrity(&self) -> super::integrity::Integrity {
+        super::integrity::assess(&self.batches)
+    }
 }

@@ -7,14 +7,21 @@
 //!
 //! ```text
 //! ρ̂ − ρ  = −u · δr_a + δc + δb_ρ + v_ρ      ρ̂ = range(r̂_a, v̂_a) + ĉ + b̂_ρ
-//! ρ̂̇ − ρ̇  = −u · δv_a + δċ + v_ρ̇
+//! ρ̂̇ − ρ̇  = −u · δv_a + g · δr_a + δċ + v_ρ̇     g = ∂ρ̇/∂r_a
 //! ```
 //!
 //! (Sagnac and light time in [`crate::gnss::predicted_range`]; b_ρ the
 //! satellite's range bias when the filter has range-bias states.) The
-//! range-rate row neglects the line-of-sight change with position
-//! (|v_sat − v| / ρ ≈ 2e-4 per metre of position error), as Groves eq.
-//! 14.127 does. An epoch's pseudoranges are one batch and its rates
+//! range-rate row keeps the line of sight's turn with the receiver
+//! position, g = −(I − u uᵀ) Δv / ρ + ω_ie × u (≈ 1e-4 per metre), which
+//! Groves eq. 14.127 neglects. With four satellites or more the position
+//! is observed directly and the term is negligible; with fewer it is what
+//! makes the rate row the time derivative of the range row, so that
+//! ranges and rates leave the same combination of position and clock
+//! unobserved. Without it that combination looks observed as the
+//! satellites move, and the covariance collapses while the error grows
+//! (issue 23: 3 satellites, 900 s, 3σ 200 m against a 3 km error;
+//! docs/few-satellites.md). An epoch's pseudoranges are one batch and its rates
 //! another ([`super::batch`]): tested together, a faulty satellite
 //! excluded, a receiver clock jump moved into the clock; any number of
 //! satellites (fewer than four included) refines the solution, and with
@@ -22,13 +29,14 @@
 //! resets to the epoch's least-squares fix (position, velocity, clock), or
 //! opens its covariance when the epoch has fewer than four satellites.
 
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::batch::{median, BatchRules, CommonMode};
 use super::engine::{self, FilterState, ImuData, InitialState, Observe, SampleHook, Solution};
 use super::records::MeasurementKind;
+use super::records::RunRecords;
 use super::tuning::FilterTuning;
-use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET};
+use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION};
 use crate::gnss::{self, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::Result;
 
@@ -97,6 +105,7 @@ pub(crate) fn update_epoch<const N: usize>(
     };
     let kind = MeasurementKind::Pseudorange;
     let antenna = s.antenna();
+    let position_covariance: Matrix3<f64> = s.kf.p.fixed_view::<3, 3>(POSITION, POSITION).into();
     for m in &epoch.measurements {
         if !satellite_usable(m) || !m.pseudorange_m.is_finite() {
             s.reject_invalid(t, kind, m.sat_id);
@@ -122,6 +131,12 @@ pub(crate) fn update_epoch<const N: usize>(
             }
             None => {}
         }
+        s.staged.note_nonlinearity(curvature(
+            &position_covariance,
+            &p.line_of_sight_ecef,
+            p.range_m,
+            std.max(s.tuning.floor.pseudorange_m),
+        ));
         s.stage(t, kind, m.sat_id, h, y, std);
     }
     if !s.apply_staged(t, kind, rules(CommonMode::ClockOffset))? && s.reset_due(kind) {
@@ -147,7 +162,11 @@ pub(crate) fn update_epoch<const N: usize>(
             &antenna.position_ecef,
             &antenna.velocity_ecef,
         );
-        let mut h = antenna.velocity_row(&(-p.line_of_sight_ecef));
+        let mut h = antenna.velocity_row(&(-p.line_of_sight_ecef)).combine(
+            1.0,
+            &antenna.position_row(&p.range_rate_position_gradient),
+            1.0,
+        );
         h.push(CLOCK_DRIFT, 1.0);
         let y = p.range_rate_m_s + s.clock_drift_m_s - m.pseudorange_rate_m_s;
         s.stage(t, kind, m.sat_id, h, y, m.pseudorange_rate_std_m_s);
@@ -156,6 +175,16 @@ pub(crate) fn update_epoch<const N: usize>(
         recover_velocity(s, epoch)?;
     }
     Ok(())
+}
+
+/// The expected curvature term of a pseudorange over the position
+/// uncertainty `p_rr`, in units of its std: the range from a position δr
+/// off is ρ − u·δr + |δr⊥|² / (2ρ) + …, and E|δr⊥|² = tr((I − u uᵀ) P_rr)
+/// (Bar-Shalom et al. 2001 §10.3.2 for the second-order term the EKF
+/// drops). Above about a tenth, the first-order model the filter updates
+/// with no longer describes the measurement (`super::integrity`).
+fn curvature(p_rr: &Matrix3<f64>, u: &Vector3<f64>, range_m: f64, std_m: f64) -> f64 {
+    (p_rr.trace() - u.dot(&(p_rr * u))) / (2.0 * range_m * std_m)
 }
 
 /// The epoch's satellites with finite pseudorange and satellite state.
@@ -274,11 +303,12 @@ pub fn run_tightly_coupled<const N: usize, O>(
     initial: &InitialState,
     tuning: &FilterTuning,
     observe: O,
-) -> Result<Vec<super::MeasurementRecord>>
+) -> Result<RunRecords>
 where
     O: FnMut(usize, &FilterState<N>),
 {
-    Ok(run_with_hook(imu, gnss, initial, tuning, false, &mut Observe(observe))?.records)
+    let mut state = run_with_hook(imu, gnss, initial, tuning, false, &mut Observe(observe))?;
+    Ok(state.take_records())
 }
 
 /// The tightly coupled filter's whole solution at every IMU sample.
@@ -312,12 +342,17 @@ pub fn run_tightly_coupled_smoothed<const N: usize, O>(
     initial: &InitialState,
     tuning: &FilterTuning,
     observe: O,
-) -> Result<(Vec<super::MeasurementRecord>, Solution)>
+) -> Result<(RunRecords, Solution)>
 where
     O: FnMut(usize, &FilterState<N>),
 {
     let (forward, smoothed) = solve_observed(imu, gnss, initial, tuning, true, observe)?;
-    Ok((forward.measurements, smoothed.expect("asked for")))
+    let records = RunRecords {
+        measurements: forward.measurements,
+        batches: forward.batches,
+        resets: forward.resets,
+    };
+    Ok((records, smoothed.expect("asked for")))
 }
 
 fn solve<const N: usize>(

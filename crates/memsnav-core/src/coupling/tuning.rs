@@ -3,8 +3,12 @@
 
 use nalgebra::Vector3;
 
+use crate::filter::input_noise::{
+    InputErrorNoise, UnmodelledErrors, DEFAULT_MANOEUVRE_CORRELATION_TIME_S,
+};
 use crate::filter::ProcessNoise;
 use crate::geodesy::wgs84::STANDARD_GRAVITY_M_S2;
+use crate::gnss::ReceiverClockModel;
 use crate::{validate, Error, Result};
 
 /// One-sigma initial uncertainties (the diagonal of P₀).
@@ -165,56 +169,6 @@ impl RangeBiasModel {
     }
 }
 
-/// The deterministic sensor errors a filter does not estimate (one-sigma
-/// magnitudes), and the vehicle dynamics they act through.
-///
-/// How they are absorbed (documented choice, no extra states): an error
-/// that multiplies a *constant* input (gravity on the vertical axis, the
-/// g-sensitivity) looks like a bias, so its size is added in quadrature to
-/// the initial bias uncertainty; an error that multiplies the *varying*
-/// part of the input (horizontal accelerations, turn rates) is a coloured
-/// noise of variance σ² = (error · input)² and correlation time τ, whose
-/// white-noise equivalent PSD 2σ²τ is added to the sensor's white noise.
-/// With `N` = 23 the scale factors are states and only misalignment,
-/// nonlinearity and g-sensitivity are absorbed this way.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct UnmodelledErrors {
-    /// Accelerometer scale-factor error std (dimensionless).
-    pub accel_scale_factor: f64,
-    /// Accelerometer misalignment std (dimensionless, per off-diagonal term).
-    pub accel_misalignment: f64,
-    /// Accelerometer second-order nonlinearity std, 1/(m/s²).
-    pub accel_nonlinearity_per_m_s2: f64,
-    /// Gyro scale-factor error std (dimensionless).
-    pub gyro_scale_factor: f64,
-    /// Gyro misalignment std (dimensionless).
-    pub gyro_misalignment: f64,
-    /// Gyro g-sensitivity std, (rad/s)/(m/s²), per term.
-    pub gyro_g_sensitivity_rad_s_per_m_s2: f64,
-}
-
-/// Vehicle dynamics the unmodelled errors act through.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Dynamics {
-    /// Typical varying specific force (horizontal manoeuvres), m/s².
-    pub specific_force_m_s2: f64,
-    /// Typical turn rate, rad/s.
-    pub angular_rate_rad_s: f64,
-    /// Correlation time of manoeuvres, s.
-    pub correlation_time_s: f64,
-}
-
-impl Default for Dynamics {
-    /// A land vehicle: 2 m/s² manoeuvres, 0.2 rad/s turns, 10 s each.
-    fn default() -> Self {
-        Self {
-            specific_force_m_s2: 2.0,
-            angular_rate_rad_s: 0.2,
-            correlation_time_s: 10.0,
-        }
-    }
-}
-
 /// Everything a coupled filter needs besides the data.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterTuning {
@@ -250,8 +204,9 @@ impl FilterTuning {
     /// Tuning from sensor noise per sample at `sample_rate_hz` and bias
     /// processes (std and correlation time; ∞ for a random walk), with the
     /// initial uncertainties defaulted and the bias spreads as given.
-    /// Receiver clock: the default TCXO densities of Groves §9.4.2
-    /// (S_cφ = 0.01 m²/s, S_cf = 0.04 m²/s³).
+    /// Receiver clock: [`ReceiverClockModel::default`], the TCXO the GNSS
+    /// simulator draws from (S_cφ = 0.009 m²/s, S_cf = 0.036 m²/s³; Groves
+    /// §9.4.2 rounds them to 0.01 and 0.04), see [`Self::set_receiver_clock`].
     pub fn new(
         sample_rate_hz: f64,
         accel_white_std_m_s2: f64,
@@ -275,16 +230,17 @@ impl FilterTuning {
                 // σ per sample of a white noise sampled at f_s ⇔ PSD σ²/f_s.
                 accel_white_psd: accel_white_std_m_s2.powi(2) / sample_rate_hz,
                 gyro_white_psd: gyro_white_std_rad_s.powi(2) / sample_rate_hz,
-                accel_bias_psd: accel_bias.psd(),
-                accel_bias_correlation_time_s: accel_bias.correlation_time_s,
-                gyro_bias_psd: gyro_bias.psd(),
-                gyro_bias_correlation_time_s: gyro_bias.correlation_time_s,
-                clock_phase_psd: 0.01,
-                clock_frequency_psd: 0.04,
+                accel_bias_psd: accel_bias.state_model().0,
+                accel_bias_correlation_time_s: accel_bias.state_model().1,
+                gyro_bias_psd: gyro_bias.state_model().0,
+                gyro_bias_correlation_time_s: gyro_bias.state_model().1,
+                clock_phase_psd: 0.0,
+                clock_frequency_psd: 0.0,
                 accel_scale_factor_psd: 0.0,
                 gyro_scale_factor_psd: 0.0,
                 range_bias_psd: RangeBiasModel::default().psd(),
                 range_bias_correlation_time_s: RangeBiasModel::default().correlation_time_s,
+                input_errors: InputErrorNoise::default(),
             },
             initial_std,
             gate_probability: 0.999,
@@ -295,7 +251,21 @@ impl FilterTuning {
             antenna_lever_arm_b_m: Vector3::zeros(),
             velocity_latency_s: 0.0,
         }
+        .with_receiver_clock(&ReceiverClockModel::default())
         .floor_noise())
+    }
+
+    /// The receiver clock's process noise from its oscillator model, the
+    /// one definition the GNSS simulator draws from (Brown & Hwang §9.3:
+    /// S_cφ = c² h0 / 2, S_cf = 2π² c² h−2).
+    pub fn set_receiver_clock(&mut self, clock: &ReceiverClockModel) {
+        self.process_noise.clock_phase_psd = clock.offset_psd_m2_s();
+        self.process_noise.clock_frequency_psd = clock.drift_psd_m2_s3();
+    }
+
+    fn with_receiver_clock(mut self, clock: &ReceiverClockModel) -> Self {
+        self.set_receiver_clock(clock);
+        self
     }
 
     /// A small floor on the white-noise densities so a noise-free IMU still
@@ -308,43 +278,41 @@ impl FilterTuning {
         self
     }
 
-    /// Absorbs the errors the filter does not estimate (see
-    /// [`UnmodelledErrors`]); `scale_factor_states` says whether the filter
-    /// estimates the scale factors (N = 23).
+    /// Absorbs the errors the filter does not estimate, `errors` (their
+    /// one-sigma magnitudes), as the filter's uncertainty
+    /// ([`crate::filter::input_noise`], documented choice: no extra states).
+    /// The part driven by the specific force at rest (gravity through scale
+    /// factor, nonlinearity and the misalignment terms of each axis; the
+    /// gyro's g-sensitivity) is a constant and widens the initial bias
+    /// uncertainty, isotropically since the IMU may be mounted any way up;
+    /// the part driven by the motion becomes process noise shaped by the
+    /// sensed specific force and rate at each step, with the manoeuvres'
+    /// correlation time `correlation_time_s`. `scale_factor_states`: the
+    /// filter estimates the scale factors (N = 23), which are then left out.
     pub fn absorb_unmodelled(
         mut self,
         errors: &UnmodelledErrors,
-        dynamics: &Dynamics,
+        correlation_time_s: f64,
         scale_factor_states: bool,
     ) -> Self {
+        let mut errors = *errors;
+        if scale_factor_states {
+            errors.accel_scale_factor = 0.0;
+            errors.gyro_scale_factor = 0.0;
+        }
         let g = STANDARD_GRAVITY_M_S2;
-        let a = dynamics.specific_force_m_s2;
-        let w = dynamics.angular_rate_rad_s;
-        let tau = dynamics.correlation_time_s;
-        let (sa, sg) = if scale_factor_states {
-            (0.0, 0.0)
-        } else {
-            (errors.accel_scale_factor, errors.gyro_scale_factor)
-        };
-        let na = errors.accel_nonlinearity_per_m_s2;
-        // Constant parts: gravity through scale factor, nonlinearity and the two
-        // misalignment terms of each horizontal axis; g-sensitivity of the gyro.
-        let accel_constant2 =
-            (sa * g).powi(2) + (na * g * g).powi(2) + (errors.accel_misalignment * g).powi(2);
+        let accel_constant2 = (errors.accel_scale_factor * g).powi(2)
+            + (errors.accel_nonlinearity_per_m_s2 * g * g).powi(2)
+            + (errors.accel_misalignment * g).powi(2);
         let gyro_constant2 = (errors.gyro_g_sensitivity_rad_s_per_m_s2 * g).powi(2);
         let i = &mut self.initial_std;
         i.accel_bias_m_s2 = (i.accel_bias_m_s2.powi(2) + accel_constant2).sqrt();
         i.gyro_bias_rad_s = (i.gyro_bias_rad_s.powi(2) + gyro_constant2).sqrt();
-        // Varying parts: coloured noise σ², τ ⇒ white PSD 2σ²τ.
-        let accel_varying2 = (sa * a).powi(2)
-            + 2.0 * (errors.accel_misalignment * a).powi(2)
-            + (2.0 * na * g * a).powi(2);
-        let gyro_varying2 = (sg * w).powi(2)
-            + 2.0 * (errors.gyro_misalignment * w).powi(2)
-            + 2.0 * (errors.gyro_g_sensitivity_rad_s_per_m_s2 * a).powi(2);
-        let q = &mut self.process_noise;
-        q.accel_white_psd += 2.0 * accel_varying2 * tau;
-        q.gyro_white_psd += 2.0 * gyro_varying2 * tau;
+        self.process_noise.input_errors = InputErrorNoise {
+            errors,
+            correlation_time_s,
+            ..self.process_noise.input_errors
+        };
         self
     }
 
@@ -374,9 +342,41 @@ impl FilterTuning {
             ("accel_scale_factor_psd", q.accel_scale_factor_psd),
             ("gyro_scale_factor_psd", q.gyro_scale_factor_psd),
             ("range_bias_psd", q.range_bias_psd),
+            (
+                "accel_scale_factor_std",
+                q.input_errors.errors.accel_scale_factor,
+            ),
+            (
+                "accel_misalignment_std",
+                q.input_errors.errors.accel_misalignment,
+            ),
+            (
+                "accel_nonlinearity_std",
+                q.input_errors.errors.accel_nonlinearity_per_m_s2,
+            ),
+            (
+                "gyro_scale_factor_std",
+                q.input_errors.errors.gyro_scale_factor,
+            ),
+            (
+                "gyro_misalignment_std",
+                q.input_errors.errors.gyro_misalignment,
+            ),
+            (
+                "gyro_g_sensitivity_std",
+                q.input_errors.errors.gyro_g_sensitivity_rad_s_per_m_s2,
+            ),
         ] {
             validate::non_negative(name, v)?;
         }
+        validate::positive(
+            "manoeuvre_correlation_time",
+            q.input_errors.correlation_time_s,
+        )?;
+        validate::finite_vectors(
+            "reference_specific_force",
+            &[q.input_errors.reference_specific_force_b],
+        )?;
         for (name, v) in [
             (
                 "accel_bias_correlation_time",
@@ -475,10 +475,29 @@ impl BiasProcess {
         }
     }
 
-    /// Driving-noise PSD: 2σ²/τ for Gauss-Markov plus the random walk's q².
-    fn psd(&self) -> f64 {
-        crate::gauss_markov::psd_of_stationary(self.instability_std, self.correlation_time_s)
-            + self.random_walk.powi(2)
+    /// The filter's model of its bias state: (driving-noise PSD,
+    /// correlation time).
+    ///
+    /// The state is the whole bias, turn-on part and instability together,
+    /// and closed-loop feedback holds the estimate constant between
+    /// updates. A Gauss-Markov decay of the state is right only when the
+    /// whole bias is that process; with a turn-on part larger than the
+    /// instability it would tell the filter that its bias error fades by
+    /// itself, and P of the bias would shrink to the instability's σ² within
+    /// a few τ with no measurement at all (issue 23: the consumer preset's
+    /// 1 °/s turn-on bias "known" to 2 °/h after ten minutes, the tilt NEES
+    /// twice its dof). Then the instability is taken as the random walk it
+    /// is over times shorter than τ (Groves §14.2.6 models biases this way):
+    /// no decay, PSD 2σ²/τ added to the random walk's q².
+    pub fn state_model(&self) -> (f64, f64) {
+        let markov =
+            crate::gauss_markov::psd_of_stationary(self.instability_std, self.correlation_time_s);
+        let psd = markov + self.random_walk.powi(2);
+        if self.initial_std > self.instability_std {
+            (psd, f64::INFINITY)
+        } else {
+            (psd, self.correlation_time_s)
+        }
     }
 
     fn validate(&self, name: &str) -> Result<()> {
@@ -500,8 +519,8 @@ impl FilterTuning {
     /// noise densities (σ²/f_s when the spec gives a per-sample std), the
     /// bias spreads as initial uncertainties, the Gauss-Markov / random-walk
     /// bias dynamics, and the deterministic terms the state lacks absorbed
-    /// as in [`FilterTuning::absorb_unmodelled`] with the default land-vehicle
-    /// [`Dynamics`]. `scale_factor_states`: whether the filter has the 23-state
+    /// as in [`FilterTuning::absorb_unmodelled`] with the default manoeuvre
+    /// correlation time of a land vehicle. `scale_factor_states`: whether the filter has the 23-state
     /// layout (then the scale-factor spreads seed P₀ instead).
     pub fn from_imu_spec(
         spec: &crate::sensors::ImuSpec,
@@ -540,6 +559,10 @@ impl FilterTuning {
             gyro_misalignment: g.misalignment_std,
             gyro_g_sensitivity_rad_s_per_m_s2: g.g_sensitivity_std,
         };
-        Ok(t.absorb_unmodelled(&unmodelled, &Dynamics::default(), scale_factor_states))
+        Ok(t.absorb_unmodelled(
+            &unmodelled,
+            DEFAULT_MANOEUVRE_CORRELATION_TIME_S,
+            scale_factor_states,
+        ))
     }
 }

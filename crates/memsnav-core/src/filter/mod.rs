@@ -32,6 +32,7 @@
 //! is never half accepted.
 
 pub mod chi_square;
+pub mod input_noise;
 mod propagation;
 mod reset;
 pub mod smoother;
@@ -334,6 +335,7 @@ mod tests {
             gyro_scale_factor_psd: 0.0,
             range_bias_psd: 0.0,
             range_bias_correlation_time_s: f64::INFINITY,
+            input_errors: input_noise::InputErrorNoise::default(),
         };
         let other = ProcessNoise {
             accel_bias_correlation_time_s: 5.0,

@@ -43,6 +43,7 @@
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
+use super::input_noise::{self, InputErrorNoise};
 use super::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
     GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
@@ -95,6 +96,9 @@ pub struct ProcessNoise {
     pub range_bias_psd: f64,
     /// Correlation time of the pseudorange biases, s.
     pub range_bias_correlation_time_s: f64,
+    /// The sensor errors the state lacks, as noise shaped by the inputs
+    /// ([`super::input_noise`]); added to the white noise per body axis.
+    pub input_errors: InputErrorNoise,
 }
 
 /// Gravity gradient Γ = ∂g^e/∂r^e: point mass plus centrifugal term.
@@ -549,14 +553,14 @@ impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
         phi.columns_into::<N>(&mut self.columns);
         // Z′ = Z Φᵀ + R′ Q.
         column_product(&self.columns, z, next);
-        for_each_process_noise::<N>(&d, |i, j, q| {
+        for_each_process_noise::<N>(&d, &step.0, |i, j, q| {
             next.column_mut(j).axpy(q, &factor.column(i), 1.0);
         });
         // y ← Φ y + Q λ′, (Φ y)ᵀ = yᵀ Φᵀ.
         let (source, mut row) = (y.transpose(), y.transpose());
         sparse_product::<1, N, false>(&self.columns, &source.data.0, row.as_mut_slice());
         *y = row.transpose();
-        for_each_process_noise::<N>(&d, |i, j, q| y[i] += q * lambda_after[j]);
+        for_each_process_noise::<N>(&d, &step.0, |i, j, q| y[i] += q * lambda_after[j]);
     }
 
     fn adjoint(
@@ -605,7 +609,7 @@ pub(super) fn propagate_with<const N: usize>(
         *x = row.transpose();
     }
     covariance_product(&scratch.columns, p, &mut scratch.b_t);
-    add_process_noise(p, d);
+    add_process_noise(p, d, inputs);
 }
 
 /// Most states of a filter ([`super::state::WITH_ALL`]).
@@ -714,18 +718,40 @@ fn column_product<const N: usize>(
 }
 
 /// P ← P + Q for one interval.
-fn add_process_noise<const N: usize>(p: &mut SMatrix<f64, N, N>, d: &Discretisation) {
-    for_each_process_noise::<N>(d, |i, j, q| p[(i, j)] += q);
+fn add_process_noise<const N: usize>(
+    p: &mut SMatrix<f64, N, N>,
+    d: &Discretisation,
+    inputs: &SystemInputs,
+) {
+    for_each_process_noise::<N>(d, inputs, |i, j, q| p[(i, j)] += q);
 }
 
 /// Calls `f(i, j, Q_ij)` for every non-zero of Q over one interval (Groves
-/// eq. 14.82 plus the exact clock block), both triangles.
+/// eq. 14.82 plus the exact clock block), both triangles; the attitude and
+/// velocity blocks add the input-shaped noise of the errors the state
+/// lacks at this step's `inputs`, Ĉ diag(q) Ĉᵀ Δt ([`input_noise`]).
 fn for_each_process_noise<const N: usize>(
     d: &Discretisation,
+    inputs: &SystemInputs,
     mut f: impl FnMut(usize, usize, f64),
 ) {
     let (noise, dt) = (&d.noise, d.dt);
     let layout = Layout::for_size::<N>();
+    if noise.input_errors.is_active() {
+        let (qa, qg) = noise
+            .input_errors
+            .body_psd(&inputs.specific_force_b, &inputs.angular_rate_b);
+        let (qa, qg) = (
+            input_noise::to_ecef(&inputs.c_b_e, &qa),
+            input_noise::to_ecef(&inputs.c_b_e, &qg),
+        );
+        for i in 0..3 {
+            for j in 0..3 {
+                f(ATTITUDE + i, ATTITUDE + j, qg[(i, j)] * dt);
+                f(VELOCITY + i, VELOCITY + j, qa[(i, j)] * dt);
+            }
+        }
+    }
     for k in 0..3 {
         f(ATTITUDE + k, ATTITUDE + k, noise.gyro_white_psd * dt);
         f(VELOCITY + k, VELOCITY + k, noise.accel_white_psd * dt);
@@ -792,6 +818,18 @@ mod tests {
             gyro_scale_factor_psd: 2e-9,
             range_bias_psd: 0.05,
             range_bias_correlation_time_s: 0.5 * tau,
+            input_errors: InputErrorNoise {
+                errors: super::super::input_noise::UnmodelledErrors {
+                    accel_scale_factor: 1e-3,
+                    accel_misalignment: 2e-3,
+                    accel_nonlinearity_per_m_s2: 1e-4,
+                    gyro_scale_factor: 3e-3,
+                    gyro_misalignment: 4e-3,
+                    gyro_g_sensitivity_rad_s_per_m_s2: 1e-4,
+                },
+                correlation_time_s: 10.0,
+                reference_specific_force_b: Vector3::new(0.0, 0.1, -9.8),
+            },
         }
     }
 
@@ -822,9 +860,13 @@ mod tests {
     }
 
     /// Q over one interval as a dense matrix.
-    fn dense_noise<const N: usize>(nz: &ProcessNoise, dt: f64) -> SMatrix<f64, N, N> {
+    fn dense_noise<const N: usize>(
+        nz: &ProcessNoise,
+        inp: &SystemInputs,
+        dt: f64,
+    ) -> SMatrix<f64, N, N> {
         let mut q = SMatrix::zeros();
-        add_process_noise(&mut q, &Discretisation::new(nz, dt));
+        add_process_noise(&mut q, &Discretisation::new(nz, dt), inp);
         q
     }
 
@@ -834,7 +876,7 @@ mod tests {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
         let (phi, q) = (
             dense_transition::<N>(&inp, &nz, dt),
-            dense_noise::<N>(&nz, dt),
+            dense_noise::<N>(&nz, &inp, dt),
         );
         let p0 = random_spd::<N>();
         let dense = phi * p0 * phi.transpose() + q;
@@ -883,7 +925,7 @@ mod tests {
         let (inp, nz, dt) = (inputs(), noise(tau), 0.01);
         let (phi, q) = (
             dense_transition::<N>(&inp, &nz, dt),
-            dense_noise::<N>(&nz, dt),
+            dense_noise::<N>(&nz, &inp, dt),
         );
         let after = random_spd::<N>() * 0.3;
         let z0 = SMatrix::<f64, N, N>::from_fn(|i, j| ((i * 3 + j * 5) % 7) as f64 - 3.0);

@@ -6,9 +6,10 @@ use nalgebra::{SMatrix, SVector};
 
 /// Most non-zero entries a measurement row has: a pseudorange rate at an
 /// antenna away from the IMU touches velocity, attitude and gyro bias
-/// (through the lever arm) and the clock drift (10); a whitened velocity-fix
-/// component velocity, attitude and gyro bias (9).
-pub const MAX_ROW_ENTRIES: usize = 12;
+/// (through the lever arm), position (the line of sight turning with it)
+/// and the clock drift (13); a whitened velocity-fix component velocity,
+/// attitude and gyro bias (9).
+pub const MAX_ROW_ENTRIES: usize = 13;
 
 /// A measurement row h with at most [`MAX_ROW_ENTRIES`] non-zero entries.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -16,6 +16,12 @@ pub struct RangePrediction {
     pub range_rate_m_s: f64,
     /// Unit vector from receiver to satellite, ECEF at reception, u_as^e.
     pub line_of_sight_ecef: Vector3<f64>,
+    /// ∂ρ̇/∂r_a, the rate's change with the receiver position (the line of
+    /// sight turning), 1/s: −(I − u uᵀ) Δv / ρ + ω_ie × u with Δv the
+    /// inertial velocity of the satellite relative to the receiver (the
+    /// light-time factor, 1 + 1e-5, and the Earth's turn as the light time
+    /// changes with position, ≈ 1e-9 per metre, left out).
+    pub range_rate_position_gradient: Vector3<f64>,
 }
 
 /// C_e^I of Groves eq. 8.36 with the exact rotation angle ω_ie τ: turns the
@@ -59,9 +65,11 @@ pub fn predicted_range(
     let rx_vel_i = rx_vel + omega.cross(rx_pos);
     let range_rate =
         u.dot(&(sat_vel_i - rx_vel_i)) / (1.0 + u.dot(&sat_vel_i) / SPEED_OF_LIGHT_M_S);
+    let relative = sat_vel_i - rx_vel_i;
     RangePrediction {
         range_m: range,
         range_rate_m_s: range_rate,
         line_of_sight_ecef: u,
+        range_rate_position_gradient: -(relative - u * u.dot(&relative)) / range + omega.cross(&u),
     }
 }

@@ -8,17 +8,18 @@ use crate::attitude::dcm_to_rotation_vector;
 use crate::coupling::{
     initial_state_from_fix, run_loosely_coupled, run_loosely_coupled_smoothed, run_tightly_coupled,
     run_tightly_coupled_smoothed, FilterState, FilterTuning, ImuData, InitialState,
-    MeasurementRecord, MeasurementStatus, PositionFix, Solution,
+    MeasurementStatus, PositionFix, Solution,
 };
 use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
-use crate::gnss::{solve_fix, GnssEpoch};
+use crate::gnss::{solve_fix, GnssEpoch, ReceiverClockModel};
 use crate::ins::NavState;
 use crate::sensors::ImuSpec;
 use crate::trajectory::Trajectory;
 use crate::Result;
 
 use super::imus::ImuInput;
+use crate::coupling::RunRecords;
 
 /// Degrees of freedom of the navigation NEES (attitude, velocity, position).
 pub const NEES_DOF: usize = 9;
@@ -49,6 +50,8 @@ pub(super) enum Start {
 /// their tuning, and the output epochs.
 pub(super) struct FilterSetup<'a> {
     pub rate_hz: f64,
+    /// The simulated receiver clock: the filters' clock model is the same.
+    pub receiver_clock: ReceiverClockModel,
     pub coupling: Coupling,
     pub use_pseudorange_rate: bool,
     pub initial_attitude_std_rad: Vector3<f64>,
@@ -70,8 +73,14 @@ pub struct ImuRun {
     pub horizontal_error: Vec<f64>,
     pub vertical_error: Vec<f64>,
     pub nees: Vec<f64>,
+    /// The NEES of the position error alone against the position block of
+    /// P (3 dof).
+    pub position_nees: Vec<f64>,
     pub rejected: usize,
     pub accepted: usize,
+    /// Whether the run raised an integrity alert (`coupling::integrity`):
+    /// its solution and covariance were flagged as not trustworthy.
+    pub diverged: bool,
     /// The smoothed solution's curves (NEES NaN: the smoother keeps the
     /// diagonal blocks of P only), when smoothing was asked.
     pub smoothed: Option<Box<ImuRun>>,
@@ -121,6 +130,7 @@ fn tuning(spec: &ImuSpec, setup: &FilterSetup) -> Result<FilterTuning> {
     let mut tuning =
         FilterTuning::from_imu_spec(&tuning_spec, setup.rate_hz, setup.scale_factor_states)?;
     tuning.use_pseudorange_rate = setup.use_pseudorange_rate;
+    tuning.set_receiver_clock(&setup.receiver_clock);
     tuning.initial_std.attitude_ned_rad = setup.initial_attitude_std_rad;
     if let Some((position_m, velocity_m_s)) = setup.given_start_std {
         tuning.initial_std.position_m = position_m;
@@ -177,6 +187,7 @@ fn navigate_with<const N: usize>(
     let mut horizontal_error = Vec::with_capacity(out.len());
     let mut vertical_error = Vec::with_capacity(out.len());
     let mut nees = Vec::with_capacity(out.len());
+    let mut position_nees = Vec::with_capacity(out.len());
     let mut next = 0;
     let observe = |k: usize, s: &FilterState<N>| {
         if next < out.len() && out[next] == k {
@@ -199,43 +210,52 @@ fn navigate_with<const N: usize>(
             horizontal_error.push(horizontal);
             vertical_error.push(vertical);
             nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
+            let p_rr = p.fixed_view::<3, 3>(6, 6).into_owned();
+            position_nees.push(crate::filter::nees(&dr, &p_rr).unwrap_or(f64::NAN));
             next += 1;
         }
     };
-    let (records, smoothed): (Vec<MeasurementRecord>, Option<Solution>) =
-        match (setup.coupling, setup.smooth) {
-            (Coupling::Tight, false) => (
-                run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, observe)?,
-                None,
-            ),
-            (Coupling::Loose, false) => (
-                run_loosely_coupled::<N, _>(&imu, fixes, &initial, tuning, observe)?,
-                None,
-            ),
-            (Coupling::Tight, true) => {
-                let (r, s) =
-                    run_tightly_coupled_smoothed::<N, _>(&imu, epochs, &initial, tuning, observe)?;
-                (r, Some(s))
-            }
-            (Coupling::Loose, true) => {
-                let (r, s) =
-                    run_loosely_coupled_smoothed::<N, _>(&imu, fixes, &initial, tuning, observe)?;
-                (r, Some(s))
-            }
-        };
+    let (records, smoothed): (RunRecords, Option<Solution>) = match (setup.coupling, setup.smooth) {
+        (Coupling::Tight, false) => (
+            run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, observe)?,
+            None,
+        ),
+        (Coupling::Loose, false) => (
+            run_loosely_coupled::<N, _>(&imu, fixes, &initial, tuning, observe)?,
+            None,
+        ),
+        (Coupling::Tight, true) => {
+            let (r, s) =
+                run_tightly_coupled_smoothed::<N, _>(&imu, epochs, &initial, tuning, observe)?;
+            (r, Some(s))
+        }
+        (Coupling::Loose, true) => {
+            let (r, s) =
+                run_loosely_coupled_smoothed::<N, _>(&imu, fixes, &initial, tuning, observe)?;
+            (r, Some(s))
+        }
+    };
     let accepted = records
+        .measurements
         .iter()
         .filter(|r| r.status == MeasurementStatus::Accepted)
         .count();
-    let rejected = records.len() - accepted;
+    let rejected = records.measurements.len() - accepted;
+    let diverged = records.integrity().diverged();
     Ok(ImuRun {
         position_error,
         horizontal_error,
         vertical_error,
         nees,
+        position_nees,
         rejected,
         accepted,
-        smoothed: smoothed.map(|s| Box::new(smoothed_curves(truth, &s, out, rejected, accepted))),
+        diverged,
+        smoothed: smoothed.map(|s| {
+            Box::new(smoothed_curves(
+                truth, &s, out, rejected, accepted, diverged,
+            ))
+        }),
     })
 }
 
@@ -246,14 +266,17 @@ fn smoothed_curves(
     out: &[usize],
     rejected: usize,
     accepted: usize,
+    diverged: bool,
 ) -> ImuRun {
     let mut run = ImuRun {
         position_error: Vec::with_capacity(out.len()),
         horizontal_error: Vec::with_capacity(out.len()),
         vertical_error: Vec::with_capacity(out.len()),
         nees: vec![f64::NAN; out.len()],
+        position_nees: vec![f64::NAN; out.len()],
         rejected,
         accepted,
+        diverged,
         smoothed: None,
     };
     for &k in out {

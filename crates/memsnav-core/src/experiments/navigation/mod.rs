@@ -280,6 +280,7 @@ impl NavigationExperimentConfig {
     fn filter_setup<'a>(&self, coupling: Coupling, out: &'a [usize]) -> FilterSetup<'a> {
         FilterSetup {
             rate_hz: self.trajectory.rate_hz,
+            receiver_clock: self.gnss.clock,
             coupling,
             use_pseudorange_rate: self.use_pseudorange_rate,
             initial_attitude_std_rad: self.initial_attitude_std_rad,

@@ -19,6 +19,8 @@ pub struct ImuOutcome {
     pub position_error_percentiles: Vec<Vec<f64>>,
     /// Per epoch: mean over runs of the NEES (9 dof).
     pub nees_mean: Vec<f64>,
+    /// Per epoch: mean over runs of the position NEES (3 dof).
+    pub position_nees_mean: Vec<f64>,
     /// Every run's position error norm per epoch (only with `keep_runs`).
     pub position_error_runs: Vec<Vec<f64>>,
     /// Every run's NEES per epoch (only with `keep_runs`).
@@ -47,6 +49,12 @@ pub struct ImuOutcome {
     pub run_horizontal_at_outage_end: Vec<f64>,
     /// Per run: mean NEES per degree of freedom over the epochs.
     pub run_mean_nees_per_dof: Vec<f64>,
+    /// Per run: position NEES per degree of freedom at the last epoch
+    /// inside the outage window (NaN without outage).
+    pub run_position_nees_per_dof_at_outage_end: Vec<f64>,
+    /// Per run: whether the run raised an integrity alert (its solution
+    /// flagged as not trustworthy, `coupling::integrity`).
+    pub run_diverged: Vec<bool>,
     /// Per run: measurements rejected by the gate or as invalid.
     pub run_rejected: Vec<usize>,
     /// Per run: scalar measurements applied (pseudoranges, and rates when
@@ -66,6 +74,7 @@ pub struct OutcomeFold {
     outcome: ImuOutcome,
     position: CurveStats,
     nees: CurveStats,
+    position_nees: CurveStats,
     /// Epochs of the early window (t ≤ early window): the first `early`.
     early: usize,
     /// Epochs inside the outage window.
@@ -96,6 +105,7 @@ impl OutcomeFold {
                 position_error_std: Vec::new(),
                 position_error_percentiles: Vec::new(),
                 nees_mean: Vec::new(),
+                position_nees_mean: Vec::new(),
                 position_error_runs: Vec::new(),
                 nees_runs: Vec::new(),
                 run_rms: Vec::new(),
@@ -108,12 +118,15 @@ impl OutcomeFold {
                 run_at_outage_end: Vec::new(),
                 run_horizontal_at_outage_end: Vec::new(),
                 run_mean_nees_per_dof: Vec::new(),
+                run_position_nees_per_dof_at_outage_end: Vec::new(),
+                run_diverged: Vec::new(),
                 run_rejected: Vec::new(),
                 run_accepted: Vec::new(),
                 smoothed: None,
             },
             position: CurveStats::new(epochs),
             nees: CurveStats::new(epochs),
+            position_nees: CurveStats::new(epochs),
             early: time_s.iter().take_while(|t| **t <= early_window_s).count(),
             in_outage: match outage_window {
                 Some((start, length)) => (0..epochs)
@@ -142,6 +155,7 @@ impl OutcomeFold {
         let epochs = r.position_error.len();
         self.position.push(&r.position_error)?;
         self.nees.push(&r.nees)?;
+        self.position_nees.push(&r.position_nees)?;
         o.run_rms.push(rms(&r.position_error));
         o.run_rms_early.push(rms(&r.position_error[..self.early]));
         o.run_rms_late.push(rms(&r.position_error[self.early..]));
@@ -163,6 +177,9 @@ impl OutcomeFold {
             .push(at_end(&r.horizontal_error));
         o.run_mean_nees_per_dof
             .push(r.nees.iter().sum::<f64>() / (epochs * NEES_DOF) as f64);
+        o.run_position_nees_per_dof_at_outage_end
+            .push(at_end(&r.position_nees) / 3.0);
+        o.run_diverged.push(r.diverged);
         o.run_rejected.push(r.rejected);
         o.run_accepted.push(r.accepted);
         if self.keep_runs {
@@ -181,6 +198,7 @@ impl OutcomeFold {
             .map(|i| self.position.percentile(i))
             .collect();
         o.nees_mean = self.nees.mean().to_vec();
+        o.position_nees_mean = self.position_nees.mean().to_vec();
         o.smoothed = self.smoothed.map(|f| Box::new(f.finish()));
         o
     }
