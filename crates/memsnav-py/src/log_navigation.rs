@@ -428,7 +428,7 @@ impl PyLogRun {
     /// window length; `until_s` only windows ending that long after the
     /// start. Dict `time`, `measured_specific_force`, `measured_angular_rate`,
     /// `reference_specific_force`, `reference_angular_rate` ((W, 3), SI),
-    /// `window_s`, `skipped_for_resets`, `accel_bias_covariance`, `gyro_bias_covariance`,
+    /// `window_s`, `skipped_for_resets`, `skipped_before_heading`, `accel_bias_covariance`, `gyro_bias_covariance`,
     /// `accel_scale_factor_covariance`, `gyro_scale_factor_covariance` ((3, 3),
     /// the solution's own uncertainty of them in sensor axes; zero scale
     /// factors without their states).
@@ -459,6 +459,7 @@ impl PyLogRun {
         }
         d.set_item("window_s", r.window_s)?;
         d.set_item("skipped_for_resets", r.skipped_for_resets)?;
+        d.set_item("skipped_before_heading", r.skipped_before_heading)?;
         d.set_item(
             "accel_bias_covariance",
             convert::matrix3_to_numpy(py, &r.accel_bias_covariance_s),

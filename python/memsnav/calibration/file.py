@@ -188,6 +188,7 @@ class ImuCalibration:
                 "window_s": cal.window_s,
                 "until_s": cal.until_s,
                 "skipped_for_resets": cal.references["skipped_for_resets"],
+                "skipped_before_heading": cal.references["skipped_before_heading"],
                 "residual_rms_before": {
                     "accelerometer_m_s2": rms[0][:3].tolist(),
                     "gyroscope_deg_s": np.degrees(rms[0][3:]).tolist(),

@@ -42,6 +42,17 @@ pub struct GnssKinematics {
 }
 
 impl GnssKinematics {
+    /// An epoch without a fix (NaN position and covariances).
+    pub fn none(time_s: f64) -> Self {
+        Self {
+            time_s,
+            position_ecef: Vector3::from_element(f64::NAN),
+            position_covariance: Matrix3::from_element(f64::NAN),
+            velocity_ecef: None,
+            velocity_covariance: Matrix3::from_element(f64::NAN),
+        }
+    }
+
     fn valid(&self) -> bool {
         self.position_ecef.iter().all(|v| v.is_finite()) && self.position_ecef.norm() > 6.0e6
     }

@@ -193,6 +193,10 @@ pub struct LogConfig {
     /// Periodic outages (first start, length, period), s after the start,
     /// until the end of the run (see [`periodic_outages`]).
     pub periodic_outages: Option<(f64, f64, f64)>,
+    /// Satellites kept through the outages: 0 (total outages, the
+    /// default), or 1-3 (partial: each epoch keeps its highest satellites,
+    /// as the simulator's partial outages do; tight coupling only).
+    pub outage_satellites: usize,
     /// Stop this many seconds after the start (None: the whole log).
     pub duration_s: Option<f64>,
 }
@@ -203,9 +207,9 @@ impl LogConfig {
     /// ([`ReceiverClockModel::oscillator`]: real logs come from consumer
     /// receivers).
     pub fn new(mut tuning: FilterTuning) -> Self {
-        let clock = ReceiverClockModel::oscillator("consumer").expect("a known class");
-        tuning.process_noise.clock_phase_psd = clock.offset_psd_m2_s();
-        tuning.process_noise.clock_frequency_psd = clock.drift_psd_m2_s3();
+        tuning.set_receiver_clock(
+            &ReceiverClockModel::oscillator("consumer").expect("a known class"),
+        );
         Self {
             mounting: Matrix3::identity(),
             imu_time_offset_s: 0.0,
@@ -220,6 +224,7 @@ impl LogConfig {
             aids: AidsConfig::default(),
             outages: Vec::new(),
             periodic_outages: None,
+            outage_satellites: 0,
             duration_s: None,
         }
     }
@@ -271,6 +276,12 @@ impl LogConfig {
         }
         if let Some(d) = self.duration_s {
             validate::positive("duration_s", d)?;
+        }
+        if self.outage_satellites > 3 {
+            return Err(Error::invalid(
+                "outages.keep_satellites",
+                format!("must be 0, 1, 2 or 3, got {}", self.outage_satellites),
+            ));
         }
         Ok(())
     }

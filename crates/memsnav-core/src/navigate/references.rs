@@ -41,6 +41,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::run::LogRun;
 use crate::attitude::dcm_to_rotation_vector;
+use crate::coupling::ResetKind;
 use crate::filter::state::{Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, GYRO_BIAS, GYRO_SCALE_FACTOR};
 use crate::geodesy::gravity_ecef;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
@@ -64,6 +65,10 @@ pub struct CalibrationReferences {
     pub window_s: f64,
     /// Windows left out because a reset of the filter falls inside them.
     pub skipped_for_resets: usize,
+    /// Windows left out because they end before the heading alignment of a
+    /// static start (the heading, and so the rotation about the vertical,
+    /// is unknown there: `FilterState::forget_heading`).
+    pub skipped_before_heading: usize,
     /// The solution's own uncertainty of the accelerometer biases, mean over
     /// the windows, in the sensor's axes, (m/s²)². The references inherit
     /// it: a bias the solution has wrong tilts its attitude and so the
@@ -149,6 +154,7 @@ pub fn calibration_references(
         reference_angular_rate_s: Vec::new(),
         window_s: step as f64 * dt,
         skipped_for_resets: 0,
+        skipped_before_heading: 0,
         accel_bias_covariance_s: Matrix3::zeros(),
         gyro_bias_covariance_s: Matrix3::zeros(),
         accel_scale_factor_covariance_s: Matrix3::zeros(),
@@ -164,10 +170,19 @@ pub fn calibration_references(
     let starts = (0..n)
         .step_by(step)
         .take_while(|&a| a + step < n && sol.time_s[a + step] <= t_end);
+    let heading_known_s = sol
+        .resets
+        .iter()
+        .find(|r| r.kind == ResetKind::Heading)
+        .map_or(f64::NEG_INFINITY, |r| r.time_s);
     for a in starts {
         let b = a + step;
         let (ta, tb) = (sol.time_s[a], sol.time_s[b]);
         let mid = a + step / 2;
+        if tb <= heading_known_s {
+            out.skipped_before_heading += 1;
+            continue;
+        }
         // A reset inside the window breaks the kinematics.
         if sol.resets.iter().any(|r| r.time_s > ta && r.time_s <= tb) {
             out.skipped_for_resets += 1;

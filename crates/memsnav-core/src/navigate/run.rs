@@ -116,16 +116,33 @@ pub fn navigate_log(
         .iter()
         .map(|&(s, l)| (start.time_s + s, start.time_s + s + l))
         .collect();
-    let in_run = |t: f64| {
-        t >= time[k0] && t <= time[k1 - 1] && !outages.iter().any(|&(a, b)| t >= a && t < b)
-    };
+    let partial = config.outage_satellites;
+    if partial > 0 && !matches!(gnss, GnssInput::Measurements(_)) {
+        return Err(Error::invalid(
+            "outages.keep_satellites",
+            "partial outages keep satellites: they need pseudoranges (gnss.mode = \"tight\")",
+        ));
+    }
+    let in_outage = |t: f64| outages.iter().any(|&(a, b)| t >= a && t < b);
+    let in_run = |t: f64| t >= time[k0] && t <= time[k1 - 1] && (partial > 0 || !in_outage(t));
     let gnss_used: Vec<bool> = kinematics.iter().map(|g| in_run(g.time_s)).collect();
+    // A partial outage: the epochs inside keep their `partial` highest
+    // satellites and, with fewer than four, have no single-point fix.
+    let thinned: Vec<bool> = kinematics
+        .iter()
+        .map(|g| partial > 0 && in_outage(g.time_s))
+        .collect();
+    let mut kinematics = kinematics;
+    for (g, _) in kinematics.iter_mut().zip(&thinned).filter(|(_, &t)| t) {
+        *g = GnssKinematics::none(g.time_s);
+    }
     let run = Inputs {
         time: &time[k0..k1],
         imu_b: &imu_b[k0..k1],
         gnss,
         kinematics: &kinematics,
         used: &gnss_used,
+        thinned: &thinned,
         start: &start,
         config,
     };
@@ -198,7 +215,6 @@ fn velocity_from_positions(kinematics: &mut [GnssKinematics]) {
 /// fewer than four usable satellites or no solution), their covariance with
 /// each pseudorange's std raised by `bias_std_m` in quadrature.
 fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinematics>> {
-    let nan = Vector3::from_element(f64::NAN);
     Ok(match gnss {
         GnssInput::Fixes(fixes) => {
             let mut kinematics: Vec<GnssKinematics> = fixes
@@ -252,18 +268,35 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
                                     .into(),
                             }
                         }
-                        Err(_) => GnssKinematics {
-                            time_s: e.time_s,
-                            position_ecef: nan,
-                            position_covariance: nalgebra::Matrix3::from_element(f64::NAN),
-                            velocity_ecef: None,
-                            velocity_covariance: nalgebra::Matrix3::from_element(f64::NAN),
-                        },
+                        Err(_) => GnssKinematics::none(e.time_s),
                     }
                 })
                 .collect()
         }
     })
+}
+
+/// The epoch with only its `keep` highest satellites above `receiver` (by
+/// the sine of the elevation; those without a usable satellite position
+/// are dropped first).
+fn highest_satellites(epoch: &GnssEpoch, receiver: &Vector3<f64>, keep: usize) -> GnssEpoch {
+    let up = receiver.normalize();
+    let elevation = |m: &SatelliteMeasurement| {
+        let d = m.position_ecef - receiver;
+        let s = d.dot(&up) / d.norm();
+        if s.is_finite() {
+            s
+        } else {
+            f64::NEG_INFINITY
+        }
+    };
+    let mut measurements = epoch.measurements.clone();
+    measurements.sort_by(|a, b| elevation(b).total_cmp(&elevation(a)));
+    measurements.truncate(keep);
+    GnssEpoch {
+        time_s: epoch.time_s,
+        measurements,
+    }
 }
 
 /// What a filter run gives: the solution, the smoothed one when asked
@@ -277,6 +310,8 @@ struct Inputs<'a> {
     gnss: &'a GnssInput,
     kinematics: &'a [GnssKinematics],
     used: &'a [bool],
+    /// Epochs of a partial outage (see [`LogConfig::outage_satellites`]).
+    thinned: &'a [bool],
     start: &'a Start,
     config: &'a LogConfig,
 }
@@ -322,11 +357,16 @@ impl Inputs<'_> {
                 coupling::run_loose_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
             GnssInput::Measurements(epochs) => {
+                let receiver = s.antenna.position_ecef;
+                let keep = self.config.outage_satellites;
                 let used: Vec<GnssEpoch> = epochs
                     .iter()
-                    .zip(self.used)
-                    .filter(|(_, &u)| u)
-                    .map(|(e, _)| e.clone())
+                    .zip(self.used.iter().zip(self.thinned))
+                    .filter(|(_, (&u, _))| u)
+                    .map(|(e, (_, &thin))| match thin {
+                        true => highest_satellites(e, &receiver, keep),
+                        false => e.clone(),
+                    })
                     .collect();
                 coupling::run_tight_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
@@ -406,6 +446,7 @@ impl<'a> Aids<'a> {
             return Ok(());
         }
         state.align_heading(t, heading, a.heading_std_rad.hypot(course_std))?;
+        state.reopen_tilt_and_horizontal_bias(self.inputs.start.tilt_std_rad);
         self.heading_known = true;
         Ok(())
     }
@@ -425,6 +466,9 @@ impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
             if let Some((speed, course, std)) = kin[i].course() {
                 self.last_course = Some((kin[i].time_s, speed, course, std));
                 self.align_heading(t, state)?;
+            }
+            if !self.heading_known {
+                state.forget_heading(self.inputs.start.heading_std_rad);
             }
         }
         let config = self.inputs.config;

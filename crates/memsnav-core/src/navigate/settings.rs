@@ -7,7 +7,7 @@
 use nalgebra::Vector3;
 
 use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
-use crate::coupling::FilterTuning;
+use crate::coupling::{BiasProcess, FilterTuning};
 use crate::gnss::ReceiverClockModel;
 use crate::sensors::presets::preset_spec;
 use crate::{validate, Error, Result};
@@ -118,6 +118,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("first_s", "periodic outages: start of the first, s"),
             ("length_s", "periodic outages: length, s"),
             ("every_s", "periodic outages: period, s"),
+            ("keep_satellites", "0 (default): total outages; 1-3: partial outages that keep the highest satellites of each epoch (tight coupling)"),
         ],
     ),
 ];
@@ -360,8 +361,7 @@ impl LogConfig {
             ("gnss", "receiver_clock") => {
                 let clock = ReceiverClockModel::oscillator(r.text()?)
                     .map_err(|e| Error::invalid(r.name(), e.to_string()))?;
-                q.clock_phase_psd = clock.offset_psd_m2_s();
-                q.clock_frequency_psd = clock.drift_psd_m2_s3();
+                t.set_receiver_clock(&clock);
             }
             ("gnss", "range_bias_states") => self.range_bias_states = r.flag()?,
             ("gnss", "range_bias_std_m") => {
@@ -462,6 +462,16 @@ impl LogConfig {
                     .map(|[s, l]| (s, l))
                     .collect()
             }
+            ("outages", "keep_satellites") => {
+                let v = r.non_negative()?;
+                if v.fract() != 0.0 || v > 3.0 {
+                    return Err(Error::invalid(
+                        r.name(),
+                        format!("must be 0 (a total outage), 1, 2 or 3, got {v}"),
+                    ));
+                }
+                self.outage_satellites = v as usize;
+            }
             ("outages", "first_s") => p.periodic[0] = Some(r.non_negative()?),
             ("outages", "length_s") => p.periodic[1] = Some(r.positive()?),
             ("outages", "every_s") => p.periodic[2] = Some(r.positive()?),
@@ -481,13 +491,21 @@ impl LogConfig {
                     "is needed with a bias instability",
                 )
             })?;
+            let i = &self.tuning.initial_std;
+            let model = |initial_std: f64, instability_std: f64| {
+                BiasProcess {
+                    initial_std,
+                    instability_std,
+                    correlation_time_s: tau,
+                    random_walk: 0.0,
+                }
+                .state_model()
+            };
             if let Some(s) = p.accel_instability {
-                q.accel_bias_psd = 2.0 * s * s / tau;
-                q.accel_bias_correlation_time_s = tau;
+                (q.accel_bias_psd, q.accel_bias_correlation_time_s) = model(i.accel_bias_m_s2, s);
             }
             if let Some(s) = p.gyro_instability {
-                q.gyro_bias_psd = 2.0 * s * s / tau;
-                q.gyro_bias_correlation_time_s = tau;
+                (q.gyro_bias_psd, q.gyro_bias_correlation_time_s) = model(i.gyro_bias_rad_s, s);
             }
         }
         let imu = p.imu_lever.unwrap_or_else(Vector3::zeros);
@@ -577,9 +595,12 @@ mod tests {
             .unwrap()
             .tuning
             .process_noise
-            .accel_white_psd
+            .input_errors
+            .errors
+            .accel_scale_factor
         };
-        assert!(absorbed(20_000.0) > absorbed(100.0));
+        assert!((absorbed(20_000.0) - 2e-2).abs() < 1e-15);
+        assert!((absorbed(100.0) - 1e-4).abs() < 1e-15);
         let err = LogConfig::from_settings(
             &tables(&[("filter", "gyro_scale_factor_std_ppm", Number(-1.0))]),
             100.0,
