@@ -181,8 +181,12 @@ def test_experiment_shapes_and_summary(tiny):
         "final_position_error_m",
         "mean_nees_per_dof",
         "rejected_measurements_per_run",
+        "diverged_share",
     }
     assert set(s["ins"]) == keys | {"standard_error"}
+    # A run of 6 satellites throughout raises no integrity alert.
+    assert s["ins"]["diverged_share"] == 0.0
+    assert tiny.position_nees_mean["ins"].shape == (41,)
     assert set(s["ins"]["standard_error"]) == keys
     pe = tiny.position_error["ins"]
     assert s["ins"]["rms_position_error_m"] == pytest.approx(np.sqrt(np.mean(pe**2)))
@@ -242,15 +246,17 @@ def test_experiment_bad_input_and_custom_imus():
 
 def test_paper_claims_outage_drift_and_calibration():
     """MEMS drifts far more than INS during a total outage, and calibration
-    removes most of the MEMS drift (see the module docs for why our
-    calibration helps more in the outage than the paper's)."""
+    removes a large part of the MEMS drift (30 % in these 3 runs, 35-46 %
+    over 10-run sets of three seeds since issue 23's filter, which takes
+    the raw MEMS's misalignments for what they do: see the module docs and
+    docs/paper-comparison.md)."""
     r = mn.experiments.navigation(
         outage=(40.0, 30.0), runs=3, duration=75.0, seed=0, calibration_duration=120.0
     )
     s = r.summary()
     ins, mems, cal = (s[n]["max_position_error_during_outage_m"] for n in r.imus)
     assert mems > 4 * ins
-    assert cal < 0.5 * mems
+    assert cal < 0.8 * mems
     figs = r.plot()
     assert set(figs) == {"fig16", "fig17", "fig18"}
     # Outside the outage all three stay at the GNSS level (a few metres).

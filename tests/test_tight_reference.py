@@ -1,8 +1,9 @@
 """The tightly coupled filter reproduces its own earlier output (issue 17):
-tests/data/tight-reference/tight_reference.npz was written by the code
-before the AVX2/FMA propagation kernels (make_reference.py beside it); a
-fused multiply-add rounds once instead of twice, so the comparison is to
-1e-9 relative, not bitwise."""
+tests/data/tight-reference/tight_reference.npz was written by an earlier
+commit (make_reference.py beside it says which, and why it was rewritten);
+a fused multiply-add rounds once instead of twice, so a reference from the
+portable kernels and a run on AVX2/FMA ones compare to 1e-9 relative, not
+bitwise."""
 
 from __future__ import annotations
 

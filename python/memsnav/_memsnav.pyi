@@ -1111,7 +1111,10 @@ class FilterSolution:
         """Every batch test (an epoch's measurements of one kind): dict of arrays
         ``time``, ``kind``, ``nis`` (the batch's nu' S^-1 nu), ``dof``,
         ``threshold`` (its chi-square quantile), ``excluded`` (measurements left
-        out by fault exclusion), ``accepted``."""
+        out by fault exclusion), ``accepted``, ``nonlinearity`` (pseudoranges:
+        the largest expected curvature term over the position uncertainty in
+        units of the measurement std, NaN for other kinds; above 0.1 the
+        first-order model no longer holds, see ``integrity``)."""
 
     @property
     def resets(self) -> dict[str, npt.NDArray[Any] | list[str]]:
@@ -1124,12 +1127,27 @@ class FilterSolution:
     def warnings(self) -> list[str]:
         """What the run found implausible, one sentence each (also raised as
         ``UserWarning``s by ``run``): IMU magnitudes that do not fit m/s² and
-        rad/s, a filter diverged from its GNSS aiding. Empty when all is well."""
+        rad/s, and every integrity alert (see ``integrity``). Empty when all is
+        well."""
 
     @property
     def diverged(self) -> bool:
-        """Whether the filter diverged from its GNSS aiding (most GNSS batches
-        failing their gate over the run; see ``warnings``)."""
+        """Whether the run raised an integrity alert: its solution and
+        covariance are not trustworthy (GNSS batches mostly gated, innovations
+        far outside their chi-square band, or a position too uncertain for the
+        linearised model; see ``integrity`` and ``warnings``)."""
+
+    @property
+    def integrity(self) -> dict[str, Any]:
+        """Whether the solution can be trusted (docs/few-satellites.md): a dict
+        with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
+        ("gated_batches", "inconsistent_innovations", "beyond_linear_model"),
+        ``time`` s, ``message``, in time order) and ``consistency`` (per GNSS
+        kind: ``kind``, ``windows`` of 30 s, ``above_band``: windows whose summed
+        NIS exceeded the 0.9999 chi-square quantile, ``max_band_ratio``: the
+        largest summed NIS over that quantile, ``max_at``: its window's start,
+        s). A ratio above 4 in two windows in a row is an alert; 1-4 is a tuning
+        mismatch, reported here only."""
 
     def __len__(self) -> int: ...
 
@@ -1144,22 +1162,31 @@ class TightlyCoupledFilter:
     receiver clock jump moved into the clock, and when the pseudoranges keep
     failing (3 epochs) the filter resets to the epoch's least-squares fix (or
     opens its covariance with fewer than 4 satellites); every reset is in
-    ``FilterSolution.resets``. Fewer than four satellites still help; with
-    none the INS coasts. Measurement stds are floored (0.5 m, 0.02 m/s).
+    ``FilterSolution.resets``. Fewer than four satellites still help (the
+    rate row keeps the line of sight's turn with position, so ranges and
+    rates leave the same directions unobserved); with none the INS coasts.
+    ``FilterSolution.integrity`` says when the result cannot be trusted
+    (docs/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
 
     Tuning from ``imu.spec`` at ``imu.sample_rate`` (``FilterTuning::from_imu_spec``):
     white-noise PSDs = noise density² (or per-sample std² / rate); bias
-    processes from bias instability (Gauss-Markov, 2 sigma²/tau) and random walk;
-    initial bias std = sqrt(bias_std² + instability²), floored at 1e-6 m/s² and
-    1e-9 rad/s; errors the states lack (scale factor unless estimated,
-    misalignment, nonlinearity, g-sensitivity) absorbed for a land vehicle
-    (2 m/s² manoeuvres, 0.2 rad/s turns, 10 s correlation): their
-    gravity-driven part widens the initial bias std, their motion-driven part
-    adds 2 sigma² tau to the white PSD. Receiver clock: TCXO, S_cφ = 0.01 m²/s,
-    S_cf = 0.04 m²/s³. Every default below can be overridden:
+    processes from bias instability (2 sigma²/tau) and random walk, the
+    instability taken as a random walk when the bias has a turn-on part
+    (nothing makes a turn-on bias fade); initial bias std =
+    sqrt(bias_std² + instability²), floored at 1e-6 m/s² and 1e-9 rad/s;
+    errors the states lack (scale factor unless estimated, misalignment,
+    nonlinearity, g-sensitivity): their part driven by the specific force at
+    rest widens the initial bias std, their part driven by the motion is
+    process noise shaped by the sensed specific force and rate at every step,
+    2 sigma² tau with the manoeuvres' correlation time tau = 10 s
+    (``filter::input_noise``). Receiver clock: the simulator's TCXO
+    (``clock_h0`` 2e-19, ``clock_h_minus2`` 2e-20, the same names and model
+    as ``simulate_gnss``: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
+    below can be overridden:
 
     - ``accel_noise_density`` (m/s²/√Hz), ``gyro_noise_density`` (rad/s/√Hz):
-      replace the white PSDs (after absorption) by density².
+      replace the sensor's white PSDs by density² (the input-shaped noise of
+      the unmodelled errors stays).
     - ``accel_bias_psd`` ((m/s²)²/s), ``gyro_bias_psd`` ((rad/s)²/s): bias
       driving-noise PSDs.
     - ``gate_probability``: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
@@ -1172,6 +1199,8 @@ class TightlyCoupledFilter:
       ``initial_clock_drift_std`` 10 m/s; scale factors (23 states): the
       spec's scale_factor_std (floored at 1e-6).
     - ``use_pseudorange_rate``: use rates when the epoch carries them.
+    - ``clock_h0``, ``clock_h_minus2``: the receiver oscillator's Allan
+      coefficients (None: the TCXO above).
 
     Raises ValueError naming the argument for a bad value.
     """
@@ -1195,10 +1224,14 @@ class TightlyCoupledFilter:
         initial_clock_offset_std: float = 50.0,
         initial_clock_drift_std: float = 10.0,
         use_pseudorange_rate: bool = True,
+        clock_h0: float | None = None,
+        clock_h_minus2: float | None = None,
     ) -> TightlyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:
-        """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
+        """The tuning in effect (PSDs, correlation times, initial one-sigmas,
+        the unmodelled errors' one-sigmas ``unmodelled_*_std`` and
+        ``manoeuvre_correlation_time``), SI."""
 
     def run(
         self,
@@ -1271,10 +1304,14 @@ class LooselyCoupledFilter:
         initial_clock_offset_std: float = 50.0,
         initial_clock_drift_std: float = 10.0,
         use_pseudorange_rate: bool = True,
+        clock_h0: float | None = None,
+        clock_h_minus2: float | None = None,
     ) -> LooselyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:
-        """The tuning in effect (PSDs, correlation times, initial one-sigmas), SI."""
+        """The tuning in effect (PSDs, correlation times, initial one-sigmas,
+        the unmodelled errors' one-sigmas ``unmodelled_*_std`` and
+        ``manoeuvre_correlation_time``), SI."""
 
     def run(
         self,

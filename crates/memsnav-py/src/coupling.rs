@@ -10,7 +10,7 @@ use memsnav_core::coupling::{
     Solution,
 };
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
-use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
+use memsnav_core::gnss::{GnssEpoch, ReceiverClockModel, SatelliteMeasurement};
 use memsnav_core::ins::NavState;
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
@@ -685,7 +685,7 @@ macro_rules! filter_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true))]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true, clock_h0=None, clock_h_minus2=None))]
             fn new(
                 imu: &PyImuModel,
                 scale_factor_states: bool,
@@ -703,6 +703,8 @@ macro_rules! filter_class {
                 initial_clock_offset_std: f64,
                 initial_clock_drift_std: f64,
                 use_pseudorange_rate: bool,
+                clock_h0: Option<f64>,
+                clock_h_minus2: Option<f64>,
             ) -> PyResult<Self> {
                 let model = &imu.inner;
                 let mut tuning =
@@ -744,6 +746,14 @@ macro_rules! filter_class {
                 s.clock_drift_m_s = initial_clock_drift_std;
                 tuning.gate_probability = gate_probability;
                 tuning.use_pseudorange_rate = use_pseudorange_rate;
+                let default_clock = ReceiverClockModel::default();
+                let clock = ReceiverClockModel {
+                    h0: clock_h0.unwrap_or(default_clock.h0),
+                    h_minus2: clock_h_minus2.unwrap_or(default_clock.h_minus2),
+                    ..default_clock
+                };
+                clock.validate().py()?;
+                tuning.set_receiver_clock(&clock);
                 tuning.validate().py()?;
                 Ok(Self {
                     settings: Settings {
@@ -772,6 +782,14 @@ macro_rules! filter_class {
                 d.set_item("gyro_bias_correlation_time", q.gyro_bias_correlation_time_s)?;
                 d.set_item("clock_phase_psd", q.clock_phase_psd)?;
                 d.set_item("clock_frequency_psd", q.clock_frequency_psd)?;
+                let e = &q.input_errors;
+                d.set_item("unmodelled_accel_scale_factor_std", e.errors.accel_scale_factor)?;
+                d.set_item("unmodelled_accel_misalignment_std", e.errors.accel_misalignment)?;
+                d.set_item("unmodelled_accel_nonlinearity_std", e.errors.accel_nonlinearity_per_m_s2)?;
+                d.set_item("unmodelled_gyro_scale_factor_std", e.errors.gyro_scale_factor)?;
+                d.set_item("unmodelled_gyro_misalignment_std", e.errors.gyro_misalignment)?;
+                d.set_item("unmodelled_gyro_g_sensitivity_std", e.errors.gyro_g_sensitivity_rad_s_per_m_s2)?;
+                d.set_item("manoeuvre_correlation_time", e.correlation_time_s)?;
                 d.set_item("gate_probability", t.gate_probability)?;
                 d.set_item("use_pseudorange_rate", t.use_pseudorange_rate)?;
                 d.set_item("initial_position_std", s.position_m)?;
