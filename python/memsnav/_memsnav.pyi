@@ -1595,7 +1595,8 @@ class LogRun:
         ``until_s``: only windows ending that long after the start. Keys ``time``,
         ``measured_specific_force``, ``measured_angular_rate``,
         ``reference_specific_force``, ``reference_angular_rate`` ((W, 3), SI),
-        ``window_s``, ``skipped_for_resets``, ``skipped_before_heading``, ``accel_bias_covariance``, ``gyro_bias_covariance``,
+        ``window_s``, ``skipped_for_resets``, ``skipped_before_heading``,
+        ``accel_bias_covariance``, ``gyro_bias_covariance``,
         ``accel_scale_factor_covariance``, ``gyro_scale_factor_covariance`` ((3, 3),
         the solution's own uncertainty of them in sensor axes, SI²; zero scale
         factors without their states)."""

@@ -204,7 +204,8 @@ def _drive_report(run: CalibrationRun, cal: DriveCalibration, out: Path) -> Path
     doc.paragraph(
         f"GNSS-reference calibration on a drive (method §3): {s['windows']} windows of "
         f"{cal.window_s:g} s from {span} after the start ({s['skipped_for_resets']} left out for "
-        f"filter resets, {s.get('skipped_before_heading', 0)} before the heading was known), references from the smoothed navigation of "
+        f"filter resets, {s.get('skipped_before_heading', 0)} before the heading was "
+        f"known), references from the smoothed navigation of "
         f"{html.escape(str(run.imu_calibration.source.get('navigate_config')))}. Processing "
         f'{s["processing_s"]:.2f} s. Method: docs/calibration.md, "A drive".'
     )

@@ -181,9 +181,7 @@ class NavigationResult:
             "diverged_share": runs["diverged"].astype(float),
         }
         if self.config.get("outage") is not None:
-            out["position_nees_per_dof_at_outage_end"] = runs[
-                "position_nees_per_dof_at_outage_end"
-            ]
+            out["position_nees_per_dof_at_outage_end"] = runs["position_nees_per_dof_at_outage_end"]
             out["mean_max_position_error_during_outage_m"] = runs["max_in_outage"]
             out["mean_max_horizontal_error_during_outage_m"] = runs["max_horizontal_in_outage"]
             out["mean_max_vertical_error_during_outage_m"] = runs["max_vertical_in_outage"]
@@ -523,9 +521,7 @@ def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> Navigatio
                 "at_outage_end": e["run_at_outage_end"],
                 "horizontal_at_outage_end": e["run_horizontal_at_outage_end"],
                 "mean_nees_per_dof": e["run_mean_nees_per_dof"],
-                "position_nees_per_dof_at_outage_end": e[
-                    "run_position_nees_per_dof_at_outage_end"
-                ],
+                "position_nees_per_dof_at_outage_end": e["run_position_nees_per_dof_at_outage_end"],
                 "diverged": e["run_diverged"],
                 "rejected": e["run_rejected"],
                 "accepted": e["run_accepted"],

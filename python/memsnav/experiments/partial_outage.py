@@ -13,7 +13,9 @@ comparison); they differ only by the satellites the window removes.
 With 1-3 satellites and a free receiver clock the position is not
 determined epoch by epoch: 3 pseudoranges leave one direction of
 (position, clock) open, which the filter can only bound through the
-dynamics of the INS and of the clock model.
+dynamics of the INS and of the clock model. What k satellites determine,
+and why the filter's covariance covers its errors whatever k is, is in
+docs/few-satellites.md; every satellite kept lowers the error (issue 23).
 """
 
 from __future__ import annotations
@@ -65,9 +67,12 @@ class PartialOutageResult:
         navigation summary's outage figures (``max_position_error_during_
         outage_m``, ``mean_max_position_error_during_outage_m`` and its
         horizontal and vertical parts,
-        ``position_error_at_outage_end_m``, ``rms_position_error_m``) with
-        their ``standard_error``; plus ``completed_runs``, ``interrupted``
-        and ``config``."""
+        ``position_error_at_outage_end_m``, ``rms_position_error_m``), the
+        Monte Carlo ``position_nees_per_dof_at_outage_end`` (1 when the
+        filter's covariance matches its errors) and ``diverged_share`` (runs
+        whose solution raised an integrity alert), with their
+        ``standard_error``; plus ``completed_runs``, ``interrupted`` and
+        ``config``."""
         keys = (
             "max_position_error_during_outage_m",
             "mean_max_position_error_during_outage_m",
@@ -75,6 +80,8 @@ class PartialOutageResult:
             "mean_max_vertical_error_during_outage_m",
             "position_error_at_outage_end_m",
             "rms_position_error_m",
+            "position_nees_per_dof_at_outage_end",
+            "diverged_share",
         )
         scenarios = {}
         for label, result in self.scenarios.items():

@@ -523,6 +523,12 @@ def _navigation(report: Report, results: dict[str, Any], summary: dict[str, Any]
             report.figure(name, fig, fig.axes[0].get_title() + ": position error norm, mean ± std")
 
 
+#: The Monte Carlo position NEES per degree of freedom a covariance that
+#: describes its errors gives, within the spread of a few dozen runs and the
+#: white-noise stand-ins for correlated sensor errors (issue 23's criterion).
+NEES_BAND = (0.25, 4.0)
+
+
 def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, Any]) -> None:
     s = summary["partial_outage"]
     if s is None:
@@ -541,7 +547,8 @@ def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, 
         "and sensor draws. With fewer than 4 satellites and a free receiver clock the "
         "pseudoranges leave a direction of (position, clock) undetermined; with 3 high "
         "satellites that is mostly the height with the clock (the receiver's TCXO wanders by "
-        "metres per minute), which only the INS's and the clock model's dynamics bound."
+        "metres per minute), which only the INS's and the clock model's dynamics bound "
+        "(docs/few-satellites.md says what 1-3 satellites determine)."
         + _incomplete_note(summary, "partial_outage")
     )
     labels = list(s["scenarios"])
@@ -550,11 +557,15 @@ def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, 
     horizontal = "mean_max_horizontal_error_during_outage_m"
     vertical = "mean_max_vertical_error_during_outage_m"
 
+    nees = "position_nees_per_dof_at_outage_end"
+
     def cell(label: str, imu: str) -> str:
         e = s["scenarios"][label]["imus"][imu]
+        flagged = e.get("diverged_share", 0.0)
         return (
             f"{_pm(e[norm], e['standard_error'][norm])} (horizontal {_num(e[horizontal])}, "
-            f"vertical {_num(e[vertical])})"
+            f"vertical {_num(e[vertical])}); NEES/dof {_num(e[nees])}"
+            + (f"; {flagged:.0%} of runs flagged" if flagged else "")
         )
 
     report.table(
@@ -563,7 +574,11 @@ def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, 
     )
     report.paragraph(
         "Each cell: the mean over runs of each run's largest position error in the window "
-        "(± standard error), and of its largest horizontal and vertical parts (local NED)."
+        "(± standard error), and of its largest horizontal and vertical parts (local NED); "
+        "the Monte Carlo position NEES per degree of freedom at the window's end (1 when the "
+        f"filter's covariance matches its errors; the band this report accepts is "
+        f"[{NEES_BAND[0]:g}, {NEES_BAND[1]:g}]); and the share of runs whose solution raised "
+        "an integrity alert (shown when not zero)."
     )
     reading = []
     none = "tight, 0 satellites"
@@ -592,13 +607,28 @@ def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, 
     if worse:
         reading.append(
             "Partial aiding made these filters worse than free inertial navigation (by more "
-            f"than two standard errors): "
-            f"{', '.join(worse)}. Their tuning stands in white noise for errors that are "
-            "correlated in time (the raw MEMS's misalignments) or states loose calibration "
-            "uncertainties of the nearly collinear w-axis terms (the calibrated MEMS), so "
-            "they weigh the undetermined height-and-clock direction, and what the few "
-            "pseudoranges say about the attitude, wrongly."
+            f"than two standard errors): {', '.join(worse)}."
         )
+    elif none in s["scenarios"]:
+        reading.append(
+            "Every satellite kept helps: no tightly coupled scenario is worse than free "
+            "inertial navigation through the window by more than two standard errors."
+        )
+    outside = [
+        f"{imu} with {label}"
+        for label in labels
+        for imu in imus
+        if s["scenarios"][label]["coupling"] == "tight"
+        and not NEES_BAND[0] <= s["scenarios"][label]["imus"][imu][nees] <= NEES_BAND[1]
+    ]
+    reading.append(
+        "The covariance covers the errors at the window's end in every tightly coupled "
+        f"scenario (position NEES/dof within [{NEES_BAND[0]:g}, {NEES_BAND[1]:g}])."
+        if not outside
+        else "The position NEES/dof at the window's end falls outside "
+        f"[{NEES_BAND[0]:g}, {NEES_BAND[1]:g}] for {', '.join(outside)}: there the filter's "
+        "covariance does not describe its errors."
+    )
     _list(report, reading)
     report.figure(
         "partial_outage",
