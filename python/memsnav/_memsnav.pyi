@@ -1201,6 +1201,8 @@ class TightlyCoupledFilter:
     - ``use_pseudorange_rate``: use rates when the epoch carries them.
     - ``clock_h0``, ``clock_h_minus2``: the receiver oscillator's Allan
       coefficients (None: the TCXO above).
+    - ``manoeuvre_correlation_time``: tau of the input-shaped noise, s (None:
+      10 s, a land vehicle's turns and accelerations; shorter for a walker).
 
     Raises ValueError naming the argument for a bad value.
     """
@@ -1226,6 +1228,7 @@ class TightlyCoupledFilter:
         use_pseudorange_rate: bool = True,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
+        manoeuvre_correlation_time: float | None = None,
     ) -> TightlyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:
@@ -1306,6 +1309,7 @@ class LooselyCoupledFilter:
         use_pseudorange_rate: bool = True,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
+        manoeuvre_correlation_time: float | None = None,
     ) -> LooselyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:

@@ -685,7 +685,7 @@ macro_rules! filter_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true, clock_h0=None, clock_h_minus2=None))]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None))]
             fn new(
                 imu: &PyImuModel,
                 scale_factor_states: bool,
@@ -705,6 +705,7 @@ macro_rules! filter_class {
                 use_pseudorange_rate: bool,
                 clock_h0: Option<f64>,
                 clock_h_minus2: Option<f64>,
+                manoeuvre_correlation_time: Option<f64>,
             ) -> PyResult<Self> {
                 let model = &imu.inner;
                 let mut tuning =
@@ -754,6 +755,9 @@ macro_rules! filter_class {
                 };
                 clock.validate().py()?;
                 tuning.set_receiver_clock(&clock);
+                if let Some(tau) = manoeuvre_correlation_time {
+                    tuning.process_noise.input_errors.correlation_time_s = tau;
+                }
                 tuning.validate().py()?;
                 Ok(Self {
                     settings: Settings {
