@@ -8,7 +8,7 @@
 //! - **Inconsistent innovations**: the innovations of one GNSS kind,
 //!   summed over a window of [`WINDOW_S`], exceed the upper edge of their
 //!   chi-square band (probability [`BAND_PROBABILITY`] for the window's
-//!   degrees of freedom; Bar-Shalom et al. 2001 §5.4.2 on the time-averaged
+//!   degrees of freedom; Bar-Shalom et al. 2001 §5.4 on the time-averaged
 //!   NIS test) by more than [`DIVERGED_BAND_RATIO`] in two windows in a
 //!   row: the innovations are twice their predicted std or more, for a
 //!   minute. A window just above its band (ratio 1-4) is a mismatch of the

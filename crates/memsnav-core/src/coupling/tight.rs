@@ -180,8 +180,9 @@ pub(crate) fn update_epoch<const N: usize>(
 /// The expected curvature term of a pseudorange over the position
 /// uncertainty `p_rr`, in units of its std: the range from a position δr
 /// off is ρ − u·δr + |δr⊥|² / (2ρ) + …, and E|δr⊥|² = tr((I − u uᵀ) P_rr)
-/// (Bar-Shalom et al. 2001 §10.3.2 for the second-order term the EKF
-/// drops). Above about a tenth, the first-order model the filter updates
+/// (the second-order term the EKF drops; the second-order EKF of
+/// Bar-Shalom et al. 2001, ch. 10, adds its expectation). Above about a
+/// tenth, the first-order model the filter updates
 /// with no longer describes the measurement (`super::integrity`).
 fn curvature(p_rr: &Matrix3<f64>, u: &Vector3<f64>, range_m: f64, std_m: f64) -> f64 {
     (p_rr.trace() - u.dot(&(p_rr * u))) / (2.0 * range_m * std_m)
