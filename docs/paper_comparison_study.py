@@ -1,7 +1,7 @@
 """The study behind ``docs/paper-comparison.md``: why two of the paper's
 navigation claims do not reproduce with our defaults, and which settings
 change that. Run ``python docs/paper_comparison_study.py [runs] [threads]``
-(20 runs: about 10 minutes on two shared cores); it prints the Markdown tables of
+(20 runs: about a minute on two cores); it prints the Markdown tables of
 the document.
 
 Three parts:
