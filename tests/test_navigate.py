@@ -131,6 +131,13 @@ def test_defaults_follow_rtk_fixes_to_centimetres(tmp_path):
     accepted = s["measurements"]["position"]["accepted"]
     assert accepted > 0.95 * 3 * aided["epochs"]
     assert s["diverged"] is False and s["warnings"] == []
+    # The integrity assessment reaches summary.json: no alert, and the
+    # position fixes' innovations inside (or near) their chi-square band.
+    integrity = s["integrity"]
+    assert integrity["alerts"] == [] and not integrity["diverged"]
+    kinds = {c["kind"]: c for c in integrity["consistency"]}
+    assert kinds["position"]["windows"] >= 1
+    assert kinds["position"]["max_band_ratio"] < 4.0
 
 
 def test_walk_starts_at_rest_and_stays_consistent(tmp_path):

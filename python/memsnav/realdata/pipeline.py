@@ -299,6 +299,7 @@ def navigate(
         "measurements": _counts(run),
         "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
         "diverged": bool(solution.diverged),
+        "integrity": _integrity(solution.integrity, t0),
         "warnings": list(solution.warnings),
         "resets": [
             {
@@ -347,6 +348,28 @@ def navigate(
     result.summary = _finite(summary)
     _write_outputs(result, Path(output) if output is not None else Path(cfg[""]["output"]))
     return result
+
+
+def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
+    """The solution's integrity (``FilterSolution.integrity``) with times
+    in seconds after the start."""
+    return {
+        "diverged": bool(integrity["diverged"]),
+        "alerts": [
+            {"kind": a["kind"], "time_s": float(a["time"] - t0), "message": a["message"]}
+            for a in integrity["alerts"]
+        ],
+        "consistency": [
+            {
+                "kind": c["kind"],
+                "windows": int(c["windows"]),
+                "windows_above_band": int(c["above_band"]),
+                "max_band_ratio": float(c["max_band_ratio"]),
+                "max_at_s": float(c["max_at"] - t0),
+            }
+            for c in integrity["consistency"]
+        ],
+    }
 
 
 @contextlib.contextmanager

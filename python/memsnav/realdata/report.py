@@ -42,6 +42,22 @@ def write_report(result: NavigationResult, out: Path) -> Path:
         f"{len(s['resets'])} resets; processing {s['processing_s']:.1f} s (engine "
         f"{s['filter_run_s']:.2f} s). Configuration: {result.config.path}."
     )
+    integrity = s["integrity"]
+    if integrity["diverged"]:
+        doc.paragraph(
+            "INTEGRITY: THE SOLUTION IS NOT TRUSTWORTHY. "
+            + " ".join(a["message"] for a in integrity["alerts"])
+        )
+    else:
+        ratios = ", ".join(
+            f"{c['kind']} {c['max_band_ratio']:.2f}" for c in integrity["consistency"]
+        )
+        doc.paragraph(
+            "Integrity: no alert. Largest summed NIS of a 30 s window over the upper edge of "
+            f"its chi-square band (0.9999), per GNSS kind: {ratios or 'no GNSS batch'} (above "
+            "1: the innovations exceed their predicted spread, a tuning mismatch; above 4 "
+            "twice in a row: an alert; docs/few-satellites.md)."
+        )
     # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
     step = max(1, round(0.1 / max(float(np.median(np.diff(t))), 1e-6)))
     fig, ax = plt.subplots(figsize=(7, 6))
