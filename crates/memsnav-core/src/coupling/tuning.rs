@@ -566,3 +566,95 @@ impl FilterTuning {
         ))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bias with a turn-on part larger than its instability is a random
+    /// walk of the instability's PSD (nothing makes the turn-on part fade);
+    /// a bias that is the Gauss-Markov process alone keeps its decay.
+    #[test]
+    fn a_turn_on_bias_is_not_forgotten() {
+        let gm = BiasProcess {
+            initial_std: 1e-3,
+            instability_std: 1e-3,
+            correlation_time_s: 300.0,
+            random_walk: 0.0,
+        };
+        let psd = 2.0 * 1e-6 / 300.0;
+        assert_eq!(gm.state_model(), (psd, 300.0));
+        let turn_on = BiasProcess {
+            initial_std: 0.2,
+            ..gm
+        };
+        let (q, tau) = turn_on.state_model();
+        assert_eq!(tau, f64::INFINITY);
+        assert!((q - psd).abs() < 1e-20);
+        let with_walk = BiasProcess {
+            random_walk: 1e-4,
+            ..turn_on
+        };
+        assert!((with_walk.state_model().0 - (psd + 1e-8)).abs() < 1e-20);
+    }
+
+    /// The filter's clock noise is the simulator's clock model, whatever
+    /// the oscillator.
+    #[test]
+    fn the_clock_noise_comes_from_the_clock_model() {
+        let t = FilterTuning::new(
+            100.0,
+            0.01,
+            1e-3,
+            BiasProcess::constant(0.1),
+            BiasProcess::constant(1e-3),
+        )
+        .unwrap();
+        let tcxo = ReceiverClockModel::default();
+        assert_eq!(t.process_noise.clock_phase_psd, tcxo.offset_psd_m2_s());
+        assert_eq!(t.process_noise.clock_frequency_psd, tcxo.drift_psd_m2_s3());
+        let mut o = t;
+        let ocxo = ReceiverClockModel::oscillator("ocxo").unwrap();
+        o.set_receiver_clock(&ocxo);
+        assert_eq!(o.process_noise.clock_frequency_psd, ocxo.drift_psd_m2_s3());
+        // S_cf = 2π² c² h−2 for the TCXO: 0.0355 m²/s³ (Groves rounds to 0.04).
+        assert!((t.process_noise.clock_frequency_psd - 0.0355).abs() < 5e-4);
+    }
+
+    /// The constant part of the unmodelled errors widens the initial bias
+    /// uncertainty; the varying part becomes input-shaped noise, without
+    /// the scale factors when they are states.
+    #[test]
+    fn unmodelled_errors_split_into_bias_and_input_shaped_noise() {
+        let t = FilterTuning::new(
+            100.0,
+            0.01,
+            1e-3,
+            BiasProcess::constant(0.1),
+            BiasProcess::constant(1e-3),
+        )
+        .unwrap();
+        let errors = UnmodelledErrors {
+            accel_scale_factor: 1e-2,
+            accel_misalignment: 1e-2,
+            gyro_scale_factor: 1e-3,
+            gyro_misalignment: 1e-2,
+            ..Default::default()
+        };
+        let g = STANDARD_GRAVITY_M_S2;
+        let absorbed = t.absorb_unmodelled(&errors, 10.0, false);
+        let expected = (0.1_f64.powi(2) + 2.0 * (1e-2 * g).powi(2)).sqrt();
+        assert!((absorbed.initial_std.accel_bias_m_s2 - expected).abs() < 1e-12);
+        assert_eq!(absorbed.process_noise.input_errors.errors, errors);
+        assert_eq!(absorbed.process_noise.input_errors.correlation_time_s, 10.0);
+        // The white-noise densities are the sensor's own.
+        assert_eq!(
+            absorbed.process_noise.accel_white_psd,
+            t.process_noise.accel_white_psd
+        );
+        let states = t.absorb_unmodelled(&errors, 10.0, true);
+        let e = states.process_noise.input_errors.errors;
+        assert_eq!((e.accel_scale_factor, e.gyro_scale_factor), (0.0, 0.0));
+        assert_eq!(e.gyro_misalignment, 1e-2);
+    }
+}
