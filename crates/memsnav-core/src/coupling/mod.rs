@@ -41,13 +41,21 @@
 //! uncertainties; `FilterTuning::from_imu_spec` derives them from an IMU's
 //! specification and everything stays overridable. Errors the state does
 //! not contain — raw MEMS scale factors (unless the 23-state filter is
-//! used), misalignments, nonlinearity, g-sensitivity — are absorbed by
-//! inflated uncertainty, see [`UnmodelledErrors`]: their gravity-driven
-//! (constant) part widens the initial bias uncertainty, their
-//! motion-driven part is added to the white-noise densities as the
-//! white-noise equivalent of a coloured noise. That keeps the filter
-//! honest (NIS near 1) on raw MEMS data at the price of a looser solution;
-//! calibration and inversion (method §3-4) remove these errors instead.
+//! used), misalignments, nonlinearity, g-sensitivity — are absorbed as
+//! uncertainty ([`UnmodelledErrors`], `FilterTuning::absorb_unmodelled`):
+//! their part driven by the specific force at rest widens the initial bias
+//! uncertainty, their part driven by the motion is process noise shaped by
+//! the sensed specific force and rate at every step
+//! ([`crate::filter::input_noise`]). Calibration and inversion (method
+//! §3-4) remove these errors instead.
+//!
+//! ## Integrity
+//!
+//! Every run is judged from its own records ([`integrity`]): GNSS batches
+//! mostly gated, innovations far outside their chi-square band, or a
+//! position too uncertain across the lines of sight for the first-order
+//! pseudorange model each raise an [`IntegrityAlert`], a warning, and mark
+//! the solution diverged (docs/few-satellites.md).
 
 mod aids;
 mod antenna;

@@ -27,9 +27,11 @@
 //! ½F²Δt² terms scale with (ω_ie Δt)² ≈ 5e-13 and |f| Δt² ≈ 1e-3 m/s at
 //! 100 Hz, below the process noise of any IMU grade.
 //!
-//! Q: Groves eq. 14.82 (the diagonal first-order form, noise densities times
-//! Δt; Ĉ S Ĉᵀ = S I for isotropic noise) plus the exact two-state clock
-//! block (S_φ Δt + S_f Δt³/3, S_f Δt²/2, S_f Δt).
+//! Q: Groves eq. 14.82 (the first-order form, noise densities times Δt;
+//! Ĉ S Ĉᵀ = S I for the sensors' isotropic white noise) plus, on the
+//! attitude and velocity blocks, Ĉ diag(q) Ĉᵀ Δt of the unmodelled errors'
+//! noise shaped by this step's inputs ([`super::input_noise`]), and the
+//! exact two-state clock block (S_φ Δt + S_f Δt³/3, S_f Δt²/2, S_f Δt).
 //!
 //! P ← Φ P Φᵀ + Q is computed as (P Φᵀ)ᵀ Φᵀ + Q (P is symmetric): Φᵀ is
 //! listed as sparse columns (its non-zeros only, 58 for 17 states, using

@@ -17,8 +17,8 @@
 //! `N` alone ([`Layout::of`]): [`BASE_STATES`] (17), [`WITH_SCALE_FACTORS`]
 //! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
 //! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both).
-//! Misalignments and nonlinearity are not states; how the filters absorb
-//! them is documented in `coupling`.
+//! Misalignments and nonlinearity are not states; the filters absorb them
+//! as noise shaped by the sensed motion ([`super::input_noise`]).
 
 use nalgebra::{SVector, Vector3};
 
