@@ -27,7 +27,8 @@
 //! fixed model ([`NavigationImu::Fixed`]), readings of the trajectory's
 //! exact specific force and angular rate, filter tuning from the spec
 //! ([`FilterTuning::from_imu_spec`], 17 states: the deterministic errors the
-//! state lacks are absorbed as inflated noise). The filter starts from the
+//! state lacks are absorbed as initial bias uncertainty and noise shaped
+//! by the sensed motion). The filter starts from the
 //! least-squares fix of the first GNSS epoch (4 satellites needed there),
 //! or from a given state: the truth plus drawn position and velocity errors
 //! ([`InitialStateSource::Given`]), which lets a run track fewer than 4
@@ -152,7 +153,7 @@ pub struct NavigationExperimentConfig {
     /// Whether every filter's tuning absorbs the deterministic errors its
     /// state lacks (scale factor unless `scale_factor_states`,
     /// misalignment, nonlinearity, g-sensitivity) as inflated initial bias
-    /// uncertainty and white noise
+    /// uncertainty and noise shaped by the sensed motion
     /// ([`crate::coupling::FilterTuning::absorb_unmodelled`]; default
     /// true). False tunes from the spec's bias and noise only, as a filter
     /// that ignores those errors would.
