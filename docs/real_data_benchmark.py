@@ -149,7 +149,7 @@ def walk_withheld_table(data_root: str | None) -> str:
         truth = result.truth
         t = np.asarray(truth["time"]) - result.summary["start_gps_time_s"]
         # Down error against the ellipsoidal truth height (truth + separation).
-        error = np.asarray(truth["error_ned"]) + [0.0, 0.0, WALK_GEOID_SEPARATION_M]
+        error = np.asarray(truth["error_ned"]) + np.array([0.0, 0.0, WALK_GEOID_SEPARATION_M])
         std = np.asarray(truth["std_ned"])
         inside_windows = np.zeros(len(t), dtype=bool)
         for start, length in WALK_WINDOWS_S:
