@@ -34,8 +34,8 @@ pub use rinex_obs::{
 };
 pub(crate) use simulate::simulate_track;
 pub use simulate::{
-    apply_outages, simulate, simulate_with_truth, AtmosphericResidual, GnssSimulation, Outage,
-    ReceiverTrack, SimulationConfig,
+    apply_outages, keep_highest, simulate, simulate_with_truth, AtmosphericResidual,
+    GnssSimulation, Outage, ReceiverTrack, SimulationConfig,
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
 pub use time::{

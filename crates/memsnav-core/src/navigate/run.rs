@@ -9,7 +9,7 @@ use super::config::{periodic_outages, LogConfig};
 use super::standstill::Window;
 use crate::coupling::{self, FilterState, ImuData, InitialState, PositionFix, Solution};
 use crate::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
-use crate::gnss::{solve_fix, GnssEpoch, SatelliteMeasurement};
+use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuSample;
 use crate::{validate, Error, Result};
 
@@ -276,29 +276,6 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
     })
 }
 
-/// The epoch with only its `keep` highest satellites above `receiver` (by
-/// the sine of the elevation; those without a usable satellite position
-/// are dropped first).
-fn highest_satellites(epoch: &GnssEpoch, receiver: &Vector3<f64>, keep: usize) -> GnssEpoch {
-    let up = receiver.normalize();
-    let elevation = |m: &SatelliteMeasurement| {
-        let d = m.position_ecef - receiver;
-        let s = d.dot(&up) / d.norm();
-        if s.is_finite() {
-            s
-        } else {
-            f64::NEG_INFINITY
-        }
-    };
-    let mut measurements = epoch.measurements.clone();
-    measurements.sort_by(|a, b| elevation(b).total_cmp(&elevation(a)));
-    measurements.truncate(keep);
-    GnssEpoch {
-        time_s: epoch.time_s,
-        measurements,
-    }
-}
-
 /// What a filter run gives: the solution, the smoothed one when asked
 /// for, and the final range biases (satellite, m).
 type FilterOutput = (Solution, Option<Solution>, Vec<(u16, f64)>);
@@ -363,9 +340,12 @@ impl Inputs<'_> {
                     .iter()
                     .zip(self.used.iter().zip(self.thinned))
                     .filter(|(_, (&u, _))| u)
-                    .map(|(e, (_, &thin))| match thin {
-                        true => highest_satellites(e, &receiver, keep),
-                        false => e.clone(),
+                    .map(|(e, (_, &thin))| {
+                        let mut e = e.clone();
+                        if thin {
+                            keep_highest(&mut e, &receiver, keep);
+                        }
+                        e
                     })
                     .collect();
                 coupling::run_tight_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?

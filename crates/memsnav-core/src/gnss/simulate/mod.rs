@@ -16,7 +16,7 @@ mod measure;
 mod outage;
 mod selection;
 
-pub use outage::apply_outages;
+pub use outage::{apply_outages, keep_highest};
 
 use nalgebra::Vector3;
 

@@ -35,7 +35,14 @@ fn allowed(outages: &[Outage], t: f64) -> usize {
 /// Applies `outages` to one epoch measured from `receiver_ecef`: keeps the
 /// allowed number of its highest satellites, in their original order.
 pub(super) fn apply(outages: &[Outage], epoch: &mut GnssEpoch, receiver_ecef: &Vector3<f64>) {
-    let n = allowed(outages, epoch.time_s);
+    keep_highest(epoch, receiver_ecef, allowed(outages, epoch.time_s));
+}
+
+/// Keeps the `n` highest satellites of `epoch` seen from `receiver_ecef`,
+/// in their original order (all of them when it has no more than `n`): the
+/// selection of an outage, for simulated and real measurements alike. A
+/// satellite without a usable position counts as the lowest.
+pub fn keep_highest(epoch: &mut GnssEpoch, receiver_ecef: &Vector3<f64>, n: usize) {
     if n >= epoch.measurements.len() {
         return;
     }
@@ -47,7 +54,10 @@ pub(super) fn apply(outages: &[Outage], epoch: &mut GnssEpoch, receiver_ecef: &V
         .measurements
         .iter()
         .enumerate()
-        .map(|(k, m)| (k, elevation(&m.position_ecef, receiver_ecef, &up)))
+        .map(|(k, m)| {
+            let e = elevation(&m.position_ecef, receiver_ecef, &up);
+            (k, if e.is_finite() { e } else { f64::NEG_INFINITY })
+        })
         .collect();
     by_elevation.sort_by(|a, b| b.1.total_cmp(&a.1));
     let mut keep = vec![false; epoch.measurements.len()];
