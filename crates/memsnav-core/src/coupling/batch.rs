@@ -33,7 +33,7 @@ pub(crate) struct Batch {
     /// Innovation and its variance against the prior, per measurement.
     prior: Vec<(f64, f64)>,
     scratch: Vec<f64>,
-    /// The largest nonlinearity of its measurements (NaN: none noted).
+    /// The largest nonlinearity of its measurements (None: none noted).
     nonlinearity: Option<f64>,
 }
 

@@ -225,17 +225,20 @@ impl FilterTuning {
             gyro_bias_rad_s: gyro_bias.initial_std.max(1e-9),
             ..Default::default()
         };
+        let (accel_bias_psd, accel_bias_correlation_time_s) = accel_bias.state_model();
+        let (gyro_bias_psd, gyro_bias_correlation_time_s) = gyro_bias.state_model();
+        let clock = ReceiverClockModel::default();
         Ok(Self {
             process_noise: ProcessNoise {
                 // σ per sample of a white noise sampled at f_s ⇔ PSD σ²/f_s.
                 accel_white_psd: accel_white_std_m_s2.powi(2) / sample_rate_hz,
                 gyro_white_psd: gyro_white_std_rad_s.powi(2) / sample_rate_hz,
-                accel_bias_psd: accel_bias.state_model().0,
-                accel_bias_correlation_time_s: accel_bias.state_model().1,
-                gyro_bias_psd: gyro_bias.state_model().0,
-                gyro_bias_correlation_time_s: gyro_bias.state_model().1,
-                clock_phase_psd: 0.0,
-                clock_frequency_psd: 0.0,
+                accel_bias_psd,
+                accel_bias_correlation_time_s,
+                gyro_bias_psd,
+                gyro_bias_correlation_time_s,
+                clock_phase_psd: clock.offset_psd_m2_s(),
+                clock_frequency_psd: clock.drift_psd_m2_s3(),
                 accel_scale_factor_psd: 0.0,
                 gyro_scale_factor_psd: 0.0,
                 range_bias_psd: RangeBiasModel::default().psd(),
@@ -251,7 +254,6 @@ impl FilterTuning {
             antenna_lever_arm_b_m: Vector3::zeros(),
             velocity_latency_s: 0.0,
         }
-        .with_receiver_clock(&ReceiverClockModel::default())
         .floor_noise())
     }
 
@@ -261,11 +263,6 @@ impl FilterTuning {
     pub fn set_receiver_clock(&mut self, clock: &ReceiverClockModel) {
         self.process_noise.clock_phase_psd = clock.offset_psd_m2_s();
         self.process_noise.clock_frequency_psd = clock.drift_psd_m2_s3();
-    }
-
-    fn with_receiver_clock(mut self, clock: &ReceiverClockModel) -> Self {
-        self.set_receiver_clock(clock);
-        self
     }
 
     /// A small floor on the white-noise densities so a noise-free IMU still
@@ -487,8 +484,8 @@ impl BiasProcess {
     /// a few τ with no measurement at all (issue 23: the consumer preset's
     /// 1 °/s turn-on bias "known" to 2 °/h after ten minutes, the tilt NEES
     /// twice its dof). Then the instability is taken as the random walk it
-    /// is over times shorter than τ (Groves §14.2.6 models biases this way):
-    /// no decay, PSD 2σ²/τ added to the random walk's q².
+    /// is over times shorter than τ: no decay, PSD 2σ²/τ added to the
+    /// random walk's q².
     pub fn state_model(&self) -> (f64, f64) {
         let markov =
             crate::gauss_markov::psd_of_stationary(self.instability_std, self.correlation_time_s);
@@ -600,16 +597,21 @@ mod tests {
 
     /// The filter's clock noise is the simulator's clock model, whatever
     /// the oscillator.
-    #[test]
-    fn the_clock_noise_comes_from_the_clock_model() {
-        let t = FilterTuning::new(
+    /// A tuning with constant biases (0.1 m/s², 1e-3 rad/s).
+    fn constant_bias_tuning() -> FilterTuning {
+        FilterTuning::new(
             100.0,
             0.01,
             1e-3,
             BiasProcess::constant(0.1),
             BiasProcess::constant(1e-3),
         )
-        .unwrap();
+        .unwrap()
+    }
+
+    #[test]
+    fn the_clock_noise_comes_from_the_clock_model() {
+        let t = constant_bias_tuning();
         let tcxo = ReceiverClockModel::default();
         assert_eq!(t.process_noise.clock_phase_psd, tcxo.offset_psd_m2_s());
         assert_eq!(t.process_noise.clock_frequency_psd, tcxo.drift_psd_m2_s3());
@@ -626,14 +628,7 @@ mod tests {
     /// the scale factors when they are states.
     #[test]
     fn unmodelled_errors_split_into_bias_and_input_shaped_noise() {
-        let t = FilterTuning::new(
-            100.0,
-            0.01,
-            1e-3,
-            BiasProcess::constant(0.1),
-            BiasProcess::constant(1e-3),
-        )
-        .unwrap();
+        let t = constant_bias_tuning();
         let errors = UnmodelledErrors {
             accel_scale_factor: 1e-2,
             accel_misalignment: 1e-2,
