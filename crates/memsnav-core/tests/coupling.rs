@@ -200,23 +200,30 @@ fn outliers_are_rejected_and_counted() {
     assert!(ungated.map(|s| err(&s) > 100.0).unwrap_or(true));
 }
 
-/// With three satellites (after 30 s of six), tight coupling stays bounded
-/// where the loosely coupled filter gets no fix and coasts on a MEMS IMU.
-#[test]
-fn tight_coupling_survives_three_satellites() {
-    let truth = drive(240.0, 100.0, true);
-    let spec = bias_and_noise_spec(
-        0.05,
-        1e-3_f64.to_radians() * 10.0,
-        2e-3,
-        1e-3_f64.to_radians(),
-    );
-    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
-    let mut rng = stream(5, 0);
-    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+/// A drive, its GNSS, the IMU readings (force, rate) and the tuning.
+type ThreeSatellites = (
+    Truth,
+    Vec<GnssEpoch>,
+    (Vec<Vector3<f64>>, Vec<Vector3<f64>>),
+    FilterTuning,
+);
+
+/// A drive of `duration_s` whose receiver keeps 3 of its 6 satellites from
+/// `from_s` on, an IMU drawn from `spec` (seeded), its readings, and the
+/// tuning from the same spec (the IMU errors modelled exactly).
+fn three_satellites(
+    duration_s: f64,
+    from_s: f64,
+    spec: &memsnav_core::sensors::ImuSpec,
+    seed: u64,
+) -> ThreeSatellites {
+    let truth = drive(duration_s, 100.0, true);
+    let tuning = FilterTuning::from_imu_spec(spec, 100.0, false).unwrap();
+    let mut rng = stream(seed, 0);
+    let imu = ImuModel::from_spec(spec, 100.0, &mut rng).unwrap();
     let config = SimulationConfig {
         outages: vec![Outage {
-            start_s: 30.0,
+            start_s: from_s,
             duration_s: 1e6,
             n_satellites: 3,
         }],
@@ -224,7 +231,21 @@ fn tight_coupling_survives_three_satellites() {
     };
     let epochs = gnss_for(&truth, &config, &mut rng);
     assert_eq!(epochs[100].measurements.len(), 3);
-    let (f, w) = readings(&truth, &imu, &mut rng);
+    let readings = readings(&truth, &imu, &mut rng);
+    (truth, epochs, readings, tuning)
+}
+
+/// With three satellites (after 30 s of six), tight coupling stays bounded
+/// where the loosely coupled filter gets no fix and coasts on a MEMS IMU.
+#[test]
+fn tight_coupling_survives_three_satellites() {
+    let spec = bias_and_noise_spec(
+        0.05,
+        1e-3_f64.to_radians() * 10.0,
+        2e-3,
+        1e-3_f64.to_radians(),
+    );
+    let (truth, epochs, (f, w), tuning) = three_satellites(240.0, 30.0, &spec, 5);
     let data = imu_data(&truth, &f, &w);
     let init = exact_initial(&truth);
     let tight = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
@@ -271,22 +292,8 @@ fn tight_coupling_survives_three_satellites() {
 /// 3.7 km).
 #[test]
 fn three_satellites_leave_an_open_direction_that_the_covariance_covers() {
-    let truth = drive(900.0, 100.0, true);
     let spec = bias_and_noise_spec(0.01, 1e-3_f64.to_radians(), 2e-3, 1e-3_f64.to_radians());
-    let tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
-    let mut rng = stream(23, 0);
-    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
-    let config = SimulationConfig {
-        outages: vec![Outage {
-            start_s: 0.5,
-            duration_s: 1e6,
-            n_satellites: 3,
-        }],
-        ..Default::default()
-    };
-    let epochs = gnss_for(&truth, &config, &mut rng);
-    assert_eq!(epochs[100].measurements.len(), 3);
-    let (f, w) = readings(&truth, &imu, &mut rng);
+    let (truth, epochs, (f, w), tuning) = three_satellites(900.0, 0.5, &spec, 23);
     let data = imu_data(&truth, &f, &w);
     let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let quantile = memsnav_core::filter::chi_square::chi_square_quantile(3.0, 0.997);
