@@ -104,3 +104,33 @@ def test_long_runs_on_few_satellites_are_honest_or_flagged(seed):
         alerts = sol.integrity["alerts"]
         assert alerts and all(a["message"] in caught for a in alerts), (kept, alerts)
         assert alerts[0]["kind"] in {"beyond_linear_model", "inconsistent_innovations"}
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [
+        ({"clock_h0": float("nan")}, "clock_h0"),
+        ({"clock_h0": 1e300}, "clock_h0"),
+        ({"clock_h_minus2": -1.0}, "clock_h_minus2"),
+        ({"manoeuvre_correlation_time": 0.0}, "manoeuvre_correlation_time"),
+        ({"manoeuvre_correlation_time": float("inf")}, "manoeuvre_correlation_time"),
+    ],
+)
+def test_the_clock_and_manoeuvre_arguments_are_checked(kwargs, name):
+    """The filters' clock model and manoeuvre correlation time (issue 23)
+    refuse values that are not numbers or give none, naming the argument;
+    the simulator refuses the same clock."""
+    imu = mn.ImuModel.preset("consumer", seed=1)
+    for cls in (mn.TightlyCoupledFilter, mn.LooselyCoupledFilter):
+        with pytest.raises(ValueError, match=name):
+            cls(imu, **kwargs)
+    if name.startswith("clock"):
+        truth = mn.Trajectory.random(duration=5.0, seed=1)
+        with pytest.raises(ValueError, match=name):
+            mn.simulate_gnss(
+                truth.time,
+                truth.position_ecef,
+                truth.velocity_ecef,
+                mn.Constellation.walker(),
+                **kwargs,
+            )

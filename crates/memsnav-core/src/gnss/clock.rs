@@ -53,6 +53,18 @@ impl ReceiverClockModel {
     pub fn validate(&self) -> Result<()> {
         validate::non_negative("clock_h0", self.h0)?;
         validate::non_negative("clock_h_minus2", self.h_minus2)?;
+        // The noise densities they give must be numbers too (c² h ≈ 9e16 h).
+        for (name, psd) in [
+            ("clock_h0", self.offset_psd_m2_s()),
+            ("clock_h_minus2", self.drift_psd_m2_s3()),
+        ] {
+            if !psd.is_finite() {
+                return Err(Error::invalid(
+                    name,
+                    "is so large that the clock's noise density overflows",
+                ));
+            }
+        }
         validate::non_negative("clock_initial_offset_std", self.initial_offset_std_m)?;
         validate::non_negative("clock_initial_drift_std", self.initial_drift_std_m_s)
     }
