@@ -12,13 +12,12 @@ use memsnav_core::logs::{
 };
 use memsnav_core::timing::tag_clock;
 
-/// `shared/data/real-imu-gnss/<name>` in the nearest ancestor that has it.
+/// The project's data root, resolved as the core's integration tests do.
+#[path = "../crates/memsnav-core/tests/shared_data/mod.rs"]
+mod shared_data;
+
 fn real(name: &str) -> PathBuf {
-    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    here.ancestors()
-        .map(|d| d.join("shared/data/real-imu-gnss").join(name))
-        .find(|p| p.exists())
-        .unwrap_or_else(|| panic!("shared/data/real-imu-gnss/{name} not found"))
+    shared_data::shared_data(&format!("real-imu-gnss/{name}"))
 }
 
 fn readers(c: &mut Criterion) {

@@ -7,15 +7,13 @@ import runpy
 from pathlib import Path
 
 import pytest
+from shared_data import data_root
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 # The examples read the shared data as a user in the checkout would; they run
 # in a temporary directory, so the data root is given the documented way.
-SHARED_DATA = next(
-    (p / "shared" / "data" for p in ROOT.parents if (p / "shared" / "data").is_dir()),
-    None,
-)
+SHARED_DATA = data_root()
 
 
 def _python_blocks(page: Path) -> str:
@@ -25,8 +23,7 @@ def _python_blocks(page: Path) -> str:
 @pytest.mark.parametrize("page", [p for p in PAGES if _python_blocks(p)], ids=lambda p: p.name)
 def test_examples_run(page, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    if SHARED_DATA is not None:
-        monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(SHARED_DATA))
+    monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(SHARED_DATA))
     # All blocks of a page form one session, as a reader would type them.
     exec(compile(_python_blocks(page), str(page), "exec"), {"__name__": "__docs__"})
     assert capsys.readouterr().out  # the examples print what they show

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
 from memsnav.calibration.config import load_calibration_config
@@ -22,14 +23,6 @@ EXAMPLES = HERE.parent / "examples"
 # rest from smooth driving (docs/real-data.md): the simulations run
 # without ZUPT and ZARU, as a vehicle with a vibration-free IMU must.
 NO_STANDSTILL = {"aids": {"zupt": False, "zaru": False}}
-
-
-def _shared_data() -> Path | None:
-    for parent in HERE.parents:
-        candidate = parent / "shared" / "data"
-        if (candidate / "real-imu-gnss" / "drive_0708" / "imu_1934.csv").is_file():
-            return candidate
-    return None
 
 
 def _drive(seed: int, accel: mn.AccelerometerModel, gyro: mn.GyroscopeModel):
@@ -155,9 +148,7 @@ def test_drive_calibration_recovers_known_errors_within_sigma():
 
 @pytest.fixture(scope="module")
 def drive_run(tmp_path_factory):
-    data = _shared_data()
-    if data is None:
-        pytest.skip("needs ../shared/data/real-imu-gnss/drive_0708")
+    data = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[2]
     out = tmp_path_factory.mktemp("drive_cal")
     code = main(
         [
@@ -223,9 +214,7 @@ def test_navigate_applies_a_drive_calibration(drive_run, tmp_path):
 
 
 def test_navigate_refuses_a_calibration_of_raw_counts(tmp_path):
-    data = _shared_data()
-    if data is None:
-        pytest.skip("needs ../shared/data")
+    data = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[2]
     zero3, zero33 = np.zeros(3), np.zeros((3, 3))
     from memsnav.calibration.file import ImuCalibration
 

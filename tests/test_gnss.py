@@ -7,18 +7,30 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
 
-PRODUCTS = Path("/work/shared/data/gnss-products")
-BRDC_2015 = PRODUCTS / "2015-280/brdc2800.15n"
-BRDC_2021 = PRODUCTS / "2021-118/brdc1180.21n"
-SP3_2021 = PRODUCTS / "2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3"
-NAV_RINEX3 = Path("/work/shared/data/real-imu-gnss/walk_0827/gnss_1730.nav")
 OMEGA_E = 7.292115e-5
 C = 299792458.0
 # 2015-10-07 10:00 GPST: GPS week 1865 (starts 2015-10-04) + 3 days 10 h.
 START_2015 = 1865 * 604800.0 + 3 * 86400.0 + 10 * 3600.0
+
+
+def brdc_2015() -> Path:
+    return shared_data("gnss-products/2015-280/brdc2800.15n")
+
+
+def brdc_2021() -> Path:
+    return shared_data("gnss-products/2021-118/brdc1180.21n")
+
+
+def sp3_2021() -> Path:
+    return shared_data("gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3")
+
+
+def nav_rinex3() -> Path:
+    return shared_data("real-imu-gnss/walk_0827/gnss_1730.nav")
 
 
 def track(duration=60.0, rate=10.0):
@@ -32,8 +44,8 @@ def track(duration=60.0, rate=10.0):
 
 
 def test_broadcast_orbits_match_sp3():
-    sky = mn.Constellation.from_rinex_nav(BRDC_2021)
-    sp3 = mn.read_sp3(SP3_2021)
+    sky = mn.Constellation.from_rinex_nav(brdc_2021())
+    sp3 = mn.read_sp3(sp3_2021())
     assert sp3.position_ecef.shape == (sp3.time.size, len(sp3.satellites), 3)
     errors = []
     for k in range(0, sp3.time.size, 6):
@@ -53,8 +65,8 @@ def test_broadcast_orbits_match_sp3():
 
 
 def test_prns_and_mixed_rinex3():
-    assert mn.Constellation.from_rinex_nav(BRDC_2015).prns[:3] == ["G01", "G02", "G03"]
-    sky = mn.Constellation.from_rinex_nav(NAV_RINEX3)
+    assert mn.Constellation.from_rinex_nav(brdc_2015()).prns[:3] == ["G01", "G02", "G03"]
+    sky = mn.Constellation.from_rinex_nav(nav_rinex3())
     assert sky.prns == ["G10", "G23", "G27", "G32"]
     pos, _ = sky.position_velocity(0.0)
     assert np.isnan(pos).all()
@@ -83,7 +95,7 @@ def test_walker_against_the_circular_orbit_formula():
 
 def test_pseudorange_minus_range_is_clock_plus_noise():
     t, p, v = track(300.0)
-    sky = mn.Constellation.from_rinex_nav(BRDC_2015)
+    sky = mn.Constellation.from_rinex_nav(brdc_2015())
     meas = mn.simulate_gnss(t, p, v, sky, seed=3, start_gps_time=START_2015)
     assert len(meas) == 301
     assert meas.pseudorange.shape == (301, 6)
@@ -149,7 +161,7 @@ def test_seeded_reproducibility_and_outages():
 
 
 def test_bad_inputs(tmp_path):
-    lines = BRDC_2015.read_text().splitlines()
+    lines = brdc_2015().read_text().splitlines()
     cut = tmp_path / "cut.15n"
     cut.write_text("\n".join(lines[:19]))
     with pytest.raises(mn.ParseError, match=r"cut\.15n:20: truncated record for G02"):
@@ -191,7 +203,7 @@ def test_bad_inputs(tmp_path):
     with pytest.raises(ValueError, match=r"^outages:"):
         mn.simulate_gnss(t, p, v, sky, outages=[(1.0, -2.0)])
     with pytest.raises(ValueError, match=r"^start_gps_time:"):
-        mn.simulate_gnss(t, p, v, mn.Constellation.from_rinex_nav(BRDC_2015), start_gps_time=0.0)
+        mn.simulate_gnss(t, p, v, mn.Constellation.from_rinex_nav(brdc_2015()), start_gps_time=0.0)
     meas = mn.simulate_gnss(t, p, v, sky)
     with pytest.raises(ValueError, match=r"^prior:"):
         mn.solve_fix(meas, prior=[1.0, 2.0])

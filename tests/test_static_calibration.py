@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
 from memsnav.calibration.config import load_calibration_config
@@ -24,14 +25,6 @@ NOMINAL = {
     "gyro_scale": 2.1e-4,
     "gyro_offset": 32768.0,
 }
-
-
-def _full_data() -> Path | None:
-    for parent in HERE.parents:
-        candidate = parent / "shared" / "data" / "imu-static-poses"
-        if (candidate / "xsens_acc.mat").is_file():
-            return candidate.parent
-    return None
 
 
 @pytest.fixture(scope="module")
@@ -247,11 +240,11 @@ def test_the_example_configuration_is_valid():
     assert cfg.data_path("imu", "accel_file") == Path("/nowhere/imu-static-poses/xsens_acc.mat")
 
 
-@pytest.mark.skipif(_full_data() is None, reason="the full Xsens logs are in ../shared/data")
 def test_the_full_xsens_session_meets_the_issue_figures(tmp_path, capsys):
     """Issue 13: |f| - g RMS <= 1.5 mm/s² and gravity-direction error <=
     1.2° RMS, in the fit and on held-out poses (every 4th), against the
     nominal scales."""
+    data = shared_data("imu-static-poses/xsens_acc.mat").parents[1]
     assert (
         main(
             [
@@ -259,7 +252,7 @@ def test_the_full_xsens_session_meets_the_issue_figures(tmp_path, capsys):
                 "--config",
                 str(EXAMPLE),
                 "--data-root",
-                str(_full_data()),
+                str(data),
                 "--output",
                 str(tmp_path),
             ]

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
 
@@ -15,11 +16,7 @@ OMEGA_IE = 7.292115e-5  # rad/s, WGS84
 
 
 def profile(name: str) -> Path:
-    for parent in Path(__file__).resolve().parents:
-        candidate = parent / "shared" / "data" / "trajectories" / name
-        if candidate.exists():
-            return candidate
-    pytest.skip(f"{name} not found beside the checkout")
+    return shared_data(f"trajectories/{name}")
 
 
 def run(tr: mn.Trajectory, **kwargs: str) -> mn.NavSolution:

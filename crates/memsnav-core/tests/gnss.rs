@@ -3,6 +3,8 @@
 //! `predicted_range`, the least-squares fix, reproducibility, outages and
 //! bad input.
 
+use std::path::PathBuf;
+
 use memsnav_core::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2, SPEED_OF_LIGHT_M_S};
 use memsnav_core::geodesy::{geodetic_to_ecef, Geodetic};
 use memsnav_core::gnss::*;
@@ -10,16 +12,26 @@ use memsnav_core::random::stream;
 use memsnav_core::Error;
 use nalgebra::{Rotation3, Vector3};
 
-const BRDC_2015: &str = "/work/shared/data/gnss-products/2015-280/brdc2800.15n";
-const BRDC_2021: &str = "/work/shared/data/gnss-products/2021-118/brdc1180.21n";
-const SP3_2021: &str =
-    "/work/shared/data/gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3";
-const NAV_RINEX3: &str = "/work/shared/data/real-imu-gnss/walk_0827/gnss_1730.nav";
+mod shared_data;
+use shared_data::shared_data;
+
+fn brdc_2015() -> PathBuf {
+    shared_data("gnss-products/2015-280/brdc2800.15n")
+}
+fn brdc_2021() -> PathBuf {
+    shared_data("gnss-products/2021-118/brdc1180.21n")
+}
+fn sp3_2021() -> PathBuf {
+    shared_data("gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3")
+}
+fn nav_rinex3() -> PathBuf {
+    shared_data("real-imu-gnss/walk_0827/gnss_1730.nav")
+}
 
 #[test]
 fn reads_rinex2_and_mixed_rinex3() {
-    let records = read_rinex_nav(BRDC_2015).unwrap();
-    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let records = read_rinex_nav(brdc_2015()).unwrap();
+    let sky = Constellation::from_rinex_nav(brdc_2015()).unwrap();
     // 32 distinct PRNs (counted with awk over the record lines of the file).
     assert_eq!(sky.len(), 32);
     assert!(records.len() > 300, "{}", records.len());
@@ -34,7 +46,7 @@ fn reads_rinex2_and_mixed_rinex3() {
     assert_eq!(r.toc_gps_s, gps_time_from_calendar(2015, 10, 7, 0, 0, 0.0));
     assert_eq!(r.tgd_s, 0.512227416039e-8);
 
-    let mixed = Constellation::from_rinex_nav(NAV_RINEX3).unwrap();
+    let mixed = Constellation::from_rinex_nav(nav_rinex3()).unwrap();
     assert_eq!(mixed.prns(), ["G10", "G23", "G27", "G32"]);
 }
 
@@ -72,7 +84,7 @@ fn independent_position(e: &GpsEphemeris, t: f64) -> Vector3<f64> {
 
 #[test]
 fn ephemeris_matches_an_independent_implementation() {
-    let records = read_rinex_nav(BRDC_2021).unwrap();
+    let records = read_rinex_nav(brdc_2021()).unwrap();
     for e in records.iter().step_by(7) {
         for dt in [-7000.0, -1234.5, 0.0, 3600.0, 7000.0] {
             let t = e.toe_gps_s + dt;
@@ -101,8 +113,8 @@ fn ephemeris_matches_an_independent_implementation() {
 
 #[test]
 fn broadcast_orbits_agree_with_precise_orbits() {
-    let sky = Constellation::from_rinex_nav(BRDC_2021).unwrap();
-    let sp3 = read_sp3(SP3_2021).unwrap();
+    let sky = Constellation::from_rinex_nav(brdc_2021()).unwrap();
+    let sp3 = read_sp3(sp3_2021()).unwrap();
     let mut sum_sq = 0.0;
     let mut count = 0usize;
     // Per satellite: the mean radial difference (broadcast − precise), the
@@ -161,8 +173,8 @@ fn broadcast_clocks_agree_with_precise_clocks() {
     // Precise clocks (SP3) exclude the relativistic term and refer to the
     // ionosphere-free combination like a_f0 (so no T_GD); CODE's clocks are
     // aligned to a station clock, so a common offset per epoch is removed.
-    let sky = Constellation::from_rinex_nav(BRDC_2021).unwrap();
-    let sp3 = read_sp3(SP3_2021).unwrap();
+    let sky = Constellation::from_rinex_nav(brdc_2021()).unwrap();
+    let sp3 = read_sp3(sp3_2021()).unwrap();
     let prns = sky.prns();
     let mut sum_sq = 0.0;
     let mut count = 0;
@@ -304,7 +316,7 @@ fn predicted_range_matches_the_simulators_light_time() {
         velocity_ecef: &vel,
     };
     for sky in [
-        Constellation::from_rinex_nav(BRDC_2015).unwrap(),
+        Constellation::from_rinex_nav(brdc_2015()).unwrap(),
         Constellation::walker(&WalkerConfig::default()).unwrap(),
     ] {
         let sim = simulate_with_truth(&t, &sky, &noise_free(), &mut stream(1, 0)).unwrap();
@@ -425,7 +437,7 @@ fn pseudorange_minus_range_is_clock_plus_noise() {
         position_ecef: &pos,
         velocity_ecef: &vel,
     };
-    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let sky = Constellation::from_rinex_nav(brdc_2015()).unwrap();
     let config = SimulationConfig {
         start_gps_time_s: noise_free().start_gps_time_s,
         ..SimulationConfig::default()
@@ -545,7 +557,7 @@ fn least_squares_fix_recovers_position_and_its_covariance_fits() {
         position_ecef: &pos,
         velocity_ecef: &vel,
     };
-    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let sky = Constellation::from_rinex_nav(brdc_2015()).unwrap();
     let sim = simulate_with_truth(&t, &sky, &noise_free(), &mut stream(4, 0)).unwrap();
     for (epoch, clock) in sim.epochs.iter().zip(&sim.clock) {
         let k = (epoch.time_s * 10.0).round() as usize;
@@ -627,7 +639,7 @@ fn outages_are_honoured() {
         position_ecef: &pos,
         velocity_ecef: &vel,
     };
-    let sky = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let sky = Constellation::from_rinex_nav(brdc_2015()).unwrap();
     let config = SimulationConfig {
         outages: vec![
             Outage {
@@ -674,7 +686,7 @@ fn write_temp(name: &str, text: &str) -> std::path::PathBuf {
 
 #[test]
 fn bad_rinex_files_are_named_with_the_line() {
-    let full = std::fs::read_to_string(BRDC_2015).unwrap();
+    let full = std::fs::read_to_string(brdc_2015()).unwrap();
     let lines: Vec<&str> = full.lines().collect();
     // Cut in the middle of the second record (header 8 lines + 8 + 3).
     let truncated = lines[..19].join("\n");
@@ -706,7 +718,7 @@ fn bad_rinex_files_are_named_with_the_line() {
     ));
 
     // A RINEX 3 file with only Galileo records: skipped cleanly, then "no GPS ephemeris".
-    let nav = std::fs::read_to_string(NAV_RINEX3).unwrap();
+    let nav = std::fs::read_to_string(nav_rinex3()).unwrap();
     let header_end = nav
         .lines()
         .position(|l| l.contains("END OF HEADER"))
@@ -726,7 +738,7 @@ fn bad_rinex_files_are_named_with_the_line() {
     assert!(e.to_string().contains("no GPS ephemeris"), "{e}");
 
     // SP3 with a bad number.
-    let sp3 = std::fs::read_to_string(SP3_2021).unwrap();
+    let sp3 = std::fs::read_to_string(sp3_2021()).unwrap();
     let sp3_lines: Vec<String> = sp3.lines().map(|s| s.to_string()).collect();
     let k = sp3_lines
         .iter()
@@ -825,7 +837,7 @@ fn bad_simulation_inputs_name_the_argument() {
         }
     )
     .starts_with("outages:"));
-    let brdc = Constellation::from_rinex_nav(BRDC_2015).unwrap();
+    let brdc = Constellation::from_rinex_nav(brdc_2015()).unwrap();
     let e = simulate(
         &ok,
         &brdc,

@@ -4,6 +4,9 @@
 
 use std::path::PathBuf;
 
+mod shared_data;
+use shared_data::shared_data;
+
 use memsnav_core::geodesy::{meridian_radius, transverse_radius};
 use memsnav_core::logs::{
     read_imu_csv, read_pos, read_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
@@ -178,18 +181,8 @@ fn velocity_latencies_are_recovered() {
     );
 }
 
-/// `shared/data/real-imu-gnss/<name>` in the nearest ancestor of the crate.
 fn real(name: &str) -> PathBuf {
-    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    here.ancestors()
-        .map(|d| d.join("shared/data/real-imu-gnss").join(name))
-        .find(|p| p.exists())
-        .unwrap_or_else(|| {
-            panic!(
-                "shared/data/real-imu-gnss/{name} not found above {}",
-                here.display()
-            )
-        })
+    shared_data(&format!("real-imu-gnss/{name}"))
 }
 
 fn layout() -> ImuCsvLayout {

@@ -2,24 +2,25 @@
 produced by memsnav at commit d3cd6a2 (before the simulator speed-up of
 issue 17), for tests/test_simulator_reference.py.
 
-    MEMSNAV_DATA_ROOT=/work/shared/data python tests/data/simulator-reference/make_reference.py
+    python tests/data/simulator-reference/make_reference.py
 
 Stored: the reference workload's 600 s random trajectory (seed 2008, every
 97th sample: the position is integrated, so every stored sample depends on
 every step before it), its paper-mems IMU readings and 6-satellite GNSS
 (every 7th epoch); a 20 s random trajectory with a stationary start and a
 scripted one at every 5th sample; the 60 s Groves profile Profile_1.csv at
-100 Hz, every 13th sample (only when the data root is found).
+100 Hz, every 13th sample (only when the data root holds it: ``$MEMSNAV_DATA_ROOT``, else
+``shared/data`` beside the checkout).
 """
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 
 import memsnav as mn
+from memsnav.realdata.config import resolve_data_root
 
 SEED = 2008
 STRIDE = 97
@@ -53,10 +54,8 @@ SEGMENTS = [
 
 
 def profile_path() -> Path | None:
-    root = os.environ.get("MEMSNAV_DATA_ROOT")
-    if root is None:
-        return None
-    path = Path(root) / "trajectories" / "Profile_1.csv"
+    """Profile_1.csv under the project's data root, if it is there."""
+    path = resolve_data_root(Path(__file__)) / "trajectories" / "Profile_1.csv"
     return path if path.is_file() else None
 
 
@@ -94,5 +93,5 @@ def simulator_arrays() -> dict[str, np.ndarray]:
 
 if __name__ == "__main__":
     arrays = simulator_arrays()
-    assert any(k.startswith("profile1.") for k in arrays), "set MEMSNAV_DATA_ROOT"
+    assert any(k.startswith("profile1.") for k in arrays), "no Profile_1.csv under the data root"
     np.savez_compressed(Path(__file__).parent / "simulator_reference.npz", **arrays)
