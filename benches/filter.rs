@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use memsnav_benches::TightScenario;
-use memsnav_core::coupling::run_tightly_coupled;
+use memsnav_core::coupling;
 use memsnav_core::filter::state::{BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY};
 use memsnav_core::filter::{ErrorStateKf, ProcessNoise, SparseRow, SystemInputs};
 use memsnav_core::gnss;
@@ -59,13 +59,9 @@ fn strapdown_and_propagation(c: &mut Criterion) {
 /// P after the first 10 s of the scenario's filter (realistic correlations).
 fn covariance_after_updates(sc: &TightScenario) -> SMatrix<f64, BASE_STATES, BASE_STATES> {
     let mut p = SMatrix::zeros();
-    run_tightly_coupled::<BASE_STATES, _>(
-        &sc.imu(),
-        &sc.epochs,
-        &sc.initial,
-        &sc.tuning,
-        |_, s| p = s.kf.p,
-    )
+    coupling::run::<BASE_STATES, _, _>(&sc.imu(), &sc.epochs, &sc.initial, &sc.tuning, |_, s| {
+        p = s.kf.p
+    })
     .unwrap();
     p
 }

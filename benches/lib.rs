@@ -6,8 +6,7 @@
 //! same arithmetic.
 
 use memsnav_core::coupling::{
-    initial_state_from_fix, run_tightly_coupled, tightly_coupled, tightly_coupled_smoothed,
-    FilterTuning, ImuData, InitialState, Solution,
+    self, initial_state_from_fix, FilterTuning, ImuData, InitialState, Solution,
 };
 use memsnav_core::filter::state::BASE_STATES;
 use memsnav_core::gnss::{
@@ -104,7 +103,7 @@ impl TightScenario {
     /// The 17-state tight filter over the run with an empty observer
     /// (nothing stored per sample).
     pub fn run_records_only(&self) {
-        run_tightly_coupled::<BASE_STATES, _>(
+        coupling::run::<BASE_STATES, _, _>(
             &self.imu(),
             &self.epochs,
             &self.initial,
@@ -116,13 +115,13 @@ impl TightScenario {
 
     /// The 17-state tight filter's whole solution (what the Python API returns).
     pub fn run_solution(&self) -> Solution {
-        tightly_coupled::<BASE_STATES>(&self.imu(), &self.epochs, &self.initial, &self.tuning)
+        coupling::solution::<BASE_STATES, _>(&self.imu(), &self.epochs, &self.initial, &self.tuning)
             .expect("the reference run")
     }
 
     /// The forward solution and the smoothed one (`smooth=True`).
     pub fn run_smoothed(&self) -> (Solution, Solution) {
-        tightly_coupled_smoothed::<BASE_STATES>(
+        coupling::smoothed_solution::<BASE_STATES, _>(
             &self.imu(),
             &self.epochs,
             &self.initial,

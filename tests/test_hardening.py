@@ -201,7 +201,7 @@ def test_scalar_arguments_are_named(kwargs, error, message):
     [
         ({"n_satellites": -3}, "n_satellites: must be an integer ≥ 0, got -3"),
         ({"planes": "a"}, "planes: must be an integer ≥ 0, got 'a'"),
-        ({"inclination_deg": None}, "inclination_deg: must be a real number, got None"),
+        ({"inclination_deg": "north"}, "inclination_deg: must be a real number, got .north."),
     ],
 )
 def test_constructor_scalars_are_named(kwargs, message):

@@ -61,7 +61,7 @@ class AccelerometerModel:
         noise_std: float = 0.0,
         *,
         noise_density: float | None = None,
-        sample_rate: float = 100.0,
+        sample_rate: float | None = None,
         bias_instability: float = 0.0,
         bias_correlation_time: float = 0.0,
         bias_random_walk: float = 0.0,
@@ -143,7 +143,7 @@ class GyroscopeModel:
         noise_std: float = 0.0,
         *,
         noise_density: float | None = None,
-        sample_rate: float = 100.0,
+        sample_rate: float | None = None,
         bias_instability: float = 0.0,
         bias_correlation_time: float = 0.0,
         bias_random_walk: float = 0.0,
@@ -231,7 +231,7 @@ class ImuModel:
         spec: dict[str, float] | None = None,
     ) -> ImuModel: ...
     @staticmethod
-    def preset(name: str, seed: int | None = None, sample_rate: float = 100.0) -> ImuModel:
+    def preset(name: str, seed: int | None = None, sample_rate: float | None = None) -> ImuModel:
         """A named grade ("paper-mems", "consumer", "industrial", "tactical",
         "navigation"), every error term drawn zero-mean Gaussian from its spec."""
 
@@ -323,7 +323,7 @@ def calibrate_accelerometer(
     method: str = "ls",
     reference_noise_std: float | None = None,
     noise_std: float | None = None,
-    sample_rate: float = 100.0,
+    sample_rate: float | None = None,
     estimate: str = "all",
 ) -> Calibration:
     """Accelerometer calibration from outputs and reference specific forces,
@@ -342,7 +342,7 @@ def calibrate_gyroscope(
     reference_noise_std: float | None = None,
     reference_specific_force_noise_std: float | None = None,
     noise_std: float | None = None,
-    sample_rate: float = 100.0,
+    sample_rate: float | None = None,
     estimate: str = "all",
 ) -> Calibration:
     """Gyroscope calibration from outputs (N, 3) rad/s, reference angular
@@ -651,12 +651,12 @@ class Constellation:
 
     @staticmethod
     def walker(
-        n_satellites: int = 24,
-        planes: int = 6,
-        inclination_deg: float = 55.0,
-        semi_major_axis_m: float = 26560000.0,
-        phasing: int = 1,
-        raan0_deg: float = 0.0,
+        n_satellites: int | None = None,
+        planes: int | None = None,
+        inclination_deg: float | None = None,
+        semi_major_axis_m: float | None = None,
+        phasing: int | None = None,
+        raan0_deg: float | None = None,
     ) -> Constellation:
         """Walker delta constellation i: t/p/f, circular orbits, ECEF with Earth rotation."""
 
@@ -902,7 +902,7 @@ class Trajectory:
         segments: Sequence[tuple[str, float] | tuple[str, float, float]],
         origin: npt.ArrayLike | None = None,
         heading: float = 0.0,
-        rate: float = 100.0,
+        rate: float | None = None,
     ) -> Trajectory:
         """Scripted motion from rest: ``("accelerate", duration_s,
         target_speed_m_s)``, ``("cruise", duration_s)``, ``("turn",
@@ -911,7 +911,7 @@ class Trajectory:
         level), ``("stop", duration_s)``. heading rad, rate Hz."""
 
     @staticmethod
-    def from_profile(path: str | os.PathLike[str], rate: float = 100.0) -> Trajectory:
+    def from_profile(path: str | os.PathLike[str], rate: float | None = None) -> Trajectory:
         """A profile CSV of Groves' book software (t, lat, lon deg, h m,
         v_NED m/s, roll, pitch, yaw deg), smoothed by splines through knots
         0.5 s apart and sampled at ``rate`` Hz. ParseError names file and line."""
@@ -1182,7 +1182,8 @@ class TightlyCoupledFilter:
     (``filter::input_noise``). Receiver clock: the simulator's TCXO
     (``clock_h0`` 2e-19, ``clock_h_minus2`` 2e-20, the same names and model
     as ``simulate_gnss``: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
-    below can be overridden:
+    below can be overridden; an argument left None takes the core's default,
+    listed by ``memsnav.defaults()["TightlyCoupledFilter"]``:
 
     - ``accel_noise_density`` (m/s²/√Hz), ``gyro_noise_density`` (rad/s/√Hz):
       replace the sensor's white PSDs by density² (the input-shaped noise of
@@ -1216,15 +1217,15 @@ class TightlyCoupledFilter:
         gyro_noise_density: float | None = None,
         accel_bias_psd: float | None = None,
         gyro_bias_psd: float | None = None,
-        gate_probability: float = 0.999,
-        initial_position_std: float = 5.0,
-        initial_velocity_std: float = 0.5,
-        initial_tilt_std: float = 0.017453292519943295,
-        initial_heading_std: float = 0.08726646259971647,
+        gate_probability: float | None = None,
+        initial_position_std: float | None = None,
+        initial_velocity_std: float | None = None,
+        initial_tilt_std: float | None = None,
+        initial_heading_std: float | None = None,
         initial_accel_bias_std: float | None = None,
         initial_gyro_bias_std: float | None = None,
-        initial_clock_offset_std: float = 50.0,
-        initial_clock_drift_std: float = 10.0,
+        initial_clock_offset_std: float | None = None,
+        initial_clock_drift_std: float | None = None,
         use_pseudorange_rate: bool = True,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
@@ -1297,15 +1298,15 @@ class LooselyCoupledFilter:
         gyro_noise_density: float | None = None,
         accel_bias_psd: float | None = None,
         gyro_bias_psd: float | None = None,
-        gate_probability: float = 0.999,
-        initial_position_std: float = 5.0,
-        initial_velocity_std: float = 0.5,
-        initial_tilt_std: float = 0.017453292519943295,
-        initial_heading_std: float = 0.08726646259971647,
+        gate_probability: float | None = None,
+        initial_position_std: float | None = None,
+        initial_velocity_std: float | None = None,
+        initial_tilt_std: float | None = None,
+        initial_heading_std: float | None = None,
         initial_accel_bias_std: float | None = None,
         initial_gyro_bias_std: float | None = None,
-        initial_clock_offset_std: float = 50.0,
-        initial_clock_drift_std: float = 10.0,
+        initial_clock_offset_std: float | None = None,
+        initial_clock_drift_std: float | None = None,
         use_pseudorange_rate: bool = True,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
@@ -1344,19 +1345,19 @@ class LooselyCoupledFilter:
 def navigation_experiment(
     imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
     *,
-    runs: int = 20,
-    duration: float = 600.0,
-    seed: int = 0,
-    n_satellites: int = 6,
+    runs: int | None = None,
+    duration: float | None = None,
+    seed: int | None = None,
+    n_satellites: int | None = None,
     outage: tuple[float, float] | tuple[float, float, int] | None = None,
-    calibration_duration: float = 300.0,
-    early_window: float = 150.0,
-    pseudorange_rate: bool = True,
-    pseudorange_std: float = 3.0,
-    pseudorange_rate_std: float = 0.1,
+    calibration_duration: float | None = None,
+    early_window: float | None = None,
+    pseudorange_rate: bool | None = None,
+    pseudorange_std: float | None = None,
+    pseudorange_rate_std: float | None = None,
     initial_attitude_std_deg: tuple[float, float, float] | None = None,
     scale_factor_states: bool = False,
-    absorb_unmodelled: bool = True,
+    absorb_unmodelled: bool | None = None,
     smooth: bool = False,
     keep_runs: bool = False,
     threads: int | None = None,
@@ -1410,13 +1411,13 @@ class RinexObservations:
         constellation: Constellation,
         reference_position_ecef: npt.ArrayLike | None = None,
         *,
-        elevation_mask_deg: float = 10.0,
-        min_cn0_db_hz: float = 25.0,
+        elevation_mask_deg: float | None = None,
+        min_cn0_db_hz: float | None = None,
         ionosphere: bool = True,
         klobuchar: tuple[Sequence[float], Sequence[float]] | None = None,
         troposphere: bool = True,
-        pseudorange_std: float = 3.0,
-        pseudorange_rate_std: float = 0.1,
+        pseudorange_std: float | None = None,
+        pseudorange_rate_std: float | None = None,
         satellites: Sequence[int] | None = None,
     ) -> GnssMeasurements:
         """GPS L1 C/A measurements (time = GPS time) for the coupled filters and
@@ -1436,6 +1437,16 @@ def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
 def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
     """Klobuchar (alpha, beta) of a RINEX navigation header (ION ALPHA/BETA or
     IONOSPHERIC CORR GPSA/GPSB), or None when it has none."""
+
+def defaults() -> dict[str, dict[str, Any]]:
+    """The core's default of every optional modelling argument, by the
+    Python name of the function or class that takes it
+    (``"TightlyCoupledFilter"``, ``"RinexObservations.gps_l1"``,
+    ``"navigation_experiment"``, ``"Constellation.walker"``, the sample
+    rates of the sensor models, presets, trajectories and calibrations): a
+    ``None`` in that signature means this value. The coupled filters' noise
+    densities, bias processes and initial bias spreads come from the IMU
+    model and are not listed."""
 
 def navigate_settings() -> dict[str, dict[str, str]]:
     """The tables and keys ``navigate_log(settings=...)`` reads (the engine's

@@ -9,7 +9,7 @@
 //! from the IMU and GNSS errors the tests inject.
 
 use memsnav_core::attitude::dcm_to_rotation_vector;
-use memsnav_core::coupling::*;
+use memsnav_core::coupling::{self, *};
 use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
 use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic};
@@ -72,7 +72,7 @@ fn run_tight(
     let mut nees_1hz = Vec::new();
     let mut position_error = Vec::with_capacity(truth.time_s.len());
     let rate = imu.sample_rate_hz.round() as usize;
-    let records = run_tightly_coupled::<17, _>(&data, epochs, initial, tuning, |k, s| {
+    let records = coupling::run::<17, _, _>(&data, epochs, initial, tuning, |k, s| {
         let e = nav_error(&s.nav, &truth.nav[k]);
         position_error.push(e.fixed_rows::<3>(6).norm());
         if k % rate == 0 {
@@ -150,13 +150,14 @@ fn outliers_are_rejected_and_counted() {
     let mut epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
     let (f, w) = readings(&truth, &imu, &mut rng);
     let data = imu_data(&truth, &f, &w);
-    let clean = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let clean =
+        coupling::solution::<17, _>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let clean_rejections = clean.rejected().count();
     let hit = epochs[30].measurements[2].sat_id;
     epochs[30].measurements[2].pseudorange_m += 100.0;
     epochs[40].measurements[0].pseudorange_m = f64::NAN;
     epochs[45].measurements[1].pseudorange_m = 1e9;
-    let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let sol = coupling::solution::<17, _>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let find = |t: f64, kind| {
         sol.measurements.iter().find(|r| {
             r.time_s == t
@@ -196,7 +197,7 @@ fn outliers_are_rejected_and_counted() {
     // Without the gate the 1e9 m pseudorange is applied and wrecks the fix.
     let mut open = tuning;
     open.gate_probability = 1.0;
-    let ungated = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &open);
+    let ungated = coupling::solution::<17, _>(&data, &epochs, &exact_initial(&truth), &open);
     assert!(ungated.map(|s| err(&s) > 100.0).unwrap_or(true));
 }
 
@@ -248,7 +249,7 @@ fn tight_coupling_survives_three_satellites() {
     let (truth, epochs, (f, w), tuning) = three_satellites(240.0, 30.0, &spec, 5);
     let data = imu_data(&truth, &f, &w);
     let init = exact_initial(&truth);
-    let tight = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
+    let tight = coupling::solution::<17, _>(&data, &epochs, &init, &tuning).unwrap();
     let fixes: Vec<PositionFix> = epochs
         .iter()
         .filter_map(|e| gnss::solve_fix(e, None).ok().map(|fx| (e.time_s, fx)))
@@ -271,7 +272,7 @@ fn tight_coupling_survives_three_satellites() {
         30,
         "fixes only while six satellites are tracked"
     );
-    let loose = loosely_coupled::<17>(&data, &fixes, &init, &tuning).unwrap();
+    let loose = coupling::solution::<17, _>(&data, &fixes, &init, &tuning).unwrap();
     let last = truth.time_s.len() - 1;
     let e_tight = (tight.position_ecef[last] - truth.nav[last].position_ecef).norm();
     let e_loose = (loose.position_ecef[last] - truth.nav[last].position_ecef).norm();
@@ -295,7 +296,7 @@ fn three_satellites_leave_an_open_direction_that_the_covariance_covers() {
     let spec = bias_and_noise_spec(0.01, 1e-3_f64.to_radians(), 2e-3, 1e-3_f64.to_radians());
     let (truth, epochs, (f, w), tuning) = three_satellites(900.0, 0.5, &spec, 23);
     let data = imu_data(&truth, &f, &w);
-    let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let sol = coupling::solution::<17, _>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let quantile = memsnav_core::filter::chi_square::chi_square_quantile(3.0, 0.997);
     let (mut inside, mut total, mut worst) = (0usize, 0usize, 0.0f64);
     for k in (0..truth.time_s.len()).step_by(100) {
@@ -340,7 +341,7 @@ fn outage_drift_follows_half_b_t_squared() {
         .map(|(f, t)| if *t > 120.0 { f + step } else { *f })
         .collect();
     let data = imu_data(&truth, &f, &truth.w_b);
-    let sol = tightly_coupled::<17>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
+    let sol = coupling::solution::<17, _>(&data, &epochs, &exact_initial(&truth), &tuning).unwrap();
     let k0 = 12000;
     let drift = |k: usize| {
         (sol.position_ecef[k] - truth.nav[k].position_ecef)
@@ -392,8 +393,8 @@ fn solution_blocks_are_the_filters_covariance() {
     let data = imu_data(&truth, &f, &w);
     let init = exact_initial(&truth);
     let mut ps = Vec::new();
-    run_tightly_coupled::<17, _>(&data, &epochs, &init, &tuning, |_, s| ps.push(s.kf.p)).unwrap();
-    let sol = tightly_coupled::<17>(&data, &epochs, &init, &tuning).unwrap();
+    coupling::run::<17, _, _>(&data, &epochs, &init, &tuning, |_, s| ps.push(s.kf.p)).unwrap();
+    let sol = coupling::solution::<17, _>(&data, &epochs, &init, &tuning).unwrap();
     assert_eq!(ps.len(), sol.time_s.len());
     for (k, p) in ps.iter().enumerate() {
         let blocks = [
@@ -434,7 +435,7 @@ fn covariance_stays_positive_definite_over_two_hours() {
     let mut worst: f64 = 0.0;
     let mut last_p = None;
     let start = std::time::Instant::now();
-    run_tightly_coupled::<17, _>(&data, &epochs, &exact_initial(&truth), &tuning, |k, s| {
+    coupling::run::<17, _, _>(&data, &epochs, &exact_initial(&truth), &tuning, |k, s| {
         worst = worst.max((s.nav.position_ecef - truth.nav[k].position_ecef).norm());
         if k + 1 == truth.time_s.len() {
             last_p = Some(s.kf.p);
@@ -470,24 +471,31 @@ fn bad_input_is_a_clear_error() {
     let mut late = epochs.clone();
     late[10].time_s = 20.0;
     assert!(
-        msg(tightly_coupled::<17>(&data, &late, &init, &tuning)).contains("outside the IMU span")
+        msg(coupling::solution::<17, _>(&data, &late, &init, &tuning))
+            .contains("outside the IMU span")
     );
     let mut swapped = epochs.clone();
     swapped.swap(3, 4);
-    assert!(msg(tightly_coupled::<17>(&data, &swapped, &init, &tuning)).contains("increase"));
+    assert!(msg(coupling::solution::<17, _>(&data, &swapped, &init, &tuning)).contains("increase"));
     // Mismatched lengths and NaN IMU data.
     let short = ImuData {
         angular_rate_b: &truth.w_b[1..],
         ..data
     };
-    assert!(msg(tightly_coupled::<17>(&short, &epochs, &init, &tuning)).starts_with("angular_rate"));
+    assert!(
+        msg(coupling::solution::<17, _>(&short, &epochs, &init, &tuning))
+            .starts_with("angular_rate")
+    );
     let mut nan_f = truth.f_b.clone();
     nan_f[7].y = f64::NAN;
     let nan = ImuData {
         specific_force_b: &nan_f,
         ..data
     };
-    assert!(msg(tightly_coupled::<17>(&nan, &epochs, &init, &tuning)).starts_with("specific_force"));
+    assert!(
+        msg(coupling::solution::<17, _>(&nan, &epochs, &init, &tuning))
+            .starts_with("specific_force")
+    );
     // No satellites at the first epoch: no initial fix.
     let mut empty = epochs.clone();
     empty[0].measurements.clear();
@@ -499,10 +507,12 @@ fn bad_input_is_a_clear_error() {
     let psi = dcm_to_rotation_vector(&(from_fix.nav.c_b_e * truth.nav[0].c_b_e.transpose()));
     assert!(psi.norm() < 0.1, "{psi}");
     // A filter with no GNSS at all still runs (pure INS) and reports nothing.
-    let sol = tightly_coupled::<17>(&data, &[], &init, &tuning).unwrap();
+    let sol = coupling::solution::<17, GnssEpoch>(&data, &[], &init, &tuning).unwrap();
     assert!(sol.measurements.is_empty());
     // A bad tuning value names its field.
     let mut t = tuning;
     t.gate_probability = 0.0;
-    assert!(msg(tightly_coupled::<17>(&data, &epochs, &init, &t)).starts_with("gate_probability"));
+    assert!(
+        msg(coupling::solution::<17, _>(&data, &epochs, &init, &t)).starts_with("gate_probability")
+    );
 }

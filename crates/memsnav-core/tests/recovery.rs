@@ -5,7 +5,7 @@
 //! (the measurements are then 3 m pseudoranges or 2 m fixes), and every
 //! reset it made to get there must be on record.
 
-use memsnav_core::coupling::*;
+use memsnav_core::coupling::{self, *};
 use memsnav_core::filter::state::BASE_STATES;
 use memsnav_core::gnss::{GnssEpoch, Outage, SimulationConfig};
 use memsnav_core::random::stream;
@@ -55,8 +55,13 @@ impl Scenario {
     }
 
     fn tight(&self, epochs: &[GnssEpoch], tuning: &FilterTuning) -> Solution {
-        tightly_coupled::<BASE_STATES>(&self.imu(), epochs, &exact_initial(&self.truth), tuning)
-            .unwrap()
+        coupling::solution::<BASE_STATES, _>(
+            &self.imu(),
+            epochs,
+            &exact_initial(&self.truth),
+            tuning,
+        )
+        .unwrap()
     }
 
     /// Fixes at 1 Hz: the truth plus 2 m white noise per axis.
@@ -140,7 +145,7 @@ fn tight_and_loose_recover_from_a_ten_minute_outage() {
         .filter(|f| !(150.0..750.0).contains(&f.time_s))
         .collect();
     let loose =
-        loosely_coupled::<BASE_STATES>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
+        coupling::solution::<BASE_STATES, _>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
             .unwrap();
     println!(
         "loose: final error {:.2} m, resets {}",
@@ -195,11 +200,12 @@ fn absurd_fixes_are_rejected_or_reset_from() {
     let s = scenario(vec![], 23);
     let mut fixes = s.fixes(23);
     let clean =
-        loosely_coupled::<BASE_STATES>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
+        coupling::solution::<BASE_STATES, _>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
             .unwrap();
     fixes[200].position_ecef += Vector3::new(1e9, 0.0, 0.0);
-    let sol = loosely_coupled::<BASE_STATES>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
-        .unwrap();
+    let sol =
+        coupling::solution::<BASE_STATES, _>(&s.imu(), &fixes, &exact_initial(&s.truth), &s.tuning)
+            .unwrap();
     let at_200: Vec<_> = sol
         .measurements
         .iter()
@@ -216,7 +222,7 @@ fn absurd_fixes_are_rejected_or_reset_from() {
     fixes[0].position_ecef += Vector3::new(1e9, 0.0, 0.0);
     let start =
         initial_state_from_position_fix(&fixes, &s.imu(), Some(s.truth.nav[0].c_b_e)).unwrap();
-    let sol = loosely_coupled::<BASE_STATES>(&s.imu(), &fixes, &start, &s.tuning).unwrap();
+    let sol = coupling::solution::<BASE_STATES, _>(&s.imu(), &fixes, &start, &s.tuning).unwrap();
     let resets = resets_of(&sol, ResetKind::PositionToFix);
     assert_eq!(
         resets.len(),

@@ -5,7 +5,7 @@
 //! it (NEES in the chi-square band over seeded runs).
 
 use memsnav_core::attitude::dcm_to_rotation_vector;
-use memsnav_core::coupling::*;
+use memsnav_core::coupling::{self, *};
 use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
 use memsnav_core::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
@@ -65,9 +65,9 @@ fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
                 }
             })
             .collect();
-        loosely_coupled_smoothed::<N>(&data, &fixes, &initial, &tuning).unwrap()
+        coupling::smoothed_solution::<N, _>(&data, &fixes, &initial, &tuning).unwrap()
     } else {
-        tightly_coupled_smoothed::<N>(&data, &epochs, &initial, &tuning).unwrap()
+        coupling::smoothed_solution::<N, _>(&data, &epochs, &initial, &tuning).unwrap()
     };
     Pair {
         truth,

@@ -8,6 +8,7 @@ use memsnav_core::calibration::{
     CalibrationOptions, Estimate, Method,
 };
 use memsnav_core::experiments::calibrate_invert::calibrated_spec;
+use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_core::sensors::{ImuModel, NoiseModel};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{DMatrix, Vector3};
@@ -149,7 +150,7 @@ fn wrap<M>(
 /// the rule is in docs/calibration.md).
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=100.0, estimate="all"))]
+#[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=None, estimate="all"))]
 fn calibrate_accelerometer(
     py: Python<'_>,
     measured: &Bound<'_, PyAny>,
@@ -157,9 +158,10 @@ fn calibrate_accelerometer(
     method: &str,
     reference_noise_std: Option<f64>,
     noise_std: Option<f64>,
-    sample_rate: f64,
+    sample_rate: Option<f64>,
     estimate: &str,
 ) -> PyResult<PyCalibration> {
+    let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
     let s = convert::vectors(measured, "measured")?;
     let f = convert::vectors(reference_specific_force, "reference_specific_force")?;
     memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
@@ -201,7 +203,7 @@ fn calibrate_accelerometer(
 /// bias and g-sensitivity only), as for `calibrate_accelerometer`.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (measured, reference_angular_rate, reference_specific_force, *, method="ls", reference_noise_std=None, reference_specific_force_noise_std=None, noise_std=None, sample_rate=100.0, estimate="all"))]
+#[pyo3(signature = (measured, reference_angular_rate, reference_specific_force, *, method="ls", reference_noise_std=None, reference_specific_force_noise_std=None, noise_std=None, sample_rate=None, estimate="all"))]
 fn calibrate_gyroscope(
     py: Python<'_>,
     measured: &Bound<'_, PyAny>,
@@ -211,9 +213,10 @@ fn calibrate_gyroscope(
     reference_noise_std: Option<f64>,
     reference_specific_force_noise_std: Option<f64>,
     noise_std: Option<f64>,
-    sample_rate: f64,
+    sample_rate: Option<f64>,
     estimate: &str,
 ) -> PyResult<PyCalibration> {
+    let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
     let s = convert::vectors(measured, "measured")?;
     let w = convert::vectors(reference_angular_rate, "reference_angular_rate")?;
     let f = convert::vectors(reference_specific_force, "reference_specific_force")?;

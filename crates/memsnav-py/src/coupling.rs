@@ -672,10 +672,10 @@ impl PyFilterSolution {
 /// A filter class: the shared constructor and `tuning`, and `run`, which
 /// reads the aiding argument `$aiding` with `$read`, starts from the given
 /// state or `$initial` (from the first aiding epoch), and runs
-/// `coupling::$filter` (or `$smoothed` with `smooth=True`) with 17 or 23
-/// states.
+/// `coupling::solution` (or `smoothed_solution` with `smooth=True`) with 17
+/// or 23 states; the aiding kind follows from what `$read` returns.
 macro_rules! filter_class {
-    ($rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $filter:ident, $smoothed:ident, $doc:literal) => {
+    ($rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $doc:literal) => {
         #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
         pub struct $rust {
             settings: Settings,
@@ -685,7 +685,7 @@ macro_rules! filter_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=0.999, initial_position_std=5.0, initial_velocity_std=0.5, initial_tilt_std=0.017453292519943295, initial_heading_std=0.08726646259971647, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=50.0, initial_clock_drift_std=10.0, use_pseudorange_rate=true, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None))]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None))]
             fn new(
                 imu: &PyImuModel,
                 scale_factor_states: bool,
@@ -693,15 +693,15 @@ macro_rules! filter_class {
                 gyro_noise_density: Option<f64>,
                 accel_bias_psd: Option<f64>,
                 gyro_bias_psd: Option<f64>,
-                gate_probability: f64,
-                initial_position_std: f64,
-                initial_velocity_std: f64,
-                initial_tilt_std: f64,
-                initial_heading_std: f64,
+                gate_probability: Option<f64>,
+                initial_position_std: Option<f64>,
+                initial_velocity_std: Option<f64>,
+                initial_tilt_std: Option<f64>,
+                initial_heading_std: Option<f64>,
                 initial_accel_bias_std: Option<f64>,
                 initial_gyro_bias_std: Option<f64>,
-                initial_clock_offset_std: f64,
-                initial_clock_drift_std: f64,
+                initial_clock_offset_std: Option<f64>,
+                initial_clock_drift_std: Option<f64>,
                 use_pseudorange_rate: bool,
                 clock_h0: Option<f64>,
                 clock_h_minus2: Option<f64>,
@@ -733,19 +733,28 @@ macro_rules! filter_class {
                 if let Some(v) = gyro_bias_psd {
                     q.gyro_bias_psd = v;
                 }
+                // None keeps the core's default (`defaults()`).
                 let s = &mut tuning.initial_std;
-                s.position_m = initial_position_std;
-                s.velocity_m_s = initial_velocity_std;
-                s.attitude_ned_rad = Vector3::new(initial_tilt_std, initial_tilt_std, initial_heading_std);
-                if let Some(v) = initial_accel_bias_std {
-                    s.accel_bias_m_s2 = v;
+                for (value, target) in [
+                    (initial_position_std, &mut s.position_m),
+                    (initial_velocity_std, &mut s.velocity_m_s),
+                    (initial_accel_bias_std, &mut s.accel_bias_m_s2),
+                    (initial_gyro_bias_std, &mut s.gyro_bias_rad_s),
+                    (initial_clock_offset_std, &mut s.clock_offset_m),
+                    (initial_clock_drift_std, &mut s.clock_drift_m_s),
+                    (gate_probability, &mut tuning.gate_probability),
+                ] {
+                    if let Some(v) = value {
+                        *target = v;
+                    }
                 }
-                if let Some(v) = initial_gyro_bias_std {
-                    s.gyro_bias_rad_s = v;
+                let attitude = &mut s.attitude_ned_rad;
+                if let Some(tilt) = initial_tilt_std {
+                    (attitude.x, attitude.y) = (tilt, tilt);
                 }
-                s.clock_offset_m = initial_clock_offset_std;
-                s.clock_drift_m_s = initial_clock_drift_std;
-                tuning.gate_probability = gate_probability;
+                if let Some(heading) = initial_heading_std {
+                    attitude.z = heading;
+                }
                 tuning.use_pseudorange_rate = use_pseudorange_rate;
                 let default_clock = ReceiverClockModel::default();
                 let clock = ReceiverClockModel {
@@ -833,13 +842,13 @@ macro_rules! filter_class {
                     .detach(|| {
                         let data = imu.data();
                         match (scale_factor_states, smooth) {
-                            (true, true) => coupling::$smoothed::<WITH_SCALE_FACTORS>(&data, &aiding, &initial, &tuning)
+                            (true, true) => coupling::smoothed_solution::<WITH_SCALE_FACTORS, _>(&data, &aiding, &initial, &tuning)
                                 .map(|(f, s)| (f, Some(s))),
-                            (false, true) => coupling::$smoothed::<BASE_STATES>(&data, &aiding, &initial, &tuning)
+                            (false, true) => coupling::smoothed_solution::<BASE_STATES, _>(&data, &aiding, &initial, &tuning)
                                 .map(|(f, s)| (f, Some(s))),
-                            (true, false) => coupling::$filter::<WITH_SCALE_FACTORS>(&data, &aiding, &initial, &tuning)
+                            (true, false) => coupling::solution::<WITH_SCALE_FACTORS, _>(&data, &aiding, &initial, &tuning)
                                 .map(|f| (f, None)),
-                            (false, false) => coupling::$filter::<BASE_STATES>(&data, &aiding, &initial, &tuning)
+                            (false, false) => coupling::solution::<BASE_STATES, _>(&data, &aiding, &initial, &tuning)
                                 .map(|f| (f, None)),
                         }
                     })
@@ -857,8 +866,6 @@ filter_class!(
     gnss,
     gnss_epochs,
     initial_state_from_fix,
-    tightly_coupled,
-    tightly_coupled_smoothed,
     "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`. `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
 );
 
@@ -868,8 +875,6 @@ filter_class!(
     fixes,
     position_fixes,
     initial_state_from_position_fix,
-    loosely_coupled,
-    loosely_coupled_smoothed,
     "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e). `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
 );
 

@@ -67,23 +67,25 @@ impl PyConstellation {
 
     /// A Walker delta constellation i: t/p/f of circular orbits.
     #[staticmethod]
-    #[pyo3(signature = (n_satellites=24, planes=6, inclination_deg=55.0, semi_major_axis_m=26_560_000.0, phasing=1, raan0_deg=0.0))]
+    /// None: the core's default (`defaults()`), GPS-like 24/6/1 at 55°.
+    #[pyo3(signature = (n_satellites=None, planes=None, inclination_deg=None, semi_major_axis_m=None, phasing=None, raan0_deg=None))]
     fn walker(
-        n_satellites: usize,
-        planes: usize,
-        inclination_deg: f64,
-        semi_major_axis_m: f64,
-        phasing: usize,
-        raan0_deg: f64,
+        n_satellites: Option<usize>,
+        planes: Option<usize>,
+        inclination_deg: Option<f64>,
+        semi_major_axis_m: Option<f64>,
+        phasing: Option<usize>,
+        raan0_deg: Option<f64>,
     ) -> PyResult<Self> {
+        let d = WalkerConfig::default();
         let config = WalkerConfig {
-            n_satellites,
-            planes,
-            inclination_rad: inclination_deg.to_radians(),
-            semi_major_axis_m,
-            phasing,
-            raan0_rad: raan0_deg.to_radians(),
-            ..WalkerConfig::default()
+            n_satellites: n_satellites.unwrap_or(d.n_satellites),
+            planes: planes.unwrap_or(d.planes),
+            inclination_rad: inclination_deg.map_or(d.inclination_rad, f64::to_radians),
+            semi_major_axis_m: semi_major_axis_m.unwrap_or(d.semi_major_axis_m),
+            phasing: phasing.unwrap_or(d.phasing),
+            raan0_rad: raan0_deg.map_or(d.raan0_rad, f64::to_radians),
+            ..d
         };
         Ok(PyConstellation {
             inner: Constellation::walker(&config).py()?,
@@ -698,21 +700,21 @@ impl PyRinexObservations {
     /// coefficients; ``ionosphere=False`` to leave it in) and the
     /// Saastamoinen troposphere; rates from the Doppler. Noise: σ at 45 dB-Hz
     /// and zenith, scaled by √10^((45−C/N0)/10)/sin(el).
-    #[pyo3(signature = (constellation, reference_position_ecef=None, *, elevation_mask_deg=10.0,
-        min_cn0_db_hz=25.0, ionosphere=true, klobuchar=None, troposphere=true,
-        pseudorange_std=3.0, pseudorange_rate_std=0.1, satellites=None))]
+    #[pyo3(signature = (constellation, reference_position_ecef=None, *, elevation_mask_deg=None,
+        min_cn0_db_hz=None, ionosphere=true, klobuchar=None, troposphere=true,
+        pseudorange_std=None, pseudorange_rate_std=None, satellites=None))]
     fn gps_l1(
         &self,
         py: Python<'_>,
         constellation: &PyConstellation,
         reference_position_ecef: Option<&Bound<'_, PyAny>>,
-        elevation_mask_deg: f64,
-        min_cn0_db_hz: f64,
+        elevation_mask_deg: Option<f64>,
+        min_cn0_db_hz: Option<f64>,
         ionosphere: bool,
         klobuchar: Option<([f64; 4], [f64; 4])>,
         troposphere: bool,
-        pseudorange_std: f64,
-        pseudorange_rate_std: f64,
+        pseudorange_std: Option<f64>,
+        pseudorange_rate_std: Option<f64>,
         satellites: Option<Vec<u16>>,
     ) -> PyResult<PyGnssMeasurements> {
         let reference = match reference_position_ecef {
@@ -723,9 +725,20 @@ impl PyRinexObservations {
                 )
             })?,
         };
+        // None keeps the core's default (`defaults()`).
         let mut options = gnss::ObservableOptions::new(reference);
-        options.elevation_mask_rad = elevation_mask_deg.to_radians();
-        options.min_cn0_db_hz = min_cn0_db_hz;
+        if let Some(mask) = elevation_mask_deg {
+            options.elevation_mask_rad = mask.to_radians();
+        }
+        for (value, target) in [
+            (min_cn0_db_hz, &mut options.min_cn0_db_hz),
+            (pseudorange_std, &mut options.pseudorange_std_m),
+            (pseudorange_rate_std, &mut options.pseudorange_rate_std_m_s),
+        ] {
+            if let Some(v) = value {
+                *target = v;
+            }
+        }
         options.ionosphere = if ionosphere {
             Some(
                 klobuchar.map_or(gnss::Klobuchar::RTKLIB_DEFAULT, |(alpha, beta)| {
@@ -736,8 +749,6 @@ impl PyRinexObservations {
             None
         };
         options.troposphere = troposphere;
-        options.pseudorange_std_m = pseudorange_std;
-        options.pseudorange_rate_std_m_s = pseudorange_rate_std;
         options.satellites = satellites.unwrap_or_default();
         let epochs = py
             .detach(|| gnss::gps_l1_epochs(&self.inner, &constellation.inner, &options))

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 mod calibration;
 mod convert;
 mod coupling;
+mod defaults;
 mod errors;
 mod experiments;
 mod geodesy;
@@ -36,6 +37,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     inversion::register(m)?;
     experiments::register(m)?;
     coupling::register(m)?;
+    defaults::register(m)?;
     navigation::register(m)?;
     log_navigation::register(m)?;
     logs::register(m)?;

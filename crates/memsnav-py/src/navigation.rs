@@ -210,23 +210,23 @@ pub(crate) fn outage_window(values: &[f64]) -> PyResult<Outage> {
 /// `memsnav.experiments.navigation` for the documented interface.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=20, duration=600.0, seed=0, n_satellites=6, outage=None, calibration_duration=300.0, early_window=150.0, pseudorange_rate=true, pseudorange_std=3.0, pseudorange_rate_std=0.1, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=true, smooth=false, keep_runs=false, threads=None, progress=None, run_range=None, chunks=None))]
+#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, n_satellites=None, outage=None, calibration_duration=None, early_window=None, pseudorange_rate=None, pseudorange_std=None, pseudorange_rate_std=None, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=None, smooth=false, keep_runs=false, threads=None, progress=None, run_range=None, chunks=None))]
 fn navigation_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
-    runs: usize,
-    duration: f64,
-    seed: u64,
-    n_satellites: usize,
+    runs: Option<usize>,
+    duration: Option<f64>,
+    seed: Option<u64>,
+    n_satellites: Option<usize>,
     outage: Option<Vec<f64>>,
-    calibration_duration: f64,
-    early_window: f64,
-    pseudorange_rate: bool,
-    pseudorange_std: f64,
-    pseudorange_rate_std: f64,
+    calibration_duration: Option<f64>,
+    early_window: Option<f64>,
+    pseudorange_rate: Option<bool>,
+    pseudorange_std: Option<f64>,
+    pseudorange_rate_std: Option<f64>,
     initial_attitude_std_deg: Option<(f64, f64, f64)>,
     scale_factor_states: bool,
-    absorb_unmodelled: bool,
+    absorb_unmodelled: Option<bool>,
     smooth: bool,
     keep_runs: bool,
     threads: Option<usize>,
@@ -234,6 +234,10 @@ fn navigation_experiment<'py>(
     run_range: Option<(usize, usize)>,
     chunks: Option<Vec<Bound<'py, PyBytes>>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    // None keeps the core's default (`defaults()`).
+    let d = NavigationExperimentConfig::default();
+    let pseudorange_std = pseudorange_std.unwrap_or(d.gnss.pseudorange_std_m);
+    let pseudorange_rate_std = pseudorange_rate_std.unwrap_or(d.gnss.pseudorange_rate_std_m_s);
     // The GNSS simulator checks its own settings, but only once a run
     // starts: name the Python arguments here.
     for (name, v) in [
@@ -246,29 +250,30 @@ fn navigation_experiment<'py>(
             )));
         }
     }
-    // None: the default 1°, 1°, 5° (tilt N, tilt E, heading).
-    let (n, e, d) = initial_attitude_std_deg.unwrap_or((1.0, 1.0, 5.0));
     let config = NavigationExperimentConfig {
-        runs,
-        seed,
-        duration_s: duration,
+        runs: runs.unwrap_or(d.runs),
+        seed: seed.unwrap_or(d.seed),
+        duration_s: duration.unwrap_or(d.duration_s),
         imus: imu_list(imus)?,
-        n_satellites,
+        n_satellites: n_satellites.unwrap_or(d.n_satellites),
         outage: outage.as_deref().map(outage_window).transpose()?,
-        calibration_duration_s: calibration_duration,
-        early_window_s: early_window,
-        use_pseudorange_rate: pseudorange_rate,
-        initial_attitude_std_rad: Vector3::new(n, e, d).map(f64::to_radians),
+        calibration_duration_s: calibration_duration.unwrap_or(d.calibration_duration_s),
+        early_window_s: early_window.unwrap_or(d.early_window_s),
+        use_pseudorange_rate: pseudorange_rate.unwrap_or(d.use_pseudorange_rate),
+        initial_attitude_std_rad: initial_attitude_std_deg
+            .map_or(d.initial_attitude_std_rad, |(n, e, down)| {
+                Vector3::new(n, e, down).map(f64::to_radians)
+            }),
         scale_factor_states,
-        absorb_unmodelled,
+        absorb_unmodelled: absorb_unmodelled.unwrap_or(d.absorb_unmodelled),
         gnss: SimulationConfig {
             pseudorange_std_m: pseudorange_std,
             pseudorange_rate_std_m_s: pseudorange_rate_std,
-            ..Default::default()
+            ..d.gnss.clone()
         },
         smooth,
         keep_runs,
-        ..Default::default()
+        ..d
     };
     let experiment = NavigationRuns::new(&config).py()?;
     match run_monte_carlo(

@@ -3,6 +3,7 @@
 //! are in `memsnav_core::sensors`.
 
 use memsnav_core::random;
+use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_core::sensors::{
     presets, AccelerometerModel, GyroscopeModel, ImuModel, ImuSpec, NoiseModel,
 };
@@ -114,7 +115,7 @@ pub struct PyAccelerometerModel {
 #[pymethods]
 impl PyAccelerometerModel {
     #[new]
-    #[pyo3(signature = (bias, scale_factor, misalignment, nonlinearity, noise_std=0.0, *, noise_density=None, sample_rate=100.0, bias_instability=0.0, bias_correlation_time=0.0, bias_random_walk=0.0, quantization=0.0))]
+    #[pyo3(signature = (bias, scale_factor, misalignment, nonlinearity, noise_std=0.0, *, noise_density=None, sample_rate=None, bias_instability=0.0, bias_correlation_time=0.0, bias_random_walk=0.0, quantization=0.0))]
     fn new(
         bias: &Bound<'_, PyAny>,
         scale_factor: &Bound<'_, PyAny>,
@@ -122,12 +123,13 @@ impl PyAccelerometerModel {
         nonlinearity: &Bound<'_, PyAny>,
         noise_std: f64,
         noise_density: Option<f64>,
-        sample_rate: f64,
+        sample_rate: Option<f64>,
         bias_instability: f64,
         bias_correlation_time: f64,
         bias_random_walk: f64,
         quantization: f64,
     ) -> PyResult<Self> {
+        let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
         memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
         let noise = noise_model(
             noise_std,
@@ -272,7 +274,7 @@ pub struct PyGyroscopeModel {
 #[pymethods]
 impl PyGyroscopeModel {
     #[new]
-    #[pyo3(signature = (bias, scale_factor, misalignment, g_sensitivity, noise_std=0.0, *, noise_density=None, sample_rate=100.0, bias_instability=0.0, bias_correlation_time=0.0, bias_random_walk=0.0, quantization=0.0))]
+    #[pyo3(signature = (bias, scale_factor, misalignment, g_sensitivity, noise_std=0.0, *, noise_density=None, sample_rate=None, bias_instability=0.0, bias_correlation_time=0.0, bias_random_walk=0.0, quantization=0.0))]
     fn new(
         bias: &Bound<'_, PyAny>,
         scale_factor: &Bound<'_, PyAny>,
@@ -280,12 +282,13 @@ impl PyGyroscopeModel {
         g_sensitivity: &Bound<'_, PyAny>,
         noise_std: f64,
         noise_density: Option<f64>,
-        sample_rate: f64,
+        sample_rate: Option<f64>,
         bias_instability: f64,
         bias_correlation_time: f64,
         bias_random_walk: f64,
         quantization: f64,
     ) -> PyResult<Self> {
+        let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
         memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
         let noise = noise_model(
             noise_std,
@@ -501,7 +504,8 @@ fn noise_for_rate(noise: NoiseModel, own_rate_hz: f64, new_rate_hz: f64) -> Nois
 /// noise density (per-sample noise is converted at the sensor's own rate).
 /// `spec` is a dict overriding some keys of the derived spec, whose default
 /// magnitudes are the RMS of the models' own values. `ImuModel.preset(name,
-/// seed=None, sample_rate=100.0)` draws a grade from its spec; names in
+/// seed=None, sample_rate=None)` draws a grade from its spec (at 100 Hz
+/// unless given); names in
 /// `ImuModel.presets()`. `.spec` is a dict of one-sigma magnitudes, SI:
 /// accel_/gyro_ + bias_std, scale_factor_std, misalignment_std,
 /// nonlinearity_std (accel, 1/(m/s²)) or g_sensitivity_std (gyro,
@@ -552,8 +556,13 @@ impl PyImuModel {
 
     /// A named IMU grade with errors drawn from its spec (see `presets()`).
     #[staticmethod]
-    #[pyo3(signature = (name, seed=None, sample_rate=100.0))]
-    fn preset(name: &str, seed: Option<&Bound<'_, PyAny>>, sample_rate: f64) -> PyResult<Self> {
+    #[pyo3(signature = (name, seed=None, sample_rate=None))]
+    fn preset(
+        name: &str,
+        seed: Option<&Bound<'_, PyAny>>,
+        sample_rate: Option<f64>,
+    ) -> PyResult<Self> {
+        let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
         let mut rng = random::from_optional_seed(convert::seed(seed)?);
         let inner = ImuModel::preset_at(name, sample_rate, &mut rng).py()?;
         Ok(Self { inner })

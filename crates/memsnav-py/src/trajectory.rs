@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use memsnav_core::geodesy::Geodetic;
 use memsnav_core::random;
+use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_core::trajectory::{RandomTrajectoryConfig, Segment, Trajectory};
 use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
@@ -152,14 +153,15 @@ impl PyTrajectory {
 
     /// A scripted trajectory from manoeuvre tuples, starting at rest.
     #[staticmethod]
-    #[pyo3(signature = (segments, origin=None, heading=0.0, rate=100.0))]
+    #[pyo3(signature = (segments, origin=None, heading=0.0, rate=None))]
     fn from_segments(
         py: Python<'_>,
         segments: &Bound<'_, PyAny>,
         origin: Option<&Bound<'_, PyAny>>,
         heading: f64,
-        rate: f64,
+        rate: Option<f64>,
     ) -> PyResult<Self> {
+        let rate = rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
         let items = segments
             .try_iter()
             .map_err(|_| PyValueError::new_err("segments: expected a list of tuples"))?;
@@ -176,8 +178,9 @@ impl PyTrajectory {
 
     /// A trajectory from a profile CSV of Groves' book software.
     #[staticmethod]
-    #[pyo3(signature = (path, rate=100.0))]
-    fn from_profile(py: Python<'_>, path: PathBuf, rate: f64) -> PyResult<Self> {
+    #[pyo3(signature = (path, rate=None))]
+    fn from_profile(py: Python<'_>, path: PathBuf, rate: Option<f64>) -> PyResult<Self> {
+        let rate = rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
         let inner = py.detach(|| Trajectory::from_profile(&path, rate)).py()?;
         Ok(Self { inner })
     }

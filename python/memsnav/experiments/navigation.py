@@ -47,6 +47,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from memsnav import _memsnav as _mn
 from memsnav._distributed import run_set
 from memsnav.experiments._plotting import legend_below
 
@@ -339,23 +340,23 @@ class NavigationResult:
 
 def navigation(
     outage: tuple[float, float] | tuple[float, float, int] | None = None,
-    runs: int = 20,
-    duration: float = 600.0,
-    seed: int = 0,
+    runs: int | None = None,
+    duration: float | None = None,
+    seed: int | None = None,
     imus: Sequence[str] | Mapping[str, Any] = PAPER_IMUS,
-    n_satellites: int = 6,
+    n_satellites: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
     keep_runs: bool = False,
     *,
-    calibration_duration: float = 300.0,
-    early_window: float = 150.0,
-    pseudorange_rate: bool = True,
-    pseudorange_std: float = 3.0,
-    pseudorange_rate_std: float = 0.1,
-    initial_attitude_std_deg: tuple[float, float, float] = (1.0, 1.0, 5.0),
+    calibration_duration: float | None = None,
+    early_window: float | None = None,
+    pseudorange_rate: bool | None = None,
+    pseudorange_std: float | None = None,
+    pseudorange_rate_std: float | None = None,
+    initial_attitude_std_deg: tuple[float, float, float] | None = None,
     scale_factor_states: bool = False,
-    absorb_unmodelled: bool = True,
+    absorb_unmodelled: bool | None = None,
     smooth: bool = False,
     client: Any = None,
     chunk_runs: int | None = None,
@@ -408,8 +409,29 @@ def navigation(
     those of local threads (``docs/distributed.md``); ``threads`` must
     then be None.
 
+    Every argument left None takes the core's default,
+    ``memsnav.defaults()["navigation_experiment"]`` (20 runs of 600 s,
+    seed 0, 6 satellites, 300 s calibration, 150 s early window, rates
+    used, 3 m and 0.1 m/s, attitude 1°, 1°, 5°, unmodelled errors absorbed).
+
     Raises ValueError naming the argument for bad input.
     """
+    default = _mn.defaults()["navigation_experiment"]
+    runs = default["runs"] if runs is None else runs
+    duration = default["duration"] if duration is None else duration
+    seed = default["seed"] if seed is None else seed
+    n_satellites = default["n_satellites"] if n_satellites is None else n_satellites
+    if calibration_duration is None:
+        calibration_duration = default["calibration_duration"]
+    early_window = default["early_window"] if early_window is None else early_window
+    pseudorange_rate = default["pseudorange_rate"] if pseudorange_rate is None else pseudorange_rate
+    pseudorange_std = default["pseudorange_std"] if pseudorange_std is None else pseudorange_std
+    if pseudorange_rate_std is None:
+        pseudorange_rate_std = default["pseudorange_rate_std"]
+    if initial_attitude_std_deg is None:
+        initial_attitude_std_deg = default["initial_attitude_std_deg"]
+    if absorb_unmodelled is None:
+        absorb_unmodelled = default["absorb_unmodelled"]
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 1:
         raise ValueError(f"runs: must be a positive integer, got {runs!r}")
     window: tuple[float, float, int] | None = None

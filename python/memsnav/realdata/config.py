@@ -34,6 +34,8 @@ DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"
 # given; None: not given, the reader's own default applies).
 REQUIRED = object()
 _NUM = (int, float)
+# The observables' defaults are the core's (``memsnav.defaults()``).
+_OBSERVABLES: dict[str, float] = _mn.defaults()["RinexObservations.gps_l1"]
 SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
     "": {"name": (str, REQUIRED), "output": (str, "out")},
     "imu": {
@@ -60,10 +62,10 @@ SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
         "obs": (str, ""),
         "nav": (str, ""),
         "satellites": (list, []),
-        "elevation_mask_deg": (_NUM, 10.0),
-        "min_cn0_db_hz": (_NUM, 25.0),
-        "pseudorange_std_m": (_NUM, 3.0),
-        "pseudorange_rate_std_m_s": (_NUM, 0.1),
+        "elevation_mask_deg": (_NUM, _OBSERVABLES["elevation_mask_deg"]),
+        "min_cn0_db_hz": (_NUM, _OBSERVABLES["min_cn0_db_hz"]),
+        "pseudorange_std_m": (_NUM, _OBSERVABLES["pseudorange_std"]),
+        "pseudorange_rate_std_m_s": (_NUM, _OBSERVABLES["pseudorange_rate_std"]),
         "ionosphere": (bool, True),
         "troposphere": (bool, True),
         "klobuchar_alpha": (list, []),

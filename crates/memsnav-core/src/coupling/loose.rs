@@ -15,9 +15,9 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::batch::BatchRules;
-use super::engine::{self, FilterState, ImuData, InitialState, Observe, SampleHook, Solution};
+use super::engine::{self, FilterState, InitialState};
 use super::records::MeasurementKind;
-use super::records::RunRecords;
+use super::run::Aiding;
 use super::tuning::FilterTuning;
 use crate::{validate, Error, Result};
 
@@ -44,7 +44,7 @@ impl engine::AidingEpoch for PositionFix {
 
 /// A fix block's covariance as the filter uses it, and its whitening.
 #[derive(Debug, Clone, Copy)]
-struct Whitened {
+pub struct Whitened {
     /// R with its eigenvalues raised to at least floor² (the floor of
     /// [`super::MeasurementFloor`] in every direction).
     covariance: Matrix3<f64>,
@@ -114,190 +114,70 @@ fn update_block<const N: usize>(
     Ok(())
 }
 
-/// Runs the loosely coupled filter, calling `hook` at every IMU sample;
-/// returns the final filter state (its records).
-pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    smooth: bool,
-    hook: &mut H,
-) -> Result<FilterState<N>> {
-    imu.validate()?;
-    engine::validate_epoch_times("fixes", fixes, imu.time_s, tuning.time_tolerance_s)?;
-    tuning.validate()?;
-    let floor = &tuning.floor;
-    let mut whiten = Vec::with_capacity(fixes.len());
-    for (i, f) in fixes.iter().enumerate() {
-        validate::finite_vectors("fixes.position_ecef", &[f.position_ecef])
-            .map_err(|_| Error::invalid("fixes", format!("fix {i}: position is not finite")))?;
-        let lv = match f.velocity_ecef {
-            Some(v) => {
-                validate::finite_vectors("fixes.velocity_ecef", &[v]).map_err(|_| {
-                    Error::invalid("fixes", format!("fix {i}: velocity is not finite"))
-                })?;
-                Some(whitening(
-                    "fixes",
-                    i,
-                    &f.velocity_covariance,
-                    floor.velocity_m_s,
-                )?)
-            }
-            None => None,
-        };
-        whiten.push((
-            whitening("fixes", i, &f.position_covariance, floor.position_m)?,
-            lv,
-        ));
+impl Aiding for PositionFix {
+    const ARGUMENT: &'static str = "fixes";
+    /// Each fix's whitened position and velocity blocks.
+    type Prepared = Vec<(Whitened, Option<Whitened>)>;
+
+    fn prepare(
+        fixes: &[Self],
+        initial: &InitialState,
+        tuning: &FilterTuning,
+    ) -> Result<(Self::Prepared, InitialState, FilterTuning)> {
+        tuning.validate()?;
+        let floor = &tuning.floor;
+        let mut whiten = Vec::with_capacity(fixes.len());
+        for (i, f) in fixes.iter().enumerate() {
+            validate::finite_vectors("fixes.position_ecef", &[f.position_ecef])
+                .map_err(|_| Error::invalid("fixes", format!("fix {i}: position is not finite")))?;
+            let lv = match f.velocity_ecef {
+                Some(v) => {
+                    validate::finite_vectors("fixes.velocity_ecef", &[v]).map_err(|_| {
+                        Error::invalid("fixes", format!("fix {i}: velocity is not finite"))
+                    })?;
+                    Some(whitening(
+                        "fixes",
+                        i,
+                        &f.velocity_covariance,
+                        floor.velocity_m_s,
+                    )?)
+                }
+                None => None,
+            };
+            whiten.push((
+                whitening("fixes", i, &f.position_covariance, floor.position_m)?,
+                lv,
+            ));
+        }
+        // The clock is not observed: held at zero, without process noise.
+        let mut tuning = *tuning;
+        tuning.process_noise.clock_phase_psd = 0.0;
+        tuning.process_noise.clock_frequency_psd = 0.0;
+        let mut initial = *initial;
+        initial.clock_offset_m.get_or_insert(0.0);
+        initial.clock_drift_m_s.get_or_insert(0.0);
+        Ok((whiten, initial, tuning))
     }
-    let mut tuning = *tuning;
-    tuning.process_noise.clock_phase_psd = 0.0;
-    tuning.process_noise.clock_frequency_psd = 0.0;
-    let mut initial = *initial;
-    initial.clock_offset_m.get_or_insert(0.0);
-    initial.clock_drift_m_s.get_or_insert(0.0);
-    let mut state = FilterState::<N>::new(&initial, &tuning)?;
-    if smooth {
-        state.enable_smoother(imu.time_s.len());
+
+    fn update<const N: usize>(
+        s: &mut FilterState<N>,
+        whiten: &Self::Prepared,
+        i: usize,
+        f: &Self,
+    ) -> Result<()> {
+        let (wp, wv) = &whiten[i];
+        let has_velocity = wv.is_some();
+        update_block(
+            s,
+            f.time_s,
+            MeasurementKind::Position,
+            &f.position_ecef,
+            wp,
+            has_velocity,
+        )?;
+        if let (Some(v), Some(wv)) = (f.velocity_ecef, wv) {
+            update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv, true)?;
+        }
+        Ok(())
     }
-    engine::run(
-        imu,
-        fixes,
-        &mut state,
-        tuning.time_tolerance_s,
-        |s, i, f: &PositionFix| {
-            let (wp, wv) = &whiten[i];
-            let has_velocity = wv.is_some();
-            update_block(
-                s,
-                f.time_s,
-                MeasurementKind::Position,
-                &f.position_ecef,
-                wp,
-                has_velocity,
-            )?;
-            if let (Some(v), Some(wv)) = (f.velocity_ecef, wv) {
-                update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv, true)?;
-            }
-            Ok(())
-        },
-        hook,
-    )?;
-    Ok(state)
-}
-
-/// Runs the loosely coupled filter; `observe(k, state)` sees the state after
-/// IMU sample k. Returns the measurement records.
-pub fn run_loosely_coupled<const N: usize, O>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    observe: O,
-) -> Result<RunRecords>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
-    let mut state = run_with_hook(imu, fixes, initial, tuning, false, &mut Observe(observe))?;
-    Ok(state.take_records())
-}
-
-/// The loosely coupled filter's whole solution at every IMU sample.
-pub fn loosely_coupled<const N: usize>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-) -> Result<Solution> {
-    Ok(solve::<N>(imu, fixes, initial, tuning, false)?.0)
-}
-
-/// The loosely coupled filter's forward solution and its fixed-interval
-/// smoothed solution ([`crate::filter::smoother`]).
-pub fn loosely_coupled_smoothed<const N: usize>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-) -> Result<(Solution, Solution)> {
-    let (forward, smoothed) = solve::<N>(imu, fixes, initial, tuning, true)?;
-    Ok((forward, smoothed.expect("asked for")))
-}
-
-/// [`run_loosely_coupled`] and the smoothed solution: `observe(k, state)`
-/// sees the forward filter after each IMU sample k; returns the forward
-/// measurement records and the fixed-interval smoothed solution.
-pub fn run_loosely_coupled_smoothed<const N: usize, O>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    observe: O,
-) -> Result<(RunRecords, Solution)>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
-    let (forward, smoothed) = solve_observed(imu, fixes, initial, tuning, true, observe)?;
-    let records = RunRecords {
-        measurements: forward.measurements,
-        batches: forward.batches,
-        resets: forward.resets,
-    };
-    Ok((records, smoothed.expect("asked for")))
-}
-
-fn solve<const N: usize>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    smooth: bool,
-) -> Result<(Solution, Option<Solution>)> {
-    solve_observed(
-        imu,
-        fixes,
-        initial,
-        tuning,
-        smooth,
-        |_, _: &FilterState<N>| {},
-    )
-}
-
-/// [`solve`], with `observe(k, state)` called after each IMU sample k.
-fn solve_observed<const N: usize, O>(
-    imu: &ImuData,
-    fixes: &[PositionFix],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    smooth: bool,
-    mut observe: O,
-) -> Result<(Solution, Option<Solution>)>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
-    let mut sol = Solution::with_capacity(imu.time_s.len(), N);
-    let mut state = run_with_hook::<N, _>(
-        imu,
-        fixes,
-        initial,
-        tuning,
-        smooth,
-        &mut Observe(|k, s: &FilterState<N>| {
-            observe(k, s);
-            sol.push(imu.time_s[k], s)
-        }),
-    )?;
-    sol.take_records(&mut state);
-    super::diagnose(
-        &mut sol,
-        ("specific_force", imu.specific_force_b),
-        ("angular_rate", imu.angular_rate_b),
-    );
-    let smoothed = state
-        .kf
-        .take_smoother()
-        .map(|mut log| sol.smoothed(&mut log))
-        .transpose()?;
-    Ok((sol, smoothed))
 }

@@ -8,9 +8,10 @@
 //!   covariance is propagated alongside ([`crate::filter`]).
 //! - At each GNSS epoch every measurement is a gated scalar Joseph update:
 //!   pseudoranges and pseudorange rates per satellite through
-//!   [`crate::gnss::predicted_range`] (Sagnac, light time) in
-//!   [`tightly_coupled`]; whitened position/velocity components in
-//!   [`loosely_coupled`]. Then the estimated errors are fed back into the
+//!   [`crate::gnss::predicted_range`] (Sagnac, light time) on GNSS epochs
+//!   (`tight`); whitened position/velocity components on position fixes
+//!   (`loose`). One run serves both ([`solution`], [`run`]: the aiding kind
+//!   is the epochs' type, [`Aiding`]). Then the estimated errors are fed back into the
 //!   INS, the sensor estimates and the clock, and the error state is zeroed
 //!   (closed loop).
 //! - GNSS epoch times must increase and lie within the IMU span; an epoch
@@ -68,6 +69,7 @@ mod loose;
 mod ned;
 mod range_bias;
 mod records;
+mod run;
 mod tight;
 mod tuning;
 
@@ -78,20 +80,15 @@ pub(crate) use engine::SampleHook;
 pub use engine::{AidingEpoch, FilterState, ImuData, InitialState, Solution};
 pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix, level};
 pub use integrity::{Integrity, IntegrityAlert};
-pub(crate) use loose::run_with_hook as run_loose_with_hook;
-pub use loose::{
-    loosely_coupled, loosely_coupled_smoothed, run_loosely_coupled, run_loosely_coupled_smoothed,
-    PositionFix,
-};
+pub use loose::PositionFix;
 pub use ned::covariance_ned;
 pub use records::{
     BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
     RunRecords,
 };
-pub(crate) use tight::run_with_hook as run_tight_with_hook;
-pub use tight::{
-    run_tightly_coupled, run_tightly_coupled_smoothed, tightly_coupled, tightly_coupled_smoothed,
-};
+pub(crate) use run::run_with_hook;
+pub use run::{run, run_smoothed, smoothed_solution, solution, Aiding};
 pub use tuning::{
     BiasProcess, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel, Recovery,
+    DEFAULT_GATE_PROBABILITY,
 };

@@ -32,9 +32,9 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::batch::{median, BatchRules, CommonMode};
-use super::engine::{self, FilterState, ImuData, InitialState, Observe, SampleHook, Solution};
+use super::engine::{self, FilterState, InitialState};
 use super::records::MeasurementKind;
-use super::records::RunRecords;
+use super::run::Aiding;
 use super::tuning::FilterTuning;
 use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION};
 use crate::gnss::{self, solve_fix, GnssEpoch, SatelliteMeasurement};
@@ -266,147 +266,25 @@ fn recover_velocity<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -
     Ok(())
 }
 
-/// Runs the tightly coupled filter with `N` error states over the IMU
-/// series and GNSS epochs, calling `hook` at every IMU sample; returns the
-/// final filter state (its records: measurements, batches, resets).
-pub(crate) fn run_with_hook<const N: usize, H: SampleHook<N>>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    smooth: bool,
-    hook: &mut H,
-) -> Result<FilterState<N>> {
-    imu.validate()?;
-    engine::validate_epoch_times("gnss", gnss, imu.time_s, tuning.time_tolerance_s)?;
-    let mut state = FilterState::<N>::new(initial, tuning)?;
-    if smooth {
-        state.enable_smoother(imu.time_s.len());
+impl Aiding for GnssEpoch {
+    const ARGUMENT: &'static str = "gnss";
+    /// Whether the pseudorange rates are used.
+    type Prepared = bool;
+
+    fn prepare(
+        _epochs: &[Self],
+        initial: &InitialState,
+        tuning: &FilterTuning,
+    ) -> Result<(bool, InitialState, FilterTuning)> {
+        Ok((tuning.use_pseudorange_rate, *initial, *tuning))
     }
-    let use_rate = tuning.use_pseudorange_rate;
-    engine::run(
-        imu,
-        gnss,
-        &mut state,
-        tuning.time_tolerance_s,
-        |s, _, e| update_epoch(s, e, use_rate),
-        hook,
-    )?;
-    Ok(state)
-}
 
-/// Runs the tightly coupled filter with `N` error states (17, 23, 29 or
-/// 35) over the IMU series and GNSS epochs; `observe(k, state)` sees the
-/// state after IMU sample k. Returns the measurement records.
-pub fn run_tightly_coupled<const N: usize, O>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    observe: O,
-) -> Result<RunRecords>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
-    let mut state = run_with_hook(imu, gnss, initial, tuning, false, &mut Observe(observe))?;
-    Ok(state.take_records())
-}
-
-/// The tightly coupled filter's whole solution at every IMU sample.
-pub fn tightly_coupled<const N: usize>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-) -> Result<Solution> {
-    Ok(solve::<N>(imu, gnss, initial, tuning, false)?.0)
-}
-
-/// The tightly coupled filter's forward solution and its fixed-interval
-/// smoothed solution ([`crate::filter::smoother`]).
-pub fn tightly_coupled_smoothed<const N: usize>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-) -> Result<(Solution, Solution)> {
-    let (forward, smoothed) = solve::<N>(imu, gnss, initial, tuning, true)?;
-    Ok((forward, smoothed.expect("asked for")))
-}
-
-/// [`run_tightly_coupled`] and the smoothed solution: `observe(k, state)`
-/// sees the forward filter after each IMU sample k; returns the forward
-/// measurement records and the fixed-interval smoothed solution.
-pub fn run_tightly_coupled_smoothed<const N: usize, O>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    observe: O,
-) -> Result<(RunRecords, Solution)>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
-    let (forward, smoothed) = solve_observed(imu, gnss, initial, tuning, true, observe)?;
-    let records = RunRecords {
-        measurements: forward.measurements,
-        batches: forward.batches,
-        resets: forward.resets,
-    };
-    Ok((records, smoothed.expect("asked for")))
-}
-
-fn solve<const N: usize>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    smooth: bool,
-) -> Result<(Solution, Option<Solution>)> {
-    solve_observed(
-        imu,
-        gnss,
-        initial,
-        tuning,
-        smooth,
-        |_, _: &FilterState<N>| {},
-    )
-}
-
-/// [`solve`], with `observe(k, state)` called after each IMU sample k.
-fn solve_observed<const N: usize, O>(
-    imu: &ImuData,
-    gnss: &[GnssEpoch],
-    initial: &InitialState,
-    tuning: &FilterTuning,
-    smooth: bool,
-    mut observe: O,
-) -> Result<(Solution, Option<Solution>)>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
-    let mut sol = Solution::with_capacity(imu.time_s.len(), N);
-    let mut state = run_with_hook::<N, _>(
-        imu,
-        gnss,
-        initial,
-        tuning,
-        smooth,
-        &mut Observe(|k, s: &FilterState<N>| {
-            observe(k, s);
-            sol.push(imu.time_s[k], s)
-        }),
-    )?;
-    sol.take_records(&mut state);
-    super::diagnose(
-        &mut sol,
-        ("specific_force", imu.specific_force_b),
-        ("angular_rate", imu.angular_rate_b),
-    );
-    let smoothed = state
-        .kf
-        .take_smoother()
-        .map(|mut log| sol.smoothed(&mut log))
-        .transpose()?;
-    Ok((sol, smoothed))
+    fn update<const N: usize>(
+        s: &mut FilterState<N>,
+        use_rate: &bool,
+        _: usize,
+        epoch: &Self,
+    ) -> Result<()> {
+        update_epoch(s, epoch, *use_rate)
+    }
 }

@@ -169,6 +169,10 @@ impl RangeBiasModel {
     }
 }
 
+/// The innovation gate's default chi-square(1) probability: |ν| > 3.29 σ
+/// is rejected.
+pub const DEFAULT_GATE_PROBABILITY: f64 = 0.999;
+
 /// Everything a coupled filter needs besides the data.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterTuning {
@@ -246,7 +250,7 @@ impl FilterTuning {
                 input_errors: InputErrorNoise::default(),
             },
             initial_std,
-            gate_probability: 0.999,
+            gate_probability: DEFAULT_GATE_PROBABILITY,
             use_pseudorange_rate: true,
             time_tolerance_s: 1e-4,
             floor: MeasurementFloor::default(),

@@ -26,7 +26,10 @@ pub use clock::{ClockState, ReceiverClockModel};
 pub use constellation::{Constellation, Orbit, SatelliteState, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
 pub use fix::{solve_fix, Dops, Fix};
-pub use observables::{gps_l1_epochs, ObservableOptions, GPS_L1_WAVELENGTH_M};
+pub use observables::{
+    gps_l1_epochs, ObservableOptions, DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S,
+    DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
+};
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
 pub use rinex_obs::{

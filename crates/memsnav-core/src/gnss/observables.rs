@@ -39,18 +39,27 @@ pub struct ObservableOptions {
     pub satellites: Vec<u16>,
 }
 
+/// Default pseudorange one-sigma at 45 dB-Hz and the zenith, m: a u-blox
+/// class receiver's code noise with the broadcast models' residuals (the
+/// simulator draws its noise with it too).
+pub const DEFAULT_PSEUDORANGE_STD_M: f64 = 3.0;
+/// Default pseudorange-rate one-sigma at 45 dB-Hz, m/s (Doppler).
+pub const DEFAULT_PSEUDORANGE_RATE_STD_M_S: f64 = 0.1;
+/// Default elevation mask, degrees.
+pub const DEFAULT_ELEVATION_MASK_DEG: f64 = 10.0;
+
 impl ObservableOptions {
     /// Defaults for a u-blox class receiver: 10° mask, 25 dB-Hz, Klobuchar
     /// with RTKLIB's default coefficients, troposphere on, 3 m and 0.1 m/s.
     pub fn new(reference_position_ecef: Vector3<f64>) -> Self {
         Self {
             reference_position_ecef,
-            elevation_mask_rad: 10f64.to_radians(),
+            elevation_mask_rad: DEFAULT_ELEVATION_MASK_DEG.to_radians(),
             min_cn0_db_hz: 25.0,
             ionosphere: Some(Klobuchar::RTKLIB_DEFAULT),
             troposphere: true,
-            pseudorange_std_m: 3.0,
-            pseudorange_rate_std_m_s: 0.1,
+            pseudorange_std_m: DEFAULT_PSEUDORANGE_STD_M,
+            pseudorange_rate_std_m_s: DEFAULT_PSEUDORANGE_RATE_STD_M_S,
             satellites: Vec::new(),
         }
     }

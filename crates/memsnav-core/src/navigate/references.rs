@@ -310,11 +310,10 @@ mod tests {
         }
     }
 
-    /// A seeded random drive of `duration_s` at 100 Hz.
+    /// A seeded random drive of `duration_s` at the default IMU rate.
     fn drive(duration_s: f64, substream: u64) -> Trajectory {
         let config = RandomTrajectoryConfig {
             duration_s,
-            rate_hz: 100.0,
             ..Default::default()
         };
         Trajectory::random(&config, &mut crate::random::stream(7, substream)).unwrap()

@@ -331,7 +331,7 @@ impl Inputs<'_> {
                     .zip(self.used)
                     .filter_map(|(f, &u)| u.then_some(*f))
                     .collect();
-                coupling::run_loose_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
+                coupling::run_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
             GnssInput::Measurements(epochs) => {
                 let receiver = s.antenna.position_ecef;
@@ -348,7 +348,7 @@ impl Inputs<'_> {
                         e
                     })
                     .collect();
-                coupling::run_tight_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
+                coupling::run_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
         };
         let mut solution = hook.solution;

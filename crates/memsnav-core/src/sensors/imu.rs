@@ -264,10 +264,11 @@ impl ImuModel {
         })
     }
 
-    /// A named preset drawn at 100 Hz (method §1); names in
-    /// [`presets::PRESET_NAMES`], figures and sources in [`presets`].
+    /// A named preset drawn at [`super::DEFAULT_SAMPLE_RATE_HZ`] (method
+    /// §1); names in [`presets::PRESET_NAMES`], figures and sources in
+    /// [`presets`].
     pub fn preset(name: &str, rng: &mut Rng) -> Result<Self> {
-        Self::preset_at(name, 100.0, rng)
+        Self::preset_at(name, super::DEFAULT_SAMPLE_RATE_HZ, rng)
     }
 
     /// A named preset drawn at `sample_rate_hz`.

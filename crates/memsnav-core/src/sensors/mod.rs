@@ -26,6 +26,11 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::{validate, Error, Result};
 
+/// The IMU sample rate wherever none is given, Hz: the paper's 100 Hz
+/// (method §1), used by the presets, the random trajectories and the
+/// Python constructors.
+pub const DEFAULT_SAMPLE_RATE_HZ: f64 = 100.0;
+
 /// A = I − D − M, the output matrix of both models (method §2).
 pub fn output_matrix(scale_factor: &Vector3<f64>, misalignment: &Matrix3<f64>) -> Matrix3<f64> {
     Matrix3::identity() - Matrix3::from_diagonal(scale_factor) - misalignment

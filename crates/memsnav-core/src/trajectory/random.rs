@@ -48,7 +48,7 @@ impl Default for RandomTrajectoryConfig {
     fn default() -> Self {
         Self {
             duration_s: 600.0,
-            rate_hz: 100.0,
+            rate_hz: crate::sensors::DEFAULT_SAMPLE_RATE_HZ,
             origin: Geodetic::new(43.6f64.to_radians(), 1.44f64.to_radians(), 150.0),
             initial_heading_rad: None,
             max_speed_m_s: 30.0,

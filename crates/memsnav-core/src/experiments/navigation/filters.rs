@@ -6,8 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::attitude::dcm_to_rotation_vector;
 use crate::coupling::{
-    initial_state_from_fix, run_loosely_coupled, run_loosely_coupled_smoothed, run_tightly_coupled,
-    run_tightly_coupled_smoothed, FilterState, FilterTuning, ImuData, InitialState,
+    self, initial_state_from_fix, Aiding, FilterState, FilterTuning, ImuData, InitialState,
     MeasurementStatus, PositionFix, Solution,
 };
 use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
@@ -215,24 +214,12 @@ fn navigate_with<const N: usize>(
             next += 1;
         }
     };
-    let (records, smoothed): (RunRecords, Option<Solution>) = match (setup.coupling, setup.smooth) {
-        (Coupling::Tight, false) => (
-            run_tightly_coupled::<N, _>(&imu, epochs, &initial, tuning, observe)?,
-            None,
-        ),
-        (Coupling::Loose, false) => (
-            run_loosely_coupled::<N, _>(&imu, fixes, &initial, tuning, observe)?,
-            None,
-        ),
-        (Coupling::Tight, true) => {
-            let (r, s) =
-                run_tightly_coupled_smoothed::<N, _>(&imu, epochs, &initial, tuning, observe)?;
-            (r, Some(s))
+    let (records, smoothed) = match setup.coupling {
+        Coupling::Tight => {
+            forward_and_smoothed(&imu, epochs, &initial, tuning, setup.smooth, observe)?
         }
-        (Coupling::Loose, true) => {
-            let (r, s) =
-                run_loosely_coupled_smoothed::<N, _>(&imu, fixes, &initial, tuning, observe)?;
-            (r, Some(s))
+        Coupling::Loose => {
+            forward_and_smoothed(&imu, fixes, &initial, tuning, setup.smooth, observe)?
         }
     };
     let accepted = records
@@ -257,6 +244,26 @@ fn navigate_with<const N: usize>(
             ))
         }),
     })
+}
+
+/// The forward filter's records, and its smoothed solution with `smooth`.
+fn forward_and_smoothed<const N: usize, E: Aiding, O>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+    observe: O,
+) -> Result<(RunRecords, Option<Solution>)>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    if smooth {
+        let (records, smoothed) = coupling::run_smoothed(imu, epochs, initial, tuning, observe)?;
+        Ok((records, Some(smoothed)))
+    } else {
+        Ok((coupling::run(imu, epochs, initial, tuning, observe)?, None))
+    }
 }
 
 /// The position error curves of a smoothed solution at the output epochs.

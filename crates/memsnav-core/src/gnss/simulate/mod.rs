@@ -22,6 +22,9 @@ use nalgebra::Vector3;
 
 use super::clock::{ClockState, ReceiverClockModel};
 use super::constellation::Constellation;
+use super::observables::{
+    DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M,
+};
 use super::GnssEpoch;
 use crate::gauss_markov::GaussMarkov;
 use crate::geodesy::ecef_to_geodetic;
@@ -107,9 +110,9 @@ impl Default for SimulationConfig {
         SimulationConfig {
             rate_hz: 1.0,
             n_satellites: 6,
-            elevation_mask_rad: 10f64.to_radians(),
-            pseudorange_std_m: 3.0,
-            pseudorange_rate_std_m_s: 0.1,
+            elevation_mask_rad: DEFAULT_ELEVATION_MASK_DEG.to_radians(),
+            pseudorange_std_m: DEFAULT_PSEUDORANGE_STD_M,
+            pseudorange_rate_std_m_s: DEFAULT_PSEUDORANGE_RATE_STD_M_S,
             residual: None,
             clock: ReceiverClockModel::default(),
             outages: Vec::new(),

@@ -1,0 +1,172 @@
+//! One coupled-filter run over any kind of aiding: the loosely coupled
+//! filter on position fixes ([`PositionFix`], [`super::loose`]) and the
+//! tightly coupled one on GNSS epochs ([`GnssEpoch`], [`super::tight`])
+//! share everything but how an epoch is checked and applied, which the
+//! [`Aiding`] trait carries; the kind is inferred from the epochs given.
+//!
+//! - [`solution`]: the whole forward solution at every IMU sample;
+//!   [`smoothed_solution`]: with its fixed-interval smoothed solution
+//!   ([`crate::filter::smoother`]).
+//! - [`run`], [`run_smoothed`]: the same, calling `observe(k, state)` after
+//!   each IMU sample k instead of storing the solution (the Monte Carlo
+//!   keeps only what it scores).
+
+use super::engine::Solution;
+use super::engine::{self, AidingEpoch, FilterState, ImuData, InitialState, Observe, SampleHook};
+use super::records::RunRecords;
+use super::tuning::FilterTuning;
+use crate::Result;
+
+/// An aiding epoch kind: what a run over such epochs checks and sets up
+/// once, and how one epoch updates the filter.
+pub trait Aiding: AidingEpoch + Sized {
+    /// The argument the epochs come in, for error messages.
+    const ARGUMENT: &'static str;
+    /// What [`Self::prepare`] computes once per run for the updates.
+    type Prepared;
+    /// Checks the epochs and returns what the updates need, with the
+    /// initial state and tuning the run starts from (the loose filter
+    /// fixes the unobserved clock, for instance).
+    fn prepare(
+        epochs: &[Self],
+        initial: &InitialState,
+        tuning: &FilterTuning,
+    ) -> Result<(Self::Prepared, InitialState, FilterTuning)>;
+    /// Applies epoch `i` of the run.
+    fn update<const N: usize>(
+        state: &mut FilterState<N>,
+        prepared: &Self::Prepared,
+        i: usize,
+        epoch: &Self,
+    ) -> Result<()>;
+}
+
+/// Runs the filter with `N` error states over the IMU series and the
+/// aiding epochs, calling `hook` at every IMU sample; returns the final
+/// filter state (its records: measurements, batches, resets).
+pub(crate) fn run_with_hook<const N: usize, E: Aiding, H: SampleHook<N>>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+    hook: &mut H,
+) -> Result<FilterState<N>> {
+    imu.validate()?;
+    engine::validate_epoch_times(E::ARGUMENT, epochs, imu.time_s, tuning.time_tolerance_s)?;
+    let (prepared, initial, tuning) = E::prepare(epochs, initial, tuning)?;
+    let mut state = FilterState::<N>::new(&initial, &tuning)?;
+    if smooth {
+        state.enable_smoother(imu.time_s.len());
+    }
+    engine::run(
+        imu,
+        epochs,
+        &mut state,
+        tuning.time_tolerance_s,
+        |s, i, e| E::update(s, &prepared, i, e),
+        hook,
+    )?;
+    Ok(state)
+}
+
+/// Runs the filter with `N` error states (17, 23, 29 or 35);
+/// `observe(k, state)` sees the state after IMU sample k. Returns the
+/// measurement records.
+pub fn run<const N: usize, E: Aiding, O>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    observe: O,
+) -> Result<RunRecords>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    let mut state = run_with_hook(imu, epochs, initial, tuning, false, &mut Observe(observe))?;
+    Ok(state.take_records())
+}
+
+/// [`run`] and the smoothed solution: `observe(k, state)` sees the forward
+/// filter after each IMU sample k; returns the forward measurement records
+/// and the fixed-interval smoothed solution.
+pub fn run_smoothed<const N: usize, E: Aiding, O>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    observe: O,
+) -> Result<(RunRecords, Solution)>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    let (forward, smoothed) = solve(imu, epochs, initial, tuning, true, observe)?;
+    let records = RunRecords {
+        measurements: forward.measurements,
+        batches: forward.batches,
+        resets: forward.resets,
+    };
+    Ok((records, smoothed.expect("asked for")))
+}
+
+/// The filter's whole solution at every IMU sample.
+pub fn solution<const N: usize, E: Aiding>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+) -> Result<Solution> {
+    let ignore = |_, _: &FilterState<N>| {};
+    Ok(solve(imu, epochs, initial, tuning, false, ignore)?.0)
+}
+
+/// The filter's forward solution and its fixed-interval smoothed solution.
+pub fn smoothed_solution<const N: usize, E: Aiding>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+) -> Result<(Solution, Solution)> {
+    let ignore = |_, _: &FilterState<N>| {};
+    let (forward, smoothed) = solve(imu, epochs, initial, tuning, true, ignore)?;
+    Ok((forward, smoothed.expect("asked for")))
+}
+
+/// The forward solution (and the smoothed one with `smooth`), with
+/// `observe(k, state)` called after each IMU sample k.
+fn solve<const N: usize, E: Aiding, O>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+    mut observe: O,
+) -> Result<(Solution, Option<Solution>)>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    let mut sol = Solution::with_capacity(imu.time_s.len(), N);
+    let mut state = run_with_hook::<N, E, _>(
+        imu,
+        epochs,
+        initial,
+        tuning,
+        smooth,
+        &mut Observe(|k, s: &FilterState<N>| {
+            observe(k, s);
+            sol.push(imu.time_s[k], s)
+        }),
+    )?;
+    sol.take_records(&mut state);
+    super::diagnose(
+        &mut sol,
+        ("specific_force", imu.specific_force_b),
+        ("angular_rate", imu.angular_rate_b),
+    );
+    let smoothed = state
+        .kf
+        .take_smoother()
+        .map(|mut log| sol.smoothed(&mut log))
+        .transpose()?;
+    Ok((sol, smoothed))
+}
