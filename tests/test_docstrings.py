@@ -49,10 +49,12 @@ def _documented_names() -> Iterator[tuple[str, object]]:
 
 def test_walk_reaches_the_binding_and_the_python_package():
     names = dict(_documented_names())
-    # A getter of the binding, a static method, a native function, a Python
-    # class's property and a submodule's function: the walk is not vacuous.
+    # A getter and a field of the binding, a static method, a class only the
+    # native module exports, a native function, a submodule's function and a
+    # Python class's property: the walk is not vacuous.
     for name in (
         "memsnav.AccelerometerModel.noise_density",
+        "memsnav.Calibration.model",
         "memsnav.ImuModel.preset",
         "memsnav._memsnav.LagEstimate",
         "memsnav.simulate_gnss",
@@ -60,7 +62,6 @@ def test_walk_reaches_the_binding_and_the_python_package():
         "memsnav.experiments.OutageStudyResult.outage_lengths",
     ):
         assert name in names
-    assert len(names) > 400
 
 
 def test_every_public_name_has_a_docstring():
