@@ -33,7 +33,7 @@ use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel, PyImuModel};
 /// square-root diagonal as a model-shaped object.
 /// `warnings`: parameters that are only poorly determined. `held`:
 /// [(parameter, reason)] not estimated under `estimate="determinable"`.
-#[pyclass(module = "memsnav", name = "Calibration", frozen)]
+#[pyclass(module = "memsnav._memsnav", name = "Calibration", frozen)]
 pub struct PyCalibration {
     /// The estimated model: an `AccelerometerModel` or `GyroscopeModel`, like
     /// the calibrated sensor.

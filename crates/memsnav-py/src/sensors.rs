@@ -103,7 +103,7 @@ fn noise_repr(noise: &NoiseModel, sample_rate_hz: f64) -> String {
 /// zero; `quantization` output LSB (readings rounded to a multiple of it).
 /// The Gauss-Markov and random-walk biases add to `bias`; quantisation acts
 /// on the output.
-#[pyclass(module = "memsnav", name = "AccelerometerModel", frozen, eq)]
+#[pyclass(module = "memsnav._memsnav", name = "AccelerometerModel", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyAccelerometerModel {
     pub inner: AccelerometerModel,
@@ -273,7 +273,7 @@ impl PyAccelerometerModel {
 /// zero; `quantization` output LSB (readings rounded to a multiple of it).
 /// The Gauss-Markov and random-walk biases add to `bias`; quantisation acts
 /// on the output.
-#[pyclass(module = "memsnav", name = "GyroscopeModel", frozen, eq)]
+#[pyclass(module = "memsnav._memsnav", name = "GyroscopeModel", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyGyroscopeModel {
     pub inner: GyroscopeModel,
@@ -532,7 +532,7 @@ fn noise_for_rate(noise: NoiseModel, own_rate_hz: f64, new_rate_hz: f64) -> Nois
 /// nonlinearity_std (accel, 1/(m/s²)) or g_sensitivity_std (gyro,
 /// (rad/s)/(m/s²)), noise_density (per √Hz), bias_instability,
 /// bias_correlation_time (s), bias_random_walk (per √s), quantization.
-#[pyclass(module = "memsnav", name = "ImuModel", frozen, eq)]
+#[pyclass(module = "memsnav._memsnav", name = "ImuModel", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyImuModel {
     pub inner: ImuModel,

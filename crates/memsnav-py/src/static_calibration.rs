@@ -25,7 +25,7 @@ use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel};
 type Corrected<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
 
 /// The result of `calibrate_static` (see `memsnav.calibrate_static`).
-#[pyclass(module = "memsnav", name = "StaticCalibration", frozen)]
+#[pyclass(module = "memsnav._memsnav", name = "StaticCalibration", frozen)]
 pub struct PyStaticCalibration {
     inner: StaticCalibration,
     sample_rate_hz: f64,
