@@ -1,12 +1,14 @@
-"""Writes docs/api.md, the API reference, from the docstrings of the
-installed memsnav package. Run ``python docs/build_api.py`` after changing a
-public name or docstring; a test checks that docs/api.md is current."""
+"""Writes docs/api.md, the API reference, from the runtime docstrings
+(``inspect.getdoc``) and signatures (``inspect.signature``, from PyO3's
+``__text_signature__`` for the native module) of the installed memsnav
+package. Run ``python docs/build_api.py`` after changing a public name or
+docstring; a test checks that docs/api.md is current."""
 
 from __future__ import annotations
 
-import ast
 import inspect
 import sys
+import types
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -14,22 +16,9 @@ from typing import Any
 import memsnav
 import memsnav.experiments
 
-
-def _stub_docstrings() -> dict[str, str]:
-    """Docstrings of the hand-written stubs of the native module, keyed
-    ``Class.member`` or ``function``: PyO3 getters carry none at runtime."""
-    stub = Path(memsnav.__file__).with_name("_memsnav.pyi")
-    docs: dict[str, str] = {}
-    for node in ast.parse(stub.read_text(encoding="utf-8")).body:
-        if isinstance(node, ast.ClassDef):
-            docs[node.name] = ast.get_docstring(node) or ""
-            for member in node.body:
-                if isinstance(member, ast.FunctionDef) and ast.get_docstring(member):
-                    docs[f"{node.name}.{member.name}"] = ast.get_docstring(member) or ""
-    return docs
-
-
-_STUB_DOCS = _stub_docstrings()
+# Descriptors that read as attributes: Python properties, PyO3 getters
+# (getset) and PyO3 `#[pyo3(get)]` fields (member).
+_ATTRIBUTES = (property, types.GetSetDescriptorType, types.MemberDescriptorType)
 
 
 def _signature(name: str, obj: Any) -> str:
@@ -39,25 +28,26 @@ def _signature(name: str, obj: Any) -> str:
         return f"{name}(...)"
 
 
-def _doc(obj: Any, qualified: str = "") -> str:
-    if getattr(obj, "__doc__", None):
-        return inspect.cleandoc(obj.__doc__)
-    return _STUB_DOCS.get(qualified, "(undocumented)")
+def _doc(obj: Any) -> str:
+    return inspect.getdoc(obj) or "(undocumented)"
+
+
+def _summary(obj: Any) -> str:
+    """The docstring's first paragraph on one line (a member's entry)."""
+    return " ".join(_doc(obj).split("\n\n")[0].split())
 
 
 def _members(cls: type) -> list[str]:
     lines = []
     for name, member in sorted(vars(cls).items()):
-        if name.startswith("_") and name not in ("__init__", "__new__"):
+        if name.startswith("_"):
             continue
         if isinstance(member, (staticmethod, classmethod)):
             member = member.__func__
-        qualified = f"{cls.__name__}.{name}"
-        if isinstance(member, property) or type(member).__name__ == "getset_descriptor":
-            lines.append(f"- `{name}` (attribute): {_doc(member, qualified).splitlines()[0]}")
-        elif callable(member) and name not in ("__init__", "__new__"):
-            first = _doc(member, qualified).splitlines()[0]
-            lines.append(f"- `{_signature(name, member)}`: {first}")
+        if isinstance(member, _ATTRIBUTES):
+            lines.append(f"- `{name}` (attribute): {_summary(member)}")
+        elif callable(member):
+            lines.append(f"- `{_signature(name, member)}`: {_summary(member)}")
     return lines
 
 
@@ -65,7 +55,7 @@ def _entry(prefix: str, name: str, obj: Any) -> list[str]:
     if inspect.isclass(obj):
         if issubclass(obj, BaseException):
             return [f"### `{prefix}{name}` (exception)", "", _doc(obj), ""]
-        out = [f"### `{prefix}{_signature(name, obj)}`", "", _doc(obj, name), ""]
+        out = [f"### `{prefix}{_signature(name, obj)}`", "", _doc(obj), ""]
         members = _members(obj)
         return out + members + ([""] if members else [])
     if callable(obj):

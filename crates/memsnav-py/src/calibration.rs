@@ -34,18 +34,29 @@ use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel, PyImuModel};
 /// square-root diagonal as a model-shaped object.
 /// `warnings`: parameters that are only poorly determined. `held`:
 /// [(parameter, reason)] not estimated under `estimate="determinable"`.
-#[pyclass(module = "memsnav", name = "Calibration", frozen)]
+#[pyclass(module = "memsnav._memsnav", name = "Calibration", frozen)]
 pub struct PyCalibration {
+    /// The estimated model: an `AccelerometerModel` or `GyroscopeModel`, like
+    /// the calibrated sensor.
     #[pyo3(get)]
     model: Py<PyAny>,
+    /// One-sigma uncertainties (SI) in the attributes of an object of the
+    /// model's class.
     #[pyo3(get)]
     std: Py<PyAny>,
+    /// Square root of the Cramér-Rao bound's diagonal in the model's
+    /// attributes (SI); None unless `noise_std` was given.
     #[pyo3(get)]
     crb_std: Option<Py<PyAny>>,
+    /// Names of the parameters in covariance order (`bias_u`, …).
     #[pyo3(get)]
     parameter_names: Vec<String>,
+    /// Parameters that are only poorly determined (each also raised as a
+    /// `UserWarning`).
     #[pyo3(get)]
     warnings: Vec<String>,
+    /// [(parameter, reason)] of the parameters not estimated under
+    /// `estimate="determinable"` (held at zero, with zero variance).
     #[pyo3(get)]
     held: Vec<(String, String)>,
     covariance: DMatrix<f64>,
@@ -64,21 +75,27 @@ fn dmatrix_to_numpy<'py>(py: Python<'py>, m: &DMatrix<f64>) -> Bound<'py, PyArra
 #[catch_panics]
 #[pymethods]
 impl PyCalibration {
+    /// Covariance of the parameter vector, ordered as `parameter_names`, SI.
     #[getter]
     fn covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         dmatrix_to_numpy(py, &self.covariance)
     }
 
+    /// Cramér-Rao bound of the parameter vector (ordered as `parameter_names`),
+    /// None unless `noise_std` was given: for references with the noise given as
+    /// `reference_noise_std` (the errors-in-variables bound), exact references without.
     #[getter]
     fn crb<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
         self.crb.as_ref().map(|c| dmatrix_to_numpy(py, c))
     }
 
+    /// Residual standard deviation per output axis, (3,) m/s² or rad/s.
     #[getter]
     fn residual_std<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.residual_std)
     }
 
+    /// Condition number of the column-equilibrated regressors per output axis, (3,).
     #[getter]
     fn condition_number<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.condition_number)

@@ -675,7 +675,8 @@ impl PyFilterSolution {
 /// `coupling::solution` (or `smoothed_solution` with `smooth=True`) with 17
 /// or 23 states; the aiding kind follows from what `$read` returns.
 macro_rules! filter_class {
-    ($rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $doc:literal) => {
+    ($(#[$class_doc:meta])* $rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $doc:literal) => {
+        $(#[$class_doc])*
         #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
         pub struct $rust {
             settings: Settings,
@@ -861,6 +862,60 @@ macro_rules! filter_class {
 }
 
 filter_class!(
+    /// Closed-loop error-state EKF in ECEF on pseudoranges and pseudorange rates
+    /// (method §5; Groves §14.3.3): 17 states (attitude, velocity, position, accel
+    /// and gyro biases, clock offset and drift), 23 with `scale_factor_states`.
+    /// An epoch's pseudoranges are one batch and its rates another (sequential
+    /// Joseph updates, Sagnac and light time in the prediction), tested together
+    /// by the chi-square test of the batch NIS: a faulty satellite is excluded, a
+    /// receiver clock jump moved into the clock, and when the pseudoranges keep
+    /// failing (3 epochs) the filter resets to the epoch's least-squares fix (or
+    /// opens its covariance with fewer than 4 satellites); every reset is in
+    /// `FilterSolution.resets`. Fewer than four satellites still help (the
+    /// rate row keeps the line of sight's turn with position, so ranges and
+    /// rates leave the same directions unobserved); with none the INS coasts.
+    /// `FilterSolution.integrity` says when the result cannot be trusted
+    /// (docs/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
+    ///
+    /// Tuning from `imu.spec` at `imu.sample_rate` (`FilterTuning::from_imu_spec`):
+    /// white-noise PSDs = noise density² (or per-sample std² / rate); bias
+    /// processes from bias instability (2 sigma²/tau) and random walk, the
+    /// instability taken as a random walk when the bias has a turn-on part
+    /// (nothing makes a turn-on bias fade); initial bias std =
+    /// sqrt(bias_std² + instability²), floored at 1e-6 m/s² and 1e-9 rad/s;
+    /// errors the states lack (scale factor unless estimated, misalignment,
+    /// nonlinearity, g-sensitivity): their part driven by the specific force at
+    /// rest widens the initial bias std, their part driven by the motion is
+    /// process noise shaped by the sensed specific force and rate at every step,
+    /// 2 sigma² tau with the manoeuvres' correlation time tau = 10 s
+    /// (`filter::input_noise`). Receiver clock: the simulator's TCXO
+    /// (`clock_h0` 2e-19, `clock_h_minus2` 2e-20, the same names and model
+    /// as `simulate_gnss`: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
+    /// below can be overridden; an argument left None takes the core's
+    /// default, listed by `memsnav.defaults()["TightlyCoupledFilter"]`
+    /// (`tuning` shows the values in effect):
+    ///
+    /// - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
+    ///   replace the sensor's white PSDs by density² (the input-shaped noise of
+    ///   the unmodelled errors stays).
+    /// - `accel_bias_psd` ((m/s²)²/s), `gyro_bias_psd` ((rad/s)²/s): bias
+    ///   driving-noise PSDs.
+    /// - `gate_probability`: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
+    ///   and reported); 1.0 disables it.
+    /// - initial one-sigmas: `initial_position_std` 5 m and
+    ///   `initial_velocity_std` 0.5 m/s per ECEF axis (a code fix),
+    ///   `initial_tilt_std` 1° and `initial_heading_std` 5° (in rad),
+    ///   `initial_accel_bias_std` / `initial_gyro_bias_std` (None: from the
+    ///   spec as above), `initial_clock_offset_std` 50 m,
+    ///   `initial_clock_drift_std` 10 m/s; scale factors (23 states): the
+    ///   spec's scale_factor_std (floored at 1e-6).
+    /// - `use_pseudorange_rate`: use rates when the epoch carries them.
+    /// - `clock_h0`, `clock_h_minus2`: the receiver oscillator's Allan
+    ///   coefficients (None: the TCXO above).
+    /// - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:
+    ///   10 s, a land vehicle's turns and accelerations; shorter for a walker).
+    ///
+    /// Raises ValueError naming the argument for a bad value.
     PyTightlyCoupledFilter,
     "TightlyCoupledFilter",
     gnss,
@@ -870,6 +925,14 @@ filter_class!(
 );
 
 filter_class!(
+    /// Closed-loop error-state EKF on GNSS position (and velocity) fixes (Groves
+    /// §14.3.2): each fix (floored at 2 cm, 2 cm/s) is whitened by its
+    /// covariance's Cholesky factor into unit-variance updates tested together
+    /// (a fix is applied whole or not at all); after 3 failed fixes in a row the
+    /// position (velocity) is reset to the fix. The clock states are not
+    /// observed (their process noise is off). Same states, tuning, defaults and
+    /// overrides as `TightlyCoupledFilter` (`use_pseudorange_rate` and the
+    /// clock settings have no effect).
     PyLooselyCoupledFilter,
     "LooselyCoupledFilter",
     fixes,

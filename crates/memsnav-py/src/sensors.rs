@@ -104,7 +104,7 @@ fn noise_repr(noise: &NoiseModel, sample_rate_hz: f64) -> String {
 /// zero; `quantization` output LSB (readings rounded to a multiple of it).
 /// The Gauss-Markov and random-walk biases add to `bias`; quantisation acts
 /// on the output.
-#[pyclass(module = "memsnav", name = "AccelerometerModel", frozen, eq)]
+#[pyclass(module = "memsnav._memsnav", name = "AccelerometerModel", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyAccelerometerModel {
     pub inner: AccelerometerModel,
@@ -169,46 +169,58 @@ impl PyAccelerometerModel {
         Ok(convert::vectors_to_numpy(py, &out))
     }
 
+    /// Bias b, (3,) m/s², per sensor axis.
     #[getter]
     fn bias<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.inner.bias)
     }
+    /// Scale-factor errors D, (3,) dimensionless, per sensor axis.
     #[getter]
     fn scale_factor<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.inner.scale_factor)
     }
+    /// Misalignment M, (3, 3) dimensionless with a zero diagonal:
+    /// `M[i, j]` couples input axis j into output axis i.
     #[getter]
     fn misalignment<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         convert::matrix3_to_numpy(py, &self.inner.misalignment)
     }
+    /// Nonlinearity N, (3,) 1/(m/s²), per sensor axis.
     #[getter]
     fn nonlinearity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.inner.nonlinearity)
     }
+    /// White noise std per sample at `sample_rate`, m/s².
     #[getter]
     fn noise_std(&self) -> f64 {
         self.inner.noise.white_std_per_sample(self.sample_rate_hz)
     }
+    /// White noise density (velocity random walk), m/s²/√Hz (= noise_std / √sample_rate).
     #[getter]
     fn noise_density(&self) -> f64 {
         self.inner.noise.white_density_at(self.sample_rate_hz)
     }
+    /// Sample rate, Hz.
     #[getter]
     fn sample_rate(&self) -> f64 {
         self.sample_rate_hz
     }
+    /// Gauss-Markov bias steady-state std, m/s².
     #[getter]
     fn bias_instability(&self) -> f64 {
         self.inner.noise.bias_instability_std
     }
+    /// Gauss-Markov bias correlation time, s.
     #[getter]
     fn bias_correlation_time(&self) -> f64 {
         self.inner.noise.bias_correlation_time_s
     }
+    /// Random-walk bias growth, m/s²/√s.
     #[getter]
     fn bias_random_walk(&self) -> f64 {
         self.inner.noise.bias_random_walk
     }
+    /// Output LSB, m/s² (0: none).
     #[getter]
     fn quantization(&self) -> f64 {
         self.inner.noise.quantization
@@ -263,7 +275,7 @@ impl PyAccelerometerModel {
 /// zero; `quantization` output LSB (readings rounded to a multiple of it).
 /// The Gauss-Markov and random-walk biases add to `bias`; quantisation acts
 /// on the output.
-#[pyclass(module = "memsnav", name = "GyroscopeModel", frozen, eq)]
+#[pyclass(module = "memsnav._memsnav", name = "GyroscopeModel", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyGyroscopeModel {
     pub inner: GyroscopeModel,
@@ -331,46 +343,59 @@ impl PyGyroscopeModel {
         Ok(convert::vectors_to_numpy(py, &out))
     }
 
+    /// Bias b, (3,) rad/s, per sensor axis.
     #[getter]
     fn bias<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.inner.bias)
     }
+    /// Scale-factor errors D, (3,) dimensionless, per sensor axis.
     #[getter]
     fn scale_factor<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.inner.scale_factor)
     }
+    /// Misalignment M, (3, 3) dimensionless with a zero diagonal:
+    /// `M[i, j]` couples input axis j into output axis i.
     #[getter]
     fn misalignment<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         convert::matrix3_to_numpy(py, &self.inner.misalignment)
     }
+    /// g-sensitivity K, (3, 3) (rad/s)/(m/s²): row i is gyro axis i's
+    /// sensitivity to the three specific-force components.
     #[getter]
     fn g_sensitivity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         convert::matrix3_to_numpy(py, &self.inner.g_sensitivity)
     }
+    /// White noise std per sample at `sample_rate`, rad/s.
     #[getter]
     fn noise_std(&self) -> f64 {
         self.inner.noise.white_std_per_sample(self.sample_rate_hz)
     }
+    /// White noise density (angle random walk), rad/s/√Hz (= noise_std / √sample_rate).
     #[getter]
     fn noise_density(&self) -> f64 {
         self.inner.noise.white_density_at(self.sample_rate_hz)
     }
+    /// Sample rate, Hz.
     #[getter]
     fn sample_rate(&self) -> f64 {
         self.sample_rate_hz
     }
+    /// Gauss-Markov bias steady-state std, rad/s.
     #[getter]
     fn bias_instability(&self) -> f64 {
         self.inner.noise.bias_instability_std
     }
+    /// Gauss-Markov bias correlation time, s.
     #[getter]
     fn bias_correlation_time(&self) -> f64 {
         self.inner.noise.bias_correlation_time_s
     }
+    /// Random-walk bias growth (rate random walk), rad/s/√s.
     #[getter]
     fn bias_random_walk(&self) -> f64 {
         self.inner.noise.bias_random_walk
     }
+    /// Output LSB, rad/s (0: none).
     #[getter]
     fn quantization(&self) -> f64 {
         self.inner.noise.quantization
@@ -511,7 +536,7 @@ fn noise_for_rate(noise: NoiseModel, own_rate_hz: f64, new_rate_hz: f64) -> Nois
 /// nonlinearity_std (accel, 1/(m/s²)) or g_sensitivity_std (gyro,
 /// (rad/s)/(m/s²)), noise_density (per √Hz), bias_instability,
 /// bias_correlation_time (s), bias_random_walk (per √s), quantization.
-#[pyclass(module = "memsnav", name = "ImuModel", frozen, eq)]
+#[pyclass(module = "memsnav._memsnav", name = "ImuModel", frozen, eq)]
 #[derive(Clone, PartialEq)]
 pub struct PyImuModel {
     pub inner: ImuModel,
@@ -594,6 +619,7 @@ impl PyImuModel {
         ))
     }
 
+    /// The accelerometer triad, at the IMU's sample rate.
     #[getter]
     fn accelerometer(&self) -> PyAccelerometerModel {
         PyAccelerometerModel {
@@ -601,6 +627,7 @@ impl PyImuModel {
             sample_rate_hz: self.inner.sample_rate_hz,
         }
     }
+    /// The gyroscope triad, at the IMU's sample rate.
     #[getter]
     fn gyroscope(&self) -> PyGyroscopeModel {
         PyGyroscopeModel {
@@ -608,10 +635,13 @@ impl PyImuModel {
             sample_rate_hz: self.inner.sample_rate_hz,
         }
     }
+    /// Sample rate of both triads, Hz.
     #[getter]
     fn sample_rate(&self) -> f64 {
         self.inner.sample_rate_hz
     }
+    /// One-sigma magnitudes of every error term and the noise parameters,
+    /// SI: a dict keyed `accel_…` / `gyro_…` (listed in the class doc).
     #[getter]
     fn spec<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         spec_to_dict(py, &self.inner.spec)

@@ -25,7 +25,7 @@ use crate::sensors::{PyAccelerometerModel, PyGyroscopeModel};
 type Corrected<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
 
 /// The result of `calibrate_static` (see `memsnav.calibrate_static`).
-#[pyclass(module = "memsnav", name = "StaticCalibration", frozen)]
+#[pyclass(module = "memsnav._memsnav", name = "StaticCalibration", frozen)]
 pub struct PyStaticCalibration {
     inner: StaticCalibration,
     sample_rate_hz: f64,
@@ -70,16 +70,19 @@ impl PyStaticCalibration {
         accel_py(py, &self.inner.accelerometer, self.sample_rate_hz)
     }
 
+    /// The gyroscope model of the nominal readings (SI), method §2.
     #[getter]
     fn gyroscope(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         gyro_py(py, &self.inner.gyroscope, self.sample_rate_hz)
     }
 
+    /// One-sigma values in the accelerometer's attributes (SI; 0 where not estimated).
     #[getter]
     fn accelerometer_std(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         accel_py(py, &self.inner.accelerometer_std, self.sample_rate_hz)
     }
 
+    /// One-sigma values in the gyroscope's attributes (SI; 0 where not estimated).
     #[getter]
     fn gyroscope_std(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         gyro_py(py, &self.inner.gyroscope_std, self.sample_rate_hz)
@@ -147,11 +150,13 @@ impl PyStaticCalibration {
         ])
     }
 
+    /// Local gravity magnitude used, m/s².
     #[getter]
     fn gravity(&self) -> f64 {
         self.inner.gravity_m_s2
     }
 
+    /// Mean sample rate of the session, Hz.
     #[getter]
     fn sample_rate(&self) -> f64 {
         self.sample_rate_hz
@@ -198,6 +203,7 @@ impl PyStaticCalibration {
         PyArray1::from_iter(py, self.inner.turns.iter().map(|t| t.from as i64))
     }
 
+    /// (T,) True for turns into or out of a held-out pose.
     #[getter]
     fn turn_held_out(&self) -> Vec<bool> {
         self.inner.turns.iter().map(|t| t.held_out).collect()
@@ -221,6 +227,8 @@ impl PyStaticCalibration {
         self.inner.held.clone()
     }
 
+    /// Poor conditioning, a sigma above the physical size, too few poses, a
+    /// nominal scale far off (each also emitted as a `UserWarning`).
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.inner.warnings.clone()
@@ -250,18 +258,19 @@ impl PyStaticCalibration {
         (d.accel.threshold, d.gyro.threshold)
     }
 
-    /// Residual std of the magnitude fit (m/s²), of the rest fit per gyro
-    /// axis (rad/s, (3,)) and of the turn fit (rad).
+    /// Residual std of the gravity-magnitude fit, m/s².
     #[getter]
     fn accelerometer_residual_std(&self) -> f64 {
         self.inner.accelerometer_residual_std
     }
 
+    /// (3,) residual std of the gyroscope rest fit per axis, rad/s.
     #[getter]
     fn rest_residual_std<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         convert::vector3_to_numpy(py, &self.inner.rest_residual_std)
     }
 
+    /// Residual std of the turn fit per direction component, rad.
     #[getter]
     fn turn_residual_std(&self) -> f64 {
         self.inner.turn_residual_std

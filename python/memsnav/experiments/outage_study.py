@@ -77,10 +77,12 @@ class OutageStudyResult:
 
     @property
     def outage_lengths(self) -> list[float]:
+        """The outage lengths that ran, s, in run order."""
         return list(self.results)
 
     @property
     def visible_satellites(self) -> list[int]:
+        """The satellite counts kept during each outage, in run order."""
         return list(next(iter(self.results.values())))
 
     def per_run(

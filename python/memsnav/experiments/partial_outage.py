@@ -60,6 +60,7 @@ class PartialOutageResult:
 
     @property
     def imus(self) -> list[str]:
+        """IMU names, in the set's order."""
         return next(iter(self.scenarios.values())).imus
 
     def summary(self) -> dict[str, Any]:
