@@ -189,54 +189,23 @@ def test_python_analysis_sees_every_kind_of_import(tmp_path):
 # --- Rust -------------------------------------------------------------------
 
 
-_RAW_STRING = re.compile(r'b?r(#*)"')
-_CHAR = re.compile(r"'(?:\\(?:x[0-9a-fA-F]{2}|u\{[0-9a-fA-F]+\}|.)|[^\\'])'")
+_LITERAL_OR_COMMENT = re.compile(
+    r"""
+      //[^\n]*                                # line and doc comments
+    | /\*.*?\*/                               # block comments (the code nests none)
+    | (?<!\w)b?r(\#*)".*?"\1                  # raw strings, r#"..."#
+    | b?"(?:\\.|[^"\\])*"                       # strings
+    | '(?:\\(?:x[0-9a-fA-F]{2}|u\{[0-9a-fA-F]+\}|.)|[^\\'])'   # characters, not lifetimes
+    """,
+    re.S | re.X,
+)
 
 
 def strip_rust(source: str) -> str:
     """The code without comments, string and character literals (each
     replaced by a space, newlines kept so that line numbers hold): a path in
     a doc comment or a message is no use of a module."""
-    out: list[str] = []
-    i, n = 0, len(source)
-    while i < n:
-        c = source[i]
-        if source.startswith("//", i):
-            j = source.find("\n", i)
-            i = n if j < 0 else j
-        elif source.startswith("/*", i):
-            depth, j = 1, i + 2
-            while j < n and depth:
-                if source.startswith("/*", j):
-                    depth, j = depth + 1, j + 2
-                elif source.startswith("*/", j):
-                    depth, j = depth - 1, j + 2
-                else:
-                    j += 1
-            out.append("\n" * source.count("\n", i, j) or " ")
-            i = j
-        elif raw := _RAW_STRING.match(source, i):
-            if i and (source[i - 1].isalnum() or source[i - 1] == "_"):
-                out.append(c)
-                i += 1
-                continue
-            end = source.find('"' + raw.group(1), raw.end())
-            j = n if end < 0 else end + 1 + len(raw.group(1))
-            out.append("\n" * source.count("\n", i, j) or " ")
-            i = j
-        elif c == '"':
-            j = i + 1
-            while j < n and source[j] != '"':
-                j += 2 if source[j] == "\\" else 1
-            out.append("\n" * source.count("\n", i, j + 1) or " ")
-            i = j + 1
-        elif char := _CHAR.match(source, i):
-            out.append(" ")
-            i = char.end()
-        else:
-            out.append(c)
-            i += 1
-    return "".join(out)
+    return _LITERAL_OR_COMMENT.sub(lambda m: "\n" * m.group(0).count("\n") or " ", source)
 
 
 def _use_paths(tree: str) -> Iterator[tuple[list[str], str]]:
@@ -282,7 +251,8 @@ class RustModule:
 
 
 _ITEM = re.compile(
-    r"\b(?:fn|struct|enum|trait|type|const|static|union|macro_rules!)\s+([A-Za-z_]\w*)"
+    r"\b(?:fn|struct|enum|trait|type|union|macro_rules!|static(?:\s+mut)?"
+    r"|const(?!\s+(?:fn|unsafe|async|extern)\b))\s+([A-Za-z_]\w*)"
 )
 _USE = re.compile(r"\b(?:pub(?:\([^)]*\))?\s+)?use\s+([^;]+);")
 _PATH = re.compile(r"(?<![\w$:])((?:crate|super|self)(?:\s*::\s*[A-Za-z_]\w*)+)")
@@ -308,13 +278,17 @@ def rust_modules(src: Path) -> dict[Module, RustModule]:
         module = RustModule(path, set(_FILE_MOD.findall(code)), {}, set(), [])
         # Inline modules: where each opens and closes, to resolve super::
         # from inside them.
-        spans: list[tuple[int, int, str]] = []
-        for m in _INLINE_MOD.finditer(code):
-            depth, k = 1, m.end()
-            while k < len(code) and depth:
-                depth += {"{": 1, "}": -1}.get(code[k], 0)
-                k += 1
-            spans.append((m.start(), k, m.group(1)))
+        closing: dict[int, int] = {}
+        opened: list[int] = []
+        for brace in re.finditer(r"[{}]", code):
+            if brace.group() == "{":
+                opened.append(brace.start())
+            elif opened:
+                closing[opened.pop()] = brace.start()
+        spans = [
+            (m.start(), closing.get(m.end() - 1, len(code)), m.group(1))
+            for m in _INLINE_MOD.finditer(code)
+        ]
 
         glob = 0
         for m in _USE.finditer(code):
