@@ -189,6 +189,7 @@ def test_bad_input_names_the_argument(kwargs, argument):
         mn.calibrate_accelerometer(measured, reference, **args)
 
 
+@pytest.mark.slow
 def test_experiment_summary_and_reproducibility():
     kw = {"parameter_sets": 2, "runs": 2, "duration": 60.0, "seed": 3}
     one = mn.experiments.calibration(**kw, threads=1)

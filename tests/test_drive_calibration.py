@@ -165,6 +165,7 @@ def drive_run(tmp_path_factory):
     return data, out
 
 
+@pytest.mark.slow
 def test_drive_session_end_to_end(drive_run):
     _, out = drive_run
     raw = json.loads((out / "calibration.json").read_text())
@@ -190,6 +191,7 @@ def test_drive_session_end_to_end(drive_run):
     assert min(drawn) < cal_after["rms_horizontal_m"] < max(drawn) * 1.5
 
 
+@pytest.mark.slow
 def test_navigate_applies_a_drive_calibration(drive_run, tmp_path):
     data, out = drive_run
     text = (EXAMPLES / "drive_0708.toml").read_text()

@@ -152,6 +152,7 @@ def test_bad_arguments_name_themselves():
         mn.experiments.outage_study(grades=("gold",), runs=1)
 
 
+@pytest.mark.slow
 def test_study_command_writes_report_and_json(tmp_path):
     config = tmp_path / "study.toml"
     config.write_text(

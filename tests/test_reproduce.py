@@ -21,6 +21,9 @@ import pytest
 
 import memsnav as mn
 
+# Every test here runs the whole study (about a minute) or interrupts one.
+pytestmark = pytest.mark.slow
+
 FIGURES = sorted([f"fig{n:02d}" for n in range(3, 19)] + ["partial_outage"])
 CLAIM_IDS = [
     "accel_bias_misalignment_well_estimated",

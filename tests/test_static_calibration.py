@@ -196,6 +196,7 @@ holdout_every = 0
 """
 
 
+@pytest.mark.slow
 def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
     accel, gyro = _write_session(tmp_path)
     config = tmp_path / "cal.toml"

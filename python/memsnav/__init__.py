@@ -66,7 +66,7 @@ from memsnav.calibration import (
     static_summary,
 )
 from memsnav.realdata.config import load_config
-from memsnav.realdata.pipeline import NavigationResult, navigate
+from memsnav.realdata.pipeline import navigate
 from memsnav.realdata.readers import (
     ImuLog,
     PosSolution,
@@ -77,6 +77,7 @@ from memsnav.realdata.readers import (
     read_pos,
     read_time_tag,
 )
+from memsnav.realdata.result import LogNavigationResult
 from memsnav.realdata.timing import (
     TimeOffsetEstimate,
     VelocityLatencyEstimate,
@@ -96,11 +97,11 @@ __all__ = [
     "ImuCalibration",
     "ImuLog",
     "ImuModel",
+    "LogNavigationResult",
     "LogRun",
     "LooselyCoupledFilter",
     "MemsnavError",
     "NavSolution",
-    "NavigationResult",
     "ParseError",
     "PosSolution",
     "PositionFixes",

@@ -37,7 +37,6 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-import memsnav
 from memsnav import _memsnav
 from memsnav._files import write_text
 from memsnav._memsnav import AccelerometerModel, GyroscopeModel, StaticCalibration
@@ -218,7 +217,7 @@ class ImuCalibration:
                 "session": self.session,
                 "created": self.created
                 or datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-                "memsnav": memsnav.__version__,
+                "memsnav": _memsnav.__version__,
                 "source": self.source,
                 "units": _UNITS,
                 "nominal": {k: np.asarray(self.nominal[k]).tolist() for k in _NOMINAL},

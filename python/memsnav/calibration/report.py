@@ -6,16 +6,13 @@ from __future__ import annotations
 
 import html
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from memsnav._memsnav import StaticCalibration
 from memsnav.calibration.drive import DriveCalibration, parameter_index
+from memsnav.calibration.run import CalibrationRun
 from memsnav.report.document import Report
-
-if TYPE_CHECKING:
-    from memsnav.calibration.command import CalibrationRun
 
 # Misalignments the gravity magnitude cannot see: they define the body frame.
 _FRAME = {

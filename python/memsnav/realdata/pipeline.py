@@ -18,7 +18,6 @@ import os
 import shutil
 import tempfile
 import time as _time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -27,22 +26,7 @@ import numpy as np
 import memsnav._memsnav as _mn
 from memsnav.realdata import readers
 from memsnav.realdata.config import RunConfig, load_config
-
-
-@dataclass
-class NavigationResult:
-    """Everything a run produced: the engine's ``run`` (a ``LogRun``; its
-    ``smoothed`` when ``[filter] smoother = true``), the scores against the
-    truth (``truth``, ``truth_smoothed``) and of the single-point solution,
-    and ``summary``, the plain dict written to ``summary.json``."""
-
-    config: RunConfig
-    run: Any
-    truth: dict[str, Any] | None
-    spp: dict[str, Any] | None
-    summary: dict[str, Any] = field(default_factory=dict)
-    files: dict[str, str] = field(default_factory=dict)
-    truth_smoothed: dict[str, Any] | None = None
+from memsnav.realdata.result import LogNavigationResult
 
 
 def _require(cfg: RunConfig, section: str, key: str) -> Path:
@@ -260,7 +244,7 @@ def navigate(
     data_root: str | Path | None = None,
     output: str | Path | None = None,
     duration_s: float | None = None,
-) -> NavigationResult:
+) -> LogNavigationResult:
     """Runs a configuration end to end and writes its outputs.
 
     ``config``: a TOML path or a loaded :class:`RunConfig`; ``data_root``
@@ -325,7 +309,7 @@ def navigate(
         summary["sensor_estimates_smoothed"] = _sensor_estimates(run.smoothed.solution, 0)
     if run.range_biases:
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
-    result = NavigationResult(cfg, run, None, None)
+    result = LogNavigationResult(cfg, run, None, None)
     truth = read_truth(cfg)
     if truth is not None:
         tt, r_truth = truth
@@ -436,7 +420,7 @@ def _write_solution(run: Any, folder: Path, stem: str) -> None:
     )
 
 
-def _write_outputs(result: NavigationResult, out: Path) -> None:
+def _write_outputs(result: LogNavigationResult, out: Path) -> None:
     name = result.config[""]["name"]
     if not name or name != Path(name).name or name in (".", ".."):
         raise ValueError(f"{result.config.path}: name must be a plain file name, got {name!r}")
@@ -450,6 +434,8 @@ def _write_outputs(result: NavigationResult, out: Path) -> None:
             files["smoothed_pos"] = f"{name}_smoothed.pos"
         (tmp / "summary.json").write_text(json.dumps(result.summary, indent=2, allow_nan=False))
         if result.config["report"]["html"]:
+            # Deferred: the report needs matplotlib, which ``import memsnav``
+            # does not load.
             from memsnav.realdata.report import write_report
 
             write_report(result, tmp)

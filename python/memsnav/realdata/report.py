@@ -5,18 +5,15 @@ statistics while aided and in each outage, and every reset the filter made."""
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 import memsnav._memsnav as _mn
+from memsnav.realdata.result import LogNavigationResult
 from memsnav.report.document import Report
 
-if TYPE_CHECKING:
-    from memsnav.realdata.pipeline import NavigationResult
 
-
-def write_report(result: NavigationResult, out: Path) -> Path:
+def write_report(result: LogNavigationResult, out: Path) -> Path:
     """Writes ``report.html`` (figures embedded) and ``figures/`` (PNG, SVG,
     CSV of the curves) into ``out`` with the shared report helper."""
     import matplotlib

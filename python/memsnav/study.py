@@ -1,7 +1,7 @@
-"""``memsnav study --config study.toml``: the outage study
-(:func:`memsnav.experiments.outage_study`) from a TOML file, written as
-``report.html``, ``summary.json`` and the figures (PNG, SVG, CSV), like
-``memsnav reproduce``.
+"""The outage study (:func:`memsnav.experiments.outage_study`) from a TOML
+file, written as ``report.html``, ``summary.json`` and the figures (PNG,
+SVG, CSV), like ``memsnav reproduce``: what ``memsnav study --config
+study.toml`` runs.
 
 The configuration (``examples/study_land_vehicle.toml``)::
 

@@ -1,36 +1,21 @@
-"""``memsnav calibrate --config cal.toml``: read a calibration session
-(static poses or a drive), fit, write the calibration file and its report."""
+"""A recorded calibration session (static poses or a drive) calibrated as
+its TOML configuration describes: read, fit, write the calibration file and
+its report (what ``memsnav calibrate --config cal.toml`` runs)."""
 
 from __future__ import annotations
 
 import time as _time
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from memsnav._memsnav import StaticCalibration
 from memsnav.calibration.config import CalibrationConfig, load_calibration_config
-from memsnav.calibration.drive import DriveCalibration, calibrate_drive, compare_navigation
+from memsnav.calibration.drive import calibrate_drive, compare_navigation
 from memsnav.calibration.file import ImuCalibration
+from memsnav.calibration.run import CalibrationRun
 from memsnav.calibration.static import calibrate_static, static_summary
-
-
-@dataclass
-class CalibrationRun:
-    """What a ``calibrate`` run produced: the fit, the file's content, the
-    files written (``calibration``, ``report``) and the summary."""
-
-    config: CalibrationConfig
-    calibration: StaticCalibration | DriveCalibration
-    imu_calibration: ImuCalibration
-    time: np.ndarray
-    accel: np.ndarray
-    gyro: np.ndarray
-    files: dict[str, Path] = field(default_factory=dict)
-    summary: dict[str, Any] = field(default_factory=dict)
 
 
 def read_triad_table(path: Path, time_unit: str) -> tuple[np.ndarray, np.ndarray]:

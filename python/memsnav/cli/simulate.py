@@ -1,0 +1,97 @@
+"""``memsnav simulate``: a trajectory, its IMU outputs and GNSS measurements
+as CSV files (:func:`memsnav.simulate.simulate`)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import memsnav
+from memsnav.cli.arguments import non_negative_int, positive_float, positive_int
+
+NAME = "simulate"
+HELP = "write a random trajectory, its IMU outputs and GNSS measurements as CSV"
+DESCRIPTION = (
+    "Simulate a random land-vehicle trajectory, the outputs of an IMU preset along it "
+    "and GNSS pseudoranges and rates, and write trajectory.csv, imu.csv, gnss.csv and "
+    "simulation.json into DIR."
+)
+
+
+def _outage(text: str) -> tuple[float, float]:
+    start, sep, length = text.partition(":")
+    try:
+        if not sep:
+            raise ValueError
+        window = (float(start), float(length))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected START:LENGTH in seconds, got {text!r}"
+        ) from None
+    if window[0] < 0 or not window[1] > 0:
+        raise argparse.ArgumentTypeError(f"start must be >= 0 and length > 0, got {text!r}")
+    return window
+
+
+def add_arguments(command: argparse.ArgumentParser) -> None:
+    command.add_argument(
+        "--out", default="simulation", metavar="DIR", help="output directory (default: simulation)"
+    )
+    command.add_argument(
+        "--duration",
+        type=positive_float,
+        default=600.0,
+        metavar="S",
+        help="seconds (default: 600)",
+    )
+    command.add_argument(
+        "--rate", type=positive_float, default=100.0, metavar="HZ", help="IMU rate (default: 100)"
+    )
+    command.add_argument(
+        "--imu",
+        default="paper-mems",
+        choices=memsnav.ImuModel.presets(),
+        help="IMU preset (default: paper-mems)",
+    )
+    command.add_argument(
+        "--satellites", type=positive_int, default=6, metavar="N", help="tracked (default: 6)"
+    )
+    command.add_argument(
+        "--gnss-rate", type=positive_float, default=1.0, metavar="HZ", help="(default: 1)"
+    )
+    command.add_argument(
+        "--constellation",
+        default="walker",
+        metavar="NAV",
+        help="'walker' (GPS-like, 24 satellites; default) or a RINEX navigation file",
+    )
+    command.add_argument(
+        "--outage",
+        action="append",
+        type=_outage,
+        default=[],
+        metavar="START:LENGTH",
+        help="a total GNSS outage, seconds (repeatable)",
+    )
+    command.add_argument(
+        "--seed", type=non_negative_int, default=0, metavar="S", help="base seed (default: 0)"
+    )
+
+
+def run(args: argparse.Namespace, client: Any) -> int:
+    from memsnav.simulate import simulate
+
+    files = simulate(
+        out=args.out,
+        duration=args.duration,
+        rate=args.rate,
+        imu=args.imu,
+        seed=args.seed,
+        n_satellites=args.satellites,
+        gnss_rate=args.gnss_rate,
+        constellation=args.constellation,
+        outages=args.outage,
+    )
+    print(f"memsnav: wrote {files.trajectory.parent}", file=sys.stderr)
+    return 0

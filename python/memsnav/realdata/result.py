@@ -1,0 +1,27 @@
+"""What :func:`memsnav.navigate` returns for a run of real logs: shared by
+the run (``realdata/pipeline.py``) that fills it and the report
+(``realdata/report.py``) that draws it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from memsnav.realdata.config import RunConfig
+
+
+@dataclass
+class LogNavigationResult:
+    """Everything a run of real logs produced: the engine's ``run`` (a
+    ``LogRun``; its ``smoothed`` when ``[filter] smoother = true``), the
+    scores against the truth (``truth``, ``truth_smoothed``) and of the
+    single-point solution, and ``summary``, the plain dict written to
+    ``summary.json``."""
+
+    config: RunConfig
+    run: Any
+    truth: dict[str, Any] | None
+    spp: dict[str, Any] | None
+    summary: dict[str, Any] = field(default_factory=dict)
+    files: dict[str, str] = field(default_factory=dict)
+    truth_smoothed: dict[str, Any] | None = None
