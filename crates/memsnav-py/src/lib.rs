@@ -3,6 +3,7 @@
 
 use pyo3::prelude::*;
 
+mod aiding;
 mod calibration;
 mod convert;
 mod coupling;
@@ -36,6 +37,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     static_calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;
+    aiding::register(m)?;
     coupling::register(m)?;
     defaults::register(m)?;
     navigation::register(m)?;

@@ -3,21 +3,22 @@
 //! (`memsnav_core::navigate`) on the user's arrays, one call per log with
 //! the GIL released.
 
-use memsnav_core::coupling::PositionFix;
 use memsnav_core::navigate::{
     self, fixes_from_geodetic, references, score, FixOptions, GeodeticSolution, GnssInput,
     LogConfig, LogRun, SettingTables, SettingValue,
 };
 use memsnav_core::random::stream;
+use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_py_macros::catch_panics;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
+use crate::aiding::{gnss_epochs, is_measurements, no_epochs, position_fixes, PyPositionFixes};
 use crate::convert;
-use crate::coupling::{gnss_epochs, is_measurements, position_fixes, PyFilterSolution};
+use crate::coupling::PyFilterSolution;
 use crate::errors::IntoPyResult;
 
 /// A Python value of a settings table as a core setting.
@@ -110,50 +111,8 @@ fn mounting_matrix<'py>(
 #[pyfunction]
 fn check_navigate_settings(settings: &Bound<'_, PyDict>) -> PyResult<()> {
     // Any IMU rate serves: it only scales the preset's noise per sample.
-    LogConfig::from_settings(&settings_tables(Some(settings))?, 100.0).py()?;
+    LogConfig::from_settings(&settings_tables(Some(settings))?, DEFAULT_SAMPLE_RATE_HZ).py()?;
     Ok(())
-}
-
-/// Position (and velocity) fixes of an antenna, ready for
-/// `navigate_log` or `LooselyCoupledFilter.run`.
-#[pyclass(name = "PositionFixes", module = "memsnav._memsnav", frozen)]
-pub struct PyPositionFixes {
-    pub(crate) fixes: Vec<PositionFix>,
-}
-
-#[catch_panics]
-#[pymethods]
-impl PyPositionFixes {
-    /// Fix times, s, (T,).
-    #[getter]
-    fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_iter(py, self.fixes.iter().map(|f| f.time_s))
-    }
-    /// Antenna positions, ECEF m, (T, 3).
-    #[getter]
-    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let v: Vec<Vector3<f64>> = self.fixes.iter().map(|f| f.position_ecef).collect();
-        convert::vectors_to_numpy(py, &v)
-    }
-    /// Their covariances, m², (T, 3, 3).
-    #[getter]
-    fn position_covariance<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
-        let m: Vec<Matrix3<f64>> = self.fixes.iter().map(|f| f.position_covariance).collect();
-        convert::matrices3_to_numpy(py, &m)
-    }
-    /// Antenna velocities, ECEF m/s, (T, 3); NaN where a fix has none.
-    #[getter]
-    fn velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let v: Vec<Vector3<f64>> = self
-            .fixes
-            .iter()
-            .map(|f| f.velocity_ecef.unwrap_or(Vector3::from_element(f64::NAN)))
-            .collect();
-        convert::vectors_to_numpy(py, &v)
-    }
-    fn __len__(&self) -> usize {
-        self.fixes.len()
-    }
 }
 
 /// Fixes from a geodetic solution (e.g. an RTKLIB `.pos` read with
@@ -181,7 +140,7 @@ fn fixes_from_solution(
 ) -> PyResult<PyPositionFixes> {
     let time = convert::scalars(time, "time")?;
     if time.is_empty() {
-        return Err(crate::coupling::no_epochs("time"));
+        return Err(no_epochs("time"));
     }
     let geodetic = convert::vectors(geodetic, "geodetic")?;
     let std_ned = convert::vectors(std_ned, "std_ned")?;
@@ -562,6 +521,5 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mounting_matrix, m)?)?;
     m.add_function(wrap_pyfunction!(fixes_from_solution, m)?)?;
     m.add_class::<PyLogRun>()?;
-    m.add_class::<PyPositionFixes>()?;
     Ok(())
 }

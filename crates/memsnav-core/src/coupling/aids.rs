@@ -12,7 +12,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::batch::BatchRules;
+use super::engine::batch::BatchRules;
 use super::engine::FilterState;
 use super::records::MeasurementKind;
 use crate::attitude::skew;

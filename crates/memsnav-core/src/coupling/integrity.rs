@@ -25,7 +25,7 @@
 //!   cannot show it, since with so few satellites they see nothing of the
 //!   unobserved directions (docs/few-satellites.md).
 
-use super::records::{BatchRecord, MeasurementKind};
+use super::records::{BatchRecord, MeasurementKind, RunRecords};
 use crate::filter::chi_square::chi_square_quantile;
 
 /// Length of the windows the innovations are summed over, s.
@@ -162,6 +162,13 @@ impl Integrity {
     /// Whether the solution and its covariance are not trustworthy.
     pub fn diverged(&self) -> bool {
         !self.alerts.is_empty()
+    }
+}
+
+impl RunRecords {
+    /// The run's integrity ([`assess`] of its batches).
+    pub fn integrity(&self) -> Integrity {
+        assess(&self.batches)
     }
 }
 

@@ -6,7 +6,7 @@
 //! ([`super::antenna`] for δr_a, δv_a through the lever arm). R is whitened
 //! by its Cholesky factor L (z' = L⁻¹ z) so the three components become
 //! independent unit-variance measurements; the three are one batch, tested
-//! together ([`super::batch`]): a fix is applied whole or not at all. A
+//! together ([`super::engine::batch`]): a fix is applied whole or not at all. A
 //! velocity with a latency L is compared with the prediction moved back by
 //! L along the INS acceleration. When fixes keep failing, position
 //! (velocity) is reset to the fix. The clock states are not observed and
@@ -14,7 +14,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::batch::BatchRules;
+use super::engine::batch::BatchRules;
 use super::engine::{self, FilterState, InitialState};
 use super::records::MeasurementKind;
 use super::run::Aiding;

@@ -60,14 +60,12 @@
 
 mod aids;
 mod antenna;
-mod batch;
 mod diagnostics;
 mod engine;
 mod init;
 pub mod integrity;
 mod loose;
 mod ned;
-mod range_bias;
 mod records;
 mod run;
 mod tight;

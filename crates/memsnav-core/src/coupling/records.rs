@@ -177,7 +177,8 @@ pub struct ResetRecord {
 }
 
 /// Everything a run recorded besides its solution: what the records-only
-/// runs (`run_tightly_coupled`, `run_loosely_coupled`) return.
+/// runs ([`super::run`], [`super::run_smoothed`]) return; their
+/// integrity: `RunRecords::integrity` ([`super::integrity`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RunRecords {
     /// Every scalar measurement, in time order.
@@ -186,11 +187,4 @@ pub struct RunRecords {
     pub batches: Vec<BatchRecord>,
     /// Every reset, in time order.
     pub resets: Vec<ResetRecord>,
-}
-
-impl RunRecords {
-    /// The run's integrity ([`super::integrity::assess`]).
-    pub fn integrity(&self) -> super::integrity::Integrity {
-        super::integrity::assess(&self.batches)
-    }
 }

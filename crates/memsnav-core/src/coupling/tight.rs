@@ -22,7 +22,7 @@
 //! satellites move, and the covariance collapses while the error grows
 //! (issue 23: 3 satellites, 900 s, 3σ 200 m against a 3 km error;
 //! docs/few-satellites.md). An epoch's pseudoranges are one batch and its rates
-//! another ([`super::batch`]): tested together, a faulty satellite
+//! another ([`super::engine::batch`]): tested together, a faulty satellite
 //! excluded, a receiver clock jump moved into the clock; any number of
 //! satellites (fewer than four included) refines the solution, and with
 //! none the INS coasts. When the pseudoranges keep failing, the filter
@@ -31,7 +31,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::batch::{median, BatchRules, CommonMode};
+use super::engine::batch::{median, BatchRules, CommonMode};
 use super::engine::{self, FilterState, InitialState};
 use super::records::MeasurementKind;
 use super::run::Aiding;

@@ -5,7 +5,7 @@ use nalgebra::{Matrix3, Vector3};
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
-use super::{presets, AccelerometerModel, GyroscopeModel, NoiseModel};
+use super::{AccelerometerModel, GyroscopeModel, NoiseModel};
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
 use crate::Result;
@@ -262,18 +262,6 @@ impl ImuModel {
             sample_rate_hz,
             spec,
         })
-    }
-
-    /// A named preset drawn at [`super::DEFAULT_SAMPLE_RATE_HZ`] (method
-    /// §1); names in [`presets::PRESET_NAMES`], figures and sources in
-    /// [`presets`].
-    pub fn preset(name: &str, rng: &mut Rng) -> Result<Self> {
-        Self::preset_at(name, super::DEFAULT_SAMPLE_RATE_HZ, rng)
-    }
-
-    /// A named preset drawn at `sample_rate_hz`.
-    pub fn preset_at(name: &str, sample_rate_hz: f64, rng: &mut Rng) -> Result<Self> {
-        Self::from_spec(&presets::preset_spec(name)?, sample_rate_hz, rng)
     }
 
     /// Readings of both triads for true specific forces Γ_k (m/s²) and

@@ -14,8 +14,9 @@
 
 use std::f64::consts::PI;
 
-use super::{AccelerometerSpec, GyroscopeSpec, ImuSpec, NoiseModel};
+use super::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
 use crate::geodesy::wgs84::STANDARD_GRAVITY_M_S2 as G0;
+use crate::random::Rng;
 use crate::{Error, Result};
 
 /// The names [`preset_spec`] and `ImuModel::preset` accept.
@@ -52,6 +53,19 @@ fn m_s_sqrt_h(x: f64) -> f64 {
 /// (°/s)/g → (rad/s)/(m/s²).
 fn deg_s_per_g(x: f64) -> f64 {
     x * DEG / G0
+}
+
+impl ImuModel {
+    /// A named preset drawn at [`super::DEFAULT_SAMPLE_RATE_HZ`] (method
+    /// §1); names in [`PRESET_NAMES`], figures and sources in this module.
+    pub fn preset(name: &str, rng: &mut Rng) -> Result<Self> {
+        Self::preset_at(name, super::DEFAULT_SAMPLE_RATE_HZ, rng)
+    }
+
+    /// A named preset drawn at `sample_rate_hz`.
+    pub fn preset_at(name: &str, sample_rate_hz: f64, rng: &mut Rng) -> Result<Self> {
+        Self::from_spec(&preset_spec(name)?, sample_rate_hz, rng)
+    }
 }
 
 /// The spec of a named preset; unknown names are an error naming `name`.

@@ -1,7 +1,7 @@
 //! An epoch's measurements of one kind as one batch: staged, floored,
 //! tested together, thinned by fault exclusion, and recorded; a clock jump
 //! moved into the clock; and the resets that keep failing measurements
-//! from locking the filter out (see [`super::Recovery`]).
+//! from locking the filter out (see [`crate::coupling::Recovery`]).
 //!
 //! The test is the chi-square test of the batch innovation, νᵀ S⁻¹ ν against
 //! the `gate_probability` quantile of as many degrees of freedom
@@ -13,8 +13,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::engine::FilterState;
-use super::records::{
+use super::FilterState;
+use crate::coupling::records::{
     BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
 };
 use crate::filter::chi_square::chi_square_quantile;

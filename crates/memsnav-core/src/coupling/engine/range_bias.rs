@@ -1,5 +1,5 @@
 //! Per-satellite pseudorange-bias states: which satellite holds which
-//! slot of a filter with range-bias states (see [`super::RangeBiasModel`]
+//! slot of a filter with range-bias states (see [`crate::coupling::RangeBiasModel`]
 //! for the process).
 //!
 //! A satellite seen for the first time takes a free slot, or the slot of
@@ -11,7 +11,7 @@
 
 use nalgebra::Matrix1;
 
-use super::engine::FilterState;
+use super::FilterState;
 use crate::filter::state::{Layout, RANGE_BIAS_SLOTS};
 
 /// The satellite in each slot and when it was last used.

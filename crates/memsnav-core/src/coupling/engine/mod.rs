@@ -2,11 +2,13 @@
 //! corrected INS, propagation at the IMU rate, aiding epochs matched to IMU
 //! times, feedback of the estimated errors, and the solution record.
 //! Measurement batches, their tests and the recovery from failing ones are
-//! in [`super::batch`]; the lever arm in [`super::antenna`].
+//! in [`batch`]; the lever arm in [`super::antenna`].
+
+pub(crate) mod batch;
+mod range_bias;
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-use super::range_bias::RangeBiasSlots;
 use super::records::{BatchRecord, MeasurementKind, MeasurementRecord, ResetRecord};
 use super::tuning::FilterTuning;
 use crate::attitude::rotation_vector_to_dcm;
@@ -18,6 +20,7 @@ use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
 use crate::ins::{self, ImuSample, NavState};
 use crate::{validate, Error, Result};
+use range_bias::RangeBiasSlots;
 
 /// A series of raw IMU samples (instantaneous values at `time_s`).
 #[derive(Debug, Clone, Copy)]
@@ -144,8 +147,8 @@ pub struct FilterState<const N: usize> {
     pub(crate) failed_epochs: [usize; MeasurementKind::ALL.len()],
     /// When each kind last had a batch accepted (the start when never).
     pub(crate) last_accepted_s: [f64; MeasurementKind::ALL.len()],
-    /// The batch being assembled (see [`super::batch`]).
-    pub(crate) staged: super::batch::Batch,
+    /// The batch being assembled (see [`batch`]).
+    pub(crate) staged: batch::Batch,
     /// Every scalar measurement seen, in time order.
     pub records: Vec<MeasurementRecord>,
     /// Every batch test, in time order.
@@ -214,7 +217,7 @@ impl<const N: usize> FilterState<N> {
             failed_epochs: [0; MeasurementKind::ALL.len()],
             // Set at the first propagation (the run's first IMU time).
             last_accepted_s: [f64::NAN; MeasurementKind::ALL.len()],
-            staged: super::batch::Batch::default(),
+            staged: batch::Batch::default(),
             records: Vec::new(),
             batches: Vec::new(),
             resets: Vec::new(),
@@ -426,7 +429,7 @@ impl<const N: usize, O: FnMut(usize, &FilterState<N>)> SampleHook<N> for Observe
 /// applied at its own time, the INS being stepped there with a linearly
 /// interpolated IMU sample and then on to the next sample. `update`
 /// applies one epoch's measurements (each batch fed back when it is
-/// accepted, see [`super::batch`]); `hook` runs at every IMU sample after
+/// accepted, see [`batch`]); `hook` runs at every IMU sample after
 /// the updates at that sample.
 pub(crate) fn run<const N: usize, E, U, H>(
     imu: &ImuData,
