@@ -120,8 +120,10 @@ def test_tuning_defaults_and_overrides(scenario):
     # From the spec: white PSD = density², initial bias std = RMS of the biases.
     assert t["accel_white_psd"] == pytest.approx(2e-3**2)
     assert t["initial_accel_bias_std"] == pytest.approx(imu.spec["accel_bias_std"])
-    assert t["initial_position_std"] == 5.0 and t["gate_probability"] == 0.999
-    assert t["initial_heading_std"] == pytest.approx(np.radians(5.0))
+    # The rest is the core's defaults (one definition: tests/test_defaults.py).
+    core = mn.defaults()["TightlyCoupledFilter"]
+    for name in ("initial_position_std", "gate_probability", "initial_heading_std"):
+        assert t[name] == core[name], name
     o = mn.TightlyCoupledFilter(imu, accel_noise_density=0.01, initial_position_std=2.0).tuning
     assert o["accel_white_psd"] == pytest.approx(1e-4) and o["initial_position_std"] == 2.0
 

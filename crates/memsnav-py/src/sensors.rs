@@ -433,80 +433,30 @@ impl PyGyroscopeModel {
     }
 }
 
-/// The flat `ImuModel.spec` keys and the spec fields they name.
-fn spec_fields(spec: &mut ImuSpec) -> [(&'static str, &mut f64); 18] {
-    let a = &mut spec.accelerometer;
-    let g = &mut spec.gyroscope;
-    [
-        ("accel_bias_std", &mut a.bias_std),
-        ("accel_scale_factor_std", &mut a.scale_factor_std),
-        ("accel_misalignment_std", &mut a.misalignment_std),
-        ("accel_nonlinearity_std", &mut a.nonlinearity_std),
-        ("accel_noise_density", &mut a.noise.white_density),
-        ("accel_bias_instability", &mut a.noise.bias_instability_std),
-        (
-            "accel_bias_correlation_time",
-            &mut a.noise.bias_correlation_time_s,
-        ),
-        ("accel_bias_random_walk", &mut a.noise.bias_random_walk),
-        ("accel_quantization", &mut a.noise.quantization),
-        ("gyro_bias_std", &mut g.bias_std),
-        ("gyro_scale_factor_std", &mut g.scale_factor_std),
-        ("gyro_misalignment_std", &mut g.misalignment_std),
-        ("gyro_g_sensitivity_std", &mut g.g_sensitivity_std),
-        ("gyro_noise_density", &mut g.noise.white_density),
-        ("gyro_bias_instability", &mut g.noise.bias_instability_std),
-        (
-            "gyro_bias_correlation_time",
-            &mut g.noise.bias_correlation_time_s,
-        ),
-        ("gyro_bias_random_walk", &mut g.noise.bias_random_walk),
-        ("gyro_quantization", &mut g.noise.quantization),
-    ]
-}
-
 fn spec_to_dict<'py>(py: Python<'py>, spec: &ImuSpec) -> PyResult<Bound<'py, PyDict>> {
-    let mut spec = *spec;
     let dict = PyDict::new(py);
-    for (key, value) in spec_fields(&mut spec) {
-        dict.set_item(key, *value)?;
+    for (key, value) in spec.fields() {
+        dict.set_item(key, value)?;
     }
     Ok(dict)
 }
 
-/// Overrides `spec` with the entries of a user dict; unknown keys, values
-/// that are not non-negative finite numbers, and a Gauss-Markov term
-/// without a positive correlation time are errors naming the key.
+/// Overrides `spec` with the entries of a user dict (the rules are the
+/// core's, `ImuSpec::with_overrides`: unknown keys, negative or non-finite
+/// values and a Gauss-Markov term without a correlation time are errors
+/// naming the key).
 pub(crate) fn update_spec(spec: &mut ImuSpec, dict: &Bound<'_, PyDict>) -> PyResult<()> {
+    let mut overrides = Vec::with_capacity(dict.len());
     for (key, value) in dict.iter() {
         let key: String = key
             .extract()
             .map_err(|_| PyValueError::new_err(format!("spec: keys must be strings, got {key}")))?;
-        let mut fields = spec_fields(spec);
-        let Some((_, field)) = fields.iter_mut().find(|(k, _)| *k == key) else {
-            let names: Vec<&str> = fields.iter().map(|(k, _)| *k).collect();
-            return Err(PyValueError::new_err(format!(
-                "spec: unknown key '{key}'; expected some of {}",
-                names.join(", ")
-            )));
-        };
-        let argument = format!("spec['{key}']");
-        let x: f64 = value
+        let value: f64 = value
             .extract()
-            .map_err(|_| PyValueError::new_err(format!("{argument}: must be a number")))?;
-        memsnav_core::validate::non_negative(&argument, x).py()?;
-        **field = x;
+            .map_err(|_| PyValueError::new_err(format!("spec['{key}']: must be a number")))?;
+        overrides.push((key, value));
     }
-    for (prefix, noise) in [
-        ("accel", &spec.accelerometer.noise),
-        ("gyro", &spec.gyroscope.noise),
-    ] {
-        if noise.bias_instability_std > 0.0 && noise.bias_correlation_time_s <= 0.0 {
-            return Err(PyValueError::new_err(format!(
-                "spec['{prefix}_bias_correlation_time']: must be positive when {prefix}_bias_instability > 0"
-            )));
-        }
-    }
+    *spec = spec.with_overrides(&overrides).py()?;
     Ok(())
 }
 

@@ -8,7 +8,7 @@ use rand_distr::StandardNormal;
 use super::{AccelerometerModel, GyroscopeModel, NoiseModel};
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
-use crate::Result;
+use crate::{Error, Result};
 
 /// One-sigma magnitudes of an accelerometer triad's errors (method §2).
 ///
@@ -175,6 +175,78 @@ impl ImuSpec {
         self.gyroscope.validate()
     }
 
+    /// The spec's fields under their flat names (`accel_bias_std`,
+    /// `gyro_noise_density`, ...), the names a spec has in Python and in
+    /// configuration files.
+    pub fn fields_mut(&mut self) -> [(&'static str, &mut f64); 18] {
+        let a = &mut self.accelerometer;
+        let g = &mut self.gyroscope;
+        [
+            ("accel_bias_std", &mut a.bias_std),
+            ("accel_scale_factor_std", &mut a.scale_factor_std),
+            ("accel_misalignment_std", &mut a.misalignment_std),
+            ("accel_nonlinearity_std", &mut a.nonlinearity_std),
+            ("accel_noise_density", &mut a.noise.white_density),
+            ("accel_bias_instability", &mut a.noise.bias_instability_std),
+            (
+                "accel_bias_correlation_time",
+                &mut a.noise.bias_correlation_time_s,
+            ),
+            ("accel_bias_random_walk", &mut a.noise.bias_random_walk),
+            ("accel_quantization", &mut a.noise.quantization),
+            ("gyro_bias_std", &mut g.bias_std),
+            ("gyro_scale_factor_std", &mut g.scale_factor_std),
+            ("gyro_misalignment_std", &mut g.misalignment_std),
+            ("gyro_g_sensitivity_std", &mut g.g_sensitivity_std),
+            ("gyro_noise_density", &mut g.noise.white_density),
+            ("gyro_bias_instability", &mut g.noise.bias_instability_std),
+            (
+                "gyro_bias_correlation_time",
+                &mut g.noise.bias_correlation_time_s,
+            ),
+            ("gyro_bias_random_walk", &mut g.noise.bias_random_walk),
+            ("gyro_quantization", &mut g.noise.quantization),
+        ]
+    }
+
+    /// The flat fields and their values (see [`Self::fields_mut`]).
+    pub fn fields(&self) -> [(&'static str, f64); 18] {
+        let mut copy = *self;
+        copy.fields_mut().map(|(key, value)| (key, *value))
+    }
+
+    /// This spec with some flat fields replaced: an unknown key, a value
+    /// that is not a finite non-negative number, or a Gauss-Markov bias
+    /// without a positive correlation time is an error naming
+    /// `spec['key']`.
+    pub fn with_overrides(&self, overrides: &[(String, f64)]) -> Result<Self> {
+        let mut spec = *self;
+        for (key, value) in overrides {
+            let mut fields = spec.fields_mut();
+            let Some((_, field)) = fields.iter_mut().find(|(k, _)| k == key) else {
+                let names: Vec<&str> = fields.iter().map(|(k, _)| *k).collect();
+                return Err(Error::invalid(
+                    "spec",
+                    format!("unknown key '{key}'; expected some of {}", names.join(", ")),
+                ));
+            };
+            validate::non_negative(&format!("spec['{key}']"), *value)?;
+            **field = *value;
+        }
+        for (prefix, noise) in [
+            ("accel", &spec.accelerometer.noise),
+            ("gyro", &spec.gyroscope.noise),
+        ] {
+            if noise.bias_instability_std > 0.0 && noise.bias_correlation_time_s <= 0.0 {
+                return Err(Error::invalid(
+                    &format!("spec['{prefix}_bias_correlation_time']"),
+                    format!("must be positive when {prefix}_bias_instability > 0"),
+                ));
+            }
+        }
+        Ok(spec)
+    }
+
     /// The spec implied by two models at `sample_rate_hz` (see [`AccelerometerSpec::of_model`]).
     pub fn of_models(
         accelerometer: &AccelerometerModel,
@@ -312,6 +384,41 @@ impl ImuModel {
 mod tests {
     use super::*;
     use crate::random::stream;
+
+    #[test]
+    fn flat_fields_override_by_name_and_refuse_what_is_wrong() {
+        let spec = crate::sensors::presets::preset_spec("consumer").unwrap();
+        let names: Vec<&str> = spec.fields().iter().map(|(k, _)| *k).collect();
+        assert_eq!(names.len(), 18);
+        let changed = spec
+            .with_overrides(&[("gyro_bias_std".into(), 1e-3)])
+            .unwrap();
+        assert_eq!(changed.gyroscope.bias_std, 1e-3);
+        // Every other field untouched.
+        let before = spec.fields();
+        for ((k, a), (_, b)) in before.iter().zip(changed.fields()) {
+            if *k != "gyro_bias_std" {
+                assert_eq!(*a, b, "{k}");
+            }
+        }
+        let err = |o: (&str, f64)| {
+            spec.with_overrides(&[(o.0.into(), o.1)])
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(err(("gyro_bias", 1.0))
+            .starts_with("spec: unknown key 'gyro_bias'; expected some of accel_bias_std"));
+        assert!(err(("accel_quantization", -1.0))
+            .starts_with("spec['accel_quantization']: must be finite and non-negative"));
+        let gauss_markov = spec.with_overrides(&[
+            ("accel_bias_instability".into(), 1e-3),
+            ("accel_bias_correlation_time".into(), 0.0),
+        ]);
+        assert!(gauss_markov
+            .unwrap_err()
+            .to_string()
+            .starts_with("spec['accel_bias_correlation_time']: must be positive"));
+    }
 
     #[test]
     fn hand_built_spec_is_the_rms_of_its_own_values() {
