@@ -29,7 +29,12 @@ fn matrix(obj: &Bound<'_, PyAny>, argument: &str, shape: (usize, usize)) -> PyRe
 }
 
 /// A matrix → (rows, columns) numpy array.
-fn to_numpy<'py>(py: Python<'py>, rows: usize, cols: usize, row_major: Vec<f64>) -> Bound<'py, PyArray2<f64>> {
+fn to_numpy<'py>(
+    py: Python<'py>,
+    rows: usize,
+    cols: usize,
+    row_major: Vec<f64>,
+) -> Bound<'py, PyArray2<f64>> {
     PyArray1::from_vec(py, row_major)
         .reshape([rows, cols])
         .expect("rows × cols elements")
@@ -69,9 +74,7 @@ fn inflate_calibration_covariance<'py>(
         .iter()
         .map(|name| {
             layout.index(name).ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "held: {name:?} is not a parameter of the {sensor}"
-                ))
+                PyValueError::new_err(format!("held: {name:?} is not a parameter of the {sensor}"))
             })
         })
         .collect::<PyResult<Vec<_>>>()?;

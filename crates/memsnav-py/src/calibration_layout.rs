@@ -130,7 +130,12 @@ impl PyCalibrationLayout {
             .inner
             .range(self.group(group)?)
             .expect("a group of the layout has a range");
-        Ok(PySlice::new(py, range.start as isize, range.end as isize, 1))
+        Ok(PySlice::new(
+            py,
+            range.start as isize,
+            range.end as isize,
+            1,
+        ))
     }
 
     /// The model attribute and the index in it of parameter `index`:

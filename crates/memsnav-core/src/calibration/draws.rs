@@ -7,10 +7,11 @@
 //! parameter was held (a zero row) and spans many orders of magnitude
 //! (biases against nonlinearities), so F is not a Cholesky factor but
 //! comes from the eigendecomposition of the correlation matrix,
-//! Σ = S R S with S = diag(√Σ_ii) (1 where Σ_ii = 0) and R = V Λ Vᵀ:
-//! F = S V Λ^½, which needs no positive definiteness and keeps the small
-//! variances' relative accuracy. Eigenvalues down to −10⁻⁸ λ_max are
-//! rounding and count as zero; below that Σ is refused.
+//! Σ = S R S with S = diag(√Σ_ii) and R = V Λ Vᵀ: F = S V Λ^½, which
+//! needs no positive definiteness and keeps the small variances' relative
+//! accuracy. Only the parameters of non-zero variance are factored, so a
+//! held one stays at its estimate exactly. Eigenvalues down to −10⁻⁸ λ_max
+//! are rounding and count as zero; below that Σ is refused.
 //!
 //! Draw i of a set depends only on (seed, i): it reads its z from
 //! [`crate::random::stream`]`(seed, i)` alone, so it is the same whatever
@@ -53,19 +54,27 @@ impl<const P: usize> ParameterDistribution<P> {
                 format!("variance {i} is negative ({:e})", covariance[(i, i)]),
             ));
         }
-        let scale = SVector::<f64, P>::from_fn(|i, _| match covariance[(i, i)].sqrt() {
-            0.0 => 1.0,
-            s => s,
-        });
+        // Held parameters (zero variance) stay at the mean exactly: only
+        // the others are factored.
+        let free: Vec<usize> = (0..P).filter(|&i| covariance[(i, i)] > 0.0).collect();
+        let lower = |i: usize, j: usize| covariance[(i.max(j), i.min(j))];
+        for i in (0..P).filter(|i| !free.contains(i)) {
+            if let Some(j) = (0..P).find(|&j| lower(i, j) != 0.0) {
+                return Err(Error::invalid(
+                    argument,
+                    format!(
+                        "not positive semi-definite: variance {i} is zero but its covariance \
+                         with {j} is {:e}",
+                        lower(i, j)
+                    ),
+                ));
+            }
+        }
+        let scale: Vec<f64> = free.iter().map(|&i| covariance[(i, i)].sqrt()).collect();
         // Factored once, dynamically sized (nalgebra's fixed-size
         // eigendecomposition needs a typenum size); the draws are fixed-size.
-        let correlation = DMatrix::<f64>::from_fn(P, P, |i, j| {
-            let c = if i >= j {
-                covariance[(i, j)]
-            } else {
-                covariance[(j, i)]
-            };
-            c / (scale[i] * scale[j])
+        let correlation = DMatrix::<f64>::from_fn(free.len(), free.len(), |a, b| {
+            lower(free[a], free[b]) / (scale[a] * scale[b])
         });
         let eigen = SymmetricEigen::new(correlation);
         let largest = eigen.eigenvalues.max();
@@ -83,9 +92,12 @@ impl<const P: usize> ParameterDistribution<P> {
                 ),
             ));
         }
-        let root = eigen.eigenvalues.map(|l| l.max(0.0).sqrt());
-        let factor =
-            SMatrix::<f64, P, P>::from_fn(|i, j| scale[i] * eigen.eigenvectors[(i, j)] * root[j]);
+        let mut factor = SMatrix::<f64, P, P>::zeros();
+        for (a, &i) in free.iter().enumerate() {
+            for (b, l) in eigen.eigenvalues.iter().enumerate() {
+                factor[(i, b)] = scale[a] * eigen.eigenvectors[(a, b)] * l.max(0.0).sqrt();
+            }
+        }
         Ok(Self {
             mean: *mean,
             factor,
@@ -125,32 +137,36 @@ impl ImuDraws {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{Matrix3, Vector3};
+    use nalgebra::{Matrix4, Vector4};
 
-    /// A 3-parameter covariance with strong correlation and variances six
-    /// orders apart, and a held (zero) fourth parameter.
+    /// A covariance of three parameters with strong correlation and
+    /// variances six orders apart, and a held (zero-variance) one at index 1.
     fn covariance() -> SMatrix<f64, 4, 4> {
-        let s = Vector3::new(1e-2, 1e-5, 3e-4);
-        let r = Matrix3::new(1.0, 0.8, -0.3, 0.8, 1.0, 0.1, -0.3, 0.1, 1.0);
-        let mut c = SMatrix::<f64, 4, 4>::zeros();
-        c.fixed_view_mut::<3, 3>(0, 0)
-            .copy_from(&Matrix3::from_fn(|i, j| s[i] * r[(i, j)] * s[j]));
-        c
+        let s = Vector4::new(1e-2, 0.0, 1e-5, 3e-4);
+        let r = Matrix4::new(
+            1.0, 0.0, 0.8, -0.3, //
+            0.0, 0.0, 0.0, 0.0, //
+            0.8, 0.0, 1.0, 0.1, //
+            -0.3, 0.0, 0.1, 1.0,
+        );
+        Matrix4::from_fn(|i, j| s[i] * r[(i, j)] * s[j])
     }
 
-    /// Sample mean and covariance of many draws against the given ones,
-    /// within their sampling error: the mean's standard error is σ/√n,
-    /// that of a sample covariance entry √((Σ_ii Σ_jj + Σ_ij²)/n)
-    /// (Gaussian fourth moments), checked at 5 standard errors.
+    /// Sample mean and covariance (about the given mean) of many draws
+    /// against the given ones, within their sampling error: the mean's
+    /// standard error is σ/√n, that of a covariance entry
+    /// √((Σ_ii Σ_jj + Σ_ij²)/n) (Gaussian fourth moments); checked at 5
+    /// standard errors. The held parameter never moves.
     #[test]
     fn draws_have_the_given_mean_and_covariance() {
-        let mean = SVector::<f64, 4>::new(0.1, -2e-4, 5e-3, 0.0);
+        let mean = Vector4::new(0.1, 0.7, -2e-4, 5e-3);
         let c = covariance();
         let d = ParameterDistribution::new("covariance", &mean, &c).unwrap();
         let n = 40_000;
         let draws: Vec<_> = (0..n).map(|i| d.draw(&mut random::stream(9, i))).collect();
-        let m = draws.iter().sum::<SVector<f64, 4>>() / n as f64;
+        assert!(draws.iter().all(|x| x[1] == 0.7));
         let nf = n as f64;
+        let m = draws.iter().map(|x| x - mean).sum::<Vector4<f64>>() / nf + mean;
         for i in 0..4 {
             let se = (c[(i, i)] / nf).sqrt();
             assert!(
@@ -162,9 +178,9 @@ mod tests {
         }
         let s = draws
             .iter()
-            .map(|x| (x - m) * (x - m).transpose())
-            .sum::<SMatrix<f64, 4, 4>>()
-            / (nf - 1.0);
+            .map(|x| (x - mean) * (x - mean).transpose())
+            .sum::<Matrix4<f64>>()
+            / nf;
         for i in 0..4 {
             for j in 0..4 {
                 let se = ((c[(i, i)] * c[(j, j)] + c[(i, j)].powi(2)) / nf).sqrt();
@@ -176,8 +192,6 @@ mod tests {
                 );
             }
         }
-        // The held parameter never moves.
-        assert!(draws.iter().all(|x| x[3] == 0.0));
     }
 
     /// Draw i is a function of (seed, i): the same in a set of 3 and of 50,
@@ -219,6 +233,9 @@ mod tests {
         let e = ParameterDistribution::new("gyroscope_covariance", &mean, &bad).unwrap_err();
         assert!(e.to_string().contains("gyroscope_covariance"), "{e}");
         assert!(e.to_string().contains("semi-definite"), "{e}");
+        let zero_variance = SMatrix::<f64, 2, 2>::new(0.0, 0.1, 0.1, 1.0);
+        let e = ParameterDistribution::new("c", &mean, &zero_variance).unwrap_err();
+        assert!(e.to_string().contains("variance 0 is zero"), "{e}");
         let negative = SMatrix::<f64, 2, 2>::new(-1.0, 0.0, 0.0, 1.0);
         let e = ParameterDistribution::new("c", &mean, &negative).unwrap_err();
         assert!(e.to_string().contains("negative"), "{e}");
