@@ -37,6 +37,7 @@ def test_matches_a_direct_implementation():
             assert adev[i, k] == pytest.approx(_overlapping_adev(y[:, k], rate, m), rel=1e-9)
     # One column alone gives the same numbers, shape (len(taus),).
     taus1, adev1 = mn.allan_deviation(y[:, 1], rate, taus=taus)
+    np.testing.assert_array_equal(taus1, taus)
     assert adev1.shape == (5,)
     np.testing.assert_allclose(adev1, adev[:, 1], rtol=1e-12)
 

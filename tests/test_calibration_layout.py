@@ -80,7 +80,7 @@ def test_groups_slices_and_axes():
             covered += indices
             # Each group split by output axis: the first letter after the group.
             by_axis = [layout.indices(group=group, axis=a) for a in layout.axes]
-            assert sorted(sum(by_axis, [])) == indices
+            assert sorted(i for part in by_axis for i in part) == indices
             for axis, part in zip(layout.axes, by_axis, strict=True):
                 assert all(layout.names[i][len(group) + 1] == axis for i in part)
         assert covered == list(range(len(layout)))

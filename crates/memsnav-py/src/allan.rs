@@ -9,6 +9,9 @@ use pyo3::prelude::*;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
+/// The averaging times (T,), s, and the deviations (T,) or (T, k).
+type TausAndDeviation<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArrayDyn<f64>>);
+
 /// Overlapping Allan deviation (IEEE Std 952-1997 annex C; Riley, NIST SP
 /// 1065, eq. 11) of `samples` (N,) or (N, k) taken at `rate_hz`, at the
 /// averaging times `taus` (s; each rounded to whole samples, between one
@@ -23,7 +26,7 @@ fn allan_deviation<'py>(
     samples: &Bound<'py, PyAny>,
     rate_hz: f64,
     taus: Option<&Bound<'py, PyAny>>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArrayDyn<f64>>)> {
+) -> PyResult<TausAndDeviation<'py>> {
     let x = convert::floats(samples, "samples")?;
     let (n, columns) = match x.shape[..] {
         [n] => (n, 1),

@@ -16,7 +16,12 @@ use pyo3::prelude::*;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
-/// A (rows, columns) array as a row-major → nalgebra matrix.
+/// The inflated covariance (P, P) and the factor of each output axis (3,).
+type CovarianceAndFactors<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>);
+/// The accelerometer (draws, 15) and gyroscope (draws, 21) parameter vectors.
+type Draws<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// A (rows, columns) array as a matrix.
 fn matrix(obj: &Bound<'_, PyAny>, argument: &str, shape: (usize, usize)) -> PyResult<DMatrix<f64>> {
     let f = convert::floats(obj, argument)?;
     if f.shape != [shape.0, shape.1] {
@@ -59,7 +64,7 @@ fn inflate_calibration_covariance<'py>(
     held: Vec<String>,
     bias_covariance: &Bound<'py, PyAny>,
     scale_factor_covariance: &Bound<'py, PyAny>,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>)> {
+) -> PyResult<CovarianceAndFactors<'py>> {
     let layout = CalibrationLayout {
         sensor: Sensor::from_name(sensor).ok_or_else(|| {
             PyValueError::new_err(format!(
@@ -108,7 +113,7 @@ fn draw_imu_calibrations<'py>(
     gyroscope_covariance: &Bound<'py, PyAny>,
     draws: usize,
     seed: u64,
-) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>)> {
+) -> PyResult<Draws<'py>> {
     const A: usize = ACCELEROMETER_PARAMETERS;
     const G: usize = GYROSCOPE_PARAMETERS;
     let mean = |obj, argument: &str, p: usize| -> PyResult<Vec<f64>> {
