@@ -95,6 +95,30 @@ fn inflate_calibration_covariance<'py>(
     ))
 }
 
+/// The Gaussian of a `sensor`'s P parameters from its `{sensor}_mean` (P,)
+/// and `{sensor}_covariance` (P, P).
+fn distribution<const P: usize>(
+    mean: &Bound<'_, PyAny>,
+    covariance: &Bound<'_, PyAny>,
+    sensor: &str,
+) -> PyResult<ParameterDistribution<P>> {
+    let (mean_name, covariance_name) = (format!("{sensor}_mean"), format!("{sensor}_covariance"));
+    let mean = convert::scalars(mean, &mean_name)?;
+    if mean.len() != P {
+        return Err(PyValueError::new_err(format!(
+            "{mean_name}: expected {P} parameters, got {}",
+            mean.len()
+        )));
+    }
+    let covariance = matrix(covariance, &covariance_name, (P, P))?;
+    ParameterDistribution::new(
+        &covariance_name,
+        &SVector::from_column_slice(&mean),
+        &SMatrix::from_column_slice(covariance.as_slice()),
+    )
+    .py()
+}
+
 /// `draws` calibrations drawn from the Gaussians N(mean, covariance) of an
 /// accelerometer (15 parameters) and a gyroscope (21) calibration, in
 /// `CalibrationLayout` order: draw i takes the accelerometer's parameters,
@@ -116,32 +140,12 @@ fn draw_imu_calibrations<'py>(
 ) -> PyResult<Draws<'py>> {
     const A: usize = ACCELEROMETER_PARAMETERS;
     const G: usize = GYROSCOPE_PARAMETERS;
-    let mean = |obj, argument: &str, p: usize| -> PyResult<Vec<f64>> {
-        let v = convert::scalars(obj, argument)?;
-        if v.len() != p {
-            return Err(PyValueError::new_err(format!(
-                "{argument}: expected {p} parameters, got {}",
-                v.len()
-            )));
-        }
-        Ok(v)
-    };
-    let accelerometer = ParameterDistribution::new(
-        "accelerometer_covariance",
-        &SVector::<f64, A>::from_column_slice(&mean(accelerometer_mean, "accelerometer_mean", A)?),
-        &SMatrix::<f64, A, A>::from_column_slice(
-            matrix(accelerometer_covariance, "accelerometer_covariance", (A, A))?.as_slice(),
-        ),
-    )
-    .py()?;
-    let gyroscope = ParameterDistribution::new(
-        "gyroscope_covariance",
-        &SVector::<f64, G>::from_column_slice(&mean(gyroscope_mean, "gyroscope_mean", G)?),
-        &SMatrix::<f64, G, G>::from_column_slice(
-            matrix(gyroscope_covariance, "gyroscope_covariance", (G, G))?.as_slice(),
-        ),
-    )
-    .py()?;
+    let accelerometer = distribution::<A>(
+        accelerometer_mean,
+        accelerometer_covariance,
+        "accelerometer",
+    )?;
+    let gyroscope = distribution::<G>(gyroscope_mean, gyroscope_covariance, "gyroscope")?;
     let set = ImuDraws {
         accelerometer,
         gyroscope,
