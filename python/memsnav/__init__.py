@@ -13,6 +13,7 @@ from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
     Calibration,
+    CalibrationLayout,
     Constellation,
     DivergenceError,
     FilterSolution,
@@ -88,6 +89,7 @@ from memsnav.realdata.timing import (
 __all__ = [
     "AccelerometerModel",
     "Calibration",
+    "CalibrationLayout",
     "Constellation",
     "DivergenceError",
     "FilterSolution",

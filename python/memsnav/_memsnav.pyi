@@ -525,6 +525,83 @@ def calibrated_imu(
     motion could not separate count by the combination that reaches the
     output, not by their own large stds."""
 
+@final
+class CalibrationLayout:
+    """The parameter vector of an accelerometer (15) or gyroscope (21)
+    calibration: the order of ``Calibration.parameter_names``,
+    ``.covariance`` and ``.crb`` (``memsnav_core::calibration::layout``)."""
+
+    def __new__(cls, sensor: str) -> CalibrationLayout: ...
+    @property
+    def sensor(self) -> str:
+        """ "accelerometer" or "gyroscope"."""
+
+    @property
+    def names(self) -> list[str]:
+        """The parameter names in index order (``bias_u``, ...)."""
+
+    @property
+    def groups(self) -> list[str]:
+        """The groups (model attributes) in index order."""
+
+    @property
+    def axes(self) -> list[str]:
+        """The triad's output axes: ["u", "v", "w"] or ["p", "q", "r"]."""
+
+    def __len__(self) -> int: ...
+    def index(self, name: str) -> int:
+        """The index of parameter ``name``."""
+
+    def group_slice(self, group: str) -> slice:
+        """The indices of ``group``, as a slice of the parameter vector."""
+
+    def parameter(self, index: int) -> tuple[str, tuple[int, ...]]:
+        """The model attribute and the index in it of parameter ``index``."""
+
+    def indices(self, *, group: str | None = None, axis: str | None = None) -> list[int]:
+        """The indices of the parameters of ``group`` on output ``axis``."""
+
+    def values(self, model: AccelerometerModel | GyroscopeModel) -> npt.NDArray[np.float64]:
+        """The parameter vector of ``model``."""
+
+    def model(
+        self, values: npt.ArrayLike, *, sample_rate: float = 100.0
+    ) -> AccelerometerModel | GyroscopeModel:
+        """The noise-free model whose parameters are ``values``."""
+
+def inflate_calibration_covariance(
+    sensor: str,
+    covariance: npt.ArrayLike,
+    residual: npt.ArrayLike,
+    *,
+    held: Sequence[str],
+    bias_covariance: npt.ArrayLike,
+    scale_factor_covariance: npt.ArrayLike,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """A calibration's covariance from correlated references: each output
+    axis scaled by the AR(1) variance factor of its ``residual`` (W, 3)
+    column, plus the inherited bias and scale-factor covariances. Returns
+    ``(covariance, factors)``."""
+
+def draw_imu_calibrations(
+    accelerometer_mean: npt.ArrayLike,
+    accelerometer_covariance: npt.ArrayLike,
+    gyroscope_mean: npt.ArrayLike,
+    gyroscope_covariance: npt.ArrayLike,
+    *,
+    draws: int,
+    seed: int,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """``draws`` accelerometer (draws, 15) and gyroscope (draws, 21)
+    parameter vectors from N(mean, covariance), draw i from the random
+    stream (seed, i) alone."""
+
+def allan_deviation(
+    samples: npt.ArrayLike, rate_hz: float, taus: npt.ArrayLike | None = None
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Overlapping Allan deviation of ``samples`` (N,) or (N, k) at
+    ``rate_hz``: ``(taus, adev)``."""
+
 def derive_seed(seed: int, purpose: str) -> int:
     """The seed of the independent draw named ``purpose`` made from user
     seed ``seed`` (the first output of its own stream of ``seed``; see

@@ -17,6 +17,7 @@
 //! - Fallible functions return [`Result`] with a typed [`Error`] that names
 //!   the argument or the parameter at fault.
 
+pub mod allan;
 pub mod attitude;
 pub mod calibration;
 pub mod coupling;

@@ -4,7 +4,10 @@
 use pyo3::prelude::*;
 
 mod aiding;
+mod allan;
 mod calibration;
+mod calibration_drive;
+mod calibration_layout;
 mod convert;
 mod coupling;
 mod defaults;
@@ -34,6 +37,9 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     ins::register(m)?;
     trajectory::register(m)?;
     calibration::register(m)?;
+    calibration_layout::register(m)?;
+    calibration_drive::register(m)?;
+    allan::register(m)?;
     static_calibration::register(m)?;
     inversion::register(m)?;
     experiments::register(m)?;

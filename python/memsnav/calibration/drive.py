@@ -13,7 +13,11 @@ they are not quite (the smoothed solution's errors are correlated over a few
 windows), so each output axis's covariance is scaled by the AR(1) variance
 factor (1 + ρ) / (1 − ρ) of its residuals' lag-one autocorrelation ρ (the
 effective-sample-size correction for a mean; e.g. Wilks, *Statistical
-Methods in the Atmospheric Sciences*, eq. 5.12), never below 1.
+Methods in the Atmospheric Sciences*, eq. 5.12), never below 1
+(``inflate_calibration_covariance``: ``memsnav_core::calibration::inflation``).
+The calibrations drawn from that covariance come from the core too
+(``draw_imu_calibrations``: ``memsnav_core::calibration::draws``), draw i
+from its own random stream of (seed, i).
 """
 
 from __future__ import annotations
@@ -27,7 +31,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from memsnav import _memsnav
-from memsnav._memsnav import AccelerometerModel, Calibration, GyroscopeModel, LogRun
+from memsnav._memsnav import (
+    AccelerometerModel,
+    Calibration,
+    CalibrationLayout,
+    GyroscopeModel,
+    LogRun,
+)
 
 #: Window length of the references, s: long against the GNSS epoch interval
 #: (0.25 s on the shipped drive), so that a window's velocity and attitude
@@ -35,8 +45,7 @@ from memsnav._memsnav import AccelerometerModel, Calibration, GyroscopeModel, Lo
 #: enough that a car's manoeuvres are resolved (docs/calibration.md).
 DEFAULT_WINDOW_S = 2.0
 
-_ACCEL = ("bias", "scale_factor", "misalignment", "nonlinearity")
-_GYRO = ("bias", "scale_factor", "misalignment", "g_sensitivity")
+_LAYOUTS = {sensor: CalibrationLayout(sensor) for sensor in ("accelerometer", "gyroscope")}
 
 
 @dataclass(frozen=True)
@@ -149,13 +158,14 @@ def calibrate_drive(
             refs["measured_angular_rate"] - predicted_w,
         ]
     )
-    inflation = np.array([_ar1_factor(after[:, i]) for i in range(6)])
+    accel_covariance, accel_inflation = _inflate(accel, after[:, :3], refs, "accel")
+    gyro_covariance, gyro_inflation = _inflate(gyro, after[:, 3:], refs, "gyro")
     return DriveCalibration(
         accelerometer=accel,
         gyroscope=gyro,
-        accelerometer_covariance=_inflate(accel, inflation[:3], refs, "accel"),
-        gyroscope_covariance=_inflate(gyro, inflation[3:], refs, "gyro"),
-        inflation=inflation,
+        accelerometer_covariance=accel_covariance,
+        gyroscope_covariance=gyro_covariance,
+        inflation=np.concatenate([accel_inflation, gyro_inflation]),
         references=refs,
         residual_before=before,
         residual_after=after,
@@ -186,75 +196,49 @@ def _correct(
     )
 
 
-def _ar1_factor(residual: NDArray[np.float64]) -> float:
-    """(1 + ρ) / (1 − ρ) of the lag-one autocorrelation ρ, at least 1."""
-    r = residual - residual.mean()
-    denominator = float(r @ r)
-    if denominator == 0.0:
-        return 1.0
-    rho = min(float(r[1:] @ r[:-1]) / denominator, 0.9)
-    return max(1.0, (1.0 + rho) / (1.0 - rho))
-
-
-def _output_axis(name: str) -> int:
-    """The output axis of a parameter name (``bias_u``, ``misalignment_uv``,
-    ``g_sensitivity_pu``: the first letter after the last underscore)."""
-    return parameter_index(name)[1][0]
+def _layout(fit: Calibration) -> CalibrationLayout:
+    """The parameter layout of the fit's sensor."""
+    return _LAYOUTS["accelerometer" if isinstance(fit.model, AccelerometerModel) else "gyroscope"]
 
 
 def _inflate(
-    fit: Calibration, factors: NDArray[np.float64], refs: dict[str, Any], sensor: str
-) -> NDArray[np.float64]:
-    """The fit's covariance with each output axis scaled by its AR(1)
-    factor, plus the solution's own covariance of the biases and scale
-    factors on those blocks: the references inherit it
-    (``LogRun.calibration_references``). A held parameter stays at zero."""
-    names = list(fit.parameter_names)
-    axes = np.array([_output_axis(n) for n in names])
-    scale = np.sqrt(factors[axes])
-    covariance = np.asarray(fit.covariance) * np.outer(scale, scale)
-    held = {h[0] for h in fit.held}
-    for kind in ("bias", "scale_factor"):
-        index = [i for i, n in enumerate(names) if n.rsplit("_", 1)[0] == kind]
-        inherited = np.asarray(refs[f"{sensor}_{kind}_covariance"])
-        keep = [k for k, i in enumerate(index) if names[i] not in held]
-        sel = [index[k] for k in keep]
-        covariance[np.ix_(sel, sel)] += inherited[np.ix_(keep, keep)]
-    return covariance
+    fit: Calibration, residual: NDArray[np.float64], refs: dict[str, Any], sensor: str
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The fit's covariance with each output axis scaled by the AR(1)
+    factor of its ``residual`` column, plus the solution's own covariance
+    of the biases and scale factors on those blocks: the references inherit
+    it (``LogRun.calibration_references``). A held parameter stays at zero.
+    Returns the covariance and the three factors."""
+    return _memsnav.inflate_calibration_covariance(
+        _layout(fit).sensor,
+        fit.covariance,
+        residual,
+        held=[name for name, _ in fit.held],
+        bias_covariance=refs[f"{sensor}_bias_covariance"],
+        scale_factor_covariance=refs[f"{sensor}_scale_factor_covariance"],
+    )
 
 
 def parameter_index(name: str) -> tuple[str, tuple[int, ...]]:
     """The model attribute and the index in it of a parameter name
     (``bias_u`` → ("bias", (0,)), ``misalignment_uv`` → ("misalignment",
-    (0, 1)), ``g_sensitivity_pw`` → ("g_sensitivity", (0, 2))): gyro axes
-    p, q, r and accelerometer axes u, v, w are both 0, 1, 2."""
-    kind, letters = name.rsplit("_", 1)
-    return kind, tuple("uvwpqr".index(c) % 3 for c in letters)
+    (0, 1)), ``g_sensitivity_pw`` → ("g_sensitivity", (0, 2))), from the
+    core's ``CalibrationLayout`` of the sensor whose parameter it is."""
+    for layout in _LAYOUTS.values():
+        if name in layout.names:
+            return layout.parameter(layout.index(name))
+    raise ValueError(f"name: {name!r} is not a calibration parameter")
 
 
 def _noise_free(fit: Calibration) -> AccelerometerModel | GyroscopeModel:
     """The fitted model without its noise terms (its deterministic output)."""
-    fields = _ACCEL if isinstance(fit.model, AccelerometerModel) else _GYRO
-    kind_cls = AccelerometerModel if fields is _ACCEL else GyroscopeModel
-    return kind_cls(*(getattr(fit.model, f) for f in fields), sample_rate=fit.model.sample_rate)
+    return _model_of(fit, _values(fit))
 
 
 def _model_of(fit: Calibration, values: NDArray[np.float64]) -> AccelerometerModel | GyroscopeModel:
-    """A model of the fit's class whose attributes are ``values`` in the
-    order of ``fit.parameter_names``."""
-    fields = _ACCEL if isinstance(fit.model, AccelerometerModel) else _GYRO
-    parts: dict[str, NDArray[np.float64]] = {
-        "bias": np.zeros(3),
-        "scale_factor": np.zeros(3),
-        "misalignment": np.zeros((3, 3)),
-        "nonlinearity": np.zeros(3),
-        "g_sensitivity": np.zeros((3, 3)),
-    }
-    for name, value in zip(fit.parameter_names, values, strict=True):
-        kind, index = parameter_index(name)
-        parts[kind][index] = value
-    kind_cls = AccelerometerModel if fields is _ACCEL else GyroscopeModel
-    return kind_cls(*(parts[f] for f in fields), sample_rate=fit.model.sample_rate)  # type: ignore[arg-type]
+    """A noise-free model of the fit's class whose attributes are ``values``
+    in the order of ``fit.parameter_names``."""
+    return _layout(fit).model(values, sample_rate=fit.model.sample_rate)
 
 
 def compare_navigation(
@@ -280,7 +264,9 @@ def compare_navigation(
 
     ``draws`` > 0 adds ``"draws"``: the same scores of the drive navigated
     with ``draws`` calibrations drawn from the calibration's covariance
-    (seeded by ``seed``), the calibration's uncertainty in navigation terms.
+    (draw i from the random stream (``seed``, i) alone, so the first draws
+    are the same whatever ``draws``), the calibration's uncertainty in
+    navigation terms.
     """
     tables = {k: dict(v) for k, v in copy.deepcopy(dict(settings or {})).items()}
     tables.setdefault("filter", {})["smoother"] = True
@@ -310,29 +296,29 @@ def compare_navigation(
         "calibrated": scores(*calibration.correct(specific_force, angular_rate)),
     }
     if draws > 0:
-        rng = np.random.default_rng(seed)
-        drawn = []
-        for _ in range(draws):
-            accel, gyro = (
-                _model_of(fit, rng.multivariate_normal(_values(fit), cov, method="eigh"))
-                for fit, cov in (
-                    (calibration.accelerometer, calibration.accelerometer_covariance),
-                    (calibration.gyroscope, calibration.gyroscope_covariance),
+        accel_fit, gyro_fit = calibration.accelerometer, calibration.gyroscope
+        accel_draws, gyro_draws = _memsnav.draw_imu_calibrations(
+            _values(accel_fit),
+            calibration.accelerometer_covariance,
+            _values(gyro_fit),
+            calibration.gyroscope_covariance,
+            draws=draws,
+            seed=seed,
+        )
+        result["draws"] = [
+            scores(
+                *_correct(
+                    _model_of(accel_fit, a), _model_of(gyro_fit, g), specific_force, angular_rate
                 )
             )
-            drawn.append(scores(*_correct(accel, gyro, specific_force, angular_rate)))
-        result["draws"] = drawn
+            for a, g in zip(accel_draws, gyro_draws, strict=True)
+        ]
     return result
 
 
 def _values(fit: Calibration) -> NDArray[np.float64]:
     """The fitted parameters in the order of ``fit.parameter_names``."""
-    return np.array(
-        [
-            np.asarray(getattr(fit.model, kind))[index]
-            for kind, index in map(parameter_index, fit.parameter_names)
-        ]
-    )
+    return _layout(fit).values(fit.model)
 
 
 def _pooled(stats: list[dict[str, Any]]) -> dict[str, Any]:

@@ -12,7 +12,8 @@ docs), at each run's true inputs — per parameter and per output axis.
 
 Axes: the accelerometer's u, v, w and the gyroscope's p, q, r are the body
 axes x, y, z (forward, right, down); a parameter's output axis is the first
-letter after its group (``misalignment_uw``: axis u).
+letter after its group (``misalignment_uw``: axis u). Which parameter sits
+at which index is the core's ``CalibrationLayout``.
 """
 
 from __future__ import annotations
@@ -29,19 +30,13 @@ from memsnav import _memsnav
 from memsnav._distributed import run_set
 from memsnav.experiments._plotting import legend_below
 
+LAYOUTS = {sensor: _memsnav.CalibrationLayout(sensor) for sensor in ("accelerometer", "gyroscope")}
+"""The parameter vector of each sensor's calibration (the core's layout)."""
 ACCELEROMETER_GROUPS = {
-    "bias": slice(0, 3),
-    "scale_factor": slice(3, 6),
-    "misalignment": slice(6, 12),
-    "nonlinearity": slice(12, 15),
+    g: LAYOUTS["accelerometer"].group_slice(g) for g in LAYOUTS["accelerometer"].groups
 }
-GYROSCOPE_GROUPS = {
-    "bias": slice(0, 3),
-    "scale_factor": slice(3, 6),
-    "misalignment": slice(6, 12),
-    "g_sensitivity": slice(12, 21),
-}
-AXES = {"accelerometer": ("u", "v", "w"), "gyroscope": ("p", "q", "r")}
+GYROSCOPE_GROUPS = {g: LAYOUTS["gyroscope"].group_slice(g) for g in LAYOUTS["gyroscope"].groups}
+AXES = {sensor: tuple(layout.axes) for sensor, layout in LAYOUTS.items()}
 """Output axes of each triad: the body axes x, y, z (forward, right, down)."""
 
 # The unit of each group's MSE (SI).
@@ -66,12 +61,6 @@ _FIGURES = {
     ("gyroscope", "misalignment"): "Fig. 9: MSE of the gyro misalignments",
     ("gyroscope", "g_sensitivity"): "Fig. 10: MSE of the gyro g-sensitivity",
 }
-
-
-def output_axis(name: str, group: str) -> str:
-    """The output axis of parameter ``name`` of ``group``
-    (``misalignment_uw`` -> ``u``)."""
-    return name[len(group) + 1]
 
 
 @dataclass(frozen=True)
@@ -151,24 +140,16 @@ class CalibrationResult:
         :func:`_figures` over the whole group, ``per_axis`` (u, v, w or p,
         q, r) and ``per_parameter``."""
         stats: SensorStatistics = getattr(self, sensor)
-        cols = (ACCELEROMETER_GROUPS if sensor == "accelerometer" else GYROSCOPE_GROUPS)[group]
-        names = stats.parameter_names[cols]
-        indices = list(range(cols.start, cols.stop))
+        layout = LAYOUTS[sensor]
+        indices = layout.indices(group=group)
         return {
             "unit": MSE_UNITS[(sensor, group)],
             **_figures(stats, indices),
             "per_axis": {
-                axis: _figures(
-                    stats,
-                    [
-                        i
-                        for i, n in zip(indices, names, strict=True)
-                        if output_axis(n, group) == axis
-                    ],
-                )
-                for axis in AXES[sensor]
+                axis: _figures(stats, layout.indices(group=group, axis=axis))
+                for axis in layout.axes
             },
-            "per_parameter": {n: _figures(stats, [i]) for i, n in zip(indices, names, strict=True)},
+            "per_parameter": {stats.parameter_names[i]: _figures(stats, [i]) for i in indices},
         }
 
     def summary(self) -> dict[str, Any]:
@@ -185,10 +166,10 @@ class CalibrationResult:
         ``interrupted`` and ``config``."""
         return {
             "estimator": self.method,
-            "accelerometer": {
-                g: self.group_summary("accelerometer", g) for g in ACCELEROMETER_GROUPS
+            **{
+                sensor: {g: self.group_summary(sensor, g) for g in layout.groups}
+                for sensor, layout in LAYOUTS.items()
             },
-            "gyroscope": {g: self.group_summary("gyroscope", g) for g in GYROSCOPE_GROUPS},
             "completed_runs": self.completed_runs,
             "interrupted": self.interrupted,
             "config": dict(self.config),
@@ -203,21 +184,15 @@ class CalibrationResult:
         import matplotlib.pyplot as plt
 
         figures = []
-        for sensor, groups in (
-            ("accelerometer", ACCELEROMETER_GROUPS),
-            ("gyroscope", GYROSCOPE_GROUPS),
-        ):
+        for sensor, layout in LAYOUTS.items():
             stats: SensorStatistics = getattr(self, sensor)
             sets = np.arange(1, stats.mse_ls.shape[0] + 1)
-            for group, cols in groups.items():
+            for group in layout.groups:
                 fig, panels = plt.subplots(1, 3, figsize=(10.5, 3.6), sharex=True)
                 fig.suptitle(_FIGURES[(sensor, group)])
-                names = stats.parameter_names[cols]
                 unit = MSE_UNITS[(sensor, group)]
-                for ax, axis in zip(panels, AXES[sensor], strict=True):
-                    columns = [
-                        cols.start + i for i, n in enumerate(names) if output_axis(n, group) == axis
-                    ]
+                for ax, axis in zip(panels, layout.axes, strict=True):
+                    columns = layout.indices(group=group, axis=axis)
                     ax.plot(
                         sets, stats.mse_eiv[:, columns].mean(axis=1), "o", ms=3, label="MSE, EIV"
                     )

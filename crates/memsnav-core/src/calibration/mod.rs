@@ -105,7 +105,10 @@
 
 mod accelerometer;
 pub mod determinable;
+pub mod draws;
 mod gyroscope;
+pub mod inflation;
+pub mod layout;
 pub mod least_squares;
 pub mod static_detector;
 pub mod static_poses;
