@@ -5,8 +5,8 @@
 //!
 //! 1. The raw readings become nominal readings s = scale ⊙ (raw − offset)
 //!    (the nominal scale and offset per count; 1 and 0 for readings already
-//!    near SI). The models describe these nominal readings, so their scale
-//!    factor and bias are the corrections to the nominal values.
+//!    near SI; [`Nominal`]). The models describe these nominal readings, so
+//!    their scale factor and bias are the corrections to the nominal values.
 //! 2. [`StaticDetector`] finds the initial rest and the poses ([`session`]
 //!    holds both, with the hold-out below).
 //! 3. The accelerometer from the gravity magnitude ([`magnitude`]; the
@@ -53,6 +53,7 @@ mod accelerometer;
 mod checks;
 mod gyroscope;
 pub mod magnitude;
+mod nominal;
 pub mod rests;
 pub mod rotation;
 mod session;
@@ -61,6 +62,7 @@ mod uncertainty;
 mod warnings;
 
 pub use checks::{PoseCheck, TurnCheck};
+pub use nominal::Nominal;
 
 use nalgebra::{DMatrix, Vector3};
 
@@ -71,57 +73,6 @@ use crate::sensors::{AccelerometerModel, GyroscopeModel};
 use crate::{validate, Error, Result};
 use session::Session;
 use uncertainty::{white_variance, Chain};
-
-/// Nominal scale and offset of the raw readings: s = scale ⊙ (raw − offset).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Nominal {
-    /// Accelerometer (m/s²) per count.
-    pub accel_scale: Vector3<f64>,
-    /// Accelerometer reading at zero input, counts.
-    pub accel_offset: Vector3<f64>,
-    /// Gyroscope (rad/s) per count.
-    pub gyro_scale: Vector3<f64>,
-    /// Gyroscope reading at zero input, counts.
-    pub gyro_offset: Vector3<f64>,
-}
-
-impl Default for Nominal {
-    /// Readings already in SI: scale 1, offset 0.
-    fn default() -> Self {
-        Self {
-            accel_scale: Vector3::repeat(1.0),
-            accel_offset: Vector3::zeros(),
-            gyro_scale: Vector3::repeat(1.0),
-            gyro_offset: Vector3::zeros(),
-        }
-    }
-}
-
-impl Nominal {
-    fn validate(&self) -> Result<()> {
-        for (name, v) in [
-            ("accel_scale", &self.accel_scale),
-            ("gyro_scale", &self.gyro_scale),
-        ] {
-            validate::finite_vectors(name, std::slice::from_ref(v))?;
-            if v.iter().any(|x| *x == 0.0) {
-                return Err(Error::invalid(name, "a scale per count must not be zero"));
-            }
-        }
-        validate::finite_vectors("accel_offset", std::slice::from_ref(&self.accel_offset))?;
-        validate::finite_vectors("gyro_offset", std::slice::from_ref(&self.gyro_offset))
-    }
-
-    /// The nominal accelerometer reading of a raw one.
-    pub fn accel(&self, raw: &Vector3<f64>) -> Vector3<f64> {
-        self.accel_scale.component_mul(&(raw - self.accel_offset))
-    }
-
-    /// The nominal gyroscope reading of a raw one.
-    pub fn gyro(&self, raw: &Vector3<f64>) -> Vector3<f64> {
-        self.gyro_scale.component_mul(&(raw - self.gyro_offset))
-    }
-}
 
 /// Settings of [`calibrate_static`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -272,7 +223,15 @@ pub fn calibrate_static(
     let detection = options
         .detector
         .detect(time, &accel_nominal, &gyro_nominal)?;
-    let session = Session::new(time, accel_nominal, gyro_nominal, &detection.poses, options);
+    let session = Session::new(
+        time,
+        accel_nominal,
+        gyro_nominal,
+        &detection.poses,
+        options.holdout_every,
+        options.gravity_m_s2,
+        options.estimate == Estimate::Determinable,
+    );
     let mut warnings = Vec::new();
     let mut held = Vec::new();
 

@@ -8,8 +8,6 @@
 use nalgebra::Vector3;
 
 use super::rotation::Segment;
-use super::StaticCalibrationOptions;
-use crate::calibration::determinable::Estimate;
 use crate::calibration::static_detector::Pose;
 use crate::ins::increments_from_samples;
 use crate::sensors::AccelerometerModel;
@@ -30,6 +28,8 @@ pub struct Session<'a> {
     /// Local gravity magnitude, m/s².
     pub gravity: f64,
     /// [`Estimate::Determinable`]: hold what the poses do not determine.
+    ///
+    /// [`Estimate::Determinable`]: crate::calibration::determinable::Estimate
     pub determinable: bool,
 }
 
@@ -50,16 +50,19 @@ fn mean(samples: &[Vector3<f64>], pose: &Pose) -> Vector3<f64> {
 
 impl<'a> Session<'a> {
     /// The session of the nominal readings and the `poses` detected in
-    /// them, with `options`' hold-out, gravity and estimate.
+    /// them, every `holdout_every`-th pose held out (module docs of
+    /// [`super`]), local gravity `gravity` (m/s²).
     pub fn new(
         time: &'a [f64],
         accel_nominal: Vec<Vector3<f64>>,
         gyro_nominal: Vec<Vector3<f64>>,
         poses: &'a [Pose],
-        options: &StaticCalibrationOptions,
+        holdout_every: Option<usize>,
+        gravity: f64,
+        determinable: bool,
     ) -> Self {
         let held_out: Vec<bool> = (0..poses.len())
-            .map(|k| options.holdout_every.is_some_and(|h| k % h == h - 1))
+            .map(|k| holdout_every.is_some_and(|h| k % h == h - 1))
             .collect();
         let fit_poses: Vec<usize> = (0..poses.len()).filter(|&k| !held_out[k]).collect();
         Self {
@@ -69,8 +72,8 @@ impl<'a> Session<'a> {
             poses,
             held_out,
             fit_poses,
-            gravity: options.gravity_m_s2,
-            determinable: options.estimate == Estimate::Determinable,
+            gravity,
+            determinable,
         }
     }
 

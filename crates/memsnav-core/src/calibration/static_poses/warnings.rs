@@ -9,7 +9,7 @@ use nalgebra::{DMatrix, Vector3};
 use super::accelerometer::AccelerometerStage;
 use super::gyroscope::GyroscopeStage;
 use super::magnitude::parameter_name;
-use super::Nominal;
+use super::nominal::Nominal;
 use crate::calibration::determinable::{
     conditioning_warning, degrees_of_freedom_warning, physical_size, uncertainty_warnings,
 };
