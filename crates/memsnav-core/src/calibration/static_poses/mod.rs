@@ -7,10 +7,10 @@
 //!    (the nominal scale and offset per count; 1 and 0 for readings already
 //!    near SI; [`Nominal`]). The models describe these nominal readings, so
 //!    their scale factor and bias are the corrections to the nominal values.
-//! 2. [`StaticDetector`] finds the initial rest and the poses ([`session`]
+//! 2. [`StaticDetector`] finds the initial rest and the poses (`session.rs`
 //!    holds both, with the hold-out below).
 //! 3. The accelerometer from the gravity magnitude ([`magnitude`]; the
-//!    stage with its rule for N in [`accelerometer`]):
+//!    stage with its rule for N in `accelerometer.rs`):
 //!    b, D, the three misalignments below the diagonal (the body frame is the
 //!    accelerometer's: x along u, y in the u-v plane) and, when the poses
 //!    determine it, N.
@@ -19,10 +19,10 @@
 //! 5. The gyroscope's T = A⁻¹ (scale factors and all six misalignments,
 //!    relative to that body frame) from the rotations between poses against
 //!    the change of the measured gravity direction ([`rotation`]). Steps 4
-//!    and 5 are fitted in turn, with their rules, in [`gyroscope`].
+//!    and 5 are fitted in turn, with their rules, in `gyroscope.rs`.
 //!
-//! Then the uncertainty ([`uncertainty`]), the checks before and after
-//! ([`checks`]) and the warnings ([`warnings`]).
+//! Then the uncertainty (`uncertainty.rs`), the checks before and after
+//! (`checks.rs`) and the warnings (`warnings.rs`).
 //!
 //! ## Uncertainty
 //!
@@ -100,8 +100,8 @@ pub struct StaticCalibration {
     pub accelerometer_std: AccelerometerModel,
     pub gyroscope_std: GyroscopeModel,
     /// Covariance of [accelerometer parameters (15), gyroscope parameters
-    /// (21)] in the order of [`accelerometer_parameter_names`] then
-    /// [`gyroscope_parameter_names`].
+    /// (21)] in the order of [`super::accelerometer_parameter_names`] then
+    /// [`super::gyroscope_parameter_names`].
     pub covariance: DMatrix<f64>,
     /// Cramér-Rao bound of the same parameters for white sensor noise of
     /// the level measured at the initial rest (module docs): the floor the

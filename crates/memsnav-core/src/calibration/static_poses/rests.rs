@@ -1,7 +1,7 @@
 //! The gyroscope's offsets from the rests: in every pose the body does not
 //! turn, so the mean nominal reading is s̄_k = c₀ + C Γ̄_k (eq. 3 with Ω = 0:
 //! c₀ = −A b, C = −A K), linear in [1, Γ̄_k]. One row per gyro axis, solved
-//! by QR over the pose means ([`least_squares::Regression`]), each row with
+//! by QR over the pose means ([`Regression`]), each row with
 //! its own residual variance. Columns of Γ held by the determinable rule
 //! drop out (C's column zero).
 
