@@ -33,15 +33,17 @@
 
 pub mod chi_square;
 pub mod input_noise;
+mod measurement;
 mod propagation;
 mod reset;
 pub mod smoother;
 pub mod state;
 mod update;
 
+pub use measurement::{ScalarMeasurement, SparseRow, MAX_ROW_ENTRIES};
 pub use propagation::{system_matrix, InsStepModel, ProcessNoise, SystemInputs};
 pub use state::{ErrorState, Layout, StateLayout};
-pub use update::{BatchOutcome, ScalarMeasurement, ScalarOutcome, SparseRow, MAX_ROW_ENTRIES};
+pub use update::{BatchOutcome, ScalarOutcome};
 
 use nalgebra::SMatrix;
 

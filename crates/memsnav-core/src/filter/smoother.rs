@@ -73,7 +73,7 @@
 
 use nalgebra::{DMatrix, SMatrix, SVector, Vector3};
 
-use super::update::ScalarMeasurement;
+pub use super::measurement::ScalarStep;
 
 /// How one propagation step acts on the adjoints (backward) and on what
 /// is carried forward from them: the filter's own structured ECEF model, or
@@ -107,19 +107,6 @@ pub type Root<'a, const N: usize> = (
     &'a SMatrix<f64, N, N>,
     &'a mut SMatrix<f64, N, N>,
 );
-
-/// An applied scalar measurement as the smoother needs it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ScalarStep<const N: usize> {
-    /// Its row, prediction minus measurement and noise variance.
-    pub measurement: ScalarMeasurement,
-    /// Innovation ν = y − h x⁻.
-    pub innovation: f64,
-    /// Its variance s = h P⁻ hᵀ + r.
-    pub innovation_variance: f64,
-    /// Gain k = P⁻ hᵀ / s.
-    pub gain: SVector<f64, N>,
-}
 
 /// A change of the error state and its covariance other than propagation
 /// and measurement.
@@ -522,7 +509,7 @@ fn adjoint_reset<const N: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filter::SparseRow;
+    use crate::filter::{ScalarMeasurement, SparseRow};
     use nalgebra::{DMatrix, DVector};
 
     /// A dense linear model x_{k+1} = Φ x_k + w, Q.

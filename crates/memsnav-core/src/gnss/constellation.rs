@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 
 use super::ephemeris::GpsEphemeris;
 use super::rinex_nav::read_rinex_nav;
+use super::satellite_state::SatelliteState;
 use super::walker::{Walker, WalkerConfig};
 use crate::{validate, Error, Result};
 
@@ -16,23 +17,6 @@ pub const EPHEMERIS_VALIDITY_S: f64 = 7_200.0;
 
 /// Satellite ECEF positions (m) and velocities (m/s), one row per satellite.
 pub type PositionsVelocities = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
-
-/// A satellite's state at one GPS time.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SatelliteState {
-    /// ECEF position (of the instant), m.
-    pub position_ecef: Vector3<f64>,
-    /// ECEF velocity, m/s.
-    pub velocity_ecef: Vector3<f64>,
-    /// Satellite clock correction Δt_sv for an L1 C/A user, s (including the
-    /// relativistic term and −T_GD); zero for a Walker satellite.
-    pub clock_bias_s: f64,
-    /// Its rate, s/s.
-    pub clock_drift_s_s: f64,
-    /// The relativistic part Δt_r of `clock_bias_s`, s (precise clock
-    /// products exclude it).
-    pub relativistic_s: f64,
-}
 
 /// One satellite's orbit: a broadcast ephemeris or a Walker slot.
 #[derive(Debug, Clone, Copy)]

@@ -5,7 +5,8 @@
 
 use nalgebra::Vector3;
 
-use super::constellation::SatelliteState;
+use super::satellite_state::SatelliteState;
+use super::time::SECONDS_PER_WEEK;
 
 /// WGS84 value of GM that IS-GPS-200 prescribes for the orbit, m³/s².
 pub const GPS_GM_M3_S2: f64 = 3.986_005e14;
@@ -94,7 +95,7 @@ impl GpsEphemeris {
         let y_orb = r * sin_u;
         let omega_k_dot = self.omega_dot_rad_s - GPS_EARTH_RATE_RAD_S;
         let omega_k = self.omega0_rad + omega_k_dot * tk
-            - GPS_EARTH_RATE_RAD_S * (self.toe_gps_s % super::SECONDS_PER_WEEK);
+            - GPS_EARTH_RATE_RAD_S * (self.toe_gps_s % SECONDS_PER_WEEK);
         let (sin_o, cos_o) = omega_k.sin_cos();
         let (sin_i, cos_i) = i.sin_cos();
         let position = Vector3::new(

@@ -16,6 +16,7 @@ mod observables;
 mod range;
 mod rinex_nav;
 mod rinex_obs;
+mod satellite_state;
 mod simulate;
 mod sp3;
 mod time;
@@ -23,7 +24,7 @@ mod walker;
 
 pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
 pub use clock::{ClockState, ReceiverClockModel};
-pub use constellation::{Constellation, Orbit, SatelliteState, EPHEMERIS_VALIDITY_S};
+pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
 pub use fix::{solve_fix, Dops, Fix};
 pub use observables::{
@@ -35,6 +36,7 @@ pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
+pub use satellite_state::SatelliteState;
 pub(crate) use simulate::simulate_track;
 pub use simulate::{
     apply_outages, keep_highest, simulate, simulate_with_truth, AtmosphericResidual,

@@ -26,6 +26,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::solver::{minimize, Fit, Residuals};
+use crate::calibration::{accelerometer_parameter_names, ACCELEROMETER_AXES};
 use crate::sensors::{AccelerometerModel, NoiseModel};
 use crate::Result;
 
@@ -35,6 +36,20 @@ pub const PARAMETERS: usize = 12;
 pub const LOWER: [(usize, usize); 3] = [(1, 0), (2, 0), (2, 1)];
 /// First index of N in θ_a.
 pub const NONLINEARITY: usize = 9;
+
+/// The name of entry `i` of θ_a in the 15-parameter layout of
+/// [`accelerometer_parameter_names`].
+pub fn parameter_name(i: usize) -> String {
+    match i {
+        0..=5 => accelerometer_parameter_names()[i].clone(),
+        6..=8 => {
+            let (r, c) = LOWER[i - 6];
+            let axes = ACCELEROMETER_AXES;
+            format!("misalignment_{}{}", axes[r], axes[c])
+        }
+        _ => accelerometer_parameter_names()[i + 3].clone(),
+    }
+}
 
 /// The model of a parameter vector θ_a.
 pub fn model(theta: &DVector<f64>) -> AccelerometerModel {

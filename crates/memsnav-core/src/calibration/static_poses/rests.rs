@@ -1,11 +1,11 @@
 //! The gyroscope's offsets from the rests: in every pose the body does not
 //! turn, so the mean nominal reading is s̄_k = c₀ + C Γ̄_k (eq. 3 with Ω = 0:
 //! c₀ = −A b, C = −A K), linear in [1, Γ̄_k]. One row per gyro axis, solved
-//! by QR over the pose means ([`least_squares::Regression`]), each row with
+//! by QR over the pose means ([`Regression`]), each row with
 //! its own residual variance. Columns of Γ held by the determinable rule
 //! drop out (C's column zero).
 
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 use super::rotation::Offsets;
 use crate::calibration::least_squares::Regression;
@@ -31,6 +31,26 @@ pub fn c_index(i: usize, l: usize) -> usize {
     3 + 3 * i + l
 }
 
+/// The offsets of a coefficient vector [c₀ (3), C row-major (9)].
+pub fn offsets_from(c: &DVector<f64>) -> Offsets {
+    Offsets {
+        c0: Vector3::new(c[0], c[1], c[2]),
+        c: Matrix3::from_row_slice(&c.as_slice()[3..12]),
+    }
+}
+
+/// The coefficient vector [c₀ (3), C row-major (9)] of the offsets.
+pub fn offsets_to(o: &Offsets) -> DVector<f64> {
+    let mut v = DVector::zeros(12);
+    v.rows_mut(0, 3).copy_from(&o.c0);
+    for i in 0..3 {
+        for l in 0..3 {
+            v[c_index(i, l)] = o.c[(i, l)];
+        }
+    }
+    v
+}
+
 /// Fits c₀ and the columns `free_columns` (of Γ: 0, 1, 2) of C to the
 /// pose means `gyro_means` (nominal units) and `specific_force_means` (SI).
 pub fn fit(
@@ -50,7 +70,7 @@ pub fn fit(
     let regression = Regression::new(g, n);
     let mut offsets = Offsets {
         c0: Vector3::zeros(),
-        c: nalgebra::Matrix3::zeros(),
+        c: Matrix3::zeros(),
     };
     let mut covariance = DMatrix::zeros(12, 12);
     let mut residual_std = Vector3::zeros();
@@ -130,7 +150,6 @@ pub fn bound(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Matrix3;
 
     #[test]
     fn exact_offsets_are_recovered_and_held_columns_stay_zero() {

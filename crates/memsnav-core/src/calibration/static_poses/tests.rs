@@ -4,7 +4,9 @@ use nalgebra::{DMatrix, DVector, Matrix3, UnitQuaternion, Vector3};
 use rand::Rng as _;
 
 use super::*;
+use crate::calibration::{accelerometer_parameters, gyroscope_parameters};
 use crate::random::stream;
+use crate::sensors::NoiseModel;
 
 const G: f64 = 9.80665;
 

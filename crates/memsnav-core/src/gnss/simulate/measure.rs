@@ -9,7 +9,8 @@ use nalgebra::Vector3;
 use rand_distr::{Distribution, StandardNormal};
 
 use super::super::clock::ClockState;
-use super::super::constellation::{Orbit, SatelliteState};
+use super::super::constellation::Orbit;
+use super::super::satellite_state::SatelliteState;
 use super::super::SatelliteMeasurement;
 use crate::gauss_markov::GaussMarkov;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, SPEED_OF_LIGHT_M_S};

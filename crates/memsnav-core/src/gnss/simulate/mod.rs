@@ -7,7 +7,9 @@
 //!   with the Earth's rotation, plus a two-state receiver clock, white noise
 //!   and an optional slowly varying atmospheric/multipath residual;
 //! - [`outage`]: windows with fewer satellites, applied to the finished
-//!   measurements (the satellites they keep are documented there).
+//!   measurements (the satellites they keep are documented there);
+//! - [`track`]: the receiver's motion, which the simulation and the
+//!   outages read.
 //!
 //! [`simulate_with_truth`] runs them in that order.
 
@@ -15,8 +17,10 @@ mod epochs;
 mod measure;
 mod outage;
 mod selection;
+mod track;
 
-pub use outage::{apply_outages, keep_highest};
+pub use outage::{apply_outages, keep_highest, Outage};
+pub use track::ReceiverTrack;
 
 use nalgebra::Vector3;
 
@@ -33,29 +37,6 @@ use crate::validate::{self, SeriesCheck};
 use crate::{Error, Result};
 use measure::{MeasurementErrors, Receiver};
 use selection::{elevation, Selection};
-
-/// The receiver's motion: times (s, strictly increasing) with ECEF
-/// positions (m) and velocities (m/s), e.g. a trajectory's truth at the IMU
-/// rate.
-#[derive(Debug, Clone, Copy)]
-pub struct ReceiverTrack<'a> {
-    pub time_s: &'a [f64],
-    pub position_ecef: &'a [Vector3<f64>],
-    pub velocity_ecef: &'a [Vector3<f64>],
-}
-
-/// A time window with fewer satellites: none (total outage) or at most
-/// `n_satellites` (partial: the highest of the tracked ones are kept, see
-/// [`outage`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Outage {
-    /// Start on the trajectory's time axis, s.
-    pub start_s: f64,
-    /// Length, s (the window is [start, start + duration)).
-    pub duration_s: f64,
-    /// Satellites still tracked during the window (0: total outage).
-    pub n_satellites: usize,
-}
 
 /// First-order Gauss-Markov residual per satellite (unmodelled atmosphere
 /// and multipath, [`crate::gauss_markov`]), stationary std `std_m`.

@@ -17,9 +17,22 @@
 use nalgebra::Vector3;
 
 use super::selection::elevation;
-use super::{Outage, ReceiverTrack};
+use super::track::ReceiverTrack;
 use crate::geodesy::ecef_to_geodetic;
 use crate::gnss::GnssEpoch;
+
+/// A time window with fewer satellites: none (total outage) or at most
+/// `n_satellites` (partial: the highest of the tracked ones are kept, as
+/// the module docs say).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outage {
+    /// Start on the trajectory's time axis, s.
+    pub start_s: f64,
+    /// Length, s (the window is [start, start + duration)).
+    pub duration_s: f64,
+    /// Satellites still tracked during the window (0: total outage).
+    pub n_satellites: usize,
+}
 
 /// Satellites allowed at trajectory time `t`: the tightest active outage,
 /// else `usize::MAX`.

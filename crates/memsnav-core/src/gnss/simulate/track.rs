@@ -1,0 +1,14 @@
+//! The receiver's motion the simulator measures from and the outages are
+//! applied along.
+
+use nalgebra::Vector3;
+
+/// The receiver's motion: times (s, strictly increasing) with ECEF
+/// positions (m) and velocities (m/s), e.g. a trajectory's truth at the IMU
+/// rate.
+#[derive(Debug, Clone, Copy)]
+pub struct ReceiverTrack<'a> {
+    pub time_s: &'a [f64],
+    pub position_ecef: &'a [Vector3<f64>],
+    pub velocity_ecef: &'a [Vector3<f64>],
+}
