@@ -631,3 +631,106 @@ fn factored_calibration_equals_a_dense_solve() {
         assert!((cal.condition_number[0] / (sv.max() / sv.min()) - 1.0).abs() < 1e-10);
     }
 }
+
+// The determinable rule (`determinable.rs`) end to end.
+
+/// A gyro at rest in 40 orientations (Ω = 0): the bias and the
+/// g-sensitivity are determined, the scale factors and misalignments not.
+#[test]
+fn a_static_gyro_gives_bias_and_g_sensitivity_only() {
+    let mut rng = stream(3, 0);
+    let truth = GyroscopeModel {
+        bias: Vector3::new(0.01, -0.02, 0.005),
+        scale_factor: Vector3::new(0.01, 0.02, -0.01),
+        misalignment: Matrix3::new(0.0, 0.01, 0.0, 0.0, 0.0, 0.02, 0.0, -0.01, 0.0),
+        g_sensitivity: Matrix3::from_fn(|i, j| 2e-4 * (1.0 + i as f64 - j as f64)),
+        noise: NoiseModel::default(),
+    };
+    let mut w = Vec::new();
+    let mut f = Vec::new();
+    let mut s = Vec::new();
+    for _ in 0..40 {
+        let up = gauss3(&mut rng).normalize() * 9.8;
+        for _ in 0..50 {
+            let nu = gauss3(&mut rng) * 1e-4;
+            w.push(Vector3::zeros());
+            f.push(up);
+            s.push(truth.output_with_input_noise(&Vector3::zeros(), &up, &nu));
+        }
+    }
+    let all = calibrate_gyroscope(&s, &w, &f, &CalibrationOptions::default());
+    assert!(all.unwrap_err().to_string().contains("scale_factor"));
+    let options = CalibrationOptions {
+        estimate: Estimate::Determinable,
+        ..Default::default()
+    };
+    let cal = calibrate_gyroscope(&s, &w, &f, &options).unwrap();
+    let held: Vec<&str> = cal.held.iter().map(|h| h.0.as_str()).collect();
+    assert_eq!(held.len(), 9, "{held:?}");
+    assert!(held
+        .iter()
+        .all(|h| h.starts_with("scale_factor") || h.starts_with("misalignment")));
+    assert!(cal.held[0].1.contains("never varies"), "{:?}", cal.held);
+    // Held at the ideal sensor's values, with zero variance.
+    assert_eq!(cal.model.scale_factor, Vector3::zeros());
+    assert_eq!(cal.std.misalignment, Matrix3::zeros());
+    // At rest S = A(−b − KΓ): with A held at I the estimates are A b and
+    // A K, the truth seen through the unmodelled A (a ~2 % effect).
+    let a = truth.output_matrix();
+    assert!((cal.model.bias - a * truth.bias).amax() < 5.0 * cal.std.bias.amax());
+    assert!(
+        (cal.model.g_sensitivity - a * truth.g_sensitivity).amax()
+            < 5.0 * cal.std.g_sensitivity.amax()
+    );
+    assert!(cal.std.g_sensitivity.amax() > 0.0);
+}
+
+/// The how-to's case: a land vehicle hardly varies the vertical
+/// specific force. Estimating everything warns (conditioning and
+/// sigma); the determinable rule holds the vertical scale factor and
+/// the bias of that axis comes out well determined.
+#[test]
+fn a_weak_vertical_axis_warns_and_is_held_when_asked() {
+    let mut rng = stream(4, 0);
+    let truth = AccelerometerModel {
+        bias: Vector3::new(0.1, 0.2, 0.3),
+        scale_factor: Vector3::new(1e-3, 0.0, 2e-3),
+        misalignment: Matrix3::zeros(),
+        nonlinearity: Vector3::zeros(),
+        noise: NoiseModel::default(),
+    };
+    let f: Vec<Vector3<f64>> = (0..2000)
+        .map(|_| {
+            let v = gauss3(&mut rng);
+            Vector3::new(3.0 * v.x, 3.0 * v.y, -9.8 + 0.01 * v.z)
+        })
+        .collect();
+    let s: Vec<Vector3<f64>> = f
+        .iter()
+        .map(|g| truth.output_with_input_noise(g, &(gauss3(&mut rng) * 0.03)))
+        .collect();
+    let all = calibrate_accelerometer(&s, &f, &CalibrationOptions::default()).unwrap();
+    assert!(all.held.is_empty());
+    assert!(
+        all.warnings
+            .iter()
+            .any(|w| w.contains("w axis") && w.contains("condition")),
+        "{:?}",
+        all.warnings
+    );
+    assert!(
+        all.warnings.iter().any(|w| w.contains("bias_w: sigma")),
+        "{:?}",
+        all.warnings
+    );
+    let options = CalibrationOptions {
+        estimate: Estimate::Determinable,
+        ..Default::default()
+    };
+    let cal = calibrate_accelerometer(&s, &f, &options).unwrap();
+    let held: Vec<&str> = cal.held.iter().map(|h| h.0.as_str()).collect();
+    assert!(held.contains(&"scale_factor_w"), "{:?}", cal.held);
+    assert!(cal.std.bias.z < 0.05 && cal.std.bias.z < all.std.bias.z / 10.0);
+    // Holding D_w = 0 against a true 2e-3 moves the bias by D_w g ≈ 0.02 m/s².
+    assert!((cal.model.bias.z - truth.bias.z).abs() < 0.03);
+}
