@@ -141,3 +141,22 @@ def test_the_navigation_study_records_the_listed_defaults():
             continue
         recorded = result.config[arg]
         assert recorded == (tuple(value) if isinstance(value, tuple) else value), arg
+
+
+def test_seed_none_is_the_default_seed_everywhere():
+    """``seed=None`` has one meaning: seed 0 (docs/concepts.md, "Seeds")."""
+    tr = mn.Trajectory.random(duration=5.0)
+    np.testing.assert_array_equal(tr.position_ecef, mn.Trajectory.random(5.0, seed=0).position_ecef)
+    sky = mn.Constellation.walker()
+    pair = [
+        mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, sky, seed=seed)
+        for seed in (None, 0)
+    ]
+    np.testing.assert_array_equal(pair[0].pseudorange, pair[1].pseudorange)
+    imu = mn.ImuModel.preset("consumer")
+    assert imu == mn.ImuModel.preset("consumer", seed=0)
+    assert imu != mn.ImuModel.preset("consumer", seed=1)
+    a = imu.measure(tr.specific_force, tr.angular_rate)
+    b = imu.measure(tr.specific_force, tr.angular_rate, seed=0)
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])

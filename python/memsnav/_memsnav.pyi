@@ -847,7 +847,7 @@ def simulate_gnss(
     clock_initial_offset_std: float | None = None,
     clock_initial_drift_std: float | None = None,
     outages: Sequence[tuple[float, float] | tuple[float, float, int]] | None = None,
-    seed: int = 0,
+    seed: int | None = None,
     start_gps_time: float | None = None,
 ) -> GnssMeasurements:
     """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
@@ -952,7 +952,7 @@ class Trajectory:
     def random(
         duration: float | None = None,
         rate: float | None = None,
-        seed: int = 0,
+        seed: int | None = None,
         origin: npt.ArrayLike | None = None,
         *,
         heading: float | None = None,

@@ -41,13 +41,16 @@ pub fn stream(seed: u64, stream: u64) -> Rng {
     rng
 }
 
-/// A generator from an optional user seed (its stream 0); `None` draws a
-/// seed from the OS.
+/// The seed wherever none is given. `seed=None` has one meaning
+/// everywhere in memsnav: this seed, so that a result never depends on the
+/// operating system's entropy and a rerun reproduces it. Independent draws
+/// need different seeds (or [`derive_seed`]).
+pub const DEFAULT_SEED: u64 = 0;
+
+/// A generator from an optional user seed (its stream 0); `None` is
+/// [`DEFAULT_SEED`].
 pub fn from_optional_seed(seed: Option<u64>) -> Rng {
-    match seed {
-        Some(s) => stream(s, 0),
-        None => ChaCha8Rng::from_os_rng(),
-    }
+    stream(seed.unwrap_or(DEFAULT_SEED), 0)
 }
 
 /// The seed of the independent draw named `purpose` made from user seed

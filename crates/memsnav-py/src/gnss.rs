@@ -358,7 +358,7 @@ fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
 #[pyo3(signature = (time, position_ecef, velocity_ecef, constellation, rate=None, n_satellites=None,
     elevation_mask_deg=None, pseudorange_std=None, pseudorange_rate_std=None, residual_std=None,
     residual_correlation_time=None, clock_h0=None, clock_h_minus2=None,
-    clock_initial_offset_std=None, clock_initial_drift_std=None, outages=None, seed=0,
+    clock_initial_offset_std=None, clock_initial_drift_std=None, outages=None, seed=None,
     start_gps_time=None))]
 fn simulate_gnss(
     py: Python<'_>,
@@ -378,7 +378,7 @@ fn simulate_gnss(
     clock_initial_offset_std: Option<f64>,
     clock_initial_drift_std: Option<f64>,
     outages: Option<&Bound<'_, PyAny>>,
-    seed: u64,
+    seed: Option<&Bound<'_, PyAny>>,
     start_gps_time: Option<f64>,
 ) -> PyResult<PyGnssMeasurements> {
     let time = convert::scalars(time, "time")?;
@@ -425,8 +425,9 @@ fn simulate_gnss(
         velocity_ecef: &velocity,
     };
     let sky = &constellation.inner;
+    let mut rng = random::from_optional_seed(convert::seed(seed)?);
     let sim = py
-        .detach(|| gnss::simulate_with_truth(&track, sky, &config, &mut random::stream(seed, 0)))
+        .detach(|| gnss::simulate_with_truth(&track, sky, &config, &mut rng))
         .py()?;
     Ok(PyGnssMeasurements {
         epochs: sim.epochs,

@@ -7,7 +7,7 @@ use memsnav_core::navigate::{
     self, fixes_from_geodetic, references, score, FixOptions, GeodeticSolution, GnssInput,
     LogConfig, LogRun, SettingTables, SettingValue,
 };
-use memsnav_core::random::stream;
+use memsnav_core::random::from_optional_seed;
 use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
@@ -162,7 +162,7 @@ fn fixes_from_solution(
         added_velocity_noise_m_s: added_velocity_noise.unwrap_or(defaults.added_velocity_noise_m_s),
         use_velocity: use_velocity.unwrap_or(defaults.use_velocity),
     };
-    let mut rng = stream(convert::seed(seed)?.unwrap_or(0), 0);
+    let mut rng = from_optional_seed(convert::seed(seed)?);
     let solution = GeodeticSolution {
         time_s: &time,
         geodetic: &geodetic,

@@ -109,7 +109,7 @@ impl PyTrajectory {
     /// lean and squat), reproducible from `seed`.
     #[staticmethod]
     #[pyo3(signature = (
-        duration=None, rate=None, seed=0, origin=None, *, heading=None,
+        duration=None, rate=None, seed=None, origin=None, *, heading=None,
         max_speed=None, max_longitudinal_acceleration=None,
         max_lateral_acceleration=None, max_yaw_rate=None, max_slope=None,
         stationary_start=None
@@ -118,7 +118,7 @@ impl PyTrajectory {
         py: Python<'_>,
         duration: Option<f64>,
         rate: Option<f64>,
-        seed: u64,
+        seed: Option<&Bound<'_, PyAny>>,
         origin: Option<&Bound<'_, PyAny>>,
         heading: Option<f64>,
         max_speed: Option<f64>,
@@ -145,9 +145,8 @@ impl PyTrajectory {
             stationary_start_s: stationary_start.unwrap_or(d.stationary_start_s),
             ..d
         };
-        let inner = py
-            .detach(|| Trajectory::random(&config, &mut random::stream(seed, 0)))
-            .py()?;
+        let mut rng = random::from_optional_seed(convert::seed(seed)?);
+        let inner = py.detach(|| Trajectory::random(&config, &mut rng)).py()?;
         Ok(Self { inner })
     }
 

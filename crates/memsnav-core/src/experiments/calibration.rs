@@ -68,7 +68,7 @@ impl Default for CalibrationExperimentConfig {
             preset: "paper-mems".into(),
             reference_specific_force_std: super::REFERENCE_SPECIFIC_FORCE_STD,
             reference_angular_rate_std: super::REFERENCE_ANGULAR_RATE_STD,
-            seed: 0,
+            seed: crate::random::DEFAULT_SEED,
         }
     }
 }

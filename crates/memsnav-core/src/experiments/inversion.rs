@@ -39,7 +39,7 @@ impl Default for InversionExperimentConfig {
             preset: "paper-mems".into(),
             calibration: SegmentCalibration::default(),
             process: InversionProcess::default(),
-            seed: 0,
+            seed: crate::random::DEFAULT_SEED,
         }
     }
 }

@@ -171,7 +171,7 @@ impl Default for NavigationExperimentConfig {
         let calibration = SegmentCalibration::default();
         Self {
             runs: 20,
-            seed: 0,
+            seed: crate::random::DEFAULT_SEED,
             duration_s: 600.0,
             imus: paper_imus(),
             n_satellites: 6,
