@@ -240,7 +240,7 @@ pub fn gyroscope_from_parameters(
 }
 
 /// Bias, scale factor and misalignment: the groups both layouts share.
-fn common_fields(p: &[f64]) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
+pub(crate) fn common_fields(p: &[f64]) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
     let layout = CalibrationLayout::ACCELEROMETER;
     let mut bias = Vector3::zeros();
     let mut scale_factor = Vector3::zeros();
@@ -295,17 +295,28 @@ mod tests {
         (accel, gyro)
     }
 
-    /// The layout's names are the calibrations' own, in covariance order.
+    /// The names written out here group by group (method §3's parameter
+    /// vector), and the calibrations report the layout's.
     #[test]
     fn names_are_the_calibrations_names() {
-        assert_eq!(
-            CalibrationLayout::ACCELEROMETER.names(),
-            accelerometer_parameter_names()
-        );
-        assert_eq!(
-            CalibrationLayout::GYROSCOPE.names(),
-            gyroscope_parameter_names()
-        );
+        let (a, g) = (["u", "v", "w"], ["p", "q", "r"]);
+        let written = |axes: [&str; 3], last: &dyn Fn(&str) -> Vec<String>| {
+            let mut names: Vec<String> = axes.iter().map(|x| format!("bias_{x}")).collect();
+            names.extend(axes.iter().map(|x| format!("scale_factor_{x}")));
+            for (i, j) in [(0, 1), (0, 2), (1, 0), (1, 2), (2, 0), (2, 1)] {
+                names.push(format!("misalignment_{}{}", axes[i], axes[j]));
+            }
+            names.extend(axes.iter().flat_map(|x| last(x)));
+            names
+        };
+        let accel = written(a, &|x| vec![format!("nonlinearity_{x}")]);
+        let gyro = written(g, &|x| {
+            a.iter().map(|u| format!("g_sensitivity_{x}{u}")).collect()
+        });
+        assert_eq!(CalibrationLayout::ACCELEROMETER.names(), accel);
+        assert_eq!(CalibrationLayout::GYROSCOPE.names(), gyro);
+        assert_eq!(accelerometer_parameter_names(), accel);
+        assert_eq!(gyroscope_parameter_names(), gyro);
         let g = CalibrationLayout::GYROSCOPE;
         assert_eq!(g.index("g_sensitivity_qw"), Some(17));
         assert_eq!(g.index("bias_u"), None);

@@ -232,36 +232,12 @@ pub struct Calibration<M> {
 
 /// Names of the 15 accelerometer parameters, in covariance order.
 pub fn accelerometer_parameter_names() -> Vec<String> {
-    let a = ACCELEROMETER_AXES;
-    let mut names: Vec<String> = a.iter().map(|x| format!("bias_{x}")).collect();
-    names.extend(a.iter().map(|x| format!("scale_factor_{x}")));
-    names.extend(
-        OFF_DIAGONAL
-            .iter()
-            .map(|&(i, j)| format!("misalignment_{}{}", a[i], a[j])),
-    );
-    names.extend(a.iter().map(|x| format!("nonlinearity_{x}")));
-    names
+    layout::CalibrationLayout::ACCELEROMETER.names()
 }
 
 /// Names of the 21 gyroscope parameters, in covariance order.
 pub fn gyroscope_parameter_names() -> Vec<String> {
-    let g = GYROSCOPE_AXES;
-    let mut names: Vec<String> = g.iter().map(|x| format!("bias_{x}")).collect();
-    names.extend(g.iter().map(|x| format!("scale_factor_{x}")));
-    names.extend(
-        OFF_DIAGONAL
-            .iter()
-            .map(|&(i, j)| format!("misalignment_{}{}", g[i], g[j])),
-    );
-    for p in g {
-        names.extend(
-            ACCELEROMETER_AXES
-                .iter()
-                .map(|u| format!("g_sensitivity_{p}{u}")),
-        );
-    }
-    names
+    layout::CalibrationLayout::GYROSCOPE.names()
 }
 
 /// The accelerometer parameter vector [b, D, M (off-diagonal), N].
@@ -295,20 +271,6 @@ fn common_parameters<const P: usize>(
     for (m, &(i, j)) in OFF_DIAGONAL.iter().enumerate() {
         p[6 + m] = misalignment[(i, j)];
     }
-}
-
-/// Fills (b, D, M) of a model-shaped value from the first 12 entries of a
-/// parameter-ordered vector (used for the one-sigma `std` models).
-fn common_from_vector(v: &[f64]) -> (Vector3<f64>, Vector3<f64>, Matrix3<f64>) {
-    let mut m = Matrix3::zeros();
-    for (k, &(i, j)) in OFF_DIAGONAL.iter().enumerate() {
-        m[(i, j)] = v[6 + k];
-    }
-    (
-        Vector3::new(v[0], v[1], v[2]),
-        Vector3::new(v[3], v[4], v[5]),
-        m,
-    )
 }
 
 /// Checks of the data shared by both calibrations.
@@ -502,7 +464,7 @@ fn std_of(cov: &DMatrix<f64>) -> Vec<f64> {
 /// ([`accelerometer_parameters`] order), laid out as a model (noise zero).
 pub fn accelerometer_std_model(covariance: &DMatrix<f64>) -> AccelerometerModel {
     let sd = std_of(covariance);
-    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+    let (bias, scale_factor, misalignment) = layout::common_fields(&sd);
     AccelerometerModel {
         bias,
         scale_factor,
@@ -516,7 +478,7 @@ pub fn accelerometer_std_model(covariance: &DMatrix<f64>) -> AccelerometerModel 
 /// ([`gyroscope_parameters`] order), laid out as a model (noise zero).
 pub fn gyroscope_std_model(covariance: &DMatrix<f64>) -> GyroscopeModel {
     let sd = std_of(covariance);
-    let (bias, scale_factor, misalignment) = common_from_vector(&sd);
+    let (bias, scale_factor, misalignment) = layout::common_fields(&sd);
     GyroscopeModel {
         bias,
         scale_factor,
