@@ -185,7 +185,7 @@ def test_nan_is_reported_at_row_and_column():
             TypeError,
             r"pseudorange_std: must be a real number, got 'x' \(str\)",
         ),
-        ({"seed": -1}, ValueError, r"seed: must be an integer in \[0, 2\*\*64\), got -1"),
+        ({"seed": -1}, ValueError, r"seed: must be None or an integer in \[0, 2\*\*64\), got -1"),
         ({"n_satellites": 2.5}, ValueError, r"n_satellites: must be an integer ≥ 0, got 2.5"),
         ({"rate": [1.0]}, TypeError, r"rate: must be a real number, got \[1.0\] \(list\)"),
     ],

@@ -22,6 +22,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from memsnav.experiments.calibration import AXES
+
 HOLDS = "holds"
 PARTLY = "partly"
 DOES_NOT_HOLD = "does not hold"
@@ -59,8 +61,6 @@ LIGHT_IMPROVEMENT = 0.25
 """A "light" improvement in the outage: calibration removes at most this
 share of the raw MEMS error; partly up to LIGHT_PARTLY_IMPROVEMENT."""
 LIGHT_PARTLY_IMPROVEMENT = 0.50
-
-AXES = {"accelerometer": ("u", "v", "w"), "gyroscope": ("p", "q", "r")}
 
 
 @dataclass(frozen=True)
