@@ -26,7 +26,7 @@ import time
 
 import numpy as np
 
-from memsnav import Trajectory
+from memsnav import ImuModel, Trajectory
 from memsnav.experiments import navigation
 
 OUTAGE = (300.0, 30.0)
@@ -152,17 +152,18 @@ def budget_analytic(n_trajectories: int) -> None:
     Sum over the parameters in quadrature: E|δr|² = Σ σ_p² |∂δr/∂p|².
     """
     g0 = 9.80665
-    deg = np.pi / 180.0
+    # The one-sigma magnitudes of the paper-mems preset (the core's spec).
+    paper_mems = ImuModel.preset("paper-mems")
+    spec, rate = paper_mems.spec, paper_mems.sample_rate
     sig = {
-        "accel scale factor": 1e-5,
-        "accel misalignment": 1e-2,
-        "accel nonlinearity": 1e-5 / g0,
-        "gyro scale factor": 1e-4,
-        "gyro misalignment": 1e-2,
-        "gyro g-sensitivity": 1e-3 * deg / g0,
+        "accel scale factor": spec["accel_scale_factor_std"],
+        "accel misalignment": spec["accel_misalignment_std"],
+        "accel nonlinearity": spec["accel_nonlinearity_std"],
+        "gyro scale factor": spec["gyro_scale_factor_std"],
+        "gyro misalignment": spec["gyro_misalignment_std"],
+        "gyro g-sensitivity": spec["gyro_g_sensitivity_std"],
     }
     acc = {k: 0.0 for k in sig}
-    rate = 100.0
     dt = 1.0 / rate
     t0, t1 = int(OUTAGE[0] * rate), int((OUTAGE[0] + OUTAGE[1]) * rate) + 1
     for seed in range(n_trajectories):
@@ -217,9 +218,9 @@ def budget_analytic(n_trajectories: int) -> None:
         acc["gyro misalignment"] += gyro(unit_inputs(w, "offdiag"))
         acc["gyro g-sensitivity"] += gyro(unit_inputs(f, "full"))
     rows = {k: sig[k] * np.sqrt(v / n_trajectories) for k, v in acc.items()}
-    # White noise of paper-mems: per-sample std at 100 Hz → density σ/√f_s.
-    q_a = 3e-3 * g0 / np.sqrt(rate)
-    q_g = 0.03 * deg / np.sqrt(rate)
+    # White noise of paper-mems as densities (per-sample σ/√f_s).
+    q_a = spec["accel_noise_density"]
+    q_g = spec["gyro_noise_density"]
     t = OUTAGE[1]
     # Velocity random walk: σ_r = q t^{3/2} / √3 per axis (3 axes).
     rows["accel white noise"] = np.sqrt(3) * q_a * t**1.5 / np.sqrt(3)

@@ -238,18 +238,6 @@ fn navigation_experiment<'py>(
     let d = NavigationExperimentConfig::default();
     let pseudorange_std = pseudorange_std.unwrap_or(d.gnss.pseudorange_std_m);
     let pseudorange_rate_std = pseudorange_rate_std.unwrap_or(d.gnss.pseudorange_rate_std_m_s);
-    // The GNSS simulator checks its own settings, but only once a run
-    // starts: name the Python arguments here.
-    for (name, v) in [
-        ("pseudorange_std", pseudorange_std),
-        ("pseudorange_rate_std", pseudorange_rate_std),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(PyValueError::new_err(format!(
-                "{name}: must be finite and positive, got {v}"
-            )));
-        }
-    }
     let config = NavigationExperimentConfig {
         runs: runs.unwrap_or(d.runs),
         seed: seed.unwrap_or(d.seed),

@@ -240,6 +240,11 @@ impl NavigationExperimentConfig {
         if let Some(o) = self.outage {
             validate_outage(&o, self.duration_s)?;
         }
+        // The simulated noise is also every filter's measurement std, so
+        // zero (a noise-free simulation, which `simulate_gnss` accepts)
+        // would make the filters' R singular.
+        validate::positive("pseudorange_std", self.gnss.pseudorange_std_m)?;
+        validate::positive("pseudorange_rate_std", self.gnss.pseudorange_rate_std_m_s)?;
         self.gnss_config().validate()?;
         self.segment_calibration().validate()?;
         validate::positive("early_window", self.early_window_s)?;
