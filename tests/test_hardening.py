@@ -413,6 +413,33 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         assert any("diverged" in m for m in sol.warnings)
 
 
+# --- arguments that hung (issue 30) ---------------------------------------------------
+
+
+def test_a_fix_prior_far_beyond_any_receiver_is_refused_not_iterated():
+    """A prior of 1e200 m overflowed the line of sight and the SVD of the
+    geometry never returned; 1e100 already answered."""
+    tr = mn.Trajectory.random(duration=5.0, seed=1)
+    g = mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, mn.Constellation.walker())
+    for far in (1e200, 1e10):
+        with pytest.raises(ValueError, match=r"^prior: has a component of 1\.0e\+?\d+ m"):
+            mn.solve_fix(g, prior=np.full(3, far))
+    # A prior anywhere a receiver can be still converges.
+    fix = mn.solve_fix(g, prior=[1e7, 0.0, 0.0])
+    np.testing.assert_allclose(fix.position_ecef[0], tr.position_ecef[0], atol=50.0)
+
+
+def test_a_gnss_rate_finer_than_the_time_stamps_is_refused_not_crawled():
+    """1e18 Hz on a 1 s track: the epoch search advanced one target per pass."""
+    tr = mn.Trajectory.random(duration=1.0, seed=1)
+    sky = mn.Constellation.walker()
+    with pytest.raises(ValueError, match=r"^rate: 1000000000000000000 Hz: its period is below"):
+        mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, sky, rate=1e18)
+    # 1e12 Hz is representable: one epoch per track sample, as before.
+    g = mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, sky, rate=1e12)
+    assert len(g) == tr.time.size
+
+
 # --- IMU time gaps --------------------------------------------------------------------
 
 

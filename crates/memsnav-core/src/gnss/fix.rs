@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 use super::range::predicted_range;
 use super::{GnssEpoch, SatelliteMeasurement};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
-use crate::{Error, Result};
+use crate::{limits, Error, Result};
 
 /// Dilutions of precision (unweighted geometry, Groves eqs. 9.42-9.44).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,6 +171,16 @@ fn solve_fix_once(
     }
     for s in m {
         let finite = s.position_ecef.iter().all(|x| x.is_finite()) && s.pseudorange_m.is_finite();
+        if finite && s.position_ecef.amax() > limits::MAX_POSITION_M {
+            return Err(Failure::Error(Error::invalid(
+                "epoch",
+                format!(
+                    "satellite {} at t = {t} s has a position component of {:.1e} m",
+                    s.sat_id,
+                    s.position_ecef.amax()
+                ),
+            )));
+        }
         if !finite {
             return Err(Failure::Error(Error::invalid(
                 "epoch",
@@ -202,6 +212,17 @@ fn solve_fix_once(
             return Err(Failure::Error(Error::invalid(
                 "prior",
                 "contains NaN or infinite values",
+            )));
+        }
+        // The largest component: the norm of a 1e200 m vector overflows.
+        if p.amax() > limits::MAX_POSITION_M {
+            return Err(Failure::Error(Error::invalid(
+                "prior",
+                format!(
+                    "has a component of {:.1e} m, beyond the ±{:.0e} m of any receiver position",
+                    p.amax(),
+                    limits::MAX_POSITION_M
+                ),
             )));
         }
     }
@@ -242,6 +263,10 @@ fn solve_fix_once(
         // not finite) only after the pseudoranges moved the estimate: they
         // do not fit one position.
         if iterations == 1 {
+            // The SVD does not return on non-finite entries.
+            if !geometry.iter().all(|v| v.is_finite()) {
+                return Err(singular().into());
+            }
             let sv = geometry.singular_values();
             if sv.min().is_nan() || sv.min() <= 1e-12 * sv.max() {
                 return Err(singular().into());

@@ -1,5 +1,33 @@
 //! The measurement epochs of a simulation: which track samples carry one.
 
+use crate::{Error, Result};
+
+/// The epoch grid t0 + k / rate must be representable at the track's
+/// times: a period below a few units in the last place of the largest
+/// time stamp rounds the grid onto itself, and the search for the next
+/// epoch would crawl one target at a time (issue 30: 1e18 Hz on a 1 s
+/// track). Such a rate asks for more than one epoch per track sample
+/// anyway, which the simulator never gives.
+pub(super) fn check_resolution(time_s: &[f64], rate_hz: f64) -> Result<()> {
+    let largest = time_s
+        .first()
+        .into_iter()
+        .chain(time_s.last())
+        .fold(1.0f64, |m, t| m.max(t.abs()));
+    let resolution = 16.0 * f64::EPSILON * largest;
+    if 1.0 / rate_hz < resolution {
+        return Err(Error::invalid(
+            "rate",
+            format!(
+                "{rate_hz} Hz: its period is below the resolution of the track's time stamps \
+                 ({resolution:.1e} s); at most one epoch per track sample is simulated, so \
+                 give at most the track's sample rate"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Indices of the track samples nearest to t0 + k / rate (k = 0, 1, ...),
 /// each at most half a period from its target and none twice. `time_s`
 /// must be non-empty and strictly increasing, `rate_hz` positive.
@@ -57,6 +85,21 @@ mod tests {
         // A gap longer than half a period leaves its targets out.
         let gappy = [0.0, 0.1, 2.9, 3.0];
         assert_eq!(epoch_samples(&gappy, 1.0), vec![0, 3]);
+    }
+
+    #[test]
+    fn a_period_below_the_time_resolution_is_refused() {
+        let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
+        let err = check_resolution(&time, 1e18).unwrap_err().to_string();
+        assert!(
+            err.starts_with("rate: 1000000000000000000 Hz: its period"),
+            "{err}"
+        );
+        assert!(check_resolution(&time, 1e12).is_ok());
+        // The resolution scales with the time stamps (GPS times ~1e9 s).
+        let gps: Vec<f64> = time.iter().map(|t| 1.4e9 + t).collect();
+        assert!(check_resolution(&gps, 1e9).is_err());
+        assert!(check_resolution(&gps, 1e3).is_ok());
     }
 
     #[test]
