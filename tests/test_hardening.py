@@ -429,15 +429,30 @@ def test_a_fix_prior_far_beyond_any_receiver_is_refused_not_iterated():
     np.testing.assert_allclose(fix.position_ecef[0], tr.position_ecef[0], atol=50.0)
 
 
-def test_a_gnss_rate_finer_than_the_time_stamps_is_refused_not_crawled():
-    """1e18 Hz on a 1 s track: the epoch search advanced one target per pass."""
+def test_a_gnss_rate_finer_than_the_time_stamps_answers_at_once():
+    """1e18 Hz on a 1 s track: the epoch search advanced one target per
+    pass. A period below the sample spacing makes every sample an epoch."""
     tr = mn.Trajectory.random(duration=1.0, seed=1)
     sky = mn.Constellation.walker()
-    with pytest.raises(ValueError, match=r"^rate: 1000000000000000000 Hz: its period is below"):
-        mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, sky, rate=1e18)
-    # 1e12 Hz is representable: one epoch per track sample, as before.
-    g = mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, sky, rate=1e12)
-    assert len(g) == tr.time.size
+    for rate in (1e18, 1e12):
+        g = mn.simulate_gnss(tr.time, tr.position_ecef, tr.velocity_ecef, sky, rate=rate)
+        np.testing.assert_array_equal(g.time, tr.time)
+
+
+def test_strapdown_checks_its_start_as_every_position_is_checked():
+    """Zeros gave 18 000 of 18 003 values NaN, [1, 2, 3] 4.8e22 m: the start
+    now passes the one ECEF position check the filters use too."""
+    tr = mn.Trajectory.random(duration=2.0, seed=1)
+    for start in ([0.0, 0.0, 0.0], [1.0, 2.0, 3.0], [2e9, 0.0, 0.0]):
+        with pytest.raises(ValueError, match=r"^position_ecef: row 0: .* from the Earth's centre"):
+            mn.strapdown(
+                tr.time,
+                tr.specific_force,
+                tr.angular_rate,
+                start,
+                tr.velocity_ecef[0],
+                tr.attitude[0],
+            )
 
 
 # --- IMU time gaps --------------------------------------------------------------------

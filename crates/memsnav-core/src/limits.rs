@@ -25,13 +25,6 @@ pub const MAX_SATELLITES: usize = 256;
 /// of the least-squares factorisation overflow.
 pub const MAX_CALIBRATION_INPUT: f64 = 1e6;
 
-/// Largest distance from the Earth's centre of a position memsnav takes as
-/// a receiver or a starting point, m: 10⁹ m, beyond the Moon and far
-/// from overflow in the squares of a range. Beyond it a line of sight
-/// overflows and the geometry's SVD does not return (issue 30: a
-/// `solve_fix` prior of 1e200 m).
-pub const MAX_POSITION_M: f64 = 1e9;
-
 /// Elements (f64) of one output array: 2³⁰, 8 GiB.
 pub const MAX_OUTPUT_ELEMENTS: f64 = 1_073_741_824.0;
 

@@ -6,8 +6,9 @@ use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
 
 use super::range::predicted_range;
 use super::{GnssEpoch, SatelliteMeasurement};
+use crate::geodesy::domain::MAX_DISTANCE_M;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
-use crate::{limits, Error, Result};
+use crate::{Error, Result};
 
 /// Dilutions of precision (unweighted geometry, Groves eqs. 9.42-9.44).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -171,7 +172,7 @@ fn solve_fix_once(
     }
     for s in m {
         let finite = s.position_ecef.iter().all(|x| x.is_finite()) && s.pseudorange_m.is_finite();
-        if finite && s.position_ecef.amax() > limits::MAX_POSITION_M {
+        if finite && s.position_ecef.amax() > MAX_DISTANCE_M {
             return Err(Failure::Error(Error::invalid(
                 "epoch",
                 format!(
@@ -215,13 +216,13 @@ fn solve_fix_once(
             )));
         }
         // The largest component: the norm of a 1e200 m vector overflows.
-        if p.amax() > limits::MAX_POSITION_M {
+        if p.amax() > MAX_DISTANCE_M {
             return Err(Failure::Error(Error::invalid(
                 "prior",
                 format!(
-                    "has a component of {:.1e} m, beyond the ±{:.0e} m of any receiver position",
+                    "has a component of {:.1e} m, beyond the ±{:.1e} m of any position",
                     p.amax(),
-                    limits::MAX_POSITION_M
+                    MAX_DISTANCE_M
                 ),
             )));
         }

@@ -66,12 +66,10 @@ impl ObservableOptions {
 
     fn validate(&self) -> Result<()> {
         validate::finite_vectors("reference_position_ecef", &[self.reference_position_ecef])?;
-        if self.reference_position_ecef.norm() < 6.0e6 {
-            return Err(Error::invalid(
-                "reference_position_ecef",
-                "is not an ECEF position near the Earth's surface",
-            ));
-        }
+        crate::geodesy::domain::check_position_ecef(
+            "reference_position_ecef",
+            &[self.reference_position_ecef],
+        )?;
         validate::finite_scalars("elevation_mask", &[self.elevation_mask_rad])?;
         validate::finite_scalars("min_cn0", &[self.min_cn0_db_hz])?;
         validate::positive("pseudorange_std", self.pseudorange_std_m)?;

@@ -4,10 +4,17 @@ use nalgebra::Vector3;
 
 use super::increments::cubic_increment;
 use super::{step, step_increments, ImuIncrement, ImuSample, NavState};
+use crate::geodesy::domain::check_position_ecef;
 use crate::{validate, Error, Result};
 
 fn validate_initial(initial: &NavState) -> Result<()> {
     validate::finite_vectors(
+        "position_ecef",
+        std::slice::from_ref(&initial.position_ecef),
+    )?;
+    // The position every function taking one checks (issue 30: zeros gave
+    // NaN, [1, 2, 3] 4.8e22 m).
+    check_position_ecef(
         "position_ecef",
         std::slice::from_ref(&initial.position_ecef),
     )?;

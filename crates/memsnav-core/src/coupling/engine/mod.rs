@@ -88,15 +88,10 @@ impl InitialState {
         validate::finite_vectors("initial.position_ecef", &[self.nav.position_ecef])?;
         validate::finite_vectors("initial.velocity_ecef", &[self.nav.velocity_ecef])?;
         validate::rotation("initial.attitude", &self.nav.c_b_e)?;
-        if self.nav.position_ecef.norm() < 6.0e6 {
-            return Err(Error::invalid(
-                "initial.position_ecef",
-                format!(
-                    "{:.0} m from the Earth's centre: not an ECEF position near the surface",
-                    self.nav.position_ecef.norm()
-                ),
-            ));
-        }
+        crate::geodesy::domain::check_position_ecef(
+            "initial.position_ecef",
+            &[self.nav.position_ecef],
+        )?;
         validate::finite_vectors("initial.accel_bias", &[self.accel_bias_m_s2])?;
         validate::finite_vectors("initial.gyro_bias", &[self.gyro_bias_rad_s])?;
         for (name, v) in [

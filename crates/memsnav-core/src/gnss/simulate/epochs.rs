@@ -1,33 +1,5 @@
 //! The measurement epochs of a simulation: which track samples carry one.
 
-use crate::{Error, Result};
-
-/// The epoch grid t0 + k / rate must be representable at the track's
-/// times: a period below a few units in the last place of the largest
-/// time stamp rounds the grid onto itself, and the search for the next
-/// epoch would crawl one target at a time (issue 30: 1e18 Hz on a 1 s
-/// track). Such a rate asks for more than one epoch per track sample
-/// anyway, which the simulator never gives.
-pub(super) fn check_resolution(time_s: &[f64], rate_hz: f64) -> Result<()> {
-    let largest = time_s
-        .first()
-        .into_iter()
-        .chain(time_s.last())
-        .fold(1.0f64, |m, t| m.max(t.abs()));
-    let resolution = 16.0 * f64::EPSILON * largest;
-    if 1.0 / rate_hz < resolution {
-        return Err(Error::invalid(
-            "rate",
-            format!(
-                "{rate_hz} Hz: its period is below the resolution of the track's time stamps \
-                 ({resolution:.1e} s); at most one epoch per track sample is simulated, so \
-                 give at most the track's sample rate"
-            ),
-        ));
-    }
-    Ok(())
-}
-
 /// Indices of the track samples nearest to t0 + k / rate (k = 0, 1, ...),
 /// each at most half a period from its target and none twice. `time_s`
 /// must be non-empty and strictly increasing, `rate_hz` positive.
@@ -35,6 +7,18 @@ pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
     let n = time_s.len();
     let (t0, t_end) = (time_s[0], time_s[n - 1]);
     let step = 1.0 / rate_hz;
+    // Targets every `step` put one within half a period of every instant:
+    // with a period below every sample spacing, each sample is the nearest
+    // of the target nearest to it, so every sample is an epoch. Answered
+    // directly, since stepping targets finer than the time stamps can
+    // resolve would crawl one target per pass (issue 30: 1e18 Hz).
+    let min_spacing = time_s
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    if step < min_spacing {
+        return (0..n).collect();
+    }
     // At most one epoch per track sample: the output and the loop are
     // bounded by the track, whatever the time span or the rate (a 1e20 s
     // span at 1 Hz must not visit 1e20 targets). `k` is a float for spans
@@ -88,18 +72,12 @@ mod tests {
     }
 
     #[test]
-    fn a_period_below_the_time_resolution_is_refused() {
+    fn a_period_finer_than_the_time_stamps_gives_every_sample_at_once() {
+        // 1e18 Hz on a 1 s track crawled one target per pass (issue 30).
         let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
-        let err = check_resolution(&time, 1e18).unwrap_err().to_string();
-        assert!(
-            err.starts_with("rate: 1000000000000000000 Hz: its period"),
-            "{err}"
-        );
-        assert!(check_resolution(&time, 1e12).is_ok());
-        // The resolution scales with the time stamps (GPS times ~1e9 s).
+        assert_eq!(epoch_samples(&time, 1e18), (0..=100).collect::<Vec<_>>());
         let gps: Vec<f64> = time.iter().map(|t| 1.4e9 + t).collect();
-        assert!(check_resolution(&gps, 1e9).is_err());
-        assert!(check_resolution(&gps, 1e3).is_ok());
+        assert_eq!(epoch_samples(&gps, 1e15), (0..=100).collect::<Vec<_>>());
     }
 
     #[test]

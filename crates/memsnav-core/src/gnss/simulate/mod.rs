@@ -237,7 +237,6 @@ pub(crate) fn simulate_track(
         ));
     }
     let t0 = track.time_s[0];
-    epochs::check_resolution(track.time_s, config.rate_hz)?;
     let samples = epochs::epoch_samples(track.time_s, config.rate_hz);
     let n_sat = constellation.len();
     let mut elevations = vec![f64::NAN; n_sat];
