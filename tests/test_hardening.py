@@ -455,6 +455,14 @@ def test_strapdown_checks_its_start_as_every_position_is_checked():
             )
 
 
+def test_simulate_gnss_refuses_a_receiver_off_the_earth():
+    """A receiver at the Earth's centre gave every pseudorange NaN."""
+    tr = mn.Trajectory.random(duration=2.0, seed=1)
+    sky = mn.Constellation.walker()
+    with pytest.raises(ValueError, match=r"^position_ecef: row 0: 0 m from the Earth's centre"):
+        mn.simulate_gnss(tr.time, np.zeros_like(tr.position_ecef), tr.velocity_ecef, sky)
+
+
 # --- IMU time gaps --------------------------------------------------------------------
 
 

@@ -223,6 +223,9 @@ pub(crate) fn simulate_track(
         validate::increasing_times("time", track.time_s)?;
         validate::finite_vectors("position_ecef", track.position_ecef)?;
         validate::finite_vectors("velocity_ecef", track.velocity_ecef)?;
+        // A receiver at the Earth's centre gave every pseudorange NaN
+        // (issue 30): the one ECEF position check.
+        crate::geodesy::domain::check_position_ecef("position_ecef", track.position_ecef)?;
     }
     if constellation.is_empty() {
         return Err(Error::invalid("constellation", "has no satellites"));
