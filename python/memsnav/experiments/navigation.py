@@ -409,29 +409,27 @@ def navigation(
     those of local threads (``docs/distributed.md``); ``threads`` must
     then be None.
 
-    Every argument left None takes the core's default,
-    ``memsnav.defaults()["navigation_experiment"]`` (20 runs of 600 s,
-    seed 0, 6 satellites, 300 s calibration, 150 s early window, rates
-    used, 3 m and 0.1 m/s, attitude 1°, 1°, 5°, unmodelled errors absorbed).
+    Every argument left None takes the core's default, listed by
+    ``memsnav.defaults()["navigation_experiment"]``.
 
     Raises ValueError naming the argument for bad input.
     """
     default = _mn.defaults()["navigation_experiment"]
-    runs = default["runs"] if runs is None else runs
-    duration = default["duration"] if duration is None else duration
-    seed = default["seed"] if seed is None else seed
-    n_satellites = default["n_satellites"] if n_satellites is None else n_satellites
-    if calibration_duration is None:
-        calibration_duration = default["calibration_duration"]
-    early_window = default["early_window"] if early_window is None else early_window
-    pseudorange_rate = default["pseudorange_rate"] if pseudorange_rate is None else pseudorange_rate
-    pseudorange_std = default["pseudorange_std"] if pseudorange_std is None else pseudorange_std
-    if pseudorange_rate_std is None:
-        pseudorange_rate_std = default["pseudorange_rate_std"]
-    if initial_attitude_std_deg is None:
-        initial_attitude_std_deg = default["initial_attitude_std_deg"]
-    if absorb_unmodelled is None:
-        absorb_unmodelled = default["absorb_unmodelled"]
+
+    def given(value: Any, key: str) -> Any:
+        return default[key] if value is None else value
+
+    runs = given(runs, "runs")
+    duration = given(duration, "duration")
+    seed = given(seed, "seed")
+    n_satellites = given(n_satellites, "n_satellites")
+    calibration_duration = given(calibration_duration, "calibration_duration")
+    early_window = given(early_window, "early_window")
+    pseudorange_rate = given(pseudorange_rate, "pseudorange_rate")
+    pseudorange_std = given(pseudorange_std, "pseudorange_std")
+    pseudorange_rate_std = given(pseudorange_rate_std, "pseudorange_rate_std")
+    initial_attitude_std_deg = given(initial_attitude_std_deg, "initial_attitude_std_deg")
+    absorb_unmodelled = given(absorb_unmodelled, "absorb_unmodelled")
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 1:
         raise ValueError(f"runs: must be a positive integer, got {runs!r}")
     window: tuple[float, float, int] | None = None
