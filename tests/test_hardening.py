@@ -463,6 +463,17 @@ def test_simulate_gnss_refuses_a_receiver_off_the_earth():
         mn.simulate_gnss(tr.time, np.zeros_like(tr.position_ecef), tr.velocity_ecef, sky)
 
 
+def test_a_draw_set_too_large_to_hold_is_refused_not_allocated():
+    """draws=10**12 aborted the interpreter on allocation."""
+    from memsnav import _memsnav
+
+    a, g = np.eye(15) * 1e-6, np.eye(21) * 1e-8
+    with pytest.raises(ValueError, match=r"^draws: would need the gyroscope draws: 2\.100e\+?13"):
+        _memsnav.draw_imu_calibrations(np.zeros(15), a, np.zeros(21), g, draws=10**12, seed=1)
+    small = _memsnav.draw_imu_calibrations(np.zeros(15), a, np.zeros(21), g, draws=2, seed=1)
+    assert small[0].shape == (2, 15) and small[1].shape == (2, 21)
+
+
 # --- IMU time gaps --------------------------------------------------------------------
 
 

@@ -150,16 +150,7 @@ fn draw_imu_calibrations<'py>(
         accelerometer,
         gyroscope,
     };
-    let (a, g) = py.detach(|| {
-        let mut a = Vec::with_capacity(draws * A);
-        let mut g = Vec::with_capacity(draws * G);
-        for i in 0..draws {
-            let (da, dg) = set.draw(seed, i as u64);
-            a.extend_from_slice(da.as_slice());
-            g.extend_from_slice(dg.as_slice());
-        }
-        (a, g)
-    });
+    let (a, g) = py.detach(|| set.draw_set(seed, draws)).py()?;
     Ok((to_numpy(py, draws, A, a), to_numpy(py, draws, G, g)))
 }
 

@@ -132,6 +132,25 @@ impl ImuDraws {
         let accelerometer = self.accelerometer.draw(&mut rng);
         (accelerometer, self.gyroscope.draw(&mut rng))
     }
+
+    /// Draws 0..`draws` of the set seeded by `seed`, row-major: the
+    /// accelerometer's (draws × 15) and the gyroscope's (draws × 21)
+    /// parameters. A set too large to hold is refused naming `draws`.
+    pub fn draw_set(&self, seed: u64, draws: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+        crate::limits::output_size(
+            "draws",
+            draws as f64 * GYROSCOPE_PARAMETERS as f64,
+            "the gyroscope draws",
+        )?;
+        let mut a = Vec::with_capacity(draws * ACCELEROMETER_PARAMETERS);
+        let mut g = Vec::with_capacity(draws * GYROSCOPE_PARAMETERS);
+        for i in 0..draws {
+            let (da, dg) = self.draw(seed, i as u64);
+            a.extend_from_slice(da.as_slice());
+            g.extend_from_slice(dg.as_slice());
+        }
+        Ok((a, g))
+    }
 }
 
 #[cfg(test)]
