@@ -5,13 +5,12 @@
 //! Every input is drawn from a fixed seed, so two runs of a bench time the
 //! same arithmetic.
 
-use memsnav_core::coupling::{
-    self, initial_state_from_fix, FilterTuning, ImuData, InitialState, Solution,
-};
+use memsnav_core::coupling::{self, initial_state_from_fix, FilterTuning, InitialState, Solution};
 use memsnav_core::filter::state::BASE_STATES;
 use memsnav_core::gnss::{
     self, Constellation, GnssEpoch, ReceiverTrack, SimulationConfig, WalkerConfig,
 };
+use memsnav_core::ins::ImuData;
 use memsnav_core::random::stream;
 use memsnav_core::sensors::{ImuModel, ImuReadings};
 use memsnav_core::trajectory::{RandomTrajectoryConfig, Trajectory};

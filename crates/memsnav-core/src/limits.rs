@@ -20,10 +20,27 @@ pub const MAX_TOTAL_RUNS: usize = 10_000_000;
 /// than 150; the simulated arrays are `(epochs, n_satellites)`.
 pub const MAX_SATELLITES: usize = 256;
 
-/// Largest magnitude of a calibration input (outputs, references and their
-/// noise, SI units: 10⁶ m/s² ≈ 10⁵ g, 10⁶ rad/s). Beyond it the products
-/// of the least-squares factorisation overflow.
-pub const MAX_CALIBRATION_INPUT: f64 = 1e6;
+/// Largest magnitude of anything a sensor reads or a sensor model holds,
+/// SI units (10⁶ m/s² ≈ 10⁵ g, 10⁶ rad/s): IMU series given to `strapdown`
+/// and the filters, calibration inputs (outputs, references and their
+/// noise), sensor-model parameters and their noise. Far beyond any
+/// sensor, and far enough below the float range that the products of the
+/// mechanization, the error models and the least-squares factorisation
+/// stay finite (10³⁰⁰ used to hang the calibration's SVD).
+pub const MAX_SENSOR_MAGNITUDE: f64 = 1e6;
+
+/// Longest median sample period of an IMU series, s: IMUs sample at
+/// 1 Hz or (far) faster; beyond it the strapdown integration's
+/// extrapolation over an interval has no meaning.
+pub const MAX_IMU_PERIOD_S: f64 = 1.0;
+
+/// Largest sample rate of a simulated sensor, Hz (10⁶: a thousand times a
+/// MEMS output rate); the per-sample noise grows with its square root.
+pub const MAX_SAMPLE_RATE_HZ: f64 = 1e6;
+
+/// Smallest sample rate of a simulated sensor, Hz (a sample every 11.6
+/// days); below it the sample period leaves the float range's useful part.
+pub const MIN_SAMPLE_RATE_HZ: f64 = 1e-6;
 
 /// Elements (f64) of one output array: 2³⁰, 8 GiB.
 pub const MAX_OUTPUT_ELEMENTS: f64 = 1_073_741_824.0;

@@ -35,20 +35,28 @@ pub fn finite_vectors(argument: &str, values: &[Vector3<f64>]) -> Result<()> {
     }
 }
 
-/// Every component of every vector is at most `max` in magnitude (NaN
-/// fails too); the error names the row.
+/// Every component of every vector is finite ([`finite_vectors`], whose
+/// message a NaN gets) and at most `max` in magnitude; the error names the
+/// row.
 pub fn bounded_vectors(argument: &str, values: &[Vector3<f64>], max: f64) -> Result<()> {
-    let outside = |x: &f64| x.is_nan() || x.abs() > max;
-    match values.iter().position(|v| v.iter().any(outside)) {
-        None => Ok(()),
-        Some(k) => Err(Error::invalid(
-            argument,
-            format!(
-                "row {k} holds {:e}, beyond the limit of ±{max:e} (SI units)",
-                values[k].iter().copied().find(outside).unwrap_or(f64::NAN)
-            ),
-        )),
+    finite_vectors(argument, values)?;
+    // Branch-free first, as in `finite_vectors`.
+    let within = |v: &Vector3<f64>| (v.x.abs() <= max) & (v.y.abs() <= max) & (v.z.abs() <= max);
+    if values.iter().fold(true, |ok, v| ok & within(v)) {
+        return Ok(());
     }
+    let k = values.iter().position(|v| !within(v)).unwrap_or(0);
+    Err(Error::invalid(
+        argument,
+        format!(
+            "row {k} holds {:e}, beyond the limit of ±{max:e} (SI units)",
+            values[k]
+                .iter()
+                .copied()
+                .find(|x| x.abs() > max)
+                .unwrap_or(f64::NAN)
+        ),
+    ))
 }
 
 /// Every value is finite.
@@ -90,6 +98,31 @@ pub fn finite_array(argument: &str, values: &[f64], shape: &[usize]) -> Result<(
         argument,
         format!("{at} is {}", values[flat]),
     ))
+}
+
+/// Every element of a matrix is finite and at most `max` in magnitude.
+pub fn bounded_matrix(argument: &str, m: &Matrix3<f64>, max: f64) -> Result<()> {
+    finite_matrix(argument, m)?;
+    match m.iter().copied().find(|x| x.abs() > max) {
+        None => Ok(()),
+        Some(x) => Err(Error::invalid(
+            argument,
+            format!("holds {x:e}, beyond the limit of ±{max:e} (SI units)"),
+        )),
+    }
+}
+
+/// A magnitude (a standard deviation, a coefficient): finite,
+/// non-negative and at most `max`.
+pub fn magnitude(argument: &str, value: f64, max: f64) -> Result<()> {
+    non_negative(argument, value)?;
+    at_most(argument, value, max)
+}
+
+/// A sensor magnitude (a noise std, an instability, an LSB, ...): at most
+/// [`MAX_SENSOR_MAGNITUDE`](crate::limits::MAX_SENSOR_MAGNITUDE).
+pub fn sensor_magnitude(argument: &str, value: f64) -> Result<()> {
+    magnitude(argument, value, crate::limits::MAX_SENSOR_MAGNITUDE)
 }
 
 /// A finite matrix.
@@ -185,12 +218,14 @@ pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
     }
 }
 
-/// An IMU sample interval beyond which the strapdown integration is not
-/// trusted: the larger of 1 s and 100 nominal (median) periods. Over such a
-/// gap the second-order integrator extrapolates the rates and forces of one
-/// sample for the whole gap (a 10⁶ s gap took an INS to 10¹⁷ m).
+/// IMU sample intervals the strapdown integration can bridge: a median
+/// period of at most [`MAX_IMU_PERIOD_S`](crate::limits::MAX_IMU_PERIOD_S)
+/// and no gap beyond the larger of 1 s and 100 median periods. Over a
+/// longer interval the integrator extrapolates the rates and forces of one
+/// sample for the whole of it (a 10⁶ s gap took an INS to 10¹⁷ m; a 10³⁰⁰ s
+/// span to NaN). Times are taken as increasing (checked before).
 pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
-    if time_s.len() < 3 {
+    if time_s.len() < 2 {
         return Ok(());
     }
     let mut periods: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
@@ -199,9 +234,19 @@ pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
         .copied()
         .enumerate()
         .max_by(|a, b| a.1.total_cmp(&b.1))
-        .expect("at least two periods");
+        .expect("at least one period");
     let middle = periods.len() / 2;
     let median = *periods.select_nth_unstable_by(middle, f64::total_cmp).1;
+    let max_period = crate::limits::MAX_IMU_PERIOD_S;
+    if median > max_period {
+        return Err(Error::invalid(
+            argument,
+            format!(
+                "the median sample period is {median} s, longer than {max_period} s: an IMU \
+                 log samples at 1 Hz or faster (times in seconds expected)"
+            ),
+        ));
+    }
     let limit = (100.0 * median).max(1.0);
     if largest.1 > limit {
         return Err(Error::invalid(

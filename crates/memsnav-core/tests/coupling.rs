@@ -14,7 +14,7 @@ use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
 use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic};
 use memsnav_core::gnss::{self, GnssEpoch, Outage, SimulationConfig};
-use memsnav_core::ins::NavState;
+use memsnav_core::ins::{ImuData, NavState};
 use memsnav_core::random::{stream, Rng};
 use memsnav_core::sensors::ImuModel;
 use memsnav_core::Error;

@@ -8,6 +8,7 @@
 use memsnav_core::coupling::{self, *};
 use memsnav_core::filter::state::BASE_STATES;
 use memsnav_core::gnss::{GnssEpoch, Outage, SimulationConfig};
+use memsnav_core::ins::ImuData;
 use memsnav_core::random::stream;
 use memsnav_core::sensors::{presets, ImuModel};
 use nalgebra::{Matrix3, Vector3};

@@ -3,12 +3,12 @@
 //! arrays, one Rust call per series with the GIL released.
 
 use memsnav_core::coupling::{
-    self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, ImuData,
-    InitialState, Integrity, MeasurementRecord, MeasurementStatus, ResetRecord, Solution,
+    self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, InitialState,
+    Integrity, MeasurementRecord, MeasurementStatus, ResetRecord, Solution,
 };
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::ReceiverClockModel;
-use memsnav_core::ins::NavState;
+use memsnav_core::ins::{ImuData, NavState};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArrayMethods};
@@ -447,7 +447,8 @@ impl PyFilterSolution {
     /// Whether the run raised an integrity alert: its solution and
     /// covariance are not trustworthy (GNSS batches mostly gated,
     /// innovations far outside their chi-square band, or a position too
-    /// uncertain for the linearised model; see `integrity` and `warnings`).
+    /// uncertain for the linearised model, or outliers applied with the
+    /// gate off; see `integrity` and `warnings`).
     #[getter]
     fn diverged(&self) -> bool {
         self.inner.integrity.diverged()

@@ -176,7 +176,7 @@ impl ReferenceNoise {
             ("reference_angular_rate_std", self.angular_rate_std),
         ] {
             validate::non_negative(name, std)?;
-            validate::at_most(name, std, limits::MAX_CALIBRATION_INPUT)?;
+            validate::at_most(name, std, limits::MAX_SENSOR_MAGNITUDE)?;
         }
         Ok(())
     }
@@ -280,11 +280,11 @@ fn validate_data(
     parameters_per_axis: usize,
 ) -> Result<()> {
     validate::finite_vectors("measured", measured)?;
-    validate::bounded_vectors("measured", measured, limits::MAX_CALIBRATION_INPUT)?;
+    validate::bounded_vectors("measured", measured, limits::MAX_SENSOR_MAGNITUDE)?;
     for (name, r) in references {
         validate::same_length(name, r.len(), "measured", measured.len())?;
         validate::finite_vectors(name, r)?;
-        validate::bounded_vectors(name, r, limits::MAX_CALIBRATION_INPUT)?;
+        validate::bounded_vectors(name, r, limits::MAX_SENSOR_MAGNITUDE)?;
     }
     if measured.len() <= parameters_per_axis {
         return Err(Error::invalid(
@@ -312,7 +312,7 @@ fn validate_options(options: &CalibrationOptions) -> Result<()> {
     ] {
         if let Some(x) = v {
             validate::positive(name, x)?;
-            validate::at_most(name, x, limits::MAX_CALIBRATION_INPUT)?;
+            validate::at_most(name, x, limits::MAX_SENSOR_MAGNITUDE)?;
         }
     }
     if options.method == Method::ErrorsInVariables && options.reference_noise_std.is_none() {

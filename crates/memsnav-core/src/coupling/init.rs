@@ -3,13 +3,14 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::engine::{FilterState, ImuData, InitialState};
+use super::engine::{FilterState, InitialState};
 use super::loose::PositionFix;
 use super::records::{ResetKind, ResetRecord};
 use crate::attitude::{dcm_to_euler, euler_to_dcm};
 use crate::filter::state::{ACCEL_BIAS, ATTITUDE};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
+use crate::ins::ImuData;
 use crate::ins::NavState;
 use crate::{validate, Error, Result};
 

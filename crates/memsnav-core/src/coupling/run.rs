@@ -12,9 +12,10 @@
 //!   keeps only what it scores).
 
 use super::engine::Solution;
-use super::engine::{self, AidingEpoch, FilterState, ImuData, InitialState, Observe, SampleHook};
+use super::engine::{self, AidingEpoch, FilterState, InitialState, Observe, SampleHook};
 use super::records::RunRecords;
 use super::tuning::FilterTuning;
+use crate::ins::ImuData;
 use crate::Result;
 
 /// An aiding epoch kind: what a run over such epochs checks and sets up

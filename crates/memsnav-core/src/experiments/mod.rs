@@ -88,7 +88,7 @@ pub(crate) fn validate_reference_noise(
         ("reference_angular_rate_std", angular_rate_std),
     ] {
         crate::validate::positive(name, std)?;
-        crate::validate::at_most(name, std, crate::limits::MAX_CALIBRATION_INPUT)?;
+        crate::validate::at_most(name, std, crate::limits::MAX_SENSOR_MAGNITUDE)?;
     }
     Ok(())
 }

@@ -65,6 +65,30 @@ pub fn check_position_ecef(argument: &str, rows: &[Vector3<f64>]) -> Result<()> 
     }
 }
 
+/// The largest speed of anything navigated or simulated, m/s (10⁵: nine
+/// times the Earth's escape velocity). Beyond it a second of motion leaves
+/// the position domain's scale and its products overflow.
+pub const MAX_SPEED_M_S: f64 = 1e5;
+
+/// Velocities (ECEF or NED: the speed is the same) of at most
+/// [`MAX_SPEED_M_S`]; NaN fails too.
+pub fn check_speed(argument: &str, rows: &[Vector3<f64>]) -> Result<()> {
+    match rows
+        .iter()
+        .position(|v| v.norm().is_nan() || v.norm() > MAX_SPEED_M_S)
+    {
+        None => Ok(()),
+        Some(k) => Err(Error::invalid(
+            argument,
+            format!(
+                "row {k}: a speed of {} m/s, beyond the limit of {MAX_SPEED_M_S:e} m/s \
+                 (m/s expected)",
+                rows[k].norm()
+            ),
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

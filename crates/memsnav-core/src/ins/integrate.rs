@@ -3,50 +3,25 @@
 use nalgebra::Vector3;
 
 use super::increments::cubic_increment;
+use super::ImuData;
 use super::{step, step_increments, ImuIncrement, ImuSample, NavState};
-use crate::geodesy::domain::check_position_ecef;
+use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::{validate, Error, Result};
 
-fn validate_initial(initial: &NavState) -> Result<()> {
-    validate::finite_vectors(
-        "position_ecef",
-        std::slice::from_ref(&initial.position_ecef),
-    )?;
-    // The position every function taking one checks (issue 30: zeros gave
-    // NaN, [1, 2, 3] 4.8e22 m).
-    check_position_ecef(
-        "position_ecef",
-        std::slice::from_ref(&initial.position_ecef),
-    )?;
-    validate::finite_vectors(
-        "velocity_ecef",
-        std::slice::from_ref(&initial.velocity_ecef),
-    )?;
-    validate::rotation("attitude", &initial.c_b_e)
-}
-
+/// The one check of a sample series and its start (`super::series`).
 fn validate_samples(
     time_s: &[f64],
     specific_force_b: &[Vector3<f64>],
     angular_rate_b: &[Vector3<f64>],
     initial: &NavState,
 ) -> Result<()> {
-    if time_s.is_empty() {
-        return Err(Error::invalid("time", "needs at least one sample"));
+    ImuData {
+        time_s,
+        specific_force_b,
+        angular_rate_b,
     }
-    validate::increasing_times("time", time_s)?;
-    validate::imu_time_gaps("time", time_s)?;
-    validate::same_length(
-        "specific_force",
-        specific_force_b.len(),
-        "time",
-        time_s.len(),
-    )?;
-    validate::same_length("angular_rate", angular_rate_b.len(), "time", time_s.len())?;
-    validate::finite_vectors("specific_force", specific_force_b)?;
-    validate::finite_vectors("angular_rate", angular_rate_b)?;
-    validate_initial(initial)?;
-    Ok(())
+    .validate()?;
+    initial.validate("")
 }
 
 /// Integrates a whole series of instantaneous samples and returns the
@@ -61,10 +36,13 @@ fn validate_samples(
 /// 1 cm over 600 s, where the two-sample [`step`] reaches about 0.1 m (its
 /// trapezoidal rate integral leaves O(dt²) attitude errors of ~1e-6 rad).
 ///
-/// Errors (naming the argument): `time` not finite or not strictly
-/// increasing, or empty; `specific_force` / `angular_rate` of another
-/// length or with NaN or infinite values; a non-finite `position_ecef` /
-/// `velocity_ecef`; an `attitude` that is not a rotation.
+/// Errors (naming the argument), from the checks every IMU consumer runs
+/// ([`ImuData::validate`], [`NavState::validate`]): fewer than two
+/// samples, `time` not finite, not strictly increasing or with a gap the
+/// integration cannot bridge; `specific_force` / `angular_rate` of another
+/// length, non-finite or beyond ±10⁶; a `position_ecef` off the geodesy's
+/// domain, a `velocity_ecef` beyond its speed limit, an `attitude` that is
+/// not a rotation.
 pub fn integrate(
     time_s: &[f64],
     specific_force_b: &[Vector3<f64>],
@@ -125,8 +103,11 @@ pub fn integrate_increments(
     delta_angle_b: &[Vector3<f64>],
     initial: &NavState,
 ) -> Result<Vec<NavState>> {
-    if time_s.is_empty() {
-        return Err(Error::invalid("time", "needs at least one sample"));
+    if time_s.len() < 2 {
+        return Err(Error::invalid(
+            "time",
+            format!("needs at least two times, got {}", time_s.len()),
+        ));
     }
     validate::increasing_times("time", time_s)?;
     validate::imu_time_gaps("time", time_s)?;
@@ -143,9 +124,12 @@ pub fn integrate_increments(
         "time minus one",
         intervals,
     )?;
-    validate::finite_vectors("delta_velocity", delta_velocity_b)?;
-    validate::finite_vectors("delta_angle", delta_angle_b)?;
-    validate_initial(initial)?;
+    // Increments over at most 100 s of at most 10⁶ SI: the bound of the
+    // rates and forces they integrate.
+    let max_increment = 100.0 * MAX_SENSOR_MAGNITUDE;
+    validate::bounded_vectors("delta_velocity", delta_velocity_b, max_increment)?;
+    validate::bounded_vectors("delta_angle", delta_angle_b, max_increment)?;
+    initial.validate("")?;
     let mut out = Vec::with_capacity(time_s.len());
     out.push(*initial);
     let mut state = *initial;

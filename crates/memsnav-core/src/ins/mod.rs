@@ -15,12 +15,14 @@
 mod increments;
 mod integrate;
 mod mechanization;
+mod series;
 
 use nalgebra::{Matrix3, Vector3};
 
 pub use increments::{increments_from_samples, step_increments};
 pub use integrate::{integrate, integrate_increments, integrate_steps};
 pub use mechanization::step;
+pub use series::ImuData;
 
 /// Position, velocity and attitude of the body in ECEF.
 #[derive(Debug, Clone, Copy, PartialEq)]

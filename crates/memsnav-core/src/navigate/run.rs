@@ -7,9 +7,10 @@ use nalgebra::{Matrix3, Vector3};
 use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
 use super::standstill::Window;
-use crate::coupling::{self, FilterState, ImuData, InitialState, PositionFix, Solution};
+use crate::coupling::{self, FilterState, InitialState, PositionFix, Solution};
 use crate::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
 use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
+use crate::ins::ImuData;
 use crate::ins::ImuSample;
 use crate::{validate, Error, Result};
 

@@ -4,12 +4,13 @@
 
 #![allow(dead_code)]
 
-use memsnav_core::coupling::{ImuData, InitialState};
+use memsnav_core::coupling::InitialState;
 use memsnav_core::geodesy::wgs84::EARTH_RATE_RAD_S;
 use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, Geodetic};
 use memsnav_core::gnss::{
     self, Constellation, GnssEpoch, ReceiverTrack, SimulationConfig, WalkerConfig,
 };
+use memsnav_core::ins::ImuData;
 use memsnav_core::ins::{self, ImuSample, NavState};
 use memsnav_core::random::Rng;
 use memsnav_core::sensors::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};

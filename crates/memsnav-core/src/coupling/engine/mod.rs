@@ -18,52 +18,10 @@ use crate::filter::state::{
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
-use crate::ins::{self, ImuSample, NavState};
+use crate::ins::{self, ImuData, ImuSample, NavState};
+use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::{validate, Error, Result};
 use range_bias::RangeBiasSlots;
-
-/// A series of raw IMU samples (instantaneous values at `time_s`).
-#[derive(Debug, Clone, Copy)]
-pub struct ImuData<'a> {
-    /// Sample times, s, strictly increasing.
-    pub time_s: &'a [f64],
-    /// Measured specific force f̃_ib^b, m/s².
-    pub specific_force_b: &'a [Vector3<f64>],
-    /// Measured angular rate ω̃_ib^b, rad/s.
-    pub angular_rate_b: &'a [Vector3<f64>],
-}
-
-impl ImuData<'_> {
-    /// Same lengths (at least two samples), increasing finite times, finite values.
-    pub fn validate(&self) -> Result<()> {
-        if self.time_s.len() < 2 {
-            return Err(Error::invalid("time", "needs at least two IMU samples"));
-        }
-        validate::increasing_times("time", self.time_s)?;
-        validate::same_length(
-            "specific_force",
-            self.specific_force_b.len(),
-            "time",
-            self.time_s.len(),
-        )?;
-        validate::same_length(
-            "angular_rate",
-            self.angular_rate_b.len(),
-            "time",
-            self.time_s.len(),
-        )?;
-        validate::finite_vectors("specific_force", self.specific_force_b)?;
-        validate::finite_vectors("angular_rate", self.angular_rate_b)
-    }
-
-    /// Sample `k`.
-    pub fn sample(&self, k: usize) -> ImuSample {
-        ImuSample {
-            specific_force_b: self.specific_force_b[k],
-            angular_rate_b: self.angular_rate_b[k],
-        }
-    }
-}
 
 /// The navigation state and sensor/clock estimates the filter starts from.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,17 +41,21 @@ pub struct InitialState {
 }
 
 impl InitialState {
-    /// Checks finiteness and the attitude matrix.
+    /// The start every consumer of a navigation state checks
+    /// ([`NavState::validate`]) and sensor estimates within the sensors'
+    /// range.
     pub fn validate(&self) -> Result<()> {
-        validate::finite_vectors("initial.position_ecef", &[self.nav.position_ecef])?;
-        validate::finite_vectors("initial.velocity_ecef", &[self.nav.velocity_ecef])?;
-        validate::rotation("initial.attitude", &self.nav.c_b_e)?;
-        crate::geodesy::domain::check_position_ecef(
-            "initial.position_ecef",
-            &[self.nav.position_ecef],
+        self.nav.validate("initial.")?;
+        validate::bounded_vectors(
+            "initial.accel_bias",
+            &[self.accel_bias_m_s2],
+            MAX_SENSOR_MAGNITUDE,
         )?;
-        validate::finite_vectors("initial.accel_bias", &[self.accel_bias_m_s2])?;
-        validate::finite_vectors("initial.gyro_bias", &[self.gyro_bias_rad_s])?;
+        validate::bounded_vectors(
+            "initial.gyro_bias",
+            &[self.gyro_bias_rad_s],
+            MAX_SENSOR_MAGNITUDE,
+        )?;
         for (name, v) in [
             ("initial.clock_offset", self.clock_offset_m),
             ("initial.clock_drift", self.clock_drift_m_s),

@@ -6,13 +6,13 @@ use serde::{Deserialize, Serialize};
 
 use crate::attitude::dcm_to_rotation_vector;
 use crate::coupling::{
-    self, initial_state_from_fix, Aiding, FilterState, FilterTuning, ImuData, InitialState,
+    self, initial_state_from_fix, Aiding, FilterState, FilterTuning, InitialState,
     MeasurementStatus, PositionFix, Solution,
 };
 use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch, ReceiverClockModel};
-use crate::ins::NavState;
+use crate::ins::{ImuData, NavState};
 use crate::sensors::ImuSpec;
 use crate::trajectory::Trajectory;
 use crate::Result;
