@@ -82,6 +82,18 @@ pub fn discretise(psd: f64, correlation_time_s: f64, dt_s: f64) -> GaussMarkovSt
     }
 }
 
+/// [`discretise`] of the stationary process of std `std` and correlation
+/// time `correlation_time_s`, written with σ² (1 − φ²) instead of q τ / 2
+/// (1 − φ²): the same value, without forming q = 2σ²/τ, which overflows
+/// for a τ near zero (issue 30: a sensor's bias instability went NaN).
+pub fn stationary_step(std: f64, correlation_time_s: f64, dt_s: f64) -> GaussMarkovStep {
+    let ratio = dt_s / correlation_time_s;
+    GaussMarkovStep {
+        decay: (-ratio).exp(),
+        drive_variance: std * std * -(-2.0 * ratio).exp_m1(),
+    }
+}
+
 /// The driving PSD q = 2σ²/τ of a stationary process of std σ and
 /// correlation time τ (0 for τ = ∞: no stationary process has it).
 pub fn psd_of_stationary(std: f64, correlation_time_s: f64) -> f64 {
@@ -99,8 +111,18 @@ impl GaussMarkov {
     pub fn stationary(std: f64, correlation_time_s: f64, names: [&str; 2]) -> Result<Self> {
         validate::non_negative(names[0], std)?;
         validate::positive(names[1], correlation_time_s)?;
+        let psd = psd_of_stationary(std, correlation_time_s);
+        if !psd.is_finite() {
+            return Err(Error::invalid(
+                names[1],
+                format!(
+                    "{correlation_time_s:e} s is too short for {} = {std:e}: the driving PSD 2σ²/τ overflows",
+                    names[0]
+                ),
+            ));
+        }
         Ok(Self {
-            psd: psd_of_stationary(std, correlation_time_s),
+            psd,
             correlation_time_s,
         })
     }

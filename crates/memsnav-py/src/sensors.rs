@@ -130,7 +130,7 @@ impl PyAccelerometerModel {
         quantization: f64,
     ) -> PyResult<Self> {
         let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
-        memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
+        memsnav_core::sensors::check_sample_rate(sample_rate).py()?;
         let noise = noise_model(
             noise_std,
             noise_density,
@@ -301,7 +301,7 @@ impl PyGyroscopeModel {
         quantization: f64,
     ) -> PyResult<Self> {
         let sample_rate = sample_rate.unwrap_or(DEFAULT_SAMPLE_RATE_HZ);
-        memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
+        memsnav_core::sensors::check_sample_rate(sample_rate).py()?;
         let noise = noise_model(
             noise_std,
             noise_density,
@@ -506,7 +506,7 @@ impl PyImuModel {
         let (acc, gyr) = (acc.get(), gyr.get());
         let rate = match sample_rate {
             Some(r) => {
-                memsnav_core::validate::positive("sample_rate", r).py()?;
+                memsnav_core::sensors::check_sample_rate(r).py()?;
                 r
             }
             None if acc.sample_rate_hz == gyr.sample_rate_hz => acc.sample_rate_hz,

@@ -3,7 +3,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{output_matrix, validate_common, NoiseModel, NoiseProcess};
+use super::{check_sample_rate, output_matrix, validate_common, NoiseModel, NoiseProcess};
+use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
 use crate::Result;
@@ -46,7 +47,11 @@ impl AccelerometerModel {
     /// valid noise (the fields are public, so [`Self::measure`] checks again).
     pub fn validate(&self) -> Result<()> {
         validate_common(&self.bias, &self.scale_factor, &self.misalignment)?;
-        validate::finite_vectors("nonlinearity", std::slice::from_ref(&self.nonlinearity))?;
+        validate::bounded_vectors(
+            "nonlinearity",
+            std::slice::from_ref(&self.nonlinearity),
+            MAX_SENSOR_MAGNITUDE,
+        )?;
         self.noise.validate()
     }
 
@@ -78,9 +83,9 @@ impl AccelerometerModel {
         check: SeriesCheck,
     ) -> Result<Vec<Vector3<f64>>> {
         self.validate()?;
-        validate::positive("sample_rate", sample_rate_hz)?;
+        check_sample_rate(sample_rate_hz)?;
         if check == SeriesCheck::Finite {
-            validate::finite_vectors("specific_force", specific_force)?;
+            validate::bounded_vectors("specific_force", specific_force, MAX_SENSOR_MAGNITUDE)?;
         }
         let a = self.output_matrix();
         let mut noise = NoiseProcess::new(&self.noise, sample_rate_hz, rng);

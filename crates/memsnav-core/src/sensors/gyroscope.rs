@@ -3,7 +3,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{output_matrix, validate_common, NoiseModel, NoiseProcess};
+use super::{check_sample_rate, output_matrix, validate_common, NoiseModel, NoiseProcess};
+use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
 use crate::Result;
@@ -47,7 +48,7 @@ impl GyroscopeModel {
     /// valid noise (the fields are public, so [`Self::measure`] checks again).
     pub fn validate(&self) -> Result<()> {
         validate_common(&self.bias, &self.scale_factor, &self.misalignment)?;
-        validate::finite_matrix("g_sensitivity", &self.g_sensitivity)?;
+        validate::bounded_matrix("g_sensitivity", &self.g_sensitivity, MAX_SENSOR_MAGNITUDE)?;
         self.noise.validate()
     }
 
@@ -89,10 +90,10 @@ impl GyroscopeModel {
         check: SeriesCheck,
     ) -> Result<Vec<Vector3<f64>>> {
         self.validate()?;
-        validate::positive("sample_rate", sample_rate_hz)?;
+        check_sample_rate(sample_rate_hz)?;
         if check == SeriesCheck::Finite {
-            validate::finite_vectors("angular_rate", angular_rate)?;
-            validate::finite_vectors("specific_force", specific_force)?;
+            validate::bounded_vectors("angular_rate", angular_rate, MAX_SENSOR_MAGNITUDE)?;
+            validate::bounded_vectors("specific_force", specific_force, MAX_SENSOR_MAGNITUDE)?;
         }
         validate::same_length(
             "specific_force",

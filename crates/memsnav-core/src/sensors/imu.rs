@@ -6,6 +6,7 @@ use rand::Rng as _;
 use rand_distr::StandardNormal;
 
 use super::{AccelerometerModel, GyroscopeModel, NoiseModel};
+use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
 use crate::{Error, Result};
@@ -87,6 +88,14 @@ fn full3(rng: &mut Rng, std: f64) -> Matrix3<f64> {
     Matrix3::from_fn(|_, _| std * rng.sample::<f64, _>(StandardNormal))
 }
 
+/// A one-sigma magnitude of a spec: finite, non-negative and at most a
+/// tenth of [`MAX_SENSOR_MAGNITUDE`], so that the values drawn from it
+/// (beyond ten sigma with probability 10⁻²³) stay within the models' limit
+/// and an error names the spec key, not the drawn parameter.
+fn spec_magnitude(argument: &str, value: f64) -> Result<()> {
+    validate::magnitude(argument, value, MAX_SENSOR_MAGNITUDE / 10.0)
+}
+
 fn rms(values: impl Iterator<Item = f64>) -> f64 {
     let (sum, n) = values.fold((0.0, 0usize), |(s, n), x| (s + x * x, n + 1));
     (sum / n as f64).sqrt()
@@ -100,10 +109,10 @@ impl AccelerometerSpec {
     /// Non-negative finite magnitudes and valid noise. Errors name the
     /// `ImuModel.spec` key (`accel_bias_std`, …).
     pub fn validate(&self) -> Result<()> {
-        validate::non_negative("accel_bias_std", self.bias_std)?;
-        validate::non_negative("accel_scale_factor_std", self.scale_factor_std)?;
-        validate::non_negative("accel_misalignment_std", self.misalignment_std)?;
-        validate::non_negative("accel_nonlinearity_std", self.nonlinearity_std)?;
+        spec_magnitude("accel_bias_std", self.bias_std)?;
+        spec_magnitude("accel_scale_factor_std", self.scale_factor_std)?;
+        spec_magnitude("accel_misalignment_std", self.misalignment_std)?;
+        spec_magnitude("accel_nonlinearity_std", self.nonlinearity_std)?;
         self.noise.validate()
     }
 
@@ -137,10 +146,10 @@ impl GyroscopeSpec {
     /// Non-negative finite magnitudes and valid noise. Errors name the
     /// `ImuModel.spec` key (`gyro_bias_std`, …).
     pub fn validate(&self) -> Result<()> {
-        validate::non_negative("gyro_bias_std", self.bias_std)?;
-        validate::non_negative("gyro_scale_factor_std", self.scale_factor_std)?;
-        validate::non_negative("gyro_misalignment_std", self.misalignment_std)?;
-        validate::non_negative("gyro_g_sensitivity_std", self.g_sensitivity_std)?;
+        spec_magnitude("gyro_bias_std", self.bias_std)?;
+        spec_magnitude("gyro_scale_factor_std", self.scale_factor_std)?;
+        spec_magnitude("gyro_misalignment_std", self.misalignment_std)?;
+        spec_magnitude("gyro_g_sensitivity_std", self.g_sensitivity_std)?;
         self.noise.validate()
     }
 
@@ -309,7 +318,7 @@ impl ImuModel {
         sample_rate_hz: f64,
         spec: ImuSpec,
     ) -> Result<Self> {
-        validate::positive("sample_rate", sample_rate_hz)?;
+        super::check_sample_rate(sample_rate_hz)?;
         accelerometer.validate()?;
         gyroscope.validate()?;
         spec.validate()?;
@@ -324,7 +333,7 @@ impl ImuModel {
     /// An IMU whose errors are drawn from `spec` (accelerometer first, then
     /// gyroscope; see [`AccelerometerSpec::draw`]).
     pub fn from_spec(spec: &ImuSpec, sample_rate_hz: f64, rng: &mut Rng) -> Result<Self> {
-        validate::positive("sample_rate", sample_rate_hz)?;
+        super::check_sample_rate(sample_rate_hz)?;
         let spec = spec.in_density_form(sample_rate_hz);
         let accelerometer = spec.accelerometer.draw(rng)?;
         let gyroscope = spec.gyroscope.draw(rng)?;

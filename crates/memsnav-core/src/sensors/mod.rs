@@ -24,6 +24,7 @@ pub use noise::{NoiseModel, NoiseProcess, NoiseSample};
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::limits::{MAX_SAMPLE_RATE_HZ, MAX_SENSOR_MAGNITUDE, MIN_SAMPLE_RATE_HZ};
 use crate::{validate, Error, Result};
 
 /// The IMU sample rate wherever none is given, Hz: the paper's 100 Hz
@@ -31,21 +32,40 @@ use crate::{validate, Error, Result};
 /// Python constructors.
 pub const DEFAULT_SAMPLE_RATE_HZ: f64 = 100.0;
 
+/// A sample rate the models simulate at: within [[`MIN_SAMPLE_RATE_HZ`],
+/// [`MAX_SAMPLE_RATE_HZ`]] (issue 30: 10³⁰⁰ Hz gave a per-sample noise std
+/// of 10¹⁴⁷, a subnormal rate an infinite sample period and NaN).
+pub fn check_sample_rate(sample_rate_hz: f64) -> Result<()> {
+    validate::positive("sample_rate", sample_rate_hz)?;
+    if sample_rate_hz < MIN_SAMPLE_RATE_HZ {
+        return Err(Error::invalid(
+            "sample_rate",
+            format!("{sample_rate_hz:e} Hz is below the limit of {MIN_SAMPLE_RATE_HZ:e} Hz"),
+        ));
+    }
+    validate::at_most("sample_rate", sample_rate_hz, MAX_SAMPLE_RATE_HZ)
+}
+
 /// A = I − D − M, the output matrix of both models (method §2).
 pub fn output_matrix(scale_factor: &Vector3<f64>, misalignment: &Matrix3<f64>) -> Matrix3<f64> {
     Matrix3::identity() - Matrix3::from_diagonal(scale_factor) - misalignment
 }
 
-/// Checks the parameters shared by both sensors: finite values and a
-/// misalignment matrix with a zero diagonal.
+/// Checks the parameters shared by both sensors: values within
+/// ±[`MAX_SENSOR_MAGNITUDE`] (so that with readings within it the model's
+/// products stay finite) and a misalignment matrix with a zero diagonal.
 fn validate_common(
     bias: &Vector3<f64>,
     scale_factor: &Vector3<f64>,
     misalignment: &Matrix3<f64>,
 ) -> Result<()> {
-    validate::finite_vectors("bias", std::slice::from_ref(bias))?;
-    validate::finite_vectors("scale_factor", std::slice::from_ref(scale_factor))?;
-    validate::finite_matrix("misalignment", misalignment)?;
+    validate::bounded_vectors("bias", std::slice::from_ref(bias), MAX_SENSOR_MAGNITUDE)?;
+    validate::bounded_vectors(
+        "scale_factor",
+        std::slice::from_ref(scale_factor),
+        MAX_SENSOR_MAGNITUDE,
+    )?;
+    validate::bounded_matrix("misalignment", misalignment, MAX_SENSOR_MAGNITUDE)?;
     if misalignment.diagonal().iter().any(|d| *d != 0.0) {
         return Err(Error::invalid(
             "misalignment",

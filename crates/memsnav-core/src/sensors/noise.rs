@@ -42,7 +42,7 @@ use nalgebra::Vector3;
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
-use crate::gauss_markov::{discretise, psd_of_stationary};
+use crate::gauss_markov::stationary_step;
 use crate::random::Rng;
 use crate::{validate, Error, Result};
 
@@ -71,15 +71,16 @@ pub struct NoiseModel {
 }
 
 impl NoiseModel {
-    /// Finite, non-negative values; at most one of `white_std` and
+    /// Finite, non-negative values, the magnitudes at most
+    /// [`MAX_SENSOR_MAGNITUDE`](crate::limits::MAX_SENSOR_MAGNITUDE); at most one of `white_std` and
     /// `white_density`; a positive correlation time when the Gauss-Markov
     /// term is on. Errors name the Python keyword of the parameter.
     pub fn validate(&self) -> Result<()> {
-        validate::non_negative("noise_std", self.white_std)?;
-        validate::non_negative("noise_density", self.white_density)?;
-        validate::non_negative("bias_instability", self.bias_instability_std)?;
-        validate::non_negative("bias_random_walk", self.bias_random_walk)?;
-        validate::non_negative("quantization", self.quantization)?;
+        validate::sensor_magnitude("noise_std", self.white_std)?;
+        validate::sensor_magnitude("noise_density", self.white_density)?;
+        validate::sensor_magnitude("bias_instability", self.bias_instability_std)?;
+        validate::sensor_magnitude("bias_random_walk", self.bias_random_walk)?;
+        validate::sensor_magnitude("quantization", self.quantization)?;
         validate::non_negative("bias_correlation_time", self.bias_correlation_time_s)?;
         if self.white_std > 0.0 && self.white_density > 0.0 {
             return Err(Error::invalid(
@@ -130,10 +131,22 @@ impl NoiseModel {
             && self.quantization == 0.0
     }
 
-    /// Rounds an output to the nearest multiple of the LSB (identity when off).
+    /// Rounds an output to the nearest multiple of the LSB (identity when
+    /// off). Where the output is 2⁵² LSBs or more, the LSB is below the
+    /// output's float resolution and the output is kept as it is (dividing
+    /// by an LSB of 1e-300 overflowed to inf, and inf × LSB to NaN).
     pub fn quantize(&self, output: Vector3<f64>) -> Vector3<f64> {
-        if self.quantization > 0.0 {
-            output.map(|x| (x / self.quantization).round() * self.quantization)
+        const EXACT_STEPS: f64 = 4_503_599_627_370_496.0; // 2⁵²
+        let lsb = self.quantization;
+        if lsb > 0.0 {
+            output.map(|x| {
+                let steps = x / lsb;
+                if steps.abs() < EXACT_STEPS {
+                    steps.round() * lsb
+                } else {
+                    x
+                }
+            })
         } else {
             output
         }
@@ -175,8 +188,8 @@ impl NoiseProcess {
     pub fn new(noise: &NoiseModel, sample_rate_hz: f64, rng: &mut Rng) -> Self {
         let dt = 1.0 / sample_rate_hz;
         let (markov_decay, markov_drive_std, markov) = if noise.bias_instability_std > 0.0 {
-            let step = discretise(
-                psd_of_stationary(noise.bias_instability_std, noise.bias_correlation_time_s),
+            let step = stationary_step(
+                noise.bias_instability_std,
                 noise.bias_correlation_time_s,
                 dt,
             );
