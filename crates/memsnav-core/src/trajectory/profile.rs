@@ -8,10 +8,27 @@ use nalgebra::Vector3;
 
 use super::spline::CubicSpline;
 use super::{build, segments::validate_origin, time_grid, LocalMotion, Motion, Trajectory};
+use crate::geodesy::domain::{check_speed, MAX_HEIGHT_M, MAX_SPEED_M_S, MIN_HEIGHT_M};
 use crate::geodesy::Geodetic;
 use crate::{Error, Result};
 
 const COLUMNS: usize = 10;
+
+/// The range of each column after the time (issue 30: a row's east
+/// velocity of 1e308 gave 1 176 of 1 200 specific forces non-finite): the
+/// angles' natural ranges (360° either way for the wrapped ones), the
+/// heights of the geodesy's domain; the velocity is checked as a speed.
+const COLUMN_RANGES: [(&str, f64, f64); COLUMNS - 1] = [
+    ("latitude, deg", -90.0, 90.0),
+    ("longitude, deg", -360.0, 360.0),
+    ("height, m", MIN_HEIGHT_M, MAX_HEIGHT_M),
+    ("v_N, m/s", -MAX_SPEED_M_S, MAX_SPEED_M_S),
+    ("v_E, m/s", -MAX_SPEED_M_S, MAX_SPEED_M_S),
+    ("v_D, m/s", -MAX_SPEED_M_S, MAX_SPEED_M_S),
+    ("roll, deg", -360.0, 360.0),
+    ("pitch, deg", -90.0, 90.0),
+    ("yaw, deg", -360.0, 360.0),
+];
 
 /// Knot spacing of the profile splines, s. Groves' profiles switch
 /// accelerations and turn rates instantaneously; splined through every
@@ -117,6 +134,25 @@ fn parse(path: &Path) -> Result<Rows> {
                     )
                 })?;
         }
+        for (j, &(name, low, high)) in COLUMN_RANGES.iter().enumerate() {
+            let v = values[j + 1];
+            if !(low..=high).contains(&v) {
+                return Err(parse_error(
+                    line,
+                    format!(
+                        "column {} ({name}): {} is outside [{low}, {high}]",
+                        j + 2,
+                        if v.abs() < 1e9 {
+                            v.to_string()
+                        } else {
+                            format!("{v:e}")
+                        }
+                    ),
+                ));
+            }
+        }
+        check_speed("v_NED", &[Vector3::new(values[4], values[5], values[6])])
+            .map_err(|e| parse_error(line, e.to_string()))?;
         if let Some(&last) = rows.time_s.last() {
             if values[0] <= last {
                 return Err(parse_error(
