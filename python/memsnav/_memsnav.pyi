@@ -1212,13 +1212,15 @@ class FilterSolution:
         """Whether the run raised an integrity alert: its solution and
         covariance are not trustworthy (GNSS batches mostly gated, innovations
         far outside their chi-square band, or a position too uncertain for the
-        linearised model; see ``integrity`` and ``warnings``)."""
+        linearised model, or outliers applied with the gate off; see
+        ``integrity`` and ``warnings``)."""
 
     @property
     def integrity(self) -> dict[str, Any]:
         """Whether the solution can be trusted (docs/few-satellites.md): a dict
         with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
-        ("gated_batches", "inconsistent_innovations", "beyond_linear_model"),
+        ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
+        "applied_outliers"),
         ``time`` s, ``message``, in time order) and ``consistency`` (per GNSS
         kind: ``kind``, ``windows`` of 30 s, ``above_band``: windows whose summed
         NIS exceeded the 0.9999 chi-square quantile, ``max_band_ratio``: the

@@ -1,6 +1,6 @@
 //! The integrity of a run (issue 23): whether the solution and its
 //! covariance can be trusted, judged from what the filter itself recorded.
-//! Three signals, each an [`IntegrityAlert`] that marks the run diverged:
+//! Four signals, each an [`IntegrityAlert`] that marks the run diverged:
 //!
 //! - **Gated batches**: a quarter of the GNSS batches (at least 10, over
 //!   10 s or more) failed their chi-square gate: the filter no longer
@@ -24,6 +24,13 @@
 //!   on no linearised filter keeps its covariance honest, and the innovations
 //!   cannot show it, since with so few satellites they see nothing of the
 //!   unobserved directions (docs/few-satellites.md).
+//! - **Applied outliers**: a GNSS batch was applied although its NIS was
+//!   beyond the chi-square quantile of probability [`OUTLIER_PROBABILITY`]
+//!   (one consistent batch in 10⁹ gets there): with the gate off
+//!   (`gate_probability = 1`) nothing else stops it, and a single 10⁹ m
+//!   fix or pseudorange used to move the solution by kilometres with no
+//!   word (issue 30). With the gate on, every applied batch is within a
+//!   lower quantile and this never fires.
 
 use super::records::{BatchRecord, MeasurementKind, RunRecords};
 use crate::filter::chi_square::chi_square_quantile;
@@ -47,6 +54,8 @@ pub const DIVERGENCE_REJECTED_SHARE: f64 = 0.25;
 pub const DIVERGENCE_MIN_REJECTED: usize = 10;
 /// See [`DIVERGENCE_MIN_REJECTED`].
 pub const DIVERGENCE_MIN_SPAN_S: f64 = 10.0;
+/// Tail probability beyond which an applied batch is an outlier.
+pub const OUTLIER_PROBABILITY: f64 = 1.0 - 1e-9;
 /// Fewest pseudorange batches a window needs to judge the nonlinearity.
 const MIN_BATCHES_FOR_NONLINEARITY: usize = 5;
 
@@ -95,6 +104,15 @@ pub enum IntegrityAlert {
     /// uncertainty stayed above [`NONLINEARITY_LIMIT`] (`nonlinearity`: the
     /// smallest of the window).
     BeyondLinearModel { time_s: f64, nonlinearity: f64 },
+    /// `count` GNSS batches were applied with a NIS beyond the quantile of
+    /// [`OUTLIER_PROBABILITY`], the first (of `kind`) at `time_s` with
+    /// `ratio` times that quantile.
+    AppliedOutliers {
+        kind: MeasurementKind,
+        time_s: f64,
+        ratio: f64,
+        count: usize,
+    },
 }
 
 impl IntegrityAlert {
@@ -103,17 +121,19 @@ impl IntegrityAlert {
         match *self {
             IntegrityAlert::GatedBatches { first_s, .. } => first_s,
             IntegrityAlert::InconsistentInnovations { time_s, .. }
-            | IntegrityAlert::BeyondLinearModel { time_s, .. } => time_s,
+            | IntegrityAlert::BeyondLinearModel { time_s, .. }
+            | IntegrityAlert::AppliedOutliers { time_s, .. } => time_s,
         }
     }
 
     /// A short name: `gated_batches`, `inconsistent_innovations`,
-    /// `beyond_linear_model`.
+    /// `beyond_linear_model`, `applied_outliers`.
     pub fn name(&self) -> &'static str {
         match self {
             IntegrityAlert::GatedBatches { .. } => "gated_batches",
             IntegrityAlert::InconsistentInnovations { .. } => "inconsistent_innovations",
             IntegrityAlert::BeyondLinearModel { .. } => "beyond_linear_model",
+            IntegrityAlert::AppliedOutliers { .. } => "applied_outliers",
         }
     }
 
@@ -143,6 +163,15 @@ impl IntegrityAlert {
                 nonlinearity,
             } => format!(
                 "from t = {time_s:.1} s the position is too uncertain across the satellites' lines of sight for the filter's first-order pseudorange model: the expected curvature term was {nonlinearity:.2} of the measurement noise or more for {WINDOW_S:.0} s (limit {NONLINEARITY_LIMIT}); with this few satellites the innovations cannot show the errors in the unobserved directions, and the covariance no longer bounds them: the solution is not trustworthy (docs/few-satellites.md)"
+            ),
+            IntegrityAlert::AppliedOutliers {
+                kind,
+                time_s,
+                ratio,
+                count,
+            } => format!(
+                "{count} GNSS batches were applied although their NIS was beyond the chi-square quantile of {OUTLIER_PROBABILITY} (the first, {} at t = {time_s:.1} s, {ratio:.3e} times it): the gate let them through (gate_probability of 1, or above that quantile), so outliers moved the solution, which is not trustworthy; keep the gate on",
+                kind.name()
             ),
         }
     }
@@ -176,6 +205,7 @@ impl RunRecords {
 pub fn assess(batches: &[BatchRecord]) -> Integrity {
     let mut out = Integrity::default();
     out.alerts.extend(gated_batches(batches));
+    out.alerts.extend(applied_outliers(batches));
     for kind in GNSS_KINDS {
         let of_kind: Vec<&BatchRecord> = batches.iter().filter(|b| b.kind == kind).collect();
         if of_kind.is_empty() {
@@ -261,6 +291,28 @@ fn beyond_linear_model(pseudoranges: &[&BatchRecord]) -> Option<IntegrityAlert> 
                 nonlinearity: smallest,
             },
         )
+    })
+}
+
+/// The applied-outliers alert (module docs): batches applied by a gate
+/// whose threshold was at or beyond the outlier quantile, with a NIS
+/// beyond it.
+fn applied_outliers(batches: &[BatchRecord]) -> Option<IntegrityAlert> {
+    let quantile = |b: &BatchRecord| chi_square_quantile(b.dof as f64, OUTLIER_PROBABILITY);
+    let ratio = |b: &BatchRecord| b.nis / quantile(b);
+    let mut outliers = batches.iter().filter(|b| {
+        GNSS_KINDS.contains(&b.kind)
+            && b.accepted
+            && b.dof > 0
+            && b.threshold >= quantile(b)
+            && ratio(b) > 1.0
+    });
+    let first = outliers.next()?;
+    Some(IntegrityAlert::AppliedOutliers {
+        kind: first.kind,
+        time_s: first.time_s,
+        ratio: ratio(first),
+        count: 1 + outliers.count(),
     })
 }
 
@@ -360,6 +412,30 @@ mod tests {
     }
 
     /// One window far off (a burst of bad measurements) is not a divergence.
+    /// One batch applied with the gate off (threshold ∞) beyond the outlier
+    /// quantile is an alert; the same NIS under a finite gate's threshold
+    /// is a batch the gate judged, so not.
+    #[test]
+    fn an_outlier_applied_with_the_gate_off_is_an_alert() {
+        let mut b = series(MeasurementKind::Position, 1.0, 60);
+        b[30].threshold = f64::INFINITY;
+        assert!(!assess(&b).diverged());
+        b[30].nis = 1e12;
+        let alerts = assess(&b).alerts;
+        assert!(
+            matches!(
+                alerts.as_slice(),
+                [IntegrityAlert::AppliedOutliers { count: 1, .. }, ..]
+            ),
+            "{alerts:?}"
+        );
+        b[30].threshold = chi_square_quantile(3.0, 0.999);
+        assert!(!assess(&b)
+            .alerts
+            .iter()
+            .any(|a| a.name() == "applied_outliers"));
+    }
+
     #[test]
     fn a_single_bad_window_is_not_an_alert() {
         let mut b = series(MeasurementKind::Pseudorange, 1.0, 300);
