@@ -172,9 +172,9 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
         for j in 0..n {
             let i = k * n + j;
             let id = sat_id[i];
-            if id.is_nan() {
+            if !id.is_finite() {
                 return Err(PyValueError::new_err(format!(
-                    "gnss: sat_id[{k}, {j}] is NaN: mark an empty slot with a negative number"
+                    "gnss: sat_id[{k}, {j}] is {id}: mark an empty slot with a negative number"
                 )));
             }
             if id < 0.0 {

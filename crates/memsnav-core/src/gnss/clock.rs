@@ -11,9 +11,16 @@
 use nalgebra::{Matrix2, Vector2};
 use rand_distr::{Distribution, StandardNormal};
 
+use crate::geodesy::domain::{MAX_DISTANCE_M, MAX_SPEED_M_S};
 use crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
 use crate::random::Rng;
 use crate::{validate, Error, Result};
+
+/// Largest Allan-variance coefficient (h0, h−2) accepted: 10¹³ times a
+/// TCXO's. Its noise densities (c² h ≈ 9e16 h) times any step of a
+/// simulation stay finite (issue 30: h0 = 1e300 gave 360 NaN pseudoranges
+/// of 366; huge values overflowed the clock's process noise).
+pub const MAX_ALLAN_COEFFICIENT: f64 = 1e-6;
 
 /// Parameters of the receiver clock.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,22 +58,20 @@ pub struct ClockState {
 
 impl ReceiverClockModel {
     pub fn validate(&self) -> Result<()> {
-        validate::non_negative("clock_h0", self.h0)?;
-        validate::non_negative("clock_h_minus2", self.h_minus2)?;
-        // The noise densities they give must be numbers too (c² h ≈ 9e16 h).
-        for (name, psd) in [
-            ("clock_h0", self.offset_psd_m2_s()),
-            ("clock_h_minus2", self.drift_psd_m2_s3()),
-        ] {
-            if !psd.is_finite() {
-                return Err(Error::invalid(
-                    name,
-                    "is so large that the clock's noise density overflows",
-                ));
-            }
-        }
-        validate::non_negative("clock_initial_offset_std", self.initial_offset_std_m)?;
-        validate::non_negative("clock_initial_drift_std", self.initial_drift_std_m_s)
+        validate::magnitude("clock_h0", self.h0, MAX_ALLAN_COEFFICIENT)?;
+        validate::magnitude("clock_h_minus2", self.h_minus2, MAX_ALLAN_COEFFICIENT)?;
+        // An offset no larger than the ranges of the geodesy's domain (3 s),
+        // a drift no faster than its speeds (330 ppm; crystals hold 50).
+        validate::magnitude(
+            "clock_initial_offset_std",
+            self.initial_offset_std_m,
+            MAX_DISTANCE_M,
+        )?;
+        validate::magnitude(
+            "clock_initial_drift_std",
+            self.initial_drift_std_m_s,
+            MAX_SPEED_M_S,
+        )
     }
 
     /// The model of an oscillator class, by name (initial stds as the

@@ -5,7 +5,7 @@
 /// must be non-empty and strictly increasing, `rate_hz` positive.
 pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
     let n = time_s.len();
-    let (t0, t_end) = (time_s[0], time_s[n - 1]);
+    let t0 = time_s[0];
     let step = 1.0 / rate_hz;
     // Targets every `step` put one within half a period of every instant:
     // with a period below every sample spacing, each sample is the nearest
@@ -19,38 +19,33 @@ pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
     if step < min_spacing {
         return (0..n).collect();
     }
-    // At most one epoch per track sample: the output and the loop are
-    // bounded by the track, whatever the time span or the rate (a 1e20 s
-    // span at 1 Hz must not visit 1e20 targets). `k` is a float for spans
-    // beyond 2⁶⁴ periods.
+    // Each target k is served by the sample nearest to it, which lies
+    // within half a period of it exactly when its offset in periods,
+    // r = (t − t0) / step, rounds to k. So the samples are grouped by
+    // round(r), consecutive since the times increase, and each group's
+    // nearest (the first on a tie) is an epoch: one pass over the track,
+    // bounded by it whatever the span or the rate (a 1e20 s span at 1 Hz
+    // must not visit 1e20 targets; stepping targets through a span whose
+    // float spacing exceeds the period never advanced, issue 30).
+    let offset = |t: f64| (t - t0) / step;
     let mut samples: Vec<usize> = Vec::new();
-    let mut k = 0.0f64;
-    loop {
-        let target = t0 + k * step;
-        if target > t_end + 0.5 * step {
-            break;
+    let mut best: Option<(f64, usize, f64)> = None; // (target k, sample, |r − k|)
+    for (i, &t) in time_s.iter().enumerate() {
+        let r = offset(t);
+        let (k, distance) = (r.round(), (r - r.round()).abs());
+        match best {
+            Some((current, _, d)) if current == k => {
+                if distance < d {
+                    best = Some((k, i, distance));
+                }
+            }
+            _ => {
+                samples.extend(best.map(|b| b.1));
+                best = Some((k, i, distance));
+            }
         }
-        let j = time_s.partition_point(|&t| t < target);
-        let nearest = if j == 0 {
-            0
-        } else if j == n || (target - time_s[j - 1]) <= (time_s[j] - target) {
-            j - 1
-        } else {
-            j
-        };
-        if samples.last() != Some(&nearest) && (time_s[nearest] - target).abs() <= 0.5 * step {
-            samples.push(nearest);
-        }
-        // Later targets select a new sample only if one lies within half a
-        // period of them: skip the targets before the first sample after
-        // this target (less half a period).
-        let after = time_s.partition_point(|&t| t <= target);
-        if after == n {
-            break;
-        }
-        let first_useful = ((time_s[after] - 0.5 * step - t0) / step).ceil();
-        k = (k + 1.0).max(first_useful);
     }
+    samples.extend(best.map(|b| b.1));
     samples
 }
 
@@ -84,6 +79,12 @@ mod tests {
     fn huge_spans_and_rates_cost_no_more_than_the_track() {
         // Issue 15: a 1e20 s span at 1 Hz hung, 1e12 Hz aborted on allocation.
         assert_eq!(epoch_samples(&[0.0, 1e20], 1.0), vec![0, 1]);
+        // A first time of -2.7e16 s: the float spacing there (4 s) exceeds
+        // the period, and stepping the targets never advanced (issue 30).
+        let mut far: Vec<f64> = (0..=1000).map(|k| k as f64 * 0.01).collect();
+        far[0] = -2.742_103_583_849_717e16;
+        let s = epoch_samples(&far, 1.0);
+        assert!(s[0] == 0 && s.len() <= far.len(), "{s:?}");
         let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
         assert_eq!(epoch_samples(&time, 1e12), (0..=100).collect::<Vec<_>>());
         // The skip leaves the ordinary grid unchanged.

@@ -31,6 +31,7 @@ use super::observables::{
 };
 use super::GnssEpoch;
 use crate::gauss_markov::GaussMarkov;
+use crate::geodesy::domain::{MAX_DISTANCE_M, MAX_SPEED_M_S};
 use crate::geodesy::ecef_to_geodetic;
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
@@ -136,8 +137,18 @@ impl SimulationConfig {
                 ),
             ));
         }
-        validate::non_negative("pseudorange_std", self.pseudorange_std_m)?;
-        validate::non_negative("pseudorange_rate_std", self.pseudorange_rate_std_m_s)?;
+        // Range errors no larger than the ranges of the geodesy's domain,
+        // rate errors no faster than its speeds: beyond them no receiver
+        // measures, and the simulated sums overflow.
+        validate::magnitude("pseudorange_std", self.pseudorange_std_m, MAX_DISTANCE_M)?;
+        validate::magnitude(
+            "pseudorange_rate_std",
+            self.pseudorange_rate_std_m_s,
+            MAX_SPEED_M_S,
+        )?;
+        if let Some(r) = self.residual {
+            validate::magnitude("residual_std", r.std_m, MAX_DISTANCE_M)?;
+        }
         self.residual_process()?;
         self.clock.validate()?;
         for (k, o) in self.outages.iter().enumerate() {
@@ -224,8 +235,9 @@ pub(crate) fn simulate_track(
         validate::finite_vectors("position_ecef", track.position_ecef)?;
         validate::finite_vectors("velocity_ecef", track.velocity_ecef)?;
         // A receiver at the Earth's centre gave every pseudorange NaN
-        // (issue 30): the one ECEF position check.
+        // (issue 30): the one ECEF position and speed checks.
         crate::geodesy::domain::check_position_ecef("position_ecef", track.position_ecef)?;
+        crate::geodesy::domain::check_speed("velocity_ecef", track.velocity_ecef)?;
     }
     if constellation.is_empty() {
         return Err(Error::invalid("constellation", "has no satellites"));
