@@ -518,3 +518,174 @@ def test_cli_navigate_duration_must_be_positive_and_finite(tmp_path, duration):
     assert done.returncode == 2
     assert "argument --duration: must be positive and finite" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+# --- one check of every IMU series and start (issue 30) --------------------------------
+
+
+def imu_gap_track():
+    t = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
+    time = t.time.copy()
+    time[50:] += 1e6
+    return t, time
+
+
+@pytest.mark.parametrize("kind", ["tight", "loose"])
+def test_the_filters_refuse_the_imu_gap_strapdown_refuses(kind):
+    """Both filters integrated across a 10⁶ s gap and ended 4.7e15 m off with
+    diverged = False: they now run the one IMU series check strapdown runs."""
+    t, time = imu_gap_track()
+    imu = mn.ImuModel.preset("consumer", seed=1)
+    gnss = mn.simulate_gnss(t.time, t.position_ecef, t.velocity_ecef, mn.Constellation.walker())
+    if kind == "tight":
+        run = mn.TightlyCoupledFilter(imu).run
+        aiding = gnss
+    else:
+        run = mn.LooselyCoupledFilter(imu).run
+        fixes = mn.solve_fix(gnss)
+        aiding = {
+            "time": np.array(fixes.time),
+            "position_ecef": np.array(fixes.position_ecef),
+            "position_covariance": np.array(fixes.position_clock_covariance)[:, :3, :3],
+        }
+    with pytest.raises(ValueError, match=r"^time: a gap of 1000000\.1 s between samples 49 and 50"):
+        run(time, t.specific_force, t.angular_rate, aiding, initial_attitude=t.attitude[0])
+
+
+def strapdown_with(**changes):
+    t = mn.Trajectory.random(duration=2.0, seed=1)
+    args = {
+        "time": t.time,
+        "specific_force": t.specific_force,
+        "angular_rate": t.angular_rate,
+        "position_ecef": t.position_ecef[0],
+        "velocity_ecef": t.velocity_ecef[0],
+        "attitude": t.attitude[0],
+    }
+    args.update({k: v(args[k]) for k, v in changes.items()})
+    return mn.strapdown(*args.values())
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        # 1e300 m/s² or rad/s: all NaN before; beyond any sensor's range.
+        ({"specific_force": lambda f: f * 0 + 1e300}, r"^specific_force: row 0 holds 1e300, "),
+        ({"angular_rate": lambda w: w * 0 + 1e300}, r"^angular_rate: row 0 holds 1e300, "),
+        # A span of 1e300 s: every period far beyond an IMU's.
+        ({"time": lambda t: t * 1e298}, r"^time: the median sample period is .* longer than 1 s"),
+        ({"velocity_ecef": lambda v: v * 0 + 1e300}, r"^velocity_ecef: row 0: a speed of"),
+    ],
+)
+def test_strapdown_refuses_series_no_sensor_gives(changes, message):
+    with pytest.raises(ValueError, match=message):
+        strapdown_with(**changes)
+
+
+def test_strapdown_at_the_limits_is_finite():
+    """At the edges of what is accepted the INS stays a number."""
+    sol = strapdown_with(
+        specific_force=lambda f: f * 0 + 1e6,
+        angular_rate=lambda w: w * 0 - 1e6,
+        velocity_ecef=lambda v: v / np.linalg.norm(v) * 1e5,
+    )
+    assert np.isfinite(sol.position_ecef).all() and np.isfinite(sol.attitude).all()
+
+
+# --- sensor models on finite extremes (issue 30) ----------------------------------------
+
+Z3, Z33 = np.zeros(3), np.zeros((3, 3))
+
+
+@pytest.mark.parametrize(
+    ("build", "message"),
+    [
+        # N f² with f = 1e160 overflowed to [-inf, nan, nan].
+        (
+            lambda: mn.AccelerometerModel(Z3, Z3, Z33, [1e-4, 0, 0]).measure([[1e160, 0, 0]]),
+            r"^specific_force: row 0 holds 1e160, beyond the limit of ±1e6",
+        ),
+        (
+            lambda: mn.AccelerometerModel(Z3, Z3, Z33, Z3, bias_instability=1e300),
+            r"^bias_instability: 1e300 is beyond the limit of 1e6",
+        ),
+        # 1e300 Hz gave a per-sample noise std of 1e147.
+        (
+            lambda: mn.AccelerometerModel(Z3, Z3, Z33, Z3, noise_density=1e-3, sample_rate=1e300),
+            r"^sample_rate: 1e300 is beyond the limit of 1e6",
+        ),
+        (
+            lambda: mn.GyroscopeModel([1e300, 0, 0], Z3, Z33, Z33),
+            r"^bias: row 0 holds 1e300, beyond the limit of ±1e6",
+        ),
+        (
+            lambda: mn.GyroscopeModel(Z3, Z3, Z33, np.full((3, 3), 1e300)),
+            r"^g_sensitivity: holds 1e300, beyond the limit of ±1e6",
+        ),
+    ],
+)
+def test_sensor_models_refuse_values_beyond_any_sensor(build, message):
+    with pytest.raises(ValueError, match=message):
+        build()
+
+
+def test_sensor_models_at_their_limits_give_finite_readings():
+    """Everything at the largest accepted magnitude, the tiniest LSB and a
+    correlation time near zero (its PSD 2σ²/τ overflowed): finite readings."""
+    big = np.full(3, 1e6)
+    misalignment = np.full((3, 3), 1e6) - np.diag(np.full(3, 1e6))
+    noise = {
+        "bias_instability": 1e6,
+        "bias_correlation_time": 1e-300,
+        "bias_random_walk": 1e6,
+        "noise_density": 1e6,
+        "sample_rate": 1e6,
+    }
+    for lsb in (1e-300, 5e-324, 1e6):
+        acc = mn.AccelerometerModel(big, big, misalignment, big, quantization=lsb, **noise)
+        k = np.full((3, 3), 1e6)
+        gyr = mn.GyroscopeModel(big, big, misalignment, k, quantization=lsb, **noise)
+        inputs = np.full((50, 3), -1e6)
+        assert np.isfinite(acc.measure(inputs, seed=1)).all()
+        assert np.isfinite(gyr.measure(inputs, inputs, seed=1)).all()
+
+
+def test_a_tiny_lsb_keeps_the_reading_it_cannot_resolve():
+    acc = mn.AccelerometerModel(Z3, Z3, Z33, Z3, quantization=1e-300)
+    np.testing.assert_array_equal(acc.measure([[9.81, -1.0, 0.5]]), [[9.81, -1.0, 0.5]])
+    coarse = mn.AccelerometerModel(Z3, Z3, Z33, Z3, quantization=0.5)
+    np.testing.assert_array_equal(coarse.measure([[9.81, -1.2, 0.2]]), [[10.0, -1.0, 0.0]])
+
+
+# --- an outlier applied with the gate off (issue 30) ------------------------------------
+
+
+@pytest.mark.parametrize("kind", ["tight", "loose"])
+def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
+    """gate_probability = 1 let a 10⁹ m outlier through; the tight filter
+    ended 639 m off and the loose 2.6 km, with no warning."""
+    traj, gnss, imu, f, w, arrays = drive
+    if kind == "tight":
+        names = ("time", "sat_id", "pseudorange", "pseudorange_rate", "pseudorange_std")
+        names += ("pseudorange_rate_std", "satellite_position_ecef", "satellite_velocity_ecef")
+        g = {name: np.array(getattr(gnss, name)) for name in names}
+        g["pseudorange"][100, 0] += 1e9
+        run = mn.TightlyCoupledFilter(imu, gate_probability=1.0).run
+        aiding = g
+    else:
+        aiding = {k: v.copy() for k, v in arrays.items()}
+        aiding["position_ecef"][100] += [1e9, 0.0, 0.0]
+        run = mn.LooselyCoupledFilter(imu, gate_probability=1.0).run
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sol = run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
+    applied = "GNSS batches were applied although their NIS was beyond"
+    assert any(applied in str(c.message) for c in caught)
+    assert sol.diverged
+    assert [a["kind"] for a in sol.integrity["alerts"]].count("applied_outliers") == 1
+    # The same run with the gate on rejects the outlier and says nothing.
+    gated = (mn.TightlyCoupledFilter if kind == "tight" else mn.LooselyCoupledFilter)(imu)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        clean = gated.run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
+    assert not clean.diverged
