@@ -183,7 +183,7 @@ fn sp3_positions_epochs_and_sizes_are_range_checked() {
     );
     let e = read("back.sp3", &sp3(2, &[e2, e1], "20000.000000"));
     assert!(
-        e.contains("back.sp3:7: epoch 2021-04-28 00:00:0 does not follow"),
+        e.contains("back.sp3:7: epoch 2021-04-28 00:00:00 does not follow"),
         "{e}"
     );
     let e = read("same.sp3", &sp3(2, &[e1, e1], "20000.000000"));

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::time::checked_gps_time_from_calendar;
+use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
 /// One satellite's observations at one epoch.
@@ -323,7 +323,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 return Err(error(
                     k,
                     format!(
-                        "epoch {y}-{mo:02}-{d:02} {h:02}:{mi:02}:{s} does not follow the previous epoch: epochs must increase"
+                        "epoch {} does not follow the previous epoch: epochs must increase",
+                        calendar_text(y, mo, d, h, mi, s)
                     ),
                 ));
             }

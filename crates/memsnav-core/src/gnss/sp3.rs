@@ -5,7 +5,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::time::checked_gps_time_from_calendar;
+use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
 /// Precise orbits: `n_epochs × n_satellites` positions (ECEF, m, centre
@@ -151,7 +151,8 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                     return Err(err(
                         k,
                         format!(
-                            "epoch {year}-{month:02}-{day:02} {hour:02}:{minute:02}:{second} does not follow the previous epoch: epochs must increase"
+                            "epoch {} does not follow the previous epoch: epochs must increase",
+                            calendar_text(year, month, day, hour, minute, second)
                         ),
                     ));
                 }
