@@ -98,6 +98,11 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
     let mut position_ecef = Vec::new();
     let mut clock_s = Vec::new();
     let mut time_system_seen = false;
+    // The current epoch as read (for messages), and the line of each
+    // satellite's position record in it: a second record would silently
+    // replace the first.
+    let mut epoch = (0, 0, 0, 0, 0, 0.0);
+    let mut record_line: Vec<Option<usize>> = Vec::new();
     for (k, line) in lines.iter().enumerate().skip(1) {
         if line.starts_with("+ ") {
             if declared.is_none() {
@@ -172,6 +177,9 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                 satellites.len(),
             ));
             clock_s.extend(std::iter::repeat_n(f64::NAN, satellites.len()));
+            epoch = (year, month, day, hour, minute, second);
+            record_line.clear();
+            record_line.resize(satellites.len(), None);
         } else if line.starts_with('P') {
             if time_gps_s.is_empty() {
                 return Err(err(
@@ -184,6 +192,18 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                 .iter()
                 .position(|x| *x == id)
                 .ok_or_else(|| err(k, format!("satellite {id:?} is not in the header's list")))?;
+            if let Some(first) = record_line[s] {
+                let (year, month, day, hour, minute, second) = epoch;
+                return Err(err(
+                    k,
+                    format!(
+                        "{id} has a second position record in epoch {} (the first is on line {}): one record per satellite and epoch",
+                        calendar_text(year, month, day, hour, minute, second),
+                        first + 1
+                    ),
+                ));
+            }
+            record_line[s] = Some(k);
             let x = num(line, k, 4, 18, "x")?;
             let y = num(line, k, 18, 32, "y")?;
             let z = num(line, k, 32, 46, "z")?;
@@ -228,4 +248,42 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
         position_ecef,
         clock_s,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "#dP2021  4 28  0  0  0.00000000       2 ORBIT IGb14 HLM  COD
++    2   G01G02  0  0  0  0  0  0  0  0  0  0  0  0  0  0  0
+%c M  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc
+";
+    const EPOCH: &str = "*  2021  4 28  0  5  0.00000000\n";
+    const G01: &str = "PG01  13848.512383 -22211.297941   6208.223406    -35.472146\n";
+    const G02: &str = "PG02 -17005.224919   3838.417103 -20029.707301    -19.893417\n";
+
+    fn message(text: &str) -> String {
+        parse_sp3(text, "x.sp3").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn one_record_per_satellite_and_epoch() {
+        let sp3 = parse_sp3(&format!("{HEADER}{EPOCH}{G02}{G01}"), "x.sp3").unwrap();
+        assert_eq!(sp3.position(0, 0).x, 13_848_512.383);
+        // The same record twice, and G02's line relabelled G01: refused,
+        // not the second values in place of the first.
+        let relabelled = G02.replace("PG02", "PG01");
+        for second in [G01, relabelled.as_str()] {
+            assert_eq!(
+                message(&format!("{HEADER}{EPOCH}{G01}{second}")),
+                "x.sp3:6: G01 has a second position record in epoch 2021-04-28 00:05:00 \
+                 (the first is on line 5): one record per satellite and epoch"
+            );
+        }
+        // The same satellite in the next epoch is its next record.
+        let next = EPOCH.replace(" 5  0.", "10  0.");
+        let sp3 = parse_sp3(&format!("{HEADER}{EPOCH}{G01}{next}{G01}"), "x.sp3").unwrap();
+        assert_eq!(sp3.time_gps_s.len(), 2);
+        assert!(sp3.position(1, 1).x.is_nan());
+    }
 }
