@@ -42,6 +42,23 @@ const MAX_COORDINATE_KM: f64 = 1e5;
 /// refused before it allocates gigabytes.
 const MAX_SATELLITE_EPOCHS: usize = 10_000_000;
 
+/// System letters of SP3 satellite names: G GPS, R GLONASS, E Galileo,
+/// C BeiDou, J QZSS, I NavIC, S SBAS (those the RINEX readers know) and L,
+/// SP3's low Earth orbiters.
+const SYSTEM_LETTERS: &str = "GRECJISL";
+
+/// Whether `name` (blanks already read as zeros) is a satellite of the
+/// header's list: a system letter and a number 01-99 ("G05"). A name like
+/// "C3." or "G,1" is a damaged header, not a satellite: refused even when
+/// no record names it.
+fn is_satellite_name(name: &str) -> bool {
+    let b = name.as_bytes();
+    b.len() == 3
+        && SYSTEM_LETTERS.as_bytes().contains(&b[0])
+        && b[1..].iter().all(u8::is_ascii_digit)
+        && &b[1..] != b"00"
+}
+
 /// Reads an SP3-c or SP3-d file (GPS time system).
 pub fn read_sp3(path: impl AsRef<Path>) -> Result<Sp3> {
     let path = path.as_ref();
@@ -123,7 +140,24 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                     && id != "00"
                     && satellites.len() < declared.unwrap_or(0)
                 {
-                    satellites.push(id.replace(' ', "0"));
+                    let name = id.replace(' ', "0");
+                    if !is_satellite_name(&name) {
+                        return Err(err(
+                            k,
+                            format!(
+                                "satellite name {id:?} in columns {}-{} is not a system letter ({SYSTEM_LETTERS}) and a number 01-99",
+                                c + 1,
+                                c + 3
+                            ),
+                        ));
+                    }
+                    if satellites.contains(&name) {
+                        return Err(err(
+                            k,
+                            format!("satellite {name} is listed twice in the header"),
+                        ));
+                    }
+                    satellites.push(name);
                 }
                 c += 3;
             }
@@ -285,5 +319,40 @@ mod tests {
         let sp3 = parse_sp3(&format!("{HEADER}{EPOCH}{G01}{next}{G01}"), "x.sp3").unwrap();
         assert_eq!(sp3.time_gps_s.len(), 2);
         assert!(sp3.position(1, 1).x.is_nan());
+    }
+
+    #[test]
+    fn header_names_are_satellites_listed_once() {
+        // (the header's list, what is said of it on line 2)
+        let cases = [
+            (
+                "G01Cnf",
+                r#"satellite name "Cnf" in columns 13-15 is not a system letter"#,
+            ),
+            ("G01C3.", r#"satellite name "C3." in columns 13-15"#),
+            ("G,1G02", r#"satellite name "G,1" in columns 10-12"#),
+            ("G01X05", r#"satellite name "X05" in columns 13-15"#),
+            ("G01G00", r#"satellite name "G00" in columns 13-15"#),
+            ("G01G01", "satellite G01 is listed twice in the header"),
+        ];
+        for (list, words) in cases {
+            let text = format!("{HEADER}{EPOCH}{G01}").replacen("G01G02", list, 1);
+            let message = message(&text);
+            assert!(
+                message.starts_with("x.sp3:2: ") && message.contains(words),
+                "{message}"
+            );
+        }
+        // Every system letter, a blank-padded number, the unused slots.
+        let text = format!("{HEADER}{EPOCH}{G01}").replace(
+            "G01G02  0  0  0  0  0  0  0  0",
+            "G01R 2E03C04J05I06S07L08  0  0",
+        );
+        let text = text.replacen("+    2", "+    8", 1);
+        let sp3 = parse_sp3(&text, "x.sp3").unwrap();
+        assert_eq!(
+            sp3.satellites,
+            ["G01", "R02", "E03", "C04", "J05", "I06", "S07", "L08"]
+        );
     }
 }
