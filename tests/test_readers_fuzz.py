@@ -1,7 +1,9 @@
 """Fuzzing the Python faces of the readers (issue 15, hypothesis): valid
 files with bytes flipped, cut, numbers replaced by huge or non-finite ones
 and garbage appended give a result or a ``ValueError`` (``ParseError``)
-naming the file: never another exception, a crash or a hang. What
+naming the file: never another exception, a crash or a hang. A satellite
+record of an SP3 or RINEX observation epoch duplicated, or another
+relabelled with its name, is always that error (issue 30). What
 ``write_pos`` accepts, ``read_pos`` reads back.
 
 CI runs a fixed, derandomised budget; ``MEMSNAV_FUZZ_EXAMPLES=N`` raises it
@@ -107,10 +109,11 @@ def _mutate(seed: bytes, mutations: list[tuple[str, int, int]]) -> bytes:
     return bytes(b)
 
 
-def _read(name: str, content: bytes) -> None:
-    """Reads ``content`` with reader ``name``: a result or a ValueError
-    naming the file, in bounded time."""
+def _read(name: str, content: bytes) -> str | None:
+    """Reads ``content`` with reader ``name``: a result (None) or a
+    ValueError naming the file (its message), in bounded time."""
     _, ext, reader = READERS[name]
+    message = None
     with tempfile.TemporaryDirectory() as d:
         path = Path(d) / f"fuzzed.{ext}"
         path.write_bytes(content)
@@ -120,8 +123,10 @@ def _read(name: str, content: bytes) -> None:
             try:
                 reader(path)
             except ValueError as e:
-                assert "fuzzed." in str(e), e
+                message = str(e)
         assert time.perf_counter() - start < 10.0
+    assert message is None or "fuzzed." in message, message
+    return message
 
 
 @pytest.mark.parametrize("name", sorted(READERS))
@@ -137,6 +142,68 @@ def test_mutated_files_give_a_result_or_an_error_naming_the_file(name, mutations
 def test_garbage_after_a_valid_beginning(name, prefix, tail):
     seed = READERS[name][0]
     _read(name, seed[: prefix % (len(seed) + 1)] + tail)
+
+
+#: Columns of the satellite name in a record line of the formats with one
+#: record per satellite and epoch.
+LABEL = {"sp3": slice(1, 4), "rinex_obs": slice(0, 3)}
+
+
+def _epoch_records(name: str, lines: list[bytes]) -> list[list[int]]:
+    """Indices of the satellite record lines of each epoch of a seed of
+    ``name`` (SP3: ``P`` lines after a ``*`` line; RINEX observations: the
+    lines a ``>`` line announces)."""
+    epochs: list[list[int]] = []
+    if name == "sp3":
+        for k, line in enumerate(lines):
+            if line.startswith(b"*"):
+                epochs.append([])
+            elif line.startswith(b"P") and epochs:
+                epochs[-1].append(k)
+        return epochs
+    k = next(i for i, line in enumerate(lines) if b"END OF HEADER" in line) + 1
+    while k < len(lines):
+        count = int(lines[k][32:35])
+        epochs.append(list(range(k + 1, k + 1 + count)))
+        k += 1 + count
+    return epochs
+
+
+def _repeat_a_satellite(name: str, kind: str, at: tuple[int, int, int]) -> tuple[bytes, str]:
+    """The seed of ``name`` with one satellite's record of one epoch copied
+    to another place in the epoch (``kind`` "duplicate"; a RINEX epoch's
+    count goes up by one, so the copy is read as a record) or another
+    record of the epoch relabelled with its name ("relabel"), and that name."""
+    lines = READERS[name][0].splitlines(keepends=True)
+    epochs = _epoch_records(name, lines)
+    epoch, record, other = at
+    records = epochs[epoch % len(epochs)]
+    source = records[record % len(records)]
+    label = lines[source][LABEL[name]]
+    if kind == "duplicate":
+        lines.insert(records[0] + other % (len(records) + 1), lines[source])
+        if name == "rinex_obs":
+            head = lines[records[0] - 1]
+            lines[records[0] - 1] = head[:32] + b"%3d" % (len(records) + 1) + head[35:]
+    else:
+        target = records[(records.index(source) + 1 + other % (len(records) - 1)) % len(records)]
+        line = lines[target]
+        lines[target] = line[: LABEL[name].start] + label + line[LABEL[name].stop :]
+    return b"".join(lines), label.decode().replace(" ", "0")
+
+
+@pytest.mark.parametrize("name", sorted(LABEL))
+@FUZZ
+@given(
+    kind=st.sampled_from(["duplicate", "relabel"]),
+    at=st.tuples(st.integers(0, 10**6), st.integers(0, 10**6), st.integers(0, 10**6)),
+)
+def test_a_satellite_twice_in_an_epoch_is_refused(name, kind, at):
+    # Issue 30: the second record silently replaced the first (a relabelled
+    # line gave one satellite another's values and the other none).
+    content, label = _repeat_a_satellite(name, kind, at)
+    message = _read(name, content)
+    assert message is not None and f"{label} has a second" in message, message
 
 
 @pytest.mark.parametrize("name", sorted(READERS))

@@ -145,11 +145,17 @@ GPSB   1.1674D+05 -2.2938D+05 -1.3107D+05  1.0486D+06       IONOSPHERIC CORR\n\
     }
 }
 
-/// An SP3-d file with `n_sat` satellites G01.. and the given epochs, each
-/// with one position record (x in km) per satellite.
+/// An SP3-d file with `n_sat` satellites G01.., then R01.. and the other
+/// systems past G99 (at most 792), and the given epochs, each with one
+/// position record (x in km) per satellite.
 fn sp3(n_sat: usize, epochs: &[&str], x_km: &str) -> String {
     let mut out = String::from("#dP2021  4 28  0  0  0.00000000     288 ORBIT IGb14 HLM  COD\n");
-    let ids: Vec<String> = (1..=n_sat).map(|i| format!("G{i:02}")).collect();
+    let ids: Vec<String> = "GRECJISL"
+        .chars()
+        .flat_map(|system| (1..=99).map(move |i| format!("{system}{i:02}")))
+        .take(n_sat)
+        .collect();
+    assert_eq!(ids.len(), n_sat, "SP3 names allow at most 792 satellites");
     for (k, chunk) in ids.chunks(17).enumerate() {
         let head = if k == 0 {
             format!("+  {n_sat:3}   ")
@@ -183,7 +189,7 @@ fn sp3_positions_epochs_and_sizes_are_range_checked() {
     );
     let e = read("back.sp3", &sp3(2, &[e2, e1], "20000.000000"));
     assert!(
-        e.contains("back.sp3:7: epoch 2021-04-28 00:00:0 does not follow"),
+        e.contains("back.sp3:7: epoch 2021-04-28 00:00:00 does not follow"),
         "{e}"
     );
     let e = read("same.sp3", &sp3(2, &[e1, e1], "20000.000000"));
@@ -210,8 +216,9 @@ fn sp3_positions_epochs_and_sizes_are_range_checked() {
     let clock = sp3(2, &[e1], "20000.000000").replacen("    100.000000", "1.0e300       ", 1);
     let e = read("clock.sp3", &clock);
     assert!(e.contains("G01 clock = 1e300 µs is out of range"), "{e}");
-    // 999 satellites × 10 010 epochs would be 320 MB of orbit: refused.
-    let many: Vec<String> = (0..10_011)
+    // 792 satellites (every name SP3 allows) × 12 700 epochs would be
+    // 320 MB of orbit: refused.
+    let many: Vec<String> = (0..12_700)
         .map(|k| {
             format!(
                 "2021  4 28 {:2} {:2} {:2}.00000000",
@@ -221,13 +228,13 @@ fn sp3_positions_epochs_and_sizes_are_range_checked() {
             )
         })
         .collect();
-    let mut text = sp3(999, &[], "");
+    let mut text = sp3(792, &[], "");
     for e in &many {
         text += &format!("*  {e}\n");
     }
     let e = read("huge.sp3", &text);
     assert!(
-        e.contains("more than 10000000 satellite-epochs (999 satellites)"),
+        e.contains("more than 10000000 satellite-epochs (792 satellites)"),
         "{e}"
     );
 }

@@ -3,7 +3,8 @@
 //! negative or non-finite ones, and pure garbage, returns a result or an
 //! error in bounded time: never a panic, a hang (10 s per input), or a
 //! result that breaks its own guarantees (times that do not increase,
-//! values out of range, orbits 1e67 m away).
+//! values out of range, orbits 1e67 m away, a satellite twice in an epoch
+//! or in the SP3 header's list).
 //!
 //! CI runs `MEMSNAV_FUZZ_CASES` inputs per reader and kind (default 256);
 //! maintainers raise it (`MEMSNAV_FUZZ_CASES=100000`, docs/robustness.md).
@@ -101,6 +102,12 @@ fn layout() -> ImuCsvLayout {
     )
 }
 
+/// Whether no item comes twice (a satellite twice in an epoch or a list).
+fn distinct<T: Ord>(mut items: impl Iterator<Item = T>) -> bool {
+    let mut seen = std::collections::BTreeSet::new();
+    items.all(|item| seen.insert(item))
+}
+
 fn increasing(times: &[f64]) -> bool {
     times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[1] > w[0])
 }
@@ -154,6 +161,7 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                     e.satellites
                         .iter()
                         .all(|s| s.values.iter().flatten().all(|v| v.abs() <= 1e10))
+                        && distinct(e.satellites.iter().map(|s| (s.system, s.prn)))
                 });
             ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
@@ -183,7 +191,14 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                     .iter()
                     .all(|p| p.iter().all(|x| x.is_nan() || x.abs() <= 1e8))
                 && sp3.clock_s.iter().all(|c| c.is_nan() || c.abs() <= 1.0)
-                && sp3.position_ecef.len() == sp3.time_gps_s.len() * sp3.satellites.len();
+                && sp3.position_ecef.len() == sp3.time_gps_s.len() * sp3.satellites.len()
+                && distinct(sp3.satellites.iter())
+                && sp3.satellites.iter().all(|name| {
+                    let b = name.as_bytes();
+                    b.len() == 3
+                        && b[0].is_ascii_uppercase()
+                        && b[1..].iter().all(u8::is_ascii_digit)
+                });
             ok.then_some(()).ok_or(format!("{:?}", sp3.time_gps_s))
         }),
     };
@@ -424,5 +439,5 @@ fn regression_files_are_refused_with_their_name() {
         assert_eq!(outcome, Ok(false), "{name} must be an error naming it");
         replayed += 1;
     }
-    assert!(replayed >= 19, "{replayed} files replayed");
+    assert!(replayed >= 23, "{replayed} files replayed");
 }

@@ -3,13 +3,22 @@
 //! are skipped. Numbers may use Fortran `D` exponents. Every error names the
 //! file and the 1-based line.
 
+use std::collections::hash_map::{Entry, HashMap};
 use std::path::Path;
 
 use super::ephemeris::GpsEphemeris;
-use super::time::{checked_gps_time_from_calendar, SECONDS_PER_WEEK};
+use super::time::{calendar_text, checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
 /// Reads every GPS ephemeris of a RINEX 2 or 3 navigation file, in file order.
+///
+/// One ephemeris per satellite and t_oc: a merged file (a daily `brdc`
+/// gathered from many stations) may hold the same ephemeris more than once,
+/// so a record whose values all equal an earlier one's of the same satellite
+/// and t_oc, the transmission time apart, is kept once. One that differs in
+/// any other value is refused naming both: choosing one would be a guess of
+/// which was broadcast (and the ephemeris selection would silently take the
+/// first in file order).
 pub fn read_rinex_nav(path: impl AsRef<Path>) -> Result<Vec<GpsEphemeris>> {
     let path = path.as_ref();
     let text = std::fs::read(path).map_err(|e| Error::Io {
@@ -185,12 +194,23 @@ const ORBIT_RANGES: [Option<(f64, f64)>; 29] = {
     ]
 };
 
+/// Line of value `index` (of [`ORBIT_NAMES`]) in a record starting at line
+/// `start`: a_f0, a_f1, a_f2 on the epoch line, then four a line.
+fn value_line(start: usize, index: usize) -> usize {
+    start + if index < 3 { 0 } else { 1 + (index - 3) / 4 }
+}
+
+/// The transmission time, the one value two copies of the same ephemeris
+/// may disagree on: a merged file keeps the time each station received it.
+const TRANSMISSION_TIME: usize = 27;
+
 /// Values a file may leave blank (spares, flags, the fit interval).
 fn may_be_blank(index: usize) -> bool {
     matches!(index, 3 | 20 | 22 | 23 | 26 | 27 | 28)
 }
 
-/// Parses the text of a RINEX 2 or 3 navigation file; `file` names it in errors.
+/// Parses the text of a RINEX 2 or 3 navigation file; `file` names it in
+/// errors. Repeated records as in [`read_rinex_nav`].
 pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     let cur = Cursor {
         file,
@@ -245,6 +265,8 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     // and orbit lines with 4 blanks. Each value is 19 columns wide.
     let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
     let mut out = Vec::new();
+    // The first line and the values of each (PRN, t_oc) read so far.
+    let mut first_record: HashMap<(u16, u64), (usize, [f64; 29])> = HashMap::new();
     while k < cur.lines.len() {
         if cur.lines[k].trim().is_empty() {
             k += 1;
@@ -333,14 +355,8 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
             }
         }
         if let Some(missing) = (0..29).find(|&i| blank[i] && !may_be_blank(i)) {
-            let line = start
-                + if missing < 3 {
-                    0
-                } else {
-                    1 + (missing - 3) / 4
-                };
             return Err(cur.error(
-                line,
+                value_line(start, missing),
                 format!(
                     "expected a value for {} for G{prn:02}, the field is blank",
                     ORBIT_NAMES[missing]
@@ -352,12 +368,37 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
                 continue;
             };
             if !blank[index] && !(low..=high).contains(value) {
-                let line = start + if index < 3 { 0 } else { 1 + (index - 3) / 4 };
                 return Err(cur.error(
-                    line,
+                    value_line(start, index),
                     format!(
                         "{} = {value:e} for G{prn:02} is out of range ({low:e} to {high:e}): not a value the GPS navigation message can carry",
                         ORBIT_NAMES[index]
+                    ),
+                ));
+            }
+        }
+        match first_record.entry((prn, toc.to_bits())) {
+            Entry::Vacant(slot) => {
+                slot.insert((start, values));
+            }
+            Entry::Occupied(first) => {
+                let (first_start, first_values) = *first.get();
+                let differs =
+                    (0..29).find(|&i| i != TRANSMISSION_TIME && values[i] != first_values[i]);
+                let Some(index) = differs else {
+                    // The same ephemeris again: kept once.
+                    k = start + 8;
+                    continue;
+                };
+                return Err(cur.error(
+                    value_line(start, index),
+                    format!(
+                        "G{prn:02} has a second ephemeris for t_oc {} whose {} = {:e} differs from the first's {:e} (line {}): one ephemeris per satellite and t_oc, the reader cannot tell which was broadcast",
+                        calendar_text(year, month, day, hour, minute, second),
+                        ORBIT_NAMES[index],
+                        values[index],
+                        first_values[index],
+                        value_line(first_start, index) + 1
                     ),
                 ));
             }
@@ -401,4 +442,55 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
         k = start + 8;
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The header and first record of `tests/data/real-imu-gnss/walk.nav`.
+    const HEADER: &str =
+        "     3.04           N: GNSS NAV DATA    M: Mixed            RINEX VERSION / TYPE
+                                        20261121 045512 UTC PGM / RUN BY / DATE 
+format: u-blox UBX                                          COMMENT             
+log: gnss_1730.ubx                                          COMMENT             
+                                                            END OF HEADER       
+";
+    const G32: &str =
+        "G32 2025 08 28 18 00 00 -.344484578818D-03  .131876731757D-10  .000000000000D+00
+      .830000000000D+02 -.167812500000D+02  .471448209139D-08  .273480178381D+01
+     -.897794961929D-06  .863428541925D-02  .561214983463D-05  .515364527702D+04
+      .410400000000D+06  .111758708954D-07  .224492021439D+01 -.162050127983D-06
+      .965781992719D+00  .271718750000D+03 -.206125929204D+01 -.795997442203D-08
+      .971469037013D-10  .100000000000D+01  .238100000000D+04  .000000000000D+00
+      .200000000000D+01  .000000000000D+00  .931322574615D-09  .830000000000D+02
+      .408756000000D+06  .400000000000D+01
+";
+
+    #[test]
+    fn one_ephemeris_per_satellite_and_toc() {
+        let once = parse_rinex_nav(&format!("{HEADER}{G32}"), "x.nav").unwrap();
+        assert_eq!(once.len(), 1);
+        // The same record again, or received at another time (a merged
+        // file): kept once.
+        let later = G32.replace(".408756000000D+06", ".408700000000D+06");
+        for copy in [G32, later.as_str()] {
+            let twice = parse_rinex_nav(&format!("{HEADER}{G32}{copy}"), "x.nav").unwrap();
+            assert_eq!(twice, once);
+        }
+        // Another t_oc is another ephemeris.
+        let next = G32.replacen("18 00 00", "20 00 00", 1);
+        let two = parse_rinex_nav(&format!("{HEADER}{G32}{next}"), "x.nav").unwrap();
+        assert_eq!(two.len(), 2);
+        // A different Crs for the same t_oc: refused at the second's Crs.
+        let other = G32.replace("-.167812500000D+02", "-.167800000000D+02");
+        assert_eq!(
+            parse_rinex_nav(&format!("{HEADER}{G32}{other}"), "x.nav")
+                .unwrap_err()
+                .to_string(),
+            "x.nav:15: G32 has a second ephemeris for t_oc 2025-08-28 18:00:00 whose Crs = \
+             -1.678e1 differs from the first's -1.678125e1 (line 7): one ephemeris per \
+             satellite and t_oc, the reader cannot tell which was broadcast"
+        );
+    }
 }

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::time::checked_gps_time_from_calendar;
+use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
 /// One satellite's observations at one epoch.
@@ -323,7 +323,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 return Err(error(
                     k,
                     format!(
-                        "epoch {y}-{mo:02}-{d:02} {h:02}:{mi:02}:{s} does not follow the previous epoch: epochs must increase"
+                        "epoch {} does not follow the previous epoch: epochs must increase",
+                        calendar_text(y, mo, d, h, mi, s)
                     ),
                 ));
             }
@@ -352,6 +353,21 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     ),
                 ));
             };
+            // A satellite's second line (a relabelled one) would give it
+            // two sets of values, or another satellite's: refused.
+            if let Some(first) = satellites
+                .iter()
+                .position(|o: &SatelliteObservations| o.system == sys && o.prn == prn)
+            {
+                return Err(error(
+                    k + j,
+                    format!(
+                        "{sys}{prn:02} has a second observation line in epoch {} (the first is on line {}): one line per satellite and epoch",
+                        calendar_text(y, mo, d, h, mi, s),
+                        k + first + 2
+                    ),
+                ));
+            }
             let mut values = Vec::with_capacity(types.len());
             for (i, code) in types.iter().enumerate() {
                 // Each observation: F14.3, then LLI and signal strength digits.
@@ -475,6 +491,34 @@ E07  23205808.406                  \n"
         let text = HEADER.replace("OBSERVATION DATA", "NAVIGATION DATA ");
         let err = parse_rinex_obs(&text, "x").unwrap_err();
         assert!(err.to_string().contains("file type"), "{err}");
+    }
+
+    #[test]
+    fn one_line_per_satellite_and_epoch() {
+        let record = "> 2025 08 28 17 30 39.7480000  0  3\n\
+G10  20576396.770\n\
+G12  21576396.770\n\
+E07  23205808.406\n";
+        let duplicated = record.replacen("G12  21576396.770", "G10  20576396.770", 1);
+        let relabelled = record.replacen("G12", "G10", 1);
+        // G 1 is G01, the same satellite however its number is padded.
+        let padded = record.replacen("G10", "G 1", 1).replacen("G12", "G01", 1);
+        for (records, name) in [(duplicated, "G10"), (relabelled, "G10"), (padded, "G01")] {
+            assert_eq!(
+                parse_rinex_obs(&format!("{HEADER}{records}"), "x.obs")
+                    .unwrap_err()
+                    .to_string(),
+                format!(
+                    "x.obs:9: {name} has a second observation line in epoch \
+                     2025-08-28 17:30:39.748 (the first is on line 8): one line per \
+                     satellite and epoch"
+                )
+            );
+        }
+        // The same PRN in another system is another satellite.
+        let text = format!("{HEADER}{}", record.replacen("E07", "E10", 1));
+        let f = parse_rinex_obs(&text, "x.obs").unwrap();
+        assert_eq!(f.epochs[0].satellites.len(), 3);
     }
 
     #[test]

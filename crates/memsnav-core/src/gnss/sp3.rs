@@ -5,7 +5,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::time::checked_gps_time_from_calendar;
+use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
 /// Precise orbits: `n_epochs × n_satellites` positions (ECEF, m, centre
@@ -41,6 +41,23 @@ const MAX_COORDINATE_KM: f64 = 1e5;
 /// every GNSS satellite is under 0.5 million): more is a corrupted header,
 /// refused before it allocates gigabytes.
 const MAX_SATELLITE_EPOCHS: usize = 10_000_000;
+
+/// System letters of SP3 satellite names: G GPS, R GLONASS, E Galileo,
+/// C BeiDou, J QZSS, I NavIC, S SBAS (those the RINEX readers know) and L,
+/// SP3's low Earth orbiters.
+const SYSTEM_LETTERS: &str = "GRECJISL";
+
+/// Whether `name` (blanks already read as zeros) is a satellite of the
+/// header's list: a system letter and a number 01-99 ("G05"). A name like
+/// "C3." or "G,1" is a damaged header, not a satellite: refused even when
+/// no record names it.
+fn is_satellite_name(name: &str) -> bool {
+    let b = name.as_bytes();
+    b.len() == 3
+        && SYSTEM_LETTERS.as_bytes().contains(&b[0])
+        && b[1..].iter().all(u8::is_ascii_digit)
+        && &b[1..] != b"00"
+}
 
 /// Reads an SP3-c or SP3-d file (GPS time system).
 pub fn read_sp3(path: impl AsRef<Path>) -> Result<Sp3> {
@@ -98,6 +115,11 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
     let mut position_ecef = Vec::new();
     let mut clock_s = Vec::new();
     let mut time_system_seen = false;
+    // The current epoch as read (for messages), and the line of each
+    // satellite's position record in it: a second record would silently
+    // replace the first.
+    let mut epoch = (0, 0, 0, 0, 0, 0.0);
+    let mut record_line: Vec<Option<usize>> = Vec::new();
     for (k, line) in lines.iter().enumerate().skip(1) {
         if line.starts_with("+ ") {
             if declared.is_none() {
@@ -118,7 +140,24 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                     && id != "00"
                     && satellites.len() < declared.unwrap_or(0)
                 {
-                    satellites.push(id.replace(' ', "0"));
+                    let name = id.replace(' ', "0");
+                    if !is_satellite_name(&name) {
+                        return Err(err(
+                            k,
+                            format!(
+                                "satellite name {id:?} in columns {}-{} is not a system letter ({SYSTEM_LETTERS}) and a number 01-99",
+                                c + 1,
+                                c + 3
+                            ),
+                        ));
+                    }
+                    if satellites.contains(&name) {
+                        return Err(err(
+                            k,
+                            format!("satellite {name} is listed twice in the header"),
+                        ));
+                    }
+                    satellites.push(name);
                 }
                 c += 3;
             }
@@ -151,7 +190,8 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                     return Err(err(
                         k,
                         format!(
-                            "epoch {year}-{month:02}-{day:02} {hour:02}:{minute:02}:{second} does not follow the previous epoch: epochs must increase"
+                            "epoch {} does not follow the previous epoch: epochs must increase",
+                            calendar_text(year, month, day, hour, minute, second)
                         ),
                     ));
                 }
@@ -171,6 +211,9 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                 satellites.len(),
             ));
             clock_s.extend(std::iter::repeat_n(f64::NAN, satellites.len()));
+            epoch = (year, month, day, hour, minute, second);
+            record_line.clear();
+            record_line.resize(satellites.len(), None);
         } else if line.starts_with('P') {
             if time_gps_s.is_empty() {
                 return Err(err(
@@ -183,6 +226,18 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
                 .iter()
                 .position(|x| *x == id)
                 .ok_or_else(|| err(k, format!("satellite {id:?} is not in the header's list")))?;
+            if let Some(first) = record_line[s] {
+                let (year, month, day, hour, minute, second) = epoch;
+                return Err(err(
+                    k,
+                    format!(
+                        "{id} has a second position record in epoch {} (the first is on line {}): one record per satellite and epoch",
+                        calendar_text(year, month, day, hour, minute, second),
+                        first + 1
+                    ),
+                ));
+            }
+            record_line[s] = Some(k);
             let x = num(line, k, 4, 18, "x")?;
             let y = num(line, k, 18, 32, "y")?;
             let z = num(line, k, 32, 46, "z")?;
@@ -227,4 +282,77 @@ pub fn parse_sp3(text: &str, file: &str) -> Result<Sp3> {
         position_ecef,
         clock_s,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "#dP2021  4 28  0  0  0.00000000       2 ORBIT IGb14 HLM  COD
++    2   G01G02  0  0  0  0  0  0  0  0  0  0  0  0  0  0  0
+%c M  cc GPS ccc cccc cccc cccc cccc ccccc ccccc ccccc ccccc
+";
+    const EPOCH: &str = "*  2021  4 28  0  5  0.00000000\n";
+    const G01: &str = "PG01  13848.512383 -22211.297941   6208.223406    -35.472146\n";
+    const G02: &str = "PG02 -17005.224919   3838.417103 -20029.707301    -19.893417\n";
+
+    fn message(text: &str) -> String {
+        parse_sp3(text, "x.sp3").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn one_record_per_satellite_and_epoch() {
+        let sp3 = parse_sp3(&format!("{HEADER}{EPOCH}{G02}{G01}"), "x.sp3").unwrap();
+        assert_eq!(sp3.position(0, 0).x, 13_848_512.383);
+        // The same record twice, and G02's line relabelled G01: refused,
+        // not the second values in place of the first.
+        let relabelled = G02.replace("PG02", "PG01");
+        for second in [G01, relabelled.as_str()] {
+            assert_eq!(
+                message(&format!("{HEADER}{EPOCH}{G01}{second}")),
+                "x.sp3:6: G01 has a second position record in epoch 2021-04-28 00:05:00 \
+                 (the first is on line 5): one record per satellite and epoch"
+            );
+        }
+        // The same satellite in the next epoch is its next record.
+        let next = EPOCH.replace(" 5  0.", "10  0.");
+        let sp3 = parse_sp3(&format!("{HEADER}{EPOCH}{G01}{next}{G01}"), "x.sp3").unwrap();
+        assert_eq!(sp3.time_gps_s.len(), 2);
+        assert!(sp3.position(1, 1).x.is_nan());
+    }
+
+    #[test]
+    fn header_names_are_satellites_listed_once() {
+        // (the header's list, what is said of it on line 2)
+        let cases = [
+            (
+                "G01Cnf",
+                r#"satellite name "Cnf" in columns 13-15 is not a system letter"#,
+            ),
+            ("G01C3.", r#"satellite name "C3." in columns 13-15"#),
+            ("G,1G02", r#"satellite name "G,1" in columns 10-12"#),
+            ("G01X05", r#"satellite name "X05" in columns 13-15"#),
+            ("G01G00", r#"satellite name "G00" in columns 13-15"#),
+            ("G01G01", "satellite G01 is listed twice in the header"),
+        ];
+        for (list, words) in cases {
+            let text = format!("{HEADER}{EPOCH}{G01}").replacen("G01G02", list, 1);
+            let message = message(&text);
+            assert!(
+                message.starts_with("x.sp3:2: ") && message.contains(words),
+                "{message}"
+            );
+        }
+        // Every system letter, a blank-padded number, the unused slots.
+        let text = format!("{HEADER}{EPOCH}{G01}").replace(
+            "G01G02  0  0  0  0  0  0  0  0",
+            "G01R 2E03C04J05I06S07L08  0  0",
+        );
+        let text = text.replacen("+    2", "+    8", 1);
+        let sp3 = parse_sp3(&text, "x.sp3").unwrap();
+        assert_eq!(
+            sp3.satellites,
+            ["G01", "R02", "E03", "C04", "J05", "I06", "S07", "L08"]
+        );
+    }
 }

@@ -90,6 +90,23 @@ pub fn checked_gps_time_from_calendar(
     Ok(t)
 }
 
+/// A calendar epoch as a reader's message shows it, `2021-04-28 00:05:00`
+/// (fractions of a second kept: `17:30:39.748`), from the fields as read:
+/// formatting them, not a GPS time, keeps 59.99999999 s from rounding up.
+pub fn calendar_text(
+    year: i64,
+    month: i64,
+    day: i64,
+    hour: i64,
+    minute: i64,
+    second: f64,
+) -> String {
+    // 8 decimals: the finest epoch field of the formats read (SP3, F11.8).
+    let second = format!("{second:011.8}");
+    let second = second.trim_end_matches('0').trim_end_matches('.');
+    format!("{year}-{month:02}-{day:02} {hour:02}:{minute:02}:{second}")
+}
+
 /// Calendar date and time (GPST) of a GPS time: year, month, day, hour,
 /// minute and the seconds of the minute.
 pub fn calendar_from_gps_time(gps_time_s: f64) -> (i64, i64, i64, i64, i64, f64) {
@@ -133,6 +150,23 @@ mod tests {
             2155.0 * SECONDS_PER_WEEK
         );
         assert_eq!(gps_time_from_calendar(1980, 1, 6, 0, 0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn calendar_text_pads_fields_and_keeps_fractions() {
+        assert_eq!(calendar_text(2021, 4, 28, 0, 5, 0.0), "2021-04-28 00:05:00");
+        assert_eq!(
+            calendar_text(2025, 8, 28, 17, 30, 39.748),
+            "2025-08-28 17:30:39.748"
+        );
+        assert_eq!(
+            calendar_text(2025, 8, 28, 17, 30, 9.5),
+            "2025-08-28 17:30:09.5"
+        );
+        assert_eq!(
+            calendar_text(2016, 12, 31, 23, 59, 60.0),
+            "2016-12-31 23:59:60"
+        );
     }
 
     #[test]
