@@ -2,6 +2,7 @@
 were accepted as silent garbage, now fail up front with an error naming the
 argument (docs/robustness.md lists the limits)."""
 
+import os
 import subprocess
 import sys
 import warnings
@@ -9,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_navigate import DATA, WALK
+from test_navigate import _config as navigate_config
 
 import memsnav as mn
 from memsnav import _memsnav
@@ -518,3 +521,80 @@ def test_cli_navigate_duration_must_be_positive_and_finite(tmp_path, duration):
     assert done.returncode == 2
     assert "argument --duration: must be positive and finite" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+
+
+def walk_arguments(tmp_path: Path) -> list[str]:
+    """``navigate`` of the first second of the walk excerpt."""
+    config = navigate_config(tmp_path, WALK)
+    return ["navigate", "--config", str(config), "--data-root", str(DATA), "--duration", "1"]
+
+
+def test_cli_refuses_an_output_that_is_a_users_file_and_moves_nothing(tmp_path):
+    """``--output FILE`` used to exit 0 having moved the file to a hidden
+    ``.FILE.<random>.old``; a non-empty folder memsnav did not write is
+    refused by every command, and nothing in either is touched."""
+    users = tmp_path / "users"
+    users.mkdir()
+    mine = users / "mine.txt"
+    mine.write_text("precious")
+    folder = users / "folder"
+    folder.mkdir()
+    (folder / "notes.txt").write_text("mine too")
+    commands = {
+        "navigate": [*walk_arguments(tmp_path), "--output"],
+        "simulate": ["simulate", "--duration", "2", "--out"],
+        "study": ["study", "--config", str(EXAMPLES / "study_land_vehicle.toml"), "--output"],
+        "reproduce": ["reproduce", "--runs", "1", "--out"],
+        "calibrate": ["calibrate", "--config", str(EXAMPLES / "xsens_static.toml"), "--output"],
+    }
+    # All at once: each is refused before any work. The folder case is the
+    # same check (_files.output_folder) for all: three commands suffice.
+    started = {
+        (command, str(target)): subprocess.Popen(
+            [sys.executable, "-m", "memsnav", *arguments, str(target)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for command, arguments in commands.items()
+        for target in (mine, folder)
+        if target == mine or command in ("navigate", "simulate", "calibrate")
+    }
+    for (command, target), process in started.items():
+        _, stderr = process.communicate()
+        assert process.returncode == 1, (command, stderr)
+        reason = (
+            "is a file, not a folder; memsnav does not replace, move or delete a file it was "
+            "not asked to write"
+            if target == str(mine)
+            else "is not empty and memsnav did not write it (no .memsnav-output in it); give a "
+            "new or empty folder"
+        )
+        assert stderr == f"memsnav: error: output folder {target!r}: {reason}\n", command
+    assert sorted(p.name for p in users.iterdir()) == ["folder", "mine.txt"]
+    assert mine.read_text() == "precious" and os.listdir(folder) == ["notes.txt"]
+
+
+def test_cli_navigate_replaces_only_what_an_earlier_navigate_wrote(tmp_path):
+    out = tmp_path / "out"
+    navigate = walk_arguments(tmp_path)
+    assert run_cli(*navigate, "--output", str(out)).returncode == 0
+    assert run_cli(*navigate, "--output", str(out)).returncode == 0  # its own: replaced
+    (out / "notes.txt").write_text("added by the user")
+    done = run_cli(*navigate, "--output", str(out))
+    assert done.returncode == 1
+    assert done.stderr.splitlines()[-1] == (
+        f"memsnav: error: output folder {str(out)!r}: holds 'notes.txt' that memsnav navigate "
+        "did not write; navigate replaces its output folder whole: move them away or give "
+        "another folder"
+    )
+    assert (out / "notes.txt").read_text() == "added by the user"
+    # A folder another command wrote into is memsnav's, but not navigate's to replace.
+    simulated = tmp_path / "simulated"
+    assert run_cli("simulate", "--duration", "2", "--out", str(simulated)).returncode == 0
+    done = run_cli(*navigate, "--output", str(simulated))
+    assert done.returncode == 1 and "holds 'gnss.csv' and 3 more entries" in done.stderr
+    assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]

@@ -13,6 +13,7 @@ import pytest
 
 import memsnav as mn
 from memsnav import cli
+from memsnav._files import MARKER
 
 DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
@@ -180,9 +181,12 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
     extra = "[outages]\nwindows_s = [[30.0, 10.0]]\n"
     out = tmp_path / "out"
     out.mkdir()
+    # A file an earlier navigate wrote (its marker lists it) goes.
     (out / "stale.csv").write_text("from an earlier run")
+    (out / MARKER).write_text(json.dumps({"written_by": "navigate", "files": ["stale.csv"]}))
     result = mn.navigate(_config(tmp_path, extra=extra), data_root=DATA)
     assert not (out / "stale.csv").exists()
+    assert "drive_60s.csv" in json.loads((out / MARKER).read_text())["files"]
     csv = np.loadtxt(out / "drive_60s.csv", delimiter=",", skiprows=1)
     assert csv.shape == (len(result.run), 16)
     back = mn.read_pos(out / "drive_60s.pos")

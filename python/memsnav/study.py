@@ -31,7 +31,7 @@ from typing import Any
 
 import matplotlib
 
-from memsnav._files import ensure_writable_directory, write_text
+from memsnav._files import output_folder, write_text
 from memsnav._progress import ProgressBar
 from memsnav.experiments.outage_study import METRICS, OutageStudyResult, outage_study
 from memsnav.report.document import Report
@@ -163,7 +163,7 @@ def run_study(
 ) -> StudyRun:
     """Runs the study of ``config_path`` and writes its report."""
     config = read_config(config_path)
-    directory = ensure_writable_directory(output if output is not None else config["output"])
+    directory = output_folder(output if output is not None else config["output"])
     matplotlib.use("Agg")
     bar = progress if callable(progress) else (ProgressBar("outage study") if progress else None)
     start = time.perf_counter()

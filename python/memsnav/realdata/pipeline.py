@@ -12,11 +12,8 @@ local frames, the scoring) is computed in the core.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
-import shutil
-import tempfile
 import time as _time
 from pathlib import Path
 from typing import Any
@@ -24,6 +21,7 @@ from typing import Any
 import numpy as np
 
 import memsnav._memsnav as _mn
+from memsnav._files import check_replaceable, fresh_output_folder
 from memsnav.realdata import readers
 from memsnav.realdata.config import RunConfig, load_config
 from memsnav.realdata.result import LogNavigationResult
@@ -256,6 +254,9 @@ def navigate(
     cfg = config if isinstance(config, RunConfig) else load_config(config, data_root)
     if duration_s is not None and not (np.isfinite(duration_s) and duration_s > 0):
         raise ValueError(f"duration: must be a positive number of seconds, got {duration_s}")
+    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    # Refused before the run, not after it (and checked again when replaced).
+    check_replaceable(out, "navigate")
     mode = cfg["gnss"]["mode"]
     t, f_s, w_s, notes = read_imu(cfg)
     gnss = gnss_input(cfg)
@@ -330,7 +331,7 @@ def navigate(
     summary["filter_run_s"] = run_s
     summary["processing_s"] = _time.perf_counter() - started
     result.summary = _finite(summary)
-    _write_outputs(result, Path(output) if output is not None else Path(cfg[""]["output"]))
+    _write_outputs(result, out)
     return result
 
 
@@ -354,34 +355,6 @@ def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
             for c in integrity["consistency"]
         ],
     }
-
-
-@contextlib.contextmanager
-def _fresh_folder(out: Path) -> Any:
-    """A new, empty folder beside ``out`` to write into; on success it
-    replaces ``out`` (any earlier run's files go), on failure it is removed
-    and ``out`` is left as it was: a run's outputs are never mixed with an
-    earlier run's, nor half written."""
-    out = out.resolve()
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except (FileExistsError, NotADirectoryError):
-        raise ValueError(f"output: cannot create the folder {out}: a file is in the way") from None
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".new", dir=out.parent))
-    try:
-        yield tmp
-        os.chmod(tmp, 0o755)
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
-            old.rmdir()
-            out.rename(old)
-            tmp.rename(out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            tmp.rename(out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
 
 
 def _write_solution(run: Any, folder: Path, stem: str) -> None:
@@ -426,7 +399,7 @@ def _write_outputs(result: LogNavigationResult, out: Path) -> None:
         raise ValueError(f"{result.config.path}: name must be a plain file name, got {name!r}")
     run = result.run
     files = {"csv": f"{name}.csv", "pos": f"{name}.pos", "summary": "summary.json"}
-    with _fresh_folder(out) as tmp:
+    with fresh_output_folder(out, "navigate") as tmp:
         _write_solution(run, tmp, name)
         if run.smoothed is not None:
             _write_solution(run.smoothed, tmp, f"{name}_smoothed")
