@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_navigate import DATA, WALK
+from test_navigate import DATA, DRIVE, WALK
 from test_navigate import _config as navigate_config
 
 import memsnav as mn
@@ -552,28 +552,23 @@ def test_cli_refuses_an_output_that_is_a_users_file_and_moves_nothing(tmp_path):
     }
     # All at once: each is refused before any work. The folder case is the
     # same check (_files.output_folder) for all: three commands suffice.
-    started = {
-        (command, str(target)): subprocess.Popen(
-            [sys.executable, "-m", "memsnav", *arguments, str(target)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        for command, arguments in commands.items()
+    cases = [
+        (command, target)
+        for command in commands
         for target in (mine, folder)
         if target == mine or command in ("navigate", "simulate", "calibrate")
-    }
-    for (command, target), process in started.items():
-        _, stderr = process.communicate()
-        assert process.returncode == 1, (command, stderr)
+    ]
+    done = run_cli_at_once(*[[*commands[command], str(target)] for command, target in cases])
+    for (command, target), (status, stderr) in zip(cases, done, strict=True):
         reason = (
             "is a file, not a folder; memsnav does not replace, move or delete a file it was "
             "not asked to write"
-            if target == str(mine)
+            if target == mine
             else "is not empty and memsnav did not write it (no .memsnav-output in it); give a "
             "new or empty folder"
         )
-        assert stderr == f"memsnav: error: output folder {target!r}: {reason}\n", command
+        wanted = f"memsnav: error: output folder {str(target)!r}: {reason}\n"
+        assert (status, stderr) == (1, wanted), command
     assert sorted(p.name for p in users.iterdir()) == ["folder", "mine.txt"]
     assert mine.read_text() == "precious" and os.listdir(folder) == ["notes.txt"]
 
@@ -598,3 +593,121 @@ def test_cli_navigate_replaces_only_what_an_earlier_navigate_wrote(tmp_path):
     done = run_cli(*navigate, "--output", str(simulated))
     assert done.returncode == 1 and "holds 'gnss.csv' and 3 more entries" in done.stderr
     assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def run_cli_at_once(*command_lines: list[str]) -> list[tuple[int, str]]:
+    """Each command line as ``python -m memsnav`` at the same time: (exit
+    status, stderr) of each, in order."""
+    processes = [
+        subprocess.Popen(
+            [sys.executable, "-m", "memsnav", *line],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for line in command_lines
+    ]
+    stderrs = [p.communicate()[1] for p in processes]
+    return [(p.returncode, stderr) for p, stderr in zip(processes, stderrs, strict=True)]
+
+
+# (template, replacements, the message after "memsnav: error: <config>: ").
+CONFIG_ERRORS = [
+    # A truth that matches no epoch was scored as {epochs: 0} with exit 0.
+    (
+        DRIVE,
+        {"quality = [1]": "quality = [7]"},
+        "truth.quality: no epoch of {data}/real-imu-gnss/drive_60s.pos has a quality in [7]; "
+        "its 268 epochs have the qualities [1, 2]",
+    ),
+    (
+        DRIVE,
+        {"quality = [1]": 'quality = ["a"]'},
+        "truth.quality: entry 0: must be an integer in [0, 7], got 'a'",
+    ),
+    (DRIVE, {"quality = [1]": 'quality = "a"'}, "truth.quality: must be a list, got 'a'"),
+    # Was: no epoch of <memsnav._memsnav.PosSolution object at 0x...> has a quality ...
+    (
+        DRIVE,
+        {'mode = "loose"': 'mode = "loose"\nquality = [5]'},
+        "gnss.quality: no epoch of {data}/real-imu-gnss/drive_60s.pos has a quality in [5]; "
+        "its 268 epochs have the qualities [1, 2]",
+    ),
+    # Was accepted and changed the result.
+    (
+        WALK,
+        {
+            "min_cn0_db_hz = 20.0": "min_cn0_db_hz = 20.0\nklobuchar_alpha = [nan, 0, 0, 0]\n"
+            "klobuchar_beta = [0, 0, 0, 0]"
+        },
+        "gnss.klobuchar_alpha: entry 0: must be a finite number, got nan",
+    ),
+    (
+        WALK,
+        {"min_cn0_db_hz = 20.0": "min_cn0_db_hz = 20.0\nklobuchar_alpha = [0, 0, 0, 0]"},
+        "gnss.klobuchar_alpha and gnss.klobuchar_beta: give four numbers each, or neither",
+    ),
+    # Was: 'int' object is not an instance of 'str' (and 'bool').
+    (
+        DRIVE,
+        {"[imu]": "[imu]\ncolumns = [1, 2, 3, 4, 5, 6, 7]"},
+        "imu.columns: entry 0: must be a string, got 1",
+    ),
+    (
+        DRIVE,
+        {"[imu]": "[imu]\ncolumns = [true]"},
+        "imu.columns: entry 0: must be a string, got True",
+    ),
+    (
+        DRIVE,
+        {"[imu]": "[imu]\ncalibration = 5"},
+        "imu.calibration: must be a path (a string), got 5",
+    ),
+    # Was: invalid literal for int() with base 10: 'a' (and 1.5 silently taken for 1).
+    (
+        WALK,
+        {"min_cn0_db_hz = 20.0": 'min_cn0_db_hz = 20.0\nsatellites = ["a"]'},
+        "gnss.satellites: entry 0: must be an integer in [1, 63], got 'a'",
+    ),
+    (
+        WALK,
+        {"min_cn0_db_hz = 20.0": "min_cn0_db_hz = 20.0\nsatellites = [1.5]"},
+        "gnss.satellites: entry 0: must be an integer in [1, 63], got 1.5",
+    ),
+    # Was: embedded null byte (the output), or a "no such file" with an invisible NUL.
+    (
+        DRIVE,
+        {'output = "': 'output = "\\u0000'},
+        "output: must be a path, got '\\x00{out}': it contains a NUL character",
+    ),
+    (
+        DRIVE,
+        {'drive_60s.csv"': 'drive_60s.csv\\u0000"'},
+        "imu.file: must be a path, got 'real-imu-gnss/drive_60s.csv\\x00': it contains a NUL "
+        "character",
+    ),
+    # The reader's arguments are the keys of the same name.
+    (
+        DRIVE,
+        {'accel_unit = "g"': 'accel_unit = "G"'},
+        "imu.accel_unit: unknown unit 'G'; expected one of ['g', 'm/s^2', 'm/s2']",
+    ),
+    (
+        WALK,
+        {"elevation_mask_deg = 5.0": "elevation_mask_deg = 1e300"},
+        "gnss.elevation_mask_deg: must be a finite number in [0, 90], got 1e+300",
+    ),
+]
+
+
+def test_cli_config_errors_name_the_file_and_the_key(tmp_path):
+    command_lines, expected = [], []
+    for i, (template, replace, message) in enumerate(CONFIG_ERRORS):
+        case = tmp_path / f"case{i}"
+        case.mkdir()
+        config = navigate_config(case, template, **replace)
+        command_lines.append(["navigate", "--config", str(config), "--data-root", str(DATA)])
+        message = message.format(data=DATA, out=case / "out")
+        expected.append(f"memsnav: error: {config}: {message}\n")
+    for (status, stderr), wanted in zip(run_cli_at_once(*command_lines), expected, strict=True):
+        assert (status, stderr) == (1, wanted)

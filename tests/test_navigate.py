@@ -85,7 +85,7 @@ def test_config_unknown_keys_and_bad_values(tmp_path):
         mn.load_config(_config(tmp_path, **{'accel_unit = "g"': 'acel_unit = "g"'}), DATA)
     with pytest.raises(ValueError, match=r"unknown table \[filtre\]"):
         mn.load_config(_config(tmp_path, extra="[filtre]\nx = 1\n"), DATA)
-    with pytest.raises(ValueError, match=r"gnss.mode must be one of \['loose', 'tight'\]"):
+    with pytest.raises(ValueError, match=r"gnss.mode: must be one of \['loose', 'tight'\]"):
         mn.load_config(_config(tmp_path, **{'mode = "loose"': 'mode = "lose"'}), DATA)
     with pytest.raises(ValueError, match=r"missing required key imu.gyro_unit"):
         mn.load_config(_config(tmp_path, **{'gyro_unit = "deg/s"': ""}), DATA)
@@ -204,7 +204,7 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
 def test_a_name_must_not_leave_the_output_folder(tmp_path):
     for name in ("../x", "sub/x", ""):
         cfg = _config(tmp_path, **{'name = "drive_60s"': f'name = "{name}"'})
-        with pytest.raises(ValueError, match="name must be a plain file name"):
+        with pytest.raises(ValueError, match=r"run\.toml: name: must be a plain file name"):
             mn.navigate(cfg, data_root=DATA, duration_s=5.0)
     assert not (tmp_path / "x").exists() and not (tmp_path / "out").exists()
 
