@@ -686,6 +686,17 @@ CONFIG_ERRORS = [
         "imu.file: must be a path, got 'real-imu-gnss/drive_60s.csv\\x00': it contains a NUL "
         "character",
     ),
+    # The engine's keys (checked by the core): were accepted.
+    (
+        DRIVE,
+        {"mounting_rpy_deg = [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]]": "mounting_rpy_deg = []"},
+        "imu.mounting_rpy_deg: expected at least one [roll, pitch, yaw] triple, got []",
+    ),
+    (
+        DRIVE,
+        {"[truth]": "[alignment]\nheading_deg = 1e300\n[truth]"},
+        "alignment.heading_deg: must be an angle within ±360°, got 1e300",
+    ),
     # The reader's arguments are the keys of the same name.
     (
         DRIVE,
