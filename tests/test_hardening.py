@@ -722,3 +722,40 @@ def test_cli_config_errors_name_the_file_and_the_key(tmp_path):
         expected.append(f"memsnav: error: {config}: {message}\n")
     for (status, stderr), wanted in zip(run_cli_at_once(*command_lines), expected, strict=True):
         assert (status, stderr) == (1, wanted)
+
+
+def test_cli_spans_that_hung_or_aborted_are_refused_naming_the_key(tmp_path):
+    """``simulate --duration 1e300 --rate 1e-298`` (100 samples) never
+    finished, the position integration stepping every 0.01 s; a study's
+    ``calibration_duration = 1e10`` aborted the interpreter on allocation."""
+    study = tmp_path / "study.toml"
+    study.write_text(
+        '[study]\ngrades = ["consumer"]\noutage_lengths = [10]\nvisible_satellites = [0]\n'
+        "runs = 1\ncalibrated = true\ncalibration_duration = 1e10\n"
+    )
+    done = run_cli_at_once(
+        ["simulate", "--duration", "1e300", "--rate", "1e-298", "--out", str(tmp_path / "s")],
+        ["study", "--config", str(study), "--output", str(tmp_path / "o"), "--quiet"],
+    )
+    assert done == [
+        (1, "memsnav: error: duration: 1e300 s is longer than the limit of 1e6 s\n"),
+        (
+            1,
+            f"memsnav: error: {study}: study: calibration_duration: 1e10 s is longer than the "
+            "limit of 1e6 s\n",
+        ),
+    ]
+
+
+def test_a_gnss_step_too_long_for_the_clock_names_time():
+    """Was ``clock: process noise is not positive definite``. The command
+    line no longer reaches it (a simulated span is at most 10⁶ s)."""
+    t = mn.Trajectory.random(duration=2.0, seed=1)
+    with pytest.raises(ValueError, match=r"^time: GNSS epochs at 0e0 s and 1e300 s: clock: the "
+                       r"process noise over a step of 1e300 s overflows"):  # fmt: skip
+        mn.simulate_gnss(
+            np.array([0.0, 1e300]),
+            t.position_ecef[[0, -1]],
+            t.velocity_ecef[[0, -1]],
+            mn.Constellation.walker(),
+        )

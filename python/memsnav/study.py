@@ -159,7 +159,11 @@ def run_study(
     matplotlib.use("Agg")
     bar = progress if callable(progress) else (ProgressBar("outage study") if progress else None)
     start = time.perf_counter()
-    result = outage_study(**config["study"], threads=threads, client=client, progress=bar)
+    try:
+        result = outage_study(**config["study"], threads=threads, client=client, progress=bar)
+    except ValueError as e:
+        # outage_study names its keyword: the [study] key of the same name.
+        raise ValueError(f"{config_path}: study: {e}") from None
     elapsed = time.perf_counter() - start
     requirement = config["requirement"]
     summary: dict[str, Any] = {
