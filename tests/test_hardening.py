@@ -686,6 +686,13 @@ CONFIG_ERRORS = [
         "imu.file: must be a path, got 'real-imu-gnss/drive_60s.csv\\x00': it contains a NUL "
         "character",
     ),
+    # Was: fixes: has no epochs (length 0); give at least one GNSS epoch.
+    (
+        DRIVE,
+        {'mode = "loose"': 'mode = "loose"\nrate_hz = 1e-3'},
+        "gnss.rate_hz: no epoch of {data}/real-imu-gnss/drive_60s.pos lies on the 0.001 Hz grid "
+        "(GPS time a multiple of 1/rate_hz, within 0.02 s)",
+    ),
     # The engine's keys (checked by the core): were accepted.
     (
         DRIVE,

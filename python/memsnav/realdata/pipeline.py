@@ -146,7 +146,7 @@ def loose_input(cfg: RunConfig) -> Any:
         "use_velocity": given.get("use_velocity"),
         "added_position_noise_ned": given.get("position_noise_m"),
     }
-    return _mn.fixes_from_solution(
+    fixes = _mn.fixes_from_solution(
         sol.gps_time[keep],
         sol.lla[keep],
         sol.std_ned[keep],
@@ -155,6 +155,13 @@ def loose_input(cfg: RunConfig) -> Any:
         seed=g["seed"],
         **kwargs,
     )
+    if len(fixes) == 0:
+        # Only rate_hz can leave none (the qualities matched some epochs).
+        raise ValueError(
+            f"{cfg.path}: gnss.rate_hz: no epoch of {cfg.data_path('gnss', 'pos')} lies on the "
+            f"{g['rate_hz']:g} Hz grid (GPS time a multiple of 1/rate_hz, within 0.02 s)"
+        )
+    return fixes
 
 
 def tight_input(cfg: RunConfig) -> Any:
