@@ -260,7 +260,9 @@ def test_drive_configuration_errors(tmp_path):
         load_calibration_config(
             config('[drive]\nnavigate = "n.toml"\n[static]\ngravity_m_s2 = 9.8\n'), tmp_path
         )
-    with pytest.raises(ValueError, match=r"drive\.window_s must be positive"):
+    with pytest.raises(
+        ValueError, match=r"cal\.toml: drive\.window_s: must be a finite number > 0, got 0"
+    ):
         load_calibration_config(config('[drive]\nnavigate = "n.toml"\nwindow_s = 0\n'), tmp_path)
     cfg = load_calibration_config(config('[drive]\nnavigate = "n.toml"\n'), tmp_path)
     assert cfg.config_path("drive", "navigate") == tmp_path / "n.toml"

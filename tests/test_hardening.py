@@ -2,6 +2,7 @@
 were accepted as silent garbage, now fail up front with an error naming the
 argument (docs/robustness.md lists the limits)."""
 
+import os
 import subprocess
 import sys
 import warnings
@@ -9,6 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_navigate import DATA, DRIVE, WALK
+from test_navigate import _config as navigate_config
 
 import memsnav as mn
 from memsnav import _memsnav
@@ -689,3 +692,248 @@ def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
         warnings.simplefilter("error")
         clean = gated.run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
     assert not clean.diverged
+
+
+EXAMPLES = Path(__file__).parents[1] / "examples"
+
+
+def walk_arguments(tmp_path: Path) -> list[str]:
+    """``navigate`` of the first second of the walk excerpt."""
+    config = navigate_config(tmp_path, WALK)
+    return ["navigate", "--config", str(config), "--data-root", str(DATA), "--duration", "1"]
+
+
+def test_cli_refuses_an_output_that_is_a_users_file_and_moves_nothing(tmp_path):
+    """``--output FILE`` used to exit 0 having moved the file to a hidden
+    ``.FILE.<random>.old``; a non-empty folder memsnav did not write is
+    refused by every command, and nothing in either is touched."""
+    users = tmp_path / "users"
+    users.mkdir()
+    mine = users / "mine.txt"
+    mine.write_text("precious")
+    folder = users / "folder"
+    folder.mkdir()
+    (folder / "notes.txt").write_text("mine too")
+    commands = {
+        "navigate": [*walk_arguments(tmp_path), "--output"],
+        "simulate": ["simulate", "--duration", "2", "--out"],
+        "study": ["study", "--config", str(EXAMPLES / "study_land_vehicle.toml"), "--output"],
+        "reproduce": ["reproduce", "--runs", "1", "--out"],
+        "calibrate": ["calibrate", "--config", str(EXAMPLES / "xsens_static.toml"), "--output"],
+    }
+    # All at once: each is refused before any work. The folder case is the
+    # same check (_files.output_folder) for all: three commands suffice.
+    cases = [
+        (command, target)
+        for command in commands
+        for target in (mine, folder)
+        if target == mine or command in ("navigate", "simulate", "calibrate")
+    ]
+    done = run_cli_at_once(*[[*commands[command], str(target)] for command, target in cases])
+    for (command, target), (status, stderr) in zip(cases, done, strict=True):
+        reason = (
+            "is a file, not a folder; memsnav does not replace, move or delete a file it was "
+            "not asked to write"
+            if target == mine
+            else "is not empty and memsnav did not write it (no .memsnav-output in it); give a "
+            "new or empty folder"
+        )
+        wanted = f"memsnav: error: output folder {str(target)!r}: {reason}\n"
+        assert (status, stderr) == (1, wanted), command
+    assert sorted(p.name for p in users.iterdir()) == ["folder", "mine.txt"]
+    assert mine.read_text() == "precious" and os.listdir(folder) == ["notes.txt"]
+
+
+def test_cli_navigate_replaces_only_what_an_earlier_navigate_wrote(tmp_path):
+    out = tmp_path / "out"
+    navigate = walk_arguments(tmp_path)
+    assert run_cli(*navigate, "--output", str(out)).returncode == 0
+    assert run_cli(*navigate, "--output", str(out)).returncode == 0  # its own: replaced
+    (out / "notes.txt").write_text("added by the user")
+    done = run_cli(*navigate, "--output", str(out))
+    assert done.returncode == 1
+    assert done.stderr.splitlines()[-1] == (
+        f"memsnav: error: output folder {str(out)!r}: holds 'notes.txt' that memsnav navigate "
+        "did not write; navigate replaces its output folder whole: move them away or give "
+        "another folder"
+    )
+    assert (out / "notes.txt").read_text() == "added by the user"
+    # A folder another command wrote into is memsnav's, but not navigate's to replace.
+    simulated = tmp_path / "simulated"
+    assert run_cli("simulate", "--duration", "2", "--out", str(simulated)).returncode == 0
+    done = run_cli(*navigate, "--output", str(simulated))
+    assert done.returncode == 1 and "holds 'gnss.csv' and 3 more entries" in done.stderr
+    assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def run_cli_at_once(*command_lines: list[str]) -> list[tuple[int, str]]:
+    """Each command line as ``python -m memsnav`` at the same time: (exit
+    status, stderr) of each, in order."""
+    processes = [
+        subprocess.Popen(
+            [sys.executable, "-m", "memsnav", *line],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for line in command_lines
+    ]
+    stderrs = [p.communicate()[1] for p in processes]
+    return [(p.returncode, stderr) for p, stderr in zip(processes, stderrs, strict=True)]
+
+
+# (template, replacements, the message after "memsnav: error: <config>: ").
+CONFIG_ERRORS = [
+    # A truth that matches no epoch was scored as {epochs: 0} with exit 0.
+    (
+        DRIVE,
+        {"quality = [1]": "quality = [7]"},
+        "truth.quality: no epoch of {data}/real-imu-gnss/drive_60s.pos has a quality in [7]; "
+        "its 268 epochs have the qualities [1, 2]",
+    ),
+    (
+        DRIVE,
+        {"quality = [1]": 'quality = ["a"]'},
+        "truth.quality: entry 0: must be an integer in [0, 7], got 'a'",
+    ),
+    (DRIVE, {"quality = [1]": 'quality = "a"'}, "truth.quality: must be a list, got 'a'"),
+    # Was: no epoch of <memsnav._memsnav.PosSolution object at 0x...> has a quality ...
+    (
+        DRIVE,
+        {'mode = "loose"': 'mode = "loose"\nquality = [5]'},
+        "gnss.quality: no epoch of {data}/real-imu-gnss/drive_60s.pos has a quality in [5]; "
+        "its 268 epochs have the qualities [1, 2]",
+    ),
+    # Was accepted and changed the result.
+    (
+        WALK,
+        {
+            "min_cn0_db_hz = 20.0": "min_cn0_db_hz = 20.0\nklobuchar_alpha = [nan, 0, 0, 0]\n"
+            "klobuchar_beta = [0, 0, 0, 0]"
+        },
+        "gnss.klobuchar_alpha: entry 0: must be a finite number, got nan",
+    ),
+    (
+        WALK,
+        {"min_cn0_db_hz = 20.0": "min_cn0_db_hz = 20.0\nklobuchar_alpha = [0, 0, 0, 0]"},
+        "gnss.klobuchar_alpha and gnss.klobuchar_beta: give four numbers each, or neither",
+    ),
+    # Was: 'int' object is not an instance of 'str' (and 'bool').
+    (
+        DRIVE,
+        {"[imu]": "[imu]\ncolumns = [1, 2, 3, 4, 5, 6, 7]"},
+        "imu.columns: entry 0: must be a string, got 1",
+    ),
+    (
+        DRIVE,
+        {"[imu]": "[imu]\ncolumns = [true]"},
+        "imu.columns: entry 0: must be a string, got True",
+    ),
+    (
+        DRIVE,
+        {"[imu]": "[imu]\ncalibration = 5"},
+        "imu.calibration: must be a path (a string), got 5",
+    ),
+    # Was: invalid literal for int() with base 10: 'a' (and 1.5 silently taken for 1).
+    (
+        WALK,
+        {"min_cn0_db_hz = 20.0": 'min_cn0_db_hz = 20.0\nsatellites = ["a"]'},
+        "gnss.satellites: entry 0: must be an integer in [1, 63], got 'a'",
+    ),
+    (
+        WALK,
+        {"min_cn0_db_hz = 20.0": "min_cn0_db_hz = 20.0\nsatellites = [1.5]"},
+        "gnss.satellites: entry 0: must be an integer in [1, 63], got 1.5",
+    ),
+    # Was: embedded null byte (the output), or a "no such file" with an invisible NUL.
+    (
+        DRIVE,
+        {'output = "': 'output = "\\u0000'},
+        "output: must be a path, got '\\x00{out}': it contains a NUL character",
+    ),
+    (
+        DRIVE,
+        {'drive_60s.csv"': 'drive_60s.csv\\u0000"'},
+        "imu.file: must be a path, got 'real-imu-gnss/drive_60s.csv\\x00': it contains a NUL "
+        "character",
+    ),
+    # Was: fixes: has no epochs (length 0); give at least one GNSS epoch.
+    (
+        DRIVE,
+        {'mode = "loose"': 'mode = "loose"\nrate_hz = 1e-3'},
+        "gnss.rate_hz: no epoch of {data}/real-imu-gnss/drive_60s.pos lies on the 0.001 Hz grid "
+        "(GPS time a multiple of 1/rate_hz, within 0.02 s)",
+    ),
+    # The engine's keys (checked by the core): were accepted.
+    (
+        DRIVE,
+        {"mounting_rpy_deg = [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]]": "mounting_rpy_deg = []"},
+        "imu.mounting_rpy_deg: expected at least one [roll, pitch, yaw] triple, got []",
+    ),
+    (
+        DRIVE,
+        {"[truth]": "[alignment]\nheading_deg = 1e300\n[truth]"},
+        "alignment.heading_deg: must be an angle within ±360°, got 1e300",
+    ),
+    # The reader's arguments are the keys of the same name.
+    (
+        DRIVE,
+        {'accel_unit = "g"': 'accel_unit = "G"'},
+        "imu.accel_unit: unknown unit 'G'; expected one of ['g', 'm/s^2', 'm/s2']",
+    ),
+    (
+        WALK,
+        {"elevation_mask_deg = 5.0": "elevation_mask_deg = 1e300"},
+        "gnss.elevation_mask_deg: must be a finite number in [0, 90], got 1e+300",
+    ),
+]
+
+
+def test_cli_config_errors_name_the_file_and_the_key(tmp_path):
+    command_lines, expected = [], []
+    for i, (template, replace, message) in enumerate(CONFIG_ERRORS):
+        case = tmp_path / f"case{i}"
+        case.mkdir()
+        config = navigate_config(case, template, **replace)
+        command_lines.append(["navigate", "--config", str(config), "--data-root", str(DATA)])
+        message = message.format(data=DATA, out=case / "out")
+        expected.append(f"memsnav: error: {config}: {message}\n")
+    for (status, stderr), wanted in zip(run_cli_at_once(*command_lines), expected, strict=True):
+        assert (status, stderr) == (1, wanted)
+
+
+def test_cli_spans_that_hung_or_aborted_are_refused_naming_the_key(tmp_path):
+    """``simulate --duration 1e300 --rate 1e-298`` (100 samples) never
+    finished, the position integration stepping every 0.01 s; a study's
+    ``calibration_duration = 1e10`` aborted the interpreter on allocation."""
+    study = tmp_path / "study.toml"
+    study.write_text(
+        '[study]\ngrades = ["consumer"]\noutage_lengths = [10]\nvisible_satellites = [0]\n'
+        "runs = 1\ncalibrated = true\ncalibration_duration = 1e10\n"
+    )
+    done = run_cli_at_once(
+        ["simulate", "--duration", "1e300", "--rate", "1e-298", "--out", str(tmp_path / "s")],
+        ["study", "--config", str(study), "--output", str(tmp_path / "o"), "--quiet"],
+    )
+    assert done == [
+        (1, "memsnav: error: duration: 1e300 s is longer than the limit of 1e6 s\n"),
+        (
+            1,
+            f"memsnav: error: {study}: study: calibration_duration: 1e10 s is longer than the "
+            "limit of 1e6 s\n",
+        ),
+    ]
+
+
+def test_a_gnss_step_too_long_for_the_clock_names_time():
+    """Was ``clock: process noise is not positive definite``. The command
+    line no longer reaches it (a simulated span is at most 10⁶ s)."""
+    t = mn.Trajectory.random(duration=2.0, seed=1)
+    with pytest.raises(ValueError, match=r"^time: GNSS epochs at 0e0 s and 1e300 s: clock: the "
+                       r"process noise over a step of 1e300 s overflows"):  # fmt: skip
+        mn.simulate_gnss(
+            np.array([0.0, 1e300]),
+            t.position_ecef[[0, -1]],
+            t.velocity_ecef[[0, -1]],
+            mn.Constellation.walker(),
+        )

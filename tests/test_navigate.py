@@ -13,6 +13,7 @@ import pytest
 
 import memsnav as mn
 from memsnav import cli
+from memsnav._files import MARKER
 
 DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
@@ -84,7 +85,7 @@ def test_config_unknown_keys_and_bad_values(tmp_path):
         mn.load_config(_config(tmp_path, **{'accel_unit = "g"': 'acel_unit = "g"'}), DATA)
     with pytest.raises(ValueError, match=r"unknown table \[filtre\]"):
         mn.load_config(_config(tmp_path, extra="[filtre]\nx = 1\n"), DATA)
-    with pytest.raises(ValueError, match=r"gnss.mode must be one of \['loose', 'tight'\]"):
+    with pytest.raises(ValueError, match=r"gnss.mode: must be one of \['loose', 'tight'\]"):
         mn.load_config(_config(tmp_path, **{'mode = "loose"': 'mode = "lose"'}), DATA)
     with pytest.raises(ValueError, match=r"missing required key imu.gyro_unit"):
         mn.load_config(_config(tmp_path, **{'gyro_unit = "deg/s"': ""}), DATA)
@@ -180,9 +181,12 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
     extra = "[outages]\nwindows_s = [[30.0, 10.0]]\n"
     out = tmp_path / "out"
     out.mkdir()
+    # A file an earlier navigate wrote (its marker lists it) goes.
     (out / "stale.csv").write_text("from an earlier run")
+    (out / MARKER).write_text(json.dumps({"written_by": "navigate", "files": ["stale.csv"]}))
     result = mn.navigate(_config(tmp_path, extra=extra), data_root=DATA)
     assert not (out / "stale.csv").exists()
+    assert "drive_60s.csv" in json.loads((out / MARKER).read_text())["files"]
     csv = np.loadtxt(out / "drive_60s.csv", delimiter=",", skiprows=1)
     assert csv.shape == (len(result.run), 16)
     back = mn.read_pos(out / "drive_60s.pos")
@@ -200,7 +204,7 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
 def test_a_name_must_not_leave_the_output_folder(tmp_path):
     for name in ("../x", "sub/x", ""):
         cfg = _config(tmp_path, **{'name = "drive_60s"': f'name = "{name}"'})
-        with pytest.raises(ValueError, match="name must be a plain file name"):
+        with pytest.raises(ValueError, match=r"run\.toml: name: must be a plain file name"):
             mn.navigate(cfg, data_root=DATA, duration_s=5.0)
     assert not (tmp_path / "x").exists() and not (tmp_path / "out").exists()
 

@@ -219,11 +219,23 @@ def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
     ("edit", "message"),
     [
         (lambda s: s.replace("holdout_every", "hold_out"), r"unknown key\(s\) \['hold_out'\]"),
-        (lambda s: s.replace('kind = "static-poses"', 'kind = "tilt"'), "session.kind must be"),
+        (
+            lambda s: s.replace('kind = "static-poses"', 'kind = "tilt"'),
+            "session.kind: must be one of",
+        ),
         (lambda s: s.replace("gravity_m_s2 = 9.81744", ""), "missing required key static.gravity"),
-        (lambda s: s.replace("gyro_offset = 32768", 'gyro_offset = "x"'), "imu.gyro_offset must"),
-        (lambda s: s.replace("[2.1e-4, 2.1e-4, 2.1e-4]", "[1, 2]"), "a list of 3 numbers"),
-        (lambda s: s.replace("holdout_every = 0", "holdout_every = 1"), "holdout_every must be 0"),
+        (
+            lambda s: s.replace("gyro_offset = 32768", 'gyro_offset = "x"'),
+            "imu.gyro_offset: must be a finite number, got 'x'",
+        ),
+        (
+            lambda s: s.replace("[2.1e-4, 2.1e-4, 2.1e-4]", "[1, 2]"),
+            "imu.gyro_scale: must be a list of 3 entries, got 2",
+        ),
+        (
+            lambda s: s.replace("holdout_every = 0", "holdout_every = 1"),
+            "static.holdout_every: must be 0",
+        ),
         (lambda s: s + "[extra]\n", r"unknown table \[extra\]"),
     ],
 )

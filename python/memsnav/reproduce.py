@@ -26,7 +26,7 @@ import numpy as np
 
 import memsnav
 from memsnav import experiments
-from memsnav._files import ensure_writable_directory, write_text
+from memsnav._files import output_folder, write_text
 from memsnav._progress import ProgressBar
 from memsnav.report.claims import evaluate_claims
 from memsnav.report.study import build_report
@@ -149,7 +149,7 @@ def reproduce(
         raise ValueError(f"threads: must be positive, got {threads}")
     if client is not None and threads is not None:
         raise ValueError("threads: not used with a client (each worker uses its own threads)")
-    directory = ensure_writable_directory(out)
+    directory = output_folder(out)
     matplotlib.use("Agg")
     sizes = FULL if full else QUICK
     if runs is not None:

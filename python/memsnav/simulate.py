@@ -13,7 +13,7 @@ import numpy as np
 import numpy.typing as npt
 
 import memsnav as mn
-from memsnav._files import ensure_writable_directory, write_text
+from memsnav._files import output_folder, write_text
 
 _DRAWS = ("trajectory", "imu errors", "imu noise", "gnss")
 """The independent draws of a simulation, each seeded by ``derive_seed``."""
@@ -70,7 +70,7 @@ def simulate(
     ``simulation.json``): independent draws, none shared with another
     ``seed``.
     """
-    directory = ensure_writable_directory(out)
+    directory = output_folder(out)
     if isinstance(constellation, str) and constellation == "walker":
         sky = mn.Constellation.walker()
     else:

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import json
 import time
-import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,28 +30,48 @@ from typing import Any
 
 import matplotlib
 
-from memsnav._files import ensure_writable_directory, write_text
+from memsnav._config import (
+    ABSENT,
+    Check,
+    flag,
+    integer,
+    list_of,
+    load_toml,
+    number,
+    pathname,
+    read_table,
+    split_tables,
+    text,
+)
+from memsnav._files import output_folder, write_text
 from memsnav._progress import ProgressBar
 from memsnav.experiments.outage_study import METRICS, OutageStudyResult, outage_study
 from memsnav.report.document import Report
 from memsnav.reproduce import json_safe
 
-STUDY_KEYS = {
-    "grades": list,
-    "outage_lengths": list,
-    "visible_satellites": list,
-    "runs": int,
-    "duration": (int, float),
-    "outage_start": (int, float),
-    "seed": int,
-    "calibrated": bool,
-    "smooth": bool,
-    "calibration_duration": (int, float),
-    "chunk_runs": int,
+CONFIG: dict[str, dict[str, tuple[Check, Any]]] = {
+    "": {"output": (pathname(), "study")},
+    "study": {
+        "grades": (list_of(text(), min_length=1), ABSENT),
+        "outage_lengths": (list_of(number(above=0.0), min_length=1), ABSENT),
+        "visible_satellites": (list_of(integer(0, 3), min_length=1), ABSENT),
+        "runs": (integer(1), ABSENT),
+        "duration": (number(above=0.0), ABSENT),
+        "outage_start": (number(above=0.0), ABSENT),
+        "seed": (integer(0), ABSENT),
+        "calibrated": (flag(), ABSENT),
+        "smooth": (flag(), ABSENT),
+        "calibration_duration": (number(above=0.0), ABSENT),
+        "chunk_runs": (integer(1), ABSENT),
+    },
+    "requirement": {
+        "max_error_m": (number(above=0.0), ABSENT),
+        "percentile": (number(0.0, 100.0), ABSENT),
+        "metric": (text(*METRICS), ABSENT),
+    },
 }
-"""The ``[study]`` keys and their TOML types (the keywords of outage_study)."""
-
-REQUIREMENT_KEYS = {"max_error_m": (int, float), "percentile": (int, float), "metric": str}
+"""The tables and keys (``[study]``: the keywords of outage_study; a key
+left out keeps its default), read by :mod:`memsnav._config`."""
 
 
 @dataclass(frozen=True)
@@ -65,45 +84,18 @@ class StudyRun:
     interrupted: bool
 
 
-def _checked(path: Path, table: str, values: Any, keys: dict[str, Any]) -> dict[str, Any]:
-    if not isinstance(values, dict):
-        raise ValueError(f"{path}: [{table}] must be a table")
-    for key, value in values.items():
-        if key not in keys:
-            raise ValueError(
-                f"{path}: [{table}] unknown key {key!r}; expected one of {sorted(keys)}"
-            )
-        kind = keys[key]
-        # TOML booleans are not numbers here.
-        if isinstance(value, bool) != (kind is bool) or not isinstance(value, kind):
-            raise ValueError(f"{path}: [{table}] {key}: wrong type {type(value).__name__}")
-    return dict(values)
-
-
 def read_config(path: str | Path) -> dict[str, Any]:
     """The configuration: ``output``, ``study`` (outage_study keywords)
     and ``requirement`` (may be empty); errors name the file and the key."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as e:
-        raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
-    except tomllib.TOMLDecodeError as e:
-        raise ValueError(f"{path}: not valid TOML: {e}") from None
-    unknown = set(raw) - {"output", "study", "requirement"}
-    if unknown:
-        raise ValueError(
-            f"{path}: unknown key(s) {sorted(unknown)}; expected output, [study], [requirement]"
-        )
-    if "study" not in raw:
+    tables = split_tables(path, load_toml(path), [t for t in CONFIG if t])
+    if "study" not in tables:
         raise ValueError(f"{path}: missing the [study] table")
-    output = raw.get("output", "study")
-    if not isinstance(output, str):
-        raise ValueError(f"{path}: output must be a folder name")
+    values = {t: read_table(path, t, tables.get(t, {}), keys) for t, keys in CONFIG.items()}
     return {
-        "output": path.parent / output,
-        "study": _checked(path, "study", raw["study"], STUDY_KEYS),
-        "requirement": _checked(path, "requirement", raw.get("requirement", {}), REQUIREMENT_KEYS),
+        "output": path.parent / values[""]["output"],
+        "study": values["study"],
+        "requirement": values["requirement"],
     }
 
 
@@ -163,11 +155,15 @@ def run_study(
 ) -> StudyRun:
     """Runs the study of ``config_path`` and writes its report."""
     config = read_config(config_path)
-    directory = ensure_writable_directory(output if output is not None else config["output"])
+    directory = output_folder(output if output is not None else config["output"])
     matplotlib.use("Agg")
     bar = progress if callable(progress) else (ProgressBar("outage study") if progress else None)
     start = time.perf_counter()
-    result = outage_study(**config["study"], threads=threads, client=client, progress=bar)
+    try:
+        result = outage_study(**config["study"], threads=threads, client=client, progress=bar)
+    except ValueError as e:
+        # outage_study names its keyword: the [study] key of the same name.
+        raise ValueError(f"{config_path}: study: {e}") from None
     elapsed = time.perf_counter() - start
     requirement = config["requirement"]
     summary: dict[str, Any] = {

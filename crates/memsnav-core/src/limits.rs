@@ -42,6 +42,47 @@ pub const MAX_SAMPLE_RATE_HZ: f64 = 1e6;
 /// days); below it the sample period leaves the float range's useful part.
 pub const MIN_SAMPLE_RATE_HZ: f64 = 1e-6;
 
+/// Samples of one simulated trajectory or motion: 10⁸ (several GB of
+/// vectors; 11.6 days at 100 Hz).
+pub const MAX_SAMPLES: usize = 100_000_000;
+
+/// Longest simulated trajectory or motion, s (11.6 days). A trajectory's
+/// position is integrated in sub-steps of 0.01 s whatever its sample rate,
+/// so this also bounds that work to 10⁸ sub-steps: a 10³⁰⁰ s trajectory at
+/// 10⁻²⁹⁸ Hz (100 samples) never finished, and a 10¹⁰ s calibration
+/// segment aborted the interpreter on allocation (issue 30).
+pub const MAX_DURATION_S: f64 = 1.0e6;
+
+/// A simulated span `duration_s` (named `argument`) is at most
+/// [`MAX_DURATION_S`].
+pub fn duration(argument: &str, duration_s: f64) -> Result<()> {
+    if duration_s <= MAX_DURATION_S {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!("{duration_s:e} s is longer than the limit of {MAX_DURATION_S:e} s"),
+        ))
+    }
+}
+
+/// `duration_s` (named `argument`) sampled at `rate_hz` is at most
+/// [`MAX_SAMPLES`] samples.
+pub fn samples(argument: &str, duration_s: f64, rate_hz: f64) -> Result<()> {
+    let samples = duration_s * rate_hz;
+    if samples <= MAX_SAMPLES as f64 {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!(
+                "{duration_s:e} s at {rate_hz:e} Hz is {samples:.3e} samples, more than the \
+                 limit of {MAX_SAMPLES}"
+            ),
+        ))
+    }
+}
+
 /// Elements (f64) of one output array: 2³⁰, 8 GiB.
 pub const MAX_OUTPUT_ELEMENTS: f64 = 1_073_741_824.0;
 

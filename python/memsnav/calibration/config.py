@@ -17,63 +17,73 @@ kind is an error.
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from memsnav import _memsnav
+from memsnav._config import (
+    REQUIRED,
+    Check,
+    flag,
+    integer,
+    list_of,
+    load_toml,
+    number,
+    pathname,
+    read_table,
+    scalar_or_list,
+    split_tables,
+    text,
+)
 from memsnav.calibration.drive import DEFAULT_WINDOW_S
 from memsnav.calibration.file import SESSIONS
 from memsnav.realdata.config import resolve_data_root
 
 _DEFAULTS = _memsnav.static_calibration_defaults()
-REQUIRED = object()
-_NUM = (int, float)
-_NUM_OR_LIST = (int, float, list)
+# A nominal scale or offset: one for the three axes, or one per axis.
+_PER_AXIS = scalar_or_list(number(), list_of(number(), lengths=(3,)))
+_ESTIMATE = text("determinable", "all")
 
-# Each key: (type or tuple of types, default; REQUIRED when it must be given).
-SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
-    "": {"name": (str, REQUIRED), "output": (str, "out")},
-    "session": {"kind": (str, REQUIRED)},
+#: Each key: (kind, default; REQUIRED when it must be given). See
+#: :mod:`memsnav._config`.
+SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
+    "": {"name": (text(), REQUIRED), "output": (pathname(), "out")},
+    "session": {"kind": (text(*SESSIONS), REQUIRED)},
     "imu": {
-        "accel_file": (str, REQUIRED),
-        "gyro_file": (str, REQUIRED),
-        "time_unit": (str, "s"),
-        "accel_scale": (_NUM_OR_LIST, _DEFAULTS["scale"]),
-        "accel_offset": (_NUM_OR_LIST, _DEFAULTS["offset"]),
-        "gyro_scale": (_NUM_OR_LIST, _DEFAULTS["scale"]),
-        "gyro_offset": (_NUM_OR_LIST, _DEFAULTS["offset"]),
+        "accel_file": (pathname(), REQUIRED),
+        "gyro_file": (pathname(), REQUIRED),
+        "time_unit": (text("s", "ms"), "s"),
+        "accel_scale": (_PER_AXIS, _DEFAULTS["scale"]),
+        "accel_offset": (_PER_AXIS, _DEFAULTS["offset"]),
+        "gyro_scale": (_PER_AXIS, _DEFAULTS["scale"]),
+        "gyro_offset": (_PER_AXIS, _DEFAULTS["offset"]),
     },
     "static": {
-        "gravity_m_s2": (_NUM, REQUIRED),
-        "window_s": (_NUM, _DEFAULTS["window"]),
-        "threshold_factor": (_NUM, _DEFAULTS["threshold_factor"]),
-        "initial_rest_s": (_NUM, _DEFAULTS["initial_rest"]),
-        "min_pose_s": (_NUM, _DEFAULTS["min_pose"]),
-        "estimate": (str, "determinable"),
-        "holdout_every": (int, 0),
+        "gravity_m_s2": (number(above=0.0), REQUIRED),
+        "window_s": (number(above=0.0), _DEFAULTS["window"]),
+        "threshold_factor": (number(above=0.0), _DEFAULTS["threshold_factor"]),
+        "initial_rest_s": (number(above=0.0), _DEFAULTS["initial_rest"]),
+        "min_pose_s": (number(above=0.0), _DEFAULTS["min_pose"]),
+        "estimate": (_ESTIMATE, "determinable"),
+        # 0 (none) or at least 2: checked below.
+        "holdout_every": (integer(0), 0),
     },
     "drive": {
-        "navigate": (str, REQUIRED),
-        "window_s": (_NUM, DEFAULT_WINDOW_S),
-        "until_s": (_NUM, 0.0),
-        "estimate": (str, "determinable"),
-        "scale_factor_states": (bool, True),
-        "compare": (bool, True),
-        "draws": (int, 10),
-        "seed": (int, 0),
+        "navigate": (pathname(), REQUIRED),
+        "window_s": (number(above=0.0), DEFAULT_WINDOW_S),
+        # 0: the whole drive.
+        "until_s": (number(minimum=0.0), 0.0),
+        "estimate": (_ESTIMATE, "determinable"),
+        "scale_factor_states": (flag(), True),
+        "compare": (flag(), True),
+        "draws": (integer(0), 10),
+        "seed": (integer(0), 0),
     },
-    "report": {"html": (bool, True)},
+    "report": {"html": (flag(), True)},
 }
 #: The tables each session kind reads (the others must be absent).
 KIND_TABLES = {"static-poses": ("imu", "static"), "drive": ("drive",)}
-CHOICES = {
-    ("session", "kind"): SESSIONS,
-    ("imu", "time_unit"): ("s", "ms"),
-    ("static", "estimate"): ("determinable", "all"),
-    ("drive", "estimate"): ("determinable", "all"),
-}
 
 
 @dataclass
@@ -100,47 +110,13 @@ class CalibrationConfig:
         return p if p.is_absolute() else self.path.parent / p
 
 
-def _check(file: Path, name: str, value: Any, kind: Any) -> Any:
-    if isinstance(value, bool) and kind is not bool:
-        ok = False
-    else:
-        ok = isinstance(value, kind)
-    if ok and isinstance(value, list):
-        ok = len(value) == 3 and all(
-            isinstance(v, int | float) and not isinstance(v, bool) for v in value
-        )
-    if not ok:
-        expected = {
-            _NUM: "a number",
-            _NUM_OR_LIST: "a number or a list of 3 numbers",
-        }.get(kind, getattr(kind, "__name__", str(kind)))
-        raise ValueError(f"{file}: {name} must be {expected}, got {value!r}")
-    if kind is _NUM:
-        return float(value)
-    if kind is _NUM_OR_LIST:
-        return [float(v) for v in value] if isinstance(value, list) else float(value)
-    return value
-
-
 def load_calibration_config(
     path: str | Path, data_root: str | Path | None = None
 ) -> CalibrationConfig:
     """Reads and checks a ``calibrate`` configuration (module docstring)."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as e:
-        raise ValueError(f"{path}: not valid TOML: {e}") from None
-    except OSError as e:
-        raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
     cfg = CalibrationConfig(path=path, data_root=resolve_data_root(path, data_root))
-    tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
-    top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
-    for name in tables:
-        if name not in SCHEMA or name == "":
-            raise ValueError(
-                f"{path}: unknown table [{name}]; expected one of {sorted(k for k in SCHEMA if k)}"
-            )
+    tables = split_tables(path, load_toml(path), [k for k in SCHEMA if k])
     session = tables.get("session", {}).get("kind")
     for other, names in KIND_TABLES.items():
         for name in names:
@@ -156,39 +132,7 @@ def load_calibration_config(
             and any(section in names for names in KIND_TABLES.values())
         ):
             continue
-        given = top if section == "" else tables.get(section, {})
-        unknown = sorted(set(given) - set(schema))
-        if unknown:
-            where = f"[{section}]" if section else "the top level"
-            raise ValueError(
-                f"{path}: unknown key(s) {unknown} in {where}; expected some of {sorted(schema)}"
-            )
-        out: dict[str, Any] = {}
-        for key, (kind, default) in schema.items():
-            name = f"{section}.{key}" if section else key
-            if key in given:
-                out[key] = _check(path, name, given[key], kind)
-            elif default is REQUIRED:
-                raise ValueError(f"{path}: missing required key {name}")
-            else:
-                out[key] = default
-            choices = CHOICES.get((section, key))
-            if choices and out[key] not in choices:
-                raise ValueError(f"{path}: {name} must be one of {list(choices)}, got {out[key]!r}")
-        cfg.values[section] = out
-    if session == "drive":
-        drive = cfg["drive"]
-        if drive["draws"] < 0:
-            raise ValueError(f"{path}: drive.draws must be 0 or more, got {drive['draws']}")
-        if drive["window_s"] <= 0 or drive["until_s"] < 0:
-            raise ValueError(
-                f"{path}: drive.window_s must be positive and drive.until_s at least 0 "
-                f"(0: the whole drive), got {drive['window_s']} and {drive['until_s']}"
-            )
-        return cfg
-    if cfg["static"]["holdout_every"] == 1 or cfg["static"]["holdout_every"] < 0:
-        raise ValueError(
-            f"{path}: static.holdout_every must be 0 (none) or at least 2, "
-            f"got {cfg['static']['holdout_every']}"
-        )
+        cfg.values[section] = read_table(path, section, tables.get(section, {}), schema)
+    if session != "drive" and cfg["static"]["holdout_every"] == 1:
+        raise ValueError(f"{path}: static.holdout_every: must be 0 (none) or at least 2, got 1")
     return cfg

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from memsnav._files import output_folder
 from memsnav.calibration.config import CalibrationConfig, load_calibration_config
 from memsnav.calibration.drive import calibrate_drive, compare_navigation
 from memsnav.calibration.file import ImuCalibration
@@ -49,9 +50,8 @@ def run_calibration(
     writes ``calibration.json`` and, unless ``[report] html = false``,
     ``report.html`` with its figures into the output folder."""
     cfg = load_calibration_config(config, data_root)
-    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    out = output_folder(output if output is not None else cfg[""]["output"])
     run = _drive(cfg) if cfg["session"]["kind"] == "drive" else _static(cfg)
-    out.mkdir(parents=True, exist_ok=True)
     run.files["calibration"] = run.imu_calibration.save(out / "calibration.json")
     if cfg["report"]["html"]:
         from memsnav.calibration.report import write_report

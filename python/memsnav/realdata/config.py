@@ -8,7 +8,9 @@ detection, aids, outages) belong to the core engine: their names, units
 and defaults live there (``memsnav.navigate_settings()`` lists them) and a
 key left out keeps the engine's default. Either way, an unknown table or
 key (a typo) is an error naming the file and the key, and so is a value of
-the wrong kind; the engine's keys are checked when the file is loaded.
+the wrong kind or out of range (the reading keys by the one configuration
+reader, :mod:`memsnav._config`; the engine's keys by the core), all when the
+file is loaded.
 
 Relative data paths resolve against the data root: ``--data-root``, else
 ``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` relative to the repository
@@ -20,63 +22,78 @@ from its own folder).
 from __future__ import annotations
 
 import os
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import memsnav._memsnav as _mn
+from memsnav._config import (
+    REQUIRED,
+    Check,
+    file_name,
+    flag,
+    integer,
+    list_of,
+    load_toml,
+    number,
+    pathname,
+    read_table,
+    split_tables,
+    text,
+)
 
 #: Environment variable naming the data root.
 DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"
 
-# The reading keys: (type or tuple of types, default; REQUIRED when it must be
-# given; None: not given, the reader's own default applies).
-REQUIRED = object()
-_NUM = (int, float)
 # The observables' defaults are the core's (``memsnav.defaults()``).
 _OBSERVABLES: dict[str, float] = _mn.defaults()["RinexObservations.gps_l1"]
-SCHEMA: dict[str, dict[str, tuple[Any, Any]]] = {
-    "": {"name": (str, REQUIRED), "output": (str, "out")},
+#: RTKLIB's solution qualities (Q): 0 none, 1 fix, 2 float, 3 SBAS, 4 DGPS,
+#: 5 single, 6 PPP, 7 dead reckoning (the range ``read_pos`` accepts).
+_QUALITIES = list_of(integer(0, 7), min_length=1)
+#: The reading keys: (kind, default; REQUIRED when it must be given; None:
+#: not given, the reader's own default applies). See :mod:`memsnav._config`.
+SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
+    "": {"name": (file_name(), REQUIRED), "output": (pathname(), "out")},
     "imu": {
-        "file": (str, REQUIRED),
-        "columns": (list, ["ax", "ay", "az", "gx", "gy", "gz", "t"]),
-        "accel_unit": (str, REQUIRED),
-        "gyro_unit": (str, REQUIRED),
-        "time_unit": (str, REQUIRED),
-        "time_reference": (str, "tag"),
-        "time_tag": (str, ""),
-        "skip_first_line": (bool, False),
-        "header_lines": (int, 0),
-        "calibration": (str, ""),
+        "file": (pathname(), REQUIRED),
+        "columns": (list_of(text(), min_length=1), ["ax", "ay", "az", "gx", "gy", "gz", "t"]),
+        # The units' names are the reader's (its error names them).
+        "accel_unit": (text(), REQUIRED),
+        "gyro_unit": (text(), REQUIRED),
+        "time_unit": (text(), REQUIRED),
+        "time_reference": (text("tag", "column_gps", "column_unix_gpst"), "tag"),
+        "time_tag": (pathname(), ""),
+        "skip_first_line": (flag(), False),
+        "header_lines": (integer(0), 0),
+        "calibration": (pathname(), ""),
     },
     "gnss": {
-        "mode": (str, REQUIRED),
-        "pos": (str, ""),
-        "quality": (list, [1, 2]),
-        "rate_hz": (_NUM, None),
-        "position_noise_m": (list, None),
-        "velocity_noise_m_s": (_NUM, None),
-        "use_velocity": (bool, None),
-        "seed": (int, 0),
-        "obs": (str, ""),
-        "nav": (str, ""),
-        "satellites": (list, []),
-        "elevation_mask_deg": (_NUM, _OBSERVABLES["elevation_mask_deg"]),
-        "min_cn0_db_hz": (_NUM, _OBSERVABLES["min_cn0_db_hz"]),
-        "pseudorange_std_m": (_NUM, _OBSERVABLES["pseudorange_std"]),
-        "pseudorange_rate_std_m_s": (_NUM, _OBSERVABLES["pseudorange_rate_std"]),
-        "ionosphere": (bool, True),
-        "troposphere": (bool, True),
-        "klobuchar_alpha": (list, []),
-        "klobuchar_beta": (list, []),
+        "mode": (text("loose", "tight"), REQUIRED),
+        "pos": (pathname(), ""),
+        "quality": (_QUALITIES, [1, 2]),
+        "rate_hz": (number(above=0.0), None),
+        "position_noise_m": (list_of(number(minimum=0.0), lengths=(3,)), None),
+        "velocity_noise_m_s": (number(minimum=0.0), None),
+        "use_velocity": (flag(), None),
+        "seed": (integer(0), 0),
+        "obs": (pathname(), ""),
+        "nav": (pathname(), ""),
+        # GPS PRNs (RINEX: 1-63).
+        "satellites": (list_of(integer(1, 63)), []),
+        "elevation_mask_deg": (number(0.0, 90.0), _OBSERVABLES["elevation_mask_deg"]),
+        # C/N0 of any GNSS signal received on the ground is below 100 dB-Hz.
+        "min_cn0_db_hz": (number(0.0, 100.0), _OBSERVABLES["min_cn0_db_hz"]),
+        "pseudorange_std_m": (number(above=0.0), _OBSERVABLES["pseudorange_std"]),
+        "pseudorange_rate_std_m_s": (number(minimum=0.0), _OBSERVABLES["pseudorange_rate_std"]),
+        "ionosphere": (flag(), True),
+        "troposphere": (flag(), True),
+        # Four each, or neither (the navigation file's); the ICD's ranges
+        # are the core's check.
+        "klobuchar_alpha": (list_of(number(), lengths=(0, 4)), []),
+        "klobuchar_beta": (list_of(number(), lengths=(0, 4)), []),
     },
-    "truth": {"pos": (str, ""), "quality": (list, [1, 2])},
-    "report": {"html": (bool, True)},
-}
-CHOICES = {
-    ("imu", "time_reference"): ("tag", "column_gps", "column_unix_gpst"),
-    ("gnss", "mode"): ("loose", "tight"),
+    "truth": {"pos": (pathname(), ""), "quality": (_QUALITIES, [1, 2])},
+    "report": {"html": (flag(), True)},
 }
 #: The engine's tables and keys, from the core.
 ENGINE: dict[str, dict[str, str]] = _mn.navigate_settings()
@@ -126,62 +143,26 @@ def resolve_data_root(near: str | Path | None = None, explicit: str | Path | Non
     return (repo / ".." / "shared" / "data").resolve()
 
 
-def _check(file: Path, where: str, key: str, value: Any, kind: Any) -> Any:
-    name = f"{where}.{key}" if where else key
-    if (kind is _NUM and isinstance(value, bool)) or not isinstance(value, kind):
-        expected = "a number" if kind is _NUM else kind.__name__
-        raise ValueError(f"{file}: {name} must be {expected}, got {value!r}")
-    return float(value) if kind is _NUM else value
-
-
 def load_config(path: str | Path, data_root: str | Path | None = None) -> RunConfig:
     """Reads and checks a run configuration (see the module docstring)."""
     path = Path(path)
-    try:
-        raw = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as e:
-        raise ValueError(f"{path}: not valid TOML: {e}") from None
-    except OSError as e:
-        raise ValueError(f"config: cannot read {path}: {e.strerror}") from None
-    except UnicodeDecodeError as e:
-        raise ValueError(f"{path}: not UTF-8 text (byte {e.start}); TOML must be UTF-8") from None
     cfg = RunConfig(path=path, data_root=resolve_data_root(path, data_root))
-    top = {k: v for k, v in raw.items() if not isinstance(v, dict)}
-    tables = {k: v for k, v in raw.items() if isinstance(v, dict)}
-    known_tables = sorted({k for k in SCHEMA if k} | set(ENGINE))
-    for name in tables:
-        if name not in known_tables:
-            raise ValueError(f"{path}: unknown table [{name}]; expected one of {known_tables}")
-    for section in ["", *known_tables]:
-        schema = SCHEMA.get(section, {})
-        engine_keys = ENGINE.get(section, {})
-        given = top if section == "" else tables.get(section, {})
-        unknown = sorted(set(given) - set(schema) - set(engine_keys))
-        if unknown:
-            where = f"[{section}]" if section else "the top level"
-            expected = sorted(set(schema) | set(engine_keys))
-            raise ValueError(
-                f"{path}: unknown key(s) {unknown} in {where}; expected some of {expected}"
-            )
-        out: dict[str, Any] = {}
-        for key, (kind, default) in schema.items():
-            if key in given:
-                out[key] = _check(path, section, key, given[key], kind)
-            elif default is REQUIRED:
-                raise ValueError(
-                    f"{path}: missing required key {section + '.' if section else ''}{key}"
-                )
-            else:
-                out[key] = default
-            choices = CHOICES.get((section, key))
-            if choices and out[key] not in choices:
-                raise ValueError(
-                    f"{path}: {section}.{key} must be one of {list(choices)}, got {out[key]!r}"
-                )
-        cfg.values[section] = out
+    tables = split_tables(path, load_toml(path), {k for k in SCHEMA if k} | set(ENGINE))
+    for table in ["", *sorted({k for k in SCHEMA if k} | set(ENGINE))]:
+        given = tables.get(table, {})
+        engine_keys = ENGINE.get(table, {})
+        cfg.values[table] = read_table(
+            path, table, given, SCHEMA.get(table, {}), others=engine_keys
+        )
         engine = {k: v for k, v in given.items() if k in engine_keys}
         if engine:
-            cfg.engine[section] = engine
+            cfg.engine[table] = engine
+    gnss = cfg.values["gnss"]
+    if len(gnss["klobuchar_alpha"]) != len(gnss["klobuchar_beta"]):
+        raise ValueError(
+            f"{path}: gnss.klobuchar_alpha and gnss.klobuchar_beta: give four numbers each, "
+            "or neither"
+        )
     try:
         _mn.check_navigate_settings(cfg.engine)
     except ValueError as e:

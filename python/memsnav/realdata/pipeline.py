@@ -12,11 +12,8 @@ local frames, the scoring) is computed in the core.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
-import shutil
-import tempfile
 import time as _time
 from pathlib import Path
 from typing import Any
@@ -24,6 +21,7 @@ from typing import Any
 import numpy as np
 
 import memsnav._memsnav as _mn
+from memsnav._files import check_replaceable, fresh_output_folder
 from memsnav.realdata import readers
 from memsnav.realdata.config import RunConfig, load_config
 from memsnav.realdata.result import LogNavigationResult
@@ -46,15 +44,22 @@ def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[s
     time mapping."""
     c = cfg["imu"]
     path = _require(cfg, "imu", "file")
-    log = readers.read_imu_csv(
-        path,
-        c["columns"],
-        accel_unit=c["accel_unit"],
-        gyro_unit=c["gyro_unit"],
-        time_unit=c["time_unit"],
-        skip_first_line=c["skip_first_line"],
-        header_lines=c["header_lines"],
-    )
+    try:
+        log = readers.read_imu_csv(
+            path,
+            c["columns"],
+            accel_unit=c["accel_unit"],
+            gyro_unit=c["gyro_unit"],
+            time_unit=c["time_unit"],
+            skip_first_line=c["skip_first_line"],
+            header_lines=c["header_lines"],
+        )
+    except readers.ParseError:
+        raise  # names the data file
+    except ValueError as e:
+        # The layout and the units are checked by the reader, which names
+        # its argument: the key of the same name.
+        raise ValueError(f"{cfg.path}: imu.{e}") from None
     notes: dict[str, float] = {}
     if c["time_reference"] == "tag":
         tag = readers.read_time_tag(_require(cfg, "imu", "time_tag"))
@@ -92,13 +97,29 @@ def apply_calibration(
     return cal.correct(specific_force, angular_rate)
 
 
+def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.ndarray]:
+    """The RTKLIB solution ``[table] pos`` and which of its epochs have a
+    quality in ``[table] quality``. None having one is an error naming the
+    key, the file and the qualities its epochs have."""
+    path = _require(cfg, table, "pos")
+    solution = readers.read_pos(path)
+    wanted = cfg[table]["quality"]
+    keep = np.isin(solution.quality, wanted)
+    if not keep.any():
+        present = sorted(set(np.asarray(solution.quality).tolist()))
+        raise ValueError(
+            f"{cfg.path}: {table}.quality: no epoch of {path} has a quality in {wanted}; "
+            f"its {len(keep)} epochs have the qualities {present}"
+        )
+    return solution, keep
+
+
 def read_truth(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray] | None:
     """The truth's epochs of the chosen quality: GPS time (s) and ECEF
     position (m), or None when the configuration names no truth."""
     if cfg.data_path("truth", "pos") is None:
         return None
-    truth = readers.read_pos(_require(cfg, "truth", "pos"))
-    keep = np.isin(truth.quality, cfg["truth"]["quality"])
+    truth, keep = read_solution(cfg, "truth")
     return truth.gps_time[keep], np.asarray(_mn.geodetic_to_ecef(truth.lla[keep]))
 
 
@@ -117,10 +138,7 @@ def loose_input(cfg: RunConfig) -> Any:
     (``PositionFixes``): at ``rate_hz``, with seeded white noise added when
     asked for."""
     g = cfg["gnss"]
-    sol = readers.read_pos(_require(cfg, "gnss", "pos"))
-    keep = np.isin(sol.quality, g["quality"])
-    if not keep.any():
-        raise ValueError(f"{cfg.path}: no epoch of {sol} has a quality in gnss.quality")
+    sol, keep = read_solution(cfg, "gnss")
     given = _optional(g, "rate_hz", "velocity_noise_m_s", "use_velocity", "position_noise_m")
     kwargs: dict[str, Any] = {
         "rate_hz": given.get("rate_hz"),
@@ -128,7 +146,7 @@ def loose_input(cfg: RunConfig) -> Any:
         "use_velocity": given.get("use_velocity"),
         "added_position_noise_ned": given.get("position_noise_m"),
     }
-    return _mn.fixes_from_solution(
+    fixes = _mn.fixes_from_solution(
         sol.gps_time[keep],
         sol.lla[keep],
         sol.std_ned[keep],
@@ -137,6 +155,13 @@ def loose_input(cfg: RunConfig) -> Any:
         seed=g["seed"],
         **kwargs,
     )
+    if len(fixes) == 0:
+        # Only rate_hz can leave none (the qualities matched some epochs).
+        raise ValueError(
+            f"{cfg.path}: gnss.rate_hz: no epoch of {cfg.data_path('gnss', 'pos')} lies on the "
+            f"{g['rate_hz']:g} Hz grid (GPS time a multiple of 1/rate_hz, within 0.02 s)"
+        )
+    return fixes
 
 
 def tight_input(cfg: RunConfig) -> Any:
@@ -145,25 +170,25 @@ def tight_input(cfg: RunConfig) -> Any:
     sky = _mn.Constellation.from_rinex_nav(_require(cfg, "gnss", "nav"))
     obs = _mn.read_rinex_obs(_require(cfg, "gnss", "obs"))
     alpha, beta = g["klobuchar_alpha"], g["klobuchar_beta"]
-    if bool(alpha) != bool(beta) or (alpha and (len(alpha) != 4 or len(beta) != 4)):
-        raise ValueError(
-            f"{cfg.path}: gnss.klobuchar_alpha and "
-            "klobuchar_beta: give four numbers each, or neither"
-        )
     klobuchar = (
         (tuple(alpha), tuple(beta)) if alpha else _mn.read_klobuchar(_require(cfg, "gnss", "nav"))
     )
-    return obs.gps_l1(
-        sky,
-        elevation_mask_deg=g["elevation_mask_deg"],
-        min_cn0_db_hz=g["min_cn0_db_hz"],
-        ionosphere=g["ionosphere"],
-        klobuchar=klobuchar,
-        troposphere=g["troposphere"],
-        pseudorange_std=g["pseudorange_std_m"],
-        pseudorange_rate_std=g["pseudorange_rate_std_m_s"],
-        satellites=[int(s) for s in g["satellites"]] or None,
-    )
+    try:
+        return obs.gps_l1(
+            sky,
+            elevation_mask_deg=g["elevation_mask_deg"],
+            min_cn0_db_hz=g["min_cn0_db_hz"],
+            ionosphere=g["ionosphere"],
+            klobuchar=klobuchar,
+            troposphere=g["troposphere"],
+            pseudorange_std=g["pseudorange_std_m"],
+            pseudorange_rate_std=g["pseudorange_rate_std_m_s"],
+            satellites=g["satellites"] or None,
+        )
+    except ValueError as e:
+        # What the core checks beyond the configuration's ranges (the
+        # Klobuchar coefficients' ICD ranges), named by its argument.
+        raise ValueError(f"{cfg.path}: gnss: {e}") from None
 
 
 def _counts(run: Any) -> dict[str, dict[str, int]]:
@@ -256,9 +281,13 @@ def navigate(
     cfg = config if isinstance(config, RunConfig) else load_config(config, data_root)
     if duration_s is not None and not (np.isfinite(duration_s) and duration_s > 0):
         raise ValueError(f"duration: must be a positive number of seconds, got {duration_s}")
+    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    # Refused before the run, not after it (and checked again when replaced).
+    check_replaceable(out, "navigate")
     mode = cfg["gnss"]["mode"]
     t, f_s, w_s, notes = read_imu(cfg)
     gnss = gnss_input(cfg)
+    truth = read_truth(cfg)  # before the run: a truth that matches nothing fails at once
     run_started = _time.perf_counter()
     run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
     run_s = _time.perf_counter() - run_started
@@ -310,7 +339,6 @@ def navigate(
     if run.range_biases:
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
     result = LogNavigationResult(cfg, run, None, None)
-    truth = read_truth(cfg)
     if truth is not None:
         tt, r_truth = truth
         score = run.score(tt, r_truth)
@@ -330,7 +358,7 @@ def navigate(
     summary["filter_run_s"] = run_s
     summary["processing_s"] = _time.perf_counter() - started
     result.summary = _finite(summary)
-    _write_outputs(result, Path(output) if output is not None else Path(cfg[""]["output"]))
+    _write_outputs(result, out)
     return result
 
 
@@ -354,34 +382,6 @@ def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
             for c in integrity["consistency"]
         ],
     }
-
-
-@contextlib.contextmanager
-def _fresh_folder(out: Path) -> Any:
-    """A new, empty folder beside ``out`` to write into; on success it
-    replaces ``out`` (any earlier run's files go), on failure it is removed
-    and ``out`` is left as it was: a run's outputs are never mixed with an
-    earlier run's, nor half written."""
-    out = out.resolve()
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except (FileExistsError, NotADirectoryError):
-        raise ValueError(f"output: cannot create the folder {out}: a file is in the way") from None
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".new", dir=out.parent))
-    try:
-        yield tmp
-        os.chmod(tmp, 0o755)
-        if out.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
-            old.rmdir()
-            out.rename(old)
-            tmp.rename(out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            tmp.rename(out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
 
 
 def _write_solution(run: Any, folder: Path, stem: str) -> None:
@@ -421,12 +421,10 @@ def _write_solution(run: Any, folder: Path, stem: str) -> None:
 
 
 def _write_outputs(result: LogNavigationResult, out: Path) -> None:
-    name = result.config[""]["name"]
-    if not name or name != Path(name).name or name in (".", ".."):
-        raise ValueError(f"{result.config.path}: name must be a plain file name, got {name!r}")
+    name = result.config[""]["name"]  # a plain file name (the configuration checks it)
     run = result.run
     files = {"csv": f"{name}.csv", "pos": f"{name}.pos", "summary": "summary.json"}
-    with _fresh_folder(out) as tmp:
+    with fresh_output_folder(out, "navigate") as tmp:
         _write_solution(run, tmp, name)
         if run.smoothed is not None:
             _write_solution(run.smoothed, tmp, f"{name}_smoothed")

@@ -82,6 +82,7 @@ impl SegmentCalibration {
     /// Checks every setting; errors name the Python keyword.
     pub fn validate(&self) -> Result<()> {
         validate::positive("calibration_duration", self.duration_s)?;
+        crate::limits::duration("calibration_duration", self.duration_s)?;
         super::validate_reference_noise(
             self.reference_specific_force_std,
             self.reference_angular_rate_std,

@@ -51,6 +51,7 @@ impl CalibrationExperimentConfig {
             ],
         )?;
         validate::positive("duration", self.duration_s)?;
+        crate::limits::duration("duration", self.duration_s)?;
         super::validate_preset(&self.preset)?;
         super::validate_reference_noise(
             self.reference_specific_force_std,

@@ -52,6 +52,7 @@ impl InversionExperimentConfig {
         }
         crate::limits::monte_carlo(None, &[("runs", self.runs)])?;
         validate::positive("duration", self.duration_s)?;
+        crate::limits::duration("duration", self.duration_s)?;
         super::validate_preset(&self.preset)?;
         self.calibration.validate()?;
         self.process.validate()

@@ -117,6 +117,8 @@ fn level_from_body(sr: f64, cr: f64, sp: f64, cp: f64) -> Matrix3<f64> {
 pub fn land_vehicle(duration_s: f64, rate_hz: f64, rng: &mut Rng) -> Result<Motion> {
     validate::positive("duration", duration_s)?;
     validate::positive("rate", rate_hz)?;
+    crate::limits::duration("duration", duration_s)?;
+    crate::limits::samples("duration", duration_s, rate_hz)?;
     let dt = 1.0 / rate_hz;
     let n = (duration_s * rate_hz).round() as usize + 1;
     let deg = std::f64::consts::PI / 180.0;

@@ -112,6 +112,40 @@ const BETA_LIMITS: [f64; 4] = [
     128.0 * 65536.0,
 ];
 
+/// The first coefficient of `values` that is NaN or beyond its limit:
+/// (index, value, limit). The one range check of a Klobuchar coefficient,
+/// read from a file or given as an argument.
+fn out_of_range(values: &[f64; 4], limits: &[f64; 4]) -> Option<(usize, f64, f64)> {
+    values
+        .iter()
+        .zip(limits)
+        .enumerate()
+        .find(|(_, (x, limit))| x.is_nan() || x.abs() > **limit)
+        .map(|(j, (&x, &limit))| (j, x, limit))
+}
+
+impl Klobuchar {
+    /// Checks that every coefficient is one the navigation message can
+    /// carry (an error naming `argument`, e.g. `klobuchar`).
+    pub fn validate(&self, argument: &str) -> Result<()> {
+        for (label, values, limits) in [
+            ("alpha", &self.alpha, &ALPHA_LIMITS),
+            ("beta", &self.beta, &BETA_LIMITS),
+        ] {
+            if let Some((j, x, limit)) = out_of_range(values, limits) {
+                return Err(Error::invalid(
+                    argument,
+                    format!(
+                        "{label}[{j}] = {x:e} is out of range (±{limit:e}): not a value the GPS \
+                         navigation message can carry"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// The Klobuchar coefficients in a RINEX navigation header: `ION ALPHA` /
 /// `ION BETA` (RINEX 2) or `IONOSPHERIC CORR` `GPSA` / `GPSB` (RINEX 3);
 /// `None` when the header has neither.
@@ -160,17 +194,15 @@ pub fn parse_klobuchar(text: &str, file: &str) -> Result<Option<Klobuchar>> {
                     ),
                 })?;
         }
-        for (j, (&x, limit)) in v.iter().zip(limits).enumerate() {
-            if x.is_nan() || x.abs() > limit {
-                return Err(Error::Parse {
-                    file: file.clone(),
-                    line: k + 1,
-                    reason: format!(
-                        "Klobuchar coefficient {} of {label} = {x:e} is out of range (±{limit:e}): not a value the GPS navigation message can carry",
-                        j + 1
-                    ),
-                });
-            }
+        if let Some((j, x, limit)) = out_of_range(&v, &limits) {
+            return Err(Error::Parse {
+                file: file.clone(),
+                line: k + 1,
+                reason: format!(
+                    "Klobuchar coefficient {} of {label} = {x:e} is out of range (±{limit:e}): not a value the GPS navigation message can carry",
+                    j + 1
+                ),
+            });
         }
         *target = Some(v);
     }
@@ -183,6 +215,27 @@ pub fn parse_klobuchar(text: &str, file: &str) -> Result<Option<Klobuchar>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 30: coefficients given as an argument (a configuration's
+    /// `klobuchar_alpha`) were not checked; NaN changed every delay.
+    #[test]
+    fn coefficients_given_are_checked_as_read_ones_are() {
+        assert!(Klobuchar::RTKLIB_DEFAULT.validate("klobuchar").is_ok());
+        let mut k = Klobuchar::RTKLIB_DEFAULT;
+        k.alpha[0] = f64::NAN;
+        let err = k.validate("klobuchar").unwrap_err().to_string();
+        assert!(
+            err.starts_with("klobuchar: alpha[0] = NaN is out of range"),
+            "{err}"
+        );
+        let mut k = Klobuchar::RTKLIB_DEFAULT;
+        k.beta[3] = 1e10;
+        let err = k.validate("klobuchar").unwrap_err().to_string();
+        assert!(
+            err.starts_with("klobuchar: beta[3] = 1e10 is out of range"),
+            "{err}"
+        );
+    }
 
     #[test]
     fn klobuchar_night_floor_and_afternoon_peak() {

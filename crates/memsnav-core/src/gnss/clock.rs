@@ -144,6 +144,16 @@ impl ReceiverClockModel {
         validate::non_negative("dt", dt_s)?;
         let z: Vector2<f64> = Vector2::new(StandardNormal.sample(rng), StandardNormal.sample(rng));
         let q = self.process_noise(dt_s);
+        if !q.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid(
+                "clock",
+                format!(
+                    "the process noise over a step of {dt_s:e} s overflows (h0 {:e}, h−2 {:e}): \
+                     the step is too long for this clock model",
+                    self.h0, self.h_minus2
+                ),
+            ));
+        }
         let w = if q[(0, 0)] > 0.0 && q[(1, 1)] > 0.0 {
             let l = q
                 .cholesky()

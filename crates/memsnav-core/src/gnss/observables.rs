@@ -72,6 +72,9 @@ impl ObservableOptions {
         )?;
         validate::finite_scalars("elevation_mask", &[self.elevation_mask_rad])?;
         validate::finite_scalars("min_cn0", &[self.min_cn0_db_hz])?;
+        if let Some(klobuchar) = &self.ionosphere {
+            klobuchar.validate("klobuchar")?;
+        }
         validate::positive("pseudorange_std", self.pseudorange_std_m)?;
         validate::non_negative("pseudorange_rate_std", self.pseudorange_rate_std_m_s)
     }

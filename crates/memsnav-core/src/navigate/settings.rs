@@ -21,6 +21,32 @@ pub enum SettingValue {
     List(Vec<SettingValue>),
 }
 
+impl std::fmt::Display for SettingValue {
+    /// As the configuration file writes it (`5`, `"text"`, `[1, 2]`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SettingValue::Bool(b) => write!(f, "{b}"),
+            SettingValue::Number(v) => write!(f, "{v:?}"),
+            SettingValue::Text(s) => write!(f, "{s:?}"),
+            SettingValue::List(items) => {
+                write!(f, "[")?;
+                for (i, item) in items.iter().enumerate() {
+                    write!(f, "{}{item}", if i > 0 { ", " } else { "" })?;
+                }
+                write!(f, "]")
+            }
+        }
+    }
+}
+
+/// Largest angle a key in degrees takes, in magnitude: one turn either
+/// way. A larger one is a typo or an angle in another unit, not a heading
+/// or a mounting rotation anyone means.
+const MAX_ANGLE_DEG: f64 = 360.0;
+
+/// Largest one-sigma of an angle, deg: half a turn already says "unknown".
+const MAX_ANGLE_STD_DEG: f64 = 180.0;
+
 /// Settings as (table, [(key, value)]) pairs, in the file's order.
 pub type SettingTables = Vec<(String, Vec<(String, SettingValue)>)>;
 
@@ -138,8 +164,49 @@ impl Reader<'_> {
     fn wrong(&self, expected: &str) -> Error {
         Error::invalid(
             self.name(),
-            format!("expected {expected}, got {:?}", self.value),
+            format!("expected {expected}, got {}", self.value),
         )
+    }
+
+    /// `v` (entry `entry` of the key's list, if any) is within ±`max`, or
+    /// an error saying it `must be` so.
+    fn within(&self, v: f64, max: f64, must_be: &str, entry: Option<usize>) -> Result<f64> {
+        if v.abs() <= max {
+            return Ok(v);
+        }
+        let at = entry.map_or(String::new(), |i| format!("entry {i}: "));
+        Err(Error::invalid(
+            self.name(),
+            format!("{at}must be {must_be}, got {v:?}"),
+        ))
+    }
+
+    /// `v`, entry `entry` of the key (if a list), is an angle in degrees:
+    /// within ±[`MAX_ANGLE_DEG`].
+    fn angle(&self, v: f64, entry: Option<usize>) -> Result<f64> {
+        self.within(v, MAX_ANGLE_DEG, "an angle within ±360°", entry)
+    }
+
+    /// `v`, entry `entry` of the key (if a list), is an angle's one-sigma in
+    /// degrees: positive, at most [`MAX_ANGLE_STD_DEG`].
+    fn angle_std(&self, v: f64, entry: Option<usize>) -> Result<f64> {
+        // `v` is finite: read by `number` or `vector3`.
+        if v <= 0.0 {
+            let at = entry.map_or(String::new(), |i| format!("entry {i}: "));
+            return Err(Error::invalid(
+                self.name(),
+                format!("{at}must be positive, got {v:?}"),
+            ));
+        }
+        self.within(v, MAX_ANGLE_STD_DEG, "at most 180° (half a turn)", entry)
+    }
+
+    fn angle_deg(&self) -> Result<f64> {
+        self.angle(self.number()?, None)
+    }
+
+    fn angle_std_deg(&self) -> Result<f64> {
+        self.angle_std(self.number()?, None)
     }
 
     fn number(&self) -> Result<f64> {
@@ -220,7 +287,7 @@ impl Reader<'_> {
                 Self::numbers(x, Some(n)).ok_or_else(|| {
                     Error::invalid(
                         self.name(),
-                        format!("entry {i}: expected {n} finite numbers ({what}), got {x:?}"),
+                        format!("entry {i}: expected {n} finite numbers ({what}), got {x}"),
                     )
                 })
             })
@@ -351,6 +418,15 @@ impl LogConfig {
             ("imu", "time_offset_s") => self.imu_time_offset_s = r.number()?,
             ("imu", "mounting_rpy_deg") => {
                 let triples = r.triples("roll, pitch, yaw")?;
+                if triples.is_empty() {
+                    // An empty chain would silently mean "no rotation".
+                    return Err(r.wrong("at least one [roll, pitch, yaw] triple"));
+                }
+                for (i, t) in triples.iter().enumerate() {
+                    for &angle in t {
+                        r.angle(angle, Some(i))?;
+                    }
+                }
                 let rad: Vec<[f64; 3]> = triples.iter().map(|t| t.map(deg)).collect();
                 self.mounting = mounting_matrix(&rad)?;
             }
@@ -401,6 +477,9 @@ impl LogConfig {
             }
             ("filter", "initial_attitude_std_deg") => {
                 let v = r.vector3()?;
+                for (i, &std) in v.iter().enumerate() {
+                    r.angle_std(std, Some(i))?;
+                }
                 if v.x != v.y {
                     return Err(Error::invalid(
                         r.name(),
@@ -433,11 +512,13 @@ impl LogConfig {
             ("alignment", "min_speed_m_s") => self.alignment.min_speed_m_s = r.positive()?,
             ("alignment", "level_window_s") => self.alignment.level_window_s = r.positive()?,
             ("alignment", "max_course_std_deg") => {
-                self.alignment.max_course_std_rad = deg(r.positive()?)
+                self.alignment.max_course_std_rad = deg(r.angle_std_deg()?)
             }
-            ("alignment", "heading_deg") => p.heading_deg = Some(r.number()?),
-            ("alignment", "heading_std_deg") => self.alignment.heading_std_rad = deg(r.positive()?),
-            ("alignment", "tilt_std_deg") => self.alignment.tilt_std_rad = deg(r.positive()?),
+            ("alignment", "heading_deg") => p.heading_deg = Some(r.angle_deg()?),
+            ("alignment", "heading_std_deg") => {
+                self.alignment.heading_std_rad = deg(r.angle_std_deg()?)
+            }
+            ("alignment", "tilt_std_deg") => self.alignment.tilt_std_rad = deg(r.angle_std_deg()?),
             ("standstill", "window_s") => self.standstill.window_s = r.positive()?,
             ("standstill", "accel_std_m_s2") => self.standstill.accel_std_m_s2 = r.positive()?,
             ("standstill", "gyro_std_deg_s") => self.standstill.gyro_std_rad_s = deg(r.positive()?),
@@ -670,5 +751,52 @@ mod tests {
             bad(tables(&[("filter", "imu_preset", Text("cheap".into()))]))
                 .starts_with("filter.imu_preset")
         );
+    }
+
+    /// Issue 30: an empty mounting chain and angles beyond a turn were
+    /// accepted (`mounting_rpy_deg = []` meant no rotation, `heading_deg =
+    /// 1e300` some heading); every angle key now says so, naming itself.
+    #[test]
+    fn angles_are_within_a_turn_and_the_mounting_chain_is_not_empty() {
+        let bad = |e: SettingTables| LogConfig::from_settings(&e, 100.0).unwrap_err().to_string();
+        let triple = |a: f64| List(vec![Number(0.0), Number(a), Number(0.0)]);
+        assert_eq!(
+            bad(tables(&[("imu", "mounting_rpy_deg", List(vec![]))])),
+            "imu.mounting_rpy_deg: expected at least one [roll, pitch, yaw] triple, got []"
+        );
+        assert_eq!(
+            bad(tables(&[(
+                "imu",
+                "mounting_rpy_deg",
+                List(vec![triple(1.0), triple(400.0)])
+            )])),
+            "imu.mounting_rpy_deg: entry 1: must be an angle within ±360°, got 400.0"
+        );
+        assert_eq!(
+            bad(tables(&[("alignment", "heading_deg", Number(1e300))])),
+            "alignment.heading_deg: must be an angle within ±360°, got 1e300"
+        );
+        assert_eq!(
+            bad(tables(&[("alignment", "heading_std_deg", Number(1e300))])),
+            "alignment.heading_std_deg: must be at most 180° (half a turn), got 1e300"
+        );
+        assert!(bad(tables(&[(
+            "filter",
+            "initial_attitude_std_deg",
+            List(vec![Number(1.0), Number(1.0), Number(-1.0)])
+        )]))
+        .starts_with("filter.initial_attitude_std_deg: entry 2: must be positive"));
+        assert_eq!(
+            bad(tables(&[("gnss", "receiver_clock", Number(5.0))])),
+            "gnss.receiver_clock: expected a string, got 5.0"
+        );
+        let turn = LogConfig::from_settings(
+            &tables(&[
+                ("imu", "mounting_rpy_deg", List(vec![triple(-360.0)])),
+                ("alignment", "heading_deg", Number(360.0)),
+            ]),
+            100.0,
+        );
+        assert!(turn.is_ok());
     }
 }

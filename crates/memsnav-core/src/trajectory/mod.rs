@@ -117,7 +117,7 @@ impl SinCosMemo {
 const MAX_POSITION_STEP_S: f64 = 0.01;
 
 /// Most samples a trajectory may have (guards against absurd requests).
-const MAX_SAMPLES: usize = 100_000_000;
+const MAX_SAMPLES: usize = crate::limits::MAX_SAMPLES;
 
 /// The radii of curvature R_N, R_E (Groves eq. 2.105-2.106) from sin φ,
 /// the same arithmetic as [`meridian_radius`] and [`transverse_radius`].
@@ -344,6 +344,9 @@ pub(crate) fn build<M: Motion>(motion: &M, origin: Geodetic, time_s: Vec<f64>) -
 pub(crate) fn time_grid(start_s: f64, duration_s: f64, rate_hz: f64) -> Result<Vec<f64>> {
     validate::positive("duration", duration_s)?;
     validate::positive("rate", rate_hz)?;
+    // The position is integrated every MAX_POSITION_STEP_S whatever the
+    // rate: the duration bounds that work.
+    crate::limits::duration("duration", duration_s)?;
     let intervals = (duration_s * rate_hz + 1e-9).floor();
     if intervals < 1.0 {
         return Err(Error::invalid(
@@ -532,5 +535,10 @@ mod tests {
             .to_string()
             .starts_with("rate:"));
         assert!(time_grid(0.0, f64::NAN, 1.0).is_err());
+        // Few samples, but 1e302 integration sub-steps: refused, not run.
+        assert!(time_grid(0.0, 1e300, 1e-298)
+            .unwrap_err()
+            .to_string()
+            .starts_with("duration: 1e300 s is longer than the limit of 1e6 s"));
     }
 }

@@ -273,7 +273,11 @@ pub(crate) fn simulate_track(
         let t = track.time_s[s];
         let rx = track.position_ecef[s];
         if let Some(tp) = previous_t {
-            clock = config.clock.step(&clock, t - tp, rng)?;
+            // The time stamps set the step: a span too long for the clock
+            // model is the time argument's fault.
+            clock = config.clock.step(&clock, t - tp, rng).map_err(|e| {
+                Error::invalid("time", format!("GNSS epochs at {tp:e} s and {t:e} s: {e}"))
+            })?;
         }
         previous_t = Some(t);
         let receiver = Receiver {

@@ -1,0 +1,234 @@
+"""The one reader of memsnav's TOML configurations (``navigate``,
+``calibrate``, ``study``): the file read as TOML, every table and key
+known, every value of its kind and in its range. Each error names the file
+and the key (``table.key``; a top-level key bare), so a typo or a value out
+of range never reaches the code that uses it.
+
+A schema maps each table (``""``: the top level) to its keys, each key to
+``(check, default)``: ``check`` is one of the kinds below, ``default`` the
+value when the key is left out, :data:`REQUIRED` when it must be given, or
+:data:`ABSENT` to leave it out of the values.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Callable, Collection, Mapping
+from pathlib import Path
+from typing import Any
+
+REQUIRED = object()
+"""The default of a key that must be given."""
+ABSENT = object()
+"""The default of a key that is left out of the values when not given."""
+
+
+class _Wrong(Exception):
+    """A value that is not what its key holds: what it must be."""
+
+
+Check = Callable[[Any], Any]
+"""A kind of value: returns the value as the code uses it (a TOML integer
+given for a number as a float), or raises :class:`_Wrong`."""
+
+Schema = Mapping[str, Mapping[str, tuple[Check, Any]]]
+
+
+def _is_number(value: Any) -> bool:
+    # TOML booleans are not numbers.
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def text(*choices: str) -> Check:
+    """A string; one of ``choices`` when given."""
+
+    def check(value: Any) -> str:
+        if not isinstance(value, str):
+            raise _Wrong(f"must be a string, got {value!r}")
+        if choices and value not in choices:
+            raise _Wrong(f"must be one of {list(choices)}, got {value!r}")
+        return value
+
+    return check
+
+
+def pathname() -> Check:
+    """A file or folder name ("" where the key is optional: none)."""
+
+    def check(value: Any) -> str:
+        if not isinstance(value, str):
+            raise _Wrong(f"must be a path (a string), got {value!r}")
+        if "\0" in value:
+            raise _Wrong(f"must be a path, got {value!r}: it contains a NUL character")
+        return value
+
+    return check
+
+
+def file_name() -> Check:
+    """A plain file name: no folder part, not "", "." or ".."."""
+
+    def check(value: Any) -> str:
+        if not (
+            isinstance(value, str)
+            and "\0" not in value
+            and value not in ("", ".", "..")
+            and value == Path(value).name
+        ):
+            raise _Wrong(f"must be a plain file name, got {value!r}")
+        return value
+
+    return check
+
+
+def flag() -> Check:
+    """true or false."""
+
+    def check(value: Any) -> bool:
+        if not isinstance(value, bool):
+            raise _Wrong(f"must be true or false, got {value!r}")
+        return value
+
+    return check
+
+
+def _range(minimum: float | None, maximum: float | None, above: float | None) -> str:
+    if minimum is not None and maximum is not None:
+        return f" in [{minimum:g}, {maximum:g}]"
+    if above is not None:
+        return f" > {above:g}"
+    if minimum is not None:
+        return f" >= {minimum:g}"
+    return ""
+
+
+def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
+    """A TOML integer in [``minimum``, ``maximum``]."""
+
+    def check(value: Any) -> int:
+        if not (isinstance(value, int) and not isinstance(value, bool)) or not (
+            (minimum is None or value >= minimum) and (maximum is None or value <= maximum)
+        ):
+            raise _Wrong(f"must be an integer{_range(minimum, maximum, None)}, got {value!r}")
+        return value
+
+    return check
+
+
+def number(
+    minimum: float | None = None, maximum: float | None = None, *, above: float | None = None
+) -> Check:
+    """A finite number (a TOML integer or float, as a float) in
+    [``minimum``, ``maximum``], and greater than ``above``."""
+
+    def check(value: Any) -> float:
+        if not (
+            _is_number(value)
+            and math.isfinite(value)
+            and (minimum is None or value >= minimum)
+            and (maximum is None or value <= maximum)
+            and (above is None or value > above)
+        ):
+            expected = _range(minimum, maximum, above)
+            raise _Wrong(f"must be a finite number{expected}, got {value!r}")
+        return float(value)
+
+    return check
+
+
+def list_of(item: Check, *, lengths: Collection[int] = (), min_length: int = 0) -> Check:
+    """A list whose entries each pass ``item``, of one of ``lengths`` entries
+    (any when empty) and at least ``min_length``."""
+
+    def check(value: Any) -> list[Any]:
+        if not isinstance(value, list):
+            raise _Wrong(f"must be a list, got {value!r}")
+        if (lengths and len(value) not in lengths) or len(value) < min_length:
+            count = " or ".join(str(n) for n in sorted(lengths)) if lengths else f"{min_length}+"
+            raise _Wrong(f"must be a list of {count} entries, got {len(value)}: {value!r}")
+        checked = []
+        for i, entry in enumerate(value):
+            try:
+                checked.append(item(entry))
+            except _Wrong as e:
+                raise _Wrong(f"entry {i}: {e}") from None
+        return checked
+
+    return check
+
+
+def scalar_or_list(scalar: Check, listed: Check) -> Check:
+    """A value ``scalar`` passes, or a list ``listed`` passes."""
+
+    def check(value: Any) -> Any:
+        return listed(value) if isinstance(value, list) else scalar(value)
+
+    return check
+
+
+def key_name(table: str, key: str) -> str:
+    """``table.key`` (a top-level key bare), as every message names it."""
+    return f"{table}.{key}" if table else key
+
+
+def checked(file: Path, table: str, key: str, value: Any, check: Check) -> Any:
+    """``value`` of ``table.key`` through ``check``; a ``ValueError`` naming
+    the file and the key when it does not pass."""
+    try:
+        return check(value)
+    except _Wrong as e:
+        raise ValueError(f"{file}: {key_name(table, key)}: {e}") from None
+
+
+def load_toml(file: Path) -> dict[str, Any]:
+    """The file's TOML; an error names the file."""
+    try:
+        return tomllib.loads(file.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as e:
+        raise ValueError(f"{file}: not valid TOML: {e}") from None
+    except OSError as e:
+        raise ValueError(f"config: cannot read {file}: {e.strerror}") from None
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{file}: not UTF-8 text (byte {e.start}); TOML must be UTF-8") from None
+
+
+def split_tables(file: Path, raw: dict[str, Any], known: Collection[str]) -> dict[str, Any]:
+    """The top-level keys (table ``""``) and each table of ``raw``; an
+    unknown table is an error naming it."""
+    tables: dict[str, Any] = {"": {k: v for k, v in raw.items() if not isinstance(v, dict)}}
+    for name, value in raw.items():
+        if isinstance(value, dict):
+            if name not in known:
+                raise ValueError(f"{file}: unknown table [{name}]; expected one of {sorted(known)}")
+            tables[name] = value
+    return tables
+
+
+def read_table(
+    file: Path,
+    table: str,
+    given: Mapping[str, Any],
+    keys: Mapping[str, tuple[Check, Any]],
+    *,
+    others: Collection[str] = (),
+) -> dict[str, Any]:
+    """The values of one table: each key of ``keys`` checked, defaults filled
+    in. ``others``: keys read elsewhere (passed over here); any other key is
+    an error naming it."""
+    unknown = sorted(set(given) - set(keys) - set(others))
+    if unknown:
+        where = f"[{table}]" if table else "the top level"
+        expected = sorted(set(keys) | set(others))
+        raise ValueError(
+            f"{file}: unknown key(s) {unknown} in {where}; expected some of {expected}"
+        )
+    values: dict[str, Any] = {}
+    for key, (check, default) in keys.items():
+        if key in given:
+            values[key] = checked(file, table, key, given[key], check)
+        elif default is REQUIRED:
+            raise ValueError(f"{file}: missing required key {key_name(table, key)}")
+        elif default is not ABSENT:
+            values[key] = default
+    return values
