@@ -575,6 +575,11 @@ def strapdown_with(**changes):
         # 1e300 m/s² or rad/s: all NaN before; beyond any sensor's range.
         ({"specific_force": lambda f: f * 0 + 1e300}, r"^specific_force: row 0 holds 1e300, "),
         ({"angular_rate": lambda w: w * 0 + 1e300}, r"^angular_rate: row 0 holds 1e300, "),
+        # A stamp 1e-300 s after the first (hypothesis): NaN from then on.
+        (
+            {"time": lambda t: np.concatenate([[t[0], t[0] + 1e-300], t[2:]])},
+            r"^time: samples 0 and 1 .* are 1e-300 s apart, less than a hundredth",
+        ),
         # A span of 1e300 s: every period far beyond an IMU's.
         ({"time": lambda t: t * 1e298}, r"^time: the median sample period is .* longer than 1 s"),
         ({"velocity_ecef": lambda v: v * 0 + 1e300}, r"^velocity_ecef: row 0: a speed of"),

@@ -219,8 +219,9 @@ pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
 }
 
 /// IMU sample intervals the strapdown integration can bridge: a median
-/// period of at most [`MAX_IMU_PERIOD_S`](crate::limits::MAX_IMU_PERIOD_S)
-/// and no gap beyond the larger of 1 s and 100 median periods. Over a
+/// period of at most [`MAX_IMU_PERIOD_S`](crate::limits::MAX_IMU_PERIOD_S),
+/// no interval below a hundredth of it and no gap beyond the larger of
+/// 1 s and 100 median periods. Over a
 /// longer interval the integrator extrapolates the rates and forces of one
 /// sample for the whole of it (a 10⁶ s gap took an INS to 10¹⁷ m; a 10³⁰⁰ s
 /// span to NaN). Times are taken as increasing (checked before).
@@ -244,6 +245,30 @@ pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
             format!(
                 "the median sample period is {median} s, longer than {max_period} s: an IMU \
                  log samples at 1 Hz or faster (times in seconds expected)"
+            ),
+        ));
+    }
+    // The other side of the same rule: an interval a hundred times shorter
+    // than the median is a mis-stamped or repeated sample, and the cubic
+    // through the samples around it overflows (a stamp 1e-300 s after the
+    // previous one gave NaN from the next sample on).
+    let shortest = time_s
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("at least one period");
+    if shortest.1 < 0.01 * median {
+        return Err(Error::invalid(
+            argument,
+            format!(
+                "samples {} and {} (times {} s and {} s) are {:e} s apart, less than a \
+                 hundredth of the median period {median} s: a repeated or mis-stamped sample",
+                shortest.0,
+                shortest.0 + 1,
+                time_s[shortest.0],
+                time_s[shortest.0 + 1],
+                shortest.1
             ),
         ));
     }
@@ -344,6 +369,11 @@ mod tests {
         time[700..].iter_mut().for_each(|t| *t += 1e6);
         let e = imu_time_gaps("time", &time).unwrap_err().to_string();
         assert!(e.contains("samples 699 and 700"), "{e}");
+        // A repeated stamp a hair after its predecessor.
+        let mut repeated: Vec<f64> = (0..1000).map(|k| k as f64 * 0.01).collect();
+        repeated[301] = repeated[300] + 1e-300;
+        let e = imu_time_gaps("time", &repeated).unwrap_err().to_string();
+        assert!(e.contains("samples 300 and 301"), "{e}");
         // A slow IMU (1 Hz) may have 5 s gaps but not 200 s ones.
         let mut slow: Vec<f64> = (0..100).map(f64::from).collect();
         slow[50..].iter_mut().for_each(|t| *t += 4.0);
