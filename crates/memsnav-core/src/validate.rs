@@ -230,12 +230,13 @@ pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
         return Ok(());
     }
     let mut periods: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
-    let largest = periods
-        .iter()
-        .copied()
-        .enumerate()
+    let indexed = || periods.iter().copied().enumerate();
+    let largest = indexed()
         .max_by(|a, b| a.1.total_cmp(&b.1))
-        .expect("at least one period");
+        .expect("a period");
+    let shortest = indexed()
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("a period");
     let middle = periods.len() / 2;
     let median = *periods.select_nth_unstable_by(middle, f64::total_cmp).1;
     let max_period = crate::limits::MAX_IMU_PERIOD_S;
@@ -252,12 +253,6 @@ pub fn imu_time_gaps(argument: &str, time_s: &[f64]) -> Result<()> {
     // than the median is a mis-stamped or repeated sample, and the cubic
     // through the samples around it overflows (a stamp 1e-300 s after the
     // previous one gave NaN from the next sample on).
-    let shortest = time_s
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .expect("at least one period");
     if shortest.1 < 0.01 * median {
         return Err(Error::invalid(
             argument,

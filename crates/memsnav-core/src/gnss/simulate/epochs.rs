@@ -4,21 +4,8 @@
 /// each at most half a period from its target and none twice. `time_s`
 /// must be non-empty and strictly increasing, `rate_hz` positive.
 pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
-    let n = time_s.len();
     let t0 = time_s[0];
     let step = 1.0 / rate_hz;
-    // Targets every `step` put one within half a period of every instant:
-    // with a period below every sample spacing, each sample is the nearest
-    // of the target nearest to it, so every sample is an epoch. Answered
-    // directly, since stepping targets finer than the time stamps can
-    // resolve would crawl one target per pass (issue 30: 1e18 Hz).
-    let min_spacing = time_s
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .fold(f64::INFINITY, f64::min);
-    if step < min_spacing {
-        return (0..n).collect();
-    }
     // Each target k is served by the sample nearest to it, which lies
     // within half a period of it exactly when its offset in periods,
     // r = (t − t0) / step, rounds to k. So the samples are grouped by
@@ -26,12 +13,13 @@ pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
     // nearest (the first on a tie) is an epoch: one pass over the track,
     // bounded by it whatever the span or the rate (a 1e20 s span at 1 Hz
     // must not visit 1e20 targets; stepping targets through a span whose
-    // float spacing exceeds the period never advanced, issue 30).
-    let offset = |t: f64| (t - t0) / step;
+    // float spacing exceeds the period never advanced, issue 30). A period
+    // below every sample spacing puts each sample in a group of its own,
+    // so every sample is an epoch (1e18 Hz on a 1 s track).
     let mut samples: Vec<usize> = Vec::new();
     let mut best: Option<(f64, usize, f64)> = None; // (target k, sample, |r − k|)
     for (i, &t) in time_s.iter().enumerate() {
-        let r = offset(t);
+        let r = (t - t0) / step;
         let (k, distance) = (r.round(), (r - r.round()).abs());
         match best {
             Some((current, _, d)) if current == k => {
