@@ -1657,21 +1657,36 @@ class LogRun:
     def range_biases(self) -> dict[int, float]:
         """Satellites holding range-bias states at the end: {prn: bias m}."""
 
-    def score(self, time: npt.ArrayLike, position_ecef: npt.ArrayLike) -> dict[str, Any]:
+    def score(
+        self,
+        time: npt.ArrayLike,
+        position_ecef: npt.ArrayLike,
+        *,
+        remove_mean_offset: bool = False,
+    ) -> dict[str, Any]:
         """Errors of the antenna solution against a truth (``time`` (T,) s,
         ``position_ecef`` (T, 3)), interpolated at the truth epochs: ``time``,
-        ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1), and
-        statistics ``all``, ``aided``, ``in_outages`` (every outage epoch),
-        ``outages`` (list), ``by_outage_length``
-        ({length s: stats}); each ``epochs``, ``rms_horizontal_m``,
-        ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share``."""
+        ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1),
+        ``offset_removed_ned`` (3,), and statistics ``all``, ``aided``,
+        ``in_outages`` (every outage epoch), ``outages`` (list),
+        ``by_outage_length`` ({length s: stats}); each ``epochs``,
+        ``rms_horizontal_m``, ``rms_vertical_m``, ``max_horizontal_m``,
+        ``within_3sigma_share``. ``remove_mean_offset``: the precision score,
+        the errors less their mean over the aided epochs (a truth with a
+        constant unknown offset)."""
 
     def score_gnss(
-        self, time: npt.ArrayLike, position_ecef: npt.ArrayLike, *, tolerance: float = 0.02
+        self,
+        time: npt.ArrayLike,
+        position_ecef: npt.ArrayLike,
+        *,
+        tolerance: float = 0.02,
+        remove_mean_offset: bool = False,
     ) -> dict[str, Any]:
         """Errors of the GNSS epochs' own positions (the single-point solution for
         tight coupling) against a truth, each paired with the truth epoch within
-        ``tolerance`` s: ``time``, ``error_ned``, ``stats``."""
+        ``tolerance`` s: ``time``, ``error_ned``, ``stats``, ``offset_removed_ned``.
+        ``remove_mean_offset``: the errors less their mean (precision)."""
 
     def calibration_references(
         self,

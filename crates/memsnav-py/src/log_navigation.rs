@@ -311,14 +311,20 @@ impl PyLogRun {
     /// Errors of the antenna solution against a truth (`time` (T,) s,
     /// `position_ecef` (T, 3)), interpolated at the truth epochs: dict
     /// `time`, `error_ned` (T', 3), `std_ned`, `outage` (index or −1),
-    /// and statistics `all`, `aided`, `in_outages` (every outage epoch), `outages` (list), `by_outage_length`
-    /// ({length s: stats}); each statistic `epochs`, `rms_horizontal_m`,
-    /// `rms_vertical_m`, `max_horizontal_m`, `within_3sigma_share`.
+    /// `offset_removed_ned` (3,), and statistics `all`, `aided`,
+    /// `in_outages` (every outage epoch), `outages` (list),
+    /// `by_outage_length` ({length s: stats}); each statistic `epochs`,
+    /// `rms_horizontal_m`, `rms_vertical_m`, `max_horizontal_m`,
+    /// `within_3sigma_share`. `remove_mean_offset`: the precision score,
+    /// the errors less their mean over the aided epochs (a truth with a
+    /// constant unknown offset).
+    #[pyo3(signature = (time, position_ecef, *, remove_mean_offset=false))]
     fn score<'py>(
         &self,
         py: Python<'py>,
         time: &Bound<'_, PyAny>,
         position_ecef: &Bound<'_, PyAny>,
+        remove_mean_offset: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let truth_t = convert::scalars(time, "time")?;
         let truth_r = convert::vectors(position_ecef, "position_ecef")?;
@@ -332,10 +338,19 @@ impl PyLogRun {
             &self.run.outages,
         )
         .py()?;
+        let s = if remove_mean_offset {
+            s.less_mean_offset()
+        } else {
+            s
+        };
         let d = PyDict::new(py);
         d.set_item("time", PyArray1::from_slice(py, &s.time_s))?;
         d.set_item("error_ned", convert::vectors_to_numpy(py, &s.error_ned))?;
         d.set_item("std_ned", convert::vectors_to_numpy(py, &s.std_ned))?;
+        d.set_item(
+            "offset_removed_ned",
+            PyArray1::from_slice(py, s.offset_removed_ned.as_slice()),
+        )?;
         d.set_item(
             "outage",
             PyArray1::from_iter(py, s.outage.iter().map(|o| o.map_or(-1, |w| w as i64))),
@@ -357,26 +372,40 @@ impl PyLogRun {
     }
     /// Errors of the GNSS epochs' own positions (the single-point solution
     /// for tight coupling) against a truth, each paired with the truth epoch
-    /// within `tolerance` s: dict `time`, `error_ned`, `stats`.
-    #[pyo3(signature = (time, position_ecef, *, tolerance=0.02))]
+    /// within `tolerance` s: dict `time`, `error_ned`, `stats`,
+    /// `offset_removed_ned`. `remove_mean_offset`: the errors less their
+    /// mean (precision).
+    #[pyo3(signature = (time, position_ecef, *, tolerance=0.02, remove_mean_offset=false))]
     fn score_gnss<'py>(
         &self,
         py: Python<'py>,
         time: &Bound<'_, PyAny>,
         position_ecef: &Bound<'_, PyAny>,
         tolerance: f64,
+        remove_mean_offset: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let truth_t = convert::scalars(time, "time")?;
         let truth_r = convert::vectors(position_ecef, "position_ecef")?;
         let g = &self.run.gnss;
         let t: Vec<f64> = g.iter().map(|x| x.time_s).collect();
         let r: Vec<Vector3<f64>> = g.iter().map(|x| x.position_ecef).collect();
-        let (times, errors, stats) =
-            score::score_fixes(&t, &r, &truth_t, &truth_r, tolerance).py()?;
+        let scored = score::score_fixes(&t, &r, &truth_t, &truth_r, tolerance).py()?;
+        let scored = if remove_mean_offset {
+            scored.less_mean_offset()
+        } else {
+            scored
+        };
         let d = PyDict::new(py);
-        d.set_item("time", PyArray1::from_slice(py, &times))?;
-        d.set_item("error_ned", convert::vectors_to_numpy(py, &errors))?;
-        d.set_item("stats", stats_dict(py, &stats)?)?;
+        d.set_item("time", PyArray1::from_slice(py, &scored.time_s))?;
+        d.set_item(
+            "error_ned",
+            convert::vectors_to_numpy(py, &scored.error_ned),
+        )?;
+        d.set_item("stats", stats_dict(py, &scored.stats)?)?;
+        d.set_item(
+            "offset_removed_ned",
+            PyArray1::from_slice(py, scored.offset_removed_ned.as_slice()),
+        )?;
         Ok(d)
     }
     /// The GNSS-derived calibration references of this run's solution (use

@@ -41,4 +41,19 @@ def run(args: argparse.Namespace, client: Any) -> int:
             f"m, vertical {stats['rms_vertical_m']:.2f} m, "
             f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
         )
+    precise = result.summary.get("errors_vs_truth_precision", {})
+    if precise.get("aided", {}).get("epochs"):
+        north, east, down = precise["offset_removed_ned_m"]
+        spp = result.summary.get("spp_errors_vs_truth_precision", {})
+        print(
+            f"aided, less the mean offset (N {north:.2f}, E {east:.2f}, D {down:.2f} m; "
+            f"[truth] score = precision): RMS horizontal "
+            f"{precise['aided']['rms_horizontal_m']:.2f} m, vertical "
+            f"{precise['aided']['rms_vertical_m']:.2f} m"
+            + (
+                f"; single-point fixes {spp['rms_horizontal_m']:.2f} m horizontal"
+                if spp.get("epochs")
+                else ""
+            )
+        )
     return 0

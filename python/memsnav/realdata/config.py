@@ -50,6 +50,14 @@ _OBSERVABLES: dict[str, float] = _mn.defaults()["RinexObservations.gps_l1"]
 #: RTKLIB's solution qualities (Q): 0 none, 1 fix, 2 float, 3 SBAS, 4 DGPS,
 #: 5 single, 6 PPP, 7 dead reckoning (the range ``read_pos`` accepts).
 _QUALITIES = list_of(integer(0, 7), min_length=1)
+#: The height datum of an RTKLIB solution's heights (``[gnss]`` fixes,
+#: ``[truth]``): ellipsoidal (WGS 84), or above mean sea level with the
+#: geoid separation N at the site (h = H + N, m). Geoid undulations lie
+#: within −107 m and +86 m over the Earth (EGM2008).
+_HEIGHT_DATUM: dict[str, tuple[Check, Any]] = {
+    "height": (text("ellipsoidal", "msl"), "ellipsoidal"),
+    "geoid_separation_m": (number(-120.0, 100.0), None),
+}
 #: The reading keys: (kind, default; REQUIRED when it must be given; None:
 #: not given, the reader's own default applies). See :mod:`memsnav._config`.
 SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
@@ -91,8 +99,14 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
         # are the core's check.
         "klobuchar_alpha": (list_of(number(), lengths=(0, 4)), []),
         "klobuchar_beta": (list_of(number(), lengths=(0, 4)), []),
+        **_HEIGHT_DATUM,
     },
-    "truth": {"pos": (pathname(), ""), "quality": (_QUALITIES, [1, 2])},
+    "truth": {
+        "pos": (pathname(), ""),
+        "quality": (_QUALITIES, [1, 2]),
+        **_HEIGHT_DATUM,
+        "score": (text("accuracy", "precision"), "accuracy"),
+    },
     "report": {"html": (flag(), True)},
 }
 #: The engine's tables and keys, from the core.
@@ -157,6 +171,14 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
         engine = {k: v for k, v in given.items() if k in engine_keys}
         if engine:
             cfg.engine[table] = engine
+    for table in ("gnss", "truth"):
+        datum = cfg.values[table]
+        if (datum["height"] == "msl") != (datum["geoid_separation_m"] is not None):
+            raise ValueError(
+                f"{path}: {table}.geoid_separation_m: give it exactly when {table}.height = "
+                f'"msl" (the geoid separation N at the site, ellipsoidal h = H + N, m); '
+                f"got height = {datum['height']!r}"
+            )
     gnss = cfg.values["gnss"]
     if len(gnss["klobuchar_alpha"]) != len(gnss["klobuchar_beta"]):
         raise ValueError(

@@ -97,10 +97,12 @@ def apply_calibration(
     return cal.correct(specific_force, angular_rate)
 
 
-def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.ndarray]:
-    """The RTKLIB solution ``[table] pos`` and which of its epochs have a
-    quality in ``[table] quality``. None having one is an error naming the
-    key, the file and the qualities its epochs have."""
+def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.ndarray, np.ndarray]:
+    """The RTKLIB solution ``[table] pos``, which of its epochs have a
+    quality in ``[table] quality`` (None having one is an error naming the
+    key, the file and the qualities its epochs have), and its latitude,
+    longitude (rad) and ellipsoidal height (m): heights above mean sea level
+    (``[table] height = "msl"``) plus the geoid separation."""
     path = _require(cfg, table, "pos")
     solution = readers.read_pos(path)
     wanted = cfg[table]["quality"]
@@ -111,7 +113,10 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
             f"{cfg.path}: {table}.quality: no epoch of {path} has a quality in {wanted}; "
             f"its {len(keep)} epochs have the qualities {present}"
         )
-    return solution, keep
+    lla = np.array(solution.lla, dtype=float)
+    if cfg[table]["height"] == "msl":
+        lla[:, 2] += cfg[table]["geoid_separation_m"]
+    return solution, keep, lla
 
 
 def read_truth(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray] | None:
@@ -119,8 +124,8 @@ def read_truth(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray] | None:
     position (m), or None when the configuration names no truth."""
     if cfg.data_path("truth", "pos") is None:
         return None
-    truth, keep = read_solution(cfg, "truth")
-    return truth.gps_time[keep], np.asarray(_mn.geodetic_to_ecef(truth.lla[keep]))
+    truth, keep, lla = read_solution(cfg, "truth")
+    return truth.gps_time[keep], np.asarray(_mn.geodetic_to_ecef(lla[keep]))
 
 
 def gnss_input(cfg: RunConfig) -> Any:
@@ -138,7 +143,7 @@ def loose_input(cfg: RunConfig) -> Any:
     (``PositionFixes``): at ``rate_hz``, with seeded white noise added when
     asked for."""
     g = cfg["gnss"]
-    sol, keep = read_solution(cfg, "gnss")
+    sol, keep, lla = read_solution(cfg, "gnss")
     given = _optional(g, "rate_hz", "velocity_noise_m_s", "use_velocity", "position_noise_m")
     kwargs: dict[str, Any] = {
         "rate_hz": given.get("rate_hz"),
@@ -148,7 +153,7 @@ def loose_input(cfg: RunConfig) -> Any:
     }
     fixes = _mn.fixes_from_solution(
         sol.gps_time[keep],
-        sol.lla[keep],
+        lla[keep],
         sol.std_ned[keep],
         velocity_ned=sol.velocity_ned[keep],
         velocity_std_ned=sol.velocity_std_ned[keep],
@@ -338,20 +343,10 @@ def navigate(
         summary["sensor_estimates_smoothed"] = _sensor_estimates(run.smoothed.solution, 0)
     if run.range_biases:
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
-    result = LogNavigationResult(cfg, run, None, None)
+    result = LogNavigationResult(cfg, run, None, None, summary=summary)
     if truth is not None:
-        tt, r_truth = truth
-        score = run.score(tt, r_truth)
-        result.truth = {**score, "position_ecef": r_truth, "all_time": tt}
-        summary["errors_vs_truth"] = _statistics(score, run.outages, t0)
-        if run.smoothed is not None:
-            smoothed = run.smoothed.score(tt, r_truth)
-            result.truth_smoothed = smoothed
-            summary["errors_vs_truth_smoothed"] = _statistics(smoothed, run.outages, t0)
+        _score(result, truth, precision=cfg["truth"]["score"] == "precision")
         if mode == "tight":
-            spp = run.score_gnss(tt, r_truth)
-            result.spp = spp
-            summary["spp_errors_vs_truth"] = spp["stats"]
             after = np.asarray(run.gnss["time"]) >= t0
             valid = np.all(np.isfinite(np.asarray(run.gnss["position_ecef"])), axis=1)
             summary["spp_epochs_without_fix"] = int(np.sum(after & ~valid))
@@ -360,6 +355,49 @@ def navigate(
     result.summary = _finite(summary)
     _write_outputs(result, out)
     return result
+
+
+def _score(
+    result: LogNavigationResult, truth: tuple[np.ndarray, np.ndarray], *, precision: bool
+) -> None:
+    """The errors against the truth: of the forward solution, the smoothed
+    one and (tight coupling) the single-point fixes, into ``result`` and its
+    summary. Always by accuracy (``errors_vs_truth``...); with ``precision``
+    also less each solution's own mean offset (``..._precision``, with the
+    offset removed): a truth known to sit a constant unknown offset away
+    (docs/real-data.md, "Truth")."""
+    run, summary = result.run, result.summary
+    t0 = summary["start_gps_time_s"]
+    tt, r_truth = truth
+    scored: dict[str, tuple[dict[str, Any], dict[str, Any] | None]] = {}
+    for name, solution in (("", run), ("_smoothed", run.smoothed)):
+        if solution is None:
+            continue
+        raw = solution.score(tt, r_truth)
+        summary[f"errors_vs_truth{name}"] = _statistics(raw, run.outages, t0)
+        scored[name] = (raw, None)
+        if precision:
+            precise = solution.score(tt, r_truth, remove_mean_offset=True)
+            summary[f"errors_vs_truth{name}_precision"] = {
+                "offset_removed_ned_m": precise["offset_removed_ned"].tolist(),
+                **_statistics(precise, run.outages, t0),
+            }
+            scored[name] = (raw, precise)
+    result.truth = {**scored[""][0], "position_ecef": r_truth, "all_time": tt}
+    result.truth_smoothed = scored["_smoothed"][0] if "_smoothed" in scored else None
+    result.precision = {
+        (name[1:] or "forward"): precise for name, (_, precise) in scored.items() if precise
+    } or None
+    if summary["mode"] == "tight":
+        result.spp = run.score_gnss(tt, r_truth)
+        summary["spp_errors_vs_truth"] = result.spp["stats"]
+        if precision:
+            precise = run.score_gnss(tt, r_truth, remove_mean_offset=True)
+            summary["spp_errors_vs_truth_precision"] = {
+                "offset_removed_ned_m": precise["offset_removed_ned"].tolist(),
+                **precise["stats"],
+            }
+            result.precision = {**(result.precision or {}), "spp": precise}
 
 
 def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:

@@ -84,14 +84,18 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     plt.close(fig)
 
     if result.truth is not None:
-        tr = result.truth
+        # A truth scored by precision: each solution's errors less its own
+        # mean offset (the raw ones are dominated by the truth's offset).
+        precision = result.precision or {}
+        tr = precision.get("forward", result.truth)
+        smoothed = precision.get("smoothed", result.truth_smoothed)
+        spp = precision.get("spp", result.spp)
         tt = np.asarray(tr["time"]) - t0
         fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
         for j, label in enumerate(("north", "east", "down")):
             a = axes[j]
             a.plot(tt, tr["error_ned"][:, j], lw=0.8, label="memsnav (forward) - truth")
-            if result.truth_smoothed is not None:
-                smoothed = result.truth_smoothed
+            if smoothed is not None:
                 a.plot(
                     np.asarray(smoothed["time"]) - t0,
                     smoothed["error_ned"][:, j],
@@ -101,10 +105,10 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
                 )
             a.plot(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
             a.plot(tt, -3 * tr["std_ned"][:, j], "r--", lw=0.8)
-            if result.spp is not None:
+            if spp is not None:
                 a.plot(
-                    np.asarray(result.spp["time"]) - t0,
-                    result.spp["error_ned"][:, j],
+                    np.asarray(spp["time"]) - t0,
+                    spp["error_ned"][:, j],
                     ".",
                     ms=2,
                     color="tab:gray",
@@ -123,9 +127,15 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             "errors",
             fig,
             "Position error of the solution at the antenna against the RTK solution (the "
-            "smoothed one too when asked for), with the forward filter's 3-sigma bounds; "
-            "shaded red: scheduled GNSS outages; green: standstills (zero-velocity and "
-            "zero-rate updates).",
+            "smoothed one too when asked for)"
+            + (
+                ", each less its own mean offset while aided (the truth is scored by "
+                "precision: [truth] score)"
+                if precision
+                else ""
+            )
+            + ", with the forward filter's 3-sigma bounds; shaded red: scheduled GNSS "
+            "outages; green: standstills (zero-velocity and zero-rate updates).",
         )
         plt.close(fig)
         rows: list[list[object]] = []
@@ -148,6 +158,17 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
                 rows.append(_row(f"all {length} s outages (smoothed)", st))
         if "spp_errors_vs_truth" in s and s["spp_errors_vs_truth"].get("epochs"):
             rows.append(_row("SPP (pseudorange only)", s["spp_errors_vs_truth"]))
+        for solution in ("", "_smoothed"):
+            st = s.get(f"errors_vs_truth{solution}_precision")
+            if st:
+                label = solution.replace("_", " ") + " (less its mean offset)"
+                rows += [
+                    _row(f"{key}{label}", st[key])
+                    for key in ("aided", "in_outages")
+                    if st[key]["epochs"]
+                ]
+        if s.get("spp_errors_vs_truth_precision", {}).get("epochs"):
+            rows.append(_row("SPP (less its mean offset)", s["spp_errors_vs_truth_precision"]))
         doc.section("Statistics")
         doc.table(
             [

@@ -15,7 +15,9 @@ class LogNavigationResult:
     """Everything a run of real logs produced: the engine's ``run`` (a
     ``LogRun``; its ``smoothed`` when ``[filter] smoother = true``), the
     scores against the truth (``truth``, ``truth_smoothed``) and of the
-    single-point solution, and ``summary``, the plain dict written to
+    single-point solution (``spp``), the same less each one's mean offset
+    when the truth is scored by precision (``precision``: ``forward``,
+    ``smoothed``, ``spp``), and ``summary``, the plain dict written to
     ``summary.json``."""
 
     config: RunConfig
@@ -25,3 +27,4 @@ class LogNavigationResult:
     summary: dict[str, Any] = field(default_factory=dict)
     files: dict[str, str] = field(default_factory=dict)
     truth_smoothed: dict[str, Any] | None = None
+    precision: dict[str, dict[str, Any]] | None = None

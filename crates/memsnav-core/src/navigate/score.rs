@@ -79,6 +79,94 @@ pub struct Score {
     /// The epochs of all outages of each length (lengths in increasing
     /// order), s.
     pub by_outage_length: Vec<(f64, ErrorStats)>,
+    /// The outage windows scored, absolute (start, end) times, s.
+    pub windows: Vec<(f64, f64)>,
+    /// The constant NED offset taken out of `error_ned` before the
+    /// statistics (zero for an accuracy score; see
+    /// [`Score::less_mean_offset`]), m.
+    pub offset_removed_ned: Vector3<f64>,
+}
+
+impl Score {
+    /// Statistics of errors already paired with the truth epochs: overall,
+    /// while aided, in each window and per window length.
+    fn summarise(
+        time_s: Vec<f64>,
+        error_ned: Vec<Vector3<f64>>,
+        std_ned: Vec<Vector3<f64>>,
+        outage: Vec<Option<usize>>,
+        windows: &[(f64, f64)],
+        offset_removed_ned: Vector3<f64>,
+    ) -> Self {
+        let pick = |keep: &dyn Fn(Option<usize>) -> bool| {
+            let idx: Vec<usize> = (0..time_s.len()).filter(|&i| keep(outage[i])).collect();
+            let e: Vec<Vector3<f64>> = idx.iter().map(|&i| error_ned[i]).collect();
+            let s: Vec<Vector3<f64>> = idx.iter().map(|&i| std_ned[i]).collect();
+            ErrorStats::of(&e, &s)
+        };
+        let mut lengths: Vec<f64> = windows.iter().map(|(a, b)| b - a).collect();
+        lengths.sort_by(f64::total_cmp);
+        lengths.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+        let by_outage_length = lengths
+            .into_iter()
+            .map(|l| {
+                let same: Vec<usize> = (0..windows.len())
+                    .filter(|&w| ((windows[w].1 - windows[w].0) - l).abs() < 1e-6)
+                    .collect();
+                (l, pick(&|o| o.is_some_and(|w| same.contains(&w))))
+            })
+            .collect();
+        Self {
+            all: pick(&|_| true),
+            aided: pick(&|o| o.is_none()),
+            in_outages: pick(&|o| o.is_some()),
+            outages: (0..windows.len())
+                .map(|w| pick(&|o| o == Some(w)))
+                .collect(),
+            by_outage_length,
+            windows: windows.to_vec(),
+            offset_removed_ned,
+            time_s,
+            error_ned,
+            std_ned,
+            outage,
+        }
+    }
+
+    /// The precision score: the same errors less their mean over the aided
+    /// epochs (over every epoch when none is aided), for a truth known to
+    /// sit a constant, unknown offset from the datum the solution is in
+    /// (the walk_0827 truth's ~8 m: the data README scores it by the
+    /// horizontal RMS after removing the run's own mean offset). The mean
+    /// over the aided epochs only, so that the drift of the outages does
+    /// not move it. With no epoch scored there is nothing to remove.
+    pub fn less_mean_offset(&self) -> Self {
+        let aided: Vec<Vector3<f64>> = self
+            .error_ned
+            .iter()
+            .zip(&self.outage)
+            .filter(|(_, o)| o.is_none())
+            .map(|(e, _)| *e)
+            .collect();
+        let offset = mean(if aided.is_empty() {
+            &self.error_ned
+        } else {
+            &aided
+        });
+        Self::summarise(
+            self.time_s.clone(),
+            self.error_ned.iter().map(|e| e - offset).collect(),
+            self.std_ned.clone(),
+            self.outage.clone(),
+            &self.windows,
+            self.offset_removed_ned + offset,
+        )
+    }
+}
+
+/// The mean of `vectors` (zero when there are none).
+fn mean(vectors: &[Vector3<f64>]) -> Vector3<f64> {
+    vectors.iter().sum::<Vector3<f64>>() / vectors.len().max(1) as f64
 }
 
 /// Interpolates the solution (`time_s`, `position_ecef`, `std_ned`: a
@@ -107,17 +195,7 @@ pub fn score_solution(
     }
     validate::increasing_times("time", time_s)?;
     validate::increasing_times("truth_time", truth_time_s)?;
-    let mut score = Score {
-        time_s: Vec::new(),
-        error_ned: Vec::new(),
-        std_ned: Vec::new(),
-        outage: Vec::new(),
-        all: ErrorStats::of(&[], &[]),
-        aided: ErrorStats::of(&[], &[]),
-        in_outages: ErrorStats::of(&[], &[]),
-        outages: Vec::new(),
-        by_outage_length: Vec::new(),
-    };
+    let (mut times, mut errors, mut stds, mut outage) = (vec![], vec![], vec![], vec![]);
     let (t0, t1) = (time_s[0], time_s[time_s.len() - 1]);
     for (t, truth) in truth_time_s.iter().zip(truth_position_ecef) {
         if *t < t0 || *t > t1 || !truth.iter().all(|v| v.is_finite()) {
@@ -128,56 +206,62 @@ pub fn score_solution(
             .clamp(1, time_s.len() - 1);
         let w = (t - time_s[j - 1]) / (time_s[j] - time_s[j - 1]);
         let r = position_ecef[j - 1].lerp(&position_ecef[j], w);
-        let s = std_ned[j - 1].lerp(&std_ned[j], w);
         let geo = ecef_to_geodetic(truth);
         let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
-        score.time_s.push(*t);
-        score.error_ned.push(cne.transpose() * (r - truth));
-        score.std_ned.push(s);
-        score
-            .outage
-            .push(outages.iter().position(|&(a, b)| *t >= a && *t < b));
+        times.push(*t);
+        errors.push(cne.transpose() * (r - truth));
+        stds.push(std_ned[j - 1].lerp(&std_ned[j], w));
+        outage.push(outages.iter().position(|&(a, b)| *t >= a && *t < b));
     }
-    let pick = |keep: &dyn Fn(Option<usize>) -> bool| {
-        let idx: Vec<usize> = (0..score.time_s.len())
-            .filter(|&i| keep(score.outage[i]))
-            .collect();
-        let e: Vec<Vector3<f64>> = idx.iter().map(|&i| score.error_ned[i]).collect();
-        let s: Vec<Vector3<f64>> = idx.iter().map(|&i| score.std_ned[i]).collect();
-        ErrorStats::of(&e, &s)
-    };
-    score.all = pick(&|_| true);
-    score.aided = pick(&|o| o.is_none());
-    score.in_outages = pick(&|o| o.is_some());
-    score.outages = (0..outages.len())
-        .map(|w| pick(&|o| o == Some(w)))
-        .collect();
-    let mut lengths: Vec<f64> = outages.iter().map(|(a, b)| b - a).collect();
-    lengths.sort_by(f64::total_cmp);
-    lengths.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
-    score.by_outage_length = lengths
-        .into_iter()
-        .map(|l| {
-            let windows: Vec<usize> = (0..outages.len())
-                .filter(|&w| ((outages[w].1 - outages[w].0) - l).abs() < 1e-6)
-                .collect();
-            (l, pick(&|o| o.is_some_and(|w| windows.contains(&w))))
-        })
-        .collect();
-    Ok(score)
+    Ok(Score::summarise(
+        times,
+        errors,
+        stds,
+        outage,
+        outages,
+        Vector3::zeros(),
+    ))
+}
+
+/// The errors of sparse fixes at their truth epochs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FixScore {
+    /// The fixes' times that found a truth epoch, s.
+    pub time_s: Vec<f64>,
+    /// Fix minus truth, local NED at the truth, m.
+    pub error_ned: Vec<Vector3<f64>>,
+    /// Their statistics (no σ).
+    pub stats: ErrorStats,
+    /// The constant NED offset taken out of `error_ned` (zero for an
+    /// accuracy score), m.
+    pub offset_removed_ned: Vector3<f64>,
+}
+
+impl FixScore {
+    /// The precision score: the errors less their mean (as
+    /// [`Score::less_mean_offset`]).
+    pub fn less_mean_offset(&self) -> Self {
+        let offset = mean(&self.error_ned);
+        let error_ned: Vec<Vector3<f64>> = self.error_ned.iter().map(|e| e - offset).collect();
+        Self {
+            time_s: self.time_s.clone(),
+            stats: ErrorStats::of(&error_ned, &[]),
+            error_ned,
+            offset_removed_ned: self.offset_removed_ned + offset,
+        }
+    }
 }
 
 /// Errors of sparse fixes (e.g. single-point solutions) against the truth
 /// epoch nearest to each, within `tolerance_s`; fixes with no truth epoch
-/// that close, or NaN, are left out. Returns the paired fix times and NED
-/// errors, and their statistics.
+/// that close, or NaN, are left out.
 pub fn score_fixes(
     time_s: &[f64],
     position_ecef: &[Vector3<f64>],
     truth_time_s: &[f64],
     truth_position_ecef: &[Vector3<f64>],
     tolerance_s: f64,
-) -> Result<(Vec<f64>, Vec<Vector3<f64>>, ErrorStats)> {
+) -> Result<FixScore> {
     validate::same_length("position_ecef", position_ecef.len(), "time", time_s.len())?;
     validate::same_length(
         "truth_position_ecef",
@@ -209,8 +293,12 @@ pub fn score_fixes(
         times.push(*t);
         errors.push(cne.transpose() * (r - truth));
     }
-    let stats = ErrorStats::of(&errors, &[]);
-    Ok((times, errors, stats))
+    Ok(FixScore {
+        stats: ErrorStats::of(&errors, &[]),
+        time_s: times,
+        error_ned: errors,
+        offset_removed_ned: Vector3::zeros(),
+    })
 }
 
 #[cfg(test)]
@@ -273,9 +361,65 @@ mod tests {
             .take(2)
             .chain([truth[0]])
             .collect();
-        let (t, e, st) = score_fixes(&fix_t, &fixes, &truth_t, &truth, 0.02).unwrap();
-        assert_eq!(t, vec![5.001]);
-        assert!((e[0] - Vector3::new(0.0, 2.0, 0.0)).norm() < 1e-6);
-        assert_eq!(st.epochs, 1);
+        let fixed = score_fixes(&fix_t, &fixes, &truth_t, &truth, 0.02).unwrap();
+        assert_eq!(fixed.time_s, vec![5.001]);
+        assert!((fixed.error_ned[0] - Vector3::new(0.0, 2.0, 0.0)).norm() < 1e-6);
+        assert_eq!(fixed.stats.epochs, 1);
+        // Its precision: one fix is its own mean.
+        let precise = fixed.less_mean_offset();
+        assert!((precise.offset_removed_ned - Vector3::new(0.0, 2.0, 0.0)).norm() < 1e-6);
+        assert!(precise.stats.rms_horizontal_m < 1e-6);
+    }
+
+    /// A solution a constant offset plus a zero-mean wobble from the truth
+    /// while aided, and drifting in an outage: the precision score removes
+    /// exactly the constant (the mean over the aided epochs, not moved by
+    /// the drift) and keeps the wobble and the drift.
+    #[test]
+    fn precision_removes_the_aided_mean_offset() {
+        let (lat0, lon) = (0.7, -1.8);
+        let lat = |t: f64| lat0 + t * 1e-8;
+        let at = |t: f64| geodetic_to_ecef(Geodetic::new(lat(t), lon, 100.0));
+        let truth_t: Vec<f64> = (0..400).map(|k| k as f64 * 0.25).collect();
+        let truth: Vec<Vector3<f64>> = truth_t.iter().map(|t| at(*t)).collect();
+        let constant = Vector3::new(2.8, 8.3, -0.8);
+        let outage = (40.0, 60.0);
+        // ±0.3 m alternating per truth epoch: zero mean over the aided epochs.
+        let error = |k: usize, t: f64| {
+            let wobble = if k % 2 == 0 { 0.3 } else { -0.3 };
+            let drift = if (outage.0..outage.1).contains(&t) {
+                Vector3::new(0.5 * (t - outage.0), 0.0, 0.0)
+            } else {
+                Vector3::zeros()
+            };
+            constant + Vector3::new(0.0, wobble, 0.0) + drift
+        };
+        let sol: Vec<Vector3<f64>> = truth_t
+            .iter()
+            .enumerate()
+            .map(|(k, t)| at(*t) + c_n_e(lat(*t), lon) * error(k, *t))
+            .collect();
+        let std = vec![Vector3::new(1.0, 1.0, 1.0); sol.len()];
+        let raw = score_solution(&truth_t, &sol, &std, &truth_t, &truth, &[outage]).unwrap();
+        assert_eq!(raw.offset_removed_ned, Vector3::zeros());
+        assert!(raw.aided.rms_horizontal_m > 8.0);
+        let precise = raw.less_mean_offset();
+        assert!((precise.offset_removed_ned - constant).norm() < 1e-6);
+        assert!((precise.aided.rms_horizontal_m - 0.3).abs() < 1e-6);
+        assert!(precise.aided.rms_vertical_m < 1e-6);
+        // The drift is kept: 0.5 m/s over 20 s, RMS of 0.5 t with the wobble.
+        let drift_rms = (truth_t
+            .iter()
+            .filter(|t| (outage.0..outage.1).contains(*t))
+            .map(|t| (0.5 * (t - outage.0)).powi(2) + 0.09)
+            .sum::<f64>()
+            / 80.0)
+            .sqrt();
+        assert!((precise.in_outages.rms_horizontal_m - drift_rms).abs() < 1e-6);
+        assert_eq!(precise.outages.len(), 1);
+        assert_eq!(precise.by_outage_length[0].1.epochs, 80);
+        // Removing it twice changes nothing more.
+        let twice = precise.less_mean_offset();
+        assert!((twice.offset_removed_ned - constant).norm() < 1e-6);
     }
 }
