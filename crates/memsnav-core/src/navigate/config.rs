@@ -84,6 +84,13 @@ pub struct StandstillConfig {
     /// GNSS velocity (an outage), m/s. Default 1 m/s: a vehicle cruising
     /// smoothly is never taken for one at rest.
     pub solution_speed_m_s: f64,
+    /// In an outage, a quiet IMU window is also a standstill when the
+    /// solution's speed is within this many of its own along-track
+    /// velocity σ of zero (the drift of a coasting solution can carry it
+    /// well above `solution_speed_m_s` while the vehicle is stopped: a
+    /// speed the filter cannot tell from zero does not veto what the
+    /// sensors see). Default 3; 0 leaves only `solution_speed_m_s`.
+    pub solution_speed_sigmas: f64,
 }
 
 impl Default for StandstillConfig {
@@ -95,6 +102,7 @@ impl Default for StandstillConfig {
             gnss_speed_m_s: 0.2,
             gnss_age_s: 1.5,
             solution_speed_m_s: 1.0,
+            solution_speed_sigmas: 3.0,
         }
     }
 }
@@ -255,6 +263,7 @@ impl LogConfig {
         ] {
             validate::positive(name, v)?;
         }
+        validate::non_negative("standstill.solution_speed_sigmas", s.solution_speed_sigmas)?;
         let x = &self.aids;
         for (name, v) in [
             ("aids.zupt_std_m_s", x.zupt_std_m_s),

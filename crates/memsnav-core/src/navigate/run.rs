@@ -8,7 +8,9 @@ use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
 use super::standstill::Window;
 use crate::coupling::{self, FilterState, InitialState, PositionFix, Solution};
-use crate::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
+use crate::filter::state::{
+    BASE_STATES, VELOCITY, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS,
+};
 use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
 use crate::ins::ImuSample;
@@ -402,12 +404,27 @@ impl<'a> Aids<'a> {
     }
 
     /// Whether the latest GNSS velocity (or, without a recent one, the
-    /// solution) says the vehicle is slow enough to be at rest.
+    /// solution) says the vehicle may be at rest: the GNSS ground speed
+    /// below its threshold; in an outage the solution's speed below its
+    /// threshold or within `solution_speed_sigmas` of its own along-track
+    /// σ of zero (a coasting solution that cannot tell its speed from zero
+    /// does not veto a quiet IMU; the ZUPT's own batch test then weighs
+    /// the two).
     fn slow<const N: usize>(&self, t: f64, state: &FilterState<N>) -> bool {
         let c = &self.inputs.config.standstill;
         match self.last_course {
             Some((tg, speed, _, _)) if t - tg <= c.gnss_age_s => speed < c.gnss_speed_m_s,
-            _ => state.nav.velocity_ecef.norm() < c.solution_speed_m_s,
+            _ => {
+                let v = state.nav.velocity_ecef;
+                let speed = v.norm();
+                if speed < c.solution_speed_m_s {
+                    return true;
+                }
+                let along = v / speed;
+                let p_v = state.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY);
+                let std_along = along.dot(&(p_v * along)).max(0.0).sqrt();
+                speed < c.solution_speed_sigmas * std_along
+            }
         }
     }
 

@@ -121,6 +121,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("gnss_speed_m_s", "largest GNSS speed at rest, m/s"),
             ("gnss_age_s", "oldest GNSS velocity used, s"),
             ("solution_speed_m_s", "largest solution speed at rest without GNSS, m/s"),
+            ("solution_speed_sigmas", "without GNSS, also at rest when the solution's speed is within this many of its along-track sigma"),
         ],
     ),
     (
@@ -526,6 +527,9 @@ impl LogConfig {
             ("standstill", "gnss_age_s") => self.standstill.gnss_age_s = r.positive()?,
             ("standstill", "solution_speed_m_s") => {
                 self.standstill.solution_speed_m_s = r.positive()?
+            }
+            ("standstill", "solution_speed_sigmas") => {
+                self.standstill.solution_speed_sigmas = r.non_negative()?
             }
             ("aids", "zupt") => self.aids.zupt = r.flag()?,
             ("aids", "zupt_std_m_s") => self.aids.zupt_std_m_s = r.positive()?,
