@@ -805,7 +805,7 @@ CONFIG_ERRORS = [
     # Was: no epoch of <memsnav._memsnav.PosSolution object at 0x...> has a quality ...
     (
         DRIVE,
-        {'mode = "loose"': 'mode = "loose"\nquality = [5]'},
+        {"quality = [1, 2]": "quality = [5]"},
         "gnss.quality: no epoch of {data}/real-imu-gnss/drive_60s.pos has a quality in [5]; "
         "its 268 epochs have the qualities [1, 2]",
     ),

@@ -36,6 +36,7 @@ lever_arm_m = [0.0, 0.0, -0.65]
 [gnss]
 mode = "loose"
 pos = "real-imu-gnss/drive_60s.pos"
+quality = [1, 2]
 antenna_lever_arm_m = [0.0, -0.05, -0.65]
 velocity_latency_s = 0.132
 [truth]
@@ -172,6 +173,45 @@ def test_walk_starts_at_rest_and_stays_consistent(tmp_path):
     assert precise["aided"]["rms_horizontal_m"] < 0.6 * spp["rms_horizontal_m"]
     assert precise["aided"]["within_3sigma_share"] >= 0.9
     assert np.hypot(*precise["offset_removed_ned_m"][:2]) > 5.0
+
+
+def test_gnss_quality_defaults_to_every_epoch_of_the_file(tmp_path):
+    """Without [gnss] quality every epoch of the file is used, each with its
+    own σ, and a warning names the qualities: here a quarter of the epochs
+    turned into standalone fixes (Q = 5, σ 1.5 m), which quality = [1, 2]
+    drops."""
+    lines = (EX / "drive_60s.pos").read_text().splitlines()
+    body = [k for k, line in enumerate(lines) if not line.startswith("%")]
+    for k in body[::4]:
+        fields = lines[k].split()
+        fields[5] = "5.0000000"
+        fields[7:10] = ["1.5000000"] * 3
+        lines[k] = " ".join(fields)
+    pos = tmp_path / "mixed.pos"
+    pos.write_text("\n".join(lines) + "\n")
+    given = _config(
+        tmp_path, **{'pos = "real-imu-gnss/drive_60s.pos"\nquality = [1, 2]': f'pos = "{pos}"'}
+    )
+    with pytest.warns(
+        UserWarning,
+        match=r"gnss.quality not given: .*Q = 1 \(fix\) 195, Q = 2 \(float\) 6, "
+        r"Q = 5 \(single\) 67\)",
+    ):
+        every = mn.navigate(given, data_root=DATA)
+    two = mn.navigate(
+        _config(tmp_path, **{'pos = "real-imu-gnss/drive_60s.pos"': f'pos = "{pos}"'}),
+        data_root=DATA,
+    )
+    mixed = mn.read_pos(pos)
+    single = np.asarray(mixed.quality) == 5
+    start = every.summary["start_gps_time_s"]
+    t = np.asarray(mixed.gps_time)
+    in_run = (t >= start) & (t <= start + every.summary["duration_s"])
+    added = int(np.sum(single & in_run))
+    assert added > 50
+    assert every.summary["gnss_epochs_used"] == two.summary["gnss_epochs_used"] + added
+    # The standalone epochs' σ keeps them from pulling the solution off.
+    assert every.summary["errors_vs_truth"]["aided"]["rms_horizontal_m"] < 0.1
 
 
 def test_truth_heights_above_mean_sea_level(tmp_path):

@@ -78,7 +78,8 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
     "gnss": {
         "mode": (text("loose", "tight"), REQUIRED),
         "pos": (pathname(), ""),
-        "quality": (_QUALITIES, [1, 2]),
+        # None: every quality the file holds (a warning names them).
+        "quality": (_QUALITIES, None),
         "rate_hz": (number(above=0.0), None),
         "position_noise_m": (list_of(number(minimum=0.0), lengths=(3,)), None),
         "velocity_noise_m_s": (number(minimum=0.0), None),

@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import os
 import time as _time
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -97,6 +98,10 @@ def apply_calibration(
     return cal.correct(specific_force, angular_rate)
 
 
+#: RTKLIB's solution qualities (Q), by value.
+_QUALITY_NAMES = ("none", "fix", "float", "SBAS", "DGPS", "single", "PPP", "dead reckoning")
+
+
 def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.ndarray, np.ndarray]:
     """The RTKLIB solution ``[table] pos``, which of its epochs have a
     quality in ``[table] quality`` (None having one is an error naming the
@@ -106,6 +111,22 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
     path = _require(cfg, table, "pos")
     solution = readers.read_pos(path)
     wanted = cfg[table]["quality"]
+    if wanted is None:
+        # The file's own epochs, whatever their quality, each weighted by
+        # the σ the file gives it: a receiver's standalone fixes (Q = 5)
+        # are what many users have, and dropping them silently left runs
+        # without GNSS (issue 29).
+        qualities, counts = np.unique(np.asarray(solution.quality), return_counts=True)
+        used = ", ".join(
+            f"Q = {q} ({_QUALITY_NAMES[int(q)]}) {n}"
+            for q, n in zip(qualities.tolist(), counts.tolist(), strict=True)
+        )
+        warnings.warn(
+            f"{cfg.path}: {table}.quality not given: using every epoch of {path} ({used}), "
+            "each weighted by the file's own σ",
+            stacklevel=3,
+        )
+        wanted = qualities.tolist()
     keep = np.isin(solution.quality, wanted)
     if not keep.any():
         present = sorted(set(np.asarray(solution.quality).tolist()))
