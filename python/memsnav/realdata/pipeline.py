@@ -362,8 +362,11 @@ def navigate(
     }
     if run.smoothed is not None:
         summary["sensor_estimates_smoothed"] = _sensor_estimates(run.smoothed.solution, 0)
-    if run.range_biases:
+    if run.range_biases and mode == "tight":
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
+    elif run.range_biases:
+        # Loose coupling's slots hold the fixes' position error per ECEF axis.
+        summary["fix_error_ecef_m"] = [run.range_biases[axis] for axis in range(3)]
     result = LogNavigationResult(cfg, run, None, None, summary=summary)
     if truth is not None:
         _score(result, truth, precision=cfg["truth"]["score"] == "precision")

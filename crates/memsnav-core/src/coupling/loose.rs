@@ -85,17 +85,29 @@ fn update_block<const N: usize>(
     has_velocity: bool,
 ) -> Result<()> {
     let antenna = s.antenna();
+    // With fix-error states the fix is r_a + b + v: b, its Gauss-Markov
+    // error per ECEF axis, held in the range-bias slots (one per axis).
+    let fix_error = match kind {
+        MeasurementKind::Position => s.fix_error_states(t),
+        _ => None,
+    };
+    let error_estimate = fix_error.map_or(Vector3::zeros(), |(_, b)| b);
     let predicted = match kind {
-        MeasurementKind::Position => antenna.position_ecef,
+        MeasurementKind::Position => antenna.position_ecef + error_estimate,
         _ => antenna.velocity_ecef - s.tuning.velocity_latency_s * s.acceleration_ecef(),
     };
     let y = w.l_inv * (predicted - measured);
     for i in 0..3u16 {
         let row = w.l_inv.row(i as usize).transpose();
-        let h = match kind {
+        let mut h = match kind {
             MeasurementKind::Position => antenna.position_row(&row),
             _ => antenna.velocity_row(&row),
         };
+        if let Some((states, _)) = fix_error {
+            for (axis, &state) in states.iter().enumerate() {
+                h.push(state, row[axis]);
+            }
+        }
         s.stage(t, kind, i, h, y[i as usize], 1.0);
     }
     let rules = BatchRules {
@@ -105,7 +117,8 @@ fn update_block<const N: usize>(
     if !s.apply_staged(t, kind, rules)? && s.reset_due(kind) {
         match kind {
             MeasurementKind::Position => {
-                s.reset_position(t, kind, measured, &w.covariance, has_velocity)?
+                let antenna = measured - error_estimate;
+                s.reset_position(t, kind, &antenna, &w.covariance, has_velocity)?
             }
             _ => s.reset_velocity(t, kind, measured, &w.covariance)?,
         }

@@ -169,6 +169,17 @@ impl RangeBiasModel {
     }
 }
 
+impl FilterTuning {
+    /// The process of the range-bias slots (tight coupling's pseudorange
+    /// biases, or loose coupling's fix errors): initial std, driving PSD and
+    /// correlation time from `model`.
+    pub fn set_range_bias_model(&mut self, model: &RangeBiasModel) {
+        self.initial_std.range_bias_m = model.std_m;
+        self.process_noise.range_bias_psd = model.psd();
+        self.process_noise.range_bias_correlation_time_s = model.correlation_time_s;
+    }
+}
+
 /// The innovation gate's default chi-square(1) probability: |ν| > 3.29 σ
 /// is rejected.
 pub const DEFAULT_GATE_PROBABILITY: f64 = 0.999;

@@ -4,7 +4,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::attitude::euler_to_dcm;
-use crate::coupling::FilterTuning;
+use crate::coupling::{FilterTuning, RangeBiasModel};
 use crate::gnss::ReceiverClockModel;
 use crate::{validate, Error, Result};
 
@@ -183,6 +183,15 @@ pub struct LogConfig {
     /// filter that takes them for white noise averages them away and
     /// reports bounds several times too tight (docs/real-data.md, walk_0827).
     pub range_bias_states: bool,
+    /// Loose coupling: a first-order Gauss-Markov error of the fixes'
+    /// positions per ECEF axis, as states (the range-bias slots of tight
+    /// coupling: 12 more states, three used). Default off. A receiver's
+    /// standalone fixes err slowly (multipath, the ionosphere model): a
+    /// filter that takes their errors for white noise averages them and
+    /// reports bounds below the fixes' own.
+    pub fix_error_states: bool,
+    /// Their process (std and correlation time).
+    pub fix_error: RangeBiasModel,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,
     /// Also a fixed-interval smoothed solution (post-processing; see
@@ -209,6 +218,14 @@ pub struct LogConfig {
     pub duration_s: Option<f64>,
 }
 
+/// The default fix-error process: 1 m with a 60 s correlation time, the
+/// slow part of a consumer receiver's standalone fix (its error decorrelates
+/// over the minute multipath and satellite geometry take to change).
+pub const FIX_ERROR_DEFAULT: RangeBiasModel = RangeBiasModel {
+    std_m: 1.0,
+    correlation_time_s: 60.0,
+};
+
 impl LogConfig {
     /// A configuration with every default and this filter tuning, its
     /// receiver clock the `"consumer"` class
@@ -224,6 +241,8 @@ impl LogConfig {
             reference_from_imu_b_m: Vector3::zeros(),
             tuning,
             range_bias_states: true,
+            fix_error_states: false,
+            fix_error: FIX_ERROR_DEFAULT,
             scale_factor_states: false,
             smoother: false,
             alignment: AlignmentConfig::default(),
@@ -243,6 +262,11 @@ impl LogConfig {
         validate::finite_scalars("imu.time_offset_s", &[self.imu_time_offset_s])?;
         validate::finite_vectors("reference_from_imu", &[self.reference_from_imu_b_m])?;
         self.tuning.validate()?;
+        validate::positive("gnss.fix_error_std_m", self.fix_error.std_m)?;
+        validate::positive(
+            "gnss.fix_error_correlation_time_s",
+            self.fix_error.correlation_time_s,
+        )?;
         let a = &self.alignment;
         if let AlignmentMethod::StaticHeading(h) = a.method {
             validate::finite_scalars("alignment.heading_deg", &[h])?;

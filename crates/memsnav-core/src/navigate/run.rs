@@ -84,7 +84,8 @@ pub fn navigate_log(
             angular_rate_b: config.mounting * w,
         })
         .collect();
-    let range_biases = config.range_bias_states && matches!(gnss, GnssInput::Measurements(_));
+    let tight = matches!(gnss, GnssInput::Measurements(_));
+    let range_biases = config.range_bias_states && tight;
     // With range-bias states the pseudorange errors the fixes see include
     // the biases: their covariance (the start's position uncertainty) must.
     let bias_std_m = if range_biases {
@@ -149,7 +150,10 @@ pub fn navigate_log(
         start: &start,
         config,
     };
-    let (solution, smoothed, range_biases) = match (config.scale_factor_states, range_biases) {
+    // The range-bias slots carry the pseudorange biases (tight) or the
+    // fixes' position errors (loose).
+    let slots = range_biases || (config.fix_error_states && !tight);
+    let (solution, smoothed, range_biases) = match (config.scale_factor_states, slots) {
         (false, false) => run.filter::<BASE_STATES>()?,
         (true, false) => run.filter::<WITH_SCALE_FACTORS>()?,
         (false, true) => run.filter::<WITH_RANGE_BIASES>()?,
@@ -309,6 +313,9 @@ impl Inputs<'_> {
         };
         let s = self.start;
         let mut tuning = self.config.tuning;
+        if matches!(self.gnss, GnssInput::Fixes(_)) {
+            tuning.set_range_bias_model(&self.config.fix_error);
+        }
         let i = &mut tuning.initial_std;
         let o = &self.config.alignment_overrides;
         i.position_m = o.position_std_m.unwrap_or(s.position_std_m);

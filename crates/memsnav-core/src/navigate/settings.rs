@@ -70,6 +70,9 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling)"),
             ("range_bias_std_m", "their steady-state std, m"),
             ("range_bias_correlation_time_s", "their correlation time, s"),
+            ("fix_error_states", "Gauss-Markov states for the fixes' position errors (loose coupling)"),
+            ("fix_error_std_m", "their steady-state std, m"),
+            ("fix_error_correlation_time_s", "their correlation time, s"),
         ],
     ),
     (
@@ -445,6 +448,11 @@ impl LogConfig {
                 let s = r.positive()?;
                 i.range_bias_m = s;
                 q.range_bias_psd = 2.0 * s * s / q.range_bias_correlation_time_s;
+            }
+            ("gnss", "fix_error_states") => self.fix_error_states = r.flag()?,
+            ("gnss", "fix_error_std_m") => self.fix_error.std_m = r.positive()?,
+            ("gnss", "fix_error_correlation_time_s") => {
+                self.fix_error.correlation_time_s = r.positive()?
             }
             ("gnss", "range_bias_correlation_time_s") => {
                 let tau = r.positive()?;

@@ -9,7 +9,7 @@
 //! A satellite that finds no slot (more satellites at one epoch than
 //! slots) is used with its bias variance added to its noise instead.
 
-use nalgebra::Matrix1;
+use nalgebra::{Matrix1, Vector3};
 
 use super::FilterState;
 use crate::filter::state::{Layout, RANGE_BIAS_SLOTS};
@@ -56,7 +56,23 @@ impl<const N: usize> FilterState<N> {
         Some((first + k, 0.0))
     }
 
-    /// The satellite holding each range-bias slot and its bias estimate, m.
+    /// Loose coupling's fix-error states: the state index of the error of
+    /// each ECEF axis (slot holders 0, 1, 2) and the estimate, m; `None`
+    /// without range-bias states. Three of the twelve slots, never
+    /// contested.
+    pub(crate) fn fix_error_states(&mut self, time_s: f64) -> Option<([usize; 3], Vector3<f64>)> {
+        let mut states = [0; 3];
+        let mut estimate = Vector3::zeros();
+        for axis in 0..3 {
+            let (state, value) = self.range_bias_state(axis as u16, time_s)?;
+            states[axis] = state;
+            estimate[axis] = value;
+        }
+        Some((states, estimate))
+    }
+
+    /// The satellite holding each range-bias slot and its bias estimate, m
+    /// (loose coupling: the fix error of ECEF axis 0, 1, 2).
     pub fn range_biases(&self) -> impl Iterator<Item = (u16, f64)> + '_ {
         self.slots
             .holder
