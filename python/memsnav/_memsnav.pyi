@@ -1197,8 +1197,9 @@ class FilterSolution:
     def resets(self) -> dict[str, npt.NDArray[Any] | list[str]]:
         """Every reset the filter made: dict of arrays ``time``, ``kind``
         ("position_to_fix", "velocity_to_fix", "clock_jump", "clock_drift_jump",
-        "inflation", "heading"), ``change`` (m, m/s, rad, or the inflation
-        factor), ``failed_epochs`` (consecutive failed epochs before it)."""
+        "inflation", "fading", "heading"), ``change`` (m, m/s, rad, or the
+        inflation or fading factor), ``failed_epochs`` (consecutive failed
+        epochs before it)."""
 
     @property
     def warnings(self) -> list[str]:

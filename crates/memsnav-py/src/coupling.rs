@@ -419,9 +419,9 @@ impl PyFilterSolution {
         integrity_to_dict(py, &self.inner.integrity)
     }
     /// Every reset the filter made (position or velocity to a fix, clock
-    /// jumps, covariance inflation, heading alignment): dict of arrays
-    /// `time`, `kind`, `change` (m, m/s, rad, or the inflation factor),
-    /// `failed_epochs`.
+    /// jumps, covariance inflation, fading, heading alignment): dict of
+    /// arrays `time`, `kind`, `change` (m, m/s, rad, or the inflation or
+    /// fading factor), `failed_epochs`.
     #[getter]
     fn resets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         resets_to_dict(py, &self.inner.resets)

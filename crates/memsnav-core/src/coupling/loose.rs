@@ -122,7 +122,7 @@ fn update_block<const N: usize>(
             }
             _ => s.reset_velocity(t, kind, measured, &w.covariance)?,
         }
-        s.recovered(t, kind);
+        s.recovered(t, kind)?;
     }
     Ok(())
 }

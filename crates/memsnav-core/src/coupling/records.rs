@@ -144,6 +144,11 @@ pub enum ResetKind {
     Inflation,
     /// Heading set from the GNSS course over ground (alignment).
     Heading,
+    /// The whole covariance multiplied (fading memory): a kind's resets
+    /// followed each other with no accepted batch between, so the model
+    /// is wrong beyond the position and velocity the resets replace
+    /// (attitude, sensor biases: an IMU worse than its tuning says).
+    Fading,
 }
 
 impl ResetKind {
@@ -156,6 +161,7 @@ impl ResetKind {
             ResetKind::ClockDriftJump => "clock_drift_jump",
             ResetKind::Inflation => "inflation",
             ResetKind::Heading => "heading",
+            ResetKind::Fading => "fading",
         }
     }
 }

@@ -240,8 +240,7 @@ fn recover<const N: usize>(
         &position_cov,
         drift.is_some(),
     )?;
-    s.recovered(epoch.time_s, kind);
-    Ok(())
+    s.recovered(epoch.time_s, kind)
 }
 
 /// The rates kept failing: reset velocity and clock drift to the epoch's
@@ -262,8 +261,7 @@ fn recover_velocity<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -
     s.kf.reset_block::<1>(CLOCK_DRIFT, &nalgebra::Matrix1::new(vd[(3, 3)]));
     let velocity_cov: Matrix3<f64> = vd.fixed_view::<3, 3>(0, 0).into();
     s.reset_velocity(epoch.time_s, kind, &fix.velocity_ecef, &velocity_cov)?;
-    s.recovered(epoch.time_s, kind);
-    Ok(())
+    s.recovered(epoch.time_s, kind)
 }
 
 impl Aiding for GnssEpoch {

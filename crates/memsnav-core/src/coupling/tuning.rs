@@ -119,6 +119,10 @@ pub struct Recovery {
     /// At most this share of a batch's measurements is excluded. Default
     /// 1/3 (one of 3-5 satellites, two of 6-8).
     pub max_excluded_share: f64,
+    /// When a kind's resets follow each other with no accepted batch
+    /// between, the whole covariance is multiplied by this (fading memory;
+    /// see `FilterState::recovered`). Default 10 (σ × 3.2); 1 turns it off.
+    pub fading_factor: f64,
 }
 
 impl Default for Recovery {
@@ -127,6 +131,7 @@ impl Default for Recovery {
             reset_after_failed_epochs: 3,
             clock_jump_sigma: 10.0,
             max_excluded_share: 1.0 / 3.0,
+            fading_factor: 10.0,
         }
     }
 }
@@ -443,6 +448,12 @@ impl FilterTuning {
             ));
         }
         validate::positive("clock_jump_sigma", r.clock_jump_sigma)?;
+        if !(1.0..=1e6).contains(&r.fading_factor) {
+            return Err(Error::invalid(
+                "reset_fading_factor",
+                format!("must be in [1, 1e6], got {}", r.fading_factor),
+            ));
+        }
         if !(0.0..1.0).contains(&r.max_excluded_share) {
             return Err(Error::invalid(
                 "max_excluded_share",

@@ -75,6 +75,16 @@ impl<const N: usize> ErrorStateKf<N> {
         });
     }
 
+    /// Multiplies the whole covariance by `factor` ≥ 1: the fading-memory
+    /// remedy for a model that has proved too optimistic (Simon, *Optimal
+    /// State Estimation*, 2006, §7.4: the old information is weighed less,
+    /// every correlation kept). The error estimate is unchanged.
+    pub fn fade(&mut self, factor: f64) {
+        let factor = factor.max(1.0);
+        self.p *= factor;
+        self.record_reset(ResetStep::Fade { factor });
+    }
+
     /// Multiplies the variances of `states` by `factor` ≥ 1, their
     /// covariances with the other states by √factor (rows and columns
     /// scaled: P stays positive definite and the correlations are kept).
@@ -145,6 +155,17 @@ mod tests {
         assert!((f.x.0 - t * before.x.0).abs().max() < 1e-15);
         let along = (d.transpose() * f.p.fixed_view::<3, 3>(0, 0) * d)[0];
         assert!((along - 0.01).abs() < 1e-12);
+        assert!(f.check_health(0.0).is_ok());
+    }
+
+    #[test]
+    fn fading_scales_the_whole_covariance() {
+        let mut f = kf();
+        let before = f.p;
+        f.fade(10.0);
+        assert!((f.p - 10.0 * before).abs().max() < 1e-12);
+        f.fade(0.5); // never shrinks
+        assert!((f.p - 10.0 * before).abs().max() < 1e-12);
         assert!(f.check_health(0.0).is_ok());
     }
 

@@ -126,6 +126,8 @@ pub enum ResetStep {
         direction: Vector3<f64>,
         variance: f64,
     },
+    /// The whole covariance multiplied by `factor` (fading memory).
+    Fade { factor: f64 },
     /// Variances of `states[..count]` multiplied by `factor`.
     Inflate {
         states: [usize; 8],
@@ -502,7 +504,7 @@ fn adjoint_reset<const N: usize>(
             let cols = factor.fixed_columns::<3>(first) * t;
             factor.fixed_columns_mut::<3>(first).copy_from(&cols);
         }
-        ResetStep::Inflate { .. } | ResetStep::AddVariance { .. } => {}
+        ResetStep::Inflate { .. } | ResetStep::Fade { .. } | ResetStep::AddVariance { .. } => {}
     }
 }
 

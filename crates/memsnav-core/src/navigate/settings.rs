@@ -99,6 +99,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("position_std_floor_m", "smallest position-fix std, m"),
             ("velocity_std_floor_m_s", "smallest velocity-fix std, m/s"),
             ("reset_after_failed_epochs", "failed epochs in a row before a reset"),
+            ("reset_fading_factor", "whole covariance multiplied when resets follow each other with no accepted batch (1: off)"),
             ("clock_jump_sigma", "common innovation taken for a clock jump, in stds"),
             ("max_excluded_share", "largest share of a batch fault exclusion may drop"),
         ],
@@ -516,6 +517,7 @@ impl LogConfig {
                 t.recovery.reset_after_failed_epochs = v as usize;
             }
             ("filter", "clock_jump_sigma") => t.recovery.clock_jump_sigma = r.positive()?,
+            ("filter", "reset_fading_factor") => t.recovery.fading_factor = r.positive()?,
             ("filter", "max_excluded_share") => t.recovery.max_excluded_share = r.non_negative()?,
             ("alignment", "method") => p.method = Some(r.text()?.to_string()),
             ("alignment", "min_speed_m_s") => self.alignment.min_speed_m_s = r.positive()?,

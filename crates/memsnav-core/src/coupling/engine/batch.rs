@@ -254,6 +254,7 @@ impl<const N: usize> FilterState<N> {
         *failed = if accepted { 0 } else { *failed + 1 };
         if accepted {
             self.last_accepted_s[kind_index(kind)] = time_s;
+            self.resets_in_a_row[kind_index(kind)] = 0;
             self.feedback(time_s)?;
         }
         Ok(accepted)
@@ -445,8 +446,7 @@ impl<const N: usize> FilterState<N> {
         ];
         self.kf.inflate(&states, factor);
         self.finish_reset(time_s, kind, ResetKind::Inflation, factor)?;
-        self.recovered(time_s, kind);
-        Ok(())
+        self.recovered(time_s, kind)
     }
 
     fn finish_reset(
@@ -467,10 +467,31 @@ impl<const N: usize> FilterState<N> {
     }
 
     /// After the resets a failing kind led to: its measurements are
-    /// trusted again (the count of failed epochs restarts).
-    pub(crate) fn recovered(&mut self, time_s: f64, kind: MeasurementKind) {
+    /// trusted again (the count of failed epochs restarts). A second reset
+    /// of the kind with no accepted batch since the first says that
+    /// replacing position (velocity, clock) is not enough: the filter's
+    /// attitude and sensor errors are further off than its covariance
+    /// admits, and it would reset at every few epochs for good (a tactical
+    /// tuning on a consumer IMU did, 700 times on drive_0708). The whole
+    /// covariance then fades by `recovery.fading_factor`, at each such
+    /// reset, so that the fixes can correct the rest.
+    pub(crate) fn recovered(&mut self, time_s: f64, kind: MeasurementKind) -> Result<()> {
         self.failed_epochs[kind_index(kind)] = 0;
         self.last_accepted_s[kind_index(kind)] = time_s;
+        let in_a_row = &mut self.resets_in_a_row[kind_index(kind)];
+        *in_a_row += 1;
+        let factor = self.tuning.recovery.fading_factor;
+        if *in_a_row < 2 || factor <= 1.0 {
+            return Ok(());
+        }
+        self.kf.fade(factor);
+        self.resets.push(ResetRecord {
+            time_s,
+            kind: ResetKind::Fading,
+            change: factor,
+            failed_epochs: 0,
+        });
+        self.kf.check_health(time_s)
     }
 
     /// The batch NIS of the last failed test of `kind` over its threshold

@@ -104,6 +104,8 @@ pub struct FilterState<const N: usize> {
     pub(crate) failed_epochs: [usize; MeasurementKind::ALL.len()],
     /// When each kind last had a batch accepted (the start when never).
     pub(crate) last_accepted_s: [f64; MeasurementKind::ALL.len()],
+    /// Resets of each kind since its last accepted batch.
+    pub(crate) resets_in_a_row: [usize; MeasurementKind::ALL.len()],
     /// The batch being assembled (see [`batch`]).
     pub(crate) staged: batch::Batch,
     /// Every scalar measurement seen, in time order.
@@ -174,6 +176,7 @@ impl<const N: usize> FilterState<N> {
             failed_epochs: [0; MeasurementKind::ALL.len()],
             // Set at the first propagation (the run's first IMU time).
             last_accepted_s: [f64::NAN; MeasurementKind::ALL.len()],
+            resets_in_a_row: [0; MeasurementKind::ALL.len()],
             staged: batch::Batch::default(),
             records: Vec::new(),
             batches: Vec::new(),
