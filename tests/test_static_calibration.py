@@ -35,8 +35,9 @@ def excerpt():
 
 @pytest.fixture(scope="module")
 def calibration(excerpt):
-    with pytest.warns(UserWarning, match="too few observations"):
-        return mn.calibrate_static(*excerpt, gravity=GRAVITY, **NOMINAL)
+    # No warning: 19 poses for the 9 parameters AICc keeps (with the 12 of
+    # the nonlinearity, "too few observations").
+    return mn.calibrate_static(*excerpt, gravity=GRAVITY, **NOMINAL)
 
 
 def test_the_excerpt_meets_the_figures_of_merit(calibration):
@@ -188,7 +189,7 @@ accel_file = "{accel}"
 gyro_file = "{gyro}"
 accel_scale = {accel_scale}
 accel_offset = 32768
-gyro_scale = [2.1e-4, 2.1e-4, 2.1e-4]
+gyro_scale = {gyro_scale}
 gyro_offset = 32768
 [static]
 gravity_m_s2 = 9.81744
@@ -202,16 +203,19 @@ def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
     config = tmp_path / "cal.toml"
     out = tmp_path / "out"
     config.write_text(
-        CONFIG.format(out=out, accel=accel, gyro=gyro, accel_scale=NOMINAL["accel_scale"])
+        CONFIG.format(
+            out=out, accel=accel, gyro=gyro, accel_scale=NOMINAL["accel_scale"], gyro_scale=1 / 6258
+        )
     )
     assert main(["calibrate", "--config", str(config)]) == 0
     printed = capsys.readouterr()
     assert "calibration:" in printed.out and "fit: |f| - g RMS" in printed.out
-    assert "too few observations" in printed.err
+    assert "differs from the nominal by +31 %" in printed.err
     loaded = mn.load_calibration(out / "calibration.json")
     assert loaded.source["samples"] == 26200 and loaded.fit["poses"] == 19
     html = (out / "report.html").read_text()
-    assert "CRB σ" in html and "held out" in html and "too few observations" in html
+    assert "CRB σ" in html and "held out" in html and "+31 %" in html
+    assert "Model selection" in html and "accelerometer nonlinearity" in html
     assert (out / "figures" / "session.png").is_file()
 
 
@@ -236,12 +240,18 @@ def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
             lambda s: s.replace("holdout_every = 0", "holdout_every = 1"),
             "static.holdout_every: must be 0",
         ),
+        (
+            lambda s: s + "holdout_from_s = nan\n",
+            "static.holdout_from_s: must be a finite number, got nan",
+        ),
         (lambda s: s + "[extra]\n", r"unknown table \[extra\]"),
     ],
 )
 def test_the_configuration_is_checked(tmp_path, edit, message):
     config = tmp_path / "cal.toml"
-    text = CONFIG.format(out="o", accel="a", gyro="g", accel_scale=1.0)
+    text = CONFIG.format(
+        out="o", accel="a", gyro="g", accel_scale=1.0, gyro_scale="[2.1e-4, 2.1e-4, 2.1e-4]"
+    )
     config.write_text(edit(text))
     with pytest.raises(ValueError, match=message):
         load_calibration_config(config)
@@ -289,3 +299,110 @@ def test_warnings_are_python_warnings(excerpt):
     messages = [str(w.message) for w in caught]
     assert messages == list(cal.warnings)
     assert any("differs from the nominal by +31 %" in m for m in messages)
+
+
+# The issue-27 comparison: memsnav against a plain 9-parameter least-squares
+# fit of the accelerometer (bias, scale factors, non-orthogonality; imu_tk's
+# model, Tedaldi et al. 2014 eq. 10-12) written here with scipy, on the same
+# pose means, scored on the same held-out poses.
+
+
+def _plain_model(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """imu_tk's a = T K (counts - b): T unit upper triangular (three
+    non-orthogonality angles), K diagonal scales per count, b offsets."""
+    t = np.array([[1.0, -x[6], x[7]], [0.0, 1.0, -x[8]], [0.0, 0.0, 1.0]])
+    return (counts - x[:3]) @ (t @ np.diag(x[3:6])).T
+
+
+def _plain_fit(counts: np.ndarray) -> np.ndarray:
+    """The 9 parameters minimising sum (|a_k| - g)^2 over pose means in counts."""
+    from scipy.optimize import least_squares
+
+    start = np.r_[np.full(3, 32768.0), np.full(3, GRAVITY / 3724.0), np.zeros(3)]
+    scale = np.r_[np.full(3, 100.0), np.full(3, 1e-5), np.full(3, 1e-2)]
+    result = least_squares(
+        lambda x: np.linalg.norm(_plain_model(x, counts), axis=1) - GRAVITY,
+        start,
+        x_scale=scale,
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+    )
+    assert result.success
+    return result.x
+
+
+def _aicc(rss: float, n: int, parameters: int) -> float:
+    """Hurvich and Tsai (1989): K counts the residual variance."""
+    k = parameters + 1
+    return n * np.log(rss / n) + 2 * k + 2 * k * (k + 1) / (n - k - 1)
+
+
+@pytest.fixture(scope="module")
+def xsens():
+    data = shared_data("imu-static-poses/xsens_acc.mat").parent
+    accel = np.loadtxt(data / "xsens_acc.mat")
+    gyro = np.loadtxt(data / "xsens_gyro.mat")
+    return accel[:, 0], accel[:, 1:], gyro[:, 1:]
+
+
+def _xsens_split(xsens, split: str):
+    t, accel, gyro = xsens
+    holdout = (
+        {"holdout_every": 4} if split == "every 4th pose" else {"holdout_from": (t[0] + t[-1]) / 2}
+    )
+    with warnings.catch_warnings(record=True):  # the gyro's nominal scale is 31 % off
+        warnings.simplefilter("always")
+        return mn.calibrate_static(
+            t, accel, gyro, gravity=GRAVITY, **{**NOMINAL, "gyro_scale": 1 / 6258}, **holdout
+        )
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("split", ["every 4th pose", "first half, second half"])
+def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
+    """Issue 27: on poses the fit never saw, |f| - g RMS no worse than the
+    plain 9-parameter fit's, the gyro's gravity direction after the held-out
+    turns within 0.2°, and the model AICc chose is the one of smallest AICc."""
+    _, accel, _ = xsens
+    cal = _xsens_split(xsens, split)
+    summary = mn.static_summary(cal)
+    held_out = np.asarray(cal.pose_held_out)
+    means = np.array([accel[a:b].mean(axis=0) for a, b in cal.poses])
+    x = _plain_fit(means[~held_out])
+    plain = np.linalg.norm(_plain_model(x, means), axis=1) - GRAVITY
+    plain_held_out = np.sqrt(np.mean(plain[held_out] ** 2))
+    plain_in_fit = np.sqrt(np.mean(plain[~held_out] ** 2))
+    assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.01 * plain_held_out
+    assert summary["turn_rms_after_held_out_deg"] <= 0.2
+    # Issue 13's limits still hold on the every-4th split.
+    if split == "every 4th pose":
+        assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.5e-3
+    # The rule: every admissible candidate's AICc from its fit, the
+    # smallest chosen; the 9-parameter candidate is the plain fit.
+    (accel_selection,) = [
+        m for m in cal.model_selection if m["stage"] == "accelerometer nonlinearity"
+    ]
+    candidates = accel_selection["candidates"]
+    assert candidates[0]["terms"] == [] and candidates[0]["parameters"] == 9
+    assert candidates[0]["residual_rms"] == pytest.approx(plain_in_fit, rel=1e-6)
+    admissible = [c for c in candidates if c["aicc"] is not None]
+    for c in admissible:
+        n = c["observations"]
+        rss = n * c["residual_rms"] ** 2
+        assert c["aicc"] == pytest.approx(_aicc(rss, n, c["parameters"]), abs=1e-6)
+    best = min(admissible, key=lambda c: c["aicc"])
+    assert candidates[accel_selection["chosen"]] is not None
+    assert candidates[accel_selection["chosen"]]["terms"] == best["terms"]
+    assert summary["model"]["accelerometer nonlinearity"] == best["terms"]
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 27 asks for 1.2 mm/s² on the second half; the first half's 18 poses give "
+    "1.88 (the plain fit the same): docs/calibration.md, 'Which terms to estimate'",
+)
+def test_xsens_first_half_fit_meets_the_issue_limit_on_the_second_half(xsens):
+    summary = mn.static_summary(_xsens_split(xsens, "first half, second half"))
+    assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.2e-3

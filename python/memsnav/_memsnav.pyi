@@ -440,6 +440,14 @@ class StaticCalibration:
         """(parameter, reason) of the parameters not estimated."""
 
     @property
+    def model_selection(self) -> list[dict[str, Any]]:
+        """The models of the second-order terms each stage considered (the
+        accelerometer's nonlinearity, the gyroscope's g-sensitivity; empty
+        under estimate="all"): [{"stage", "chosen" (index), "candidates":
+        [{"terms", "parameters", "observations", "residual_rms", "aicc"
+        (None when refused), "refused"}]}]."""
+
+    @property
     def warnings(self) -> list[str]:
         """Poor conditioning, sigma above physical size, too few poses, a
         nominal scale far off (also emitted as UserWarning)."""
@@ -489,6 +497,7 @@ def calibrate_static(
     min_pose: float,
     estimate: str,
     holdout_every: int | None,
+    holdout_from: float | None,
 ) -> StaticCalibration:
     """The binding of ``memsnav.calibrate_static`` (every argument required)."""
 

@@ -6,8 +6,8 @@ use std::collections::HashMap;
 
 use memsnav_core::calibration::static_detector::StaticDetector;
 use memsnav_core::calibration::static_poses::{
-    calibrate_static as core_calibrate_static, correct as core_correct, Nominal, StaticCalibration,
-    StaticCalibrationOptions,
+    calibrate_static as core_calibrate_static, correct as core_correct, Holdout, Nominal,
+    StaticCalibration, StaticCalibrationOptions,
 };
 use memsnav_core::calibration::{
     accelerometer_parameter_names, accelerometer_parameters, gyroscope_parameter_names,
@@ -16,6 +16,7 @@ use memsnav_core::calibration::{
 use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
 
 use crate::convert;
 use crate::errors::IntoPyResult;
@@ -227,6 +228,35 @@ impl PyStaticCalibration {
         self.inner.held.clone()
     }
 
+    /// The models of the second-order terms each stage considered (the
+    /// accelerometer's nonlinearity, the gyroscope's g-sensitivity; empty
+    /// under estimate="all"): [{"stage", "chosen" (index), "candidates":
+    /// [{"terms", "parameters", "observations", "residual_rms", "aicc"
+    /// (None when refused), "refused"}]}].
+    #[getter]
+    fn model_selection<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let out = PyList::empty(py);
+        for s in &self.inner.model_selection {
+            let candidates = PyList::empty(py);
+            for c in &s.candidates {
+                let item = PyDict::new(py);
+                item.set_item("terms", c.terms.clone())?;
+                item.set_item("parameters", c.parameters)?;
+                item.set_item("observations", c.observations)?;
+                item.set_item("residual_rms", c.residual_rms)?;
+                item.set_item("aicc", c.aicc)?;
+                item.set_item("refused", c.refused.clone())?;
+                candidates.append(item)?;
+            }
+            let d = PyDict::new(py);
+            d.set_item("stage", s.stage.clone())?;
+            d.set_item("chosen", s.chosen)?;
+            d.set_item("candidates", candidates)?;
+            out.append(d)?;
+        }
+        Ok(out)
+    }
+
     /// Poor conditioning, a sigma above the physical size, too few poses, a
     /// nominal scale far off (each also emitted as a `UserWarning`).
     #[getter]
@@ -344,7 +374,7 @@ fn nominal(
 /// them and holds the defaults (from the core).
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (time, accel, gyro, *, gravity, accel_scale, accel_offset, gyro_scale, gyro_offset, window, threshold_factor, initial_rest, min_pose, estimate, holdout_every))]
+#[pyo3(signature = (time, accel, gyro, *, gravity, accel_scale, accel_offset, gyro_scale, gyro_offset, window, threshold_factor, initial_rest, min_pose, estimate, holdout_every, holdout_from))]
 fn calibrate_static(
     py: Python<'_>,
     time: &Bound<'_, PyAny>,
@@ -361,6 +391,7 @@ fn calibrate_static(
     min_pose: f64,
     estimate: &str,
     holdout_every: Option<usize>,
+    holdout_from: Option<f64>,
 ) -> PyResult<PyStaticCalibration> {
     let t = convert::scalars(time, "time")?;
     let a = convert::vectors(accel, "accel")?;
@@ -375,7 +406,10 @@ fn calibrate_static(
             min_pose_s: min_pose,
         },
         estimate: crate::calibration::estimate(estimate)?,
-        holdout_every,
+        holdout: Holdout {
+            every: holdout_every,
+            from_s: holdout_from,
+        },
     };
     let inner = py
         .detach(|| core_calibrate_static(&t, &a, &g, &options))

@@ -23,6 +23,7 @@ from typing import Any
 
 from memsnav import _memsnav
 from memsnav._config import (
+    ABSENT,
     REQUIRED,
     Check,
     flag,
@@ -68,6 +69,9 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
         "estimate": (_ESTIMATE, "determinable"),
         # 0 (none) or at least 2: checked below.
         "holdout_every": (integer(0), 0),
+        # Absent: none; else poses ending at or after this time (s, the
+        # files' time axis) are held out.
+        "holdout_from_s": (number(), ABSENT),
     },
     "drive": {
         "navigate": (pathname(), REQUIRED),

@@ -71,10 +71,10 @@ def _static_report(run: CalibrationRun, cal: StaticCalibration, out: Path) -> Pa
     doc.table(["", "nominal readings", "calibrated"], rows)
     doc.paragraph(
         "Nominal readings: scale × (raw − offset) with the configuration's nominal values, "
-        "no bias or offset estimated. Held-out poses (every "
-        f"{cfg['static']['holdout_every'] or '—'}-th) and the turns into and out of them "
-        "never enter the fit."
+        f"no bias or offset estimated. Held-out poses ({_holdout_text(cfg['static'])}) and the "
+        "turns into and out of them never enter the fit."
     )
+    _model_selection(doc, cal, s["model"])
 
     # 1. The session.
     nominal_accel = np.asarray(cal.nominal["accel_scale"]) * (
@@ -182,6 +182,52 @@ def _static_report(run: CalibrationRun, cal: StaticCalibration, out: Path) -> Pa
         doc, cal.warnings, "None: every parameter is determined well below its physical size."
     )
     return doc.write(out)
+
+
+def _holdout_text(static: dict[str, object]) -> str:
+    rules = []
+    if static["holdout_every"]:
+        rules.append(f"every {static['holdout_every']}-th")
+    if "holdout_from_s" in static:
+        rules.append(f"every one ending at or after {static['holdout_from_s']:g} s")
+    return " and ".join(rules) or "none"
+
+
+def _model_selection(doc: Report, cal: StaticCalibration, chosen: dict[str, list[str]]) -> None:
+    """The candidates of each stage's choice of second-order terms (AICc)."""
+    if not cal.model_selection:
+        return
+    doc.section("Model selection")
+    doc.paragraph(
+        "Chosen: "
+        + "; ".join(f"{stage}: {', '.join(terms) or 'none'}" for stage, terms in chosen.items())
+        + ". Each stage fits every combination of its second-order terms that the poses "
+        "determine and keeps the one of smallest AICc = n ln(RSS/n) + 2K + 2K(K + 1)/(n − K − 1) "
+        "(K: parameters plus the residual variance; Hurvich and Tsai 1989), an estimate of the "
+        "error on poses the fit has not seen (docs/calibration.md)."
+    )
+    for selection in cal.model_selection:
+        best = selection["candidates"][selection["chosen"]]["aicc"]
+        rows: list[list[object]] = []
+        for k, c in enumerate(selection["candidates"]):
+            if k == selection["chosen"]:
+                status = "chosen"
+            elif c["aicc"] is None:
+                status = f"refused: {c['refused']}"
+            else:
+                status = f"ΔAICc {c['aicc'] - best:+.1f}"
+            rows.append(
+                [
+                    ", ".join(c["terms"]) or "none",
+                    c["parameters"],
+                    c["observations"],
+                    f"{c['residual_rms']:.3g}",
+                    "—" if c["aicc"] is None else f"{c['aicc']:.1f}",
+                    status,
+                ]
+            )
+        doc.paragraph(f"{selection['stage']}:")
+        doc.table(["terms", "parameters", "residuals", "RMS residual (SI)", "AICc", "status"], rows)
 
 
 _SUBSETS = (

@@ -90,6 +90,7 @@ def _static(cfg: CalibrationConfig) -> CalibrationRun:
             min_pose=static["min_pose_s"],
             estimate=static["estimate"],
             holdout_every=static["holdout_every"] or None,
+            holdout_from=static.get("holdout_from_s"),
         )
     elapsed = _time.perf_counter() - started
     source = {

@@ -31,6 +31,7 @@ def calibrate_static(
     min_pose: float = _DEFAULTS["min_pose"],
     estimate: str = "determinable",
     holdout_every: int | None = None,
+    holdout_from: float | None = None,
 ) -> StaticCalibration:
     """Calibrates an IMU from a multi-position session: a rest of
     ``initial_rest`` seconds, then poses held still for a few seconds each,
@@ -56,17 +57,25 @@ def calibrate_static(
     the poses determine them, holding the rest at zero (the nominal scale for
     the gyroscope) and listing them in ``.held``; "all" estimates everything
     and raises ``UnobservableError`` or ``ValueError`` when the data cannot.
-    ``holdout_every=h`` leaves poses h-1, 2h-1, ... out of the fits and
-    reports their errors apart (``.pose_held_out``, ``.turn_held_out``).
+    ``holdout_every=h`` leaves poses h-1, 2h-1, ... and ``holdout_from=t``
+    every pose that ends at or after ``t`` (s, the axis of ``time``: the
+    middle of the log fits on its first half) out of the fits; their errors
+    are reported apart (``.pose_held_out``, ``.turn_held_out``). A pose
+    either names is held out; the initial rest never is.
+
+    Under "determinable" the nonlinearity and the g-sensitivity are chosen
+    by the small-sample Akaike information criterion (AICc) among what the
+    poses determine; ``.model_selection`` lists every candidate with its
+    AICc and the one chosen (docs/calibration.md).
 
     Returns a ``StaticCalibration``: ``.accelerometer`` / ``.gyroscope`` (the
     models of the nominal readings, SI, method §2), ``.accelerometer_std`` /
     ``.gyroscope_std``, ``.covariance`` (36, 36) of ``.parameter_names``,
     ``.poses`` (P, 2) sample indices, ``.magnitude_error_before`` /
     ``_after`` (P,) m/s², ``.turn_error_before`` / ``_after`` (P-1,) rad,
-    ``.held``, ``.warnings`` (each also emitted as a ``UserWarning``) and
-    ``.correct(accel, gyro)`` → SI specific force and angular rate of raw
-    readings.
+    ``.held``, ``.model_selection``, ``.warnings`` (each also emitted as a
+    ``UserWarning``) and ``.correct(accel, gyro)`` → SI specific force and
+    angular rate of raw readings.
     """
 
     def nominal(value: ArrayLike | None, default: float) -> ArrayLike:
@@ -87,6 +96,7 @@ def calibrate_static(
         min_pose=min_pose,
         estimate=estimate,
         holdout_every=holdout_every,
+        holdout_from=holdout_from,
     )
     for message in cal.warnings:
         warnings.warn(message, UserWarning, stacklevel=2)
@@ -101,7 +111,8 @@ def static_summary(cal: StaticCalibration) -> dict[str, Any]:
     """The figures of merit of a static calibration as a plain dict: RMS of
     ‖f‖ − g over the poses (m/s²) and of the turns' gravity-direction error
     (degrees), before (nominal readings) and after, in the fit and held out
-    (None when no pose is held out)."""
+    (None when no pose is held out), and under "model" the second-order
+    terms each stage chose by its AICc (``.model_selection``)."""
     pose_out = np.asarray(cal.pose_held_out, dtype=bool)
     turn_out = np.asarray(cal.turn_held_out, dtype=bool)
     out: dict[str, Any] = {
@@ -116,4 +127,7 @@ def static_summary(cal: StaticCalibration) -> dict[str, Any]:
         for subset, pk, tk in (("fit", ~pose_out, ~turn_out), ("held_out", pose_out, turn_out)):
             out[f"magnitude_rms_{when}_{subset}_m_s2"] = _rms(magnitude, pk)
             out[f"turn_rms_{when}_{subset}_deg"] = _rms(turn, tk)
+    out["model"] = {
+        m["stage"]: list(m["candidates"][m["chosen"]]["terms"]) for m in cal.model_selection
+    }
     return out

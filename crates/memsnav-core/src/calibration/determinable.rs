@@ -21,6 +21,12 @@
 //! Biases are always estimated. Held parameters have zero variance in the
 //! covariance and are listed with the reason.
 //!
+//! Passing these rules makes a term determinable, not worth estimating: in
+//! a static session the second-order terms that pass them (the
+//! nonlinearity, the g-sensitivity) are then chosen by the small-sample
+//! information criterion of [`super::information`], which asks whether a
+//! term lowers the error on poses the fit has not seen.
+//!
 //! ## Warnings
 //!
 //! Whatever is estimated, a calibration warns when

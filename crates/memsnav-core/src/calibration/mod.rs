@@ -108,6 +108,7 @@ pub mod determinable;
 pub mod draws;
 mod gyroscope;
 pub mod inflation;
+pub mod information;
 pub mod layout;
 pub mod least_squares;
 pub mod static_detector;

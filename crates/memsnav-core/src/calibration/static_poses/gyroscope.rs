@@ -4,9 +4,11 @@
 //! the rules of [`crate::calibration::determinable`] hold: under
 //! [`Estimate::Determinable`] a column of C (a g-sensitivity to one
 //! specific-force axis, all three gyro rows) is held when the poses do not
-//! vary that axis (rule 2) or its σ(K) ≈ σ(T C) would exceed its physical
-//! size (rule 3), and T is held at the nominal scale (the identity) with
-//! too few or too similar turns.
+//! vary that axis (rule 2), when the rest fit's AICc is smaller without it
+//! (the combination of columns of smallest AICc is kept,
+//! [`crate::calibration::information`]) or when its σ(K) ≈ σ(T C) would
+//! exceed its physical size (rule 3), and T is held at the nominal scale
+//! (the identity) with too few or too similar turns.
 //!
 //! [`Estimate::Determinable`]: crate::calibration::determinable::Estimate
 
@@ -16,6 +18,7 @@ use super::rests::{self, RestFit};
 use super::rotation::{t_from_vector, t_to_vector, Offsets, Rotations, Segment};
 use super::solver::{self, Fit};
 use crate::calibration::determinable::{physical_size, UNDETERMINED_CONDITION};
+use crate::calibration::information::{aicc, subsets, Candidate, ModelSelection};
 use crate::calibration::{gyroscope_parameter_names, ACCELEROMETER_AXES};
 use crate::sensors::{GyroscopeModel, NoiseModel};
 use crate::{Error, Result};
@@ -32,6 +35,8 @@ pub struct GyroscopeStage {
     pub free_columns: Vec<usize>,
     /// The model of T and the offsets ([`gyroscope_model`]).
     pub model: GyroscopeModel,
+    /// The columns of C considered and the ones chosen (`determinable` only).
+    pub selection: Option<ModelSelection>,
 }
 
 /// Fits the gyroscope to the rest means of the poses in the fit
@@ -65,6 +70,7 @@ pub fn fit(
         hold_column(held, &names_g, l, "too few poses");
     }
     let t_start = Matrix3::identity();
+    let mut selection = None;
     let (rest_fit, t_fit, t) = loop {
         let rest_fit = rests::fit(rest_gyro, rest_force, &free_columns)?;
         if rest_fit.condition_number > UNDETERMINED_CONDITION && rest_fit.weakest_column > 0 {
@@ -84,6 +90,22 @@ pub fn fit(
                 "the poses do not vary this specific-force axis",
             );
             continue;
+        }
+        if determinable {
+            let (chosen, s) = select_columns(rest_gyro, rest_force, &free_columns)?;
+            let dropped: Vec<usize> = free_columns
+                .iter()
+                .copied()
+                .filter(|l| !chosen.contains(l))
+                .collect();
+            for &l in &dropped {
+                hold_column(held, &names_g, l, &s.why_not(&column_term(l)));
+            }
+            selection = Some(s);
+            if !dropped.is_empty() {
+                free_columns = chosen;
+                continue;
+            }
         }
         let t_fit = fit_rotations(fit_segments, &rest_fit.offsets, &t_start, determinable)?;
         let t = t_fit
@@ -119,7 +141,53 @@ pub fn fit(
         t,
         free_columns,
         model,
+        selection,
     })
+}
+
+/// The optional term of column l of C: the g-sensitivity of every gyro
+/// axis to specific force along accelerometer axis l.
+fn column_term(l: usize) -> String {
+    format!("g_sensitivity to {}", ACCELEROMETER_AXES[l])
+}
+
+/// The columns of C among the subsets of `free_columns` whose rest fit
+/// rule 2 allows, of smallest AICc summed over the three gyro rows (each
+/// an independent regression with its own residual variance;
+/// [`crate::calibration::information`]): the columns and the record.
+fn select_columns(
+    rest_gyro: &[Vector3<f64>],
+    rest_force: &[Vector3<f64>],
+    free_columns: &[usize],
+) -> Result<(Vec<usize>, ModelSelection)> {
+    let mut columns = Vec::new();
+    let mut candidates = Vec::new();
+    for subset in subsets(free_columns) {
+        let f = rests::fit(rest_gyro, rest_force, &subset)?;
+        let n = f.poses;
+        let per_row = 1 + subset.len();
+        let mut candidate = Candidate {
+            terms: subset.iter().map(|&l| column_term(l)).collect(),
+            parameters: 3 * per_row,
+            observations: 3 * n,
+            residual_rms: (f.rss.sum() / (3 * n) as f64).sqrt(),
+            aicc: None,
+            refused: String::new(),
+        };
+        if f.condition_number > UNDETERMINED_CONDITION || !f.condition_number.is_finite() {
+            candidate.refused = format!(
+                "the poses do not separate the columns (condition number {:.2e})",
+                f.condition_number
+            );
+        } else {
+            candidate.aicc = Some(f.rss.iter().map(|&rss| aicc(rss, n, per_row)).sum());
+        }
+        candidates.push(candidate);
+        columns.push(subset);
+    }
+    let selection = ModelSelection::choose("gyroscope g-sensitivity", candidates)
+        .ok_or_else(|| Error::invalid("poses", "the gyro rest fit has no admissible model"))?;
+    Ok((columns[selection.chosen].clone(), selection))
 }
 
 /// The rotation fit of T for the `offsets` over the turns `fit_segments`,

@@ -45,9 +45,20 @@
 //!
 //! ## Hold-out
 //!
-//! `holdout_every = h` leaves poses h−1, 2h−1, … (never the initial rest)
-//! out of the accelerometer and rest fits, and every turn into or out of
-//! them out of the rotation fit; their errors are reported apart.
+//! `holdout_every = h` leaves poses h−1, 2h−1, … and `holdout_from_s = t`
+//! every pose that ends at or after t (never the initial rest) out of the
+//! accelerometer and rest fits, and every turn into or out of them out of
+//! the rotation fit; their errors are reported apart. With t the middle
+//! of the log the fit sees only its first half.
+//!
+//! ## Model selection
+//!
+//! Under [`Estimate::Determinable`] the second-order terms (the
+//! accelerometer's nonlinearity N, the gyroscope's g-sensitivity K) are
+//! chosen by the small-sample AICc among the combinations the
+//! determinability rules allow ([`crate::calibration::information`]); each
+//! stage's candidates with their AICc are in
+//! [`StaticCalibration::model_selection`].
 
 mod accelerometer;
 mod checks;
@@ -63,10 +74,12 @@ mod warnings;
 
 pub use checks::{PoseCheck, TurnCheck};
 pub use nominal::Nominal;
+pub use session::Holdout;
 
 use nalgebra::{DMatrix, Vector3};
 
 use super::determinable::Estimate;
+use super::information::ModelSelection;
 use super::static_detector::{StaticDetection, StaticDetector};
 use super::{accelerometer_std_model, gyroscope_std_model};
 use crate::sensors::{AccelerometerModel, GyroscopeModel};
@@ -86,8 +99,8 @@ pub struct StaticCalibrationOptions {
     /// them, T only when there are turns enough; [`Estimate::All`]: every
     /// parameter, an error when the data cannot.
     pub estimate: Estimate,
-    /// Leave every h-th pose out of the fits (module docs); None: use all.
-    pub holdout_every: Option<usize>,
+    /// The poses left out of the fits (module docs); default: none.
+    pub holdout: Holdout,
 }
 
 /// The result of [`calibrate_static`].
@@ -119,6 +132,9 @@ pub struct StaticCalibration {
     /// Parameters not estimated, "accelerometer misalignment_uv" style,
     /// with the reason.
     pub held: Vec<(String, String)>,
+    /// The models of the second-order terms each stage considered and the
+    /// one it chose (module docs; empty under [`Estimate::All`]).
+    pub model_selection: Vec<ModelSelection>,
     pub warnings: Vec<String>,
     /// RMS residual of the magnitude fit, m/s².
     pub accelerometer_residual_std: f64,
@@ -195,9 +211,9 @@ pub fn rms(values: impl Iterator<Item = (f64, bool)>, keep: bool) -> f64 {
 /// Calibrates an IMU from a multi-position session (module docs): `time`
 /// (s, increasing), raw `accel` and `gyro` readings (counts or any unit,
 /// see [`Nominal`]). Errors name the argument (`time`, `accel`, `gyro`,
-/// `gravity`, `holdout_every`, the detector's settings, `poses` when too
-/// few were found) or, under [`Estimate::All`], the parameter the data do
-/// not determine.
+/// `gravity`, `holdout_every`, `holdout_from_s`, the detector's settings,
+/// `poses` when too few were found) or, under [`Estimate::All`], the
+/// parameter the data do not determine.
 pub fn calibrate_static(
     time: &[f64],
     accel: &[Vector3<f64>],
@@ -208,11 +224,19 @@ pub fn calibrate_static(
     options.nominal.validate()?;
     validate::same_length("gyro", gyro.len(), "time", time.len())?;
     validate::finite_vectors("gyro", gyro)?;
-    if let Some(h) = options.holdout_every {
+    if let Some(h) = options.holdout.every {
         if h < 2 {
             return Err(Error::invalid(
                 "holdout_every",
                 format!("must be at least 2 (every h-th pose is held out), got {h}"),
+            ));
+        }
+    }
+    if let Some(t) = options.holdout.from_s {
+        if !t.is_finite() {
+            return Err(Error::invalid(
+                "holdout_from_s",
+                format!("must be a finite time, got {t}"),
             ));
         }
     }
@@ -228,7 +252,7 @@ pub fn calibrate_static(
         accel_nominal,
         gyro_nominal,
         &detection.poses,
-        options.holdout_every,
+        options.holdout,
         options.gravity_m_s2,
         options.estimate == Estimate::Determinable,
     );
@@ -298,6 +322,10 @@ pub fn calibrate_static(
         &mut warnings,
     );
     let gravity_m_s2 = session.gravity;
+    let model_selection = [accel_stage.selection.clone(), gyro_stage.selection.clone()]
+        .into_iter()
+        .flatten()
+        .collect();
     Ok(StaticCalibration {
         accelerometer: accel_stage.model,
         gyroscope: gyro_stage.model,
@@ -312,6 +340,7 @@ pub fn calibrate_static(
         poses,
         turns,
         held,
+        model_selection,
         warnings,
         accelerometer_residual_std: accel_stage.fit.residual_std,
         rest_residual_std: gyro_stage.rest_fit.residual_std,

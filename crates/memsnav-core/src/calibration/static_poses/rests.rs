@@ -17,6 +17,10 @@ pub struct RestFit {
     pub offsets: Offsets,
     pub covariance: DMatrix<f64>,
     pub residual_std: Vector3<f64>,
+    /// Sum of squared residuals per gyro axis, (nominal units)².
+    pub rss: Vector3<f64>,
+    /// Pose means in the fit (residuals per axis).
+    pub poses: usize,
     pub condition_number: f64,
     /// The column of [1, Γ^u, Γ^v, Γ^w] that dominates the weakest direction.
     pub weakest_column: usize,
@@ -74,6 +78,7 @@ pub fn fit(
     };
     let mut covariance = DMatrix::zeros(12, 12);
     let mut residual_std = Vector3::zeros();
+    let mut rss = Vector3::zeros();
     for (i, axis) in GYROSCOPE_AXES.iter().enumerate() {
         let y = DVector::from_iterator(n, gyro_means.iter().map(|s| s[i]));
         let solution = regression.solve(&y, None, axis)?;
@@ -94,12 +99,15 @@ pub fn fit(
             }
         }
         residual_std[i] = solution.residual_std;
+        rss[i] = solution.residual_std.powi(2) * (n - p) as f64;
     }
     let weakest = regression.weakest_column(0);
     Ok(RestFit {
         offsets,
         covariance,
         residual_std,
+        rss,
+        poses: n,
         condition_number: regression.condition_number,
         weakest_column: if weakest == 0 {
             0

@@ -33,6 +33,17 @@ pub struct Session<'a> {
     pub determinable: bool,
 }
 
+/// Which poses the fits leave out (module docs of [`super`]); a pose that
+/// either rule names is held out.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Holdout {
+    /// Every h-th pose: poses h − 1, 2h − 1, …
+    pub every: Option<usize>,
+    /// Every pose that ends at or after this time (s, the session's time
+    /// axis): a fit on the session before it, scored on the rest.
+    pub from_s: Option<f64>,
+}
+
 /// Everything the gyroscope stages need from the accelerometer model.
 pub struct GyroData {
     /// Pose means of the nominal gyro readings and of the corrected
@@ -50,19 +61,25 @@ fn mean(samples: &[Vector3<f64>], pose: &Pose) -> Vector3<f64> {
 
 impl<'a> Session<'a> {
     /// The session of the nominal readings and the `poses` detected in
-    /// them, every `holdout_every`-th pose held out (module docs of
-    /// [`super`]), local gravity `gravity` (m/s²).
+    /// them, held out by `holdout` (module docs of [`super`]), local
+    /// gravity `gravity` (m/s²).
     pub fn new(
         time: &'a [f64],
         accel_nominal: Vec<Vector3<f64>>,
         gyro_nominal: Vec<Vector3<f64>>,
         poses: &'a [Pose],
-        holdout_every: Option<usize>,
+        holdout: Holdout,
         gravity: f64,
         determinable: bool,
     ) -> Self {
-        let held_out: Vec<bool> = (0..poses.len())
-            .map(|k| holdout_every.is_some_and(|h| k % h == h - 1))
+        let held_out: Vec<bool> = poses
+            .iter()
+            .enumerate()
+            .map(|(k, pose)| {
+                k > 0
+                    && (holdout.every.is_some_and(|h| k % h == h - 1)
+                        || holdout.from_s.is_some_and(|t| time[pose.end - 1] >= t))
+            })
             .collect();
         let fit_poses: Vec<usize> = (0..poses.len()).filter(|&k| !held_out[k]).collect();
         Self {

@@ -117,7 +117,7 @@ fn options(nominal: Nominal) -> StaticCalibrationOptions {
             ..Default::default()
         },
         estimate: Estimate::Determinable,
-        holdout_every: None,
+        holdout: Holdout::default(),
     }
 }
 
@@ -294,7 +294,7 @@ fn held_out_poses_are_reported_apart_and_the_fit_ignores_them() {
     let (accel, gyro) = truth(true);
     let (time, a, w) = session(9, 24, 30.0, &accel, &gyro, &Nominal::default());
     let mut o = options(Nominal::default());
-    o.holdout_every = Some(4);
+    o.holdout.every = Some(4);
     let cal = calibrate_static(&time, &a, &w, &o).unwrap();
     let held: Vec<usize> = (0..cal.poses.len())
         .filter(|&k| cal.poses[k].held_out)
@@ -334,6 +334,97 @@ fn held_out_poses_are_reported_apart_and_the_fit_ignores_them() {
     );
 }
 
+/// The session's first `end_s` seconds.
+fn truncated(
+    (time, a, w): &(Vec<f64>, Vec<Vector3<f64>>, Vec<Vector3<f64>>),
+    end_s: f64,
+) -> (Vec<f64>, Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
+    let n = time.partition_point(|&t| t < end_s);
+    (time[..n].to_vec(), a[..n].to_vec(), w[..n].to_vec())
+}
+
+#[test]
+fn holding_out_from_a_time_fits_what_comes_before_it_alone() {
+    let (accel, gyro) = truth(true);
+    let data = session(11, 24, 30.0, &accel, &gyro, &Nominal::default());
+    // Pose k (k ≥ 1) is held over [30 + 5k − 3, 30 + 5k) s; 91 s is in the
+    // middle of the turn into pose 13.
+    let cut = 91.0;
+    let mut o = options(Nominal::default());
+    o.holdout.from_s = Some(cut);
+    let cal = calibrate_static(&data.0, &data.1, &data.2, &o).unwrap();
+    let out: Vec<usize> = (0..cal.poses.len())
+        .filter(|&k| cal.poses[k].held_out)
+        .collect();
+    assert_eq!(out, (13..25).collect::<Vec<_>>());
+    // The same parameters as a calibration of the session before the cut.
+    let (t, a, w) = truncated(&data, cut);
+    let first = calibrate_static(&t, &a, &w, &options(Nominal::default())).unwrap();
+    assert_eq!(first.poses.len(), 13);
+    let difference = all_parameters(&cal.accelerometer, &cal.gyroscope)
+        - all_parameters(&first.accelerometer, &first.gyroscope);
+    assert!(difference.amax() < 1e-12, "{}", difference.transpose());
+    assert_eq!(cal.held, first.held);
+    let mut o = options(Nominal::default());
+    o.holdout.from_s = Some(f64::NAN);
+    let err = calibrate_static(&data.0, &data.1, &data.2, &o).unwrap_err();
+    assert!(err.to_string().starts_with("holdout_from_s:"), "{err}");
+}
+
+/// The nonlinearity of a session: the N entries chosen, and the record.
+fn chosen_nonlinearity(cal: &StaticCalibration) -> Vec<String> {
+    let s = &cal.model_selection[0];
+    assert_eq!(s.stage, "accelerometer nonlinearity");
+    assert_eq!(s.candidates.len(), 8);
+    s.best().terms.clone()
+}
+
+#[test]
+fn the_information_criterion_estimates_a_nonlinearity_only_where_there_is_one() {
+    // A nonlinearity of 3e-4 per m/s² moves |f| by N g² ≈ 0.03 m/s², 50
+    // times a pose mean's noise (0.01/√300 m/s²): every seed keeps all
+    // three entries.
+    let (accel, gyro) = truth(true);
+    for seed in 0..4 {
+        let (time, a, w) = session(200 + seed, 30, 30.0, &accel, &gyro, &Nominal::default());
+        let cal = calibrate_static(&time, &a, &w, &options(Nominal::default())).unwrap();
+        assert_eq!(
+            chosen_nonlinearity(&cal),
+            ["nonlinearity_u", "nonlinearity_v", "nonlinearity_w"]
+        );
+    }
+    // Without one, rules 2 and 3 pass N (its σ ≈ 1e-5 is far below the
+    // physical size) but AICc rarely takes an entry: the tenth parameter
+    // costs 2 + 2.9 in AICc at n = 31 poses, which noise alone beats with
+    // probability P(χ²₁ > 4.9) ≈ 2.7 %: about 1 of the 3 × 12 entries here
+    // (1 with these seeds), 1.6 % to see more than 3 (binomial).
+    let (accel, gyro) = truth(false);
+    let mut taken = 0;
+    for seed in 0..12 {
+        let (time, a, w) = session(300 + seed, 30, 30.0, &accel, &gyro, &Nominal::default());
+        let cal = calibrate_static(&time, &a, &w, &options(Nominal::default())).unwrap();
+        let chosen = chosen_nonlinearity(&cal);
+        taken += chosen.len();
+        for name in ["nonlinearity_u", "nonlinearity_v", "nonlinearity_w"] {
+            let held = cal
+                .held
+                .iter()
+                .find(|(n, _)| n == &format!("accelerometer {name}"));
+            assert_eq!(held.is_none(), chosen.iter().any(|c| c == name));
+            if let Some((_, why)) = held {
+                assert!(why.contains("AICc"), "{why}");
+            }
+        }
+        // The gyroscope's g-sensitivity (1e-4 to 3.5e-4 (rad/s)/(m/s²),
+        // against 0.003/√300 rad/s) is kept whole.
+        assert_eq!(cal.model_selection[1].best().terms.len(), 3);
+    }
+    assert!(
+        taken <= 3,
+        "{taken} nonlinearity entries estimated without one"
+    );
+}
+
 #[test]
 fn bad_arguments_are_named() {
     let (accel, gyro) = truth(false);
@@ -345,7 +436,7 @@ fn bad_arguments_are_named() {
         .to_string()
         .starts_with("gravity:"));
     let mut o = options(Nominal::default());
-    o.holdout_every = Some(1);
+    o.holdout.every = Some(1);
     assert!(calibrate_static(&time, &a, &w, &o)
         .unwrap_err()
         .to_string()
