@@ -294,7 +294,12 @@ def navigate(
     gnss = gnss_input(cfg)
     truth = read_truth(cfg)  # before the run: a truth that matches nothing fails at once
     run_started = _time.perf_counter()
-    run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
+    try:
+        run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
+    except ValueError as e:
+        # What the logs hold against each other (times, a start), found by
+        # the core: the configuration that paired them is the one to name.
+        raise ValueError(f"{cfg.path}: {e}") from None
     run_s = _time.perf_counter() - run_started
     start = run.start
     t0 = start["time"]
