@@ -329,12 +329,14 @@ def navigate(
                 "time_s": float(tr - t0),
                 "kind": str(k),
                 "change": float(c),
+                "unit": str(u),
                 "failed_epochs": int(n),
             }
-            for tr, k, c, n in zip(
+            for tr, k, c, u, n in zip(
                 resets["time"],
                 resets["kind"],
                 resets["change"],
+                resets["unit"],
                 resets["failed_epochs"],
                 strict=True,
             )
@@ -350,6 +352,9 @@ def navigate(
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
     result = LogNavigationResult(cfg, run, None, None, summary=summary)
     if truth is not None:
+        summary["truth_is_gnss_input"] = _same_file(
+            cfg.data_path("truth", "pos"), cfg.data_path("gnss", "pos")
+        )
         _score(result, truth, precision=cfg["truth"]["score"] == "precision")
         if mode == "tight":
             after = np.asarray(run.gnss["time"]) >= t0
@@ -360,6 +365,12 @@ def navigate(
     result.summary = _finite(summary)
     _write_outputs(result, out)
     return result
+
+
+def _same_file(a: Path | None, b: Path | None) -> bool:
+    """Whether two configured paths name one file: a truth that is the
+    filter's own GNSS input scores how closely the filter follows it."""
+    return a is not None and b is not None and a.resolve() == b.resolve()
 
 
 def _score(
