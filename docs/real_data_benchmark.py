@@ -112,8 +112,7 @@ def _each_outage(s: dict[str, Any], count: int) -> str:
     ]
     for k in range(1, count + 1):
         f, sm = s["errors_vs_truth"][f"outage_{k}"], s["errors_vs_truth_smoothed"][f"outage_{k}"]
-        start, end = f["start_s"], f["start_s"] + f["length_s"]
-        still = sum(max(0.0, min(b, end) - max(a, start)) for a, b in s["standstills_s"])
+        start, still = f["start_s"], f["standstill_s"]
         rows.append(
             f"| {k} | {start:.1f} | {f['rms_horizontal_m']:.2f} / {f['max_horizontal_m']:.2f} | "
             f"{sm['rms_horizontal_m']:.2f} / {sm['max_horizontal_m']:.2f} | "

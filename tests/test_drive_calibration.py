@@ -4,12 +4,16 @@ IMU, recovery of known sensor errors within the reported σ, the
 ``calibrate`` drive session on drive_0708 end to end, ``[imu] calibration``
 in ``navigate``, and the configuration errors."""
 
+import contextlib
+import io
 import json
+import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
+from report_checks import capture_figures
 from shared_data import shared_data
 
 import memsnav as mn
@@ -150,19 +154,69 @@ def test_drive_calibration_recovers_known_errors_within_sigma():
 def drive_run(tmp_path_factory):
     data = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[2]
     out = tmp_path_factory.mktemp("drive_cal")
-    code = main(
-        [
-            "calibrate",
-            "--config",
-            str(EXAMPLES / "drive_0708_calibration.toml"),
-            "--data-root",
-            str(data),
-            "--output",
-            str(out),
-        ]
-    )
+    printed = io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(printed):
+        figures = capture_figures(patch)
+        code = main(
+            [
+                "calibrate",
+                "--config",
+                str(EXAMPLES / "drive_0708_calibration.toml"),
+                "--data-root",
+                str(data),
+                "--output",
+                str(out),
+            ]
+        )
     assert code == 0
+    DRIVE_RUN.update(figures=figures, printed=printed.getvalue())
     return data, out
+
+
+# What the fixture's run printed and the figures its report drew.
+DRIVE_RUN: dict = {}
+
+
+@pytest.mark.slow
+def test_drive_session_answers_first_and_its_figures_read(drive_run):
+    """The terminal opens with the outage errors raw and calibrated, the
+    first outage included (a calibration from the first minutes need not
+    help it); the report's figures show their data."""
+    _, out = drive_run
+    nav = json.loads((out / "calibration.json").read_text())["fit"]["navigation"]
+    lines = DRIVE_RUN["printed"].splitlines()
+    for line, (view, key) in zip(
+        lines, [("forward", "after_fit"), ("forward", "first")], strict=False
+    ):
+        raw, cal = nav["raw"][view][key], nav["calibrated"][view][key]
+        assert line.startswith(f"{view}, ")
+        assert (
+            f"horizontal RMS {raw['rms_horizontal_m']:.2f} -> {cal['rms_horizontal_m']:.2f} m"
+            in line
+        )
+    assert lines.index(f"calibration: {out / 'calibration.json'}") > 4
+    assert DRIVE_RUN["figures"] and not any(DRIVE_RUN["figures"].values())
+    report = (out / "report.html").read_text()
+    assert ">-0<" not in report and "2.00002" not in report
+
+
+@pytest.mark.slow
+def test_readme_quotes_the_drive_calibration(drive_run):
+    """ "drops by 16 % (1.86 → 1.57 m RMS), while the first outage [...] gets
+    slightly worse (1.56 → 1.61 m)": within their rounding."""
+    _, out = drive_run
+    text = " ".join((HERE.parent / "README.md").read_text().split())
+    gain = re.search(r"drops by (\d+) % \(([\d.]+) → ([\d.]+) m RMS\)", text)
+    first = re.search(r"gets slightly worse \(([\d.]+) → ([\d.]+) m\)", text)
+    assert gain and first, "the README no longer quotes the drive calibration"
+    forward = json.loads((out / "calibration.json").read_text())["fit"]["navigation"]
+    raw, cal = forward["raw"]["forward"], forward["calibrated"]["forward"]
+    after = raw["after_fit"]["rms_horizontal_m"], cal["after_fit"]["rms_horizontal_m"]
+    assert abs(100 * (1 - after[1] / after[0]) - float(gain.group(1))) <= 0.5
+    assert abs(after[0] - float(gain.group(2))) <= 0.005
+    assert abs(after[1] - float(gain.group(3))) <= 0.005
+    assert abs(raw["first"]["rms_horizontal_m"] - float(first.group(1))) <= 0.005
+    assert abs(cal["first"]["rms_horizontal_m"] - float(first.group(2))) <= 0.005
 
 
 @pytest.mark.slow

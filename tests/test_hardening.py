@@ -288,6 +288,48 @@ def test_empty_gnss_time_says_no_epochs(call, argument):
     assert "shape" not in str(caught.value)
 
 
+SPANS = (
+    r"no epoch falls inside the IMU span \[1400000000\.000, 1400000060\.000\] s: the epochs "
+    r"span \[0\.000, 60\.000\] s"
+)
+
+
+@pytest.mark.parametrize(
+    ("run", "gnss"),
+    [
+        (lambda imu: mn.TightlyCoupledFilter(imu).run, lambda g: g),
+        (lambda imu: mn.LooselyCoupledFilter(imu).run, mn.solve_fix),
+    ],
+)
+@pytest.mark.parametrize("attitude", [None, np.eye(3)])
+def test_imu_and_gnss_on_different_time_scales_name_both_spans(run, gnss, attitude):
+    """IMU time in GPS seconds, GNSS time from the start: the error says no
+    GNSS epoch falls inside the IMU span, naming both (a start without an
+    attitude used to blame initial_attitude)."""
+    track = mn.Trajectory.random(duration=60.0, rate=100.0, seed=1)
+    imu = mn.ImuModel.preset("paper-mems", seed=2)
+    f, w = imu.measure(track.specific_force, track.angular_rate, seed=3)
+    g = mn.simulate_gnss(
+        track.time, track.position_ecef, track.velocity_ecef, mn.Constellation.walker(), seed=4
+    )
+    with pytest.raises(ValueError, match=rf"^(gnss|fixes): {SPANS}"):
+        run(imu)(track.time + 1.4e9, f, w, gnss(g), initial_attitude=attitude)
+
+
+def test_navigate_with_imu_and_gnss_times_apart_names_the_file_and_both_spans(tmp_path):
+    # The excerpt's IMU column is milliseconds from power-on; read as GPS
+    # time it lies 45 years before the RTK epochs.
+    config = navigate_config(
+        tmp_path, extra="", **{"time_offset_s": 'time_reference = "column_gps"\ntime_offset_s'}
+    )
+    with pytest.raises(
+        ValueError,
+        match=r"run.toml: gnss: no epoch falls inside the IMU span \[295\.466, 360\.457\] s: "
+        r"the epochs span \[1436038494\.999, 1436038561\.749\] s",
+    ):
+        mn.navigate(config, data_root=DATA)
+
+
 def first_epochs_with(change):
     track = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
     g = mn.simulate_gnss(

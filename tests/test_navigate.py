@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from report_checks import capture_figures, hidden_by_bounds
 
 import memsnav as mn
 from memsnav import cli
@@ -290,9 +291,65 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["errors_vs_truth"] == result.summary["errors_vs_truth"]
     html = (out / "report.html").read_text()
-    assert 'id="track"' in html and 'id="errors"' in html and "outage_1" in html
+    assert 'id="track"' in html and 'id="errors"' in html and "outage 1 (30 s)" in html
     assert (out / "figures" / "errors.png").exists()
     assert (out / "summary.json").stat().st_mode & 0o777 == 0o644
+
+
+def test_report_answers_first_and_marks_what_its_figures_mean(tmp_path, monkeypatch):
+    """The navigate report: the answer before the track; every outage at a
+    standstill marked as the rule says (half of it or more in a detected
+    standstill) and left out of its length's row, which combines the
+    others' epochs; the NEES beside the share in 3σ; and errors drawn with
+    their 3σ on a scale that shows both. (The drive, whose truth is its
+    GNSS input, says so: test_navigate_cli_prints_the_answer_first.)"""
+    figures = capture_figures(monkeypatch)
+    # The walk starts with 9 s at rest: the first window lies in it.
+    extra = "[outages]\nwindows_s = [[1.0, 5.0], [15.0, 5.0], [25.0, 5.0], [31.0, 4.0]]\n"
+    s = mn.navigate(_config(tmp_path, WALK, extra=extra), data_root=DATA).summary
+    assert figures.keys() == {"track", "errors"} and not any(figures.values()), figures
+    errors = s["errors_vs_truth"]
+    windows = {f"outage_{k}": w for k, w in enumerate(s["outages_s"], start=1)}
+    for key, (start, length) in windows.items():
+        still = sum(max(0.0, min(b, start + length) - max(a, start)) for a, b in s["standstills_s"])
+        assert errors[key]["standstill_s"] == pytest.approx(still, abs=1e-6)
+        assert errors[key]["at_standstill"] == (still >= 0.5 * length)
+    assert errors["outage_1"]["at_standstill"]  # the test covers both kinds
+    assert not errors["outage_2"]["at_standstill"]
+    for length, st in errors["by_outage_length_s"].items():
+        moving = [
+            errors[key]
+            for key, (_, window) in windows.items()
+            if f"{window:g}" == length and not errors[key]["at_standstill"]
+        ]
+        epochs = sum(o["epochs"] for o in moving)
+        assert st["epochs"] == epochs
+        mean_square = sum(o["epochs"] * o["rms_horizontal_m"] ** 2 for o in moving) / epochs
+        assert st["rms_horizontal_m"] == pytest.approx(mean_square**0.5)
+    # The walk's truth is its own RTK solution, not the filter's input.
+    assert not s["truth_is_gnss_input"]
+    html = (tmp_path / "out" / "report.html").read_text()
+    assert html.index("The answer") < html.index("Track")
+    assert "outage 1 (1 s): at a standstill" in html
+    assert "the 2 outages of 5 s in motion (of 3)" in html
+    assert "NEES/dof" in html and "own GNSS input" not in html
+
+
+def test_the_scale_check_finds_errors_flattened_by_their_bounds():
+    """What the reports' figure check catches: errors of 0.3 m under 3σ
+    bounds of 30 m on a linear axis (the navigate figure before issue 28),
+    and not the same on a scale that shows both."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    t = np.arange(100.0)
+    ax.plot(t, 0.3 * np.sin(t))
+    ax.plot(t, np.full_like(t, 30.0), gid="bound")
+    ax.plot(t, np.full_like(t, -30.0), gid="bound")
+    assert hidden_by_bounds(fig)
+    ax.set_yscale("symlog", linthresh=0.1)
+    assert not hidden_by_bounds(fig)
+    plt.close(fig)
 
 
 def test_a_name_must_not_leave_the_output_folder(tmp_path):
@@ -303,12 +360,29 @@ def test_a_name_must_not_leave_the_output_folder(tmp_path):
     assert not (tmp_path / "x").exists() and not (tmp_path / "out").exists()
 
 
-def test_navigate_cli(tmp_path, capsys):
-    cfg = _config(tmp_path)
-    args = ["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "20"]
+def test_navigate_cli_prints_the_answer_first(tmp_path, capsys):
+    """The outage errors with their schedule come first, then the aided
+    errors with the NEES beside the share in 3σ, and, the truth being the
+    filter's own GNSS input, a line saying so; the files after."""
+    cfg = _config(tmp_path, extra="[outages]\nfirst_s = 5.0\nlength_s = 5.0\nevery_s = 15.0\n")
+    args = ["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "40"]
     assert cli.main(args) == 0
-    out = capsys.readouterr().out
-    assert "report:" in out and "within 3 sigma" in out
+    lines = capsys.readouterr().out.splitlines()
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    errors = summary["errors_vs_truth"]
+    assert lines[0] == "drive_60s: loose coupling, 40 s; 3 GNSS outages of 5 s every 15 s from 5 s"
+    outages = errors["by_outage_length_s"]["5"]
+    assert lines[1] == (
+        f"  the 3 outages of 5 s: horizontal RMS {outages['rms_horizontal_m']:.3g} m, max "
+        f"{outages['max_horizontal_m']:.3g} m, vertical RMS {outages['rms_vertical_m']:.3g} m; "
+        f"{100 * outages['within_3sigma_share']:.1f} % within 3σ, NEES/dof "
+        f"{outages['nees_per_dof']:.2g}"
+    )
+    assert lines[2].startswith(
+        f"  aided: horizontal RMS {errors['aided']['rms_horizontal_m']:.3g} m"
+    )
+    assert lines[3].startswith("  the truth is the filter's own GNSS input")
+    assert [line.split(":")[0] for line in lines[4:]] == ["csv", "pos", "summary", "report"]
     assert cli.main(["navigate", "--config", str(tmp_path / "missing.toml")]) == 1
     assert "cannot read" in capsys.readouterr().err
 

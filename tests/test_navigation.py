@@ -217,8 +217,15 @@ def test_experiment_shapes_and_summary(tiny):
     assert s["ins"]["mean_nees_per_dof"] == pytest.approx(tiny.nees["ins"].mean() / 9)
     figs = tiny.plot()
     assert set(figs) == {"fig14", "fig15"}
-    ax = figs["fig14"].axes[0]
-    assert "[m]" in ax.get_ylabel() and "[s]" in ax.get_xlabel() and ax.get_title()
+    top, below = figs["fig14"].axes[:2]
+    assert "[m]" in top.get_ylabel() and "[s]" in below.get_xlabel() and top.get_title()
+    # Below: each IMU's mean error less the INS's, which the curves above
+    # hide where they lie on each other.
+    differences = {line.get_label(): line.get_ydata() for line in below.get_lines()}
+    np.testing.assert_allclose(differences["MEMS − INS"], tiny.mean["mems"] - tiny.mean["ins"])
+    np.testing.assert_allclose(
+        differences["calibrated MEMS − INS"], tiny.mean["calibrated_mems"] - tiny.mean["ins"]
+    )
 
 
 def test_experiment_reproducible_across_threads(tiny):

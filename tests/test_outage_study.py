@@ -9,6 +9,8 @@ import math
 import matplotlib
 import numpy as np
 import pytest
+from report_checks import capture_figures
+from scipy.stats import binom
 
 import memsnav as mn
 from memsnav.cli import main
@@ -152,18 +154,83 @@ def test_bad_arguments_name_themselves():
         mn.experiments.outage_study(grades=("gold",), runs=1)
 
 
+def _order_statistic_interval(values, p, confidence):
+    """The equal-tailed distribution-free interval for the p-quantile, from
+    scipy's binomial (independently of memsnav's): the k-th smallest run
+    lies above the quantile with probability P(Bin(n, p) <= k - 1)."""
+    n, tail = len(values), (1.0 - confidence) / 2.0
+    v = np.sort(values)
+    lower = [r for r in range(1, n + 1) if binom.cdf(r - 1, n, p) <= tail]
+    upper = [k for k in range(1, n + 1) if binom.cdf(k - 1, n, p) >= 1.0 - tail]
+    return (v[max(lower) - 1] if lower else -math.inf, v[min(upper) - 1] if upper else math.inf)
+
+
+def test_percentile_intervals_are_the_order_statistics(study):
+    for grade in study.grades:
+        for length in study.outage_lengths:
+            values = study.per_run(grade, length, 0, "horizontal_end")
+            # With 4 runs an 80 % interval for the median is [min, max].
+            got = study.interval(grade, length, 50.0, n_visible=0, confidence=0.8)
+            expected = _order_statistic_interval(values, 0.5, 0.8)
+            assert (got["lower"], got["upper"]) == expected == (values.min(), values.max())
+    # Four runs cannot bound a p95 at all; 72 runs are needed from above.
+    wide = study.interval("consumer", 40.0, 95.0)
+    assert wide["upper"] == math.inf and wide["runs_for_upper"] == 72
+
+
 @pytest.mark.slow
-def test_study_command_writes_report_and_json(tmp_path):
+def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monkeypatch):
+    """memsnav study prints, then reports first, per grade the longest
+    outage that meets the requirement with the p95 there and its
+    confidence interval; each follows its criterion (the p95 of the runs
+    at most the requirement, every shorter outage too); the figure's
+    requirement line does not stretch its axis."""
+    figures = capture_figures(monkeypatch)
     config = tmp_path / "study.toml"
     config.write_text(
-        'output = "out"\n[study]\ngrades = ["tactical"]\noutage_lengths = [5, 10]\n'
-        "visible_satellites = [0]\nruns = 2\nduration = 50\noutage_start = 35\n"
-        "[requirement]\nmax_error_m = 100.0\n"
+        'output = "out"\n[study]\ngrades = ["consumer", "tactical"]\noutage_lengths = [5, 15]\n'
+        "visible_satellites = [0, 3]\nruns = 8\nduration = 60\noutage_start = 35\n"
+        "smooth = true\n[requirement]\nmax_error_m = 2.0\n"
     )
     assert main(["study", "--config", str(config), "--quiet"]) == 0
+    printed = capsys.readouterr().out.splitlines()
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
-    assert summary["meets"]["0"]["tactical"] == [5.0, 10.0]
-    assert summary["forward"]["0"]["tactical"]["10.0"]["runs"] == 2
-    assert "<table>" in (tmp_path / "out" / "report.html").read_text()
+    assert figures.keys() == {"outage_study"} and not any(figures.values())
+    assert printed[0].startswith(
+        "Longest outage with the horizontal error at the outage end within 2 m in 95 % of runs "
+        "(8 runs each"
+    )
+    assert printed[1].split() == ["0", "satellites", "kept", "3", "satellites", "kept"]
+    result = mn.experiments.outage_study(
+        grades=("consumer", "tactical"),
+        outage_lengths=(5.0, 15.0),
+        visible_satellites=(0, 3),
+        runs=8,
+        duration=60.0,
+        outage_start=35.0,
+    )
+    for row, grade in zip(printed[2:4], ("consumer", "tactical"), strict=True):
+        assert row.split()[0] == grade
+        for n in (0, 3):
+            entry = summary["answer"][str(n)][grade]
+            p95 = {
+                length: np.percentile(result.per_run(grade, length, n, "horizontal_end"), 95.0)
+                for length in (5.0, 15.0)
+            }
+            met = [length for length in (5.0, 15.0) if p95[length] <= 2.0]
+            longest = 15.0 if met == [5.0, 15.0] else 5.0 if 5.0 in met else None
+            assert entry["longest_met_s"] == longest, (grade, n)
+            shown = longest or 5.0
+            assert entry["percentile_m"] == pytest.approx(p95[shown])
+            values = result.per_run(grade, shown, n, "horizontal_end")
+            lower, upper = _order_statistic_interval(values, 0.95, 0.95)
+            assert entry["interval_m"][0] == pytest.approx(lower)
+            assert (entry["interval_m"][1] is None) == (upper == math.inf)  # JSON: inf is null
+            assert entry["confident"] == (longest is not None and upper <= 2.0)
+    assert "72 runs do" in printed[4]
+    html = (tmp_path / "out" / "report.html").read_text()
+    assert html.index("The answer") < html.index("Error vs outage length")
+    assert "Runs a percentile may hide" in html
+    assert printed[5].startswith("report: ")
     config.write_text('[study]\ngrades = ["tactical"]\nrunz = 2\n')
     assert main(["study", "--config", str(config), "--quiet"]) == 1

@@ -5,9 +5,11 @@ present and decodes as an image (parsed from the HTML, as a browser would
 load it), and an interrupted run's report and summary."""
 
 import base64
+import contextlib
 import csv
+import html
+import io
 import json
-import math
 import os
 import re
 import signal
@@ -18,8 +20,11 @@ from html.parser import HTMLParser
 
 import matplotlib.image
 import pytest
+from report_checks import capture_figures
+from test_claims import recomputed
 
 import memsnav as mn
+from memsnav.cli import main
 
 # Every test here runs the whole study (about a minute) or interrupts one.
 pytestmark = pytest.mark.slow
@@ -55,26 +60,33 @@ class _Figures(HTMLParser):
 @pytest.fixture(scope="module")
 def study(tmp_path_factory):
     out = tmp_path_factory.mktemp("results")
-    done = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "memsnav",
-            "reproduce",
-            "--out",
-            str(out),
-            "--runs",
-            "2",
-            "--seed",
-            "5",
-            "--quiet",
-        ],
-        capture_output=True,
-        text=True,
-        check=False,
-    )
-    assert done.returncode == 0, done.stderr
+    printed = io.StringIO()
+    with pytest.MonkeyPatch.context() as patch, contextlib.redirect_stdout(printed):
+        figures = capture_figures(patch)
+        code = main(["reproduce", "--out", str(out), "--runs", "2", "--seed", "5", "--quiet"])
+    assert code == 0
+    RUN.update(figures=figures, printed=printed.getvalue())
     return out
+
+
+# What the fixture's run printed and the figures its report drew.
+RUN: dict = {}
+
+
+def test_the_terminal_answers_first_with_every_verdict(study):
+    summary = json.loads((study / "summary.json").read_text())
+    lines = RUN["printed"].splitlines()
+    assert lines[0] == "The paper's claims, judged (quick Monte Carlo sizes, seed 5):"
+    claims = summary["claims"]
+    for line, claim in zip(lines[1:], claims, strict=False):
+        assert re.split(r"\s{2,}", line.strip(), maxsplit=1) == [claim["verdict"], claim["title"]]
+    assert lines[len(claims) + 1].startswith(f"report: {study / 'report.html'}")
+    assert len(lines) == len(claims) + 2
+
+
+def test_no_figure_hides_its_data_behind_a_bound(study):
+    assert sorted(RUN["figures"]) == FIGURES
+    assert not any(RUN["figures"].values()), RUN["figures"]
 
 
 def test_summary_json_has_the_documented_keys(study):
@@ -144,85 +156,18 @@ def test_summary_json_has_the_documented_keys(study):
         assert claim.keys() >= {"id", "paper", "memsnav", "criterion", "verdict"}
 
 
-def _verdict(value, holds, partly):
-    """holds / partly / does not hold for a figure where smaller is better."""
-    return "holds" if value <= holds else "partly" if value <= partly else "does not hold"
-
-
-def _recomputed(summary):
-    """Every verdict from summary.json, each criterion restated here from
-    its printed text, independently of memsnav.report.claims."""
-    cal, inv = summary["calibration"], summary["inversion"]
-    nominal = summary["navigation"]["nominal"]
-    outage = summary["navigation"]["outage"]["imus"]
-    out = {}
-    for claim_id, sensor, good, worse in (
-        (
-            "accel_bias_misalignment_well_estimated",
-            "accelerometer",
-            ("bias", "misalignment"),
-            ("scale_factor", "nonlinearity"),
-        ),
-        (
-            "gyro_bias_misalignment_well_estimated",
-            "gyroscope",
-            ("bias", "misalignment"),
-            ("scale_factor", "g_sensitivity"),
-        ),
-    ):
-        rms = [
-            math.sqrt(cal[sensor][g]["per_axis"][a]["normalized_mse_eiv"])
-            for g in good
-            for a in cal[sensor][g]["per_axis"]
-        ]
-        floor = min(math.sqrt(cal[sensor][g]["normalized_mse_eiv"]) for g in worse)
-        well = [r for r in rms if r <= 0.3]
-        if well and all(r < floor for r in well):
-            out[claim_id] = "holds" if len(well) == len(rms) else "partly"
-        else:
-            out[claim_id] = "does not hold"
-    for claim_id, key, paper in (
-        ("inversion_accel_mse", "accel_mse_g2", 1e-5),
-        ("inversion_gyro_mse", "gyro_mse_dps2", 1e-3),
-    ):
-        out[claim_id] = _verdict(max(inv[key] / paper, paper / inv[key]), 2.0, 10.0)
-    mems = nominal["imus"]["mems"]
-    early = nominal["paired"]["rms_position_error_first_150s_m"]
-    late = nominal["paired"]["rms_position_error_after_150s_m"]
-    gain_early = early["difference"] / mems["rms_position_error_first_150s_m"]
-    gain_late = late["difference"] / mems["rms_position_error_after_150s_m"]
-    se = early["standard_error"]
-    significant = se is not None and early["difference"] > 3 * se
-    out["calibration_helps_first_150s"] = (
-        "holds"
-        if significant and gain_early >= 0.1 and gain_early > gain_late
-        else "partly"
-        if significant
-        else "does not hold"
-    )
-    key = "rms_position_error_after_150s_m"
-    out["calibrated_mems_like_ins"] = _verdict(
-        nominal["imus"]["calibrated_mems"][key] / nominal["imus"]["ins"][key], 1.25, 2.0
-    )
-    key = "max_position_error_during_outage_m"
-    ratio = outage["mems"][key] / outage["ins"][key]
-    out["mems_drifts_in_outage"] = (
-        "holds" if ratio >= 3 else "partly" if ratio >= 1.5 else "does not hold"
-    )
-    out["calibration_helps_little_in_outage"] = _verdict(
-        1 - outage["calibrated_mems"][key] / outage["mems"][key], 0.25, 0.5
-    )
-    return out
-
-
 def test_verdicts_follow_from_summary_json(study):
     summary = json.loads((study / "summary.json").read_text())
     verdicts = {c["id"]: c["verdict"] for c in summary["claims"]}
-    assert verdicts == _recomputed(summary)
-    # Every verdict is stated in the report beside its criterion.
+    # Each criterion read from its printed words, independently of
+    # memsnav.report.claims (test_claims.recomputed).
+    assert verdicts == recomputed(summary)
+    # Every verdict is stated in the report under its claim's title, and
+    # the claims' answer comes before the setup.
     report = (study / "report.html").read_text()
     for claim in summary["claims"]:
-        assert claim["id"] in report and claim["verdict"] in report
+        assert html.escape(claim["title"]) in report and claim["verdict"] in report
+    assert report.index("The answer") < report.index("Setup")
 
 
 def _prose(html_text):

@@ -605,6 +605,17 @@ def draw_imu_calibrations(
     parameter vectors from N(mean, covariance), draw i from the random
     stream (seed, i) alone."""
 
+def quantile_interval(
+    values: npt.ArrayLike, p: float, confidence: float = 0.95
+) -> dict[str, float]:
+    """The equal-tailed ``confidence`` interval for the ``p``-quantile of
+    the distribution the runs ``values`` (N,) were drawn from, from their
+    order statistics (distribution-free; independent runs, continuous
+    errors): ``lower``, ``upper`` (-inf / inf when no run bounds that side
+    at the confidence: a 95th percentile of 20 runs has no upper bound),
+    ``coverage`` (the interval's exact coverage, at least ``confidence``),
+    ``runs_for_upper`` (the fewest runs that give an upper bound)."""
+
 def allan_deviation(
     samples: npt.ArrayLike, rate_hz: float, taus: npt.ArrayLike | None = None
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
@@ -1207,8 +1218,9 @@ class FilterSolution:
         """Every reset the filter made: dict of arrays ``time``, ``kind``
         ("position_to_fix", "velocity_to_fix", "clock_jump", "clock_drift_jump",
         "inflation", "fading", "heading"), ``change`` (m, m/s, rad, or the
-        inflation or fading factor), ``failed_epochs`` (consecutive failed
-        epochs before it)."""
+        inflation or fading factor), ``unit`` (of each change: "m", "m/s",
+        "rad", "" for a factor), ``failed_epochs`` (consecutive failed epochs
+        before it)."""
 
     @property
     def warnings(self) -> list[str]:
@@ -1678,10 +1690,13 @@ class LogRun:
         ``position_ecef`` (T, 3)), interpolated at the truth epochs: ``time``,
         ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1),
         ``offset_removed_ned`` (3,), and statistics ``all``, ``aided``,
-        ``in_outages`` (every outage epoch), ``outages`` (list),
-        ``by_outage_length`` ({length s: stats}); each ``epochs``,
-        ``rms_horizontal_m``, ``rms_vertical_m``, ``max_horizontal_m``,
-        ``within_3sigma_share``. ``remove_mean_offset``: the precision score,
+        ``in_outages`` (every outage epoch), ``outages`` (list, each also with
+        ``standstill_s``, its time at a standstill, and ``at_standstill``, at
+        least half of it), ``by_outage_length`` ({length s: stats} over the
+        outages not at a standstill); each ``epochs``, ``rms_horizontal_m``,
+        ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share``,
+        ``nees_per_dof`` (mean (error / σ)² over the epochs and N, E, D: 1 when
+        the σ's describe the errors). ``remove_mean_offset``: the precision score,
         the errors less their mean over the aided epochs (a truth with a
         constant unknown offset)."""
 

@@ -21,6 +21,7 @@ silently drop a setting.
 
 from __future__ import annotations
 
+import html
 import json
 import time
 from collections.abc import Callable
@@ -29,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 import matplotlib
+import numpy as np
 
 from memsnav._config import (
     ABSENT,
@@ -46,6 +48,7 @@ from memsnav._config import (
 from memsnav._files import output_folder, write_text
 from memsnav._progress import ProgressBar
 from memsnav.experiments.outage_study import METRICS, OutageStudyResult, outage_study
+from memsnav.report import numbers as fmt
 from memsnav.report.document import Report
 from memsnav.reproduce import json_safe
 
@@ -99,9 +102,253 @@ def read_config(path: str | Path) -> dict[str, Any]:
     }
 
 
-def _report(result: OutageStudyResult, requirement: dict[str, Any], elapsed_s: float) -> Report:
+HEAVY_TAIL = 10.0
+"""A set of runs is flagged when its largest error exceeds this many times
+its median: a few runs far from the rest (a filter or smoother that lost
+its way), which a percentile of a few runs may hide."""
+
+CONFIDENCE = 0.95
+"""The confidence of the intervals given with every percentile."""
+
+METRIC_WORDS = {
+    "horizontal_end": "horizontal error at the outage end",
+    "horizontal_max": "largest horizontal error in the outage",
+    "error_3d_end": "3D error at the outage end",
+    "error_3d_max": "largest 3D error in the outage",
+}
+"""Each metric of the requirement in words."""
+
+
+@dataclass(frozen=True)
+class Requirement:
+    """What "good enough" means: a ``percentile`` of ``metric`` over the
+    runs at most ``max_error_m`` (None: no requirement, only the figures)."""
+
+    max_error_m: float | None
+    percentile: float
+    metric: str
+
+    @classmethod
+    def of(cls, table: dict[str, Any]) -> Requirement:
+        """From the configuration's ``[requirement]`` table."""
+        max_error = table.get("max_error_m")
+        return cls(
+            None if max_error is None else float(max_error),
+            float(table.get("percentile", 95.0)),
+            str(table.get("metric", "horizontal_end")),
+        )
+
+    @property
+    def words(self) -> str:
+        """ "horizontal error at the outage end within 10 m in 95 % of runs"."""
+        limit = "" if self.max_error_m is None else f" within {self.max_error_m:g} m"
+        return f"{METRIC_WORDS[self.metric]}{limit} in {self.percentile:g} % of runs"
+
+
+def _interval(
+    result: OutageStudyResult, grade: str, length: float, n: int, requirement: Requirement
+) -> dict[str, float] | None:
+    """The percentile's confidence interval (none for the 0th and 100th
+    percentiles: no order statistic bounds them with any confidence)."""
+    if not 0.0 < requirement.percentile < 100.0:
+        return None
+    return result.interval(
+        grade,
+        length,
+        requirement.percentile,
+        n_visible=n,
+        metric=requirement.metric,
+        confidence=CONFIDENCE,
+    )
+
+
+def answer(result: OutageStudyResult, requirement: Requirement) -> dict[int, dict[str, Any]]:
+    """Per satellites count and grade: the longest outage met with every
+    shorter one (``longest_met_s``, None when not even the shortest), the
+    percentile there (or at the shortest length when none is met) and its
+    confidence interval, and whether the interval's upper end meets the
+    requirement too (``confident``)."""
+    if requirement.max_error_m is None:
+        return {}
+    out: dict[int, dict[str, Any]] = {}
+    for n in result.visible_satellites:
+        meets = result.meets(
+            requirement.max_error_m, requirement.percentile, n_visible=n, metric=requirement.metric
+        )
+        out[n] = {}
+        for grade, met in meets.items():
+            longest = None
+            for length in result.outage_lengths:
+                if length not in met:
+                    break
+                longest = length
+            shown = result.outage_lengths[0] if longest is None else longest
+            values = result.per_run(grade, shown, n, requirement.metric)
+            interval = _interval(result, grade, shown, n, requirement)
+            out[n][grade] = {
+                "longest_met_s": longest,
+                "length_s": shown,
+                "percentile_m": float(np.percentile(values, requirement.percentile)),
+                "interval_m": None if interval is None else [interval["lower"], interval["upper"]],
+                "confident": interval is not None
+                and longest is not None
+                and interval["upper"] <= requirement.max_error_m,
+                "runs_for_upper": None if interval is None else interval["runs_for_upper"],
+            }
+    return out
+
+
+def _answer_cell(entry: dict[str, Any], percentile: float) -> str:
+    met = entry["longest_met_s"]
+    figure = f"p{percentile:g} {fmt.number(entry['percentile_m'], 2)} m"
+    if entry["interval_m"] is not None:
+        lower, upper = entry["interval_m"]
+        figure += " " + fmt.interval(lower, upper, digits=2)
+    where = (
+        f"{fmt.number(met, 4)} s"
+        if met is not None
+        else f"none ({fmt.number(entry['length_s'], 4)} s"
+    )
+    return f"{where}: {figure}" + (")" if met is None else "")
+
+
+def answer_lines(summary: dict[str, Any]) -> list[str]:
+    """The answer in a few lines: per grade, the longest outage it meets
+    with each satellites count, with the percentile there and its
+    confidence interval; then what the runs can and cannot show."""
+    table = summary.get("answer") or {}
+    if not table:
+        return ["memsnav study: no [requirement] max_error_m: the report has the figures only"]
+    requirement = Requirement.of(summary["requirement"])
+    runs = summary["completed_runs"]
+    counts = list(table)
+    grades = list(table[counts[0]])
+    cells = [[_answer_cell(table[n][g], requirement.percentile) for n in counts] for g in grades]
+    width = max(len(g) for g in grades)
+    column = max(len(c) for row in cells for c in row)
+    header = (
+        "  "
+        + " " * width
+        + "  "
+        + "  ".join(
+            f"{int(n)} satellite{'' if int(n) == 1 else 's'} kept".ljust(column) for n in counts
+        )
+    )
+    lines = [
+        f"Longest outage with the {requirement.words} ({runs} runs each, forward filter; "
+        f"{CONFIDENCE * 100:g} % confidence interval):",
+        header.rstrip(),
+    ]
+    lines += [
+        "  " + g.ljust(width) + "  " + "  ".join(c.ljust(column) for c in row).rstrip()
+        for g, row in zip(grades, cells, strict=True)
+    ]
+    entries = [e for per_grade in table.values() for e in per_grade.values()]
+    needed = next((e["runs_for_upper"] for e in entries if e["runs_for_upper"]), None)
+    met = [e for e in entries if e["longest_met_s"] is not None]
+    sure = sum(e["confident"] for e in met)
+    if needed is not None and runs < needed:
+        lines.append(
+            f"  {runs} runs give a p{requirement.percentile:g} no upper bound at "
+            f"{CONFIDENCE * 100:g} % confidence ({needed} runs do): each length above is met "
+            "by the estimate, none yet with that confidence"
+        )
+    elif met:
+        lines.append(
+            f"  {sure} of the {len(met)} met with {CONFIDENCE * 100:g} % confidence (the "
+            "interval's upper end within the requirement)"
+        )
+    return lines
+
+
+def flags(result: OutageStudyResult, metric: str) -> list[str]:
+    """The sets a percentile may hide something in: runs that raised an
+    integrity alert, and runs far from the rest (the largest error more than
+    :data:`HEAVY_TAIL` times the median), forward and smoothed (whose
+    largest error in the outage is the figure: GNSS pins its end)."""
+    out = []
+    views = (
+        [(False, metric), (True, metric.replace("_end", "_max"))]
+        if result.config["smooth"]
+        else [(False, metric)]
+    )
+    for n in result.visible_satellites:
+        for grade in result.grades:
+            for length in result.outage_lengths:
+                for smoothed, shown in views:
+                    forward = result.results[length][n]
+                    nav = forward.smoothed if smoothed and forward.smoothed else forward
+                    values = result.per_run(grade, length, n, shown, smoothed)
+                    where = (
+                        f"{grade}, {fmt.number(length, 4)} s, {n} satellite"
+                        f"{'' if n == 1 else 's'} kept{', smoothed' if smoothed else ''}"
+                    )
+                    alerts = int(np.sum(nav.runs_summary[grade]["diverged"]))
+                    if alerts:
+                        out.append(
+                            f"{where}: {alerts} of {len(values)} runs raised an integrity alert"
+                        )
+                    median, largest = np.median(values), np.max(values)
+                    if largest > HEAVY_TAIL * median:
+                        p95 = fmt.number(np.percentile(values, 95.0))
+                        out.append(
+                            f"{where}: largest run {fmt.number(largest)} m against a median of "
+                            f"{fmt.number(median, 2)} m (p95 {p95} m): a few runs far from the rest"
+                        )
+    return out
+
+
+def table_cells(
+    result: OutageStudyResult, n: int, metric: str, percentile: float
+) -> dict[str, list[str]]:
+    """Per grade, one cell per outage length: "median / percentile" of
+    ``metric`` over the runs, and in brackets the smoothed solution's
+    percentile of its largest error in the outage (when smoothed)."""
+    out: dict[str, list[str]] = {}
+    for grade in result.grades:
+        row = []
+        for length in result.outage_lengths:
+            values = result.per_run(grade, length, n, metric)
+            cell = (
+                f"{fmt.number(np.percentile(values, 50.0), 2)} / "
+                f"{fmt.number(np.percentile(values, percentile), 2)}"
+            )
+            if result.config["smooth"]:
+                smoothed = result.per_run(grade, length, n, metric.replace("_end", "_max"), True)
+                cell += f" ({fmt.number(np.percentile(smoothed, percentile), 2)})"
+            row.append(cell)
+        out[grade] = row
+    return out
+
+
+def _report(
+    result: OutageStudyResult, requirement: Requirement, summary: dict[str, Any], elapsed_s: float
+) -> Report:
     report = Report("memsnav outage study")
     c = result.config
+    report.section("The answer")
+    table = summary.get("answer") or {}
+    if table:
+        lines = answer_lines(summary)
+        report.paragraph(lines[0])
+        counts = list(table)
+        report.table(
+            ["grade"] + [f"{n} satellite{'' if int(n) == 1 else 's'} kept" for n in counts],
+            [
+                [grade] + [_answer_cell(table[n][grade], requirement.percentile) for n in counts]
+                for grade in table[counts[0]]
+            ],
+        )
+        report.paragraph(
+            "Each cell: the longest outage the grade meets (with every shorter one), and there "
+            f"the p{requirement.percentile:g} over the runs with its {CONFIDENCE * 100:g} % "
+            "confidence interval from the runs' order statistics (distribution-free: with n "
+            "runs the k-th smallest lies above the percentile with the binomial probability of "
+            "at most k − 1 runs below it; ∞: too few runs to bound it from above). "
+            + (lines[-1].strip().capitalize() + "." if len(lines) > len(table) + 2 else "")
+        )
+    else:
+        report.paragraph("No [requirement] max_error_m: the figures below, without a verdict.")
     report.paragraph(
         f"{len(result.grades)} IMU grades x {len(result.outage_lengths)} outage lengths x "
         f"{len(result.visible_satellites)} satellite counts, {result.completed_runs} runs per "
@@ -109,39 +356,51 @@ def _report(result: OutageStudyResult, requirement: dict[str, Any], elapsed_s: f
         f"{c['seed']}; paired draws across grades and lengths; {elapsed_s:.0f} s of wall time"
         + (" (interrupted: partial results)." if result.interrupted else ".")
     )
-    percentile = float(requirement.get("percentile", 95.0))
-    metric = str(requirement.get("metric", "horizontal_end"))
-    max_error = requirement.get("max_error_m")
-    for smoothed in (False, True) if c["smooth"] else (False,):
-        solution = "smoothed" if smoothed else "forward filter"
-        for n in result.visible_satellites:
-            report.section(f"{n} satellite{'' if n == 1 else 's'} kept, {solution}")
-            rows = []
-            for grade, per_length in result.summary(n, smoothed).items():
-                for length, f in per_length.items():
-                    rows.append(
-                        [grade, length]
-                        + [f[m][k] for m in METRICS for k in ("p50_m", "p95_m", "max_m")]
-                    )
-            header = ["grade", "outage [s]"] + [
-                f"{m} {k[:-2]} [m]" for m in METRICS for k in ("p50_m", "p95_m", "max_m")
-            ]
-            report.table(header, rows)
+    report.section("Runs a percentile may hide")
+    flagged = flags(result, requirement.metric)
+    if flagged:
+        report.html("<ul>" + "".join(f"<li>{html.escape(f)}</li>" for f in flagged) + "</ul>")
+    else:
+        report.paragraph(
+            "None: no run raised an integrity alert, and in every set the largest error is "
+            f"within {HEAVY_TAIL:g} times the median."
+        )
     report.section("Error vs outage length")
     report.figure(
         "outage_study",
-        result.plot(max_error_m=max_error, percentile=percentile, metric=metric),
-        f"p{percentile:g} of {metric.replace('_', ' ')} error over the runs, per grade; "
-        + (f"requirement {max_error} m dotted." if max_error is not None else "no requirement."),
+        result.plot(
+            max_error_m=requirement.max_error_m,
+            percentile=requirement.percentile,
+            metric=requirement.metric,
+        ),
+        f"p{requirement.percentile:g} of the {METRIC_WORDS[requirement.metric]} over the runs, "
+        "per grade, log-log; "
+        + (
+            f"requirement {requirement.max_error_m:g} m dotted."
+            if requirement.max_error_m is not None
+            else "no requirement."
+        ),
     )
-    if max_error is not None:
-        report.section(f"Which grades meet {max_error} m (p{percentile:g}, {metric})")
-        rows = []
-        for n in result.visible_satellites:
-            meets = result.meets(float(max_error), percentile, n_visible=n, metric=metric)
-            for grade, lengths in meets.items():
-                rows.append([grade, n, ", ".join(f"{v:g} s" for v in lengths) or "none"])
-        report.table(["grade", "satellites kept", "outage lengths met"], rows)
+    metric = METRIC_WORDS[requirement.metric]
+    for n in result.visible_satellites:
+        report.section(f"{n} satellite{'' if n == 1 else 's'} kept")
+        cells = table_cells(result, n, requirement.metric, requirement.percentile)
+        report.table(
+            ["grade"] + [f"{fmt.number(length, 4)} s" for length in result.outage_lengths],
+            [[grade, *row] for grade, row in cells.items()],
+        )
+    report.paragraph(
+        f"Each cell: median / p{requirement.percentile:g} of the {metric} over the runs, "
+        "m"
+        + (
+            f"; in brackets the smoothed solution's p{requirement.percentile:g} of its largest "
+            "error in the outage (the GNSS epoch that ends the outage pins its error at the end)"
+            if c["smooth"]
+            else ""
+        )
+        + ". Every metric's median, p95 and maximum (horizontal and 3D, at the end and the "
+        "largest in the outage, forward and smoothed) are in summary.json."
+    )
     return report
 
 
@@ -165,29 +424,30 @@ def run_study(
         # outage_study names its keyword: the [study] key of the same name.
         raise ValueError(f"{config_path}: study: {e}") from None
     elapsed = time.perf_counter() - start
-    requirement = config["requirement"]
+    requirement = Requirement.of(config["requirement"])
     summary: dict[str, Any] = {
         "config": result.config,
         "completed_runs": result.completed_runs,
         "interrupted": result.interrupted,
         "elapsed_s": elapsed,
         "forward": {n: result.summary(n) for n in result.visible_satellites},
-        "requirement": requirement,
+        "requirement": config["requirement"],
     }
     if result.config["smooth"]:
         summary["smoothed"] = {n: result.summary(n, True) for n in result.visible_satellites}
-    if "max_error_m" in requirement:
+    if requirement.max_error_m is not None:
         summary["meets"] = {
             n: result.meets(
-                float(requirement["max_error_m"]),
-                float(requirement.get("percentile", 95.0)),
+                requirement.max_error_m,
+                requirement.percentile,
                 n_visible=n,
-                metric=str(requirement.get("metric", "horizontal_end")),
+                metric=requirement.metric,
             )
             for n in result.visible_satellites
         }
+        summary["answer"] = answer(result, requirement)
     summary = json_safe(summary)
-    report = _report(result, requirement, elapsed).write(directory)
+    report = _report(result, requirement, summary, elapsed).write(directory)
     summary_path = directory / "summary.json"
     write_text(summary_path, json.dumps(summary, indent=2, allow_nan=False) + "\n")
     return StudyRun(

@@ -218,6 +218,42 @@ pub fn increasing_times(argument: &str, time_s: &[f64]) -> Result<()> {
     }
 }
 
+/// At least one aiding epoch of `epoch_time_s` inside the IMU span
+/// `imu_time_s` (increasing), within `tolerance` s; non-finite times are
+/// the callers' to refuse. None is when the two
+/// are on different time scales (GPS seconds against seconds from the
+/// start): said here, with both spans, instead of by whatever first needs
+/// the two together (a start with no GNSS velocity blamed the attitude).
+pub fn epochs_in_imu_span(
+    argument: &str,
+    epoch_time_s: &[f64],
+    imu_time_s: &[f64],
+    tolerance: f64,
+) -> Result<()> {
+    let (Some(&t0), Some(&t1)) = (imu_time_s.first(), imu_time_s.last()) else {
+        return Ok(());
+    };
+    let finite: Vec<f64> = epoch_time_s
+        .iter()
+        .copied()
+        .filter(|t| t.is_finite())
+        .collect();
+    let inside = |t: &f64| *t >= t0 - tolerance && *t <= t1 + tolerance;
+    if finite.is_empty() || finite.iter().any(inside) {
+        return Ok(());
+    }
+    let first = finite.iter().copied().fold(f64::INFINITY, f64::min);
+    let last = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    Err(Error::invalid(
+        argument,
+        format!(
+            "no epoch falls inside the IMU span [{t0:.3}, {t1:.3}] s: the epochs span [{first:.3}, \
+             {last:.3}] s (are both on one time scale? e.g. GPS seconds against seconds from the \
+             start)"
+        ),
+    ))
+}
+
 /// IMU sample intervals the strapdown integration can bridge: a median
 /// period of at most [`MAX_IMU_PERIOD_S`](crate::limits::MAX_IMU_PERIOD_S),
 /// no interval below a hundredth of it and no gap beyond the larger of
@@ -375,6 +411,22 @@ mod tests {
         assert!(imu_time_gaps("time", &slow).is_ok());
         slow[80..].iter_mut().for_each(|t| *t += 200.0);
         assert!(imu_time_gaps("time", &slow).is_err());
+    }
+
+    #[test]
+    fn epochs_outside_the_imu_span_name_both_spans() {
+        let imu = [1.4e9, 1.4e9 + 60.0];
+        assert!(epochs_in_imu_span("gnss", &[59.0, 1.4e9 + 30.0], &imu, 0.0).is_ok());
+        assert!(epochs_in_imu_span("gnss", &[], &imu, 0.0).is_ok());
+        assert!(epochs_in_imu_span("gnss", &[1.4e9 + 60.5], &imu, 1.0).is_ok());
+        let e = epochs_in_imu_span("gnss", &[0.0, 1.0, 60.0], &imu, 0.01).unwrap_err();
+        assert!(
+            e.to_string().contains(
+                "gnss: no epoch falls inside the IMU span [1400000000.000, 1400000060.000] s: the \
+                 epochs span [0.000, 60.000] s"
+            ),
+            "{e}"
+        );
     }
 
     #[test]

@@ -149,7 +149,8 @@ fn start(
     }
 }
 
-/// Resets as a dict of arrays `time`, `kind`, `change`, `failed_epochs`.
+/// Resets as a dict of arrays `time`, `kind`, `change`, `unit` (of the
+/// change), `failed_epochs`.
 pub(crate) fn resets_to_dict<'py>(
     py: Python<'py>,
     resets: &[ResetRecord],
@@ -166,6 +167,13 @@ pub(crate) fn resets_to_dict<'py>(
     d.set_item(
         "change",
         PyArray1::from_iter(py, resets.iter().map(|r| r.change)),
+    )?;
+    d.set_item(
+        "unit",
+        resets
+            .iter()
+            .map(|r| r.kind.change_unit())
+            .collect::<Vec<_>>(),
     )?;
     d.set_item(
         "failed_epochs",

@@ -19,6 +19,7 @@ mod ins;
 mod inversion;
 mod log_navigation;
 mod logs;
+mod montecarlo;
 mod navigation;
 mod progress;
 mod random;
@@ -49,6 +50,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     navigation::register(m)?;
     log_navigation::register(m)?;
     logs::register(m)?;
+    montecarlo::register(m)?;
     random::register(m)?;
     Ok(())
 }

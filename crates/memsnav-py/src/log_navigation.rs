@@ -192,6 +192,7 @@ fn stats_dict<'py>(py: Python<'py>, s: &score::ErrorStats) -> PyResult<Bound<'py
         d.set_item("max_horizontal_m", s.max_horizontal_m)?;
         if s.within_3sigma_share.is_finite() {
             d.set_item("within_3sigma_share", s.within_3sigma_share)?;
+            d.set_item("nees_per_dof", s.nees_per_dof)?;
         }
     }
     Ok(d)
@@ -312,10 +313,13 @@ impl PyLogRun {
     /// `position_ecef` (T, 3)), interpolated at the truth epochs: dict
     /// `time`, `error_ned` (T', 3), `std_ned`, `outage` (index or −1),
     /// `offset_removed_ned` (3,), and statistics `all`, `aided`,
-    /// `in_outages` (every outage epoch), `outages` (list),
-    /// `by_outage_length` ({length s: stats}); each statistic `epochs`,
-    /// `rms_horizontal_m`, `rms_vertical_m`, `max_horizontal_m`,
-    /// `within_3sigma_share`. `remove_mean_offset`: the precision score,
+    /// `in_outages` (every outage epoch), `outages` (list, each also with
+    /// `standstill_s`, the time it spent at a standstill, and
+    /// `at_standstill`, at least half of it), `by_outage_length` ({length s:
+    /// stats} over the outages not at a standstill); each statistic
+    /// `epochs`, `rms_horizontal_m`, `rms_vertical_m`, `max_horizontal_m`,
+    /// `within_3sigma_share`, `nees_per_dof` (mean (e/σ)² over the epochs
+    /// and N, E, D). `remove_mean_offset`: the precision score,
     /// the errors less their mean over the aided epochs (a truth with a
     /// constant unknown offset).
     #[pyo3(signature = (time, position_ecef, *, remove_mean_offset=false))]
@@ -336,6 +340,7 @@ impl PyLogRun {
             &truth_t,
             &truth_r,
             &self.run.outages,
+            &self.run.standstills,
         )
         .py()?;
         let s = if remove_mean_offset {
@@ -359,8 +364,11 @@ impl PyLogRun {
         d.set_item("aided", stats_dict(py, &s.aided)?)?;
         d.set_item("in_outages", stats_dict(py, &s.in_outages)?)?;
         let windows = PyList::empty(py);
-        for w in &s.outages {
-            windows.append(stats_dict(py, w)?)?;
+        for (w, stats) in s.outages.iter().enumerate() {
+            let d = stats_dict(py, stats)?;
+            d.set_item("standstill_s", s.outage_standstill_s[w])?;
+            d.set_item("at_standstill", s.at_standstill(w))?;
+            windows.append(d)?;
         }
         d.set_item("outages", windows)?;
         let by_length = PyDict::new(py);

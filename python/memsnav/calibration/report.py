@@ -13,6 +13,7 @@ from memsnav._memsnav import StaticCalibration
 from memsnav.calibration.drive import DriveCalibration, parameter_index
 from memsnav.calibration.run import CalibrationRun
 from memsnav.report.document import Report
+from memsnav.report.numbers import number
 
 # Misalignments the gravity magnitude cannot see: they define the body frame.
 _FRAME = {
@@ -161,7 +162,7 @@ def _static_report(run: CalibrationRun, cal: StaticCalibration, out: Path) -> Pa
         parameter_rows.append(
             [
                 name,
-                f"{value[k]:.6g}",
+                number(value[k], 6),
                 f"{sigma[k]:.3g}" if sigma[k] > 0 else "—",
                 f"{bound[k]:.3g}" if bound[k] > 0 else "—",
                 f"{sigma[k] / bound[k]:.2f}" if bound[k] > 0 else "—",
@@ -246,8 +247,8 @@ def _drive_report(run: CalibrationRun, cal: DriveCalibration, out: Path) -> Path
     span = "the whole drive" if cal.until_s is None else f"the first {cal.until_s:g} s"
     doc.paragraph(
         f"GNSS-reference calibration on a drive (method §3): {s['windows']} windows of "
-        f"{cal.window_s:g} s from {span} after the start ({s['skipped_for_resets']} left out for "
-        f"filter resets, {s.get('skipped_before_heading', 0)} before the heading was "
+        f"{number(cal.window_s)} s from {span} after the start ({s['skipped_for_resets']} left "
+        f"out for filter resets, {s.get('skipped_before_heading', 0)} before the heading was "
         f"known), references from the smoothed navigation of "
         f"{html.escape(str(run.imu_calibration.source.get('navigate_config')))}. Processing "
         f'{s["processing_s"]:.2f} s. Method: docs/calibration.md, "A drive".'
@@ -370,4 +371,4 @@ def _warnings(doc: Report, warnings: list[str], none: str) -> None:
 def _value(fit: object, name: str) -> str:
     """A parameter's value by its name."""
     kind, index = parameter_index(name)
-    return f"{np.asarray(getattr(fit.model, kind))[index]:.6g}"  # type: ignore[attr-defined]
+    return number(np.asarray(getattr(fit.model, kind))[index], 6)  # type: ignore[attr-defined]

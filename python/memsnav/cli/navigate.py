@@ -27,33 +27,13 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace, client: Any) -> int:
+    from memsnav.realdata.answer import answer_lines
     from memsnav.realdata.pipeline import navigate
 
     result = navigate(
         args.config, data_root=args.data_root, output=args.output, duration_s=args.duration
     )
+    print("\n".join(answer_lines(result.summary)))
     for kind, path in result.files.items():
         print(f"{kind}: {path}")
-    stats = result.summary.get("errors_vs_truth", {}).get("aided")
-    if stats and stats.get("epochs"):
-        print(
-            f"aided: RMS horizontal {stats['rms_horizontal_m']:.2f} "
-            f"m, vertical {stats['rms_vertical_m']:.2f} m, "
-            f"{100 * stats['within_3sigma_share']:.1f} % within 3 sigma"
-        )
-    precise = result.summary.get("errors_vs_truth_precision", {})
-    if precise.get("aided", {}).get("epochs"):
-        north, east, down = precise["offset_removed_ned_m"]
-        spp = result.summary.get("spp_errors_vs_truth_precision", {})
-        print(
-            f"aided, less the mean offset (N {north:.2f}, E {east:.2f}, D {down:.2f} m; "
-            f"[truth] score = precision): RMS horizontal "
-            f"{precise['aided']['rms_horizontal_m']:.2f} m, vertical "
-            f"{precise['aided']['rms_vertical_m']:.2f} m"
-            + (
-                f"; single-point fixes {spp['rms_horizontal_m']:.2f} m horizontal"
-                if spp.get("epochs")
-                else ""
-            )
-        )
     return 0

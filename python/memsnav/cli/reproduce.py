@@ -59,19 +59,28 @@ def run(args: argparse.Namespace, client: Any) -> int:
         progress=not args.quiet,
         client=client,
     )
-    _print_study(study.summary)
-    print(f"memsnav: report written to {study.report}", file=sys.stderr)
-    return 130 if study.interrupted else 0
-
-
-def _print_study(summary: dict[str, Any]) -> None:
-    """What ran and what it found, on stderr: each experiment's completed
-    runs and state, then each claim's verdict."""
-    for name, state in summary["experiments"].items():
+    print("\n".join(answer_lines(study.summary)))
+    incomplete = {
+        name: state
+        for name, state in study.summary["experiments"].items()
+        if state["state"] != "completed"
+    }
+    for name, state in incomplete.items():
         print(
             f"memsnav: {name}: {state['completed_runs']}/{state['planned_runs']} runs, "
             f"{state['state']}",
             file=sys.stderr,
         )
-    for claim in summary["claims"]:
-        print(f"memsnav: {claim['id']}: {claim['verdict']}", file=sys.stderr)
+    print(f"report: {study.report} (each claim's criterion, figures and data)")
+    return 130 if study.interrupted else 0
+
+
+def answer_lines(summary: dict[str, Any]) -> list[str]:
+    """The answer in a few lines: each claim's verdict and title, the
+    verdicts aligned in a column."""
+    claims = summary["claims"]
+    width = max(len(c["verdict"]) for c in claims)
+    sizes = "the paper's" if summary["full"] else "quick"
+    return [f"The paper's claims, judged ({sizes} Monte Carlo sizes, seed {summary['seed']}):"] + [
+        f"  {c['verdict']:<{width}}  {c['title']}" for c in claims
+    ]

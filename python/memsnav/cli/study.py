@@ -32,7 +32,7 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace, client: Any) -> int:
-    from memsnav.study import run_study
+    from memsnav.study import answer_lines, run_study
 
     study = run_study(
         args.config,
@@ -41,6 +41,7 @@ def run(args: argparse.Namespace, client: Any) -> int:
         progress=not args.quiet,
         client=client,
     )
+    print("\n".join(answer_lines(study.summary)))
     for kind, written in study.files.items():
         print(f"{kind}: {written}")
     return 130 if study.interrupted else 0

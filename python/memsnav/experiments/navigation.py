@@ -62,6 +62,16 @@ _STYLES: list[dict[str, Any]] = [
 PAPER_IMUS = ("ins", "mems", "calibrated_mems")
 """The paper's three IMUs (figures 14-18)."""
 
+IMU_LABELS = {"ins": "INS", "mems": "MEMS", "calibrated_mems": "calibrated MEMS"}
+"""The paper's IMUs as the figures and reports name them."""
+
+
+def imu_label(name: str) -> str:
+    """An IMU's name for a reader: the paper's words for its three, a
+    user's own name as given."""
+    return IMU_LABELS.get(name, name)
+
+
 KEEP_RUNS_UP_TO = 50
 """Per-run curves are kept automatically for sets of at most this many runs."""
 
@@ -279,7 +289,9 @@ class NavigationResult:
         the position error norm vs time, one curve per IMU.
 
         Without outage: ``"fig14"`` (whole run) and ``"fig15"`` (zoom on the
-        first ``early_window`` s). With an outage: ``"fig16"`` (whole run),
+        first ``early_window`` s), each with a panel below of every other
+        IMU's mean error less the first IMU's (the curves lie within a few
+        per cent of each other while aided). With an outage: ``"fig16"`` (whole run),
         ``"fig17"`` (the outage's first 15 s) and ``"fig18"`` (its first 5 s),
         each zoom starting 2 s before the outage.
         """
@@ -288,8 +300,16 @@ class NavigationResult:
         outage = self.config.get("outage")
         n = self.completed_runs
 
-        def figure(title: str, window: tuple[float, float] | None) -> Any:
-            fig, ax = plt.subplots(figsize=(7.0, 4.2))
+        def figure(title: str, window: tuple[float, float] | None, against: str | None) -> Any:
+            # Against an IMU: a second panel with each other IMU's mean error
+            # less that IMU's, the differences the top panel cannot show
+            # where the curves lie on each other (1 % apart while aided).
+            if against is None:
+                fig, ax = plt.subplots(figsize=(7.0, 4.2))
+            else:
+                fig, (ax, below) = plt.subplots(
+                    2, 1, figsize=(7.0, 6.0), sharex=True, height_ratios=(3, 2)
+                )
             t = self.time
             sel = np.ones_like(t, dtype=bool)
             if window is not None:
@@ -299,7 +319,7 @@ class NavigationResult:
                 # Distinct dashes and widths: curves that coincide (raw and
                 # calibrated MEMS while aided) stay visible over each other.
                 style = _STYLES[k % len(_STYLES)]
-                (line,) = ax.plot(t[sel], m, label=f"{name} (mean)", **style)
+                (line,) = ax.plot(t[sel], m, label=f"{imu_label(name)} (mean)", **style)
                 if np.all(np.isfinite(s)):
                     ax.fill_between(
                         t[sel],
@@ -307,7 +327,15 @@ class NavigationResult:
                         m + s,
                         color=line.get_color(),
                         alpha=0.12,
-                        label=f"{name} ± std",
+                        label=f"{imu_label(name)} ± std",
+                    )
+                if against is not None and name != against:
+                    below.plot(
+                        t[sel],
+                        m - self.mean[against][sel],
+                        color=line.get_color(),
+                        label=f"{imu_label(name)} − {imu_label(against)}",
+                        **style,
                     )
             if outage is not None:
                 ax.axvspan(
@@ -317,24 +345,36 @@ class NavigationResult:
                 # The outage band must not widen a zoom beyond its window.
                 ax.set_xlim(*window)
             ax.set_title(f"{title} ({n} runs)")
-            ax.set_xlabel("time [s]")
             ax.set_ylabel("position error norm [m]")
             ax.grid(True, alpha=0.3)
+            if against is None:
+                ax.set_xlabel("time [s]")
+            else:
+                below.axhline(0.0, color="k", lw=0.6)
+                below.set_ylabel(f"mean error less the\n{imu_label(against)}'s [m]")
+                below.set_xlabel("time [s]")
+                below.grid(True, alpha=0.3)
+                below.legend(fontsize="small", loc="upper right")
             legend_below(fig, ax, ncol=3)
             return fig
 
+        # The first IMU (the INS of the paper's set) is what the others are
+        # compared with while aided, where their curves coincide.
+        reference = self.imus[0] if len(self.imus) > 1 else None
         if outage is None:
             early = float(self.config.get("early_window", 150.0))
             return {
-                "fig14": figure("Fig. 14: position error, 6 satellites", None),
-                "fig15": figure(f"Fig. 15: position error, first {early:.0f} s", (0.0, early)),
+                "fig14": figure("Fig. 14: position error, 6 satellites", None, reference),
+                "fig15": figure(
+                    f"Fig. 15: position error, first {early:.0f} s", (0.0, early), reference
+                ),
             }
         start = float(outage[0])
         kept = "no satellite" if len(outage) < 3 or outage[2] == 0 else f"{outage[2]} satellites"
         return {
-            "fig16": figure(f"Fig. 16: position error, {outage[1]:.0f} s with {kept}", None),
-            "fig17": figure("Fig. 17: outage, first 15 s", (start - 2.0, start + 15.0)),
-            "fig18": figure("Fig. 18: outage, first 5 s", (start - 2.0, start + 5.0)),
+            "fig16": figure(f"Fig. 16: position error, {outage[1]:.0f} s with {kept}", None, None),
+            "fig17": figure("Fig. 17: outage, first 15 s", (start - 2.0, start + 15.0), None),
+            "fig18": figure("Fig. 18: outage, first 5 s", (start - 2.0, start + 5.0), None),
         }
 
 

@@ -32,6 +32,7 @@ from memsnav.experiments.navigation import (
     PAPER_IMUS,
     NavigationResult,
     _imu_sources,
+    imu_label,
     result_from_raw,
 )
 
@@ -134,7 +135,7 @@ class PartialOutageResult:
                 )
             ax.axvspan(start, start + length, color="grey", alpha=0.15)
             ax.set_yscale("log")
-            ax.set_title(imu)
+            ax.set_title(imu_label(imu))
             ax.set_xlabel("time [s]")
             ax.grid(True, which="both", alpha=0.3)
         panels[0][0].set_ylabel("position error norm, mean over runs [m]")

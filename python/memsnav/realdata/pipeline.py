@@ -315,7 +315,12 @@ def navigate(
     gnss = gnss_input(cfg)
     truth = read_truth(cfg)  # before the run: a truth that matches nothing fails at once
     run_started = _time.perf_counter()
-    run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
+    try:
+        run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
+    except ValueError as e:
+        # What the logs hold against each other (times, a start), found by
+        # the core: the configuration that paired them is the one to name.
+        raise ValueError(f"{cfg.path}: {e}") from None
     run_s = _time.perf_counter() - run_started
     start = run.start
     t0 = start["time"]
@@ -345,12 +350,14 @@ def navigate(
                 "time_s": float(tr - t0),
                 "kind": str(k),
                 "change": float(c),
+                "unit": str(u),
                 "failed_epochs": int(n),
             }
-            for tr, k, c, n in zip(
+            for tr, k, c, u, n in zip(
                 resets["time"],
                 resets["kind"],
                 resets["change"],
+                resets["unit"],
                 resets["failed_epochs"],
                 strict=True,
             )
@@ -369,6 +376,9 @@ def navigate(
         summary["fix_error_ecef_m"] = [run.range_biases[axis] for axis in range(3)]
     result = LogNavigationResult(cfg, run, None, None, summary=summary)
     if truth is not None:
+        summary["truth_is_gnss_input"] = _same_file(
+            cfg.data_path("truth", "pos"), cfg.data_path("gnss", "pos")
+        )
         _score(result, truth, precision=cfg["truth"]["score"] == "precision")
         if mode == "tight":
             after = np.asarray(run.gnss["time"]) >= t0
@@ -379,6 +389,12 @@ def navigate(
     result.summary = _finite(summary)
     _write_outputs(result, out)
     return result
+
+
+def _same_file(a: Path | None, b: Path | None) -> bool:
+    """Whether two configured paths name one file: a truth that is the
+    filter's own GNSS input scores how closely the filter follows it."""
+    return a is not None and b is not None and a.resolve() == b.resolve()
 
 
 def _score(

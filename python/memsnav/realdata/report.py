@@ -1,16 +1,32 @@
-"""The HTML report of a ``navigate`` run: the track in local east/north
-metres, the errors against the truth with the filter's 3sigma bounds, the
-statistics while aided and in each outage, and every reset the filter made."""
+"""The HTML report of a ``navigate`` run: the answer first (the outage
+errors with their schedule, the aided errors with their context), the
+track in local east/north metres, the errors against the truth with the
+filter's 3σ bounds on a scale that shows both, the statistics while aided
+and in each outage, and every reset the filter made."""
 
 from __future__ import annotations
 
+import html
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 import memsnav._memsnav as _mn
+from memsnav.realdata.answer import (
+    TIME_DIGITS,
+    answer_lines,
+    by_length_label,
+    outage_label,
+)
 from memsnav.realdata.result import LogNavigationResult
 from memsnav.report.document import Report
+from memsnav.report.numbers import number, percent
+
+ERROR_FLOOR_M = 0.01
+"""The error figure's lowest value (log scale): the RTK truth's own noise
+is about a centimetre, and the zero crossings of an error would otherwise
+stretch the axis down to nothing."""
 
 
 def write_report(result: LogNavigationResult, out: Path) -> Path:
@@ -29,6 +45,11 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     position = np.asarray(run.position_ecef)
     origin = position[0]
     doc = Report(f"memsnav navigate: {name}")
+    doc.section("The answer")
+    first, *rest = answer_lines(s)
+    doc.paragraph(first)
+    doc.html("<ul>" + "".join(f"<li>{html.escape(line.strip())}</li>" for line in rest) + "</ul>")
+    doc.section("The run")
     counts = s["measurements"]
     excluded = sum(c.get("excluded", 0) for c in counts.values())
     gated = sum(c.get("gate", 0) for c in counts.values())
@@ -80,7 +101,12 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     ax.legend()
     ax.grid(alpha=0.3)
     doc.section("Track")
-    doc.figure("track", fig, "East/north metres from the start; red: scheduled GNSS outages.")
+    doc.figure(
+        "track",
+        fig,
+        "East/north metres from the start"
+        + ("; red: scheduled GNSS outages." if len(run.outages) else "."),
+    )
     plt.close(fig)
 
     if result.truth is not None:
@@ -91,84 +117,100 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
         smoothed = precision.get("smoothed", result.truth_smoothed)
         spp = precision.get("spp", result.spp)
         tt = np.asarray(tr["time"]) - t0
-        fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
+        # |error| and 3σ on a log scale: bounds ten times the errors (an
+        # outage's 3σ of tens of metres against errors of a metre) flatten
+        # the errors to a line on a linear one.
+        fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
         for j, label in enumerate(("north", "east", "down")):
             a = axes[j]
-            a.plot(tt, tr["error_ned"][:, j], lw=0.8, label="memsnav (forward) - truth")
+            a.semilogy(
+                tt,
+                np.maximum(np.abs(tr["error_ned"][:, j]), ERROR_FLOOR_M),
+                lw=0.8,
+                label="|memsnav (forward) - truth|",
+            )
             if smoothed is not None:
-                a.plot(
+                a.semilogy(
                     np.asarray(smoothed["time"]) - t0,
-                    smoothed["error_ned"][:, j],
+                    np.maximum(np.abs(smoothed["error_ned"][:, j]), ERROR_FLOOR_M),
                     lw=0.8,
                     color="tab:green",
-                    label="smoothed - truth",
+                    label="|smoothed - truth|",
                 )
-            a.plot(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
-            a.plot(tt, -3 * tr["std_ned"][:, j], "r--", lw=0.8)
+            # gid "bound": a bound, not data (the report tests read it).
+            a.semilogy(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$3\sigma$", gid="bound")
             if spp is not None:
-                a.plot(
+                a.semilogy(
                     np.asarray(spp["time"]) - t0,
-                    spp["error_ned"][:, j],
+                    np.maximum(np.abs(spp["error_ned"][:, j]), ERROR_FLOOR_M),
                     ".",
                     ms=2,
                     color="tab:gray",
-                    label="SPP - truth",
+                    label="|SPP - truth|",
                 )
             for start, end in run.outages:
                 a.axvspan(start - t0, end - t0, color="tab:red", alpha=0.1)
             for start, end in run.standstills:
                 a.axvspan(start - t0, end - t0, color="tab:green", alpha=0.08)
+            a.set_ylim(bottom=ERROR_FLOOR_M)
             a.set_ylabel(f"{label} [m]")
-            a.grid(alpha=0.3)
-        axes[0].legend(loc="upper right", fontsize=8)
+            a.grid(alpha=0.3, which="both")
+        axes[0].legend(loc="upper right", fontsize=8, ncol=2)
         axes[-1].set_xlabel("time since the start [s]")
         doc.section("Errors against the truth")
+        shading = [
+            text
+            for text, present in (
+                ("shaded red: scheduled GNSS outages", len(run.outages)),
+                ("green: standstills (zero-velocity and zero-rate updates)", len(run.standstills)),
+            )
+            if present
+        ]
         doc.figure(
             "errors",
             fig,
-            "Position error of the solution at the antenna against the RTK solution (the "
-            "smoothed one too when asked for)"
+            "Size of the position error at the antenna against the RTK solution (the smoothed "
+            "one too when asked for)"
             + (
                 ", each less its own mean offset while aided (the truth is scored by "
                 "precision: [truth] score)"
                 if precision
                 else ""
             )
-            + ", with the forward filter's 3-sigma bounds; shaded red: scheduled GNSS "
-            "outages; green: standstills (zero-velocity and zero-rate updates).",
+            + f", with the forward filter's 3σ bound, log scale (below {ERROR_FLOOR_M * 100:g} "
+            "cm drawn at 1 cm)"
+            + ("; " + "; ".join(shading) if shading else "")
+            + "."
+            + (
+                " The truth is the filter's own GNSS input: while aided the error is how "
+                "closely the filter follows it."
+                if s.get("truth_is_gnss_input")
+                else ""
+            ),
         )
         plt.close(fig)
         rows: list[list[object]] = []
-        errors = s["errors_vs_truth"]
-        for key, st in errors.items():
-            if key == "by_outage_length_s" or st.get("epochs", 0) == 0:
+        for suffix, view in (("", ""), ("_smoothed", " (smoothed)")):
+            errors = s.get(f"errors_vs_truth{suffix}")
+            if errors is None:
                 continue
-            rows.append(_row(key, st))
-        for length, st in errors["by_outage_length_s"].items():
-            if st.get("epochs", 0):
-                rows.append(_row(f"all {length} s outages", st))
-        for key, st in s.get("errors_vs_truth_smoothed", {}).items():
-            if key == "by_outage_length_s" or st.get("epochs", 0) == 0:
-                continue
-            rows.append(_row(f"{key} (smoothed)", st))
-        for length, st in (
-            s.get("errors_vs_truth_smoothed", {}).get("by_outage_length_s", {}).items()
-        ):
-            if st.get("epochs", 0):
-                rows.append(_row(f"all {length} s outages (smoothed)", st))
-        if "spp_errors_vs_truth" in s and s["spp_errors_vs_truth"].get("epochs"):
-            rows.append(_row("SPP (pseudorange only)", s["spp_errors_vs_truth"]))
-        for solution in ("", "_smoothed"):
-            st = s.get(f"errors_vs_truth{solution}_precision")
+            rows += _statistics_rows(errors, view)
+        if s.get("spp_errors_vs_truth", {}).get("epochs"):
+            rows.append(_row("single-point fixes (pseudoranges only)", s["spp_errors_vs_truth"]))
+        for suffix, view in (("", ""), ("_smoothed", " smoothed")):
+            st = s.get(f"errors_vs_truth{suffix}_precision")
             if st:
-                label = solution.replace("_", " ") + " (less its mean offset)"
                 rows += [
-                    _row(f"{key}{label}", st[key])
-                    for key in ("aided", "in_outages")
+                    _row(f"{words}{view}, less its mean offset", st[key])
+                    for key, words in (("aided", "aided"), ("in_outages", "in the outages"))
                     if st[key]["epochs"]
                 ]
         if s.get("spp_errors_vs_truth_precision", {}).get("epochs"):
-            rows.append(_row("SPP (less its mean offset)", s["spp_errors_vs_truth_precision"]))
+            rows.append(
+                _row(
+                    "single-point fixes, less their mean offset", s["spp_errors_vs_truth_precision"]
+                )
+            )
         doc.section("Statistics")
         doc.table(
             [
@@ -177,27 +219,85 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
                 "RMS horiz. [m]",
                 "RMS vert. [m]",
                 "max horiz. [m]",
-                "share within 3 sigma",
+                "within 3σ",
+                "NEES/dof",
             ],
             rows,
+        )
+        doc.paragraph(
+            "Within 3σ: the share of the N, E, D errors inside the filter's own 3σ; NEES/dof: "
+            "the mean of (error / σ)² over the epochs and the N, E, D axes, 1 when the σ's "
+            "describe the errors, 0.01 when they are ten times the errors: a share of 1 "
+            "with a small NEES is a filter far more cautious than it needs to be."
+            + (
+                " The truth is the filter's own GNSS input: the aided rows show how closely "
+                "the filter follows it, not its accuracy."
+                if s.get("truth_is_gnss_input")
+                else ""
+            )
         )
     doc.section("Resets")
     if s["resets"]:
         doc.table(
             ["time [s]", "kind", "change", "failed epochs before"],
-            [[r["time_s"], r["kind"], r["change"], r["failed_epochs"]] for r in s["resets"]],
+            [
+                [
+                    number(r["time_s"], TIME_DIGITS),
+                    r["kind"].replace("_", " "),
+                    _change(r),
+                    r["failed_epochs"],
+                ]
+                for r in s["resets"]
+            ],
         )
     else:
         doc.paragraph("The filter made no reset.")
     return doc.write(out)
 
 
-def _row(label: str, st: dict[str, float]) -> list[object]:
+def _change(reset: dict[str, Any]) -> str:
+    """How much a reset moved the state, with its unit (a heading also in
+    degrees)."""
+    value, unit = reset["change"], reset["unit"]
+    if unit == "rad":
+        return f"{number(value)} rad ({number(np.degrees(value))}°)"
+    return f"{number(value)} {unit}" if unit else f"× {number(value)}"
+
+
+def _statistics_rows(errors: dict[str, Any], view: str) -> list[list[object]]:
+    """Every epoch, aided, in the outages, each outage (those at a
+    standstill marked) and each outage length (over the outages in
+    motion)."""
+    rows = [
+        _row(f"{words}{view}", errors[key])
+        for key, words in (
+            ("all", "every epoch"),
+            ("aided", "aided"),
+            ("in_outages", "in the outages"),
+        )
+        if errors[key]["epochs"]
+    ]
+    for key, st in errors.items():
+        if key.startswith("outage_") and st["epochs"]:
+            still = (
+                f", at a standstill {number(st['standstill_s'], 2)} s: left out of its length"
+                if st.get("at_standstill")
+                else ""
+            )
+            rows.append(_row(f"{outage_label(key, st)}{view}{still}", st))
+    for length, st in errors["by_outage_length_s"].items():
+        if st["epochs"]:
+            rows.append(_row(f"{by_length_label(length, errors)}{view}", st))
+    return rows
+
+
+def _row(label: str, st: dict[str, Any]) -> list[object]:
     return [
         label,
         st["epochs"],
-        st["rms_horizontal_m"],
-        st["rms_vertical_m"],
-        st["max_horizontal_m"],
-        st.get("within_3sigma_share", "-"),
+        number(st["rms_horizontal_m"]),
+        number(st["rms_vertical_m"]),
+        number(st["max_horizontal_m"]),
+        percent(st.get("within_3sigma_share"), 1),
+        number(st.get("nees_per_dof"), 2),
     ]

@@ -1,14 +1,17 @@
 """The paper's claims and their verdicts, computed from ``summary.json``.
 
-Each claim has a stable id, the paper's statement, the figure memsnav
-measures for it (with its Monte Carlo standard error), and a criterion
-fixed here, before any run, with its thresholds as named constants. The
-verdict is one of ``holds``, ``partly``, ``does not hold`` and ``not
-evaluated`` (an experiment it needs did not run to completion). Verdicts
-compare point estimates with the thresholds, except where a criterion
-asks for a significant difference (then in units of its standard error);
-the standard errors are printed beside each figure so a reader sees how
-close a verdict is.
+Each claim has a stable id, a title in words, the paper's statement, the
+figure memsnav measures for it (with its Monte Carlo standard error), and
+a criterion fixed here, before any run, with its thresholds as named
+constants. A criterion is a list of rules, each a verdict, the words that
+say when it applies and the test of those words; the first rule that
+applies gives the verdict, and the criterion the report prints is the
+rules' own words. The verdict is one of ``holds``, ``partly``, ``does not
+hold`` and ``not evaluated`` (an experiment it needs did not run to
+completion). Verdicts compare point estimates with the thresholds, except
+where a criterion asks for a significant difference (then in units of its
+standard error); the standard errors are printed beside each figure so a
+reader sees how close a verdict is.
 
 :func:`evaluate_claims` reads only the summary dict that ``memsnav
 reproduce`` writes as ``summary.json``, so anyone can recompute the
@@ -23,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from memsnav.experiments.calibration import AXES
+from memsnav.report.numbers import number, plus_minus
 
 HOLDS = "holds"
 PARTLY = "partly"
@@ -64,31 +68,65 @@ LIGHT_PARTLY_IMPROVEMENT = 0.50
 
 
 @dataclass(frozen=True)
-class Evaluation:
-    """A verdict, the figure behind it (text) and the numbers it used."""
+class Measured:
+    """What a claim's figures came to: the numbers a verdict uses, and the
+    text that states them with their standard errors."""
+
+    values: dict[str, float]
+    memsnav: str
+
+
+@dataclass(frozen=True)
+class Rule:
+    """One verdict of a criterion: the words that state when it applies and
+    the test of those words on the measured values."""
 
     verdict: str
-    memsnav: str
-    values: dict[str, float]
+    condition: str
+    applies: Callable[[dict[str, float]], bool]
+
+
+def otherwise(verdict: str = DOES_NOT_HOLD) -> Rule:
+    """The verdict when no earlier rule applies."""
+    return Rule(verdict, "otherwise", lambda _: True)
 
 
 @dataclass(frozen=True)
 class Claim:
-    """A claim of the paper and how memsnav judges it."""
+    """A claim of the paper and how memsnav judges it: ``rules`` in order,
+    the first that applies gives the verdict, and the criterion printed
+    beside it is those rules' own words, so the two cannot part."""
 
     id: str
+    title: str
     paper: str
     figures: str
-    criterion: str
     needs: tuple[str, ...]
-    evaluate: Callable[[dict[str, Any]], Evaluation]
+    measure: Callable[[dict[str, Any]], Measured]
+    rules: tuple[Rule, ...]
+    terms: str = ""
+    """What the criterion's words mean, stated once before its rules."""
+
+    @property
+    def criterion(self) -> str:
+        rules = "; ".join(
+            f"{r.verdict} {r.condition}"
+            if r.condition == "otherwise"
+            else f"{r.verdict} if {r.condition}"
+            for r in self.rules
+        )
+        return f"{self.terms}: {rules}" if self.terms else rules
+
+    def verdict(self, values: dict[str, float]) -> str:
+        """The first rule that applies to ``values``."""
+        return next(r.verdict for r in self.rules if r.applies(values))
 
 
-def _pm(value: float, se: float, digits: int = 2) -> str:
+def _pm(value: float, se: float | None, digits: int = 3) -> str:
     """``value ± se`` (no ± when the standard error is unknown)."""
     if se is None or not math.isfinite(se):
-        return f"{value:.{digits}g} (standard error unknown)"
-    return f"{value:.{digits}g} ± {se:.1g}"
+        return f"{number(value, digits)} (standard error unknown)"
+    return plus_minus(value, se, digits)
 
 
 def window_words(window_key: str) -> str:
@@ -100,60 +138,96 @@ def _normalized_rms(entry: dict[str, Any]) -> float:
     return math.sqrt(entry["normalized_mse_eiv"])
 
 
-def _well_estimated(sensor: str, good: tuple[str, str], worse: tuple[str, str]) -> Callable:
-    def evaluate(summary: dict[str, Any]) -> Evaluation:
+def _words(group: str) -> str:
+    return group.replace("_", " ")
+
+
+def _axes_measure(
+    sensor: str, good: tuple[str, str], worse: tuple[str, str]
+) -> Callable[[dict[str, Any]], Measured]:
+    """Per output axis, the normalised RMS errors of the ``good`` groups and
+    the ``worse`` ones, and the number of axes that pass (``axes_passing``
+    of ``axes``): an axis passes when its ``good`` groups are well estimated
+    and each ``worse`` group is estimated worse than both."""
+
+    def measure(summary: dict[str, Any]) -> Measured:
         cal = summary["calibration"][sensor]
-        rms = {(g, a): _normalized_rms(cal[g]["per_axis"][a]) for g in good for a in AXES[sensor]}
-        worse_rms = {g: _normalized_rms(cal[g]) for g in worse}
-        well = [k for k, v in rms.items() if v <= WELL_ESTIMATED_NORMALIZED_RMS]
-        best_of_worse = min(worse_rms.values())
-        worse_ok = all(rms[k] < best_of_worse for k in well)
-        if len(well) == len(rms) and worse_ok:
-            verdict = HOLDS
-        elif well and worse_ok:
-            verdict = PARTLY
-        else:
-            verdict = DOES_NOT_HOLD
+        axes = AXES[sensor]
+        values: dict[str, float] = {
+            f"{g}_{a}": _normalized_rms(cal[g]["per_axis"][a]) for g in good + worse for a in axes
+        }
+        passing = [
+            a
+            for a in axes
+            if all(values[f"{g}_{a}"] <= WELL_ESTIMATED_NORMALIZED_RMS for g in good)
+            and min(values[f"{w}_{a}"] for w in worse) > max(values[f"{g}_{a}"] for g in good)
+        ]
+        values["axes"] = len(axes)
+        values["axes_passing"] = len(passing)
         text = "; ".join(
-            f"{g.replace('_', ' ')}: " + ", ".join(f"{a} {rms[(g, a)]:.2g}" for a in AXES[sensor])
-            for g in good
+            f"{_words(g)}: " + ", ".join(f"{a} {number(values[f'{g}_{a}'], 2)}" for a in axes)
+            for g in good + worse
         )
-        text += "; " + ", ".join(
-            f"{g.replace('_', ' ')} {v:.2g} (all axes)" for g, v in worse_rms.items()
+        return Measured(
+            values,
+            f"normalised RMS error (EIV): {text}; axes that pass: "
+            + (", ".join(passing) or "none"),
         )
-        values = {f"{g}_{a}": v for (g, a), v in rms.items()}
-        values.update(worse_rms)
-        return Evaluation(verdict, f"normalised RMS error (EIV): {text}", values)
 
-    return evaluate
+    return measure
 
 
-def _inversion(key: str, paper: float, unit: str) -> Callable:
-    def evaluate(summary: dict[str, Any]) -> Evaluation:
+_AXES_RULES = (
+    Rule(HOLDS, "every output axis passes", lambda v: v["axes_passing"] == v["axes"]),
+    Rule(PARTLY, "some axes pass", lambda v: v["axes_passing"] > 0),
+    otherwise(),
+)
+
+
+def _axes_terms(good: tuple[str, str], worse: tuple[str, str]) -> str:
+    return (
+        f"an output axis passes when its {_words(good[0])} and {_words(good[1])} are well "
+        f"estimated (normalised RMS error ≤ {WELL_ESTIMATED_NORMALIZED_RMS}: RMS error over the "
+        f"sets at most {WELL_ESTIMATED_NORMALIZED_RMS:.0%} of the parameters' own RMS, "
+        f"errors-in-variables estimator) and its {_words(worse[0])} and {_words(worse[1])} are "
+        "estimated worse than both (larger normalised RMS error)"
+    )
+
+
+def _inversion(key: str, paper: float, unit: str) -> Callable[[dict[str, Any]], Measured]:
+    def measure(summary: dict[str, Any]) -> Measured:
         inv = summary["inversion"]
         ours, se = inv[key], inv[key.replace("_mse_", "_mse_se_")]
         factor = max(ours / paper, paper / ours)
-        verdict = (
-            HOLDS
-            if factor <= INVERSION_HOLDS_FACTOR
-            else PARTLY
-            if factor <= INVERSION_PARTLY_FACTOR
-            else DOES_NOT_HOLD
-        )
-        return Evaluation(
-            verdict,
-            f"{_pm(ours, se)} {unit} (a factor {factor:.2g} from the paper's)",
+        return Measured(
             {"memsnav": ours, "standard_error": se, "paper": paper, "factor": factor},
+            f"{_pm(ours, se)} {unit} (a factor {number(factor, 2)} from the paper's)",
         )
 
-    return evaluate
+    return measure
+
+
+def _inversion_rules(paper: float, unit: str) -> tuple[Rule, ...]:
+    return (
+        Rule(
+            HOLDS,
+            f"within a factor {INVERSION_HOLDS_FACTOR:g} of {paper:g} {unit}",
+            lambda v: v["factor"] <= INVERSION_HOLDS_FACTOR,
+        ),
+        Rule(
+            PARTLY,
+            f"within a factor {INVERSION_PARTLY_FACTOR:g}",
+            lambda v: v["factor"] <= INVERSION_PARTLY_FACTOR,
+        ),
+        otherwise(),
+    )
 
 
 def _nominal(summary: dict[str, Any]) -> dict[str, Any]:
     return summary["navigation"]["nominal"]
 
 
-def _calibration_helps_early(summary: dict[str, Any]) -> Evaluation:
+def _calibration_helps_early(summary: dict[str, Any]) -> Measured:
     nav = _nominal(summary)
     early, late = nav["early_key"], nav["late_key"]
     mems, cal = nav["imus"]["mems"], nav["imus"]["calibrated_mems"]
@@ -161,57 +235,41 @@ def _calibration_helps_early(summary: dict[str, Any]) -> Evaluation:
     d_late = nav["paired"][f"rms_position_error_{late}_m"]
     base_early = mems[f"rms_position_error_{early}_m"]
     base_late = mems[f"rms_position_error_{late}_m"]
-    gain_early = d_early["difference"] / base_early
-    gain_late = d_late["difference"] / base_late
     se = d_early["standard_error"]
-    # Without a standard error (a single run) nothing is significant.
-    significant = (
-        se is not None
-        and math.isfinite(se)
-        and d_early["difference"] > SIGNIFICANT_STANDARD_ERRORS * se
-    )
-    if significant and gain_early >= CLEAR_IMPROVEMENT and gain_early > gain_late:
-        verdict = HOLDS
-    elif significant:
-        verdict = PARTLY
-    else:
-        verdict = DOES_NOT_HOLD
     key = f"rms_position_error_{early}_m"
-    return Evaluation(
-        verdict,
-        f"RMS position error {window_words(early)}: MEMS "
-        f"{_pm(base_early, mems['standard_error'][key], 3)} m, "
-        f"calibrated {_pm(cal[key], cal['standard_error'][key], 3)} m; "
-        f"paired gain {_pm(d_early['difference'], d_early['standard_error'])} m "
-        f"({gain_early:.1%}); {window_words(late)}: gain "
-        f"{_pm(d_late['difference'], d_late['standard_error'])} m ({gain_late:.1%})",
+    return Measured(
         {
             "gain_early_m": d_early["difference"],
-            "gain_early_standard_error_m": d_early["standard_error"],
-            "relative_gain_early": gain_early,
-            "relative_gain_late": gain_late,
+            # Without a standard error (a single run) nothing is significant.
+            "gain_early_standard_error_m": se if se is not None else math.nan,
+            "relative_gain_early": d_early["difference"] / base_early,
+            "relative_gain_late": d_late["difference"] / base_late,
         },
+        f"RMS position error {window_words(early)}: MEMS "
+        f"{_pm(base_early, mems['standard_error'][key])} m, "
+        f"calibrated {_pm(cal[key], cal['standard_error'][key])} m; "
+        f"paired gain {_pm(d_early['difference'], se)} m "
+        f"({d_early['difference'] / base_early:.1%}); {window_words(late)}: gain "
+        f"{_pm(d_late['difference'], d_late['standard_error'])} m "
+        f"({d_late['difference'] / base_late:.1%})",
     )
 
 
-def _calibrated_like_ins(summary: dict[str, Any]) -> Evaluation:
+def _significant(v: dict[str, float]) -> bool:
+    se = v["gain_early_standard_error_m"]
+    return math.isfinite(se) and v["gain_early_m"] > SIGNIFICANT_STANDARD_ERRORS * se
+
+
+def _calibrated_like_ins(summary: dict[str, Any]) -> Measured:
     nav = _nominal(summary)
     key = f"rms_position_error_{nav['late_key']}_m"
     cal, ins = nav["imus"]["calibrated_mems"], nav["imus"]["ins"]
     ratio = cal[key] / ins[key]
-    verdict = (
-        HOLDS
-        if ratio <= LIKE_INS_HOLDS_RATIO
-        else PARTLY
-        if ratio <= LIKE_INS_PARTLY_RATIO
-        else DOES_NOT_HOLD
-    )
-    return Evaluation(
-        verdict,
-        f"RMS position error {window_words(nav['late_key'])}: calibrated MEMS "
-        f"{_pm(cal[key], cal['standard_error'][key], 3)} m, INS "
-        f"{_pm(ins[key], ins['standard_error'][key], 3)} m (ratio {ratio:.2f})",
+    return Measured(
         {"calibrated_mems_m": cal[key], "ins_m": ins[key], "ratio": ratio},
+        f"RMS position error {window_words(nav['late_key'])}: calibrated MEMS "
+        f"{_pm(cal[key], cal['standard_error'][key])} m, INS "
+        f"{_pm(ins[key], ins['standard_error'][key])} m (ratio {ratio:.2f})",
     )
 
 
@@ -222,140 +280,177 @@ def _outage(summary: dict[str, Any]) -> dict[str, Any]:
     return summary["navigation"]["outage"]["imus"]
 
 
-def _mems_drifts(summary: dict[str, Any]) -> Evaluation:
+def _mems_drifts(summary: dict[str, Any]) -> Measured:
     o = _outage(summary)
     mems, ins = o["mems"], o["ins"]
     ratio = mems[_OUTAGE_KEY] / ins[_OUTAGE_KEY]
-    verdict = (
-        HOLDS
-        if ratio >= DRIFTS_MUCH_MORE_RATIO
-        else PARTLY
-        if ratio >= DRIFTS_PARTLY_RATIO
-        else DOES_NOT_HOLD
-    )
-    return Evaluation(
-        verdict,
-        f"largest mean error in the outage: MEMS "
-        f"{_pm(mems[_OUTAGE_KEY], mems['standard_error'][_OUTAGE_KEY], 3)} m, INS "
-        f"{_pm(ins[_OUTAGE_KEY], ins['standard_error'][_OUTAGE_KEY], 3)} m (ratio {ratio:.1f})",
+    return Measured(
         {"mems_m": mems[_OUTAGE_KEY], "ins_m": ins[_OUTAGE_KEY], "ratio": ratio},
+        f"largest mean error in the outage: MEMS "
+        f"{_pm(mems[_OUTAGE_KEY], mems['standard_error'][_OUTAGE_KEY])} m, INS "
+        f"{_pm(ins[_OUTAGE_KEY], ins['standard_error'][_OUTAGE_KEY])} m (ratio {ratio:.1f})",
     )
 
 
-def _helps_little_in_outage(summary: dict[str, Any]) -> Evaluation:
+def _helps_little_in_outage(summary: dict[str, Any]) -> Measured:
     o = _outage(summary)
     mems, cal = o["mems"], o["calibrated_mems"]
     reduction = 1.0 - cal[_OUTAGE_KEY] / mems[_OUTAGE_KEY]
-    verdict = (
-        HOLDS
-        if reduction <= LIGHT_IMPROVEMENT
-        else PARTLY
-        if reduction <= LIGHT_PARTLY_IMPROVEMENT
-        else DOES_NOT_HOLD
-    )
-    return Evaluation(
-        verdict,
-        f"largest mean error in the outage: MEMS "
-        f"{_pm(mems[_OUTAGE_KEY], mems['standard_error'][_OUTAGE_KEY], 3)} m, calibrated MEMS "
-        f"{_pm(cal[_OUTAGE_KEY], cal['standard_error'][_OUTAGE_KEY], 3)} m: calibration "
-        f"removes {reduction:.0%} of it",
+    return Measured(
         {
             "mems_m": mems[_OUTAGE_KEY],
             "calibrated_mems_m": cal[_OUTAGE_KEY],
             "reduction": reduction,
         },
+        f"largest mean error in the outage: MEMS "
+        f"{_pm(mems[_OUTAGE_KEY], mems['standard_error'][_OUTAGE_KEY])} m, calibrated MEMS "
+        f"{_pm(cal[_OUTAGE_KEY], cal['standard_error'][_OUTAGE_KEY])} m: calibration "
+        f"removes {reduction:.0%} of it",
     )
 
 
-WELL = f"normalised RMS error ≤ {WELL_ESTIMATED_NORMALIZED_RMS}"
+_ACCEL = (("bias", "misalignment"), ("scale_factor", "nonlinearity"))
+_GYRO = (("bias", "misalignment"), ("scale_factor", "g_sensitivity"))
 
 CLAIMS: tuple[Claim, ...] = (
     Claim(
         "accel_bias_misalignment_well_estimated",
+        "Accelerometer biases and misalignments well estimated",
         "The accelerometer biases and misalignments are well estimated; the scale factors and "
         "the nonlinearity are estimated worse (§5.1).",
         "figs 3-6",
-        f"holds if the bias and the misalignments of every output axis are well estimated "
-        f"({WELL}: RMS error over the sets at most {WELL_ESTIMATED_NORMALIZED_RMS:.0%} of the "
-        "parameters' own RMS, errors-in-variables estimator) and the scale factors and the "
-        "nonlinearity are estimated worse (larger normalised error) than each of them; partly "
-        "if that holds on some axes only; does not hold otherwise",
         ("calibration",),
-        _well_estimated(
-            "accelerometer", ("bias", "misalignment"), ("scale_factor", "nonlinearity")
-        ),
+        _axes_measure("accelerometer", *_ACCEL),
+        _AXES_RULES,
+        _axes_terms(*_ACCEL),
     ),
     Claim(
         "gyro_bias_misalignment_well_estimated",
+        "Gyro biases and misalignments well estimated",
         "The gyro biases and misalignments are well estimated; the scale factors and the "
         "g-sensitivity are estimated worse (§5.1).",
         "figs 7-10",
-        f"as for the accelerometer ({WELL} per output axis p, q, r for bias and misalignment; "
-        "scale factors and g-sensitivity worse)",
         ("calibration",),
-        _well_estimated("gyroscope", ("bias", "misalignment"), ("scale_factor", "g_sensitivity")),
+        _axes_measure("gyroscope", *_GYRO),
+        _AXES_RULES,
+        _axes_terms(*_GYRO),
     ),
     Claim(
         "inversion_accel_mse",
+        "Inversion recovers the specific force",
         f"The inversion recovers the specific force with an MSE of about {PAPER_ACCEL_MSE_G2:g} "
         "g² (§5.2).",
         "fig 11",
-        f"holds within a factor {INVERSION_HOLDS_FACTOR:g} of {PAPER_ACCEL_MSE_G2:g} g², partly "
-        f"within a factor {INVERSION_PARTLY_FACTOR:g}",
         ("inversion",),
         _inversion("accel_mse_g2", PAPER_ACCEL_MSE_G2, "g²"),
+        _inversion_rules(PAPER_ACCEL_MSE_G2, "g²"),
     ),
     Claim(
         "inversion_gyro_mse",
+        "Inversion recovers the angular rate",
         f"The inversion recovers the angular rate with an MSE of about {PAPER_GYRO_MSE_DPS2:g} "
         "(°/s)² (§5.2).",
         "fig 12",
-        f"holds within a factor {INVERSION_HOLDS_FACTOR:g} of {PAPER_GYRO_MSE_DPS2:g} (°/s)², "
-        f"partly within a factor {INVERSION_PARTLY_FACTOR:g}",
         ("inversion",),
         _inversion("gyro_mse_dps2", PAPER_GYRO_MSE_DPS2, "(°/s)²"),
+        _inversion_rules(PAPER_GYRO_MSE_DPS2, "(°/s)²"),
     ),
     Claim(
         "calibration_helps_first_150s",
+        "Calibration clearly helps, most in the first 150 s",
         "With 6 satellites the calibration clearly improves the navigation, especially during "
         "the first 150 s (§5.3.1).",
         "figs 14-15",
-        f"holds if calibration lowers the RMS position error of the first 150 s by at least "
-        f"{CLEAR_IMPROVEMENT:.0%} of the raw MEMS's, the paired difference exceeds "
-        f"{SIGNIFICANT_STANDARD_ERRORS:g} standard errors, and the relative gain is larger than "
-        "after 150 s; partly if the gain is significant but smaller or not concentrated early; "
-        "does not hold otherwise",
         ("navigation_nominal",),
         _calibration_helps_early,
+        (
+            Rule(
+                HOLDS,
+                f"calibration lowers the RMS position error of the first 150 s by more than "
+                f"{SIGNIFICANT_STANDARD_ERRORS:g} standard errors of the paired difference and "
+                f"by at least {CLEAR_IMPROVEMENT:.0%} of the raw MEMS's, and the relative gain "
+                "is larger than after 150 s",
+                lambda v: (
+                    _significant(v)
+                    and v["relative_gain_early"] >= CLEAR_IMPROVEMENT
+                    and v["relative_gain_early"] > v["relative_gain_late"]
+                ),
+            ),
+            Rule(
+                PARTLY,
+                f"the gain exceeds {SIGNIFICANT_STANDARD_ERRORS:g} standard errors but is "
+                "smaller or not concentrated early",
+                _significant,
+            ),
+            otherwise(),
+        ),
     ),
     Claim(
         "calibrated_mems_like_ins",
+        "Calibrated MEMS performs like the INS",
         "GPS/calibrated MEMS performs similarly to the usual GPS/INS coupling (§5.3.1).",
         "fig 15",
-        f"holds if the calibrated MEMS's RMS position error after 150 s is at most "
-        f"{LIKE_INS_HOLDS_RATIO:g} times the INS's, partly up to {LIKE_INS_PARTLY_RATIO:g} times",
         ("navigation_nominal",),
         _calibrated_like_ins,
+        (
+            Rule(
+                HOLDS,
+                f"the calibrated MEMS's RMS position error after 150 s is at most "
+                f"{LIKE_INS_HOLDS_RATIO:g} times the INS's",
+                lambda v: v["ratio"] <= LIKE_INS_HOLDS_RATIO,
+            ),
+            Rule(
+                PARTLY,
+                f"at most {LIKE_INS_PARTLY_RATIO:g} times",
+                lambda v: v["ratio"] <= LIKE_INS_PARTLY_RATIO,
+            ),
+            otherwise(),
+        ),
     ),
     Claim(
         "mems_drifts_in_outage",
+        "MEMS drifts much more than the INS in a 30 s outage",
         "During a 30 s total outage the MEMS drifts much more than the INS (§5.3.2).",
         "figs 16-18",
-        f"holds if the largest mean position error in the outage is at least "
-        f"{DRIFTS_MUCH_MORE_RATIO:g} times the INS's, partly from {DRIFTS_PARTLY_RATIO:g} times",
         ("navigation_outage",),
         _mems_drifts,
+        (
+            Rule(
+                HOLDS,
+                f"the MEMS's largest mean position error in the outage is at least "
+                f"{DRIFTS_MUCH_MORE_RATIO:g} times the INS's",
+                lambda v: v["ratio"] >= DRIFTS_MUCH_MORE_RATIO,
+            ),
+            Rule(
+                PARTLY,
+                f"at least {DRIFTS_PARTLY_RATIO:g} times",
+                lambda v: v["ratio"] >= DRIFTS_PARTLY_RATIO,
+            ),
+            otherwise(),
+        ),
     ),
     Claim(
         "calibration_helps_little_in_outage",
+        "Calibration helps only lightly in the outage",
         "In the outage the calibration improves the MEMS only lightly; the drift comes from "
         "the sensors' noise (§5.3.2).",
         "figs 16-18",
-        f"holds if calibration removes at most {LIGHT_IMPROVEMENT:.0%} of the raw MEMS's "
-        f"largest mean outage error, partly up to {LIGHT_PARTLY_IMPROVEMENT:.0%}, does not "
-        "hold beyond",
         ("navigation_outage",),
         _helps_little_in_outage,
+        (
+            Rule(
+                HOLDS,
+                f"calibration removes at most {LIGHT_IMPROVEMENT:.0%} of the raw MEMS's largest "
+                "mean outage error",
+                lambda v: v["reduction"] <= LIGHT_IMPROVEMENT,
+            ),
+            Rule(
+                PARTLY,
+                f"at most {LIGHT_PARTLY_IMPROVEMENT:.0%}",
+                lambda v: v["reduction"] <= LIGHT_PARTLY_IMPROVEMENT,
+            ),
+            otherwise(),
+        ),
     ),
 )
 """The claims, in report order; their ids are stable."""
@@ -370,7 +465,7 @@ def completed(summary: dict[str, Any], experiment: str) -> bool:
 
 def evaluate_claims(summary: dict[str, Any]) -> list[dict[str, Any]]:
     """Every claim of :data:`CLAIMS` judged from ``summary`` (the dict
-    written as ``summary.json``): ``id``, ``paper``, ``figures``,
+    written as ``summary.json``): ``id``, ``title``, ``paper``, ``figures``,
     ``memsnav`` (our figure with its standard error), ``criterion``,
     ``verdict`` and ``values`` (the numbers the verdict used)."""
     out = []
@@ -381,18 +476,20 @@ def evaluate_claims(summary: dict[str, Any]) -> list[dict[str, Any]]:
                 f"{e} {summary.get('experiments', {}).get(e, {}).get('state', 'not run')}"
                 for e in missing
             )
-            evaluation = Evaluation(NOT_EVALUATED, f"not evaluated: {states}", {})
+            measured, verdict = Measured({}, f"not evaluated: {states}"), NOT_EVALUATED
         else:
-            evaluation = claim.evaluate(summary)
+            measured = claim.measure(summary)
+            verdict = claim.verdict(measured.values)
         out.append(
             {
                 "id": claim.id,
+                "title": claim.title,
                 "paper": claim.paper,
                 "figures": claim.figures,
-                "memsnav": evaluation.memsnav,
+                "memsnav": measured.memsnav,
                 "criterion": claim.criterion,
-                "verdict": evaluation.verdict,
-                "values": evaluation.values,
+                "verdict": verdict,
+                "values": measured.values,
             }
         )
     return out

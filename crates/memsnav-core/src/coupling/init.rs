@@ -93,6 +93,8 @@ pub fn initial_state_from_fix(
     attitude: Option<Matrix3<f64>>,
 ) -> Result<InitialState> {
     imu.validate()?;
+    let times: Vec<f64> = epochs.iter().map(|e| e.time_s).collect();
+    validate::epochs_in_imu_span("gnss", &times, imu.time_s, 0.0)?;
     let first_epoch = usable(
         epochs
             .first()
@@ -154,6 +156,8 @@ pub fn initial_state_from_position_fix(
     attitude: Option<Matrix3<f64>>,
 ) -> Result<InitialState> {
     imu.validate()?;
+    let times: Vec<f64> = fixes.iter().map(|f| f.time_s).collect();
+    validate::epochs_in_imu_span("fixes", &times, imu.time_s, 0.0)?;
     let fix = fixes
         .first()
         .ok_or_else(|| Error::invalid("fixes", "has no valid fix"))?;

@@ -164,6 +164,17 @@ impl ResetKind {
             ResetKind::Fading => "fading",
         }
     }
+
+    /// The unit of a reset's [`ResetRecord::change`] ("" for the
+    /// inflation's factor).
+    pub fn change_unit(self) -> &'static str {
+        match self {
+            ResetKind::PositionToFix | ResetKind::ClockJump => "m",
+            ResetKind::VelocityToFix | ResetKind::ClockDriftJump => "m/s",
+            ResetKind::Inflation | ResetKind::Fading => "",
+            ResetKind::Heading => "rad",
+        }
+    }
 }
 
 /// One reset.
@@ -173,9 +184,9 @@ pub struct ResetRecord {
     pub time_s: f64,
     /// What.
     pub kind: ResetKind,
-    /// How much the state moved: metres for a position or clock reset, m/s
-    /// for velocity and drift, radians for the heading, the factor for an
-    /// inflation.
+    /// How much the state moved, in [`ResetKind::change_unit`]: metres for
+    /// a position or clock reset, m/s for velocity and drift, radians for
+    /// the heading, the factor for an inflation.
     pub change: f64,
     /// Consecutive epochs whose test had failed before it (0 for jumps and
     /// the heading).

@@ -13,10 +13,12 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use rayon::prelude::*;
 
 mod chunks;
+mod order_statistics;
 mod quantile;
 mod stats;
 
 pub use chunks::{execute, fold_chunks, run_chunk, MonteCarlo};
+pub use order_statistics::{binomial_cdf, quantile_interval, QuantileInterval};
 pub use quantile::P2Quantile;
 pub use stats::{CurveStats, PERCENTILES};
 

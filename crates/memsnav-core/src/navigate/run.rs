@@ -76,6 +76,7 @@ pub fn navigate_log(
         .iter()
         .map(|t| t + config.imu_time_offset_s)
         .collect();
+    validate::epochs_in_imu_span("gnss", &gnss_times(gnss), &time, 0.0)?;
     let imu_b: Vec<ImuSample> = specific_force_s
         .iter()
         .zip(angular_rate_s)
@@ -522,12 +523,17 @@ pub fn sample_rate_hz(time_s: &[f64]) -> Result<f64> {
 /// Checks that the GNSS series is usable before a run: times finite and
 /// increasing (the filter checks the rest).
 pub fn validate_gnss(gnss: &GnssInput) -> Result<()> {
-    let times: Vec<f64> = match gnss {
-        GnssInput::Fixes(f) => f.iter().map(|x| x.time_s).collect(),
-        GnssInput::Measurements(e) => e.iter().map(|x| x.time_s).collect(),
-    };
+    let times = gnss_times(gnss);
     if times.is_empty() {
         return Err(Error::invalid("gnss", "has no epochs"));
     }
     validate::increasing_times("gnss.time", &times)
+}
+
+/// The GNSS epochs' times, s.
+fn gnss_times(gnss: &GnssInput) -> Vec<f64> {
+    match gnss {
+        GnssInput::Fixes(f) => f.iter().map(|x| x.time_s).collect(),
+        GnssInput::Measurements(e) => e.iter().map(|x| x.time_s).collect(),
+    }
 }

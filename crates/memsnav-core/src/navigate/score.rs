@@ -1,7 +1,8 @@
 //! Errors of a solution against a truth trajectory, the way they are
 //! reported: in local north, east, down at the truth's epochs, summarised
 //! while aided, in each outage and per outage length, with the share of
-//! errors inside the filter's own ±3σ.
+//! errors inside the filter's own ±3σ and their NEES per degree of freedom
+//! (a share of 1 says little when the bounds are ten times the errors).
 
 use nalgebra::Vector3;
 
@@ -22,6 +23,11 @@ pub struct ErrorStats {
     /// Share of the N, E and D errors within ±3σ of the solution (NaN when
     /// no σ was given).
     pub within_3sigma_share: f64,
+    /// mean((e_i / σ_i)²) over the epochs and the N, E, D axes: the NEES
+    /// per degree of freedom of the diagonal covariance (correlations
+    /// ignored). 1 when the σ's describe the errors, 0.01 when they are
+    /// ten times the errors (NaN when no σ was given).
+    pub nees_per_dof: f64,
 }
 
 impl ErrorStats {
@@ -35,6 +41,7 @@ impl ErrorStats {
                 rms_vertical_m: f64::NAN,
                 max_horizontal_m: f64::NAN,
                 within_3sigma_share: f64::NAN,
+                nees_per_dof: f64::NAN,
             };
         }
         let h2: Vec<f64> = errors.iter().map(|e| e.x * e.x + e.y * e.y).collect();
@@ -43,13 +50,24 @@ impl ErrorStats {
             .zip(std)
             .map(|(e, s)| (0..3).filter(|&i| e[i].abs() <= 3.0 * s[i]).count())
             .sum::<usize>();
+        let normalized_squared = errors
+            .iter()
+            .zip(std)
+            .map(|(e, s)| (0..3).map(|i| (e[i] / s[i]).powi(2)).sum::<f64>())
+            .sum::<f64>();
+        let with_std = std.len() == n;
         Self {
             epochs: n,
             rms_horizontal_m: (h2.iter().sum::<f64>() / n as f64).sqrt(),
             rms_vertical_m: (errors.iter().map(|e| e.z * e.z).sum::<f64>() / n as f64).sqrt(),
             max_horizontal_m: h2.iter().copied().fold(0.0, f64::max).sqrt(),
-            within_3sigma_share: if std.len() == n {
+            within_3sigma_share: if with_std {
                 inside as f64 / (3 * n) as f64
+            } else {
+                f64::NAN
+            },
+            nees_per_dof: if with_std {
+                normalized_squared / (3 * n) as f64
             } else {
                 f64::NAN
             },
@@ -76,11 +94,15 @@ pub struct Score {
     pub in_outages: ErrorStats,
     /// Each outage window.
     pub outages: Vec<ErrorStats>,
-    /// The epochs of all outages of each length (lengths in increasing
-    /// order), s.
+    /// The epochs of the outages of each length that the vehicle spent
+    /// mostly moving (lengths in increasing order), s: an outage at a
+    /// standstill tests the zero-velocity updates, not the coast through
+    /// it, and would lower the average unmarked.
     pub by_outage_length: Vec<(f64, ErrorStats)>,
     /// The outage windows scored, absolute (start, end) times, s.
     pub windows: Vec<(f64, f64)>,
+    /// The time each window spent in a detected standstill, s.
+    pub outage_standstill_s: Vec<f64>,
     /// The constant NED offset taken out of `error_ned` before the
     /// statistics (zero for an accuracy score; see
     /// [`Score::less_mean_offset`]), m.
@@ -88,16 +110,26 @@ pub struct Score {
 }
 
 impl Score {
+    /// Whether outage window `w` was spent mostly at a standstill (at least
+    /// half of it): such windows are left out of [`Score::by_outage_length`].
+    pub fn at_standstill(&self, w: usize) -> bool {
+        let (a, b) = self.windows[w];
+        self.outage_standstill_s[w] >= 0.5 * (b - a)
+    }
+
     /// Statistics of errors already paired with the truth epochs: overall,
-    /// while aided, in each window and per window length.
+    /// while aided, in each window and per window length (windows spent
+    /// mostly moving).
     fn summarise(
         time_s: Vec<f64>,
         error_ned: Vec<Vector3<f64>>,
         std_ned: Vec<Vector3<f64>>,
         outage: Vec<Option<usize>>,
         windows: &[(f64, f64)],
+        outage_standstill_s: Vec<f64>,
         offset_removed_ned: Vector3<f64>,
     ) -> Self {
+        let moving = |w: usize| outage_standstill_s[w] < 0.5 * (windows[w].1 - windows[w].0);
         let pick = |keep: &dyn Fn(Option<usize>) -> bool| {
             let idx: Vec<usize> = (0..time_s.len()).filter(|&i| keep(outage[i])).collect();
             let e: Vec<Vector3<f64>> = idx.iter().map(|&i| error_ned[i]).collect();
@@ -111,7 +143,7 @@ impl Score {
             .into_iter()
             .map(|l| {
                 let same: Vec<usize> = (0..windows.len())
-                    .filter(|&w| ((windows[w].1 - windows[w].0) - l).abs() < 1e-6)
+                    .filter(|&w| ((windows[w].1 - windows[w].0) - l).abs() < 1e-6 && moving(w))
                     .collect();
                 (l, pick(&|o| o.is_some_and(|w| same.contains(&w))))
             })
@@ -125,6 +157,7 @@ impl Score {
                 .collect(),
             by_outage_length,
             windows: windows.to_vec(),
+            outage_standstill_s,
             offset_removed_ned,
             time_s,
             error_ned,
@@ -159,6 +192,7 @@ impl Score {
             self.std_ned.clone(),
             self.outage.clone(),
             &self.windows,
+            self.outage_standstill_s.clone(),
             self.offset_removed_ned + offset,
         )
     }
@@ -173,7 +207,8 @@ fn mean(vectors: &[Vector3<f64>]) -> Vector3<f64> {
 /// dense series, e.g. at the IMU rate) linearly at each truth epoch inside
 /// its span and returns the NED errors, with statistics overall, while
 /// aided, per outage window (absolute (start, end) times) and per outage
-/// length.
+/// length over the windows not spent mostly in the `standstills`
+/// ((start, end) times, s).
 pub fn score_solution(
     time_s: &[f64],
     position_ecef: &[Vector3<f64>],
@@ -181,6 +216,7 @@ pub fn score_solution(
     truth_time_s: &[f64],
     truth_position_ecef: &[Vector3<f64>],
     outages: &[(f64, f64)],
+    standstills: &[(f64, f64)],
 ) -> Result<Score> {
     validate::same_length("position_ecef", position_ecef.len(), "time", time_s.len())?;
     validate::same_length("std_ned", std_ned.len(), "time", time_s.len())?;
@@ -213,12 +249,22 @@ pub fn score_solution(
         stds.push(std_ned[j - 1].lerp(&std_ned[j], w));
         outage.push(outages.iter().position(|&(a, b)| *t >= a && *t < b));
     }
+    let standstill_s = outages
+        .iter()
+        .map(|&(a, b)| {
+            standstills
+                .iter()
+                .map(|&(c, d)| (b.min(d) - a.max(c)).max(0.0))
+                .sum()
+        })
+        .collect();
     Ok(Score::summarise(
         times,
         errors,
         stds,
         outage,
         outages,
+        standstill_s,
         Vector3::zeros(),
     ))
 }
@@ -338,7 +384,8 @@ mod tests {
             &std,
             &truth_t,
             &truth,
-            &[(5.0, 10.0), (15.0, 15.5)],
+            &[(5.0, 10.0), (15.0, 15.5), (20.0, 22.0)],
+            &[(0.0, 1.0), (9.0, 12.0), (19.0, 21.5)],
         )
         .unwrap();
         assert_eq!(s.all.epochs, 101);
@@ -350,9 +397,20 @@ mod tests {
         assert!((s.outages[0].within_3sigma_share - 1.0 / 3.0).abs() < 1e-12);
         assert!((s.aided.rms_horizontal_m - 0.1).abs() < 1e-6);
         assert_eq!(s.in_outages.epochs, s.all.epochs - s.aided.epochs);
-        assert_eq!(s.by_outage_length.len(), 2);
+        // σ = 1 m: the NEES per axis is the squared error, (3.6² + 4.8² +
+        // 1²) / 3 in the first outage, (0.1² + 0.2²) / 3 outside.
+        let nees = (3.6f64.powi(2) + 4.8f64.powi(2) + 1.0) / 3.0;
+        assert!((s.outages[0].nees_per_dof - nees).abs() < 1e-5);
+        assert!((s.aided.nees_per_dof - 0.05 / 3.0).abs() < 1e-6);
+        // Standstill time per window; the third (1.5 of its 2 s) is left
+        // out of its length's statistics, the first (1 of 5 s) is not.
+        assert_eq!(s.outage_standstill_s, vec![1.0, 0.0, 1.5]);
+        assert!(!s.at_standstill(0) && s.at_standstill(2));
+        assert_eq!(s.by_outage_length.len(), 3);
         assert_eq!(s.by_outage_length[0].0, 0.5);
-        assert_eq!(s.by_outage_length[1].1.epochs, 20);
+        assert_eq!(s.by_outage_length[1].1.epochs, 0);
+        assert_eq!(s.outages[2].epochs, 8);
+        assert_eq!(s.by_outage_length[2].1.epochs, 20);
         // Fixes paired with the nearest truth epoch within the tolerance.
         let fix_t = [5.001, 7.3, 30.0];
         let fixes: Vec<Vector3<f64>> = fix_t
@@ -400,7 +458,7 @@ mod tests {
             .map(|(k, t)| at(*t) + c_n_e(lat(*t), lon) * error(k, *t))
             .collect();
         let std = vec![Vector3::new(1.0, 1.0, 1.0); sol.len()];
-        let raw = score_solution(&truth_t, &sol, &std, &truth_t, &truth, &[outage]).unwrap();
+        let raw = score_solution(&truth_t, &sol, &std, &truth_t, &truth, &[outage], &[]).unwrap();
         assert_eq!(raw.offset_removed_ned, Vector3::zeros());
         assert!(raw.aided.rms_horizontal_m > 8.0);
         let precise = raw.less_mean_offset();

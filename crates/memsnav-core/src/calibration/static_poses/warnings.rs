@@ -126,7 +126,8 @@ pub fn gyroscope_fits(
 
 /// A fitted scale factor beyond ±0.2 on an axis: the nominal scale per
 /// count is far off, and the fitted one, scale / (1 − d), should be passed
-/// instead.
+/// instead. One warning per sensor, saying that the calibration corrected
+/// it: three per-axis warnings read like a failed calibration.
 pub fn scales(
     accel_model: &AccelerometerModel,
     gyro_model: &GyroscopeModel,
@@ -142,17 +143,23 @@ pub fn scales(
         ("gyroscope", gyro_model.scale_factor, nominal.gyro_scale),
     ];
     for (sensor, d, scale) in sensors {
-        for i in 0..3 {
-            if d[i].abs() > 0.2 {
-                warnings.push(format!(
-                    "{sensor} axis {i}: the fitted scale per count, {:.6e}, differs from the \
-                     nominal by {:+.0} % (scale factor {:.3}, far outside a MEMS's range): \
-                     pass it as the nominal scale",
-                    scale[i] / (1.0 - d[i]),
-                    100.0 * d[i] / (1.0 - d[i]),
-                    d[i]
-                ));
-            }
+        let axes: Vec<usize> = (0..3).filter(|&i| d[i].abs() > 0.2).collect();
+        if axes.is_empty() {
+            continue;
         }
+        let list =
+            |f: &dyn Fn(usize) -> String| axes.iter().map(|&i| f(i)).collect::<Vec<_>>().join(", ");
+        warnings.push(format!(
+            "{sensor}: the fitted scale per count differs from the nominal by {} on {} {} \
+             (fitted {} against {}; scale factor {}, far outside a MEMS's range). The \
+             calibration corrects it and holds; pass the fitted scale as the nominal scale to \
+             keep the scale factors within a MEMS's range",
+            list(&|i| format!("{:+.0} %", 100.0 * d[i] / (1.0 - d[i]))),
+            if axes.len() > 1 { "axes" } else { "axis" },
+            list(&|i| i.to_string()),
+            list(&|i| format!("{:.6e}", scale[i] / (1.0 - d[i]))),
+            list(&|i| format!("{:.6e}", scale[i])),
+            list(&|i| format!("{:.3}", d[i])),
+        ));
     }
 }

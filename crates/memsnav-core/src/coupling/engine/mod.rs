@@ -334,6 +334,8 @@ pub(crate) fn validate_epoch_times<E: AidingEpoch>(
     imu_time_s: &[f64],
     tolerance: f64,
 ) -> Result<()> {
+    let times: Vec<f64> = epochs.iter().map(AidingEpoch::time_s).collect();
+    validate::epochs_in_imu_span(argument, &times, imu_time_s, tolerance)?;
     let (t0, t1) = (imu_time_s[0], imu_time_s[imu_time_s.len() - 1]);
     for (i, e) in epochs.iter().enumerate() {
         let t = e.time_s();

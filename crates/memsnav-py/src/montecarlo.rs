@@ -1,0 +1,40 @@
+//! `quantile_interval` (`memsnav_core::montecarlo`). Conversions only.
+
+use memsnav_core::montecarlo;
+use memsnav_py_macros::catch_panics;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert;
+use crate::errors::IntoPyResult;
+
+/// The equal-tailed `confidence` interval for the `p`-quantile of the
+/// distribution the runs `values` (N,) were drawn from, from their order
+/// statistics (distribution-free; independent runs, continuous errors):
+/// dict `lower`, `upper` (-inf / inf when no run bounds that side at the
+/// confidence: a 95th percentile of 20 runs has no upper bound),
+/// `coverage` (the interval's exact coverage, at least `confidence`),
+/// `runs_for_upper` (the fewest runs that give an upper bound).
+#[catch_panics]
+#[pyfunction]
+#[pyo3(signature = (values, p, confidence=0.95))]
+fn quantile_interval<'py>(
+    py: Python<'py>,
+    values: &Bound<'py, PyAny>,
+    p: f64,
+    confidence: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let values = convert::scalars(values, "values")?;
+    let i = montecarlo::quantile_interval(&values, p, confidence).py()?;
+    let d = PyDict::new(py);
+    d.set_item("lower", i.lower)?;
+    d.set_item("upper", i.upper)?;
+    d.set_item("coverage", i.coverage)?;
+    d.set_item("runs_for_upper", i.runs_for_upper)?;
+    Ok(d)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(quantile_interval, m)?)?;
+    Ok(())
+}

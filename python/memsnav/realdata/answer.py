@@ -1,0 +1,138 @@
+"""The answer of a ``navigate`` run in a few lines, for the terminal and
+the top of its report: the errors through the scheduled GNSS outages (what
+a drive with outages is run for) with their schedule, then the errors
+while aided with what they can mean. A truth that is the filter's own GNSS
+input scores only how closely the filter follows that input, and the
+lines say so where the number is; an outage spent at a standstill tests
+the zero-velocity updates, not the coast, and is named and left out of
+its length's figures (the core's score)."""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+from memsnav.report.numbers import number, percent
+
+TIME_DIGITS = 5
+"""Significant digits of a time in seconds from the start (530.5 s, not 530)."""
+
+
+def schedule(outages_s: list[list[float]]) -> str:
+    """The outage windows ((start, length) s after the start) in words:
+    "12 GNSS outages of 15 s every 45 s from 35.5 s" for a periodic
+    schedule, else each window."""
+    if not outages_s:
+        return "no GNSS outage scheduled"
+    starts = [start for start, _ in outages_s]
+    lengths = {round(length, 6) for _, length in outages_s}
+    steps = {round(b - a, 6) for a, b in itertools.pairwise(starts)}
+    count = len(outages_s)
+    plural = "s" if count > 1 else ""
+    if len(lengths) == 1 and len(steps) <= 1:
+        every = f" every {number(steps.pop(), TIME_DIGITS)} s" if steps else ""
+        return (
+            f"{count} GNSS outage{plural} of {number(outages_s[0][1], TIME_DIGITS)} s{every} "
+            f"from {number(starts[0], TIME_DIGITS)} s"
+        )
+    windows = ", ".join(
+        f"{number(a, TIME_DIGITS)}-{number(a + length, TIME_DIGITS)} s" for a, length in outages_s
+    )
+    return f"{count} GNSS outages: {windows}"
+
+
+def _errors(stats: dict[str, Any]) -> str:
+    """Horizontal RMS and max, vertical RMS, and how the filter's σ's
+    describe them: the share within 3σ and the NEES per degree of freedom
+    (a share of 1 with a NEES of 0.01 is bounds ten times the errors)."""
+    text = (
+        f"horizontal RMS {number(stats['rms_horizontal_m'])} m, max "
+        f"{number(stats['max_horizontal_m'])} m, vertical RMS {number(stats['rms_vertical_m'])} m"
+    )
+    if "within_3sigma_share" in stats:
+        text += (
+            f"; {percent(stats['within_3sigma_share'], 1)} within 3σ, NEES/dof "
+            f"{number(stats['nees_per_dof'], 2)}"
+        )
+    return text
+
+
+def outage_label(key: str, stats: dict[str, Any]) -> str:
+    """``outage_7`` as "outage 7 (305.5 s)"."""
+    return f"outage {key.removeprefix('outage_')} ({number(stats['start_s'], TIME_DIGITS)} s)"
+
+
+def standstill_outages(scores: dict[str, Any]) -> list[str]:
+    """The outages spent mostly at a standstill, with how long, in words."""
+    return [
+        f"{outage_label(key, st)}: at a standstill {number(st['standstill_s'], 2)} s of its "
+        f"{number(st['length_s'], TIME_DIGITS)} s"
+        for key, st in scores.items()
+        if key.startswith("outage_") and st.get("at_standstill")
+    ]
+
+
+def by_length_label(length: str, scores: dict[str, Any]) -> str:
+    """ "the 11 15 s outages in motion (of 12)" for the statistics of one
+    outage length, which leave out the outages at a standstill."""
+    windows = [
+        st
+        for key, st in scores.items()
+        if key.startswith("outage_") and f"{st['length_s']:g}" == length
+    ]
+    moving = sum(not st.get("at_standstill") for st in windows)
+    if moving == len(windows):
+        return f"the {len(windows)} outages of {length} s"
+    return f"the {moving} outages of {length} s in motion (of {len(windows)})"
+
+
+def answer_lines(summary: dict[str, Any]) -> list[str]:
+    """What the run found, first: the schedule, the outage errors per
+    length, the outages at a standstill, the aided errors with their
+    context. Without a truth only the schedule and the run."""
+    lines = [
+        f"{summary['name']}: {summary['mode']} coupling, {summary['duration_s']:.0f} s; "
+        + schedule(summary["outages_s"])
+    ]
+    if summary.get("integrity", {}).get("diverged"):
+        lines.append("  INTEGRITY ALERT: the solution is not trustworthy (report: Integrity)")
+    raw = summary.get("errors_vs_truth")
+    if raw is None:
+        return [*lines, "  no truth configured: no errors to show"]
+    precise = summary.get("errors_vs_truth_precision")
+    # The configured score: by precision the outage errors are the drift
+    # from the solution's own offset, which is what a precision truth knows.
+    scores = precise or raw
+    scored = " (by precision)" if precise else ""
+    for view, errors in (("", scores), ("smoothed, ", summary.get("errors_vs_truth_smoothed"))):
+        if errors is None:
+            continue
+        for length, st in errors["by_outage_length_s"].items():
+            if st["epochs"]:
+                lines.append(f"  {view}{by_length_label(length, errors)}{scored}: {_errors(st)}")
+    for text in standstill_outages(scores):
+        lines.append(f"  {text}: left out (the zero-velocity updates hold it still)")
+    aided = raw["aided"]
+    if aided["epochs"]:
+        lines.append(f"  aided: {_errors(aided)}")
+    if precise and precise["aided"]["epochs"]:
+        north, east, down = precise["offset_removed_ned_m"]
+        spp = summary.get("spp_errors_vs_truth_precision", {})
+        lines.append(
+            f"  aided, less its mean offset (N {number(north)}, E {number(east)}, D "
+            f'{number(down)} m; [truth] score = "precision"): horizontal RMS '
+            f"{number(precise['aided']['rms_horizontal_m'])} m, vertical "
+            f"{number(precise['aided']['rms_vertical_m'])} m"
+            + (
+                f"; single-point fixes {number(spp['rms_horizontal_m'])} m horizontal"
+                if spp.get("epochs")
+                else ""
+            )
+        )
+    if summary.get("truth_is_gnss_input"):
+        lines.append(
+            "  the truth is the filter's own GNSS input (truth.pos is gnss.pos): the aided "
+            "error shows how closely the filter follows it, not its accuracy; the outages "
+            "are the test"
+        )
+    return lines
