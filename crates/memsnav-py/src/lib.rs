@@ -20,6 +20,7 @@ mod inversion;
 mod log_navigation;
 mod logs;
 mod navigation;
+mod output;
 mod progress;
 mod random;
 mod sensors;
@@ -48,6 +49,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     defaults::register(m)?;
     navigation::register(m)?;
     log_navigation::register(m)?;
+    output::register(m)?;
     logs::register(m)?;
     random::register(m)?;
     Ok(())
