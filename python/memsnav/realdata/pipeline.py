@@ -447,39 +447,10 @@ def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
 
 
 def _write_solution(run: Any, folder: Path, stem: str) -> None:
-    """``<stem>.csv`` (every IMU sample) and ``<stem>.pos`` (10 Hz) of a run."""
-    lla = np.asarray(run.geodetic)
-    cols = np.column_stack(
-        [
-            run.time,
-            np.degrees(lla[:, :2]),
-            lla[:, 2],
-            run.velocity_ned,
-            np.degrees(run.euler),
-            run.position_std_ned,
-            run.velocity_std_ned,
-        ]
-    )
-    np.savetxt(
-        folder / f"{stem}.csv",
-        cols,
-        delimiter=",",
-        fmt=["%.4f", "%.9f", "%.9f", "%.4f"] + ["%.5f"] * 12,
-        header="gps_time_s,lat_deg,lon_deg,height_m,vn_m_s,ve_m_s,vd_m_s,"
-        "roll_deg,pitch_deg,yaw_deg,sdn_m,sde_m,sdd_m,sdvn_m_s,sdve_m_s,sdvd_m_s",
-        comments="",
-    )
-    # The .pos at 10 Hz at most (RTKLIB files are per GNSS epoch; 100 Hz is unwieldy).
-    t = np.asarray(run.time)
-    keep = np.concatenate([[True], np.diff(np.floor((t - t[0]) * 10.0)) > 0])
-    readers.write_pos(
-        folder / f"{stem}.pos",
-        t[keep],
-        lla[keep],
-        np.asarray(run.position_std_ned)[keep],
-        np.asarray(run.velocity_ned)[keep],
-        np.asarray(run.velocity_std_ned)[keep],
-    )
+    """``<stem>.csv`` (every IMU sample) and ``<stem>.pos`` (10 Hz) of a run,
+    by the solution writers (``LogRun.write``)."""
+    run.write(folder / f"{stem}.csv")
+    run.write(folder / f"{stem}.pos")
 
 
 def _write_outputs(result: LogNavigationResult, out: Path) -> None:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-import memsnav._memsnav as _mn
+from memsnav.plots import plot_errors, plot_track
 from memsnav.realdata.result import LogNavigationResult
 from memsnav.report.document import Report
 
@@ -25,9 +25,7 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     s = result.summary
     run = result.run
     t0 = s["start_gps_time_s"]
-    t = np.asarray(run.time) - t0
-    position = np.asarray(run.position_ecef)
-    origin = position[0]
+    origin = np.asarray(run.position_ecef)[0]
     doc = Report(f"memsnav navigate: {name}")
     counts = s["measurements"]
     excluded = sum(c.get("excluded", 0) for c in counts.values())
@@ -55,30 +53,41 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             "1: the innovations exceed their predicted spread, a tuning mismatch; above 4 "
             "twice in a row: an alert; docs/few-satellites.md)."
         )
-    # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
-    step = max(1, round(0.1 / max(float(np.median(np.diff(t))), 1e-6)))
     fig, ax = plt.subplots(figsize=(7, 6))
     if result.truth is not None:
-        ned = np.asarray(_mn.ecef_to_ned(result.truth["position_ecef"], origin))
-        ax.plot(ned[:, 1], ned[:, 0], "k-", lw=2.5, alpha=0.35, label="truth (RTK)")
+        plot_track(
+            result.truth["position_ecef"],
+            origin_ecef=origin,
+            ax=ax,
+            fmt="k-",
+            lw=2.5,
+            alpha=0.35,
+            label="truth (RTK)",
+        )
     gnss = run.gnss
     used = np.asarray(gnss["used"]) & np.all(np.isfinite(gnss["position_ecef"]), axis=1)
     if used.any():
-        ned = np.asarray(_mn.ecef_to_ned(np.asarray(gnss["position_ecef"])[used], origin))
-        ax.plot(ned[:, 1], ned[:, 0], ".", ms=2, color="tab:orange", label="GNSS input")
-    ned = np.asarray(_mn.ecef_to_ned(position[::step], origin))
-    ax.plot(ned[:, 1], ned[:, 0], "-", lw=1, color="tab:blue", label="memsnav")
-    ts = np.asarray(run.time)[::step]
-    for i, (a, b) in enumerate(run.outages):
-        m = (ts >= a) & (ts < b)
-        ax.plot(
-            ned[m, 1], ned[m, 0], "-", lw=2, color="tab:red", label="outages" if i == 0 else None
+        plot_track(
+            np.asarray(gnss["position_ecef"])[used],
+            origin_ecef=origin,
+            ax=ax,
+            fmt=".",
+            ms=2,
+            color="tab:orange",
+            label="GNSS input",
         )
-    ax.set_xlabel("east [m]")
-    ax.set_ylabel("north [m]")
-    ax.set_aspect("equal", adjustable="datalim")
+    # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
+    plot_track(
+        run,
+        origin_ecef=origin,
+        rate_hz=10.0,
+        outages=run.outages,
+        ax=ax,
+        lw=1,
+        color="tab:blue",
+        label="memsnav",
+    )
     ax.legend()
-    ax.grid(alpha=0.3)
     doc.section("Track")
     doc.figure("track", fig, "East/north metres from the start; red: scheduled GNSS outages.")
     plt.close(fig)
@@ -90,23 +99,27 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
         tr = precision.get("forward", result.truth)
         smoothed = precision.get("smoothed", result.truth_smoothed)
         spp = precision.get("spp", result.spp)
-        tt = np.asarray(tr["time"]) - t0
-        fig, axes = plt.subplots(3, 1, figsize=(9, 7), sharex=True)
-        for j, label in enumerate(("north", "east", "down")):
-            a = axes[j]
-            a.plot(tt, tr["error_ned"][:, j], lw=0.8, label="memsnav (forward) - truth")
+        axes = plot_errors(
+            tr["time"],
+            tr["error_ned"],
+            tr["std_ned"],
+            t0=t0,
+            label="memsnav (forward) - truth",
+            outages=run.outages,
+            standstills=run.standstills,
+        )
+        fig = axes[0].figure
+        for j in range(3):
             if smoothed is not None:
-                a.plot(
+                axes[j].plot(
                     np.asarray(smoothed["time"]) - t0,
                     smoothed["error_ned"][:, j],
                     lw=0.8,
                     color="tab:green",
                     label="smoothed - truth",
                 )
-            a.plot(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$\pm 3\sigma$")
-            a.plot(tt, -3 * tr["std_ned"][:, j], "r--", lw=0.8)
             if spp is not None:
-                a.plot(
+                axes[j].plot(
                     np.asarray(spp["time"]) - t0,
                     spp["error_ned"][:, j],
                     ".",
@@ -114,14 +127,7 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
                     color="tab:gray",
                     label="SPP - truth",
                 )
-            for start, end in run.outages:
-                a.axvspan(start - t0, end - t0, color="tab:red", alpha=0.1)
-            for start, end in run.standstills:
-                a.axvspan(start - t0, end - t0, color="tab:green", alpha=0.08)
-            a.set_ylabel(f"{label} [m]")
-            a.grid(alpha=0.3)
         axes[0].legend(loc="upper right", fontsize=8)
-        axes[-1].set_xlabel("time since the start [s]")
         doc.section("Errors against the truth")
         doc.figure(
             "errors",
