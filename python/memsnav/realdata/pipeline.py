@@ -85,7 +85,13 @@ def apply_calibration(
     readings): the reader has already converted the log's units."""
     from memsnav.calibration.file import load_calibration
 
-    path = _require(cfg, "imu", "calibration")
+    path = cfg.config_path("imu", "calibration")
+    assert path is not None  # read_imu calls this only when it is given
+    if not path.exists():
+        raise ValueError(
+            f"{cfg.path}: imu.calibration: no such file {path} (relative to the "
+            "configuration's folder)"
+        )
     cal = load_calibration(path)
     if not cal.identity_nominal:
         raise ValueError(
@@ -300,14 +306,16 @@ def navigate(
 
     ``config``: a TOML path or a loaded :class:`RunConfig`; ``data_root``
     overrides where relative data paths point; ``output`` the output folder
-    (default the config's ``output``); ``duration_s`` stops the run that
-    many seconds after the start (a quick look or a test).
+    (default the config's ``output``, relative to the configuration's
+    folder); ``duration_s`` stops the run that many seconds after the start
+    (a quick look or a test).
     """
     started = _time.perf_counter()
     cfg = config if isinstance(config, RunConfig) else load_config(config, data_root)
     if duration_s is not None and not (np.isfinite(duration_s) and duration_s > 0):
         raise ValueError(f"duration: must be a positive number of seconds, got {duration_s}")
-    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    out = Path(output) if output is not None else cfg.config_path("", "output")
+    assert out is not None  # "output" has a default
     # Refused before the run, not after it (and checked again when replaced).
     check_replaceable(out, "navigate")
     mode = cfg["gnss"]["mode"]
@@ -333,7 +341,7 @@ def navigate(
         "start_gps_time_s": float(t0),
         "duration_s": float(run.time[-1] - run.time[0]),
         "imu_samples": len(run),
-        "imu_calibration": str(cfg.data_path("imu", "calibration") or "") or None,
+        "imu_calibration": str(cfg.config_path("imu", "calibration") or "") or None,
         "gnss_epochs_used": int(np.sum(run.gnss["used"])),
         "measurements": _counts(run),
         "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
