@@ -432,3 +432,45 @@ def test_position_only_fixes_give_the_aids_a_ground_speed():
     angle = np.arccos(np.clip((np.trace(relative, axis1=1, axis2=2) - 1) / 2, -1, 1))
     moving = np.asarray(sol.time) > t[0] + 40.0
     assert np.max(angle[moving]) < 0.03
+
+
+def test_paths_in_a_configuration_are_relative_to_it(tmp_path, monkeypatch):
+    """``output`` and ``[imu] calibration`` resolve against the
+    configuration's folder, whatever the working directory; the recordings
+    against the data root; ``output=`` (``--output``) against the working
+    directory (docs/getting-started.md, "Paths in a configuration")."""
+    from memsnav.calibration.file import ImuCalibration
+
+    zero3, zero33 = np.zeros(3), np.zeros((3, 3))
+    folder = tmp_path / "project"
+    folder.mkdir()
+    ImuCalibration(
+        session="drive",
+        accelerometer=mn.AccelerometerModel(zero3, zero3, zero33, zero3),
+        gyroscope=mn.GyroscopeModel(zero3, zero3, zero33, zero33),
+        accelerometer_std=mn.AccelerometerModel(zero3, zero3, zero33, zero3),
+        gyroscope_std=mn.GyroscopeModel(zero3, zero3, zero33, zero33),
+        parameter_names=["accelerometer bias_x"],
+        covariance=np.zeros((1, 1)),
+        nominal={
+            "accel_scale": np.ones(3),
+            "accel_offset": zero3,
+            "gyro_scale": np.ones(3),
+            "gyro_offset": zero3,
+        },
+        sample_rate=100.0,
+    ).save(folder / "cal.json")
+    text = DRIVE.format(out="results/drive").replace(
+        "[imu]\n", '[imu]\ncalibration = "cal.json"\n', 1
+    )
+    config = folder / "run.toml"
+    config.write_text(text)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    result = mn.navigate(config, data_root=DATA, duration_s=5.0)
+    assert Path(result.files["summary"]).parent == folder / "results" / "drive"
+    assert result.summary["imu_calibration"] == str(folder / "cal.json")
+    assert list(elsewhere.iterdir()) == []
+    result = mn.navigate(config, data_root=DATA, output="given", duration_s=5.0)
+    assert (elsewhere / "given" / "summary.json").exists()

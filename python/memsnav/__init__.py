@@ -67,6 +67,7 @@ from memsnav.calibration import (
     save_calibration,
     static_summary,
 )
+from memsnav.plots import plot_errors, plot_track
 from memsnav.realdata.config import load_config
 from memsnav.realdata.pipeline import navigate
 from memsnav.realdata.readers import (
@@ -144,6 +145,8 @@ __all__ = [
     "navigate",
     "navigate_log",
     "navigate_settings",
+    "plot_errors",
+    "plot_track",
     "quantile_interval",
     "read_imu_csv",
     "read_klobuchar",

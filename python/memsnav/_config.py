@@ -18,6 +18,16 @@ from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import Any
 
+
+def resolve_path(value: str, base: Path) -> Path:
+    """A path written in a configuration: ``~`` expanded, absolute as given,
+    else relative to ``base`` (the data root for the recordings a
+    configuration reads; the configuration's own folder for everything else:
+    docs/getting-started.md, "Paths in a configuration")."""
+    p = Path(value).expanduser()
+    return p if p.is_absolute() else base / p
+
+
 REQUIRED = object()
 """The default of a key that must be given."""
 ABSENT = object()

@@ -1250,6 +1250,48 @@ class FilterSolution:
         s). A ratio above 4 in two windows in a row is an alert; 1-4 is a tuning
         mismatch, reported here only."""
 
+    def write(
+        self,
+        path: str | os.PathLike[str],
+        format: str | None = None,
+        *,
+        rate_hz: float | None = None,
+        name: str | None = None,
+        overwrite: bool = False,
+    ) -> None:
+        """Writes the solution at the IMU (its geodetic position, NED velocity,
+        roll/pitch/yaw and NED one-sigmas) to ``path`` in ``format``: "csv"
+        (``columns()``, every sample), "pos" (RTKLIB, GPST; ``read_pos`` reads it),
+        "kml" (KML 2.2: the track as a LineString, start and end placemarks),
+        "gpx" (GPX 1.1: trk/trkseg/trkpt, times in UTC) or "geojson" (RFC 7946: a
+        LineString Feature of [lon, lat, h] with the times as properties); None:
+        from the extension (.csv, .pos, .kml, .gpx, .geojson or .json). Heights are
+        ellipsoidal (WGS 84); UTC is GPS time less the leap seconds (18 s since
+        2017). ``rate_hz``: the rows' rate (the first sample of each interval); None:
+        every sample for "csv", 10 Hz for the others (a rate at or above the
+        sample rate keeps every sample). ``name`` titles a map track (default the
+        file's stem). The file is written whole or not at all; its folder must
+        exist (``OSError`` naming it). An existing file is replaced only when
+        memsnav wrote it (a solution file of any of these formats) or with
+        ``overwrite=True``, a folder never (``ValueError``); an unknown format is
+        a ``ValueError`` naming ``format`` and the accepted names."""
+
+    def columns(self, rate_hz: float | None = None) -> dict[str, npt.NDArray[np.float64]]:
+        """The solution at the IMU as columns named with their units, (N,) each:
+        ``gps_time_s``, ``lat_deg``, ``lon_deg``, ``height_m`` (ellipsoidal),
+        ``vn_m_s``, ``ve_m_s``, ``vd_m_s``, ``roll_deg``, ``pitch_deg``, ``yaw_deg``,
+        ``sdn_m``, ``sde_m``, ``sdd_m``, ``sdvn_m_s``, ``sdve_m_s``, ``sdvd_m_s``
+        (one-sigma, local north/east/down); ``rate_hz`` thins as in ``write``
+        (None: every sample)."""
+
+    def to_pandas(self, rate_hz: float | None = None) -> Any:
+        """``columns(rate_hz)`` as a pandas ``DataFrame``; ``ImportError`` saying
+        what to install when pandas is not installed."""
+
+    def to_polars(self, rate_hz: float | None = None) -> Any:
+        """``columns(rate_hz)`` as a polars ``DataFrame``; ``ImportError`` saying
+        what to install when polars is not installed."""
+
     def __len__(self) -> int: ...
 
 @final
@@ -1735,6 +1777,30 @@ class LogRun:
         the solution's own uncertainty of them in sensor axes, SI²; zero scale
         factors without their states)."""
 
+    def write(
+        self,
+        path: str | os.PathLike[str],
+        format: str | None = None,
+        *,
+        rate_hz: float | None = None,
+        name: str | None = None,
+        overwrite: bool = False,
+    ) -> None:
+        """Writes the solution at the antenna to ``path``: the formats, rates and
+        rules of ``FilterSolution.write``."""
+
+    def columns(self, rate_hz: float | None = None) -> dict[str, npt.NDArray[np.float64]]:
+        """The solution at the antenna as columns named with their units, as
+        ``FilterSolution.columns``."""
+
+    def to_pandas(self, rate_hz: float | None = None) -> Any:
+        """``columns(rate_hz)`` as a pandas ``DataFrame``; ``ImportError`` saying
+        what to install when pandas is not installed."""
+
+    def to_polars(self, rate_hz: float | None = None) -> Any:
+        """``columns(rate_hz)`` as a polars ``DataFrame``; ``ImportError`` saying
+        what to install when polars is not installed."""
+
     def __len__(self) -> int: ...
 
 def navigate_log(
@@ -1913,6 +1979,11 @@ class PosSolution:
 
 def read_pos(path: str | os.PathLike[str]) -> PosSolution:
     """Reads an RTKLIB .pos file (see memsnav.read_pos)."""
+
+def decimate(time: npt.ArrayLike, rate_hz: float | None = None) -> npt.NDArray[np.uintp]:
+    """The indices of the samples kept at ``rate_hz`` (the first of each
+    1/``rate_hz`` interval from the first sample; None: every one), as the
+    solution writers thin a solution."""
 
 def write_pos(
     path: str | os.PathLike[str],

@@ -5,7 +5,7 @@ study.toml`` runs.
 
 The configuration (``examples/study_land_vehicle.toml``)::
 
-    output = "study_land_vehicle"      # folder, relative to the file
+    output = "../out/study_land_vehicle"   # folder, relative to the file
     [study]                            # the keywords of outage_study
     grades = ["consumer", "paper-mems", "industrial", "tactical", "navigation"]
     outage_lengths = [10, 30, 60, 120]
@@ -42,6 +42,7 @@ from memsnav._config import (
     number,
     pathname,
     read_table,
+    resolve_path,
     split_tables,
     text,
 )
@@ -96,7 +97,7 @@ def read_config(path: str | Path) -> dict[str, Any]:
         raise ValueError(f"{path}: missing the [study] table")
     values = {t: read_table(path, t, tables.get(t, {}), keys) for t, keys in CONFIG.items()}
     return {
-        "output": path.parent / values[""]["output"],
+        "output": resolve_path(values[""]["output"], path.parent),
         "study": values["study"],
         "requirement": values["requirement"],
     }

@@ -33,6 +33,7 @@ pub mod limits;
 pub mod logs;
 pub mod montecarlo;
 pub mod navigate;
+pub mod output;
 pub mod random;
 pub mod sensors;
 pub mod timing;

@@ -220,6 +220,11 @@ pub struct PyFilterSolution {
 }
 
 impl PyFilterSolution {
+    /// The solution at the IMU in local terms (geodetic, NED, Euler angles).
+    fn local(&self) -> memsnav_core::output::LocalSolution {
+        memsnav_core::output::LocalSolution::new(&self.inner, Vector3::zeros())
+    }
+
     pub(crate) fn new(inner: Solution) -> Self {
         Self {
             inner,
@@ -460,6 +465,57 @@ impl PyFilterSolution {
     #[getter]
     fn diverged(&self) -> bool {
         self.inner.integrity.diverged()
+    }
+    /// Writes the solution at the IMU (its geodetic position, NED velocity, roll/pitch/yaw
+    /// and NED one-sigmas) to `path` in `format`: "csv" (`columns()`,
+    /// every sample), "pos" (RTKLIB, GPST; `read_pos` reads it), "kml" (KML
+    /// 2.2: the track as a LineString, start and end placemarks), "gpx" (GPX
+    /// 1.1: trk/trkseg/trkpt, times in UTC) or "geojson" (RFC 7946: a
+    /// LineString Feature of [lon, lat, h] with the times as properties);
+    /// None: from the extension (.csv, .pos, .kml, .gpx, .geojson or .json).
+    /// Heights are ellipsoidal (WGS 84); UTC is GPS time less the leap
+    /// seconds (18 s since 2017). `rate_hz`: the rows' rate (the first sample
+    /// of each interval); None: every sample for "csv", 10 Hz for the others
+    /// (a rate at or above the sample rate keeps every sample). `name` titles
+    /// a map track (default the file's stem). The file is written whole or
+    /// not at all; its folder must exist (`OSError` naming it). An existing
+    /// file is replaced only when memsnav wrote it (a solution file of any of
+    /// these formats) or with `overwrite=True`, a folder never (`ValueError`);
+    /// an unknown format is a `ValueError` naming `format` and the accepted
+    /// names.
+    #[pyo3(signature = (path, format=None, *, rate_hz=None, name=None, overwrite=false))]
+    fn write(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        format: Option<&str>,
+        rate_hz: Option<f64>,
+        name: Option<&str>,
+        overwrite: bool,
+    ) -> PyResult<()> {
+        crate::output::write(py, &self.local(), path, format, rate_hz, name, overwrite)
+    }
+    /// The solution at the IMU (its geodetic position, NED velocity, roll/pitch/yaw
+    /// and NED one-sigmas) as columns named with their units, (N,) each:
+    /// `gps_time_s`, `lat_deg`, `lon_deg`, `height_m` (ellipsoidal), `vn_m_s`,
+    /// `ve_m_s`, `vd_m_s`, `roll_deg`, `pitch_deg`, `yaw_deg`, `sdn_m`, `sde_m`,
+    /// `sdd_m`, `sdvn_m_s`, `sdve_m_s`, `sdvd_m_s` (one-sigma, local
+    /// north/east/down); `rate_hz` thins as in `write` (None: every sample).
+    #[pyo3(signature = (rate_hz=None))]
+    fn columns<'py>(&self, py: Python<'py>, rate_hz: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
+        crate::output::columns(py, &self.local(), rate_hz)
+    }
+    /// `columns(rate_hz)` as a pandas `DataFrame`; `ImportError` saying what
+    /// to install when pandas is not installed.
+    #[pyo3(signature = (rate_hz=None))]
+    fn to_pandas<'py>(&self, py: Python<'py>, rate_hz: Option<f64>) -> PyResult<Bound<'py, PyAny>> {
+        crate::output::data_frame(py, &self.local(), rate_hz, "pandas", "to_pandas")
+    }
+    /// `columns(rate_hz)` as a polars `DataFrame`; `ImportError` saying what
+    /// to install when polars is not installed.
+    #[pyo3(signature = (rate_hz=None))]
+    fn to_polars<'py>(&self, py: Python<'py>, rate_hz: Option<f64>) -> PyResult<Bound<'py, PyAny>> {
+        crate::output::data_frame(py, &self.local(), rate_hz, "polars", "to_polars")
     }
     fn __len__(&self) -> usize {
         self.inner.time_s.len()

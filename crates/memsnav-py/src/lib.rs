@@ -21,6 +21,7 @@ mod log_navigation;
 mod logs;
 mod montecarlo;
 mod navigation;
+mod output;
 mod progress;
 mod random;
 mod sensors;
@@ -49,6 +50,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     defaults::register(m)?;
     navigation::register(m)?;
     log_navigation::register(m)?;
+    output::register(m)?;
     logs::register(m)?;
     montecarlo::register(m)?;
     random::register(m)?;

@@ -3,9 +3,10 @@
 Checked like the ``navigate`` configuration (:mod:`memsnav.realdata.config`):
 every table and key is known, an unknown one (a typo) is an error naming the
 file and the key, a wrong type or value names the key and what was expected,
-and relative data paths resolve against the data root (``--data-root``,
-else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` next to the
-repository). The detector's defaults are the core's.
+and relative paths of the recordings read resolve against the data root
+(``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` next
+to the repository), every other one (``output``, ``[drive] navigate``)
+against the configuration's folder. The detector's defaults are the core's.
 
 ``[session] kind`` says what kind of calibration session the data are:
 ``"static-poses"`` (a multi-position session of raw readings: tables
@@ -33,6 +34,7 @@ from memsnav._config import (
     number,
     pathname,
     read_table,
+    resolve_path,
     scalar_or_list,
     split_tables,
     text,
@@ -103,15 +105,13 @@ class CalibrationConfig:
         return self.values[section]
 
     def data_path(self, section: str, key: str) -> Path:
-        """The file named by ``section.key``, resolved against the data root."""
-        p = Path(self.values[section][key]).expanduser()
-        return p if p.is_absolute() else self.data_root / p
+        """The recording named by ``section.key``, resolved against the data root."""
+        return resolve_path(self.values[section][key], self.data_root)
 
     def config_path(self, section: str, key: str) -> Path:
-        """The configuration file named by ``section.key``, resolved against
-        this configuration's folder."""
-        p = Path(self.values[section][key]).expanduser()
-        return p if p.is_absolute() else self.path.parent / p
+        """The file or folder named by ``section.key`` (``output``, ``[drive]
+        navigate``), resolved against this configuration's folder."""
+        return resolve_path(self.values[section][key], self.path.parent)
 
 
 def load_calibration_config(

@@ -50,7 +50,7 @@ def run_calibration(
     writes ``calibration.json`` and, unless ``[report] html = false``,
     ``report.html`` with its figures into the output folder."""
     cfg = load_calibration_config(config, data_root)
-    out = output_folder(output if output is not None else cfg[""]["output"])
+    out = output_folder(output if output is not None else cfg.config_path("", "output"))
     run = _drive(cfg) if cfg["session"]["kind"] == "drive" else _static(cfg)
     run.files["calibration"] = run.imu_calibration.save(out / "calibration.json")
     if cfg["report"]["html"]:

@@ -12,11 +12,14 @@ the wrong kind or out of range (the reading keys by the one configuration
 reader, :mod:`memsnav._config`; the engine's keys by the core), all when the
 file is loaded.
 
-Relative data paths resolve against the data root: ``--data-root``, else
-``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` relative to the repository
-that holds the configuration (the parent of its ``examples/`` folder, or the
-nearest ``shared/data`` above it; for a configuration elsewhere, the same
-from its own folder).
+Relative paths of the recordings read (``[imu] file`` and ``time_tag``,
+``[gnss] pos``, ``obs`` and ``nav``, ``[truth] pos``) resolve against the
+data root: ``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else
+``../shared/data`` relative to the repository that holds the configuration
+(the parent of its ``examples/`` folder, or the nearest ``shared/data``
+above it; for a configuration elsewhere, the same from its own folder).
+Every other relative path (``output``, ``[imu] calibration``) resolves
+against the configuration's own folder.
 """
 
 from __future__ import annotations
@@ -38,6 +41,7 @@ from memsnav._config import (
     number,
     pathname,
     read_table,
+    resolve_path,
     split_tables,
     text,
 )
@@ -129,13 +133,17 @@ class RunConfig:
         return self.values[section]
 
     def data_path(self, section: str, key: str) -> Path | None:
-        """The file named by ``section.key``, resolved against the data root
-        (None when not given)."""
+        """The recording named by ``section.key``, resolved against the data
+        root (None when not given)."""
         v = self.values[section][key]
-        if not v:
-            return None
-        p = Path(v).expanduser()
-        return p if p.is_absolute() else self.data_root / p
+        return resolve_path(v, self.data_root) if v else None
+
+    def config_path(self, section: str, key: str) -> Path | None:
+        """The file or folder named by ``section.key`` (``output``, ``[imu]
+        calibration``), resolved against this configuration's folder (None
+        when not given)."""
+        v = self.values[section][key]
+        return resolve_path(v, self.path.parent) if v else None
 
 
 def resolve_data_root(near: str | Path | None = None, explicit: str | Path | None = None) -> Path:

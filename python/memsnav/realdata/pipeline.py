@@ -85,7 +85,13 @@ def apply_calibration(
     readings): the reader has already converted the log's units."""
     from memsnav.calibration.file import load_calibration
 
-    path = _require(cfg, "imu", "calibration")
+    path = cfg.config_path("imu", "calibration")
+    assert path is not None  # read_imu calls this only when it is given
+    if not path.exists():
+        raise ValueError(
+            f"{cfg.path}: imu.calibration: no such file {path} (relative to the "
+            "configuration's folder)"
+        )
     cal = load_calibration(path)
     if not cal.identity_nominal:
         raise ValueError(
@@ -300,14 +306,16 @@ def navigate(
 
     ``config``: a TOML path or a loaded :class:`RunConfig`; ``data_root``
     overrides where relative data paths point; ``output`` the output folder
-    (default the config's ``output``); ``duration_s`` stops the run that
-    many seconds after the start (a quick look or a test).
+    (default the config's ``output``, relative to the configuration's
+    folder); ``duration_s`` stops the run that many seconds after the start
+    (a quick look or a test).
     """
     started = _time.perf_counter()
     cfg = config if isinstance(config, RunConfig) else load_config(config, data_root)
     if duration_s is not None and not (np.isfinite(duration_s) and duration_s > 0):
         raise ValueError(f"duration: must be a positive number of seconds, got {duration_s}")
-    out = Path(output) if output is not None else Path(cfg[""]["output"])
+    out = Path(output) if output is not None else cfg.config_path("", "output")
+    assert out is not None  # "output" has a default
     # Refused before the run, not after it (and checked again when replaced).
     check_replaceable(out, "navigate")
     mode = cfg["gnss"]["mode"]
@@ -338,7 +346,7 @@ def navigate(
         "start_gps_time_s": float(t0),
         "duration_s": float(run.time[-1] - run.time[0]),
         "imu_samples": len(run),
-        "imu_calibration": str(cfg.data_path("imu", "calibration") or "") or None,
+        "imu_calibration": str(cfg.config_path("imu", "calibration") or "") or None,
         "gnss_epochs_used": int(np.sum(run.gnss["used"])),
         "measurements": _counts(run),
         "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
@@ -463,39 +471,10 @@ def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
 
 
 def _write_solution(run: Any, folder: Path, stem: str) -> None:
-    """``<stem>.csv`` (every IMU sample) and ``<stem>.pos`` (10 Hz) of a run."""
-    lla = np.asarray(run.geodetic)
-    cols = np.column_stack(
-        [
-            run.time,
-            np.degrees(lla[:, :2]),
-            lla[:, 2],
-            run.velocity_ned,
-            np.degrees(run.euler),
-            run.position_std_ned,
-            run.velocity_std_ned,
-        ]
-    )
-    np.savetxt(
-        folder / f"{stem}.csv",
-        cols,
-        delimiter=",",
-        fmt=["%.4f", "%.9f", "%.9f", "%.4f"] + ["%.5f"] * 12,
-        header="gps_time_s,lat_deg,lon_deg,height_m,vn_m_s,ve_m_s,vd_m_s,"
-        "roll_deg,pitch_deg,yaw_deg,sdn_m,sde_m,sdd_m,sdvn_m_s,sdve_m_s,sdvd_m_s",
-        comments="",
-    )
-    # The .pos at 10 Hz at most (RTKLIB files are per GNSS epoch; 100 Hz is unwieldy).
-    t = np.asarray(run.time)
-    keep = np.concatenate([[True], np.diff(np.floor((t - t[0]) * 10.0)) > 0])
-    readers.write_pos(
-        folder / f"{stem}.pos",
-        t[keep],
-        lla[keep],
-        np.asarray(run.position_std_ned)[keep],
-        np.asarray(run.velocity_ned)[keep],
-        np.asarray(run.velocity_std_ned)[keep],
-    )
+    """``<stem>.csv`` (every IMU sample) and ``<stem>.pos`` (10 Hz) of a run,
+    by the solution writers (``LogRun.write``)."""
+    run.write(folder / f"{stem}.csv")
+    run.write(folder / f"{stem}.pos")
 
 
 def _write_outputs(result: LogNavigationResult, out: Path) -> None:

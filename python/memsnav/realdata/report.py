@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-import memsnav._memsnav as _mn
+from memsnav.plots import ERROR_FLOOR_M, plot_error_series, plot_errors, plot_track
 from memsnav.realdata.answer import (
     TIME_DIGITS,
     answer_lines,
@@ -22,11 +22,6 @@ from memsnav.realdata.answer import (
 from memsnav.realdata.result import LogNavigationResult
 from memsnav.report.document import Report
 from memsnav.report.numbers import number, percent
-
-ERROR_FLOOR_M = 0.01
-"""The error figure's lowest value (log scale): the RTK truth's own noise
-is about a centimetre, and the zero crossings of an error would otherwise
-stretch the axis down to nothing."""
 
 
 def write_report(result: LogNavigationResult, out: Path) -> Path:
@@ -41,9 +36,7 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     s = result.summary
     run = result.run
     t0 = s["start_gps_time_s"]
-    t = np.asarray(run.time) - t0
-    position = np.asarray(run.position_ecef)
-    origin = position[0]
+    origin = np.asarray(run.position_ecef)[0]
     doc = Report(f"memsnav navigate: {name}")
     doc.section("The answer")
     first, *rest = answer_lines(s)
@@ -76,30 +69,41 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             "1: the innovations exceed their predicted spread, a tuning mismatch; above 4 "
             "twice in a row: an alert; docs/few-satellites.md)."
         )
-    # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
-    step = max(1, round(0.1 / max(float(np.median(np.diff(t))), 1e-6)))
     fig, ax = plt.subplots(figsize=(7, 6))
     if result.truth is not None:
-        ned = np.asarray(_mn.ecef_to_ned(result.truth["position_ecef"], origin))
-        ax.plot(ned[:, 1], ned[:, 0], "k-", lw=2.5, alpha=0.35, label="truth (RTK)")
+        plot_track(
+            result.truth["position_ecef"],
+            origin_ecef=origin,
+            ax=ax,
+            fmt="k-",
+            lw=2.5,
+            alpha=0.35,
+            label="truth (RTK)",
+        )
     gnss = run.gnss
     used = np.asarray(gnss["used"]) & np.all(np.isfinite(gnss["position_ecef"]), axis=1)
     if used.any():
-        ned = np.asarray(_mn.ecef_to_ned(np.asarray(gnss["position_ecef"])[used], origin))
-        ax.plot(ned[:, 1], ned[:, 0], ".", ms=2, color="tab:orange", label="GNSS input")
-    ned = np.asarray(_mn.ecef_to_ned(position[::step], origin))
-    ax.plot(ned[:, 1], ned[:, 0], "-", lw=1, color="tab:blue", label="memsnav")
-    ts = np.asarray(run.time)[::step]
-    for i, (a, b) in enumerate(run.outages):
-        m = (ts >= a) & (ts < b)
-        ax.plot(
-            ned[m, 1], ned[m, 0], "-", lw=2, color="tab:red", label="outages" if i == 0 else None
+        plot_track(
+            np.asarray(gnss["position_ecef"])[used],
+            origin_ecef=origin,
+            ax=ax,
+            fmt=".",
+            ms=2,
+            color="tab:orange",
+            label="GNSS input",
         )
-    ax.set_xlabel("east [m]")
-    ax.set_ylabel("north [m]")
-    ax.set_aspect("equal", adjustable="datalim")
+    # The solution drawn at 10 Hz: the track figure's SVG and CSV stay small.
+    plot_track(
+        run,
+        origin_ecef=origin,
+        rate_hz=10.0,
+        outages=run.outages,
+        ax=ax,
+        lw=1,
+        color="tab:blue",
+        label="memsnav",
+    )
     ax.legend()
-    ax.grid(alpha=0.3)
     doc.section("Track")
     doc.figure(
         "track",
@@ -116,47 +120,38 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
         tr = precision.get("forward", result.truth)
         smoothed = precision.get("smoothed", result.truth_smoothed)
         spp = precision.get("spp", result.spp)
-        tt = np.asarray(tr["time"]) - t0
-        # |error| and 3σ on a log scale: bounds ten times the errors (an
-        # outage's 3σ of tens of metres against errors of a metre) flatten
-        # the errors to a line on a linear one.
-        fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
-        for j, label in enumerate(("north", "east", "down")):
-            a = axes[j]
-            a.semilogy(
-                tt,
-                np.maximum(np.abs(tr["error_ned"][:, j]), ERROR_FLOOR_M),
+        axes = plot_errors(
+            tr["time"],
+            tr["error_ned"],
+            tr["std_ned"],
+            t0=t0,
+            label="memsnav (forward) - truth",
+            outages=run.outages,
+            standstills=run.standstills,
+        )
+        fig = axes[0].figure
+        if smoothed is not None:
+            plot_error_series(
+                axes,
+                smoothed["time"],
+                smoothed["error_ned"],
+                t0=t0,
                 lw=0.8,
-                label="|memsnav (forward) - truth|",
+                color="tab:green",
+                label="|smoothed - truth|",
             )
-            if smoothed is not None:
-                a.semilogy(
-                    np.asarray(smoothed["time"]) - t0,
-                    np.maximum(np.abs(smoothed["error_ned"][:, j]), ERROR_FLOOR_M),
-                    lw=0.8,
-                    color="tab:green",
-                    label="|smoothed - truth|",
-                )
-            # gid "bound": a bound, not data (the report tests read it).
-            a.semilogy(tt, 3 * tr["std_ned"][:, j], "r--", lw=0.8, label=r"$3\sigma$", gid="bound")
-            if spp is not None:
-                a.semilogy(
-                    np.asarray(spp["time"]) - t0,
-                    np.maximum(np.abs(spp["error_ned"][:, j]), ERROR_FLOOR_M),
-                    ".",
-                    ms=2,
-                    color="tab:gray",
-                    label="|SPP - truth|",
-                )
-            for start, end in run.outages:
-                a.axvspan(start - t0, end - t0, color="tab:red", alpha=0.1)
-            for start, end in run.standstills:
-                a.axvspan(start - t0, end - t0, color="tab:green", alpha=0.08)
-            a.set_ylim(bottom=ERROR_FLOOR_M)
-            a.set_ylabel(f"{label} [m]")
-            a.grid(alpha=0.3, which="both")
+        if spp is not None:
+            plot_error_series(
+                axes,
+                spp["time"],
+                spp["error_ned"],
+                t0=t0,
+                fmt=".",
+                ms=2,
+                color="tab:gray",
+                label="|SPP - truth|",
+            )
         axes[0].legend(loc="upper right", fontsize=8, ncol=2)
-        axes[-1].set_xlabel("time since the start [s]")
         doc.section("Errors against the truth")
         shading = [
             text

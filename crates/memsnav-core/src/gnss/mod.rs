@@ -44,7 +44,8 @@ pub use simulate::{
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
 pub use time::{
-    calendar_from_gps_time, checked_gps_time_from_calendar, gps_time_from_calendar, CALENDAR_YEARS,
+    calendar_from_gps_time, checked_gps_time_from_calendar, gps_minus_utc_s,
+    gps_time_from_calendar, utc_text_from_gps_time, CALENDAR_YEARS, LEAP_SECONDS_KNOWN_UNTIL,
     SECONDS_PER_WEEK,
 };
 pub use walker::{Walker, WalkerConfig};

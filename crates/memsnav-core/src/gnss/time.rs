@@ -133,6 +133,77 @@ pub fn gps_time_from_calendar(
     (days * 86_400 + hour * 3_600 + minute * 60) as f64 + second
 }
 
+/// The UTC dates (00:00:00 UTC) from which GPS − UTC grew by one second:
+/// the leap seconds since the GPS epoch (IERS Bulletin C; GPS − UTC is 0 s
+/// at 1980-01-06 and 18 s from 2017-01-01). The list is complete up to
+/// [`LEAP_SECONDS_KNOWN_UNTIL`]; a later announcement must be added here.
+const LEAP_SECOND_DATES: [(i64, i64, i64); 18] = [
+    (1981, 7, 1),
+    (1982, 7, 1),
+    (1983, 7, 1),
+    (1985, 7, 1),
+    (1988, 1, 1),
+    (1990, 1, 1),
+    (1991, 1, 1),
+    (1992, 7, 1),
+    (1993, 7, 1),
+    (1994, 7, 1),
+    (1996, 1, 1),
+    (1997, 7, 1),
+    (1999, 1, 1),
+    (2006, 1, 1),
+    (2009, 1, 1),
+    (2012, 7, 1),
+    (2015, 7, 1),
+    (2017, 1, 1),
+];
+
+/// The last day (UTC) for which [`LEAP_SECOND_DATES`] is known complete:
+/// IERS Bulletin C 70 (July 2025) announced no leap second at the end of
+/// December 2025. Later times take the last known offset, 18 s.
+pub const LEAP_SECONDS_KNOWN_UNTIL: (i64, i64, i64) = (2025, 12, 31);
+
+/// Milliseconds of GPS time at which leap second `i` (0-based) ends, that
+/// is at 00:00:00 UTC of its date, when GPS − UTC becomes `i + 1` s. The
+/// inserted second 23:59:60 UTC is the second before it.
+fn leap_end_gps_ms(i: usize) -> i64 {
+    let (y, m, d) = LEAP_SECOND_DATES[i];
+    let days = days_from_civil(y, m, d) - days_from_civil(1980, 1, 6);
+    (days * 86_400 + i as i64 + 1) * 1000
+}
+
+/// GPS − UTC at a GPS time, s (0 before the first leap second; during an
+/// inserted second the count before it).
+pub fn gps_minus_utc_s(gps_time_s: f64) -> f64 {
+    let ms = (gps_time_s * 1000.0).floor() as i64;
+    (0..LEAP_SECOND_DATES.len())
+        .filter(|&i| leap_end_gps_ms(i) <= ms)
+        .count() as f64
+}
+
+/// UTC of a GPS time as ISO 8601 with milliseconds, `2025-08-28T17:30:21.749Z`
+/// (the GPS time rounded to the millisecond first); an instant inside an
+/// inserted leap second reads `23:59:60.xxx`.
+pub fn utc_text_from_gps_time(gps_time_s: f64) -> String {
+    let gps_ms = (gps_time_s * 1000.0).round() as i64;
+    let leaps = (0..LEAP_SECOND_DATES.len())
+        .filter(|&i| leap_end_gps_ms(i) <= gps_ms)
+        .count();
+    let in_leap_second = leaps < LEAP_SECOND_DATES.len() && gps_ms >= leap_end_gps_ms(leaps) - 1000;
+    // Inside the inserted second: the clock reads 23:59:59 plus one second.
+    let utc_ms = gps_ms - leaps as i64 * 1000 - if in_leap_second { 1000 } else { 0 };
+    let (year, month, day) =
+        civil_from_days(utc_ms.div_euclid(86_400_000) + days_from_civil(1980, 1, 6));
+    let ms_of_day = utc_ms.rem_euclid(86_400_000);
+    let second = ms_of_day / 1000 % 60 + i64::from(in_leap_second);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{second:02}.{:03}Z",
+        ms_of_day / 3_600_000,
+        ms_of_day / 60_000 % 60,
+        ms_of_day % 1000
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -196,5 +267,50 @@ mod tests {
             assert!(e.contains(word), "{e}");
         }
         assert!(checked_gps_time_from_calendar(2025, 8, 28, 0, 0, f64::NAN).is_err());
+    }
+
+    #[test]
+    fn gps_minus_utc_at_known_dates() {
+        // 0 s at the GPS epoch, 1 s from 1981-07-01 00:00:00 UTC (GPST
+        // 00:00:01), 13 s through 2005, 17 s in 2016, 18 s since 2017.
+        assert_eq!(gps_minus_utc_s(0.0), 0.0);
+        let july_1981 = gps_time_from_calendar(1981, 7, 1, 0, 0, 0.0);
+        assert_eq!(gps_minus_utc_s(july_1981 + 0.999), 0.0);
+        assert_eq!(gps_minus_utc_s(july_1981 + 1.0), 1.0);
+        assert_eq!(
+            gps_minus_utc_s(gps_time_from_calendar(2005, 12, 31, 12, 0, 0.0)),
+            13.0
+        );
+        assert_eq!(
+            gps_minus_utc_s(gps_time_from_calendar(2016, 6, 1, 0, 0, 0.0)),
+            17.0
+        );
+        assert_eq!(
+            gps_minus_utc_s(gps_time_from_calendar(2025, 8, 28, 0, 0, 0.0)),
+            18.0
+        );
+    }
+
+    #[test]
+    fn utc_text_across_the_2016_leap_second() {
+        assert_eq!(utc_text_from_gps_time(0.0), "1980-01-06T00:00:00.000Z");
+        // GPS week 1930 began at GPST 2017-01-01 00:00:00, which was
+        // 2016-12-31 23:59:43 UTC (GPS − UTC 17 s); the leap second
+        // 23:59:60 UTC spans GPST 00:00:17-00:00:18.
+        let week_1930 = 1930.0 * SECONDS_PER_WEEK;
+        assert_eq!(week_1930, gps_time_from_calendar(2017, 1, 1, 0, 0, 0.0));
+        for (gps_s, utc) in [
+            (0.0, "2016-12-31T23:59:43.000Z"),
+            (16.999, "2016-12-31T23:59:59.999Z"),
+            (17.0, "2016-12-31T23:59:60.000Z"),
+            (17.5, "2016-12-31T23:59:60.500Z"),
+            (17.9996, "2017-01-01T00:00:00.000Z"),
+            (18.0, "2017-01-01T00:00:00.000Z"),
+        ] {
+            assert_eq!(utc_text_from_gps_time(week_1930 + gps_s), utc, "{gps_s}");
+        }
+        // The walk_0827 log: GPST 2025-08-28 17:30:39.749 is 17:30:21.749 UTC.
+        let walk = gps_time_from_calendar(2025, 8, 28, 17, 30, 39.749);
+        assert_eq!(utc_text_from_gps_time(walk), "2025-08-28T17:30:21.749Z");
     }
 }
