@@ -15,6 +15,7 @@ mod errors;
 mod experiments;
 mod geodesy;
 mod gnss;
+mod gnsslogger;
 mod ins;
 mod inversion;
 mod log_navigation;
@@ -49,6 +50,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     navigation::register(m)?;
     log_navigation::register(m)?;
     logs::register(m)?;
+    gnsslogger::register(m)?;
     random::register(m)?;
     Ok(())
 }
