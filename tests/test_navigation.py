@@ -398,7 +398,7 @@ def test_bad_initial_state_names_the_entry(scenario):
     flt = mn.TightlyCoupledFilter(imu)
     state = truth_state(traj)
     for bad, match in (
-        ({**state, "heading": 1.0}, "initial_state: unknown entry 'heading'"),
+        ({**state, "heading": 1.0}, 'initial_state: unknown key "heading"'),
         ({k: v for k, v in state.items() if k != "velocity_ecef"}, "velocity_ecef"),
         ({**state, "attitude": np.eye(3) * 2}, "initial_state.attitude"),
         ({**state, "position_ecef": [1.0, 2.0, 3.0]}, "position_ecef"),

@@ -218,9 +218,10 @@ def test_plot_helpers_draw_the_track_and_the_errors(run):
     truth_time = run.time[::50]
     score = run.score(truth_time, run.position_ecef[::50] + np.array([1.0, 0.0, 0.0]))
     axes = mn.plot_errors(score["time"], score["error_ned"], score["std_ned"], t0=T0)
-    error, upper, lower = axes[2].get_lines()
-    np.testing.assert_allclose(error.get_ydata(), score["error_ned"][:, 2])
-    np.testing.assert_allclose(upper.get_ydata(), 3 * score["std_ned"][:, 2])
-    np.testing.assert_allclose(lower.get_ydata(), -3 * score["std_ned"][:, 2])
+    # The size of the error on a log scale (below 1 cm drawn at 1 cm) and the 3σ bound.
+    error, bound = axes[2].get_lines()
+    np.testing.assert_allclose(error.get_ydata(), np.maximum(np.abs(score["error_ned"][:, 2]), 0.01))
+    np.testing.assert_allclose(bound.get_ydata(), 3 * score["std_ned"][:, 2])
+    assert bound.get_gid() == "bound" and axes[2].get_yscale() == "log"
     np.testing.assert_allclose(error.get_xdata(), score["time"] - T0)
     plt.close(axes[0].figure)

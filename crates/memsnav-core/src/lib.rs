@@ -29,6 +29,7 @@ pub mod geodesy;
 pub mod gnss;
 pub mod ins;
 pub mod inversion;
+pub mod known_keys;
 pub mod limits;
 pub mod logs;
 pub mod montecarlo;

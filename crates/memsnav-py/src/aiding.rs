@@ -7,7 +7,7 @@
 use std::borrow::Cow;
 
 use memsnav_core::coupling::PositionFix;
-use memsnav_core::gnss::{GnssEpoch, SatelliteMeasurement};
+use memsnav_core::gnss::{self, GnssEpoch, SatelliteMeasurement};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArray2, PyArrayLikeDyn, PyUntypedArrayMethods};
@@ -16,6 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::convert;
+use crate::errors::IntoPyResult;
 use crate::gnss::{PyFixSeries, PyGnssMeasurements};
 
 /// Position (and velocity) fixes of an antenna, ready for
@@ -120,10 +121,42 @@ pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
         || optional_field(obj, "sat_id").is_ok_and(|v| v.is_some())
 }
 
-/// GNSS epochs from a `GnssMeasurements` or padded user arrays: `time`
-/// (T,), `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
-/// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n), `pseudorange_std`
-/// (T, n), optional `pseudorange_rate` and `pseudorange_rate_std` (T, n).
+/// The entries a dict argument may have: an unknown one (a misspelling
+/// that would drop its data without a word) is an error naming it and the
+/// closest known name. Objects other than dicts are read by attribute.
+pub(crate) fn check_keys(obj: &Bound<'_, PyAny>, argument: &str, known: &[&str]) -> PyResult<()> {
+    let Ok(d) = obj.cast::<PyDict>() else {
+        return Ok(());
+    };
+    for key in d.keys() {
+        let name: String = key.extract().map_err(|_| {
+            PyValueError::new_err(format!("{argument}: keys must be strings, got {}", key.repr().map_or_else(|_| "?".into(), |r| r.to_string())))
+        })?;
+        memsnav_core::known_keys::check(argument, &name, known).py()?;
+    }
+    Ok(())
+}
+
+/// The entries of padded GNSS arrays (a dict, or an object's attributes).
+pub(crate) const GNSS_KEYS: [&str; 8] = [
+    "time",
+    "sat_id",
+    "satellite_position_ecef",
+    "satellite_velocity_ecef",
+    "pseudorange",
+    "pseudorange_std",
+    "pseudorange_rate",
+    "pseudorange_rate_std",
+];
+
+/// GNSS epochs from a `GnssMeasurements` or padded user arrays (a dict,
+/// no other keys, or an object with these attributes): `time` (T,),
+/// `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
+/// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n),
+/// `pseudorange_std` (T, n), optional `pseudorange_rate` with
+/// `pseudorange_rate_std` (T, n). Every slot that is not padding passes the
+/// core's `check_measurement` (NaN only for a rate: no rate there); the
+/// one converter of every entry point that takes GNSS measurements.
 /// A `GnssMeasurements` is lent, not copied: it is frozen (immutable), and
 /// `obj` keeps it alive while the epochs are in use.
 pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [GnssEpoch]>> {
@@ -134,11 +167,13 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
         }
         return Ok(Cow::Borrowed(&m.get().epochs));
     }
+    check_keys(obj, ARG, &GNSS_KEYS)?;
     let time = convert::scalars(&field(obj, "time", ARG)?, "gnss.time")?;
     let t = time.len();
     if t == 0 {
         return Err(no_epochs("gnss.time"));
     }
+    memsnav_core::validate::increasing_times("gnss.time", &time).py()?;
     let (sat_id, s) = floats_with_nan(&field(obj, "sat_id", ARG)?, "gnss.sat_id")?;
     if s.len() != 2 || s[0] != t {
         return Err(shape_error(ARG, "sat_id", "(T, n)", &s));
@@ -162,46 +197,74 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
     let vel = get3("satellite_velocity_ecef")?;
     let rho = get2("pseudorange")?;
     let rho_std = get2("pseudorange_std")?;
-    let (rate, rate_std) = match optional_field(obj, "pseudorange_rate")? {
-        Some(_) => (get2("pseudorange_rate")?, get2("pseudorange_rate_std")?),
-        None => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
+    let (rate, rate_std) = match (
+        optional_field(obj, "pseudorange_rate")?,
+        optional_field(obj, "pseudorange_rate_std")?,
+    ) {
+        (Some(_), _) => (get2("pseudorange_rate")?, get2("pseudorange_rate_std")?),
+        (None, Some(_)) => {
+            return Err(PyValueError::new_err(
+                "gnss: pseudorange_rate_std given without pseudorange_rate (give both, or neither)",
+            ))
+        }
+        (None, None) => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
     };
+    let mut slots = Vec::with_capacity(t * n);
+    let mut rows = Vec::with_capacity(t * n);
     let mut epochs = Vec::with_capacity(t);
     for (k, &time_s) in time.iter().enumerate() {
-        let mut measurements = Vec::with_capacity(n);
+        // An epoch without satellites (a total outage) is kept.
+        epochs.push(GnssEpoch {
+            time_s,
+            measurements: Vec::new(),
+        });
         for j in 0..n {
             let i = k * n + j;
             let id = sat_id[i];
-            if !id.is_finite() {
-                return Err(PyValueError::new_err(format!(
-                    "gnss: sat_id[{k}, {j}] is {id}: mark an empty slot with a negative number"
-                )));
-            }
             if id < 0.0 {
                 continue; // padding
             }
-            if id > u16::MAX as f64 || id.fract() != 0.0 {
-                return Err(PyValueError::new_err(format!(
-                    "gnss: sat_id[{k}, {j}] = {id} is not a satellite number"
-                )));
-            }
-            measurements.push(SatelliteMeasurement {
-                sat_id: id as u16,
-                position_ecef: Vector3::from_column_slice(&pos[3 * i..3 * i + 3]),
-                velocity_ecef: Vector3::from_column_slice(&vel[3 * i..3 * i + 3]),
-                pseudorange_m: rho[i],
-                pseudorange_rate_m_s: rate[i],
-                pseudorange_std_m: rho_std[i],
-                pseudorange_rate_std_m_s: rate_std[i],
-            });
+            let slot_error = |reason: String| {
+                PyValueError::new_err(format!("gnss: [{k}, {j}] (time {time_s} s): {reason}"))
+            };
+            let sat_id = gnss::sat_id(id).map_err(|e| {
+                slot_error(format!("{e}; mark an empty slot with a negative number"))
+            })?;
+            slots.push((k, j));
+            rows.push((
+                time_s,
+                SatelliteMeasurement {
+                    sat_id,
+                    position_ecef: Vector3::from_column_slice(&pos[3 * i..3 * i + 3]),
+                    velocity_ecef: Vector3::from_column_slice(&vel[3 * i..3 * i + 3]),
+                    pseudorange_m: rho[i],
+                    pseudorange_rate_m_s: rate[i],
+                    pseudorange_std_m: rho_std[i],
+                    pseudorange_rate_std_m_s: rate_std[i],
+                },
+            ));
         }
-        epochs.push(GnssEpoch {
-            time_s,
-            measurements,
-        });
+    }
+    let grouped = gnss::epochs_from_rows(rows).map_err(|(row, reason)| {
+        let (k, j) = slots[row];
+        PyValueError::new_err(format!("gnss: [{k}, {j}] (time {} s): {reason}", time[k]))
+    })?;
+    // The rows' epochs in time order, placed back among the empty ones.
+    for e in grouped {
+        let k = time.iter().position(|&t| t == e.time_s).expect("a row's own time");
+        epochs[k].measurements = e.measurements;
     }
     Ok(Cow::Owned(epochs))
 }
+
+/// The entries of position-fix arrays.
+const FIX_KEYS: [&str; 5] = [
+    "time",
+    "position_ecef",
+    "position_covariance",
+    "velocity_ecef",
+    "velocity_covariance",
+];
 
 /// Position fixes from a `FixSeries` (invalid epochs skipped; covariances
 /// the position and velocity blocks of the LS covariance) or user arrays:
@@ -233,6 +296,7 @@ pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix
             })
             .collect());
     }
+    check_keys(obj, ARG, &FIX_KEYS)?;
     let time = convert::scalars(&field(obj, "time", ARG)?, "fixes.time")?;
     let t = time.len();
     if t == 0 {
@@ -246,6 +310,11 @@ pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix
     let velocity = optional_field(obj, "velocity_ecef")?
         .map(|v| convert::vectors(&v, "fixes.velocity_ecef"))
         .transpose()?;
+    if velocity.is_none() && optional_field(obj, "velocity_covariance")?.is_some() {
+        return Err(PyValueError::new_err(
+            "fixes: velocity_covariance given without velocity_ecef (give both, or neither)",
+        ));
+    }
     let vcov = match &velocity {
         Some(_) => Some(convert::matrices3(
             &field(obj, "velocity_covariance", ARG)?,

@@ -16,7 +16,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::aiding::{field, gnss_epochs, optional_field, position_fixes};
+use crate::aiding::{check_keys, field, gnss_epochs, optional_field, position_fixes};
 use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::sensors::PyImuModel;
@@ -86,18 +86,7 @@ const INITIAL_STATE_KEYS: [&str; 5] = [
 /// `clock_drift` m/s (None: from the first epoch's residuals).
 fn initial_state_arg(obj: &Bound<'_, PyAny>) -> PyResult<InitialState> {
     const ARG: &str = "initial_state";
-    if let Ok(d) = obj.cast::<PyDict>() {
-        for key in d.keys() {
-            let name: String = key.extract().unwrap_or_default();
-            if !INITIAL_STATE_KEYS.contains(&name.as_str()) {
-                return Err(PyValueError::new_err(format!(
-                    "{ARG}: unknown entry {}; expected some of {}",
-                    key.repr()?,
-                    INITIAL_STATE_KEYS.join(", ")
-                )));
-            }
-        }
-    }
+    check_keys(obj, ARG, &INITIAL_STATE_KEYS)?;
     let vector = |name: &str| convert::vector3(&field(obj, name, ARG)?, &format!("{ARG}.{name}"));
     let clock = |name: &str| -> PyResult<Option<f64>> {
         optional_field(obj, name)?

@@ -4,14 +4,16 @@
 use std::path::PathBuf;
 
 use memsnav_core::gnss::{self, Constellation, GnssEpoch, SimulationConfig, WalkerConfig};
-use memsnav_core::random;
+use memsnav_core::{logs, random};
 use memsnav_core::Error;
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix4, Vector3};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
+use crate::aiding;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
@@ -237,6 +239,85 @@ impl PyGnssMeasurements {
 #[catch_panics]
 #[pymethods]
 impl PyGnssMeasurements {
+    /// Measurements from padded arrays: ``time`` (T,) s, ``sat_id`` (T, n)
+    /// (negative: an empty slot), ``satellite_position_ecef`` and
+    /// ``satellite_velocity_ecef`` (T, n, 3) at transmission, m and m/s,
+    /// ``pseudorange`` (T, n) m (satellite clock corrected),
+    /// ``pseudorange_std`` (T, n) m, optional ``pseudorange_rate`` with
+    /// ``pseudorange_rate_std`` (T, n) m/s; ``start_gps_time``: the GPS time
+    /// of ``time[0]`` (None: ``time`` is GPS time). NaN is refused in every
+    /// non-empty slot except a rate (NaN: no rate there); ValueError names
+    /// the slot.
+    #[new]
+    #[pyo3(signature = (time, sat_id, satellite_position_ecef, satellite_velocity_ecef, pseudorange,
+        pseudorange_std, pseudorange_rate=None, pseudorange_rate_std=None, *, start_gps_time=None))]
+    fn new(
+        py: Python<'_>,
+        time: &Bound<'_, PyAny>,
+        sat_id: &Bound<'_, PyAny>,
+        satellite_position_ecef: &Bound<'_, PyAny>,
+        satellite_velocity_ecef: &Bound<'_, PyAny>,
+        pseudorange: &Bound<'_, PyAny>,
+        pseudorange_std: &Bound<'_, PyAny>,
+        pseudorange_rate: Option<&Bound<'_, PyAny>>,
+        pseudorange_rate_std: Option<&Bound<'_, PyAny>>,
+        start_gps_time: Option<f64>,
+    ) -> PyResult<Self> {
+        let arrays = PyDict::new(py);
+        for (name, value) in [
+            ("time", Some(time)),
+            ("sat_id", Some(sat_id)),
+            ("satellite_position_ecef", Some(satellite_position_ecef)),
+            ("satellite_velocity_ecef", Some(satellite_velocity_ecef)),
+            ("pseudorange", Some(pseudorange)),
+            ("pseudorange_std", Some(pseudorange_std)),
+            ("pseudorange_rate", pseudorange_rate),
+            ("pseudorange_rate_std", pseudorange_rate_std),
+        ] {
+            if let Some(v) = value {
+                arrays.set_item(name, v)?;
+            }
+        }
+        let epochs = aiding::gnss_epochs(arrays.as_any())?.into_owned();
+        Ok(Self::from_epochs(epochs, start_gps_time))
+    }
+
+    /// Measurements from a long table, one row per epoch and satellite (the
+    /// layout ``memsnav simulate`` writes as ``gnss.csv``): the path of a
+    /// CSV file, a pandas or polars DataFrame, or a dict of columns. Columns:
+    /// ``time_s``, ``sat_id``, ``sat_position_ecef_{x,y,z}_m``,
+    /// ``sat_velocity_ecef_{x,y,z}_m_s``, ``pseudorange_m``; optional
+    /// ``gps_time_s``, ``pseudorange_rate_m_s`` (empty or NaN: no rate),
+    /// ``pseudorange_std_m``, ``pseudorange_rate_std_m_s`` (left out: the
+    /// σ given here, None: ``defaults()["gnss"]``). Any other column is a
+    /// ValueError naming it and the closest known name; a row with NaN
+    /// outside a rate is refused, naming the row (CSV: the line).
+    #[staticmethod]
+    #[pyo3(signature = (table, *, pseudorange_std=None, pseudorange_rate_std=None))]
+    fn from_table(
+        py: Python<'_>,
+        table: &Bound<'_, PyAny>,
+        pseudorange_std: Option<f64>,
+        pseudorange_rate_std: Option<f64>,
+    ) -> PyResult<Self> {
+        let d = logs::TableStds::default();
+        let stds = logs::TableStds {
+            pseudorange_std_m: pseudorange_std.unwrap_or(d.pseudorange_std_m),
+            pseudorange_rate_std_m_s: pseudorange_rate_std.unwrap_or(d.pseudorange_rate_std_m_s),
+        };
+        let parsed = if let Ok(path) = table.extract::<PathBuf>() {
+            py.detach(|| logs::read_gnss_table(&path, stds)).py()?
+        } else {
+            let columns = table_columns(table)?;
+            let named: Vec<(&str, &[f64])> = columns
+                .iter()
+                .map(|(n, v)| (n.as_str(), v.as_slice()))
+                .collect();
+            logs::gnss_table_from_columns(&named, stds, "table").py()?
+        };
+        Ok(Self::from_epochs(parsed.epochs, parsed.start_gps_time_s))
+    }
+
     /// Epoch times on the trajectory's time axis, s, ``(T,)``.
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -326,6 +407,40 @@ impl PyGnssMeasurements {
     fn __len__(&self) -> usize {
         self.epochs.len()
     }
+}
+
+/// The columns of a dict of arrays or a DataFrame (pandas, polars: any
+/// object with ``columns`` whose items convert to float arrays; nulls as NaN).
+fn table_columns(table: &Bound<'_, PyAny>) -> PyResult<Vec<(String, Vec<f64>)>> {
+    let names: Vec<String> = if let Ok(d) = table.cast::<PyDict>() {
+        d.keys().extract()
+    } else {
+        table.getattr("columns").and_then(|c| c.extract())
+    }
+    .map_err(|_| {
+        PyValueError::new_err(
+            "table: expected a CSV path, a DataFrame or a dict of columns with string names",
+        )
+    })?;
+    names
+        .into_iter()
+        .map(|name| {
+            let column = table.get_item(&name)?;
+            let column = if column.hasattr("to_numpy")? {
+                column.call_method0("to_numpy")?
+            } else {
+                column
+            };
+            let values: numpy::PyArrayLike1<f64, numpy::AllowTypeChange> =
+                column.extract().map_err(|_| {
+                    PyValueError::new_err(format!(
+                        "table: column {name:?} is not a column of numbers"
+                    ))
+                })?;
+            let values = values.as_array().to_vec();
+            Ok((name, values))
+        })
+        .collect()
 }
 
 fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
@@ -553,18 +668,21 @@ impl PyFixSeries {
     }
 }
 
-/// Least-squares position/velocity/clock fix of every epoch.
+/// Least-squares position/velocity/clock fix of every epoch of
+/// ``measurements``: a ``GnssMeasurements`` or its padded arrays as a dict
+/// (the keys of the ``GnssMeasurements`` constructor, no others).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measurements, prior=None, strict=false))]
 fn solve_fix(
     py: Python<'_>,
-    measurements: &PyGnssMeasurements,
+    measurements: &Bound<'_, PyAny>,
     prior: Option<&Bound<'_, PyAny>>,
     strict: bool,
 ) -> PyResult<PyFixSeries> {
     let prior = prior.map(|p| convert::vector3(p, "prior")).transpose()?;
-    let epochs = &measurements.epochs;
+    let epochs = aiding::gnss_epochs(measurements)?;
+    let epochs = &*epochs;
     let fixes = py
         .detach(|| {
             let mut start = prior;
@@ -604,9 +722,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 // --- real receiver data (issue 8) ---
 
 impl PyGnssMeasurements {
-    /// Measurements of a real receiver: epoch times are GPS times; the
-    /// receiver clock is unknown (NaN).
-    pub(crate) fn from_epochs(epochs: Vec<GnssEpoch>) -> Self {
+    /// Measurements of a real receiver (the receiver clock unknown, NaN):
+    /// `start_gps_time_s` is the GPS time of the first epoch (None: its
+    /// time is GPS time already, as a RINEX file's).
+    pub(crate) fn from_epochs(epochs: Vec<GnssEpoch>, start_gps_time_s: Option<f64>) -> Self {
         let n_max = epochs
             .iter()
             .map(|e| e.measurements.len())
@@ -618,7 +737,8 @@ impl PyGnssMeasurements {
         };
         Self {
             clock: vec![nan; epochs.len()],
-            start_gps_time_s: epochs.first().map_or(0.0, |e| e.time_s),
+            start_gps_time_s: start_gps_time_s
+                .unwrap_or_else(|| epochs.first().map_or(0.0, |e| e.time_s)),
             n_max,
             epochs,
         }
@@ -628,7 +748,7 @@ impl PyGnssMeasurements {
 /// A RINEX 3 observation file.
 #[pyclass(name = "RinexObservations", module = "memsnav._memsnav", frozen)]
 pub struct PyRinexObservations {
-    inner: gnss::ObservationFile,
+    pub(crate) inner: gnss::ObservationFile,
 }
 
 #[catch_panics]
@@ -754,7 +874,7 @@ impl PyRinexObservations {
         let epochs = py
             .detach(|| gnss::gps_l1_epochs(&self.inner, &constellation.inner, &options))
             .py()?;
-        Ok(PyGnssMeasurements::from_epochs(epochs))
+        Ok(PyGnssMeasurements::from_epochs(epochs, None))
     }
 
     fn __len__(&self) -> usize {

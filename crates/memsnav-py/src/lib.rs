@@ -15,6 +15,7 @@ mod errors;
 mod experiments;
 mod geodesy;
 mod gnss;
+mod gnsslogger;
 mod ins;
 mod inversion;
 mod log_navigation;
@@ -53,6 +54,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     output::register(m)?;
     logs::register(m)?;
     montecarlo::register(m)?;
+    gnsslogger::register(m)?;
     random::register(m)?;
     Ok(())
 }

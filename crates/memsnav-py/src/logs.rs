@@ -17,7 +17,7 @@ use crate::errors::IntoPyResult;
 /// IMU samples read from a CSV log, SI units, sensor axes.
 #[pyclass(name = "ImuLog", module = "memsnav._memsnav", frozen)]
 pub struct PyImuLog {
-    inner: logs::ImuLog,
+    pub(crate) inner: logs::ImuLog,
 }
 
 #[catch_panics]

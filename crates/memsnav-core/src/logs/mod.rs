@@ -13,10 +13,17 @@
 //! magnitudes, gaps in time).
 
 mod fields;
+mod gnss_table;
+mod gnsslogger;
 mod imu_csv;
 mod rtklib_pos;
 mod time_tag;
 
+pub use gnss_table::{
+    gnss_table_from_columns, parse_gnss_table, read_gnss_table, GnssTable, TableStds,
+    GNSS_TABLE_OPTIONAL, GNSS_TABLE_REQUIRED,
+};
+pub use gnsslogger::{parse_gnsslogger, read_gnsslogger, GnssLoggerLog};
 pub use imu_csv::{
     parse_imu_csv, read_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, ImuLog, TimeUnit, IMU_COLUMNS,
     MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,

@@ -1,0 +1,184 @@
+//! GNSS measurements given one satellite at a time (a long table's rows,
+//! the slots of padded arrays) checked and grouped into epochs: the one
+//! gate every outside measurement passes before the fix solver or a
+//! filter sees it.
+//!
+//! NaN policy (docs/robustness.md): a measurement with a NaN or infinite
+//! time, satellite position or velocity, pseudorange or pseudorange σ is
+//! refused with an error naming it; NaN is accepted only for a rate (and
+//! its σ), where it means "this satellite has no rate at this epoch".
+
+use super::{GnssEpoch, SatelliteMeasurement};
+
+/// Largest satellite distance from the Earth's centre accepted, m (well
+/// beyond geostationary orbit, 4.2e7 m).
+pub const MAX_SATELLITE_RADIUS_M: f64 = 1e8;
+/// Largest satellite speed accepted, m/s.
+pub const MAX_SATELLITE_SPEED_M_S: f64 = 1e4;
+/// Largest |pseudorange| accepted, m (geostationary range plus a
+/// receiver clock error of more than a second).
+pub const MAX_PSEUDORANGE_M: f64 = 1e9;
+/// Largest |pseudorange rate| accepted, m/s (satellite, receiver and a
+/// free-running clock's drift together).
+pub const MAX_PSEUDORANGE_RATE_M_S: f64 = 1e6;
+
+/// `m` checked, or a sentence naming the offending field. A NaN rate
+/// drops the rate's σ too (no rate at all); a finite rate needs a
+/// finite positive σ.
+pub fn check_measurement(m: &SatelliteMeasurement) -> Result<SatelliteMeasurement, String> {
+    let vector_ok =
+        |v: &nalgebra::Vector3<f64>, max: f64| v.iter().all(|x| x.is_finite()) && v.norm() <= max;
+    if !vector_ok(&m.position_ecef, MAX_SATELLITE_RADIUS_M) {
+        return Err(format!(
+            "satellite position {:?} m is not finite or beyond {MAX_SATELLITE_RADIUS_M:e} m",
+            m.position_ecef.as_slice()
+        ));
+    }
+    if !vector_ok(&m.velocity_ecef, MAX_SATELLITE_SPEED_M_S) {
+        return Err(format!(
+            "satellite velocity {:?} m/s is not finite or faster than {MAX_SATELLITE_SPEED_M_S:e} m/s",
+            m.velocity_ecef.as_slice()
+        ));
+    }
+    if !(m.pseudorange_m.is_finite() && m.pseudorange_m.abs() <= MAX_PSEUDORANGE_M) {
+        return Err(format!(
+            "pseudorange = {} m (must be finite, at most {MAX_PSEUDORANGE_M:e} m; leave the satellite out instead of a NaN)",
+            m.pseudorange_m
+        ));
+    }
+    if !(m.pseudorange_std_m.is_finite() && m.pseudorange_std_m > 0.0) {
+        return Err(format!(
+            "pseudorange_std = {} m (must be finite and positive)",
+            m.pseudorange_std_m
+        ));
+    }
+    let mut out = *m;
+    if m.pseudorange_rate_m_s.is_nan() {
+        out.pseudorange_rate_std_m_s = f64::NAN;
+        return Ok(out);
+    }
+    if !(m.pseudorange_rate_m_s.is_finite()
+        && m.pseudorange_rate_m_s.abs() <= MAX_PSEUDORANGE_RATE_M_S)
+    {
+        return Err(format!(
+            "pseudorange_rate = {} m/s (NaN for none, else at most {MAX_PSEUDORANGE_RATE_M_S:e} m/s)",
+            m.pseudorange_rate_m_s
+        ));
+    }
+    if !(m.pseudorange_rate_std_m_s.is_finite() && m.pseudorange_rate_std_m_s > 0.0) {
+        return Err(format!(
+            "pseudorange_rate_std = {} m/s with a rate of {} m/s (must be finite and positive)",
+            m.pseudorange_rate_std_m_s, m.pseudorange_rate_m_s
+        ));
+    }
+    Ok(out)
+}
+
+/// A satellite number from a float: a whole number 0..=65535.
+pub fn sat_id(value: f64) -> Result<u16, String> {
+    if value.is_finite() && value >= 0.0 && value <= f64::from(u16::MAX) && value.fract() == 0.0 {
+        Ok(value as u16)
+    } else {
+        Err(format!(
+            "sat_id = {value} is not a satellite number (0 to 65535)"
+        ))
+    }
+}
+
+/// Epochs from measurements in time order, one `(time_s, measurement)`
+/// per satellite and epoch (each checked by [`check_measurement`]); rows of
+/// one epoch share its time exactly. The error is the index of the
+/// offending row and a sentence: a time not finite or going back, a
+/// satellite twice in an epoch, a bad measurement.
+pub fn epochs_from_rows(
+    rows: impl IntoIterator<Item = (f64, SatelliteMeasurement)>,
+) -> Result<Vec<GnssEpoch>, (usize, String)> {
+    let mut epochs: Vec<GnssEpoch> = Vec::new();
+    for (i, (time_s, m)) in rows.into_iter().enumerate() {
+        if !time_s.is_finite() {
+            return Err((i, format!("time = {time_s} s is not finite")));
+        }
+        let m = check_measurement(&m).map_err(|e| (i, e))?;
+        match epochs.last_mut() {
+            Some(e) if e.time_s == time_s => {
+                if e.measurements.iter().any(|x| x.sat_id == m.sat_id) {
+                    return Err((
+                        i,
+                        format!("satellite {} appears twice at time {time_s} s", m.sat_id),
+                    ));
+                }
+                e.measurements.push(m);
+            }
+            Some(e) if e.time_s > time_s => {
+                return Err((
+                    i,
+                    format!(
+                        "time = {time_s} s goes back from {} s (rows must be in time order)",
+                        e.time_s
+                    ),
+                ))
+            }
+            _ => epochs.push(GnssEpoch {
+                time_s,
+                measurements: vec![m],
+            }),
+        }
+    }
+    Ok(epochs)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector3;
+
+    fn measurement(sat_id: u16) -> SatelliteMeasurement {
+        SatelliteMeasurement {
+            sat_id,
+            position_ecef: Vector3::new(2.0e7, 1.0e7, 1.0e7),
+            velocity_ecef: Vector3::new(1000.0, 2000.0, 0.0),
+            pseudorange_m: 2.2e7,
+            pseudorange_rate_m_s: f64::NAN,
+            pseudorange_std_m: 3.0,
+            pseudorange_rate_std_m_s: 0.1,
+        }
+    }
+
+    #[test]
+    fn rows_group_into_epochs() {
+        let rows = [
+            (0.0, measurement(1)),
+            (0.0, measurement(2)),
+            (1.0, measurement(1)),
+        ];
+        let epochs = epochs_from_rows(rows).unwrap();
+        assert_eq!(epochs.len(), 2);
+        assert_eq!(epochs[0].measurements.len(), 2);
+        // A NaN rate drops its σ: no rate at all.
+        assert!(epochs[0].measurements[0].pseudorange_rate_std_m_s.is_nan());
+    }
+
+    #[test]
+    fn bad_rows_are_named() {
+        let twice = [(0.0, measurement(1)), (0.0, measurement(1))];
+        assert_eq!(epochs_from_rows(twice).unwrap_err().0, 1);
+        let back = [(1.0, measurement(1)), (0.0, measurement(2))];
+        assert!(epochs_from_rows(back).unwrap_err().1.contains("goes back"));
+        let mut nan = measurement(3);
+        nan.pseudorange_m = f64::NAN;
+        let e = epochs_from_rows([(0.0, measurement(1)), (0.0, nan)]).unwrap_err();
+        assert_eq!(e.0, 1);
+        assert!(e.1.starts_with("pseudorange = NaN"), "{}", e.1);
+        let mut no_std = measurement(4);
+        no_std.pseudorange_rate_m_s = 5.0;
+        no_std.pseudorange_rate_std_m_s = f64::NAN;
+        assert!(check_measurement(&no_std)
+            .unwrap_err()
+            .contains("pseudorange_rate_std"));
+        let mut far = measurement(5);
+        far.position_ecef.x = 1e67;
+        assert!(check_measurement(&far).is_err());
+        assert!(sat_id(3.5).is_err() && sat_id(-1.0).is_err() && sat_id(f64::NAN).is_err());
+        assert_eq!(sat_id(12.0), Ok(12));
+    }
+}
