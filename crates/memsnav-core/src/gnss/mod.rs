@@ -20,6 +20,7 @@ mod satellite_state;
 mod simulate;
 mod sp3;
 mod time;
+mod utc;
 mod walker;
 
 pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
@@ -47,6 +48,7 @@ pub use time::{
     calendar_from_gps_time, checked_gps_time_from_calendar, gps_time_from_calendar, CALENDAR_YEARS,
     SECONDS_PER_WEEK,
 };
+pub use utc::{checked_gps_time_from_utc, leap_seconds_on};
 pub use walker::{Walker, WalkerConfig};
 
 use nalgebra::Vector3;
