@@ -67,6 +67,7 @@ from memsnav.calibration import (
     static_summary,
 )
 from memsnav.realdata.config import load_config
+from memsnav.realdata.fix_readers import read_fixes, read_fixes_csv, read_nmea
 from memsnav.realdata.pipeline import navigate
 from memsnav.realdata.readers import (
     ImuLog,
@@ -143,8 +144,11 @@ __all__ = [
     "navigate",
     "navigate_log",
     "navigate_settings",
+    "read_fixes",
+    "read_fixes_csv",
     "read_imu_csv",
     "read_klobuchar",
+    "read_nmea",
     "read_pos",
     "read_rinex_obs",
     "read_sp3",

@@ -539,6 +539,13 @@ pub fn parse_nmea(text: &str, file: &str) -> Result<PosSolution> {
         };
         notes.repeated += usize::from(repeated);
     }
+    if epochs.is_empty() {
+        return Err(parse_error(
+            file,
+            lines.len().max(1),
+            "expected NMEA sentences with fixes (GGA, with an RMC for the date), found none",
+        ));
+    }
     let times = gps_times(&epochs, file)?;
     let mut sol = PosSolution::with_capacity(epochs.len());
     let mut covariances = Vec::with_capacity(epochs.len());
