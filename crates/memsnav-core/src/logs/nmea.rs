@@ -121,6 +121,9 @@ fn sentence(line: &str) -> std::result::Result<&str, String> {
         let shown: String = line.chars().take(40).collect();
         return Err(format!("{expected}, got {shown:?}"));
     }
+    if !body.is_ascii() {
+        return Err("the sentence has non-ASCII characters (NMEA 0183 is ASCII)".to_string());
+    }
     let Some(star) = body.find('*') else {
         return Err("no checksum ('*hh' after the sentence)".to_string());
     };
