@@ -71,6 +71,7 @@ from memsnav.calibration import (
 )
 from memsnav.plots import plot_errors, plot_track
 from memsnav.realdata.config import load_config
+from memsnav.realdata.fix_readers import read_fixes, read_fixes_csv, read_nmea
 from memsnav.realdata.pipeline import navigate
 from memsnav.realdata.readers import (
     ImuLog,
@@ -151,9 +152,12 @@ __all__ = [
     "plot_errors",
     "plot_track",
     "quantile_interval",
+    "read_fixes",
+    "read_fixes_csv",
     "read_imu_csv",
     "read_gnsslogger",
     "read_klobuchar",
+    "read_nmea",
     "read_pos",
     "read_rinex_obs",
     "read_sp3",

@@ -17,8 +17,9 @@ use std::time::Duration;
 
 use memsnav_core::gnss::{parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar};
 use memsnav_core::logs::{
-    parse_imu_csv, parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
-    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+    parse_fixes_csv, parse_imu_csv, parse_nmea, parse_pos, parse_time_tag, AccelUnit, GyroUnit,
+    ImuCsvLayout, PosSolution, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2,
+    MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 
@@ -34,6 +35,8 @@ enum Reader {
     RinexNav,
     Klobuchar,
     Sp3,
+    FixesCsv,
+    Nmea,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -78,6 +81,50 @@ PG01  13974.113220 -21737.434722   8797.941102    -35.472561
 EOF
 ";
 
+const FIXES_CSV_SEED: &str = "# fixes
+gps_week,gps_tow_s,lat_deg,lon_deg,height_m,cov_nn_m2,cov_ne_m2,cov_nd_m2,cov_ee_m2,cov_ed_m2,cov_dd_m2,vn_m_s,ve_m_s,vd_m_s,std_vn_m_s,std_ve_m_s,std_vd_m_s,quality,n_satellites
+2374,242094.999,40.0966268,-105.1474483,1601.45,1e-4,2e-5,0,1e-4,0,1.2e-4,-0.002,0.001,0.008,0.058,0.058,0.058,1,20
+2374,242095.249,40.0966268,-105.1474483,1601.453,1e-4,0,0,1e-4,0,1.2e-4,0.009,-0.001,-0.028,0.054,0.054,0.054,1,20
+2374,242095.499,40.0966269,-105.1474484,1601.46,1e-4,0,-1e-5,1e-4,0,1.2e-4,,,,,,,2,19
+";
+
+const NMEA_SEED: &str = "$GNGGA,120000.00,5130.000000,N,00007.500000,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*74
+$GNRMC,120000.00,A,5130.000000,N,00007.500000,W,1.5,90.0,150320,,,R*7F
+$GNGST,120000.00,1.0,0.02,0.01,45.0,0.015,0.015,0.03*4A
+$GNVTG,90.0,T,,M,1.5,N,2.8,K,R*37
+$GPGSV,3,1,11,10,63,137,17,07,61,098,15,05,59,290,20,08,54,157,30*70
+NMEA,$GNGGA,120000.25,5130.000001,N,00007.500001,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*73,1584273618250
+NMEA,$GNRMC,120000.25,A,5130.000001,N,00007.500001,W,1.5,90.0,150320,,,R*78,1584273618251
+$GNGST,120000.25,1.0,0.02,0.01,45.0,0.015,0.015,0.03*4D
+$GNVTG,90.0,T,,M,1.5,N,2.8,K,R*37
+$GNGGA,120000.50,5130.000002,N,00007.500002,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*71
+$GNRMC,120000.50,A,5130.000002,N,00007.500002,W,1.5,90.0,150320,,,R*7A
+$GNVTG,90.0,T,,M,1.5,N,2.8,K,R*37
+";
+
+/// Whether a fix reader's solution keeps its guarantees: times increase,
+/// positions, stds and speeds in range, covariances symmetric with
+/// non-negative eigenvalues (to rounding), qualities RTKLIB's.
+fn solution_ok(sol: &PosSolution) -> bool {
+    let psd = |c: &nalgebra::Matrix3<f64>| {
+        (c - c.transpose()).abs().max() <= 1e-12 * c.abs().max()
+            && c.symmetric_eigenvalues().min() >= -1e-9 * c.trace().abs().max(1e-300)
+    };
+    increasing(&sol.gps_time_s)
+        && sol.lla.iter().all(|p| {
+            p.x.abs() <= std::f64::consts::FRAC_PI_2
+                && p.y.abs() <= std::f64::consts::PI
+                && POS_HEIGHT_RANGE_M.contains(&p.z)
+        })
+        && sol.std_ned_m.iter().all(|s| s.iter().all(|&x| x >= 0.0))
+        && sol
+            .velocity_ned_m_s
+            .iter()
+            .all(|v| v.iter().all(|x| x.abs() <= MAX_SPEED_M_S || x.is_nan()))
+        && sol.quality.iter().all(|&q| q <= 7)
+        && sol.position_covariance_ned_m2().iter().all(psd)
+}
+
 fn seed(reader: Reader) -> &'static [u8] {
     static SEEDS: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
     let seeds = SEEDS.get_or_init(|| {
@@ -89,6 +136,8 @@ fn seed(reader: Reader) -> &'static [u8] {
             head("real-imu-gnss/walk.nav", 21),
             KLOBUCHAR_SEED.as_bytes().to_vec(),
             SP3_SEED.as_bytes().to_vec(),
+            FIXES_CSV_SEED.as_bytes().to_vec(),
+            NMEA_SEED.as_bytes().to_vec(),
         ]
     });
     &seeds[reader as usize]
@@ -140,20 +189,18 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                 && tag.file_offset.windows(2).all(|w| w[1] >= w[0]);
             ok.then_some(()).ok_or(format!("{tag:?}"))
         }),
-        Reader::Pos => parse_pos(&text, file).map(|sol| {
-            let ok = increasing(&sol.gps_time_s)
-                && sol.lla.iter().all(|p| {
-                    p.x.abs() <= std::f64::consts::FRAC_PI_2
-                        && p.y.abs() <= std::f64::consts::PI
-                        && POS_HEIGHT_RANGE_M.contains(&p.z)
-                })
-                && sol.std_ned_m.iter().all(|s| s.iter().all(|&x| x >= 0.0))
-                && sol
-                    .velocity_ned_m_s
-                    .iter()
-                    .all(|v| v.iter().all(|x| x.abs() <= MAX_SPEED_M_S || x.is_nan()));
-            ok.then_some(()).ok_or(format!("{sol:?}"))
-        }),
+        Reader::Pos | Reader::FixesCsv | Reader::Nmea => {
+            let parsed = match reader {
+                Reader::Pos => parse_pos(&text, file),
+                Reader::FixesCsv => parse_fixes_csv(&text, file),
+                _ => parse_nmea(&text, file),
+            };
+            parsed.map(|sol| {
+                solution_ok(&sol)
+                    .then_some(())
+                    .ok_or(format!("{sol:?}"))
+            })
+        }
         Reader::RinexObs => parse_rinex_obs(&text, file).map(|obs| {
             let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();
             let ok = increasing(&times)
@@ -397,6 +444,8 @@ fuzz_reader!(rinex_obs_mutated, rinex_obs_garbage, Reader::RinexObs);
 fuzz_reader!(rinex_nav_mutated, rinex_nav_garbage, Reader::RinexNav);
 fuzz_reader!(klobuchar_mutated, klobuchar_garbage, Reader::Klobuchar);
 fuzz_reader!(sp3_mutated, sp3_garbage, Reader::Sp3);
+fuzz_reader!(fixes_csv_mutated, fixes_csv_garbage, Reader::FixesCsv);
+fuzz_reader!(nmea_mutated, nmea_garbage, Reader::Nmea);
 
 #[test]
 fn the_seeds_read_cleanly() {
@@ -408,6 +457,8 @@ fn the_seeds_read_cleanly() {
         Reader::RinexNav,
         Reader::Klobuchar,
         Reader::Sp3,
+        Reader::FixesCsv,
+        Reader::Nmea,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }
@@ -426,6 +477,7 @@ fn regression_files_are_refused_with_their_name() {
             Some("obs") => Reader::RinexObs,
             Some("nav") => Reader::RinexNav,
             Some("sp3") => Reader::Sp3,
+            Some("nmea") => Reader::Nmea,
             _ => continue,
         };
         let name: &'static str = path

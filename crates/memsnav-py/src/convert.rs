@@ -150,6 +150,26 @@ pub fn matrices3(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Matrix3
         .collect())
 }
 
+/// An `(N, 3, 3)` array as N matrices, NaN allowed (absent values).
+pub fn matrices3_allow_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Matrix3<f64>>> {
+    let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
+    })?;
+    let shape = array.shape().to_vec();
+    if shape.len() != 3 || shape[1..] != [3, 3] {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: expected shape (N, 3, 3), got {shape:?}"
+        )));
+    }
+    let values: Vec<f64> = array.as_array().iter().copied().collect();
+    if let Some(v) = values.iter().find(|v| v.is_infinite()) {
+        return Err(PyValueError::new_err(format!(
+            "{argument}: contains {v} (NaN marks an absent value; infinities are not allowed)"
+        )));
+    }
+    Ok(values.chunks_exact(9).map(Matrix3::from_row_slice).collect())
+}
+
 /// An `(N, 3)` array as N vectors, NaN allowed (the core names what a NaN
 /// means for the argument).
 pub fn vectors_allowing_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<Vec<Vector3<f64>>> {

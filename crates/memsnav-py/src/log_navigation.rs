@@ -7,6 +7,7 @@ use memsnav_core::navigate::{
     self, fixes_from_geodetic, references, score, FixOptions, GeodeticSolution, GnssInput,
     LogConfig, LogRun, SettingTables, SettingValue,
 };
+use memsnav_core::logs;
 use memsnav_core::random::from_optional_seed;
 use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_py_macros::catch_panics;
@@ -115,23 +116,28 @@ fn check_navigate_settings(settings: &Bound<'_, PyDict>) -> PyResult<()> {
     Ok(())
 }
 
-/// Fixes from a geodetic solution (e.g. an RTKLIB `.pos` read with
-/// `read_pos`): `time` (T,) s, `geodetic` (T, 3) [lat rad, lon rad, h m],
-/// `std_ned` (T, 3) m, optional `velocity_ned` and `velocity_std_ned`
-/// (T, 3) (NaN where absent). Keeps the epochs on the `rate_hz` grid, adds
-/// seeded white noise of `added_position_noise_ned` (N, E, D one-sigma, m)
-/// and `added_velocity_noise` (m/s), and rotates the covariance
-/// (std² + noise²) into ECEF.
+/// Fixes from a geodetic solution (a `PosSolution` of `read_pos`,
+/// `read_fixes_csv` or `read_nmea`, or arrays): `time` (T,) s, `geodetic`
+/// (T, 3) [lat rad, lon rad, h m], the position uncertainty as `std_ned`
+/// (T, 3) m or `covariance_ned` (T, 3, 3) m² (exactly one), optional
+/// `velocity_ned` (T, 3) with `velocity_std_ned` (T, 3) or
+/// `velocity_covariance_ned` (T, 3, 3) (NaN where absent). Keeps the epochs
+/// on the `rate_hz` grid, adds seeded white noise of
+/// `added_position_noise_ned` (N, E, D one-sigma, m) and
+/// `added_velocity_noise` (m/s), and rotates the covariance (+ noise²) into
+/// ECEF.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (time, geodetic, std_ned, *, velocity_ned=None, velocity_std_ned=None, rate_hz=None, added_position_noise_ned=None, added_velocity_noise=None, use_velocity=None, seed=None))]
+#[pyo3(signature = (time, geodetic, std_ned=None, *, covariance_ned=None, velocity_ned=None, velocity_std_ned=None, velocity_covariance_ned=None, rate_hz=None, added_position_noise_ned=None, added_velocity_noise=None, use_velocity=None, seed=None))]
 #[allow(clippy::too_many_arguments)]
 fn fixes_from_solution(
     time: &Bound<'_, PyAny>,
     geodetic: &Bound<'_, PyAny>,
-    std_ned: &Bound<'_, PyAny>,
+    std_ned: Option<&Bound<'_, PyAny>>,
+    covariance_ned: Option<&Bound<'_, PyAny>>,
     velocity_ned: Option<&Bound<'_, PyAny>>,
     velocity_std_ned: Option<&Bound<'_, PyAny>>,
+    velocity_covariance_ned: Option<&Bound<'_, PyAny>>,
     rate_hz: Option<f64>,
     added_position_noise_ned: Option<&Bound<'_, PyAny>>,
     added_velocity_noise: Option<f64>,
@@ -143,14 +149,31 @@ fn fixes_from_solution(
         return Err(no_epochs("time"));
     }
     let geodetic = convert::vectors(geodetic, "geodetic")?;
-    let std_ned = convert::vectors(std_ned, "std_ned")?;
-    let with_nan = |o: Option<&Bound<'_, PyAny>>, name: &str| {
-        o.filter(|v| !v.is_none())
-            .map(|v| convert::vectors_allow_nan(v, name))
-            .transpose()
+    let covariance = match (given(std_ned), given(covariance_ned)) {
+        (Some(s), None) => logs::diagonal_covariances(&convert::vectors(s, "std_ned")?),
+        (None, Some(c)) => convert::matrices3(c, "covariance_ned")?,
+        _ => {
+            return Err(PyValueError::new_err(
+                "std_ned, covariance_ned: give exactly one (the position uncertainty)",
+            ))
+        }
     };
-    let velocity = with_nan(velocity_ned, "velocity_ned")?;
-    let velocity_std = with_nan(velocity_std_ned, "velocity_std_ned")?;
+    let velocity = given(velocity_ned)
+        .map(|v| convert::vectors_allow_nan(v, "velocity_ned"))
+        .transpose()?;
+    let velocity_covariance = match (given(velocity_std_ned), given(velocity_covariance_ned)) {
+        (Some(s), None) => Some(logs::diagonal_covariances(&convert::vectors_allow_nan(
+            s,
+            "velocity_std_ned",
+        )?)),
+        (None, Some(c)) => Some(convert::matrices3_allow_nan(c, "velocity_covariance_ned")?),
+        (None, None) => None,
+        _ => {
+            return Err(PyValueError::new_err(
+                "velocity_std_ned, velocity_covariance_ned: give at most one",
+            ))
+        }
+    };
     let defaults = FixOptions::default();
     let options = FixOptions {
         rate_hz,
@@ -166,12 +189,17 @@ fn fixes_from_solution(
     let solution = GeodeticSolution {
         time_s: &time,
         geodetic: &geodetic,
-        std_ned_m: &std_ned,
+        covariance_ned_m2: &covariance,
         velocity_ned_m_s: velocity.as_deref(),
-        velocity_std_ned_m_s: velocity_std.as_deref(),
+        velocity_covariance_ned_m2_s2: velocity_covariance.as_deref(),
     };
     let fixes = fixes_from_geodetic(&solution, &options, &mut rng).py()?;
     Ok(PyPositionFixes { fixes })
+}
+
+/// The argument when given and not None.
+fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
+    o.filter(|v| !v.is_none())
 }
 
 /// A real log's navigation: the solution at the antenna in local terms,

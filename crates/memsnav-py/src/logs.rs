@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use memsnav_core::logs::{self, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit};
 use memsnav_core::timing::{self, LineEnds, OffsetSignal};
 use memsnav_py_macros::catch_panics;
-use numpy::{PyArray1, PyArray2};
+use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -271,7 +271,7 @@ fn fit_tag_clock(
     })
 }
 
-/// An RTKLIB solution in geodetic form.
+/// A GNSS solution in geodetic form (RTKLIB ``.pos``, fixes CSV, NMEA).
 #[pyclass(name = "PosSolution", module = "memsnav._memsnav", frozen)]
 pub struct PyPosSolution {
     inner: logs::PosSolution,
@@ -322,6 +322,26 @@ impl PyPosSolution {
         convert::vectors_to_numpy(py, &self.inner.velocity_std_ned_m_s)
     }
 
+    /// Position covariance N, E, D, m², ``(N, 3, 3)``: the file's full one,
+    /// else diag(std²).
+    #[getter]
+    fn covariance_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        convert::matrices3_to_numpy(py, &self.inner.position_covariance_ned_m2())
+    }
+
+    /// Velocity covariance N, E, D, (m/s)², ``(N, 3, 3)``: the file's full
+    /// one, else diag(std²); NaN where the std is.
+    #[getter]
+    fn velocity_covariance_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        convert::matrices3_to_numpy(py, &self.inner.velocity_covariance_ned_m2_s2())
+    }
+
+    /// Whether the file gives full position covariances (not only stds).
+    #[getter]
+    fn has_full_covariance(&self) -> bool {
+        self.inner.covariance_ned_m2.is_some()
+    }
+
     /// Lines skipped, one sentence each.
     #[getter]
     fn warnings(&self) -> Vec<String> {
@@ -339,6 +359,24 @@ impl PyPosSolution {
 fn read_pos(py: Python<'_>, path: PathBuf) -> PyResult<PyPosSolution> {
     Ok(PyPosSolution {
         inner: py.detach(|| logs::read_pos(&path)).py()?,
+    })
+}
+
+/// Reads a fixes CSV (see ``memsnav.read_fixes_csv``).
+#[catch_panics]
+#[pyfunction]
+fn read_fixes_csv(py: Python<'_>, path: PathBuf) -> PyResult<PyPosSolution> {
+    Ok(PyPosSolution {
+        inner: py.detach(|| logs::read_fixes_csv(&path)).py()?,
+    })
+}
+
+/// Reads an NMEA 0183 log (see ``memsnav.read_nmea``).
+#[catch_panics]
+#[pyfunction]
+fn read_nmea(py: Python<'_>, path: PathBuf) -> PyResult<PyPosSolution> {
+    Ok(PyPosSolution {
+        inner: py.detach(|| logs::read_nmea(&path)).py()?,
     })
 }
 
@@ -384,8 +422,10 @@ fn write_pos(
         quality: vec![quality; n],
         n_satellites,
         std_ned_m: convert::vectors(std_ned, "std_ned")?,
+        covariance_ned_m2: None,
         velocity_ned_m_s: convert::vectors(velocity_ned, "velocity_ned")?,
         velocity_std_ned_m_s: convert::vectors(velocity_std_ned, "velocity_std_ned")?,
+        velocity_covariance_ned_m2_s2: None,
         warnings: Vec::new(),
     };
     py.detach(|| logs::write_pos(&path, &solution, program))
@@ -525,6 +565,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_time_tag, m)?)?;
     m.add_function(wrap_pyfunction!(fit_tag_clock, m)?)?;
     m.add_function(wrap_pyfunction!(read_pos, m)?)?;
+    m.add_function(wrap_pyfunction!(read_fixes_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(read_nmea, m)?)?;
     m.add_function(wrap_pyfunction!(write_pos, m)?)?;
     m.add_function(wrap_pyfunction!(estimate_time_offset, m)?)?;
     m.add_function(wrap_pyfunction!(estimate_velocity_latency, m)?)?;

@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 import memsnav._memsnav as _mn
+from memsnav.realdata.fix_readers import FIX_FORMATS
 from memsnav._config import (
     REQUIRED,
     Check,
@@ -54,6 +55,10 @@ _OBSERVABLES: dict[str, float] = _mn.defaults()["RinexObservations.gps_l1"]
 #: RTKLIB's solution qualities (Q): 0 none, 1 fix, 2 float, 3 SBAS, 4 DGPS,
 #: 5 single, 6 PPP, 7 dead reckoning (the range ``read_pos`` accepts).
 _QUALITIES = list_of(integer(0, 7), min_length=1)
+#: The format of a fixes file (``[gnss] pos``, ``[truth] pos``): RTKLIB
+#: ``.pos``, the fixes CSV or NMEA; not given: from the file name
+#: (``fix_readers.fix_format``: ``.csv``, ``.nmea``, else RTKLIB).
+_FIX_FORMAT: dict[str, tuple[Check, Any]] = {"format": (text(*FIX_FORMATS), None)}
 #: The height datum of an RTKLIB solution's heights (``[gnss]`` fixes,
 #: ``[truth]``): ellipsoidal (WGS 84), or above mean sea level with the
 #: geoid separation N at the site (h = H + N, m). Geoid undulations lie
@@ -82,6 +87,7 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
     "gnss": {
         "mode": (text("loose", "tight"), REQUIRED),
         "pos": (pathname(), ""),
+        **_FIX_FORMAT,
         # None: every quality the file holds (a warning names them).
         "quality": (_QUALITIES, None),
         "rate_hz": (number(above=0.0), None),
@@ -108,6 +114,7 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
     },
     "truth": {
         "pos": (pathname(), ""),
+        **_FIX_FORMAT,
         "quality": (_QUALITIES, [1, 2]),
         **_HEIGHT_DATUM,
         "score": (text("accuracy", "precision"), "accuracy"),

@@ -23,7 +23,7 @@ import numpy as np
 
 import memsnav._memsnav as _mn
 from memsnav._files import check_replaceable, fresh_output_folder
-from memsnav.realdata import readers
+from memsnav.realdata import fix_readers, readers
 from memsnav.realdata.config import RunConfig, load_config
 from memsnav.realdata.result import LogNavigationResult
 
@@ -109,13 +109,14 @@ _QUALITY_NAMES = ("none", "fix", "float", "SBAS", "DGPS", "single", "PPP", "dead
 
 
 def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.ndarray, np.ndarray]:
-    """The RTKLIB solution ``[table] pos``, which of its epochs have a
-    quality in ``[table] quality`` (None having one is an error naming the
-    key, the file and the qualities its epochs have), and its latitude,
-    longitude (rad) and ellipsoidal height (m): heights above mean sea level
-    (``[table] height = "msl"``) plus the geoid separation."""
+    """The solution ``[table] pos`` (RTKLIB ``.pos``, fixes CSV or NMEA:
+    ``[table] format``, by default from the file name), which of its epochs
+    have a quality in ``[table] quality`` (None having one is an error
+    naming the key, the file and the qualities its epochs have), and its
+    latitude, longitude (rad) and ellipsoidal height (m): heights above mean
+    sea level (``[table] height = "msl"``) plus the geoid separation."""
     path = _require(cfg, table, "pos")
-    solution = readers.read_pos(path)
+    solution = fix_readers.read_fixes(path, cfg[table]["format"])
     wanted = cfg[table]["quality"]
     if wanted is None:
         # The file's own epochs, whatever their quality, each weighted by
@@ -166,9 +167,9 @@ def _optional(values: dict[str, Any], *keys: str) -> dict[str, Any]:
 
 
 def loose_input(cfg: RunConfig) -> Any:
-    """The RTKLIB solution's epochs of the chosen quality as antenna fixes
-    (``PositionFixes``): at ``rate_hz``, with seeded white noise added when
-    asked for."""
+    """The GNSS solution's epochs of the chosen quality as antenna fixes
+    (``PositionFixes``) with the file's covariances (full where it gives
+    them): at ``rate_hz``, with seeded white noise added when asked for."""
     g = cfg["gnss"]
     sol, keep, lla = read_solution(cfg, "gnss")
     given = _optional(g, "rate_hz", "velocity_noise_m_s", "use_velocity", "position_noise_m")
@@ -181,9 +182,9 @@ def loose_input(cfg: RunConfig) -> Any:
     fixes = _mn.fixes_from_solution(
         sol.gps_time[keep],
         lla[keep],
-        sol.std_ned[keep],
+        covariance_ned=sol.covariance_ned[keep],
         velocity_ned=sol.velocity_ned[keep],
-        velocity_std_ned=sol.velocity_std_ned[keep],
+        velocity_covariance_ned=sol.velocity_covariance_ned[keep],
         seed=g["seed"],
         **kwargs,
     )

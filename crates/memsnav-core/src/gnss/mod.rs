@@ -21,6 +21,7 @@ mod satellite_state;
 mod simulate;
 mod sp3;
 mod time;
+mod utc;
 mod walker;
 
 pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
@@ -53,6 +54,7 @@ pub use time::{
     gps_time_from_calendar, utc_text_from_gps_time, CALENDAR_YEARS, LEAP_SECONDS_KNOWN_UNTIL,
     SECONDS_PER_WEEK,
 };
+pub use utc::{checked_gps_time_from_utc, leap_seconds_on};
 pub use walker::{Walker, WalkerConfig};
 
 use nalgebra::Vector3;

@@ -137,7 +137,7 @@ pub fn gps_time_from_calendar(
 /// the leap seconds since the GPS epoch (IERS Bulletin C; GPS − UTC is 0 s
 /// at 1980-01-06 and 18 s from 2017-01-01). The list is complete up to
 /// [`LEAP_SECONDS_KNOWN_UNTIL`]; a later announcement must be added here.
-const LEAP_SECOND_DATES: [(i64, i64, i64); 18] = [
+pub(crate) const LEAP_SECOND_DATES: [(i64, i64, i64); 18] = [
     (1981, 7, 1),
     (1982, 7, 1),
     (1983, 7, 1),

@@ -1,7 +1,8 @@
 //! Readers and writers of real sensor logs, one file per format: IMU CSV
 //! logs with a declared column layout and units, RTKLIB time-tag files
-//! (`.tag`) and RTKLIB solution files (`.pos`). RINEX and SP3 live in
-//! [`crate::gnss`].
+//! (`.tag`), and GNSS fixes as RTKLIB solution files (`.pos`), a CSV of
+//! named columns and NMEA 0183, all three read into one [`PosSolution`].
+//! RINEX and SP3 live in [`crate::gnss`].
 //!
 //! Every reader checks each field it parses against a physical range and
 //! names the file, the 1-based line, the column and the field in its
@@ -13,9 +14,12 @@
 //! magnitudes, gaps in time).
 
 mod fields;
+mod fixes_csv;
 mod gnss_table;
 mod gnsslogger;
 mod imu_csv;
+mod nmea;
+mod pos_solution;
 mod rtklib_pos;
 mod time_tag;
 
@@ -28,9 +32,10 @@ pub use imu_csv::{
     parse_imu_csv, read_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, ImuLog, TimeUnit, IMU_COLUMNS,
     MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
 };
-pub use rtklib_pos::{
-    format_pos, parse_pos, read_pos, write_pos, PosSolution, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
-};
+pub use fixes_csv::{parse_fixes_csv, read_fixes_csv, DEFAULT_CSV_QUALITY, FIXES_CSV_COLUMNS};
+pub use nmea::{parse_nmea, read_nmea, NMEA_TALKERS, NMEA_UERE_M, NMEA_VDOP_PER_HDOP};
+pub use pos_solution::{diagonal_covariances, PosSolution};
+pub use rtklib_pos::{format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M};
 pub use time_tag::{parse_time_tag, read_time_tag, TimeTag, TIME_TAG_HEADER_BYTES};
 
 use std::path::Path;

@@ -9,6 +9,8 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use super::fields::{finite_number, in_range, parse_error};
+use super::pos_solution::{MAX_STD, QUALITY_RANGE};
+use super::PosSolution;
 use crate::gnss::{calendar_from_gps_time, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
@@ -18,13 +20,6 @@ pub const POS_HEIGHT_RANGE_M: std::ops::RangeInclusive<f64> = -1.0e4..=1.0e7;
 
 /// Largest velocity component accepted, m/s (beyond orbital speed).
 pub const MAX_SPEED_M_S: f64 = 1.0e4;
-
-/// Largest standard deviation or covariance term accepted, m or m/s.
-const MAX_STD: f64 = 1.0e7;
-
-/// RTKLIB's solution quality flags: 0 none, 1 fix, 2 float, 3 SBAS,
-/// 4 DGPS, 5 single, 6 PPP, 7 dead reckoning (demo5).
-const QUALITY_RANGE: std::ops::RangeInclusive<f64> = 0.0..=7.0;
 
 /// The columns after the GPST date and time, as RTKLIB names them in the
 /// header; the velocity columns (RTKLIB demo5) from [`VELOCITY_COLUMN`] on.
@@ -53,28 +48,6 @@ const COLUMNS: [&str; 22] = [
     "sdvun",
 ];
 const VELOCITY_COLUMN: usize = 13;
-
-/// An RTKLIB solution in geodetic form.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PosSolution {
-    /// Epochs, GPS s since 1980-01-06, strictly increasing.
-    pub gps_time_s: Vec<f64>,
-    /// [latitude rad, longitude rad, ellipsoidal height m].
-    pub lla: Vec<Vector3<f64>>,
-    /// RTKLIB's Q (1 fix, 2 float, 5 single, ...).
-    pub quality: Vec<u8>,
-    /// Satellites used.
-    pub n_satellites: Vec<u16>,
-    /// One-sigma position uncertainty north, east, down (RTKLIB's sdn,
-    /// sde, sdu), m.
-    pub std_ned_m: Vec<Vector3<f64>>,
-    /// NED velocity, m/s; NaN when the file has no velocity columns.
-    pub velocity_ned_m_s: Vec<Vector3<f64>>,
-    /// One-sigma velocity uncertainty north, east, down, m/s; NaN likewise.
-    pub velocity_std_ned_m_s: Vec<Vector3<f64>>,
-    /// Lines skipped, one sentence each.
-    pub warnings: Vec<String>,
-}
 
 /// Reads an RTKLIB `.pos` file.
 pub fn read_pos(path: impl AsRef<Path>) -> Result<PosSolution> {
@@ -185,16 +158,7 @@ pub fn parse_pos(text: &str, file: &str) -> Result<PosSolution> {
         ));
         data.pop();
     }
-    let mut sol = PosSolution {
-        gps_time_s: Vec::with_capacity(data.len()),
-        lla: Vec::with_capacity(data.len()),
-        quality: Vec::with_capacity(data.len()),
-        n_satellites: Vec::with_capacity(data.len()),
-        std_ned_m: Vec::with_capacity(data.len()),
-        velocity_ned_m_s: Vec::with_capacity(data.len()),
-        velocity_std_ned_m_s: Vec::with_capacity(data.len()),
-        warnings: Vec::new(),
-    };
+    let mut sol = PosSolution::with_capacity(data.len());
     let parse_line = |line: &str| -> std::result::Result<(f64, Vec<f64>), String> {
         let f: Vec<&str> = line.split_whitespace().collect();
         if f.len() != n_fields {

@@ -1,7 +1,8 @@
-//! Position fixes from a solution file's geodetic rows (an RTKLIB `.pos`):
-//! thinned to a rate, optionally degraded by seeded white noise (to play a
-//! metre-class receiver from an RTK solution), with their NED covariance
-//! rotated into ECEF.
+//! Position fixes from a solution file's geodetic rows (an RTKLIB `.pos`,
+//! a fixes CSV, NMEA: [`crate::logs::PosSolution`]): thinned to a rate,
+//! optionally degraded by seeded white noise (to play a metre-class
+//! receiver from an RTK solution), with their NED covariance (full, or
+//! diagonal from the stds) rotated into ECEF.
 
 use nalgebra::{Matrix3, Vector3};
 use rand_distr::{Distribution, StandardNormal};
@@ -22,12 +23,38 @@ pub struct GeodeticSolution<'a> {
     pub time_s: &'a [f64],
     /// Latitude, longitude (rad), ellipsoidal height (m).
     pub geodetic: &'a [Vector3<f64>],
-    /// One-sigma north, east, down (up) position, m.
-    pub std_ned_m: &'a [Vector3<f64>],
+    /// Position covariance north, east, down, m² (diag(σ²) where a file
+    /// gives only the stds: [`crate::logs::diagonal_covariances`]).
+    pub covariance_ned_m2: &'a [Matrix3<f64>],
     /// Velocity north, east, down, m/s (NaN where absent), if any.
     pub velocity_ned_m_s: Option<&'a [Vector3<f64>]>,
-    /// Its one-sigma, m/s (NaN where absent).
-    pub velocity_std_ned_m_s: Option<&'a [Vector3<f64>]>,
+    /// Its covariance, (m/s)²; an axis whose variance is NaN stands for
+    /// [`MISSING_VELOCITY_STD_M_S`].
+    pub velocity_covariance_ned_m2_s2: Option<&'a [Matrix3<f64>]>,
+}
+
+/// `covariance` with every axis whose variance is not a finite
+/// non-negative number replaced by [`MISSING_VELOCITY_STD_M_S`]² (its row
+/// and column zeroed); None if another entry is not finite.
+fn velocity_covariance_or_default(covariance: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let mut c = *covariance;
+    for i in 0..3 {
+        if !(c[(i, i)].is_finite() && c[(i, i)] >= 0.0) {
+            for j in 0..3 {
+                c[(i, j)] = 0.0;
+                c[(j, i)] = 0.0;
+            }
+            c[(i, i)] = MISSING_VELOCITY_STD_M_S * MISSING_VELOCITY_STD_M_S;
+        }
+    }
+    c.iter().all(|x| x.is_finite()).then_some(c)
+}
+
+/// Whether `c` is a finite symmetric matrix with non-negative variances.
+fn plausible_covariance(c: &Matrix3<f64>) -> bool {
+    c.iter().all(|x| x.is_finite())
+        && c.diagonal().min() >= 0.0
+        && (c - c.transpose()).abs().max() <= 1e-9 * c.abs().max()
 }
 
 /// How the rows become fixes.
@@ -56,8 +83,8 @@ impl Default for FixOptions {
 }
 
 /// The fixes of `solution` with `options`; noise drawn from `rng`. The
-/// covariance of each fix is its stated std² plus the added noise², rotated
-/// from NED into ECEF (C_n^e diag(σ²) C_e^n).
+/// covariance of each fix is its stated NED covariance plus the added
+/// noise² on the diagonal, rotated from NED into ECEF (C_n^e P_n C_e^n).
 pub fn fixes_from_geodetic(
     solution: &GeodeticSolution,
     options: &FixOptions,
@@ -65,15 +92,13 @@ pub fn fixes_from_geodetic(
 ) -> Result<Vec<PositionFix>> {
     let n = solution.time_s.len();
     validate::same_length("geodetic", solution.geodetic.len(), "time", n)?;
-    validate::same_length("std_ned", solution.std_ned_m.len(), "time", n)?;
+    validate::same_length("covariance_ned", solution.covariance_ned_m2.len(), "time", n)?;
     validate::increasing_times("time", solution.time_s)?;
-    for (name, rows) in [
-        ("velocity_ned", solution.velocity_ned_m_s),
-        ("velocity_std_ned", solution.velocity_std_ned_m_s),
-    ] {
-        if let Some(v) = rows {
-            validate::same_length(name, v.len(), "time", n)?;
-        }
+    if let Some(v) = solution.velocity_ned_m_s {
+        validate::same_length("velocity_ned", v.len(), "time", n)?;
+    }
+    if let Some(c) = solution.velocity_covariance_ned_m2_s2 {
+        validate::same_length("velocity_covariance_ned", c.len(), "time", n)?;
     }
     validate::finite_vectors(
         "added_position_noise",
@@ -101,14 +126,14 @@ pub fn fixes_from_geodetic(
     for k in 0..n {
         let t = solution.time_s[k];
         let g = solution.geodetic[k];
-        let std = solution.std_ned_m[k];
+        let covariance = solution.covariance_ned_m2[k];
         if !on_grid(t) {
             continue;
         }
-        if !(g.iter().all(|v| v.is_finite()) && std.iter().all(|v| v.is_finite() && *v >= 0.0)) {
+        if !(g.iter().all(|v| v.is_finite()) && plausible_covariance(&covariance)) {
             return Err(Error::invalid(
                 "solution",
-                format!("epoch {k} (t = {t} s) has a non-finite position or a negative or non-finite std"),
+                format!("epoch {k} (t = {t} s) has a non-finite position, or a covariance that is not finite and symmetric with non-negative variances (a negative or non-finite std)"),
             ));
         }
         let cne = c_n_e(g.x, g.y);
@@ -116,8 +141,8 @@ pub fn fixes_from_geodetic(
             |rng: &mut Rng| -> Vector3<f64> { Vector3::from_fn(|_, _| StandardNormal.sample(rng)) };
         let dn = draw(rng).component_mul(&noise);
         let position_ecef = geodetic_to_ecef(Geodetic::new(g.x, g.y, g.z)) + cne * dn;
-        let var = std.component_mul(&std) + noise.component_mul(&noise);
-        let position_covariance = cne * Matrix3::from_diagonal(&var) * cne.transpose();
+        let p_ned = covariance + Matrix3::from_diagonal(&noise.component_mul(&noise));
+        let position_covariance = cne * p_ned * cne.transpose();
         let velocity = solution
             .velocity_ned_m_s
             .map(|v| v[k])
@@ -125,22 +150,19 @@ pub fn fixes_from_geodetic(
         let (velocity_ecef, velocity_covariance) = match velocity {
             Some(v) => {
                 let vn = options.added_velocity_noise_m_s;
-                let sv = solution
-                    .velocity_std_ned_m_s
-                    .map(|s| s[k])
-                    .unwrap_or(Vector3::from_element(f64::NAN))
-                    .map(|s| {
-                        if s.is_finite() && s >= 0.0 {
-                            s
-                        } else {
-                            MISSING_VELOCITY_STD_M_S
-                        }
-                    });
+                let given = solution
+                    .velocity_covariance_ned_m2_s2
+                    .map_or(Matrix3::repeat(f64::NAN), |c| c[k]);
+                let c = velocity_covariance_or_default(&given).ok_or_else(|| {
+                    Error::invalid(
+                        "velocity_covariance_ned",
+                        format!("epoch {k} (t = {t} s) has a non-finite covariance term"),
+                    )
+                })?;
                 let dv = draw(rng) * vn;
-                let var = sv.component_mul(&sv).add_scalar(vn * vn);
                 (
                     Some(cne * (v + dv)),
-                    cne * Matrix3::from_diagonal(&var) * cne.transpose(),
+                    cne * (c + Matrix3::identity() * (vn * vn)) * cne.transpose(),
                 )
             }
             None => (None, Matrix3::zeros()),
@@ -159,6 +181,7 @@ pub fn fixes_from_geodetic(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::logs::diagonal_covariances;
     use crate::random::stream;
 
     /// Thinning keeps the rate's grid; without noise the fix is the point
@@ -167,14 +190,14 @@ mod tests {
     fn fixes_keep_the_grid_and_rotate_the_covariance() {
         let t: Vec<f64> = (0..12).map(|k| 100.0 + k as f64 * 0.25 + 0.001).collect();
         let g = vec![Vector3::new(0.7, 0.2, 50.0); t.len()];
-        let s = vec![Vector3::new(0.01, 0.02, 0.03); t.len()];
+        let s = diagonal_covariances(&vec![Vector3::new(0.01, 0.02, 0.03); t.len()]);
         let v = vec![Vector3::new(1.0, 2.0, 0.0); t.len()];
         let sol = GeodeticSolution {
             time_s: &t,
             geodetic: &g,
-            std_ned_m: &s,
+            covariance_ned_m2: &s,
             velocity_ned_m_s: Some(&v),
-            velocity_std_ned_m_s: None,
+            velocity_covariance_ned_m2_s2: None,
         };
         let opts = FixOptions {
             rate_hz: Some(1.0),
@@ -204,13 +227,13 @@ mod tests {
         let n = 4000;
         let t: Vec<f64> = (0..n).map(|k| k as f64).collect();
         let g = vec![Vector3::new(-0.3, 2.0, 10.0); n];
-        let s = vec![Vector3::zeros(); n];
+        let s = vec![Matrix3::zeros(); n];
         let sol = GeodeticSolution {
             time_s: &t,
             geodetic: &g,
-            std_ned_m: &s,
+            covariance_ned_m2: &s,
             velocity_ned_m_s: None,
-            velocity_std_ned_m_s: None,
+            velocity_covariance_ned_m2_s2: None,
         };
         let opts = FixOptions {
             added_position_noise_ned_m: Vector3::new(1.0, 2.0, 3.0),
@@ -228,5 +251,37 @@ mod tests {
             assert!((std / want - 1.0).abs() < 0.05, "axis {axis}: {std}");
         }
         assert!(fixes[0].velocity_ecef.is_none());
+    }
+
+    /// A full NED covariance reaches the fix whole (rotated), and a
+    /// velocity covariance with one unknown axis gets the default there.
+    #[test]
+    fn full_covariances_are_kept() {
+        let t = [0.0, 1.0];
+        let g = [Vector3::new(0.7, 0.2, 50.0); 2];
+        let p = Matrix3::new(4.0, 1.5, -0.5, 1.5, 9.0, 0.3, -0.5, 0.3, 16.0);
+        let nan = f64::NAN;
+        let pv = Matrix3::new(0.04, 0.01, nan, 0.01, 0.09, nan, nan, nan, nan);
+        let v = [Vector3::new(1.0, 2.0, 0.5); 2];
+        let sol = GeodeticSolution {
+            time_s: &t,
+            geodetic: &g,
+            covariance_ned_m2: &[p; 2],
+            velocity_ned_m_s: Some(&v),
+            velocity_covariance_ned_m2_s2: Some(&[pv; 2]),
+        };
+        let fixes = fixes_from_geodetic(&sol, &FixOptions::default(), &mut stream(1, 0)).unwrap();
+        let cne = c_n_e(0.7, 0.2);
+        let back = cne.transpose() * fixes[0].position_covariance * cne;
+        assert!((back - p).abs().max() < 1e-12, "{back}");
+        let vback = cne.transpose() * fixes[0].velocity_covariance * cne;
+        let want = Matrix3::new(0.04, 0.01, 0.0, 0.01, 0.09, 0.0, 0.0, 0.0, 0.01);
+        assert!((vback - want).abs().max() < 1e-15, "{vback}");
+        let skew = Matrix3::new(1.0, 0.5, 0.0, -0.5, 1.0, 0.0, 0.0, 0.0, 1.0);
+        let bad = GeodeticSolution {
+            covariance_ned_m2: &[skew; 2],
+            ..sol
+        };
+        assert!(fixes_from_geodetic(&bad, &FixOptions::default(), &mut stream(1, 0)).is_err());
     }
 }

@@ -1,0 +1,84 @@
+"""Readers of GNSS fixes in the formats other than RTKLIB ``.pos``: the
+fixes CSV and NMEA 0183. Each gives the same ``PosSolution`` as
+``read_pos`` (GPS time, latitude/longitude/ellipsoidal height, RTKLIB's
+quality code, satellites, NED σ and, when the file has it, the full NED
+covariance; NED velocity and its σ), so that loose coupling
+(``fixes_from_solution``, ``[gnss] pos``) and the truth (``[truth] pos``)
+take any of them. The parsing is in the Rust core (``memsnav_core::logs``);
+the formats are described in docs/real-data.md, "GNSS fixes from other
+receivers".
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from memsnav import _memsnav
+from memsnav._memsnav import PosSolution
+from memsnav.realdata.readers import _warn, read_pos
+
+__all__ = ["FIX_FORMATS", "fix_format", "read_fixes", "read_fixes_csv", "read_nmea"]
+
+#: The fix formats and the file name endings that choose each by default.
+FIX_FORMATS: dict[str, tuple[str, ...]] = {
+    "rtklib": (".pos",),
+    "csv": (".csv",),
+    "nmea": (".nmea", ".nma", ".gga"),
+}
+
+
+def fix_format(path: str | Path, format: str | None = None) -> str:
+    """The format of a fixes file: ``format`` when given (one of
+    :data:`FIX_FORMATS`), else from the file name's ending (``.csv`` the
+    fixes CSV, ``.nmea``/``.nma``/``.gga`` NMEA, anything else RTKLIB
+    ``.pos``)."""
+    if format is not None:
+        if format not in FIX_FORMATS:
+            raise ValueError(f"format: must be one of {list(FIX_FORMATS)}, got {format!r}")
+        return format
+    suffix = Path(path).suffix.lower()
+    for name, endings in FIX_FORMATS.items():
+        if suffix in endings:
+            return name
+    return "rtklib"
+
+
+def read_fixes_csv(path: str | Path) -> PosSolution:
+    """Reads GNSS fixes from a CSV whose header names its columns, in any
+    order: time as ``gps_time_s`` (GPS s since 1980-01-06) or ``gps_week``
+    and ``gps_tow_s``; position as ``lat_deg, lon_deg, height_m``
+    (ellipsoidal) or ``x_ecef_m, y_ecef_m, z_ecef_m``; its uncertainty as
+    ``std_n_m, std_e_m, std_d_m`` or the six entries ``cov_nn_m2, cov_ne_m2,
+    cov_nd_m2, cov_ee_m2, cov_ed_m2, cov_dd_m2``; optionally ``vn_m_s,
+    ve_m_s, vd_m_s`` with ``std_vn_m_s, ...`` or ``cov_vnvn_m2_s2, ...``,
+    ``quality`` (RTKLIB's Q, default 5) and ``n_satellites``. ``#`` lines
+    are comments. An unknown column is an error naming it; every field is
+    range-checked (covariances positive semi-definite) and times must
+    increase; errors name the file, line and field (``ParseError``). The last
+    line is skipped with a warning when cut short."""
+    solution = _memsnav.read_fixes_csv(Path(path))
+    _warn(solution.warnings)
+    return solution
+
+
+def read_nmea(path: str | Path) -> PosSolution:
+    """Reads GNSS fixes from an NMEA 0183 log: GGA (position, quality,
+    satellites, HDOP, height above mean sea level + geoid separation), RMC
+    (date, speed, course), GST (σ and error ellipse → NED covariance), VTG
+    (course, speed); talkers GP, GN, GL, GA, GB, BD, GQ; plain sentences or
+    Android GnssLogger ``NMEA,<sentence>,<unix ms>`` records. Checksums are
+    verified; sentences with one UTC time form an epoch; UTC → GPS time with
+    the leap seconds. Epochs without GST get σ from HDOP (a warning says
+    so); NMEA has no vertical velocity, so ``velocity_ned[:, 2]`` and the
+    velocity σ are NaN. Other sentence types are ignored with a warning."""
+    solution = _memsnav.read_nmea(Path(path))
+    _warn(solution.warnings)
+    return solution
+
+
+def read_fixes(path: str | Path, format: str | None = None) -> PosSolution:
+    """Reads a fixes file in ``format`` (:func:`fix_format`: by default
+    from the file name): ``read_pos``, :func:`read_fixes_csv` or
+    :func:`read_nmea`."""
+    reader = {"rtklib": read_pos, "csv": read_fixes_csv, "nmea": read_nmea}
+    return reader[fix_format(path, format)](path)
