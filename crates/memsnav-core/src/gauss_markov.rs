@@ -29,6 +29,21 @@
 //! 1 − e^{−2Δt/τ} is computed as −expm1(−2Δt/τ), which keeps its precision
 //! when Δt ≪ τ (a 100 Hz step of a 1 h bias: 2Δt/τ ≈ 6e-6). A stationary
 //! start draws x₀ ~ N(0, σ²), so Var x_k = σ² for every k.
+//!
+//! ## Its Allan variance
+//!
+//! Averaged over T, the stationary process of (σ, τ) has the Allan
+//! variance (IEEE Std 952-1997 annex C, "exponentially correlated
+//! (Markov) noise"; El-Sheimy et al., *IEEE Trans. Instrum. Meas.* 57,
+//! 2008, table 1, with q_c² = 2σ²/τ)
+//!
+//! ```text
+//! σ_A²(T) = (2σ²τ/T) [1 − (τ/2T)(3 − 4e^{−T/τ} + e^{−2T/τ})]
+//! ```
+//!
+//! a random walk of rate q (σ_A² = q T/3) for T ≪ τ, white noise of
+//! density σ√(2τ) (σ_A² = 2σ²τ/T) for T ≫ τ, and between them a single
+//! maximum σ_A = [`ALLAN_PEAK_PER_STD`] σ at T = [`ALLAN_PEAK_TIME_PER_TAU`] τ.
 
 use crate::{validate, Error, Result};
 
@@ -102,6 +117,29 @@ pub fn psd_of_stationary(std: f64, correlation_time_s: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// The maximum of the Allan deviation of a stationary process, per unit
+/// of its std σ: 0.617364 (module docs; the maximum of √h(x) with h as in
+/// [`allan_variance`], found numerically and checked by a test).
+pub const ALLAN_PEAK_PER_STD: f64 = 0.617_364_283;
+
+/// Where that maximum lies: T = 1.892618 τ.
+pub const ALLAN_PEAK_TIME_PER_TAU: f64 = 1.892_618;
+
+/// The Allan variance σ_A²(T) of the stationary process of std `std` and
+/// correlation time `correlation_time_s` at averaging time
+/// `averaging_time_s` (module docs). For T < τ/100 the bracket is taken
+/// from its series, x²/3 − x³/4 + 7x⁴/60 − x⁵/24 (x = T/τ), whose first
+/// terms the closed form would lose to cancellation.
+pub fn allan_variance(std: f64, correlation_time_s: f64, averaging_time_s: f64) -> f64 {
+    let x = averaging_time_s / correlation_time_s;
+    let bracket = if x < 1e-2 {
+        x * x * (1.0 / 3.0 - x * (0.25 - x * (7.0 / 60.0 - x / 24.0)))
+    } else {
+        1.0 - (3.0 - 4.0 * (-x).exp() + (-2.0 * x).exp()) / (2.0 * x)
+    };
+    2.0 * std * std * bracket / x
 }
 
 impl GaussMarkov {
@@ -241,5 +279,68 @@ mod tests {
         let walk = GaussMarkov::from_psd(4.0, f64::INFINITY, ["q", "t"]).unwrap();
         assert_eq!(walk.stationary_std(), f64::INFINITY);
         assert_eq!(walk.step(0.25).drive_variance, 1.0);
+    }
+
+    /// The Allan variance's limits (random walk of q = 2σ²/τ below τ, white
+    /// noise of density σ√(2τ) above it), the series and the closed form
+    /// meeting at x = 1e-2, and the maximum where the constants say.
+    #[test]
+    fn allan_variance_limits_and_peak() {
+        let (sigma, tau) = (2.0, 50.0);
+        let q = 2.0 * sigma * sigma / tau;
+        let short = allan_variance(sigma, tau, 1e-4 * tau);
+        assert!((short / (q * 1e-4 * tau / 3.0) - 1.0).abs() < 1e-3);
+        let long = allan_variance(sigma, tau, 1e4 * tau);
+        assert!((long / (2.0 * sigma * sigma * tau / (1e4 * tau)) - 1.0).abs() < 1e-3);
+        let below = allan_variance(sigma, tau, (1e-2 - 1e-12) * tau);
+        let above = allan_variance(sigma, tau, (1e-2 + 1e-12) * tau);
+        assert!((below / above - 1.0).abs() < 1e-9, "{below} {above}");
+        let mut best = (0.0, 0.0);
+        for i in 0..200_000 {
+            let t = tau * (0.5 + 3.0 * i as f64 / 200_000.0);
+            let a = allan_variance(sigma, tau, t).sqrt();
+            if a > best.0 {
+                best = (a, t);
+            }
+        }
+        assert!(
+            (best.0 / sigma - ALLAN_PEAK_PER_STD).abs() < 1e-9,
+            "{best:?}"
+        );
+        assert!(
+            (best.1 / tau - ALLAN_PEAK_TIME_PER_TAU).abs() < 1e-4,
+            "{best:?}"
+        );
+    }
+
+    /// The closed form against the overlapping Allan deviation of a long
+    /// simulated process (the estimator of [`crate::allan`], independent
+    /// of the formula): within the estimate's own error, 4/√(2(K − 1))
+    /// with K = N/m clusters (IEEE Std 952-1997 annex C). Clusters of 20
+    /// samples and more: the formula averages the process continuously,
+    /// the estimator its point samples (at m = 2 they differ by 6 %).
+    #[test]
+    fn allan_variance_matches_a_simulated_process() {
+        let (sigma, tau, rate, n) = (0.5, 2.0, 20.0, 400_000);
+        let step = stationary_step(sigma, tau, 1.0 / rate);
+        let mut rng = stream(21, 0);
+        let mut x = sigma * rng.sample::<f64, _>(StandardNormal);
+        let series: Vec<f64> = (0..n)
+            .map(|_| {
+                x = step.next(x, rng.sample(StandardNormal));
+                x
+            })
+            .collect();
+        let clusters = [20, 76, 400, 2000];
+        let adev = crate::allan::overlapping_allan_deviation(&series, 1, rate, &clusters).unwrap();
+        for (&m, a) in clusters.iter().zip(adev) {
+            let t = m as f64 / rate;
+            let expected = allan_variance(sigma, tau, t).sqrt();
+            let tolerance = 4.0 / (2.0 * (n as f64 / m as f64 - 1.0)).sqrt();
+            assert!(
+                (a / expected - 1.0).abs() < tolerance,
+                "T {t}: {a} vs {expected}"
+            );
+        }
     }
 }

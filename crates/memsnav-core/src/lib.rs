@@ -18,6 +18,7 @@
 //!   the argument or the parameter at fault.
 
 pub mod allan;
+pub mod allan_fit;
 pub mod attitude;
 pub mod calibration;
 pub mod coupling;

@@ -9,7 +9,9 @@ use nalgebra::Vector3;
 use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
 use crate::coupling::{BiasProcess, FilterTuning};
 use crate::gnss::ReceiverClockModel;
+use crate::sensors::datasheet::{datasheet_key, DATASHEET_KEY_DESCRIPTIONS, TABLE as SPEC_TABLE};
 use crate::sensors::presets::preset_spec;
+use crate::sensors::ImuSpec;
 use crate::{validate, Error, Result};
 
 /// A setting's value, as a configuration file holds it.
@@ -104,6 +106,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("max_excluded_share", "largest share of a batch fault exclusion may drop"),
         ],
     ),
+    (SPEC_TABLE, &DATASHEET_KEY_DESCRIPTIONS),
     (
         "alignment",
         &[
@@ -152,6 +155,23 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("keep_satellites", "0 (default): total outages; 1-3: partial outages that keep the highest satellites of each epoch (tight coupling)"),
         ],
     ),
+];
+
+/// The `[filter]` keys that set a quantity an `[imu_spec]` key gives too
+/// (the spec field), refused together: the table describes the IMU, the
+/// `[filter]` key overrides the tuning made from it, and two values for one
+/// quantity would leave the reader guessing which holds.
+const SPEC_OVERRIDES: [(&str, &str); 10] = [
+    ("accel_noise_density", "accel_noise_density"),
+    ("gyro_noise_density_deg", "gyro_noise_density"),
+    ("accel_bias_std", "accel_bias_std"),
+    ("gyro_bias_std_deg_s", "gyro_bias_std"),
+    ("accel_bias_instability", "accel_bias_instability"),
+    ("gyro_bias_instability_deg_s", "gyro_bias_instability"),
+    ("bias_correlation_time_s", "accel_bias_correlation_time"),
+    ("bias_correlation_time_s", "gyro_bias_correlation_time"),
+    ("accel_scale_factor_std_ppm", "accel_scale_factor_std"),
+    ("gyro_scale_factor_std_ppm", "gyro_scale_factor_std"),
 ];
 
 /// Reads a value as the kind a key needs.
@@ -315,8 +335,10 @@ struct Pending {
 
 impl LogConfig {
     /// The configuration of `tables` (table name, keys and values): the
-    /// tuning from `filter.imu_preset` (default `"consumer"`) at the IMU's
-    /// `imu_rate_hz`, then every key applied over the defaults.
+    /// IMU spec of `filter.imu_preset` (default `"consumer"`) with the
+    /// `[imu_spec]` figures over it, the tuning from that spec
+    /// ([`FilterTuning::from_imu_spec`]) at the IMU's `imu_rate_hz`, then
+    /// every other key applied over the defaults.
     pub fn from_settings(
         tables: &[(String, Vec<(String, SettingValue)>)],
         imu_rate_hz: f64,
@@ -400,6 +422,7 @@ impl LogConfig {
                     * 1e-6;
             }
         }
+        let spec = Self::datasheet_spec(tables, &spec)?;
         let mut config = LogConfig::new(FilterTuning::from_imu_spec(&spec, imu_rate_hz, scale)?);
         config.scale_factor_states = scale;
         let mut pending = Pending::default();
@@ -412,6 +435,47 @@ impl LogConfig {
         config.finish(pending)?;
         config.validate()?;
         Ok(config)
+    }
+
+    /// `base` with the `[imu_spec]` table's figures
+    /// ([`ImuSpec::from_datasheet`]); a quantity given there and by a
+    /// `[filter]` key too ([`SPEC_OVERRIDES`]) is an error naming both.
+    fn datasheet_spec(
+        tables: &[(String, Vec<(String, SettingValue)>)],
+        base: &ImuSpec,
+    ) -> Result<ImuSpec> {
+        let entries = tables
+            .iter()
+            .filter(|(t, _)| t == SPEC_TABLE)
+            .flat_map(|(_, e)| e.iter())
+            .map(|(key, value)| {
+                let r = Reader {
+                    table: SPEC_TABLE,
+                    key,
+                    value,
+                };
+                Ok((key.clone(), r.number()?))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let filter_keys = tables
+            .iter()
+            .filter(|(t, _)| t == "filter")
+            .flat_map(|(_, e)| e.iter().map(|(k, _)| k.as_str()));
+        for filter_key in filter_keys {
+            for (key, _) in &entries {
+                let field = datasheet_key(key)?.field;
+                if SPEC_OVERRIDES.contains(&(filter_key, field)) {
+                    return Err(Error::invalid(
+                        format!("filter.{filter_key}"),
+                        format!(
+                            "sets what {SPEC_TABLE}.{key} gives; give one of them (the [{SPEC_TABLE}] \
+                             figures describe the IMU, a [filter] key overrides the tuning made from them)"
+                        ),
+                    ));
+                }
+            }
+        }
+        ImuSpec::from_datasheet(base, &entries)
     }
 
     fn apply(&mut self, r: &Reader, p: &mut Pending) -> Result<()> {
@@ -468,6 +532,7 @@ impl LogConfig {
                 | "gyro_scale_factor_std_ppm",
             ) => {}
             ("filter", "smoother") => self.smoother = r.flag()?,
+            (SPEC_TABLE, _) => {}
             ("filter", "accel_noise_density") => q.accel_white_psd = r.non_negative()?.powi(2),
             ("filter", "gyro_noise_density_deg") => {
                 q.gyro_white_psd = deg(r.non_negative()?).powi(2)
@@ -703,6 +768,83 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.starts_with("filter.gyro_scale_factor_std_ppm"), "{err}");
+    }
+
+    /// The consumer preset written as `[imu_spec]` figures is the default
+    /// configuration, exactly: one path from a spec to the tuning.
+    #[test]
+    fn the_consumer_preset_as_imu_spec_is_the_default() {
+        let consumer = [
+            ("accel_turn_on_bias_mg", 20.0),
+            ("accel_scale_factor_pct", 1.0),
+            ("accel_cross_axis_pct", 1.0),
+            ("accel_nonlinearity_ug_g2", 100.0),
+            ("accel_noise_density_ug_sqrt_hz", 175.0),
+            ("accel_bias_markov_std_ug", 100.0),
+            ("accel_bias_correlation_time_s", 300.0),
+            ("gyro_turn_on_bias_deg_s", 1.0),
+            ("gyro_scale_factor_pct", 1.0),
+            ("gyro_cross_axis_pct", 1.0),
+            ("gyro_g_sensitivity_deg_s_g", 0.05),
+            ("gyro_noise_density_deg_s_sqrt_hz", 0.014),
+            ("gyro_bias_markov_std_deg_h", 2.0),
+            ("gyro_bias_correlation_time_s", 300.0),
+        ];
+        let entries: Vec<_> = consumer
+            .iter()
+            .map(|(k, v)| ("imu_spec", *k, Number(*v)))
+            .collect();
+        let mut with_spec = entries.clone();
+        with_spec.push(("filter", "imu_preset", Text("tactical".into())));
+        let from_spec = LogConfig::from_settings(&tables(&with_spec), 100.0).unwrap();
+        let preset = LogConfig::from_settings(&tables(&[]), 100.0).unwrap();
+        assert_eq!(from_spec, preset);
+    }
+
+    /// A data-sheet key reaches the tuning converted (0.15 °/√h → white
+    /// PSD (0.15 π/180/60)² rad²/s), a bad one names `imu_spec.key`, and a
+    /// `[filter]` key saying the same is refused naming both.
+    #[test]
+    fn imu_spec_keys_reach_the_tuning_and_are_checked() {
+        let c = LogConfig::from_settings(
+            &tables(&[("imu_spec", "gyro_arw_deg_sqrt_h", Number(0.15))]),
+            100.0,
+        )
+        .unwrap();
+        let expected = (0.15f64.to_radians() / 60.0).powi(2);
+        assert!((c.tuning.process_noise.gyro_white_psd / expected - 1.0).abs() < 1e-12);
+        let bad = |e: SettingTables| LogConfig::from_settings(&e, 100.0).unwrap_err().to_string();
+        assert_eq!(
+            bad(tables(&[(
+                "imu_spec",
+                "gyro_arw_deg_sqrt_h",
+                Text("0.1".into())
+            )])),
+            "imu_spec.gyro_arw_deg_sqrt_h: expected a number, got \"0.1\""
+        );
+        assert!(bad(tables(&[("imu_spec", "gyro_arw", Number(0.1))]))
+            .starts_with("imu_spec.gyro_arw: unknown key; [imu_spec] takes"));
+        assert!(bad(tables(&[(
+            "imu_spec",
+            "accel_turn_on_bias_mg",
+            Number(-2.0)
+        )]))
+        .starts_with("imu_spec.accel_turn_on_bias_mg: must be finite and non-negative"));
+        assert!(bad(tables(&[
+            ("imu_spec", "gyro_bias_instability_deg_h", Number(10.0)),
+            ("imu_spec", "gyro_bias_correlation_time_s", Number(100.0)),
+            ("filter", "bias_correlation_time_s", Number(300.0)),
+        ]))
+        .starts_with(
+            "filter.bias_correlation_time_s: sets what imu_spec.gyro_bias_correlation_time_s gives"
+        ));
+        assert!(bad(tables(&[
+            ("filter", "accel_scale_factor_std_ppm", Number(300.0)),
+            ("imu_spec", "accel_scale_factor_pct", Number(0.1)),
+        ]))
+        .starts_with(
+            "filter.accel_scale_factor_std_ppm: sets what imu_spec.accel_scale_factor_pct gives"
+        ));
     }
 
     #[test]

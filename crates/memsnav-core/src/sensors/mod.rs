@@ -10,12 +10,17 @@
 //!   magnitudes their errors come from (the filters tune from it).
 //! - [`presets`]: `"paper-mems"`, `"consumer"`, `"industrial"`, `"tactical"`,
 //!   `"navigation"`, each with the sources of its figures.
+//! - [`datasheet`]: a spec from a data sheet's figures in their own units
+//!   (the `[imu_spec]` table), converted by the unit functions the presets
+//!   use.
 
 mod accelerometer;
+pub mod datasheet;
 mod gyroscope;
 mod imu;
 mod noise;
 pub mod presets;
+mod units;
 
 pub use accelerometer::AccelerometerModel;
 pub use gyroscope::GyroscopeModel;

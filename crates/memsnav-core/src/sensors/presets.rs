@@ -12,8 +12,7 @@
 //! scale-factor and cross-coupling errors 1e-4–1e-3, up to 1e-2 for MEMS;
 //! §4.4.3 noise; optical gyros have negligible g-dependent bias).
 
-use std::f64::consts::PI;
-
+use super::units::{deg_h, deg_s_per_g, deg_sqrt_h, m_s_sqrt_h, mg, ug, DEG};
 use super::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
 use crate::geodesy::wgs84::STANDARD_GRAVITY_M_S2 as G0;
 use crate::random::Rng;
@@ -27,33 +26,6 @@ pub const PRESET_NAMES: [&str; 5] = [
     "tactical",
     "navigation",
 ];
-
-const DEG: f64 = PI / 180.0;
-
-/// milli-g → m/s².
-fn mg(x: f64) -> f64 {
-    x * 1e-3 * G0
-}
-/// micro-g → m/s².
-fn ug(x: f64) -> f64 {
-    x * 1e-6 * G0
-}
-/// °/h → rad/s.
-fn deg_h(x: f64) -> f64 {
-    x * DEG / 3600.0
-}
-/// Angle random walk °/√h → rad/s/√Hz (= rad/√s).
-fn deg_sqrt_h(x: f64) -> f64 {
-    x * DEG / 60.0
-}
-/// Velocity random walk m/s/√h → m/s²/√Hz (= m/s/√s).
-fn m_s_sqrt_h(x: f64) -> f64 {
-    x / 60.0
-}
-/// (°/s)/g → (rad/s)/(m/s²).
-fn deg_s_per_g(x: f64) -> f64 {
-    x * DEG / G0
-}
 
 impl ImuModel {
     /// A named preset drawn at [`super::DEFAULT_SAMPLE_RATE_HZ`] (method
@@ -317,11 +289,9 @@ mod tests {
     }
 
     #[test]
-    fn unit_conversions() {
-        // 1 °/√h = (π/180)/60 rad/√s; 0.065 ft/s/√h = 3.302e-4 m/s/√s.
-        assert!((deg_sqrt_h(0.125) - 3.6361e-5).abs() < 1e-9);
+    fn the_tactical_velocity_random_walk() {
+        // 0.065 ft/s/√h = 3.302e-4 m/s/√s.
         assert!((tactical().accelerometer.noise.white_density - 3.302e-4).abs() < 1e-7);
-        assert!((deg_h(1.0) - 4.8481e-6).abs() < 1e-10);
         assert!((paper_mems().accelerometer.noise.white_std - 0.0294).abs() < 1e-4);
     }
 
