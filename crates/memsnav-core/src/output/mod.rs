@@ -282,8 +282,10 @@ pub fn format_solution(
                 quality: vec![POS_QUALITY; n],
                 n_satellites: vec![0; n],
                 std_ned_m: pick(&solution.position_std_ned),
+                covariance_ned_m2: None,
                 velocity_ned_m_s: pick(&solution.velocity_ned),
                 velocity_std_ned_m_s: pick(&solution.velocity_std_ned),
+                velocity_covariance_ned_m2_s2: None,
                 warnings: Vec::new(),
             };
             format_pos(&pos, "memsnav")
