@@ -112,8 +112,9 @@ class PartialOutageResult:
         start = float(self.config["outage_start"])
         length = float(self.config["outage_length"])
         imus = self.imus
+        # Narrow panels: the page shows the figure about 9 inches wide.
         fig, panels = plt.subplots(
-            1, len(imus), figsize=(4.0 * len(imus), 4.0), sharey=True, squeeze=False
+            1, len(imus), figsize=(3.4 * len(imus), 4.0), sharey=True, squeeze=False
         )
         styles = ["-", "--", "-.", ":", "-"]
         for ax, imu in zip(panels[0], imus, strict=True):

@@ -1,0 +1,82 @@
+"""The land-vehicle study of docs/outage-study.md, rerunnable by anyone:
+``python docs/outage_study_tables.py [--write]``.
+
+Runs ``examples/study_land_vehicle.toml`` as ``memsnav study`` does (into a
+temporary folder) and prints, in Markdown: its size and run time, the
+answer (the terminal's lines: per grade the longest outage within the
+requirement, with the 95th percentile there and its 95 % confidence
+interval) and the tables of the report (median / p95 of the horizontal
+error at the outage end, the smoothed solution's p95 of its largest
+error in brackets), built by the same functions as the report.
+``--write`` puts them into docs/outage-study.md between its ``study``
+markers.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import tempfile
+import time
+from pathlib import Path
+
+from memsnav.report.numbers import number
+from memsnav.reproduce import worker_threads
+from memsnav.study import Requirement, answer_lines, run_study, table_cells
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG = ROOT / "examples" / "study_land_vehicle.toml"
+BEGIN, END = "<!-- study:begin -->", "<!-- study:end -->"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true", help="update docs/outage-study.md")
+    args = parser.parse_args()
+    load = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory() as out:
+        cpu = time.process_time()
+        study = run_study(CONFIG, output=out, progress=False)
+        cpu = time.process_time() - cpu
+    result, summary = study.result, study.summary
+    c = result.config
+    requirement = Requirement.of(summary["requirement"])
+    parts = [
+        BEGIN,
+        "",
+        f"{len(result.grades)} presets × ({', '.join(number(v) for v in result.outage_lengths)} "
+        f"s) × ({', '.join(str(n) for n in result.visible_satellites)} satellites kept), "
+        f"{result.completed_runs} runs of {c['duration']:.0f} s per outage length, forward "
+        f"{'and smoothed' if c['smooth'] else 'only'}: {summary['elapsed_s']:.0f} s of wall "
+        f"time ({cpu:.0f} s of CPU) on {worker_threads(None)} threads, load average "
+        f"{load:.1f} at the start (above the thread count, other jobs shared the machine).",
+        "",
+        "What `memsnav study` prints (the answer, for the forward filter):",
+        "",
+        "```",
+        *answer_lines(summary),
+        "```",
+    ]
+    for n in result.visible_satellites:
+        cells = table_cells(result, n, requirement.metric, requirement.percentile)
+        parts += [
+            "",
+            f"**{n} satellite{'' if n == 1 else 's'} kept**: median / p{requirement.percentile:g} "
+            "of the horizontal error at the outage end, m (smoothed: p"
+            f"{requirement.percentile:g} of its largest error in the outage)",
+            "",
+            "| grade | " + " | ".join(f"{number(v)} s" for v in result.outage_lengths) + " |",
+            "|---|" + "---|" * len(result.outage_lengths),
+            *(f"| {grade} | " + " | ".join(row) + " |" for grade, row in cells.items()),
+        ]
+    text = "\n".join([*parts, "", END])
+    print(text)
+    if args.write:
+        page = ROOT / "docs" / "outage-study.md"
+        old = page.read_text()
+        start, stop = old.index(BEGIN), old.index(END) + len(END)
+        page.write_text(old[:start] + text + old[stop:])
+
+
+if __name__ == "__main__":
+    main()
