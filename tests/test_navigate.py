@@ -107,6 +107,35 @@ def test_config_unknown_keys_and_bad_values(tmp_path):
         mn.navigate(_config(tmp_path, **{'accel_unit = "g"': 'accel_unit = "G"'}), data_root=DATA)
 
 
+def test_imu_spec_table_replaces_the_preset(tmp_path):
+    """``[imu_spec]`` with the consumer preset's figures, over another
+    preset, runs exactly as the default (the consumer preset): one path
+    from a spec to the filter. Its keys are checked with the engine's."""
+    from test_imu_spec import CONSUMER
+
+    table = "".join(f"{k} = {v}\n" for k, v in CONSUMER.items())
+    runs = []
+    for name, extra in [
+        ("preset", ""),
+        ("spec", f'[filter]\nimu_preset = "tactical"\n[imu_spec]\n{table}'),
+    ]:
+        (tmp_path / name).mkdir()
+        runs.append(mn.navigate(_config(tmp_path / name, extra=extra), data_root=DATA).run)
+    for field in ("position_ecef", "velocity_ned", "euler", "position_std_ned"):
+        np.testing.assert_array_equal(getattr(runs[0], field), getattr(runs[1], field))
+    with pytest.raises(ValueError, match=r"run.toml: imu_spec.gyro_arw_deg_sqrt_h: must be finite"):
+        mn.load_config(_config(tmp_path, extra="[imu_spec]\ngyro_arw_deg_sqrt_h = -1.0\n"), DATA)
+    with pytest.raises(ValueError, match=r"filter.accel_noise_density: sets what imu_spec"):
+        mn.load_config(
+            _config(
+                tmp_path,
+                extra="[filter]\naccel_noise_density = 0.002\n"
+                "[imu_spec]\naccel_vrw_m_s_sqrt_h = 0.1\n",
+            ),
+            DATA,
+        )
+
+
 def test_data_root_from_environment(tmp_path, monkeypatch):
     monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(DATA))
     cfg = mn.load_config(_config(tmp_path))

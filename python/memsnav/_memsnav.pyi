@@ -622,6 +622,33 @@ def allan_deviation(
     """Overlapping Allan deviation of ``samples`` (N,) or (N, k) at
     ``rate_hz``: ``(taus, adev)``."""
 
+def allan_fit(
+    samples: npt.ArrayLike, rate_hz: float, *, min_tau: float | None = None
+) -> dict[str, Any]:
+    """Noise terms of a static record ``(N,)`` or ``(N, k)`` at ``rate_hz``
+    fitted to its Allan variance (pooled over the columns) from ``min_tau``
+    (None: 1 s): ``white_density``, ``bias_instability``,
+    ``bias_correlation_time``, ``bias_random_walk`` (None when not
+    determined, with a UserWarning saying why), ``taus``, ``adev``,
+    ``model_adev``, ``min_tau``, ``record_s``."""
+
+def imu_spec_from_allan(
+    specific_force: npt.ArrayLike,
+    angular_rate: npt.ArrayLike,
+    rate_hz: float,
+    *,
+    min_tau: float | None = None,
+) -> dict[str, float]:
+    """``[imu_spec]`` entries (data-sheet keys and units) of the noise terms
+    a static IMU record (specific force, angular rate, (N, 3) SI) determines."""
+
+def imu_spec_from_datasheet(
+    datasheet: dict[str, float], *, base: str | None = None
+) -> dict[str, float]:
+    """An IMU spec (``ImuModel.spec`` keys, SI) from data-sheet figures in
+    their own units (``navigate_settings()["imu_spec"]`` lists the keys);
+    terms left out are the preset ``base``'s (None: "consumer")."""
+
 def derive_seed(seed: int, purpose: str) -> int:
     """The seed of the independent draw named ``purpose`` made from user
     seed ``seed`` (the first output of its own stream of ``seed``; see

@@ -6,6 +6,7 @@
 //! from the core's own `Default`s and constants: a default changes by one
 //! edit in the core (tests/test_defaults.py checks that every layer agrees).
 
+use memsnav_core::allan_fit::DEFAULT_MIN_TAU_S;
 use memsnav_core::coupling::{InitialUncertainty, DEFAULT_GATE_PROBABILITY};
 use memsnav_core::experiments::NavigationExperimentConfig;
 use memsnav_core::filter::input_noise::DEFAULT_MANOEUVRE_CORRELATION_TIME_S;
@@ -13,6 +14,7 @@ use memsnav_core::gnss::{
     ObservableOptions, ReceiverClockModel, WalkerConfig, DEFAULT_ELEVATION_MASK_DEG,
     DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M,
 };
+use memsnav_core::sensors::presets::DEFAULT_PRESET;
 use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_py_macros::catch_panics;
 use nalgebra::Vector3;
@@ -94,6 +96,15 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("phasing", w.phasing)?;
     d.set_item("raan0_deg", w.raan0_rad.to_degrees())?;
     out.set_item("Constellation.walker", d)?;
+
+    for api in ["allan_fit", "imu_spec_from_allan"] {
+        let d = PyDict::new(py);
+        d.set_item("min_tau", DEFAULT_MIN_TAU_S)?;
+        out.set_item(api, d)?;
+    }
+    let d = PyDict::new(py);
+    d.set_item("base", DEFAULT_PRESET)?;
+    out.set_item("imu_spec_from_datasheet", d)?;
 
     for (api, argument) in [
         ("AccelerometerModel", "sample_rate"),

@@ -624,7 +624,45 @@ impl PyImuModel {
     }
 }
 
+/// An IMU spec from a data sheet, in the units data sheets use
+/// (`memsnav_core::sensors::datasheet`; the `[imu_spec]` table of a
+/// `navigate` configuration, whose keys `navigate_settings()["imu_spec"]`
+/// lists): `datasheet` maps keys such as `gyro_arw_deg_sqrt_h`,
+/// `gyro_bias_instability_deg_h` (the Allan floor F; the Gauss-Markov std
+/// is F / 0.6174) with `gyro_bias_correlation_time_s`,
+/// `accel_turn_on_bias_mg`, `accel_scale_factor_ppm` to values. The terms
+/// it leaves out are the preset `base`'s (None: "consumer", the engine's
+/// default). Returns the spec as `ImuModel.spec` holds it (SI keys), for
+/// `ImuModel(..., spec=...)` and the navigation experiment's
+/// `(preset, overrides)`. A bad key or value is a `ValueError` naming
+/// `imu_spec.key`.
+#[catch_panics]
+#[pyfunction]
+#[pyo3(signature = (datasheet, *, base=None))]
+fn imu_spec_from_datasheet<'py>(
+    py: Python<'py>,
+    datasheet: &Bound<'py, PyDict>,
+    base: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let base = presets::preset_spec(base.unwrap_or(presets::DEFAULT_PRESET)).map_err(|e| {
+        let reason = e.to_string();
+        PyValueError::new_err(format!("base: {}", reason.trim_start_matches("name: ")))
+    })?;
+    let mut entries = Vec::with_capacity(datasheet.len());
+    for (key, value) in datasheet.iter() {
+        let key: String = key.extract().map_err(|_| {
+            PyValueError::new_err(format!("datasheet: keys must be strings, got {key}"))
+        })?;
+        let value: f64 = value
+            .extract()
+            .map_err(|_| PyValueError::new_err(format!("imu_spec.{key}: must be a number")))?;
+        entries.push((key, value));
+    }
+    spec_to_dict(py, &ImuSpec::from_datasheet(&base, &entries).py()?)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(imu_spec_from_datasheet, m)?)?;
     m.add_class::<PyAccelerometerModel>()?;
     m.add_class::<PyGyroscopeModel>()?;
     m.add_class::<PyImuModel>()?;

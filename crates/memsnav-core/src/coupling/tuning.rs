@@ -678,4 +678,47 @@ mod tests {
         assert_eq!((e.accel_scale_factor, e.gyro_scale_factor), (0.0, 0.0));
         assert_eq!(e.gyro_misalignment, 1e-2);
     }
+
+    /// The worked example of docs/real-data.md to the filter's numbers, by
+    /// the one rule (`FilterTuning::from_imu_spec`), against the arithmetic
+    /// shown there: white PSDs N² (1.90386e-9 rad²/s, 3.80278e-7 m²/s³);
+    /// the turn-on biases (the industrial preset's 0.05 °/s, 2 mg) exceed
+    /// σ_β, so the instability is a random walk of PSD 2σ_β²/τ_β
+    /// (4.93352e-12 rad²/s³, 6.54023e-11 m²/s⁵); initial bias stds
+    /// √(turn-on² + σ_β² + the absorbed constants at rest): gyro with
+    /// g-sensitivity 0.005 °/s, 8.77158e-4 rad/s; accelerometer with scale
+    /// factor 1e-3 g, nonlinearity 1e-5 g, misalignment 0.05° × g,
+    /// 0.0235394 m/s².
+    #[test]
+    fn the_worked_example_to_the_filter() {
+        let spec = crate::sensors::ImuSpec::from_datasheet(
+            &crate::sensors::presets::industrial(),
+            &[
+                ("gyro_arw_deg_sqrt_h", 0.15),
+                ("gyro_bias_instability_deg_h", 2.0),
+                ("gyro_bias_correlation_time_s", 100.0),
+                ("gyro_misalignment_deg", 0.05),
+                ("accel_vrw_m_s_sqrt_h", 0.037),
+                ("accel_bias_instability_ug", 3.6),
+                ("accel_bias_correlation_time_s", 100.0),
+                ("accel_misalignment_deg", 0.05),
+            ]
+            .map(|(k, v)| (k.to_string(), v)),
+        )
+        .unwrap();
+        let t = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
+        let (q, i) = (&t.process_noise, &t.initial_std);
+        let close = |x: f64, y: f64| (x / y - 1.0).abs() < 1e-5;
+        assert!(close(q.gyro_white_psd, 1.90386e-9));
+        assert!(close(q.accel_white_psd, 3.80278e-7));
+        assert!(close(q.gyro_bias_psd, 4.93352e-12));
+        assert!(close(q.accel_bias_psd, 6.54023e-11));
+        assert_eq!(q.gyro_bias_correlation_time_s, f64::INFINITY);
+        assert_eq!(q.accel_bias_correlation_time_s, f64::INFINITY);
+        assert!(close(i.gyro_bias_rad_s, 8.77158e-4));
+        assert!(close(i.accel_bias_m_s2, 0.0235394));
+        let e = q.input_errors.errors;
+        assert!(close(e.accel_misalignment, 8.72665e-4));
+        assert_eq!(e.gyro_scale_factor, 1e-3);
+    }
 }

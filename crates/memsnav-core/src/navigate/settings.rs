@@ -10,7 +10,7 @@ use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
 use crate::coupling::{BiasProcess, FilterTuning};
 use crate::gnss::ReceiverClockModel;
 use crate::sensors::datasheet::{datasheet_key, DATASHEET_KEY_DESCRIPTIONS, TABLE as SPEC_TABLE};
-use crate::sensors::presets::preset_spec;
+use crate::sensors::presets::{preset_spec, DEFAULT_PRESET};
 use crate::sensors::ImuSpec;
 use crate::{validate, Error, Result};
 
@@ -386,7 +386,7 @@ impl LogConfig {
             }
             .text()?
             .to_string(),
-            None => "consumer".into(),
+            None => DEFAULT_PRESET.into(),
         };
         let scale = match find("filter", "scale_factor_states") {
             Some(v) => Reader {

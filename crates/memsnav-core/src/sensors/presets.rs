@@ -3,9 +3,12 @@
 //! Every deterministic term is drawn zero-mean Gaussian with the one-sigma
 //! magnitude below, independently per axis (see [`super::AccelerometerSpec::draw`]).
 //! Data-sheet "±" figures are taken as one sigma. A data-sheet *in-run bias
-//! stability* (the Allan-deviation floor) is used as the Gauss-Markov
-//! standard deviation σ_β; the correlation times are not given by data
-//! sheets and are assumed. Figures a source does not give are marked
+//! stability* (the Allan-deviation floor) is used here as the Gauss-Markov
+//! standard deviation σ_β itself, as these presets were first written; a
+//! data sheet given as `[imu_spec]` figures converts the floor by the rule
+//! of [`super::datasheet`] (σ_β = floor / 0.6174), and the presets keep
+//! their σ_β so that results made with them stay as they are. The
+//! correlation times are not given by data sheets and are assumed. Figures a source does not give are marked
 //! *assumed* with the reasoning. Groves = P. D. Groves, *Principles of GNSS,
 //! Inertial, and Multisensor Integrated Navigation Systems*, 2nd ed., 2013
 //! (tables 4.1 and 4.2: accelerometer and gyro biases by grade; §4.4.2
@@ -17,6 +20,10 @@ use super::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
 use crate::geodesy::wgs84::STANDARD_GRAVITY_M_S2 as G0;
 use crate::random::Rng;
 use crate::{Error, Result};
+
+/// The preset a `navigate` run's tuning and a data sheet's left-out terms
+/// start from when none is named: real logs come from consumer-grade IMUs.
+pub const DEFAULT_PRESET: &str = "consumer";
 
 /// The names [`preset_spec`] and `ImuModel::preset` accept.
 pub const PRESET_NAMES: [&str; 5] = [
