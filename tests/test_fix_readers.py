@@ -54,9 +54,7 @@ html = false
 
 def _run(tmp_path: Path, name: str, gnss: str, truth: str, gnss_extra: str = "") -> mn.LogRun:
     cfg = tmp_path / f"{name}.toml"
-    cfg.write_text(
-        DRIVE.format(out=tmp_path / name, gnss=gnss, truth=truth, gnss_extra=gnss_extra)
-    )
+    cfg.write_text(DRIVE.format(out=tmp_path / name, gnss=gnss, truth=truth, gnss_extra=gnss_extra))
     return mn.navigate(cfg, data_root=DATA).run
 
 
@@ -191,7 +189,9 @@ def test_format_key_overrides_the_extension(tmp_path):
     solution, keep, _ = read_solution(loaded, "gnss")
     assert len(solution) == 8 and keep.all()
     cfg.write_text(text.replace('format = "nmea"', 'format = "ubx"'))
-    with pytest.raises(ValueError, match=r"gnss.format: must be one of \['rtklib', 'csv', 'nmea'\]"):
+    with pytest.raises(
+        ValueError, match=r"gnss.format: must be one of \['rtklib', 'csv', 'nmea'\]"
+    ):
         mn.load_config(cfg, DATA)
 
 
@@ -214,7 +214,9 @@ def test_full_covariance_reaches_the_fixes(tmp_path):
     np.testing.assert_allclose(p_ned, want, rtol=0, atol=1e-12)
     np.testing.assert_allclose(np.asarray(fixes.position_ecef)[0], [-1288160, -4720790, 4079600])
     with pytest.raises(ValueError, match="std_ned, covariance_ned: give exactly one"):
-        mn.fixes_from_solution(sol.gps_time, sol.lla, sol.std_ned, covariance_ned=sol.covariance_ned)
+        mn.fixes_from_solution(
+            sol.gps_time, sol.lla, sol.std_ned, covariance_ned=sol.covariance_ned
+        )
 
 
 def test_phone_nmea_gnsslogger_records():

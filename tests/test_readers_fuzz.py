@@ -60,6 +60,22 @@ GPSB   1.1674D+05 -2.2938D+05 -1.3107D+05  1.0486D+06       IONOSPHERIC CORR
 """
 
 
+FIXES_CSV = """# fixes
+gps_time_s,lat_deg,lon_deg,height_m,cov_nn_m2,cov_ne_m2,cov_nd_m2,cov_ee_m2,cov_ed_m2,cov_dd_m2,vn_m_s,ve_m_s,vd_m_s,std_vn_m_s,std_ve_m_s,std_vd_m_s,quality
+1435838094.999,40.0966268,-105.1474483,1601.45,1e-4,2e-5,0,1e-4,0,1.2e-4,-0.002,0.001,0.008,0.058,0.058,0.058,1
+1435838095.249,40.0966268,-105.1474483,1601.453,1e-4,0,0,1e-4,0,1.2e-4,,,,,,,2
+"""
+
+NMEA = """$GNGGA,120000.00,5130.000000,N,00007.500000,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*74
+$GNRMC,120000.00,A,5130.000000,N,00007.500000,W,1.5,90.0,150320,,,R*7F
+$GNGST,120000.00,1.0,0.02,0.01,45.0,0.015,0.015,0.03*4A
+$GNVTG,90.0,T,,M,1.5,N,2.8,K,R*37
+NMEA,$GNGGA,120000.25,5130.000001,N,00007.500001,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*73,1584273618250
+NMEA,$GNRMC,120000.25,A,5130.000001,N,00007.500001,W,1.5,90.0,150320,,,R*78,1584273618251
+$GNGST,120000.25,1.0,0.02,0.01,45.0,0.015,0.015,0.03*4D
+"""
+
+
 def _head(name: str, lines: int) -> bytes:
     return b"".join((EX / name).read_bytes().splitlines(keepends=True)[:lines])
 
@@ -73,6 +89,8 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
     "rinex_nav": (_head("walk.nav", 21), "nav", mn.Constellation.from_rinex_nav),
     "klobuchar": (KLOBUCHAR.encode(), "nav", mn.read_klobuchar),
     "sp3": (SP3.encode(), "sp3", mn.read_sp3),
+    "fixes_csv": (FIXES_CSV.encode(), "csv", mn.read_fixes_csv),
+    "nmea": (NMEA.encode(), "nmea", mn.read_nmea),
 }
 
 NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]

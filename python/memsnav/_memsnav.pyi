@@ -1657,24 +1657,28 @@ class PositionFixes:
 def fixes_from_solution(
     time: npt.ArrayLike,
     geodetic: npt.ArrayLike,
-    std_ned: npt.ArrayLike,
+    std_ned: npt.ArrayLike | None = None,
     *,
+    covariance_ned: npt.ArrayLike | None = None,
     velocity_ned: npt.ArrayLike | None = None,
     velocity_std_ned: npt.ArrayLike | None = None,
+    velocity_covariance_ned: npt.ArrayLike | None = None,
     rate_hz: float | None = None,
     added_position_noise_ned: npt.ArrayLike | None = None,
     added_velocity_noise: float | None = None,
     use_velocity: bool | None = None,
     seed: int | None = None,
 ) -> PositionFixes:
-    """Fixes from a geodetic solution (e.g. an RTKLIB ``.pos`` read with
-    ``read_pos``): ``time`` (T,) s, ``geodetic`` (T, 3) [lat rad, lon rad, h m],
-    ``std_ned`` (T, 3) m, optional ``velocity_ned`` and ``velocity_std_ned``
-    (T, 3) (NaN where absent; a missing velocity std counts as 0.1 m/s). Keeps
-    the epochs on the ``rate_hz`` grid (None: all), adds seeded white noise of
-    ``added_position_noise_ned`` (N, E, D one-sigma, m) and
-    ``added_velocity_noise`` (m/s), and rotates the covariance (std² +
-    noise²) into ECEF."""
+    """Fixes from a geodetic solution (a ``PosSolution`` of ``read_pos``,
+    ``read_fixes_csv`` or ``read_nmea``, or arrays): ``time`` (T,) s,
+    ``geodetic`` (T, 3) [lat rad, lon rad, h m], the position uncertainty as
+    ``std_ned`` (T, 3) m or ``covariance_ned`` (T, 3, 3) m² (exactly one),
+    optional ``velocity_ned`` (T, 3) with ``velocity_std_ned`` (T, 3) or
+    ``velocity_covariance_ned`` (T, 3, 3) (NaN where absent; a missing
+    velocity std counts as 0.1 m/s). Keeps the epochs on the ``rate_hz`` grid
+    (None: all), adds seeded white noise of ``added_position_noise_ned`` (N,
+    E, D one-sigma, m) and ``added_velocity_noise`` (m/s), and rotates the
+    covariance (+ noise²) into ECEF."""
 
 @final
 class LogRun:
@@ -1968,7 +1972,7 @@ def fit_tag_clock(imu: ImuLog, tag: TimeTag, line_ends: str | None) -> TagClock:
 
 @final
 class PosSolution:
-    """An RTKLIB solution in geodetic form."""
+    """A GNSS solution in geodetic form (RTKLIB .pos, fixes CSV, NMEA)."""
 
     @property
     def gps_time(self) -> npt.NDArray[np.float64]:
@@ -1999,6 +2003,19 @@ class PosSolution:
         """One-sigma velocity uncertainty N, E, D, m/s, (N, 3); NaN likewise."""
 
     @property
+    def covariance_ned(self) -> npt.NDArray[np.float64]:
+        """Position covariance N, E, D, m², (N, 3, 3): the file's full one, else diag(std²)."""
+
+    @property
+    def velocity_covariance_ned(self) -> npt.NDArray[np.float64]:
+        """Velocity covariance N, E, D, (m/s)², (N, 3, 3): the file's full one,
+        else diag(std²); NaN where the std is."""
+
+    @property
+    def has_full_covariance(self) -> bool:
+        """Whether the file gives full position covariances (not only stds)."""
+
+    @property
     def warnings(self) -> list[str]:
         """Lines skipped, one sentence each."""
 
@@ -2011,6 +2028,12 @@ def decimate(time: npt.ArrayLike, rate_hz: float | None = None) -> npt.NDArray[n
     """The indices of the samples kept at ``rate_hz`` (the first of each
     1/``rate_hz`` interval from the first sample; None: every one), as the
     solution writers thin a solution."""
+
+def read_fixes_csv(path: str | os.PathLike[str]) -> PosSolution:
+    """Reads a fixes CSV (see memsnav.read_fixes_csv)."""
+
+def read_nmea(path: str | os.PathLike[str]) -> PosSolution:
+    """Reads an NMEA 0183 log (see memsnav.read_nmea)."""
 
 def write_pos(
     path: str | os.PathLike[str],

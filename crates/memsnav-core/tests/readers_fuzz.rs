@@ -88,7 +88,8 @@ gps_week,gps_tow_s,lat_deg,lon_deg,height_m,cov_nn_m2,cov_ne_m2,cov_nd_m2,cov_ee
 2374,242095.499,40.0966269,-105.1474484,1601.46,1e-4,0,-1e-5,1e-4,0,1.2e-4,,,,,,,2,19
 ";
 
-const NMEA_SEED: &str = "$GNGGA,120000.00,5130.000000,N,00007.500000,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*74
+const NMEA_SEED: &str =
+    "$GNGGA,120000.00,5130.000000,N,00007.500000,W,4,12,0.9,45.0,M,47.0,M,1.0,0123*74
 $GNRMC,120000.00,A,5130.000000,N,00007.500000,W,1.5,90.0,150320,,,R*7F
 $GNGST,120000.00,1.0,0.02,0.01,45.0,0.015,0.015,0.03*4A
 $GNVTG,90.0,T,,M,1.5,N,2.8,K,R*37
@@ -195,11 +196,7 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                 Reader::FixesCsv => parse_fixes_csv(&text, file),
                 _ => parse_nmea(&text, file),
             };
-            parsed.map(|sol| {
-                solution_ok(&sol)
-                    .then_some(())
-                    .ok_or(format!("{sol:?}"))
-            })
+            parsed.map(|sol| solution_ok(&sol).then_some(()).ok_or(format!("{sol:?}")))
         }
         Reader::RinexObs => parse_rinex_obs(&text, file).map(|obs| {
             let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();

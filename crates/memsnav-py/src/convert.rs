@@ -167,7 +167,10 @@ pub fn matrices3_allow_nan(obj: &Bound<'_, PyAny>, argument: &str) -> PyResult<V
             "{argument}: contains {v} (NaN marks an absent value; infinities are not allowed)"
         )));
     }
-    Ok(values.chunks_exact(9).map(Matrix3::from_row_slice).collect())
+    Ok(values
+        .chunks_exact(9)
+        .map(Matrix3::from_row_slice)
+        .collect())
 }
 
 /// An `(N, 3)` array as N vectors, NaN allowed (the core names what a NaN

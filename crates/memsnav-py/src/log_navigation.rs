@@ -3,11 +3,11 @@
 //! (`memsnav_core::navigate`) on the user's arrays, one call per log with
 //! the GIL released.
 
+use memsnav_core::logs;
 use memsnav_core::navigate::{
     self, fixes_from_geodetic, references, score, FixOptions, GeodeticSolution, GnssInput,
     LogConfig, LogRun, SettingTables, SettingValue,
 };
-use memsnav_core::logs;
 use memsnav_core::random::from_optional_seed;
 use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_py_macros::catch_panics;

@@ -30,7 +30,6 @@ from pathlib import Path
 from typing import Any
 
 import memsnav._memsnav as _mn
-from memsnav.realdata.fix_readers import FIX_FORMATS
 from memsnav._config import (
     REQUIRED,
     Check,
@@ -46,6 +45,7 @@ from memsnav._config import (
     split_tables,
     text,
 )
+from memsnav.realdata.fix_readers import FIX_FORMATS
 
 #: Environment variable naming the data root.
 DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"

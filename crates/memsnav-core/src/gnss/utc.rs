@@ -71,7 +71,10 @@ mod tests {
         // 23:59:42 UTC); the pixel6.nmea epoch 2023-11-07 23:42:57 UTC is
         // 2 days, 23:43:15 into it.
         let t = checked_gps_time_from_utc(2023, 11, 7, 23, 42, 57.0).unwrap();
-        assert_eq!(t, 2287.0 * 604_800.0 + 2.0 * 86_400.0 + 23.0 * 3600.0 + 43.0 * 60.0 + 15.0);
+        assert_eq!(
+            t,
+            2287.0 * 604_800.0 + 2.0 * 86_400.0 + 23.0 * 3600.0 + 43.0 * 60.0 + 15.0
+        );
         assert!(checked_gps_time_from_utc(2023, 2, 30, 0, 0, 0.0)
             .unwrap_err()
             .contains("day 30"));

@@ -163,9 +163,7 @@ fn one_of<A, B>(
     required: bool,
 ) -> std::result::Result<(), String> {
     match (&a, &b) {
-        (Some(_), Some(_)) => Err(format!(
-            "{what}: give {a_names} or {b_names}, not both"
-        )),
+        (Some(_), Some(_)) => Err(format!("{what}: give {a_names} or {b_names}, not both")),
         (None, None) if required => Err(format!(
             "{what}: expected the columns {a_names} or {b_names}"
         )),
@@ -300,13 +298,20 @@ fn value(
     let (range, unit) = column_range(name);
     in_range(x, range, name, unit).map_err(|e| format!("field {}: {e}", k + 1))?;
     if matches!(name, QUALITY | N_SATELLITES | "gps_week") && x.fract() != 0.0 {
-        return Err(format!("field {} ({name}): expected an integer, got {x}", k + 1));
+        return Err(format!(
+            "field {} ({name}): expected an integer, got {x}",
+            k + 1
+        ));
     }
     Ok(Some(x))
 }
 
 /// The three values of `columns` (all required).
-fn vector(f: &[&str], columns: &[usize], names: &[&str]) -> std::result::Result<Vector3<f64>, String> {
+fn vector(
+    f: &[&str],
+    columns: &[usize],
+    names: &[&str],
+) -> std::result::Result<Vector3<f64>, String> {
     let mut v = Vector3::zeros();
     for (i, &k) in columns.iter().enumerate() {
         v[i] = value(f, k, names, false)?.unwrap_or(f64::NAN);
@@ -329,7 +334,11 @@ fn optional(
         n if n == values.len() => Ok(Some(values.into_iter().flatten().collect())),
         _ => Err(format!(
             "the fields {} are all given or all empty",
-            columns.iter().map(|&k| names[k]).collect::<Vec<_>>().join(", ")
+            columns
+                .iter()
+                .map(|&k| names[k])
+                .collect::<Vec<_>>()
+                .join(", ")
         )),
     }
 }
@@ -387,7 +396,12 @@ fn parse_row(line: &str, layout: &Layout, names: &[&str]) -> std::result::Result
         }
         (None, Some(e)) => {
             let g = ecef_to_geodetic(&vector(&f, e, names)?);
-            in_range(g.height_m, POS_HEIGHT_RANGE_M, "ellipsoidal height of the ECEF position", "m")?;
+            in_range(
+                g.height_m,
+                POS_HEIGHT_RANGE_M,
+                "ellipsoidal height of the ECEF position",
+                "m",
+            )?;
             Vector3::new(g.latitude_rad, g.longitude_rad, g.height_m)
         }
         (None, None) => unreachable!("the header has a position"),
@@ -398,7 +412,10 @@ fn parse_row(line: &str, layout: &Layout, names: &[&str]) -> std::result::Result
             Matrix3::from_diagonal(&s.component_mul(&s))
         }
         (None, Some(c)) => {
-            let entries: Vec<f64> = c.iter().map(|&k| required(k)).collect::<std::result::Result<_, _>>()?;
+            let entries: Vec<f64> = c
+                .iter()
+                .map(|&k| required(k))
+                .collect::<std::result::Result<_, _>>()?;
             let m = symmetric(&entries);
             check_covariance(&m, "the position covariance", "m²")?;
             m
@@ -470,7 +487,8 @@ pub fn parse_fixes_csv(text: &str, file: &str) -> Result<PosSolution> {
             ),
         ));
     };
-    let layout = Layout::from_header(lines[header]).map_err(|e| parse_error(file, header + 1, e))?;
+    let layout =
+        Layout::from_header(lines[header]).map_err(|e| parse_error(file, header + 1, e))?;
     let names: Vec<&str> = lines[header].split(',').map(str::trim).collect();
     let mut data: Vec<usize> = rows.collect();
     let mut warnings = Vec::new();
@@ -514,7 +532,8 @@ pub fn parse_fixes_csv(text: &str, file: &str) -> Result<PosSolution> {
         sol.n_satellites.push(row.n_satellites);
         sol.std_ned_m.push(std_of(&row.covariance));
         sol.velocity_ned_m_s.push(row.velocity);
-        sol.velocity_std_ned_m_s.push(std_of(&row.velocity_covariance));
+        sol.velocity_std_ned_m_s
+            .push(std_of(&row.velocity_covariance));
         covariances.push(row.covariance);
         velocity_covariances.push(row.velocity_covariance);
     }
@@ -552,7 +571,10 @@ mod tests {
         assert_eq!(sol.lla[0].x, 40.0966268_f64.to_radians());
         assert_eq!(sol.lla[0].z, 1601.45);
         let c = sol.covariance_ned_m2.as_ref().unwrap()[0];
-        assert_eq!(c, Matrix3::new(4.0, 1.5, -0.5, 1.5, 9.0, 0.3, -0.5, 0.3, 16.0));
+        assert_eq!(
+            c,
+            Matrix3::new(4.0, 1.5, -0.5, 1.5, 9.0, 0.3, -0.5, 0.3, 16.0)
+        );
         assert_eq!(sol.std_ned_m[0], Vector3::new(2.0, 3.0, 4.0));
         assert_eq!(sol.velocity_ned_m_s[0], Vector3::new(1.0, 2.0, -0.5));
         assert!((sol.velocity_std_ned_m_s[0] - Vector3::new(0.1, 0.2, 0.3)).norm() < 1e-15);
@@ -579,13 +601,28 @@ mod tests {
 
     #[test]
     fn errors_name_line_column_and_range() {
-        let e = parse_fixes_csv("gps_time_s,lat_deg,lon_deg,height_m,std_n_m,std_e_m,std_d_m,speed\n", "f.csv")
-            .unwrap_err();
-        assert!(e.to_string().starts_with("f.csv:1: unknown column(s) [\"speed\"]"), "{e}");
-        let e = parse_fixes_csv("gps_time_s,lat_deg,lon_deg,std_n_m,std_e_m,std_d_m\n", "f.csv").unwrap_err();
+        let e = parse_fixes_csv(
+            "gps_time_s,lat_deg,lon_deg,height_m,std_n_m,std_e_m,std_d_m,speed\n",
+            "f.csv",
+        )
+        .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("f.csv:1: unknown column(s) [\"speed\"]"),
+            "{e}"
+        );
+        let e = parse_fixes_csv(
+            "gps_time_s,lat_deg,lon_deg,std_n_m,std_e_m,std_d_m\n",
+            "f.csv",
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("height_m missing"), "{e}");
         let e = parse_fixes_csv("gps_time_s,lat_deg,lon_deg,height_m\n", "f.csv").unwrap_err();
-        assert!(e.to_string().contains("position uncertainty: expected the columns"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("position uncertainty: expected the columns"),
+            "{e}"
+        );
         let third = "1001,40.0966269,-105.1474484,1601.46,4,0,0,9,0,16,,,,,,,2\n";
         let bad_lat = GEODETIC_CSV.replace("40.0966269", "95");
         let with_third = |s: &str| format!("{s}{third}");
@@ -596,7 +633,11 @@ mod tests {
         );
         let not_psd = GEODETIC_CSV.replace("4,0,0,9", "4,7,0,9");
         let e = parse_fixes_csv(&with_third(&not_psd), "f.csv").unwrap_err();
-        assert!(e.to_string().starts_with("f.csv:4: the position covariance is not a covariance"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("f.csv:4: the position covariance is not a covariance"),
+            "{e}"
+        );
         let back = GEODETIC_CSV.replace("1000.5,", "1000.25,");
         let e = parse_fixes_csv(&with_third(&back), "f.csv").unwrap_err();
         assert!(e.to_string().starts_with("f.csv:4: time 1000.250 s"), "{e}");

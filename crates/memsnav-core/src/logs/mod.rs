@@ -23,6 +23,7 @@ mod pos_solution;
 mod rtklib_pos;
 mod time_tag;
 
+pub use fixes_csv::{parse_fixes_csv, read_fixes_csv, DEFAULT_CSV_QUALITY, FIXES_CSV_COLUMNS};
 pub use gnss_table::{
     gnss_table_from_columns, parse_gnss_table, read_gnss_table, GnssTable, TableStds,
     GNSS_TABLE_OPTIONAL, GNSS_TABLE_REQUIRED,
@@ -32,10 +33,11 @@ pub use imu_csv::{
     parse_imu_csv, read_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, ImuLog, TimeUnit, IMU_COLUMNS,
     MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
 };
-pub use fixes_csv::{parse_fixes_csv, read_fixes_csv, DEFAULT_CSV_QUALITY, FIXES_CSV_COLUMNS};
 pub use nmea::{parse_nmea, read_nmea, NMEA_TALKERS, NMEA_UERE_M, NMEA_VDOP_PER_HDOP};
 pub use pos_solution::{diagonal_covariances, PosSolution};
-pub use rtklib_pos::{format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M};
+pub use rtklib_pos::{
+    format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+};
 pub use time_tag::{parse_time_tag, read_time_tag, TimeTag, TIME_TAG_HEADER_BYTES};
 
 use std::path::Path;

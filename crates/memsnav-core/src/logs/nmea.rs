@@ -136,7 +136,9 @@ fn sentence(line: &str) -> std::result::Result<&str, String> {
             Err(())
         }
     }) else {
-        return Err(format!("checksum: expected two hex digits after '*', got {hex:?}"));
+        return Err(format!(
+            "checksum: expected two hex digits after '*', got {hex:?}"
+        ));
     };
     let tail_ok = if wrapped {
         tail.strip_prefix(',')
@@ -305,7 +307,11 @@ fn gga(s: &Fields) -> std::result::Result<Sentence, String> {
     };
     let n_satellites = s.number(7, "satellites", 0.0..=255.0, "")?.unwrap_or(0.0);
     if n_satellites.fract() != 0.0 {
-        return Err(s.error(7, "satellites", format!("expected an integer, got {n_satellites}")));
+        return Err(s.error(
+            7,
+            "satellites",
+            format!("expected an integer, got {n_satellites}"),
+        ));
     }
     let hdop = s.number(8, "HDOP", 0.0..=MAX_HDOP, "")?;
     if quality.is_none() {
@@ -313,7 +319,13 @@ fn gga(s: &Fields) -> std::result::Result<Sentence, String> {
         let lla = Vector3::repeat(f64::NAN);
         return Ok(Sentence::Gga(
             t,
-            Gga { lla, quality, n_satellites: 0, hdop, geoid_separation_given: false },
+            Gga {
+                lla,
+                quality,
+                n_satellites: 0,
+                hdop,
+                geoid_separation_given: false,
+            },
         ));
     }
     let latitude = s.angle(2, true)?;
@@ -420,7 +432,11 @@ fn gst(s: &Fields) -> std::result::Result<Sentence, String> {
 fn vtg(s: &Fields) -> std::result::Result<Sentence, String> {
     for (k, letter) in [(2, "T"), (6, "N"), (8, "K")] {
         if !matches!(s.get(k), x if x == letter || x.is_empty()) {
-            return Err(s.error(k, "unit letter", format!("expected {letter}, got {:?}", s.get(k))));
+            return Err(s.error(
+                k,
+                "unit letter",
+                format!("expected {letter}, got {:?}", s.get(k)),
+            ));
         }
     }
     if s.get(9) == "N" {
@@ -562,22 +578,21 @@ pub fn parse_nmea(text: &str, file: &str) -> Result<PosSolution> {
             no_fix += 1;
             continue;
         };
-        let covariance = match (e.gst, g.hdop) {
-            (Some(c), _) => c,
-            (None, Some(hdop)) => {
-                from_hdop += 1;
-                let h = hdop * NMEA_UERE_M / std::f64::consts::SQRT_2;
-                let v = NMEA_VDOP_PER_HDOP * hdop * NMEA_UERE_M;
-                Matrix3::from_diagonal(&Vector3::new(h * h, h * h, v * v))
-            }
-            (None, None) => {
-                return Err(parse_error(
+        let covariance =
+            match (e.gst, g.hdop) {
+                (Some(c), _) => c,
+                (None, Some(hdop)) => {
+                    from_hdop += 1;
+                    let h = hdop * NMEA_UERE_M / std::f64::consts::SQRT_2;
+                    let v = NMEA_VDOP_PER_HDOP * hdop * NMEA_UERE_M;
+                    Matrix3::from_diagonal(&Vector3::new(h * h, h * h, v * v))
+                }
+                (None, None) => return Err(parse_error(
                     file,
                     e.line,
                     "GGA field 8 (HDOP) is empty and the epoch has no GST: the fix has no accuracy",
-                ))
-            }
-        };
+                )),
+            };
         if let Some(&previous) = sol.gps_time_s.last() {
             if t <= previous {
                 return Err(parse_error(
@@ -618,18 +633,37 @@ pub fn parse_nmea(text: &str, file: &str) -> Result<PosSolution> {
             warnings.push(format!("{file}: {n} {what}"));
         }
     };
-    note(no_gga, "epoch(s) without a GGA sentence (no height): skipped".into());
-    note(no_fix, "epoch(s) without a fix (GGA quality 0, 7 manual or 8 simulator): skipped".into());
+    note(
+        no_gga,
+        "epoch(s) without a GGA sentence (no height): skipped".into(),
+    );
+    note(
+        no_fix,
+        "epoch(s) without a fix (GGA quality 0, 7 manual or 8 simulator): skipped".into(),
+    );
     note(from_hdop, format!(
         "epoch(s) without GST: position σ from HDOP × {NMEA_UERE_M} m UERE (σ_N = σ_E = HDOP·UERE/√2, σ_D = {NMEA_VDOP_PER_HDOP}·HDOP·UERE)"
     ));
     note(no_separation, "GGA sentence(s) without a geoid separation: their altitude is taken as the ellipsoidal height (set [gnss] height = \"msl\" and geoid_separation_m if it is above mean sea level)".into());
-    note(notes.repeated, "sentence(s) repeating a GGA, RMC or GST of their epoch: the last one kept".into());
-    note(notes.vtg_alone, "VTG sentence(s) before the first timed sentence: ignored".into());
+    note(
+        notes.repeated,
+        "sentence(s) repeating a GGA, RMC or GST of their epoch: the last one kept".into(),
+    );
+    note(
+        notes.vtg_alone,
+        "VTG sentence(s) before the first timed sentence: ignored".into(),
+    );
     if !notes.other.is_empty() {
-        let kinds: Vec<String> = notes.other.iter().map(|(k, n)| format!("{k} {n}")).collect();
+        let kinds: Vec<String> = notes
+            .other
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
         let total: usize = notes.other.values().sum();
-        note(total, format!("sentence(s) of other types ignored ({})", kinds.join(", ")));
+        note(
+            total,
+            format!("sentence(s) of other types ignored ({})", kinds.join(", ")),
+        );
     }
     sol.covariance_ned_m2 = Some(covariances);
     sol.warnings = warnings;
@@ -653,16 +687,24 @@ fn gps_times(epochs: &[Epoch], file: &str) -> Result<Vec<f64>> {
         };
         let s = e.time_of_day_s;
         let (hour, minute) = ((s / 3600.0).floor(), ((s % 3600.0) / 60.0).floor());
-        checked_gps_time_from_utc(y, m, d, hour as i64, minute as i64, s - hour * 3600.0 - minute * 60.0)
-            .map(Some)
-            .map_err(|reason| parse_error(file, e.line, format!("RMC date: {reason}")))
+        checked_gps_time_from_utc(
+            y,
+            m,
+            d,
+            hour as i64,
+            minute as i64,
+            s - hour * 3600.0 - minute * 60.0,
+        )
+        .map(Some)
+        .map_err(|reason| parse_error(file, e.line, format!("RMC date: {reason}")))
     };
     let mut times = vec![f64::NAN; epochs.len()];
     for k in first..epochs.len() {
         times[k] = match dated(&epochs[k])? {
             Some(t) => t,
             None => {
-                let step = (epochs[k].time_of_day_s - epochs[k - 1].time_of_day_s).rem_euclid(86_400.0);
+                let step =
+                    (epochs[k].time_of_day_s - epochs[k - 1].time_of_day_s).rem_euclid(86_400.0);
                 times[k - 1] + step
             }
         };
@@ -690,7 +732,10 @@ mod tests {
     fn textbook_epoch() {
         let sol = parse_nmea(&format!("{GGA}\n{RMC}\n"), "x.nmea").unwrap();
         // 1994-03-23 UTC: 9 leap seconds.
-        assert_eq!(sol.gps_time_s, vec![gps_time_from_calendar(1994, 3, 23, 12, 35, 28.0)]);
+        assert_eq!(
+            sol.gps_time_s,
+            vec![gps_time_from_calendar(1994, 3, 23, 12, 35, 28.0)]
+        );
         let lla = sol.lla[0];
         assert_eq!(lla.x, (48.0 + 7.038 / 60.0_f64).to_radians());
         assert_eq!(lla.y, (11.0 + 31.0 / 60.0_f64).to_radians());
@@ -704,7 +749,11 @@ mod tests {
         assert!((v.x - speed * course.cos()).abs() < 1e-12);
         assert!((v.y - speed * course.sin()).abs() < 1e-12);
         assert!(v.z.is_nan() && sol.velocity_std_ned_m_s[0].x.is_nan());
-        assert!(sol.warnings[0].contains("1 epoch(s) without GST"), "{:?}", sol.warnings);
+        assert!(
+            sol.warnings[0].contains("1 epoch(s) without GST"),
+            "{:?}",
+            sol.warnings
+        );
     }
 
     #[test]
@@ -718,11 +767,16 @@ mod tests {
             let b = body(s);
             format!("${b}*{:02X}", b.bytes().fold(0, |a, x| a ^ x))
         };
-        let rmc = sum(&RMC.replace("123519", "172814.0").replace(",022.4,084.4,", ",,,"));
+        let rmc = sum(&RMC
+            .replace("123519", "172814.0")
+            .replace(",022.4,084.4,", ",,,"));
         let text = format!("{}\n{GST}\n{rmc}\n{VTG}\n{}\n", sum(&gga), sum(&gga2));
         let sol = parse_nmea(&text, "x.nmea").unwrap();
         let t0 = gps_time_from_calendar(1994, 3, 23, 17, 28, 23.0);
-        assert_eq!(sol.gps_time_s, vec![t0, t0 + 6.0 * 3600.0 + 31.0 * 60.0 + 47.0]);
+        assert_eq!(
+            sol.gps_time_s,
+            vec![t0, t0 + 6.0 * 3600.0 + 31.0 * 60.0 + 47.0]
+        );
         let c = &sol.covariance_ned_m2.as_ref().unwrap()[0];
         let (a, b, th) = (0.023_f64, 0.020_f64, 273.6_f64.to_radians());
         let (nn, ee) = (
@@ -742,8 +796,11 @@ mod tests {
 
     #[test]
     fn errors_name_line_field_and_range() {
-        let e = parse_nmea(&format!("{RMC}\n{}\n{GGA}\n", GGA.replace("*47", "*48")), "x.nmea")
-            .unwrap_err();
+        let e = parse_nmea(
+            &format!("{RMC}\n{}\n{GGA}\n", GGA.replace("*47", "*48")),
+            "x.nmea",
+        )
+        .unwrap_err();
         assert_eq!(
             e.to_string(),
             "x.nmea:2: checksum *48 does not match the sentence's (computed *47)"
@@ -757,24 +814,43 @@ mod tests {
         );
         let minutes = sum("GPGGA,123519,4867.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,");
         let e = parse_nmea(&format!("{minutes}\n{RMC}\n"), "x.nmea").unwrap_err();
-        assert!(e.to_string().contains("GGA field 2 (latitude): 4867.038 is out of range"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("GGA field 2 (latitude): 4867.038 is out of range"),
+            "{e}"
+        );
         let talker = sum("XXGGA,123519,4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,");
         let e = parse_nmea(&format!("{talker}\n{RMC}\n"), "x.nmea").unwrap_err();
         assert!(e.to_string().contains("talker \"XX\""), "{e}");
         let e = parse_nmea(&format!("{GGA}\n"), "x.nmea").unwrap_err();
         assert!(e.to_string().contains("no RMC sentence"), "{e}");
         let e = parse_nmea("hello\n$GPGGA\n", "x.nmea").unwrap_err();
-        assert!(e.to_string().starts_with("x.nmea:1: expected an NMEA sentence"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("x.nmea:1: expected an NMEA sentence"),
+            "{e}"
+        );
         // Cut short at the end: skipped with a warning.
         let sol = parse_nmea(&format!("{GGA}\n{RMC}\n{}", &GGA[..30]), "x.nmea").unwrap();
         assert_eq!(sol.gps_time_s.len(), 1);
-        assert!(sol.warnings[0].contains("x.nmea:3: last line cut short"), "{:?}", sol.warnings);
-        // Backwards in time with dates: refused.
-        let rmc2 = RMC.replace("230394", "220394");
-        let body = &rmc2[1..rmc2.find('*').unwrap()];
-        let text = format!("{GGA}\n{RMC}\n{GGA}\n{}\n", sum(body));
-        let e = parse_nmea(&text.replacen(GGA, &GGA.replace("*47", "*47"), 1), "x.nmea");
-        assert!(e.is_ok() || e.unwrap_err().to_string().contains("does not follow"));
+        assert!(
+            sol.warnings[0].contains("x.nmea:3: last line cut short"),
+            "{:?}",
+            sol.warnings
+        );
+        // Backwards in time by its dates: the next second a day earlier.
+        let body = |t: &str| t[1..t.find('*').unwrap()].to_string();
+        let gga2 = sum(&body(GGA).replace("123519", "123520"));
+        let rmc2 = sum(&body(RMC)
+            .replace("123519", "123520")
+            .replace("230394", "220394"));
+        let e =
+            parse_nmea(&format!("{GGA}\n{RMC}\n{gga2}\n{rmc2}\n{GGA}\n"), "x.nmea").unwrap_err();
+        assert!(
+            e.to_string().starts_with("x.nmea:3: time")
+                && e.to_string().contains("does not follow"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -783,6 +859,10 @@ mod tests {
         let sol = parse_nmea(&text, "x.nmea").unwrap();
         assert_eq!(sol.gps_time_s.len(), 1, "{:?}", sol.warnings);
         let e = parse_nmea(&format!("NMEA,{GGA},15x\n{text}"), "x.nmea").unwrap_err();
-        assert!(e.to_string().contains("unexpected \",15x\" after the checksum"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("unexpected \",15x\" after the checksum"),
+            "{e}"
+        );
     }
 }

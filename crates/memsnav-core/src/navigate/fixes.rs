@@ -92,7 +92,12 @@ pub fn fixes_from_geodetic(
 ) -> Result<Vec<PositionFix>> {
     let n = solution.time_s.len();
     validate::same_length("geodetic", solution.geodetic.len(), "time", n)?;
-    validate::same_length("covariance_ned", solution.covariance_ned_m2.len(), "time", n)?;
+    validate::same_length(
+        "covariance_ned",
+        solution.covariance_ned_m2.len(),
+        "time",
+        n,
+    )?;
     validate::increasing_times("time", solution.time_s)?;
     if let Some(v) = solution.velocity_ned_m_s {
         validate::same_length("velocity_ned", v.len(), "time", n)?;
