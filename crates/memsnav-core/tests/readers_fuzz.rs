@@ -15,10 +15,13 @@ use std::sync::mpsc;
 use std::sync::OnceLock;
 use std::time::Duration;
 
-use memsnav_core::gnss::{parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar};
+use memsnav_core::gnss::{
+    check_measurement, parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar,
+};
 use memsnav_core::logs::{
-    parse_imu_csv, parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit,
-    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+    parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_pos, parse_time_tag, AccelUnit,
+    GyroUnit, ImuCsvLayout, TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2,
+    MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 
@@ -34,6 +37,8 @@ enum Reader {
     RinexNav,
     Klobuchar,
     Sp3,
+    GnssTable,
+    GnssLogger,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -78,6 +83,13 @@ PG01  13974.113220 -21737.434722   8797.941102    -35.472561
 EOF
 ";
 
+const GNSS_TABLE_SEED: &str = "time_s,gps_time_s,sat_id,sat_position_ecef_x_m,sat_position_ecef_y_m,sat_position_ecef_z_m,sat_velocity_ecef_x_m_s,sat_velocity_ecef_y_m_s,sat_velocity_ecef_z_m_s,pseudorange_m,pseudorange_rate_m_s
+0,1273529464,5,-2179862.557,-26154875.769,-3437694.371,325.541,-419.725,3129.012,23052313.867,-120.5
+0,1273529464,13,-5199894.405,-17419269.957,23361281.147,2239.305,700.815,1022.014,23522506.859,
+1,1273529465,5,-2179537.0,-26155295.4,-3434565.4,325.5,-419.7,3129.0,23052193.2,-120.6
+1,1273529465,13,-5197655.1,-17418569.1,23362303.1,2239.3,700.8,1022.0,23522640.1,133.2
+";
+
 fn seed(reader: Reader) -> &'static [u8] {
     static SEEDS: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
     let seeds = SEEDS.get_or_init(|| {
@@ -89,6 +101,8 @@ fn seed(reader: Reader) -> &'static [u8] {
             head("real-imu-gnss/walk.nav", 21),
             KLOBUCHAR_SEED.as_bytes().to_vec(),
             SP3_SEED.as_bytes().to_vec(),
+            GNSS_TABLE_SEED.as_bytes().to_vec(),
+            head("android-gnsslogger/pixel6_excerpt.txt", usize::MAX),
         ]
     });
     &seeds[reader as usize]
@@ -183,6 +197,43 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
             }
             None => Ok(()),
             Some(k) => Err(format!("{k:?}")),
+        }),
+        Reader::GnssTable => parse_gnss_table(&text, file, TableStds::default()).map(|t| {
+            let times: Vec<f64> = t.epochs.iter().map(|e| e.time_s).collect();
+            let ok = increasing(&times)
+                && t.epochs.iter().all(|e| {
+                    distinct(e.measurements.iter().map(|m| m.sat_id))
+                        && e.measurements.iter().all(|m| check_measurement(m).is_ok())
+                });
+            ok.then_some(()).ok_or(format!("{:?}", t.epochs.first()))
+        }),
+        Reader::GnssLogger => parse_gnsslogger(&text, file).map(|log| {
+            let obs = &log.observations;
+            let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();
+            let ok = increasing(&times)
+                && obs.epochs.iter().all(|e| {
+                    distinct(e.satellites.iter().map(|s| (s.system, s.prn)))
+                        && e.satellites.iter().all(|s| {
+                            s.values.iter().flatten().all(|v| v.abs() <= 1e10)
+                                && s.values
+                                    .iter()
+                                    .step_by(4)
+                                    .flatten()
+                                    .all(|c| (1e6..=1e8).contains(c))
+                        })
+                })
+                && log.imu.as_ref().is_none_or(|imu| {
+                    increasing(&imu.time_s)
+                        && imu
+                            .specific_force_m_s2
+                            .iter()
+                            .all(|f| f.amax() <= MAX_SPECIFIC_FORCE_M_S2)
+                        && imu
+                            .angular_rate_rad_s
+                            .iter()
+                            .all(|w| w.amax() <= MAX_ANGULAR_RATE_RAD_S)
+                });
+            ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
         Reader::Sp3 => parse_sp3(&text, file).map(|sp3| {
             let ok = increasing(&sp3.time_gps_s)
@@ -397,6 +448,8 @@ fuzz_reader!(rinex_obs_mutated, rinex_obs_garbage, Reader::RinexObs);
 fuzz_reader!(rinex_nav_mutated, rinex_nav_garbage, Reader::RinexNav);
 fuzz_reader!(klobuchar_mutated, klobuchar_garbage, Reader::Klobuchar);
 fuzz_reader!(sp3_mutated, sp3_garbage, Reader::Sp3);
+fuzz_reader!(gnss_table_mutated, gnss_table_garbage, Reader::GnssTable);
+fuzz_reader!(gnsslogger_mutated, gnsslogger_garbage, Reader::GnssLogger);
 
 #[test]
 fn the_seeds_read_cleanly() {
@@ -408,6 +461,8 @@ fn the_seeds_read_cleanly() {
         Reader::RinexNav,
         Reader::Klobuchar,
         Reader::Sp3,
+        Reader::GnssTable,
+        Reader::GnssLogger,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }
