@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
-from shared_data import shared_data
 
 DATA = Path(__file__).parent / "data"
 KEYS = (
@@ -57,7 +57,9 @@ def test_misspelled_and_stray_keys_are_errors(sim, drive_300s):
     _, gnss = sim
     d = arrays(gnss)
     d["pseudorange_rates"] = d.pop("pseudorange_rate")
-    with pytest.raises(ValueError, match=r'"pseudorange_rates" \(did you mean "pseudorange_rate"\?\)'):
+    with pytest.raises(
+        ValueError, match=r'"pseudorange_rates" \(did you mean "pseudorange_rate"\?\)'
+    ):
         mn.solve_fix(d)
     stray = {k: v for k, v in arrays(gnss).items() if k != "pseudorange_rate"}
     with pytest.raises(ValueError, match="pseudorange_rate_std given without pseudorange_rate"):
@@ -130,8 +132,14 @@ def long_table(gnss) -> dict[str, np.ndarray]:
         "time_s": gnss.time[k],
         "gps_time_s": gnss.gps_time[k],
         "sat_id": gnss.sat_id[k, j],
-        **{f"sat_position_ecef_{a}_m": gnss.satellite_position_ecef[k, j, i] for i, a in enumerate(xyz)},
-        **{f"sat_velocity_ecef_{a}_m_s": gnss.satellite_velocity_ecef[k, j, i] for i, a in enumerate(xyz)},
+        **{
+            f"sat_position_ecef_{a}_m": gnss.satellite_position_ecef[k, j, i]
+            for i, a in enumerate(xyz)
+        },
+        **{
+            f"sat_velocity_ecef_{a}_m_s": gnss.satellite_velocity_ecef[k, j, i]
+            for i, a in enumerate(xyz)
+        },
         "pseudorange_m": gnss.pseudorange[k, j],
         "pseudorange_rate_m_s": gnss.pseudorange_rate[k, j],
         "pseudorange_std_m": gnss.pseudorange_std[k, j],
@@ -213,7 +221,11 @@ def test_pixel4_table_through_solve_fix_scored_by_its_survey_truth():
     errors = []
     for k, t in enumerate(fix.time):
         r = truth[int(np.argmin(abs(t_truth - t)))]
-        lla = [np.radians(float(r["latDeg"])), np.radians(float(r["lngDeg"])), float(r["heightAboveWgs84EllipsoidM"])]
+        lla = [
+            np.radians(float(r["latDeg"])),
+            np.radians(float(r["lngDeg"])),
+            float(r["heightAboveWgs84EllipsoidM"]),
+        ]
         errors.append(mn.ecef_to_ned(fix.position_ecef[k], mn.geodetic_to_ecef(lla)))
     e = np.array(errors)
     horizontal = np.sqrt(np.mean(np.sum(e[:, :2] ** 2, 1)))
@@ -244,7 +256,11 @@ def test_gnsslogger_excerpt():
     # TOW known only; their L5 pseudoranges sit 190 m off L1) are skipped.
     text = (DATA / "android-gnsslogger" / "pixel6_excerpt.txt").read_text().splitlines()
     header = next(line[2:].split(",") for line in text if line.startswith("# Raw,"))
-    states = [int(dict(zip(header, line.split(",")))["State"]) for line in text if line.startswith("Raw,")]
+    states = [
+        int(dict(zip(header, line.split(","), strict=True))["State"])
+        for line in text
+        if line.startswith("Raw,")
+    ]
     unlocked = sum(1 for s in states if s & (1 | 1024) == 0)
     assert unlocked > 0 and log.skipped == {"no code lock (State)": unlocked}
     assert log.imu is not None and len(log.imu) >= 1
@@ -274,12 +290,14 @@ def test_gnsslogger_pseudoranges_and_doppler_agree_with_its_rinex():
             if near[0] < 0 or near[-1] >= len(rinex.time):
                 continue
             x = rinex.time[near] - t
-            d = np.array([
-                ours[k, j] - np.polyval(np.polyfit(x, theirs[near, j], 3), 0.0)
-                if np.all(np.isfinite(theirs[near, j]))
-                else np.nan
-                for j in range(len(columns))
-            ])
+            d = np.array(
+                [
+                    ours[k, j] - np.polyval(np.polyfit(x, theirs[near, j], 3), 0.0)
+                    if np.all(np.isfinite(theirs[near, j]))
+                    else np.nan
+                    for j in range(len(columns))
+                ]
+            )
             d = d[np.isfinite(d)]
             if len(d) >= 3:
                 residuals.extend(np.abs(d - np.median(d)))

@@ -80,6 +80,21 @@ def _head(name: str, lines: int) -> bytes:
     return b"".join((EX / name).read_bytes().splitlines(keepends=True)[:lines])
 
 
+GNSS_TABLE_HEADER = ",".join(
+    ["time_s", "sat_id"]
+    + [f"sat_position_ecef_{a}_m" for a in "xyz"]
+    + [f"sat_velocity_ecef_{a}_m_s" for a in "xyz"]
+    + ["pseudorange_m", "pseudorange_rate_m_s"]
+)
+GNSS_TABLE = (
+    GNSS_TABLE_HEADER
+    + """
+0,5,-2179862.557,-26154875.769,-3437694.371,325.541,-419.725,3129.012,23052313.867,-120.5
+0,13,-5199894.405,-17419269.957,23361281.147,2239.305,700.815,1022.014,23522506.859,
+1,5,-2179537.0,-26155295.4,-3434565.4,325.5,-419.7,3129.0,23052193.2,-120.6
+"""
+)
+
 #: (seed bytes, file extension, reader) per reader.
 READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
     "imu_csv": (_head("drive_60s.csv", 20), "csv", mn.read_imu_csv),
@@ -91,6 +106,12 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
     "sp3": (SP3.encode(), "sp3", mn.read_sp3),
     "fixes_csv": (FIXES_CSV.encode(), "csv", mn.read_fixes_csv),
     "nmea": (NMEA.encode(), "nmea", mn.read_nmea),
+    "gnss_table": (GNSS_TABLE.encode(), "csv", mn.GnssMeasurements.from_table),
+    "gnsslogger": (
+        (DATA / "android-gnsslogger" / "pixel6_excerpt.txt").read_bytes(),
+        "txt",
+        mn.read_gnsslogger,
+    ),
 }
 
 NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]

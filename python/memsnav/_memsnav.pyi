@@ -1,7 +1,7 @@
 """Type stubs of the native module (checked by ``mypy.stubtest``)."""
 
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, final
 
 import numpy as np
@@ -827,6 +827,45 @@ class GnssMeasurements:
     """Simulated measurements; per-epoch arrays padded to n_max = n_satellites
     (NaN for values, -1 for sat_id, where fewer satellites are tracked)."""
 
+    def __new__(
+        cls,
+        time: npt.ArrayLike,
+        sat_id: npt.ArrayLike,
+        satellite_position_ecef: npt.ArrayLike,
+        satellite_velocity_ecef: npt.ArrayLike,
+        pseudorange: npt.ArrayLike,
+        pseudorange_std: npt.ArrayLike,
+        pseudorange_rate: npt.ArrayLike | None = None,
+        pseudorange_rate_std: npt.ArrayLike | None = None,
+        *,
+        start_gps_time: float | None = None,
+    ) -> GnssMeasurements:
+        """Measurements from padded arrays: time (T,) s, sat_id (T, n)
+        (negative: an empty slot), satellite_position_ecef and
+        satellite_velocity_ecef (T, n, 3) at transmission, pseudorange (T, n)
+        m (satellite clock corrected), pseudorange_std (T, n) m, optional
+        pseudorange_rate with pseudorange_rate_std (T, n) m/s; start_gps_time:
+        the GPS time of time[0] (None: time is GPS time). NaN is refused in
+        every non-empty slot except a rate (NaN: no rate there); ValueError
+        names the slot."""
+
+    @staticmethod
+    def from_table(
+        table: str | os.PathLike[str] | Mapping[str, npt.ArrayLike] | Any,
+        *,
+        pseudorange_std: float | None = None,
+        pseudorange_rate_std: float | None = None,
+    ) -> GnssMeasurements:
+        """Measurements from a long table, one row per epoch and satellite
+        (the gnss.csv of memsnav simulate): a CSV path, a pandas or polars
+        DataFrame, or a dict of columns. Columns time_s, sat_id,
+        sat_position_ecef_{x,y,z}_m, sat_velocity_ecef_{x,y,z}_m_s,
+        pseudorange_m; optional gps_time_s, pseudorange_rate_m_s (empty or
+        NaN: no rate), pseudorange_std_m, pseudorange_rate_std_m_s (left out:
+        the sigma given here, None: defaults()["gnss"]). Any other column is a
+        ValueError naming it and the closest known name; a row with NaN
+        outside a rate is refused, naming the row (CSV: the line)."""
+
     @property
     def time(self) -> npt.NDArray[np.float64]:
         """Epoch times on the trajectory's time axis, s, (T,)."""
@@ -979,10 +1018,13 @@ class FixSeries:
         """Time dilution of precision, (T,)."""
 
 def solve_fix(
-    measurements: GnssMeasurements, prior: npt.ArrayLike | None = None, strict: bool = False
+    measurements: GnssMeasurements | Mapping[str, npt.ArrayLike],
+    prior: npt.ArrayLike | None = None,
+    strict: bool = False,
 ) -> FixSeries:
     """Gauss-Newton position/velocity/clock fix of every epoch (Sagnac-corrected
-    predicted ranges). prior: (3,) ECEF start for the first epoch (default the
+    predicted ranges) of a GnssMeasurements or its padded arrays as a dict (the
+    constructor's keys, no others). prior: (3,) ECEF start for the first epoch (default the
     Earth's centre; later epochs start from the previous fix). Epochs with
     fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
 
@@ -2112,3 +2154,28 @@ def estimate_velocity_latency(
 def _panic_for_test(message: str) -> None:
     """Test hook: panics in Rust with ``message``; the binding turns the
     panic into a :class:`MemsnavError`."""
+
+@final
+class GnssLoggerLog:
+    """What an Android GnssLogger file holds (read_gnsslogger)."""
+
+    @property
+    def observations(self) -> RinexObservations:
+        """The Raw records as observations: per signal C pseudorange m, L
+        carrier cycles (valid accumulated delta range only), D Doppler Hz, S
+        C/N0 dB-Hz, RINEX 3 codes, epochs on GPS time."""
+    @property
+    def imu(self) -> ImuLog | None:
+        """UncalAccel with UncalGyro interpolated to its times, on GPS time,
+        Android sensor axes; None without both sensors or a clock tie."""
+    @property
+    def skipped(self) -> dict[str, int]:
+        """Raw measurements left out, counted by reason."""
+    @property
+    def warnings(self) -> list[str]:
+        """Non-fatal problems met while reading."""
+
+def read_gnsslogger(path: str | os.PathLike[str]) -> GnssLoggerLog:
+    """Reads an Android GnssLogger file: pseudoranges from the Raw records'
+    clock and satellite times per constellation, only where the measurement
+    State makes them unambiguous (the rest counted in skipped)."""

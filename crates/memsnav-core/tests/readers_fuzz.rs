@@ -15,10 +15,11 @@ use std::sync::mpsc;
 use std::sync::OnceLock;
 use std::time::Duration;
 
-use memsnav_core::gnss::{parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar};
+use memsnav_core::gnss::{
+    check_measurement, parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar,
+};
 use memsnav_core::logs::{
-    parse_fixes_csv, parse_imu_csv, parse_nmea, parse_pos, parse_time_tag, AccelUnit, GyroUnit,
-    ImuCsvLayout, PosSolution, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2,
+    parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea, parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, PosSolution, TableStds, TimeUnit,
     MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
@@ -37,6 +38,8 @@ enum Reader {
     Sp3,
     FixesCsv,
     Nmea,
+    GnssTable,
+    GnssLogger,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -126,6 +129,13 @@ fn solution_ok(sol: &PosSolution) -> bool {
         && sol.position_covariance_ned_m2().iter().all(psd)
 }
 
+const GNSS_TABLE_SEED: &str = "time_s,gps_time_s,sat_id,sat_position_ecef_x_m,sat_position_ecef_y_m,sat_position_ecef_z_m,sat_velocity_ecef_x_m_s,sat_velocity_ecef_y_m_s,sat_velocity_ecef_z_m_s,pseudorange_m,pseudorange_rate_m_s
+0,1273529464,5,-2179862.557,-26154875.769,-3437694.371,325.541,-419.725,3129.012,23052313.867,-120.5
+0,1273529464,13,-5199894.405,-17419269.957,23361281.147,2239.305,700.815,1022.014,23522506.859,
+1,1273529465,5,-2179537.0,-26155295.4,-3434565.4,325.5,-419.7,3129.0,23052193.2,-120.6
+1,1273529465,13,-5197655.1,-17418569.1,23362303.1,2239.3,700.8,1022.0,23522640.1,133.2
+";
+
 fn seed(reader: Reader) -> &'static [u8] {
     static SEEDS: OnceLock<Vec<Vec<u8>>> = OnceLock::new();
     let seeds = SEEDS.get_or_init(|| {
@@ -139,6 +149,8 @@ fn seed(reader: Reader) -> &'static [u8] {
             SP3_SEED.as_bytes().to_vec(),
             FIXES_CSV_SEED.as_bytes().to_vec(),
             NMEA_SEED.as_bytes().to_vec(),
+            GNSS_TABLE_SEED.as_bytes().to_vec(),
+            head("android-gnsslogger/pixel6_excerpt.txt", usize::MAX),
         ]
     });
     &seeds[reader as usize]
@@ -227,6 +239,43 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
             }
             None => Ok(()),
             Some(k) => Err(format!("{k:?}")),
+        }),
+        Reader::GnssTable => parse_gnss_table(&text, file, TableStds::default()).map(|t| {
+            let times: Vec<f64> = t.epochs.iter().map(|e| e.time_s).collect();
+            let ok = increasing(&times)
+                && t.epochs.iter().all(|e| {
+                    distinct(e.measurements.iter().map(|m| m.sat_id))
+                        && e.measurements.iter().all(|m| check_measurement(m).is_ok())
+                });
+            ok.then_some(()).ok_or(format!("{:?}", t.epochs.first()))
+        }),
+        Reader::GnssLogger => parse_gnsslogger(&text, file).map(|log| {
+            let obs = &log.observations;
+            let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();
+            let ok = increasing(&times)
+                && obs.epochs.iter().all(|e| {
+                    distinct(e.satellites.iter().map(|s| (s.system, s.prn)))
+                        && e.satellites.iter().all(|s| {
+                            s.values.iter().flatten().all(|v| v.abs() <= 1e10)
+                                && s.values
+                                    .iter()
+                                    .step_by(4)
+                                    .flatten()
+                                    .all(|c| (1e6..=1e8).contains(c))
+                        })
+                })
+                && log.imu.as_ref().is_none_or(|imu| {
+                    increasing(&imu.time_s)
+                        && imu
+                            .specific_force_m_s2
+                            .iter()
+                            .all(|f| f.amax() <= MAX_SPECIFIC_FORCE_M_S2)
+                        && imu
+                            .angular_rate_rad_s
+                            .iter()
+                            .all(|w| w.amax() <= MAX_ANGULAR_RATE_RAD_S)
+                });
+            ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
         Reader::Sp3 => parse_sp3(&text, file).map(|sp3| {
             let ok = increasing(&sp3.time_gps_s)
@@ -443,6 +492,8 @@ fuzz_reader!(klobuchar_mutated, klobuchar_garbage, Reader::Klobuchar);
 fuzz_reader!(sp3_mutated, sp3_garbage, Reader::Sp3);
 fuzz_reader!(fixes_csv_mutated, fixes_csv_garbage, Reader::FixesCsv);
 fuzz_reader!(nmea_mutated, nmea_garbage, Reader::Nmea);
+fuzz_reader!(gnss_table_mutated, gnss_table_garbage, Reader::GnssTable);
+fuzz_reader!(gnsslogger_mutated, gnsslogger_garbage, Reader::GnssLogger);
 
 #[test]
 fn the_seeds_read_cleanly() {
@@ -456,6 +507,8 @@ fn the_seeds_read_cleanly() {
         Reader::Sp3,
         Reader::FixesCsv,
         Reader::Nmea,
+        Reader::GnssTable,
+        Reader::GnssLogger,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }

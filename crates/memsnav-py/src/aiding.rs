@@ -130,7 +130,10 @@ pub(crate) fn check_keys(obj: &Bound<'_, PyAny>, argument: &str, known: &[&str])
     };
     for key in d.keys() {
         let name: String = key.extract().map_err(|_| {
-            PyValueError::new_err(format!("{argument}: keys must be strings, got {}", key.repr().map_or_else(|_| "?".into(), |r| r.to_string())))
+            PyValueError::new_err(format!(
+                "{argument}: keys must be strings, got {}",
+                key.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+            ))
         })?;
         memsnav_core::known_keys::check(argument, &name, known).py()?;
     }
@@ -197,18 +200,17 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
     let vel = get3("satellite_velocity_ecef")?;
     let rho = get2("pseudorange")?;
     let rho_std = get2("pseudorange_std")?;
-    let (rate, rate_std) = match (
-        optional_field(obj, "pseudorange_rate")?,
-        optional_field(obj, "pseudorange_rate_std")?,
-    ) {
-        (Some(_), _) => (get2("pseudorange_rate")?, get2("pseudorange_rate_std")?),
-        (None, Some(_)) => {
-            return Err(PyValueError::new_err(
+    let (rate, rate_std) =
+        match (
+            optional_field(obj, "pseudorange_rate")?,
+            optional_field(obj, "pseudorange_rate_std")?,
+        ) {
+            (Some(_), _) => (get2("pseudorange_rate")?, get2("pseudorange_rate_std")?),
+            (None, Some(_)) => return Err(PyValueError::new_err(
                 "gnss: pseudorange_rate_std given without pseudorange_rate (give both, or neither)",
-            ))
-        }
-        (None, None) => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
-    };
+            )),
+            (None, None) => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
+        };
     let mut slots = Vec::with_capacity(t * n);
     let mut rows = Vec::with_capacity(t * n);
     let mut epochs = Vec::with_capacity(t);
@@ -251,7 +253,10 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
     })?;
     // The rows' epochs in time order, placed back among the empty ones.
     for e in grouped {
-        let k = time.iter().position(|&t| t == e.time_s).expect("a row's own time");
+        let k = time
+            .iter()
+            .position(|&t| t == e.time_s)
+            .expect("a row's own time");
         epochs[k].measurements = e.measurements;
     }
     Ok(Cow::Owned(epochs))

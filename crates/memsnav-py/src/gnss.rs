@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use memsnav_core::gnss::{self, Constellation, GnssEpoch, SimulationConfig, WalkerConfig};
-use memsnav_core::{logs, random};
 use memsnav_core::Error;
+use memsnav_core::{logs, random};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix4, Vector3};
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};

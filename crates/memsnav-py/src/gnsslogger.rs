@@ -66,7 +66,12 @@ impl PyGnssLoggerLog {
 fn read_gnsslogger(py: Python<'_>, path: PathBuf) -> PyResult<PyGnssLoggerLog> {
     let log = py.detach(|| logs::read_gnsslogger(&path)).py()?;
     Ok(PyGnssLoggerLog {
-        observations: Py::new(py, PyRinexObservations { inner: log.observations })?,
+        observations: Py::new(
+            py,
+            PyRinexObservations {
+                inner: log.observations,
+            },
+        )?,
         imu: log
             .imu
             .map(|inner| Py::new(py, PyImuLog { inner }))

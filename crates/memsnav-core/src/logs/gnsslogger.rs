@@ -181,9 +181,7 @@ fn band(system: char, carrier_hz: Option<f64>) -> Option<(char, f64)> {
         '2'
     } else if near(1_575.42e6, 1.0e6) {
         '1'
-    } else if near(1_561.098e6, 1.0e6) {
-        '2'
-    } else if near(1_227.60e6, 1.0e6) {
+    } else if near(1_561.098e6, 1.0e6) || near(1_227.60e6, 1.0e6) {
         '2'
     } else if near(1_176.45e6, 1.0e6) {
         '5'
@@ -264,8 +262,10 @@ fn pseudorange(
     if !(0..period).contains(&tx_ns) && period != GALILEO_E1C_SECONDARY_NS {
         return Ok(Err("ReceivedSvTimeNanos out of its period".into()));
     }
+    // Over a week or day boundary the difference wraps; the Galileo
+    // secondary code gives the travel time itself (modulo 100 ms).
     let mut travel = (rx_ns - tx_ns).rem_euclid(period);
-    if travel >= period / 2 {
+    if travel >= period / 2 && period != GALILEO_E1C_SECONDARY_NS {
         travel -= period;
     }
     let rho = (travel as f64 + frac_ns) * 1e-9 * SPEED_OF_LIGHT_M_S;
@@ -320,10 +320,6 @@ fn raw_signal(r: &Record<'_>) -> Result<std::result::Result<(i128, f64, Signal),
         }
         t => return Err(r.error("CodeType", t, "one letter")),
     };
-    let rho = match pseudorange(r, system, rx_gps_ns, offset_ns - bias_ns)? {
-        Ok(rho) => rho,
-        Err(reason) => return Ok(Err(reason)),
-    };
     let lambda = SPEED_OF_LIGHT_M_S / carrier_hz;
     let cn0 = r.number("Cn0DbHz")?;
     if cn0.is_some_and(|s| !(0.0..=200.0).contains(&s)) {
@@ -342,6 +338,10 @@ fn raw_signal(r: &Record<'_>) -> Result<std::result::Result<(i128, f64, Signal),
     let carrier_cycles = match adr {
         Some(a) if adr_state & i64::from(ADR_VALID) != 0 && a.abs() <= 1e9 => Some(a / lambda),
         _ => None,
+    };
+    let rho = match pseudorange(r, system, rx_gps_ns, offset_ns - bias_ns)? {
+        Ok(rho) => rho,
+        Err(reason) => return Ok(Err(reason)),
     };
     let epoch_ns = rx_gps_ns as f64 - bias_ns;
     Ok(Ok((
@@ -608,4 +608,97 @@ fn phone_imu(
         ));
     }
     log
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = "# Raw,utcTimeMillis,TimeNanos,LeapSecond,FullBiasNanos,BiasNanos,TimeOffsetNanos,State,ReceivedSvTimeNanos,Cn0DbHz,PseudorangeRateMetersPerSecond,AccumulatedDeltaRangeState,AccumulatedDeltaRangeMeters,CarrierFrequencyHz,ConstellationType,Svid,CodeType\n";
+    /// GPS time of the records: week 2287 + 258212 s + 0.5 µs, ns.
+    const RX_NS: i128 = 2287 * NS_PER_WEEK + 258_212_000_000_000 + 500;
+
+    /// A Raw line received at RX_NS with satellite time `tx_ns`.
+    fn raw(state: u32, tx_ns: i128, constellation: u8, carrier: &str, code: &str) -> String {
+        let time_ns = 1_000_000_000_i128;
+        format!(
+            "Raw,0,{time_ns},,{},0.0,0.0,{state},{tx_ns},40,100,1,500,{carrier},{constellation},7,{code}\n",
+            time_ns - RX_NS
+        )
+    }
+
+    fn pseudorange(line: &str) -> Option<f64> {
+        let log = parse_gnsslogger(&format!("{HEADER}{line}"), "x.txt").unwrap();
+        let epoch = log.observations.epochs.first()?;
+        epoch.satellites[0].values[0]
+    }
+
+    #[test]
+    fn time_scales_per_constellation() {
+        let travel = 75_000_000_i128; // 75 ms
+        let c = SPEED_OF_LIGHT_M_S * 0.075;
+        let tow = RX_NS % NS_PER_WEEK - travel;
+        let gps = raw(CODE_LOCK | TOW_DECODED, tow, 1, "1575420030", "C");
+        assert!((pseudorange(&gps).unwrap() - c).abs() < 1e-6);
+        // BeiDou: BDT = GPST − 14 s.
+        let bds = raw(
+            CODE_LOCK | TOW_DECODED,
+            tow - 14_000_000_000,
+            5,
+            "1561098000",
+            "I",
+        );
+        assert!((pseudorange(&bds).unwrap() - c).abs() < 1e-6);
+        // GLONASS: time of day, UTC + 3 h, 18 leap seconds.
+        let tod = (RX_NS - 18_000_000_000 + GLONASS_MINUS_UTC_NS).rem_euclid(NS_PER_DAY) - travel;
+        let glo = raw(CODE_LOCK | GLO_TOD_DECODED, tod, 3, "1602000000", "C");
+        assert!((pseudorange(&glo).unwrap() - c).abs() < 1e-6);
+        // Galileo with only its secondary code: known modulo 100 ms.
+        let sub = (RX_NS - travel).rem_euclid(GALILEO_E1C_SECONDARY_NS);
+        let gal = raw(
+            GAL_E1BC_CODE_LOCK | GAL_E1C_2ND_CODE_LOCK,
+            sub,
+            6,
+            "1575420030",
+            "C",
+        );
+        assert!((pseudorange(&gal).unwrap() - c).abs() < 1e-6);
+        // A satellite time far from the reception time.
+        let at_start = raw(CODE_LOCK | TOW_KNOWN, NS_PER_WEEK - 1_000, 1, "", "");
+        let log = parse_gnsslogger(&format!("{HEADER}{at_start}"), "x.txt").unwrap();
+        assert!(log.skipped.contains_key("pseudorange outside 1e6 to 1e8 m"));
+        // Ambiguous states are skipped and counted.
+        for (state, reason) in [
+            (CODE_LOCK, "time of week not decoded (State)"),
+            (TOW_KNOWN, "no code lock (State)"),
+            (
+                CODE_LOCK | TOW_KNOWN | MSEC_AMBIGUOUS,
+                "millisecond ambiguity (State MSEC_AMBIGUOUS)",
+            ),
+        ] {
+            let log = parse_gnsslogger(
+                &format!("{HEADER}{}", raw(state, tow, 1, "1575420030", "C")),
+                "x.txt",
+            )
+            .unwrap();
+            assert_eq!(log.skipped.get(reason), Some(&1), "{state}");
+            assert!(log.observations.epochs.is_empty());
+        }
+        // Doppler −rate/λ; the carrier only with a valid ADR state.
+        let log = parse_gnsslogger(&format!("{HEADER}{gps}"), "x.txt").unwrap();
+        let v = &log.observations.epochs[0].satellites[0].values;
+        let lambda = SPEED_OF_LIGHT_M_S / 1_575_420_030.0;
+        assert!((v[1].unwrap() - 500.0 / lambda).abs() < 1e-9);
+        assert!((v[2].unwrap() + 100.0 / lambda).abs() < 1e-9);
+        assert_eq!(v[3], Some(40.0));
+    }
+
+    #[test]
+    fn bad_fields_name_the_line() {
+        let line = raw(CODE_LOCK | TOW_DECODED, 5, 1, "1575420030", "C").replace(",40,", ",x,");
+        let e = parse_gnsslogger(&format!("{HEADER}{line}"), "x.txt")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("x.txt:2: Raw Cn0DbHz = \"x\""), "{e}");
+    }
 }
