@@ -220,7 +220,9 @@ def test_plot_helpers_draw_the_track_and_the_errors(run):
     axes = mn.plot_errors(score["time"], score["error_ned"], score["std_ned"], t0=T0)
     # The size of the error on a log scale (below 1 cm drawn at 1 cm) and the 3σ bound.
     error, bound = axes[2].get_lines()
-    np.testing.assert_allclose(error.get_ydata(), np.maximum(np.abs(score["error_ned"][:, 2]), 0.01))
+    np.testing.assert_allclose(
+        error.get_ydata(), np.maximum(np.abs(score["error_ned"][:, 2]), 0.01)
+    )
     np.testing.assert_allclose(bound.get_ydata(), 3 * score["std_ned"][:, 2])
     assert bound.get_gid() == "bound" and axes[2].get_yscale() == "log"
     np.testing.assert_allclose(error.get_xdata(), score["time"] - T0)
