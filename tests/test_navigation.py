@@ -75,7 +75,12 @@ def test_user_arrays_match_simulator_object_and_outliers_are_reported(scenario):
     assert len(a.rejected["time"]) == len(b.rejected["time"])
     d["pseudorange"] = d["pseudorange"].copy()
     d["pseudorange"][40, 2] += 100.0
-    d["pseudorange"][45, 1] = np.nan
+    # A NaN pseudorange is refused naming its slot (issue 25: it used to be
+    # recorded as "invalid" by the filter and taken by solve_fix unseen).
+    nan = {**d, "pseudorange": d["pseudorange"].copy()}
+    nan["pseudorange"][45, 1] = np.nan
+    with pytest.raises(ValueError, match=r"gnss: \[45, 1\] .*pseudorange = NaN"):
+        flt.run(traj.time[k], f[k], w[k], nan, initial_attitude=traj.attitude[0])
     c = flt.run(traj.time[k], f[k], w[k], d, initial_attitude=traj.attitude[0])
     r = c.rejected
     hits = [
@@ -92,7 +97,6 @@ def test_user_arrays_match_simulator_object_and_outliers_are_reported(scenario):
         if t == d["time"][40] and kind == "pseudorange"
     ]
     assert at_40.count("accepted") == len(at_40) - 1
-    assert (d["time"][45], d["sat_id"][45, 1], "pseudorange", "invalid") in hits
     # The outlier did not pull the solution: same accuracy as without it.
     e_b = np.linalg.norm(b.position_ecef[-1] - traj.position_ecef[-1])
     e_c = np.linalg.norm(c.position_ecef[-1] - traj.position_ecef[-1])
@@ -417,5 +421,5 @@ def test_a_nan_sat_id_is_an_error_not_a_silently_dropped_satellite(scenario):
     d = gnss_dict(gnss)
     d["sat_id"] = d["sat_id"].astype(float)
     d["sat_id"][7, 2] = np.nan
-    with pytest.raises(ValueError, match=r"gnss: sat_id\[7, 2\] is NaN: mark an empty slot"):
+    with pytest.raises(ValueError, match=r"gnss: \[7, 2\] .*sat_id = NaN .*mark an empty slot"):
         mn.TightlyCoupledFilter(imu).run(traj.time, f, w, d, initial_attitude=traj.attitude[0])

@@ -16,9 +16,11 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::aiding::{check_keys, field, gnss_epochs, optional_field, position_fixes};
+use crate::aiding::position_fixes;
+use crate::arguments::{check_keys, field, optional_field};
 use crate::convert;
 use crate::errors::IntoPyResult;
+use crate::gnss::gnss_epochs;
 use crate::sensors::PyImuModel;
 
 /// The tuning both filter classes share (see the class docstrings).

@@ -1,9 +1,12 @@
 //! GNSS bindings: constellations, SP3, measurement simulation and the
 //! least-squares fix. Conversions and error mapping only.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 
-use memsnav_core::gnss::{self, Constellation, GnssEpoch, SimulationConfig, WalkerConfig};
+use memsnav_core::gnss::{
+    self, Constellation, GnssEpoch, SatelliteMeasurement, SimulationConfig, WalkerConfig,
+};
 use memsnav_core::Error;
 use memsnav_core::{logs, random};
 use memsnav_py_macros::catch_panics;
@@ -13,7 +16,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::aiding;
+use crate::arguments::{
+    check_keys, field, floats_with_nan, no_epochs, optional_field, shape_error,
+};
 use crate::convert;
 use crate::errors::IntoPyResult;
 
@@ -278,7 +283,7 @@ impl PyGnssMeasurements {
                 arrays.set_item(name, v)?;
             }
         }
-        let epochs = aiding::gnss_epochs(arrays.as_any())?.into_owned();
+        let epochs = gnss_epochs(arrays.as_any())?.into_owned();
         Ok(Self::from_epochs(epochs, start_gps_time))
     }
 
@@ -681,7 +686,7 @@ fn solve_fix(
     strict: bool,
 ) -> PyResult<PyFixSeries> {
     let prior = prior.map(|p| convert::vector3(p, "prior")).transpose()?;
-    let epochs = aiding::gnss_epochs(measurements)?;
+    let epochs = gnss_epochs(measurements)?;
     let epochs = &*epochs;
     let fixes = py
         .detach(|| {
@@ -703,6 +708,135 @@ fn solve_fix(
         time: epochs.iter().map(|e| e.time_s).collect(),
         fixes,
     })
+}
+
+/// Whether `obj` holds pseudoranges (a `GnssMeasurements`, or arrays with
+/// a `sat_id`) rather than position fixes.
+pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
+    obj.cast::<PyGnssMeasurements>().is_ok()
+        || optional_field(obj, "sat_id").is_ok_and(|v| v.is_some())
+}
+
+/// The entries of padded GNSS arrays (a dict, or an object's attributes).
+pub(crate) const GNSS_KEYS: [&str; 8] = [
+    "time",
+    "sat_id",
+    "satellite_position_ecef",
+    "satellite_velocity_ecef",
+    "pseudorange",
+    "pseudorange_std",
+    "pseudorange_rate",
+    "pseudorange_rate_std",
+];
+
+/// GNSS epochs from a `GnssMeasurements` or padded user arrays (a dict,
+/// no other keys, or an object with these attributes): `time` (T,),
+/// `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
+/// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n),
+/// `pseudorange_std` (T, n), optional `pseudorange_rate` with
+/// `pseudorange_rate_std` (T, n). Every slot that is not padding passes the
+/// core's `check_measurement` (NaN only for a rate: no rate there); the
+/// one converter of every entry point that takes GNSS measurements.
+/// A `GnssMeasurements` is lent, not copied: it is frozen (immutable), and
+/// `obj` keeps it alive while the epochs are in use.
+pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [GnssEpoch]>> {
+    const ARG: &str = "gnss";
+    if let Ok(m) = obj.cast::<PyGnssMeasurements>() {
+        if m.get().epochs.is_empty() {
+            return Err(no_epochs(ARG));
+        }
+        return Ok(Cow::Borrowed(&m.get().epochs));
+    }
+    check_keys(obj, ARG, &GNSS_KEYS)?;
+    let time = convert::scalars(&field(obj, "time", ARG)?, "gnss.time")?;
+    let t = time.len();
+    if t == 0 {
+        return Err(no_epochs("gnss.time"));
+    }
+    memsnav_core::validate::increasing_times("gnss.time", &time).py()?;
+    let (sat_id, s) = floats_with_nan(&field(obj, "sat_id", ARG)?, "gnss.sat_id")?;
+    if s.len() != 2 || s[0] != t {
+        return Err(shape_error(ARG, "sat_id", "(T, n)", &s));
+    }
+    let n = s[1];
+    let get2 = |name: &str| -> PyResult<Vec<f64>> {
+        let (v, s) = floats_with_nan(&field(obj, name, ARG)?, &format!("gnss.{name}"))?;
+        if s != [t, n] {
+            return Err(shape_error(ARG, name, &format!("({t}, {n})"), &s));
+        }
+        Ok(v)
+    };
+    let get3 = |name: &str| -> PyResult<Vec<f64>> {
+        let (v, s) = floats_with_nan(&field(obj, name, ARG)?, &format!("gnss.{name}"))?;
+        if s != [t, n, 3] {
+            return Err(shape_error(ARG, name, &format!("({t}, {n}, 3)"), &s));
+        }
+        Ok(v)
+    };
+    let pos = get3("satellite_position_ecef")?;
+    let vel = get3("satellite_velocity_ecef")?;
+    let rho = get2("pseudorange")?;
+    let rho_std = get2("pseudorange_std")?;
+    let (rate, rate_std) =
+        match (
+            optional_field(obj, "pseudorange_rate")?,
+            optional_field(obj, "pseudorange_rate_std")?,
+        ) {
+            (Some(_), _) => (get2("pseudorange_rate")?, get2("pseudorange_rate_std")?),
+            (None, Some(_)) => return Err(PyValueError::new_err(
+                "gnss: pseudorange_rate_std given without pseudorange_rate (give both, or neither)",
+            )),
+            (None, None) => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
+        };
+    let mut slots = Vec::with_capacity(t * n);
+    let mut rows = Vec::with_capacity(t * n);
+    let mut epochs = Vec::with_capacity(t);
+    for (k, &time_s) in time.iter().enumerate() {
+        // An epoch without satellites (a total outage) is kept.
+        epochs.push(GnssEpoch {
+            time_s,
+            measurements: Vec::new(),
+        });
+        for j in 0..n {
+            let i = k * n + j;
+            let id = sat_id[i];
+            if id < 0.0 {
+                continue; // padding
+            }
+            let slot_error = |reason: String| {
+                PyValueError::new_err(format!("gnss: [{k}, {j}] (time {time_s} s): {reason}"))
+            };
+            let sat_id = gnss::sat_id(id).map_err(|e| {
+                slot_error(format!("{e}; mark an empty slot with a negative number"))
+            })?;
+            slots.push((k, j));
+            rows.push((
+                time_s,
+                SatelliteMeasurement {
+                    sat_id,
+                    position_ecef: Vector3::from_column_slice(&pos[3 * i..3 * i + 3]),
+                    velocity_ecef: Vector3::from_column_slice(&vel[3 * i..3 * i + 3]),
+                    pseudorange_m: rho[i],
+                    pseudorange_rate_m_s: rate[i],
+                    pseudorange_std_m: rho_std[i],
+                    pseudorange_rate_std_m_s: rate_std[i],
+                },
+            ));
+        }
+    }
+    let grouped = gnss::epochs_from_rows(rows).map_err(|(row, reason)| {
+        let (k, j) = slots[row];
+        PyValueError::new_err(format!("gnss: [{k}, {j}] (time {} s): {reason}", time[k]))
+    })?;
+    // The rows' epochs in time order, placed back among the empty ones.
+    for e in grouped {
+        let k = time
+            .iter()
+            .position(|&t| t == e.time_s)
+            .expect("a row's own time");
+        epochs[k].measurements = e.measurements;
+    }
+    Ok(Cow::Owned(epochs))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

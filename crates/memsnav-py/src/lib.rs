@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 
 mod aiding;
 mod allan;
+mod arguments;
 mod calibration;
 mod calibration_drive;
 mod calibration_layout;

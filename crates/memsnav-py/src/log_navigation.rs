@@ -17,10 +17,12 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
 
-use crate::aiding::{gnss_epochs, is_measurements, no_epochs, position_fixes, PyPositionFixes};
+use crate::aiding::{position_fixes, PyPositionFixes};
+use crate::arguments::no_epochs;
 use crate::convert;
 use crate::coupling::PyFilterSolution;
 use crate::errors::IntoPyResult;
+use crate::gnss::{gnss_epochs, is_measurements};
 
 /// A Python value of a settings table as a core setting.
 fn setting(value: &Bound<'_, PyAny>, name: &str) -> PyResult<SettingValue> {

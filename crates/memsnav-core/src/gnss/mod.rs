@@ -30,8 +30,7 @@ pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
 pub use fix::{solve_fix, Dops, Fix};
 pub use measurement_rows::{
-    check_measurement, epochs_from_rows, sat_id, MAX_PSEUDORANGE_M, MAX_PSEUDORANGE_RATE_M_S,
-    MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
+    check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
     gps_l1_epochs, ObservableOptions, DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S,

@@ -1,0 +1,86 @@
+//! Reading the user's argument objects: entries of a dict or attributes
+//! of an object, strictly (an unknown dict key is an error naming the
+//! closest known one), arrays that may hold NaN padding, and the errors
+//! naming the argument. Shared by every binding that takes such objects.
+
+use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::IntoPyResult;
+
+/// A float array that may hold NaN (padding), with its shape.
+pub(crate) fn floats_with_nan(
+    obj: &Bound<'_, PyAny>,
+    argument: &str,
+) -> PyResult<(Vec<f64>, Vec<usize>)> {
+    let array: PyArrayLikeDyn<f64, AllowTypeChange> = obj.extract().map_err(|_| {
+        PyValueError::new_err(format!("{argument}: must be an array of real numbers"))
+    })?;
+    Ok((
+        array.as_array().iter().copied().collect(),
+        array.shape().to_vec(),
+    ))
+}
+
+/// `obj.name` or `obj[name]` (a dict of arrays).
+pub(crate) fn field<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+    argument: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    if let Ok(d) = obj.cast::<PyDict>() {
+        return d.get_item(name)?.ok_or_else(|| {
+            PyValueError::new_err(format!("{argument}: the dict has no {name:?} entry"))
+        });
+    }
+    obj.getattr(name).map_err(|_| {
+        PyValueError::new_err(format!(
+            "{argument}: has no {name:?} (expected the documented class, or an object or dict with that entry)"
+        ))
+    })
+}
+
+pub(crate) fn optional_field<'py>(
+    obj: &Bound<'py, PyAny>,
+    name: &str,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    if let Ok(d) = obj.cast::<PyDict>() {
+        return Ok(d.get_item(name)?.filter(|v| !v.is_none()));
+    }
+    Ok(obj.getattr(name).ok().filter(|v| !v.is_none()))
+}
+
+pub(crate) fn shape_error(argument: &str, name: &str, expected: &str, got: &[usize]) -> PyErr {
+    PyValueError::new_err(format!(
+        "{argument}: {name} must have shape {expected}, got {got:?}"
+    ))
+}
+
+/// The error of a GNSS argument without a single epoch (checked before
+/// the shapes of the other arrays, which an empty series cannot fix).
+pub(crate) fn no_epochs(argument: &str) -> PyErr {
+    PyValueError::new_err(format!(
+        "{argument}: has no epochs (length 0); give at least one GNSS epoch"
+    ))
+}
+
+/// The entries a dict argument may have: an unknown one (a misspelling
+/// that would drop its data without a word) is an error naming it and the
+/// closest known name. Objects other than dicts are read by attribute.
+pub(crate) fn check_keys(obj: &Bound<'_, PyAny>, argument: &str, known: &[&str]) -> PyResult<()> {
+    let Ok(d) = obj.cast::<PyDict>() else {
+        return Ok(());
+    };
+    for key in d.keys() {
+        let name: String = key.extract().map_err(|_| {
+            PyValueError::new_err(format!(
+                "{argument}: keys must be strings, got {}",
+                key.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+            ))
+        })?;
+        memsnav_core::known_keys::check(argument, &name, known).py()?;
+    }
+    Ok(())
+}
