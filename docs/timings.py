@@ -105,8 +105,13 @@ def main() -> None:
             "",
             f"Measured by `python docs/timings.py` on {datetime.date.today():%Y-%m-%d}: "
             f"{machine}, {threads} threads, release build, load average {load:.1f} at the "
-            "start (above the thread count, other jobs shared the machine and the wall times "
-            "are longer than on a quiet one; the CPU times move less).",
+            "start"
+            + (
+                " (other jobs shared the machine: the wall times are longer than on a quiet "
+                "one; the CPU times move less)."
+                if load > threads
+                else "."
+            ),
             "",
             END,
         ]
