@@ -33,7 +33,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--write", action="store_true", help="update docs/outage-study.md")
     args = parser.parse_args()
-    load = os.getloadavg()[0]
+    load, threads = os.getloadavg()[0], worker_threads(None)
     with tempfile.TemporaryDirectory() as out:
         cpu = time.process_time()
         study = run_study(CONFIG, output=out, progress=False)
@@ -48,8 +48,8 @@ def main() -> None:
         f"s) × ({', '.join(str(n) for n in result.visible_satellites)} satellites kept), "
         f"{result.completed_runs} runs of {c['duration']:.0f} s per outage length, forward "
         f"{'and smoothed' if c['smooth'] else 'only'}: {summary['elapsed_s']:.0f} s of wall "
-        f"time ({cpu:.0f} s of CPU) on {worker_threads(None)} threads, load average "
-        f"{load:.1f} at the start (above the thread count, other jobs shared the machine).",
+        f"time ({cpu:.0f} s of CPU) on {threads} threads, load average {load:.1f} at the "
+        "start" + (" (other jobs shared the machine)." if load > threads else "."),
         "",
         "What `memsnav study` prints (the answer, for the forward filter):",
         "",
