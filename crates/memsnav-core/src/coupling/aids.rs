@@ -16,7 +16,7 @@ use super::engine::batch::BatchRules;
 use super::engine::FilterState;
 use super::records::MeasurementKind;
 use crate::attitude::skew;
-use crate::filter::state::{ATTITUDE, GYRO_BIAS, VELOCITY};
+use crate::filter::state::{Installation, Layout, ATTITUDE, GYRO_BIAS, VELOCITY};
 use crate::filter::SparseRow;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
 use crate::Result;
@@ -47,31 +47,44 @@ fn zero_rate_rows(
     })
 }
 
-/// The NHC rows and predictions (the lateral and vertical body velocity of
-/// the reference point at `reference_b_m`, whose measurement is zero):
-/// v_ref^b = Ĉᵀ v̂ + ω̂ × l; with Ĉᵀ = Cᵀ(I − [ψ×]) and ω̂ − ω = −δb_g its
-/// error is Ĉᵀ δv + Ĉᵀ [v̂×] ψ + [l×] δb_g.
+/// The NHC rows and predictions (the lateral and vertical velocity of the
+/// reference point at `reference_b_m`, in vehicle axes, whose measurement
+/// is zero): v^b = Ĉᵀ v̂ + ω̂ × l in body axes, v^v = M v^b in vehicle
+/// axes with the boresight M = I − [μ̂×]. With Ĉᵀ = Cᵀ(I − [ψ×]),
+/// ω̂ − ω = −δb_g and μ̂ − μ = δμ the error is
+/// M (Ĉᵀ δv + Ĉᵀ [v̂×] ψ + [l×] δb_g) + [v^b×] δμ; the δμ columns only
+/// when the filter has the installation block (`mounting_state`: the index
+/// of μ_x).
 fn non_holonomic_rows(
     c_b_e: &Matrix3<f64>,
     velocity_ecef: &Vector3<f64>,
     angular_rate_b: &Vector3<f64>,
     reference_b_m: &Vector3<f64>,
+    mounting_rad: &Vector3<f64>,
+    mounting_state: Option<usize>,
 ) -> [(SparseRow, f64); 2] {
     let c_e_b = c_b_e.transpose();
     let v_b = c_e_b * velocity_ecef + angular_rate_b.cross(reference_b_m);
-    let attitude = c_e_b * skew(velocity_ecef);
-    let gyro = skew(reference_b_m);
+    let boresight = Matrix3::identity() - skew(mounting_rad);
+    let v_v = boresight * v_b;
+    let velocity = boresight * c_e_b;
+    let attitude = velocity * skew(velocity_ecef);
+    let gyro = boresight * skew(reference_b_m);
+    let mounting = skew(&v_b);
     std::array::from_fn(|i| {
         let k = i + 1;
         let mut h = SparseRow::default();
         for j in 0..3 {
-            h.push(VELOCITY + j, c_e_b[(k, j)]);
+            h.push(VELOCITY + j, velocity[(k, j)]);
             h.push(ATTITUDE + j, attitude[(k, j)]);
             if gyro[(k, j)] != 0.0 {
                 h.push(GYRO_BIAS + j, gyro[(k, j)]);
             }
+            if let Some(first) = mounting_state {
+                h.push(first + j, mounting[(k, j)]);
+            }
         }
-        (h, v_b[k])
+        (h, v_v[k])
     })
 }
 
@@ -113,7 +126,8 @@ impl<const N: usize> FilterState<N> {
 
     /// NHC: the velocity of the vehicle's reference point, at
     /// `reference_b_m` from the IMU in body axes (x forward along the
-    /// vehicle), has no lateral and no vertical component, std `std_m_s`.
+    /// vehicle, up to the estimated boresight), has no lateral and no
+    /// vertical component, std `std_m_s`.
     /// Returns whether it was applied.
     pub fn non_holonomic_update(
         &mut self,
@@ -127,6 +141,10 @@ impl<const N: usize> FilterState<N> {
             &self.nav.velocity_ecef,
             &self.last_sample.angular_rate_b,
             reference_b_m,
+            &self.installation.mounting_rad,
+            Layout::for_size::<N>()
+                .installation
+                .map(|first| first + Installation::MOUNTING),
         );
         for (i, (h, y)) in rows.into_iter().enumerate() {
             self.stage(time_s, kind, i as u16 + 1, h, y, std_m_s);
@@ -181,17 +199,20 @@ mod tests {
         let w_hat = s.last_sample.angular_rate_b;
         let b_hat = s.gyro_bias_rad_s;
         let reading = Vector3::new(0.01, 0.02, -0.03);
-        let nhc = non_holonomic_rows(&c_hat, &v_hat, &w_hat, &l);
+        let (mu_hat, mounting_state) = (Vector3::new(0.01, -0.03, 0.02), Some(BASE_STATES));
+        let nhc = non_holonomic_rows(&c_hat, &v_hat, &w_hat, &l, &mu_hat, mounting_state);
         let zaru = zero_rate_rows(&c_hat, &b_hat, &reading);
-        for j in [0, 1, 2, 3, 4, 5, 12, 13, 14] {
-            let mut x = SVector::<f64, BASE_STATES>::zeros();
+        // The mounting columns sit where a 25-state filter has them.
+        for j in [0, 1, 2, 3, 4, 5, 12, 13, 14, 17, 18, 19] {
+            let mut x = SVector::<f64, { BASE_STATES + 3 }>::zeros();
             x[j] = 1e-6;
             // Truth = estimate − error.
             let psi = Vector3::new(x[0], x[1], x[2]);
             let c = rotation_vector_to_dcm(&(-psi)) * c_hat;
             let v = v_hat - Vector3::new(x[3], x[4], x[5]);
             let db = Vector3::new(x[12], x[13], x[14]);
-            let truth_nhc = non_holonomic_rows(&c, &v, &(w_hat + db), &l);
+            let mu = mu_hat - Vector3::new(x[17], x[18], x[19]);
+            let truth_nhc = non_holonomic_rows(&c, &v, &(w_hat + db), &l, &mu, None);
             for i in 0..2 {
                 let d = nhc[i].1 - truth_nhc[i].1;
                 assert!((nhc[i].0.dot(&x) - d).abs() < 1e-11, "nhc {j} {i}");

@@ -20,47 +20,123 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::engine::FilterState;
 use crate::attitude::skew;
-use crate::filter::state::{ATTITUDE, GYRO_BIAS, POSITION, VELOCITY};
+use crate::filter::state::{
+    Installation, Layout, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY,
+};
 use crate::filter::SparseRow;
 use crate::geodesy::gravity_ecef;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
 
+const LEVER_ARM: usize = Installation::LEVER_ARM;
+const TIME_OFFSET: usize = Installation::TIME_OFFSET;
+const VELOCITY_LATENCY: usize = Installation::VELOCITY_LATENCY;
+
 /// Earth rotation rate vector ω_ie^e.
 const EARTH_RATE_ECEF: Vector3<f64> = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
 
-/// The antenna position and velocity the filter predicts, with the
-/// derivatives of their errors with respect to the error state.
+/// The antenna position and velocity the filter predicts for a GNSS
+/// measurement (at IMU time t − t̂_o, see [`super::installation`]), with
+/// the derivatives of their errors with respect to the error state.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct AntennaPrediction {
-    /// r_a, ECEF, m.
+    /// r_a(t − t̂_o) ≈ r_a − t̂_o v_a, ECEF, m.
     pub(crate) position_ecef: Vector3<f64>,
-    /// v_a, ECEF, m/s.
+    /// v_a(t − t̂_o) ≈ v_a − t̂_o a, ECEF, m/s.
     pub(crate) velocity_ecef: Vector3<f64>,
+    /// v_a(t − t̂_o − L̂), the fixes' velocity with its latency, ECEF, m/s.
+    pub(crate) fix_velocity_ecef: Vector3<f64>,
     /// ∂δr_a/∂ψ = −[(Ĉ l)×].
     position_attitude: Matrix3<f64>,
     /// ∂δv_a/∂ψ.
     velocity_attitude: Matrix3<f64>,
     /// ∂δv_a/∂δb_g = Ĉ [l×].
     velocity_gyro_bias: Matrix3<f64>,
+    /// ∂δa/∂ψ = −[(Ĉ f̂)×] and ∂δa/∂δb_a = −Ĉ, of the IMU's acceleration
+    /// a = Ĉ f̂ + g − 2 Ω_ie v̂ (its −2 Ω_ie δv and Γ δr are below 1e-4 of
+    /// these and left out).
+    acceleration_attitude: Matrix3<f64>,
+    acceleration_accel_bias: Matrix3<f64>,
+    /// t̂_o and L̂, s.
+    time_offset_s: f64,
+    latency_s: f64,
+    /// The installation block's first state, its columns below.
+    installation: Option<usize>,
+    /// ∂δr_a/∂δl = Ĉ.
+    position_lever_arm: Matrix3<f64>,
+    /// ∂δv_a/∂δl = Ĉ [ω̂×] − Ω_ie Ĉ.
+    velocity_lever_arm: Matrix3<f64>,
+    /// v_a (∂δr_a/∂δt_o = −v_a).
+    antenna_velocity_ecef: Vector3<f64>,
+    /// a (∂δv_a/∂δt_o = ∂δv_fix/∂δL = −a).
+    acceleration_ecef: Vector3<f64>,
 }
 
 impl AntennaPrediction {
-    /// The row of w · δr_a (w: weights of the ECEF components, e.g. a
-    /// negative line of sight or a row of a whitening matrix).
+    /// The row of w · δr_a(t − t̂_o) = w · (δr_a − t̂_o δv_a − v_a δt_o)
+    /// (w: weights of the ECEF components, e.g. a negative line of sight or
+    /// a row of a whitening matrix).
     pub(crate) fn position_row(&self, w: &Vector3<f64>) -> SparseRow {
-        block_row(w, POSITION, &[(ATTITUDE, &self.position_attitude)])
+        let mut row = block_row(w, POSITION, &[(ATTITUDE, &self.position_attitude)]);
+        if let Some(first) = self.installation {
+            push_block(&mut row, w, first + LEVER_ARM, &self.position_lever_arm);
+            row.push(first + TIME_OFFSET, -w.dot(&self.antenna_velocity_ecef));
+        }
+        self.shifted(row, self.time_offset_s, || self.current_velocity_row(w))
     }
 
-    /// The row of w · δv_a.
+    /// The row of w · δv_a(t − t̂_o) = w · (δv_a − t̂_o δa − a δt_o).
     pub(crate) fn velocity_row(&self, w: &Vector3<f64>) -> SparseRow {
-        block_row(
+        let mut row = self.current_velocity_row(w);
+        if let Some(first) = self.installation {
+            row.push(first + TIME_OFFSET, -w.dot(&self.acceleration_ecef));
+        }
+        self.shifted(row, self.time_offset_s, || self.acceleration_row(w))
+    }
+
+    /// The row of w · δv_fix = w · (δv_a − (t̂_o + L̂) δa − a (δt_o + δL)).
+    pub(crate) fn fix_velocity_row(&self, w: &Vector3<f64>) -> SparseRow {
+        let mut row = self.current_velocity_row(w);
+        if let Some(first) = self.installation {
+            let a = -w.dot(&self.acceleration_ecef);
+            row.push(first + TIME_OFFSET, a);
+            row.push(first + VELOCITY_LATENCY, a);
+        }
+        let shift = self.time_offset_s + self.latency_s;
+        self.shifted(row, shift, || self.acceleration_row(w))
+    }
+
+    /// `row` − `shift` × the row `earlier` gives (none for no shift: the
+    /// rows of a filter without offsets stay as they were, bit for bit).
+    fn shifted(&self, row: SparseRow, shift: f64, earlier: impl Fn() -> SparseRow) -> SparseRow {
+        if shift == 0.0 {
+            row
+        } else {
+            row.combine(1.0, &earlier(), -shift)
+        }
+    }
+
+    /// The row of w · δv_a at the measurement's IMU time.
+    fn current_velocity_row(&self, w: &Vector3<f64>) -> SparseRow {
+        let mut row = block_row(
             w,
             VELOCITY,
             &[
                 (ATTITUDE, &self.velocity_attitude),
                 (GYRO_BIAS, &self.velocity_gyro_bias),
             ],
-        )
+        );
+        if let Some(first) = self.installation {
+            push_block(&mut row, w, first + LEVER_ARM, &self.velocity_lever_arm);
+        }
+        row
+    }
+
+    /// The row of w · δa.
+    fn acceleration_row(&self, w: &Vector3<f64>) -> SparseRow {
+        let mut row = SparseRow::default();
+        push_block(&mut row, w, ATTITUDE, &self.acceleration_attitude);
+        push_block(&mut row, w, ACCEL_BIAS, &self.acceleration_accel_bias);
+        row
     }
 }
 
@@ -75,43 +151,66 @@ fn block_row(w: &Vector3<f64>, first: usize, blocks: &[(usize, &Matrix3<f64>)]) 
         }
     }
     for (start, b) in blocks {
-        let coefficients = b.transpose() * w;
-        for k in 0..3 {
-            if coefficients[k] != 0.0 {
-                row.push(start + k, coefficients[k]);
-            }
-        }
+        push_block(&mut row, w, *start, b);
     }
     row
 }
 
+/// Adds w · B δ(start..start+3) to `row`, zero entries left out.
+fn push_block(row: &mut SparseRow, w: &Vector3<f64>, start: usize, b: &Matrix3<f64>) {
+    let coefficients = b.transpose() * w;
+    for k in 0..3 {
+        if coefficients[k] != 0.0 {
+            row.push(start + k, coefficients[k]);
+        }
+    }
+}
+
 impl<const N: usize> FilterState<N> {
     /// The antenna's position and velocity and their error rows, from the
-    /// current solution and the last corrected angular rate.
+    /// current solution, the last corrected angular rate and the
+    /// installation estimates.
     pub(crate) fn antenna(&self) -> AntennaPrediction {
         let c = self.nav.c_b_e;
-        let l = self.tuning.antenna_lever_arm_b_m;
+        let install = &self.installation;
+        let l = install.lever_arm_b_m;
         let cl = c * l;
-        let rotating = c * self.last_sample.angular_rate_b.cross(&l);
+        let omega = self.last_sample.angular_rate_b;
+        let rotating = c * omega.cross(&l);
         let omega_ie = skew(&EARTH_RATE_ECEF);
+        let velocity = self.nav.velocity_ecef + self.lever_arm_velocity();
+        let a = self.acceleration_ecef();
+        let (t_o, latency) = (install.time_offset_s, install.velocity_latency_s);
+        // x − 0·y is x: without an offset or latency the prediction is the
+        // antenna's at t, bit for bit.
         AntennaPrediction {
-            position_ecef: self.nav.position_ecef + cl,
-            velocity_ecef: self.nav.velocity_ecef + self.lever_arm_velocity(),
+            position_ecef: self.nav.position_ecef + cl - t_o * velocity,
+            velocity_ecef: velocity - t_o * a,
+            fix_velocity_ecef: velocity - (t_o + latency) * a,
             position_attitude: -skew(&cl),
             velocity_attitude: omega_ie * skew(&cl) - skew(&rotating),
             velocity_gyro_bias: c * skew(&l),
+            acceleration_attitude: -skew(&(c * self.last_sample.specific_force_b)),
+            acceleration_accel_bias: -c,
+            time_offset_s: t_o,
+            latency_s: latency,
+            installation: Layout::for_size::<N>().installation,
+            position_lever_arm: c,
+            velocity_lever_arm: c * skew(&omega) - omega_ie * c,
+            antenna_velocity_ecef: velocity,
+            acceleration_ecef: a,
         }
     }
 
     /// v_a − v̂ = Ĉ (ω̂ × l) − Ω_ie Ĉ l.
     pub(crate) fn lever_arm_velocity(&self) -> Vector3<f64> {
         let c = self.nav.c_b_e;
-        let l = self.tuning.antenna_lever_arm_b_m;
+        let l = self.installation.lever_arm_b_m;
         c * self.last_sample.angular_rate_b.cross(&l) - EARTH_RATE_ECEF.cross(&(c * l))
     }
 
     /// The IMU's acceleration in ECEF, Ĉ f̂ + g(r̂) − 2 Ω_ie v̂ (Groves eq.
-    /// 5.36), for moving a velocity to a slightly earlier time.
+    /// 5.36), for moving a position or velocity to a slightly earlier time.
     pub(crate) fn acceleration_ecef(&self) -> Vector3<f64> {
         self.nav.c_b_e * self.last_sample.specific_force_b + gravity_ecef(&self.nav.position_ecef)
             - 2.0 * EARTH_RATE_ECEF.cross(&self.nav.velocity_ecef)
@@ -123,12 +222,13 @@ mod tests {
     use super::*;
     use crate::attitude::{euler_to_dcm, rotation_vector_to_dcm};
     use crate::coupling::{FilterTuning, InitialState};
-    use crate::filter::state::BASE_STATES;
+    use crate::filter::state::{BASE_STATES, INSTALLATION_STATES};
     use crate::geodesy::{c_n_e, geodetic_to_ecef, Geodetic};
     use crate::ins::NavState;
     use nalgebra::SVector;
 
-    fn state(lever: Vector3<f64>) -> FilterState<BASE_STATES> {
+    /// A filter with `N` states at a moving, turning, accelerating point.
+    fn state<const N: usize>(lever: Vector3<f64>) -> FilterState<N> {
         let r = geodetic_to_ecef(Geodetic::new(0.7, 0.3, 200.0));
         let c = c_n_e(0.7, 0.3) * euler_to_dcm(0.1, -0.05, 2.0);
         let init = InitialState {
@@ -153,49 +253,126 @@ mod tests {
         tuning.antenna_lever_arm_b_m = lever;
         let mut s = FilterState::new(&init, &tuning).unwrap();
         s.last_sample.angular_rate_b = Vector3::new(0.3, -0.1, 0.5);
+        s.last_sample.specific_force_b = Vector3::new(1.5, -0.8, -9.6);
         s
     }
 
+    /// The antenna position, velocity and fix velocity the rows linearise,
+    /// written out from the formulas of [`super::super::installation`] for
+    /// a truth: attitude `c`, IMU velocity `v`, rate `w`, specific force
+    /// `f`, lever arm `l`, time offset `t_o`, latency `latency`.
+    #[allow(clippy::too_many_arguments)]
+    fn antenna_at(
+        c: &Matrix3<f64>,
+        r: &Vector3<f64>,
+        v: &Vector3<f64>,
+        w: &Vector3<f64>,
+        f: &Vector3<f64>,
+        l: &Vector3<f64>,
+        t_o: f64,
+        latency: f64,
+    ) -> [Vector3<f64>; 3] {
+        let v_a = v + c * w.cross(l) - EARTH_RATE_ECEF.cross(&(c * l));
+        let a = c * f + gravity_ecef(r) - 2.0 * EARTH_RATE_ECEF.cross(v);
+        [
+            r + c * l - t_o * v_a,
+            v_a - t_o * a,
+            v_a - (t_o + latency) * a,
+        ]
+    }
+
     /// The rows are the derivatives of the antenna position and velocity
-    /// errors: perturb the true state, recompute the antenna with the
-    /// formulas above written out, compare with the row times the error.
-    #[test]
-    fn rows_match_perturbed_lever_arm_formulas() {
+    /// errors: perturb the true state along each state the rows touch,
+    /// recompute the antenna with the formulas written out, compare with
+    /// the row times the error. With `N` = 25 the installation columns are
+    /// checked too, at a time offset and latency away from zero.
+    fn rows_match_perturbed_formulas<const N: usize>(t_o: f64, latency: f64) {
         let l = Vector3::new(0.4, -0.2, -0.9);
-        let s = state(l);
+        let mut s = state::<N>(l);
+        s.installation.time_offset_s = t_o;
+        s.installation.velocity_latency_s = latency;
         let a = s.antenna();
-        let omega_hat = s.last_sample.angular_rate_b;
-        let antenna = |c: &Matrix3<f64>, r: &Vector3<f64>, v: &Vector3<f64>, w: &Vector3<f64>| {
-            (
-                r + c * l,
-                v + c * w.cross(&l) - EARTH_RATE_ECEF.cross(&(c * l)),
-            )
-        };
-        // A step of 1e-4 keeps the second-order terms (≈ h² |l| |ω|) and the
-        // rounding of ECEF positions (≈ 1e-9 m) below the 1e-7 tolerance.
-        for j in [0usize, 1, 2, 12, 13, 14] {
+        let (omega_hat, f_hat) = (s.last_sample.angular_rate_b, s.last_sample.specific_force_b);
+        let first = Layout::for_size::<N>().installation;
+        let mut perturbed = vec![0usize, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14];
+        perturbed.extend(first.iter().flat_map(|&i| i..i + 5));
+        let estimate = antenna_at(
+            &s.nav.c_b_e,
+            &s.nav.position_ecef,
+            &s.nav.velocity_ecef,
+            &omega_hat,
+            &f_hat,
+            &l,
+            t_o,
+            latency,
+        );
+        assert!((estimate[0] - a.position_ecef).norm() < 1e-9);
+        assert!((estimate[1] - a.velocity_ecef).norm() < 1e-12);
+        assert!((estimate[2] - a.fix_velocity_ecef).norm() < 1e-12);
+        for j in perturbed {
+            // A step of 1e-4 keeps the second-order terms (≈ h² |l| |ω|) and
+            // the rounding of ECEF positions (≈ 1e-9 m) below the tolerance.
             let h = 1e-4;
-            let mut x = SVector::<f64, BASE_STATES>::zeros();
+            let mut x = SVector::<f64, N>::zeros();
             x[j] = h;
-            // Truth = estimate − error: C = R(−ψ) Ĉ, ω = ω̂ + δb_g.
+            // Truth = estimate − error: C = R(−ψ) Ĉ, ω = ω̂ + δb_g, f = f̂ + δb_a.
             let psi = Vector3::new(x[0], x[1], x[2]);
             let c_true = rotation_vector_to_dcm(&(-psi)) * s.nav.c_b_e;
+            let v_true = s.nav.velocity_ecef - Vector3::new(x[3], x[4], x[5]);
+            let r_true = s.nav.position_ecef - Vector3::new(x[6], x[7], x[8]);
+            let f_true = f_hat + Vector3::new(x[9], x[10], x[11]);
             let w_true = omega_hat + Vector3::new(x[12], x[13], x[14]);
-            let (r_t, v_t) = antenna(&c_true, &s.nav.position_ecef, &s.nav.velocity_ecef, &w_true);
+            let (mut l_true, mut t_true, mut latency_true) = (l, t_o, latency);
+            if let Some(i) = first {
+                l_true -= Vector3::new(x[i], x[i + 1], x[i + 2]);
+                t_true -= x[i + 3];
+                latency_true -= x[i + 4];
+            }
+            let truth = antenna_at(
+                &c_true,
+                &r_true,
+                &v_true,
+                &w_true,
+                &f_true,
+                &l_true,
+                t_true,
+                latency_true,
+            );
             for k in 0..3 {
                 let mut e = Vector3::zeros();
                 e[k] = 1.0;
-                let dr = a.position_row(&e).dot(&x);
-                let dv = a.velocity_row(&e).dot(&x);
-                assert!(((a.position_ecef - r_t)[k] - dr).abs() < 1e-7, "r {j} {k}");
-                assert!(((a.velocity_ecef - v_t)[k] - dv).abs() < 1e-7, "v {j} {k}");
+                let rows = [
+                    a.position_row(&e),
+                    a.velocity_row(&e),
+                    a.fix_velocity_row(&e),
+                ];
+                for (m, row) in rows.iter().enumerate() {
+                    let change = (estimate[m] - truth[m])[k];
+                    // The terms left out: Γ δr and 2 Ω_ie δv in δa (times the
+                    // shift), and the time offset times the lever arm's rate
+                    // terms: below 1e-3 of the change.
+                    let tolerance = 1e-7 + 2e-3 * change.abs();
+                    let d = row.dot(&x);
+                    assert!(
+                        (change - d).abs() < tolerance,
+                        "{m} state {j} axis {k}: {change} {d}"
+                    );
+                }
             }
         }
     }
 
     #[test]
+    fn rows_match_perturbed_formulas_without_and_with_installation_states() {
+        rows_match_perturbed_formulas::<BASE_STATES>(0.0, 0.0);
+        rows_match_perturbed_formulas::<BASE_STATES>(0.0, 0.15);
+        rows_match_perturbed_formulas::<{ BASE_STATES + INSTALLATION_STATES }>(0.0, 0.0);
+        rows_match_perturbed_formulas::<{ BASE_STATES + INSTALLATION_STATES }>(0.04, 0.2);
+    }
+
+    #[test]
     fn without_a_lever_arm_the_rows_are_the_identity() {
-        let s = state(Vector3::zeros());
+        let s = state::<BASE_STATES>(Vector3::zeros());
         let a = s.antenna();
         assert_eq!(a.position_ecef, s.nav.position_ecef);
         let row = a.velocity_row(&Vector3::new(0.0, 1.0, 0.0));

@@ -94,14 +94,14 @@ fn update_block<const N: usize>(
     let error_estimate = fix_error.map_or(Vector3::zeros(), |(_, b)| b);
     let predicted = match kind {
         MeasurementKind::Position => antenna.position_ecef + error_estimate,
-        _ => antenna.velocity_ecef - s.tuning.velocity_latency_s * s.acceleration_ecef(),
+        _ => antenna.fix_velocity_ecef,
     };
     let y = w.l_inv * (predicted - measured);
     for i in 0..3u16 {
         let row = w.l_inv.row(i as usize).transpose();
         let mut h = match kind {
             MeasurementKind::Position => antenna.position_row(&row),
-            _ => antenna.velocity_row(&row),
+            _ => antenna.fix_velocity_row(&row),
         };
         if let Some((states, _)) = fix_error {
             for (axis, &state) in states.iter().enumerate() {

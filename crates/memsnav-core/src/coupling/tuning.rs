@@ -3,6 +3,7 @@
 
 use nalgebra::Vector3;
 
+use super::installation::InstallationUncertainty;
 use crate::filter::input_noise::{
     InputErrorNoise, UnmodelledErrors, DEFAULT_MANOEUVRE_CORRELATION_TIME_S,
 };
@@ -42,6 +43,8 @@ pub struct InitialUncertainty {
     /// Each satellite's pseudorange bias when it enters a range-bias slot,
     /// m (filters with range-bias states only).
     pub range_bias_m: f64,
+    /// The installation states (filters with the installation block only).
+    pub installation: InstallationUncertainty,
 }
 
 impl Default for InitialUncertainty {
@@ -57,6 +60,7 @@ impl Default for InitialUncertainty {
             accel_scale_factor: 1e-3,
             gyro_scale_factor: 1e-3,
             range_bias_m: RangeBiasModel::default().std_m,
+            installation: InstallationUncertainty::default(),
         }
     }
 }
@@ -428,6 +432,10 @@ impl FilterTuning {
             ("initial_accel_scale_factor_std", i.accel_scale_factor),
             ("initial_gyro_scale_factor_std", i.gyro_scale_factor),
             ("initial_range_bias_std", i.range_bias_m),
+            ("lever_arm_std", i.installation.lever_arm_m),
+            ("time_offset_std", i.installation.time_offset_s),
+            ("velocity_latency_std", i.installation.velocity_latency_s),
+            ("mounting_std", i.installation.mounting_rad),
         ] {
             validate::initial_std(name, v)?;
         }

@@ -7,10 +7,11 @@ use nalgebra::{SMatrix, SVector};
 
 /// Most non-zero entries a measurement row has: a pseudorange rate at an
 /// antenna away from the IMU touches velocity, attitude and gyro bias
-/// (through the lever arm), position (the line of sight turning with it)
-/// and the clock drift (13); a whitened velocity-fix component velocity,
-/// attitude and gyro bias (9).
-pub const MAX_ROW_ENTRIES: usize = 13;
+/// (through the lever arm), position (the line of sight turning with it),
+/// the clock drift (13), with a time offset the accelerometer bias (16)
+/// and, with the installation states, the lever arm and the time offset
+/// (20).
+pub const MAX_ROW_ENTRIES: usize = 20;
 
 /// A measurement row h with at most [`MAX_ROW_ENTRIES`] non-zero entries.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -13,6 +13,7 @@
 //! δḃ = −δb / τ + w_b        (τ = ∞: random walk)
 //! δċ = δd,  δḋ = w_d       (receiver clock, two-state model)
 //! δḃ_ρ = −δb_ρ / τ_ρ + w_ρ  (per-satellite pseudorange bias, optional)
+//! δl̇ = 0, δṫ_o = 0, δL̇ = 0, δμ̇ = 0  (installation constants, optional)
 //! ```
 //!
 //! Γ = ∂g/∂r is the gravity gradient: the point-mass term
@@ -48,7 +49,7 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use super::input_noise::{self, InputErrorNoise};
 use super::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
+    GYRO_SCALE_FACTOR, INSTALLATION_STATES, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
 };
 use crate::attitude::skew;
 use crate::gauss_markov::discretise;
@@ -290,7 +291,7 @@ impl Transition {
     ///   [+ M_sa (−Ĉ diag(f̂) Δt)ᵀ], a = Ĉ f̂ Δt, −[a×] = [[0, a_z, −a_y],
     ///   [−a_z, 0, a_x], [a_y, −a_x, 0]];
     /// - r: M_r + Δt M_v; biases (sensor and range): decay; clock offset:
-    ///   M_δc + Δt M_δċ.
+    ///   M_δc + Δt M_δċ; installation: itself (constants).
     fn columns_into<const N: usize>(&self, out: &mut Columns) {
         let mut n = 0;
         let mut set = |j: usize, terms: &[(f64, usize)]| {
@@ -372,6 +373,11 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET), (self.dt, CLOCK_DRIFT)]);
         set(CLOCK_DRIFT, &[(1.0, CLOCK_DRIFT)]);
+        if let Some(first) = layout.installation {
+            for j in first..first + INSTALLATION_STATES {
+                set(j, &[(1.0, j)]);
+            }
+        }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
                 set(j, &[(self.rb_decay, j)]);
@@ -390,7 +396,8 @@ impl Transition {
     /// - r_j: (ΓΔt)_{·j} on the v rows, 1 on r_j;
     /// - b_a,j (b_g,j): (−ĈΔt)_{·j} on the v (ψ) rows, the decay on itself;
     /// - s_a,j (s_g,j): the scale-factor blocks' column on the v (ψ) rows, 1;
-    /// - clock offset: 1; clock drift: Δt on the offset, 1; range biases: decay.
+    /// - clock offset: 1; clock drift: Δt on the offset, 1; installation: 1;
+    ///   range biases: decay.
     fn phi_columns_into<const N: usize>(&self, out: &mut Columns) {
         let mut n = 0;
         let mut set = |j: usize, terms: &[(f64, usize)]| {
@@ -477,6 +484,11 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET)]);
         set(CLOCK_DRIFT, &[(self.dt, CLOCK_OFFSET), (1.0, CLOCK_DRIFT)]);
+        if let Some(first) = layout.installation {
+            for j in first..first + INSTALLATION_STATES {
+                set(j, &[(1.0, j)]);
+            }
+        }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
                 set(j, &[(self.rb_decay, j)]);
@@ -614,10 +626,11 @@ pub(super) fn propagate_with<const N: usize>(
     add_process_noise(p, d, inputs);
 }
 
-/// Most states of a filter ([`super::state::WITH_ALL`]).
-const MAX_STATES: usize = 35;
-/// Most non-zeros of Φ (the 35-state filter has 94).
-const MAX_TERMS: usize = 96;
+/// Most states of a filter ([`super::state::WITH_ALL`] with the
+/// installation block).
+const MAX_STATES: usize = 43;
+/// Most non-zeros of Φ (the 43-state filter has 102).
+const MAX_TERMS: usize = 104;
 
 /// A sparse matrix by columns: column j holds the terms
 /// `start[j]..end[j]`, each a coefficient and the row it multiplies (here:
@@ -918,6 +931,8 @@ mod tests {
         adjoint_equals_dense::<23>(f64::INFINITY);
         adjoint_equals_dense::<29>(300.0);
         adjoint_equals_dense::<35>(300.0);
+        adjoint_equals_dense::<25>(300.0);
+        adjoint_equals_dense::<43>(300.0);
     }
 
     /// The smoother's forward step: Z′ = Z Φᵀ + R′ Q and y′ = Φ y + Q λ′,
@@ -947,6 +962,8 @@ mod tests {
         carry_equals_dense::<23>(f64::INFINITY);
         carry_equals_dense::<29>(300.0);
         carry_equals_dense::<35>(300.0);
+        carry_equals_dense::<31>(300.0);
+        carry_equals_dense::<43>(300.0);
     }
 
     #[test]
@@ -956,6 +973,10 @@ mod tests {
         structured_equals_dense::<23>(300.0);
         structured_equals_dense::<29>(300.0);
         structured_equals_dense::<35>(300.0);
+        structured_equals_dense::<25>(300.0);
+        structured_equals_dense::<31>(f64::INFINITY);
+        structured_equals_dense::<37>(300.0);
+        structured_equals_dense::<43>(300.0);
     }
 
     /// A filter's kept working storage gives what fresh storage gives,

@@ -11,12 +11,14 @@
 //! | 16 | receiver clock drift δċ | m/s |
 //! | 17-19 | accelerometer scale-factor error s_a (optional) | 1 |
 //! | 20-22 | gyro scale-factor error s_g (optional) | 1 |
+//! | next 8 | installation (optional): lever arm (3, body axes, m), IMU time offset (s), GNSS velocity latency (s), mounting boresight (3, body axes, rad) | see [`Installation`] |
 //! | last 12 | pseudorange bias of the satellite in each slot (optional) | m |
 //!
 //! The optional states are a compile-time extension selected by the size
 //! `N` alone ([`Layout::of`]): [`BASE_STATES`] (17), [`WITH_SCALE_FACTORS`]
 //! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
-//! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both).
+//! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both), each
+//! also with the [`INSTALLATION_STATES`] (25, 31, 37, 43).
 //! Misalignments and nonlinearity are not states; the filters absorb them
 //! as noise shaped by the sensed motion ([`super::input_noise`]).
 
@@ -51,6 +53,32 @@ pub const RANGE_BIAS_SLOTS: usize = 12;
 pub const WITH_RANGE_BIASES: usize = BASE_STATES + RANGE_BIAS_SLOTS;
 /// Size of the state with scale factors and range biases.
 pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
+/// States of the installation block: how the IMU sits in the vehicle and
+/// relative to the antenna, estimated instead of assumed (issue 29).
+pub const INSTALLATION_STATES: usize = 8;
+
+/// Offsets of the installation states inside their block. Each is an error
+/// (estimate − truth) of a constant:
+///
+/// - lever arm δl: the antenna's position from the IMU, body axes, m;
+/// - time offset δt_o: added to the IMU time stamps (the same sense as
+///   `[imu] time_offset_s`), s;
+/// - velocity latency δL: the fixes' velocity given at t is the antenna's
+///   at t − L, s;
+/// - mounting boresight δμ: the vehicle axes are (I − [μ×]) times the body
+///   axes (a small rotation left after the configured mounting), rad.
+pub struct Installation;
+
+impl Installation {
+    /// Lever arm, 3 states.
+    pub const LEVER_ARM: usize = 0;
+    /// IMU time offset.
+    pub const TIME_OFFSET: usize = 3;
+    /// GNSS velocity latency.
+    pub const VELOCITY_LATENCY: usize = 4;
+    /// Mounting boresight, 3 states.
+    pub const MOUNTING: usize = 5;
+}
 
 /// Which optional blocks a state of size `N` has (the sizes above are the
 /// only valid ones).
@@ -58,6 +86,8 @@ pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
 pub struct Layout {
     /// Accelerometer and gyro scale-factor states at 17-22.
     pub scale_factors: bool,
+    /// Index of the first installation state, when there are any.
+    pub installation: Option<usize>,
     /// Index of the first range-bias state, when there are any.
     pub range_bias: Option<usize>,
 }
@@ -65,43 +95,48 @@ pub struct Layout {
 impl Layout {
     /// The layout of a state of size `n`; `None` for any other size.
     pub const fn of(n: usize) -> Option<Self> {
-        match n {
-            BASE_STATES => Some(Self {
-                scale_factors: false,
-                range_bias: None,
-            }),
-            WITH_SCALE_FACTORS => Some(Self {
-                scale_factors: true,
-                range_bias: None,
-            }),
-            WITH_RANGE_BIASES => Some(Self {
-                scale_factors: false,
-                range_bias: Some(BASE_STATES),
-            }),
-            WITH_ALL => Some(Self {
-                scale_factors: true,
-                range_bias: Some(WITH_SCALE_FACTORS),
-            }),
-            _ => None,
+        let mut k = 0;
+        while k < 8 {
+            let (sf, inst, rb) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
+            if Self::size(sf, inst, rb) == n {
+                let after_sf = if sf { WITH_SCALE_FACTORS } else { BASE_STATES };
+                let after_inst = if inst {
+                    after_sf + INSTALLATION_STATES
+                } else {
+                    after_sf
+                };
+                return Some(Self {
+                    scale_factors: sf,
+                    installation: if inst { Some(after_sf) } else { None },
+                    range_bias: if rb { Some(after_inst) } else { None },
+                });
+            }
+            k += 1;
         }
+        None
     }
 
     /// The layout of size `N`, checked at compile time.
     pub const fn for_size<const N: usize>() -> Self {
         match Self::of(N) {
             Some(l) => l,
-            None => panic!("the error state has 17, 23, 29 or 35 states"),
+            None => {
+                panic!("the error state has 17, 23, 29 or 35 states, each + 8 installation states")
+            }
         }
     }
 
-    /// The size for these options.
-    pub const fn size(scale_factors: bool, range_biases: bool) -> usize {
-        match (scale_factors, range_biases) {
-            (false, false) => BASE_STATES,
-            (true, false) => WITH_SCALE_FACTORS,
-            (false, true) => WITH_RANGE_BIASES,
-            (true, true) => WITH_ALL,
-        }
+    /// The size for these options: the base, then the scale factors, the
+    /// installation block and the range biases, in that order.
+    pub const fn size(scale_factors: bool, installation: bool, range_biases: bool) -> usize {
+        BASE_STATES
+            + if scale_factors {
+                WITH_SCALE_FACTORS - BASE_STATES
+            } else {
+                0
+            }
+            + if installation { INSTALLATION_STATES } else { 0 }
+            + if range_biases { RANGE_BIAS_SLOTS } else { 0 }
     }
 }
 
@@ -135,6 +170,17 @@ impl StateLayout {
         "gyro_scale_factor_z",
     ];
 
+    const INSTALLATION_NAMES: [&'static str; INSTALLATION_STATES] = [
+        "lever_arm_x",
+        "lever_arm_y",
+        "lever_arm_z",
+        "time_offset",
+        "velocity_latency",
+        "mounting_x",
+        "mounting_y",
+        "mounting_z",
+    ];
+
     const RANGE_BIAS_NAMES: [&'static str; RANGE_BIAS_SLOTS] = [
         "range_bias_0",
         "range_bias_1",
@@ -150,21 +196,22 @@ impl StateLayout {
         "range_bias_11",
     ];
 
-    /// The names of the states of a filter of size `n` (17, 23, 29 or 35).
+    /// The names of the states of a filter of size `n` (see [`Layout::of`]).
     pub fn names(n: usize) -> Vec<&'static str> {
         (0..n).map(|i| Self::name_in(n, i)).collect()
     }
 
     /// The name of state `i` of a filter of size `n`.
     pub fn name_in(n: usize, i: usize) -> &'static str {
-        let layout = Layout::of(n);
-        match layout.and_then(|l| l.range_bias) {
-            Some(first) if i >= first => Self::RANGE_BIAS_NAMES
-                .get(i - first)
-                .copied()
-                .unwrap_or("unknown"),
-            _ => Self::NAMES.get(i).copied().unwrap_or("unknown"),
-        }
+        let Some(layout) = Layout::of(n) else {
+            return "unknown";
+        };
+        let name = match (layout.installation, layout.range_bias) {
+            (_, Some(first)) if i >= first => Self::RANGE_BIAS_NAMES.get(i - first),
+            (Some(first), _) if i >= first => Self::INSTALLATION_NAMES.get(i - first),
+            _ => Self::NAMES.get(i),
+        };
+        name.copied().unwrap_or("unknown")
     }
 }
 
@@ -207,6 +254,13 @@ impl<const N: usize> ErrorState<N> {
     /// Clock drift error, m/s.
     pub fn clock_drift(&self) -> f64 {
         self.0[CLOCK_DRIFT]
+    }
+    /// The installation errors (the block of [`Installation`]), when the
+    /// state has them.
+    pub fn installation(&self) -> Option<SVector<f64, INSTALLATION_STATES>> {
+        Layout::for_size::<N>()
+            .installation
+            .map(|first| self.0.fixed_rows::<INSTALLATION_STATES>(first).into_owned())
     }
     /// Scale-factor errors (accelerometer, gyro), when the state has them.
     pub fn scale_factors(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {

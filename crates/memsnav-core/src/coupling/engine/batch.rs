@@ -376,7 +376,7 @@ impl<const N: usize> FilterState<N> {
         covariance: &Matrix3<f64>,
         velocity_reset_too: bool,
     ) -> Result<()> {
-        let new = antenna_position_ecef - self.nav.c_b_e * self.tuning.antenna_lever_arm_b_m;
+        let new = antenna_position_ecef - self.nav.c_b_e * self.installation.lever_arm_b_m;
         let change = (new - self.nav.position_ecef).norm();
         self.nav.position_ecef = new;
         self.kf.reset_block::<3>(POSITION, covariance);

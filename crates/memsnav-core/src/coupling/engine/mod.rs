@@ -9,12 +9,13 @@ mod range_bias;
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
+use super::installation::InstallationEstimate;
 use super::records::{BatchRecord, MeasurementKind, MeasurementRecord, ResetRecord};
 use super::tuning::FilterTuning;
 use crate::attitude::rotation_vector_to_dcm;
 use crate::filter::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
+    GYRO_SCALE_FACTOR, INSTALLATION_STATES, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
@@ -88,6 +89,9 @@ pub struct FilterState<const N: usize> {
     /// Pseudorange-bias estimate of the satellite in each range-bias slot, m
     /// (zero without range-bias states).
     pub range_bias_m: [f64; RANGE_BIAS_SLOTS],
+    /// Lever arm, time offset, velocity latency and mounting: estimated with
+    /// the installation states, the configuration's values without.
+    pub installation: InstallationEstimate,
     /// Whether the clock offset / drift have been initialised.
     pub(crate) clock_known: (bool, bool),
     /// Which satellite holds which range-bias slot.
@@ -148,6 +152,11 @@ impl<const N: usize> FilterState<N> {
         }
         p0[(CLOCK_OFFSET, CLOCK_OFFSET)] = s.clock_offset_m.powi(2);
         p0[(CLOCK_DRIFT, CLOCK_DRIFT)] = s.clock_drift_m_s.powi(2);
+        if let Some(first) = layout.installation {
+            for (k, v) in s.installation.variances().into_iter().enumerate() {
+                p0[(first + k, first + k)] = v;
+            }
+        }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
                 p0[(j, j)] = s.range_bias_m.powi(2);
@@ -162,6 +171,7 @@ impl<const N: usize> FilterState<N> {
             clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
             clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
             range_bias_m: [0.0; RANGE_BIAS_SLOTS],
+            installation: InstallationEstimate::from_tuning(&tuning),
             clock_known: (
                 init.clock_offset_m.is_some(),
                 init.clock_drift_m_s.is_some(),
@@ -249,6 +259,7 @@ impl<const N: usize> FilterState<N> {
                 *b -= x.0[first + k];
             }
         }
+        self.installation = self.installation.corrected(&x);
         self.kf.x = crate::filter::ErrorState::zero();
         self.kf.check_health(time_s)
     }
@@ -466,7 +477,10 @@ pub struct Solution {
     pub clock_offset_m: Vec<f64>,
     /// Receiver clock drift, m/s.
     pub clock_drift_m_s: Vec<f64>,
-    /// Number of error states (17, 23, 29 or 35).
+    /// Installation estimates, in the order of the installation block
+    /// ([`crate::filter::state::Installation`]; empty without the block).
+    pub installation: Vec<[f64; INSTALLATION_STATES]>,
+    /// Number of error states (see [`Layout::of`]).
     pub n_states: usize,
     /// Diagonal of P at each sample, row-major `(len, n_states)`, in the
     /// units of [`crate::filter::state`] squared.
@@ -494,7 +508,13 @@ pub struct Solution {
 
 impl Solution {
     pub(crate) fn with_capacity(len: usize, n_states: usize) -> Self {
-        let sf = if Layout::of(n_states).is_some_and(|l| l.scale_factors) {
+        let layout = Layout::of(n_states);
+        let sf = if layout.is_some_and(|l| l.scale_factors) {
+            len
+        } else {
+            0
+        };
+        let installation = if layout.is_some_and(|l| l.installation.is_some()) {
             len
         } else {
             0
@@ -510,6 +530,7 @@ impl Solution {
             gyro_scale_factor: Vec::with_capacity(sf),
             clock_offset_m: Vec::with_capacity(len),
             clock_drift_m_s: Vec::with_capacity(len),
+            installation: Vec::with_capacity(installation),
             n_states,
             covariance_diagonal: Vec::with_capacity(len * n_states),
             navigation_covariance_off_diagonal: Vec::with_capacity(len),
@@ -534,6 +555,9 @@ impl Solution {
         }
         self.clock_offset_m.push(s.clock_offset_m);
         self.clock_drift_m_s.push(s.clock_drift_m_s);
+        if Layout::for_size::<N>().installation.is_some() {
+            self.installation.push(s.installation.to_array());
+        }
         // P through its array of columns (fixed sizes: no index checks).
         let columns = &s.kf.p.data.0;
         let diagonal: [f64; N] = std::array::from_fn(|i| columns[i][i]);
@@ -614,6 +638,11 @@ impl Solution {
             }
             out.clock_offset_m[k] -= x.clock_offset();
             out.clock_drift_m_s[k] -= x.clock_drift();
+            if let Some(d) = x.installation() {
+                for (v, e) in out.installation[k].iter_mut().zip(d.iter()) {
+                    *v -= e;
+                }
+            }
             // Pˢ = P⁺ − P⁺ Λ P⁺ on the entries the forward solution keeps.
             let reduction = s.reduction_diagonal();
             for (p, r) in out.covariance_diagonal[k * N..(k + 1) * N]
