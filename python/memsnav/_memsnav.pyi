@@ -1216,6 +1216,12 @@ class FilterSolution:
         """Gyro scale-factor estimate, (N, 3); None with 17 states."""
 
     @property
+    def installation(self) -> npt.NDArray[np.float64] | None:
+        """Installation estimates, (N, 7): antenna lever arm x, y, z (body
+        axes, m), IMU time offset (s), velocity latency (s), mounting
+        boresight pitch, yaw (rad); None without the installation states."""
+
+    @property
     def clock_offset(self) -> npt.NDArray[np.float64]:
         """Receiver clock offset, m, (N,)."""
 

@@ -323,6 +323,24 @@ impl PyFilterSolution {
         (!self.inner.gyro_scale_factor.is_empty())
             .then(|| convert::vectors_to_numpy(py, &self.inner.gyro_scale_factor))
     }
+    /// Installation estimates, (N, 7): antenna lever arm x, y, z (body
+    /// axes, m), IMU time offset (s), velocity latency (s), mounting
+    /// boresight pitch, yaw (rad); None without the installation states.
+    #[getter]
+    fn installation<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
+        (!self.inner.installation.is_empty()).then(|| {
+            numpy::PyArray2::from_vec2(
+                py,
+                &self
+                    .inner
+                    .installation
+                    .iter()
+                    .map(|r| r.to_vec())
+                    .collect::<Vec<_>>(),
+            )
+            .expect("rows of equal length")
+        })
+    }
     /// Receiver clock offset, m, (N,).
     #[getter]
     fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {

@@ -277,6 +277,43 @@ _SENSOR_STATES = (
 )
 
 
+# Installation states in the summary: (summary key, state names, factor
+# from the state's SI unit to the key's unit); the columns of
+# ``FilterSolution.installation`` are in the order of the names.
+_INSTALLATION_STATES = (
+    ("lever_arm_m", ("lever_arm_x", "lever_arm_y", "lever_arm_z"), 1.0),
+    ("time_offset_s", ("time_offset",), 1.0),
+    ("velocity_latency_s", ("velocity_latency",), 1.0),
+    ("mounting_pitch_yaw_deg", ("mounting_pitch", "mounting_yaw"), float(np.degrees(1.0))),
+)
+
+
+def _installation_estimates(solution: _mn.FilterSolution, sample: int) -> dict[str, Any] | None:
+    """The installation states at one sample with their one-sigma (None
+    without the states): the lever arm in body axes, the IMU time offset
+    (added to the IMU time stamps, on top of ``[imu] time_offset_s``), the
+    velocity latency and the mounting boresight's pitch and yaw (its roll
+    is not observable and not a state)."""
+    values = solution.installation
+    if values is None:
+        return None
+    names = solution.state_names
+    variances = np.asarray(solution.covariance_diagonal)[sample]
+    row = np.asarray(values)[sample]
+    first = names.index("lever_arm_x")
+    estimates: dict[str, Any] = {"gps_time_s": float(np.asarray(solution.time)[sample])}
+    for key, state_names, factor in _INSTALLATION_STATES:
+        columns = [names.index(n) for n in state_names]
+        value = factor * row[[c - first for c in columns]]
+        std = factor * np.sqrt(variances[columns])
+        single = len(columns) == 1
+        estimates[key] = {
+            "value": float(value[0]) if single else value.tolist(),
+            "std": float(std[0]) if single else std.tolist(),
+        }
+    return estimates
+
+
 def _sensor_estimates(solution: _mn.FilterSolution, sample: int) -> dict[str, Any]:
     """The sensor error states at one sample with their one-sigma from the
     filter's covariance, in the summary's units (scale factors only when the
@@ -378,6 +415,9 @@ def navigate(
     }
     if run.smoothed is not None:
         summary["sensor_estimates_smoothed"] = _sensor_estimates(run.smoothed.solution, 0)
+    installation = _installation_estimates(solution, -1)
+    if installation is not None:
+        summary["installation_estimates"] = installation
     if run.range_biases and mode == "tight":
         summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
     elif run.range_biases:

@@ -52,9 +52,9 @@ fn zero_rate_rows(
 /// is zero): v^b = Ĉᵀ v̂ + ω̂ × l in body axes, v^v = M v^b in vehicle
 /// axes with the boresight M = I − [μ̂×]. With Ĉᵀ = Cᵀ(I − [ψ×]),
 /// ω̂ − ω = −δb_g and μ̂ − μ = δμ the error is
-/// M (Ĉᵀ δv + Ĉᵀ [v̂×] ψ + [l×] δb_g) + [v^b×] δμ; the δμ columns only
-/// when the filter has the installation block (`mounting_state`: the index
-/// of μ_x).
+/// M (Ĉᵀ δv + Ĉᵀ [v̂×] ψ + [l×] δb_g) + [v^b×] δμ; the δμ_y, δμ_z columns
+/// only when the filter has the installation block (`mounting_state`: the
+/// index of μ_y; μ_x, a roll, is not a state).
 fn non_holonomic_rows(
     c_b_e: &Matrix3<f64>,
     velocity_ecef: &Vector3<f64>,
@@ -80,8 +80,8 @@ fn non_holonomic_rows(
             if gyro[(k, j)] != 0.0 {
                 h.push(GYRO_BIAS + j, gyro[(k, j)]);
             }
-            if let Some(first) = mounting_state {
-                h.push(first + j, mounting[(k, j)]);
+            if let (Some(first), 1..) = (mounting_state, j) {
+                h.push(first + j - 1, mounting[(k, j)]);
             }
         }
         (h, v_v[k])
@@ -199,19 +199,19 @@ mod tests {
         let w_hat = s.last_sample.angular_rate_b;
         let b_hat = s.gyro_bias_rad_s;
         let reading = Vector3::new(0.01, 0.02, -0.03);
-        let (mu_hat, mounting_state) = (Vector3::new(0.01, -0.03, 0.02), Some(BASE_STATES));
+        let (mu_hat, mounting_state) = (Vector3::new(0.0, -0.03, 0.02), Some(BASE_STATES));
         let nhc = non_holonomic_rows(&c_hat, &v_hat, &w_hat, &l, &mu_hat, mounting_state);
         let zaru = zero_rate_rows(&c_hat, &b_hat, &reading);
-        // The mounting columns sit where a 25-state filter has them.
-        for j in [0, 1, 2, 3, 4, 5, 12, 13, 14, 17, 18, 19] {
-            let mut x = SVector::<f64, { BASE_STATES + 3 }>::zeros();
+        // The mounting columns sit at 17 and 18 here.
+        for j in [0, 1, 2, 3, 4, 5, 12, 13, 14, 17, 18] {
+            let mut x = SVector::<f64, { BASE_STATES + 2 }>::zeros();
             x[j] = 1e-6;
             // Truth = estimate − error.
             let psi = Vector3::new(x[0], x[1], x[2]);
             let c = rotation_vector_to_dcm(&(-psi)) * c_hat;
             let v = v_hat - Vector3::new(x[3], x[4], x[5]);
             let db = Vector3::new(x[12], x[13], x[14]);
-            let mu = mu_hat - Vector3::new(x[17], x[18], x[19]);
+            let mu = mu_hat - Vector3::new(0.0, x[17], x[18]);
             let truth_nhc = non_holonomic_rows(&c, &v, &(w_hat + db), &l, &mu, None);
             for i in 0..2 {
                 let d = nhc[i].1 - truth_nhc[i].1;

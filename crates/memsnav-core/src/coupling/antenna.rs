@@ -19,6 +19,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::engine::FilterState;
+use super::motion_history::PastMotion;
 use crate::attitude::skew;
 use crate::filter::state::{
     Installation, Layout, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY,
@@ -63,12 +64,16 @@ pub(crate) struct AntennaPrediction {
     installation: Option<usize>,
     /// ∂δr_a/∂δl = Ĉ.
     position_lever_arm: Matrix3<f64>,
-    /// ∂δv_a/∂δl = Ĉ [ω̂×] − Ω_ie Ĉ.
+    /// ∂δv_a/∂δl = M(t − t̂_o) − Ω_ie Ĉ, M = Ĉ [ω̂×] (for the fix velocity
+    /// at t − t̂_o − L̂ in the second).
     velocity_lever_arm: Matrix3<f64>,
+    fix_velocity_lever_arm: Matrix3<f64>,
     /// v_a (∂δr_a/∂δt_o = −v_a).
     antenna_velocity_ecef: Vector3<f64>,
-    /// a (∂δv_a/∂δt_o = ∂δv_fix/∂δL = −a).
+    /// The antenna's acceleration at t − t̂_o, a + Ṁ l (∂δv_a/∂δt_o is its
+    /// negative), and at t − t̂_o − L̂ (∂δv_fix/∂δt_o = ∂δv_fix/∂δL).
     acceleration_ecef: Vector3<f64>,
+    fix_acceleration_ecef: Vector3<f64>,
 }
 
 impl AntennaPrediction {
@@ -81,12 +86,14 @@ impl AntennaPrediction {
             push_block(&mut row, w, first + LEVER_ARM, &self.position_lever_arm);
             row.push(first + TIME_OFFSET, -w.dot(&self.antenna_velocity_ecef));
         }
-        self.shifted(row, self.time_offset_s, || self.current_velocity_row(w))
+        self.shifted(row, self.time_offset_s, || {
+            self.current_velocity_row(w, &self.velocity_lever_arm)
+        })
     }
 
     /// The row of w · δv_a(t − t̂_o) = w · (δv_a − t̂_o δa − a δt_o).
     pub(crate) fn velocity_row(&self, w: &Vector3<f64>) -> SparseRow {
-        let mut row = self.current_velocity_row(w);
+        let mut row = self.current_velocity_row(w, &self.velocity_lever_arm);
         if let Some(first) = self.installation {
             row.push(first + TIME_OFFSET, -w.dot(&self.acceleration_ecef));
         }
@@ -95,9 +102,9 @@ impl AntennaPrediction {
 
     /// The row of w · δv_fix = w · (δv_a − (t̂_o + L̂) δa − a (δt_o + δL)).
     pub(crate) fn fix_velocity_row(&self, w: &Vector3<f64>) -> SparseRow {
-        let mut row = self.current_velocity_row(w);
+        let mut row = self.current_velocity_row(w, &self.fix_velocity_lever_arm);
         if let Some(first) = self.installation {
-            let a = -w.dot(&self.acceleration_ecef);
+            let a = -w.dot(&self.fix_acceleration_ecef);
             row.push(first + TIME_OFFSET, a);
             row.push(first + VELOCITY_LATENCY, a);
         }
@@ -115,8 +122,8 @@ impl AntennaPrediction {
         }
     }
 
-    /// The row of w · δv_a at the measurement's IMU time.
-    fn current_velocity_row(&self, w: &Vector3<f64>) -> SparseRow {
+    /// The row of w · δv_a, with the lever arm's columns `lever_arm`.
+    fn current_velocity_row(&self, w: &Vector3<f64>, lever_arm: &Matrix3<f64>) -> SparseRow {
         let mut row = block_row(
             w,
             VELOCITY,
@@ -126,7 +133,7 @@ impl AntennaPrediction {
             ],
         );
         if let Some(first) = self.installation {
-            push_block(&mut row, w, first + LEVER_ARM, &self.velocity_lever_arm);
+            push_block(&mut row, w, first + LEVER_ARM, lever_arm);
         }
         row
     }
@@ -181,12 +188,45 @@ impl<const N: usize> FilterState<N> {
         let velocity = self.nav.velocity_ecef + self.lever_arm_velocity();
         let a = self.acceleration_ecef();
         let (t_o, latency) = (install.time_offset_s, install.velocity_latency_s);
-        // x − 0·y is x: without an offset or latency the prediction is the
-        // antenna's at t, bit for bit.
+        // The antenna's velocity `shift` seconds ago (v̂ less the velocity
+        // change since, with the rotating term M l then), the lever arm's
+        // columns there and the antenna's acceleration then, a + Ṁ l;
+        // without a shift the velocity now, bit for bit as without the
+        // history (which a run's first instants lack too: v − shift·a).
+        let earlier = |shift: f64| {
+            let now = c * skew(&omega);
+            if shift == 0.0 {
+                let rate = self
+                    .motion_history
+                    .at(self.time_s)
+                    .map_or(Matrix3::zeros(), |p| p.rotation_rate);
+                return (velocity, now - omega_ie * c, a + rate * l);
+            }
+            let past = self
+                .motion_history
+                .at(self.time_s - shift)
+                .unwrap_or(PastMotion {
+                    rotation: now,
+                    rotation_rate: Matrix3::zeros(),
+                    velocity_change_since_ecef: shift * a,
+                    acceleration_ecef: a,
+                });
+            let m = past.rotation;
+            let v = self.nav.velocity_ecef - past.velocity_change_since_ecef + m * l
+                - EARTH_RATE_ECEF.cross(&cl);
+            (
+                v,
+                m - omega_ie * c,
+                past.acceleration_ecef + past.rotation_rate * l,
+            )
+        };
+        let (velocity_ecef, velocity_lever_arm, acceleration_ecef) = earlier(t_o);
+        let (fix_velocity_ecef, fix_velocity_lever_arm, fix_acceleration_ecef) =
+            earlier(t_o + latency);
         AntennaPrediction {
             position_ecef: self.nav.position_ecef + cl - t_o * velocity,
-            velocity_ecef: velocity - t_o * a,
-            fix_velocity_ecef: velocity - (t_o + latency) * a,
+            velocity_ecef,
+            fix_velocity_ecef,
             position_attitude: -skew(&cl),
             velocity_attitude: omega_ie * skew(&cl) - skew(&rotating),
             velocity_gyro_bias: c * skew(&l),
@@ -196,9 +236,11 @@ impl<const N: usize> FilterState<N> {
             latency_s: latency,
             installation: Layout::for_size::<N>().installation,
             position_lever_arm: c,
-            velocity_lever_arm: c * skew(&omega) - omega_ie * c,
+            velocity_lever_arm,
+            fix_velocity_lever_arm,
             antenna_velocity_ecef: velocity,
-            acceleration_ecef: a,
+            acceleration_ecef,
+            fix_acceleration_ecef,
         }
     }
 

@@ -1,13 +1,13 @@
 //! Initialisation from the first GNSS fix (tight) or position fix (loose)
 //! and a given or coarse attitude.
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use super::engine::{FilterState, InitialState};
 use super::loose::PositionFix;
 use super::records::{ResetKind, ResetRecord};
 use crate::attitude::{dcm_to_euler, euler_to_dcm};
-use crate::filter::state::{ACCEL_BIAS, ATTITUDE};
+use crate::filter::state::{Installation, Layout, ACCEL_BIAS, ATTITUDE, POSITION};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch};
 use crate::ins::ImuData;
@@ -225,7 +225,21 @@ impl<const N: usize> FilterState<N> {
         let change = (heading_rad - euler.z + std::f64::consts::PI)
             .rem_euclid(2.0 * std::f64::consts::PI)
             - std::f64::consts::PI;
+        let c_before = self.nav.c_b_e;
         self.nav.c_b_e = cne * euler_to_dcm(euler.x, euler.y, heading_rad);
+        // The fixes measured the antenna, r + C l: it stays where they put
+        // it, so the IMU moves by (C_before − C) l, and with lever-arm
+        // states the position error is the same change of variables,
+        // δr' = δr + (C_before − C) δl (P ← T P Tᵀ): what the fixes taught
+        // about the antenna, learnt with the wrong heading, is kept.
+        let turn = c_before - self.nav.c_b_e;
+        self.nav.position_ecef += turn * self.installation.lever_arm_b_m;
+        if let Some(first) = Layout::for_size::<N>().installation {
+            let mut t = SMatrix::<f64, N, N>::identity();
+            t.fixed_view_mut::<3, 3>(POSITION, first + Installation::LEVER_ARM)
+                .copy_from(&turn);
+            self.kf.p = t * self.kf.p * t.transpose();
+        }
         let down_ecef = cne * Vector3::new(0.0, 0.0, 1.0);
         self.kf
             .reset_component(ATTITUDE, &down_ecef, std_rad * std_rad);

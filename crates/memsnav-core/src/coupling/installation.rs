@@ -35,7 +35,8 @@ pub struct InstallationEstimate {
     pub time_offset_s: f64,
     /// The fixes' velocity at t is the antenna's at t − latency, s.
     pub velocity_latency_s: f64,
-    /// Boresight μ: vehicle axes = (I − [μ×]) body axes, rad.
+    /// Boresight μ: vehicle axes = (I − [μ×]) body axes, rad; its x
+    /// (roll) is always zero (see [`At`]: the states hold pitch and yaw).
     pub mounting_rad: Vector3<f64>,
 }
 
@@ -60,7 +61,6 @@ impl InstallationEstimate {
             l.z,
             self.time_offset_s,
             self.velocity_latency_s,
-            m.x,
             m.y,
             m.z,
         ]
@@ -73,7 +73,8 @@ impl InstallationEstimate {
                 lever_arm_b_m: self.lever_arm_b_m - d.fixed_rows::<3>(At::LEVER_ARM),
                 time_offset_s: self.time_offset_s - d[At::TIME_OFFSET],
                 velocity_latency_s: self.velocity_latency_s - d[At::VELOCITY_LATENCY],
-                mounting_rad: self.mounting_rad - d.fixed_rows::<3>(At::MOUNTING),
+                mounting_rad: self.mounting_rad
+                    - Vector3::new(0.0, d[At::MOUNTING], d[At::MOUNTING + 1]),
             },
             None => *self,
         }
@@ -89,7 +90,7 @@ pub struct InstallationUncertainty {
     pub time_offset_s: f64,
     /// Velocity latency, s.
     pub velocity_latency_s: f64,
-    /// Mounting boresight, rad, per axis.
+    /// Mounting boresight, rad, pitch and yaw.
     pub mounting_rad: f64,
 }
 
@@ -118,7 +119,6 @@ impl InstallationUncertainty {
             l,
             self.time_offset_s.powi(2),
             self.velocity_latency_s.powi(2),
-            m,
             m,
             m,
         ]

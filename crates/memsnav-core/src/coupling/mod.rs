@@ -66,6 +66,7 @@ mod init;
 mod installation;
 pub mod integrity;
 mod loose;
+mod motion_history;
 mod ned;
 mod records;
 mod run;

@@ -11,14 +11,14 @@
 //! | 16 | receiver clock drift δċ | m/s |
 //! | 17-19 | accelerometer scale-factor error s_a (optional) | 1 |
 //! | 20-22 | gyro scale-factor error s_g (optional) | 1 |
-//! | next 8 | installation (optional): lever arm (3, body axes, m), IMU time offset (s), GNSS velocity latency (s), mounting boresight (3, body axes, rad) | see [`Installation`] |
+//! | next 7 | installation (optional): lever arm (3, body axes, m), IMU time offset (s), GNSS velocity latency (s), mounting boresight pitch and yaw (rad) | see [`Installation`] |
 //! | last 12 | pseudorange bias of the satellite in each slot (optional) | m |
 //!
 //! The optional states are a compile-time extension selected by the size
 //! `N` alone ([`Layout::of`]): [`BASE_STATES`] (17), [`WITH_SCALE_FACTORS`]
 //! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
 //! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both), each
-//! also with the [`INSTALLATION_STATES`] (25, 31, 37, 43).
+//! also with the [`INSTALLATION_STATES`] (24, 30, 36, 42).
 //! Misalignments and nonlinearity are not states; the filters absorb them
 //! as noise shaped by the sensed motion ([`super::input_noise`]).
 
@@ -55,7 +55,7 @@ pub const WITH_RANGE_BIASES: usize = BASE_STATES + RANGE_BIAS_SLOTS;
 pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
 /// States of the installation block: how the IMU sits in the vehicle and
 /// relative to the antenna, estimated instead of assumed (issue 29).
-pub const INSTALLATION_STATES: usize = 8;
+pub const INSTALLATION_STATES: usize = 7;
 
 /// Offsets of the installation states inside their block. Each is an error
 /// (estimate − truth) of a constant:
@@ -65,8 +65,12 @@ pub const INSTALLATION_STATES: usize = 8;
 ///   `[imu] time_offset_s`), s;
 /// - velocity latency δL: the fixes' velocity given at t is the antenna's
 ///   at t − L, s;
-/// - mounting boresight δμ: the vehicle axes are (I − [μ×]) times the body
-///   axes (a small rotation left after the configured mounting), rad.
+/// - mounting boresight δμ = (0, δμ_y, δμ_z): the vehicle axes are
+///   (I − [μ×]) times the body axes (a small rotation left after the
+///   configured mounting), rad. Pitch and yaw only: the non-holonomic
+///   constraint that reveals them cannot see a roll about the forward axis
+///   (it leaves the body velocity (v, 0, 0) as it is), so the roll stays
+///   the configured one (Shin 2001 §4.3 likewise estimates two angles).
 pub struct Installation;
 
 impl Installation {
@@ -76,7 +80,7 @@ impl Installation {
     pub const TIME_OFFSET: usize = 3;
     /// GNSS velocity latency.
     pub const VELOCITY_LATENCY: usize = 4;
-    /// Mounting boresight, 3 states.
+    /// Mounting boresight pitch then yaw, 2 states.
     pub const MOUNTING: usize = 5;
 }
 
@@ -121,7 +125,7 @@ impl Layout {
         match Self::of(N) {
             Some(l) => l,
             None => {
-                panic!("the error state has 17, 23, 29 or 35 states, each + 8 installation states")
+                panic!("the error state has 17, 23, 29 or 35 states, each + 7 installation states")
             }
         }
     }
@@ -176,9 +180,8 @@ impl StateLayout {
         "lever_arm_z",
         "time_offset",
         "velocity_latency",
-        "mounting_x",
-        "mounting_y",
-        "mounting_z",
+        "mounting_pitch",
+        "mounting_yaw",
     ];
 
     const RANGE_BIAS_NAMES: [&'static str; RANGE_BIAS_SLOTS] = [

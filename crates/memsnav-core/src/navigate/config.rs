@@ -194,6 +194,12 @@ pub struct LogConfig {
     pub fix_error: RangeBiasModel,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,
+    /// The lever arm, IMU time offset, velocity latency and mounting
+    /// boresight as states (8 more; `coupling::InstallationEstimate`),
+    /// from the configured values with the priors of
+    /// `tuning.initial_std.installation`. Default off: the configured
+    /// values are taken as exact.
+    pub installation_states: bool,
     /// Also a fixed-interval smoothed solution (post-processing; see
     /// `filter::smoother`). Default off.
     pub smoother: bool,
@@ -244,6 +250,7 @@ impl LogConfig {
             fix_error_states: false,
             fix_error: FIX_ERROR_DEFAULT,
             scale_factor_states: false,
+            installation_states: false,
             smoother: false,
             alignment: AlignmentConfig::default(),
             alignment_overrides: StartOverrides::default(),

@@ -8,9 +8,7 @@ use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
 use super::standstill::Window;
 use crate::coupling::{self, FilterState, InitialState, PositionFix, Solution};
-use crate::filter::state::{
-    BASE_STATES, VELOCITY, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS,
-};
+use crate::filter::state::{Layout, VELOCITY};
 use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
 use crate::ins::ImuSample;
@@ -154,11 +152,16 @@ pub fn navigate_log(
     // The range-bias slots carry the pseudorange biases (tight) or the
     // fixes' position errors (loose).
     let slots = range_biases || (config.fix_error_states && !tight);
-    let (solution, smoothed, range_biases) = match (config.scale_factor_states, slots) {
-        (false, false) => run.filter::<BASE_STATES>()?,
-        (true, false) => run.filter::<WITH_SCALE_FACTORS>()?,
-        (false, true) => run.filter::<WITH_RANGE_BIASES>()?,
-        (true, true) => run.filter::<WITH_ALL>()?,
+    let (sf, inst) = (config.scale_factor_states, config.installation_states);
+    let (solution, smoothed, range_biases) = match (sf, inst, slots) {
+        (false, false, false) => run.filter::<{ Layout::size(false, false, false) }>()?,
+        (true, false, false) => run.filter::<{ Layout::size(true, false, false) }>()?,
+        (false, false, true) => run.filter::<{ Layout::size(false, false, true) }>()?,
+        (true, false, true) => run.filter::<{ Layout::size(true, false, true) }>()?,
+        (false, true, false) => run.filter::<{ Layout::size(false, true, false) }>()?,
+        (true, true, false) => run.filter::<{ Layout::size(true, true, false) }>()?,
+        (false, true, true) => run.filter::<{ Layout::size(false, true, true) }>()?,
+        (true, true, true) => run.filter::<{ Layout::size(true, true, true) }>()?,
     };
     let standstills = standstill_intervals(&solution);
     Ok(LogRun {

@@ -60,13 +60,17 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("time_offset_s", "added to the IMU time stamps, s"),
             ("mounting_rpy_deg", "list of [roll, pitch, yaw] sensor-to-body rotations, deg"),
             ("lever_arm_m", "IMU position from the vehicle reference point, body axes (forward, right, down), m"),
+            ("time_offset_std_s", "prior std of the time offset as a state ([filter] installation_states), s"),
+            ("mounting_std_deg", "prior std of the mounting boresight as a state, deg"),
         ],
     ),
     (
         "gnss",
         &[
             ("antenna_lever_arm_m", "antenna position from the vehicle reference point, body axes, m"),
+            ("antenna_lever_arm_std_m", "prior std of the antenna lever arm as a state ([filter] installation_states), m per axis"),
             ("velocity_latency_s", "latency of the fixes' velocity, s"),
+            ("velocity_latency_std_s", "prior std of the velocity latency as a state, s"),
             ("use_pseudorange_rate", "use Doppler (tight coupling)"),
             ("receiver_clock", "oscillator class: \"tcxo\", \"ocxo\", \"consumer\""),
             ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling)"),
@@ -93,6 +97,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("initial_attitude_std_deg", "[tilt, tilt, heading] stds after alignment, deg"),
             ("gate_probability", "probability of the chi-square test of each batch (1: no test)"),
             ("scale_factor_states", "accelerometer and gyro scale-factor states"),
+            ("installation_states", "the antenna lever arm, IMU time offset, velocity latency and mounting boresight as states"),
             ("accel_scale_factor_std_ppm", "accelerometer scale-factor prior std (the states' initial std, else the noise that absorbs them), ppm"),
             ("gyro_scale_factor_std_ppm", "gyro scale-factor prior std, ppm"),
             ("smoother", "also the fixed-interval smoothed solution (post-processing)"),
@@ -500,6 +505,14 @@ impl LogConfig {
                 self.mounting = mounting_matrix(&rad)?;
             }
             ("imu", "lever_arm_m") => p.imu_lever = Some(r.vector3()?),
+            ("imu", "time_offset_std_s") => i.installation.time_offset_s = r.positive()?,
+            ("imu", "mounting_std_deg") => {
+                i.installation.mounting_rad = deg(r.angle_std_deg()?);
+            }
+            ("gnss", "antenna_lever_arm_std_m") => i.installation.lever_arm_m = r.positive()?,
+            ("gnss", "velocity_latency_std_s") => {
+                i.installation.velocity_latency_s = r.positive()?;
+            }
             ("gnss", "antenna_lever_arm_m") => p.antenna_lever = Some(r.vector3()?),
             ("gnss", "velocity_latency_s") => t.velocity_latency_s = r.number()?,
             ("gnss", "use_pseudorange_rate") => t.use_pseudorange_rate = r.flag()?,
@@ -532,6 +545,7 @@ impl LogConfig {
                 | "gyro_scale_factor_std_ppm",
             ) => {}
             ("filter", "smoother") => self.smoother = r.flag()?,
+            ("filter", "installation_states") => self.installation_states = r.flag()?,
             (SPEC_TABLE, _) => {}
             ("filter", "accel_noise_density") => q.accel_white_psd = r.non_negative()?.powi(2),
             ("filter", "gyro_noise_density_deg") => {

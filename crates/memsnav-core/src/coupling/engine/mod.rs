@@ -7,12 +7,15 @@
 pub(crate) mod batch;
 mod range_bias;
 
+use std::ops::AddAssign;
+
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use super::installation::InstallationEstimate;
+use super::motion_history::MotionHistory;
 use super::records::{BatchRecord, MeasurementKind, MeasurementRecord, ResetRecord};
 use super::tuning::FilterTuning;
-use crate::attitude::rotation_vector_to_dcm;
+use crate::attitude::{rotation_vector_to_dcm, skew};
 use crate::filter::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
     GYRO_SCALE_FACTOR, INSTALLATION_STATES, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
@@ -103,6 +106,11 @@ pub struct FilterState<const N: usize> {
     /// The last corrected IMU sample propagated to (for the lever-arm
     /// velocity and the velocity latency).
     pub(crate) last_sample: ImuSample,
+    /// Time of the last propagation, s.
+    pub(crate) time_s: f64,
+    /// The last second of motion, for the antenna's velocity at an
+    /// earlier time ([`crate::coupling::motion_history`]).
+    pub(crate) motion_history: MotionHistory,
     /// Consecutive epochs whose batch of each kind failed (index: position
     /// of the kind in [`MeasurementKind::ALL`]).
     pub(crate) failed_epochs: [usize; MeasurementKind::ALL.len()],
@@ -156,6 +164,19 @@ impl<const N: usize> FilterState<N> {
             for (k, v) in s.installation.variances().into_iter().enumerate() {
                 p0[(first + k, first + k)] = v;
             }
+            // The start is the antenna's position less the assumed lever
+            // arm: δr = δr_a − Ĉ δl, so the position carries the lever
+            // arm's uncertainty and is correlated with it (without this a
+            // vertical lever-arm error, which no motion reveals, would be
+            // taken for the lever arm alone).
+            let c = init.nav.c_b_e;
+            let p_l = p0.fixed_view::<3, 3>(first, first).into_owned();
+            let cross = -c * p_l;
+            p0.fixed_view_mut::<3, 3>(POSITION, POSITION)
+                .add_assign(&(c * p_l * c.transpose()));
+            p0.fixed_view_mut::<3, 3>(POSITION, first).copy_from(&cross);
+            p0.fixed_view_mut::<3, 3>(first, POSITION)
+                .copy_from(&cross.transpose());
         }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
@@ -183,6 +204,8 @@ impl<const N: usize> FilterState<N> {
                 specific_force_b: Vector3::zeros(),
                 angular_rate_b: Vector3::zeros(),
             },
+            time_s: f64::NAN,
+            motion_history: MotionHistory::default(),
             failed_epochs: [0; MeasurementKind::ALL.len()],
             // Set at the first propagation (the run's first IMU time).
             last_accepted_s: [f64::NAN; MeasurementKind::ALL.len()],
@@ -227,9 +250,16 @@ impl<const N: usize> FilterState<N> {
         }
         let prev = self.corrected(prev_raw);
         let curr = self.corrected(curr_raw);
+        let velocity_before = self.nav.velocity_ecef;
         self.nav = ins::step(&self.nav, &prev, &curr, dt);
         self.clock_offset_m += self.clock_drift_m_s * dt;
         self.last_sample = curr;
+        self.time_s = time_s;
+        self.motion_history.record(
+            time_s,
+            self.nav.c_b_e * skew(&curr.angular_rate_b),
+            self.nav.velocity_ecef - velocity_before,
+        );
         let inputs = SystemInputs {
             c_b_e: self.nav.c_b_e,
             specific_force_b: curr.specific_force_b,
@@ -420,6 +450,7 @@ where
     let t = imu.time_s;
     let mut j = 0;
     state.last_sample = state.corrected(&imu.sample(0));
+    state.time_s = t[0];
     state.last_accepted_s = [t[0]; MeasurementKind::ALL.len()];
     while j < epochs.len() && epochs[j].time_s() <= t[0] + tolerance {
         update(state, j, &epochs[j])?;
