@@ -368,11 +368,15 @@ impl Inputs<'_> {
         let mut solution = hook.solution;
         solution.take_records(&mut state);
         coupling::diagnose(&mut solution, ("specific_force", &f), ("angular_rate", &w));
-        let smoothed = state
+        let mut smoothed = state
             .kf
             .take_smoother()
             .map(|mut log| solution.smoothed(&mut log))
             .transpose()?;
+        solution.to_gnss_time();
+        if let Some(s) = smoothed.as_mut() {
+            s.to_gnss_time();
+        }
         Ok((solution, smoothed, state.range_biases().collect()))
     }
 }

@@ -694,6 +694,19 @@ impl Solution {
         Ok(out)
     }
 
+    /// Puts each sample on the GNSS time scale when the filter estimated
+    /// an IMU time offset t̂_o: the INS at IMU time τ is the vehicle at
+    /// τ + t̂_o, so its position at τ is moved back along its velocity,
+    /// r − t̂_o v (first order: 5 mm at 0.1 s and 1 m/s²), and the time
+    /// stays τ (increasing, whatever the estimate does). Without the
+    /// installation states nothing changes.
+    pub(crate) fn to_gnss_time(&mut self) {
+        for (k, row) in self.installation.iter().enumerate() {
+            let t_o = row[crate::filter::state::Installation::TIME_OFFSET];
+            self.position_ecef[k] -= t_o * self.velocity_ecef[k];
+        }
+    }
+
     /// Moves the filter's records into the solution at the end of a run.
     pub(crate) fn take_records<const N: usize>(&mut self, s: &mut FilterState<N>) {
         let records = s.take_records();
