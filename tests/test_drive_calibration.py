@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from shared_data import shared_data
 
 import memsnav as mn
@@ -198,6 +198,7 @@ def test_drive_session_answers_first_and_its_figures_read(drive_run):
     assert DRIVE_RUN["figures"] and not any(DRIVE_RUN["figures"].values())
     report = (out / "report.html").read_text()
     assert ">-0<" not in report and "2.00002" not in report
+    assert not page_problems(report), page_problems(report)
 
 
 @pytest.mark.slow

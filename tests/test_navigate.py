@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import capture_figures, hidden_by_bounds
+from report_checks import capture_figures, hidden_by_bounds, page_problems
 
 import memsnav as mn
 from memsnav import cli
@@ -362,6 +362,7 @@ def test_report_answers_first_and_marks_what_its_figures_mean(tmp_path, monkeypa
     assert "outage 1 (1 s): at a standstill" in html
     assert "the 2 outages of 5 s in motion (of 3)" in html
     assert "NEES/dof" in html and "own GNSS input" not in html
+    assert not page_problems(html), page_problems(html)
 
 
 def test_the_scale_check_finds_errors_flattened_by_their_bounds():

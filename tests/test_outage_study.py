@@ -9,7 +9,7 @@ import math
 import matplotlib
 import numpy as np
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from scipy.stats import binom
 
 import memsnav as mn
@@ -231,6 +231,7 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
     html = (tmp_path / "out" / "report.html").read_text()
     assert html.index("The answer") < html.index("Error vs outage length")
     assert "Runs a percentile may hide" in html
+    assert not page_problems(html), page_problems(html)
     assert printed[5].startswith("report: ")
     config.write_text('[study]\ngrades = ["tactical"]\nrunz = 2\n')
     assert main(["study", "--config", str(config), "--quiet"]) == 1

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from shared_data import shared_data
 
 import memsnav as mn
@@ -217,6 +217,7 @@ def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
     html = (out / "report.html").read_text()
     assert "CRB σ" in html and "held out" in html and "+31 %" in html
     assert "Model selection" in html and "accelerometer nonlinearity" in html
+    assert not page_problems(html), page_problems(html)
     assert (out / "figures" / "session.png").is_file()
 
 

@@ -1,6 +1,6 @@
 """Numbers as a reader meets them in a report or on the terminal: plain
 digits where they fit ("1463", not "1.46e+03"), no "-0", a value and its
-standard error rounded to the same place ("171 ± 10", not "171 ± 1e+01"),
+standard error rounded to the same place ("170 ± 10", not "171 ± 1e+01"),
 an open interval written as such."""
 
 from __future__ import annotations
