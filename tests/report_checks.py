@@ -17,10 +17,9 @@ page as Chromium draws it.
 from __future__ import annotations
 
 import re
-
-import numpy as np
 from html.parser import HTMLParser
 
+import numpy as np
 from matplotlib.figure import Figure
 
 from memsnav.report.document import Report
