@@ -5,6 +5,7 @@ budget (½ b t² from an accelerometer bias, g ω t³ / 6 from a gyro bias)."""
 
 import json
 import math
+import re
 
 import matplotlib
 import numpy as np
@@ -211,6 +212,10 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
     )
     for row, grade in zip(printed[2:4], ("consumer", "tactical"), strict=True):
         assert row.split()[0] == grade
+        # Each printed p95 on the side of the requirement its value is on.
+        shown_p95 = [float(v) for v in re.findall(r"p95 (\S+) m", row)]
+        answers = [summary["answer"][str(n)][grade]["percentile_m"] for n in (0, 3)]
+        assert [v <= 2.0 for v in shown_p95] == [v <= 2.0 for v in answers], row
         for n in (0, 3):
             entry = summary["answer"][str(n)][grade]
             p95 = {

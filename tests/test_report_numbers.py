@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from memsnav.report.numbers import MISSING, interval, number, percent, plus_minus
+from memsnav.report.numbers import MISSING, beside, interval, number, percent, plus_minus
 
 
 @pytest.mark.parametrize(
@@ -85,3 +85,26 @@ def test_interval_and_percent():
     assert percent(0.989) == "99 %"
     assert percent(0.9891, 1) == "98.9 %"
     assert percent(None) == MISSING
+
+
+@pytest.mark.parametrize(
+    ("value", "limit", "text"),
+    [
+        (9.994908, 10.0, "9.99"),  # the study's p95 that printed "10" against 10 m
+        (10.04, 10.0, "10.04"),
+        (10.0, 10.0, "10"),
+        (9.4, 10.0, "9.4"),
+        (5.585, 10.0, "5.6"),
+        (9.9999999, 10.0, "10"),  # beyond six digits: as close as it prints
+        (0.0999, 0.1, "0.0999"),
+        (7.3, None, "7.3"),
+        (None, 10.0, MISSING),
+    ],
+)
+def test_beside_keeps_a_figure_on_its_side_of_the_limit(value, limit, text):
+    assert beside(value, limit) == text
+
+
+def test_an_interval_end_on_its_side_of_the_limit():
+    assert interval(7.006, 10.02, digits=2, limit=10.0) == "[7, 10.02]"
+    assert interval(7.006, None, digits=2, limit=10.0) == "[7, ∞)"
