@@ -5,6 +5,7 @@ the outputs and the command line."""
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from pathlib import Path
 
@@ -362,6 +363,21 @@ def test_report_answers_first_and_marks_what_its_figures_mean(tmp_path, monkeypa
     assert "outage 1 (1 s): at a standstill" in html
     assert "the 2 outages of 5 s in motion (of 3)" in html
     assert "NEES/dof" in html and "own GNSS input" not in html
+    assert not page_problems(html), page_problems(html)
+
+
+def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
+    """The walk schedules no outage: its answer says so, and no caption or
+    statistics row mentions outages it does not have (issue 28: the walk's
+    caption named red outage shading)."""
+    mn.navigate(_config(tmp_path, WALK), data_root=DATA, duration_s=20.0)
+    html = (tmp_path / "out" / "report.html").read_text()
+    answer = html[html.index("The answer") : html.index("The run")]
+    assert "no GNSS outage scheduled" in answer
+    captions = re.findall(r"<figcaption>(.*?)</figcaption>", html, re.S)
+    assert len(captions) == 2 and not any("outage" in c for c in captions), captions
+    statistics = html[html.index("Statistics") :]
+    assert "outage" not in statistics.lower()
     assert not page_problems(html), page_problems(html)
 
 
