@@ -198,6 +198,10 @@ def test_drive_session_answers_first_and_its_figures_read(drive_run):
     assert DRIVE_RUN["figures"] and not any(DRIVE_RUN["figures"].values())
     report = (out / "report.html").read_text()
     assert ">-0<" not in report and "2.00002" not in report
+    # Held parameters' reasons in plain numbers (was "sigma 1.332e0 would
+    # exceed its physical size 5.000e-2").
+    held = mn.load_calibration(out / "calibration.json").held
+    assert held and not any(re.search(r"\de[-+]?\d(?!\d)", why) for _, why in held), held
     assert not page_problems(report), page_problems(report)
 
 
