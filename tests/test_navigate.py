@@ -376,9 +376,18 @@ def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
     assert "no GNSS outage scheduled" in answer
     captions = re.findall(r"<figcaption>(.*?)</figcaption>", html, re.S)
     assert len(captions) == 2 and not any("outage" in c for c in captions), captions
-    statistics = html[html.index("Statistics") :]
+    statistics = html[html.index("Statistics") : html.index("Resets")]
     assert "outage" not in statistics.lower()
     assert not page_problems(html), page_problems(html)
+    # Each reset's change with its unit: the walk's heading reset in rad and °.
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    heading = [r for r in summary["resets"] if r["kind"] == "heading"]
+    assert heading and all(r["unit"] == "rad" for r in heading)
+    change = heading[0]["change"]
+    cell = re.search(r"<td>([-\d.]+) rad \(([-\d.]+)°\)</td>", html[html.index("Resets") :])
+    assert cell, "the resets table gives no heading change in rad and degrees"
+    assert float(cell.group(1)) == pytest.approx(change, rel=5e-3)
+    assert float(cell.group(2)) == pytest.approx(np.degrees(change), rel=5e-3)
 
 
 def test_the_scale_check_finds_errors_flattened_by_their_bounds():
