@@ -73,9 +73,9 @@ def _generated_rows(page: str, marker: str, first_cell: str) -> dict[str, list[s
 
 
 def _near(quoted: float, value: float) -> bool:
-    """``quoted`` is ``value`` rounded to the digits it is quoted with."""
-    text = f"{quoted}"
-    step = 10.0 ** -len(text.partition(".")[2]) if "." in text else 1.0
+    """``quoted`` is ``value`` rounded to the digits it is quoted with (as
+    far as the float tells them: "8" and "0.50" read as 8 and 0.5)."""
+    step = 1.0 if quoted.is_integer() else 10.0 ** -len(repr(quoted).partition(".")[2])
     return abs(quoted - value) <= 0.5 * step + 1e-9
 
 
@@ -137,3 +137,38 @@ def test_real_data_prose_reads_the_benchmark_tables():
         "docs/real-data.md", r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)"
     )
     assert len(walk) == 3 and _near(spread[0], min(walk)) and _near(spread[1], max(walk))
+
+
+def test_few_satellites_prose_reads_its_study_tables():
+    """docs/few-satellites.md's "How to read them" quotes the tables that
+    docs/few_satellites_study.py writes above it; each quote agrees."""
+    rows = _generated_rows("docs/few-satellites.md", "study", "")
+    kept = [float(rows[n][0].split(" ± ")[0]) for n in ("0", "1", "2", "3")]
+    quoted = _quoted("docs/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3")
+    assert list(quoted) == kept
+    share = _quoted("docs/few-satellites.md", r"hold the outage to (\d+) % of the total")
+    assert _near(share[0], 100.0 * kept[3] / kept[0])
+    at_end = [float(rows[imu][1]) for imu in ("paper MEMS", "consumer", "tactical")]
+    low, high = _quoted(
+        "docs/few-satellites.md", r"NEES/dof at the outage's end ([\d.]+)-([\d.]+),"
+    )
+    assert low <= min(at_end) and max(at_end) <= high and high - low <= 0.1 + 1e-9
+    page = (ROOT / "docs" / "few-satellites.md").read_text()
+    aided = re.findall(
+        r"^\| (paper MEMS|consumer|tactical) \| (\d+) \| [\d.]+ \| ([\d.]+) \|", page, re.M
+    )
+    raw_tilt = [
+        float(t) for imu, tau, t in aided if imu in ("paper MEMS", "consumer") and tau == "10"
+    ]
+    low, high = _quoted(
+        "docs/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
+    )
+    assert len(raw_tilt) == 2 and _near(low, min(raw_tilt)) and _near(high, max(raw_tilt))
+    clocks = re.findall(r"^\| (\d) \| (TCXO|OCXO) \|(.*)$", page, re.M)
+    cells = {
+        (n, clock): [c.strip() for c in rest.strip(" |").split("|")] for n, clock, rest in clocks
+    }
+    (ocxo,) = _quoted("docs/few-satellites.md", r"with an OCXO (\d+) m\)")
+    assert _near(ocxo, float(cells[("3", "OCXO")][2]))
+    first_alerts = _quoted("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
+    assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))
