@@ -58,7 +58,7 @@ def main() -> None:
         "```",
     ]
     for n in result.visible_satellites:
-        cells = table_cells(result, n, requirement.metric, requirement.percentile)
+        cells = table_cells(result, n, requirement)
         parts += [
             "",
             f"**{n} satellite{'' if n == 1 else 's'} kept**: median / p{requirement.percentile:g} "

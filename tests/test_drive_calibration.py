@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from shared_data import shared_data
 
 import memsnav as mn
@@ -198,6 +198,11 @@ def test_drive_session_answers_first_and_its_figures_read(drive_run):
     assert DRIVE_RUN["figures"] and not any(DRIVE_RUN["figures"].values())
     report = (out / "report.html").read_text()
     assert ">-0<" not in report and "2.00002" not in report
+    # Held parameters' reasons in plain numbers (was "sigma 1.332e0 would
+    # exceed its physical size 5.000e-2").
+    held = mn.load_calibration(out / "calibration.json").held
+    assert held and not any(re.search(r"\de[-+]?\d(?!\d)", why) for _, why in held), held
+    assert not page_problems(report), page_problems(report)
 
 
 @pytest.mark.slow
@@ -217,6 +222,47 @@ def test_readme_quotes_the_drive_calibration(drive_run):
     assert abs(after[1] - float(gain.group(3))) <= 0.005
     assert abs(raw["first"]["rms_horizontal_m"] - float(first.group(1))) <= 0.005
     assert abs(cal["first"]["rms_horizontal_m"] - float(first.group(2))) <= 0.005
+
+
+@pytest.mark.slow
+def test_the_guide_quotes_the_drive_calibration(drive_run):
+    """docs/calibration.md's table of the outages raw and calibrated
+    (RMS / max, forward and smoothed) and its range over the calibrations
+    drawn from the covariance, each within its rounding."""
+    _, out = drive_run
+    nav = json.loads((out / "calibration.json").read_text())["fit"]["navigation"]
+    page = (HERE.parent / "docs" / "calibration.md").read_text()
+    for label, key in (
+        ("after the calibration span (6, never seen by the fit)", "after_fit"),
+        ("inside the span (5)", "in_fit"),
+        ("the first one (at 35.5 s)", "first"),
+    ):
+        row = re.search(rf"^\| {re.escape(label)} \|(.*)$", page, re.M)
+        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        quoted = [tuple(map(float, c.split(" / "))) for c in row.group(1).strip(" |").split(" | ")]
+        runs = [
+            nav[imu][view][key] for view in ("forward", "smoothed") for imu in ("raw", "calibrated")
+        ]
+        assert len(quoted) == len(runs) == 4
+        for (rms, largest), run in zip(quoted, runs, strict=True):
+            assert abs(run["rms_horizontal_m"] - rms) <= 0.005, (label, run, rms)
+            assert abs(run["max_horizontal_m"] - largest) <= 0.005, (label, run, largest)
+    text = " ".join(page.split())
+    spread = re.search(
+        r"the forward RMS there spans ([\d.]+)-([\d.]+) m \(median ([\d.]+) m; (\w+) of the ten "
+        r"above the raw ([\d.]+) m\) and the smoothed ([\d.]+)-([\d.]+) m",
+        text,
+    )
+    assert spread, "docs/calibration.md no longer quotes the drawn calibrations"
+    forward = [d["forward"]["after_fit"]["rms_horizontal_m"] for d in nav["draws"]]
+    smoothed = [d["smoothed"]["after_fit"]["rms_horizontal_m"] for d in nav["draws"]]
+    raw = nav["raw"]["forward"]["after_fit"]["rms_horizontal_m"]
+    figures = [min(forward), max(forward), float(np.median(forward))]
+    figures += [raw, min(smoothed), max(smoothed)]
+    quoted = [float(spread.group(k)) for k in (1, 2, 3, 5, 6, 7)]
+    assert np.allclose(figures, quoted, atol=0.005), (figures, quoted)
+    above = sum(v > raw for v in forward)
+    assert spread.group(4) == ["none", "one", "two", "three", "four", "five"][above]
 
 
 @pytest.mark.slow

@@ -5,12 +5,13 @@ the outputs and the command line."""
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import capture_figures, hidden_by_bounds
+from report_checks import capture_figures, hidden_by_bounds, page_problems
 
 import memsnav as mn
 from memsnav import cli
@@ -362,6 +363,31 @@ def test_report_answers_first_and_marks_what_its_figures_mean(tmp_path, monkeypa
     assert "outage 1 (1 s): at a standstill" in html
     assert "the 2 outages of 5 s in motion (of 3)" in html
     assert "NEES/dof" in html and "own GNSS input" not in html
+    assert not page_problems(html), page_problems(html)
+
+
+def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
+    """The walk schedules no outage: its answer says so, and no caption or
+    statistics row mentions outages it does not have (issue 28: the walk's
+    caption named red outage shading)."""
+    mn.navigate(_config(tmp_path, WALK), data_root=DATA, duration_s=20.0)
+    html = (tmp_path / "out" / "report.html").read_text()
+    answer = html[html.index("The answer") : html.index("The run")]
+    assert "no GNSS outage scheduled" in answer
+    captions = re.findall(r"<figcaption>(.*?)</figcaption>", html, re.S)
+    assert len(captions) == 2 and not any("outage" in c for c in captions), captions
+    statistics = html[html.index("Statistics") : html.index("Resets")]
+    assert "outage" not in statistics.lower()
+    assert not page_problems(html), page_problems(html)
+    # Each reset's change with its unit: the walk's heading reset in rad and °.
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    heading = [r for r in summary["resets"] if r["kind"] == "heading"]
+    assert heading and all(r["unit"] == "rad" for r in heading)
+    change = heading[0]["change"]
+    cell = re.search(r"<td>([-\d.]+) rad \(([-\d.]+)°\)</td>", html[html.index("Resets") :])
+    assert cell, "the resets table gives no heading change in rad and degrees"
+    assert float(cell.group(1)) == pytest.approx(change, rel=5e-3)
+    assert float(cell.group(2)) == pytest.approx(np.degrees(change), rel=5e-3)
 
 
 def test_the_scale_check_finds_errors_flattened_by_their_bounds():

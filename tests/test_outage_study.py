@@ -5,11 +5,12 @@ budget (½ b t² from an accelerometer bias, g ω t³ / 6 from a gyro bias)."""
 
 import json
 import math
+import re
 
 import matplotlib
 import numpy as np
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from scipy.stats import binom
 
 import memsnav as mn
@@ -211,6 +212,10 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
     )
     for row, grade in zip(printed[2:4], ("consumer", "tactical"), strict=True):
         assert row.split()[0] == grade
+        # Each printed p95 on the side of the requirement its value is on.
+        shown_p95 = [float(v) for v in re.findall(r"p95 (\S+) m", row)]
+        answers = [summary["answer"][str(n)][grade]["percentile_m"] for n in (0, 3)]
+        assert [v <= 2.0 for v in shown_p95] == [v <= 2.0 for v in answers], row
         for n in (0, 3):
             entry = summary["answer"][str(n)][grade]
             p95 = {
@@ -231,6 +236,7 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
     html = (tmp_path / "out" / "report.html").read_text()
     assert html.index("The answer") < html.index("Error vs outage length")
     assert "Runs a percentile may hide" in html
+    assert not page_problems(html), page_problems(html)
     assert printed[5].startswith("report: ")
     config.write_text('[study]\ngrades = ["tactical"]\nrunz = 2\n')
     assert main(["study", "--config", str(config), "--quiet"]) == 1

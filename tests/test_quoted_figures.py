@@ -56,3 +56,119 @@ def test_readme_quotes_the_walk_by_precision(tmp_path):
     assert abs((north**2 + east**2) ** 0.5 - offset_m) <= 0.5
     assert abs(precise["aided"]["rms_horizontal_m"] - forward_m) <= 0.005
     assert abs(s["spp_errors_vs_truth_precision"]["rms_horizontal_m"] - spp_m) <= 0.005
+
+
+def _generated_rows(page: str, marker: str, first_cell: str) -> dict[str, list[str]]:
+    """The rows of the Markdown tables between ``page``'s ``marker``
+    markers (what its docs script last wrote) whose first cell starts with
+    ``first_cell``, by that cell."""
+    text = (ROOT / page).read_text()
+    block = text[text.index(f"<!-- {marker}:begin -->") : text.index(f"<!-- {marker}:end -->")]
+    rows = {}
+    for line in block.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if line.startswith("|") and cells[0].startswith(first_cell) and cells[0] not in rows:
+            rows[cells[0]] = cells[1:]
+    return rows
+
+
+def _near(quoted: float, value: float) -> bool:
+    """``quoted`` is ``value`` rounded to the digits it is quoted with (as
+    far as the float tells them: "8" and "0.50" read as 8 and 0.5)."""
+    step = 1.0 if quoted.is_integer() else 10.0 ** -len(repr(quoted).partition(".")[2])
+    return abs(quoted - value) <= 0.5 * step + 1e-9
+
+
+def test_real_data_prose_reads_the_benchmark_tables():
+    """docs/real-data.md's comparison with the published filter and its
+    "Reading them" quote the benchmark's tables, which
+    docs/real_data_benchmark.py writes: each quote agrees with the table
+    it is read from (no run: the script regenerates the tables, this keeps
+    the prose in step with them)."""
+    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    drive = _generated_rows("docs/real-data.md", "benchmark", "")
+    lengths = {"15": drive["15 s"], "30": drive["30 s"], "60": drive["60 s"]}
+    forward = {k: (float(v[2]), float(v[3])) for k, v in lengths.items()}
+    smoothed = {k: (float(v[5]), float(v[6])) for k, v in lengths.items()}
+    for length in lengths:
+        peer = re.search(
+            rf"\| {length} s \| [\d.]+ / [\d.]+ \| ([\d.]+) / ([\d.]+) \| "
+            r"[\d.]+ / [\d.]+ \| ([\d.]+) / ([\d.]+) \|",
+            page,
+        )
+        assert peer, f"the peer comparison has no {length} s row"
+        quoted = [float(v) for v in peer.groups()]
+        assert quoted == [*forward[length], *smoothed[length]], (length, quoted)
+    coast = _quoted(
+        "docs/real-data.md",
+        r"coasts: ([\d.]+) m RMS over 15 s, ([\d.]+) and ([\d.]+) m over 30 and 60 s",
+    )
+    assert all(_near(q, forward[k][0]) for q, k in zip(coast, forward, strict=True)), coast
+    bent = _quoted(
+        "docs/real-data.md",
+        r"bends each coast onto the fixes that end it: "
+        r"([\d.]+) m RMS, ([\d.]+) m at most over 15 s",
+    )
+    assert bent == smoothed["15"]
+    outages = [row for key, row in drive.items() if key.isdigit()]
+    rms = [float(row[1].split(" / ")[0]) for row in outages]
+    largest = max(float(row[1].split(" / ")[1]) for row in outages)
+    low, high, worst = _quoted(
+        "docs/real-data.md",
+        r"forward errors range from ([\d.]+) to ([\d.]+) m RMS \(outage \d+ has the ([\d.]+) m",
+    )
+    assert (low, high) == (min(rms), max(rms)) and _near(worst, largest)
+    under_rms, under_max, share = _quoted(
+        "docs/real-data.md",
+        r"smoother brings every one under ([\d.]+) m RMS and ([\d.]+) m maximum, with "
+        r"([\d.]+)-100 % of its errors inside its 3σ",
+    )
+    smoothed_rms, smoothed_max = zip(
+        *[map(float, row[2].split(" / ")) for row in outages], strict=True
+    )
+    assert max(smoothed_rms) < under_rms and max(smoothed_max) <= under_max
+    assert _near(share, 100.0 * min(float(row[3]) for row in outages))
+    walk = [
+        float(row[1])
+        for key, row in drive.items()
+        if key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
+    ]
+    spread = _quoted(
+        "docs/real-data.md", r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)"
+    )
+    assert len(walk) == 3 and _near(spread[0], min(walk)) and _near(spread[1], max(walk))
+
+
+def test_few_satellites_prose_reads_its_study_tables():
+    """docs/few-satellites.md's "How to read them" quotes the tables that
+    docs/few_satellites_study.py writes above it; each quote agrees."""
+    rows = _generated_rows("docs/few-satellites.md", "study", "")
+    kept = [float(rows[n][0].split(" ± ")[0]) for n in ("0", "1", "2", "3")]
+    quoted = _quoted("docs/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3")
+    assert list(quoted) == kept
+    share = _quoted("docs/few-satellites.md", r"hold the outage to (\d+) % of the total")
+    assert _near(share[0], 100.0 * kept[3] / kept[0])
+    at_end = [float(rows[imu][1]) for imu in ("paper MEMS", "consumer", "tactical")]
+    low, high = _quoted(
+        "docs/few-satellites.md", r"NEES/dof at the outage's end ([\d.]+)-([\d.]+),"
+    )
+    assert low <= min(at_end) and max(at_end) <= high and high - low <= 0.1 + 1e-9
+    page = (ROOT / "docs" / "few-satellites.md").read_text()
+    aided = re.findall(
+        r"^\| (paper MEMS|consumer|tactical) \| (\d+) \| [\d.]+ \| ([\d.]+) \|", page, re.M
+    )
+    raw_tilt = [
+        float(t) for imu, tau, t in aided if imu in ("paper MEMS", "consumer") and tau == "10"
+    ]
+    low, high = _quoted(
+        "docs/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
+    )
+    assert len(raw_tilt) == 2 and _near(low, min(raw_tilt)) and _near(high, max(raw_tilt))
+    clocks = re.findall(r"^\| (\d) \| (TCXO|OCXO) \|(.*)$", page, re.M)
+    cells = {
+        (n, clock): [c.strip() for c in rest.strip(" |").split("|")] for n, clock, rest in clocks
+    }
+    (ocxo,) = _quoted("docs/few-satellites.md", r"with an OCXO (\d+) m\)")
+    assert _near(ocxo, float(cells[("3", "OCXO")][2]))
+    first_alerts = _quoted("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
+    assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))

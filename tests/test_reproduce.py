@@ -20,7 +20,7 @@ from html.parser import HTMLParser
 
 import matplotlib.image
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from test_claims import recomputed
 
 import memsnav as mn
@@ -87,6 +87,11 @@ def test_the_terminal_answers_first_with_every_verdict(study):
 def test_no_figure_hides_its_data_behind_a_bound(study):
     assert sorted(RUN["figures"]) == FIGURES
     assert not any(RUN["figures"].values()), RUN["figures"]
+
+
+def test_no_table_runs_past_the_page(study):
+    problems = page_problems((study / "report.html").read_text())
+    assert not problems, problems
 
 
 def test_summary_json_has_the_documented_keys(study):

@@ -4,12 +4,13 @@ sessions with known parameters (recovery within σ, z-scores over seeds) are
 Rust tests: crates/memsnav-core/src/calibration/static_poses/tests.rs."""
 
 import json
+import re
 import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import capture_figures
+from report_checks import capture_figures, page_problems
 from shared_data import shared_data
 
 import memsnav as mn
@@ -217,6 +218,7 @@ def test_the_command_writes_the_file_and_the_report(tmp_path, capsys):
     html = (out / "report.html").read_text()
     assert "CRB σ" in html and "held out" in html and "+31 %" in html
     assert "Model selection" in html and "accelerometer nonlinearity" in html
+    assert not page_problems(html), page_problems(html)
     assert (out / "figures" / "session.png").is_file()
 
 
@@ -300,6 +302,26 @@ def test_the_full_xsens_session_meets_the_issue_figures(tmp_path, capsys, monkey
         assert fit[f"turn_rms_after_{subset}_deg"] <= 1.2
         assert fit[f"magnitude_rms_before_{subset}_m_s2"] > 0.5
         assert fit[f"turn_rms_before_{subset}_deg"] > 10.0
+    # docs/calibration.md's table of these figures, within its rounding.
+    page = (Path(__file__).parents[1] / "docs" / "calibration.md").read_text()
+    for label, key, scale in (
+        ("‖f‖ − g over the poses, RMS", "magnitude", 1e3),
+        ("gravity direction after a turn, RMS", "turn", 1.0),
+    ):
+        row = re.search(rf"^\| {re.escape(label)} \|(.*)$", page, re.M)
+        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        texts = re.findall(r"([\d.]+) ?(?:mm/s²|°)", row.group(1))[:4]
+        assert len(texts) == 4, row.group(0)
+        suffix = "m_s2" if key == "magnitude" else "deg"
+        for text, stage, subset in zip(
+            texts,
+            ("before", "before", "after", "after"),
+            ("fit", "held_out", "fit", "held_out"),
+            strict=True,
+        ):
+            run = fit[f"{key}_rms_{stage}_{subset}_{suffix}"] * scale
+            step = 10.0 ** -len(text.partition(".")[2])  # the quoted figure's last digit
+            assert abs(run - float(text)) <= 0.5 * step + 1e-9, (label, stage, subset, run, text)
 
 
 def test_warnings_are_python_warnings(excerpt):

@@ -199,12 +199,13 @@ def answer(result: OutageStudyResult, requirement: Requirement) -> dict[int, dic
     return out
 
 
-def _answer_cell(entry: dict[str, Any], percentile: float) -> str:
+def _answer_cell(entry: dict[str, Any], requirement: Requirement) -> str:
     met = entry["longest_met_s"]
-    figure = f"p{percentile:g} {fmt.number(entry['percentile_m'], 2)} m"
+    percentile = fmt.beside(entry["percentile_m"], requirement.max_error_m)
+    figure = f"p{requirement.percentile:g} {percentile} m"
     if entry["interval_m"] is not None:
         lower, upper = entry["interval_m"]
-        figure += " " + fmt.interval(lower, upper, digits=2)
+        figure += " " + fmt.interval(lower, upper, digits=2, limit=requirement.max_error_m)
     where = (
         f"{fmt.number(met, 4)} s"
         if met is not None
@@ -224,7 +225,7 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
     runs = summary["completed_runs"]
     counts = list(table)
     grades = list(table[counts[0]])
-    cells = [[_answer_cell(table[n][g], requirement.percentile) for n in counts] for g in grades]
+    cells = [[_answer_cell(table[n][g], requirement) for n in counts] for g in grades]
     width = max(len(g) for g in grades)
     column = max(len(c) for row in cells for c in row)
     header = (
@@ -300,11 +301,14 @@ def flags(result: OutageStudyResult, metric: str) -> list[str]:
 
 
 def table_cells(
-    result: OutageStudyResult, n: int, metric: str, percentile: float
+    result: OutageStudyResult, n: int, requirement: Requirement
 ) -> dict[str, list[str]]:
-    """Per grade, one cell per outage length: "median / percentile" of
-    ``metric`` over the runs, and in brackets the smoothed solution's
-    percentile of its largest error in the outage (when smoothed)."""
+    """Per grade, one cell per outage length: "median / percentile" of the
+    requirement's metric over the runs (the percentile on the side of the
+    requirement it is on: :func:`memsnav.report.numbers.beside`), and in
+    brackets the smoothed solution's percentile of its largest error in
+    the outage (when smoothed)."""
+    metric, percentile = requirement.metric, requirement.percentile
     out: dict[str, list[str]] = {}
     for grade in result.grades:
         row = []
@@ -312,7 +316,7 @@ def table_cells(
             values = result.per_run(grade, length, n, metric)
             cell = (
                 f"{fmt.number(np.percentile(values, 50.0), 2)} / "
-                f"{fmt.number(np.percentile(values, percentile), 2)}"
+                f"{fmt.beside(np.percentile(values, percentile), requirement.max_error_m)}"
             )
             if result.config["smooth"]:
                 smoothed = result.per_run(grade, length, n, metric.replace("_end", "_max"), True)
@@ -336,7 +340,7 @@ def _report(
         report.table(
             ["grade"] + [f"{n} satellite{'' if int(n) == 1 else 's'} kept" for n in counts],
             [
-                [grade] + [_answer_cell(table[n][grade], requirement.percentile) for n in counts]
+                [grade] + [_answer_cell(table[n][grade], requirement) for n in counts]
                 for grade in table[counts[0]]
             ],
         )
@@ -385,7 +389,7 @@ def _report(
     metric = METRIC_WORDS[requirement.metric]
     for n in result.visible_satellites:
         report.section(f"{n} satellite{'' if n == 1 else 's'} kept")
-        cells = table_cells(result, n, requirement.metric, requirement.percentile)
+        cells = table_cells(result, n, requirement)
         report.table(
             ["grade"] + [f"{fmt.number(length, 4)} s" for length in result.outage_lengths],
             [[grade, *row] for grade, row in cells.items()],

@@ -38,6 +38,7 @@ pub mod navigate;
 pub mod output;
 pub mod random;
 pub mod sensors;
+pub mod text;
 pub mod timing;
 pub mod trajectory;
 pub mod validate;

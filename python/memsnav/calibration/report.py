@@ -24,7 +24,7 @@ _FRAME = {
 
 
 def _rms_text(value: float | None, scale: float, unit: str) -> str:
-    return "—" if value is None else f"{value * scale:.3g} {unit}"
+    return "—" if value is None else f"{number(value * scale)} {unit}"
 
 
 def write_report(run: CalibrationRun, out: Path) -> Path:

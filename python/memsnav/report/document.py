@@ -8,6 +8,7 @@ import base64
 import csv
 import html
 import io
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -17,6 +18,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from memsnav._files import write_bytes, write_text
+from memsnav.report.numbers import number
 
 _STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto;
@@ -24,7 +26,9 @@ body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto;
 h1 { font-size: 1.8rem; } h2 { border-bottom: 1px solid #ddd; margin-top: 2.5rem; }
 figure { margin: 1.5rem 0; } figure img { max-width: 100%; }
 figcaption { font-size: 0.9rem; color: #555; }
-table { border-collapse: collapse; margin: 1rem 0; font-size: 0.9rem; }
+.table { overflow-x: auto; margin: 1rem 0; }
+table { border-collapse: collapse; font-size: 0.9rem; }
+td.num { white-space: nowrap; }
 th, td { border: 1px solid #ccc; padding: 0.3rem 0.6rem; text-align: left; }
 th { background: #f4f4f4; } .ok { color: #1a7f37; } .no { color: #b42318; }
 .partly { color: #9a6700; } .none { color: #57606a; }
@@ -86,11 +90,16 @@ class Report:
         self._body.append(fragment)
 
     def table(self, header: Sequence[str], rows: Sequence[Sequence[object]]) -> None:
+        """A table in a container that scrolls sideways: a table wider than
+        the text column scrolls within it rather than running past the page
+        (tests/report_checks.py checks every report for both). A number
+        never breaks across lines ("6.42e-" over "05")."""
         head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
-        body = "".join(
-            "<tr>" + "".join(f"<td>{_cell(v)}</td>" for v in row) + "</tr>" for row in rows
+        body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in rows)
+        self._body.append(
+            f'<div class="table"><table><thead><tr>{head}</tr></thead><tbody>{body}'
+            "</tbody></table></div>"
         )
-        self._body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>")
 
     def figure(self, name: str, fig: Figure, caption: str) -> None:
         """Adds ``fig`` (saved as ``name``.png/.svg/.csv) with a caption."""
@@ -148,12 +157,21 @@ class Verdict(str):
 _VERDICT_CLASSES = {"holds": "ok", "partly": "partly", "does not hold": "no"}
 
 
+_NUMERIC = re.compile(r"[-+−±()\[\]\d.,eE%∞/ ]*\d[-+−±()\[\]\d.,eE%∞/ ]*")
+"""A cell that holds only numbers: "(5.9 ± 0.1)e-05", "1.86 / 11.94", "[2.5, ∞)"."""
+
+
 def _cell(value: object) -> str:
+    """The ``<td>`` of ``value``: a verdict coloured, a bool as yes / no, a
+    float as :func:`memsnav.report.numbers.number` writes it, numbers kept
+    on one line."""
     if isinstance(value, Verdict):
         css = _VERDICT_CLASSES.get(str(value), "none")
-        return f'<span class="{css}">{html.escape(str(value))}</span>'
+        return f'<td><span class="{css}">{html.escape(str(value))}</span></td>'
     if isinstance(value, bool):
-        return '<span class="ok">yes</span>' if value else '<span class="no">no</span>'
-    if isinstance(value, float):
-        return f"{value:.3g}"
-    return html.escape(str(value))
+        return f'<td><span class="{"ok" if value else "no"}">{"yes" if value else "no"}</span></td>'
+    text = number(value) if isinstance(value, float) else str(value)
+    numeric = isinstance(value, int | float) or _NUMERIC.fullmatch(text) is not None
+    return (
+        f'<td class="num">{html.escape(text)}</td>' if numeric else f"<td>{html.escape(text)}</td>"
+    )

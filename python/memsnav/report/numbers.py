@@ -1,6 +1,6 @@
 """Numbers as a reader meets them in a report or on the terminal: plain
 digits where they fit ("1463", not "1.46e+03"), no "-0", a value and its
-standard error rounded to the same place ("171 ± 10", not "171 ± 1e+01"),
+standard error rounded to the same place ("170 ± 10", not "171 ± 1e+01"),
 an open interval written as such."""
 
 from __future__ import annotations
@@ -37,6 +37,19 @@ def number(value: Any, digits: int = 3) -> str:
     return "0" if float(text) == 0 else text + exponent
 
 
+def beside(value: Any, limit: Any, digits: int = 2) -> str:
+    """``value`` as :func:`number` writes it, with more digits (up to six)
+    where fewer would print it equal to ``limit`` or on its other side: a
+    p95 of 9.995 m against a 10 m requirement reads "9.995", not "10"."""
+    text = number(value, digits)
+    if not (_finite(value) and _finite(limit)) or value == limit:
+        return text
+    while digits < 6 and (float(text) - limit) * (value - limit) <= 0:
+        digits += 1
+        text = number(value, digits)
+    return text
+
+
 def plus_minus(value: Any, standard_error: Any, digits: int = 3) -> str:
     """``value ± standard_error``, the error to one significant digit and the
     value rounded to the same decimal place ("0.051 ± 0.006", "170 ± 10");
@@ -61,10 +74,11 @@ def plus_minus(value: Any, standard_error: Any, digits: int = 3) -> str:
     return f"({value / scale:.{decimals}f} ± {error / scale:.{decimals}f})e{magnitude:+03d}"
 
 
-def interval(lower: Any, upper: Any, digits: int = 3) -> str:
-    """A confidence interval "[a, b]", an open end as "∞" ("[7.5, ∞)")."""
-    low = number(lower, digits) if _finite(lower) else "−∞"
-    high = number(upper, digits) if _finite(upper) else "∞"
+def interval(lower: Any, upper: Any, digits: int = 3, limit: Any = None) -> str:
+    """A confidence interval "[a, b]", an open end as "∞" ("[7.5, ∞)");
+    each end on its side of ``limit`` when one is given (:func:`beside`)."""
+    low = beside(lower, limit, digits) if _finite(lower) else "−∞"
+    high = beside(upper, limit, digits) if _finite(upper) else "∞"
     return f"{'[' if _finite(lower) else '('}{low}, {high}{']' if _finite(upper) else ')'}"
 
 

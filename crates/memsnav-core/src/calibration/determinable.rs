@@ -42,6 +42,7 @@
 use nalgebra::DMatrix;
 
 use super::least_squares;
+use crate::text::number;
 
 /// What a calibration estimates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -144,8 +145,10 @@ pub fn next_uncertain(
         (
             k,
             format!(
-                "{}'s sigma {:.3e} would exceed its physical size {:.3e}",
-                names[k], std[k], scale[k]
+                "{}'s sigma {} would exceed its physical size {}",
+                names[k],
+                number(std[k], 3),
+                number(scale[k], 3)
             ),
         )
     })
@@ -164,9 +167,11 @@ pub fn uncertainty_warnings(
     for k in 0..names.len() {
         if !held[k] && std[k] > scale[k] {
             warnings.push(format!(
-                "{what} {}: sigma {:.3e} exceeds its scale {:.3e} (prior sigma or physical size): \
+                "{what} {}: sigma {} exceeds its scale {} (prior sigma or physical size): \
                  the data hardly determine it",
-                names[k], std[k], scale[k]
+                names[k],
+                number(std[k], 3),
+                number(scale[k], 3)
             ));
         }
     }

@@ -34,6 +34,7 @@
 
 use super::records::{BatchRecord, MeasurementKind, RunRecords};
 use crate::filter::chi_square::chi_square_quantile;
+use crate::text::number;
 
 /// Length of the windows the innovations are summed over, s.
 pub const WINDOW_S: f64 = 30.0;
@@ -147,8 +148,9 @@ impl IntegrityAlert {
                 total,
                 median_ratio,
             } => format!(
-                "the filter diverged from its GNSS aiding: {rejected} of {total} GNSS batches ({:.0} %) failed their chi-square gate between t = {first_s:.1} s and {last_s:.1} s (median NIS {median_ratio:.3e} times the gate): the solution and its covariance are not trustworthy; check the GNSS input (offsets, outliers, units) and the IMU units",
-                100.0 * rejected as f64 / total as f64
+                "the filter diverged from its GNSS aiding: {rejected} of {total} GNSS batches ({:.0} %) failed their chi-square gate between t = {first_s:.1} s and {last_s:.1} s (median NIS {} times the gate): the solution and its covariance are not trustworthy; check the GNSS input (offsets, outliers, units) and the IMU units",
+                100.0 * rejected as f64 / total as f64,
+                number(median_ratio, 3)
             ),
             IntegrityAlert::InconsistentInnovations {
                 kind,
@@ -170,8 +172,9 @@ impl IntegrityAlert {
                 ratio,
                 count,
             } => format!(
-                "{count} GNSS batches were applied although their NIS was beyond the chi-square quantile of {OUTLIER_PROBABILITY} (the first, {} at t = {time_s:.1} s, {ratio:.3e} times it): the gate let them through (gate_probability of 1, or above that quantile), so outliers moved the solution, which is not trustworthy; keep the gate on",
-                kind.name()
+                "{count} GNSS batches were applied although their NIS was beyond the chi-square quantile of {OUTLIER_PROBABILITY} (the first, {} at t = {time_s:.1} s, {} times it): the gate let them through (gate_probability of 1, or above that quantile), so outliers moved the solution, which is not trustworthy; keep the gate on",
+                kind.name(),
+                number(ratio, 3)
             ),
         }
     }

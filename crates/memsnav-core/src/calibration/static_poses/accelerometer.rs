@@ -17,6 +17,7 @@ use super::solver::Fit;
 use crate::calibration::determinable::{physical_size, worst_uncertain, UNDETERMINED_CONDITION};
 use crate::calibration::information::{aicc, subsets, Candidate, ModelSelection};
 use crate::sensors::AccelerometerModel;
+use crate::text::number;
 use crate::{Error, Result};
 
 /// The fitted accelerometer.
@@ -185,8 +186,9 @@ fn nonlinearity_to_hold(fit: &Fit, free: &[usize]) -> Option<(usize, String)> {
             (
                 k,
                 format!(
-                    "its sigma {:.3e} would exceed its physical size {:.3e}",
-                    std[k], scale[k]
+                    "its sigma {} would exceed its physical size {}",
+                    number(std[k], 3),
+                    number(scale[k], 3)
                 ),
             )
         })

@@ -21,6 +21,7 @@ use crate::calibration::determinable::{physical_size, UNDETERMINED_CONDITION};
 use crate::calibration::information::{aicc, subsets, Candidate, ModelSelection};
 use crate::calibration::{gyroscope_parameter_names, ACCELEROMETER_AXES};
 use crate::sensors::{GyroscopeModel, NoiseModel};
+use crate::text::number;
 use crate::{Error, Result};
 
 /// The fitted gyroscope.
@@ -119,7 +120,10 @@ pub fn fit(
                     held,
                     &names_g,
                     l,
-                    &format!("its sigma {sd:.3e} would exceed its physical size 1e-3"),
+                    &format!(
+                        "its sigma {} would exceed its physical size 0.001",
+                        number(sd, 3)
+                    ),
                 );
             }
             _ => break (rest_fit, t_fit, t),
