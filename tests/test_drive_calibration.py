@@ -207,17 +207,18 @@ def test_drive_session_answers_first_and_its_figures_read(drive_run):
 
 @pytest.mark.slow
 def test_readme_quotes_the_drive_calibration(drive_run):
-    """ "drops by 16 % (1.86 → 1.57 m RMS), while the first outage [...] gets
-    slightly worse (1.56 → 1.61 m)": within their rounding."""
+    """ "changes by +8 % (1.68 → 1.81 m RMS, [...]), and the first outage
+    [...] gets slightly worse (1.45 → 1.53 m)": within their rounding."""
     _, out = drive_run
     text = " ".join((HERE.parent / "README.md").read_text().split())
-    gain = re.search(r"drops by (\d+) % \(([\d.]+) → ([\d.]+) m RMS\)", text)
+    gain = re.search(r"changes by ([+−-]?\d+) % \(([\d.]+) → ([\d.]+) m RMS", text)
     first = re.search(r"gets slightly worse \(([\d.]+) → ([\d.]+) m\)", text)
     assert gain and first, "the README no longer quotes the drive calibration"
     forward = json.loads((out / "calibration.json").read_text())["fit"]["navigation"]
     raw, cal = forward["raw"]["forward"], forward["calibrated"]["forward"]
     after = raw["after_fit"]["rms_horizontal_m"], cal["after_fit"]["rms_horizontal_m"]
-    assert abs(100 * (1 - after[1] / after[0]) - float(gain.group(1))) <= 0.5
+    change = float(gain.group(1).replace("−", "-"))
+    assert abs(100 * (after[1] / after[0] - 1) - change) <= 0.5
     assert abs(after[0] - float(gain.group(2))) <= 0.005
     assert abs(after[1] - float(gain.group(3))) <= 0.005
     assert abs(raw["first"]["rms_horizontal_m"] - float(first.group(1))) <= 0.005
@@ -262,7 +263,8 @@ def test_the_guide_quotes_the_drive_calibration(drive_run):
     quoted = [float(spread.group(k)) for k in (1, 2, 3, 5, 6, 7)]
     assert np.allclose(figures, quoted, atol=0.005), (figures, quoted)
     above = sum(v > raw for v in forward)
-    assert spread.group(4) == ["none", "one", "two", "three", "four", "five"][above]
+    words = ["none", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "all"]
+    assert spread.group(4) == words[above]
 
 
 @pytest.mark.slow
@@ -281,14 +283,15 @@ def test_drive_session_end_to_end(drive_run):
     raw_after = nav["raw"]["forward"]["after_fit"]
     cal_after = nav["calibrated"]["forward"]["after_fit"]
     assert raw_after["outages"] == cal_after["outages"] >= 4
-    # The paper's question on real data, on outages the fit never saw, and
-    # for the typical calibration drawn from its covariance (the median
-    # draw; a few of ten draws do worse than raw: docs/calibration.md).
-    assert cal_after["rms_horizontal_m"] < raw_after["rms_horizontal_m"]
+    # The paper's question on real data, on outages the fit never saw: the
+    # calibration's effect, gain or loss, is within what its own
+    # uncertainty explains (the raw run and the calibrated one both inside
+    # the range of ten calibrations drawn from its covariance; since issue
+    # 29 the raw filter leaves it nothing to gain: docs/calibration.md).
     drawn = [d["forward"]["after_fit"]["rms_horizontal_m"] for d in nav["draws"]]
     assert len(drawn) == 10
-    assert np.median(drawn) < raw_after["rms_horizontal_m"]
     assert min(drawn) < cal_after["rms_horizontal_m"] < max(drawn)
+    assert min(drawn) < raw_after["rms_horizontal_m"] < max(drawn)
 
 
 @pytest.mark.slow
