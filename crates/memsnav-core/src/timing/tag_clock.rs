@@ -99,10 +99,12 @@ fn arrival_lags(log: &ImuLog, tag: &TimeTag, line_ends: LineEnds) -> Vec<(usize,
                 end += log.line[k] as u64 - u64::from(newline_at >= log.file_bytes);
             }
             let arrival = tag.arrival_gps_time(end.checked_sub(1)?)?;
+            // The line's own stamp: for an increment log the samples'
+            // times are the middles of the intervals the lines close.
             Some((
                 k,
-                log.time_s[k],
-                arrival - tag.start_gps_time_s - log.time_s[k],
+                log.line_time_s[k],
+                arrival - tag.start_gps_time_s - log.line_time_s[k],
             ))
         })
         .collect()
@@ -115,6 +117,12 @@ pub fn tag_clock(log: &ImuLog, tag: &TimeTag, line_ends: Option<LineEnds>) -> Re
     crate::validate::same_length(
         "imu.line_end_offset",
         log.line_end_offset.len(),
+        "imu.time",
+        log.time_s.len(),
+    )?;
+    crate::validate::same_length(
+        "imu.line_time",
+        log.line_time_s.len(),
         "imu.time",
         log.time_s.len(),
     )?;
