@@ -371,8 +371,10 @@ impl ImuCsvLayout {
 
     /// The index of each quantity and the fields of a line, for a file
     /// whose header line (used by [`ImuColumns::Header`] only) is
-    /// `header`; an error names the missing, repeated or unknown names.
-    fn resolve(&self, header: Option<&str>) -> Result<Resolved> {
+    /// `header`; an error names the missing, repeated or unknown names (a
+    /// header without them: the `file` and its line).
+    fn resolve(&self, header: Option<&str>, file: &str) -> Result<Resolved> {
+        let header_line = self.header_lines + 1;
         let distinct = |indices: &[usize; 7], what: &dyn Fn(usize) -> String| -> Result<()> {
             for (i, a) in indices.iter().enumerate() {
                 if let Some(j) = indices[..i].iter().position(|b| b == a) {
@@ -443,9 +445,10 @@ impl ImuCsvLayout {
             ImuColumns::Header(pairs) => {
                 let wanted = Self::placed(pairs)?;
                 let header = header.ok_or_else(|| {
-                    Error::invalid(
-                        "columns",
-                        "columns by header name need a header line: the file has none after header_lines",
+                    parse_error(
+                        file,
+                        header_line,
+                        "columns by header name need a header line here (after header_lines): the file ends before it",
                     )
                 })?;
                 let names: Vec<&str> = header.split(',').map(str::trim).collect();
@@ -457,18 +460,20 @@ impl ImuCsvLayout {
                         let hint = known_keys::closest(w, &listed)
                             .map(|k| format!(" (did you mean {k:?}?)"))
                             .unwrap_or_default();
-                        return Err(Error::invalid(
-                            "columns",
+                        return Err(parse_error(
+                            file,
+                            header_line,
                             format!(
-                                "{}: the header has no column {w:?}{hint}; its columns are {listed:?}",
+                                "columns.{}: the header has no column {w:?}{hint}; its columns are {listed:?}",
                                 IMU_COLUMNS[k]
                             ),
                         ));
                     };
                     if at.next().is_some() {
-                        return Err(Error::invalid(
-                            "columns",
-                            format!("{}: the header names {w:?} twice", IMU_COLUMNS[k]),
+                        return Err(parse_error(
+                            file,
+                            header_line,
+                            format!("columns.{}: the header names {w:?} twice", IMU_COLUMNS[k]),
                         ));
                     }
                     indices[k] = i;
@@ -698,7 +703,7 @@ pub fn parse_imu_csv(bytes: &[u8], file: &str, layout: &ImuCsvLayout) -> Result<
         let k = layout.header_lines;
         String::from_utf8_lossy(&bytes[line_start(k)..newlines[k]]).into_owned()
     });
-    let resolved = layout.resolve(header.as_deref())?;
+    let resolved = layout.resolve(header.as_deref(), file)?;
     let mut warnings = Vec::new();
     // The data: whole lines from `first_line` (0-based) to the last newline.
     let first_line = layout.header_lines
@@ -1136,7 +1141,7 @@ mod tests {
         let e = parse_imu_csv(text.as_bytes(), "x.csv", &bad).unwrap_err();
         assert!(
             e.to_string()
-                .contains("t: the header has no column \"tme\" (did you mean \"time\"?)"),
+                .starts_with("x.csv:2: columns.t: the header has no column \"tme\" (did you mean \"time\"?)"),
             "{e}"
         );
         // Rates and increments mixed: refused.
