@@ -306,3 +306,78 @@ def test_foreign_raw_table_runs_to_the_native_solution(logs):
     want = mn.navigate_log(imu[:, 0], imu[:, 1:4], imu[:, 4:7], gnss)
     assert _largest_difference(got, want) <= 1e-9
     assert not math.isnan(float(np.asarray(got.position_ecef)[-1, 0]))
+
+
+@pytest.mark.parametrize(
+    ("layout", "message"),
+    [
+        # An unknown key of [imu]: named, with the key meant (the core's
+        # known_keys rule).
+        (FOREIGN_IMU.replace("axes =", "axis ="), r"unknown key\(s\) \['axis'\] in \[imu\] "),
+        (FOREIGN_IMU.replace("axes =", "axis ="), r"'axis': did you mean 'axes'\?"),
+        # An unknown quantity in [imu.columns].
+        (FOREIGN_IMU.replace("gz =", "gzz ="), r'unknown key "gzz" \(did you mean "gz"\?\)'),
+        # A header name the file lacks: the file and its header line.
+        (
+            FOREIGN_IMU.replace('"dang_up"', '"dang_upp"'),
+            r'imu_increments.csv:3: columns.gz: the header has no column "dang_upp" '
+            r'\(did you mean "dang_up"\?\)',
+        ),
+        (FOREIGN_IMU.replace('"FLU"', '"FUL"'), r'imu.axes: unknown axis convention "FUL"'),
+        (
+            FOREIGN_IMU.replace('"FLU"', "[[1, 0, 0], [0, 1, 0], [0, 0, 2]]"),
+            r"imu.axes: is not a rotation matrix",
+        ),
+        (FOREIGN_IMU.replace('"deg"', '"deg/s"'), r"imu.accel_unit, gyro_unit: the accelerometer"),
+        (FOREIGN_IMU.replace("gx = ", "gx = 3 #"), r"imu.columns: give every quantity by header"),
+    ],
+)
+def test_imu_layout_errors_name_the_key(logs, layout, message):
+    folder = logs["folder"]
+    cfg = folder / "bad.toml"
+    cfg.write_text(
+        COMMON.format(
+            name="bad",
+            out=folder / "bad",
+            imu=logs["foreign_imu"],
+            imu_layout=layout,
+            gnss=f'mode = "loose"\npos = "{logs["pos"]}"',
+        )
+    )
+    with pytest.raises(ValueError, match=message):
+        mn.navigate(cfg)
+
+
+def test_increments_by_column_number_and_rotation_matrix(logs, tmp_path):
+    """The same increments read by 1-based column numbers with the FLU
+    axes given as a matrix: the same samples."""
+    by_name = mn.read_imu_csv(
+        logs["foreign_imu"],
+        {"t": "gps_time_s", "ax": "dvel_fwd", "ay": "dvel_left", "az": "dvel_up"}
+        | {"gx": "dang_fwd", "gy": "dang_left", "gz": "dang_up"},
+        accel_unit="g*s",
+        gyro_unit="deg",
+        time_unit="s",
+        axes="FLU",
+        header_lines=2,
+    )
+    by_number = mn.read_imu_csv(
+        logs["foreign_imu"],
+        {"t": 1, "gz": 2, "ax": 3, "gx": 4, "az": 5, "gy": 6, "ay": 7},
+        accel_unit="g*s",
+        gyro_unit="deg",
+        time_unit="s",
+        axes=np.diag([1.0, -1.0, -1.0]),
+        header_lines=3,
+    )
+    np.testing.assert_array_equal(by_number.time, by_name.time)
+    np.testing.assert_array_equal(by_number.angular_rate, by_name.angular_rate)
+    np.testing.assert_array_equal(by_number.specific_force, by_name.specific_force)
+    with pytest.raises(ValueError, match=r'columns: "gz" = 0: columns are numbered from 1'):
+        mn.read_imu_csv(
+            logs["foreign_imu"],
+            {"t": 1, "gz": 0, "ax": 3, "gx": 4, "az": 5, "gy": 6, "ay": 7},
+            accel_unit="g*s",
+            gyro_unit="deg",
+            time_unit="s",
+        )
