@@ -19,10 +19,10 @@ use memsnav_core::gnss::{
     check_measurement, parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar,
 };
 use memsnav_core::logs::{
-    parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea, parse_pos,
-    parse_time_tag, axes_from_name, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, ImuLog,
-    PosSolution, TableStds, TimeUnit,
-    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+    axes_from_name, parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea,
+    parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, ImuLog, PosSolution,
+    TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S,
+    POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 

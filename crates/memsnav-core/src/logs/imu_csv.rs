@@ -327,7 +327,10 @@ impl ImuCsvLayout {
 
     /// Whether the log holds increments (its units say so; both must).
     pub fn increments(&self) -> Result<bool> {
-        let (a, g) = (self.accel_unit.is_increment(), self.gyro_unit.is_increment());
+        let (a, g) = (
+            self.accel_unit.is_increment(),
+            self.gyro_unit.is_increment(),
+        );
         if a != g {
             return Err(Error::invalid(
                 "accel_unit, gyro_unit",
@@ -359,14 +362,13 @@ impl ImuCsvLayout {
                 ));
             };
             if found.next().is_some() {
-                return Err(Error::invalid(
-                    "columns",
-                    format!("{q:?} is given twice"),
-                ));
+                return Err(Error::invalid("columns", format!("{q:?} is given twice")));
             }
             out.push(v.clone());
         }
-        Ok(out.try_into().unwrap_or_else(|_| unreachable!("seven quantities")))
+        Ok(out
+            .try_into()
+            .unwrap_or_else(|_| unreachable!("seven quantities")))
     }
 
     /// The index of each quantity and the fields of a line, for a file
@@ -427,10 +429,7 @@ impl ImuCsvLayout {
                 if let Some(q) = (0..7).find(|&k| numbers[k] == 0) {
                     return Err(Error::invalid(
                         "columns",
-                        format!(
-                            "{:?} = 0: columns are numbered from 1",
-                            IMU_COLUMNS[q]
-                        ),
+                        format!("{:?} = 0: columns are numbered from 1", IMU_COLUMNS[q]),
                     ));
                 }
                 let indices = numbers.map(|n| n - 1);
@@ -787,7 +786,10 @@ pub fn parse_imu_csv(bytes: &[u8], file: &str, layout: &ImuCsvLayout) -> Result<
         ));
     }
     let needed = if increments {
-        (3, "three increment rows (the first only opens the first interval)")
+        (
+            3,
+            "three increment rows (the first only opens the first interval)",
+        )
     } else {
         (2, "two IMU samples")
     };
@@ -850,7 +852,7 @@ fn mean_rates(
             ("velocity", f, MAX_SPECIFIC_FORCE_M_S2, "m/s²"),
             ("angle", omega, MAX_ANGULAR_RATE_RAD_S, "rad/s"),
         ] {
-            if !(v.amax() <= limit) {
+            if v.amax() > limit {
                 return Err(parse_error(
                     file,
                     line[k + 1],
@@ -1032,7 +1034,9 @@ mod tests {
         let log = parse_imu_csv(text.as_bytes(), "x.csv", &l).unwrap();
         assert_eq!(log.line, [3, 4]);
         l.columns = ImuColumns::Names(
-            ["ax", "ay", "az", "gx", "gy", "gz", "time"].map(String::from).to_vec(),
+            ["ax", "ay", "az", "gx", "gy", "gz", "time"]
+                .map(String::from)
+                .to_vec(),
         );
         let e = parse_imu_csv(text.as_bytes(), "x.csv", &l).unwrap_err();
         assert!(
@@ -1041,7 +1045,9 @@ mod tests {
             "{e}"
         );
         l.columns = ImuColumns::Names(
-            ["ax", "ay", "az", "gx", "gy", "gz", "ax"].map(String::from).to_vec(),
+            ["ax", "ay", "az", "gx", "gy", "gz", "ax"]
+                .map(String::from)
+                .to_vec(),
         );
         assert!(parse_imu_csv(text.as_bytes(), "x.csv", &l).is_err());
         let e = AccelUnit::from_name("gee").unwrap_err();
@@ -1131,7 +1137,8 @@ mod tests {
         }
         let e = parse_imu_csv(text.as_bytes(), "x.csv", &bad).unwrap_err();
         assert!(
-            e.to_string().contains("unknown key \"tt\" (did you mean \"t\"?)"),
+            e.to_string()
+                .contains("unknown key \"tt\" (did you mean \"t\"?)"),
             "{e}"
         );
         let mut bad = l.clone();
@@ -1140,8 +1147,9 @@ mod tests {
         }
         let e = parse_imu_csv(text.as_bytes(), "x.csv", &bad).unwrap_err();
         assert!(
-            e.to_string()
-                .starts_with("x.csv:2: columns.t: the header has no column \"tme\" (did you mean \"time\"?)"),
+            e.to_string().starts_with(
+                "x.csv:2: columns.t: the header has no column \"tme\" (did you mean \"time\"?)"
+            ),
             "{e}"
         );
         // Rates and increments mixed: refused.
@@ -1160,7 +1168,8 @@ mod tests {
         )
         .unwrap_err();
         assert!(
-            e.to_string().starts_with("y.csv:3: the angle increment over the 1e-6 s since line 2"),
+            e.to_string()
+                .starts_with("y.csv:3: the angle increment over the 1e-6 s since line 2"),
             "{e}"
         );
     }
@@ -1182,13 +1191,22 @@ mod tests {
         let mut text = String::new();
         let mut t = 0.0;
         for k in 0..100 {
-            t += if k == 50 { 50.0 } else if k % 2 == 0 { 9.0 } else { 11.0 };
+            t += if k == 50 {
+                50.0
+            } else if k % 2 == 0 {
+                9.0
+            } else {
+                11.0
+            };
             text += &format!("{t},0,0,0,-1,0,0,x\n");
         }
         let log = parse_imu_csv(text.as_bytes(), "x.csv", &l).unwrap();
         // ENU (x right, y forward, z up) to FRD: log z up −1 g is down +1 g;
         // log x right is FRD y.
-        assert_eq!(log.specific_force_m_s2[0], Vector3::new(0.0, 0.0, STANDARD_GRAVITY_M_S2));
+        assert_eq!(
+            log.specific_force_m_s2[0],
+            Vector3::new(0.0, 0.0, STANDARD_GRAVITY_M_S2)
+        );
         let timing = log.timing();
         assert_eq!((timing.gap_count, timing.largest_gap_line), (1, 51));
         assert!((timing.largest_gap_s - 0.05).abs() < 1e-12);
@@ -1201,12 +1219,7 @@ mod tests {
         l.axes = Matrix3::identity();
         let e = axes_from_name("flu").unwrap_err().to_string();
         assert!(e.contains("did you mean \"FLU\"?"), "{e}");
-        l.columns = ImuColumns::Numbers(
-            IMU_COLUMNS
-                .iter()
-                .map(|q| (q.to_string(), 1))
-                .collect(),
-        );
+        l.columns = ImuColumns::Numbers(IMU_COLUMNS.iter().map(|q| (q.to_string(), 1)).collect());
         let e = parse_imu_csv(text.as_bytes(), "x.csv", &l).unwrap_err();
         assert_eq!(
             e.to_string(),
