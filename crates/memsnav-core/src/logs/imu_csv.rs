@@ -617,13 +617,16 @@ fn parse_record(
         record.len() >= resolved.fields
     };
     if !fields_ok {
-        let expected = match &layout.columns {
-            ImuColumns::Names(names) => format!("{} ({})", names.len(), names.join(", ")),
-            ImuColumns::Header(_) => format!("{} (the header's)", resolved.fields),
-            ImuColumns::Numbers(_) => format!("at least {}", resolved.fields),
+        let (count, which) = match &layout.columns {
+            ImuColumns::Names(names) => (names.len().to_string(), names.join(", ")),
+            ImuColumns::Header(_) => (resolved.fields.to_string(), "the header's".into()),
+            ImuColumns::Numbers(_) => (
+                format!("at least {}", resolved.fields),
+                "the highest column number".into(),
+            ),
         };
         return Err(format!(
-            "expected {expected} comma-separated fields, got {}",
+            "expected {count} comma-separated fields ({which}), got {}",
             record.len()
         ));
     }
