@@ -254,6 +254,34 @@ mod tests {
         assert!(clock.warnings.is_empty());
     }
 
+    /// The same lines read as increments (g·s, degrees): the clock is
+    /// fitted on the lines' own stamps, so it is the rate log's, and each
+    /// sample (the middle of the interval its line closes) maps to the
+    /// rate log's map of that middle.
+    #[test]
+    fn increment_logs_fit_the_clock_on_their_lines() {
+        let (rates, tag) = log_and_tag(3000);
+        let text: String = (0..3000)
+            .map(|k| format!("0,0,1,0,0,0,{}\n", 5000 + 10 * k))
+            .collect();
+        let layout = ImuCsvLayout::new(
+            AccelUnit::StandardGravitySeconds,
+            GyroUnit::Degrees,
+            TimeUnit::Milliseconds,
+        );
+        let increments = parse_imu_csv(text.as_bytes(), "x.csv", &layout).unwrap();
+        assert_eq!(increments.line_time_s, rates.time_s[1..]);
+        let a = tag_clock(&rates, &tag, None).unwrap();
+        let b = tag_clock(&increments, &tag, None).unwrap();
+        assert_eq!(a.rate_ppm, b.rate_ppm);
+        for (k, &t) in increments.time_s.iter().enumerate() {
+            // The rate log's line through samples k and k + 1, at the middle.
+            let expected = 0.5 * (a.gps_time_s[k] + a.gps_time_s[k + 1]);
+            assert!((t - 0.5 * (rates.time_s[k] + rates.time_s[k + 1])).abs() < 1e-12);
+            assert!((b.gps_time_s[k] - expected).abs() < 1e-6, "{k}");
+        }
+    }
+
     #[test]
     fn counting_lf_alone_drifts_and_mismatched_sizes_are_refused() {
         let (log, tag) = log_and_tag(3000);
