@@ -926,7 +926,8 @@ CONFIG_ERRORS = [
     (
         DRIVE,
         {'accel_unit = "g"': 'accel_unit = "G"'},
-        "imu.accel_unit: unknown unit 'G'; expected one of ['g', 'm/s^2', 'm/s2']",
+        "imu.accel_unit: unknown unit 'G'; expected one of "
+        "['g', 'm/s^2', 'm/s2', 'm/s', 'g*s', 'g.s']",
     ),
     (
         WALK,

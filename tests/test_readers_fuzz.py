@@ -95,9 +95,42 @@ GNSS_TABLE = (
 """
 )
 
+#: An integrating IMU's log: a preamble, its own column order named by its
+#: header, increments in g·s and degrees, FLU axes (issue 25).
+IMU_INCREMENTS = """# exported by another logger
+time_s,dang_z,dvel_x,dang_x,dvel_z,dang_y,dvel_y,temp_c
+1735.000,0,0,0,0,0,0,21.5
+1735.010,0.0012,0.0001,-0.0004,0.01,0.0002,-0.00002,21.5
+1735.020,0.0011,0.0001,-0.0003,0.01,0.0002,-0.00001,21.5
+1735.031,0.0013,0.0002,-0.0004,0.0101,0.0001,-0.00002,21.6
+1735.040,0.0010,0.0001,-0.0005,0.0099,0.0002,0.0,21.6
+"""
+_BY_NAME = {"t": "time_s", "ax": "dvel_x", "ay": "dvel_y", "az": "dvel_z"}
+_BY_NAME |= {"gx": "dang_x", "gy": "dang_y", "gz": "dang_z"}
+_BY_NUMBER = {"t": 1, "gz": 2, "ax": 3, "gx": 4, "az": 5, "gy": 6, "ay": 7}
+#: An axes rotation given as a matrix: 30° about the vertical.
+_YAW_30 = [[0.8660254037844387, -0.5, 0.0], [0.5, 0.8660254037844387, 0.0], [0.0, 0.0, 1.0]]
+
+
+def _read_increments(path: Path) -> Any:
+    return mn.read_imu_csv(
+        path, _BY_NAME, accel_unit="g*s", gyro_unit="deg", time_unit="s", axes="FLU",
+        header_lines=1,
+    )  # fmt: skip
+
+
+def _read_numbered(path: Path) -> Any:
+    return mn.read_imu_csv(
+        path, _BY_NUMBER, accel_unit="g*s", gyro_unit="deg", time_unit="s", axes=_YAW_30,
+        header_lines=2,
+    )  # fmt: skip
+
+
 #: (seed bytes, file extension, reader) per reader.
 READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
     "imu_csv": (_head("drive_60s.csv", 20), "csv", mn.read_imu_csv),
+    "imu_increments": (IMU_INCREMENTS.encode(), "csv", _read_increments),
+    "imu_increments_numbered": (IMU_INCREMENTS.encode(), "csv", _read_numbered),
     "time_tag": ((EX / "walk_head.csv.tag").read_bytes(), "tag", mn.read_time_tag),
     "pos": (_head("walk_head.pos", 12), "pos", mn.read_pos),
     "rinex_obs": ((EX / "walk_head.obs").read_bytes(), "obs", mn.read_rinex_obs),

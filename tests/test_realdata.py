@@ -63,7 +63,7 @@ def test_imu_csv_bad_files_name_file_and_line(tmp_path):
     with pytest.raises(mn.ParseError, match=r"bad.csv:2: column 3 \(az\): expected a finite"):
         mn.read_imu_csv(p)
     p.write_text("1,2,3,4,5,6,10\n1,2,3,4,5,6,10\n1,2,3,4,5,6,20\n")
-    with pytest.raises(mn.ParseError, match=r"bad.csv:2: time 10 does not increase"):
+    with pytest.raises(mn.ParseError, match=r"bad.csv:2: time 10 repeats the previous line"):
         mn.read_imu_csv(p)
     with pytest.raises(ValueError, match=r"accel_unit: unknown unit 'gee'"):
         mn.read_imu_csv(p, accel_unit="gee")

@@ -18,6 +18,8 @@ from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import Any
 
+from memsnav._memsnav import closest_name as _closest_name
+
 
 def resolve_path(value: str, base: Path) -> Path:
     """A path written in a configuration: ``~`` expanded, absolute as given,
@@ -168,6 +170,38 @@ def list_of(item: Check, *, lengths: Collection[int] = (), min_length: int = 0) 
     return check
 
 
+def imu_columns() -> Check:
+    """Where each IMU quantity is: a list naming every column in order, or a
+    table from each of ``ax ay az gx gy gz t`` to a header name or a 1-based
+    column number (the reader checks the names and numbers)."""
+
+    def check(value: Any) -> list[str] | dict[str, str | int]:
+        if isinstance(value, list):
+            return list_of(text(), min_length=1)(value)
+        if isinstance(value, dict):
+            for k, v in value.items():
+                if not (isinstance(v, str) or (isinstance(v, int) and not isinstance(v, bool))):
+                    raise _Wrong(
+                        f"{k}: must be a header name (a string) or a 1-based column number, "
+                        f"got {v!r}"
+                    )
+            return dict(value)
+        raise _Wrong(f"must be a list of column names or a table of columns, got {value!r}")
+
+    return check
+
+
+def axes() -> Check:
+    """An axis convention by name (the reader knows them) or a 3×3 rotation
+    given as three rows of three numbers."""
+    rows = list_of(list_of(number(), lengths=(3,)), lengths=(3,))
+
+    def check(value: Any) -> str | list[list[float]]:
+        return text()(value) if isinstance(value, str) else rows(value)
+
+    return check
+
+
 def scalar_or_list(scalar: Check, listed: Check) -> Check:
     """A value ``scalar`` passes, or a list ``listed`` passes."""
 
@@ -230,8 +264,12 @@ def read_table(
     if unknown:
         where = f"[{table}]" if table else "the top level"
         expected = sorted(set(keys) | set(others))
+        meant = {k: _closest_name(k, expected) for k in unknown}
+        hint = "; ".join(f"{k!r}: did you mean {m!r}?" for k, m in meant.items() if m)
         raise ValueError(
-            f"{file}: unknown key(s) {unknown} in {where}; expected some of {expected}"
+            f"{file}: unknown key(s) {unknown} in {where}"
+            + (f" ({hint})" if hint else "")
+            + f"; expected some of {expected}"
         )
     values: dict[str, Any] = {}
     for key, (check, default) in keys.items():

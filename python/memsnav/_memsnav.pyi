@@ -1918,6 +1918,17 @@ class ImuLog:
         """Angular rate, rad/s, (N, 3)."""
 
     @property
+    def line_time(self) -> npt.NDArray[np.float64]:
+        """The time stamp written on each sample's line, s, (N,): time for
+        rates, the end of the interval for increments."""
+
+    @property
+    def timing(self) -> dict[str, float]:
+        """The sampling of the lines: median_interval_s, interval_std_s
+        (jitter, gaps left out), min_interval_s, max_interval_s,
+        gap_threshold_s, gap_count, largest_gap_s, largest_gap_line."""
+
+    @property
     def line(self) -> npt.NDArray[np.int64]:
         """The 1-based line of each sample, (N,)."""
 
@@ -1941,12 +1952,13 @@ class ImuLog:
 
 def read_imu_csv(
     path: str | os.PathLike[str],
-    columns: Sequence[str],
+    columns: Sequence[str] | Mapping[str, str | int],
     accel_unit: str,
     gyro_unit: str,
     time_unit: str,
     skip_first_line: bool,
     header_lines: int,
+    axes: str | npt.ArrayLike,
 ) -> ImuLog:
     """Reads an IMU CSV log with a declared layout (see memsnav.read_imu_csv)."""
 
@@ -2185,3 +2197,7 @@ def read_gnsslogger(path: str | os.PathLike[str]) -> GnssLoggerLog:
     """Reads an Android GnssLogger file: pseudoranges from the Raw records'
     clock and satellite times per constellation, only where the measurement
     State makes them unambiguous (the rest counted in skipped)."""
+
+def closest_name(key: str, known: list[str]) -> str | None:
+    """The name of known that key is probably a misspelling of (the core's
+    known_keys::closest: the one rule of every "did you mean"), or None."""

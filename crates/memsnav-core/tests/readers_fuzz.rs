@@ -19,9 +19,10 @@ use memsnav_core::gnss::{
     check_measurement, parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar,
 };
 use memsnav_core::logs::{
-    parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea, parse_pos,
-    parse_time_tag, AccelUnit, GyroUnit, ImuCsvLayout, PosSolution, TableStds, TimeUnit,
-    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+    axes_from_name, parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea,
+    parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, ImuLog, PosSolution,
+    TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S,
+    POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 
@@ -41,6 +42,7 @@ enum Reader {
     Nmea,
     GnssTable,
     GnssLogger,
+    ImuIncrements,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -152,9 +154,70 @@ fn seed(reader: Reader) -> &'static [u8] {
             NMEA_SEED.as_bytes().to_vec(),
             GNSS_TABLE_SEED.as_bytes().to_vec(),
             head("android-gnsslogger/pixel6_excerpt.txt", usize::MAX),
+            IMU_INCREMENTS_SEED.as_bytes().to_vec(),
         ]
     });
     &seeds[reader as usize]
+}
+
+/// An integrating IMU's log: a preamble line, a header in its own order,
+/// increments in g·s and degrees, FLU axes, a temperature column.
+const IMU_INCREMENTS_SEED: &str = "# exported by another logger
+time_s,dang_z,dvel_x,dang_x,dvel_z,dang_y,dvel_y,temp_c
+1735.000,0,0,0,0,0,0,21.5
+1735.010,0.0012,0.0001,-0.0004,0.01,0.0002,-0.00002,21.5
+1735.020,0.0011,0.0001,-0.0003,0.01,0.0002,-0.00001,21.5
+1735.031,0.0013,0.0002,-0.0004,0.0101,0.0001,-0.00002,21.6
+1735.040,0.0010,0.0001,-0.0005,0.0099,0.0002,0.0,21.6
+";
+
+/// The layout of [`IMU_INCREMENTS_SEED`]: columns by header name.
+fn increments_layout() -> ImuCsvLayout {
+    let names = [
+        ("t", "time_s"),
+        ("ax", "dvel_x"),
+        ("ay", "dvel_y"),
+        ("az", "dvel_z"),
+        ("gx", "dang_x"),
+        ("gy", "dang_y"),
+        ("gz", "dang_z"),
+    ];
+    ImuCsvLayout {
+        columns: ImuColumns::Header(
+            names
+                .iter()
+                .map(|(q, n)| (q.to_string(), n.to_string()))
+                .collect(),
+        ),
+        axes: axes_from_name("FLU").unwrap(),
+        header_lines: 1,
+        ..ImuCsvLayout::new(
+            AccelUnit::StandardGravitySeconds,
+            GyroUnit::Degrees,
+            TimeUnit::Seconds,
+        )
+    }
+}
+
+/// Whether an IMU log keeps the reader's guarantees: sample times and line
+/// stamps increase (each sample at or before its line's stamp), values in
+/// the sensors' range, lines increasing and inside the file.
+fn imu_log_ok(log: &ImuLog) -> bool {
+    increasing(&log.time_s)
+        && increasing(&log.line_time_s)
+        && log.line_time_s.len() == log.time_s.len()
+        && log.time_s.iter().zip(&log.line_time_s).all(|(t, s)| t <= s)
+        && log
+            .specific_force_m_s2
+            .iter()
+            .all(|f| f.amax() <= MAX_SPECIFIC_FORCE_M_S2)
+        && log
+            .angular_rate_rad_s
+            .iter()
+            .all(|w| w.amax() <= MAX_ANGULAR_RATE_RAD_S)
+        && log.line.windows(2).all(|w| w[1] > w[0])
+        && log.line_end_offset.iter().all(|&o| o < log.file_bytes)
+        && log.timing().gap_count < log.time_s.len()
 }
 
 fn layout() -> ImuCsvLayout {
@@ -182,20 +245,15 @@ fn increasing(times: &[f64]) -> bool {
 fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
     let text = String::from_utf8_lossy(bytes);
     let outcome: Result<Result<(), String>, memsnav_core::Error> = match reader {
-        Reader::ImuCsv => parse_imu_csv(bytes, file, &layout()).map(|log| {
-            let ok = increasing(&log.time_s)
-                && log
-                    .specific_force_m_s2
-                    .iter()
-                    .all(|f| f.amax() <= MAX_SPECIFIC_FORCE_M_S2)
-                && log
-                    .angular_rate_rad_s
-                    .iter()
-                    .all(|w| w.amax() <= MAX_ANGULAR_RATE_RAD_S)
-                && log.line.windows(2).all(|w| w[1] > w[0])
-                && log.line_end_offset.iter().all(|&o| o < log.file_bytes);
-            ok.then_some(()).ok_or(format!("{log:?}"))
-        }),
+        Reader::ImuCsv | Reader::ImuIncrements => {
+            let layout = if reader == Reader::ImuCsv {
+                layout()
+            } else {
+                increments_layout()
+            };
+            parse_imu_csv(bytes, file, &layout)
+                .map(|log| imu_log_ok(&log).then_some(()).ok_or(format!("{log:?}")))
+        }
         Reader::TimeTag => parse_time_tag(bytes, file).map(|tag| {
             let ok = tag.start_gps_time_s >= 0.0
                 && tag.start_gps_time_s.is_finite()
@@ -495,6 +553,11 @@ fuzz_reader!(fixes_csv_mutated, fixes_csv_garbage, Reader::FixesCsv);
 fuzz_reader!(nmea_mutated, nmea_garbage, Reader::Nmea);
 fuzz_reader!(gnss_table_mutated, gnss_table_garbage, Reader::GnssTable);
 fuzz_reader!(gnsslogger_mutated, gnsslogger_garbage, Reader::GnssLogger);
+fuzz_reader!(
+    imu_increments_mutated,
+    imu_increments_garbage,
+    Reader::ImuIncrements
+);
 
 #[test]
 fn the_seeds_read_cleanly() {
@@ -510,6 +573,7 @@ fn the_seeds_read_cleanly() {
         Reader::Nmea,
         Reader::GnssTable,
         Reader::GnssLogger,
+        Reader::ImuIncrements,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }

@@ -3,6 +3,7 @@
 //! closest known one), arrays that may hold NaN padding, and the errors
 //! naming the argument. Shared by every binding that takes such objects.
 
+use memsnav_py_macros::catch_panics;
 use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -83,4 +84,17 @@ pub(crate) fn check_keys(obj: &Bound<'_, PyAny>, argument: &str, known: &[&str])
         memsnav_core::known_keys::check(argument, &name, known).py()?;
     }
     Ok(())
+}
+
+/// The name of `known` that `key` is probably a misspelling of (the core's
+/// `known_keys::closest`: the one rule of every "did you mean"), or None.
+#[catch_panics]
+#[pyfunction]
+fn closest_name(key: &str, known: Vec<String>) -> Option<String> {
+    let known: Vec<&str> = known.iter().map(String::as_str).collect();
+    memsnav_core::known_keys::closest(key, &known).map(str::to_string)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(closest_name, m)?)
 }

@@ -57,5 +57,6 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     montecarlo::register(m)?;
     gnsslogger::register(m)?;
     random::register(m)?;
+    arguments::register(m)?;
     Ok(())
 }

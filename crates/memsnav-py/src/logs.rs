@@ -4,12 +4,13 @@
 
 use std::path::PathBuf;
 
-use memsnav_core::logs::{self, AccelUnit, GyroUnit, ImuCsvLayout, TimeUnit};
+use memsnav_core::logs::{self, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, TimeUnit};
 use memsnav_core::timing::{self, LineEnds, OffsetSignal};
 use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2, PyArray3};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
 
 use crate::convert;
 use crate::errors::IntoPyResult;
@@ -39,6 +40,32 @@ impl PyImuLog {
     #[getter]
     fn angular_rate<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.angular_rate_rad_s)
+    }
+
+    /// The time stamp written on each sample's line, s, ``(N,)``: ``time``
+    /// for rates, the end of the interval for increments.
+    #[getter]
+    fn line_time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inner.line_time_s)
+    }
+
+    /// The sampling of the lines: ``median_interval_s``,
+    /// ``interval_std_s`` (jitter, gaps left out), ``min_interval_s``,
+    /// ``max_interval_s``, ``gap_threshold_s``, ``gap_count``,
+    /// ``largest_gap_s``, ``largest_gap_line``.
+    #[getter]
+    fn timing<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let t = self.inner.timing();
+        let d = PyDict::new(py);
+        d.set_item("median_interval_s", t.median_interval_s)?;
+        d.set_item("interval_std_s", t.interval_std_s)?;
+        d.set_item("min_interval_s", t.min_interval_s)?;
+        d.set_item("max_interval_s", t.max_interval_s)?;
+        d.set_item("gap_threshold_s", t.gap_threshold_s)?;
+        d.set_item("gap_count", t.gap_count)?;
+        d.set_item("largest_gap_s", t.largest_gap_s)?;
+        d.set_item("largest_gap_line", t.largest_gap_line)?;
+        Ok(d)
     }
 
     /// The 1-based line of each sample, ``(N,)``.
@@ -85,24 +112,76 @@ impl PyImuLog {
     }
 }
 
+/// Where each quantity is: a list of every column's name in order, or a
+/// dict from each quantity to its header name (str) or 1-based number (int).
+fn imu_columns(columns: &Bound<'_, PyAny>) -> PyResult<ImuColumns> {
+    let Ok(map) = columns.cast::<PyDict>() else {
+        return columns
+            .extract::<Vec<String>>()
+            .map(ImuColumns::Names)
+            .map_err(|_| {
+                PyValueError::new_err(format!(
+                    "columns: expected a list of column names or a dict from each of ax ay az gx gy gz t to a header name or a 1-based column number, got {}",
+                    columns.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+                ))
+            });
+    };
+    let mut names = Vec::new();
+    let mut numbers = Vec::new();
+    for (key, value) in map.iter() {
+        let key: String = key
+            .extract()
+            .map_err(|_| PyValueError::new_err("columns: the keys must be strings"))?;
+        if value.is_instance_of::<PyString>() {
+            names.push((key, value.extract::<String>()?));
+        } else if let Ok(n) = value.extract::<i64>() {
+            let n = usize::try_from(n).map_err(|_| {
+                PyValueError::new_err(format!(
+                    "columns: {key:?} = {n}: columns are numbered from 1"
+                ))
+            })?;
+            numbers.push((key, n));
+        } else {
+            return Err(PyValueError::new_err(format!(
+                "columns: {key:?}: expected a header name (str) or a 1-based column number (int), got {}",
+                value.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+            )));
+        }
+    }
+    match (names.is_empty(), numbers.is_empty()) {
+        (false, false) => Err(PyValueError::new_err(
+            "columns: give every quantity by header name or every one by column number, not both",
+        )),
+        (true, false) => Ok(ImuColumns::Numbers(numbers)),
+        _ => Ok(ImuColumns::Header(names)),
+    }
+}
+
 /// Reads an IMU CSV log with a declared layout (see ``memsnav.read_imu_csv``).
 #[catch_panics]
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 fn read_imu_csv(
     py: Python<'_>,
     path: PathBuf,
-    columns: Vec<String>,
+    columns: &Bound<'_, PyAny>,
     accel_unit: &str,
     gyro_unit: &str,
     time_unit: &str,
     skip_first_line: bool,
     header_lines: usize,
+    axes: &Bound<'_, PyAny>,
 ) -> PyResult<PyImuLog> {
+    let axes = match axes.extract::<String>() {
+        Ok(name) => logs::axes_from_name(&name).py()?,
+        Err(_) => convert::matrix3(axes, "axes")?,
+    };
     let layout = ImuCsvLayout {
-        columns,
+        columns: imu_columns(columns)?,
         accel_unit: AccelUnit::from_name(accel_unit).py()?,
         gyro_unit: GyroUnit::from_name(gyro_unit).py()?,
         time_unit: TimeUnit::from_name(time_unit).py()?,
+        axes,
         header_lines,
         skip_first_line,
     };

@@ -13,7 +13,7 @@ reader, :mod:`memsnav._config`; the engine's keys by the core), all when the
 file is loaded.
 
 Relative paths of the recordings read (``[imu] file`` and ``time_tag``,
-``[gnss] pos``, ``obs`` and ``nav``, ``[truth] pos``) resolve against the
+``[gnss] pos``, ``table``, ``obs`` and ``nav``, ``[truth] pos``) resolve against the
 data root: ``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else
 ``../shared/data`` relative to the repository that holds the configuration
 (the parent of its ``examples/`` folder, or the nearest ``shared/data``
@@ -33,8 +33,10 @@ import memsnav._memsnav as _mn
 from memsnav._config import (
     REQUIRED,
     Check,
+    axes,
     file_name,
     flag,
+    imu_columns,
     integer,
     list_of,
     load_toml,
@@ -73,8 +75,12 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
     "": {"name": (file_name(), REQUIRED), "output": (pathname(), "out")},
     "imu": {
         "file": (pathname(), REQUIRED),
-        "columns": (list_of(text(), min_length=1), ["ax", "ay", "az", "gx", "gy", "gz", "t"]),
-        # The units' names are the reader's (its error names them).
+        # A list naming every column, or a table of each quantity's header
+        # name or 1-based number (docs/real-data.md, "Your own IMU log").
+        "columns": (imu_columns(), ["ax", "ay", "az", "gx", "gy", "gz", "t"]),
+        # The units' and the axis conventions' names are the reader's (its
+        # error names them): rates or increments, FRD/FLU/RFU/... or a matrix.
+        "axes": (axes(), "FRD"),
         "accel_unit": (text(), REQUIRED),
         "gyro_unit": (text(), REQUIRED),
         "time_unit": (text(), REQUIRED),
@@ -95,6 +101,9 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
         "velocity_noise_m_s": (number(minimum=0.0), None),
         "use_velocity": (flag(), None),
         "seed": (integer(0), 0),
+        # Tight coupling from a long table instead of RINEX (one row per
+        # epoch and satellite: GnssMeasurements.from_table).
+        "table": (pathname(), ""),
         "obs": (pathname(), ""),
         "nav": (pathname(), ""),
         # GPS PRNs (RINEX: 1-63).

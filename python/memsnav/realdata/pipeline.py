@@ -39,10 +39,11 @@ def _require(cfg: RunConfig, section: str, key: str) -> Path:
     return p
 
 
-def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, float]]:
-    """IMU time stamps on GPS time (before the configured offset), specific
-    force and angular rate in the sensor's axes (SI), and notes about the
-    time mapping."""
+def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+    """IMU sample times on GPS time (before the configured offset), specific
+    force and angular rate in the sensor's FRD axes (SI), and notes about
+    the time mapping and the sampling (``imu_timing``: median interval,
+    jitter, gaps)."""
     c = cfg["imu"]
     path = _require(cfg, "imu", "file")
     try:
@@ -52,6 +53,7 @@ def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[s
             accel_unit=c["accel_unit"],
             gyro_unit=c["gyro_unit"],
             time_unit=c["time_unit"],
+            axes=c["axes"],
             skip_first_line=c["skip_first_line"],
             header_lines=c["header_lines"],
         )
@@ -61,7 +63,7 @@ def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[s
         # The layout and the units are checked by the reader, which names
         # its argument: the key of the same name.
         raise ValueError(f"{cfg.path}: imu.{e}") from None
-    notes: dict[str, float] = {}
+    notes: dict[str, Any] = {"imu_timing": log.timing}
     if c["time_reference"] == "tag":
         tag = readers.read_time_tag(_require(cfg, "imu", "time_tag"))
         t, spread = readers.gps_time_from_tag(log, tag)
@@ -198,8 +200,11 @@ def loose_input(cfg: RunConfig) -> Any:
 
 
 def tight_input(cfg: RunConfig) -> Any:
-    """GPS L1 pseudoranges and Dopplers from the RINEX files."""
+    """GPS L1 pseudoranges and Dopplers from the RINEX files, or from a long
+    table (``[gnss] table``)."""
     g = cfg["gnss"]
+    if g["table"]:
+        return table_input(cfg)
     sky = _mn.Constellation.from_rinex_nav(_require(cfg, "gnss", "nav"))
     obs = _mn.read_rinex_obs(_require(cfg, "gnss", "obs"))
     alpha, beta = g["klobuchar_alpha"], g["klobuchar_beta"]
@@ -222,6 +227,40 @@ def tight_input(cfg: RunConfig) -> Any:
         # What the core checks beyond the configuration's ranges (the
         # Klobuchar coefficients' ICD ranges), named by its argument.
         raise ValueError(f"{cfg.path}: gnss: {e}") from None
+
+
+def table_input(cfg: RunConfig) -> Any:
+    """Pseudoranges (and rates) from a long table, one row per epoch and
+    satellite (``GnssMeasurements.from_table``: the ``gnss.csv`` of ``memsnav
+    simulate``), σ columns left out taking ``pseudorange_std_m`` and
+    ``pseudorange_rate_std_m_s``. A navigate run's IMU is on GPS time, so the
+    epochs are at the table's ``gps_time_s`` when it has one (``time_s`` is
+    then a time axis of its own, as in a simulation's table), else at its
+    ``time_s``, taken as GPS time."""
+    g = cfg["gnss"]
+    path = _require(cfg, "gnss", "table")
+    try:
+        table = _mn.GnssMeasurements.from_table(
+            path,
+            pseudorange_std=g["pseudorange_std_m"],
+            pseudorange_rate_std=g["pseudorange_rate_std_m_s"],
+        )
+    except ValueError as e:
+        raise ValueError(f"{cfg.path}: gnss.table: {e}") from None
+    fields = (
+        "sat_id",
+        "satellite_position_ecef",
+        "satellite_velocity_ecef",
+        "pseudorange",
+        "pseudorange_std",
+        "pseudorange_rate",
+        "pseudorange_rate_std",
+    )
+    return _mn.GnssMeasurements(
+        time=table.gps_time,
+        start_gps_time=float(table.gps_time[0]),
+        **{name: getattr(table, name) for name in fields},
+    )
 
 
 def _counts(run: Any) -> dict[str, dict[str, int]]:

@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import operator
 import warnings
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 
 from memsnav import _memsnav
 from memsnav._memsnav import ImuLog, ParseError, PosSolution, TagClock, TimeTag
@@ -62,42 +63,67 @@ def _count(value: object, argument: str) -> int:
 
 def read_imu_csv(
     path: str | Path,
-    columns: Sequence[str] = IMU_COLUMNS,
+    columns: Sequence[str] | Mapping[str, str | int] = IMU_COLUMNS,
     *,
     accel_unit: str = "g",
     gyro_unit: str = "deg/s",
     time_unit: str = "ms",
+    axes: str | npt.ArrayLike = "FRD",
     skip_first_line: bool = False,
     header_lines: int = 0,
 ) -> ImuLog:
-    """Reads an IMU CSV log (parsed in Rust with the ``csv`` crate).
+    """Reads an IMU CSV log (parsed in Rust with the ``csv`` crate) into
+    samples in SI units and FRD sensor axes (docs/real-data.md, "Your own
+    IMU log").
 
-    ``columns``: the name of every comma-separated column in order; it must
-    contain ``ax ay az`` (accelerometer), ``gx gy gz`` (gyro) and ``t``
-    (time); any other name is read and ignored. Units: ``accel_unit`` "g"
-    or "m/s^2"; ``gyro_unit`` "deg/s" or "rad/s"; ``time_unit`` "ms" or "s".
-    ``header_lines`` lines are skipped, then the first data line when
-    ``skip_first_line`` (a log that started mid-line). Each value is
-    range-checked (|f| ≤ 1000 g, |ω| ≤ 100 rad/s) and times must increase.
-    The last line is skipped with a warning when it has no end of line or
-    does not parse; any other bad line raises ``ParseError`` naming the file,
-    line and column. Warnings also say when the magnitudes do not fit the
-    units (median |f| far from 1 g, rates above 573 °/s, sample intervals
-    outside 10 µs-0.5 s) and where the time jumps.
+    ``columns``, where each quantity ``ax ay az`` (accelerometer), ``gx gy
+    gz`` (gyro) and ``t`` (time) is: a list naming every comma-separated
+    column in order (other names are read and ignored; a line must have
+    exactly that many fields); or a dict from each quantity to its name in
+    the file's header line (the first line after ``header_lines``; other
+    columns ignored) or to its 1-based column number. An unknown quantity
+    names the one meant.
 
-    Returns an ``ImuLog``: ``time`` (the log's clock, s), ``specific_force``
-    (m/s²) and ``angular_rate`` (rad/s) in sensor axes, ``line`` (1-based),
-    ``line_end_offset`` (byte offset of each line's newline), ``file_bytes``,
-    ``newline_count`` and ``warnings``.
+    Units: ``accel_unit`` "g" or "m/s^2" (specific force), "m/s" or "g*s"
+    (velocity increment per row); ``gyro_unit`` "deg/s" or "rad/s"
+    (rate), "deg" or "rad" (angle increment per row); ``time_unit`` "ms"
+    or "s". Increments (both columns' units say so) cover the interval
+    since the previous row; each becomes its mean rate at the interval's
+    middle, the first row only opening the first interval.
+
+    ``axes``: the log's axis convention, rotated into FRD (x forward, y
+    right, z down): "FRD" (or "NED"), "FLU" (ROS), "RFU" (or "ENU"), or a
+    3×3 rotation ``C`` with ``v_FRD = C v_log``.
+
+    ``header_lines`` lines are skipped, then (columns by header name) the
+    header line, then the first data line when ``skip_first_line`` (a log
+    that started mid-line). Each value is range-checked (|f| ≤ 1000 g, |ω|
+    ≤ 100 rad/s, for increments as mean rates) and times must increase: a
+    repeated or backward time raises ``ParseError`` naming the file and
+    line. The last line is skipped with a warning when it has no end of
+    line or does not parse; any other bad line raises ``ParseError``
+    naming the file, line and column. Warnings also say when the
+    magnitudes do not fit the units (median |f| far from 1 g, rates above
+    573 °/s, sample intervals outside 10 µs-0.5 s) and where the time jumps
+    by more than 1 s.
+
+    Returns an ``ImuLog``: ``time`` (the log's clock, s: each sample's
+    time), ``specific_force`` (m/s²) and ``angular_rate`` (rad/s) in FRD
+    sensor axes, ``line_time`` (the stamp of each sample's line),
+    ``timing`` (median interval, jitter, gaps: intervals over 1.5 median
+    intervals, their count and the largest), ``line`` (1-based),
+    ``line_end_offset`` (byte offset of each line's newline),
+    ``file_bytes``, ``newline_count`` and ``warnings``.
     """
     log = _memsnav.read_imu_csv(
         Path(path),
-        list(columns),
+        dict(columns) if isinstance(columns, Mapping) else list(columns),
         accel_unit,
         gyro_unit,
         time_unit,
         bool(skip_first_line),
         _count(header_lines, "header_lines"),
+        axes,
     )
     _warn(log.warnings)
     return log

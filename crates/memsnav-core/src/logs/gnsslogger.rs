@@ -579,6 +579,7 @@ fn phone_imu(
         time_s: Vec::new(),
         specific_force_m_s2: Vec::new(),
         angular_rate_rad_s: Vec::new(),
+        line_time_s: Vec::new(),
         line: Vec::new(),
         line_end_offset: Vec::new(),
         file_bytes,
@@ -596,6 +597,7 @@ fn phone_imu(
         }
         let w = (t - a.0) / (b.0 - a.0);
         log.time_s.push((t + elapsed_to_gps_ns) * 1e-9);
+        log.line_time_s.push((t + elapsed_to_gps_ns) * 1e-9);
         log.specific_force_m_s2.push(f);
         log.angular_rate_rad_s.push(a.1 + (b.1 - a.1) * w);
         log.line.push(line);

@@ -30,8 +30,9 @@ pub use gnss_table::{
 };
 pub use gnsslogger::{parse_gnsslogger, read_gnsslogger, GnssLoggerLog};
 pub use imu_csv::{
-    parse_imu_csv, read_imu_csv, AccelUnit, GyroUnit, ImuCsvLayout, ImuLog, TimeUnit, IMU_COLUMNS,
-    MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
+    axes_from_name, parse_imu_csv, read_imu_csv, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout,
+    ImuLog, ImuTiming, TimeUnit, AXES_NAMES, GAP_FACTOR, IMU_COLUMNS, MAX_ANGULAR_RATE_RAD_S,
+    MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
 };
 pub use nmea::{parse_nmea, read_nmea, NMEA_TALKERS, NMEA_UERE_M, NMEA_VDOP_PER_HDOP};
 pub use pos_solution::{diagonal_covariances, PosSolution};

@@ -99,10 +99,12 @@ fn arrival_lags(log: &ImuLog, tag: &TimeTag, line_ends: LineEnds) -> Vec<(usize,
                 end += log.line[k] as u64 - u64::from(newline_at >= log.file_bytes);
             }
             let arrival = tag.arrival_gps_time(end.checked_sub(1)?)?;
+            // The line's own stamp: for an increment log the samples'
+            // times are the middles of the intervals the lines close.
             Some((
                 k,
-                log.time_s[k],
-                arrival - tag.start_gps_time_s - log.time_s[k],
+                log.line_time_s[k],
+                arrival - tag.start_gps_time_s - log.line_time_s[k],
             ))
         })
         .collect()
@@ -115,6 +117,12 @@ pub fn tag_clock(log: &ImuLog, tag: &TimeTag, line_ends: Option<LineEnds>) -> Re
     crate::validate::same_length(
         "imu.line_end_offset",
         log.line_end_offset.len(),
+        "imu.time",
+        log.time_s.len(),
+    )?;
+    crate::validate::same_length(
+        "imu.line_time",
+        log.line_time_s.len(),
         "imu.time",
         log.time_s.len(),
     )?;
@@ -244,6 +252,34 @@ mod tests {
             clock.arrival_lag_spread_s
         );
         assert!(clock.warnings.is_empty());
+    }
+
+    /// The same lines read as increments (g·s, degrees): the clock is
+    /// fitted on the lines' own stamps, so it is the rate log's, and each
+    /// sample (the middle of the interval its line closes) maps to the
+    /// rate log's map of that middle.
+    #[test]
+    fn increment_logs_fit_the_clock_on_their_lines() {
+        let (rates, tag) = log_and_tag(3000);
+        let text: String = (0..3000)
+            .map(|k| format!("0,0,1,0,0,0,{}\n", 5000 + 10 * k))
+            .collect();
+        let layout = ImuCsvLayout::new(
+            AccelUnit::StandardGravitySeconds,
+            GyroUnit::Degrees,
+            TimeUnit::Milliseconds,
+        );
+        let increments = parse_imu_csv(text.as_bytes(), "x.csv", &layout).unwrap();
+        assert_eq!(increments.line_time_s, rates.time_s[1..]);
+        let a = tag_clock(&rates, &tag, None).unwrap();
+        let b = tag_clock(&increments, &tag, None).unwrap();
+        assert_eq!(a.rate_ppm, b.rate_ppm);
+        for (k, &t) in increments.time_s.iter().enumerate() {
+            // The rate log's line through samples k and k + 1, at the middle.
+            let expected = 0.5 * (a.gps_time_s[k] + a.gps_time_s[k + 1]);
+            assert!((t - 0.5 * (rates.time_s[k] + rates.time_s[k + 1])).abs() < 1e-12);
+            assert!((b.gps_time_s[k] - expected).abs() < 1e-6, "{k}");
+        }
     }
 
     #[test]
