@@ -373,9 +373,9 @@ impl Inputs<'_> {
             .take_smoother()
             .map(|mut log| solution.smoothed(&mut log))
             .transpose()?;
-        solution.to_gnss_time();
+        solution.shift_onto_gnss_time();
         if let Some(s) = smoothed.as_mut() {
-            s.to_gnss_time();
+            s.shift_onto_gnss_time();
         }
         Ok((solution, smoothed, state.range_biases().collect()))
     }

@@ -700,7 +700,7 @@ impl Solution {
     /// r − t̂_o v (first order: 5 mm at 0.1 s and 1 m/s²), and the time
     /// stays τ (increasing, whatever the estimate does). Without the
     /// installation states nothing changes.
-    pub(crate) fn to_gnss_time(&mut self) {
+    pub(crate) fn shift_onto_gnss_time(&mut self) {
         for (k, row) in self.installation.iter().enumerate() {
             let t_o = row[crate::filter::state::Installation::TIME_OFFSET];
             self.position_ecef[k] -= t_o * self.velocity_ecef[k];
