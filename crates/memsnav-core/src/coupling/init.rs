@@ -1,7 +1,7 @@
 //! Initialisation from the first GNSS fix (tight) or position fix (loose)
 //! and a given or coarse attitude.
 
-use nalgebra::{Matrix3, SMatrix, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 use super::engine::{FilterState, InitialState};
 use super::loose::PositionFix;
@@ -235,10 +235,8 @@ impl<const N: usize> FilterState<N> {
         let turn = c_before - self.nav.c_b_e;
         self.nav.position_ecef += turn * self.installation.lever_arm_b_m;
         if let Some(first) = Layout::for_size::<N>().installation {
-            let mut t = SMatrix::<f64, N, N>::identity();
-            t.fixed_view_mut::<3, 3>(POSITION, first + Installation::LEVER_ARM)
-                .copy_from(&turn);
-            self.kf.p = t * self.kf.p * t.transpose();
+            self.kf
+                .shear(POSITION, first + Installation::LEVER_ARM, &turn);
         }
         let down_ecef = cne * Vector3::new(0.0, 0.0, 1.0);
         self.kf

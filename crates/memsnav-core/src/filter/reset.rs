@@ -11,7 +11,7 @@
 //! general form, Simon, *Optimal State Estimation*, 2006, §7.5 on
 //! "resetting" a filter).
 
-use nalgebra::{SMatrix, Vector3};
+use nalgebra::{Matrix3, SMatrix, Vector3};
 
 use super::smoother::ResetStep;
 use super::ErrorStateKf;
@@ -72,6 +72,31 @@ impl<const N: usize> ErrorStateKf<N> {
             first,
             direction: d,
             variance,
+        });
+    }
+
+    /// A change of variables that moves states `target..target + 3` by
+    /// `m` times states `source..source + 3` (x ← T x, T = I + E with E
+    /// the block m at (target, source); P ← T P Tᵀ), e.g. the IMU
+    /// position when the heading it was derived with is replaced and the
+    /// antenna it was measured at stays. Nothing is learnt or forgotten:
+    /// the smoother carries information through it with Tᵀ.
+    pub fn shear(&mut self, target: usize, source: usize, m: &Matrix3<f64>) {
+        let moved = m * self.x.0.fixed_rows::<3>(source);
+        let mut xt = self.x.0.fixed_rows_mut::<3>(target);
+        xt += moved;
+        // T P: rows of the target gain m times the rows of the source;
+        // then (T P) Tᵀ: its columns likewise.
+        let rows = m * self.p.fixed_rows::<3>(source);
+        let mut pt = self.p.fixed_rows_mut::<3>(target);
+        pt += rows;
+        let cols = self.p.fixed_columns::<3>(source) * m.transpose();
+        let mut pc = self.p.fixed_columns_mut::<3>(target);
+        pc += cols;
+        self.record_reset(ResetStep::Shear {
+            target,
+            source,
+            matrix: *m,
         });
     }
 
@@ -178,6 +203,22 @@ mod tests {
         assert!((f.p[(6, 7)] - 9.0 * before[(6, 7)]).abs() < 1e-12);
         assert!((f.p[(6, 0)] - 3.0 * before[(6, 0)]).abs() < 1e-12);
         assert_eq!(f.p[(0, 1)], before[(0, 1)]);
+        assert!(f.check_health(0.0).is_ok());
+    }
+
+    /// The shear against the dense T x and T P Tᵀ.
+    #[test]
+    fn a_shear_is_the_dense_change_of_variables() {
+        let mut f = kf();
+        f.x.0[3] = 0.4;
+        f.x.0[14] = -0.2;
+        let before = f.clone();
+        let m = Matrix3::new(0.1, -0.2, 0.3, 0.0, 0.5, -0.1, 0.2, 0.1, -0.4);
+        f.shear(6, 12, &m);
+        let mut t = SMatrix::<f64, 17, 17>::identity();
+        t.fixed_view_mut::<3, 3>(6, 12).copy_from(&m);
+        assert!((f.x.0 - t * before.x.0).norm() < 1e-15);
+        assert!((f.p - t * before.p * t.transpose()).norm() < 1e-12);
         assert!(f.check_health(0.0).is_ok());
     }
 }

@@ -136,6 +136,13 @@ pub enum ResetStep {
     },
     /// `variance` added to state `state`'s variance.
     AddVariance { state: usize, variance: f64 },
+    /// States `target..target + 3` moved by `matrix` times states
+    /// `source..source + 3` (a change of variables, nothing new).
+    Shear {
+        target: usize,
+        source: usize,
+        matrix: nalgebra::Matrix3<f64>,
+    },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -504,6 +511,20 @@ fn adjoint_reset<const N: usize>(
             let cols = factor.fixed_columns::<3>(first) * t;
             factor.fixed_columns_mut::<3>(first).copy_from(&cols);
         }
+        ResetStep::Shear {
+            target,
+            source,
+            matrix,
+        } => {
+            // Tᵀ λ: the source's multiplier gains mᵀ times the target's;
+            // R T: the source's columns gain the target's times m.
+            let l = matrix.transpose() * lambda.fixed_rows::<3>(target);
+            let mut ls = lambda.fixed_rows_mut::<3>(source);
+            ls += l;
+            let cols = factor.fixed_columns::<3>(target) * matrix;
+            let mut fs = factor.fixed_columns_mut::<3>(source);
+            fs += cols;
+        }
         ResetStep::Inflate { .. } | ResetStep::Fade { .. } | ResetStep::AddVariance { .. } => {}
     }
 }
@@ -660,5 +681,96 @@ mod tests {
             .iter()
             .zip(&forward)
             .all(|(s, f)| s.unwrap().1[(0, 0)] <= f.1[(0, 0)] + 1e-12));
+    }
+
+    /// A change of variables x ← T x in the middle of a run (a shear, T =
+    /// I + E) changes nothing the smoother knows: the same problem run
+    /// without it, with the later measurement rows written in the old
+    /// variables (h T), smooths to the same states, T times them after it,
+    /// and the same covariances, T P Tᵀ after it.
+    #[test]
+    fn a_shear_carries_the_information_through() {
+        const N: usize = 6;
+        // Constant states: with process noise the two problems would differ
+        // after the shear (Q in the new variables is T Q Tᵀ in the old).
+        let phi = SMatrix::<f64, N, N>::identity();
+        let q = SMatrix::<f64, N, N>::zeros();
+        let p0 = SMatrix::<f64, N, N>::identity() * 4.0;
+        let m = nalgebra::Matrix3::new(0.2, -0.5, 0.1, 0.4, 0.0, -0.3, 0.1, 0.2, 0.6);
+        let mut t = SMatrix::<f64, N, N>::identity();
+        t.fixed_view_mut::<3, 3>(0, 3).copy_from(&m);
+        let (steps, shear_at) = (10, 4);
+        // Row k of the problem in the variables before the shear.
+        let row = |k: usize| {
+            SMatrix::<f64, 1, N>::from_fn(|_, j| (((k * 7 + j * 3) % 5) as f64 - 2.0) * 0.5)
+        };
+        let run = |sheared: bool| {
+            let mut log = SmootherLog::new(Dense { phi, q }, 3);
+            let (mut x, mut p) = (SVector::<f64, N>::zeros(), p0);
+            let mut forward = Vec::new();
+            for k in 0..=steps {
+                if k > 0 {
+                    p = phi * p * phi.transpose() + q;
+                    log.step(());
+                }
+                if sheared && k == shear_at {
+                    x = t * x;
+                    p = t * p * t.transpose();
+                    log.reset(ResetStep::Shear {
+                        target: 0,
+                        source: 3,
+                        matrix: m,
+                    });
+                }
+                // The same physical measurement: in the new variables its
+                // row is h T⁻¹.
+                let h_old = row(k);
+                let h = if sheared && k >= shear_at {
+                    h_old * t.try_inverse().unwrap()
+                } else {
+                    h_old
+                };
+                let entries: Vec<(usize, f64)> = (0..N).map(|j| (j, h[j])).collect();
+                let hs = SparseRow::new(&entries);
+                let z = 0.3 * k as f64 - 1.0;
+                let hd = h.transpose();
+                let sv = (h * p * hd)[0] + 0.5;
+                let gain = p * hd / sv;
+                let nu = z - (h * x)[0];
+                log.scalar(ScalarStep {
+                    measurement: ScalarMeasurement {
+                        h: hs,
+                        y: z,
+                        variance: 0.5,
+                    },
+                    innovation: nu,
+                    innovation_variance: sv,
+                    gain,
+                });
+                x += gain * nu;
+                let ikh = SMatrix::<f64, N, N>::identity() - gain * h;
+                p = ikh * p * ikh.transpose() + gain * 0.5 * gain.transpose();
+                log.output(&p);
+                forward.push((x, p));
+            }
+            let mut smoothed = vec![None; steps + 1];
+            log.smooth(|s| {
+                let (x, p) = forward[s.output];
+                smoothed[s.output] = Some((x + s.error, p - s.reduction()));
+            });
+            smoothed
+        };
+        let (plain, sheared) = (run(false), run(true));
+        for k in 0..=steps {
+            let (xa, pa) = plain[k].unwrap();
+            let (xb, pb) = sheared[k].unwrap();
+            let (xa, pa) = if k >= shear_at {
+                (t * xa, t * pa * t.transpose())
+            } else {
+                (xa, pa)
+            };
+            assert!((xa - xb).norm() < 1e-9, "x {k}: {xa} {xb}");
+            assert!((pa - pb).norm() < 1e-9, "P {k}");
+        }
     }
 }
