@@ -38,6 +38,7 @@ pub use observables::{
 };
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
+pub(crate) use rinex_obs::observation_range;
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
