@@ -51,6 +51,39 @@ pub struct GpsEphemeris {
     pub fit_interval_h: f64,
 }
 
+/// A decoded LNAV ephemeris with the fields of its subframes that the
+/// orbit does not use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LnavEphemeris {
+    /// Orbit, clock, T_GD, health and fit interval, as the RINEX reader gives them.
+    pub ephemeris: GpsEphemeris,
+    /// Issue of data, ephemeris (subframes 2 and 3) and clock (subframe 1).
+    pub iode: u8,
+    pub iodc: u16,
+    /// User range accuracy index N (0-15, table 20-I's URA in m by [`ura_m`]).
+    pub ura_index: u8,
+    /// Codes on L2 (subframe 1 bits 11-12) and the L2 P data flag.
+    pub l2_codes: u8,
+    pub l2p_data_flag: bool,
+    /// The fit interval flag (0: 4 h).
+    pub fit_interval_flag: bool,
+    /// GPS week of t_oe (continuous), as RINEX writes it.
+    pub toe_week: u16,
+    /// Transmission time of the start of subframe 1, GPS s since 1980-01-06.
+    pub transmission_gps_s: f64,
+}
+
+/// URA in metres of index N (IS-GPS-200 §20.3.3.3.1.3: the upper bound of
+/// each bin; N = 15 means no accuracy prediction: 6144 m written, as RINEX
+/// writers do).
+pub fn ura_m(index: u8) -> f64 {
+    const URA_M: [f64; 16] = [
+        2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0, 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0,
+        6144.0, 6144.0,
+    ];
+    URA_M[usize::from(index.min(15))]
+}
+
 impl GpsEphemeris {
     /// Position and velocity (ECEF at `gps_time_s`, antenna phase centre as
     /// broadcast) and the L1 C/A clock correction at GPS time `gps_time_s`.

@@ -40,10 +40,7 @@ pub use rtklib_pos::{
     format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 pub use time_tag::{parse_time_tag, read_time_tag, TimeTag, TIME_TAG_HEADER_BYTES};
-pub use ubx::{
-    parse_ubx, read_ubx, ura_m, LnavEphemeris, NavPvt, RawxEpoch, RawxSignal, TrackingStatus,
-    UbxLog,
-};
+pub use ubx::{parse_ubx, read_ubx, NavPvt, RawxEpoch, RawxSignal, TrackingStatus, UbxLog};
 
 use std::path::Path;
 

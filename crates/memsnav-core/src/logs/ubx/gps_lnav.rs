@@ -11,7 +11,7 @@
 
 use std::collections::HashMap;
 
-use crate::gnss::{GpsEphemeris, SECONDS_PER_WEEK};
+use crate::gnss::{GpsEphemeris, LnavEphemeris, SECONDS_PER_WEEK};
 
 /// The value of π that IS-GPS-200 fixes for converting semicircles
 /// (§20.3.3.4.3.1, "PI = 3.1415926535898").
@@ -66,39 +66,6 @@ fn signed(value: u32, len: u32) -> f64 {
 /// then the 24 bits of the next word, unsigned.
 fn joined(d: &[u32; WORDS], word: usize, msb_len: u32) -> u32 {
     (bits(d, word, 25 - msb_len, msb_len) << 24) | d[word]
-}
-
-/// A decoded LNAV ephemeris with the fields of its subframes that the
-/// orbit does not use.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LnavEphemeris {
-    /// Orbit, clock, T_GD, health and fit interval, as the RINEX reader gives them.
-    pub ephemeris: GpsEphemeris,
-    /// Issue of data, ephemeris (subframes 2 and 3) and clock (subframe 1).
-    pub iode: u8,
-    pub iodc: u16,
-    /// User range accuracy index N (0-15, table 20-I's URA in m by [`ura_m`]).
-    pub ura_index: u8,
-    /// Codes on L2 (subframe 1 bits 11-12) and the L2 P data flag.
-    pub l2_codes: u8,
-    pub l2p_data_flag: bool,
-    /// The fit interval flag (0: 4 h).
-    pub fit_interval_flag: bool,
-    /// GPS week of t_oe (continuous), as RINEX writes it.
-    pub toe_week: u16,
-    /// Transmission time of the start of subframe 1, GPS s since 1980-01-06.
-    pub transmission_gps_s: f64,
-}
-
-/// URA in metres of index N (IS-GPS-200 §20.3.3.3.1.3: the upper bound of
-/// each bin; N = 15 means no accuracy prediction: 6144 m written, as RINEX
-/// writers do).
-pub fn ura_m(index: u8) -> f64 {
-    const URA_M: [f64; 16] = [
-        2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0, 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0,
-        6144.0, 6144.0,
-    ];
-    URA_M[usize::from(index.min(15))]
 }
 
 /// Curve-fit interval in hours (IS-GPS-200 §20.3.4.4): 4 h with the flag
@@ -267,6 +234,7 @@ fn assemble(
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
+    use crate::gnss::ura_m;
 
     /// A word in u-blox's layout from 24 source data bits and the previous
     /// word (its D29, D30 become D29*, D30*): the encoder of §20.3.5.2,
@@ -298,6 +266,136 @@ pub(super) mod tests {
             previous = *o;
         }
         out
+    }
+
+    /// Writes `value` (its low `len` bits) at bits `first`.. of `word`.
+    fn put(d: &mut [u32; WORDS], word: usize, first: u32, len: u32, value: i64) {
+        let mask = (1u32 << len) - 1;
+        let shift = 24 - (first - 1) - len;
+        d[word - 1] |= ((value as u32) & mask) << shift;
+    }
+
+    /// A field split as [`joined`] reads it: 8 MSBs at the end of `word`, 24 in the next.
+    fn put_joined(d: &mut [u32; WORDS], word: usize, value: i64) {
+        put(d, word, 17, 8, value >> 24);
+        put(d, word + 1, 1, 24, value);
+    }
+
+    /// The raw integers of the test ephemeris (IS-GPS-200 tables 20-I and
+    /// 20-III units) and the subframes 1-3 that carry them, with issue of
+    /// data `iode` in subframes 1 and 2 and `iode3` in subframe 3.
+    pub(crate) fn test_subframes(week: u32, iode: u32, iode3: u32) -> [[u32; WORDS]; 3] {
+        let mut sf = [[0u32; WORDS]; 3];
+        for (k, d) in sf.iter_mut().enumerate() {
+            put(d, 1, 1, 8, i64::from(PREAMBLE));
+            // TOW count of the next subframe: 68 110 × 6 s = 408 660 s.
+            put(d, 2, 1, 17, 68_110 + k as i64);
+            put(d, 2, 20, 3, k as i64 + 1);
+        }
+        let [s1, s2, s3] = &mut sf;
+        put(s1, 3, 1, 10, i64::from(week % 1024));
+        put(s1, 3, 11, 2, 1); // C/A on L2
+        put(s1, 3, 13, 4, 3); // URA index
+        put(s1, 3, 17, 6, 0); // healthy
+        put(s1, 3, 23, 2, 0); // IODC MSBs
+        put(s1, 7, 17, 8, -5); // T_GD
+        put(s1, 8, 1, 8, i64::from(iode));
+        put(s1, 8, 9, 16, 25_650); // t_oc / 16
+        put(s1, 9, 9, 16, -1_000); // a_f1
+        put(s1, 10, 1, 22, -200_000); // a_f0
+        put(s2, 3, 1, 8, i64::from(iode));
+        put(s2, 3, 9, 16, -613); // C_rs
+        put(s2, 4, 1, 16, 9_000); // Δn
+        put_joined(s2, 4, -1_000_000_000); // M_0
+        put(s2, 6, 1, 16, -100); // C_uc
+        put_joined(s2, 6, 12_345_678); // e
+        put(s2, 8, 1, 16, 300); // C_us
+        put_joined(s2, 8, 2_702_000_000); // √A
+        put(s2, 10, 1, 16, 25_650); // t_oe / 16
+        put(s3, 3, 1, 16, 3); // C_ic
+        put_joined(s3, 3, 500_000_000); // Ω_0
+        put(s3, 5, 1, 16, -7); // C_is
+        put_joined(s3, 5, 660_000_000); // i_0
+        put(s3, 7, 1, 16, 7_000); // C_rc
+        put_joined(s3, 7, -900_000_000); // ω
+        put(s3, 9, 1, 24, -20_000); // Ω̇
+        put(s3, 10, 1, 8, i64::from(iode3));
+        put(s3, 10, 9, 14, -100); // IDOT
+        sf.map(|d| encode_subframe(&d))
+    }
+
+    #[test]
+    fn subframes_decode_to_the_fields_they_carry() {
+        let week = 2381;
+        let sf = test_subframes(week, 77, 77);
+        let mut lnav = LnavDecoder::default();
+        let reception = f64::from(week) * SECONDS_PER_WEEK + 408_700.0;
+        for s in &sf {
+            lnav.push(3, s, reception);
+        }
+        assert_eq!(lnav.ephemerides.len(), 1);
+        let l = lnav.ephemerides[0];
+        let e = l.ephemeris;
+        let (sc, p) = (GPS_PI, |k: i32| 2f64.powi(k));
+        let t0 = f64::from(week) * SECONDS_PER_WEEK;
+        assert_eq!((e.toc_gps_s, e.toe_gps_s), (t0 + 410_400.0, t0 + 410_400.0));
+        assert_eq!(l.transmission_gps_s, t0 + 408_654.0);
+        assert_eq!(
+            (l.iode, l.iodc, l.ura_index, l.l2_codes, l.toe_week),
+            (77, 77, 3, 1, 2381)
+        );
+        assert_eq!(e.tgd_s, -5.0 * p(-31));
+        assert_eq!(e.af1_s_s, -1_000.0 * p(-43));
+        assert_eq!(e.af0_s, -200_000.0 * p(-31));
+        assert_eq!(e.crs_m, -613.0 / 32.0);
+        assert_eq!(e.delta_n_rad_s, 9_000.0 * p(-43) * sc);
+        assert_eq!(e.m0_rad, -1e9 * p(-31) * sc);
+        assert_eq!(e.cuc_rad, -100.0 * p(-29));
+        assert_eq!(e.eccentricity, 12_345_678.0 * p(-33));
+        assert_eq!(e.cus_rad, 300.0 * p(-29));
+        assert_eq!(e.sqrt_a_sqrt_m, 2_702_000_000.0 * p(-19));
+        assert_eq!(e.cic_rad, 3.0 * p(-29));
+        assert_eq!(e.omega0_rad, 5e8 * p(-31) * sc);
+        assert_eq!(e.cis_rad, -7.0 * p(-29));
+        assert_eq!(e.i0_rad, 6.6e8 * p(-31) * sc);
+        assert_eq!(e.crc_m, 7_000.0 / 32.0);
+        assert_eq!(e.omega_rad, -9e8 * p(-31) * sc);
+        assert_eq!(e.omega_dot_rad_s, -20_000.0 * p(-43) * sc);
+        assert_eq!(e.idot_rad_s, -100.0 * p(-43) * sc);
+        assert_eq!((e.health, e.fit_interval_h), (0, 4.0));
+        // The same subframes again: no second copy.
+        lnav.push(3, &sf[0], reception);
+        assert_eq!(lnav.ephemerides.len(), 1);
+    }
+
+    #[test]
+    fn a_cutover_waits_for_matching_issues_of_data() {
+        let week = 2381;
+        let reception = f64::from(week) * SECONDS_PER_WEEK + 408_700.0;
+        let old = test_subframes(week, 76, 76);
+        let new = test_subframes(week, 77, 77);
+        let mut lnav = LnavDecoder::default();
+        lnav.push(3, &new[0], reception);
+        lnav.push(3, &new[1], reception);
+        lnav.push(3, &old[2], reception);
+        assert!(
+            lnav.ephemerides.is_empty(),
+            "IODE 76 in subframe 3 against 77"
+        );
+        lnav.push(3, &new[2], reception);
+        assert_eq!(lnav.ephemerides.len(), 1);
+        // A week number that is not the transmission week's (a corrupt
+        // subframe 1 that passed parity) is refused.
+        let mut lnav = LnavDecoder::default();
+        for s in &test_subframes(week + 1, 77, 77) {
+            lnav.push(3, s, reception);
+        }
+        assert!(lnav.ephemerides.is_empty());
+        // A flipped bit is a parity failure, whichever word it hits.
+        let mut bad = new[1];
+        bad[6] ^= 1 << 12;
+        lnav.push(3, &bad, reception);
+        assert_eq!(lnav.stats.parity_failures, 1);
     }
 
     #[test]

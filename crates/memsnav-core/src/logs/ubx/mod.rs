@@ -27,7 +27,6 @@ mod gps_lnav;
 mod nav_pvt;
 mod rawx;
 
-pub use gps_lnav::{ura_m, LnavEphemeris};
 pub use nav_pvt::NavPvt;
 pub use rawx::{RawxEpoch, RawxSignal, TrackingStatus};
 
@@ -35,7 +34,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
-use crate::gnss::{ObservationEpoch, ObservationFile, SatelliteObservations};
+use crate::gnss::{LnavEphemeris, ObservationEpoch, ObservationFile, SatelliteObservations};
 use crate::logs::PosSolution;
 use crate::{Error, Result};
 
@@ -327,5 +326,94 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
         approx_position_ecef: None,
         epochs,
         warnings: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::framing::encode;
+    use super::*;
+
+    fn sfrbx(gnss_id: u8, sv_id: u8, sig_id: u8, words: &[u32]) -> Vec<u8> {
+        let mut p = vec![gnss_id, sv_id, sig_id, 0, words.len() as u8, 0, 2, 0];
+        for w in words {
+            p.extend_from_slice(&w.to_le_bytes());
+        }
+        encode(RXM_SFRBX.0, RXM_SFRBX.1, &p)
+    }
+
+    #[test]
+    fn a_hand_built_log_with_every_kind_of_damage() {
+        let week = 2381;
+        let tow = 408_700.25;
+        let signals = [rawx::tests::gps_l1(3, 2.1e7), rawx::tests::gps_l1(7, 2.3e7)];
+        let mut second = signals;
+        second[1].lock_time_s = 0.5; // lock lost: the phase gets LLI 1
+        let sf = gps_lnav::tests::test_subframes(u32::from(week), 77, 77);
+        let mut log = b"$GNGGA,noise\r\n".to_vec();
+        log.extend(encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow, week, Some(18), &signals),
+        ));
+        log.extend(sfrbx(0, 3, 0, &sf[0]));
+        // The same words on L2C (CNAV) are not LNAV: counted, not decoded.
+        log.extend(sfrbx(0, 3, 4, &sf[1]));
+        let mut flipped = sfrbx(0, 3, 0, &sf[1]);
+        let n = flipped.len();
+        flipped[n - 3] ^= 0x40; // checksum no longer matches
+        log.extend(flipped);
+        log.extend(sfrbx(0, 3, 0, &sf[1]));
+        log.extend(sfrbx(0, 3, 0, &sf[2]));
+        log.extend(encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow + 0.25, week, Some(18), &second),
+        ));
+        // An epoch that goes back in time is skipped.
+        log.extend(encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow, week, Some(18), &second),
+        ));
+        log.extend(encode(0x0A, 0x04, &[]));
+        let full = encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow + 0.5, week, None, &signals),
+        );
+        log.extend_from_slice(&full[..full.len() - 5]);
+
+        let out = parse_ubx(&log, "hand.ubx").unwrap();
+        assert_eq!(out.rawx.len(), 2);
+        assert_eq!(out.gps_ephemerides.len(), 1);
+        assert_eq!(out.gps_ephemerides[0].ephemeris.prn, 3);
+        assert_eq!(out.messages["RXM-RAWX"], 3);
+        assert_eq!(out.messages["RXM-SFRBX"], 4);
+        assert_eq!(out.messages["0x0A-0x04"], 1);
+        assert_eq!(out.skipped["frames with a bad checksum"], 1);
+        assert_eq!(out.skipped["RXM-RAWX malformed"], 1);
+        assert_eq!(
+            out.skipped["RXM-SFRBX of a navigation message not decoded (gnssId 0, sigId 4)"],
+            1
+        );
+        assert!(
+            out.warnings.iter().any(|w| w.contains("cut short")),
+            "{:?}",
+            out.warnings
+        );
+        let obs = &out.observations;
+        assert_eq!(obs.observation_types[&'G'], ["C1C", "L1C", "D1C", "S1C"]);
+        let g07 = &obs.epochs[1].satellites[1];
+        assert_eq!(
+            (g07.prn, g07.values[0], g07.lli[1]),
+            (7, Some(2.3e7), LLI_LOST_LOCK)
+        );
+        assert_eq!(obs.epochs[0].satellites[1].lli[1], 0);
+        let e = parse_ubx(b"\xB5\x62 not a log", "junk.ubx").unwrap_err();
+        assert!(
+            e.to_string().contains("junk.ubx") && e.to_string().contains("no UBX frame"),
+            "{e}"
+        );
     }
 }
