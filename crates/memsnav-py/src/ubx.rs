@@ -20,6 +20,8 @@ use crate::logs::PyPosSolution;
 #[pyclass(name = "UbxLog", module = "memsnav._memsnav", frozen)]
 pub struct PyUbxLog {
     inner: UbxLog,
+    /// The log's path as given, for the headers of the files written.
+    source: String,
 }
 
 /// The header of files this binding writes.
@@ -279,14 +281,14 @@ impl PyUbxLog {
 
     /// Writes the observations as a RINEX 3.04 observation file at ``path``.
     fn write_rinex_obs(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let header = provenance(&path.display().to_string());
+        let header = provenance(&self.source);
         py.detach(|| gnss::write_rinex_obs(&path, &self.inner.observations, &header))
             .py()
     }
 
     /// Writes the GPS ephemerides as a RINEX 3.04 navigation file at ``path``.
     fn write_rinex_nav(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let header = provenance(&path.display().to_string());
+        let header = provenance(&self.source);
         py.detach(|| gnss::write_rinex_nav(&path, &self.inner.gps_ephemerides, &header))
             .py()
     }
@@ -307,6 +309,10 @@ impl PyUbxLog {
 fn read_ubx(py: Python<'_>, path: PathBuf) -> PyResult<PyUbxLog> {
     Ok(PyUbxLog {
         inner: py.detach(|| logs::read_ubx(&path)).py()?,
+        source: path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into(),
+        ),
     })
 }
 

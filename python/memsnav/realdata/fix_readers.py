@@ -1,8 +1,9 @@
 """Readers of GNSS fixes in the formats other than RTKLIB ``.pos``: the
-fixes CSV, NMEA 0183 and the NAV-PVT solutions of a u-blox UBX log. Each gives the same ``PosSolution`` as
-``read_pos`` (GPS time, latitude/longitude/ellipsoidal height, RTKLIB's
-quality code, satellites, NED σ and, when the file has it, the full NED
-covariance; NED velocity and its σ), so that loose coupling
+fixes CSV, NMEA 0183 and the NAV-PVT solutions of a u-blox UBX log. Each
+gives the same ``PosSolution`` as ``read_pos`` (GPS time,
+latitude/longitude/ellipsoidal height, RTKLIB's quality code, satellites,
+NED σ and, when the file has it, the full NED covariance; NED velocity and
+its σ), so that loose coupling
 (``fixes_from_solution``, ``[gnss] pos``) and the truth (``[truth] pos``)
 take any of them. The parsing is in the Rust core (``memsnav_core::logs``);
 the formats are described in docs/real-data.md, "GNSS fixes from other

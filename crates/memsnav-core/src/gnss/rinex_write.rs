@@ -74,19 +74,20 @@ fn provenance_records(out: &mut String, provenance: &RinexProvenance) {
     }
 }
 
-/// A GPS time rounded to 0.1 µs as calendar fields (the F11.7 seconds of
-/// the epoch records): the whole seconds split off first, so rounding
-/// never shows 60 s and the ~0.2 µs resolution of f64 near 1.4e9 s is not
-/// amplified.
+/// A GPS time rounded to 1 µs as calendar fields (written in the F11.7
+/// seconds of the epoch records): near 1.4e9 s an f64 GPS time holds
+/// 0.24 µs, so a seventh decimal would print rounding noise (a receiver
+/// epoch at .748 s coming out as .7479999). The whole seconds are split
+/// off first, so rounding never shows 60 s.
 fn epoch_fields(gps_time_s: f64) -> (i64, i64, i64, i64, i64, f64) {
     let mut whole = gps_time_s.floor();
-    let mut tenth_us = ((gps_time_s - whole) * 1e7).round();
-    if tenth_us >= 1e7 {
+    let mut micros = ((gps_time_s - whole) * 1e6).round();
+    if micros >= 1e6 {
         whole += 1.0;
-        tenth_us = 0.0;
+        micros = 0.0;
     }
     let (y, mo, d, h, mi, s) = calendar_from_gps_time(whole);
-    (y, mo, d, h, mi, s.round() + tenth_us * 1e-7)
+    (y, mo, d, h, mi, s.round() + micros * 1e-6)
 }
 
 /// The text of a RINEX 3.04 observation file holding `observations`
@@ -296,9 +297,11 @@ mod tests {
 
     #[test]
     fn epoch_rounding_never_shows_sixty_seconds() {
-        let t = 1_440_437_459.999_999_97;
+        let t = 1_440_437_459.999_999_7;
         let (.., mi, s) = epoch_fields(t);
         assert_eq!((mi, s), (31, 0.0));
+        let (.., s) = epoch_fields(1_440_437_439.748);
+        assert_eq!(format!("{s:11.7}"), " 39.7480000");
     }
 
     #[test]
@@ -348,7 +351,7 @@ mod tests {
         let back = parse_rinex_obs(&text, "written").unwrap();
         assert_eq!(back.observation_types, obs.observation_types);
         assert_eq!(back.approx_position_ecef, obs.approx_position_ecef);
-        assert!((back.epochs[0].gps_time_s - obs.epochs[0].gps_time_s).abs() < 3e-7);
+        assert!((back.epochs[0].gps_time_s - obs.epochs[0].gps_time_s).abs() < 1e-6);
         // The satellite with no value is left out.
         assert_eq!(back.epochs[0].satellites, obs.epochs[0].satellites[..2]);
     }

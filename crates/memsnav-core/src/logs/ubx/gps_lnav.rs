@@ -14,7 +14,9 @@ use std::collections::HashMap;
 use crate::gnss::{GpsEphemeris, LnavEphemeris, SECONDS_PER_WEEK};
 
 /// The value of π that IS-GPS-200 fixes for converting semicircles
-/// (§20.3.3.4.3.1, "PI = 3.1415926535898").
+/// (§20.3.3.4.3.1, "PI = 3.1415926535898"): the control segment scales
+/// the broadcast angles with it, so it is the right one here, not `PI`.
+#[allow(clippy::approx_constant)]
 const GPS_PI: f64 = 3.141_592_653_589_8;
 /// Telemetry word preamble 10001011 (§20.3.3.1).
 const PREAMBLE: u32 = 0x8B;
