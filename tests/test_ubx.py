@@ -194,3 +194,52 @@ def test_bad_input_is_a_clear_error(tmp_path):
     assert log.skipped["frames with a bad checksum"] >= 1
     assert any("cut short" in w for w in log.warnings)
     assert len(log.rawx["epoch_gps_time"]) >= 18
+
+
+#: georinex's names of the RINEX Galileo navigation fields, with ours.
+GEORINEX_GALILEO = {
+    "SVclockBias": "af0",
+    "SVclockDrift": "af1",
+    "SVclockDriftRate": "af2",
+    "IODnav": "iod_nav",
+    "Crs": "crs",
+    "DeltaN": "delta_n",
+    "M0": "m0",
+    "Cuc": "cuc",
+    "Eccentricity": "eccentricity",
+    "Cus": "cus",
+    "sqrtA": "sqrt_a",
+    "Cic": "cic",
+    "Omega0": "omega0",
+    "Cis": "cis",
+    "Io": "i0",
+    "Crc": "crc",
+    "omega": "omega",
+    "OmegaDot": "omega_dot",
+    "IDOT": "idot",
+    "SISA": "sisa_m",
+    "BGDe5a": "bgd_e1_e5a",
+    "BGDe5b": "bgd_e1_e5b",
+}
+
+
+def test_galileo_ephemerides_in_the_converted_navigation_file(tmp_path):
+    log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
+    galileo = log.galileo_ephemerides
+    # The data README: I/NAV for 7 Galileo satellites, E14 flagged unhealthy.
+    assert sorted(e["sat"] for e in galileo) == ["E07", "E08", "E13", "E14", "E26", "E29", "E33"]
+    assert [e["sat"] for e in galileo if not e["healthy"]] == ["E14"]
+    path = tmp_path / "walk.nav"
+    log.write_rinex_nav(path)
+    nav = _georinex(path)
+    for e in galileo:
+        record = nav.sel(sv=e["sat"]).dropna("time", how="all")
+        assert record.time.size == 1
+        for theirs, ours in GEORINEX_GALILEO.items():
+            value = float(record[theirs].values[0])
+            assert value == pytest.approx(e[ours], rel=1e-12, abs=1e-300), theirs
+        health = int(record["health"].values[0])
+        assert (health >> 1) & 3 == e["e1b_health"] and (health >> 7) & 3 == e["e5b_health"]
+        assert float(record["GALWeek"].values[0]) == e["gst_week"] + 1024
+    # And the GPS records beside them are unchanged.
+    assert sorted(s for s in nav.sv.values if s[0] == "G") == ["G10", "G23", "G27", "G32"]

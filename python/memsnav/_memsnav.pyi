@@ -2199,6 +2199,12 @@ class UbxLog:
         (RINEX navigation fields in SI units, angles rad, times GPS s; sat,
         prn, health, iode, iodc, ura_index, ura_m, week, ...)."""
     @property
+    def galileo_ephemerides(self) -> list[dict[str, Any]]:
+        """The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B, CRC
+        checked), one dict each (RINEX navigation fields in SI units, angles
+        rad, times GPS s; sat, svid, iod_nav, sisa_m, BGDs, health and data
+        validity flags, healthy)."""
+    @property
     def rawx(self) -> dict[str, Any]:
         """RXM-RAWX as the receiver reports it, one row per epoch and signal
         (pseudorange, carrier_phase, doppler, cn0, lock_time, tracking
@@ -2224,10 +2230,11 @@ class UbxLog:
     def write_rinex_obs(self, path: str | os.PathLike[str]) -> None:
         """Writes the observations as a RINEX 3.04 observation file."""
     def write_rinex_nav(self, path: str | os.PathLike[str]) -> None:
-        """Writes the GPS ephemerides as a RINEX 3.04 navigation file."""
+        """Writes the GPS and Galileo ephemerides as a RINEX 3.04 navigation file."""
 
 def read_ubx(path: str | os.PathLike[str]) -> UbxLog:
-    """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV ephemerides from RXM-SFRBX
-    (parity checked), NAV-PVT; frames with a bad checksum, a cut last frame
-    and messages not decoded are skipped and counted; a file without a UBX
+    """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked) and
+    Galileo I/NAV (CRC checked) ephemerides from RXM-SFRBX, NAV-PVT; frames
+    with a bad checksum, a cut last frame and messages not decoded are
+    skipped and counted; a file without a UBX
     frame is a ParseError naming it."""

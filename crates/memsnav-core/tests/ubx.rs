@@ -2,17 +2,21 @@
 //! ephemerides against the RINEX navigation file another converter made
 //! from the same log, its epochs and messages as the data README counts
 //! them, and the RINEX 3 files written from it read back by the project's
-//! readers. The excerpt in tests/data gives the same ephemerides.
+//! readers; its Galileo I/NAV ephemerides against its own pseudoranges.
+//! The excerpt in tests/data gives the same GPS ephemerides.
 
 mod shared_data;
 
 use std::path::PathBuf;
 
+use memsnav_core::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
+use memsnav_core::geodesy::{geodetic_to_ecef, Geodetic};
 use memsnav_core::gnss::{
-    format_rinex_nav, format_rinex_obs, parse_rinex_nav, parse_rinex_obs, read_rinex_nav,
-    GpsEphemeris, RinexProvenance,
+    format_rinex_nav, format_rinex_obs, parse_rinex_nav, parse_rinex_obs, predicted_range,
+    read_rinex_nav, GpsEphemeris, InavEphemeris, RinexProvenance,
 };
 use memsnav_core::logs::{read_ubx, UbxLog};
+use nalgebra::Vector3;
 use shared_data::shared_data;
 
 const WALK_UBX: &str = "real-imu-gnss/walk_0827/gnss_1730.ubx";
@@ -125,7 +129,7 @@ fn written_rinex_reads_back() {
     let log = walk();
     let header = RinexProvenance::default();
     let nav = parse_rinex_nav(
-        &format_rinex_nav(&log.gps_ephemerides, &header),
+        &format_rinex_nav(&log.gps_ephemerides, &log.galileo_ephemerides, &header),
         "written.nav",
     )
     .unwrap();
@@ -167,4 +171,97 @@ fn the_excerpt_gives_the_same_ephemerides() {
     let log = walk();
     assert_eq!(head.rawx.len(), 20);
     assert_eq!(head.gps_ephemerides, log.gps_ephemerides);
+}
+
+/// The Keplerian fields of a Galileo ephemeris in the GPS record, to put
+/// its satellites on the sky with the GPS user algorithm: Galileo's GM
+/// (3.986004418e14) differs from GPS's by 1.5e-7, which moves a satellite
+/// by under 0.5 m at 30 min from t_oe, far inside this check.
+fn as_gps(e: &InavEphemeris) -> GpsEphemeris {
+    GpsEphemeris {
+        prn: e.svid,
+        toc_gps_s: e.toc_gps_s,
+        toe_gps_s: e.toe_gps_s,
+        af0_s: e.af0_s,
+        af1_s_s: e.af1_s_s,
+        af2_s_s2: e.af2_s_s2,
+        crs_m: e.crs_m,
+        delta_n_rad_s: e.delta_n_rad_s,
+        m0_rad: e.m0_rad,
+        cuc_rad: e.cuc_rad,
+        eccentricity: e.eccentricity,
+        cus_rad: e.cus_rad,
+        sqrt_a_sqrt_m: e.sqrt_a_sqrt_m,
+        cic_rad: e.cic_rad,
+        omega0_rad: e.omega0_rad,
+        cis_rad: e.cis_rad,
+        i0_rad: e.i0_rad,
+        crc_m: e.crc_m,
+        omega_rad: e.omega_rad,
+        omega_dot_rad_s: e.omega_dot_rad_s,
+        idot_rad_s: e.idot_rad_s,
+        health: u32::from(e.e1b_health),
+        tgd_s: e.bgd_e1_e5b_s,
+        fit_interval_h: 4.0,
+    }
+}
+
+#[test]
+fn walk_galileo_inav_ephemerides_fit_the_pseudoranges() {
+    let log = walk();
+    let mut svids: Vec<u16> = log.galileo_ephemerides.iter().map(|e| e.svid).collect();
+    svids.sort_unstable();
+    // The data README: I/NAV for 7 Galileo satellites, E14 unhealthy.
+    assert_eq!(svids, [7, 8, 13, 14, 26, 29, 33]);
+    for e in &log.galileo_ephemerides {
+        assert_eq!(e.is_healthy(), e.svid != 14, "E{:02}", e.svid);
+        assert_eq!(u32::from(e.gst_week) + 1024, 2381);
+    }
+    assert!(
+        !log.skipped.keys().any(|k| k.contains("Galileo")),
+        "{:?}",
+        log.skipped
+    );
+    // Each healthy satellite's E1 pseudorange at the middle epoch, with its
+    // clock corrected, minus the range from the receiver's NAV-PVT position:
+    // what remains is the receiver clock (common to all) plus the
+    // atmosphere (metres). A misplaced bit would leave kilometres.
+    let epoch = &log.observations.epochs[268];
+    let c1c = log.observations.type_index('E', "C1C").unwrap();
+    let pvt = log
+        .nav_pvt
+        .iter()
+        .min_by(|a, b| {
+            (a.gps_time_s - epoch.gps_time_s)
+                .abs()
+                .total_cmp(&(b.gps_time_s - epoch.gps_time_s).abs())
+        })
+        .unwrap();
+    let rx = geodetic_to_ecef(Geodetic::new(pvt.lla.x, pvt.lla.y, pvt.lla.z));
+    let mut residuals = Vec::new();
+    for e in log.galileo_ephemerides.iter().filter(|e| e.is_healthy()) {
+        let sat = epoch
+            .satellites
+            .iter()
+            .find(|s| s.system == 'E' && s.prn == e.svid)
+            .unwrap();
+        let rho = sat.values[c1c].unwrap();
+        let state = as_gps(e).state_at(epoch.gps_time_s, -rho / SPEED_OF_LIGHT_M_S);
+        let range = predicted_range(
+            &state.position_ecef,
+            &state.velocity_ecef,
+            &rx,
+            &Vector3::zeros(),
+        );
+        residuals.push(rho + SPEED_OF_LIGHT_M_S * state.clock_bias_s - range.range_m);
+    }
+    let mean = residuals.iter().sum::<f64>() / residuals.len() as f64;
+    // The receiver clock: about -1.5 ms (the data README).
+    assert!(
+        (mean / SPEED_OF_LIGHT_M_S + 1.5e-3).abs() < 0.3e-3,
+        "{mean}"
+    );
+    for r in &residuals {
+        assert!((r - mean).abs() < 15.0, "{residuals:?}");
+    }
 }

@@ -121,6 +121,64 @@ impl PyUbxLog {
             .collect()
     }
 
+    /// The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one
+    /// dict each with the RINEX navigation record's fields (SI units,
+    /// angles rad, times GPS s since 1980-01-06) and the health, data
+    /// validity and accuracy (SISA) flags.
+    #[getter]
+    fn galileo_ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .galileo_ephemerides
+            .iter()
+            .map(|e| {
+                let d = PyDict::new(py);
+                d.set_item("sat", format!("E{:02}", e.svid))?;
+                for (k, v) in [
+                    ("toc", e.toc_gps_s),
+                    ("toe", e.toe_gps_s),
+                    ("af0", e.af0_s),
+                    ("af1", e.af1_s_s),
+                    ("af2", e.af2_s_s2),
+                    ("crs", e.crs_m),
+                    ("delta_n", e.delta_n_rad_s),
+                    ("m0", e.m0_rad),
+                    ("cuc", e.cuc_rad),
+                    ("eccentricity", e.eccentricity),
+                    ("cus", e.cus_rad),
+                    ("sqrt_a", e.sqrt_a_sqrt_m),
+                    ("cic", e.cic_rad),
+                    ("omega0", e.omega0_rad),
+                    ("cis", e.cis_rad),
+                    ("i0", e.i0_rad),
+                    ("crc", e.crc_m),
+                    ("omega", e.omega_rad),
+                    ("omega_dot", e.omega_dot_rad_s),
+                    ("idot", e.idot_rad_s),
+                    ("bgd_e1_e5a", e.bgd_e1_e5a_s),
+                    ("bgd_e1_e5b", e.bgd_e1_e5b_s),
+                    ("sisa_m", gnss::sisa_m(e.sisa_index).unwrap_or(f64::NAN)),
+                    ("transmission_time", e.transmission_gps_s),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("svid", u32::from(e.svid)),
+                    ("iod_nav", u32::from(e.iod_nav)),
+                    ("sisa_index", u32::from(e.sisa_index)),
+                    ("e1b_health", u32::from(e.e1b_health)),
+                    ("e5b_health", u32::from(e.e5b_health)),
+                    ("e1b_data_validity", u32::from(e.e1b_data_validity)),
+                    ("e5b_data_validity", u32::from(e.e5b_data_validity)),
+                    ("gst_week", u32::from(e.gst_week)),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                d.set_item("healthy", e.is_healthy())?;
+                Ok(d)
+            })
+            .collect()
+    }
+
     /// RXM-RAWX as the receiver reports it, one row per epoch and signal:
     /// ``epoch`` (index into ``epoch_gps_time``), ``sat`` ("G10"),
     /// ``code`` (RINEX band and attribute), ``gnss_id``, ``sv_id``,
@@ -286,11 +344,19 @@ impl PyUbxLog {
             .py()
     }
 
-    /// Writes the GPS ephemerides as a RINEX 3.04 navigation file at ``path``.
+    /// Writes the GPS and Galileo ephemerides as a RINEX 3.04 navigation
+    /// file at ``path``.
     fn write_rinex_nav(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let header = provenance(&self.source);
-        py.detach(|| gnss::write_rinex_nav(&path, &self.inner.gps_ephemerides, &header))
-            .py()
+        py.detach(|| {
+            gnss::write_rinex_nav(
+                &path,
+                &self.inner.gps_ephemerides,
+                &self.inner.galileo_ephemerides,
+                &header,
+            )
+        })
+        .py()
     }
 
     fn __repr__(&self) -> String {

@@ -84,6 +84,72 @@ pub fn ura_m(index: u8) -> f64 {
     URA_M[usize::from(index.min(15))]
 }
 
+/// A decoded Galileo I/NAV ephemeris (angles rad, times GPS s since
+/// 1980-01-06: GST is steered to GPS time within tens of ns).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InavEphemeris {
+    pub svid: u16,
+    pub iod_nav: u16,
+    pub toc_gps_s: f64,
+    pub toe_gps_s: f64,
+    pub af0_s: f64,
+    pub af1_s_s: f64,
+    pub af2_s_s2: f64,
+    pub crs_m: f64,
+    pub delta_n_rad_s: f64,
+    pub m0_rad: f64,
+    pub cuc_rad: f64,
+    pub eccentricity: f64,
+    pub cus_rad: f64,
+    pub sqrt_a_sqrt_m: f64,
+    pub cic_rad: f64,
+    pub omega0_rad: f64,
+    pub cis_rad: f64,
+    pub i0_rad: f64,
+    pub crc_m: f64,
+    pub omega_rad: f64,
+    pub omega_dot_rad_s: f64,
+    pub idot_rad_s: f64,
+    /// Signal-in-space accuracy index (§5.1.11; 255: no accuracy prediction).
+    pub sisa_index: u8,
+    /// Broadcast group delays E1-E5a and E1-E5b, s.
+    pub bgd_e1_e5a_s: f64,
+    pub bgd_e1_e5b_s: f64,
+    /// Signal health (0 OK, 1 out of service, 2 extended operations, 3 in
+    /// test) and data validity (0 valid, 1 working without guarantee) of
+    /// E1-B and E5b (§5.1.9.3).
+    pub e1b_health: u8,
+    pub e5b_health: u8,
+    pub e1b_data_validity: u8,
+    pub e5b_data_validity: u8,
+    /// GST week of word type 5 (12 bits, counted from 1999-08-22).
+    pub gst_week: u16,
+    /// Word type 5's GST week and time of week, GPS s since 1980-01-06
+    /// (the time of its page).
+    pub transmission_gps_s: f64,
+}
+
+/// Signal-in-space accuracy in metres of index `n` (ICD §5.1.11, table
+/// 89: 1 cm steps to 0.49 m, 2 cm to 0.98 m, 4 cm to 1.96 m, 16 cm to
+/// 6 m); `None` for "no accuracy prediction" (255) and spare indices.
+pub fn sisa_m(n: u8) -> Option<f64> {
+    let n = f64::from(n);
+    match n as u8 {
+        0..=49 => Some(0.01 * n),
+        50..=74 => Some(0.5 + 0.02 * (n - 50.0)),
+        75..=99 => Some(1.0 + 0.04 * (n - 75.0)),
+        100..=125 => Some(2.0 + 0.16 * (n - 100.0)),
+        _ => None,
+    }
+}
+
+impl InavEphemeris {
+    /// Healthy and valid on E1-B (health 0, data valid).
+    pub fn is_healthy(&self) -> bool {
+        self.e1b_health == 0 && self.e1b_data_validity == 0
+    }
+}
+
 impl GpsEphemeris {
     /// Position and velocity (ECEF at `gps_time_s`, antenna phase centre as
     /// broadcast) and the L1 C/A clock correction at GPS time `gps_time_s`.

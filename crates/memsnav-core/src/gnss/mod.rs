@@ -28,7 +28,9 @@ mod walker;
 pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
 pub use clock::{ClockState, ReceiverClockModel};
 pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
-pub use ephemeris::{ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
+pub use ephemeris::{
+    sisa_m, ura_m, GpsEphemeris, InavEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
+};
 pub use fix::{solve_fix, Dops, Fix};
 pub use measurement_rows::{
     check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,

@@ -11,7 +11,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::ephemeris::{ura_m, LnavEphemeris};
+use super::ephemeris::{sisa_m, ura_m, InavEphemeris, LnavEphemeris};
 use super::rinex_obs::ObservationFile;
 use super::time::{calendar_from_gps_time, SECONDS_PER_WEEK};
 use crate::{Error, Result};
@@ -198,33 +198,59 @@ fn d19(x: f64) -> String {
     format!("{mantissa:>15}E{sign}{:02}", exponent.abs())
 }
 
-/// The text of a RINEX 3.04 GPS navigation file holding `ephemerides`
-/// (table A6: t_oc as the epoch, angles in rad, t_oe week continuous,
-/// transmission time in seconds of the t_oe week).
-pub fn format_rinex_nav(ephemerides: &[LnavEphemeris], provenance: &RinexProvenance) -> String {
+/// The first line of a navigation record: satellite, t_oc, clock terms.
+fn nav_epoch_line(out: &mut String, sat: &str, toc_gps_s: f64, clock: [f64; 3]) {
+    let (y, mo, d, h, mi, s) = epoch_fields(toc_gps_s);
+    let _ = writeln!(
+        out,
+        "{sat} {y:04} {mo:02} {d:02} {h:02} {mi:02} {:02}{}",
+        s.round() as i64,
+        clock.iter().map(|&x| d19(x)).collect::<String>()
+    );
+}
+
+/// The text of a RINEX 3.04 navigation file holding GPS LNAV (table A6)
+/// and Galileo I/NAV (table A8) ephemerides: t_oc as the epoch, angles in
+/// rad, weeks continuous and aligned with GPS weeks (Galileo's too), t_oe
+/// and the transmission time in seconds of the t_oe week.
+pub fn format_rinex_nav(
+    gps: &[LnavEphemeris],
+    galileo: &[InavEphemeris],
+    provenance: &RinexProvenance,
+) -> String {
     let mut out = String::new();
+    let system = match (gps.is_empty(), galileo.is_empty()) {
+        (_, true) => "G: GPS",
+        (true, false) => "E: Galileo",
+        (false, false) => "M: Mixed",
+    };
     record(
         &mut out,
         &format!(
-            "{:>9.2}{:11}{:<20}{:<20}",
-            3.04, "", "N: GNSS NAV DATA", "G: GPS"
+            "{:>9.2}{:11}{:<20}{system:<20}",
+            3.04, "", "N: GNSS NAV DATA"
         ),
         "RINEX VERSION / TYPE",
     );
     provenance_records(&mut out, provenance);
     record(&mut out, "", "END OF HEADER");
-    for l in ephemerides {
+    let orbit_rows = |out: &mut String, rows: &[&[f64]]| {
+        for row in rows {
+            let _ = writeln!(
+                out,
+                "    {}",
+                row.iter().map(|&x| d19(x)).collect::<String>()
+            );
+        }
+    };
+    for l in gps {
         let e = &l.ephemeris;
-        let (y, mo, d, h, mi, s) = epoch_fields(e.toc_gps_s);
         let week_start = f64::from(l.toe_week) * SECONDS_PER_WEEK;
-        let _ = writeln!(
-            out,
-            "G{:02} {y:04} {mo:02} {d:02} {h:02} {mi:02} {:02}{}{}{}",
-            e.prn,
-            s.round() as i64,
-            d19(e.af0_s),
-            d19(e.af1_s_s),
-            d19(e.af2_s_s2)
+        nav_epoch_line(
+            &mut out,
+            &format!("G{:02}", e.prn),
+            e.toc_gps_s,
+            [e.af0_s, e.af1_s_s, e.af2_s_s2],
         );
         let rows: [&[f64]; 7] = [
             &[f64::from(l.iode), e.crs_m, e.delta_n_rad_s, e.m0_rad],
@@ -245,13 +271,39 @@ pub fn format_rinex_nav(ephemerides: &[LnavEphemeris], provenance: &RinexProvena
             ],
             &[l.transmission_gps_s - week_start, e.fit_interval_h],
         ];
-        for row in rows {
-            let _ = writeln!(
-                out,
-                "    {}",
-                row.iter().map(|&x| d19(x)).collect::<String>()
-            );
-        }
+        orbit_rows(&mut out, &rows);
+    }
+    for e in galileo {
+        let toe_week = (e.toe_gps_s / SECONDS_PER_WEEK).floor();
+        let week_start = toe_week * SECONDS_PER_WEEK;
+        nav_epoch_line(
+            &mut out,
+            &format!("E{:02}", e.svid),
+            e.toc_gps_s,
+            [e.af0_s, e.af1_s_s, e.af2_s_s2],
+        );
+        // Data sources: bit 0 I/NAV E1-B, bit 9 clock for E5b,E1 (table A8).
+        let sources = 1.0 + 512.0;
+        // Health bits: 0 E1-B DVS, 1-2 E1-B HS, 6 E5b DVS, 7-8 E5b HS.
+        let health = u32::from(e.e1b_data_validity)
+            | u32::from(e.e1b_health) << 1
+            | u32::from(e.e5b_data_validity) << 6
+            | u32::from(e.e5b_health) << 7;
+        let rows: [&[f64]; 7] = [
+            &[f64::from(e.iod_nav), e.crs_m, e.delta_n_rad_s, e.m0_rad],
+            &[e.cuc_rad, e.eccentricity, e.cus_rad, e.sqrt_a_sqrt_m],
+            &[e.toe_gps_s - week_start, e.cic_rad, e.omega0_rad, e.cis_rad],
+            &[e.i0_rad, e.crc_m, e.omega_rad, e.omega_dot_rad_s],
+            &[e.idot_rad_s, sources, toe_week, 0.0],
+            &[
+                sisa_m(e.sisa_index).unwrap_or(-1.0),
+                f64::from(health),
+                e.bgd_e1_e5a_s,
+                e.bgd_e1_e5b_s,
+            ],
+            &[e.transmission_gps_s - week_start],
+        ];
+        orbit_rows(&mut out, &rows);
     }
     out
 }
@@ -275,10 +327,11 @@ pub fn write_rinex_obs(
 /// Writes [`format_rinex_nav`] to `path`.
 pub fn write_rinex_nav(
     path: impl AsRef<Path>,
-    ephemerides: &[LnavEphemeris],
+    gps: &[LnavEphemeris],
+    galileo: &[InavEphemeris],
     provenance: &RinexProvenance,
 ) -> Result<()> {
-    write_text(path.as_ref(), &format_rinex_nav(ephemerides, provenance))
+    write_text(path.as_ref(), &format_rinex_nav(gps, galileo, provenance))
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! u-blox UBX binary logs (u-blox F9 HPG 1.32 and X20 HPG 2.00 interface
 //! descriptions): the raw measurements (RXM-RAWX), the GPS broadcast
-//! ephemerides decoded from the navigation message words (RXM-SFRBX, GPS
-//! L1 C/A LNAV) and the receiver's own solution (NAV-PVT).
+//! and Galileo ephemerides decoded from the navigation message words
+//! (RXM-SFRBX: GPS L1 C/A LNAV, Galileo E1-B I/NAV) and the receiver's own solution (NAV-PVT).
 //!
 //! The measurements come out twice: as the receiver reports them
 //! ([`RawxEpoch`], with lock times and tracking flags), and as the same
@@ -12,7 +12,7 @@
 //! time (RAWX's week and time of week), as RINEX observation epochs are.
 //!
 //! Not decoded yet (skipped with a count): GPS CNAV (L2C, L5), Galileo
-//! I/NAV and F/NAV, BeiDou D1/D2, GLONASS strings, SBAS, and every message
+//! F/NAV and E6, BeiDou D1/D2, GLONASS strings, SBAS, and every message
 //! other than the three above.
 //!
 //! Any byte sequence is read without a panic: frames whose checksum fails
@@ -23,6 +23,7 @@
 
 mod bytes;
 mod framing;
+mod galileo_inav;
 mod gps_lnav;
 mod nav_pvt;
 mod rawx;
@@ -34,7 +35,9 @@ use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
-use crate::gnss::{LnavEphemeris, ObservationEpoch, ObservationFile, SatelliteObservations};
+use crate::gnss::{
+    InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile, SatelliteObservations,
+};
 use crate::logs::PosSolution;
 use crate::{Error, Result};
 
@@ -56,6 +59,9 @@ pub struct UbxLog {
     /// GPS LNAV ephemerides decoded from RXM-SFRBX, one per satellite and
     /// issue of data, in the order they completed.
     pub gps_ephemerides: Vec<LnavEphemeris>,
+    /// Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one per
+    /// satellite and IODnav, in the order they completed.
+    pub galileo_ephemerides: Vec<InavEphemeris>,
     /// Every NAV-PVT solution, fix or not.
     pub nav_pvt: Vec<NavPvt>,
     /// The NAV-PVT position fixes, as the other fix readers give them.
@@ -124,6 +130,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
     let mut rawx: Vec<RawxEpoch> = Vec::new();
     let mut nav_pvt = Vec::new();
     let mut lnav = gps_lnav::LnavDecoder::default();
+    let mut inav = galileo_inav::InavDecoder::default();
     for f in &frames {
         let name = match (f.class, f.id) {
             NAV_PVT => "NAV-PVT".to_string(),
@@ -190,6 +197,17 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
                     (0, 0, _) => malformed(format!(
                         "RXM-SFRBX GPS L1 C/A with {words} words (10 expected) or PRN {sv_id}"
                     )),
+                    // Galileo E1-B: I/NAV, one page pair in eight words.
+                    (2, 1, galileo_inav::WORDS) if (1..=36).contains(&sv_id) => {
+                        let mut w = [0u32; galileo_inav::WORDS];
+                        for (k, x) in w.iter_mut().enumerate() {
+                            *x = bytes::Le(p).u32(8 + 4 * k);
+                        }
+                        inav.push(u16::from(sv_id), &w, reception_gps_s);
+                    }
+                    (2, 1, _) => malformed(format!(
+                        "RXM-SFRBX Galileo E1-B with {words} words (8 expected) or SVID {sv_id}"
+                    )),
                     _ => problems.add(
                         &format!(
                             "RXM-SFRBX of a navigation message not decoded (gnssId {gnss_id}, sigId {sig_id})"
@@ -206,6 +224,15 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         lnav.stats.parity_failures,
     );
     problems.add("GPS LNAV subframes malformed", lnav.stats.malformed);
+    problems.add(
+        "Galileo I/NAV page pairs with a CRC failure",
+        inav.stats.crc_failures,
+    );
+    problems.add(
+        "Galileo I/NAV pages without their pair",
+        inav.stats.unpaired,
+    );
+    problems.add("Galileo I/NAV alert pages", inav.stats.alerts);
     let fixes = nav_pvt::fixes(&nav_pvt);
     let approx_position_ecef = fixes
         .lla
@@ -219,6 +246,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         rawx,
         observations,
         gps_ephemerides: lnav.ephemerides,
+        galileo_ephemerides: inav.ephemerides,
         nav_pvt,
         fixes,
         messages,
