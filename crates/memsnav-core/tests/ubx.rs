@@ -3,7 +3,7 @@
 //! from the same log, its epochs and messages as the data README counts
 //! them, and the RINEX 3 files written from it read back by the project's
 //! readers; its Galileo I/NAV ephemerides against its own pseudoranges.
-//! The excerpt in tests/data gives the same GPS ephemerides.
+//! The excerpt in tests/data gives the same ephemerides.
 
 mod shared_data;
 
@@ -171,6 +171,7 @@ fn the_excerpt_gives_the_same_ephemerides() {
     let log = walk();
     assert_eq!(head.rawx.len(), 20);
     assert_eq!(head.gps_ephemerides, log.gps_ephemerides);
+    assert_eq!(head.galileo_ephemerides, log.galileo_ephemerides);
 }
 
 /// The Keplerian fields of a Galileo ephemeris in the GPS record, to put

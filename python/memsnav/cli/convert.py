@@ -11,8 +11,8 @@ NAME = "convert"
 HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/real-data.md)"
 DESCRIPTION = (
     "Read a u-blox UBX log (RXM-RAWX, RXM-SFRBX, NAV-PVT) and write its observations "
-    "(every system and signal) and its decoded GPS LNAV ephemerides as RINEX 3.04 "
-    "files <stem>.obs and <stem>.nav in the output folder."
+    "(every system and signal) and its decoded GPS LNAV and Galileo I/NAV ephemerides "
+    "as RINEX 3.04 files <stem>.obs and <stem>.nav in the output folder."
 )
 
 
@@ -32,8 +32,8 @@ def run(args: argparse.Namespace, client: Any) -> int:
     log, files = convert_ubx(args.log, args.output)
     print(
         f"{len(log.rawx['epoch_gps_time'])} epochs, {len(log.observations.satellites)} "
-        f"satellites, {len(log.ephemerides)} GPS ephemerides, {len(log.fixes.gps_time)} "
-        "NAV-PVT fixes"
+        f"satellites, {len(log.ephemerides)} GPS and {len(log.galileo_ephemerides)} Galileo "
+        f"ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
     )
     for reason, count in log.skipped.items():
         print(f"skipped: {count} {reason}")
