@@ -174,7 +174,7 @@ def test_nmea_reaches_the_native_solution(tmp_path):
 
 def test_format_key_overrides_the_extension(tmp_path):
     """[gnss] format names the reader whatever the file's name; a format
-    that is not one of the three is an error naming the key."""
+    that is not one of the four is an error naming the key."""
     lines = [s for f in _pos_rows()[:8] for s in _nmea_epoch(f, Decimal(0))]
     odd = tmp_path / "fixes.txt"
     odd.write_text("\n".join(lines) + "\n")
@@ -188,9 +188,9 @@ def test_format_key_overrides_the_extension(tmp_path):
 
     solution, keep, _ = read_solution(loaded, "gnss")
     assert len(solution) == 8 and keep.all()
-    cfg.write_text(text.replace('format = "nmea"', 'format = "ubx"'))
+    cfg.write_text(text.replace('format = "nmea"', 'format = "sbf"'))
     with pytest.raises(
-        ValueError, match=r"gnss.format: must be one of \['rtklib', 'csv', 'nmea'\]"
+        ValueError, match=r"gnss.format: must be one of \['rtklib', 'csv', 'nmea', 'ubx'\]"
     ):
         mn.load_config(cfg, DATA)
 

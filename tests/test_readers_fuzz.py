@@ -145,6 +145,7 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
         "txt",
         mn.read_gnsslogger,
     ),
+    "ubx": ((EX / "walk_head.ubx").read_bytes(), "ubx", mn.read_ubx),
 }
 
 NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]

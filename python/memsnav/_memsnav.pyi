@@ -2201,3 +2201,62 @@ def read_gnsslogger(path: str | os.PathLike[str]) -> GnssLoggerLog:
 def closest_name(key: str, known: list[str]) -> str | None:
     """The name of known that key is probably a misspelling of (the core's
     known_keys::closest: the one rule of every "did you mean"), or None."""
+
+@final
+class UbxLog:
+    """What a u-blox UBX log holds (read_ubx)."""
+
+    @property
+    def observations(self) -> RinexObservations:
+        """RXM-RAWX as observations: per signal C pseudorange m (prValid
+        only), L carrier cycles (cpValid only), D Doppler Hz, S C/N0 dB-Hz,
+        RINEX 3 codes, epochs on the receiver's GPS time; approximate position
+        the first NAV-PVT fix."""
+    @property
+    def constellation(self) -> Constellation:
+        """The GPS satellites of the decoded LNAV ephemerides."""
+    @property
+    def ephemerides(self) -> list[dict[str, Any]]:
+        """The GPS LNAV ephemerides decoded from RXM-SFRBX, one dict each
+        (RINEX navigation fields in SI units, angles rad, times GPS s; sat,
+        prn, health, iode, iodc, ura_index, ura_m, week, ...)."""
+    @property
+    def galileo_ephemerides(self) -> list[dict[str, Any]]:
+        """The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B, CRC
+        checked), one dict each (RINEX navigation fields in SI units, angles
+        rad, times GPS s; sat, svid, iod_nav, sisa_m, BGDs, health and data
+        validity flags, healthy)."""
+    @property
+    def rawx(self) -> dict[str, Any]:
+        """RXM-RAWX as the receiver reports it, one row per epoch and signal
+        (pseudorange, carrier_phase, doppler, cn0, lock_time, tracking
+        flags, ...) and per-epoch epoch_gps_time, receiver_tow, week,
+        leap_seconds (-1 unknown), clock_reset."""
+    @property
+    def nav_pvt(self) -> dict[str, npt.NDArray[Any]]:
+        """Every NAV-PVT solution as arrays (gps_time, lla, height_msl,
+        velocity_ned, accuracies, fix_type, fix_ok, carrier_solution,
+        n_satellites, quality)."""
+    @property
+    def fixes(self) -> PosSolution:
+        """The NAV-PVT position fixes as the other fix readers give them."""
+    @property
+    def messages(self) -> dict[str, int]:
+        """Messages read, by name."""
+    @property
+    def skipped(self) -> dict[str, int]:
+        """What was left out, by reason, with counts."""
+    @property
+    def warnings(self) -> list[str]:
+        """Non-fatal problems met while reading."""
+    def write_rinex_obs(self, path: str | os.PathLike[str]) -> None:
+        """Writes the observations as a RINEX 3.04 observation file."""
+    def write_rinex_nav(self, path: str | os.PathLike[str]) -> None:
+        """Writes the GPS and Galileo ephemerides as a RINEX 3.04 navigation file."""
+
+def read_ubx(path: str | os.PathLike[str]) -> UbxLog:
+    """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked) and
+    Galileo I/NAV (CRC checked) ephemerides from RXM-SFRBX, NAV-PVT; frames
+    with a bad checksum, a cut last frame and messages not decoded are
+    skipped and counted; a file without a UBX
+    frame is a ParseError naming it."""

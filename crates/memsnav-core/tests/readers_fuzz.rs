@@ -20,9 +20,9 @@ use memsnav_core::gnss::{
 };
 use memsnav_core::logs::{
     axes_from_name, parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea,
-    parse_pos, parse_time_tag, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, ImuLog, PosSolution,
-    TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S,
-    POS_HEIGHT_RANGE_M,
+    parse_pos, parse_time_tag, parse_ubx, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, ImuLog,
+    PosSolution, TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2,
+    MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 
@@ -43,6 +43,7 @@ enum Reader {
     GnssTable,
     GnssLogger,
     ImuIncrements,
+    Ubx,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -155,6 +156,7 @@ fn seed(reader: Reader) -> &'static [u8] {
             GNSS_TABLE_SEED.as_bytes().to_vec(),
             head("android-gnsslogger/pixel6_excerpt.txt", usize::MAX),
             IMU_INCREMENTS_SEED.as_bytes().to_vec(),
+            head("real-imu-gnss/walk_head.ubx", usize::MAX),
         ]
     });
     &seeds[reader as usize]
@@ -335,6 +337,21 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                             .all(|w| w.amax() <= MAX_ANGULAR_RATE_RAD_S)
                 });
             ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
+        }),
+        Reader::Ubx => parse_ubx(bytes, file).map(|log| {
+            let times: Vec<f64> = log.rawx.iter().map(|e| e.gps_time_s()).collect();
+            let ok = increasing(&times)
+                && increasing(&log.fixes.gps_time_s)
+                && log.observations.epochs.len() == log.rawx.len()
+                && log.gps_ephemerides.iter().all(|l| {
+                    let e = &l.ephemeris;
+                    // Every field of a decoded ephemeris is a scaled
+                    // integer of the message: finite, √A below 2^13.
+                    e.sqrt_a_sqrt_m < 8192.0
+                        && (0.0..0.5).contains(&e.eccentricity)
+                        && (e.toe_gps_s - l.transmission_gps_s).abs() <= 302_400.0
+                });
+            ok.then_some(()).ok_or(format!("{:?}", log.messages))
         }),
         Reader::Sp3 => parse_sp3(&text, file).map(|sp3| {
             let ok = increasing(&sp3.time_gps_s)
@@ -558,6 +575,7 @@ fuzz_reader!(
     imu_increments_garbage,
     Reader::ImuIncrements
 );
+fuzz_reader!(ubx_mutated, ubx_garbage, Reader::Ubx);
 
 #[test]
 fn the_seeds_read_cleanly() {
@@ -574,6 +592,7 @@ fn the_seeds_read_cleanly() {
         Reader::GnssTable,
         Reader::GnssLogger,
         Reader::ImuIncrements,
+        Reader::Ubx,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }
@@ -593,6 +612,7 @@ fn regression_files_are_refused_with_their_name() {
             Some("nav") => Reader::RinexNav,
             Some("sp3") => Reader::Sp3,
             Some("nmea") => Reader::Nmea,
+            Some("ubx") => Reader::Ubx,
             _ => continue,
         };
         let name: &'static str = path

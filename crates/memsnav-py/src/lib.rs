@@ -29,6 +29,7 @@ mod random;
 mod sensors;
 mod static_calibration;
 mod trajectory;
+mod ubx;
 mod warnings;
 
 #[pymodule]
@@ -56,6 +57,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     logs::register(m)?;
     montecarlo::register(m)?;
     gnsslogger::register(m)?;
+    ubx::register(m)?;
     random::register(m)?;
     arguments::register(m)?;
     Ok(())

@@ -353,7 +353,7 @@ fn fit_tag_clock(
 /// A GNSS solution in geodetic form (RTKLIB ``.pos``, fixes CSV, NMEA).
 #[pyclass(name = "PosSolution", module = "memsnav._memsnav", frozen)]
 pub struct PyPosSolution {
-    inner: logs::PosSolution,
+    pub(crate) inner: logs::PosSolution,
 }
 
 #[catch_panics]

@@ -2,7 +2,8 @@
 one command; each command is a module of this package that declares its
 options and what it prints, and calls the library function that does the
 work (``memsnav.reproduce``, ``memsnav.study``, ``memsnav.simulate``,
-``memsnav.navigate``, ``memsnav.calibration.session``)."""
+``memsnav.navigate``, ``memsnav.calibration.session``,
+``memsnav.realdata.convert``)."""
 
 from __future__ import annotations
 
@@ -11,9 +12,11 @@ import sys
 import warnings
 
 import memsnav
-from memsnav.cli import calibrate, navigate, reproduce, simulate, study
+from memsnav.cli import calibrate, convert, navigate, reproduce, simulate, study
 
-COMMANDS = {command.NAME: command for command in (reproduce, study, simulate, navigate, calibrate)}
+COMMANDS = {
+    command.NAME: command for command in (reproduce, study, simulate, navigate, calibrate, convert)
+}
 """The commands by name, in the order ``memsnav --help`` lists them."""
 
 

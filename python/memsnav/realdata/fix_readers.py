@@ -1,8 +1,9 @@
 """Readers of GNSS fixes in the formats other than RTKLIB ``.pos``: the
-fixes CSV and NMEA 0183. Each gives the same ``PosSolution`` as
-``read_pos`` (GPS time, latitude/longitude/ellipsoidal height, RTKLIB's
-quality code, satellites, NED σ and, when the file has it, the full NED
-covariance; NED velocity and its σ), so that loose coupling
+fixes CSV, NMEA 0183 and the NAV-PVT solutions of a u-blox UBX log. Each
+gives the same ``PosSolution`` as ``read_pos`` (GPS time,
+latitude/longitude/ellipsoidal height, RTKLIB's quality code, satellites,
+NED σ and, when the file has it, the full NED covariance; NED velocity and
+its σ), so that loose coupling
 (``fixes_from_solution``, ``[gnss] pos``) and the truth (``[truth] pos``)
 take any of them. The parsing is in the Rust core (``memsnav_core::logs``);
 the formats are described in docs/real-data.md, "GNSS fixes from other
@@ -17,20 +18,29 @@ from memsnav import _memsnav
 from memsnav._memsnav import PosSolution
 from memsnav.realdata.readers import _warn, read_pos
 
-__all__ = ["FIX_FORMATS", "fix_format", "read_fixes", "read_fixes_csv", "read_nmea"]
+__all__ = [
+    "FIX_FORMATS",
+    "fix_format",
+    "read_fixes",
+    "read_fixes_csv",
+    "read_nmea",
+    "read_ubx_fixes",
+]
 
 #: The fix formats and the file name endings that choose each by default.
 FIX_FORMATS: dict[str, tuple[str, ...]] = {
     "rtklib": (".pos",),
     "csv": (".csv",),
     "nmea": (".nmea", ".nma", ".gga"),
+    "ubx": (".ubx",),
 }
 
 
 def fix_format(path: str | Path, format: str | None = None) -> str:
     """The format of a fixes file: ``format`` when given (one of
     :data:`FIX_FORMATS`), else from the file name's ending (``.csv`` the
-    fixes CSV, ``.nmea``/``.nma``/``.gga`` NMEA, anything else RTKLIB
+    fixes CSV, ``.nmea``/``.nma``/``.gga`` NMEA, ``.ubx`` a u-blox log's
+    NAV-PVT, anything else RTKLIB
     ``.pos``)."""
     if format is not None:
         if format not in FIX_FORMATS:
@@ -76,9 +86,26 @@ def read_nmea(path: str | Path) -> PosSolution:
     return solution
 
 
+def read_ubx_fixes(path: str | Path) -> PosSolution:
+    """Reads the receiver's own solutions (UBX-NAV-PVT) of a u-blox UBX log
+    as fixes: those with ``gnssFixOK`` and a 2D, 3D or GNSS + dead-reckoning
+    fix; quality 1 carrier fixed, 2 float, 4 differential, 5 single point;
+    σ north and east hAcc/√2, down vAcc, velocity σ sAcc per axis; the GPS
+    week from the UTC date and the leap seconds (:func:`memsnav.read_ubx`
+    gives the rest of the log)."""
+    solution = _memsnav.read_ubx(Path(path)).fixes
+    _warn(solution.warnings)
+    return solution
+
+
 def read_fixes(path: str | Path, format: str | None = None) -> PosSolution:
     """Reads a fixes file in ``format`` (:func:`fix_format`: by default
-    from the file name): ``read_pos``, :func:`read_fixes_csv` or
-    :func:`read_nmea`."""
-    reader = {"rtklib": read_pos, "csv": read_fixes_csv, "nmea": read_nmea}
+    from the file name): ``read_pos``, :func:`read_fixes_csv`,
+    :func:`read_nmea` or :func:`read_ubx_fixes`."""
+    reader = {
+        "rtklib": read_pos,
+        "csv": read_fixes_csv,
+        "nmea": read_nmea,
+        "ubx": read_ubx_fixes,
+    }
     return reader[fix_format(path, format)](path)

@@ -9,6 +9,12 @@
 - ``drive_60s.csv``: lines 3379-9878 of drive_0708's IMU log, byte for
   byte: 65 s from 5 s before the first motion; ``drive_60s.pos``: the RTK
   solution over the same span (±1 s).
+- ``walk_head.ubx``: frames of the walk's raw u-blox log, byte for byte
+  (framing, sync bytes and checksums kept): the RXM-RAWX and NAV-PVT
+  frames of its first 5 s and every GPS L1 C/A and Galileo E1-B RXM-SFRBX
+  frame of the log (the words of its 4 GPS LNAV and 7 Galileo I/NAV
+  ephemerides), in log order; the
+  interleaved NMEA text and the other messages are left out.
 - ``*.csv.tag``: the original tag's header (start time and ticks stay
   relative to the opening of the whole log) and the records of the
   excerpt's bytes, their file positions made relative to the excerpt's
@@ -107,3 +113,33 @@ walk_sol = readers.read_pos(walk / "gnss_1730_sf.pos")
 n_head = sum(1 for s in walk_pos if s.startswith("%"))
 n_body = int(np.searchsorted(walk_sol.gps_time, t_end, side="right"))
 (here / "walk_40s.pos").write_text("".join(walk_pos[: n_head + n_body]))
+
+
+def ubx_frames(log: bytes) -> list[tuple[int, int, bytes]]:
+    """(class, id, whole frame) of every UBX frame with a good checksum."""
+    frames, i = [], 0
+    while (i := log.find(b"\xb5\x62", i)) >= 0 and i + 8 <= len(log):
+        length = int.from_bytes(log[i + 4 : i + 6], "little")
+        frame = log[i : i + 8 + length]
+        a = b = 0
+        for x in frame[2:-2]:
+            a = (a + x) & 0xFF
+            b = (b + a) & 0xFF
+        if len(frame) == 8 + length and frame[-2:] == bytes([a, b]):
+            frames.append((frame[2], frame[3], frame))
+            i += len(frame)
+        else:
+            i += 1
+    return frames
+
+
+ubx = ubx_frames((walk / "gnss_1730.ubx").read_bytes())
+rawx = [k for k, (c, m, _) in enumerate(ubx) if (c, m) == (0x02, 0x15)]
+head_end = rawx[20]  # 20 epochs at 4 Hz
+keep = [
+    f
+    for k, (c, m, f) in enumerate(ubx)
+    if (k < head_end and (c, m) in ((0x02, 0x15), (0x01, 0x07)))
+    or ((c, m) == (0x02, 0x13) and (f[6], f[8]) in ((0, 0), (2, 1)))
+]
+(here / "walk_head.ubx").write_bytes(b"".join(keep))

@@ -51,6 +51,105 @@ pub struct GpsEphemeris {
     pub fit_interval_h: f64,
 }
 
+/// A decoded LNAV ephemeris with the fields of its subframes that the
+/// orbit does not use.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LnavEphemeris {
+    /// Orbit, clock, T_GD, health and fit interval, as the RINEX reader gives them.
+    pub ephemeris: GpsEphemeris,
+    /// Issue of data, ephemeris (subframes 2 and 3) and clock (subframe 1).
+    pub iode: u8,
+    pub iodc: u16,
+    /// User range accuracy index N (0-15, table 20-I's URA in m by [`ura_m`]).
+    pub ura_index: u8,
+    /// Codes on L2 (subframe 1 bits 11-12) and the L2 P data flag.
+    pub l2_codes: u8,
+    pub l2p_data_flag: bool,
+    /// The fit interval flag (0: 4 h).
+    pub fit_interval_flag: bool,
+    /// GPS week of t_oe (continuous), as RINEX writes it.
+    pub toe_week: u16,
+    /// Transmission time of the start of subframe 1, GPS s since 1980-01-06.
+    pub transmission_gps_s: f64,
+}
+
+/// URA in metres of index N (IS-GPS-200 §20.3.3.3.1.3: the upper bound of
+/// each bin; N = 15 means no accuracy prediction: 6144 m written, as RINEX
+/// writers do).
+pub fn ura_m(index: u8) -> f64 {
+    const URA_M: [f64; 16] = [
+        2.4, 3.4, 4.85, 6.85, 9.65, 13.65, 24.0, 48.0, 96.0, 192.0, 384.0, 768.0, 1536.0, 3072.0,
+        6144.0, 6144.0,
+    ];
+    URA_M[usize::from(index.min(15))]
+}
+
+/// A decoded Galileo I/NAV ephemeris (angles rad, times GPS s since
+/// 1980-01-06: GST is steered to GPS time within tens of ns).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InavEphemeris {
+    pub svid: u16,
+    pub iod_nav: u16,
+    pub toc_gps_s: f64,
+    pub toe_gps_s: f64,
+    pub af0_s: f64,
+    pub af1_s_s: f64,
+    pub af2_s_s2: f64,
+    pub crs_m: f64,
+    pub delta_n_rad_s: f64,
+    pub m0_rad: f64,
+    pub cuc_rad: f64,
+    pub eccentricity: f64,
+    pub cus_rad: f64,
+    pub sqrt_a_sqrt_m: f64,
+    pub cic_rad: f64,
+    pub omega0_rad: f64,
+    pub cis_rad: f64,
+    pub i0_rad: f64,
+    pub crc_m: f64,
+    pub omega_rad: f64,
+    pub omega_dot_rad_s: f64,
+    pub idot_rad_s: f64,
+    /// Signal-in-space accuracy index (§5.1.11; 255: no accuracy prediction).
+    pub sisa_index: u8,
+    /// Broadcast group delays E1-E5a and E1-E5b, s.
+    pub bgd_e1_e5a_s: f64,
+    pub bgd_e1_e5b_s: f64,
+    /// Signal health (0 OK, 1 out of service, 2 extended operations, 3 in
+    /// test) and data validity (0 valid, 1 working without guarantee) of
+    /// E1-B and E5b (§5.1.9.3).
+    pub e1b_health: u8,
+    pub e5b_health: u8,
+    pub e1b_data_validity: u8,
+    pub e5b_data_validity: u8,
+    /// GST week of word type 5 (12 bits, counted from 1999-08-22).
+    pub gst_week: u16,
+    /// Word type 5's GST week and time of week, GPS s since 1980-01-06
+    /// (the time of its page).
+    pub transmission_gps_s: f64,
+}
+
+/// Signal-in-space accuracy in metres of index `n` (ICD §5.1.11, table
+/// 89: 1 cm steps to 0.49 m, 2 cm to 0.98 m, 4 cm to 1.96 m, 16 cm to
+/// 6 m); `None` for "no accuracy prediction" (255) and spare indices.
+pub fn sisa_m(n: u8) -> Option<f64> {
+    let n = f64::from(n);
+    match n as u8 {
+        0..=49 => Some(0.01 * n),
+        50..=74 => Some(0.5 + 0.02 * (n - 50.0)),
+        75..=99 => Some(1.0 + 0.04 * (n - 75.0)),
+        100..=125 => Some(2.0 + 0.16 * (n - 100.0)),
+        _ => None,
+    }
+}
+
+impl InavEphemeris {
+    /// Healthy and valid on E1-B (health 0, data valid).
+    pub fn is_healthy(&self) -> bool {
+        self.e1b_health == 0 && self.e1b_data_validity == 0
+    }
+}
+
 impl GpsEphemeris {
     /// Position and velocity (ECEF at `gps_time_s`, antenna phase centre as
     /// broadcast) and the L1 C/A clock correction at GPS time `gps_time_s`.

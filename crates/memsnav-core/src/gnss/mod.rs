@@ -17,6 +17,7 @@ mod observables;
 mod range;
 mod rinex_nav;
 mod rinex_obs;
+mod rinex_write;
 mod satellite_state;
 mod simulate;
 mod sp3;
@@ -27,7 +28,9 @@ mod walker;
 pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
 pub use clock::{ClockState, ReceiverClockModel};
 pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
-pub use ephemeris::{GpsEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2};
+pub use ephemeris::{
+    sisa_m, ura_m, GpsEphemeris, InavEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
+};
 pub use fix::{solve_fix, Dops, Fix};
 pub use measurement_rows::{
     check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
@@ -38,8 +41,12 @@ pub use observables::{
 };
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
+pub(crate) use rinex_obs::observation_range;
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
+};
+pub use rinex_write::{
+    format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, RinexProvenance,
 };
 pub use satellite_state::SatelliteState;
 pub(crate) use simulate::simulate_track;

@@ -23,6 +23,10 @@ pub struct SatelliteObservations {
     /// One value per observation type of the system (header order); `None`
     /// where the field is blank. Units as in RINEX: m, cycles, Hz, dB-Hz.
     pub values: Vec<Option<f64>>,
+    /// The loss-of-lock indicator of each value (RINEX 3.05 §5.7: bit 0
+    /// lock lost since the previous epoch, bit 1 half-cycle ambiguity;
+    /// 0 where blank).
+    pub lli: Vec<u8>,
 }
 
 /// One epoch record (flag 0 or 1).
@@ -81,7 +85,7 @@ const MAX_APPROX_POSITION_M: f64 = 1e8;
 /// pseudoranges 0-1e8 m (beyond geostationary range plus a 1 ms receiver
 /// clock error), carrier phases and other types up to the F14.3 field's
 /// 1e10, Dopplers ±1 MHz, signal strengths 0-200 dB-Hz.
-fn observation_range(code: &str) -> std::ops::RangeInclusive<f64> {
+pub(crate) fn observation_range(code: &str) -> std::ops::RangeInclusive<f64> {
     match code.as_bytes().first() {
         Some(b'C') => 0.0..=1e8,
         Some(b'D') => -1e6..=1e6,
@@ -369,6 +373,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 ));
             }
             let mut values = Vec::with_capacity(types.len());
+            let mut lli = vec![0; types.len()];
             for (i, code) in types.iter().enumerate() {
                 // Each observation: F14.3, then LLI and signal strength digits.
                 let f = field(sl, 3 + 16 * i, 14);
@@ -376,6 +381,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     values.push(None);
                     continue;
                 }
+                // A blank or non-digit LLI is 0 (RINEX 3.05 §5.7: blank = not known).
+                lli[i] = field(sl, 17 + 16 * i, 1).parse().unwrap_or(0);
                 match f.parse::<f64>() {
                     Ok(v) if observation_range(code).contains(&v) => values.push(Some(v)),
                     _ if is_last => {
@@ -402,6 +409,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 system: sys,
                 prn,
                 values,
+                lli,
             });
         }
         if cut {

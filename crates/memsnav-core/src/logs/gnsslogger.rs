@@ -531,6 +531,8 @@ pub fn parse_gnsslogger(text: &str, file: &str) -> Result<GnssLoggerLog> {
                             system: s.system,
                             prn: s.prn,
                             values: vec![None; 4 * types.len()],
+                            // Android's ADR slip flags are not mapped (yet).
+                            lli: vec![0; 4 * types.len()],
                         });
                         satellites.len() - 1
                     }

@@ -22,6 +22,7 @@ mod nmea;
 mod pos_solution;
 mod rtklib_pos;
 mod time_tag;
+mod ubx;
 
 pub use fixes_csv::{parse_fixes_csv, read_fixes_csv, DEFAULT_CSV_QUALITY, FIXES_CSV_COLUMNS};
 pub use gnss_table::{
@@ -40,6 +41,7 @@ pub use rtklib_pos::{
     format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 pub use time_tag::{parse_time_tag, read_time_tag, TimeTag, TIME_TAG_HEADER_BYTES};
+pub use ubx::{parse_ubx, read_ubx, NavPvt, RawxEpoch, RawxSignal, TrackingStatus, UbxLog};
 
 use std::path::Path;
 

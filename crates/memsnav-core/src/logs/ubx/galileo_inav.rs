@@ -1,0 +1,217 @@
+//! Galileo I/NAV on E1-B (Galileo OS SIS ICD issue 2.1, §4.3) from the
+//! words of UBX-RXM-SFRBX: the even and odd page of each page pair
+//! checked by their CRC-24Q (§4.3.2.3: over the even page's 114 bits
+//! before its tail and the odd page's first 82 bits), the 128-bit words
+//! they carry (112 bits of the even page, 16 of the odd), and word types
+//! 1-5 (tables 40-44) assembled into an ephemeris when types 1-4 carry the
+//! same IODnav (§5.1.9.2).
+//!
+//! u-blox hands a page pair as 8 words of 32 bits, most significant bit
+//! first: the even page's 120 bits in bits 0-119, the odd page's in bits
+//! 128-247 (checked on the walk's log: every E1-B pair passes its CRC read
+//! so).
+//!
+//! The orbit of a Galileo ephemeris is not computed here (its GM differs
+//! from GPS's; issue 24, multi-GNSS navigation data): the records are
+//! decoded, kept with their health and accuracy flags, and written to
+//! RINEX navigation files.
+
+use std::collections::HashMap;
+
+use crate::gnss::{InavEphemeris, SECONDS_PER_WEEK};
+
+/// Words per E1-B page pair in RXM-SFRBX.
+pub(super) const WORDS: usize = 8;
+/// The value of π the ICD fixes for semicircles (§5.1.1), as IS-GPS-200's.
+#[allow(clippy::approx_constant)]
+const GALILEO_PI: f64 = 3.141_592_653_589_8;
+/// CRC-24Q generator polynomial without its x^24 term (§4.3.2.3).
+const CRC24Q_POLY: u32 = 0x86_4CFB;
+/// Galileo System Time week 0 began at GPS week 1024 (1999-08-22).
+const GST_WEEK_ZERO_IN_GPS_WEEKS: f64 = 1024.0;
+
+/// CRC-24Q of `bits` bits of `data` from bit `first` (most significant
+/// first), computed bit by bit with a zero start (leading zero bits, the
+/// ICD's padding to whole bytes, leave it unchanged).
+pub(super) fn crc24q(data: &[u8], first: usize, bits: usize) -> u32 {
+    (first..first + bits).fold(0u32, |crc, k| {
+        let bit = u32::from(data[k / 8] >> (7 - k % 8) & 1);
+        let top = (crc >> 23) & 1;
+        let crc = (crc << 1) & 0x00FF_FFFF;
+        if top ^ bit == 1 {
+            crc ^ CRC24Q_POLY
+        } else {
+            crc
+        }
+    })
+}
+
+/// `len` bits (≤ 32) from bit `first` of `data`, most significant first.
+fn bits(data: &[u8], first: usize, len: usize) -> u32 {
+    (first..first + len).fold(0u32, |acc, k| {
+        (acc << 1) | u32::from(data[k / 8] >> (7 - k % 8) & 1)
+    })
+}
+
+/// The bits of `data` at `positions` (most significant first), packed
+/// from the first bit of the result.
+fn gather<const N: usize>(data: &[u8], positions: impl Iterator<Item = usize>) -> [u8; N] {
+    let mut out = [0u8; N];
+    for (k, src) in positions.enumerate() {
+        out[k / 8] |= (data[src / 8] >> (7 - src % 8) & 1) << (7 - k % 8);
+    }
+    out
+}
+
+/// Two's complement value of `len` bits.
+fn signed(value: u32, len: usize) -> f64 {
+    f64::from(((value << (32 - len)) as i32) >> (32 - len))
+}
+
+/// What the I/NAV decoder met besides ephemerides.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(super) struct InavStats {
+    pub crc_failures: usize,
+    /// Pairs whose even/odd flags are not 0 then 1 (a page lost).
+    pub unpaired: usize,
+    /// Alert pages (page type 1), not read.
+    pub alerts: usize,
+}
+
+/// Assembles ephemerides from the words of every satellite.
+#[derive(Debug, Default)]
+pub(super) struct InavDecoder {
+    words: HashMap<u16, [Option<[u8; 16]>; 5]>,
+    pub ephemerides: Vec<InavEphemeris>,
+    pub stats: InavStats,
+}
+
+impl InavDecoder {
+    /// Takes one page pair of satellite `svid` received at `reception_gps_s`.
+    pub fn push(&mut self, svid: u16, words: &[u32; WORDS], reception_gps_s: f64) {
+        let mut pair = [0u8; 4 * WORDS];
+        for (chunk, w) in pair.chunks_mut(4).zip(words) {
+            chunk.copy_from_slice(&w.to_be_bytes());
+        }
+        const ODD: usize = 128;
+        if bits(&pair, 0, 1) != 0 || bits(&pair, ODD, 1) != 1 {
+            self.stats.unpaired += 1;
+            return;
+        }
+        if bits(&pair, 1, 1) == 1 || bits(&pair, ODD + 1, 1) == 1 {
+            self.stats.alerts += 1;
+            return;
+        }
+        // 114 + 82 bits in one run for the CRC.
+        let crc_input: [u8; 25] = gather(&pair, (0..114).chain(ODD..ODD + 82));
+        if crc24q(&crc_input, 0, 196) != bits(&pair, ODD + 82, 24) {
+            self.stats.crc_failures += 1;
+            return;
+        }
+        // The word: even page bits 2-113, odd page bits 2-17.
+        let word: [u8; 16] = gather(&pair, (2..114).chain(ODD + 2..ODD + 18));
+        let kind = bits(&word, 0, 6) as usize;
+        if !(1..=5).contains(&kind) {
+            return;
+        }
+        let slots = self.words.entry(svid).or_default();
+        slots[kind - 1] = Some(word);
+        if let [Some(w1), Some(w2), Some(w3), Some(w4), Some(w5)] = *slots {
+            if let Some(e) = assemble(svid, [&w1, &w2, &w3, &w4, &w5], reception_gps_s) {
+                let known = self.ephemerides.iter().any(|k| {
+                    k.svid == svid && k.iod_nav == e.iod_nav && k.toe_gps_s == e.toe_gps_s
+                });
+                if !known {
+                    self.ephemerides.push(e);
+                }
+            }
+        }
+    }
+}
+
+/// A time of week placed in the week closest to `reference_gps_s`.
+fn nearest(tow_s: f64, reference_gps_s: f64) -> f64 {
+    let week_start = reference_gps_s - reference_gps_s.rem_euclid(SECONDS_PER_WEEK);
+    let t = week_start + tow_s;
+    t - SECONDS_PER_WEEK * ((t - reference_gps_s) / SECONDS_PER_WEEK).round()
+}
+
+/// The ephemeris of word types 1-5 when types 1-4 share their IODnav and
+/// word 4's SVID is the satellite's; `None` during an update.
+fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEphemeris> {
+    let iod = bits(w[0], 6, 10);
+    if w[1..4].iter().any(|x| bits(*x, 6, 10) != iod) || bits(w[3], 16, 6) != u32::from(svid) {
+        return None;
+    }
+    let (sc, p) = (GALILEO_PI, |k: i32| 2f64.powi(k));
+    let [w1, w2, w3, w4, w5] = w;
+    let gst_week = bits(w5, 73, 12) as u16;
+    // Word 5's 12-bit GST week must agree with the reception time.
+    let reception_gst_week =
+        (reception_gps_s / SECONDS_PER_WEEK - GST_WEEK_ZERO_IN_GPS_WEEKS).floor();
+    if (reception_gst_week as u32) % 4096 != u32::from(gst_week) {
+        return None;
+    }
+    Some(InavEphemeris {
+        svid,
+        iod_nav: iod as u16,
+        toe_gps_s: nearest(f64::from(bits(w1, 16, 14)) * 60.0, reception_gps_s),
+        m0_rad: signed(bits(w1, 30, 32), 32) * p(-31) * sc,
+        eccentricity: f64::from(bits(w1, 62, 32)) * p(-33),
+        sqrt_a_sqrt_m: f64::from(bits(w1, 94, 32)) * p(-19),
+        omega0_rad: signed(bits(w2, 16, 32), 32) * p(-31) * sc,
+        i0_rad: signed(bits(w2, 48, 32), 32) * p(-31) * sc,
+        omega_rad: signed(bits(w2, 80, 32), 32) * p(-31) * sc,
+        idot_rad_s: signed(bits(w2, 112, 14), 14) * p(-43) * sc,
+        omega_dot_rad_s: signed(bits(w3, 16, 24), 24) * p(-43) * sc,
+        delta_n_rad_s: signed(bits(w3, 40, 16), 16) * p(-43) * sc,
+        cuc_rad: signed(bits(w3, 56, 16), 16) * p(-29),
+        cus_rad: signed(bits(w3, 72, 16), 16) * p(-29),
+        crc_m: signed(bits(w3, 88, 16), 16) * p(-5),
+        crs_m: signed(bits(w3, 104, 16), 16) * p(-5),
+        sisa_index: bits(w3, 120, 8) as u8,
+        cic_rad: signed(bits(w4, 22, 16), 16) * p(-29),
+        cis_rad: signed(bits(w4, 38, 16), 16) * p(-29),
+        toc_gps_s: nearest(f64::from(bits(w4, 54, 14)) * 60.0, reception_gps_s),
+        af0_s: signed(bits(w4, 68, 31), 31) * p(-34),
+        af1_s_s: signed(bits(w4, 99, 21), 21) * p(-46),
+        af2_s_s2: signed(bits(w4, 120, 6), 6) * p(-59),
+        bgd_e1_e5a_s: signed(bits(w5, 47, 10), 10) * p(-32),
+        bgd_e1_e5b_s: signed(bits(w5, 57, 10), 10) * p(-32),
+        e5b_health: bits(w5, 67, 2) as u8,
+        e1b_health: bits(w5, 69, 2) as u8,
+        e5b_data_validity: bits(w5, 71, 1) as u8,
+        e1b_data_validity: bits(w5, 72, 1) as u8,
+        gst_week,
+        transmission_gps_s: (f64::from(gst_week)
+            + GST_WEEK_ZERO_IN_GPS_WEEKS
+            + 4096.0 * ((reception_gst_week - f64::from(gst_week)) / 4096.0).round())
+            * SECONDS_PER_WEEK
+            + f64::from(bits(w5, 85, 20)),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crc24q_check_value() {
+        // The CRC-24Q check value of "123456789" (RTCM 10403 / RFC 4880's
+        // polynomial with a zero start): 0xCDE703.
+        assert_eq!(crc24q(b"123456789", 0, 72), 0xCD_E703);
+        // Leading zero bits change nothing (the ICD pads to whole bytes).
+        let mut padded = vec![0u8];
+        padded.extend_from_slice(b"123456789");
+        assert_eq!(crc24q(&padded, 4, 76), 0xCD_E703);
+    }
+
+    #[test]
+    fn sisa_bins() {
+        use crate::gnss::sisa_m;
+        assert_eq!(sisa_m(107), Some(2.0 + 0.16 * 7.0));
+        assert_eq!(sisa_m(49), Some(0.49));
+        assert_eq!(sisa_m(50), Some(0.5));
+        assert_eq!(sisa_m(255), None);
+    }
+}

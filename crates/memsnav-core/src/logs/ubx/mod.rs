@@ -1,0 +1,447 @@
+//! u-blox UBX binary logs (u-blox F9 HPG 1.32 and X20 HPG 2.00 interface
+//! descriptions): the raw measurements (RXM-RAWX), the GPS broadcast
+//! and Galileo ephemerides decoded from the navigation message words
+//! (RXM-SFRBX: GPS L1 C/A LNAV, Galileo E1-B I/NAV) and the receiver's own solution (NAV-PVT).
+//!
+//! The measurements come out twice: as the receiver reports them
+//! ([`RawxEpoch`], with lock times and tracking flags), and as the same
+//! [`ObservationFile`] the RINEX reader gives (RINEX 3 codes per signal,
+//! `C` m, `L` cycles with the loss-of-lock indicator, `D` Hz, `S` dB-Hz),
+//! so that everything downstream (`gps_l1_epochs`, the fix solver, the
+//! filters, the RINEX writer) takes either. Epochs are on the receiver's
+//! time (RAWX's week and time of week), as RINEX observation epochs are.
+//!
+//! Not decoded yet (skipped with a count): GPS CNAV (L2C, L5), Galileo
+//! F/NAV and E6, BeiDou D1/D2, GLONASS strings, SBAS, and every message
+//! other than the three above.
+//!
+//! Any byte sequence is read without a panic: frames whose checksum fails
+//! are skipped and counted, a last frame cut short is reported in
+//! `warnings`, a message whose payload does not fit its definition is
+//! skipped and counted by reason; a file without a single good UBX frame
+//! is an error.
+
+mod bytes;
+mod framing;
+mod galileo_inav;
+mod gps_lnav;
+mod nav_pvt;
+mod rawx;
+
+pub use nav_pvt::NavPvt;
+pub use rawx::{RawxEpoch, RawxSignal, TrackingStatus};
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use crate::geodesy::{geodetic_to_ecef, Geodetic};
+use crate::gnss::{
+    InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile, SatelliteObservations,
+};
+use crate::logs::PosSolution;
+use crate::{Error, Result};
+
+/// UBX class and id of the messages read.
+const NAV_PVT: (u8, u8) = (0x01, 0x07);
+const RXM_SFRBX: (u8, u8) = (0x02, 0x13);
+const RXM_RAWX: (u8, u8) = (0x02, 0x15);
+/// Warnings kept per kind of problem (the counts in `skipped` are complete).
+const WARNINGS_PER_KIND: usize = 5;
+
+/// What a UBX log holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UbxLog {
+    /// RXM-RAWX epochs as the receiver reports them, in time order.
+    pub rawx: Vec<RawxEpoch>,
+    /// The same as RINEX 3 observations (see the module documentation);
+    /// the approximate position is the first NAV-PVT fix's.
+    pub observations: ObservationFile,
+    /// GPS LNAV ephemerides decoded from RXM-SFRBX, one per satellite and
+    /// issue of data, in the order they completed.
+    pub gps_ephemerides: Vec<LnavEphemeris>,
+    /// Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one per
+    /// satellite and IODnav, in the order they completed.
+    pub galileo_ephemerides: Vec<InavEphemeris>,
+    /// Every NAV-PVT solution, fix or not.
+    pub nav_pvt: Vec<NavPvt>,
+    /// The NAV-PVT position fixes, as the other fix readers give them.
+    pub fixes: PosSolution,
+    /// Messages read, by name (`RXM-RAWX`, `NAV-PVT`, `0x01-0x35` for
+    /// those not read).
+    pub messages: BTreeMap<String, usize>,
+    /// What was left out, by reason, with counts.
+    pub skipped: BTreeMap<String, usize>,
+    /// Non-fatal problems, one sentence each (a few per kind).
+    pub warnings: Vec<String>,
+}
+
+/// Reads a UBX log.
+pub fn read_ubx(path: impl AsRef<Path>) -> Result<UbxLog> {
+    let path = path.as_ref();
+    let bytes = super::read_bytes(path)?;
+    parse_ubx(&bytes, &path.display().to_string())
+}
+
+/// Counts and a few warnings per kind of problem.
+#[derive(Default)]
+struct Problems {
+    skipped: BTreeMap<String, usize>,
+    warnings: Vec<String>,
+}
+
+impl Problems {
+    fn skip(&mut self, reason: &str, warning: impl FnOnce() -> String) {
+        let n = self.skipped.entry(reason.to_string()).or_default();
+        *n += 1;
+        if *n <= WARNINGS_PER_KIND {
+            self.warnings.push(warning());
+        }
+    }
+
+    fn add(&mut self, reason: &str, count: usize) {
+        if count > 0 {
+            *self.skipped.entry(reason.to_string()).or_default() += count;
+        }
+    }
+}
+
+/// Parses the bytes of a UBX log; `file` names it in errors and warnings.
+pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
+    let (frames, stats) = framing::frames(log);
+    if frames.is_empty() {
+        return Err(Error::ParseBinary {
+            file: file.to_string(),
+            byte_offset: 0,
+            reason: format!(
+                "no UBX frame (sync 0xB5 0x62 and a good Fletcher checksum) in its {} bytes",
+                log.len()
+            ),
+        });
+    }
+    let mut problems = Problems::default();
+    problems.add("frames with a bad checksum", stats.checksum_failures);
+    problems.add("bytes outside UBX frames", stats.skipped_bytes);
+    if let Some(at) = stats.truncated_at {
+        problems.warnings.push(format!(
+            "{file}: the last UBX frame, at byte {at}, is cut short by the end of the log; skipped"
+        ));
+    }
+    let mut messages: BTreeMap<String, usize> = BTreeMap::new();
+    let mut rawx: Vec<RawxEpoch> = Vec::new();
+    let mut nav_pvt = Vec::new();
+    let mut lnav = gps_lnav::LnavDecoder::default();
+    let mut inav = galileo_inav::InavDecoder::default();
+    for f in &frames {
+        let name = match (f.class, f.id) {
+            NAV_PVT => "NAV-PVT".to_string(),
+            RXM_SFRBX => "RXM-SFRBX".to_string(),
+            RXM_RAWX => "RXM-RAWX".to_string(),
+            (c, i) => format!("0x{c:02X}-0x{i:02X}"),
+        };
+        *messages.entry(name.clone()).or_default() += 1;
+        let at = f.offset;
+        let mut malformed = |reason: String| {
+            problems.skip(&format!("{name} malformed"), || {
+                format!("{file}: byte {at}: {reason}; skipped")
+            });
+        };
+        match (f.class, f.id) {
+            RXM_RAWX => match rawx::decode_rawx(f.payload) {
+                Ok(epoch) => {
+                    if rawx
+                        .last()
+                        .is_some_and(|p| epoch.gps_time_s() <= p.gps_time_s())
+                    {
+                        malformed(format!(
+                            "RXM-RAWX epoch at GPS {} s does not follow the previous one",
+                            epoch.gps_time_s()
+                        ));
+                    } else {
+                        problems.add(
+                            "RXM-RAWX signals of unknown system or signal id",
+                            epoch.unknown_signals,
+                        );
+                        rawx.push(epoch);
+                    }
+                }
+                Err(reason) => malformed(reason),
+            },
+            NAV_PVT => match nav_pvt::decode_nav_pvt(f.payload) {
+                Ok(s) => nav_pvt.push(s),
+                Err(reason) => malformed(reason),
+            },
+            RXM_SFRBX => {
+                let p = f.payload;
+                let words = usize::from(p.get(4).copied().unwrap_or(0));
+                if p.len() < 8 || p.len() != 8 + 4 * words {
+                    malformed(format!(
+                        "RXM-SFRBX payload of {} bytes does not hold its {words} words",
+                        p.len()
+                    ));
+                    continue;
+                }
+                let (gnss_id, sv_id, sig_id) = (p[0], p[1], p[2]);
+                let Some(reception_gps_s) = rawx.last().map(RawxEpoch::gps_time_s) else {
+                    problems.add("RXM-SFRBX before the first RXM-RAWX (time unknown)", 1);
+                    continue;
+                };
+                match (gnss_id, sig_id, words) {
+                    // GPS L1 C/A: LNAV, ten words a subframe.
+                    (0, 0, gps_lnav::WORDS) if (1..=32).contains(&sv_id) => {
+                        let mut w = [0u32; gps_lnav::WORDS];
+                        for (k, x) in w.iter_mut().enumerate() {
+                            *x = bytes::Le(p).u32(8 + 4 * k);
+                        }
+                        lnav.push(u16::from(sv_id), &w, reception_gps_s);
+                    }
+                    (0, 0, _) => malformed(format!(
+                        "RXM-SFRBX GPS L1 C/A with {words} words (10 expected) or PRN {sv_id}"
+                    )),
+                    // Galileo E1-B: I/NAV, one page pair in eight words.
+                    (2, 1, galileo_inav::WORDS) if (1..=36).contains(&sv_id) => {
+                        let mut w = [0u32; galileo_inav::WORDS];
+                        for (k, x) in w.iter_mut().enumerate() {
+                            *x = bytes::Le(p).u32(8 + 4 * k);
+                        }
+                        inav.push(u16::from(sv_id), &w, reception_gps_s);
+                    }
+                    (2, 1, _) => malformed(format!(
+                        "RXM-SFRBX Galileo E1-B with {words} words (8 expected) or SVID {sv_id}"
+                    )),
+                    _ => problems.add(
+                        &format!(
+                            "RXM-SFRBX of a navigation message not decoded (gnssId {gnss_id}, sigId {sig_id})"
+                        ),
+                        1,
+                    ),
+                }
+            }
+            _ => problems.add("messages not read", 1),
+        }
+    }
+    problems.add(
+        "GPS LNAV subframes with a parity failure",
+        lnav.stats.parity_failures,
+    );
+    problems.add("GPS LNAV subframes malformed", lnav.stats.malformed);
+    problems.add(
+        "Galileo I/NAV page pairs with a CRC failure",
+        inav.stats.crc_failures,
+    );
+    problems.add(
+        "Galileo I/NAV pages without their pair",
+        inav.stats.unpaired,
+    );
+    problems.add("Galileo I/NAV alert pages", inav.stats.alerts);
+    let fixes = nav_pvt::fixes(&nav_pvt);
+    let approx_position_ecef = fixes
+        .lla
+        .first()
+        .map(|lla| geodetic_to_ecef(Geodetic::new(lla.x, lla.y, lla.z)));
+    let mut observations = observations(&rawx);
+    observations.approx_position_ecef = approx_position_ecef;
+    let mut warnings = problems.warnings;
+    warnings.extend(fixes.warnings.iter().cloned());
+    Ok(UbxLog {
+        rawx,
+        observations,
+        gps_ephemerides: lnav.ephemerides,
+        galileo_ephemerides: inav.ephemerides,
+        nav_pvt,
+        fixes,
+        messages,
+        skipped: problems.skipped,
+        warnings,
+    })
+}
+
+/// Loss-of-lock indicator bits (RINEX 3.05 §5.7, table A3): 1 lock lost
+/// since the previous epoch (a cycle slip is possible), 2 half-cycle
+/// ambiguity not resolved.
+const LLI_LOST_LOCK: u8 = 1;
+const LLI_HALF_CYCLE: u8 = 2;
+
+/// RAWX epochs as RINEX observations: per system the signals present in
+/// the log (codes in sorted order) with `C`, `L`, `D`, `S` each. A
+/// pseudorange or phase the receiver marks invalid, or a value beyond what
+/// RINEX can hold, is left blank. The phase's loss-of-lock indicator says
+/// lock lost when the lock time fell since the previous epoch that had the
+/// signal, and half-cycle when `halfCyc` is clear.
+fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
+    let mut codes: BTreeMap<char, Vec<&'static str>> = BTreeMap::new();
+    for s in rawx.iter().flat_map(|e| &e.signals) {
+        let list = codes.entry(s.system).or_default();
+        if !list.contains(&s.rinex_code) {
+            list.push(s.rinex_code);
+        }
+    }
+    for list in codes.values_mut() {
+        list.sort_unstable();
+    }
+    let observation_types: BTreeMap<char, Vec<String>> = codes
+        .iter()
+        .map(|(&sys, list)| {
+            let types = list
+                .iter()
+                .flat_map(|c| ["C", "L", "D", "S"].map(|k| format!("{k}{c}")))
+                .collect();
+            (sys, types)
+        })
+        .collect();
+    let mut last_lock: HashMap<(char, u16, &str), f64> = HashMap::new();
+    let epochs = rawx
+        .iter()
+        .map(|e| {
+            let mut satellites: Vec<SatelliteObservations> = Vec::new();
+            for s in &e.signals {
+                let j = codes[&s.system]
+                    .iter()
+                    .position(|c| *c == s.rinex_code)
+                    .expect("collected above");
+                let at = match satellites
+                    .iter()
+                    .position(|x| (x.system, x.prn) == (s.system, s.prn))
+                {
+                    Some(at) => at,
+                    None => {
+                        let n = 4 * codes[&s.system].len();
+                        satellites.push(SatelliteObservations {
+                            system: s.system,
+                            prn: s.prn,
+                            values: vec![None; n],
+                            lli: vec![0; n],
+                        });
+                        satellites.len() - 1
+                    }
+                };
+                let sat = &mut satellites[at];
+                if sat.values[4 * j..4 * j + 4].iter().any(Option::is_some) {
+                    // A second block of the same signal in one epoch: the first is kept.
+                    continue;
+                }
+                let kept = |code: &str, value: f64, valid: bool| {
+                    (valid
+                        && value.is_finite()
+                        && crate::gnss::observation_range(code).contains(&value))
+                    .then_some(value)
+                };
+                let t = s.tracking;
+                sat.values[4 * j] = kept("C", s.pseudorange_m, t.pseudorange_valid);
+                sat.values[4 * j + 1] = kept("L", s.carrier_phase_cycles, t.carrier_phase_valid);
+                sat.values[4 * j + 2] = kept("D", s.doppler_hz, true);
+                sat.values[4 * j + 3] = kept("S", s.cn0_db_hz, s.cn0_db_hz > 0.0);
+                let previous = last_lock.insert((s.system, s.prn, s.rinex_code), s.lock_time_s);
+                if sat.values[4 * j + 1].is_some() {
+                    let lost = previous.is_some_and(|p| s.lock_time_s < p);
+                    sat.lli[4 * j + 1] = if lost { LLI_LOST_LOCK } else { 0 }
+                        | if t.half_cycle_resolved {
+                            0
+                        } else {
+                            LLI_HALF_CYCLE
+                        };
+                }
+            }
+            ObservationEpoch {
+                gps_time_s: e.gps_time_s(),
+                flag: 0,
+                satellites,
+            }
+        })
+        .collect();
+    ObservationFile {
+        version: 3.04,
+        observation_types,
+        approx_position_ecef: None,
+        epochs,
+        warnings: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::framing::encode;
+    use super::*;
+
+    fn sfrbx(gnss_id: u8, sv_id: u8, sig_id: u8, words: &[u32]) -> Vec<u8> {
+        let mut p = vec![gnss_id, sv_id, sig_id, 0, words.len() as u8, 0, 2, 0];
+        for w in words {
+            p.extend_from_slice(&w.to_le_bytes());
+        }
+        encode(RXM_SFRBX.0, RXM_SFRBX.1, &p)
+    }
+
+    #[test]
+    fn a_hand_built_log_with_every_kind_of_damage() {
+        let week = 2381;
+        let tow = 408_700.25;
+        let signals = [rawx::tests::gps_l1(3, 2.1e7), rawx::tests::gps_l1(7, 2.3e7)];
+        let mut second = signals;
+        second[1].lock_time_s = 0.5; // lock lost: the phase gets LLI 1
+        let sf = gps_lnav::tests::test_subframes(u32::from(week), 77, 77);
+        let mut log = b"$GNGGA,noise\r\n".to_vec();
+        log.extend(encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow, week, Some(18), &signals),
+        ));
+        log.extend(sfrbx(0, 3, 0, &sf[0]));
+        // The same words on L2C (CNAV) are not LNAV: counted, not decoded.
+        log.extend(sfrbx(0, 3, 4, &sf[1]));
+        let mut flipped = sfrbx(0, 3, 0, &sf[1]);
+        let n = flipped.len();
+        flipped[n - 3] ^= 0x40; // checksum no longer matches
+        log.extend(flipped);
+        log.extend(sfrbx(0, 3, 0, &sf[1]));
+        log.extend(sfrbx(0, 3, 0, &sf[2]));
+        log.extend(encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow + 0.25, week, Some(18), &second),
+        ));
+        // An epoch that goes back in time is skipped.
+        log.extend(encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow, week, Some(18), &second),
+        ));
+        log.extend(encode(0x0A, 0x04, &[]));
+        let full = encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow + 0.5, week, None, &signals),
+        );
+        log.extend_from_slice(&full[..full.len() - 5]);
+
+        let out = parse_ubx(&log, "hand.ubx").unwrap();
+        assert_eq!(out.rawx.len(), 2);
+        assert_eq!(out.gps_ephemerides.len(), 1);
+        assert_eq!(out.gps_ephemerides[0].ephemeris.prn, 3);
+        assert_eq!(out.messages["RXM-RAWX"], 3);
+        assert_eq!(out.messages["RXM-SFRBX"], 4);
+        assert_eq!(out.messages["0x0A-0x04"], 1);
+        assert_eq!(out.skipped["frames with a bad checksum"], 1);
+        assert_eq!(out.skipped["RXM-RAWX malformed"], 1);
+        assert_eq!(
+            out.skipped["RXM-SFRBX of a navigation message not decoded (gnssId 0, sigId 4)"],
+            1
+        );
+        assert!(
+            out.warnings.iter().any(|w| w.contains("cut short")),
+            "{:?}",
+            out.warnings
+        );
+        let obs = &out.observations;
+        assert_eq!(obs.observation_types[&'G'], ["C1C", "L1C", "D1C", "S1C"]);
+        let g07 = &obs.epochs[1].satellites[1];
+        assert_eq!(
+            (g07.prn, g07.values[0], g07.lli[1]),
+            (7, Some(2.3e7), LLI_LOST_LOCK)
+        );
+        assert_eq!(obs.epochs[0].satellites[1].lli[1], 0);
+        let e = parse_ubx(b"\xB5\x62 not a log", "junk.ubx").unwrap_err();
+        assert!(
+            e.to_string().contains("junk.ubx") && e.to_string().contains("no UBX frame"),
+            "{e}"
+        );
+    }
+}

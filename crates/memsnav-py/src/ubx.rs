@@ -1,0 +1,389 @@
+//! u-blox UBX logs: RXM-RAWX as observations and as the receiver gives
+//! them, GPS LNAV ephemerides from RXM-SFRBX, NAV-PVT fixes; RINEX 3 out.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use memsnav_core::gnss::{self, Constellation, RinexProvenance};
+use memsnav_core::logs::{self, UbxLog};
+use memsnav_py_macros::catch_panics;
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert;
+use crate::errors::IntoPyResult;
+use crate::gnss::{PyConstellation, PyRinexObservations};
+use crate::logs::PyPosSolution;
+
+/// What a u-blox UBX log holds (``read_ubx``).
+#[pyclass(name = "UbxLog", module = "memsnav._memsnav", frozen)]
+pub struct PyUbxLog {
+    inner: UbxLog,
+    /// The log's path as given, for the headers of the files written.
+    source: String,
+}
+
+/// The header of files this binding writes.
+fn provenance(log: &str) -> RinexProvenance {
+    RinexProvenance {
+        program: format!("memsnav {}", env!("CARGO_PKG_VERSION")),
+        receiver: "u-blox".into(),
+        created: String::new(),
+        comments: vec![format!("converted from the u-blox UBX log {log}")],
+    }
+}
+
+#[catch_panics]
+#[pymethods]
+impl PyUbxLog {
+    /// RXM-RAWX as observations (the class ``read_rinex_obs`` returns):
+    /// per signal ``C`` pseudorange m (``prValid`` only), ``L`` carrier
+    /// cycles (``cpValid`` only), ``D`` Doppler Hz, ``S`` C/N0 dB-Hz, RINEX
+    /// 3 codes (``C1C``, ``C2L``, ``C5Q``, ``C6B``, ...), epochs on the
+    /// receiver's GPS time; the approximate position is the first NAV-PVT fix.
+    #[getter]
+    fn observations(&self) -> PyRinexObservations {
+        PyRinexObservations {
+            inner: self.inner.observations.clone(),
+        }
+    }
+
+    /// The GPS satellites of the decoded LNAV ephemerides, for
+    /// ``observations.gps_l1`` and ``solve_fix``.
+    #[getter]
+    fn constellation(&self) -> PyConstellation {
+        PyConstellation {
+            inner: Constellation::from_ephemerides(
+                self.inner
+                    .gps_ephemerides
+                    .iter()
+                    .map(|e| e.ephemeris)
+                    .collect(),
+            ),
+        }
+    }
+
+    /// The GPS LNAV ephemerides decoded from RXM-SFRBX, one dict each with
+    /// the RINEX navigation record's fields (SI units, angles rad, times
+    /// GPS s since 1980-01-06) and the message's flags.
+    #[getter]
+    fn ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .gps_ephemerides
+            .iter()
+            .map(|l| {
+                let e = &l.ephemeris;
+                let d = PyDict::new(py);
+                d.set_item("sat", format!("G{:02}", e.prn))?;
+                for (k, v) in [
+                    ("toc", e.toc_gps_s),
+                    ("toe", e.toe_gps_s),
+                    ("af0", e.af0_s),
+                    ("af1", e.af1_s_s),
+                    ("af2", e.af2_s_s2),
+                    ("crs", e.crs_m),
+                    ("delta_n", e.delta_n_rad_s),
+                    ("m0", e.m0_rad),
+                    ("cuc", e.cuc_rad),
+                    ("eccentricity", e.eccentricity),
+                    ("cus", e.cus_rad),
+                    ("sqrt_a", e.sqrt_a_sqrt_m),
+                    ("cic", e.cic_rad),
+                    ("omega0", e.omega0_rad),
+                    ("cis", e.cis_rad),
+                    ("i0", e.i0_rad),
+                    ("crc", e.crc_m),
+                    ("omega", e.omega_rad),
+                    ("omega_dot", e.omega_dot_rad_s),
+                    ("idot", e.idot_rad_s),
+                    ("tgd", e.tgd_s),
+                    ("fit_interval_h", e.fit_interval_h),
+                    ("ura_m", gnss::ura_m(l.ura_index)),
+                    ("transmission_time", l.transmission_gps_s),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("prn", u32::from(e.prn)),
+                    ("health", e.health),
+                    ("iode", u32::from(l.iode)),
+                    ("iodc", u32::from(l.iodc)),
+                    ("ura_index", u32::from(l.ura_index)),
+                    ("l2_codes", u32::from(l.l2_codes)),
+                    ("l2p_data_flag", u32::from(l.l2p_data_flag)),
+                    ("week", u32::from(l.toe_week)),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one
+    /// dict each with the RINEX navigation record's fields (SI units,
+    /// angles rad, times GPS s since 1980-01-06) and the health, data
+    /// validity and accuracy (SISA) flags.
+    #[getter]
+    fn galileo_ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .galileo_ephemerides
+            .iter()
+            .map(|e| {
+                let d = PyDict::new(py);
+                d.set_item("sat", format!("E{:02}", e.svid))?;
+                for (k, v) in [
+                    ("toc", e.toc_gps_s),
+                    ("toe", e.toe_gps_s),
+                    ("af0", e.af0_s),
+                    ("af1", e.af1_s_s),
+                    ("af2", e.af2_s_s2),
+                    ("crs", e.crs_m),
+                    ("delta_n", e.delta_n_rad_s),
+                    ("m0", e.m0_rad),
+                    ("cuc", e.cuc_rad),
+                    ("eccentricity", e.eccentricity),
+                    ("cus", e.cus_rad),
+                    ("sqrt_a", e.sqrt_a_sqrt_m),
+                    ("cic", e.cic_rad),
+                    ("omega0", e.omega0_rad),
+                    ("cis", e.cis_rad),
+                    ("i0", e.i0_rad),
+                    ("crc", e.crc_m),
+                    ("omega", e.omega_rad),
+                    ("omega_dot", e.omega_dot_rad_s),
+                    ("idot", e.idot_rad_s),
+                    ("bgd_e1_e5a", e.bgd_e1_e5a_s),
+                    ("bgd_e1_e5b", e.bgd_e1_e5b_s),
+                    ("sisa_m", gnss::sisa_m(e.sisa_index).unwrap_or(f64::NAN)),
+                    ("transmission_time", e.transmission_gps_s),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("svid", u32::from(e.svid)),
+                    ("iod_nav", u32::from(e.iod_nav)),
+                    ("sisa_index", u32::from(e.sisa_index)),
+                    ("e1b_health", u32::from(e.e1b_health)),
+                    ("e5b_health", u32::from(e.e5b_health)),
+                    ("e1b_data_validity", u32::from(e.e1b_data_validity)),
+                    ("e5b_data_validity", u32::from(e.e5b_data_validity)),
+                    ("gst_week", u32::from(e.gst_week)),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                d.set_item("healthy", e.is_healthy())?;
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// RXM-RAWX as the receiver reports it, one row per epoch and signal:
+    /// ``epoch`` (index into ``epoch_gps_time``), ``sat`` ("G10"),
+    /// ``code`` (RINEX band and attribute), ``gnss_id``, ``sv_id``,
+    /// ``sig_id``, ``pseudorange`` m, ``carrier_phase`` cycles, ``doppler``
+    /// Hz, ``cn0`` dB-Hz, ``lock_time`` s, the receiver's σ
+    /// (``pseudorange_std`` m, ``carrier_phase_std`` cycles,
+    /// ``doppler_std`` Hz), the tracking flags (``pseudorange_valid``,
+    /// ``carrier_phase_valid``, ``half_cycle_resolved``,
+    /// ``half_cycle_subtracted``); per epoch ``epoch_gps_time``,
+    /// ``receiver_tow`` s, ``week``, ``leap_seconds`` (-1: not known yet),
+    /// ``clock_reset``.
+    #[getter]
+    fn rawx<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let rows: Vec<(usize, &logs::RawxSignal)> = self
+            .inner
+            .rawx
+            .iter()
+            .enumerate()
+            .flat_map(|(k, e)| e.signals.iter().map(move |s| (k, s)))
+            .collect();
+        let d = PyDict::new(py);
+        let column = |f: &dyn Fn(&logs::RawxSignal) -> f64| -> Bound<'py, PyArray1<f64>> {
+            PyArray1::from_iter(py, rows.iter().map(|(_, s)| f(s)))
+        };
+        let flag = |f: &dyn Fn(&logs::RawxSignal) -> bool| -> Bound<'py, PyArray1<bool>> {
+            PyArray1::from_iter(py, rows.iter().map(|(_, s)| f(s)))
+        };
+        let small = |f: &dyn Fn(&logs::RawxSignal) -> u8| -> Bound<'py, PyArray1<i64>> {
+            PyArray1::from_iter(py, rows.iter().map(|(_, s)| i64::from(f(s))))
+        };
+        d.set_item(
+            "epoch",
+            PyArray1::from_iter(py, rows.iter().map(|(k, _)| *k as i64)),
+        )?;
+        d.set_item(
+            "sat",
+            rows.iter()
+                .map(|(_, s)| format!("{}{:02}", s.system, s.prn))
+                .collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "code",
+            rows.iter().map(|(_, s)| s.rinex_code).collect::<Vec<_>>(),
+        )?;
+        d.set_item("gnss_id", small(&|s| s.gnss_id))?;
+        d.set_item("sv_id", small(&|s| s.sv_id))?;
+        d.set_item("sig_id", small(&|s| s.sig_id))?;
+        d.set_item("pseudorange", column(&|s| s.pseudorange_m))?;
+        d.set_item("carrier_phase", column(&|s| s.carrier_phase_cycles))?;
+        d.set_item("doppler", column(&|s| s.doppler_hz))?;
+        d.set_item("cn0", column(&|s| s.cn0_db_hz))?;
+        d.set_item("lock_time", column(&|s| s.lock_time_s))?;
+        d.set_item("pseudorange_std", column(&|s| s.pseudorange_std_m))?;
+        d.set_item("carrier_phase_std", column(&|s| s.carrier_phase_std_cycles))?;
+        d.set_item("doppler_std", column(&|s| s.doppler_std_hz))?;
+        d.set_item("pseudorange_valid", flag(&|s| s.tracking.pseudorange_valid))?;
+        d.set_item(
+            "carrier_phase_valid",
+            flag(&|s| s.tracking.carrier_phase_valid),
+        )?;
+        d.set_item(
+            "half_cycle_resolved",
+            flag(&|s| s.tracking.half_cycle_resolved),
+        )?;
+        d.set_item(
+            "half_cycle_subtracted",
+            flag(&|s| s.tracking.half_cycle_subtracted),
+        )?;
+        let epochs = &self.inner.rawx;
+        d.set_item(
+            "epoch_gps_time",
+            PyArray1::from_iter(py, epochs.iter().map(|e| e.gps_time_s())),
+        )?;
+        d.set_item(
+            "receiver_tow",
+            PyArray1::from_iter(py, epochs.iter().map(|e| e.receiver_tow_s)),
+        )?;
+        d.set_item(
+            "week",
+            PyArray1::from_iter(py, epochs.iter().map(|e| i64::from(e.week))),
+        )?;
+        d.set_item(
+            "leap_seconds",
+            PyArray1::from_iter(
+                py,
+                epochs.iter().map(|e| e.leap_seconds.map_or(-1, i64::from)),
+            ),
+        )?;
+        d.set_item(
+            "clock_reset",
+            PyArray1::from_iter(py, epochs.iter().map(|e| e.clock_reset)),
+        )?;
+        Ok(d)
+    }
+
+    /// Every NAV-PVT solution, fix or not, as arrays: ``gps_time`` s,
+    /// ``lla`` (N, 3) rad, rad, m ellipsoidal, ``height_msl`` m,
+    /// ``velocity_ned`` (N, 3) m/s, ``horizontal_accuracy``,
+    /// ``vertical_accuracy`` m, ``speed_accuracy`` m/s, ``fix_type``,
+    /// ``fix_ok``, ``carrier_solution`` (0 none, 1 float, 2 fixed),
+    /// ``n_satellites``, ``quality`` (RTKLIB's Q).
+    #[getter]
+    fn nav_pvt<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.inner.nav_pvt;
+        let d = PyDict::new(py);
+        let column = |f: &dyn Fn(&logs::NavPvt) -> f64| PyArray1::from_iter(py, s.iter().map(f));
+        let integer = |f: &dyn Fn(&logs::NavPvt) -> u8| {
+            PyArray1::from_iter(py, s.iter().map(|x| i64::from(f(x))))
+        };
+        d.set_item("gps_time", column(&|x| x.gps_time_s))?;
+        let lla: Vec<_> = s.iter().map(|x| x.lla).collect();
+        d.set_item("lla", convert::vectors_to_numpy(py, &lla))?;
+        d.set_item("height_msl", column(&|x| x.height_msl_m))?;
+        let v: Vec<_> = s.iter().map(|x| x.velocity_ned_m_s).collect();
+        let v: Bound<'py, PyArray2<f64>> = convert::vectors_to_numpy(py, &v);
+        d.set_item("velocity_ned", v)?;
+        d.set_item("horizontal_accuracy", column(&|x| x.horizontal_accuracy_m))?;
+        d.set_item("vertical_accuracy", column(&|x| x.vertical_accuracy_m))?;
+        d.set_item("speed_accuracy", column(&|x| x.speed_accuracy_m_s))?;
+        d.set_item("fix_type", integer(&|x| x.fix_type))?;
+        d.set_item(
+            "fix_ok",
+            PyArray1::from_iter(py, s.iter().map(|x| x.fix_ok)),
+        )?;
+        d.set_item("carrier_solution", integer(&|x| x.carrier_solution))?;
+        d.set_item("n_satellites", integer(&|x| x.n_satellites))?;
+        d.set_item("quality", integer(&logs::NavPvt::quality))?;
+        Ok(d)
+    }
+
+    /// The NAV-PVT position fixes as the other fix readers give them
+    /// (σ north and east hAcc/√2, down vAcc; velocity σ sAcc per axis).
+    #[getter]
+    fn fixes(&self) -> PyPosSolution {
+        PyPosSolution {
+            inner: self.inner.fixes.clone(),
+        }
+    }
+
+    /// Messages read, by name (``RXM-RAWX``, ``NAV-PVT``, ``RXM-SFRBX``,
+    /// ``0xCC-0xII`` for the others).
+    #[getter]
+    fn messages(&self) -> BTreeMap<String, usize> {
+        self.inner.messages.clone()
+    }
+
+    /// What was left out, by reason, with counts.
+    #[getter]
+    fn skipped(&self) -> BTreeMap<String, usize> {
+        self.inner.skipped.clone()
+    }
+
+    /// Non-fatal problems met while reading.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.inner.warnings.clone()
+    }
+
+    /// Writes the observations as a RINEX 3.04 observation file at ``path``.
+    fn write_rinex_obs(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let header = provenance(&self.source);
+        py.detach(|| gnss::write_rinex_obs(&path, &self.inner.observations, &header))
+            .py()
+    }
+
+    /// Writes the GPS and Galileo ephemerides as a RINEX 3.04 navigation
+    /// file at ``path``.
+    fn write_rinex_nav(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let header = provenance(&self.source);
+        py.detach(|| {
+            gnss::write_rinex_nav(
+                &path,
+                &self.inner.gps_ephemerides,
+                &self.inner.galileo_ephemerides,
+                &header,
+            )
+        })
+        .py()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "UbxLog({} RAWX epochs, {} GPS ephemerides, {} NAV-PVT fixes)",
+            self.inner.rawx.len(),
+            self.inner.gps_ephemerides.len(),
+            self.inner.fixes.gps_time_s.len()
+        )
+    }
+}
+
+/// Reads a u-blox UBX log (see ``memsnav.read_ubx``).
+#[catch_panics]
+#[pyfunction]
+fn read_ubx(py: Python<'_>, path: PathBuf) -> PyResult<PyUbxLog> {
+    Ok(PyUbxLog {
+        inner: py.detach(|| logs::read_ubx(&path)).py()?,
+        source: path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into(),
+        ),
+    })
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyUbxLog>()?;
+    m.add_function(wrap_pyfunction!(read_ubx, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,42 @@
+"""``memsnav convert``: a raw u-blox UBX log to RINEX 3.04 observation and
+navigation files (:func:`memsnav.realdata.convert.convert_ubx`)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+NAME = "convert"
+HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/real-data.md)"
+DESCRIPTION = (
+    "Read a u-blox UBX log (RXM-RAWX, RXM-SFRBX, NAV-PVT) and write its observations "
+    "(every system and signal) and its decoded GPS LNAV and Galileo I/NAV ephemerides "
+    "as RINEX 3.04 files <stem>.obs and <stem>.nav in the output folder."
+)
+
+
+def add_arguments(command: argparse.ArgumentParser) -> None:
+    command.add_argument("log", type=Path, help="the UBX log, e.g. gnss_1730.ubx")
+    command.add_argument(
+        "--output",
+        type=Path,
+        required=True,
+        help="folder for <stem>.obs and <stem>.nav (made when missing)",
+    )
+
+
+def run(args: argparse.Namespace, client: Any) -> int:
+    from memsnav.realdata.convert import convert_ubx
+
+    log, files = convert_ubx(args.log, args.output)
+    print(
+        f"{len(log.rawx['epoch_gps_time'])} epochs, {len(log.observations.satellites)} "
+        f"satellites, {len(log.ephemerides)} GPS and {len(log.galileo_ephemerides)} Galileo "
+        f"ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
+    )
+    for reason, count in log.skipped.items():
+        print(f"skipped: {count} {reason}")
+    for kind, path in files.items():
+        print(f"{kind}: {path}")
+    return 0

@@ -1,0 +1,245 @@
+"""u-blox UBX logs (issue 24): ``memsnav.read_ubx`` and ``memsnav convert``.
+
+The converted RINEX files are read by an independent reader (georinex)
+and must hold the values the log decodes to; the GPS ephemerides decoded
+from the log's navigation words give the orbits and clocks of the RINEX
+navigation file another converter made from the same log; the log's
+NAV-PVT is the walk's RTK truth file field for field; the least-squares
+fix on the log's GPS L1 C/A pseudoranges with its own ephemerides sits
+where the data README says broadcast-ephemeris solutions sit."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from shared_data import shared_data
+
+import memsnav as mn
+from memsnav.cli import main
+
+EXCERPT = Path(__file__).parent / "data" / "real-imu-gnss" / "walk_head.ubx"
+WALK = "real-imu-gnss/walk_0827/"
+
+#: georinex's names of the RINEX GPS navigation fields, with ours.
+GEORINEX_NAV = {
+    "SVclockBias": "af0",
+    "SVclockDrift": "af1",
+    "SVclockDriftRate": "af2",
+    "IODE": "iode",
+    "Crs": "crs",
+    "DeltaN": "delta_n",
+    "M0": "m0",
+    "Cuc": "cuc",
+    "Eccentricity": "eccentricity",
+    "Cus": "cus",
+    "sqrtA": "sqrt_a",
+    "Cic": "cic",
+    "Omega0": "omega0",
+    "Cis": "cis",
+    "Io": "i0",
+    "Crc": "crc",
+    "omega": "omega",
+    "OmegaDot": "omega_dot",
+    "IDOT": "idot",
+    "CodesL2": "l2_codes",
+    "GPSWeek": "week",
+    "L2Pflag": "l2p_data_flag",
+    "SVacc": "ura_m",
+    "health": "health",
+    "TGD": "tgd",
+    "IODC": "iodc",
+    "FitIntvl": "fit_interval_h",
+}
+
+
+def _georinex(path: Path):
+    georinex = pytest.importorskip("georinex")
+    with warnings.catch_warnings():
+        # georinex's xarray merges warn of xarray's coming defaults.
+        warnings.simplefilter("ignore", FutureWarning)
+        return georinex.load(path)
+
+
+def _ned(delta_ecef: np.ndarray, lla: np.ndarray) -> np.ndarray:
+    """ECEF differences as north, east, down at geodetic ``lla`` (rad)."""
+    lat, lon = lla[0], lla[1]
+    c_e_n = np.array(
+        [
+            [-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)],
+            [-np.sin(lon), np.cos(lon), 0.0],
+            [-np.cos(lat) * np.cos(lon), -np.cos(lat) * np.sin(lon), -np.sin(lat)],
+        ]
+    )
+    return delta_ecef @ c_e_n.T
+
+
+def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
+    assert main(["convert", str(EXCERPT), "--output", str(tmp_path / "out")]) == 0
+    printed = capsys.readouterr().out
+    assert "20 epochs" in printed and "4 GPS and 7 Galileo ephemerides" in printed
+    log = mn.read_ubx(EXCERPT)
+    obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"
+
+    nav = _georinex(nav_path)
+    assert sorted(s for s in nav.sv.values if s[0] == "G") == ["G10", "G23", "G27", "G32"]
+    for e in log.ephemerides:
+        record = nav.sel(sv=e["sat"]).dropna("time", how="all")
+        assert record.time.size == 1
+        for theirs, ours in GEORINEX_NAV.items():
+            value = float(record[theirs].values[0])
+            assert value == pytest.approx(e[ours], rel=1e-12, abs=1e-300), theirs
+        # t_oe and the transmission time in seconds of the t_oe week.
+        assert float(record["Toe"].values[0]) == e["toe"] - e["week"] * 604800.0
+        toc = (record.time.values[0] - np.datetime64("1980-01-06")) / np.timedelta64(1, "s")
+        assert toc == e["toc"]
+
+    obs = _georinex(obs_path)
+    observations = log.observations
+    times = (obs.time.values - np.datetime64("1980-01-06")) / np.timedelta64(1, "s")
+    np.testing.assert_allclose(times, observations.time, rtol=0, atol=2e-6)
+    assert sorted(obs.sv.values) == observations.satellites
+    checked = 0
+    for system, codes in observations.observation_types.items():
+        columns = [k for k, s in enumerate(observations.satellites) if s[0] == system]
+        names = [observations.satellites[k] for k in columns]
+        for code in codes:
+            ours = observations.observation(code)[:, columns]
+            theirs = obs[code].sel(sv=names).values
+            np.testing.assert_array_equal(np.isnan(theirs), np.isnan(ours), err_msg=code)
+            # F14.3: half a millimetre, a thousandth of a cycle or Hz.
+            np.testing.assert_allclose(theirs, ours, rtol=0, atol=5.0001e-4, err_msg=code)
+            checked += int(np.isfinite(ours).sum())
+    # And the observations are the receiver's values: GPS L1 C/A pseudoranges
+    # marked valid, in RAWX's own record.
+    rawx = log.rawx
+    gps_l1 = (np.array(rawx["code"]) == "1C") & (rawx["gnss_id"] == 0)
+    gps_l1 &= rawx["pseudorange_valid"]
+    for k in np.flatnonzero(gps_l1)[:50]:
+        sat = rawx["sat"][k]
+        at = rawx["epoch_gps_time"][rawx["epoch"][k]]
+        value = obs["C1C"].sel(sv=sat).values[np.argmin(np.abs(times - at))]
+        assert value == pytest.approx(rawx["pseudorange"][k], abs=5.0001e-4)
+    assert checked > 5000
+
+
+def test_ubx_ephemerides_give_the_orbits_of_the_broadcast_file():
+    log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
+    broadcast = mn.Constellation.from_rinex_nav(shared_data(WALK + "gnss_1730.nav"))
+    ours = log.constellation
+    assert ours.prns == broadcast.prns == ["G10", "G23", "G27", "G32"]
+    start = log.observations.time[0]
+    for t in (start, start + 133.0, start + 7200.0):
+        p_ours, v_ours = ours.position_velocity(t)
+        p_file, v_file = broadcast.position_velocity(t)
+        # The file prints 12 digits: 0.1 mm of orbit, 1e-15 s of clock.
+        np.testing.assert_allclose(p_ours, p_file, rtol=0, atol=1e-3)
+        np.testing.assert_allclose(v_ours, v_file, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(
+            ours.clock_correction(t), broadcast.clock_correction(t), rtol=0, atol=1e-14
+        )
+    assert all(e["health"] == 0 and e["ura_m"] == 2.4 for e in log.ephemerides)
+
+
+def test_nav_pvt_is_the_walk_truth_file():
+    log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
+    truth = mn.read_pos(shared_data(WALK + "gnss_1730_sf.pos"))
+    fixes = mn.read_fixes(shared_data(WALK + "gnss_1730.ubx"))
+    np.testing.assert_allclose(fixes.gps_time, truth.gps_time, rtol=0, atol=1e-3)
+    np.testing.assert_allclose(fixes.lla[:, :2], truth.lla[:, :2], rtol=0, atol=1e-10)
+    # The truth's heights are NAV-PVT's heights above mean sea level.
+    np.testing.assert_allclose(log.nav_pvt["height_msl"], truth.lla[:, 2], rtol=0, atol=1e-3)
+    np.testing.assert_allclose(log.fixes.lla[:, 2] - truth.lla[:, 2], -21.387, atol=0.01)
+    np.testing.assert_array_equal(fixes.quality, truth.quality)
+    np.testing.assert_allclose(fixes.std_ned, truth.std_ned, rtol=0, atol=1e-4)
+
+
+def test_solve_fix_on_the_log_gps_l1_sits_where_broadcast_solutions_sit():
+    log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
+    measurements = log.observations.gps_l1(log.constellation)
+    fixes = mn.solve_fix(measurements)
+    pvt = log.nav_pvt
+    nearest = np.searchsorted(pvt["gps_time"], measurements.gps_time - 0.1)
+    # RAWX epochs on the receiver clock (bias ~ -1.5 ms) against NAV-PVT's.
+    assert np.abs(pvt["gps_time"][nearest] - measurements.gps_time).max() < 0.005
+    valid = fixes.valid
+    assert valid.sum() > 500
+    delta = fixes.position_ecef - mn.geodetic_to_ecef(pvt["lla"][nearest])
+    ned = _ned(delta[valid], pvt["lla"][0])
+    offset = ned.mean(axis=0)
+    # The data README: every broadcast solution sits 6.3-7.8 m east and
+    # 2.5-5.2 m north of this truth, with a scatter of about 1 m.
+    assert 2.5 <= offset[0] <= 5.2 and 6.3 <= offset[1] <= 7.8, offset
+    precision = np.sqrt(np.mean(np.sum((ned[:, :2] - offset[:2]) ** 2, axis=1)))
+    assert 0.5 < precision < 1.3, precision
+    # The receiver clock is not steered: about -1.5 ms, drifting ~ -60 m/s.
+    assert -2e-3 < fixes.clock_offset[valid][0] / 299792458.0 < -1e-3
+
+
+def test_bad_input_is_a_clear_error(tmp_path):
+    text = tmp_path / "notes.ubx"
+    text.write_text("not a u-blox log\n")
+    with pytest.raises(mn.ParseError, match=r"notes\.ubx.*no UBX frame"):
+        mn.read_ubx(text)
+    with pytest.raises(OSError, match=r"missing\.ubx"):
+        mn.read_ubx(tmp_path / "missing.ubx")
+    # A cut and a flipped byte: what survives is read, the rest counted.
+    data = bytearray(EXCERPT.read_bytes())
+    data[5000] ^= 0xFF
+    cut = tmp_path / "cut.ubx"
+    cut.write_bytes(bytes(data[:-100]))
+    log = mn.read_ubx(cut)
+    assert log.skipped["frames with a bad checksum"] >= 1
+    assert any("cut short" in w for w in log.warnings)
+    assert len(log.rawx["epoch_gps_time"]) >= 18
+
+
+#: georinex's names of the RINEX Galileo navigation fields, with ours.
+GEORINEX_GALILEO = {
+    "SVclockBias": "af0",
+    "SVclockDrift": "af1",
+    "SVclockDriftRate": "af2",
+    "IODnav": "iod_nav",
+    "Crs": "crs",
+    "DeltaN": "delta_n",
+    "M0": "m0",
+    "Cuc": "cuc",
+    "Eccentricity": "eccentricity",
+    "Cus": "cus",
+    "sqrtA": "sqrt_a",
+    "Cic": "cic",
+    "Omega0": "omega0",
+    "Cis": "cis",
+    "Io": "i0",
+    "Crc": "crc",
+    "omega": "omega",
+    "OmegaDot": "omega_dot",
+    "IDOT": "idot",
+    "SISA": "sisa_m",
+    "BGDe5a": "bgd_e1_e5a",
+    "BGDe5b": "bgd_e1_e5b",
+}
+
+
+def test_galileo_ephemerides_in_the_converted_navigation_file(tmp_path):
+    log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
+    galileo = log.galileo_ephemerides
+    # The data README: I/NAV for 7 Galileo satellites, E14 flagged unhealthy.
+    assert sorted(e["sat"] for e in galileo) == ["E07", "E08", "E13", "E14", "E26", "E29", "E33"]
+    assert [e["sat"] for e in galileo if not e["healthy"]] == ["E14"]
+    path = tmp_path / "walk.nav"
+    log.write_rinex_nav(path)
+    nav = _georinex(path)
+    for e in galileo:
+        record = nav.sel(sv=e["sat"]).dropna("time", how="all")
+        assert record.time.size == 1
+        for theirs, ours in GEORINEX_GALILEO.items():
+            value = float(record[theirs].values[0])
+            assert value == pytest.approx(e[ours], rel=1e-12, abs=1e-300), theirs
+        health = int(record["health"].values[0])
+        assert (health >> 1) & 3 == e["e1b_health"] and (health >> 7) & 3 == e["e5b_health"]
+        assert float(record["GALWeek"].values[0]) == e["gst_week"] + 1024
+    # And the GPS records beside them are unchanged.
+    assert sorted(s for s in nav.sv.values if s[0] == "G") == ["G10", "G23", "G27", "G32"]
