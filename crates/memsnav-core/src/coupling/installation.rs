@@ -22,7 +22,6 @@
 
 use nalgebra::Vector3;
 
-use super::tuning::FilterTuning;
 use crate::filter::state::{Installation as At, INSTALLATION_STATES};
 use crate::filter::ErrorState;
 
@@ -41,13 +40,13 @@ pub struct InstallationEstimate {
 }
 
 impl InstallationEstimate {
-    /// The configuration's values: the tuning's lever arm and velocity
-    /// latency, no time offset and no boresight.
-    pub(crate) fn from_tuning(tuning: &FilterTuning) -> Self {
+    /// The configuration's values (the tuning's lever arm and velocity
+    /// latency), no time offset and no boresight.
+    pub(crate) fn configured(lever_arm_b_m: Vector3<f64>, velocity_latency_s: f64) -> Self {
         Self {
-            lever_arm_b_m: tuning.antenna_lever_arm_b_m,
+            lever_arm_b_m,
             time_offset_s: 0.0,
-            velocity_latency_s: tuning.velocity_latency_s,
+            velocity_latency_s,
             mounting_rad: Vector3::zeros(),
         }
     }

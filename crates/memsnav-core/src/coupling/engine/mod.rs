@@ -192,7 +192,10 @@ impl<const N: usize> FilterState<N> {
             clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
             clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
             range_bias_m: [0.0; RANGE_BIAS_SLOTS],
-            installation: InstallationEstimate::from_tuning(&tuning),
+            installation: InstallationEstimate::configured(
+                tuning.antenna_lever_arm_b_m,
+                tuning.velocity_latency_s,
+            ),
             clock_known: (
                 init.clock_offset_m.is_some(),
                 init.clock_drift_m_s.is_some(),
