@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 
 import memsnav as mn
 
@@ -21,18 +22,6 @@ NAMES = [
 ]
 
 
-def _rotation(v: np.ndarray) -> np.ndarray:
-    """Rotation matrix of the rotation vector v (Rodrigues)."""
-    a = float(np.linalg.norm(v))
-    k = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-    return np.eye(3) + np.sin(a) / a * k + (1 - np.cos(a)) / a**2 * k @ k
-
-
-def _c_n_e(lat: float, lon: float) -> np.ndarray:
-    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
-    return np.array([[-sl * co, -so, -cl * co], [-sl * so, co, -cl * so], [cl, 0, -sl]])
-
-
 def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True):
     """A 900 s drive from rest (heading unknown at the start) with an
     industrial-grade IMU mounted `mounting` (rad, vehicle-to-sensor
@@ -45,7 +34,7 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
     trajectory = mn.Trajectory.random(900.0, seed=seed, stationary_start=20.0)
     t = trajectory.time
     rng = np.random.default_rng(seed)
-    sensor_from_vehicle = _rotation(np.asarray(mounting))
+    sensor_from_vehicle = Rotation.from_rotvec(mounting).as_matrix()
     f = (
         trajectory.specific_force @ sensor_from_vehicle.T
         + 0.01 * rng.normal(size=(len(t), 3))
@@ -65,8 +54,13 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
     k = np.arange(2000, len(t), 100)
     lag = round(latency * 100)
     geodetic = mn.ecef_to_geodetic(antenna[k])
+    # A velocity into NED axes: the NED offset of the point one velocity
+    # away (the rotation is linear).
     velocity_ned = np.array(
-        [_c_n_e(g[0], g[1]).T @ v for g, v in zip(geodetic, antenna_velocity[k - lag], strict=True)]
+        [
+            mn.ecef_to_ned(a + v, a)
+            for a, v in zip(antenna[k], antenna_velocity[k - lag], strict=True)
+        ]
     )
     fixes = mn.fixes_from_solution(
         t[k],
