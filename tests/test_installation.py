@@ -30,7 +30,8 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
     axes, m) and 1 Hz fixes (0.3 m, 0.05 m/s white noise) whose velocity is
     the antenna's `latency` s before their time. Returns the run, the
     truth in the filter's state order (lever arm in sensor axes) and the
-    scored errors."""
+    errors of the solution at the antenna (the run's lever arm: configured,
+    or estimated) against the true antenna."""
     trajectory = mn.Trajectory.random(900.0, seed=seed, stationary_start=20.0)
     t = trajectory.time
     rng = np.random.default_rng(seed)
@@ -82,7 +83,7 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
     truth = np.concatenate(
         [sensor_from_vehicle @ lever, [time_offset, latency], np.asarray(mounting)[1:]]
     )
-    score = run.score(t[k], trajectory.position_ecef[k])
+    score = run.score(t[k], antenna[k])
     return run, truth, score
 
 
@@ -125,19 +126,52 @@ def test_installation_states_converge_inside_their_sigma():
     assert mean_square < 2.0, (mean_square, np.round(normalised, 2))
 
 
-@pytest.mark.parametrize("case", CASES[:2], ids=["seed1", "seed2"])
-def test_assuming_a_wrong_installation_breaks_the_bounds(case):
+def test_assuming_a_wrong_installation_breaks_the_bounds():
     """The same drives with the installation taken as configured (all
-    zero): the lever arm, offset, latency and boresight it ignores leave
-    aided errors several times its σ and a worse aided solution; estimated,
-    the bounds hold (above)."""
-    seed, lever, offset, mounting = case
-    runs = {}
-    for states in (False, True):
-        _, _, score = _installed_drive(seed, lever, offset, 0.2, mounting, states=states)
-        runs[states] = score["aided"]
-    assert runs[False]["within_3sigma_share"] < 0.5, runs
-    assert runs[True]["rms_horizontal_m"] < 0.7 * runs[False]["rms_horizontal_m"], runs
+    zero): the filter follows the fixes at the antenna about as closely,
+    but a fifth of its aided errors fall outside its 3σ (the bounds hold
+    with the states: above), and the lever arm, offset, latency and
+    boresight it ignores cost it in the 30 s outages."""
+    outage_rms = {False: [], True: []}
+    for seed, lever, offset, mounting in CASES:
+        for states in (False, True):
+            _, _, score = _installed_drive(seed, lever, offset, 0.2, mounting, states=states)
+            outage_rms[states].append(score["in_outages"]["rms_horizontal_m"])
+            if not states:
+                assert score["aided"]["within_3sigma_share"] < 0.9, (seed, score["aided"])
+    # Measured: 1.5, 5.7, 21.5 and 6.6 m assumed; 5.6, 0.9, 3.9 and 0.5 m
+    # estimated (a single outage's error is luck; their mean is not).
+    assert np.mean(outage_rms[True]) < 0.5 * np.mean(outage_rms[False]), outage_rms
+
+
+def test_outputs_at_the_antenna_use_the_estimated_lever_arm():
+    """The solution written at the antenna (``columns``, ``write``) moves
+    the IMU by the lever arm the filter estimated, not the configured zero:
+    over the second half of the drive it sits on the true antenna to a few
+    decimetres, where the IMU itself is 2 m away."""
+    seed, lever, offset, mounting = CASES[0]
+    run, _, _ = _installed_drive(seed, lever, offset, 0.2, mounting)
+    trajectory = mn.Trajectory.random(900.0, seed=seed, stationary_start=20.0)
+    k = np.arange(45000, len(trajectory.time) - 1000, 100)
+    antenna = trajectory.position_ecef[k] + np.einsum(
+        "nij,j->ni", trajectory.attitude[k], np.asarray(lever)
+    )
+    columns = run.columns()
+    time = np.asarray(columns["gps_time_s"])
+    lla = np.column_stack(
+        [np.radians(columns["lat_deg"]), np.radians(columns["lon_deg"]), columns["height_m"]]
+    )
+    # The output at each truth time (the samples are 0.01 s apart, the
+    # truth on a multiple of it: the nearest sample is within 0.5 sample).
+    nearest = np.searchsorted(time, trajectory.time[k] - 0.005)
+    output = mn.geodetic_to_ecef(lla[nearest])
+    horizontal = [np.hypot(*mn.ecef_to_ned(o, a)[:2]) for o, a in zip(output, antenna, strict=True)]
+    imu_offset = [
+        np.hypot(*mn.ecef_to_ned(i, a)[:2])
+        for i, a in zip(trajectory.position_ecef[k], antenna, strict=True)
+    ]
+    assert np.sqrt(np.mean(np.square(horizontal))) < 0.5, np.max(horizontal)
+    assert np.min(imu_offset) > 1.9
 
 
 @pytest.mark.parametrize("key", ["antenna_lever_arm_std_m", "velocity_latency_std_s"])

@@ -46,7 +46,9 @@ pub struct LogRun {
     /// The satellites holding range-bias slots at the end, with their bias
     /// estimates, m.
     pub range_biases: Vec<(u16, f64)>,
-    /// The antenna lever arm (IMU to antenna, body axes), m.
+    /// The antenna lever arm (IMU to antenna, body axes), m: the
+    /// configured one, or with installation states the final estimate
+    /// (the outputs at the antenna use it).
     pub antenna_lever_arm_b_m: Vector3<f64>,
     /// The sensor-to-body rotation the run used (body = M · sensor).
     pub mounting: Matrix3<f64>,
@@ -164,6 +166,13 @@ pub fn navigate_log(
         (true, true, true) => run.filter::<{ Layout::size(true, true, true) }>()?,
     };
     let standstills = standstill_intervals(&solution);
+    // With installation states, the lever arm the filter ended with.
+    let antenna_lever_arm_b_m = solution
+        .installation
+        .last()
+        .map_or(config.tuning.antenna_lever_arm_b_m, |row| {
+            Vector3::new(row[0], row[1], row[2])
+        });
     Ok(LogRun {
         solution,
         smoothed,
@@ -173,7 +182,7 @@ pub fn navigate_log(
         outages,
         standstills,
         range_biases,
-        antenna_lever_arm_b_m: config.tuning.antenna_lever_arm_b_m,
+        antenna_lever_arm_b_m,
         mounting: config.mounting,
     })
 }
