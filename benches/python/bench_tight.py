@@ -4,8 +4,10 @@ careful version a Python user would otherwise write: FilterPy's
 strapdown mechanization (same second-order ECEF step, same measurement
 model, same tuning, closed loop; Φ rebuilt in place each epoch, Q and the
 constant blocks computed once, scalar work on floats), and whole Monte
-Carlo runs of the navigation experiment on 1 and 2 threads; and what
-``smooth=True`` adds to the filter call (17 and 23 states).
+Carlo runs of the navigation experiment on 1 and 2 threads; what
+``smooth=True`` adds to the filter call (17 and 23 states); and memsnav's
+step API (``RunningFilter``) driven from a Python loop as the peers are,
+with its cost per call (predict, update_gnss, reading the position).
 
     python benches/python/bench_tight.py results.json [--filterpy-seconds 600]
         [--peer-seconds 600] [--mc-runs 8] [--mc-repeats 3]
@@ -430,6 +432,38 @@ def sidereon_run(scenario, start, tuning, epochs_to_run: int):
     return positions
 
 
+def running_filter_run(scenario, filt, initial_state: dict[str, Any]):
+    """memsnav's own step API driven from Python the way sidereon is: one
+    ``predict`` per IMU sample, one ``update_gnss`` per GNSS epoch, the
+    position read back each epoch. Returns the positions and the seconds
+    spent in predict, update_gnss and the read-back."""
+    traj, acc, gyr, gnss = scenario
+    t = traj.time
+    epoch_at = {round((te - t[0]) * RATE_HZ): i for i, te in enumerate(gnss.time)}
+    times = t.tolist()
+    positions = np.empty((len(t), 3))
+    spent = {"predict": 0.0, "update_gnss": 0.0, "position_ecef": 0.0}
+    clock = time.perf_counter
+    running = filt.start(times[0], acc[0], gyr[0], initial_state)
+    if epoch_at.get(0) is not None:
+        running.update_gnss(gnss, epoch_at[0])
+    positions[0] = running.position_ecef
+    for k in range(1, len(times)):
+        t0 = clock()
+        running.predict(times[k], acc[k], gyr[k])
+        t1 = clock()
+        i = epoch_at.get(k)
+        if i is not None:
+            running.update_gnss(gnss, i)
+        t2 = clock()
+        positions[k] = running.position_ecef
+        t3 = clock()
+        spent["predict"] += t1 - t0
+        spent["update_gnss"] += t2 - t1
+        spent["position_ecef"] += t3 - t2
+    return positions, spent
+
+
 def scenario():
     traj = mn.Trajectory.random(DURATION_S, RATE_HZ, seed=SEED)
     imu = mn.ImuModel.preset("paper-mems", seed=SEED)
@@ -517,6 +551,18 @@ def main() -> None:
     filterpy_per_epoch = filterpy_s / m
     filterpy_full_s = filterpy_per_epoch * n
 
+    # memsnav's step API from a Python loop, from the same start as the
+    # peers (its clock too): bit for bit the batch run from that state.
+    initial_state = dict(
+        zip(("position_ecef", "velocity_ecef", "attitude"), start[:3], strict=True)
+    )
+    initial_state.update(clock_offset=start[3], clock_drift=start[4])
+    same_start = filt.run(traj.time, acc, gyr, gnss, initial_state=initial_state)
+    t0 = time.perf_counter()
+    step_positions, step_spent = running_filter_run(sc, filt, initial_state)
+    step_s = time.perf_counter() - t0
+    step_identical = bool(np.array_equal(step_positions, same_start.position_ecef))
+
     # The second peer, sidereon, on the same data from the same start.
     peer = None
     if sd is not None:
@@ -577,6 +623,17 @@ def main() -> None:
         "monte_carlo_runs_per_second_2_threads": 1.0 / run_2,
         "monte_carlo_2_thread_scaling": run_1 / run_2,
         "whole_run_speedup": filterpy_full_s / run_1,
+        "running_filter": {
+            "seconds": step_s,
+            "seconds_per_epoch": step_s / n,
+            "epochs_per_second": n / step_s,
+            "predict_seconds_per_call": step_spent["predict"] / (n - 1),
+            "update_gnss_seconds_per_call": step_spent["update_gnss"] / len(gnss.time),
+            "position_read_seconds_per_call": step_spent["position_ecef"] / n,
+            "predict_calls_per_second": (n - 1) / step_spent["predict"],
+            "speedup_over_filterpy_loop": filterpy_per_epoch * n / step_s,
+            "identical_to_run": step_identical,
+        },
         "memsnav_position_rms_m_first_span": rms(sol.position_ecef[:m]),
         "filterpy_position_rms_m_first_span": rms(fp_positions),
         "machine": f"{platform.processor() or platform.machine()}, {platform.python_version()}",
@@ -595,6 +652,19 @@ def main() -> None:
         f"{extrapolated}: {filterpy_full_s:.2f} s per run"
     )
     print(f"filter ratio (FilterPy / memsnav): {result['speedup']:.0f}x")
+    rf = result["running_filter"]
+    print(
+        f"memsnav RunningFilter (Python loop): {step_s:.2f} s, "
+        f"{rf['seconds_per_epoch'] * 1e6:.1f} us/epoch ({rf['epochs_per_second']:,.0f} epochs/s); "
+        f"per call: predict {rf['predict_seconds_per_call'] * 1e6:.2f} us "
+        f"({rf['predict_calls_per_second']:,.0f}/s), update_gnss "
+        f"{rf['update_gnss_seconds_per_call'] * 1e6:.1f} us, position read "
+        f"{rf['position_read_seconds_per_call'] * 1e6:.2f} us; "
+        f"{rf['speedup_over_filterpy_loop']:.1f}x the FilterPy loop; "
+        f"identical to run: {step_identical}"
+    )
+    if not step_identical:
+        print("WARNING: the RunningFilter loop differs from run() from the same state")
     for states, (forward, both) in smoother.items():
         print(
             f"{states} states: forward {forward * 1e3:.1f} ms, with smooth=True "
@@ -649,6 +719,11 @@ def main() -> None:
             f"{extrapolated}: {sd_full_s:.2f} s per run"
         )
         print(f"filter ratio (sidereon / memsnav): {result['sidereon']['speedup']:.0f}x")
+        result["sidereon"]["running_filter_speedup"] = sd_per_epoch * n / step_s
+        print(
+            "Python loops, sidereon / memsnav RunningFilter: "
+            f"{result['sidereon']['running_filter_speedup']:.1f}x"
+        )
         print(
             f"position RMS over {(m_sd - 1) / RATE_HZ:g} s: memsnav {ms_rms:.2f} m, "
             f"sidereon {sd_rms:.2f} m; sidereon's satellites vs memsnav's: "

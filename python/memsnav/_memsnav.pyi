@@ -1495,6 +1495,123 @@ class TightlyCoupledFilter:
         Outages: leave the epochs out of ``gnss``.
         """
 
+    def start(
+        self,
+        time: float,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        initial_state: dict[str, Any] | Any,
+    ) -> RunningFilter:
+        """The filter started at ``time`` (s) from ``initial_state`` (the dict
+        ``run`` takes: ``position_ecef`` m, ``velocity_ecef`` m/s, ``attitude``
+        C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
+        sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
+        rad/s), to be driven one call at a time: a ``RunningFilter`` with this
+        filter's tuning (docs/step-api.md)."""
+
+@final
+class RunningFilter:
+    """A coupled GNSS/INS filter driven one call at a time (docs/step-api.md):
+    ``predict`` (or ``predict_increments``) at each IMU sample, then any
+    updates at that time. Made by ``TightlyCoupledFilter.start`` or
+    ``LooselyCoupledFilter.start`` with that filter's tuning; the batch
+    ``run`` is this same sequence of calls, so the same calls give the same
+    numbers, bit for bit.
+
+    Times are the IMU's time stamps, s (each must follow the last by more
+    than 0 and at most 1 s). Updates apply at the filter's time; a GNSS
+    epoch stamped more than 1e-4 s away is refused. Every update is one
+    batch tested by the chi-square gate; the aids return whether it was
+    accepted. Records accumulate until ``take_records()``. Refused calls
+    (ValueError naming the argument) leave the filter unchanged.
+    """
+
+    def predict(
+        self, time: float, specific_force: npt.ArrayLike, angular_rate: npt.ArrayLike
+    ) -> None:
+        """Steps to ``time`` with the raw sample there (``specific_force``
+        (3,) m/s², ``angular_rate`` (3,) rad/s, body axes)."""
+
+    def predict_increments(
+        self, time: float, delta_v: npt.ArrayLike, delta_theta: npt.ArrayLike
+    ) -> None:
+        """Steps to ``time`` with the raw increments of the interval since the
+        filter's time (``delta_v`` (3,) m/s, ``delta_theta`` (3,) rad), with
+        coning and sculling."""
+
+    def update_gnss(self, gnss: GnssMeasurements | Any, epoch: int = 0) -> None:
+        """Applies epoch ``epoch`` of ``gnss`` (what ``TightlyCoupledFilter.run``
+        takes) at the filter's time; only for a filter started by
+        ``TightlyCoupledFilter``."""
+
+    def update_fix(
+        self,
+        position_ecef: npt.ArrayLike,
+        position_covariance: npt.ArrayLike,
+        velocity_ecef: npt.ArrayLike | None = None,
+        velocity_covariance: npt.ArrayLike | None = None,
+    ) -> None:
+        """Applies a fix of the antenna at the filter's time (position (3,) m,
+        covariance (3, 3) m²; optional velocity (3,) m/s with its (3, 3))."""
+
+    def update_zupt(self, std: float) -> bool:
+        """Zero-velocity update, ``std`` m/s per axis."""
+
+    def update_zaru(self, mean_angular_rate: npt.ArrayLike, std: npt.ArrayLike | float) -> bool:
+        """Zero-angular-rate update from the mean raw gyro reading (3,) rad/s
+        over a standstill, ``std`` rad/s of the mean (scalar or per axis)."""
+
+    def update_non_holonomic(self, std: float, lever_arm: npt.ArrayLike | None = None) -> bool:
+        """No lateral and no vertical velocity of the point at ``lever_arm``
+        (3,) m in body axes (None: the IMU), ``std`` m/s."""
+
+    def update_speed(
+        self, speed: float, std: float, lever_arm: npt.ArrayLike | None = None
+    ) -> bool:
+        """Odometer: forward speed ``speed`` m/s of the point at ``lever_arm``,
+        ``std`` m/s."""
+
+    def update_height(self, height: float, std: float) -> bool:
+        """The IMU's WGS 84 ellipsoidal height ``height`` m, ``std`` m."""
+
+    def update_heading(self, yaw: float, std: float) -> bool:
+        """The body's yaw from north, positive east (NED), ``yaw`` rad,
+        ``std`` rad."""
+
+    @property
+    def time(self) -> float:
+        """The filter's time, s (that of the last predict)."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Position r^e of the IMU, (3,) m."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Velocity v^e of the IMU, (3,) m/s."""
+
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Attitude C_b^e, (3, 3)."""
+
+    @property
+    def state(self) -> dict[str, Any]:
+        """The whole estimate: ``time``, ``position_ecef``, ``velocity_ecef``,
+        ``attitude``, ``accel_bias``, ``gyro_bias``, ``clock_offset``,
+        ``clock_drift`` (and the scale factors with scale-factor states)."""
+
+    @property
+    def covariance(self) -> npt.NDArray[np.float64]:
+        """The error-state covariance P, (n, n), in ``state_names`` order."""
+
+    @property
+    def state_names(self) -> list[str]:
+        """Error-state names, in covariance order."""
+
+    def take_records(self) -> dict[str, dict[str, Any]]:
+        """The records since the last call, handed over and cleared:
+        ``measurements``, ``batches``, ``resets`` as in ``FilterSolution``."""
+
 @final
 class LooselyCoupledFilter:
     """Closed-loop error-state EKF on GNSS position (and velocity) fixes (Groves
@@ -1559,6 +1676,20 @@ class LooselyCoupledFilter:
         tight filter. ``initial_state`` as for the tight filter (a clock there
         is carried but never observed).
         """
+
+    def start(
+        self,
+        time: float,
+        specific_force: npt.ArrayLike,
+        angular_rate: npt.ArrayLike,
+        initial_state: dict[str, Any] | Any,
+    ) -> RunningFilter:
+        """The filter started at ``time`` (s) from ``initial_state`` (the dict
+        ``run`` takes: ``position_ecef`` m, ``velocity_ecef`` m/s, ``attitude``
+        C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
+        sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
+        rad/s), to be driven one call at a time: a ``RunningFilter`` with this
+        filter's tuning (docs/step-api.md)."""
 
 def navigation_experiment(
     imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],

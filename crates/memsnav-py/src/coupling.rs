@@ -4,7 +4,7 @@
 
 use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, InitialState,
-    Integrity, MeasurementRecord, MeasurementStatus, ResetRecord, Solution,
+    Solution,
 };
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::ReceiverClockModel;
@@ -14,13 +14,15 @@ use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 use crate::aiding::position_fixes;
 use crate::arguments::{check_keys, field, optional_field};
 use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epochs;
+use crate::records::{batches_to_dict, integrity_to_dict, measurements_to_dict, resets_to_dict};
+use crate::running_filter::{sample_arg, PyRunningFilter, StartedBy};
 use crate::sensors::PyImuModel;
 
 /// The tuning both filter classes share (see the class docstrings).
@@ -140,69 +142,6 @@ fn start(
     }
 }
 
-/// Resets as a dict of arrays `time`, `kind`, `change`, `unit` (of the
-/// change), `failed_epochs`.
-pub(crate) fn resets_to_dict<'py>(
-    py: Python<'py>,
-    resets: &[ResetRecord],
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item(
-        "time",
-        PyArray1::from_iter(py, resets.iter().map(|r| r.time_s)),
-    )?;
-    d.set_item(
-        "kind",
-        resets.iter().map(|r| r.kind.name()).collect::<Vec<_>>(),
-    )?;
-    d.set_item(
-        "change",
-        PyArray1::from_iter(py, resets.iter().map(|r| r.change)),
-    )?;
-    d.set_item(
-        "unit",
-        resets
-            .iter()
-            .map(|r| r.kind.change_unit())
-            .collect::<Vec<_>>(),
-    )?;
-    d.set_item(
-        "failed_epochs",
-        PyArray1::from_iter(py, resets.iter().map(|r| r.failed_epochs as i64)),
-    )?;
-    Ok(d)
-}
-
-/// A run's integrity as a dict (see `PyFilterSolution::integrity`).
-pub(crate) fn integrity_to_dict<'py>(
-    py: Python<'py>,
-    integrity: &Integrity,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("diverged", integrity.diverged())?;
-    let alerts = PyList::empty(py);
-    for a in &integrity.alerts {
-        let item = PyDict::new(py);
-        item.set_item("kind", a.name())?;
-        item.set_item("time", a.time_s())?;
-        item.set_item("message", a.message())?;
-        alerts.append(item)?;
-    }
-    d.set_item("alerts", alerts)?;
-    let consistency = PyList::empty(py);
-    for c in &integrity.consistency {
-        let item = PyDict::new(py);
-        item.set_item("kind", c.kind.name())?;
-        item.set_item("windows", c.windows)?;
-        item.set_item("above_band", c.above_band)?;
-        item.set_item("max_band_ratio", c.max_band_ratio)?;
-        item.set_item("max_at", c.max_at_s)?;
-        consistency.append(item)?;
-    }
-    d.set_item("consistency", consistency)?;
-    Ok(d)
-}
-
 /// The whole solution of a coupled filter run.
 #[pyclass(name = "FilterSolution", module = "memsnav._memsnav", frozen)]
 pub struct PyFilterSolution {
@@ -246,33 +185,6 @@ impl PyFilterSolution {
             .map(|k| block(&self.inner, k))
             .collect();
         convert::matrices3_to_numpy(py, &blocks)
-    }
-
-    fn records<'py>(
-        &self,
-        py: Python<'py>,
-        keep: impl Fn(&MeasurementRecord) -> bool,
-    ) -> PyResult<Bound<'py, PyDict>> {
-        let r: Vec<&MeasurementRecord> =
-            self.inner.measurements.iter().filter(|m| keep(m)).collect();
-        let d = PyDict::new(py);
-        d.set_item("time", PyArray1::from_iter(py, r.iter().map(|m| m.time_s)))?;
-        d.set_item("id", PyArray1::from_iter(py, r.iter().map(|m| m.id as i64)))?;
-        d.set_item("kind", r.iter().map(|m| m.kind.name()).collect::<Vec<_>>())?;
-        d.set_item(
-            "innovation",
-            PyArray1::from_iter(py, r.iter().map(|m| m.innovation)),
-        )?;
-        d.set_item(
-            "innovation_std",
-            PyArray1::from_iter(py, r.iter().map(|m| m.innovation_std)),
-        )?;
-        d.set_item("nis", PyArray1::from_iter(py, r.iter().map(|m| m.nis)))?;
-        d.set_item(
-            "status",
-            r.iter().map(|m| m.status.name()).collect::<Vec<_>>(),
-        )?;
-        Ok(d)
     }
 }
 
@@ -405,32 +317,7 @@ impl PyFilterSolution {
     /// arrays `time`, `kind`, `nis`, `dof`, `threshold`, `excluded`, `accepted`.
     #[getter]
     fn batches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let b = &self.inner.batches;
-        let d = PyDict::new(py);
-        d.set_item("time", PyArray1::from_iter(py, b.iter().map(|r| r.time_s)))?;
-        d.set_item("kind", b.iter().map(|r| r.kind.name()).collect::<Vec<_>>())?;
-        d.set_item("nis", PyArray1::from_iter(py, b.iter().map(|r| r.nis)))?;
-        d.set_item(
-            "dof",
-            PyArray1::from_iter(py, b.iter().map(|r| r.dof as i64)),
-        )?;
-        d.set_item(
-            "threshold",
-            PyArray1::from_iter(py, b.iter().map(|r| r.threshold)),
-        )?;
-        d.set_item(
-            "excluded",
-            PyArray1::from_iter(py, b.iter().map(|r| r.excluded as i64)),
-        )?;
-        d.set_item(
-            "accepted",
-            PyArray1::from_iter(py, b.iter().map(|r| r.accepted)),
-        )?;
-        d.set_item(
-            "nonlinearity",
-            PyArray1::from_iter(py, b.iter().map(|r| r.nonlinearity)),
-        )?;
-        Ok(d)
+        batches_to_dict(py, &self.inner.batches)
     }
     /// Whether the solution can be trusted (`coupling::integrity`): a dict
     /// with `diverged` (bool), `alerts` (list of dicts `kind`, `time`,
@@ -452,12 +339,12 @@ impl PyFilterSolution {
     /// `innovation`, `innovation_std`, `nis`, `status`.
     #[getter]
     fn measurements<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        self.records(py, |_| true)
+        measurements_to_dict(py, self.inner.measurements.iter())
     }
     /// The rejected measurements only (status "gate" or "invalid").
     #[getter]
     fn rejected<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        self.records(py, |m| m.status != MeasurementStatus::Accepted)
+        measurements_to_dict(py, self.inner.rejected())
     }
     /// What the run found implausible, one sentence each (also raised as
     /// `UserWarning`s by `run`): IMU magnitudes that do not fit m/s² and
@@ -537,7 +424,7 @@ impl PyFilterSolution {
 /// `coupling::solution` (or `smoothed_solution` with `smooth=True`) with 17
 /// or 23 states; the aiding kind follows from what `$read` returns.
 macro_rules! filter_class {
-    ($(#[$class_doc:meta])* $rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $doc:literal) => {
+    ($(#[$class_doc:meta])* $rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $started_by:expr, $doc:literal) => {
         $(#[$class_doc])*
         #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
         pub struct $rust {
@@ -719,6 +606,25 @@ macro_rules! filter_class {
                 crate::warnings::warn_all(py, &forward.warnings)?;
                 PyFilterSolution::with_smoothed(py, forward, smoothed)
             }
+
+            /// The filter started at `time` (s) from `initial_state` (the dict
+            /// `run` takes: position_ecef m, velocity_ecef m/s, attitude C_b^e,
+            /// optional clock_offset m, clock_drift m/s) with the raw sample
+            /// there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
+            /// to be driven one call at a time: a `RunningFilter` with this
+            /// filter's tuning.
+            fn start(
+                &self,
+                time: f64,
+                specific_force: &Bound<'_, PyAny>,
+                angular_rate: &Bound<'_, PyAny>,
+                initial_state: &Bound<'_, PyAny>,
+            ) -> PyResult<PyRunningFilter> {
+                let raw = sample_arg(specific_force, angular_rate)?;
+                let initial = initial_state_arg(initial_state)?;
+                let Settings { tuning, scale_factor_states, .. } = self.settings;
+                PyRunningFilter::start(&tuning, scale_factor_states, $started_by, &initial, time, &raw)
+            }
         }
     };
 }
@@ -783,6 +689,7 @@ filter_class!(
     gnss,
     gnss_epochs,
     initial_state_from_fix,
+    StartedBy::Tight,
     "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`. `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
 );
 
@@ -800,6 +707,7 @@ filter_class!(
     fixes,
     position_fixes,
     initial_state_from_position_fix,
+    StartedBy::Loose,
     "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e). `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
 );
 

@@ -729,6 +729,18 @@ pub(crate) const GNSS_KEYS: [&str; 8] = [
     "pseudorange_rate_std",
 ];
 
+/// Epoch `index` of `obj` (anything [`gnss_epochs`] reads); an index past
+/// the end is a ValueError naming `epoch`.
+pub(crate) fn gnss_epoch_at(obj: &Bound<'_, PyAny>, index: usize) -> PyResult<GnssEpoch> {
+    let epochs = gnss_epochs(obj)?;
+    epochs.get(index).cloned().ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "epoch: {index} is past the last of the {} epochs of gnss",
+            epochs.len()
+        ))
+    })
+}
+
 /// GNSS epochs from a `GnssMeasurements` or padded user arrays (a dict,
 /// no other keys, or an object with these attributes): `time` (T,),
 /// `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and

@@ -26,6 +26,8 @@ mod navigation;
 mod output;
 mod progress;
 mod random;
+mod records;
+mod running_filter;
 mod sensors;
 mod static_calibration;
 mod trajectory;
@@ -50,6 +52,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     experiments::register(m)?;
     aiding::register(m)?;
     coupling::register(m)?;
+    running_filter::register(m)?;
     defaults::register(m)?;
     navigation::register(m)?;
     log_navigation::register(m)?;

@@ -9,6 +9,11 @@
 //! - Non-holonomic constraint (NHC) of a land vehicle: no lateral and no
 //!   vertical velocity of its wheels' contact point in vehicle axes
 //!   (Sukkarieh 2000; Groves §15.4.1; Shin 2001).
+//! - Odometer: the forward velocity of the same point (Groves §16.1.7).
+//! - Height (a barometer, Groves §16.2.1) and heading (a dual-antenna
+//!   receiver or a magnetometer, Groves §6.1): one scalar each.
+
+use std::f64::consts::PI;
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -16,10 +21,11 @@ use super::engine::batch::BatchRules;
 use super::engine::FilterState;
 use super::records::MeasurementKind;
 use crate::attitude::skew;
-use crate::filter::state::{Installation, Layout, ATTITUDE, GYRO_BIAS, VELOCITY};
+use crate::filter::state::{Installation, Layout, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY};
 use crate::filter::SparseRow;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
-use crate::Result;
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::{validate, Result};
 
 const AIDS: BatchRules = BatchRules {
     exclusion: false,
@@ -47,22 +53,22 @@ fn zero_rate_rows(
     })
 }
 
-/// The NHC rows and predictions (the lateral and vertical velocity of the
-/// reference point at `reference_b_m`, in vehicle axes, whose measurement
-/// is zero): v^b = Ĉᵀ v̂ + ω̂ × l in body axes, v^v = M v^b in vehicle
+/// The rows and predictions of the velocity of the reference point at
+/// `reference_b_m` in vehicle axes (forward, lateral, vertical; the NHC
+/// measures the last two as zero, an odometer the first): v^b = Ĉᵀ v̂ + ω̂ × l in body axes, v^v = M v^b in vehicle
 /// axes with the boresight M = I − [μ̂×]. With Ĉᵀ = Cᵀ(I − [ψ×]),
 /// ω̂ − ω = −δb_g and μ̂ − μ = δμ the error is
 /// M (Ĉᵀ δv + Ĉᵀ [v̂×] ψ + [l×] δb_g) + [v^b×] δμ; the δμ_y, δμ_z columns
 /// only when the filter has the installation block (`mounting_state`: the
 /// index of μ_y; μ_x, a roll, is not a state).
-fn non_holonomic_rows(
+fn vehicle_velocity_rows(
     c_b_e: &Matrix3<f64>,
     velocity_ecef: &Vector3<f64>,
     angular_rate_b: &Vector3<f64>,
     reference_b_m: &Vector3<f64>,
     mounting_rad: &Vector3<f64>,
     mounting_state: Option<usize>,
-) -> [(SparseRow, f64); 2] {
+) -> [(SparseRow, f64); 3] {
     let c_e_b = c_b_e.transpose();
     let v_b = c_e_b * velocity_ecef + angular_rate_b.cross(reference_b_m);
     let boresight = Matrix3::identity() - skew(mounting_rad);
@@ -71,8 +77,7 @@ fn non_holonomic_rows(
     let attitude = velocity * skew(velocity_ecef);
     let gyro = boresight * skew(reference_b_m);
     let mounting = skew(&v_b);
-    std::array::from_fn(|i| {
-        let k = i + 1;
+    std::array::from_fn(|k| {
         let mut h = SparseRow::default();
         for j in 0..3 {
             h.push(VELOCITY + j, velocity[(k, j)]);
@@ -92,6 +97,7 @@ impl<const N: usize> FilterState<N> {
     /// ZUPT: the IMU's ECEF velocity is zero, with std `std_m_s` per axis.
     /// Returns whether it was applied.
     pub fn zero_velocity_update(&mut self, time_s: f64, std_m_s: f64) -> Result<bool> {
+        validate::positive("std", std_m_s)?;
         let kind = MeasurementKind::ZeroVelocity;
         for k in 0..3 {
             let h = SparseRow::new(&[(VELOCITY + k, 1.0)]);
@@ -116,12 +122,31 @@ impl<const N: usize> FilterState<N> {
         mean_raw_rate_b: &Vector3<f64>,
         std_rad_s: &Vector3<f64>,
     ) -> Result<bool> {
+        validate::finite_vectors("mean_angular_rate", &[*mean_raw_rate_b])?;
+        for std in std_rad_s.iter() {
+            validate::positive("std", *std)?;
+        }
         let kind = MeasurementKind::ZeroRate;
         let rows = zero_rate_rows(&self.nav.c_b_e, &self.gyro_bias_rad_s, mean_raw_rate_b);
         for (k, (h, y)) in rows.into_iter().enumerate() {
             self.stage(time_s, kind, k as u16, h, y, std_rad_s[k]);
         }
         self.apply_staged(time_s, kind, AIDS)
+    }
+
+    /// The velocity rows of the reference point at `reference_b_m` with
+    /// the filter's current estimates ([`vehicle_velocity_rows`]).
+    fn reference_velocity_rows(&self, reference_b_m: &Vector3<f64>) -> [(SparseRow, f64); 3] {
+        vehicle_velocity_rows(
+            &self.nav.c_b_e,
+            &self.nav.velocity_ecef,
+            &self.last_sample.angular_rate_b,
+            reference_b_m,
+            &self.installation.mounting_rad,
+            Layout::for_size::<N>()
+                .installation
+                .map(|first| first + Installation::MOUNTING),
+        )
     }
 
     /// NHC: the velocity of the vehicle's reference point, at
@@ -135,22 +160,93 @@ impl<const N: usize> FilterState<N> {
         reference_b_m: &Vector3<f64>,
         std_m_s: f64,
     ) -> Result<bool> {
+        validate::positive("std", std_m_s)?;
+        validate::finite_vectors("lever_arm", &[*reference_b_m])?;
         let kind = MeasurementKind::NonHolonomic;
-        let rows = non_holonomic_rows(
-            &self.nav.c_b_e,
-            &self.nav.velocity_ecef,
-            &self.last_sample.angular_rate_b,
-            reference_b_m,
-            &self.installation.mounting_rad,
-            Layout::for_size::<N>()
-                .installation
-                .map(|first| first + Installation::MOUNTING),
-        );
-        for (i, (h, y)) in rows.into_iter().enumerate() {
-            self.stage(time_s, kind, i as u16 + 1, h, y, std_m_s);
+        let [_, lateral, vertical] = self.reference_velocity_rows(reference_b_m);
+        for (id, (h, y)) in [(1, lateral), (2, vertical)] {
+            self.stage(time_s, kind, id, h, y, std_m_s);
         }
         self.apply_staged(time_s, kind, AIDS)
     }
+
+    /// Odometer (wheel speed): the forward speed `speed_m_s` of the
+    /// vehicle's reference point at `reference_b_m` (the forward row of
+    /// the NHC's vehicle velocity), std `std_m_s`. A signed speed: negative
+    /// when reversing. Returns whether it was applied.
+    pub fn speed_update(
+        &mut self,
+        time_s: f64,
+        speed_m_s: f64,
+        reference_b_m: &Vector3<f64>,
+        std_m_s: f64,
+    ) -> Result<bool> {
+        validate::finite_scalars("speed", &[speed_m_s])?;
+        validate::positive("std", std_m_s)?;
+        validate::finite_vectors("lever_arm", &[*reference_b_m])?;
+        let kind = MeasurementKind::Speed;
+        let [(h, predicted), ..] = self.reference_velocity_rows(reference_b_m);
+        self.stage(time_s, kind, 0, h, predicted - speed_m_s, std_m_s);
+        self.apply_staged(time_s, kind, AIDS)
+    }
+
+    /// Barometric (or any) height: the IMU's ellipsoidal height `height_m`
+    /// (WGS 84), std `std_m`. Returns whether it was applied.
+    pub fn height_update(&mut self, time_s: f64, height_m: f64, std_m: f64) -> Result<bool> {
+        validate::finite_scalars("height", &[height_m])?;
+        validate::positive("std", std_m)?;
+        let kind = MeasurementKind::Height;
+        let (h, predicted) = height_row(&self.nav.position_ecef);
+        self.stage(time_s, kind, 0, h, predicted - height_m, std_m);
+        self.apply_staged(time_s, kind, AIDS)
+    }
+
+    /// Heading (dual antenna, magnetometer after declination): the body's
+    /// yaw `yaw_rad` from north, positive east (NED, the yaw of
+    /// [`crate::attitude::dcm_to_euler`]), std `std_rad`. The innovation is
+    /// wrapped into (−π, π]. Returns whether it was applied.
+    pub fn heading_update(&mut self, time_s: f64, yaw_rad: f64, std_rad: f64) -> Result<bool> {
+        validate::finite_scalars("yaw", &[yaw_rad])?;
+        validate::positive("std", std_rad)?;
+        let kind = MeasurementKind::Heading;
+        let (h, predicted) = heading_row(&self.nav.c_b_e, &self.nav.position_ecef);
+        let wrapped = (predicted - yaw_rad + PI).rem_euclid(2.0 * PI) - PI;
+        let innovation = if wrapped == -PI { PI } else { wrapped };
+        self.stage(time_s, kind, 0, h, innovation, std_rad);
+        self.apply_staged(time_s, kind, AIDS)
+    }
+}
+
+/// The height row and prediction: ĥ − h = uᵀ δr with u the ellipsoid's
+/// upward normal at r̂ (the gradient of the geodetic height, Groves
+/// §2.4.2), u = −C_n^e (0, 0, 1)ᵀ.
+fn height_row(position_ecef: &Vector3<f64>) -> (SparseRow, f64) {
+    let geo = ecef_to_geodetic(position_ecef);
+    let up = -c_n_e(geo.latitude_rad, geo.longitude_rad)
+        .column(2)
+        .into_owned();
+    let h = SparseRow::new(&[(POSITION, up.x), (POSITION + 1, up.y), (POSITION + 2, up.z)]);
+    (h, geo.height_m)
+}
+
+/// The heading row and prediction. With Ĉ_b^e = (I + [ψ×]) C_b^e the NED
+/// attitude carries ψⁿ = C_e^n ψ (the frame's own change with a position
+/// error, |δr| / R ≈ 2e-7 rad per metre, is neglected), and yaw =
+/// atan2(C₂₁, C₁₁) of C = C_b^n moves by
+/// δψ = ψⁿ_z − C₃₁ (C₁₁ ψⁿ_x + C₂₁ ψⁿ_y) / (C₁₁² + C₂₁²).
+fn heading_row(c_b_e: &Matrix3<f64>, position_ecef: &Vector3<f64>) -> (SparseRow, f64) {
+    let geo = ecef_to_geodetic(position_ecef);
+    let c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
+    let c = c_e_n * c_b_e;
+    let d = c[(0, 0)].powi(2) + c[(1, 0)].powi(2);
+    let row_n = Vector3::new(-c[(2, 0)] * c[(0, 0)] / d, -c[(2, 0)] * c[(1, 0)] / d, 1.0);
+    let row_e = c_e_n.transpose() * row_n;
+    let h = SparseRow::new(&[
+        (ATTITUDE, row_e.x),
+        (ATTITUDE + 1, row_e.y),
+        (ATTITUDE + 2, row_e.z),
+    ]);
+    (h, c[(1, 0)].atan2(c[(0, 0)]))
 }
 
 #[cfg(test)]
@@ -188,7 +284,8 @@ mod tests {
         s
     }
 
-    /// The NHC and ZARU rows are the derivatives of their predictions:
+    /// The vehicle-velocity (NHC, odometer), ZARU, height and heading rows
+    /// are the derivatives of their predictions:
     /// move the truth behind the estimate along each state and compare the
     /// change of the prediction error with the row.
     #[test]
@@ -200,22 +297,38 @@ mod tests {
         let b_hat = s.gyro_bias_rad_s;
         let reading = Vector3::new(0.01, 0.02, -0.03);
         let (mu_hat, mounting_state) = (Vector3::new(0.0, -0.03, 0.02), Some(BASE_STATES));
-        let nhc = non_holonomic_rows(&c_hat, &v_hat, &w_hat, &l, &mu_hat, mounting_state);
+        let vehicle = vehicle_velocity_rows(&c_hat, &v_hat, &w_hat, &l, &mu_hat, mounting_state);
         let zaru = zero_rate_rows(&c_hat, &b_hat, &reading);
+        let r_hat = s.nav.position_ecef;
+        let (height, heading) = (height_row(&r_hat), heading_row(&c_hat, &r_hat));
         // The mounting columns sit at 17 and 18 here.
-        for j in [0, 1, 2, 3, 4, 5, 12, 13, 14, 17, 18] {
+        for j in [0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14, 17, 18] {
+            // Position steps of 1 mm: a height from ECEF coordinates of
+            // 6.4e6 m carries ~1e-9 m of round-off.
+            let position = (6..9).contains(&j);
             let mut x = SVector::<f64, { BASE_STATES + 2 }>::zeros();
-            x[j] = 1e-6;
+            x[j] = if position { 1e-3 } else { 1e-6 };
+            let tolerance = if position { 1e-8 } else { 1e-11 };
             // Truth = estimate − error.
             let psi = Vector3::new(x[0], x[1], x[2]);
             let c = rotation_vector_to_dcm(&(-psi)) * c_hat;
             let v = v_hat - Vector3::new(x[3], x[4], x[5]);
+            let r = r_hat - Vector3::new(x[6], x[7], x[8]);
             let db = Vector3::new(x[12], x[13], x[14]);
             let mu = mu_hat - Vector3::new(0.0, x[17], x[18]);
-            let truth_nhc = non_holonomic_rows(&c, &v, &(w_hat + db), &l, &mu, None);
-            for i in 0..2 {
-                let d = nhc[i].1 - truth_nhc[i].1;
-                assert!((nhc[i].0.dot(&x) - d).abs() < 1e-11, "nhc {j} {i}");
+            let truth_vehicle = vehicle_velocity_rows(&c, &v, &(w_hat + db), &l, &mu, None);
+            for i in 0..3 {
+                let d = vehicle[i].1 - truth_vehicle[i].1;
+                assert!((vehicle[i].0.dot(&x) - d).abs() < 1e-11, "vehicle {j} {i}");
+            }
+            // The heading row neglects the NED frame's turn with position
+            // (1.6e-10 rad for the 1 mm step).
+            for (name, (row, predicted), truth) in [
+                ("height", &height, height_row(&r).1),
+                ("heading", &heading, heading_row(&c, &r).1),
+            ] {
+                let d = predicted - truth;
+                assert!((row.dot(&x) - d).abs() < tolerance, "{name} {j}");
             }
             let truth_zaru = zero_rate_rows(&c, &(b_hat - db), &reading);
             for k in 0..3 {

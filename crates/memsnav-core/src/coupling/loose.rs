@@ -127,6 +127,56 @@ fn update_block<const N: usize>(
     Ok(())
 }
 
+/// The whitened position and velocity blocks of fix `i`, after checking
+/// that its values are finite and its covariances are covariances.
+pub(crate) fn whiten_fix(
+    i: usize,
+    f: &PositionFix,
+    floor: &super::MeasurementFloor,
+) -> Result<(Whitened, Option<Whitened>)> {
+    validate::finite_vectors("fixes.position_ecef", &[f.position_ecef])
+        .map_err(|_| Error::invalid("fixes", format!("fix {i}: position is not finite")))?;
+    let velocity = match f.velocity_ecef {
+        Some(v) => {
+            validate::finite_vectors("fixes.velocity_ecef", &[v])
+                .map_err(|_| Error::invalid("fixes", format!("fix {i}: velocity is not finite")))?;
+            Some(whitening(
+                "fixes",
+                i,
+                &f.velocity_covariance,
+                floor.velocity_m_s,
+            )?)
+        }
+        None => None,
+    };
+    Ok((
+        whitening("fixes", i, &f.position_covariance, floor.position_m)?,
+        velocity,
+    ))
+}
+
+/// Applies one fix with its whitened blocks: the position, then the
+/// velocity when the fix has one.
+pub(crate) fn apply_fix<const N: usize>(
+    s: &mut FilterState<N>,
+    (wp, wv): &(Whitened, Option<Whitened>),
+    f: &PositionFix,
+) -> Result<()> {
+    let has_velocity = wv.is_some();
+    update_block(
+        s,
+        f.time_s,
+        MeasurementKind::Position,
+        &f.position_ecef,
+        wp,
+        has_velocity,
+    )?;
+    if let (Some(v), Some(wv)) = (f.velocity_ecef, wv) {
+        update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv, true)?;
+    }
+    Ok(())
+}
+
 impl Aiding for PositionFix {
     const ARGUMENT: &'static str = "fixes";
     /// Each fix's whitened position and velocity blocks.
@@ -138,30 +188,11 @@ impl Aiding for PositionFix {
         tuning: &FilterTuning,
     ) -> Result<(Self::Prepared, InitialState, FilterTuning)> {
         tuning.validate()?;
-        let floor = &tuning.floor;
-        let mut whiten = Vec::with_capacity(fixes.len());
-        for (i, f) in fixes.iter().enumerate() {
-            validate::finite_vectors("fixes.position_ecef", &[f.position_ecef])
-                .map_err(|_| Error::invalid("fixes", format!("fix {i}: position is not finite")))?;
-            let lv = match f.velocity_ecef {
-                Some(v) => {
-                    validate::finite_vectors("fixes.velocity_ecef", &[v]).map_err(|_| {
-                        Error::invalid("fixes", format!("fix {i}: velocity is not finite"))
-                    })?;
-                    Some(whitening(
-                        "fixes",
-                        i,
-                        &f.velocity_covariance,
-                        floor.velocity_m_s,
-                    )?)
-                }
-                None => None,
-            };
-            whiten.push((
-                whitening("fixes", i, &f.position_covariance, floor.position_m)?,
-                lv,
-            ));
-        }
+        let whitened = fixes
+            .iter()
+            .enumerate()
+            .map(|(i, f)| whiten_fix(i, f, &tuning.floor))
+            .collect::<Result<_>>()?;
         // The clock is not observed: held at zero, without process noise.
         let mut tuning = *tuning;
         tuning.process_noise.clock_phase_psd = 0.0;
@@ -169,28 +200,15 @@ impl Aiding for PositionFix {
         let mut initial = *initial;
         initial.clock_offset_m.get_or_insert(0.0);
         initial.clock_drift_m_s.get_or_insert(0.0);
-        Ok((whiten, initial, tuning))
+        Ok((whitened, initial, tuning))
     }
 
     fn update<const N: usize>(
         s: &mut FilterState<N>,
-        whiten: &Self::Prepared,
+        whitened: &Self::Prepared,
         i: usize,
         f: &Self,
     ) -> Result<()> {
-        let (wp, wv) = &whiten[i];
-        let has_velocity = wv.is_some();
-        update_block(
-            s,
-            f.time_s,
-            MeasurementKind::Position,
-            &f.position_ecef,
-            wp,
-            has_velocity,
-        )?;
-        if let (Some(v), Some(wv)) = (f.velocity_ecef, wv) {
-            update_block(s, f.time_s, MeasurementKind::Velocity, &v, wv, true)?;
-        }
-        Ok(())
+        apply_fix(s, &whitened[i], f)
     }
 }

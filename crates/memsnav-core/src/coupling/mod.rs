@@ -17,6 +17,8 @@
 //! - GNSS epoch times must increase and lie within the IMU span; an epoch
 //!   within `time_tolerance_s` of an IMU sample is applied there, otherwise
 //!   the INS is stepped to the epoch's own time with an interpolated sample.
+//! - The same filter runs one call at a time (`FilterState::start`,
+//!   `predict`, `update_*`; `step.rs`): the batch run is that sequence.
 //! - Rejections are never silent: every scalar measurement gets a
 //!   [`MeasurementRecord`] (innovation, its std, NIS, status).
 //!
@@ -70,6 +72,7 @@ mod motion_history;
 mod ned;
 mod records;
 mod run;
+mod step;
 mod tight;
 mod tuning;
 

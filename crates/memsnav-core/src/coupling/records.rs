@@ -19,11 +19,17 @@ pub enum MeasurementKind {
     ZeroRate,
     /// The lateral or vertical body velocity of a non-holonomic constraint, m/s.
     NonHolonomic,
+    /// The forward speed of an odometer (wheel speed), m/s.
+    Speed,
+    /// An ellipsoidal height (barometer), m.
+    Height,
+    /// A heading (yaw), rad.
+    Heading,
 }
 
 impl MeasurementKind {
     /// Every kind, in a fixed order (for per-kind counts).
-    pub const ALL: [MeasurementKind; 7] = [
+    pub const ALL: [MeasurementKind; 10] = [
         MeasurementKind::Pseudorange,
         MeasurementKind::PseudorangeRate,
         MeasurementKind::Position,
@@ -31,6 +37,9 @@ impl MeasurementKind {
         MeasurementKind::ZeroVelocity,
         MeasurementKind::ZeroRate,
         MeasurementKind::NonHolonomic,
+        MeasurementKind::Speed,
+        MeasurementKind::Height,
+        MeasurementKind::Heading,
     ];
 
     /// A short name (`"pseudorange"`, `"zero_velocity"`, ...).
@@ -43,6 +52,9 @@ impl MeasurementKind {
             MeasurementKind::ZeroVelocity => "zero_velocity",
             MeasurementKind::ZeroRate => "zero_rate",
             MeasurementKind::NonHolonomic => "non_holonomic",
+            MeasurementKind::Speed => "speed",
+            MeasurementKind::Height => "height",
+            MeasurementKind::Heading => "heading",
         }
     }
 }

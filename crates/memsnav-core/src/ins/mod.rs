@@ -36,7 +36,7 @@ pub struct NavState {
 }
 
 /// Instantaneous IMU output at one time.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ImuSample {
     /// f_ib^b, m/s².
     pub specific_force_b: Vector3<f64>,

@@ -22,7 +22,7 @@ use crate::filter::state::{
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
-use crate::ins::{self, ImuData, ImuSample, NavState};
+use crate::ins::{self, ImuData, ImuIncrement, ImuSample, NavState};
 use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::{validate, Error, Result};
 use range_bias::RangeBiasSlots;
@@ -106,6 +106,12 @@ pub struct FilterState<const N: usize> {
     /// The last corrected IMU sample propagated to (for the lever-arm
     /// velocity and the velocity latency).
     pub(crate) last_sample: ImuSample,
+    /// The raw sample at the filter's time: the start of the next
+    /// interval a [`Self::predict`] integrates over.
+    pub(crate) raw_sample: ImuSample,
+    /// The corrected increments of the last interval stepped by
+    /// increments (for the next interval's coning and sculling terms).
+    pub(crate) last_increment: ImuIncrement,
     /// Time of the last propagation, s.
     pub(crate) time_s: f64,
     /// The last second of motion, for the antenna's velocity at an
@@ -203,10 +209,9 @@ impl<const N: usize> FilterState<N> {
             slots: RangeBiasSlots::default(),
             kf: ErrorStateKf::new(p0).map_err(|e| initial_uncertainty_error(e, s))?,
             tuning,
-            last_sample: ImuSample {
-                specific_force_b: Vector3::zeros(),
-                angular_rate_b: Vector3::zeros(),
-            },
+            last_sample: ImuSample::default(),
+            raw_sample: ImuSample::default(),
+            last_increment: ImuIncrement::default(),
             time_s: f64::NAN,
             motion_history: MotionHistory::default(),
             failed_epochs: [0; MeasurementKind::ALL.len()],
@@ -223,38 +228,104 @@ impl<const N: usize> FilterState<N> {
     /// Raw sample corrected by the current estimates: f̂ = (f̃ − b̂_a) ⊘ (1 + ŝ_a),
     /// ω̂ likewise (the inverse of the filter's sensor model, §state).
     pub fn corrected(&self, raw: &ImuSample) -> ImuSample {
+        let bias = ImuSample {
+            specific_force_b: self.accel_bias_m_s2,
+            angular_rate_b: self.gyro_bias_rad_s,
+        };
+        self.corrected_by(raw, &bias)
+    }
+
+    /// `raw` less `bias`, divided by one plus the scale-factor estimates.
+    fn corrected_by(&self, raw: &ImuSample, bias: &ImuSample) -> ImuSample {
         if self.accel_scale_factor == Vector3::zeros() && self.gyro_scale_factor == Vector3::zeros()
         {
             // ŝ = 0 (always without scale-factor states): the division by
             // 1 + 0 = 1 would return its dividend.
             return ImuSample {
-                specific_force_b: raw.specific_force_b - self.accel_bias_m_s2,
-                angular_rate_b: raw.angular_rate_b - self.gyro_bias_rad_s,
+                specific_force_b: raw.specific_force_b - bias.specific_force_b,
+                angular_rate_b: raw.angular_rate_b - bias.angular_rate_b,
             };
         }
         ImuSample {
-            specific_force_b: (raw.specific_force_b - self.accel_bias_m_s2)
+            specific_force_b: (raw.specific_force_b - bias.specific_force_b)
                 .component_div(&self.accel_scale_factor.add_scalar(1.0)),
-            angular_rate_b: (raw.angular_rate_b - self.gyro_bias_rad_s)
+            angular_rate_b: (raw.angular_rate_b - bias.angular_rate_b)
                 .component_div(&self.gyro_scale_factor.add_scalar(1.0)),
         }
     }
 
-    /// INS step between two raw samples, clock prediction and P propagation.
-    pub(crate) fn propagate(
-        &mut self,
-        prev_raw: &ImuSample,
-        curr_raw: &ImuSample,
-        dt: f64,
-        time_s: f64,
-    ) -> Result<()> {
+    /// Puts the filter at `time_s` with the raw sample there: the first
+    /// sample of a run, the start of the first interval.
+    pub(crate) fn begin_at(&mut self, time_s: f64, raw: &ImuSample) {
+        self.raw_sample = *raw;
+        self.last_sample = self.corrected(raw);
+        self.time_s = time_s;
+        self.last_accepted_s = [time_s; MeasurementKind::ALL.len()];
+    }
+
+    /// INS step from the filter's time and raw sample to `time_s` and the
+    /// raw sample `raw` there (the mechanization integrates between the
+    /// two, [`ins::step`]), clock prediction and P propagation. The one
+    /// step the batch run and the step API share.
+    pub(crate) fn step_to(&mut self, time_s: f64, raw: &ImuSample) -> Result<()> {
+        let prev_raw = std::mem::replace(&mut self.raw_sample, *raw);
+        let dt = time_s - self.time_s;
         if dt <= 0.0 {
             return Ok(());
         }
-        let prev = self.corrected(prev_raw);
-        let curr = self.corrected(curr_raw);
+        let prev = self.corrected(&prev_raw);
+        let curr = self.corrected(raw);
+        let nav = ins::step(&self.nav, &prev, &curr, dt);
+        self.advance(nav, curr, dt, time_s)
+    }
+
+    /// INS step over an interval of `dt` ending at `time_s` from the raw
+    /// increments of that interval, with coning and sculling from the
+    /// previous interval's ([`ins::step_increments`]); the mean rates
+    /// α̂/dt and ν̂/dt stand for the sample at `time_s` in P's propagation
+    /// and in the rows that use the current rate.
+    pub(crate) fn step_increments_to(
+        &mut self,
+        time_s: f64,
+        raw: &ImuIncrement,
+        dt: f64,
+    ) -> Result<()> {
+        // The increments corrected as the samples are (`corrected`), the
+        // bias integrated over the interval: α̂ = (α − b̂_g dt) ⊘ (1 + ŝ_g).
+        let bias = ImuSample {
+            specific_force_b: self.accel_bias_m_s2 * dt,
+            angular_rate_b: self.gyro_bias_rad_s * dt,
+        };
+        let corrected = self.corrected_by(
+            &ImuSample {
+                specific_force_b: raw.delta_velocity_b,
+                angular_rate_b: raw.delta_angle_b,
+            },
+            &bias,
+        );
+        let curr = ImuIncrement {
+            delta_velocity_b: corrected.specific_force_b,
+            delta_angle_b: corrected.angular_rate_b,
+        };
+        let mean = ImuSample {
+            specific_force_b: curr.delta_velocity_b / dt,
+            angular_rate_b: curr.delta_angle_b / dt,
+        };
+        let nav = ins::step_increments(&self.nav, &self.last_increment, &curr, dt);
+        self.last_increment = curr;
+        self.raw_sample = ImuSample {
+            specific_force_b: raw.delta_velocity_b / dt,
+            angular_rate_b: raw.delta_angle_b / dt,
+        };
+        self.advance(nav, mean, dt, time_s)
+    }
+
+    /// Takes the INS to `nav` (one step of `dt` ending at `time_s`, `curr`
+    /// the corrected sample there): clock prediction, the motion history
+    /// and P propagation.
+    fn advance(&mut self, nav: NavState, curr: ImuSample, dt: f64, time_s: f64) -> Result<()> {
         let velocity_before = self.nav.velocity_ecef;
-        self.nav = ins::step(&self.nav, &prev, &curr, dt);
+        self.nav = nav;
         self.clock_offset_m += self.clock_drift_m_s * dt;
         self.last_sample = curr;
         self.time_s = time_s;
@@ -452,9 +523,7 @@ where
 {
     let t = imu.time_s;
     let mut j = 0;
-    state.last_sample = state.corrected(&imu.sample(0));
-    state.time_s = t[0];
-    state.last_accepted_s = [t[0]; MeasurementKind::ALL.len()];
+    state.begin_at(t[0], &imu.sample(0));
     while j < epochs.len() && epochs[j].time_s() <= t[0] + tolerance {
         update(state, j, &epochs[j])?;
         j += 1;
@@ -464,7 +533,6 @@ where
     for k in 0..t.len() - 1 {
         let (ta, tb) = (t[k], t[k + 1]);
         let (sa, sb) = (imu.sample(k), imu.sample(k + 1));
-        let (mut t_cur, mut s_cur) = (ta, sa);
         while j < epochs.len() && epochs[j].time_s() < tb - tolerance {
             let tg = epochs[j].time_s();
             let w = (tg - ta) / (tb - ta);
@@ -472,12 +540,11 @@ where
                 specific_force_b: sa.specific_force_b.lerp(&sb.specific_force_b, w),
                 angular_rate_b: sa.angular_rate_b.lerp(&sb.angular_rate_b, w),
             };
-            state.propagate(&s_cur, &sg, tg - t_cur, tg)?;
+            state.step_to(tg, &sg)?;
             update(state, j, &epochs[j])?;
-            (t_cur, s_cur) = (tg, sg);
             j += 1;
         }
-        state.propagate(&s_cur, &sb, tb - t_cur, tb)?;
+        state.step_to(tb, &sb)?;
         while j < epochs.len() && epochs[j].time_s() <= tb + tolerance {
             update(state, j, &epochs[j])?;
             j += 1;

@@ -1,0 +1,203 @@
+//! The step API (`FilterState::start`, `predict`, `update_*`) against the
+//! batch run: the same calls in the same order give the same filter, bit
+//! for bit; the increments path reproduces the INS's own increments
+//! mechanization; and what the step API refuses.
+
+use memsnav_core::coupling::{self, FilterState, FilterTuning, InitialState, PositionFix};
+use memsnav_core::filter::state::BASE_STATES;
+use memsnav_core::gnss::{GnssEpoch, SimulationConfig};
+use memsnav_core::ins::{self, ImuIncrement, ImuSample};
+use memsnav_core::random::stream;
+use memsnav_core::sensors::ImuModel;
+use memsnav_core::Error;
+use nalgebra::{Matrix3, Vector3};
+
+mod common;
+use common::*;
+
+fn tuning() -> FilterTuning {
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap()
+}
+
+/// Runs the step API over the samples the way the batch run does (each
+/// epoch at its sample: the simulated epochs fall on IMU samples) and
+/// returns the state after every sample.
+fn stepped<E: coupling::Aiding>(
+    truth: &Truth,
+    f: &[Vector3<f64>],
+    w: &[Vector3<f64>],
+    epochs: &[E],
+    initial: &InitialState,
+    update: impl Fn(&mut FilterState<BASE_STATES>, &E),
+) -> Vec<FilterState<BASE_STATES>> {
+    let sample = |k: usize| ImuSample {
+        specific_force_b: f[k],
+        angular_rate_b: w[k],
+    };
+    let t = &truth.time_s;
+    let mut s = FilterState::start::<E>(initial, &tuning(), t[0], &sample(0)).unwrap();
+    let mut j = 0;
+    let mut states = Vec::with_capacity(t.len());
+    for (k, &tk) in t.iter().enumerate() {
+        if k > 0 {
+            s.predict(tk, &sample(k)).unwrap();
+        }
+        while j < epochs.len() && epochs[j].time_s() <= tk + 1e-4 {
+            update(&mut s, &epochs[j]);
+            j += 1;
+        }
+        states.push(s.clone());
+    }
+    assert_eq!(j, epochs.len(), "every epoch falls on a sample");
+    states
+}
+
+fn assert_same(solution: &coupling::Solution, states: &[FilterState<BASE_STATES>]) {
+    assert_eq!(solution.time_s.len(), states.len());
+    for (k, s) in states.iter().enumerate() {
+        assert_eq!(solution.position_ecef[k], s.nav.position_ecef, "sample {k}");
+        assert_eq!(solution.velocity_ecef[k], s.nav.velocity_ecef, "sample {k}");
+        assert_eq!(solution.c_b_e[k], s.nav.c_b_e, "sample {k}");
+        assert_eq!(solution.gyro_bias_rad_s[k], s.gyro_bias_rad_s, "sample {k}");
+        let diagonal = &solution.covariance_diagonal[k * BASE_STATES..(k + 1) * BASE_STATES];
+        let p: Vec<f64> = (0..BASE_STATES).map(|i| s.kf.p[(i, i)]).collect();
+        assert_eq!(diagonal, &p[..], "sample {k}");
+    }
+}
+
+/// Tight coupling with a noisy IMU: the stepped filter is the batch run's,
+/// bit for bit, at every sample, and so are its measurement records.
+#[test]
+fn stepping_gnss_epochs_is_the_batch_run() {
+    let truth = drive(60.0, 100.0, true);
+    let mut rng = stream(5, 0);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+    let initial = exact_initial(&truth);
+    let data = imu_data(&truth, &f, &w);
+    let solution =
+        coupling::solution::<BASE_STATES, GnssEpoch>(&data, &epochs, &initial, &tuning()).unwrap();
+    let states = stepped(&truth, &f, &w, &epochs, &initial, |s, e| {
+        s.update_gnss(e).unwrap()
+    });
+    assert_same(&solution, &states);
+    let mut last = states.last().unwrap().clone();
+    let records = last.take_records();
+    assert!(records.measurements.len() > 500);
+    assert_eq!(records.measurements, solution.measurements);
+}
+
+/// Loose coupling on noisy position and velocity fixes: the same.
+#[test]
+fn stepping_fixes_is_the_batch_run() {
+    let truth = drive(60.0, 100.0, true);
+    let mut rng = stream(6, 0);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let fixes: Vec<PositionFix> = (0..truth.time_s.len())
+        .step_by(100)
+        .map(|k| PositionFix {
+            time_s: truth.time_s[k],
+            position_ecef: truth.nav[k].position_ecef + 2.0 * n3(&mut rng),
+            position_covariance: Matrix3::identity() * 4.0,
+            velocity_ecef: Some(truth.nav[k].velocity_ecef + 0.1 * n3(&mut rng)),
+            velocity_covariance: Matrix3::identity() * 0.01,
+        })
+        .collect();
+    let initial = exact_initial(&truth);
+    let data = imu_data(&truth, &f, &w);
+    let solution =
+        coupling::solution::<BASE_STATES, PositionFix>(&data, &fixes, &initial, &tuning()).unwrap();
+    let states = stepped(&truth, &f, &w, &fixes, &initial, |s, fix| {
+        s.update_fix(fix).unwrap()
+    });
+    assert_same(&solution, &states);
+}
+
+/// Predicting by increments runs the INS's increments mechanization
+/// (coning and sculling) bit for bit when the sensor estimates are zero,
+/// and so reproduces the trajectory from error-free increments.
+#[test]
+fn increments_run_the_increments_mechanization() {
+    let truth = drive(30.0, 100.0, true);
+    let increments = ins::increments_from_samples(&truth.time_s, &truth.f_b, &truth.w_b).unwrap();
+    let initial = InitialState {
+        clock_offset_m: Some(0.0),
+        clock_drift_m_s: Some(0.0),
+        ..exact_initial(&truth)
+    };
+    let start = ImuSample {
+        specific_force_b: truth.f_b[0],
+        angular_rate_b: truth.w_b[0],
+    };
+    let t = &truth.time_s;
+    let mut s =
+        FilterState::<BASE_STATES>::start::<GnssEpoch>(&initial, &tuning(), t[0], &start).unwrap();
+    let mut nav = truth.nav[0];
+    let mut previous = ImuIncrement::default();
+    for k in 1..t.len() {
+        let increment = increments[k - 1];
+        s.predict_increments(t[k], &increment).unwrap();
+        nav = ins::step_increments(&nav, &previous, &increment, t[k] - t[k - 1]);
+        previous = increment;
+        assert_eq!(s.nav, nav, "sample {k}");
+    }
+    let error = (s.nav.position_ecef - truth.nav.last().unwrap().position_ecef).norm();
+    assert!(
+        error < 0.05,
+        "{error} m after 30 s from error-free increments"
+    );
+    // The covariance grew with the INS's own uncertainty.
+    assert!(s.kf.p[(6, 6)] > tuning().initial_std.position_m.powi(2));
+}
+
+/// Time that does not increase, a step longer than an IMU period, NaN
+/// samples and epochs stamped away from the filter's time are refused,
+/// naming the argument; the filter is unchanged by a refused call.
+#[test]
+fn bad_steps_are_refused() {
+    let truth = drive(5.0, 100.0, true);
+    let mut rng = stream(7, 0);
+    let epochs = gnss_for(&truth, &SimulationConfig::default(), &mut rng);
+    let sample = ImuSample {
+        specific_force_b: truth.f_b[0],
+        angular_rate_b: truth.w_b[0],
+    };
+    let initial = exact_initial(&truth);
+    let mut s =
+        FilterState::<BASE_STATES>::start::<GnssEpoch>(&initial, &tuning(), 0.0, &sample).unwrap();
+    let argument = |e: Error| match e {
+        Error::InvalidArgument { argument, reason } => (argument, reason),
+        other => panic!("{other:?}"),
+    };
+    let (a, reason) = argument(s.predict(0.0, &sample).unwrap_err());
+    assert_eq!(a, "time");
+    assert!(reason.contains("must increase"), "{reason}");
+    let (a, reason) = argument(s.predict(2.5, &sample).unwrap_err());
+    assert_eq!(a, "time");
+    assert!(reason.contains("longer than"), "{reason}");
+    let nan = ImuSample {
+        specific_force_b: Vector3::new(f64::NAN, 0.0, 0.0),
+        ..sample
+    };
+    assert_eq!(
+        argument(s.predict(0.01, &nan).unwrap_err()).0,
+        "specific_force"
+    );
+    let (a, reason) = argument(s.update_gnss(&epochs[1]).unwrap_err());
+    assert_eq!(a, "gnss");
+    assert!(
+        reason.contains("predict to the epoch's time first"),
+        "{reason}"
+    );
+    let before = s.nav;
+    assert!(s.predict(f64::NAN, &sample).is_err());
+    assert_eq!(s.nav, before);
+    assert_eq!(s.time_s(), 0.0);
+    s.predict(0.01, &sample).unwrap();
+    assert_eq!(s.time_s(), 0.01);
+}

@@ -1,0 +1,367 @@
+//! `RunningFilter`: a coupled filter driven one call at a time (the core's
+//! step API, `coupling::FilterState::{start, predict, update_*}`), for a
+//! real-time loop or an aid memsnav does not know. Each method is one call
+//! into the core; the batch `run` is the same sequence of the same calls.
+
+use memsnav_core::coupling::{Aiding, FilterState, FilterTuning, InitialState, PositionFix};
+use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
+use memsnav_core::gnss::GnssEpoch;
+use memsnav_core::ins::{ImuIncrement, ImuSample};
+use memsnav_py_macros::catch_panics;
+use nalgebra::{Matrix3, Vector3};
+use numpy::PyArray2;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::convert;
+use crate::errors::IntoPyResult;
+use crate::gnss::gnss_epoch_at;
+use crate::records::{batches_to_dict, measurements_to_dict, resets_to_dict};
+
+/// The running filter at the size its tuning asks for.
+enum Filter {
+    Base(Box<FilterState<BASE_STATES>>),
+    ScaleFactors(Box<FilterState<WITH_SCALE_FACTORS>>),
+}
+
+/// `$body` with `$s` bound to the running filter, whatever its size.
+macro_rules! with_filter {
+    ($filter:expr, $s:ident => $body:expr) => {
+        match $filter {
+            Filter::Base($s) => $body,
+            Filter::ScaleFactors($s) => $body,
+        }
+    };
+}
+
+/// Which class started the filter (its aiding decides the clock model).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum StartedBy {
+    Tight,
+    Loose,
+}
+
+/// A coupled GNSS/INS filter driven one call at a time: `predict` (or
+/// `predict_increments`) at each IMU sample, then any updates at that
+/// time. Made by `TightlyCoupledFilter.start` or
+/// `LooselyCoupledFilter.start`, with that filter's tuning; the batch
+/// `run` is this same sequence of calls, so the same calls give the same
+/// numbers, bit for bit.
+///
+/// Times are the IMU's time stamps, s (not intervals: the records and the
+/// GNSS epochs are matched on them); each must follow the last by more
+/// than 0 and at most 1 s. Updates apply at the filter's time (that of the
+/// last predict); a GNSS epoch stamped more than the time tolerance
+/// (1e-4 s) away is refused: predict to its time first. Every update
+/// applies its rows as one batch, tested by the chi-square gate; the aids
+/// return whether their batch was accepted. Measurement records
+/// accumulate until `take_records()` hands them over. Refused calls
+/// (ValueError naming the argument) leave the filter unchanged.
+#[pyclass(name = "RunningFilter", module = "memsnav._memsnav")]
+pub struct PyRunningFilter {
+    filter: Filter,
+    started_by: StartedBy,
+}
+
+impl PyRunningFilter {
+    /// The filter at `time_s` from `initial`, with the raw sample there.
+    pub(crate) fn start(
+        tuning: &FilterTuning,
+        scale_factor_states: bool,
+        started_by: StartedBy,
+        initial: &InitialState,
+        time_s: f64,
+        raw: &ImuSample,
+    ) -> PyResult<Self> {
+        fn started<const N: usize, E: Aiding>(
+            initial: &InitialState,
+            tuning: &FilterTuning,
+            time_s: f64,
+            raw: &ImuSample,
+        ) -> PyResult<Box<FilterState<N>>> {
+            FilterState::start::<E>(initial, tuning, time_s, raw)
+                .map(Box::new)
+                .py()
+        }
+        let filter = match (scale_factor_states, started_by) {
+            (false, StartedBy::Tight) => Filter::Base(started::<BASE_STATES, GnssEpoch>(
+                initial, tuning, time_s, raw,
+            )?),
+            (false, StartedBy::Loose) => Filter::Base(started::<BASE_STATES, PositionFix>(
+                initial, tuning, time_s, raw,
+            )?),
+            (true, StartedBy::Tight) => {
+                Filter::ScaleFactors(started::<WITH_SCALE_FACTORS, GnssEpoch>(
+                    initial, tuning, time_s, raw,
+                )?)
+            }
+            (true, StartedBy::Loose) => {
+                Filter::ScaleFactors(started::<WITH_SCALE_FACTORS, PositionFix>(
+                    initial, tuning, time_s, raw,
+                )?)
+            }
+        };
+        Ok(Self { filter, started_by })
+    }
+
+    fn time_s(&self) -> f64 {
+        with_filter!(&self.filter, s => s.time_s())
+    }
+}
+
+/// A raw IMU sample from the two `(3,)` arguments.
+pub(crate) fn sample_arg(
+    specific_force: &Bound<'_, PyAny>,
+    angular_rate: &Bound<'_, PyAny>,
+) -> PyResult<ImuSample> {
+    Ok(ImuSample {
+        specific_force_b: convert::vector3(specific_force, "specific_force")?,
+        angular_rate_b: convert::vector3(angular_rate, "angular_rate")?,
+    })
+}
+
+fn lever_arm_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vector3<f64>> {
+    obj.filter(|o| !o.is_none())
+        .map_or(Ok(Vector3::zeros()), |o| convert::vector3(o, "lever_arm"))
+}
+
+#[catch_panics]
+#[pymethods]
+impl PyRunningFilter {
+    /// Steps the INS and the covariance to `time` (s) with the raw sample
+    /// there: `specific_force` (3,) m/s² and `angular_rate` (3,) rad/s in
+    /// body axes (the mechanization integrates between the previous
+    /// sample and this one, as `run` does).
+    fn predict(
+        &mut self,
+        time: f64,
+        specific_force: &Bound<'_, PyAny>,
+        angular_rate: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let raw = sample_arg(specific_force, angular_rate)?;
+        with_filter!(&mut self.filter, s => s.predict(time, &raw).py())
+    }
+
+    /// Steps to `time` (s) with the raw increments of the interval since
+    /// the filter's time: `delta_v` (3,) m/s and `delta_theta` (3,) rad
+    /// (∫f dt, ∫ω dt, what integrating IMUs log), with coning and sculling
+    /// from the previous interval's increments.
+    fn predict_increments(
+        &mut self,
+        time: f64,
+        delta_v: &Bound<'_, PyAny>,
+        delta_theta: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let raw = ImuIncrement {
+            delta_velocity_b: convert::vector3(delta_v, "delta_v")?,
+            delta_angle_b: convert::vector3(delta_theta, "delta_theta")?,
+        };
+        with_filter!(&mut self.filter, s => s.predict_increments(time, &raw).py())
+    }
+
+    /// Applies epoch `epoch` of `gnss` (anything `TightlyCoupledFilter.run`
+    /// takes: `GnssMeasurements` or its dict) at the filter's time: the
+    /// pseudoranges as one batch, then the rates. Only for a filter started
+    /// by `TightlyCoupledFilter` (the loose one holds the clock fixed).
+    #[pyo3(signature = (gnss, epoch=0))]
+    fn update_gnss(&mut self, gnss: &Bound<'_, PyAny>, epoch: usize) -> PyResult<()> {
+        if self.started_by != StartedBy::Tight {
+            return Err(PyValueError::new_err(
+                "gnss: this filter was started by LooselyCoupledFilter, whose clock states are \
+                 held at zero; start it with TightlyCoupledFilter.start to apply pseudoranges",
+            ));
+        }
+        let at = gnss_epoch_at(gnss, epoch)?;
+        with_filter!(&mut self.filter, s => s.update_gnss(&at).py())
+    }
+
+    /// Applies a position fix of the antenna at the filter's time:
+    /// `position_ecef` (3,) m with `position_covariance` (3, 3) m², and
+    /// optionally `velocity_ecef` (3,) m/s with `velocity_covariance`
+    /// (3, 3) m²/s² (each block tested as one batch, as `run` does).
+    #[pyo3(signature = (position_ecef, position_covariance, velocity_ecef=None, velocity_covariance=None))]
+    fn update_fix(
+        &mut self,
+        position_ecef: &Bound<'_, PyAny>,
+        position_covariance: &Bound<'_, PyAny>,
+        velocity_ecef: Option<&Bound<'_, PyAny>>,
+        velocity_covariance: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let velocity = match (velocity_ecef, velocity_covariance) {
+            (Some(v), Some(c)) => Some((
+                convert::vector3(v, "velocity_ecef")?,
+                convert::matrix3(c, "velocity_covariance")?,
+            )),
+            (None, None) => None,
+            _ => {
+                return Err(PyValueError::new_err(
+                    "velocity_ecef, velocity_covariance: give both or neither",
+                ))
+            }
+        };
+        let fix = PositionFix {
+            time_s: self.time_s(),
+            position_ecef: convert::vector3(position_ecef, "position_ecef")?,
+            position_covariance: convert::matrix3(position_covariance, "position_covariance")?,
+            velocity_ecef: velocity.map(|v| v.0),
+            velocity_covariance: velocity.map_or(Matrix3::zeros(), |v| v.1),
+        };
+        with_filter!(&mut self.filter, s => s.update_fix(&fix).py())
+    }
+
+    /// Zero-velocity update: the IMU is at rest, `std` m/s per axis.
+    /// Returns whether it was accepted.
+    fn update_zupt(&mut self, std: f64) -> PyResult<bool> {
+        with_filter!(&mut self.filter, s => s.zero_velocity_update(s.time_s(), std).py())
+    }
+
+    /// Zero-angular-rate update at rest: `mean_angular_rate` (3,) rad/s is
+    /// the raw gyro reading averaged over the standstill, `std` rad/s (of
+    /// the mean; a scalar or per axis). Returns whether it was accepted.
+    fn update_zaru(
+        &mut self,
+        mean_angular_rate: &Bound<'_, PyAny>,
+        std: &Bound<'_, PyAny>,
+    ) -> PyResult<bool> {
+        let rate = convert::vector3(mean_angular_rate, "mean_angular_rate")?;
+        let std = convert::per_axis(std, "std")?;
+        with_filter!(&mut self.filter, s => s.zero_rate_update(s.time_s(), &rate, &std).py())
+    }
+
+    /// Non-holonomic constraint of a land vehicle: the point at
+    /// `lever_arm` (3,) m from the IMU in body axes (None: the IMU) has no
+    /// lateral and no vertical velocity, `std` m/s. Body x must point
+    /// forward along the vehicle. Returns whether it was accepted.
+    #[pyo3(signature = (std, lever_arm=None))]
+    fn update_non_holonomic(
+        &mut self,
+        std: f64,
+        lever_arm: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<bool> {
+        let l = lever_arm_arg(lever_arm)?;
+        with_filter!(&mut self.filter, s => s.non_holonomic_update(s.time_s(), &l, std).py())
+    }
+
+    /// Odometer (wheel speed): the forward speed `speed` m/s (negative when
+    /// reversing) of the point at `lever_arm` (3,) m in body axes (None:
+    /// the IMU), `std` m/s. Returns whether it was accepted.
+    #[pyo3(signature = (speed, std, lever_arm=None))]
+    fn update_speed(
+        &mut self,
+        speed: f64,
+        std: f64,
+        lever_arm: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<bool> {
+        let l = lever_arm_arg(lever_arm)?;
+        with_filter!(&mut self.filter, s => s.speed_update(s.time_s(), speed, &l, std).py())
+    }
+
+    /// Height (a barometer referenced to the ellipsoid): the IMU's WGS 84
+    /// ellipsoidal height `height` m, `std` m. Returns whether it was
+    /// accepted.
+    fn update_height(&mut self, height: f64, std: f64) -> PyResult<bool> {
+        with_filter!(&mut self.filter, s => s.height_update(s.time_s(), height, std).py())
+    }
+
+    /// Heading (dual antenna; a magnetometer corrected for declination):
+    /// the body's yaw `yaw` rad from north, positive east (NED), `std` rad.
+    /// Returns whether it was accepted.
+    fn update_heading(&mut self, yaw: f64, std: f64) -> PyResult<bool> {
+        with_filter!(&mut self.filter, s => s.heading_update(s.time_s(), yaw, std).py())
+    }
+
+    /// The filter's time, s (that of the last predict).
+    #[getter]
+    fn time(&self) -> f64 {
+        self.time_s()
+    }
+
+    /// Position r^e of the IMU, (3,) m.
+    #[getter]
+    fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        with_filter!(&self.filter, s => convert::vector3_to_numpy(py, &s.nav.position_ecef))
+    }
+
+    /// Velocity v^e of the IMU, (3,) m/s.
+    #[getter]
+    fn velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        with_filter!(&self.filter, s => convert::vector3_to_numpy(py, &s.nav.velocity_ecef))
+    }
+
+    /// Attitude C_b^e, (3, 3).
+    #[getter]
+    fn attitude<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        with_filter!(&self.filter, s => convert::matrix3_to_numpy(py, &s.nav.c_b_e))
+    }
+
+    /// The whole estimate as a dict: `time` s, `position_ecef` m,
+    /// `velocity_ecef` m/s, `attitude` C_b^e, `accel_bias` m/s²,
+    /// `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and with
+    /// scale-factor states `accel_scale_factor`, `gyro_scale_factor`.
+    #[getter]
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        with_filter!(&self.filter, s => {
+            d.set_item("time", s.time_s())?;
+            d.set_item("position_ecef", convert::vector3_to_numpy(py, &s.nav.position_ecef))?;
+            d.set_item("velocity_ecef", convert::vector3_to_numpy(py, &s.nav.velocity_ecef))?;
+            d.set_item("attitude", convert::matrix3_to_numpy(py, &s.nav.c_b_e))?;
+            d.set_item("accel_bias", convert::vector3_to_numpy(py, &s.accel_bias_m_s2))?;
+            d.set_item("gyro_bias", convert::vector3_to_numpy(py, &s.gyro_bias_rad_s))?;
+            d.set_item("clock_offset", s.clock_offset_m)?;
+            d.set_item("clock_drift", s.clock_drift_m_s)?;
+            if matches!(self.filter, Filter::ScaleFactors(_)) {
+                d.set_item("accel_scale_factor", convert::vector3_to_numpy(py, &s.accel_scale_factor))?;
+                d.set_item("gyro_scale_factor", convert::vector3_to_numpy(py, &s.gyro_scale_factor))?;
+            }
+        });
+        Ok(d)
+    }
+
+    /// The error-state covariance P, (n, n), in the order of
+    /// `state_names` and the units of the error states (rad, m/s, m, m/s²,
+    /// rad/s, m, m/s; attitude and velocity in ECEF axes).
+    #[getter]
+    fn covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        with_filter!(&self.filter, s => {
+            let n = s.kf.p.nrows();
+            let rows: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| s.kf.p[(i, j)]).collect()).collect();
+            PyArray2::from_vec2(py, &rows).expect("square")
+        })
+    }
+
+    /// Error-state names, in covariance order.
+    #[getter]
+    fn state_names(&self) -> Vec<&'static str> {
+        StateLayout::names(with_filter!(&self.filter, s => s.kf.p.nrows()))
+    }
+
+    /// The records since the last call, handed over and cleared: a dict
+    /// with `measurements`, `batches` and `resets`, each as in
+    /// `FilterSolution`.
+    fn take_records<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let records = with_filter!(&mut self.filter, s => s.take_records());
+        let d = PyDict::new(py);
+        d.set_item(
+            "measurements",
+            measurements_to_dict(py, records.measurements.iter())?,
+        )?;
+        d.set_item("batches", batches_to_dict(py, &records.batches)?)?;
+        d.set_item("resets", resets_to_dict(py, &records.resets)?)?;
+        Ok(d)
+    }
+
+    fn __repr__(&self) -> String {
+        let n = with_filter!(&self.filter, s => s.kf.p.nrows());
+        let by = match self.started_by {
+            StartedBy::Tight => "TightlyCoupledFilter",
+            StartedBy::Loose => "LooselyCoupledFilter",
+        };
+        format!("RunningFilter({by}, {n} states, time={} s)", self.time_s())
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyRunningFilter>()
+}

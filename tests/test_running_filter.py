@@ -1,0 +1,244 @@
+"""The step API (``Filter.start`` -> ``RunningFilter``) against the batch
+``run``: the same calls in the same order give the same filter bit for bit
+(tight and loose); increments run the increments mechanization; the aids
+(odometer, height, heading) bound an outage and their errors stay inside
+the filter's covariance; and what the step API refuses.
+
+Speed is measured in ``benches/python/bench_running_filter.py``, not here.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import memsnav as mn
+
+TOLERANCE_S = 1e-4
+
+
+def initial(traj, k=0):
+    return {
+        "position_ecef": traj.position_ecef[k],
+        "velocity_ecef": traj.velocity_ecef[k],
+        "attitude": traj.attitude[k],
+    }
+
+
+def step_through(running, t, f, w, epochs_time, update):
+    """Drives ``running`` over the samples as ``run`` does (an epoch within
+    the tolerance of a sample is applied after it); returns the position,
+    velocity and covariance diagonal after every sample."""
+    n = len(t)
+    pos, vel, diag = np.empty((n, 3)), np.empty((n, 3)), []
+    j = 0
+    for k in range(n):
+        if k > 0:
+            running.predict(t[k], f[k], w[k])
+        while j < len(epochs_time) and epochs_time[j] <= t[k] + TOLERANCE_S:
+            update(j)
+            j += 1
+        pos[k], vel[k] = running.position_ecef, running.velocity_ecef
+        diag.append(np.diag(running.covariance))
+    assert j == len(epochs_time)
+    return pos, vel, np.array(diag)
+
+
+def test_stepping_gnss_epochs_is_the_batch_run(drive_300s):
+    traj, gnss, imu, f, w = drive_300s
+    n = 6001  # the first 60 s
+    t, f, w = traj.time[:n], f[:n], w[:n]
+    keep = np.asarray(gnss.time) <= t[-1]
+    flt = mn.TightlyCoupledFilter(imu)
+    sol = flt.run(t, f, w, gnss_slice(gnss, keep), initial_state=initial(traj))
+    running = flt.start(t[0], f[0], w[0], initial(traj))
+    assert running.state_names == sol.state_names
+    pos, vel, diag = step_through(
+        running, t, f, w, np.asarray(gnss.time)[keep], lambda j: running.update_gnss(gnss, j)
+    )
+    np.testing.assert_array_equal(pos, sol.position_ecef)
+    np.testing.assert_array_equal(vel, sol.velocity_ecef)
+    np.testing.assert_array_equal(diag, sol.covariance_diagonal)
+    np.testing.assert_array_equal(running.attitude, sol.attitude[-1])
+    records = running.take_records()
+    for name in ("innovation", "nis", "time"):
+        np.testing.assert_array_equal(records["measurements"][name], sol.measurements[name])
+    assert records["measurements"]["status"] == sol.measurements["status"]
+    assert len(records["batches"]["time"]) == len(sol.batches["time"])
+    # Taken means handed over: the next call has only what came since.
+    assert len(running.take_records()["measurements"]["time"]) == 0
+
+
+def gnss_slice(gnss, keep):
+    names = (
+        "time sat_id satellite_position_ecef satellite_velocity_ecef pseudorange "
+        "pseudorange_std pseudorange_rate pseudorange_rate_std"
+    ).split()
+    return {n: np.asarray(getattr(gnss, n))[keep] for n in names}
+
+
+def test_stepping_fixes_is_the_batch_run(drive_300s):
+    traj, _, imu, f, w = drive_300s
+    n = 6001
+    t, f, w = traj.time[:n], f[:n], w[:n]
+    rng = np.random.default_rng(8)
+    k = np.arange(0, n, 100)
+    cov_p, cov_v = np.diag([4.0, 4.0, 9.0]), np.eye(3) * 0.01
+    fixes = {
+        "time": t[k],
+        "position_ecef": traj.position_ecef[k] + rng.normal(0, 2.0, (len(k), 3)),
+        "position_covariance": np.repeat(cov_p[None], len(k), axis=0),
+        "velocity_ecef": traj.velocity_ecef[k] + rng.normal(0, 0.1, (len(k), 3)),
+        "velocity_covariance": np.repeat(cov_v[None], len(k), axis=0),
+    }
+    flt = mn.LooselyCoupledFilter(imu)
+    sol = flt.run(t, f, w, fixes, initial_state=initial(traj))
+    running = flt.start(t[0], f[0], w[0], initial(traj))
+
+    def update(j):
+        running.update_fix(fixes["position_ecef"][j], cov_p, fixes["velocity_ecef"][j], cov_v)
+
+    pos, vel, diag = step_through(running, t, f, w, fixes["time"], update)
+    np.testing.assert_array_equal(pos, sol.position_ecef)
+    np.testing.assert_array_equal(vel, sol.velocity_ecef)
+    np.testing.assert_array_equal(diag, sol.covariance_diagonal)
+
+
+def test_increments_follow_the_increments_mechanization(drive_300s):
+    """Error-free increments through the step API reproduce the INS's own
+    increments run (``strapdown_increments``) and the trajectory."""
+    traj, _, imu, _, _ = drive_300s
+    n = 3001
+    t = traj.time[:n]
+    dv, dtheta = mn.imu_increments(t, traj.specific_force[:n], traj.angular_rate[:n])
+    ins = mn.strapdown_increments(
+        t, dv, dtheta, traj.position_ecef[0], traj.velocity_ecef[0], traj.attitude[0]
+    )
+    running = mn.TightlyCoupledFilter(imu).start(
+        t[0], traj.specific_force[0], traj.angular_rate[0], initial(traj)
+    )
+    for k in range(1, n):
+        running.predict_increments(t[k], dv[k - 1], dtheta[k - 1])
+    np.testing.assert_allclose(running.position_ecef, ins.position_ecef[-1], rtol=0, atol=1e-6)
+    error = np.linalg.norm(running.position_ecef - traj.position_ecef[n - 1])
+    assert error < 0.05, error
+
+
+def test_aids_bound_an_outage_inside_the_covariance(drive_300s):
+    """A 60 s GNSS outage bridged by an odometer (forward speed), a
+    barometer (height) and a heading at 10 Hz: the horizontal error stays
+    a fraction of the unaided one, and every aided error is inside 3σ of
+    the filter's own covariance."""
+    traj, gnss, imu, f, w = drive_300s
+    t = traj.time
+    rng = np.random.default_rng(9)
+    outage = (t >= 120.0) & (t < 180.0)
+    speed = np.einsum("nji,nj->ni", traj.attitude, traj.velocity_ecef)[:, 0]
+    height = mn.ecef_to_geodetic(traj.position_ecef)[:, 2]
+    yaw = traj_yaw(traj)
+    flt = mn.TightlyCoupledFilter(imu)
+    gt = np.asarray(gnss.time)
+    results = {}
+    for aided in (False, True):
+        running = flt.start(t[0], f[0], w[0], initial(traj))
+        j, errors, z, accepted = 0, [], [], []
+        for k in range(len(t)):
+            if t[k] > 180.0:
+                break
+            if k > 0:
+                running.predict(t[k], f[k], w[k])
+            while j < len(gt) and gt[j] <= t[k] + TOLERANCE_S:
+                if not (120.0 <= gt[j] < 180.0):
+                    running.update_gnss(gnss, j)
+                j += 1
+            if aided and outage[k] and k % 10 == 0:
+                accepted.append(running.update_speed(speed[k] + rng.normal(0, 0.05), 0.05))
+                accepted.append(running.update_height(height[k] + rng.normal(0, 0.5), 0.5))
+                heading = yaw[k] + rng.normal(0, np.radians(0.5))
+                accepted.append(running.update_heading(heading, np.radians(0.5)))
+            if outage[k]:
+                e = running.position_ecef - traj.position_ecef[k]
+                p = running.covariance[6:9, 6:9]
+                errors.append(np.linalg.norm(e))
+                z.append(np.abs(e) / np.sqrt(np.diag(p)))
+        results[aided] = (np.array(errors), np.array(z))
+        # The gate (0.999) rejects about one in a thousand good ones.
+        assert not aided or np.mean(accepted) > 0.99, np.mean(accepted)
+        kinds = set(running.take_records()["measurements"]["kind"])
+        assert ({"speed", "height", "heading"} <= kinds) == aided
+    coast, aided = results[False][0], results[True][0]
+    print(f"60 s outage: {coast[-1]:.2f} m coasting, {aided[-1]:.2f} m aided")
+    assert aided[-1] < 0.25 * coast[-1], (aided[-1], coast[-1])
+    assert np.all(results[True][1] < 3.0), results[True][1].max()
+
+
+def traj_yaw(traj):
+    """The true yaw from north (NED) at every sample: C_b^n = C_e^n C_b^e."""
+    geo = mn.ecef_to_geodetic(traj.position_ecef)
+    lat, lon = geo[:, 0], geo[:, 1]
+    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
+    c_e_n = np.stack(
+        [
+            np.stack([-sl * co, -sl * so, cl], axis=-1),
+            np.stack([-so, co, np.zeros_like(lat)], axis=-1),
+            np.stack([-cl * co, -cl * so, -sl], axis=-1),
+        ],
+        axis=1,
+    )
+    c_b_n = c_e_n @ traj.attitude
+    return np.arctan2(c_b_n[:, 1, 0], c_b_n[:, 0, 0])
+
+
+def test_bad_calls_name_the_argument_and_change_nothing(drive_300s):
+    traj, gnss, imu, f, w = drive_300s
+    tight = mn.TightlyCoupledFilter(imu)
+    running = tight.start(traj.time[0], f[0], w[0], initial(traj))
+    before = running.position_ecef.copy()
+    cases = [
+        (lambda: running.predict(traj.time[0], f[1], w[1]), "time"),
+        (lambda: running.predict(5.0, f[1], w[1]), "longer than"),
+        (lambda: running.predict(0.01, [np.nan, 0, 0], w[1]), "specific_force"),
+        (lambda: running.predict(0.01, f[1], [1.0, 2.0]), "angular_rate"),
+        (lambda: running.predict_increments(0.01, f[1], [1e9, 0, 0]), "delta_theta"),
+        (lambda: running.update_gnss(gnss, 5), "predict to the epoch's time"),
+        (lambda: running.update_gnss(gnss, 10_000), "epoch"),
+        (lambda: running.update_fix([1.0, 2.0, 3.0], np.eye(3), [0, 0, 0]), "velocity_covariance"),
+        (lambda: running.update_fix(before, -np.eye(3)), "covariance"),
+        (lambda: running.update_height(np.nan, 1.0), "height"),
+        (lambda: running.update_heading(0.1, 0.0), "std"),
+        (lambda: running.update_speed(3.0, -1.0), "std"),
+        (lambda: running.update_zaru([0, 0, 0], [1e-3, 0, 1e-3]), "std"),
+        (lambda: tight.start(0.0, f[0], w[0], {"position_ecef": [0, 0, 0]}), "initial_state"),
+    ]
+    for call, word in cases:
+        with pytest.raises(ValueError, match=word):
+            call()
+    np.testing.assert_array_equal(running.position_ecef, before)
+    assert running.time == traj.time[0]
+    loose = mn.LooselyCoupledFilter(imu).start(traj.time[0], f[0], w[0], initial(traj))
+    with pytest.raises(ValueError, match="LooselyCoupledFilter"):
+        loose.update_gnss(gnss, 0)
+    assert "RunningFilter(TightlyCoupledFilter, 17 states" in repr(running)
+
+
+def test_step_api_page_quotes_what_its_example_prints(capsys, monkeypatch, tmp_path):
+    """docs/step-api.md's opening sentence quotes its example's outage
+    errors: run the example and compare."""
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parent.parent / "docs" / "step-api.md").read_text()
+    example = re.search(r"```python\n(.*?)```", page, flags=re.S).group(1)
+    monkeypatch.chdir(tmp_path)
+    exec(compile(example, "step-api.md", "exec"), {"__name__": "__docs__"})
+    printed = dict(
+        re.findall(r"odometry (\w+): end of the outage ([\d.]+) m", capsys.readouterr().out)
+    )
+    quoted = re.search(
+        r"coasts through a 30 s outage to ([\d.]+) m;\s+with a wheel speed and the "
+        r"non-holonomic constraint it ends at ([\d.]+) m",
+        page,
+    )
+    assert quoted, "the page's opening figures moved"
+    assert f"{float(printed['False']):.1f}" == quoted.group(1)
+    assert f"{float(printed['True']):.1f}" == quoted.group(2)
