@@ -234,6 +234,40 @@ impl<const N: usize> ErrorStateKf<N> {
         BatchOutcome { nis, dof, accepted }
     }
 
+    /// Records `measurements` for the smoother as though they had been
+    /// applied here, leaving the filter as it is: the fix a reset is about
+    /// to replace a block of states by. A reset alone cuts the adjoint's
+    /// path through that block (its new value is independent of the past),
+    /// so the smoother could not carry what the fix says back into the
+    /// span before it (an outage that drifted far enough to need a reset
+    /// kept its whole drift when smoothed); recorded before the reset, the
+    /// fix is also a measurement of the state the reset replaces, and the
+    /// backward pass spreads its innovation over that span by the forward
+    /// covariance, as it does for an accepted fix. Nothing without a
+    /// smoother.
+    pub fn record_for_smoother_only(&mut self, measurements: &[ScalarMeasurement]) {
+        let Some(r) = self.smoother.as_mut() else {
+            return;
+        };
+        let (mut x, mut p) = (self.x.0, self.p);
+        let active = vec![true; measurements.len()];
+        let mut outcomes = vec![ScalarOutcome::default(); measurements.len()];
+        r.gains.clear();
+        update::sequential(
+            &mut x,
+            &mut p,
+            measurements,
+            &active,
+            &mut outcomes,
+            Some(&mut r.gains),
+        );
+        for g in r.gains.drain(..) {
+            if g.innovation.is_finite() && g.innovation_variance > 0.0 {
+                r.log.scalar(g);
+            }
+        }
+    }
+
     /// The innovation y − h x of `m` against the current state and its
     /// predicted variance h P hᵀ + r (before any update).
     pub fn innovation(&self, m: &ScalarMeasurement) -> (f64, f64) {

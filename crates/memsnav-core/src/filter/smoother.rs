@@ -62,7 +62,10 @@
 //! x ← T x + w with T the identity with the rows of S zeroed (a component
 //! reset: T = I − d dᵀ on its block): information does not flow back through
 //! it for those states. A covariance inflation, or the variance a clock jump
-//! adds, changes no error (T = I) and only enters through P⁺.
+//! adds, changes no error (T = I) and only enters through P⁺. A position
+//! reset to a fix is preceded in the log by the fix's rows as measurements
+//! the forward filter did not apply (`ErrorStateKf::record_for_smoother_only`),
+//! so what the fix says about the state before the reset flows back.
 //!
 //! **Memory.** Each segment between two kept covariances is run backward
 //! (λ and R, keeping R′ after each step and λ at each output) and then

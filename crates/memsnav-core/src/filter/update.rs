@@ -7,7 +7,7 @@ use nalgebra::{SMatrix, SVector};
 use super::measurement::{ScalarMeasurement, ScalarStep, SparseRow};
 
 /// What happened to one scalar measurement.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ScalarOutcome {
     /// Innovation ν = y − h x (prediction minus measurement, corrected by the
     /// error state accumulated so far), in the measurement's unit.

@@ -359,6 +359,43 @@ impl<const N: usize> FilterState<N> {
         }
     }
 
+    /// The fix a reset replaces the position (`kind` Position) or the
+    /// velocity (any other kind) by, recorded for the smoother as the
+    /// measurement it also is ([`crate::filter::ErrorStateKf::record_for_smoother_only`]):
+    /// its components whitened by the Cholesky factor of `covariance`, the
+    /// rows of a loosely coupled fix of the antenna.
+    fn record_fix_for_smoother(
+        &mut self,
+        kind: MeasurementKind,
+        measured: &Vector3<f64>,
+        covariance: &Matrix3<f64>,
+    ) {
+        let Some(l_inv) = covariance.cholesky().and_then(|c| c.l().try_inverse()) else {
+            return;
+        };
+        let antenna = self.antenna();
+        let position = kind == MeasurementKind::Position;
+        let predicted = if position {
+            antenna.position_ecef
+        } else {
+            antenna.fix_velocity_ecef
+        };
+        let y = l_inv * (predicted - measured);
+        let fix: [ScalarMeasurement; 3] = std::array::from_fn(|i| {
+            let w = l_inv.row(i).transpose();
+            ScalarMeasurement {
+                h: if position {
+                    antenna.position_row(&w)
+                } else {
+                    antenna.fix_velocity_row(&w)
+                },
+                y: y[i],
+                variance: 1.0,
+            }
+        });
+        self.kf.record_for_smoother_only(&fix);
+    }
+
     /// Resets the IMU position to a fix of the antenna position
     /// `position_ecef` with covariance `covariance` (the lever arm taken
     /// with the current attitude), after `kind` kept failing; recorded.
@@ -376,6 +413,7 @@ impl<const N: usize> FilterState<N> {
         covariance: &Matrix3<f64>,
         velocity_reset_too: bool,
     ) -> Result<()> {
+        self.record_fix_for_smoother(MeasurementKind::Position, antenna_position_ecef, covariance);
         let new = antenna_position_ecef - self.nav.c_b_e * self.installation.lever_arm_b_m;
         let change = (new - self.nav.position_ecef).norm();
         self.nav.position_ecef = new;
