@@ -86,6 +86,7 @@ impl TightScenario {
             time_s: &truth.time_s,
             specific_force_b: &readings.specific_force_b,
             angular_rate_b: &readings.angular_rate_b,
+            increments: None,
         }
     }
 

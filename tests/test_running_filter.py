@@ -242,3 +242,30 @@ def test_step_api_page_quotes_what_its_example_prints(capsys, monkeypatch, tmp_p
     assert quoted, "the page's opening figures moved"
     assert f"{float(printed['False']):.1f}" == quoted.group(1)
     assert f"{float(printed['True']):.1f}" == quoted.group(2)
+
+
+def test_run_increments_is_the_stepped_increments_run(drive_300s):
+    """``run_increments`` integrates the increments natively, the way
+    ``predict_increments`` does: the same calls, the same numbers."""
+    traj, gnss, imu, _, _ = drive_300s
+    n = 3001
+    t = traj.time[:n]
+    dv, dtheta = mn.imu_increments(t, traj.specific_force[:n], traj.angular_rate[:n])
+    keep = np.asarray(gnss.time) <= t[-1]
+    flt = mn.TightlyCoupledFilter(imu)
+    sol = flt.run_increments(t, dv, dtheta, gnss_slice(gnss, keep), initial_state=initial(traj))
+    # The first interval's means stand for the first sample.
+    running = flt.start(t[0], dv[0] / (t[1] - t[0]), dtheta[0] / (t[1] - t[0]), initial(traj))
+    epochs_time = np.asarray(gnss.time)[keep]
+    j, pos = 0, np.empty((n, 3))
+    for k in range(n):
+        if k > 0:
+            running.predict_increments(t[k], dv[k - 1], dtheta[k - 1])
+        while j < len(epochs_time) and epochs_time[j] <= t[k] + TOLERANCE_S:
+            running.update_gnss(gnss, j)
+            j += 1
+        pos[k] = running.position_ecef
+    np.testing.assert_array_equal(pos, sol.position_ecef)
+    assert np.linalg.norm(pos[-1] - traj.position_ecef[n - 1]) < 5.0
+    with pytest.raises(ValueError, match="delta_v"):
+        flt.run_increments(t, dv[:-1], dtheta[:-1], gnss_slice(gnss, keep))

@@ -1495,6 +1495,23 @@ class TightlyCoupledFilter:
         Outages: leave the epochs out of ``gnss``.
         """
 
+    def run_increments(
+        self,
+        time: npt.ArrayLike,
+        delta_v: npt.ArrayLike,
+        delta_theta: npt.ArrayLike,
+        gnss: GnssMeasurements | Any,
+        *,
+        initial_attitude: npt.ArrayLike | None = None,
+        initial_state: dict[str, Any] | Any | None = None,
+        smooth: bool = False,
+    ) -> FilterSolution:
+        """``run`` on an integrating IMU's output: ``time`` (N + 1,) s and the
+        increments of each interval, ``delta_v`` (N, 3) m/s and ``delta_theta``
+        (N, 3) rad (row k over [time[k], time[k + 1]]), integrated by the
+        increments mechanization with coning and sculling; the rest as ``run``
+        (docs/step-api.md)."""
+
     def start(
         self,
         time: float,
@@ -1676,6 +1693,23 @@ class LooselyCoupledFilter:
         tight filter. ``initial_state`` as for the tight filter (a clock there
         is carried but never observed).
         """
+
+    def run_increments(
+        self,
+        time: npt.ArrayLike,
+        delta_v: npt.ArrayLike,
+        delta_theta: npt.ArrayLike,
+        fixes: FixSeries | PositionFixes | Any,
+        *,
+        initial_attitude: npt.ArrayLike | None = None,
+        initial_state: dict[str, Any] | Any | None = None,
+        smooth: bool = False,
+    ) -> FilterSolution:
+        """``run`` on an integrating IMU's output: ``time`` (N + 1,) s and the
+        increments of each interval, ``delta_v`` (N, 3) m/s and ``delta_theta``
+        (N, 3) rad (row k over [time[k], time[k + 1]]), integrated by the
+        increments mechanization with coning and sculling; the rest as ``run``
+        (docs/step-api.md)."""
 
     def start(
         self,

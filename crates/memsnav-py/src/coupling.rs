@@ -8,7 +8,7 @@ use memsnav_core::coupling::{
 };
 use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
 use memsnav_core::gnss::ReceiverClockModel;
-use memsnav_core::ins::{ImuData, NavState};
+use memsnav_core::ins::{ImuData, ImuIncrement, NavState};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArrayMethods};
@@ -33,11 +33,13 @@ struct Settings {
     sample_rate_hz: f64,
 }
 
-/// The IMU arrays of `run`, validated with the argument names.
+/// The IMU arrays of `run` (or of `run_increments`, with the means of
+/// the increments as samples), validated with the argument names.
 struct ImuArrays {
     time: Vec<f64>,
     specific_force: Vec<Vector3<f64>>,
     angular_rate: Vec<Vector3<f64>>,
+    increments: Option<Vec<ImuIncrement>>,
 }
 
 impl ImuArrays {
@@ -50,6 +52,48 @@ impl ImuArrays {
             time: convert::scalars(time, "time")?,
             specific_force: convert::vectors(specific_force, "specific_force")?,
             angular_rate: convert::vectors(angular_rate, "angular_rate")?,
+            increments: None,
+        };
+        out.data().validate().py()?;
+        Ok(out)
+    }
+
+    fn from_increments(
+        time: &Bound<'_, PyAny>,
+        delta_v: &Bound<'_, PyAny>,
+        delta_theta: &Bound<'_, PyAny>,
+    ) -> PyResult<Self> {
+        let time = convert::scalars(time, "time")?;
+        let delta_v = convert::vectors(delta_v, "delta_v")?;
+        let delta_theta = convert::vectors(delta_theta, "delta_theta")?;
+        memsnav_core::validate::same_length(
+            "delta_theta",
+            delta_theta.len(),
+            "delta_v",
+            delta_v.len(),
+        )
+        .py()?;
+        let increments: Vec<ImuIncrement> = delta_v
+            .iter()
+            .zip(&delta_theta)
+            .map(|(v, a)| ImuIncrement {
+                delta_velocity_b: *v,
+                delta_angle_b: *a,
+            })
+            .collect();
+        if time.len() < 2 {
+            return Err(PyValueError::new_err(format!(
+                "time: needs at least two times (one interval), got {}",
+                time.len()
+            )));
+        }
+        let (specific_force, angular_rate) =
+            ImuData::means_of_increments(&time, &increments).py()?;
+        let out = Self {
+            time,
+            specific_force,
+            angular_rate,
+            increments: Some(increments),
         };
         out.data().validate().py()?;
         Ok(out)
@@ -60,6 +104,7 @@ impl ImuArrays {
             time_s: &self.time,
             specific_force_b: &self.specific_force,
             angular_rate_b: &self.angular_rate,
+            increments: self.increments.as_deref(),
         }
     }
 }
@@ -582,6 +627,67 @@ macro_rules! filter_class {
                 smooth: bool,
             ) -> PyResult<PyFilterSolution> {
                 let imu = ImuArrays::new(time, specific_force, angular_rate)?;
+                self.run_on(py, &imu, $aiding, initial_attitude, initial_state, smooth)
+            }
+
+            /// `run` on an integrating IMU's output: `time` (N + 1,) s and the
+            /// increments of each interval, `delta_v` (N, 3) m/s and
+            /// `delta_theta` (N, 3) rad (row k over [time[k], time[k + 1]], as
+            /// `imu_increments` gives them), integrated by the increments
+            /// mechanization with coning and sculling (`strapdown_increments`'s)
+            /// instead of from samples; an epoch between two times takes its
+            /// share of the interval's increments at constant rates. The rest
+            /// (aiding, start, smoothing, the solution at every time) as `run`;
+            /// the mean rates of the intervals stand for samples where one is
+            /// looked at (levelling the start).
+            #[pyo3(signature = (time, delta_v, delta_theta, $aiding, *, initial_attitude=None, initial_state=None, smooth=false))]
+            fn run_increments(
+                &self,
+                py: Python<'_>,
+                time: &Bound<'_, PyAny>,
+                delta_v: &Bound<'_, PyAny>,
+                delta_theta: &Bound<'_, PyAny>,
+                $aiding: &Bound<'_, PyAny>,
+                initial_attitude: Option<&Bound<'_, PyAny>>,
+                initial_state: Option<&Bound<'_, PyAny>>,
+                smooth: bool,
+            ) -> PyResult<PyFilterSolution> {
+                let imu = ImuArrays::from_increments(time, delta_v, delta_theta)?;
+                self.run_on(py, &imu, $aiding, initial_attitude, initial_state, smooth)
+            }
+
+            /// The filter started at `time` (s) from `initial_state` (the dict
+            /// `run` takes: position_ecef m, velocity_ecef m/s, attitude C_b^e,
+            /// optional clock_offset m, clock_drift m/s) with the raw sample
+            /// there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
+            /// to be driven one call at a time: a `RunningFilter` with this
+            /// filter's tuning.
+            fn start(
+                &self,
+                time: f64,
+                specific_force: &Bound<'_, PyAny>,
+                angular_rate: &Bound<'_, PyAny>,
+                initial_state: &Bound<'_, PyAny>,
+            ) -> PyResult<PyRunningFilter> {
+                let raw = sample_arg(specific_force, angular_rate)?;
+                let initial = initial_state_arg(initial_state)?;
+                let Settings { tuning, scale_factor_states, .. } = self.settings;
+                PyRunningFilter::start(&tuning, scale_factor_states, $started_by, &initial, time, &raw)
+            }
+        }
+
+        impl $rust {
+            /// The run both `run` and `run_increments` make once the IMU
+            /// data are read.
+            fn run_on(
+                &self,
+                py: Python<'_>,
+                imu: &ImuArrays,
+                $aiding: &Bound<'_, PyAny>,
+                initial_attitude: Option<&Bound<'_, PyAny>>,
+                initial_state: Option<&Bound<'_, PyAny>>,
+                smooth: bool,
+            ) -> PyResult<PyFilterSolution> {
                 let aiding = $read($aiding)?;
                 let initial = match start(initial_state, initial_attitude)? {
                     Start::Given(state) => state,
@@ -605,25 +711,6 @@ macro_rules! filter_class {
                     .py()?;
                 crate::warnings::warn_all(py, &forward.warnings)?;
                 PyFilterSolution::with_smoothed(py, forward, smoothed)
-            }
-
-            /// The filter started at `time` (s) from `initial_state` (the dict
-            /// `run` takes: position_ecef m, velocity_ecef m/s, attitude C_b^e,
-            /// optional clock_offset m, clock_drift m/s) with the raw sample
-            /// there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
-            /// to be driven one call at a time: a `RunningFilter` with this
-            /// filter's tuning.
-            fn start(
-                &self,
-                time: f64,
-                specific_force: &Bound<'_, PyAny>,
-                angular_rate: &Bound<'_, PyAny>,
-                initial_state: &Bound<'_, PyAny>,
-            ) -> PyResult<PyRunningFilter> {
-                let raw = sample_arg(specific_force, angular_rate)?;
-                let initial = initial_state_arg(initial_state)?;
-                let Settings { tuning, scale_factor_states, .. } = self.settings;
-                PyRunningFilter::start(&tuning, scale_factor_states, $started_by, &initial, time, &raw)
             }
         }
     };

@@ -342,6 +342,7 @@ mod tests {
             time_s: &time_s,
             specific_force_b: &f,
             angular_rate_b: &w,
+            increments: None,
         };
         let mut fix = PositionFix {
             time_s: 2.0,

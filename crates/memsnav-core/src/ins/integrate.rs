@@ -19,6 +19,7 @@ fn validate_samples(
         time_s,
         specific_force_b,
         angular_rate_b,
+        increments: None,
     }
     .validate()?;
     initial.validate("")

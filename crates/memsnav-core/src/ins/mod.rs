@@ -54,3 +54,14 @@ pub struct ImuIncrement {
     /// ∫ ω_ib^b dt over the interval, rad.
     pub delta_angle_b: Vector3<f64>,
 }
+
+impl ImuIncrement {
+    /// The increments times `share` (the part of an interval at constant
+    /// rates).
+    pub fn scaled(&self, share: f64) -> Self {
+        Self {
+            delta_velocity_b: self.delta_velocity_b * share,
+            delta_angle_b: self.delta_angle_b * share,
+        }
+    }
+}

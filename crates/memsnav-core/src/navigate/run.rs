@@ -69,6 +69,7 @@ pub fn navigate_log(
         time_s,
         specific_force_b: specific_force_s,
         angular_rate_b: angular_rate_s,
+        increments: None,
     };
     raw.validate()?;
     validate_gnss(gnss)?;
@@ -323,6 +324,7 @@ impl Inputs<'_> {
             time_s: self.time,
             specific_force_b: &f,
             angular_rate_b: &w,
+            increments: None,
         };
         let s = self.start;
         let mut tuning = self.config.tuning;

@@ -169,6 +169,7 @@ pub fn imu_data<'a>(truth: &'a Truth, f: &'a [Vector3<f64>], w: &'a [Vector3<f64
         time_s: &truth.time_s,
         specific_force_b: f,
         angular_rate_b: w,
+        increments: None,
     }
 }
 

@@ -290,6 +290,9 @@ impl<const N: usize> FilterState<N> {
         raw: &ImuIncrement,
         dt: f64,
     ) -> Result<()> {
+        if dt <= 0.0 {
+            return Ok(());
+        }
         // The increments corrected as the samples are (`corrected`), the
         // bias integrated over the interval: α̂ = (α − b̂_g dt) ⊘ (1 + ŝ_g).
         let bias = ImuSample {
@@ -504,7 +507,8 @@ impl<const N: usize, O: FnMut(usize, &FilterState<N>)> SampleHook<N> for Observe
 /// Time matching: an aiding epoch within `tolerance` of an IMU sample is
 /// applied right after that sample; one strictly between two samples is
 /// applied at its own time, the INS being stepped there with a linearly
-/// interpolated IMU sample and then on to the next sample. `update`
+/// interpolated IMU sample (with increments: the epoch's share of the
+/// interval's, at constant rates) and then on to the next sample. `update`
 /// applies one epoch's measurements (each batch fed back when it is
 /// accepted, see [`batch`]); `hook` runs at every IMU sample after
 /// the updates at that sample.
@@ -533,18 +537,40 @@ where
     for k in 0..t.len() - 1 {
         let (ta, tb) = (t[k], t[k + 1]);
         let (sa, sb) = (imu.sample(k), imu.sample(k + 1));
+        // The part of the interval's increments integrated so far.
+        let mut done = 0.0;
         while j < epochs.len() && epochs[j].time_s() < tb - tolerance {
             let tg = epochs[j].time_s();
             let w = (tg - ta) / (tb - ta);
-            let sg = ImuSample {
-                specific_force_b: sa.specific_force_b.lerp(&sb.specific_force_b, w),
-                angular_rate_b: sa.angular_rate_b.lerp(&sb.angular_rate_b, w),
-            };
-            state.step_to(tg, &sg)?;
+            match imu.increments {
+                // Constant rates across the interval: the part up to the
+                // epoch holds its share of the increments.
+                Some(increments) => {
+                    let part = increments[k].scaled(w - done);
+                    state.step_increments_to(tg, &part, tg - state.time_s)?;
+                    done = w;
+                }
+                None => {
+                    let sg = ImuSample {
+                        specific_force_b: sa.specific_force_b.lerp(&sb.specific_force_b, w),
+                        angular_rate_b: sa.angular_rate_b.lerp(&sb.angular_rate_b, w),
+                    };
+                    state.step_to(tg, &sg)?;
+                }
+            }
             update(state, j, &epochs[j])?;
             j += 1;
         }
-        state.step_to(tb, &sb)?;
+        match imu.increments {
+            Some(increments) if done == 0.0 => {
+                state.step_increments_to(tb, &increments[k], tb - ta)?
+            }
+            Some(increments) => {
+                let rest = increments[k].scaled(1.0 - done);
+                state.step_increments_to(tb, &rest, tb - state.time_s)?
+            }
+            None => state.step_to(tb, &sb)?,
+        }
         while j < epochs.len() && epochs[j].time_s() <= tb + tolerance {
             update(state, j, &epochs[j])?;
             j += 1;

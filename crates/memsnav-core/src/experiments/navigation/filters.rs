@@ -170,6 +170,7 @@ fn navigate_with<const N: usize>(
         time_s: &truth.time_s,
         specific_force_b: &input.readings.specific_force_b,
         angular_rate_b: &input.readings.angular_rate_b,
+        increments: None,
     };
     let initial = match *start {
         Start::FirstFix { attitude } => initial_state_from_fix(epochs, &imu, Some(attitude))?,
