@@ -40,10 +40,13 @@ fn reads_rinex2_and_mixed_rinex3() {
     // toe = 259200 s of week 1865, TGD = 0.512227416039D-08.
     let r = records[0];
     assert_eq!(r.prn, 1);
-    assert_eq!(r.af0_s, 0.187428668141e-5);
-    assert_eq!(r.sqrt_a_sqrt_m, 0.515366233826e4);
-    assert_eq!(r.toe_gps_s, 1865.0 * 604_800.0 + 259_200.0);
-    assert_eq!(r.toc_gps_s, gps_time_from_calendar(2015, 10, 7, 0, 0, 0.0));
+    assert_eq!(r.orbit.af0_s, 0.187428668141e-5);
+    assert_eq!(r.orbit.sqrt_a_sqrt_m, 0.515366233826e4);
+    assert_eq!(r.orbit.toe_gps_s, 1865.0 * 604_800.0 + 259_200.0);
+    assert_eq!(
+        r.orbit.toc_gps_s,
+        gps_time_from_calendar(2015, 10, 7, 0, 0, 0.0)
+    );
     assert_eq!(r.tgd_s, 0.512227416039e-8);
 
     let mixed = Constellation::from_rinex_nav(nav_rinex3()).unwrap();
@@ -56,26 +59,28 @@ fn reads_rinex2_and_mixed_rinex3() {
 fn independent_position(e: &GpsEphemeris, t: f64) -> Vector3<f64> {
     let mu = 3.986005e14;
     let we = 7.2921151467e-5;
-    let a = e.sqrt_a_sqrt_m.powi(2);
-    let tk = t - e.toe_gps_s;
-    let m = e.m0_rad + ((mu / a.powi(3)).sqrt() + e.delta_n_rad_s) * tk;
+    let a = e.orbit.sqrt_a_sqrt_m.powi(2);
+    let tk = t - e.orbit.toe_gps_s;
+    let m = e.orbit.m0_rad + ((mu / a.powi(3)).sqrt() + e.orbit.delta_n_rad_s) * tk;
     let mut ecc = m;
     for _ in 0..60 {
-        ecc = m + e.eccentricity * ecc.sin();
+        ecc = m + e.orbit.eccentricity * ecc.sin();
     }
-    let nu =
-        2.0 * (((1.0 + e.eccentricity) / (1.0 - e.eccentricity)).sqrt() * (ecc / 2.0).tan()).atan();
-    let phi = nu + e.omega_rad;
-    let u = phi + e.cus_rad * (2.0 * phi).sin() + e.cuc_rad * (2.0 * phi).cos();
-    let r = a * (1.0 - e.eccentricity * ecc.cos())
-        + e.crs_m * (2.0 * phi).sin()
-        + e.crc_m * (2.0 * phi).cos();
-    let i = e.i0_rad
-        + e.idot_rad_s * tk
-        + e.cis_rad * (2.0 * phi).sin()
-        + e.cic_rad * (2.0 * phi).cos();
-    let toe_sow = e.toe_gps_s.rem_euclid(604_800.0);
-    let node = e.omega0_rad + (e.omega_dot_rad_s - we) * tk - we * toe_sow;
+    let nu = 2.0
+        * (((1.0 + e.orbit.eccentricity) / (1.0 - e.orbit.eccentricity)).sqrt()
+            * (ecc / 2.0).tan())
+        .atan();
+    let phi = nu + e.orbit.omega_rad;
+    let u = phi + e.orbit.cus_rad * (2.0 * phi).sin() + e.orbit.cuc_rad * (2.0 * phi).cos();
+    let r = a * (1.0 - e.orbit.eccentricity * ecc.cos())
+        + e.orbit.crs_m * (2.0 * phi).sin()
+        + e.orbit.crc_m * (2.0 * phi).cos();
+    let i = e.orbit.i0_rad
+        + e.orbit.idot_rad_s * tk
+        + e.orbit.cis_rad * (2.0 * phi).sin()
+        + e.orbit.cic_rad * (2.0 * phi).cos();
+    let toe_sow = e.orbit.toe_gps_s.rem_euclid(604_800.0);
+    let node = e.orbit.omega0_rad + (e.orbit.omega_dot_rad_s - we) * tk - we * toe_sow;
     let in_plane = Vector3::new(r * u.cos(), r * u.sin(), 0.0);
     Rotation3::from_axis_angle(&Vector3::z_axis(), node)
         * Rotation3::from_axis_angle(&Vector3::x_axis(), i)
@@ -87,7 +92,7 @@ fn ephemeris_matches_an_independent_implementation() {
     let records = read_rinex_nav(brdc_2021()).unwrap();
     for e in records.iter().step_by(7) {
         for dt in [-7000.0, -1234.5, 0.0, 3600.0, 7000.0] {
-            let t = e.toe_gps_s + dt;
+            let t = e.orbit.toe_gps_s + dt;
             let s = e.state(t);
             let p = independent_position(e, t);
             assert!(

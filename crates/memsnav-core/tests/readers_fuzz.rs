@@ -286,11 +286,11 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
             // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
             // orbit to |r| ≤ a (1 + e) + 2 × 1024 m < 1.01e8 m.
             let bad = records.iter().find(|r| {
-                let s = r.state(r.toc_gps_s);
+                let s = r.state(r.orbit.toc_gps_s);
                 !(s.position_ecef.norm() < 1.01e8
                     && s.velocity_ecef.norm() < 1e5
                     && s.clock_bias_s.is_finite()
-                    && (r.toe_gps_s - r.toc_gps_s).abs() <= 302_400.0)
+                    && (r.orbit.toe_gps_s - r.orbit.toc_gps_s).abs() <= 302_400.0)
             });
             bad.map_or(Ok(()), |r| Err(format!("{r:?}")))
         }),
@@ -347,9 +347,18 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                     let e = &l.ephemeris;
                     // Every field of a decoded ephemeris is a scaled
                     // integer of the message: finite, √A below 2^13.
-                    e.sqrt_a_sqrt_m < 8192.0
-                        && (0.0..0.5).contains(&e.eccentricity)
-                        && (e.toe_gps_s - l.transmission_gps_s).abs() <= 302_400.0
+                    e.orbit.sqrt_a_sqrt_m < 8192.0
+                        && (0.0..0.5).contains(&e.orbit.eccentricity)
+                        && (e.orbit.toe_gps_s - l.transmission_gps_s).abs() <= 302_400.0
+                })
+                && log.beidou_ephemerides.iter().all(|e| {
+                    e.orbit.sqrt_a_sqrt_m < 8192.0
+                        && (0.0..0.5).contains(&e.orbit.eccentricity)
+                        && (e.orbit.toe_gps_s - e.transmission_gps_s).abs() <= 302_400.0
+                        && e.state_at(e.orbit.toe_gps_s, 0.0)
+                            .position_ecef
+                            .iter()
+                            .all(|x| x.is_finite())
                 });
             ok.then_some(()).ok_or(format!("{:?}", log.messages))
         }),
