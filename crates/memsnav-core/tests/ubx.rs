@@ -13,9 +13,9 @@ use std::path::PathBuf;
 use memsnav_core::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
 use memsnav_core::geodesy::{geodetic_to_ecef, Geodetic};
 use memsnav_core::gnss::{
-    format_rinex_nav, format_rinex_obs, parse_rinex_nav, parse_rinex_obs, predicted_range,
-    read_broadcast_nav, read_rinex_nav, BroadcastOrbit, GpsEphemeris, RinexProvenance,
-    SatelliteState, EPHEMERIS_VALIDITY_S,
+    format_rinex_nav, format_rinex_obs, parse_broadcast_nav, parse_rinex_nav, parse_rinex_obs,
+    predicted_range, read_broadcast_nav, read_rinex_nav, BroadcastOrbit, GpsEphemeris,
+    RinexProvenance, SatelliteState, EPHEMERIS_VALIDITY_S,
 };
 use memsnav_core::logs::{read_ubx, UbxLog};
 use nalgebra::Vector3;
@@ -148,6 +148,55 @@ fn written_rinex_reads_back() {
     for (back, l) in nav.iter().zip(&log.gps_ephemerides) {
         // D19.12 keeps 13 significant digits.
         assert_same(back, &l.ephemeris, 12);
+    }
+    // Galileo and BeiDou read back by the same reader give the same orbit
+    // and clock (D19.12: 13 digits) over ±2 h of t_oe.
+    let text = format_rinex_nav(
+        &log.gps_ephemerides,
+        &log.galileo_ephemerides,
+        &log.beidou_ephemerides,
+        &header,
+    );
+    let all = parse_broadcast_nav(&text, "written.nav").unwrap();
+    assert_eq!(all.galileo.len(), log.galileo_ephemerides.len());
+    assert_eq!(all.beidou.len(), log.beidou_ephemerides.len());
+    for (back, e) in all.galileo.iter().zip(&log.galileo_ephemerides) {
+        assert_eq!(
+            (
+                back.svid,
+                back.iod_nav,
+                back.sisa_index,
+                back.e1b_health,
+                back.gst_week
+            ),
+            (e.svid, e.iod_nav, e.sisa_index, e.e1b_health, e.gst_week)
+        );
+        let (position, clock) = largest_differences(
+            &e.orbit,
+            |t, dt| e.state_at(t, dt),
+            |t, dt| back.state_at(t, dt),
+        );
+        assert!(position < 0.01 && clock < 0.01, "E{:02}", e.svid);
+    }
+    for (back, e) in all.beidou.iter().zip(&log.beidou_ephemerides) {
+        assert_eq!(
+            (
+                back.prn,
+                back.aode,
+                back.aodc,
+                back.urai,
+                back.sat_h1,
+                back.bdt_week
+            ),
+            (e.prn, e.aode, e.aodc, e.urai, e.sat_h1, e.bdt_week)
+        );
+        assert!((back.transmission_gps_s - e.transmission_gps_s).abs() < 1e-6);
+        let (position, clock) = largest_differences(
+            &e.orbit,
+            |t, dt| e.state_at(t, dt),
+            |t, dt| back.state_at(t, dt),
+        );
+        assert!(position < 0.01 && clock < 0.01, "C{:02}", e.prn);
     }
     let obs =
         parse_rinex_obs(&format_rinex_obs(&log.observations, &header), "written.obs").unwrap();
