@@ -86,12 +86,27 @@ fn walk_gps_lnav_equals_the_rinex_nav_of_the_same_log() {
     // The data README: complete LNAV for G10, G23, G27 and G32 only.
     assert_eq!(prns, [10, 23, 27, 32]);
     let nav = read_rinex_nav(shared_data(WALK_NAV)).unwrap();
+    let mut worst = (0.0f64, 0.0f64);
     for l in &log.gps_ephemerides {
         let other = nav.iter().find(|n| n.prn == l.ephemeris.prn).unwrap();
         // The file prints 12 significant digits.
         assert_same(&l.ephemeris, other, 11);
         assert_eq!((l.ephemeris.health, l.ura_index), (0, 0));
+        let (position, clock) = largest_differences(
+            &l.ephemeris.orbit,
+            |t, dt| l.ephemeris.state_at(t, dt),
+            |t, dt| other.state_at(t, dt),
+        );
+        assert!(position < 0.01 && clock < 0.01, "G{:02}", other.prn);
+        worst = (worst.0.max(position), worst.1.max(clock));
     }
+    eprintln!(
+        "GPS: {} LNAV ephemerides against the RINEX: largest differences {:.2e} m position, \
+         {:.2e} m clock",
+        log.gps_ephemerides.len(),
+        worst.0,
+        worst.1
+    );
     // Every word passed its parity (the README), every frame its checksum.
     assert!(
         !log.skipped.keys().any(|k| k.contains("parity")
