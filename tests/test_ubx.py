@@ -79,7 +79,7 @@ def _ned(delta_ecef: np.ndarray, lla: np.ndarray) -> np.ndarray:
 def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
     assert main(["convert", str(EXCERPT), "--output", str(tmp_path / "out")]) == 0
     printed = capsys.readouterr().out
-    assert "20 epochs" in printed and "4 GPS and 7 Galileo ephemerides" in printed
+    assert "20 epochs" in printed and "4 GPS, 7 Galileo and 8 BeiDou ephemerides" in printed
     log = mn.read_ubx(EXCERPT)
     obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"
 
@@ -261,7 +261,7 @@ GEORINEX_BEIDOU = {
 }
 
 
-def test_beidou_ephemerides_equal_the_rinex_of_another_converter():
+def test_beidou_ephemerides_equal_the_rinex_of_another_converter(tmp_path):
     # The walk's .nav was written by another converter from the same log;
     # georinex reads it, independently of memsnav's RINEX reader.
     log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
@@ -292,3 +292,12 @@ def test_beidou_ephemerides_equal_the_rinex_of_another_converter():
         assert (e["toe"] - bdt_week_zero) % 604_800 == float(record["Toe"].values[0])
         epoch_gps = (record.time.values[0] - np.datetime64("1980-01-06")) / np.timedelta64(1, "s")
         assert e["toc"] == epoch_gps + 14
+    # memsnav's own navigation file, read by georinex, carries the same.
+    path = tmp_path / "walk.nav"
+    log.write_rinex_nav(path)
+    ours = _georinex(path)
+    for e in beidou:
+        record = ours.sel(sv=e["sat"]).dropna("time", how="all")
+        for theirs, name in {**GEORINEX_BEIDOU, "SVacc": "ura_m"}.items():
+            value = float(record[theirs].values[0])
+            assert value == pytest.approx(e[name], rel=1e-12, abs=1e-300), (e["sat"], theirs)

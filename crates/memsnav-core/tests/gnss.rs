@@ -109,6 +109,14 @@ fn independent_position(o: &BroadcastOrbit, icd: Icd, t: f64) -> Vector3<f64> {
     }
 }
 
+/// A satellite's name, orbit, ICD constants and the library's evaluation.
+type Case = (
+    String,
+    BroadcastOrbit,
+    Icd,
+    Box<dyn Fn(f64) -> SatelliteState>,
+);
+
 const GPS_ICD: Icd = Icd {
     mu: 3.986005e14,
     we: 7.2921151467e-5,
@@ -137,12 +145,7 @@ fn galileo_and_beidou_orbits_match_an_independent_implementation() {
     // that branch (any elements do for the formula).
     let mut geo = nav.beidou[0];
     geo.prn = 3;
-    let mut cases: Vec<(
-        String,
-        BroadcastOrbit,
-        Icd,
-        Box<dyn Fn(f64) -> SatelliteState>,
-    )> = Vec::new();
+    let mut cases: Vec<Case> = Vec::new();
     for e in log.galileo_ephemerides.clone() {
         cases.push((
             format!("E{:02}", e.svid),

@@ -388,9 +388,17 @@ fn value_line(start: usize, index: usize) -> usize {
 /// may disagree on: a merged file keeps the time each station received it.
 const TRANSMISSION_TIME: usize = 27;
 
+/// Galileo's data sources, which copies of one ephemeris received on
+/// E1-B and on E5b differ in.
+const GALILEO_DATA_SOURCES: usize = 20;
+
 /// Galileo data-source bits (RINEX 3.05 table A8): bit 8 says the clock
 /// is F/NAV's (E5a,E1), bit 9 I/NAV's (E5b,E1).
 const GALILEO_FNAV_CLOCK: u32 = 1 << 8;
+
+/// What makes a record one ephemeris: system, PRN, t_oc (bits of the GPS
+/// time) and, for Galileo, whether its clock is F/NAV's.
+type RecordKey = (char, u16, u64, bool);
 
 /// The ephemerides of a RINEX navigation file, per system.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -478,8 +486,8 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     // and orbit lines with 4 blanks. Each value is 19 columns wide.
     let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
     let mut out = BroadcastNav::default();
-    // The first line and the values of each (system, PRN, t_oc) read so far.
-    let mut first_record: HashMap<(char, u16, u64), (usize, [f64; 29])> = HashMap::new();
+    // The first line and the values of each record read so far.
+    let mut first_record: HashMap<RecordKey, (usize, [f64; 29])> = HashMap::new();
     while k < cur.lines.len() {
         if cur.lines[k].trim().is_empty() {
             k += 1;
@@ -608,14 +616,21 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             }
         }
         let next = start + 1 + orbit_lines;
-        match first_record.entry((layout.system, prn, toc.to_bits())) {
+        // Galileo: the I/NAV and F/NAV records of one t_oc are two
+        // ephemerides (their clocks differ); records from E1-B and E5b
+        // (data sources 513, 516, 517) are one.
+        let fnav = layout.system == 'E' && values[20] as u32 & GALILEO_FNAV_CLOCK != 0;
+        match first_record.entry((layout.system, prn, toc.to_bits(), fnav)) {
             Entry::Vacant(slot) => {
                 slot.insert((start, values));
             }
             Entry::Occupied(first) => {
                 let (first_start, first_values) = *first.get();
-                let differs =
-                    (0..n).find(|&i| i != TRANSMISSION_TIME && values[i] != first_values[i]);
+                let differs = (0..n).find(|&i| {
+                    i != TRANSMISSION_TIME
+                        && !(layout.system == 'E' && i == GALILEO_DATA_SOURCES)
+                        && values[i] != first_values[i]
+                });
                 let Some(index) = differs else {
                     // The same ephemeris again: kept once.
                     k = next;
@@ -770,5 +785,91 @@ log: gnss_1730.ubx                                          COMMENT
              -1.678e1 differs from the first's -1.678125e1 (line 7): one ephemeris per \
              satellite and t_oc, the reader cannot tell which was broadcast"
         );
+    }
+
+    /// C21's record of the same file (BDT epoch and week).
+    const C21: &str =
+        "C21 2025 08 28 17 00 00 -.963445054367D-03 -.684696743747D-11  .000000000000D+00
+      .100000000000D+01 -.350000000000D+01  .365943814457D-08  .886304528107D+00
+     -.133644789457D-06  .556349870749D-03  .667152926326D-05  .528262655258D+04
+      .406800000000D+06  .451691448689D-07  .175064384011D+01 -.521540641785D-07
+      .983854657381D+00  .238250000000D+03  .596217207868D-01 -.666063458502D-08
+      .367515308488D-09  .000000000000D+00  .102500000000D+04  .000000000000D+00
+      .200000000000D+01  .000000000000D+00  .133000000000D-07  .133000000000D-07
+      .408630000000D+06  .100000000000D+01
+";
+
+    #[test]
+    fn beidou_records_are_on_bdt_and_checked_against_their_own_ranges() {
+        let nav = parse_broadcast_nav(&format!("{HEADER}{G32}{C21}"), "x.nav").unwrap();
+        assert_eq!((nav.gps.len(), nav.beidou.len()), (1, 1));
+        let c = nav.beidou[0];
+        // The epoch 17:00:00 BDT is 17:00:14 GPS; t_oe 406 800 s of BDT
+        // week 1025 is the same instant.
+        let epoch_gps = checked_gps_time_from_calendar(2025, 8, 28, 17, 0, 14.0).unwrap();
+        assert_eq!(
+            (c.orbit.toc_gps_s, c.orbit.toe_gps_s),
+            (epoch_gps, epoch_gps)
+        );
+        assert_eq!(BEIDOU.seconds_of_week(c.orbit.toe_gps_s), 406_800.0);
+        assert_eq!(
+            (c.prn, c.aode, c.aodc, c.bdt_week, c.urai),
+            (21, 1, 1, 1025, 0)
+        );
+        assert_eq!((c.tgd1_s, c.tgd2_s), (0.133e-7, 0.133e-7));
+        // The GPS reader alone still gives the GPS record.
+        assert_eq!(
+            parse_rinex_nav(&format!("{HEADER}{G32}{C21}"), "x.nav").unwrap(),
+            nav.gps
+        );
+        // TGD1 beyond its 10 bits × 0.1 ns is refused, named by system.
+        let bad = C21.replace(".133000000000D-07  .133", ".133000000000D-05  .133");
+        let e = parse_broadcast_nav(&format!("{HEADER}{bad}"), "x.nav").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("x.nav:12: TGD1 = 1.33e-6 for C21 is out of range"),
+            "{e}"
+        );
+        // A BeiDou Crs of 2000 m fits 18 bits × 2⁻⁶; a GPS one does not.
+        let wide = C21.replace("-.350000000000D+01", "-.200000000000D+04");
+        assert!(parse_broadcast_nav(&format!("{HEADER}{wide}"), "x.nav").is_ok());
+        let wide = G32.replace("-.167812500000D+02", "-.200000000000D+04");
+        assert!(parse_broadcast_nav(&format!("{HEADER}{wide}"), "x.nav").is_err());
+    }
+
+    #[test]
+    fn galileo_fnav_and_other_systems_are_counted() {
+        // C21's numbers as a Galileo record (its last line holds only the
+        // transmission time): I/NAV data sources 513, then F/NAV 258.
+        let inav = C21
+            .replacen("C21", "E21", 1)
+            .replace(
+                " .000000000000D+00  .102500000000D+04  .000000000000D+00",
+                " .513000000000D+03  .238100000000D+04  .000000000000D+00",
+            )
+            .replace(
+                " .408630000000D+06  .100000000000D+01",
+                " .408630000000D+06",
+            );
+        let fnav = inav.replace(".513000000000D+03", ".258000000000D+03");
+        // The same I/NAV ephemeris received on E5b (data sources 516): kept once.
+        let e5b = inav.replace(".513000000000D+03", ".516000000000D+03");
+        let glonass = "R05 2025 08 28 17 15 00  .1D-03  .0D+00  .0D+00
+     .1D+05  .0D+00  .0D+00  .0D+00
+     .1D+05  .0D+00  .0D+00  .1D+01
+     .1D+05  .0D+00  .0D+00  .0D+00
+";
+        let nav =
+            parse_broadcast_nav(&format!("{HEADER}{inav}{fnav}{e5b}{glonass}"), "x.nav").unwrap();
+        assert_eq!(nav.galileo.len(), 1);
+        let e = nav.galileo[0];
+        // Galileo epochs are GST, GPS-aligned: no 14 s.
+        let epoch_gps = checked_gps_time_from_calendar(2025, 8, 28, 17, 0, 0.0).unwrap();
+        assert_eq!(
+            (e.svid, e.iod_nav, e.gst_week, e.orbit.toc_gps_s),
+            (21, 1, 1357, epoch_gps)
+        );
+        assert_eq!(nav.skipped["Galileo F/NAV records (clock E5a,E1)"], 1);
+        assert_eq!(nav.skipped["records of system R"], 1);
     }
 }
