@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::beidou_ephemeris::BeidouEphemeris;
-use super::broadcast_orbit::{BroadcastOrbit, BEIDOU, GALILEO, GPS};
+use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
 use super::ephemeris::{ura_index, GpsEphemeris};
 use super::galileo_ephemeris::{sisa_index, InavEphemeris};
 use super::time::{calendar_text, checked_gps_time_from_calendar, SECONDS_PER_WEEK};
@@ -350,7 +350,8 @@ const BEIDOU_RANGES: Ranges = ranges(
 
 /// One system's record layout.
 struct Layout {
-    system: char,
+    /// The system's constants (its letter, its time).
+    constants: &'static BroadcastSystem,
     names: &'static [&'static str],
     ranges: &'static Ranges,
     /// Values a file may leave blank (spares, flags, the fit interval).
@@ -359,19 +360,19 @@ struct Layout {
 
 const LAYOUTS: [Layout; 3] = [
     Layout {
-        system: 'G',
+        constants: &GPS,
         names: &GPS_NAMES,
         ranges: &GPS_RANGES,
         may_be_blank: &[3, 20, 22, 23, 26, 27, 28],
     },
     Layout {
-        system: 'E',
+        constants: &GALILEO,
         names: &GALILEO_NAMES,
         ranges: &GALILEO_RANGES,
         may_be_blank: &[22, 27],
     },
     Layout {
-        system: 'C',
+        constants: &BEIDOU,
         names: &BEIDOU_NAMES,
         ranges: &BEIDOU_RANGES,
         may_be_blank: &[20, 22, 27],
@@ -515,7 +516,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             second = cur.number(k, 17, 5, "second")?;
         } else {
             let sys = cur.field(k, 0, 1).to_string();
-            let Some(found) = LAYOUTS.iter().find(|l| sys.starts_with(l.system)) else {
+            let Some(found) = LAYOUTS.iter().find(|l| sys.starts_with(l.constants.letter)) else {
                 // Another system: skip its continuation lines (they start with blanks).
                 if sys.is_empty() || !sys.chars().all(|c| c.is_ascii_uppercase()) {
                     return Err(cur.error(k, format!("expected a satellite record starting with a system letter (G, E, R, C, J, S, I), got {:?}", cur.lines[k].get(..3).unwrap_or(cur.lines[k]))));
@@ -538,18 +539,13 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             minute = cur.integer(k, 17, 3, "minute")?;
             second = cur.number(k, 20, 3, "second")?;
         }
-        let sat = format!("{}{prn:02}", layout.system);
+        let sat = format!("{}{prn:02}", layout.constants.letter);
         let n = layout.names.len();
         // The epoch is t_oc in the system's time: GPS and GST calendars
         // agree; BDT = GPS − 14 s.
-        let system_constants = match layout.system {
-            'E' => &GALILEO,
-            'C' => &BEIDOU,
-            _ => &GPS,
-        };
         let toc = checked_gps_time_from_calendar(year, month, day, hour, minute, second)
             .map_err(|reason| cur.error(k, format!("epoch of {sat}: {reason}")))?
-            - system_constants.time_minus_gps_s;
+            - layout.constants.time_minus_gps_s;
         let mut values = [0.0_f64; 29];
         let mut blank = [false; 29];
         for (j, (v, b)) in values.iter_mut().zip(blank.iter_mut()).enumerate().take(3) {
@@ -619,8 +615,8 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         // Galileo: the I/NAV and F/NAV records of one t_oc are two
         // ephemerides (their clocks differ); records from E1-B and E5b
         // (data sources 513, 516, 517) are one.
-        let fnav = layout.system == 'E' && values[20] as u32 & GALILEO_FNAV_CLOCK != 0;
-        match first_record.entry((layout.system, prn, toc.to_bits(), fnav)) {
+        let fnav = layout.constants.letter == 'E' && values[20] as u32 & GALILEO_FNAV_CLOCK != 0;
+        match first_record.entry((layout.constants.letter, prn, toc.to_bits(), fnav)) {
             Entry::Vacant(slot) => {
                 slot.insert((start, values));
             }
@@ -628,7 +624,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
                 let (first_start, first_values) = *first.get();
                 let differs = (0..n).find(|&i| {
                     i != TRANSMISSION_TIME
-                        && !(layout.system == 'E' && i == GALILEO_DATA_SOURCES)
+                        && !(layout.constants.letter == 'E' && i == GALILEO_DATA_SOURCES)
                         && values[i] != first_values[i]
                 });
                 let Some(index) = differs else {
@@ -655,7 +651,11 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         // boundary). RINEX's Galileo week is GPS-aligned (table A8), so it
         // goes as GPS's; BeiDou's is BDT's. The ranges above bound the
         // weeks to move by, so no loop is needed.
-        let week_system = if layout.system == 'C' { &BEIDOU } else { &GPS };
+        let week_system = if layout.constants.letter == 'C' {
+            &BEIDOU
+        } else {
+            &GPS
+        };
         let toe = week_system.gps_time_s(values[21], values[11]);
         let toe = toe - ((toe - toc) / SECONDS_PER_WEEK).round() * SECONDS_PER_WEEK;
         let transmission = week_system.gps_time_s(values[21], values[27]);
@@ -681,7 +681,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             omega_dot_rad_s: values[18],
             idot_rad_s: values[19],
         };
-        match layout.system {
+        match layout.constants.letter {
             'E' => {
                 let sources = values[20] as u32;
                 if sources & GALILEO_FNAV_CLOCK != 0 {
