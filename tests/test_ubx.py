@@ -79,7 +79,7 @@ def _ned(delta_ecef: np.ndarray, lla: np.ndarray) -> np.ndarray:
 def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
     assert main(["convert", str(EXCERPT), "--output", str(tmp_path / "out")]) == 0
     printed = capsys.readouterr().out
-    assert "20 epochs" in printed and "4 GPS and 7 Galileo ephemerides" in printed
+    assert "20 epochs" in printed and "4 GPS, 7 Galileo and 8 BeiDou ephemerides" in printed
     log = mn.read_ubx(EXCERPT)
     obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"
 
@@ -243,3 +243,61 @@ def test_galileo_ephemerides_in_the_converted_navigation_file(tmp_path):
         assert float(record["GALWeek"].values[0]) == e["gst_week"] + 1024
     # And the GPS records beside them are unchanged.
     assert sorted(s for s in nav.sv.values if s[0] == "G") == ["G10", "G23", "G27", "G32"]
+
+
+#: georinex's names of the RINEX BeiDou navigation fields, with ours.
+GEORINEX_BEIDOU = {
+    **{
+        k: v
+        for k, v in GEORINEX_GALILEO.items()
+        if v not in ("iod_nav", "sisa_m", "bgd_e1_e5a", "bgd_e1_e5b")
+    },
+    "AODE": "aode",
+    "AODC": "aodc",
+    "SatH1": "sat_h1",
+    "TGD1": "tgd1",
+    "TGD2": "tgd2",
+    "BDTWeek": "bdt_week",
+}
+
+
+def test_beidou_ephemerides_equal_the_rinex_of_another_converter(tmp_path):
+    # The walk's .nav was written by another converter from the same log;
+    # georinex reads it, independently of memsnav's RINEX reader.
+    log = mn.read_ubx(shared_data(WALK + "gnss_1730.ubx"))
+    beidou = log.beidou_ephemerides
+    # The data README: D1 for 8 BeiDou satellites, C50 unhealthy.
+    assert sorted(e["sat"] for e in beidou) == [
+        "C11",
+        "C21",
+        "C22",
+        "C34",
+        "C42",
+        "C43",
+        "C44",
+        "C50",
+    ]
+    assert [e["sat"] for e in beidou if not e["healthy"]] == ["C50"]
+    nav = _georinex(shared_data(WALK + "gnss_1730.nav"))
+    bdt_week_zero = 1356 * 604_800 + 14  # GPS s of BDT week 0 (BDT = GPS − 14 s)
+    for e in beidou:
+        record = nav.sel(sv=e["sat"]).dropna("time", how="all")
+        assert record.time.size == 1
+        for theirs, ours in GEORINEX_BEIDOU.items():
+            value = float(record[theirs].values[0])
+            assert value == pytest.approx(e[ours], rel=1e-11, abs=1e-300), (e["sat"], theirs)
+        # The other converter writes URAI 0 as 2.0 m, inside its bin (0-2.4 m).
+        assert float(record["SVacc"].values[0]) <= e["ura_m"] and e["urai"] == 0
+        # t_oe in seconds of the BDT week; the record's epoch (t_oc) is BDT.
+        assert (e["toe"] - bdt_week_zero) % 604_800 == float(record["Toe"].values[0])
+        epoch_gps = (record.time.values[0] - np.datetime64("1980-01-06")) / np.timedelta64(1, "s")
+        assert e["toc"] == epoch_gps + 14
+    # memsnav's own navigation file, read by georinex, carries the same.
+    path = tmp_path / "walk.nav"
+    log.write_rinex_nav(path)
+    ours = _georinex(path)
+    for e in beidou:
+        record = ours.sel(sv=e["sat"]).dropna("time", how="all")
+        for theirs, name in {**GEORINEX_BEIDOU, "SVacc": "ura_m"}.items():
+            value = float(record[theirs].values[0])
+            assert value == pytest.approx(e[name], rel=1e-12, abs=1e-300), (e["sat"], theirs)

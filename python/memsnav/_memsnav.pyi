@@ -2392,6 +2392,13 @@ class UbxLog:
         rad, times GPS s; sat, svid, iod_nav, sisa_m, BGDs, health and data
         validity flags, healthy)."""
     @property
+    def beidou_ephemerides(self) -> list[dict[str, Any]]:
+        """The BeiDou D1 ephemerides (MEO and IGSO satellites) decoded from
+        RXM-SFRBX (BCH checked), one dict each (RINEX navigation fields in
+        SI units, angles rad, times GPS s = BDT + 14 s; sat, prn, aode,
+        aodc, tgd1 (B1I) and tgd2 (B2I) to the B3I clock reference, urai,
+        ura_m, sat_h1, bdt_week, healthy)."""
+    @property
     def rawx(self) -> dict[str, Any]:
         """RXM-RAWX as the receiver reports it, one row per epoch and signal
         (pseudorange, carrier_phase, doppler, cn0, lock_time, tracking

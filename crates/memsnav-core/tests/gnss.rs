@@ -40,46 +40,150 @@ fn reads_rinex2_and_mixed_rinex3() {
     // toe = 259200 s of week 1865, TGD = 0.512227416039D-08.
     let r = records[0];
     assert_eq!(r.prn, 1);
-    assert_eq!(r.af0_s, 0.187428668141e-5);
-    assert_eq!(r.sqrt_a_sqrt_m, 0.515366233826e4);
-    assert_eq!(r.toe_gps_s, 1865.0 * 604_800.0 + 259_200.0);
-    assert_eq!(r.toc_gps_s, gps_time_from_calendar(2015, 10, 7, 0, 0, 0.0));
+    assert_eq!(r.orbit.af0_s, 0.187428668141e-5);
+    assert_eq!(r.orbit.sqrt_a_sqrt_m, 0.515366233826e4);
+    assert_eq!(r.orbit.toe_gps_s, 1865.0 * 604_800.0 + 259_200.0);
+    assert_eq!(
+        r.orbit.toc_gps_s,
+        gps_time_from_calendar(2015, 10, 7, 0, 0, 0.0)
+    );
     assert_eq!(r.tgd_s, 0.512227416039e-8);
 
     let mixed = Constellation::from_rinex_nav(nav_rinex3()).unwrap();
     assert_eq!(mixed.prns(), ["G10", "G23", "G27", "G32"]);
 }
 
-/// IS-GPS-200 written independently: orbit-plane position rotated by
-/// R3(−Ω) R1(−i) with nalgebra rotations, Kepler solved by fixed-point
-/// iteration, the velocity by a 5-point central difference.
-fn independent_position(e: &GpsEphemeris, t: f64) -> Vector3<f64> {
-    let mu = 3.986005e14;
-    let we = 7.2921151467e-5;
-    let a = e.sqrt_a_sqrt_m.powi(2);
-    let tk = t - e.toe_gps_s;
-    let m = e.m0_rad + ((mu / a.powi(3)).sqrt() + e.delta_n_rad_s) * tk;
+/// The constants an independent implementation takes from the ICDs
+/// (typed here, not taken from the library): μ m³/s², Ω̇e rad/s, the
+/// system time minus GPS time s, and whether the BeiDou GEO frame applies.
+#[derive(Clone, Copy)]
+struct Icd {
+    mu: f64,
+    we: f64,
+    time_minus_gps_s: f64,
+    geo: bool,
+}
+
+/// IS-GPS-200 table 20-IV (IS-GPS-200 §20.3.3.4.3), Galileo OS SIS ICD
+/// §5.1.1 and B1I ICD §5.2.4.12 written independently: orbit-plane
+/// position rotated by R3(−Ω) R1(−i) with nalgebra rotations (and for a
+/// BeiDou GEO the node without Earth rotation, then +5° about x and −Ω̇e
+/// t_k about z as vector rotations), Kepler solved by fixed-point
+/// iteration, the true anomaly by the half-angle formula.
+fn independent_position(o: &BroadcastOrbit, icd: Icd, t: f64) -> Vector3<f64> {
+    let a = o.sqrt_a_sqrt_m.powi(2);
+    let tk = t - o.toe_gps_s;
+    let m = o.m0_rad + ((icd.mu / a.powi(3)).sqrt() + o.delta_n_rad_s) * tk;
     let mut ecc = m;
     for _ in 0..60 {
-        ecc = m + e.eccentricity * ecc.sin();
+        ecc = m + o.eccentricity * ecc.sin();
     }
     let nu =
-        2.0 * (((1.0 + e.eccentricity) / (1.0 - e.eccentricity)).sqrt() * (ecc / 2.0).tan()).atan();
-    let phi = nu + e.omega_rad;
-    let u = phi + e.cus_rad * (2.0 * phi).sin() + e.cuc_rad * (2.0 * phi).cos();
-    let r = a * (1.0 - e.eccentricity * ecc.cos())
-        + e.crs_m * (2.0 * phi).sin()
-        + e.crc_m * (2.0 * phi).cos();
-    let i = e.i0_rad
-        + e.idot_rad_s * tk
-        + e.cis_rad * (2.0 * phi).sin()
-        + e.cic_rad * (2.0 * phi).cos();
-    let toe_sow = e.toe_gps_s.rem_euclid(604_800.0);
-    let node = e.omega0_rad + (e.omega_dot_rad_s - we) * tk - we * toe_sow;
+        2.0 * (((1.0 + o.eccentricity) / (1.0 - o.eccentricity)).sqrt() * (ecc / 2.0).tan()).atan();
+    let phi = nu + o.omega_rad;
+    let u = phi + o.cus_rad * (2.0 * phi).sin() + o.cuc_rad * (2.0 * phi).cos();
+    let r = a * (1.0 - o.eccentricity * ecc.cos())
+        + o.crs_m * (2.0 * phi).sin()
+        + o.crc_m * (2.0 * phi).cos();
+    let i = o.i0_rad
+        + o.idot_rad_s * tk
+        + o.cis_rad * (2.0 * phi).sin()
+        + o.cic_rad * (2.0 * phi).cos();
+    let toe_sow = (o.toe_gps_s + icd.time_minus_gps_s).rem_euclid(604_800.0);
+    let node_rate = if icd.geo {
+        o.omega_dot_rad_s
+    } else {
+        o.omega_dot_rad_s - icd.we
+    };
+    let node = o.omega0_rad + node_rate * tk - icd.we * toe_sow;
     let in_plane = Vector3::new(r * u.cos(), r * u.sin(), 0.0);
-    Rotation3::from_axis_angle(&Vector3::z_axis(), node)
+    let p = Rotation3::from_axis_angle(&Vector3::z_axis(), node)
         * Rotation3::from_axis_angle(&Vector3::x_axis(), i)
-        * in_plane
+        * in_plane;
+    if icd.geo {
+        Rotation3::from_axis_angle(&Vector3::z_axis(), -icd.we * tk)
+            * Rotation3::from_axis_angle(&Vector3::x_axis(), 5f64.to_radians())
+            * p
+    } else {
+        p
+    }
+}
+
+/// A satellite's name, orbit, ICD constants and the library's evaluation.
+type Case = (
+    String,
+    BroadcastOrbit,
+    Icd,
+    Box<dyn Fn(f64) -> SatelliteState>,
+);
+
+const GPS_ICD: Icd = Icd {
+    mu: 3.986005e14,
+    we: 7.2921151467e-5,
+    time_minus_gps_s: 0.0,
+    geo: false,
+};
+
+#[test]
+fn galileo_and_beidou_orbits_match_an_independent_implementation() {
+    let galileo = Icd {
+        mu: 3.986004418e14,
+        we: 7.2921151467e-5,
+        time_minus_gps_s: 0.0,
+        geo: false,
+    };
+    let beidou = Icd {
+        mu: 3.986004418e14,
+        we: 7.292115e-5,
+        time_minus_gps_s: -14.0,
+        geo: false,
+    };
+    let log =
+        memsnav_core::logs::read_ubx(shared_data("real-imu-gnss/walk_0827/gnss_1730.ubx")).unwrap();
+    let nav = read_broadcast_nav(nav_rinex3()).unwrap();
+    // The walk has no BeiDou GEO: C21's elements as a GEO's (C03) test
+    // that branch (any elements do for the formula).
+    let mut geo = nav.beidou[0];
+    geo.prn = 3;
+    let mut cases: Vec<Case> = Vec::new();
+    for e in log.galileo_ephemerides.clone() {
+        cases.push((
+            format!("E{:02}", e.svid),
+            e.orbit,
+            galileo,
+            Box::new(move |t| e.state_at(t, 0.0)),
+        ));
+    }
+    for e in nav.beidou.iter().copied().chain([geo]) {
+        let icd = Icd {
+            geo: e.is_geo(),
+            ..beidou
+        };
+        cases.push((
+            format!("C{:02}", e.prn),
+            e.orbit,
+            icd,
+            Box::new(move |t| e.state_at(t, 0.0)),
+        ));
+    }
+    assert_eq!(cases.len(), 7 + 8 + 1);
+    for (name, orbit, icd, state) in &cases {
+        for dt in [-7000.0, -1234.5, 0.0, 3600.0, 7000.0] {
+            let t = orbit.toe_gps_s + dt;
+            let s = state(t);
+            let p = independent_position(orbit, *icd, t);
+            let off = (s.position_ecef - p).norm();
+            assert!(off < 1e-5, "{name} {dt}: {off}");
+            let h = 0.5;
+            let v = (independent_position(orbit, *icd, t - 2.0 * h)
+                - 8.0 * independent_position(orbit, *icd, t - h)
+                + 8.0 * independent_position(orbit, *icd, t + h)
+                - independent_position(orbit, *icd, t + 2.0 * h))
+                / (12.0 * h);
+            let off = (s.velocity_ecef - v).norm();
+            assert!(off < 1e-5, "{name} {dt}: velocity off by {off}");
+        }
+    }
 }
 
 #[test]
@@ -87,9 +191,9 @@ fn ephemeris_matches_an_independent_implementation() {
     let records = read_rinex_nav(brdc_2021()).unwrap();
     for e in records.iter().step_by(7) {
         for dt in [-7000.0, -1234.5, 0.0, 3600.0, 7000.0] {
-            let t = e.toe_gps_s + dt;
+            let t = e.orbit.toe_gps_s + dt;
             let s = e.state(t);
-            let p = independent_position(e, t);
+            let p = independent_position(&e.orbit, GPS_ICD, t);
             assert!(
                 (s.position_ecef - p).norm() < 1e-5,
                 "G{:02} {dt}: {}",
@@ -97,9 +201,8 @@ fn ephemeris_matches_an_independent_implementation() {
                 (s.position_ecef - p).norm()
             );
             let h = 0.5;
-            let v = (independent_position(e, t - 2.0 * h) - 8.0 * independent_position(e, t - h)
-                + 8.0 * independent_position(e, t + h)
-                - independent_position(e, t + 2.0 * h))
+            let at = |t: f64| independent_position(&e.orbit, GPS_ICD, t);
+            let v = (at(t - 2.0 * h) - 8.0 * at(t - h) + 8.0 * at(t + h) - at(t + 2.0 * h))
                 / (12.0 * h);
             assert!(
                 (s.velocity_ecef - v).norm() < 1e-5,

@@ -113,7 +113,7 @@ fn rinex_nav_values_outside_the_navigation_message_are_refused() {
     let records = read_rinex_nav(excerpt("walk.nav")).unwrap();
     assert!(records
         .iter()
-        .all(|r| (r.toe_gps_s - r.toc_gps_s).abs() <= 302_400.0));
+        .all(|r| (r.orbit.toe_gps_s - r.orbit.toc_gps_s).abs() <= 302_400.0));
 }
 
 #[test]

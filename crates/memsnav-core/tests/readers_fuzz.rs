@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use std::time::Duration;
 
 use memsnav_core::gnss::{
-    check_measurement, parse_klobuchar, parse_rinex_nav, parse_rinex_obs, parse_sp3, Klobuchar,
+    check_measurement, parse_broadcast_nav, parse_klobuchar, parse_rinex_obs, parse_sp3, Klobuchar,
 };
 use memsnav_core::logs::{
     axes_from_name, parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea,
@@ -148,7 +148,7 @@ fn seed(reader: Reader) -> &'static [u8] {
             head("real-imu-gnss/walk_head.csv.tag", usize::MAX),
             head("real-imu-gnss/walk_head.pos", 12),
             head("real-imu-gnss/walk_head.obs", usize::MAX),
-            head("real-imu-gnss/walk.nav", 21),
+            head("real-imu-gnss/walk.nav", usize::MAX),
             KLOBUCHAR_SEED.as_bytes().to_vec(),
             SP3_SEED.as_bytes().to_vec(),
             FIXES_CSV_SEED.as_bytes().to_vec(),
@@ -282,17 +282,35 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                 });
             ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
-        Reader::RinexNav => parse_rinex_nav(&text, file).map(|records| {
+        Reader::RinexNav => parse_broadcast_nav(&text, file).map(|nav| {
             // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
-            // orbit to |r| ≤ a (1 + e) + 2 × 1024 m < 1.01e8 m.
-            let bad = records.iter().find(|r| {
-                let s = r.state(r.toc_gps_s);
+            // orbit to |r| ≤ a (1 + e) + 2 × 2048 m < 1.01e8 m; the same
+            // for GPS, Galileo and BeiDou (GEO or not).
+            let states = nav
+                .gps
+                .iter()
+                .map(|r| (format!("{r:?}"), r.orbit, r.state(r.orbit.toc_gps_s)))
+                .chain(nav.galileo.iter().map(|r| {
+                    (
+                        format!("{r:?}"),
+                        r.orbit,
+                        r.state_at(r.orbit.toc_gps_s, 0.0),
+                    )
+                }))
+                .chain(nav.beidou.iter().map(|r| {
+                    (
+                        format!("{r:?}"),
+                        r.orbit,
+                        r.state_at(r.orbit.toc_gps_s, 0.0),
+                    )
+                }));
+            let mut bad = states.filter(|(_, o, s)| {
                 !(s.position_ecef.norm() < 1.01e8
                     && s.velocity_ecef.norm() < 1e5
                     && s.clock_bias_s.is_finite()
-                    && (r.toe_gps_s - r.toc_gps_s).abs() <= 302_400.0)
+                    && (o.toe_gps_s - o.toc_gps_s).abs() <= 302_400.0)
             });
-            bad.map_or(Ok(()), |r| Err(format!("{r:?}")))
+            bad.next().map_or(Ok(()), |(r, _, _)| Err(r))
         }),
         Reader::Klobuchar => parse_klobuchar(&text, file).map(|k| match k {
             Some(Klobuchar { alpha, beta }) if alpha.iter().chain(&beta).all(|x| x.is_finite()) => {
@@ -347,9 +365,18 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                     let e = &l.ephemeris;
                     // Every field of a decoded ephemeris is a scaled
                     // integer of the message: finite, √A below 2^13.
-                    e.sqrt_a_sqrt_m < 8192.0
-                        && (0.0..0.5).contains(&e.eccentricity)
-                        && (e.toe_gps_s - l.transmission_gps_s).abs() <= 302_400.0
+                    e.orbit.sqrt_a_sqrt_m < 8192.0
+                        && (0.0..0.5).contains(&e.orbit.eccentricity)
+                        && (e.orbit.toe_gps_s - l.transmission_gps_s).abs() <= 302_400.0
+                })
+                && log.beidou_ephemerides.iter().all(|e| {
+                    e.orbit.sqrt_a_sqrt_m < 8192.0
+                        && (0.0..0.5).contains(&e.orbit.eccentricity)
+                        && (e.orbit.toe_gps_s - e.transmission_gps_s).abs() <= 302_400.0
+                        && e.state_at(e.orbit.toe_gps_s, 0.0)
+                            .position_ecef
+                            .iter()
+                            .all(|x| x.is_finite())
                 });
             ok.then_some(()).ok_or(format!("{:?}", log.messages))
         }),

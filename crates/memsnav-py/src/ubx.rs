@@ -1,10 +1,11 @@
 //! u-blox UBX logs: RXM-RAWX as observations and as the receiver gives
-//! them, GPS LNAV ephemerides from RXM-SFRBX, NAV-PVT fixes; RINEX 3 out.
+//! them, GPS, Galileo and BeiDou ephemerides from RXM-SFRBX, NAV-PVT
+//! fixes; RINEX 3 out.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use memsnav_core::gnss::{self, Constellation, RinexProvenance};
+use memsnav_core::gnss::{self, BroadcastOrbit, Constellation, RinexProvenance};
 use memsnav_core::logs::{self, UbxLog};
 use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2};
@@ -32,6 +33,43 @@ fn provenance(log: &str) -> RinexProvenance {
         created: String::new(),
         comments: vec![format!("converted from the u-blox UBX log {log}")],
     }
+}
+
+/// A dict with a broadcast ephemeris's satellite name and its orbit and
+/// clock polynomial under the RINEX record's names (SI units, angles rad,
+/// times GPS s since 1980-01-06): what every system's dict starts from.
+fn orbit_dict<'py>(
+    py: Python<'py>,
+    sat: String,
+    o: &BroadcastOrbit,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("sat", sat)?;
+    for (k, v) in [
+        ("toc", o.toc_gps_s),
+        ("toe", o.toe_gps_s),
+        ("af0", o.af0_s),
+        ("af1", o.af1_s_s),
+        ("af2", o.af2_s_s2),
+        ("crs", o.crs_m),
+        ("delta_n", o.delta_n_rad_s),
+        ("m0", o.m0_rad),
+        ("cuc", o.cuc_rad),
+        ("eccentricity", o.eccentricity),
+        ("cus", o.cus_rad),
+        ("sqrt_a", o.sqrt_a_sqrt_m),
+        ("cic", o.cic_rad),
+        ("omega0", o.omega0_rad),
+        ("cis", o.cis_rad),
+        ("i0", o.i0_rad),
+        ("crc", o.crc_m),
+        ("omega", o.omega_rad),
+        ("omega_dot", o.omega_dot_rad_s),
+        ("idot", o.idot_rad_s),
+    ] {
+        d.set_item(k, v)?;
+    }
+    Ok(d)
 }
 
 #[catch_panics]
@@ -74,29 +112,8 @@ impl PyUbxLog {
             .iter()
             .map(|l| {
                 let e = &l.ephemeris;
-                let d = PyDict::new(py);
-                d.set_item("sat", format!("G{:02}", e.prn))?;
+                let d = orbit_dict(py, format!("G{:02}", e.prn), &e.orbit)?;
                 for (k, v) in [
-                    ("toc", e.toc_gps_s),
-                    ("toe", e.toe_gps_s),
-                    ("af0", e.af0_s),
-                    ("af1", e.af1_s_s),
-                    ("af2", e.af2_s_s2),
-                    ("crs", e.crs_m),
-                    ("delta_n", e.delta_n_rad_s),
-                    ("m0", e.m0_rad),
-                    ("cuc", e.cuc_rad),
-                    ("eccentricity", e.eccentricity),
-                    ("cus", e.cus_rad),
-                    ("sqrt_a", e.sqrt_a_sqrt_m),
-                    ("cic", e.cic_rad),
-                    ("omega0", e.omega0_rad),
-                    ("cis", e.cis_rad),
-                    ("i0", e.i0_rad),
-                    ("crc", e.crc_m),
-                    ("omega", e.omega_rad),
-                    ("omega_dot", e.omega_dot_rad_s),
-                    ("idot", e.idot_rad_s),
                     ("tgd", e.tgd_s),
                     ("fit_interval_h", e.fit_interval_h),
                     ("ura_m", gnss::ura_m(l.ura_index)),
@@ -131,29 +148,8 @@ impl PyUbxLog {
             .galileo_ephemerides
             .iter()
             .map(|e| {
-                let d = PyDict::new(py);
-                d.set_item("sat", format!("E{:02}", e.svid))?;
+                let d = orbit_dict(py, format!("E{:02}", e.svid), &e.orbit)?;
                 for (k, v) in [
-                    ("toc", e.toc_gps_s),
-                    ("toe", e.toe_gps_s),
-                    ("af0", e.af0_s),
-                    ("af1", e.af1_s_s),
-                    ("af2", e.af2_s_s2),
-                    ("crs", e.crs_m),
-                    ("delta_n", e.delta_n_rad_s),
-                    ("m0", e.m0_rad),
-                    ("cuc", e.cuc_rad),
-                    ("eccentricity", e.eccentricity),
-                    ("cus", e.cus_rad),
-                    ("sqrt_a", e.sqrt_a_sqrt_m),
-                    ("cic", e.cic_rad),
-                    ("omega0", e.omega0_rad),
-                    ("cis", e.cis_rad),
-                    ("i0", e.i0_rad),
-                    ("crc", e.crc_m),
-                    ("omega", e.omega_rad),
-                    ("omega_dot", e.omega_dot_rad_s),
-                    ("idot", e.idot_rad_s),
                     ("bgd_e1_e5a", e.bgd_e1_e5a_s),
                     ("bgd_e1_e5b", e.bgd_e1_e5b_s),
                     ("sisa_m", gnss::sisa_m(e.sisa_index).unwrap_or(f64::NAN)),
@@ -170,6 +166,42 @@ impl PyUbxLog {
                     ("e1b_data_validity", u32::from(e.e1b_data_validity)),
                     ("e5b_data_validity", u32::from(e.e5b_data_validity)),
                     ("gst_week", u32::from(e.gst_week)),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                d.set_item("healthy", e.is_healthy())?;
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// The BeiDou D1 ephemerides (MEO and IGSO satellites) decoded from
+    /// RXM-SFRBX, one dict each with the RINEX navigation record's fields
+    /// (SI units, angles rad, times GPS s since 1980-01-06: BDT + 14 s),
+    /// the group delays ``tgd1`` (B1I) and ``tgd2`` (B2I) to B3I, the clock's
+    /// reference, and the health (SatH1) and accuracy (URAI) flags.
+    #[getter]
+    fn beidou_ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .beidou_ephemerides
+            .iter()
+            .map(|e| {
+                let d = orbit_dict(py, format!("C{:02}", e.prn), &e.orbit)?;
+                for (k, v) in [
+                    ("tgd1", e.tgd1_s),
+                    ("tgd2", e.tgd2_s),
+                    ("ura_m", gnss::ura_m(e.urai)),
+                    ("transmission_time", e.transmission_gps_s),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("prn", u32::from(e.prn)),
+                    ("aode", u32::from(e.aode)),
+                    ("aodc", u32::from(e.aodc)),
+                    ("urai", u32::from(e.urai)),
+                    ("sat_h1", u32::from(e.sat_h1)),
+                    ("bdt_week", u32::from(e.bdt_week)),
                 ] {
                     d.set_item(k, v)?;
                 }
@@ -344,7 +376,7 @@ impl PyUbxLog {
             .py()
     }
 
-    /// Writes the GPS and Galileo ephemerides as a RINEX 3.04 navigation
+    /// Writes the GPS, Galileo and BeiDou ephemerides as a RINEX 3.04 navigation
     /// file at ``path``.
     fn write_rinex_nav(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let header = provenance(&self.source);
@@ -353,6 +385,7 @@ impl PyUbxLog {
                 &path,
                 &self.inner.gps_ephemerides,
                 &self.inner.galileo_ephemerides,
+                &self.inner.beidou_ephemerides,
                 &header,
             )
         })
@@ -361,9 +394,11 @@ impl PyUbxLog {
 
     fn __repr__(&self) -> String {
         format!(
-            "UbxLog({} RAWX epochs, {} GPS ephemerides, {} NAV-PVT fixes)",
+            "UbxLog({} RAWX epochs, {} GPS, {} Galileo, {} BeiDou ephemerides, {} NAV-PVT fixes)",
             self.inner.rawx.len(),
             self.inner.gps_ephemerides.len(),
+            self.inner.galileo_ephemerides.len(),
+            self.inner.beidou_ephemerides.len(),
             self.inner.fixes.gps_time_s.len()
         )
     }

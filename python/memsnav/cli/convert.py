@@ -32,8 +32,8 @@ def run(args: argparse.Namespace, client: Any) -> int:
     log, files = convert_ubx(args.log, args.output)
     print(
         f"{len(log.rawx['epoch_gps_time'])} epochs, {len(log.observations.satellites)} "
-        f"satellites, {len(log.ephemerides)} GPS and {len(log.galileo_ephemerides)} Galileo "
-        f"ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
+        f"satellites, {len(log.ephemerides)} GPS, {len(log.galileo_ephemerides)} Galileo and "
+        f"{len(log.beidou_ephemerides)} BeiDou ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
     )
     for reason, count in log.skipped.items():
         print(f"skipped: {count} {reason}")

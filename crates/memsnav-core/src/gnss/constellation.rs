@@ -80,7 +80,11 @@ impl Constellation {
 
     /// From ephemeris records (any order).
     pub fn from_ephemerides(mut records: Vec<GpsEphemeris>) -> Self {
-        records.sort_by(|a, b| a.prn.cmp(&b.prn).then(a.toe_gps_s.total_cmp(&b.toe_gps_s)));
+        records.sort_by(|a, b| {
+            a.prn
+                .cmp(&b.prn)
+                .then(a.orbit.toe_gps_s.total_cmp(&b.orbit.toe_gps_s))
+        });
         let mut prns: Vec<u16> = Vec::new();
         let mut ephemerides: Vec<Vec<GpsEphemeris>> = Vec::new();
         for r in records {
@@ -132,7 +136,7 @@ impl Constellation {
         match self {
             Constellation::Broadcast { ephemerides, .. } => ephemerides
                 .iter()
-                .filter_map(|e| e.first().map(|r| r.toe_gps_s))
+                .filter_map(|e| e.first().map(|r| r.orbit.toe_gps_s))
                 .fold(f64::INFINITY, f64::min),
             Constellation::Walker(_) => 0.0,
         }
@@ -145,12 +149,12 @@ impl Constellation {
             Constellation::Broadcast { ephemerides, .. } => ephemerides[i]
                 .iter()
                 .filter(|e| {
-                    e.health == 0 && (gps_time_s - e.toe_gps_s).abs() <= EPHEMERIS_VALIDITY_S
+                    e.health == 0 && (gps_time_s - e.orbit.toe_gps_s).abs() <= EPHEMERIS_VALIDITY_S
                 })
                 .min_by(|a, b| {
-                    (gps_time_s - a.toe_gps_s)
+                    (gps_time_s - a.orbit.toe_gps_s)
                         .abs()
-                        .total_cmp(&(gps_time_s - b.toe_gps_s).abs())
+                        .total_cmp(&(gps_time_s - b.orbit.toe_gps_s).abs())
                 }),
             Constellation::Walker(_) => None,
         }

@@ -1,4 +1,5 @@
-//! GNSS: satellite orbits from broadcast ephemerides (IS-GPS-200) or a
+//! GNSS: satellite orbits from broadcast ephemerides (GPS, Galileo and
+//! BeiDou, one Keplerian user algorithm) or a
 //! synthetic Walker constellation, precise orbits (SP3) for checking them,
 //! predicted ranges with the Sagnac correction, a two-state receiver clock,
 //! the measurement simulator (method §5) and the least-squares fix.
@@ -8,10 +9,13 @@
 //! receiver clock offset and drift are in metres and m/s (c × seconds).
 
 mod atmosphere;
+mod beidou_ephemeris;
+mod broadcast_orbit;
 mod clock;
 mod constellation;
 mod ephemeris;
 mod fix;
+mod galileo_ephemeris;
 mod measurement_rows;
 mod observables;
 mod range;
@@ -26,12 +30,15 @@ mod utc;
 mod walker;
 
 pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klobuchar};
+pub use beidou_ephemeris::BeidouEphemeris;
+pub use broadcast_orbit::{BroadcastOrbit, BroadcastSystem, OrbitFrame, BEIDOU, GALILEO, GPS};
 pub use clock::{ClockState, ReceiverClockModel};
 pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{
-    sisa_m, ura_m, GpsEphemeris, InavEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
+    ura_index, ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
 };
 pub use fix::{solve_fix, Dops, Fix};
+pub use galileo_ephemeris::{sisa_index, sisa_m, InavEphemeris};
 pub use measurement_rows::{
     check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
 };
@@ -40,7 +47,9 @@ pub use observables::{
     DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
 };
 pub use range::{predicted_range, RangePrediction};
-pub use rinex_nav::{parse_rinex_nav, read_rinex_nav};
+pub use rinex_nav::{
+    parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
+};
 pub(crate) use rinex_obs::observation_range;
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,

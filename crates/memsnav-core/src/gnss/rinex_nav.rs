@@ -1,12 +1,17 @@
-//! RINEX 2.x and 3.x navigation files: the GPS broadcast ephemerides.
-//! Other systems in a mixed RINEX 3 file (Galileo, GLONASS, BeiDou, ...)
-//! are skipped. Numbers may use Fortran `D` exponents. Every error names the
-//! file and the 1-based line.
+//! RINEX 2.x and 3.x navigation files: the GPS, Galileo (I/NAV) and
+//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14). Other
+//! systems in a mixed RINEX 3 file (GLONASS, QZSS, SBAS, ...) and Galileo
+//! F/NAV records are skipped with a count. Numbers may use Fortran `D`
+//! exponents. Every error names the file and the 1-based line.
 
 use std::collections::hash_map::{Entry, HashMap};
+use std::collections::BTreeMap;
 use std::path::Path;
 
-use super::ephemeris::GpsEphemeris;
+use super::beidou_ephemeris::BeidouEphemeris;
+use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
+use super::ephemeris::{ura_index, GpsEphemeris};
+use super::galileo_ephemeris::{sisa_index, InavEphemeris};
 use super::time::{calendar_text, checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
@@ -20,13 +25,7 @@ use crate::{Error, Result};
 /// which was broadcast (and the ephemeris selection would silently take the
 /// first in file order).
 pub fn read_rinex_nav(path: impl AsRef<Path>) -> Result<Vec<GpsEphemeris>> {
-    let path = path.as_ref();
-    let text = std::fs::read(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        reason: e.to_string(),
-    })?;
-    let text = String::from_utf8_lossy(&text);
-    parse_rinex_nav(&text, &path.display().to_string())
+    read_broadcast_nav(path).map(|nav| nav.gps)
 }
 
 struct Cursor<'a> {
@@ -96,7 +95,7 @@ impl Cursor<'_> {
     }
 }
 
-/// A GPS PRN, 1-63 (two digits in RINEX; 1-32 in use).
+/// A PRN, 1-63 (two digits in RINEX).
 fn satellite_prn(cur: &Cursor<'_>, k: usize, prn: i64) -> Result<u16> {
     if (1..=63).contains(&prn) {
         Ok(prn as u16)
@@ -118,9 +117,9 @@ fn parse_number(field: &str) -> Option<f64> {
     value.is_finite().then_some(value)
 }
 
-/// The 29 broadcast-orbit values of a GPS record, in RINEX order
-/// (`values[0..3]` = a_f0, a_f1, a_f2 on the epoch line; then seven lines of four).
-const ORBIT_NAMES: [&str; 29] = [
+/// The values of a GPS record in RINEX order (`values[0..3]` = a_f0, a_f1,
+/// a_f2 on the epoch line; then seven lines of four, RINEX 3.05 table A6).
+const GPS_NAMES: [&str; 29] = [
     "SV clock bias",
     "SV clock drift",
     "SV clock drift rate",
@@ -152,50 +151,236 @@ const ORBIT_NAMES: [&str; 29] = [
     "fit interval",
 ];
 
-/// The range of each broadcast value, from the bits and scale factors of
-/// its field in the navigation message (IS-GPS-200 tables 20-I, 20-III):
-/// a value outside cannot have been broadcast. Angles in semicircles in
-/// the message are radians in RINEX; `None`: no limit (spares, flags).
-const ORBIT_RANGES: [Option<(f64, f64)>; 29] = {
+/// The values of a Galileo record (RINEX 3.05 table A8).
+const GALILEO_NAMES: [&str; 28] = [
+    "SV clock bias",
+    "SV clock drift",
+    "SV clock drift rate",
+    "IODnav",
+    "Crs",
+    "Delta n",
+    "M0",
+    "Cuc",
+    "e",
+    "Cus",
+    "sqrt(A)",
+    "Toe",
+    "Cic",
+    "OMEGA0",
+    "Cis",
+    "i0",
+    "Crc",
+    "omega",
+    "OMEGA DOT",
+    "IDOT",
+    "data sources",
+    "GAL week",
+    "spare",
+    "SISA",
+    "SV health",
+    "BGD E5a/E1",
+    "BGD E5b/E1",
+    "transmission time",
+];
+
+/// The values of a BeiDou record (RINEX 3.05 table A14).
+const BEIDOU_NAMES: [&str; 29] = [
+    "SV clock bias",
+    "SV clock drift",
+    "SV clock drift rate",
+    "AODE",
+    "Crs",
+    "Delta n",
+    "M0",
+    "Cuc",
+    "e",
+    "Cus",
+    "sqrt(A)",
+    "Toe",
+    "Cic",
+    "OMEGA0",
+    "Cis",
+    "i0",
+    "Crc",
+    "omega",
+    "OMEGA DOT",
+    "IDOT",
+    "spare",
+    "BDT week",
+    "spare",
+    "SV accuracy",
+    "SatH1",
+    "TGD1",
+    "TGD2",
+    "transmission time",
+    "AODC",
+];
+
+type Ranges = [Option<(f64, f64)>; 29];
+
+const fn sym(x: f64) -> Option<(f64, f64)> {
+    Some((-x, x))
+}
+
+/// The ranges of the clock (`clock`), the issue of data (`slot_3`) and
+/// the orbit values (IS-GPS-200 table 20-III, Galileo ICD table 60, B1I
+/// ICD table 5-9: bits × scale; angles in semicircles there are radians
+/// in RINEX): the harmonic corrections bound by `crs_m` (Crs, Crc) and
+/// `cuc_rad` (Cuc, Cus, Cic, Cis), the rest alike in the three systems.
+const fn orbit_ranges(
+    clock: [Option<(f64, f64)>; 3],
+    slot_3: (f64, f64),
+    crs_m: f64,
+    cuc_rad: f64,
+) -> [Option<(f64, f64)>; 20] {
     const PI: f64 = std::f64::consts::PI;
-    const fn sym(x: f64) -> Option<(f64, f64)> {
-        Some((-x, x))
-    }
     [
-        sym(9.765_625e-4),         // a_f0: 22 bits × 2⁻³¹ s
-        sym(3.725_290_3e-9),       // a_f1: 16 bits × 2⁻⁴³ s/s
-        sym(3.552_713_7e-15),      // a_f2: 8 bits × 2⁻⁵⁵ s/s²
-        Some((0.0, 1023.0)),       // IODE (8 bits; 10 in RINEX 3 files of IODC)
-        sym(1024.0),               // Crs: 16 bits × 2⁻⁵ m
+        clock[0],
+        clock[1],
+        clock[2],
+        Some(slot_3),
+        sym(crs_m),                // Crs
         sym(3.725_290_3e-9 * PI),  // Δn: 16 bits × 2⁻⁴³ semicircles/s
         sym(PI),                   // M0: 32 bits × 2⁻³¹ semicircles
-        sym(6.103_515_7e-5),       // Cuc: 16 bits × 2⁻²⁹ rad
+        sym(cuc_rad),              // Cuc
         Some((0.0, 0.5)),          // e: 32 bits unsigned × 2⁻³³
-        sym(6.103_515_7e-5),       // Cus
-        Some((2530.0, 8192.0)),    // √A, √m (the ICD's range)
+        sym(cuc_rad),              // Cus
+        Some((2530.0, 8192.0)),    // √A, √m (IS-GPS-200's range; BeiDou GEO 6493)
         Some((0.0, 604_800.0)),    // t_oe, s of the week
-        sym(6.103_515_7e-5),       // Cic
+        sym(cuc_rad),              // Cic
         sym(PI),                   // Ω0
-        sym(6.103_515_7e-5),       // Cis
+        sym(cuc_rad),              // Cis
         sym(PI),                   // i0
-        sym(1024.0),               // Crc
+        sym(crs_m),                // Crc
         sym(PI),                   // ω
         sym(9.536_743_2e-7 * PI),  // Ω̇: 24 bits × 2⁻⁴³ semicircles/s
         sym(9.313_225_8e-10 * PI), // IDOT: 14 bits × 2⁻⁴³ semicircles/s
-        None,                      // codes on L2
-        Some((0.0, 9999.0)),       // GPS week (continuous in RINEX)
-        None,                      // L2 P flag
-        None,                      // SV accuracy
-        Some((0.0, 63.0)),         // SV health (6 bits)
-        sym(5.960_464_5e-8),       // T_GD: 8 bits × 2⁻³¹ s
-        Some((0.0, 1023.0)),       // IODC (10 bits)
-        None,                      // transmission time
-        Some((0.0, 1000.0)),       // fit interval, h
     ]
-};
+}
 
-/// Line of value `index` (of [`ORBIT_NAMES`]) in a record starting at line
-/// `start`: a_f0, a_f1, a_f2 on the epoch line, then four a line.
+/// Ranges of `head` then the system's last values (`None`: no limit).
+const fn ranges(head: [Option<(f64, f64)>; 20], tail: [Option<(f64, f64)>; 9]) -> Ranges {
+    let mut out = [None; 29];
+    let mut k = 0;
+    while k < 20 {
+        out[k] = head[k];
+        k += 1;
+    }
+    while k < 29 {
+        out[k] = tail[k - 20];
+        k += 1;
+    }
+    out
+}
+
+/// GPS (IS-GPS-200 tables 20-I, 20-III): a value outside cannot have been broadcast.
+const GPS_RANGES: Ranges = ranges(
+    orbit_ranges(
+        [
+            sym(9.765_625e-4),    // a_f0: 22 bits × 2⁻³¹ s
+            sym(3.725_290_3e-9),  // a_f1: 16 bits × 2⁻⁴³ s/s
+            sym(3.552_713_7e-15), // a_f2: 8 bits × 2⁻⁵⁵ s/s²
+        ],
+        (0.0, 1023.0),  // IODE (8 bits; 10 in RINEX 3 files of IODC)
+        1024.0,         // Crs, Crc: 16 bits × 2⁻⁵ m
+        6.103_515_7e-5, // Cuc, ...: 16 bits × 2⁻²⁹ rad
+    ),
+    [
+        None,                // codes on L2
+        Some((0.0, 9999.0)), // GPS week (continuous in RINEX)
+        None,                // L2 P flag
+        None,                // SV accuracy
+        Some((0.0, 63.0)),   // SV health (6 bits)
+        sym(5.960_464_5e-8), // T_GD: 8 bits × 2⁻³¹ s
+        Some((0.0, 1023.0)), // IODC (10 bits)
+        None,                // transmission time
+        Some((0.0, 1000.0)), // fit interval, h
+    ],
+);
+
+/// Galileo (OS SIS ICD tables 60, 63, 65).
+const GALILEO_RANGES: Ranges = ranges(
+    orbit_ranges(
+        [
+            sym(0.0625),          // a_f0: 31 bits × 2⁻³⁴ s
+            sym(1.490_116_2e-8),  // a_f1: 21 bits × 2⁻⁴⁶ s/s
+            sym(5.551_115_2e-17), // a_f2: 6 bits × 2⁻⁵⁹ s/s²
+        ],
+        (0.0, 1023.0),  // IODnav (10 bits)
+        1024.0,         // Crs, Crc: 16 bits × 2⁻⁵ m
+        6.103_515_7e-5, // Cuc, ...: 16 bits × 2⁻²⁹ rad
+    ),
+    [
+        Some((0.0, 1023.0)), // data sources (10 bits)
+        Some((0.0, 9999.0)), // GAL week (continuous, GPS-aligned)
+        None,                // spare
+        None,                // SISA, m (−1: no prediction)
+        Some((0.0, 511.0)),  // SV health (9 bits)
+        sym(1.192_092_9e-7), // BGD E5a/E1: 10 bits × 2⁻³² s
+        sym(1.192_092_9e-7), // BGD E5b/E1
+        None,                // transmission time
+        None,                // (no value)
+    ],
+);
+
+/// BeiDou (B1I ICD tables 5-7, 5-9).
+const BEIDOU_RANGES: Ranges = ranges(
+    orbit_ranges(
+        [
+            sym(9.765_625e-4),    // a_0: 24 bits × 2⁻³³ s
+            sym(1.862_645_2e-9),  // a_1: 22 bits × 2⁻⁵⁰ s/s
+            sym(1.387_778_8e-17), // a_2: 11 bits × 2⁻⁶⁶ s/s²
+        ],
+        (0.0, 31.0),    // AODE (5 bits)
+        2048.0,         // Crs, Crc: 18 bits × 2⁻⁶ m
+        1.220_703_2e-4, // Cuc, ...: 18 bits × 2⁻³¹ rad
+    ),
+    [
+        None,                // spare
+        Some((0.0, 8191.0)), // BDT week (13 bits)
+        None,                // spare
+        None,                // SV accuracy, m
+        Some((0.0, 1.0)),    // SatH1
+        sym(5.12e-8),        // TGD1: 10 bits × 0.1 ns
+        sym(5.12e-8),        // TGD2
+        None,                // transmission time
+        Some((0.0, 31.0)),   // AODC (5 bits)
+    ],
+);
+
+/// One system's record layout.
+struct Layout {
+    /// The system's constants (its letter, its time).
+    constants: &'static BroadcastSystem,
+    names: &'static [&'static str],
+    ranges: &'static Ranges,
+    /// Values a file may leave blank (spares, flags, the fit interval).
+    may_be_blank: &'static [usize],
+}
+
+const LAYOUTS: [Layout; 3] = [
+    Layout {
+        constants: &GPS,
+        names: &GPS_NAMES,
+        ranges: &GPS_RANGES,
+        may_be_blank: &[3, 20, 22, 23, 26, 27, 28],
+    },
+    Layout {
+        constants: &GALILEO,
+        names: &GALILEO_NAMES,
+        ranges: &GALILEO_RANGES,
+        may_be_blank: &[22, 27],
+    },
+    Layout {
+        constants: &BEIDOU,
+        names: &BEIDOU_NAMES,
+        ranges: &BEIDOU_RANGES,
+        may_be_blank: &[20, 22, 27],
+    },
+];
+
+/// Line of value `index` in a record starting at line `start`: a_f0, a_f1,
+/// a_f2 on the epoch line, then four a line.
 fn value_line(start: usize, index: usize) -> usize {
     start + if index < 3 { 0 } else { 1 + (index - 3) / 4 }
 }
@@ -204,14 +389,51 @@ fn value_line(start: usize, index: usize) -> usize {
 /// may disagree on: a merged file keeps the time each station received it.
 const TRANSMISSION_TIME: usize = 27;
 
-/// Values a file may leave blank (spares, flags, the fit interval).
-fn may_be_blank(index: usize) -> bool {
-    matches!(index, 3 | 20 | 22 | 23 | 26 | 27 | 28)
+/// Galileo's data sources, which copies of one ephemeris received on
+/// E1-B and on E5b differ in.
+const GALILEO_DATA_SOURCES: usize = 20;
+
+/// Galileo data-source bits (RINEX 3.05 table A8): bit 8 says the clock
+/// is F/NAV's (E5a,E1), bit 9 I/NAV's (E5b,E1).
+const GALILEO_FNAV_CLOCK: u32 = 1 << 8;
+
+/// What makes a record one ephemeris: system, PRN, t_oc (bits of the GPS
+/// time) and, for Galileo, whether its clock is F/NAV's.
+type RecordKey = (char, u16, u64, bool);
+
+/// The ephemerides of a RINEX navigation file, per system.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BroadcastNav {
+    pub gps: Vec<GpsEphemeris>,
+    /// Galileo I/NAV records (clock E5b,E1).
+    pub galileo: Vec<InavEphemeris>,
+    pub beidou: Vec<BeidouEphemeris>,
+    /// Records not read, by reason, with counts (other systems; Galileo
+    /// F/NAV records, whose clock is referred to E5a,E1).
+    pub skipped: BTreeMap<String, usize>,
+}
+
+/// Reads the GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3
+/// navigation file (RINEX 2: GPS files); one per satellite and t_oc as
+/// [`read_rinex_nav`] says.
+pub fn read_broadcast_nav(path: impl AsRef<Path>) -> Result<BroadcastNav> {
+    let path = path.as_ref();
+    let text = std::fs::read(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    })?;
+    let text = String::from_utf8_lossy(&text);
+    parse_broadcast_nav(&text, &path.display().to_string())
 }
 
 /// Parses the text of a RINEX 2 or 3 navigation file; `file` names it in
-/// errors. Repeated records as in [`read_rinex_nav`].
+/// errors. GPS records only, repeated records as in [`read_rinex_nav`].
 pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
+    parse_broadcast_nav(text, file).map(|nav| nav.gps)
+}
+
+/// [`read_broadcast_nav`] of a text; `file` names it in errors.
+pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     let cur = Cursor {
         file,
         lines: text.lines().collect(),
@@ -237,11 +459,11 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     let major = version.floor() as i64;
     match major {
         2 if file_type == "N" => {}
-        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "M" | "") => {}
+        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "E" | "C" | "M" | "") => {}
         2..=4 => {
             return Err(cur.error(
                 0,
-                format!("not a GPS navigation file (type {file_type:?}, system {system:?}); expected type N with system G or M"),
+                format!("not a GPS, Galileo or BeiDou navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C or M"),
             ))
         }
         _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x or 3.x"))),
@@ -264,9 +486,9 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
     // and orbit lines with 3 blanks; RINEX 3 with "Gnn" + epoch (23 columns)
     // and orbit lines with 4 blanks. Each value is 19 columns wide.
     let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
-    let mut out = Vec::new();
-    // The first line and the values of each (PRN, t_oc) read so far.
-    let mut first_record: HashMap<(u16, u64), (usize, [f64; 29])> = HashMap::new();
+    let mut out = BroadcastNav::default();
+    // The first line and the values of each record read so far.
+    let mut first_record: HashMap<RecordKey, (usize, [f64; 29])> = HashMap::new();
     while k < cur.lines.len() {
         if cur.lines[k].trim().is_empty() {
             k += 1;
@@ -275,7 +497,9 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
         let start = k;
         let prn: u16;
         let (year, month, day, hour, minute, second);
+        let layout: &Layout;
         if major == 2 {
+            layout = &LAYOUTS[0];
             prn = satellite_prn(&cur, k, cur.integer(k, 0, 2, "satellite PRN")?)?;
             let yy = cur.integer(k, 2, 3, "year")?;
             year = if yy < 80 {
@@ -292,17 +516,21 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
             second = cur.number(k, 17, 5, "second")?;
         } else {
             let sys = cur.field(k, 0, 1).to_string();
-            if sys != "G" {
+            let Some(found) = LAYOUTS.iter().find(|l| sys.starts_with(l.constants.letter)) else {
                 // Another system: skip its continuation lines (they start with blanks).
                 if sys.is_empty() || !sys.chars().all(|c| c.is_ascii_uppercase()) {
                     return Err(cur.error(k, format!("expected a satellite record starting with a system letter (G, E, R, C, J, S, I), got {:?}", cur.lines[k].get(..3).unwrap_or(cur.lines[k]))));
                 }
+                *out.skipped
+                    .entry(format!("records of system {sys}"))
+                    .or_default() += 1;
                 k += 1;
                 while k < cur.lines.len() && cur.lines[k].starts_with(' ') {
                     k += 1;
                 }
                 continue;
-            }
+            };
+            layout = found;
             prn = satellite_prn(&cur, k, cur.integer(k, 1, 2, "satellite PRN")?)?;
             year = cur.integer(k, 3, 5, "year")?;
             month = cur.integer(k, 8, 3, "month")?;
@@ -311,18 +539,24 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
             minute = cur.integer(k, 17, 3, "minute")?;
             second = cur.number(k, 20, 3, "second")?;
         }
+        let sat = format!("{}{prn:02}", layout.constants.letter);
+        let n = layout.names.len();
+        // The epoch is t_oc in the system's time: GPS and GST calendars
+        // agree; BDT = GPS − 14 s.
         let toc = checked_gps_time_from_calendar(year, month, day, hour, minute, second)
-            .map_err(|reason| cur.error(k, format!("epoch of G{prn:02}: {reason}")))?;
+            .map_err(|reason| cur.error(k, format!("epoch of {sat}: {reason}")))?
+            - layout.constants.time_minus_gps_s;
         let mut values = [0.0_f64; 29];
         let mut blank = [false; 29];
         for (j, (v, b)) in values.iter_mut().zip(blank.iter_mut()).enumerate().take(3) {
             let col = epoch_width + 19 * j;
-            match cur.optional_number(k, col, 19, ORBIT_NAMES[j])? {
+            match cur.optional_number(k, col, 19, layout.names[j])? {
                 Some(x) => *v = x,
                 None => *b = true,
             }
         }
-        for line in 1..=7 {
+        let orbit_lines = (n - 3).div_ceil(4);
+        for line in 1..=orbit_lines {
             let kk = start + line;
             let is_continuation = kk < cur.lines.len()
                 && cur.lines[kk].len() > indent
@@ -331,7 +565,7 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
                     .is_some_and(|s| s.trim().is_empty());
             if !is_continuation {
                 let reason = format!(
-                    "truncated record for G{prn:02} starting at line {}: expected broadcast orbit line {line} of 7, got {}",
+                    "truncated record for {sat} starting at line {}: expected broadcast orbit line {line} of {orbit_lines}, got {}",
                     start + 1,
                     if kk < cur.lines.len() { "a new record or a malformed line" } else { "end of file" }
                 );
@@ -345,57 +579,65 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
             }
             for j in 0..4 {
                 let index = 3 + 4 * (line - 1) + j;
-                if index >= 29 {
+                if index >= n {
                     break;
                 }
-                match cur.optional_number(kk, indent + 19 * j, 19, ORBIT_NAMES[index])? {
+                match cur.optional_number(kk, indent + 19 * j, 19, layout.names[index])? {
                     Some(x) => values[index] = x,
                     None => blank[index] = true,
                 }
             }
         }
-        if let Some(missing) = (0..29).find(|&i| blank[i] && !may_be_blank(i)) {
+        if let Some(missing) = (0..n).find(|&i| blank[i] && !layout.may_be_blank.contains(&i)) {
             return Err(cur.error(
                 value_line(start, missing),
                 format!(
-                    "expected a value for {} for G{prn:02}, the field is blank",
-                    ORBIT_NAMES[missing]
+                    "expected a value for {} for {sat}, the field is blank",
+                    layout.names[missing]
                 ),
             ));
         }
-        for (index, value) in values.iter().enumerate() {
-            let Some((low, high)) = ORBIT_RANGES[index] else {
+        for (index, value) in values.iter().enumerate().take(n) {
+            let Some((low, high)) = layout.ranges[index] else {
                 continue;
             };
             if !blank[index] && !(low..=high).contains(value) {
                 return Err(cur.error(
                     value_line(start, index),
                     format!(
-                        "{} = {value:e} for G{prn:02} is out of range ({low:e} to {high:e}): not a value the GPS navigation message can carry",
-                        ORBIT_NAMES[index]
+                        "{} = {value:e} for {sat} is out of range ({low:e} to {high:e}): not a value the navigation message can carry",
+                        layout.names[index]
                     ),
                 ));
             }
         }
-        match first_record.entry((prn, toc.to_bits())) {
+        let next = start + 1 + orbit_lines;
+        // Galileo: the I/NAV and F/NAV records of one t_oc are two
+        // ephemerides (their clocks differ); records from E1-B and E5b
+        // (data sources 513, 516, 517) are one.
+        let fnav = layout.constants.letter == 'E' && values[20] as u32 & GALILEO_FNAV_CLOCK != 0;
+        match first_record.entry((layout.constants.letter, prn, toc.to_bits(), fnav)) {
             Entry::Vacant(slot) => {
                 slot.insert((start, values));
             }
             Entry::Occupied(first) => {
                 let (first_start, first_values) = *first.get();
-                let differs =
-                    (0..29).find(|&i| i != TRANSMISSION_TIME && values[i] != first_values[i]);
+                let differs = (0..n).find(|&i| {
+                    i != TRANSMISSION_TIME
+                        && !(layout.constants.letter == 'E' && i == GALILEO_DATA_SOURCES)
+                        && values[i] != first_values[i]
+                });
                 let Some(index) = differs else {
                     // The same ephemeris again: kept once.
-                    k = start + 8;
+                    k = next;
                     continue;
                 };
                 return Err(cur.error(
                     value_line(start, index),
                     format!(
-                        "G{prn:02} has a second ephemeris for t_oc {} whose {} = {:e} differs from the first's {:e} (line {}): one ephemeris per satellite and t_oc, the reader cannot tell which was broadcast",
+                        "{sat} has a second ephemeris for t_oc {} whose {} = {:e} differs from the first's {:e} (line {}): one ephemeris per satellite and t_oc, the reader cannot tell which was broadcast",
                         calendar_text(year, month, day, hour, minute, second),
-                        ORBIT_NAMES[index],
+                        layout.names[index],
                         values[index],
                         first_values[index],
                         value_line(first_start, index) + 1
@@ -403,14 +645,21 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
                 ));
             }
         }
-        // t_oe is seconds of the week given in the record; put it in the
-        // week that brings it within half a week of t_oc (handles records
-        // whose week number belongs to t_oc across a week boundary). The
-        // ranges above bound the weeks to move by, so no loop is needed.
-        let toe = values[21] * SECONDS_PER_WEEK + values[11];
+        // t_oe is seconds of the system's week given in the record; put it
+        // in the week that brings it within half a week of t_oc (handles
+        // records whose week number belongs to t_oc across a week
+        // boundary). RINEX's Galileo week is GPS-aligned (table A8), so it
+        // goes as GPS's; BeiDou's is BDT's. The ranges above bound the
+        // weeks to move by, so no loop is needed.
+        let week_system = if layout.constants.letter == 'C' {
+            &BEIDOU
+        } else {
+            &GPS
+        };
+        let toe = week_system.gps_time_s(values[21], values[11]);
         let toe = toe - ((toe - toc) / SECONDS_PER_WEEK).round() * SECONDS_PER_WEEK;
-        out.push(GpsEphemeris {
-            prn,
+        let transmission = week_system.gps_time_s(values[21], values[27]);
+        let orbit = BroadcastOrbit {
             toc_gps_s: toc,
             toe_gps_s: toe,
             af0_s: values[0],
@@ -431,15 +680,59 @@ pub fn parse_rinex_nav(text: &str, file: &str) -> Result<Vec<GpsEphemeris>> {
             omega_rad: values[17],
             omega_dot_rad_s: values[18],
             idot_rad_s: values[19],
-            health: values[24] as u32,
-            tgd_s: values[25],
-            fit_interval_h: if blank[28] || values[28] == 0.0 {
-                4.0
-            } else {
-                values[28]
-            },
-        });
-        k = start + 8;
+        };
+        match layout.constants.letter {
+            'E' => {
+                let sources = values[20] as u32;
+                if sources & GALILEO_FNAV_CLOCK != 0 {
+                    *out.skipped
+                        .entry("Galileo F/NAV records (clock E5a,E1)".to_string())
+                        .or_default() += 1;
+                } else {
+                    // Health bits: 0 E1-B DVS, 1-2 E1-B HS, 6 E5b DVS, 7-8 E5b HS.
+                    let health = values[24] as u32;
+                    out.galileo.push(InavEphemeris {
+                        svid: prn,
+                        iod_nav: values[3] as u16,
+                        orbit,
+                        sisa_index: sisa_index(values[23]),
+                        bgd_e1_e5a_s: values[25],
+                        bgd_e1_e5b_s: values[26],
+                        e1b_data_validity: (health & 1) as u8,
+                        e1b_health: (health >> 1 & 3) as u8,
+                        e5b_data_validity: (health >> 6 & 1) as u8,
+                        e5b_health: (health >> 7 & 3) as u8,
+                        gst_week: ((values[21] - GALILEO.week_zero_in_gps_weeks).rem_euclid(4096.0))
+                            as u16,
+                        transmission_gps_s: transmission,
+                    });
+                }
+            }
+            'C' => out.beidou.push(BeidouEphemeris {
+                prn,
+                aode: values[3] as u8,
+                aodc: values[28] as u8,
+                orbit,
+                urai: ura_index(values[23]),
+                sat_h1: values[24] as u8,
+                tgd1_s: values[25],
+                tgd2_s: values[26],
+                bdt_week: values[21] as u16,
+                transmission_gps_s: transmission,
+            }),
+            _ => out.gps.push(GpsEphemeris {
+                prn,
+                orbit,
+                health: values[24] as u32,
+                tgd_s: values[25],
+                fit_interval_h: if blank[28] || values[28] == 0.0 {
+                    4.0
+                } else {
+                    values[28]
+                },
+            }),
+        }
+        k = next;
     }
     Ok(out)
 }
@@ -492,5 +785,91 @@ log: gnss_1730.ubx                                          COMMENT
              -1.678e1 differs from the first's -1.678125e1 (line 7): one ephemeris per \
              satellite and t_oc, the reader cannot tell which was broadcast"
         );
+    }
+
+    /// C21's record of the same file (BDT epoch and week).
+    const C21: &str =
+        "C21 2025 08 28 17 00 00 -.963445054367D-03 -.684696743747D-11  .000000000000D+00
+      .100000000000D+01 -.350000000000D+01  .365943814457D-08  .886304528107D+00
+     -.133644789457D-06  .556349870749D-03  .667152926326D-05  .528262655258D+04
+      .406800000000D+06  .451691448689D-07  .175064384011D+01 -.521540641785D-07
+      .983854657381D+00  .238250000000D+03  .596217207868D-01 -.666063458502D-08
+      .367515308488D-09  .000000000000D+00  .102500000000D+04  .000000000000D+00
+      .200000000000D+01  .000000000000D+00  .133000000000D-07  .133000000000D-07
+      .408630000000D+06  .100000000000D+01
+";
+
+    #[test]
+    fn beidou_records_are_on_bdt_and_checked_against_their_own_ranges() {
+        let nav = parse_broadcast_nav(&format!("{HEADER}{G32}{C21}"), "x.nav").unwrap();
+        assert_eq!((nav.gps.len(), nav.beidou.len()), (1, 1));
+        let c = nav.beidou[0];
+        // The epoch 17:00:00 BDT is 17:00:14 GPS; t_oe 406 800 s of BDT
+        // week 1025 is the same instant.
+        let epoch_gps = checked_gps_time_from_calendar(2025, 8, 28, 17, 0, 14.0).unwrap();
+        assert_eq!(
+            (c.orbit.toc_gps_s, c.orbit.toe_gps_s),
+            (epoch_gps, epoch_gps)
+        );
+        assert_eq!(BEIDOU.seconds_of_week(c.orbit.toe_gps_s), 406_800.0);
+        assert_eq!(
+            (c.prn, c.aode, c.aodc, c.bdt_week, c.urai),
+            (21, 1, 1, 1025, 0)
+        );
+        assert_eq!((c.tgd1_s, c.tgd2_s), (0.133e-7, 0.133e-7));
+        // The GPS reader alone still gives the GPS record.
+        assert_eq!(
+            parse_rinex_nav(&format!("{HEADER}{G32}{C21}"), "x.nav").unwrap(),
+            nav.gps
+        );
+        // TGD1 beyond its 10 bits × 0.1 ns is refused, named by system.
+        let bad = C21.replace(".133000000000D-07  .133", ".133000000000D-05  .133");
+        let e = parse_broadcast_nav(&format!("{HEADER}{bad}"), "x.nav").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("x.nav:12: TGD1 = 1.33e-6 for C21 is out of range"),
+            "{e}"
+        );
+        // A BeiDou Crs of 2000 m fits 18 bits × 2⁻⁶; a GPS one does not.
+        let wide = C21.replace("-.350000000000D+01", "-.200000000000D+04");
+        assert!(parse_broadcast_nav(&format!("{HEADER}{wide}"), "x.nav").is_ok());
+        let wide = G32.replace("-.167812500000D+02", "-.200000000000D+04");
+        assert!(parse_broadcast_nav(&format!("{HEADER}{wide}"), "x.nav").is_err());
+    }
+
+    #[test]
+    fn galileo_fnav_and_other_systems_are_counted() {
+        // C21's numbers as a Galileo record (its last line holds only the
+        // transmission time): I/NAV data sources 513, then F/NAV 258.
+        let inav = C21
+            .replacen("C21", "E21", 1)
+            .replace(
+                " .000000000000D+00  .102500000000D+04  .000000000000D+00",
+                " .513000000000D+03  .238100000000D+04  .000000000000D+00",
+            )
+            .replace(
+                " .408630000000D+06  .100000000000D+01",
+                " .408630000000D+06",
+            );
+        let fnav = inav.replace(".513000000000D+03", ".258000000000D+03");
+        // The same I/NAV ephemeris received on E5b (data sources 516): kept once.
+        let e5b = inav.replace(".513000000000D+03", ".516000000000D+03");
+        let glonass = "R05 2025 08 28 17 15 00  .1D-03  .0D+00  .0D+00
+     .1D+05  .0D+00  .0D+00  .0D+00
+     .1D+05  .0D+00  .0D+00  .1D+01
+     .1D+05  .0D+00  .0D+00  .0D+00
+";
+        let nav =
+            parse_broadcast_nav(&format!("{HEADER}{inav}{fnav}{e5b}{glonass}"), "x.nav").unwrap();
+        assert_eq!(nav.galileo.len(), 1);
+        let e = nav.galileo[0];
+        // Galileo epochs are GST, GPS-aligned: no 14 s.
+        let epoch_gps = checked_gps_time_from_calendar(2025, 8, 28, 17, 0, 0.0).unwrap();
+        assert_eq!(
+            (e.svid, e.iod_nav, e.gst_week, e.orbit.toc_gps_s),
+            (21, 1, 1357, epoch_gps)
+        );
+        assert_eq!(nav.skipped["Galileo F/NAV records (clock E5a,E1)"], 1);
+        assert_eq!(nav.skipped["records of system R"], 1);
     }
 }

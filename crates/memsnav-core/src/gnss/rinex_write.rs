@@ -1,5 +1,6 @@
 //! RINEX 3.04 writers (IGS/RTCM "RINEX 3.04", 2018, appendix A1-A4 for
-//! observation files, A5-A6 for GPS navigation messages): what the readers
+//! observation files, A5-A6, A8 and A14 for GPS, Galileo and BeiDou
+//! navigation messages): what the readers
 //! of this module read, so a receiver's raw log (`memsnav convert`) serves
 //! other tools too.
 //!
@@ -11,7 +12,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::ephemeris::{sisa_m, ura_m, InavEphemeris, LnavEphemeris};
+use super::beidou_ephemeris::BeidouEphemeris;
+use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
+use super::ephemeris::{ura_m, LnavEphemeris};
+use super::galileo_ephemeris::{sisa_m, InavEphemeris};
 use super::rinex_obs::ObservationFile;
 use super::time::{calendar_from_gps_time, SECONDS_PER_WEEK};
 use crate::{Error, Result};
@@ -209,20 +213,68 @@ fn nav_epoch_line(out: &mut String, sat: &str, toc_gps_s: f64, clock: [f64; 3]) 
     );
 }
 
-/// The text of a RINEX 3.04 navigation file holding GPS LNAV (table A6)
-/// and Galileo I/NAV (table A8) ephemerides: t_oc as the epoch, angles in
-/// rad, weeks continuous and aligned with GPS weeks (Galileo's too), t_oe
-/// and the transmission time in seconds of the t_oe week.
+/// The four lines of orbit values every Keplerian record shares (RINEX
+/// 3.04 tables A6, A8, A14, lines 1-4): the issue of data first, t_oe as
+/// seconds of its week.
+fn kepler_rows(issue_of_data: f64, o: &BroadcastOrbit, toe_seconds_of_week: f64) -> [[f64; 4]; 4] {
+    [
+        [issue_of_data, o.crs_m, o.delta_n_rad_s, o.m0_rad],
+        [o.cuc_rad, o.eccentricity, o.cus_rad, o.sqrt_a_sqrt_m],
+        [toe_seconds_of_week, o.cic_rad, o.omega0_rad, o.cis_rad],
+        [o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_rad_s],
+    ]
+}
+
+/// One record: the epoch line (t_oc in the system's time, the clock
+/// polynomial), the Kepler rows and the system's last three lines.
+fn nav_record(
+    out: &mut String,
+    sat: &str,
+    system: &BroadcastSystem,
+    o: &BroadcastOrbit,
+    kepler: [[f64; 4]; 4],
+    tail: [&[f64]; 3],
+) {
+    nav_epoch_line(
+        out,
+        sat,
+        o.toc_gps_s + system.time_minus_gps_s,
+        [o.af0_s, o.af1_s_s, o.af2_s_s2],
+    );
+    let rows = kepler.iter().map(|r| &r[..]).chain(tail);
+    for row in rows {
+        let _ = writeln!(
+            out,
+            "    {}",
+            row.iter().map(|&x| d19(x)).collect::<String>()
+        );
+    }
+}
+
+/// The text of a RINEX 3.04 navigation file holding GPS LNAV (table A6),
+/// Galileo I/NAV (table A8) and BeiDou D1 (table A14) ephemerides: t_oc as
+/// the epoch (in BDT for BeiDou), angles in rad, GPS and Galileo weeks
+/// continuous and aligned with GPS weeks, BeiDou's BDT weeks, t_oe and the
+/// transmission time in seconds of the t_oe week.
 pub fn format_rinex_nav(
     gps: &[LnavEphemeris],
     galileo: &[InavEphemeris],
+    beidou: &[BeidouEphemeris],
     provenance: &RinexProvenance,
 ) -> String {
     let mut out = String::new();
-    let system = match (gps.is_empty(), galileo.is_empty()) {
-        (_, true) => "G: GPS",
-        (true, false) => "E: Galileo",
-        (false, false) => "M: Mixed",
+    let present: Vec<&str> = [
+        (!gps.is_empty(), "G: GPS"),
+        (!galileo.is_empty(), "E: Galileo"),
+        (!beidou.is_empty(), "C: BeiDou"),
+    ]
+    .iter()
+    .filter_map(|&(p, name)| p.then_some(name))
+    .collect();
+    let system = match present[..] {
+        [] => "G: GPS",
+        [one] => one,
+        _ => "M: Mixed",
     };
     record(
         &mut out,
@@ -234,54 +286,37 @@ pub fn format_rinex_nav(
     );
     provenance_records(&mut out, provenance);
     record(&mut out, "", "END OF HEADER");
-    let orbit_rows = |out: &mut String, rows: &[&[f64]]| {
-        for row in rows {
-            let _ = writeln!(
-                out,
-                "    {}",
-                row.iter().map(|&x| d19(x)).collect::<String>()
-            );
-        }
-    };
     for l in gps {
         let e = &l.ephemeris;
+        let o = &e.orbit;
         let week_start = f64::from(l.toe_week) * SECONDS_PER_WEEK;
-        nav_epoch_line(
+        nav_record(
             &mut out,
             &format!("G{:02}", e.prn),
-            e.toc_gps_s,
-            [e.af0_s, e.af1_s_s, e.af2_s_s2],
+            &GPS,
+            o,
+            kepler_rows(f64::from(l.iode), o, o.toe_gps_s - week_start),
+            [
+                &[
+                    o.idot_rad_s,
+                    f64::from(l.l2_codes),
+                    f64::from(l.toe_week),
+                    f64::from(u8::from(l.l2p_data_flag)),
+                ],
+                &[
+                    ura_m(l.ura_index),
+                    f64::from(e.health),
+                    e.tgd_s,
+                    f64::from(l.iodc),
+                ],
+                &[l.transmission_gps_s - week_start, e.fit_interval_h],
+            ],
         );
-        let rows: [&[f64]; 7] = [
-            &[f64::from(l.iode), e.crs_m, e.delta_n_rad_s, e.m0_rad],
-            &[e.cuc_rad, e.eccentricity, e.cus_rad, e.sqrt_a_sqrt_m],
-            &[e.toe_gps_s - week_start, e.cic_rad, e.omega0_rad, e.cis_rad],
-            &[e.i0_rad, e.crc_m, e.omega_rad, e.omega_dot_rad_s],
-            &[
-                e.idot_rad_s,
-                f64::from(l.l2_codes),
-                f64::from(l.toe_week),
-                f64::from(u8::from(l.l2p_data_flag)),
-            ],
-            &[
-                ura_m(l.ura_index),
-                f64::from(e.health),
-                e.tgd_s,
-                f64::from(l.iodc),
-            ],
-            &[l.transmission_gps_s - week_start, e.fit_interval_h],
-        ];
-        orbit_rows(&mut out, &rows);
     }
     for e in galileo {
-        let toe_week = (e.toe_gps_s / SECONDS_PER_WEEK).floor();
+        let o = &e.orbit;
+        let toe_week = (o.toe_gps_s / SECONDS_PER_WEEK).floor();
         let week_start = toe_week * SECONDS_PER_WEEK;
-        nav_epoch_line(
-            &mut out,
-            &format!("E{:02}", e.svid),
-            e.toc_gps_s,
-            [e.af0_s, e.af1_s_s, e.af2_s_s2],
-        );
         // Data sources: bit 0 I/NAV E1-B, bit 9 clock for E5b,E1 (table A8).
         let sources = 1.0 + 512.0;
         // Health bits: 0 E1-B DVS, 1-2 E1-B HS, 6 E5b DVS, 7-8 E5b HS.
@@ -289,21 +324,40 @@ pub fn format_rinex_nav(
             | u32::from(e.e1b_health) << 1
             | u32::from(e.e5b_data_validity) << 6
             | u32::from(e.e5b_health) << 7;
-        let rows: [&[f64]; 7] = [
-            &[f64::from(e.iod_nav), e.crs_m, e.delta_n_rad_s, e.m0_rad],
-            &[e.cuc_rad, e.eccentricity, e.cus_rad, e.sqrt_a_sqrt_m],
-            &[e.toe_gps_s - week_start, e.cic_rad, e.omega0_rad, e.cis_rad],
-            &[e.i0_rad, e.crc_m, e.omega_rad, e.omega_dot_rad_s],
-            &[e.idot_rad_s, sources, toe_week, 0.0],
-            &[
-                sisa_m(e.sisa_index).unwrap_or(-1.0),
-                f64::from(health),
-                e.bgd_e1_e5a_s,
-                e.bgd_e1_e5b_s,
+        nav_record(
+            &mut out,
+            &format!("E{:02}", e.svid),
+            &GALILEO,
+            o,
+            kepler_rows(f64::from(e.iod_nav), o, o.toe_gps_s - week_start),
+            [
+                &[o.idot_rad_s, sources, toe_week, 0.0],
+                &[
+                    sisa_m(e.sisa_index).unwrap_or(-1.0),
+                    f64::from(health),
+                    e.bgd_e1_e5a_s,
+                    e.bgd_e1_e5b_s,
+                ],
+                &[e.transmission_gps_s - week_start],
             ],
-            &[e.transmission_gps_s - week_start],
-        ];
-        orbit_rows(&mut out, &rows);
+        );
+    }
+    for e in beidou {
+        let o = &e.orbit;
+        let toe_week = BEIDOU.week(o.toe_gps_s);
+        let week_start = BEIDOU.gps_time_s(toe_week, 0.0);
+        nav_record(
+            &mut out,
+            &format!("C{:02}", e.prn),
+            &BEIDOU,
+            o,
+            kepler_rows(f64::from(e.aode), o, o.toe_gps_s - week_start),
+            [
+                &[o.idot_rad_s, 0.0, toe_week, 0.0],
+                &[ura_m(e.urai), f64::from(e.sat_h1), e.tgd1_s, e.tgd2_s],
+                &[e.transmission_gps_s - week_start, f64::from(e.aodc)],
+            ],
+        );
     }
     out
 }
@@ -329,9 +383,13 @@ pub fn write_rinex_nav(
     path: impl AsRef<Path>,
     gps: &[LnavEphemeris],
     galileo: &[InavEphemeris],
+    beidou: &[BeidouEphemeris],
     provenance: &RinexProvenance,
 ) -> Result<()> {
-    write_text(path.as_ref(), &format_rinex_nav(gps, galileo, provenance))
+    write_text(
+        path.as_ref(),
+        &format_rinex_nav(gps, galileo, beidou, provenance),
+    )
 }
 
 #[cfg(test)]

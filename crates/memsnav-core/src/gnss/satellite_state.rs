@@ -1,5 +1,5 @@
 //! A satellite's position, velocity and clock correction at one GPS time:
-//! what a broadcast ephemeris ([`super::ephemeris`]) and a Walker slot
+//! what a broadcast ephemeris ([`super::BroadcastOrbit`]) and a Walker slot
 //! ([`super::constellation::Orbit`]) both evaluate to.
 
 use nalgebra::Vector3;
@@ -11,8 +11,11 @@ pub struct SatelliteState {
     pub position_ecef: Vector3<f64>,
     /// ECEF velocity, m/s.
     pub velocity_ecef: Vector3<f64>,
-    /// Satellite clock correction Δt_sv for an L1 C/A user, s (including the
-    /// relativistic term and −T_GD); zero for a Walker satellite.
+    /// Satellite clock correction Δt_sv, s, including the relativistic
+    /// term, for the signal the evaluation names: GPS L1 C/A (−T_GD),
+    /// Galileo E1 (−BGD E1/E5b), BeiDou B3I, or the clock reference without
+    /// a group delay from [`super::BroadcastOrbit::state_at`]; zero for a
+    /// Walker satellite.
     pub clock_bias_s: f64,
     /// Its rate, s/s.
     pub clock_drift_s_s: f64,

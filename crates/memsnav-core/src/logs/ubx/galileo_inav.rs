@@ -11,14 +11,12 @@
 //! 128-247 (checked on the walk's log: every E1-B pair passes its CRC read
 //! so).
 //!
-//! The orbit of a Galileo ephemeris is not computed here (its GM differs
-//! from GPS's; issue 24, multi-GNSS navigation data): the records are
-//! decoded, kept with their health and accuracy flags, and written to
-//! RINEX navigation files.
+//! The records are kept with their health and accuracy flags; their orbit
+//! and clock are [`InavEphemeris::state_at`]'s (Galileo's constants).
 
 use std::collections::HashMap;
 
-use crate::gnss::{InavEphemeris, SECONDS_PER_WEEK};
+use crate::gnss::{BroadcastOrbit, InavEphemeris, GALILEO, SECONDS_PER_WEEK};
 
 /// Words per E1-B page pair in RXM-SFRBX.
 pub(super) const WORDS: usize = 8;
@@ -27,8 +25,6 @@ pub(super) const WORDS: usize = 8;
 const GALILEO_PI: f64 = 3.141_592_653_589_8;
 /// CRC-24Q generator polynomial without its x^24 term (§4.3.2.3).
 const CRC24Q_POLY: u32 = 0x86_4CFB;
-/// Galileo System Time week 0 began at GPS week 1024 (1999-08-22).
-const GST_WEEK_ZERO_IN_GPS_WEEKS: f64 = 1024.0;
 
 /// CRC-24Q of `bits` bits of `data` from bit `first` (most significant
 /// first), computed bit by bit with a zero start (leading zero bits, the
@@ -119,7 +115,9 @@ impl InavDecoder {
         if let [Some(w1), Some(w2), Some(w3), Some(w4), Some(w5)] = *slots {
             if let Some(e) = assemble(svid, [&w1, &w2, &w3, &w4, &w5], reception_gps_s) {
                 let known = self.ephemerides.iter().any(|k| {
-                    k.svid == svid && k.iod_nav == e.iod_nav && k.toe_gps_s == e.toe_gps_s
+                    k.svid == svid
+                        && k.iod_nav == e.iod_nav
+                        && k.orbit.toe_gps_s == e.orbit.toe_gps_s
                 });
                 if !known {
                     self.ephemerides.push(e);
@@ -127,13 +125,6 @@ impl InavDecoder {
             }
         }
     }
-}
-
-/// A time of week placed in the week closest to `reference_gps_s`.
-fn nearest(tow_s: f64, reference_gps_s: f64) -> f64 {
-    let week_start = reference_gps_s - reference_gps_s.rem_euclid(SECONDS_PER_WEEK);
-    let t = week_start + tow_s;
-    t - SECONDS_PER_WEEK * ((t - reference_gps_s) / SECONDS_PER_WEEK).round()
 }
 
 /// The ephemeris of word types 1-5 when types 1-4 share their IODnav and
@@ -148,34 +139,38 @@ fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEp
     let gst_week = bits(w5, 73, 12) as u16;
     // Word 5's 12-bit GST week must agree with the reception time.
     let reception_gst_week =
-        (reception_gps_s / SECONDS_PER_WEEK - GST_WEEK_ZERO_IN_GPS_WEEKS).floor();
+        (reception_gps_s / SECONDS_PER_WEEK - GALILEO.week_zero_in_gps_weeks).floor();
     if (reception_gst_week as u32) % 4096 != u32::from(gst_week) {
         return None;
     }
     Some(InavEphemeris {
         svid,
         iod_nav: iod as u16,
-        toe_gps_s: nearest(f64::from(bits(w1, 16, 14)) * 60.0, reception_gps_s),
-        m0_rad: signed(bits(w1, 30, 32), 32) * p(-31) * sc,
-        eccentricity: f64::from(bits(w1, 62, 32)) * p(-33),
-        sqrt_a_sqrt_m: f64::from(bits(w1, 94, 32)) * p(-19),
-        omega0_rad: signed(bits(w2, 16, 32), 32) * p(-31) * sc,
-        i0_rad: signed(bits(w2, 48, 32), 32) * p(-31) * sc,
-        omega_rad: signed(bits(w2, 80, 32), 32) * p(-31) * sc,
-        idot_rad_s: signed(bits(w2, 112, 14), 14) * p(-43) * sc,
-        omega_dot_rad_s: signed(bits(w3, 16, 24), 24) * p(-43) * sc,
-        delta_n_rad_s: signed(bits(w3, 40, 16), 16) * p(-43) * sc,
-        cuc_rad: signed(bits(w3, 56, 16), 16) * p(-29),
-        cus_rad: signed(bits(w3, 72, 16), 16) * p(-29),
-        crc_m: signed(bits(w3, 88, 16), 16) * p(-5),
-        crs_m: signed(bits(w3, 104, 16), 16) * p(-5),
+        orbit: BroadcastOrbit {
+            toe_gps_s: GALILEO
+                .nearest_gps_time_s(f64::from(bits(w1, 16, 14)) * 60.0, reception_gps_s),
+            m0_rad: signed(bits(w1, 30, 32), 32) * p(-31) * sc,
+            eccentricity: f64::from(bits(w1, 62, 32)) * p(-33),
+            sqrt_a_sqrt_m: f64::from(bits(w1, 94, 32)) * p(-19),
+            omega0_rad: signed(bits(w2, 16, 32), 32) * p(-31) * sc,
+            i0_rad: signed(bits(w2, 48, 32), 32) * p(-31) * sc,
+            omega_rad: signed(bits(w2, 80, 32), 32) * p(-31) * sc,
+            idot_rad_s: signed(bits(w2, 112, 14), 14) * p(-43) * sc,
+            omega_dot_rad_s: signed(bits(w3, 16, 24), 24) * p(-43) * sc,
+            delta_n_rad_s: signed(bits(w3, 40, 16), 16) * p(-43) * sc,
+            cuc_rad: signed(bits(w3, 56, 16), 16) * p(-29),
+            cus_rad: signed(bits(w3, 72, 16), 16) * p(-29),
+            crc_m: signed(bits(w3, 88, 16), 16) * p(-5),
+            crs_m: signed(bits(w3, 104, 16), 16) * p(-5),
+            cic_rad: signed(bits(w4, 22, 16), 16) * p(-29),
+            cis_rad: signed(bits(w4, 38, 16), 16) * p(-29),
+            toc_gps_s: GALILEO
+                .nearest_gps_time_s(f64::from(bits(w4, 54, 14)) * 60.0, reception_gps_s),
+            af0_s: signed(bits(w4, 68, 31), 31) * p(-34),
+            af1_s_s: signed(bits(w4, 99, 21), 21) * p(-46),
+            af2_s_s2: signed(bits(w4, 120, 6), 6) * p(-59),
+        },
         sisa_index: bits(w3, 120, 8) as u8,
-        cic_rad: signed(bits(w4, 22, 16), 16) * p(-29),
-        cis_rad: signed(bits(w4, 38, 16), 16) * p(-29),
-        toc_gps_s: nearest(f64::from(bits(w4, 54, 14)) * 60.0, reception_gps_s),
-        af0_s: signed(bits(w4, 68, 31), 31) * p(-34),
-        af1_s_s: signed(bits(w4, 99, 21), 21) * p(-46),
-        af2_s_s2: signed(bits(w4, 120, 6), 6) * p(-59),
         bgd_e1_e5a_s: signed(bits(w5, 47, 10), 10) * p(-32),
         bgd_e1_e5b_s: signed(bits(w5, 57, 10), 10) * p(-32),
         e5b_health: bits(w5, 67, 2) as u8,
@@ -184,7 +179,7 @@ fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEp
         e1b_data_validity: bits(w5, 72, 1) as u8,
         gst_week,
         transmission_gps_s: (f64::from(gst_week)
-            + GST_WEEK_ZERO_IN_GPS_WEEKS
+            + GALILEO.week_zero_in_gps_weeks
             + 4096.0 * ((reception_gst_week - f64::from(gst_week)) / 4096.0).round())
             * SECONDS_PER_WEEK
             + f64::from(bits(w5, 85, 20)),

@@ -11,7 +11,7 @@
 
 use std::collections::HashMap;
 
-use crate::gnss::{GpsEphemeris, LnavEphemeris, SECONDS_PER_WEEK};
+use crate::gnss::{BroadcastOrbit, GpsEphemeris, LnavEphemeris, GPS, SECONDS_PER_WEEK};
 
 /// The value of π that IS-GPS-200 fixes for converting semicircles
 /// (§20.3.3.4.3.1, "PI = 3.1415926535898"): the control segment scales
@@ -83,15 +83,6 @@ fn fit_interval_h(flag: bool, iodc: u16) -> f64 {
     }
 }
 
-/// A time of week placed in the week closest to `reference_gps_s`
-/// (IS-GPS-200 §20.3.3.4.3: t_oe and t_oc may lie in the week before or
-/// after the transmission week).
-fn nearest_week(tow_s: f64, reference_gps_s: f64) -> f64 {
-    let week_start = reference_gps_s - reference_gps_s.rem_euclid(SECONDS_PER_WEEK);
-    let t = week_start + tow_s;
-    t - SECONDS_PER_WEEK * ((t - reference_gps_s) / SECONDS_PER_WEEK).round()
-}
-
 /// Subframes 1-3 of one satellite as they arrive.
 #[derive(Debug, Default)]
 struct Pending {
@@ -150,7 +141,7 @@ impl LnavDecoder {
             self.stats.malformed += 1;
             return;
         }
-        let start_gps_s = nearest_week(
+        let start_gps_s = GPS.nearest_gps_time_s(
             (f64::from(tow_count) * 6.0 - 6.0).rem_euclid(SECONDS_PER_WEEK),
             reception_gps_s,
         );
@@ -161,7 +152,7 @@ impl LnavDecoder {
                 let known = self.ephemerides.iter().any(|k| {
                     k.ephemeris.prn == prn
                         && k.iode == e.iode
-                        && k.ephemeris.toe_gps_s == e.ephemeris.toe_gps_s
+                        && k.ephemeris.orbit.toe_gps_s == e.ephemeris.orbit.toe_gps_s
                 });
                 if !known {
                     self.ephemerides.push(e);
@@ -189,13 +180,14 @@ fn assemble(
     if bits(&s1, 3, 1, 10) != week % 1024 {
         return None;
     }
-    let toc_gps_s = nearest_week(f64::from(bits(&s1, 8, 9, 16)) * 16.0, transmission_gps_s);
-    let toe_gps_s = nearest_week(f64::from(bits(s2, 10, 1, 16)) * 16.0, transmission_gps_s);
+    let toc_gps_s =
+        GPS.nearest_gps_time_s(f64::from(bits(&s1, 8, 9, 16)) * 16.0, transmission_gps_s);
+    let toe_gps_s =
+        GPS.nearest_gps_time_s(f64::from(bits(s2, 10, 1, 16)) * 16.0, transmission_gps_s);
     let fit_interval_flag = bits(s2, 10, 17, 1) == 1;
     let sc = GPS_PI;
     let p = |e: i32| 2f64.powi(e);
-    let ephemeris = GpsEphemeris {
-        prn,
+    let orbit = BroadcastOrbit {
         toc_gps_s,
         toe_gps_s,
         af0_s: signed(bits(&s1, 10, 1, 22), 22) * p(-31),
@@ -216,6 +208,10 @@ fn assemble(
         omega_rad: signed(joined(s3, 7, 8), 32) * p(-31) * sc,
         omega_dot_rad_s: signed(bits(s3, 9, 1, 24), 24) * p(-43) * sc,
         idot_rad_s: signed(bits(s3, 10, 9, 14), 14) * p(-43) * sc,
+    };
+    let ephemeris = GpsEphemeris {
+        prn,
+        orbit,
         health: bits(&s1, 3, 17, 6),
         tgd_s: signed(bits(&s1, 7, 17, 8), 8) * p(-31),
         fit_interval_h: fit_interval_h(fit_interval_flag, iodc),
@@ -340,30 +336,33 @@ pub(super) mod tests {
         let e = l.ephemeris;
         let (sc, p) = (GPS_PI, |k: i32| 2f64.powi(k));
         let t0 = f64::from(week) * SECONDS_PER_WEEK;
-        assert_eq!((e.toc_gps_s, e.toe_gps_s), (t0 + 410_400.0, t0 + 410_400.0));
+        assert_eq!(
+            (e.orbit.toc_gps_s, e.orbit.toe_gps_s),
+            (t0 + 410_400.0, t0 + 410_400.0)
+        );
         assert_eq!(l.transmission_gps_s, t0 + 408_654.0);
         assert_eq!(
             (l.iode, l.iodc, l.ura_index, l.l2_codes, l.toe_week),
             (77, 77, 3, 1, 2381)
         );
         assert_eq!(e.tgd_s, -5.0 * p(-31));
-        assert_eq!(e.af1_s_s, -1_000.0 * p(-43));
-        assert_eq!(e.af0_s, -200_000.0 * p(-31));
-        assert_eq!(e.crs_m, -613.0 / 32.0);
-        assert_eq!(e.delta_n_rad_s, 9_000.0 * p(-43) * sc);
-        assert_eq!(e.m0_rad, -1e9 * p(-31) * sc);
-        assert_eq!(e.cuc_rad, -100.0 * p(-29));
-        assert_eq!(e.eccentricity, 12_345_678.0 * p(-33));
-        assert_eq!(e.cus_rad, 300.0 * p(-29));
-        assert_eq!(e.sqrt_a_sqrt_m, 2_702_000_000.0 * p(-19));
-        assert_eq!(e.cic_rad, 3.0 * p(-29));
-        assert_eq!(e.omega0_rad, 5e8 * p(-31) * sc);
-        assert_eq!(e.cis_rad, -7.0 * p(-29));
-        assert_eq!(e.i0_rad, 6.6e8 * p(-31) * sc);
-        assert_eq!(e.crc_m, 7_000.0 / 32.0);
-        assert_eq!(e.omega_rad, -9e8 * p(-31) * sc);
-        assert_eq!(e.omega_dot_rad_s, -20_000.0 * p(-43) * sc);
-        assert_eq!(e.idot_rad_s, -100.0 * p(-43) * sc);
+        assert_eq!(e.orbit.af1_s_s, -1_000.0 * p(-43));
+        assert_eq!(e.orbit.af0_s, -200_000.0 * p(-31));
+        assert_eq!(e.orbit.crs_m, -613.0 / 32.0);
+        assert_eq!(e.orbit.delta_n_rad_s, 9_000.0 * p(-43) * sc);
+        assert_eq!(e.orbit.m0_rad, -1e9 * p(-31) * sc);
+        assert_eq!(e.orbit.cuc_rad, -100.0 * p(-29));
+        assert_eq!(e.orbit.eccentricity, 12_345_678.0 * p(-33));
+        assert_eq!(e.orbit.cus_rad, 300.0 * p(-29));
+        assert_eq!(e.orbit.sqrt_a_sqrt_m, 2_702_000_000.0 * p(-19));
+        assert_eq!(e.orbit.cic_rad, 3.0 * p(-29));
+        assert_eq!(e.orbit.omega0_rad, 5e8 * p(-31) * sc);
+        assert_eq!(e.orbit.cis_rad, -7.0 * p(-29));
+        assert_eq!(e.orbit.i0_rad, 6.6e8 * p(-31) * sc);
+        assert_eq!(e.orbit.crc_m, 7_000.0 / 32.0);
+        assert_eq!(e.orbit.omega_rad, -9e8 * p(-31) * sc);
+        assert_eq!(e.orbit.omega_dot_rad_s, -20_000.0 * p(-43) * sc);
+        assert_eq!(e.orbit.idot_rad_s, -100.0 * p(-43) * sc);
         assert_eq!((e.health, e.fit_interval_h), (0, 4.0));
         // The same subframes again: no second copy.
         lnav.push(3, &sf[0], reception);
@@ -423,8 +422,8 @@ pub(super) mod tests {
     fn week_and_time_placement() {
         let week = 2381.0 * SECONDS_PER_WEEK;
         // t_oe just after the week start, seen just before it: next week.
-        assert_eq!(nearest_week(16.0, week - 30.0), week + 16.0);
-        assert_eq!(nearest_week(604_784.0, week + 30.0), week - 16.0);
+        assert_eq!(GPS.nearest_gps_time_s(16.0, week - 30.0), week + 16.0);
+        assert_eq!(GPS.nearest_gps_time_s(604_784.0, week + 30.0), week - 16.0);
         assert_eq!(fit_interval_h(false, 245), 4.0);
         assert_eq!(fit_interval_h(true, 245), 8.0);
         assert_eq!(fit_interval_h(true, 100), 6.0);

@@ -1,7 +1,8 @@
 //! u-blox UBX binary logs (u-blox F9 HPG 1.32 and X20 HPG 2.00 interface
-//! descriptions): the raw measurements (RXM-RAWX), the GPS broadcast
-//! and Galileo ephemerides decoded from the navigation message words
-//! (RXM-SFRBX: GPS L1 C/A LNAV, Galileo E1-B I/NAV) and the receiver's own solution (NAV-PVT).
+//! descriptions): the raw measurements (RXM-RAWX), the GPS, Galileo and
+//! BeiDou broadcast ephemerides decoded from the navigation message words
+//! (RXM-SFRBX: GPS L1 C/A LNAV, Galileo E1-B I/NAV, BeiDou D1) and the
+//! receiver's own solution (NAV-PVT).
 //!
 //! The measurements come out twice: as the receiver reports them
 //! ([`RawxEpoch`], with lock times and tracking flags), and as the same
@@ -12,7 +13,7 @@
 //! time (RAWX's week and time of week), as RINEX observation epochs are.
 //!
 //! Not decoded yet (skipped with a count): GPS CNAV (L2C, L5), Galileo
-//! F/NAV and E6, BeiDou D1/D2, GLONASS strings, SBAS, and every message
+//! F/NAV and E6, BeiDou D2 (GEO), GLONASS strings, SBAS, and every message
 //! other than the three above.
 //!
 //! Any byte sequence is read without a panic: frames whose checksum fails
@@ -21,6 +22,7 @@
 //! skipped and counted by reason; a file without a single good UBX frame
 //! is an error.
 
+mod beidou_d1;
 mod bytes;
 mod framing;
 mod galileo_inav;
@@ -36,7 +38,8 @@ use std::path::Path;
 
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
-    InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile, SatelliteObservations,
+    BeidouEphemeris, InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile,
+    SatelliteObservations,
 };
 use crate::logs::PosSolution;
 use crate::{Error, Result};
@@ -62,6 +65,10 @@ pub struct UbxLog {
     /// Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one per
     /// satellite and IODnav, in the order they completed.
     pub galileo_ephemerides: Vec<InavEphemeris>,
+    /// BeiDou D1 ephemerides (MEO and IGSO satellites) decoded from
+    /// RXM-SFRBX (B1I, B2I or B3I), one per satellite, AODE and t_oe, in
+    /// the order they completed.
+    pub beidou_ephemerides: Vec<BeidouEphemeris>,
     /// Every NAV-PVT solution, fix or not.
     pub nav_pvt: Vec<NavPvt>,
     /// The NAV-PVT position fixes, as the other fix readers give them.
@@ -131,6 +138,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
     let mut nav_pvt = Vec::new();
     let mut lnav = gps_lnav::LnavDecoder::default();
     let mut inav = galileo_inav::InavDecoder::default();
+    let mut d1 = beidou_d1::D1Decoder::default();
     for f in &frames {
         let name = match (f.class, f.id) {
             NAV_PVT => "NAV-PVT".to_string(),
@@ -208,6 +216,24 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
                     (2, 1, _) => malformed(format!(
                         "RXM-SFRBX Galileo E1-B with {words} words (8 expected) or SVID {sv_id}"
                     )),
+                    // BeiDou D1 on B1I, B2I or B3I (sigId 0, 2, 4): ten
+                    // words a subframe, MEO and IGSO satellites only.
+                    (3, 0 | 2 | 4, beidou_d1::WORDS)
+                        if (1..=63).contains(&sv_id) && !matches!(sv_id, 1..=5 | 59..=63) =>
+                    {
+                        let mut w = [0u32; beidou_d1::WORDS];
+                        for (k, x) in w.iter_mut().enumerate() {
+                            *x = bytes::Le(p).u32(8 + 4 * k);
+                        }
+                        d1.push(u16::from(sv_id), &w, reception_gps_s);
+                    }
+                    // D2 (GEO satellites, sigId 1, 3, 10, or a GEO PRN).
+                    (3, 1 | 3 | 10, _) | (3, 0 | 2 | 4, _) if matches!(sv_id, 1..=5 | 59..=63) => {
+                        problems.add("BeiDou D2 (GEO) subframes not decoded", 1)
+                    }
+                    (3, 0 | 2 | 4, _) => malformed(format!(
+                        "RXM-SFRBX BeiDou D1 with {words} words (10 expected) or PRN {sv_id}"
+                    )),
                     _ => problems.add(
                         &format!(
                             "RXM-SFRBX of a navigation message not decoded (gnssId {gnss_id}, sigId {sig_id})"
@@ -233,6 +259,11 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         inav.stats.unpaired,
     );
     problems.add("Galileo I/NAV alert pages", inav.stats.alerts);
+    problems.add(
+        "BeiDou D1 subframes with a BCH failure",
+        d1.stats.bch_failures,
+    );
+    problems.add("BeiDou D1 subframes malformed", d1.stats.malformed);
     let fixes = nav_pvt::fixes(&nav_pvt);
     let approx_position_ecef = fixes
         .lla
@@ -247,6 +278,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         observations,
         gps_ephemerides: lnav.ephemerides,
         galileo_ephemerides: inav.ephemerides,
+        beidou_ephemerides: d1.ephemerides,
         nav_pvt,
         fixes,
         messages,
@@ -438,6 +470,21 @@ mod tests {
             (7, Some(2.3e7), LLI_LOST_LOCK)
         );
         assert_eq!(obs.epochs[0].satellites[1].lli[1], 0);
+        // BeiDou D1 words: truncated (9 of 10), BCH-failing, from a GEO
+        // (D2): each skipped with its count.
+        let mut log = encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(tow, week, Some(18), &signals),
+        );
+        log.extend(sfrbx(3, 21, 4, &[0; 9]));
+        log.extend(sfrbx(3, 21, 4, &[1; 10]));
+        log.extend(sfrbx(3, 3, 10, &[0; 10]));
+        let out = parse_ubx(&log, "beidou.ubx").unwrap();
+        assert!(out.beidou_ephemerides.is_empty());
+        assert_eq!(out.skipped["RXM-SFRBX malformed"], 1);
+        assert_eq!(out.skipped["BeiDou D1 subframes with a BCH failure"], 1);
+        assert_eq!(out.skipped["BeiDou D2 (GEO) subframes not decoded"], 1);
         let e = parse_ubx(b"\xB5\x62 not a log", "junk.ubx").unwrap_err();
         assert!(
             e.to_string().contains("junk.ubx") && e.to_string().contains("no UBX frame"),
