@@ -133,7 +133,8 @@ def test_smoothed_sigma_is_positive_and_smooth_through_an_outage(tmp_path):
 def test_a_position_reset_does_not_cut_the_smoothed_outage_off():
     """Issue 29: a position reset after an outage used to cut the smoother's
     path back into the outage (its drift stayed, 98 m RMS against 110 m
-    forward) and left tens of metres after it (22 m). The reset's fix is also
+    forward) and left tens of metres after it (22 m); the smoothed solution
+    is now continuous across it. The reset's fix is also
     recorded as a measurement of the state it replaces, so the smoother
     carries it back: here a start 2.8 m/s off with a claimed 0.02 m/s, 60 s
     without fixes, a 205 m reset at the first fix."""
@@ -172,3 +173,13 @@ def test_a_position_reset_does_not_cut_the_smoothed_outage_off():
     # smoothed drift is the model's, so not all of it goes.
     assert rms(smoothed[outage]) < 0.4 * rms(forward[outage])
     assert rms(smoothed[~outage]) < 1.0
+    # Continuous across the reset: the smoothed error moves by centimetres
+    # from one sample to the next there (0.18 m), the forward by the reset.
+    k = np.searchsorted(truth.time, sol.resets["time"][0])
+
+    def jump(solution):
+        error = solution.position_ecef - truth.position_ecef
+        return float(np.linalg.norm(error[k] - error[k - 1]))
+
+    assert jump(sol) > 150.0
+    assert jump(sol.smoothed) < 0.5, jump(sol.smoothed)
