@@ -1,6 +1,7 @@
 """Issue 30: hypothesis over the public numeric arguments of ``strapdown``,
 ``simulate_gnss``, ``solve_fix``, the sensor models, an IMU's spec (through
-the filter tuned from it) and both filters. Each
+the filter tuned from it), both filters and the step API (``RunningFilter``,
+every predict and update). Each
 example takes a valid call and replaces one argument (a scalar, one element
 of an array, or the whole array) by an extreme: 0, ±1e-300, the smallest
 subnormal, ±1e6, ±1e300, the largest float, NaN, ±inf, or any float.
@@ -263,7 +264,67 @@ def spec_call(a: dict[str, Any]):
     return f, w, sol
 
 
+def running_arguments() -> dict[str, Any]:
+    """The step API over the first 2 s of the drive: every IMU sample,
+    every GNSS epoch, and at 10 Hz an odometer speed, a height, a heading,
+    the NHC, a ZUPT and a ZARU (their values need not be true: a wrong
+    one is gated, not fatal)."""
+    t, _, _ = track()
+    n = 201
+    return {
+        "time": t.time[:n],
+        "specific_force": t.specific_force[:n],
+        "angular_rate": t.angular_rate[:n],
+        "position_ecef": t.position_ecef[0],
+        "velocity_ecef": t.velocity_ecef[0],
+        "attitude": t.attitude[0],
+        "delta_v": t.specific_force[1] * 0.01,
+        "delta_theta": t.angular_rate[1] * 0.01,
+        "speed": 10.0,
+        "speed_std": 0.1,
+        "lever_arm": np.array([1.0, 0.0, -0.5]),
+        "height": 150.0,
+        "height_std": 1.0,
+        "yaw": 0.3,
+        "yaw_std": 0.05,
+        "nhc_std": 0.2,
+        "zupt_std": 0.5,
+        "mean_angular_rate": np.zeros(3),
+        "zaru_std": 0.01,
+    }
+
+
+def running_call(a: dict[str, Any]):
+    _, gnss, _ = track()
+    start = {k: a[k] for k in ("position_ecef", "velocity_ecef", "attitude")}
+    time = a["time"]
+    running = mn.TightlyCoupledFilter(imu()).start(
+        time[0], a["specific_force"][0], a["angular_rate"][0], start
+    )
+    epoch_time, j = np.asarray(gnss.time), 0
+    for k in range(len(time)):
+        if k > 0:
+            running.predict(time[k], a["specific_force"][k], a["angular_rate"][k])
+        while epoch_time[j] <= time[k] + 1e-4:
+            running.update_gnss(gnss, j)
+            j += 1
+        if k % 10 == 0:
+            running.update_speed(a["speed"], a["speed_std"], a["lever_arm"])
+            running.update_height(a["height"], a["height_std"])
+            running.update_heading(a["yaw"], a["yaw_std"])
+            running.update_non_holonomic(a["nhc_std"], a["lever_arm"])
+            running.update_zupt(a["zupt_std"])
+            running.update_zaru(a["mean_angular_rate"], a["zaru_std"])
+    running.predict_increments(time[-1] + 0.01, a["delta_v"], a["delta_theta"])
+    return running
+
+
 ENTRIES = {
+    "running_filter": Entry(
+        running_arguments,
+        running_call,
+        lambda r: [r.position_ecef, r.velocity_ecef, r.attitude, r.covariance],
+    ),
     "strapdown": Entry(strapdown_arguments, lambda a: mn.strapdown(*a.values()), nav_outputs),
     "simulate_gnss": Entry(
         simulate_arguments,
