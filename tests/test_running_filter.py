@@ -269,3 +269,44 @@ def test_run_increments_is_the_stepped_increments_run(drive_300s):
     assert np.linalg.norm(pos[-1] - traj.position_ecef[n - 1]) < 5.0
     with pytest.raises(ValueError, match="delta_v"):
         flt.run_increments(t, dv[:-1], dtheta[:-1], gnss_slice(gnss, keep))
+
+
+@pytest.mark.slow
+def test_the_quoted_increments_gain_is_what_the_filter_does():
+    """docs/step-api.md and docs/real-data.md quote how far 600 s of
+    unaided propagation from error-free data ends at 100 and 20 Hz, by
+    increments (coning and sculling) and by instantaneous samples: the
+    same trajectory, recomputed."""
+    import re
+    from pathlib import Path
+
+    imu = mn.ImuModel.preset("tactical", seed=1)
+    ends = {}
+    for rate in (100.0, 20.0):
+        traj = mn.Trajectory.random(duration=600.0, rate=rate, seed=3)
+        t = traj.time
+        dv, dtheta = mn.imu_increments(t, traj.specific_force, traj.angular_rate)
+        flt = mn.TightlyCoupledFilter(imu)
+        by_increments = flt.start(t[0], traj.specific_force[0], traj.angular_rate[0], initial(traj))
+        by_samples = flt.start(t[0], traj.specific_force[0], traj.angular_rate[0], initial(traj))
+        for k in range(1, len(t)):
+            by_increments.predict_increments(t[k], dv[k - 1], dtheta[k - 1])
+            by_samples.predict(t[k], traj.specific_force[k], traj.angular_rate[k])
+        ends[rate] = [
+            float(np.linalg.norm(r.position_ecef - traj.position_ecef[-1]))
+            for r in (by_increments, by_samples)
+        ]
+    docs = Path(__file__).resolve().parent.parent / "docs"
+    page = " ".join((docs / "step-api.md").read_text().split())
+    quoted = re.search(
+        r"ends ([\d.]+) m off at 100 Hz and ([\d.]+) m at 20 Hz, against ([\d.]+) m and ([\d.]+) m",
+        page,
+    )
+    assert quoted, "docs/step-api.md no longer quotes the increments gain"
+    figures = [ends[100.0][0], ends[20.0][0], ends[100.0][1], ends[20.0][1]]
+    for text, value in zip(quoted.groups(), figures, strict=True):
+        decimals = len(text.split(".")[1])
+        assert f"{value:.{decimals}f}" == text, (text, value)
+    guide = " ".join((docs / "real-data.md").read_text().split())
+    assert f"{ends[100.0][0]:.3f} m native against {ends[100.0][1]:.3f} m" in guide
+    assert f"at 20 Hz {ends[20.0][0]:.2f} m against {ends[20.0][1]:.1f} m" in guide
