@@ -50,7 +50,7 @@ pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
-pub(crate) use rinex_obs::observation_range;
+pub(crate) use rinex_obs::{observation_range, SignalLayout};
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };

@@ -13,6 +13,84 @@ use nalgebra::Vector3;
 use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
+/// The signals of a receiver log laid out as RINEX observations: per
+/// system the signal codes present, sorted, each with the four types `C`,
+/// `L`, `D`, `S` in that order (the layout memsnav's log converters write).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SignalLayout {
+    codes: BTreeMap<char, Vec<String>>,
+}
+
+impl SignalLayout {
+    /// The layout of the `(system, code)` pairs a log holds.
+    pub(crate) fn new<'a>(signals: impl IntoIterator<Item = (char, &'a str)>) -> Self {
+        let mut codes: BTreeMap<char, Vec<String>> = BTreeMap::new();
+        for (system, code) in signals {
+            let list = codes.entry(system).or_default();
+            if !list.iter().any(|c| c == code) {
+                list.push(code.to_string());
+            }
+        }
+        for list in codes.values_mut() {
+            list.sort_unstable();
+        }
+        Self { codes }
+    }
+
+    /// The header's observation types per system.
+    pub(crate) fn observation_types(&self) -> BTreeMap<char, Vec<String>> {
+        self.codes
+            .iter()
+            .map(|(&system, list)| {
+                let types = list
+                    .iter()
+                    .flat_map(|c| ["C", "L", "D", "S"].map(|k| format!("{k}{c}")))
+                    .collect();
+                (system, types)
+            })
+            .collect()
+    }
+
+    /// The `C`, `L`, `D`, `S` values and their loss-of-lock indicators of
+    /// signal `code` of satellite `system` `prn` among an epoch's
+    /// `satellites`, the satellite added with blank values when it is new.
+    /// `code` must be one of the layout's.
+    pub(crate) fn slots<'s>(
+        &self,
+        satellites: &'s mut Vec<SatelliteObservations>,
+        system: char,
+        prn: u16,
+        code: &str,
+    ) -> (&'s mut [Option<f64>], &'s mut [u8]) {
+        let codes = &self.codes[&system];
+        let j = codes
+            .iter()
+            .position(|c| c == code)
+            .expect("a code of the layout");
+        let at = match satellites
+            .iter()
+            .position(|x| (x.system, x.prn) == (system, prn))
+        {
+            Some(at) => at,
+            None => {
+                let n = 4 * codes.len();
+                satellites.push(SatelliteObservations {
+                    system,
+                    prn,
+                    values: vec![None; n],
+                    lli: vec![0; n],
+                });
+                satellites.len() - 1
+            }
+        };
+        let sat = &mut satellites[at];
+        (
+            &mut sat.values[4 * j..4 * j + 4],
+            &mut sat.lli[4 * j..4 * j + 4],
+        )
+    }
+}
+
 /// One satellite's observations at one epoch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SatelliteObservations {

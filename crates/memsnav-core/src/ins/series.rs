@@ -73,6 +73,12 @@ impl ImuData<'_> {
                 "time less one",
                 self.time_s.len() - 1,
             )?;
+            let (delta_v, delta_theta): (Vectors, Vectors) = increments
+                .iter()
+                .map(|d| (d.delta_velocity_b, d.delta_angle_b))
+                .unzip();
+            validate::finite_vectors("delta_v", &delta_v)?;
+            validate::finite_vectors("delta_theta", &delta_theta)?;
         }
         Ok(())
     }

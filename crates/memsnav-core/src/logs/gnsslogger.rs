@@ -35,7 +35,7 @@ use nalgebra::Vector3;
 use super::fields::{finite_number, parse_error};
 use super::ImuLog;
 use crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
-use crate::gnss::{ObservationEpoch, ObservationFile, SatelliteObservations};
+use crate::gnss::{ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout};
 use crate::{Error, Result};
 
 const NS_PER_WEEK: i128 = 604_800_000_000_000;
@@ -494,50 +494,20 @@ pub fn parse_gnsslogger(text: &str, file: &str) -> Result<GnssLoggerLog> {
             }
         }
     }
-    let mut observation_types: BTreeMap<char, Vec<String>> = BTreeMap::new();
-    let mut codes: BTreeMap<char, Vec<String>> = BTreeMap::new();
-    for s in epochs.iter().flat_map(|e| &e.2) {
-        let list = codes.entry(s.system).or_default();
-        if !list.contains(&s.code) {
-            list.push(s.code.clone());
-        }
-    }
-    for (system, list) in &mut codes {
-        list.sort();
-        observation_types.insert(
-            *system,
-            list.iter()
-                .flat_map(|c| ["C", "L", "D", "S"].map(|t| format!("{t}{c}")))
-                .collect(),
-        );
-    }
+    let layout = SignalLayout::new(
+        epochs
+            .iter()
+            .flat_map(|e| &e.2)
+            .map(|s| (s.system, s.code.as_str())),
+    );
     let observation_epochs = epochs
         .into_iter()
         .map(|(_, epoch_ns, signals)| {
             let mut satellites: Vec<SatelliteObservations> = Vec::new();
             for s in signals {
-                let types = &codes[&s.system];
-                let j = types
-                    .iter()
-                    .position(|c| *c == s.code)
-                    .expect("collected above");
-                let at = match satellites
-                    .iter()
-                    .position(|x| (x.system, x.prn) == (s.system, s.prn))
-                {
-                    Some(at) => at,
-                    None => {
-                        satellites.push(SatelliteObservations {
-                            system: s.system,
-                            prn: s.prn,
-                            values: vec![None; 4 * types.len()],
-                            // Android's ADR slip flags are not mapped (yet).
-                            lli: vec![0; 4 * types.len()],
-                        });
-                        satellites.len() - 1
-                    }
-                };
-                satellites[at].values[4 * j..4 * j + 4].copy_from_slice(&s.values);
+                // Android's ADR slip flags are not mapped (yet): LLI 0.
+                let (values, _) = layout.slots(&mut satellites, s.system, s.prn, &s.code);
+                values.copy_from_slice(&s.values);
             }
             ObservationEpoch {
                 gps_time_s: epoch_ns * 1e-9,
@@ -557,7 +527,7 @@ pub fn parse_gnsslogger(text: &str, file: &str) -> Result<GnssLoggerLog> {
     Ok(GnssLoggerLog {
         observations: ObservationFile {
             version: 3.05,
-            observation_types,
+            observation_types: layout.observation_types(),
             approx_position_ecef: None,
             epochs: observation_epochs,
             warnings: Vec::new(),

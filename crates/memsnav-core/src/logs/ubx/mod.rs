@@ -39,7 +39,7 @@ use std::path::Path;
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
     BeidouEphemeris, InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile,
-    SatelliteObservations,
+    SatelliteObservations, SignalLayout,
 };
 use crate::logs::PosSolution;
 use crate::{Error, Result};
@@ -300,54 +300,19 @@ const LLI_HALF_CYCLE: u8 = 2;
 /// lock lost when the lock time fell since the previous epoch that had the
 /// signal, and half-cycle when `halfCyc` is clear.
 fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
-    let mut codes: BTreeMap<char, Vec<&'static str>> = BTreeMap::new();
-    for s in rawx.iter().flat_map(|e| &e.signals) {
-        let list = codes.entry(s.system).or_default();
-        if !list.contains(&s.rinex_code) {
-            list.push(s.rinex_code);
-        }
-    }
-    for list in codes.values_mut() {
-        list.sort_unstable();
-    }
-    let observation_types: BTreeMap<char, Vec<String>> = codes
-        .iter()
-        .map(|(&sys, list)| {
-            let types = list
-                .iter()
-                .flat_map(|c| ["C", "L", "D", "S"].map(|k| format!("{k}{c}")))
-                .collect();
-            (sys, types)
-        })
-        .collect();
+    let layout = SignalLayout::new(
+        rawx.iter()
+            .flat_map(|e| &e.signals)
+            .map(|s| (s.system, s.rinex_code)),
+    );
     let mut last_lock: HashMap<(char, u16, &str), f64> = HashMap::new();
     let epochs = rawx
         .iter()
         .map(|e| {
             let mut satellites: Vec<SatelliteObservations> = Vec::new();
             for s in &e.signals {
-                let j = codes[&s.system]
-                    .iter()
-                    .position(|c| *c == s.rinex_code)
-                    .expect("collected above");
-                let at = match satellites
-                    .iter()
-                    .position(|x| (x.system, x.prn) == (s.system, s.prn))
-                {
-                    Some(at) => at,
-                    None => {
-                        let n = 4 * codes[&s.system].len();
-                        satellites.push(SatelliteObservations {
-                            system: s.system,
-                            prn: s.prn,
-                            values: vec![None; n],
-                            lli: vec![0; n],
-                        });
-                        satellites.len() - 1
-                    }
-                };
-                let sat = &mut satellites[at];
-                if sat.values[4 * j..4 * j + 4].iter().any(Option::is_some) {
+                let (values, lli) = layout.slots(&mut satellites, s.system, s.prn, s.rinex_code);
+                if values.iter().any(Option::is_some) {
                     // A second block of the same signal in one epoch: the first is kept.
                     continue;
                 }
@@ -358,14 +323,14 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
                     .then_some(value)
                 };
                 let t = s.tracking;
-                sat.values[4 * j] = kept("C", s.pseudorange_m, t.pseudorange_valid);
-                sat.values[4 * j + 1] = kept("L", s.carrier_phase_cycles, t.carrier_phase_valid);
-                sat.values[4 * j + 2] = kept("D", s.doppler_hz, true);
-                sat.values[4 * j + 3] = kept("S", s.cn0_db_hz, s.cn0_db_hz > 0.0);
+                values[0] = kept("C", s.pseudorange_m, t.pseudorange_valid);
+                values[1] = kept("L", s.carrier_phase_cycles, t.carrier_phase_valid);
+                values[2] = kept("D", s.doppler_hz, true);
+                values[3] = kept("S", s.cn0_db_hz, s.cn0_db_hz > 0.0);
                 let previous = last_lock.insert((s.system, s.prn, s.rinex_code), s.lock_time_s);
-                if sat.values[4 * j + 1].is_some() {
+                if values[1].is_some() {
                     let lost = previous.is_some_and(|p| s.lock_time_s < p);
-                    sat.lli[4 * j + 1] = if lost { LLI_LOST_LOCK } else { 0 }
+                    lli[1] = if lost { LLI_LOST_LOCK } else { 0 }
                         | if t.half_cycle_resolved {
                             0
                         } else {
@@ -382,7 +347,7 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
         .collect();
     ObservationFile {
         version: 3.04,
-        observation_types,
+        observation_types: layout.observation_types(),
         approx_position_ecef: None,
         epochs,
         warnings: Vec::new(),
