@@ -826,6 +826,7 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
                 time_s,
                 SatelliteMeasurement {
                     sat_id,
+                    system: gnss::system_of_number(sat_id),
                     position_ecef: Vector3::from_column_slice(&pos[3 * i..3 * i + 3]),
                     velocity_ecef: Vector3::from_column_slice(&vel[3 * i..3 * i + 3]),
                     pseudorange_m: rho[i],

@@ -37,8 +37,10 @@ use super::records::MeasurementKind;
 use super::run::Aiding;
 use super::tuning::FilterTuning;
 use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION};
-use crate::gnss::{self, solve_fix, GnssEpoch, SatelliteMeasurement};
-use crate::Result;
+use crate::gnss::{
+    self, solve_fix, GnssEpoch, GnssSystem, SatelliteMeasurement, INTER_SYSTEM_BIAS_SYSTEMS,
+};
+use crate::{Error, Result};
 
 impl engine::AidingEpoch for GnssEpoch {
     fn time_s(&self) -> f64 {
@@ -54,7 +56,10 @@ fn satellite_usable(m: &SatelliteMeasurement) -> bool {
 
 /// Sets an unknown clock offset (drift) to the median residual of this
 /// epoch's finite pseudoranges (rates), so the test starts from a sane
-/// prediction.
+/// prediction. The clock follows GPS when the epoch has GPS satellites (the
+/// inter-system biases are relative to it), else the first system it has;
+/// each other system's unknown inter-system bias is then its median
+/// residual less the clock.
 fn initialise_clock<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch, use_rate: bool) {
     let antenna = s.antenna();
     let residual = |m: &SatelliteMeasurement| {
@@ -70,22 +75,67 @@ fn initialise_clock<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch, u
         )
     };
     let usable = epoch.measurements.iter().filter(|m| satellite_usable(m));
-    let mut range: Vec<f64> = usable
-        .clone()
-        .map(|m| residual(m).0)
-        .filter(|r| r.is_finite())
-        .collect();
+    let range_residuals = |system: GnssSystem| -> Vec<f64> {
+        usable
+            .clone()
+            .filter(|m| m.system == system)
+            .map(|m| residual(m).0)
+            .filter(|r| r.is_finite())
+            .collect()
+    };
     let mut rate: Vec<f64> = usable
+        .clone()
         .map(|m| residual(m).1)
         .filter(|r| r.is_finite())
         .collect();
-    if !s.clock_known.0 && !range.is_empty() {
-        s.clock_offset_m = median(&mut range);
-        s.clock_known.0 = true;
+    if !s.clock_known.0 {
+        let reference = GnssSystem::ALL
+            .into_iter()
+            .map(range_residuals)
+            .find(|r| !r.is_empty());
+        if let Some(mut range) = reference {
+            s.clock_offset_m = median(&mut range);
+            s.clock_known.0 = true;
+        }
+    }
+    if s.clock_known.0 {
+        for system in INTER_SYSTEM_BIAS_SYSTEMS {
+            let k = system.inter_system_bias_index().unwrap_or_default();
+            let mut range = range_residuals(system);
+            if !s.inter_system_bias_known[k] && !range.is_empty() {
+                s.inter_system_bias_m[k] = median(&mut range) - s.clock_offset_m;
+                s.inter_system_bias_known[k] = true;
+            }
+        }
     }
     if !s.clock_known.1 && use_rate && !rate.is_empty() {
         s.clock_drift_m_s = median(&mut rate);
         s.clock_known.1 = true;
+    }
+}
+
+/// The state index of `m`'s inter-system bias and its estimate, m: `None`
+/// for GPS, the clock's reference; an error when the filter has no
+/// inter-system-bias states.
+fn inter_system_bias<const N: usize>(
+    s: &FilterState<N>,
+    m: &SatelliteMeasurement,
+    time_s: f64,
+) -> Result<Option<(usize, f64)>> {
+    let Some(k) = m.system.inter_system_bias_index() else {
+        return Ok(None);
+    };
+    match crate::filter::Layout::for_size::<N>().inter_system_bias {
+        Some(first) => Ok(Some((first + k, s.inter_system_bias_m[k]))),
+        None => Err(Error::invalid(
+            "gnss",
+            format!(
+                "the epoch at t = {time_s} s has {} satellite {}, but this {N}-state filter has no \
+                 inter-system-bias states: start it with them to combine systems",
+                m.system,
+                gnss::satellite_name(m.sat_id)
+            ),
+        )),
     }
 }
 
@@ -120,6 +170,10 @@ pub(crate) fn update_epoch<const N: usize>(
         let mut h = antenna.position_row(&(-p.line_of_sight_ecef));
         h.push(CLOCK_OFFSET, 1.0);
         let mut y = p.range_m + s.clock_offset_m - m.pseudorange_m;
+        if let Some((i, bias)) = inter_system_bias(s, m, t)? {
+            h.push(i, 1.0);
+            y += bias;
+        }
         let mut std = m.pseudorange_std_m;
         match s.range_bias_state(m.sat_id, t) {
             Some((i, bias)) => {
@@ -188,15 +242,23 @@ fn curvature(p_rr: &Matrix3<f64>, u: &Vector3<f64>, range_m: f64, std_m: f64) ->
     (p_rr.trace() - u.dot(&(p_rr * u))) / (2.0 * range_m * std_m)
 }
 
-/// The epoch's satellites with finite pseudorange and satellite state.
-fn usable_epoch(epoch: &GnssEpoch) -> GnssEpoch {
+/// The epoch's satellites with finite pseudorange and satellite state, the
+/// other systems' pseudoranges less their inter-system bias estimates so
+/// that one receiver clock fits them all (the least-squares fix's model).
+fn usable_epoch<const N: usize>(s: &FilterState<N>, epoch: &GnssEpoch) -> GnssEpoch {
     GnssEpoch {
         time_s: epoch.time_s,
         measurements: epoch
             .measurements
             .iter()
             .filter(|m| satellite_usable(m) && m.pseudorange_m.is_finite())
-            .copied()
+            .map(|m| SatelliteMeasurement {
+                pseudorange_m: m.pseudorange_m
+                    - m.system
+                        .inter_system_bias_index()
+                        .map_or(0.0, |k| s.inter_system_bias_m[k]),
+                ..*m
+            })
             .collect(),
     }
 }
@@ -211,7 +273,7 @@ fn recover<const N: usize>(
     use_rate: bool,
 ) -> Result<()> {
     let kind = MeasurementKind::Pseudorange;
-    let usable = usable_epoch(epoch);
+    let usable = usable_epoch(s, epoch);
     let fix = if usable.measurements.len() >= 4 {
         solve_fix(&usable, Some(s.antenna().position_ecef)).ok()
     } else {
@@ -247,7 +309,7 @@ fn recover<const N: usize>(
 /// Doppler velocity when a fix gives one.
 fn recover_velocity<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -> Result<()> {
     let kind = MeasurementKind::PseudorangeRate;
-    let usable = usable_epoch(epoch);
+    let usable = usable_epoch(s, epoch);
     let fix = (usable.measurements.len() >= 4)
         .then(|| solve_fix(&usable, Some(s.antenna().position_ecef)).ok())
         .flatten()

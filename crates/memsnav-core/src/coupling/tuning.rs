@@ -43,6 +43,10 @@ pub struct InitialUncertainty {
     /// Each satellite's pseudorange bias when it enters a range-bias slot,
     /// m (filters with range-bias states only).
     pub range_bias_m: f64,
+    /// Each inter-system bias once the first pseudoranges of its system
+    /// have set it (to their median residual less the clock's), m
+    /// (filters with inter-system-bias states only).
+    pub inter_system_bias_m: f64,
     /// The installation states (filters with the installation block only).
     pub installation: InstallationUncertainty,
 }
@@ -60,6 +64,7 @@ impl Default for InitialUncertainty {
             accel_scale_factor: 1e-3,
             gyro_scale_factor: 1e-3,
             range_bias_m: RangeBiasModel::default().std_m,
+            inter_system_bias_m: DEFAULT_INTER_SYSTEM_BIAS_STD_M,
             installation: InstallationUncertainty::default(),
         }
     }
@@ -193,6 +198,17 @@ impl FilterTuning {
 /// is rejected.
 pub const DEFAULT_GATE_PROBABILITY: f64 = 0.999;
 
+/// Default one-sigma of an inter-system bias once its system's first
+/// pseudoranges have set it, m: that median residual is off by the
+/// position and clock errors' projections, a few metres.
+pub const DEFAULT_INTER_SYSTEM_BIAS_STD_M: f64 = 10.0;
+
+/// Default random-walk PSD of the inter-system biases, m²/s: a receiver's
+/// inter-system delay is a property of its hardware and the systems' time
+/// offsets (GGTO, BDT − GPST), steady over a drive; 1e-4 m²/s lets it move
+/// 0.6 m in an hour (Groves §9.4.2.3 models it as a constant).
+pub const DEFAULT_INTER_SYSTEM_BIAS_PSD_M2_S: f64 = 1e-4;
+
 /// Everything a coupled filter needs besides the data.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilterTuning {
@@ -267,6 +283,7 @@ impl FilterTuning {
                 gyro_scale_factor_psd: 0.0,
                 range_bias_psd: RangeBiasModel::default().psd(),
                 range_bias_correlation_time_s: RangeBiasModel::default().correlation_time_s,
+                inter_system_bias_psd: DEFAULT_INTER_SYSTEM_BIAS_PSD_M2_S,
                 input_errors: InputErrorNoise::default(),
             },
             initial_std,
@@ -363,6 +380,7 @@ impl FilterTuning {
             ("accel_scale_factor_psd", q.accel_scale_factor_psd),
             ("gyro_scale_factor_psd", q.gyro_scale_factor_psd),
             ("range_bias_psd", q.range_bias_psd),
+            ("inter_system_bias_psd", q.inter_system_bias_psd),
             (
                 "accel_scale_factor_std",
                 q.input_errors.errors.accel_scale_factor,
@@ -432,6 +450,7 @@ impl FilterTuning {
             ("initial_accel_scale_factor_std", i.accel_scale_factor),
             ("initial_gyro_scale_factor_std", i.gyro_scale_factor),
             ("initial_range_bias_std", i.range_bias_m),
+            ("initial_inter_system_bias_std", i.inter_system_bias_m),
             ("lever_arm_std", i.installation.lever_arm_m),
             ("time_offset_std", i.installation.time_offset_s),
             ("velocity_latency_std", i.installation.velocity_latency_s),

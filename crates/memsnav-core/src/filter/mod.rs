@@ -371,6 +371,7 @@ mod tests {
             gyro_scale_factor_psd: 0.0,
             range_bias_psd: 0.0,
             range_bias_correlation_time_s: f64::INFINITY,
+            inter_system_bias_psd: 0.0,
             input_errors: input_noise::InputErrorNoise::default(),
         };
         let other = ProcessNoise {

@@ -49,7 +49,8 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use super::input_noise::{self, InputErrorNoise};
 use super::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, INSTALLATION_STATES, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
+    GYRO_SCALE_FACTOR, INSTALLATION_STATES, INTER_SYSTEM_BIAS_STATES, POSITION, RANGE_BIAS_SLOTS,
+    VELOCITY,
 };
 use crate::attitude::skew;
 use crate::gauss_markov::discretise;
@@ -99,6 +100,9 @@ pub struct ProcessNoise {
     pub range_bias_psd: f64,
     /// Correlation time of the pseudorange biases, s.
     pub range_bias_correlation_time_s: f64,
+    /// Random-walk PSD of each inter-system bias, m²/s (filters with the
+    /// inter-system-bias states).
+    pub inter_system_bias_psd: f64,
     /// The sensor errors the state lacks, as noise shaped by the inputs
     /// ([`super::input_noise`]); added to the white noise per body axis.
     pub input_errors: InputErrorNoise,
@@ -373,9 +377,14 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET), (self.dt, CLOCK_DRIFT)]);
         set(CLOCK_DRIFT, &[(1.0, CLOCK_DRIFT)]);
-        if let Some(first) = layout.installation {
-            for j in first..first + INSTALLATION_STATES {
-                set(j, &[(1.0, j)]);
+        for (first, len) in [
+            (layout.installation, INSTALLATION_STATES),
+            (layout.inter_system_bias, INTER_SYSTEM_BIAS_STATES),
+        ] {
+            if let Some(first) = first {
+                for j in first..first + len {
+                    set(j, &[(1.0, j)]);
+                }
             }
         }
         if let Some(first) = layout.range_bias {
@@ -484,9 +493,14 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET)]);
         set(CLOCK_DRIFT, &[(self.dt, CLOCK_OFFSET), (1.0, CLOCK_DRIFT)]);
-        if let Some(first) = layout.installation {
-            for j in first..first + INSTALLATION_STATES {
-                set(j, &[(1.0, j)]);
+        for (first, len) in [
+            (layout.installation, INSTALLATION_STATES),
+            (layout.inter_system_bias, INTER_SYSTEM_BIAS_STATES),
+        ] {
+            if let Some(first) = first {
+                for j in first..first + len {
+                    set(j, &[(1.0, j)]);
+                }
             }
         }
         if let Some(first) = layout.range_bias {
@@ -787,6 +801,11 @@ fn for_each_process_noise<const N: usize>(
     f(CLOCK_OFFSET, CLOCK_DRIFT, 0.5 * sf * dt * dt);
     f(CLOCK_DRIFT, CLOCK_OFFSET, 0.5 * sf * dt * dt);
     f(CLOCK_DRIFT, CLOCK_DRIFT, sf * dt);
+    if let Some(first) = layout.inter_system_bias {
+        for j in first..first + INTER_SYSTEM_BIAS_STATES {
+            f(j, j, noise.inter_system_bias_psd * dt);
+        }
+    }
     if let Some(first) = layout.range_bias {
         for j in first..first + RANGE_BIAS_SLOTS {
             f(j, j, d.rb_variance);
@@ -833,6 +852,7 @@ mod tests {
             gyro_scale_factor_psd: 2e-9,
             range_bias_psd: 0.05,
             range_bias_correlation_time_s: 0.5 * tau,
+            inter_system_bias_psd: 0.03,
             input_errors: InputErrorNoise {
                 errors: super::super::input_noise::UnmodelledErrors {
                     accel_scale_factor: 1e-3,
@@ -933,6 +953,8 @@ mod tests {
         adjoint_equals_dense::<35>(300.0);
         adjoint_equals_dense::<24>(300.0);
         adjoint_equals_dense::<42>(300.0);
+        adjoint_equals_dense::<19>(300.0);
+        adjoint_equals_dense::<44>(300.0);
     }
 
     /// The smoother's forward step: Z′ = Z Φᵀ + R′ Q and y′ = Φ y + Q λ′,
@@ -964,6 +986,7 @@ mod tests {
         carry_equals_dense::<35>(300.0);
         carry_equals_dense::<30>(300.0);
         carry_equals_dense::<42>(300.0);
+        carry_equals_dense::<44>(300.0);
     }
 
     #[test]
@@ -977,6 +1000,11 @@ mod tests {
         structured_equals_dense::<30>(f64::INFINITY);
         structured_equals_dense::<36>(300.0);
         structured_equals_dense::<42>(300.0);
+        // With the inter-system biases: base, + range biases, + installation, all.
+        structured_equals_dense::<19>(300.0);
+        structured_equals_dense::<31>(300.0);
+        structured_equals_dense::<26>(f64::INFINITY);
+        structured_equals_dense::<44>(300.0);
     }
 
     /// A filter's kept working storage gives what fresh storage gives,

@@ -12,13 +12,16 @@
 //! | 17-19 | accelerometer scale-factor error s_a (optional) | 1 |
 //! | 20-22 | gyro scale-factor error s_g (optional) | 1 |
 //! | next 7 | installation (optional): lever arm (3, body axes, m), IMU time offset (s), GNSS velocity latency (s), mounting boresight pitch and yaw (rad) | see [`Installation`] |
+//! | next 2 | inter-system biases (optional): Galileo and BeiDou pseudoranges minus GPS's, beyond the common receiver clock | m |
 //! | last 12 | pseudorange bias of the satellite in each slot (optional) | m |
 //!
 //! The optional states are a compile-time extension selected by the size
 //! `N` alone ([`Layout::of`]): [`BASE_STATES`] (17), [`WITH_SCALE_FACTORS`]
 //! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
 //! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both), each
-//! also with the [`INSTALLATION_STATES`] (24, 30, 36, 42).
+//! also with the [`INSTALLATION_STATES`] (24, 30, 36, 42), and each of
+//! those with the [`INTER_SYSTEM_BIAS_STATES`] (+2). Every combination
+//! has its own size ([`Layout::size`]).
 //! Misalignments and nonlinearity are not states; the filters absorb them
 //! as noise shaped by the sensed motion ([`super::input_noise`]).
 
@@ -57,6 +60,12 @@ pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
 /// relative to the antenna, estimated instead of assumed (issue 29).
 pub const INSTALLATION_STATES: usize = 7;
 
+/// States of the inter-system-bias block: Galileo's and BeiDou's
+/// pseudorange bias relative to GPS, one per system in the order of
+/// [`crate::gnss::INTER_SYSTEM_BIAS_SYSTEMS`] (a multi-GNSS receiver's one
+/// clock plus an offset per other system; Groves §9.4.2.3 and §14.3.3).
+pub const INTER_SYSTEM_BIAS_STATES: usize = 2;
+
 /// Offsets of the installation states inside their block. Each is an error
 /// (estimate − truth) of a constant:
 ///
@@ -92,6 +101,8 @@ pub struct Layout {
     pub scale_factors: bool,
     /// Index of the first installation state, when there are any.
     pub installation: Option<usize>,
+    /// Index of the first inter-system-bias state, when there are any.
+    pub inter_system_bias: Option<usize>,
     /// Index of the first range-bias state, when there are any.
     pub range_bias: Option<usize>,
 }
@@ -100,19 +111,17 @@ impl Layout {
     /// The layout of a state of size `n`; `None` for any other size.
     pub const fn of(n: usize) -> Option<Self> {
         let mut k = 0;
-        while k < 8 {
-            let (sf, inst, rb) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
-            if Self::size(sf, inst, rb) == n {
+        while k < 16 {
+            let (sf, inst, isb, rb) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
+            if Self::size(sf, inst, isb, rb) == n {
                 let after_sf = if sf { WITH_SCALE_FACTORS } else { BASE_STATES };
-                let after_inst = if inst {
-                    after_sf + INSTALLATION_STATES
-                } else {
-                    after_sf
-                };
+                let after_inst = after_sf + if inst { INSTALLATION_STATES } else { 0 };
+                let after_isb = after_inst + if isb { INTER_SYSTEM_BIAS_STATES } else { 0 };
                 return Some(Self {
                     scale_factors: sf,
                     installation: if inst { Some(after_sf) } else { None },
-                    range_bias: if rb { Some(after_inst) } else { None },
+                    inter_system_bias: if isb { Some(after_inst) } else { None },
+                    range_bias: if rb { Some(after_isb) } else { None },
                 });
             }
             k += 1;
@@ -124,15 +133,21 @@ impl Layout {
     pub const fn for_size<const N: usize>() -> Self {
         match Self::of(N) {
             Some(l) => l,
-            None => {
-                panic!("the error state has 17, 23, 29 or 35 states, each + 7 installation states")
-            }
+            None => panic!(
+                "the error state has 17, 23, 29 or 35 states, each + 7 installation and + 2 inter-system-bias states"
+            ),
         }
     }
 
     /// The size for these options: the base, then the scale factors, the
-    /// installation block and the range biases, in that order.
-    pub const fn size(scale_factors: bool, installation: bool, range_biases: bool) -> usize {
+    /// installation block, the inter-system biases and the range biases,
+    /// in that order (every combination gives a different size).
+    pub const fn size(
+        scale_factors: bool,
+        installation: bool,
+        inter_system_biases: bool,
+        range_biases: bool,
+    ) -> usize {
         BASE_STATES
             + if scale_factors {
                 WITH_SCALE_FACTORS - BASE_STATES
@@ -140,6 +155,11 @@ impl Layout {
                 0
             }
             + if installation { INSTALLATION_STATES } else { 0 }
+            + if inter_system_biases {
+                INTER_SYSTEM_BIAS_STATES
+            } else {
+                0
+            }
             + if range_biases { RANGE_BIAS_SLOTS } else { 0 }
     }
 }
@@ -184,6 +204,9 @@ impl StateLayout {
         "mounting_yaw",
     ];
 
+    const INTER_SYSTEM_BIAS_NAMES: [&'static str; INTER_SYSTEM_BIAS_STATES] =
+        ["inter_system_bias_galileo", "inter_system_bias_beidou"];
+
     const RANGE_BIAS_NAMES: [&'static str; RANGE_BIAS_SLOTS] = [
         "range_bias_0",
         "range_bias_1",
@@ -209,10 +232,15 @@ impl StateLayout {
         let Some(layout) = Layout::of(n) else {
             return "unknown";
         };
-        let name = match (layout.installation, layout.range_bias) {
-            (_, Some(first)) if i >= first => Self::RANGE_BIAS_NAMES.get(i - first),
-            (Some(first), _) if i >= first => Self::INSTALLATION_NAMES.get(i - first),
-            _ => Self::NAMES.get(i),
+        let after = |first: Option<usize>| first.filter(|&f| i >= f).map(|f| i - f);
+        let name = if let Some(k) = after(layout.range_bias) {
+            Self::RANGE_BIAS_NAMES.get(k)
+        } else if let Some(k) = after(layout.inter_system_bias) {
+            Self::INTER_SYSTEM_BIAS_NAMES.get(k)
+        } else if let Some(k) = after(layout.installation) {
+            Self::INSTALLATION_NAMES.get(k)
+        } else {
+            Self::NAMES.get(i)
         };
         name.copied().unwrap_or("unknown")
     }
@@ -264,6 +292,13 @@ impl<const N: usize> ErrorState<N> {
         Layout::for_size::<N>()
             .installation
             .map(|first| self.0.fixed_rows::<INSTALLATION_STATES>(first).into_owned())
+    }
+    /// The inter-system-bias errors (Galileo, BeiDou), m, when the state
+    /// has them.
+    pub fn inter_system_biases(&self) -> Option<[f64; INTER_SYSTEM_BIAS_STATES]> {
+        Layout::for_size::<N>()
+            .inter_system_bias
+            .map(|first| std::array::from_fn(|k| self.0[first + k]))
     }
     /// Scale-factor errors (accelerometer, gyro), when the state has them.
     pub fn scale_factors(&self) -> Option<(Vector3<f64>, Vector3<f64>)> {

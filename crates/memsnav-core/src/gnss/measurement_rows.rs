@@ -128,6 +128,7 @@ mod tests {
     fn measurement(sat_id: u16) -> SatelliteMeasurement {
         SatelliteMeasurement {
             sat_id,
+            system: super::super::GnssSystem::Gps,
             position_ecef: Vector3::new(2.0e7, 1.0e7, 1.0e7),
             velocity_ecef: Vector3::new(1000.0, 2000.0, 0.0),
             pseudorange_m: 2.2e7,

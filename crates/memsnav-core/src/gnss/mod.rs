@@ -25,6 +25,7 @@ mod rinex_write;
 mod satellite_state;
 mod simulate;
 mod sp3;
+mod system;
 mod time;
 mod utc;
 mod walker;
@@ -64,6 +65,9 @@ pub use simulate::{
     GnssSimulation, Outage, ReceiverTrack, SimulationConfig,
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
+pub use system::{
+    satellite_name, satellite_number, system_of_number, GnssSystem, INTER_SYSTEM_BIAS_SYSTEMS,
+};
 pub use time::{
     calendar_from_gps_time, checked_gps_time_from_calendar, gps_minus_utc_s,
     gps_time_from_calendar, utc_text_from_gps_time, CALENDAR_YEARS, LEAP_SECONDS_KNOWN_UNTIL,
@@ -77,8 +81,13 @@ use nalgebra::Vector3;
 /// One satellite's measurements at one epoch, as the coupled filters use them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SatelliteMeasurement {
-    /// Satellite identifier (the GPS PRN number, or the Walker slot 1..N).
+    /// Satellite number, unique across systems ([`satellite_number`]: the
+    /// GPS PRN, 100 + the Galileo PRN, 200 + the BeiDou PRN; a simulated
+    /// Walker slot 1..N).
     pub sat_id: u16,
+    /// The satellite's system: its pseudorange carries the system's
+    /// inter-system bias (none for GPS, the clock's reference).
+    pub system: GnssSystem,
     /// Satellite position at signal transmission time, in the ECEF frame of
     /// the transmission time, m (apply [`predicted_range`] for the Sagnac
     /// rotation to the reception frame).

@@ -168,6 +168,7 @@ pub fn gps_l1_epochs(
             };
             measurements.push(SatelliteMeasurement {
                 sat_id: s.prn,
+                system: super::GnssSystem::Gps,
                 position_ecef: state.position_ecef,
                 velocity_ecef: state.velocity_ecef,
                 pseudorange_m: pseudorange + SPEED_OF_LIGHT_M_S * state.clock_bias_s - iono - tropo,

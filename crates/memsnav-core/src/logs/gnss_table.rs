@@ -3,7 +3,8 @@
 //! a CSV file (first line the column names) or from columns the caller
 //! already holds (a pandas or polars DataFrame, a dict of arrays).
 //!
-//! Columns (SI units, names say them): `time_s`, `sat_id`,
+//! Columns (SI units, names say them): `time_s`, `sat_id` (its system by
+//! [`crate::gnss::system_of_number`]: 101-199 Galileo, 201-299 BeiDou),
 //! `sat_position_ecef_{x,y,z}_m` and `sat_velocity_ecef_{x,y,z}_m_s` at
 //! transmission, `pseudorange_m` (satellite clock corrected); optional
 //! `gps_time_s` (GPS s since 1980-01-06 of each row), `pseudorange_rate_m_s`
@@ -18,7 +19,7 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use super::fields::{finite_number, parse_error};
-use crate::gnss::{epochs_from_rows, sat_id, GnssEpoch, SatelliteMeasurement};
+use crate::gnss::{epochs_from_rows, sat_id, system_of_number, GnssEpoch, SatelliteMeasurement};
 use crate::gnss::{DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M};
 use crate::{known_keys, Error, Result};
 
@@ -216,6 +217,7 @@ fn build(
             time[i],
             SatelliteMeasurement {
                 sat_id,
+                system: system_of_number(sat_id),
                 position_ecef: Vector3::new(px[i], py[i], pz[i]),
                 velocity_ecef: Vector3::new(vx[i], vy[i], vz[i]),
                 pseudorange_m: rho[i],

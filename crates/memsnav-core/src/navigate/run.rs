@@ -156,16 +156,40 @@ pub fn navigate_log(
     // fixes' position errors (loose).
     let slots = range_biases || (config.fix_error_states && !tight);
     let (sf, inst) = (config.scale_factor_states, config.installation_states);
-    let (solution, smoothed, range_biases) = match (sf, inst, slots) {
-        (false, false, false) => run.filter::<{ Layout::size(false, false, false) }>()?,
-        (true, false, false) => run.filter::<{ Layout::size(true, false, false) }>()?,
-        (false, false, true) => run.filter::<{ Layout::size(false, false, true) }>()?,
-        (true, false, true) => run.filter::<{ Layout::size(true, false, true) }>()?,
-        (false, true, false) => run.filter::<{ Layout::size(false, true, false) }>()?,
-        (true, true, false) => run.filter::<{ Layout::size(true, true, false) }>()?,
-        (false, true, true) => run.filter::<{ Layout::size(false, true, true) }>()?,
-        (true, true, true) => run.filter::<{ Layout::size(true, true, true) }>()?,
+    // Galileo or BeiDou pseudoranges: one clock plus their inter-system biases.
+    let isb = match gnss {
+        GnssInput::Measurements(epochs) => epochs
+            .iter()
+            .flat_map(|e| &e.measurements)
+            .any(|m| m.system.inter_system_bias_index().is_some()),
+        GnssInput::Fixes(_) => false,
     };
+    // One monomorphised filter per combination of the optional blocks.
+    macro_rules! by_layout {
+        ($(($a:literal, $b:literal, $c:literal, $d:literal)),*) => {
+            match (sf, inst, isb, slots) {
+                $(($a, $b, $c, $d) => run.filter::<{ Layout::size($a, $b, $c, $d) }>()?,)*
+            }
+        };
+    }
+    let (solution, smoothed, range_biases) = by_layout!(
+        (false, false, false, false),
+        (true, false, false, false),
+        (false, true, false, false),
+        (true, true, false, false),
+        (false, false, true, false),
+        (true, false, true, false),
+        (false, true, true, false),
+        (true, true, true, false),
+        (false, false, false, true),
+        (true, false, false, true),
+        (false, true, false, true),
+        (true, true, false, true),
+        (false, false, true, true),
+        (true, false, true, true),
+        (false, true, true, true),
+        (true, true, true, true)
+    );
     let standstills = standstill_intervals(&solution);
     // With installation states, the lever arm the filter ended with.
     let antenna_lever_arm_b_m = solution

@@ -18,7 +18,8 @@ use super::tuning::FilterTuning;
 use crate::attitude::{rotation_vector_to_dcm, skew};
 use crate::filter::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, INSTALLATION_STATES, POSITION, RANGE_BIAS_SLOTS, VELOCITY,
+    GYRO_SCALE_FACTOR, INSTALLATION_STATES, INTER_SYSTEM_BIAS_STATES, POSITION, RANGE_BIAS_SLOTS,
+    VELOCITY,
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
@@ -92,11 +93,16 @@ pub struct FilterState<const N: usize> {
     /// Pseudorange-bias estimate of the satellite in each range-bias slot, m
     /// (zero without range-bias states).
     pub range_bias_m: [f64; RANGE_BIAS_SLOTS],
+    /// Inter-system bias estimates (Galileo, BeiDou pseudoranges minus
+    /// GPS's at one receiver clock), m (zero without the states).
+    pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_STATES],
     /// Lever arm, time offset, velocity latency and mounting: estimated with
     /// the installation states, the configuration's values without.
     pub installation: InstallationEstimate,
     /// Whether the clock offset / drift have been initialised.
     pub(crate) clock_known: (bool, bool),
+    /// Whether each inter-system bias has been initialised.
+    pub(crate) inter_system_bias_known: [bool; INTER_SYSTEM_BIAS_STATES],
     /// Which satellite holds which range-bias slot.
     pub(crate) slots: RangeBiasSlots,
     /// Error state and covariance.
@@ -184,6 +190,11 @@ impl<const N: usize> FilterState<N> {
             p0.fixed_view_mut::<3, 3>(first, POSITION)
                 .copy_from(&cross.transpose());
         }
+        if let Some(first) = layout.inter_system_bias {
+            for j in first..first + INTER_SYSTEM_BIAS_STATES {
+                p0[(j, j)] = s.inter_system_bias_m.powi(2);
+            }
+        }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
                 p0[(j, j)] = s.range_bias_m.powi(2);
@@ -198,6 +209,7 @@ impl<const N: usize> FilterState<N> {
             clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
             clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
             range_bias_m: [0.0; RANGE_BIAS_SLOTS],
+            inter_system_bias_m: [0.0; INTER_SYSTEM_BIAS_STATES],
             installation: InstallationEstimate::configured(
                 tuning.antenna_lever_arm_b_m,
                 tuning.velocity_latency_s,
@@ -206,6 +218,7 @@ impl<const N: usize> FilterState<N> {
                 init.clock_offset_m.is_some(),
                 init.clock_drift_m_s.is_some(),
             ),
+            inter_system_bias_known: [false; INTER_SYSTEM_BIAS_STATES],
             slots: RangeBiasSlots::default(),
             kf: ErrorStateKf::new(p0).map_err(|e| initial_uncertainty_error(e, s))?,
             tuning,
@@ -363,6 +376,11 @@ impl<const N: usize> FilterState<N> {
         }
         if let Some(first) = Layout::for_size::<N>().range_bias {
             for (k, b) in self.range_bias_m.iter_mut().enumerate() {
+                *b -= x.0[first + k];
+            }
+        }
+        if let Some(first) = Layout::for_size::<N>().inter_system_bias {
+            for (k, b) in self.inter_system_bias_m.iter_mut().enumerate() {
                 *b -= x.0[first + k];
             }
         }
@@ -607,6 +625,9 @@ pub struct Solution {
     /// Installation estimates, in the order of the installation block
     /// ([`crate::filter::state::Installation`]; empty without the block).
     pub installation: Vec<[f64; INSTALLATION_STATES]>,
+    /// Inter-system bias estimates (Galileo, BeiDou minus GPS), m (empty
+    /// without the inter-system-bias states).
+    pub inter_system_bias_m: Vec<[f64; INTER_SYSTEM_BIAS_STATES]>,
     /// Number of error states (see [`Layout::of`]).
     pub n_states: usize,
     /// Diagonal of P at each sample, row-major `(len, n_states)`, in the
@@ -646,6 +667,11 @@ impl Solution {
         } else {
             0
         };
+        let isb = if layout.is_some_and(|l| l.inter_system_bias.is_some()) {
+            len
+        } else {
+            0
+        };
         Self {
             time_s: Vec::with_capacity(len),
             position_ecef: Vec::with_capacity(len),
@@ -658,6 +684,7 @@ impl Solution {
             clock_offset_m: Vec::with_capacity(len),
             clock_drift_m_s: Vec::with_capacity(len),
             installation: Vec::with_capacity(installation),
+            inter_system_bias_m: Vec::with_capacity(isb),
             n_states,
             covariance_diagonal: Vec::with_capacity(len * n_states),
             navigation_covariance_off_diagonal: Vec::with_capacity(len),
@@ -684,6 +711,9 @@ impl Solution {
         self.clock_drift_m_s.push(s.clock_drift_m_s);
         if Layout::for_size::<N>().installation.is_some() {
             self.installation.push(s.installation.to_array());
+        }
+        if Layout::for_size::<N>().inter_system_bias.is_some() {
+            self.inter_system_bias_m.push(s.inter_system_bias_m);
         }
         // P through its array of columns (fixed sizes: no index checks).
         let columns = &s.kf.p.data.0;
@@ -767,6 +797,11 @@ impl Solution {
             out.clock_drift_m_s[k] -= x.clock_drift();
             if let Some(d) = x.installation() {
                 for (v, e) in out.installation[k].iter_mut().zip(d.iter()) {
+                    *v -= e;
+                }
+            }
+            if let Some(d) = x.inter_system_biases() {
+                for (v, e) in out.inter_system_bias_m[k].iter_mut().zip(d) {
                     *v -= e;
                 }
             }

@@ -123,6 +123,7 @@ impl MeasurementErrors {
         let z_rate: f64 = StandardNormal.sample(rng);
         SatelliteMeasurement {
             sat_id,
+            system: crate::gnss::system_of_number(sat_id),
             position_ecef: tx_state.position_ecef,
             velocity_ecef: tx_state.velocity_ecef,
             pseudorange_m: range + rx.clock.offset_m + residual + self.pseudorange_std_m * z_range,
