@@ -6,7 +6,7 @@ use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, InitialState,
     Solution,
 };
-use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
+use memsnav_core::filter::state::{Layout, StateLayout};
 use memsnav_core::gnss::ReceiverClockModel;
 use memsnav_core::ins::{ImuData, ImuIncrement, NavState};
 use memsnav_py_macros::catch_panics;
@@ -661,18 +661,22 @@ macro_rules! filter_class {
             /// optional clock_offset m, clock_drift m/s) with the raw sample
             /// there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
             /// to be driven one call at a time: a `RunningFilter` with this
-            /// filter's tuning.
+            /// filter's tuning. `inter_system_biases` (tight only): with the
+            /// Galileo and BeiDou inter-system-bias states, to update with
+            /// satellites of those systems.
+            #[pyo3(signature = (time, specific_force, angular_rate, initial_state, *, inter_system_biases=false))]
             fn start(
                 &self,
                 time: f64,
                 specific_force: &Bound<'_, PyAny>,
                 angular_rate: &Bound<'_, PyAny>,
                 initial_state: &Bound<'_, PyAny>,
+                inter_system_biases: bool,
             ) -> PyResult<PyRunningFilter> {
                 let raw = sample_arg(specific_force, angular_rate)?;
                 let initial = initial_state_arg(initial_state)?;
                 let Settings { tuning, scale_factor_states, .. } = self.settings;
-                PyRunningFilter::start(&tuning, scale_factor_states, $started_by, &initial, time, &raw)
+                PyRunningFilter::start(&tuning, scale_factor_states, inter_system_biases, $started_by, &initial, time, &raw)
             }
         }
 
@@ -694,18 +698,28 @@ macro_rules! filter_class {
                     Start::FromAiding(attitude) => $initial(&aiding, &imu.data(), attitude).py()?,
                 };
                 let Settings { tuning, scale_factor_states, .. } = self.settings;
+                // Galileo or BeiDou satellites: one clock plus their inter-system biases.
+                let isb = coupling::Aiding::needs_inter_system_biases(&aiding);
                 let (forward, smoothed) = py
                     .detach(|| {
                         let data = imu.data();
-                        match (scale_factor_states, smooth) {
-                            (true, true) => coupling::smoothed_solution::<WITH_SCALE_FACTORS, _>(&data, &aiding, &initial, &tuning)
-                                .map(|(f, s)| (f, Some(s))),
-                            (false, true) => coupling::smoothed_solution::<BASE_STATES, _>(&data, &aiding, &initial, &tuning)
-                                .map(|(f, s)| (f, Some(s))),
-                            (true, false) => coupling::solution::<WITH_SCALE_FACTORS, _>(&data, &aiding, &initial, &tuning)
-                                .map(|f| (f, None)),
-                            (false, false) => coupling::solution::<BASE_STATES, _>(&data, &aiding, &initial, &tuning)
-                                .map(|f| (f, None)),
+                        macro_rules! solve {
+                            ($sf:literal, $isb:literal) => {{
+                                const N: usize = Layout::size($sf, false, $isb, false);
+                                if smooth {
+                                    coupling::smoothed_solution::<N, _>(&data, &aiding, &initial, &tuning)
+                                        .map(|(f, s)| (f, Some(s)))
+                                } else {
+                                    coupling::solution::<N, _>(&data, &aiding, &initial, &tuning)
+                                        .map(|f| (f, None))
+                                }
+                            }};
+                        }
+                        match (scale_factor_states, isb) {
+                            (false, false) => solve!(false, false),
+                            (true, false) => solve!(true, false),
+                            (false, true) => solve!(false, true),
+                            (true, true) => solve!(true, true),
                         }
                     })
                     .py()?;

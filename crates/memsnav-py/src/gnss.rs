@@ -19,6 +19,7 @@ use pyo3::types::PyDict;
 use crate::arguments::{
     check_keys, field, floats_with_nan, no_epochs, optional_field, shape_error,
 };
+use crate::broadcast_nav::PyBroadcastEphemerides;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
@@ -985,41 +986,82 @@ impl PyRinexObservations {
         pseudorange_rate_std: Option<f64>,
         satellites: Option<Vec<u16>>,
     ) -> PyResult<PyGnssMeasurements> {
-        let reference = match reference_position_ecef {
-            Some(r) => convert::vector3(r, "reference_position_ecef")?,
-            None => self.inner.approx_position_ecef.ok_or_else(|| {
-                PyValueError::new_err(
-                    "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
-                )
-            })?,
-        };
-        // None keeps the core's default (`defaults()`).
-        let mut options = gnss::ObservableOptions::new(reference);
-        if let Some(mask) = elevation_mask_deg {
-            options.elevation_mask_rad = mask.to_radians();
-        }
-        for (value, target) in [
-            (min_cn0_db_hz, &mut options.min_cn0_db_hz),
-            (pseudorange_std, &mut options.pseudorange_std_m),
-            (pseudorange_rate_std, &mut options.pseudorange_rate_std_m_s),
-        ] {
-            if let Some(v) = value {
-                *target = v;
-            }
-        }
-        options.ionosphere = if ionosphere {
-            Some(
-                klobuchar.map_or(gnss::Klobuchar::RTKLIB_DEFAULT, |(alpha, beta)| {
-                    gnss::Klobuchar { alpha, beta }
-                }),
-            )
-        } else {
-            None
-        };
-        options.troposphere = troposphere;
-        options.satellites = satellites.unwrap_or_default();
+        let options = self.observable_options(
+            reference_position_ecef,
+            ObservableArguments {
+                elevation_mask_deg,
+                min_cn0_db_hz,
+                ionosphere,
+                klobuchar,
+                troposphere,
+                pseudorange_std,
+                pseudorange_rate_std,
+            },
+            vec![gnss::GnssSystem::Gps],
+            satellites.unwrap_or_default(),
+        )?;
         let epochs = py
             .detach(|| gnss::gps_l1_epochs(&self.inner, &constellation.inner, &options))
+            .py()?;
+        Ok(PyGnssMeasurements::from_epochs(epochs, None))
+    }
+
+    /// Measurements of several systems for the tight filter and
+    /// ``solve_fix``: GPS L1 C/A, Galileo E1 and BeiDou B1I/B2I/B3I (the
+    /// first the file has) with ``ephemerides`` (``read_broadcast_nav``, or
+    /// a UBX log's ``broadcast_ephemerides``), corrected as ``gps_l1`` does
+    /// with each signal's group delay and the Klobuchar delay scaled to its
+    /// frequency. ``systems``: RINEX letters (``"G"``, ``"E"``, ``"C"``).
+    /// ``satellites``: RINEX names (``"G10"``, ``"E07"``) to keep. Satellite
+    /// numbers in the result: G n → n, E n → 100 + n, C n → 200 + n; each
+    /// system's pseudoranges keep the receiver's inter-system bias, which
+    /// the tight filter estimates.
+    #[pyo3(signature = (ephemerides, reference_position_ecef=None, *, systems=None,
+        elevation_mask_deg=None, min_cn0_db_hz=None, ionosphere=true, klobuchar=None,
+        troposphere=true, pseudorange_std=None, pseudorange_rate_std=None, satellites=None))]
+    fn measurements(
+        &self,
+        py: Python<'_>,
+        ephemerides: &PyBroadcastEphemerides,
+        reference_position_ecef: Option<&Bound<'_, PyAny>>,
+        systems: Option<Vec<String>>,
+        elevation_mask_deg: Option<f64>,
+        min_cn0_db_hz: Option<f64>,
+        ionosphere: bool,
+        klobuchar: Option<([f64; 4], [f64; 4])>,
+        troposphere: bool,
+        pseudorange_std: Option<f64>,
+        pseudorange_rate_std: Option<f64>,
+        satellites: Option<Vec<String>>,
+    ) -> PyResult<PyGnssMeasurements> {
+        let systems = match systems {
+            None => gnss::GnssSystem::ALL.to_vec(),
+            Some(letters) => letters
+                .iter()
+                .map(|l| system_of_letter(l, "systems"))
+                .collect::<PyResult<_>>()?,
+        };
+        let satellites = satellites
+            .unwrap_or_default()
+            .iter()
+            .map(|name| satellite_of_name(name))
+            .collect::<PyResult<_>>()?;
+        let options = self.observable_options(
+            reference_position_ecef,
+            ObservableArguments {
+                elevation_mask_deg,
+                min_cn0_db_hz,
+                ionosphere,
+                klobuchar,
+                troposphere,
+                pseudorange_std,
+                pseudorange_rate_std,
+            },
+            systems,
+            satellites,
+        )?;
+        let epochs = py
+            .detach(|| gnss::broadcast_epochs(&self.inner, &ephemerides.inner, &options))
             .py()?;
         Ok(PyGnssMeasurements::from_epochs(epochs, None))
     }
@@ -1029,7 +1071,95 @@ impl PyRinexObservations {
     }
 }
 
+/// The options ``gps_l1`` and ``measurements`` share; `None` keeps the
+/// core's default (``defaults()``).
+struct ObservableArguments {
+    elevation_mask_deg: Option<f64>,
+    min_cn0_db_hz: Option<f64>,
+    ionosphere: bool,
+    klobuchar: Option<([f64; 4], [f64; 4])>,
+    troposphere: bool,
+    pseudorange_std: Option<f64>,
+    pseudorange_rate_std: Option<f64>,
+}
+
+/// The system of a RINEX letter, or an error naming `argument`.
+fn system_of_letter(letter: &str, argument: &str) -> PyResult<gnss::GnssSystem> {
+    let mut chars = letter.chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) => gnss::GnssSystem::from_letter(c),
+        _ => None,
+    }
+    .ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "{argument}: {letter:?} is not a system combined here (G GPS, E Galileo, C BeiDou)"
+        ))
+    })
+}
+
+/// The satellite number of a RINEX name (``"E07"`` → 107).
+fn satellite_of_name(name: &str) -> PyResult<u16> {
+    let bad = || {
+        PyValueError::new_err(format!(
+            "satellites: {name:?} is not a satellite name like \"G10\", \"E07\" or \"C21\""
+        ))
+    };
+    let system = system_of_letter(name.get(..1).ok_or_else(bad)?, "satellites")?;
+    let prn: u16 = name.get(1..).and_then(|p| p.parse().ok()).ok_or_else(bad)?;
+    if !(1..=99).contains(&prn) {
+        return Err(bad());
+    }
+    Ok(gnss::satellite_number(system, prn))
+}
+
 impl PyRinexObservations {
+    fn observable_options(
+        &self,
+        reference_position_ecef: Option<&Bound<'_, PyAny>>,
+        a: ObservableArguments,
+        systems: Vec<gnss::GnssSystem>,
+        satellites: Vec<u16>,
+    ) -> PyResult<gnss::ObservableOptions> {
+        let reference = match reference_position_ecef {
+            Some(r) => convert::vector3(r, "reference_position_ecef")?,
+            None => self.inner.approx_position_ecef.ok_or_else(|| {
+                PyValueError::new_err(
+                    "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
+                )
+            })?,
+        };
+        let mut options = gnss::ObservableOptions::new(reference);
+        if let Some(mask) = a.elevation_mask_deg {
+            options.elevation_mask_rad = mask.to_radians();
+        }
+        for (value, target) in [
+            (a.min_cn0_db_hz, &mut options.min_cn0_db_hz),
+            (a.pseudorange_std, &mut options.pseudorange_std_m),
+            (
+                a.pseudorange_rate_std,
+                &mut options.pseudorange_rate_std_m_s,
+            ),
+        ] {
+            if let Some(v) = value {
+                *target = v;
+            }
+        }
+        options.ionosphere = if a.ionosphere {
+            Some(
+                a.klobuchar
+                    .map_or(gnss::Klobuchar::RTKLIB_DEFAULT, |(alpha, beta)| {
+                        gnss::Klobuchar { alpha, beta }
+                    }),
+            )
+        } else {
+            None
+        };
+        options.troposphere = a.troposphere;
+        options.systems = systems;
+        options.satellites = satellites;
+        Ok(options)
+    }
+
     fn sat_keys(&self) -> Vec<(char, u16)> {
         let mut keys: Vec<(char, u16)> = self
             .inner

@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 mod aiding;
 mod allan;
 mod arguments;
+mod broadcast_nav;
 mod calibration;
 mod calibration_drive;
 mod calibration_layout;
@@ -41,6 +42,7 @@ fn _memsnav(m: &Bound<'_, PyModule>) -> PyResult<()> {
     geodesy::register(m)?;
     sensors::register(m)?;
     gnss::register(m)?;
+    broadcast_nav::register(m)?;
     ins::register(m)?;
     trajectory::register(m)?;
     calibration::register(m)?;

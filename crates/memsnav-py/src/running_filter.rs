@@ -4,7 +4,7 @@
 //! into the core; the batch `run` is the same sequence of the same calls.
 
 use memsnav_core::coupling::{Aiding, FilterState, FilterTuning, InitialState, PositionFix};
-use memsnav_core::filter::state::{StateLayout, BASE_STATES, WITH_SCALE_FACTORS};
+use memsnav_core::filter::state::{Layout, StateLayout};
 use memsnav_core::gnss::GnssEpoch;
 use memsnav_core::ins::{ImuIncrement, ImuSample};
 use memsnav_py_macros::catch_panics;
@@ -19,10 +19,18 @@ use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epoch_at;
 use crate::records::{batches_to_dict, measurements_to_dict, resets_to_dict};
 
+/// Sizes of the running filter: with scale factors, with inter-system biases.
+const BASE: usize = Layout::size(false, false, false, false);
+const SCALE_FACTORS: usize = Layout::size(true, false, false, false);
+const BASE_ISB: usize = Layout::size(false, false, true, false);
+const SCALE_FACTORS_ISB: usize = Layout::size(true, false, true, false);
+
 /// The running filter at the size its tuning asks for.
 enum Filter {
-    Base(Box<FilterState<BASE_STATES>>),
-    ScaleFactors(Box<FilterState<WITH_SCALE_FACTORS>>),
+    Base(Box<FilterState<BASE>>),
+    ScaleFactors(Box<FilterState<SCALE_FACTORS>>),
+    BaseIsb(Box<FilterState<BASE_ISB>>),
+    ScaleFactorsIsb(Box<FilterState<SCALE_FACTORS_ISB>>),
 }
 
 /// `$body` with `$s` bound to the running filter, whatever its size.
@@ -31,6 +39,8 @@ macro_rules! with_filter {
         match $filter {
             Filter::Base($s) => $body,
             Filter::ScaleFactors($s) => $body,
+            Filter::BaseIsb($s) => $body,
+            Filter::ScaleFactorsIsb($s) => $body,
         }
     };
 }
@@ -69,6 +79,7 @@ impl PyRunningFilter {
     pub(crate) fn start(
         tuning: &FilterTuning,
         scale_factor_states: bool,
+        inter_system_biases: bool,
         started_by: StartedBy,
         initial: &InitialState,
         time_s: f64,
@@ -84,20 +95,34 @@ impl PyRunningFilter {
                 .map(Box::new)
                 .py()
         }
-        let filter = match (scale_factor_states, started_by) {
-            (false, StartedBy::Tight) => Filter::Base(started::<BASE_STATES, GnssEpoch>(
-                initial, tuning, time_s, raw,
-            )?),
-            (false, StartedBy::Loose) => Filter::Base(started::<BASE_STATES, PositionFix>(
-                initial, tuning, time_s, raw,
-            )?),
-            (true, StartedBy::Tight) => {
-                Filter::ScaleFactors(started::<WITH_SCALE_FACTORS, GnssEpoch>(
+        let filter = match (scale_factor_states, inter_system_biases, started_by) {
+            (_, true, StartedBy::Loose) => {
+                return Err(PyValueError::new_err(
+                    "inter_system_biases: a loosely coupled filter takes fixes, not \
+                     pseudoranges of several systems",
+                ))
+            }
+            (false, false, StartedBy::Tight) => {
+                Filter::Base(started::<BASE, GnssEpoch>(initial, tuning, time_s, raw)?)
+            }
+            (false, false, StartedBy::Loose) => {
+                Filter::Base(started::<BASE, PositionFix>(initial, tuning, time_s, raw)?)
+            }
+            (true, false, StartedBy::Tight) => {
+                Filter::ScaleFactors(started::<SCALE_FACTORS, GnssEpoch>(
                     initial, tuning, time_s, raw,
                 )?)
             }
-            (true, StartedBy::Loose) => {
-                Filter::ScaleFactors(started::<WITH_SCALE_FACTORS, PositionFix>(
+            (true, false, StartedBy::Loose) => {
+                Filter::ScaleFactors(started::<SCALE_FACTORS, PositionFix>(
+                    initial, tuning, time_s, raw,
+                )?)
+            }
+            (false, true, StartedBy::Tight) => Filter::BaseIsb(started::<BASE_ISB, GnssEpoch>(
+                initial, tuning, time_s, raw,
+            )?),
+            (true, true, StartedBy::Tight) => {
+                Filter::ScaleFactorsIsb(started::<SCALE_FACTORS_ISB, GnssEpoch>(
                     initial, tuning, time_s, raw,
                 )?)
             }
@@ -311,9 +336,12 @@ impl PyRunningFilter {
             d.set_item("gyro_bias", convert::vector3_to_numpy(py, &s.gyro_bias_rad_s))?;
             d.set_item("clock_offset", s.clock_offset_m)?;
             d.set_item("clock_drift", s.clock_drift_m_s)?;
-            if matches!(self.filter, Filter::ScaleFactors(_)) {
+            if matches!(self.filter, Filter::ScaleFactors(_) | Filter::ScaleFactorsIsb(_)) {
                 d.set_item("accel_scale_factor", convert::vector3_to_numpy(py, &s.accel_scale_factor))?;
                 d.set_item("gyro_scale_factor", convert::vector3_to_numpy(py, &s.gyro_scale_factor))?;
+            }
+            if matches!(self.filter, Filter::BaseIsb(_) | Filter::ScaleFactorsIsb(_)) {
+                d.set_item("inter_system_bias", s.inter_system_bias_m.to_vec())?;
             }
         });
         Ok(d)

@@ -12,6 +12,7 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::broadcast_nav::PyBroadcastEphemerides;
 use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::{PyConstellation, PyRinexObservations};
@@ -99,6 +100,15 @@ impl PyUbxLog {
                     .map(|e| e.ephemeris)
                     .collect(),
             ),
+        }
+    }
+
+    /// Every decoded ephemeris (GPS, Galileo, BeiDou) as one set, for
+    /// ``observations.measurements``.
+    #[getter]
+    fn broadcast_ephemerides(&self) -> PyBroadcastEphemerides {
+        PyBroadcastEphemerides {
+            inner: self.inner.broadcast_nav(),
         }
     }
 

@@ -33,6 +33,11 @@ pub trait Aiding: AidingEpoch + Sized {
         initial: &InitialState,
         tuning: &FilterTuning,
     ) -> Result<(Self::Prepared, InitialState, FilterTuning)>;
+    /// Whether these epochs need the inter-system-bias states (they hold
+    /// satellites of a system other than GPS); false for position fixes.
+    fn needs_inter_system_biases(_epochs: &[Self]) -> bool {
+        false
+    }
     /// Applies epoch `i` of the run.
     fn update<const N: usize>(
         state: &mut FilterState<N>,

@@ -339,6 +339,13 @@ impl Aiding for GnssEpoch {
         Ok((tuning.use_pseudorange_rate, *initial, *tuning))
     }
 
+    fn needs_inter_system_biases(epochs: &[Self]) -> bool {
+        epochs
+            .iter()
+            .flat_map(|e| &e.measurements)
+            .any(|m| m.system.inter_system_bias_index().is_some())
+    }
+
     fn update<const N: usize>(
         s: &mut FilterState<N>,
         use_rate: &bool,

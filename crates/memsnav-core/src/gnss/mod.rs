@@ -44,8 +44,8 @@ pub use measurement_rows::{
     check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
-    gps_l1_epochs, ObservableOptions, DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S,
-    DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
+    broadcast_epochs, gps_l1_epochs, ObservableOptions, DEFAULT_ELEVATION_MASK_DEG,
+    DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
 };
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{

@@ -1,21 +1,46 @@
-//! Filter-ready GPS L1 C/A measurements from a RINEX observation file and
-//! broadcast ephemerides: satellite position and velocity at transmission
-//! time, pseudorange corrected for the satellite clock (with relativity and
-//! T_GD), the Klobuchar ionosphere and the Saastamoinen troposphere, and the
-//! pseudorange rate from the Doppler (Groves §9.3, eqs. 9.3-9.4 and 8.48).
+//! Filter-ready pseudoranges and rates from a RINEX (or UBX) observation
+//! file and broadcast ephemerides, for GPS, Galileo and BeiDou: satellite
+//! position and velocity at transmission time, pseudorange corrected for
+//! the satellite clock (with relativity and the signal's group delay), the
+//! Klobuchar ionosphere scaled to the signal's frequency and the
+//! Saastamoinen troposphere, and the pseudorange rate from the Doppler
+//! (Groves §9.3, eqs. 9.3-9.4 and 8.48). Each system's pseudoranges keep
+//! the receiver's inter-system bias: the tight filter estimates it.
 
 use nalgebra::Vector3;
 
 use super::atmosphere::{saastamoinen_delay_m, Klobuchar};
-use super::constellation::Constellation;
+use super::beidou_ephemeris::BeidouEphemeris;
+use super::constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
+use super::galileo_ephemeris::InavEphemeris;
+use super::rinex_nav::BroadcastNav;
 use super::rinex_obs::ObservationFile;
+use super::satellite_state::SatelliteState;
+use super::system::{satellite_number, GnssSystem};
 use super::{GnssEpoch, SatelliteMeasurement};
 use crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::{validate, Error, Result};
 
+/// GPS L1 (and Galileo E1, BeiDou B1C) carrier frequency, Hz.
+const L1_FREQUENCY_HZ: f64 = 1_575.42e6;
+
 /// GPS L1 carrier wavelength, m (c / 1575.42 MHz).
-pub const GPS_L1_WAVELENGTH_M: f64 = SPEED_OF_LIGHT_M_S / 1_575.42e6;
+pub const GPS_L1_WAVELENGTH_M: f64 = SPEED_OF_LIGHT_M_S / L1_FREQUENCY_HZ;
+
+/// The signals each system's measurements are taken from, in order of
+/// preference: RINEX 3 band and attribute, and the carrier frequency.
+/// GPS L1 C/A; Galileo E1 (pilot C, else data B); BeiDou B1I, B2I, B3I
+/// (the D1 ephemeris's group delays are for these three; B1C and B2a
+/// need the CNAV1/2 ones, not decoded). Frequencies: IS-GPS-200 §3.3.1.1,
+/// Galileo OS SIS ICD §2.3, BeiDou B1I ICD §4.2 and B3I ICD §4.2.
+fn signals(system: GnssSystem) -> &'static [(&'static str, f64)] {
+    match system {
+        GnssSystem::Gps => &[("1C", L1_FREQUENCY_HZ)],
+        GnssSystem::Galileo => &[("1C", L1_FREQUENCY_HZ), ("1B", L1_FREQUENCY_HZ)],
+        GnssSystem::Beidou => &[("2I", 1_561.098e6), ("7I", 1_207.14e6), ("6I", 1_268.52e6)],
+    }
+}
 
 /// How raw observations become measurements.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,7 +60,11 @@ pub struct ObservableOptions {
     pub pseudorange_std_m: f64,
     /// Pseudorange-rate one-sigma at 45 dB-Hz, m/s (0: no rates used).
     pub pseudorange_rate_std_m_s: f64,
-    /// Only these PRNs (empty: every GPS satellite with an ephemeris).
+    /// The systems whose satellites are used (default GPS alone).
+    pub systems: Vec<GnssSystem>,
+    /// Only these satellites, by number ([`satellite_number`]: a GPS PRN
+    /// is its own number, E n is 100 + n, C n is 200 + n); empty: every
+    /// satellite of `systems` with an ephemeris.
     pub satellites: Vec<u16>,
 }
 
@@ -60,6 +89,7 @@ impl ObservableOptions {
             troposphere: true,
             pseudorange_std_m: DEFAULT_PSEUDORANGE_STD_M,
             pseudorange_rate_std_m_s: DEFAULT_PSEUDORANGE_RATE_STD_M_S,
+            systems: vec![GnssSystem::Gps],
             satellites: Vec::new(),
         }
     }
@@ -76,7 +106,14 @@ impl ObservableOptions {
             klobuchar.validate("klobuchar")?;
         }
         validate::positive("pseudorange_std", self.pseudorange_std_m)?;
-        validate::non_negative("pseudorange_rate_std", self.pseudorange_rate_std_m_s)
+        validate::non_negative("pseudorange_rate_std", self.pseudorange_rate_std_m_s)?;
+        if self.systems.is_empty() {
+            return Err(Error::invalid(
+                "systems",
+                "is empty: name at least one of G (GPS), E (Galileo), C (BeiDou)",
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -87,45 +124,216 @@ fn noise_scale(cn0_db_hz: f64, elevation_rad: f64) -> f64 {
     (10f64.powf((45.0 - cn0_db_hz) / 10.0)).sqrt() / elevation_rad.sin().max(0.1)
 }
 
+/// One satellite's broadcast orbit and clock, selected for an epoch.
+#[derive(Debug, Clone, Copy)]
+enum SelectedOrbit<'a> {
+    /// GPS LNAV (the L1 C/A clock) or a Walker slot.
+    Gps(Orbit<'a>),
+    /// Galileo I/NAV (the E1 clock).
+    Galileo(&'a InavEphemeris),
+    /// BeiDou D1 (the B3I clock).
+    Beidou(&'a BeidouEphemeris),
+}
+
+impl SelectedOrbit<'_> {
+    fn state_at(&self, gps_time_s: f64, offset_s: f64) -> SatelliteState {
+        match self {
+            SelectedOrbit::Gps(o) => o.state_at(gps_time_s, offset_s),
+            SelectedOrbit::Galileo(e) => e.state_at(gps_time_s, offset_s),
+            SelectedOrbit::Beidou(e) => e.state_at(gps_time_s, offset_s),
+        }
+    }
+
+    /// The group delay of RINEX band `band` beyond the one `state_at`'s
+    /// clock already holds, s; `None` when the ephemeris has none for it.
+    fn extra_group_delay_s(&self, band: char) -> Option<f64> {
+        match self {
+            SelectedOrbit::Gps(_) => (band == '1').then_some(0.0),
+            SelectedOrbit::Galileo(e) => Some(e.group_delay_s(band)? - e.group_delay_s('1')?),
+            SelectedOrbit::Beidou(e) => e.group_delay_s(band),
+        }
+    }
+}
+
+/// The healthy record of `records` with t_oe nearest `gps_time_s`, within
+/// ±2 h ([`EPHEMERIS_VALIDITY_S`]).
+fn nearest<'a, T>(
+    records: &'a [T],
+    keep: impl Fn(&T) -> bool,
+    toe_gps_s: impl Fn(&T) -> f64,
+    gps_time_s: f64,
+) -> Option<&'a T> {
+    records
+        .iter()
+        .filter(|r| keep(r) && (gps_time_s - toe_gps_s(r)).abs() <= EPHEMERIS_VALIDITY_S)
+        .min_by(|a, b| {
+            (gps_time_s - toe_gps_s(a))
+                .abs()
+                .total_cmp(&(gps_time_s - toe_gps_s(b)).abs())
+        })
+}
+
+/// The ephemerides the measurements are built from.
+struct Ephemerides<'a> {
+    gps: &'a Constellation,
+    galileo: &'a [InavEphemeris],
+    beidou: &'a [BeidouEphemeris],
+}
+
+impl Ephemerides<'_> {
+    fn select(&self, system: GnssSystem, prn: u16, gps_time_s: f64) -> Option<SelectedOrbit<'_>> {
+        match system {
+            GnssSystem::Gps => {
+                let i = (0..self.gps.len()).find(|&i| self.gps.sat_id(i) == prn)?;
+                self.gps.orbit(i, gps_time_s).map(SelectedOrbit::Gps)
+            }
+            GnssSystem::Galileo => nearest(
+                self.galileo,
+                |e| e.svid == prn && e.is_healthy(),
+                |e| e.orbit.toe_gps_s,
+                gps_time_s,
+            )
+            .map(SelectedOrbit::Galileo),
+            GnssSystem::Beidou => nearest(
+                self.beidou,
+                |e| e.prn == prn && e.is_healthy(),
+                |e| e.orbit.toe_gps_s,
+                gps_time_s,
+            )
+            .map(SelectedOrbit::Beidou),
+        }
+    }
+}
+
 /// Builds one [`GnssEpoch`] per observation epoch (time = GPS time, s) from
-/// the GPS `C1C` pseudoranges, `D1C` Dopplers and `S1C` signal strengths.
-/// A satellite without a valid ephemeris, below the mask or too weak is left
-/// out; an epoch may end up empty.
+/// the GPS `C1C` pseudoranges, `D1C` Dopplers and `S1C` signal strengths
+/// and the satellites of `constellation` (broadcast ephemerides or a
+/// Walker pattern); `options.systems` is not consulted. A satellite without
+/// a valid ephemeris, below the mask or too weak is left out; an epoch may
+/// end up empty.
 pub fn gps_l1_epochs(
     observations: &ObservationFile,
     constellation: &Constellation,
     options: &ObservableOptions,
 ) -> Result<Vec<GnssEpoch>> {
+    let options = ObservableOptions {
+        systems: vec![GnssSystem::Gps],
+        ..options.clone()
+    };
+    let ephemerides = Ephemerides {
+        gps: constellation,
+        galileo: &[],
+        beidou: &[],
+    };
+    epochs_from(observations, &ephemerides, &options)
+}
+
+/// [`gps_l1_epochs`] for the systems of `options.systems` with the
+/// broadcast ephemerides of `nav`: GPS L1 C/A with LNAV, Galileo E1 with
+/// I/NAV (the E1 clock: BGD(E1, E5b) applied), BeiDou B1I, B2I or B3I
+/// (whichever the file has first, in that order) with D1 (TGD1, TGD2 or
+/// none: B3I is the clock's reference); unhealthy ephemerides are not
+/// used. The Klobuchar delay, given for L1, is scaled by (f_L1 / f)²
+/// (IS-GPS-200 §20.3.3.5.2.5). Satellite numbers as [`satellite_number`].
+pub fn broadcast_epochs(
+    observations: &ObservationFile,
+    nav: &BroadcastNav,
+    options: &ObservableOptions,
+) -> Result<Vec<GnssEpoch>> {
+    let gps = Constellation::from_ephemerides(nav.gps.clone());
+    let ephemerides = Ephemerides {
+        gps: &gps,
+        galileo: &nav.galileo,
+        beidou: &nav.beidou,
+    };
+    epochs_from(observations, &ephemerides, options)
+}
+
+/// The observation types of one system's chosen signal: (C, D, S) type
+/// indices, the band and the carrier frequency.
+struct SignalTypes {
+    code: usize,
+    doppler: Option<usize>,
+    strength: Option<usize>,
+    band: char,
+    frequency_hz: f64,
+}
+
+/// The signals of `system` the file has pseudoranges for, in the order of
+/// preference of [`signals`].
+fn signal_types(observations: &ObservationFile, system: GnssSystem) -> Vec<SignalTypes> {
+    let letter = system.letter();
+    signals(system)
+        .iter()
+        .filter_map(|&(signal, frequency_hz)| {
+            let idx = |kind: char| observations.type_index(letter, &format!("{kind}{signal}"));
+            Some(SignalTypes {
+                code: idx('C')?,
+                doppler: idx('D'),
+                strength: idx('S'),
+                band: signal.chars().next().unwrap_or('1'),
+                frequency_hz,
+            })
+        })
+        .collect()
+}
+
+fn epochs_from(
+    observations: &ObservationFile,
+    ephemerides: &Ephemerides<'_>,
+    options: &ObservableOptions,
+) -> Result<Vec<GnssEpoch>> {
     options.validate()?;
-    let idx = |code: &str| observations.type_index('G', code);
-    let c1c = idx("C1C").ok_or_else(|| {
-        Error::invalid(
-            "observations",
-            "the file declares no GPS C1C pseudorange (SYS / # / OBS TYPES)",
-        )
-    })?;
-    let (d1c, s1c) = (idx("D1C"), idx("S1C"));
-    let sat_index: Vec<(u16, usize)> = (0..constellation.len())
-        .map(|i| (constellation.sat_id(i), i))
-        .filter(|(prn, _)| options.satellites.is_empty() || options.satellites.contains(prn))
+    let types: Vec<(GnssSystem, Vec<SignalTypes>)> = options
+        .systems
+        .iter()
+        .map(|&system| (system, signal_types(observations, system)))
         .collect();
+    if types.iter().all(|(_, t)| t.is_empty()) {
+        let wanted: Vec<String> = options
+            .systems
+            .iter()
+            .map(|s| {
+                let codes: Vec<String> = signals(*s).iter().map(|(c, _)| format!("C{c}")).collect();
+                format!("{} {}", s.letter(), codes.join("/"))
+            })
+            .collect();
+        return Err(Error::invalid(
+            "observations",
+            format!(
+                "the file declares no pseudorange of the systems asked for ({}; SYS / # / OBS TYPES)",
+                wanted.join(", ")
+            ),
+        ));
+    }
     let r = options.reference_position_ecef;
     let geo = ecef_to_geodetic(&r);
     let c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
     let mut epochs = Vec::with_capacity(observations.epochs.len());
     for e in &observations.epochs {
         let mut measurements = Vec::new();
-        for s in e.satellites.iter().filter(|s| s.system == 'G') {
-            let Some(&(_, i)) = sat_index.iter().find(|(p, _)| *p == s.prn) else {
+        for s in &e.satellites {
+            let Some((system, signal_types)) = GnssSystem::from_letter(s.system)
+                .and_then(|system| types.iter().find(|(t, _)| *t == system))
+            else {
                 continue;
             };
-            let Some(pseudorange) = s.values[c1c] else {
+            let number = satellite_number(*system, s.prn);
+            if !options.satellites.is_empty() && !options.satellites.contains(&number) {
+                continue;
+            }
+            let Some(orbit) = ephemerides.select(*system, s.prn, e.gps_time_s) else {
                 continue;
             };
-            let Some(orbit) = constellation.orbit(i, e.gps_time_s) else {
+            // The first signal with a pseudorange whose group delay the
+            // ephemeris gives.
+            let Some((signal, pseudorange, group_delay_s)) = signal_types
+                .iter()
+                .find_map(|t| Some((t, s.values[t.code]?, orbit.extra_group_delay_s(t.band)?)))
+            else {
                 continue;
             };
-            let cn0 = s1c.and_then(|j| s.values[j]).unwrap_or(45.0);
+            let cn0 = signal.strength.and_then(|j| s.values[j]).unwrap_or(45.0);
             if cn0 < options.min_cn0_db_hz {
                 continue;
             }
@@ -143,14 +351,16 @@ pub fn gps_l1_epochs(
                 continue;
             }
             let azimuth = los_ned.y.atan2(los_ned.x);
+            let iono_scale = (L1_FREQUENCY_HZ / signal.frequency_hz).powi(2);
             let iono = options.ionosphere.map_or(0.0, |k| {
-                k.delay_m(
-                    e.gps_time_s,
-                    geo.latitude_rad,
-                    geo.longitude_rad,
-                    azimuth,
-                    elevation,
-                )
+                iono_scale
+                    * k.delay_m(
+                        e.gps_time_s,
+                        geo.latitude_rad,
+                        geo.longitude_rad,
+                        azimuth,
+                        elevation,
+                    )
             });
             let tropo = if options.troposphere {
                 saastamoinen_delay_m(geo.latitude_rad, geo.height_m, elevation, 0.7)
@@ -158,20 +368,22 @@ pub fn gps_l1_epochs(
                 0.0
             };
             let scale = noise_scale(cn0, elevation);
+            let wavelength_m = SPEED_OF_LIGHT_M_S / signal.frequency_hz;
             // RINEX Doppler is positive for an approaching satellite: ρ̇ = −λ D.
-            let (rate, rate_std) = match d1c.and_then(|j| s.values[j]) {
+            let (rate, rate_std) = match signal.doppler.and_then(|j| s.values[j]) {
                 Some(d) if options.pseudorange_rate_std_m_s > 0.0 => (
-                    -GPS_L1_WAVELENGTH_M * d + SPEED_OF_LIGHT_M_S * state.clock_drift_s_s,
+                    -wavelength_m * d + SPEED_OF_LIGHT_M_S * state.clock_drift_s_s,
                     options.pseudorange_rate_std_m_s * scale,
                 ),
                 _ => (f64::NAN, 0.0),
             };
+            let clock_bias_s = state.clock_bias_s - group_delay_s;
             measurements.push(SatelliteMeasurement {
-                sat_id: s.prn,
-                system: super::GnssSystem::Gps,
+                sat_id: number,
+                system: *system,
                 position_ecef: state.position_ecef,
                 velocity_ecef: state.velocity_ecef,
-                pseudorange_m: pseudorange + SPEED_OF_LIGHT_M_S * state.clock_bias_s - iono - tropo,
+                pseudorange_m: pseudorange + SPEED_OF_LIGHT_M_S * clock_bias_s - iono - tropo,
                 pseudorange_rate_m_s: rate,
                 pseudorange_std_m: options.pseudorange_std_m * scale,
                 pseudorange_rate_std_m_s: rate_std,

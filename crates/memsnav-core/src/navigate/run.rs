@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
 use super::standstill::Window;
-use crate::coupling::{self, FilterState, InitialState, PositionFix, Solution};
+use crate::coupling::{self, Aiding, FilterState, InitialState, PositionFix, Solution};
 use crate::filter::state::{Layout, VELOCITY};
 use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
@@ -158,10 +158,7 @@ pub fn navigate_log(
     let (sf, inst) = (config.scale_factor_states, config.installation_states);
     // Galileo or BeiDou pseudoranges: one clock plus their inter-system biases.
     let isb = match gnss {
-        GnssInput::Measurements(epochs) => epochs
-            .iter()
-            .flat_map(|e| &e.measurements)
-            .any(|m| m.system.inter_system_bias_index().is_some()),
+        GnssInput::Measurements(epochs) => GnssEpoch::needs_inter_system_biases(epochs),
         GnssInput::Fixes(_) => false,
     };
     // One monomorphised filter per combination of the optional blocks.

@@ -38,7 +38,7 @@ use std::path::Path;
 
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
-    BeidouEphemeris, InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile,
+    BeidouEphemeris, BroadcastNav, InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile,
     SatelliteObservations, SignalLayout,
 };
 use crate::logs::PosSolution;
@@ -80,6 +80,20 @@ pub struct UbxLog {
     pub skipped: BTreeMap<String, usize>,
     /// Non-fatal problems, one sentence each (a few per kind).
     pub warnings: Vec<String>,
+}
+
+impl UbxLog {
+    /// The decoded ephemerides of every system as one set, the form the
+    /// RINEX navigation reader gives ([`crate::gnss::broadcast_epochs`]
+    /// takes it).
+    pub fn broadcast_nav(&self) -> BroadcastNav {
+        BroadcastNav {
+            gps: self.gps_ephemerides.iter().map(|l| l.ephemeris).collect(),
+            galileo: self.galileo_ephemerides.clone(),
+            beidou: self.beidou_ephemerides.clone(),
+            skipped: BTreeMap::new(),
+        }
+    }
 }
 
 /// Reads a UBX log.
