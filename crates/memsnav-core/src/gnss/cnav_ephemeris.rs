@@ -68,9 +68,16 @@ pub fn cnav_ura_m(index: i8) -> Option<f64> {
 }
 
 impl CnavEphemeris {
-    /// Healthy on L1, L2 and L5.
-    pub fn is_healthy(&self) -> bool {
-        self.l1_health == 0 && self.l2_health == 0 && self.l5_health == 0
+    /// Healthy on RINEX band `band` ('1' L1, '2' L2, '5' L5); false for
+    /// any other band. (L5, pre-operational, was flagged unhealthy by
+    /// every satellite of the walk's log.)
+    pub fn is_healthy_on(&self, band: char) -> bool {
+        match band {
+            '1' => self.l1_health == 0,
+            '2' => self.l2_health == 0,
+            '5' => self.l5_health == 0,
+            _ => false,
+        }
     }
 
     /// The group delay a single-frequency user subtracts from the clock

@@ -380,7 +380,8 @@ mod tests {
             (e.week, e.l1_health, e.l2_health, e.l5_health),
             (2381, 0, 0, 1)
         );
-        assert!(e.integrity_status_flag && !e.l2c_phasing && !e.is_healthy());
+        assert!(e.integrity_status_flag && !e.l2c_phasing);
+        assert!(e.is_healthy_on('1') && e.is_healthy_on('2') && !e.is_healthy_on('5'));
         assert_eq!(
             (
                 e.ura_ed_index,
