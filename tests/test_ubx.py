@@ -79,7 +79,8 @@ def _ned(delta_ecef: np.ndarray, lla: np.ndarray) -> np.ndarray:
 def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
     assert main(["convert", str(EXCERPT), "--output", str(tmp_path / "out")]) == 0
     printed = capsys.readouterr().out
-    assert "20 epochs" in printed and "4 GPS, 7 Galileo and 8 BeiDou ephemerides" in printed
+    assert "20 epochs" in printed and "4 GPS LNAV, 7 Galileo and 8 BeiDou ephemerides" in printed
+    assert "7 GPS CNAV ephemerides decoded, not written" in printed
     log = mn.read_ubx(EXCERPT)
     obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"
 

@@ -29,9 +29,9 @@ pub(super) const WORDS: usize = 10;
 const PREAMBLE: u64 = 0x8B;
 /// Bits a message's CRC covers; the 24 parity bits follow (§30.3.5).
 const CRC_BITS: usize = 276;
-/// Reference semi-major axis A_REF, m (§30.3.3.1.3, table 30-I).
+/// Reference semi-major axis A_REF, m (IS-GPS-200 table 30-I, notes).
 const A_REF_M: f64 = 26_559_710.0;
-/// Reference rate of right ascension Ω̇_REF, semicircles/s (table 30-I).
+/// Reference rate of right ascension Ω̇_REF, semicircles/s (table 30-I, notes).
 const OMEGA_DOT_REF_SC_S: f64 = -2.6e-9;
 /// The 13-bit T_GD / ISC value that means "not available" (§30.3.3.3.1.1).
 const NOT_AVAILABLE: u64 = 0x1000;
