@@ -79,7 +79,8 @@ def _ned(delta_ecef: np.ndarray, lla: np.ndarray) -> np.ndarray:
 def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
     assert main(["convert", str(EXCERPT), "--output", str(tmp_path / "out")]) == 0
     printed = capsys.readouterr().out
-    assert "20 epochs" in printed and "4 GPS, 7 Galileo and 8 BeiDou ephemerides" in printed
+    assert "20 epochs" in printed and "4 GPS LNAV, 7 Galileo and 8 BeiDou ephemerides" in printed
+    assert "7 GPS CNAV ephemerides decoded, not written" in printed
     log = mn.read_ubx(EXCERPT)
     obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"
 
@@ -301,3 +302,30 @@ def test_beidou_ephemerides_equal_the_rinex_of_another_converter(tmp_path):
         for theirs, name in {**GEORINEX_BEIDOU, "SVacc": "ura_m"}.items():
             value = float(record[theirs].values[0])
             assert value == pytest.approx(e[name], rel=1e-12, abs=1e-300), (e["sat"], theirs)
+
+
+def test_gps_cnav_ephemerides_and_klobuchar(tmp_path):
+    log = mn.read_ubx(EXCERPT)
+    cnav = {e["sat"]: e for e in log.gps_cnav_ephemerides}
+    lnav = {e["sat"]: e for e in log.ephemerides}
+    # The data README: CNAV (L2C) for 7 GPS satellites, LNAV for 4 of them.
+    assert sorted(cnav) == ["G08", "G10", "G18", "G23", "G24", "G27", "G32"]
+    assert set(lnav) <= set(cnav)
+    for sat, c in cnav.items():
+        assert (c["l1_health"], c["l2_health"], c["week"]) == (0, 0, 2381)
+        assert c["toc"] == c["toe"]
+        assert c["tgd"] is not None and c["isc_l1ca"] is not None
+        if sat in lnav:
+            # Another upload of the same orbit (t_oe 30 min apart): the same
+            # T_GD, and elements that agree to what half an hour moves them.
+            other = lnav[sat]
+            assert c["tgd"] == pytest.approx(other["tgd"], abs=2.0**-32)
+            assert c["sqrt_a"] == pytest.approx(other["sqrt_a"], abs=0.01)
+            assert c["eccentricity"] == pytest.approx(other["eccentricity"], abs=1e-5)
+            assert c["i0"] == pytest.approx(other["i0"], abs=1e-5)
+    alpha, beta = log.klobuchar
+    assert len(alpha) == len(beta) == 4 and 0 < alpha[0] < 1e-7 and beta[0] > 7e4
+    # RINEX 3.04 has no CNAV record: the navigation file keeps LNAV's 4.
+    log.write_rinex_nav(tmp_path / "walk.nav")
+    text = (tmp_path / "walk.nav").read_text()
+    assert sorted({line[:3] for line in text.splitlines() if line.startswith("G")}) == sorted(lnav)

@@ -2386,6 +2386,17 @@ class UbxLog:
         (RINEX navigation fields in SI units, angles rad, times GPS s; sat,
         prn, health, iode, iodc, ura_index, ura_m, week, ...)."""
     @property
+    def gps_cnav_ephemerides(self) -> list[dict[str, Any]]:
+        """The GPS CNAV ephemerides decoded from RXM-SFRBX (L2C or L5, CRC
+        checked), one dict each (RINEX navigation fields in SI units, angles
+        rad, times GPS s; a_dot, delta_n_dot, l1/l2/l5_health, ura_ed_index,
+        ura_ed_m, ura_ned0/1/2_index, top, week, tgd and the ISCs isc_l1ca,
+        isc_l2c, isc_l5i5, isc_l5q5 or None, ...)."""
+    @property
+    def klobuchar(self) -> tuple[list[float], list[float]] | None:
+        """The Klobuchar (alpha, beta) of the latest GPS CNAV message type
+        30, or None."""
+    @property
     def galileo_ephemerides(self) -> list[dict[str, Any]]:
         """The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B, CRC
         checked), one dict each (RINEX navigation fields in SI units, angles
@@ -2424,11 +2435,13 @@ class UbxLog:
     def write_rinex_obs(self, path: str | os.PathLike[str]) -> None:
         """Writes the observations as a RINEX 3.04 observation file."""
     def write_rinex_nav(self, path: str | os.PathLike[str]) -> None:
-        """Writes the GPS and Galileo ephemerides as a RINEX 3.04 navigation file."""
+        """Writes the GPS LNAV, Galileo and BeiDou ephemerides as a RINEX 3.04
+        navigation file (RINEX 3.04 has no CNAV record)."""
 
 def read_ubx(path: str | os.PathLike[str]) -> UbxLog:
-    """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked) and
-    Galileo I/NAV (CRC checked) ephemerides from RXM-SFRBX, NAV-PVT; frames
+    """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked), GPS
+    CNAV and Galileo I/NAV (CRC checked) and BeiDou D1 (BCH checked)
+    ephemerides and the CNAV Klobuchar from RXM-SFRBX, NAV-PVT; frames
     with a bad checksum, a cut last frame and messages not decoded are
     skipped and counted; a file without a UBX
     frame is a ParseError naming it."""

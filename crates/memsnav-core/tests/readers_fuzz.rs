@@ -369,6 +369,19 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                         && (0.0..0.5).contains(&e.orbit.eccentricity)
                         && (e.orbit.toe_gps_s - l.transmission_gps_s).abs() <= 302_400.0
                 })
+                && log.gps_cnav_ephemerides.iter().all(|e| {
+                    // √(A_REF + ΔA) within 2^16 m of 26 559 710 m.
+                    (5100.0..5200.0).contains(&e.orbit.sqrt_a_sqrt_m)
+                        && (0.0..0.5).contains(&e.orbit.eccentricity)
+                        && (e.orbit.toe_gps_s - e.transmission_gps_s).abs() <= 302_400.0
+                        && e.state_at(e.orbit.toe_gps_s, 7200.0)
+                            .position_ecef
+                            .iter()
+                            .all(|x| x.is_finite())
+                })
+                && log
+                    .klobuchar
+                    .is_none_or(|k| k.validate("klobuchar").is_ok())
                 && log.beidou_ephemerides.iter().all(|e| {
                     e.orbit.sqrt_a_sqrt_m < 8192.0
                         && (0.0..0.5).contains(&e.orbit.eccentricity)
@@ -603,6 +616,95 @@ fuzz_reader!(
     Reader::ImuIncrements
 );
 fuzz_reader!(ubx_mutated, ubx_garbage, Reader::Ubx);
+
+/// A UBX frame of `class`, `id` and `payload` with its Fletcher checksum
+/// (interface description §3.4).
+fn ubx_frame(class: u8, id: u8, payload: &[u8]) -> Vec<u8> {
+    let mut frame = vec![0xB5, 0x62, class, id];
+    frame.extend_from_slice(&(payload.len() as u16).to_le_bytes());
+    frame.extend_from_slice(payload);
+    let (mut a, mut b) = (0u8, 0u8);
+    for &x in &frame[2..] {
+        a = a.wrapping_add(x);
+        b = b.wrapping_add(a);
+    }
+    frame.extend([a, b]);
+    frame
+}
+
+/// The payloads of the seed's GPS L2C and L5 RXM-SFRBX frames, and its
+/// bytes up to the first of them (RAWX epochs among them, so the
+/// reception time is known).
+fn cnav_seed() -> (&'static [u8], Vec<&'static [u8]>) {
+    let seed = seed(Reader::Ubx);
+    let mut payloads = Vec::new();
+    let mut first = None;
+    let mut at = 0;
+    while at + 8 <= seed.len() {
+        let length = usize::from(u16::from_le_bytes([seed[at + 4], seed[at + 5]]));
+        let payload = &seed[at + 6..at + 6 + length];
+        if seed[at + 2..at + 4] == [0x02, 0x13]
+            && payload[0] == 0
+            && [3, 4, 6, 7].contains(&payload[2])
+        {
+            first.get_or_insert(at);
+            payloads.push(payload);
+        }
+        at += 8 + length;
+    }
+    (&seed[..first.unwrap()], payloads)
+}
+
+/// One RXM-SFRBX of GPS L2C or L5 for the CNAV decoder: a real message
+/// of the seed, the same with a byte changed (its CRC fails), or words
+/// of garbage on any satellite, signal and word count.
+#[derive(Debug, Clone)]
+enum CnavFrame {
+    Real { nth: usize },
+    Damaged { nth: usize, at: usize, value: u8 },
+    Garbage { sv_id: u8, sig: u8, words: Vec<u8> },
+}
+
+fn cnav_frame() -> impl Strategy<Value = CnavFrame> {
+    prop_oneof![
+        3 => any::<usize>().prop_map(|nth| CnavFrame::Real { nth }),
+        2 => (any::<usize>(), any::<usize>(), any::<u8>()).prop_map(|(nth, at, value)| CnavFrame::Damaged { nth, at, value }),
+        2 => (any::<u8>(), prop_oneof![Just(3u8), Just(4), Just(6), Just(7)], proptest::collection::vec(any::<u8>(), 0..48))
+            .prop_map(|(sv_id, sig, words)| CnavFrame::Garbage { sv_id, sig, words }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config())]
+    /// Well-framed CNAV words, real, damaged and garbage, in any order:
+    /// the decoder's paths are reached behind the framing's checksum.
+    #[test]
+    fn ubx_cnav_frames(frames in proptest::collection::vec(cnav_frame(), 1..40)) {
+        let (start, real) = cnav_seed();
+        let mut bytes = start.to_vec();
+        for f in &frames {
+            let payload = match f {
+                CnavFrame::Real { nth } => real[nth % real.len()].to_vec(),
+                CnavFrame::Damaged { nth, at, value } => {
+                    let mut p = real[nth % real.len()].to_vec();
+                    let n = p.len() - 8;
+                    p[8 + at % n] ^= value | 1;
+                    p
+                }
+                CnavFrame::Garbage { sv_id, sig, words } => {
+                    let n = words.len() / 4;
+                    let mut p = vec![0, *sv_id, *sig, 0, n as u8, 0, 2, 0];
+                    p.extend_from_slice(&words[..4 * n]);
+                    p
+                }
+            };
+            bytes.extend(ubx_frame(0x02, 0x13, &payload));
+        }
+        read_in_time(Reader::Ubx, bytes, "fuzzed")
+            .map(|_| ())
+            .map_err(TestCaseError::fail)?;
+    }
+}
 
 #[test]
 fn the_seeds_read_cleanly() {

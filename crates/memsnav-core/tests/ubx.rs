@@ -3,8 +3,11 @@
 //! from the same log, its epochs and messages as the data README counts
 //! them, and the RINEX 3 files written from it read back by the project's
 //! readers; its Galileo I/NAV ephemerides against its own pseudoranges;
-//! its BeiDou D1 ephemerides, orbit and clock, against the RINEX file's.
-//! The excerpt in tests/data gives the same ephemerides.
+//! its BeiDou D1 ephemerides, orbit and clock, against the RINEX file's;
+//! its GPS CNAV ephemerides against its LNAV ones (independent uploads)
+//! and, for the satellites without LNAV, against its pseudoranges. The
+//! excerpt in tests/data gives the same ephemerides, and none once a bit
+//! of each CNAV message is flipped.
 
 mod shared_data;
 
@@ -17,7 +20,7 @@ use memsnav_core::gnss::{
     predicted_range, read_broadcast_nav, read_rinex_nav, BroadcastOrbit, GpsEphemeris,
     RinexProvenance, SatelliteState, EPHEMERIS_VALIDITY_S,
 };
-use memsnav_core::logs::{read_ubx, UbxLog};
+use memsnav_core::logs::{parse_ubx, read_ubx, UbxLog};
 use nalgebra::Vector3;
 use shared_data::shared_data;
 
@@ -248,6 +251,209 @@ fn the_excerpt_gives_the_same_ephemerides() {
     assert_eq!(head.gps_ephemerides, log.gps_ephemerides);
     assert_eq!(head.galileo_ephemerides, log.galileo_ephemerides);
     assert_eq!(head.beidou_ephemerides, log.beidou_ephemerides);
+    assert_eq!(head.gps_cnav_ephemerides, log.gps_cnav_ephemerides);
+    assert_eq!(head.klobuchar, log.klobuchar);
+}
+
+fn excerpt_bytes() -> Vec<u8> {
+    std::fs::read(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../../tests/data/real-imu-gnss/walk_head.ubx"),
+    )
+    .unwrap()
+}
+
+/// The byte offsets of the excerpt's RXM-SFRBX frames of GPS L2C and L5
+/// (the excerpt holds only whole frames, back to back).
+fn cnav_frames(log: &[u8]) -> Vec<usize> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    while at + 8 <= log.len() {
+        let length = usize::from(u16::from_le_bytes([log[at + 4], log[at + 5]]));
+        if log[at + 2..at + 4] == [0x02, 0x13]
+            && log[at + 6] == 0
+            && [3, 4, 6, 7].contains(&log[at + 8])
+        {
+            out.push(at);
+        }
+        at += 8 + length;
+    }
+    out
+}
+
+#[test]
+fn a_flipped_bit_in_a_cnav_message_is_a_crc_failure() {
+    let mut bytes = excerpt_bytes();
+    let frames = cnav_frames(&bytes);
+    assert_eq!(frames.len(), 148);
+    for (k, &at) in frames.iter().enumerate() {
+        // One bit of the message's first 300 (word k mod 9, bit k mod 32
+        // from its least significant), then the frame's checksum anew
+        // (UBX §3.4: Fletcher-8 over class to payload end).
+        let word = at + 6 + 8 + 4 * (k % 9);
+        bytes[word + (k / 8) % 4] ^= 1 << (k % 8);
+        let length = usize::from(u16::from_le_bytes([bytes[at + 4], bytes[at + 5]]));
+        let (mut a, mut b) = (0u8, 0u8);
+        for &x in &bytes[at + 2..at + 6 + length] {
+            a = a.wrapping_add(x);
+            b = b.wrapping_add(a);
+        }
+        bytes[at + 6 + length] = a;
+        bytes[at + 7 + length] = b;
+    }
+    let log = parse_ubx(&bytes, "flipped.ubx").unwrap();
+    let failures = log.skipped["GPS CNAV messages with a CRC failure"];
+    // A flip in a preamble bit makes a message that is not CNAV at all.
+    let malformed = log
+        .skipped
+        .get("GPS CNAV messages malformed")
+        .copied()
+        .unwrap_or(0);
+    assert_eq!(failures + malformed, 148, "{:?}", log.skipped);
+    assert!(failures >= 140);
+    assert!(log.gps_cnav_ephemerides.is_empty() && log.klobuchar.is_none());
+    // Nothing else changed.
+    let head = parse_ubx(&excerpt_bytes(), "walk_head.ubx").unwrap();
+    assert_eq!(head.gps_ephemerides, log.gps_ephemerides);
+    assert_eq!(head.gps_cnav_ephemerides.len(), 7);
+}
+
+/// The difference of two GPS states at GPS time `t`: position (m) and
+/// clock (m, × c).
+fn state_difference(a: &SatelliteState, b: &SatelliteState) -> (f64, f64) {
+    (
+        (a.position_ecef - b.position_ecef).norm(),
+        SPEED_OF_LIGHT_M_S * (a.clock_bias_s - b.clock_bias_s).abs(),
+    )
+}
+
+#[test]
+fn walk_gps_cnav_agrees_with_lnav_and_the_pseudoranges() {
+    let log = walk();
+    let mut prns: Vec<u16> = log.gps_cnav_ephemerides.iter().map(|e| e.prn).collect();
+    prns.sort_unstable();
+    // The data README: CNAV for 7 GPS satellites, among them the 4 of LNAV.
+    assert_eq!(prns, [8, 10, 18, 23, 24, 27, 32]);
+    let mut covered = prns.clone();
+    covered.extend(log.gps_ephemerides.iter().map(|l| l.ephemeris.prn));
+    covered.sort_unstable();
+    covered.dedup();
+    assert!(covered.len() >= 7);
+    // Every message passes its CRC (the README); types 10, 11, 30, 32
+    // and 33 only, all read.
+    assert!(
+        !log.skipped.keys().any(|k| k.contains("CNAV")),
+        "{:?}",
+        log.skipped
+    );
+    let (first, last) = (
+        log.rawx[0].gps_time_s(),
+        log.rawx[log.rawx.len() - 1].gps_time_s(),
+    );
+    let mut worst_log = (0.0f64, 0.0f64);
+    let mut worst_fit = (0.0f64, 0.0f64);
+    let mut compared = 0;
+    for c in &log.gps_cnav_ephemerides {
+        // L1 and L2 healthy; L5 flagged unhealthy (pre-operational) by
+        // every satellite of the walk.
+        assert_eq!((c.l1_health, c.l2_health, c.l5_health), (0, 0, 1));
+        assert_eq!(u32::from(c.week), 2381);
+        assert!(c.group_delays.is_some(), "G{:02}", c.prn);
+        let Some(l) = log
+            .gps_ephemerides
+            .iter()
+            .find(|l| l.ephemeris.prn == c.prn)
+        else {
+            continue;
+        };
+        compared += 1;
+        let lnav = &l.ephemeris;
+        // Independent uploads, so the same satellite to the broadcast
+        // accuracy: over the log every 1 s, and over every 60 s where both
+        // are within their fit (LNAV t_oe ± 2 h, CNAV t_oe ± 2 h). The
+        // clocks compared are both the L1/L2 P(Y) ionosphere-free ones.
+        let difference = |t: f64| {
+            state_difference(
+                &lnav.orbit.state_at(
+                    &memsnav_core::gnss::GPS,
+                    memsnav_core::gnss::OrbitFrame::EarthFixedNode,
+                    t,
+                    0.0,
+                ),
+                &c.state_at(t, 0.0),
+            )
+        };
+        let max = |a: (f64, f64), b: (f64, f64)| (a.0.max(b.0), a.1.max(b.1));
+        let mut t = first;
+        while t <= last {
+            worst_log = max(worst_log, difference(t));
+            t += 1.0;
+        }
+        let from = (lnav.orbit.toe_gps_s).max(c.orbit.toe_gps_s) - EPHEMERIS_VALIDITY_S;
+        let to = (lnav.orbit.toe_gps_s).min(c.orbit.toe_gps_s) + EPHEMERIS_VALIDITY_S;
+        let mut t = from;
+        let mut satellite = (0.0f64, 0.0f64);
+        while t <= to {
+            satellite = max(satellite, difference(t));
+            t += 60.0;
+        }
+        eprintln!(
+            "G{:02}: CNAV − LNAV over their common fit ({:.1} h): {:.2} m orbit, {:.2} m clock",
+            c.prn,
+            (to - from) / 3600.0,
+            satellite.0,
+            satellite.1
+        );
+        worst_fit = max(worst_fit, satellite);
+        // The same T_GD (LNAV's 8 bits × 2⁻³¹ s, CNAV's 13 × 2⁻³⁵ s).
+        let tgd = c.group_delays.unwrap().tgd_s.unwrap();
+        assert!((tgd - lnav.tgd_s).abs() <= 2f64.powi(-32), "G{:02}", c.prn);
+    }
+    assert_eq!(compared, 4);
+    eprintln!(
+        "GPS CNAV: {} ephemerides, {compared} against LNAV: largest differences over the log \
+         {:.2} m orbit, {:.2} m clock; over the common fit {:.2} m, {:.2} m",
+        log.gps_cnav_ephemerides.len(),
+        worst_log.0,
+        worst_log.1,
+        worst_fit.0,
+        worst_fit.1
+    );
+    assert!(worst_log.0 < 1.0 && worst_log.1 < 1.0, "{worst_log:?}");
+    // At the edge of LNAV's fit the two part by a little more (G10: 1.1 m).
+    assert!(worst_fit.0 < 1.5 && worst_fit.1 < 1.0, "{worst_fit:?}");
+    // Every CNAV satellite, the three without LNAV among them: L1 C/A
+    // pseudoranges with the CNAV clock of L1 C/A (T_GD − ISC_L1CA).
+    let residuals = pseudorange_residuals(
+        &log,
+        'G',
+        "C1C",
+        log.gps_cnav_ephemerides.iter().map(|c| {
+            let delay = c.group_delay_s("1C").unwrap();
+            let state = move |t, dt| {
+                let mut s = c.state_at(t, dt);
+                s.clock_bias_s -= delay;
+                s
+            };
+            (c.prn, Box::new(state) as StateFn)
+        }),
+    );
+    assert_eq!(residuals.len(), 7);
+    assert_clock_and_scatter(&residuals);
+    // The Klobuchar coefficients of type 30: values the message can carry,
+    // and an L1 zenith delay at the walk's place and time of metres.
+    let k = log.klobuchar.unwrap();
+    k.validate("klobuchar").unwrap();
+    let pvt = &log.nav_pvt[0];
+    let zenith = k.delay_m(
+        first,
+        pvt.lla.x,
+        pvt.lla.y,
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+    );
+    eprintln!("Klobuchar of CNAV type 30: {k:?}; zenith L1 delay at the walk {zenith:.2} m");
+    assert!((1.0..30.0).contains(&zenith), "{zenith}");
 }
 
 #[test]
@@ -270,8 +476,33 @@ fn walk_galileo_inav_ephemerides_fit_the_pseudoranges() {
     // clock corrected, minus the range from the receiver's NAV-PVT position:
     // what remains is the receiver clock (common to all) plus the
     // atmosphere (metres). A misplaced bit would leave kilometres.
+    let residuals = pseudorange_residuals(
+        &log,
+        'E',
+        "C1C",
+        log.galileo_ephemerides
+            .iter()
+            .filter(|e| e.is_healthy())
+            .map(|e| (e.svid, Box::new(|t, dt| e.state_at(t, dt)) as StateFn)),
+    );
+    assert_clock_and_scatter(&residuals);
+}
+
+/// A satellite's state (with the clock of the signal compared) at GPS
+/// time `t + dt`.
+type StateFn<'a> = Box<dyn Fn(f64, f64) -> SatelliteState + 'a>;
+
+/// Each satellite's pseudorange on `code` at the log's middle epoch, with
+/// its clock corrected, minus the range from the receiver's NAV-PVT
+/// position.
+fn pseudorange_residuals<'a>(
+    log: &UbxLog,
+    system: char,
+    code: &str,
+    states: impl Iterator<Item = (u16, StateFn<'a>)>,
+) -> Vec<f64> {
     let epoch = &log.observations.epochs[268];
-    let c1c = log.observations.type_index('E', "C1C").unwrap();
+    let column = log.observations.type_index(system, code).unwrap();
     let pvt = log
         .nav_pvt
         .iter()
@@ -282,30 +513,45 @@ fn walk_galileo_inav_ephemerides_fit_the_pseudoranges() {
         })
         .unwrap();
     let rx = geodetic_to_ecef(Geodetic::new(pvt.lla.x, pvt.lla.y, pvt.lla.z));
-    let mut residuals = Vec::new();
-    for e in log.galileo_ephemerides.iter().filter(|e| e.is_healthy()) {
-        let sat = epoch
-            .satellites
-            .iter()
-            .find(|s| s.system == 'E' && s.prn == e.svid)
-            .unwrap();
-        let rho = sat.values[c1c].unwrap();
-        let state = e.state_at(epoch.gps_time_s, -rho / SPEED_OF_LIGHT_M_S);
-        let range = predicted_range(
-            &state.position_ecef,
-            &state.velocity_ecef,
-            &rx,
-            &Vector3::zeros(),
-        );
-        residuals.push(rho + SPEED_OF_LIGHT_M_S * state.clock_bias_s - range.range_m);
-    }
+    states
+        .map(|(prn, state_at)| {
+            let sat = epoch
+                .satellites
+                .iter()
+                .find(|s| s.system == system && s.prn == prn)
+                .unwrap();
+            let rho = sat.values[column].unwrap();
+            let state = state_at(epoch.gps_time_s, -rho / SPEED_OF_LIGHT_M_S);
+            let range = predicted_range(
+                &state.position_ecef,
+                &state.velocity_ecef,
+                &rx,
+                &Vector3::zeros(),
+            );
+            rho + SPEED_OF_LIGHT_M_S * state.clock_bias_s - range.range_m
+        })
+        .collect()
+}
+
+/// Residuals whose mean is the walk's receiver clock (about −1.5 ms, the
+/// data README) and which scatter about it by the atmosphere and noise
+/// (metres), not by a misread field (kilometres).
+fn assert_clock_and_scatter(residuals: &[f64]) {
     let mean = residuals.iter().sum::<f64>() / residuals.len() as f64;
-    // The receiver clock: about -1.5 ms (the data README).
+    let spread: Vec<String> = residuals
+        .iter()
+        .map(|r| format!("{:.1}", r - mean))
+        .collect();
+    eprintln!(
+        "pseudorange residuals: receiver clock {:.3} ms, about it (m): {}",
+        mean / SPEED_OF_LIGHT_M_S * 1e3,
+        spread.join(" ")
+    );
     assert!(
         (mean / SPEED_OF_LIGHT_M_S + 1.5e-3).abs() < 0.3e-3,
         "{mean}"
     );
-    for r in &residuals {
+    for r in residuals {
         assert!((r - mean).abs() < 15.0, "{residuals:?}");
     }
 }

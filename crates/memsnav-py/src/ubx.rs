@@ -1,6 +1,6 @@
 //! u-blox UBX logs: RXM-RAWX as observations and as the receiver gives
-//! them, GPS, Galileo and BeiDou ephemerides from RXM-SFRBX, NAV-PVT
-//! fixes; RINEX 3 out.
+//! them, GPS (LNAV and CNAV), Galileo and BeiDou ephemerides and the CNAV
+//! Klobuchar coefficients from RXM-SFRBX, NAV-PVT fixes; RINEX 3 out.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -146,6 +146,76 @@ impl PyUbxLog {
                 Ok(d)
             })
             .collect()
+    }
+
+    /// The GPS CNAV ephemerides decoded from RXM-SFRBX (L2C or L5, CRC
+    /// checked), one dict each with the orbit and clock under the RINEX
+    /// record's names (SI units, angles rad, times GPS s since 1980-01-06;
+    /// ``sqrt_a`` is √(A_REF + ΔA), ``omega_dot`` Ω̇_REF + ΔΩ̇), CNAV's
+    /// rates ``a_dot`` m/s and ``delta_n_dot`` rad/s², the health bits
+    /// ``l1_health``, ``l2_health``, ``l5_health``, the accuracy indices
+    /// ``ura_ed_index`` (and its nominal ``ura_ed_m``, NaN for none),
+    /// ``ura_ned0_index``, ``ura_ned1_index``, ``ura_ned2_index``, ``top``,
+    /// ``week`` (13 bits), ``integrity_status_flag``, ``l2c_phasing``, and
+    /// type 30's ``tgd``, ``isc_l1ca``, ``isc_l2c``, ``isc_l5i5``,
+    /// ``isc_l5q5`` s (None when not available). The clock is referred to
+    /// L1/L2 P(Y) ionosphere-free, as LNAV's; a signal's user subtracts
+    /// T_GD − ISC.
+    #[getter]
+    fn gps_cnav_ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .gps_cnav_ephemerides
+            .iter()
+            .map(|e| {
+                let d = orbit_dict(py, format!("G{:02}", e.prn), &e.orbit)?;
+                for (k, v) in [
+                    ("a_dot", e.orbit.a_dot_m_s),
+                    ("delta_n_dot", e.orbit.delta_n_dot_rad_s2),
+                    (
+                        "ura_ed_m",
+                        gnss::cnav_ura_m(e.ura_ed_index).unwrap_or(f64::NAN),
+                    ),
+                    ("top", e.top_gps_s),
+                    ("transmission_time", e.transmission_gps_s),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("prn", i32::from(e.prn)),
+                    ("l1_health", i32::from(e.l1_health)),
+                    ("l2_health", i32::from(e.l2_health)),
+                    ("l5_health", i32::from(e.l5_health)),
+                    ("ura_ed_index", i32::from(e.ura_ed_index)),
+                    ("ura_ned0_index", i32::from(e.ura_ned0_index)),
+                    ("ura_ned1_index", i32::from(e.ura_ned1_index)),
+                    ("ura_ned2_index", i32::from(e.ura_ned2_index)),
+                    ("week", i32::from(e.week)),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                d.set_item("integrity_status_flag", e.integrity_status_flag)?;
+                d.set_item("l2c_phasing", e.l2c_phasing)?;
+                let g = e.group_delays;
+                for (k, v) in [
+                    ("tgd", g.and_then(|g| g.tgd_s)),
+                    ("isc_l1ca", g.and_then(|g| g.isc_l1ca_s)),
+                    ("isc_l2c", g.and_then(|g| g.isc_l2c_s)),
+                    ("isc_l5i5", g.and_then(|g| g.isc_l5i5_s)),
+                    ("isc_l5q5", g.and_then(|g| g.isc_l5q5_s)),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                Ok(d)
+            })
+            .collect()
+    }
+
+    /// The Klobuchar coefficients ``(alpha, beta)`` of the latest GPS CNAV
+    /// message type 30 (s, s/semicircleⁿ), or None when the log has none;
+    /// what ``klobuchar=`` of the fix and the observables takes.
+    #[getter]
+    fn klobuchar(&self) -> Option<([f64; 4], [f64; 4])> {
+        self.inner.klobuchar.map(|k| (k.alpha, k.beta))
     }
 
     /// The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one
@@ -386,8 +456,9 @@ impl PyUbxLog {
             .py()
     }
 
-    /// Writes the GPS, Galileo and BeiDou ephemerides as a RINEX 3.04 navigation
-    /// file at ``path``.
+    /// Writes the GPS LNAV, Galileo and BeiDou ephemerides as a RINEX 3.04
+    /// navigation file at ``path`` (RINEX 3.04 has no CNAV record: the CNAV
+    /// ephemerides are not written).
     fn write_rinex_nav(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let header = provenance(&self.source);
         py.detach(|| {
@@ -404,9 +475,11 @@ impl PyUbxLog {
 
     fn __repr__(&self) -> String {
         format!(
-            "UbxLog({} RAWX epochs, {} GPS, {} Galileo, {} BeiDou ephemerides, {} NAV-PVT fixes)",
+            "UbxLog({} RAWX epochs, {} GPS LNAV, {} GPS CNAV, {} Galileo, {} BeiDou ephemerides, \
+             {} NAV-PVT fixes)",
             self.inner.rawx.len(),
             self.inner.gps_ephemerides.len(),
+            self.inner.gps_cnav_ephemerides.len(),
             self.inner.galileo_ephemerides.len(),
             self.inner.beidou_ephemerides.len(),
             self.inner.fixes.gps_time_s.len()

@@ -32,9 +32,11 @@ def run(args: argparse.Namespace, client: Any) -> int:
     log, files = convert_ubx(args.log, args.output)
     print(
         f"{len(log.rawx['epoch_gps_time'])} epochs, {len(log.observations.satellites)} "
-        f"satellites, {len(log.ephemerides)} GPS, {len(log.galileo_ephemerides)} Galileo and "
+        f"satellites, {len(log.ephemerides)} GPS LNAV, {len(log.galileo_ephemerides)} Galileo and "
         f"{len(log.beidou_ephemerides)} BeiDou ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
     )
+    # RINEX 3.04 has no CNAV record (RINEX 4 has): say what stays out.
+    print(f"{len(log.gps_cnav_ephemerides)} GPS CNAV ephemerides decoded, not written to the .nav")
     for reason, count in log.skipped.items():
         print(f"skipped: {count} {reason}")
     for kind, path in files.items():

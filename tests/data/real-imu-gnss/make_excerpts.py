@@ -11,10 +11,10 @@
   solution over the same span (±1 s).
 - ``walk_head.ubx``: frames of the walk's raw u-blox log, byte for byte
   (framing, sync bytes and checksums kept): the RXM-RAWX and NAV-PVT
-  frames of its first 5 s and every GPS L1 C/A, Galileo E1-B and BeiDou
-  B3I D1 RXM-SFRBX frame of the log (the words of its 4 GPS LNAV, 7
-  Galileo I/NAV and 8 BeiDou D1 ephemerides), in log order; the
-  interleaved NMEA text and the other messages are left out.
+  frames of its first 5 s and every GPS L1 C/A, L2C and L5, Galileo E1-B
+  and BeiDou B3I D1 RXM-SFRBX frame of the log (the words of its 4 GPS
+  LNAV, 7 GPS CNAV, 7 Galileo I/NAV and 8 BeiDou D1 ephemerides), in log
+  order; the interleaved NMEA text and the other messages are left out.
 - ``*.csv.tag``: the original tag's header (start time and ticks stay
   relative to the opening of the whole log) and the records of the
   excerpt's bytes, their file positions made relative to the excerpt's
@@ -140,6 +140,9 @@ keep = [
     f
     for k, (c, m, f) in enumerate(ubx)
     if (k < head_end and (c, m) in ((0x02, 0x15), (0x01, 0x07)))
-    or ((c, m) == (0x02, 0x13) and (f[6], f[8]) in ((0, 0), (2, 1), (3, 4)))
+    or (
+        (c, m) == (0x02, 0x13)
+        and (f[6], f[8]) in ((0, 0), (0, 3), (0, 4), (0, 6), (0, 7), (2, 1), (3, 4))
+    )
 ]
 (here / "walk_head.ubx").write_bytes(b"".join(keep))

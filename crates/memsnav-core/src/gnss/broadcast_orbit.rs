@@ -1,9 +1,12 @@
-//! The Keplerian broadcast orbit and clock polynomial that GPS LNAV, Galileo
-//! I/NAV and BeiDou D1 share, and the user algorithm that evaluates it,
-//! parameterised by each system's constants:
+//! The Keplerian broadcast orbit and clock polynomial that GPS LNAV and
+//! CNAV, Galileo I/NAV and BeiDou D1 share, and the user algorithm that
+//! evaluates it, parameterised by each system's constants:
 //!
 //! - GPS: IS-GPS-200 rev. N, table 20-IV (position), the velocity
 //!   equations after it, §20.3.3.3.3.1 (clock and relativistic term);
+//!   CNAV's table 30-II is the same algorithm with two more terms, the
+//!   rate of the semi-major axis (A_k = A₀ + Ȧ t_k) and of the mean
+//!   motion difference (Δn_A = Δn₀ + ½ Δṅ₀ t_k), zero for the others;
 //! - Galileo: OS SIS ICD issue 2.1, §5.1.1 (table 58, the same algorithm
 //!   with μ = 3.986004418e14 and Ω̇e = 7.2921151467e-5) and §5.1.4 (clock);
 //! - BeiDou: BDS-SIS-ICD-B1I 3.0, §5.2.4.12 (table 5-11: CGCS2000
@@ -134,6 +137,11 @@ pub struct BroadcastOrbit {
     pub omega_rad: f64,
     pub omega_dot_rad_s: f64,
     pub idot_rad_s: f64,
+    /// Rate of the semi-major axis Ȧ, m/s (GPS CNAV; 0 for the others).
+    pub a_dot_m_s: f64,
+    /// Rate of the mean motion difference Δṅ₀, rad/s² (GPS CNAV; 0 for
+    /// the others).
+    pub delta_n_dot_rad_s2: f64,
 }
 
 /// Tilt of the BeiDou GEO orbital frame about x, rad (B1I ICD §5.2.4.12: −5°).
@@ -172,12 +180,17 @@ impl BroadcastOrbit {
         offset_s: f64,
     ) -> SatelliteState {
         let earth_rate = system.earth_rate_rad_s;
-        let a = self.sqrt_a_sqrt_m * self.sqrt_a_sqrt_m;
+        let a0 = self.sqrt_a_sqrt_m * self.sqrt_a_sqrt_m;
         let e = self.eccentricity;
-        let n0 = (system.gm_m3_s2 / (a * a * a)).sqrt();
+        let n0 = (system.gm_m3_s2 / (a0 * a0 * a0)).sqrt();
         let tk = (gps_time_s - self.toe_gps_s) + offset_s;
-        let n = n0 + self.delta_n_rad_s;
+        // IS-GPS-200 table 30-II: A_k = A₀ + Ȧ t_k, n_A = n₀ + Δn₀ + ½ Δṅ₀
+        // t_k (table 20-IV's A and n when the rates are zero). M_k = M₀ +
+        // n_A t_k, so its rate is n₀ + Δn₀ + Δṅ₀ t_k.
+        let a = a0 + self.a_dot_m_s * tk;
+        let n = n0 + self.delta_n_rad_s + 0.5 * self.delta_n_dot_rad_s2 * tk;
         let mk = self.m0_rad + n * tk;
+        let mk_dot = n0 + self.delta_n_rad_s + self.delta_n_dot_rad_s2 * tk;
         // Kepler's equation M = E − e sin E by Newton's method; e < 0.03 for
         // these orbits, so a few iterations reach machine precision.
         let mut ek = mk;
@@ -221,12 +234,13 @@ impl BroadcastOrbit {
 
         // Velocity: the time derivatives of the same expressions
         // (IS-GPS-200 table 20-IV, "SV velocity" equations).
-        let e_dot = n / one_minus_ecos;
+        let e_dot = mk_dot / one_minus_ecos;
         let nu_dot = e_dot * root / one_minus_ecos;
         let i_dot = self.idot_rad_s + 2.0 * nu_dot * (self.cis_rad * cos2p - self.cic_rad * sin2p);
         let u_dot = nu_dot + 2.0 * nu_dot * (self.cus_rad * cos2p - self.cuc_rad * sin2p);
-        let r_dot =
-            e * a * e_dot * sin_e + 2.0 * nu_dot * (self.crs_m * cos2p - self.crc_m * sin2p);
+        let r_dot = self.a_dot_m_s * one_minus_ecos
+            + e * a * e_dot * sin_e
+            + 2.0 * nu_dot * (self.crs_m * cos2p - self.crc_m * sin2p);
         let x_orb_dot = r_dot * cos_u - r * u_dot * sin_u;
         let y_orb_dot = r_dot * sin_u + r * u_dot * cos_u;
         let velocity = Vector3::new(
@@ -255,6 +269,8 @@ impl BroadcastOrbit {
         // §5.1.4, B1I ICD §5.2.4.10).
         let dt = (gps_time_s - self.toc_gps_s) + offset_s;
         let f = system.relativity_f_s_sqrt_m;
+        // √A₀ for CNAV too: the few metres Ȧ moves A over hours change the
+        // term by 1e-7 of its ~20 ns.
         let relativistic = f * e * self.sqrt_a_sqrt_m * sin_e;
         let relativistic_rate = f * e * self.sqrt_a_sqrt_m * cos_e * e_dot;
         SatelliteState {
@@ -336,6 +352,8 @@ mod tests {
             omega_rad: 0.0,
             omega_dot_rad_s: 0.0,
             idot_rad_s: 0.0,
+            a_dot_m_s: 0.0,
+            delta_n_dot_rad_s2: 0.0,
         }
     }
 
@@ -376,6 +394,11 @@ mod tests {
         orbit.crs_m = 80.0;
         orbit.cuc_rad = 2e-6;
         orbit.cis_rad = -1e-7;
+        // CNAV's rates (IS-GPS-200 table 30-II), large enough that
+        // leaving them out of the velocity (5 cm/s and 1 cm/s at 5000 s)
+        // fails the check.
+        orbit.a_dot_m_s = 0.05;
+        orbit.delta_n_dot_rad_s2 = 1e-13;
         for frame in [OrbitFrame::EarthFixedNode, OrbitFrame::BeidouGeo] {
             for tk in [-3000.0, 100.0, 5000.0] {
                 let h = 0.5;

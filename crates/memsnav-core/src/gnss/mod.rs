@@ -12,6 +12,7 @@ mod atmosphere;
 mod beidou_ephemeris;
 mod broadcast_orbit;
 mod clock;
+mod cnav_ephemeris;
 mod constellation;
 mod ephemeris;
 mod fix;
@@ -34,6 +35,7 @@ pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klob
 pub use beidou_ephemeris::BeidouEphemeris;
 pub use broadcast_orbit::{BroadcastOrbit, BroadcastSystem, OrbitFrame, BEIDOU, GALILEO, GPS};
 pub use clock::{ClockState, ReceiverClockModel};
+pub use cnav_ephemeris::{cnav_ura_m, CnavEphemeris, CnavGroupDelays};
 pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 pub use ephemeris::{
     ura_index, ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,

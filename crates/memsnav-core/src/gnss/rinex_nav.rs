@@ -680,6 +680,8 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             omega_rad: values[17],
             omega_dot_rad_s: values[18],
             idot_rad_s: values[19],
+            a_dot_m_s: 0.0,
+            delta_n_dot_rad_s2: 0.0,
         };
         match layout.constants.letter {
             'E' => {

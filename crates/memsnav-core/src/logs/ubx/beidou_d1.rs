@@ -188,6 +188,8 @@ fn assemble(
             idot_rad_s: s3.signed(&[(189, 13), (210, 1)]) * p(-43) * sc,
             omega0_rad: s3.signed(&[(211, 21), (240, 11)]) * p(-31) * sc,
             omega_rad: s3.signed(&[(251, 11), (270, 21)]) * p(-31) * sc,
+            a_dot_m_s: 0.0,
+            delta_n_dot_rad_s2: 0.0,
         },
         urai: s1.unsigned(&[(48, 4)]) as u8,
         sat_h1: s1.unsigned(&[(42, 1)]) as u8,

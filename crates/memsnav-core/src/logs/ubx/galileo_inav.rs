@@ -16,6 +16,7 @@
 
 use std::collections::HashMap;
 
+use super::msb_bits::{bits, crc24q, gather, signed, word_bytes};
 use crate::gnss::{BroadcastOrbit, InavEphemeris, GALILEO, SECONDS_PER_WEEK};
 
 /// Words per E1-B page pair in RXM-SFRBX.
@@ -23,46 +24,6 @@ pub(super) const WORDS: usize = 8;
 /// The value of π the ICD fixes for semicircles (§5.1.1), as IS-GPS-200's.
 #[allow(clippy::approx_constant)]
 const GALILEO_PI: f64 = 3.141_592_653_589_8;
-/// CRC-24Q generator polynomial without its x^24 term (§4.3.2.3).
-const CRC24Q_POLY: u32 = 0x86_4CFB;
-
-/// CRC-24Q of `bits` bits of `data` from bit `first` (most significant
-/// first), computed bit by bit with a zero start (leading zero bits, the
-/// ICD's padding to whole bytes, leave it unchanged).
-pub(super) fn crc24q(data: &[u8], first: usize, bits: usize) -> u32 {
-    (first..first + bits).fold(0u32, |crc, k| {
-        let bit = u32::from(data[k / 8] >> (7 - k % 8) & 1);
-        let top = (crc >> 23) & 1;
-        let crc = (crc << 1) & 0x00FF_FFFF;
-        if top ^ bit == 1 {
-            crc ^ CRC24Q_POLY
-        } else {
-            crc
-        }
-    })
-}
-
-/// `len` bits (≤ 32) from bit `first` of `data`, most significant first.
-fn bits(data: &[u8], first: usize, len: usize) -> u32 {
-    (first..first + len).fold(0u32, |acc, k| {
-        (acc << 1) | u32::from(data[k / 8] >> (7 - k % 8) & 1)
-    })
-}
-
-/// The bits of `data` at `positions` (most significant first), packed
-/// from the first bit of the result.
-fn gather<const N: usize>(data: &[u8], positions: impl Iterator<Item = usize>) -> [u8; N] {
-    let mut out = [0u8; N];
-    for (k, src) in positions.enumerate() {
-        out[k / 8] |= (data[src / 8] >> (7 - src % 8) & 1) << (7 - k % 8);
-    }
-    out
-}
-
-/// Two's complement value of `len` bits.
-fn signed(value: u32, len: usize) -> f64 {
-    f64::from(((value << (32 - len)) as i32) >> (32 - len))
-}
 
 /// What the I/NAV decoder met besides ephemerides.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -85,10 +46,7 @@ pub(super) struct InavDecoder {
 impl InavDecoder {
     /// Takes one page pair of satellite `svid` received at `reception_gps_s`.
     pub fn push(&mut self, svid: u16, words: &[u32; WORDS], reception_gps_s: f64) {
-        let mut pair = [0u8; 4 * WORDS];
-        for (chunk, w) in pair.chunks_mut(4).zip(words) {
-            chunk.copy_from_slice(&w.to_be_bytes());
-        }
+        let pair: [u8; 4 * WORDS] = word_bytes(words);
         const ODD: usize = 128;
         if bits(&pair, 0, 1) != 0 || bits(&pair, ODD, 1) != 1 {
             self.stats.unpaired += 1;
@@ -100,7 +58,7 @@ impl InavDecoder {
         }
         // 114 + 82 bits in one run for the CRC.
         let crc_input: [u8; 25] = gather(&pair, (0..114).chain(ODD..ODD + 82));
-        if crc24q(&crc_input, 0, 196) != bits(&pair, ODD + 82, 24) {
+        if u64::from(crc24q(&crc_input, 0, 196)) != bits(&pair, ODD + 82, 24) {
             self.stats.crc_failures += 1;
             return;
         }
@@ -131,7 +89,7 @@ impl InavDecoder {
 /// word 4's SVID is the satellite's; `None` during an update.
 fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEphemeris> {
     let iod = bits(w[0], 6, 10);
-    if w[1..4].iter().any(|x| bits(*x, 6, 10) != iod) || bits(w[3], 16, 6) != u32::from(svid) {
+    if w[1..4].iter().any(|x| bits(*x, 6, 10) != iod) || bits(w[3], 16, 6) != u64::from(svid) {
         return None;
     }
     let (sc, p) = (GALILEO_PI, |k: i32| 2f64.powi(k));
@@ -147,11 +105,10 @@ fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEp
         svid,
         iod_nav: iod as u16,
         orbit: BroadcastOrbit {
-            toe_gps_s: GALILEO
-                .nearest_gps_time_s(f64::from(bits(w1, 16, 14)) * 60.0, reception_gps_s),
+            toe_gps_s: GALILEO.nearest_gps_time_s(bits(w1, 16, 14) as f64 * 60.0, reception_gps_s),
             m0_rad: signed(bits(w1, 30, 32), 32) * p(-31) * sc,
-            eccentricity: f64::from(bits(w1, 62, 32)) * p(-33),
-            sqrt_a_sqrt_m: f64::from(bits(w1, 94, 32)) * p(-19),
+            eccentricity: bits(w1, 62, 32) as f64 * p(-33),
+            sqrt_a_sqrt_m: bits(w1, 94, 32) as f64 * p(-19),
             omega0_rad: signed(bits(w2, 16, 32), 32) * p(-31) * sc,
             i0_rad: signed(bits(w2, 48, 32), 32) * p(-31) * sc,
             omega_rad: signed(bits(w2, 80, 32), 32) * p(-31) * sc,
@@ -164,11 +121,12 @@ fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEp
             crs_m: signed(bits(w3, 104, 16), 16) * p(-5),
             cic_rad: signed(bits(w4, 22, 16), 16) * p(-29),
             cis_rad: signed(bits(w4, 38, 16), 16) * p(-29),
-            toc_gps_s: GALILEO
-                .nearest_gps_time_s(f64::from(bits(w4, 54, 14)) * 60.0, reception_gps_s),
+            toc_gps_s: GALILEO.nearest_gps_time_s(bits(w4, 54, 14) as f64 * 60.0, reception_gps_s),
             af0_s: signed(bits(w4, 68, 31), 31) * p(-34),
             af1_s_s: signed(bits(w4, 99, 21), 21) * p(-46),
             af2_s_s2: signed(bits(w4, 120, 6), 6) * p(-59),
+            a_dot_m_s: 0.0,
+            delta_n_dot_rad_s2: 0.0,
         },
         sisa_index: bits(w3, 120, 8) as u8,
         bgd_e1_e5a_s: signed(bits(w5, 47, 10), 10) * p(-32),
@@ -182,25 +140,12 @@ fn assemble(svid: u16, w: [&[u8; 16]; 5], reception_gps_s: f64) -> Option<InavEp
             + GALILEO.week_zero_in_gps_weeks
             + 4096.0 * ((reception_gst_week - f64::from(gst_week)) / 4096.0).round())
             * SECONDS_PER_WEEK
-            + f64::from(bits(w5, 85, 20)),
+            + bits(w5, 85, 20) as f64,
     })
 }
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-
-    #[test]
-    fn crc24q_check_value() {
-        // The CRC-24Q check value of "123456789" (RTCM 10403 / RFC 4880's
-        // polynomial with a zero start): 0xCDE703.
-        assert_eq!(crc24q(b"123456789", 0, 72), 0xCD_E703);
-        // Leading zero bits change nothing (the ICD pads to whole bytes).
-        let mut padded = vec![0u8];
-        padded.extend_from_slice(b"123456789");
-        assert_eq!(crc24q(&padded, 4, 76), 0xCD_E703);
-    }
-
     #[test]
     fn sisa_bins() {
         use crate::gnss::sisa_m;

@@ -17,7 +17,7 @@ use crate::gnss::{BroadcastOrbit, GpsEphemeris, LnavEphemeris, GPS, SECONDS_PER_
 /// (§20.3.3.4.3.1, "PI = 3.1415926535898"): the control segment scales
 /// the broadcast angles with it, so it is the right one here, not `PI`.
 #[allow(clippy::approx_constant)]
-const GPS_PI: f64 = 3.141_592_653_589_8;
+pub(super) const GPS_PI: f64 = 3.141_592_653_589_8;
 /// Telemetry word preamble 10001011 (§20.3.3.1).
 const PREAMBLE: u32 = 0x8B;
 /// Words per LNAV subframe.
@@ -208,6 +208,8 @@ fn assemble(
         omega_rad: signed(joined(s3, 7, 8), 32) * p(-31) * sc,
         omega_dot_rad_s: signed(bits(s3, 9, 1, 24), 24) * p(-43) * sc,
         idot_rad_s: signed(bits(s3, 10, 9, 14), 14) * p(-43) * sc,
+        a_dot_m_s: 0.0,
+        delta_n_dot_rad_s2: 0.0,
     };
     let ephemeris = GpsEphemeris {
         prn,

@@ -1,8 +1,9 @@
 //! u-blox UBX binary logs (u-blox F9 HPG 1.32 and X20 HPG 2.00 interface
 //! descriptions): the raw measurements (RXM-RAWX), the GPS, Galileo and
 //! BeiDou broadcast ephemerides decoded from the navigation message words
-//! (RXM-SFRBX: GPS L1 C/A LNAV, Galileo E1-B I/NAV, BeiDou D1) and the
-//! receiver's own solution (NAV-PVT).
+//! (RXM-SFRBX: GPS L1 C/A LNAV, GPS L2C and L5 CNAV with the Klobuchar
+//! coefficients of its message type 30, Galileo E1-B I/NAV, BeiDou D1) and
+//! the receiver's own solution (NAV-PVT).
 //!
 //! The measurements come out twice: as the receiver reports them
 //! ([`RawxEpoch`], with lock times and tracking flags), and as the same
@@ -12,9 +13,9 @@
 //! filters, the RINEX writer) takes either. Epochs are on the receiver's
 //! time (RAWX's week and time of week), as RINEX observation epochs are.
 //!
-//! Not decoded yet (skipped with a count): GPS CNAV (L2C, L5), Galileo
-//! F/NAV and E6, BeiDou D2 (GEO), GLONASS strings, SBAS, and every message
-//! other than the three above.
+//! Not decoded yet (skipped with a count): GPS CNAV message types other
+//! than 10, 11 and 30-37, Galileo F/NAV and E6, BeiDou D2 (GEO), GLONASS
+//! strings, SBAS, and every message other than the three above.
 //!
 //! Any byte sequence is read without a panic: frames whose checksum fails
 //! are skipped and counted, a last frame cut short is reported in
@@ -26,7 +27,9 @@ mod beidou_d1;
 mod bytes;
 mod framing;
 mod galileo_inav;
+mod gps_cnav;
 mod gps_lnav;
+mod msb_bits;
 mod nav_pvt;
 mod rawx;
 
@@ -38,8 +41,8 @@ use std::path::Path;
 
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
-    BeidouEphemeris, BroadcastNav, InavEphemeris, LnavEphemeris, ObservationEpoch, ObservationFile,
-    SatelliteObservations, SignalLayout,
+    BeidouEphemeris, BroadcastNav, CnavEphemeris, InavEphemeris, Klobuchar, LnavEphemeris,
+    ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
 };
 use crate::logs::PosSolution;
 use crate::{Error, Result};
@@ -62,6 +65,12 @@ pub struct UbxLog {
     /// GPS LNAV ephemerides decoded from RXM-SFRBX, one per satellite and
     /// issue of data, in the order they completed.
     pub gps_ephemerides: Vec<LnavEphemeris>,
+    /// GPS CNAV ephemerides decoded from RXM-SFRBX (L2C or L5), one per
+    /// satellite and t_oe, in the order they completed.
+    pub gps_cnav_ephemerides: Vec<CnavEphemeris>,
+    /// The Klobuchar coefficients of the latest CNAV message type 30
+    /// (LNAV's page 18 of subframe 4 is not decoded).
+    pub klobuchar: Option<Klobuchar>,
     /// Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one per
     /// satellite and IODnav, in the order they completed.
     pub galileo_ephemerides: Vec<InavEphemeris>,
@@ -88,7 +97,17 @@ impl UbxLog {
     /// takes it).
     pub fn broadcast_nav(&self) -> BroadcastNav {
         BroadcastNav {
-            gps: self.gps_ephemerides.iter().map(|l| l.ephemeris).collect(),
+            // LNAV, and CNAV where type 30 gave its L1 C/A group delay.
+            gps: self
+                .gps_ephemerides
+                .iter()
+                .map(|l| l.ephemeris)
+                .chain(
+                    self.gps_cnav_ephemerides
+                        .iter()
+                        .filter_map(CnavEphemeris::l1_ca_ephemeris),
+                )
+                .collect(),
             galileo: self.galileo_ephemerides.clone(),
             beidou: self.beidou_ephemerides.clone(),
             skipped: BTreeMap::new(),
@@ -151,6 +170,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
     let mut rawx: Vec<RawxEpoch> = Vec::new();
     let mut nav_pvt = Vec::new();
     let mut lnav = gps_lnav::LnavDecoder::default();
+    let mut cnav = gps_cnav::CnavDecoder::default();
     let mut inav = galileo_inav::InavDecoder::default();
     let mut d1 = beidou_d1::D1Decoder::default();
     for f in &frames {
@@ -210,22 +230,32 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
                 match (gnss_id, sig_id, words) {
                     // GPS L1 C/A: LNAV, ten words a subframe.
                     (0, 0, gps_lnav::WORDS) if (1..=32).contains(&sv_id) => {
-                        let mut w = [0u32; gps_lnav::WORDS];
-                        for (k, x) in w.iter_mut().enumerate() {
-                            *x = bytes::Le(p).u32(8 + 4 * k);
-                        }
-                        lnav.push(u16::from(sv_id), &w, reception_gps_s);
+                        lnav.push(u16::from(sv_id), &sfrbx_words(p), reception_gps_s);
                     }
                     (0, 0, _) => malformed(format!(
                         "RXM-SFRBX GPS L1 C/A with {words} words (10 expected) or PRN {sv_id}"
                     )),
+                    // GPS L2 CL/CM and L5 I/Q: CNAV, one 300-bit message
+                    // in ten words.
+                    (0, 3 | 4 | 6 | 7, gps_cnav::WORDS) if (1..=32).contains(&sv_id) => {
+                        let signal = if sig_id <= 4 {
+                            gps_cnav::CnavSignal::L2c
+                        } else {
+                            gps_cnav::CnavSignal::L5
+                        };
+                        cnav.push(
+                            u16::from(sv_id),
+                            signal,
+                            &sfrbx_words(p),
+                            reception_gps_s,
+                        );
+                    }
+                    (0, 3 | 4 | 6 | 7, _) => malformed(format!(
+                        "RXM-SFRBX GPS CNAV with {words} words (10 expected) or PRN {sv_id}"
+                    )),
                     // Galileo E1-B: I/NAV, one page pair in eight words.
                     (2, 1, galileo_inav::WORDS) if (1..=36).contains(&sv_id) => {
-                        let mut w = [0u32; galileo_inav::WORDS];
-                        for (k, x) in w.iter_mut().enumerate() {
-                            *x = bytes::Le(p).u32(8 + 4 * k);
-                        }
-                        inav.push(u16::from(sv_id), &w, reception_gps_s);
+                        inav.push(u16::from(sv_id), &sfrbx_words(p), reception_gps_s);
                     }
                     (2, 1, _) => malformed(format!(
                         "RXM-SFRBX Galileo E1-B with {words} words (8 expected) or SVID {sv_id}"
@@ -235,11 +265,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
                     (3, 0 | 2 | 4, beidou_d1::WORDS)
                         if (1..=63).contains(&sv_id) && !matches!(sv_id, 1..=5 | 59..=63) =>
                     {
-                        let mut w = [0u32; beidou_d1::WORDS];
-                        for (k, x) in w.iter_mut().enumerate() {
-                            *x = bytes::Le(p).u32(8 + 4 * k);
-                        }
-                        d1.push(u16::from(sv_id), &w, reception_gps_s);
+                        d1.push(u16::from(sv_id), &sfrbx_words(p), reception_gps_s);
                     }
                     // D2 (GEO satellites, sigId 1, 3, 10, or a GEO PRN).
                     (3, 1 | 3 | 10, _) | (3, 0 | 2 | 4, _) if matches!(sv_id, 1..=5 | 59..=63) => {
@@ -264,6 +290,14 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         lnav.stats.parity_failures,
     );
     problems.add("GPS LNAV subframes malformed", lnav.stats.malformed);
+    problems.add(
+        "GPS CNAV messages with a CRC failure",
+        cnav.stats.crc_failures,
+    );
+    problems.add("GPS CNAV messages malformed", cnav.stats.malformed);
+    for (kind, &count) in &cnav.stats.not_decoded {
+        problems.add(&format!("GPS CNAV message type {kind} not decoded"), count);
+    }
     problems.add(
         "Galileo I/NAV page pairs with a CRC failure",
         inav.stats.crc_failures,
@@ -291,6 +325,8 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         rawx,
         observations,
         gps_ephemerides: lnav.ephemerides,
+        gps_cnav_ephemerides: cnav.ephemerides,
+        klobuchar: cnav.klobuchar.map(|(_, k)| k),
         galileo_ephemerides: inav.ephemerides,
         beidou_ephemerides: d1.ephemerides,
         nav_pvt,
@@ -299,6 +335,11 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         skipped: problems.skipped,
         warnings,
     })
+}
+
+/// The `N` data words of an RXM-SFRBX payload whose length was checked.
+fn sfrbx_words<const N: usize>(payload: &[u8]) -> [u32; N] {
+    std::array::from_fn(|k| bytes::Le(payload).u32(8 + 4 * k))
 }
 
 /// Loss-of-lock indicator bits (RINEX 3.05 §5.7, table A3): 1 lock lost
@@ -396,7 +437,8 @@ mod tests {
             &rawx::encode_rawx(tow, week, Some(18), &signals),
         ));
         log.extend(sfrbx(0, 3, 0, &sf[0]));
-        // The same words on L2C (CNAV) are not LNAV: counted, not decoded.
+        // The same words on L2C are not LNAV and, without CNAV's preamble,
+        // not CNAV either: counted, not decoded.
         log.extend(sfrbx(0, 3, 4, &sf[1]));
         let mut flipped = sfrbx(0, 3, 0, &sf[1]);
         let n = flipped.len();
@@ -432,10 +474,8 @@ mod tests {
         assert_eq!(out.messages["0x0A-0x04"], 1);
         assert_eq!(out.skipped["frames with a bad checksum"], 1);
         assert_eq!(out.skipped["RXM-RAWX malformed"], 1);
-        assert_eq!(
-            out.skipped["RXM-SFRBX of a navigation message not decoded (gnssId 0, sigId 4)"],
-            1
-        );
+        assert_eq!(out.skipped["GPS CNAV messages malformed"], 1);
+        assert!(out.gps_cnav_ephemerides.is_empty());
         assert!(
             out.warnings.iter().any(|w| w.contains("cut short")),
             "{:?}",
