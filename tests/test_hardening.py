@@ -3,6 +3,7 @@ were accepted as silent garbage, now fail up front with an error naming the
 argument (docs/robustness.md lists the limits)."""
 
 import os
+import re
 import subprocess
 import sys
 import warnings
@@ -456,6 +457,34 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         assert sol.diverged
         assert any("diverged from its GNSS aiding" in str(c.message) for c in caught)
         assert any("diverged" in m for m in sol.warnings)
+
+
+def test_the_failed_shares_the_guide_quotes(drive):
+    """docs/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
+    fixes 10⁹ m off after the first fail 51 %; a gyro in deg/s, 51 %"."""
+    traj, gnss, imu, f, w, arrays = drive
+    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    quoted = re.search(
+        r"a clean loose run fails ([\d.]+) % \(tight ([\d.]+) %\); fixes 10⁹ m off after the "
+        r"first fail (\d+) %; a gyro in deg/s, (\d+) %",
+        page,
+    )
+    assert quoted, "docs/robustness.md no longer quotes the failed shares"
+    bad = {k: v.copy() for k, v in arrays.items()}
+    bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the last two warn, as tested above
+        runs = [
+            loose_run(drive),
+            mn.TightlyCoupledFilter(imu).run(
+                traj.time, f, w, gnss, initial_attitude=traj.attitude[0]
+            ),
+            loose_run(drive, fixes=bad),
+            loose_run(drive, w=np.degrees(w)),
+        ]
+    shares = [100.0 * (1.0 - np.mean(run.batches["accepted"])) for run in runs]
+    for share, text in zip(shares, quoted.groups(), strict=True):
+        assert abs(share - float(text)) <= 0.5 * 10.0 ** -len(text.partition(".")[2]), shares
 
 
 # --- arguments that hung (issue 30) ---------------------------------------------------
