@@ -487,6 +487,18 @@ def test_the_failed_shares_the_guide_quotes(drive):
         assert abs(share - float(text)) <= 0.5 * 10.0 ** -len(text.partition(".")[2]), shares
 
 
+def test_a_sat_id_of_minus_inf_is_refused_not_taken_as_padding(drive):
+    """A finite negative sat_id marks an empty slot; −inf is not one (the
+    numeric-API fuzzing at 500 examples found it taken as padding)."""
+    traj, gnss, imu, f, w, _ = drive
+    names = ("time", "sat_id", "pseudorange", "pseudorange_rate", "pseudorange_std")
+    names += ("pseudorange_rate_std", "satellite_position_ecef", "satellite_velocity_ecef")
+    g = {name: np.array(getattr(gnss, name), dtype=float) for name in names}
+    g["sat_id"][0, 0] = -np.inf
+    with pytest.raises(ValueError, match=r"gnss: \[0, 0\] .*sat_id = -inf is not a satellite"):
+        mn.TightlyCoupledFilter(imu).run(traj.time, f, w, g, initial_attitude=traj.attitude[0])
+
+
 # --- arguments that hung (issue 30) ---------------------------------------------------
 
 
