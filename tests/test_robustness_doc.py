@@ -312,3 +312,35 @@ def test_the_quoted_error_messages_are_what_the_calls_say(quoted, call):
     with pytest.raises((ValueError, TypeError, mn.MemsnavError)) as caught:
         call()
     assert quoted in " ".join(str(caught.value).split())
+
+
+def test_the_imu_csv_ranges_real_data_lists_are_the_readers():
+    """robustness.md points to docs/real-data.md (Readers) for each reader's
+    ranges; the IMU CSV reader's there are the constants of
+    crates/memsnav-core/src/logs/imu_csv.rs."""
+    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    found = re.search(
+        r"\|f\| ≤ (\d+) g, \|ω\| ≤ (\d+) rad/s, .*?\|t\| ≤ (10\S+) s\).*?a median \|f\| outside "
+        r"([\d.]+)-([\d.]+) g .*?(\d+) % of the rates above (\d+) °/s .*?a median sample "
+        r"interval outside (\d+) µs-([\d.]+) s .*?jumps in time longer than (\d+) s and (\d+) "
+        r"intervals",
+        page,
+    )
+    assert found, "docs/real-data.md no longer lists the IMU CSV reader's ranges"
+    g, w, t, f_low, f_high, share, deg_s, dt_low, dt_high, gap_s, gap_n = found.groups()
+    source = (CORE / "logs" / "imu_csv.rs").read_text()
+    assert f"MAX_SPECIFIC_FORCE_M_S2: f64 = {int(g):_}.0 * STANDARD_GRAVITY_M_S2;" in source
+    assert float(w) == _const(CORE / "logs" / "imu_csv.rs", "MAX_ANGULAR_RATE_RAD_S")
+    assert _doc_number(t) == _const(CORE / "logs" / "imu_csv.rs", "MAX_TIME_S")
+    force = re.search(r"PLAUSIBLE_MEDIAN_FORCE_G: [^=]+ = ([\d.]+)..=([\d.]+);", source)
+    assert (float(force.group(1)), float(force.group(2))) == (float(f_low), float(f_high))
+    p99 = _const(CORE / "logs" / "imu_csv.rs", "PLAUSIBLE_RATE_P99_RAD_S")
+    assert share == "1" and "1 % of the angular rates exceed" in source  # the 99th percentile
+    assert int(deg_s) == round(math.degrees(p99))
+    interval = re.search(r"PLAUSIBLE_INTERVAL_S: [^=]+ = ([\d.e-]+)..=([\d.]+);", source)
+    assert (float(interval.group(1)), float(interval.group(2))) == (
+        float(dt_low) / 1e6,
+        float(dt_high),
+    )
+    assert float(gap_n) == _const(CORE / "logs" / "imu_csv.rs", "GAP_INTERVALS")
+    assert gap_s == "1" and "(and than 1 s)" in source
