@@ -4,6 +4,7 @@ the readers and entries the suites fuzz today; the budgets, mutations,
 limits and warning thresholds it quotes are the constants of the code; the
 error messages it quotes are what the calls say."""
 
+import json
 import math
 import re
 import runpy
@@ -68,8 +69,6 @@ def _rust_readers() -> list[str]:
 
 
 def test_the_fuzz_table_is_what_the_script_writes_from_its_record():
-    import json
-
     text = PAGE.read_text()
     begin, end = SCRIPT["BEGIN"], SCRIPT["END"]
     block = text[text.index(begin) : text.index(end) + len(end)]
@@ -232,13 +231,8 @@ def test_the_warning_thresholds_are_the_codes():
     assert 1.0 - _doc_number(power) == _const(integrity, "OUTLIER_PROBABILITY")
 
 
-def _short_track():
-    track = mn.Trajectory.random(duration=60.0, rate=100.0, seed=1)
-    return track
-
-
 def _imu_and_gnss_times_apart():
-    track = _short_track()
+    track = mn.Trajectory.random(duration=60.0, rate=100.0, seed=1)
     imu = mn.ImuModel.preset("paper-mems", seed=2)
     f, w = imu.measure(track.specific_force, track.angular_rate, seed=3)
     g = mn.simulate_gnss(
