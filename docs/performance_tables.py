@@ -216,9 +216,8 @@ def verdict(value: float, target: float, at_least: bool, unit: str) -> str:
     return f"{'≥' if at_least else '≤'} {shown}{unit}: {'met' if met else '**not met**'}"
 
 
-def python_rows(p: dict[str, Any], rust: dict[str, dict[str, Any]]) -> list[tuple[str, ...]]:
-    """(what, figure, target) of the Python benchmark, with its Rust
-    counterparts where criterion measured them."""
+def python_rows(p: dict[str, Any]) -> list[tuple[str, ...]]:
+    """(what, figure, target) of the Python benchmark."""
     rows = [
         ("simulator (trajectory, IMU, GNSS) through Python", duration(p["simulator_seconds"]), ""),
         (
@@ -228,16 +227,6 @@ def python_rows(p: dict[str, Any], rust: dict[str, dict[str, Any]]) -> list[tupl
             "",
         ),
     ]
-    if "tight_600s_6sat/solution" in rust:
-        ratio = p["memsnav_seconds"] / rust["tight_600s_6sat/solution"]["mean_s"]
-        rows.append(
-            (
-                "the Python call (best) ÷ the Rust run storing the same solution "
-                "(criterion's mean)",
-                times(ratio),
-                verdict(ratio, 1.1, False, "×"),
-            )
-        )
     rows += [
         (
             "FilterPy `ExtendedKalmanFilter` + NumPy loop",
@@ -362,7 +351,7 @@ def render(record: dict[str, Any]) -> str:
         "",
         "| what | figure | target |",
         "|---|---|---|",
-        *(f"| {' | '.join(row)} |" for row in rust_rows(rust) + python_rows(p, rust)),
+        *(f"| {' | '.join(row)} |" for row in rust_rows(rust) + python_rows(p)),
         "",
         "criterion (`cargo bench -p memsnav-benches --bench filter`, `experiments`, `readers`): "
         "the mean per iteration and its 95 % confidence interval.",
