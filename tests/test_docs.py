@@ -1,7 +1,9 @@
 """The documentation stays true: every Python example in the README and
-docs/ runs, and docs/api.md is what docs/build_api.py generates from the
-docstrings of the installed package."""
+docs/ runs, docs/api.md is what docs/build_api.py generates from the
+docstrings of the installed package, and docs/distributed.md's scaling
+table is what docs/distributed_scaling.py writes from its record."""
 
+import json
 import re
 import runpy
 from pathlib import Path
@@ -33,4 +35,18 @@ def test_api_reference_is_current():
     build = runpy.run_path(str(ROOT / "docs" / "build_api.py"))
     assert (ROOT / "docs" / "api.md").read_text() == build["render"](), (
         "docs/api.md is stale: run python docs/build_api.py"
+    )
+
+
+def test_distributed_scaling_table_is_its_scripts():
+    """No run here (speed is measured by the script, never by a test): the
+    table is ``render`` of the measurements the script kept."""
+    script = runpy.run_path(str(ROOT / "docs" / "distributed_scaling.py"))
+    text = (ROOT / "docs" / "distributed.md").read_text()
+    begin, end = script["BEGIN"], script["END"]
+    block = text[text.index(begin) : text.index(end) + len(end)]
+    record = json.loads((ROOT / "docs" / "distributed_scaling.json").read_text())
+    assert block == script["render"](record), (
+        "docs/distributed.md's scaling table is stale: run python docs/distributed_scaling.py "
+        "--write"
     )

@@ -207,8 +207,9 @@ def test_drive_session_answers_first_and_its_figures_read(drive_run):
 
 @pytest.mark.slow
 def test_readme_quotes_the_drive_calibration(drive_run):
-    """ "changes by +8 % (1.68 → 1.81 m RMS, [...]), and the first outage
-    [...] gets slightly worse (1.45 → 1.53 m)": within their rounding."""
+    """ "changes by +8 % (1.68 → 1.81 m RMS, inside the 1.51-2.16 m of ten
+    calibrations drawn [...]), and the first outage [...] gets slightly
+    worse (1.45 → 1.52 m)": within their rounding."""
     _, out = drive_run
     text = " ".join((HERE.parent / "README.md").read_text().split())
     gain = re.search(r"changes by ([+−-]?\d+) % \(([\d.]+) → ([\d.]+) m RMS", text)
@@ -223,6 +224,13 @@ def test_readme_quotes_the_drive_calibration(drive_run):
     assert abs(after[1] - float(gain.group(3))) <= 0.005
     assert abs(raw["first"]["rms_horizontal_m"] - float(first.group(1))) <= 0.005
     assert abs(cal["first"]["rms_horizontal_m"] - float(first.group(2))) <= 0.005
+    drawn = re.search(r"inside the ([\d.]+)-([\d.]+) m of (\w+) calibrations drawn", text)
+    assert drawn, "the README no longer quotes the calibrations drawn from the covariance"
+    draws = [d["forward"]["after_fit"]["rms_horizontal_m"] for d in forward["draws"]]
+    assert abs(min(draws) - float(drawn.group(1))) <= 0.005
+    assert abs(max(draws) - float(drawn.group(2))) <= 0.005
+    assert drawn.group(3) == ["none", "one", "two", "three", "four", "five", "six", "seven",
+                              "eight", "nine", "ten"][len(draws)]  # fmt: skip
 
 
 @pytest.mark.slow

@@ -3,6 +3,7 @@ were accepted as silent garbage, now fail up front with an error naming the
 argument (docs/robustness.md lists the limits)."""
 
 import os
+import re
 import subprocess
 import sys
 import warnings
@@ -456,6 +457,46 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         assert sol.diverged
         assert any("diverged from its GNSS aiding" in str(c.message) for c in caught)
         assert any("diverged" in m for m in sol.warnings)
+
+
+def test_the_failed_shares_the_guide_quotes(drive):
+    """docs/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
+    fixes 10⁹ m off after the first fail 51 %; a gyro in deg/s, 51 %"."""
+    traj, gnss, imu, f, w, arrays = drive
+    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    quoted = re.search(
+        r"a clean loose run fails ([\d.]+) % \(tight ([\d.]+) %\); fixes 10⁹ m off after the "
+        r"first fail (\d+) %; a gyro in deg/s, (\d+) %",
+        page,
+    )
+    assert quoted, "docs/robustness.md no longer quotes the failed shares"
+    bad = {k: v.copy() for k, v in arrays.items()}
+    bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the last two warn, as tested above
+        runs = [
+            loose_run(drive),
+            mn.TightlyCoupledFilter(imu).run(
+                traj.time, f, w, gnss, initial_attitude=traj.attitude[0]
+            ),
+            loose_run(drive, fixes=bad),
+            loose_run(drive, w=np.degrees(w)),
+        ]
+    shares = [100.0 * (1.0 - np.mean(run.batches["accepted"])) for run in runs]
+    for share, text in zip(shares, quoted.groups(), strict=True):
+        assert abs(share - float(text)) <= 0.5 * 10.0 ** -len(text.partition(".")[2]), shares
+
+
+def test_a_sat_id_of_minus_inf_is_refused_not_taken_as_padding(drive):
+    """A finite negative sat_id marks an empty slot; −inf is not one (the
+    numeric-API fuzzing at 500 examples found it taken as padding)."""
+    traj, gnss, imu, f, w, _ = drive
+    names = ("time", "sat_id", "pseudorange", "pseudorange_rate", "pseudorange_std")
+    names += ("pseudorange_rate_std", "satellite_position_ecef", "satellite_velocity_ecef")
+    g = {name: np.array(getattr(gnss, name), dtype=float) for name in names}
+    g["sat_id"][0, 0] = -np.inf
+    with pytest.raises(ValueError, match=r"gnss: \[0, 0\] .*sat_id = -inf is not a satellite"):
+        mn.TightlyCoupledFilter(imu).run(traj.time, f, w, g, initial_attitude=traj.attitude[0])
 
 
 # --- arguments that hung (issue 30) ---------------------------------------------------

@@ -240,3 +240,21 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
     assert printed[5].startswith("report: ")
     config.write_text('[study]\ngrades = ["tactical"]\nrunz = 2\n')
     assert main(["study", "--config", str(config), "--quiet"]) == 1
+
+
+def test_the_guide_quotes_the_study_defaults():
+    """docs/outage-study.md: "the outage starts at `outage_start` (default
+    100 s ...)" and "run duration (default: outage start + longest outage
+    + 10 s)": a one-run study's configuration says the same."""
+    from pathlib import Path
+
+    page = " ".join((Path(__file__).parents[1] / "docs" / "outage-study.md").read_text().split())
+    start = re.search(r"`outage_start` \(default (\d+) s", page)
+    margin = re.search(r"default: outage start \+ longest outage \+ (\d+) s", page)
+    assert start and margin, "docs/outage-study.md no longer quotes the study's defaults"
+    lengths = [10.0, 30.0]
+    study = mn.experiments.outage_study(
+        grades=["consumer"], outage_lengths=lengths, visible_satellites=[0], runs=1, threads=1
+    )
+    assert study.config["outage_start"] == float(start.group(1))
+    assert study.config["duration"] == float(start.group(1)) + max(lengths) + float(margin.group(1))

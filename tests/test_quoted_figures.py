@@ -172,3 +172,15 @@ def test_few_satellites_prose_reads_its_study_tables():
     assert _near(ocxo, float(cells[("3", "OCXO")][2]))
     first_alerts = _quoted("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
     assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))
+
+
+def test_readme_quotes_the_drive_example_outage_schedule():
+    """ "a car drive, loosely coupled with 15 s GNSS outages every 45 s":
+    the schedule of examples/drive_0708.toml."""
+    import tomllib
+
+    length, every = _quoted(
+        "README.md", r"loosely coupled with ([\d.]+) s GNSS outages every ([\d.]+) s"
+    )
+    outages = tomllib.loads((ROOT / "examples" / "drive_0708.toml").read_text())["outages"]
+    assert (outages["length_s"], outages["every_s"]) == (length, every)

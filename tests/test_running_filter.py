@@ -169,6 +169,17 @@ def test_aids_bound_an_outage_inside_the_covariance(drive_300s):
     coast, aided = results[False][0], results[True][0]
     print(f"60 s outage: {coast[-1]:.2f} m coasting, {aided[-1]:.2f} m aided")
     assert aided[-1] < 0.25 * coast[-1], (aided[-1], coast[-1])
+    # docs/step-api.md quotes both ("ends at 0.87 m instead of 38 m"), each
+    # within its rounding.
+    import re
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parent.parent / "docs"
+    page = " ".join((docs / "step-api.md").read_text().split())
+    quoted = re.search(r"heading at 10 Hz ends at ([\d.]+) m instead of (\d+) m", page)
+    assert quoted, "docs/step-api.md no longer quotes the aided outage"
+    assert abs(aided[-1] - float(quoted.group(1))) <= 0.005, aided[-1]
+    assert abs(coast[-1] - float(quoted.group(2))) <= 0.5, coast[-1]
     assert np.all(results[True][1] < 3.0), results[True][1].max()
 
 

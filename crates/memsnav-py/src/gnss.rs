@@ -744,7 +744,7 @@ pub(crate) fn gnss_epoch_at(obj: &Bound<'_, PyAny>, index: usize) -> PyResult<Gn
 
 /// GNSS epochs from a `GnssMeasurements` or padded user arrays (a dict,
 /// no other keys, or an object with these attributes): `time` (T,),
-/// `sat_id` (T, n) (negative = padding), `satellite_position_ecef` and
+/// `sat_id` (T, n) (finite negative = padding), `satellite_position_ecef` and
 /// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n),
 /// `pseudorange_std` (T, n), optional `pseudorange_rate` with
 /// `pseudorange_rate_std` (T, n). Every slot that is not padding passes the
@@ -813,7 +813,9 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
         for j in 0..n {
             let i = k * n + j;
             let id = sat_id[i];
-            if id < 0.0 {
+            // A finite negative number marks an empty slot; −inf is not one
+            // (as NaN and +inf, it is refused below, naming the slot).
+            if id < 0.0 && id.is_finite() {
                 continue; // padding
             }
             let slot_error = |reason: String| {

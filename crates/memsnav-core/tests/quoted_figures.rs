@@ -1,0 +1,61 @@
+//! Figures docs/performance.md quotes about the filter's structure,
+//! counted from the code: the covariance products visit one term per
+//! non-zero of Φ, and the page's floating-point count is built on how many
+//! there are for 17 states.
+
+use memsnav_core::attitude::euler_to_dcm;
+use memsnav_core::filter::input_noise::InputErrorNoise;
+use memsnav_core::filter::{system_matrix, ProcessNoise, SystemInputs};
+use memsnav_core::geodesy::{geodetic_to_ecef, Geodetic};
+use nalgebra::{SMatrix, Vector3};
+
+/// The number the page quotes before `suffix` ("58 column terms").
+fn quoted_before(page: &str, suffix: &str) -> usize {
+    let at = page
+        .find(suffix)
+        .unwrap_or_else(|| panic!("docs/performance.md no longer quotes {suffix:?}"));
+    let digits: String = page[..at]
+        .chars()
+        .rev()
+        .take_while(char::is_ascii_digit)
+        .collect();
+    digits.chars().rev().collect::<String>().parse().unwrap()
+}
+
+/// Φ = I + FΔt over a generic state (no input on an axis, finite bias
+/// correlation times) has no zero the structure does not force: its
+/// non-zeros are the terms the sparse products list
+/// (`propagation::Transition::columns_into`).
+#[test]
+fn phi_has_the_non_zeros_the_flop_count_uses() {
+    let inputs = SystemInputs {
+        c_b_e: euler_to_dcm(0.3, -0.2, 1.1),
+        specific_force_b: Vector3::new(1.2, -0.4, -9.7),
+        angular_rate_b: Vector3::new(0.05, -0.02, 0.3),
+        position_ecef: geodetic_to_ecef(Geodetic::new(0.76, 0.025, 150.0)),
+    };
+    let noise = ProcessNoise {
+        accel_white_psd: 1e-4,
+        gyro_white_psd: 1e-8,
+        accel_bias_psd: 1e-7,
+        accel_bias_correlation_time_s: 100.0,
+        gyro_bias_psd: 1e-11,
+        gyro_bias_correlation_time_s: 200.0,
+        clock_phase_psd: 0.01,
+        clock_frequency_psd: 0.04,
+        accel_scale_factor_psd: 0.0,
+        gyro_scale_factor_psd: 0.0,
+        range_bias_psd: 0.0,
+        range_bias_correlation_time_s: 60.0,
+        input_errors: InputErrorNoise::default(),
+    };
+    let phi = SMatrix::<f64, 17, 17>::identity() + system_matrix::<17>(&inputs, &noise) * 0.01;
+    let non_zeros = phi.iter().filter(|&&x| x != 0.0).count();
+    let page = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/performance.md"
+    ))
+    .unwrap();
+    let page = page.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert_eq!(non_zeros, quoted_before(&page, " column terms × 17 rows"));
+}
