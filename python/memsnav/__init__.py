@@ -12,6 +12,7 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
+    BroadcastEphemerides,
     Calibration,
     CalibrationLayout,
     Constellation,
@@ -57,6 +58,7 @@ from memsnav._memsnav import (
     navigate_log,
     navigate_settings,
     quantile_interval,
+    read_broadcast_nav,
     read_gnsslogger,
     read_klobuchar,
     read_rinex_obs,
@@ -99,6 +101,7 @@ from memsnav.realdata.timing import (
 
 __all__ = [
     "AccelerometerModel",
+    "BroadcastEphemerides",
     "Calibration",
     "CalibrationLayout",
     "Constellation",
@@ -163,6 +166,7 @@ __all__ = [
     "plot_errors",
     "plot_track",
     "quantile_interval",
+    "read_broadcast_nav",
     "read_fixes",
     "read_fixes_csv",
     "read_gnsslogger",

@@ -149,6 +149,28 @@ def number(
     return check
 
 
+def satellite() -> Check:
+    """A satellite: a GPS PRN (1-63) or a RINEX name of a system memsnav
+    combines (``"G10"``, ``"E07"``, ``"C21"``); checked as its RINEX name."""
+
+    def check(value: Any) -> str:
+        if isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 63:
+            return f"G{value:02d}"
+        if (
+            isinstance(value, str)
+            and len(value) == 3
+            and value[0] in "GEC"
+            and value[1:].isdigit()
+            and 1 <= int(value[1:]) <= 63
+        ):
+            return value
+        raise _Wrong(
+            f'must be a GPS PRN (1-63) or a satellite name like "G10", "E07", "C21", got {value!r}'
+        )
+
+    return check
+
+
 def list_of(item: Check, *, lengths: Collection[int] = (), min_length: int = 0) -> Check:
     """A list whose entries each pass ``item``, of one of ``lengths`` entries
     (any when empty) and at least ``min_length``."""

@@ -1518,13 +1518,16 @@ class TightlyCoupledFilter:
         specific_force: npt.ArrayLike,
         angular_rate: npt.ArrayLike,
         initial_state: dict[str, Any] | Any,
+        *,
+        inter_system_biases: bool = False,
     ) -> RunningFilter:
         """The filter started at ``time`` (s) from ``initial_state`` (the dict
         ``run`` takes: ``position_ecef`` m, ``velocity_ecef`` m/s, ``attitude``
         C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
         sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
         rad/s), to be driven one call at a time: a ``RunningFilter`` with this
-        filter's tuning (docs/step-api.md)."""
+        filter's tuning (docs/step-api.md). ``inter_system_biases`` (tight
+        only): with the Galileo and BeiDou inter-system-bias states."""
 
 @final
 class RunningFilter:
@@ -1717,13 +1720,16 @@ class LooselyCoupledFilter:
         specific_force: npt.ArrayLike,
         angular_rate: npt.ArrayLike,
         initial_state: dict[str, Any] | Any,
+        *,
+        inter_system_biases: bool = False,
     ) -> RunningFilter:
         """The filter started at ``time`` (s) from ``initial_state`` (the dict
         ``run`` takes: ``position_ecef`` m, ``velocity_ecef`` m/s, ``attitude``
         C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
         sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
         rad/s), to be driven one call at a time: a ``RunningFilter`` with this
-        filter's tuning (docs/step-api.md)."""
+        filter's tuning (docs/step-api.md). ``inter_system_biases`` (tight
+        only): with the Galileo and BeiDou inter-system-bias states."""
 
 def navigation_experiment(
     imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
@@ -1760,6 +1766,29 @@ def navigation_experiment(
     satellites."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
+
+@final
+class BroadcastEphemerides:
+    """Broadcast ephemerides of GPS, Galileo and BeiDou satellites
+    (read_broadcast_nav, UbxLog.broadcast_ephemerides)."""
+
+    @property
+    def satellites(self) -> list[str]:
+        """Satellites with at least one ephemeris, RINEX names, sorted."""
+
+    @property
+    def healthy_satellites(self) -> list[str]:
+        """Satellites whose ephemerides say they are healthy, RINEX names."""
+
+    @property
+    def skipped(self) -> dict[str, int]:
+        """Records left out, by reason, with counts."""
+
+    def __len__(self) -> int: ...
+
+def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
+    """The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
+    file (other systems and Galileo F/NAV records counted in ``skipped``)."""
 
 @final
 class RinexObservations:
@@ -1810,6 +1839,29 @@ class RinexObservations:
         Saastamoinen troposphere at ``reference_position_ecef`` (default the
         header's approximate position); rates from the Doppler. Noise sigma at
         45 dB-Hz and zenith (m, m/s), scaled by √10^((45-C/N0)/10)/sin(el)."""
+
+    def measurements(
+        self,
+        ephemerides: BroadcastEphemerides,
+        reference_position_ecef: npt.ArrayLike | None = None,
+        *,
+        systems: Sequence[str] | None = None,
+        elevation_mask_deg: float | None = None,
+        min_cn0_db_hz: float | None = None,
+        ionosphere: bool = True,
+        klobuchar: tuple[Sequence[float], Sequence[float]] | None = None,
+        troposphere: bool = True,
+        pseudorange_std: float | None = None,
+        pseudorange_rate_std: float | None = None,
+        satellites: Sequence[str] | None = None,
+    ) -> GnssMeasurements:
+        """Measurements of several systems (``systems``: "G", "E", "C"; default
+        all three): GPS L1 C/A, Galileo E1, BeiDou B1I/B2I/B3I (the first the
+        file has) with ``ephemerides``, corrected as ``gps_l1`` with each
+        signal's group delay and the Klobuchar delay scaled to its frequency.
+        ``satellites``: RINEX names to keep. Satellite numbers: G n → n,
+        E n → 100 + n, C n → 200 + n; each system's pseudoranges keep the
+        receiver's inter-system bias (the tight filter estimates it)."""
 
     def __len__(self) -> int: ...
 
@@ -2370,6 +2422,11 @@ def closest_name(key: str, known: list[str]) -> str | None:
 @final
 class UbxLog:
     """What a u-blox UBX log holds (read_ubx)."""
+
+    @property
+    def broadcast_ephemerides(self) -> BroadcastEphemerides:
+        """Every decoded ephemeris (GPS LNAV and CNAV, Galileo, BeiDou) as one
+        set, for ``observations.measurements``."""
 
     @property
     def observations(self) -> RinexObservations:

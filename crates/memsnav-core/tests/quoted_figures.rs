@@ -47,6 +47,7 @@ fn phi_has_the_non_zeros_the_flop_count_uses() {
         gyro_scale_factor_psd: 0.0,
         range_bias_psd: 0.0,
         range_bias_correlation_time_s: 60.0,
+        inter_system_bias_psd: 0.0,
         input_errors: InputErrorNoise::default(),
     };
     let phi = SMatrix::<f64, 17, 17>::identity() + system_matrix::<17>(&inputs, &noise) * 0.01;

@@ -44,6 +44,7 @@ from memsnav._config import (
     pathname,
     read_table,
     resolve_path,
+    satellite,
     split_tables,
     text,
 )
@@ -69,6 +70,7 @@ _HEIGHT_DATUM: dict[str, tuple[Check, Any]] = {
     "height": (text("ellipsoidal", "msl"), "ellipsoidal"),
     "geoid_separation_m": (number(-120.0, 100.0), None),
 }
+
 #: The reading keys: (kind, default; REQUIRED when it must be given; None:
 #: not given, the reader's own default applies). See :mod:`memsnav._config`.
 SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
@@ -106,8 +108,13 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
         "table": (pathname(), ""),
         "obs": (pathname(), ""),
         "nav": (pathname(), ""),
-        # GPS PRNs (RINEX: 1-63).
-        "satellites": (list_of(integer(1, 63)), []),
+        # A u-blox UBX log instead of obs + nav: its RXM-RAWX observations
+        # and the ephemerides decoded from its RXM-SFRBX.
+        "ubx": (pathname(), ""),
+        # RINEX letters of the systems combined (G GPS, E Galileo, C BeiDou).
+        "systems": (list_of(text("G", "E", "C"), min_length=1), ["G"]),
+        # Satellites kept: GPS PRNs (1-63) or RINEX names ("G10", "E07", "C21").
+        "satellites": (list_of(satellite()), []),
         "elevation_mask_deg": (number(0.0, 90.0), _OBSERVABLES["elevation_mask_deg"]),
         # C/N0 of any GNSS signal received on the ground is below 100 dB-Hz.
         "min_cn0_db_hz": (number(0.0, 100.0), _OBSERVABLES["min_cn0_db_hz"]),

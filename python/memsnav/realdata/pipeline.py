@@ -16,6 +16,7 @@ import json
 import os
 import time as _time
 import warnings
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -200,20 +201,30 @@ def loose_input(cfg: RunConfig) -> Any:
 
 
 def tight_input(cfg: RunConfig) -> Any:
-    """GPS L1 pseudoranges and Dopplers from the RINEX files, or from a long
-    table (``[gnss] table``)."""
+    """Pseudoranges and Dopplers of the configured systems (``[gnss]
+    systems``): from a u-blox log (``ubx``: its observations and the
+    ephemerides decoded from it), from RINEX files (``obs`` + ``nav``), or
+    from a long table (``table``). The Klobuchar coefficients are the
+    configuration's, else the navigation file's, else the log's (GPS CNAV
+    type 30), else RTKLIB's defaults."""
     g = cfg["gnss"]
     if g["table"]:
         return table_input(cfg)
-    sky = _mn.Constellation.from_rinex_nav(_require(cfg, "gnss", "nav"))
-    obs = _mn.read_rinex_obs(_require(cfg, "gnss", "obs"))
     alpha, beta = g["klobuchar_alpha"], g["klobuchar_beta"]
-    klobuchar = (
-        (tuple(alpha), tuple(beta)) if alpha else _mn.read_klobuchar(_require(cfg, "gnss", "nav"))
-    )
+    klobuchar: tuple[Sequence[float], Sequence[float]] | None = (alpha, beta) if alpha else None
+    if g["ubx"]:
+        log = _mn.read_ubx(_require(cfg, "gnss", "ubx"))
+        observations, ephemerides = log.observations, log.broadcast_ephemerides
+        klobuchar = klobuchar or log.klobuchar
+    else:
+        observations = _mn.read_rinex_obs(_require(cfg, "gnss", "obs"))
+        ephemerides = _mn.read_broadcast_nav(_require(cfg, "gnss", "nav"))
+    if klobuchar is None and g["nav"]:
+        klobuchar = _mn.read_klobuchar(_require(cfg, "gnss", "nav"))
     try:
-        return obs.gps_l1(
-            sky,
+        return observations.measurements(
+            ephemerides,
+            systems=g["systems"],
             elevation_mask_deg=g["elevation_mask_deg"],
             min_cn0_db_hz=g["min_cn0_db_hz"],
             ionosphere=g["ionosphere"],

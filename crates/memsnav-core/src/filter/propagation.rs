@@ -640,11 +640,11 @@ pub(super) fn propagate_with<const N: usize>(
     add_process_noise(p, d, inputs);
 }
 
-/// Most states of a filter ([`super::state::WITH_ALL`] with the
-/// installation block).
-const MAX_STATES: usize = 42;
-/// Most non-zeros of Φ (the 42-state filter has 101).
-const MAX_TERMS: usize = 104;
+/// Most states of a filter (every optional block).
+const MAX_STATES: usize = Layout::size(true, true, true, true);
+/// Most non-zeros of Φ (the 44-state filter has 103: the 42-state one's
+/// 101 and one per inter-system bias).
+const MAX_TERMS: usize = 106;
 
 /// A sparse matrix by columns: column j holds the terms
 /// `start[j]..end[j]`, each a coefficient and the row it multiplies (here:
