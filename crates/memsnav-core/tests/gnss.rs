@@ -957,3 +957,47 @@ fn bad_simulation_inputs_name_the_argument() {
     assert!(p.iter().chain(&v).all(|x| x.iter().all(|c| c.is_nan())));
     assert!(brdc.position_velocity(f64::NAN).is_err());
 }
+
+/// With satellites of three systems, the fix estimates one clock and the
+/// two inter-system biases, and recovers them all from noise-free ranges
+/// (the same epoch with the biases added to the satellites relabelled).
+#[test]
+fn least_squares_fix_estimates_inter_system_biases() {
+    let (time, pos, vel) = track(10.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::from_rinex_nav(brdc_2015()).unwrap();
+    let config = SimulationConfig {
+        n_satellites: 10,
+        ..noise_free()
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(4, 0)).unwrap();
+    let (epoch, clock) = (&sim.epochs[1], &sim.clock[1]);
+    let k = (epoch.time_s * 10.0).round() as usize;
+    let biases = [3.0, -25.0];
+    let mut mixed = epoch.clone();
+    for (i, m) in mixed.measurements.iter_mut().enumerate() {
+        let system = [GnssSystem::Gps, GnssSystem::Galileo, GnssSystem::Beidou][i % 3];
+        m.system = system;
+        m.sat_id = satellite_number(system, m.sat_id);
+        if let Some(j) = system.inter_system_bias_index() {
+            m.pseudorange_m += biases[j];
+        }
+    }
+    let fix = solve_fix(&mixed, None).unwrap();
+    assert!((fix.position_ecef - pos[k]).norm() < 1e-3);
+    assert!((fix.clock_offset_m - clock.offset_m).abs() < 1e-3);
+    for j in 0..2 {
+        assert!((fix.inter_system_bias_m[j] - biases[j]).abs() < 1e-3);
+    }
+    // One clock for all would leave the biases in the position.
+    let one_clock = solve_fix(epoch, None).unwrap();
+    assert!(one_clock.inter_system_bias_m.iter().all(|b| b.is_nan()));
+    // A system with a bias to estimate needs one satellite more.
+    mixed.measurements.truncate(5);
+    let err = solve_fix(&mixed, None).unwrap_err().to_string();
+    assert!(err.contains("at least 6 satellites"), "{err}");
+}

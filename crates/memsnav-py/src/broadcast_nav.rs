@@ -87,6 +87,7 @@ impl PyBroadcastEphemerides {
 
 /// The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
 /// file (other systems and Galileo F/NAV records counted in ``skipped``).
+#[catch_panics]
 #[pyfunction]
 fn read_broadcast_nav(py: Python<'_>, path: PathBuf) -> PyResult<PyBroadcastEphemerides> {
     Ok(PyBroadcastEphemerides {

@@ -6,8 +6,8 @@
 //! corrections (ISC) of message type 30.
 
 use super::broadcast_orbit::{BroadcastOrbit, OrbitFrame, GPS};
-use super::satellite_state::SatelliteState;
 use super::ephemeris::GpsEphemeris;
+use super::satellite_state::SatelliteState;
 
 /// γ = (f_L1 / f_L2)² = (77/60)² (IS-GPS-200 §30.3.3.3.1.1.1).
 const GAMMA_L1_L2: f64 = (77.0 * 77.0) / (60.0 * 60.0);

@@ -2,9 +2,10 @@
 //! pseudoranges and pseudorange rates (Groves §9.4.1), for the loosely
 //! coupled filter.
 
-use nalgebra::{Matrix3, Matrix4, Vector3, Vector4};
+use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector4, Vector6};
 
 use super::range::predicted_range;
+use super::system::GnssSystem;
 use super::{GnssEpoch, SatelliteMeasurement};
 use crate::geodesy::domain::MAX_DISTANCE_M;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
@@ -27,8 +28,14 @@ pub struct Fix {
     pub position_ecef: Vector3<f64>,
     /// NaN when fewer than 4 satellites carry a usable pseudorange rate.
     pub velocity_ecef: Vector3<f64>,
-    /// Receiver clock offset, m.
+    /// Receiver clock offset, m: of the reference system's pseudoranges
+    /// (GPS when the epoch has GPS satellites, else the first of Galileo,
+    /// BeiDou it has).
     pub clock_offset_m: f64,
+    /// Inter-system biases of Galileo and BeiDou relative to the
+    /// reference, m (each system's pseudoranges − the reference's at one
+    /// position); 0 for the reference, NaN for a system not in the epoch.
+    pub inter_system_bias_m: [f64; 2],
     /// Receiver clock drift, m/s (NaN without usable rates).
     pub clock_drift_m_s: f64,
     /// Covariance of (x, y, z, clock offset), m², from the measurement stds.
@@ -121,7 +128,10 @@ fn inconsistent(epoch: &GnssEpoch, prior: Option<Vector3<f64>>, farthest_m: f64)
                         &fix.position_ecef,
                         &zero,
                     );
-                    let r = (s.pseudorange_m - p.range_m - fix.clock_offset_m).abs();
+                    let r = (s.pseudorange_m
+                        - p.range_m
+                        - clock_and_bias(fix.clock_offset_m, &fix.inter_system_bias_m, s))
+                    .abs();
                     let std = if s.pseudorange_std_m > 0.0 {
                         s.pseudorange_std_m
                     } else {
@@ -136,7 +146,9 @@ fn inconsistent(epoch: &GnssEpoch, prior: Option<Vector3<f64>>, farthest_m: f64)
                         &fix.position_ecef,
                         &zero,
                     );
-                    let r = m[j].pseudorange_m - p.range_m - fix.clock_offset_m;
+                    let r = m[j].pseudorange_m
+                        - p.range_m
+                        - clock_and_bias(fix.clock_offset_m, &fix.inter_system_bias_m, &m[j]);
                     fitting.push((m[j].sat_id, r));
                 }
             }
@@ -155,17 +167,87 @@ fn inconsistent(epoch: &GnssEpoch, prior: Option<Vector3<f64>>, farthest_m: f64)
     Error::Divergence { time_s: t, reason }
 }
 
+/// The unknowns of an epoch's fix: position, the reference system's clock
+/// and one inter-system bias per other system present (Groves §9.4.2.3).
+/// Columns 4 and 5 are the Galileo and BeiDou biases; a system absent, or
+/// the reference, has no rows there and its column is held at zero.
+struct Unknowns {
+    reference: GnssSystem,
+    /// Whether the Galileo / BeiDou bias is estimated.
+    estimated: [bool; 2],
+}
+
+impl Unknowns {
+    fn of(m: &[SatelliteMeasurement]) -> Self {
+        let present = |system| m.iter().any(|s| s.system == system);
+        let reference = GnssSystem::ALL
+            .into_iter()
+            .find(|&s| present(s))
+            .unwrap_or_default();
+        let estimated = [GnssSystem::Galileo, GnssSystem::Beidou]
+            .map(|system| system != reference && present(system));
+        Self {
+            reference,
+            estimated,
+        }
+    }
+
+    fn count(&self) -> usize {
+        4 + self.estimated.iter().filter(|&&e| e).count()
+    }
+
+    /// The bias column of `system`, when its bias is estimated.
+    fn column(&self, system: GnssSystem) -> Option<usize> {
+        let k = system.inter_system_bias_index()?;
+        self.estimated[k].then_some(4 + k)
+    }
+
+    /// The row of a pseudorange along line of sight `u`.
+    fn row(&self, u: &Vector3<f64>, system: GnssSystem) -> Vector6<f64> {
+        let mut h = Vector6::new(-u.x, -u.y, -u.z, 1.0, 0.0, 0.0);
+        if let Some(j) = self.column(system) {
+            h[j] = 1.0;
+        }
+        h
+    }
+
+    /// Holds the columns not estimated at zero (their rows are empty).
+    fn hold(&self, normal: &mut Matrix6<f64>) {
+        for (k, estimated) in self.estimated.iter().enumerate() {
+            if !estimated {
+                normal[(4 + k, 4 + k)] = 1.0;
+            }
+        }
+    }
+}
+
+/// The pseudorange model's prediction beyond the range: the clock and the
+/// satellite's system's bias.
+fn clock_and_bias(fix_clock_m: f64, biases: &[f64; 2], s: &SatelliteMeasurement) -> f64 {
+    fix_clock_m
+        + s.system.inter_system_bias_index().map_or(0.0, |k| {
+            if biases[k].is_finite() {
+                biases[k]
+            } else {
+                0.0
+            }
+        })
+}
+
 fn solve_fix_once(
     epoch: &GnssEpoch,
     prior: Option<Vector3<f64>>,
 ) -> std::result::Result<Fix, Failure> {
     let m = &epoch.measurements;
     let t = epoch.time_s;
-    if m.len() < 4 {
+    let unknowns = Unknowns::of(m);
+    if m.len() < unknowns.count() {
         return Err(Failure::Error(Error::invalid(
             "epoch",
             format!(
-                "a fix needs at least 4 satellites, got {} at t = {t} s",
+                "a fix needs at least {} satellites (4, and one per system beyond the first for \
+                 its inter-system bias), got {} at t = {t} s",
+                unknowns.count(),
                 m.len()
             ),
         )));
@@ -233,24 +315,24 @@ fn solve_fix_once(
         reason: format!("the satellite geometry at t = {t} s is singular"),
     };
 
-    // Position and clock offset.
+    // Position, clock offset and inter-system biases.
     let mut x = prior.unwrap_or_else(Vector3::zeros);
     let mut b = 0.0;
+    let mut biases = [0.0; 2];
     let zero = Vector3::zeros();
     let mut iterations = 0;
     let mut converged = false;
-    let mut normal = Matrix4::zeros();
-    let mut geometry = Matrix4::zeros();
+    let mut normal = Matrix6::zeros();
+    let mut geometry = Matrix6::zeros();
     let mut farthest_m: f64 = 0.0;
     while iterations < 20 {
         iterations += 1;
-        normal = Matrix4::zeros();
-        geometry = Matrix4::zeros();
-        let mut rhs = Vector4::zeros();
+        normal = Matrix6::zeros();
+        geometry = Matrix6::zeros();
+        let mut rhs = Vector6::zeros();
         for s in m {
             let p = predicted_range(&s.position_ecef, &s.velocity_ecef, &x, &zero);
-            let u = p.line_of_sight_ecef;
-            let h = Vector4::new(-u.x, -u.y, -u.z, 1.0);
+            let h = unknowns.row(&p.line_of_sight_ecef, s.system);
             let w = if unit_range {
                 1.0
             } else {
@@ -258,8 +340,10 @@ fn solve_fix_once(
             };
             normal += w * h * h.transpose();
             geometry += h * h.transpose();
-            rhs += w * h * (s.pseudorange_m - p.range_m - b);
+            rhs += w * h * (s.pseudorange_m - p.range_m - clock_and_bias(b, &biases, s));
         }
+        unknowns.hold(&mut normal);
+        unknowns.hold(&mut geometry);
         // Singular where the iteration starts: the geometry. Singular (or
         // not finite) only after the pseudoranges moved the estimate: they
         // do not fit one position.
@@ -283,6 +367,8 @@ fn solve_fix_once(
         let dx = inverse * rhs;
         x += dx.fixed_rows::<3>(0);
         b += dx[3];
+        biases[0] += dx[4];
+        biases[1] += dx[5];
         farthest_m = farthest_m.max(x.norm());
         if !(x.iter().all(|v| v.is_finite()) && b.is_finite()) {
             return Err(Failure::Inconsistent { farthest_m });
@@ -295,12 +381,27 @@ fn solve_fix_once(
     if !converged {
         return Err(Failure::Inconsistent { farthest_m });
     }
-    let covariance = if unit_range {
+    let covariance: Matrix4<f64> = if unit_range {
         Matrix4::zeros()
     } else {
-        normal.try_inverse().ok_or_else(singular)?
+        normal
+            .try_inverse()
+            .ok_or_else(singular)?
+            .fixed_view::<4, 4>(0, 0)
+            .into_owned()
     };
-    let q = geometry.try_inverse().ok_or_else(singular)?;
+    let q: Matrix4<f64> = geometry
+        .try_inverse()
+        .ok_or_else(singular)?
+        .fixed_view::<4, 4>(0, 0)
+        .into_owned();
+    let inter_system_bias_m = [GnssSystem::Galileo, GnssSystem::Beidou].map(|system| {
+        match (system == unknowns.reference, unknowns.column(system)) {
+            (true, _) => 0.0,
+            (false, Some(j)) => biases[j - 4],
+            (false, None) => f64::NAN,
+        }
+    });
 
     // Velocity and clock drift: the rate model is linear in (v, ḃ) up to
     // the light-time factor, so a few Gauss-Newton passes converge. Without
@@ -351,6 +452,7 @@ fn solve_fix_once(
         position_ecef: x,
         velocity_ecef: v,
         clock_offset_m: b,
+        inter_system_bias_m,
         clock_drift_m_s: d,
         position_clock_covariance: covariance,
         velocity_drift_covariance: rate_covariance,
