@@ -34,7 +34,9 @@ pub use atmosphere::{parse_klobuchar, read_klobuchar, saastamoinen_delay_m, Klob
 pub use beidou_ephemeris::BeidouEphemeris;
 pub use broadcast_orbit::{BroadcastOrbit, BroadcastSystem, OrbitFrame, BEIDOU, GALILEO, GPS};
 pub use clock::{ClockState, ReceiverClockModel};
-pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
+pub use constellation::{
+    Constellation, Orbit, SystemWalker, EPHEMERIS_VALIDITY_S, MAX_SATELLITES_PER_SYSTEM,
+};
 pub use ephemeris::{
     ura_index, ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
 };
