@@ -979,7 +979,8 @@ def simulate_gnss(
     satellite adds nothing). Pseudorange = exact light-time range with
     Earth rotation + receiver clock + the system's ``inter_system_bias``
     (Galileo, BeiDou minus GPS, m; default none) + optional Gauss-Markov
-    residual (residual_std m, residual_correlation_time s) + white noise. Clock: two-state, h0 and h_minus2 Allan coefficients.
+    residual (residual_std m, residual_correlation_time s) + white noise.
+    Clock: two-state, h0 and h_minus2 Allan coefficients.
     Outages: (start s, length s) total, or (start, length, n_satellites)
     partial, keeping the highest of the tracked satellites (an urban
     canyon's view), on the trajectory's time axis; they are applied after
