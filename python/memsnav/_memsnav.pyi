@@ -1776,6 +1776,8 @@ def navigation_experiment(
     progress: Callable[[int, int], object] | None = None,
     run_range: tuple[int, int] | None = None,
     chunks: Sequence[bytes] | None = None,
+    systems: Sequence[str] | None = None,
+    inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
 ) -> Any:
     """Navigation Monte Carlo (paper §5.3) as a dict of arrays (bytes with
     ``run_range``; ``run_range`` / ``chunks`` as in
@@ -1786,7 +1788,9 @@ def navigation_experiment(
     ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
     east tilt, heading) degrees, None for (1, 1, 5). ``outage``: (start_s,
     length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
-    satellites."""
+    satellites. ``systems``: RINEX letters of the simulated systems (None:
+    ["G"]), ``inter_system_bias``: Galileo and BeiDou pseudorange biases
+    against GPS, m (None: 0, 0)."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
 

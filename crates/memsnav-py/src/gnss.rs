@@ -103,23 +103,8 @@ impl PyConstellation {
     /// "G", "E", "C"), satellites numbered G 1.., E 101.., C 201...
     #[staticmethod]
     fn nominal(systems: Vec<String>) -> PyResult<Self> {
-        let systems = systems
-            .iter()
-            .map(|letter| {
-                let mut chars = letter.chars();
-                match (
-                    chars.next().and_then(gnss::GnssSystem::from_letter),
-                    chars.next(),
-                ) {
-                    (Some(system), None) => Ok(system),
-                    _ => Err(PyValueError::new_err(format!(
-                        "systems: expected the letters \"G\", \"E\" or \"C\", got {letter:?}"
-                    ))),
-                }
-            })
-            .collect::<PyResult<Vec<_>>>()?;
         Ok(PyConstellation {
-            inner: Constellation::nominal_walkers(&systems).py()?,
+            inner: Constellation::nominal_walkers(&system_letters(&systems)?).py()?,
         })
     }
 
@@ -173,6 +158,26 @@ impl PyConstellation {
             self.inner.clock_correction(gps_time).py()?,
         ))
     }
+}
+
+/// The systems of RINEX letters ("G", "E", "C"); ValueError names
+/// `systems` and the letter.
+pub(crate) fn system_letters(letters: &[String]) -> PyResult<Vec<gnss::GnssSystem>> {
+    letters
+        .iter()
+        .map(|letter| {
+            let mut chars = letter.chars();
+            match (
+                chars.next().and_then(gnss::GnssSystem::from_letter),
+                chars.next(),
+            ) {
+                (Some(system), None) => Ok(system),
+                _ => Err(PyValueError::new_err(format!(
+                    "systems: expected the letters \"G\", \"E\" or \"C\", got {letter:?}"
+                ))),
+            }
+        })
+        .collect()
 }
 
 /// Precise orbits from an SP3 file, in SI units.
