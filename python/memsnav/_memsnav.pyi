@@ -747,6 +747,9 @@ def partial_outage_experiment(
     progress: Callable[[int, int], object] | None = None,
     run_range: tuple[int, int] | None = None,
     chunks: Sequence[bytes] | None = None,
+    n_satellites: int | None = None,
+    systems: Sequence[str] | None = None,
+    inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
 ) -> Any:
     """Partial-outage study (0-3 satellites through a window, tight against
     loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
