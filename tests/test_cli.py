@@ -53,6 +53,23 @@ def test_simulate_writes_consistent_files(tmp_path):
     assert np.std(first[:, 9] - ranges) < 30.0
 
 
+def test_simulate_with_galileo_and_beidou(tmp_path):
+    out = tmp_path / "sim"
+    done = run(
+        "simulate", "--out", str(out), "--duration", "5", "--satellites", "30",
+        "--systems", "G,E,C", "--inter-system-bias", "3,-25",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    gnss = np.loadtxt(out / "gnss.csv", delimiter=",", skiprows=1)
+    meta = json.loads((out / "simulation.json").read_text())
+    assert meta["systems"] == ["G", "E", "C"] and meta["inter_system_bias_m"] == [3.0, -25.0]
+    # Satellite ids say the system: G 1-24, E 101-124, C 201-224.
+    systems = set(gnss[:, 2].astype(int) // 100)
+    assert systems == {0, 1, 2}
+    back = mn.GnssMeasurements.from_table(out / "gnss.csv")
+    assert back.sat_id.max() > 200
+
+
 def test_derived_seeds_do_not_overlap_between_user_seeds():
     # seed + 1 would make seed 0's IMU errors seed 1's trajectory.
     names = ("trajectory", "imu errors", "imu noise", "gnss")
@@ -69,6 +86,8 @@ def test_derived_seeds_do_not_overlap_between_user_seeds():
         (["simulate", "--duration", "nan"], "--duration: must be positive"),
         (["simulate", "--outage", "5"], "expected START:LENGTH"),
         (["simulate", "--imu", "cheap"], "invalid choice: 'cheap'"),
+        (["simulate", "--systems", "G,R"], "expected letters among G, E, C"),
+        (["simulate", "--inter-system-bias", "3"], "expected GALILEO,BEIDOU"),
     ],
 )
 def test_bad_options_fail_in_one_line(args, message):

@@ -93,6 +93,42 @@ def test_walker_against_the_circular_orbit_formula():
     np.testing.assert_allclose(np.linalg.norm(inertial_v, axis=1), a * n, rtol=1e-12)
 
 
+def test_nominal_galileo_and_beidou_walkers_have_their_published_orbits():
+    sky = mn.Constellation.nominal(["G", "E", "C"])
+    assert len(sky) == 72 and sky.systems == ["G", "E", "C"]
+    assert sky.prns[:1] + sky.prns[24:25] + sky.prns[48:49] == ["G01", "E01", "C01"]
+    assert mn.Constellation.nominal(["G"]).position_velocity(5.0)[0].tolist() == (
+        mn.Constellation.walker().position_velocity(5.0)[0].tolist()
+    )
+    pos, vel = sky.position_velocity(777.0)
+    inertial_v = vel + np.cross([0, 0, OMEGA_E], pos)
+    period_min = 2 * math.pi * np.linalg.norm(pos, axis=1) / np.linalg.norm(inertial_v, axis=1)
+    period_min /= 60.0
+    # Published: GPS 11 h 58 min, Galileo 14 h 4 min, BeiDou MEO 12 h 53 min.
+    for block, published in ((slice(0, 24), 718.0), (slice(24, 48), 844.0), (slice(48, 72), 773.0)):
+        np.testing.assert_allclose(period_min[block], published, atol=1.0)
+    for bad in (["G", "G"], ["R"], ["GE"], []):
+        with pytest.raises(ValueError, match="systems"):
+            mn.Constellation.nominal(bad)
+
+
+def test_inter_system_biases_are_in_the_other_systems_pseudoranges():
+    t, p, v = track(20.0)
+    sky = mn.Constellation.nominal(["G", "E", "C"])
+    quiet = {"pseudorange_std": 0.0, "pseudorange_rate_std": 0.0, "seed": 2, "n_satellites": 40}
+    plain = mn.simulate_gnss(t, p, v, sky, **quiet)
+    biased = mn.simulate_gnss(t, p, v, sky, inter_system_bias=(3.0, -25.0), **quiet)
+    np.testing.assert_array_equal(biased.inter_system_bias, [3.0, -25.0])
+    np.testing.assert_array_equal(plain.sat_id, biased.sat_id)
+    ids = biased.sat_id
+    difference = biased.pseudorange - plain.pseudorange
+    expected = np.where(ids > 200, -25.0, np.where(ids > 100, 3.0, 0.0))
+    np.testing.assert_allclose(difference[ids >= 0], expected[ids >= 0], atol=1e-6)
+    assert {1, 101, 201} <= {int(i) // 100 * 100 + 1 for i in ids[ids >= 0]}
+    with pytest.raises(ValueError, match="inter_system_bias"):
+        mn.simulate_gnss(t, p, v, sky, inter_system_bias=(math.nan, 0.0))
+
+
 def test_pseudorange_minus_range_is_clock_plus_noise():
     t, p, v = track(300.0)
     sky = mn.Constellation.from_rinex_nav(brdc_2015())

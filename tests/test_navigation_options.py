@@ -92,3 +92,21 @@ def test_study_options_bad_input():
         mn.experiments.navigation(imus={"x": ("mems", {"no_such_key": 0.0})}, runs=1, duration=10.0)
     with pytest.raises(ValueError, match="imus"):
         mn.experiments.navigation(imus={"x": ("no-grade", {})}, runs=1, duration=10.0)
+
+
+def test_galileo_and_beidou_with_inter_system_biases():
+    """G + E + C with biases of +3 m and -25 m on the Galileo and BeiDou
+    pseudoranges: the filters estimate them (two more states) and track
+    every satellite in view (about 20 against GPS's 6), staying consistent."""
+    kw = dict(runs=2, duration=40.0, seed=3, imus=("ins",), threads=1)
+    gps = mn.experiments.navigation(**kw)
+    three = mn.experiments.navigation(
+        systems=("G", "E", "C"), inter_system_bias=(3.0, -25.0), n_satellites=40, **kw
+    )
+    accepted_gps = gps.runs_summary["ins"]["accepted"]
+    accepted_three = three.runs_summary["ins"]["accepted"]
+    assert np.all(accepted_three > 3 * accepted_gps)
+    assert np.all(three.position_error["ins"][:, 20:] < 5.0)
+    assert 0.2 < three.summary()["ins"]["mean_nees_per_dof"] < 2.0
+    with pytest.raises(ValueError, match="systems"):
+        mn.experiments.navigation(systems=("G", "R"), **kw)

@@ -258,3 +258,40 @@ def test_the_guide_quotes_the_study_defaults():
     )
     assert study.config["outage_start"] == float(start.group(1))
     assert study.config["duration"] == float(start.group(1)) + max(lengths) + float(margin.group(1))
+
+
+def test_study_on_galileo_and_beidou_from_the_configuration(tmp_path):
+    """[study] systems, n_satellites and inter_system_bias reach the runs:
+    the summary records them, and its numbers are those of the API with
+    the same keywords (which differ from GPS alone's)."""
+    config = tmp_path / "study.toml"
+    config.write_text(
+        'output = "out"\n[study]\ngrades = ["tactical"]\noutage_lengths = [10]\n'
+        "visible_satellites = [3]\nruns = 3\nduration = 50\noutage_start = 35\n"
+        'systems = ["G", "E", "C"]\nn_satellites = 20\ninter_system_bias = [3.0, -25.0]\n'
+        "[requirement]\nmax_error_m = 100.0\n"
+    )
+    assert main(["study", "--config", str(config), "--quiet"]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["config"]["systems"] == ["G", "E", "C"]
+    assert summary["config"]["inter_system_bias"] == [3.0, -25.0]
+    kw = dict(
+        grades=("tactical",),
+        outage_lengths=(10.0,),
+        visible_satellites=(3,),
+        runs=3,
+        duration=50.0,
+        outage_start=35.0,
+    )
+    several = mn.experiments.outage_study(
+        **kw, systems=("G", "E", "C"), n_satellites=20, inter_system_bias=(3.0, -25.0)
+    )
+    gps = mn.experiments.outage_study(**kw)
+    end = several.per_run("tactical", 10.0, 3, "horizontal_end")
+    assert summary["answer"]["3"]["tactical"]["percentile_m"] == pytest.approx(
+        np.percentile(end, 95.0)
+    )
+    assert not np.array_equal(end, gps.per_run("tactical", 10.0, 3, "horizontal_end"))
+    bad = tmp_path / "bad.toml"
+    bad.write_text('output = "out2"\n[study]\nsystems = ["G", "R"]\n')
+    assert main(["study", "--config", str(bad), "--quiet"]) != 0

@@ -747,6 +747,9 @@ def partial_outage_experiment(
     progress: Callable[[int, int], object] | None = None,
     run_range: tuple[int, int] | None = None,
     chunks: Sequence[bytes] | None = None,
+    n_satellites: int | None = None,
+    systems: Sequence[str] | None = None,
+    inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
 ) -> Any:
     """Partial-outage study (0-3 satellites through a window, tight against
     loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
@@ -759,7 +762,8 @@ def partial_outage_experiment(
 
 @final
 class Constellation:
-    """GPS satellites from broadcast ephemerides, or a synthetic Walker constellation.
+    """GPS satellites from broadcast ephemerides, or synthetic Walker
+    constellations (GPS, or several systems: :meth:`nominal`).
 
     Times are GPS seconds since 1980-01-06 00:00:00 GPST; positions ECEF m,
     velocities m/s.
@@ -784,9 +788,27 @@ class Constellation:
     ) -> Constellation:
         """Walker delta constellation i: t/p/f, circular orbits, ECEF with Earth rotation."""
 
+    @staticmethod
+    def nominal(systems: Sequence[str]) -> Constellation:
+        """The nominal Walker constellations of ``systems`` (RINEX letters, in
+        this order): "G" GPS 24/6/1 at a = 26 560 km, 55°; "E" Galileo 24/3/1
+        at 29 599.8 km, 56° (period 14 h 4 min); "C" BeiDou MEO 24/3/1 at
+        27 906.1 km, 55° (12 h 53 min; no GEO or IGSO satellites).
+        Satellites are numbered G 1-24, E 101-124, C 201-224 (``sat_id``)
+        and named G01, E01, C01, ... (``prns``). ``nominal(["G"])`` is
+        ``walker()``.
+
+        Raises ValueError for an unknown letter or a system named twice.
+        """
+
     @property
     def prns(self) -> list[str]:
-        """Satellite names, e.g. ["G01", "G02", ...] (Walker slots are named G01..GNN)."""
+        """Satellite names, e.g. ["G01", "G02", ...] (Walker slots are named
+        like their system's PRNs: G01..GNN, E01.., C01..)."""
+
+    @property
+    def systems(self) -> list[str]:
+        """The satellite systems as RINEX letters, in the constellation's order."""
 
     def __len__(self) -> int: ...
     def position_velocity(
@@ -914,6 +936,11 @@ class GnssMeasurements:
     def clock_drift(self) -> npt.NDArray[np.float64]:
         """True receiver clock drift, m/s, (T,)."""
 
+    @property
+    def inter_system_bias(self) -> npt.NDArray[np.float64]:
+        """True inter-system biases (Galileo, BeiDou minus GPS) in the
+        pseudoranges, m, (2,); NaN for measurements not simulated here."""
+
     def __len__(self) -> int: ...
 
 def simulate_gnss(
@@ -935,6 +962,7 @@ def simulate_gnss(
     outages: Sequence[tuple[float, float] | tuple[float, float, int]] | None = None,
     seed: int | None = None,
     start_gps_time: float | None = None,
+    inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
 ) -> GnssMeasurements:
     """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
 
@@ -947,11 +975,15 @@ def simulate_gnss(
     drift 1 m/s one-sigma). Epochs at
     ``rate`` Hz fall on the trajectory samples nearest to t0 + k/rate. At the
     first epoch the ``n_satellites`` with the best GDOP above the mask are
-    chosen (greedy elimination) and kept while visible; a setting satellite
-    is replaced by the one giving the best GDOP. Pseudorange = exact
-    light-time range with Earth rotation + receiver clock + optional
-    Gauss-Markov residual (residual_std m, residual_correlation_time s) +
-    white noise. Clock: two-state, h0 and h_minus2 Allan coefficients.
+    chosen (greedy elimination), of every system the constellation holds,
+    and kept while visible; a setting satellite is replaced by the one
+    giving the best GDOP (with several systems the GDOP has one
+    inter-system-bias unknown per system other than GPS, so a system's lone
+    satellite adds nothing). Pseudorange = exact light-time range with
+    Earth rotation + receiver clock + the system's ``inter_system_bias``
+    (Galileo, BeiDou minus GPS, m; default none) + optional Gauss-Markov
+    residual (residual_std m, residual_correlation_time s) + white noise.
+    Clock: two-state, h0 and h_minus2 Allan coefficients.
     Outages: (start s, length s) total, or (start, length, n_satellites)
     partial, keeping the highest of the tracked satellites (an urban
     canyon's view), on the trajectory's time axis; they are applied after
@@ -1753,6 +1785,8 @@ def navigation_experiment(
     progress: Callable[[int, int], object] | None = None,
     run_range: tuple[int, int] | None = None,
     chunks: Sequence[bytes] | None = None,
+    systems: Sequence[str] | None = None,
+    inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
 ) -> Any:
     """Navigation Monte Carlo (paper §5.3) as a dict of arrays (bytes with
     ``run_range``; ``run_range`` / ``chunks`` as in
@@ -1763,7 +1797,9 @@ def navigation_experiment(
     ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
     east tilt, heading) degrees, None for (1, 1, 5). ``outage``: (start_s,
     length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
-    satellites."""
+    satellites. ``systems``: RINEX letters of the simulated systems (None:
+    ["G"]), ``inter_system_bias``: Galileo and BeiDou pseudorange biases
+    against GPS, m (None: 0, 0)."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
 

@@ -47,21 +47,27 @@ def simulate(
     gnss_rate: float = 1.0,
     constellation: str | Path = "walker",
     outages: Sequence[tuple[float, float]] = (),
+    systems: Sequence[str] = ("G",),
+    inter_system_bias: tuple[float, float] = (0.0, 0.0),
 ) -> SimulationFiles:
     """Simulates a random land-vehicle trajectory (``duration`` s at ``rate``
     Hz), the outputs of the IMU preset ``imu`` along it, and GNSS
     pseudoranges and rates of ``n_satellites`` satellites at ``gnss_rate`` Hz
-    from ``constellation`` ("walker" for a 24-satellite GPS-like Walker
-    constellation, or the path of a RINEX navigation file), with total
-    outages ``[(start_s, length_s), ...]``. Writes into ``out``:
+    from ``constellation`` ("walker" for the nominal Walker constellations
+    of ``systems``: "G" GPS, "E" Galileo, "C" BeiDou MEO, 24 satellites
+    each, see :meth:`memsnav.Constellation.nominal`; or the path of a RINEX
+    navigation file, GPS only), with total outages ``[(start_s, length_s),
+    ...]``. The Galileo and BeiDou pseudoranges carry ``inter_system_bias``
+    (m, against GPS). Writes into ``out``:
 
     - ``trajectory.csv``: time s, ECEF position m, ECEF velocity m/s, roll,
       pitch, yaw (NED) rad, true specific force m/s² and angular rate rad/s
       (body axes);
     - ``imu.csv``: time s, accelerometer m/s², gyroscope rad/s (body axes);
     - ``gnss.csv``: one row per satellite per epoch: time s, GPS time s,
-      satellite id, satellite ECEF position m and velocity m/s at
-      transmission, pseudorange m, pseudorange rate m/s;
+      satellite id (its system too: G n → n, E n → 100 + n, C n → 200 + n),
+      satellite ECEF position m and velocity m/s at transmission,
+      pseudorange m, pseudorange rate m/s;
     - ``simulation.json``: the parameters, the IMU's drawn errors and seeds.
 
     Every draw comes from ``seed``, each from its own seed
@@ -72,7 +78,11 @@ def simulate(
     """
     directory = output_folder(out)
     if isinstance(constellation, str) and constellation == "walker":
-        sky = mn.Constellation.walker()
+        sky = mn.Constellation.nominal(list(systems))
+    elif list(systems) != ["G"]:
+        raise ValueError(
+            f"systems: a RINEX navigation file gives GPS satellites only, got {list(systems)}"
+        )
     else:
         sky = mn.Constellation.from_rinex_nav(constellation)
     seeds = {name: mn.derive_seed(seed, name) for name in _DRAWS}
@@ -90,6 +100,7 @@ def simulate(
         n_satellites=n_satellites,
         outages=[(float(s), float(length)) for s, length in outages],
         seed=seeds["gnss"],
+        inter_system_bias=inter_system_bias,
     )
 
     files = SimulationFiles(
@@ -172,6 +183,8 @@ def simulate(
         "n_satellites": n_satellites,
         "gnss_rate_hz": gnss_rate,
         "constellation": str(constellation),
+        "systems": list(sky.systems),
+        "inter_system_bias_m": [float(b) for b in inter_system_bias],
         "outages": [list(o) for o in outages],
     }
     write_text(files.metadata, json.dumps(metadata, indent=2) + "\n")

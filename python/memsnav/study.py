@@ -11,6 +11,9 @@ The configuration (``examples/study_land_vehicle.toml``)::
     outage_lengths = [10, 30, 60, 120]
     visible_satellites = [0, 2, 3]
     runs = 20
+    # systems = ["G", "E", "C"]        # optional: GPS, Galileo, BeiDou MEO
+    # n_satellites = 20                # tracked outside the outage
+    # inter_system_bias = [3.0, -25.0] # Galileo, BeiDou minus GPS, m
     [requirement]                      # optional: what "good enough" means
     max_error_m = 10.0
     percentile = 95
@@ -67,6 +70,9 @@ CONFIG: dict[str, dict[str, tuple[Check, Any]]] = {
         "smooth": (flag(), ABSENT),
         "calibration_duration": (number(above=0.0), ABSENT),
         "chunk_runs": (integer(1), ABSENT),
+        "n_satellites": (integer(4), ABSENT),
+        "systems": (list_of(text("G", "E", "C"), min_length=1), ABSENT),
+        "inter_system_bias": (list_of(number(), lengths=(2,)), ABSENT),
     },
     "requirement": {
         "max_error_m": (number(above=0.0), ABSENT),

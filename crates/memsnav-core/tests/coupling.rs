@@ -12,47 +12,15 @@ use memsnav_core::attitude::dcm_to_rotation_vector;
 use memsnav_core::coupling::{self, *};
 use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
-use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic};
 use memsnav_core::gnss::{self, GnssEpoch, Outage, SimulationConfig};
-use memsnav_core::ins::{ImuData, NavState};
+use memsnav_core::ins::ImuData;
 use memsnav_core::random::{stream, Rng};
 use memsnav_core::sensors::ImuModel;
 use memsnav_core::Error;
-use nalgebra::{SMatrix, SVector, Vector3};
+use nalgebra::{SMatrix, Vector3};
 
 mod common;
 use common::*;
-
-/// The true state perturbed by a draw from P₀ (so NEES starts consistent).
-fn perturbed_initial(truth: &Truth, std: &InitialUncertainty, rng: &mut Rng) -> InitialState {
-    let s = truth.nav[0];
-    let geo = ecef_to_geodetic(&s.position_ecef);
-    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
-    let psi = cne * n3(rng).component_mul(&std.attitude_ned_rad);
-    InitialState {
-        nav: NavState {
-            position_ecef: s.position_ecef + n3(rng) * std.position_m,
-            velocity_ecef: s.velocity_ecef + n3(rng) * std.velocity_m_s,
-            c_b_e: memsnav_core::attitude::rotation_vector_to_dcm(&psi) * s.c_b_e,
-        },
-        accel_bias_m_s2: Vector3::zeros(),
-        gyro_bias_rad_s: Vector3::zeros(),
-        clock_offset_m: None,
-        clock_drift_m_s: None,
-    }
-}
-
-/// (ψ, δv, δr) of a solution against the truth.
-fn nav_error(est: &NavState, truth: &NavState) -> SVector<f64, 9> {
-    let psi = dcm_to_rotation_vector(&(est.c_b_e * truth.c_b_e.transpose()));
-    let mut e = SVector::<f64, 9>::zeros();
-    e.fixed_rows_mut::<3>(0).copy_from(&psi);
-    e.fixed_rows_mut::<3>(3)
-        .copy_from(&(est.velocity_ecef - truth.velocity_ecef));
-    e.fixed_rows_mut::<3>(6)
-        .copy_from(&(est.position_ecef - truth.position_ecef));
-    e
-}
 
 struct Run {
     nees_1hz: Vec<f64>,

@@ -380,6 +380,155 @@ fn walker_geometry() {
     .is_err());
 }
 
+/// The nominal Galileo and BeiDou MEO constellations against their
+/// published figures: orbital periods 14 h 4 min and 12 h 53 min (measured
+/// here from the satellites' own motion: the time to travel 2π r at the
+/// inertial speed), 56° and 55° inclination, 3 planes of 8; numbers
+/// E 101-124, C 201-224; and from a mid-latitude site (Toulouse, 43.6° N)
+/// at a 10° mask 6-10 satellites of each system in view, over a day.
+#[test]
+fn galileo_and_beidou_walkers_match_their_published_geometry() {
+    let systems = [GnssSystem::Gps, GnssSystem::Galileo, GnssSystem::Beidou];
+    let sky = Constellation::nominal_walkers(&systems).unwrap();
+    assert_eq!(sky.len(), 72);
+    assert_eq!(sky.systems(), systems);
+    let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
+    // (system, published period in minutes, inclination °, first number).
+    for (system, period_min, inclination_deg, first) in [
+        (GnssSystem::Gps, 11.0 * 60.0 + 58.0, 55.0, 1),
+        (GnssSystem::Galileo, 14.0 * 60.0 + 4.0, 56.0, 101),
+        (GnssSystem::Beidou, 12.0 * 60.0 + 53.0, 55.0, 201),
+    ] {
+        let indices: Vec<usize> = (0..sky.len())
+            .filter(|&i| sky.system(i) == system)
+            .collect();
+        assert_eq!(indices.len(), 24, "{system}");
+        let ids: Vec<u16> = indices.iter().map(|&i| sky.sat_id(i)).collect();
+        assert_eq!(ids, (first..first + 24).collect::<Vec<u16>>());
+        assert_eq!(sky.prns()[indices[0]], format!("{}01", system.letter()));
+        let mut normals: Vec<Vector3<f64>> = Vec::new();
+        for &i in &indices {
+            let s = sky.state(i, 3_600.0).unwrap();
+            let r = s.position_ecef;
+            let v_i = s.velocity_ecef + omega.cross(&r);
+            let period_s = std::f64::consts::TAU * r.norm() / v_i.norm();
+            assert!(
+                (period_s / 60.0 - period_min).abs() < 1.0,
+                "{system}: period {:.2} min, published {period_min} min",
+                period_s / 60.0
+            );
+            let n = r.cross(&v_i).normalize();
+            assert!((n.z.acos().to_degrees() - inclination_deg).abs() < 1e-9);
+            if !normals.iter().any(|m| (m - n).norm() < 1e-9) {
+                normals.push(n);
+            }
+        }
+        assert_eq!(normals.len(), systems_planes(system), "{system}");
+    }
+    // Satellites in view at a 10° mask every 5 min over a sidereal day.
+    let site = geodetic_to_ecef(Geodetic::new(
+        43.6f64.to_radians(),
+        1.44f64.to_radians(),
+        150.0,
+    ));
+    let up = Vector3::new(
+        43.6f64.to_radians().cos() * 1.44f64.to_radians().cos(),
+        43.6f64.to_radians().cos() * 1.44f64.to_radians().sin(),
+        43.6f64.to_radians().sin(),
+    );
+    let mut positions = Vec::new();
+    let mut counts = vec![Vec::new(); 3];
+    for step in 0..288 {
+        sky.positions_into(step as f64 * 300.0, &mut positions);
+        let mut in_view = [0usize; 3];
+        for (i, p) in positions.iter().enumerate() {
+            let d = p.unwrap() - site;
+            if d.dot(&up) / d.norm() >= 10f64.to_radians().sin() {
+                in_view[systems.iter().position(|&s| s == sky.system(i)).unwrap()] += 1;
+            }
+        }
+        for (c, n) in counts.iter_mut().zip(in_view) {
+            c.push(n);
+        }
+    }
+    for (system, c) in systems.iter().zip(&counts) {
+        let mean = c.iter().sum::<usize>() as f64 / c.len() as f64;
+        let (lo, hi) = (c.iter().min().unwrap(), c.iter().max().unwrap());
+        println!("{system}: {mean:.1} satellites in view (min {lo}, max {hi})");
+        assert!((6.0..=10.0).contains(&mean), "{system}: {mean}");
+        assert!(*lo >= 4 && *hi <= 12, "{system}: {lo}-{hi}");
+    }
+    // A system twice, or more than 99 satellites of one of several, is refused.
+    assert!(Constellation::nominal_walkers(&[GnssSystem::Gps, GnssSystem::Gps]).is_err());
+    let big = WalkerConfig {
+        n_satellites: 120,
+        ..WalkerConfig::default()
+    };
+    let e = Constellation::walkers(&[
+        (GnssSystem::Gps, big),
+        (
+            GnssSystem::Galileo,
+            WalkerConfig::nominal(GnssSystem::Galileo),
+        ),
+    ])
+    .unwrap_err();
+    assert!(e.to_string().contains("n_satellites"), "{e}");
+    assert!(Constellation::walkers(&[]).is_err());
+}
+
+/// Planes of the nominal pattern, from the published figures: 6 for GPS,
+/// 3 for Galileo and the BeiDou MEO satellites.
+fn systems_planes(system: GnssSystem) -> usize {
+    match system {
+        GnssSystem::Gps => 6,
+        GnssSystem::Galileo | GnssSystem::Beidou => 3,
+    }
+}
+
+/// Several systems through the simulator: each measurement carries its
+/// satellite's system and, against the exact range, the receiver clock
+/// plus its system's inter-system bias; the selection spans the systems.
+#[test]
+fn simulated_systems_carry_their_inter_system_bias() {
+    let (time, pos, vel) = track(60.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky =
+        Constellation::nominal_walkers(&[GnssSystem::Gps, GnssSystem::Galileo, GnssSystem::Beidou])
+            .unwrap();
+    let config = SimulationConfig {
+        n_satellites: 40,
+        inter_system_bias_m: [3.0, -25.0],
+        ..noise_free()
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(4, 0)).unwrap();
+    assert_eq!(sim.inter_system_bias_m, [3.0, -25.0]);
+    let mut seen = [0usize; 3];
+    for (epoch, clock) in sim.epochs.iter().zip(&sim.clock) {
+        let k = (epoch.time_s * 10.0).round() as usize;
+        for m in &epoch.measurements {
+            assert_eq!(m.system, system_of_number(m.sat_id));
+            let p = predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[k], &vel[k]);
+            let bias = match m.system {
+                GnssSystem::Gps => 0.0,
+                GnssSystem::Galileo => 3.0,
+                GnssSystem::Beidou => -25.0,
+            };
+            assert!((m.pseudorange_m - clock.offset_m - p.range_m - bias).abs() < 1e-3);
+            seen[m.system as usize] += 1;
+        }
+    }
+    println!("measurements per system (G, E, C) over 61 epochs: {seen:?}");
+    assert!(seen.iter().all(|&n| n >= 4 * 61), "{seen:?}");
+    let mut bad = config.clone();
+    bad.inter_system_bias_m = [f64::NAN, 0.0];
+    let e = simulate_with_truth(&t, &sky, &bad, &mut stream(4, 0)).unwrap_err();
+    assert!(e.to_string().contains("inter_system_bias"), "{e}");
+}
+
 /// A receiver written in the test: from Toulouse, 20 m/s east with a
 /// gentle constant climb, sampled at 10 Hz.
 fn track(duration_s: f64) -> (Vec<f64>, Vec<Vector3<f64>>, Vec<Vector3<f64>>) {

@@ -243,7 +243,7 @@ fn inversion_experiment<'py>(
 /// outcomes (the keys of the navigation experiment) and the `config`.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, smooth=None, keep_runs=None, threads=None, progress=None, run_range=None, chunks=None))]
+#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, smooth=None, keep_runs=None, threads=None, progress=None, run_range=None, chunks=None, n_satellites=None, systems=None, inter_system_bias=None))]
 fn partial_outage_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
@@ -261,6 +261,9 @@ fn partial_outage_experiment<'py>(
     progress: Option<Bound<'py, PyAny>>,
     run_range: Option<(usize, usize)>,
     chunks: Option<Vec<Bound<'py, PyBytes>>>,
+    n_satellites: Option<usize>,
+    systems: Option<Vec<String>>,
+    inter_system_bias: Option<[f64; 2]>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let d = PartialOutageConfig::default();
     let n = &d.navigation;
@@ -273,6 +276,15 @@ fn partial_outage_experiment<'py>(
             calibration_duration_s: calibration_duration.unwrap_or(n.calibration_duration_s),
             smooth: smooth.unwrap_or(n.smooth),
             keep_runs: keep_runs.unwrap_or(n.keep_runs),
+            n_satellites: n_satellites.unwrap_or(n.n_satellites),
+            systems: match systems {
+                Some(letters) => crate::gnss::system_letters(&letters)?,
+                None => n.systems.clone(),
+            },
+            gnss: memsnav_core::gnss::SimulationConfig {
+                inter_system_bias_m: inter_system_bias.unwrap_or(n.gnss.inter_system_bias_m),
+                ..n.gnss.clone()
+            },
             ..n.clone()
         },
         outage_start_s: outage_start.unwrap_or(d.outage_start_s),
@@ -317,6 +329,14 @@ fn partial_outage_experiment<'py>(
     c.set_item("duration", nav.duration_s)?;
     c.set_item("seed", nav.seed)?;
     c.set_item("n_satellites", nav.n_satellites)?;
+    c.set_item(
+        "systems",
+        nav.systems
+            .iter()
+            .map(|s| s.letter().to_string())
+            .collect::<Vec<_>>(),
+    )?;
+    c.set_item("inter_system_bias", nav.gnss.inter_system_bias_m.to_vec())?;
     c.set_item("outage_start", config.outage_start_s)?;
     c.set_item("outage_length", config.outage_length_s)?;
     c.set_item("satellites", config.satellites.clone())?;

@@ -100,10 +100,29 @@ impl PyConstellation {
         })
     }
 
+    /// The nominal Walker constellations of these systems (RINEX letters
+    /// "G", "E", "C"), satellites numbered G 1.., E 101.., C 201...
+    #[staticmethod]
+    fn nominal(systems: Vec<String>) -> PyResult<Self> {
+        Ok(PyConstellation {
+            inner: Constellation::nominal_walkers(&system_letters(&systems)?).py()?,
+        })
+    }
+
     /// Satellite names, e.g. ``["G01", "G02", ...]``.
     #[getter]
     fn prns(&self) -> Vec<String> {
         self.inner.prns()
+    }
+
+    /// The satellite systems, as RINEX letters in the constellation's order.
+    #[getter]
+    fn systems(&self) -> Vec<String> {
+        self.inner
+            .systems()
+            .into_iter()
+            .map(|s| s.letter().to_string())
+            .collect()
     }
 
     fn __len__(&self) -> usize {
@@ -140,6 +159,26 @@ impl PyConstellation {
             self.inner.clock_correction(gps_time).py()?,
         ))
     }
+}
+
+/// The systems of RINEX letters ("G", "E", "C"); ValueError names
+/// `systems` and the letter.
+pub(crate) fn system_letters(letters: &[String]) -> PyResult<Vec<gnss::GnssSystem>> {
+    letters
+        .iter()
+        .map(|letter| {
+            let mut chars = letter.chars();
+            match (
+                chars.next().and_then(gnss::GnssSystem::from_letter),
+                chars.next(),
+            ) {
+                (Some(system), None) => Ok(system),
+                _ => Err(PyValueError::new_err(format!(
+                    "systems: expected the letters \"G\", \"E\" or \"C\", got {letter:?}"
+                ))),
+            }
+        })
+        .collect()
 }
 
 /// Precise orbits from an SP3 file, in SI units.
@@ -208,6 +247,7 @@ pub struct PyGnssMeasurements {
     pub(crate) epochs: Vec<GnssEpoch>,
     clock: Vec<gnss::ClockState>,
     start_gps_time_s: f64,
+    inter_system_bias_m: [f64; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()],
     n_max: usize,
 }
 
@@ -410,6 +450,13 @@ impl PyGnssMeasurements {
         PyArray1::from_iter(py, self.clock.iter().map(|c| c.drift_m_s))
     }
 
+    /// True inter-system biases (Galileo, BeiDou minus GPS) in the
+    /// pseudoranges, m, ``(2,)``; NaN for measurements not simulated here.
+    #[getter]
+    fn inter_system_bias<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.inter_system_bias_m)
+    }
+
     fn __len__(&self) -> usize {
         self.epochs.len()
     }
@@ -480,7 +527,7 @@ fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
     elevation_mask_deg=None, pseudorange_std=None, pseudorange_rate_std=None, residual_std=None,
     residual_correlation_time=None, clock_h0=None, clock_h_minus2=None,
     clock_initial_offset_std=None, clock_initial_drift_std=None, outages=None, seed=None,
-    start_gps_time=None))]
+    start_gps_time=None, inter_system_bias=None))]
 fn simulate_gnss(
     py: Python<'_>,
     time: &Bound<'_, PyAny>,
@@ -501,6 +548,7 @@ fn simulate_gnss(
     outages: Option<&Bound<'_, PyAny>>,
     seed: Option<&Bound<'_, PyAny>>,
     start_gps_time: Option<f64>,
+    inter_system_bias: Option<[f64; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()]>,
 ) -> PyResult<PyGnssMeasurements> {
     let time = convert::scalars(time, "time")?;
     let position = convert::vectors(position_ecef, "position_ecef")?;
@@ -538,6 +586,7 @@ fn simulate_gnss(
         },
         outages: outage_list(outages)?,
         start_gps_time_s: start_gps_time,
+        inter_system_bias_m: inter_system_bias.unwrap_or(d.inter_system_bias_m),
     };
     let n_max = config.n_satellites;
     let track = gnss::ReceiverTrack {
@@ -554,6 +603,7 @@ fn simulate_gnss(
         epochs: sim.epochs,
         clock: sim.clock,
         start_gps_time_s: sim.start_gps_time_s,
+        inter_system_bias_m: sim.inter_system_bias_m,
         n_max,
     })
 }
@@ -889,6 +939,7 @@ impl PyGnssMeasurements {
             clock: vec![nan; epochs.len()],
             start_gps_time_s: start_gps_time_s
                 .unwrap_or_else(|| epochs.first().map_or(0.0, |e| e.time_s)),
+            inter_system_bias_m: [f64::NAN; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()],
             n_max,
             epochs,
         }

@@ -34,6 +34,25 @@ def _outage(text: str) -> tuple[float, float]:
     return window
 
 
+def _systems(text: str) -> tuple[str, ...]:
+    letters = tuple(part.strip().upper() for part in text.split(","))
+    if not letters or any(letter not in ("G", "E", "C") for letter in letters):
+        raise argparse.ArgumentTypeError(f"expected letters among G, E, C, got {text!r}")
+    return letters
+
+
+def _biases(text: str) -> tuple[float, float]:
+    galileo, sep, beidou = text.partition(",")
+    try:
+        if not sep:
+            raise ValueError
+        return (float(galileo), float(beidou))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected GALILEO,BEIDOU in metres, got {text!r}"
+        ) from None
+
+
 def add_arguments(command: argparse.ArgumentParser) -> None:
     command.add_argument(
         "--out", default="simulation", metavar="DIR", help="output directory (default: simulation)"
@@ -64,7 +83,22 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
         "--constellation",
         default="walker",
         metavar="NAV",
-        help="'walker' (GPS-like, 24 satellites; default) or a RINEX navigation file",
+        help="'walker' (the nominal constellations of --systems; default) or a RINEX "
+        "navigation file (GPS)",
+    )
+    command.add_argument(
+        "--systems",
+        type=_systems,
+        default=("G",),
+        metavar="G,E,C",
+        help="systems of the Walker constellation: G GPS, E Galileo, C BeiDou (default: G)",
+    )
+    command.add_argument(
+        "--inter-system-bias",
+        type=_biases,
+        default=(0.0, 0.0),
+        metavar="E,C",
+        help="Galileo and BeiDou pseudorange biases against GPS, m (default: 0,0)",
     )
     command.add_argument(
         "--outage",
@@ -92,6 +126,8 @@ def run(args: argparse.Namespace, client: Any) -> int:
         gnss_rate=args.gnss_rate,
         constellation=args.constellation,
         outages=args.outage,
+        systems=args.systems,
+        inter_system_bias=args.inter_system_bias,
     )
     print(f"memsnav: wrote {files.trajectory.parent}", file=sys.stderr)
     return 0

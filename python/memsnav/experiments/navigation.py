@@ -398,6 +398,8 @@ def navigation(
     scale_factor_states: bool = False,
     absorb_unmodelled: bool | None = None,
     smooth: bool = False,
+    systems: Sequence[str] = ("G",),
+    inter_system_bias: tuple[float, float] = (0.0, 0.0),
     client: Any = None,
     chunk_runs: int | None = None,
 ) -> NavigationResult:
@@ -442,6 +444,12 @@ def navigation(
     fixed-interval (RTS) smoother after every filter and report its error
     in ``result.smoothed`` (``docs/smoothing.md``; about twice the time and
     the memory of a forward solution per run in flight).
+    ``systems``: the simulated satellite systems, RINEX letters among "G"
+    (GPS), "E" (Galileo), "C" (BeiDou MEO), each a nominal Walker
+    constellation (:meth:`memsnav.Constellation.nominal`); with Galileo or
+    BeiDou every filter carries two inter-system-bias states, and the
+    pseudoranges ``inter_system_bias`` (Galileo, BeiDou against GPS, m).
+    ``n_satellites`` counts every system's satellites.
 
     ``client``: a ``dask.distributed.Client``: the runs go to its cluster
     in chunks of ``chunk_runs`` (default: about 4 chunks per worker
@@ -513,6 +521,8 @@ def navigation(
             absorb_unmodelled=bool(absorb_unmodelled),
             smooth=bool(smooth),
             keep_runs=keep,
+            systems=list(systems),
+            inter_system_bias=tuple(float(b) for b in inter_system_bias),
         ),
         runs,
         client=client,
@@ -538,6 +548,8 @@ def navigation(
             "scale_factor_states": bool(scale_factor_states),
             "absorb_unmodelled": bool(absorb_unmodelled),
             "smooth": bool(smooth),
+            "systems": list(systems),
+            "inter_system_bias": [float(b) for b in inter_system_bias],
         },
     )
 

@@ -256,6 +256,9 @@ def outage_study(
     chunk_runs: int | None = None,
     threads: int | None = None,
     progress: Callable[[int, int], object] | None = None,
+    n_satellites: int = 6,
+    systems: Sequence[str] = ("G",),
+    inter_system_bias: tuple[float, float] = (0.0, 0.0),
 ) -> OutageStudyResult:
     """Runs the outage study (module docs).
 
@@ -275,6 +278,10 @@ def outage_study(
     total)`` counts runs over the whole study. Ctrl-C stops the study:
     the lengths done are kept, and the result covers the completed runs of
     the one interrupted (``interrupted=True``); later lengths are skipped.
+    ``n_satellites``: tracked outside the outage, of every system in
+    ``systems`` ("G" GPS, "E" Galileo, "C" BeiDou MEO, nominal Walker
+    constellations; with E or C the filters estimate the pseudoranges'
+    ``inter_system_bias``, Galileo and BeiDou against GPS, m).
     Raises ValueError naming the argument.
     """
     lengths = [float(v) for v in outage_lengths]
@@ -316,6 +323,9 @@ def outage_study(
             chunk_runs=chunk_runs,
             threads=threads,
             progress=counted,
+            n_satellites=n_satellites,
+            systems=systems,
+            inter_system_bias=inter_system_bias,
         )
         results[length] = {
             study.n_visible[label]: result for label, result in study.scenarios.items()
@@ -340,5 +350,8 @@ def outage_study(
             "seed": seed,
             "calibrated": bool(calibrated),
             "smooth": bool(smooth),
+            "n_satellites": n_satellites,
+            "systems": list(systems),
+            "inter_system_bias": [float(b) for b in inter_system_bias],
         },
     )

@@ -195,6 +195,9 @@ def partial_outage(
     progress: Callable[[int, int], object] | None = None,
     client: Any = None,
     chunk_runs: int | None = None,
+    n_satellites: int | None = None,
+    systems: Sequence[str] | None = None,
+    inter_system_bias: tuple[float, float] | None = None,
 ) -> PartialOutageResult:
     """Runs the partial-outage study (module docs) in Rust, GIL released.
 
@@ -213,6 +216,11 @@ def partial_outage(
     ``client``: a ``dask.distributed.Client`` to run the set on its
     cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
     the same numbers bit for bit; ``threads`` must then be None.
+    ``n_satellites``: tracked outside the window (default 6), of every
+    system in ``systems`` (RINEX letters, default ("G",); "E" Galileo and
+    "C" BeiDou add their nominal constellations and two inter-system-bias
+    states to every filter, the pseudoranges carrying ``inter_system_bias``
+    (Galileo, BeiDou against GPS, m; default 0, 0)).
     """
     raw = run_partial_outage(
         {
@@ -227,6 +235,11 @@ def partial_outage(
             "calibration_duration": calibration_duration,
             "smooth": smooth,
             "keep_runs": keep_runs,
+            "n_satellites": n_satellites,
+            "systems": None if systems is None else list(systems),
+            "inter_system_bias": None
+            if inter_system_bias is None
+            else tuple(float(b) for b in inter_system_bias),
         },
         client=client,
         threads=threads,

@@ -1,5 +1,5 @@
-//! One constellation type for the simulator: GPS broadcast ephemerides or a
-//! synthetic Walker pattern.
+//! One constellation type for the simulator: GPS broadcast ephemerides or
+//! synthetic Walker patterns, one per satellite system.
 
 use std::path::Path;
 
@@ -8,6 +8,7 @@ use nalgebra::Vector3;
 use super::ephemeris::GpsEphemeris;
 use super::rinex_nav::read_rinex_nav;
 use super::satellite_state::SatelliteState;
+use super::system::{satellite_number, GnssSystem};
 use super::walker::{Walker, WalkerConfig};
 use crate::{validate, Error, Result};
 
@@ -51,6 +52,18 @@ impl Orbit<'_> {
     }
 }
 
+/// One system's synthetic Walker constellation: its slots 1..N are its
+/// satellites' PRNs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SystemWalker {
+    pub system: GnssSystem,
+    pub walker: Walker,
+}
+
+/// Most satellites of one system in a constellation of several: the
+/// satellite numbers of a system span 99 PRNs ([`satellite_number`]).
+pub const MAX_SATELLITES_PER_SYSTEM: usize = 99;
+
 /// Satellites the simulator can see.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Constellation {
@@ -59,8 +72,9 @@ pub enum Constellation {
         prns: Vec<u16>,
         ephemerides: Vec<Vec<GpsEphemeris>>,
     },
-    /// Synthetic Walker delta constellation.
-    Walker(Walker),
+    /// Synthetic Walker delta constellations, one per system, each
+    /// system's satellites after the previous one's.
+    Walker(Vec<SystemWalker>),
 }
 
 impl Constellation {
@@ -97,16 +111,92 @@ impl Constellation {
         Constellation::Broadcast { prns, ephemerides }
     }
 
-    /// A synthetic Walker constellation.
+    /// A synthetic GPS Walker constellation (its slots numbered 1..N).
     pub fn walker(config: &WalkerConfig) -> Result<Self> {
-        Ok(Constellation::Walker(Walker::new(config)?))
+        Self::walkers(&[(GnssSystem::Gps, *config)])
+    }
+
+    /// Synthetic Walker constellations of several systems, in this order,
+    /// each satellite numbered by its system ([`satellite_number`] of its
+    /// slot 1..N: GPS 1.., Galileo 101.., BeiDou 201..). A system appears
+    /// once; with more than one, each has at most
+    /// [`MAX_SATELLITES_PER_SYSTEM`] satellites so that the numbers stay
+    /// within their system's range.
+    pub fn walkers(parts: &[(GnssSystem, WalkerConfig)]) -> Result<Self> {
+        if parts.is_empty() {
+            return Err(Error::invalid("systems", "must name at least one system"));
+        }
+        let mut walkers: Vec<SystemWalker> = Vec::with_capacity(parts.len());
+        for (system, config) in parts {
+            if walkers.iter().any(|w| w.system == *system) {
+                return Err(Error::invalid("systems", format!("{system} appears twice")));
+            }
+            let walker = Walker::new(config)?;
+            if parts.len() > 1 && walker.len() > MAX_SATELLITES_PER_SYSTEM {
+                return Err(Error::invalid(
+                    "n_satellites",
+                    format!(
+                        "{system}: at most {MAX_SATELLITES_PER_SYSTEM} satellites per system when \
+                         several systems are combined, got {}",
+                        walker.len()
+                    ),
+                ));
+            }
+            walkers.push(SystemWalker {
+                system: *system,
+                walker,
+            });
+        }
+        Ok(Constellation::Walker(walkers))
+    }
+
+    /// The nominal Walker constellations of these systems
+    /// ([`WalkerConfig::nominal`]).
+    pub fn nominal_walkers(systems: &[GnssSystem]) -> Result<Self> {
+        let parts: Vec<_> = systems
+            .iter()
+            .map(|&s| (s, WalkerConfig::nominal(s)))
+            .collect();
+        Self::walkers(&parts)
     }
 
     /// Number of satellites.
     pub fn len(&self) -> usize {
         match self {
             Constellation::Broadcast { prns, .. } => prns.len(),
-            Constellation::Walker(w) => w.len(),
+            Constellation::Walker(parts) => parts.iter().map(|p| p.walker.len()).sum(),
+        }
+    }
+
+    /// The Walker part that satellite `i` belongs to and its slot there
+    /// (0-based); `None` for broadcast ephemerides.
+    fn walker_slot(&self, mut i: usize) -> Option<(&SystemWalker, usize)> {
+        let Constellation::Walker(parts) = self else {
+            return None;
+        };
+        for part in parts {
+            if i < part.walker.len() {
+                return Some((part, i));
+            }
+            i -= part.walker.len();
+        }
+        panic!(
+            "satellite index beyond the constellation's {} satellites",
+            self.len()
+        )
+    }
+
+    /// The system of satellite `i`.
+    pub fn system(&self, i: usize) -> GnssSystem {
+        self.walker_slot(i)
+            .map_or(GnssSystem::Gps, |(part, _)| part.system)
+    }
+
+    /// The systems of the constellation, in its order.
+    pub fn systems(&self) -> Vec<GnssSystem> {
+        match self {
+            Constellation::Broadcast { .. } => vec![GnssSystem::Gps],
+            Constellation::Walker(parts) => parts.iter().map(|p| p.system).collect(),
         }
     }
 
@@ -114,19 +204,28 @@ impl Constellation {
         self.len() == 0
     }
 
-    /// Satellite identifier of index `i` (PRN, or Walker slot 1..N).
+    /// Satellite number of index `i` (the GPS PRN, or the
+    /// [`satellite_number`] of its system's Walker slot 1..N).
     pub fn sat_id(&self, i: usize) -> u16 {
         match self {
             Constellation::Broadcast { prns, .. } => prns[i],
-            Constellation::Walker(_) => (i + 1) as u16,
+            // At most u16::MAX slots (Walker::new) and, with several
+            // systems, 99 per system: the number fits.
+            Constellation::Walker(_) => {
+                let (part, slot) = self.walker_slot(i).expect("a Walker constellation");
+                satellite_number(part.system, (slot + 1) as u16)
+            }
         }
     }
 
-    /// Identifiers as RINEX names: "G01", ... (Walker slots are named
-    /// like GPS PRNs, 1..N).
+    /// Identifiers as RINEX names: "G01", ..., "E01", ..., "C01", ...
+    /// (Walker slots are named like their system's PRNs, 1..N).
     pub fn prns(&self) -> Vec<String> {
         (0..self.len())
-            .map(|i| format!("G{:02}", self.sat_id(i)))
+            .map(|i| match self.walker_slot(i) {
+                Some((part, slot)) => format!("{}{:02}", part.system.letter(), slot + 1),
+                None => format!("G{:02}", self.sat_id(i)),
+            })
             .collect()
     }
 
@@ -168,7 +267,10 @@ impl Constellation {
             Constellation::Broadcast { .. } => {
                 self.select_ephemeris(i, gps_time_s).map(Orbit::Broadcast)
             }
-            Constellation::Walker(w) => Some(Orbit::Walker(w, i)),
+            Constellation::Walker(_) => {
+                let (part, slot) = self.walker_slot(i).expect("a Walker constellation");
+                Some(Orbit::Walker(&part.walker, slot))
+            }
         }
     }
 
@@ -184,7 +286,11 @@ impl Constellation {
     pub fn positions_into(&self, gps_time_s: f64, out: &mut Vec<Option<Vector3<f64>>>) {
         out.clear();
         match self {
-            Constellation::Walker(w) => out.extend(w.positions(gps_time_s).map(Some)),
+            Constellation::Walker(parts) => {
+                for part in parts {
+                    out.extend(part.walker.positions(gps_time_s).map(Some));
+                }
+            }
             Constellation::Broadcast { .. } => out.extend(
                 (0..self.len()).map(|i| self.state(i, gps_time_s).map(|s| s.position_ecef)),
             ),

@@ -36,7 +36,9 @@ pub use beidou_ephemeris::BeidouEphemeris;
 pub use broadcast_orbit::{BroadcastOrbit, BroadcastSystem, OrbitFrame, BEIDOU, GALILEO, GPS};
 pub use clock::{ClockState, ReceiverClockModel};
 pub use cnav_ephemeris::{cnav_ura_m, CnavEphemeris, CnavGroupDelays};
-pub use constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
+pub use constellation::{
+    Constellation, Orbit, SystemWalker, EPHEMERIS_VALIDITY_S, MAX_SATELLITES_PER_SYSTEM,
+};
 pub use ephemeris::{
     ura_index, ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
 };

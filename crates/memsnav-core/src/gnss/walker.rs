@@ -1,9 +1,11 @@
-//! A synthetic GPS-like Walker delta constellation (method §5): circular
+//! A synthetic Walker delta constellation (method §5): circular
 //! Keplerian orbits in equally spaced planes, expressed in ECEF with the
-//! Earth's rotation, for runs not tied to a date.
+//! Earth's rotation, for runs not tied to a date. [`WalkerConfig::nominal`]
+//! gives the nominal pattern of GPS, Galileo and the BeiDou MEO satellites.
 
 use nalgebra::Vector3;
 
+use super::system::GnssSystem;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, GM_M3_S2};
 use crate::{validate, Error, Result};
 
@@ -29,14 +31,41 @@ pub struct WalkerConfig {
 }
 
 impl Default for WalkerConfig {
+    /// The GPS-like pattern, [`WalkerConfig::nominal`] of GPS.
     fn default() -> Self {
+        Self::nominal(GnssSystem::Gps)
+    }
+}
+
+impl WalkerConfig {
+    /// The nominal Walker pattern of a system's MEO satellites, period
+    /// T = 2π √(a³/μ):
+    /// - GPS 24/6/1 at a = 26 560 km, 55° (the GPS-like reference orbit;
+    ///   the real constellation has 6 planes of 4+ unevenly spaced slots),
+    ///   T = 11 h 58 min;
+    /// - Galileo 24/3/1 at a = 29 599.8 km (23 222 km altitude), 56°
+    ///   (the nominal Galileo constellation, spares left out),
+    ///   T = 14 h 4 min 41 s;
+    /// - BeiDou MEO 24/3/1 at 21 528 km altitude, a = 27 906.1 km, 55°
+    ///   (the BDS MEO constellation; the GEO and IGSO satellites are left
+    ///   out), T = 12 h 53 min 14 s.
+    ///
+    /// The first plane's node of Galileo and BeiDou is turned by 20° and
+    /// 40° from GPS's, an arbitrary choice that keeps their first
+    /// satellites from lining up with GPS's at time 0.
+    pub fn nominal(system: GnssSystem) -> Self {
+        let (n_satellites, planes, inclination_deg, semi_major_axis_m, raan0_deg) = match system {
+            GnssSystem::Gps => (24, 6, 55.0, 26_560_000.0, 0.0),
+            GnssSystem::Galileo => (24, 3, 56.0, 29_599_800.0, 20.0),
+            GnssSystem::Beidou => (24, 3, 55.0, 27_906_100.0, 40.0),
+        };
         WalkerConfig {
-            n_satellites: 24,
-            planes: 6,
-            inclination_rad: 55f64.to_radians(),
-            semi_major_axis_m: 26_560_000.0,
+            n_satellites,
+            planes,
+            inclination_rad: f64::to_radians(inclination_deg),
+            semi_major_axis_m,
             phasing: 1,
-            raan0_rad: 0.0,
+            raan0_rad: f64::to_radians(raan0_deg),
             argument_of_latitude0_rad: 0.0,
         }
     }

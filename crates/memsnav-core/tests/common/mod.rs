@@ -4,7 +4,8 @@
 
 #![allow(dead_code)]
 
-use memsnav_core::coupling::InitialState;
+use memsnav_core::attitude::dcm_to_rotation_vector;
+use memsnav_core::coupling::{InitialState, InitialUncertainty};
 use memsnav_core::geodesy::wgs84::EARTH_RATE_RAD_S;
 use memsnav_core::geodesy::{c_n_e, ecef_to_geodetic, geodetic_to_ecef, gravity_ecef, Geodetic};
 use memsnav_core::gnss::{
@@ -14,7 +15,7 @@ use memsnav_core::ins::ImuData;
 use memsnav_core::ins::{self, ImuSample, NavState};
 use memsnav_core::random::Rng;
 use memsnav_core::sensors::{AccelerometerSpec, GyroscopeSpec, ImuModel, ImuSpec, NoiseModel};
-use nalgebra::Vector3;
+use nalgebra::{SVector, Vector3};
 use rand::Rng as _;
 use rand_distr::StandardNormal;
 
@@ -102,16 +103,26 @@ pub fn drive(duration_s: f64, rate_hz: f64, moving: bool) -> Truth {
 }
 
 pub fn gnss_for(truth: &Truth, config: &SimulationConfig, rng: &mut Rng) -> Vec<GnssEpoch> {
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    gnss_from(truth, &sky, config, rng)
+}
+
+/// The measurements of `sky`'s satellites along the truth.
+pub fn gnss_from(
+    truth: &Truth,
+    sky: &Constellation,
+    config: &SimulationConfig,
+    rng: &mut Rng,
+) -> Vec<GnssEpoch> {
     let pos: Vec<_> = truth.nav.iter().map(|s| s.position_ecef).collect();
     let vel: Vec<_> = truth.nav.iter().map(|s| s.velocity_ecef).collect();
-    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
     gnss::simulate(
         &ReceiverTrack {
             time_s: &truth.time_s,
             position_ecef: &pos,
             velocity_ecef: &vel,
         },
-        &sky,
+        sky,
         config,
         rng,
     )
@@ -181,4 +192,35 @@ pub fn exact_initial(truth: &Truth) -> InitialState {
         clock_offset_m: None,
         clock_drift_m_s: None,
     }
+}
+
+/// The true state perturbed by a draw from P₀ (so NEES starts consistent).
+pub fn perturbed_initial(truth: &Truth, std: &InitialUncertainty, rng: &mut Rng) -> InitialState {
+    let s = truth.nav[0];
+    let geo = ecef_to_geodetic(&s.position_ecef);
+    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+    let psi = cne * n3(rng).component_mul(&std.attitude_ned_rad);
+    InitialState {
+        nav: NavState {
+            position_ecef: s.position_ecef + n3(rng) * std.position_m,
+            velocity_ecef: s.velocity_ecef + n3(rng) * std.velocity_m_s,
+            c_b_e: memsnav_core::attitude::rotation_vector_to_dcm(&psi) * s.c_b_e,
+        },
+        accel_bias_m_s2: Vector3::zeros(),
+        gyro_bias_rad_s: Vector3::zeros(),
+        clock_offset_m: None,
+        clock_drift_m_s: None,
+    }
+}
+
+/// (ψ, δv, δr) of a solution against the truth.
+pub fn nav_error(est: &NavState, truth: &NavState) -> SVector<f64, 9> {
+    let psi = dcm_to_rotation_vector(&(est.c_b_e * truth.c_b_e.transpose()));
+    let mut e = SVector::<f64, 9>::zeros();
+    e.fixed_rows_mut::<3>(0).copy_from(&psi);
+    e.fixed_rows_mut::<3>(3)
+        .copy_from(&(est.velocity_ecef - truth.velocity_ecef));
+    e.fixed_rows_mut::<3>(6)
+        .copy_from(&(est.position_ecef - truth.position_ecef));
+    e
 }

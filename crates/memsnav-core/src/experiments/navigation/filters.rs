@@ -9,7 +9,8 @@ use crate::coupling::{
     self, initial_state_from_fix, Aiding, FilterState, FilterTuning, InitialState,
     MeasurementStatus, PositionFix, Solution,
 };
-use crate::filter::state::{ATTITUDE, BASE_STATES, WITH_SCALE_FACTORS};
+use crate::filter::state::ATTITUDE;
+use crate::filter::Layout;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix, GnssEpoch, ReceiverClockModel};
 use crate::ins::{ImuData, NavState};
@@ -57,6 +58,9 @@ pub(super) struct FilterSetup<'a> {
     /// Initial position and velocity std of a given start, m and m/s.
     pub given_start_std: Option<(f64, f64)>,
     pub scale_factor_states: bool,
+    /// Whether the filters carry the inter-system-bias states (the
+    /// measurements hold a system other than GPS).
+    pub inter_system_bias_states: bool,
     pub absorb_unmodelled: bool,
     /// Also run the fixed-interval smoother and score its solution.
     pub smooth: bool,
@@ -139,7 +143,8 @@ fn tuning(spec: &ImuSpec, setup: &FilterSetup) -> Result<FilterTuning> {
 }
 
 /// The coupled filter on one IMU's readings (17 or 23 states as
-/// configured); error curves at `setup.out`. `fixes` are the loosely
+/// configured, + 2 inter-system biases with several systems); error
+/// curves at `setup.out`. `fixes` are the loosely
 /// coupled filter's ([`position_fixes`] of `epochs`).
 pub(super) fn navigate(
     truth: &Trajectory,
@@ -150,10 +155,15 @@ pub(super) fn navigate(
     setup: &FilterSetup,
 ) -> Result<ImuRun> {
     let tuning = tuning(&input.spec, setup)?;
-    if setup.scale_factor_states {
-        navigate_with::<WITH_SCALE_FACTORS>(truth, epochs, fixes, input, start, &tuning, setup)
-    } else {
-        navigate_with::<BASE_STATES>(truth, epochs, fixes, input, start, &tuning, setup)
+    const fn size(scale_factors: bool, inter_system_biases: bool) -> usize {
+        Layout::size(scale_factors, false, inter_system_biases, false)
+    }
+    let (t, e, f, i, s) = (truth, epochs, fixes, input, start);
+    match (setup.scale_factor_states, setup.inter_system_bias_states) {
+        (false, false) => navigate_with::<{ size(false, false) }>(t, e, f, i, s, &tuning, setup),
+        (true, false) => navigate_with::<{ size(true, false) }>(t, e, f, i, s, &tuning, setup),
+        (false, true) => navigate_with::<{ size(false, true) }>(t, e, f, i, s, &tuning, setup),
+        (true, true) => navigate_with::<{ size(true, true) }>(t, e, f, i, s, &tuning, setup),
     }
 }
 

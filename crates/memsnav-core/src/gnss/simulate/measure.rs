@@ -11,7 +11,7 @@ use rand_distr::{Distribution, StandardNormal};
 use super::super::clock::ClockState;
 use super::super::constellation::Orbit;
 use super::super::satellite_state::SatelliteState;
-use super::super::SatelliteMeasurement;
+use super::super::{GnssSystem, SatelliteMeasurement};
 use crate::gauss_markov::GaussMarkov;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, SPEED_OF_LIGHT_M_S};
 use crate::random::Rng;
@@ -102,13 +102,15 @@ impl MeasurementErrors {
         value
     }
 
-    /// Pseudorange ρ + b + residual + noise and rate ρ̇ + ḃ + noise of
-    /// satellite `i` on `orbit` (satellite clock errors taken as
-    /// corrected). Draws: residual (if enabled), pseudorange noise, rate noise.
+    /// Pseudorange ρ + b + ISB + residual + noise and rate ρ̇ + ḃ + noise
+    /// of satellite `i` of `system` on `orbit` (satellite clock errors
+    /// taken as corrected; `inter_system_bias_m` is its system's bias
+    /// against GPS, 0 for GPS). Draws: residual (if enabled), pseudorange
+    /// noise, rate noise.
     pub fn measure(
         &mut self,
-        i: usize,
-        sat_id: u16,
+        (i, sat_id, system): (usize, u16, GnssSystem),
+        inter_system_bias_m: f64,
         orbit: &Orbit<'_>,
         rx: &Receiver,
         rng: &mut Rng,
@@ -123,10 +125,14 @@ impl MeasurementErrors {
         let z_rate: f64 = StandardNormal.sample(rng);
         SatelliteMeasurement {
             sat_id,
-            system: crate::gnss::system_of_number(sat_id),
+            system,
             position_ecef: tx_state.position_ecef,
             velocity_ecef: tx_state.velocity_ecef,
-            pseudorange_m: range + rx.clock.offset_m + residual + self.pseudorange_std_m * z_range,
+            pseudorange_m: range
+                + rx.clock.offset_m
+                + inter_system_bias_m
+                + residual
+                + self.pseudorange_std_m * z_range,
             pseudorange_rate_m_s: range_rate
                 + rx.clock.drift_m_s
                 + self.pseudorange_rate_std_m_s * z_rate,

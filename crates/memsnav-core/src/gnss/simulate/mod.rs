@@ -4,8 +4,9 @@
 //! - [`selection`]: visibility above the elevation mask and the selection of
 //!   N satellites kept while visible;
 //! - [`measure`]: pseudoranges and rates from the exact signal travel time
-//!   with the Earth's rotation, plus a two-state receiver clock, white noise
-//!   and an optional slowly varying atmospheric/multipath residual;
+//!   with the Earth's rotation, plus a two-state receiver clock, each
+//!   system's constant inter-system bias, white noise and an optional
+//!   slowly varying atmospheric/multipath residual;
 //! - [`outage`]: windows with fewer satellites, applied to the finished
 //!   measurements (the satellites they keep are documented there);
 //! - [`track`]: the receiver's motion, which the simulation and the
@@ -29,6 +30,7 @@ use super::constellation::Constellation;
 use super::observables::{
     DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M,
 };
+use super::system::{GnssSystem, INTER_SYSTEM_BIAS_SYSTEMS};
 use super::GnssEpoch;
 use crate::gauss_markov::GaussMarkov;
 use crate::geodesy::domain::{MAX_DISTANCE_M, MAX_SPEED_M_S};
@@ -61,13 +63,15 @@ impl Default for AtmosphericResidual {
 }
 
 /// Settings of [`simulate`]. Defaults: 1 Hz, 6 satellites, 10° mask,
-/// 3 m and 0.1 m/s white noise, no residual, a TCXO clock, no outage.
+/// 3 m and 0.1 m/s white noise, no residual, a TCXO clock, no outage, no
+/// inter-system bias.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationConfig {
     /// Measurement rate, Hz (epochs fall on the track samples nearest to
     /// t0 + k / rate).
     pub rate_hz: f64,
-    /// Number of satellites tracked (the paper's 6).
+    /// Number of satellites tracked (the paper's 6), of every system the
+    /// constellation holds.
     pub n_satellites: usize,
     /// Elevation mask, rad.
     pub elevation_mask_rad: f64,
@@ -85,6 +89,11 @@ pub struct SimulationConfig {
     /// the constellation's default (earliest t_oe of a broadcast file, 0 for
     /// a Walker constellation).
     pub start_gps_time_s: Option<f64>,
+    /// Inter-system biases of the Galileo and BeiDou pseudoranges against
+    /// GPS's ([`INTER_SYSTEM_BIAS_SYSTEMS`] order), m, constant: the
+    /// receiver's different group delays per system (and GST, BDT against
+    /// GPS time) that the tight filter's inter-system-bias states estimate.
+    pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_SYSTEMS.len()],
 }
 
 impl Default for SimulationConfig {
@@ -99,6 +108,7 @@ impl Default for SimulationConfig {
             clock: ReceiverClockModel::default(),
             outages: Vec::new(),
             start_gps_time_s: None,
+            inter_system_bias_m: [0.0; INTER_SYSTEM_BIAS_SYSTEMS.len()],
         }
     }
 }
@@ -111,6 +121,9 @@ pub struct GnssSimulation {
     pub clock: Vec<ClockState>,
     /// GPS time of the track's first sample, s.
     pub start_gps_time_s: f64,
+    /// The inter-system biases in the pseudoranges (Galileo, BeiDou
+    /// minus GPS), m: the configuration's.
+    pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_SYSTEMS.len()],
 }
 
 impl SimulationConfig {
@@ -170,6 +183,18 @@ impl SimulationConfig {
         }
         if let Some(t) = self.start_gps_time_s {
             validate::finite_scalars("start_gps_time", &[t])?;
+        }
+        // A bias no larger than the geodesy's ranges, as the noise above.
+        validate::finite_scalars("inter_system_bias", &self.inter_system_bias_m)?;
+        if let Some(b) = self
+            .inter_system_bias_m
+            .iter()
+            .find(|b| b.abs() > MAX_DISTANCE_M)
+        {
+            return Err(Error::invalid(
+                "inter_system_bias",
+                format!("must be within ±{MAX_DISTANCE_M:e} m, got {b:e}"),
+            ));
         }
         Ok(())
     }
@@ -254,6 +279,7 @@ pub(crate) fn simulate_track(
     let t0 = track.time_s[0];
     let samples = epochs::epoch_samples(track.time_s, config.rate_hz);
     let n_sat = constellation.len();
+    let systems: Vec<GnssSystem> = (0..n_sat).map(|i| constellation.system(i)).collect();
     let mut elevations = vec![f64::NAN; n_sat];
     let mut approx_los = vec![Vector3::zeros(); n_sat];
     let mut positions = Vec::with_capacity(n_sat);
@@ -309,6 +335,7 @@ pub(crate) fn simulate_track(
             config.n_satellites,
             &elevations,
             &approx_los,
+            &systems,
             config.elevation_mask_rad,
         );
 
@@ -319,7 +346,16 @@ pub(crate) fn simulate_track(
                 let orbit = constellation
                     .orbit(i, receiver.gps_time_s)
                     .expect("visible satellites have an orbit");
-                errors.measure(i, constellation.sat_id(i), &orbit, &receiver, rng)
+                let bias_m = systems[i]
+                    .inter_system_bias_index()
+                    .map_or(0.0, |k| config.inter_system_bias_m[k]);
+                errors.measure(
+                    (i, constellation.sat_id(i), systems[i]),
+                    bias_m,
+                    &orbit,
+                    &receiver,
+                    rng,
+                )
             })
             .collect();
         let mut epoch = GnssEpoch {
@@ -334,5 +370,6 @@ pub(crate) fn simulate_track(
         epochs,
         clock: clocks,
         start_gps_time_s: start_gps,
+        inter_system_bias_m: config.inter_system_bias_m,
     })
 }

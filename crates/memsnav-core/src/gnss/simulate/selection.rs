@@ -1,7 +1,13 @@
 //! Which satellites a simulated receiver tracks: visibility above the
 //! elevation mask and the selection of N satellites kept while visible.
 
-use nalgebra::{Matrix4, Vector3, Vector4};
+use nalgebra::{SMatrix, SVector, Vector3};
+
+use crate::gnss::GnssSystem;
+
+/// Unknowns of a snapshot fix: position, clock and one inter-system bias
+/// per system other than GPS.
+const UNKNOWNS: usize = 4 + crate::gnss::INTER_SYSTEM_BIAS_SYSTEMS.len();
 
 /// Elevation of a satellite at `sat` seen from `rx` with local up `up`, rad.
 pub(super) fn elevation(sat: &Vector3<f64>, rx: &Vector3<f64>, up: &Vector3<f64>) -> f64 {
@@ -9,19 +15,37 @@ pub(super) fn elevation(sat: &Vector3<f64>, rx: &Vector3<f64>, up: &Vector3<f64>
     (d.dot(up) / d.norm()).clamp(-1.0, 1.0).asin()
 }
 
-/// GDOP of a set of lines of sight (∞ when fewer than 4 or singular).
-fn gdop(los: impl Iterator<Item = Vector3<f64>>) -> f64 {
-    let mut g = Matrix4::zeros();
+/// GDOP of a set of lines of sight, each with its satellite's system
+/// (∞ when fewer satellites than unknowns, or singular): √tr (HᵀH)⁻¹ with
+/// rows H = (−uᵀ, 1, e_k) over position, clock and the inter-system bias
+/// k of each system other than GPS that the set holds. A system's lone
+/// satellite thus adds nothing to the position, as in the tight filter
+/// before the bias is known.
+fn gdop(rows: impl Iterator<Item = (Vector3<f64>, GnssSystem)>) -> f64 {
+    let mut g = SMatrix::<f64, UNKNOWNS, UNKNOWNS>::zeros();
+    let mut used = [true; UNKNOWNS];
+    used[4..].fill(false);
     let mut n = 0;
-    for u in los {
-        let h = Vector4::new(-u.x, -u.y, -u.z, 1.0);
+    for (u, system) in rows {
+        let mut h = SVector::<f64, UNKNOWNS>::zeros();
+        h.fixed_rows_mut::<3>(0).copy_from(&-u);
+        h[3] = 1.0;
+        if let Some(k) = system.inter_system_bias_index() {
+            h[4 + k] = 1.0;
+            used[4 + k] = true;
+        }
         g += h * h.transpose();
         n += 1;
     }
-    if n < 4 {
+    // The unknowns the set observes: with GPS alone the 4 × 4 of position
+    // and clock, inverted as before the systems were added.
+    let columns: Vec<usize> = (0..UNKNOWNS).filter(|&j| used[j]).collect();
+    if n < columns.len() {
         return f64::INFINITY;
     }
-    g.try_inverse()
+    g.select_rows(&columns)
+        .select_columns(&columns)
+        .try_inverse()
         .map_or(f64::INFINITY, |inv| inv.trace().max(0.0).sqrt())
 }
 
@@ -34,7 +58,7 @@ pub(super) struct Selection {
 
 impl Selection {
     /// Updates the selection at one epoch, given each satellite's elevation
-    /// (NaN without an orbit) and approximate line of sight.
+    /// (NaN without an orbit), approximate line of sight and system.
     ///
     /// At the first epoch: the `n` satellites with the best GDOP, by greedy
     /// elimination from all visible ones (drop, one at a time, the
@@ -48,6 +72,7 @@ impl Selection {
         n: usize,
         elevations: &[f64],
         los: &[Vector3<f64>],
+        systems: &[GnssSystem],
         mask_rad: f64,
     ) {
         let visible = |i: usize| elevations[i] >= mask_rad;
@@ -62,7 +87,7 @@ impl Selection {
                                 .iter()
                                 .enumerate()
                                 .filter(|&(j, _)| j != drop)
-                                .map(|(_, &i)| los[i]),
+                                .map(|(_, &i)| (los[i], systems[i])),
                         );
                         (drop, d, elevations[selected[drop]])
                     })
@@ -77,7 +102,12 @@ impl Selection {
                 let best = (0..elevations.len())
                     .filter(|&i| visible(i) && !selected.contains(&i))
                     .map(|i| {
-                        let d = gdop(selected.iter().chain(std::iter::once(&i)).map(|&j| los[j]));
+                        let d = gdop(
+                            selected
+                                .iter()
+                                .chain(std::iter::once(&i))
+                                .map(|&j| (los[j], systems[j])),
+                        );
                         (i, d, elevations[i])
                     })
                     .min_by(|a, b| a.1.total_cmp(&b.1).then(b.2.total_cmp(&a.2)));
