@@ -1018,6 +1018,11 @@ class FixSeries:
         """Receiver clock offset, m, (T,)."""
 
     @property
+    def inter_system_bias(self) -> npt.NDArray[np.float64]:
+        """Inter-system biases of Galileo and BeiDou relative to the epoch's
+        reference system (GPS when present), m, (T, 2); NaN for a system
+        not in the epoch."""
+    @property
     def clock_drift(self) -> npt.NDArray[np.float64]:
         """Receiver clock drift, m/s, (T,)."""
 
@@ -1261,6 +1266,10 @@ class FilterSolution:
     def clock_drift(self) -> npt.NDArray[np.float64]:
         """Receiver clock drift, m/s, (N,)."""
 
+    @property
+    def inter_system_bias(self) -> npt.NDArray[np.float64] | None:
+        """Inter-system bias estimates (Galileo, BeiDou minus GPS), m, (N, 2);
+        None without the inter-system-bias states."""
     @property
     def covariance_diagonal(self) -> npt.NDArray[np.float64]:
         """Diagonal of the error covariance, (N, n_states), order ``state_names``

@@ -1139,8 +1139,8 @@ fn least_squares_fix_estimates_inter_system_biases() {
     let fix = solve_fix(&mixed, None).unwrap();
     assert!((fix.position_ecef - pos[k]).norm() < 1e-3);
     assert!((fix.clock_offset_m - clock.offset_m).abs() < 1e-3);
-    for j in 0..2 {
-        assert!((fix.inter_system_bias_m[j] - biases[j]).abs() < 1e-3);
+    for (estimate, truth) in fix.inter_system_bias_m.iter().zip(biases) {
+        assert!((estimate - truth).abs() < 1e-3);
     }
     // One clock for all would leave the biases in the position.
     let one_clock = solve_fix(epoch, None).unwrap();

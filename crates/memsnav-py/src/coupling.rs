@@ -280,6 +280,24 @@ impl PyFilterSolution {
         (!self.inner.gyro_scale_factor.is_empty())
             .then(|| convert::vectors_to_numpy(py, &self.inner.gyro_scale_factor))
     }
+    /// Inter-system bias estimates (Galileo, BeiDou pseudoranges minus
+    /// GPS's), m, (N, 2); None without the inter-system-bias states.
+    #[getter]
+    fn inter_system_bias<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
+        (!self.inner.inter_system_bias_m.is_empty()).then(|| {
+            numpy::PyArray2::from_vec2(
+                py,
+                &self
+                    .inner
+                    .inter_system_bias_m
+                    .iter()
+                    .map(|r| r.to_vec())
+                    .collect::<Vec<_>>(),
+            )
+            .expect("rows of equal length")
+        })
+    }
+
     /// Installation estimates, (N, 7): antenna lever arm x, y, z (body
     /// axes, m), IMU time offset (s), velocity latency (s), mounting
     /// boresight pitch, yaw (rad); None without the installation states.

@@ -682,6 +682,22 @@ impl PyFixSeries {
     fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.clock_offset_m)
     }
+    /// Inter-system biases of Galileo and BeiDou relative to the epoch's
+    /// reference system (GPS when present), m, ``(T, 2)``; NaN for a system
+    /// not in the epoch.
+    #[getter]
+    fn inter_system_bias<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        let rows: Vec<Vec<f64>> = self
+            .fixes
+            .iter()
+            .map(|x| {
+                x.as_ref()
+                    .map_or([f64::NAN; 2], |f| f.inter_system_bias_m)
+                    .to_vec()
+            })
+            .collect();
+        array2(py, rows.concat(), self.fixes.len(), 2)
+    }
     /// Receiver clock drift, m/s, ``(T,)``.
     #[getter]
     fn clock_drift<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {

@@ -157,12 +157,12 @@ impl SelectedOrbit<'_> {
 
 /// The healthy record of `records` with t_oe nearest `gps_time_s`, within
 /// ±2 h ([`EPHEMERIS_VALIDITY_S`]).
-fn nearest<'a, T>(
-    records: &'a [T],
+fn nearest<T>(
+    records: &[T],
     keep: impl Fn(&T) -> bool,
     toe_gps_s: impl Fn(&T) -> f64,
     gps_time_s: f64,
-) -> Option<&'a T> {
+) -> Option<&T> {
     records
         .iter()
         .filter(|r| keep(r) && (gps_time_s - toe_gps_s(r)).abs() <= EPHEMERIS_VALIDITY_S)
