@@ -180,3 +180,16 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             s["spp_errors_vs_truth_precision"]["rms_horizontal_m"],
         ]
         np.testing.assert_allclose(measured, rows[name], atol=0.006, err_msg=name)
+        # Slots are named by satellite (12 of them: with 20 satellites the
+        # ones that found none are used with their bias variance as noise).
+        systems = {key[0] for key in s["range_biases_m"]}
+        assert systems <= set(overrides["systems"]), (name, s["range_biases_m"])
+        assert all(re.fullmatch(r"[GEC]\d\d", key) for key in s["range_biases_m"])
+        assert ("inter_system_bias_m" in s) == (overrides["systems"] != ["G"])
+        if len(overrides["systems"]) == 3:
+            page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+            quoted = re.search(r"Galileo (−?[\d.]+) m, BeiDou (−?[\d.]+) m on the walk", page)
+            assert quoted, "docs/real-data.md no longer quotes the walk's inter-system biases"
+            galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
+            isb = s["inter_system_bias_m"]
+            assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006

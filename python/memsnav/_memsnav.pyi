@@ -1831,6 +1831,10 @@ class BroadcastEphemerides:
 
     def __len__(self) -> int: ...
 
+def satellite_name(number: int) -> str:
+    """The RINEX name of a satellite number (107 → "E07"; G n → n, E n → 100 + n,
+    C n → 200 + n), or the number as text beyond them."""
+
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
     """The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
     file (other systems and Galileo F/NAV records counted in ``skipped``)."""

@@ -921,7 +921,16 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
     Ok(Cow::Owned(epochs))
 }
 
+/// The RINEX name of a satellite number (``107`` → ``"E07"``; G n → n,
+/// E n → 100 + n, C n → 200 + n), or the number as text beyond them.
+#[catch_panics]
+#[pyfunction]
+fn satellite_name(number: u16) -> String {
+    gnss::satellite_name(number)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(satellite_name, m)?)?;
     m.add_class::<PyConstellation>()?;
     m.add_class::<PySp3>()?;
     m.add_class::<PyGnssMeasurements>()?;

@@ -468,8 +468,13 @@ def navigate(
     installation = _installation_estimates(solution, -1)
     if installation is not None:
         summary["installation_estimates"] = installation
+    if solution.inter_system_bias is not None:
+        galileo, beidou = solution.inter_system_bias[-1]
+        summary["inter_system_bias_m"] = {"galileo": float(galileo), "beidou": float(beidou)}
     if run.range_biases and mode == "tight":
-        summary["range_biases_m"] = {f"G{int(k):02d}": v for k, v in run.range_biases.items()}
+        summary["range_biases_m"] = {
+            _mn.satellite_name(int(k)): v for k, v in run.range_biases.items()
+        }
     elif run.range_biases:
         # Loose coupling's slots hold the fixes' position error per ECEF axis.
         summary["fix_error_ecef_m"] = [run.range_biases[axis] for axis in range(3)]

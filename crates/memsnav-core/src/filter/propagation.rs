@@ -377,15 +377,8 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET), (self.dt, CLOCK_DRIFT)]);
         set(CLOCK_DRIFT, &[(1.0, CLOCK_DRIFT)]);
-        for (first, len) in [
-            (layout.installation, INSTALLATION_STATES),
-            (layout.inter_system_bias, INTER_SYSTEM_BIAS_STATES),
-        ] {
-            if let Some(first) = first {
-                for j in first..first + len {
-                    set(j, &[(1.0, j)]);
-                }
-            }
+        for j in constant_states(layout) {
+            set(j, &[(1.0, j)]);
         }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
@@ -493,15 +486,8 @@ impl Transition {
         }
         set(CLOCK_OFFSET, &[(1.0, CLOCK_OFFSET)]);
         set(CLOCK_DRIFT, &[(self.dt, CLOCK_OFFSET), (1.0, CLOCK_DRIFT)]);
-        for (first, len) in [
-            (layout.installation, INSTALLATION_STATES),
-            (layout.inter_system_bias, INTER_SYSTEM_BIAS_STATES),
-        ] {
-            if let Some(first) = first {
-                for j in first..first + len {
-                    set(j, &[(1.0, j)]);
-                }
-            }
+        for j in constant_states(layout) {
+            set(j, &[(1.0, j)]);
         }
         if let Some(first) = layout.range_bias {
             for j in first..first + RANGE_BIAS_SLOTS {
@@ -638,6 +624,19 @@ pub(super) fn propagate_with<const N: usize>(
     }
     covariance_product(&scratch.columns, p, &mut scratch.b_t);
     add_process_noise(p, d, inputs);
+}
+
+/// The states whose Φ is 1 and couples to nothing: the installation
+/// constants and the inter-system biases (random walks: their noise is in
+/// Q alone).
+fn constant_states(layout: Layout) -> impl Iterator<Item = usize> {
+    [
+        (layout.installation, INSTALLATION_STATES),
+        (layout.inter_system_bias, INTER_SYSTEM_BIAS_STATES),
+    ]
+    .into_iter()
+    .filter_map(|(first, len)| first.map(|f| f..f + len))
+    .flatten()
 }
 
 /// Most states of a filter (every optional block).
