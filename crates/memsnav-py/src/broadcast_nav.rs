@@ -4,11 +4,16 @@
 
 use std::path::PathBuf;
 
-use memsnav_core::gnss::{self, BroadcastNav};
+use memsnav_core::gnss::{self, BroadcastNav, GnssSystem};
 use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
 
 use crate::errors::IntoPyResult;
+
+/// The RINEX name of `system`'s PRN `prn`.
+fn name(system: GnssSystem, prn: u16) -> String {
+    gnss::satellite_name(gnss::satellite_number(system, prn))
+}
 
 /// The broadcast ephemerides of GPS, Galileo and BeiDou satellites.
 #[pyclass(name = "BroadcastEphemerides", module = "memsnav._memsnav", frozen)]
@@ -27,9 +32,9 @@ impl PyBroadcastEphemerides {
         let mut names: Vec<String> = n
             .gps
             .iter()
-            .map(|e| format!("G{:02}", e.prn))
-            .chain(n.galileo.iter().map(|e| format!("E{:02}", e.svid)))
-            .chain(n.beidou.iter().map(|e| format!("C{:02}", e.prn)))
+            .map(|e| name(GnssSystem::Gps, e.prn))
+            .chain(n.galileo.iter().map(|e| name(GnssSystem::Galileo, e.svid)))
+            .chain(n.beidou.iter().map(|e| name(GnssSystem::Beidou, e.prn)))
             .collect();
         names.sort();
         names.dedup();
@@ -44,18 +49,18 @@ impl PyBroadcastEphemerides {
             .gps
             .iter()
             .filter(|e| e.health == 0)
-            .map(|e| format!("G{:02}", e.prn))
+            .map(|e| name(GnssSystem::Gps, e.prn))
             .chain(
                 n.galileo
                     .iter()
                     .filter(|e| e.is_healthy())
-                    .map(|e| format!("E{:02}", e.svid)),
+                    .map(|e| name(GnssSystem::Galileo, e.svid)),
             )
             .chain(
                 n.beidou
                     .iter()
                     .filter(|e| e.is_healthy())
-                    .map(|e| format!("C{:02}", e.prn)),
+                    .map(|e| name(GnssSystem::Beidou, e.prn)),
             )
             .collect();
         names.sort();

@@ -18,15 +18,18 @@ pub(super) fn elevation(sat: &Vector3<f64>, rx: &Vector3<f64>, up: &Vector3<f64>
 /// GDOP of a set of lines of sight, each with its satellite's system
 /// (∞ when fewer satellites than unknowns, or singular): √tr (HᵀH)⁻¹ with
 /// rows H = (−uᵀ, 1, e_k) over position, clock and the inter-system bias
-/// k of each system other than GPS that the set holds. A system's lone
-/// satellite thus adds nothing to the position, as in the tight filter
-/// before the bias is known.
+/// k of each system other than GPS that the set holds (without GPS, the
+/// first system the set holds is the clock's reference and has no bias
+/// column, as in `solve_fix`). A system's lone satellite thus adds nothing
+/// to the position, as in the tight filter before the bias is known.
 fn gdop(rows: impl Iterator<Item = (Vector3<f64>, GnssSystem)>) -> f64 {
     let mut g = SMatrix::<f64, UNKNOWNS, UNKNOWNS>::zeros();
     let mut used = [true; UNKNOWNS];
     used[4..].fill(false);
     let mut n = 0;
+    let mut gps = false;
     for (u, system) in rows {
+        gps |= system == GnssSystem::Gps;
         let mut h = SVector::<f64, UNKNOWNS>::zeros();
         h.fixed_rows_mut::<3>(0).copy_from(&-u);
         h[3] = 1.0;
@@ -36,6 +39,13 @@ fn gdop(rows: impl Iterator<Item = (Vector3<f64>, GnssSystem)>) -> f64 {
         }
         g += h * h.transpose();
         n += 1;
+    }
+    // Without GPS the clock column is the first system's own: its bias
+    // column would repeat it (a singular HᵀH).
+    if !gps {
+        if let Some(first) = (4..UNKNOWNS).find(|&j| used[j]) {
+            used[first] = false;
+        }
     }
     // The unknowns the set observes: with GPS alone the 4 × 4 of position
     // and clock, inverted as before the systems were added.
@@ -117,5 +127,37 @@ impl Selection {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The GDOP of a set depends on its geometry, not on which single
+    /// system it belongs to: Galileo-only lines of sight give GPS's GDOP
+    /// (not ∞ from a bias column that repeats the clock), and two systems
+    /// without GPS give what GPS with the second system gives.
+    #[test]
+    fn gdop_without_gps_takes_the_first_system_as_the_reference() {
+        let los: Vec<Vector3<f64>> = [
+            (0.0, 0.0, 1.0),
+            (0.8, 0.0, 0.6),
+            (-0.4, 0.7, 0.6),
+            (-0.4, -0.7, 0.6),
+            (0.3, 0.9, 0.3),
+            (0.6, -0.7, 0.4),
+        ]
+        .iter()
+        .map(|&(x, y, z)| Vector3::new(x, y, z).normalize())
+        .collect();
+        let of = |systems: [GnssSystem; 6]| gdop(los.iter().copied().zip(systems));
+        let (g, e, c) = (GnssSystem::Gps, GnssSystem::Galileo, GnssSystem::Beidou);
+        let gps = of([g; 6]);
+        assert!(gps.is_finite() && gps > 1.0);
+        assert!((of([e; 6]) - gps).abs() < 1e-12 * gps);
+        let mixed = of([g, g, g, c, c, c]);
+        assert!(mixed.is_finite() && mixed > gps);
+        assert!((of([e, e, e, c, c, c]) - mixed).abs() < 1e-9 * mixed);
     }
 }
