@@ -902,6 +902,7 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
                     pseudorange_rate_m_s: rate[i],
                     pseudorange_std_m: rho_std[i],
                     pseudorange_rate_std_m_s: rate_std[i],
+                    carrier: None,
                 },
             ));
         }

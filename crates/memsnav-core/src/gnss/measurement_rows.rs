@@ -135,6 +135,7 @@ mod tests {
             pseudorange_rate_m_s: f64::NAN,
             pseudorange_std_m: 3.0,
             pseudorange_rate_std_m_s: 0.1,
+            carrier: None,
         }
     }
 

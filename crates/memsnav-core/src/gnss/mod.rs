@@ -48,14 +48,15 @@ pub use measurement_rows::{
     check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
-    broadcast_epochs, gps_l1_epochs, ObservableOptions, DEFAULT_ELEVATION_MASK_DEG,
-    DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
+    broadcast_epochs, gps_l1_epochs, ObservableOptions, DEFAULT_CARRIER_PHASE_STD_M,
+    DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M,
+    GPS_L1_WAVELENGTH_M,
 };
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
-pub(crate) use rinex_obs::{observation_range, SignalLayout};
+pub(crate) use rinex_obs::{observation_range, SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
@@ -106,6 +107,27 @@ pub struct SatelliteMeasurement {
     pub pseudorange_std_m: f64,
     /// One-sigma pseudorange-rate noise, m/s.
     pub pseudorange_rate_std_m_s: f64,
+    /// The carrier phase, when the receiver tracks it.
+    pub carrier: Option<CarrierPhase>,
+}
+
+/// A satellite's carrier phase at one epoch, as a range.
+///
+/// The carrier range holds an unknown constant per continuous lock (the
+/// ambiguity), so only its change between consecutive epochs is used: the
+/// time-differenced carrier phase of [`crate::coupling`]'s tight filter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CarrierPhase {
+    /// Accumulated carrier range λ·φ, m, corrected as the pseudorange is
+    /// (satellite clock, troposphere) and with the ionosphere's sign
+    /// reversed (the phase advances where the code is delayed).
+    pub range_m: f64,
+    /// One-sigma noise of the carrier range, m.
+    pub std_m: f64,
+    /// The receiver reports lock lost (or the half-cycle state changed)
+    /// since its previous epoch: the change from that epoch may hold a
+    /// cycle slip and is not used.
+    pub loss_of_lock: bool,
 }
 
 /// All measurements at one receiver epoch.

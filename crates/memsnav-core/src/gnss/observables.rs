@@ -7,6 +7,8 @@
 //! (Groves §9.3, eqs. 9.3-9.4 and 8.48). Each system's pseudoranges keep
 //! the receiver's inter-system bias: the tight filter estimates it.
 
+use std::collections::HashMap;
+
 use nalgebra::Vector3;
 
 use super::atmosphere::{saastamoinen_delay_m, Klobuchar};
@@ -15,9 +17,10 @@ use super::constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 use super::galileo_ephemeris::InavEphemeris;
 use super::rinex_nav::BroadcastNav;
 use super::rinex_obs::ObservationFile;
+use super::rinex_obs::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
 use super::satellite_state::SatelliteState;
 use super::system::{satellite_number, GnssSystem};
-use super::{GnssEpoch, SatelliteMeasurement};
+use super::{CarrierPhase, GnssEpoch, SatelliteMeasurement};
 use crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::{validate, Error, Result};
@@ -60,6 +63,9 @@ pub struct ObservableOptions {
     pub pseudorange_std_m: f64,
     /// Pseudorange-rate one-sigma at 45 dB-Hz, m/s (0: no rates used).
     pub pseudorange_rate_std_m_s: f64,
+    /// Carrier-range one-sigma at 45 dB-Hz and the zenith, m (0: no
+    /// carrier phase kept).
+    pub carrier_phase_std_m: f64,
     /// The systems whose satellites are used (default GPS alone).
     pub systems: Vec<GnssSystem>,
     /// Only these satellites, by number ([`satellite_number`]: a GPS PRN
@@ -74,6 +80,11 @@ pub struct ObservableOptions {
 pub const DEFAULT_PSEUDORANGE_STD_M: f64 = 3.0;
 /// Default pseudorange-rate one-sigma at 45 dB-Hz, m/s (Doppler).
 pub const DEFAULT_PSEUDORANGE_RATE_STD_M_S: f64 = 0.1;
+/// Default carrier-range one-sigma at 45 dB-Hz and the zenith, m: the
+/// tracking loop's thermal noise is below a millimetre there (Kaplan &
+/// Hegarty 2017, eq. 8.40: λ/2π · √(B_n / C/N0) = 0.5 mm at 10 Hz); carrier
+/// multipath and the antenna's phase centre add a few.
+pub const DEFAULT_CARRIER_PHASE_STD_M: f64 = 0.003;
 /// Default elevation mask, degrees.
 pub const DEFAULT_ELEVATION_MASK_DEG: f64 = 10.0;
 
@@ -89,6 +100,7 @@ impl ObservableOptions {
             troposphere: true,
             pseudorange_std_m: DEFAULT_PSEUDORANGE_STD_M,
             pseudorange_rate_std_m_s: DEFAULT_PSEUDORANGE_RATE_STD_M_S,
+            carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
             systems: vec![GnssSystem::Gps],
             satellites: Vec::new(),
         }
@@ -107,6 +119,7 @@ impl ObservableOptions {
         }
         validate::positive("pseudorange_std", self.pseudorange_std_m)?;
         validate::non_negative("pseudorange_rate_std", self.pseudorange_rate_std_m_s)?;
+        validate::non_negative("carrier_phase_std", self.carrier_phase_std_m)?;
         if self.systems.is_empty() {
             return Err(Error::invalid(
                 "systems",
@@ -249,10 +262,11 @@ pub fn broadcast_epochs(
     epochs_from(observations, &ephemerides, options)
 }
 
-/// The observation types of one system's chosen signal: (C, D, S) type
+/// The observation types of one system's chosen signal: (C, L, D, S) type
 /// indices, the band and the carrier frequency.
 struct SignalTypes {
     code: usize,
+    carrier: Option<usize>,
     doppler: Option<usize>,
     strength: Option<usize>,
     band: char,
@@ -269,6 +283,7 @@ fn signal_types(observations: &ObservationFile, system: GnssSystem) -> Vec<Signa
             let idx = |kind: char| observations.type_index(letter, &format!("{kind}{signal}"));
             Some(SignalTypes {
                 code: idx('C')?,
+                carrier: idx('L'),
                 doppler: idx('D'),
                 strength: idx('S'),
                 band: signal.chars().next().unwrap_or('1'),
@@ -310,6 +325,8 @@ fn epochs_from(
     let geo = ecef_to_geodetic(&r);
     let c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
     let mut epochs = Vec::with_capacity(observations.epochs.len());
+    // Each satellite's half-cycle state (LLI bit 1) at its last epoch.
+    let mut half_cycle_unresolved: HashMap<u16, bool> = HashMap::new();
     for e in &observations.epochs {
         let mut measurements = Vec::new();
         for s in &e.satellites {
@@ -378,6 +395,25 @@ fn epochs_from(
                 _ => (f64::NAN, 0.0),
             };
             let clock_bias_s = state.clock_bias_s - group_delay_s;
+            let carrier = signal
+                .carrier
+                .and_then(|j| Some((s.values[j]?, s.lli[j])))
+                .filter(|_| options.carrier_phase_std_m > 0.0)
+                .map(|(cycles, lli)| {
+                    let unresolved = lli & LLI_HALF_CYCLE != 0;
+                    let changed = half_cycle_unresolved
+                        .insert(number, unresolved)
+                        .is_some_and(|before| before != unresolved);
+                    CarrierPhase {
+                        // The phase carries the satellite clock and the
+                        // troposphere as the code does, and the ionosphere
+                        // with the opposite sign (Groves eq. 9.13).
+                        range_m: wavelength_m * cycles + SPEED_OF_LIGHT_M_S * clock_bias_s + iono
+                            - tropo,
+                        std_m: options.carrier_phase_std_m * scale,
+                        loss_of_lock: lli & LLI_LOST_LOCK != 0 || changed,
+                    }
+                });
             measurements.push(SatelliteMeasurement {
                 sat_id: number,
                 system: *system,
@@ -387,6 +423,7 @@ fn epochs_from(
                 pseudorange_rate_m_s: rate,
                 pseudorange_std_m: options.pseudorange_std_m * scale,
                 pseudorange_rate_std_m_s: rate_std,
+                carrier,
             });
         }
         epochs.push(GnssEpoch {

@@ -91,6 +91,13 @@ impl SignalLayout {
     }
 }
 
+/// Loss-of-lock indicator bit 0: lock lost since the previous epoch, a
+/// cycle slip possible (RINEX 3.05 §5.7).
+pub(crate) const LLI_LOST_LOCK: u8 = 1;
+/// Loss-of-lock indicator bit 1: half-cycle ambiguity (the phase may still
+/// jump by half a cycle when the receiver resolves it).
+pub(crate) const LLI_HALF_CYCLE: u8 = 2;
+
 /// One satellite's observations at one epoch.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SatelliteObservations {

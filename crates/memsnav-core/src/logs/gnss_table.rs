@@ -224,6 +224,7 @@ fn build(
                 pseudorange_rate_m_s: rate.map_or(f64::NAN, |r| r[i]),
                 pseudorange_std_m: rho_std.map_or(stds.pseudorange_std_m, |s| s[i]),
                 pseudorange_rate_std_m_s: rate_std.map_or(stds.pseudorange_rate_std_m_s, |s| s[i]),
+                carrier: None,
             },
         ));
     }

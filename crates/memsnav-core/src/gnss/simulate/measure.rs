@@ -138,6 +138,7 @@ impl MeasurementErrors {
                 + self.pseudorange_rate_std_m_s * z_rate,
             pseudorange_std_m: self.pseudorange_std_m,
             pseudorange_rate_std_m_s: self.pseudorange_rate_std_m_s,
+            carrier: None,
         }
     }
 }

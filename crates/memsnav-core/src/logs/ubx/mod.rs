@@ -44,6 +44,7 @@ use crate::gnss::{
     BeidouEphemeris, BroadcastNav, CnavEphemeris, InavEphemeris, Klobuchar, LnavEphemeris,
     ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
 };
+use crate::gnss::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
 use crate::logs::PosSolution;
 use crate::{Error, Result};
 
@@ -341,12 +342,6 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
 fn sfrbx_words<const N: usize>(payload: &[u8]) -> [u32; N] {
     std::array::from_fn(|k| bytes::Le(payload).u32(8 + 4 * k))
 }
-
-/// Loss-of-lock indicator bits (RINEX 3.05 §5.7, table A3): 1 lock lost
-/// since the previous epoch (a cycle slip is possible), 2 half-cycle
-/// ambiguity not resolved.
-const LLI_LOST_LOCK: u8 = 1;
-const LLI_HALF_CYCLE: u8 = 2;
 
 /// RAWX epochs as RINEX observations: per system the signals present in
 /// the log (codes in sorted order) with `C`, `L`, `D`, `S` each. A
