@@ -929,6 +929,24 @@ class GnssMeasurements:
         """Pseudorange-rate noise one-sigma, m/s, (T, n_max)."""
 
     @property
+    def signal(self) -> list[list[str]] | None:
+        """The signal each measurement was taken from ("L1 C/A", "E1 C",
+        "B3I"), T lists of n_max names, "" where padded; None for
+        measurements not built from observations."""
+
+    @property
+    def cn0_db_hz(self) -> npt.NDArray[np.float64] | None:
+        """C/N0 of each measurement's signal (its S observation), dB-Hz,
+        (T, n_max), NaN-padded and NaN where the file has none; None for
+        measurements not built from observations."""
+
+    @property
+    def elevation_rad(self) -> npt.NDArray[np.float64] | None:
+        """Each satellite's elevation at the reference position, rad,
+        (T, n_max), NaN-padded; None for measurements not built from
+        observations."""
+
+    @property
     def clock_offset(self) -> npt.NDArray[np.float64]:
         """True receiver clock offset, m, (T,)."""
 
@@ -1910,7 +1928,9 @@ class RinexObservations:
         signal's group delay and the Klobuchar delay scaled to its frequency.
         ``satellites``: RINEX names to keep. Satellite numbers: G n → n,
         E n → 100 + n, C n → 200 + n; each system's pseudoranges keep the
-        receiver's inter-system bias (the tight filter estimates it)."""
+        receiver's inter-system bias (the tight filter estimates it). Each
+        measurement's signal, C/N0 and elevation in ``signal``,
+        ``cn0_db_hz``, ``elevation_rad``."""
 
     def __len__(self) -> int: ...
 

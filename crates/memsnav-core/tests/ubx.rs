@@ -7,17 +7,19 @@
 //! its GPS CNAV ephemerides against its LNAV ones (independent uploads)
 //! and, for the satellites without LNAV, against its pseudoranges. The
 //! excerpt in tests/data gives the same ephemerides, and none once a bit
-//! of each CNAV message is flipped.
+//! of each CNAV message is flipped. The measurements built from it carry,
+//! beside each, its signal's C/N0 and the satellite's elevation.
 
 mod shared_data;
 
 use std::path::PathBuf;
 
 use memsnav_core::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
-use memsnav_core::geodesy::{geodetic_to_ecef, Geodetic};
+use memsnav_core::geodesy::{ecef_to_geodetic, geodetic_to_ecef, Geodetic};
 use memsnav_core::gnss::{
-    format_rinex_nav, format_rinex_obs, parse_broadcast_nav, parse_rinex_nav, parse_rinex_obs,
-    predicted_range, read_broadcast_nav, read_rinex_nav, BroadcastOrbit, GpsEphemeris,
+    broadcast_epochs, broadcast_epochs_with_signals, format_rinex_nav, format_rinex_obs,
+    parse_broadcast_nav, parse_rinex_nav, parse_rinex_obs, predicted_range, read_broadcast_nav,
+    read_rinex_nav, satellite_number, BroadcastOrbit, GnssSystem, GpsEphemeris, ObservableOptions,
     RinexProvenance, SatelliteState, EPHEMERIS_VALIDITY_S,
 };
 use memsnav_core::logs::{parse_ubx, read_ubx, UbxLog};
@@ -643,4 +645,69 @@ fn walk_beidou_d1_orbits_and_clocks_equal_the_rinex_nav() {
 fn with_b1i(mut s: SatelliteState, tgd1_s: f64) -> SatelliteState {
     s.clock_bias_s -= tgd1_s;
     s
+}
+
+/// Beside each measurement of the walk's three systems: the signal it was
+/// taken from, whose C/N0 is the log's S observation of that signal, and
+/// the satellite's elevation at the reference position, recomputed here
+/// from the local vertical (geodetic normal).
+#[test]
+fn walk_measurements_carry_their_signal_strength_and_elevation() {
+    let log = walk();
+    let nav = log.broadcast_nav();
+    let reference = log.observations.approx_position_ecef.unwrap();
+    let options = ObservableOptions {
+        systems: GnssSystem::ALL.to_vec(),
+        elevation_mask_rad: 5f64.to_radians(),
+        min_cn0_db_hz: 20.0,
+        ..ObservableOptions::new(reference)
+    };
+    let (epochs, signals) =
+        broadcast_epochs_with_signals(&log.observations, &nav, &options).unwrap();
+    assert_eq!(
+        epochs,
+        broadcast_epochs(&log.observations, &nav, &options).unwrap()
+    );
+    let g = ecef_to_geodetic(&reference);
+    let (lat, lon) = (g.latitude_rad, g.longitude_rad);
+    let up = Vector3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin());
+    let mut names = std::collections::BTreeSet::new();
+    let mut checked = 0;
+    for ((epoch, received), observed) in epochs.iter().zip(&signals).zip(&log.observations.epochs) {
+        assert_eq!(epoch.measurements.len(), received.len());
+        for (m, signal) in epoch.measurements.iter().zip(received) {
+            let letter = m.system.letter();
+            // RINEX 3 codes of the signals (RINEX 3.05 §5.1, table 4).
+            let code = match signal.name {
+                "L1 C/A" | "E1 C" => "S1C",
+                "E1 B" => "S1B",
+                "B1I" => "S2I",
+                "B2I" => "S7I",
+                "B3I" => "S6I",
+                other => panic!("unexpected signal {other}"),
+            };
+            let satellite = observed
+                .satellites
+                .iter()
+                .find(|s| s.system == letter && satellite_number(m.system, s.prn) == m.sat_id)
+                .unwrap();
+            let column = log.observations.type_index(letter, code).unwrap();
+            assert_eq!(Some(signal.cn0_db_hz), satellite.values[column]);
+            assert!(
+                (20.0..=60.0).contains(&signal.cn0_db_hz),
+                "{}",
+                signal.cn0_db_hz
+            );
+            let elevation = up.dot(&(m.position_ecef - reference).normalize()).asin();
+            assert!((signal.elevation_rad - elevation).abs() < 1e-9);
+            assert!(signal.elevation_rad >= 5f64.to_radians());
+            names.insert((letter, signal.name));
+            checked += 1;
+        }
+    }
+    assert!(checked > 9_000, "{checked}");
+    assert_eq!(
+        names.into_iter().collect::<Vec<_>>(),
+        [('C', "B3I"), ('E', "E1 C"), ('G', "L1 C/A")]
+    );
 }

@@ -249,9 +249,28 @@ pub struct PyGnssMeasurements {
     start_gps_time_s: f64,
     inter_system_bias_m: [f64; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()],
     n_max: usize,
+    /// Beside each measurement, what it was made from (measurements built
+    /// from observations only).
+    signals: Option<gnss::EpochSignals>,
 }
 
 impl PyGnssMeasurements {
+    /// A per-measurement value of `signals`, NaN-padded; None without them.
+    fn padded_signal<'py>(
+        &self,
+        py: Python<'py>,
+        f: impl Fn(&gnss::ReceivedSignal) -> f64,
+    ) -> Option<Bound<'py, PyArray2<f64>>> {
+        let signals = self.signals.as_ref()?;
+        let mut flat = vec![f64::NAN; self.epochs.len() * self.n_max];
+        for (k, epoch) in signals.iter().enumerate() {
+            for (j, signal) in epoch.iter().enumerate() {
+                flat[k * self.n_max + j] = f(signal);
+            }
+        }
+        Some(array2(py, flat, self.epochs.len(), self.n_max))
+    }
+
     fn padded<'py>(
         &self,
         py: Python<'py>,
@@ -438,6 +457,39 @@ impl PyGnssMeasurements {
         self.padded(py, |m| m.pseudorange_rate_std_m_s)
     }
 
+    /// The signal each measurement was taken from ("L1 C/A", "E1 C",
+    /// "B3I"), ``T`` lists of ``n_max`` names, "" where padded; None for
+    /// measurements not built from observations.
+    #[getter]
+    fn signal(&self) -> Option<Vec<Vec<String>>> {
+        self.signals.as_ref().map(|signals| {
+            signals
+                .iter()
+                .map(|epoch| {
+                    let mut names: Vec<String> = epoch.iter().map(|s| s.name.to_owned()).collect();
+                    names.resize(self.n_max, String::new());
+                    names
+                })
+                .collect()
+        })
+    }
+
+    /// C/N0 of each measurement's signal (its S observation), dB-Hz,
+    /// ``(T, n_max)``, NaN-padded and NaN where the file has none; None for
+    /// measurements not built from observations.
+    #[getter]
+    fn cn0_db_hz<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        self.padded_signal(py, |s| s.cn0_db_hz)
+    }
+
+    /// Each satellite's elevation at the reference position, rad,
+    /// ``(T, n_max)``, NaN-padded; None for measurements not built from
+    /// observations.
+    #[getter]
+    fn elevation_rad<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        self.padded_signal(py, |s| s.elevation_rad)
+    }
+
     /// True receiver clock offset, m, ``(T,)``.
     #[getter]
     fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -605,6 +657,7 @@ fn simulate_gnss(
         start_gps_time_s: sim.start_gps_time_s,
         inter_system_bias_m: sim.inter_system_bias_m,
         n_max,
+        signals: None,
     })
 }
 
@@ -968,6 +1021,7 @@ impl PyGnssMeasurements {
             inter_system_bias_m: [f64::NAN; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()],
             n_max,
             epochs,
+            signals: None,
         }
     }
 }
@@ -1094,7 +1148,8 @@ impl PyRinexObservations {
     /// ``satellites``: RINEX names (``"G10"``, ``"E07"``) to keep. Satellite
     /// numbers in the result: G n → n, E n → 100 + n, C n → 200 + n; each
     /// system's pseudoranges keep the receiver's inter-system bias, which
-    /// the tight filter estimates.
+    /// the tight filter estimates. Each measurement's signal, C/N0 and
+    /// elevation in ``signal``, ``cn0_db_hz``, ``elevation_rad``.
     #[pyo3(signature = (ephemerides, reference_position_ecef=None, *, systems=None,
         elevation_mask_deg=None, min_cn0_db_hz=None, ionosphere=true, klobuchar=None,
         troposphere=true, pseudorange_std=None, pseudorange_rate_std=None, satellites=None))]
@@ -1139,10 +1194,15 @@ impl PyRinexObservations {
             systems,
             satellites,
         )?;
-        let epochs = py
-            .detach(|| gnss::broadcast_epochs(&self.inner, &ephemerides.inner, &options))
+        let (epochs, signals) = py
+            .detach(|| {
+                gnss::broadcast_epochs_with_signals(&self.inner, &ephemerides.inner, &options)
+            })
             .py()?;
-        Ok(PyGnssMeasurements::from_epochs(epochs, None))
+        Ok(PyGnssMeasurements {
+            signals: Some(signals),
+            ..PyGnssMeasurements::from_epochs(epochs, None)
+        })
     }
 
     fn __len__(&self) -> usize {

@@ -48,9 +48,9 @@ pub use measurement_rows::{
     check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
-    broadcast_epochs, gps_l1_epochs, ObservableOptions, DEFAULT_CARRIER_PHASE_STD_M,
-    DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M,
-    GPS_L1_WAVELENGTH_M,
+    broadcast_epochs, broadcast_epochs_with_signals, gps_l1_epochs, EpochSignals,
+    ObservableOptions, ReceivedSignal, DEFAULT_CARRIER_PHASE_STD_M, DEFAULT_ELEVATION_MASK_DEG,
+    DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
 };
 pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{

@@ -32,18 +32,43 @@ const L1_FREQUENCY_HZ: f64 = 1_575.42e6;
 pub const GPS_L1_WAVELENGTH_M: f64 = SPEED_OF_LIGHT_M_S / L1_FREQUENCY_HZ;
 
 /// The signals each system's measurements are taken from, in order of
-/// preference: RINEX 3 band and attribute, and the carrier frequency.
+/// preference: RINEX 3 band and attribute, the carrier frequency and the
+/// signal's name.
 /// GPS L1 C/A; Galileo E1 (pilot C, else data B); BeiDou B1I, B2I, B3I
 /// (the D1 ephemeris's group delays are for these three; B1C and B2a
 /// need the CNAV1/2 ones, not decoded). Frequencies: IS-GPS-200 §3.3.1.1,
 /// Galileo OS SIS ICD §2.3, BeiDou B1I ICD §4.2 and B3I ICD §4.2.
-fn signals(system: GnssSystem) -> &'static [(&'static str, f64)] {
+fn signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static str)] {
     match system {
-        GnssSystem::Gps => &[("1C", L1_FREQUENCY_HZ)],
-        GnssSystem::Galileo => &[("1C", L1_FREQUENCY_HZ), ("1B", L1_FREQUENCY_HZ)],
-        GnssSystem::Beidou => &[("2I", 1_561.098e6), ("7I", 1_207.14e6), ("6I", 1_268.52e6)],
+        GnssSystem::Gps => &[("1C", L1_FREQUENCY_HZ, "L1 C/A")],
+        GnssSystem::Galileo => &[
+            ("1C", L1_FREQUENCY_HZ, "E1 C"),
+            ("1B", L1_FREQUENCY_HZ, "E1 B"),
+        ],
+        GnssSystem::Beidou => &[
+            ("2I", 1_561.098e6, "B1I"),
+            ("7I", 1_207.14e6, "B2I"),
+            ("6I", 1_268.52e6, "B3I"),
+        ],
     }
 }
+
+/// What one measurement of [`broadcast_epochs_with_signals`] was made
+/// from, kept beside it (the per-satellite tables of a report): the
+/// signal, its strength and where the satellite stood.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReceivedSignal {
+    /// The signal's name ("L1 C/A", "E1 C", "B3I").
+    pub name: &'static str,
+    /// Its C/N0 (the S observation), dB-Hz; NaN when the file has none
+    /// (the noise model then takes 45 dB-Hz).
+    pub cn0_db_hz: f64,
+    /// The satellite's elevation at the reference position, rad.
+    pub elevation_rad: f64,
+}
+
+/// Each epoch's [`ReceivedSignal`]s, in the order of its measurements.
+pub type EpochSignals = Vec<Vec<ReceivedSignal>>;
 
 /// How raw observations become measurements.
 #[derive(Debug, Clone, PartialEq)]
@@ -238,7 +263,7 @@ pub fn gps_l1_epochs(
         galileo: &[],
         beidou: &[],
     };
-    epochs_from(observations, &ephemerides, &options)
+    epochs_from(observations, &ephemerides, &options).map(|(epochs, _)| epochs)
 }
 
 /// [`gps_l1_epochs`] for the systems of `options.systems` with the
@@ -253,6 +278,16 @@ pub fn broadcast_epochs(
     nav: &BroadcastNav,
     options: &ObservableOptions,
 ) -> Result<Vec<GnssEpoch>> {
+    broadcast_epochs_with_signals(observations, nav, options).map(|(epochs, _)| epochs)
+}
+
+/// [`broadcast_epochs`] with, beside each measurement, the signal it was
+/// taken from, its C/N0 and the satellite's elevation.
+pub fn broadcast_epochs_with_signals(
+    observations: &ObservationFile,
+    nav: &BroadcastNav,
+    options: &ObservableOptions,
+) -> Result<(Vec<GnssEpoch>, EpochSignals)> {
     let gps = Constellation::from_ephemerides(nav.gps.clone());
     let ephemerides = Ephemerides {
         gps: &gps,
@@ -271,6 +306,7 @@ struct SignalTypes {
     strength: Option<usize>,
     band: char,
     frequency_hz: f64,
+    name: &'static str,
 }
 
 /// The signals of `system` the file has pseudoranges for, in the order of
@@ -279,7 +315,7 @@ fn signal_types(observations: &ObservationFile, system: GnssSystem) -> Vec<Signa
     let letter = system.letter();
     signals(system)
         .iter()
-        .filter_map(|&(signal, frequency_hz)| {
+        .filter_map(|&(signal, frequency_hz, name)| {
             let idx = |kind: char| observations.type_index(letter, &format!("{kind}{signal}"));
             Some(SignalTypes {
                 code: idx('C')?,
@@ -288,6 +324,7 @@ fn signal_types(observations: &ObservationFile, system: GnssSystem) -> Vec<Signa
                 strength: idx('S'),
                 band: signal.chars().next().unwrap_or('1'),
                 frequency_hz,
+                name,
             })
         })
         .collect()
@@ -297,7 +334,7 @@ fn epochs_from(
     observations: &ObservationFile,
     ephemerides: &Ephemerides<'_>,
     options: &ObservableOptions,
-) -> Result<Vec<GnssEpoch>> {
+) -> Result<(Vec<GnssEpoch>, EpochSignals)> {
     options.validate()?;
     let types: Vec<(GnssSystem, Vec<SignalTypes>)> = options
         .systems
@@ -309,7 +346,8 @@ fn epochs_from(
             .systems
             .iter()
             .map(|s| {
-                let codes: Vec<String> = signals(*s).iter().map(|(c, _)| format!("C{c}")).collect();
+                let codes: Vec<String> =
+                    signals(*s).iter().map(|(c, ..)| format!("C{c}")).collect();
                 format!("{} {}", s.letter(), codes.join("/"))
             })
             .collect();
@@ -325,10 +363,12 @@ fn epochs_from(
     let geo = ecef_to_geodetic(&r);
     let c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
     let mut epochs = Vec::with_capacity(observations.epochs.len());
+    let mut epoch_signals = Vec::with_capacity(observations.epochs.len());
     // Each satellite's half-cycle state (LLI bit 1) at its last epoch.
     let mut half_cycle_unresolved: HashMap<u16, bool> = HashMap::new();
     for e in &observations.epochs {
         let mut measurements = Vec::new();
+        let mut received = Vec::new();
         for s in &e.satellites {
             let Some((system, signal_types)) = GnssSystem::from_letter(s.system)
                 .and_then(|system| types.iter().find(|(t, _)| *t == system))
@@ -350,7 +390,8 @@ fn epochs_from(
             else {
                 continue;
             };
-            let cn0 = signal.strength.and_then(|j| s.values[j]).unwrap_or(45.0);
+            let measured_cn0 = signal.strength.and_then(|j| s.values[j]);
+            let cn0 = measured_cn0.unwrap_or(45.0);
             if cn0 < options.min_cn0_db_hz {
                 continue;
             }
@@ -425,11 +466,17 @@ fn epochs_from(
                 pseudorange_rate_std_m_s: rate_std,
                 carrier,
             });
+            received.push(ReceivedSignal {
+                name: signal.name,
+                cn0_db_hz: measured_cn0.unwrap_or(f64::NAN),
+                elevation_rad: elevation,
+            });
         }
         epochs.push(GnssEpoch {
             time_s: e.gps_time_s,
             measurements,
         });
+        epoch_signals.push(received);
     }
-    Ok(epochs)
+    Ok((epochs, epoch_signals))
 }
