@@ -86,14 +86,34 @@ def by_length_label(length: str, scores: dict[str, Any]) -> str:
     return f"the {moving} outages of {length} s in motion (of {len(windows)})"
 
 
+def satellites_line(systems: dict[str, dict[str, Any]]) -> str:
+    """The satellites each system had in use and the share of its
+    measurements excluded (rejected and cycle slips when there are any),
+    from the summary's ``satellite_systems``."""
+    used = ", ".join(f"{name} {t['satellites']}" for name, t in systems.items())
+    total = sum(t["satellites"] for t in systems.values())
+    text = f"satellites used: {used} ({total}); measurements excluded: " + ", ".join(
+        f"{name} {percent(t['excluded_share'], 2)}" for name, t in systems.items()
+    )
+    if any(t["rejected"] for t in systems.values()):
+        text += "; rejected: " + ", ".join(
+            f"{name} {percent(t['rejected_share'], 2)}" for name, t in systems.items()
+        )
+    slips = sum(t["slips"] for t in systems.values())
+    return text + (f"; {slips} cycle slips" if slips else "")
+
+
 def answer_lines(summary: dict[str, Any]) -> list[str]:
-    """What the run found, first: the schedule, the outage errors per
-    length, the outages at a standstill, the aided errors with their
-    context. Without a truth only the schedule and the run."""
+    """What the run found, first: the schedule, the satellites in use
+    (tight coupling), the outage errors per length, the outages at a
+    standstill, the aided errors with their context. Without a truth only
+    the schedule, the satellites and the run."""
     lines = [
         f"{summary['name']}: {summary['mode']} coupling, {summary['duration_s']:.0f} s; "
         + schedule(summary["outages_s"])
     ]
+    if summary.get("satellite_systems"):
+        lines.append("  " + satellites_line(summary["satellite_systems"]))
     if summary.get("integrity", {}).get("diverged"):
         lines.append("  INTEGRITY ALERT: the solution is not trustworthy (report: Integrity)")
     raw = summary.get("errors_vs_truth")

@@ -24,7 +24,7 @@ import numpy as np
 
 import memsnav._memsnav as _mn
 from memsnav._files import check_replaceable, fresh_output_folder
-from memsnav.realdata import fix_readers, readers
+from memsnav.realdata import fix_readers, readers, satellites
 from memsnav.realdata.config import RunConfig, load_config
 from memsnav.realdata.result import LogNavigationResult
 
@@ -471,6 +471,10 @@ def navigate(
     if solution.inter_system_bias is not None:
         galileo, beidou = solution.inter_system_bias[-1]
         summary["inter_system_bias_m"] = {"galileo": float(galileo), "beidou": float(beidou)}
+    if mode == "tight":
+        rows = satellites.satellite_rows(solution.measurements, gnss)
+        summary["satellites"] = rows
+        summary["satellite_systems"] = satellites.system_totals(rows)
     if run.range_biases and mode == "tight":
         summary["range_biases_m"] = {
             _mn.satellite_name(int(k)): v for k, v in run.range_biases.items()
