@@ -155,6 +155,9 @@ CONFIGURATIONS = {
     },
     "GPS + Galileo": {"systems": ["G", "E"]},
     "GPS + Galileo + BeiDou": {"systems": ["G", "E", "C"]},
+    # Time-differenced carrier phase ([gnss] carrier_phase, an engine key).
+    "GPS + Galileo + carrier phase": {"systems": ["G", "E"], "carrier_phase": True},
+    "GPS + Galileo + BeiDou + carrier phase": {"systems": ["G", "E", "C"], "carrier_phase": True},
 }
 
 
@@ -168,6 +171,9 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
     for name, overrides in CONFIGURATIONS.items():
         config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
         config.values["report"]["html"] = False
+        overrides = dict(overrides)
+        if overrides.pop("carrier_phase", False):
+            config.engine.setdefault("gnss", {})["carrier_phase"] = True
         config.values["gnss"].update(overrides)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the log's last line is cut short
@@ -186,7 +192,15 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
         assert systems <= set(overrides["systems"]), (name, s["range_biases_m"])
         assert all(re.fullmatch(r"[GEC]\d\d", key) for key in s["range_biases_m"])
         assert ("inter_system_bias_m" in s) == (overrides["systems"] != ["G"])
-        if len(overrides["systems"]) == 3:
+        carrier = s["measurements"].get("carrier_phase", {})
+        if "carrier phase" in name:
+            # Most changes are used; the rest are slips (flags, Doppler)
+            # or excluded by the residual test, never a whole epoch gated.
+            assert carrier["accepted"] > 0.9 * sum(carrier.values()), carrier
+            assert set(carrier) <= {"accepted", "slip", "excluded"}, carrier
+        else:
+            assert not carrier, (name, carrier)
+        if name == "GPS + Galileo + BeiDou":
             page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
             quoted = re.search(r"Galileo (−?[\d.]+) m, BeiDou (−?[\d.]+) m on the walk", page)
             assert quoted, "docs/real-data.md no longer quotes the walk's inter-system biases"

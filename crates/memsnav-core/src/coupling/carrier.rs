@@ -57,7 +57,7 @@ use crate::Result;
 
 /// A carrier change is a slip when it departs from the Doppler-predicted
 /// change by more than this many of its stds (after the common part).
-pub const DOPPLER_SLIP_SIGMA: f64 = 5.0;
+pub const DOPPLER_SLIP_SIGMA: f64 = 3.0;
 /// Longest interval between epochs over which a carrier change is used, s:
 /// beyond it the INS's displacement error is no longer its velocity error
 /// times the interval.
@@ -65,6 +65,12 @@ pub const MAX_CARRIER_INTERVAL_S: f64 = 2.0;
 /// Fewest carrier changes at an epoch for the Doppler test to remove their
 /// median (the clock's common part); with fewer, that part is in the std.
 const MIN_FOR_COMMON_PART: usize = 3;
+/// Fewest carrier changes an epoch's batch is applied with: one more than
+/// its unknowns (velocity and the clock's change), so that the residual
+/// test can find a slip the Doppler test missed. With four, a slip goes
+/// into the velocity unseen: on the walk's four GPS satellites the
+/// horizontal precision went from 0.50 m to 0.85 m.
+pub const MIN_CARRIER_CHANGES: usize = 5;
 
 /// One satellite's carrier at the previous epoch.
 #[derive(Debug, Clone, Copy)]
@@ -160,17 +166,25 @@ pub(crate) fn update<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) 
     } else {
         (0.0, clock_variance)
     };
+    changes.retain(|c| {
+        let misfit = c.doppler_misfit_m - common;
+        let bound = DOPPLER_SLIP_SIGMA * (c.doppler_misfit_std_m.powi(2) + common_variance).sqrt();
+        // NaN (no rates) is no slip: the residual test is left to find it.
+        let slip = misfit.abs() > bound;
+        if slip {
+            s.records
+                .push(slip_record(t, epoch.measurements[c.index].sat_id));
+        }
+        !slip
+    });
+    if changes.len() < MIN_CARRIER_CHANGES {
+        s.carrier.changes = changes;
+        return Ok(());
+    }
     let antenna = s.antenna();
-    let mut staged = 0;
     for c in &changes {
         let m: &SatelliteMeasurement = &epoch.measurements[c.index];
         let carrier = m.carrier.expect("a change has a carrier");
-        let misfit = c.doppler_misfit_m - common;
-        let bound = DOPPLER_SLIP_SIGMA * (c.doppler_misfit_std_m.powi(2) + common_variance).sqrt();
-        if misfit.abs() > bound {
-            s.records.push(slip_record(t, m.sat_id));
-            continue;
-        }
         let p = gnss::predicted_range(
             &m.position_ecef,
             &m.velocity_ecef,
@@ -184,12 +198,8 @@ pub(crate) fn update<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) 
         let y = predicted_change - (carrier.range_m - c.then.carrier_range_m);
         let std = carrier.std_m.hypot(c.then.carrier_std_m);
         s.stage(t, kind, m.sat_id, h, y, std);
-        staged += 1;
     }
     s.carrier.changes = changes;
-    if staged == 0 {
-        return Ok(());
-    }
     s.kf.add_variance(CLOCK_DRIFT, clock_variance / (dt * dt));
     let rules = BatchRules {
         exclusion: true,
