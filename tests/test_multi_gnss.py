@@ -207,3 +207,33 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
             isb = s["inter_system_bias_m"]
             assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006
+
+
+def test_the_quoted_phase_wind_up_bound_is_the_walks(tmp_path):
+    """docs/real-data.md bounds the walk's differential phase wind-up by the
+    tilt of the body's vertical axis per 0.25 s epoch (λ·tilt/360°):
+    recomputed from the attitude of the all-systems run."""
+    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(
+        r"tilts by ([\d.]+)° per 0.25 s \(median; ([\d.]+)° at the 95th percentile\), "
+        r"which bounds the differential wind-up by λ·tilt/360° = ([\d.]+) mm",
+        page,
+    )
+    assert quoted, "docs/real-data.md no longer quotes the wind-up bound"
+    median_deg, p95_deg, bound_mm = map(float, quoted.groups())
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
+    config.values["report"]["html"] = False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's last line is cut short
+        solution = mn.navigate(config, output=tmp_path / "walk").run.solution
+    time, c_b_e = np.asarray(solution.time), np.asarray(solution.attitude)
+    at = np.searchsorted(time, np.arange(time[0], time[-1], 0.25))
+    z_axis = c_b_e[at][:, :, 2]
+    tilt_deg = np.degrees(np.arccos(np.clip(np.sum(z_axis[1:] * z_axis[:-1], axis=1), -1, 1)))
+    wavelength_m = 299_792_458.0 / 1575.42e6
+    assert np.median(tilt_deg) == pytest.approx(median_deg, abs=0.05)
+    assert np.percentile(tilt_deg, 95) == pytest.approx(p95_deg, abs=0.05)
+    assert 1000 * wavelength_m * np.percentile(tilt_deg, 95) / 360 == pytest.approx(
+        bound_mm, abs=0.05
+    )
