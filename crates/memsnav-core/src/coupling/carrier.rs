@@ -62,6 +62,7 @@
 use nalgebra::Vector3;
 
 use super::engine::batch::{median, BatchRules};
+use super::engine::carrier_history::{CarrierThen, Change};
 use super::engine::FilterState;
 use super::records::{MeasurementKind, MeasurementRecord, MeasurementStatus};
 use crate::gnss::{self, GnssEpoch};
@@ -87,48 +88,6 @@ const MIN_FOR_COMMON_PART: usize = 3;
 /// into the velocity unseen: on the walk's four GPS satellites the
 /// horizontal precision went from 0.50 m to 0.85 m.
 pub const MIN_CARRIER_CHANGES: usize = 5;
-
-/// One satellite's carrier at the previous epoch.
-#[derive(Debug, Clone, Copy)]
-struct CarrierThen {
-    sat_id: u16,
-    carrier_range_m: f64,
-    carrier_std_m: f64,
-    /// The range predicted from the corrected antenna position then, m.
-    predicted_range_m: f64,
-    /// The pseudorange rate then, m/s (NaN: none), and its std.
-    rate_m_s: f64,
-    rate_std_m_s: f64,
-}
-
-/// A carrier change at this epoch that passed the receiver's flags.
-#[derive(Debug, Clone, Copy)]
-struct Change {
-    /// Index of the measurement in the epoch.
-    index: usize,
-    /// Carrier change less the Doppler-predicted change, m (NaN: no rates).
-    doppler_misfit_m: f64,
-    /// Its std without the clock's common part, m.
-    doppler_misfit_std_m: f64,
-    /// Predicted minus measured change (the clock's change still in), m.
-    residual_m: f64,
-    /// The change's std (floored), m.
-    std_m: f64,
-    /// Line of sight from the antenna to the satellite, ECEF.
-    line_of_sight_ecef: Vector3<f64>,
-}
-
-/// The carriers of the filter's previous GNSS epoch, and buffers reused
-/// from epoch to epoch (no allocation once grown).
-#[derive(Debug, Clone, Default)]
-pub(crate) struct CarrierHistory {
-    /// Time of the previous epoch, s (None before the first).
-    time_s: Option<f64>,
-    then: Vec<CarrierThen>,
-    next: Vec<CarrierThen>,
-    changes: Vec<Change>,
-    scratch: Vec<f64>,
-}
 
 /// Applies the epoch's carrier changes since the previous epoch as one
 /// batch (module docs). Call before the epoch's pseudoranges.

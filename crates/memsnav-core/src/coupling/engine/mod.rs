@@ -5,13 +5,13 @@
 //! in [`batch`]; the lever arm in [`super::antenna`].
 
 pub(crate) mod batch;
+pub(crate) mod carrier_history;
 mod range_bias;
 
 use std::ops::AddAssign;
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
-use super::carrier::CarrierHistory;
 use super::installation::InstallationEstimate;
 use super::motion_history::MotionHistory;
 use super::records::{BatchRecord, MeasurementKind, MeasurementRecord, ResetRecord};
@@ -27,6 +27,7 @@ use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
 use crate::ins::{self, ImuData, ImuIncrement, ImuSample, NavState};
 use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::{validate, Error, Result};
+use carrier_history::CarrierHistory;
 use range_bias::RangeBiasSlots;
 
 /// The navigation state and sensor/clock estimates the filter starts from.
