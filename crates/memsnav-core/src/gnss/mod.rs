@@ -66,7 +66,7 @@ pub use rinex_write::{
 pub use satellite_state::SatelliteState;
 pub(crate) use simulate::simulate_track;
 pub use simulate::{
-    apply_outages, keep_highest, simulate, simulate_with_truth, AtmosphericResidual,
+    apply_outages, keep_highest, simulate, simulate_with_truth, AtmosphericResidual, CycleSlip,
     GnssSimulation, Outage, ReceiverTrack, SimulationConfig,
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
