@@ -232,7 +232,12 @@ mod tests {
         }
         assert_eq!(carrier_of(f64::NAN, f64::NAN, 1.0), Ok(None));
         assert!(carrier_of(1.0, 0.003, 1.0).unwrap().unwrap().loss_of_lock);
-        assert!(!carrier_of(1.0, 0.003, f64::NAN).unwrap().unwrap().loss_of_lock);
+        assert!(
+            !carrier_of(1.0, 0.003, f64::NAN)
+                .unwrap()
+                .unwrap()
+                .loss_of_lock
+        );
         assert!(carrier_of(1.0, 0.003, 2.0)
             .unwrap_err()
             .starts_with("loss_of_lock = 2"));

@@ -316,7 +316,8 @@ mod tests {
     fn carrier_columns_are_read_and_checked() {
         let header = format!("{HEADER},carrier_phase_m,carrier_phase_std_m,loss_of_lock");
         let row = "0,1e9,3,2e7,1e7,1e7,1000,0,0,2.2e7,100";
-        let text = format!("{header}\n{row},2.1e7,0.003,1\n0,1e9,7,1e7,2e7,1e7,0,1000,0,2.1e7,,,,\n");
+        let text =
+            format!("{header}\n{row},2.1e7,0.003,1\n0,1e9,7,1e7,2e7,1e7,0,1000,0,2.1e7,,,,\n");
         let t = parse_gnss_table(&text, "gnss.csv", TableStds::default()).unwrap();
         let m = &t.epochs[0].measurements;
         let c = m[0].carrier.unwrap();
@@ -324,7 +325,10 @@ mod tests {
         assert!(m[1].carrier.is_none());
         for (fields, message) in [
             ("2.1e7,,0", "g.csv:2: carrier_phase_std = NaN"),
-            ("inf,0.003,0", "g.csv:2: column carrier_phase_m: \"inf\" is not a finite"),
+            (
+                "inf,0.003,0",
+                "g.csv:2: column carrier_phase_m: \"inf\" is not a finite",
+            ),
             ("2.1e7,0.003,3", "g.csv:2: loss_of_lock = 3"),
         ] {
             let text = format!("{header}\n{row},{fields}\n");
