@@ -1502,6 +1502,10 @@ class TightlyCoupledFilter:
       ``initial_clock_drift_std`` 10 m/s; scale factors (23 states): the
       spec's scale_factor_std (floored at 1e-6).
     - ``use_pseudorange_rate``: use rates when the epoch carries them.
+    - ``use_carrier_phase``: use each satellite's carrier-phase change
+      between consecutive epochs (time-differenced carrier phase, as a
+      velocity measurement; cycle slips found from the receiver's flags,
+      the Doppler and the residual test) when the epochs carry it.
     - ``clock_h0``, ``clock_h_minus2``: the receiver oscillator's Allan
       coefficients (None: the TCXO above).
     - ``manoeuvre_correlation_time``: tau of the input-shaped noise, s (None:
@@ -1529,6 +1533,7 @@ class TightlyCoupledFilter:
         initial_clock_offset_std: float | None = None,
         initial_clock_drift_std: float | None = None,
         use_pseudorange_rate: bool = True,
+        use_carrier_phase: bool = False,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
         manoeuvre_correlation_time: float | None = None,
@@ -1724,7 +1729,7 @@ class LooselyCoupledFilter:
     (a fix is applied whole or not at all); after 3 failed fixes in a row the
     position (velocity) is reset to the fix. The clock states are not
     observed (their process noise is off). Same states, tuning, defaults and
-    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate`` and the
+    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate``, ``use_carrier_phase`` and the
     clock settings have no effect).
     """
 
@@ -1747,6 +1752,7 @@ class LooselyCoupledFilter:
         initial_clock_offset_std: float | None = None,
         initial_clock_drift_std: float | None = None,
         use_pseudorange_rate: bool = True,
+        use_carrier_phase: bool = False,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
         manoeuvre_correlation_time: float | None = None,

@@ -11,6 +11,7 @@ use std::ops::AddAssign;
 
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
+use super::carrier::CarrierHistory;
 use super::installation::InstallationEstimate;
 use super::motion_history::MotionHistory;
 use super::records::{BatchRecord, MeasurementKind, MeasurementRecord, ResetRecord};
@@ -132,6 +133,8 @@ pub struct FilterState<const N: usize> {
     pub(crate) resets_in_a_row: [usize; MeasurementKind::ALL.len()],
     /// The batch being assembled (see [`batch`]).
     pub(crate) staged: batch::Batch,
+    /// The previous GNSS epoch's carrier phases (tight coupling).
+    pub(crate) carrier: CarrierHistory,
     /// Every scalar measurement seen, in time order.
     pub records: Vec<MeasurementRecord>,
     /// Every batch test, in time order.
@@ -232,6 +235,7 @@ impl<const N: usize> FilterState<N> {
             last_accepted_s: [f64::NAN; MeasurementKind::ALL.len()],
             resets_in_a_row: [0; MeasurementKind::ALL.len()],
             staged: batch::Batch::default(),
+            carrier: CarrierHistory::default(),
             records: Vec::new(),
             batches: Vec::new(),
             resets: Vec::new(),
