@@ -109,7 +109,7 @@ fn silent_cycle_slips_are_found_and_carrier_phase_helps() {
     let code_only = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
     let with_carrier = FilterTuning {
         use_carrier_phase: true,
-        ..code_only.clone()
+        ..code_only
     };
     let config = SimulationConfig {
         n_satellites: SATELLITES,

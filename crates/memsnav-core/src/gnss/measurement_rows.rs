@@ -94,10 +94,14 @@ pub fn carrier_of(
     std_m: f64,
     loss_of_lock: f64,
 ) -> Result<Option<CarrierPhase>, String> {
-    let loss_of_lock = match loss_of_lock {
-        x if x == 1.0 => true,
-        x if x == 0.0 || x.is_nan() => false,
-        x => return Err(format!("loss_of_lock = {x} (must be 1, 0 or empty)")),
+    let loss_of_lock = if loss_of_lock == 1.0 {
+        true
+    } else if loss_of_lock == 0.0 || loss_of_lock.is_nan() {
+        false
+    } else {
+        return Err(format!(
+            "loss_of_lock = {loss_of_lock} (must be 1, 0 or empty)"
+        ));
     };
     Ok((!range_m.is_nan()).then_some(CarrierPhase {
         range_m,
