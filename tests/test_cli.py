@@ -88,6 +88,8 @@ def test_derived_seeds_do_not_overlap_between_user_seeds():
         (["simulate", "--imu", "cheap"], "invalid choice: 'cheap'"),
         (["simulate", "--systems", "G,R"], "expected letters among G, E, C"),
         (["simulate", "--inter-system-bias", "3"], "expected GALILEO,BEIDOU"),
+        (["simulate", "--cycle-slip-probability", "2"], "must be within [0, 1], got 2"),
+        (["simulate", "--carrier-phase-std", "-1"], "must be zero or more and finite"),
     ],
 )
 def test_bad_options_fail_in_one_line(args, message):
@@ -105,3 +107,37 @@ def test_unwritable_output_directory(tmp_path):
     assert done.stderr.startswith("memsnav: error: cannot write into")
     assert "Traceback" not in done.stderr
     assert len(done.stderr.strip().splitlines()) == 1
+
+
+def test_simulate_with_carrier_phase_and_slips(tmp_path):
+    out = tmp_path / "sim"
+    done = run(
+        "simulate", "--out", str(out), "--duration", "60", "--seed", "2",
+        "--carrier-phase-std", "0.003", "--cycle-slip-probability", "0.05",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    meta = json.loads((out / "simulation.json").read_text())
+    assert meta["carrier_phase_std_m"] == 0.003 and meta["cycle_slip_probability"] == 0.05
+    slips = meta["cycle_slips"]
+    assert 5 <= len(slips) <= 40 and all(s["cycles"] != 0 for s in slips)
+    back = mn.GnssMeasurements.from_table(out / "gnss.csv")
+    tracked = back.sat_id >= 0
+    assert np.isfinite(back.carrier_phase[tracked]).all()
+    assert (back.carrier_phase_std[tracked] == 0.003).all()
+    assert back.loss_of_lock[0][tracked[0]].all() and not back.loss_of_lock[1:].any()
+    # A listed slip shows in carrier minus code at its epoch (3 m code
+    # noise hides a cycle or two; the big ones stand out).
+    big = [s for s in slips if abs(s["cycles"]) > 200]
+    assert big
+    for s in big:
+        k = int(np.flatnonzero(back.time == s["time_s"])[0])
+        (j,) = np.flatnonzero(back.sat_id[k] == s["sat_id"])
+        (i,) = np.flatnonzero(back.sat_id[k - 1] == s["sat_id"])
+        before = back.carrier_phase[k - 1, i] - back.pseudorange[k - 1, i]
+        after = back.carrier_phase[k, j] - back.pseudorange[k, j]
+        # 5 sigma of two 3 m code noises: 21 m, 110 cycles.
+        assert abs((after - before) / (299792458.0 / 1575.42e6) - s["cycles"]) < 110
+    plain = run("simulate", "--out", str(tmp_path / "plain"), "--duration", "5")
+    assert plain.returncode == 0, plain.stderr
+    header = (tmp_path / "plain" / "gnss.csv").read_text().splitlines()[0]
+    assert "carrier_phase_m" not in header

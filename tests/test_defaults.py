@@ -109,7 +109,8 @@ def test_the_observables_take_the_listed_defaults(tmp_path):
     implicit = obs.gps_l1(sky)
     explicit = obs.gps_l1(sky, **DEFAULTS["RinexObservations.gps_l1"])
     assert len(implicit) == len(explicit) > 0
-    for field in ("pseudorange", "pseudorange_std", "pseudorange_rate_std", "sat_id"):
+    fields = ("pseudorange", "pseudorange_std", "pseudorange_rate_std", "sat_id", "carrier_phase")
+    for field in fields:
         np.testing.assert_array_equal(getattr(implicit, field), getattr(explicit, field))
     loose = obs.gps_l1(sky, pseudorange_std=6.0)
     np.testing.assert_allclose(loose.pseudorange_std, 2.0 * implicit.pseudorange_std)

@@ -243,3 +243,149 @@ def test_bad_inputs(tmp_path):
     meas = mn.simulate_gnss(t, p, v, sky)
     with pytest.raises(ValueError, match=r"^prior:"):
         mn.solve_fix(meas, prior=[1.0, 2.0])
+
+
+L1_WAVELENGTH = C / 1575.42e6  # IS-GPS-200 §3.3.1.1: f_L1 = 1575.42 MHz.
+
+
+def test_simulated_carrier_phase_and_its_slips():
+    """Carrier minus noise-free code is a whole number of L1 cycles that
+    changes only at the listed slips, by the listed cycles; the pseudoranges
+    are the numbers of a simulation without carrier phase."""
+    t, p, v = track(120.0)
+    sky = mn.Constellation.walker()
+    quiet = {"pseudorange_std": 0.0, "pseudorange_rate_std": 0.0, "seed": 4}
+    plain = mn.simulate_gnss(t, p, v, sky, **quiet)
+    meas = mn.simulate_gnss(
+        t, p, v, sky, carrier_phase_std=0.001, cycle_slip_probability=0.05, **quiet
+    )
+    np.testing.assert_array_equal(meas.pseudorange, plain.pseudorange)
+    np.testing.assert_array_equal(meas.pseudorange_rate, plain.pseudorange_rate)
+    tracked = meas.sat_id >= 0
+    assert np.isfinite(meas.carrier_phase[tracked]).all()
+    assert np.isnan(meas.carrier_phase[~tracked]).all() and np.isnan(plain.carrier_phase).all()
+    assert (meas.carrier_phase_std[tracked] == 0.001).all()
+    assert meas.loss_of_lock[0][tracked[0]].all() and not meas.loss_of_lock[1:].any()
+    assert meas.loss_of_lock.dtype == bool
+    cycles = (meas.carrier_phase - meas.pseudorange) / L1_WAVELENGTH
+    assert np.abs(cycles[tracked] - np.round(cycles[tracked])).max() < 0.05
+    found = []
+    for k in range(1, len(meas)):
+        for j, sat in enumerate(meas.sat_id[k]):
+            (before,) = np.flatnonzero(meas.sat_id[k - 1] == sat)
+            jump = round(cycles[k, j] - cycles[k - 1, before])
+            if jump:
+                found.append((meas.time[k], int(sat), jump))
+    slips = meas.cycle_slips
+    listed = list(
+        zip(slips["time"], slips["sat_id"].tolist(), slips["cycles"].tolist(), strict=True)
+    )
+    assert sorted(found) == sorted(listed) and 15 <= len(listed) <= 60
+    assert {len(a) for a in plain.cycle_slips.values()} == {0}
+
+
+def test_carrier_phase_arrays_round_trip():
+    t, p, v = track(20.0)
+    sky = mn.Constellation.walker()
+    meas = mn.simulate_gnss(t, p, v, sky, carrier_phase_std=0.003, seed=1)
+    arrays = {
+        name: getattr(meas, name)
+        for name in (
+            "time", "sat_id", "satellite_position_ecef", "satellite_velocity_ecef",
+            "pseudorange", "pseudorange_std", "pseudorange_rate", "pseudorange_rate_std",
+            "carrier_phase", "carrier_phase_std", "loss_of_lock",
+        )
+    }  # fmt: skip
+    # A satellite without carrier at one epoch: NaN range (its σ ignored).
+    arrays["carrier_phase"] = arrays["carrier_phase"].copy()
+    arrays["carrier_phase"][5, 2] = math.nan
+    back = mn.GnssMeasurements(**arrays)
+    np.testing.assert_array_equal(back.carrier_phase, arrays["carrier_phase"])
+    np.testing.assert_array_equal(back.loss_of_lock, meas.loss_of_lock)
+    assert math.isnan(back.carrier_phase_std[5, 2])
+    # solve_fix takes the dict with its carrier entries.
+    assert mn.solve_fix(arrays).valid.all()
+    # The long table: one row per tracked slot.
+    rows = meas.sat_id >= 0
+    k, _ = np.nonzero(rows)
+    table = {
+        "time_s": meas.time[k],
+        "sat_id": meas.sat_id[rows],
+        **{
+            f"sat_{kind}_ecef_{a}_m{unit}": getattr(meas, f"satellite_{kind}_ecef")[rows][:, i]
+            for kind, unit in (("position", ""), ("velocity", "_s"))
+            for i, a in enumerate("xyz")
+        },
+        "pseudorange_m": meas.pseudorange[rows],
+        "carrier_phase_m": meas.carrier_phase[rows],
+        "carrier_phase_std_m": meas.carrier_phase_std[rows],
+        "loss_of_lock": meas.loss_of_lock[rows].astype(float),
+    }
+    from_table = mn.GnssMeasurements.from_table(table)
+    np.testing.assert_array_equal(from_table.carrier_phase, meas.carrier_phase)
+    np.testing.assert_array_equal(from_table.loss_of_lock, meas.loss_of_lock)
+
+
+def test_bad_carrier_phase_inputs_are_named():
+    t, p, v = track(5.0)
+    sky = mn.Constellation.walker()
+    for kwargs, message in [
+        ({"carrier_phase_std": -0.003}, "carrier_phase_std: must be finite and non-negative"),
+        ({"carrier_phase_std": math.nan}, "carrier_phase_std"),
+        ({"cycle_slip_probability": 1.5}, r"cycle_slip_probability: must be within \[0, 1\]"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            mn.simulate_gnss(t, p, v, sky, **kwargs)
+    meas = mn.simulate_gnss(t, p, v, sky, carrier_phase_std=0.003, seed=1)
+    base = {
+        name: getattr(meas, name)
+        for name in (
+            "time", "sat_id", "satellite_position_ecef", "satellite_velocity_ecef",
+            "pseudorange", "pseudorange_std",
+        )
+    }  # fmt: skip
+    carrier, std = meas.carrier_phase.copy(), meas.carrier_phase_std.copy()
+    with pytest.raises(ValueError, match="give both, or neither"):
+        mn.GnssMeasurements(**base, carrier_phase=carrier)
+    with pytest.raises(ValueError, match="give both, or neither"):
+        mn.solve_fix({**base, "carrier_phase_std": std})
+    bad = carrier.copy()
+    bad[1, 3] = math.inf
+    with pytest.raises(ValueError, match=r"gnss: \[1, 3\] \(time 1(\.0)? s\): carrier_phase = inf"):
+        mn.GnssMeasurements(**base, carrier_phase=bad, carrier_phase_std=std)
+    bad = std.copy()
+    bad[2, 0] = 0.0
+    with pytest.raises(ValueError, match=r"gnss: \[2, 0\].*carrier_phase_std = 0 m"):
+        mn.GnssMeasurements(**base, carrier_phase=carrier, carrier_phase_std=bad)
+    flags = np.zeros(carrier.shape)
+    flags[0, 0] = 2.0
+    with pytest.raises(ValueError, match=r"gnss: \[0, 0\].*loss_of_lock = 2"):
+        mn.GnssMeasurements(
+            **base, carrier_phase=carrier, carrier_phase_std=std, loss_of_lock=flags
+        )
+    with pytest.raises(ValueError, match="carrier_phse"):
+        mn.solve_fix({**base, "carrier_phse": carrier})
+
+
+def test_rinex_carrier_phase_follows_its_option():
+    """The L1C phase of the walk excerpt (written by the receiver) becomes
+    carrier ranges near the pseudoranges' scale, with a σ that scales with
+    ``carrier_phase_std``; 0 drops them."""
+    excerpt = Path(__file__).parent / "data" / "real-imu-gnss"
+    obs = mn.read_rinex_obs(excerpt / "walk_head.obs")
+    sky = mn.Constellation.from_rinex_nav(excerpt / "walk.nav")
+    default = obs.gps_l1(sky)
+    tracked = default.sat_id >= 0
+    assert np.isfinite(default.carrier_phase[tracked]).all()
+    assert np.isnan(obs.gps_l1(sky, carrier_phase_std=0.0).carrier_phase).all()
+    doubled = obs.gps_l1(
+        sky, carrier_phase_std=2 * mn.defaults()["RinexObservations.gps_l1"]["carrier_phase_std"]
+    )
+    np.testing.assert_allclose(
+        doubled.carrier_phase_std[tracked], 2 * default.carrier_phase_std[tracked]
+    )
+    ephemerides = mn.read_broadcast_nav(excerpt / "walk.nav")
+    several = obs.measurements(ephemerides, systems=["G"], carrier_phase_std=0.0)
+    assert len(several) and np.isnan(several.carrier_phase).all()
+    with pytest.raises(ValueError, match="carrier_phase_std"):
+        obs.gps_l1(sky, carrier_phase_std=-1.0)

@@ -155,6 +155,9 @@ CONFIGURATIONS = {
     },
     "GPS + Galileo": {"systems": ["G", "E"]},
     "GPS + Galileo + BeiDou": {"systems": ["G", "E", "C"]},
+    # Time-differenced carrier phase ([gnss] carrier_phase, an engine key).
+    "GPS + Galileo + carrier phase": {"systems": ["G", "E"], "carrier_phase": True},
+    "GPS + Galileo + BeiDou + carrier phase": {"systems": ["G", "E", "C"], "carrier_phase": True},
 }
 
 
@@ -168,6 +171,9 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
     for name, overrides in CONFIGURATIONS.items():
         config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
         config.values["report"]["html"] = False
+        overrides = dict(overrides)
+        if overrides.pop("carrier_phase", False):
+            config.engine.setdefault("gnss", {})["carrier_phase"] = True
         config.values["gnss"].update(overrides)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the log's last line is cut short
@@ -186,10 +192,70 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
         assert systems <= set(overrides["systems"]), (name, s["range_biases_m"])
         assert all(re.fullmatch(r"[GEC]\d\d", key) for key in s["range_biases_m"])
         assert ("inter_system_bias_m" in s) == (overrides["systems"] != ["G"])
-        if len(overrides["systems"]) == 3:
+        carrier = s["measurements"].get("carrier_phase", {})
+        if "carrier phase" in name:
+            # Most changes are used; the rest are slips (flags, Doppler)
+            # or excluded by the residual test, never a whole epoch gated.
+            assert carrier["accepted"] > 0.9 * sum(carrier.values()), carrier
+            assert set(carrier) <= {"accepted", "slip", "excluded"}, carrier
+        else:
+            assert not carrier, (name, carrier)
+        if name == "GPS + Galileo + BeiDou":
             page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
             quoted = re.search(r"Galileo (−?[\d.]+) m, BeiDou (−?[\d.]+) m on the walk", page)
             assert quoted, "docs/real-data.md no longer quotes the walk's inter-system biases"
             galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
             isb = s["inter_system_bias_m"]
             assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006
+
+
+def test_the_quoted_phase_wind_up_bound_is_the_walks(tmp_path):
+    """docs/real-data.md bounds the walk's differential phase wind-up by the
+    tilt of the body's vertical axis per 0.25 s epoch (λ·tilt/360°):
+    recomputed from the attitude of the all-systems run."""
+    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(
+        r"tilts by ([\d.]+)° per 0.25 s \(median; ([\d.]+)° at the 95th percentile\), "
+        r"which bounds the differential wind-up by λ·tilt/360° = ([\d.]+) mm",
+        page,
+    )
+    assert quoted, "docs/real-data.md no longer quotes the wind-up bound"
+    median_deg, p95_deg, bound_mm = map(float, quoted.groups())
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
+    config.values["report"]["html"] = False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's last line is cut short
+        solution = mn.navigate(config, output=tmp_path / "walk").run.solution
+    time, c_b_e = np.asarray(solution.time), np.asarray(solution.attitude)
+    at = np.searchsorted(time, np.arange(time[0], time[-1], 0.25))
+    z_axis = c_b_e[at][:, :, 2]
+    tilt_deg = np.degrees(np.arccos(np.clip(np.sum(z_axis[1:] * z_axis[:-1], axis=1), -1, 1)))
+    wavelength_m = 299_792_458.0 / 1575.42e6
+    assert np.median(tilt_deg) == pytest.approx(median_deg, abs=0.05)
+    assert np.percentile(tilt_deg, 95) == pytest.approx(p95_deg, abs=0.05)
+    assert 1000 * wavelength_m * np.percentile(tilt_deg, 95) / 360 == pytest.approx(
+        bound_mm, abs=0.05
+    )
+
+
+def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
+    """docs/real-data.md explains why the carrier changes eliminate the
+    clock by the walk's receiver clock drifting from −61 to −81 m/s over
+    the log (−0.17 m/s²): the single-point fixes' Doppler drift."""
+    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(
+        r"clock drifts from (−[\d.]+) to (−[\d.]+) m/s over the log \((−[\d.]+) m/s²", page
+    )
+    assert quoted, "docs/real-data.md no longer quotes the walk's clock ramp"
+    first, last, slope = (float(v.replace("−", "-")) for v in quoted.groups())
+    gnss = walk_log.observations.measurements(
+        walk_log.broadcast_ephemerides, systems=["G", "E", "C"]
+    )
+    fixes = mn.solve_fix(gnss)
+    time, drift = np.asarray(fixes.time), np.asarray(fixes.clock_drift)
+    ok = np.isfinite(drift)
+    time, drift = time[ok] - time[ok][0], drift[ok]
+    assert np.mean(drift[time < 10]) == pytest.approx(first, abs=1.0)
+    assert np.mean(drift[time > time[-1] - 10]) == pytest.approx(last, abs=1.0)
+    assert np.polyfit(time, drift, 1)[0] == pytest.approx(slope, abs=0.01)

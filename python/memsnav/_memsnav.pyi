@@ -861,15 +861,21 @@ class GnssMeasurements:
         pseudorange_rate_std: npt.ArrayLike | None = None,
         *,
         start_gps_time: float | None = None,
+        carrier_phase: npt.ArrayLike | None = None,
+        carrier_phase_std: npt.ArrayLike | None = None,
+        loss_of_lock: npt.ArrayLike | None = None,
     ) -> GnssMeasurements:
         """Measurements from padded arrays: time (T,) s, sat_id (T, n)
         (negative: an empty slot), satellite_position_ecef and
         satellite_velocity_ecef (T, n, 3) at transmission, pseudorange (T, n)
         m (satellite clock corrected), pseudorange_std (T, n) m, optional
-        pseudorange_rate with pseudorange_rate_std (T, n) m/s; start_gps_time:
-        the GPS time of time[0] (None: time is GPS time). NaN is refused in
-        every non-empty slot except a rate (NaN: no rate there); ValueError
-        names the slot."""
+        pseudorange_rate with pseudorange_rate_std (T, n) m/s, optional
+        carrier_phase with carrier_phase_std (T, n) m (the carrier range λ·φ,
+        corrected as the pseudorange with the ionosphere's sign reversed) and
+        loss_of_lock (T, n) bool; start_gps_time: the GPS time of time[0]
+        (None: time is GPS time). NaN is refused in every non-empty slot
+        except a rate or a carrier phase (NaN: none there); ValueError names
+        the slot."""
 
     @staticmethod
     def from_table(
@@ -884,7 +890,9 @@ class GnssMeasurements:
         sat_position_ecef_{x,y,z}_m, sat_velocity_ecef_{x,y,z}_m_s,
         pseudorange_m; optional gps_time_s, pseudorange_rate_m_s (empty or
         NaN: no rate), pseudorange_std_m, pseudorange_rate_std_m_s (left out:
-        the sigma given here, None: defaults()["gnss"]). Any other column is a
+        the sigma given here, None: defaults()["gnss"]), carrier_phase_m with
+        carrier_phase_std_m (both or neither; empty or NaN: no carrier in that
+        row), loss_of_lock (1 or 0, empty: 0). Any other column is a
         ValueError naming it and the closest known name; a row with NaN
         outside a rate is refused, naming the row (CSV: the line)."""
 
@@ -947,6 +955,29 @@ class GnssMeasurements:
         observations."""
 
     @property
+    def carrier_phase(self) -> npt.NDArray[np.float64]:
+        """Carrier ranges λ·φ, m, (T, n_max); NaN where padded or without a
+        carrier phase. Each holds an unknown constant per lock arc."""
+
+    @property
+    def carrier_phase_std(self) -> npt.NDArray[np.float64]:
+        """Carrier-range noise one-sigma, m, (T, n_max); NaN where padded or
+        without a carrier phase."""
+
+    @property
+    def loss_of_lock(self) -> npt.NDArray[np.bool_]:
+        """The receiver reports lock lost since the previous epoch (a new
+        carrier arc), (T, n_max); False where padded or without a carrier
+        phase."""
+
+    @property
+    def cycle_slips(self) -> dict[str, npt.NDArray[Any]]:
+        """The cycle slips the simulator put in the carrier phases
+        (unflagged: loss_of_lock stays False): arrays ``time`` (s),
+        ``sat_id`` and ``cycles`` (L1 cycles added from that epoch on), in
+        epoch order; empty for measurements not simulated here."""
+
+    @property
     def clock_offset(self) -> npt.NDArray[np.float64]:
         """True receiver clock offset, m, (T,)."""
 
@@ -981,6 +1012,8 @@ def simulate_gnss(
     seed: int | None = None,
     start_gps_time: float | None = None,
     inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
+    carrier_phase_std: float | None = None,
+    cycle_slip_probability: float | None = None,
 ) -> GnssMeasurements:
     """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
 
@@ -1009,6 +1042,16 @@ def simulate_gnss(
     them. start_gps_time:
     GPS time of time[0] (default: earliest t_oe of a broadcast file, 0 for
     Walker).
+
+    ``carrier_phase_std`` (m, default 0: no carrier phase) adds carrier
+    ranges: the pseudorange's range, clock and bias, minus the residual
+    (the ionosphere advances the phase), plus a whole number of GPS L1
+    cycles drawn per lock arc, plus white noise; ``loss_of_lock`` is set
+    where a satellite was not in the previous epoch. ``cycle_slip_probability``
+    (per satellite and epoch, default 0) adds silent slips (±1 and ±2 cycles
+    common, up to ±1000; ``loss_of_lock`` stays False), listed in
+    ``cycle_slips``. The carrier draws from a stream of its own: the
+    pseudoranges and rates are the same with or without it.
     """
 
 @final
@@ -1477,6 +1520,10 @@ class TightlyCoupledFilter:
       ``initial_clock_drift_std`` 10 m/s; scale factors (23 states): the
       spec's scale_factor_std (floored at 1e-6).
     - ``use_pseudorange_rate``: use rates when the epoch carries them.
+    - ``use_carrier_phase``: use each satellite's carrier-phase change
+      between consecutive epochs (time-differenced carrier phase, as a
+      velocity measurement; cycle slips found from the receiver's flags,
+      the Doppler and the residual test) when the epochs carry it.
     - ``clock_h0``, ``clock_h_minus2``: the receiver oscillator's Allan
       coefficients (None: the TCXO above).
     - ``manoeuvre_correlation_time``: tau of the input-shaped noise, s (None:
@@ -1504,6 +1551,7 @@ class TightlyCoupledFilter:
         initial_clock_offset_std: float | None = None,
         initial_clock_drift_std: float | None = None,
         use_pseudorange_rate: bool = True,
+        use_carrier_phase: bool = False,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
         manoeuvre_correlation_time: float | None = None,
@@ -1699,7 +1747,7 @@ class LooselyCoupledFilter:
     (a fix is applied whole or not at all); after 3 failed fixes in a row the
     position (velocity) is reset to the fix. The clock states are not
     observed (their process noise is off). Same states, tuning, defaults and
-    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate`` and the
+    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate``, ``use_carrier_phase`` and the
     clock settings have no effect).
     """
 
@@ -1722,6 +1770,7 @@ class LooselyCoupledFilter:
         initial_clock_offset_std: float | None = None,
         initial_clock_drift_std: float | None = None,
         use_pseudorange_rate: bool = True,
+        use_carrier_phase: bool = False,
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
         manoeuvre_correlation_time: float | None = None,
@@ -1898,14 +1947,18 @@ class RinexObservations:
         pseudorange_std: float | None = None,
         pseudorange_rate_std: float | None = None,
         satellites: Sequence[int] | None = None,
+        carrier_phase_std: float | None = None,
     ) -> GnssMeasurements:
         """GPS L1 C/A measurements (time = GPS time) for the coupled filters and
         ``solve_fix``: satellite states at transmission time, pseudoranges
         corrected for the satellite clock, the Klobuchar ionosphere
         (``klobuchar=(alpha, beta)``, default RTKLIB's coefficients) and the
         Saastamoinen troposphere at ``reference_position_ecef`` (default the
-        header's approximate position); rates from the Doppler. Noise sigma at
-        45 dB-Hz and zenith (m, m/s), scaled by √10^((45-C/N0)/10)/sin(el)."""
+        header's approximate position); rates from the Doppler; carrier ranges
+        from the phase, corrected alike with the ionosphere's sign reversed,
+        lock lost where the loss-of-lock indicator says so
+        (``carrier_phase_std=0``: no carrier phase). Noise sigma at 45 dB-Hz
+        and zenith (m, m/s, m), scaled by √10^((45-C/N0)/10)/sin(el)."""
 
     def measurements(
         self,
@@ -1921,6 +1974,7 @@ class RinexObservations:
         pseudorange_std: float | None = None,
         pseudorange_rate_std: float | None = None,
         satellites: Sequence[str] | None = None,
+        carrier_phase_std: float | None = None,
     ) -> GnssMeasurements:
         """Measurements of several systems (``systems``: "G", "E", "C"; default
         all three): GPS L1 C/A, Galileo E1, BeiDou B1I/B2I/B3I (the first the

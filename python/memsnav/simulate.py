@@ -49,6 +49,8 @@ def simulate(
     outages: Sequence[tuple[float, float]] = (),
     systems: Sequence[str] = ("G",),
     inter_system_bias: tuple[float, float] = (0.0, 0.0),
+    carrier_phase_std: float = 0.0,
+    cycle_slip_probability: float = 0.0,
 ) -> SimulationFiles:
     """Simulates a random land-vehicle trajectory (``duration`` s at ``rate``
     Hz), the outputs of the IMU preset ``imu`` along it, and GNSS
@@ -58,7 +60,10 @@ def simulate(
     each, see :meth:`memsnav.Constellation.nominal`; or the path of a RINEX
     navigation file, GPS only), with total outages ``[(start_s, length_s),
     ...]``. The Galileo and BeiDou pseudoranges carry ``inter_system_bias``
-    (m, against GPS). Writes into ``out``:
+    (m, against GPS). With ``carrier_phase_std`` (m; 0: none) the receiver
+    also measures carrier phase, which slips silently with
+    ``cycle_slip_probability`` per satellite and epoch
+    (:func:`memsnav.simulate_gnss`). Writes into ``out``:
 
     - ``trajectory.csv``: time s, ECEF position m, ECEF velocity m/s, roll,
       pitch, yaw (NED) rad, true specific force m/s² and angular rate rad/s
@@ -67,8 +72,10 @@ def simulate(
     - ``gnss.csv``: one row per satellite per epoch: time s, GPS time s,
       satellite id (its system too: G n → n, E n → 100 + n, C n → 200 + n),
       satellite ECEF position m and velocity m/s at transmission,
-      pseudorange m, pseudorange rate m/s;
-    - ``simulation.json``: the parameters, the IMU's drawn errors and seeds.
+      pseudorange m, pseudorange rate m/s; with carrier phase also the
+      carrier range m, its one-sigma m and the loss-of-lock flag (1, 0);
+    - ``simulation.json``: the parameters, the IMU's drawn errors and seeds,
+      and the injected cycle slips (time s, satellite id, L1 cycles).
 
     Every draw comes from ``seed``, each from its own seed
     ``memsnav.derive_seed(seed, name)`` with the names ``"trajectory"``,
@@ -101,6 +108,8 @@ def simulate(
         outages=[(float(s), float(length)) for s, length in outages],
         seed=seeds["gnss"],
         inter_system_bias=inter_system_bias,
+        carrier_phase_std=carrier_phase_std,
+        cycle_slip_probability=cycle_slip_probability,
     )
 
     files = SimulationFiles(
@@ -139,13 +148,22 @@ def simulate(
     )
     tracked = gnss.sat_id >= 0
     epoch, slot = np.nonzero(tracked)
+    carrier_header, carrier_columns = [], []
+    if carrier_phase_std > 0:
+        carrier_header = ["carrier_phase_m", "carrier_phase_std_m", "loss_of_lock"]
+        carrier_columns = [
+            gnss.carrier_phase[epoch, slot],
+            gnss.carrier_phase_std[epoch, slot],
+            gnss.loss_of_lock[epoch, slot],
+        ]
     write_text(
         files.gnss,
         _csv(
             ["time_s", "gps_time_s", "sat_id"]
             + [f"sat_position_ecef_{a}_m" for a in xyz]
             + [f"sat_velocity_ecef_{a}_m_s" for a in xyz]
-            + ["pseudorange_m", "pseudorange_rate_m_s"],
+            + ["pseudorange_m", "pseudorange_rate_m_s"]
+            + carrier_header,
             [
                 gnss.time[epoch],
                 gnss.gps_time[epoch],
@@ -154,10 +172,12 @@ def simulate(
                 *gnss.satellite_velocity_ecef[epoch, slot].T,
                 gnss.pseudorange[epoch, slot],
                 gnss.pseudorange_rate[epoch, slot],
+                *carrier_columns,
             ],
             fmt="%.12g",
         ),
     )
+    slips = gnss.cycle_slips
     metadata = {
         "memsnav_version": mn.__version__,
         "duration_s": duration,
@@ -185,6 +205,12 @@ def simulate(
         "constellation": str(constellation),
         "systems": list(sky.systems),
         "inter_system_bias_m": [float(b) for b in inter_system_bias],
+        "carrier_phase_std_m": carrier_phase_std,
+        "cycle_slip_probability": cycle_slip_probability,
+        "cycle_slips": [
+            {"time_s": float(t), "sat_id": int(s), "cycles": int(c)}
+            for t, s, c in zip(slips["time"], slips["sat_id"], slips["cycles"], strict=True)
+        ],
         "outages": [list(o) for o in outages],
     }
     write_text(files.metadata, json.dumps(metadata, indent=2) + "\n")

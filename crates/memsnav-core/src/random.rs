@@ -12,6 +12,7 @@
 //! | 0 | a single draw from a user seed (`seed=` of the Python functions) |
 //! | i < 2⁶² | Monte Carlo run i ([`crate::montecarlo`]) |
 //! | 2⁶² + h(purpose) | [`derive_seed`]: the seed of a named independent draw |
+//! | 2⁶² + h(purpose, stream, position) | [`side_stream`]: the key of a named draw made alongside a generator |
 //! | 2⁶³ + s | parameter set s of the calibration experiment ([`parameter_set_stream`]) |
 //!
 //! When one user seed must feed several functions that each take a seed
@@ -58,10 +59,34 @@ pub fn from_optional_seed(seed: Option<u64>) -> Rng {
 /// FNV-1a hash of `purpose` reduced below 2⁶², so the name, not a position
 /// in a list, fixes the draw.
 pub fn derive_seed(seed: u64, purpose: &str) -> u64 {
-    let hash = purpose.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    });
+    let hash = fnv1a(purpose.bytes());
     stream(seed, DERIVED_STREAMS + hash % DERIVED_STREAMS).random()
+}
+
+/// A generator for the draws named `purpose` made alongside `rng`, which
+/// it leaves untouched: draws added to a computation (the simulator's
+/// carrier phases) come from it, so the draws `rng` already fed (the
+/// pseudoranges) stay the same. Its key is the first 32 bytes of stream
+/// 2⁶² + h of `rng`'s key, h hashing `purpose` with `rng`'s stream and
+/// position: Monte Carlo run i gets its own side stream, and so does each
+/// of several computations fed in turn from one generator.
+pub fn side_stream(rng: &Rng, purpose: &str) -> Rng {
+    let hash = fnv1a(
+        purpose
+            .bytes()
+            .chain(rng.get_stream().to_le_bytes())
+            .chain(rng.get_word_pos().to_le_bytes()),
+    );
+    let mut keyed = ChaCha8Rng::from_seed(rng.get_seed());
+    keyed.set_stream(DERIVED_STREAMS + hash % DERIVED_STREAMS);
+    ChaCha8Rng::from_seed(keyed.random())
+}
+
+/// The 64-bit FNV-1a hash of `bytes`.
+fn fnv1a(bytes: impl Iterator<Item = u8>) -> u64 {
+    bytes.fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
 }
 
 /// Stream of parameter set `s` of a Monte Carlo whose runs use streams
@@ -108,5 +133,22 @@ mod tests {
             derive_seed(0, ""),
             stream(0, DERIVED_STREAMS + 0xcbf2_9ce4_8422_2325 % DERIVED_STREAMS).random::<u64>()
         );
+    }
+
+    /// A side stream leaves its generator as it was, is reproducible, and
+    /// differs by name, by the generator's stream and by its position.
+    #[test]
+    fn side_streams_leave_the_generator_untouched() {
+        let rng = stream(7, 3);
+        let a: f64 = side_stream(&rng, "carrier").random();
+        assert_eq!(a, side_stream(&stream(7, 3), "carrier").random::<f64>());
+        assert_eq!(rng, stream(7, 3));
+        assert_ne!(a, side_stream(&rng, "slips").random::<f64>());
+        assert_ne!(a, side_stream(&stream(7, 4), "carrier").random::<f64>());
+        let mut moved = stream(7, 3);
+        let _: f64 = moved.random();
+        assert_ne!(a, side_stream(&moved, "carrier").random::<f64>());
+        // Not the generator's own numbers either.
+        assert_ne!(a, stream(7, 3).random::<f64>());
     }
 }

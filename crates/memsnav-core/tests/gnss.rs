@@ -929,6 +929,194 @@ fn outages_are_honoured() {
         .contains("at least 4 satellites"));
 }
 
+/// Per satellite, consecutive-epoch pairs of `f(measurement, epoch index)`
+/// where the satellite is in both epochs: (sat, epoch k, value at k − 1,
+/// value at k, the measurement at k).
+fn consecutive_pairs(
+    sim: &GnssSimulation,
+    f: impl Fn(&SatelliteMeasurement, usize) -> f64,
+) -> Vec<(u16, usize, f64, f64, SatelliteMeasurement)> {
+    let mut pairs = Vec::new();
+    for (k, w) in sim.epochs.windows(2).enumerate() {
+        for m in &w[1].measurements {
+            if let Some(p) = w[0].measurements.iter().find(|p| p.sat_id == m.sat_id) {
+                pairs.push((m.sat_id, k + 1, f(p, k), f(m, k + 1), *m));
+            }
+        }
+    }
+    pairs
+}
+
+/// The carrier is the code's geometry, clock and bias plus a whole number
+/// of L1 cycles: with noise-free code and 1 mm carrier noise, carrier minus
+/// code is N·λ to a few mm, and N stays put over an arc. An outage ends
+/// the arcs (loss of lock where a satellite comes back), and a residual
+/// enters the carrier with the opposite sign (the ionosphere's): carrier
+/// plus code minus twice (clock + predicted range) is N·λ again.
+#[test]
+fn simulated_carrier_is_the_code_plus_whole_cycles() {
+    let (time, pos, vel) = track(120.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::from_rinex_nav(brdc_2015()).unwrap();
+    let config = SimulationConfig {
+        carrier_phase_std_m: 0.001,
+        outages: vec![Outage {
+            start_s: 30.0,
+            duration_s: 10.0,
+            n_satellites: 0,
+        }],
+        ..noise_free()
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(3, 0)).unwrap();
+    let lambda = GPS_L1_WAVELENGTH_M;
+    let cycles = |m: &SatelliteMeasurement| (m.carrier.unwrap().range_m - m.pseudorange_m) / lambda;
+    let mut worst_fraction = 0.0f64;
+    for (k, e) in sim.epochs.iter().enumerate() {
+        for m in &e.measurements {
+            let c = m.carrier.expect("every measurement has a carrier");
+            assert_eq!(c.std_m, 0.001);
+            worst_fraction = worst_fraction.max((cycles(m) - cycles(m).round()).abs());
+            // Lock is lost at the first epoch and when the outage ends (its
+            // last epoch is at 39 s); the walk keeps its six satellites.
+            assert_eq!(
+                c.loss_of_lock,
+                k == 0 || e.time_s == 40.0,
+                "t = {}",
+                e.time_s
+            );
+        }
+    }
+    assert!(
+        worst_fraction * lambda < 0.006,
+        "{}",
+        worst_fraction * lambda
+    );
+    let pairs = consecutive_pairs(&sim, |m, _| cycles(m).round());
+    assert!(pairs.len() > 6 * 100, "{}", pairs.len());
+    assert!(pairs.iter().all(|p| p.2 == p.3), "the ambiguity moved");
+    assert!(sim.cycle_slips.is_empty());
+
+    let residual = SimulationConfig {
+        residual: Some(AtmosphericResidual::default()),
+        ..config
+    };
+    let sim = simulate_with_truth(&t, &sky, &residual, &mut stream(3, 0)).unwrap();
+    let mut worst = 0.0f64;
+    for (e, clock) in sim.epochs.iter().zip(&sim.clock) {
+        let k = (e.time_s * 10.0).round() as usize;
+        for m in &e.measurements {
+            let p = predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[k], &vel[k]);
+            let carrier = m.carrier.unwrap().range_m;
+            let sum = (carrier + m.pseudorange_m - 2.0 * (clock.offset_m + p.range_m)) / lambda;
+            worst = worst.max((sum - sum.round()).abs() * lambda);
+        }
+    }
+    println!("carrier + code − 2 (clock + range) off N·λ by at most {worst:.4} m");
+    assert!(worst < 0.008, "{worst}");
+}
+
+/// Slips change carrier minus code by exactly the listed cycles at the
+/// listed epochs and nowhere else; lock is never reported lost for them;
+/// small slips (±1, ±2 cycles) are common.
+#[test]
+fn cycle_slips_appear_where_listed() {
+    let (time, pos, vel) = track(300.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    let config = SimulationConfig {
+        carrier_phase_std_m: 0.001,
+        cycle_slip_probability: 0.05,
+        ..noise_free()
+    };
+    let sim = simulate_with_truth(&t, &sky, &config, &mut stream(8, 0)).unwrap();
+    let lambda = GPS_L1_WAVELENGTH_M;
+    let cycles =
+        |m: &SatelliteMeasurement, _| (m.carrier.unwrap().range_m - m.pseudorange_m) / lambda;
+    let mut found = Vec::new();
+    for (sat, k, before, after, m) in consecutive_pairs(&sim, cycles) {
+        let jump = (after - before).round();
+        assert!((after - before - jump).abs() < 0.05, "{sat} at {k}");
+        if jump != 0.0 {
+            assert!(!m.carrier.unwrap().loss_of_lock);
+            found.push(CycleSlip {
+                time_s: sim.epochs[k].time_s,
+                sat_id: sat,
+                cycles: jump as i64,
+            });
+        }
+    }
+    let key = |s: &CycleSlip| (s.time_s.to_bits(), s.sat_id);
+    found.sort_by_key(key);
+    let mut listed = sim.cycle_slips.clone();
+    listed.sort_by_key(key);
+    assert_eq!(found, listed);
+    // 0.05 × 6 satellites × 300 epochs = 90 expected.
+    let n = listed.len();
+    let small = listed.iter().filter(|s| s.cycles.abs() <= 2).count();
+    println!("{n} slips, {small} of ±1 or ±2 cycles");
+    assert!((60..=120).contains(&n), "{n}");
+    assert!(small * 2 > n && small < n, "{small} of {n}");
+    assert!(listed.iter().any(|s| s.cycles == 1) && listed.iter().any(|s| s.cycles == -1));
+}
+
+/// The carrier draws from a stream of its own: with carrier phase (and
+/// slips) the pseudoranges, rates, clock and the caller's generator are the
+/// same numbers as without; a seed reproduces the carrier and another
+/// changes it.
+#[test]
+fn carrier_phase_leaves_the_other_draws_alone() {
+    let (time, pos, vel) = track(60.0);
+    let t = ReceiverTrack {
+        time_s: &time,
+        position_ecef: &pos,
+        velocity_ecef: &vel,
+    };
+    let sky = Constellation::walker(&WalkerConfig::default()).unwrap();
+    let plain = SimulationConfig {
+        residual: Some(AtmosphericResidual::default()),
+        ..SimulationConfig::default()
+    };
+    let carrier = SimulationConfig {
+        carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
+        cycle_slip_probability: 0.02,
+        ..plain.clone()
+    };
+    let (mut rng_a, mut rng_b) = (stream(5, 2), stream(5, 2));
+    let a = simulate_with_truth(&t, &sky, &plain, &mut rng_a).unwrap();
+    let b = simulate_with_truth(&t, &sky, &carrier, &mut rng_b).unwrap();
+    assert_eq!(rng_a, rng_b);
+    assert!(a
+        .epochs
+        .iter()
+        .flat_map(|e| &e.measurements)
+        .all(|m| m.carrier.is_none()));
+    assert!(a.cycle_slips.is_empty() && !b.cycle_slips.is_empty());
+    let mut stripped = b.clone();
+    for m in stripped.epochs.iter_mut().flat_map(|e| &mut e.measurements) {
+        assert!(m.carrier.is_some());
+        m.carrier = None;
+    }
+    stripped.cycle_slips.clear();
+    assert_eq!(stripped, a);
+    assert_eq!(
+        simulate_with_truth(&t, &sky, &carrier, &mut stream(5, 2)).unwrap(),
+        b
+    );
+    let other = simulate_with_truth(&t, &sky, &carrier, &mut stream(5, 3)).unwrap();
+    assert_ne!(
+        other.epochs[0].measurements[0].carrier,
+        b.epochs[0].measurements[0].carrier
+    );
+}
+
 fn write_temp(name: &str, text: &str) -> std::path::PathBuf {
     let path =
         std::env::temp_dir().join(format!("memsnav-gnss-test-{}-{name}", std::process::id()));
@@ -1089,6 +1277,24 @@ fn bad_simulation_inputs_name_the_argument() {
         }
     )
     .starts_with("outages:"));
+    for (std, probability, argument) in [
+        (f64::NAN, 0.0, "carrier_phase_std:"),
+        (-0.003, 0.0, "carrier_phase_std:"),
+        (f64::INFINITY, 0.0, "carrier_phase_std:"),
+        (0.003, 1.5, "cycle_slip_probability:"),
+        (0.003, -0.1, "cycle_slip_probability:"),
+        (0.003, f64::NAN, "cycle_slip_probability:"),
+    ] {
+        let e = run(
+            &ok,
+            &SimulationConfig {
+                carrier_phase_std_m: std,
+                cycle_slip_probability: probability,
+                ..d.clone()
+            },
+        );
+        assert!(e.starts_with(argument), "{e}");
+    }
     let brdc = Constellation::from_rinex_nav(brdc_2015()).unwrap();
     let e = simulate(
         &ok,

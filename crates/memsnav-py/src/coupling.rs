@@ -498,7 +498,7 @@ macro_rules! filter_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None))]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, use_carrier_phase=false, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None))]
             fn new(
                 imu: &PyImuModel,
                 scale_factor_states: bool,
@@ -516,6 +516,7 @@ macro_rules! filter_class {
                 initial_clock_offset_std: Option<f64>,
                 initial_clock_drift_std: Option<f64>,
                 use_pseudorange_rate: bool,
+                use_carrier_phase: bool,
                 clock_h0: Option<f64>,
                 clock_h_minus2: Option<f64>,
                 manoeuvre_correlation_time: Option<f64>,
@@ -569,6 +570,7 @@ macro_rules! filter_class {
                     attitude.z = heading;
                 }
                 tuning.use_pseudorange_rate = use_pseudorange_rate;
+                tuning.use_carrier_phase = use_carrier_phase;
                 let default_clock = ReceiverClockModel::default();
                 let clock = ReceiverClockModel {
                     h0: clock_h0.unwrap_or(default_clock.h0),
@@ -618,6 +620,7 @@ macro_rules! filter_class {
                 d.set_item("manoeuvre_correlation_time", e.correlation_time_s)?;
                 d.set_item("gate_probability", t.gate_probability)?;
                 d.set_item("use_pseudorange_rate", t.use_pseudorange_rate)?;
+                d.set_item("use_carrier_phase", t.use_carrier_phase)?;
                 d.set_item("initial_position_std", s.position_m)?;
                 d.set_item("initial_velocity_std", s.velocity_m_s)?;
                 d.set_item("initial_tilt_std", s.attitude_ned_rad.x)?;
@@ -797,6 +800,10 @@ filter_class!(
     ///   `initial_clock_drift_std` 10 m/s; scale factors (23 states): the
     ///   spec's scale_factor_std (floored at 1e-6).
     /// - `use_pseudorange_rate`: use rates when the epoch carries them.
+    /// - `use_carrier_phase`: use each satellite's carrier-phase change
+    ///   between consecutive epochs (time-differenced carrier phase, as a
+    ///   velocity measurement; cycle slips found from the receiver's flags,
+    ///   the Doppler and the residual test) when the epochs carry it.
     /// - `clock_h0`, `clock_h_minus2`: the receiver oscillator's Allan
     ///   coefficients (None: the TCXO above).
     /// - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:
@@ -819,7 +826,7 @@ filter_class!(
     /// (a fix is applied whole or not at all); after 3 failed fixes in a row the
     /// position (velocity) is reset to the fix. The clock states are not
     /// observed (their process noise is off). Same states, tuning, defaults and
-    /// overrides as `TightlyCoupledFilter` (`use_pseudorange_rate` and the
+    /// overrides as `TightlyCoupledFilter` (`use_pseudorange_rate`, `use_carrier_phase` and the
     /// clock settings have no effect).
     PyLooselyCoupledFilter,
     "LooselyCoupledFilter",

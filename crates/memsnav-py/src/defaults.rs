@@ -67,6 +67,7 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("min_cn0_db_hz", observables.min_cn0_db_hz)?;
     d.set_item("pseudorange_std", DEFAULT_PSEUDORANGE_STD_M)?;
     d.set_item("pseudorange_rate_std", DEFAULT_PSEUDORANGE_RATE_STD_M_S)?;
+    d.set_item("carrier_phase_std", observables.carrier_phase_std_m)?;
     out.set_item("RinexObservations.gps_l1", d)?;
 
     let n = NavigationExperimentConfig::default();

@@ -248,6 +248,7 @@ pub struct PyGnssMeasurements {
     clock: Vec<gnss::ClockState>,
     start_gps_time_s: f64,
     inter_system_bias_m: [f64; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()],
+    cycle_slips: Vec<gnss::CycleSlip>,
     n_max: usize,
     /// Beside each measurement, what it was made from (measurements built
     /// from observations only).
@@ -309,13 +310,17 @@ impl PyGnssMeasurements {
     /// ``satellite_velocity_ecef`` (T, n, 3) at transmission, m and m/s,
     /// ``pseudorange`` (T, n) m (satellite clock corrected),
     /// ``pseudorange_std`` (T, n) m, optional ``pseudorange_rate`` with
-    /// ``pseudorange_rate_std`` (T, n) m/s; ``start_gps_time``: the GPS time
-    /// of ``time[0]`` (None: ``time`` is GPS time). NaN is refused in every
-    /// non-empty slot except a rate (NaN: no rate there); ValueError names
-    /// the slot.
+    /// ``pseudorange_rate_std`` (T, n) m/s, optional ``carrier_phase`` with
+    /// ``carrier_phase_std`` (T, n) m (the carrier range λ·φ, corrected as
+    /// the pseudorange with the ionosphere's sign reversed) and
+    /// ``loss_of_lock`` (T, n) bool; ``start_gps_time``: the GPS time of
+    /// ``time[0]`` (None: ``time`` is GPS time). NaN is refused in every
+    /// non-empty slot except a rate or a carrier phase (NaN: none there);
+    /// ValueError names the slot.
     #[new]
     #[pyo3(signature = (time, sat_id, satellite_position_ecef, satellite_velocity_ecef, pseudorange,
-        pseudorange_std, pseudorange_rate=None, pseudorange_rate_std=None, *, start_gps_time=None))]
+        pseudorange_std, pseudorange_rate=None, pseudorange_rate_std=None, *, start_gps_time=None,
+        carrier_phase=None, carrier_phase_std=None, loss_of_lock=None))]
     fn new(
         py: Python<'_>,
         time: &Bound<'_, PyAny>,
@@ -327,6 +332,9 @@ impl PyGnssMeasurements {
         pseudorange_rate: Option<&Bound<'_, PyAny>>,
         pseudorange_rate_std: Option<&Bound<'_, PyAny>>,
         start_gps_time: Option<f64>,
+        carrier_phase: Option<&Bound<'_, PyAny>>,
+        carrier_phase_std: Option<&Bound<'_, PyAny>>,
+        loss_of_lock: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let arrays = PyDict::new(py);
         for (name, value) in [
@@ -338,6 +346,9 @@ impl PyGnssMeasurements {
             ("pseudorange_std", Some(pseudorange_std)),
             ("pseudorange_rate", pseudorange_rate),
             ("pseudorange_rate_std", pseudorange_rate_std),
+            ("carrier_phase", carrier_phase),
+            ("carrier_phase_std", carrier_phase_std),
+            ("loss_of_lock", loss_of_lock),
         ] {
             if let Some(v) = value {
                 arrays.set_item(name, v)?;
@@ -490,6 +501,59 @@ impl PyGnssMeasurements {
         self.padded_signal(py, |s| s.elevation_rad)
     }
 
+    /// Carrier ranges λ·φ, m, ``(T, n_max)``; NaN where padded or without
+    /// a carrier phase. Each holds an unknown constant per lock arc.
+    #[getter]
+    fn carrier_phase<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.padded(py, |m| m.carrier.map_or(f64::NAN, |c| c.range_m))
+    }
+
+    /// Carrier-range noise one-sigma, m, ``(T, n_max)``; NaN where padded
+    /// or without a carrier phase.
+    #[getter]
+    fn carrier_phase_std<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        self.padded(py, |m| m.carrier.map_or(f64::NAN, |c| c.std_m))
+    }
+
+    /// The receiver reports lock lost since the previous epoch (a new
+    /// carrier arc), ``(T, n_max)``; False where padded or without a
+    /// carrier phase.
+    #[getter]
+    fn loss_of_lock<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<bool>> {
+        let mut flat = vec![false; self.epochs.len() * self.n_max];
+        for (k, e) in self.epochs.iter().enumerate() {
+            for (j, m) in e.measurements.iter().enumerate() {
+                flat[k * self.n_max + j] = m.carrier.is_some_and(|c| c.loss_of_lock);
+            }
+        }
+        PyArray1::from_vec(py, flat)
+            .reshape([self.epochs.len(), self.n_max])
+            .expect("T × n_max")
+    }
+
+    /// The cycle slips the simulator put in the carrier phases (unflagged:
+    /// ``loss_of_lock`` stays False): a dict of ``time`` (s), ``sat_id`` and
+    /// ``cycles`` (L1 cycles added from that epoch on) arrays, in epoch
+    /// order; empty for measurements not simulated here.
+    #[getter]
+    fn cycle_slips<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let slips = &self.cycle_slips;
+        d.set_item(
+            "time",
+            PyArray1::from_iter(py, slips.iter().map(|s| s.time_s)),
+        )?;
+        d.set_item(
+            "sat_id",
+            PyArray1::from_iter(py, slips.iter().map(|s| i64::from(s.sat_id))),
+        )?;
+        d.set_item(
+            "cycles",
+            PyArray1::from_iter(py, slips.iter().map(|s| s.cycles)),
+        )?;
+        Ok(d)
+    }
+
     /// True receiver clock offset, m, ``(T,)``.
     #[getter]
     fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -579,7 +643,8 @@ fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
     elevation_mask_deg=None, pseudorange_std=None, pseudorange_rate_std=None, residual_std=None,
     residual_correlation_time=None, clock_h0=None, clock_h_minus2=None,
     clock_initial_offset_std=None, clock_initial_drift_std=None, outages=None, seed=None,
-    start_gps_time=None, inter_system_bias=None))]
+    start_gps_time=None, inter_system_bias=None, carrier_phase_std=None,
+    cycle_slip_probability=None))]
 fn simulate_gnss(
     py: Python<'_>,
     time: &Bound<'_, PyAny>,
@@ -601,6 +666,8 @@ fn simulate_gnss(
     seed: Option<&Bound<'_, PyAny>>,
     start_gps_time: Option<f64>,
     inter_system_bias: Option<[f64; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()]>,
+    carrier_phase_std: Option<f64>,
+    cycle_slip_probability: Option<f64>,
 ) -> PyResult<PyGnssMeasurements> {
     let time = convert::scalars(time, "time")?;
     let position = convert::vectors(position_ecef, "position_ecef")?;
@@ -639,6 +706,8 @@ fn simulate_gnss(
         outages: outage_list(outages)?,
         start_gps_time_s: start_gps_time,
         inter_system_bias_m: inter_system_bias.unwrap_or(d.inter_system_bias_m),
+        carrier_phase_std_m: carrier_phase_std.unwrap_or(d.carrier_phase_std_m),
+        cycle_slip_probability: cycle_slip_probability.unwrap_or(d.cycle_slip_probability),
     };
     let n_max = config.n_satellites;
     let track = gnss::ReceiverTrack {
@@ -656,6 +725,7 @@ fn simulate_gnss(
         clock: sim.clock,
         start_gps_time_s: sim.start_gps_time_s,
         inter_system_bias_m: sim.inter_system_bias_m,
+        cycle_slips: sim.cycle_slips,
         n_max,
         signals: None,
     })
@@ -838,7 +908,7 @@ pub(crate) fn is_measurements(obj: &Bound<'_, PyAny>) -> bool {
 }
 
 /// The entries of padded GNSS arrays (a dict, or an object's attributes).
-pub(crate) const GNSS_KEYS: [&str; 8] = [
+pub(crate) const GNSS_KEYS: [&str; 11] = [
     "time",
     "sat_id",
     "satellite_position_ecef",
@@ -847,6 +917,9 @@ pub(crate) const GNSS_KEYS: [&str; 8] = [
     "pseudorange_std",
     "pseudorange_rate",
     "pseudorange_rate_std",
+    "carrier_phase",
+    "carrier_phase_std",
+    "loss_of_lock",
 ];
 
 /// Epoch `index` of `obj` (anything [`gnss_epochs`] reads); an index past
@@ -866,8 +939,10 @@ pub(crate) fn gnss_epoch_at(obj: &Bound<'_, PyAny>, index: usize) -> PyResult<Gn
 /// `sat_id` (T, n) (finite negative = padding), `satellite_position_ecef` and
 /// `satellite_velocity_ecef` (T, n, 3), `pseudorange` (T, n),
 /// `pseudorange_std` (T, n), optional `pseudorange_rate` with
-/// `pseudorange_rate_std` (T, n). Every slot that is not padding passes the
-/// core's `check_measurement` (NaN only for a rate: no rate there); the
+/// `pseudorange_rate_std` (T, n), optional `carrier_phase` with
+/// `carrier_phase_std` (T, n) and optional `loss_of_lock` (T, n). Every
+/// slot that is not padding passes the core's `carrier_of` and
+/// `check_measurement` (NaN only for a rate or a carrier: none there); the
 /// one converter of every entry point that takes GNSS measurements.
 /// A `GnssMeasurements` is lent, not copied: it is frozen (immutable), and
 /// `obj` keeps it alive while the epochs are in use.
@@ -920,6 +995,22 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
             )),
             (None, None) => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
         };
+    let (carrier, carrier_std) = match (
+        optional_field(obj, "carrier_phase")?,
+        optional_field(obj, "carrier_phase_std")?,
+    ) {
+        (Some(_), Some(_)) => (get2("carrier_phase")?, get2("carrier_phase_std")?),
+        (None, None) => (vec![f64::NAN; t * n], vec![f64::NAN; t * n]),
+        _ => {
+            return Err(PyValueError::new_err(
+                "gnss: carrier_phase and carrier_phase_std go together (give both, or neither)",
+            ))
+        }
+    };
+    let loss_of_lock = match optional_field(obj, "loss_of_lock")? {
+        Some(_) => get2("loss_of_lock")?,
+        None => vec![0.0; t * n],
+    };
     let mut slots = Vec::with_capacity(t * n);
     let mut rows = Vec::with_capacity(t * n);
     let mut epochs = Vec::with_capacity(t);
@@ -943,6 +1034,8 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
             let sat_id = gnss::sat_id(id).map_err(|e| {
                 slot_error(format!("{e}; mark an empty slot with a negative number"))
             })?;
+            let carrier = gnss::carrier_of(carrier[i], carrier_std[i], loss_of_lock[i])
+                .map_err(slot_error)?;
             slots.push((k, j));
             rows.push((
                 time_s,
@@ -955,7 +1048,7 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
                     pseudorange_rate_m_s: rate[i],
                     pseudorange_std_m: rho_std[i],
                     pseudorange_rate_std_m_s: rate_std[i],
-                    carrier: None,
+                    carrier,
                 },
             ));
         }
@@ -1019,6 +1112,7 @@ impl PyGnssMeasurements {
             start_gps_time_s: start_gps_time_s
                 .unwrap_or_else(|| epochs.first().map_or(0.0, |e| e.time_s)),
             inter_system_bias_m: [f64::NAN; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()],
+            cycle_slips: Vec::new(),
             n_max,
             epochs,
             signals: None,
@@ -1100,11 +1194,15 @@ impl PyRinexObservations {
     /// pseudoranges corrected for the satellite clock, the Klobuchar
     /// ionosphere (``klobuchar=(alpha, beta)``; default RTKLIB's
     /// coefficients; ``ionosphere=False`` to leave it in) and the
-    /// Saastamoinen troposphere; rates from the Doppler. Noise: σ at 45 dB-Hz
+    /// Saastamoinen troposphere; rates from the Doppler; carrier ranges from
+    /// the phase, corrected alike with the ionosphere's sign reversed, lock
+    /// lost where the loss-of-lock indicator says so
+    /// (``carrier_phase_std=0``: no carrier phase). Noise: σ at 45 dB-Hz
     /// and zenith, scaled by √10^((45−C/N0)/10)/sin(el).
     #[pyo3(signature = (constellation, reference_position_ecef=None, *, elevation_mask_deg=None,
         min_cn0_db_hz=None, ionosphere=true, klobuchar=None, troposphere=true,
-        pseudorange_std=None, pseudorange_rate_std=None, satellites=None))]
+        pseudorange_std=None, pseudorange_rate_std=None, satellites=None,
+        carrier_phase_std=None))]
     fn gps_l1(
         &self,
         py: Python<'_>,
@@ -1118,6 +1216,7 @@ impl PyRinexObservations {
         pseudorange_std: Option<f64>,
         pseudorange_rate_std: Option<f64>,
         satellites: Option<Vec<u16>>,
+        carrier_phase_std: Option<f64>,
     ) -> PyResult<PyGnssMeasurements> {
         let options = self.observable_options(
             reference_position_ecef,
@@ -1129,6 +1228,7 @@ impl PyRinexObservations {
                 troposphere,
                 pseudorange_std,
                 pseudorange_rate_std,
+                carrier_phase_std,
             },
             vec![gnss::GnssSystem::Gps],
             satellites.unwrap_or_default(),
@@ -1152,7 +1252,8 @@ impl PyRinexObservations {
     /// elevation in ``signal``, ``cn0_db_hz``, ``elevation_rad``.
     #[pyo3(signature = (ephemerides, reference_position_ecef=None, *, systems=None,
         elevation_mask_deg=None, min_cn0_db_hz=None, ionosphere=true, klobuchar=None,
-        troposphere=true, pseudorange_std=None, pseudorange_rate_std=None, satellites=None))]
+        troposphere=true, pseudorange_std=None, pseudorange_rate_std=None, satellites=None,
+        carrier_phase_std=None))]
     fn measurements(
         &self,
         py: Python<'_>,
@@ -1167,6 +1268,7 @@ impl PyRinexObservations {
         pseudorange_std: Option<f64>,
         pseudorange_rate_std: Option<f64>,
         satellites: Option<Vec<String>>,
+        carrier_phase_std: Option<f64>,
     ) -> PyResult<PyGnssMeasurements> {
         let systems = match systems {
             None => gnss::GnssSystem::ALL.to_vec(),
@@ -1190,6 +1292,7 @@ impl PyRinexObservations {
                 troposphere,
                 pseudorange_std,
                 pseudorange_rate_std,
+                carrier_phase_std,
             },
             systems,
             satellites,
@@ -1220,6 +1323,7 @@ struct ObservableArguments {
     troposphere: bool,
     pseudorange_std: Option<f64>,
     pseudorange_rate_std: Option<f64>,
+    carrier_phase_std: Option<f64>,
 }
 
 /// The system of a RINEX letter, or an error naming `argument`.
@@ -1278,6 +1382,7 @@ impl PyRinexObservations {
                 a.pseudorange_rate_std,
                 &mut options.pseudorange_rate_std_m_s,
             ),
+            (a.carrier_phase_std, &mut options.carrier_phase_std_m),
         ] {
             if let Some(v) = value {
                 *target = v;

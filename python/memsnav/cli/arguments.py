@@ -31,6 +31,10 @@ def _checked(
 positive_int = _checked(int, "a positive integer", lambda v: v > 0, "positive")
 non_negative_int = _checked(int, "an integer", lambda v: v >= 0, "zero or more")
 positive_float = _checked(float, "a number", lambda v: 0 < v < math.inf, "positive and finite")
+non_negative_float = _checked(
+    float, "a number", lambda v: 0 <= v < math.inf, "zero or more and finite"
+)
+probability = _checked(float, "a number", lambda v: 0 <= v <= 1, "within [0, 1]")
 
 
 def threads_argument(command: argparse.ArgumentParser) -> None:

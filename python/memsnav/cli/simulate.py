@@ -8,7 +8,13 @@ import sys
 from typing import Any
 
 import memsnav
-from memsnav.cli.arguments import non_negative_int, positive_float, positive_int
+from memsnav.cli.arguments import (
+    non_negative_float,
+    non_negative_int,
+    positive_float,
+    positive_int,
+    probability,
+)
 
 NAME = "simulate"
 HELP = "write a random trajectory, its IMU outputs and GNSS measurements as CSV"
@@ -101,6 +107,20 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
         help="Galileo and BeiDou pseudorange biases against GPS, m (default: 0,0)",
     )
     command.add_argument(
+        "--carrier-phase-std",
+        type=non_negative_float,
+        default=0.0,
+        metavar="M",
+        help="carrier-range noise one-sigma, m (default: 0, no carrier phase)",
+    )
+    command.add_argument(
+        "--cycle-slip-probability",
+        type=probability,
+        default=0.0,
+        metavar="P",
+        help="chance of a silent cycle slip per satellite and epoch (default: 0)",
+    )
+    command.add_argument(
         "--outage",
         action="append",
         type=_outage,
@@ -128,6 +148,8 @@ def run(args: argparse.Namespace, client: Any) -> int:
         outages=args.outage,
         systems=args.systems,
         inter_system_bias=args.inter_system_bias,
+        carrier_phase_std=args.carrier_phase_std,
+        cycle_slip_probability=args.cycle_slip_probability,
     )
     print(f"memsnav: wrote {files.trajectory.parent}", file=sys.stderr)
     return 0

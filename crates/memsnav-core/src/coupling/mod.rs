@@ -62,6 +62,7 @@
 
 mod aids;
 mod antenna;
+mod carrier;
 mod diagnostics;
 mod engine;
 mod init;

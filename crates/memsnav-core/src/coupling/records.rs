@@ -9,6 +9,9 @@ pub enum MeasurementKind {
     Pseudorange,
     /// A pseudorange rate, m/s.
     PseudorangeRate,
+    /// A carrier range's change since the previous epoch (time-differenced
+    /// carrier phase), m.
+    CarrierPhase,
     /// One whitened component of a position fix (dimensionless, unit variance).
     Position,
     /// One whitened component of a velocity fix (dimensionless).
@@ -29,9 +32,10 @@ pub enum MeasurementKind {
 
 impl MeasurementKind {
     /// Every kind, in a fixed order (for per-kind counts).
-    pub const ALL: [MeasurementKind; 10] = [
+    pub const ALL: [MeasurementKind; 11] = [
         MeasurementKind::Pseudorange,
         MeasurementKind::PseudorangeRate,
+        MeasurementKind::CarrierPhase,
         MeasurementKind::Position,
         MeasurementKind::Velocity,
         MeasurementKind::ZeroVelocity,
@@ -47,6 +51,7 @@ impl MeasurementKind {
         match self {
             MeasurementKind::Pseudorange => "pseudorange",
             MeasurementKind::PseudorangeRate => "pseudorange_rate",
+            MeasurementKind::CarrierPhase => "carrier_phase",
             MeasurementKind::Position => "position",
             MeasurementKind::Velocity => "velocity",
             MeasurementKind::ZeroVelocity => "zero_velocity",
@@ -76,10 +81,14 @@ pub enum MeasurementStatus {
     /// Its batch failed, and the filter was reset from this epoch's
     /// measurements instead (see [`ResetRecord`]).
     UsedForReset,
+    /// A carrier change that holds a cycle slip (flagged by the receiver or
+    /// found against the Doppler), not used.
+    CycleSlip,
 }
 
 impl MeasurementStatus {
-    /// A short name (`"accepted"`, `"gate"`, `"excluded"`, `"invalid"`, `"reset"`).
+    /// A short name (`"accepted"`, `"gate"`, `"excluded"`, `"invalid"`,
+    /// `"reset"`, `"slip"`).
     pub fn name(self) -> &'static str {
         match self {
             MeasurementStatus::Accepted => "accepted",
@@ -87,6 +96,7 @@ impl MeasurementStatus {
             MeasurementStatus::Excluded => "excluded",
             MeasurementStatus::RejectedInvalid => "invalid",
             MeasurementStatus::UsedForReset => "reset",
+            MeasurementStatus::CycleSlip => "slip",
         }
     }
 }

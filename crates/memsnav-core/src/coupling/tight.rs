@@ -31,6 +31,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::carrier;
 use super::engine::batch::{median, BatchRules, CommonMode};
 use super::engine::{self, FilterState, InitialState};
 use super::records::MeasurementKind;
@@ -139,7 +140,8 @@ fn inter_system_bias<const N: usize>(
     }
 }
 
-/// Applies one GNSS epoch: the pseudoranges as one batch, then the rates.
+/// Applies one GNSS epoch: the carrier changes since the previous epoch
+/// as one batch (when used), the pseudoranges as one, then the rates.
 pub(crate) fn update_epoch<const N: usize>(
     s: &mut FilterState<N>,
     epoch: &GnssEpoch,
@@ -148,6 +150,21 @@ pub(crate) fn update_epoch<const N: usize>(
     if !(s.clock_known.0 && (s.clock_known.1 || !use_rate)) {
         initialise_clock(s, epoch, use_rate);
     }
+    if !s.tuning.use_carrier_phase {
+        return update_code(s, epoch, use_rate);
+    }
+    carrier::update(s, epoch)?;
+    update_code(s, epoch, use_rate)?;
+    carrier::remember(s, epoch);
+    Ok(())
+}
+
+/// The pseudoranges as one batch, then the rates.
+fn update_code<const N: usize>(
+    s: &mut FilterState<N>,
+    epoch: &GnssEpoch,
+    use_rate: bool,
+) -> Result<()> {
     let t = epoch.time_s;
     let rules = |mode| BatchRules {
         exclusion: true,

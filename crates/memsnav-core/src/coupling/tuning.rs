@@ -70,6 +70,9 @@ impl Default for InitialUncertainty {
     }
 }
 
+/// Default floor of a carrier change's std, m ([`MeasurementFloor`]).
+pub const DEFAULT_CARRIER_PHASE_FLOOR_M: f64 = 0.02;
+
 /// The smallest measurement standard deviations the filter believes.
 ///
 /// A receiver's formal stds can be far smaller than the errors of the
@@ -85,6 +88,12 @@ pub struct MeasurementFloor {
     pub pseudorange_m: f64,
     /// Pseudorange rate, m/s. Default 0.02 m/s.
     pub pseudorange_rate_m_s: f64,
+    /// A carrier range's change between consecutive epochs, m. Default
+    /// 0.02 m: what the INS's displacement over the interval gets wrong
+    /// besides its velocity error (a hand-held antenna's sway about an
+    /// unmodelled lever arm, time tags, phase wind-up from tilting), which
+    /// is well above the phase noise (docs/real-data.md).
+    pub carrier_phase_m: f64,
     /// Position fix, m per axis. Default 0.02 m (the accuracy RTK fixed
     /// solutions are quoted to).
     pub position_m: f64,
@@ -97,6 +106,7 @@ impl Default for MeasurementFloor {
         Self {
             pseudorange_m: 0.5,
             pseudorange_rate_m_s: 0.02,
+            carrier_phase_m: DEFAULT_CARRIER_PHASE_FLOOR_M,
             position_m: 0.02,
             velocity_m_s: 0.02,
         }
@@ -222,6 +232,9 @@ pub struct FilterTuning {
     pub gate_probability: f64,
     /// Use pseudorange rates when the epoch carries them (tight coupling).
     pub use_pseudorange_rate: bool,
+    /// Use the carrier phase's change between consecutive epochs when the
+    /// epochs carry it (tight coupling; [`super::carrier`]). Default off.
+    pub use_carrier_phase: bool,
     /// A GNSS epoch within this many seconds of an IMU sample is applied at
     /// that sample; otherwise the INS is propagated to the GNSS time with an
     /// interpolated IMU sample. Default 1e-4 s.
@@ -289,6 +302,7 @@ impl FilterTuning {
             initial_std,
             gate_probability: DEFAULT_GATE_PROBABILITY,
             use_pseudorange_rate: true,
+            use_carrier_phase: false,
             time_tolerance_s: 1e-4,
             floor: MeasurementFloor::default(),
             recovery: Recovery::default(),

@@ -6,9 +6,11 @@
 //! NaN policy (docs/robustness.md): a measurement with a NaN or infinite
 //! time, satellite position or velocity, pseudorange or pseudorange σ is
 //! refused with an error naming it; NaN is accepted only for a rate (and
-//! its σ), where it means "this satellite has no rate at this epoch".
+//! its σ), where it means "this satellite has no rate at this epoch". A
+//! carrier phase, when present, needs a finite range and a finite positive
+//! σ (the converters turn a NaN carrier slot into no carrier).
 
-use super::{GnssEpoch, SatelliteMeasurement};
+use super::{CarrierPhase, GnssEpoch, SatelliteMeasurement};
 
 /// Largest satellite distance from the Earth's centre accepted, m (well
 /// beyond geostationary orbit, 4.2e7 m).
@@ -17,7 +19,8 @@ pub const MAX_SATELLITE_RADIUS_M: f64 = 1e8;
 pub const MAX_SATELLITE_SPEED_M_S: f64 = 1e4;
 /// `m` checked, or a sentence naming the offending field. A NaN rate
 /// drops the rate's σ too (no rate at all); a finite rate needs a
-/// finite positive σ. A finite pseudorange or rate however large passes:
+/// finite positive σ, and so does a carrier phase's range. A finite
+/// pseudorange, rate or carrier range however large passes:
 /// an outlier is the fix solver's and the filters' to diagnose, naming
 /// the satellite.
 pub fn check_measurement(m: &SatelliteMeasurement) -> Result<SatelliteMeasurement, String> {
@@ -47,6 +50,20 @@ pub fn check_measurement(m: &SatelliteMeasurement) -> Result<SatelliteMeasuremen
             m.pseudorange_std_m
         ));
     }
+    if let Some(c) = m.carrier {
+        if !c.range_m.is_finite() {
+            return Err(format!(
+                "carrier_phase = {} m (must be finite; NaN means no carrier at that slot)",
+                c.range_m
+            ));
+        }
+        if !(c.std_m.is_finite() && c.std_m > 0.0) {
+            return Err(format!(
+                "carrier_phase_std = {} m with a carrier phase of {} m (must be finite and positive)",
+                c.std_m, c.range_m
+            ));
+        }
+    }
     let mut out = *m;
     if m.pseudorange_rate_m_s.is_nan() {
         out.pseudorange_rate_std_m_s = f64::NAN;
@@ -65,6 +82,32 @@ pub fn check_measurement(m: &SatelliteMeasurement) -> Result<SatelliteMeasuremen
         ));
     }
     Ok(out)
+}
+
+/// The carrier phase of one table row or array slot from its carrier range
+/// (NaN: no carrier there, whatever its σ and flag), σ, m, and
+/// loss-of-lock flag (1 or 0; NaN, an empty cell, is 0). The range and σ
+/// are [`check_measurement`]'s to check; a flag other than 0, 1 or NaN is
+/// refused.
+pub fn carrier_of(
+    range_m: f64,
+    std_m: f64,
+    loss_of_lock: f64,
+) -> Result<Option<CarrierPhase>, String> {
+    let loss_of_lock = if loss_of_lock == 1.0 {
+        true
+    } else if loss_of_lock == 0.0 || loss_of_lock.is_nan() {
+        false
+    } else {
+        return Err(format!(
+            "loss_of_lock = {loss_of_lock} (must be 1, 0 or empty)"
+        ));
+    };
+    Ok((!range_m.is_nan()).then_some(CarrierPhase {
+        range_m,
+        std_m,
+        loss_of_lock,
+    }))
 }
 
 /// A satellite number from a float: a whole number 0..=65535.
@@ -173,6 +216,35 @@ mod tests {
         let mut far = measurement(5);
         far.position_ecef.x = 1e67;
         assert!(check_measurement(&far).is_err());
+        let carrier = |range_m: f64, std_m: f64| {
+            let mut m = measurement(6);
+            m.carrier = Some(super::super::CarrierPhase {
+                range_m,
+                std_m,
+                loss_of_lock: false,
+            });
+            check_measurement(&m)
+        };
+        assert!(carrier(2.2e7, 0.003).is_ok());
+        assert!(carrier(f64::INFINITY, 0.003)
+            .unwrap_err()
+            .starts_with("carrier_phase = inf"));
+        for std in [0.0, -1.0, f64::NAN] {
+            assert!(carrier(2.2e7, std)
+                .unwrap_err()
+                .starts_with("carrier_phase_std = "));
+        }
+        assert_eq!(carrier_of(f64::NAN, f64::NAN, 1.0), Ok(None));
+        assert!(carrier_of(1.0, 0.003, 1.0).unwrap().unwrap().loss_of_lock);
+        assert!(
+            !carrier_of(1.0, 0.003, f64::NAN)
+                .unwrap()
+                .unwrap()
+                .loss_of_lock
+        );
+        assert!(carrier_of(1.0, 0.003, 2.0)
+            .unwrap_err()
+            .starts_with("loss_of_lock = 2"));
         assert!(sat_id(3.5).is_err() && sat_id(-1.0).is_err() && sat_id(f64::NAN).is_err());
         assert_eq!(sat_id(12.0), Ok(12));
     }

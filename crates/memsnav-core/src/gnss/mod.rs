@@ -45,7 +45,8 @@ pub use ephemeris::{
 pub use fix::{solve_fix, Dops, Fix};
 pub use galileo_ephemeris::{sisa_index, sisa_m, InavEphemeris};
 pub use measurement_rows::{
-    check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M, MAX_SATELLITE_SPEED_M_S,
+    carrier_of, check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M,
+    MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
     broadcast_epochs, broadcast_epochs_with_signals, gps_l1_epochs, EpochSignals,
@@ -66,7 +67,7 @@ pub use rinex_write::{
 pub use satellite_state::SatelliteState;
 pub(crate) use simulate::simulate_track;
 pub use simulate::{
-    apply_outages, keep_highest, simulate, simulate_with_truth, AtmosphericResidual,
+    apply_outages, keep_highest, simulate, simulate_with_truth, AtmosphericResidual, CycleSlip,
     GnssSimulation, Outage, ReceiverTrack, SimulationConfig,
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};

@@ -10,7 +10,10 @@
 //! `gps_time_s` (GPS s since 1980-01-06 of each row), `pseudorange_rate_m_s`
 //! (an empty field or NaN: no rate for that row), `pseudorange_std_m`,
 //! `pseudorange_rate_std_m_s` (σ columns left out: the caller's σ for
-//! every row). Any other column is an error naming it and the closest
+//! every row), `carrier_phase_m` with `carrier_phase_std_m` (both or
+//! neither; the carrier range, [`crate::gnss::CarrierPhase`]: empty or NaN
+//! for no carrier in that row), `loss_of_lock` (1 or 0, empty: 0). Any
+//! other column is an error naming it and the closest
 //! known name. Rows go in time order; rows of one epoch share its time.
 //! Every row passes [`crate::gnss::check_measurement`] (its NaN policy).
 
@@ -19,7 +22,9 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use super::fields::{finite_number, parse_error};
-use crate::gnss::{epochs_from_rows, sat_id, system_of_number, GnssEpoch, SatelliteMeasurement};
+use crate::gnss::{
+    carrier_of, epochs_from_rows, sat_id, system_of_number, GnssEpoch, SatelliteMeasurement,
+};
 use crate::gnss::{DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M};
 use crate::{known_keys, Error, Result};
 
@@ -37,11 +42,14 @@ pub const GNSS_TABLE_REQUIRED: [&str; 9] = [
 ];
 
 /// The columns a table may have.
-pub const GNSS_TABLE_OPTIONAL: [&str; 4] = [
+pub const GNSS_TABLE_OPTIONAL: [&str; 7] = [
     "gps_time_s",
     "pseudorange_rate_m_s",
     "pseudorange_std_m",
     "pseudorange_rate_std_m_s",
+    "carrier_phase_m",
+    "carrier_phase_std_m",
+    "loss_of_lock",
 ];
 
 /// The σ of every row of a table without σ columns.
@@ -203,6 +211,14 @@ fn build(
             "pseudorange_rate_std_m_s without a pseudorange_rate_m_s column".into(),
         ));
     }
+    let carrier = get("carrier_phase_m");
+    let carrier_std = get("carrier_phase_std_m");
+    if carrier.is_some() != carrier_std.is_some() {
+        return Err(TableError::Column(
+            "carrier_phase_m and carrier_phase_std_m go together (give both, or neither)".into(),
+        ));
+    }
+    let loss_of_lock = get("loss_of_lock");
     let rho_std = get("pseudorange_std_m");
     let n = time.len();
     if n == 0 {
@@ -213,6 +229,11 @@ fn build(
     let mut rows = Vec::with_capacity(n);
     for i in 0..n {
         let sat_id = sat_id(id[i]).map_err(|e| TableError::Row(i, e))?;
+        let carrier = match (carrier, carrier_std) {
+            (Some(c), Some(s)) => carrier_of(c[i], s[i], loss_of_lock.map_or(0.0, |l| l[i]))
+                .map_err(|e| TableError::Row(i, e))?,
+            _ => None,
+        };
         rows.push((
             time[i],
             SatelliteMeasurement {
@@ -224,7 +245,7 @@ fn build(
                 pseudorange_rate_m_s: rate.map_or(f64::NAN, |r| r[i]),
                 pseudorange_std_m: rho_std.map_or(stds.pseudorange_std_m, |s| s[i]),
                 pseudorange_rate_std_m_s: rate_std.map_or(stds.pseudorange_rate_std_m_s, |s| s[i]),
-                carrier: None,
+                carrier,
             },
         ));
     }
@@ -289,5 +310,37 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("table: no sat_id column"), "{e}");
+    }
+
+    #[test]
+    fn carrier_columns_are_read_and_checked() {
+        let header = format!("{HEADER},carrier_phase_m,carrier_phase_std_m,loss_of_lock");
+        let row = "0,1e9,3,2e7,1e7,1e7,1000,0,0,2.2e7,100";
+        let text =
+            format!("{header}\n{row},2.1e7,0.003,1\n0,1e9,7,1e7,2e7,1e7,0,1000,0,2.1e7,,,,\n");
+        let t = parse_gnss_table(&text, "gnss.csv", TableStds::default()).unwrap();
+        let m = &t.epochs[0].measurements;
+        let c = m[0].carrier.unwrap();
+        assert_eq!((c.range_m, c.std_m, c.loss_of_lock), (2.1e7, 0.003, true));
+        assert!(m[1].carrier.is_none());
+        for (fields, message) in [
+            ("2.1e7,,0", "g.csv:2: carrier_phase_std = NaN"),
+            (
+                "inf,0.003,0",
+                "g.csv:2: column carrier_phase_m: \"inf\" is not a finite",
+            ),
+            ("2.1e7,0.003,3", "g.csv:2: loss_of_lock = 3"),
+        ] {
+            let text = format!("{header}\n{row},{fields}\n");
+            let e = parse_gnss_table(&text, "g.csv", TableStds::default())
+                .unwrap_err()
+                .to_string();
+            assert!(e.starts_with(message), "{e}");
+        }
+        let text = format!("{HEADER},carrier_phase_m\n{row},2.1e7\n");
+        let e = parse_gnss_table(&text, "g.csv", TableStds::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("give both, or neither"), "{e}");
     }
 }

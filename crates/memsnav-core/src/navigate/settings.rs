@@ -72,6 +72,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("velocity_latency_s", "latency of the fixes' velocity, s"),
             ("velocity_latency_std_s", "prior std of the velocity latency as a state, s"),
             ("use_pseudorange_rate", "use Doppler (tight coupling)"),
+            ("carrier_phase", "use the carrier phase's change between epochs (tight coupling)"),
             ("receiver_clock", "oscillator class: \"tcxo\", \"ocxo\", \"consumer\""),
             ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling)"),
             ("range_bias_std_m", "their steady-state std, m"),
@@ -105,6 +106,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("pseudorange_rate_std_floor_m_s", "smallest pseudorange-rate std, m/s"),
             ("position_std_floor_m", "smallest position-fix std, m"),
             ("velocity_std_floor_m_s", "smallest velocity-fix std, m/s"),
+            ("carrier_phase_std_floor_m", "smallest std of a carrier change between epochs, m"),
             ("reset_after_failed_epochs", "failed epochs in a row before a reset"),
             ("reset_fading_factor", "whole covariance multiplied when resets follow each other with no accepted batch (1: off)"),
             ("clock_jump_sigma", "common innovation taken for a clock jump, in stds"),
@@ -516,6 +518,7 @@ impl LogConfig {
             ("gnss", "antenna_lever_arm_m") => p.antenna_lever = Some(r.vector3()?),
             ("gnss", "velocity_latency_s") => t.velocity_latency_s = r.number()?,
             ("gnss", "use_pseudorange_rate") => t.use_pseudorange_rate = r.flag()?,
+            ("gnss", "carrier_phase") => t.use_carrier_phase = r.flag()?,
             ("gnss", "receiver_clock") => {
                 let clock = ReceiverClockModel::oscillator(r.text()?)
                     .map_err(|e| Error::invalid(r.name(), e.to_string()))?;
@@ -585,6 +588,9 @@ impl LogConfig {
             }
             ("filter", "position_std_floor_m") => t.floor.position_m = r.non_negative()?,
             ("filter", "velocity_std_floor_m_s") => t.floor.velocity_m_s = r.non_negative()?,
+            ("filter", "carrier_phase_std_floor_m") => {
+                t.floor.carrier_phase_m = r.non_negative()?
+            }
             ("filter", "reset_after_failed_epochs") => {
                 let v = r.positive()?;
                 if v.fract() != 0.0 || v > 1e6 {

@@ -103,6 +103,7 @@ impl<const N: usize> FilterState<N> {
         match kind {
             MeasurementKind::Pseudorange => f.pseudorange_m,
             MeasurementKind::PseudorangeRate => f.pseudorange_rate_m_s,
+            MeasurementKind::CarrierPhase => f.carrier_phase_m,
             _ => 0.0,
         }
     }

@@ -5,6 +5,7 @@
 //! in [`batch`]; the lever arm in [`super::antenna`].
 
 pub(crate) mod batch;
+pub(crate) mod carrier_history;
 mod range_bias;
 
 use std::ops::AddAssign;
@@ -26,6 +27,7 @@ use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
 use crate::ins::{self, ImuData, ImuIncrement, ImuSample, NavState};
 use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::{validate, Error, Result};
+use carrier_history::CarrierHistory;
 use range_bias::RangeBiasSlots;
 
 /// The navigation state and sensor/clock estimates the filter starts from.
@@ -132,6 +134,8 @@ pub struct FilterState<const N: usize> {
     pub(crate) resets_in_a_row: [usize; MeasurementKind::ALL.len()],
     /// The batch being assembled (see [`batch`]).
     pub(crate) staged: batch::Batch,
+    /// The previous GNSS epoch's carrier phases (tight coupling).
+    pub(crate) carrier: CarrierHistory,
     /// Every scalar measurement seen, in time order.
     pub records: Vec<MeasurementRecord>,
     /// Every batch test, in time order.
@@ -232,6 +236,7 @@ impl<const N: usize> FilterState<N> {
             last_accepted_s: [f64::NAN; MeasurementKind::ALL.len()],
             resets_in_a_row: [0; MeasurementKind::ALL.len()],
             staged: batch::Batch::default(),
+            carrier: CarrierHistory::default(),
             records: Vec::new(),
             batches: Vec::new(),
             resets: Vec::new(),

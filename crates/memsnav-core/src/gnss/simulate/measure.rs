@@ -12,6 +12,7 @@ use super::super::clock::ClockState;
 use super::super::constellation::Orbit;
 use super::super::satellite_state::SatelliteState;
 use super::super::{GnssSystem, SatelliteMeasurement};
+use super::carrier::CarrierTracking;
 use crate::gauss_markov::GaussMarkov;
 use crate::geodesy::wgs84::{EARTH_RATE_RAD_S, SPEED_OF_LIGHT_M_S};
 use crate::random::Rng;
@@ -54,6 +55,8 @@ const LIGHT_TIME_PASSES: usize = 12;
 
 /// The receiver at one epoch.
 pub(super) struct Receiver {
+    /// Index of the epoch.
+    pub epoch: usize,
     pub time_s: f64,
     pub gps_time_s: f64,
     pub position_ecef: Vector3<f64>,
@@ -105,8 +108,10 @@ impl MeasurementErrors {
     /// Pseudorange ρ + b + ISB + residual + noise and rate ρ̇ + ḃ + noise
     /// of satellite `i` of `system` on `orbit` (satellite clock errors
     /// taken as corrected; `inter_system_bias_m` is its system's bias
-    /// against GPS, 0 for GPS). Draws: residual (if enabled), pseudorange
-    /// noise, rate noise.
+    /// against GPS, 0 for GPS), and with `carrier` its carrier phase (the
+    /// same geometry, clock and bias, the residual's sign reversed: see
+    /// [`super::carrier`]). Draws from `rng`: residual (if enabled),
+    /// pseudorange noise, rate noise; the carrier's from its own stream.
     pub fn measure(
         &mut self,
         (i, sat_id, system): (usize, u16, GnssSystem),
@@ -114,6 +119,7 @@ impl MeasurementErrors {
         orbit: &Orbit<'_>,
         rx: &Receiver,
         rng: &mut Rng,
+        carrier: Option<&mut CarrierTracking>,
     ) -> SatelliteMeasurement {
         let (r, v, h) = (rx.position_ecef, rx.velocity_ecef, RATE_HALF_STEP_S);
         let (range, tx_state) = light_time(orbit, rx.gps_time_s, 0.0, &r);
@@ -123,22 +129,20 @@ impl MeasurementErrors {
         let residual = self.residual(i, rx.time_s, rng);
         let z_range: f64 = StandardNormal.sample(rng);
         let z_rate: f64 = StandardNormal.sample(rng);
+        let common_m = range + rx.clock.offset_m + inter_system_bias_m;
         SatelliteMeasurement {
             sat_id,
             system,
             position_ecef: tx_state.position_ecef,
             velocity_ecef: tx_state.velocity_ecef,
-            pseudorange_m: range
-                + rx.clock.offset_m
-                + inter_system_bias_m
-                + residual
-                + self.pseudorange_std_m * z_range,
+            pseudorange_m: common_m + residual + self.pseudorange_std_m * z_range,
             pseudorange_rate_m_s: range_rate
                 + rx.clock.drift_m_s
                 + self.pseudorange_rate_std_m_s * z_rate,
             pseudorange_std_m: self.pseudorange_std_m,
             pseudorange_rate_std_m_s: self.pseudorange_rate_std_m_s,
-            carrier: None,
+            carrier: carrier
+                .map(|c| c.measure(i, sat_id, rx.epoch, rx.time_s, common_m - residual)),
         }
     }
 }

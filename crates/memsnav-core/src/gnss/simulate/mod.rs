@@ -7,6 +7,8 @@
 //!   with the Earth's rotation, plus a two-state receiver clock, each
 //!   system's constant inter-system bias, white noise and an optional
 //!   slowly varying atmospheric/multipath residual;
+//! - [`carrier`]: optionally the carrier phase, with its ambiguities and
+//!   cycle slips, from a stream of its own;
 //! - [`outage`]: windows with fewer satellites, applied to the finished
 //!   measurements (the satellites they keep are documented there);
 //! - [`track`]: the receiver's motion, which the simulation and the
@@ -14,12 +16,14 @@
 //!
 //! [`simulate_with_truth`] runs them in that order.
 
+mod carrier;
 mod epochs;
 mod measure;
 mod outage;
 mod selection;
 mod track;
 
+pub use carrier::CycleSlip;
 pub use outage::{apply_outages, keep_highest, Outage};
 pub use track::ReceiverTrack;
 
@@ -38,6 +42,7 @@ use crate::geodesy::ecef_to_geodetic;
 use crate::random::Rng;
 use crate::validate::{self, SeriesCheck};
 use crate::{Error, Result};
+use carrier::CarrierTracking;
 use measure::{MeasurementErrors, Receiver};
 use selection::{elevation, Selection};
 
@@ -64,7 +69,7 @@ impl Default for AtmosphericResidual {
 
 /// Settings of [`simulate`]. Defaults: 1 Hz, 6 satellites, 10° mask,
 /// 3 m and 0.1 m/s white noise, no residual, a TCXO clock, no outage, no
-/// inter-system bias.
+/// inter-system bias, no carrier phase.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationConfig {
     /// Measurement rate, Hz (epochs fall on the track samples nearest to
@@ -94,6 +99,12 @@ pub struct SimulationConfig {
     /// receiver's different group delays per system (and GST, BDT against
     /// GPS time) that the tight filter's inter-system-bias states estimate.
     pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_SYSTEMS.len()],
+    /// White carrier-range noise, one sigma, m; 0: no carrier phase
+    /// (module [`carrier`]).
+    pub carrier_phase_std_m: f64,
+    /// Probability that a satellite's carrier slips at an epoch (after
+    /// its first of an arc), in [0, 1].
+    pub cycle_slip_probability: f64,
 }
 
 impl Default for SimulationConfig {
@@ -109,6 +120,8 @@ impl Default for SimulationConfig {
             outages: Vec::new(),
             start_gps_time_s: None,
             inter_system_bias_m: [0.0; INTER_SYSTEM_BIAS_SYSTEMS.len()],
+            carrier_phase_std_m: 0.0,
+            cycle_slip_probability: 0.0,
         }
     }
 }
@@ -124,6 +137,9 @@ pub struct GnssSimulation {
     /// The inter-system biases in the pseudoranges (Galileo, BeiDou
     /// minus GPS), m: the configuration's.
     pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_SYSTEMS.len()],
+    /// The cycle slips in the carrier phases, in epoch order (empty
+    /// without carrier phase).
+    pub cycle_slips: Vec<CycleSlip>,
 }
 
 impl SimulationConfig {
@@ -196,6 +212,18 @@ impl SimulationConfig {
                 format!("must be within ±{MAX_DISTANCE_M:e} m, got {b:e}"),
             ));
         }
+        validate::magnitude(
+            "carrier_phase_std",
+            self.carrier_phase_std_m,
+            MAX_DISTANCE_M,
+        )?;
+        let p = self.cycle_slip_probability;
+        if !(0.0..=1.0).contains(&p) {
+            return Err(Error::invalid(
+                "cycle_slip_probability",
+                format!("must be within [0, 1], got {p}"),
+            ));
+        }
         Ok(())
     }
 
@@ -228,7 +256,8 @@ pub fn simulate(
 /// selected satellite is measured, and finally the outages remove
 /// satellites. Draw order: the initial clock (2), then per epoch the clock
 /// step (2, from the second epoch) and per selected satellite its residual
-/// (if enabled), pseudorange and rate noise.
+/// (if enabled), pseudorange and rate noise. The carrier phases draw from
+/// a side stream of `rng` (module [`carrier`]), which they leave as it was.
 pub fn simulate_with_truth(
     track: &ReceiverTrack<'_>,
     constellation: &Constellation,
@@ -290,7 +319,13 @@ pub(crate) fn simulate_track(
         config.residual_process()?,
         n_sat,
     );
-    let mut epochs = Vec::with_capacity(samples.len());
+    let mut carrier = CarrierTracking::new(
+        config.carrier_phase_std_m,
+        config.cycle_slip_probability,
+        n_sat,
+        rng,
+    );
+    let mut epochs: Vec<GnssEpoch> = Vec::with_capacity(samples.len());
     let mut clocks = Vec::with_capacity(samples.len());
     let mut clock = config.clock.initial(rng);
     let mut previous_t: Option<f64> = None;
@@ -307,6 +342,7 @@ pub(crate) fn simulate_track(
         }
         previous_t = Some(t);
         let receiver = Receiver {
+            epoch: epochs.len(),
             time_s: t,
             gps_time_s: start_gps + (t - t0),
             position_ecef: rx,
@@ -355,6 +391,7 @@ pub(crate) fn simulate_track(
                     &orbit,
                     &receiver,
                     rng,
+                    carrier.as_mut(),
                 )
             })
             .collect();
@@ -363,6 +400,9 @@ pub(crate) fn simulate_track(
             measurements,
         };
         outage::apply(&config.outages, &mut epoch, &rx);
+        if let Some(c) = carrier.as_mut() {
+            c.finish_epoch(epochs.last(), &mut epoch);
+        }
         epochs.push(epoch);
         clocks.push(clock);
     }
@@ -371,5 +411,6 @@ pub(crate) fn simulate_track(
         clock: clocks,
         start_gps_time_s: start_gps,
         inter_system_bias_m: config.inter_system_bias_m,
+        cycle_slips: carrier.map_or_else(Vec::new, |c| c.slips),
     })
 }
