@@ -20,6 +20,7 @@ from memsnav.realdata.answer import (
     outage_label,
 )
 from memsnav.realdata.result import LogNavigationResult
+from memsnav.realdata.satellites import SATELLITE_KINDS
 from memsnav.report.document import Report
 from memsnav.report.numbers import number, percent
 
@@ -69,6 +70,8 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             "1: the innovations exceed their predicted spread, a tuning mismatch; above 4 "
             "twice in a row: an alert; docs/few-satellites.md)."
         )
+    if s.get("satellites"):
+        _satellites_section(doc, s)
     fig, ax = plt.subplots(figsize=(7, 6))
     if result.truth is not None:
         plot_track(
@@ -248,6 +251,74 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     else:
         doc.paragraph("The filter made no reset.")
     return doc.write(out)
+
+
+def _satellites_section(doc: Report, s: dict[str, Any]) -> None:
+    """Per system, then per satellite: how many measurements the filter
+    used, excluded, rejected and found slipped, with C/N0 and elevation."""
+    doc.section("Satellites")
+    doc.table(
+        [
+            "system",
+            "satellites used",
+            "measurements",
+            "used",
+            "excluded",
+            "rejected",
+            "cycle slips",
+        ],
+        [
+            [
+                name,
+                t["satellites"],
+                t["measurements"],
+                t["used"],
+                f"{t['excluded']} ({percent(t['excluded_share'], 2)})",
+                f"{t['rejected']} ({percent(t['rejected_share'], 2)})",
+                t["slips"],
+            ]
+            for name, t in s["satellite_systems"].items()
+        ],
+    )
+    doc.table(
+        [
+            "satellite",
+            "system",
+            "signal",
+            "epochs",
+            "mean C/N0 [dB-Hz]",
+            "mean elevation [°]",
+            "used",
+            "excluded",
+            "rejected",
+            "cycle slips",
+        ],
+        [
+            [
+                r["satellite"],
+                r["system"],
+                r["signal"] or "—",
+                r["epochs"],
+                number(r["mean_cn0_db_hz"]),
+                number(r["mean_elevation_deg"], 2),
+                r["used"],
+                r["excluded"],
+                r["rejected"],
+                r["slips"],
+            ]
+            for r in s["satellites"]
+        ],
+    )
+    kinds = ", ".join(kind.replace("_", " ") + "s" for kind in SATELLITE_KINDS)
+    doc.paragraph(
+        f"Counts are scalar measurements ({kinds}) as the filter recorded them: used; "
+        "excluded (left out of their epoch's batch by fault exclusion, the rest applied); "
+        "rejected (their batch failed the chi-square gate or reset the filter, or an invalid "
+        "value); cycle slips "
+        "(a carrier-phase change the slip tests refused). Epochs: those with a measurement "
+        "of the satellite in the filter; C/N0 (of the signal the pseudorange was taken "
+        "from) and elevation (at the receiver's approximate position) are means over them."
+    )
 
 
 def _change(reset: dict[str, Any]) -> str:
