@@ -19,6 +19,7 @@ import pytest
 from shared_data import shared_data
 
 import memsnav as mn
+from memsnav.realdata.answer import answer_lines
 
 ROOT = Path(__file__).resolve().parents[1]
 UBX = "real-imu-gnss/walk_0827/gnss_1730.ubx"
@@ -259,3 +260,78 @@ def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
     assert np.mean(drift[time < 10]) == pytest.approx(first, abs=1.0)
     assert np.mean(drift[time > time[-1] - 10]) == pytest.approx(last, abs=1.0)
     assert np.polyfit(time, drift, 1)[0] == pytest.approx(slope, abs=0.01)
+
+
+@pytest.fixture(scope="module")
+def walk_run(tmp_path_factory):
+    """The walk on three systems from its u-blox log (examples/walk_0827_multi_gnss.toml)."""
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
+    config.values["report"]["html"] = False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's last line is cut short
+        return mn.navigate(config, output=tmp_path_factory.mktemp("walk") / "out")
+
+
+#: The S observation of the signal each system's walk measurements use
+#: (RINEX 3.05 §5.1: GPS L1 C/A, Galileo E1 C, BeiDou B3I).
+_STRENGTH = {"G": "S1C", "E": "S1C", "C": "S6I"}
+
+
+def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
+    """summary.json's satellite table: the 20 satellites of the three
+    systems; its counts add up to the filter's records, kind by kind; each
+    mean C/N0 is the log's own S observation of the signal averaged over
+    the epochs whose records hold the satellite; the terminal line says it."""
+    s = walk_run.summary
+    rows = s["satellites"]
+    names = [r["satellite"] for r in rows]
+    assert names == [
+        *(f"G{p:02d}" for p in (8, 10, 18, 23, 24, 27, 32)),
+        *(f"E{p:02d}" for p in (7, 8, 13, 26, 29, 33)),
+        *(f"C{p:02d}" for p in (11, 21, 22, 34, 42, 43, 44)),
+    ]
+    systems = s["satellite_systems"]
+    assert {k: v["satellites"] for k, v in systems.items()} == {
+        "GPS": 7,
+        "Galileo": 6,
+        "BeiDou": 7,
+    }
+    for kind in ("pseudorange", "pseudorange_rate"):
+        for status, count in s["measurements"][kind].items():
+            assert sum(r["measurements"][kind].get(status, 0) for r in rows) == count
+    total = sum(sum(s["measurements"][k].values()) for k in ("pseudorange", "pseudorange_rate"))
+    columns = ("used", "excluded", "rejected", "slips")
+    assert sum(r[c] for r in rows for c in columns) == total
+    assert sum(t["measurements"] for t in systems.values()) == total
+
+    records = walk_run.run.solution.measurements
+    ids, times = np.asarray(records["id"]), np.asarray(records["time"])
+    pseudorange = np.asarray(records["kind"]) == "pseudorange"
+    obs = walk_log.observations
+    columns_of = {name: j for j, name in enumerate(obs.satellites)}
+    for row in rows:
+        name = row["satellite"]
+        number = {"G": 0, "E": 100, "C": 200}[name[0]] + int(name[1:])
+        epochs = np.isin(obs.time, times[pseudorange & (ids == number)])
+        strength = obs.observation(_STRENGTH[name[0]])[epochs, columns_of[name]]
+        assert row["epochs"] == np.sum(epochs)
+        assert 20.0 <= row["mean_cn0_db_hz"] <= 55.0, row
+        assert row["mean_cn0_db_hz"] == pytest.approx(np.mean(strength), abs=1e-9), name
+        assert 5.0 <= row["mean_elevation_deg"] <= 90.0, row
+    line = answer_lines(s)[1]
+    assert "satellites used: GPS 7, Galileo 6, BeiDou 7 (20)" in line
+
+
+def test_a_gps_rinex_run_lists_one_system(tmp_path):
+    """The walk from its GPS RINEX files (examples/walk_0827.toml): one
+    system in the satellite table."""
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    config = mn.load_config(ROOT / "examples" / "walk_0827.toml", data)
+    config.values["report"]["html"] = False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        s = mn.navigate(config, output=tmp_path / "walk").summary
+    assert list(s["satellite_systems"]) == ["GPS"]
+    assert {r["system"] for r in s["satellites"]} == {"GPS"}
+    assert {r["signal"] for r in s["satellites"]} == {"L1 C/A"}
