@@ -199,6 +199,9 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             # or excluded by the residual test, never a whole epoch gated.
             assert carrier["accepted"] > 0.9 * sum(carrier.values()), carrier
             assert set(carrier) <= {"accepted", "slip", "excluded"}, carrier
+            # The satellite table's slip column holds the carrier's slips.
+            slips = sum(r["slips"] for r in s["satellites"])
+            assert slips == carrier.get("slip", 0) > 0, (slips, carrier)
         else:
             assert not carrier, (name, carrier)
         if name == "GPS + Galileo + BeiDou":
