@@ -324,6 +324,9 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
         assert 5.0 <= row["mean_elevation_deg"] <= 90.0, row
     line = answer_lines(s)[1]
     assert "satellites used: GPS 7, Galileo 6, BeiDou 7 (20)" in line
+    assert f"\n{line}\n" in (ROOT / "docs" / "real-data.md").read_text(), (
+        "docs/real-data.md no longer quotes the walk's satellites line"
+    )
 
 
 def test_a_gps_rinex_run_lists_one_system(tmp_path):
