@@ -202,6 +202,26 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             # The satellite table's slip column holds the carrier's slips.
             slips = sum(r["slips"] for r in s["satellites"])
             assert slips == carrier.get("slip", 0) > 0, (slips, carrier)
+            if len(overrides["systems"]) == 3:
+                page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+                quoted = re.search(
+                    r"(\d+) on GPS \((\d+) to (\d+) a satellite\), (\d+) on Galileo, "
+                    r"(\d+) on BeiDou",
+                    page,
+                )
+                assert quoted, "docs/real-data.md no longer quotes the walk's cycle slips"
+                per_system = {
+                    t: [r["slips"] for r in s["satellites"] if r["system"] == t]
+                    for t in ("GPS", "Galileo", "BeiDou")
+                }
+                gps = per_system["GPS"]
+                assert [int(v) for v in quoted.groups()] == [
+                    sum(gps),
+                    min(gps),
+                    max(gps),
+                    sum(per_system["Galileo"]),
+                    sum(per_system["BeiDou"]),
+                ]
         else:
             assert not carrier, (name, carrier)
         if name == "GPS + Galileo + BeiDou":
@@ -326,6 +346,24 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
     assert "satellites used: GPS 7, Galileo 6, BeiDou 7 (20)" in line
     assert f"\n{line}\n" in (ROOT / "docs" / "real-data.md").read_text(), (
         "docs/real-data.md no longer quotes the walk's satellites line"
+    )
+    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(
+        r"mean C/N0 from ([\d.]+) dB-Hz \((E\d\d), (\d+)° mean elevation, (\d+) of the (\d+) "
+        r"epochs\) to ([\d.]+) dB-Hz \((G\d\d)\)",
+        page,
+    )
+    assert quoted, "docs/real-data.md no longer quotes the walk's C/N0 range"
+    low = min(rows, key=lambda r: r["mean_cn0_db_hz"])
+    high = max(rows, key=lambda r: r["mean_cn0_db_hz"])
+    assert quoted.groups() == (
+        f"{low['mean_cn0_db_hz']:.1f}",
+        low["satellite"],
+        f"{low['mean_elevation_deg']:.0f}",
+        str(low["epochs"]),
+        str(max(r["epochs"] for r in rows)),
+        f"{high['mean_cn0_db_hz']:.1f}",
+        high["satellite"],
     )
 
 
