@@ -161,24 +161,15 @@ fn silent_cycle_slips_are_found_and_carrier_phase_helps() {
                 .iter()
                 .any(|s| s.time_s == time_s && s.sat_id == id)
         };
-        let run_found = injected
-            .iter()
-            .filter(|s| {
-                carrier
-                    .iter()
-                    .any(|r| r.time_s == s.time_s && r.id == s.sat_id && not_applied(r.status))
-            })
-            .count();
-        let run_small: Vec<_> = injected.iter().filter(|s| s.cycles.abs() <= 2).collect();
+        let was_found = |s: &&CycleSlip| {
+            carrier
+                .iter()
+                .any(|r| r.time_s == s.time_s && r.id == s.sat_id && not_applied(r.status))
+        };
+        let run_found = injected.iter().filter(was_found).count();
+        let run_small: Vec<&CycleSlip> = injected.iter().filter(|s| s.cycles.abs() <= 2).collect();
         small.0 += run_small.len();
-        small.1 += run_small
-            .iter()
-            .filter(|s| {
-                carrier
-                    .iter()
-                    .any(|r| r.time_s == s.time_s && r.id == s.sat_id && not_applied(r.status))
-            })
-            .count();
+        small.1 += run_small.into_iter().filter(was_found).count();
         let run_false: Vec<_> = carrier
             .iter()
             .filter(|r| not_applied(r.status) && !is_slip(r.time_s, r.id))
