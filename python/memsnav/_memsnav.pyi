@@ -1270,13 +1270,16 @@ class FilterSolution:
     Measurement records (``measurements``, ``rejected``) are dicts of arrays:
     ``time`` (s), ``id`` (satellite id; fix component 0-2 for the loose
     filter; axis for the aids), ``kind`` ("pseudorange" m, "pseudorange_rate"
-    m/s, "position" / "velocity" whitened, unit variance, "zero_velocity",
-    "zero_rate", "non_holonomic"), ``innovation`` (measurement minus the
-    prediction before the epoch's updates), ``innovation_std``, ``nis``
-    (nu²/s), ``status`` ("accepted"; "gate": its batch failed the chi-square
-    test; "excluded": left out of its batch by fault exclusion; "invalid":
-    NaN/inf value or non-positive std; "reset": its batch failed and the
-    filter was reset from it).
+    m/s, "carrier_phase" m: a carrier change between consecutive epochs with
+    the epoch's weighted mean removed, "position" / "velocity" whitened,
+    unit variance, "zero_velocity", "zero_rate", "non_holonomic"),
+    ``innovation`` (measurement minus the prediction before the epoch's
+    updates), ``innovation_std``, ``nis`` (nu²/s), ``status`` ("accepted";
+    "gate": its batch failed the chi-square test; "excluded": left out of
+    its batch by fault exclusion; "invalid": NaN/inf value or non-positive
+    std; "reset": its batch failed and the filter was reset from it;
+    "slip": a carrier change holding a cycle slip, flagged by the receiver
+    or found against the Doppler, not used).
     """
 
     @property

@@ -161,24 +161,15 @@ fn silent_cycle_slips_are_found_and_carrier_phase_helps() {
                 .iter()
                 .any(|s| s.time_s == time_s && s.sat_id == id)
         };
-        let run_found = injected
-            .iter()
-            .filter(|s| {
-                carrier
-                    .iter()
-                    .any(|r| r.time_s == s.time_s && r.id == s.sat_id && not_applied(r.status))
-            })
-            .count();
-        let run_small: Vec<_> = injected.iter().filter(|s| s.cycles.abs() <= 2).collect();
+        let was_found = |s: &&CycleSlip| {
+            carrier
+                .iter()
+                .any(|r| r.time_s == s.time_s && r.id == s.sat_id && not_applied(r.status))
+        };
+        let run_found = injected.iter().filter(was_found).count();
+        let run_small: Vec<&CycleSlip> = injected.iter().filter(|s| s.cycles.abs() <= 2).collect();
         small.0 += run_small.len();
-        small.1 += run_small
-            .iter()
-            .filter(|s| {
-                carrier
-                    .iter()
-                    .any(|r| r.time_s == s.time_s && r.id == s.sat_id && not_applied(r.status))
-            })
-            .count();
+        small.1 += run_small.into_iter().filter(was_found).count();
         let run_false: Vec<_> = carrier
             .iter()
             .filter(|r| not_applied(r.status) && !is_slip(r.time_s, r.id))
@@ -255,4 +246,70 @@ fn silent_cycle_slips_are_found_and_carrier_phase_helps() {
     );
     assert!(mean > lo && mean < hi, "mean NEES/dof {mean}");
     assert!(rms_carrier <= rms_code, "{rms_carrier} vs {rms_code}");
+}
+
+/// The carrier changes carry neither the ambiguities nor the receiver
+/// clock: adding a constant per satellite (whole cycles and a fraction) to
+/// every carrier range and a different offset per epoch to all of an
+/// epoch's carrier ranges leaves the filter's solution as it was, to
+/// rounding. This is what eliminating the clock's change (rather than
+/// estimating it) must give; a model that tied it to the clock states, or
+/// used a carrier range by itself, would not.
+#[test]
+fn carrier_changes_are_blind_to_ambiguities_and_the_receiver_clock() {
+    let truth = drive(120.0, 100.0, true);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let tuning = FilterTuning {
+        use_carrier_phase: true,
+        ..FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap()
+    };
+    let config = SimulationConfig {
+        n_satellites: SATELLITES,
+        carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
+        cycle_slip_probability: SLIP_PROBABILITY,
+        ..SimulationConfig::default()
+    };
+    let mut rng = stream(77, 0);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let (epochs, _) = measurements(&truth, &config, &mut rng);
+    let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let data = imu_data(&truth, &f, &w);
+    let shifted: Vec<GnssEpoch> = epochs
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let clock_m = 1e4 * (k as f64).sin() + 3.0 * k as f64;
+            let mut e = e.clone();
+            for m in &mut e.measurements {
+                if let Some(c) = &mut m.carrier {
+                    c.range_m += clock_m + 0.1903 * (17.0 * f64::from(m.sat_id) + 0.37);
+                }
+            }
+            e
+        })
+        .collect();
+    let final_state = |epochs: &[GnssEpoch]| {
+        let mut last = None;
+        let records = coupling::run::<17, _, _>(&data, epochs, &init, &tuning, |_, s| {
+            last = Some((s.nav.position_ecef, s.nav.velocity_ecef));
+        })
+        .unwrap();
+        let used = records
+            .measurements
+            .iter()
+            .filter(|r| r.kind == MeasurementKind::CarrierPhase)
+            .map(|r| r.status)
+            .collect::<Vec<_>>();
+        (last.unwrap(), used)
+    };
+    let ((position, velocity), used) = final_state(&epochs);
+    let ((position_shifted, velocity_shifted), used_shifted) = final_state(&shifted);
+    assert!(used.contains(&MeasurementStatus::Accepted));
+    assert_eq!(
+        used, used_shifted,
+        "the slip and residual tests decided alike"
+    );
+    assert!((position - position_shifted).norm() < 1e-6);
+    assert!((velocity - velocity_shifted).norm() < 1e-8);
 }
