@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -162,23 +163,35 @@ CONFIGURATIONS = {
 }
 
 
+def _docs_page() -> str:
+    """docs/real-data.md with its whitespace runs made single spaces."""
+    return " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+
+
+def _navigate(example: str, output: Path, overrides: dict | None = None) -> Any:
+    """``memsnav navigate`` of ``examples/<example>`` on the shared data, no
+    HTML; ``overrides`` update its ``[gnss]`` table (``carrier_phase``, an
+    engine key, included)."""
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    config = mn.load_config(ROOT / "examples" / example, data)
+    config.values["report"]["html"] = False
+    overrides = dict(overrides or {})
+    if overrides.pop("carrier_phase", False):
+        config.engine.setdefault("gnss", {})["carrier_phase"] = True
+    config.values["gnss"].update(overrides)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's last line is cut short
+        return mn.navigate(config, output=output)
+
+
 def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
     """docs/real-data.md's table: horizontal and vertical precision,
     vertical accuracy (against MSL − 21.387 m) and single-point precision
     of each configuration, recomputed from examples/walk_0827_multi_gnss.toml."""
     rows = _quoted_walk_rows()
     assert set(rows) == set(CONFIGURATIONS)
-    data = shared_data("real-imu-gnss/walk_0827").parent.parent
     for name, overrides in CONFIGURATIONS.items():
-        config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
-        config.values["report"]["html"] = False
-        overrides = dict(overrides)
-        if overrides.pop("carrier_phase", False):
-            config.engine.setdefault("gnss", {})["carrier_phase"] = True
-        config.values["gnss"].update(overrides)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # the log's last line is cut short
-            s = mn.navigate(config, output=tmp_path / "walk").summary
+        s = _navigate("walk_0827_multi_gnss.toml", tmp_path / "walk", overrides).summary
         precise, accurate = s["errors_vs_truth_precision"], s["errors_vs_truth"]
         measured = [
             precise["aided"]["rms_horizontal_m"],
@@ -203,7 +216,7 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             slips = sum(r["slips"] for r in s["satellites"])
             assert slips == carrier.get("slip", 0) > 0, (slips, carrier)
             if len(overrides["systems"]) == 3:
-                page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+                page = _docs_page()
                 quoted = re.search(
                     r"(\d+) on GPS \((\d+) to (\d+) a satellite\), (\d+) on Galileo, "
                     r"(\d+) on BeiDou",
@@ -225,7 +238,7 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
         else:
             assert not carrier, (name, carrier)
         if name == "GPS + Galileo + BeiDou":
-            page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+            page = _docs_page()
             quoted = re.search(r"Galileo (−?[\d.]+) m, BeiDou (−?[\d.]+) m on the walk", page)
             assert quoted, "docs/real-data.md no longer quotes the walk's inter-system biases"
             galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
@@ -233,11 +246,11 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006
 
 
-def test_the_quoted_phase_wind_up_bound_is_the_walks(tmp_path):
+def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
     """docs/real-data.md bounds the walk's differential phase wind-up by the
     tilt of the body's vertical axis per 0.25 s epoch (λ·tilt/360°):
     recomputed from the attitude of the all-systems run."""
-    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    page = _docs_page()
     quoted = re.search(
         r"tilts by ([\d.]+)° per 0.25 s \(median; ([\d.]+)° at the 95th percentile\), "
         r"which bounds the differential wind-up by λ·tilt/360° = ([\d.]+) mm",
@@ -245,12 +258,7 @@ def test_the_quoted_phase_wind_up_bound_is_the_walks(tmp_path):
     )
     assert quoted, "docs/real-data.md no longer quotes the wind-up bound"
     median_deg, p95_deg, bound_mm = map(float, quoted.groups())
-    data = shared_data("real-imu-gnss/walk_0827").parent.parent
-    config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
-    config.values["report"]["html"] = False
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the log's last line is cut short
-        solution = mn.navigate(config, output=tmp_path / "walk").run.solution
+    solution = walk_run.run.solution
     time, c_b_e = np.asarray(solution.time), np.asarray(solution.attitude)
     at = np.searchsorted(time, np.arange(time[0], time[-1], 0.25))
     z_axis = c_b_e[at][:, :, 2]
@@ -267,7 +275,7 @@ def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
     """docs/real-data.md explains why the carrier changes eliminate the
     clock by the walk's receiver clock drifting from −61 to −81 m/s over
     the log (−0.17 m/s²): the single-point fixes' Doppler drift."""
-    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    page = _docs_page()
     quoted = re.search(
         r"clock drifts from (−[\d.]+) to (−[\d.]+) m/s over the log \((−[\d.]+) m/s²", page
     )
@@ -288,12 +296,7 @@ def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
 @pytest.fixture(scope="module")
 def walk_run(tmp_path_factory):
     """The walk on three systems from its u-blox log (examples/walk_0827_multi_gnss.toml)."""
-    data = shared_data("real-imu-gnss/walk_0827").parent.parent
-    config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data)
-    config.values["report"]["html"] = False
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the log's last line is cut short
-        return mn.navigate(config, output=tmp_path_factory.mktemp("walk") / "out")
+    return _navigate("walk_0827_multi_gnss.toml", tmp_path_factory.mktemp("walk") / "out")
 
 
 #: The S observation of the signal each system's walk measurements use
@@ -347,7 +350,7 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
     assert f"\n{line}\n" in (ROOT / "docs" / "real-data.md").read_text(), (
         "docs/real-data.md no longer quotes the walk's satellites line"
     )
-    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    page = _docs_page()
     quoted = re.search(
         r"mean C/N0 from ([\d.]+) dB-Hz \((E\d\d), (\d+)° mean elevation, (\d+) of the (\d+) "
         r"epochs\) to ([\d.]+) dB-Hz \((G\d\d)\)",
@@ -370,12 +373,7 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
 def test_a_gps_rinex_run_lists_one_system(tmp_path):
     """The walk from its GPS RINEX files (examples/walk_0827.toml): one
     system in the satellite table."""
-    data = shared_data("real-imu-gnss/walk_0827").parent.parent
-    config = mn.load_config(ROOT / "examples" / "walk_0827.toml", data)
-    config.values["report"]["html"] = False
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        s = mn.navigate(config, output=tmp_path / "walk").summary
+    s = _navigate("walk_0827.toml", tmp_path / "walk").summary
     assert list(s["satellite_systems"]) == ["GPS"]
     assert {r["system"] for r in s["satellites"]} == {"GPS"}
     assert {r["signal"] for r in s["satellites"]} == {"L1 C/A"}
