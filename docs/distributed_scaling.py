@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from marked_block import replace_block
 
 import memsnav as mn
 
@@ -134,9 +135,7 @@ def main() -> None:
     print(text)
     if args.write:
         RECORD.write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n")
-        old = PAGE.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        PAGE.write_text(old[:start] + text + old[stop:])
+        replace_block(PAGE, BEGIN, END, text)
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from marked_block import replace_block
 from scipy.stats import chi2
 
 import memsnav as mn
@@ -222,9 +223,7 @@ def main() -> None:
     print(text)
     if args.write:
         page = ROOT / "docs" / "few-satellites.md"
-        old = page.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        page.write_text(old[:start] + text + old[stop:])
+        replace_block(page, BEGIN, END, text)
 
 
 if __name__ == "__main__":

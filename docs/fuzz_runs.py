@@ -27,6 +27,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from marked_block import replace_block
 from performance_tables import cpu_model
 from timings import timed
 
@@ -195,9 +196,7 @@ def write(text: str, record: dict[str, Any] | None) -> None:
     print(text)
     if record is not None:
         RECORD.write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n")
-        old = PAGE.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        PAGE.write_text(old[:start] + text + old[stop:])
+        replace_block(PAGE, BEGIN, END, text)
 
 
 if __name__ == "__main__":

@@ -20,6 +20,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from marked_block import replace_block
+
 from memsnav.report.numbers import number
 from memsnav.reproduce import worker_threads
 from memsnav.study import Requirement, answer_lines, run_study, table_cells
@@ -73,9 +75,7 @@ def main() -> None:
     print(text)
     if args.write:
         page = ROOT / "docs" / "outage-study.md"
-        old = page.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        page.write_text(old[:start] + text + old[stop:])
+        replace_block(page, BEGIN, END, text)
 
 
 if __name__ == "__main__":

@@ -28,6 +28,8 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
+from marked_block import replace_block
+
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = ROOT / "docs" / "performance.md"
 RECORD = ROOT / "docs" / "performance.json"
@@ -387,9 +389,7 @@ def main() -> None:
     print(text)
     if args.write:
         RECORD.write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n")
-        old = PAGE.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        PAGE.write_text(old[:start] + text + old[stop:])
+        replace_block(PAGE, BEGIN, END, text)
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from marked_block import replace_block
 
 import memsnav as mn
 from memsnav.realdata.config import RunConfig
@@ -235,9 +236,7 @@ def main() -> None:
     print(text)
     if args.write:
         page = ROOT / "docs" / "real-data.md"
-        old = page.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        page.write_text(old[:start] + text + old[stop:])
+        replace_block(page, BEGIN, END, text)
 
 
 if __name__ == "__main__":

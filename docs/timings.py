@@ -25,6 +25,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from marked_block import replace_block
+
 from memsnav.reproduce import FULL, QUICK, Sizes, worker_threads
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -119,9 +121,7 @@ def main() -> None:
     print(text)
     if args.write:
         page = ROOT / "README.md"
-        old = page.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        page.write_text(old[:start] + text + old[stop:])
+        replace_block(page, BEGIN, END, text)
 
 
 if __name__ == "__main__":

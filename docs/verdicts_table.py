@@ -19,6 +19,8 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from marked_block import replace_block
+
 from memsnav.report.claims import CLAIMS, evaluate_claims
 from memsnav.reproduce import reproduce
 
@@ -79,9 +81,7 @@ def main() -> None:
     print(text)
     if args.write:
         page = ROOT / "docs" / "paper-comparison.md"
-        old = page.read_text()
-        start, stop = old.index(BEGIN), old.index(END) + len(END)
-        page.write_text(old[:start] + text + old[stop:])
+        replace_block(page, BEGIN, END, text)
 
 
 if __name__ == "__main__":

@@ -25,11 +25,8 @@ CORE = ROOT / "crates" / "memsnav-core" / "src"
 
 
 def _script() -> dict:
-    sys.path.insert(0, str(ROOT / "docs"))  # it imports its sibling scripts
-    try:
-        return runpy.run_path(str(ROOT / "docs" / "fuzz_runs.py"))
-    finally:
-        sys.path.remove(str(ROOT / "docs"))
+    # Its sibling scripts are on the path: pytest's pythonpath.
+    return runpy.run_path(str(ROOT / "docs" / "fuzz_runs.py"))
 
 
 SCRIPT = _script()
