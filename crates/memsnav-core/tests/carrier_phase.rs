@@ -313,3 +313,53 @@ fn carrier_changes_are_blind_to_ambiguities_and_the_receiver_clock() {
     assert!((position - position_shifted).norm() < 1e-6);
     assert!((velocity - velocity_shifted).norm() < 1e-8);
 }
+
+/// A satellite whose state no range can be predicted from (here at the
+/// Earth's centre) has its carrier change recorded as invalid, and its
+/// carrier is not remembered for the next change; the others' changes are
+/// still applied, and the solution stays finite.
+#[test]
+fn a_satellite_without_a_usable_state_spoils_only_its_own_changes() {
+    let truth = drive(60.0, 100.0, true);
+    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+    let tuning = FilterTuning {
+        use_carrier_phase: true,
+        ..FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap()
+    };
+    let config = SimulationConfig {
+        n_satellites: SATELLITES,
+        carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
+        ..SimulationConfig::default()
+    };
+    let mut rng = stream(78, 0);
+    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+    let (mut epochs, _) = measurements(&truth, &config, &mut rng);
+    let broken = epochs[10].measurements[0].sat_id;
+    for e in epochs.iter_mut().skip(10).step_by(2) {
+        if let Some(m) = e.measurements.iter_mut().find(|m| m.sat_id == broken) {
+            m.position_ecef = nalgebra::Vector3::zeros();
+        }
+    }
+    let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
+    let (f, w) = readings(&truth, &imu, &mut rng);
+    let data = imu_data(&truth, &f, &w);
+    let mut finite = true;
+    let records = coupling::run::<17, _, _>(&data, &epochs, &init, &tuning, |_, s| {
+        finite &= s.nav.position_ecef.iter().all(|x| x.is_finite());
+    })
+    .unwrap();
+    assert!(finite);
+    let carrier = |id: u16, status| {
+        records
+            .measurements
+            .iter()
+            .filter(|r| r.kind == MeasurementKind::CarrierPhase && r.id == id && r.status == status)
+            .count()
+    };
+    // Every other epoch from the 10th breaks it: the changes into a broken
+    // epoch are invalid, the ones out of it have nothing to start from.
+    assert!(carrier(broken, MeasurementStatus::RejectedInvalid) >= 20);
+    assert_eq!(carrier(broken, MeasurementStatus::Accepted), 9);
+    let other = epochs[10].measurements[1].sat_id;
+    assert!(carrier(other, MeasurementStatus::Accepted) > 50);
+}

@@ -49,12 +49,6 @@ impl engine::AidingEpoch for GnssEpoch {
     }
 }
 
-fn satellite_usable(m: &SatelliteMeasurement) -> bool {
-    m.position_ecef.iter().all(|x| x.is_finite())
-        && m.velocity_ecef.iter().all(|x| x.is_finite())
-        && m.position_ecef.norm() > 1.0e7
-}
-
 /// Sets an unknown clock offset (drift) to the median residual of this
 /// epoch's finite pseudoranges (rates), so the test starts from a sane
 /// prediction. The clock follows GPS when the epoch has GPS satellites (the
@@ -75,7 +69,10 @@ fn initialise_clock<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch, u
             m.pseudorange_rate_m_s - p.range_rate_m_s,
         )
     };
-    let usable = epoch.measurements.iter().filter(|m| satellite_usable(m));
+    let usable = epoch
+        .measurements
+        .iter()
+        .filter(|m| m.has_usable_satellite_state());
     let range_residuals = |system: GnssSystem| -> Vec<f64> {
         usable
             .clone()
@@ -174,7 +171,7 @@ fn update_code<const N: usize>(
     let antenna = s.antenna();
     let position_covariance: Matrix3<f64> = s.kf.p.fixed_view::<3, 3>(POSITION, POSITION).into();
     for m in &epoch.measurements {
-        if !satellite_usable(m) || !m.pseudorange_m.is_finite() {
+        if !m.has_usable_satellite_state() || !m.pseudorange_m.is_finite() {
             s.reject_invalid(t, kind, m.sat_id);
             continue;
         }
@@ -223,7 +220,7 @@ fn update_code<const N: usize>(
         if !(m.pseudorange_rate_std_m_s.is_finite() && m.pseudorange_rate_std_m_s > 0.0) {
             continue;
         }
-        if !satellite_usable(m) || !m.pseudorange_rate_m_s.is_finite() {
+        if !m.has_usable_satellite_state() || !m.pseudorange_rate_m_s.is_finite() {
             s.reject_invalid(t, kind, m.sat_id);
             continue;
         }
@@ -268,7 +265,7 @@ fn usable_epoch<const N: usize>(s: &FilterState<N>, epoch: &GnssEpoch) -> GnssEp
         measurements: epoch
             .measurements
             .iter()
-            .filter(|m| satellite_usable(m) && m.pseudorange_m.is_finite())
+            .filter(|m| m.has_usable_satellite_state() && m.pseudorange_m.is_finite())
             .map(|m| SatelliteMeasurement {
                 pseudorange_m: m.pseudorange_m
                     - m.system

@@ -112,6 +112,17 @@ pub struct SatelliteMeasurement {
     pub carrier: Option<CarrierPhase>,
 }
 
+impl SatelliteMeasurement {
+    /// Whether a range can be predicted from the satellite's state: finite,
+    /// and beyond 10 000 km of the Earth's centre (the filters record a
+    /// measurement of a satellite without one as invalid).
+    pub fn has_usable_satellite_state(&self) -> bool {
+        self.position_ecef.iter().all(|x| x.is_finite())
+            && self.velocity_ecef.iter().all(|x| x.is_finite())
+            && self.position_ecef.norm() > 1.0e7
+    }
+}
+
 /// A satellite's carrier phase at one epoch, as a range.
 ///
 /// The carrier range holds an unknown constant per continuous lock (the
