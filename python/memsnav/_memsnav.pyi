@@ -939,8 +939,9 @@ class GnssMeasurements:
     @property
     def signal(self) -> list[list[str]] | None:
         """The signal each measurement was taken from ("L1 C/A", "E1 C",
-        "B3I"), T lists of n_max names, "" where padded; None for
-        measurements not built from observations."""
+        "B3I"; "L1 C/A + L5 Q" when a second signal measured its ionosphere),
+        T lists of n_max names, "" where padded; None for measurements not
+        built from observations."""
 
     @property
     def cn0_db_hz(self) -> npt.NDArray[np.float64] | None:
@@ -1978,6 +1979,7 @@ class RinexObservations:
         pseudorange_rate_std: float | None = None,
         satellites: Sequence[str] | None = None,
         carrier_phase_std: float | None = None,
+        dual_frequency: bool = False,
     ) -> GnssMeasurements:
         """Measurements of several systems (``systems``: "G", "E", "C"; default
         all three): GPS L1 C/A, Galileo E1, BeiDou B1I/B2I/B3I (the first the
@@ -1987,7 +1989,12 @@ class RinexObservations:
         E n → 100 + n, C n → 200 + n; each system's pseudoranges keep the
         receiver's inter-system bias (the tight filter estimates it). Each
         measurement's signal, C/N0 and elevation in ``signal``,
-        ``cn0_db_hz``, ``elevation_rad``."""
+        ``cn0_db_hz``, ``elevation_rad``. ``dual_frequency=True``: each
+        satellite's ionospheric delay measured from a second signal's
+        pseudorange where the file has one whose group delay the ephemerides
+        give (GPS L5 or L2C with CNAV's inter-signal corrections, Galileo E5a
+        or E5b, BeiDou another D1 band), smoothed per satellite; the
+        Klobuchar delay for the rest."""
 
     def __len__(self) -> int: ...
 

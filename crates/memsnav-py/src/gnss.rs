@@ -469,15 +469,22 @@ impl PyGnssMeasurements {
     }
 
     /// The signal each measurement was taken from ("L1 C/A", "E1 C",
-    /// "B3I"), ``T`` lists of ``n_max`` names, "" where padded; None for
-    /// measurements not built from observations.
+    /// "B3I"; "L1 C/A + L5 Q" when a second signal measured its
+    /// ionosphere), ``T`` lists of ``n_max`` names, "" where padded; None
+    /// for measurements not built from observations.
     #[getter]
     fn signal(&self) -> Option<Vec<Vec<String>>> {
         self.signals.as_ref().map(|signals| {
             signals
                 .iter()
                 .map(|epoch| {
-                    let mut names: Vec<String> = epoch.iter().map(|s| s.name.to_owned()).collect();
+                    let mut names: Vec<String> = epoch
+                        .iter()
+                        .map(|s| match s.ionosphere_signal {
+                            Some(second) => format!("{} + {second}", s.name),
+                            None => s.name.to_owned(),
+                        })
+                        .collect();
                     names.resize(self.n_max, String::new());
                     names
                 })
@@ -1229,6 +1236,7 @@ impl PyRinexObservations {
                 pseudorange_std,
                 pseudorange_rate_std,
                 carrier_phase_std,
+                dual_frequency: false,
             },
             vec![gnss::GnssSystem::Gps],
             satellites.unwrap_or_default(),
@@ -1250,10 +1258,15 @@ impl PyRinexObservations {
     /// system's pseudoranges keep the receiver's inter-system bias, which
     /// the tight filter estimates. Each measurement's signal, C/N0 and
     /// elevation in ``signal``, ``cn0_db_hz``, ``elevation_rad``.
+    /// ``dual_frequency=True``: each satellite's ionospheric delay measured
+    /// from a second signal's pseudorange where the file has one whose
+    /// group delay the ephemerides give (GPS L5 or L2C with CNAV's
+    /// inter-signal corrections, Galileo E5a or E5b, BeiDou another D1
+    /// band), smoothed per satellite; the Klobuchar delay for the rest.
     #[pyo3(signature = (ephemerides, reference_position_ecef=None, *, systems=None,
         elevation_mask_deg=None, min_cn0_db_hz=None, ionosphere=true, klobuchar=None,
         troposphere=true, pseudorange_std=None, pseudorange_rate_std=None, satellites=None,
-        carrier_phase_std=None))]
+        carrier_phase_std=None, dual_frequency=false))]
     fn measurements(
         &self,
         py: Python<'_>,
@@ -1269,6 +1282,7 @@ impl PyRinexObservations {
         pseudorange_rate_std: Option<f64>,
         satellites: Option<Vec<String>>,
         carrier_phase_std: Option<f64>,
+        dual_frequency: bool,
     ) -> PyResult<PyGnssMeasurements> {
         let systems = match systems {
             None => gnss::GnssSystem::ALL.to_vec(),
@@ -1293,6 +1307,7 @@ impl PyRinexObservations {
                 pseudorange_std,
                 pseudorange_rate_std,
                 carrier_phase_std,
+                dual_frequency,
             },
             systems,
             satellites,
@@ -1324,6 +1339,7 @@ struct ObservableArguments {
     pseudorange_std: Option<f64>,
     pseudorange_rate_std: Option<f64>,
     carrier_phase_std: Option<f64>,
+    dual_frequency: bool,
 }
 
 /// The system of a RINEX letter, or an error naming `argument`.
@@ -1399,6 +1415,7 @@ impl PyRinexObservations {
             None
         };
         options.troposphere = a.troposphere;
+        options.dual_frequency_ionosphere = a.dual_frequency;
         options.systems = systems;
         options.satellites = satellites;
         Ok(options)

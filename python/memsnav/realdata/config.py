@@ -121,6 +121,10 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
         "pseudorange_std_m": (number(above=0.0), _OBSERVABLES["pseudorange_std"]),
         "pseudorange_rate_std_m_s": (number(minimum=0.0), _OBSERVABLES["pseudorange_rate_std"]),
         "ionosphere": (flag(), True),
+        # Each satellite's ionosphere from a second signal's pseudorange
+        # where the log has one (GPS L5/L2C, Galileo E5a/E5b, BeiDou
+        # another D1 band); the Klobuchar model for the rest.
+        "dual_frequency": (flag(), False),
         "troposphere": (flag(), True),
         # Four each, or neither (the navigation file's); the ICD's ranges
         # are the core's check.

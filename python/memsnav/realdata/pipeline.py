@@ -233,6 +233,7 @@ def tight_input(cfg: RunConfig) -> Any:
             pseudorange_std=g["pseudorange_std_m"],
             pseudorange_rate_std=g["pseudorange_rate_std_m_s"],
             satellites=g["satellites"] or None,
+            dual_frequency=g["dual_frequency"],
         )
     except ValueError as e:
         # What the core checks beyond the configuration's ranges (the

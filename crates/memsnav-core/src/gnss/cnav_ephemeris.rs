@@ -24,6 +24,28 @@ pub struct CnavGroupDelays {
     pub isc_l5q5_s: Option<f64>,
 }
 
+impl CnavGroupDelays {
+    /// The group delay a single-frequency user subtracts from the clock
+    /// correction on the signal of RINEX band and attribute `code` (e.g.
+    /// `"1C"`): T_GD − ISC for L1 C/A (`1C`), L2C (`2S`, `2L`, `2X`), L5 I5
+    /// (`5I`) and Q5 (`5Q`), T_GD for L1 P(Y), γ T_GD for L2 P(Y)
+    /// (IS-GPS-200 §30.3.3.3.1.1.1: (Δt_SV)_X = Δt_SV − T_GD + ISC_X;
+    /// IS-GPS-705 §20.3.3.3.1.2.1); `None` for other signals or terms the
+    /// message says are not available.
+    pub fn group_delay_s(&self, code: &str) -> Option<f64> {
+        let tgd = self.tgd_s?;
+        match code {
+            "1C" => Some(tgd - self.isc_l1ca_s?),
+            "1P" | "1W" => Some(tgd),
+            "2S" | "2L" | "2X" => Some(tgd - self.isc_l2c_s?),
+            "2P" | "2W" => Some(GAMMA_L1_L2 * tgd),
+            "5I" => Some(tgd - self.isc_l5i5_s?),
+            "5Q" => Some(tgd - self.isc_l5q5_s?),
+            _ => None,
+        }
+    }
+}
+
 /// A GPS CNAV ephemeris: message types 10 and 11 and a clock message
 /// (types 30-37) of one upload (times GPS s since 1980-01-06).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,23 +105,10 @@ impl CnavEphemeris {
 
     /// The group delay a single-frequency user subtracts from the clock
     /// correction on the signal of RINEX band and attribute `code` (e.g.
-    /// `"1C"`): T_GD − ISC for L1 C/A (`1C`), L2C (`2S`, `2L`, `2X`), L5 I5
-    /// (`5I`) and Q5 (`5Q`), T_GD for L1 P(Y), γ T_GD for L2 P(Y)
-    /// (IS-GPS-200 §30.3.3.3.1.1.1: (Δt_SV)_X = Δt_SV − T_GD + ISC_X;
-    /// IS-GPS-705 §20.3.3.3.1.2.1); `None` for other signals or when type
-    /// 30 did not give the terms.
+    /// `"1C"`); see [`CnavGroupDelays::group_delay_s`]. `None` until type
+    /// 30 has given the terms.
     pub fn group_delay_s(&self, code: &str) -> Option<f64> {
-        let g = self.group_delays?;
-        let tgd = g.tgd_s?;
-        match code {
-            "1C" => Some(tgd - g.isc_l1ca_s?),
-            "1P" | "1W" => Some(tgd),
-            "2S" | "2L" | "2X" => Some(tgd - g.isc_l2c_s?),
-            "2P" | "2W" => Some(GAMMA_L1_L2 * tgd),
-            "5I" => Some(tgd - g.isc_l5i5_s?),
-            "5Q" => Some(tgd - g.isc_l5q5_s?),
-            _ => None,
-        }
+        self.group_delays?.group_delay_s(code)
     }
 
     /// This ephemeris as an L1 C/A user's [`GpsEphemeris`]: the same orbit

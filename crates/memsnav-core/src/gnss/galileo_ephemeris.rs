@@ -8,6 +8,8 @@ use super::satellite_state::SatelliteState;
 
 /// (f_E1 / f_E5b)² with 1575.42 and 1207.14 MHz (ICD §5.1.5).
 const E1_E5B_FREQUENCY_RATIO_SQUARED: f64 = (1575.42 * 1575.42) / (1207.14 * 1207.14);
+/// (f_E1 / f_E5a)² with 1575.42 and 1176.45 MHz.
+const E1_E5A_FREQUENCY_RATIO_SQUARED: f64 = (1575.42 * 1575.42) / (1176.45 * 1176.45);
 
 /// A Galileo I/NAV ephemeris (angles rad, times GPS s since 1980-01-06:
 /// GST weeks start with GPS weeks and GST is steered to GPS time within
@@ -70,13 +72,17 @@ impl InavEphemeris {
         self.e1b_health == 0 && self.e1b_data_validity == 0
     }
 
-    /// The group delay a single-frequency user subtracts from the I/NAV
-    /// clock correction on RINEX band `band` (ICD §5.1.5): E1 BGD(E1,E5b),
-    /// E5b (f_E1/f_E5b)² BGD(E1,E5b); `None` for E5a (BGD(E1,E5a) goes
-    /// with the F/NAV clock) and E6.
+    /// The group delay a user subtracts from the I/NAV clock correction on
+    /// RINEX band `band`: E1 BGD(E1,E5b), E5b (f_E1/f_E5b)² BGD(E1,E5b) (ICD
+    /// §5.1.5), E5a BGD(E1,E5b) + ((f_E1/f_E5a)² − 1) BGD(E1,E5a) (from the
+    /// definition BGD(f1,f2) = (TR1 − TR2) / (1 − (f1/f2)²): TR_E5a − TR_E1
+    /// added to E1's delay); `None` for E6.
     pub fn group_delay_s(&self, band: char) -> Option<f64> {
         match band {
             '1' => Some(self.bgd_e1_e5b_s),
+            '5' => {
+                Some(self.bgd_e1_e5b_s + (E1_E5A_FREQUENCY_RATIO_SQUARED - 1.0) * self.bgd_e1_e5a_s)
+            }
             '7' => Some(E1_E5B_FREQUENCY_RATIO_SQUARED * self.bgd_e1_e5b_s),
             _ => None,
         }

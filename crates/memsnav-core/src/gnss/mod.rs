@@ -14,6 +14,7 @@ mod broadcast_orbit;
 mod clock;
 mod cnav_ephemeris;
 mod constellation;
+mod dual_frequency;
 mod ephemeris;
 mod fix;
 mod galileo_ephemeris;
@@ -38,6 +39,9 @@ pub use clock::{ClockState, ReceiverClockModel};
 pub use cnav_ephemeris::{cnav_ura_m, CnavEphemeris, CnavGroupDelays};
 pub use constellation::{
     Constellation, Orbit, SystemWalker, EPHEMERIS_VALIDITY_S, MAX_SATELLITES_PER_SYSTEM,
+};
+pub use dual_frequency::{
+    geometry_free_delay_m, DelayMeasurement, IonosphereTracks, IONOSPHERE_RANDOM_WALK_M2_S,
 };
 pub use ephemeris::{
     ura_index, ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,

@@ -7,13 +7,15 @@
 //! (Groves §9.3, eqs. 9.3-9.4 and 8.48). Each system's pseudoranges keep
 //! the receiver's inter-system bias: the tight filter estimates it.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use nalgebra::Vector3;
 
 use super::atmosphere::{saastamoinen_delay_m, Klobuchar};
 use super::beidou_ephemeris::BeidouEphemeris;
+use super::cnav_ephemeris::CnavGroupDelays;
 use super::constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
+use super::dual_frequency::{geometry_free_delay_m, DelayMeasurement, IonosphereTracks};
 use super::galileo_ephemeris::InavEphemeris;
 use super::rinex_nav::BroadcastNav;
 use super::rinex_obs::ObservationFile;
@@ -27,6 +29,13 @@ use crate::{validate, Error, Result};
 
 /// GPS L1 (and Galileo E1, BeiDou B1C) carrier frequency, Hz.
 const L1_FREQUENCY_HZ: f64 = 1_575.42e6;
+/// GPS L2 carrier frequency, Hz (IS-GPS-200 §3.3.1.1).
+const L2_FREQUENCY_HZ: f64 = 1_227.60e6;
+/// GPS L5 and Galileo E5a carrier frequency, Hz (IS-GPS-705 §3.3.1.1,
+/// Galileo OS SIS ICD §2.3).
+const L5_FREQUENCY_HZ: f64 = 1_176.45e6;
+/// Galileo E5b and BeiDou B2I carrier frequency, Hz.
+const E5B_FREQUENCY_HZ: f64 = 1_207.14e6;
 
 /// GPS L1 carrier wavelength, m (c / 1575.42 MHz).
 pub const GPS_L1_WAVELENGTH_M: f64 = SPEED_OF_LIGHT_M_S / L1_FREQUENCY_HZ;
@@ -47,9 +56,35 @@ fn signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static str)] {
         ],
         GnssSystem::Beidou => &[
             ("2I", 1_561.098e6, "B1I"),
-            ("7I", 1_207.14e6, "B2I"),
+            ("7I", E5B_FREQUENCY_HZ, "B2I"),
             ("6I", 1_268.52e6, "B3I"),
         ],
+    }
+}
+
+/// The signals whose pseudorange, beside the measurement's, gives a
+/// satellite's ionospheric delay
+/// ([`ObservableOptions::dual_frequency_ionosphere`]), in order of
+/// preference (the widest frequency gap first: the least noise): GPS L5
+/// or L2C (their group delays are CNAV's inter-signal corrections),
+/// Galileo E5a or E5b (I/NAV's two BGDs), BeiDou the D1 signals of
+/// another band (TGD1, TGD2).
+fn second_signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static str)] {
+    match system {
+        GnssSystem::Gps => &[
+            ("5Q", L5_FREQUENCY_HZ, "L5 Q"),
+            ("5I", L5_FREQUENCY_HZ, "L5 I"),
+            ("2L", L2_FREQUENCY_HZ, "L2C (L)"),
+            ("2S", L2_FREQUENCY_HZ, "L2C (M)"),
+            ("2X", L2_FREQUENCY_HZ, "L2C (M+L)"),
+        ],
+        GnssSystem::Galileo => &[
+            ("5Q", L5_FREQUENCY_HZ, "E5a Q"),
+            ("5I", L5_FREQUENCY_HZ, "E5a I"),
+            ("7Q", E5B_FREQUENCY_HZ, "E5b Q"),
+            ("7I", E5B_FREQUENCY_HZ, "E5b I"),
+        ],
+        GnssSystem::Beidou => signals(GnssSystem::Beidou),
     }
 }
 
@@ -65,6 +100,10 @@ pub struct ReceivedSignal {
     pub cn0_db_hz: f64,
     /// The satellite's elevation at the reference position, rad.
     pub elevation_rad: f64,
+    /// The second signal the ionospheric delay was measured with (see
+    /// [`ObservableOptions::dual_frequency_ionosphere`]); `None` when the
+    /// broadcast model gave it.
+    pub ionosphere_signal: Option<&'static str>,
 }
 
 /// Each epoch's [`ReceivedSignal`]s, in the order of its measurements.
@@ -82,6 +121,14 @@ pub struct ObservableOptions {
     pub min_cn0_db_hz: f64,
     /// Broadcast ionosphere; `None` leaves the ionospheric delay in.
     pub ionosphere: Option<Klobuchar>,
+    /// Measure each satellite's ionospheric delay from a second signal's
+    /// pseudorange where the file has one whose group delay the ephemeris
+    /// gives ([`second_signals`]), smoothed per satellite
+    /// ([`super::IonosphereTracks`]); the other satellites keep
+    /// `ionosphere`. The carrier phase keeps `ionosphere` too: its changes
+    /// between epochs are all the filter uses, and the smooth model's
+    /// are nearer the truth's (millimetres) than the estimate's steps.
+    pub dual_frequency_ionosphere: bool,
     /// Apply the Saastamoinen troposphere.
     pub troposphere: bool,
     /// Pseudorange one-sigma at 45 dB-Hz and the zenith, m.
@@ -122,6 +169,7 @@ impl ObservableOptions {
             elevation_mask_rad: DEFAULT_ELEVATION_MASK_DEG.to_radians(),
             min_cn0_db_hz: 25.0,
             ionosphere: Some(Klobuchar::RTKLIB_DEFAULT),
+            dual_frequency_ionosphere: false,
             troposphere: true,
             pseudorange_std_m: DEFAULT_PSEUDORANGE_STD_M,
             pseudorange_rate_std_m_s: DEFAULT_PSEUDORANGE_RATE_STD_M_S,
@@ -165,8 +213,9 @@ fn noise_scale(cn0_db_hz: f64, elevation_rad: f64) -> f64 {
 /// One satellite's broadcast orbit and clock, selected for an epoch.
 #[derive(Debug, Clone, Copy)]
 enum SelectedOrbit<'a> {
-    /// GPS LNAV (the L1 C/A clock) or a Walker slot.
-    Gps(Orbit<'a>),
+    /// GPS LNAV (the L1 C/A clock) or a Walker slot, with the satellite's
+    /// CNAV group delays when there are any.
+    Gps(Orbit<'a>, Option<&'a CnavGroupDelays>),
     /// Galileo I/NAV (the E1 clock).
     Galileo(&'a InavEphemeris),
     /// BeiDou D1 (the B3I clock).
@@ -176,17 +225,25 @@ enum SelectedOrbit<'a> {
 impl SelectedOrbit<'_> {
     fn state_at(&self, gps_time_s: f64, offset_s: f64) -> SatelliteState {
         match self {
-            SelectedOrbit::Gps(o) => o.state_at(gps_time_s, offset_s),
+            SelectedOrbit::Gps(o, _) => o.state_at(gps_time_s, offset_s),
             SelectedOrbit::Galileo(e) => e.state_at(gps_time_s, offset_s),
             SelectedOrbit::Beidou(e) => e.state_at(gps_time_s, offset_s),
         }
     }
 
-    /// The group delay of RINEX band `band` beyond the one `state_at`'s
-    /// clock already holds, s; `None` when the ephemeris has none for it.
-    fn extra_group_delay_s(&self, band: char) -> Option<f64> {
+    /// The group delay of the signal of RINEX band and attribute `signal`
+    /// beyond the one `state_at`'s clock already holds, s; `None` when the
+    /// ephemeris has none for it. GPS: L1 C/A's is in the clock; another
+    /// signal's differs from it by ISC_L1CA − ISC_X (IS-GPS-200
+    /// §30.3.3.3.1.1.1).
+    fn extra_group_delay_s(&self, signal: &str) -> Option<f64> {
+        let band = signal.chars().next()?;
         match self {
-            SelectedOrbit::Gps(_) => (band == '1').then_some(0.0),
+            SelectedOrbit::Gps(_, delays) => match (signal, delays) {
+                ("1C", _) => Some(0.0),
+                (_, Some(d)) => Some(d.group_delay_s(signal)? - d.group_delay_s("1C")?),
+                (_, None) => None,
+            },
             SelectedOrbit::Galileo(e) => Some(e.group_delay_s(band)? - e.group_delay_s('1')?),
             SelectedOrbit::Beidou(e) => e.group_delay_s(band),
         }
@@ -214,6 +271,7 @@ fn nearest<T>(
 /// The ephemerides the measurements are built from.
 struct Ephemerides<'a> {
     gps: &'a Constellation,
+    gps_group_delays: Option<&'a BTreeMap<u16, CnavGroupDelays>>,
     galileo: &'a [InavEphemeris],
     beidou: &'a [BeidouEphemeris],
 }
@@ -223,7 +281,10 @@ impl Ephemerides<'_> {
         match system {
             GnssSystem::Gps => {
                 let i = (0..self.gps.len()).find(|&i| self.gps.sat_id(i) == prn)?;
-                self.gps.orbit(i, gps_time_s).map(SelectedOrbit::Gps)
+                let delays = self.gps_group_delays.and_then(|d| d.get(&prn));
+                self.gps
+                    .orbit(i, gps_time_s)
+                    .map(|o| SelectedOrbit::Gps(o, delays))
             }
             GnssSystem::Galileo => nearest(
                 self.galileo,
@@ -260,6 +321,7 @@ pub fn gps_l1_epochs(
     };
     let ephemerides = Ephemerides {
         gps: constellation,
+        gps_group_delays: None,
         galileo: &[],
         beidou: &[],
     };
@@ -291,6 +353,7 @@ pub fn broadcast_epochs_with_signals(
     let gps = Constellation::from_ephemerides(nav.gps.clone());
     let ephemerides = Ephemerides {
         gps: &gps,
+        gps_group_delays: Some(&nav.gps_group_delays),
         galileo: &nav.galileo,
         beidou: &nav.beidou,
     };
@@ -298,22 +361,26 @@ pub fn broadcast_epochs_with_signals(
 }
 
 /// The observation types of one system's chosen signal: (C, L, D, S) type
-/// indices, the band and the carrier frequency.
+/// indices, the RINEX band and attribute and the carrier frequency.
 struct SignalTypes {
     code: usize,
     carrier: Option<usize>,
     doppler: Option<usize>,
     strength: Option<usize>,
-    band: char,
+    signal: &'static str,
     frequency_hz: f64,
     name: &'static str,
 }
 
-/// The signals of `system` the file has pseudoranges for, in the order of
-/// preference of [`signals`].
-fn signal_types(observations: &ObservationFile, system: GnssSystem) -> Vec<SignalTypes> {
+/// The signals of `table` (`system`'s) the file has pseudoranges for, in
+/// the table's order.
+fn signal_types(
+    observations: &ObservationFile,
+    system: GnssSystem,
+    table: &[(&'static str, f64, &'static str)],
+) -> Vec<SignalTypes> {
     let letter = system.letter();
-    signals(system)
+    table
         .iter()
         .filter_map(|&(signal, frequency_hz, name)| {
             let idx = |kind: char| observations.type_index(letter, &format!("{kind}{signal}"));
@@ -322,7 +389,7 @@ fn signal_types(observations: &ObservationFile, system: GnssSystem) -> Vec<Signa
                 carrier: idx('L'),
                 doppler: idx('D'),
                 strength: idx('S'),
-                band: signal.chars().next().unwrap_or('1'),
+                signal,
                 frequency_hz,
                 name,
             })
@@ -336,12 +403,25 @@ fn epochs_from(
     options: &ObservableOptions,
 ) -> Result<(Vec<GnssEpoch>, EpochSignals)> {
     options.validate()?;
-    let types: Vec<(GnssSystem, Vec<SignalTypes>)> = options
+    // Each system's signals to measure with, and to measure the
+    // ionosphere with.
+    let types: Vec<(GnssSystem, Vec<SignalTypes>, Vec<SignalTypes>)> = options
         .systems
         .iter()
-        .map(|&system| (system, signal_types(observations, system)))
+        .map(|&system| {
+            let second = if options.dual_frequency_ionosphere {
+                signal_types(observations, system, second_signals(system))
+            } else {
+                Vec::new()
+            };
+            (
+                system,
+                signal_types(observations, system, signals(system)),
+                second,
+            )
+        })
         .collect();
-    if types.iter().all(|(_, t)| t.is_empty()) {
+    if types.iter().all(|(_, t, _)| t.is_empty()) {
         let wanted: Vec<String> = options
             .systems
             .iter()
@@ -366,12 +446,13 @@ fn epochs_from(
     let mut epoch_signals = Vec::with_capacity(observations.epochs.len());
     // Each satellite's half-cycle state (LLI bit 1) at its last epoch.
     let mut half_cycle_unresolved: HashMap<u16, bool> = HashMap::new();
+    let mut ionosphere_tracks = IonosphereTracks::default();
     for e in &observations.epochs {
         let mut measurements = Vec::new();
         let mut received = Vec::new();
         for s in &e.satellites {
-            let Some((system, signal_types)) = GnssSystem::from_letter(s.system)
-                .and_then(|system| types.iter().find(|(t, _)| *t == system))
+            let Some((system, signal_types, second_types)) = GnssSystem::from_letter(s.system)
+                .and_then(|system| types.iter().find(|(t, ..)| *t == system))
             else {
                 continue;
             };
@@ -386,7 +467,7 @@ fn epochs_from(
             // ephemeris gives.
             let Some((signal, pseudorange, group_delay_s)) = signal_types
                 .iter()
-                .find_map(|t| Some((t, s.values[t.code]?, orbit.extra_group_delay_s(t.band)?)))
+                .find_map(|t| Some((t, s.values[t.code]?, orbit.extra_group_delay_s(t.signal)?)))
             else {
                 continue;
             };
@@ -410,7 +491,7 @@ fn epochs_from(
             }
             let azimuth = los_ned.y.atan2(los_ned.x);
             let iono_scale = (L1_FREQUENCY_HZ / signal.frequency_hz).powi(2);
-            let iono = options.ionosphere.map_or(0.0, |k| {
+            let model_iono = options.ionosphere.map_or(0.0, |k| {
                 iono_scale
                     * k.delay_m(
                         e.gps_time_s,
@@ -426,6 +507,38 @@ fn epochs_from(
                 0.0
             };
             let scale = noise_scale(cn0, elevation);
+            let pseudorange_std_m = options.pseudorange_std_m * scale;
+            // The delay from a second signal (see `dual_frequency`): both
+            // codes corrected for their group delays; the estimate's own
+            // uncertainty goes into the pseudorange's.
+            let measured = second_types
+                .iter()
+                .filter(|t| t.frequency_hz != signal.frequency_hz)
+                .find_map(|t| {
+                    let cn0 = t.strength.and_then(|j| s.values[j]).unwrap_or(45.0);
+                    let second_m = s.values[t.code].filter(|_| cn0 >= options.min_cn0_db_hz)?
+                        - SPEED_OF_LIGHT_M_S * orbit.extra_group_delay_s(t.signal)?;
+                    let (delay_m, noise_factor) = geometry_free_delay_m(
+                        pseudorange - SPEED_OF_LIGHT_M_S * group_delay_s,
+                        signal.frequency_hz,
+                        second_m,
+                        t.frequency_hz,
+                    );
+                    let second_std_m = options.pseudorange_std_m * noise_scale(cn0, elevation);
+                    Some(DelayMeasurement {
+                        delay_m,
+                        variance_m2: (pseudorange_std_m.powi(2) + second_std_m.powi(2))
+                            * noise_factor.powi(2),
+                        signal: t.name,
+                    })
+                });
+            let estimate = if options.dual_frequency_ionosphere {
+                ionosphere_tracks.estimate(number, e.gps_time_s, measured)
+            } else {
+                None
+            };
+            let (code_iono, iono_variance_m2) =
+                estimate.map_or((model_iono, 0.0), |d| (d.delay_m, d.variance_m2));
             let wavelength_m = SPEED_OF_LIGHT_M_S / signal.frequency_hz;
             // RINEX Doppler is positive for an approaching satellite: ρ̇ = −λ D.
             let (rate, rate_std) = match signal.doppler.and_then(|j| s.values[j]) {
@@ -449,7 +562,9 @@ fn epochs_from(
                         // The phase carries the satellite clock and the
                         // troposphere as the code does, and the ionosphere
                         // with the opposite sign (Groves eq. 9.13).
-                        range_m: wavelength_m * cycles + SPEED_OF_LIGHT_M_S * clock_bias_s + iono
+                        range_m: wavelength_m * cycles
+                            + SPEED_OF_LIGHT_M_S * clock_bias_s
+                            + model_iono
                             - tropo,
                         std_m: options.carrier_phase_std_m * scale,
                         loss_of_lock: lli & LLI_LOST_LOCK != 0 || changed,
@@ -460,9 +575,9 @@ fn epochs_from(
                 system: *system,
                 position_ecef: state.position_ecef,
                 velocity_ecef: state.velocity_ecef,
-                pseudorange_m: pseudorange + SPEED_OF_LIGHT_M_S * clock_bias_s - iono - tropo,
+                pseudorange_m: pseudorange + SPEED_OF_LIGHT_M_S * clock_bias_s - code_iono - tropo,
                 pseudorange_rate_m_s: rate,
-                pseudorange_std_m: options.pseudorange_std_m * scale,
+                pseudorange_std_m: (pseudorange_std_m.powi(2) + iono_variance_m2).sqrt(),
                 pseudorange_rate_std_m_s: rate_std,
                 carrier,
             });
@@ -470,6 +585,7 @@ fn epochs_from(
                 name: signal.name,
                 cn0_db_hz: measured_cn0.unwrap_or(f64::NAN),
                 elevation_rad: elevation,
+                ionosphere_signal: estimate.map(|d| d.signal),
             });
         }
         epochs.push(GnssEpoch {

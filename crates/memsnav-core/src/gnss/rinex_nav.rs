@@ -10,6 +10,7 @@ use std::path::Path;
 
 use super::beidou_ephemeris::BeidouEphemeris;
 use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
+use super::cnav_ephemeris::CnavGroupDelays;
 use super::ephemeris::{ura_index, GpsEphemeris};
 use super::galileo_ephemeris::{sisa_index, InavEphemeris};
 use super::time::{calendar_text, checked_gps_time_from_calendar, SECONDS_PER_WEEK};
@@ -408,6 +409,10 @@ pub struct BroadcastNav {
     /// Galileo I/NAV records (clock E5b,E1).
     pub galileo: Vec<InavEphemeris>,
     pub beidou: Vec<BeidouEphemeris>,
+    /// Each GPS satellite's latest CNAV group delays (message type 30), the
+    /// inter-signal corrections a second signal needs; empty from RINEX 3
+    /// files, whose LNAV records have T_GD alone.
+    pub gps_group_delays: BTreeMap<u16, CnavGroupDelays>,
     /// Records not read, by reason, with counts (other systems; Galileo
     /// F/NAV records, whose clock is referred to E5a,E1).
     pub skipped: BTreeMap<String, usize>,

@@ -111,6 +111,13 @@ impl UbxLog {
                 .collect(),
             galileo: self.galileo_ephemerides.clone(),
             beidou: self.beidou_ephemerides.clone(),
+            // The CNAV ephemerides are in the order they completed: the
+            // last of a satellite is its latest.
+            gps_group_delays: self
+                .gps_cnav_ephemerides
+                .iter()
+                .filter_map(|c| Some((c.prn, c.group_delays?)))
+                .collect(),
             skipped: BTreeMap::new(),
         }
     }
