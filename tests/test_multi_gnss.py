@@ -77,8 +77,8 @@ def test_the_log_measurements_fit_one_position_per_system(walk_log):
 
 def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
     """docs/real-data.md: "over the run G24, G27 and G18 (32-35°
-    elevation) average 4.9, 6.5 and 9.0 m": each satellite's delay measured
-    from L5 (the corrected pseudorange without any ionosphere correction
+    elevation) average 6.1, 7.9 and 11.3 m": each satellite's delay measured
+    from L2C (the corrected pseudorange without any ionosphere correction
     less the one with the measured delay), averaged over the log, and the
     satellites' mean elevations."""
     found = re.search(
@@ -88,7 +88,13 @@ def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
     )
     assert found, "docs/real-data.md no longer quotes the walk's geometry-free delays"
     low_deg, high_deg, *quoted = (float(v) for v in found.groups())
-    settings = {"elevation_mask_deg": 5.0, "min_cn0_db_hz": 20.0, "systems": ["G"]}
+    # The settings of examples/walk_0827_multi_gnss.toml (σ sets the smoothing).
+    settings = {
+        "elevation_mask_deg": 5.0,
+        "min_cn0_db_hz": 20.0,
+        "pseudorange_std": 0.5,
+        "systems": ["G"],
+    }
     eph, obs = walk_log.broadcast_ephemerides, walk_log.observations
     measured = obs.measurements(eph, dual_frequency=True, **settings)
     left_in = obs.measurements(eph, ionosphere=False, **settings)
@@ -99,7 +105,7 @@ def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
         mine = ids == prn
         assert abs(np.mean(delay[mine]) - value) <= 0.05, (prn, np.mean(delay[mine]))
         assert low_deg - 0.5 <= np.mean(elevation[mine]) <= high_deg + 0.5, prn
-    assert {name for row in measured.signal for name in row if name} == {"L1 C/A + L5 Q"}
+    assert {name for row in measured.signal for name in row if name} == {"L1 C/A + L2C (L)"}
 
 
 def test_measurements_refuse_what_they_cannot_use(walk_log):
@@ -194,7 +200,7 @@ CONFIGURATIONS = {
         f"GPS + Galileo{extra}, {ionosphere}": {"systems": systems, **setting}
         for extra, systems in (("", ["G", "E"]), (" + BeiDou", ["G", "E", "C"]))
         for ionosphere, setting in (
-            ("ionosphere from L5 / E5a", {"dual_frequency": True}),
+            ("ionosphere from L2C / E5a", {"dual_frequency": True}),
             ("no ionosphere correction", {"ionosphere": False}),
         )
     },
@@ -337,6 +343,20 @@ def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
 def walk_run(tmp_path_factory):
     """The walk on three systems from its u-blox log (examples/walk_0827_multi_gnss.toml)."""
     return _navigate("walk_0827_multi_gnss.toml", tmp_path_factory.mktemp("walk") / "out")
+
+
+def test_the_quoted_inter_system_biases_are_the_walks(walk_run):
+    """docs/real-data.md: "(`inter_system_bias_m`: Galileo −0.39 m, BeiDou
+    −4.55 m on the walk)", the final estimates of the example's run."""
+    found = re.search(
+        r"`inter_system_bias_m`: Galileo ([−-][\d.]+) m, BeiDou ([−-][\d.]+) m on the walk",
+        _docs_page(),
+    )
+    assert found, "docs/real-data.md no longer quotes the walk's inter-system biases"
+    galileo, beidou = (float(v.replace("−", "-")) for v in found.groups())
+    biases = walk_run.summary["inter_system_bias_m"]
+    assert abs(biases["galileo"] - galileo) <= 0.005, biases
+    assert abs(biases["beidou"] - beidou) <= 0.005, biases
 
 
 #: The S observation of the signal each system's walk measurements use

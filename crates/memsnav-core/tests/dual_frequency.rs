@@ -21,7 +21,20 @@ use shared_data::shared_data;
 
 const WALK_UBX: &str = "real-imu-gnss/walk_0827/gnss_1730.ubx";
 const L1_HZ: f64 = 1_575.42e6;
-const L5_HZ: f64 = 1_176.45e6;
+
+/// Each system's second signal on the walk and its frequency: GPS L2C
+/// (the log's CNAV flags L5 unhealthy), Galileo E5a.
+fn second_signal(system: char) -> (&'static str, f64) {
+    match system {
+        'G' => ("C2L", 1_227.60e6),
+        _ => ("C5Q", 1_176.45e6),
+    }
+}
+
+/// (f₁/f₂)² of `system`'s two signals.
+fn gamma(system: char) -> f64 {
+    (L1_HZ / second_signal(system).1).powi(2)
+}
 
 fn walk() -> UbxLog {
     read_ubx(shared_data(WALK_UBX)).unwrap()
@@ -37,12 +50,12 @@ fn options(log: &UbxLog, dual_frequency_ionosphere: bool) -> ObservableOptions {
     }
 }
 
-/// Adds `delay_m(system, prn)` to each GPS and Galileo satellite's L1/E1
-/// code (`C1C`) and the same delay at L5/E5a (`C5Q`) to theirs.
+/// Adds `l1_m(system, prn)` to each GPS and Galileo satellite's L1/E1
+/// code (`C1C`) and `second_m(system, prn)` to its second signal's.
 fn shift_codes(
     observations: &mut ObservationFile,
     l1_m: impl Fn(char, u16) -> f64,
-    l5_m: impl Fn(char, u16) -> f64,
+    second_m: impl Fn(char, u16) -> f64,
 ) {
     let columns: Vec<(char, usize, usize)> = ['G', 'E']
         .into_iter()
@@ -50,7 +63,7 @@ fn shift_codes(
             (
                 s,
                 observations.type_index(s, "C1C").unwrap(),
-                observations.type_index(s, "C5Q").unwrap(),
+                observations.type_index(s, second_signal(s).0).unwrap(),
             )
         })
         .collect();
@@ -62,7 +75,7 @@ fn shift_codes(
                     *v += l1_m(s, prn);
                 }
                 if let Some(v) = sat.values[c5].as_mut() {
-                    *v += l5_m(s, prn);
+                    *v += second_m(s, prn);
                 }
             }
         }
@@ -94,10 +107,9 @@ fn delay_l1_m(system: char, prn: u16) -> f64 {
 fn a_measured_ionosphere_is_taken_out_whatever_its_size() {
     let log = walk();
     let nav = log.broadcast_nav();
-    let gamma = (L1_HZ / L5_HZ).powi(2);
     let mut delayed = log.observations.clone();
     shift_codes(&mut delayed, delay_l1_m, |s, prn| {
-        gamma * delay_l1_m(s, prn)
+        gamma(s) * delay_l1_m(s, prn)
     });
     let dual = options(&log, true);
     let (worst, count) = largest_difference(
@@ -123,17 +135,16 @@ fn group_delays_are_applied_as_the_icds_define_them() {
     let nav = log.broadcast_nav();
     let dual = options(&log, true);
     let before = broadcast_epochs(&log.observations, &nav, &dual).unwrap();
-    // GPS: ISC_L5Q5 up by δ lowers L5 Q's group delay T_GD − ISC by δ;
+    // GPS: ISC_L2C up by δ lowers L2C's group delay T_GD − ISC by δ;
     // Galileo: BGD(E1,E5a) up by δ raises E5a's by ((f_E1/f_E5a)² − 1) δ.
     let delta_s = 5e-9;
-    let gamma = (L1_HZ / L5_HZ).powi(2);
     let moved = BroadcastNav {
         gps_group_delays: nav
             .gps_group_delays
             .iter()
             .map(|(&prn, d)| {
                 let mut d = *d;
-                d.isc_l5q5_s = d.isc_l5q5_s.map(|isc| isc + delta_s);
+                d.isc_l2c_s = d.isc_l2c_s.map(|isc| isc + delta_s);
                 (prn, d)
             })
             .collect(),
@@ -160,7 +171,7 @@ fn group_delays_are_applied_as_the_icds_define_them() {
         |_, _| 0.0,
         |s, _| match s {
             'G' => -c * delta_s,
-            _ => c * (gamma - 1.0) * delta_s,
+            s => c * (gamma(s) - 1.0) * delta_s,
         },
     );
     let (worst, count) = largest_difference(
@@ -171,8 +182,9 @@ fn group_delays_are_applied_as_the_icds_define_them() {
     assert!(worst < 1e-3, "{worst} m");
 }
 
-/// On the walk every GPS satellite has L5 and CNAV's inter-signal
-/// corrections, every Galileo one E5a and I/NAV's BGD(E1,E5a); its BeiDou
+/// On the walk every GPS satellite has L2C and CNAV's inter-signal
+/// corrections (L5 too, but flagged unhealthy: its ISCs are not used),
+/// every Galileo one E5a and I/NAV's BGD(E1,E5a); its BeiDou
 /// signals (B1C, B2a, B3I) pair no two whose D1 group delays are known, so
 /// BeiDou keeps the broadcast model. The measured delays' uncertainty is in
 /// the pseudoranges' σ.
@@ -181,6 +193,10 @@ fn the_walk_measures_gps_and_galileo_and_models_beidou() {
     let log = walk();
     let nav = log.broadcast_nav();
     assert_eq!(nav.gps_group_delays.len(), 7);
+    assert!(nav
+        .gps_group_delays
+        .values()
+        .all(|d| d.isc_l2c_s.is_some() && d.isc_l5q5_s.is_none()));
     let (dual, signals) =
         broadcast_epochs_with_signals(&log.observations, &nav, &options(&log, true)).unwrap();
     let single = broadcast_epochs(&log.observations, &nav, &options(&log, false)).unwrap();
@@ -193,7 +209,7 @@ fn the_walk_measures_gps_and_galileo_and_models_beidou() {
             .zip(&modelled.measurements)
         {
             let expected = match m.system {
-                GnssSystem::Gps => Some("L5 Q"),
+                GnssSystem::Gps => Some("L2C (L)"),
                 GnssSystem::Galileo => Some("E5a Q"),
                 GnssSystem::Beidou => None,
             };

@@ -111,6 +111,22 @@ impl CnavEphemeris {
         self.group_delays?.group_delay_s(code)
     }
 
+    /// The group delays of the signals this ephemeris flags healthy: the
+    /// ISCs of L2C and L5 are left out while their health bit (type 10)
+    /// says bad, so that no measurement of an unhealthy signal is
+    /// corrected (the walk's satellites flag L5, still pre-operational).
+    pub fn healthy_group_delays(&self) -> Option<CnavGroupDelays> {
+        let mut delays = self.group_delays?;
+        if self.l2_health != 0 {
+            delays.isc_l2c_s = None;
+        }
+        if self.l5_health != 0 {
+            delays.isc_l5i5_s = None;
+            delays.isc_l5q5_s = None;
+        }
+        Some(delays)
+    }
+
     /// This ephemeris as an L1 C/A user's [`GpsEphemeris`]: the same orbit
     /// (with CNAV's Ȧ and Δṅ̇), L1 health, and T_GD − ISC_L1CA in the place
     /// of LNAV's T_GD, so that [`GpsEphemeris::state_at`] gives the L1 C/A

@@ -410,8 +410,10 @@ pub struct BroadcastNav {
     pub galileo: Vec<InavEphemeris>,
     pub beidou: Vec<BeidouEphemeris>,
     /// Each GPS satellite's latest CNAV group delays (message type 30), the
-    /// inter-signal corrections a second signal needs; empty from RINEX 3
-    /// files, whose LNAV records have T_GD alone.
+    /// inter-signal corrections a second signal needs, of the signals its
+    /// ephemeris flags healthy
+    /// ([`crate::gnss::CnavEphemeris::healthy_group_delays`]);
+    /// empty from RINEX 3 files, whose LNAV records have T_GD alone.
     pub gps_group_delays: BTreeMap<u16, CnavGroupDelays>,
     /// Records not read, by reason, with counts (other systems; Galileo
     /// F/NAV records, whose clock is referred to E5a,E1).

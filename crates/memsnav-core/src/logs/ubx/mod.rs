@@ -116,7 +116,7 @@ impl UbxLog {
             gps_group_delays: self
                 .gps_cnav_ephemerides
                 .iter()
-                .filter_map(|c| Some((c.prn, c.group_delays?)))
+                .filter_map(|c| Some((c.prn, c.healthy_group_delays()?)))
                 .collect(),
             skipped: BTreeMap::new(),
         }
