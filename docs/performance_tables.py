@@ -297,16 +297,24 @@ def python_rows(p: dict[str, Any]) -> list[tuple[str, ...]]:
             "",
         ),
         (
-            "position RMS against the truth, memsnav / FilterPy"
-            + (" / sidereon" if "skipped" not in sd else ""),
+            "position RMS against the truth, memsnav / FilterPy",
             f"{p['memsnav_position_rms_m_first_span']:.2f} / "
-            f"{p['filterpy_position_rms_m_first_span']:.2f}"
-            + (f" / {sd['position_rms_m']:.2f}" if "skipped" not in sd else "")
-            + " m",
+            f"{p['filterpy_position_rms_m_first_span']:.2f} m",
             "within 1.5× of each other (the same job done): "
-            + ("met" if p["same_accuracy"] and sd.get("same_accuracy", True) else "**not met**"),
+            + ("met" if p["same_accuracy"] else "**not met**"),
         ),
     ]
+    if "skipped" not in sd:
+        # sidereon's ImuSpec takes no noise that follows the inputs, so it
+        # lacks memsnav's noise for the unmodelled sensor errors
+        # (bench_tight.py): a different filter, shown without a target.
+        rows.append(
+            (
+                "sidereon's position RMS (no noise for the unmodelled sensor errors)",
+                f"{sd['position_rms_m']:.2f} m",
+                "",
+            )
+        )
     return rows
 
 
