@@ -565,16 +565,16 @@ impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
     ) {
         let (phi, d) = self.transition::<N>(step);
         phi.columns_into::<N>(&mut self.columns);
-        // Z′ = Z Φᵀ + R′ Q.
+        // Z′ = Z Φᵀ + R′ Q and y ← Φ y + Q λ′ ((Φ y)ᵀ = yᵀ Φᵀ): the
+        // products with Φ first, then Q's terms, formed once for both.
         column_product(&self.columns, z, next);
-        for_each_process_noise::<N>(&d, &step.0, |i, j, q| {
-            next.column_mut(j).axpy(q, &factor.column(i), 1.0);
-        });
-        // y ← Φ y + Q λ′, (Φ y)ᵀ = yᵀ Φᵀ.
         let (source, mut row) = (y.transpose(), y.transpose());
         sparse_product::<1, N, false>(&self.columns, &source.data.0, row.as_mut_slice());
         *y = row.transpose();
-        for_each_process_noise::<N>(&d, &step.0, |i, j, q| y[i] += q * lambda_after[j]);
+        for_each_process_noise::<N>(&d, &step.0, |i, j, q| {
+            next.column_mut(j).axpy(q, &factor.column(i), 1.0);
+            y[i] += q * lambda_after[j];
+        });
     }
 
     fn adjoint(
