@@ -60,12 +60,16 @@ def test_readme_quotes_the_walk_by_precision(tmp_path):
     assert abs(s["spp_errors_vs_truth_precision"]["rms_horizontal_m"] - spp_m) <= 0.005
 
 
-def _generated_rows(page: str, marker: str, first_cell: str) -> dict[str, list[str]]:
+def _generated_rows(
+    page: str, marker: str, first_cell: str, after: str = ""
+) -> dict[str, list[str]]:
     """The rows of the Markdown tables between ``page``'s ``marker``
-    markers (what its docs script last wrote) whose first cell starts with
-    ``first_cell``, by that cell."""
+    markers (what its docs script last wrote), from the first ``after`` in
+    the block on, whose first cell starts with ``first_cell``, by that
+    cell."""
     text = (ROOT / page).read_text()
     block = text[text.index(f"<!-- {marker}:begin -->") : text.index(f"<!-- {marker}:end -->")]
+    block = block[block.index(after) :]
     rows = {}
     for line in block.splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
@@ -139,6 +143,79 @@ def test_real_data_prose_reads_the_benchmark_tables():
         "docs/real-data.md", r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)"
     )
     assert len(walk) == 3 and _near(spread[0], min(walk)) and _near(spread[1], max(walk))
+    # The published filter against memsnav, as ratios of the peer table.
+    ratios = _quoted(
+        "docs/real-data.md",
+        r"forward filter is ([\d.]+), ([\d.]+) and ([\d.]+) times more accurate in RMS; "
+        r"the smoother ([\d.]+), ([\d.]+) and ([\d.]+) times",
+    )
+    for k, length in enumerate(lengths):
+        peer = re.search(
+            rf"\| {length} s \| ([\d.]+) / [\d.]+ \| [\d.]+ / [\d.]+ \| ([\d.]+) /", page
+        )
+        peer_forward, peer_smoothed = (float(v) for v in peer.groups())
+        fresh = (peer_forward / forward[length][0], peer_smoothed / smoothed[length][0])
+        quoted = (ratios[k], ratios[3 + k])
+        # Quoted to two significant figures.
+        assert all(abs(q - f) <= 0.05 * q for q, f in zip(quoted, fresh, strict=True)), length
+    shares = [float(row[4]) for row in (*lengths.values(), drive["none"])]
+    (low,) = _quoted("docs/real-data.md", r"\(memsnav's forward filter: ([\d.]+)-100 %\)")
+    assert _near(low, 100 * min(shares)) and max(shares) == 1.0
+    (aided_cm,) = _quoted("docs/real-data.md", r"follows the 4 Hz RTK fixes to (\d+) cm")
+    assert _near(aided_cm, 100 * float(drive["none"][2]))
+    outage_shares = [float(row[4]) for row in lengths.values()]
+    (low,) = _quoted("docs/real-data.md", r"The bounds hold: ([\d.]+)-100 % of the errors")
+    assert _near(low, 100 * min(outage_shares)) and max(outage_shares) == 1.0
+    standstills = {
+        key: float(row[4]) for key, row in drive.items() if key.isdigit() and float(row[4])
+    }
+    (only, length_s) = _quoted(
+        "docs/real-data.md", r"Only outage (\d+) holds a standstill \(([\d.]+) s"
+    )
+    assert standstills == {str(int(only)): length_s}
+    # The offsets' benchmark and the installation states' baseline quote
+    # the same forward RMS.
+    for pattern in (
+        r"−0\.22 s gives ([\d.]+) / ([\d.]+) / ([\d.]+) m",
+        r"forward outages go from ([\d.]+) / ([\d.]+) / ([\d.]+) m RMS",
+    ):
+        assert _quoted("docs/real-data.md", pattern) == tuple(f[0] for f in forward.values())
+    # The walk by precision and by accuracy.
+    forward_walk, smoothed_walk, spp = (
+        drive[key] for key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
+    )
+    quoted = _quoted(
+        "docs/real-data.md",
+        r"follows the path to ([\d.]+) m RMS horizontal, half the single-point solution's "
+        r"([\d.]+) m, and ([\d.]+) m vertical \(single-point ([\d.]+) m\); against the "
+        r"ellipsoidal truth heights without removing the offset, ([\d.]+) m vertical "
+        r"\(single-point ([\d.]+) m\)",
+    )
+    assert quoted == tuple(
+        float(v)
+        for v in (forward_walk[3], spp[3], forward_walk[4], spp[4], forward_walk[2], spp[2])
+    )
+    quoted = _quoted(
+        "docs/real-data.md",
+        r"horizontal precision is the same ([\d.]+) m with a smaller maximum \(([\d.]+) against "
+        r"([\d.]+) m\); its vertical offset is larger \(−([\d.]+) m against −([\d.]+) m",
+    )
+    down = [float(row[6].split(", ")[2]) for row in (smoothed_walk, forward_walk)]
+    assert quoted == (
+        float(smoothed_walk[3]),
+        float(smoothed_walk[5]),
+        float(forward_walk[5]),
+        -down[0],
+        -down[1],
+    )
+    (vertical,) = _quoted("docs/real-data.md", r"its vertical RMS by accuracy is ([\d.]+) m")
+    assert vertical == float(smoothed_walk[2])
+    withheld = _generated_rows("docs/real-data.md", "benchmark", "", after="satellites withheld")
+    three, four = _quoted(
+        "docs/real-data.md",
+        r"costs little: ([\d.]+) m horizontal precision in the windows against ([\d.]+) m",
+    )
+    assert (three, four) == tuple(float(withheld[n][1].split(" / ")[0]) for n in ("3", "4"))
 
 
 def test_few_satellites_prose_reads_its_study_tables():
@@ -156,12 +233,8 @@ def test_few_satellites_prose_reads_its_study_tables():
     )
     assert low <= min(at_end) and max(at_end) <= high and high - low <= 0.1 + 1e-9
     page = (ROOT / "docs" / "few-satellites.md").read_text()
-    aided = re.findall(
-        r"^\| (paper MEMS|consumer|tactical) \| (\d+) \| [\d.]+ \| ([\d.]+) \|", page, re.M
-    )
-    raw_tilt = [
-        float(t) for imu, tau, t in aided if imu in ("paper MEMS", "consumer") and tau == "10"
-    ]
+    aided = _aided_nees(page)
+    raw_tilt = [aided[(imu, "10")][1] for imu in ("paper MEMS", "consumer")]
     low, high = _quoted(
         "docs/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
     )
@@ -174,6 +247,35 @@ def test_few_satellites_prose_reads_its_study_tables():
     assert _near(ocxo, float(cells[("3", "OCXO")][2]))
     first_alerts = _quoted("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
     assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))
+    tcxo_error_km, tcxo_sigma_km = _quoted(
+        "docs/few-satellites.md", r"final error ([\d.]+) km, final σ ([\d.]+) km, every error"
+    )
+    assert _near(tcxo_error_km, float(cells[("3", "TCXO")][2]) / 1e3)
+    assert _near(tcxo_sigma_km, float(cells[("3", "TCXO")][3]) / 1e3)
+    assert cells[("3", "TCXO")][0] == "1.00 (1.00)"  # "every error inside 3σ"
+    ocxo_error, ocxo_sigma = _quoted(
+        "docs/few-satellites.md", r"end (\d+) m off \(median; σ (\d+) m\)"
+    )
+    assert _near(ocxo_error, float(cells[("3", "OCXO")][2]))
+    # σ quoted to two significant figures
+    assert abs(ocxo_sigma - float(cells[("3", "OCXO")][3])) <= 5.0
+    tilt, heading = _quoted(
+        "docs/few-satellites.md",
+        r"aided tilt NEES went from [\d.]+ to ([\d.]+) and the heading's from [\d.]+ to ([\d.]+)\.",
+    )
+    assert _near(tilt, aided[("consumer", "10")][1])
+    assert _near(heading, aided[("consumer", "10")][2])
+
+
+def _aided_nees(page: str) -> dict[tuple[str, str], tuple[float, float, float]]:
+    """docs/few-satellites.md's aided-attitude table: (IMU, τ) → NEES/dof
+    of position, tilt, heading."""
+    rows = re.findall(
+        r"^\| (paper MEMS|consumer|tactical) \| (\d+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$",
+        page,
+        re.M,
+    )
+    return {(imu, tau): tuple(float(v) for v in nees) for imu, tau, *nees in rows}
 
 
 def test_readme_quotes_the_drive_example_outage_schedule():
