@@ -5,6 +5,7 @@ The drive calibration's figures are checked where its session runs
 (test_drive_calibration)."""
 
 import re
+import tempfile
 import warnings
 from pathlib import Path
 
@@ -442,3 +443,22 @@ def test_paper_comparison_outage_budget_is_a_fresh_run():
     assert page.keys() == simulated.keys()
     for variant, (largest, _) in simulated.items():
         assert _near(float(page[variant]), largest), (variant, largest)
+
+
+def test_few_satellites_quotes_the_example_logs_consistency():
+    """docs/few-satellites.md: "On the example logs the largest ratio is
+    0.4 (drive_0708) and 0.6 (walk_0827)", the time-averaged NIS against
+    its band over every GNSS kind, each example run as configured (~2 s)."""
+    quoted = _quoted(
+        "docs/few-satellites.md",
+        r"the largest ratio is ([\d.]+) \(drive_0708\) and ([\d.]+) \(walk_0827\)",
+    )
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    for name, ratio in zip(("drive_0708", "walk_0827"), quoted, strict=True):
+        config = mn.load_config(ROOT / "examples" / f"{name}.toml", data)
+        config.values["report"]["html"] = False
+        with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+            warnings.simplefilter("ignore")  # the logs' last lines are cut short
+            summary = mn.navigate(config, output=out).summary
+        largest = max(c["max_band_ratio"] for c in summary["integrity"]["consistency"])
+        assert _near(ratio, largest), (name, largest)
