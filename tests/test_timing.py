@@ -4,11 +4,14 @@ faces; the drive excerpt's offsets against what the full log gives."""
 
 from __future__ import annotations
 
+import re
+import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
 
@@ -112,6 +115,55 @@ def test_the_drive_excerpt_runs_a_quarter_second_early():
     # 65 s of the drive give what the whole log gives (−0.27 s), not the
     # data authors' −0.125 s: 9 standard errors away.
     assert -0.30 < e.offset_s < -0.22 and e.correlation > 0.6
+    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(r"the 65 s excerpt in `tests/data` \(−([\d.]+) s\)", page)
+    assert quoted, "docs/real-data.md no longer quotes the excerpt's offset"
+    assert abs(-e.offset_s - float(quoted.group(1))) <= 0.005, e.offset_s
     assert (e.offset_s + 0.125) / e.std_s < -5.0
     v = mn.estimate_velocity_latency(rtk)
     assert 0.11 < v.latency_s < 0.17
+
+
+def test_the_guide_quotes_the_full_drive_offsets():
+    """docs/real-data.md, "Finding the time offsets from the data": its
+    table's drive_0708 rows (offset, std, correlation, the four stretches)
+    and the RTK velocity latencies of both logs (latency, std, RMS
+    difference) are what its example code gives on the full logs."""
+    drive = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parent
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's cut first and last lines
+        imu = mn.read_imu_csv(drive / "imu_1934.csv", skip_first_line=True)
+    clock = mn.fit_tag_clock(imu, mn.read_time_tag(drive / "imu_1934.csv.tag"))
+    c_b_s = mn.mounting_matrix([[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]])
+    rtk = mn.read_pos(drive / "gnss_1934_sf.pos")
+    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    number = r"\*{0,2}([−+]?[\d.]+) s\*{0,2}"
+    for label, signal in (("along-track", "along_track"), ("yaw rate", "yaw_rate")):
+        row = re.search(
+            rf"\| drive_0708 \| {label} \| {number} \| ([\d.]+) s \| ([\d.]+) \| ([^|]+) \|", page
+        )
+        assert row, f"docs/real-data.md has no drive_0708 {label} row"
+        offset, std, correlation = (float(v.replace("−", "-")) for v in row.groups()[:3])
+        stretches = [float(v.replace("−", "-")) for v in row.group(4).split(", ")]
+        e = mn.estimate_time_offset(
+            clock.gps_time,
+            imu.specific_force @ c_b_s.T,
+            imu.angular_rate @ c_b_s.T,
+            rtk,
+            signal=signal,
+        )
+        assert abs(e.offset_s - offset) <= 0.0005 and abs(e.std_s - std) <= 0.0005, (label, e)
+        assert abs(e.correlation - correlation) <= 0.005, (label, e.correlation)
+        assert np.allclose(e.block_offsets_s, stretches, atol=0.0005), (label, e.block_offsets_s)
+    quoted = re.search(
+        r"drive \*\*([\d.]+) s\*\* ± ([\d.]+) \(RMS difference ([\d.]+) m/s\), "
+        r"walk \*\*([\d.]+) s\*\* ± ([\d.]+) \(([\d.]+) m/s\)",
+        page,
+    )
+    assert quoted, "docs/real-data.md no longer quotes the velocity latencies"
+    walk = mn.read_pos(drive.parent / "walk_0827" / "gnss_1730_sf.pos")
+    figures = [float(v) for v in quoted.groups()]
+    for log, (latency, std, rms) in zip((rtk, walk), (figures[:3], figures[3:]), strict=True):
+        v = mn.estimate_velocity_latency(log)
+        assert abs(v.latency_s - latency) <= 0.0005 and abs(v.std_s - std) <= 0.0005, v
+        assert abs(v.rms_m_s - rms) <= 0.005, v.rms_m_s
