@@ -504,3 +504,50 @@ def test_real_data_quotes_the_drive_with_other_settings():
     smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
     assert _near(states_rms, smoothed["rms_horizontal_m"]), smoothed
     assert _near(states_max, smoothed["max_horizontal_m"]), smoothed
+
+
+@pytest.mark.slow
+def test_paper_comparison_partial_outages_are_a_fresh_run():
+    """docs/paper-comparison.md's partial-outage table (the quick run of
+    `memsnav reproduce`: 30 runs, seed 0; ~16 s) within its rounding, and
+    the bullets reading it: the shares of the no-satellite error kept with
+    3 and with 2 satellites, the NEES range, no run flagged."""
+    result = mn.experiments.partial_outage(runs=30, seed=0).summary()["scenarios"]
+    text = (ROOT / "docs" / "paper-comparison.md").read_text()
+    table = text[text.index("| scenario | ins | mems | calibrated_mems |") :].split("\n\n", 1)[0]
+    quoted = {}
+    for line in table.splitlines()[2:]:
+        scenario, *cells = (c.strip() for c in line.strip().strip("|").split("|"))
+        quoted[scenario] = {
+            imu: tuple(float(v) for v in re.fullmatch(r"([\d.]+) \(([\d.]+)\)", cell).groups())
+            for imu, cell in zip(("ins", "mems", "calibrated_mems"), cells, strict=True)
+        }
+    assert quoted.keys() == result.keys()
+    for scenario, imus in quoted.items():
+        for imu, (largest, nees) in imus.items():
+            fresh = result[scenario]["imus"][imu]
+            assert _near(largest, fresh["mean_max_position_error_during_outage_m"]), (scenario, imu)
+            assert _near(nees, fresh["position_nees_per_dof_at_outage_end"]), (scenario, imu)
+            assert fresh["diverged_share"] == 0.0  # "No run raises an integrity alert"
+
+    def share(imu: str, kept: int) -> float:
+        return (
+            100
+            * quoted[f"tight, {kept} satellites"][imu][0]
+            / quoted["tight, 0 satellites"][imu][0]
+        )
+
+    three = _quoted(
+        "docs/paper-comparison.md",
+        r"raw MEMS (\d+) %, calibrated (\d+) %, INS (\d+) % of its no-satellite error",
+    )
+    imus = ("mems", "calibrated_mems", "ins")
+    assert all(_near(q, share(imu, 3)) for q, imu in zip(three, imus, strict=True)), three
+    low, high = _quoted("docs/paper-comparison.md", r"2 satellites to (\d+)-(\d+) %")
+    two = [share(imu, 2) for imu in ("ins", "mems", "calibrated_mems")]
+    assert _near(low, min(two)) and _near(high, max(two)), two
+    low, high = _quoted(
+        "docs/paper-comparison.md", r"every scenario \(NEES/dof ([\d.]+)-([\d.]+)\)"
+    )
+    nees = [nees for imus in quoted.values() for _, nees in imus.values()]
+    assert _near(low, min(nees)) and _near(high, max(nees)), nees
