@@ -209,6 +209,10 @@ def test_real_data_prose_reads_the_benchmark_tables():
         -down[0],
         -down[1],
     )
+    (inside,) = _quoted(
+        "docs/real-data.md", r"make the filter say so: (\d+) % of the errors inside 3σ"
+    )
+    assert _near(inside, 100 * float(forward_walk[7]))
     (vertical,) = _quoted("docs/real-data.md", r"its vertical RMS by accuracy is ([\d.]+) m")
     assert vertical == float(smoothed_walk[2])
     withheld = _generated_rows("docs/real-data.md", "benchmark", "", after="satellites withheld")
