@@ -477,11 +477,11 @@ def test_few_satellites_quotes_the_example_logs_consistency():
 @pytest.mark.slow
 def test_real_data_quotes_the_drive_with_other_settings():
     """docs/real-data.md on drive_0708 through the published filter's
-    outage windows with settings other than the example's (~9 s): "Time",
+    outage windows with settings other than the example's (~15 s): "Time",
     the forward RMS in the 15 / 30 / 60 s outages with the IMU offset at
     −0.125 s and −0.27 s instead of −0.22 s (whose figures are the
     benchmark table's, checked above); `fix_error_states`, the smoothed
-    15 s outages."""
+    15 s outages; `installation_states`, its estimates and errors."""
     import copy
 
     import real_data_benchmark
@@ -514,6 +514,41 @@ def test_real_data_quotes_the_drive_with_other_settings():
     smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
     assert _near(states_rms, smoothed["rms_horizontal_m"]), smoothed
     assert _near(states_max, smoothed["max_horizontal_m"]), smoothed
+    # `installation_states`: "the states find residuals of 1-4 cm (lever
+    # arm), 0.128 s (latency ...) and −0.02 to −0.05 s (offset ...); its
+    # forward outages go from ... to 1.54 / 3.28 / 5.35 m and the smoothed
+    # ones stay within 0.05 m, but the aided error ... grows from 0.01 to
+    # 0.02 m".
+    lever_low, lever_high, latency, offset_high, offset_low, *outages = _quoted(
+        "docs/real-data.md",
+        r"residuals of (\d+)-(\d+) cm \(lever arm\), ([\d.]+) s \(latency, configured [\d.]+ s\) "
+        r"and −([\d.]+) to −([\d.]+) s \(offset, .*? to ([\d.]+) / ([\d.]+) / ([\d.]+) m and the "
+        r"smoothed ones stay within ([\d.]+) m, but the aided error against the RTK it is fed "
+        r"grows from ([\d.]+) to ([\d.]+) m",
+    )
+    *forward_states, within, aided_without, aided_with = outages
+    config = copy.deepcopy(base)
+    config.engine.setdefault("filter", {})["installation_states"] = True
+    runs = real_data_benchmark.peer_window_runs(config)
+    table = _generated_rows("docs/real-data.md", "benchmark", "")
+    for (length, (summary, _)), quoted_rms in zip(runs.items(), forward_states, strict=True):
+        estimates = summary["installation_estimates"]
+        lever_cm = [100 * abs(v) for v in estimates["lever_arm_m"]["value"]]
+        assert lever_low <= min(round(v) for v in lever_cm) <= max(round(v) for v in lever_cm)
+        assert max(round(v) for v in lever_cm) <= lever_high, lever_cm
+        assert _near(latency, estimates["velocity_latency_s"]["value"]), estimates
+        assert -offset_low <= estimates["time_offset_s"]["value"] <= -offset_high, estimates
+        fresh = summary["errors_vs_truth"]["in_outages"]["rms_horizontal_m"]
+        assert _near(quoted_rms, fresh), (length, fresh)
+        smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]["rms_horizontal_m"]
+        assert abs(smoothed - float(table[f"{length:g} s"][5])) <= within, (length, smoothed)
+    assert _near(aided_without, float(table["none"][2]))
+    config.engine["filter"]["smoother"] = True
+    config.engine.pop("outages")
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+        warnings.simplefilter("ignore")  # the log's cut lines
+        aided = mn.navigate(config, output=out).summary["errors_vs_truth"]["aided"]
+    assert _near(aided_with, aided["rms_horizontal_m"]), aided
 
 
 @pytest.mark.slow
