@@ -483,3 +483,51 @@ def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
 def test_xsens_first_half_fit_meets_the_issue_limit_on_the_second_half(xsens):
     summary = mn.static_summary(_xsens_split(xsens, "first half, second half"))
     assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.2e-3
+
+
+def _half_step(text: str) -> float:
+    """Half the last digit of a figure as written ("0.00055" → 5e-6,
+    "2.091e-4" → 5e-8)."""
+    mantissa, _, exponent = text.partition("e")
+    return 0.5 * 10.0 ** (int(exponent or 0) - len(mantissa.partition(".")[2]))
+
+
+def test_the_guide_quotes_the_xsens_parameters(xsens):
+    """docs/calibration.md's parameter table of the Xsens session (every
+    4th pose held out, as its example): biases, scale factors and
+    misalignments with their σ, each within the digits it is quoted with;
+    and the fitted gyro scales per count it gives beside them."""
+    cal = _xsens_split(xsens, "every 4th pose")
+    page = (Path(__file__).parents[1] / "docs" / "calibration.md").read_text()
+    page = page[: page.index("### Which terms to estimate")].replace("−", "-")
+    axes = {c: i for i, c in enumerate("uvw")} | {c: i for i, c in enumerate("pqr")}
+    for label, model, std, term in (
+        ("accelerometer bias [m/s²]", cal.accelerometer, cal.accelerometer_std, "bias"),
+        ("accelerometer scale factor", cal.accelerometer, cal.accelerometer_std, "scale_factor"),
+        ("accelerometer misalignment", cal.accelerometer, cal.accelerometer_std, "misalignment"),
+        ("gyro bias [rad/s]", cal.gyroscope, cal.gyroscope_std, "bias"),
+        ("gyro scale factor (vs 1/6258)", cal.gyroscope, cal.gyroscope_std, "scale_factor"),
+        ("gyro misalignment", cal.gyroscope, cal.gyroscope_std, "misalignment"),
+    ):
+        row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.M)
+        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        value, sigma = np.asarray(getattr(model, term)), np.asarray(getattr(std, term))
+        for k, cell in enumerate(c.strip() for c in row.group(1).split("|")):
+            scaled = re.fullmatch(r"\(([-\d.]+) ± ([\d.]+)\)e(-?\d+)", cell)
+            if scaled:
+                quoted = [(None, f"{scaled[1]}e{scaled[3]}", f"{scaled[2]}e{scaled[3]}")]
+            else:
+                quoted = re.findall(r"(?:M_(\w\w) )?([-\d.]+) ± ([\d.]+)", cell)
+            assert quoted, (label, cell)
+            for name, text, sigma_text in quoted:
+                at = (axes[name[0]], axes[name[1]]) if name else k
+                assert abs(value[at] - float(text)) <= _half_step(text) + 1e-12, (label, cell)
+                assert abs(sigma[at] - float(sigma_text)) <= _half_step(sigma_text) + 1e-12, cell
+    scales = re.search(
+        r"The fitted gyro scale is ([\d.e-]+), ([\d.e-]+) and ([\d.e-]+) rad/s per count",
+        " ".join(page.split()),
+    )
+    assert scales, "docs/calibration.md no longer quotes the fitted gyro scales"
+    fitted = np.asarray(cal.nominal["gyro_scale"]) / (1 - np.asarray(cal.gyroscope.scale_factor))
+    for text, value in zip(scales.groups(), fitted, strict=True):
+        assert abs(value - float(text)) <= _half_step(text) + 1e-15, (text, value)
