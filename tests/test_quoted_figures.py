@@ -616,3 +616,29 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     held = [r for r in long_runs if round(r["inside_before_alert"], 2) == 1.0]
     assert len(held) == int(inside)
     assert max(r["first_alert_s"] for r in long_runs) == late
+
+
+def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
+    """docs/real-data.md, "Time": the mean NIS per degree of freedom of
+    drive_0708's position fixes over the whole drive without outages at
+    four IMU offsets (four runs, ~2 s)."""
+    import copy
+
+    quoted = _quoted(
+        "docs/real-data.md",
+        r"the position fixes is ([\d.]+) at −0\.27 s, ([\d.]+) at −0\.22 s, ([\d.]+) at −0\.20 s "
+        r"and ([\d.]+) at −0\.125 s",
+    )
+    data = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[2]
+    base = mn.load_config(ROOT / "examples" / "drive_0708.toml", data)
+    base.values["report"]["html"] = False
+    base.engine.pop("outages")
+    for offset_s, nis in zip((-0.27, -0.22, -0.20, -0.125), quoted, strict=True):
+        config = copy.deepcopy(base)
+        config.engine["imu"]["time_offset_s"] = offset_s
+        with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+            warnings.simplefilter("ignore")  # the log's cut lines
+            batches = mn.navigate(config, output=out).run.solution.batches
+        position = np.asarray(batches["kind"]) == "position"
+        fresh = np.mean(np.asarray(batches["nis"])[position] / np.asarray(batches["dof"])[position])
+        assert _near(nis, fresh), (offset_s, fresh)
