@@ -642,3 +642,30 @@ def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
         position = np.asarray(batches["kind"]) == "position"
         fresh = np.mean(np.asarray(batches["nis"])[position] / np.asarray(batches["dof"])[position])
         assert _near(nis, fresh), (offset_s, fresh)
+
+
+def _one_over_e_time_s(x: np.ndarray, rate_hz: float) -> float:
+    """The first lag at which the sample autocorrelation of ``x`` (mean
+    removed; FFT of the zero-padded series) falls below 1/e, s."""
+    x = x - x.mean()
+    spectrum = np.fft.rfft(x, 2 * len(x))
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[: len(x)]
+    return float(np.argmax(acf / acf[0] < 1.0 / np.e) / rate_hz)
+
+
+def test_few_satellites_quotes_the_inputs_correlation_times():
+    """docs/few-satellites.md: "on six 600 s random trajectories the yaw
+    rate's autocorrelation falls to 1/e in 4-8 s, the horizontal specific
+    force's in 5-16 s" (seeds 0-5, 100 Hz), what τ = 10 s is chosen from."""
+    yaw_low, yaw_high, force_low, force_high = _quoted(
+        "docs/few-satellites.md",
+        r"on six 600 s random trajectories the yaw rate's autocorrelation falls to 1/e in "
+        r"(\d+)-(\d+) s, the horizontal specific force's in (\d+)-(\d+) s",
+    )
+    yaw, force = [], []
+    for seed in range(6):
+        truth = mn.Trajectory.random(duration=600.0, rate=100.0, seed=seed)
+        yaw.append(_one_over_e_time_s(truth.angular_rate[:, 2], 100.0))
+        force += [_one_over_e_time_s(truth.specific_force[:, k], 100.0) for k in (0, 1)]
+    assert (round(min(yaw)), round(max(yaw))) == (yaw_low, yaw_high), yaw
+    assert (round(min(force)), round(max(force))) == (force_low, force_high), force
