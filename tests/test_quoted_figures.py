@@ -748,3 +748,19 @@ def test_few_satellites_quotes_the_tactical_runs_on_three_satellites():
     assert (round(min(final_km), 1), round(max(final_km), 1)) == (low, high), final_km
     assert (round(min(sigma_km), 1), round(max(sigma_km), 1)) == (sigma_low, sigma_high)
     assert _near(inside, 100 * min(shares)), shares
+
+
+def test_howto_quotes_its_examples_condition_number(capsys):
+    """docs/howto.md's first example warns about the w axis: "poorly
+    conditioned (condition number ~2e4)": that axis's condition number
+    from the example's own calibration, to the one significant figure."""
+    page = (ROOT / "docs" / "howto.md").read_text()
+    example = re.search(r"```python\n(.*?)```", page, re.S).group(1)
+    namespace: dict = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the warnings the page describes
+        exec(compile(example, "howto.md", "exec"), namespace)
+    capsys.readouterr()
+    (quoted,) = _quoted("docs/howto.md", r"poorly conditioned \(condition number ~([\d.e]+)\)")
+    w_axis = namespace["acc_cal"].condition_number[2]
+    assert f"{w_axis:.0e}".replace("e+0", "e") == f"{quoted:.0e}".replace("e+0", "e"), w_axis
