@@ -88,34 +88,55 @@ def rms_windows(pe: np.ndarray) -> tuple[float, float]:
     )
 
 
+def setting_rows(
+    settings: dict[str, object], runs: int, threads: int | None
+) -> tuple[dict[str, tuple[float, float, float, float]], object]:
+    """One row of the study table per IMU for one setting (the keyword
+    arguments of ``navigation``): RMS over the first EARLY s and after,
+    the outage's largest mean error, the mean NEES per dof; and the
+    nominal experiment itself (its runs kept)."""
+    nominal = navigation(runs=runs, threads=threads, keep_runs=True, **settings)  # type: ignore[arg-type]
+    outage = navigation(runs=runs, threads=threads, outage=OUTAGE, **settings).summary()  # type: ignore[arg-type]
+    s = nominal.summary()
+    assert nominal.position_error is not None
+    rows = {}
+    for imu in nominal.imus:
+        early, late = rms_windows(nominal.position_error[imu])
+        rows[imu] = (
+            early,
+            late,
+            outage[imu]["max_position_error_during_outage_m"],
+            s[imu]["mean_nees_per_dof"],
+        )
+    return rows, nominal
+
+
 def study(runs: int, threads: int | None) -> None:
     print("| setting | IMU | RMS 0-150 s [m] | RMS 150-600 s [m] | outage max [m] | NEES/dof |")
     print("|---|---|---|---|---|---|")
     for name, kw in SETTINGS.items():
-        nominal = navigation(runs=runs, threads=threads, keep_runs=True, **kw)  # type: ignore[arg-type]
-        outage = navigation(runs=runs, threads=threads, outage=OUTAGE, **kw).summary()  # type: ignore[arg-type]
-        s = nominal.summary()
-        assert nominal.position_error is not None
-        for imu in nominal.imus:
-            early, late = rms_windows(nominal.position_error[imu])
-            print(
-                f"| {name} | {imu} | {early:.2f} | {late:.2f} | "
-                f"{outage[imu]['max_position_error_during_outage_m']:.1f} | "
-                f"{s[imu]['mean_nees_per_dof']:.2f} |"
-            )
+        rows, _ = setting_rows(kw, runs, threads)
+        for imu, (early, late, outage_max, nees) in rows.items():
+            print(f"| {name} | {imu} | {early:.2f} | {late:.2f} | {outage_max:.1f} | {nees:.2f} |")
             name = ""
         sys.stdout.flush()
 
 
-def budget_by_simulation(runs: int, threads: int | None) -> None:
+def budget_by_simulation_rows(runs: int, threads: int | None) -> dict[str, tuple[float, float]]:
+    """The outage's largest mean error and its mean error at the end, per
+    raw MEMS variant of BUDGET_IMUS."""
     r = navigation(runs=runs, threads=threads, outage=OUTAGE, imus=BUDGET_IMUS).summary()  # type: ignore[arg-type]
+    return {
+        imu: (s["max_position_error_during_outage_m"], s["position_error_at_outage_end_m"])
+        for imu, s in r.items()
+    }
+
+
+def budget_by_simulation(runs: int, threads: int | None) -> None:
     print("\n| raw MEMS variant | outage max [m] | at outage end [m] |")
     print("|---|---|---|")
-    for imu, s in r.items():
-        print(
-            f"| {imu} | {s['max_position_error_during_outage_m']:.1f} | "
-            f"{s['position_error_at_outage_end_m']:.1f} |"
-        )
+    for imu, (largest, end) in budget_by_simulation_rows(runs, threads).items():
+        print(f"| {imu} | {largest:.1f} | {end:.1f} |")
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
@@ -137,7 +158,7 @@ def _double_integral(a: np.ndarray, dt: float) -> np.ndarray:
     return np.sum(0.5 * (v[1:] + v[:-1]) * dt, 0)
 
 
-def budget_analytic(n_trajectories: int) -> None:
+def budget_analytic_rows(n_trajectories: int) -> dict[str, float]:
     """Open-loop position error at the end of the outage, RMS over the
     parameter draws (sigmas of the paper-mems spec) and trajectories.
 
@@ -226,6 +247,11 @@ def budget_analytic(n_trajectories: int) -> None:
     rows["accel white noise"] = np.sqrt(3) * q_a * t**1.5 / np.sqrt(3)
     # Angle random walk on the two tilts: σ_r = g q t^{5/2} / √20 per axis.
     rows["gyro white noise"] = np.sqrt(2) * g0 * q_g * t**2.5 / np.sqrt(20)
+    return rows
+
+
+def budget_analytic(n_trajectories: int) -> None:
+    rows = budget_analytic_rows(n_trajectories)
     print("\n| raw MEMS error term (paper-mems sigma) | analytic RMS error after 30 s [m] |")
     print("|---|---|")
     for k, v in sorted(rows.items(), key=lambda kv: -kv[1]):

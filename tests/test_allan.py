@@ -3,6 +3,8 @@ implementation of the overlapping estimator and against the slopes of
 white noise (q/√τ) and of a random walk (K√(τ/3), IEEE Std 952 table C.1)
 on long seeded series."""
 
+import copy
+import re
 import warnings
 from pathlib import Path
 
@@ -177,31 +179,106 @@ def test_fit_refuses_a_record_too_short_and_checks_its_arguments():
         mn.imu_spec_from_allan(np.zeros((10, 3)), np.zeros((9, 3)), 100.0)
 
 
-def test_imu_spec_from_the_static_start_of_drive_0708():
-    """drive_0708 starts with 34 s at rest, engine running: the white noise
-    of both triads is determined (engine vibration makes it 3-4 times the
-    BMI088-class data sheet's), nothing else, and the entries are
-    `[imu_spec]` keys that reach the tuning."""
+@pytest.fixture(scope="module")
+def drive_0708_start():
+    """drive_0708's configuration, its IMU's first 34 s (at rest) and the
+    spec their Allan fit gives, with the warnings it raised."""
     from shared_data import shared_data
 
     from memsnav.realdata.pipeline import read_imu
 
-    shared_data("real-imu-gnss/drive_0708/imu_1934.csv")
-    cfg = mn.load_config(Path(__file__).parents[1] / "examples" / "drive_0708.toml")
+    data = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[2]
+    cfg = mn.load_config(Path(__file__).parents[1] / "examples" / "drive_0708.toml", data)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the log's cut first and last lines
         _, f, w, _ = read_imu(cfg)
-    with pytest.warns(UserWarning) as caught:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         spec = mn.imu_spec_from_allan(f[:3400], w[:3400], 100.0)
+    return cfg, f[:3400], w[:3400], spec, caught
+
+
+def test_imu_spec_from_the_static_start_of_drive_0708(drive_0708_start):
+    """drive_0708 starts with 34 s at rest, engine running: the white noise
+    of both triads is determined (engine vibration makes it 3-4 times the
+    BMI088-class data sheet's), nothing else, and the entries are
+    `[imu_spec]` keys that reach the tuning."""
+    _, f, w, spec, caught = drive_0708_start
     assert sorted(spec) == ["accel_noise_density_ug_sqrt_hz", "gyro_arw_deg_sqrt_h"]
     assert len(caught) == 4 and all("the record (34.0 s)" in str(c.message) for c in caught)
+    assert all(issubclass(c.category, UserWarning) for c in caught)
     assert 400.0 < spec["accel_noise_density_ug_sqrt_hz"] < 900.0
     assert 1.0 < spec["gyro_arw_deg_sqrt_h"] < 3.0
     # Each entry is the fit in the key's unit: µg/√Hz = 1e-6 g0 (m/s²)·√s,
     # °/√h = 60 °/√s.
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        accel = mn.allan_fit(f[:3400], 100.0)["white_density"]
-        gyro = mn.allan_fit(w[:3400], 100.0)["white_density"]
+        accel = mn.allan_fit(f, 100.0)["white_density"]
+        gyro = mn.allan_fit(w, 100.0)["white_density"]
     assert spec["accel_noise_density_ug_sqrt_hz"] == pytest.approx(accel / 9.80665e-6, rel=1e-12)
     assert spec["gyro_arw_deg_sqrt_h"] == pytest.approx(np.degrees(gyro) * 60.0, rel=1e-12)
+
+
+def _quoted_in_real_data(pattern: str) -> tuple[str, ...]:
+    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    found = re.search(pattern, page)
+    assert found, f"docs/real-data.md no longer quotes {pattern!r}"
+    return found.groups()
+
+
+def test_the_guide_quotes_the_static_start_spec(drive_0708_start):
+    """docs/real-data.md: "only the white noise, 664 µg/√Hz and 1.95 °/√h
+    (3.8 and 2.3 times the BMI088-class preset's 175 µg/√Hz and 0.84 °/√h".
+    """
+    spec = drive_0708_start[3]
+    accel, gyro, accel_ratio, gyro_ratio, accel_preset, gyro_preset = (
+        float(v)
+        for v in _quoted_in_real_data(
+            r"only the white noise, ([\d.]+) µg/√Hz and ([\d.]+) °/√h \(([\d.]+) and ([\d.]+) "
+            r"times the BMI088-class preset's ([\d.]+) µg/√Hz and ([\d.]+) °/√h"
+        )
+    )
+    consumer = mn.ImuModel.preset("consumer").spec
+    assert abs(spec["accel_noise_density_ug_sqrt_hz"] - accel) <= 0.5
+    assert abs(spec["gyro_arw_deg_sqrt_h"] - gyro) <= 0.005
+    assert abs(consumer["accel_noise_density"] / 9.80665e-6 - accel_preset) <= 0.5
+    assert abs(np.degrees(consumer["gyro_noise_density"]) * 60.0 - gyro_preset) <= 0.005
+    assert abs(accel / accel_preset - accel_ratio) <= 0.05
+    assert abs(gyro / gyro_preset - gyro_ratio) <= 0.05
+
+
+def test_the_guide_quotes_the_drive_with_the_static_start_spec(drive_0708_start):
+    """docs/real-data.md's table of drive_0708 through the published
+    filter's outage windows with the preset and with the Allan spec (the
+    preset columns are the benchmark's; the Allan ones a fresh run, ~3 s)."""
+    import real_data_benchmark
+
+    cfg, _, _, spec, _ = drive_0708_start
+    allan = copy.deepcopy(cfg)
+    allan.engine["imu_spec"] = dict(spec)
+    runs = real_data_benchmark.peer_window_runs(allan)
+    page = (Path(__file__).parents[1] / "docs" / "real-data.md").read_text()
+    benchmark = page[page.index("<!-- benchmark:begin -->") :]
+    for length, (summary, _) in runs.items():
+        row = re.search(
+            rf"^\| {length:g} s \| ([\d.]+) / ([\d.]+), ([\d.]+) \| ([\d.]+) / ([\d.]+), "
+            rf"([\d.]+) \| ([\d.]+) / ([\d.]+) \|$",
+            page,
+            re.M,
+        )
+        assert row, f"the Allan spec table has no {length:g} s row"
+        quoted = [float(v) for v in row.groups()]
+        table = re.search(rf"^\| {length:g} s \|(.*)$", benchmark, re.M).group(1).split("|")
+        preset = [float(table[k]) for k in (2, 3, 4, 5)]
+        assert quoted[:3] + quoted[6:7] == preset, (length, quoted, preset)
+        forward = summary["errors_vs_truth"]["in_outages"]
+        smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
+        fresh = [
+            forward["rms_horizontal_m"],
+            forward["max_horizontal_m"],
+            forward["within_3sigma_share"],
+            smoothed["rms_horizontal_m"],
+        ]
+        steps = [0.005, 0.005, 0.0005, 0.005]
+        for q, v, step in zip(quoted[3:6] + quoted[7:], fresh, steps, strict=True):
+            assert abs(q - v) <= step + 1e-9, (length, quoted, fresh)

@@ -378,3 +378,60 @@ def test_drive_configuration_errors(tmp_path):
     cfg = load_calibration_config(config('[drive]\nnavigate = "n.toml"\n'), tmp_path)
     assert cfg.config_path("drive", "navigate") == tmp_path / "n.toml"
     assert cfg["drive"]["window_s"] == 2.0
+
+
+@pytest.mark.slow
+def test_the_guide_quotes_the_drive_calibrations_parameters(drive_run):
+    """docs/calibration.md's "Result on drive_0708": the windows fitted and
+    left out, the table of biases and scale factors with their σ (three
+    decimals; "held" where the fit holds the term), the x accelerometer
+    scale factor in per cent and the accelerometer fit's condition number."""
+    _, out = drive_run
+    raw = json.loads((out / "calibration.json").read_text())
+    fit = raw["fit"]
+    text = " ".join((HERE.parent / "docs" / "calibration.md").read_text().split())
+    windows = re.search(
+        r"`examples/drive_0708_calibration.toml`: (\d+) windows of ([\d.]+) s from the first "
+        r"(\d+) s \((\d+) before the heading is known and (\d+) around resets left out\)",
+        text,
+    )
+    assert windows, "docs/calibration.md no longer quotes the drive's windows"
+    assert [float(v) for v in windows.groups()] == [
+        fit["windows"],
+        round(fit["window_s"], 2),
+        fit["until_s"],
+        fit["skipped_before_heading"],
+        fit["skipped_for_resets"],
+    ]
+    page = (HERE.parent / "docs" / "calibration.md").read_text()
+    page = page[page.index("`examples/drive_0708_calibration.toml`: ") :]  # not the static table
+    for label, sensor, term, scale in (
+        ("accelerometer bias, m/s²", "accelerometer", "bias", 1.0),
+        ("accelerometer scale factor", "accelerometer", "scale_factor", 1.0),
+        ("gyro bias, °/s", "gyroscope", "bias", np.degrees(1.0)),
+        ("gyro scale factor", "gyroscope", "scale_factor", 1.0),
+    ):
+        row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.M)
+        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        cells = [c.strip().replace("−", "-") for c in row.group(1).split("|")]
+        for cell, value, sigma in zip(
+            cells, raw[sensor][term], raw[f"{sensor}_std"][term], strict=True
+        ):
+            if cell == "held":
+                assert sigma == 0.0, (label, cell)
+                continue
+            quoted, quoted_sigma = (float(v) for v in cell.split(" ± "))
+            assert abs(value * scale - quoted) <= 0.0005 + 1e-12, (label, value * scale, cell)
+            assert abs(sigma * scale - quoted_sigma) <= 0.0005 + 1e-12, (label, sigma, cell)
+    x_scale, x_sigma = re.search(
+        r"with today's references it is ([−\d.]+) ± ([\d.]+) %", text
+    ).groups()
+    assert (
+        abs(100 * raw["accelerometer"]["scale_factor"][0] - float(x_scale.replace("−", "-")))
+        <= 0.05
+    )
+    assert abs(100 * raw["accelerometer_std"]["scale_factor"][0] - float(x_sigma)) <= 0.05
+    (condition,) = re.search(
+        r"today's fit is back at a condition number of ([\d.]+)", text
+    ).groups()
+    assert all(abs(c - float(condition)) <= 0.05 for c in fit["condition_number"]["accelerometer"])

@@ -6,6 +6,9 @@ Gauss-Markov state per ECEF axis and the aided bounds hold."""
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -55,7 +58,7 @@ def _drive_with_slow_fix_errors(seed: int, tau_s: float = 60.0, slow_m: float = 
 @pytest.mark.parametrize("seed", [1, 2])
 def test_fix_error_states_keep_the_aided_bounds(seed):
     trajectory, f, w, fixes, k = _drive_with_slow_fix_errors(seed)
-    share, run = {}, {}
+    share, run, rms = {}, {}, {}
     for states in (False, True):
         settings = {
             # A vibration-free simulated IMU: no standstill detection.
@@ -66,11 +69,25 @@ def test_fix_error_states_keep_the_aided_bounds(seed):
         run[states] = mn.navigate_log(trajectory.time, f, w, fixes, settings=settings)
         score = run[states].score(trajectory.time[k], trajectory.position_ecef[k])
         share[states] = (score["aided"]["within_3sigma_share"], score["in_outages"])
+        rms[states] = score["aided"]["rms_horizontal_m"]
     # White noise: bounds below the fixes' own error (about 2/3 inside 3σ);
     # the Gauss-Markov states: at least 0.9, in the outage too.
     assert share[False][0] < 0.8, share
     assert share[True][0] >= 0.9, share
     assert share[True][1]["within_3sigma_share"] >= 0.9, share
+    # docs/real-data.md quotes both seeds' shares and RMS as ranges.
+    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(
+        r"the aided share of errors inside 3σ is ([\d.]+) without the states and ([\d.]+)-([\d.]+) "
+        r"with them, the aided horizontal RMS ([\d.]+)-([\d.]+) m without and ([\d.]+)-([\d.]+) m",
+        page,
+    )
+    assert quoted, "docs/real-data.md no longer quotes the fix-error states' effect"
+    white, low, high, rms_low, rms_high, states_low, states_high = map(float, quoted.groups())
+    assert round(share[False][0], 2) == white, share
+    assert low <= round(share[True][0], 2) <= high, share
+    assert rms_low <= round(rms[False], 1) <= rms_high, rms
+    assert states_low <= round(rms[True], 1) <= states_high, rms
     # Three of the twelve slots, one per ECEF axis, with metre-level estimates.
     errors = run[True].range_biases
     assert sorted(errors) == [0, 1, 2]

@@ -451,6 +451,17 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         # Issue 15 item 4: never a silent 1e9 m finish. Either the filter
         # recovers (resets to the later fixes) or it says it diverged.
         assert error < 100.0 and len(sol.resets["time"]) >= 1
+        # docs/robustness.md quotes how: "final error 2.4 m on the simulated
+        # drive, one `position_to_fix` reset, no warning".
+        page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+        quoted = re.search(
+            r"\(final error ([\d.]+) m on the simulated drive, (one) `position_to_fix` reset, "
+            r"(no) warning",
+            page,
+        )
+        assert quoted, "docs/robustness.md no longer quotes the recovery from a first fix off"
+        assert abs(error - float(quoted.group(1))) <= 0.05, error
+        assert list(sol.resets["kind"]) == ["position_to_fix"] and not caught
     else:
         # Every fix but the first is 1e9 m off the truth: the filter follows
         # them by resets but its innovations stay far outside their covariance.
@@ -753,8 +764,8 @@ def test_a_tiny_lsb_keeps_the_reading_it_cannot_resolve():
 
 @pytest.mark.parametrize("kind", ["tight", "loose"])
 def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
-    """gate_probability = 1 let a 10⁹ m outlier through; the tight filter
-    ended 639 m off and the loose 2.6 km, with no warning."""
+    """gate_probability = 1 lets a 10⁹ m outlier through, which used to go
+    without a warning."""
     traj, gnss, imu, f, w, arrays = drive
     if kind == "tight":
         names = ("time", "sat_id", "pseudorange", "pseudorange_rate", "pseudorange_std")
@@ -772,6 +783,13 @@ def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
         sol = run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
     applied = "GNSS batches were applied although their NIS was beyond"
     assert any(applied in str(c.message) for c in caught)
+    # How far the outlier leaves the run, as docs/robustness.md quotes it
+    # ("leaves the tight one 34 km and the loose one 36 km off at its end").
+    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    quoted = re.search(r"leaves the tight one (\d+) km and the loose one (\d+) km off", page)
+    assert quoted, "docs/robustness.md no longer quotes how far the outlier leaves the run"
+    error_km = np.linalg.norm(sol.position_ecef[-1] - traj.position_ecef[-1]) / 1e3
+    assert abs(error_km - float(quoted.group(1 if kind == "tight" else 2))) <= 0.5, error_km
     assert sol.diverged
     assert [a["kind"] for a in sol.integrity["alerts"]].count("applied_outliers") == 1
     # The same run with the gate on rejects the outlier and says nothing.

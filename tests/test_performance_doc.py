@@ -136,3 +136,19 @@ def test_the_floating_point_count_adds_up():
     ).groups()
     lower = _number(total) - _number(covariance) + _number(symmetric)
     assert abs(_number(symmetric_total) - lower) <= 0.02 * lower
+
+
+def test_the_readme_quotes_the_step_api_rate_of_the_block():
+    """The README's "about 330 k IMU steps/s from a Python loop" is the
+    `RunningFilter` row of the block (a timing: within a factor of 2 of
+    what the script last measured, the README naming the page)."""
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    quoted = re.search(r"about (\d+) k IMU steps/s from a Python loop \(on the", readme)
+    assert quoted, "the README no longer quotes the step API's rate"
+    measured = re.search(
+        r"\| `RunningFilter` loop from Python, per IMU sample \| [\d.]+ µs \((\d+) k samples/s\)",
+        _page(),
+    )
+    assert measured, "docs/performance.md's block has no RunningFilter row"
+    ratio = float(quoted.group(1)) / float(measured.group(1))
+    assert 0.5 <= ratio <= 2.0, (quoted.group(1), measured.group(1))

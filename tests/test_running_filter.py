@@ -241,7 +241,8 @@ def test_step_api_page_quotes_what_its_example_prints(capsys, monkeypatch, tmp_p
     page = (Path(__file__).resolve().parent.parent / "docs" / "step-api.md").read_text()
     example = re.search(r"```python\n(.*?)```", page, flags=re.S).group(1)
     monkeypatch.chdir(tmp_path)
-    exec(compile(example, "step-api.md", "exec"), {"__name__": "__docs__"})
+    namespace = {"__name__": "__docs__"}
+    exec(compile(example, "step-api.md", "exec"), namespace)
     printed = dict(
         re.findall(r"odometry (\w+): end of the outage ([\d.]+) m", capsys.readouterr().out)
     )
@@ -253,6 +254,12 @@ def test_step_api_page_quotes_what_its_example_prints(capsys, monkeypatch, tmp_p
     assert quoted, "the page's opening figures moved"
     assert f"{float(printed['False']):.1f}" == quoted.group(1)
     assert f"{float(printed['True']):.1f}" == quoted.group(2)
+    # Its comment sizes the non-holonomic std by the trajectory's vertical
+    # velocity in body axes: "up to 0.14 m/s".
+    (vertical,) = re.search(r"hills give up to ([\d.]+) m/s vertical in body axes", page).groups()
+    truth = namespace["truth"]
+    body = np.einsum("nji,nj->ni", truth.attitude, truth.velocity_ecef)
+    assert f"{np.abs(body[:, 2]).max():.2f}" == vertical
 
 
 def test_run_increments_is_the_stepped_increments_run(drive_300s):

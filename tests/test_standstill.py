@@ -5,6 +5,9 @@ it when the filter's own velocity σ cannot tell that speed from zero."""
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 
 import memsnav as mn
@@ -92,3 +95,16 @@ def test_a_stop_in_an_outage_is_seen_by_the_sensors_and_bounds_the_error():
     assert np.mean(np.asarray(m["status"])[zupt] == "accepted") > 0.95
     assert not any(a > t[0] + 40.0 for a, _ in runs[0.0].standstills)
     assert errors[3.0] < 20.0 < 100.0 < errors[0.0], errors
+    # docs/real-data.md quotes this run: "the error at the end of the outage
+    # is 6 m instead of 373 m", and the speed it had coasted to by the stop.
+    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    quoted = re.search(
+        r"coasted to (\d+) m/s by the stop; .* end of the outage is (\d+) m instead of (\d+) m",
+        page,
+    )
+    assert quoted, "docs/real-data.md no longer quotes the stop-and-go run"
+    speed, with_stop, without = map(float, quoted.groups())
+    assert abs(errors[3.0] - with_stop) <= 0.5 and abs(errors[0.0] - without) <= 0.5, errors
+    at_stop = np.searchsorted(np.asarray(runs[0.0].time), stop_start)
+    coasted = np.linalg.norm(np.asarray(runs[0.0].velocity_ned)[at_stop])
+    assert abs(coasted - speed) <= 0.5, coasted

@@ -378,7 +378,7 @@ def xsens():
     return accel[:, 0], accel[:, 1:], gyro[:, 1:]
 
 
-def _xsens_split(xsens, split: str):
+def _xsens_split(xsens, split: str, estimate: str = "determinable"):
     t, accel, gyro = xsens
     holdout = (
         {"holdout_every": 4} if split == "every 4th pose" else {"holdout_from": (t[0] + t[-1]) / 2}
@@ -386,8 +386,29 @@ def _xsens_split(xsens, split: str):
     with warnings.catch_warnings(record=True):  # the gyro's nominal scale is 31 % off
         warnings.simplefilter("always")
         return mn.calibrate_static(
-            t, accel, gyro, gravity=GRAVITY, **{**NOMINAL, "gyro_scale": 1 / 6258}, **holdout
+            t,
+            accel,
+            gyro,
+            gravity=GRAVITY,
+            estimate=estimate,
+            **{**NOMINAL, "gyro_scale": 1 / 6258},
+            **holdout,
         )
+
+
+def _split_table() -> dict[str, dict[str, list[str]]]:
+    """docs/calibration.md's comparison on the two splits: by split, by
+    figure (its first words), the cells "memsnav before", "memsnav now",
+    "plain fit"."""
+    page = (Path(__file__).parents[1] / "docs" / "calibration.md").read_text()
+    table = page[page.index("| split | figure |") :].split("\n\n", 1)[0]
+    splits: dict[str, dict[str, list[str]]] = {}
+    split = ""
+    for line in table.splitlines()[2:]:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        split = cells[0] or split
+        splits.setdefault(split, {})[cells[1]] = cells[2:]
+    return splits
 
 
 @pytest.mark.slow
@@ -407,6 +428,30 @@ def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
     plain_in_fit = np.sqrt(np.mean(plain[~held_out] ** 2))
     assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.01 * plain_held_out
     assert summary["turn_rms_after_held_out_deg"] <= 0.2
+    # docs/calibration.md's table of the splits, "memsnav now (AICc)" and
+    # "plain fit" columns (mm/s², degrees), within their rounding.
+    quoted = _split_table()[split]
+    for label, now, plain_fit in (
+        ("‖f‖ − g in the fit", summary["magnitude_rms_after_fit_m_s2"], plain_in_fit),
+        ("‖f‖ − g held out", summary["magnitude_rms_after_held_out_m_s2"], plain_held_out),
+    ):
+        (row,) = [cells for key, cells in quoted.items() if key.startswith(label)]
+        assert abs(1e3 * now - float(row[1].strip("*"))) <= 0.005 + 1e-9, (split, label, now)
+        assert abs(1e3 * plain_fit - float(row[2])) <= 0.005 + 1e-9, (split, label, plain_fit)
+    (turns,) = [cells for key, cells in quoted.items() if key.startswith("turns held out")]
+    assert abs(summary["turn_rms_after_held_out_deg"] - float(turns[1].rstrip("°"))) <= 0.0005
+    # "memsnav before": estimate="all", every term estimated.
+    before = mn.static_summary(_xsens_split(xsens, split, estimate="all"))
+    for label, key, scale, step in (
+        ("‖f‖ − g in the fit", "magnitude_rms_after_fit_m_s2", 1e3, 0.005),
+        ("‖f‖ − g held out", "magnitude_rms_after_held_out_m_s2", 1e3, 0.005),
+        ("turns held out", "turn_rms_after_held_out_deg", 1.0, 0.0005),
+    ):
+        (row,) = [cells for name, cells in quoted.items() if name.startswith(label)]
+        assert abs(scale * before[key] - float(row[0].rstrip("°"))) <= step + 1e-9, (
+            label,
+            before[key],
+        )
     # Issue 13's limits still hold on the every-4th split.
     if split == "every 4th pose":
         assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.5e-3
@@ -438,3 +483,51 @@ def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
 def test_xsens_first_half_fit_meets_the_issue_limit_on_the_second_half(xsens):
     summary = mn.static_summary(_xsens_split(xsens, "first half, second half"))
     assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.2e-3
+
+
+def _half_step(text: str) -> float:
+    """Half the last digit of a figure as written ("0.00055" → 5e-6,
+    "2.091e-4" → 5e-8)."""
+    mantissa, _, exponent = text.partition("e")
+    return 0.5 * 10.0 ** (int(exponent or 0) - len(mantissa.partition(".")[2]))
+
+
+def test_the_guide_quotes_the_xsens_parameters(xsens):
+    """docs/calibration.md's parameter table of the Xsens session (every
+    4th pose held out, as its example): biases, scale factors and
+    misalignments with their σ, each within the digits it is quoted with;
+    and the fitted gyro scales per count it gives beside them."""
+    cal = _xsens_split(xsens, "every 4th pose")
+    page = (Path(__file__).parents[1] / "docs" / "calibration.md").read_text()
+    page = page[: page.index("### Which terms to estimate")].replace("−", "-")
+    axes = {c: i for i, c in enumerate("uvw")} | {c: i for i, c in enumerate("pqr")}
+    for label, model, std, term in (
+        ("accelerometer bias [m/s²]", cal.accelerometer, cal.accelerometer_std, "bias"),
+        ("accelerometer scale factor", cal.accelerometer, cal.accelerometer_std, "scale_factor"),
+        ("accelerometer misalignment", cal.accelerometer, cal.accelerometer_std, "misalignment"),
+        ("gyro bias [rad/s]", cal.gyroscope, cal.gyroscope_std, "bias"),
+        ("gyro scale factor (vs 1/6258)", cal.gyroscope, cal.gyroscope_std, "scale_factor"),
+        ("gyro misalignment", cal.gyroscope, cal.gyroscope_std, "misalignment"),
+    ):
+        row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.M)
+        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        value, sigma = np.asarray(getattr(model, term)), np.asarray(getattr(std, term))
+        for k, cell in enumerate(c.strip() for c in row.group(1).split("|")):
+            scaled = re.fullmatch(r"\(([-\d.]+) ± ([\d.]+)\)e(-?\d+)", cell)
+            if scaled:
+                quoted = [(None, f"{scaled[1]}e{scaled[3]}", f"{scaled[2]}e{scaled[3]}")]
+            else:
+                quoted = re.findall(r"(?:M_(\w\w) )?([-\d.]+) ± ([\d.]+)", cell)
+            assert quoted, (label, cell)
+            for name, text, sigma_text in quoted:
+                at = (axes[name[0]], axes[name[1]]) if name else k
+                assert abs(value[at] - float(text)) <= _half_step(text) + 1e-12, (label, cell)
+                assert abs(sigma[at] - float(sigma_text)) <= _half_step(sigma_text) + 1e-12, cell
+    scales = re.search(
+        r"The fitted gyro scale is ([\d.e-]+), ([\d.e-]+) and ([\d.e-]+) rad/s per count",
+        " ".join(page.split()),
+    )
+    assert scales, "docs/calibration.md no longer quotes the fitted gyro scales"
+    fitted = np.asarray(cal.nominal["gyro_scale"]) / (1 - np.asarray(cal.gyroscope.scale_factor))
+    for text, value in zip(scales.groups(), fitted, strict=True):
+        assert abs(value - float(text)) <= _half_step(text) + 1e-15, (text, value)

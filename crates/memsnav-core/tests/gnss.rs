@@ -12,7 +12,9 @@ use memsnav_core::random::stream;
 use memsnav_core::Error;
 use nalgebra::{Rotation3, Vector3};
 
+mod quoted;
 mod shared_data;
+use quoted::{quoted_numbers, rounds_to};
 use shared_data::shared_data;
 
 fn brdc_2015() -> PathBuf {
@@ -394,11 +396,28 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
     assert_eq!(sky.systems(), systems);
     let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
     // (system, published period in minutes, inclination °, first number).
-    for (system, period_min, inclination_deg, first) in [
+    // docs/concepts.md quotes the periods: "11 h 58 min, 14 h 4 min 41 s and
+    // 12 h 53 min 14 s" (GPS to the minute, the others to the second).
+    let periods = quoted_numbers(
+        "concepts.md",
+        "Their periods T = 2π √(a³/μ) are ",
+        " (published",
+    );
+    assert_eq!(periods.len(), 8, "{periods:?}");
+    let quoted_period_s = [
+        (periods[0] * 60.0 + periods[1]) * 60.0,
+        (periods[2] * 60.0 + periods[3]) * 60.0 + periods[4],
+        (periods[5] * 60.0 + periods[6]) * 60.0 + periods[7],
+    ];
+    let quoted_step_s = [60.0, 1.0, 1.0];
+    for (k, (system, period_min, inclination_deg, first)) in [
         (GnssSystem::Gps, 11.0 * 60.0 + 58.0, 55.0, 1),
         (GnssSystem::Galileo, 14.0 * 60.0 + 4.0, 56.0, 101),
         (GnssSystem::Beidou, 12.0 * 60.0 + 53.0, 55.0, 201),
-    ] {
+    ]
+    .into_iter()
+    .enumerate()
+    {
         let indices: Vec<usize> = (0..sky.len())
             .filter(|&i| sky.system(i) == system)
             .collect();
@@ -416,6 +435,11 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
                 (period_s / 60.0 - period_min).abs() < 1.0,
                 "{system}: period {:.2} min, published {period_min} min",
                 period_s / 60.0
+            );
+            assert!(
+                (period_s - quoted_period_s[k]).abs() <= 0.5 * quoted_step_s[k],
+                "{system}: period {period_s:.1} s, docs/concepts.md {} s",
+                quoted_period_s[k]
             );
             let n = r.cross(&v_i).normalize();
             assert!((n.z.acos().to_degrees() - inclination_deg).abs() < 1e-9);
@@ -451,12 +475,20 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
             c.push(n);
         }
     }
-    for (system, c) in systems.iter().zip(&counts) {
+    // docs/concepts.md quotes them: "6.7 GPS (6-8), 7.0 Galileo (6-9) and
+    // 6.9 BeiDou (4-9)", mean, least and most per system.
+    let quoted = quoted_numbers("concepts.md", "counts in view ", " satellites.");
+    assert_eq!(quoted.len(), 9, "{quoted:?}");
+    for ((system, c), q) in systems.iter().zip(&counts).zip(quoted.chunks(3)) {
         let mean = c.iter().sum::<usize>() as f64 / c.len() as f64;
         let (lo, hi) = (c.iter().min().unwrap(), c.iter().max().unwrap());
         println!("{system}: {mean:.1} satellites in view (min {lo}, max {hi})");
         assert!((6.0..=10.0).contains(&mean), "{system}: {mean}");
         assert!(*lo >= 4 && *hi <= 12, "{system}: {lo}-{hi}");
+        assert!(
+            rounds_to(mean, q[0], 1) && *lo as f64 == q[1] && *hi as f64 == q[2],
+            "{system}: {mean:.2} ({lo}-{hi}) in view, docs/concepts.md {q:?}"
+        );
     }
     // A system twice, or more than 99 satellites of one of several, is refused.
     assert!(Constellation::nominal_walkers(&[GnssSystem::Gps, GnssSystem::Gps]).is_err());

@@ -15,7 +15,9 @@ use memsnav_core::sensors::ImuModel;
 use nalgebra::{SMatrix, Vector3};
 
 mod common;
+mod quoted;
 use common::*;
+use quoted::{quoted_numbers, rounds_to};
 
 /// 17 base states + the 2 inter-system biases (Galileo, BeiDou).
 const WITH_ISB: usize = Layout::size(false, false, true, false);
@@ -43,6 +45,13 @@ fn inter_system_biases_converge_inside_their_sigma() {
     };
     let first = Layout::for_size::<WITH_ISB>().inter_system_bias.unwrap();
     let runs = 5;
+    // docs/concepts.md quotes this run: "drives seeing 7 GPS, 9 Galileo and
+    // 8 BeiDou satellites", "σ = 0.14 m", "the mean NEES/dof of attitude,
+    // velocity and position is 1.21, inside its 95 % band [0.63, 1.45]".
+    let seen = quoted_numbers("concepts.md", "drives seeing ", " satellites with biases");
+    let quoted_sigma = quoted_numbers("concepts.md", "truth and σ = ", " m (from")[0];
+    let quoted_nees = quoted_numbers("concepts.md", "velocity and position is ", ", inside");
+    let quoted_band = quoted_numbers("concepts.md", "inside its 95 % band [", "]");
     let mut nees_sum = vec![0.0; 181];
     let mut isb_nees_sum = 0.0;
     for i in 0..runs {
@@ -56,6 +65,11 @@ fn inter_system_biases_converge_inside_their_sigma() {
                 .filter(|m| m.system == s)
                 .count()
         });
+        assert_eq!(
+            per_system.map(|n| n as f64).to_vec(),
+            seen,
+            "docs/concepts.md's satellites"
+        );
         let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
         let (f, w) = readings(&truth, &imu, &mut rng);
         let data = imu_data(&truth, &f, &w);
@@ -92,12 +106,23 @@ fn inter_system_biases_converge_inside_their_sigma() {
                 "{system}: {error} vs σ {sigma}"
             );
             assert!(sigma < 0.5, "{system}: σ {sigma}");
+            assert!(
+                rounds_to(sigma, quoted_sigma, 2),
+                "{system}: σ {sigma}, docs/concepts.md {quoted_sigma}"
+            );
         }
     }
     let (lo, hi) = mean_per_dof_band(9.0, runs as usize, 0.95);
     let mean = nees_sum.iter().sum::<f64>() / (nees_sum.len() as f64 * runs as f64);
     println!("mean NEES/dof = {mean:.3}, band [{lo:.3}, {hi:.3}]");
     assert!(mean > lo && mean < hi, "mean NEES/dof {mean}");
+    assert!(
+        quoted_nees.len() == 1
+            && rounds_to(mean, quoted_nees[0], 2)
+            && rounds_to(lo, quoted_band[0], 2)
+            && rounds_to(hi, quoted_band[1], 2),
+        "docs/concepts.md quotes {quoted_nees:?} in {quoted_band:?}"
+    );
     let (lo, hi) = mean_per_dof_band(2.0, runs as usize, 0.99);
     let isb = isb_nees_sum / (2.0 * runs as f64);
     println!("ISB NEES/dof at the end = {isb:.3}, band [{lo:.3}, {hi:.3}]");
