@@ -590,53 +590,6 @@ mod tests {
         assert_eq!(o.run_accepted[0] + o.run_rejected[0], 6 * 61);
     }
 
-    /// GPS + Galileo + BeiDou with inter-system biases of +3 m and −25 m,
-    /// every satellite in view tracked, from a given state (the fixes
-    /// have one clock for all systems): the filters carry the bias states,
-    /// their position NEES stays consistent, and 20-odd satellites beat
-    /// GPS's 6.
-    #[test]
-    fn several_systems_with_inter_system_biases() {
-        let given = InitialStateSource::Given {
-            position_std_m: 3.0,
-            velocity_std_m_s: 0.2,
-        };
-        let gps = NavigationExperimentConfig {
-            initial_state: given,
-            ..small(4, paper_imus()[..2].to_vec())
-        };
-        let all = NavigationExperimentConfig {
-            systems: GnssSystem::ALL.to_vec(),
-            n_satellites: 40,
-            gnss: SimulationConfig {
-                inter_system_bias_m: [3.0, -25.0],
-                ..SimulationConfig::default()
-            },
-            ..gps.clone()
-        };
-        let one = navigation_experiment(&gps, &threads(2)).unwrap();
-        let three = navigation_experiment(&all, &threads(2)).unwrap();
-        for (g, a) in one.imus.iter().zip(&three.imus) {
-            let rms = |o: &ImuOutcome| o.run_rms.iter().sum::<f64>() / o.run_rms.len() as f64;
-            let nees = a.position_nees_mean.iter().sum::<f64>()
-                / (3.0 * a.position_nees_mean.len() as f64);
-            println!(
-                "{}: RMS GPS 6 {:.2} m, G+E+C {:.2} m; position NEES/dof {nees:.2}",
-                g.name,
-                rms(g),
-                rms(a)
-            );
-            assert!(rms(a) < rms(g));
-            assert!(nees > 0.3 && nees < 2.0, "{nees}");
-        }
-        let bad = NavigationExperimentConfig {
-            systems: vec![],
-            ..gps
-        };
-        let e = navigation_experiment(&bad, &threads(1)).unwrap_err();
-        assert!(e.to_string().contains("systems"), "{e}");
-    }
-
     fn threads(n: usize) -> RunOptions<'static> {
         RunOptions {
             threads: Some(n),
