@@ -164,6 +164,14 @@ def _long_run(kept: int, seed: int, clock: tuple[float, float] | None = None):
     within = np.abs(error) <= 3.0 * sol.position_std_ned
     alerts = sol.integrity["alerts"]
     first = alerts[0]["time"] if alerts else math.nan
+    # NIS per degree of freedom over 60 s windows: the mean z² of the
+    # accepted scalar innovations (pseudoranges and rates) in each.
+    records = sol.measurements
+    since = np.asarray(records["time"]) - truth.time[0]
+    z = np.asarray(records["innovation"]) / np.asarray(records["innovation_std"])
+    used = (np.asarray(records["status"]) == "accepted") & np.isfinite(z)
+    windows = [used & (since >= a) & (since < a + 60.0) for a in np.arange(0.0, since.max(), 60.0)]
+    nis = [float(np.mean(z[w] ** 2)) for w in windows if w.any()]
     before = truth.time < first if alerts else np.ones(len(truth.time), dtype=bool)
     return {
         "inside": float(np.mean(within)),
@@ -173,6 +181,7 @@ def _long_run(kept: int, seed: int, clock: tuple[float, float] | None = None):
         "flagged": bool(sol.diverged),
         "first_alert_s": first,
         "kinds": {a["kind"] for a in alerts},
+        "nis_per_dof_60s": (min(nis), max(nis)),
     }
 
 

@@ -603,7 +603,8 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     """docs/few-satellites.md on the 900 s runs with 2 satellites (the
     study's seeds 1-8, ~7 s): "Until the first alert the errors of 6 of 8
     runs ... stay inside 3σ" (a share that rounds to 1.00, as the table
-    prints it) and the exception's alert "only at 270 s"."""
+    prints it), the exception's alert "only at 270 s", and the innovations'
+    NIS over 60 s windows."""
     import few_satellites_study
 
     inside, runs = re.search(
@@ -616,6 +617,13 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     held = [r for r in long_runs if round(r["inside_before_alert"], 2) == 1.0]
     assert len(held) == int(inside)
     assert max(r["first_alert_s"] for r in long_runs) == late
+    # "their NIS over 60 s windows stays at 0.7-1.2 per degree of freedom"
+    low, high = _quoted(
+        "docs/few-satellites.md",
+        r"NIS over 60 s windows stays at ([\d.]+)-([\d.]+) per degree of freedom",
+    )
+    nis = [v for r in long_runs for v in r["nis_per_dof_60s"]]
+    assert _near(low, min(nis)) and _near(high, max(nis)), (min(nis), max(nis))
 
 
 def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
