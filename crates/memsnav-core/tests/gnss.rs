@@ -1388,3 +1388,26 @@ fn least_squares_fix_estimates_inter_system_biases() {
     let err = solve_fix(&mixed, None).unwrap_err().to_string();
     assert!(err.contains("at least 6 satellites"), "{err}");
 }
+
+/// docs/real-data.md on the clock presets: walk_0827's receiver "changed
+/// its clock drift by 20 m/s over its 133.75 s log …, a 9.2σ event for a
+/// TCXO model and 0.92σ for this one" (the consumer preset): σ of a
+/// random-walk drift over the log is √(S_g t). The 20 m/s itself is the
+/// log's (tests/test_multi_gnss.py checks the −61 to −81 m/s ramp).
+#[test]
+fn the_quoted_clock_drift_change_in_sigmas_is_the_presets() {
+    let quoted = quoted_numbers(
+        "real-data.md",
+        "walk_0827 changed its clock drift by",
+        "for this one",
+    );
+    let (change_m_s, log_s) = (quoted[0], quoted[1]);
+    let n = quoted.len();
+    // (preset, the quoted number of σ, its decimals: "9.2σ", "0.92σ")
+    for (name, sigmas, decimals) in [("tcxo", quoted[n - 2], 1), ("consumer", quoted[n - 1], 2)] {
+        let model = ReceiverClockModel::oscillator(name).unwrap();
+        let sigma_m_s = (model.drift_psd_m2_s3() * log_s).sqrt();
+        let ratio = change_m_s / sigma_m_s;
+        assert!(rounds_to(ratio, sigmas, decimals), "{name}: {ratio}");
+    }
+}
