@@ -160,7 +160,17 @@ def _long_run(kept: int, seed: int, clock: tuple[float, float] | None = None):
         sol = mn.TightlyCoupledFilter(imu, **clock_kw).run(
             truth.time, accel, gyro, gnss, initial_state=start
         )
-    error = (sol.position_ecef - truth.position_ecef) @ _ned(truth.position_ecef[0]).T
+    ned = _ned(truth.position_ecef[0])
+    error = (sol.position_ecef - truth.position_ecef) @ ned.T
+    # The tilt error 20 s in (north and east of ψ: C_est C_trueᵀ ≈ I + [ψ×],
+    # ECEF, into NED) and its σ, degrees.
+    k20 = int(np.searchsorted(truth.time, truth.time[0] + 20.0))
+    skew = sol.attitude[k20] @ truth.attitude[k20].T
+    psi = ned @ np.array(
+        [skew[2, 1] - skew[1, 2], skew[0, 2] - skew[2, 0], skew[1, 0] - skew[0, 1]]
+    )
+    tilt_deg = np.degrees(0.5 * psi[:2])
+    tilt_std_deg = np.degrees(sol.attitude_std_ned[k20, :2])
     within = np.abs(error) <= 3.0 * sol.position_std_ned
     alerts = sol.integrity["alerts"]
     first = alerts[0]["time"] if alerts else math.nan
@@ -182,6 +192,8 @@ def _long_run(kept: int, seed: int, clock: tuple[float, float] | None = None):
         "first_alert_s": first,
         "kinds": {a["kind"] for a in alerts},
         "nis_per_dof_60s": (min(nis), max(nis)),
+        "tilt_at_20s_deg": tuple(float(v) for v in tilt_deg),
+        "tilt_std_at_20s_deg": tuple(float(v) for v in tilt_std_deg),
     }
 
 

@@ -603,8 +603,8 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     """docs/few-satellites.md on the 900 s runs with 2 satellites (the
     study's seeds 1-8, ~7 s): "Until the first alert the errors of 6 of 8
     runs ... stay inside 3σ" (a share that rounds to 1.00, as the table
-    prints it), the exception's alert "only at 270 s", and the innovations'
-    NIS over 60 s windows."""
+    prints it), the exception's alert "only at 270 s" and its tilt 20 s in,
+    and the innovations' NIS over 60 s windows."""
     import few_satellites_study
 
     inside, runs = re.search(
@@ -624,6 +624,18 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     )
     nis = [v for r in long_runs for v in r["nis_per_dof_60s"]]
     assert _near(low, min(nis)) and _near(high, max(nis)), (min(nis), max(nis))
+    # The exception: "tilt it by 13° and 11° within 20 s, before the filter
+    # has learnt them (its tilt σ 4.7° and 3.1°)".
+    tilts = _quoted(
+        "docs/few-satellites.md",
+        r"tilt it by (\d+)° and (\d+)° within 20 s, before the filter has learnt them "
+        r"\(its tilt σ ([\d.]+)° and ([\d.]+)°\)",
+    )
+    exception = max(long_runs, key=lambda r: r["first_alert_s"])
+    measured = [abs(v) for v in exception["tilt_at_20s_deg"]] + list(
+        exception["tilt_std_at_20s_deg"]
+    )
+    assert all(_near(q, v) for q, v in zip(tilts, measured, strict=True)), measured
 
 
 def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
