@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import paper_comparison_study
 import pytest
+from quoted import quoted_figures, rounds_to
 from shared_data import shared_data
 
 import memsnav as mn
@@ -20,17 +21,10 @@ from memsnav.reproduce import QUICK
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _quoted(page: str, pattern: str) -> tuple[float, ...]:
-    text = " ".join((ROOT / page).read_text().split())
-    found = re.search(pattern, text)
-    assert found, f"{page} no longer quotes {pattern!r}"
-    return tuple(float(v) for v in found.groups())
-
-
 def test_getting_started_quotes_what_its_session_prints(tmp_path, monkeypatch, capsys):
     """The first session's INS fed the truth stays within millimetres; the
     raw MEMS drifts by the distance the page quotes."""
-    (drift_km,) = _quoted("docs/getting-started.md", r"drifts by about ([\d.]+) km")
+    (drift_km,) = quoted_figures("docs/getting-started.md", r"drifts by about ([\d.]+) km")
     page = (ROOT / "docs" / "getting-started.md").read_text()
     session = re.search(r"## A first session in Python\n\n```python\n(.*?)```", page, re.S)
     monkeypatch.chdir(tmp_path)
@@ -44,7 +38,7 @@ def test_getting_started_quotes_what_its_session_prints(tmp_path, monkeypatch, c
 def test_readme_quotes_the_walk_by_precision(tmp_path):
     """ "the walk's truth sits ~9 m off, so the walk is also scored by
     precision: 0.50 m horizontal against single-point's 1.03 m"."""
-    offset_m, forward_m, spp_m = _quoted(
+    offset_m, forward_m, spp_m = quoted_figures(
         "README.md",
         r"truth sits ~([\d.]+) m off, so the walk is also scored by precision: ([\d.]+) m "
         r"horizontal against single-point's ([\d.]+) m",
@@ -80,13 +74,6 @@ def _generated_rows(
     return rows
 
 
-def _near(quoted: float, value: float) -> bool:
-    """``quoted`` is ``value`` rounded to the digits it is quoted with (as
-    far as the float tells them: "8" and "0.50" read as 8 and 0.5)."""
-    step = 1.0 if quoted.is_integer() else 10.0 ** -len(repr(quoted).partition(".")[2])
-    return abs(quoted - value) <= 0.5 * step + 1e-9
-
-
 def test_real_data_prose_reads_the_benchmark_tables():
     """docs/real-data.md's comparison with the published filter and its
     "Reading them" quote the benchmark's tables, which
@@ -107,12 +94,12 @@ def test_real_data_prose_reads_the_benchmark_tables():
         assert peer, f"the peer comparison has no {length} s row"
         quoted = [float(v) for v in peer.groups()]
         assert quoted == [*forward[length], *smoothed[length]], (length, quoted)
-    coast = _quoted(
+    coast = quoted_figures(
         "docs/real-data.md",
         r"coasts: ([\d.]+) m RMS over 15 s, ([\d.]+) and ([\d.]+) m over 30 and 60 s",
     )
-    assert all(_near(q, forward[k][0]) for q, k in zip(coast, forward, strict=True)), coast
-    bent = _quoted(
+    assert all(rounds_to(q, forward[k][0]) for q, k in zip(coast, forward, strict=True)), coast
+    bent = quoted_figures(
         "docs/real-data.md",
         r"bends each coast onto the fixes that end it: "
         r"([\d.]+) m RMS, ([\d.]+) m at most over 15 s",
@@ -121,12 +108,12 @@ def test_real_data_prose_reads_the_benchmark_tables():
     outages = [row for key, row in drive.items() if key.isdigit()]
     rms = [float(row[1].split(" / ")[0]) for row in outages]
     largest = max(float(row[1].split(" / ")[1]) for row in outages)
-    low, high, worst = _quoted(
+    low, high, worst = quoted_figures(
         "docs/real-data.md",
         r"forward errors range from ([\d.]+) to ([\d.]+) m RMS \(outage \d+ has the ([\d.]+) m",
     )
-    assert (low, high) == (min(rms), max(rms)) and _near(worst, largest)
-    under_rms, under_max, share = _quoted(
+    assert (low, high) == (min(rms), max(rms)) and rounds_to(worst, largest)
+    under_rms, under_max, share = quoted_figures(
         "docs/real-data.md",
         r"smoother brings every one under ([\d.]+) m RMS and ([\d.]+) m maximum, with "
         r"([\d.]+)-100 % of its errors inside its 3σ",
@@ -135,18 +122,18 @@ def test_real_data_prose_reads_the_benchmark_tables():
         *[map(float, row[2].split(" / ")) for row in outages], strict=True
     )
     assert max(smoothed_rms) < under_rms and max(smoothed_max) <= under_max
-    assert _near(share, 100.0 * min(float(row[3]) for row in outages))
+    assert rounds_to(share, 100.0 * min(float(row[3]) for row in outages))
     walk = [
         float(row[1])
         for key, row in drive.items()
         if key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
     ]
-    spread = _quoted(
+    spread = quoted_figures(
         "docs/real-data.md", r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)"
     )
-    assert len(walk) == 3 and _near(spread[0], min(walk)) and _near(spread[1], max(walk))
+    assert len(walk) == 3 and rounds_to(spread[0], min(walk)) and rounds_to(spread[1], max(walk))
     # The published filter against memsnav, as ratios of the peer table.
-    ratios = _quoted(
+    ratios = quoted_figures(
         "docs/real-data.md",
         r"forward filter is ([\d.]+), ([\d.]+) and ([\d.]+) times more accurate in RMS; "
         r"the smoother ([\d.]+), ([\d.]+) and ([\d.]+) times",
@@ -161,17 +148,17 @@ def test_real_data_prose_reads_the_benchmark_tables():
         # Quoted to two significant figures.
         assert all(abs(q - f) <= 0.05 * q for q, f in zip(quoted, fresh, strict=True)), length
     shares = [float(row[4]) for row in (*lengths.values(), drive["none"])]
-    (low,) = _quoted("docs/real-data.md", r"\(memsnav's forward filter: ([\d.]+)-100 %\)")
-    assert _near(low, 100 * min(shares)) and max(shares) == 1.0
-    (aided_cm,) = _quoted("docs/real-data.md", r"follows the 4 Hz RTK fixes to (\d+) cm")
-    assert _near(aided_cm, 100 * float(drive["none"][2]))
+    (low,) = quoted_figures("docs/real-data.md", r"\(memsnav's forward filter: ([\d.]+)-100 %\)")
+    assert rounds_to(low, 100 * min(shares)) and max(shares) == 1.0
+    (aided_cm,) = quoted_figures("docs/real-data.md", r"follows the 4 Hz RTK fixes to (\d+) cm")
+    assert rounds_to(aided_cm, 100 * float(drive["none"][2]))
     outage_shares = [float(row[4]) for row in lengths.values()]
-    (low,) = _quoted("docs/real-data.md", r"The bounds hold: ([\d.]+)-100 % of the errors")
-    assert _near(low, 100 * min(outage_shares)) and max(outage_shares) == 1.0
+    (low,) = quoted_figures("docs/real-data.md", r"The bounds hold: ([\d.]+)-100 % of the errors")
+    assert rounds_to(low, 100 * min(outage_shares)) and max(outage_shares) == 1.0
     standstills = {
         key: float(row[4]) for key, row in drive.items() if key.isdigit() and float(row[4])
     }
-    (only, length_s) = _quoted(
+    (only, length_s) = quoted_figures(
         "docs/real-data.md", r"Only outage (\d+) holds a standstill \(([\d.]+) s"
     )
     assert standstills == {str(int(only)): length_s}
@@ -181,12 +168,12 @@ def test_real_data_prose_reads_the_benchmark_tables():
         r"−0\.22 s gives ([\d.]+) / ([\d.]+) / ([\d.]+) m",
         r"forward outages go from ([\d.]+) / ([\d.]+) / ([\d.]+) m RMS",
     ):
-        assert _quoted("docs/real-data.md", pattern) == tuple(f[0] for f in forward.values())
+        assert quoted_figures("docs/real-data.md", pattern) == tuple(f[0] for f in forward.values())
     # The walk by precision and by accuracy.
     forward_walk, smoothed_walk, spp = (
         drive[key] for key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
     )
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/real-data.md",
         r"follows the path to ([\d.]+) m RMS horizontal, half the single-point solution's "
         r"([\d.]+) m, and ([\d.]+) m vertical \(single-point ([\d.]+) m\); against the "
@@ -197,7 +184,7 @@ def test_real_data_prose_reads_the_benchmark_tables():
         float(v)
         for v in (forward_walk[3], spp[3], forward_walk[4], spp[4], forward_walk[2], spp[2])
     )
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/real-data.md",
         r"horizontal precision is the same ([\d.]+) m with a smaller maximum \(([\d.]+) against "
         r"([\d.]+) m\); its vertical offset is larger \(−([\d.]+) m against −([\d.]+) m",
@@ -210,14 +197,14 @@ def test_real_data_prose_reads_the_benchmark_tables():
         -down[0],
         -down[1],
     )
-    (inside,) = _quoted(
+    (inside,) = quoted_figures(
         "docs/real-data.md", r"make the filter say so: (\d+) % of the errors inside 3σ"
     )
-    assert _near(inside, 100 * float(forward_walk[7]))
-    (vertical,) = _quoted("docs/real-data.md", r"its vertical RMS by accuracy is ([\d.]+) m")
+    assert rounds_to(inside, 100 * float(forward_walk[7]))
+    (vertical,) = quoted_figures("docs/real-data.md", r"its vertical RMS by accuracy is ([\d.]+) m")
     assert vertical == float(smoothed_walk[2])
     withheld = _generated_rows("docs/real-data.md", "benchmark", "", after="satellites withheld")
-    three, four = _quoted(
+    three, four = quoted_figures(
         "docs/real-data.md",
         r"costs little: ([\d.]+) m horizontal precision in the windows against ([\d.]+) m",
     )
@@ -229,48 +216,50 @@ def test_few_satellites_prose_reads_its_study_tables():
     docs/few_satellites_study.py writes above it; each quote agrees."""
     rows = _generated_rows("docs/few-satellites.md", "study", "")
     kept = [float(rows[n][0].split(" ± ")[0]) for n in ("0", "1", "2", "3")]
-    quoted = _quoted("docs/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3")
+    quoted = quoted_figures(
+        "docs/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3"
+    )
     assert list(quoted) == kept
-    share = _quoted("docs/few-satellites.md", r"hold the outage to (\d+) % of the total")
-    assert _near(share[0], 100.0 * kept[3] / kept[0])
+    share = quoted_figures("docs/few-satellites.md", r"hold the outage to (\d+) % of the total")
+    assert rounds_to(share[0], 100.0 * kept[3] / kept[0])
     at_end = [float(rows[imu][1]) for imu in ("paper MEMS", "consumer", "tactical")]
-    low, high = _quoted(
+    low, high = quoted_figures(
         "docs/few-satellites.md", r"NEES/dof at the outage's end ([\d.]+)-([\d.]+),"
     )
     assert low <= min(at_end) and max(at_end) <= high and high - low <= 0.1 + 1e-9
     page = (ROOT / "docs" / "few-satellites.md").read_text()
     aided = _aided_nees(page)
     raw_tilt = [aided[(imu, "10")][1] for imu in ("paper MEMS", "consumer")]
-    low, high = _quoted(
+    low, high = quoted_figures(
         "docs/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
     )
-    assert len(raw_tilt) == 2 and _near(low, min(raw_tilt)) and _near(high, max(raw_tilt))
+    assert len(raw_tilt) == 2 and rounds_to(low, min(raw_tilt)) and rounds_to(high, max(raw_tilt))
     clocks = re.findall(r"^\| (\d) \| (TCXO|OCXO) \|(.*)$", page, re.M)
     cells = {
         (n, clock): [c.strip() for c in rest.strip(" |").split("|")] for n, clock, rest in clocks
     }
-    (ocxo,) = _quoted("docs/few-satellites.md", r"with an OCXO (\d+) m\)")
-    assert _near(ocxo, float(cells[("3", "OCXO")][2]))
-    first_alerts = _quoted("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
+    (ocxo,) = quoted_figures("docs/few-satellites.md", r"with an OCXO (\d+) m\)")
+    assert rounds_to(ocxo, float(cells[("3", "OCXO")][2]))
+    first_alerts = quoted_figures("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
     assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))
-    tcxo_error_km, tcxo_sigma_km = _quoted(
+    tcxo_error_km, tcxo_sigma_km = quoted_figures(
         "docs/few-satellites.md", r"final error ([\d.]+) km, final σ ([\d.]+) km, every error"
     )
-    assert _near(tcxo_error_km, float(cells[("3", "TCXO")][2]) / 1e3)
-    assert _near(tcxo_sigma_km, float(cells[("3", "TCXO")][3]) / 1e3)
+    assert rounds_to(tcxo_error_km, float(cells[("3", "TCXO")][2]) / 1e3)
+    assert rounds_to(tcxo_sigma_km, float(cells[("3", "TCXO")][3]) / 1e3)
     assert cells[("3", "TCXO")][0] == "1.00 (1.00)"  # "every error inside 3σ"
-    ocxo_error, ocxo_sigma = _quoted(
+    ocxo_error, ocxo_sigma = quoted_figures(
         "docs/few-satellites.md", r"end (\d+) m off \(median; σ (\d+) m\)"
     )
-    assert _near(ocxo_error, float(cells[("3", "OCXO")][2]))
+    assert rounds_to(ocxo_error, float(cells[("3", "OCXO")][2]))
     # σ quoted to two significant figures
     assert abs(ocxo_sigma - float(cells[("3", "OCXO")][3])) <= 5.0
-    tilt, heading = _quoted(
+    tilt, heading = quoted_figures(
         "docs/few-satellites.md",
         r"aided tilt NEES went from [\d.]+ to ([\d.]+) and the heading's from [\d.]+ to ([\d.]+)\.",
     )
-    assert _near(tilt, aided[("consumer", "10")][1])
-    assert _near(heading, aided[("consumer", "10")][2])
+    assert rounds_to(tilt, aided[("consumer", "10")][1])
+    assert rounds_to(heading, aided[("consumer", "10")][2])
 
 
 def _aided_nees(page: str) -> dict[tuple[str, str], tuple[float, float, float]]:
@@ -289,7 +278,7 @@ def test_readme_quotes_the_drive_example_outage_schedule():
     the schedule of examples/drive_0708.toml."""
     import tomllib
 
-    length, every = _quoted(
+    length, every = quoted_figures(
         "README.md", r"loosely coupled with ([\d.]+) s GNSS outages every ([\d.]+) s"
     )
     outages = tomllib.loads((ROOT / "examples" / "drive_0708.toml").read_text())["outages"]
@@ -335,10 +324,12 @@ def test_paper_comparison_prose_reads_its_study_tables():
     def study(setting: str, imu: str, column: int) -> float:
         return rows[(setting, imu)][column]
 
-    (nees,) = _quoted("docs/paper-comparison.md", r"raw MEMS's NEES/dof of ([\d.]+) is its tilt")
-    assert _near(nees, study(defaults, "mems", 3))
+    (nees,) = quoted_figures(
+        "docs/paper-comparison.md", r"raw MEMS's NEES/dof of ([\d.]+) is its tilt"
+    )
+    assert rounds_to(nees, study(defaults, "mems", 3))
     only = "pseudoranges only"
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/paper-comparison.md",
         r"calibration then helps all along, ([\d.]+) → ([\d.]+) m in the first 150 s \((\d+) %\) "
         r"and ([\d.]+) → ([\d.]+) m after \((\d+) %\)",
@@ -346,14 +337,14 @@ def test_paper_comparison_prose_reads_its_study_tables():
     early = (study(only, "mems", 0), study(only, "calibrated_mems", 0))
     late = (study(only, "mems", 1), study(only, "calibrated_mems", 1))
     assert quoted[:2] == early and quoted[3:5] == late
-    assert _near(quoted[2], 100 * (1 - early[1] / early[0]))
-    assert _near(quoted[5], 100 * (1 - late[1] / late[0]))
-    above = _quoted(
+    assert rounds_to(quoted[2], 100 * (1 - early[1] / early[0]))
+    assert rounds_to(quoted[5], 100 * (1 - late[1] / late[0]))
+    above = quoted_figures(
         "docs/paper-comparison.md", r"stays above the INS \(([\d.]+) vs ([\d.]+) m after 150 s\)"
     )
     assert above == (study(only, "calibrated_mems", 1), study(only, "ins", 1))
     noisy = "rate noise 1 m/s"
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/paper-comparison.md",
         r"\(([\d.]+) → ([\d.]+) m early, ([\d.]+) → ([\d.]+) m after\)",
     )
@@ -364,15 +355,17 @@ def test_paper_comparison_prose_reads_its_study_tables():
         study(noisy, "calibrated_mems", 1),
     )
     plain = "no absorption of unmodelled errors"
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/paper-comparison.md",
         r"first 150 s ([\d.]+) m raw vs ([\d.]+) m calibrated vs ([\d.]+) m INS",
     )
     assert quoted == tuple(study(plain, imu, 0) for imu in ("mems", "calibrated_mems", "ins"))
-    late_rms, late_nees = _quoted(
+    late_rms, late_nees = quoted_figures(
         "docs/paper-comparison.md", r"diverges \(RMS (\d+) m after 150 s, NEES/dof (\d+)\)"
     )
-    assert _near(late_rms, study(plain, "mems", 1)) and _near(late_nees, study(plain, "mems", 3))
+    assert rounds_to(late_rms, study(plain, "mems", 1)) and rounds_to(
+        late_nees, study(plain, "mems", 3)
+    )
     # The "which configuration reproduces which claim" table.
     claims = " ".join(text[text.index("| claim | defaults |") :].split("\n\n", 1)[0].split())
     for setting, aided in ((defaults, "yes"), (only, "yes, narrowly")):
@@ -389,18 +382,18 @@ def test_paper_comparison_prose_reads_its_study_tables():
     # The outage budget: the simulation against the analytic sum.
     simulated = _paper_budget_rows("| raw MEMS variant | outage max [m] |")
     analytic = _paper_budget_rows("| raw MEMS error term (paper-mems sigma) |")
-    measured, budget = _quoted(
+    measured, budget = quoted_figures(
         "docs/paper-comparison.md", r"The measured (\d+) m is the analytic (\d+) m"
     )
-    assert _near(measured, float(simulated["raw MEMS (all terms)"]))
-    assert _near(budget, float(analytic["all, in quadrature"]))
-    calibrated, plain_calibrated = _quoted(
+    assert rounds_to(measured, float(simulated["raw MEMS (all terms)"]))
+    assert rounds_to(budget, float(analytic["all, in quadrature"]))
+    calibrated, plain_calibrated = quoted_figures(
         "docs/paper-comparison.md",
         r"hence ([\d.]+) m for the calibrated MEMS, and ([\d.]+) m when its filter is tuned",
     )
     assert calibrated == study(defaults, "calibrated_mems", 2)
     assert plain_calibrated == study(plain, "calibrated_mems", 2)
-    noise_only, ins = _quoted(
+    noise_only, ins = quoted_figures(
         "docs/paper-comparison.md", r"noise-only drift \(([\d.]+) m\) is the INS's \(([\d.]+) m\)"
     )
     assert noise_only == float(simulated["noise only"]) and ins == study(defaults, "ins", 2)
@@ -424,15 +417,17 @@ def test_paper_comparison_study_table_is_a_fresh_run(setting):
     quoted = _paper_study_rows()
     for imu, fresh in rows.items():
         page = quoted[(setting, imu)]
-        assert all(_near(q, v) for q, v in zip(page, fresh, strict=True)), (imu, page, fresh)
+        assert all(rounds_to(q, v) for q, v in zip(page, fresh, strict=True)), (imu, page, fresh)
     if setting.startswith("defaults"):
         # "window RMS 0-10 s / 10-30 s / 30-60 s: 3.0 / 1.7 / 1.3 m for all
         # three IMUs" (1 Hz errors: index = second).
-        windows = _quoted("docs/paper-comparison.md", r"30-60 s: ([\d.]+) / ([\d.]+) / ([\d.]+) m")
+        windows = quoted_figures(
+            "docs/paper-comparison.md", r"30-60 s: ([\d.]+) / ([\d.]+) / ([\d.]+) m"
+        )
         for imu in nominal.imus:
             error = nominal.position_error[imu]
             fresh = [np.sqrt(np.mean(error[:, a:b] ** 2)) for a, b in ((0, 10), (10, 30), (30, 60))]
-            assert all(_near(q, v) for q, v in zip(windows, fresh, strict=True)), (imu, fresh)
+            assert all(rounds_to(q, v) for q, v in zip(windows, fresh, strict=True)), (imu, fresh)
 
 
 @pytest.mark.slow
@@ -443,24 +438,24 @@ def test_paper_comparison_outage_budget_is_a_fresh_run():
     page = _paper_budget_rows("| raw MEMS error term (paper-mems sigma) |")
     for label, text in page.items():
         if label == "all, in quadrature":
-            assert _near(float(text), np.sqrt(sum(v**2 for v in analytic.values())))
+            assert rounds_to(float(text), np.sqrt(sum(v**2 for v in analytic.values())))
         elif text.startswith("<"):  # "accel scale factor 1e-5, nonlinearity 1e-5 /g"
             assert analytic["accel scale factor"] < 0.01 and analytic["accel nonlinearity"] < 0.01
         else:
             (term,) = [k for k in analytic if label.startswith(k)]
-            assert _near(float(text), analytic[term]), (label, analytic[term])
+            assert rounds_to(float(text), analytic[term]), (label, analytic[term])
     simulated = paper_comparison_study.budget_by_simulation_rows(20, None)
     page = _paper_budget_rows("| raw MEMS variant | outage max [m] |")
     assert page.keys() == simulated.keys()
     for variant, (largest, _) in simulated.items():
-        assert _near(float(page[variant]), largest), (variant, largest)
+        assert rounds_to(float(page[variant]), largest), (variant, largest)
 
 
 def test_few_satellites_quotes_the_example_logs_consistency():
     """docs/few-satellites.md: "On the example logs the largest ratio is
     0.4 (drive_0708) and 0.6 (walk_0827)", the time-averaged NIS against
     its band over every GNSS kind, each example run as configured (~2 s)."""
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/few-satellites.md",
         r"the largest ratio is ([\d.]+) \(drive_0708\) and ([\d.]+) \(walk_0827\)",
     )
@@ -472,7 +467,7 @@ def test_few_satellites_quotes_the_example_logs_consistency():
             warnings.simplefilter("ignore")  # the logs' last lines are cut short
             summary = mn.navigate(config, output=out).summary
         largest = max(c["max_band_ratio"] for c in summary["integrity"]["consistency"])
-        assert _near(ratio, largest), (name, largest)
+        assert rounds_to(ratio, largest), (name, largest)
 
 
 @pytest.mark.slow
@@ -487,7 +482,7 @@ def test_real_data_quotes_the_drive_with_other_settings():
 
     import real_data_benchmark
 
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/real-data.md",
         r"−0\.22 s gives [\d.]+ / [\d.]+ / [\d.]+ m, −0\.125 s ([\d.]+) / ([\d.]+) / ([\d.]+) m "
         r"and −0\.27 s ([\d.]+) / ([\d.]+) / ([\d.]+) m",
@@ -500,10 +495,10 @@ def test_real_data_quotes_the_drive_with_other_settings():
         config.engine["imu"]["time_offset_s"] = offset_s
         runs = real_data_benchmark.peer_window_runs(config)
         fresh += [s["errors_vs_truth"]["in_outages"]["rms_horizontal_m"] for s, _ in runs.values()]
-    assert all(_near(q, v) for q, v in zip(quoted, fresh, strict=True)), (quoted, fresh)
+    assert all(rounds_to(q, v) for q, v in zip(quoted, fresh, strict=True)), (quoted, fresh)
     # `fix_error_states` on the same fixes: "15 s outages 0.23 / 0.42 m RMS /
     # max instead of 0.14 / 0.36 m" (smoothed; the latter the benchmark's).
-    states_rms, states_max, rms, largest = _quoted(
+    states_rms, states_max, rms, largest = quoted_figures(
         "docs/real-data.md",
         r"15 s outages ([\d.]+) / ([\d.]+) m RMS / max instead of ([\d.]+) / ([\d.]+) m\)",
     )
@@ -513,14 +508,14 @@ def test_real_data_quotes_the_drive_with_other_settings():
     config.engine["gnss"]["fix_error_states"] = True
     summary, _ = real_data_benchmark.peer_window_runs(config)[15.0]
     smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
-    assert _near(states_rms, smoothed["rms_horizontal_m"]), smoothed
-    assert _near(states_max, smoothed["max_horizontal_m"]), smoothed
+    assert rounds_to(states_rms, smoothed["rms_horizontal_m"]), smoothed
+    assert rounds_to(states_max, smoothed["max_horizontal_m"]), smoothed
     # `installation_states`: "the states find residuals of 1-4 cm (lever
     # arm), 0.128 s (latency ...) and −0.02 to −0.05 s (offset ...); its
     # forward outages go from ... to 1.54 / 3.28 / 5.35 m and the smoothed
     # ones stay within 0.05 m, but the aided error ... grows from 0.01 to
     # 0.02 m".
-    lever_low, lever_high, latency, offset_high, offset_low, *outages = _quoted(
+    lever_low, lever_high, latency, offset_high, offset_low, *outages = quoted_figures(
         "docs/real-data.md",
         r"residuals of (\d+)-(\d+) cm \(lever arm\), ([\d.]+) s \(latency, configured [\d.]+ s\) "
         r"and −([\d.]+) to −([\d.]+) s \(offset, .*? to ([\d.]+) / ([\d.]+) / ([\d.]+) m and the "
@@ -537,19 +532,19 @@ def test_real_data_quotes_the_drive_with_other_settings():
         lever_cm = [100 * abs(v) for v in estimates["lever_arm_m"]["value"]]
         assert lever_low <= min(round(v) for v in lever_cm) <= max(round(v) for v in lever_cm)
         assert max(round(v) for v in lever_cm) <= lever_high, lever_cm
-        assert _near(latency, estimates["velocity_latency_s"]["value"]), estimates
+        assert rounds_to(latency, estimates["velocity_latency_s"]["value"]), estimates
         assert -offset_low <= estimates["time_offset_s"]["value"] <= -offset_high, estimates
         fresh = summary["errors_vs_truth"]["in_outages"]["rms_horizontal_m"]
-        assert _near(quoted_rms, fresh), (length, fresh)
+        assert rounds_to(quoted_rms, fresh), (length, fresh)
         smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]["rms_horizontal_m"]
         assert abs(smoothed - float(table[f"{length:g} s"][5])) <= within, (length, smoothed)
-    assert _near(aided_without, float(table["none"][2]))
+    assert rounds_to(aided_without, float(table["none"][2]))
     config.engine["filter"]["smoother"] = True
     config.engine.pop("outages")
     with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
         warnings.simplefilter("ignore")  # the log's cut lines
         aided = mn.navigate(config, output=out).summary["errors_vs_truth"]["aided"]
-    assert _near(aided_with, aided["rms_horizontal_m"]), aided
+    assert rounds_to(aided_with, aided["rms_horizontal_m"]), aided
 
 
 @pytest.mark.slow
@@ -572,8 +567,11 @@ def test_paper_comparison_partial_outages_are_a_fresh_run():
     for scenario, imus in quoted.items():
         for imu, (largest, nees) in imus.items():
             fresh = result[scenario]["imus"][imu]
-            assert _near(largest, fresh["mean_max_position_error_during_outage_m"]), (scenario, imu)
-            assert _near(nees, fresh["position_nees_per_dof_at_outage_end"]), (scenario, imu)
+            assert rounds_to(largest, fresh["mean_max_position_error_during_outage_m"]), (
+                scenario,
+                imu,
+            )
+            assert rounds_to(nees, fresh["position_nees_per_dof_at_outage_end"]), (scenario, imu)
             assert fresh["diverged_share"] == 0.0  # "No run raises an integrity alert"
 
     def share(imu: str, kept: int) -> float:
@@ -583,20 +581,20 @@ def test_paper_comparison_partial_outages_are_a_fresh_run():
             / quoted["tight, 0 satellites"][imu][0]
         )
 
-    three = _quoted(
+    three = quoted_figures(
         "docs/paper-comparison.md",
         r"raw MEMS (\d+) %, calibrated (\d+) %, INS (\d+) % of its no-satellite error",
     )
     imus = ("mems", "calibrated_mems", "ins")
-    assert all(_near(q, share(imu, 3)) for q, imu in zip(three, imus, strict=True)), three
-    low, high = _quoted("docs/paper-comparison.md", r"2 satellites to (\d+)-(\d+) %")
+    assert all(rounds_to(q, share(imu, 3)) for q, imu in zip(three, imus, strict=True)), three
+    low, high = quoted_figures("docs/paper-comparison.md", r"2 satellites to (\d+)-(\d+) %")
     two = [share(imu, 2) for imu in ("ins", "mems", "calibrated_mems")]
-    assert _near(low, min(two)) and _near(high, max(two)), two
-    low, high = _quoted(
+    assert rounds_to(low, min(two)) and rounds_to(high, max(two)), two
+    low, high = quoted_figures(
         "docs/paper-comparison.md", r"every scenario \(NEES/dof ([\d.]+)-([\d.]+)\)"
     )
     nees = [nees for imus in quoted.values() for _, nees in imus.values()]
-    assert _near(low, min(nees)) and _near(high, max(nees)), nees
+    assert rounds_to(low, min(nees)) and rounds_to(high, max(nees)), nees
 
 
 @pytest.mark.slow
@@ -612,22 +610,22 @@ def test_few_satellites_quotes_the_two_satellite_runs():
         r"Until the first alert the errors of (\d+) of (\d+) runs with 2 satellites",
         " ".join((ROOT / "docs" / "few-satellites.md").read_text().split()),
     ).groups()
-    (late,) = _quoted("docs/few-satellites.md", r"the alert comes only at (\d+) s")
+    (late,) = quoted_figures("docs/few-satellites.md", r"the alert comes only at (\d+) s")
     long_runs = [few_satellites_study._long_run(2, seed) for seed in range(1, 9)]
     assert int(runs) == len(long_runs)
     held = [r for r in long_runs if round(r["inside_before_alert"], 2) == 1.0]
     assert len(held) == int(inside)
     assert max(r["first_alert_s"] for r in long_runs) == late
     # "their NIS over 60 s windows stays at 0.7-1.2 per degree of freedom"
-    low, high = _quoted(
+    low, high = quoted_figures(
         "docs/few-satellites.md",
         r"NIS over 60 s windows stays at ([\d.]+)-([\d.]+) per degree of freedom",
     )
     nis = [v for r in long_runs for v in r["nis_per_dof_60s"]]
-    assert _near(low, min(nis)) and _near(high, max(nis)), (min(nis), max(nis))
+    assert rounds_to(low, min(nis)) and rounds_to(high, max(nis)), (min(nis), max(nis))
     # The exception: "tilt it by 13° and 11° within 20 s, before the filter
     # has learnt them (its tilt σ 4.7° and 3.1°)".
-    tilts = _quoted(
+    tilts = quoted_figures(
         "docs/few-satellites.md",
         r"tilt it by (\d+)° and (\d+)° within 20 s, before the filter has learnt them "
         r"\(its tilt σ ([\d.]+)° and ([\d.]+)°\)",
@@ -636,7 +634,7 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     measured = [abs(v) for v in exception["tilt_at_20s_deg"]] + list(
         exception["tilt_std_at_20s_deg"]
     )
-    assert all(_near(q, v) for q, v in zip(tilts, measured, strict=True)), measured
+    assert all(rounds_to(q, v) for q, v in zip(tilts, measured, strict=True)), measured
 
 
 def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
@@ -645,7 +643,7 @@ def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
     four IMU offsets (four runs, ~2 s)."""
     import copy
 
-    quoted = _quoted(
+    quoted = quoted_figures(
         "docs/real-data.md",
         r"the position fixes is ([\d.]+) at −0\.27 s, ([\d.]+) at −0\.22 s, ([\d.]+) at −0\.20 s "
         r"and ([\d.]+) at −0\.125 s",
@@ -662,7 +660,7 @@ def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
             batches = mn.navigate(config, output=out).run.solution.batches
         position = np.asarray(batches["kind"]) == "position"
         fresh = np.mean(np.asarray(batches["nis"])[position] / np.asarray(batches["dof"])[position])
-        assert _near(nis, fresh), (offset_s, fresh)
+        assert rounds_to(nis, fresh), (offset_s, fresh)
 
 
 def _one_over_e_time_s(x: np.ndarray, rate_hz: float) -> float:
@@ -678,7 +676,7 @@ def test_few_satellites_quotes_the_inputs_correlation_times():
     """docs/few-satellites.md: "on six 600 s random trajectories the yaw
     rate's autocorrelation falls to 1/e in 4-8 s, the horizontal specific
     force's in 5-16 s" (seeds 0-5, 100 Hz), what τ = 10 s is chosen from."""
-    yaw_low, yaw_high, force_low, force_high = _quoted(
+    yaw_low, yaw_high, force_low, force_high = quoted_figures(
         "docs/few-satellites.md",
         r"on six 600 s random trajectories the yaw rate's autocorrelation falls to 1/e in "
         r"(\d+)-(\d+) s, the horizontal specific force's in (\d+)-(\d+) s",
@@ -699,12 +697,12 @@ def test_real_data_quotes_the_drive_aided_at_three_velocity_latencies():
     ~3 s); "The engine's choices" quotes the first two the same."""
     import copy
 
-    cm, resets, cm_late = _quoted(
+    cm, resets, cm_late = quoted_figures(
         "docs/real-data.md",
         r"a latency of 0 leaves (\d+) cm RMS and (\d+) position resets, 0\.125-0\.132 s (\d+) cm "
         r"and one\.",
     )
-    assert _quoted(
+    assert quoted_figures(
         "docs/real-data.md",
         r"follows the fixes to (\d+) cm RMS \((\d+) position resets\); with the velocity latency "
         r"set to 0\.125 s, to (\d+) cm with one\.",
@@ -724,7 +722,7 @@ def test_real_data_quotes_the_drive_aided_at_three_velocity_latencies():
             warnings.simplefilter("ignore")  # the log's cut lines
             summary = mn.navigate(config, output=out).summary
         aided = summary["errors_vs_truth"]["aided"]["rms_horizontal_m"]
-        assert _near(rms_cm, 100 * aided), (latency_s, aided)
+        assert rounds_to(rms_cm, 100 * aided), (latency_s, aided)
         kinds = [r["kind"] for r in summary["resets"]]
         assert kinds.count("position_to_fix") == position_resets, (latency_s, kinds)
 
@@ -735,7 +733,7 @@ def test_few_satellites_quotes_the_tactical_runs_on_three_satellites():
     on the 3 highest of 6 satellites from the exact start, ~3 s)."""
     import few_satellites_study
 
-    low, high, sigma_low, sigma_high, inside = _quoted(
+    low, high, sigma_low, sigma_high, inside = quoted_figures(
         "docs/few-satellites.md",
         r"seeds 1-8 of today's code end ([\d.]+)-([\d.]+) km off with vertical σ of "
         r"([\d.]+)-([\d.]+) km, (\d+) % inside",
@@ -768,7 +766,7 @@ def test_few_satellites_quotes_the_tactical_runs_on_three_satellites():
         shares.append(np.mean(np.abs(error) <= 3.0 * solution.position_std_ned))
     assert (round(min(final_km), 1), round(max(final_km), 1)) == (low, high), final_km
     assert (round(min(sigma_km), 1), round(max(sigma_km), 1)) == (sigma_low, sigma_high)
-    assert _near(inside, 100 * min(shares)), shares
+    assert rounds_to(inside, 100 * min(shares)), shares
 
 
 def test_howto_quotes_its_examples_condition_number(capsys):
@@ -782,7 +780,9 @@ def test_howto_quotes_its_examples_condition_number(capsys):
         warnings.simplefilter("ignore")  # the warnings the page describes
         exec(compile(example, "howto.md", "exec"), namespace)
     capsys.readouterr()
-    (quoted,) = _quoted("docs/howto.md", r"poorly conditioned \(condition number ~([\d.e]+)\)")
+    (quoted,) = quoted_figures(
+        "docs/howto.md", r"poorly conditioned \(condition number ~([\d.e]+)\)"
+    )
     w_axis = namespace["acc_cal"].condition_number[2]
     assert f"{w_axis:.0e}".replace("e+0", "e") == f"{quoted:.0e}".replace("e+0", "e"), w_axis
 
@@ -795,12 +795,12 @@ def test_paper_comparison_quotes_the_quick_calibration_run():
     accelerometer u scale factor, with 90-98 % of that MSE its squared mean
     error", and the misalignments' normalised RMS error "0.03 on the gyro,
     0.05 on the accelerometer" (the errors-in-variables estimator's)."""
-    gyro_pq, accel_u, share_low, share_high = _quoted(
+    gyro_pq, accel_u, share_low, share_high = quoted_figures(
         "docs/paper-comparison.md",
         r"up to about (\d+) on the gyro p and q scale factors, (\d+) on the accelerometer u "
         r"scale factor, with (\d+)-(\d+) % of that MSE",
     )
-    gyro_mis, accel_mis = _quoted(
+    gyro_mis, accel_mis = quoted_figures(
         "docs/paper-comparison.md",
         r"RMS error ([\d.]+) on the gyro, ([\d.]+) on the accelerometer in the quick run",
     )
@@ -813,9 +813,9 @@ def test_paper_comparison_quotes_the_quick_calibration_run():
     pq = [gyro_sf[a]["efficiency_ls"] for a in ("p", "q")]
     # "about 100": within 10 %.
     assert all(abs(v - gyro_pq) <= 0.1 * gyro_pq for v in pq), pq
-    assert _near(accel_u, accel_sf["u"]["efficiency_ls"]), accel_sf["u"]
+    assert rounds_to(accel_u, accel_sf["u"]["efficiency_ls"]), accel_sf["u"]
     shares = [100.0 * gyro_sf[a]["bias_share_ls"] for a in ("p", "q")]
     shares.append(100.0 * accel_sf["u"]["bias_share_ls"])
-    assert _near(share_low, min(shares)) and _near(share_high, max(shares)), shares
-    assert _near(gyro_mis, s["gyroscope"]["misalignment"]["normalized_mse_eiv"] ** 0.5)
-    assert _near(accel_mis, s["accelerometer"]["misalignment"]["normalized_mse_eiv"] ** 0.5)
+    assert rounds_to(share_low, min(shares)) and rounds_to(share_high, max(shares)), shares
+    assert rounds_to(gyro_mis, s["gyroscope"]["misalignment"]["normalized_mse_eiv"] ** 0.5)
+    assert rounds_to(accel_mis, s["accelerometer"]["misalignment"]["normalized_mse_eiv"] ** 0.5)
