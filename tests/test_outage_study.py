@@ -11,7 +11,7 @@ import matplotlib
 import numpy as np
 import pytest
 from report_checks import capture_figures, page_problems
-from scipy.stats import binom
+from scipy.stats import binom, chi2
 
 import memsnav as mn
 from memsnav.cli import main
@@ -295,3 +295,152 @@ def test_study_on_galileo_and_beidou_from_the_configuration(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('output = "out2"\n[study]\nsystems = ["G", "R"]\n')
     assert main(["study", "--config", str(bad), "--quiet"]) != 0
+
+
+CARRIER_STUDY = dict(
+    grades=("tactical", "consumer"),
+    outage_lengths=(30.0,),
+    visible_satellites=(0, 3),
+    runs=16,
+    outage_start=60.0,
+    seed=0,
+    threads=2,
+)
+"""The carrier-phase comparison of docs/outage-study.md: a tactical and a
+consumer IMU, 30 s outages keeping 0 or 3 satellites after 60 s of aided
+navigation."""
+
+
+@pytest.fixture(scope="module")
+def carrier_studies():
+    return {
+        "code": mn.experiments.outage_study(**CARRIER_STUDY),
+        "carrier": mn.experiments.outage_study(**CARRIER_STUDY, carrier_phase_std=0.003),
+        "slips": mn.experiments.outage_study(
+            **CARRIER_STUDY, carrier_phase_std=0.003, cycle_slip_probability=0.01
+        ),
+    }
+
+
+def _aided(study, grade="tactical"):
+    """Mean over the runs and over 30-60 s (aided, converged) of the
+    position error, m, and of the NEES per degree of freedom."""
+    result = study.results[30.0][0]
+    t = np.asarray(result.time)
+    aided = (t >= 30.0) & (t < 60.0)
+    error = np.asarray(result.mean[grade])[aided].mean()
+    nees = np.asarray(result.nees_mean[grade])[aided] / 9.0
+    return error, nees
+
+
+def test_carrier_phase_sharpens_the_aided_solution_and_the_outage_start(carrier_studies):
+    """Time-differenced carrier phase (3 mm) pins the velocity between
+    epochs: the aided position error shrinks, the filter stays consistent
+    (NEES of 9 dof per run inside the chi-square band of the runs), and the
+    better velocity at the outage's start shrinks the error at its end,
+    with 3 satellites kept too, where too few carrier changes are left
+    for the filter to use them (5 needed)."""
+    code, carrier = carrier_studies["code"], carrier_studies["carrier"]
+    assert code.config["carrier_phase_std"] == 0.0
+    assert carrier.config["carrier_phase_std"] == 0.003
+    assert carrier.config["cycle_slip_probability"] == 0.0
+    band = chi2.ppf([0.005, 0.995], 9 * CARRIER_STUDY["runs"]) / (9 * CARRIER_STUDY["runs"])
+    code_error, _ = _aided(code)
+    for name in ("carrier", "slips"):
+        error, nees = _aided(carrier_studies[name])
+        assert error < 0.9 * code_error, (name, error, code_error)
+        assert band[0] < nees.mean() < band[1], (name, nees.mean(), band)
+        # Silent slips of one satellite in a hundred per epoch: found or
+        # excluded, never a divergence.
+        for n in (0, 3):
+            runs = carrier_studies[name].results[30.0][n].runs_summary["tactical"]
+            assert not np.any(runs["diverged"]), (name, n)
+    for n in (0, 3):
+        with_carrier = np.median(carrier.per_run("tactical", 30.0, n, "horizontal_end"))
+        without = np.median(code.per_run("tactical", 30.0, n, "horizontal_end"))
+        assert with_carrier < 0.8 * without, (n, with_carrier, without)
+    # The slips cost the carrier's changes where they are found, which the
+    # filter records as rejected.
+    rejected = {
+        name: carrier_studies[name].results[30.0][0].runs_summary["tactical"]["rejected"].sum()
+        for name in ("code", "carrier", "slips")
+    }
+    assert rejected["code"] < rejected["carrier"] < rejected["slips"], rejected
+
+
+def test_carrier_phase_is_no_gain_for_the_consumer_grade(carrier_studies):
+    """The limit docs/outage-study.md states: the consumer IMU's errors
+    (gyro biases of 0.5 °/s, 1-2 % scale factors and misalignments, which
+    its tuning absorbs as white noise) change its velocity within a second
+    by more than the 3 mm carrier allows for, so its tight filter with
+    carrier phase is inconsistent (NEES per dof above 5, the band's upper
+    end is 1.3) and its aided error grows instead of shrinking."""
+    code_error, _ = _aided(carrier_studies["code"], "consumer")
+    error, nees = _aided(carrier_studies["carrier"], "consumer")
+    assert nees.mean() > 5.0, nees.mean()
+    assert error > code_error, (error, code_error)
+
+
+def test_the_guide_quotes_the_carrier_phase_figures(carrier_studies):
+    """docs/outage-study.md quotes the medians of the carrier comparison:
+    recomputed here, to the digits quoted."""
+    from pathlib import Path
+
+    page = " ".join((Path(__file__).parents[1] / "docs" / "outage-study.md").read_text().split())
+    quoted = re.search(
+        r"aided position error ([\d.]+) m → ([\d.]+) m; median horizontal error at the end of "
+        r"the outage ([\d.]+) m → ([\d.]+) m with no satellite, ([\d.]+) m → ([\d.]+) m with 3",
+        page,
+    )
+    assert quoted, "docs/outage-study.md no longer quotes the carrier-phase figures"
+    code, carrier = carrier_studies["code"], carrier_studies["carrier"]
+    measured = [_aided(code)[0], _aided(carrier)[0]]
+    for n in (0, 3):
+        measured += [
+            np.median(s.per_run("tactical", 30.0, n, "horizontal_end")) for s in (code, carrier)
+        ]
+    for text, value in zip(quoted.groups(), measured, strict=True):
+        digits = len(text.split(".")[1]) if "." in text else 0
+        assert round(value, digits) == float(text), (text, value)
+
+
+def test_carrier_settings_are_checked_and_reach_the_study_configuration(tmp_path):
+    with pytest.raises(ValueError, match="carrier_phase_std"):
+        mn.experiments.outage_study(grades=("tactical",), runs=1, carrier_phase_std=-0.003)
+    with pytest.raises(ValueError, match="carrier_phase_std"):
+        mn.experiments.navigation(runs=1, duration=5.0, carrier_phase_std="3 mm")
+    with pytest.raises(ValueError, match="cycle_slip_probability"):
+        mn.experiments.partial_outage(runs=1, carrier_phase_std=0.003, cycle_slip_probability=1.5)
+    from memsnav.study import read_config
+
+    config = tmp_path / "study.toml"
+    config.write_text("[study]\ncarrier_phase_std = 0.003\ncycle_slip_probability = 0.01\n")
+    study = read_config(config)["study"]
+    assert study == {"carrier_phase_std": 0.003, "cycle_slip_probability": 0.01}
+    config.write_text("[study]\ncycle_slip_probability = 2\n")
+    with pytest.raises(ValueError, match="cycle_slip_probability"):
+        read_config(config)
+
+
+def test_carrier_phase_leaves_the_loose_filter_alone():
+    """The carrier is drawn on a side stream and only the tight filter
+    reads it: the loosely coupled scenario is the same bit for bit, the
+    tight ones are not."""
+    kw = dict(
+        imus=("tactical",),
+        runs=3,
+        duration=80.0,
+        outage_start=40.0,
+        outage_length=20.0,
+        satellites=[3],
+        keep_runs=True,
+    )
+    code = mn.experiments.partial_outage(**kw)
+    carrier = mn.experiments.partial_outage(**kw, carrier_phase_std=0.003)
+    assert carrier.config["carrier_phase_std"] == 0.003
+    for label in code.scenarios:
+        same = np.array_equal(
+            code.scenarios[label].position_error["tactical"],
+            carrier.scenarios[label].position_error["tactical"],
+        )
+        assert same == (code.coupling[label] == "loose"), label

@@ -750,6 +750,8 @@ def partial_outage_experiment(
     n_satellites: int | None = None,
     systems: Sequence[str] | None = None,
     inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
+    carrier_phase_std: float | None = None,
+    cycle_slip_probability: float | None = None,
 ) -> Any:
     """Partial-outage study (0-3 satellites through a window, tight against
     loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
@@ -1867,6 +1869,8 @@ def navigation_experiment(
     chunks: Sequence[bytes] | None = None,
     systems: Sequence[str] | None = None,
     inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
+    carrier_phase_std: float | None = None,
+    cycle_slip_probability: float | None = None,
 ) -> Any:
     """Navigation Monte Carlo (paper §5.3) as a dict of arrays (bytes with
     ``run_range``; ``run_range`` / ``chunks`` as in
@@ -1879,7 +1883,10 @@ def navigation_experiment(
     length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
     satellites. ``systems``: RINEX letters of the simulated systems (None:
     ["G"]), ``inter_system_bias``: Galileo and BeiDou pseudorange biases
-    against GPS, m (None: 0, 0)."""
+    against GPS, m (None: 0, 0). ``carrier_phase_std``: simulated carrier
+    range noise, m (None: 0, no carrier phase; above 0 the tight filters use
+    its changes between epochs), ``cycle_slip_probability``: silent slips
+    per satellite and epoch (None: 0)."""
 
 # --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
 

@@ -14,6 +14,8 @@ The configuration (``examples/study_land_vehicle.toml``)::
     # systems = ["G", "E", "C"]        # optional: GPS, Galileo, BeiDou MEO
     # n_satellites = 20                # tracked outside the outage
     # inter_system_bias = [3.0, -25.0] # Galileo, BeiDou minus GPS, m
+    # carrier_phase_std = 0.003        # carrier phase for the tight filter, m
+    # cycle_slip_probability = 0.01    # silent slips per satellite and epoch
     [requirement]                      # optional: what "good enough" means
     max_error_m = 10.0
     percentile = 95
@@ -73,6 +75,8 @@ CONFIG: dict[str, dict[str, tuple[Check, Any]]] = {
         "n_satellites": (integer(4), ABSENT),
         "systems": (list_of(text("G", "E", "C"), min_length=1), ABSENT),
         "inter_system_bias": (list_of(number(), lengths=(2,)), ABSENT),
+        "carrier_phase_std": (number(0.0), ABSENT),
+        "cycle_slip_probability": (number(0.0, 1.0), ABSENT),
     },
     "requirement": {
         "max_error_m": (number(above=0.0), ABSENT),

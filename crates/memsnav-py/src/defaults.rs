@@ -86,6 +86,8 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         degrees(&n.initial_attitude_std_rad),
     )?;
     d.set_item("absorb_unmodelled", n.absorb_unmodelled)?;
+    d.set_item("carrier_phase_std", n.gnss.carrier_phase_std_m)?;
+    d.set_item("cycle_slip_probability", n.gnss.cycle_slip_probability)?;
     out.set_item("navigation_experiment", d)?;
 
     let w = WalkerConfig::default();

@@ -243,7 +243,7 @@ fn inversion_experiment<'py>(
 /// outcomes (the keys of the navigation experiment) and the `config`.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, smooth=None, keep_runs=None, threads=None, progress=None, run_range=None, chunks=None, n_satellites=None, systems=None, inter_system_bias=None))]
+#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, smooth=None, keep_runs=None, threads=None, progress=None, run_range=None, chunks=None, n_satellites=None, systems=None, inter_system_bias=None, carrier_phase_std=None, cycle_slip_probability=None))]
 fn partial_outage_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
@@ -264,6 +264,8 @@ fn partial_outage_experiment<'py>(
     n_satellites: Option<usize>,
     systems: Option<Vec<String>>,
     inter_system_bias: Option<[f64; 2]>,
+    carrier_phase_std: Option<f64>,
+    cycle_slip_probability: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let d = PartialOutageConfig::default();
     let n = &d.navigation;
@@ -283,6 +285,9 @@ fn partial_outage_experiment<'py>(
             },
             gnss: memsnav_core::gnss::SimulationConfig {
                 inter_system_bias_m: inter_system_bias.unwrap_or(n.gnss.inter_system_bias_m),
+                carrier_phase_std_m: carrier_phase_std.unwrap_or(n.gnss.carrier_phase_std_m),
+                cycle_slip_probability: cycle_slip_probability
+                    .unwrap_or(n.gnss.cycle_slip_probability),
                 ..n.gnss.clone()
             },
             ..n.clone()
@@ -337,6 +342,8 @@ fn partial_outage_experiment<'py>(
             .collect::<Vec<_>>(),
     )?;
     c.set_item("inter_system_bias", nav.gnss.inter_system_bias_m.to_vec())?;
+    c.set_item("carrier_phase_std", nav.gnss.carrier_phase_std_m)?;
+    c.set_item("cycle_slip_probability", nav.gnss.cycle_slip_probability)?;
     c.set_item("outage_start", config.outage_start_s)?;
     c.set_item("outage_length", config.outage_length_s)?;
     c.set_item("satellites", config.satellites.clone())?;

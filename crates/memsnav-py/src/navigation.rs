@@ -210,7 +210,7 @@ pub(crate) fn outage_window(values: &[f64]) -> PyResult<Outage> {
 /// `memsnav.experiments.navigation` for the documented interface.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, n_satellites=None, outage=None, calibration_duration=None, early_window=None, pseudorange_rate=None, pseudorange_std=None, pseudorange_rate_std=None, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=None, smooth=false, keep_runs=false, threads=None, progress=None, run_range=None, chunks=None, systems=None, inter_system_bias=None))]
+#[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, n_satellites=None, outage=None, calibration_duration=None, early_window=None, pseudorange_rate=None, pseudorange_std=None, pseudorange_rate_std=None, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=None, smooth=false, keep_runs=false, threads=None, progress=None, run_range=None, chunks=None, systems=None, inter_system_bias=None, carrier_phase_std=None, cycle_slip_probability=None))]
 fn navigation_experiment<'py>(
     py: Python<'py>,
     imus: &Bound<'py, PyAny>,
@@ -235,8 +235,11 @@ fn navigation_experiment<'py>(
     chunks: Option<Vec<Bound<'py, PyBytes>>>,
     systems: Option<Vec<String>>,
     inter_system_bias: Option<[f64; 2]>,
+    carrier_phase_std: Option<f64>,
+    cycle_slip_probability: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    // None keeps the core's default (`defaults()`; GPS alone, no bias).
+    // None keeps the core's default (`defaults()`; GPS alone, no bias, no
+    // carrier phase).
     let d = NavigationExperimentConfig::default();
     let pseudorange_std = pseudorange_std.unwrap_or(d.gnss.pseudorange_std_m);
     let pseudorange_rate_std = pseudorange_rate_std.unwrap_or(d.gnss.pseudorange_rate_std_m_s);
@@ -260,6 +263,8 @@ fn navigation_experiment<'py>(
             pseudorange_std_m: pseudorange_std,
             pseudorange_rate_std_m_s: pseudorange_rate_std,
             inter_system_bias_m: inter_system_bias.unwrap_or(d.gnss.inter_system_bias_m),
+            carrier_phase_std_m: carrier_phase_std.unwrap_or(d.gnss.carrier_phase_std_m),
+            cycle_slip_probability: cycle_slip_probability.unwrap_or(d.gnss.cycle_slip_probability),
             ..d.gnss.clone()
         },
         systems: match systems {

@@ -40,6 +40,7 @@ study behind the differences and the options it uses).
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -400,6 +401,8 @@ def navigation(
     smooth: bool = False,
     systems: Sequence[str] = ("G",),
     inter_system_bias: tuple[float, float] = (0.0, 0.0),
+    carrier_phase_std: float | None = None,
+    cycle_slip_probability: float | None = None,
     client: Any = None,
     chunk_runs: int | None = None,
 ) -> NavigationResult:
@@ -450,6 +453,13 @@ def navigation(
     BeiDou every filter carries two inter-system-bias states, and the
     pseudoranges ``inter_system_bias`` (Galileo, BeiDou against GPS, m).
     ``n_satellites`` counts every system's satellites.
+    ``carrier_phase_std``: white noise of the simulated carrier range, one
+    sigma, m, as in :func:`memsnav.simulate_gnss` (default 0: no carrier
+    phase, the results as without it); above 0 the tightly coupled filters
+    also use the carrier's change between epochs (time-differenced carrier
+    phase, 5 changes or more per epoch; the loosely coupled filter is
+    unaffected), and the carrier slips silently by whole cycles with
+    ``cycle_slip_probability`` per satellite and epoch (default 0).
 
     ``client``: a ``dask.distributed.Client``: the runs go to its cluster
     in chunks of ``chunk_runs`` (default: about 4 chunks per worker
@@ -478,6 +488,12 @@ def navigation(
     pseudorange_rate_std = given(pseudorange_rate_std, "pseudorange_rate_std")
     initial_attitude_std_deg = given(initial_attitude_std_deg, "initial_attitude_std_deg")
     absorb_unmodelled = given(absorb_unmodelled, "absorb_unmodelled")
+    carrier_phase_std = real_number(
+        given(carrier_phase_std, "carrier_phase_std"), "carrier_phase_std"
+    )
+    cycle_slip_probability = real_number(
+        given(cycle_slip_probability, "cycle_slip_probability"), "cycle_slip_probability"
+    )
     if not isinstance(runs, int) or isinstance(runs, bool) or runs < 1:
         raise ValueError(f"runs: must be a positive integer, got {runs!r}")
     window: tuple[float, float, int] | None = None
@@ -523,6 +539,8 @@ def navigation(
             keep_runs=keep,
             systems=list(systems),
             inter_system_bias=tuple(float(b) for b in inter_system_bias),
+            carrier_phase_std=carrier_phase_std,
+            cycle_slip_probability=cycle_slip_probability,
         ),
         runs,
         client=client,
@@ -550,8 +568,18 @@ def navigation(
             "smooth": bool(smooth),
             "systems": list(systems),
             "inter_system_bias": [float(b) for b in inter_system_bias],
+            "carrier_phase_std": carrier_phase_std,
+            "cycle_slip_probability": cycle_slip_probability,
         },
     )
+
+
+def real_number(value: Any, argument: str) -> float:
+    """``value`` as a float if it is a real number (not a bool); the core
+    checks its range. Raises ValueError naming ``argument``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{argument}: must be a number, got {value!r}")
+    return float(value)
 
 
 def result_from_raw(raw: Mapping[str, Any], config: dict[str, Any]) -> NavigationResult:

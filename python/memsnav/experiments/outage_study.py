@@ -259,6 +259,8 @@ def outage_study(
     n_satellites: int = 6,
     systems: Sequence[str] = ("G",),
     inter_system_bias: tuple[float, float] = (0.0, 0.0),
+    carrier_phase_std: float = 0.0,
+    cycle_slip_probability: float = 0.0,
 ) -> OutageStudyResult:
     """Runs the outage study (module docs).
 
@@ -282,6 +284,10 @@ def outage_study(
     ``systems`` ("G" GPS, "E" Galileo, "C" BeiDou MEO, nominal Walker
     constellations; with E or C the filters estimate the pseudoranges'
     ``inter_system_bias``, Galileo and BeiDou against GPS, m).
+    ``carrier_phase_std`` (m, one sigma; 0: none) and
+    ``cycle_slip_probability``: the simulated carrier phase, whose changes
+    between epochs the filters use, and its silent cycle slips per
+    satellite and epoch (:func:`~memsnav.experiments.navigation`).
     Raises ValueError naming the argument.
     """
     lengths = [float(v) for v in outage_lengths]
@@ -326,6 +332,8 @@ def outage_study(
             n_satellites=n_satellites,
             systems=systems,
             inter_system_bias=inter_system_bias,
+            carrier_phase_std=carrier_phase_std,
+            cycle_slip_probability=cycle_slip_probability,
         )
         results[length] = {
             study.n_visible[label]: result for label, result in study.scenarios.items()
@@ -353,5 +361,7 @@ def outage_study(
             "n_satellites": n_satellites,
             "systems": list(systems),
             "inter_system_bias": [float(b) for b in inter_system_bias],
+            "carrier_phase_std": float(carrier_phase_std),
+            "cycle_slip_probability": float(cycle_slip_probability),
         },
     )

@@ -33,6 +33,7 @@ from memsnav.experiments.navigation import (
     NavigationResult,
     _imu_sources,
     imu_label,
+    real_number,
     result_from_raw,
 )
 
@@ -198,6 +199,8 @@ def partial_outage(
     n_satellites: int | None = None,
     systems: Sequence[str] | None = None,
     inter_system_bias: tuple[float, float] | None = None,
+    carrier_phase_std: float | None = None,
+    cycle_slip_probability: float | None = None,
 ) -> PartialOutageResult:
     """Runs the partial-outage study (module docs) in Rust, GIL released.
 
@@ -221,6 +224,9 @@ def partial_outage(
     "C" BeiDou add their nominal constellations and two inter-system-bias
     states to every filter, the pseudoranges carrying ``inter_system_bias``
     (Galileo, BeiDou against GPS, m; default 0, 0)).
+    ``carrier_phase_std`` (m; default 0: none) and ``cycle_slip_probability``
+    (default 0): the simulated carrier phase and its silent slips, used by
+    the tightly coupled filters, as in :func:`~memsnav.experiments.navigation`.
     """
     raw = run_partial_outage(
         {
@@ -240,6 +246,12 @@ def partial_outage(
             "inter_system_bias": None
             if inter_system_bias is None
             else tuple(float(b) for b in inter_system_bias),
+            "carrier_phase_std": None
+            if carrier_phase_std is None
+            else real_number(carrier_phase_std, "carrier_phase_std"),
+            "cycle_slip_probability": None
+            if cycle_slip_probability is None
+            else real_number(cycle_slip_probability, "cycle_slip_probability"),
         },
         client=client,
         threads=threads,

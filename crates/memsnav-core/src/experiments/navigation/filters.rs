@@ -54,6 +54,10 @@ pub(super) struct FilterSetup<'a> {
     pub receiver_clock: ReceiverClockModel,
     pub coupling: Coupling,
     pub use_pseudorange_rate: bool,
+    /// Whether the tightly coupled filters use the time-differenced
+    /// carrier phase (`coupling/carrier.rs`): the simulated epochs carry
+    /// it. The loosely coupled filter's fixes are code only.
+    pub use_carrier_phase: bool,
     pub initial_attitude_std_rad: Vector3<f64>,
     /// Initial position and velocity std of a given start, m and m/s.
     pub given_start_std: Option<(f64, f64)>,
@@ -133,6 +137,7 @@ fn tuning(spec: &ImuSpec, setup: &FilterSetup) -> Result<FilterTuning> {
     let mut tuning =
         FilterTuning::from_imu_spec(&tuning_spec, setup.rate_hz, setup.scale_factor_states)?;
     tuning.use_pseudorange_rate = setup.use_pseudorange_rate;
+    tuning.use_carrier_phase = setup.use_carrier_phase;
     tuning.set_receiver_clock(&setup.receiver_clock);
     tuning.initial_std.attitude_ned_rad = setup.initial_attitude_std_rad;
     if let Some((position_m, velocity_m_s)) = setup.given_start_std {

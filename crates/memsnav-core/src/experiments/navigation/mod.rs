@@ -14,7 +14,8 @@
 //! Draw order from `random::stream(seed, i)` ([`run::draw_run`]): the
 //! random land-vehicle trajectory ([`crate::trajectory::Trajectory::random`], 100 Hz truth),
 //! its GNSS measurements ([`crate::gnss::simulate`]: Walker constellation, 6
-//! satellites, 3 m / 0.1 m/s white noise, a TCXO clock; an outage keeps
+//! satellites, 3 m / 0.1 m/s white noise, a TCXO clock, carrier phase when
+//! configured; an outage keeps
 //! its `n_satellites` highest satellites, see [`crate::gnss::simulate`]), the
 //! initial attitude error (1° tilt, 5° heading by default), the initial
 //! position and velocity errors when the initial state is given, and a
@@ -124,7 +125,13 @@ pub struct NavigationExperimentConfig {
     pub initial_state: InitialStateSource,
     /// Random trajectory settings (default: Toulouse, 100 Hz, land vehicle).
     pub trajectory: RandomTrajectoryConfig,
-    /// GNSS simulation settings (default: 1 Hz, 3 m, 0.1 m/s, TCXO clock).
+    /// GNSS simulation settings (default: 1 Hz, 3 m, 0.1 m/s, TCXO clock, no
+    /// carrier phase). With `gnss.carrier_phase_std_m` > 0 the epochs carry
+    /// carrier phase (slipping silently with `gnss.cycle_slip_probability`)
+    /// and the tightly coupled filters use its changes between epochs
+    /// (time-differenced carrier phase, `coupling/carrier.rs`); 0 leaves
+    /// every draw and result as they were (the simulator draws the carrier
+    /// from a side stream).
     pub gnss: SimulationConfig,
     /// The constellation (default: 24 satellites, 6 planes, 55°, no file
     /// needed; a broadcast file would tie the runs to its validity window).
@@ -313,6 +320,7 @@ impl NavigationExperimentConfig {
             receiver_clock: self.gnss.clock,
             coupling,
             use_pseudorange_rate: self.use_pseudorange_rate,
+            use_carrier_phase: self.gnss.carrier_phase_std_m > 0.0,
             initial_attitude_std_rad: self.initial_attitude_std_rad,
             given_start_std: match self.initial_state {
                 InitialStateSource::FirstFix => None,
