@@ -738,32 +738,10 @@ def test_few_satellites_quotes_the_tactical_runs_on_three_satellites():
         r"seeds 1-8 of today's code end ([\d.]+)-([\d.]+) km off with vertical σ of "
         r"([\d.]+)-([\d.]+) km, (\d+) % inside",
     )
-    final_km, sigma_km, shares = [], [], []
-    for seed in range(1, 9):
-        truth = mn.Trajectory.random(duration=900.0, seed=seed)
-        imu = mn.ImuModel.preset("tactical", seed=seed)
-        accel, gyro = imu.measure(truth.specific_force, truth.angular_rate, seed=seed)
-        gnss = mn.simulate_gnss(
-            truth.time,
-            truth.position_ecef,
-            truth.velocity_ecef,
-            mn.Constellation.walker(),
-            seed=seed,
-            outages=[(0.5, truth.time[-1], 3)],
-        )
-        start = {
-            "position_ecef": truth.position_ecef[0],
-            "velocity_ecef": truth.velocity_ecef[0],
-            "attitude": truth.attitude[0],
-        }
-        solution = mn.TightlyCoupledFilter(imu).run(
-            truth.time, accel, gyro, gnss, initial_state=start
-        )
-        ned = few_satellites_study._ned(truth.position_ecef[0])
-        error = (solution.position_ecef - truth.position_ecef) @ ned.T
-        final_km.append(np.linalg.norm(error[-1]) / 1e3)
-        sigma_km.append(solution.position_std_ned[-1, 2] / 1e3)
-        shares.append(np.mean(np.abs(error) <= 3.0 * solution.position_std_ned))
+    runs = [few_satellites_study._long_run(3, seed, grade="tactical") for seed in range(1, 9)]
+    final_km = [r["final_m"] / 1e3 for r in runs]
+    sigma_km = [r["final_vertical_sigma_m"] / 1e3 for r in runs]
+    shares = [r["inside"] for r in runs]
     assert (round(min(final_km), 1), round(max(final_km), 1)) == (low, high), final_km
     assert (round(min(sigma_km), 1), round(max(sigma_km), 1)) == (sigma_low, sigma_high)
     assert rounds_to(inside, 100 * min(shares)), shares
