@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from quoted import rounds_to
+from quoted import quoted_figures, rounds_to
 from report_checks import capture_figures, page_problems
 from shared_data import shared_data
 
@@ -541,16 +541,15 @@ def test_the_guide_quotes_the_full_sessions_sigma_against_the_bound(tmp_path):
     σ are 3-4.5 times the bound ..., the gyroscope's 1.2-2 times" (the
     estimated parameters' σ over their white-noise Cramér-Rao bound) and
     the biases' σ "now 0.3-0.6" mm/s²."""
-    page = " ".join((HERE.parent / "docs" / "calibration.md").read_text().split())
-    found = re.search(
+    accel_low, accel_high, gyro_low, gyro_high = quoted_figures(
+        "docs/calibration.md",
         r"the accelerometer's σ are ([\d.]+)-([\d.]+) times the bound .*? the gyroscope's "
         r"([\d.]+)-([\d.]+) times",
-        page,
     )
-    assert found, "docs/calibration.md no longer quotes σ against the bound"
-    accel_low, accel_high, gyro_low, gyro_high = (float(v) for v in found.groups())
-    biases = re.search(r"\(([\d.]+) mm/s² for the biases, [^)]*?now ([\d.]+)-([\d.]+)\)", page)
-    assert biases, "docs/calibration.md no longer quotes the biases' σ"
+    _, low, high = quoted_figures(
+        "docs/calibration.md",
+        r"\(([\d.]+) mm/s² for the biases, [^)]*?now ([\d.]+)-([\d.]+)\)",
+    )
     data = shared_data("imu-static-poses/xsens_acc.mat").parents[1]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the example's nominal gyro scale (documented)
@@ -565,5 +564,4 @@ def test_the_guide_quotes_the_full_sessions_sigma_against_the_bound(tmp_path):
     assert rounds_to(accel_low, accel.min()) and rounds_to(accel_high, accel.max()), accel
     assert rounds_to(gyro_low, gyro.min()) and rounds_to(gyro_high, gyro.max()), gyro
     bias_mm_s2 = 1e3 * np.asarray(cal.accelerometer_std.bias)
-    low, high = float(biases.group(2)), float(biases.group(3))
     assert rounds_to(low, bias_mm_s2.min()) and rounds_to(high, bias_mm_s2.max()), bias_mm_s2
