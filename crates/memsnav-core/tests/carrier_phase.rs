@@ -49,6 +49,52 @@ fn measurements(
     (sim.epochs, sim.cycle_slips)
 }
 
+/// A short drive with carrier phase for the model's checks: the tuning
+/// with carrier phase on, the epochs (silent slips at `slip_probability`),
+/// the perturbed start and the IMU's readings along the truth.
+struct CarrierRun {
+    truth: Truth,
+    tuning: FilterTuning,
+    epochs: Vec<GnssEpoch>,
+    init: InitialState,
+    f: Vec<nalgebra::Vector3<f64>>,
+    w: Vec<nalgebra::Vector3<f64>>,
+}
+
+impl CarrierRun {
+    fn new(duration_s: f64, seed: u64, slip_probability: f64) -> Self {
+        let truth = drive(duration_s, 100.0, true);
+        let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
+        let tuning = FilterTuning {
+            use_carrier_phase: true,
+            ..FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap()
+        };
+        let config = SimulationConfig {
+            n_satellites: SATELLITES,
+            carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
+            cycle_slip_probability: slip_probability,
+            ..SimulationConfig::default()
+        };
+        let mut rng = stream(seed, 0);
+        let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
+        let (epochs, _) = measurements(&truth, &config, &mut rng);
+        let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
+        let (f, w) = readings(&truth, &imu, &mut rng);
+        Self {
+            truth,
+            tuning,
+            epochs,
+            init,
+            f,
+            w,
+        }
+    }
+
+    fn data(&self) -> ImuData<'_> {
+        imu_data(&self.truth, &self.f, &self.w)
+    }
+}
+
 /// What one filter run gave, at the GNSS epochs (every 100th IMU sample).
 #[derive(Default)]
 struct Errors {
@@ -257,24 +303,8 @@ fn silent_cycle_slips_are_found_and_carrier_phase_helps() {
 /// used a carrier range by itself, would not.
 #[test]
 fn carrier_changes_are_blind_to_ambiguities_and_the_receiver_clock() {
-    let truth = drive(120.0, 100.0, true);
-    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
-    let tuning = FilterTuning {
-        use_carrier_phase: true,
-        ..FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap()
-    };
-    let config = SimulationConfig {
-        n_satellites: SATELLITES,
-        carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
-        cycle_slip_probability: SLIP_PROBABILITY,
-        ..SimulationConfig::default()
-    };
-    let mut rng = stream(77, 0);
-    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
-    let (epochs, _) = measurements(&truth, &config, &mut rng);
-    let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
-    let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = imu_data(&truth, &f, &w);
+    let run = CarrierRun::new(120.0, 77, SLIP_PROBABILITY);
+    let (data, epochs, init, tuning) = (run.data(), &run.epochs, &run.init, &run.tuning);
     let shifted: Vec<GnssEpoch> = epochs
         .iter()
         .enumerate()
@@ -291,7 +321,7 @@ fn carrier_changes_are_blind_to_ambiguities_and_the_receiver_clock() {
         .collect();
     let final_state = |epochs: &[GnssEpoch]| {
         let mut last = None;
-        let records = coupling::run::<17, _, _>(&data, epochs, &init, &tuning, |_, s| {
+        let records = coupling::run::<17, _, _>(&data, epochs, init, tuning, |_, s| {
             last = Some((s.nav.position_ecef, s.nav.velocity_ecef));
         })
         .unwrap();
@@ -303,7 +333,7 @@ fn carrier_changes_are_blind_to_ambiguities_and_the_receiver_clock() {
             .collect::<Vec<_>>();
         (last.unwrap(), used)
     };
-    let ((position, velocity), used) = final_state(&epochs);
+    let ((position, velocity), used) = final_state(epochs);
     let ((position_shifted, velocity_shifted), used_shifted) = final_state(&shifted);
     assert!(used.contains(&MeasurementStatus::Accepted));
     assert_eq!(
@@ -320,34 +350,20 @@ fn carrier_changes_are_blind_to_ambiguities_and_the_receiver_clock() {
 /// still applied, and the solution stays finite.
 #[test]
 fn a_satellite_without_a_usable_state_spoils_only_its_own_changes() {
-    let truth = drive(60.0, 100.0, true);
-    let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
-    let tuning = FilterTuning {
-        use_carrier_phase: true,
-        ..FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap()
-    };
-    let config = SimulationConfig {
-        n_satellites: SATELLITES,
-        carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
-        ..SimulationConfig::default()
-    };
-    let mut rng = stream(78, 0);
-    let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
-    let (mut epochs, _) = measurements(&truth, &config, &mut rng);
+    let mut run = CarrierRun::new(60.0, 78, 0.0);
+    let epochs = &mut run.epochs;
     let broken = epochs[10].measurements[0].sat_id;
     for e in epochs.iter_mut().skip(10).step_by(2) {
         if let Some(m) = e.measurements.iter_mut().find(|m| m.sat_id == broken) {
             m.position_ecef = nalgebra::Vector3::zeros();
         }
     }
-    let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
-    let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = imu_data(&truth, &f, &w);
     let mut finite = true;
-    let records = coupling::run::<17, _, _>(&data, &epochs, &init, &tuning, |_, s| {
-        finite &= s.nav.position_ecef.iter().all(|x| x.is_finite());
-    })
-    .unwrap();
+    let records =
+        coupling::run::<17, _, _>(&run.data(), &run.epochs, &run.init, &run.tuning, |_, s| {
+            finite &= s.nav.position_ecef.iter().all(|x| x.is_finite());
+        })
+        .unwrap();
     assert!(finite);
     let carrier = |id: u16, status| {
         records
@@ -360,6 +376,6 @@ fn a_satellite_without_a_usable_state_spoils_only_its_own_changes() {
     // epoch are invalid, the ones out of it have nothing to start from.
     assert!(carrier(broken, MeasurementStatus::RejectedInvalid) >= 20);
     assert_eq!(carrier(broken, MeasurementStatus::Accepted), 9);
-    let other = epochs[10].measurements[1].sat_id;
+    let other = run.epochs[10].measurements[1].sat_id;
     assert!(carrier(other, MeasurementStatus::Accepted) > 50);
 }
