@@ -27,6 +27,12 @@ use std::collections::HashMap;
 /// minute.
 pub const IONOSPHERE_RANDOM_WALK_M2_S: f64 = 1e-4;
 
+/// The largest slant delay on L1 a measurement may give, m: the worst
+/// storm-time ionosphere at low elevation is about 100 m (Klobuchar 1996,
+/// in Parkinson & Spilker vol. I, ch. 12); a larger geometry-free value is a
+/// broken code, not a delay, and never starts or moves an estimate.
+const MAX_SLANT_DELAY_M: f64 = 200.0;
+
 /// Geometry-free measurements further than this many σ from the estimate
 /// (their noise and the estimate's together) are left out: a multipath
 /// spike on either code.
@@ -78,7 +84,9 @@ impl IonosphereTracks {
     /// the signal that measured it: the random walk propagated since the
     /// last epoch, then updated with `measurement` when there is one
     /// (left out beyond [`GATE_SIGMA`]); the first measurement of a
-    /// satellite starts its estimate. An epoch without a second signal
+    /// satellite starts its estimate; one that is not finite, beyond
+    /// [`MAX_SLANT_DELAY_M`] or without a positive variance counts as none.
+    /// An epoch without a second signal
     /// keeps the propagated estimate (a momentary loss of the second signal
     /// does not switch the satellite to another model); `None` for a
     /// satellite never measured.
@@ -88,6 +96,9 @@ impl IonosphereTracks {
         time_s: f64,
         measurement: Option<DelayMeasurement>,
     ) -> Option<DelayMeasurement> {
+        let measurement = measurement.filter(|m| {
+            m.delay_m.abs() <= MAX_SLANT_DELAY_M && m.variance_m2.is_finite() && m.variance_m2 > 0.0
+        });
         let track = match (self.tracks.get_mut(&number), measurement) {
             (Some(track), _) => track,
             (None, Some(m)) => self.tracks.entry(number).or_insert(Track {
@@ -187,6 +198,11 @@ mod tests {
         assert!((grown - expected).abs() < 1e-12, "{grown} {expected}");
         assert!((at(2, 101.0, Some(7.0)).unwrap().0 - 7.0).abs() < 1e-9);
         assert_eq!(at(3, 0.0, None), None);
+        // A broken code neither starts nor moves an estimate.
+        for broken in [f64::NAN, 1e300, -5e3] {
+            assert_eq!(at(4, 0.0, Some(broken)), None);
+            assert_eq!(at(2, 102.0, Some(broken)).unwrap().0, 7.0);
+        }
     }
 
     fn measurement(delay_m: f64, variance_m2: f64) -> DelayMeasurement {
