@@ -212,16 +212,23 @@ def _docs_page() -> str:
     return " ".join((ROOT / "docs" / "real-data.md").read_text().split())
 
 
-def _navigate(example: str, output: Path, overrides: dict | None = None) -> Any:
+def _navigate(
+    example: str,
+    output: Path,
+    overrides: dict | None = None,
+    filter_overrides: dict | None = None,
+) -> Any:
     """``memsnav navigate`` of ``examples/<example>`` on the shared data, no
     HTML; ``overrides`` update its ``[gnss]`` table (``carrier_phase``, an
-    engine key, included)."""
+    engine key, included), ``filter_overrides`` its (engine) ``[filter]``
+    table."""
     data = shared_data("real-imu-gnss/walk_0827").parent.parent
     config = mn.load_config(ROOT / "examples" / example, data)
     config.values["report"]["html"] = False
     overrides = dict(overrides or {})
     if overrides.pop("carrier_phase", False):
         config.engine.setdefault("gnss", {})["carrier_phase"] = True
+    config.engine.setdefault("filter", {}).update(filter_overrides or {})
     config.values["gnss"].update(overrides)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the log's last line is cut short
@@ -290,6 +297,34 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
             isb = s["inter_system_bias_m"]
             assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006
+
+
+def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
+    """docs/real-data.md: "floors of 0.5 / 1 / 2 / 4 / 8 cm gave a
+    horizontal precision of ... m with all three systems", and the changes
+    gated below 2 cm, recomputed."""
+    found = re.search(
+        r"floors of ([\d.]+) / ([\d.]+) / ([\d.]+) / ([\d.]+) / ([\d.]+) cm gave a "
+        r"horizontal precision of ([\d.]+) / ([\d.]+) / ([\d.]+) / ([\d.]+) / ([\d.]+) m "
+        r".*?\((\d+) and (\d+) changes gated at ([\d.]+) and ([\d.]+) cm, none at 2 cm\)",
+        _docs_page(),
+    )
+    assert found, "docs/real-data.md no longer quotes the walk's carrier floors"
+    values = [float(v) for v in found.groups()]
+    floors_cm, quoted = values[:5], values[5:10]
+    gated = dict(zip(values[12:14], values[10:12], strict=True))
+    overrides = CONFIGURATIONS["GPS + Galileo + BeiDou + carrier phase"]
+    for floor_cm, precision_m in zip(floors_cm, quoted, strict=True):
+        summary = _navigate(
+            "walk_0827_multi_gnss.toml",
+            tmp_path / f"floor{floor_cm}",
+            overrides,
+            {"carrier_phase_std_floor_m": floor_cm / 100.0},
+        ).summary
+        measured = summary["errors_vs_truth_precision"]["aided"]["rms_horizontal_m"]
+        assert abs(measured - precision_m) <= 0.006, (floor_cm, measured)
+        carrier = summary["measurements"]["carrier_phase"]
+        assert carrier.get("gate", 0) == gated.get(floor_cm, 0), (floor_cm, carrier)
 
 
 def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
