@@ -17,12 +17,14 @@ from typing import Any
 
 import numpy as np
 import pytest
+from quoted import quoted_figures, rounds_to
 from shared_data import shared_data
 
 import memsnav as mn
 from memsnav.realdata.answer import answer_lines
 
 ROOT = Path(__file__).resolve().parents[1]
+PAGE = "docs/real-data.md"
 UBX = "real-imu-gnss/walk_0827/gnss_1730.ubx"
 
 
@@ -325,6 +327,64 @@ def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
         assert abs(measured - precision_m) <= 0.006, (floor_cm, measured)
         carrier = summary["measurements"]["carrier_phase"]
         assert carrier.get("gate", 0) == gated.get(floor_cm, 0), (floor_cm, carrier)
+
+
+def test_the_quoted_g08_start_is_the_walks(tmp_path):
+    """docs/real-data.md, "GPS alone on all seven is worse than on four":
+    G08's entry, its first 2 s of innovations and their stds, the error
+    against the truth it causes, and what a 28 dB-Hz C/N0 mask does,
+    recomputed from the runs."""
+    page = _docs_page()
+    (entry,) = quoted_figures(PAGE, r"G08 enters ([\d.]+) s after the start")
+    count, low, high, std_low, std_high = quoted_figures(
+        PAGE,
+        r"in its first 2 s its (\d+) pseudoranges sit ([\d.]+) to ([\d.]+) m above the "
+        r"filter's prediction.*?innovations' std \(([\d.]+) to ([\d.]+) m",
+    )
+    before, peak, after, under, back = quoted_figures(
+        PAGE,
+        r"error against the truth \(([\d.]+) m before, the truth's offset\) grows to "
+        r"([\d.]+) m ([\d.]+) s after G08's entry and is back under ([\d.]+) m ([\d.]+) s",
+    )
+    run = _navigate("walk_0827_multi_gnss.toml", tmp_path / "g08", CONFIGURATIONS["GPS 4 + G08"])
+    m = run.run.solution.measurements
+    kind, ids, time = (np.asarray(m[k]) for k in ("kind", "id", "time"))
+    g08 = (kind == "pseudorange") & (ids == 8)
+    first = time[g08][0]
+    assert rounds_to(entry, first - time.min())
+    early = g08 & (time < first + 2.0)
+    innovation, std = np.asarray(m["innovation"])[early], np.asarray(m["innovation_std"])[early]
+    assert early.sum() == count
+    assert rounds_to(low, innovation.min()) and rounds_to(high, innovation.max())
+    assert rounds_to(std_low, std.min()) and rounds_to(std_high, std.max())
+    forward = run.precision["forward"]
+    t = np.asarray(forward["time"])
+    error = np.linalg.norm(
+        np.asarray(forward["error_ned"]) + np.asarray(forward["offset_removed_ned"]), axis=1
+    )
+    assert rounds_to(before, error[t < first].max())
+    k = int(np.argmax(np.where(t < first + 20.0, error, 0.0)))
+    assert rounds_to(peak, error[k]) and rounds_to(after, t[k] - first)
+    recovered = t[(t > t[k]) & (error < under)][0]
+    assert rounds_to(back, recovered - first)
+    masked = re.search(
+        r"C/N0 mask of (\d+) dB-Hz instead of the example's (\d+) takes GPS's seven to "
+        r"([\d.]+) m and GPS 4 \+ G08 to ([\d.]+) m, but costs all three systems "
+        r"([\d.]+) → ([\d.]+) m",
+        page,
+    )
+    assert masked, "docs/real-data.md no longer quotes the C/N0 mask's effect"
+    mask, default, seven, with_g08, all_default, all_masked = (float(v) for v in masked.groups())
+    for name, cn0, quoted in (
+        ("GPS, all 7 (LNAV + CNAV)", mask, seven),
+        ("GPS 4 + G08", mask, with_g08),
+        ("GPS + Galileo + BeiDou", default, all_default),
+        ("GPS + Galileo + BeiDou", mask, all_masked),
+    ):
+        overrides = {**CONFIGURATIONS[name], "min_cn0_db_hz": cn0}
+        summary = _navigate("walk_0827_multi_gnss.toml", tmp_path / f"cn0{cn0}", overrides).summary
+        measured = summary["errors_vs_truth_precision"]["aided"]["rms_horizontal_m"]
+        assert rounds_to(quoted, measured), (name, cn0, measured)
 
 
 def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
