@@ -218,19 +218,20 @@ def _navigate(
     example: str,
     output: Path,
     overrides: dict | None = None,
-    filter_overrides: dict | None = None,
+    engine: dict[str, dict] | None = None,
 ) -> Any:
     """``memsnav navigate`` of ``examples/<example>`` on the shared data, no
     HTML; ``overrides`` update its ``[gnss]`` table (``carrier_phase``, an
-    engine key, included), ``filter_overrides`` its (engine) ``[filter]``
-    table."""
+    engine key, included), ``engine`` the engine's tables by name
+    (``{"filter": {...}}``)."""
     data = shared_data("real-imu-gnss/walk_0827").parent.parent
     config = mn.load_config(ROOT / "examples" / example, data)
     config.values["report"]["html"] = False
     overrides = dict(overrides or {})
     if overrides.pop("carrier_phase", False):
         config.engine.setdefault("gnss", {})["carrier_phase"] = True
-    config.engine.setdefault("filter", {}).update(filter_overrides or {})
+    for table, values in (engine or {}).items():
+        config.engine.setdefault(table, {}).update(values)
     config.values["gnss"].update(overrides)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the log's last line is cut short
@@ -321,7 +322,7 @@ def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
             "walk_0827_multi_gnss.toml",
             tmp_path / f"floor{floor_cm}",
             overrides,
-            {"carrier_phase_std_floor_m": floor_cm / 100.0},
+            {"filter": {"carrier_phase_std_floor_m": floor_cm / 100.0}},
         ).summary
         measured = summary["errors_vs_truth_precision"]["aided"]["rms_horizontal_m"]
         assert abs(measured - precision_m) <= 0.006, (floor_cm, measured)
@@ -385,6 +386,23 @@ def test_the_quoted_g08_start_is_the_walks(tmp_path):
         summary = _navigate("walk_0827_multi_gnss.toml", tmp_path / f"cn0{cn0}", overrides).summary
         measured = summary["errors_vs_truth_precision"]["aided"]["rms_horizontal_m"]
         assert rounds_to(quoted, measured), (name, cn0, measured)
+    wide, wider, slow_time, fast_time, fast_std, *quoted = quoted_figures(
+        PAGE,
+        r"with (\d+) m, (\d+) m \((\d+) s\) or (\d+) s \((\d+) m\) the seven give "
+        r"([\d.]+), ([\d.]+) and ([\d.]+) m",
+    )
+    for (std, correlation_time), value in zip(
+        ((wide, slow_time), (wider, slow_time), (fast_std, fast_time)), quoted, strict=True
+    ):
+        model = {"range_bias_std_m": std, "range_bias_correlation_time_s": correlation_time}
+        summary = _navigate(
+            "walk_0827_multi_gnss.toml",
+            tmp_path / f"bias{std}-{correlation_time}",
+            CONFIGURATIONS["GPS, all 7 (LNAV + CNAV)"],
+            {"gnss": model},
+        ).summary
+        measured = summary["errors_vs_truth_precision"]["aided"]["rms_horizontal_m"]
+        assert rounds_to(value, measured), (model, measured)
 
 
 def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
