@@ -899,3 +899,55 @@ def test_the_guide_quotes_what_is_left_on_the_second_half(xsens, xsens_halves):
             assert len(cal.poses) in (38, 39)
             held_out.append(1e3 * mn.static_summary(cal)["magnitude_rms_after_held_out_m_s2"])
         assert rounds_to(low, min(held_out)) and rounds_to(high, max(held_out)), held_out
+
+
+@pytest.mark.slow
+def test_the_guide_quotes_the_detector_factors(xsens):
+    """docs/calibration.md, "The detector": what a factor of 3 does on the
+    Xsens log (poses found, in-fit and held-out magnitude error, the
+    held-out one with the nonlinearity estimated), and how close factors
+    4 to 10 stay to the default's figures, every 4th pose held out."""
+    low_factor, poses, in_fit, held_out, with_n = quoted_figures(
+        PAGE,
+        r"a factor of (\d+) finds (\d+) poses, some still settling, which lower the in-fit "
+        r"residual \(([\d.]+) mm/s²\) while the held-out one rises to ([\d.]+) mm/s² "
+        r"\((\d+) when the nonlinearity was estimated\)",
+    )
+    first, last, magnitude_spread, turn_spread = quoted_figures(
+        PAGE,
+        r"factors (\d+) to (\d+) find 38 or 39 poses and the same figures to within "
+        r"([\d.]+) mm/s² and ([\d.]+)°",
+    )
+    t, accel, gyro = xsens
+
+    def summary(factor: float, estimate: str = "determinable") -> dict:
+        with warnings.catch_warnings(record=True):  # the gyro's nominal scale
+            warnings.simplefilter("always")
+            cal = mn.calibrate_static(
+                t,
+                accel,
+                gyro,
+                gravity=GRAVITY,
+                threshold_factor=factor,
+                holdout_every=4,
+                estimate=estimate,
+                **{**NOMINAL, "gyro_scale": 1 / 6258},
+            )
+        return {"poses": len(cal.poses), **mn.static_summary(cal)}
+
+    low = summary(low_factor)
+    assert low["poses"] == poses
+    assert rounds_to(in_fit, 1e3 * low["magnitude_rms_after_fit_m_s2"])
+    assert rounds_to(held_out, 1e3 * low["magnitude_rms_after_held_out_m_s2"])
+    estimated = summary(low_factor, estimate="all")
+    assert rounds_to(with_n, 1e3 * estimated["magnitude_rms_after_held_out_m_s2"])
+    default = summary(6.0)
+    for factor in range(int(first), int(last) + 1):
+        s = summary(factor)
+        assert s["poses"] in (38, 39), factor
+        for key, spread, scale in (
+            ("magnitude_rms_after_fit_m_s2", magnitude_spread, 1e3),
+            ("magnitude_rms_after_held_out_m_s2", magnitude_spread, 1e3),
+            ("turn_rms_after_held_out_deg", turn_spread, 1.0),
+        ):
+            assert scale * abs(s[key] - default[key]) <= spread, (factor, key, s[key])
