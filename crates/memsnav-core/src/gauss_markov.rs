@@ -78,6 +78,16 @@ impl GaussMarkovStep {
     }
 }
 
+/// The variance of the mean of n samples of a stationary first-order
+/// Gauss-Markov (AR(1)) series of lag-one correlation ρ, over σ²/n, for
+/// large n: (1 + ρ)/(1 − ρ), n over the effective number of independent
+/// samples (Bayley & Hammersley 1946; Wilks, *Statistical Methods in the
+/// Atmospheric Sciences*, 3rd ed., eq. 5.12). Sampled Δt apart,
+/// ρ = e^{−Δt/τ}.
+pub fn mean_variance_factor(lag_one_correlation: f64) -> f64 {
+    (1.0 + lag_one_correlation) / (1.0 - lag_one_correlation)
+}
+
 /// The step of the process of driving PSD `psd` and correlation time
 /// `correlation_time_s` (∞: random walk) over `dt_s` (module docs). The one
 /// formula every discretisation in memsnav uses; the arguments are taken as

@@ -16,6 +16,7 @@
 use nalgebra::{DMatrix, Matrix3, Vector3};
 
 use super::layout::{CalibrationLayout, Group};
+use crate::gauss_markov::mean_variance_factor;
 use crate::{validate, Error, Result};
 
 /// Cap of the lag-one autocorrelation: a factor of at most 19, against
@@ -34,7 +35,7 @@ pub fn ar1_variance_factor(residual: &[f64]) -> f64 {
     }
     let lag_one: f64 = centred().zip(centred().skip(1)).map(|(a, b)| a * b).sum();
     let rho = (lag_one / variance).min(MAX_LAG_ONE_CORRELATION);
-    ((1.0 + rho) / (1.0 - rho)).max(1.0)
+    mean_variance_factor(rho).max(1.0)
 }
 
 /// The factor of each output axis of a triad's residuals (one row per

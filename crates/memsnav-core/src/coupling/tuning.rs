@@ -235,6 +235,13 @@ pub struct FilterTuning {
     /// Use the carrier phase's change between consecutive epochs when the
     /// epochs carry it (tight coupling; [`super::carrier`]). Default off.
     pub use_carrier_phase: bool,
+    /// Correlation time of the pseudoranges' fast errors (code multipath), s
+    /// (tight coupling; `coupling/tight.rs`, `code_noise_inflation`). Each
+    /// pseudorange's std is inflated by √((1 + ρ)/(1 − ρ)), ρ = e^(−Δt/τ),
+    /// Δt the interval since the previous epoch, so that epochs sampling
+    /// one error carry its information once, not once each. Default 0:
+    /// white code noise (the simulator's).
+    pub pseudorange_correlation_time_s: f64,
     /// A GNSS epoch within this many seconds of an IMU sample is applied at
     /// that sample; otherwise the INS is propagated to the GNSS time with an
     /// interpolated IMU sample. Default 1e-4 s.
@@ -303,6 +310,7 @@ impl FilterTuning {
             gate_probability: DEFAULT_GATE_PROBABILITY,
             use_pseudorange_rate: true,
             use_carrier_phase: false,
+            pseudorange_correlation_time_s: 0.0,
             time_tolerance_s: 1e-4,
             floor: MeasurementFloor::default(),
             recovery: Recovery::default(),
@@ -422,6 +430,10 @@ impl FilterTuning {
         ] {
             validate::non_negative(name, v)?;
         }
+        validate::non_negative(
+            "pseudorange_correlation_time_s",
+            self.pseudorange_correlation_time_s,
+        )?;
         validate::positive(
             "manoeuvre_correlation_time",
             q.input_errors.correlation_time_s,

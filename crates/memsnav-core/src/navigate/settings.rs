@@ -107,6 +107,10 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("position_std_floor_m", "smallest position-fix std, m"),
             ("velocity_std_floor_m_s", "smallest velocity-fix std, m/s"),
             ("carrier_phase_std_floor_m", "smallest std of a carrier change between epochs, m"),
+            (
+                "pseudorange_correlation_time_s",
+                "correlation time of the code errors: their stds are inflated to match, s",
+            ),
             ("reset_after_failed_epochs", "failed epochs in a row before a reset"),
             ("reset_fading_factor", "whole covariance multiplied when resets follow each other with no accepted batch (1: off)"),
             ("clock_jump_sigma", "common innovation taken for a clock jump, in stds"),
@@ -588,6 +592,9 @@ impl LogConfig {
             }
             ("filter", "position_std_floor_m") => t.floor.position_m = r.non_negative()?,
             ("filter", "velocity_std_floor_m_s") => t.floor.velocity_m_s = r.non_negative()?,
+            ("filter", "pseudorange_correlation_time_s") => {
+                t.pseudorange_correlation_time_s = r.non_negative()?
+            }
             ("filter", "carrier_phase_std_floor_m") => {
                 t.floor.carrier_phase_m = r.non_negative()?
             }

@@ -136,6 +136,8 @@ pub struct FilterState<const N: usize> {
     pub(crate) staged: batch::Batch,
     /// The previous GNSS epoch's carrier phases (tight coupling).
     pub(crate) carrier: CarrierHistory,
+    /// Time of the previous GNSS epoch (tight coupling), s.
+    pub(crate) previous_epoch_s: Option<f64>,
     /// Every scalar measurement seen, in time order.
     pub records: Vec<MeasurementRecord>,
     /// Every batch test, in time order.
@@ -237,6 +239,7 @@ impl<const N: usize> FilterState<N> {
             resets_in_a_row: [0; MeasurementKind::ALL.len()],
             staged: batch::Batch::default(),
             carrier: CarrierHistory::default(),
+            previous_epoch_s: None,
             records: Vec::new(),
             batches: Vec::new(),
             resets: Vec::new(),
