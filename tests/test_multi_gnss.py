@@ -550,3 +550,102 @@ def test_a_gps_rinex_run_lists_one_system(tmp_path):
     assert list(s["satellite_systems"]) == ["GPS"]
     assert {r["system"] for r in s["satellites"]} == {"GPS"}
     assert {r["signal"] for r in s["satellites"]} == {"L1 C/A"}
+
+
+def _quoted_block(marker: str) -> dict[str, list[str]]:
+    """A marked table of docs/real-data.md: its cells by first cell."""
+    page = (ROOT / "docs" / "real-data.md").read_text()
+    block = page[page.index(f"<!-- {marker}:begin -->") : page.index(f"<!-- {marker}:end -->")]
+    rows = {}
+    for line in block.splitlines()[3:]:
+        if line.startswith("|"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            rows[cells[0]] = cells[1:]
+    return rows
+
+
+@pytest.mark.slow
+def test_the_code_correlation_table_is_the_runs(tmp_path):
+    """docs/real-data.md, "Correlated code errors": precision per
+    configuration and code correlation time, recomputed (τ = 0 is the
+    main table's), and the prose's figures read from the table."""
+    header = re.findall(r"τ = ([\d.]+) s", _docs_page().split("code-correlation-walk:begin")[1])
+    taus = [float(v) for v in header[:4]]
+    assert taus[0] == 0.0
+    rows = _quoted_block("code-correlation-walk")
+    assert set(rows) == set(CONFIGURATIONS)
+    main = _quoted_walk_rows()
+    cells: dict[tuple[str, float], tuple[float, float]] = {}
+    for name, row in rows.items():
+        for tau, cell in zip(taus, row, strict=True):
+            cells[name, tau] = tuple(float(v) for v in cell.split(" / "))
+        assert cells[name, 0.0] == tuple(main[name][:2]), name
+        for tau in taus[1:]:
+            summary = _navigate(
+                "walk_0827_multi_gnss.toml",
+                tmp_path / f"{tau}",
+                CONFIGURATIONS[name],
+                {"filter": {"pseudorange_correlation_time_s": tau}},
+            ).summary
+            precise = summary["errors_vs_truth_precision"]["aided"]
+            measured = (precise["rms_horizontal_m"], precise["rms_vertical_m"])
+            assert all(map(rounds_to, cells[name, tau], measured)), (name, tau, measured)
+    # The prose after the table quotes its cells (τ = 10 s against 0).
+    h, v = 0, 1
+    for pattern, name, index in (
+        (r"GPS's seven satellites go from ([\d.]+) to ([\d.]+) m", "GPS, all 7 (LNAV + CNAV)", h),
+        (r"GPS \+ Galileo from ([\d.]+) / [\d.]+ to ([\d.]+) / [\d.]+ m", "GPS + Galileo", h),
+        (r"GPS \+ Galileo from [\d.]+ / ([\d.]+) to [\d.]+ / ([\d.]+) m", "GPS + Galileo", v),
+        (
+            r"all three systems with carrier phase from ([\d.]+) to ([\d.]+) m",
+            "GPS + Galileo + BeiDou + carrier phase",
+            h,
+        ),
+        (r"trade ([\d.]+) → ([\d.]+) m horizontal", "GPS + Galileo + BeiDou", h),
+        (r"for ([\d.]+) → ([\d.]+) m vertical", "GPS + Galileo + BeiDou", v),
+        (r"Four satellites lose \(([\d.]+) → ([\d.]+) m\)", "GPS, 4 satellites (LNAV)", h),
+    ):
+        before, after = quoted_figures(PAGE, pattern)
+        assert (before, after) == (cells[name, 0.0][index], cells[name, 10.0][index]), pattern
+    (g08,) = quoted_figures(PAGE, r"\(([\d.]+) m with τ = 10 s\)")
+    assert g08 == cells["GPS, all 7 (LNAV + CNAV)", 10.0][h]
+    (factor,) = quoted_figures(PAGE, r"\(([\d.]+)× for τ = 10 s at 4 Hz\)")
+    rho = np.exp(-0.25 / 10.0)
+    assert rounds_to(factor, np.sqrt((1 + rho) / (1 - rho)))
+
+
+def test_the_quoted_code_correlation_times_are_the_logs(walk_log):
+    """docs/real-data.md: the L1 code-minus-carrier of the satellites
+    tracked without a break for at least 350 epochs, less a quadratic over
+    the arc, falls below 1/e of its variance after the quoted shortest and
+    longest lags (satellites named)."""
+    found = re.search(
+        r"tracked without a break for at least (\d+) epochs, .*? loses its correlation "
+        r"\(1/e\) after ([\d.]+) s \(([EGC]\d\d)\) to ([\d.]+) s \(([EGC]\d\d)\)",
+        _docs_page(),
+    )
+    assert found, "docs/real-data.md no longer quotes the code's correlation times"
+    n_epochs, short, short_name, long, long_name = found.groups()
+    obs = walk_log.observations
+    time = np.asarray(obs.time)
+    interval = float(np.median(np.diff(time)))
+    wavelength = 299792458.0 / 1575.42e6
+    code_minus_carrier = obs.observation("C1C") - wavelength * obs.observation("L1C")
+    lags = {}
+    for j, name in enumerate(obs.satellites):
+        usable = np.flatnonzero(np.isfinite(code_minus_carrier[:, j]))
+        if len(usable) == 0:
+            continue
+        arcs = np.split(usable, np.flatnonzero(np.diff(usable) > 1) + 1)
+        arc = max(arcs, key=len)
+        if len(arc) < int(n_epochs):
+            continue
+        t = time[arc] - time[arc][0]
+        x = code_minus_carrier[arc, j]
+        x = x - np.polyval(np.polyfit(t, x, 2), t)
+        x -= x.mean()
+        correlation = np.correlate(x, x, "full")[len(x) - 1 :] / (x @ x)
+        lags[str(name)] = np.flatnonzero(correlation < np.exp(-1.0))[0] * interval
+    shortest, longest = min(lags, key=lags.get), max(lags, key=lags.get)
+    assert (shortest, longest) == (short_name, long_name), lags
+    assert rounds_to(float(short), lags[shortest]) and rounds_to(float(long), lags[longest])
