@@ -29,7 +29,6 @@
 //! resets to the epoch's least-squares fix (position, velocity, clock), or
 //! opens its covariance when the epoch has fewer than four satellites.
 
-use crate::gauss_markov::mean_variance_factor;
 use nalgebra::{Matrix3, Vector3};
 
 use super::carrier;
@@ -39,6 +38,7 @@ use super::records::MeasurementKind;
 use super::run::Aiding;
 use super::tuning::FilterTuning;
 use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION};
+use crate::gauss_markov::mean_variance_factor;
 use crate::gnss::{
     self, solve_fix, GnssEpoch, GnssSystem, SatelliteMeasurement, INTER_SYSTEM_BIAS_SYSTEMS,
 };
