@@ -215,6 +215,7 @@ TUNING = {
     "initial_clock_offset_std": 100.0,
     "initial_clock_drift_std": 10.0,
     "manoeuvre_correlation_time": 5.0,
+    "pseudorange_correlation_time": 5.0,
 }
 
 

@@ -114,12 +114,15 @@ def test_long_runs_on_few_satellites_are_honest_or_flagged(seed):
         ({"clock_h_minus2": -1.0}, "clock_h_minus2"),
         ({"manoeuvre_correlation_time": 0.0}, "manoeuvre_correlation_time"),
         ({"manoeuvre_correlation_time": float("inf")}, "manoeuvre_correlation_time"),
+        ({"pseudorange_correlation_time": -1.0}, "pseudorange_correlation_time"),
+        ({"pseudorange_correlation_time": float("nan")}, "pseudorange_correlation_time"),
+        ({"pseudorange_correlation_time": float("inf")}, "pseudorange_correlation_time"),
     ],
 )
 def test_the_clock_and_manoeuvre_arguments_are_checked(kwargs, name):
-    """The filters' clock model and manoeuvre correlation time (issue 23)
-    refuse values that are not numbers or give none, naming the argument;
-    the simulator refuses the same clock."""
+    """The filters' clock model, manoeuvre correlation time (issue 23) and
+    code correlation time refuse values that are not numbers or give none,
+    naming the argument; the simulator refuses the same clock."""
     imu = mn.ImuModel.preset("consumer", seed=1)
     for cls in (mn.TightlyCoupledFilter, mn.LooselyCoupledFilter):
         with pytest.raises(ValueError, match=name):

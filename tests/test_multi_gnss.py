@@ -649,3 +649,43 @@ def test_the_quoted_code_correlation_times_are_the_logs(walk_log):
     shortest, longest = min(lags, key=lags.get), max(lags, key=lags.get)
     assert (shortest, longest) == (short_name, long_name), lags
     assert rounds_to(float(short), lags[shortest]) and rounds_to(float(long), lags[longest])
+
+
+def test_the_code_correlation_time_reaches_the_python_filter(drive_300s):
+    """TightlyCoupledFilter(pseudorange_correlation_time=τ) is listed by
+    the tuning and the defaults, and it takes each epoch's pseudoranges as
+    worth less (rust tests/correlated_code.rs has the consistency check):
+    on code errors correlated over 10 s at 4 Hz, its position σ is wider
+    and covers the errors that the white filter's does not."""
+    traj, _, imu, f, w = drive_300s
+    assert mn.defaults()["TightlyCoupledFilter"]["pseudorange_correlation_time"] == 0.0
+    assert mn.TightlyCoupledFilter(imu).tuning["pseudorange_correlation_time"] == 0.0
+    gnss = mn.simulate_gnss(
+        traj.time,
+        traj.position_ecef,
+        traj.velocity_ecef,
+        mn.Constellation.walker(),
+        rate=4.0,
+        n_satellites=8,
+        pseudorange_std=2.0,
+        residual_std=2.0,
+        residual_correlation_time=10.0,
+        seed=9,
+    )
+    start = {
+        "position_ecef": traj.position_ecef[0],
+        "velocity_ecef": traj.velocity_ecef[0],
+        "attitude": traj.attitude[0],
+    }
+    ratios = {}
+    for tau in (0.0, 10.0):
+        flt = mn.TightlyCoupledFilter(imu, pseudorange_correlation_time=tau)
+        assert flt.tuning["pseudorange_correlation_time"] == tau
+        sol = flt.run(traj.time, f, w, gnss, initial_state=start)
+        later = traj.time >= 60.0
+        error = np.linalg.norm(sol.position_ecef[later] - traj.position_ecef[later], axis=1)
+        sigma = np.sqrt((np.asarray(sol.position_std_ned)[later] ** 2).sum(axis=1))
+        ratios[tau] = float(np.sqrt(np.mean(error**2)) / np.sqrt(np.mean(sigma**2)))
+    # White: errors well beyond σ; with τ: about σ or inside.
+    assert ratios[0.0] > 2.0 * ratios[10.0], ratios
+    assert ratios[10.0] < 1.5, ratios

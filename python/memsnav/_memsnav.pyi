@@ -1534,6 +1534,11 @@ class TightlyCoupledFilter:
       coefficients (None: the TCXO above).
     - ``manoeuvre_correlation_time``: tau of the input-shaped noise, s (None:
       10 s, a land vehicle's turns and accelerations; shorter for a walker).
+    - ``pseudorange_correlation_time``: correlation time of the code's fast
+      errors (multipath), s (None: 0, white); each pseudorange's std is
+      inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
+      epoch interval dt, so that epochs sampling one error carry it once
+      (docs/real-data.md, "Correlated code errors").
 
     Raises ValueError naming the argument for a bad value.
     """
@@ -1561,6 +1566,7 @@ class TightlyCoupledFilter:
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
         manoeuvre_correlation_time: float | None = None,
+        pseudorange_correlation_time: float | None = None,
     ) -> TightlyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:
@@ -1753,8 +1759,8 @@ class LooselyCoupledFilter:
     (a fix is applied whole or not at all); after 3 failed fixes in a row the
     position (velocity) is reset to the fix. The clock states are not
     observed (their process noise is off). Same states, tuning, defaults and
-    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate``, ``use_carrier_phase`` and the
-    clock settings have no effect).
+    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate``, ``use_carrier_phase``,
+    ``pseudorange_correlation_time`` and the clock settings have no effect).
     """
 
     def __new__(
@@ -1780,6 +1786,7 @@ class LooselyCoupledFilter:
         clock_h0: float | None = None,
         clock_h_minus2: float | None = None,
         manoeuvre_correlation_time: float | None = None,
+        pseudorange_correlation_time: float | None = None,
     ) -> LooselyCoupledFilter: ...
     @property
     def tuning(self) -> dict[str, float | bool]:

@@ -498,7 +498,7 @@ macro_rules! filter_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, use_carrier_phase=false, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None))]
+            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, use_carrier_phase=false, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None, pseudorange_correlation_time=None))]
             fn new(
                 imu: &PyImuModel,
                 scale_factor_states: bool,
@@ -520,6 +520,7 @@ macro_rules! filter_class {
                 clock_h0: Option<f64>,
                 clock_h_minus2: Option<f64>,
                 manoeuvre_correlation_time: Option<f64>,
+                pseudorange_correlation_time: Option<f64>,
             ) -> PyResult<Self> {
                 let model = &imu.inner;
                 let mut tuning =
@@ -582,6 +583,9 @@ macro_rules! filter_class {
                 if let Some(tau) = manoeuvre_correlation_time {
                     tuning.process_noise.input_errors.correlation_time_s = tau;
                 }
+                if let Some(tau) = pseudorange_correlation_time {
+                    tuning.pseudorange_correlation_time_s = tau;
+                }
                 tuning.validate().py()?;
                 Ok(Self {
                     settings: Settings {
@@ -621,6 +625,7 @@ macro_rules! filter_class {
                 d.set_item("gate_probability", t.gate_probability)?;
                 d.set_item("use_pseudorange_rate", t.use_pseudorange_rate)?;
                 d.set_item("use_carrier_phase", t.use_carrier_phase)?;
+                d.set_item("pseudorange_correlation_time", t.pseudorange_correlation_time_s)?;
                 d.set_item("initial_position_std", s.position_m)?;
                 d.set_item("initial_velocity_std", s.velocity_m_s)?;
                 d.set_item("initial_tilt_std", s.attitude_ned_rad.x)?;
@@ -808,6 +813,11 @@ filter_class!(
     ///   coefficients (None: the TCXO above).
     /// - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:
     ///   10 s, a land vehicle's turns and accelerations; shorter for a walker).
+    /// - `pseudorange_correlation_time`: correlation time of the code's fast
+    ///   errors (multipath), s (None: 0, white); each pseudorange's std is
+    ///   inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
+    ///   epoch interval dt, so that epochs sampling one error carry it once
+    ///   (docs/real-data.md, "Correlated code errors").
     ///
     /// Raises ValueError naming the argument for a bad value.
     PyTightlyCoupledFilter,
@@ -826,8 +836,8 @@ filter_class!(
     /// (a fix is applied whole or not at all); after 3 failed fixes in a row the
     /// position (velocity) is reset to the fix. The clock states are not
     /// observed (their process noise is off). Same states, tuning, defaults and
-    /// overrides as `TightlyCoupledFilter` (`use_pseudorange_rate`, `use_carrier_phase` and the
-    /// clock settings have no effect).
+    /// overrides as `TightlyCoupledFilter` (`use_pseudorange_rate`, `use_carrier_phase`,
+    /// `pseudorange_correlation_time` and the clock settings have no effect).
     PyLooselyCoupledFilter,
     "LooselyCoupledFilter",
     fixes,

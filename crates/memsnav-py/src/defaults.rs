@@ -7,7 +7,9 @@
 //! edit in the core (tests/test_defaults.py checks that every layer agrees).
 
 use memsnav_core::allan_fit::DEFAULT_MIN_TAU_S;
-use memsnav_core::coupling::{InitialUncertainty, DEFAULT_GATE_PROBABILITY};
+use memsnav_core::coupling::{
+    InitialUncertainty, DEFAULT_GATE_PROBABILITY, DEFAULT_PSEUDORANGE_CORRELATION_TIME_S,
+};
 use memsnav_core::experiments::NavigationExperimentConfig;
 use memsnav_core::filter::input_noise::DEFAULT_MANOEUVRE_CORRELATION_TIME_S;
 use memsnav_core::gnss::{
@@ -39,6 +41,10 @@ fn filter<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     d.set_item(
         "manoeuvre_correlation_time",
         DEFAULT_MANOEUVRE_CORRELATION_TIME_S,
+    )?;
+    d.set_item(
+        "pseudorange_correlation_time",
+        DEFAULT_PSEUDORANGE_CORRELATION_TIME_S,
     )?;
     Ok(d)
 }

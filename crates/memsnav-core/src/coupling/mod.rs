@@ -95,5 +95,5 @@ pub(crate) use run::run_with_hook;
 pub use run::{run, run_smoothed, smoothed_solution, solution, Aiding};
 pub use tuning::{
     BiasProcess, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel, Recovery,
-    DEFAULT_GATE_PROBABILITY,
+    DEFAULT_GATE_PROBABILITY, DEFAULT_PSEUDORANGE_CORRELATION_TIME_S,
 };

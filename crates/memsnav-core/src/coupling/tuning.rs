@@ -70,6 +70,11 @@ impl Default for InitialUncertainty {
     }
 }
 
+/// Default correlation time of the pseudoranges' fast errors, s
+/// ([`FilterTuning::pseudorange_correlation_time_s`]): 0, white, as the
+/// simulator draws them.
+pub const DEFAULT_PSEUDORANGE_CORRELATION_TIME_S: f64 = 0.0;
+
 /// Default floor of a carrier change's std, m ([`MeasurementFloor`]).
 pub const DEFAULT_CARRIER_PHASE_FLOOR_M: f64 = 0.02;
 
@@ -310,7 +315,7 @@ impl FilterTuning {
             gate_probability: DEFAULT_GATE_PROBABILITY,
             use_pseudorange_rate: true,
             use_carrier_phase: false,
-            pseudorange_correlation_time_s: 0.0,
+            pseudorange_correlation_time_s: DEFAULT_PSEUDORANGE_CORRELATION_TIME_S,
             time_tolerance_s: 1e-4,
             floor: MeasurementFloor::default(),
             recovery: Recovery::default(),
@@ -431,7 +436,7 @@ impl FilterTuning {
             validate::non_negative(name, v)?;
         }
         validate::non_negative(
-            "pseudorange_correlation_time_s",
+            "pseudorange_correlation_time",
             self.pseudorange_correlation_time_s,
         )?;
         validate::positive(
