@@ -19,7 +19,7 @@
 //! over the interval ([`super::antenna::AntennaPrediction::displacement_row`]).
 //! The δa term matters: a consumer IMU's 0.05 rad of tilt is 0.5 m/s² of
 //! δa, 1.6 cm over 0.25 s, several times the phase noise; without it the
-//! simulated consumer grade's NEES/dof with carrier phase was about 15.
+//! simulated consumer grade's NEES/dof with carrier phase was above 5.
 //! The change is therefore applied before the epoch's pseudoranges, while
 //! r̂_a,k is still the INS's propagation; and it measures the velocity (and
 //! through δa the tilt and the accelerometer bias) with the precision of
