@@ -380,11 +380,16 @@ def xsens():
     return accel[:, 0], accel[:, 1:], gyro[:, 1:]
 
 
-def _xsens_split(xsens, split: str, estimate: str = "determinable"):
+def _xsens_split(xsens, split: str, estimate: str = "determinable", **options):
+    """memsnav's calibration of the Xsens session, the poses of `split`
+    held out ("every 4th pose", "first half, second half" or "none"), with
+    the guide's nominal scales and any further `options`."""
     t, accel, gyro = xsens
-    holdout = (
-        {"holdout_every": 4} if split == "every 4th pose" else {"holdout_from": (t[0] + t[-1]) / 2}
-    )
+    holdout = {
+        "every 4th pose": {"holdout_every": 4},
+        "first half, second half": {"holdout_from": (t[0] + t[-1]) / 2},
+        "none": {},
+    }[split]
     with warnings.catch_warnings(record=True):  # the gyro's nominal scale is 31 % off
         warnings.simplefilter("always")
         return mn.calibrate_static(
@@ -395,6 +400,7 @@ def _xsens_split(xsens, split: str, estimate: str = "determinable"):
             estimate=estimate,
             **{**NOMINAL, "gyro_scale": 1 / 6258},
             **holdout,
+            **options,
         )
 
 
@@ -721,13 +727,7 @@ def test_the_guide_quotes_the_information_criteria_on_the_xsens_log(xsens, xsens
     candidates' n and RSS; leave-one-out over the first half's 18 poses and
     N_v's held-out RMS from scipy fits in memsnav's parametrisation
     (_nonlinear_errors, which reproduces the candidates' in-fit RMS)."""
-    _, accel, _ = xsens
-    t, _, gyro = xsens
-    with warnings.catch_warnings(record=True):  # the gyro's nominal scale is 31 % off
-        warnings.simplefilter("always")
-        every_pose = mn.calibrate_static(
-            t, accel, gyro, gravity=GRAVITY, **{**NOMINAL, "gyro_scale": 1 / 6258}
-        )
+    every_pose = _xsens_split(xsens, "none")
     now, _, means, held = xsens_halves
     cals = [_xsens_split(xsens, "every 4th pose"), now, every_pose]
     assert [int(np.sum(c.pose_held_out)) for c in cals] == [9, 20, 0]
@@ -817,7 +817,7 @@ def test_the_guide_quotes_what_is_left_on_the_second_half(xsens, xsens_halves):
     is √(J_k C J_kᵀ) alone, "missed by 2.1 σ" the plain fit's miss over
     the whole), and memsnav's held-out RMS for
     detector factors 4 to 10 (here and in "The detector")."""
-    t, accel, gyro = xsens
+    t, accel, _ = xsens
     now, _, means, held = xsens_halves
     low, high = quoted_figures(PAGE, r"the plain fit gives ([\d.]+)-([\d.]+) on memsnav's poses")
     x = _plain_fit(means[~held])
@@ -885,17 +885,7 @@ def test_the_guide_quotes_what_is_left_on_the_second_half(xsens, xsens_halves):
         first_factor, last_factor, low, high = quoted_figures(PAGE, pattern)
         held_out = []
         for factor in range(int(first_factor), int(last_factor) + 1):
-            with warnings.catch_warnings(record=True):  # the gyro's nominal scale
-                warnings.simplefilter("always")
-                cal = mn.calibrate_static(
-                    t,
-                    accel,
-                    gyro,
-                    gravity=GRAVITY,
-                    threshold_factor=factor,
-                    holdout_from=(t[0] + t[-1]) / 2,
-                    **{**NOMINAL, "gyro_scale": 1 / 6258},
-                )
+            cal = _xsens_split(xsens, "first half, second half", threshold_factor=factor)
             assert len(cal.poses) in (38, 39)
             held_out.append(1e3 * mn.static_summary(cal)["magnitude_rms_after_held_out_m_s2"])
         assert rounds_to(low, min(held_out)) and rounds_to(high, max(held_out)), held_out
@@ -918,21 +908,9 @@ def test_the_guide_quotes_the_detector_factors(xsens):
         r"factors (\d+) to (\d+) find 38 or 39 poses and the same figures to within "
         r"([\d.]+) mm/s² and ([\d.]+)°",
     )
-    t, accel, gyro = xsens
 
     def summary(factor: float, estimate: str = "determinable") -> dict:
-        with warnings.catch_warnings(record=True):  # the gyro's nominal scale
-            warnings.simplefilter("always")
-            cal = mn.calibrate_static(
-                t,
-                accel,
-                gyro,
-                gravity=GRAVITY,
-                threshold_factor=factor,
-                holdout_every=4,
-                estimate=estimate,
-                **{**NOMINAL, "gyro_scale": 1 / 6258},
-            )
+        cal = _xsens_split(xsens, "every 4th pose", estimate, threshold_factor=factor)
         return {"poses": len(cal.poses), **mn.static_summary(cal)}
 
     low = summary(low_factor)
