@@ -138,11 +138,7 @@ def test_inter_system_biases_are_estimated_and_needed(drive_300s):
         inter_system_bias=(3.0, -25.0),
         seed=8,
     )
-    start = {
-        "position_ecef": traj.position_ecef[0],
-        "velocity_ecef": traj.velocity_ecef[0],
-        "attitude": traj.attitude[0],
-    }
+    start = _true_start(traj)
     flt = mn.TightlyCoupledFilter(imu)
     sol = flt.run(traj.time[:n], f[:n], w[:n], gnss, initial_state=start)
     names = list(sol.state_names)
@@ -160,6 +156,15 @@ def test_inter_system_biases_are_estimated_and_needed(drive_300s):
     _predict_to(running, traj, f, w, gnss.time[galileo])
     running.update_gnss(gnss, galileo)
     assert len(running.state["inter_system_bias"]) == 2
+
+
+def _true_start(traj) -> dict[str, Any]:
+    """The filters' initial state: the trajectory's first sample."""
+    return {
+        "position_ecef": traj.position_ecef[0],
+        "velocity_ecef": traj.velocity_ecef[0],
+        "attitude": traj.attitude[0],
+    }
 
 
 def _predict_to(running, traj, f, w, time):
@@ -672,11 +677,7 @@ def test_the_code_correlation_time_reaches_the_python_filter(drive_300s):
         residual_correlation_time=10.0,
         seed=9,
     )
-    start = {
-        "position_ecef": traj.position_ecef[0],
-        "velocity_ecef": traj.velocity_ecef[0],
-        "attitude": traj.attitude[0],
-    }
+    start = _true_start(traj)
     ratios = {}
     for tau in (0.0, 10.0):
         flt = mn.TightlyCoupledFilter(imu, pseudorange_correlation_time=tau)
