@@ -101,7 +101,7 @@ pub const MIN_CARRIER_CHANGES: usize = 5;
 /// batch (module docs). Call before the epoch's pseudoranges.
 pub(crate) fn update<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -> Result<()> {
     let t = epoch.time_s;
-    let Some(dt) = s.carrier.time_s.map(|before| t - before) else {
+    let Some(dt) = s.previous_epoch_s.map(|before| t - before) else {
         return Ok(());
     };
     if !(dt > 0.0 && dt <= MAX_CARRIER_INTERVAL_S) {
@@ -261,7 +261,6 @@ pub(crate) fn remember<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch
         })
     }));
     s.carrier.next = std::mem::replace(&mut s.carrier.then, next);
-    s.carrier.time_s = Some(epoch.time_s);
 }
 
 fn record(

@@ -38,8 +38,6 @@ pub(crate) struct Change {
 /// from epoch to epoch (no allocation once grown).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct CarrierHistory {
-    /// Time of the previous epoch, s (None before the first).
-    pub(crate) time_s: Option<f64>,
     pub(crate) then: Vec<CarrierThen>,
     pub(crate) next: Vec<CarrierThen>,
     pub(crate) changes: Vec<Change>,
