@@ -1,6 +1,7 @@
 //! Aids that need no GNSS: what the vehicle's own behaviour says about the
 //! state. Each is one batch, tested like a GNSS epoch (a failed one is
-//! recorded and skipped; aids never reset the filter).
+//! recorded and skipped; only ZUPTs the filter keeps refusing at a
+//! standstill reset its velocity, see [`FilterState::zero_velocity_update`]).
 //!
 //! - Zero-velocity update (ZUPT) at a standstill: v^e = 0 (Groves §15.3.1).
 //! - Zero-angular-rate update (ZARU) at a standstill: the body turns with
@@ -21,10 +22,12 @@ use super::engine::batch::BatchRules;
 use super::engine::FilterState;
 use super::records::MeasurementKind;
 use crate::attitude::skew;
-use crate::filter::state::{Installation, Layout, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY};
+use crate::filter::state::{
+    Installation, Layout, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY,
+};
 use crate::filter::SparseRow;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
-use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
 use crate::{validate, Result};
 
 const AIDS: BatchRules = BatchRules {
@@ -96,6 +99,15 @@ fn vehicle_velocity_rows(
 impl<const N: usize> FilterState<N> {
     /// ZUPT: the IMU's ECEF velocity is zero, with std `std_m_s` per axis.
     /// Returns whether it was applied.
+    ///
+    /// A standstill the sensors show while the filter keeps refusing its
+    /// ZUPTs (`recovery.reset_after_failed_epochs` in a row) means the
+    /// filter's velocity is further off than its covariance admits, as a
+    /// fix that keeps failing does: the velocity is reset to zero with the
+    /// ZUPT's std and the reset recorded (the fading of repeated resets
+    /// applies as to fixes). Without it a wrong update just before a stop
+    /// leaves a velocity error every later ZUPT is refused for, and the
+    /// position drifts through the whole stop.
     pub fn zero_velocity_update(&mut self, time_s: f64, std_m_s: f64) -> Result<bool> {
         validate::positive("std", std_m_s)?;
         let kind = MeasurementKind::ZeroVelocity;
@@ -110,7 +122,49 @@ impl<const N: usize> FilterState<N> {
                 std_m_s,
             );
         }
-        self.apply_staged(time_s, kind, AIDS)
+        let applied = self.apply_staged(time_s, kind, AIDS)?;
+        if !applied && self.reset_due(kind) {
+            let covariance = Matrix3::identity() * (std_m_s * std_m_s);
+            self.reset_imu_velocity(time_s, kind, &Vector3::zeros(), &covariance)?;
+            self.recovered(time_s, kind)?;
+        }
+        Ok(applied)
+    }
+
+    /// The chi-square statistic of "the vehicle is not accelerating" over a
+    /// detector window: the acceleration a = Ĉ f̂ + γ(r̂) (the corrected
+    /// mean specific force `mean_specific_force_b` with gravity added back,
+    /// Groves eq. 5.54 at rest, the Coriolis term of a vehicle at rest
+    /// being zero) against its covariance A P Aᵀ + diag(`std_of_mean_b`²),
+    /// A = ∂a/∂(ψ, δb_a) = (−[(Ĉ f̂)×], −Ĉ) (the INS error model of
+    /// [`crate::filter::propagation`]). A car braking to a stop at half a
+    /// metre per second squared passes the variance test of a quiet IMU;
+    /// its mean specific force does not pass this one. Three degrees of
+    /// freedom.
+    pub fn rest_acceleration_nis(
+        &self,
+        mean_specific_force_b: &Vector3<f64>,
+        std_of_mean_b: &Vector3<f64>,
+    ) -> f64 {
+        let raw = crate::ins::ImuSample {
+            specific_force_b: *mean_specific_force_b,
+            angular_rate_b: Vector3::zeros(),
+        };
+        let f_e = self.nav.c_b_e * self.corrected(&raw).specific_force_b;
+        let a = f_e + gravity_ecef(&self.nav.position_ecef);
+        let tilt = -skew(&f_e);
+        let bias = -self.nav.c_b_e;
+        let p = &self.kf.p;
+        let p_aa = p.fixed_view::<3, 3>(ATTITUDE, ATTITUDE);
+        let p_ab = p.fixed_view::<3, 3>(ATTITUDE, ACCEL_BIAS);
+        let p_bb = p.fixed_view::<3, 3>(ACCEL_BIAS, ACCEL_BIAS);
+        let cross = tilt * p_ab * bias.transpose();
+        let s = tilt * p_aa * tilt.transpose()
+            + bias * p_bb * bias.transpose()
+            + cross
+            + cross.transpose()
+            + Matrix3::from_diagonal(&std_of_mean_b.map(|v| v * v));
+        s.cholesky().map_or(f64::INFINITY, |c| a.dot(&c.solve(&a)))
     }
 
     /// ZARU: the raw gyro reading averaged over a standstill,
