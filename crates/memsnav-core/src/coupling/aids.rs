@@ -392,6 +392,63 @@ mod tests {
         }
     }
 
+    /// The rest-acceleration statistic against one written out: the
+    /// specific force at rest (−Ĉᵀγ, less the bias estimate's effect)
+    /// gives zero; an acceleration a added gives aᵀ S⁻¹ a with S built
+    /// here from the tilt and bias variances alone (P diagonal).
+    #[test]
+    fn rest_acceleration_nis_is_zero_at_rest_and_chi_square_when_moving() {
+        let mut s = state();
+        s.accel_bias_m_s2 = Vector3::new(0.02, -0.01, 0.03);
+        let (tilt_std, bias_std, noise_std) = (1e-3, 5e-3, 0.01);
+        s.kf.p.fill(0.0);
+        for k in 0..3 {
+            s.kf.p[(ATTITUDE + k, ATTITUDE + k)] = tilt_std * tilt_std;
+            s.kf.p[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = bias_std * bias_std;
+        }
+        let c = s.nav.c_b_e;
+        let gamma = gravity_ecef(&s.nav.position_ecef);
+        let at_rest_b = -c.transpose() * gamma + s.accel_bias_m_s2;
+        let noise = Vector3::from_element(noise_std);
+        assert!(s.rest_acceleration_nis(&at_rest_b, &noise) < 1e-16);
+        let a_e = c_n_e(0.7, 0.3) * Vector3::new(0.3, -0.1, 0.05);
+        let braking_b = at_rest_b + c.transpose() * a_e;
+        let f_e = c * (braking_b - s.accel_bias_m_s2);
+        let tilt = -skew(&f_e);
+        let cov = tilt * tilt.transpose() * tilt_std * tilt_std
+            + Matrix3::identity() * (bias_std * bias_std + noise_std * noise_std);
+        let expected = a_e.dot(&(cov.try_inverse().unwrap() * a_e));
+        let got = s.rest_acceleration_nis(&braking_b, &noise);
+        assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
+        // 0.3 m/s² against a few hundredths: far beyond any gate.
+        assert!(got > 100.0);
+    }
+
+    /// ZUPTs the filter keeps refusing (an overconfident velocity error)
+    /// reset the velocity to zero after `reset_after_failed_epochs`, and
+    /// the reset is recorded.
+    #[test]
+    fn failing_zupts_reset_the_velocity_to_zero() {
+        let mut s = state();
+        s.nav.velocity_ecef = Vector3::new(0.3, -0.2, 0.1);
+        s.kf.p
+            .fixed_view_mut::<3, 3>(VELOCITY, VELOCITY)
+            .fill_diagonal(1e-6);
+        let due = s.tuning.recovery.reset_after_failed_epochs;
+        for k in 0..due {
+            assert!(!s.zero_velocity_update(k as f64, 0.02).unwrap());
+        }
+        assert_eq!(s.nav.velocity_ecef, Vector3::zeros());
+        let reset = s.resets.last().unwrap();
+        assert_eq!(reset.kind, super::super::records::ResetKind::VelocityToZero);
+        let change: f64 = Vector3::new(0.3, -0.2, 0.1).norm();
+        assert!((reset.change - change).abs() < 1e-12);
+        let p_v = s.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY);
+        assert!((p_v[(0, 0)] - 0.02f64.powi(2)).abs() < 1e-15);
+        // The next ZUPT agrees with the reset velocity.
+        assert!(s.zero_velocity_update(due as f64, 0.02).unwrap());
+    }
+
     /// At a standstill with a velocity error the ZUPT pulls the velocity to
     /// zero; a ZARU learns the gyro bias from the mean reading.
     #[test]

@@ -18,9 +18,11 @@
 //!    multiple-model adaptive estimator's hypothesis test). A model too
 //!    loose for the IMU pays in ln s², one too tight in ν²/s² (and in the
 //!    resets it provokes); each term is capped at [`NIS_CAP`] so that one
-//!    outlier does not decide. The candidates are drawn from the presets
-//!    a user would otherwise choose by hand; the choice never leaves
-//!    them.
+//!    outlier does not decide, and the default grade (the first
+//!    candidate) is left only on very strong evidence
+//!    ([`MIN_LOG_LIKELIHOOD_GAIN`]). The candidates are drawn from the
+//!    presets a user would otherwise choose by hand; the choice never
+//!    leaves them.
 //! 2. **The fixes' error correlation time** (`[gnss]
 //!    fix_correlation_time_s = "auto"`, loose coupling, the default): in
 //!    the first pass each fix's covariance is inflated as if its errors
@@ -69,6 +71,13 @@ pub const IMU_CANDIDATES: [&str; 3] = ["consumer", "industrial", "tactical"];
 /// outlier the gate rejects costs every candidate alike; a candidate that
 /// is wrong for the IMU keeps paying, epoch after epoch.
 pub const NIS_CAP: f64 = 25.0;
+
+/// How much more likely (natural log) another candidate's measurements
+/// must be than the first candidate's (the default grade, `"consumer"`)
+/// for the run to leave it: 5, "very strong" evidence on Kass & Raftery's
+/// scale (J. Am. Stat. Assoc. 90, 1995: 2 ln B > 10). A short log whose
+/// measurements barely tell the grades apart keeps the default.
+pub const MIN_LOG_LIKELIHOOD_GAIN: f64 = 5.0;
 
 /// The fixes' error correlation time the first pass assumes, s: the
 /// longest the method reports. A receiver's standalone position errors
@@ -185,11 +194,20 @@ impl Plan<'_> {
                 }
             })
             .collect();
-        let best = scored
+        let most_likely = scored
             .iter()
             .enumerate()
             .max_by(|a, b| a.1.log_likelihood.total_cmp(&b.1.log_likelihood))
             .map_or(0, |(i, _)| i);
+        // The first candidate (the default grade) is left only on very
+        // strong evidence.
+        let best = if scored[most_likely].log_likelihood - scored[0].log_likelihood
+            > MIN_LOG_LIKELIHOOD_GAIN
+        {
+            most_likely
+        } else {
+            0
+        };
         let mut tuning = self.candidates[best].1;
         let fix_correlation = self.fix_correlation.then(|| {
             let c =
