@@ -8,8 +8,8 @@
 //! 1. **The IMU model** (`[filter] imu_preset = "auto"`, the default):
 //!    the log is run once per candidate grade ([`IMU_CANDIDATES`]), each a
 //!    complete tuning built the same way from its preset and the user's
-//!    keys, and the candidate whose GNSS innovations are the most likely
-//!    is kept: Σ −½ (ν²/s² + ln s²) over every scalar GNSS measurement,
+//!    keys, on the fixes as the receiver reports them, and the candidate
+//!    whose GNSS innovations are the most likely is kept: Σ −½ (ν²/s² + ln s²) over every scalar GNSS measurement,
 //!    ν the innovation and s² its predicted variance h P hᵀ + r, the
 //!    log-likelihood of the measurements under the candidate's model
 //!    (the innovations of a Kalman filter are independent with those
@@ -19,13 +19,17 @@
 //!    loose for the IMU pays in ln s², one too tight in ν²/s² (and in the
 //!    resets it provokes); each term is capped at [`NIS_CAP`] so that one
 //!    outlier does not decide, and the default grade (the first
-//!    candidate) is left only on very strong evidence
-//!    ([`MIN_LOG_LIKELIHOOD_GAIN`]). The candidates are drawn from the
+//!    candidate) is left only on very strong evidence that holds over
+//!    the log: a total gain of [`MIN_LOG_LIKELIHOOD_GAIN`], and a gain
+//!    per [`EVIDENCE_BLOCK_S`] block whose mean is [`MIN_EVIDENCE_Z`]
+//!    standard errors above zero over at least [`MIN_EVIDENCE_BLOCKS`]
+//!    blocks (a short walk whose few hundred correlated pseudoranges
+//!    slightly prefer another grade keeps the default). The candidates are drawn from the
 //!    presets a user would otherwise choose by hand; the choice never
 //!    leaves them.
 //! 2. **The fixes' error correlation time** (`[gnss]
 //!    fix_correlation_time_s = "auto"`, loose coupling, the default): in
-//!    the first pass each fix's covariance is inflated as if its errors
+//!    a pass with the IMU model chosen each fix's covariance is inflated as if its errors
 //!    were correlated over [`FIRST_PASS_CORRELATION_TIME_S`] (the longest
 //!    the method reports), so the filter follows the fixes slowly and its
 //!    position innovations are the fixes' own errors less a slow average
@@ -51,8 +55,8 @@
 //!    (1 + ρ)/(1 − ρ), ρ = e^(−Δt/τ) ([`crate::gauss_markov::correlated_sample_inflation`]):
 //!    consecutive fixes that sample one slow error carry it once.
 //!
-//! The run that is reported is a second pass with what was learnt; the
-//! first pass keeps no solution, only its measurement records.
+//! The run that is reported is a last pass with what was learnt; the
+//! learning passes keep no solution, only their measurement records.
 
 use rayon::prelude::*;
 
@@ -75,9 +79,23 @@ pub const NIS_CAP: f64 = 25.0;
 /// How much more likely (natural log) another candidate's measurements
 /// must be than the first candidate's (the default grade, `"consumer"`)
 /// for the run to leave it: 5, "very strong" evidence on Kass & Raftery's
-/// scale (J. Am. Stat. Assoc. 90, 1995: 2 ln B > 10). A short log whose
-/// measurements barely tell the grades apart keeps the default.
+/// scale (J. Am. Stat. Assoc. 90, 1995: 2 ln B > 10).
 pub const MIN_LOG_LIKELIHOOD_GAIN: f64 = 5.0;
+
+/// The gain must also hold over the log, not in one stretch of it: the
+/// log-likelihood differences summed over blocks of this length, s, ...
+pub const EVIDENCE_BLOCK_S: f64 = 60.0;
+
+/// ... are at least this many blocks (a log shorter than ten minutes of
+/// GNSS keeps the default grade) ...
+pub const MIN_EVIDENCE_BLOCKS: usize = 10;
+
+/// ... and their mean is this many standard errors above zero (the batch
+/// means of a correlated series are nearly independent: Law & Kelton,
+/// *Simulation Modeling and Analysis*, §9.5.3; the innovations of one
+/// slow error are not independent evidence, a minute apart they nearly
+/// are). 3: one-sided 0.13 % for a normal mean.
+pub const MIN_EVIDENCE_Z: f64 = 3.0;
 
 /// The fixes' error correlation time the first pass assumes, s: the
 /// longest the method reports. A receiver's standalone position errors
@@ -164,67 +182,103 @@ impl Plan<'_> {
     /// the most likely kept, the fixes' correlation time read off its
     /// records. Nothing to learn: the first candidate, no first pass.
     pub fn learn(&self, first_pass: &FirstPass<'_>) -> Result<(FilterTuning, Adaptation)> {
-        let choose = self.candidates.len() > 1;
-        if !choose && !self.fix_correlation {
-            return Ok((self.candidates[0].1, Adaptation::default()));
+        let mut adaptation = Adaptation::default();
+        let mut tuning = self.candidates[0].1;
+        if self.candidates.len() > 1 {
+            // The candidates are judged on the fixes as the receiver
+            // reports them (the measurements every candidate would face
+            // without learning), in parallel: their passes are independent.
+            let passes: Vec<(Vec<MeasurementRecord>, usize)> = self
+                .candidates
+                .par_iter()
+                .map(|(_, tuning)| first_pass(tuning))
+                .collect::<Result<_>>()?;
+            let scored: Vec<ImuCandidate> = self
+                .candidates
+                .iter()
+                .zip(&passes)
+                .map(|((preset, _), (records, resets))| {
+                    let (log_likelihood, measurements) = gnss_log_likelihood(records);
+                    ImuCandidate {
+                        preset: preset.clone(),
+                        log_likelihood,
+                        measurements,
+                        resets: *resets,
+                    }
+                })
+                .collect();
+            let blocks: Vec<Vec<(i64, f64)>> = passes
+                .iter()
+                .map(|(records, _)| block_log_likelihoods(records))
+                .collect();
+            let best = most_likely(&scored, &blocks);
+            tuning = self.candidates[best].1;
+            adaptation.imu_preset = Some(scored[best].preset.clone());
+            adaptation.imu_candidates = scored;
         }
-        let inflate = |t: &FilterTuning| {
-            let mut t = *t;
-            if self.fix_correlation {
-                t.fix_correlation_time_s = FIRST_PASS_CORRELATION_TIME_S;
-            }
-            t
-        };
-        let passes: Vec<(Vec<MeasurementRecord>, usize)> = self
-            .candidates
-            .par_iter()
-            .map(|(_, tuning)| first_pass(&inflate(tuning)))
-            .collect::<Result<_>>()?;
-        let scored: Vec<ImuCandidate> = self
-            .candidates
-            .iter()
-            .zip(&passes)
-            .map(|((preset, _), (records, resets))| {
-                let (log_likelihood, measurements) = gnss_log_likelihood(records);
-                ImuCandidate {
-                    preset: preset.clone(),
-                    log_likelihood,
-                    measurements,
-                    resets: *resets,
-                }
-            })
-            .collect();
-        let most_likely = scored
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.log_likelihood.total_cmp(&b.1.log_likelihood))
-            .map_or(0, |(i, _)| i);
-        // The first candidate (the default grade) is left only on very
-        // strong evidence.
-        let best = if scored[most_likely].log_likelihood - scored[0].log_likelihood
-            > MIN_LOG_LIKELIHOOD_GAIN
-        {
-            most_likely
-        } else {
-            0
-        };
-        let mut tuning = self.candidates[best].1;
-        let fix_correlation = self.fix_correlation.then(|| {
-            let c =
-                correlation_time_from_innovations(&passes[best].0, FIRST_PASS_CORRELATION_TIME_S);
+        if self.fix_correlation {
+            // With the IMU model chosen, a pass that follows the fixes
+            // slowly shows their errors in its innovations.
+            let mut slow = tuning;
+            slow.fix_correlation_time_s = FIRST_PASS_CORRELATION_TIME_S;
+            let (records, _) = first_pass(&slow)?;
+            let c = correlation_time_from_innovations(&records, FIRST_PASS_CORRELATION_TIME_S);
             tuning.fix_correlation_time_s = c.used_s;
             tuning.fix_covariance_scale = c.covariance_scale;
-            c
-        });
-        Ok((
-            tuning,
-            Adaptation {
-                imu_preset: choose.then(|| scored[best].preset.clone()),
-                imu_candidates: if choose { scored } else { Vec::new() },
-                fix_correlation,
-            },
-        ))
+            adaptation.fix_correlation = Some(c);
+        }
+        Ok((tuning, adaptation))
     }
+}
+
+/// The candidate to keep: the most likely, when it beats the first (the
+/// default grade) by [`MIN_LOG_LIKELIHOOD_GAIN`] in all and by a block
+/// gain whose mean is [`MIN_EVIDENCE_Z`] standard errors above zero over
+/// at least [`MIN_EVIDENCE_BLOCKS`] blocks; the first otherwise. `blocks`:
+/// each candidate's log-likelihood per block ([`block_log_likelihoods`]).
+fn most_likely(scored: &[ImuCandidate], blocks: &[Vec<(i64, f64)>]) -> usize {
+    let best = scored
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.log_likelihood.total_cmp(&b.1.log_likelihood))
+        .map_or(0, |(i, _)| i);
+    if best == 0
+        || scored[best].log_likelihood - scored[0].log_likelihood <= MIN_LOG_LIKELIHOOD_GAIN
+    {
+        return 0;
+    }
+    let default: std::collections::HashMap<i64, f64> = blocks[0].iter().copied().collect();
+    let gains: Vec<f64> = blocks[best]
+        .iter()
+        .filter_map(|(b, ll)| default.get(b).map(|d| ll - d))
+        .collect();
+    let m = gains.len();
+    if m < MIN_EVIDENCE_BLOCKS {
+        return 0;
+    }
+    let mean = gains.iter().sum::<f64>() / m as f64;
+    let variance = gains.iter().map(|g| (g - mean).powi(2)).sum::<f64>() / (m - 1) as f64;
+    if mean > MIN_EVIDENCE_Z * (variance / m as f64).sqrt() {
+        best
+    } else {
+        0
+    }
+}
+
+/// The GNSS log-likelihood ([`gnss_log_likelihood`]) summed over blocks
+/// of [`EVIDENCE_BLOCK_S`] of the records' time (block index, sum), in
+/// time order; blocks without a GNSS measurement are left out.
+pub fn block_log_likelihoods(records: &[MeasurementRecord]) -> Vec<(i64, f64)> {
+    let mut out: Vec<(i64, f64)> = Vec::new();
+    for r in records.iter().filter(|r| counts(r)) {
+        let block = (r.time_s / EVIDENCE_BLOCK_S).floor() as i64;
+        let ll = log_likelihood_term(r);
+        match out.last_mut() {
+            Some((b, sum)) if *b == block => *sum += ll,
+            _ => out.push((block, ll)),
+        }
+    }
+    out
 }
 
 /// Whether a measurement kind is a GNSS measurement (the ones the
@@ -247,14 +301,22 @@ fn is_gnss(kind: MeasurementKind) -> bool {
 pub fn gnss_log_likelihood(records: &[MeasurementRecord]) -> (f64, usize) {
     records
         .iter()
-        .filter(|r| is_gnss(r.kind) && r.innovation.is_finite() && r.innovation_std > 0.0)
+        .filter(|r| counts(r))
         .fold((0.0, 0), |(sum, n), r| {
-            let nis = (r.innovation / r.innovation_std).powi(2);
-            (
-                sum - 0.5 * (nis.min(NIS_CAP) + 2.0 * r.innovation_std.ln()),
-                n + 1,
-            )
+            (sum + log_likelihood_term(r), n + 1)
         })
+}
+
+/// Whether a record counts towards the log-likelihood: a GNSS
+/// measurement with a finite innovation and a positive predicted std.
+fn counts(r: &MeasurementRecord) -> bool {
+    is_gnss(r.kind) && r.innovation.is_finite() && r.innovation_std > 0.0
+}
+
+/// −½ (min(ν²/s², [`NIS_CAP`]) + ln s²) of one record.
+fn log_likelihood_term(r: &MeasurementRecord) -> f64 {
+    let nis = (r.innovation / r.innovation_std).powi(2);
+    -0.5 * (nis.min(NIS_CAP) + 2.0 * r.innovation_std.ln())
 }
 
 /// The fixes' error correlation time from the position innovations of a
@@ -480,6 +542,45 @@ mod tests {
             "{}",
             c.covariance_scale
         );
+    }
+
+    /// Another grade is chosen only on evidence that holds over the log: a
+    /// gain of 2 per block over 20 blocks (spread 1) is; the same total
+    /// gain from one block, or from 5 blocks, is not; a gain under the
+    /// total threshold is not.
+    #[test]
+    fn another_grade_needs_evidence_that_holds_over_the_log() {
+        let candidate = |preset: &str, log_likelihood: f64| ImuCandidate {
+            preset: preset.into(),
+            log_likelihood,
+            measurements: 1000,
+            resets: 0,
+        };
+        let default_blocks: Vec<(i64, f64)> = (0..20).map(|b| (b, -100.0)).collect();
+        let spread = |b: i64| if b % 2 == 0 { 1.0 } else { -1.0 };
+        let steady: Vec<(i64, f64)> = (0..20).map(|b| (b, -98.0 + spread(b))).collect();
+        let one_block: Vec<(i64, f64)> = (0..20)
+            .map(|b| (b, if b == 7 { -60.0 } else { -100.0 + spread(b) }))
+            .collect();
+        let scored = [
+            candidate("consumer", -2000.0),
+            candidate("industrial", -1960.0),
+        ];
+        assert_eq!(
+            most_likely(&scored, &[default_blocks.clone(), steady.clone()]),
+            1
+        );
+        assert_eq!(
+            most_likely(&scored, &[default_blocks.clone(), one_block]),
+            0
+        );
+        let short = [default_blocks[..5].to_vec(), steady[..5].to_vec()];
+        assert_eq!(most_likely(&scored, &short), 0);
+        let close = [
+            candidate("consumer", -2000.0),
+            candidate("industrial", -1996.0),
+        ];
+        assert_eq!(most_likely(&close, &[default_blocks, steady]), 0);
     }
 
     /// The log-likelihood against the Gaussian density written out, with
