@@ -107,10 +107,11 @@ pub const FIRST_PASS_CORRELATION_TIME_S: f64 = 120.0;
 
 /// A component's correlation time is read off the innovations only when
 /// their variance is at most this many times the fixes' own (after the
-/// first pass's inflation): the fixes' errors make at least a quarter of
-/// the innovations; beyond, the dead reckoning between fixes, not the
-/// fixes, makes them, and their correlation is the dead reckoning's.
-pub const MAX_INNOVATION_TO_FIX_VARIANCE: f64 = 4.0;
+/// first pass's inflation): the fixes' errors make at least half of the
+/// innovations; beyond, the dead reckoning between fixes (or an IMU model
+/// too tight for the IMU) makes most of them, and their correlation and
+/// spread are the dead reckoning's.
+pub const MAX_INNOVATION_TO_FIX_VARIANCE: f64 = 2.0;
 
 /// Innovations beyond this many robust standard deviations are clipped
 /// before their variance and autocorrelation are taken.

@@ -197,8 +197,9 @@ pub struct LogConfig {
     /// configuration names its IMU and `tuning` is used as it is.
     pub imu_candidates: Vec<(String, FilterTuning)>,
     /// Learn the fixes' error correlation time from the log (loose
-    /// coupling; `gnss.fix_correlation_time_s = "auto"`, the default),
-    /// instead of `tuning.fix_correlation_time_s`.
+    /// coupling without fix-error states, which model it themselves;
+    /// `gnss.fix_correlation_time_s = "auto"`, the default), instead of
+    /// `tuning.fix_correlation_time_s`.
     pub learn_fix_correlation: bool,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,

@@ -183,7 +183,8 @@ pub fn navigate_log(
         } else {
             &config.imu_candidates
         },
-        fix_correlation: config.learn_fix_correlation && !tight,
+        // Fix-error states model the correlation themselves.
+        fix_correlation: config.learn_fix_correlation && !tight && !config.fix_error_states,
     };
     let (tuning, adaptation) = plan.learn(&|tuning: &FilterTuning| {
         let (solution, _, _) = run.filter(layout, tuning, Record::MeasurementsOnly)?;

@@ -841,10 +841,11 @@ mod tests {
         assert!(err.starts_with("filter.gyro_scale_factor_std_ppm"), "{err}");
     }
 
-    /// The consumer preset written as `[imu_spec]` figures is the default
-    /// configuration, exactly: one path from a spec to the tuning.
+    /// The consumer preset written as `[imu_spec]` figures is the
+    /// configuration `imu_preset = "consumer"` gives, exactly: one path from
+    /// a spec to the tuning.
     #[test]
-    fn the_consumer_preset_as_imu_spec_is_the_default() {
+    fn the_consumer_preset_as_imu_spec_is_the_consumer_preset() {
         let consumer = [
             ("accel_turn_on_bias_mg", 20.0),
             ("accel_scale_factor_pct", 1.0),
@@ -868,7 +869,11 @@ mod tests {
         let mut with_spec = entries.clone();
         with_spec.push(("filter", "imu_preset", Text("tactical".into())));
         let from_spec = LogConfig::from_settings(&tables(&with_spec), 100.0).unwrap();
-        let preset = LogConfig::from_settings(&tables(&[]), 100.0).unwrap();
+        let preset = LogConfig::from_settings(
+            &tables(&[("filter", "imu_preset", Text("consumer".into()))]),
+            100.0,
+        )
+        .unwrap();
         assert_eq!(from_spec, preset);
     }
 
