@@ -2416,7 +2416,8 @@ class PosSolution:
 
     @property
     def std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma position uncertainty N, E, D, m, (N, 3)."""
+        """One-sigma position uncertainty N, E, D, m, (N, 3); NaN when the file
+        gives none (a fixes CSV truth)."""
 
     @property
     def velocity_ned(self) -> npt.NDArray[np.float64]:
@@ -2436,6 +2437,11 @@ class PosSolution:
         else diag(std²); NaN where the std is."""
 
     @property
+    def attitude(self) -> npt.NDArray[np.float64] | None:
+        """The attitude C_b^n (body to local NED) of every epoch, (N, 3, 3), when
+        the file gives one (a fixes CSV's quaternion or Euler columns), else None."""
+
+    @property
     def has_full_covariance(self) -> bool:
         """Whether the file gives full position covariances (not only stds)."""
 
@@ -2453,8 +2459,19 @@ def decimate(time: npt.ArrayLike, rate_hz: float | None = None) -> npt.NDArray[n
     1/``rate_hz`` interval from the first sample; None: every one), as the
     solution writers thin a solution."""
 
-def read_fixes_csv(path: str | os.PathLike[str]) -> PosSolution:
-    """Reads a fixes CSV (see memsnav.read_fixes_csv)."""
+def read_fixes_csv(
+    path: str | os.PathLike[str],
+    columns: dict[str, str] | None = None,
+    time_reference: str | None = None,
+) -> PosSolution:
+    """Reads a fixes CSV (see memsnav.read_fixes_csv): ``columns`` a dict from
+    memsnav's column names to the file's header names (None: the header names
+    memsnav's), ``time_reference`` what the time column counts (None:
+    ``"column_gps"``)."""
+
+#: Seconds from 1970-01-01 to the GPS epoch 1980-01-06: GPS time counted
+#: from 1970 without leap seconds is GPS time plus this.
+UNIX_TO_GPS_S: float
 
 def read_nmea(path: str | os.PathLike[str]) -> PosSolution:
     """Reads an NMEA 0183 log (see memsnav.read_nmea)."""
