@@ -2092,6 +2092,20 @@ def fixes_from_solution(
     E, D one-sigma, m) and ``added_velocity_noise`` (m/s), and rotates the
     covariance (+ noise²) into ECEF."""
 
+def truth_at_point(
+    geodetic: npt.ArrayLike,
+    attitude: npt.ArrayLike | None = None,
+    *,
+    lever_arm: npt.ArrayLike | None = None,
+    offset_ned: npt.ArrayLike | None = None,
+) -> npt.NDArray[np.float64]:
+    """The truth moved to the point being scored: ``geodetic`` (N, 3) [lat rad,
+    lon rad, h m] at the truth's own point, ``attitude`` (N, 3, 3) its C_b^n
+    (needed for a lever arm), ``lever_arm`` (3,) the scored point from the
+    truth's point in the truth's body axes (forward, right, down), m,
+    ``offset_ned`` (3,) a datum offset added in local NED, m (None: zero).
+    ECEF (N, 3), m: r_truth + C_n^e (C_b^n l + o) (Groves eq. 2.124)."""
+
 @final
 class LogRun:
     """A real log's navigation (``navigate_log``): the solution at the antenna in
@@ -2191,12 +2205,16 @@ class LogRun:
         position_ecef: npt.ArrayLike,
         *,
         tolerance: float = 0.02,
+        interpolate: bool = False,
         remove_mean_offset: bool = False,
     ) -> dict[str, Any]:
-        """Errors of the GNSS epochs' own positions (the single-point solution for
-        tight coupling) against a truth, each paired with the truth epoch within
-        ``tolerance`` s: ``time``, ``error_ned``, ``stats``, ``offset_removed_ned``.
-        ``remove_mean_offset``: the errors less their mean (precision)."""
+        """Errors of the GNSS epochs' own positions (the fixes for loose coupling,
+        the single-point solution for tight) against a truth: each paired with the
+        truth epoch within ``tolerance`` s, or with ``interpolate`` with the truth
+        interpolated linearly at its time between truth epochs at most 1 s apart
+        (a truth at its own rate). ``time``, ``error_ned``, ``stats``,
+        ``offset_removed_ned``. ``remove_mean_offset``: the errors less their mean
+        (precision; the mean is then ``offset_removed_ned``)."""
 
     def calibration_references(
         self,
