@@ -248,7 +248,7 @@ def loose_input(cfg: RunConfig) -> Any:
     g = cfg["gnss"]
     sol, keep, lla = read_solution(cfg, "gnss")
     covariance = np.asarray(sol.covariance_ned)[keep]
-    if np.isnan(covariance).all():
+    if np.isnan(np.asarray(sol.std_ned)[keep]).all():
         # A file without σ: exact positions (memsnav simulate's
         # trajectory.csv), which can play a receiver with noise added.
         if g["position_noise_m"] is None:
