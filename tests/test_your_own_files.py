@@ -321,6 +321,32 @@ height_m = "h"
         read_truth(mn.load_config(cfg, tmp_path))
 
 
+@pytest.mark.parametrize(
+    ("tables", "message"),
+    [
+        (
+            '[gnss]\nmode = "tight"\ntable = "t.csv"\ntime_reference = "column_unix_gpst"\n',
+            r"gnss.time_reference: it applies to loose coupling\'s fixes \(gnss.pos\); gnss.mode "
+            r'is "tight"',
+        ),
+        (
+            '[gnss]\nmode = "loose"\npos = "f.csv"\n[truth]\noffset_ned_m = "from_gnss"\n',
+            r"truth.offset_ned_m: it applies to a truth file \(truth.pos\), which is not given",
+        ),
+    ],
+)
+def test_reading_keys_where_nothing_is_read_are_errors(tmp_path, tables: str, message: str):
+    """A key that says how to read a file no run reads is refused, naming
+    it (not ignored: a silent omission looks like a setting that works)."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(
+        'name = "x"\n[imu]\nfile = "i.csv"\naccel_unit = "g"\ngyro_unit = "deg/s"\n'
+        f'time_unit = "s"\n{tables}'
+    )
+    with pytest.raises(ValueError, match=message):
+        mn.load_config(cfg, tmp_path)
+
+
 def test_truth_at_point_checks_its_arguments():
     """Bad input names its argument: a lever arm without an attitude, a
     non-finite epoch, an attitude of another length, a lever arm of two."""
@@ -472,10 +498,11 @@ def test_foreign_drive_runs_from_its_files_as_they_are(foreign_drive):
     quoted = quoted_figures(
         PAGE,
         r"The estimated datum offset is N −([\d.]+), E −([\d.]+), D \+([\d.]+) m .*"
+        r"over the run's (\d+) fixes.*"
         r"The fixes alone score ([\d.]+) m horizontal RMS and ([\d.]+) m vertical .*"
         r"Without the lever arm they score ([\d.]+) m",
     )
-    values = (-north, -east, down, horizontal, vertical, unmoved)
+    values = (-north, -east, down, len(mine["errors"]), horizontal, vertical, unmoved)
     for q, value in zip(quoted, values, strict=True):
         assert rounds_to(q, value), (q, value)
     assert truth["name"].startswith("INS-D reference")

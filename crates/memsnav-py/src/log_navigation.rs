@@ -449,8 +449,8 @@ impl PyLogRun {
     /// coupling, the single-point solution for tight) against a truth:
     /// each paired with the truth epoch within `tolerance` s, or with
     /// `interpolate` with the truth interpolated linearly at its time
-    /// between truth epochs at most `memsnav_core::navigate::score::
-    /// TRUTH_MAX_GAP_S` apart (a truth at its own rate). Dict `time`,
+    /// between truth epochs at most `score::TRUTH_MAX_GAP_S` (1 s) apart
+    /// (a truth at its own rate). Dict `time`,
     /// `error_ned`, `stats`, `offset_removed_ned`. `remove_mean_offset`:
     /// the errors less their mean (precision; the mean is then
     /// `offset_removed_ned`).

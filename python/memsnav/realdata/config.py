@@ -234,6 +234,20 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
                 f"got height = {datum['height']!r}"
             )
     gnss = cfg.values["gnss"]
+    # The keys that say how to read a fixes file, given where none is read:
+    # an error, not a silent omission.
+    unread = [
+        (f"gnss.{key}", 'loose coupling\'s fixes (gnss.pos); gnss.mode is "tight"')
+        for key in ("columns", "time_reference")
+        if gnss["mode"] == "tight" and key in tables.get("gnss", {})
+    ] + [
+        (f"truth.{key}", "a truth file (truth.pos), which is not given")
+        for key in ("name", "columns", "time_reference", "lever_arm_m", "offset_ned_m")
+        if not cfg.values["truth"]["pos"] and key in tables.get("truth", {})
+    ]
+    if unread:
+        key, reads = unread[0]
+        raise ValueError(f"{path}: {key}: it applies to {reads}")
     if len(gnss["klobuchar_alpha"]) != len(gnss["klobuchar_beta"]):
         raise ValueError(
             f"{path}: gnss.klobuchar_alpha and gnss.klobuchar_beta: give four numbers each, "
