@@ -23,9 +23,10 @@ def test_simulate_writes_consistent_files(tmp_path):
     assert done.returncode == 0, done.stderr
     trajectory = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
     imu = np.loadtxt(out / "imu.csv", delimiter=",", skiprows=1)
+    imu_truth = np.loadtxt(out / "imu_truth.csv", delimiter=",", skiprows=1)
     gnss = np.loadtxt(out / "gnss.csv", delimiter=",", skiprows=1)
     meta = json.loads((out / "simulation.json").read_text())
-    assert trajectory.shape == (3001, 16) and imu.shape == (3001, 7)
+    assert trajectory.shape == (3001, 11) and imu.shape == imu_truth.shape == (3001, 8)
     # The files hold what the API computes from the seeds derived from 3,
     # one per independent draw, recorded in simulation.json.
     seeds = meta["derived_seeds"]
@@ -36,7 +37,13 @@ def test_simulate_writes_consistent_files(tmp_path):
     np.testing.assert_allclose(trajectory[:, 1:4], truth.position_ecef, rtol=0, atol=1e-3)
     model = mn.ImuModel.preset("paper-mems", seed=seeds["imu errors"])
     accel, _ = model.measure(truth.specific_force, truth.angular_rate, seed=seeds["imu noise"])
-    np.testing.assert_allclose(imu[:, 1:4], accel, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(imu[:, 2:5], accel, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(imu_truth[:, 2:5], truth.specific_force, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(imu_truth[:, 5:8], truth.angular_rate, rtol=1e-9, atol=1e-15)
+    # One GPS time in every file: the samples' (trajectory, IMU) and the
+    # GNSS epochs' (gnss.csv's gps_time_s against its time_s).
+    np.testing.assert_array_equal(trajectory[:, 0], imu[:, 1])
+    np.testing.assert_allclose(imu[:, 1] - imu[:, 0], gnss[0, 1] - gnss[0, 0], atol=1e-9)
     np.testing.assert_allclose(
         meta["imu_errors"]["accelerometer"]["bias_m_s2"], model.accelerometer.bias
     )

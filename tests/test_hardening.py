@@ -868,7 +868,7 @@ def test_cli_navigate_replaces_only_what_an_earlier_navigate_wrote(tmp_path):
     simulated = tmp_path / "simulated"
     assert run_cli("simulate", "--duration", "2", "--out", str(simulated)).returncode == 0
     done = run_cli(*navigate, "--output", str(simulated))
-    assert done.returncode == 1 and "holds 'gnss.csv' and 3 more entries" in done.stderr
+    assert done.returncode == 1 and "holds 'gnss.csv' and 4 more entries" in done.stderr
     assert not [p.name for p in tmp_path.iterdir() if p.name.startswith(".")]
 
 

@@ -253,7 +253,9 @@ def test_truth_heights_above_mean_sea_level(tmp_path):
     from memsnav.realdata.pipeline import read_truth
 
     msl = mn.load_config(_config(tmp_path, WALK), DATA)
-    _, r_truth = read_truth(msl)
+    truth = read_truth(msl)
+    assert truth is not None
+    r_truth = truth.position_ecef()
     pos = mn.read_pos(EX / "walk_40s.pos")
     fixed = np.asarray(pos.quality) == 1
     heights = np.asarray(mn.ecef_to_geodetic(r_truth))[:, 2]
@@ -418,7 +420,8 @@ def test_a_name_must_not_leave_the_output_folder(tmp_path):
 def test_navigate_cli_prints_the_answer_first(tmp_path, capsys):
     """The outage errors with their schedule come first, then the aided
     errors with the NEES beside the share in 3σ, and, the truth being the
-    filter's own GNSS input, a line saying so; the files after."""
+    filter's own GNSS input, a line saying so (and none scoring the fixes
+    against themselves); the files after."""
     cfg = _config(tmp_path, extra="[outages]\nfirst_s = 5.0\nlength_s = 5.0\nevery_s = 15.0\n")
     args = ["navigate", "--config", str(cfg), "--data-root", str(DATA), "--duration", "40"]
     assert cli.main(args) == 0
@@ -426,6 +429,9 @@ def test_navigate_cli_prints_the_answer_first(tmp_path, capsys):
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     errors = summary["errors_vs_truth"]
     assert lines[0] == "drive_60s: loose coupling, 40 s; 3 GNSS outages of 5 s every 15 s from 5 s"
+    # The truth by its file's name (no [truth] name), neither moved nor offset.
+    assert lines[1] == "  truth: drive_60s.pos"
+    del lines[1]
     outages = errors["by_outage_length_s"]["5"]
     assert lines[1] == (
         f"  the 3 outages of 5 s: horizontal RMS {outages['rms_horizontal_m']:.3g} m, max "

@@ -69,6 +69,7 @@ from memsnav._memsnav import (
     solve_fix,
     strapdown,
     strapdown_increments,
+    truth_at_point,
 )
 from memsnav.allan import allan_deviation
 from memsnav.calibration import (
@@ -186,4 +187,5 @@ __all__ = [
     "static_summary",
     "strapdown",
     "strapdown_increments",
+    "truth_at_point",
 ]

@@ -213,6 +213,21 @@ def imu_columns() -> Check:
     return check
 
 
+def header_names() -> Check:
+    """A table from names to a file's header names (strings); the reader
+    checks the names."""
+
+    def check(value: Any) -> dict[str, str]:
+        if not isinstance(value, dict):
+            raise _Wrong(f"must be a table of header names, got {value!r}")
+        for k, v in value.items():
+            if not isinstance(v, str):
+                raise _Wrong(f"{k}: must be a header name (a string), got {v!r}")
+        return dict(value)
+
+    return check
+
+
 def axes() -> Check:
     """An axis convention by name (the reader knows them) or a 3×3 rotation
     given as three rows of three numbers."""
@@ -220,6 +235,19 @@ def axes() -> Check:
 
     def check(value: Any) -> str | list[list[float]]:
         return text()(value) if isinstance(value, str) else rows(value)
+
+    return check
+
+
+def list_or_choice(listed: Check, *choices: str) -> Check:
+    """A list ``listed`` passes, or one of the words ``choices``."""
+
+    def check(value: Any) -> Any:
+        if isinstance(value, str):
+            if value not in choices:
+                raise _Wrong(f"must be a list or one of {list(choices)}, got {value!r}")
+            return value
+        return listed(value)
 
     return check
 

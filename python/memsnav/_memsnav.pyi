@@ -2093,6 +2093,20 @@ def fixes_from_solution(
     E, D one-sigma, m) and ``added_velocity_noise`` (m/s), and rotates the
     covariance (+ noise²) into ECEF."""
 
+def truth_at_point(
+    geodetic: npt.ArrayLike,
+    attitude: npt.ArrayLike | None = None,
+    *,
+    lever_arm: npt.ArrayLike | None = None,
+    offset_ned: npt.ArrayLike | None = None,
+) -> npt.NDArray[np.float64]:
+    """The truth moved to the point being scored: ``geodetic`` (N, 3) [lat rad,
+    lon rad, h m] at the truth's own point, ``attitude`` (N, 3, 3) its C_b^n
+    (needed for a lever arm), ``lever_arm`` (3,) the scored point from the
+    truth's point in the truth's body axes (forward, right, down), m,
+    ``offset_ned`` (3,) a datum offset added in local NED, m (None: zero).
+    ECEF (N, 3), m: r_truth + C_n^e (C_b^n l + o) (Groves eq. 2.124)."""
+
 @final
 class LogRun:
     """A real log's navigation (``navigate_log``): the solution at the antenna in
@@ -2192,12 +2206,16 @@ class LogRun:
         position_ecef: npt.ArrayLike,
         *,
         tolerance: float = 0.02,
+        interpolate: bool = False,
         remove_mean_offset: bool = False,
     ) -> dict[str, Any]:
-        """Errors of the GNSS epochs' own positions (the single-point solution for
-        tight coupling) against a truth, each paired with the truth epoch within
-        ``tolerance`` s: ``time``, ``error_ned``, ``stats``, ``offset_removed_ned``.
-        ``remove_mean_offset``: the errors less their mean (precision)."""
+        """Errors of the GNSS epochs' own positions (the fixes for loose coupling,
+        the single-point solution for tight) against a truth: each paired with the
+        truth epoch within ``tolerance`` s, or with ``interpolate`` with the truth
+        interpolated linearly at its time between truth epochs at most 1 s apart
+        (a truth at its own rate). ``time``, ``error_ned``, ``stats``,
+        ``offset_removed_ned``. ``remove_mean_offset``: the errors less their mean
+        (precision; the mean is then ``offset_removed_ned``)."""
 
     def calibration_references(
         self,
@@ -2417,7 +2435,8 @@ class PosSolution:
 
     @property
     def std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma position uncertainty N, E, D, m, (N, 3)."""
+        """One-sigma position uncertainty N, E, D, m, (N, 3); NaN when the file
+        gives none (a fixes CSV truth)."""
 
     @property
     def velocity_ned(self) -> npt.NDArray[np.float64]:
@@ -2437,6 +2456,11 @@ class PosSolution:
         else diag(std²); NaN where the std is."""
 
     @property
+    def attitude(self) -> npt.NDArray[np.float64] | None:
+        """The attitude C_b^n (body to local NED) of every epoch, (N, 3, 3), when
+        the file gives one (a fixes CSV's quaternion or Euler columns), else None."""
+
+    @property
     def has_full_covariance(self) -> bool:
         """Whether the file gives full position covariances (not only stds)."""
 
@@ -2454,8 +2478,19 @@ def decimate(time: npt.ArrayLike, rate_hz: float | None = None) -> npt.NDArray[n
     1/``rate_hz`` interval from the first sample; None: every one), as the
     solution writers thin a solution."""
 
-def read_fixes_csv(path: str | os.PathLike[str]) -> PosSolution:
-    """Reads a fixes CSV (see memsnav.read_fixes_csv)."""
+def read_fixes_csv(
+    path: str | os.PathLike[str],
+    columns: dict[str, str] | None = None,
+    time_reference: str | None = None,
+) -> PosSolution:
+    """Reads a fixes CSV (see memsnav.read_fixes_csv): ``columns`` a dict from
+    memsnav's column names to the file's header names (None: the header names
+    memsnav's), ``time_reference`` what the time column counts (None:
+    ``"column_gps"``)."""
+
+#: Seconds from 1970-01-01 to the GPS epoch 1980-01-06: GPS time counted
+#: from 1970 without leap seconds is GPS time plus this.
+UNIX_TO_GPS_S: float
 
 def read_nmea(path: str | os.PathLike[str]) -> PosSolution:
     """Reads an NMEA 0183 log (see memsnav.read_nmea)."""

@@ -25,11 +25,21 @@ class SimulationFiles:
 
     trajectory: Path
     imu: Path
+    imu_truth: Path
     gnss: Path
     metadata: Path
 
 
-def _csv(header: Sequence[str], columns: Sequence[npt.ArrayLike], fmt: str = "%.10g") -> str:
+#: The digits of a GPS time column: 1e-9 s of a time of 1e9 s.
+_TIME_FORMAT = "%.19g"
+#: RTKLIB's best quality (Q = 1, fix) for the exact simulated positions, so
+#: that ``[truth] pos`` takes them with its default qualities.
+_TRUTH_QUALITY = 1
+
+
+def _csv(
+    header: Sequence[str], columns: Sequence[npt.ArrayLike], fmt: str | Sequence[str] = "%.10g"
+) -> str:
     table = np.column_stack([np.asarray(c, dtype=float) for c in columns])
     out = io.StringIO()
     np.savetxt(out, table, delimiter=",", header=",".join(header), comments="", fmt=fmt)
@@ -65,10 +75,16 @@ def simulate(
     ``cycle_slip_probability`` per satellite and epoch
     (:func:`memsnav.simulate_gnss`). Writes into ``out``:
 
-    - ``trajectory.csv``: time s, ECEF position m, ECEF velocity m/s, roll,
-      pitch, yaw (NED) rad, true specific force m/s² and angular rate rad/s
+    - ``trajectory.csv``: the truth, in the fixes CSV's names (so that
+      ``[truth] pos`` and ``memsnav.read_fixes_csv`` read it as it is; with
+      added noise ``[gnss] pos`` too): ``gps_time_s``, the ECEF position
+      ``x_ecef_m, y_ecef_m, z_ecef_m``, the NED velocity ``vn_m_s, ve_m_s,
+      vd_m_s``, the attitude ``roll_deg, pitch_deg, yaw_deg`` (body to NED)
+      and ``quality`` 1 (exact);
+    - ``imu.csv``: time s, GPS time s, accelerometer m/s², gyroscope rad/s
       (body axes);
-    - ``imu.csv``: time s, accelerometer m/s², gyroscope rad/s (body axes);
+    - ``imu_truth.csv``: the same columns without the IMU's errors (the true
+      specific force and angular rate);
     - ``gnss.csv``: one row per satellite per epoch: time s, GPS time s,
       satellite id (its system too: G n → n, E n → 100 + n, C n → 200 + n),
       satellite ECEF position m and velocity m/s at transmission,
@@ -115,35 +131,55 @@ def simulate(
     files = SimulationFiles(
         directory / "trajectory.csv",
         directory / "imu.csv",
+        directory / "imu_truth.csv",
         directory / "gnss.csv",
         directory / "simulation.json",
     )
+    # The samples on GPS time as the GNSS epochs are (gnss.csv's gps_time_s
+    # against its time_s), so that navigate pairs them.
+    gps_time = trajectory.time + (float(gnss.gps_time[0]) - float(gnss.time[0]))
     xyz = ("x", "y", "z")
     write_text(
         files.trajectory,
         _csv(
-            ["time_s"]
-            + [f"position_ecef_{a}_m" for a in xyz]
-            + [f"velocity_ecef_{a}_m_s" for a in xyz]
-            + ["roll_rad", "pitch_rad", "yaw_rad"]
-            + [f"specific_force_{a}_m_s2" for a in xyz]
-            + [f"angular_rate_{a}_rad_s" for a in xyz],
+            [
+                "gps_time_s",
+                *("x_ecef_m", "y_ecef_m", "z_ecef_m"),
+                *("vn_m_s", "ve_m_s", "vd_m_s"),
+                *("roll_deg", "pitch_deg", "yaw_deg"),
+                "quality",
+            ],
+            [
+                gps_time,
+                *trajectory.position_ecef.T,
+                *trajectory.velocity_ned().T,
+                *np.degrees(trajectory.euler_ned()).T,
+                np.full(len(gps_time), _TRUTH_QUALITY),
+            ],
+            fmt=[_TIME_FORMAT] + ["%.12g"] * 9 + ["%d"],
+        ),
+    )
+    imu_header = (
+        ["time_s", "gps_time_s"]
+        + [f"accel_{a}_m_s2" for a in xyz]
+        + [f"gyro_{a}_rad_s" for a in xyz]
+    )
+    imu_format = ["%.10g", _TIME_FORMAT] + ["%.10g"] * 6
+    write_text(
+        files.imu,
+        _csv(imu_header, [trajectory.time, gps_time, *accel.T, *gyro.T], fmt=imu_format),
+    )
+    write_text(
+        files.imu_truth,
+        _csv(
+            imu_header,
             [
                 trajectory.time,
-                *trajectory.position_ecef.T,
-                *trajectory.velocity_ecef.T,
-                *trajectory.euler_ned().T,
+                gps_time,
                 *trajectory.specific_force.T,
                 *trajectory.angular_rate.T,
             ],
-            fmt="%.12g",
-        ),
-    )
-    write_text(
-        files.imu,
-        _csv(
-            ["time_s"] + [f"accel_{a}_m_s2" for a in xyz] + [f"gyro_{a}_rad_s" for a in xyz],
-            [trajectory.time, *accel.T, *gyro.T],
+            fmt=imu_format,
         ),
     )
     tracked = gnss.sat_id >= 0
@@ -181,6 +217,7 @@ def simulate(
     metadata = {
         "memsnav_version": mn.__version__,
         "duration_s": duration,
+        "start_gps_time_s": float(gps_time[0]),
         "rate_hz": rate,
         "imu": imu,
         "imu_errors": {

@@ -20,9 +20,9 @@ use memsnav_core::gnss::{
 };
 use memsnav_core::logs::{
     axes_from_name, parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea,
-    parse_pos, parse_time_tag, parse_ubx, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, ImuLog,
-    PosSolution, TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S, MAX_SPECIFIC_FORCE_M_S2,
-    MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
+    parse_pos, parse_time_tag, parse_ubx, AccelUnit, FixesCsvLayout, GyroUnit, ImuColumns,
+    ImuCsvLayout, ImuLog, PosSolution, TableStds, TimeUnit, MAX_ANGULAR_RATE_RAD_S,
+    MAX_SPECIFIC_FORCE_M_S2, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };
 use proptest::prelude::*;
 
@@ -124,13 +124,26 @@ fn solution_ok(sol: &PosSolution) -> bool {
                 && p.y.abs() <= std::f64::consts::PI
                 && POS_HEIGHT_RANGE_M.contains(&p.z)
         })
-        && sol.std_ned_m.iter().all(|s| s.iter().all(|&x| x >= 0.0))
+        // A fixes CSV without σ columns (a truth) has NaN σ throughout.
+        && sol
+            .std_ned_m
+            .iter()
+            .all(|s| s.iter().all(|&x| x >= 0.0) || s.iter().all(|x| x.is_nan()))
         && sol
             .velocity_ned_m_s
             .iter()
             .all(|v| v.iter().all(|x| x.abs() <= MAX_SPEED_M_S || x.is_nan()))
         && sol.quality.iter().all(|&q| q <= 7)
-        && sol.position_covariance_ned_m2().iter().all(psd)
+        && sol
+            .position_covariance_ned_m2()
+            .iter()
+            .all(|c| psd(c) || c.iter().all(|x| x.is_nan()))
+        && sol.attitude_c_b_n.as_ref().is_none_or(|c| {
+            c.iter().all(|m| {
+                (m.transpose() * m - nalgebra::Matrix3::identity()).abs().max() < 1e-9
+                    && (m.determinant() - 1.0).abs() < 1e-9
+            })
+        })
 }
 
 const GNSS_TABLE_SEED: &str = "time_s,gps_time_s,sat_id,sat_position_ecef_x_m,sat_position_ecef_y_m,sat_position_ecef_z_m,sat_velocity_ecef_x_m_s,sat_velocity_ecef_y_m_s,sat_velocity_ecef_z_m_s,pseudorange_m,pseudorange_rate_m_s
@@ -266,7 +279,7 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
         Reader::Pos | Reader::FixesCsv | Reader::Nmea => {
             let parsed = match reader {
                 Reader::Pos => parse_pos(&text, file),
-                Reader::FixesCsv => parse_fixes_csv(&text, file),
+                Reader::FixesCsv => parse_fixes_csv(&text, file, &FixesCsvLayout::default()),
                 _ => parse_nmea(&text, file),
             };
             parsed.map(|sol| solution_ok(&sol).then_some(()).ok_or(format!("{sol:?}")))

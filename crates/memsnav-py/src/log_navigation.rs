@@ -199,6 +199,43 @@ fn fixes_from_solution(
     Ok(PyPositionFixes { fixes })
 }
 
+/// The truth moved to the point being scored
+/// (`memsnav_core::navigate::truth::truth_at_point`): `geodetic` (N, 3)
+/// [lat rad, lon rad, h m] at the truth's own point, `attitude` (N, 3, 3)
+/// its C_b^n (needed for a lever arm), `lever_arm` (3,) the scored point
+/// from the truth's point in the truth's body axes (forward, right, down),
+/// m, `offset_ned` (3,) a datum offset added in local NED, m (None: zero).
+/// ECEF (N, 3), m: r_truth + C_n^e (C_b^n l + o).
+#[catch_panics]
+#[pyfunction]
+#[pyo3(signature = (geodetic, attitude=None, *, lever_arm=None, offset_ned=None))]
+fn truth_at_point<'py>(
+    py: Python<'py>,
+    geodetic: &Bound<'_, PyAny>,
+    attitude: Option<&Bound<'_, PyAny>>,
+    lever_arm: Option<&Bound<'_, PyAny>>,
+    offset_ned: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let geodetic = convert::vectors(geodetic, "geodetic")?;
+    let attitude = given(attitude)
+        .map(|a| convert::matrices3(a, "attitude"))
+        .transpose()?;
+    let vector = |v: Option<&Bound<'_, PyAny>>, name: &str| {
+        given(v)
+            .map(|v| convert::vector3(v, name))
+            .transpose()
+            .map(Option::unwrap_or_default)
+    };
+    let lever_arm = vector(lever_arm, "lever_arm")?;
+    let offset_ned = vector(offset_ned, "offset_ned")?;
+    let moved = py
+        .detach(|| {
+            navigate::truth::truth_at_point(&geodetic, attitude.as_deref(), &lever_arm, &offset_ned)
+        })
+        .py()?;
+    Ok(convert::vectors_to_numpy(py, &moved))
+}
+
 /// The argument when given and not None.
 fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyAny>> {
     o.filter(|v| !v.is_none())
@@ -453,18 +490,23 @@ impl PyLogRun {
         d.set_item("by_outage_length", by_length)?;
         Ok(d)
     }
-    /// Errors of the GNSS epochs' own positions (the single-point solution
-    /// for tight coupling) against a truth, each paired with the truth epoch
-    /// within `tolerance` s: dict `time`, `error_ned`, `stats`,
-    /// `offset_removed_ned`. `remove_mean_offset`: the errors less their
-    /// mean (precision).
-    #[pyo3(signature = (time, position_ecef, *, tolerance=0.02, remove_mean_offset=false))]
+    /// Errors of the GNSS epochs' own positions (the fixes for loose
+    /// coupling, the single-point solution for tight) against a truth:
+    /// each paired with the truth epoch within `tolerance` s, or with
+    /// `interpolate` with the truth interpolated linearly at its time
+    /// between truth epochs at most `score::TRUTH_MAX_GAP_S` (1 s) apart
+    /// (a truth at its own rate). Dict `time`,
+    /// `error_ned`, `stats`, `offset_removed_ned`. `remove_mean_offset`:
+    /// the errors less their mean (precision; the mean is then
+    /// `offset_removed_ned`).
+    #[pyo3(signature = (time, position_ecef, *, tolerance=0.02, interpolate=false, remove_mean_offset=false))]
     fn score_gnss<'py>(
         &self,
         py: Python<'py>,
         time: &Bound<'_, PyAny>,
         position_ecef: &Bound<'_, PyAny>,
         tolerance: f64,
+        interpolate: bool,
         remove_mean_offset: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let truth_t = convert::scalars(time, "time")?;
@@ -472,7 +514,16 @@ impl PyLogRun {
         let g = &self.run.gnss;
         let t: Vec<f64> = g.iter().map(|x| x.time_s).collect();
         let r: Vec<Vector3<f64>> = g.iter().map(|x| x.position_ecef).collect();
-        let scored = score::score_fixes(&t, &r, &truth_t, &truth_r, tolerance).py()?;
+        let pairing = if interpolate {
+            score::FixPairing::Interpolated {
+                max_gap_s: score::TRUTH_MAX_GAP_S,
+            }
+        } else {
+            score::FixPairing::Nearest {
+                tolerance_s: tolerance,
+            }
+        };
+        let scored = score::score_fixes(&t, &r, &truth_t, &truth_r, pairing).py()?;
         let scored = if remove_mean_offset {
             scored.less_mean_offset()
         } else {
@@ -682,6 +733,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_navigate_settings, m)?)?;
     m.add_function(wrap_pyfunction!(mounting_matrix, m)?)?;
     m.add_function(wrap_pyfunction!(fixes_from_solution, m)?)?;
+    m.add_function(wrap_pyfunction!(truth_at_point, m)?)?;
     m.add_class::<PyLogRun>()?;
     Ok(())
 }

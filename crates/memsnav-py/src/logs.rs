@@ -4,7 +4,9 @@
 
 use std::path::PathBuf;
 
-use memsnav_core::logs::{self, AccelUnit, GyroUnit, ImuColumns, ImuCsvLayout, TimeUnit};
+use memsnav_core::logs::{
+    self, AccelUnit, FixTimeReference, FixesCsvLayout, GyroUnit, ImuColumns, ImuCsvLayout, TimeUnit,
+};
 use memsnav_core::timing::{self, LineEnds, OffsetSignal};
 use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2, PyArray3};
@@ -383,7 +385,8 @@ impl PyPosSolution {
         PyArray1::from_iter(py, self.inner.n_satellites.iter().map(|&n| i64::from(n)))
     }
 
-    /// One-sigma position uncertainty N, E, D, m, ``(N, 3)``.
+    /// One-sigma position uncertainty N, E, D, m, ``(N, 3)``; NaN when the
+    /// file gives none (a fixes CSV truth).
     #[getter]
     fn std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.std_ned_m)
@@ -415,6 +418,17 @@ impl PyPosSolution {
         convert::matrices3_to_numpy(py, &self.inner.velocity_covariance_ned_m2_s2())
     }
 
+    /// The attitude C_b^n (body to local NED) of every epoch, ``(N, 3,
+    /// 3)``, when the file gives one (a fixes CSV's quaternion or Euler
+    /// columns), else None.
+    #[getter]
+    fn attitude<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray3<f64>>> {
+        self.inner
+            .attitude_c_b_n
+            .as_deref()
+            .map(|c| convert::matrices3_to_numpy(py, c))
+    }
+
     /// Whether the file gives full position covariances (not only stds).
     #[getter]
     fn has_full_covariance(&self) -> bool {
@@ -441,12 +455,39 @@ fn read_pos(py: Python<'_>, path: PathBuf) -> PyResult<PyPosSolution> {
     })
 }
 
-/// Reads a fixes CSV (see ``memsnav.read_fixes_csv``).
+/// Reads a fixes CSV (see ``memsnav.read_fixes_csv``): ``columns`` a dict
+/// from memsnav's column names to the file's header names (None: the
+/// header names memsnav's), ``time_reference`` what the time column
+/// counts (None: ``"column_gps"``).
 #[catch_panics]
 #[pyfunction]
-fn read_fixes_csv(py: Python<'_>, path: PathBuf) -> PyResult<PyPosSolution> {
+#[pyo3(signature = (path, columns=None, time_reference=None))]
+fn read_fixes_csv(
+    py: Python<'_>,
+    path: PathBuf,
+    columns: Option<&Bound<'_, PyDict>>,
+    time_reference: Option<&str>,
+) -> PyResult<PyPosSolution> {
+    let mut layout = FixesCsvLayout::default();
+    if let Some(map) = columns {
+        for (key, value) in map.iter() {
+            let key: String = key
+                .extract()
+                .map_err(|_| PyValueError::new_err("columns: the keys must be strings"))?;
+            let header: String = value.extract().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "columns: {key:?}: expected the file's header name (str), got {}",
+                    value.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+                ))
+            })?;
+            layout.columns.push((key, header));
+        }
+    }
+    if let Some(name) = time_reference {
+        layout.time_reference = FixTimeReference::from_name(name).py()?;
+    }
     Ok(PyPosSolution {
-        inner: py.detach(|| logs::read_fixes_csv(&path)).py()?,
+        inner: py.detach(|| logs::read_fixes_csv(&path, &layout)).py()?,
     })
 }
 
@@ -505,6 +546,7 @@ fn write_pos(
         velocity_ned_m_s: convert::vectors(velocity_ned, "velocity_ned")?,
         velocity_std_ned_m_s: convert::vectors(velocity_std_ned, "velocity_std_ned")?,
         velocity_covariance_ned_m2_s2: None,
+        attitude_c_b_n: None,
         warnings: Vec::new(),
     };
     py.detach(|| logs::write_pos(&path, &solution, program))
@@ -649,5 +691,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_pos, m)?)?;
     m.add_function(wrap_pyfunction!(estimate_time_offset, m)?)?;
     m.add_function(wrap_pyfunction!(estimate_velocity_latency, m)?)?;
+    m.add("UNIX_TO_GPS_S", memsnav_core::gnss::UNIX_TO_GPS_S)?;
     Ok(())
 }

@@ -144,6 +144,7 @@ def _drive(cfg: CalibrationConfig) -> CalibrationRun:
     truth = pipeline.read_truth(nav)
     comparison = None
     if drive["compare"] and truth is not None:
+        truth_time, truth_position_ecef = pipeline.truth_before_the_run(nav, truth)
         comparison = compare_navigation(
             t,
             f,
@@ -151,8 +152,8 @@ def _drive(cfg: CalibrationConfig) -> CalibrationRun:
             gnss,
             cal,
             settings=nav.engine,
-            truth_time=truth[0],
-            truth_position_ecef=truth[1],
+            truth_time=truth_time,
+            truth_position_ecef=truth_position_ecef,
             draws=drive["draws"],
             seed=drive["seed"],
         )

@@ -20,7 +20,8 @@ NAME = "simulate"
 HELP = "write a random trajectory, its IMU outputs and GNSS measurements as CSV"
 DESCRIPTION = (
     "Simulate a random land-vehicle trajectory, the outputs of an IMU preset along it "
-    "and GNSS pseudoranges and rates, and write trajectory.csv, imu.csv, gnss.csv and "
+    "and GNSS pseudoranges and rates, and write trajectory.csv (the truth, readable as "
+    "[truth] pos), imu.csv, imu_truth.csv (the IMU without errors), gnss.csv and "
     "simulation.json into DIR."
 )
 

@@ -1,7 +1,8 @@
 """The answer of a ``navigate`` run in a few lines, for the terminal and
-the top of its report: the errors through the scheduled GNSS outages (what
-a drive with outages is run for) with their schedule, then the errors
-while aided with what they can mean. A truth that is the filter's own GNSS
+the top of its report: the truth it is scored against as the user named
+it, the errors through the scheduled GNSS outages (what a drive with
+outages is run for) with their schedule, then the errors while aided with
+what they can mean. A truth that is the filter's own GNSS
 input scores only how closely the filter follows that input, and the
 lines say so where the number is; an outage spent at a standstill tests
 the zero-velocity updates, not the coast, and is named and left out of
@@ -103,6 +104,41 @@ def satellites_line(systems: dict[str, dict[str, Any]]) -> str:
     return text + (f"; {slips} cycle slips" if slips else "")
 
 
+def _metres(values: list[float]) -> str:
+    """[−2.2, 0, 0] as "(−2.2, 0, 0) m"."""
+    return "(" + ", ".join(number(v) for v in values) + ") m"
+
+
+def truth_line(summary: dict[str, Any]) -> str | None:
+    """What the run is scored against, as the configuration names it
+    (``[truth] name``, else its file), and how it was moved: to the antenna
+    by its lever arm, into the GNSS's datum by a constant offset (given, or
+    the mean of GNSS − truth over the run's GNSS epochs). None without a
+    truth."""
+    truth = summary.get("truth")
+    if truth is None:
+        return None
+    moves = []
+    if any(truth["lever_arm_m"]):
+        moves.append(
+            f"moved to the antenna by {_metres(truth['lever_arm_m'])} in its body axes "
+            "(forward, right, down)"
+        )
+    offset = truth["datum_offset"]
+    if offset["source"] != "none":
+        north, east, down = offset["ned_m"]
+        how = (
+            f"the mean of GNSS − truth over {offset['gnss_epochs']} GNSS epochs"
+            if offset["source"] == "from_gnss"
+            else "as given"
+        )
+        moves.append(
+            f"into the GNSS's datum by N {number(north)}, E {number(east)}, D {number(down)} m "
+            f"({how})"
+        )
+    return f"  truth: {truth['name']}" + (f", {'; '.join(moves)}" if moves else "")
+
+
 def answer_lines(summary: dict[str, Any]) -> list[str]:
     """What the run found, first: the schedule, the satellites in use
     (tight coupling), the outage errors per length, the outages at a
@@ -119,6 +155,9 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
     raw = summary.get("errors_vs_truth")
     if raw is None:
         return [*lines, "  no truth configured: no errors to show"]
+    truth = truth_line(summary)
+    if truth:
+        lines.append(truth)
     precise = summary.get("errors_vs_truth_precision")
     # The configured score: by precision the outage errors are the drift
     # from the solution's own offset, which is what a precision truth knows.
@@ -135,6 +174,13 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
     aided = raw["aided"]
     if aided["epochs"]:
         lines.append(f"  aided: {_errors(aided)}")
+    fixes = summary.get("gnss_errors_vs_truth", {})
+    if fixes.get("epochs") and not summary.get("truth_is_gnss_input"):
+        lines.append(
+            f"  the GNSS fixes alone (the filter's input, {fixes['epochs']} epochs): horizontal "
+            f"RMS {number(fixes['rms_horizontal_m'])} m, max {number(fixes['max_horizontal_m'])} "
+            f"m, vertical RMS {number(fixes['rms_vertical_m'])} m"
+        )
     if precise and precise["aided"]["epochs"]:
         north, east, down = precise["offset_removed_ned_m"]
         spp = summary.get("spp_errors_vs_truth_precision", {})

@@ -36,9 +36,11 @@ from memsnav._config import (
     axes,
     file_name,
     flag,
+    header_names,
     imu_columns,
     integer,
     list_of,
+    list_or_choice,
     load_toml,
     number,
     pathname,
@@ -60,8 +62,16 @@ _OBSERVABLES: dict[str, float] = _mn.defaults()["RinexObservations.gps_l1"]
 _QUALITIES = list_of(integer(0, 7), min_length=1)
 #: The format of a fixes file (``[gnss] pos``, ``[truth] pos``): RTKLIB
 #: ``.pos``, the fixes CSV or NMEA; not given: from the file name
-#: (``fix_readers.fix_format``: ``.csv``, ``.nmea``, else RTKLIB).
-_FIX_FORMAT: dict[str, tuple[Check, Any]] = {"format": (text(*FIX_FORMATS), None)}
+#: (``fix_readers.fix_format``: ``.csv``, ``.nmea``, else RTKLIB). A fixes
+#: CSV with the user's own header: ``columns``, a table from memsnav's column
+#: names to the file's (the reader checks both and names them), and
+#: ``time_reference``, what its time column counts (None: GPS time since
+#: 1980, the reader's default; docs/your-own-files.md).
+_FIX_FORMAT: dict[str, tuple[Check, Any]] = {
+    "format": (text(*FIX_FORMATS), None),
+    "columns": (header_names(), None),
+    "time_reference": (text("column_gps", "column_unix_gpst"), None),
+}
 #: The height datum of an RTKLIB solution's heights (``[gnss]`` fixes,
 #: ``[truth]``): ellipsoidal (WGS 84), or above mean sea level with the
 #: geoid separation N at the site (h = H + N, m). Geoid undulations lie
@@ -134,9 +144,17 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
     },
     "truth": {
         "pos": (pathname(), ""),
+        # What the report and the terminal call it (None: its file name).
+        "name": (text(), None),
         **_FIX_FORMAT,
         "quality": (_QUALITIES, [1, 2]),
         **_HEIGHT_DATUM,
+        # The scored point (the GNSS antenna) from the truth's own point, in
+        # the truth's body axes (forward, right, down), m: needs its attitude.
+        "lever_arm_m": (list_of(number(), lengths=(3,)), [0.0, 0.0, 0.0]),
+        # The GNSS's datum less the truth's, N, E, D, m: given, or the mean
+        # of (GNSS − truth) over the run's GNSS epochs; None: none.
+        "offset_ned_m": (list_or_choice(list_of(number(), lengths=(3,)), "from_gnss"), None),
         "score": (text("accuracy", "precision"), "accuracy"),
     },
     "report": {"html": (flag(), True)},
@@ -216,6 +234,20 @@ def load_config(path: str | Path, data_root: str | Path | None = None) -> RunCon
                 f"got height = {datum['height']!r}"
             )
     gnss = cfg.values["gnss"]
+    # The keys that say how to read a fixes file, given where none is read:
+    # an error, not a silent omission.
+    unread = [
+        (f"gnss.{key}", 'loose coupling\'s fixes (gnss.pos); gnss.mode is "tight"')
+        for key in ("columns", "time_reference")
+        if gnss["mode"] == "tight" and key in tables.get("gnss", {})
+    ] + [
+        (f"truth.{key}", "a truth file (truth.pos), which is not given")
+        for key in ("name", "columns", "time_reference", "lever_arm_m", "offset_ned_m")
+        if not cfg.values["truth"]["pos"] and key in tables.get("truth", {})
+    ]
+    if unread:
+        key, reads = unread[0]
+        raise ValueError(f"{path}: {key}: it applies to {reads}")
     if len(gnss["klobuchar_alpha"]) != len(gnss["klobuchar_beta"]):
         raise ValueError(
             f"{path}: gnss.klobuchar_alpha and gnss.klobuchar_beta: give four numbers each, "

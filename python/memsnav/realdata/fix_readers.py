@@ -7,11 +7,12 @@ its σ), so that loose coupling
 (``fixes_from_solution``, ``[gnss] pos``) and the truth (``[truth] pos``)
 take any of them. The parsing is in the Rust core (``memsnav_core::logs``);
 the formats are described in docs/real-data.md, "GNSS fixes from other
-receivers".
+receivers", and a user's own CSV layout in docs/your-own-files.md.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 from memsnav import _memsnav
@@ -53,20 +54,40 @@ def fix_format(path: str | Path, format: str | None = None) -> str:
     return "rtklib"
 
 
-def read_fixes_csv(path: str | Path) -> PosSolution:
-    """Reads GNSS fixes from a CSV whose header names its columns, in any
-    order: time as ``gps_time_s`` (GPS s since 1980-01-06) or ``gps_week``
-    and ``gps_tow_s``; position as ``lat_deg, lon_deg, height_m``
-    (ellipsoidal) or ``x_ecef_m, y_ecef_m, z_ecef_m``; its uncertainty as
-    ``std_n_m, std_e_m, std_d_m`` or the six entries ``cov_nn_m2, cov_ne_m2,
-    cov_nd_m2, cov_ee_m2, cov_ed_m2, cov_dd_m2``; optionally ``vn_m_s,
+def read_fixes_csv(
+    path: str | Path,
+    columns: Mapping[str, str] | None = None,
+    *,
+    time_reference: str | None = None,
+) -> PosSolution:
+    """Reads GNSS fixes (or a truth) from a CSV whose header names its
+    columns, in any order: time as ``gps_time_s`` (GPS s since 1980-01-06)
+    or ``gps_week`` and ``gps_tow_s``; position as ``lat_deg, lon_deg,
+    height_m`` (ellipsoidal) or ``x_ecef_m, y_ecef_m, z_ecef_m``; optionally
+    its uncertainty as ``std_n_m, std_e_m, std_d_m`` or the six entries
+    ``cov_nn_m2, cov_ne_m2, cov_nd_m2, cov_ee_m2, cov_ed_m2, cov_dd_m2``
+    (loose coupling needs it; without it ``std_ned`` is NaN), ``vn_m_s,
     ve_m_s, vd_m_s`` with ``std_vn_m_s, ...`` or ``cov_vnvn_m2_s2, ...``,
+    the attitude (body to NED) as the scalar-first quaternion ``qw, qx, qy,
+    qz`` or ``roll_deg, pitch_deg, yaw_deg`` (``attitude``: C_b^n),
     ``quality`` (RTKLIB's Q, default 5) and ``n_satellites``. ``#`` lines
-    are comments. An unknown column is an error naming it; every field is
-    range-checked (covariances positive semi-definite) and times must
-    increase; errors name the file, line and field (``ParseError``). The last
+    are comments.
+
+    ``columns``: a user's own header, as a dict from memsnav's column names
+    to the file's header names (``{"gps_time_s": "time_s"}``); header
+    columns that carry memsnav's names are then read as themselves unless
+    mapped over, and every other column is ignored. Without it an unknown
+    column is an error naming it. ``time_reference``: what the time column
+    counts, ``"column_gps"`` (None: GPS s since 1980-01-06) or
+    ``"column_unix_gpst"`` (GPS s counted from 1970 without leap seconds).
+
+    Every field is range-checked (covariances positive semi-definite,
+    quaternions of unit norm) and times must increase; errors name the file,
+    line and field (``ParseError``), or the key of ``columns``. The last
     line is skipped with a warning when cut short."""
-    solution = _memsnav.read_fixes_csv(Path(path))
+    solution = _memsnav.read_fixes_csv(
+        Path(path), None if columns is None else dict(columns), time_reference
+    )
     _warn(solution.warnings)
     return solution
 
@@ -98,14 +119,25 @@ def read_ubx_fixes(path: str | Path) -> PosSolution:
     return solution
 
 
-def read_fixes(path: str | Path, format: str | None = None) -> PosSolution:
+def read_fixes(
+    path: str | Path,
+    format: str | None = None,
+    *,
+    columns: Mapping[str, str] | None = None,
+    time_reference: str | None = None,
+) -> PosSolution:
     """Reads a fixes file in ``format`` (:func:`fix_format`: by default
-    from the file name): ``read_pos``, :func:`read_fixes_csv`,
+    from the file name): ``read_pos``, :func:`read_fixes_csv` (with its
+    ``columns`` and ``time_reference``, which only a fixes CSV takes),
     :func:`read_nmea` or :func:`read_ubx_fixes`."""
-    reader = {
-        "rtklib": read_pos,
-        "csv": read_fixes_csv,
-        "nmea": read_nmea,
-        "ubx": read_ubx_fixes,
-    }
-    return reader[fix_format(path, format)](path)
+    chosen = fix_format(path, format)
+    if chosen == "csv":
+        return read_fixes_csv(path, columns, time_reference=time_reference)
+    for argument, value in (("columns", columns), ("time_reference", time_reference)):
+        if value is not None:
+            raise ValueError(
+                f"{argument}: only a fixes CSV (format 'csv') takes it; {path} is read as "
+                f"{chosen!r}"
+            )
+    reader = {"rtklib": read_pos, "nmea": read_nmea, "ubx": read_ubx_fixes}
+    return reader[chosen](path)

@@ -1,5 +1,6 @@
 """``navigate``: real IMU and GNSS logs through the core's log engine
-(``memsnav.navigate_log``), scored against an RTK truth.
+(``memsnav.navigate_log``), scored against a truth (an RTK solution, another
+system's INS) moved to the antenna and into the GNSS's datum.
 
 This module only orchestrates: it reads the files the configuration names
 (IMU CSV and its time tag, an RTKLIB solution or RINEX observations and
@@ -17,10 +18,12 @@ import os
 import time as _time
 import warnings
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 import memsnav._memsnav as _mn
 from memsnav._files import check_replaceable, fresh_output_folder
@@ -119,8 +122,18 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
     latitude, longitude (rad) and ellipsoidal height (m): heights above mean
     sea level (``[table] height = "msl"``) plus the geoid separation."""
     path = _require(cfg, table, "pos")
-    solution = fix_readers.read_fixes(path, cfg[table]["format"])
-    wanted = cfg[table]["quality"]
+    c = cfg[table]
+    try:
+        solution = fix_readers.read_fixes(
+            path, c["format"], columns=c["columns"], time_reference=c["time_reference"]
+        )
+    except readers.ParseError:
+        raise  # names the data file
+    except ValueError as e:
+        # The column mapping and the time reference are checked by the
+        # reader, which names its argument: the key of the same name.
+        raise ValueError(f"{cfg.path}: {table}.{e}") from None
+    wanted = c["quality"]
     if wanted is None:
         # The file's own epochs, whatever their quality, each weighted by
         # the σ the file gives it: a receiver's standalone fixes (Q = 5)
@@ -150,13 +163,72 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
     return solution, keep, lla
 
 
-def read_truth(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray] | None:
-    """The truth's epochs of the chosen quality: GPS time (s) and ECEF
-    position (m), or None when the configuration names no truth."""
+@dataclass(frozen=True)
+class Truth:
+    """The truth's epochs of the chosen quality as the configuration names
+    it: ``name`` (``[truth] name``, else the file's name), ``path``, GPS
+    ``time`` (s), ``geodetic`` (N, 3) at its own point (ellipsoidal),
+    ``attitude`` (N, 3, 3) C_b^n or None, and ``lever_arm_m`` (``[truth]
+    lever_arm_m``: the scored point from the truth's, its body axes)."""
+
+    name: str
+    path: Path
+    time: np.ndarray
+    geodetic: np.ndarray
+    attitude: np.ndarray | None
+    lever_arm_m: list[float]
+
+    def position_ecef(self, offset_ned_m: npt.ArrayLike | None = None) -> np.ndarray:
+        """ECEF at the scored point, with the datum offset ``offset_ned_m``
+        (N, E, D, m) added (``memsnav.truth_at_point``)."""
+        return np.asarray(
+            _mn.truth_at_point(
+                self.geodetic,
+                self.attitude,
+                lever_arm=self.lever_arm_m,
+                offset_ned=offset_ned_m,
+            )
+        )
+
+
+def read_truth(cfg: RunConfig) -> Truth | None:
+    """The truth of the configuration (None when it names none); a lever
+    arm for a truth without attitude is an error naming the key."""
     if cfg.data_path("truth", "pos") is None:
         return None
-    truth, keep, lla = read_solution(cfg, "truth")
-    return truth.gps_time[keep], np.asarray(_mn.geodetic_to_ecef(lla[keep]))
+    solution, keep, lla = read_solution(cfg, "truth")
+    path = _require(cfg, "truth", "pos")
+    attitude = solution.attitude
+    lever_arm = cfg["truth"]["lever_arm_m"]
+    if any(lever_arm) and attitude is None:
+        raise ValueError(
+            f"{cfg.path}: truth.lever_arm_m: {path} gives no attitude (a fixes CSV's qw, qx, "
+            "qy, qz or roll_deg, pitch_deg, yaw_deg columns): a lever arm in the truth's body "
+            "axes needs it"
+        )
+    return Truth(
+        name=cfg["truth"]["name"] or path.name,
+        path=path,
+        time=np.asarray(solution.gps_time)[keep],
+        geodetic=lla[keep],
+        attitude=None if attitude is None else np.asarray(attitude)[keep],
+        lever_arm_m=lever_arm,
+    )
+
+
+def truth_before_the_run(cfg: RunConfig, truth: Truth) -> tuple[np.ndarray, np.ndarray]:
+    """The truth's times and ECEF positions as scored, for a comparison made
+    without a navigate run (a calibration session's): at the antenna, moved
+    by a given datum offset. ``"from_gnss"`` needs a run's GNSS epochs: an
+    error naming the key."""
+    setting = cfg["truth"]["offset_ned_m"]
+    if setting == "from_gnss":
+        raise ValueError(
+            f'{cfg.path}: truth.offset_ned_m = "from_gnss" is measured in a navigate run, '
+            "from its GNSS epochs; a comparison without one needs it given ([n, e, d] m, the "
+            "datum offset a navigate run of this configuration reports)"
+        )
+    return truth.time, truth.position_ecef(setting)
 
 
 def gnss_input(cfg: RunConfig) -> Any:
@@ -175,6 +247,18 @@ def loose_input(cfg: RunConfig) -> Any:
     them): at ``rate_hz``, with seeded white noise added when asked for."""
     g = cfg["gnss"]
     sol, keep, lla = read_solution(cfg, "gnss")
+    covariance = np.asarray(sol.covariance_ned)[keep]
+    if np.isnan(np.asarray(sol.std_ned)[keep]).all():
+        # A file without σ: exact positions (memsnav simulate's
+        # trajectory.csv), which can play a receiver with noise added.
+        if g["position_noise_m"] is None:
+            raise ValueError(
+                f"{cfg.path}: gnss.pos: {cfg.data_path('gnss', 'pos')} gives no position σ "
+                "(std_n_m, std_e_m, std_d_m or cov_nn_m2, ...): loose coupling weights each fix "
+                "by it; give the columns, or gnss.position_noise_m to add noise to exact "
+                "positions (their σ is then that noise)"
+            )
+        covariance = np.zeros_like(covariance)
     given = _optional(g, "rate_hz", "velocity_noise_m_s", "use_velocity", "position_noise_m")
     kwargs: dict[str, Any] = {
         "rate_hz": given.get("rate_hz"),
@@ -185,7 +269,7 @@ def loose_input(cfg: RunConfig) -> Any:
     fixes = _mn.fixes_from_solution(
         sol.gps_time[keep],
         lla[keep],
-        covariance_ned=sol.covariance_ned[keep],
+        covariance_ned=covariance,
         velocity_ned=sol.velocity_ned[keep],
         velocity_covariance_ned=sol.velocity_covariance_ned[keep],
         seed=g["seed"],
@@ -486,10 +570,9 @@ def navigate(
         summary["fix_error_ecef_m"] = [run.range_biases[axis] for axis in range(3)]
     result = LogNavigationResult(cfg, run, None, None, summary=summary)
     if truth is not None:
-        summary["truth_is_gnss_input"] = _same_file(
-            cfg.data_path("truth", "pos"), cfg.data_path("gnss", "pos")
-        )
-        _score(result, truth, precision=cfg["truth"]["score"] == "precision")
+        summary["truth_is_gnss_input"] = _same_file(truth.path, cfg.data_path("gnss", "pos"))
+        scored = _truth_in_gnss_datum(cfg, run, truth, summary)
+        _score(result, (truth.time, scored), precision=cfg["truth"]["score"] == "precision")
         if mode == "tight":
             after = np.asarray(run.gnss["time"]) >= t0
             valid = np.all(np.isfinite(np.asarray(run.gnss["position_ecef"])), axis=1)
@@ -499,6 +582,59 @@ def navigate(
     result.summary = _finite(summary)
     _write_outputs(result, out)
     return result
+
+
+def _in_run(run: Any, time: np.ndarray) -> np.ndarray:
+    """Which of ``time`` lie inside the run's span (its start to its end)."""
+    t = np.asarray(run.time)
+    return (time >= t[0]) & (time <= t[-1])
+
+
+def _truth_in_gnss_datum(
+    cfg: RunConfig, run: Any, truth: Truth, summary: dict[str, Any]
+) -> np.ndarray:
+    """The truth's ECEF positions as scored: at the antenna (its lever arm)
+    and moved by the datum offset ``[truth] offset_ned_m`` (the GNSS's datum
+    less the truth's): given, or ``"from_gnss"``, the mean of (GNSS − truth)
+    over the GNSS epochs inside the run's span (those in the scheduled
+    outages too: the offset belongs to the two references, not to the
+    schedule), the truth interpolated at each epoch. Records the truth
+    and the offset in ``summary["truth"]``."""
+    at_point = truth.position_ecef()
+    setting = cfg["truth"]["offset_ned_m"]
+    described: dict[str, Any] = {
+        "name": truth.name,
+        "file": str(truth.path),
+        "epochs": len(truth.time),
+        "attitude": truth.attitude is not None,
+        "lever_arm_m": list(truth.lever_arm_m),
+    }
+    if setting == "from_gnss":
+        inside = _in_run(run, truth.time)
+        estimate = run.score_gnss(
+            truth.time[inside], at_point[inside], interpolate=True, remove_mean_offset=True
+        )
+        count = estimate["stats"]["epochs"]
+        if count == 0:
+            raise ValueError(
+                f'{cfg.path}: truth.offset_ned_m = "from_gnss": no GNSS epoch of the run lies '
+                f"between two epochs of {truth.path} at most 1 s apart; give the offset "
+                "([n, e, d] m) instead"
+            )
+        offset = np.asarray(estimate["offset_removed_ned"], dtype=float)
+        described["datum_offset"] = {
+            "source": "from_gnss",
+            "ned_m": offset.tolist(),
+            "gnss_epochs": int(count),
+        }
+    elif setting is None:
+        offset = np.zeros(3)
+        described["datum_offset"] = {"source": "none", "ned_m": offset.tolist()}
+    else:
+        offset = np.asarray(setting, dtype=float)
+        described["datum_offset"] = {"source": "given", "ned_m": offset.tolist()}
+    summary["truth"] = described
+    return at_point if setting is None else truth.position_ecef(offset)
 
 
 def _same_file(a: Path | None, b: Path | None) -> bool:
@@ -511,11 +647,13 @@ def _score(
     result: LogNavigationResult, truth: tuple[np.ndarray, np.ndarray], *, precision: bool
 ) -> None:
     """The errors against the truth: of the forward solution, the smoothed
-    one and (tight coupling) the single-point fixes, into ``result`` and its
-    summary. Always by accuracy (``errors_vs_truth``...); with ``precision``
-    also less each solution's own mean offset (``..._precision``, with the
-    offset removed): a truth known to sit a constant unknown offset away
-    (docs/real-data.md, "Truth")."""
+    one, and the GNSS epochs' own positions (loose coupling: its fixes;
+    tight: the single-point fixes), into ``result`` and its summary. Always
+    by accuracy (``errors_vs_truth``...); with ``precision`` also less each
+    solution's own mean offset (``..._precision``, with the offset
+    removed): a truth known to sit a constant unknown offset away
+    (docs/real-data.md, "Truth"; a known datum offset is the truth's own,
+    ``_truth_in_gnss_datum``)."""
     run, summary = result.run, result.summary
     t0 = summary["start_gps_time_s"]
     tt, r_truth = truth
@@ -538,6 +676,21 @@ def _score(
     result.precision = {
         (name[1:] or "forward"): precise for name, (_, precise) in scored.items() if precise
     } or None
+    if summary["mode"] == "loose":
+        # The fixes the filter was given, against the same truth (inside
+        # the run's span, the truth interpolated at each): what the filter
+        # adds to them.
+        inside = _in_run(run, tt)
+        fixes = run.score_gnss(tt[inside], r_truth[inside], interpolate=True)
+        summary["gnss_errors_vs_truth"] = fixes["stats"]
+        if precision:
+            precise = run.score_gnss(
+                tt[inside], r_truth[inside], interpolate=True, remove_mean_offset=True
+            )
+            summary["gnss_errors_vs_truth_precision"] = {
+                "offset_removed_ned_m": precise["offset_removed_ned"].tolist(),
+                **precise["stats"],
+            }
     if summary["mode"] == "tight":
         result.spp = run.score_gnss(tt, r_truth)
         summary["spp_errors_vs_truth"] = result.spp["stats"]

@@ -39,8 +39,8 @@ __all__ = [
 ]
 
 #: Seconds from the Unix epoch to the GPS epoch 1980-01-06 (RTKLIB keeps GPST
-#: in a ``time_t``-like count from 1970, without leap seconds).
-UNIX_TO_GPS_S = 315_964_800.0
+#: in a ``time_t``-like count from 1970, without leap seconds): the core's.
+UNIX_TO_GPS_S: float = _memsnav.UNIX_TO_GPS_S
 #: Columns an IMU layout must name; other names are read and ignored.
 IMU_COLUMNS = ("ax", "ay", "az", "gx", "gy", "gz", "t")
 

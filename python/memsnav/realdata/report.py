@@ -18,6 +18,7 @@ from memsnav.realdata.answer import (
     answer_lines,
     by_length_label,
     outage_label,
+    truth_line,
 )
 from memsnav.realdata.result import LogNavigationResult
 from memsnav.realdata.satellites import SATELLITE_KINDS
@@ -81,7 +82,7 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             fmt="k-",
             lw=2.5,
             alpha=0.35,
-            label="truth (RTK)",
+            label=f"truth ({s['truth']['name']})",
         )
     gnss = run.gnss
     used = np.asarray(gnss["used"]) & np.all(np.isfinite(gnss["position_ecef"]), axis=1)
@@ -167,15 +168,15 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
         doc.figure(
             "errors",
             fig,
-            "Size of the position error at the antenna against the RTK solution (the smoothed "
-            "one too when asked for)"
+            "Size of the position error at the antenna (the smoothed solution's too when asked "
+            f"for) against the truth: {_truth_words(s)}; "
             + (
-                ", each less its own mean offset while aided (the truth is scored by "
-                "precision: [truth] score)"
+                "each less its own mean offset while aided (the truth is scored by "
+                "precision: [truth] score); "
                 if precision
                 else ""
             )
-            + f", with the forward filter's 3σ bound, log scale (below {ERROR_FLOOR_M * 100:g} "
+            + f"with the forward filter's 3σ bound, log scale (below {ERROR_FLOOR_M * 100:g} "
             "cm drawn at 1 cm)"
             + ("; " + "; ".join(shading) if shading else "")
             + "."
@@ -195,6 +196,8 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             rows += _statistics_rows(errors, view)
         if s.get("spp_errors_vs_truth", {}).get("epochs"):
             rows.append(_row("single-point fixes (pseudoranges only)", s["spp_errors_vs_truth"]))
+        if s.get("gnss_errors_vs_truth", {}).get("epochs") and not s.get("truth_is_gnss_input"):
+            rows.append(_row("GNSS fixes alone (the filter's input)", s["gnss_errors_vs_truth"]))
         for suffix, view in (("", ""), ("_smoothed", " smoothed")):
             st = s.get(f"errors_vs_truth{suffix}_precision")
             if st:
@@ -203,12 +206,12 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
                     for key, words in (("aided", "aided"), ("in_outages", "in the outages"))
                     if st[key]["epochs"]
                 ]
-        if s.get("spp_errors_vs_truth_precision", {}).get("epochs"):
-            rows.append(
-                _row(
-                    "single-point fixes, less their mean offset", s["spp_errors_vs_truth_precision"]
-                )
-            )
+        for key, words in (
+            ("spp_errors_vs_truth_precision", "single-point fixes"),
+            ("gnss_errors_vs_truth_precision", "GNSS fixes alone"),
+        ):
+            if s.get(key, {}).get("epochs"):
+                rows.append(_row(f"{words}, less their mean offset", s[key]))
         doc.section("Statistics")
         doc.table(
             [
@@ -251,6 +254,15 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     else:
         doc.paragraph("The filter made no reset.")
     return doc.write(out)
+
+
+def _truth_words(s: dict[str, Any]) -> str:
+    """The truth's name and how it was moved, for a caption: "insd.csv,
+    moved to the antenna by (−2.2, 0, 0) m in its body axes ...", as the
+    answer's truth line says it."""
+    line = truth_line(s)
+    assert line is not None  # a scored run has a truth
+    return line.strip().removeprefix("truth: ")
 
 
 def _satellites_section(doc: Report, s: dict[str, Any]) -> None:

@@ -81,7 +81,7 @@ pub use system::{
 pub use time::{
     calendar_from_gps_time, checked_gps_time_from_calendar, gps_minus_utc_s,
     gps_time_from_calendar, utc_text_from_gps_time, CALENDAR_YEARS, LEAP_SECONDS_KNOWN_UNTIL,
-    SECONDS_PER_WEEK,
+    SECONDS_PER_WEEK, UNIX_TO_GPS_S,
 };
 pub use utc::{checked_gps_time_from_utc, leap_seconds_on};
 pub use walker::{Walker, WalkerConfig};

@@ -3,6 +3,11 @@
 /// Seconds in a GPS week.
 pub const SECONDS_PER_WEEK: f64 = 604_800.0;
 
+/// Seconds from 1970-01-01 to the GPS epoch 1980-01-06: GPS time counted
+/// from 1970 without leap seconds (RTKLIB's `time_t`-like GPST, and the
+/// "Unix-like" GPS stamps of many loggers) is GPS time plus this.
+pub const UNIX_TO_GPS_S: f64 = 315_964_800.0;
+
 /// Days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's
 /// `days_from_civil`, exact for every date).
 fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {

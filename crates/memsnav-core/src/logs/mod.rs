@@ -24,7 +24,10 @@ mod rtklib_pos;
 mod time_tag;
 mod ubx;
 
-pub use fixes_csv::{parse_fixes_csv, read_fixes_csv, DEFAULT_CSV_QUALITY, FIXES_CSV_COLUMNS};
+pub use fixes_csv::{
+    parse_fixes_csv, read_fixes_csv, FixTimeReference, FixesCsvLayout, DEFAULT_CSV_QUALITY,
+    FIXES_CSV_COLUMNS,
+};
 pub use gnss_table::{
     gnss_table_from_columns, parse_gnss_table, read_gnss_table, GnssTable, TableStds,
     GNSS_TABLE_OPTIONAL, GNSS_TABLE_REQUIRED,

@@ -26,7 +26,7 @@ pub struct PosSolution {
     /// Satellites used.
     pub n_satellites: Vec<u16>,
     /// One-sigma position uncertainty north, east, down (RTKLIB's sdn,
-    /// sde, sdu), m.
+    /// sde, sdu), m; NaN when the file gives none (a fixes CSV truth).
     pub std_ned_m: Vec<Vector3<f64>>,
     /// The full position covariance north, east, down, m², when the file
     /// gives one (its diagonal is `std_ned_m`²); None: the stds only.
@@ -38,6 +38,10 @@ pub struct PosSolution {
     pub velocity_std_ned_m_s: Vec<Vector3<f64>>,
     /// The full velocity covariance, (m/s)², when the file gives one.
     pub velocity_covariance_ned_m2_s2: Option<Vec<Matrix3<f64>>>,
+    /// The attitude C_b^n (body to local NED) of every epoch, when the
+    /// file gives one (a fixes CSV from an INS: the truth's attitude, to
+    /// move it by a lever arm).
+    pub attitude_c_b_n: Option<Vec<Matrix3<f64>>>,
     /// Lines skipped, one sentence each.
     pub warnings: Vec<String>,
 }
@@ -55,6 +59,7 @@ impl PosSolution {
             velocity_ned_m_s: Vec::with_capacity(n),
             velocity_std_ned_m_s: Vec::with_capacity(n),
             velocity_covariance_ned_m2_s2: None,
+            attitude_c_b_n: None,
             warnings: Vec::new(),
         }
     }

@@ -12,16 +12,13 @@
 
 use std::path::Path;
 
+use crate::gnss::UNIX_TO_GPS_S;
 use crate::{Error, Result};
 
 /// Bytes before the records: the 64-byte header and the 12-byte start time.
 pub const TIME_TAG_HEADER_BYTES: usize = 76;
 
 const MAGIC: &[u8] = b"TIMETAG RTKLIB";
-
-/// Seconds from 1970-01-01 to the GPS epoch 1980-01-06 (RTKLIB keeps GPST
-/// in a `time_t`-like count from 1970, without leap seconds).
-const UNIX_TO_GPS_S: f64 = 315_964_800.0;
 
 /// An RTKLIB time-tag file.
 #[derive(Debug, Clone, PartialEq)]

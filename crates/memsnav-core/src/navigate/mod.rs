@@ -15,7 +15,8 @@
 //!    standstills ([`standstill`]), the non-holonomic constraint of land
 //!    vehicles, the heading from the first motion;
 //! 5. the solution at the antenna in geodetic, NED and Euler terms
-//!    ([`output`]), and its errors against a truth ([`score`]);
+//!    ([`output`]), and its errors against a truth ([`score`]) moved to
+//!    the antenna and into the GNSS's datum ([`truth`]);
 //! 6. from a (smoothed) solution, the GNSS-derived references that
 //!    calibrate the IMU on the drive itself ([`references`], method §3).
 
@@ -29,6 +30,7 @@ mod run;
 pub mod score;
 mod settings;
 pub mod standstill;
+pub mod truth;
 
 pub use config::{
     mounting_matrix, periodic_outages, AidsConfig, AlignmentConfig, AlignmentMethod, LogConfig,

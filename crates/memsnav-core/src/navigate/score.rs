@@ -242,10 +242,8 @@ pub fn score_solution(
             .clamp(1, time_s.len() - 1);
         let w = (t - time_s[j - 1]) / (time_s[j] - time_s[j - 1]);
         let r = position_ecef[j - 1].lerp(&position_ecef[j], w);
-        let geo = ecef_to_geodetic(truth);
-        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
         times.push(*t);
-        errors.push(cne.transpose() * (r - truth));
+        errors.push(ned_error(&r, truth));
         stds.push(std_ned[j - 1].lerp(&std_ned[j], w));
         outage.push(outages.iter().position(|&(a, b)| *t >= a && *t < b));
     }
@@ -298,15 +296,66 @@ impl FixScore {
     }
 }
 
-/// Errors of sparse fixes (e.g. single-point solutions) against the truth
-/// epoch nearest to each, within `tolerance_s`; fixes with no truth epoch
-/// that close, or NaN, are left out.
+/// The longest gap between two truth epochs that [`truth_at`] bridges,
+/// s: a reference at 1 Hz or faster. Across a longer gap a car's turn
+/// (3 m/s² lateral) leaves the chord a ⋅ gap² / 8 from the path: 0.4 m at
+/// 1 s, and growing with its square.
+pub const TRUTH_MAX_GAP_S: f64 = 1.0;
+
+/// How [`score_fixes`] finds the truth of each fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FixPairing {
+    /// The truth epoch nearest to the fix, within `tolerance_s`: a truth
+    /// recorded at the fixes' own epochs (the same receiver's RTK).
+    Nearest { tolerance_s: f64 },
+    /// The truth interpolated at the fix's time ([`truth_at`], gaps up to
+    /// `max_gap_s`): a truth at its own rate and on its own clock ticks
+    /// (another system's reference).
+    Interpolated { max_gap_s: f64 },
+}
+
+/// The truth at time `t`: interpolated linearly between the truth epochs
+/// on either side of it when they are at most `max_gap_s` apart (a truth
+/// epoch at `t` itself: that epoch); None outside the truth's span, across
+/// a longer gap, or next to a non-finite epoch. At 10 Hz a car's 3 m/s²
+/// leaves the chord within a ⋅ Δt² / 8 = 4 mm of the path.
+pub fn truth_at(
+    truth_time_s: &[f64],
+    truth_position_ecef: &[Vector3<f64>],
+    t: f64,
+    max_gap_s: f64,
+) -> Option<Vector3<f64>> {
+    let j = truth_time_s.partition_point(|x| *x < t);
+    let finite = |r: &Vector3<f64>| r.iter().all(|v| v.is_finite());
+    if j < truth_time_s.len() && truth_time_s[j] == t {
+        return Some(truth_position_ecef[j]).filter(finite);
+    }
+    if j == 0 || j == truth_time_s.len() {
+        return None;
+    }
+    let (a, b) = (truth_time_s[j - 1], truth_time_s[j]);
+    if b - a > max_gap_s {
+        return None;
+    }
+    let (ra, rb) = (truth_position_ecef[j - 1], truth_position_ecef[j]);
+    (finite(&ra) && finite(&rb)).then(|| ra.lerp(&rb, (t - a) / (b - a)))
+}
+
+/// Fix minus truth in the local NED at the truth, m.
+fn ned_error(position_ecef: &Vector3<f64>, truth_ecef: &Vector3<f64>) -> Vector3<f64> {
+    let geo = ecef_to_geodetic(truth_ecef);
+    c_n_e(geo.latitude_rad, geo.longitude_rad).transpose() * (position_ecef - truth_ecef)
+}
+
+/// Errors of sparse fixes (e.g. single-point solutions, or a loose run's
+/// input fixes) against the truth found by `pairing`; fixes without one,
+/// or NaN, are left out.
 pub fn score_fixes(
     time_s: &[f64],
     position_ecef: &[Vector3<f64>],
     truth_time_s: &[f64],
     truth_position_ecef: &[Vector3<f64>],
-    tolerance_s: f64,
+    pairing: FixPairing,
 ) -> Result<FixScore> {
     validate::same_length("position_ecef", position_ecef.len(), "time", time_s.len())?;
     validate::same_length(
@@ -315,13 +364,15 @@ pub fn score_fixes(
         "truth_time",
         truth_time_s.len(),
     )?;
-    validate::non_negative("tolerance_s", tolerance_s)?;
-    let (mut times, mut errors) = (Vec::new(), Vec::new());
-    for (t, r) in time_s.iter().zip(position_ecef) {
-        if !r.iter().all(|v| v.is_finite()) || truth_time_s.is_empty() {
-            continue;
+    match pairing {
+        FixPairing::Nearest { tolerance_s } => validate::non_negative("tolerance_s", tolerance_s)?,
+        FixPairing::Interpolated { max_gap_s } => {
+            validate::non_negative("max_gap_s", max_gap_s)?;
+            validate::increasing_times("truth_time", truth_time_s)?;
         }
-        let j = truth_time_s.partition_point(|x| x < t);
+    }
+    let nearest = |t: f64, tolerance_s: f64| {
+        let j = truth_time_s.partition_point(|x| *x < t);
         let best = [j.saturating_sub(1), j.min(truth_time_s.len() - 1)]
             .into_iter()
             .min_by(|&a, &b| {
@@ -330,14 +381,23 @@ pub fn score_fixes(
                     .total_cmp(&(truth_time_s[b] - t).abs())
             })
             .expect("two candidates");
-        if (truth_time_s[best] - t).abs() > tolerance_s {
+        ((truth_time_s[best] - t).abs() <= tolerance_s).then_some(truth_position_ecef[best])
+    };
+    let (mut times, mut errors) = (Vec::new(), Vec::new());
+    for (t, r) in time_s.iter().zip(position_ecef) {
+        if !r.iter().all(|v| v.is_finite()) || truth_time_s.is_empty() {
             continue;
         }
-        let truth = truth_position_ecef[best];
-        let geo = ecef_to_geodetic(&truth);
-        let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
-        times.push(*t);
-        errors.push(cne.transpose() * (r - truth));
+        let truth = match pairing {
+            FixPairing::Nearest { tolerance_s } => nearest(*t, tolerance_s),
+            FixPairing::Interpolated { max_gap_s } => {
+                truth_at(truth_time_s, truth_position_ecef, *t, max_gap_s)
+            }
+        };
+        if let Some(truth) = truth {
+            times.push(*t);
+            errors.push(ned_error(r, &truth));
+        }
     }
     Ok(FixScore {
         stats: ErrorStats::of(&errors, &[]),
@@ -419,7 +479,14 @@ mod tests {
             .take(2)
             .chain([truth[0]])
             .collect();
-        let fixed = score_fixes(&fix_t, &fixes, &truth_t, &truth, 0.02).unwrap();
+        let fixed = score_fixes(
+            &fix_t,
+            &fixes,
+            &truth_t,
+            &truth,
+            FixPairing::Nearest { tolerance_s: 0.02 },
+        )
+        .unwrap();
         assert_eq!(fixed.time_s, vec![5.001]);
         assert!((fixed.error_ned[0] - Vector3::new(0.0, 2.0, 0.0)).norm() < 1e-6);
         assert_eq!(fixed.stats.epochs, 1);
@@ -479,5 +546,62 @@ mod tests {
         // Removing it twice changes nothing more.
         let twice = precise.less_mean_offset();
         assert!((twice.offset_removed_ned - constant).norm() < 1e-6);
+    }
+
+    /// A 10 Hz truth of a drive at 20 m/s on its own clock ticks and 1 Hz
+    /// fixes between them, each a known NED offset from the path: the
+    /// interpolated pairing finds every offset (the nearest epoch would be
+    /// up to 0.05 s, a metre, away); fixes past the truth's end, across a
+    /// gap longer than the limit, or NaN, find none.
+    #[test]
+    fn fixes_between_truth_epochs_find_the_interpolated_truth() {
+        let (lat0, lon) = (0.7, -1.8);
+        // 20 m/s north: 20 / 6.37e6 rad/s of latitude.
+        let at = |t: f64, ned: Vector3<f64>| {
+            let lat = lat0 + t * 20.0 / 6.37e6;
+            geodetic_to_ecef(Geodetic::new(lat, lon, 100.0)) + c_n_e(lat, lon) * ned
+        };
+        let mut truth_t: Vec<f64> = (0..200).map(|k| 0.043 + k as f64 * 0.1).collect();
+        // A 3 s gap from 12.0 to 15.0 s.
+        truth_t.retain(|t| !(12.0..15.0).contains(t));
+        let truth: Vec<Vector3<f64>> = truth_t.iter().map(|t| at(*t, Vector3::zeros())).collect();
+        let fix_t: Vec<f64> = (0..22).map(|k| 0.3 + k as f64).collect();
+        let offset = |k: usize| Vector3::new(0.1 * k as f64, -1.0, 1.5);
+        let mut fixes: Vec<Vector3<f64>> = fix_t
+            .iter()
+            .enumerate()
+            .map(|(k, t)| at(*t, offset(k)))
+            .collect();
+        fixes[3] = Vector3::repeat(f64::NAN);
+        let pairing = FixPairing::Interpolated {
+            max_gap_s: TRUTH_MAX_GAP_S,
+        };
+        let s = score_fixes(&fix_t, &fixes, &truth_t, &truth, pairing).unwrap();
+        // Fix 3 NaN, fixes 12, 13, 14 in the gap, 20 and 21 after the end
+        // (the last truth epoch is at 19.943 s).
+        let want: Vec<f64> = (0..20)
+            .filter(|k| ![3, 12, 13, 14].contains(k))
+            .map(|k| 0.3 + k as f64)
+            .collect();
+        assert_eq!(s.time_s, want);
+        for (t, e) in s.time_s.iter().zip(&s.error_ned) {
+            let k = (t - 0.3).round() as usize;
+            // The path's chord between two epochs 0.1 s apart: curvature
+            // of the meridian only, far below a millimetre.
+            assert!((e - offset(k)).norm() < 1e-6, "fix {k}: {e}");
+        }
+        // Nearest pairing within 0.02 s finds none of them (0.043 s off).
+        let nearest = score_fixes(
+            &fix_t,
+            &fixes,
+            &truth_t,
+            &truth,
+            FixPairing::Nearest { tolerance_s: 0.02 },
+        )
+        .unwrap();
+        assert!(nearest.time_s.is_empty());
+        // A truth epoch at the fix's time is taken as it is.
+        assert_eq!(truth_at(&truth_t, &truth, truth_t[5], 0.0), Some(truth[5]));
+        assert_eq!(truth_at(&truth_t, &truth, 0.0, TRUTH_MAX_GAP_S), None);
     }
 }

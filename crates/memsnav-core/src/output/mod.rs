@@ -286,6 +286,7 @@ pub fn format_solution(
                 velocity_ned_m_s: pick(&solution.velocity_ned),
                 velocity_std_ned_m_s: pick(&solution.velocity_std_ned),
                 velocity_covariance_ned_m2_s2: None,
+                attitude_c_b_n: None,
                 warnings: Vec::new(),
             };
             format_pos(&pos, "memsnav")
