@@ -1659,9 +1659,10 @@ class RunningFilter:
 
     Times are the IMU's time stamps, s (each must follow the last by more
     than 0 and at most 1 s). Updates apply at the filter's time; a GNSS
-    epoch stamped more than 1e-4 s away is refused. Every update is one
-    batch tested by the chi-square gate; the aids return whether it was
-    accepted. Records accumulate until ``take_records()``. Refused calls
+    epoch stamped more than 1e-4 s away is refused. Every update is tested
+    by the chi-square gate (a fix or a GNSS epoch as one batch per block)
+    and returns whether it was applied whole. Records accumulate until
+    ``take_records()``. Refused calls
     (ValueError naming the argument) leave the filter unchanged.
     """
 
@@ -1678,10 +1679,12 @@ class RunningFilter:
         filter's time (``delta_v`` (3,) m/s, ``delta_theta`` (3,) rad), with
         coning and sculling."""
 
-    def update_gnss(self, gnss: GnssMeasurements | Any, epoch: int = 0) -> None:
+    def update_gnss(self, gnss: GnssMeasurements | Any, epoch: int = 0) -> bool:
         """Applies epoch ``epoch`` of ``gnss`` (what ``TightlyCoupledFilter.run``
         takes) at the filter's time; only for a filter started by
-        ``TightlyCoupledFilter``."""
+        ``TightlyCoupledFilter``. Returns whether it was applied whole: every
+        batch passed its gate (the pseudoranges after any fault exclusion,
+        the rates); the records say which failed."""
 
     def update_fix(
         self,
@@ -1689,12 +1692,15 @@ class RunningFilter:
         position_covariance: npt.ArrayLike,
         velocity_ecef: npt.ArrayLike | None = None,
         velocity_covariance: npt.ArrayLike | None = None,
-    ) -> None:
+    ) -> bool:
         """Applies a fix of the antenna at the filter's time (position (3,) m,
-        covariance (3, 3) m²; optional velocity (3,) m/s with its (3, 3))."""
+        covariance (3, 3) m²; optional velocity (3,) m/s with its (3, 3)).
+        Returns whether it was applied whole: the position block and the
+        velocity block (when given) each passed its gate."""
 
     def update_zupt(self, std: float) -> bool:
-        """Zero-velocity update, ``std`` m/s per axis."""
+        """Zero-velocity update, ``std`` m/s per axis. Returns whether it
+        passed its gate (as every update method does)."""
 
     def update_zaru(self, mean_angular_rate: npt.ArrayLike, std: npt.ArrayLike | float) -> bool:
         """Zero-angular-rate update from the mean raw gyro reading (3,) rad/s
