@@ -1426,12 +1426,14 @@ class FilterSolution:
         with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
         ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
         "applied_outliers"),
-        ``time`` s, ``message``, in time order) and ``consistency`` (per GNSS
-        kind: ``kind``, ``windows`` of 30 s, ``above_band``: windows whose summed
-        NIS exceeded the 0.9999 chi-square quantile, ``max_band_ratio``: the
-        largest summed NIS over that quantile, ``max_at``: its window's start,
-        s). A ratio above 4 in two windows in a row is an alert; 1-4 is a tuning
-        mismatch, reported here only."""
+        ``time_s`` (GNSS time, s), ``message``, in time order) and
+        ``consistency`` (per GNSS kind: ``kind``, ``windows`` of 30 s,
+        ``windows_above_band``: windows whose summed NIS exceeded the 0.9999
+        chi-square quantile, ``max_band_ratio``: the largest summed NIS over
+        that quantile, ``max_at_s``: its window's start, s). A ratio above 4 in
+        two windows in a row is an alert; 1-4 is a tuning mismatch, reported
+        here only. ``summary.json`` of ``navigate`` has the same keys (its
+        times in seconds after the start)."""
 
     def write(
         self,

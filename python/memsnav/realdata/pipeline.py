@@ -550,23 +550,14 @@ def _score(
 
 
 def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
-    """The solution's integrity (``FilterSolution.integrity``) with times
-    in seconds after the start."""
+    """The solution's integrity (``FilterSolution.integrity``) under its own
+    keys, its times (``time_s``, ``max_at_s``) in seconds after the start
+    like every time in ``summary.json``."""
     return {
-        "diverged": bool(integrity["diverged"]),
-        "alerts": [
-            {"kind": a["kind"], "time_s": float(a["time"] - t0), "message": a["message"]}
-            for a in integrity["alerts"]
-        ],
+        **integrity,
+        "alerts": [{**a, "time_s": float(a["time_s"] - t0)} for a in integrity["alerts"]],
         "consistency": [
-            {
-                "kind": c["kind"],
-                "windows": int(c["windows"]),
-                "windows_above_band": int(c["above_band"]),
-                "max_band_ratio": float(c["max_band_ratio"]),
-                "max_at_s": float(c["max_at"] - t0),
-            }
-            for c in integrity["consistency"]
+            {**c, "max_at_s": float(c["max_at_s"] - t0)} for c in integrity["consistency"]
         ],
     }
 
