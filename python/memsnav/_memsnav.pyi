@@ -2172,6 +2172,25 @@ class LogRun:
     def range_biases(self) -> dict[int, float]:
         """Satellites holding range-bias states at the end: {prn: bias m}."""
 
+    @property
+    def failure(self) -> dict[str, Any] | None:
+        """Why the run stopped before the end of the log, when it did (the
+        filter's error, or a state beyond what a solution holds: height
+        outside -10 km to 10 000 km, speed above 10 km/s, a σ above 10 000 km):
+        dict ``time`` (GNSS time, s) and ``message``. The solution ends at the
+        last sample before it and has no smoothed run; ``navigate_log`` also
+        warns. None for a run to the end."""
+
+    @property
+    def gyro_scale(self) -> dict[str, Any] | None:
+        """The gyro's turns against the GNSS course's over the whole log: dict
+        ``ratio`` (1 for a gyro read in its unit; π/180 for radians read as
+        degrees, 180/π the reverse), ``relative_std``, ``course_turn_deg``,
+        ``pairs``, ``conclusive`` (enough turning for a verdict), ``warning``
+        (a conclusive ratio beyond √(180/π) either way: the warning naming
+        ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
+        else None). None without a usable pair of GNSS epochs."""
+
     def score(
         self,
         time: npt.ArrayLike,
