@@ -643,7 +643,8 @@ fn navigate_log(
         crate::warnings::warn_all(
             py,
             &[format!(
-                "the run stopped at t = {} s, before the end of the log: {} (its solution ends                  there; LogRun.failure)",
+                "the run stopped at t = {} s, before the end of the log: {} (its solution ends \
+                 there; LogRun.failure)",
                 f.time_s, f.message
             )],
         )?;

@@ -650,30 +650,30 @@ impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
 fn unrepresentable<const N: usize>(state: &FilterState<N>) -> Option<String> {
     let height_m = ecef_to_geodetic(&state.nav.position_ecef).height_m;
     let speed_m_s = state.nav.velocity_ecef.norm();
-    let std_m = (0..3)
-        .map(|i| state.kf.p[(POSITION + i, POSITION + i)])
-        .fold(0.0_f64, |a, v| if v.is_nan() { f64::NAN } else { a.max(v) })
-        .sqrt();
-    let std_m_s = (0..3)
-        .map(|i| state.kf.p[(VELOCITY + i, VELOCITY + i)])
-        .fold(0.0_f64, |a, v| if v.is_nan() { f64::NAN } else { a.max(v) })
-        .sqrt();
+    // The largest σ of a block (NaN when any variance is).
+    let largest_std = |first: usize| {
+        (0..3)
+            .map(|i| state.kf.p[(first + i, first + i)])
+            .fold(0.0_f64, |a, v| if v.is_nan() { f64::NAN } else { a.max(v) })
+            .sqrt()
+    };
+    let (std_m, std_m_s) = (largest_std(POSITION), largest_std(VELOCITY));
     let (low, high) = (*POS_HEIGHT_RANGE_M.start(), *POS_HEIGHT_RANGE_M.end());
-    if !POS_HEIGHT_RANGE_M.contains(&height_m) {
-        Some(format!(
-            "the state left the range of a navigation solution: height {height_m:.0} m              (a solution holds {low:e} to {high:e} m)"
-        ))
-    } else if !(speed_m_s <= MAX_SPEED_M_S) {
-        Some(format!(
-            "the state left the range of a navigation solution: speed {speed_m_s:.0} m/s              (a solution holds up to {MAX_SPEED_M_S:e} m/s)"
-        ))
-    } else if !(std_m <= MAX_STD && std_m_s <= MAX_STD) {
-        Some(format!(
-            "the state left the range of a navigation solution: one-sigma {std_m:.3e} m in              position, {std_m_s:.3e} m/s in velocity (a solution holds up to {MAX_STD:e})"
-        ))
+    let reason = if !POS_HEIGHT_RANGE_M.contains(&height_m) {
+        format!("height {height_m:.0} m (a solution holds {low:e} to {high:e} m)")
+    } else if !(0.0..=MAX_SPEED_M_S).contains(&speed_m_s) {
+        format!("speed {speed_m_s:.0} m/s (a solution holds up to {MAX_SPEED_M_S:e} m/s)")
+    } else if !((0.0..=MAX_STD).contains(&std_m) && (0.0..=MAX_STD).contains(&std_m_s)) {
+        format!(
+            "one-sigma {std_m:.3e} m in position, {std_m_s:.3e} m/s in velocity (a solution \
+             holds up to {MAX_STD:e})"
+        )
     } else {
-        None
-    }
+        return None;
+    };
+    Some(format!(
+        "the state left the range of a navigation solution: {reason}"
+    ))
 }
 
 /// The mean sample rate of increasing times, Hz (the IMU's, for its tuning).
