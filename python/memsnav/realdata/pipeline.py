@@ -535,6 +535,7 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
             "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],
             "outages_s": [[float(a - t0), float(b - a)] for a, b in run.outages],
             "sensor_estimates": _sensor_estimates(solution, -1),
+            "adaptation": run.adaptation,
             **notes,
         }
     )

@@ -82,9 +82,11 @@ impl<const N: usize> FilterState<N> {
     /// see [`Self::all_accepted_since`].
     pub fn update_fix(&mut self, fix: &PositionFix) -> Result<bool> {
         self.check_epoch_time("fix", fix.time_s)?;
-        let whitened = loose::whiten_fix(0, fix, &self.tuning.floor)?;
+        let interval_s = self.previous_epoch_s.map(|before| fix.time_s - before);
+        let whitened = loose::prepare_fix(0, fix, interval_s, &self.tuning)?;
         let first = self.batches.len();
         loose::apply_fix(self, &whitened, fix)?;
+        self.previous_epoch_s = Some(fix.time_s);
         Ok(self.all_accepted_since(first))
     }
 

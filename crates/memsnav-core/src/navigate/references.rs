@@ -309,6 +309,15 @@ mod tests {
             mounting: m,
             failure: None,
             gyro_scale: None,
+            adaptation: Default::default(),
+            tuning: crate::coupling::FilterTuning::new(
+                100.0,
+                0.0,
+                0.0,
+                crate::coupling::BiasProcess::constant(0.0),
+                crate::coupling::BiasProcess::constant(0.0),
+            )
+            .expect("a valid tuning"),
         }
     }
 
