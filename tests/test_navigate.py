@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import re
 import shutil
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -497,9 +498,10 @@ def test_position_only_fixes_give_the_aids_a_ground_speed():
 
 def test_paths_in_a_configuration_are_relative_to_it(tmp_path, monkeypatch):
     """``output`` and ``[imu] calibration`` resolve against the
-    configuration's folder, whatever the working directory; the recordings
-    against the data root; ``output=`` (``--output``) against the working
-    directory (docs/getting-started.md, "Paths in a configuration")."""
+    configuration's folder, whatever the working directory; the recordings,
+    not beside it, against the data root; ``output=`` (``--output``) against
+    the working directory (docs/getting-started.md, "Paths in a
+    configuration")."""
     from memsnav.calibration.file import ImuCalibration
 
     zero3, zero33 = np.zeros(3), np.zeros((3, 3))
@@ -535,3 +537,70 @@ def test_paths_in_a_configuration_are_relative_to_it(tmp_path, monkeypatch):
     assert list(elsewhere.iterdir()) == []
     result = mn.navigate(config, data_root=DATA, output="given", duration_s=5.0)
     assert (elsewhere / "given" / "summary.json").exists()
+
+
+def test_a_configuration_beside_its_data_runs_without_a_data_root(tmp_path, monkeypatch, capsys):
+    """A user's folder holding the configuration and its files: the
+    relative data paths resolve there, with the data root pointing at an
+    empty folder (no --data-root, a $MEMSNAV_DATA_ROOT without the files); a
+    file in neither place is an error naming the key and both paths; the
+    data root still serves a file not beside the configuration."""
+    folder = tmp_path / "mylogger"
+    folder.mkdir()
+    for name in ("drive_60s.csv", "drive_60s.csv.tag", "drive_60s.pos"):
+        shutil.copy(EX / name, folder / name)
+    empty = tmp_path / "empty_root"
+    empty.mkdir()
+    monkeypatch.setenv("MEMSNAV_DATA_ROOT", str(empty))
+    config = folder / "mylogger.toml"
+    config.write_text(DRIVE.format(out="out").replace("real-imu-gnss/", ""))
+    monkeypatch.chdir(tmp_path)
+    assert cli.main(["navigate", "--config", str(config), "--duration", "5"]) == 0
+    summary = json.loads((folder / "out" / "summary.json").read_text())
+    assert "failure" not in summary and summary["imu_samples"] > 400
+    cfg = mn.load_config(config)
+    assert cfg.data_path("imu", "file") == folder / "drive_60s.csv"
+
+    (folder / "drive_60s.pos").unlink()
+    with pytest.raises(ValueError) as caught:
+        mn.navigate(config, duration_s=5.0)
+    message = str(caught.value)
+    assert "gnss.pos: no such file 'drive_60s.pos': tried " in message
+    assert f"{folder / 'drive_60s.pos'} (beside the configuration)" in message
+    assert f"{empty / 'drive_60s.pos'} (under the data root" in message
+    # The data root holds what the folder does not.
+    shutil.copy(EX / "drive_60s.pos", empty / "drive_60s.pos")
+    assert mn.load_config(config).data_path("gnss", "pos") == empty / "drive_60s.pos"
+    assert mn.navigate(config, duration_s=5.0).failure is None
+
+
+def test_integrity_keys_are_the_filter_solutions(tmp_path):
+    """summary.json's integrity has the keys of ``FilterSolution.integrity``
+    (one set of names, unit-suffixed where they carry units), with its
+    times after the start; compared on a run with alerts (a gyro declared
+    in rad/s, its data in °/s)."""
+    cfg = _config(tmp_path, **{'gyro_unit = "deg/s"': 'gyro_unit = "rad/s"'})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ValueError, match="gyro_unit") as caught:
+            mn.navigate(cfg, data_root=DATA)
+    result = caught.value.result  # type: ignore[attr-defined]
+    own = result.run.solution.integrity
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())["integrity"]
+    assert own["alerts"] and own["consistency"], own
+    assert set(summary) == set(own) == {"diverged", "alerts", "consistency"}
+    for key in ("alerts", "consistency"):
+        assert [set(e) for e in summary[key]] == [set(e) for e in own[key]]
+    assert set(own["alerts"][0]) == {"kind", "time_s", "message"}
+    assert set(own["consistency"][0]) == {
+        "kind",
+        "windows",
+        "windows_above_band",
+        "max_band_ratio",
+        "max_at_s",
+    }
+    t0 = result.summary["start_gps_time_s"]
+    assert summary["alerts"][0]["time_s"] == pytest.approx(own["alerts"][0]["time_s"] - t0)
+    assert summary["consistency"][0]["max_at_s"] == pytest.approx(
+        own["consistency"][0]["max_at_s"] - t0
+    )

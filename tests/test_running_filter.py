@@ -53,8 +53,14 @@ def test_stepping_gnss_epochs_is_the_batch_run(drive_300s):
     sol = flt.run(t, f, w, gnss_slice(gnss, keep), initial_state=initial(traj))
     running = flt.start(t[0], f[0], w[0], initial(traj))
     assert running.state_names == sol.state_names
+    applied: list[bool] = []
     pos, vel, diag = step_through(
-        running, t, f, w, np.asarray(gnss.time)[keep], lambda j: running.update_gnss(gnss, j)
+        running,
+        t,
+        f,
+        w,
+        np.asarray(gnss.time)[keep],
+        lambda j: applied.append(running.update_gnss(gnss, j)),
     )
     np.testing.assert_array_equal(pos, sol.position_ecef)
     np.testing.assert_array_equal(vel, sol.velocity_ecef)
@@ -65,8 +71,18 @@ def test_stepping_gnss_epochs_is_the_batch_run(drive_300s):
         np.testing.assert_array_equal(records["measurements"][name], sol.measurements[name])
     assert records["measurements"]["status"] == sol.measurements["status"]
     assert len(records["batches"]["time"]) == len(sol.batches["time"])
+    # Each call said whether its epoch was applied whole, as the batch
+    # run's records say.
+    assert applied == applied_whole(sol.batches, np.asarray(gnss.time)[keep])
     # Taken means handed over: the next call has only what came since.
     assert len(running.take_records()["measurements"]["time"]) == 0
+
+
+def applied_whole(batches, epoch_times):
+    """Per epoch, whether the batch run's records show every batch at its
+    time accepted (and at least one): what the step API's update returns."""
+    time, accepted = np.asarray(batches["time"]), np.asarray(batches["accepted"])
+    return [bool(np.any(time == te) and np.all(accepted[time == te])) for te in epoch_times]
 
 
 def gnss_slice(gnss, keep):
@@ -91,17 +107,28 @@ def test_stepping_fixes_is_the_batch_run(drive_300s):
         "velocity_ecef": traj.velocity_ecef[k] + rng.normal(0, 0.1, (len(k), 3)),
         "velocity_covariance": np.repeat(cov_v[None], len(k), axis=0),
     }
+    # Two positions 100 m off and a velocity 20 m/s off: those blocks fail
+    # their gate, so those fixes are not applied whole.
+    fixes["position_ecef"][[20, 40], 0] += 100.0
+    fixes["velocity_ecef"][30, 1] += 20.0
     flt = mn.LooselyCoupledFilter(imu)
-    sol = flt.run(t, f, w, fixes, initial_state=initial(traj))
+    with pytest.warns(UserWarning, match="inconsistent with its position"):
+        sol = flt.run(t, f, w, fixes, initial_state=initial(traj))
     running = flt.start(t[0], f[0], w[0], initial(traj))
+    applied: list[bool] = []
 
     def update(j):
-        running.update_fix(fixes["position_ecef"][j], cov_p, fixes["velocity_ecef"][j], cov_v)
+        applied.append(
+            running.update_fix(fixes["position_ecef"][j], cov_p, fixes["velocity_ecef"][j], cov_v)
+        )
 
     pos, vel, diag = step_through(running, t, f, w, fixes["time"], update)
     np.testing.assert_array_equal(pos, sol.position_ecef)
     np.testing.assert_array_equal(vel, sol.velocity_ecef)
     np.testing.assert_array_equal(diag, sol.covariance_diagonal)
+    assert all(type(a) is bool for a in applied)
+    assert applied == applied_whole(sol.batches, fixes["time"])
+    assert [j for j, a in enumerate(applied) if not a] == [20, 30, 40]
 
 
 def test_increments_follow_the_increments_mechanization(drive_300s):

@@ -20,14 +20,51 @@ from typing import Any
 
 from memsnav._memsnav import closest_name as _closest_name
 
+#: Environment variable naming the data root.
+DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"
+
 
 def resolve_path(value: str, base: Path) -> Path:
     """A path written in a configuration: ``~`` expanded, absolute as given,
     else relative to ``base`` (the data root for the recordings a
-    configuration reads; the configuration's own folder for everything else:
-    docs/getting-started.md, "Paths in a configuration")."""
+    configuration reads when they are not beside it, :func:`data_path`; the
+    configuration's own folder for everything else: docs/getting-started.md,
+    "Paths in a configuration")."""
     p = Path(value).expanduser()
     return p if p.is_absolute() else base / p
+
+
+def data_path_candidates(value: str, folder: Path, data_root: Path) -> list[Path]:
+    """Where a recording named in a configuration may be, in the order they
+    are tried: an absolute path as given; a relative one beside the
+    configuration (in its ``folder``), then under the data root."""
+    if Path(value).expanduser().is_absolute():
+        return [Path(value).expanduser()]
+    return [resolve_path(value, folder), resolve_path(value, data_root)]
+
+
+def data_path(value: str, folder: Path, data_root: Path) -> Path:
+    """A recording named in a configuration in ``folder``: the first of
+    :func:`data_path_candidates` that is a file, else the last one (the one
+    under the data root, which :func:`missing_data_file` reports with the
+    others)."""
+    candidates = data_path_candidates(value, folder, data_root)
+    return next((p for p in candidates if p.is_file()), candidates[-1])
+
+
+def missing_data_file(key: str, value: str, folder: Path, data_root: Path) -> str | None:
+    """None when the recording ``key`` = ``value`` exists; else an error
+    message naming the key and every place tried."""
+    candidates = data_path_candidates(value, folder, data_root)
+    if any(p.is_file() for p in candidates):
+        return None
+    if len(candidates) == 1:
+        return f"{key}: no such file {candidates[0]}"
+    beside, under_root = candidates
+    return (
+        f"{key}: no such file {value!r}: tried {beside} (beside the configuration) and "
+        f"{under_root} (under the data root, set by --data-root or ${DATA_ROOT_ENV})"
+    )
 
 
 REQUIRED = object()

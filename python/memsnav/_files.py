@@ -10,7 +10,9 @@ any work: a regular file, or a folder of someone else's that is not empty.
 into the folder (replacing files of the same names, leaving the others);
 ``navigate`` replaces its folder whole (:func:`fresh_output_folder`), and
 only when every entry in it is one the marker lists as written by an
-earlier ``navigate``. No command moves, renames or deletes anything else.
+earlier ``navigate``; a run that fails replaces it too, with the failure's
+summary and report, so an earlier run's files never pass for its own. No
+command moves, renames or deletes anything else.
 """
 
 from __future__ import annotations

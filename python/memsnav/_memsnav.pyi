@@ -1427,12 +1427,14 @@ class FilterSolution:
         with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
         ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
         "applied_outliers"),
-        ``time`` s, ``message``, in time order) and ``consistency`` (per GNSS
-        kind: ``kind``, ``windows`` of 30 s, ``above_band``: windows whose summed
-        NIS exceeded the 0.9999 chi-square quantile, ``max_band_ratio``: the
-        largest summed NIS over that quantile, ``max_at``: its window's start,
-        s). A ratio above 4 in two windows in a row is an alert; 1-4 is a tuning
-        mismatch, reported here only."""
+        ``time_s`` (GNSS time, s), ``message``, in time order) and
+        ``consistency`` (per GNSS kind: ``kind``, ``windows`` of 30 s,
+        ``windows_above_band``: windows whose summed NIS exceeded the 0.9999
+        chi-square quantile, ``max_band_ratio``: the largest summed NIS over
+        that quantile, ``max_at_s``: its window's start, s). A ratio above 4 in
+        two windows in a row is an alert; 1-4 is a tuning mismatch, reported
+        here only. ``summary.json`` of ``navigate`` has the same keys (its
+        times in seconds after the start)."""
 
     def write(
         self,
@@ -1660,9 +1662,10 @@ class RunningFilter:
 
     Times are the IMU's time stamps, s (each must follow the last by more
     than 0 and at most 1 s). Updates apply at the filter's time; a GNSS
-    epoch stamped more than 1e-4 s away is refused. Every update is one
-    batch tested by the chi-square gate; the aids return whether it was
-    accepted. Records accumulate until ``take_records()``. Refused calls
+    epoch stamped more than 1e-4 s away is refused. Every update is tested
+    by the chi-square gate (a fix or a GNSS epoch as one batch per block)
+    and returns whether it was applied whole. Records accumulate until
+    ``take_records()``. Refused calls
     (ValueError naming the argument) leave the filter unchanged.
     """
 
@@ -1679,10 +1682,12 @@ class RunningFilter:
         filter's time (``delta_v`` (3,) m/s, ``delta_theta`` (3,) rad), with
         coning and sculling."""
 
-    def update_gnss(self, gnss: GnssMeasurements | Any, epoch: int = 0) -> None:
+    def update_gnss(self, gnss: GnssMeasurements | Any, epoch: int = 0) -> bool:
         """Applies epoch ``epoch`` of ``gnss`` (what ``TightlyCoupledFilter.run``
         takes) at the filter's time; only for a filter started by
-        ``TightlyCoupledFilter``."""
+        ``TightlyCoupledFilter``. Returns whether it was applied whole: every
+        batch passed its gate (the pseudoranges after any fault exclusion,
+        the rates); the records say which failed."""
 
     def update_fix(
         self,
@@ -1690,12 +1695,15 @@ class RunningFilter:
         position_covariance: npt.ArrayLike,
         velocity_ecef: npt.ArrayLike | None = None,
         velocity_covariance: npt.ArrayLike | None = None,
-    ) -> None:
+    ) -> bool:
         """Applies a fix of the antenna at the filter's time (position (3,) m,
-        covariance (3, 3) m²; optional velocity (3,) m/s with its (3, 3))."""
+        covariance (3, 3) m²; optional velocity (3,) m/s with its (3, 3)).
+        Returns whether it was applied whole: the position block and the
+        velocity block (when given) each passed its gate."""
 
     def update_zupt(self, std: float) -> bool:
-        """Zero-velocity update, ``std`` m/s per axis."""
+        """Zero-velocity update, ``std`` m/s per axis. Returns whether it
+        passed its gate (as every update method does)."""
 
     def update_zaru(self, mean_angular_rate: npt.ArrayLike, std: npt.ArrayLike | float) -> bool:
         """Zero-angular-rate update from the mean raw gyro reading (3,) rad/s
@@ -2178,6 +2186,25 @@ class LogRun:
     @property
     def range_biases(self) -> dict[int, float]:
         """Satellites holding range-bias states at the end: {prn: bias m}."""
+
+    @property
+    def failure(self) -> dict[str, Any] | None:
+        """Why the run stopped before the end of the log, when it did (the
+        filter's error, or a state beyond what a solution holds: height
+        outside -10 km to 10 000 km, speed above 10 km/s, a σ above 10 000 km):
+        dict ``time`` (GNSS time, s) and ``message``. The solution ends at the
+        last sample before it and has no smoothed run; ``navigate_log`` also
+        warns. None for a run to the end."""
+
+    @property
+    def gyro_scale(self) -> dict[str, Any] | None:
+        """The gyro's turns against the GNSS course's over the whole log: dict
+        ``ratio`` (1 for a gyro read in its unit; π/180 for radians read as
+        degrees, 180/π the reverse), ``relative_std``, ``course_turn_deg``,
+        ``pairs``, ``conclusive`` (enough turning for a verdict), ``warning``
+        (a conclusive ratio beyond √(180/π) either way: the warning naming
+        ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
+        else None). None without a usable pair of GNSS epochs."""
 
     def score(
         self,

@@ -29,8 +29,8 @@ fn stepped<E: coupling::Aiding>(
     w: &[Vector3<f64>],
     epochs: &[E],
     initial: &InitialState,
-    update: impl Fn(&mut FilterState<BASE_STATES>, &E),
-) -> Vec<FilterState<BASE_STATES>> {
+    update: impl Fn(&mut FilterState<BASE_STATES>, &E) -> bool,
+) -> (Vec<FilterState<BASE_STATES>>, Vec<bool>) {
     let sample = |k: usize| ImuSample {
         specific_force_b: f[k],
         angular_rate_b: w[k],
@@ -39,18 +39,38 @@ fn stepped<E: coupling::Aiding>(
     let mut s = FilterState::start::<E>(initial, &tuning(), t[0], &sample(0)).unwrap();
     let mut j = 0;
     let mut states = Vec::with_capacity(t.len());
+    let mut applied = Vec::with_capacity(epochs.len());
     for (k, &tk) in t.iter().enumerate() {
         if k > 0 {
             s.predict(tk, &sample(k)).unwrap();
         }
         while j < epochs.len() && epochs[j].time_s() <= tk + 1e-4 {
-            update(&mut s, &epochs[j]);
+            applied.push(update(&mut s, &epochs[j]));
             j += 1;
         }
         states.push(s.clone());
     }
     assert_eq!(j, epochs.len(), "every epoch falls on a sample");
-    states
+    (states, applied)
+}
+
+/// Whether the batch run applied each epoch whole: every batch it tested
+/// at the epoch's time passed (from its records, not from the step API).
+fn applied_in_batch_run<E: coupling::Aiding>(
+    solution: &coupling::Solution,
+    epochs: &[E],
+) -> Vec<bool> {
+    epochs
+        .iter()
+        .map(|e| {
+            let mut at = solution
+                .batches
+                .iter()
+                .filter(|b| b.time_s == e.time_s())
+                .peekable();
+            at.peek().is_some() && at.all(|b| b.accepted)
+        })
+        .collect()
 }
 
 fn assert_same(solution: &coupling::Solution, states: &[FilterState<BASE_STATES>]) {
@@ -80,10 +100,12 @@ fn stepping_gnss_epochs_is_the_batch_run() {
     let data = imu_data(&truth, &f, &w);
     let solution =
         coupling::solution::<BASE_STATES, GnssEpoch>(&data, &epochs, &initial, &tuning()).unwrap();
-    let states = stepped(&truth, &f, &w, &epochs, &initial, |s, e| {
+    let (states, applied) = stepped(&truth, &f, &w, &epochs, &initial, |s, e| {
         s.update_gnss(e).unwrap()
     });
     assert_same(&solution, &states);
+    assert_eq!(applied, applied_in_batch_run(&solution, &epochs));
+    assert!(applied.iter().all(|&a| a), "clean pseudoranges all pass");
     let mut last = states.last().unwrap().clone();
     let records = last.take_records();
     assert!(records.measurements.len() > 500);
@@ -108,14 +130,24 @@ fn stepping_fixes_is_the_batch_run() {
             velocity_covariance: Matrix3::identity() * 0.01,
         })
         .collect();
+    // Two fixes 100 m off in position and one 20 m/s off in velocity: the
+    // gate refuses those blocks, so those fixes are not applied whole.
+    let mut fixes = fixes;
+    for k in [20, 40] {
+        fixes[k].position_ecef.x += 100.0;
+    }
+    *fixes[30].velocity_ecef.as_mut().unwrap() += Vector3::new(0.0, 20.0, 0.0);
     let initial = exact_initial(&truth);
     let data = imu_data(&truth, &f, &w);
     let solution =
         coupling::solution::<BASE_STATES, PositionFix>(&data, &fixes, &initial, &tuning()).unwrap();
-    let states = stepped(&truth, &f, &w, &fixes, &initial, |s, fix| {
+    let (states, applied) = stepped(&truth, &f, &w, &fixes, &initial, |s, fix| {
         s.update_fix(fix).unwrap()
     });
     assert_same(&solution, &states);
+    assert_eq!(applied, applied_in_batch_run(&solution, &fixes));
+    let refused: Vec<usize> = (0..applied.len()).filter(|&k| !applied[k]).collect();
+    assert_eq!(refused, [20, 30, 40]);
 }
 
 /// Predicting by increments runs the INS's increments mechanization

@@ -383,9 +383,10 @@ impl PyFilterSolution {
         batches_to_dict(py, &self.inner.batches)
     }
     /// Whether the solution can be trusted (`coupling::integrity`): a dict
-    /// with `diverged` (bool), `alerts` (list of dicts `kind`, `time`,
+    /// with `diverged` (bool), `alerts` (list of dicts `kind`, `time_s`,
     /// `message`, in time order) and `consistency` (per GNSS kind: `kind`,
-    /// `windows`, `above_band`, `max_band_ratio`, `max_at`).
+    /// `windows`, `windows_above_band`, `max_band_ratio`, `max_at_s`): the
+    /// keys of `summary.json`'s `integrity`.
     #[getter]
     fn integrity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         integrity_to_dict(py, &self.inner.integrity)

@@ -412,6 +412,44 @@ impl PyLogRun {
     fn standstills<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         pairs(py, &self.run.standstills)
     }
+    /// Why the run stopped before the end of the log, when it did: dict
+    /// `time` (GNSS time, s) and `message`; the solution ends at the last
+    /// sample before it, with no smoothed solution. None for a run to the end.
+    #[getter]
+    fn failure<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.run
+            .failure
+            .as_ref()
+            .map(|f| {
+                let d = PyDict::new(py);
+                d.set_item("time", f.time_s)?;
+                d.set_item("message", &f.message)?;
+                Ok(d)
+            })
+            .transpose()
+    }
+    /// The gyro's turns against the GNSS course's over the whole log
+    /// (`memsnav_core::navigate::gyro_scale`): dict `ratio` (1 for a gyro
+    /// read in its unit, π/180 for radians read as degrees),
+    /// `relative_std`, `course_turn_deg`, `pairs`, `conclusive`, `warning`
+    /// (naming `gyro_unit` and the likely unit when the ratio is a unit
+    /// mistake, else None); None without a usable pair of GNSS epochs.
+    #[getter]
+    fn gyro_scale<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.run
+            .gyro_scale
+            .map(|g| {
+                let d = PyDict::new(py);
+                d.set_item("ratio", g.ratio)?;
+                d.set_item("relative_std", g.relative_std)?;
+                d.set_item("course_turn_deg", g.course_turn_rad.to_degrees())?;
+                d.set_item("pairs", g.pairs)?;
+                d.set_item("conclusive", g.conclusive())?;
+                d.set_item("warning", g.unit_warning())?;
+                Ok(d)
+            })
+            .transpose()
+    }
     /// The satellites holding range-bias states at the end: {prn: bias m}.
     #[getter]
     fn range_biases<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -697,6 +735,16 @@ fn navigate_log(
         .detach(|| navigate::navigate_log(&time, &f, &w, &input, &config))
         .py()?;
     crate::warnings::warn_all(py, &run.solution.warnings)?;
+    if let Some(f) = &run.failure {
+        crate::warnings::warn_all(
+            py,
+            &[format!(
+                "the run stopped at t = {} s, before the end of the log: {} (its solution ends \
+                 there; LogRun.failure)",
+                f.time_s, f.message
+            )],
+        )?;
+    }
     let mut run = run;
     let local = run.local_solution();
     let smoothed = match (run.local_smoothed(), run.smoothed.take()) {
@@ -711,6 +759,7 @@ fn navigate_log(
                     outages: run.outages.clone(),
                     standstills: run.standstills.clone(),
                     range_biases: run.range_biases.clone(),
+                    failure: run.failure.clone(),
                     adaptation: run.adaptation.clone(),
                     ..run
                 },

@@ -111,7 +111,7 @@ pub(crate) fn integrity_to_dict<'py>(
     for a in &integrity.alerts {
         let item = PyDict::new(py);
         item.set_item("kind", a.name())?;
-        item.set_item("time", a.time_s())?;
+        item.set_item("time_s", a.time_s())?;
         item.set_item("message", a.message())?;
         alerts.append(item)?;
     }
@@ -121,9 +121,9 @@ pub(crate) fn integrity_to_dict<'py>(
         let item = PyDict::new(py);
         item.set_item("kind", c.kind.name())?;
         item.set_item("windows", c.windows)?;
-        item.set_item("above_band", c.above_band)?;
+        item.set_item("windows_above_band", c.above_band)?;
         item.set_item("max_band_ratio", c.max_band_ratio)?;
-        item.set_item("max_at", c.max_at_s)?;
+        item.set_item("max_at_s", c.max_at_s)?;
         consistency.append(item)?;
     }
     d.set_item("consistency", consistency)?;

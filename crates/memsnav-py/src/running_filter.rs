@@ -64,8 +64,9 @@ pub(crate) enum StartedBy {
 /// than 0 and at most 1 s. Updates apply at the filter's time (that of the
 /// last predict); a GNSS epoch stamped more than the time tolerance
 /// (1e-4 s) away is refused: predict to its time first. Every update
-/// applies its rows as one batch, tested by the chi-square gate; the aids
-/// return whether their batch was accepted. Measurement records
+/// applies its rows as batches (one per block of a fix or GNSS epoch)
+/// tested by the chi-square gate, and returns whether it was applied
+/// whole (every batch accepted). Measurement records
 /// accumulate until `take_records()` hands them over. Refused calls
 /// (ValueError naming the argument) leave the filter unchanged.
 #[pyclass(name = "RunningFilter", module = "memsnav._memsnav")]
@@ -189,8 +190,11 @@ impl PyRunningFilter {
     /// takes: `GnssMeasurements` or its dict) at the filter's time: the
     /// pseudoranges as one batch, then the rates. Only for a filter started
     /// by `TightlyCoupledFilter` (the loose one holds the clock fixed).
+    /// Returns whether the epoch was applied whole: every batch it made
+    /// passed its gate (pseudoranges after any fault exclusion, rates); the
+    /// records say which failed.
     #[pyo3(signature = (gnss, epoch=0))]
-    fn update_gnss(&mut self, gnss: &Bound<'_, PyAny>, epoch: usize) -> PyResult<()> {
+    fn update_gnss(&mut self, gnss: &Bound<'_, PyAny>, epoch: usize) -> PyResult<bool> {
         if self.started_by != StartedBy::Tight {
             return Err(PyValueError::new_err(
                 "gnss: this filter was started by LooselyCoupledFilter, whose clock states are \
@@ -205,6 +209,8 @@ impl PyRunningFilter {
     /// `position_ecef` (3,) m with `position_covariance` (3, 3) m², and
     /// optionally `velocity_ecef` (3,) m/s with `velocity_covariance`
     /// (3, 3) m²/s² (each block tested as one batch, as `run` does).
+    /// Returns whether the fix was applied whole: every block passed its
+    /// gate; the records say which failed.
     #[pyo3(signature = (position_ecef, position_covariance, velocity_ecef=None, velocity_covariance=None))]
     fn update_fix(
         &mut self,
@@ -212,7 +218,7 @@ impl PyRunningFilter {
         position_covariance: &Bound<'_, PyAny>,
         velocity_ecef: Option<&Bound<'_, PyAny>>,
         velocity_covariance: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<()> {
+    ) -> PyResult<bool> {
         let velocity = match (velocity_ecef, velocity_covariance) {
             (Some(v), Some(c)) => Some((
                 convert::vector3(v, "velocity_ecef")?,

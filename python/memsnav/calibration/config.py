@@ -3,10 +3,12 @@
 Checked like the ``navigate`` configuration (:mod:`memsnav.realdata.config`):
 every table and key is known, an unknown one (a typo) is an error naming the
 file and the key, a wrong type or value names the key and what was expected,
-and relative paths of the recordings read resolve against the data root
+and a relative path of a recording read resolves as in ``navigate``: beside
+the configuration when the file is there, else under the data root
 (``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data`` next
-to the repository), every other one (``output``, ``[drive] navigate``)
-against the configuration's folder. The detector's defaults are the core's.
+to the repository), an error naming both when neither holds it; every
+other one (``output``, ``[drive] navigate``) against the configuration's
+folder. The detector's defaults are the core's.
 
 ``[session] kind`` says what kind of calibration session the data are:
 ``"static-poses"`` (a multi-position session of raw readings: tables
@@ -27,10 +29,12 @@ from memsnav._config import (
     ABSENT,
     REQUIRED,
     Check,
+    data_path,
     flag,
     integer,
     list_of,
     load_toml,
+    missing_data_file,
     number,
     pathname,
     read_table,
@@ -105,8 +109,14 @@ class CalibrationConfig:
         return self.values[section]
 
     def data_path(self, section: str, key: str) -> Path:
-        """The recording named by ``section.key``, resolved against the data root."""
-        return resolve_path(self.values[section][key], self.data_root)
+        """The recording named by ``section.key``: beside this configuration
+        when it is there, else under the data root; a ``ValueError`` naming
+        the key and both places when neither holds it."""
+        value = self.values[section][key]
+        missing = missing_data_file(f"{section}.{key}", value, self.path.parent, self.data_root)
+        if missing is not None:
+            raise ValueError(f"{self.path}: {missing}")
+        return data_path(value, self.path.parent, self.data_root)
 
     def config_path(self, section: str, key: str) -> Path:
         """The file or folder named by ``section.key`` (``output``, ``[drive]

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import Any
 
 from memsnav.cli.arguments import configured_run, positive_float
@@ -27,13 +28,31 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace, client: Any) -> int:
-    from memsnav.realdata.answer import answer_lines
+    """Runs the configuration and prints its answer and files. A run that
+    failed once its output folder was accepted prints what it computed,
+    then the failure and where its report is as the error (exit status 1);
+    any other error is the command's usual one line."""
+    from memsnav.realdata.answer import answer_lines, failure_line
     from memsnav.realdata.pipeline import navigate
 
-    result = navigate(
-        args.config, data_root=args.data_root, output=args.output, duration_s=args.duration
-    )
+    try:
+        result = navigate(
+            args.config, data_root=args.data_root, output=args.output, duration_s=args.duration
+        )
+    except Exception as e:
+        written = getattr(e, "result", None)
+        if written is None:
+            raise
+        result = written
     print("\n".join(answer_lines(result.summary)))
     for kind, path in result.files.items():
         print(f"{kind}: {path}")
-    return 0
+    if result.failure is None:
+        return 0
+    where = result.files.get("report", result.files["summary"])
+    print(
+        f"memsnav: error: {failure_line(result.failure)} (what the run computed and what may "
+        f"explain it: {where})",
+        file=sys.stderr,
+    )
+    return 1

@@ -139,15 +139,33 @@ def truth_line(summary: dict[str, Any]) -> str | None:
     return f"  truth: {truth['name']}" + (f", {'; '.join(moves)}" if moves else "")
 
 
+def failure_line(failure: dict[str, Any]) -> str:
+    """A failure entry of the summary in one line: what failed, where in
+    the run (the stage; the time after the start when it has one), why."""
+    when = (
+        f", {number(failure['time_s'], TIME_DIGITS)} s after the start"
+        if failure.get("time_s") is not None
+        else ""
+    )
+    return f"FAILED ({failure['stage']}{when}): {failure['what']}: {failure['message']}"
+
+
 def answer_lines(summary: dict[str, Any]) -> list[str]:
-    """What the run found, first: the schedule, the satellites in use
-    (tight coupling), the outage errors per length, the outages at a
+    """What the run found, first: a failure, the schedule, the satellites
+    in use (tight coupling), the outage errors per length, the outages at a
     standstill, the aided errors with their context. Without a truth only
-    the schedule, the satellites and the run."""
+    the schedule, the satellites and the run; a run that failed before the
+    engine ran, only the failure."""
+    failure = summary.get("failure")
+    if "duration_s" not in summary:
+        assert failure is not None  # a summary without a run is a failed one's
+        return [f"{summary['name']}: {summary['mode']} coupling; " + failure_line(failure)]
     lines = [
         f"{summary['name']}: {summary['mode']} coupling, {summary['duration_s']:.0f} s; "
         + schedule(summary["outages_s"])
     ]
+    if failure is not None:
+        lines.append("  " + failure_line(failure))
     if summary.get("satellite_systems"):
         lines.append("  " + satellites_line(summary["satellite_systems"]))
     if summary.get("integrity", {}).get("diverged"):

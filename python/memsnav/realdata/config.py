@@ -12,14 +12,17 @@ the wrong kind or out of range (the reading keys by the one configuration
 reader, :mod:`memsnav._config`; the engine's keys by the core), all when the
 file is loaded.
 
-Relative paths of the recordings read (``[imu] file`` and ``time_tag``,
-``[gnss] pos``, ``table``, ``obs`` and ``nav``, ``[truth] pos``) resolve against the
-data root: ``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else
-``../shared/data`` relative to the repository that holds the configuration
-(the parent of its ``examples/`` folder, or the nearest ``shared/data``
-above it; for a configuration elsewhere, the same from its own folder).
-Every other relative path (``output``, ``[imu] calibration``) resolves
-against the configuration's own folder.
+A relative path of a recording read (``[imu] file`` and ``time_tag``,
+``[gnss] pos``, ``table``, ``obs``, ``nav`` and ``ubx``, ``[truth] pos``)
+resolves against the configuration's own folder when a file exists there
+(a configuration saved beside its data), else against the data root:
+``--data-root``, else ``$MEMSNAV_DATA_ROOT``, else ``../shared/data``
+relative to the repository that holds the configuration (the parent of its
+``examples/`` folder, or the nearest ``shared/data`` above it; for a
+configuration elsewhere, the same from its own folder). When neither
+exists, the error names the key and both places tried. Every other
+relative path (``output``, ``[imu] calibration``) resolves against the
+configuration's own folder.
 """
 
 from __future__ import annotations
@@ -31,9 +34,11 @@ from typing import Any
 
 import memsnav._memsnav as _mn
 from memsnav._config import (
+    DATA_ROOT_ENV,
     REQUIRED,
     Check,
     axes,
+    data_path,
     file_name,
     flag,
     header_names,
@@ -42,6 +47,7 @@ from memsnav._config import (
     list_of,
     list_or_choice,
     load_toml,
+    missing_data_file,
     number,
     pathname,
     read_table,
@@ -51,9 +57,6 @@ from memsnav._config import (
     text,
 )
 from memsnav.realdata.fix_readers import FIX_FORMATS
-
-#: Environment variable naming the data root.
-DATA_ROOT_ENV = "MEMSNAV_DATA_ROOT"
 
 # The observables' defaults are the core's (``memsnav.defaults()``).
 _OBSERVABLES: dict[str, float] = _mn.defaults()["RinexObservations.gps_l1"]
@@ -178,10 +181,24 @@ class RunConfig:
         return self.values[section]
 
     def data_path(self, section: str, key: str) -> Path | None:
-        """The recording named by ``section.key``, resolved against the data
-        root (None when not given)."""
+        """The recording named by ``section.key``: beside this configuration
+        when it is there, else under the data root (None when not given;
+        module docstring)."""
         v = self.values[section][key]
-        return resolve_path(v, self.data_root) if v else None
+        return data_path(v, self.path.parent, self.data_root) if v else None
+
+    def data_file(self, section: str, key: str) -> Path:
+        """:meth:`data_path` of a recording the run needs: a ``ValueError``
+        naming the file and the key when it is not given, or when no file
+        is at any place tried (each named)."""
+        v = self.values[section][key]
+        name = f"{section}.{key}" if section else key
+        if not v:
+            raise ValueError(f"{self.path}: {name} is required for this run")
+        missing = missing_data_file(name, v, self.path.parent, self.data_root)
+        if missing is not None:
+            raise ValueError(f"{self.path}: {missing}")
+        return data_path(v, self.path.parent, self.data_root)
 
     def config_path(self, section: str, key: str) -> Path | None:
         """The file or folder named by ``section.key`` (``output``, ``[imu]

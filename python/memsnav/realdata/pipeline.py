@@ -13,11 +13,13 @@ local frames, the scoring) is computed in the core.
 
 from __future__ import annotations
 
+import contextlib
+import html
 import json
 import os
 import time as _time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -32,24 +34,13 @@ from memsnav.realdata.config import RunConfig, load_config
 from memsnav.realdata.result import LogNavigationResult
 
 
-def _require(cfg: RunConfig, section: str, key: str) -> Path:
-    p = cfg.data_path(section, key)
-    if p is None:
-        raise ValueError(f"{cfg.path}: {section}.{key} is required for this run")
-    if not p.exists():
-        raise ValueError(
-            f"{cfg.path}: {section}.{key}: no such file {p} (data root {cfg.data_root})"
-        )
-    return p
-
-
 def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
     """IMU sample times on GPS time (before the configured offset), specific
     force and angular rate in the sensor's FRD axes (SI), and notes about
     the time mapping and the sampling (``imu_timing``: median interval,
     jitter, gaps)."""
     c = cfg["imu"]
-    path = _require(cfg, "imu", "file")
+    path = cfg.data_file("imu", "file")
     try:
         log = readers.read_imu_csv(
             path,
@@ -69,7 +60,7 @@ def read_imu(cfg: RunConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[s
         raise ValueError(f"{cfg.path}: imu.{e}") from None
     notes: dict[str, Any] = {"imu_timing": log.timing}
     if c["time_reference"] == "tag":
-        tag = readers.read_time_tag(_require(cfg, "imu", "time_tag"))
+        tag = readers.read_time_tag(cfg.data_file("imu", "time_tag"))
         t, spread = readers.gps_time_from_tag(log, tag)
         notes["tag_arrival_spread_s"] = spread
     elif c["time_reference"] == "column_unix_gpst":
@@ -121,7 +112,7 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
     naming the key, the file and the qualities its epochs have), and its
     latitude, longitude (rad) and ellipsoidal height (m): heights above mean
     sea level (``[table] height = "msl"``) plus the geoid separation."""
-    path = _require(cfg, table, "pos")
+    path = cfg.data_file(table, "pos")
     c = cfg[table]
     try:
         solution = fix_readers.read_fixes(
@@ -197,7 +188,7 @@ def read_truth(cfg: RunConfig) -> Truth | None:
     if cfg.data_path("truth", "pos") is None:
         return None
     solution, keep, lla = read_solution(cfg, "truth")
-    path = _require(cfg, "truth", "pos")
+    path = cfg.data_file("truth", "pos")
     attitude = solution.attitude
     lever_arm = cfg["truth"]["lever_arm_m"]
     if any(lever_arm) and attitude is None:
@@ -297,14 +288,14 @@ def tight_input(cfg: RunConfig) -> Any:
     alpha, beta = g["klobuchar_alpha"], g["klobuchar_beta"]
     klobuchar: tuple[Sequence[float], Sequence[float]] | None = (alpha, beta) if alpha else None
     if g["ubx"]:
-        log = _mn.read_ubx(_require(cfg, "gnss", "ubx"))
+        log = _mn.read_ubx(cfg.data_file("gnss", "ubx"))
         observations, ephemerides = log.observations, log.broadcast_ephemerides
         klobuchar = klobuchar or log.klobuchar
     else:
-        observations = _mn.read_rinex_obs(_require(cfg, "gnss", "obs"))
-        ephemerides = _mn.read_broadcast_nav(_require(cfg, "gnss", "nav"))
+        observations = _mn.read_rinex_obs(cfg.data_file("gnss", "obs"))
+        ephemerides = _mn.read_broadcast_nav(cfg.data_file("gnss", "nav"))
     if klobuchar is None and g["nav"]:
-        klobuchar = _mn.read_klobuchar(_require(cfg, "gnss", "nav"))
+        klobuchar = _mn.read_klobuchar(cfg.data_file("gnss", "nav"))
     try:
         return observations.measurements(
             ephemerides,
@@ -334,7 +325,7 @@ def table_input(cfg: RunConfig) -> Any:
     then a time axis of its own, as in a simulation's table), else at its
     ``time_s``, taken as GPS time."""
     g = cfg["gnss"]
-    path = _require(cfg, "gnss", "table")
+    path = cfg.data_file("gnss", "table")
     try:
         table = _mn.GnssMeasurements.from_table(
             path,
@@ -482,6 +473,21 @@ def navigate(
     (default the config's ``output``, relative to the configuration's
     folder); ``duration_s`` stops the run that many seconds after the start
     (a quick look or a test).
+
+    A run that fails once its output folder is accepted (an input that
+    cannot be read, a start that cannot be found, a filter that stops or
+    diverges, a gyro unit the GNSS course contradicts, a file that cannot
+    be written) still replaces the folder's contents: ``summary.json`` with
+    a ``failure`` entry (``stage``, ``what``, when: ``gps_time_s`` and
+    ``time_s`` after the start, ``message``, ``hints``: the warnings that
+    may explain it) and whatever was computed before it, the solution files
+    of a run that stopped (up to where it stopped) and ``report.html``
+    opening with the failure. Then it raises the error, with the result as
+    its ``result`` attribute: the error as it happened (``ValueError`` for
+    an input, ``OSError``...), ``ValueError`` naming ``imu.gyro_unit`` for a
+    gyro unit the course contradicts, :class:`memsnav.DivergenceError` for a
+    run that stopped early or diverged (docs/real-data.md, "When a run
+    fails"). An interrupt (Ctrl-C) leaves the folder as it was.
     """
     started = _time.perf_counter()
     cfg = config if isinstance(config, RunConfig) else load_config(config, data_root)
@@ -491,64 +497,130 @@ def navigate(
     assert out is not None  # "output" has a default
     # Refused before the run, not after it (and checked again when replaced).
     check_replaceable(out, "navigate")
+    result = LogNavigationResult(
+        cfg,
+        None,
+        None,
+        None,
+        summary={"name": cfg[""]["name"], "mode": cfg["gnss"]["mode"], "input_warnings": []},
+    )
+    failures = _Failures(result.summary)
+    _run(result, duration_s, failures)
+    result.summary["processing_s"] = _time.perf_counter() - started
+    _write_outputs(result, out, failures)
+    failure = result.failure
+    if failure is not None:
+        raised = failures.first_error or _failure_error(cfg, failure)
+        raised.add_note(f"memsnav navigate: the failed run's summary and report are in {out}")
+        setattr(raised, "result", result)  # noqa: B010  (no attribute on the exception types)
+        raise raised
+    return result
+
+
+def _run(result: LogNavigationResult, duration_s: float | None, failures: _Failures) -> None:
+    """The run of ``result.config`` into ``result``: the inputs, the engine,
+    the summary, the scores. An exception ends it, recorded in
+    ``failures``; so are the failures that are not exceptions (a run
+    stopped or diverged, a gyro unit the GNSS course contradicts)."""
+    cfg, summary = result.config, result.summary
     mode = cfg["gnss"]["mode"]
-    t, f_s, w_s, notes = read_imu(cfg)
-    gnss = gnss_input(cfg)
-    truth = read_truth(cfg)  # before the run: a truth that matches nothing fails at once
+    try:
+        with _recording_warnings(summary["input_warnings"]):
+            t, f_s, w_s, notes = read_imu(cfg)
+            gnss = gnss_input(cfg)
+            truth = read_truth(cfg)  # before the run: a truth that matches nothing fails at once
+    except Exception as e:
+        failures.add("inputs", "reading the inputs", e)
+        return
     run_started = _time.perf_counter()
     try:
-        run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
+        with warnings.catch_warnings():
+            # Said once, by the failure entry and the command's error.
+            warnings.filterwarnings("ignore", message="the run stopped at", category=UserWarning)
+            run = _mn.navigate_log(t, f_s, w_s, gnss, settings=cfg.engine, duration_s=duration_s)
     except ValueError as e:
         # What the logs hold against each other (times, a start), found by
         # the core: the configuration that paired them is the one to name.
-        raise ValueError(f"{cfg.path}: {e}") from None
+        error = ValueError(f"{cfg.path}: {e}")
+        failures.add("run", "starting the run", error)
+        return
+    except Exception as e:
+        failures.add("run", "the run", e)
+        return
     run_s = _time.perf_counter() - run_started
+    result.run = run
+    try:
+        _summarise(result, notes, gnss)
+    except Exception as e:
+        failures.add("summary", "summarising the run", e)
+        return
+    summary["filter_run_s"] = run_s
+    _check_run(result, failures)
+    if truth is not None:
+        try:
+            summary["truth_is_gnss_input"] = _same_file(truth.path, cfg.data_path("gnss", "pos"))
+            scored = _truth_in_gnss_datum(cfg, run, truth, summary)
+            _score(result, (truth.time, scored), precision=cfg["truth"]["score"] == "precision")
+            if mode == "tight":
+                after = np.asarray(run.gnss["time"]) >= summary["start_gps_time_s"]
+                valid = np.all(np.isfinite(np.asarray(run.gnss["position_ecef"])), axis=1)
+                summary["spp_epochs_without_fix"] = int(np.sum(after & ~valid))
+        except Exception as e:
+            failures.add("scoring", "scoring against the truth", e)
+
+
+def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) -> None:
+    """The run's numbers into ``result.summary``: the start, the counts,
+    the integrity, the resets, the estimates (times after the start)."""
+    cfg, run, summary = result.config, result.run, result.summary
+    mode = summary["mode"]
     start = run.start
     t0 = start["time"]
     solution = run.solution
     batches = solution.batches
     resets = solution.resets
-    summary: dict[str, Any] = {
-        "name": cfg[""]["name"],
-        "mode": mode,
-        "start": {
-            "kind": start["kind"],
-            "gps_time_s": t0,
-            "heading_from_first_motion": start["kind"] == "static",
-        },
-        "start_gps_time_s": float(t0),
-        "duration_s": float(run.time[-1] - run.time[0]),
-        "imu_samples": len(run),
-        "imu_calibration": str(cfg.config_path("imu", "calibration") or "") or None,
-        "gnss_epochs_used": int(np.sum(run.gnss["used"])),
-        "measurements": _counts(run),
-        "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
-        "diverged": bool(solution.diverged),
-        "integrity": _integrity(solution.integrity, t0),
-        "warnings": list(solution.warnings),
-        "resets": [
-            {
-                "time_s": float(tr - t0),
-                "kind": str(k),
-                "change": float(c),
-                "unit": str(u),
-                "failed_epochs": int(n),
-            }
-            for tr, k, c, u, n in zip(
-                resets["time"],
-                resets["kind"],
-                resets["change"],
-                resets["unit"],
-                resets["failed_epochs"],
-                strict=True,
-            )
-        ],
-        "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],
-        "outages_s": [[float(a - t0), float(b - a)] for a, b in run.outages],
-        "sensor_estimates": _sensor_estimates(solution, -1),
-        "adaptation": run.adaptation,
-        **notes,
-    }
+    summary.update(
+        {
+            "start": {
+                "kind": start["kind"],
+                "gps_time_s": t0,
+                "heading_from_first_motion": start["kind"] == "static",
+            },
+            "start_gps_time_s": float(t0),
+            "duration_s": float(run.time[-1] - run.time[0]),
+            "imu_samples": len(run),
+            "imu_calibration": str(cfg.config_path("imu", "calibration") or "") or None,
+            "gnss_epochs_used": int(np.sum(run.gnss["used"])),
+            "measurements": _counts(run),
+            "batches_failed": int(np.sum(~np.asarray(batches["accepted"]))),
+            "diverged": bool(solution.diverged),
+            "integrity": _integrity(solution.integrity, t0),
+            "warnings": list(solution.warnings),
+            "gyro_scale": run.gyro_scale,
+            "resets": [
+                {
+                    "time_s": float(tr - t0),
+                    "kind": str(k),
+                    "change": float(c),
+                    "unit": str(u),
+                    "failed_epochs": int(n),
+                }
+                for tr, k, c, u, n in zip(
+                    resets["time"],
+                    resets["kind"],
+                    resets["change"],
+                    resets["unit"],
+                    resets["failed_epochs"],
+                    strict=True,
+                )
+            ],
+            "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],
+            "outages_s": [[float(a - t0), float(b - a)] for a, b in run.outages],
+            "sensor_estimates": _sensor_estimates(solution, -1),
+            "adaptation": run.adaptation,
+            **notes,
+        }
+    )
     if run.smoothed is not None:
         summary["sensor_estimates_smoothed"] = _sensor_estimates(run.smoothed.solution, 0)
     installation = _installation_estimates(solution, -1)
@@ -568,20 +640,102 @@ def navigate(
     elif run.range_biases:
         # Loose coupling's slots hold the fixes' position error per ECEF axis.
         summary["fix_error_ecef_m"] = [run.range_biases[axis] for axis in range(3)]
-    result = LogNavigationResult(cfg, run, None, None, summary=summary)
-    if truth is not None:
-        summary["truth_is_gnss_input"] = _same_file(truth.path, cfg.data_path("gnss", "pos"))
-        scored = _truth_in_gnss_datum(cfg, run, truth, summary)
-        _score(result, (truth.time, scored), precision=cfg["truth"]["score"] == "precision")
-        if mode == "tight":
-            after = np.asarray(run.gnss["time"]) >= t0
-            valid = np.all(np.isfinite(np.asarray(run.gnss["position_ecef"])), axis=1)
-            summary["spp_epochs_without_fix"] = int(np.sum(after & ~valid))
-    summary["filter_run_s"] = run_s
-    summary["processing_s"] = _time.perf_counter() - started
-    result.summary = _finite(summary)
-    _write_outputs(result, out)
-    return result
+
+
+def _check_run(result: LogNavigationResult, failures: _Failures) -> None:
+    """The failures a finished engine call can hold without raising, into
+    the summary in the order they matter: the run stopped before the end of
+    the log, the gyro's turns contradict its unit, the solution diverged."""
+    run, summary = result.run, result.summary
+    t0 = summary["start_gps_time_s"]
+    if run.failure is not None:
+        failures.add(
+            "run",
+            "the run stopped before the end of the log; the solution ends there",
+            run.failure["message"],
+            gps_time_s=run.failure["time"],
+        )
+    gyro = run.gyro_scale
+    if gyro is not None and gyro["warning"] is not None:
+        failures.add("units", "the gyro's turns contradict its unit", gyro["warning"])
+    alerts = summary["integrity"]["alerts"]
+    if summary["integrity"]["diverged"] and alerts:
+        failures.add(
+            "integrity",
+            "the solution diverged (integrity alert): it is not trustworthy",
+            alerts[0]["message"],
+            gps_time_s=alerts[0]["time_s"] + t0,
+        )
+
+
+@dataclass
+class _Failures:
+    """A run's failures, into its summary: the first as ``failure``
+    (``stage``, ``what``, ``gps_time_s`` and ``time_s`` after the start when
+    known, ``message``, ``hints``: the inputs' warnings and the run's, which
+    may explain it), any later one under its ``also``; and the first one's
+    exception when it was one (the one :func:`navigate` raises)."""
+
+    summary: dict[str, Any]
+    first_error: Exception | None = None
+
+    def add(
+        self,
+        stage: str,
+        what: str,
+        error: Exception | str,
+        *,
+        gps_time_s: float | None = None,
+    ) -> None:
+        message = error if isinstance(error, str) else _message(error)
+        t0 = self.summary.get("start_gps_time_s")
+        entry: dict[str, Any] = {
+            "stage": stage,
+            "what": what,
+            "gps_time_s": gps_time_s,
+            "time_s": None if gps_time_s is None or t0 is None else gps_time_s - t0,
+            "message": message,
+        }
+        failure = self.summary.get("failure")
+        if failure is not None:
+            failure.setdefault("also", []).append(entry)
+            return
+        warned = [*self.summary.get("input_warnings", []), *self.summary.get("warnings", [])]
+        self.summary["failure"] = {**entry, "hints": [w for w in warned if w != message]}
+        if isinstance(error, Exception):
+            self.first_error = error
+
+
+def _message(error: BaseException) -> str:
+    """An exception as one line: its message (its type when it has none)."""
+    return " ".join(str(error).split()) or type(error).__name__
+
+
+def _failure_error(cfg: RunConfig, failure: dict[str, Any]) -> Exception:
+    """The exception of a failure that was not one (module docstring of
+    :func:`navigate`)."""
+    if failure["stage"] == "units":
+        return ValueError(f"{cfg.path}: imu.{failure['message']}")
+    return _mn.DivergenceError(f"{cfg.path}: {failure['what']}: {failure['message']}")
+
+
+@contextlib.contextmanager
+def _recording_warnings(into: list[str]) -> Iterator[None]:
+    """Records the text of every warning raised inside into ``into`` (for
+    the summary) and raises each again after, as it was (for the terminal),
+    also when the block fails."""
+    seen: list[warnings.WarningMessage] = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                yield
+            finally:
+                seen = list(caught or [])
+    finally:
+        for w in seen:
+            into.append(str(w.message))
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def _in_run(run: Any, time: np.ndarray) -> np.ndarray:
@@ -704,52 +858,85 @@ def _score(
 
 
 def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
-    """The solution's integrity (``FilterSolution.integrity``) with times
-    in seconds after the start."""
+    """The solution's integrity (``FilterSolution.integrity``) under its own
+    keys, its times (``time_s``, ``max_at_s``) in seconds after the start
+    like every time in ``summary.json``."""
     return {
-        "diverged": bool(integrity["diverged"]),
-        "alerts": [
-            {"kind": a["kind"], "time_s": float(a["time"] - t0), "message": a["message"]}
-            for a in integrity["alerts"]
-        ],
+        **integrity,
+        "alerts": [{**a, "time_s": float(a["time_s"] - t0)} for a in integrity["alerts"]],
         "consistency": [
-            {
-                "kind": c["kind"],
-                "windows": int(c["windows"]),
-                "windows_above_band": int(c["above_band"]),
-                "max_band_ratio": float(c["max_band_ratio"]),
-                "max_at_s": float(c["max_at"] - t0),
-            }
-            for c in integrity["consistency"]
+            {**c, "max_at_s": float(c["max_at_s"] - t0)} for c in integrity["consistency"]
         ],
     }
 
 
-def _write_solution(run: Any, folder: Path, stem: str) -> None:
-    """``<stem>.csv`` (every IMU sample) and ``<stem>.pos`` (10 Hz) of a run,
-    by the solution writers (``LogRun.write``)."""
-    run.write(folder / f"{stem}.csv")
-    run.write(folder / f"{stem}.pos")
-
-
-def _write_outputs(result: LogNavigationResult, out: Path) -> None:
+def _write_outputs(result: LogNavigationResult, out: Path, failures: _Failures) -> None:
+    """The run's files into a fresh ``out`` (replacing an earlier run's):
+    the solution files of what was computed, the report, then the summary,
+    so that it records a file that could not be written. A writer or the
+    report failing is a failure of the run, not of the writing: the other
+    files are still written (the report, then, as a page naming the
+    failure)."""
     name = result.config[""]["name"]  # a plain file name (the configuration checks it)
-    run = result.run
-    files = {"csv": f"{name}.csv", "pos": f"{name}.pos", "summary": "summary.json"}
+    summary = result.summary
+    files = {}
     with fresh_output_folder(out, "navigate") as tmp:
-        _write_solution(run, tmp, name)
-        if run.smoothed is not None:
-            _write_solution(run.smoothed, tmp, f"{name}_smoothed")
-            files["smoothed_csv"] = f"{name}_smoothed.csv"
-            files["smoothed_pos"] = f"{name}_smoothed.pos"
-        (tmp / "summary.json").write_text(json.dumps(result.summary, indent=2, allow_nan=False))
+        run = result.run
+        views = (("", run), ("smoothed_", None if run is None else run.smoothed))
+        for prefix, view in views:
+            stem = f"{name}_smoothed" if prefix else name
+            if view is None:
+                continue
+            for extension in ("csv", "pos"):
+                try:
+                    view.write(tmp / f"{stem}.{extension}")
+                except Exception as e:
+                    failures.add("outputs", f"writing {stem}.{extension}", e)
+                else:
+                    files[f"{prefix}{extension}"] = f"{stem}.{extension}"
         if result.config["report"]["html"]:
             # Deferred: the report needs matplotlib, which ``import memsnav``
             # does not load.
-            from memsnav.realdata.report import write_report
+            try:
+                from memsnav.realdata.report import write_report
 
-            write_report(result, tmp)
+                write_report(result, tmp)
+            except Exception as e:
+                failures.add("report", "drawing the report", e)
+                _write_failure_page(result, tmp)
             files["report"] = "report.html"
+        result.summary = _finite(summary)
+        (tmp / "summary.json").write_text(json.dumps(result.summary, indent=2, allow_nan=False))
+        files["summary"] = "summary.json"
         for p in tmp.rglob("*"):
             os.chmod(p, 0o755 if p.is_dir() else 0o644)
-    result.files = {k: str(out / v) for k, v in files.items()}
+    order = ("csv", "pos", "smoothed_csv", "smoothed_pos", "summary", "report")
+    result.files = {k: str(out / files[k]) for k in order if k in files}
+
+
+def _write_failure_page(result: LogNavigationResult, out: Path) -> None:
+    """``report.html`` when the report itself could not be drawn: the
+    failures and the answer, plain HTML (no figure, nothing that could fail
+    the same way)."""
+    from memsnav.realdata.answer import answer_lines
+
+    s = result.summary
+    try:
+        lines = answer_lines(s)
+    except Exception:
+        lines = [f"{s['name']}: {s['mode']} coupling"]
+    failure = s["failure"]
+    entries = [failure, *failure.get("also", [])]
+    body = "".join(
+        f"<p><b>{html.escape(e['what'])}</b> ({html.escape(e['stage'])}): "
+        f"{html.escape(e['message'])}</p>"
+        for e in entries
+    )
+    items = "".join(f"<li>{html.escape(line.strip())}</li>" for line in lines)
+    title = html.escape(f"memsnav navigate: {s['name']}")
+    (out / "report.html").write_text(
+        f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{title}</title></head>"
+        f"<body><h1>{title}</h1><h2>The run failed</h2>{body}<h2>The answer</h2>"
+        f"<ul>{items}</ul><p>summary.json holds every number.</p></body></html>\n",
+        encoding="utf-8",
+    )

@@ -17,6 +17,7 @@ from memsnav.realdata.answer import (
     TIME_DIGITS,
     answer_lines,
     by_length_label,
+    failure_line,
     outage_label,
     truth_line,
 )
@@ -37,9 +38,13 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
     name = result.config[""]["name"]
     s = result.summary
     run = result.run
+    doc = Report(f"memsnav navigate: {name}")
+    if s.get("failure"):
+        _failure_section(doc, s, run is not None)
+    if run is None:
+        return doc.write(out)
     t0 = s["start_gps_time_s"]
     origin = np.asarray(run.position_ecef)[0]
-    doc = Report(f"memsnav navigate: {name}")
     doc.section("The answer")
     first, *rest = answer_lines(s)
     doc.paragraph(first)
@@ -263,6 +268,38 @@ def _truth_words(s: dict[str, Any]) -> str:
     line = truth_line(s)
     assert line is not None  # a scored run has a truth
     return line.strip().removeprefix("truth: ")
+
+
+def _failure_section(doc: Report, s: dict[str, Any], ran: bool) -> None:
+    """What failed, where, why, what may explain it, and what the rest of
+    the report holds."""
+    failure = s["failure"]
+    doc.section("The run failed")
+    doc.paragraph(failure_line(failure))
+    for other in failure.get("also", []):
+        doc.paragraph("Also " + failure_line(other))
+    if failure["hints"]:
+        doc.paragraph("What the inputs and the run warned about, which may explain it:")
+        doc.html(
+            "<ul>" + "".join(f"<li>{html.escape(hint)}</li>" for hint in failure["hints"]) + "</ul>"
+        )
+    if not ran:
+        doc.paragraph(
+            "Nothing was computed: the failure came before the engine ran. summary.json holds "
+            "the failure and the inputs' warnings."
+        )
+    elif failure["stage"] == "run":
+        doc.paragraph(
+            "The rest of this report and the solution files hold the run up to where it "
+            "stopped (summary.json: every number of it)."
+        )
+    elif failure["stage"] in ("units", "integrity"):
+        doc.paragraph(
+            "The rest of this report, the solution files and summary.json hold the whole run, "
+            "which is not trustworthy."
+        )
+    else:
+        doc.paragraph("The rest of this report holds the whole run, less what the failure stopped.")
 
 
 def _satellites_section(doc: Report, s: dict[str, Any]) -> None:

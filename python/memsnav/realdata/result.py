@@ -18,7 +18,8 @@ class LogNavigationResult:
     single-point solution (``spp``), the same less each one's mean offset
     when the truth is scored by precision (``precision``: ``forward``,
     ``smoothed``, ``spp``), and ``summary``, the plain dict written to
-    ``summary.json``."""
+    ``summary.json``. A run that failed (``failure``) has what was computed
+    before the failure: ``run`` None when it failed before the engine ran."""
 
     config: RunConfig
     run: Any
@@ -28,3 +29,10 @@ class LogNavigationResult:
     files: dict[str, str] = field(default_factory=dict)
     truth_smoothed: dict[str, Any] | None = None
     precision: dict[str, dict[str, Any]] | None = None
+
+    @property
+    def failure(self) -> dict[str, Any] | None:
+        """The summary's ``failure`` entry (``stage``, ``what``,
+        ``gps_time_s``, ``time_s``, ``message``, ``hints``; later failures
+        under ``also``), or None for a run that did not fail."""
+        return self.summary.get("failure")

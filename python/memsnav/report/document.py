@@ -136,10 +136,12 @@ class Report:
         )
 
     def write(self, directory: Path, name: str = "report.html") -> Path:
-        """Writes the figures (PNG, SVG, and CSV when they plot data) and then
-        the page, each atomically."""
+        """Writes the figures (PNG, SVG, and CSV when they plot data) into
+        ``figures/`` (made when there are any) and then the page, each
+        atomically."""
         figures = directory / "figures"
-        figures.mkdir(parents=True, exist_ok=True)
+        if self._figures:
+            figures.mkdir(parents=True, exist_ok=True)
         for f in self._figures:
             write_bytes(figures / f"{f.name}.png", f.png)
             write_bytes(figures / f"{f.name}.svg", f.svg)

@@ -4,6 +4,17 @@
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
+/// An angle wrapped into (−π, π], rad: the difference of two headings or
+/// courses as the shorter turn between them.
+pub fn wrap_angle_rad(angle_rad: f64) -> f64 {
+    let d = angle_rad.rem_euclid(std::f64::consts::TAU);
+    if d > std::f64::consts::PI {
+        d - std::f64::consts::TAU
+    } else {
+        d
+    }
+}
+
 /// Skew-symmetric matrix [v×] with [v×] w = v × w.
 pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)

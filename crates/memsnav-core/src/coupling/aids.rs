@@ -14,8 +14,6 @@
 //! - Height (a barometer, Groves §16.2.1) and heading (a dual-antenna
 //!   receiver or a magnetometer, Groves §6.1): one scalar each.
 
-use std::f64::consts::PI;
-
 use nalgebra::{Matrix3, Vector3};
 
 use super::engine::batch::BatchRules;
@@ -264,8 +262,7 @@ impl<const N: usize> FilterState<N> {
         validate::positive("std", std_rad)?;
         let kind = MeasurementKind::Heading;
         let (h, predicted) = heading_row(&self.nav.c_b_e, &self.nav.position_ecef);
-        let wrapped = (predicted - yaw_rad + PI).rem_euclid(2.0 * PI) - PI;
-        let innovation = if wrapped == -PI { PI } else { wrapped };
+        let innovation = crate::attitude::wrap_angle_rad(predicted - yaw_rad);
         self.stage(time_s, kind, 0, h, innovation, std_rad);
         self.apply_staged(time_s, kind, AIDS)
     }

@@ -222,9 +222,7 @@ impl<const N: usize> FilterState<N> {
         let geo = ecef_to_geodetic(&self.nav.position_ecef);
         let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
         let euler = dcm_to_euler(&(cne.transpose() * self.nav.c_b_e));
-        let change = (heading_rad - euler.z + std::f64::consts::PI)
-            .rem_euclid(2.0 * std::f64::consts::PI)
-            - std::f64::consts::PI;
+        let change = crate::attitude::wrap_angle_rad(heading_rad - euler.z);
         let c_before = self.nav.c_b_e;
         self.nav.c_b_e = cne * euler_to_dcm(euler.x, euler.y, heading_rad);
         // The fixes measured the antenna, r + C l: it stays where they put

@@ -91,7 +91,7 @@ pub use records::{
     BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
     RunRecords,
 };
-pub(crate) use run::run_with_hook;
+pub(crate) use run::run_until_error;
 pub use run::{run, run_smoothed, smoothed_solution, solution, Aiding};
 pub use tuning::{
     BiasProcess, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel, Recovery,

@@ -58,6 +58,23 @@ pub(crate) fn run_with_hook<const N: usize, E: Aiding, H: SampleHook<N>>(
     smooth: bool,
     hook: &mut H,
 ) -> Result<FilterState<N>> {
+    let (state, stopped) = run_until_error(imu, epochs, initial, tuning, smooth, hook)?;
+    stopped.map_or(Ok(state), Err)
+}
+
+/// [`run_with_hook`] that keeps what a run that stops on an error had
+/// done: an error before the first sample (the arguments, the initial
+/// state) is returned as such; one during the run comes with the filter
+/// state as it was when it stopped (its records up to there; `hook` has
+/// seen every sample before it).
+pub(crate) fn run_until_error<const N: usize, E: Aiding, H: SampleHook<N>>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+    hook: &mut H,
+) -> Result<(FilterState<N>, Option<crate::Error>)> {
     imu.validate()?;
     engine::validate_epoch_times(E::ARGUMENT, epochs, imu.time_s, tuning.time_tolerance_s)?;
     let (prepared, initial, tuning) = E::prepare(epochs, initial, tuning)?;
@@ -65,15 +82,16 @@ pub(crate) fn run_with_hook<const N: usize, E: Aiding, H: SampleHook<N>>(
     if smooth {
         state.enable_smoother(imu.time_s.len());
     }
-    engine::run(
+    let stopped = engine::run(
         imu,
         epochs,
         &mut state,
         tuning.time_tolerance_s,
         |s, i, e| E::update(s, &prepared, i, e),
         hook,
-    )?;
-    Ok(state)
+    )
+    .err();
+    Ok((state, stopped))
 }
 
 /// Runs the filter with `N` error states (17, 23, 29 or 35);

@@ -69,20 +69,37 @@ impl<const N: usize> FilterState<N> {
 
     /// Applies one GNSS epoch (pseudoranges, then rates when the tuning
     /// uses them) at the filter's time, as the tightly coupled run does.
-    pub fn update_gnss(&mut self, epoch: &GnssEpoch) -> Result<()> {
+    /// Returns whether it was applied whole: see [`Self::all_accepted_since`].
+    pub fn update_gnss(&mut self, epoch: &GnssEpoch) -> Result<bool> {
         self.check_epoch_time("gnss", epoch.time_s)?;
-        tight::update_epoch(self, epoch, self.tuning.use_pseudorange_rate)
+        let first = self.batches.len();
+        tight::update_epoch(self, epoch, self.tuning.use_pseudorange_rate)?;
+        Ok(self.all_accepted_since(first))
     }
 
     /// Applies one position (and velocity) fix at the filter's time, as
-    /// the loosely coupled run does.
-    pub fn update_fix(&mut self, fix: &PositionFix) -> Result<()> {
+    /// the loosely coupled run does. Returns whether it was applied whole:
+    /// see [`Self::all_accepted_since`].
+    pub fn update_fix(&mut self, fix: &PositionFix) -> Result<bool> {
         self.check_epoch_time("fix", fix.time_s)?;
         let interval_s = self.previous_epoch_s.map(|before| fix.time_s - before);
         let whitened = loose::prepare_fix(0, fix, interval_s, &self.tuning)?;
+        let first = self.batches.len();
         loose::apply_fix(self, &whitened, fix)?;
         self.previous_epoch_s = Some(fix.time_s);
-        Ok(())
+        Ok(self.all_accepted_since(first))
+    }
+
+    /// Whether an update made of several batches (a fix's position and
+    /// velocity blocks; an epoch's pseudoranges, rates and carrier phases)
+    /// was applied whole: it tested at least one batch since batch record
+    /// `first` and every one passed its gate (a batch that passed after
+    /// excluding faulty satellites counts as passed). The one-batch aids
+    /// return their batch's verdict the same way; the records say which
+    /// batch of a partly applied update failed.
+    fn all_accepted_since(&self, first: usize) -> bool {
+        let tested = &self.batches[first..];
+        !tested.is_empty() && tested.iter().all(|b| b.accepted)
     }
 
     fn check_step(&self, time_s: f64) -> Result<()> {

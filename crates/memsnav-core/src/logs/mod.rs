@@ -39,7 +39,7 @@ pub use imu_csv::{
     MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
 };
 pub use nmea::{parse_nmea, read_nmea, NMEA_TALKERS, NMEA_UERE_M, NMEA_VDOP_PER_HDOP};
-pub use pos_solution::{diagonal_covariances, PosSolution};
+pub use pos_solution::{diagonal_covariances, PosSolution, MAX_STD};
 pub use rtklib_pos::{
     format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,
 };

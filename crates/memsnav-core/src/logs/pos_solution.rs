@@ -7,7 +7,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 /// Largest standard deviation or covariance term accepted, m or m/s.
-pub(super) const MAX_STD: f64 = 1.0e7;
+pub const MAX_STD: f64 = 1.0e7;
 
 /// RTKLIB's solution quality flags: 0 none, 1 fix, 2 float, 3 SBAS,
 /// 4 DGPS, 5 single, 6 PPP, 7 dead reckoning (demo5).

@@ -24,6 +24,7 @@ pub mod adapt;
 pub mod align;
 mod config;
 pub mod fixes;
+pub mod gyro_scale;
 pub mod output;
 pub mod references;
 mod run;
@@ -37,5 +38,5 @@ pub use config::{
     StandstillConfig, StartOverrides,
 };
 pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
-pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun};
+pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun, RunFailure};
 pub use settings::{tables, SettingTables, SettingValue, AUTO, KEYS};

@@ -307,6 +307,8 @@ mod tests {
             range_biases: Vec::new(),
             antenna_lever_arm_b_m: Vector3::zeros(),
             mounting: m,
+            failure: None,
+            gyro_scale: None,
             adaptation: Default::default(),
             tuning: crate::coupling::FilterTuning::new(
                 100.0,

@@ -7,15 +7,18 @@ use nalgebra::{Matrix3, Vector3};
 use super::adapt::{Adaptation, Plan};
 use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
+use super::gyro_scale::{gyro_scale, GyroScale};
 use super::standstill::{Window, WindowStats};
 use crate::coupling::{
     self, Aiding, FilterState, FilterTuning, InitialState, PositionFix, Solution,
 };
 use crate::filter::chi_square::chi_square_quantile;
-use crate::filter::state::{Layout, VELOCITY};
+use crate::filter::state::{Layout, POSITION, VELOCITY};
+use crate::geodesy::ecef_to_geodetic;
 use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
 use crate::ins::ImuSample;
+use crate::logs::{MAX_SPEED_M_S, MAX_STD, POS_HEIGHT_RANGE_M};
 use crate::{validate, Error, Result};
 
 /// The GNSS side of a log.
@@ -62,6 +65,23 @@ pub struct LogRun {
     pub adaptation: Adaptation,
     /// The tuning the reported run used.
     pub tuning: FilterTuning,
+    /// Why the run stopped before the end of the log, when it did: the
+    /// solution (and its records) then end at the last sample before it,
+    /// and there is no smoothed solution.
+    pub failure: Option<RunFailure>,
+    /// The gyro's turns against the GNSS course's over the whole log
+    /// ([`super::gyro_scale`]); None without a usable pair of epochs.
+    pub gyro_scale: Option<GyroScale>,
+}
+
+/// Why and when a run stopped before the end of its log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunFailure {
+    /// When, GNSS time, s: the filter's error's time, or that of the first
+    /// IMU sample the solution does not hold.
+    pub time_s: f64,
+    /// What went wrong (the error's message).
+    pub message: String,
 }
 
 /// Runs a log: `time_s` the IMU time stamps on GNSS time (before the
@@ -106,7 +126,49 @@ pub fn navigate_log(
         0.0
     };
     let kinematics = gnss_kinematics(gnss, bias_std_m)?;
-    let start = find_start(&time, &imu_b, &kinematics, config)?;
+    // Before the run: a gyro read in the wrong unit is what a failed run
+    // most needs to be told, so its warning also rides on any error below.
+    let gyro = gyro_scale(&time, &imu_b, &kinematics);
+    let gyro_warning = gyro.and_then(|g| g.unit_warning());
+    let mut run = run_from_start(&time, &imu_b, gnss, kinematics, config)
+        .map_err(|e| with_note(e, gyro_warning.as_deref()))?;
+    run.gyro_scale = gyro;
+    if let Some(w) = gyro_warning {
+        run.solution.warnings.insert(0, w);
+    }
+    Ok(run)
+}
+
+/// An error with `note` added to its reason (None: as it is).
+fn with_note(error: Error, note: Option<&str>) -> Error {
+    let Some(note) = note else {
+        return error;
+    };
+    match error {
+        Error::InvalidArgument { argument, reason } => Error::InvalidArgument {
+            argument,
+            reason: format!("{reason} ({note})"),
+        },
+        Error::Divergence { time_s, reason } => Error::Divergence {
+            time_s,
+            reason: format!("{reason} ({note})"),
+        },
+        other => other,
+    }
+}
+
+/// [`navigate_log`] from the GNSS epochs' kinematics on: the start, the
+/// outages, the filter.
+fn run_from_start(
+    time: &[f64],
+    imu_b: &[ImuSample],
+    gnss: &GnssInput,
+    kinematics: Vec<GnssKinematics>,
+    config: &LogConfig,
+) -> Result<LogRun> {
+    let tight = matches!(gnss, GnssInput::Measurements(_));
+    let range_biases = config.range_bias_states && tight;
+    let start = find_start(time, imu_b, &kinematics, config)?;
     let t_end = match config.duration_s {
         Some(d) => (start.time_s + d).min(time[time.len() - 1]),
         None => time[time.len() - 1],
@@ -187,7 +249,7 @@ pub fn navigate_log(
         fix_correlation: config.learn_fix_correlation && !tight && !config.fix_error_states,
     };
     let (tuning, adaptation) = plan.learn(&|tuning: &FilterTuning| {
-        let (solution, _, _) = run.filter(layout, tuning, Record::MeasurementsOnly)?;
+        let (solution, _, _, _) = run.filter(layout, tuning, Record::MeasurementsOnly)?;
         Ok((solution.measurements, solution.resets.len()))
     })?;
     let record = if config.smoother {
@@ -195,7 +257,7 @@ pub fn navigate_log(
     } else {
         Record::Solution
     };
-    let (solution, smoothed, range_biases) = run.filter(layout, &tuning, record)?;
+    let (solution, smoothed, range_biases, failure) = run.filter(layout, &tuning, record)?;
     let standstills = standstill_intervals(&solution);
     // With installation states, the lever arm the filter ended with.
     let antenna_lever_arm_b_m = solution
@@ -217,6 +279,8 @@ pub fn navigate_log(
         mounting: config.mounting,
         adaptation,
         tuning,
+        failure,
+        gyro_scale: None,
     })
 }
 
@@ -330,8 +394,14 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
 }
 
 /// What a filter run gives: the solution, the smoothed one when asked
-/// for, and the final range biases (satellite, m).
-type FilterOutput = (Solution, Option<Solution>, Vec<(u16, f64)>);
+/// for, the final range biases (satellite, m), and why it stopped early
+/// when it did.
+type FilterOutput = (
+    Solution,
+    Option<Solution>,
+    Vec<(u16, f64)>,
+    Option<RunFailure>,
+);
 
 /// The pieces of one run.
 struct Inputs<'a> {
@@ -450,14 +520,14 @@ impl Inputs<'_> {
         let capacity = if keep_solution { self.time.len() } else { 0 };
         let mut hook = Aids::new(self, Solution::with_capacity(capacity, N), keep_solution);
         let smooth = record == Record::Smoothed;
-        let mut state: FilterState<N> = match self.gnss {
+        let (mut state, stopped): (FilterState<N>, _) = match self.gnss {
             GnssInput::Fixes(fixes) => {
                 let used: Vec<PositionFix> = fixes
                     .iter()
                     .zip(self.used)
                     .filter_map(|(f, &u)| u.then_some(*f))
                     .collect();
-                coupling::run_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
+                coupling::run_until_error(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
             GnssInput::Measurements(epochs) => {
                 let receiver = s.antenna.position_ecef;
@@ -474,25 +544,43 @@ impl Inputs<'_> {
                         e
                     })
                     .collect();
-                coupling::run_with_hook(&data, &used, &initial, &tuning, smooth, &mut hook)?
+                coupling::run_until_error(&data, &used, &initial, &tuning, smooth, &mut hook)?
             }
         };
         let mut solution = hook.solution;
+        let failure = match stopped {
+            // A first pass learns from a whole run or fails; fewer than
+            // two samples are no solution to keep.
+            Some(e) if !keep_solution || solution.time_s.len() < 2 => return Err(e),
+            Some(e) => Some(RunFailure {
+                time_s: match &e {
+                    Error::Divergence { time_s, .. } => *time_s,
+                    _ => self.time[solution.time_s.len().min(self.time.len() - 1)],
+                },
+                message: e.to_string(),
+            }),
+            None => None,
+        };
         solution.take_records(&mut state);
         if !keep_solution {
-            return Ok((solution, None, Vec::new()));
+            return Ok((solution, None, Vec::new(), None));
         }
         coupling::diagnose(&mut solution, ("specific_force", &f), ("angular_rate", &w));
-        let mut smoothed = state
-            .kf
-            .take_smoother()
-            .map(|mut log| solution.smoothed(&mut log))
-            .transpose()?;
+        // A stopped run is not smoothed: its last samples are the ones
+        // that went wrong.
+        let mut smoothed = match failure {
+            None => state
+                .kf
+                .take_smoother()
+                .map(|mut log| solution.smoothed(&mut log))
+                .transpose()?,
+            Some(_) => None,
+        };
         solution.shift_onto_gnss_time();
         if let Some(s) = smoothed.as_mut() {
             s.shift_onto_gnss_time();
         }
-        Ok((solution, smoothed, state.range_biases().collect()))
+        Ok((solution, smoothed, state.range_biases().collect(), failure))
     }
 }
 
@@ -596,6 +684,13 @@ impl<'a> Aids<'a> {
 impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
     fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()> {
         let t = self.inputs.time[k];
+        // The reported run stops where no solution file can follow it; a
+        // first pass only learns from the measurements.
+        if self.keep_solution {
+            if let Some(reason) = unrepresentable(state) {
+                return Err(Error::Divergence { time_s: t, reason });
+            }
+        }
         self.window.push(self.inputs.imu_b[k]);
         let kin = self.inputs.kinematics;
         while self.next_epoch < kin.len() && kin[self.next_epoch].time_s <= t {
@@ -648,6 +743,42 @@ impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
     }
 }
 
+/// Why a state is beyond what a solution file can hold, and so beyond
+/// anything a log's vehicle does (None when it is not): a height outside
+/// the `.pos` range ([`POS_HEIGHT_RANGE_M`], −10 km to 10 000 km), a speed
+/// above [`MAX_SPEED_M_S`] (10 km/s), a position or velocity σ above
+/// [`MAX_STD`] (10 000 km), anything not finite. The run stops at the
+/// first such sample: the solution up to it is what was computed before
+/// the filter was lost, and every writer takes it.
+fn unrepresentable<const N: usize>(state: &FilterState<N>) -> Option<String> {
+    let height_m = ecef_to_geodetic(&state.nav.position_ecef).height_m;
+    let speed_m_s = state.nav.velocity_ecef.norm();
+    // The largest σ of a block (NaN when any variance is).
+    let largest_std = |first: usize| {
+        (0..3)
+            .map(|i| state.kf.p[(first + i, first + i)])
+            .fold(0.0_f64, |a, v| if v.is_nan() { f64::NAN } else { a.max(v) })
+            .sqrt()
+    };
+    let (std_m, std_m_s) = (largest_std(POSITION), largest_std(VELOCITY));
+    let (low, high) = (*POS_HEIGHT_RANGE_M.start(), *POS_HEIGHT_RANGE_M.end());
+    let reason = if !POS_HEIGHT_RANGE_M.contains(&height_m) {
+        format!("height {height_m:.0} m (a solution holds {low:e} to {high:e} m)")
+    } else if !(0.0..=MAX_SPEED_M_S).contains(&speed_m_s) {
+        format!("speed {speed_m_s:.0} m/s (a solution holds up to {MAX_SPEED_M_S:e} m/s)")
+    } else if !((0.0..=MAX_STD).contains(&std_m) && (0.0..=MAX_STD).contains(&std_m_s)) {
+        format!(
+            "one-sigma {std_m:.3e} m in position, {std_m_s:.3e} m/s in velocity (a solution \
+             holds up to {MAX_STD:e})"
+        )
+    } else {
+        return None;
+    };
+    Some(format!(
+        "the state left the range of a navigation solution: {reason}"
+    ))
+}
+
 /// The mean sample rate of increasing times, Hz (the IMU's, for its tuning).
 pub fn sample_rate_hz(time_s: &[f64]) -> Result<f64> {
     if time_s.len() < 2 {
@@ -672,5 +803,87 @@ fn gnss_times(gnss: &GnssInput) -> Vec<f64> {
     match gnss {
         GnssInput::Fixes(f) => f.iter().map(|x| x.time_s).collect(),
         GnssInput::Measurements(e) => e.iter().map(|x| x.time_s).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::navigate::SettingValue;
+    use crate::trajectory::{RandomTrajectoryConfig, Trajectory};
+
+    /// A drive from rest with exact IMU readings and 1 Hz fixes, GNSS out
+    /// from 40 s after the start; from 50 s the accelerometer's z axis
+    /// reads `fault_m_s2` too much (a failed sensor). Returns the run and
+    /// the time of the fault.
+    fn falling(fault_m_s2: f64) -> (Result<LogRun>, f64) {
+        let config = RandomTrajectoryConfig {
+            duration_s: 150.0,
+            stationary_start_s: 20.0,
+            ..Default::default()
+        };
+        let truth = Trajectory::random(&config, &mut crate::random::stream(4, 0)).unwrap();
+        let fault = truth.time_s[0] + 50.0;
+        let f: Vec<Vector3<f64>> = truth
+            .time_s
+            .iter()
+            .zip(&truth.specific_force_b)
+            .map(|(&t, f)| f + Vector3::new(0.0, 0.0, if t >= fault { fault_m_s2 } else { 0.0 }))
+            .collect();
+        let fixes: Vec<PositionFix> = (0..truth.time_s.len())
+            .step_by(100)
+            .map(|k| PositionFix {
+                time_s: truth.time_s[k],
+                position_ecef: truth.position_ecef[k],
+                position_covariance: Matrix3::identity() * 0.25,
+                velocity_ecef: Some(truth.velocity_ecef[k]),
+                velocity_covariance: Matrix3::identity() * 0.0025,
+            })
+            .collect();
+        let window = SettingValue::List(vec![
+            SettingValue::Number(40.0),
+            SettingValue::Number(200.0),
+        ]);
+        let tables = vec![(
+            "outages".to_string(),
+            vec![("windows_s".to_string(), SettingValue::List(vec![window]))],
+        )];
+        let log_config = LogConfig::from_settings(&tables, 100.0).unwrap();
+        let run = navigate_log(
+            &truth.time_s,
+            &f,
+            &truth.angular_rate_b,
+            &GnssInput::Fixes(fixes),
+            &log_config,
+        );
+        (run, fault)
+    }
+
+    /// 60 m/s² of fall from the fault: the coasting solution passes 10 km
+    /// below the ellipsoid within 20 s (½ a t² = 10 km at t = 18 s); the
+    /// run stops at that sample and keeps every sample before it, each
+    /// one a solution file holds.
+    #[test]
+    fn a_state_beyond_a_solution_stops_the_run_and_keeps_the_samples_before() {
+        let (run, fault) = falling(60.0);
+        let run = run.unwrap();
+        let failure = run.failure.clone().expect("the run stops");
+        assert!(
+            failure.time_s > fault && failure.time_s < fault + 20.0,
+            "{failure:?}"
+        );
+        assert!(failure.message.contains("height"), "{failure:?}");
+        let local = run.local_solution();
+        assert!(*local.time_s.last().unwrap() < failure.time_s);
+        assert!(local.time_s.len() > 6000);
+        assert!(run.smoothed.is_none());
+        for format in crate::output::SolutionFormat::ALL {
+            crate::output::format_solution(&local, format, None, "x").unwrap();
+        }
+        // Without the fault the same run goes to the end.
+        let (clean, _) = falling(0.0);
+        let clean = clean.unwrap();
+        assert!(clean.failure.is_none());
+        assert!(clean.solution.time_s.len() > local.time_s.len());
     }
 }

@@ -73,12 +73,7 @@ pub struct TimeOffsetOptions {
 
 /// The wrapped difference of two angles, rad, in (−π, π].
 fn angle_difference(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(std::f64::consts::TAU);
-    if d > std::f64::consts::PI {
-        d - std::f64::consts::TAU
-    } else {
-        d
-    }
+    crate::attitude::wrap_angle_rad(a - b)
 }
 
 /// The offset to add to `imu_time_s` (the IMU on GPS time as mapped so
