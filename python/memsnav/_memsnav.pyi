@@ -2064,6 +2064,12 @@ class PositionFixes:
     def velocity_ecef(self) -> npt.NDArray[np.float64]:
         """Antenna velocities, ECEF m/s, (T, 3); NaN where a fix has none."""
 
+    @property
+    def velocity_horizontal_only(self) -> npt.NDArray[np.bool_]:
+        """Whether each fix's velocity is horizontal only (a speed and course
+        over ground: NMEA; the filter takes its north and east components
+        and nothing along the vertical), (T,)."""
+
     def __len__(self) -> int: ...
 
 def fixes_from_solution(
@@ -2087,7 +2093,8 @@ def fixes_from_solution(
     ``std_ned`` (T, 3) m or ``covariance_ned`` (T, 3, 3) m² (exactly one),
     optional ``velocity_ned`` (T, 3) with ``velocity_std_ned`` (T, 3) or
     ``velocity_covariance_ned`` (T, 3, 3) (NaN where absent; a missing
-    velocity std counts as 0.1 m/s). Keeps the epochs on the ``rate_hz`` grid
+    velocity std counts as 0.1 m/s; north and east with a NaN down is a
+    horizontal-only velocity, NMEA's). Keeps the epochs on the ``rate_hz`` grid
     (None: all), adds seeded white noise of ``added_position_noise_ned`` (N,
     E, D one-sigma, m) and ``added_velocity_noise`` (m/s), and rotates the
     covariance (+ noise²) into ECEF."""

@@ -123,7 +123,8 @@ fn check_navigate_settings(settings: &Bound<'_, PyDict>) -> PyResult<()> {
 /// (T, 3) [lat rad, lon rad, h m], the position uncertainty as `std_ned`
 /// (T, 3) m or `covariance_ned` (T, 3, 3) m² (exactly one), optional
 /// `velocity_ned` (T, 3) with `velocity_std_ned` (T, 3) or
-/// `velocity_covariance_ned` (T, 3, 3) (NaN where absent). Keeps the epochs
+/// `velocity_covariance_ned` (T, 3, 3) (NaN where absent; north and east
+/// with a NaN down is a horizontal-only velocity, NMEA's). Keeps the epochs
 /// on the `rate_hz` grid, adds seeded white noise of
 /// `added_position_noise_ned` (N, E, D one-sigma, m) and
 /// `added_velocity_noise` (m/s), and rotates the covariance (+ noise²) into
