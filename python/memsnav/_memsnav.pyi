@@ -2151,7 +2151,13 @@ class LogRun:
     @property
     def start(self) -> dict[str, Any]:
         """How the run started: ``kind`` ("static", "static_with_heading",
-        "moving"), ``time`` (s), ``epoch`` (GNSS epoch index), ``heading_known``."""
+        "moving"), ``time`` (s), ``epoch`` (GNSS epoch index), ``heading_known``,
+        ``first_imu_time`` and ``first_gnss_time`` (the log's first IMU sample
+        and GNSS epoch, s), ``earliest_time`` (the earliest start the log
+        allows, its first GNSS epoch with ``standstill.window_s`` of IMU data
+        before it, s: the outages count from it), and ``late_reason``: where
+        and why the run started more than 10 s after that (late), None when
+        it did not."""
 
     @property
     def gnss(self) -> dict[str, npt.NDArray[Any]]:
@@ -2161,7 +2167,8 @@ class LogRun:
 
     @property
     def outages(self) -> npt.NDArray[np.float64]:
-        """The outage windows, absolute (start, end) times, s, (K, 2)."""
+        """The outage windows, absolute (start, end) times, s, (K, 2) (as
+        configured: s after ``start["earliest_time"]``)."""
 
     @property
     def standstills(self) -> npt.NDArray[np.float64]:
