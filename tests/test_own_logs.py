@@ -318,3 +318,17 @@ def test_the_answer_names_every_outage_and_how_many_were_scored():
     lines = answer_lines(summary)
     assert lines[1] == "  the 0 outages of 30 s scored (of 2): no errors to show"
     assert sum("no truth epoch in it, not scored" in line for line in lines) == 2
+
+
+def test_a_log_that_begins_creeping_starts_at_its_first_course_without_a_warning(tmp_path):
+    """The drive excerpt begins creeping below 1 m/s: no epoch at rest, an
+    in-motion start at the first course, 1.5 s (6 epochs at 4 Hz) after the
+    earliest start, which is not late (docs/own-logs.md quotes it)."""
+    from test_navigate import DATA, _config
+
+    summary = mn.navigate(_config(tmp_path), data_root=DATA, duration_s=5.0).summary
+    start = summary["start"]
+    assert start["kind"] == "moving" and start["late_reason"] is None
+    assert start["gps_time_s"] - start["earliest_gps_time_s"] == pytest.approx(1.5, abs=1e-3)
+    page = " ".join((Path(__file__).parents[1] / "docs" / "own-logs.md").read_text().split())
+    assert "creeping below 1 m/s, starts 1.5 s in" in page
