@@ -1399,7 +1399,8 @@ class FilterSolution:
     @property
     def resets(self) -> dict[str, npt.NDArray[Any] | list[str]]:
         """Every reset the filter made: dict of arrays ``time``, ``kind``
-        ("position_to_fix", "velocity_to_fix", "clock_jump", "clock_drift_jump",
+        ("position_to_fix", "velocity_to_fix", "velocity_to_zero" (a standstill
+        whose ZUPTs kept failing), "clock_jump", "clock_drift_jump",
         "inflation", "fading", "heading"), ``change`` (m, m/s, rad, or the
         inflation or fading factor), ``unit`` (of each change: "m", "m/s",
         "rad", "" for a factor), ``failed_epochs`` (consecutive failed epochs

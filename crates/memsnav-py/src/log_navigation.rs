@@ -312,6 +312,51 @@ impl PyLogRun {
         d.set_item("late_reason", self.run.late_start.as_deref())?;
         Ok(d)
     }
+    /// What the run learnt from the log before the run it reports
+    /// (docs/foreign-drive.md): dict `imu_preset` (the IMU model chosen,
+    /// None when the configuration names one), `imu_candidates` (a list of
+    /// dicts `preset`, `log_likelihood`, `measurements`, `resets`: each
+    /// candidate's first pass), `fix_correlation` (None, or dict
+    /// `component_s` (three correlation times, s, None where not
+    /// determined), `innovation_to_fix_variance` (three ratios),
+    /// `used_s`, `covariance_scale`), and `fix_correlation_time_s` and
+    /// `fix_covariance_scale` (what the run used).
+    #[getter]
+    fn adaptation<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let a = &self.run.adaptation;
+        let d = PyDict::new(py);
+        d.set_item("imu_preset", a.imu_preset.clone())?;
+        let candidates = PyList::empty(py);
+        for c in &a.imu_candidates {
+            let e = PyDict::new(py);
+            e.set_item("preset", &c.preset)?;
+            e.set_item("log_likelihood", c.log_likelihood)?;
+            e.set_item("measurements", c.measurements)?;
+            e.set_item("resets", c.resets)?;
+            candidates.append(e)?;
+        }
+        d.set_item("imu_candidates", candidates)?;
+        match &a.fix_correlation {
+            Some(c) => {
+                let e = PyDict::new(py);
+                e.set_item("component_s", c.component_s.to_vec())?;
+                e.set_item(
+                    "innovation_to_fix_variance",
+                    c.innovation_to_fix_variance.to_vec(),
+                )?;
+                e.set_item("used_s", c.used_s)?;
+                e.set_item("covariance_scale", c.covariance_scale)?;
+                d.set_item("fix_correlation", e)?;
+            }
+            None => d.set_item("fix_correlation", py.None())?,
+        }
+        d.set_item(
+            "fix_correlation_time_s",
+            self.run.tuning.fix_correlation_time_s,
+        )?;
+        d.set_item("fix_covariance_scale", self.run.tuning.fix_covariance_scale)?;
+        Ok(d)
+    }
     /// Every GNSS epoch's antenna position and velocity (the fixes, or the
     /// single-point solution of the pseudoranges; NaN where none) and
     /// whether it reached the filter: dict `time`, `position_ecef`,
@@ -628,6 +673,7 @@ fn navigate_log(
                     standstills: run.standstills.clone(),
                     range_biases: run.range_biases.clone(),
                     late_start: run.late_start.clone(),
+                    adaptation: run.adaptation.clone(),
                     ..run
                 },
                 local,

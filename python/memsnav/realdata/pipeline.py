@@ -471,6 +471,7 @@ def navigate(
         "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],
         "outages_s": [[float(a - anchor), float(b - a)] for a, b in run.outages],
         "sensor_estimates": _sensor_estimates(solution, -1),
+        "adaptation": run.adaptation,
         **notes,
     }
     if run.smoothed is not None:

@@ -1,6 +1,7 @@
 //! Aids that need no GNSS: what the vehicle's own behaviour says about the
 //! state. Each is one batch, tested like a GNSS epoch (a failed one is
-//! recorded and skipped; aids never reset the filter).
+//! recorded and skipped; only ZUPTs the filter keeps refusing at a
+//! standstill reset its velocity, see [`FilterState::zero_velocity_update`]).
 //!
 //! - Zero-velocity update (ZUPT) at a standstill: v^e = 0 (Groves §15.3.1).
 //! - Zero-angular-rate update (ZARU) at a standstill: the body turns with
@@ -21,10 +22,12 @@ use super::engine::batch::BatchRules;
 use super::engine::FilterState;
 use super::records::MeasurementKind;
 use crate::attitude::skew;
-use crate::filter::state::{Installation, Layout, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY};
+use crate::filter::state::{
+    Installation, Layout, ACCEL_BIAS, ATTITUDE, GYRO_BIAS, POSITION, VELOCITY,
+};
 use crate::filter::SparseRow;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
-use crate::geodesy::{c_n_e, ecef_to_geodetic};
+use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
 use crate::{validate, Result};
 
 const AIDS: BatchRules = BatchRules {
@@ -96,6 +99,15 @@ fn vehicle_velocity_rows(
 impl<const N: usize> FilterState<N> {
     /// ZUPT: the IMU's ECEF velocity is zero, with std `std_m_s` per axis.
     /// Returns whether it was applied.
+    ///
+    /// A standstill the sensors show while the filter keeps refusing its
+    /// ZUPTs (`recovery.reset_after_failed_epochs` in a row) means the
+    /// filter's velocity is further off than its covariance admits, as a
+    /// fix that keeps failing does: the velocity is reset to zero with the
+    /// ZUPT's std and the reset recorded (the fading of repeated resets
+    /// applies as to fixes). Without it a wrong update just before a stop
+    /// leaves a velocity error every later ZUPT is refused for, and the
+    /// position drifts through the whole stop.
     pub fn zero_velocity_update(&mut self, time_s: f64, std_m_s: f64) -> Result<bool> {
         validate::positive("std", std_m_s)?;
         let kind = MeasurementKind::ZeroVelocity;
@@ -110,7 +122,49 @@ impl<const N: usize> FilterState<N> {
                 std_m_s,
             );
         }
-        self.apply_staged(time_s, kind, AIDS)
+        let applied = self.apply_staged(time_s, kind, AIDS)?;
+        if !applied && self.reset_due(kind) {
+            let covariance = Matrix3::identity() * (std_m_s * std_m_s);
+            self.reset_imu_velocity(time_s, kind, &Vector3::zeros(), &covariance)?;
+            self.recovered(time_s, kind)?;
+        }
+        Ok(applied)
+    }
+
+    /// The chi-square statistic of "the vehicle is not accelerating" over a
+    /// detector window: the acceleration a = Ĉ f̂ + γ(r̂) (the corrected
+    /// mean specific force `mean_specific_force_b` with gravity added back,
+    /// Groves eq. 5.54 at rest, the Coriolis term of a vehicle at rest
+    /// being zero) against its covariance A P Aᵀ + diag(`std_of_mean_b`²),
+    /// A = ∂a/∂(ψ, δb_a) = (−[(Ĉ f̂)×], −Ĉ) (the INS error model of
+    /// [`crate::filter::propagation`]). A car braking to a stop at half a
+    /// metre per second squared passes the variance test of a quiet IMU;
+    /// its mean specific force does not pass this one. Three degrees of
+    /// freedom.
+    pub fn rest_acceleration_nis(
+        &self,
+        mean_specific_force_b: &Vector3<f64>,
+        std_of_mean_b: &Vector3<f64>,
+    ) -> f64 {
+        let raw = crate::ins::ImuSample {
+            specific_force_b: *mean_specific_force_b,
+            angular_rate_b: Vector3::zeros(),
+        };
+        let f_e = self.nav.c_b_e * self.corrected(&raw).specific_force_b;
+        let a = f_e + gravity_ecef(&self.nav.position_ecef);
+        let tilt = -skew(&f_e);
+        let bias = -self.nav.c_b_e;
+        let p = &self.kf.p;
+        let p_aa = p.fixed_view::<3, 3>(ATTITUDE, ATTITUDE);
+        let p_ab = p.fixed_view::<3, 3>(ATTITUDE, ACCEL_BIAS);
+        let p_bb = p.fixed_view::<3, 3>(ACCEL_BIAS, ACCEL_BIAS);
+        let cross = tilt * p_ab * bias.transpose();
+        let s = tilt * p_aa * tilt.transpose()
+            + bias * p_bb * bias.transpose()
+            + cross
+            + cross.transpose()
+            + Matrix3::from_diagonal(&std_of_mean_b.map(|v| v * v));
+        s.cholesky().map_or(f64::INFINITY, |c| a.dot(&c.solve(&a)))
     }
 
     /// ZARU: the raw gyro reading averaged over a standstill,
@@ -336,6 +390,63 @@ mod tests {
                 assert!((zaru[k].0.dot(&x) - d).abs() < 1e-12, "zaru {j} {k}");
             }
         }
+    }
+
+    /// The rest-acceleration statistic against one written out: the
+    /// specific force at rest (−Ĉᵀγ, less the bias estimate's effect)
+    /// gives zero; an acceleration a added gives aᵀ S⁻¹ a with S built
+    /// here from the tilt and bias variances alone (P diagonal).
+    #[test]
+    fn rest_acceleration_nis_is_zero_at_rest_and_chi_square_when_moving() {
+        let mut s = state();
+        s.accel_bias_m_s2 = Vector3::new(0.02, -0.01, 0.03);
+        let (tilt_std, bias_std, noise_std) = (1e-3, 5e-3, 0.01);
+        s.kf.p.fill(0.0);
+        for k in 0..3 {
+            s.kf.p[(ATTITUDE + k, ATTITUDE + k)] = tilt_std * tilt_std;
+            s.kf.p[(ACCEL_BIAS + k, ACCEL_BIAS + k)] = bias_std * bias_std;
+        }
+        let c = s.nav.c_b_e;
+        let gamma = gravity_ecef(&s.nav.position_ecef);
+        let at_rest_b = -c.transpose() * gamma + s.accel_bias_m_s2;
+        let noise = Vector3::from_element(noise_std);
+        assert!(s.rest_acceleration_nis(&at_rest_b, &noise) < 1e-16);
+        let a_e = c_n_e(0.7, 0.3) * Vector3::new(0.3, -0.1, 0.05);
+        let braking_b = at_rest_b + c.transpose() * a_e;
+        let f_e = c * (braking_b - s.accel_bias_m_s2);
+        let tilt = -skew(&f_e);
+        let cov = tilt * tilt.transpose() * tilt_std * tilt_std
+            + Matrix3::identity() * (bias_std * bias_std + noise_std * noise_std);
+        let expected = a_e.dot(&(cov.try_inverse().unwrap() * a_e));
+        let got = s.rest_acceleration_nis(&braking_b, &noise);
+        assert!((got / expected - 1.0).abs() < 1e-9, "{got} vs {expected}");
+        // 0.3 m/s² against a few hundredths: far beyond any gate.
+        assert!(got > 100.0);
+    }
+
+    /// ZUPTs the filter keeps refusing (an overconfident velocity error)
+    /// reset the velocity to zero after `reset_after_failed_epochs`, and
+    /// the reset is recorded.
+    #[test]
+    fn failing_zupts_reset_the_velocity_to_zero() {
+        let mut s = state();
+        s.nav.velocity_ecef = Vector3::new(0.3, -0.2, 0.1);
+        s.kf.p
+            .fixed_view_mut::<3, 3>(VELOCITY, VELOCITY)
+            .fill_diagonal(1e-6);
+        let due = s.tuning.recovery.reset_after_failed_epochs;
+        for k in 0..due {
+            assert!(!s.zero_velocity_update(k as f64, 0.02).unwrap());
+        }
+        assert_eq!(s.nav.velocity_ecef, Vector3::zeros());
+        let reset = s.resets.last().unwrap();
+        assert_eq!(reset.kind, super::super::records::ResetKind::VelocityToZero);
+        let change: f64 = Vector3::new(0.3, -0.2, 0.1).norm();
+        assert!((reset.change - change).abs() < 1e-12);
+        let p_v = s.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY);
+        assert!((p_v[(0, 0)] - 0.02f64.powi(2)).abs() < 1e-15);
+        // The next ZUPT agrees with the reset velocity.
+        assert!(s.zero_velocity_update(due as f64, 0.02).unwrap());
     }
 
     /// At a standstill with a velocity error the ZUPT pulls the velocity to

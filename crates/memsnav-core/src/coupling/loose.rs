@@ -24,6 +24,7 @@ use super::records::MeasurementKind;
 use super::run::Aiding;
 use super::tuning::FilterTuning;
 use crate::filter::state::VELOCITY;
+use crate::gauss_markov::correlated_sample_inflation;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::{validate, Error, Result};
 
@@ -211,7 +212,7 @@ fn update_block<const N: usize>(
 
 /// The whitened position and velocity blocks of fix `i`, after checking
 /// that its values are finite and its covariances are covariances.
-pub(crate) fn whiten_fix(
+fn whiten_fix(
     i: usize,
     f: &PositionFix,
     floor: &super::MeasurementFloor,
@@ -240,6 +241,26 @@ pub(crate) fn whiten_fix(
         whitening("fixes", i, &f.position_covariance, floor.position_m)?,
         velocity,
     ))
+}
+
+/// The whitened blocks of fix `i`, taken `interval_s` after the previous
+/// fix the filter used (None for the first): its position covariance
+/// scaled ([`FilterTuning::fix_covariance_scale`]) and inflated for the
+/// errors the two share ([`FilterTuning::fix_correlation_time_s`]), then
+/// [`whiten_fix`].
+pub(crate) fn prepare_fix(
+    i: usize,
+    f: &PositionFix,
+    interval_s: Option<f64>,
+    tuning: &FilterTuning,
+) -> Result<(Whitened, Option<Whitened>)> {
+    let inflation = tuning.fix_covariance_scale
+        * correlated_sample_inflation(tuning.fix_correlation_time_s, interval_s);
+    let fix = PositionFix {
+        position_covariance: f.position_covariance * inflation,
+        ..*f
+    };
+    whiten_fix(i, &fix, &tuning.floor)
 }
 
 /// Applies one fix with its whitened blocks: the position, then the
@@ -278,7 +299,10 @@ impl Aiding for PositionFix {
         let whitened = fixes
             .iter()
             .enumerate()
-            .map(|(i, f)| whiten_fix(i, f, &tuning.floor))
+            .map(|(i, f)| {
+                let interval_s = i.checked_sub(1).map(|j| f.time_s - fixes[j].time_s);
+                prepare_fix(i, f, interval_s, tuning)
+            })
             .collect::<Result<_>>()?;
         // The clock is not observed: held at zero, without process noise.
         let mut tuning = *tuning;

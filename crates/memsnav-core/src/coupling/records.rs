@@ -155,6 +155,9 @@ pub enum ResetKind {
     /// Velocity (and clock drift for tight coupling) set to a GNSS velocity
     /// after the velocity measurements kept failing their test.
     VelocityToFix,
+    /// Velocity set to zero at a standstill after the zero-velocity
+    /// updates kept failing their test.
+    VelocityToZero,
     /// The receiver clock offset jumped: the common part of all
     /// pseudorange innovations was moved into the clock.
     ClockJump,
@@ -179,6 +182,7 @@ impl ResetKind {
         match self {
             ResetKind::PositionToFix => "position_to_fix",
             ResetKind::VelocityToFix => "velocity_to_fix",
+            ResetKind::VelocityToZero => "velocity_to_zero",
             ResetKind::ClockJump => "clock_jump",
             ResetKind::ClockDriftJump => "clock_drift_jump",
             ResetKind::Inflation => "inflation",
@@ -192,7 +196,9 @@ impl ResetKind {
     pub fn change_unit(self) -> &'static str {
         match self {
             ResetKind::PositionToFix | ResetKind::ClockJump => "m",
-            ResetKind::VelocityToFix | ResetKind::ClockDriftJump => "m/s",
+            ResetKind::VelocityToFix | ResetKind::VelocityToZero | ResetKind::ClockDriftJump => {
+                "m/s"
+            }
             ResetKind::Inflation | ResetKind::Fading => "",
             ResetKind::Heading => "rad",
         }

@@ -78,8 +78,11 @@ impl<const N: usize> FilterState<N> {
     /// the loosely coupled run does.
     pub fn update_fix(&mut self, fix: &PositionFix) -> Result<()> {
         self.check_epoch_time("fix", fix.time_s)?;
-        let whitened = loose::whiten_fix(0, fix, &self.tuning.floor)?;
-        loose::apply_fix(self, &whitened, fix)
+        let interval_s = self.previous_epoch_s.map(|before| fix.time_s - before);
+        let whitened = loose::prepare_fix(0, fix, interval_s, &self.tuning)?;
+        loose::apply_fix(self, &whitened, fix)?;
+        self.previous_epoch_s = Some(fix.time_s);
+        Ok(())
     }
 
     fn check_step(&self, time_s: f64) -> Result<()> {

@@ -38,7 +38,7 @@ use super::records::MeasurementKind;
 use super::run::Aiding;
 use super::tuning::FilterTuning;
 use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION};
-use crate::gauss_markov::mean_variance_factor;
+use crate::gauss_markov::correlated_sample_inflation;
 use crate::gnss::{
     self, solve_fix, GnssEpoch, GnssSystem, SatelliteMeasurement, INTER_SYSTEM_BIAS_SYSTEMS,
 };
@@ -159,24 +159,6 @@ pub(crate) fn update_epoch<const N: usize>(
     Ok(())
 }
 
-/// The factor a pseudorange's std is inflated by when its fast errors
-/// are correlated over `correlation_time_s` and sampled `interval_s`
-/// apart: √((1 + ρ)/(1 − ρ)), ρ = e^(−Δt/τ). A first-order Gauss-Markov
-/// error of variance σ² averaged over n such samples has variance
-/// σ² (1 + ρ)/((1 − ρ) n) for large n
-/// ([`crate::gauss_markov::mean_variance_factor`]), so the samples taken
-/// as white with the inflated variance carry what the correlated ones
-/// hold about a constant. 1 for white noise (τ = 0) and at the first
-/// epoch.
-pub(crate) fn code_noise_inflation(correlation_time_s: f64, interval_s: Option<f64>) -> f64 {
-    match interval_s {
-        Some(dt) if correlation_time_s > 0.0 && dt > 0.0 => {
-            mean_variance_factor((-dt / correlation_time_s).exp()).sqrt()
-        }
-        _ => 1.0,
-    }
-}
-
 /// The pseudoranges as one batch, then the rates.
 fn update_code<const N: usize>(
     s: &mut FilterState<N>,
@@ -191,10 +173,12 @@ fn update_code<const N: usize>(
     let kind = MeasurementKind::Pseudorange;
     let antenna = s.antenna();
     let position_covariance: Matrix3<f64> = s.kf.p.fixed_view::<3, 3>(POSITION, POSITION).into();
-    let inflation = code_noise_inflation(
+    // Epochs that sample one correlated code error carry it once.
+    let inflation = correlated_sample_inflation(
         s.tuning.pseudorange_correlation_time_s,
         s.previous_epoch_s.map(|before| t - before),
-    );
+    )
+    .sqrt();
     for m in &epoch.measurements {
         if !m.has_usable_satellite_state() || !m.pseudorange_m.is_finite() {
             s.reject_invalid(t, kind, m.sat_id);
@@ -392,47 +376,5 @@ impl Aiding for GnssEpoch {
         epoch: &Self,
     ) -> Result<()> {
         update_epoch(s, epoch, *use_rate)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::code_noise_inflation;
-    use crate::random::stream;
-    use rand_distr::{Distribution, StandardNormal};
-
-    /// The inflated variance against the variance of the mean of n samples
-    /// of a simulated first-order Gauss-Markov error (AR(1), unit
-    /// variance), over many seeded draws: σ² k² / n within the Monte
-    /// Carlo spread; white noise and the first epoch are not inflated.
-    #[test]
-    fn inflation_gives_the_variance_of_the_mean_of_correlated_samples() {
-        assert_eq!(code_noise_inflation(0.0, Some(0.25)), 1.0);
-        assert_eq!(code_noise_inflation(10.0, None), 1.0);
-        let (tau, dt, n, draws): (f64, f64, usize, usize) = (5.0, 0.25, 2000, 2000);
-        let rho = (-dt / tau).exp();
-        let drive = (1.0 - rho * rho).sqrt();
-        let mut rng = stream(77, 0);
-        let mut means = Vec::with_capacity(draws);
-        for _ in 0..draws {
-            let mut x: f64 = StandardNormal.sample(&mut rng);
-            let mut sum = 0.0;
-            for _ in 0..n {
-                sum += x;
-                let w: f64 = StandardNormal.sample(&mut rng);
-                x = rho * x + drive * w;
-            }
-            means.push(sum / n as f64);
-        }
-        let variance = means.iter().map(|m| m * m).sum::<f64>() / draws as f64;
-        let predicted = code_noise_inflation(tau, Some(dt)).powi(2) / n as f64;
-        // 2000 draws: the variance estimate's relative std is √(2/2000) = 3 %;
-        // the finite-n correction is 2ρ/(n(1−ρ)) ≈ 2 %.
-        assert!(
-            (variance / predicted - 1.0).abs() < 0.1,
-            "{variance} vs {predicted}"
-        );
-        // Taken as white, the same samples would claim 1/n: far too little.
-        assert!(variance > 20.0 / n as f64);
     }
 }

@@ -192,6 +192,14 @@ pub struct LogConfig {
     pub fix_error_states: bool,
     /// Their process (std and correlation time).
     pub fix_error: RangeBiasModel,
+    /// The candidate tunings of an IMU chosen from the log (`imu_preset =
+    /// "auto"`, [`super::adapt`]): (preset, tuning) each; empty when the
+    /// configuration names its IMU and `tuning` is used as it is.
+    pub imu_candidates: Vec<(String, FilterTuning)>,
+    /// Learn the fixes' error correlation time from the log (loose
+    /// coupling; `gnss.fix_correlation_time_s = "auto"`, the default),
+    /// instead of `tuning.fix_correlation_time_s`.
+    pub learn_fix_correlation: bool,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,
     /// The lever arm, IMU time offset, velocity latency and mounting
@@ -252,6 +260,8 @@ impl LogConfig {
             range_bias_states: true,
             fix_error_states: false,
             fix_error: FIX_ERROR_DEFAULT,
+            imu_candidates: Vec::new(),
+            learn_fix_correlation: true,
             scale_factor_states: false,
             installation_states: false,
             smoother: false,
@@ -272,6 +282,9 @@ impl LogConfig {
         validate::finite_scalars("imu.time_offset_s", &[self.imu_time_offset_s])?;
         validate::finite_vectors("reference_from_imu", &[self.reference_from_imu_b_m])?;
         self.tuning.validate()?;
+        for (_, tuning) in &self.imu_candidates {
+            tuning.validate()?;
+        }
         validate::positive("gnss.fix_error_std_m", self.fix_error.std_m)?;
         validate::positive(
             "gnss.fix_error_correlation_time_s",

@@ -21,6 +21,7 @@
 //! 6. from a (smoothed) solution, the GNSS-derived references that
 //!    calibrate the IMU on the drive itself ([`references`], method §3).
 
+pub mod adapt;
 pub mod align;
 mod config;
 pub mod fixes;
@@ -37,4 +38,4 @@ pub use config::{
 };
 pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
 pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun};
-pub use settings::{tables, SettingTables, SettingValue, KEYS};
+pub use settings::{tables, SettingTables, SettingValue, AUTO, KEYS};

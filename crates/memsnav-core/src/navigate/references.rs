@@ -312,6 +312,15 @@ mod tests {
             range_biases: Vec::new(),
             antenna_lever_arm_b_m: Vector3::zeros(),
             mounting: m,
+            adaptation: Default::default(),
+            tuning: crate::coupling::FilterTuning::new(
+                100.0,
+                0.0,
+                0.0,
+                crate::coupling::BiasProcess::constant(0.0),
+                crate::coupling::BiasProcess::constant(0.0),
+            )
+            .expect("a valid tuning"),
         }
     }
 

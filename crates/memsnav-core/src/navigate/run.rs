@@ -4,10 +4,14 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::adapt::{Adaptation, Plan};
 use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
-use super::standstill::Window;
-use crate::coupling::{self, Aiding, FilterState, InitialState, PositionFix, Solution};
+use super::standstill::{Window, WindowStats};
+use crate::coupling::{
+    self, Aiding, FilterState, FilterTuning, InitialState, PositionFix, Solution,
+};
+use crate::filter::chi_square::chi_square_quantile;
 use crate::filter::state::{Layout, VELOCITY};
 use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
@@ -57,6 +61,12 @@ pub struct LogRun {
     pub antenna_lever_arm_b_m: Vector3<f64>,
     /// The sensor-to-body rotation the run used (body = M · sensor).
     pub mounting: Matrix3<f64>,
+    /// What the run learnt from the log before the run reported
+    /// ([`super::adapt`]): the IMU model chosen, the fixes' correlation
+    /// time.
+    pub adaptation: Adaptation,
+    /// The tuning the reported run used.
+    pub tuning: FilterTuning,
 }
 
 /// Runs a log: `time_s` the IMU time stamps on GNSS time (before the
@@ -157,47 +167,44 @@ pub fn navigate_log(
     };
     // The range-bias slots carry the pseudorange biases (tight) or the
     // fixes' position errors (loose).
-    let slots = range_biases || (config.fix_error_states && !tight);
-    let (sf, inst) = (config.scale_factor_states, config.installation_states);
-    // Galileo or BeiDou pseudoranges: one clock plus their inter-system biases.
-    let isb = match gnss {
-        GnssInput::Measurements(epochs) => GnssEpoch::needs_inter_system_biases(epochs),
-        GnssInput::Fixes(_) => false,
+    let layout = RunLayout {
+        scale_factors: config.scale_factor_states,
+        installation: config.installation_states,
+        // Galileo or BeiDou pseudoranges: one clock plus their inter-system biases.
+        inter_system_biases: match gnss {
+            GnssInput::Measurements(epochs) => GnssEpoch::needs_inter_system_biases(epochs),
+            GnssInput::Fixes(_) => false,
+        },
+        slots: range_biases || (config.fix_error_states && !tight),
     };
-    // One monomorphised filter per combination of the optional blocks.
-    macro_rules! by_layout {
-        ($(($a:literal, $b:literal, $c:literal, $d:literal)),*) => {
-            match (sf, inst, isb, slots) {
-                $(($a, $b, $c, $d) => run.filter::<{ Layout::size($a, $b, $c, $d) }>()?,)*
-            }
-        };
-    }
-    let (solution, smoothed, range_biases) = by_layout!(
-        (false, false, false, false),
-        (true, false, false, false),
-        (false, true, false, false),
-        (true, true, false, false),
-        (false, false, true, false),
-        (true, false, true, false),
-        (false, true, true, false),
-        (true, true, true, false),
-        (false, false, false, true),
-        (true, false, false, true),
-        (false, true, false, true),
-        (true, true, false, true),
-        (false, false, true, true),
-        (true, false, true, true),
-        (false, true, true, true),
-        (true, true, true, true)
-    );
-    let mut solution = solution;
+    // What the log itself says about the IMU and the fixes (first passes),
+    // then the run that is reported.
+    let fixed = [(String::new(), config.tuning)];
+    let plan = Plan {
+        candidates: if config.imu_candidates.is_empty() {
+            &fixed
+        } else {
+            &config.imu_candidates
+        },
+        fix_correlation: config.learn_fix_correlation && !tight,
+    };
+    let (tuning, adaptation) = plan.learn(&|tuning: &FilterTuning| {
+        let (solution, _, _) = run.filter(layout, tuning, Record::MeasurementsOnly)?;
+        Ok((solution.measurements, solution.resets.len()))
+    })?;
+    let record = if config.smoother {
+        Record::Smoothed
+    } else {
+        Record::Solution
+    };
+    let (mut solution, smoothed, range_biases) = run.filter(layout, &tuning, record)?;
     solution.warnings.extend(late_start.clone());
     let standstills = standstill_intervals(&solution);
     // With installation states, the lever arm the filter ended with.
     let antenna_lever_arm_b_m = solution
         .installation
         .last()
-        .map_or(config.tuning.antenna_lever_arm_b_m, |row| {
+        .map_or(tuning.antenna_lever_arm_b_m, |row| {
             Vector3::new(row[0], row[1], row[2])
         });
     Ok(LogRun {
@@ -212,6 +219,8 @@ pub fn navigate_log(
         range_biases,
         antenna_lever_arm_b_m,
         mounting: config.mounting,
+        adaptation,
+        tuning,
     })
 }
 
@@ -383,10 +392,77 @@ struct Inputs<'a> {
     config: &'a LogConfig,
 }
 
+/// The optional blocks of a run's state, which fix its size.
+#[derive(Debug, Clone, Copy)]
+struct RunLayout {
+    scale_factors: bool,
+    installation: bool,
+    inter_system_biases: bool,
+    slots: bool,
+}
+
+/// What a filter run keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Record {
+    /// Only the measurement records (a first pass of [`super::adapt`]).
+    MeasurementsOnly,
+    /// The solution at every IMU sample.
+    Solution,
+    /// The solution and its fixed-interval smoothed counterpart.
+    Smoothed,
+}
+
 impl Inputs<'_> {
-    /// Runs the filter with `N` states; the solution, the smoothed one when
-    /// asked for, and the final range biases.
-    fn filter<const N: usize>(&self) -> Result<FilterOutput> {
+    /// Runs the filter with the state `layout` and `tuning`, keeping what
+    /// `record` asks for: one monomorphised filter per combination of the
+    /// optional blocks.
+    fn filter(
+        &self,
+        layout: RunLayout,
+        tuning: &FilterTuning,
+        record: Record,
+    ) -> Result<FilterOutput> {
+        let RunLayout {
+            scale_factors,
+            installation,
+            inter_system_biases,
+            slots,
+        } = layout;
+        macro_rules! by_layout {
+            ($(($a:literal, $b:literal, $c:literal, $d:literal)),*) => {
+                match (scale_factors, installation, inter_system_biases, slots) {
+                    $(($a, $b, $c, $d) => {
+                        self.filter_sized::<{ Layout::size($a, $b, $c, $d) }>(tuning, record)
+                    })*
+                }
+            };
+        }
+        by_layout!(
+            (false, false, false, false),
+            (true, false, false, false),
+            (false, true, false, false),
+            (true, true, false, false),
+            (false, false, true, false),
+            (true, false, true, false),
+            (false, true, true, false),
+            (true, true, true, false),
+            (false, false, false, true),
+            (true, false, false, true),
+            (false, true, false, true),
+            (true, true, false, true),
+            (false, false, true, true),
+            (true, false, true, true),
+            (false, true, true, true),
+            (true, true, true, true)
+        )
+    }
+
+    /// [`Self::filter`] with `N` states.
+    fn filter_sized<const N: usize>(
+        &self,
+        tuning: &FilterTuning,
+        record: Record,
+    ) -> Result<FilterOutput> {
         let f: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.specific_force_b).collect();
         let w: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.angular_rate_b).collect();
         let data = ImuData {
@@ -396,7 +472,7 @@ impl Inputs<'_> {
             increments: None,
         };
         let s = self.start;
-        let mut tuning = self.config.tuning;
+        let mut tuning = *tuning;
         if matches!(self.gnss, GnssInput::Fixes(_)) {
             tuning.set_range_bias_model(&self.config.fix_error);
         }
@@ -416,8 +492,10 @@ impl Inputs<'_> {
             clock_offset_m: None,
             clock_drift_m_s: None,
         };
-        let mut hook = Aids::new(self, Solution::with_capacity(self.time.len(), N));
-        let smooth = self.config.smoother;
+        let keep_solution = record != Record::MeasurementsOnly;
+        let capacity = if keep_solution { self.time.len() } else { 0 };
+        let mut hook = Aids::new(self, Solution::with_capacity(capacity, N), keep_solution);
+        let smooth = record == Record::Smoothed;
         let mut state: FilterState<N> = match self.gnss {
             GnssInput::Fixes(fixes) => {
                 let used: Vec<PositionFix> = fixes
@@ -447,6 +525,9 @@ impl Inputs<'_> {
         };
         let mut solution = hook.solution;
         solution.take_records(&mut state);
+        if !keep_solution {
+            return Ok((solution, None, Vec::new()));
+        }
         coupling::diagnose(&mut solution, ("specific_force", &f), ("angular_rate", &w));
         let mut smoothed = state
             .kf
@@ -466,6 +547,8 @@ impl Inputs<'_> {
 struct Aids<'a> {
     inputs: &'a Inputs<'a>,
     solution: Solution,
+    /// Whether the solution is recorded at every sample.
+    keep_solution: bool,
     window: Window,
     /// Next GNSS epoch (into `inputs.kinematics`) not yet seen.
     next_epoch: usize,
@@ -480,12 +563,13 @@ struct Aids<'a> {
 }
 
 impl<'a> Aids<'a> {
-    fn new(inputs: &'a Inputs<'a>, solution: Solution) -> Self {
+    fn new(inputs: &'a Inputs<'a>, solution: Solution, keep_solution: bool) -> Self {
         let rate_hz =
             (inputs.time.len() - 1) as f64 / (inputs.time[inputs.time.len() - 1] - inputs.time[0]);
         Self {
             inputs,
             solution,
+            keep_solution,
             window: Window::new(inputs.config.standstill.window_s, rate_hz),
             next_epoch: 0,
             last_course: None,
@@ -498,29 +582,39 @@ impl<'a> Aids<'a> {
         }
     }
 
-    /// Whether the latest GNSS velocity (or, without a recent one, the
-    /// solution) says the vehicle may be at rest: the GNSS ground speed
-    /// below its threshold; in an outage the solution's speed below its
-    /// threshold or within `solution_speed_sigmas` of its own along-track
-    /// σ of zero (a coasting solution that cannot tell its speed from zero
-    /// does not veto a quiet IMU; the ZUPT's own batch test then weighs
-    /// the two).
-    fn slow<const N: usize>(&self, t: f64, state: &FilterState<N>) -> bool {
+    /// Whether the vehicle may be at rest besides a quiet IMU: its
+    /// acceleration over the detector window consistent with zero
+    /// ([`FilterState::rest_acceleration_nis`] at the gate probability: a
+    /// car braking smoothly through its last metre per second, or pulling
+    /// away while the last 1 Hz fix still says zero, is quiet but not at
+    /// rest, and a ZUPT there leaves the velocity wrong), and the latest
+    /// GNSS ground speed below its threshold, or without a recent GNSS
+    /// velocity (an outage) the solution's speed below its threshold or
+    /// within `solution_speed_sigmas` of its own along-track σ of zero (a
+    /// coasting solution that cannot tell its speed from zero does not
+    /// veto a quiet IMU; the ZUPT's own batch test then weighs the two).
+    fn slow<const N: usize>(&self, t: f64, state: &FilterState<N>, window: &WindowStats) -> bool {
         let c = &self.inputs.config.standstill;
-        match self.last_course {
-            Some((tg, speed, _, _)) if t - tg <= c.gnss_age_s => speed < c.gnss_speed_m_s,
-            _ => {
-                let v = state.nav.velocity_ecef;
-                let speed = v.norm();
-                if speed < c.solution_speed_m_s {
-                    return true;
+        let p = state.tuning.gate_probability;
+        let std_of_mean = window.std_specific_force_b / (window.samples as f64).sqrt();
+        let unaccelerated = p >= 1.0
+            || state.rest_acceleration_nis(&window.mean_specific_force_b, &std_of_mean)
+                <= chi_square_quantile(3.0, p);
+        unaccelerated
+            && match self.last_course {
+                Some((tg, speed, _, _)) if t - tg <= c.gnss_age_s => speed < c.gnss_speed_m_s,
+                _ => {
+                    let v = state.nav.velocity_ecef;
+                    let speed = v.norm();
+                    if speed < c.solution_speed_m_s {
+                        return true;
+                    }
+                    let along = v / speed;
+                    let p_v = state.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY);
+                    let std_along = along.dot(&(p_v * along)).max(0.0).sqrt();
+                    speed < c.solution_speed_sigmas * std_along
                 }
-                let along = v / speed;
-                let p_v = state.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY);
-                let std_along = along.dot(&(p_v * along)).max(0.0).sqrt();
-                speed < c.solution_speed_sigmas * std_along
             }
-        }
     }
 
     /// Sets the heading from the GNSS course at the first motion (speed at
@@ -569,7 +663,7 @@ impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
         if t >= self.next_decision_s && self.window.full() {
             self.next_decision_s = t + aids.zupt_interval_s.min(config.standstill.window_s);
             let stats = self.window.stats();
-            self.still = stats.still(&config.standstill) && self.slow(t, state);
+            self.still = stats.still(&config.standstill) && self.slow(t, state, &stats);
             if self.still && aids.zaru && t >= self.next_zaru_s {
                 let n = stats.samples as f64;
                 let std = stats
@@ -593,7 +687,9 @@ impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
             state.non_holonomic_update(t, &config.reference_from_imu_b_m, aids.nhc_std_m_s)?;
             self.next_nhc_s = t + aids.nhc_interval_s;
         }
-        self.solution.push(t, state);
+        if self.keep_solution {
+            self.solution.push(t, state);
+        }
         Ok(())
     }
 }

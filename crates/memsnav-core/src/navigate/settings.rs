@@ -6,6 +6,7 @@
 
 use nalgebra::Vector3;
 
+use super::adapt::IMU_CANDIDATES;
 use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
 use crate::coupling::{BiasProcess, FilterTuning};
 use crate::gnss::ReceiverClockModel;
@@ -40,6 +41,10 @@ impl std::fmt::Display for SettingValue {
         }
     }
 }
+
+/// The value of `filter.imu_preset` and `gnss.fix_correlation_time_s`
+/// that learns them from the log ([`super::adapt`]).
+pub const AUTO: &str = "auto";
 
 /// Largest angle a key in degrees takes, in magnitude: one turn either
 /// way. A larger one is a typo or an angle in another unit, not a heading
@@ -80,12 +85,16 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("fix_error_states", "Gauss-Markov states for the fixes' position errors (loose coupling)"),
             ("fix_error_std_m", "their steady-state std, m"),
             ("fix_error_correlation_time_s", "their correlation time, s"),
+            (
+                "fix_correlation_time_s",
+                "correlation time of the fixes' position errors, s: their covariance is inflated to match (loose coupling); \"auto\" (default) learns it from the log, 0 takes them as white",
+            ),
         ],
     ),
     (
         "filter",
         &[
-            ("imu_preset", "IMU class the tuning starts from: \"consumer\", \"industrial\", \"tactical\", \"navigation\", \"paper-mems\""),
+            ("imu_preset", "IMU class the tuning starts from: \"auto\" (default: the most likely of \"consumer\", \"industrial\" and \"tactical\" given the log), \"consumer\", \"industrial\", \"tactical\", \"navigation\", \"paper-mems\""),
             ("accel_noise_density", "accelerometer white noise, m/s/sqrt(s)"),
             ("gyro_noise_density_deg", "gyro white noise, deg/sqrt(s)"),
             ("accel_bias_std", "initial accelerometer bias std, m/s^2"),
@@ -331,6 +340,20 @@ impl Reader<'_> {
     }
 }
 
+/// The value of `table.key` in `tables`, when given.
+fn find<'a>(
+    tables: &'a [(String, Vec<(String, SettingValue)>)],
+    table: &str,
+    key: &str,
+) -> Option<&'a SettingValue> {
+    tables
+        .iter()
+        .filter(|(t, _)| t == table)
+        .flat_map(|(_, e)| e.iter())
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v)
+}
+
 /// The IMU's filter tuning and the overrides that need each other.
 #[derive(Default)]
 struct Pending {
@@ -381,15 +404,7 @@ impl LogConfig {
                 }
             }
         }
-        let find = |table: &str, key: &str| {
-            tables
-                .iter()
-                .filter(|(t, _)| t == table)
-                .flat_map(|(_, e)| e.iter())
-                .find(|(k, _)| k == key)
-                .map(|(_, v)| v)
-        };
-        let preset = match find("filter", "imu_preset") {
+        let preset = match find(tables, "filter", "imu_preset") {
             Some(v) => Reader {
                 table: "filter",
                 key: "imu_preset",
@@ -397,9 +412,30 @@ impl LogConfig {
             }
             .text()?
             .to_string(),
-            None => DEFAULT_PRESET.into(),
+            None => AUTO.into(),
         };
-        let scale = match find("filter", "scale_factor_states") {
+        if preset == AUTO {
+            // One complete configuration per candidate grade, each built
+            // from its preset and every other key as a named preset is.
+            let mut candidates = Vec::with_capacity(IMU_CANDIDATES.len());
+            for name in IMU_CANDIDATES {
+                let c = Self::from_settings_with_preset(tables, imu_rate_hz, name)?;
+                candidates.push((name.to_string(), c.tuning));
+            }
+            let mut config = Self::from_settings_with_preset(tables, imu_rate_hz, DEFAULT_PRESET)?;
+            config.imu_candidates = candidates;
+            return Ok(config);
+        }
+        Self::from_settings_with_preset(tables, imu_rate_hz, &preset)
+    }
+
+    /// [`Self::from_settings`] with the IMU spec of `preset`.
+    fn from_settings_with_preset(
+        tables: &[(String, Vec<(String, SettingValue)>)],
+        imu_rate_hz: f64,
+        preset: &str,
+    ) -> Result<Self> {
+        let scale = match find(tables, "filter", "scale_factor_states") {
             Some(v) => Reader {
                 table: "filter",
                 key: "scale_factor_states",
@@ -409,7 +445,7 @@ impl LogConfig {
             None => false,
         };
         let mut spec =
-            preset_spec(&preset).map_err(|e| Error::invalid("filter.imu_preset", e.to_string()))?;
+            preset_spec(preset).map_err(|e| Error::invalid("filter.imu_preset", e.to_string()))?;
         // The scale-factor priors enter the tuning itself (the states' P₀, or
         // the process noise that absorbs unmodelled scale factors), so they
         // are read before it is built, like the preset.
@@ -423,7 +459,7 @@ impl LogConfig {
                 &mut spec.gyroscope.scale_factor_std,
             ),
         ] {
-            if let Some(value) = find("filter", key) {
+            if let Some(value) = find(tables, "filter", key) {
                 *triad = Reader {
                     table: "filter",
                     key,
@@ -535,6 +571,14 @@ impl LogConfig {
                 q.range_bias_psd = 2.0 * s * s / q.range_bias_correlation_time_s;
             }
             ("gnss", "fix_error_states") => self.fix_error_states = r.flag()?,
+            ("gnss", "fix_correlation_time_s") => match r.value {
+                SettingValue::Text(text) if text == AUTO => self.learn_fix_correlation = true,
+                SettingValue::Number(_) => {
+                    self.learn_fix_correlation = false;
+                    t.fix_correlation_time_s = r.non_negative()?;
+                }
+                _ => return Err(r.wrong("a correlation time in seconds (0: white) or \"auto\"")),
+            },
             ("gnss", "fix_error_std_m") => self.fix_error.std_m = r.positive()?,
             ("gnss", "fix_error_correlation_time_s") => {
                 self.fix_error.correlation_time_s = r.positive()?

@@ -439,11 +439,29 @@ impl<const N: usize> FilterState<N> {
         antenna_velocity_ecef: &Vector3<f64>,
         covariance: &Matrix3<f64>,
     ) -> Result<()> {
-        let new = antenna_velocity_ecef - self.lever_arm_velocity();
-        let change = (new - self.nav.velocity_ecef).norm();
-        self.nav.velocity_ecef = new;
+        let imu_velocity_ecef = antenna_velocity_ecef - self.lever_arm_velocity();
+        self.reset_imu_velocity(time_s, kind, &imu_velocity_ecef, covariance)
+    }
+
+    /// Resets the IMU velocity to `velocity_ecef` with `covariance` after
+    /// `kind` kept failing (a velocity fix, or zero at a standstill);
+    /// recorded.
+    pub(crate) fn reset_imu_velocity(
+        &mut self,
+        time_s: f64,
+        kind: MeasurementKind,
+        velocity_ecef: &Vector3<f64>,
+        covariance: &Matrix3<f64>,
+    ) -> Result<()> {
+        let change = (velocity_ecef - self.nav.velocity_ecef).norm();
+        self.nav.velocity_ecef = *velocity_ecef;
         self.kf.reset_block::<3>(VELOCITY, covariance);
-        self.finish_reset(time_s, kind, ResetKind::VelocityToFix, change)
+        let reset = if kind == MeasurementKind::ZeroVelocity {
+            ResetKind::VelocityToZero
+        } else {
+            ResetKind::VelocityToFix
+        };
+        self.finish_reset(time_s, kind, reset, change)
     }
 
     /// Resets the receiver clock offset and drift (tight coupling, with a

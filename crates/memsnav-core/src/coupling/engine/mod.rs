@@ -136,8 +136,9 @@ pub struct FilterState<const N: usize> {
     pub(crate) staged: batch::Batch,
     /// The previous GNSS epoch's carrier phases (tight coupling).
     pub(crate) carrier: CarrierHistory,
-    /// Time of the previous GNSS epoch (tight coupling), s: the interval
-    /// of the carrier changes and of the code noise's correlation.
+    /// Time of the previous GNSS epoch, s: the interval of the carrier
+    /// changes and of the code noise's correlation (tight coupling), of
+    /// the fixes' error correlation (a fix given to the step API).
     pub(crate) previous_epoch_s: Option<f64>,
     /// Every scalar measurement seen, in time order.
     pub records: Vec<MeasurementRecord>,
