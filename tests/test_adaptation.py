@@ -106,8 +106,9 @@ def test_the_fixes_correlation_time_is_learnt_and_the_bounds_hold():
     )
     correlation = learnt.adaptation["fix_correlation"]
     assert 0.8 * tau_s <= correlation["used_s"] <= 120.0, correlation
-    assert all(c is not None for c in correlation["component_s"]), correlation
-    assert 1.0 <= correlation["covariance_scale"] <= 4.0, correlation
+    # Two or three components read (one may be the dead reckoning's).
+    assert sum(c is not None for c in correlation["component_s"]) >= 2, correlation
+    assert 1.0 <= correlation["covariance_scale"] <= 2.0, correlation
     assert learnt.adaptation["fix_correlation_time_s"] == correlation["used_s"]
     assert white.adaptation["fix_correlation"] is None
     truth_t, truth_r = trajectory.time[k], trajectory.position_ecef[k]
@@ -131,7 +132,7 @@ def test_fixes_more_precise_than_the_dead_reckoning_stay_white():
     run = mn.navigate_log(trajectory.time, f, w, fixes, settings={"aids": AIDS})
     correlation = run.adaptation["fix_correlation"]
     assert correlation["component_s"] == [None, None, None], correlation
-    assert min(correlation["innovation_to_fix_variance"]) > 4.0
+    assert min(correlation["innovation_to_fix_variance"]) > 2.0
     assert run.adaptation["fix_correlation_time_s"] == 0.0
     assert run.adaptation["fix_covariance_scale"] == 1.0
 

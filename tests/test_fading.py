@@ -93,8 +93,8 @@ def _page() -> str:
 
 def test_the_tactical_preset_on_drive_0708_fades_as_the_guide_quotes(tmp_path):
     """docs/real-data.md: with the tactical preset on drive_0708's consumer
-    IMU the filter "fades 10 times (156 position and velocity resets in
-    all) and coasts 10.4 m RMS through the 15 s outages (with the right
+    IMU the filter "fades 9 times (176 position and velocity resets in
+    all) and coasts 11.2 m RMS through the 15 s outages (with the right
     tuning, the consumer preset, 1.5 m and no reset but the alignment's
     heading)": the example run with each preset (~2 s)."""
     from shared_data import shared_data

@@ -63,7 +63,9 @@ def test_fix_error_states_keep_the_aided_bounds(seed):
         settings = {
             # A vibration-free simulated IMU: no standstill detection.
             "aids": {"zupt": False, "zaru": False, "nhc": True},
-            "gnss": {"fix_error_states": states},
+            # Without the states, the fixes as white noise (not the
+            # correlation learnt from the log: tests/test_adaptation.py).
+            "gnss": {"fix_error_states": states, "fix_correlation_time_s": 0.0},
             "outages": {"windows_s": [[200.0, 30.0]]},
         }
         run[states] = mn.navigate_log(trajectory.time, f, w, fixes, settings=settings)
