@@ -77,8 +77,9 @@ def peer_window_runs(base: RunConfig) -> dict[float, tuple[dict[str, Any], float
     the published filter's outage windows of each length: its summary and
     run time by length."""
     base = _with_smoother(base)
-    start = _run(copy.deepcopy(base), duration_s=1.0)[0]["start_gps_time_s"]
-    first = PEER_FIRST_OUTAGE_GPS_S - start
+    # Windows count from the earliest start the log allows.
+    anchor = _run(copy.deepcopy(base), duration_s=1.0)[0]["start"]["earliest_gps_time_s"]
+    first = PEER_FIRST_OUTAGE_GPS_S - anchor
     runs = {}
     for length, (count, last) in PEER_WINDOWS.items():
         cfg = copy.deepcopy(base)
@@ -188,8 +189,9 @@ def _offset(precise: dict[str, Any]) -> str:
     return ", ".join(f"{v:.1f}" for v in precise["offset_removed_ned_m"])
 
 
-#: The windows in which the walk keeps fewer satellites, s after the start:
-#: two of 30 s, with the full four before, between and after them.
+#: The windows in which the walk keeps fewer satellites, s after the
+#: earliest start the log allows (where the walk starts): two of 30 s, with
+#: the full four before, between and after them.
 WALK_WINDOWS_S = [[20.0, 30.0], [70.0, 30.0]]
 
 
@@ -211,7 +213,7 @@ def walk_withheld_table(data_root: str | None) -> str:
             cfg.engine["outages"] = {"windows_s": WALK_WINDOWS_S, "keep_satellites": kept}
         result, _ = _navigate(cfg)
         truth = result.truth
-        t = np.asarray(truth["time"]) - result.summary["start_gps_time_s"]
+        t = np.asarray(truth["time"]) - result.summary["start"]["earliest_gps_time_s"]
         error, std = np.asarray(truth["error_ned"]), np.asarray(truth["std_ned"])
         inside_windows = np.zeros(len(t), dtype=bool)
         for start, length in WALK_WINDOWS_S:

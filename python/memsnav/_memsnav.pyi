@@ -2073,6 +2073,12 @@ class PositionFixes:
     def velocity_ecef(self) -> npt.NDArray[np.float64]:
         """Antenna velocities, ECEF m/s, (T, 3); NaN where a fix has none."""
 
+    @property
+    def velocity_horizontal_only(self) -> npt.NDArray[np.bool_]:
+        """Whether each fix's velocity is horizontal only (a speed and course
+        over ground: NMEA; the filter takes its north and east components
+        and nothing along the vertical), (T,)."""
+
     def __len__(self) -> int: ...
 
 def fixes_from_solution(
@@ -2096,7 +2102,8 @@ def fixes_from_solution(
     ``std_ned`` (T, 3) m or ``covariance_ned`` (T, 3, 3) m² (exactly one),
     optional ``velocity_ned`` (T, 3) with ``velocity_std_ned`` (T, 3) or
     ``velocity_covariance_ned`` (T, 3, 3) (NaN where absent; a missing
-    velocity std counts as 0.1 m/s). Keeps the epochs on the ``rate_hz`` grid
+    velocity std counts as 0.1 m/s; north and east with a NaN down is a
+    horizontal-only velocity, NMEA's). Keeps the epochs on the ``rate_hz`` grid
     (None: all), adds seeded white noise of ``added_position_noise_ned`` (N,
     E, D one-sigma, m) and ``added_velocity_noise`` (m/s), and rotates the
     covariance (+ noise²) into ECEF."""
@@ -2167,7 +2174,13 @@ class LogRun:
     @property
     def start(self) -> dict[str, Any]:
         """How the run started: ``kind`` ("static", "static_with_heading",
-        "moving"), ``time`` (s), ``epoch`` (GNSS epoch index), ``heading_known``."""
+        "moving"), ``time`` (s), ``epoch`` (GNSS epoch index), ``heading_known``,
+        ``first_imu_time`` and ``first_gnss_time`` (the log's first IMU sample
+        and GNSS epoch, s), ``earliest_time`` (the earliest start the log
+        allows, its first GNSS epoch with ``standstill.window_s`` of IMU data
+        before it, s: the outages count from it), and ``late_reason``: where
+        and why the run started more than 10 s after that (late), None when
+        it did not."""
 
     @property
     def gnss(self) -> dict[str, npt.NDArray[Any]]:
@@ -2177,7 +2190,8 @@ class LogRun:
 
     @property
     def outages(self) -> npt.NDArray[np.float64]:
-        """The outage windows, absolute (start, end) times, s, (K, 2)."""
+        """The outage windows, absolute (start, end) times, s, (K, 2) (as
+        configured: s after ``start["earliest_time"]``)."""
 
     @property
     def standstills(self) -> npt.NDArray[np.float64]:

@@ -233,6 +233,7 @@ fn tight_coupling_survives_three_satellites() {
                 .velocity_drift_covariance
                 .fixed_view::<3, 3>(0, 0)
                 .into_owned(),
+            velocity_horizontal_only: false,
         })
         .collect();
     assert_eq!(

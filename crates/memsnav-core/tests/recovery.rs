@@ -81,6 +81,7 @@ impl Scenario {
                 position_covariance: Matrix3::identity() * 4.0,
                 velocity_ecef: None,
                 velocity_covariance: Matrix3::zeros(),
+                velocity_horizontal_only: false,
             })
             .collect()
     }

@@ -62,6 +62,7 @@ fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
                     position_covariance: Matrix3::identity() * 4.0,
                     velocity_ecef: None,
                     velocity_covariance: Matrix3::zeros(),
+                    velocity_horizontal_only: false,
                 }
             })
             .collect();

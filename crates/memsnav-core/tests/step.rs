@@ -128,6 +128,7 @@ fn stepping_fixes_is_the_batch_run() {
             position_covariance: Matrix3::identity() * 4.0,
             velocity_ecef: Some(truth.nav[k].velocity_ecef + 0.1 * n3(&mut rng)),
             velocity_covariance: Matrix3::identity() * 0.01,
+            velocity_horizontal_only: false,
         })
         .collect();
     // Two fixes 100 m off in position and one 20 m/s off in velocity: the
@@ -148,6 +149,88 @@ fn stepping_fixes_is_the_batch_run() {
     assert_eq!(applied, applied_in_batch_run(&solution, &fixes));
     let refused: Vec<usize> = (0..applied.len()).filter(|&k| !applied[k]).collect();
     assert_eq!(refused, [20, 30, 40]);
+}
+
+/// A horizontal-only velocity fix (NMEA's speed and course) is two
+/// measurements, along the local north and east: the horizontal velocity
+/// variance falls as the scalar Kalman update says, p r / (p + r), the
+/// vertical one not at all, and a vertical component of any size in the
+/// fix is not read. A reset to such a fix sets the horizontal velocity and
+/// keeps the filter's vertical velocity and variance.
+#[test]
+fn horizontal_velocity_fixes_measure_nothing_vertical() {
+    let truth = drive(10.0, 100.0, true);
+    let sample = ImuSample {
+        specific_force_b: truth.f_b[0],
+        angular_rate_b: truth.w_b[0],
+    };
+    let initial = exact_initial(&truth);
+    let nav = truth.nav[0];
+    let geo = memsnav_core::geodesy::ecef_to_geodetic(&nav.position_ecef);
+    let cne = memsnav_core::geodesy::c_n_e(geo.latitude_rad, geo.longitude_rad);
+    let velocity_ned = |s: &FilterState<BASE_STATES>| cne.transpose() * s.nav.velocity_ecef;
+    let velocity_p_ned =
+        |s: &FilterState<BASE_STATES>| cne.transpose() * s.kf.p.fixed_view::<3, 3>(3, 3) * cne;
+    // 0.3 m/s off north, and 100 m/s down that must not be read.
+    let offset_ned = Vector3::new(0.3, 0.0, 100.0);
+    let r = 0.01;
+    let fix = PositionFix {
+        time_s: truth.time_s[0],
+        position_ecef: nav.position_ecef,
+        position_covariance: Matrix3::identity() * 4.0,
+        velocity_ecef: Some(nav.velocity_ecef + cne * offset_ned),
+        velocity_covariance: cne
+            * Matrix3::from_diagonal(&Vector3::new(r, r, 0.0))
+            * cne.transpose(),
+        velocity_horizontal_only: true,
+    };
+    let mut s =
+        FilterState::start::<PositionFix>(&initial, &tuning(), fix.time_s, &sample).unwrap();
+    let before = velocity_p_ned(&s);
+    let v_before = velocity_ned(&s);
+    s.update_fix(&fix).unwrap();
+    let records = s.clone().take_records();
+    let ids: Vec<u16> = records
+        .measurements
+        .iter()
+        .filter(|m| m.kind == coupling::MeasurementKind::Velocity)
+        .map(|m| m.id)
+        .collect();
+    assert_eq!(ids, [0, 1]);
+    let after = velocity_p_ned(&s);
+    for axis in 0..2 {
+        let p = before[(axis, axis)];
+        let want = p * r / (p + r);
+        assert!((after[(axis, axis)] - want).abs() < 1e-9 * p, "{after}");
+    }
+    assert!((after[(2, 2)] - before[(2, 2)]).abs() < 1e-12, "{after}");
+    let v = velocity_ned(&s);
+    let p = before[(0, 0)];
+    assert!((v.x - v_before.x - 0.3 * p / (p + r)).abs() < 1e-6, "{v}");
+    assert!((v.z - v_before.z).abs() < 1e-9, "{v}");
+
+    // A fix 50 m/s off east fails its test; reset at the first failure.
+    let mut tuning = tuning();
+    tuning.recovery.reset_after_failed_epochs = 1;
+    let mut s = FilterState::start::<PositionFix>(&initial, &tuning, fix.time_s, &sample).unwrap();
+    let far = PositionFix {
+        velocity_ecef: Some(nav.velocity_ecef + cne * Vector3::new(0.0, 50.0, 100.0)),
+        ..fix
+    };
+    s.update_fix(&far).unwrap();
+    let v = velocity_ned(&s);
+    let truth_ned = cne.transpose() * nav.velocity_ecef;
+    assert!(
+        (v.y - truth_ned.y - 50.0).abs() < 1e-9 && (v.x - truth_ned.x).abs() < 1e-9,
+        "{v}"
+    );
+    assert!((v.z - v_before.z).abs() < 1e-9, "{v}");
+    let reset = velocity_p_ned(&s);
+    assert!(
+        (reset[(0, 0)] - r).abs() < 1e-12 && (reset[(1, 1)] - r).abs() < 1e-12,
+        "{reset}"
+    );
+    assert!((reset[(2, 2)] - before[(2, 2)]).abs() < 1e-12, "{reset}");
 }
 
 /// Predicting by increments runs the INS's increments mechanization

@@ -52,6 +52,13 @@ impl PyPositionFixes {
             .collect();
         convert::vectors_to_numpy(py, &v)
     }
+    /// Whether each fix's velocity is horizontal only (a speed and course
+    /// over ground: NMEA; the filter takes its north and east components
+    /// and nothing along the vertical), (T,).
+    #[getter]
+    fn velocity_horizontal_only<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        PyArray1::from_iter(py, self.fixes.iter().map(|f| f.velocity_horizontal_only))
+    }
     fn __len__(&self) -> usize {
         self.fixes.len()
     }
@@ -93,6 +100,7 @@ pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix
                 position_covariance: x.position_clock_covariance.fixed_view::<3, 3>(0, 0).into(),
                 velocity_ecef: Some(x.velocity_ecef),
                 velocity_covariance: x.velocity_drift_covariance.fixed_view::<3, 3>(0, 0).into(),
+                velocity_horizontal_only: false,
             })
             .collect());
     }
@@ -141,6 +149,7 @@ pub(crate) fn position_fixes(obj: &Bound<'_, PyAny>) -> PyResult<Vec<PositionFix
             position_covariance: pcov[k],
             velocity_ecef: velocity.as_ref().map(|v| v[k]),
             velocity_covariance: vcov.as_ref().map_or(Matrix3::zeros(), |v| v[k]),
+            velocity_horizontal_only: false,
         })
         .collect())
 }

@@ -123,7 +123,8 @@ fn check_navigate_settings(settings: &Bound<'_, PyDict>) -> PyResult<()> {
 /// (T, 3) [lat rad, lon rad, h m], the position uncertainty as `std_ned`
 /// (T, 3) m or `covariance_ned` (T, 3, 3) m² (exactly one), optional
 /// `velocity_ned` (T, 3) with `velocity_std_ned` (T, 3) or
-/// `velocity_covariance_ned` (T, 3, 3) (NaN where absent). Keeps the epochs
+/// `velocity_covariance_ned` (T, 3, 3) (NaN where absent; north and east
+/// with a NaN down is a horizontal-only velocity, NMEA's). Keeps the epochs
 /// on the `rate_hz` grid, adds seeded white noise of
 /// `added_position_noise_ned` (N, E, D one-sigma, m) and
 /// `added_velocity_noise` (m/s), and rotates the covariance (+ noise²) into
@@ -327,7 +328,13 @@ impl PyLogRun {
         self.smoothed.as_ref().map(|s| s.clone_ref(py))
     }
     /// How the run started: dict `kind` ("static", "static_with_heading",
-    /// "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`.
+    /// "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`,
+    /// `first_imu_time` and `first_gnss_time` (the log's first IMU sample
+    /// and GNSS epoch, s), `earliest_time` (the earliest start the log
+    /// allows, its first GNSS epoch with `standstill.window_s` of IMU data
+    /// before it, s: the outages count from it), and `late_reason`: where
+    /// and why the run started more than 10 s after that (late), None when
+    /// it did not.
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &self.run.start;
@@ -336,6 +343,10 @@ impl PyLogRun {
         d.set_item("time", s.time_s)?;
         d.set_item("epoch", s.epoch)?;
         d.set_item("heading_known", s.heading_known)?;
+        d.set_item("first_imu_time", s.first_imu_time_s)?;
+        d.set_item("first_gnss_time", s.first_gnss_time_s)?;
+        d.set_item("earliest_time", s.earliest_time_s)?;
+        d.set_item("late_reason", self.run.late_start.as_deref())?;
         Ok(d)
     }
     /// What the run learnt from the log before the run it reports
@@ -402,7 +413,8 @@ impl PyLogRun {
         d.set_item("used", PyArray1::from_slice(py, &self.run.gnss_used))?;
         Ok(d)
     }
-    /// The outage windows, absolute (start, end) times, s, (K, 2).
+    /// The outage windows, absolute (start, end) times, s, (K, 2) (as
+    /// configured: s after ``start["earliest_time"]``).
     #[getter]
     fn outages<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         pairs(py, &self.run.outages)
@@ -760,6 +772,7 @@ fn navigate_log(
                     standstills: run.standstills.clone(),
                     range_biases: run.range_biases.clone(),
                     failure: run.failure.clone(),
+                    late_start: run.late_start.clone(),
                     adaptation: run.adaptation.clone(),
                     ..run
                 },

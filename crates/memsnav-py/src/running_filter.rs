@@ -237,6 +237,7 @@ impl PyRunningFilter {
             position_covariance: convert::matrix3(position_covariance, "position_covariance")?,
             velocity_ecef: velocity.map(|v| v.0),
             velocity_covariance: velocity.map_or(Matrix3::zeros(), |v| v.1),
+            velocity_horizontal_only: false,
         };
         with_filter!(&mut self.filter, s => s.update_fix(&fix).py())
     }

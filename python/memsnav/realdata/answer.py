@@ -20,7 +20,8 @@ TIME_DIGITS = 5
 
 
 def schedule(outages_s: list[list[float]]) -> str:
-    """The outage windows ((start, length) s after the start) in words:
+    """The outage windows ((start, length) s after the earliest start the
+    log allows) in words:
     "12 GNSS outages of 15 s every 45 s from 35.5 s" for a periodic
     schedule, else each window."""
     if not outages_s:
@@ -73,18 +74,37 @@ def standstill_outages(scores: dict[str, Any]) -> list[str]:
     ]
 
 
+def _outages(count: int) -> str:
+    return f"{count} outage{'s' if count != 1 else ''}"
+
+
 def by_length_label(length: str, scores: dict[str, Any]) -> str:
-    """ "the 11 15 s outages in motion (of 12)" for the statistics of one
-    outage length, which leave out the outages at a standstill."""
+    """ "the 11 outages of 15 s in motion (of 12)" for the statistics of
+    one outage length: how many of its windows they score, which leave out
+    the outages at a standstill and those without a truth epoch."""
     windows = [
         st
         for key, st in scores.items()
         if key.startswith("outage_") and f"{st['length_s']:g}" == length
     ]
-    moving = sum(not st.get("at_standstill") for st in windows)
-    if moving == len(windows):
-        return f"the {len(windows)} outages of {length} s"
-    return f"the {moving} outages of {length} s in motion (of {len(windows)})"
+    moving = [st for st in windows if not st.get("at_standstill")]
+    scored = sum(st["epochs"] > 0 for st in moving)
+    if scored == len(windows):
+        return f"the {_outages(scored)} of {length} s"
+    if scored == len(moving):
+        return f"the {_outages(scored)} of {length} s in motion (of {len(windows)})"
+    return f"the {_outages(scored)} of {length} s scored (of {len(windows)})"
+
+
+def unscored_outages(scores: dict[str, Any]) -> list[str]:
+    """The outages in motion that no truth epoch falls in (the truth has a
+    gap there, or none of its epochs has the quality asked for), in words:
+    named, not scored silently."""
+    return [
+        f"{outage_label(key, st)}: no truth epoch in it, not scored"
+        for key, st in scores.items()
+        if key.startswith("outage_") and not st.get("at_standstill") and st["epochs"] == 0
+    ]
 
 
 def satellites_line(systems: dict[str, dict[str, Any]]) -> str:
@@ -185,10 +205,15 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
         if errors is None:
             continue
         for length, st in errors["by_outage_length_s"].items():
+            label = by_length_label(length, errors)
             if st["epochs"]:
-                lines.append(f"  {view}{by_length_label(length, errors)}{scored}: {_errors(st)}")
+                lines.append(f"  {view}{label}{scored}: {_errors(st)}")
+            else:
+                lines.append(f"  {view}{label}: no errors to show")
     for text in standstill_outages(scores):
         lines.append(f"  {text}: left out (the zero-velocity updates hold it still)")
+    for text in unscored_outages(scores):
+        lines.append(f"  {text}")
     aided = raw["aided"]
     if aided["epochs"]:
         lines.append(f"  aided: {_errors(aided)}")

@@ -100,8 +100,12 @@ def read_nmea(path: str | Path) -> PosSolution:
     Android GnssLogger ``NMEA,<sentence>,<unix ms>`` records. Checksums are
     verified; sentences with one UTC time form an epoch; UTC → GPS time with
     the leap seconds. Epochs without GST get σ from HDOP (a warning says
-    so); NMEA has no vertical velocity, so ``velocity_ned[:, 2]`` and the
-    velocity σ are NaN. Other sentence types are ignored with a warning."""
+    so). The speed and course are the north and east velocity (zero at a
+    speed of zero), σ = max(HDOP · 0.1 m/s / √2, 0.05 m/s) per axis with
+    the rounding of the sentence's digits; NMEA has no vertical velocity, so
+    ``velocity_ned[:, 2]`` and its σ are NaN and loose coupling takes the
+    velocity as horizontal only (docs/own-logs.md). Other sentence types are
+    ignored with a warning."""
     solution = _memsnav.read_nmea(Path(path))
     _warn(solution.warnings)
     return solution

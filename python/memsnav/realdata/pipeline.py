@@ -374,8 +374,10 @@ def _finite(value: Any) -> Any:
     return value
 
 
-def _statistics(score: dict[str, Any], outages: Any, t0: float) -> dict[str, Any]:
-    """The statistics of a ``LogRun.score`` for ``summary.json``."""
+def _statistics(score: dict[str, Any], outages: Any, anchor: float) -> dict[str, Any]:
+    """The statistics of a ``LogRun.score`` for ``summary.json``, each
+    outage's start in s after ``anchor`` (the earliest start the log allows,
+    as configured)."""
     stats: dict[str, Any] = {
         "all": score["all"],
         "aided": score["aided"],
@@ -383,7 +385,7 @@ def _statistics(score: dict[str, Any], outages: Any, t0: float) -> dict[str, Any
     }
     for i, (window, st) in enumerate(zip(outages, score["outages"], strict=True)):
         stats[f"outage_{i + 1}"] = {
-            "start_s": float(window[0] - t0),
+            "start_s": float(window[0] - anchor),
             "length_s": float(window[1] - window[0]),
             **st,
         }
@@ -576,6 +578,9 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
     mode = summary["mode"]
     start = run.start
     t0 = start["time"]
+    # The outage windows count from the earliest start the log allows, not
+    # from the start the alignment found (a late start does not move them).
+    anchor = start["earliest_time"]
     solution = run.solution
     batches = solution.batches
     resets = solution.resets
@@ -585,6 +590,10 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
                 "kind": start["kind"],
                 "gps_time_s": t0,
                 "heading_from_first_motion": start["kind"] == "static",
+                "after_first_imu_sample_s": t0 - start["first_imu_time"],
+                "after_first_gnss_epoch_s": t0 - start["first_gnss_time"],
+                "earliest_gps_time_s": anchor,
+                "late_reason": start["late_reason"],
             },
             "start_gps_time_s": float(t0),
             "duration_s": float(run.time[-1] - run.time[0]),
@@ -615,7 +624,7 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
                 )
             ],
             "standstills_s": [[float(a - t0), float(b - t0)] for a, b in run.standstills],
-            "outages_s": [[float(a - t0), float(b - a)] for a, b in run.outages],
+            "outages_s": [[float(a - anchor), float(b - a)] for a, b in run.outages],
             "sensor_estimates": _sensor_estimates(solution, -1),
             "adaptation": run.adaptation,
             **notes,
@@ -809,20 +818,20 @@ def _score(
     (docs/real-data.md, "Truth"; a known datum offset is the truth's own,
     ``_truth_in_gnss_datum``)."""
     run, summary = result.run, result.summary
-    t0 = summary["start_gps_time_s"]
+    anchor = summary["start"]["earliest_gps_time_s"]
     tt, r_truth = truth
     scored: dict[str, tuple[dict[str, Any], dict[str, Any] | None]] = {}
     for name, solution in (("", run), ("_smoothed", run.smoothed)):
         if solution is None:
             continue
         raw = solution.score(tt, r_truth)
-        summary[f"errors_vs_truth{name}"] = _statistics(raw, run.outages, t0)
+        summary[f"errors_vs_truth{name}"] = _statistics(raw, run.outages, anchor)
         scored[name] = (raw, None)
         if precision:
             precise = solution.score(tt, r_truth, remove_mean_offset=True)
             summary[f"errors_vs_truth{name}_precision"] = {
                 "offset_removed_ned_m": precise["offset_removed_ned"].tolist(),
-                **_statistics(precise, run.outages, t0),
+                **_statistics(precise, run.outages, anchor),
             }
             scored[name] = (raw, precise)
     result.truth = {**scored[""][0], "position_ecef": r_truth, "all_time": tt}

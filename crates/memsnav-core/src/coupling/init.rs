@@ -348,6 +348,7 @@ mod tests {
             position_covariance: Matrix3::identity(),
             velocity_ecef: Some(v),
             velocity_covariance: Matrix3::identity(),
+            velocity_horizontal_only: false,
         };
         let s = initial_state_from_position_fix(&[fix], &imu, None).unwrap();
         assert!((s.nav.position_ecef - (r - 2.0 * v)).norm() < 1e-9);

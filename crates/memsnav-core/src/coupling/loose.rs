@@ -6,7 +6,11 @@
 //! ([`super::antenna`] for δr_a, δv_a through the lever arm). R is whitened
 //! by its Cholesky factor L (z' = L⁻¹ z) so the three components become
 //! independent unit-variance measurements; the three are one batch, tested
-//! together ([`super::engine::batch`]): a fix is applied whole or not at all. A
+//! together ([`super::engine::batch`]): a fix is applied whole or not at all.
+//! A horizontal-only velocity (a speed and course over ground: NMEA) is
+//! the two components z_h = E_hᵀ v along the local north and east axes E_h
+//! at the fix, whitened by the Cholesky factor of E_hᵀ R E_h: two
+//! measurements, none along the vertical, which the fix does not measure. A
 //! velocity with a latency L is compared with the prediction moved back by
 //! L along the INS acceleration. When fixes keep failing, position
 //! (velocity) is reset to the fix. The clock states are not observed and
@@ -19,7 +23,9 @@ use super::engine::{self, FilterState, InitialState};
 use super::records::MeasurementKind;
 use super::run::Aiding;
 use super::tuning::FilterTuning;
+use crate::filter::state::VELOCITY;
 use crate::gauss_markov::correlated_sample_inflation;
+use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::{validate, Error, Result};
 
 /// A GNSS position (and optionally velocity) fix with its covariance.
@@ -35,6 +41,12 @@ pub struct PositionFix {
     pub velocity_ecef: Option<Vector3<f64>>,
     /// Its covariance, m²/s².
     pub velocity_covariance: Matrix3<f64>,
+    /// Only the velocity's horizontal part is measured (a speed and course
+    /// over ground: NMEA): the filter takes its north and east components
+    /// at the fix's position, nothing along the local vertical (the
+    /// vertical component of `velocity_ecef` and the vertical row and
+    /// column of `velocity_covariance` in local axes are not read).
+    pub velocity_horizontal_only: bool,
 }
 
 impl engine::AidingEpoch for PositionFix {
@@ -47,10 +59,16 @@ impl engine::AidingEpoch for PositionFix {
 #[derive(Debug, Clone, Copy)]
 pub struct Whitened {
     /// R with its eigenvalues raised to at least floor² (the floor of
-    /// [`super::MeasurementFloor`] in every direction).
+    /// [`super::MeasurementFloor`] in every direction); of a horizontal
+    /// block, E_h R_h Eₕᵀ (nothing along the vertical).
     covariance: Matrix3<f64>,
-    /// L⁻¹ with L Lᵀ = the floored R.
+    /// L⁻¹ with L Lᵀ = the floored R; of a horizontal block, its first two
+    /// rows are L_h⁻¹ E_hᵀ (L_h L_hᵀ = the floored R_h) and the third is zero.
     l_inv: Matrix3<f64>,
+    /// The measurements of the block: 3, or 2 for a horizontal velocity.
+    rows: usize,
+    /// The local down axis at the fix, ECEF, for a horizontal block.
+    down_ecef: Option<Vector3<f64>>,
 }
 
 fn whitening(argument: &str, i: usize, r: &Matrix3<f64>, floor: f64) -> Result<Whitened> {
@@ -71,6 +89,58 @@ fn whitening(argument: &str, i: usize, r: &Matrix3<f64>, floor: f64) -> Result<W
     Ok(Whitened {
         covariance,
         l_inv: l.try_inverse().ok_or_else(bad)?,
+        rows: 3,
+        down_ecef: None,
+    })
+}
+
+/// The whitening of the horizontal part of a velocity covariance `r`
+/// (ECEF) at `position_ecef`: R_h = E_hᵀ R E_h in the local north-east
+/// axes E_h (C_n^e's first two columns, Groves eq. 2.150), floored and
+/// whitened as [`whitening`] does a full block.
+fn horizontal_whitening(
+    argument: &str,
+    i: usize,
+    r: &Matrix3<f64>,
+    position_ecef: &Vector3<f64>,
+    floor: f64,
+) -> Result<Whitened> {
+    let geo = ecef_to_geodetic(position_ecef);
+    let cne = c_n_e(geo.latitude_rad, geo.longitude_rad);
+    let e_h = cne.fixed_columns::<2>(0).into_owned();
+    let r_h = e_h.transpose() * r * e_h;
+    let bad = || {
+        Error::invalid(
+            argument,
+            format!(
+                "fix {i}: horizontal velocity covariance is not finite, symmetric and positive definite"
+            ),
+        )
+    };
+    if !r_h.iter().all(|v| v.is_finite())
+        || (r_h - r_h.transpose()).abs().max() > 1e-9 * r_h.abs().max()
+    {
+        return Err(bad());
+    }
+    r_h.cholesky().ok_or_else(bad)?;
+    let mut eig = r_h.symmetric_eigen();
+    eig.eigenvalues.apply(|v| *v = v.max(floor * floor));
+    let r_h = eig.recompose();
+    let l_inv = r_h
+        .cholesky()
+        .ok_or_else(bad)?
+        .l()
+        .try_inverse()
+        .ok_or_else(bad)?;
+    let mut whitening_rows = Matrix3::zeros();
+    whitening_rows
+        .fixed_rows_mut::<2>(0)
+        .copy_from(&(l_inv * e_h.transpose()));
+    Ok(Whitened {
+        covariance: e_h * r_h * e_h.transpose(),
+        l_inv: whitening_rows,
+        rows: 2,
+        down_ecef: Some(cne.column(2).into_owned()),
     })
 }
 
@@ -98,7 +168,7 @@ fn update_block<const N: usize>(
         _ => antenna.fix_velocity_ecef,
     };
     let y = w.l_inv * (predicted - measured);
-    for i in 0..3u16 {
+    for i in 0..w.rows as u16 {
         let row = w.l_inv.row(i as usize).transpose();
         let mut h = match kind {
             MeasurementKind::Position => antenna.position_row(&row),
@@ -121,7 +191,19 @@ fn update_block<const N: usize>(
                 let antenna = measured - error_estimate;
                 s.reset_position(t, kind, &antenna, &w.covariance, has_velocity)?
             }
-            _ => s.reset_velocity(t, kind, measured, &w.covariance)?,
+            _ => match w.down_ecef {
+                // A horizontal fix resets the horizontal velocity; the
+                // vertical keeps the filter's own value and variance.
+                Some(d) => {
+                    let vertical_variance =
+                        d.dot(&(s.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY) * d));
+                    let along_down = d * d.transpose();
+                    let velocity = measured - along_down * measured + along_down * predicted;
+                    let covariance = w.covariance + along_down * vertical_variance;
+                    s.reset_velocity(t, kind, &velocity, &covariance)?
+                }
+                None => s.reset_velocity(t, kind, measured, &w.covariance)?,
+            },
         }
         s.recovered(t, kind)?;
     }
@@ -141,12 +223,17 @@ fn whiten_fix(
         Some(v) => {
             validate::finite_vectors("fixes.velocity_ecef", &[v])
                 .map_err(|_| Error::invalid("fixes", format!("fix {i}: velocity is not finite")))?;
-            Some(whitening(
-                "fixes",
-                i,
-                &f.velocity_covariance,
-                floor.velocity_m_s,
-            )?)
+            Some(if f.velocity_horizontal_only {
+                horizontal_whitening(
+                    "fixes",
+                    i,
+                    &f.velocity_covariance,
+                    &f.position_ecef,
+                    floor.velocity_m_s,
+                )?
+            } else {
+                whitening("fixes", i, &f.velocity_covariance, floor.velocity_m_s)?
+            })
         }
         None => None,
     };

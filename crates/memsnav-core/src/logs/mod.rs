@@ -38,7 +38,10 @@ pub use imu_csv::{
     ImuLog, ImuTiming, TimeUnit, AXES_NAMES, GAP_FACTOR, IMU_COLUMNS, MAX_ANGULAR_RATE_RAD_S,
     MAX_SPECIFIC_FORCE_M_S2, MAX_TIME_S,
 };
-pub use nmea::{parse_nmea, read_nmea, NMEA_TALKERS, NMEA_UERE_M, NMEA_VDOP_PER_HDOP};
+pub use nmea::{
+    parse_nmea, read_nmea, NMEA_RANGE_RATE_ERROR_M_S, NMEA_TALKERS, NMEA_UERE_M,
+    NMEA_VDOP_PER_HDOP, NMEA_VELOCITY_STD_FLOOR_M_S,
+};
 pub use pos_solution::{diagonal_covariances, PosSolution, MAX_STD};
 pub use rtklib_pos::{
     format_pos, parse_pos, read_pos, write_pos, MAX_SPEED_M_S, POS_HEIGHT_RANGE_M,

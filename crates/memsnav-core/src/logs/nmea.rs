@@ -27,9 +27,20 @@
 //! [`NMEA_UERE_M`], with a warning counting them.
 //!
 //! Velocity: RMC's (or else VTG's) speed over ground along the true course
-//! gives north and east; NMEA has no vertical velocity and no velocity
-//! accuracy, so the down component and the velocity σ are NaN (loose
-//! coupling then uses the positions only).
+//! gives north and east; a speed of zero with an empty (or any) course is a
+//! zero velocity. NMEA has no vertical velocity: the down component, its σ
+//! and the covariance's down row and column are NaN, and loose coupling
+//! takes the velocity as horizontal only
+//! ([`crate::coupling::PositionFix::velocity_horizontal_only`]). NMEA has
+//! no velocity accuracy either; each horizontal axis gets
+//! σ = max(HDOP · [`NMEA_RANGE_RATE_ERROR_M_S`] / √2,
+//! [`NMEA_VELOCITY_STD_FLOOR_M_S`]), the velocity counterpart of the
+//! position σ from HDOP (a Doppler velocity's covariance is the range-rate
+//! variance times the same (GᵀG)⁻¹ as the position's: Kaplan & Hegarty,
+//! *Understanding GPS*, 2nd ed., §7.3), with the rounding of the sentence's
+//! last digits added: (step)²/12 along the track for the speed and
+//! (speed · step)²/12 across it for the course (a uniform rounding error).
+//! An epoch with GST but no HDOP takes HDOP = √(σ_N² + σ_E²) / UERE.
 //!
 //! GGA's fix quality becomes RTKLIB's Q: 1 GPS (and 3 PPS) → 5 single,
 //! 2 DGPS → 4, 4 RTK fixed → 1, 5 RTK float → 2, 6 dead reckoning → 7;
@@ -38,13 +49,13 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
 use super::fields::{finite_number, in_range, parse_error};
 use super::pos_solution::{std_of, MAX_STD};
 use super::rtklib_pos::{MAX_SPEED_M_S, POS_HEIGHT_RANGE_M};
 use super::PosSolution;
-use crate::gnss::checked_gps_time_from_utc;
+use crate::gnss::{checked_gps_time_from_utc, DEFAULT_PSEUDORANGE_RATE_STD_M_S};
 use crate::Result;
 
 /// User equivalent range error that scales HDOP into a position σ for
@@ -55,6 +66,17 @@ pub const NMEA_UERE_M: f64 = 5.0;
 /// VDOP taken for HDOP's multiple where NMEA gives no VDOP (GGA has only
 /// HDOP): the usual open-sky ratio of a GPS constellation.
 pub const NMEA_VDOP_PER_HDOP: f64 = 1.5;
+
+/// User equivalent range-rate error that scales HDOP into a velocity σ,
+/// m/s: a consumer receiver's Doppler noise, the tight filter's default
+/// pseudorange-rate σ ([`DEFAULT_PSEUDORANGE_RATE_STD_M_S`]).
+pub const NMEA_RANGE_RATE_ERROR_M_S: f64 = DEFAULT_PSEUDORANGE_RATE_STD_M_S;
+
+/// Smallest velocity σ per horizontal axis, m/s: the velocity accuracy
+/// consumer receivers state (u-blox M8, M9 and F9 data sheets: 0.05 m/s),
+/// below which a small HDOP would take the RMC speed for better than the
+/// receiver makes it.
+pub const NMEA_VELOCITY_STD_FLOOR_M_S: f64 = 0.05;
 
 /// Talker ids read: GPS, multi-GNSS, GLONASS, Galileo, BeiDou (GB and the
 /// older BD), QZSS.
@@ -94,17 +116,27 @@ struct Epoch {
     time_of_day_s: f64,
     date: Option<(i64, i64, i64)>,
     gga: Option<Gga>,
-    rmc_velocity: Option<[f64; 2]>,
-    vtg_velocity: Option<[f64; 2]>,
+    rmc_velocity: Option<GroundVelocity>,
+    vtg_velocity: Option<GroundVelocity>,
     gst: Option<Matrix3<f64>>,
+}
+
+/// A speed and course over ground as north and east velocity, with the
+/// variance of the rounding of the sentence's fields.
+#[derive(Debug, Clone, Copy)]
+struct GroundVelocity {
+    north_east_m_s: Vector2<f64>,
+    /// North-east covariance of the rounding of the speed's and the
+    /// course's last digits, (m/s)².
+    rounding_m2_s2: Matrix2<f64>,
 }
 
 /// What a line holds.
 enum Sentence {
     Gga(f64, Gga),
-    Rmc(f64, (i64, i64, i64), Option<[f64; 2]>),
+    Rmc(f64, (i64, i64, i64), Option<GroundVelocity>),
     Gst(f64, Matrix3<f64>),
-    Vtg(Option<[f64; 2]>),
+    Vtg(Option<GroundVelocity>),
     /// A sentence of another type (its address), ignored.
     Other(String),
 }
@@ -267,29 +299,54 @@ impl<'a> Fields<'a> {
         Ok((sign * value).to_radians())
     }
 
-    /// North and east velocity of a speed (m/s) along a true course (°,
-    /// may be empty at zero speed), or None when the speed is empty.
+    /// The step of the last digit of field `k` (0.01 for `012.34`; 1
+    /// without a decimal point).
+    fn last_digit(&self, k: usize) -> f64 {
+        let text = self.get(k);
+        text.find('.')
+            .map_or(1.0, |dot| 10f64.powi(-((text.len() - dot - 1) as i32)))
+    }
+
+    /// North and east velocity of a speed along a true course (°, may be
+    /// empty at zero speed), or None when the speed is empty: `speed` the
+    /// speed's field, its unit and the unit's m/s; `course` the course's
+    /// field.
     fn velocity(
         &self,
-        speed_m_s: Option<f64>,
+        speed: Option<(usize, &str, f64)>,
         course: usize,
-    ) -> std::result::Result<Option<[f64; 2]>, String> {
-        let Some(speed) = speed_m_s else {
+    ) -> std::result::Result<Option<GroundVelocity>, String> {
+        let Some((k, unit, m_s)) = speed else {
             return Ok(None);
         };
+        let range = 0.0..=MAX_SPEED_M_S / m_s;
+        let Some(v) = self.number(k, "speed over ground", range, unit)? else {
+            return Ok(None);
+        };
+        let (speed, speed_step) = (v * m_s, self.last_digit(k) * m_s);
+        // A uniform rounding error of one step has the variance step²/12.
+        let along_variance = speed_step * speed_step / 12.0;
         match self.number(course, "true course", 0.0..=360.0, "°")? {
             Some(c) => {
                 let (s, c) = c.to_radians().sin_cos();
-                Ok(Some([speed * c, speed * s]))
+                let across_step = speed * self.last_digit(course).to_radians();
+                let (along, across) = (Vector2::new(c, s), Vector2::new(-s, c));
+                Ok(Some(GroundVelocity {
+                    north_east_m_s: along * speed,
+                    rounding_m2_s2: along * along.transpose() * along_variance
+                        + across * across.transpose() * (across_step * across_step / 12.0),
+                }))
             }
-            None if speed == 0.0 => Ok(Some([0.0, 0.0])),
+            // At rest receivers leave the course empty: the rounding of the
+            // speed is the only uncertainty, in any direction.
+            None if speed == 0.0 => Ok(Some(GroundVelocity {
+                north_east_m_s: Vector2::zeros(),
+                rounding_m2_s2: Matrix2::identity() * along_variance,
+            })),
             None => Ok(None),
         }
     }
 }
-
-const SPEED_KNOTS: std::ops::RangeInclusive<f64> = 0.0..=MAX_SPEED_M_S / M_S_PER_KNOT;
-const SPEED_KM_H: std::ops::RangeInclusive<f64> = 0.0..=MAX_SPEED_M_S * 3.6;
 
 fn gga(s: &Fields) -> std::result::Result<Sentence, String> {
     let t = s.time_of_day(1)?;
@@ -367,10 +424,7 @@ fn rmc(s: &Fields) -> std::result::Result<Sentence, String> {
     // Two-digit years: GPS starts in 1980.
     let year = if y >= 80 { 1900 + y } else { 2000 + y };
     let velocity = match s.get(2) {
-        "A" => {
-            let speed = s.number(7, "speed over ground", SPEED_KNOTS, "knots")?;
-            s.velocity(speed.map(|v| v * M_S_PER_KNOT), 8)?
-        }
+        "A" => s.velocity(Some((7, "knots", M_S_PER_KNOT)), 8)?,
         "V" => None,
         other => {
             return Err(s.error(2, "status", format!("expected A or V, got {other:?}")));
@@ -443,11 +497,12 @@ fn vtg(s: &Fields) -> std::result::Result<Sentence, String> {
         // Mode N: data not valid.
         return Ok(Sentence::Vtg(None));
     }
-    let speed = match s.number(7, "speed over ground", SPEED_KM_H, "km/h")? {
-        Some(v) => Some(v / 3.6),
-        None => s
-            .number(5, "speed over ground", SPEED_KNOTS, "knots")?
-            .map(|v| v * M_S_PER_KNOT),
+    let speed = if !s.get(7).is_empty() {
+        Some((7, "km/h", 1.0 / 3.6))
+    } else if !s.get(5).is_empty() {
+        Some((5, "knots", M_S_PER_KNOT))
+    } else {
+        None
     };
     Ok(Sentence::Vtg(s.velocity(speed, 1)?))
 }
@@ -568,6 +623,7 @@ pub fn parse_nmea(text: &str, file: &str) -> Result<PosSolution> {
     let times = gps_times(&epochs, file)?;
     let mut sol = PosSolution::with_capacity(epochs.len());
     let mut covariances = Vec::with_capacity(epochs.len());
+    let mut velocity_covariances = Vec::with_capacity(epochs.len());
     let (mut no_gga, mut no_fix, mut from_hdop, mut no_separation) = (0, 0, 0, 0);
     for (e, t) in epochs.iter().zip(times) {
         let Some(g) = e.gga else {
@@ -605,18 +661,29 @@ pub fn parse_nmea(text: &str, file: &str) -> Result<PosSolution> {
             }
         }
         no_separation += usize::from(!g.geoid_separation_given);
-        let v = e.rmc_velocity.or(e.vtg_velocity);
+        // No vertical velocity: NaN down, in the velocity and its covariance.
+        let mut velocity = Vector3::repeat(f64::NAN);
+        let mut velocity_covariance = Matrix3::repeat(f64::NAN);
+        if let Some(v) = e.rmc_velocity.or(e.vtg_velocity) {
+            let hdop = g
+                .hdop
+                .unwrap_or_else(|| (covariance[(0, 0)] + covariance[(1, 1)]).sqrt() / NMEA_UERE_M);
+            let std = (hdop * NMEA_RANGE_RATE_ERROR_M_S / std::f64::consts::SQRT_2)
+                .max(NMEA_VELOCITY_STD_FLOOR_M_S);
+            velocity.fixed_rows_mut::<2>(0).copy_from(&v.north_east_m_s);
+            velocity_covariance
+                .fixed_view_mut::<2, 2>(0, 0)
+                .copy_from(&(Matrix2::identity() * (std * std) + v.rounding_m2_s2));
+        }
         sol.gps_time_s.push(t);
         sol.lla.push(g.lla);
         sol.quality.push(quality);
         sol.n_satellites.push(g.n_satellites);
         sol.std_ned_m.push(std_of(&covariance));
         covariances.push(covariance);
-        sol.velocity_ned_m_s.push(match v {
-            Some([n, e]) => Vector3::new(n, e, f64::NAN),
-            None => Vector3::repeat(f64::NAN),
-        });
-        sol.velocity_std_ned_m_s.push(Vector3::repeat(f64::NAN));
+        sol.velocity_ned_m_s.push(velocity);
+        sol.velocity_std_ned_m_s.push(std_of(&velocity_covariance));
+        velocity_covariances.push(velocity_covariance);
     }
     if sol.gps_time_s.is_empty() {
         return Err(parse_error(
@@ -666,6 +733,7 @@ pub fn parse_nmea(text: &str, file: &str) -> Result<PosSolution> {
         );
     }
     sol.covariance_ned_m2 = Some(covariances);
+    sol.velocity_covariance_ned_m2_s2 = Some(velocity_covariances);
     sol.warnings = warnings;
     Ok(sol)
 }
@@ -748,7 +816,31 @@ mod tests {
         let v = sol.velocity_ned_m_s[0];
         assert!((v.x - speed * course.cos()).abs() < 1e-12);
         assert!((v.y - speed * course.sin()).abs() < 1e-12);
-        assert!(v.z.is_nan() && sol.velocity_std_ned_m_s[0].x.is_nan());
+        // No vertical velocity; the horizontal σ from HDOP 0.9 × 0.1 m/s / √2
+        // (above the 0.05 m/s floor) with the rounding of 0.1 knot along
+        // the track and 0.1° across it.
+        assert!(v.z.is_nan() && sol.velocity_std_ned_m_s[0].z.is_nan());
+        let geometry = (0.9 * 0.1 / 2.0_f64.sqrt()).powi(2);
+        let along = (0.1 * 1852.0 / 3600.0_f64).powi(2) / 12.0;
+        let across = (speed * 0.1_f64.to_radians()).powi(2) / 12.0;
+        let (s, c) = course.sin_cos();
+        let want = [
+            [
+                geometry + along * c * c + across * s * s,
+                (along - across) * s * c,
+            ],
+            [
+                (along - across) * s * c,
+                geometry + along * s * s + across * c * c,
+            ],
+        ];
+        let got = sol.velocity_covariance_ned_m2_s2.as_ref().unwrap()[0];
+        for (i, row) in want.iter().enumerate() {
+            for (j, w) in row.iter().enumerate() {
+                assert!((got[(i, j)] - w).abs() < 1e-15, "{got}");
+            }
+            assert!(got[(i, 2)].is_nan() && got[(2, i)].is_nan());
+        }
         assert!(
             sol.warnings[0].contains("1 epoch(s) without GST"),
             "{:?}",
@@ -851,6 +943,64 @@ mod tests {
                 && e.to_string().contains("does not follow"),
             "{e}"
         );
+    }
+
+    /// At rest receivers give a speed of zero with an empty course, or a
+    /// course of 0: a zero velocity either way, with the floor σ where HDOP
+    /// is small and the speed's rounding; an epoch with GST but no HDOP
+    /// takes HDOP = √(σ_N² + σ_E²) / UERE; a speed without a course is no
+    /// velocity.
+    #[test]
+    fn standstill_and_velocity_sigma() {
+        let sum = |b: &str| format!("${b}*{:02X}", b.bytes().fold(0, |a, x| a ^ x));
+        let gga = |t: &str, hdop: &str| {
+            sum(&format!(
+                "GNGGA,{t},4807.038,N,01131.000,E,1,08,{hdop},545.4,M,46.9,M,,"
+            ))
+        };
+        let rmc = |t: &str, speed_course: &str| {
+            sum(&format!(
+                "GNRMC,{t},A,4807.038,N,01131.000,E,{speed_course},230394,,,A"
+            ))
+        };
+        let gst = sum("GNGST,120003,,,,,3.0,4.0,5.0");
+        let text = [
+            gga("120000", "0.5"),
+            rmc("120000", "0.00,"),
+            gga("120001", "2.0"),
+            rmc("120001", "0.000,0.0"),
+            gga("120002", "2.0"),
+            rmc("120002", "0.5,"),
+            gga("120003", ""),
+            rmc("120003", "1,90"),
+            gst,
+        ]
+        .join("\n");
+        let sol = parse_nmea(&text, "x.nmea").unwrap();
+        let v = &sol.velocity_ned_m_s;
+        let c = sol.velocity_covariance_ned_m2_s2.as_ref().unwrap();
+        let knot: f64 = 1852.0 / 3600.0;
+        // HDOP 0.5: 0.035 m/s is below the floor; 0.01 knot of rounding.
+        assert_eq!((v[0].x, v[0].y), (0.0, 0.0));
+        let rest = 0.05_f64.powi(2) + (0.01 * knot).powi(2) / 12.0;
+        assert!((c[0][(0, 0)] - rest).abs() < 1e-15 && c[0][(0, 1)] == 0.0);
+        assert!((c[0][(1, 1)] - rest).abs() < 1e-15);
+        // A course of 0 at zero speed: zero velocity, no rounding across.
+        let hdop2 = (2.0 * 0.1 / 2.0_f64.sqrt()).powi(2);
+        assert_eq!((v[1].x, v[1].y), (0.0, 0.0));
+        assert!((c[1][(0, 0)] - hdop2 - (0.001 * knot).powi(2) / 12.0).abs() < 1e-15);
+        assert!((c[1][(1, 1)] - hdop2).abs() < 1e-15);
+        // A speed with no course: no velocity.
+        assert!(v[2].x.is_nan() && c[2][(0, 0)].is_nan());
+        // GST without HDOP: HDOP = 5 m / 5 m = 1; one knot east, rounded to
+        // a knot along and a degree across.
+        assert!((v[3].y - knot).abs() < 1e-15 && v[3].x.abs() < 1e-15);
+        let hdop1 = (0.1 / 2.0_f64.sqrt()).powi(2);
+        let across = (knot * 1.0_f64.to_radians()).powi(2) / 12.0;
+        assert!((c[3][(0, 0)] - hdop1 - across).abs() < 1e-15);
+        assert!((c[3][(1, 1)] - hdop1 - knot * knot / 12.0).abs() < 1e-15);
+        assert!(v.iter().all(|x| x.z.is_nan()));
+        assert!(sol.velocity_std_ned_m_s.iter().all(|x| x.z.is_nan()));
     }
 
     #[test]

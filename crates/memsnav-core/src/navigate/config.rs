@@ -220,10 +220,13 @@ pub struct LogConfig {
     pub standstill: StandstillConfig,
     /// Aids.
     pub aids: AidsConfig,
-    /// GNSS outages (start, length), s after the start of navigation.
+    /// GNSS outages (start, length), s after the earliest start the log
+    /// allows (its first GNSS epoch with `standstill.window_s` of IMU data
+    /// before it): the log's own time, not the start the alignment finds (a
+    /// late start does not move them); each must lie inside the run.
     pub outages: Vec<(f64, f64)>,
-    /// Periodic outages (first start, length, period), s after the start,
-    /// until the end of the run (see [`periodic_outages`]).
+    /// Periodic outages (first start, length, period), s after that epoch;
+    /// the windows that fit in the run (see [`periodic_outages`]).
     pub periodic_outages: Option<(f64, f64, f64)>,
     /// Satellites kept through the outages: 0 (total outages, the
     /// default), or 1-3 (partial: each epoch keeps its highest satellites,

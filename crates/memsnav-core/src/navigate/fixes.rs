@@ -26,10 +26,14 @@ pub struct GeodeticSolution<'a> {
     /// Position covariance north, east, down, m² (diag(σ²) where a file
     /// gives only the stds: [`crate::logs::diagonal_covariances`]).
     pub covariance_ned_m2: &'a [Matrix3<f64>],
-    /// Velocity north, east, down, m/s (NaN where absent), if any.
+    /// Velocity north, east, down, m/s (NaN where absent), if any. North
+    /// and east with a NaN down is a horizontal-only velocity (NMEA's speed
+    /// and course over ground): its fix measures nothing along the vertical
+    /// ([`PositionFix::velocity_horizontal_only`]).
     pub velocity_ned_m_s: Option<&'a [Vector3<f64>]>,
     /// Its covariance, (m/s)²; an axis whose variance is NaN stands for
-    /// [`MISSING_VELOCITY_STD_M_S`].
+    /// [`MISSING_VELOCITY_STD_M_S`] (the down axis of a horizontal-only
+    /// velocity is not read).
     pub velocity_covariance_ned_m2_s2: Option<&'a [Matrix3<f64>]>,
 }
 
@@ -148,27 +152,36 @@ pub fn fixes_from_geodetic(
         let position_ecef = geodetic_to_ecef(Geodetic::new(g.x, g.y, g.z)) + cne * dn;
         let p_ned = covariance + Matrix3::from_diagonal(&noise.component_mul(&noise));
         let position_covariance = cne * p_ned * cne.transpose();
+        // North and east without down: a horizontal-only velocity (NMEA's
+        // speed and course over ground), whose down component is not
+        // measured and is given no value or variance.
         let velocity = solution
             .velocity_ned_m_s
             .map(|v| v[k])
-            .filter(|v| options.use_velocity && v.iter().all(|x| x.is_finite()));
+            .filter(|v| options.use_velocity && v.x.is_finite() && v.y.is_finite());
+        let horizontal_only = velocity.is_some_and(|v| !v.z.is_finite());
         let (velocity_ecef, velocity_covariance) = match velocity {
-            Some(v) => {
+            Some(mut v) => {
                 let vn = options.added_velocity_noise_m_s;
-                let given = solution
+                let mut given = solution
                     .velocity_covariance_ned_m2_s2
                     .map_or(Matrix3::repeat(f64::NAN), |c| c[k]);
+                let mut noise_std = Vector3::repeat(vn);
+                if horizontal_only {
+                    v.z = 0.0;
+                    noise_std.z = 0.0;
+                    given.row_mut(2).fill(0.0);
+                    given.column_mut(2).fill(0.0);
+                }
                 let c = velocity_covariance_or_default(&given).ok_or_else(|| {
                     Error::invalid(
                         "velocity_covariance_ned",
                         format!("epoch {k} (t = {t} s) has a non-finite covariance term"),
                     )
                 })?;
-                let dv = draw(rng) * vn;
-                (
-                    Some(cne * (v + dv)),
-                    cne * (c + Matrix3::identity() * (vn * vn)) * cne.transpose(),
-                )
+                let dv = draw(rng).component_mul(&noise_std);
+                let noise = Matrix3::from_diagonal(&noise_std.component_mul(&noise_std));
+                (Some(cne * (v + dv)), cne * (c + noise) * cne.transpose())
             }
             None => (None, Matrix3::zeros()),
         };
@@ -178,6 +191,7 @@ pub fn fixes_from_geodetic(
             position_covariance,
             velocity_ecef,
             velocity_covariance,
+            velocity_horizontal_only: horizontal_only,
         });
     }
     Ok(out)
@@ -258,8 +272,9 @@ mod tests {
         assert!(fixes[0].velocity_ecef.is_none());
     }
 
-    /// A full NED covariance reaches the fix whole (rotated), and a
-    /// velocity covariance with one unknown axis gets the default there.
+    /// A full NED covariance reaches the fix whole (rotated), a velocity
+    /// covariance with one unknown axis gets the default there, and a
+    /// velocity without its down component is horizontal only.
     #[test]
     fn full_covariances_are_kept() {
         let t = [0.0, 1.0];
@@ -281,6 +296,25 @@ mod tests {
         assert!((back - p).abs().max() < 1e-12, "{back}");
         let vback = cne.transpose() * fixes[0].velocity_covariance * cne;
         let want = Matrix3::new(0.04, 0.01, 0.0, 0.01, 0.09, 0.0, 0.0, 0.0, 0.01);
+        assert!((vback - want).abs().max() < 1e-15, "{vback}");
+        assert!(!fixes[0].velocity_horizontal_only);
+        // North and east with a NaN down: a horizontal-only velocity, its
+        // NE covariance kept and nothing along the vertical.
+        let horizontal = [Vector3::new(1.0, 2.0, nan); 2];
+        let only_h = GeodeticSolution {
+            velocity_ned_m_s: Some(&horizontal),
+            ..sol
+        };
+        let fixes =
+            fixes_from_geodetic(&only_h, &FixOptions::default(), &mut stream(1, 0)).unwrap();
+        assert!(fixes[0].velocity_horizontal_only);
+        let vned = cne.transpose() * fixes[0].velocity_ecef.unwrap();
+        assert!(
+            (vned - Vector3::new(1.0, 2.0, 0.0)).norm() < 1e-12,
+            "{vned}"
+        );
+        let vback = cne.transpose() * fixes[0].velocity_covariance * cne;
+        let want = Matrix3::new(0.04, 0.01, 0.0, 0.01, 0.09, 0.0, 0.0, 0.0, 0.0);
         assert!((vback - want).abs().max() < 1e-15, "{vback}");
         let skew = Matrix3::new(1.0, 0.5, 0.0, -0.5, 1.0, 0.0, 0.0, 0.0, 1.0);
         let bad = GeodeticSolution {

@@ -7,8 +7,10 @@
 //! 1. IMU into body axes ([`LogConfig::mounting`], [`mounting_matrix`]) and
 //!    onto GNSS time ([`LogConfig::imu_time_offset_s`]);
 //! 2. the start ([`align`]): static (levelled at rest, heading at the first
-//!    motion) or in motion (heading from the course);
-//! 3. the scheduled outages ([`LogConfig::outages`], [`periodic_outages`]);
+//!    motion) or in motion (heading from the course), and why it is late
+//!    when it is;
+//! 3. the scheduled outages ([`LogConfig::outages`], [`periodic_outages`]),
+//!    in the log's own time (from its earliest possible start);
 //! 4. the coupled filter with the lever arm in its measurement models, its
 //!    batch tests, fault exclusion and resets (see [`crate::coupling`]),
 //!    and at every IMU sample the aids ([`AidsConfig`]): ZUPT and ZARU at

@@ -40,13 +40,18 @@ pub struct LogRun {
     pub smoothed: Option<Solution>,
     /// Where and how it started.
     pub start: Start,
+    /// When it started late ([`super::align::LATE_START_S`] after the
+    /// earliest the log allowed): where and why, in words (also among the
+    /// solution's warnings).
+    pub late_start: Option<String>,
     /// Every GNSS epoch's antenna position and velocity (the fixes, or the
     /// least-squares fixes of the pseudoranges: the single-point solution).
     pub gnss: Vec<GnssKinematics>,
     /// Whether each GNSS epoch reached the filter (inside the run, outside
     /// the outages).
     pub gnss_used: Vec<bool>,
-    /// The outage windows, absolute (start, end) times, s.
+    /// The outage windows, absolute (start, end) times, s (configured s
+    /// after [`Start::earliest_time_s`]).
     pub outages: Vec<(f64, f64)>,
     /// The standstills the run detected, (start, end) times, s.
     pub standstills: Vec<(f64, f64)>,
@@ -181,19 +186,17 @@ fn run_from_start(
             "leaves fewer than two IMU samples after the start",
         ));
     }
-    let mut relative = config.outages.clone();
-    if let Some((first, length, every)) = config.periodic_outages {
-        relative.extend(periodic_outages(
-            first,
-            length,
-            every,
-            t_end - start.time_s,
-        )?);
-    }
-    let outages: Vec<(f64, f64)> = relative
-        .iter()
-        .map(|&(s, l)| (start.time_s + s, start.time_s + s + l))
-        .collect();
+    let late_start = start.delay.map(|delay| {
+        format!(
+            "the run starts {:.1} s after the log's first GNSS epoch and {:.1} s after its first IMU sample ({} start at t = {:.3} s): {}",
+            start.time_s - start.first_gnss_time_s,
+            start.time_s - start.first_imu_time_s,
+            start.kind.name(),
+            start.time_s,
+            delay.reason(config)
+        )
+    });
+    let outages = outage_windows(config, &start, t_end, late_start.as_deref())?;
     let partial = config.outage_satellites;
     if partial > 0 && !matches!(gnss, GnssInput::Measurements(_)) {
         return Err(Error::invalid(
@@ -257,7 +260,8 @@ fn run_from_start(
     } else {
         Record::Solution
     };
-    let (solution, smoothed, range_biases, failure) = run.filter(layout, &tuning, record)?;
+    let (mut solution, smoothed, range_biases, failure) = run.filter(layout, &tuning, record)?;
+    solution.warnings.extend(late_start.clone());
     let standstills = standstill_intervals(&solution);
     // With installation states, the lever arm the filter ended with.
     let antenna_lever_arm_b_m = solution
@@ -270,6 +274,7 @@ fn run_from_start(
         solution,
         smoothed,
         start,
+        late_start,
         gnss: kinematics,
         gnss_used,
         outages,
@@ -282,6 +287,45 @@ fn run_from_start(
         failure,
         gyro_scale: None,
     })
+}
+
+/// The scheduled outage windows, absolute (start, end) times, s: the
+/// configured ones, s after the earliest start the log allows
+/// ([`Start::earliest_time_s`]: the log's own time, whatever the alignment
+/// decides), each inside the run from `start` to `t_end` or an error naming
+/// it (and the late start's words, `late`, when that is why); and the
+/// periodic ones that fit in the run.
+fn outage_windows(
+    config: &LogConfig,
+    start: &Start,
+    t_end: f64,
+    late: Option<&str>,
+) -> Result<Vec<(f64, f64)>> {
+    let anchor = start.earliest_time_s;
+    let (run_from, run_to) = (start.time_s - anchor, t_end - anchor);
+    let mut windows = Vec::new();
+    for (i, &(s, l)) in config.outages.iter().enumerate() {
+        if s < run_from || s + l > run_to {
+            return Err(Error::invalid(
+                "outages.windows_s",
+                format!(
+                    "window {} [{s:?}, {l:?}] (start and length, s after the log's first GNSS epoch with standstill.window_s of IMU data before it) is not inside the run, which spans {run_from:.3} to {run_to:.3} s after that epoch{}",
+                    i + 1,
+                    late.map_or(String::new(), |words| format!("; {words}"))
+                ),
+            ));
+        }
+        windows.push((anchor + s, anchor + s + l));
+    }
+    if let Some((first, length, every)) = config.periodic_outages {
+        windows.extend(
+            periodic_outages(first, length, every, run_to)?
+                .into_iter()
+                .filter(|&(s, _)| s >= run_from)
+                .map(|(s, l)| (anchor + s, anchor + s + l)),
+        );
+    }
+    Ok(windows)
 }
 
 /// The standstills as intervals: runs of accepted or rejected ZUPTs.
@@ -323,6 +367,7 @@ fn velocity_from_positions(kinematics: &mut [GnssKinematics]) {
             let covariance = (a.position_covariance + b.position_covariance) / (dt * dt);
             kinematics[i].velocity_ecef = Some(velocity);
             kinematics[i].velocity_covariance = covariance;
+            kinematics[i].velocity_from_positions = true;
         }
     }
 }
@@ -342,6 +387,7 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
                     position_covariance: f.position_covariance,
                     velocity_ecef: f.velocity_ecef,
                     velocity_covariance: f.velocity_covariance,
+                    velocity_from_positions: false,
                 })
                 .collect();
             velocity_from_positions(&mut kinematics);
@@ -383,6 +429,7 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
                                     .velocity_drift_covariance
                                     .fixed_view::<3, 3>(0, 0)
                                     .into(),
+                                velocity_from_positions: false,
                             }
                         }
                         Err(_) => GnssKinematics::none(e.time_s),

@@ -168,8 +168,8 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
     (
         "outages",
         &[
-            ("windows_s", "list of [start, length] after the start, s"),
-            ("first_s", "periodic outages: start of the first, s"),
+            ("windows_s", "list of [start, length], s; start after the log's first GNSS epoch with standstill.window_s of IMU data before it (the earliest start, not the start the alignment finds); a window not inside the run is an error naming it"),
+            ("first_s", "periodic outages: start of the first, s after that same epoch (default every_s - length_s); the windows that fit in the run are kept"),
             ("length_s", "periodic outages: length, s"),
             ("every_s", "periodic outages: period, s"),
             ("keep_satellites", "0 (default): total outages; 1-3: partial outages that keep the highest satellites of each epoch (tight coupling)"),

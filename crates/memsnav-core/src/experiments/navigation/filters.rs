@@ -112,6 +112,7 @@ pub(super) fn position_fixes(epochs: &[GnssEpoch]) -> Vec<PositionFix> {
                 .all(|v| v.is_finite())
                 .then_some(f.velocity_ecef),
             velocity_covariance: f.velocity_drift_covariance.fixed_view::<3, 3>(0, 0).into(),
+            velocity_horizontal_only: false,
         })
         .collect()
 }
