@@ -437,7 +437,8 @@ def test_navigate_cli_prints_the_answer_first(tmp_path, capsys):
     assert lines[1] == (
         f"  the 3 outages of 5 s: horizontal RMS {outages['rms_horizontal_m']:.3g} m, max "
         f"{outages['max_horizontal_m']:.3g} m, vertical RMS {outages['rms_vertical_m']:.3g} m; "
-        f"{100 * outages['within_3sigma_share']:.1f} % within 3σ, NEES/dof "
+        f"{100 * outages['within_3sigma_share']:.1f} % within 3σ "
+        f"(N/E {100 * outages['within_3sigma_share_horizontal']:.1f} %), NEES/dof "
         f"{outages['nees_per_dof']:.2g}"
     )
     assert lines[2].startswith(

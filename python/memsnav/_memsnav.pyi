@@ -2235,8 +2235,9 @@ class LogRun:
         ``standstill_s``, its time at a standstill, and ``at_standstill``, at
         least half of it), ``by_outage_length`` ({length s: stats} over the
         outages not at a standstill); each ``epochs``, ``rms_horizontal_m``,
-        ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share``,
-        ``nees_per_dof`` (mean (error / σ)² over the epochs and N, E, D: 1 when
+        ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share`` (N, E
+        and D), ``within_3sigma_share_horizontal`` (N and E), ``nees_per_dof``
+        (mean (error / σ)² over the epochs and N, E, D: 1 when
         the σ's describe the errors). ``remove_mean_offset``: the precision score,
         the errors less their mean over the aided epochs (a truth with a
         constant unknown offset)."""

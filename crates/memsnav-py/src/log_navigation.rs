@@ -260,6 +260,10 @@ fn stats_dict<'py>(py: Python<'py>, s: &score::ErrorStats) -> PyResult<Bound<'py
         d.set_item("max_horizontal_m", s.max_horizontal_m)?;
         if s.within_3sigma_share.is_finite() {
             d.set_item("within_3sigma_share", s.within_3sigma_share)?;
+            d.set_item(
+                "within_3sigma_share_horizontal",
+                s.within_3sigma_share_horizontal,
+            )?;
             d.set_item("nees_per_dof", s.nees_per_dof)?;
         }
     }
@@ -480,8 +484,8 @@ impl PyLogRun {
     /// `at_standstill`, at least half of it), `by_outage_length` ({length s:
     /// stats} over the outages not at a standstill); each statistic
     /// `epochs`, `rms_horizontal_m`, `rms_vertical_m`, `max_horizontal_m`,
-    /// `within_3sigma_share`, `nees_per_dof` (mean (e/σ)² over the epochs
-    /// and N, E, D). `remove_mean_offset`: the precision score,
+    /// `within_3sigma_share` (N, E and D), `within_3sigma_share_horizontal`
+    /// (N and E), `nees_per_dof` (mean (e/σ)² over the epochs and N, E, D). `remove_mean_offset`: the precision score,
     /// the errors less their mean over the aided epochs (a truth with a
     /// constant unknown offset).
     #[pyo3(signature = (time, position_ecef, *, remove_mean_offset=false))]

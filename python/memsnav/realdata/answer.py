@@ -46,14 +46,17 @@ def schedule(outages_s: list[list[float]]) -> str:
 def _errors(stats: dict[str, Any]) -> str:
     """Horizontal RMS and max, vertical RMS, and how the filter's σ's
     describe them: the share within 3σ and the NEES per degree of freedom
-    (a share of 1 with a NEES of 0.01 is bounds ten times the errors)."""
+    (a share of 1 with a NEES of 0.01 is bounds ten times the errors), the
+    horizontal errors' share apart (loose vertical bounds would flatter the
+    horizontal ones)."""
     text = (
         f"horizontal RMS {number(stats['rms_horizontal_m'])} m, max "
         f"{number(stats['max_horizontal_m'])} m, vertical RMS {number(stats['rms_vertical_m'])} m"
     )
     if "within_3sigma_share" in stats:
         text += (
-            f"; {percent(stats['within_3sigma_share'], 1)} within 3σ, NEES/dof "
+            f"; {percent(stats['within_3sigma_share'], 1)} within 3σ "
+            f"(N/E {percent(stats['within_3sigma_share_horizontal'], 1)}), NEES/dof "
             f"{number(stats['nees_per_dof'], 2)}"
         )
     return text

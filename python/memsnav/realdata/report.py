@@ -226,12 +226,14 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
                 "RMS vert. [m]",
                 "max horiz. [m]",
                 "within 3σ",
+                "N/E within 3σ",
                 "NEES/dof",
             ],
             rows,
         )
         doc.paragraph(
-            "Within 3σ: the share of the N, E, D errors inside the filter's own 3σ; NEES/dof: "
+            "Within 3σ: the share of the N, E, D errors inside the filter's own 3σ (N/E: of the "
+            "horizontal ones alone); NEES/dof: "
             "the mean of (error / σ)² over the epochs and the N, E, D axes, 1 when the σ's "
             "describe the errors, 0.01 when they are ten times the errors: a share of 1 "
             "with a small NEES is a filter far more cautious than it needs to be."
@@ -414,5 +416,6 @@ def _row(label: str, st: dict[str, Any]) -> list[object]:
         number(st["rms_vertical_m"]),
         number(st["max_horizontal_m"]),
         percent(st.get("within_3sigma_share"), 1),
+        percent(st.get("within_3sigma_share_horizontal"), 1),
         number(st.get("nees_per_dof"), 2),
     ]

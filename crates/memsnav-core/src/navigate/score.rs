@@ -23,6 +23,10 @@ pub struct ErrorStats {
     /// Share of the N, E and D errors within ±3σ of the solution (NaN when
     /// no σ was given).
     pub within_3sigma_share: f64,
+    /// Share of the N and E errors within ±3σ: the horizontal bounds'
+    /// coverage, which a vertical axis with loose bounds would otherwise
+    /// flatter (NaN when no σ was given).
+    pub within_3sigma_share_horizontal: f64,
     /// mean((e_i / σ_i)²) over the epochs and the N, E, D axes: the NEES
     /// per degree of freedom of the diagonal covariance (correlations
     /// ignored). 1 when the σ's describe the errors, 0.01 when they are
@@ -41,15 +45,19 @@ impl ErrorStats {
                 rms_vertical_m: f64::NAN,
                 max_horizontal_m: f64::NAN,
                 within_3sigma_share: f64::NAN,
+                within_3sigma_share_horizontal: f64::NAN,
                 nees_per_dof: f64::NAN,
             };
         }
         let h2: Vec<f64> = errors.iter().map(|e| e.x * e.x + e.y * e.y).collect();
-        let inside = errors
-            .iter()
-            .zip(std)
-            .map(|(e, s)| (0..3).filter(|&i| e[i].abs() <= 3.0 * s[i]).count())
-            .sum::<usize>();
+        let inside_axes = |axes: std::ops::Range<usize>| {
+            errors
+                .iter()
+                .zip(std)
+                .map(|(e, s)| axes.clone().filter(|&i| e[i].abs() <= 3.0 * s[i]).count())
+                .sum::<usize>()
+        };
+        let (inside, inside_horizontal) = (inside_axes(0..3), inside_axes(0..2));
         let normalized_squared = errors
             .iter()
             .zip(std)
@@ -63,6 +71,11 @@ impl ErrorStats {
             max_horizontal_m: h2.iter().copied().fold(0.0, f64::max).sqrt(),
             within_3sigma_share: if with_std {
                 inside as f64 / (3 * n) as f64
+            } else {
+                f64::NAN
+            },
+            within_3sigma_share_horizontal: if with_std {
+                inside_horizontal as f64 / (2 * n) as f64
             } else {
                 f64::NAN
             },
@@ -455,6 +468,8 @@ mod tests {
         assert!((s.outages[0].rms_vertical_m - 1.0).abs() < 1e-6);
         // 3.6 and 4.8 exceed 3σ = 3: only D inside.
         assert!((s.outages[0].within_3sigma_share - 1.0 / 3.0).abs() < 1e-12);
+        assert_eq!(s.outages[0].within_3sigma_share_horizontal, 0.0);
+        assert_eq!(s.aided.within_3sigma_share_horizontal, 1.0);
         assert!((s.aided.rms_horizontal_m - 0.1).abs() < 1e-6);
         assert_eq!(s.in_outages.epochs, s.all.epochs - s.aided.epochs);
         // σ = 1 m: the NEES per axis is the squared error, (3.6² + 4.8² +
