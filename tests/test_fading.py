@@ -115,7 +115,14 @@ def test_the_tactical_preset_on_drive_0708_fades_as_the_guide_quotes(tmp_path):
         config.engine.setdefault("filter", {})["imu_preset"] = preset
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the log's cut lines; the tactical tuning's alerts
-            runs[preset] = mn.navigate(config, output=tmp_path / preset).summary
+            try:
+                runs[preset] = mn.navigate(config, output=tmp_path / preset).summary
+            except mn.DivergenceError as failed:
+                # The tactical tuning is too optimistic for this IMU: its
+                # integrity alert fails the run, which still scores it.
+                assert preset == "tactical"
+                runs[preset] = failed.result.summary  # type: ignore[attr-defined]
+    assert runs["tactical"]["failure"]["stage"] == "integrity"
     kinds = [r["kind"] for r in runs["tactical"]["resets"]]
     assert kinds.count("fading") == fades
     assert kinds.count("position_to_fix") + kinds.count("velocity_to_fix") == resets

@@ -173,7 +173,7 @@ def _falling_log(tmp_path: Path) -> tuple[Path, float]:
         'accel_unit = "m/s^2"\ngyro_unit = "rad/s"\ntime_unit = "s"\n'
         'time_reference = "column_gps"\n'
         '[gnss]\nmode = "loose"\npos = "fixes.csv"\nquality = [5]\n'
-        "[outages]\nwindows_s = [[50.0, 200.0]]\n"
+        "[outages]\nwindows_s = [[50.0, 55.0]]\n"
     )
     return config, fault
 
@@ -222,7 +222,7 @@ def test_navigate_log_returns_what_it_computed_when_it_stops(tmp_path):
         velocity_ned=fixes_log.velocity_ned,
         velocity_std_ned=fixes_log.velocity_std_ned,
     )
-    settings = {"outages": {"windows_s": [[50.0, 200.0]]}}
+    settings = {"outages": {"windows_s": [[50.0, 55.0]]}}
     with pytest.warns(UserWarning, match=r"the run stopped at t = .* the state left the range"):
         run = mn.navigate_log(
             log.time, log.specific_force, log.angular_rate, fixes, settings=settings

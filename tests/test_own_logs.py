@@ -223,7 +223,10 @@ def test_an_nmea_drive_starts_in_its_standstill_and_scores_both_outages(tmp_path
     assert errors["by_outage_length_s"]["30"]["epochs"] == sum(
         errors[f"outage_{k}"]["epochs"] for k in (1, 2)
     )
-    assert answer_lines(s)[1].startswith("  the 2 outages of 30 s: horizontal RMS")
+    # The answer names the truth, then scores both outages.
+    answer = answer_lines(s)
+    assert answer[1] == "  truth: truth.csv"
+    assert answer[2].startswith("  the 2 outages of 30 s: horizontal RMS")
     # The velocity reached the filter horizontally: two measurements (north,
     # east) at every epoch it used.
     velocity = s["measurements"]["velocity"]

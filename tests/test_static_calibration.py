@@ -263,9 +263,16 @@ def test_the_configuration_is_checked(tmp_path, edit, message):
 
 
 def test_the_example_configuration_is_valid():
-    cfg = load_calibration_config(EXAMPLE, data_root="/nowhere")
+    """The example reads; its recordings resolve under the data root, and a
+    data root without them is an error naming the key and both places
+    tried."""
+    accel = shared_data("imu-static-poses/xsens_acc.mat")
+    cfg = load_calibration_config(EXAMPLE, data_root=accel.parents[1])
     assert cfg["session"]["kind"] == "static-poses" and cfg["static"]["holdout_every"] == 4
-    assert cfg.data_path("imu", "accel_file") == Path("/nowhere/imu-static-poses/xsens_acc.mat")
+    assert cfg.data_path("imu", "accel_file") == accel
+    elsewhere = load_calibration_config(EXAMPLE, data_root="/nowhere")
+    with pytest.raises(ValueError, match=r"imu\.accel_file: no such file .*/nowhere/"):
+        elsewhere.data_path("imu", "accel_file")
 
 
 def test_the_full_xsens_session_meets_the_issue_figures(tmp_path, capsys, monkeypatch):
