@@ -369,10 +369,12 @@ struct Pending {
 
 impl LogConfig {
     /// The configuration of `tables` (table name, keys and values): the
-    /// IMU spec of `filter.imu_preset` (default `"consumer"`) with the
-    /// `[imu_spec]` figures over it, the tuning from that spec
-    /// ([`FilterTuning::from_imu_spec`]) at the IMU's `imu_rate_hz`, then
-    /// every other key applied over the defaults.
+    /// IMU spec of `filter.imu_preset` with the `[imu_spec]` figures over
+    /// it, the tuning from that spec ([`FilterTuning::from_imu_spec`]) at
+    /// the IMU's `imu_rate_hz`, then every other key applied over the
+    /// defaults. `"auto"` (the default) builds one such configuration per
+    /// candidate grade into `imu_candidates` (the log chooses;
+    /// `navigate::adapt`), with the consumer grade's as the configuration.
     pub fn from_settings(
         tables: &[(String, Vec<(String, SettingValue)>)],
         imu_rate_hz: f64,
