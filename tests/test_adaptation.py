@@ -145,7 +145,7 @@ def test_adaptation_settings_are_checked():
     ):
         with pytest.raises(ValueError, match=message):
             _memsnav.check_navigate_settings({"gnss": {"fix_correlation_time_s": value}})
-    with pytest.raises(ValueError, match="filter.imu_preset"):
+    with pytest.raises(ValueError, match=r"filter\.imu_preset"):
         _memsnav.check_navigate_settings({"filter": {"imu_preset": "automatic"}})
     _memsnav.check_navigate_settings(
         {"gnss": {"fix_correlation_time_s": "auto"}, "filter": {"imu_preset": "auto"}}
