@@ -2220,6 +2220,18 @@ class LogRun:
         ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
         else None). None without a usable pair of GNSS epochs."""
 
+    @property
+    def adaptation(self) -> dict[str, Any]:
+        """What the run learnt from the log before the run it reports
+        (docs/foreign-drive.md): dict ``imu_preset`` (the IMU model chosen,
+        None when the configuration names one), ``imu_candidates`` (list of
+        dicts ``preset``, ``log_likelihood``, ``measurements``, ``resets``:
+        each candidate's first pass), ``fix_correlation`` (None, or dict
+        ``component_s`` (three correlation times, s, None where not
+        determined), ``innovation_to_fix_variance`` (three ratios),
+        ``used_s``, ``covariance_scale``), and ``fix_correlation_time_s`` and
+        ``fix_covariance_scale`` (what the run used)."""
+
     def score(
         self,
         time: npt.ArrayLike,
