@@ -365,7 +365,10 @@ pub fn correlation_time_from_innovations(
         let x = robust_centred(&series);
         let variance = x.iter().map(|s| s.1 * s.1).sum::<f64>() / x.len() as f64;
         ratio[c as usize] = variance * k;
-        if !(variance > 0.0) || ratio[c as usize] > MAX_INNOVATION_TO_FIX_VARIANCE {
+        if variance.is_nan()
+            || variance <= 0.0
+            || ratio[c as usize] > MAX_INNOVATION_TO_FIX_VARIANCE
+        {
             continue;
         }
         component_s[c as usize] = Some(e_folding_time(&x, variance, dt, max_lag).min(first_pass_s));

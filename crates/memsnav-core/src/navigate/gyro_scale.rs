@@ -211,6 +211,7 @@ mod tests {
                     position_covariance: Matrix3::identity(),
                     velocity_ecef: Some(cne * v_ned),
                     velocity_covariance: Matrix3::identity() * 0.01,
+                    velocity_from_positions: false,
                 }
             })
             .collect::<Vec<_>>();
@@ -279,6 +280,7 @@ mod tests {
                 position_covariance: Matrix3::identity(),
                 velocity_ecef: Some(cne * Vector3::new(10.0, 0.0, 0.0)),
                 velocity_covariance: Matrix3::identity() * 0.01,
+                velocity_from_positions: false,
             })
             .collect();
         let check = gyro_scale(&time, &imu, &kinematics).unwrap();

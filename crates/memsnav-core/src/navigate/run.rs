@@ -860,7 +860,7 @@ mod tests {
     use crate::trajectory::{RandomTrajectoryConfig, Trajectory};
 
     /// A drive from rest with exact IMU readings and 1 Hz fixes, GNSS out
-    /// from 40 s after the start; from 50 s the accelerometer's z axis
+    /// from 40 s to 140 s after the start (of 150 s); from 50 s the accelerometer's z axis
     /// reads `fault_m_s2` too much (a failed sensor). Returns the run and
     /// the time of the fault.
     fn falling(fault_m_s2: f64) -> (Result<LogRun>, f64) {
@@ -885,11 +885,12 @@ mod tests {
                 position_covariance: Matrix3::identity() * 0.25,
                 velocity_ecef: Some(truth.velocity_ecef[k]),
                 velocity_covariance: Matrix3::identity() * 0.0025,
+                velocity_horizontal_only: false,
             })
             .collect();
         let window = SettingValue::List(vec![
             SettingValue::Number(40.0),
-            SettingValue::Number(200.0),
+            SettingValue::Number(100.0),
         ]);
         let tables = vec![(
             "outages".to_string(),
