@@ -161,7 +161,7 @@ def study(data_root: str | None) -> str:
     )
     blocks = []
     for length in OUTAGE_LENGTHS_S:
-        rows = [header, "|---" * 14 + "|"]
+        rows = [header, "|---" * 13 + "|"]
         line = None
         for name in CONFIGURATIONS:
             result, seconds = run(configured(base, name, length))
