@@ -10,8 +10,8 @@ installation states and the smoother) run with GNSS outages of 30 s and of
   the fixes' error correlation learnt from the log;
 - ``datasheet``: the same with the VN-100's data-sheet figures in
   ``[imu_spec]`` (``DATASHEET``);
-- ``fixed consumer, white fixes``: ``imu_preset = "consumer"`` and
-  ``fix_correlation_time_s = 0``, nothing learnt.
+- ``fixed consumer, white fixes``: ``imu_preset = "consumer"``,
+  ``nhc_std_m_s = 0.1`` and ``fix_error_states = false``, nothing learnt.
 
 For each, forward and smoothed: the aided errors and the errors in the
 outages of the run's length (those not spent at a standstill), horizontal
@@ -69,7 +69,8 @@ CONFIGURATIONS: dict[str, dict[str, dict[str, Any]]] = {
     "datasheet": {"imu_spec": DATASHEET},
     "fixed consumer, white fixes": {
         "filter": {"imu_preset": "consumer"},
-        "gnss": {"fix_correlation_time_s": 0.0},
+        "aids": {"nhc_std_m_s": 0.1},
+        "gnss": {"fix_error_states": False},
     },
 }
 
@@ -133,10 +134,12 @@ def _learnt(adaptation: dict[str, Any] | None) -> str:
     if not adaptation:
         return "nothing"
     words = [f"IMU {adaptation['imu_preset']}"] if adaptation["imu_candidates"] else []
-    if adaptation["fix_correlation"] is not None:
+    if adaptation["nhc_std_m_s"] is not None:
+        words.append(f"NHC {adaptation['nhc_std_m_s']:g} m/s")
+    if adaptation["fix_error_std_m"] is not None:
         words.append(
-            f"fix τ {adaptation['fix_correlation_time_s']:.0f} s, "
-            f"σ × {np.sqrt(adaptation['fix_covariance_scale']):.2f}"
+            f"fix-error states {adaptation['fix_error_std_m']:.2f} m, "
+            f"τ {adaptation['fix_error_correlation_time_s']:.0f} s"
         )
     return "; ".join(words) or "nothing"
 

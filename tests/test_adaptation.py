@@ -82,11 +82,11 @@ def test_the_fixes_correlation_time_is_learnt_and_the_bounds_hold():
     """Fixes whose errors are a Gauss-Markov process (0.8 m, τ = 40 s) plus
     0.1 m white noise, reported with their total σ. Learnt: a correlation
     time of the order of τ (the method reads it conservatively: from τ to
-    its 120 s bound) and a covariance scale of at least 1 (an upper bound:
-    the dead reckoning's share of the innovations counts as the fixes');
-    the aided errors then lie inside the forward filter's 3σ, where the
-    white-noise filter (``fix_correlation_time_s = 0``) leaves a third
-    outside."""
+    its 120 s bound) and a variance ratio of at least 1 (an upper bound:
+    the dead reckoning's share of the innovations counts as the fixes'),
+    modelled as fix-error states of the fixes' σ times √ratio; the aided
+    errors then lie inside the forward filter's 3σ, where the white-noise
+    filter (``fix_error_states = false``) leaves a third outside."""
     tau_s, slow_m = 40.0, 0.8
     trajectory = _drive(6, 900.0)
     imu = mn.ImuModel.preset("industrial", seed=6, sample_rate=100.0)
@@ -95,22 +95,34 @@ def test_the_fixes_correlation_time_is_learnt_and_the_bounds_hold():
     rng = np.random.default_rng(6)
     errors = _gauss_markov(rng, len(k), slow_m, tau_s) + 0.1 * rng.normal(size=(len(k), 3))
     fixes = _fixes(trajectory, k, errors, np.hypot(slow_m, 0.1), 6)
-    settings = {"aids": AIDS, "filter": {"imu_preset": "industrial"}}
+    # The installation states, as for any car with the non-holonomic
+    # constraint: the simulated IMU's misalignment tilts its axes off the
+    # car's, and a pitch nobody estimates bends the height away from fixes
+    # the states no longer hold it to.
+    settings = {
+        "aids": AIDS,
+        "filter": {"imu_preset": "industrial", "installation_states": True},
+    }
     learnt = mn.navigate_log(trajectory.time, f, w, fixes, settings=settings)
     white = mn.navigate_log(
         trajectory.time,
         f,
         w,
         fixes,
-        settings={**settings, "gnss": {"fix_correlation_time_s": 0.0}},
+        settings={**settings, "gnss": {"fix_error_states": False}},
     )
     correlation = learnt.adaptation["fix_correlation"]
-    assert 0.8 * tau_s <= correlation["used_s"] <= 120.0, correlation
+    assert 0.8 * tau_s <= correlation["correlation_time_s"] <= 120.0, correlation
     # Two or three components read (one may be the dead reckoning's).
     assert sum(c is not None for c in correlation["component_s"]) >= 2, correlation
-    assert 1.0 <= correlation["covariance_scale"] <= 2.0, correlation
-    assert learnt.adaptation["fix_correlation_time_s"] == correlation["used_s"]
+    assert 1.0 <= correlation["variance_ratio"] <= 2.0, correlation
+    states = learnt.adaptation
+    assert states["fix_error_correlation_time_s"] == correlation["correlation_time_s"]
+    # Every fix reports the same σ per axis: the typical σ is that σ.
+    expected_std_m = np.hypot(slow_m, 0.1) * np.sqrt(correlation["variance_ratio"])
+    assert states["fix_error_std_m"] == pytest.approx(expected_std_m, rel=1e-9)
     assert white.adaptation["fix_correlation"] is None
+    assert white.adaptation["fix_error_std_m"] is None
     truth_t, truth_r = trajectory.time[k], trajectory.position_ecef[k]
     inside = {
         name: run.score(truth_t, truth_r)["aided"]["within_3sigma_share"]
@@ -133,20 +145,24 @@ def test_fixes_more_precise_than_the_dead_reckoning_stay_white():
     correlation = run.adaptation["fix_correlation"]
     assert correlation["component_s"] == [None, None, None], correlation
     assert min(correlation["innovation_to_fix_variance"]) > 2.0
-    assert run.adaptation["fix_correlation_time_s"] == 0.0
-    assert run.adaptation["fix_covariance_scale"] == 1.0
+    assert correlation["correlation_time_s"] == 0.0
+    assert run.adaptation["fix_error_std_m"] is None
+    assert run.adaptation["fix_error_correlation_time_s"] is None
 
 
 def test_adaptation_settings_are_checked():
-    for value, message in (
-        (-1.0, "gnss.fix_correlation_time_s"),
-        ("sometimes", "gnss.fix_correlation_time_s"),
-        (True, "gnss.fix_correlation_time_s"),
+    for key, value in (
+        ("fix_correlation_time_s", -1.0),
+        ("fix_correlation_time_s", "auto"),
+        ("fix_correlation_time_s", True),
+        ("fix_error_states", "sometimes"),
+        ("fix_error_states", 1.0),
     ):
-        with pytest.raises(ValueError, match=message):
-            _memsnav.check_navigate_settings({"gnss": {"fix_correlation_time_s": value}})
+        with pytest.raises(ValueError, match=rf"gnss\.{key}"):
+            _memsnav.check_navigate_settings({"gnss": {key: value}})
     with pytest.raises(ValueError, match=r"filter\.imu_preset"):
         _memsnav.check_navigate_settings({"filter": {"imu_preset": "automatic"}})
-    _memsnav.check_navigate_settings(
-        {"gnss": {"fix_correlation_time_s": "auto"}, "filter": {"imu_preset": "auto"}}
-    )
+    for states in ("auto", True, False):
+        _memsnav.check_navigate_settings(
+            {"gnss": {"fix_error_states": states}, "filter": {"imu_preset": "auto"}}
+        )

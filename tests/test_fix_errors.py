@@ -65,7 +65,7 @@ def test_fix_error_states_keep_the_aided_bounds(seed):
             "aids": {"zupt": False, "zaru": False, "nhc": True},
             # Without the states, the fixes as white noise (not the
             # correlation learnt from the log: tests/test_adaptation.py).
-            "gnss": {"fix_error_states": states, "fix_correlation_time_s": 0.0},
+            "gnss": {"fix_error_states": states},
             "outages": {"windows_s": [[200.0, 30.0]]},
         }
         run[states] = mn.navigate_log(trajectory.time, f, w, fixes, settings=settings)

@@ -32,7 +32,10 @@ def test_the_defaults_hold_their_bounds_and_coast_on_a_foreign_drive(base):
     s = result.summary
     assert not s["integrity"]["diverged"] and "failure" not in s
     assert s["adaptation"]["imu_preset"] == "industrial"
-    assert s["adaptation"]["fix_correlation"]["used_s"] > 30.0
+    learnt = s["adaptation"]
+    assert learnt["fix_correlation"]["correlation_time_s"] > 30.0
+    # The F9T's errors exceed the σ it reports: the states carry more.
+    assert learnt["fix_error_std_m"] > 0.5
     forward, smoothed = s["errors_vs_truth"], s["errors_vs_truth_smoothed"]
     for errors in (forward, smoothed):
         assert errors["aided"]["within_3sigma_share_horizontal"] >= 0.9

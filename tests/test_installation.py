@@ -82,7 +82,7 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
         # The study docs/real-data.md quotes: the consumer preset, the
         # fixes as white noise (what the log would teach is left out).
         "filter": {"installation_states": states, "imu_preset": "consumer"},
-        "gnss": {"fix_correlation_time_s": 0.0},
+        "gnss": {"fix_error_states": False},
         "outages": {"windows_s": [[400.0, 30.0]]},
     }
     run = mn.navigate_log(t - time_offset, f, w, fixes, settings=settings)

@@ -2226,11 +2226,15 @@ class LogRun:
         (docs/foreign-drive.md): dict ``imu_preset`` (the IMU model chosen,
         None when the configuration names one), ``imu_candidates`` (list of
         dicts ``preset``, ``log_likelihood``, ``measurements``, ``resets``:
-        each candidate's first pass), ``fix_correlation`` (None, or dict
+        each candidate's first pass), ``nhc_std_m_s`` (the non-holonomic
+        constraint's std chosen, m/s, None when configured) and
+        ``nhc_candidates`` (dicts ``std_m_s``, ``log_likelihood``,
+        ``measurements``, ``resets``), ``fix_correlation`` (None, or dict
         ``component_s`` (three correlation times, s, None where not
         determined), ``innovation_to_fix_variance`` (three ratios),
-        ``used_s``, ``covariance_scale``), and ``fix_correlation_time_s`` and
-        ``fix_covariance_scale`` (what the run used)."""
+        ``correlation_time_s`` (0: white), ``variance_ratio``), and
+        ``fix_error_std_m`` and ``fix_error_correlation_time_s`` (the
+        fix-error states learnt from it; None when the fixes stay white)."""
 
     def score(
         self,

@@ -357,11 +357,15 @@ impl PyLogRun {
     /// (docs/foreign-drive.md): dict `imu_preset` (the IMU model chosen,
     /// None when the configuration names one), `imu_candidates` (a list of
     /// dicts `preset`, `log_likelihood`, `measurements`, `resets`: each
-    /// candidate's first pass), `fix_correlation` (None, or dict
+    /// candidate's first pass), `nhc_std_m_s` (the non-holonomic
+    /// constraint's std chosen, m/s, None when configured) and
+    /// `nhc_candidates` (dicts `std_m_s`, `log_likelihood`,
+    /// `measurements`, `resets`), `fix_correlation` (None, or dict
     /// `component_s` (three correlation times, s, None where not
     /// determined), `innovation_to_fix_variance` (three ratios),
-    /// `used_s`, `covariance_scale`), and `fix_correlation_time_s` and
-    /// `fix_covariance_scale` (what the run used).
+    /// `correlation_time_s` (0: white), `variance_ratio`), and
+    /// `fix_error_std_m` and `fix_error_correlation_time_s` (the fix-error
+    /// states learnt from it; None when the fixes stay white).
     #[getter]
     fn adaptation<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let a = &self.run.adaptation;
@@ -377,6 +381,17 @@ impl PyLogRun {
             candidates.append(e)?;
         }
         d.set_item("imu_candidates", candidates)?;
+        d.set_item("nhc_std_m_s", a.nhc_std_m_s)?;
+        let candidates = PyList::empty(py);
+        for c in &a.nhc_candidates {
+            let e = PyDict::new(py);
+            e.set_item("std_m_s", c.std_m_s)?;
+            e.set_item("log_likelihood", c.log_likelihood)?;
+            e.set_item("measurements", c.measurements)?;
+            e.set_item("resets", c.resets)?;
+            candidates.append(e)?;
+        }
+        d.set_item("nhc_candidates", candidates)?;
         match &a.fix_correlation {
             Some(c) => {
                 let e = PyDict::new(py);
@@ -385,17 +400,17 @@ impl PyLogRun {
                     "innovation_to_fix_variance",
                     c.innovation_to_fix_variance.to_vec(),
                 )?;
-                e.set_item("used_s", c.used_s)?;
-                e.set_item("covariance_scale", c.covariance_scale)?;
+                e.set_item("correlation_time_s", c.correlation_time_s)?;
+                e.set_item("variance_ratio", c.variance_ratio)?;
                 d.set_item("fix_correlation", e)?;
             }
             None => d.set_item("fix_correlation", py.None())?,
         }
+        d.set_item("fix_error_std_m", a.fix_error.map(|m| m.std_m))?;
         d.set_item(
-            "fix_correlation_time_s",
-            self.run.tuning.fix_correlation_time_s,
+            "fix_error_correlation_time_s",
+            a.fix_error.map(|m| m.correlation_time_s),
         )?;
-        d.set_item("fix_covariance_scale", self.run.tuning.fix_covariance_scale)?;
         Ok(d)
     }
     /// Every GNSS epoch's antenna position and velocity (the fixes, or the

@@ -245,17 +245,15 @@ fn whiten_fix(
 
 /// The whitened blocks of fix `i`, taken `interval_s` after the previous
 /// fix the filter used (None for the first): its position covariance
-/// scaled ([`FilterTuning::fix_covariance_scale`]) and inflated for the
-/// errors the two share ([`FilterTuning::fix_correlation_time_s`]), then
-/// [`whiten_fix`].
+/// inflated for the errors the two share
+/// ([`FilterTuning::fix_correlation_time_s`]), then [`whiten_fix`].
 pub(crate) fn prepare_fix(
     i: usize,
     f: &PositionFix,
     interval_s: Option<f64>,
     tuning: &FilterTuning,
 ) -> Result<(Whitened, Option<Whitened>)> {
-    let inflation = tuning.fix_covariance_scale
-        * correlated_sample_inflation(tuning.fix_correlation_time_s, interval_s);
+    let inflation = correlated_sample_inflation(tuning.fix_correlation_time_s, interval_s);
     let fix = PositionFix {
         position_covariance: f.position_covariance * inflation,
         ..*f

@@ -254,14 +254,9 @@ pub struct FilterTuning {
     /// standalone fixes err slowly (multipath, the ionosphere model, the
     /// satellites in view): taken as white, consecutive fixes are averaged
     /// as if independent and the filter's σ falls below the fixes' own
-    /// error. Default 0: white (`navigate` learns it from the log, see
-    /// `navigate::adapt`).
+    /// error. Default 0: white (`navigate` models a correlation it learns
+    /// from the log with fix-error states instead, see `navigate::adapt`).
     pub fix_correlation_time_s: f64,
-    /// Factor on every fix's position covariance, ≥ 1 (loose coupling):
-    /// the receiver's own covariance when 1 (the default). `navigate`
-    /// learns it from the log when the fixes err more than they say
-    /// (`navigate::adapt`); it never shrinks what the receiver reports.
-    pub fix_covariance_scale: f64,
     /// A GNSS epoch within this many seconds of an IMU sample is applied at
     /// that sample; otherwise the INS is propagated to the GNSS time with an
     /// interpolated IMU sample. Default 1e-4 s.
@@ -332,7 +327,6 @@ impl FilterTuning {
             use_carrier_phase: false,
             pseudorange_correlation_time_s: DEFAULT_PSEUDORANGE_CORRELATION_TIME_S,
             fix_correlation_time_s: 0.0,
-            fix_covariance_scale: 1.0,
             time_tolerance_s: 1e-4,
             floor: MeasurementFloor::default(),
             recovery: Recovery::default(),
@@ -457,15 +451,6 @@ impl FilterTuning {
             self.pseudorange_correlation_time_s,
         )?;
         validate::non_negative("fix_correlation_time", self.fix_correlation_time_s)?;
-        if !(self.fix_covariance_scale >= 1.0 && self.fix_covariance_scale.is_finite()) {
-            return Err(Error::invalid(
-                "fix_covariance_scale",
-                format!(
-                    "must be a finite factor of at least 1 (it never shrinks a fix's covariance), got {}",
-                    self.fix_covariance_scale
-                ),
-            ));
-        }
         validate::positive(
             "manoeuvre_correlation_time",
             q.input_errors.correlation_time_s,

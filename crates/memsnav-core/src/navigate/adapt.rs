@@ -21,46 +21,54 @@
 //!    outlier does not decide, and the default grade (the first
 //!    candidate) is left only on very strong evidence that holds over
 //!    the log: a total gain of [`MIN_LOG_LIKELIHOOD_GAIN`], and a gain
-//!    per [`EVIDENCE_BLOCK_S`] block whose mean is [`MIN_EVIDENCE_Z`]
-//!    standard errors above zero over at least [`MIN_EVIDENCE_BLOCKS`]
+//!    per [`EVIDENCE_BLOCK_S`] block that holds by Wilcoxon's signed-rank
+//!    test at [`MAX_EVIDENCE_P`] over at least [`MIN_EVIDENCE_BLOCKS`]
 //!    blocks (a short walk whose few hundred correlated pseudoranges
 //!    slightly prefer another grade keeps the default). The candidates are drawn from the
 //!    presets a user would otherwise choose by hand; the choice never
 //!    leaves them.
-//! 2. **The fixes' error correlation time** (`[gnss]
-//!    fix_correlation_time_s = "auto"`, loose coupling, the default): in
-//!    a pass with the IMU model chosen each fix's covariance is inflated as if its errors
-//!    were correlated over [`FIRST_PASS_CORRELATION_TIME_S`] (the longest
-//!    the method reports), so the filter follows the fixes slowly and its
-//!    position innovations are the fixes' own errors less a slow average
-//!    of them. Their autocorrelation over the fix epochs, for each of the
-//!    three whitened components, falls to 1/e of its lag-one value after
-//!    the correlation time ([`correlation_time_from_innovations`]); the
+//! 2. **The fixes' error model** (`[gnss] fix_error_states = "auto"`,
+//!    loose coupling, the default): in a pass with the IMU model chosen
+//!    each fix's covariance is inflated as if its errors were correlated
+//!    over [`FIRST_PASS_CORRELATION_TIME_S`] (the longest the method
+//!    reports), so the filter follows the fixes slowly and its position
+//!    innovations are the fixes' own errors less a slow average of them.
+//!    Their autocorrelation over the fix epochs, for each of the three
+//!    whitened components, falls to 1/e of its lag-one value after the
+//!    correlation time ([`correlation_time_from_innovations`]); the
 //!    longest of the components is kept. The reading is valid only where
 //!    the fixes' errors make a good part of the innovations: a component
 //!    whose (robust) innovation variance is more than
 //!    [`MAX_INNOVATION_TO_FIX_VARIANCE`] times the fixes' own (the dead
 //!    reckoning between fixes erring more than the fixes, as with RTK) is
 //!    not determined, and with none determined the fixes stay white.
-//!    The same innovations bound the fixes' variance from above: the
-//!    first pass barely follows them, so their variance is the fixes'
-//!    error variance plus the dead reckoning's. Where it exceeds what the
-//!    receiver reports, the fixes' covariance is scaled up by the largest
-//!    ratio among the determined components (innovation-based covariance
-//!    matching, Mohamed & Schwarz, J. Geodesy 73, 1999, with the dead
-//!    reckoning's share taken as zero: an upper bound, never below the
-//!    receiver's own covariance; a receiver's accuracy estimate is often
-//!    optimistic at a standstill, where multipath stays put).
-//!    The correlation time then inflates each fix's covariance by
-//!    (1 + ρ)/(1 − ρ), ρ = e^(−Δt/τ) ([`crate::gauss_markov::correlated_sample_inflation`]):
-//!    consecutive fixes that sample one slow error carry it once.
+//!    The same innovations bound the fixes' error variance: the first
+//!    pass barely follows them, so their variance is the fixes' error
+//!    variance plus the dead reckoning's, a ratio to what the receiver
+//!    reports (innovation-based covariance matching, Mohamed & Schwarz,
+//!    J. Geodesy 73, 1999, with the dead reckoning's share taken as zero:
+//!    an upper bound; a receiver's accuracy estimate is often optimistic).
+//!    A correlated error is then modelled as it is: first-order
+//!    Gauss-Markov states of the fixes' position error
+//!    ([`RangeBiasModel`], the fix-error states) with the correlation
+//!    time read off and a steady-state variance of the ratio (at least 1)
+//!    times the fixes' typical variance, the receiver's own covariance
+//!    staying as the white part. States, not an inflation of each fix's
+//!    covariance: a smoother's forward and backward passes both see one
+//!    slow error, and only as a state do they share it instead of
+//!    averaging it twice (with the inflation, the smoothed bounds at the
+//!    foreign drive's standstills held 0.78-0.85 of the errors; with the
+//!    states 0.96-1.00: docs/foreign-drive.md).
 //!
 //! The run that is reported is a last pass with what was learnt; the
 //! learning passes keep no solution, only their measurement records.
 
 use rayon::prelude::*;
 
-use crate::coupling::{FilterTuning, MeasurementKind, MeasurementRecord};
+use crate::coupling::{
+    FilterTuning, MeasurementKind, MeasurementRecord, PositionFix, RangeBiasModel,
+};
+use crate::filter::chi_square::normal_quantile;
 use crate::Result;
 
 /// The IMU grades an `"auto"` run chooses from (preset names), from the
@@ -90,12 +98,15 @@ pub const EVIDENCE_BLOCK_S: f64 = 60.0;
 /// GNSS keeps the default grade) ...
 pub const MIN_EVIDENCE_BLOCKS: usize = 10;
 
-/// ... and their mean is this many standard errors above zero (the batch
-/// means of a correlated series are nearly independent: Law & Kelton,
-/// *Simulation Modeling and Analysis*, §9.5.3; the innovations of one
-/// slow error are not independent evidence, a minute apart they nearly
-/// are). 3: one-sided 0.13 % for a normal mean.
-pub const MIN_EVIDENCE_Z: f64 = 3.0;
+/// ... and gain by Wilcoxon's signed-rank test at this one-sided level
+/// (the batch sums of a correlated series are nearly independent: Law &
+/// Kelton, *Simulation Modeling and Analysis*, §9.5.3; the innovations of
+/// one slow error are not independent evidence, a minute apart they
+/// nearly are). A rank test, not the blocks' mean over its standard
+/// error: one block that gains much (a reset, a turn after a coast)
+/// neither decides alone nor, by its spread, hides a gain every other
+/// block shows. 0.00135: a normal mean's 3σ.
+pub const MAX_EVIDENCE_P: f64 = 0.00135;
 
 /// The fixes' error correlation time the first pass assumes, s: the
 /// longest the method reports. A receiver's standalone position errors
@@ -134,7 +145,7 @@ pub struct ImuCandidate {
     pub resets: usize,
 }
 
-/// The fixes' error correlation time read off the first pass.
+/// The fixes' error correlation read off the first pass.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FixCorrelation {
     /// Per whitened component (in the order of the fixes' covariance
@@ -144,11 +155,25 @@ pub struct FixCorrelation {
     /// Per component: the innovation variance over the fixes' own (the
     /// test of [`MAX_INNOVATION_TO_FIX_VARIANCE`]).
     pub innovation_to_fix_variance: [f64; 3],
-    /// The correlation time the run used, s (0: white).
-    pub used_s: f64,
-    /// The factor on the fixes' covariance the run used: the largest
-    /// ratio of a determined component, at least 1.
-    pub covariance_scale: f64,
+    /// The longest determined correlation time, s (0: white, no states).
+    pub correlation_time_s: f64,
+    /// The largest variance ratio of a determined component, at least 1:
+    /// the fixes' error variance over what the receiver reports.
+    pub variance_ratio: f64,
+}
+
+/// One candidate std of the non-holonomic constraint and how likely the
+/// log's GNSS measurements are under it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NhcCandidate {
+    /// The constraint's std, m/s.
+    pub std_m_s: f64,
+    /// Σ −½ (min(ν²/s², [`NIS_CAP`]) + ln s²) over the GNSS measurements.
+    pub log_likelihood: f64,
+    /// The scalar GNSS measurements it counts.
+    pub measurements: usize,
+    /// The resets the candidate's first pass made.
+    pub resets: usize,
 }
 
 /// What a run learnt from its log.
@@ -159,93 +184,207 @@ pub struct Adaptation {
     pub imu_candidates: Vec<ImuCandidate>,
     /// The preset of the tuning the run used, when it was chosen.
     pub imu_preset: Option<String>,
-    /// The fixes' correlation time, when it was learnt.
+    /// The non-holonomic constraint's candidate stds (empty when the
+    /// configuration gives its std or has no constraint).
+    pub nhc_candidates: Vec<NhcCandidate>,
+    /// The constraint's std the run used, m/s, when it was chosen.
+    pub nhc_std_m_s: Option<f64>,
+    /// The fixes' error correlation, when it was learnt.
     pub fix_correlation: Option<FixCorrelation>,
+    /// The fix-error states learnt from it (None: the fixes stay white).
+    pub fix_error: Option<RangeBiasModel>,
 }
 
-/// What to learn: the candidate tunings (one: nothing to choose) and
-/// whether to learn the fixes' correlation time.
+/// What one pass over the log runs with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PassModel {
+    /// The filter's tuning.
+    pub tuning: FilterTuning,
+    /// The non-holonomic constraint's std, m/s (used when the
+    /// configuration applies the constraint).
+    pub nhc_std_m_s: f64,
+    /// The fixes' error states (None: none).
+    pub fix_error: Option<RangeBiasModel>,
+}
+
+/// The non-holonomic constraint's candidate stds, as factors on the
+/// configured one (the first, the default, is kept without evidence). A
+/// vehicle's lateral and vertical velocity is not zero: the wheels slip,
+/// the suspension and the road's camber move the body, and a mounting the
+/// installation states have not yet found leaves a slow part; how much
+/// differs from car to car, and the GNSS measurements tell (a std too
+/// tight for the vehicle bends the height and the cross-track position
+/// away from the fixes between them, one too loose lets them drift).
+pub const NHC_STD_FACTORS: [f64; 3] = [1.0, 2.0, 4.0];
+
+/// What to learn: the candidate tunings (one: nothing to choose), whether
+/// to choose the non-holonomic constraint's std, and whether to learn the
+/// fixes' error model.
 pub struct Plan<'a> {
     /// (preset name, tuning); the first is used when there is one.
     pub candidates: &'a [(String, FilterTuning)],
-    /// Learn the fixes' correlation time (loose coupling).
-    pub fix_correlation: bool,
+    /// The rest of the model every pass starts from: the configured
+    /// constraint's std and fix-error states.
+    pub nhc_std_m_s: f64,
+    /// The configured fix-error states (None: none).
+    pub fix_error: Option<RangeBiasModel>,
+    /// Choose the constraint's std among [`NHC_STD_FACTORS`] times the
+    /// configured one.
+    pub learn_nhc_std: bool,
+    /// Learn the fixes' error model (loose coupling): the fixes' typical
+    /// position std, m (the median of √(trace/3) of their covariances),
+    /// which the learnt variance ratio scales.
+    pub fix_typical_std_m: Option<f64>,
 }
 
-/// A first pass: the run of a tuning, returning its measurement records
+/// A first pass: the run of a model, returning its measurement records
 /// and the number of resets it made.
-pub type FirstPass<'a> =
-    dyn Fn(&FilterTuning) -> Result<(Vec<MeasurementRecord>, usize)> + Sync + 'a;
+pub type FirstPass<'a> = dyn Fn(&PassModel) -> Result<(Vec<MeasurementRecord>, usize)> + Sync + 'a;
+
+/// How one candidate's first pass scored.
+struct Scored {
+    log_likelihood: f64,
+    measurements: usize,
+    resets: usize,
+}
+
+/// Each model's first pass (in parallel: they are independent) scored,
+/// and the index of the most likely ([`most_likely`]: the first without
+/// strong evidence).
+fn choose(models: &[PassModel], first_pass: &FirstPass<'_>) -> Result<(usize, Vec<Scored>)> {
+    let passes: Vec<(Vec<MeasurementRecord>, usize)> =
+        models.par_iter().map(first_pass).collect::<Result<_>>()?;
+    let scored: Vec<Scored> = passes
+        .iter()
+        .map(|(records, resets)| {
+            let (log_likelihood, measurements) = gnss_log_likelihood(records);
+            Scored {
+                log_likelihood,
+                measurements,
+                resets: *resets,
+            }
+        })
+        .collect();
+    let blocks: Vec<Vec<(i64, f64)>> = passes
+        .iter()
+        .map(|(records, _)| block_log_likelihoods(records))
+        .collect();
+    let likelihoods: Vec<f64> = scored.iter().map(|s| s.log_likelihood).collect();
+    Ok((most_likely(&likelihoods, &blocks), scored))
+}
 
 impl Plan<'_> {
-    /// The tuning of the run to report and what was learnt: the
-    /// candidates run in parallel (their first passes are independent),
-    /// the most likely kept, the fixes' correlation time read off its
-    /// records. Nothing to learn: the first candidate, no first pass.
-    pub fn learn(&self, first_pass: &FirstPass<'_>) -> Result<(FilterTuning, Adaptation)> {
+    /// The model of the run to report and what was learnt, in turn: the
+    /// IMU candidates on the fixes as the receiver reports them (the
+    /// measurements every candidate would face without learning), the
+    /// constraint's std with the IMU chosen, each the most likely of its
+    /// candidates; then the fixes' error model read off a pass with both
+    /// ([`Adaptation::fix_error`]). Nothing to learn: the configured
+    /// model, no first pass.
+    pub fn learn(&self, first_pass: &FirstPass<'_>) -> Result<(PassModel, Adaptation)> {
         let mut adaptation = Adaptation::default();
-        let mut tuning = self.candidates[0].1;
+        let mut model = PassModel {
+            tuning: self.candidates[0].1,
+            nhc_std_m_s: self.nhc_std_m_s,
+            fix_error: self.fix_error,
+        };
         if self.candidates.len() > 1 {
-            // The candidates are judged on the fixes as the receiver
-            // reports them (the measurements every candidate would face
-            // without learning), in parallel: their passes are independent.
-            let passes: Vec<(Vec<MeasurementRecord>, usize)> = self
-                .candidates
-                .par_iter()
-                .map(|(_, tuning)| first_pass(tuning))
-                .collect::<Result<_>>()?;
-            let scored: Vec<ImuCandidate> = self
+            let models: Vec<PassModel> = self
                 .candidates
                 .iter()
-                .zip(&passes)
-                .map(|((preset, _), (records, resets))| {
-                    let (log_likelihood, measurements) = gnss_log_likelihood(records);
-                    ImuCandidate {
-                        preset: preset.clone(),
-                        log_likelihood,
-                        measurements,
-                        resets: *resets,
-                    }
+                .map(|(_, tuning)| PassModel {
+                    tuning: *tuning,
+                    ..model
                 })
                 .collect();
-            let blocks: Vec<Vec<(i64, f64)>> = passes
+            let (best, scored) = choose(&models, first_pass)?;
+            model = models[best];
+            adaptation.imu_preset = Some(self.candidates[best].0.clone());
+            adaptation.imu_candidates = self
+                .candidates
                 .iter()
-                .map(|(records, _)| block_log_likelihoods(records))
+                .zip(scored)
+                .map(|((preset, _), s)| ImuCandidate {
+                    preset: preset.clone(),
+                    log_likelihood: s.log_likelihood,
+                    measurements: s.measurements,
+                    resets: s.resets,
+                })
                 .collect();
-            let best = most_likely(&scored, &blocks);
-            tuning = self.candidates[best].1;
-            adaptation.imu_preset = Some(scored[best].preset.clone());
-            adaptation.imu_candidates = scored;
         }
-        if self.fix_correlation {
+        if self.learn_nhc_std {
+            let models: Vec<PassModel> = NHC_STD_FACTORS
+                .iter()
+                .map(|k| PassModel {
+                    nhc_std_m_s: k * self.nhc_std_m_s,
+                    ..model
+                })
+                .collect();
+            let (best, scored) = choose(&models, first_pass)?;
+            model = models[best];
+            adaptation.nhc_std_m_s = Some(model.nhc_std_m_s);
+            adaptation.nhc_candidates = models
+                .iter()
+                .zip(scored)
+                .map(|(m, s)| NhcCandidate {
+                    std_m_s: m.nhc_std_m_s,
+                    log_likelihood: s.log_likelihood,
+                    measurements: s.measurements,
+                    resets: s.resets,
+                })
+                .collect();
+        }
+        if let Some(typical_std_m) = self.fix_typical_std_m {
             // With the IMU model chosen, a pass that follows the fixes
             // slowly shows their errors in its innovations.
-            let mut slow = tuning;
-            slow.fix_correlation_time_s = FIRST_PASS_CORRELATION_TIME_S;
+            let mut slow = model;
+            slow.tuning.fix_correlation_time_s = FIRST_PASS_CORRELATION_TIME_S;
             let (records, _) = first_pass(&slow)?;
             let c = correlation_time_from_innovations(&records, FIRST_PASS_CORRELATION_TIME_S);
-            tuning.fix_correlation_time_s = c.used_s;
-            tuning.fix_covariance_scale = c.covariance_scale;
+            adaptation.fix_error = (c.correlation_time_s > 0.0).then(|| RangeBiasModel {
+                std_m: typical_std_m * c.variance_ratio.sqrt(),
+                correlation_time_s: c.correlation_time_s,
+            });
+            model.fix_error = adaptation.fix_error;
             adaptation.fix_correlation = Some(c);
         }
-        Ok((tuning, adaptation))
+        Ok((model, adaptation))
     }
 }
 
-/// The candidate to keep: the most likely, when it beats the first (the
-/// default grade) by [`MIN_LOG_LIKELIHOOD_GAIN`] in all and by a block
-/// gain whose mean is [`MIN_EVIDENCE_Z`] standard errors above zero over
-/// at least [`MIN_EVIDENCE_BLOCKS`] blocks; the first otherwise. `blocks`:
-/// each candidate's log-likelihood per block ([`block_log_likelihoods`]).
-fn most_likely(scored: &[ImuCandidate], blocks: &[Vec<(i64, f64)>]) -> usize {
-    let best = scored
+/// The fixes' typical position std, m: the median over the fixes the run
+/// uses (`used`, one flag per fix) of √(trace/3) of their position
+/// covariance (None without one). A median, not a mean: the few fixes a
+/// receiver flags with metres (the first after a tunnel) do not set the
+/// scale of the rest.
+pub fn typical_position_std_m(fixes: &[PositionFix], used: &[bool]) -> Option<f64> {
+    let mut stds: Vec<f64> = fixes
+        .iter()
+        .zip(used)
+        .filter(|(_, &u)| u)
+        .map(|(f, _)| (f.position_covariance.trace() / 3.0).sqrt())
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .collect();
+    if stds.is_empty() {
+        return None;
+    }
+    let mid = stds.len() / 2;
+    Some(*stds.select_nth_unstable_by(mid, f64::total_cmp).1)
+}
+
+/// The candidate to keep: the most likely (`log_likelihoods`), when it
+/// beats the first (the default) by [`MIN_LOG_LIKELIHOOD_GAIN`] in all and
+/// by block gains that hold by the signed-rank test
+/// ([`signed_rank_gain_holds`]) over at least [`MIN_EVIDENCE_BLOCKS`]
+/// blocks; the first otherwise. `blocks`: each candidate's log-likelihood per block
+/// ([`block_log_likelihoods`]).
+fn most_likely(log_likelihoods: &[f64], blocks: &[Vec<(i64, f64)>]) -> usize {
+    let best = log_likelihoods
         .iter()
         .enumerate()
-        .max_by(|a, b| a.1.log_likelihood.total_cmp(&b.1.log_likelihood))
+        .max_by(|a, b| a.1.total_cmp(b.1))
         .map_or(0, |(i, _)| i);
-    if best == 0
-        || scored[best].log_likelihood - scored[0].log_likelihood <= MIN_LOG_LIKELIHOOD_GAIN
-    {
+    if best == 0 || log_likelihoods[best] - log_likelihoods[0] <= MIN_LOG_LIKELIHOOD_GAIN {
         return 0;
     }
     let default: std::collections::HashMap<i64, f64> = blocks[0].iter().copied().collect();
@@ -253,18 +392,81 @@ fn most_likely(scored: &[ImuCandidate], blocks: &[Vec<(i64, f64)>]) -> usize {
         .iter()
         .filter_map(|(b, ll)| default.get(b).map(|d| ll - d))
         .collect();
-    let m = gains.len();
-    if m < MIN_EVIDENCE_BLOCKS {
+    if gains.len() < MIN_EVIDENCE_BLOCKS {
         return 0;
     }
-    let mean = gains.iter().sum::<f64>() / m as f64;
-    let variance = gains.iter().map(|g| (g - mean).powi(2)).sum::<f64>() / (m - 1) as f64;
-    if mean > MIN_EVIDENCE_Z * (variance / m as f64).sqrt() {
+    if signed_rank_gain_holds(&gains) {
         best
     } else {
         0
     }
 }
+
+/// Whether `gains` show a gain by Wilcoxon's signed-rank test, one-sided
+/// at [`MAX_EVIDENCE_P`]: W⁺, the sum of the ranks of |gain| over the
+/// positive gains (zero gains left out, ties given their mean rank), is
+/// improbably large were each gain's sign a fair coin (Hollander & Wolfe,
+/// *Nonparametric Statistical Methods*, §3.1). The exact distribution
+/// ([`signed_rank_p`]) up to [`EXACT_SIGNED_RANK_MAX_N`] gains, the normal
+/// approximation, (W⁺ − n(n+1)/4) / √(n(n+1)(2n+1)/24), beyond.
+fn signed_rank_gain_holds(gains: &[f64]) -> bool {
+    let (double_ranks, double_w_plus) = signed_ranks(gains);
+    let n = double_ranks.len();
+    if n == 0 {
+        return false;
+    }
+    if n <= EXACT_SIGNED_RANK_MAX_N {
+        return signed_rank_p(&double_ranks, double_w_plus) < MAX_EVIDENCE_P;
+    }
+    let nf = n as f64;
+    let z = (double_w_plus as f64 / 2.0 - nf * (nf + 1.0) / 4.0)
+        / (nf * (nf + 1.0) * (2.0 * nf + 1.0) / 24.0).sqrt();
+    z > normal_quantile(1.0 - MAX_EVIDENCE_P)
+}
+
+/// Twice the ranks of |gain| over the non-zero gains (mean ranks of ties
+/// are then whole numbers), and twice W⁺.
+fn signed_ranks(gains: &[f64]) -> (Vec<usize>, usize) {
+    let mut by_size: Vec<f64> = gains.iter().copied().filter(|g| *g != 0.0).collect();
+    by_size.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
+    let n = by_size.len();
+    let mut double_ranks = vec![0usize; n];
+    let mut i = 0;
+    while i < n {
+        let mut j = i + 1;
+        while j < n && by_size[j].abs() == by_size[i].abs() {
+            j += 1;
+        }
+        double_ranks[i..j].fill(i + 1 + j);
+        i = j;
+    }
+    let double_w_plus = (0..n)
+        .filter(|&k| by_size[k] > 0.0)
+        .map(|k| double_ranks[k])
+        .sum();
+    (double_ranks, double_w_plus)
+}
+
+/// P(W⁺ ≥ observed) over the 2ⁿ equally likely signs of the ranks
+/// (doubled, as [`signed_ranks`] gives them): the distribution of 2W⁺
+/// built one rank at a time.
+fn signed_rank_p(double_ranks: &[usize], double_w_plus: usize) -> f64 {
+    let total: usize = double_ranks.iter().sum();
+    let mut p = vec![0.0; total + 1];
+    p[0] = 1.0;
+    let mut reach = 0;
+    for &r in double_ranks {
+        for s in (0..=reach).rev() {
+            p[s + r] += 0.5 * p[s];
+            p[s] *= 0.5;
+        }
+        reach += r;
+    }
+    p[double_w_plus.min(total + 1)..].iter().sum()
+}
+
+/// Gains up to which [`signed_rank_gain_holds`] is exact (n · n(n+1) steps).
+const EXACT_SIGNED_RANK_MAX_N: usize = 100;
 
 /// The GNSS log-likelihood ([`gnss_log_likelihood`]) summed over blocks
 /// of [`EVIDENCE_BLOCK_S`] of the records' time (block index, sum), in
@@ -345,8 +547,8 @@ pub fn correlation_time_from_innovations(
         return FixCorrelation {
             component_s,
             innovation_to_fix_variance: ratio,
-            used_s: 0.0,
-            covariance_scale: 1.0,
+            correlation_time_s: 0.0,
+            variance_ratio: 1.0,
         };
     };
     // The inflation of the first pass: a fix's own variance is 1/k of
@@ -373,16 +575,16 @@ pub fn correlation_time_from_innovations(
         }
         component_s[c as usize] = Some(e_folding_time(&x, variance, dt, max_lag).min(first_pass_s));
     }
-    let used_s = component_s.iter().flatten().copied().fold(0.0, f64::max);
-    let covariance_scale = (0..3)
+    let correlation_time_s = component_s.iter().flatten().copied().fold(0.0, f64::max);
+    let variance_ratio = (0..3)
         .filter(|&c| component_s[c].is_some())
         .map(|c| ratio[c])
         .fold(1.0, f64::max);
     FixCorrelation {
         component_s,
         innovation_to_fix_variance: ratio,
-        used_s,
-        covariance_scale,
+        correlation_time_s,
+        variance_ratio,
     }
 }
 
@@ -514,11 +716,12 @@ mod tests {
         // Nine times the fixes' variance: the dead reckoning's, not theirs.
         assert_eq!(c.component_s[2], None);
         assert!(
-            (c.used_s - c.component_s[0].unwrap().max(c.component_s[1].unwrap())).abs() < 1e-12
+            (c.correlation_time_s - c.component_s[0].unwrap().max(c.component_s[1].unwrap())).abs()
+                < 1e-12
         );
         // The determined components' variance matches the fixes' own:
         // a scale near 1, never below.
-        assert!(c.covariance_scale >= 1.0 && c.covariance_scale < 1.15);
+        assert!(c.variance_ratio >= 1.0 && c.variance_ratio < 1.15);
         let white: Vec<MeasurementRecord> = (0..n)
             .map(|i| {
                 record(
@@ -531,7 +734,7 @@ mod tests {
             .collect();
         let c = correlation_time_from_innovations(&white, FIRST_PASS_CORRELATION_TIME_S);
         assert_eq!(c.component_s[0], Some(0.0));
-        assert_eq!(c.used_s, 0.0);
+        assert_eq!(c.correlation_time_s, 0.0);
         // Fixes erring 1.3 times what their σ says (in std): their
         // covariance scaled by 1.69. At 1.5 times (2.25 in variance, beyond
         // MAX_INNOVATION_TO_FIX_VARIANCE) the innovations are taken for the
@@ -548,12 +751,12 @@ mod tests {
         };
         let c = scaled(1.3);
         assert!(
-            (c.covariance_scale / 1.69 - 1.0).abs() < 0.05,
+            (c.variance_ratio / 1.69 - 1.0).abs() < 0.05,
             "{}",
-            c.covariance_scale
+            c.variance_ratio
         );
         let c = scaled(1.5);
-        assert_eq!((c.component_s[0], c.covariance_scale), (None, 1.0));
+        assert_eq!((c.component_s[0], c.variance_ratio), (None, 1.0));
     }
 
     /// Another grade is chosen only on evidence that holds over the log: a
@@ -562,22 +765,13 @@ mod tests {
     /// total threshold is not.
     #[test]
     fn another_grade_needs_evidence_that_holds_over_the_log() {
-        let candidate = |preset: &str, log_likelihood: f64| ImuCandidate {
-            preset: preset.into(),
-            log_likelihood,
-            measurements: 1000,
-            resets: 0,
-        };
         let default_blocks: Vec<(i64, f64)> = (0..20).map(|b| (b, -100.0)).collect();
         let spread = |b: i64| if b % 2 == 0 { 1.0 } else { -1.0 };
         let steady: Vec<(i64, f64)> = (0..20).map(|b| (b, -98.0 + spread(b))).collect();
         let one_block: Vec<(i64, f64)> = (0..20)
             .map(|b| (b, if b == 7 { -60.0 } else { -100.0 + spread(b) }))
             .collect();
-        let scored = [
-            candidate("consumer", -2000.0),
-            candidate("industrial", -1960.0),
-        ];
+        let scored = [-2000.0, -1960.0];
         assert_eq!(
             most_likely(&scored, &[default_blocks.clone(), steady.clone()]),
             1
@@ -588,11 +782,49 @@ mod tests {
         );
         let short = [default_blocks[..5].to_vec(), steady[..5].to_vec()];
         assert_eq!(most_likely(&scored, &short), 0);
-        let close = [
-            candidate("consumer", -2000.0),
-            candidate("industrial", -1996.0),
-        ];
+        let close = [-2000.0, -1996.0];
         assert_eq!(most_likely(&close, &[default_blocks, steady]), 0);
+    }
+
+    /// The signed-rank test against values written out by hand and by
+    /// scipy (`scipy.stats.wilcoxon(g, alternative="greater",
+    /// method="exact")`): all four positive, P = 1/16; ten positive, P =
+    /// 1/1024, which holds at 0.00135 (the normal approximation, z = 2.80,
+    /// would not); a tie of |−1| and |1| shares rank 1.5: P(W⁺ ≥ 4.5) =
+    /// 3/8 (scipy: 0.375); a foreign-drive series of 21 non-zero block
+    /// gains with one of +66 holds (P = 0.000113 with its tied gains at
+    /// their mean ranks, scipy's exact 0.000121 ranking them apart), where
+    /// the blocks' mean over its standard error is 1.88.
+    #[test]
+    fn the_signed_rank_test_is_wilcoxons() {
+        let p = |g: &[f64]| {
+            let (r, w) = signed_ranks(g);
+            signed_rank_p(&r, w)
+        };
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
+        assert!(close(p(&[1.0, 2.0, 3.0, 4.0]), 1.0 / 16.0));
+        let ten: Vec<f64> = (1..=10).map(f64::from).collect();
+        assert!(close(p(&ten), 1.0 / 1024.0));
+        assert!(signed_rank_gain_holds(&ten));
+        assert!(!signed_rank_gain_holds(&ten[..9]));
+        assert!(close(p(&[-1.0, 1.0, 2.0, 0.0]), 3.0 / 8.0));
+        let blocks = [
+            0., 0., 1.8, 5.2, 66.2, 3.7, 2.8, 5.8, 6.1, 3.7, 4.7, -3.6, 4.1, 4.2, -1.1, 9.4, 2.2,
+            1.8, 1., -0.3, 2.8, 1.8, -0.2,
+        ];
+        assert!((p(&blocks) - 0.000_113_487).abs() < 1e-9, "{}", p(&blocks));
+        assert!(signed_rank_gain_holds(&blocks));
+        // Beyond the exact range: 150 gains, all positive, hold; signs
+        // alternating with growing size do not.
+        let many: Vec<f64> = (1..=150).map(f64::from).collect();
+        assert!(signed_rank_gain_holds(&many));
+        let alternating: Vec<f64> = many
+            .iter()
+            .enumerate()
+            .map(|(i, g)| if i % 2 == 0 { *g } else { -g })
+            .collect();
+        assert!(!signed_rank_gain_holds(&alternating));
+        assert!(!signed_rank_gain_holds(&[0.0, 0.0]));
     }
 
     /// The log-likelihood against the Gaussian density written out, with

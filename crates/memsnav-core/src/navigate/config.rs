@@ -130,8 +130,12 @@ pub struct AidsConfig {
     /// Non-holonomic constraint (land vehicles only). Default off: it is
     /// wrong for pedestrians and boats, so a configuration must ask for it.
     pub nhc: bool,
-    /// Its std, m/s. Default 0.1 m/s (side slip and suspension of a car).
+    /// Its std, m/s. Default 0.1 m/s (side slip and suspension of a car),
+    /// or chosen from the log (`nhc_std_learnt`).
     pub nhc_std_m_s: f64,
+    /// Choose the std from the log among multiples of `nhc_std_m_s`
+    /// (`aids.nhc_std_m_s = "auto"`, the default; `super::adapt`).
+    pub nhc_std_learnt: bool,
     /// Its interval, s. Default 0.5 s.
     pub nhc_interval_s: f64,
     /// Lowest speed it is applied at, m/s. Default 1 m/s.
@@ -148,6 +152,7 @@ impl Default for AidsConfig {
             zaru_min_std_rad_s: 0.05f64.to_radians(),
             nhc: false,
             nhc_std_m_s: 0.1,
+            nhc_std_learnt: true,
             nhc_interval_s: 0.5,
             nhc_min_speed_m_s: 1.0,
         }
@@ -185,10 +190,12 @@ pub struct LogConfig {
     pub range_bias_states: bool,
     /// Loose coupling: a first-order Gauss-Markov error of the fixes'
     /// positions per ECEF axis, as states (the range-bias slots of tight
-    /// coupling: 12 more states, three used). Default off. A receiver's
+    /// coupling: 12 more states, three used), with the process
+    /// `fix_error` (`gnss.fix_error_states = true`). A receiver's
     /// standalone fixes err slowly (multipath, the ionosphere model): a
     /// filter that takes their errors for white noise averages them and
-    /// reports bounds below the fixes' own.
+    /// reports bounds below the fixes' own. Default off: the process is
+    /// learnt from the log instead (`learn_fix_errors`).
     pub fix_error_states: bool,
     /// Their process (std and correlation time).
     pub fix_error: RangeBiasModel,
@@ -196,11 +203,11 @@ pub struct LogConfig {
     /// "auto"`, [`super::adapt`]): (preset, tuning) each; empty when the
     /// configuration names its IMU and `tuning` is used as it is.
     pub imu_candidates: Vec<(String, FilterTuning)>,
-    /// Learn the fixes' error correlation time from the log (loose
-    /// coupling without fix-error states, which model it themselves;
-    /// `gnss.fix_correlation_time_s = "auto"`, the default), instead of
-    /// `tuning.fix_correlation_time_s`.
-    pub learn_fix_correlation: bool,
+    /// Learn the fixes' error process from the log and model it with
+    /// fix-error states when it is correlated ([`super::adapt`]; loose
+    /// coupling with white fixes, `tuning.fix_correlation_time_s = 0`;
+    /// `gnss.fix_error_states = "auto"`, the default).
+    pub learn_fix_errors: bool,
     /// Accelerometer and gyro scale-factor states (6 more states).
     pub scale_factor_states: bool,
     /// The lever arm, IMU time offset, velocity latency and mounting
@@ -262,7 +269,7 @@ impl LogConfig {
             fix_error_states: false,
             fix_error: FIX_ERROR_DEFAULT,
             imu_candidates: Vec::new(),
-            learn_fix_correlation: true,
+            learn_fix_errors: true,
             scale_factor_states: false,
             installation_states: false,
             smoother: false,

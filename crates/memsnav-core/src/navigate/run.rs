@@ -4,13 +4,13 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::adapt::{Adaptation, Plan};
+use super::adapt::{typical_position_std_m, Adaptation, PassModel, Plan};
 use super::align::{find_start, GnssKinematics, Start};
 use super::config::{periodic_outages, LogConfig};
 use super::gyro_scale::{gyro_scale, GyroScale};
 use super::standstill::{Window, WindowStats};
 use crate::coupling::{
-    self, Aiding, FilterState, FilterTuning, InitialState, PositionFix, Solution,
+    self, Aiding, FilterState, FilterTuning, InitialState, PositionFix, RangeBiasModel, Solution,
 };
 use crate::filter::chi_square::chi_square_quantile;
 use crate::filter::state::{Layout, POSITION, VELOCITY};
@@ -229,7 +229,7 @@ fn run_from_start(
     };
     // The range-bias slots carry the pseudorange biases (tight) or the
     // fixes' position errors (loose).
-    let layout = RunLayout {
+    let layout = |fix_error: Option<RangeBiasModel>| RunLayout {
         scale_factors: config.scale_factor_states,
         installation: config.installation_states,
         // Galileo or BeiDou pseudoranges: one clock plus their inter-system biases.
@@ -237,22 +237,37 @@ fn run_from_start(
             GnssInput::Measurements(epochs) => GnssEpoch::needs_inter_system_biases(epochs),
             GnssInput::Fixes(_) => false,
         },
-        slots: range_biases || (config.fix_error_states && !tight),
+        slots: range_biases || fix_error.is_some(),
     };
-    // What the log itself says about the IMU and the fixes (first passes),
-    // then the run that is reported.
+    // What the log itself says about the IMU, the vehicle and the fixes
+    // (first passes), then the run that is reported.
     let fixed = [(String::new(), config.tuning)];
+    let fix_error = (config.fix_error_states && !tight).then_some(config.fix_error);
     let plan = Plan {
         candidates: if config.imu_candidates.is_empty() {
             &fixed
         } else {
             &config.imu_candidates
         },
-        // Fix-error states model the correlation themselves.
-        fix_correlation: config.learn_fix_correlation && !tight && !config.fix_error_states,
+        nhc_std_m_s: config.aids.nhc_std_m_s,
+        fix_error,
+        learn_nhc_std: config.aids.nhc && config.aids.nhc_std_learnt,
+        // Only white fixes learn: states or an inflation of the user's own
+        // already model the correlation.
+        fix_typical_std_m: match gnss {
+            GnssInput::Fixes(fixes)
+                if config.learn_fix_errors
+                    && fix_error.is_none()
+                    && config.tuning.fix_correlation_time_s == 0.0 =>
+            {
+                typical_position_std_m(fixes, &gnss_used)
+            }
+            _ => None,
+        },
     };
-    let (tuning, adaptation) = plan.learn(&|tuning: &FilterTuning| {
-        let (solution, _, _, _) = run.filter(layout, tuning, Record::MeasurementsOnly)?;
+    let (model, adaptation) = plan.learn(&|model: &PassModel| {
+        let (solution, _, _, _) =
+            run.filter(layout(model.fix_error), model, Record::MeasurementsOnly)?;
         Ok((solution.measurements, solution.resets.len()))
     })?;
     let record = if config.smoother {
@@ -260,7 +275,9 @@ fn run_from_start(
     } else {
         Record::Solution
     };
-    let (mut solution, smoothed, range_biases, failure) = run.filter(layout, &tuning, record)?;
+    let (mut solution, smoothed, range_biases, failure) =
+        run.filter(layout(model.fix_error), &model, record)?;
+    let tuning = model.tuning;
     solution.warnings.extend(late_start.clone());
     let standstills = standstill_intervals(&solution);
     // With installation states, the lever arm the filter ended with.
@@ -484,15 +501,10 @@ enum Record {
 }
 
 impl Inputs<'_> {
-    /// Runs the filter with the state `layout` and `tuning`, keeping what
+    /// Runs the filter with the state `layout` and `model`, keeping what
     /// `record` asks for: one monomorphised filter per combination of the
     /// optional blocks.
-    fn filter(
-        &self,
-        layout: RunLayout,
-        tuning: &FilterTuning,
-        record: Record,
-    ) -> Result<FilterOutput> {
+    fn filter(&self, layout: RunLayout, model: &PassModel, record: Record) -> Result<FilterOutput> {
         let RunLayout {
             scale_factors,
             installation,
@@ -503,7 +515,7 @@ impl Inputs<'_> {
             ($(($a:literal, $b:literal, $c:literal, $d:literal)),*) => {
                 match (scale_factors, installation, inter_system_biases, slots) {
                     $(($a, $b, $c, $d) => {
-                        self.filter_sized::<{ Layout::size($a, $b, $c, $d) }>(tuning, record)
+                        self.filter_sized::<{ Layout::size($a, $b, $c, $d) }>(model, record)
                     })*
                 }
             };
@@ -531,7 +543,7 @@ impl Inputs<'_> {
     /// [`Self::filter`] with `N` states.
     fn filter_sized<const N: usize>(
         &self,
-        tuning: &FilterTuning,
+        model: &PassModel,
         record: Record,
     ) -> Result<FilterOutput> {
         let f: Vec<Vector3<f64>> = self.imu_b.iter().map(|s| s.specific_force_b).collect();
@@ -543,9 +555,9 @@ impl Inputs<'_> {
             increments: None,
         };
         let s = self.start;
-        let mut tuning = *tuning;
-        if matches!(self.gnss, GnssInput::Fixes(_)) {
-            tuning.set_range_bias_model(&self.config.fix_error);
+        let mut tuning = model.tuning;
+        if let Some(fix_error) = &model.fix_error {
+            tuning.set_range_bias_model(fix_error);
         }
         let i = &mut tuning.initial_std;
         let o = &self.config.alignment_overrides;
@@ -565,7 +577,12 @@ impl Inputs<'_> {
         };
         let keep_solution = record != Record::MeasurementsOnly;
         let capacity = if keep_solution { self.time.len() } else { 0 };
-        let mut hook = Aids::new(self, Solution::with_capacity(capacity, N), keep_solution);
+        let mut hook = Aids::new(
+            self,
+            Solution::with_capacity(capacity, N),
+            keep_solution,
+            model.nhc_std_m_s,
+        );
         let smooth = record == Record::Smoothed;
         let (mut state, stopped): (FilterState<N>, _) = match self.gnss {
             GnssInput::Fixes(fixes) => {
@@ -649,10 +666,18 @@ struct Aids<'a> {
     next_zupt_s: f64,
     next_zaru_s: f64,
     next_nhc_s: f64,
+    /// The non-holonomic constraint's std, m/s (the configured one or the
+    /// one learnt from the log).
+    nhc_std_m_s: f64,
 }
 
 impl<'a> Aids<'a> {
-    fn new(inputs: &'a Inputs<'a>, solution: Solution, keep_solution: bool) -> Self {
+    fn new(
+        inputs: &'a Inputs<'a>,
+        solution: Solution,
+        keep_solution: bool,
+        nhc_std_m_s: f64,
+    ) -> Self {
         let rate_hz =
             (inputs.time.len() - 1) as f64 / (inputs.time[inputs.time.len() - 1] - inputs.time[0]);
         Self {
@@ -668,6 +693,7 @@ impl<'a> Aids<'a> {
             next_zupt_s: f64::NEG_INFINITY,
             next_zaru_s: f64::NEG_INFINITY,
             next_nhc_s: f64::NEG_INFINITY,
+            nhc_std_m_s,
         }
     }
 
@@ -780,7 +806,7 @@ impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
             && t >= self.next_nhc_s
             && state.nav.velocity_ecef.norm() >= aids.nhc_min_speed_m_s
         {
-            state.non_holonomic_update(t, &config.reference_from_imu_b_m, aids.nhc_std_m_s)?;
+            state.non_holonomic_update(t, &config.reference_from_imu_b_m, self.nhc_std_m_s)?;
             self.next_nhc_s = t + aids.nhc_interval_s;
         }
         if self.keep_solution {

@@ -82,12 +82,15 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling)"),
             ("range_bias_std_m", "their steady-state std, m"),
             ("range_bias_correlation_time_s", "their correlation time, s"),
-            ("fix_error_states", "Gauss-Markov states for the fixes' position errors (loose coupling)"),
+            (
+                "fix_error_states",
+                "Gauss-Markov states for the fixes' position errors (loose coupling): true (with the two keys below), false (white), \"auto\" (default: learnt from the log)",
+            ),
             ("fix_error_std_m", "their steady-state std, m"),
             ("fix_error_correlation_time_s", "their correlation time, s"),
             (
                 "fix_correlation_time_s",
-                "correlation time of the fixes' position errors, s: their covariance is inflated to match (loose coupling); \"auto\" (default) learns it from the log, 0 takes them as white",
+                "correlation time of the fixes' position errors, s, matched by inflating their covariance instead of states (loose coupling); default 0: white",
             ),
         ],
     ),
@@ -160,7 +163,10 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("zaru", "zero-angular-rate updates at standstills"),
             ("zaru_min_std_deg_s", "their smallest std, deg/s"),
             ("nhc", "non-holonomic constraint (land vehicles)"),
-            ("nhc_std_m_s", "its std, m/s"),
+            (
+                "nhc_std_m_s",
+                "its std, m/s; \"auto\" (default) chooses 0.1, 0.2 or 0.4 m/s from the log",
+            ),
             ("nhc_interval_s", "its interval, s"),
             ("nhc_min_speed_m_s", "lowest speed it applies at, m/s"),
         ],
@@ -572,15 +578,16 @@ impl LogConfig {
                 i.range_bias_m = s;
                 q.range_bias_psd = 2.0 * s * s / q.range_bias_correlation_time_s;
             }
-            ("gnss", "fix_error_states") => self.fix_error_states = r.flag()?,
-            ("gnss", "fix_correlation_time_s") => match r.value {
-                SettingValue::Text(text) if text == AUTO => self.learn_fix_correlation = true,
-                SettingValue::Number(_) => {
-                    self.learn_fix_correlation = false;
-                    t.fix_correlation_time_s = r.non_negative()?;
+            ("gnss", "fix_error_states") => match r.value {
+                SettingValue::Text(text) if text == AUTO => {
+                    (self.learn_fix_errors, self.fix_error_states) = (true, false)
                 }
-                _ => return Err(r.wrong("a correlation time in seconds (0: white) or \"auto\"")),
+                SettingValue::Bool(_) => {
+                    (self.learn_fix_errors, self.fix_error_states) = (false, r.flag()?)
+                }
+                _ => return Err(r.wrong("true, false or \"auto\"")),
             },
+            ("gnss", "fix_correlation_time_s") => t.fix_correlation_time_s = r.non_negative()?,
             ("gnss", "fix_error_std_m") => self.fix_error.std_m = r.positive()?,
             ("gnss", "fix_error_correlation_time_s") => {
                 self.fix_error.correlation_time_s = r.positive()?
@@ -685,7 +692,14 @@ impl LogConfig {
             ("aids", "zaru") => self.aids.zaru = r.flag()?,
             ("aids", "zaru_min_std_deg_s") => self.aids.zaru_min_std_rad_s = deg(r.positive()?),
             ("aids", "nhc") => self.aids.nhc = r.flag()?,
-            ("aids", "nhc_std_m_s") => self.aids.nhc_std_m_s = r.positive()?,
+            ("aids", "nhc_std_m_s") => match r.value {
+                SettingValue::Text(text) if text == AUTO => self.aids.nhc_std_learnt = true,
+                SettingValue::Number(_) => {
+                    self.aids.nhc_std_m_s = r.positive()?;
+                    self.aids.nhc_std_learnt = false;
+                }
+                _ => return Err(r.wrong("a std in m/s or \"auto\"")),
+            },
             ("aids", "nhc_interval_s") => self.aids.nhc_interval_s = r.positive()?,
             ("aids", "nhc_min_speed_m_s") => self.aids.nhc_min_speed_m_s = r.non_negative()?,
             ("outages", "windows_s") => {
