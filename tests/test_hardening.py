@@ -1058,3 +1058,49 @@ def test_a_gnss_step_too_long_for_the_clock_names_time():
             t.velocity_ecef[[0, -1]],
             mn.Constellation.walker(),
         )
+
+
+# --- values no receiver reports ----------------------------------------------
+
+
+def test_a_gnsslogger_satellite_that_does_not_exist_is_skipped_and_counted(tmp_path):
+    """Svid 255 of ConstellationType 1 (GPS) was read as satellite G255."""
+    lines = (DATA / "android-gnsslogger" / "pixel6_excerpt.txt").read_text().splitlines()
+    header = next(line for line in lines if line.startswith("# Raw,")).split(",")
+    svid, constellation = header.index("Svid") - 1, header.index("ConstellationType") - 1
+    k, fields = next(
+        (k, line.split(","))
+        for k, line in enumerate(lines)
+        if line.startswith("Raw,") and line.split(",")[constellation] == "1"
+    )
+    fields[svid] = "255"
+    lines[k] = ",".join(fields)
+    path = tmp_path / "g255.txt"
+    path.write_text("\n".join(lines) + "\n")
+    log = mn.read_gnsslogger(path)
+    assert "G255" not in log.observations.satellites
+    assert log.skipped["Svid outside its constellation's satellite numbers (system G)"] == 1
+    before = mn.read_gnsslogger(DATA / "android-gnsslogger" / "pixel6_excerpt.txt")
+    assert set(log.observations.satellites) <= set(before.observations.satellites)
+
+
+def test_a_gnss_table_with_values_no_receiver_reports_is_refused():
+    """gps_time_s = 1e308, a pseudorange of 1e300 m, a rate of 1e300 m/s were
+    accepted; each is refused naming the row and the column."""
+    row = {
+        "time_s": [0.0],
+        "gps_time_s": [1.4e9],
+        "sat_id": [5],
+        **{f"sat_position_ecef_{a}_m": [v] for a, v in zip("xyz", [-2.2e6, -2.6e7, -3.4e6])},
+        **{f"sat_velocity_ecef_{a}_m_s": [v] for a, v in zip("xyz", [325.5, -419.7, 3129.0])},
+        "pseudorange_m": [2.3e7],
+        "pseudorange_rate_m_s": [-120.5],
+    }
+    assert len(mn.GnssMeasurements.from_table(row).time) == 1
+    for column, value, message in [
+        ("gps_time_s", 1e308, r"row 0: gps_time_s = 1e308 s is out of range \(0e0 to 3.78648e9 s\)"),
+        ("pseudorange_m", 1e300, r"row 0: pseudorange = 1e300 m is out of range \(0e0 to 1e8 m\)"),
+        ("pseudorange_rate_m_s", 1e300, r"row 0: pseudorange_rate = 1e300 m/s is out of range"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            mn.GnssMeasurements.from_table(row | {column: [value]})

@@ -35,7 +35,9 @@ use nalgebra::Vector3;
 use super::fields::{finite_number, parse_error};
 use super::ImuLog;
 use crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
-use crate::gnss::{ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout};
+use crate::gnss::{
+    plausible, ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
+};
 use crate::{Error, Result};
 
 const NS_PER_WEEK: i128 = 604_800_000_000_000;
@@ -304,10 +306,19 @@ fn raw_signal(r: &Record<'_>) -> Result<std::result::Result<(i128, f64, Signal),
         return Ok(Err("constellation not converted (SBAS, unknown)".into()));
     };
     let svid = r.required_integer("Svid")?;
-    let prn = u16::try_from(svid)
-        .ok()
-        .filter(|p| (1..=999).contains(p))
-        .ok_or_else(|| r.error("Svid", r.text("Svid").unwrap_or(""), "1 to 999"))?;
+    // Android numbers QZSS 193-202 (RINEX J01-J10); GLONASS 93-106 is a
+    // frequency channel, not a slot, and leaves the satellite unknown.
+    let number = if system == 'J' && svid > 192 {
+        svid - 192
+    } else {
+        svid
+    };
+    if plausible::check_satellite(system, number).is_err() {
+        return Ok(Err(format!(
+            "Svid outside its constellation's satellite numbers (system {system})"
+        )));
+    }
+    let prn = number as u16;
     let carrier = r.number("CarrierFrequencyHz")?;
     let Some((digit, carrier_hz)) = band(system, carrier) else {
         return Ok(Err("carrier frequency of no known band".into()));
@@ -665,6 +676,25 @@ mod tests {
         assert!((v[1].unwrap() - 500.0 / lambda).abs() < 1e-9);
         assert!((v[2].unwrap() + 100.0 / lambda).abs() < 1e-9);
         assert_eq!(v[3], Some(40.0));
+    }
+
+    #[test]
+    fn satellites_that_do_not_exist_are_skipped_and_counted() {
+        let tow = RX_NS % NS_PER_WEEK - 75_000_000;
+        let line = raw(CODE_LOCK | TOW_DECODED, tow, 1, "1575420030", "C");
+        let g255 = line.replace(",1,7,C", ",1,255,C");
+        let log = parse_gnsslogger(&format!("{HEADER}{g255}"), "x.txt").unwrap();
+        assert!(log.observations.epochs.is_empty());
+        assert_eq!(
+            log.skipped
+                .get("Svid outside its constellation's satellite numbers (system G)"),
+            Some(&1)
+        );
+        // QZSS's Android numbers 193-202 are RINEX's J01-J10.
+        let j194 = line.replace(",1,7,C", ",4,194,C");
+        let log = parse_gnsslogger(&format!("{HEADER}{j194}"), "x.txt").unwrap();
+        let sat = &log.observations.epochs[0].satellites[0];
+        assert_eq!((sat.system, sat.prn), ('J', 2));
     }
 
     #[test]
