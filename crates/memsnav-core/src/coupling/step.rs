@@ -35,7 +35,8 @@ impl<const N: usize> FilterState<N> {
     /// The filter for aiding of kind `E` ([`GnssEpoch`] or
     /// [`PositionFix`]) started at `time_s` with the raw IMU sample there:
     /// the state and tuning a batch run over such epochs starts from
-    /// (position fixes hold the unobserved clock, for instance).
+    /// (position fixes hold the unobserved clock, for instance). The start
+    /// must be one a receiver can have ([`InitialState::check_receiver`]).
     pub fn start<E: Aiding>(
         initial: &InitialState,
         tuning: &FilterTuning,
@@ -44,6 +45,7 @@ impl<const N: usize> FilterState<N> {
     ) -> Result<Self> {
         validate::finite_scalars("time", &[time_s])?;
         check_sample(raw)?;
+        initial.check_receiver()?;
         let (_, initial, tuning) = E::prepare(&[], initial, tuning)?;
         let mut state = Self::new(&initial, &tuning)?;
         state.begin_at(time_s, raw);

@@ -51,8 +51,7 @@ pub struct InitialState {
 impl InitialState {
     /// The start every consumer of a navigation state checks
     /// ([`NavState::validate`]), sensor estimates within the sensors'
-    /// range, and a position, speed and clock a receiver can have
-    /// ([`plausible`]: heights −1e4 to 1e7 m, speed ≤ 1e4 m/s, clock
+    /// range, and a receiver clock a receiver can have ([`plausible`]:
     /// offset ≤ 1e8 m, drift ≤ 3e4 m/s).
     pub fn validate(&self) -> Result<()> {
         self.nav.validate("initial.")?;
@@ -66,15 +65,7 @@ impl InitialState {
             &[self.gyro_bias_rad_s],
             MAX_SENSOR_MAGNITUDE,
         )?;
-        // A start no receiver can have ([`plausible`]): near the Earth's
-        // surface, slower than an orbit, a clock within its ranges.
-        plausible::check_receiver_position(&self.nav.position_ecef)
-            .map_err(|reason| Error::invalid("initial.position", reason))?;
-        validate::at_most(
-            "initial.velocity",
-            self.nav.velocity_ecef.norm(),
-            plausible::MAX_SPEED_M_S,
-        )?;
+        // A receiver clock within its ranges ([`plausible`]).
         for (name, v, max) in [
             (
                 "initial.clock_offset",
@@ -93,6 +84,23 @@ impl InitialState {
             }
         }
         Ok(())
+    }
+}
+
+impl InitialState {
+    /// A position and speed a receiver can have ([`plausible`]: heights
+    /// −1e4 to 1e7 m, speed ≤ 1e4 m/s): what a user starts the step API
+    /// from. A batch run derives its start from the first fix or epoch and
+    /// recovers from a wild one by resets, so it checks only
+    /// [`Self::validate`].
+    pub fn check_receiver(&self) -> Result<()> {
+        plausible::check_receiver_position(&self.nav.position_ecef)
+            .map_err(|reason| Error::invalid("initial.position", reason))?;
+        validate::at_most(
+            "initial.velocity",
+            self.nav.velocity_ecef.norm(),
+            plausible::MAX_SPEED_M_S,
+        )
     }
 }
 
