@@ -313,9 +313,11 @@ def _ubx_frame(cls: int, msg_id: int, payload: bytes) -> bytes:
 
 
 #: Little-endian values no receiver reports, written into UBX payloads.
-UBX_NASTY = [
-    struct.pack("<d", v) for v in (math.inf, -math.inf, math.nan, 1e300, -1.0)
-] + [struct.pack("<f", math.inf), struct.pack("<i", -(2**31)), struct.pack("<H", 9999)]
+UBX_NASTY = [struct.pack("<d", v) for v in (math.inf, -math.inf, math.nan, 1e300, -1.0)] + [
+    struct.pack("<f", math.inf),
+    struct.pack("<i", -(2**31)),
+    struct.pack("<H", 9999),
+]
 
 ubx_mutation = st.one_of(
     st.tuples(st.just("byte"), st.integers(0, 10**6), st.integers(0, 10**4), st.integers(0, 255)),

@@ -364,26 +364,26 @@ def test_updates_are_transactions_and_starts_plausible(drive_300s):
     before, array for array; a start no receiver can have names its key."""
     traj, _, imu, f, w = drive_300s
     rate = np.array([1e-4, -2e-4, 3e-5])
+    cases = [
+        (lambda r: r.update_non_holonomic(1e-300), r"std: 1e-300 is outside"),
+        (lambda r: r.update_non_holonomic(0.1, [1e30, 0, 0]), r"lever_arm: .*100 m"),
+        (lambda r: r.update_zaru(rate, 1e-300), r"std: 1e-300 is outside"),
+        (lambda r: r.update_speed(1.0, 0.1, [0, 1e30, 0]), r"lever_arm"),
+    ]
+    cases += [
+        (
+            lambda r: r.update_fix([1e30, 0, 0], 4 * np.eye(3)),
+            r"position_ecef: 1e30 m from the Earth's centre is no receiver's position",
+        )
+    ] * 3
     for cls in (mn.TightlyCoupledFilter, mn.LooselyCoupledFilter):
         running = cls(imu).start(traj.time[0], f[0], w[0], initial(traj))
         running.predict(traj.time[1], f[1], w[1])
         running.update_zupt(0.05)
         before = (running.state, running.covariance.copy(), running.position_ecef.copy())
-        cases = [
-            (lambda: running.update_non_holonomic(1e-300), "std: 1e-300 is outside"),
-            (lambda: running.update_non_holonomic(0.1, [1e30, 0, 0]), "lever_arm: .*100 m"),
-            (lambda: running.update_zaru(rate, 1e-300), "std: 1e-300 is outside"),
-            (lambda: running.update_speed(1.0, 0.1, [0, 1e30, 0]), "lever_arm"),
-        ]
-        cases += [
-            (
-                lambda: running.update_fix([1e30, 0, 0], 4 * np.eye(3)),
-                "position_ecef: 1e30 m from the Earth's centre is no receiver's position",
-            )
-        ] * 3
         for call, message in cases:
             with pytest.raises(ValueError, match=message):
-                call()
+                call(running)
             state, covariance, position = before
             for name, value in running.state.items():
                 np.testing.assert_array_equal(value, state[name])
@@ -393,10 +393,10 @@ def test_updates_are_transactions_and_starts_plausible(drive_300s):
         records = running.take_records()
         assert len(records["batches"]["time"]) == 1
         start = initial(traj) | {"clock_drift": 1.797e308, "clock_offset": 0.0}
-        with pytest.raises(ValueError, match="initial.clock_drift: 1.797e308 is beyond"):
+        with pytest.raises(ValueError, match=r"initial\.clock_drift: 1\.797e308 is beyond"):
             cls(imu).start(traj.time[0], f[0], w[0], start)
     tight = mn.TightlyCoupledFilter(imu)
-    with pytest.raises(ValueError, match="initial.clock_offset"):
+    with pytest.raises(ValueError, match=r"initial\.clock_offset"):
         tight.start(traj.time[0], f[0], w[0], initial(traj) | {"clock_offset": 1e9})
     far = initial(traj) | {"position_ecef": [1e30, 0.0, 0.0]}
     with pytest.raises(ValueError, match="position"):

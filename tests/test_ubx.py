@@ -414,7 +414,7 @@ def test_convert_of_a_log_without_observations_says_so(tmp_path, capsys):
     path = tmp_path / "pvt_only.ubx"
     path.write_bytes(_nav_pvt(408_618_000) + _nav_pvt(408_619_000))
     out = tmp_path / "rinex"
-    with pytest.raises(ValueError, match="no observations to write.*RXM-RAWX"):
+    with pytest.raises(ValueError, match=r"no observations to write.*RXM-RAWX"):
         convert_ubx(path, out)
     assert not (out / "pvt_only.obs").exists()
     assert main(["convert", str(path), "--output", str(out)]) != 0
