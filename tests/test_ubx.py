@@ -430,3 +430,73 @@ def test_convert_reads_its_files_back(tmp_path):
     nav = mn.read_broadcast_nav(files["navigation"])
     written = len(log.ephemerides) + len(log.galileo_ephemerides) + len(log.beidou_ephemerides)
     assert written > 0 and len(nav) == written and nav.skipped == {}
+
+
+#: LNAV parity equations (IS-GPS-200 table 20-XIV): whether each parity
+#: bit starts from D30* (else D29*) and which source data bits d1-d24 it sums.
+_LNAV_PARITY = [
+    (False, [1, 2, 3, 5, 6, 10, 11, 12, 13, 14, 17, 18, 20, 23]),
+    (True, [2, 3, 4, 6, 7, 11, 12, 13, 14, 15, 18, 19, 21, 24]),
+    (False, [1, 3, 4, 5, 7, 8, 12, 13, 14, 15, 16, 19, 20, 22]),
+    (True, [2, 4, 5, 6, 8, 9, 13, 14, 15, 16, 17, 20, 21, 23]),
+    (True, [1, 3, 5, 6, 7, 9, 10, 14, 15, 16, 17, 18, 21, 22, 24]),
+    (False, [3, 5, 6, 8, 9, 10, 11, 13, 15, 19, 22, 23, 24]),
+]
+
+
+def _lnav_word(word: int, data: int) -> int:
+    """``word`` (u-blox layout: D29*, D30* in bits 31-30) carrying the 24
+    source data bits ``data`` instead, its parity recomputed."""
+    d29, d30 = word >> 31 & 1, word >> 30 & 1
+    parity = 0
+    for from_d30, bits in _LNAV_PARITY:
+        p = d30 if from_d30 else d29
+        for i in bits:
+            p ^= data >> (24 - i) & 1
+        parity = parity << 1 | p
+    sent = data ^ 0xFFFFFF if d30 else data
+    return d29 << 31 | d30 << 30 | sent << 6 | parity
+
+
+def _lnav_data(word: int) -> int:
+    return (word >> 6 & 0xFFFFFF) ^ (0xFFFFFF if word >> 30 & 1 else 0)
+
+
+def test_an_lnav_orbit_inside_the_earth_is_skipped_and_counted(tmp_path):
+    """Every GPS subframe 2 of the log carrying √A = 33.6 √m (an orbit
+    inside the Earth) behind a valid parity and checksum: the LNAV
+    ephemerides are skipped and counted, the others kept, and ``convert``
+    writes what memsnav reads back."""
+    log = bytearray(EXCERPT.read_bytes())
+    raw = round(33.6 * 2**19)
+    at, changed = 0, 0
+    while at + 8 <= len(log):
+        length = int.from_bytes(log[at + 4 : at + 6], "little")
+        p = at + 6
+        words = [int.from_bytes(log[p + 8 + 4 * k : p + 12 + 4 * k], "little") for k in range(10)]
+        if log[at + 2 : at + 4] == b"\x02\x13" and length == 48 and log[p] == 0 and log[p + 2] == 0:
+            if _lnav_data(words[1]) >> 2 & 7 == 2:  # subframe id 2 (HOW bits 20-22)
+                w8 = _lnav_data(words[7]) & ~0xFF | raw >> 24
+                new = [_lnav_word(words[7], w8), _lnav_word(words[8], raw & 0xFFFFFF)]
+                for k, w in zip((7, 8), new, strict=True):
+                    log[p + 8 + 4 * k : p + 12 + 4 * k] = w.to_bytes(4, "little")
+                body = log[at + 2 : at + 6 + length]
+                a = b = 0
+                for x in body:
+                    a, b = (a + x) & 0xFF, (b + ((a + x) & 0xFF)) & 0xFF
+                log[at + 6 + length : at + 8 + length] = bytes([a, b])
+                changed += 1
+        at += 8 + length
+    path = tmp_path / "inside.ubx"
+    path.write_bytes(bytes(log))
+    before = mn.read_ubx(EXCERPT)
+    read = mn.read_ubx(path)
+    assert changed > 0 and "frames with a bad checksum" not in read.skipped
+    assert "GPS LNAV subframes with a parity failure" not in read.skipped
+    assert read.skipped["GPS LNAV ephemerides out of range"] == len(before.ephemerides) == 4
+    assert len(read.ephemerides) == 0
+    assert any("sqrt(A) = 3.36" in w and "is out of range" in w for w in read.warnings)
+    assert len(read.galileo_ephemerides) == len(before.galileo_ephemerides)
+    files = convert_ubx(path, tmp_path / "rinex")[1]
+    nav = mn.read_broadcast_nav(files["navigation"])
+    assert len(nav) == len(read.galileo_ephemerides) + len(read.beidou_ephemerides)

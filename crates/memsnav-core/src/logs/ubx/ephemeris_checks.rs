@@ -231,6 +231,21 @@ mod tests {
         );
         assert!(e.gps.is_empty() && e.beidou.is_empty());
         assert_eq!(problems.skipped[ephemeris_conflicts::SAME_TOC], 4);
+        // Such a pair, written as it was decoded, is a file the RINEX
+        // reader keeps neither record of: the writer refuses to write it.
+        let dir = std::env::temp_dir().join(format!("memsnav-conflict-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("pair.nav");
+        let pair = [lnav(23, 77, 5153.6, T), lnav(23, 77, 5153.6, T + 7200.0)];
+        let e = crate::gnss::write_rinex_nav(&path, &pair, &[], &[], &Default::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("not written: the reader would keep 0 of its 2 records"),
+            "{e}"
+        );
+        assert!(!path.exists());
+        std::fs::remove_dir_all(&dir).unwrap();
         // BeiDou's AODE is an age: one AODE, two t_oc and t_oe, both kept.
         let (e, _) = checked(
             vec![],
