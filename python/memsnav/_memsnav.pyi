@@ -1934,7 +1934,9 @@ def satellite_name(number: int) -> str:
 
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
     """The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
-    file (other systems and Galileo F/NAV records counted in ``skipped``)."""
+    file (other systems, Galileo F/NAV records and ephemerides in conflict,
+    two of one satellite and t_oc or issue of data with other values,
+    counted in ``skipped``)."""
 
 @final
 class RinexObservations:

@@ -425,7 +425,9 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             system: layout.constants,
             toc_gps_s: toc,
             toe_gps_s: toe,
-            issue_of_data: (layout.constants.letter != 'C').then_some(values[3] as u16),
+            // BeiDou's AODE is an age, not a name; a blank IODE names nothing.
+            issue_of_data: (layout.constants.letter != 'C' && !blank[3])
+                .then_some(values[3] as u16),
             values: values[..n].to_vec(),
         });
         match layout.constants.letter {
