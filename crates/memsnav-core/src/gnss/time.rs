@@ -247,6 +247,18 @@ mod tests {
     }
 
     #[test]
+    fn the_plausible_time_range_ends_with_2099() {
+        use super::super::plausible::{END_GPS_TIME_S, GPS_WEEKS, LAST_YEAR};
+        assert_eq!(
+            gps_time_from_calendar(LAST_YEAR + 1, 1, 1, 0, 0, 0.0),
+            END_GPS_TIME_S
+        );
+        let last_week = f64::from(*GPS_WEEKS.end());
+        assert!(last_week * SECONDS_PER_WEEK < END_GPS_TIME_S);
+        assert!((last_week + 1.0) * SECONDS_PER_WEEK >= END_GPS_TIME_S);
+    }
+
+    #[test]
     fn calendar_round_trip_and_range_checks() {
         for (y, mo, d, h, mi, s) in [
             (1980, 1, 6, 0, 0, 0.0),
