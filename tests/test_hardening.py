@@ -345,10 +345,12 @@ def first_epochs_with(change):
     return lambda: run(t, f, np.zeros_like(f), arrays, initial_attitude=np.eye(3))
 
 
-@pytest.mark.parametrize("offset", [1e8, 1e9, 1e12, -2e7])
+@pytest.mark.parametrize("offset", [5e7, 7e7, -2e7])
 def test_a_first_epoch_pseudorange_outlier_is_not_singular_geometry(offset):
     # Issue 15: a 1e9 m error on one pseudorange of the first epoch was
-    # reported as "the satellite geometry at t = 0 s is singular".
+    # reported as "the satellite geometry at t = 0 s is singular". A
+    # pseudorange beyond 1e8 m is no receiver's and is refused up front
+    # (the test below); outliers within the range are the filter's to find.
     corrupted = []
 
     def corrupt(a):
@@ -362,6 +364,15 @@ def test_a_first_epoch_pseudorange_outlier_is_not_singular_geometry(offset):
     assert "singular" not in message
     assert not isinstance(caught.value, mn.UnobservableError)
     assert f"the pseudorange of satellite {corrupted[0]} is an outlier" in message
+
+
+@pytest.mark.parametrize("offset", [1e8, 1e9, 1e12])
+def test_a_pseudorange_no_receiver_reports_is_refused_naming_the_slot(offset):
+    def corrupt(a):
+        a["pseudorange"][0, 2] += offset
+
+    with pytest.raises(ValueError, match=r"gnss: \[0, 2\] .*pseudorange = .* is out of range"):
+        first_epochs_with(corrupt)()
 
 
 def test_a_truly_singular_geometry_is_still_reported_as_such():
@@ -764,14 +775,15 @@ def test_a_tiny_lsb_keeps_the_reading_it_cannot_resolve():
 
 @pytest.mark.parametrize("kind", ["tight", "loose"])
 def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
-    """gate_probability = 1 lets a 10⁹ m outlier through, which used to go
-    without a warning."""
+    """gate_probability = 1 lets an outlier through (a fix 10⁹ m off; a
+    pseudorange 5·10⁷ m too long: a longer one is no receiver's and is
+    refused up front), which used to go without a warning."""
     traj, gnss, imu, f, w, arrays = drive
     if kind == "tight":
         names = ("time", "sat_id", "pseudorange", "pseudorange_rate", "pseudorange_std")
         names += ("pseudorange_rate_std", "satellite_position_ecef", "satellite_velocity_ecef")
         g = {name: np.array(getattr(gnss, name)) for name in names}
-        g["pseudorange"][100, 0] += 1e9
+        g["pseudorange"][100, 0] += 5e7
         run = mn.TightlyCoupledFilter(imu, gate_probability=1.0).run
         aiding = g
     else:
@@ -1058,3 +1070,55 @@ def test_a_gnss_step_too_long_for_the_clock_names_time():
             t.velocity_ecef[[0, -1]],
             mn.Constellation.walker(),
         )
+
+
+# --- values no receiver reports ----------------------------------------------
+
+
+def test_a_gnsslogger_satellite_that_does_not_exist_is_skipped_and_counted(tmp_path):
+    """Svid 255 of ConstellationType 1 (GPS) was read as satellite G255."""
+    lines = (DATA / "android-gnsslogger" / "pixel6_excerpt.txt").read_text().splitlines()
+    header = next(line for line in lines if line.startswith("# Raw,")).split(",")
+    svid, constellation = header.index("Svid"), header.index("ConstellationType")
+    k, fields = next(
+        (k, line.split(","))
+        for k, line in enumerate(lines)
+        if line.startswith("Raw,") and line.split(",")[constellation] == "1"
+    )
+    fields[svid] = "255"
+    lines[k] = ",".join(fields)
+    path = tmp_path / "g255.txt"
+    path.write_text("\n".join(lines) + "\n")
+    log = mn.read_gnsslogger(path)
+    assert "G255" not in log.observations.satellites
+    assert log.skipped["Svid outside its constellation's satellite numbers (system G)"] == 1
+    before = mn.read_gnsslogger(DATA / "android-gnsslogger" / "pixel6_excerpt.txt")
+    assert set(log.observations.satellites) <= set(before.observations.satellites)
+
+
+def test_a_gnss_table_with_values_no_receiver_reports_is_refused():
+    """gps_time_s = 1e308, a pseudorange of 1e300 m, a rate of 1e300 m/s were
+    accepted; each is refused naming the row and the column."""
+    row = {
+        "time_s": [0.0],
+        "gps_time_s": [1.4e9],
+        "sat_id": [5],
+        **{
+            f"sat_position_ecef_{a}_m": [v]
+            for a, v in zip("xyz", [-2.2e6, -2.6e7, -3.4e6], strict=True)
+        },
+        **{
+            f"sat_velocity_ecef_{a}_m_s": [v]
+            for a, v in zip("xyz", [325.5, -419.7, 3129.0], strict=True)
+        },
+        "pseudorange_m": [2.3e7],
+        "pseudorange_rate_m_s": [-120.5],
+    }
+    assert len(mn.GnssMeasurements.from_table(row).time) == 1
+    for column, value, message in [
+        ("gps_time_s", 1e308, r"row 0: gps_time_s = 1e308 s is out of range \(0e0 to 3.78648e9"),
+        ("pseudorange_m", 1e300, r"row 0: pseudorange = 1e300 m is out of range \(0e0 to 1e8 m\)"),
+        ("pseudorange_rate_m_s", 1e300, r"row 0: pseudorange_rate = 1e300 m/s is out of range"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            mn.GnssMeasurements.from_table(row | {column: [value]})

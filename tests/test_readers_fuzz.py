@@ -14,7 +14,9 @@ themselves far faster; this one covers the bindings and the wrappers.
 
 from __future__ import annotations
 
+import math
 import os
+import struct
 import tempfile
 import time
 import warnings
@@ -286,6 +288,89 @@ def test_the_seeds_read(name):
         path = Path(d) / f"seed.{ext}"
         path.write_bytes(seed)
         assert reader(path) is not None
+
+
+def _ubx_frames(log: bytes) -> list[tuple[int, int, bytes]]:
+    """The (class, id, payload) of each whole frame of a UBX log."""
+    frames, at = [], 0
+    while at + 8 <= len(log):
+        length = int.from_bytes(log[at + 4 : at + 6], "little")
+        if at + 8 + length > len(log):
+            break
+        frames.append((log[at + 2], log[at + 3], log[at + 6 : at + 6 + length]))
+        at += 8 + length
+    return frames
+
+
+def _ubx_frame(cls: int, msg_id: int, payload: bytes) -> bytes:
+    """A UBX frame with its Fletcher checksum (interface description §3.4)."""
+    body = bytes([cls, msg_id]) + len(payload).to_bytes(2, "little") + payload
+    a = b = 0
+    for x in body:
+        a = (a + x) & 0xFF
+        b = (b + a) & 0xFF
+    return b"\xb5\x62" + body + bytes([a, b])
+
+
+#: Little-endian values no receiver reports, written into UBX payloads.
+UBX_NASTY = [struct.pack("<d", v) for v in (math.inf, -math.inf, math.nan, 1e300, -1.0)] + [
+    struct.pack("<f", math.inf),
+    struct.pack("<i", -(2**31)),
+    struct.pack("<H", 9999),
+]
+
+ubx_mutation = st.one_of(
+    st.tuples(st.just("byte"), st.integers(0, 10**6), st.integers(0, 10**4), st.integers(0, 255)),
+    st.tuples(
+        st.just("field"), st.integers(0, 10**6), st.integers(0, 10**4),
+        st.integers(0, len(UBX_NASTY) - 1),
+    ),
+    st.tuples(st.just("duplicate"), st.integers(0, 10**6), st.just(0), st.just(0)),
+    st.tuples(st.just("delete"), st.integers(0, 10**6), st.just(0), st.just(0)),
+)  # fmt: skip
+
+
+@FUZZ
+@given(mutations=st.lists(ubx_mutation, min_size=1, max_size=5))
+def test_ubx_fields_behind_valid_checksums(tmp_path_factory, mutations):
+    """Payload bytes and fields of the log's frames changed (±inf, NaN,
+    1e300 measurements, a week of 9999, −2³¹ mm/s), every frame re-framed
+    with its Fletcher checksum so the decoders see it: the log reads with
+    only finite measurements and fixes, or is a ValueError naming the
+    file; what ``convert`` writes of it memsnav reads back, or ``convert``
+    says why it writes nothing."""
+    from memsnav.realdata.convert import convert_ubx
+
+    frames = _ubx_frames(READERS["ubx"][0])
+    for kind, nth, at, value in mutations:
+        k = nth % len(frames)
+        cls, msg_id, payload = frames[k]
+        if kind == "byte" and payload:
+            p = bytearray(payload)
+            p[at % len(p)] = value
+            frames[k] = (cls, msg_id, bytes(p))
+        elif kind == "field" and len(payload) >= len(UBX_NASTY[value]):
+            new = UBX_NASTY[value]
+            i = at % (len(payload) - len(new) + 1)
+            frames[k] = (cls, msg_id, payload[:i] + new + payload[i + len(new) :])
+        elif kind == "duplicate":
+            frames.insert(k, frames[k])
+        elif kind == "delete" and len(frames) > 1:
+            del frames[k]
+    folder = tmp_path_factory.mktemp("ubx")
+    path = folder / "fuzzed.ubx"
+    path.write_bytes(b"".join(_ubx_frame(*f) for f in frames))
+    try:
+        log, files = convert_ubx(path, folder / "rinex")
+    except ValueError as e:
+        assert "fuzzed." in str(e) or "no observations to write" in str(e), str(e)
+        return
+    for name in ("pseudorange", "carrier_phase", "doppler", "cn0"):
+        assert np.isfinite(log.rawx[name]).all(), name
+    for name in ("lla", "velocity_ned"):
+        assert np.isfinite(getattr(log.fixes, name)).all(), name
+    assert len(mn.read_rinex_obs(files["observations"]).time) <= len(log.rawx["epoch_gps_time"])
+    assert mn.read_broadcast_nav(files["navigation"]).skipped == {}
 
 
 REGRESSIONS = [p for p in sorted((DATA / "regressions").iterdir()) if p.suffix != ".md"]

@@ -355,3 +355,49 @@ def test_the_quoted_increments_gain_is_what_the_filter_does():
     guide = " ".join((docs / "real-data.md").read_text().split())
     assert f"{ends[100.0][0]:.3f} m native against {ends[100.0][1]:.3f} m" in guide
     assert f"at 20 Hz {ends[20.0][0]:.2f} m against {ends[20.0][1]:.1f} m" in guide
+
+
+def test_updates_are_transactions_and_starts_plausible(drive_300s):
+    """Arguments no sensor gives (a std that squares to zero, a lever arm
+    of 1e30 m, a fix 1e30 m from the Earth's centre) are refused before the
+    filter is touched: its state, covariance and records are the ones
+    before, array for array; a start no receiver can have names its key."""
+    traj, _, imu, f, w = drive_300s
+    rate = np.array([1e-4, -2e-4, 3e-5])
+    cases = [
+        (lambda r: r.update_non_holonomic(1e-300), r"std: 1e-300 is outside"),
+        (lambda r: r.update_non_holonomic(0.1, [1e30, 0, 0]), r"lever_arm: .*100 m"),
+        (lambda r: r.update_zaru(rate, 1e-300), r"std: 1e-300 is outside"),
+        (lambda r: r.update_speed(1.0, 0.1, [0, 1e30, 0]), r"lever_arm"),
+    ]
+    cases += [
+        (
+            lambda r: r.update_fix([1e30, 0, 0], 4 * np.eye(3)),
+            r"position_ecef: 1e30 m from the Earth's centre is no receiver's position",
+        )
+    ] * 3
+    for cls in (mn.TightlyCoupledFilter, mn.LooselyCoupledFilter):
+        running = cls(imu).start(traj.time[0], f[0], w[0], initial(traj))
+        running.predict(traj.time[1], f[1], w[1])
+        running.update_zupt(0.05)
+        before = (running.state, running.covariance.copy(), running.position_ecef.copy())
+        for call, message in cases:
+            with pytest.raises(ValueError, match=message):
+                call(running)
+            state, covariance, position = before
+            for name, value in running.state.items():
+                np.testing.assert_array_equal(value, state[name])
+            np.testing.assert_array_equal(running.covariance, covariance)
+            np.testing.assert_array_equal(running.position_ecef, position)
+        # One ZUPT's batch and its rows, nothing from the refused calls.
+        records = running.take_records()
+        assert len(records["batches"]["time"]) == 1
+        start = initial(traj) | {"clock_drift": 1.797e308, "clock_offset": 0.0}
+        with pytest.raises(ValueError, match=r"initial\.clock_drift: 1\.797e308 is beyond"):
+            cls(imu).start(traj.time[0], f[0], w[0], start)
+    tight = mn.TightlyCoupledFilter(imu)
+    with pytest.raises(ValueError, match=r"initial\.clock_offset"):
+        tight.start(traj.time[0], f[0], w[0], initial(traj) | {"clock_offset": 1e9})
+    far = initial(traj) | {"position_ecef": [1e30, 0.0, 0.0]}
+    with pytest.raises(ValueError, match="position"):
+        tight.start(traj.time[0], f[0], w[0], far)

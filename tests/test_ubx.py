@@ -10,6 +10,7 @@ where the data README says broadcast-ephemeris solutions sit."""
 
 from __future__ import annotations
 
+import struct
 import warnings
 from pathlib import Path
 
@@ -19,6 +20,7 @@ from shared_data import shared_data
 
 import memsnav as mn
 from memsnav.cli import main
+from memsnav.realdata.convert import convert_ubx
 
 EXCERPT = Path(__file__).parent / "data" / "real-imu-gnss" / "walk_head.ubx"
 WALK = "real-imu-gnss/walk_0827/"
@@ -329,3 +331,172 @@ def test_gps_cnav_ephemerides_and_klobuchar(tmp_path):
     log.write_rinex_nav(tmp_path / "walk.nav")
     text = (tmp_path / "walk.nav").read_text()
     assert sorted({line[:3] for line in text.splitlines() if line.startswith("G")}) == sorted(lnav)
+
+
+def _frame(cls: int, msg_id: int, payload: bytes) -> bytes:
+    """A UBX frame with its Fletcher checksum (interface description §3.4)."""
+    body = bytes([cls, msg_id]) + struct.pack("<H", len(payload)) + payload
+    a = b = 0
+    for x in body:
+        a = (a + x) & 0xFF
+        b = (b + a) & 0xFF
+    return b"\xb5\x62" + body + bytes([a, b])
+
+
+def _nav_pvt(itow_ms: int, height_mm: int = 1_580_048, vel_e_mm_s: int = 250) -> bytes:
+    """A 3D-fix NAV-PVT on 2025-08-28 (GPS week 2381)."""
+    p = bytearray(92)
+    struct.pack_into("<IHBBBBBB", p, 0, itow_ms, 2025, 8, 28, 17, 30, 0, 0x07)
+    p[20], p[21], p[23] = 3, 0x01, 12
+    struct.pack_into("<iiii", p, 24, -1_052_500_000, 400_000_000, height_mm, height_mm + 21_000)
+    struct.pack_into("<IIiii", p, 40, 14, 20, 100, vel_e_mm_s, -50)
+    struct.pack_into("<I", p, 68, 30)
+    return _frame(0x01, 0x07, bytes(p))
+
+
+def _rawx(tow_s: float, week: int, signals: list[tuple[float, float, float]]) -> bytes:
+    """An RXM-RAWX of GPS L1 C/A signals (PRN 3, 4, ...) with the given
+    (prMes m, cpMes cycles, doMes Hz), pseudorange and phase flagged valid."""
+    p = struct.pack("<dHbBBBBB", tow_s, week, 18, len(signals), 1, 1, 0, 0)
+    for k, (pr, cp, do) in enumerate(signals):
+        p += struct.pack("<ddfBBBBHBBBBBB", pr, cp, do, 0, 3 + k, 0, 0, 5000, 44, 5, 2, 5, 0x07, 0)
+    return _frame(0x02, 0x15, p)
+
+
+def test_nav_pvt_values_no_receiver_reports_are_skipped_and_counted(tmp_path):
+    """NAV-PVT with velE = −2³¹ mm/s (−2 147 km/s) or a height of −1 043 km
+    is skipped with a count and a warning naming the field; the good
+    solution around them is kept."""
+    itow = (4 * 86_400 + 17 * 3_600 + 30 * 60 + 18) * 1000
+    path = tmp_path / "pvt.ubx"
+    path.write_bytes(
+        _nav_pvt(itow)
+        + _nav_pvt(itow + 1000, vel_e_mm_s=-(2**31))
+        + _nav_pvt(itow + 2000, height_mm=-1_043_477_000)
+    )
+    log = mn.read_ubx(path)
+    assert log.skipped["NAV-PVT with a value no receiver reports"] == 2
+    assert len(log.fixes.gps_time) == 1
+    assert np.abs(log.fixes.velocity_ned).max() < 1.0
+    assert log.fixes.lla[0, 2] == 1580.048
+    assert any("NAV-PVT velE = -2.147483648e6 m/s is out of range" in w for w in log.warnings)
+    assert any("NAV-PVT height = -1.043477e6 m is out of range" in w for w in log.warnings)
+
+
+def test_rawx_weeks_after_2099_and_infinite_values_are_skipped(tmp_path):
+    """An RXM-RAWX of week 9999 (2171) is skipped, not an epoch; ±inf
+    pseudorange, phase and Doppler flagged valid leave their signal out."""
+    good = (2.1e7, 1.1e8, -1234.5)
+    path = tmp_path / "rawx.ubx"
+    path.write_bytes(
+        _rawx(408_618.0, 2381, [good])
+        + _rawx(408_619.0, 9999, [good])
+        + _rawx(
+            408_620.0,
+            2381,
+            [good, (np.inf, 1.1e8, -1.0), (2.1e7, -np.inf, -1.0), (2.1e7, 1.1e8, np.inf)],
+        )
+    )
+    log = mn.read_ubx(path)
+    assert log.skipped["RXM-RAWX malformed"] == 1
+    assert any("week 9999 is outside 1024-6260" in w for w in log.warnings)
+    assert log.skipped["RXM-RAWX signals with a value no receiver reports"] == 3
+    times = np.asarray(log.rawx["epoch_gps_time"])
+    np.testing.assert_array_equal(times, 2381 * 604_800.0 + np.array([408_618.0, 408_620.0]))
+    for name in ("pseudorange", "carrier_phase", "doppler"):
+        assert np.isfinite(log.rawx[name]).all(), name
+    assert len(log.rawx["pseudorange"]) == 2
+
+
+def test_convert_of_a_log_without_observations_says_so(tmp_path, capsys):
+    """A log of NAV-PVT only has no observations: ``convert`` is an error
+    saying so and writes no file its readers would refuse."""
+    path = tmp_path / "pvt_only.ubx"
+    path.write_bytes(_nav_pvt(408_618_000) + _nav_pvt(408_619_000))
+    out = tmp_path / "rinex"
+    with pytest.raises(ValueError, match=r"no observations to write.*RXM-RAWX"):
+        convert_ubx(path, out)
+    assert not (out / "pvt_only.obs").exists()
+    assert main(["convert", str(path), "--output", str(out)]) != 0
+    assert "no observations" in capsys.readouterr().err
+
+
+def test_convert_reads_its_files_back(tmp_path):
+    """What ``convert`` writes, memsnav's readers read back whole."""
+    files = convert_ubx(EXCERPT, tmp_path)[1]
+    log = mn.read_ubx(EXCERPT)
+    obs = mn.read_rinex_obs(files["observations"])
+    assert len(obs.time) == len(log.rawx["epoch_gps_time"])
+    nav = mn.read_broadcast_nav(files["navigation"])
+    written = len(log.ephemerides) + len(log.galileo_ephemerides) + len(log.beidou_ephemerides)
+    assert written > 0 and len(nav) == written and nav.skipped == {}
+
+
+#: LNAV parity equations (IS-GPS-200 table 20-XIV): whether each parity
+#: bit starts from D30* (else D29*) and which source data bits d1-d24 it sums.
+_LNAV_PARITY = [
+    (False, [1, 2, 3, 5, 6, 10, 11, 12, 13, 14, 17, 18, 20, 23]),
+    (True, [2, 3, 4, 6, 7, 11, 12, 13, 14, 15, 18, 19, 21, 24]),
+    (False, [1, 3, 4, 5, 7, 8, 12, 13, 14, 15, 16, 19, 20, 22]),
+    (True, [2, 4, 5, 6, 8, 9, 13, 14, 15, 16, 17, 20, 21, 23]),
+    (True, [1, 3, 5, 6, 7, 9, 10, 14, 15, 16, 17, 18, 21, 22, 24]),
+    (False, [3, 5, 6, 8, 9, 10, 11, 13, 15, 19, 22, 23, 24]),
+]
+
+
+def _lnav_word(word: int, data: int) -> int:
+    """``word`` (u-blox layout: D29*, D30* in bits 31-30) carrying the 24
+    source data bits ``data`` instead, its parity recomputed."""
+    d29, d30 = word >> 31 & 1, word >> 30 & 1
+    parity = 0
+    for from_d30, bits in _LNAV_PARITY:
+        p = d30 if from_d30 else d29
+        for i in bits:
+            p ^= data >> (24 - i) & 1
+        parity = parity << 1 | p
+    sent = data ^ 0xFFFFFF if d30 else data
+    return d29 << 31 | d30 << 30 | sent << 6 | parity
+
+
+def _lnav_data(word: int) -> int:
+    return (word >> 6 & 0xFFFFFF) ^ (0xFFFFFF if word >> 30 & 1 else 0)
+
+
+def test_an_lnav_orbit_inside_the_earth_is_skipped_and_counted(tmp_path):
+    """Every GPS subframe 2 of the log carrying √A = 33.6 √m (an orbit
+    inside the Earth) behind a valid parity and checksum: the LNAV
+    ephemerides are skipped and counted, the others kept, and ``convert``
+    writes what memsnav reads back."""
+    log = bytearray(EXCERPT.read_bytes())
+    raw = round(33.6 * 2**19)
+    at, changed = 0, 0
+    while at + 8 <= len(log):
+        length = int.from_bytes(log[at + 4 : at + 6], "little")
+        p = at + 6
+        words = [int.from_bytes(log[p + 8 + 4 * k : p + 12 + 4 * k], "little") for k in range(10)]
+        if log[at + 2 : at + 4] == b"\x02\x13" and length == 48 and log[p] == 0 and log[p + 2] == 0:
+            if _lnav_data(words[1]) >> 2 & 7 == 2:  # subframe id 2 (HOW bits 20-22)
+                w8 = _lnav_data(words[7]) & ~0xFF | raw >> 24
+                new = [_lnav_word(words[7], w8), _lnav_word(words[8], raw & 0xFFFFFF)]
+                for k, w in zip((7, 8), new, strict=True):
+                    log[p + 8 + 4 * k : p + 12 + 4 * k] = w.to_bytes(4, "little")
+                body = log[at + 2 : at + 6 + length]
+                a = b = 0
+                for x in body:
+                    a, b = (a + x) & 0xFF, (b + ((a + x) & 0xFF)) & 0xFF
+                log[at + 6 + length : at + 8 + length] = bytes([a, b])
+                changed += 1
+        at += 8 + length
+    path = tmp_path / "inside.ubx"
+    path.write_bytes(bytes(log))
+    before = mn.read_ubx(EXCERPT)
+    read = mn.read_ubx(path)
+    assert changed > 0 and "frames with a bad checksum" not in read.skipped
+    assert "GPS LNAV subframes with a parity failure" not in read.skipped
+    assert read.skipped["GPS LNAV ephemerides out of range"] == len(before.ephemerides) == 4
+    assert len(read.ephemerides) == 0
+    assert any("sqrt(A) = 3.36" in w and "is out of range" in w for w in read.warnings)
+    assert len(read.galileo_ephemerides) == len(before.galileo_ephemerides)
+    files = convert_ubx(path, tmp_path / "rinex")[1]
+    nav = mn.read_broadcast_nav(files["navigation"])
+    assert len(nav) == len(read.galileo_ephemerides) + len(read.beidou_ephemerides)

@@ -1665,8 +1665,11 @@ class RunningFilter:
     epoch stamped more than 1e-4 s away is refused. Every update is tested
     by the chi-square gate (a fix or a GNSS epoch as one batch per block)
     and returns whether it was applied whole. Records accumulate until
-    ``take_records()``. Refused calls
-    (ValueError naming the argument) leave the filter unchanged.
+    ``take_records()``. Every update is a transaction: refused calls
+    (ValueError naming the argument: stds within 1e-9 to 1e9 of their unit,
+    lever arms within 100 m, a fix's position near the Earth's surface) and
+    updates that fail on the way (DivergenceError) leave the filter exactly
+    as it was, records included.
     """
 
     def predict(
@@ -1931,7 +1934,9 @@ def satellite_name(number: int) -> str:
 
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
     """The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
-    file (other systems and Galileo F/NAV records counted in ``skipped``)."""
+    file (other systems, Galileo F/NAV records and ephemerides in conflict,
+    two of one satellite and t_oc or issue of data with other values,
+    counted in ``skipped``)."""
 
 @final
 class RinexObservations:

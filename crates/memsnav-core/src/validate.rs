@@ -177,6 +177,54 @@ pub fn initial_std(argument: &str, value: f64) -> Result<()> {
     Ok(())
 }
 
+/// Smallest one-sigma of an aiding measurement, in its unit (m, m/s, rad,
+/// rad/s): a billionth, far below any sensor's noise. Below it the
+/// variance leaves the float range's useful part (1e-300 squares to 0) and
+/// the update divides by rounding noise.
+pub const MIN_AID_STD: f64 = 1e-9;
+
+/// Largest one-sigma of an aiding measurement, in its unit: beyond it the
+/// measurement says nothing, and its square nears the float range's end.
+pub const MAX_AID_STD: f64 = 1e9;
+
+/// An aid's one-sigma `value` within [[`MIN_AID_STD`], [`MAX_AID_STD`]].
+pub fn aid_std(argument: &str, value: f64) -> Result<()> {
+    if (MIN_AID_STD..=MAX_AID_STD).contains(&value) {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!(
+                "{value:e} is outside [{MIN_AID_STD:e}, {MAX_AID_STD:e}]: a one-sigma in the \
+                 measurement's unit (m, m/s, rad, rad/s)"
+            ),
+        ))
+    }
+}
+
+/// Longest lever arm, m: the size of the largest vehicle (a ship's
+/// antenna or wheel tens of metres from its IMU). Beyond it a lever arm is
+/// a unit or sign mistake, and its products with the angular rate swamp
+/// the velocity it corrects.
+pub const MAX_LEVER_ARM_M: f64 = 100.0;
+
+/// A lever arm (m, body axes) no longer than [`MAX_LEVER_ARM_M`].
+pub fn lever_arm(argument: &str, lever_arm_m: &Vector3<f64>) -> Result<()> {
+    let length = lever_arm_m.norm();
+    if length <= MAX_LEVER_ARM_M {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            argument,
+            format!(
+                "{:?} m is {length:e} m long, beyond a vehicle's size ({MAX_LEVER_ARM_M} m; \
+                 metres in body axes expected)",
+                lever_arm_m.as_slice()
+            ),
+        ))
+    }
+}
+
 /// A finite value greater than zero.
 pub fn positive(argument: &str, value: f64) -> Result<()> {
     if value.is_finite() && value > 0.0 {

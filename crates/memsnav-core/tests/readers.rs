@@ -103,7 +103,7 @@ fn rinex_nav_values_outside_the_navigation_message_are_refused() {
         (
             "G32 2025",
             "G-1 2025",
-            "satellite PRN -1 is out of range (1-63)",
+            "satellite G-1 does not exist (system G numbers 1-32)",
         ),
     ] {
         let e = nav_error(&text.replacen(from, to, 1));

@@ -91,7 +91,9 @@ impl PyBroadcastEphemerides {
 }
 
 /// The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
-/// file (other systems and Galileo F/NAV records counted in ``skipped``).
+/// file (other systems, Galileo F/NAV records and ephemerides in conflict,
+/// two of one satellite and t_oc or issue of data with other values,
+/// counted in ``skipped``).
 #[catch_panics]
 #[pyfunction]
 fn read_broadcast_nav(py: Python<'_>, path: PathBuf) -> PyResult<PyBroadcastEphemerides> {

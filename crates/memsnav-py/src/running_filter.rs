@@ -67,8 +67,11 @@ pub(crate) enum StartedBy {
 /// applies its rows as batches (one per block of a fix or GNSS epoch)
 /// tested by the chi-square gate, and returns whether it was applied
 /// whole (every batch accepted). Measurement records
-/// accumulate until `take_records()` hands them over. Refused calls
-/// (ValueError naming the argument) leave the filter unchanged.
+/// accumulate until `take_records()` hands them over. Every update is a
+/// transaction: refused calls (ValueError naming the argument: stds within
+/// 1e-9 to 1e9 of their unit, lever arms within 100 m, a fix's position
+/// near the Earth's surface) and updates that fail on the way
+/// (DivergenceError) leave the filter exactly as it was, records included.
 #[pyclass(name = "RunningFilter", module = "memsnav._memsnav")]
 pub struct PyRunningFilter {
     filter: Filter,
@@ -245,7 +248,7 @@ impl PyRunningFilter {
     /// Zero-velocity update: the IMU is at rest, `std` m/s per axis.
     /// Returns whether it was accepted.
     fn update_zupt(&mut self, std: f64) -> PyResult<bool> {
-        with_filter!(&mut self.filter, s => s.zero_velocity_update(s.time_s(), std).py())
+        with_filter!(&mut self.filter, s => s.update_zupt(std).py())
     }
 
     /// Zero-angular-rate update at rest: `mean_angular_rate` (3,) rad/s is
@@ -258,7 +261,7 @@ impl PyRunningFilter {
     ) -> PyResult<bool> {
         let rate = convert::vector3(mean_angular_rate, "mean_angular_rate")?;
         let std = convert::per_axis(std, "std")?;
-        with_filter!(&mut self.filter, s => s.zero_rate_update(s.time_s(), &rate, &std).py())
+        with_filter!(&mut self.filter, s => s.update_zaru(&rate, &std).py())
     }
 
     /// Non-holonomic constraint of a land vehicle: the point at
@@ -272,7 +275,7 @@ impl PyRunningFilter {
         lever_arm: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<bool> {
         let l = lever_arm_arg(lever_arm)?;
-        with_filter!(&mut self.filter, s => s.non_holonomic_update(s.time_s(), &l, std).py())
+        with_filter!(&mut self.filter, s => s.update_non_holonomic(&l, std).py())
     }
 
     /// Odometer (wheel speed): the forward speed `speed` m/s (negative when
@@ -286,21 +289,21 @@ impl PyRunningFilter {
         lever_arm: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<bool> {
         let l = lever_arm_arg(lever_arm)?;
-        with_filter!(&mut self.filter, s => s.speed_update(s.time_s(), speed, &l, std).py())
+        with_filter!(&mut self.filter, s => s.update_speed(speed, &l, std).py())
     }
 
     /// Height (a barometer referenced to the ellipsoid): the IMU's WGS 84
     /// ellipsoidal height `height` m, `std` m. Returns whether it was
     /// accepted.
     fn update_height(&mut self, height: f64, std: f64) -> PyResult<bool> {
-        with_filter!(&mut self.filter, s => s.height_update(s.time_s(), height, std).py())
+        with_filter!(&mut self.filter, s => s.update_height(height, std).py())
     }
 
     /// Heading (dual antenna; a magnetometer corrected for declination):
     /// the body's yaw `yaw` rad from north, positive east (NED), `std` rad.
     /// Returns whether it was accepted.
     fn update_heading(&mut self, yaw: f64, std: f64) -> PyResult<bool> {
-        with_filter!(&mut self.filter, s => s.heading_update(s.time_s(), yaw, std).py())
+        with_filter!(&mut self.filter, s => s.update_heading(yaw, std).py())
     }
 
     /// The filter's time, s (that of the last predict).

@@ -26,7 +26,8 @@ use crate::filter::state::{
 use crate::filter::SparseRow;
 use crate::geodesy::wgs84::EARTH_RATE_RAD_S;
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
-use crate::{validate, Result};
+use crate::gnss::plausible;
+use crate::{validate, Error, Result};
 
 const AIDS: BatchRules = BatchRules {
     exclusion: false,
@@ -107,7 +108,7 @@ impl<const N: usize> FilterState<N> {
     /// leaves a velocity error every later ZUPT is refused for, and the
     /// position drifts through the whole stop.
     pub fn zero_velocity_update(&mut self, time_s: f64, std_m_s: f64) -> Result<bool> {
-        validate::positive("std", std_m_s)?;
+        validate::aid_std("std", std_m_s)?;
         let kind = MeasurementKind::ZeroVelocity;
         for k in 0..3 {
             let h = SparseRow::new(&[(VELOCITY + k, 1.0)]);
@@ -176,7 +177,7 @@ impl<const N: usize> FilterState<N> {
     ) -> Result<bool> {
         validate::finite_vectors("mean_angular_rate", &[*mean_raw_rate_b])?;
         for std in std_rad_s.iter() {
-            validate::positive("std", *std)?;
+            validate::aid_std("std", *std)?;
         }
         let kind = MeasurementKind::ZeroRate;
         let rows = zero_rate_rows(&self.nav.c_b_e, &self.gyro_bias_rad_s, mean_raw_rate_b);
@@ -212,8 +213,8 @@ impl<const N: usize> FilterState<N> {
         reference_b_m: &Vector3<f64>,
         std_m_s: f64,
     ) -> Result<bool> {
-        validate::positive("std", std_m_s)?;
-        validate::finite_vectors("lever_arm", &[*reference_b_m])?;
+        validate::aid_std("std", std_m_s)?;
+        validate::lever_arm("lever_arm", reference_b_m)?;
         let kind = MeasurementKind::NonHolonomic;
         let [_, lateral, vertical] = self.reference_velocity_rows(reference_b_m);
         for (id, (h, y)) in [(1, lateral), (2, vertical)] {
@@ -234,8 +235,9 @@ impl<const N: usize> FilterState<N> {
         std_m_s: f64,
     ) -> Result<bool> {
         validate::finite_scalars("speed", &[speed_m_s])?;
-        validate::positive("std", std_m_s)?;
-        validate::finite_vectors("lever_arm", &[*reference_b_m])?;
+        validate::at_most("speed", speed_m_s.abs(), plausible::MAX_SPEED_M_S)?;
+        validate::aid_std("std", std_m_s)?;
+        validate::lever_arm("lever_arm", reference_b_m)?;
         let kind = MeasurementKind::Speed;
         let [(h, predicted), ..] = self.reference_velocity_rows(reference_b_m);
         self.stage(time_s, kind, 0, h, predicted - speed_m_s, std_m_s);
@@ -245,8 +247,9 @@ impl<const N: usize> FilterState<N> {
     /// Barometric (or any) height: the IMU's ellipsoidal height `height_m`
     /// (WGS 84), std `std_m`. Returns whether it was applied.
     pub fn height_update(&mut self, time_s: f64, height_m: f64, std_m: f64) -> Result<bool> {
-        validate::finite_scalars("height", &[height_m])?;
-        validate::positive("std", std_m)?;
+        plausible::check(height_m, plausible::HEIGHT_M, "height", "m")
+            .map_err(|reason| Error::invalid("height", reason))?;
+        validate::aid_std("std", std_m)?;
         let kind = MeasurementKind::Height;
         let (h, predicted) = height_row(&self.nav.position_ecef);
         self.stage(time_s, kind, 0, h, predicted - height_m, std_m);
@@ -259,7 +262,7 @@ impl<const N: usize> FilterState<N> {
     /// wrapped into (−π, π]. Returns whether it was applied.
     pub fn heading_update(&mut self, time_s: f64, yaw_rad: f64, std_rad: f64) -> Result<bool> {
         validate::finite_scalars("yaw", &[yaw_rad])?;
-        validate::positive("std", std_rad)?;
+        validate::aid_std("std", std_rad)?;
         let kind = MeasurementKind::Heading;
         let (h, predicted) = heading_row(&self.nav.c_b_e, &self.nav.position_ecef);
         let innovation = crate::attitude::wrap_angle_rad(predicted - yaw_rad);
@@ -387,6 +390,38 @@ mod tests {
                 assert!((zaru[k].0.dot(&x) - d).abs() < 1e-12, "zaru {j} {k}");
             }
         }
+    }
+
+    /// A failed update leaves the filter exactly as it was, records
+    /// included; arguments no sensor gives are refused before it starts.
+    #[test]
+    fn updates_are_transactions() {
+        let mut s = state();
+        assert!(s.update_height(200.0, 1.0).unwrap());
+        let (p, nav, counts) = (s.kf.p, s.nav, (s.records.len(), s.batches.len()));
+        let failed = s.transaction(|s| {
+            assert!(s.height_update(s.time_s, 200.5, 1.0)?);
+            assert_ne!(s.kf.p, p);
+            Err::<bool, _>(crate::Error::Divergence {
+                time_s: s.time_s,
+                reason: "a test's failure after the update".into(),
+            })
+        });
+        assert!(failed.is_err());
+        assert_eq!((s.kf.p, s.nav), (p, nav));
+        assert_eq!((s.records.len(), s.batches.len()), counts);
+        for e in [
+            s.update_non_holonomic(&Vector3::new(1e30, 0.0, 0.0), 0.1),
+            s.update_speed(1.0, &Vector3::new(0.0, 1e30, 0.0), 0.1),
+            s.update_zupt(1e-300),
+            s.update_zaru(&Vector3::zeros(), &Vector3::repeat(1e-300)),
+            s.update_height(-2e4, 1.0),
+        ] {
+            let e = e.unwrap_err().to_string();
+            let named = ["lever_arm: ", "std: 1e-300 is outside", "height = -2e4 m"];
+            assert!(named.iter().any(|n| e.contains(n)), "{e}");
+        }
+        assert_eq!((s.kf.p, s.nav), (p, nav));
     }
 
     /// The rest-acceleration statistic against one written out: the

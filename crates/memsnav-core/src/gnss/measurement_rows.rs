@@ -10,6 +10,7 @@
 //! carrier phase, when present, needs a finite range and a finite positive
 //! σ (the converters turn a NaN carrier slot into no carrier).
 
+use super::plausible;
 use super::{CarrierPhase, GnssEpoch, SatelliteMeasurement};
 
 /// Largest satellite distance from the Earth's centre accepted, m (well
@@ -44,6 +45,12 @@ pub fn check_measurement(m: &SatelliteMeasurement) -> Result<SatelliteMeasuremen
             m.pseudorange_m
         ));
     }
+    plausible::check(
+        m.pseudorange_m,
+        plausible::PSEUDORANGE_M,
+        "pseudorange",
+        "m",
+    )?;
     if !(m.pseudorange_std_m.is_finite() && m.pseudorange_std_m > 0.0) {
         return Err(format!(
             "pseudorange_std = {} m (must be finite and positive)",
@@ -75,6 +82,12 @@ pub fn check_measurement(m: &SatelliteMeasurement) -> Result<SatelliteMeasuremen
             m.pseudorange_rate_m_s
         ));
     }
+    plausible::check(
+        m.pseudorange_rate_m_s,
+        plausible::PSEUDORANGE_RATE_M_S,
+        "pseudorange_rate",
+        "m/s",
+    )?;
     if !(m.pseudorange_rate_std_m_s.is_finite() && m.pseudorange_rate_std_m_s > 0.0) {
         return Err(format!(
             "pseudorange_rate_std = {} m/s with a rate of {} m/s (must be finite and positive)",

@@ -11,15 +11,19 @@
 mod atmosphere;
 mod beidou_ephemeris;
 mod broadcast_orbit;
+pub(crate) mod broadcast_ranges;
 mod clock;
 mod cnav_ephemeris;
 mod constellation;
 mod dual_frequency;
 mod ephemeris;
+pub(crate) mod ephemeris_conflicts;
 mod fix;
 mod galileo_ephemeris;
 mod measurement_rows;
+pub(crate) mod nav_record;
 mod observables;
+pub mod plausible;
 mod range;
 mod rinex_nav;
 mod rinex_obs;
@@ -61,10 +65,10 @@ pub use range::{predicted_range, RangePrediction};
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
-pub(crate) use rinex_obs::{observation_range, SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_obs::{
     parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
 };
+pub(crate) use rinex_obs::{SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_write::{
     format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, RinexProvenance,
 };

@@ -4,27 +4,32 @@
 //! F/NAV records are skipped with a count. Numbers may use Fortran `D`
 //! exponents. Every error names the file and the 1-based line.
 
-use std::collections::hash_map::{Entry, HashMap};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::beidou_ephemeris::BeidouEphemeris;
 use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
+use super::broadcast_ranges::{self, BEIDOU_NAMES, GALILEO_NAMES, GPS_NAMES};
 use super::cnav_ephemeris::CnavGroupDelays;
 use super::ephemeris::{ura_index, GpsEphemeris};
+use super::ephemeris_conflicts;
 use super::galileo_ephemeris::{sisa_index, InavEphemeris};
-use super::time::{calendar_text, checked_gps_time_from_calendar, SECONDS_PER_WEEK};
+use super::nav_record::NavRecord;
+use super::plausible;
+use super::time::{checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
 /// Reads every GPS ephemeris of a RINEX 2 or 3 navigation file, in file order.
 ///
-/// One ephemeris per satellite and t_oc: a merged file (a daily `brdc`
-/// gathered from many stations) may hold the same ephemeris more than once,
-/// so a record whose values all equal an earlier one's of the same satellite
-/// and t_oc, the transmission time apart, is kept once. One that differs in
-/// any other value is refused naming both: choosing one would be a guess of
-/// which was broadcast (and the ephemeris selection would silently take the
-/// first in file order).
+/// One ephemeris per satellite and t_oc, and per satellite and issue of
+/// data ([`crate::gnss::ephemeris_conflicts`]): a merged file (a daily
+/// `brdc` gathered from many stations) may hold the same ephemeris more
+/// than once, so a record whose values all equal an earlier one's of the
+/// same satellite and t_oc, the transmission time apart, is kept once.
+/// Records that disagree are all left out and counted in
+/// [`BroadcastNav::skipped`]: choosing one would be a guess of which was
+/// broadcast (and the ephemeris selection would silently take the first in
+/// file order).
 pub fn read_rinex_nav(path: impl AsRef<Path>) -> Result<Vec<GpsEphemeris>> {
     read_broadcast_nav(path).map(|nav| nav.gps)
 }
@@ -96,13 +101,12 @@ impl Cursor<'_> {
     }
 }
 
-/// A PRN, 1-63 (two digits in RINEX).
-fn satellite_prn(cur: &Cursor<'_>, k: usize, prn: i64) -> Result<u16> {
-    if (1..=63).contains(&prn) {
-        Ok(prn as u16)
-    } else {
-        Err(cur.error(k, format!("satellite PRN {prn} is out of range (1-63)")))
-    }
+/// The satellite number of system `letter` (one that exists,
+/// [`plausible::satellite_numbers`]).
+fn satellite_prn(cur: &Cursor<'_>, k: usize, letter: char, prn: i64) -> Result<u16> {
+    plausible::check_satellite(letter, prn)
+        .map(|()| prn as u16)
+        .map_err(|reason| cur.error(k, reason))
 }
 
 /// A real number in Fortran or C notation (`0.12D+02`, `-.5E-3`, `12`).
@@ -118,243 +122,11 @@ fn parse_number(field: &str) -> Option<f64> {
     value.is_finite().then_some(value)
 }
 
-/// The values of a GPS record in RINEX order (`values[0..3]` = a_f0, a_f1,
-/// a_f2 on the epoch line; then seven lines of four, RINEX 3.05 table A6).
-const GPS_NAMES: [&str; 29] = [
-    "SV clock bias",
-    "SV clock drift",
-    "SV clock drift rate",
-    "IODE",
-    "Crs",
-    "Delta n",
-    "M0",
-    "Cuc",
-    "e",
-    "Cus",
-    "sqrt(A)",
-    "Toe",
-    "Cic",
-    "OMEGA0",
-    "Cis",
-    "i0",
-    "Crc",
-    "omega",
-    "OMEGA DOT",
-    "IDOT",
-    "codes on L2",
-    "GPS week",
-    "L2 P flag",
-    "SV accuracy",
-    "SV health",
-    "TGD",
-    "IODC",
-    "transmission time",
-    "fit interval",
-];
-
-/// The values of a Galileo record (RINEX 3.05 table A8).
-const GALILEO_NAMES: [&str; 28] = [
-    "SV clock bias",
-    "SV clock drift",
-    "SV clock drift rate",
-    "IODnav",
-    "Crs",
-    "Delta n",
-    "M0",
-    "Cuc",
-    "e",
-    "Cus",
-    "sqrt(A)",
-    "Toe",
-    "Cic",
-    "OMEGA0",
-    "Cis",
-    "i0",
-    "Crc",
-    "omega",
-    "OMEGA DOT",
-    "IDOT",
-    "data sources",
-    "GAL week",
-    "spare",
-    "SISA",
-    "SV health",
-    "BGD E5a/E1",
-    "BGD E5b/E1",
-    "transmission time",
-];
-
-/// The values of a BeiDou record (RINEX 3.05 table A14).
-const BEIDOU_NAMES: [&str; 29] = [
-    "SV clock bias",
-    "SV clock drift",
-    "SV clock drift rate",
-    "AODE",
-    "Crs",
-    "Delta n",
-    "M0",
-    "Cuc",
-    "e",
-    "Cus",
-    "sqrt(A)",
-    "Toe",
-    "Cic",
-    "OMEGA0",
-    "Cis",
-    "i0",
-    "Crc",
-    "omega",
-    "OMEGA DOT",
-    "IDOT",
-    "spare",
-    "BDT week",
-    "spare",
-    "SV accuracy",
-    "SatH1",
-    "TGD1",
-    "TGD2",
-    "transmission time",
-    "AODC",
-];
-
-type Ranges = [Option<(f64, f64)>; 29];
-
-const fn sym(x: f64) -> Option<(f64, f64)> {
-    Some((-x, x))
-}
-
-/// The ranges of the clock (`clock`), the issue of data (`slot_3`) and
-/// the orbit values (IS-GPS-200 table 20-III, Galileo ICD table 60, B1I
-/// ICD table 5-9: bits × scale; angles in semicircles there are radians
-/// in RINEX): the harmonic corrections bound by `crs_m` (Crs, Crc) and
-/// `cuc_rad` (Cuc, Cus, Cic, Cis), the rest alike in the three systems.
-const fn orbit_ranges(
-    clock: [Option<(f64, f64)>; 3],
-    slot_3: (f64, f64),
-    crs_m: f64,
-    cuc_rad: f64,
-) -> [Option<(f64, f64)>; 20] {
-    const PI: f64 = std::f64::consts::PI;
-    [
-        clock[0],
-        clock[1],
-        clock[2],
-        Some(slot_3),
-        sym(crs_m),                // Crs
-        sym(3.725_290_3e-9 * PI),  // Δn: 16 bits × 2⁻⁴³ semicircles/s
-        sym(PI),                   // M0: 32 bits × 2⁻³¹ semicircles
-        sym(cuc_rad),              // Cuc
-        Some((0.0, 0.5)),          // e: 32 bits unsigned × 2⁻³³
-        sym(cuc_rad),              // Cus
-        Some((2530.0, 8192.0)),    // √A, √m (IS-GPS-200's range; BeiDou GEO 6493)
-        Some((0.0, 604_800.0)),    // t_oe, s of the week
-        sym(cuc_rad),              // Cic
-        sym(PI),                   // Ω0
-        sym(cuc_rad),              // Cis
-        sym(PI),                   // i0
-        sym(crs_m),                // Crc
-        sym(PI),                   // ω
-        sym(9.536_743_2e-7 * PI),  // Ω̇: 24 bits × 2⁻⁴³ semicircles/s
-        sym(9.313_225_8e-10 * PI), // IDOT: 14 bits × 2⁻⁴³ semicircles/s
-    ]
-}
-
-/// Ranges of `head` then the system's last values (`None`: no limit).
-const fn ranges(head: [Option<(f64, f64)>; 20], tail: [Option<(f64, f64)>; 9]) -> Ranges {
-    let mut out = [None; 29];
-    let mut k = 0;
-    while k < 20 {
-        out[k] = head[k];
-        k += 1;
-    }
-    while k < 29 {
-        out[k] = tail[k - 20];
-        k += 1;
-    }
-    out
-}
-
-/// GPS (IS-GPS-200 tables 20-I, 20-III): a value outside cannot have been broadcast.
-const GPS_RANGES: Ranges = ranges(
-    orbit_ranges(
-        [
-            sym(9.765_625e-4),    // a_f0: 22 bits × 2⁻³¹ s
-            sym(3.725_290_3e-9),  // a_f1: 16 bits × 2⁻⁴³ s/s
-            sym(3.552_713_7e-15), // a_f2: 8 bits × 2⁻⁵⁵ s/s²
-        ],
-        (0.0, 1023.0),  // IODE (8 bits; 10 in RINEX 3 files of IODC)
-        1024.0,         // Crs, Crc: 16 bits × 2⁻⁵ m
-        6.103_515_7e-5, // Cuc, ...: 16 bits × 2⁻²⁹ rad
-    ),
-    [
-        None,                // codes on L2
-        Some((0.0, 9999.0)), // GPS week (continuous in RINEX)
-        None,                // L2 P flag
-        None,                // SV accuracy
-        Some((0.0, 63.0)),   // SV health (6 bits)
-        sym(5.960_464_5e-8), // T_GD: 8 bits × 2⁻³¹ s
-        Some((0.0, 1023.0)), // IODC (10 bits)
-        None,                // transmission time
-        Some((0.0, 1000.0)), // fit interval, h
-    ],
-);
-
-/// Galileo (OS SIS ICD tables 60, 63, 65).
-const GALILEO_RANGES: Ranges = ranges(
-    orbit_ranges(
-        [
-            sym(0.0625),          // a_f0: 31 bits × 2⁻³⁴ s
-            sym(1.490_116_2e-8),  // a_f1: 21 bits × 2⁻⁴⁶ s/s
-            sym(5.551_115_2e-17), // a_f2: 6 bits × 2⁻⁵⁹ s/s²
-        ],
-        (0.0, 1023.0),  // IODnav (10 bits)
-        1024.0,         // Crs, Crc: 16 bits × 2⁻⁵ m
-        6.103_515_7e-5, // Cuc, ...: 16 bits × 2⁻²⁹ rad
-    ),
-    [
-        Some((0.0, 1023.0)), // data sources (10 bits)
-        Some((0.0, 9999.0)), // GAL week (continuous, GPS-aligned)
-        None,                // spare
-        None,                // SISA, m (−1: no prediction)
-        Some((0.0, 511.0)),  // SV health (9 bits)
-        sym(1.192_092_9e-7), // BGD E5a/E1: 10 bits × 2⁻³² s
-        sym(1.192_092_9e-7), // BGD E5b/E1
-        None,                // transmission time
-        None,                // (no value)
-    ],
-);
-
-/// BeiDou (B1I ICD tables 5-7, 5-9).
-const BEIDOU_RANGES: Ranges = ranges(
-    orbit_ranges(
-        [
-            sym(9.765_625e-4),    // a_0: 24 bits × 2⁻³³ s
-            sym(1.862_645_2e-9),  // a_1: 22 bits × 2⁻⁵⁰ s/s
-            sym(1.387_778_8e-17), // a_2: 11 bits × 2⁻⁶⁶ s/s²
-        ],
-        (0.0, 31.0),    // AODE (5 bits)
-        2048.0,         // Crs, Crc: 18 bits × 2⁻⁶ m
-        1.220_703_2e-4, // Cuc, ...: 18 bits × 2⁻³¹ rad
-    ),
-    [
-        None,                // spare
-        Some((0.0, 8191.0)), // BDT week (13 bits)
-        None,                // spare
-        None,                // SV accuracy, m
-        Some((0.0, 1.0)),    // SatH1
-        sym(5.12e-8),        // TGD1: 10 bits × 0.1 ns
-        sym(5.12e-8),        // TGD2
-        None,                // transmission time
-        Some((0.0, 31.0)),   // AODC (5 bits)
-    ],
-);
-
 /// One system's record layout.
 struct Layout {
     /// The system's constants (its letter, its time).
     constants: &'static BroadcastSystem,
     names: &'static [&'static str],
-    ranges: &'static Ranges,
     /// Values a file may leave blank (spares, flags, the fit interval).
     may_be_blank: &'static [usize],
 }
@@ -363,19 +135,16 @@ const LAYOUTS: [Layout; 3] = [
     Layout {
         constants: &GPS,
         names: &GPS_NAMES,
-        ranges: &GPS_RANGES,
         may_be_blank: &[3, 20, 22, 23, 26, 27, 28],
     },
     Layout {
         constants: &GALILEO,
         names: &GALILEO_NAMES,
-        ranges: &GALILEO_RANGES,
         may_be_blank: &[22, 27],
     },
     Layout {
         constants: &BEIDOU,
         names: &BEIDOU_NAMES,
-        ranges: &BEIDOU_RANGES,
         may_be_blank: &[20, 22, 27],
     },
 ];
@@ -386,21 +155,9 @@ fn value_line(start: usize, index: usize) -> usize {
     start + if index < 3 { 0 } else { 1 + (index - 3) / 4 }
 }
 
-/// The transmission time, the one value two copies of the same ephemeris
-/// may disagree on: a merged file keeps the time each station received it.
-const TRANSMISSION_TIME: usize = 27;
-
-/// Galileo's data sources, which copies of one ephemeris received on
-/// E1-B and on E5b differ in.
-const GALILEO_DATA_SOURCES: usize = 20;
-
 /// Galileo data-source bits (RINEX 3.05 table A8): bit 8 says the clock
 /// is F/NAV's (E5a,E1), bit 9 I/NAV's (E5b,E1).
 const GALILEO_FNAV_CLOCK: u32 = 1 << 8;
-
-/// What makes a record one ephemeris: system, PRN, t_oc (bits of the GPS
-/// time) and, for Galileo, whether its clock is F/NAV's.
-type RecordKey = (char, u16, u64, bool);
 
 /// The ephemerides of a RINEX navigation file, per system.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -416,7 +173,8 @@ pub struct BroadcastNav {
     /// empty from RINEX 3 files, whose LNAV records have T_GD alone.
     pub gps_group_delays: BTreeMap<u16, CnavGroupDelays>,
     /// Records not read, by reason, with counts (other systems; Galileo
-    /// F/NAV records, whose clock is referred to E5a,E1).
+    /// F/NAV records, whose clock is referred to E5a,E1; ephemerides in
+    /// conflict, [`crate::gnss::ephemeris_conflicts`]).
     pub skipped: BTreeMap<String, usize>,
 }
 
@@ -494,8 +252,8 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     // and orbit lines with 4 blanks. Each value is 19 columns wide.
     let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
     let mut out = BroadcastNav::default();
-    // The first line and the values of each record read so far.
-    let mut first_record: HashMap<RecordKey, (usize, [f64; 29])> = HashMap::new();
+    // Every ephemeris read, for the conflict rule.
+    let mut records: Vec<NavRecord> = Vec::new();
     while k < cur.lines.len() {
         if cur.lines[k].trim().is_empty() {
             k += 1;
@@ -507,7 +265,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         let layout: &Layout;
         if major == 2 {
             layout = &LAYOUTS[0];
-            prn = satellite_prn(&cur, k, cur.integer(k, 0, 2, "satellite PRN")?)?;
+            prn = satellite_prn(&cur, k, 'G', cur.integer(k, 0, 2, "satellite PRN")?)?;
             let yy = cur.integer(k, 2, 3, "year")?;
             year = if yy < 80 {
                 2000 + yy
@@ -538,7 +296,12 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
                 continue;
             };
             layout = found;
-            prn = satellite_prn(&cur, k, cur.integer(k, 1, 2, "satellite PRN")?)?;
+            prn = satellite_prn(
+                &cur,
+                k,
+                layout.constants.letter,
+                cur.integer(k, 1, 2, "satellite PRN")?,
+            )?;
             year = cur.integer(k, 3, 5, "year")?;
             month = cur.integer(k, 8, 3, "month")?;
             day = cur.integer(k, 11, 3, "day")?;
@@ -605,53 +368,12 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             ));
         }
         for (index, value) in values.iter().enumerate().take(n) {
-            let Some((low, high)) = layout.ranges[index] else {
-                continue;
-            };
-            if !blank[index] && !(low..=high).contains(value) {
-                return Err(cur.error(
-                    value_line(start, index),
-                    format!(
-                        "{} = {value:e} for {sat} is out of range ({low:e} to {high:e}): not a value the navigation message can carry",
-                        layout.names[index]
-                    ),
-                ));
+            if !blank[index] {
+                broadcast_ranges::check_value(&sat, index, *value)
+                    .map_err(|reason| cur.error(value_line(start, index), reason))?;
             }
         }
         let next = start + 1 + orbit_lines;
-        // Galileo: the I/NAV and F/NAV records of one t_oc are two
-        // ephemerides (their clocks differ); records from E1-B and E5b
-        // (data sources 513, 516, 517) are one.
-        let fnav = layout.constants.letter == 'E' && values[20] as u32 & GALILEO_FNAV_CLOCK != 0;
-        match first_record.entry((layout.constants.letter, prn, toc.to_bits(), fnav)) {
-            Entry::Vacant(slot) => {
-                slot.insert((start, values));
-            }
-            Entry::Occupied(first) => {
-                let (first_start, first_values) = *first.get();
-                let differs = (0..n).find(|&i| {
-                    i != TRANSMISSION_TIME
-                        && !(layout.constants.letter == 'E' && i == GALILEO_DATA_SOURCES)
-                        && values[i] != first_values[i]
-                });
-                let Some(index) = differs else {
-                    // The same ephemeris again: kept once.
-                    k = next;
-                    continue;
-                };
-                return Err(cur.error(
-                    value_line(start, index),
-                    format!(
-                        "{sat} has a second ephemeris for t_oc {} whose {} = {:e} differs from the first's {:e} (line {}): one ephemeris per satellite and t_oc, the reader cannot tell which was broadcast",
-                        calendar_text(year, month, day, hour, minute, second),
-                        layout.names[index],
-                        values[index],
-                        first_values[index],
-                        value_line(first_start, index) + 1
-                    ),
-                ));
-            }
-        }
         // t_oe is seconds of the system's week given in the record; put it
         // in the week that brings it within half a week of t_oc (handles
         // records whose week number belongs to t_oc across a week
@@ -690,14 +412,27 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             a_dot_m_s: 0.0,
             delta_n_dot_rad_s2: 0.0,
         };
+        let sources = values[20] as u32;
+        if layout.constants.letter == 'E' && sources & GALILEO_FNAV_CLOCK != 0 {
+            *out.skipped
+                .entry("Galileo F/NAV records (clock E5a,E1)".to_string())
+                .or_default() += 1;
+            k = next;
+            continue;
+        }
+        records.push(NavRecord {
+            sat,
+            system: layout.constants,
+            toc_gps_s: toc,
+            toe_gps_s: toe,
+            // BeiDou's AODE is an age, not a name; a blank IODE names nothing.
+            issue_of_data: (layout.constants.letter != 'C' && !blank[3])
+                .then_some(values[3] as u16),
+            values: values[..n].to_vec(),
+        });
         match layout.constants.letter {
             'E' => {
-                let sources = values[20] as u32;
-                if sources & GALILEO_FNAV_CLOCK != 0 {
-                    *out.skipped
-                        .entry("Galileo F/NAV records (clock E5a,E1)".to_string())
-                        .or_default() += 1;
-                } else {
+                {
                     // Health bits: 0 E1-B DVS, 1-2 E1-B HS, 6 E5b DVS, 7-8 E5b HS.
                     let health = values[24] as u32;
                     out.galileo.push(InavEphemeris {
@@ -743,7 +478,25 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         }
         k = next;
     }
+    let (keep, conflicts) = ephemeris_conflicts::resolve(&records);
+    retain_kept(&mut out.gps, &records, &keep, 'G');
+    retain_kept(&mut out.galileo, &records, &keep, 'E');
+    retain_kept(&mut out.beidou, &records, &keep, 'C');
+    for (reason, count) in conflicts {
+        *out.skipped.entry(reason).or_default() += count;
+    }
     Ok(out)
+}
+
+/// Keeps the ephemerides of system `letter` (in the order of its records
+/// among `records`) whose flag in `keep` is set.
+fn retain_kept<T>(list: &mut Vec<T>, records: &[NavRecord], keep: &[bool], letter: char) {
+    let mut flags = records
+        .iter()
+        .zip(keep)
+        .filter(|(r, _)| r.system.letter == letter)
+        .map(|(_, &k)| k);
+    list.retain(|_| flags.next().unwrap_or(true));
 }
 
 #[cfg(test)]
@@ -784,16 +537,17 @@ log: gnss_1730.ubx                                          COMMENT
         let next = G32.replacen("18 00 00", "20 00 00", 1);
         let two = parse_rinex_nav(&format!("{HEADER}{G32}{next}"), "x.nav").unwrap();
         assert_eq!(two.len(), 2);
-        // A different Crs for the same t_oc: refused at the second's Crs.
+        // A different Crs for the same t_oc: neither used, both counted.
         let other = G32.replace("-.167812500000D+02", "-.167800000000D+02");
-        assert_eq!(
-            parse_rinex_nav(&format!("{HEADER}{G32}{other}"), "x.nav")
-                .unwrap_err()
-                .to_string(),
-            "x.nav:15: G32 has a second ephemeris for t_oc 2025-08-28 18:00:00 whose Crs = \
-             -1.678e1 differs from the first's -1.678125e1 (line 7): one ephemeris per \
-             satellite and t_oc, the reader cannot tell which was broadcast"
-        );
+        let nav = parse_broadcast_nav(&format!("{HEADER}{G32}{other}"), "x.nav").unwrap();
+        assert!(nav.gps.is_empty());
+        assert_eq!(nav.skipped[ephemeris_conflicts::SAME_TOC], 2);
+        // The same IODE with a t_oe 2 h later (and another t_oc): the
+        // issue of data names two sets; neither used.
+        let moved = next.replace(".410400000000D+06", ".417600000000D+06");
+        let nav = parse_broadcast_nav(&format!("{HEADER}{G32}{moved}"), "x.nav").unwrap();
+        assert!(nav.gps.is_empty());
+        assert_eq!(nav.skipped[ephemeris_conflicts::SAME_ISSUE_OF_DATA], 2);
     }
 
     /// C21's record of the same file (BDT epoch and week).

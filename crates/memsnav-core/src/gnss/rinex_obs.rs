@@ -10,6 +10,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
+use super::plausible::{self, observation_range, observation_range_text};
 use super::time::{calendar_text, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
@@ -165,30 +166,6 @@ pub fn read_rinex_obs(path: impl AsRef<Path>) -> Result<ObservationFile> {
 
 /// Largest |APPROX POSITION XYZ| accepted, m (beyond geostationary orbit).
 const MAX_APPROX_POSITION_M: f64 = 1e8;
-
-/// Values an observation of type `code` can take (RINEX 3.05 §5.7): code
-/// pseudoranges 0-1e8 m (beyond geostationary range plus a 1 ms receiver
-/// clock error), carrier phases and other types up to the F14.3 field's
-/// 1e10, Dopplers ±1 MHz, signal strengths 0-200 dB-Hz.
-pub(crate) fn observation_range(code: &str) -> std::ops::RangeInclusive<f64> {
-    match code.as_bytes().first() {
-        Some(b'C') => 0.0..=1e8,
-        Some(b'D') => -1e6..=1e6,
-        Some(b'S') => 0.0..=200.0,
-        _ => -1e10..=1e10,
-    }
-}
-
-/// The accepted range and unit of `code`, in words.
-fn observation_range_text(code: &str) -> &'static str {
-    match code.as_bytes().first() {
-        Some(b'C') => "0 to 1e8 m",
-        Some(b'L') => "±1e10 cycles",
-        Some(b'D') => "±1e6 Hz",
-        Some(b'S') => "0 to 200 dB-Hz",
-        _ => "±1e10",
-    }
-}
 
 fn label(line: &str) -> &str {
     line.get(60..).unwrap_or("").trim_end()
@@ -442,6 +419,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                     ),
                 ));
             };
+            plausible::check_satellite(sys, i64::from(prn))
+                .map_err(|reason| error(k + j, reason))?;
             // A satellite's second line (a relabelled one) would give it
             // two sets of values, or another satellite's: refused.
             if let Some(first) = satellites

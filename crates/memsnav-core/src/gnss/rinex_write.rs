@@ -13,11 +13,12 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use super::beidou_ephemeris::BeidouEphemeris;
-use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
-use super::ephemeris::{ura_m, LnavEphemeris};
-use super::galileo_ephemeris::{sisa_m, InavEphemeris};
-use super::rinex_obs::ObservationFile;
-use super::time::{calendar_from_gps_time, SECONDS_PER_WEEK};
+use super::ephemeris::LnavEphemeris;
+use super::galileo_ephemeris::InavEphemeris;
+use super::nav_record::NavRecord;
+use super::rinex_nav::parse_broadcast_nav;
+use super::rinex_obs::{parse_rinex_obs, ObservationFile};
+use super::time::calendar_from_gps_time;
 use crate::{Error, Result};
 
 /// GPS time − Unix time at 1980-01-06 00:00:00, s (UTC without leap seconds).
@@ -213,36 +214,16 @@ fn nav_epoch_line(out: &mut String, sat: &str, toc_gps_s: f64, clock: [f64; 3]) 
     );
 }
 
-/// The four lines of orbit values every Keplerian record shares (RINEX
-/// 3.04 tables A6, A8, A14, lines 1-4): the issue of data first, t_oe as
-/// seconds of its week.
-fn kepler_rows(issue_of_data: f64, o: &BroadcastOrbit, toe_seconds_of_week: f64) -> [[f64; 4]; 4] {
-    [
-        [issue_of_data, o.crs_m, o.delta_n_rad_s, o.m0_rad],
-        [o.cuc_rad, o.eccentricity, o.cus_rad, o.sqrt_a_sqrt_m],
-        [toe_seconds_of_week, o.cic_rad, o.omega0_rad, o.cis_rad],
-        [o.i0_rad, o.crc_m, o.omega_rad, o.omega_dot_rad_s],
-    ]
-}
-
 /// One record: the epoch line (t_oc in the system's time, the clock
-/// polynomial), the Kepler rows and the system's last three lines.
-fn nav_record(
-    out: &mut String,
-    sat: &str,
-    system: &BroadcastSystem,
-    o: &BroadcastOrbit,
-    kepler: [[f64; 4]; 4],
-    tail: [&[f64]; 3],
-) {
+/// polynomial), then the orbit lines, four values a line.
+fn nav_record(out: &mut String, r: &NavRecord) {
     nav_epoch_line(
         out,
-        sat,
-        o.toc_gps_s + system.time_minus_gps_s,
-        [o.af0_s, o.af1_s_s, o.af2_s_s2],
+        &r.sat,
+        r.toc_gps_s + r.system.time_minus_gps_s,
+        [r.values[0], r.values[1], r.values[2]],
     );
-    let rows = kepler.iter().map(|r| &r[..]).chain(tail);
-    for row in rows {
+    for row in r.values[3..].chunks(4) {
         let _ = writeln!(
             out,
             "    {}",
@@ -286,78 +267,13 @@ pub fn format_rinex_nav(
     );
     provenance_records(&mut out, provenance);
     record(&mut out, "", "END OF HEADER");
-    for l in gps {
-        let e = &l.ephemeris;
-        let o = &e.orbit;
-        let week_start = f64::from(l.toe_week) * SECONDS_PER_WEEK;
-        nav_record(
-            &mut out,
-            &format!("G{:02}", e.prn),
-            &GPS,
-            o,
-            kepler_rows(f64::from(l.iode), o, o.toe_gps_s - week_start),
-            [
-                &[
-                    o.idot_rad_s,
-                    f64::from(l.l2_codes),
-                    f64::from(l.toe_week),
-                    f64::from(u8::from(l.l2p_data_flag)),
-                ],
-                &[
-                    ura_m(l.ura_index),
-                    f64::from(e.health),
-                    e.tgd_s,
-                    f64::from(l.iodc),
-                ],
-                &[l.transmission_gps_s - week_start, e.fit_interval_h],
-            ],
-        );
-    }
-    for e in galileo {
-        let o = &e.orbit;
-        let toe_week = (o.toe_gps_s / SECONDS_PER_WEEK).floor();
-        let week_start = toe_week * SECONDS_PER_WEEK;
-        // Data sources: bit 0 I/NAV E1-B, bit 9 clock for E5b,E1 (table A8).
-        let sources = 1.0 + 512.0;
-        // Health bits: 0 E1-B DVS, 1-2 E1-B HS, 6 E5b DVS, 7-8 E5b HS.
-        let health = u32::from(e.e1b_data_validity)
-            | u32::from(e.e1b_health) << 1
-            | u32::from(e.e5b_data_validity) << 6
-            | u32::from(e.e5b_health) << 7;
-        nav_record(
-            &mut out,
-            &format!("E{:02}", e.svid),
-            &GALILEO,
-            o,
-            kepler_rows(f64::from(e.iod_nav), o, o.toe_gps_s - week_start),
-            [
-                &[o.idot_rad_s, sources, toe_week, 0.0],
-                &[
-                    sisa_m(e.sisa_index).unwrap_or(-1.0),
-                    f64::from(health),
-                    e.bgd_e1_e5a_s,
-                    e.bgd_e1_e5b_s,
-                ],
-                &[e.transmission_gps_s - week_start],
-            ],
-        );
-    }
-    for e in beidou {
-        let o = &e.orbit;
-        let toe_week = BEIDOU.week(o.toe_gps_s);
-        let week_start = BEIDOU.gps_time_s(toe_week, 0.0);
-        nav_record(
-            &mut out,
-            &format!("C{:02}", e.prn),
-            &BEIDOU,
-            o,
-            kepler_rows(f64::from(e.aode), o, o.toe_gps_s - week_start),
-            [
-                &[o.idot_rad_s, 0.0, toe_week, 0.0],
-                &[ura_m(e.urai), f64::from(e.sat_h1), e.tgd1_s, e.tgd2_s],
-                &[e.transmission_gps_s - week_start, f64::from(e.aodc)],
-            ],
-        );
+    let records = gps
+        .iter()
+        .map(NavRecord::lnav)
+        .chain(galileo.iter().map(NavRecord::inav))
+        .chain(beidou.iter().map(NavRecord::d1));
+    for r in records {
+        nav_record(&mut out, &r);
     }
     out
 }
@@ -369,16 +285,38 @@ fn write_text(path: &Path, text: &str) -> Result<()> {
     })
 }
 
-/// Writes [`format_rinex_obs`] to `path`.
+/// Writes [`format_rinex_obs`] to `path` once memsnav's reader reads the
+/// text back ([`parse_rinex_obs`]): a file it would refuse is not written.
+/// Observations without a single epoch or observation type are refused
+/// (a RINEX file needs its `SYS / # / OBS TYPES`).
 pub fn write_rinex_obs(
     path: impl AsRef<Path>,
     observations: &ObservationFile,
     provenance: &RinexProvenance,
 ) -> Result<()> {
-    write_text(path.as_ref(), &format_rinex_obs(observations, provenance))
+    let path = path.as_ref();
+    if observations.epochs.is_empty() || observations.observation_types.is_empty() {
+        return Err(Error::invalid(
+            "observations",
+            format!(
+                "no observations to write to {}: the log holds no measurement epoch (a UBX \
+                 log needs RXM-RAWX messages)",
+                path.display()
+            ),
+        ));
+    }
+    let text = format_rinex_obs(observations, provenance);
+    read_back(
+        path,
+        "observations",
+        parse_rinex_obs(&text, &path.display().to_string()),
+    )?;
+    write_text(path, &text)
 }
 
-/// Writes [`format_rinex_nav`] to `path`.
+/// Writes [`format_rinex_nav`] to `path` once memsnav's reader reads the
+/// text back whole ([`parse_broadcast_nav`]: every record kept): a file
+/// it would refuse, or read differently, is not written.
 pub fn write_rinex_nav(
     path: impl AsRef<Path>,
     gps: &[LnavEphemeris],
@@ -386,16 +324,48 @@ pub fn write_rinex_nav(
     beidou: &[BeidouEphemeris],
     provenance: &RinexProvenance,
 ) -> Result<()> {
-    write_text(
-        path.as_ref(),
-        &format_rinex_nav(gps, galileo, beidou, provenance),
-    )
+    let path = path.as_ref();
+    let text = format_rinex_nav(gps, galileo, beidou, provenance);
+    let nav = read_back(
+        path,
+        "ephemerides",
+        parse_broadcast_nav(&text, &path.display().to_string()),
+    )?;
+    let (written, read) = (
+        gps.len() + galileo.len() + beidou.len(),
+        nav.gps.len() + nav.galileo.len() + nav.beidou.len(),
+    );
+    if written != read {
+        return Err(Error::invalid(
+            "ephemerides",
+            format!(
+                "{}: not written: the reader would keep {read} of its {written} records ({:?})",
+                path.display(),
+                nav.skipped
+            ),
+        ));
+    }
+    write_text(path, &text)
+}
+
+/// The reading of a text about to be written, or the error saying why it
+/// is not written.
+fn read_back<T>(path: &Path, argument: &str, read: Result<T>) -> Result<T> {
+    read.map_err(|e| {
+        Error::invalid(
+            argument,
+            format!(
+                "{}: not written: memsnav's reader would refuse it: {e}",
+                path.display()
+            ),
+        )
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gnss::{parse_rinex_obs, ObservationEpoch, SatelliteObservations};
+    use crate::gnss::{ObservationEpoch, SatelliteObservations};
     use std::collections::BTreeMap;
 
     #[test]
@@ -465,5 +435,27 @@ mod tests {
         assert!((back.epochs[0].gps_time_s - obs.epochs[0].gps_time_s).abs() < 1e-6);
         // The satellite with no value is left out.
         assert_eq!(back.epochs[0].satellites, obs.epochs[0].satellites[..2]);
+        // Written only when the reader reads it back; nothing to write is
+        // an error saying so, and no file is made.
+        let dir = std::env::temp_dir().join(format!("memsnav-write-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("x.obs");
+        write_rinex_obs(&path, &obs, &RinexProvenance::default()).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+        let empty = ObservationFile {
+            epochs: vec![],
+            observation_types: BTreeMap::new(),
+            ..obs.clone()
+        };
+        let none = dir.join("none.obs");
+        let e = write_rinex_obs(&none, &empty, &RinexProvenance::default()).unwrap_err();
+        assert!(e.to_string().contains("no observations to write"), "{e}");
+        assert!(!none.exists());
+        let mut far = obs.clone();
+        far.epochs[0].gps_time_s = 6.0e9; // 2170: the reader refuses the year
+        let e = write_rinex_obs(&none, &far, &RinexProvenance::default()).unwrap_err();
+        assert!(e.to_string().contains("would refuse it"), "{e}");
+        assert!(!none.exists());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

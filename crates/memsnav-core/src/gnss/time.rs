@@ -34,9 +34,10 @@ fn civil_from_days(days: i64) -> (i64, i64, i64) {
     (yoe + era * 400 + i64::from(month <= 2), month, day)
 }
 
-/// Years a data file may carry: GPS time starts in 1980; beyond 2200 a
-/// date is a corrupted field, not a measurement.
-pub const CALENDAR_YEARS: std::ops::RangeInclusive<i64> = 1980..=2200;
+/// Years a data file may carry: GPS time starts in 1980; from 2100 on a
+/// date is a corrupted field, not a measurement
+/// ([`super::plausible::LAST_YEAR`]).
+pub const CALENDAR_YEARS: std::ops::RangeInclusive<i64> = 1980..=super::plausible::LAST_YEAR;
 
 /// Days in `month` of `year` (Gregorian leap years).
 fn days_in_month(year: i64, month: i64) -> i64 {
@@ -246,12 +247,24 @@ mod tests {
     }
 
     #[test]
+    fn the_plausible_time_range_ends_with_2099() {
+        use super::super::plausible::{END_GPS_TIME_S, GPS_WEEKS, LAST_YEAR};
+        assert_eq!(
+            gps_time_from_calendar(LAST_YEAR + 1, 1, 1, 0, 0, 0.0),
+            END_GPS_TIME_S
+        );
+        let last_week = f64::from(*GPS_WEEKS.end());
+        assert!(last_week * SECONDS_PER_WEEK < END_GPS_TIME_S);
+        assert!((last_week + 1.0) * SECONDS_PER_WEEK >= END_GPS_TIME_S);
+    }
+
+    #[test]
     fn calendar_round_trip_and_range_checks() {
         for (y, mo, d, h, mi, s) in [
             (1980, 1, 6, 0, 0, 0.0),
             (2000, 2, 29, 23, 59, 59.5),
             (2025, 7, 8, 19, 34, 18.499),
-            (2100, 12, 31, 12, 0, 1.25),
+            (2099, 12, 31, 12, 0, 1.25),
         ] {
             let t = checked_gps_time_from_calendar(y, mo, d, h, mi, s).unwrap();
             let (y2, mo2, d2, h2, mi2, s2) = calendar_from_gps_time(t);
@@ -262,6 +275,10 @@ mod tests {
             ((2025, 13, 1, 0, 0, 0.0), "month 13"),
             ((2025, 8, 28, 25, 0, 0.0), "hour 25"),
             ((0, 8, 28, 0, 0, 0.0), "year 0"),
+            (
+                (2100, 1, 1, 0, 0, 0.0),
+                "year 2100 is out of range (1980-2099)",
+            ),
             ((2023, 2, 29, 0, 0, 0.0), "day 29"),
             ((2025, 8, 28, 0, 60, 0.0), "minute 60"),
             ((2025, 8, 28, 0, 0, 61.0), "second 61"),

@@ -30,7 +30,7 @@ use super::rtklib_pos::{MAX_SPEED_M_S, POS_HEIGHT_RANGE_M};
 use super::PosSolution;
 use crate::attitude::euler_to_dcm;
 use crate::geodesy::ecef_to_geodetic;
-use crate::gnss::{SECONDS_PER_WEEK, UNIX_TO_GPS_S};
+use crate::gnss::{plausible, SECONDS_PER_WEEK, UNIX_TO_GPS_S};
 use crate::{known_keys, Error, Result};
 
 /// The quality given to every epoch of a CSV without a `quality` column:
@@ -116,9 +116,6 @@ pub const FIXES_CSV_COLUMNS: [&str; 39] = [
 
 /// Largest |ECEF coordinate| accepted, m (beyond geostationary orbit).
 const MAX_ECEF_M: f64 = 1.0e8;
-
-/// Largest GPS time accepted, s (year 2297).
-const MAX_GPS_TIME_S: f64 = 1.0e10;
 
 /// A quaternion whose norm is further than this from 1 is not an
 /// attitude (a file's 8 decimals leave its norm within 1e-7 of 1).
@@ -467,9 +464,9 @@ fn column_range(
     match name {
         GPS_TIME => {
             let origin = time_reference.origin_s();
-            (origin..=origin + MAX_GPS_TIME_S, "s")
+            (origin..=origin + plausible::END_GPS_TIME_S, "s")
         }
-        "gps_week" => (0.0..=1.0e4, ""),
+        "gps_week" => (0.0..=f64::from(*plausible::GPS_WEEKS.end()), ""),
         "gps_tow_s" => (0.0..=SECONDS_PER_WEEK, "s"),
         "lat_deg" => (-90.0..=90.0, "°"),
         "lon_deg" => (-180.0..=180.0, "°"),

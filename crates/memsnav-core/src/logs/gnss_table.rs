@@ -22,6 +22,7 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use super::fields::{finite_number, parse_error};
+use crate::gnss::plausible;
 use crate::gnss::{
     carrier_of, epochs_from_rows, sat_id, system_of_number, GnssEpoch, SatelliteMeasurement,
 };
@@ -253,6 +254,12 @@ fn build(
     let start_gps_time_s = match get("gps_time_s") {
         None => None,
         Some(gps) => {
+            if let Some(i) = (0..n).find(|&i| !plausible::GPS_TIME_S.contains(&gps[i])) {
+                return Err(TableError::Row(
+                    i,
+                    plausible::check(gps[i], plausible::GPS_TIME_S, "gps_time_s", "s").unwrap_err(),
+                ));
+            }
             // One clock: GPS time and time_s differ by one constant.
             let offset = gps[0] - time[0];
             if let Some(i) = (0..n).find(|&i| !((gps[i] - time[i]) - offset).abs().le(&1e-6)) {
@@ -291,6 +298,34 @@ mod tests {
         assert_eq!((m[0].sat_id, m[0].pseudorange_rate_m_s), (3, 100.0));
         assert!(m[1].pseudorange_rate_m_s.is_nan());
         assert_eq!(m[0].pseudorange_std_m, DEFAULT_PSEUDORANGE_STD_M);
+    }
+
+    #[test]
+    fn times_ranges_and_rates_no_receiver_reports_are_refused() {
+        let position = "3,2e7,1e7,1e7,1000,0,0";
+        for (line, expected) in [
+            (
+                format!("0,1e308,{position},2.2e7,100"),
+                "g.csv:2: gps_time_s = 1e308 s is out of range",
+            ),
+            (
+                format!("0,1e9,{position},1e300,100"),
+                "g.csv:2: pseudorange = 1e300 m is out of range",
+            ),
+            (
+                format!("0,1e9,{position},2.2e7,1e300"),
+                "g.csv:2: pseudorange_rate = 1e300 m/s is out of range",
+            ),
+        ] {
+            let e = parse_gnss_table(
+                &format!("{HEADER}\n{line}\n"),
+                "g.csv",
+                TableStds::default(),
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(e.starts_with(expected), "{e}");
+        }
     }
 
     #[test]

@@ -35,7 +35,9 @@ use nalgebra::Vector3;
 use super::fields::{finite_number, parse_error};
 use super::ImuLog;
 use crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
-use crate::gnss::{ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout};
+use crate::gnss::{
+    plausible, ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
+};
 use crate::{Error, Result};
 
 const NS_PER_WEEK: i128 = 604_800_000_000_000;
@@ -269,7 +271,8 @@ fn pseudorange(
         travel -= period;
     }
     let rho = (travel as f64 + frac_ns) * 1e-9 * SPEED_OF_LIGHT_M_S;
-    if !(1.0e6..=1.0e8).contains(&rho) {
+    // Below 1e6 m (3 ms) the travel time is an ambiguity, not a range.
+    if !(1.0e6..=*plausible::PSEUDORANGE_M.end()).contains(&rho) {
         return Ok(Err("pseudorange outside 1e6 to 1e8 m".into()));
     }
     Ok(Ok(rho))
@@ -304,10 +307,19 @@ fn raw_signal(r: &Record<'_>) -> Result<std::result::Result<(i128, f64, Signal),
         return Ok(Err("constellation not converted (SBAS, unknown)".into()));
     };
     let svid = r.required_integer("Svid")?;
-    let prn = u16::try_from(svid)
-        .ok()
-        .filter(|p| (1..=999).contains(p))
-        .ok_or_else(|| r.error("Svid", r.text("Svid").unwrap_or(""), "1 to 999"))?;
+    // Android numbers QZSS 193-202 (RINEX J01-J10); GLONASS 93-106 is a
+    // frequency channel, not a slot, and leaves the satellite unknown.
+    let number = if system == 'J' && svid > 192 {
+        svid - 192
+    } else {
+        svid
+    };
+    if plausible::check_satellite(system, number).is_err() {
+        return Ok(Err(format!(
+            "Svid outside its constellation's satellite numbers (system {system})"
+        )));
+    }
+    let prn = number as u16;
     let carrier = r.number("CarrierFrequencyHz")?;
     let Some((digit, carrier_hz)) = band(system, carrier) else {
         return Ok(Err("carrier frequency of no known band".into()));
@@ -322,11 +334,11 @@ fn raw_signal(r: &Record<'_>) -> Result<std::result::Result<(i128, f64, Signal),
     };
     let lambda = SPEED_OF_LIGHT_M_S / carrier_hz;
     let cn0 = r.number("Cn0DbHz")?;
-    if cn0.is_some_and(|s| !(0.0..=200.0).contains(&s)) {
+    if cn0.is_some_and(|s| !plausible::CN0_DB_HZ.contains(&s)) {
         return Err(r.error("Cn0DbHz", r.text("Cn0DbHz")?, "0 to 200 dB-Hz"));
     }
     let rate = r.number("PseudorangeRateMetersPerSecond")?;
-    if rate.is_some_and(|v| v.abs() > 1e5) {
+    if rate.is_some_and(|v| !plausible::PSEUDORANGE_RATE_M_S.contains(&v)) {
         return Err(r.error(
             "PseudorangeRateMetersPerSecond",
             r.text("PseudorangeRateMetersPerSecond")?,
@@ -665,6 +677,25 @@ mod tests {
         assert!((v[1].unwrap() - 500.0 / lambda).abs() < 1e-9);
         assert!((v[2].unwrap() + 100.0 / lambda).abs() < 1e-9);
         assert_eq!(v[3], Some(40.0));
+    }
+
+    #[test]
+    fn satellites_that_do_not_exist_are_skipped_and_counted() {
+        let tow = RX_NS % NS_PER_WEEK - 75_000_000;
+        let line = raw(CODE_LOCK | TOW_DECODED, tow, 1, "1575420030", "C");
+        let g255 = line.replace(",1,7,C", ",1,255,C");
+        let log = parse_gnsslogger(&format!("{HEADER}{g255}"), "x.txt").unwrap();
+        assert!(log.observations.epochs.is_empty());
+        assert_eq!(
+            log.skipped
+                .get("Svid outside its constellation's satellite numbers (system G)"),
+            Some(&1)
+        );
+        // QZSS's Android numbers 193-202 are RINEX's J01-J10.
+        let j194 = line.replace(",1,7,C", ",4,194,C");
+        let log = parse_gnsslogger(&format!("{HEADER}{j194}"), "x.txt").unwrap();
+        let sat = &log.observations.epochs[0].satellites[0];
+        assert_eq!((sat.system, sat.prn), ('J', 2));
     }
 
     #[test]

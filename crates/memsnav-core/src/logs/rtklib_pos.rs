@@ -14,12 +14,13 @@ use super::PosSolution;
 use crate::gnss::{calendar_from_gps_time, checked_gps_time_from_calendar};
 use crate::{Error, Result};
 
-/// Ellipsoidal heights accepted, m: from below the deepest ground to
-/// beyond low Earth orbit.
-pub const POS_HEIGHT_RANGE_M: std::ops::RangeInclusive<f64> = -1.0e4..=1.0e7;
+/// Ellipsoidal heights accepted, m: a receiver's
+/// ([`crate::gnss::plausible::HEIGHT_M`]).
+pub use crate::gnss::plausible::HEIGHT_M as POS_HEIGHT_RANGE_M;
 
-/// Largest velocity component accepted, m/s (beyond orbital speed).
-pub const MAX_SPEED_M_S: f64 = 1.0e4;
+/// Largest velocity component accepted, m/s: a receiver's
+/// ([`crate::gnss::plausible::MAX_SPEED_M_S`]).
+pub use crate::gnss::plausible::MAX_SPEED_M_S;
 
 /// The columns after the GPST date and time, as RTKLIB names them in the
 /// header; the velocity columns (RTKLIB demo5) from [`VELOCITY_COLUMN`] on.

@@ -24,6 +24,7 @@ use crate::filter::state::{
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
+use crate::gnss::plausible;
 use crate::ins::{self, ImuData, ImuIncrement, ImuSample, NavState};
 use crate::limits::MAX_SENSOR_MAGNITUDE;
 use crate::{validate, Error, Result};
@@ -49,8 +50,9 @@ pub struct InitialState {
 
 impl InitialState {
     /// The start every consumer of a navigation state checks
-    /// ([`NavState::validate`]) and sensor estimates within the sensors'
-    /// range.
+    /// ([`NavState::validate`]), sensor estimates within the sensors'
+    /// range, and a receiver clock a receiver can have ([`plausible`]:
+    /// offset ≤ 1e8 m, drift ≤ 3e4 m/s).
     pub fn validate(&self) -> Result<()> {
         self.nav.validate("initial.")?;
         validate::bounded_vectors(
@@ -63,15 +65,42 @@ impl InitialState {
             &[self.gyro_bias_rad_s],
             MAX_SENSOR_MAGNITUDE,
         )?;
-        for (name, v) in [
-            ("initial.clock_offset", self.clock_offset_m),
-            ("initial.clock_drift", self.clock_drift_m_s),
+        // A receiver clock within its ranges ([`plausible`]).
+        for (name, v, max) in [
+            (
+                "initial.clock_offset",
+                self.clock_offset_m,
+                plausible::MAX_CLOCK_OFFSET_M,
+            ),
+            (
+                "initial.clock_drift",
+                self.clock_drift_m_s,
+                plausible::MAX_CLOCK_DRIFT_M_S,
+            ),
         ] {
             if let Some(v) = v {
                 validate::finite_scalars(name, &[v])?;
+                validate::at_most(name, v.abs(), max)?;
             }
         }
         Ok(())
+    }
+}
+
+impl InitialState {
+    /// A position and speed a receiver can have ([`plausible`]: heights
+    /// −1e4 to 1e7 m, speed ≤ 1e4 m/s): what a user starts the step API
+    /// from. A batch run derives its start from the first fix or epoch and
+    /// recovers from a wild one by resets, so it checks only
+    /// [`Self::validate`].
+    pub fn check_receiver(&self) -> Result<()> {
+        plausible::check_receiver_position(&self.nav.position_ecef)
+            .map_err(|reason| Error::invalid("initial.position", reason))?;
+        validate::at_most(
+            "initial.velocity",
+            self.nav.velocity_ecef.norm(),
+            plausible::MAX_SPEED_M_S,
+        )
     }
 }
 

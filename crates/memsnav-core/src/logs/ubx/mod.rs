@@ -25,6 +25,7 @@
 
 mod beidou_d1;
 mod bytes;
+mod ephemeris_checks;
 mod framing;
 mod galileo_inav;
 mod gps_cnav;
@@ -211,13 +212,23 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
                             "RXM-RAWX signals of unknown system or signal id",
                             epoch.unknown_signals,
                         );
+                        problems.add(
+                            "RXM-RAWX signals with a value no receiver reports",
+                            epoch.implausible_signals,
+                        );
                         rawx.push(epoch);
                     }
                 }
                 Err(reason) => malformed(reason),
             },
             NAV_PVT => match nav_pvt::decode_nav_pvt(f.payload) {
-                Ok(s) => nav_pvt.push(s),
+                Ok(s) => match nav_pvt::check_plausible(&s) {
+                    Ok(()) => nav_pvt.push(s),
+                    Err(reason) => problems
+                        .skip("NAV-PVT with a value no receiver reports", || {
+                            format!("{file}: byte {at}: {reason}; skipped")
+                        }),
+                },
                 Err(reason) => malformed(reason),
             },
             RXM_SFRBX => {
@@ -320,6 +331,16 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         d1.stats.bch_failures,
     );
     problems.add("BeiDou D1 subframes malformed", d1.stats.malformed);
+    let ephemerides = ephemeris_checks::check(
+        ephemeris_checks::Checked {
+            gps: lnav.ephemerides,
+            gps_cnav: cnav.ephemerides,
+            galileo: inav.ephemerides,
+            beidou: d1.ephemerides,
+        },
+        file,
+        &mut problems,
+    );
     let fixes = nav_pvt::fixes(&nav_pvt);
     let approx_position_ecef = fixes
         .lla
@@ -332,11 +353,11 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
     Ok(UbxLog {
         rawx,
         observations,
-        gps_ephemerides: lnav.ephemerides,
-        gps_cnav_ephemerides: cnav.ephemerides,
+        gps_ephemerides: ephemerides.gps,
+        gps_cnav_ephemerides: ephemerides.gps_cnav,
         klobuchar: cnav.klobuchar.map(|(_, k)| k),
-        galileo_ephemerides: inav.ephemerides,
-        beidou_ephemerides: d1.ephemerides,
+        galileo_ephemerides: ephemerides.galileo,
+        beidou_ephemerides: ephemerides.beidou,
         nav_pvt,
         fixes,
         messages,
@@ -376,7 +397,7 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
                 let kept = |code: &str, value: f64, valid: bool| {
                     (valid
                         && value.is_finite()
-                        && crate::gnss::observation_range(code).contains(&value))
+                        && crate::gnss::plausible::observation_range(code).contains(&value))
                     .then_some(value)
                 };
                 let t = s.tracking;

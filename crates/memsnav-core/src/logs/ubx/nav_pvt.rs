@@ -5,7 +5,7 @@
 use nalgebra::Vector3;
 
 use super::bytes::Le;
-use crate::gnss::{checked_gps_time_from_utc, SECONDS_PER_WEEK};
+use crate::gnss::{checked_gps_time_from_utc, plausible, SECONDS_PER_WEEK};
 use crate::logs::PosSolution;
 
 /// NAV-PVT payload length (protocol 14 and later).
@@ -118,6 +118,25 @@ pub(super) fn decode_nav_pvt(payload: &[u8]) -> Result<NavPvt, String> {
     })
 }
 
+/// `Ok` when a solution's values can come from a receiver: its heights
+/// within [`plausible::HEIGHT_M`] and each velocity component within
+/// ±[`plausible::MAX_SPEED_M_S`]; else the first value outside, named by
+/// its NAV-PVT field.
+pub(super) fn check_plausible(s: &NavPvt) -> Result<(), String> {
+    let speed = -plausible::MAX_SPEED_M_S..=plausible::MAX_SPEED_M_S;
+    let v = s.velocity_ned_m_s;
+    plausible::check(s.lla.z, plausible::HEIGHT_M, "NAV-PVT height", "m")?;
+    plausible::check(s.height_msl_m, plausible::HEIGHT_M, "NAV-PVT hMSL", "m")?;
+    for (value, name) in [
+        (v.x, "NAV-PVT velN"),
+        (v.y, "NAV-PVT velE"),
+        (v.z, "NAV-PVT velD"),
+    ] {
+        plausible::check(value, speed.clone(), name, "m/s")?;
+    }
+    Ok(())
+}
+
 /// The fixes among `solutions` (see [`NavPvt::is_fix`]) as a
 /// [`PosSolution`], in time order with repeated epochs dropped. u-blox's
 /// hAcc is a horizontal (two-axis) accuracy: north and east get hAcc/√2
@@ -225,5 +244,31 @@ mod tests {
         bad[11] = 0;
         assert!(decode_nav_pvt(&bad).unwrap_err().contains("valid UTC"));
         assert!(decode_nav_pvt(&p[1..]).unwrap_err().contains("91 bytes"));
+    }
+
+    #[test]
+    fn heights_and_speeds_no_receiver_reports_are_named() {
+        let p = encode_nav_pvt(
+            0,
+            (2025, 8, 28, 0, 0, 0),
+            3,
+            1,
+            9,
+            (40.0, 5.0),
+            (300, 250),
+            (1, 1, 1),
+        );
+        assert_eq!(check_plausible(&decode_nav_pvt(&p).unwrap()), Ok(()));
+        let mut deep = p.clone();
+        deep[32..36].copy_from_slice(&(-1_043_477_000i32).to_le_bytes());
+        let e = check_plausible(&decode_nav_pvt(&deep).unwrap()).unwrap_err();
+        assert!(
+            e.starts_with("NAV-PVT height = -1.043477e6 m is out of range"),
+            "{e}"
+        );
+        let mut fast = p.clone();
+        fast[52..56].copy_from_slice(&i32::MIN.to_le_bytes());
+        let e = check_plausible(&decode_nav_pvt(&fast).unwrap()).unwrap_err();
+        assert!(e.starts_with("NAV-PVT velE = -2.147483648e6 m/s"), "{e}");
     }
 }

@@ -5,6 +5,7 @@
 //! table 4).
 
 use super::bytes::Le;
+use crate::gnss::plausible;
 
 /// RAWX header bytes before the first measurement block.
 const HEADER_BYTES: usize = 16;
@@ -72,6 +73,10 @@ pub struct RawxEpoch {
     pub signals: Vec<RawxSignal>,
     /// Blocks with an unknown gnssId or sigId (left out of `signals`).
     pub unknown_signals: usize,
+    /// Blocks with a value no receiver reports (left out of `signals`): a
+    /// pseudorange, carrier phase or Doppler not finite, or outside its
+    /// range ([`plausible::observation_range`]) while flagged valid.
+    pub implausible_signals: usize,
 }
 
 impl RawxEpoch {
@@ -86,16 +91,19 @@ impl RawxEpoch {
 /// SBAS PRNs 120-158 are `S20`-`S58` in RINEX.
 pub(super) fn rinex_satellite(gnss_id: u8, sv_id: u8) -> Option<(char, u16)> {
     let sv = u16::from(sv_id);
-    match (gnss_id, sv_id) {
-        (0, 1..=32) => Some(('G', sv)),
-        (1, 120..=158) => Some(('S', sv - 100)),
-        (2, 1..=36) => Some(('E', sv)),
-        (3, 1..=63) => Some(('C', sv)),
-        (5, 1..=10) => Some(('J', sv)),
-        (6, 1..=32) => Some(('R', sv)),
-        (7, 1..=14) => Some(('I', sv)),
-        _ => None,
-    }
+    let (letter, number) = match gnss_id {
+        0 => ('G', sv),
+        1 => ('S', sv.checked_sub(100)?),
+        2 => ('E', sv),
+        3 => ('C', sv),
+        5 => ('J', sv),
+        6 => ('R', sv),
+        7 => ('I', sv),
+        _ => return None,
+    };
+    plausible::satellite_numbers(letter)?
+        .contains(&number)
+        .then_some((letter, number))
 }
 
 /// RINEX 3 band and attribute of u-blox (gnssId, sigId) (interface
@@ -164,10 +172,13 @@ pub(super) fn decode_rawx(payload: &[u8]) -> Result<RawxEpoch, String> {
     }
     let week = p.u16(8);
     // A receiver with an unknown week reports 0; the u-blox generations in
-    // use started after week 1024 (1999) and GPS week 10000 is in 2171.
-    if !(1024..10_000).contains(&week) {
+    // use started after week 1024 (1999), and a week from 2100 on is no
+    // receiver's ([`plausible::GPS_WEEKS`]).
+    let last_week = *plausible::GPS_WEEKS.end();
+    if !(1024..=last_week).contains(&u32::from(week)) {
         return Err(format!(
-            "RXM-RAWX week {week} is outside 1024-9999 (the receiver does not know the time yet)"
+            "RXM-RAWX week {week} is outside 1024-{last_week} (the receiver does not know the \
+             time yet, or the field is corrupted)"
         ));
     }
     let status = p.u8(12);
@@ -178,6 +189,7 @@ pub(super) fn decode_rawx(payload: &[u8]) -> Result<RawxEpoch, String> {
         clock_reset: status & 2 == 2,
         signals: Vec::with_capacity(count),
         unknown_signals: 0,
+        implausible_signals: 0,
     };
     for k in 0..count {
         let b = Le(&payload[HEADER_BYTES + BLOCK_BYTES * k..HEADER_BYTES + BLOCK_BYTES * (k + 1)]);
@@ -189,7 +201,7 @@ pub(super) fn decode_rawx(payload: &[u8]) -> Result<RawxEpoch, String> {
             continue;
         };
         let track = b.u8(30);
-        epoch.signals.push(RawxSignal {
+        let signal = RawxSignal {
             system,
             prn,
             gnss_id,
@@ -211,9 +223,27 @@ pub(super) fn decode_rawx(payload: &[u8]) -> Result<RawxEpoch, String> {
                 half_cycle_resolved: track & 4 != 0,
                 half_cycle_subtracted: track & 8 != 0,
             },
-        });
+        };
+        if plausible_signal(&signal) {
+            epoch.signals.push(signal);
+        } else {
+            epoch.implausible_signals += 1;
+        }
     }
     Ok(epoch)
+}
+
+/// Whether a signal's values can come from a receiver: every value finite,
+/// and a pseudorange or phase flagged valid, and the Doppler (which has no
+/// flag), within the observation ranges.
+fn plausible_signal(s: &RawxSignal) -> bool {
+    let within = |code: &str, value: f64, valid: bool| {
+        value.is_finite() && (!valid || plausible::observation_range(code).contains(&value))
+    };
+    let t = s.tracking;
+    within("C", s.pseudorange_m, t.pseudorange_valid)
+        && within("L", s.carrier_phase_cycles, t.carrier_phase_valid)
+        && within("D", s.doppler_hz, true)
 }
 
 /// A RAWX payload from its parts (the inverse of [`decode_rawx`], for tests).
@@ -317,5 +347,30 @@ pub(super) mod tests {
         let e = decode_rawx(&encode_rawx(f64::NAN, 2381, None, &[])).unwrap_err();
         assert!(e.contains("time of week NaN"), "{e}");
         assert!(decode_rawx(&[0; 5]).unwrap_err().contains("shorter"));
+    }
+
+    #[test]
+    fn weeks_after_2099_and_values_no_receiver_reports_are_left_out() {
+        let e = decode_rawx(&encode_rawx(1.0, 9999, None, &[gps_l1(4, 2e7)])).unwrap_err();
+        assert!(e.contains("week 9999 is outside 1024-6260"), "{e}");
+        assert!(decode_rawx(&encode_rawx(1.0, 6260, None, &[])).is_ok());
+        // ±inf Doppler, phase, pseudorange with their valid flags; a
+        // pseudorange beyond 1e8 m flagged valid; the same flagged invalid
+        // (kept: the flag says so).
+        let mut bad = [gps_l1(4, 2e7), gps_l1(5, 2e7), gps_l1(6, f64::NEG_INFINITY)];
+        bad[0].doppler_hz = f64::INFINITY;
+        bad[1].carrier_phase_cycles = f64::NEG_INFINITY;
+        let mut far = gps_l1(7, 3e8);
+        let epoch = decode_rawx(&encode_rawx(
+            1.0,
+            2381,
+            None,
+            &[bad[0], bad[1], bad[2], far],
+        ))
+        .unwrap();
+        assert_eq!((epoch.signals.len(), epoch.implausible_signals), (0, 4));
+        far.tracking.pseudorange_valid = false;
+        let epoch = decode_rawx(&encode_rawx(1.0, 2381, None, &[far])).unwrap();
+        assert_eq!((epoch.signals.len(), epoch.implausible_signals), (1, 0));
     }
 }
