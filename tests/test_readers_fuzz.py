@@ -146,6 +146,7 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
         mn.read_gnsslogger,
     ),
     "ubx": ((EX / "walk_head.ubx").read_bytes(), "ubx", mn.read_ubx),
+    "rinex2_obs": ((DATA / "rinex-public" / "14601736.18o").read_bytes(), "18o", mn.read_rinex_obs),
 }
 
 NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]

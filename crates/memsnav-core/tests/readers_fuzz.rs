@@ -44,6 +44,7 @@ enum Reader {
     GnssLogger,
     ImuIncrements,
     Ubx,
+    Rinex2Obs,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -170,6 +171,7 @@ fn seed(reader: Reader) -> &'static [u8] {
             head("android-gnsslogger/pixel6_excerpt.txt", usize::MAX),
             IMU_INCREMENTS_SEED.as_bytes().to_vec(),
             head("real-imu-gnss/walk_head.ubx", usize::MAX),
+            head("rinex-public/14601736.18o", usize::MAX),
         ]
     });
     &seeds[reader as usize]
@@ -284,7 +286,7 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
             };
             parsed.map(|sol| solution_ok(&sol).then_some(()).ok_or(format!("{sol:?}")))
         }
-        Reader::RinexObs => parse_rinex_obs(&text, file).map(|obs| {
+        Reader::RinexObs | Reader::Rinex2Obs => parse_rinex_obs(&text, file).map(|obs| {
             let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();
             let ok = increasing(&times)
                 && obs.epochs.iter().all(|e| {
@@ -629,6 +631,7 @@ fuzz_reader!(
     Reader::ImuIncrements
 );
 fuzz_reader!(ubx_mutated, ubx_garbage, Reader::Ubx);
+fuzz_reader!(rinex2_obs_mutated, rinex2_obs_garbage, Reader::Rinex2Obs);
 
 /// A UBX frame of `class`, `id` and `payload` with its Fletcher checksum
 /// (interface description §3.4).
@@ -735,6 +738,7 @@ fn the_seeds_read_cleanly() {
         Reader::GnssLogger,
         Reader::ImuIncrements,
         Reader::Ubx,
+        Reader::Rinex2Obs,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }

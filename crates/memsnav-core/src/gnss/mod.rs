@@ -21,6 +21,7 @@ mod galileo_ephemeris;
 mod measurement_rows;
 mod observables;
 mod range;
+mod rinex2_obs;
 mod rinex_nav;
 mod rinex_obs;
 mod rinex_write;
@@ -62,8 +63,10 @@ pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
 pub(crate) use rinex_obs::{observation_range, SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
+pub use rinex2_obs::rinex3_code;
 pub use rinex_obs::{
-    parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
+    event_kind, parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile,
+    SatelliteObservations,
 };
 pub use rinex_write::{
     format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, RinexProvenance,

@@ -408,6 +408,7 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
         approx_position_ecef: None,
         epochs,
         warnings: Vec::new(),
+        skipped: Default::default(),
     }
 }
 

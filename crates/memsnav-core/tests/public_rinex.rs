@@ -1,0 +1,97 @@
+//! RINEX files written by other tools (teqc, gLAB, Trimble's converter,
+//! the IGS merge): excerpts in `tests/data/rinex-public` (sources and
+//! licences in its README) read whole, with the values the files hold.
+
+use std::path::{Path, PathBuf};
+
+use memsnav_core::gnss::{checked_gps_time_from_calendar, event_kind, read_rinex_obs};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/rinex-public")
+        .join(name)
+}
+
+/// A CORS station's teqc file (RINEX 2.11, GPS, GLONASS and Galileo, 20
+/// observation types over four lines a satellite).
+#[test]
+fn cors_rinex_2_11_file_reads_whole() {
+    let f = read_rinex_obs(data("slac1180_excerpt.21o")).unwrap();
+    assert_eq!(f.version, 2.11);
+    assert!(f.warnings.is_empty() && f.skipped.is_empty(), "{f:?}");
+    assert_eq!(f.epochs.len(), 5);
+    let t0 = checked_gps_time_from_calendar(2021, 4, 28, 19, 0, 0.0).unwrap();
+    for (k, e) in f.epochs.iter().enumerate() {
+        assert_eq!(e.gps_time_s, t0 + 30.0 * k as f64);
+    }
+    let e = &f.epochs[0];
+    assert_eq!(e.satellites.len(), 25);
+    let count = |s: char| e.satellites.iter().filter(|x| x.system == s).count();
+    assert_eq!((count('G'), count('R'), count('E')), (12, 7, 6));
+    // The file's first satellite, G15: L1 with signal strength 7, L2,
+    // C1, P2 on the first line; S1, S2, C2 on the second.
+    let g15 = &e.satellites[0];
+    assert_eq!((g15.system, g15.prn), ('G', 15));
+    let value = |code: &str| g15.values[f.type_index('G', code).unwrap()];
+    assert_eq!(value("L1C"), Some(122610995.213));
+    assert_eq!(value("L2W"), Some(95540973.904));
+    assert_eq!(value("C1C"), Some(23332073.875));
+    assert_eq!(value("C2W"), Some(23332083.105));
+    assert_eq!(value("C1W"), None);
+    assert_eq!(value("S1C"), Some(42.2));
+    assert_eq!(value("C2X"), Some(23332082.176));
+    // GLONASS has no L5, L6, L7, L8 signals: its list is shorter.
+    assert!(f.type_index('R', "C1C").is_some() && f.type_index('R', "C5X").is_none());
+    assert_eq!(f.type_index('E', "C8X").map(|_| ()), Some(()));
+}
+
+/// A Trimble converter's mixed file whose records include events with
+/// blank epoch fields: two flag 2 (start moving antenna, a comment line
+/// each) and one flag 3 (new site occupation, five header lines).
+#[test]
+fn event_records_with_blank_epochs_are_counted() {
+    let f = read_rinex_obs(data("14601736.18o")).unwrap();
+    let count = |flag| f.skipped.get(&event_kind(flag)).copied();
+    assert_eq!((count(2), count(3), count(4)), (Some(2), Some(1), None));
+    assert!(event_kind(3).contains("new site occupation"));
+    assert_eq!(f.epochs.len(), 3);
+    let e = &f.epochs[0];
+    assert_eq!(e.satellites.len(), 12);
+    let e07 = &e.satellites[0];
+    assert_eq!((e07.system, e07.prn), ('E', 7));
+    assert_eq!(f.observation_types[&'E'], ["C1X", "C8X", "L1X", "L8X"]);
+    assert_eq!(e07.values[0], Some(25808828.891));
+    // L1 on the first line with loss-of-lock digit 1; L8 blank.
+    assert_eq!(e07.values[2], Some(135626313.276));
+    assert_eq!(e07.lli[2], 1);
+    assert_eq!(e07.values[3], None);
+}
+
+/// gLAB's mixed example: GPS, GLONASS and SBAS, 14 satellites over two
+/// list lines, blank-padded PRNs ("G 7"), the receiver clock offset after
+/// the list.
+#[test]
+fn mixed_rinex_2_11_with_continued_satellite_lists() {
+    let f = read_rinex_obs(data("demo.10o")).unwrap();
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    let e = &f.epochs[0];
+    let names: Vec<String> = e
+        .satellites
+        .iter()
+        .map(|s| format!("{}{:02}", s.system, s.prn))
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "G13", "R19", "G32", "G07", "R23", "G31", "G20", "R11", "G12", "G26", "G09", "G21",
+            "G15", "S24"
+        ]
+    );
+    assert_eq!(
+        f.observation_types.keys().collect::<String>(),
+        "GRS",
+        "Galileo declared by the mixed file but never observed is left out"
+    );
+    // SBAS has no P code: its list is L1, C1, S1 (and no L2, P1, P2, S2).
+    assert_eq!(f.observation_types[&'S'], ["L1C", "C1C", "S1C"]);
+}
