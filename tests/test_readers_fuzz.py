@@ -147,6 +147,11 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
     ),
     "ubx": ((EX / "walk_head.ubx").read_bytes(), "ubx", mn.read_ubx),
     "rinex2_obs": ((DATA / "rinex-public" / "14601736.18o").read_bytes(), "18o", mn.read_rinex_obs),
+    "glonass_nav": (
+        b"".join((DATA / "rinex-public" / "brdc1360_excerpt.20g").read_bytes().splitlines(True)[:27]),
+        "20g",
+        mn.read_broadcast_nav,
+    ),
 }
 
 NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]

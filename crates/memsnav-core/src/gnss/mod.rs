@@ -1,5 +1,6 @@
 //! GNSS: satellite orbits from broadcast ephemerides (GPS, Galileo and
-//! BeiDou, one Keplerian user algorithm) or a
+//! BeiDou, one Keplerian user algorithm; GLONASS by Runge-Kutta
+//! integration of its PZ-90 state vector) or a
 //! synthetic Walker constellation, precise orbits (SP3) for checking them,
 //! predicted ranges with the Sagnac correction, a two-state receiver clock,
 //! the measurement simulator (method §5) and the least-squares fix.
@@ -18,11 +19,14 @@ mod dual_frequency;
 mod ephemeris;
 mod fix;
 mod galileo_ephemeris;
+mod glonass_ephemeris;
+mod glonass_orbit;
 mod measurement_rows;
 mod observables;
 mod range;
 mod rinex2_obs;
 mod rinex_nav;
+mod rinex_nav_glonass;
 mod rinex_obs;
 mod rinex_write;
 mod satellite_state;
@@ -49,6 +53,11 @@ pub use ephemeris::{
 };
 pub use fix::{solve_fix, Dops, Fix};
 pub use galileo_ephemeris::{sisa_index, sisa_m, InavEphemeris};
+pub use glonass_ephemeris::{GlonassEphemeris, GLONASS_VALIDITY_S};
+pub use glonass_orbit::{
+    propagate_glonass, GLONASS_EARTH_RATE_RAD_S, GLONASS_EQUATORIAL_RADIUS_M, GLONASS_GM_M3_S2,
+    GLONASS_J2,
+};
 pub use measurement_rows::{
     carrier_of, check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M,
     MAX_SATELLITE_SPEED_M_S,
@@ -59,15 +68,15 @@ pub use observables::{
     DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
 };
 pub use range::{predicted_range, RangePrediction};
+pub use rinex2_obs::rinex3_code;
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
-pub(crate) use rinex_obs::{observation_range, SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
-pub use rinex2_obs::rinex3_code;
 pub use rinex_obs::{
     event_kind, parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile,
     SatelliteObservations,
 };
+pub(crate) use rinex_obs::{observation_range, SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_write::{
     format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, RinexProvenance,
 };

@@ -250,17 +250,15 @@ pub(super) fn parse_records(
             let prn: Option<u16> = text.get(1..).and_then(|p| p.trim().parse().ok());
             match prn {
                 Some(prn @ 1..=99) if system.is_ascii_uppercase() => names.push((system, prn)),
-                _ => {
-                    return Err(error(
-                        kk,
-                        format!(
-                            "expected satellite {} of {count} as 'Xnn' in columns {}-{}, got {text:?}",
-                            j + 1,
-                            at + 1,
-                            at + 3
-                        ),
-                    ))
-                }
+                _ => return Err(error(
+                    kk,
+                    format!(
+                        "expected satellite {} of {count} as 'Xnn' in columns {}-{}, got {text:?}",
+                        j + 1,
+                        at + 1,
+                        at + 3
+                    ),
+                )),
             }
         }
         let first_value_line = k + list_lines;
@@ -303,7 +301,9 @@ pub(super) fn parse_records(
             let (Some(types), Some(map)) = (observation_types.get(&system), columns.get(&system))
             else {
                 *skipped
-                    .entry(format!("observations of system {system} (no RINEX 3 code for its 2.x types)"))
+                    .entry(format!(
+                        "observations of system {system} (no RINEX 3 code for its 2.x types)"
+                    ))
                     .or_default() += 1;
                 continue;
             };
@@ -423,7 +423,8 @@ mod tests {
         }
     }
 
-    const HEADER: &str = "     2.11           OBSERVATION DATA    M (MIXED)           RINEX VERSION / TYPE
+    const HEADER: &str =
+        "     2.11           OBSERVATION DATA    M (MIXED)           RINEX VERSION / TYPE
  -2703115.2660 -4291768.3440  3854247.9550                  APPROX POSITION XYZ
      6    L1    C1    P2    S1    D1    C5                  # / TYPES OF OBSERV
   2021     4    28    19     0    0.0000000     GPS         TIME OF FIRST OBS
@@ -481,7 +482,10 @@ mod tests {
         assert_eq!(e.satellites[12].system, 'E');
         // A blank system letter is GPS; the second epoch is 30 s later.
         assert_eq!(
-            (f.epochs[1].satellites[0].system, f.epochs[1].satellites[0].prn),
+            (
+                f.epochs[1].satellites[0].system,
+                f.epochs[1].satellites[0].prn
+            ),
             ('G', 1)
         );
         assert_eq!(f.epochs[1].gps_time_s - e.gps_time_s, 30.0);
@@ -497,11 +501,23 @@ mod tests {
         let record = " 21  4 28 19  0  0.0000000  0  1G01\n 122610995.213    23332073.875\n\n";
         let next = " 21  4 28 19  0 30.0000000  0  1G01\n 122610995.213    23332073.875\n\n";
         let cases = [
-            (record.replace("23332073.875", "2333x073.875"), 7, "G01 C1 in columns 17-30"),
+            (
+                record.replace("23332073.875", "2333x073.875"),
+                7,
+                "G01 C1 in columns 17-30",
+            ),
             (record.replace(" 0  1G01", " 9  1G01"), 6, "epoch flag 9"),
-            (record.replace(" 0  1G01", " 0  1G00"), 6, "satellite 1 of 1"),
+            (
+                record.replace(" 0  1G01", " 0  1G00"),
+                6,
+                "satellite 1 of 1",
+            ),
             (record.replace("28 19", "28 25"), 6, "hour 25"),
-            (record.replace("G01", "G01G01").replace(" 0  1G", " 0  2G") + "\n\n\n", 6, "G01 is listed twice"),
+            (
+                record.replace("G01", "G01G01").replace(" 0  1G", " 0  2G") + "\n\n\n",
+                6,
+                "G01 is listed twice",
+            ),
             (next.to_string() + record, 9, "does not follow"),
         ];
         for (records, line, words) in cases {
@@ -515,7 +531,12 @@ mod tests {
         // The last record cut short: a warning.
         let text = format!("{HEADER}{record}{}", &next[..36]);
         let f = parse_rinex_obs(&text, "x.11o").unwrap();
-        assert_eq!((f.epochs.len(), f.warnings.len()), (1, 1), "{:?}", f.warnings);
+        assert_eq!(
+            (f.epochs.len(), f.warnings.len()),
+            (1, 1),
+            "{:?}",
+            f.warnings
+        );
     }
 
     #[test]
@@ -523,7 +544,9 @@ mod tests {
         let header = HEADER
             .replace("M (MIXED)", "R (GLO)  ")
             .replace("     GPS         TIME", "     GLO         TIME");
-        let text = format!("{header} 21  4 28 19  0  0.0000000  0  1R01\n 122610995.213    23332073.875\n\n");
+        let text = format!(
+            "{header} 21  4 28 19  0  0.0000000  0  1R01\n 122610995.213    23332073.875\n\n"
+        );
         let f = parse_rinex_obs(&text, "x.11o").unwrap();
         let gps = crate::gnss::gps_time_from_calendar(2021, 4, 28, 19, 0, 18.0);
         assert_eq!(f.epochs[0].gps_time_s, gps);

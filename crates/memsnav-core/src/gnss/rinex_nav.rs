@@ -1,8 +1,10 @@
 //! RINEX 2.x and 3.x navigation files: the GPS, Galileo (I/NAV) and
-//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14). Other
-//! systems in a mixed RINEX 3 file (GLONASS, QZSS, SBAS, ...) and Galileo
-//! F/NAV records are skipped with a count. Numbers may use Fortran `D`
-//! exponents. Every error names the file and the 1-based line.
+//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14) and the
+//! GLONASS ones (RINEX 2 `g` files and RINEX 3 `R` records, read by
+//! [`super::rinex_nav_glonass`]). Other systems in a mixed RINEX 3 file
+//! (QZSS, SBAS, ...) and Galileo F/NAV records are skipped with a count.
+//! Numbers may use Fortran `D` exponents. Every error names the file and
+//! the 1-based line.
 
 use std::collections::hash_map::{Entry, HashMap};
 use std::collections::BTreeMap;
@@ -13,6 +15,8 @@ use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, G
 use super::cnav_ephemeris::CnavGroupDelays;
 use super::ephemeris::{ura_index, GpsEphemeris};
 use super::galileo_ephemeris::{sisa_index, InavEphemeris};
+use super::glonass_ephemeris::GlonassEphemeris;
+use super::rinex_nav_glonass::parse_glonass_record;
 use super::time::{calendar_text, checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
@@ -29,13 +33,13 @@ pub fn read_rinex_nav(path: impl AsRef<Path>) -> Result<Vec<GpsEphemeris>> {
     read_broadcast_nav(path).map(|nav| nav.gps)
 }
 
-struct Cursor<'a> {
+pub(super) struct Cursor<'a> {
     file: &'a str,
-    lines: Vec<&'a str>,
+    pub(super) lines: Vec<&'a str>,
 }
 
 impl Cursor<'_> {
-    fn error(&self, line_index: usize, reason: impl Into<String>) -> Error {
+    pub(super) fn error(&self, line_index: usize, reason: impl Into<String>) -> Error {
         Error::Parse {
             file: self.file.to_string(),
             line: line_index + 1,
@@ -44,7 +48,7 @@ impl Cursor<'_> {
     }
 
     /// Field `[start, start + width)` of line `k`, trimmed ("" when the line is short).
-    fn field(&self, k: usize, start: usize, width: usize) -> &str {
+    pub(super) fn field(&self, k: usize, start: usize, width: usize) -> &str {
         let line = self.lines[k];
         let end = (start + width).min(line.len());
         if start >= end {
@@ -53,7 +57,7 @@ impl Cursor<'_> {
         line.get(start..end).unwrap_or("").trim()
     }
 
-    fn number(&self, k: usize, start: usize, width: usize, what: &str) -> Result<f64> {
+    pub(super) fn number(&self, k: usize, start: usize, width: usize, what: &str) -> Result<f64> {
         let f = self.field(k, start, width);
         parse_number(f).ok_or_else(|| {
             self.error(
@@ -81,7 +85,7 @@ impl Cursor<'_> {
         }
     }
 
-    fn integer(&self, k: usize, start: usize, width: usize, what: &str) -> Result<i64> {
+    pub(super) fn integer(&self, k: usize, start: usize, width: usize, what: &str) -> Result<i64> {
         let f = self.field(k, start, width);
         f.parse::<i64>().map_err(|_| {
             self.error(
@@ -97,7 +101,7 @@ impl Cursor<'_> {
 }
 
 /// A PRN, 1-63 (two digits in RINEX).
-fn satellite_prn(cur: &Cursor<'_>, k: usize, prn: i64) -> Result<u16> {
+pub(super) fn satellite_prn(cur: &Cursor<'_>, k: usize, prn: i64) -> Result<u16> {
     if (1..=63).contains(&prn) {
         Ok(prn as u16)
     } else {
@@ -409,6 +413,8 @@ pub struct BroadcastNav {
     /// Galileo I/NAV records (clock E5b,E1).
     pub galileo: Vec<InavEphemeris>,
     pub beidou: Vec<BeidouEphemeris>,
+    /// GLONASS ephemerides, one per slot and t_b.
+    pub glonass: Vec<GlonassEphemeris>,
     /// Each GPS satellite's latest CNAV group delays (message type 30), the
     /// inter-signal corrections a second signal needs, of the signals its
     /// ephemeris flags healthy
@@ -416,13 +422,14 @@ pub struct BroadcastNav {
     /// empty from RINEX 3 files, whose LNAV records have T_GD alone.
     pub gps_group_delays: BTreeMap<u16, CnavGroupDelays>,
     /// Records not read, by reason, with counts (other systems; Galileo
-    /// F/NAV records, whose clock is referred to E5a,E1).
+    /// F/NAV records, whose clock is referred to E5a,E1; a GLONASS record
+    /// repeated with equal values).
     pub skipped: BTreeMap<String, usize>,
 }
 
-/// Reads the GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3
-/// navigation file (RINEX 2: GPS files); one per satellite and t_oc as
-/// [`read_rinex_nav`] says.
+/// Reads the GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 or
+/// 3 navigation file (RINEX 2: GPS `n` and GLONASS `g` files); one per
+/// satellite and t_oc as [`read_rinex_nav`] says.
 pub fn read_broadcast_nav(path: impl AsRef<Path>) -> Result<BroadcastNav> {
     let path = path.as_ref();
     let text = std::fs::read(path).map_err(|e| Error::Io {
@@ -464,13 +471,15 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     let file_type = cur.field(0, 20, 1).to_string();
     let system = cur.field(0, 40, 1).to_string();
     let major = version.floor() as i64;
+    // RINEX 2 GLONASS files are type G ("G: GLONASS NAV DATA").
+    let glonass_file = major == 2 && file_type == "G";
     match major {
-        2 if file_type == "N" => {}
-        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "E" | "C" | "M" | "") => {}
+        2 if file_type == "N" || glonass_file => {}
+        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "E" | "C" | "R" | "M" | "") => {}
         2..=4 => {
             return Err(cur.error(
                 0,
-                format!("not a GPS, Galileo or BeiDou navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C or M"),
+                format!("not a GPS, Galileo, BeiDou or GLONASS navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C, R or M, or a RINEX 2 GLONASS file (type G)"),
             ))
         }
         _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x or 3.x"))),
@@ -502,6 +511,32 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             continue;
         }
         let start = k;
+        if glonass_file || (major > 2 && cur.field(k, 0, 1) == "R") {
+            let (eph, next) = parse_glonass_record(&cur, k, major == 2)?;
+            match out
+                .glonass
+                .iter()
+                .find(|e| (e.slot, e.tb_gps_s) == (eph.slot, eph.tb_gps_s))
+            {
+                None => out.glonass.push(eph),
+                Some(first) if *first == eph => {
+                    *out.skipped
+                        .entry("GLONASS records repeated (same slot, t_b and values)".into())
+                        .or_default() += 1;
+                }
+                Some(_) => {
+                    return Err(cur.error(
+                        k,
+                        format!(
+                            "R{:02} has a second ephemeris for its t_b with other values: one ephemeris per satellite and t_b, the reader cannot tell which was broadcast",
+                            eph.slot
+                        ),
+                    ))
+                }
+            }
+            k = next;
+            continue;
+        }
         let prn: u16;
         let (year, month, day, hour, minute, second);
         let layout: &Layout;

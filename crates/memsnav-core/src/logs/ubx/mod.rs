@@ -111,6 +111,8 @@ impl UbxLog {
                 .collect(),
             galileo: self.galileo_ephemerides.clone(),
             beidou: self.beidou_ephemerides.clone(),
+            // UBX GLONASS strings are not decoded.
+            glonass: Vec::new(),
             // The CNAV ephemerides are in the order they completed: the
             // last of a satellite is its latest.
             gps_group_delays: self
