@@ -28,9 +28,10 @@ const G1_SPACING_HZ: f64 = 0.5625e6;
 const G2_BASE_HZ: f64 = 1_246.0e6;
 const G2_SPACING_HZ: f64 = 0.4375e6;
 
-/// Largest |t − t_b| an ephemeris serves, s: the ICD's ±15 min of the
-/// 30-minute update interval, with 5 minutes' margin for a late update.
-pub const GLONASS_VALIDITY_S: f64 = 1200.0;
+/// Largest |t − t_b| an ephemeris serves, s: RTKLIB's limit (its
+/// `MAXDTOE_GLO`), twice the ICD's ±15 min around t_b, so one missed
+/// 30-minute update does not drop the satellite.
+pub const GLONASS_VALIDITY_S: f64 = 1800.0;
 
 /// A GLONASS broadcast ephemeris (positions PZ-90 ≈ ITRF, m; times GPS s
 /// since 1980-01-06).
@@ -79,7 +80,14 @@ impl GlonassEphemeris {
     /// correction at GPS time `gps_time_s`: the orbit integrated from t_b
     /// ([`propagate_glonass`]), Δt_sv = −τ_n + γ_n (t − t_b).
     pub fn state(&self, gps_time_s: f64) -> SatelliteState {
-        let dt = gps_time_s - self.tb_gps_s;
+        self.state_at(gps_time_s, 0.0)
+    }
+
+    /// [`GlonassEphemeris::state`] at `gps_time_s + offset_s`, the small
+    /// offset (a signal's travel time) added after t − t_b to keep its
+    /// precision.
+    pub fn state_at(&self, gps_time_s: f64, offset_s: f64) -> SatelliteState {
+        let dt = (gps_time_s - self.tb_gps_s) + offset_s;
         let (position_ecef, velocity_ecef) = propagate_glonass(
             &self.position_ecef,
             &self.velocity_ecef,

@@ -63,9 +63,10 @@ pub use measurement_rows::{
     MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
-    broadcast_epochs, broadcast_epochs_with_signals, gps_l1_epochs, EpochSignals,
-    ObservableOptions, ReceivedSignal, DEFAULT_CARRIER_PHASE_STD_M, DEFAULT_ELEVATION_MASK_DEG,
-    DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
+    broadcast_epochs, broadcast_epochs_with_signals, broadcast_states, ephemeris_coverage,
+    gps_l1_epochs, EphemerisCoverage, EpochSignals, ObservableOptions, ReceivedSignal,
+    DEFAULT_CARRIER_PHASE_STD_M, DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S,
+    DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M, MIN_TROPOSPHERE_MASK_DEG,
 };
 pub use range::{predicted_range, RangePrediction};
 pub use rinex2_obs::rinex3_code;
@@ -88,7 +89,8 @@ pub use simulate::{
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
 pub use system::{
-    satellite_name, satellite_number, system_of_number, GnssSystem, INTER_SYSTEM_BIAS_SYSTEMS,
+    satellite_name, satellite_number, system_of_number, GnssSystem, FIX_BIAS_SYSTEMS,
+    INTER_SYSTEM_BIAS_SYSTEMS,
 };
 pub use time::{
     calendar_from_gps_time, checked_gps_time_from_calendar, gps_minus_utc_s,
@@ -104,8 +106,8 @@ use nalgebra::Vector3;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SatelliteMeasurement {
     /// Satellite number, unique across systems ([`satellite_number`]: the
-    /// GPS PRN, 100 + the Galileo PRN, 200 + the BeiDou PRN; a simulated
-    /// Walker slot 1..N).
+    /// GPS PRN, 100 + the Galileo PRN, 200 + the BeiDou PRN, 300 + the
+    /// GLONASS slot; a simulated Walker slot 1..N).
     pub sat_id: u16,
     /// The satellite's system: its pseudorange carries the system's
     /// inter-system bias (none for GPS, the clock's reference).

@@ -250,15 +250,17 @@ pub(super) fn parse_records(
             let prn: Option<u16> = text.get(1..).and_then(|p| p.trim().parse().ok());
             match prn {
                 Some(prn @ 1..=99) if system.is_ascii_uppercase() => names.push((system, prn)),
-                _ => return Err(error(
-                    kk,
-                    format!(
+                _ => {
+                    return Err(error(
+                        kk,
+                        format!(
                         "expected satellite {} of {count} as 'Xnn' in columns {}-{}, got {text:?}",
                         j + 1,
                         at + 1,
                         at + 3
                     ),
-                )),
+                    ))
+                }
             }
         }
         let first_value_line = k + list_lines;

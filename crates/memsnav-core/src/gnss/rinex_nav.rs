@@ -898,13 +898,13 @@ log: gnss_1730.ubx                                          COMMENT
         let fnav = inav.replace(".513000000000D+03", ".258000000000D+03");
         // The same I/NAV ephemeris received on E5b (data sources 516): kept once.
         let e5b = inav.replace(".513000000000D+03", ".516000000000D+03");
-        let glonass = "R05 2025 08 28 17 15 00  .1D-03  .0D+00  .0D+00
+        let qzss = "J05 2025 08 28 17 15 00  .1D-03  .0D+00  .0D+00
      .1D+05  .0D+00  .0D+00  .0D+00
      .1D+05  .0D+00  .0D+00  .1D+01
      .1D+05  .0D+00  .0D+00  .0D+00
 ";
         let nav =
-            parse_broadcast_nav(&format!("{HEADER}{inav}{fnav}{e5b}{glonass}"), "x.nav").unwrap();
+            parse_broadcast_nav(&format!("{HEADER}{inav}{fnav}{e5b}{qzss}"), "x.nav").unwrap();
         assert_eq!(nav.galileo.len(), 1);
         let e = nav.galileo[0];
         // Galileo epochs are GST, GPS-aligned: no 14 s.
@@ -914,6 +914,6 @@ log: gnss_1730.ubx                                          COMMENT
             (21, 1, 1357, epoch_gps)
         );
         assert_eq!(nav.skipped["Galileo F/NAV records (clock E5a,E1)"], 1);
-        assert_eq!(nav.skipped["records of system R"], 1);
+        assert_eq!(nav.skipped["records of system J"], 1);
     }
 }
