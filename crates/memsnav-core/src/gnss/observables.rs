@@ -45,7 +45,7 @@ pub const GPS_L1_WAVELENGTH_M: f64 = SPEED_OF_LIGHT_M_S / L1_FREQUENCY_HZ;
 /// The signals each system's measurements are taken from, in order of
 /// preference: RINEX 3 band and attribute, the carrier frequency and the
 /// signal's name.
-/// GPS L1 C/A; Galileo E1 (pilot C, else data B); BeiDou B1I, B2I, B3I
+/// GPS L1 C/A; Galileo E1 (pilot C, else data B, else both); BeiDou B1I, B2I, B3I
 /// (the D1 ephemeris's group delays are for these three; B1C and B2a
 /// need the CNAV1/2 ones, not decoded). Frequencies: IS-GPS-200 §3.3.1.1,
 /// Galileo OS SIS ICD §2.3, BeiDou B1I ICD §4.2 and B3I ICD §4.2.
@@ -55,6 +55,8 @@ fn signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static str)] {
         GnssSystem::Galileo => &[
             ("1C", L1_FREQUENCY_HZ, "E1 C"),
             ("1B", L1_FREQUENCY_HZ, "E1 B"),
+            // B+C, as RINEX 2 files' C1 are read.
+            ("1X", L1_FREQUENCY_HZ, "E1 B+C"),
         ],
         GnssSystem::Beidou => &[
             ("2I", 1_561.098e6, "B1I"),
@@ -88,6 +90,8 @@ fn second_signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static 
             ("5I", L5_FREQUENCY_HZ, "E5a I"),
             ("7Q", E5B_FREQUENCY_HZ, "E5b Q"),
             ("7I", E5B_FREQUENCY_HZ, "E5b I"),
+            ("5X", L5_FREQUENCY_HZ, "E5a I+Q"),
+            ("7X", E5B_FREQUENCY_HZ, "E5b I+Q"),
         ],
         GnssSystem::Beidou => signals(GnssSystem::Beidou),
         // G2's group delay relative to G1 is not taken from the files.
