@@ -38,6 +38,22 @@ def test_a_cors_rinex_2_11_file_and_its_navigation_file_give_fixes():
     assert np.all(errors < 10.0), errors
 
 
+def test_the_navigation_files_klobuchar_is_the_default(tmp_path):
+    obs = mn.read_rinex_obs(PUBLIC / "slac1180_excerpt.21o")
+    nav = shared_data("gnss-products/2021-118/brdc1180.21n")
+    eph = mn.read_broadcast_nav(nav)
+    assert eph.klobuchar is not None and eph.klobuchar == mn.read_klobuchar(nav)
+    default = obs.measurements(eph, systems=["G"])
+    header = obs.measurements(eph, systems=["G"], klobuchar=eph.klobuchar)
+    np.testing.assert_array_equal(default.pseudorange, header.pseudorange)
+    # Without ION ALPHA/BETA in the header: RTKLIB's coefficients, metres apart.
+    bare = tmp_path / "bare.21n"
+    bare.write_text("".join(x for x in nav.open() if "ION ALPHA" not in x and "ION BETA" not in x))
+    assert mn.read_broadcast_nav(bare).klobuchar is None
+    rtklib = obs.measurements(mn.read_broadcast_nav(bare), systems=["G"])
+    assert np.nanmax(np.abs(rtklib.pseudorange - default.pseudorange)) > 0.1
+
+
 def test_event_records_are_counted():
     obs = mn.read_rinex_obs(PUBLIC / "14601736.18o")
     assert obs.skipped == {
@@ -168,3 +184,20 @@ def test_the_tight_filter_refuses_glonass():
     )
     with pytest.raises(ValueError, match="does not take GLONASS"):
         running.update_gnss(gnss, 0)
+
+
+def test_a_reference_position_per_epoch():
+    obs = mn.read_rinex_obs(PUBLIC / "skydel_20230080000_excerpt_MO.rnx")
+    eph = mn.read_broadcast_nav(PUBLIC / "skydel_20230080000_excerpt_RN.rnx")
+    settings = {"systems": ["R"], "ionosphere": False, "elevation_mask_deg": 10.0}
+    one = obs.measurements(eph, SKYDEL_TRUTH, **settings)
+    track = np.tile(SKYDEL_TRUTH, (len(obs), 1))
+    each = obs.measurements(eph, track, **settings)
+    np.testing.assert_array_equal(each.pseudorange, one.pseudorange)
+    # Another position at the third epoch moves only that epoch's corrections.
+    track[2] += [0.0, 0.0, 5000.0]
+    moved = obs.measurements(eph, track, **settings)
+    changed = np.nanmax(np.abs(moved.pseudorange - one.pseudorange), axis=1)
+    assert changed[2] > 0.01 and np.all(changed[[0, 1, 3, 4]] == 0.0), changed
+    with pytest.raises(ValueError, match="4 positions for 5 observation epochs"):
+        obs.measurements(eph, track[:4], **settings)

@@ -114,7 +114,7 @@ def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
 def test_measurements_refuse_what_they_cannot_use(walk_log):
     eph, obs = walk_log.broadcast_ephemerides, walk_log.observations
     with pytest.raises(ValueError, match="systems"):
-        obs.measurements(eph, systems=["R"])
+        obs.measurements(eph, systems=["J"])
     with pytest.raises(ValueError, match="systems"):
         obs.measurements(eph, systems=[])
     with pytest.raises(ValueError, match="satellites"):

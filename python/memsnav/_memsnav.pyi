@@ -1924,6 +1924,12 @@ class BroadcastEphemerides:
         """Records left out, by reason, with counts."""
 
     @property
+    def klobuchar(self) -> tuple[list[float], list[float]] | None:
+        """The GPS Klobuchar coefficients (alpha, beta) the ephemerides carry (a
+        RINEX header's, a UBX log's CNAV type 30), or None: ``measurements``'
+        default."""
+
+    @property
     def glonass_channels(self) -> dict[str, int]:
         """Each GLONASS slot's FDMA frequency channel k (G1 = 1602 + 0.5625 k
         MHz), from its latest ephemeris: {"R01": 1, ...}."""
@@ -2039,7 +2045,11 @@ class RinexObservations:
         pseudoranges keep the receiver's inter-system bias (the tight filter
         and ``solve_fix`` estimate it). Epochs no ephemeris covers are counted
         in a UserWarning (a ValueError when none is covered). With the
-        troposphere on the mask must be at least 5°. Each
+        troposphere on the mask must be at least 5°. ``klobuchar``: default
+        the ephemerides' own (``BroadcastEphemerides.klobuchar``), else
+        RTKLIB's. ``reference_position_ecef`` (also ``gps_l1``'s): (3,), or
+        (T, 3) with one position per epoch for a moving receiver; default the
+        file's APPROX POSITION XYZ. Each
         measurement's signal, C/N0 and elevation in ``signal``,
         ``cn0_db_hz``, ``elevation_rad``. ``dual_frequency=True``: each
         satellite's ionospheric delay measured from a second signal's

@@ -84,6 +84,14 @@ impl PyBroadcastEphemerides {
         self.inner.skipped.clone()
     }
 
+    /// The GPS Klobuchar coefficients ``(alpha, beta)`` the ephemerides
+    /// carry (a RINEX header's, a UBX log's CNAV type 30), or None:
+    /// ``measurements``' default.
+    #[getter]
+    fn klobuchar(&self) -> Option<([f64; 4], [f64; 4])> {
+        self.inner.klobuchar.map(|k| (k.alpha, k.beta))
+    }
+
     /// Each GLONASS slot's FDMA frequency channel k (G1 = 1602 + 0.5625 k
     /// MHz), from its latest ephemeris: ``{"R01": 1, ...}``.
     #[getter]

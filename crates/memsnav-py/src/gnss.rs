@@ -1271,7 +1271,13 @@ impl PyRinexObservations {
     /// the tight filter and ``solve_fix`` estimate. Epochs whose satellites
     /// no ephemeris covers are counted in a ``UserWarning``; when none is
     /// covered, a ``ValueError`` says so. With the troposphere on, the
-    /// elevation mask must be at least 5° (``MIN_TROPOSPHERE_MASK_DEG``). Each measurement's signal, C/N0 and
+    /// elevation mask must be at least 5° (``MIN_TROPOSPHERE_MASK_DEG``).
+    /// ``klobuchar``: default the ephemerides' own (``klobuchar``: the
+    /// navigation file's header, a UBX log's CNAV), else RTKLIB's.
+    /// ``reference_position_ecef`` (also ``gps_l1``'s): ``(3,)``, or
+    /// ``(T, 3)`` with one position per epoch for a moving receiver (the
+    /// masks and the atmosphere at each); default the file's APPROX
+    /// POSITION XYZ. Each measurement's signal, C/N0 and
     /// elevation in ``signal``, ``cn0_db_hz``, ``elevation_rad``.
     /// ``dual_frequency=True``: each satellite's ionospheric delay measured
     /// from a second signal's pseudorange where the file has one whose
@@ -1311,6 +1317,9 @@ impl PyRinexObservations {
             .iter()
             .map(|name| satellite_of_name(name))
             .collect::<PyResult<_>>()?;
+        // The ephemerides' own coefficients before RTKLIB's defaults.
+        let klobuchar =
+            klobuchar.or_else(|| ephemerides.inner.klobuchar.map(|k| (k.alpha, k.beta)));
         let options = self.observable_options(
             reference_position_ecef,
             ObservableArguments {
@@ -1429,15 +1438,27 @@ impl PyRinexObservations {
         systems: Vec<gnss::GnssSystem>,
         satellites: Vec<u16>,
     ) -> PyResult<gnss::ObservableOptions> {
-        let reference = match reference_position_ecef {
-            Some(r) => convert::vector3(r, "reference_position_ecef")?,
-            None => self.inner.approx_position_ecef.ok_or_else(|| {
-                PyValueError::new_err(
-                    "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
-                )
-            })?,
+        // One position, or one per epoch (a moving receiver).
+        let (reference, track) = match reference_position_ecef {
+            Some(r) if convert::floats(r, "reference_position_ecef")?.shape.len() == 2 => {
+                let track = convert::vectors(r, "reference_position_ecef")?;
+                let first = *track.first().ok_or_else(|| {
+                    PyValueError::new_err("reference_position_ecef: (T, 3) with no row")
+                })?;
+                (first, track)
+            }
+            Some(r) => (convert::vector3(r, "reference_position_ecef")?, Vec::new()),
+            None => (
+                self.inner.approx_position_ecef.ok_or_else(|| {
+                    PyValueError::new_err(
+                        "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
+                    )
+                })?,
+                Vec::new(),
+            ),
         };
         let mut options = gnss::ObservableOptions::new(reference);
+        options.reference_track_ecef = track;
         if let Some(mask) = a.elevation_mask_deg {
             options.elevation_mask_rad = mask.to_radians();
         }

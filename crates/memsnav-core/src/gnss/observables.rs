@@ -126,6 +126,10 @@ pub struct ObservableOptions {
     /// Receiver position for elevations and atmospheric delays, ECEF m
     /// (a few km off changes the delays by millimetres).
     pub reference_position_ecef: Vector3<f64>,
+    /// A moving receiver's position at each observation epoch, ECEF m
+    /// (one per epoch, in file order), used instead of
+    /// `reference_position_ecef` where given; empty: that one point.
+    pub reference_track_ecef: Vec<Vector3<f64>>,
     /// Satellites below this elevation are left out, rad.
     pub elevation_mask_rad: f64,
     /// Satellites whose C/N0 is below this are left out, dB-Hz.
@@ -182,6 +186,7 @@ impl ObservableOptions {
     pub fn new(reference_position_ecef: Vector3<f64>) -> Self {
         Self {
             reference_position_ecef,
+            reference_track_ecef: Vec::new(),
             elevation_mask_rad: DEFAULT_ELEVATION_MASK_DEG.to_radians(),
             min_cn0_db_hz: 25.0,
             ionosphere: Some(Klobuchar::RTKLIB_DEFAULT),
@@ -200,6 +205,11 @@ impl ObservableOptions {
         crate::geodesy::domain::check_position_ecef(
             "reference_position_ecef",
             &[self.reference_position_ecef],
+        )?;
+        validate::finite_vectors("reference_position_ecef", &self.reference_track_ecef)?;
+        crate::geodesy::domain::check_position_ecef(
+            "reference_position_ecef",
+            &self.reference_track_ecef,
         )?;
         validate::finite_scalars("elevation_mask", &[self.elevation_mask_rad])?;
         if self.troposphere && self.elevation_mask_rad < MIN_TROPOSPHERE_MASK_DEG.to_radians() {
@@ -577,15 +587,31 @@ fn epochs_from(
             ),
         ));
     }
-    let r = options.reference_position_ecef;
-    let geo = ecef_to_geodetic(&r);
-    let c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
+    let track = &options.reference_track_ecef;
+    if !track.is_empty() && track.len() != observations.epochs.len() {
+        return Err(Error::invalid(
+            "reference_position_ecef",
+            format!(
+                "has {} positions for {} observation epochs: give one per epoch, or one for all",
+                track.len(),
+                observations.epochs.len()
+            ),
+        ));
+    }
+    let mut r = options.reference_position_ecef;
+    let mut geo = ecef_to_geodetic(&r);
+    let mut c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
     let mut epochs = Vec::with_capacity(observations.epochs.len());
     let mut epoch_signals = Vec::with_capacity(observations.epochs.len());
     // Each satellite's half-cycle state (LLI bit 1) at its last epoch.
     let mut half_cycle_unresolved: HashMap<u16, bool> = HashMap::new();
     let mut ionosphere_tracks = IonosphereTracks::default();
-    for e in &observations.epochs {
+    for (k, e) in observations.epochs.iter().enumerate() {
+        if let Some(&position) = track.get(k) {
+            r = position;
+            geo = ecef_to_geodetic(&r);
+            c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
+        }
         let mut measurements = Vec::new();
         let mut received = Vec::new();
         for s in &e.satellites {

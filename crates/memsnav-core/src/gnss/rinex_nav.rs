@@ -10,6 +10,7 @@ use std::collections::hash_map::{Entry, HashMap};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use super::atmosphere::{parse_klobuchar, Klobuchar};
 use super::beidou_ephemeris::BeidouEphemeris;
 use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
 use super::cnav_ephemeris::CnavGroupDelays;
@@ -415,6 +416,10 @@ pub struct BroadcastNav {
     pub beidou: Vec<BeidouEphemeris>,
     /// GLONASS ephemerides, one per slot and t_b.
     pub glonass: Vec<GlonassEphemeris>,
+    /// GPS Klobuchar coefficients of the file's header (`ION ALPHA`/`ION
+    /// BETA`, `IONOSPHERIC CORR GPSA`/`GPSB`) or of a log's CNAV message
+    /// type 30; `None` without.
+    pub klobuchar: Option<Klobuchar>,
     /// Each GPS satellite's latest CNAV group delays (message type 30), the
     /// inter-signal corrections a second signal needs, of the signals its
     /// ephemeris flags healthy
@@ -497,12 +502,15 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         return Err(cur.error(k.saturating_sub(1), "end of file before 'END OF HEADER'"));
     }
     k += 1;
+    let mut out = BroadcastNav {
+        klobuchar: parse_klobuchar(text, file)?,
+        ..BroadcastNav::default()
+    };
 
     // Field layout: RINEX 2 records start with I2 PRN + epoch (22 columns)
     // and orbit lines with 3 blanks; RINEX 3 with "Gnn" + epoch (23 columns)
     // and orbit lines with 4 blanks. Each value is 19 columns wide.
     let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
-    let mut out = BroadcastNav::default();
     // The first line and the values of each record read so far.
     let mut first_record: HashMap<RecordKey, (usize, [f64; 29])> = HashMap::new();
     while k < cur.lines.len() {

@@ -113,6 +113,7 @@ impl UbxLog {
             beidou: self.beidou_ephemerides.clone(),
             // UBX GLONASS strings are not decoded.
             glonass: Vec::new(),
+            klobuchar: self.klobuchar,
             // The CNAV ephemerides are in the order they completed: the
             // last of a satellite is its latest.
             gps_group_delays: self
