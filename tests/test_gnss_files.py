@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 import memsnav as mn
-from shared_data import shared_data
 
 PUBLIC = Path(__file__).parent / "data" / "rinex-public"
 EX = Path(__file__).parent / "data" / "real-imu-gnss"
@@ -48,7 +48,8 @@ def test_the_navigation_files_klobuchar_is_the_default(tmp_path):
     np.testing.assert_array_equal(default.pseudorange, header.pseudorange)
     # Without ION ALPHA/BETA in the header: RTKLIB's coefficients, metres apart.
     bare = tmp_path / "bare.21n"
-    bare.write_text("".join(x for x in nav.open() if "ION ALPHA" not in x and "ION BETA" not in x))
+    lines = nav.read_text().splitlines(True)
+    bare.write_text("".join(x for x in lines if "ION ALPHA" not in x and "ION BETA" not in x))
     assert mn.read_broadcast_nav(bare).klobuchar is None
     rtklib = obs.measurements(mn.read_broadcast_nav(bare), systems=["G"])
     assert np.nanmax(np.abs(rtklib.pseudorange - default.pseudorange)) > 0.1
@@ -69,7 +70,7 @@ def test_glonass_broadcast_states_agree_with_precise_orbits():
     sp3 = mn.read_sp3(PUBLIC / "COD0MGXFIN_20201360000_R_excerpt.SP3")
     # One satellite of the 23 has no healthy record in the excerpt: 17 epochs.
     with pytest.warns(UserWarning, match="17 of 391 satellite states"):
-        position, velocity, clock = eph.satellite_states(sp3.time, sp3.satellites)
+        position, _, clock = eph.satellite_states(sp3.time, sp3.satellites)
     assert position.shape == (len(sp3.time), len(sp3.satellites), 3)
     assert np.sum(np.isnan(clock)) == 17
     error = np.linalg.norm(position - sp3.position_ecef, axis=2)
@@ -85,9 +86,7 @@ def test_glonass_broadcast_states_agree_with_precise_orbits():
 
 def test_satellite_states_of_gps_agree_with_precise_orbits():
     eph = mn.read_broadcast_nav(shared_data("gnss-products/2021-118/brdc1180.21n"))
-    sp3 = mn.read_sp3(
-        shared_data("gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3")
-    )
+    sp3 = mn.read_sp3(shared_data("gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3"))
     gps = [k for k, name in enumerate(sp3.satellites) if name.startswith("G")]
     names = [sp3.satellites[k] for k in gps if sp3.satellites[k] in eph.satellites]
     columns = [sp3.satellites.index(n) for n in names]
@@ -174,9 +173,7 @@ def test_a_mask_too_low_for_the_troposphere_is_refused():
 def test_the_tight_filter_refuses_glonass():
     gnss = _skydel(["R"])
     z3, z33 = np.zeros(3), np.zeros((3, 3))
-    imu = mn.ImuModel(
-        mn.AccelerometerModel(z3, z3, z33, z3), mn.GyroscopeModel(z3, z3, z33, z33)
-    )
+    imu = mn.ImuModel(mn.AccelerometerModel(z3, z3, z33, z3), mn.GyroscopeModel(z3, z3, z33, z33))
     up = SKYDEL_TRUTH / np.linalg.norm(SKYDEL_TRUTH)
     start = {"position_ecef": SKYDEL_TRUTH, "velocity_ecef": z3, "attitude": np.eye(3)}
     running = mn.TightlyCoupledFilter(imu).start(

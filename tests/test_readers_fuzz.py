@@ -31,6 +31,7 @@ import memsnav as mn
 
 DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
+PUBLIC = DATA / "rinex-public"
 LONG = "MEMSNAV_FUZZ_EXAMPLES" in os.environ
 FUZZ = settings(
     max_examples=int(os.environ.get("MEMSNAV_FUZZ_EXAMPLES", "40")),
@@ -146,9 +147,9 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
         mn.read_gnsslogger,
     ),
     "ubx": ((EX / "walk_head.ubx").read_bytes(), "ubx", mn.read_ubx),
-    "rinex2_obs": ((DATA / "rinex-public" / "14601736.18o").read_bytes(), "18o", mn.read_rinex_obs),
+    "rinex2_obs": ((PUBLIC / "14601736.18o").read_bytes(), "18o", mn.read_rinex_obs),
     "glonass_nav": (
-        b"".join((DATA / "rinex-public" / "brdc1360_excerpt.20g").read_bytes().splitlines(True)[:27]),
+        b"".join((PUBLIC / "brdc1360_excerpt.20g").read_bytes().splitlines(True)[:27]),
         "20g",
         mn.read_broadcast_nav,
     ),
