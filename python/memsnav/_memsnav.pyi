@@ -1954,7 +1954,7 @@ def satellite_name(number: int) -> str:
 
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
     """The GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 (GPS n,
-    GLONASS g) or RINEX 3 navigation file (other systems and Galileo F/NAV
+    GLONASS g, 2.12 Galileo e) or RINEX 3 navigation file (other systems and Galileo F/NAV
     records counted in ``skipped``)."""
 
 @final

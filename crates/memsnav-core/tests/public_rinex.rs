@@ -164,3 +164,30 @@ fn glonass_rinex_3_and_2_records_agree() {
         assert_eq!(e.frequency_channel, twin.frequency_channel);
     }
 }
+
+/// A RINEX 2.12 Galileo navigation file (teqc, UNAVCO) reads to the same
+/// I/NAV ephemerides as the station's RINEX 3.03 mixed file of the day
+/// (Septentrio's sbf2rin).
+#[test]
+fn galileo_rinex_2_12_navigation_file_matches_the_rinex_3_one() {
+    let v2 = read_broadcast_nav(data("ceda2100.18e")).unwrap();
+    let v3 = read_broadcast_nav(data("CEDA00USA_R_20182100000_01D_MN.rnx")).unwrap();
+    assert!(v2.gps.is_empty() && v2.glonass.is_empty());
+    // 29 records: 21 I/NAV, 8 F/NAV (counted, their clock is E5a,E1).
+    assert_eq!(v2.galileo.len(), 21, "{:?}", v2.skipped);
+    assert_eq!(v2.skipped["Galileo F/NAV records (clock E5a,E1)"], 8);
+    let mut matched = 0;
+    for e in &v2.galileo {
+        let Some(twin) = v3
+            .galileo
+            .iter()
+            .find(|x| x.svid == e.svid && x.orbit.toc_gps_s == e.orbit.toc_gps_s)
+        else {
+            continue;
+        };
+        matched += 1;
+        assert_eq!(e.orbit, twin.orbit, "E{:02}", e.svid);
+        assert_eq!((e.iod_nav, e.sisa_index), (twin.iod_nav, twin.sisa_index));
+    }
+    assert!(matched >= 20, "{matched} of {}", v2.galileo.len());
+}

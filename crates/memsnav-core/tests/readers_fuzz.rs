@@ -47,6 +47,7 @@ enum Reader {
     Rinex2Obs,
     GlonassNav,
     MixedNav,
+    GalileoNav2,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -179,6 +180,7 @@ fn seed(reader: Reader) -> &'static [u8] {
                 "rinex-public/BRDC00IGS_R_20201360000_excerpt_MN.rnx",
                 usize::MAX,
             ),
+            head("rinex-public/ceda2100.18e", 30),
         ]
     });
     &seeds[reader as usize]
@@ -304,7 +306,7 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                 });
             ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
-        Reader::RinexNav | Reader::GlonassNav | Reader::MixedNav => {
+        Reader::RinexNav | Reader::GlonassNav | Reader::MixedNav | Reader::GalileoNav2 => {
             parse_broadcast_nav(&text, file).map(|nav| {
                 // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
                 // orbit to |r| ≤ a (1 + e) + 2 × 2048 m < 1.01e8 m; the same
@@ -655,6 +657,11 @@ fuzz_reader!(ubx_mutated, ubx_garbage, Reader::Ubx);
 fuzz_reader!(rinex2_obs_mutated, rinex2_obs_garbage, Reader::Rinex2Obs);
 fuzz_reader!(glonass_nav_mutated, glonass_nav_garbage, Reader::GlonassNav);
 fuzz_reader!(mixed_nav_mutated, mixed_nav_garbage, Reader::MixedNav);
+fuzz_reader!(
+    galileo_nav2_mutated,
+    galileo_nav2_garbage,
+    Reader::GalileoNav2
+);
 
 /// A UBX frame of `class`, `id` and `payload` with its Fletcher checksum
 /// (interface description §3.4).
@@ -764,6 +771,7 @@ fn the_seeds_read_cleanly() {
         Reader::Rinex2Obs,
         Reader::GlonassNav,
         Reader::MixedNav,
+        Reader::GalileoNav2,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }

@@ -196,7 +196,7 @@ impl PyBroadcastEphemerides {
 }
 
 /// The GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 (GPS
-/// ``n``, GLONASS ``g``) or RINEX 3 navigation file (other systems and
+/// ``n``, GLONASS ``g``, 2.12 Galileo ``e``) or RINEX 3 navigation file (other systems and
 /// Galileo F/NAV records counted in ``skipped``).
 #[catch_panics]
 #[pyfunction]

@@ -1,5 +1,6 @@
 //! RINEX 2.x and 3.x navigation files: the GPS, Galileo (I/NAV) and
-//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14) and the
+//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14; RINEX 2
+//! GPS `n` and 2.12 Galileo `e` files) and the
 //! GLONASS ones (RINEX 2 `g` files and RINEX 3 `R` records, read by
 //! [`super::rinex_nav_glonass`]). Other systems in a mixed RINEX 3 file
 //! (QZSS, SBAS, ...) and Galileo F/NAV records are skipped with a count.
@@ -476,15 +477,18 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     let file_type = cur.field(0, 20, 1).to_string();
     let system = cur.field(0, 40, 1).to_string();
     let major = version.floor() as i64;
-    // RINEX 2 GLONASS files are type G ("G: GLONASS NAV DATA").
+    // RINEX 2 GLONASS files are type G ("G: GLONASS NAV DATA"), RINEX
+    // 2.12 Galileo files type E ("E: Galileo NAV DATA", table A13 of
+    // 2.12: the GPS layout with Galileo's values).
     let glonass_file = major == 2 && file_type == "G";
+    let galileo_file = major == 2 && file_type == "E";
     match major {
-        2 if file_type == "N" || glonass_file => {}
+        2 if file_type == "N" || glonass_file || galileo_file => {}
         3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "E" | "C" | "R" | "M" | "") => {}
         2..=4 => {
             return Err(cur.error(
                 0,
-                format!("not a GPS, Galileo, BeiDou or GLONASS navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C, R or M, or a RINEX 2 GLONASS file (type G)"),
+                format!("not a GPS, Galileo, BeiDou or GLONASS navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C, R or M, or a RINEX 2 GLONASS (type G) or Galileo (type E) file"),
             ))
         }
         _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x or 3.x"))),
@@ -502,8 +506,15 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         return Err(cur.error(k.saturating_sub(1), "end of file before 'END OF HEADER'"));
     }
     k += 1;
+    // A Galileo 2.12 file's ION ALPHA holds NeQuick's three coefficients,
+    // not Klobuchar's; a GLONASS file has none.
+    let klobuchar = if galileo_file || glonass_file {
+        None
+    } else {
+        parse_klobuchar(text, file)?
+    };
     let mut out = BroadcastNav {
-        klobuchar: parse_klobuchar(text, file)?,
+        klobuchar,
         ..BroadcastNav::default()
     };
 
@@ -549,7 +560,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         let (year, month, day, hour, minute, second);
         let layout: &Layout;
         if major == 2 {
-            layout = &LAYOUTS[0];
+            layout = &LAYOUTS[usize::from(galileo_file)];
             prn = satellite_prn(&cur, k, cur.integer(k, 0, 2, "satellite PRN")?)?;
             let yy = cur.integer(k, 2, 3, "year")?;
             year = if yy < 80 {
