@@ -198,3 +198,24 @@ def test_a_reference_position_per_epoch():
     assert changed[2] > 0.01 and np.all(changed[[0, 1, 3, 4]] == 0.0), changed
     with pytest.raises(ValueError, match="4 positions for 5 observation epochs"):
         obs.measurements(eph, track[:4], **settings)
+
+
+def test_precise_states_between_epochs_agree_with_broadcast_ones():
+    sp3 = mn.read_sp3(shared_data("gnss-products/2021-118/COD0MGXFIN_20211180000_01D_05M_ORB.SP3"))
+    eph = mn.read_broadcast_nav(shared_data("gnss-products/2021-118/brdc1180.21n"))
+    names = [n for n in sp3.satellites if n in eph.healthy_satellites]
+    at_epoch, _, _ = sp3.satellite_states(float(sp3.time[20]), names)
+    columns = [sp3.satellites.index(n) for n in names]
+    np.testing.assert_allclose(at_epoch, sp3.position_ecef[20, columns], atol=1e-6)
+    # Half-way between epochs, over two hours.
+    times = sp3.time[12:36] + 150.0
+    precise, velocity, _ = sp3.satellite_states(times, names)
+    broadcast, broadcast_velocity, _ = eph.satellite_states(times, names)
+    error = np.linalg.norm(precise - broadcast, axis=2)
+    assert np.sqrt(np.nanmean(error**2)) < 3.0, np.sqrt(np.nanmean(error**2))
+    assert np.nanmax(np.linalg.norm(velocity - broadcast_velocity, axis=2)) < 0.05
+    with pytest.warns(UserWarning, match="no precise orbit around their time"):
+        outside, _, _ = sp3.satellite_states(float(sp3.time[-1]) + 60.0, names[:1])
+    assert np.all(np.isnan(outside))
+    with pytest.raises(ValueError, match="not in the file"):
+        sp3.satellite_states(float(sp3.time[0]), ["G99"])

@@ -843,6 +843,16 @@ class Sp3:
     def clock(self) -> npt.NDArray[np.float64]:
         """Satellite clocks, s, (n_epochs, n_sat); NaN where missing."""
 
+    def satellite_states(
+        self, gps_time: float | npt.ArrayLike, satellites: Sequence[str] | None = None
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Positions, velocities (ECEF, m, m/s) and clocks (s) at GPS times
+        ``gps_time`` (a number or (T,)) of ``satellites`` (names, default
+        ``satellites``): 10-point Lagrange interpolation of the positions and
+        its derivative, the clock linear between epochs. Shapes as
+        ``BroadcastEphemerides.satellite_states``; NaN outside the file's
+        epochs or where a position is missing, counted in a UserWarning."""
+
 def read_sp3(path: str | os.PathLike[str]) -> Sp3:
     """Reads an SP3-c/d file (GPS time system; km and µs converted to m and s)."""
 

@@ -119,22 +119,7 @@ impl PyBroadcastEphemerides {
         gps_time: &Bound<'py, PyAny>,
         satellites: Option<Vec<String>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let scalar = gps_time.extract::<f64>().ok();
-        let times: Vec<f64> = match scalar {
-            Some(t) => vec![t],
-            None => gps_time
-                .extract::<numpy::PyReadonlyArray1<f64>>()
-                .map_err(|_| {
-                    PyValueError::new_err("gps_time: expected a number or a (T,) float array")
-                })?
-                .as_slice()?
-                .to_vec(),
-        };
-        if let Some(bad) = times.iter().find(|t| !t.is_finite()) {
-            return Err(PyValueError::new_err(format!(
-                "gps_time: must be finite, got {bad}"
-            )));
-        }
+        let (times, scalar) = gps_times(gps_time)?;
         let names = match satellites {
             Some(names) => names,
             None => self.satellites()?,
@@ -144,36 +129,7 @@ impl PyBroadcastEphemerides {
             .map(|n| crate::gnss::satellite_key(n))
             .collect::<PyResult<Vec<_>>>()?;
         let states = py.detach(|| gnss::broadcast_states(&self.inner, &keys, &times));
-        let missing = states.iter().filter(|s| s.is_none()).count();
-        if missing > 0 {
-            crate::warnings::warn_all(
-                py,
-                &[format!(
-                    "{missing} of {} satellite states have no ephemeris covering their time: NaN",
-                    states.len()
-                )],
-            )?;
-        }
-        let nan = [f64::NAN; 3];
-        let mut position = Vec::with_capacity(3 * states.len());
-        let mut velocity = Vec::with_capacity(3 * states.len());
-        let mut clock = Vec::with_capacity(states.len());
-        for s in &states {
-            position.extend(s.map_or(nan, |s| s.position_ecef.into()));
-            velocity.extend(s.map_or(nan, |s| s.velocity_ecef.into()));
-            clock.push(s.map_or(f64::NAN, |s| s.clock_bias_s));
-        }
-        let (t, n) = (times.len(), keys.len());
-        if scalar.is_some() {
-            let p = PyArray1::from_vec(py, position).reshape([n, 3])?;
-            let v = PyArray1::from_vec(py, velocity).reshape([n, 3])?;
-            let c = PyArray1::from_vec(py, clock);
-            return Ok((p, v, c).into_pyobject(py)?.into_any());
-        }
-        let p: Bound<'py, PyArray3<f64>> = PyArray1::from_vec(py, position).reshape([t, n, 3])?;
-        let v: Bound<'py, PyArray3<f64>> = PyArray1::from_vec(py, velocity).reshape([t, n, 3])?;
-        let c: Bound<'py, PyArray2<f64>> = PyArray1::from_vec(py, clock).reshape([t, n])?;
-        Ok((p, v, c).into_pyobject(py)?.into_any())
+        states_to_python(py, &states, times.len(), scalar, "no ephemeris covering")
     }
 
     /// Number of ephemeris records.
@@ -210,4 +166,69 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyBroadcastEphemerides>()?;
     m.add_function(wrap_pyfunction!(read_broadcast_nav, m)?)?;
     Ok(())
+}
+
+/// `gps_time` as times, and whether it was one number.
+pub(crate) fn gps_times(gps_time: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, bool)> {
+    let times = match gps_time.extract::<f64>() {
+        Ok(t) => (vec![t], true),
+        Err(_) => (
+            gps_time
+                .extract::<numpy::PyReadonlyArray1<f64>>()
+                .map_err(|_| {
+                    PyValueError::new_err("gps_time: expected a number or a (T,) float array")
+                })?
+                .as_slice()?
+                .to_vec(),
+            false,
+        ),
+    };
+    if let Some(bad) = times.0.iter().find(|t| !t.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "gps_time: must be finite, got {bad}"
+        )));
+    }
+    Ok(times)
+}
+
+/// Satellite states `[time][satellite]` as (position, velocity, clock)
+/// arrays, `(T, S, 3), (T, S, 3), (T, S)` or one time's `(S, 3), (S, 3),
+/// (S,)`; NaN where `None`, counted in a `UserWarning` that says `why`.
+pub(crate) fn states_to_python<'py>(
+    py: Python<'py>,
+    states: &[Option<gnss::SatelliteState>],
+    n_times: usize,
+    scalar: bool,
+    why: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let missing = states.iter().filter(|s| s.is_none()).count();
+    if missing > 0 {
+        crate::warnings::warn_all(
+            py,
+            &[format!(
+                "{missing} of {} satellite states have {why} their time: NaN",
+                states.len()
+            )],
+        )?;
+    }
+    let nan = [f64::NAN; 3];
+    let mut position = Vec::with_capacity(3 * states.len());
+    let mut velocity = Vec::with_capacity(3 * states.len());
+    let mut clock = Vec::with_capacity(states.len());
+    for s in states {
+        position.extend(s.map_or(nan, |s| s.position_ecef.into()));
+        velocity.extend(s.map_or(nan, |s| s.velocity_ecef.into()));
+        clock.push(s.map_or(f64::NAN, |s| s.clock_bias_s));
+    }
+    let n = states.len().checked_div(n_times).unwrap_or(0);
+    if scalar {
+        let p = PyArray1::from_vec(py, position).reshape([n, 3])?;
+        let v = PyArray1::from_vec(py, velocity).reshape([n, 3])?;
+        let c = PyArray1::from_vec(py, clock);
+        return Ok((p, v, c).into_pyobject(py)?.into_any());
+    }
+    let p: Bound<'py, PyArray3<f64>> = PyArray1::from_vec(py, position).reshape([n_times, n, 3])?;
+    let v: Bound<'py, PyArray3<f64>> = PyArray1::from_vec(py, velocity).reshape([n_times, n, 3])?;
+    let c: Bound<'py, PyArray2<f64>> = PyArray1::from_vec(py, clock).reshape([n_times, n])?;
+    Ok((p, v, c).into_pyobject(py)?.into_any())
 }

@@ -220,6 +220,52 @@ impl PySp3 {
         )
     }
 
+    /// Positions, velocities (ECEF, m, m/s) and clocks (s) at GPS times
+    /// ``gps_time`` (a number or ``(T,)``) of ``satellites`` (names, default
+    /// ``satellites``): 10-point Lagrange interpolation of the positions
+    /// and its derivative, the clock linear between epochs. Shapes as
+    /// ``BroadcastEphemerides.satellite_states``; NaN outside the file's
+    /// epochs or where a position is missing, counted in a ``UserWarning``.
+    #[pyo3(signature = (gps_time, satellites=None))]
+    fn satellite_states<'py>(
+        &self,
+        py: Python<'py>,
+        gps_time: &Bound<'py, PyAny>,
+        satellites: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (times, scalar) = crate::broadcast_nav::gps_times(gps_time)?;
+        let columns = match satellites {
+            None => (0..self.inner.satellites.len()).collect(),
+            Some(names) => names
+                .iter()
+                .map(|name| {
+                    self.inner
+                        .satellites
+                        .iter()
+                        .position(|s| s == name)
+                        .ok_or_else(|| {
+                            PyValueError::new_err(format!(
+                                "satellites: {name:?} is not in the file"
+                            ))
+                        })
+                })
+                .collect::<PyResult<Vec<usize>>>()?,
+        };
+        let states: Vec<_> = py.detach(|| {
+            times
+                .iter()
+                .flat_map(|&t| columns.iter().map(move |&j| self.inner.state_at(j, t)))
+                .collect()
+        });
+        crate::broadcast_nav::states_to_python(
+            py,
+            &states,
+            times.len(),
+            scalar,
+            "no precise orbit around",
+        )
+    }
+
     /// Satellite clocks, s, ``(n_epochs, n_sat)``; NaN if missing.
     #[getter]
     fn clock<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {

@@ -32,6 +32,7 @@ mod rinex_write;
 mod satellite_state;
 mod simulate;
 mod sp3;
+mod sp3_interpolation;
 mod system;
 mod time;
 mod utc;
