@@ -33,6 +33,7 @@ import memsnav as mn
 
 DATA = Path(__file__).parent / "data"
 EX = DATA / "real-imu-gnss"
+PUBLIC = DATA / "rinex-public"
 LONG = "MEMSNAV_FUZZ_EXAMPLES" in os.environ
 FUZZ = settings(
     max_examples=int(os.environ.get("MEMSNAV_FUZZ_EXAMPLES", "40")),
@@ -148,6 +149,12 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
         mn.read_gnsslogger,
     ),
     "ubx": ((EX / "walk_head.ubx").read_bytes(), "ubx", mn.read_ubx),
+    "rinex2_obs": ((PUBLIC / "14601736.18o").read_bytes(), "18o", mn.read_rinex_obs),
+    "glonass_nav": (
+        b"".join((PUBLIC / "brdc1360_excerpt.20g").read_bytes().splitlines(True)[:27]),
+        "20g",
+        mn.read_broadcast_nav,
+    ),
 }
 
 NASTY = [b"1e308", b"-1e308", b"1e29", b"NaN", b"inf", b"-1", b"0", b"99999999999999999999"]

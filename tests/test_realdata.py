@@ -251,8 +251,11 @@ def test_gps_l1_measurements_against_independent_corrections():
         assert np.asarray(m.pseudorange)[0, col] == pytest.approx(p + C * dt_sv, abs=1e-3)
         rate = np.asarray(m.pseudorange_rate)[0, col]
         assert rate == pytest.approx(-d * C / 1575.42e6, abs=0.01)
-    # With the atmosphere the ranges shrink by a few metres (zenith ~2 m troposphere at 1.6 km).
-    m2 = obs.gps_l1(sky, elevation_mask_deg=0.0, min_cn0_db_hz=0.0)
+    # With the atmosphere the ranges shrink by a few metres (zenith ~2 m troposphere at 1.6 km);
+    # the troposphere needs a mask of 5° or more.
+    with pytest.raises(ValueError, match=r"elevation_mask: 0\.00° is below 5°"):
+        obs.gps_l1(sky, elevation_mask_deg=0.0, min_cn0_db_hz=0.0)
+    m2 = obs.gps_l1(sky, elevation_mask_deg=5.0, min_cn0_db_hz=0.0)
     delay = np.asarray(m.pseudorange)[0] - np.asarray(m2.pseudorange)[0]
     assert np.all((delay[ids >= 0] > 2.0) & (delay[ids >= 0] < 40.0))
     # Pseudorange-only fix with 4 satellites: tens of metres from the RTK truth at most.

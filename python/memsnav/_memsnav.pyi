@@ -843,6 +843,16 @@ class Sp3:
     def clock(self) -> npt.NDArray[np.float64]:
         """Satellite clocks, s, (n_epochs, n_sat); NaN where missing."""
 
+    def satellite_states(
+        self, gps_time: float | npt.ArrayLike, satellites: Sequence[str] | None = None
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Positions, velocities (ECEF, m, m/s) and clocks (s) at GPS times
+        ``gps_time`` (a number or (T,)) of ``satellites`` (names, default
+        ``satellites``): 10-point Lagrange interpolation of the positions and
+        its derivative, the clock linear between epochs. Shapes as
+        ``BroadcastEphemerides.satellite_states``; NaN outside the file's
+        epochs or where a position is missing, counted in a UserWarning."""
+
 def read_sp3(path: str | os.PathLike[str]) -> Sp3:
     """Reads an SP3-c/d file (GPS time system; km and µs converted to m and s)."""
 
@@ -1083,9 +1093,9 @@ class FixSeries:
 
     @property
     def inter_system_bias(self) -> npt.NDArray[np.float64]:
-        """Inter-system biases of Galileo and BeiDou relative to the epoch's
-        reference system (GPS when present), m, (T, 2); NaN for a system
-        not in the epoch."""
+        """Inter-system biases of Galileo, BeiDou and GLONASS relative to the
+        epoch's reference system (GPS when present), m, (T, 3); NaN for a
+        system not in the epoch."""
     @property
     def clock_drift(self) -> npt.NDArray[np.float64]:
         """Receiver clock drift, m/s, (T,)."""
@@ -1911,7 +1921,7 @@ def navigation_experiment(
 
 @final
 class BroadcastEphemerides:
-    """Broadcast ephemerides of GPS, Galileo and BeiDou satellites
+    """Broadcast ephemerides of GPS, Galileo, BeiDou and GLONASS satellites
     (read_broadcast_nav, UbxLog.broadcast_ephemerides)."""
 
     @property
@@ -1926,21 +1936,45 @@ class BroadcastEphemerides:
     def skipped(self) -> dict[str, int]:
         """Records left out, by reason, with counts."""
 
+    @property
+    def klobuchar(self) -> tuple[list[float], list[float]] | None:
+        """The GPS Klobuchar coefficients (alpha, beta) the ephemerides carry (a
+        RINEX header's, a UBX log's CNAV type 30), or None: ``measurements``'
+        default."""
+
+    @property
+    def glonass_channels(self) -> dict[str, int]:
+        """Each GLONASS slot's FDMA frequency channel k (G1 = 1602 + 0.5625 k
+        MHz), from its latest ephemeris: {"R01": 1, ...}."""
+
+    def satellite_states(
+        self, gps_time: float | npt.ArrayLike, satellites: Sequence[str] | None = None
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """Satellite positions, velocities (ECEF, m, m/s) and clock corrections
+        (s) at GPS times ``gps_time`` (a number or (T,)) of ``satellites``
+        (RINEX names, default ``satellites``), from the healthy ephemeris the
+        measurements would use: ((T, S, 3), (T, S, 3), (T, S)), or one time's
+        ((S, 3), (S, 3), (S,)) for a number. NaN where no ephemeris covers the
+        time (t_oe within 2 h, GLONASS t_b within 30 min), counted in a
+        UserWarning. Clocks for GPS L1 C/A, Galileo E1, BeiDou B3I, GLONASS
+        G1, relativity included."""
+
     def __len__(self) -> int: ...
 
 def satellite_name(number: int) -> str:
     """The RINEX name of a satellite number (107 → "E07"; G n → n, E n → 100 + n,
-    C n → 200 + n), or the number as text beyond them."""
+    C n → 200 + n, R n → 300 + n), or the number as text beyond them."""
 
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
-    """The GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3 navigation
-    file (other systems, Galileo F/NAV records and ephemerides in conflict,
-    two of one satellite and t_oc or issue of data with other values,
-    counted in ``skipped``)."""
+    """The GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 (GPS n,
+    GLONASS g, 2.12 Galileo e) or RINEX 3 navigation file (other systems,
+    Galileo F/NAV records and ephemerides in conflict, two of one satellite
+    and t_oc or issue of data with other values, counted in ``skipped``)."""
 
 @final
 class RinexObservations:
-    """A RINEX 3 observation file (every system kept; GPS time)."""
+    """A RINEX 3 or RINEX 2.10/2.11 observation file (every system kept; GPS
+    time; 2.x codes read as the RINEX 3 codes of their signals)."""
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
@@ -1961,6 +1995,11 @@ class RinexObservations:
     @property
     def warnings(self) -> list[str]:
         """Non-fatal problems met while reading (a truncated last record)."""
+
+    @property
+    def skipped(self) -> dict[str, int]:
+        """Records not read, by kind, with counts: event records (flags 2-5,
+        their header lines not applied) and cycle-slip records (flag 6)."""
 
     def observation(self, code: str) -> npt.NDArray[np.float64]:
         """Values of observation ``code`` ("C1C" m, "D1C" Hz, "S1C" dB-Hz),
@@ -2009,13 +2048,22 @@ class RinexObservations:
         carrier_phase_std: float | None = None,
         dual_frequency: bool = False,
     ) -> GnssMeasurements:
-        """Measurements of several systems (``systems``: "G", "E", "C"; default
-        all three): GPS L1 C/A, Galileo E1, BeiDou B1I/B2I/B3I (the first the
-        file has) with ``ephemerides``, corrected as ``gps_l1`` with each
-        signal's group delay and the Klobuchar delay scaled to its frequency.
-        ``satellites``: RINEX names to keep. Satellite numbers: G n → n,
-        E n → 100 + n, C n → 200 + n; each system's pseudoranges keep the
-        receiver's inter-system bias (the tight filter estimates it). Each
+        """Measurements of several systems (``systems``: "G", "E", "C", "R";
+        default G, E, C: GLONASS on request, for ``solve_fix``, the tight
+        filter does not take it yet): GPS L1 C/A, Galileo E1, BeiDou
+        B1I/B2I/B3I (the first the file has), GLONASS G1 C/A on each
+        satellite's channel, with ``ephemerides``, corrected as ``gps_l1``
+        with each signal's group delay and the Klobuchar delay scaled to its
+        frequency. ``satellites``: RINEX names to keep. Satellite numbers:
+        G n → n, E n → 100 + n, C n → 200 + n, R n → 300 + n; each system's
+        pseudoranges keep the receiver's inter-system bias (the tight filter
+        and ``solve_fix`` estimate it). Epochs no ephemeris covers are counted
+        in a UserWarning (a ValueError when none is covered). With the
+        troposphere on the mask must be at least 5°. ``klobuchar``: default
+        the ephemerides' own (``BroadcastEphemerides.klobuchar``), else
+        RTKLIB's. ``reference_position_ecef`` (also ``gps_l1``'s): (3,), or
+        (T, 3) with one position per epoch for a moving receiver; default the
+        file's APPROX POSITION XYZ. Each
         measurement's signal, C/N0 and elevation in ``signal``,
         ``cn0_db_hz``, ``elevation_rad``. ``dual_frequency=True``: each
         satellite's ionospheric delay measured from a second signal's
@@ -2027,8 +2075,9 @@ class RinexObservations:
     def __len__(self) -> int: ...
 
 def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
-    """Reads a RINEX 3 observation file; errors name the file and line, a
-    truncated last record is dropped and reported in ``warnings``."""
+    """Reads a RINEX 3 or RINEX 2.10/2.11 observation file; errors name the
+    file and line, a truncated last record is dropped and reported in
+    ``warnings``, event records are counted in ``skipped``."""
 
 def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
     """Klobuchar (alpha, beta) of a RINEX navigation header (ION ALPHA/BETA or

@@ -509,11 +509,11 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
 }
 
 /// Planes of the nominal pattern, from the published figures: 6 for GPS,
-/// 3 for Galileo and the BeiDou MEO satellites.
+/// 3 for Galileo, the BeiDou MEO satellites and GLONASS.
 fn systems_planes(system: GnssSystem) -> usize {
     match system {
         GnssSystem::Gps => 6,
-        GnssSystem::Galileo | GnssSystem::Beidou => 3,
+        GnssSystem::Galileo | GnssSystem::Beidou | GnssSystem::Glonass => 3,
     }
 }
 
@@ -545,7 +545,7 @@ fn simulated_systems_carry_their_inter_system_bias() {
             assert_eq!(m.system, system_of_number(m.sat_id));
             let p = predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[k], &vel[k]);
             let bias = match m.system {
-                GnssSystem::Gps => 0.0,
+                GnssSystem::Gps | GnssSystem::Glonass => 0.0,
                 GnssSystem::Galileo => 3.0,
                 GnssSystem::Beidou => -25.0,
             };

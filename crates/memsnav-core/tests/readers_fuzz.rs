@@ -53,6 +53,10 @@ enum Reader {
     GnssLogger,
     ImuIncrements,
     Ubx,
+    Rinex2Obs,
+    GlonassNav,
+    MixedNav,
+    GalileoNav2,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -179,6 +183,13 @@ fn seed(reader: Reader) -> &'static [u8] {
             head("android-gnsslogger/pixel6_excerpt.txt", usize::MAX),
             IMU_INCREMENTS_SEED.as_bytes().to_vec(),
             head("real-imu-gnss/walk_head.ubx", usize::MAX),
+            head("rinex-public/14601736.18o", usize::MAX),
+            head("rinex-public/brdc1360_excerpt.20g", 27),
+            head(
+                "rinex-public/BRDC00IGS_R_20201360000_excerpt_MN.rnx",
+                usize::MAX,
+            ),
+            head("rinex-public/ceda2100.18e", 30),
         ]
     });
     &seeds[reader as usize]
@@ -293,7 +304,7 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
             };
             parsed.map(|sol| solution_ok(&sol).then_some(()).ok_or(format!("{sol:?}")))
         }
-        Reader::RinexObs => parse_rinex_obs(&text, file).map(|obs| {
+        Reader::RinexObs | Reader::Rinex2Obs => parse_rinex_obs(&text, file).map(|obs| {
             let times: Vec<f64> = obs.epochs.iter().map(|e| e.gps_time_s).collect();
             let ok = increasing(&times)
                 && obs.epochs.iter().all(|e| {
@@ -304,36 +315,50 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                 });
             ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
-        Reader::RinexNav => parse_broadcast_nav(&text, file).map(|nav| {
-            // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
-            // orbit to |r| ≤ a (1 + e) + 2 × 2048 m < 1.01e8 m; the same
-            // for GPS, Galileo and BeiDou (GEO or not).
-            let states = nav
-                .gps
-                .iter()
-                .map(|r| (format!("{r:?}"), r.orbit, r.state(r.orbit.toc_gps_s)))
-                .chain(nav.galileo.iter().map(|r| {
-                    (
-                        format!("{r:?}"),
-                        r.orbit,
-                        r.state_at(r.orbit.toc_gps_s, 0.0),
-                    )
-                }))
-                .chain(nav.beidou.iter().map(|r| {
-                    (
-                        format!("{r:?}"),
-                        r.orbit,
-                        r.state_at(r.orbit.toc_gps_s, 0.0),
-                    )
-                }));
-            let mut bad = states.filter(|(_, o, s)| {
-                !(s.position_ecef.norm() < 1.01e8
-                    && s.velocity_ecef.norm() < 1e5
-                    && s.clock_bias_s.is_finite()
-                    && (o.toe_gps_s - o.toc_gps_s).abs() <= 302_400.0)
-            });
-            bad.next().map_or(Ok(()), |(r, _, _)| Err(r))
-        }),
+        Reader::RinexNav | Reader::GlonassNav | Reader::MixedNav | Reader::GalileoNav2 => {
+            parse_broadcast_nav(&text, file).map(|nav| {
+                // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
+                // orbit to |r| ≤ a (1 + e) + 2 × 2048 m < 1.01e8 m; the same
+                // for GPS, Galileo and BeiDou (GEO or not).
+                let states = nav
+                    .gps
+                    .iter()
+                    .map(|r| (format!("{r:?}"), r.orbit, r.state(r.orbit.toc_gps_s)))
+                    .chain(nav.galileo.iter().map(|r| {
+                        (
+                            format!("{r:?}"),
+                            r.orbit,
+                            r.state_at(r.orbit.toc_gps_s, 0.0),
+                        )
+                    }))
+                    .chain(nav.beidou.iter().map(|r| {
+                        (
+                            format!("{r:?}"),
+                            r.orbit,
+                            r.state_at(r.orbit.toc_gps_s, 0.0),
+                        )
+                    }));
+                let mut bad = states.filter(|(_, o, s)| {
+                    !(s.position_ecef.norm() < 1.01e8
+                        && s.velocity_ecef.norm() < 1e5
+                        && s.clock_bias_s.is_finite()
+                        && (o.toe_gps_s - o.toc_gps_s).abs() <= 302_400.0)
+                });
+                // GLONASS: the message's ranges bound |r| at t_b to 4.7e7 m;
+                // 15 min of integration keep it near the Earth.
+                let mut bad_glonass = nav.glonass.iter().filter(|e| {
+                    let s = e.state(e.tb_gps_s + 900.0);
+                    !(s.position_ecef.norm() < 1.01e8
+                        && s.velocity_ecef.norm() < 1e5
+                        && s.clock_bias_s.is_finite())
+                });
+                match (bad.next(), bad_glonass.next()) {
+                    (Some((r, _, _)), _) => Err(r),
+                    (None, Some(e)) => Err(format!("{e:?}")),
+                    (None, None) => Ok(()),
+                }
+            })
+        }
         Reader::Klobuchar => parse_klobuchar(&text, file).map(|k| match k {
             Some(Klobuchar { alpha, beta }) if alpha.iter().chain(&beta).all(|x| x.is_finite()) => {
                 Ok(())
@@ -676,6 +701,14 @@ fuzz_reader!(
     Reader::ImuIncrements
 );
 fuzz_reader!(ubx_mutated, ubx_garbage, Reader::Ubx);
+fuzz_reader!(rinex2_obs_mutated, rinex2_obs_garbage, Reader::Rinex2Obs);
+fuzz_reader!(glonass_nav_mutated, glonass_nav_garbage, Reader::GlonassNav);
+fuzz_reader!(mixed_nav_mutated, mixed_nav_garbage, Reader::MixedNav);
+fuzz_reader!(
+    galileo_nav2_mutated,
+    galileo_nav2_garbage,
+    Reader::GalileoNav2
+);
 
 /// A UBX frame of `class`, `id` and `payload` with its Fletcher checksum
 /// (interface description §3.4).
@@ -1017,6 +1050,10 @@ fn the_seeds_read_cleanly() {
         Reader::GnssLogger,
         Reader::ImuIncrements,
         Reader::Ubx,
+        Reader::Rinex2Obs,
+        Reader::GlonassNav,
+        Reader::MixedNav,
+        Reader::GalileoNav2,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }

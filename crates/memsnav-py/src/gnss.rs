@@ -220,6 +220,52 @@ impl PySp3 {
         )
     }
 
+    /// Positions, velocities (ECEF, m, m/s) and clocks (s) at GPS times
+    /// ``gps_time`` (a number or ``(T,)``) of ``satellites`` (names, default
+    /// ``satellites``): 10-point Lagrange interpolation of the positions
+    /// and its derivative, the clock linear between epochs. Shapes as
+    /// ``BroadcastEphemerides.satellite_states``; NaN outside the file's
+    /// epochs or where a position is missing, counted in a ``UserWarning``.
+    #[pyo3(signature = (gps_time, satellites=None))]
+    fn satellite_states<'py>(
+        &self,
+        py: Python<'py>,
+        gps_time: &Bound<'py, PyAny>,
+        satellites: Option<Vec<String>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (times, scalar) = crate::broadcast_nav::gps_times(gps_time)?;
+        let columns = match satellites {
+            None => (0..self.inner.satellites.len()).collect(),
+            Some(names) => names
+                .iter()
+                .map(|name| {
+                    self.inner
+                        .satellites
+                        .iter()
+                        .position(|s| s == name)
+                        .ok_or_else(|| {
+                            PyValueError::new_err(format!(
+                                "satellites: {name:?} is not in the file"
+                            ))
+                        })
+                })
+                .collect::<PyResult<Vec<usize>>>()?,
+        };
+        let states: Vec<_> = py.detach(|| {
+            times
+                .iter()
+                .flat_map(|&t| columns.iter().map(move |&j| self.inner.state_at(j, t)))
+                .collect()
+        });
+        crate::broadcast_nav::states_to_python(
+            py,
+            &states,
+            times.len(),
+            scalar,
+            "no precise orbit around",
+        )
+    }
+
     /// Satellite clocks, s, ``(n_epochs, n_sat)``; NaN if missing.
     #[getter]
     fn clock<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
@@ -812,21 +858,22 @@ impl PyFixSeries {
     fn clock_offset<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.clock_offset_m)
     }
-    /// Inter-system biases of Galileo and BeiDou relative to the epoch's
-    /// reference system (GPS when present), m, ``(T, 2)``; NaN for a system
-    /// not in the epoch.
+    /// Inter-system biases of Galileo, BeiDou and GLONASS relative to the
+    /// epoch's reference system (GPS when present), m, ``(T, 3)``; NaN for
+    /// a system not in the epoch.
     #[getter]
     fn inter_system_bias<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        const N: usize = gnss::FIX_BIAS_SYSTEMS.len();
         let rows: Vec<Vec<f64>> = self
             .fixes
             .iter()
             .map(|x| {
                 x.as_ref()
-                    .map_or([f64::NAN; 2], |f| f.inter_system_bias_m)
+                    .map_or([f64::NAN; N], |f| f.inter_system_bias_m)
                     .to_vec()
             })
             .collect();
-        array2(py, rows.concat(), self.fixes.len(), 2)
+        array2(py, rows.concat(), self.fixes.len(), N)
     }
     /// Receiver clock drift, m/s, ``(T,)``.
     #[getter]
@@ -1127,7 +1174,8 @@ impl PyGnssMeasurements {
     }
 }
 
-/// A RINEX 3 observation file.
+/// A RINEX 3 or RINEX 2.10/2.11 observation file (2.x codes read as the
+/// RINEX 3 codes of their signals, docs/real-data.md).
 #[pyclass(name = "RinexObservations", module = "memsnav._memsnav", frozen)]
 pub struct PyRinexObservations {
     pub(crate) inner: gnss::ObservationFile,
@@ -1173,6 +1221,13 @@ impl PyRinexObservations {
     #[getter]
     fn warnings(&self) -> Vec<String> {
         self.inner.warnings.clone()
+    }
+
+    /// Records not read, by kind, with counts: event records (flags 2-5,
+    /// their header lines not applied) and cycle-slip records (flag 6).
+    #[getter]
+    fn skipped(&self) -> std::collections::BTreeMap<String, usize> {
+        self.inner.skipped.clone()
     }
 
     /// Values of observation ``code`` (e.g. ``"C1C"`` m, ``"D1C"`` Hz,
@@ -1249,14 +1304,26 @@ impl PyRinexObservations {
 
     /// Measurements of several systems for the tight filter and
     /// ``solve_fix``: GPS L1 C/A, Galileo E1 and BeiDou B1I/B2I/B3I (the
-    /// first the file has) with ``ephemerides`` (``read_broadcast_nav``, or
-    /// a UBX log's ``broadcast_ephemerides``), corrected as ``gps_l1`` does
-    /// with each signal's group delay and the Klobuchar delay scaled to its
-    /// frequency. ``systems``: RINEX letters (``"G"``, ``"E"``, ``"C"``).
-    /// ``satellites``: RINEX names (``"G10"``, ``"E07"``) to keep. Satellite
-    /// numbers in the result: G n → n, E n → 100 + n, C n → 200 + n; each
+    /// first the file has), GLONASS G1 C/A on each satellite's channel, with
+    /// ``ephemerides`` (``read_broadcast_nav``, or a UBX log's
+    /// ``broadcast_ephemerides``), corrected as ``gps_l1`` does with each
+    /// signal's group delay and the Klobuchar delay scaled to its
+    /// frequency. ``systems``: RINEX letters (``"G"``, ``"E"``, ``"C"``,
+    /// ``"R"``; default G, E, C: GLONASS on request, for ``solve_fix``, as
+    /// the tight filter does not take it yet). ``satellites``: RINEX names
+    /// (``"G10"``, ``"E07"``, ``"R05"``) to keep. Satellite numbers in the
+    /// result: G n → n, E n → 100 + n, C n → 200 + n, R n → 300 + n; each
     /// system's pseudoranges keep the receiver's inter-system bias, which
-    /// the tight filter estimates. Each measurement's signal, C/N0 and
+    /// the tight filter and ``solve_fix`` estimate. Epochs whose satellites
+    /// no ephemeris covers are counted in a ``UserWarning``; when none is
+    /// covered, a ``ValueError`` says so. With the troposphere on, the
+    /// elevation mask must be at least 5° (``MIN_TROPOSPHERE_MASK_DEG``).
+    /// ``klobuchar``: default the ephemerides' own (``klobuchar``: the
+    /// navigation file's header, a UBX log's CNAV), else RTKLIB's.
+    /// ``reference_position_ecef`` (also ``gps_l1``'s): ``(3,)``, or
+    /// ``(T, 3)`` with one position per epoch for a moving receiver (the
+    /// masks and the atmosphere at each); default the file's APPROX
+    /// POSITION XYZ. Each measurement's signal, C/N0 and
     /// elevation in ``signal``, ``cn0_db_hz``, ``elevation_rad``.
     /// ``dual_frequency=True``: each satellite's ionospheric delay measured
     /// from a second signal's pseudorange where the file has one whose
@@ -1285,7 +1352,7 @@ impl PyRinexObservations {
         dual_frequency: bool,
     ) -> PyResult<PyGnssMeasurements> {
         let systems = match systems {
-            None => gnss::GnssSystem::ALL.to_vec(),
+            None => gnss::GnssSystem::FILTERED.to_vec(),
             Some(letters) => letters
                 .iter()
                 .map(|l| system_of_letter(l, "systems"))
@@ -1296,6 +1363,9 @@ impl PyRinexObservations {
             .iter()
             .map(|name| satellite_of_name(name))
             .collect::<PyResult<_>>()?;
+        // The ephemerides' own coefficients before RTKLIB's defaults.
+        let klobuchar =
+            klobuchar.or_else(|| ephemerides.inner.klobuchar.map(|k| (k.alpha, k.beta)));
         let options = self.observable_options(
             reference_position_ecef,
             ObservableArguments {
@@ -1312,11 +1382,40 @@ impl PyRinexObservations {
             systems,
             satellites,
         )?;
-        let (epochs, signals) = py
+        let (epochs, signals, coverage) = py
             .detach(|| {
-                gnss::broadcast_epochs_with_signals(&self.inner, &ephemerides.inner, &options)
+                gnss::broadcast_epochs_with_signals(&self.inner, &ephemerides.inner, &options).map(
+                    |(epochs, signals)| {
+                        let coverage =
+                            gnss::ephemeris_coverage(&self.inner, &ephemerides.inner, &options);
+                        (epochs, signals, coverage)
+                    },
+                )
             })
             .py()?;
+        let uncovered = coverage.epochs_without_ephemeris;
+        let never = if coverage.satellites_without_ephemeris.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; satellites never covered: {}",
+                coverage.satellites_without_ephemeris.join(", ")
+            )
+        };
+        if uncovered > 0 && uncovered == coverage.epochs_observed {
+            return Err(PyValueError::new_err(format!(
+                "ephemerides: none covers any satellite of the {uncovered} epochs observed (another day, or other satellites?){never}"
+            )));
+        }
+        if uncovered > 0 {
+            crate::warnings::warn_all(
+                py,
+                &[format!(
+                    "{uncovered} of {} epochs have no satellite with an ephemeris: they give no measurement{never}",
+                    coverage.epochs_observed
+                )],
+            )?;
+        }
         Ok(PyGnssMeasurements {
             signals: Some(signals),
             ..PyGnssMeasurements::from_epochs(epochs, None)
@@ -1351,16 +1450,22 @@ fn system_of_letter(letter: &str, argument: &str) -> PyResult<gnss::GnssSystem> 
     }
     .ok_or_else(|| {
         PyValueError::new_err(format!(
-            "{argument}: {letter:?} is not a system combined here (G GPS, E Galileo, C BeiDou)"
+            "{argument}: {letter:?} is not a system combined here (G GPS, E Galileo, C BeiDou, R GLONASS)"
         ))
     })
+}
+
+/// The system and PRN (GLONASS slot) of a RINEX name (``"R05"``).
+pub(crate) fn satellite_key(name: &str) -> PyResult<(gnss::GnssSystem, u16)> {
+    let number = satellite_of_name(name)?;
+    Ok((gnss::system_of_number(number), number % 100))
 }
 
 /// The satellite number of a RINEX name (``"E07"`` → 107).
 fn satellite_of_name(name: &str) -> PyResult<u16> {
     let bad = || {
         PyValueError::new_err(format!(
-            "satellites: {name:?} is not a satellite name like \"G10\", \"E07\" or \"C21\""
+            "satellites: {name:?} is not a satellite name like \"G10\", \"E07\", \"C21\" or \"R05\""
         ))
     };
     let system = system_of_letter(name.get(..1).ok_or_else(bad)?, "satellites")?;
@@ -1379,15 +1484,27 @@ impl PyRinexObservations {
         systems: Vec<gnss::GnssSystem>,
         satellites: Vec<u16>,
     ) -> PyResult<gnss::ObservableOptions> {
-        let reference = match reference_position_ecef {
-            Some(r) => convert::vector3(r, "reference_position_ecef")?,
-            None => self.inner.approx_position_ecef.ok_or_else(|| {
-                PyValueError::new_err(
-                    "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
-                )
-            })?,
+        // One position, or one per epoch (a moving receiver).
+        let (reference, track) = match reference_position_ecef {
+            Some(r) if convert::floats(r, "reference_position_ecef")?.shape.len() == 2 => {
+                let track = convert::vectors(r, "reference_position_ecef")?;
+                let first = *track.first().ok_or_else(|| {
+                    PyValueError::new_err("reference_position_ecef: (T, 3) with no row")
+                })?;
+                (first, track)
+            }
+            Some(r) => (convert::vector3(r, "reference_position_ecef")?, Vec::new()),
+            None => (
+                self.inner.approx_position_ecef.ok_or_else(|| {
+                    PyValueError::new_err(
+                        "reference_position_ecef: not given and the file has no APPROX POSITION XYZ",
+                    )
+                })?,
+                Vec::new(),
+            ),
         };
         let mut options = gnss::ObservableOptions::new(reference);
+        options.reference_track_ecef = track;
         if let Some(mask) = a.elevation_mask_deg {
             options.elevation_mask_rad = mask.to_radians();
         }
@@ -1434,8 +1551,9 @@ impl PyRinexObservations {
     }
 }
 
-/// Reads a RINEX 3 observation file (errors name the file and line; a
-/// truncated last record is dropped and reported in ``warnings``).
+/// Reads a RINEX 3 or RINEX 2.10/2.11 observation file (errors name the
+/// file and line; a truncated last record is dropped and reported in
+/// ``warnings``; event records are counted in ``skipped``).
 #[catch_panics]
 #[pyfunction]
 fn read_rinex_obs(py: Python<'_>, path: PathBuf) -> PyResult<PyRinexObservations> {

@@ -121,6 +121,16 @@ fn inter_system_bias<const N: usize>(
     m: &SatelliteMeasurement,
     time_s: f64,
 ) -> Result<Option<(usize, f64)>> {
+    if m.system == GnssSystem::Glonass {
+        return Err(Error::invalid(
+            "gnss",
+            format!(
+                "the epoch at t = {time_s} s has GLONASS satellite {}: the tight filter does not \
+                 take GLONASS yet (single-point fixes do); leave R out of the measurements' systems",
+                gnss::satellite_name(m.sat_id)
+            ),
+        ));
+    }
     let Some(k) = m.system.inter_system_bias_index() else {
         return Ok(None);
     };

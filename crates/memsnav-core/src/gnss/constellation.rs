@@ -131,6 +131,12 @@ impl Constellation {
             if walkers.iter().any(|w| w.system == *system) {
                 return Err(Error::invalid("systems", format!("{system} appears twice")));
             }
+            if !GnssSystem::FILTERED.contains(system) {
+                return Err(Error::invalid(
+                    "systems",
+                    format!("{system} is not simulated (its FDMA signals and the filters' handling of it are not modelled): use G, E or C"),
+                ));
+            }
             let walker = Walker::new(config)?;
             if parts.len() > 1 && walker.len() > MAX_SATELLITES_PER_SYSTEM {
                 return Err(Error::invalid(

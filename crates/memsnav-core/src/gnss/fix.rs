@@ -2,10 +2,10 @@
 //! pseudoranges and pseudorange rates (Groves §9.4.1), for the loosely
 //! coupled filter.
 
-use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3, Vector4, Vector6};
+use nalgebra::{Matrix3, Matrix4, SMatrix, SVector, Vector3, Vector4};
 
 use super::range::predicted_range;
-use super::system::GnssSystem;
+use super::system::{GnssSystem, FIX_BIAS_SYSTEMS};
 use super::{GnssEpoch, SatelliteMeasurement};
 use crate::geodesy::domain::MAX_DISTANCE_M;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
@@ -30,12 +30,13 @@ pub struct Fix {
     pub velocity_ecef: Vector3<f64>,
     /// Receiver clock offset, m: of the reference system's pseudoranges
     /// (GPS when the epoch has GPS satellites, else the first of Galileo,
-    /// BeiDou it has).
+    /// BeiDou, GLONASS it has).
     pub clock_offset_m: f64,
-    /// Inter-system biases of Galileo and BeiDou relative to the
-    /// reference, m (each system's pseudoranges − the reference's at one
-    /// position); 0 for the reference, NaN for a system not in the epoch.
-    pub inter_system_bias_m: [f64; 2],
+    /// Inter-system biases of Galileo, BeiDou and GLONASS relative to the
+    /// reference ([`FIX_BIAS_SYSTEMS`] order), m (each system's
+    /// pseudoranges − the reference's at one position); 0 for the
+    /// reference, NaN for a system not in the epoch.
+    pub inter_system_bias_m: [f64; FIX_BIAS_SYSTEMS.len()],
     /// Receiver clock drift, m/s (NaN without usable rates).
     pub clock_drift_m_s: f64,
     /// Covariance of (x, y, z, clock offset), m², from the measurement stds.
@@ -167,14 +168,20 @@ fn inconsistent(epoch: &GnssEpoch, prior: Option<Vector3<f64>>, farthest_m: f64)
     Error::Divergence { time_s: t, reason }
 }
 
+/// Unknowns of a fix at most: position, clock, three biases.
+const UNKNOWNS: usize = 4 + FIX_BIAS_SYSTEMS.len();
+type Normal = SMatrix<f64, UNKNOWNS, UNKNOWNS>;
+type Row = SVector<f64, UNKNOWNS>;
+
 /// The unknowns of an epoch's fix: position, the reference system's clock
 /// and one inter-system bias per other system present (Groves §9.4.2.3).
-/// Columns 4 and 5 are the Galileo and BeiDou biases; a system absent, or
-/// the reference, has no rows there and its column is held at zero.
+/// Columns 4, 5 and 6 are the Galileo, BeiDou and GLONASS biases; a
+/// system absent, or the reference, has no rows there and its column is
+/// held at zero.
 struct Unknowns {
     reference: GnssSystem,
-    /// Whether the Galileo / BeiDou bias is estimated.
-    estimated: [bool; 2],
+    /// Whether each [`FIX_BIAS_SYSTEMS`] bias is estimated.
+    estimated: [bool; FIX_BIAS_SYSTEMS.len()],
 }
 
 impl Unknowns {
@@ -184,8 +191,7 @@ impl Unknowns {
             .into_iter()
             .find(|&s| present(s))
             .unwrap_or_default();
-        let estimated = [GnssSystem::Galileo, GnssSystem::Beidou]
-            .map(|system| system != reference && present(system));
+        let estimated = FIX_BIAS_SYSTEMS.map(|system| system != reference && present(system));
         Self {
             reference,
             estimated,
@@ -198,13 +204,15 @@ impl Unknowns {
 
     /// The bias column of `system`, when its bias is estimated.
     fn column(&self, system: GnssSystem) -> Option<usize> {
-        let k = system.inter_system_bias_index()?;
+        let k = system.fix_bias_index()?;
         self.estimated[k].then_some(4 + k)
     }
 
     /// The row of a pseudorange along line of sight `u`.
-    fn row(&self, u: &Vector3<f64>, system: GnssSystem) -> Vector6<f64> {
-        let mut h = Vector6::new(-u.x, -u.y, -u.z, 1.0, 0.0, 0.0);
+    fn row(&self, u: &Vector3<f64>, system: GnssSystem) -> Row {
+        let mut h = Row::zeros();
+        h.fixed_rows_mut::<3>(0).copy_from(&(-u));
+        h[3] = 1.0;
         if let Some(j) = self.column(system) {
             h[j] = 1.0;
         }
@@ -212,7 +220,7 @@ impl Unknowns {
     }
 
     /// Holds the columns not estimated at zero (their rows are empty).
-    fn hold(&self, normal: &mut Matrix6<f64>) {
+    fn hold(&self, normal: &mut Normal) {
         for (k, estimated) in self.estimated.iter().enumerate() {
             if !estimated {
                 normal[(4 + k, 4 + k)] = 1.0;
@@ -223,9 +231,13 @@ impl Unknowns {
 
 /// The pseudorange model's prediction beyond the range: the clock and the
 /// satellite's system's bias.
-fn clock_and_bias(fix_clock_m: f64, biases: &[f64; 2], s: &SatelliteMeasurement) -> f64 {
+fn clock_and_bias(
+    fix_clock_m: f64,
+    biases: &[f64; FIX_BIAS_SYSTEMS.len()],
+    s: &SatelliteMeasurement,
+) -> f64 {
     fix_clock_m
-        + s.system.inter_system_bias_index().map_or(0.0, |k| {
+        + s.system.fix_bias_index().map_or(0.0, |k| {
             if biases[k].is_finite() {
                 biases[k]
             } else {
@@ -318,18 +330,18 @@ fn solve_fix_once(
     // Position, clock offset and inter-system biases.
     let mut x = prior.unwrap_or_else(Vector3::zeros);
     let mut b = 0.0;
-    let mut biases = [0.0; 2];
+    let mut biases = [0.0; FIX_BIAS_SYSTEMS.len()];
     let zero = Vector3::zeros();
     let mut iterations = 0;
     let mut converged = false;
-    let mut normal = Matrix6::zeros();
-    let mut geometry = Matrix6::zeros();
+    let mut normal = Normal::zeros();
+    let mut geometry = Normal::zeros();
     let mut farthest_m: f64 = 0.0;
     while iterations < 20 {
         iterations += 1;
-        normal = Matrix6::zeros();
-        geometry = Matrix6::zeros();
-        let mut rhs = Vector6::zeros();
+        normal = Normal::zeros();
+        geometry = Normal::zeros();
+        let mut rhs = Row::zeros();
         for s in m {
             let p = predicted_range(&s.position_ecef, &s.velocity_ecef, &x, &zero);
             let h = unknowns.row(&p.line_of_sight_ecef, s.system);
@@ -367,8 +379,9 @@ fn solve_fix_once(
         let dx = inverse * rhs;
         x += dx.fixed_rows::<3>(0);
         b += dx[3];
-        biases[0] += dx[4];
-        biases[1] += dx[5];
+        for (k, bias) in biases.iter_mut().enumerate() {
+            *bias += dx[4 + k];
+        }
         farthest_m = farthest_m.max(x.norm());
         if !(x.iter().all(|v| v.is_finite()) && b.is_finite()) {
             return Err(Failure::Inconsistent { farthest_m });
@@ -395,7 +408,7 @@ fn solve_fix_once(
         .ok_or_else(singular)?
         .fixed_view::<4, 4>(0, 0)
         .into_owned();
-    let inter_system_bias_m = [GnssSystem::Galileo, GnssSystem::Beidou].map(|system| {
+    let inter_system_bias_m = FIX_BIAS_SYSTEMS.map(|system| {
         match (system == unknowns.reference, unknowns.column(system)) {
             (true, _) => 0.0,
             (false, Some(j)) => biases[j - 4],

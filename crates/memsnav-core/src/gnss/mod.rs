@@ -1,5 +1,6 @@
 //! GNSS: satellite orbits from broadcast ephemerides (GPS, Galileo and
-//! BeiDou, one Keplerian user algorithm) or a
+//! BeiDou, one Keplerian user algorithm; GLONASS by Runge-Kutta
+//! integration of its PZ-90 state vector) or a
 //! synthetic Walker constellation, precise orbits (SP3) for checking them,
 //! predicted ranges with the Sagnac correction, a two-state receiver clock,
 //! the measurement simulator (method §5) and the least-squares fix.
@@ -20,17 +21,22 @@ mod ephemeris;
 pub(crate) mod ephemeris_conflicts;
 mod fix;
 mod galileo_ephemeris;
+mod glonass_ephemeris;
+mod glonass_orbit;
 mod measurement_rows;
 pub(crate) mod nav_record;
 mod observables;
 pub mod plausible;
 mod range;
+mod rinex2_obs;
 mod rinex_nav;
+mod rinex_nav_glonass;
 mod rinex_obs;
 mod rinex_write;
 mod satellite_state;
 mod simulate;
 mod sp3;
+mod sp3_interpolation;
 mod system;
 mod time;
 mod utc;
@@ -52,21 +58,29 @@ pub use ephemeris::{
 };
 pub use fix::{solve_fix, Dops, Fix};
 pub use galileo_ephemeris::{sisa_index, sisa_m, InavEphemeris};
+pub use glonass_ephemeris::{GlonassEphemeris, GLONASS_VALIDITY_S};
+pub use glonass_orbit::{
+    propagate_glonass, GLONASS_EARTH_RATE_RAD_S, GLONASS_EQUATORIAL_RADIUS_M, GLONASS_GM_M3_S2,
+    GLONASS_J2,
+};
 pub use measurement_rows::{
     carrier_of, check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M,
     MAX_SATELLITE_SPEED_M_S,
 };
 pub use observables::{
-    broadcast_epochs, broadcast_epochs_with_signals, gps_l1_epochs, EpochSignals,
-    ObservableOptions, ReceivedSignal, DEFAULT_CARRIER_PHASE_STD_M, DEFAULT_ELEVATION_MASK_DEG,
-    DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M,
+    broadcast_epochs, broadcast_epochs_with_signals, broadcast_states, ephemeris_coverage,
+    gps_l1_epochs, EphemerisCoverage, EpochSignals, ObservableOptions, ReceivedSignal,
+    DEFAULT_CARRIER_PHASE_STD_M, DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S,
+    DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M, MIN_TROPOSPHERE_MASK_DEG,
 };
 pub use range::{predicted_range, RangePrediction};
+pub use rinex2_obs::rinex3_code;
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
 pub use rinex_obs::{
-    parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile, SatelliteObservations,
+    event_kind, parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile,
+    SatelliteObservations,
 };
 pub(crate) use rinex_obs::{SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_write::{
@@ -80,7 +94,8 @@ pub use simulate::{
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
 pub use system::{
-    satellite_name, satellite_number, system_of_number, GnssSystem, INTER_SYSTEM_BIAS_SYSTEMS,
+    satellite_name, satellite_number, system_of_number, GnssSystem, FIX_BIAS_SYSTEMS,
+    INTER_SYSTEM_BIAS_SYSTEMS,
 };
 pub use time::{
     calendar_from_gps_time, checked_gps_time_from_calendar, gps_minus_utc_s,
@@ -96,8 +111,8 @@ use nalgebra::Vector3;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SatelliteMeasurement {
     /// Satellite number, unique across systems ([`satellite_number`]: the
-    /// GPS PRN, 100 + the Galileo PRN, 200 + the BeiDou PRN; a simulated
-    /// Walker slot 1..N).
+    /// GPS PRN, 100 + the Galileo PRN, 200 + the BeiDou PRN, 300 + the
+    /// GLONASS slot; a simulated Walker slot 1..N).
     pub sat_id: u16,
     /// The satellite's system: its pseudorange carries the system's
     /// inter-system bias (none for GPS, the clock's reference).

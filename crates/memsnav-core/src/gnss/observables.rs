@@ -1,5 +1,6 @@
 //! Filter-ready pseudoranges and rates from a RINEX (or UBX) observation
-//! file and broadcast ephemerides, for GPS, Galileo and BeiDou: satellite
+//! file and broadcast ephemerides, for GPS, Galileo, BeiDou and GLONASS
+//! (each GLONASS satellite on its own FDMA carrier): satellite
 //! position and velocity at transmission time, pseudorange corrected for
 //! the satellite clock (with relativity and the signal's group delay), the
 //! Klobuchar ionosphere scaled to the signal's frequency and the
@@ -17,6 +18,7 @@ use super::cnav_ephemeris::CnavGroupDelays;
 use super::constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 use super::dual_frequency::{geometry_free_delay_m, DelayMeasurement, IonosphereTracks};
 use super::galileo_ephemeris::InavEphemeris;
+use super::glonass_ephemeris::{GlonassEphemeris, GLONASS_VALIDITY_S};
 use super::rinex_nav::BroadcastNav;
 use super::rinex_obs::ObservationFile;
 use super::rinex_obs::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
@@ -43,7 +45,7 @@ pub const GPS_L1_WAVELENGTH_M: f64 = SPEED_OF_LIGHT_M_S / L1_FREQUENCY_HZ;
 /// The signals each system's measurements are taken from, in order of
 /// preference: RINEX 3 band and attribute, the carrier frequency and the
 /// signal's name.
-/// GPS L1 C/A; Galileo E1 (pilot C, else data B); BeiDou B1I, B2I, B3I
+/// GPS L1 C/A; Galileo E1 (pilot C, else data B, else both); BeiDou B1I, B2I, B3I
 /// (the D1 ephemeris's group delays are for these three; B1C and B2a
 /// need the CNAV1/2 ones, not decoded). Frequencies: IS-GPS-200 §3.3.1.1,
 /// Galileo OS SIS ICD §2.3, BeiDou B1I ICD §4.2 and B3I ICD §4.2.
@@ -53,12 +55,17 @@ fn signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static str)] {
         GnssSystem::Galileo => &[
             ("1C", L1_FREQUENCY_HZ, "E1 C"),
             ("1B", L1_FREQUENCY_HZ, "E1 B"),
+            // B+C, as RINEX 2 files' C1 are read.
+            ("1X", L1_FREQUENCY_HZ, "E1 B+C"),
         ],
         GnssSystem::Beidou => &[
             ("2I", 1_561.098e6, "B1I"),
             ("7I", E5B_FREQUENCY_HZ, "B2I"),
             ("6I", 1_268.52e6, "B3I"),
         ],
+        // G1 C/A on channel 0; each satellite's own carrier is its
+        // channel's ([`SelectedOrbit::carrier_hz`]).
+        GnssSystem::Glonass => &[("1C", 1_602.0e6, "G1 C/A")],
     }
 }
 
@@ -83,8 +90,12 @@ fn second_signals(system: GnssSystem) -> &'static [(&'static str, f64, &'static 
             ("5I", L5_FREQUENCY_HZ, "E5a I"),
             ("7Q", E5B_FREQUENCY_HZ, "E5b Q"),
             ("7I", E5B_FREQUENCY_HZ, "E5b I"),
+            ("5X", L5_FREQUENCY_HZ, "E5a I+Q"),
+            ("7X", E5B_FREQUENCY_HZ, "E5b I+Q"),
         ],
         GnssSystem::Beidou => signals(GnssSystem::Beidou),
+        // G2's group delay relative to G1 is not taken from the files.
+        GnssSystem::Glonass => &[],
     }
 }
 
@@ -115,6 +126,10 @@ pub struct ObservableOptions {
     /// Receiver position for elevations and atmospheric delays, ECEF m
     /// (a few km off changes the delays by millimetres).
     pub reference_position_ecef: Vector3<f64>,
+    /// A moving receiver's position at each observation epoch, ECEF m
+    /// (one per epoch, in file order), used instead of
+    /// `reference_position_ecef` where given; empty: that one point.
+    pub reference_track_ecef: Vec<Vector3<f64>>,
     /// Satellites below this elevation are left out, rad.
     pub elevation_mask_rad: f64,
     /// Satellites whose C/N0 is below this are left out, dB-Hz.
@@ -159,6 +174,11 @@ pub const DEFAULT_PSEUDORANGE_RATE_STD_M_S: f64 = 0.1;
 pub const DEFAULT_CARRIER_PHASE_STD_M: f64 = 0.003;
 /// Default elevation mask, degrees.
 pub const DEFAULT_ELEVATION_MASK_DEG: f64 = 10.0;
+/// Lowest elevation mask with the troposphere applied, degrees: the
+/// Saastamoinen delay's 1/sin(el) mapping grows without bound at the
+/// horizon (2.3 m at the zenith, 26 m at 5°, 33 km at 0.004°), where the
+/// real delay stays under about 100 m; RTKLIB's default mask is 15°.
+pub const MIN_TROPOSPHERE_MASK_DEG: f64 = 5.0;
 
 impl ObservableOptions {
     /// Defaults for a u-blox class receiver: 10° mask, 25 dB-Hz, Klobuchar
@@ -166,6 +186,7 @@ impl ObservableOptions {
     pub fn new(reference_position_ecef: Vector3<f64>) -> Self {
         Self {
             reference_position_ecef,
+            reference_track_ecef: Vec::new(),
             elevation_mask_rad: DEFAULT_ELEVATION_MASK_DEG.to_radians(),
             min_cn0_db_hz: 25.0,
             ionosphere: Some(Klobuchar::RTKLIB_DEFAULT),
@@ -185,7 +206,21 @@ impl ObservableOptions {
             "reference_position_ecef",
             &[self.reference_position_ecef],
         )?;
+        validate::finite_vectors("reference_position_ecef", &self.reference_track_ecef)?;
+        crate::geodesy::domain::check_position_ecef(
+            "reference_position_ecef",
+            &self.reference_track_ecef,
+        )?;
         validate::finite_scalars("elevation_mask", &[self.elevation_mask_rad])?;
+        if self.troposphere && self.elevation_mask_rad < MIN_TROPOSPHERE_MASK_DEG.to_radians() {
+            return Err(Error::invalid(
+                "elevation_mask",
+                format!(
+                    "{:.2}° is below {MIN_TROPOSPHERE_MASK_DEG}°, the lowest mask with the troposphere applied: its 1/sin(el) mapping grows without bound at the horizon (33 km at 0.004°); raise the mask or turn the troposphere off",
+                    self.elevation_mask_rad.to_degrees()
+                ),
+            ));
+        }
         validate::finite_scalars("min_cn0", &[self.min_cn0_db_hz])?;
         if let Some(klobuchar) = &self.ionosphere {
             klobuchar.validate("klobuchar")?;
@@ -196,7 +231,7 @@ impl ObservableOptions {
         if self.systems.is_empty() {
             return Err(Error::invalid(
                 "systems",
-                "is empty: name at least one of G (GPS), E (Galileo), C (BeiDou)",
+                "is empty: name at least one of G (GPS), E (Galileo), C (BeiDou), R (GLONASS)",
             ));
         }
         Ok(())
@@ -220,6 +255,8 @@ enum SelectedOrbit<'a> {
     Galileo(&'a InavEphemeris),
     /// BeiDou D1 (the B3I clock).
     Beidou(&'a BeidouEphemeris),
+    /// GLONASS (the G1 clock, τ_n).
+    Glonass(&'a GlonassEphemeris),
 }
 
 impl SelectedOrbit<'_> {
@@ -228,6 +265,17 @@ impl SelectedOrbit<'_> {
             SelectedOrbit::Gps(o, _) => o.state_at(gps_time_s, offset_s),
             SelectedOrbit::Galileo(e) => e.state_at(gps_time_s, offset_s),
             SelectedOrbit::Beidou(e) => e.state_at(gps_time_s, offset_s),
+            SelectedOrbit::Glonass(e) => e.state_at(gps_time_s, offset_s),
+        }
+    }
+
+    /// The carrier of `signal` from this satellite, Hz: the table's, or a
+    /// GLONASS satellite's channel's (1602 + 0.5625 k MHz on G1).
+    fn carrier_hz(&self, signal: &SignalTypes) -> f64 {
+        match (self, signal.signal.as_bytes().first()) {
+            (SelectedOrbit::Glonass(e), Some(b'1')) => e.g1_frequency_hz(),
+            (SelectedOrbit::Glonass(e), Some(b'2')) => e.g2_frequency_hz(),
+            _ => signal.frequency_hz,
         }
     }
 
@@ -246,21 +294,24 @@ impl SelectedOrbit<'_> {
             },
             SelectedOrbit::Galileo(e) => Some(e.group_delay_s(band)? - e.group_delay_s('1')?),
             SelectedOrbit::Beidou(e) => e.group_delay_s(band),
+            // τ_n is the G1 clock (ICD §4.4); no other band's delay is read.
+            SelectedOrbit::Glonass(_) => (band == '1').then_some(0.0),
         }
     }
 }
 
 /// The healthy record of `records` with t_oe nearest `gps_time_s`, within
-/// ±2 h ([`EPHEMERIS_VALIDITY_S`]).
+/// `validity_s` ([`EPHEMERIS_VALIDITY_S`], GLONASS's [`GLONASS_VALIDITY_S`]).
 fn nearest<T>(
     records: &[T],
     keep: impl Fn(&T) -> bool,
     toe_gps_s: impl Fn(&T) -> f64,
     gps_time_s: f64,
+    validity_s: f64,
 ) -> Option<&T> {
     records
         .iter()
-        .filter(|r| keep(r) && (gps_time_s - toe_gps_s(r)).abs() <= EPHEMERIS_VALIDITY_S)
+        .filter(|r| keep(r) && (gps_time_s - toe_gps_s(r)).abs() <= validity_s)
         .min_by(|a, b| {
             (gps_time_s - toe_gps_s(a))
                 .abs()
@@ -274,9 +325,21 @@ struct Ephemerides<'a> {
     gps_group_delays: Option<&'a BTreeMap<u16, CnavGroupDelays>>,
     galileo: &'a [InavEphemeris],
     beidou: &'a [BeidouEphemeris],
+    glonass: &'a [GlonassEphemeris],
 }
 
-impl Ephemerides<'_> {
+impl<'a> Ephemerides<'a> {
+    /// The ephemerides of `nav`, its GPS ones as `gps`.
+    fn of(nav: &'a BroadcastNav, gps: &'a Constellation) -> Self {
+        Self {
+            gps,
+            gps_group_delays: Some(&nav.gps_group_delays),
+            galileo: &nav.galileo,
+            beidou: &nav.beidou,
+            glonass: &nav.glonass,
+        }
+    }
+
     fn select(&self, system: GnssSystem, prn: u16, gps_time_s: f64) -> Option<SelectedOrbit<'_>> {
         match system {
             GnssSystem::Gps => {
@@ -291,6 +354,7 @@ impl Ephemerides<'_> {
                 |e| e.svid == prn && e.is_healthy(),
                 |e| e.orbit.toe_gps_s,
                 gps_time_s,
+                EPHEMERIS_VALIDITY_S,
             )
             .map(SelectedOrbit::Galileo),
             GnssSystem::Beidou => nearest(
@@ -298,8 +362,17 @@ impl Ephemerides<'_> {
                 |e| e.prn == prn && e.is_healthy(),
                 |e| e.orbit.toe_gps_s,
                 gps_time_s,
+                EPHEMERIS_VALIDITY_S,
             )
             .map(SelectedOrbit::Beidou),
+            GnssSystem::Glonass => nearest(
+                self.glonass,
+                |e| e.slot == prn && e.is_healthy(),
+                |e| e.tb_gps_s,
+                gps_time_s,
+                GLONASS_VALIDITY_S,
+            )
+            .map(SelectedOrbit::Glonass),
         }
     }
 }
@@ -324,6 +397,7 @@ pub fn gps_l1_epochs(
         gps_group_delays: None,
         galileo: &[],
         beidou: &[],
+        glonass: &[],
     };
     epochs_from(observations, &ephemerides, &options).map(|(epochs, _)| epochs)
 }
@@ -332,9 +406,11 @@ pub fn gps_l1_epochs(
 /// broadcast ephemerides of `nav`: GPS L1 C/A with LNAV, Galileo E1 with
 /// I/NAV (the E1 clock: BGD(E1, E5b) applied), BeiDou B1I, B2I or B3I
 /// (whichever the file has first, in that order) with D1 (TGD1, TGD2 or
-/// none: B3I is the clock's reference); unhealthy ephemerides are not
-/// used. The Klobuchar delay, given for L1, is scaled by (f_L1 / f)²
-/// (IS-GPS-200 §20.3.3.5.2.5). Satellite numbers as [`satellite_number`].
+/// none: B3I is the clock's reference), GLONASS G1 C/A with its broadcast
+/// state (t_b within 30 min) on the satellite's channel; unhealthy
+/// ephemerides are not used. The Klobuchar delay, given for L1, is scaled
+/// by (f_L1 / f)² (IS-GPS-200 §20.3.3.5.2.5). Satellite numbers as
+/// [`satellite_number`].
 pub fn broadcast_epochs(
     observations: &ObservationFile,
     nav: &BroadcastNav,
@@ -351,13 +427,85 @@ pub fn broadcast_epochs_with_signals(
     options: &ObservableOptions,
 ) -> Result<(Vec<GnssEpoch>, EpochSignals)> {
     let gps = Constellation::from_ephemerides(nav.gps.clone());
-    let ephemerides = Ephemerides {
-        gps: &gps,
-        gps_group_delays: Some(&nav.gps_group_delays),
-        galileo: &nav.galileo,
-        beidou: &nav.beidou,
-    };
-    epochs_from(observations, &ephemerides, options)
+    epochs_from(observations, &Ephemerides::of(nav, &gps), options)
+}
+
+/// Each satellite's broadcast state at each time, row-major
+/// `[k * satellites.len() + j]` for time `gps_time_s[k]` and satellite
+/// `satellites[j]` (system, PRN or GLONASS slot): the healthy ephemeris
+/// the measurements would use (t_oe nearest within ±2 h, GLONASS t_b
+/// within 30 min), its clock for the signal [`broadcast_epochs`] measures
+/// (GPS L1 C/A, Galileo E1, BeiDou B3I, GLONASS G1); `None` where no
+/// ephemeris covers the time.
+pub fn broadcast_states(
+    nav: &BroadcastNav,
+    satellites: &[(GnssSystem, u16)],
+    gps_time_s: &[f64],
+) -> Vec<Option<SatelliteState>> {
+    let gps = Constellation::from_ephemerides(nav.gps.clone());
+    let ephemerides = Ephemerides::of(nav, &gps);
+    gps_time_s
+        .iter()
+        .flat_map(|&t| {
+            let ephemerides = &ephemerides;
+            satellites.iter().map(move |&(system, prn)| {
+                ephemerides
+                    .select(system, prn, t)
+                    .map(|orbit| orbit.state_at(t, 0.0))
+            })
+        })
+        .collect()
+}
+
+/// How far broadcast ephemerides cover an observation file, for the
+/// systems and satellites `options` asks for.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EphemerisCoverage {
+    /// Epochs with satellites of those systems, none with an ephemeris.
+    pub epochs_without_ephemeris: usize,
+    /// Epochs with satellites of those systems.
+    pub epochs_observed: usize,
+    /// Satellites observed but never covered by an ephemeris, RINEX names.
+    pub satellites_without_ephemeris: Vec<String>,
+}
+
+/// The [`EphemerisCoverage`] of `observations` by `nav`.
+pub fn ephemeris_coverage(
+    observations: &ObservationFile,
+    nav: &BroadcastNav,
+    options: &ObservableOptions,
+) -> EphemerisCoverage {
+    let gps = Constellation::from_ephemerides(nav.gps.clone());
+    let ephemerides = Ephemerides::of(nav, &gps);
+    let mut coverage = EphemerisCoverage::default();
+    let mut covered: BTreeMap<u16, bool> = BTreeMap::new();
+    for e in &observations.epochs {
+        let mut observed = false;
+        let mut any = false;
+        for s in &e.satellites {
+            let Some(system) =
+                GnssSystem::from_letter(s.system).filter(|x| options.systems.contains(x))
+            else {
+                continue;
+            };
+            let number = satellite_number(system, s.prn);
+            if !options.satellites.is_empty() && !options.satellites.contains(&number) {
+                continue;
+            }
+            observed = true;
+            let has = ephemerides.select(system, s.prn, e.gps_time_s).is_some();
+            any |= has;
+            *covered.entry(number).or_default() |= has;
+        }
+        coverage.epochs_observed += usize::from(observed);
+        coverage.epochs_without_ephemeris += usize::from(observed && !any);
+    }
+    coverage.satellites_without_ephemeris = covered
+        .iter()
+        .filter(|(_, &c)| !c)
+        .map(|(&n, _)| super::system::satellite_name(n))
+        .collect();
+    coverage
 }
 
 /// The observation types of one system's chosen signal: (C, L, D, S) type
@@ -439,15 +587,31 @@ fn epochs_from(
             ),
         ));
     }
-    let r = options.reference_position_ecef;
-    let geo = ecef_to_geodetic(&r);
-    let c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
+    let track = &options.reference_track_ecef;
+    if !track.is_empty() && track.len() != observations.epochs.len() {
+        return Err(Error::invalid(
+            "reference_position_ecef",
+            format!(
+                "has {} positions for {} observation epochs: give one per epoch, or one for all",
+                track.len(),
+                observations.epochs.len()
+            ),
+        ));
+    }
+    let mut r = options.reference_position_ecef;
+    let mut geo = ecef_to_geodetic(&r);
+    let mut c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
     let mut epochs = Vec::with_capacity(observations.epochs.len());
     let mut epoch_signals = Vec::with_capacity(observations.epochs.len());
     // Each satellite's half-cycle state (LLI bit 1) at its last epoch.
     let mut half_cycle_unresolved: HashMap<u16, bool> = HashMap::new();
     let mut ionosphere_tracks = IonosphereTracks::default();
-    for e in &observations.epochs {
+    for (k, e) in observations.epochs.iter().enumerate() {
+        if let Some(&position) = track.get(k) {
+            r = position;
+            geo = ecef_to_geodetic(&r);
+            c_e_n = c_n_e(geo.latitude_rad, geo.longitude_rad).transpose();
+        }
         let mut measurements = Vec::new();
         let mut received = Vec::new();
         for s in &e.satellites {
@@ -490,7 +654,8 @@ fn epochs_from(
                 continue;
             }
             let azimuth = los_ned.y.atan2(los_ned.x);
-            let iono_scale = (L1_FREQUENCY_HZ / signal.frequency_hz).powi(2);
+            let carrier_hz = orbit.carrier_hz(signal);
+            let iono_scale = (L1_FREQUENCY_HZ / carrier_hz).powi(2);
             let model_iono = options.ionosphere.map_or(0.0, |k| {
                 iono_scale
                     * k.delay_m(
@@ -539,7 +704,7 @@ fn epochs_from(
             };
             let (code_iono, iono_variance_m2) =
                 estimate.map_or((model_iono, 0.0), |d| (d.delay_m, d.variance_m2));
-            let wavelength_m = SPEED_OF_LIGHT_M_S / signal.frequency_hz;
+            let wavelength_m = SPEED_OF_LIGHT_M_S / carrier_hz;
             // RINEX Doppler is positive for an approaching satellite: ρ̇ = −λ D.
             let (rate, rate_std) = match signal.doppler.and_then(|j| s.values[j]) {
                 Some(d) if options.pseudorange_rate_std_m_s > 0.0 => (

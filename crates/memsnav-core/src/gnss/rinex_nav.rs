@@ -1,12 +1,16 @@
 //! RINEX 2.x and 3.x navigation files: the GPS, Galileo (I/NAV) and
-//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14). Other
-//! systems in a mixed RINEX 3 file (GLONASS, QZSS, SBAS, ...) and Galileo
-//! F/NAV records are skipped with a count. Numbers may use Fortran `D`
-//! exponents. Every error names the file and the 1-based line.
+//! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14; RINEX 2
+//! GPS `n` and 2.12 Galileo `e` files) and the
+//! GLONASS ones (RINEX 2 `g` files and RINEX 3 `R` records, read by
+//! [`super::rinex_nav_glonass`]). Other systems in a mixed RINEX 3 file
+//! (QZSS, SBAS, ...) and Galileo F/NAV records are skipped with a count.
+//! Numbers may use Fortran `D` exponents. Every error names the file and
+//! the 1-based line.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use super::atmosphere::{parse_klobuchar, Klobuchar};
 use super::beidou_ephemeris::BeidouEphemeris;
 use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
 use super::broadcast_ranges::{self, BEIDOU_NAMES, GALILEO_NAMES, GPS_NAMES};
@@ -14,8 +18,10 @@ use super::cnav_ephemeris::CnavGroupDelays;
 use super::ephemeris::{ura_index, GpsEphemeris};
 use super::ephemeris_conflicts;
 use super::galileo_ephemeris::{sisa_index, InavEphemeris};
+use super::glonass_ephemeris::GlonassEphemeris;
 use super::nav_record::NavRecord;
 use super::plausible;
+use super::rinex_nav_glonass::parse_glonass_record;
 use super::time::{checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
@@ -34,13 +40,13 @@ pub fn read_rinex_nav(path: impl AsRef<Path>) -> Result<Vec<GpsEphemeris>> {
     read_broadcast_nav(path).map(|nav| nav.gps)
 }
 
-struct Cursor<'a> {
+pub(super) struct Cursor<'a> {
     file: &'a str,
-    lines: Vec<&'a str>,
+    pub(super) lines: Vec<&'a str>,
 }
 
 impl Cursor<'_> {
-    fn error(&self, line_index: usize, reason: impl Into<String>) -> Error {
+    pub(super) fn error(&self, line_index: usize, reason: impl Into<String>) -> Error {
         Error::Parse {
             file: self.file.to_string(),
             line: line_index + 1,
@@ -49,7 +55,7 @@ impl Cursor<'_> {
     }
 
     /// Field `[start, start + width)` of line `k`, trimmed ("" when the line is short).
-    fn field(&self, k: usize, start: usize, width: usize) -> &str {
+    pub(super) fn field(&self, k: usize, start: usize, width: usize) -> &str {
         let line = self.lines[k];
         let end = (start + width).min(line.len());
         if start >= end {
@@ -58,7 +64,7 @@ impl Cursor<'_> {
         line.get(start..end).unwrap_or("").trim()
     }
 
-    fn number(&self, k: usize, start: usize, width: usize, what: &str) -> Result<f64> {
+    pub(super) fn number(&self, k: usize, start: usize, width: usize, what: &str) -> Result<f64> {
         let f = self.field(k, start, width);
         parse_number(f).ok_or_else(|| {
             self.error(
@@ -86,7 +92,7 @@ impl Cursor<'_> {
         }
     }
 
-    fn integer(&self, k: usize, start: usize, width: usize, what: &str) -> Result<i64> {
+    pub(super) fn integer(&self, k: usize, start: usize, width: usize, what: &str) -> Result<i64> {
         let f = self.field(k, start, width);
         f.parse::<i64>().map_err(|_| {
             self.error(
@@ -103,7 +109,7 @@ impl Cursor<'_> {
 
 /// The satellite number of system `letter` (one that exists,
 /// [`plausible::satellite_numbers`]).
-fn satellite_prn(cur: &Cursor<'_>, k: usize, letter: char, prn: i64) -> Result<u16> {
+pub(super) fn satellite_prn(cur: &Cursor<'_>, k: usize, letter: char, prn: i64) -> Result<u16> {
     plausible::check_satellite(letter, prn)
         .map(|()| prn as u16)
         .map_err(|reason| cur.error(k, reason))
@@ -166,6 +172,12 @@ pub struct BroadcastNav {
     /// Galileo I/NAV records (clock E5b,E1).
     pub galileo: Vec<InavEphemeris>,
     pub beidou: Vec<BeidouEphemeris>,
+    /// GLONASS ephemerides, one per slot and t_b.
+    pub glonass: Vec<GlonassEphemeris>,
+    /// GPS Klobuchar coefficients of the file's header (`ION ALPHA`/`ION
+    /// BETA`, `IONOSPHERIC CORR GPSA`/`GPSB`) or of a log's CNAV message
+    /// type 30; `None` without.
+    pub klobuchar: Option<Klobuchar>,
     /// Each GPS satellite's latest CNAV group delays (message type 30), the
     /// inter-signal corrections a second signal needs, of the signals its
     /// ephemeris flags healthy
@@ -174,13 +186,14 @@ pub struct BroadcastNav {
     pub gps_group_delays: BTreeMap<u16, CnavGroupDelays>,
     /// Records not read, by reason, with counts (other systems; Galileo
     /// F/NAV records, whose clock is referred to E5a,E1; ephemerides in
-    /// conflict, [`crate::gnss::ephemeris_conflicts`]).
+    /// conflict, [`crate::gnss::ephemeris_conflicts`], GLONASS's among
+    /// them; a GLONASS record repeated with equal values).
     pub skipped: BTreeMap<String, usize>,
 }
 
-/// Reads the GPS, Galileo and BeiDou ephemerides of a RINEX 2 or 3
-/// navigation file (RINEX 2: GPS files); one per satellite and t_oc as
-/// [`read_rinex_nav`] says.
+/// Reads the GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 or
+/// 3 navigation file (RINEX 2: GPS `n` and GLONASS `g` files); one per
+/// satellite and t_oc as [`read_rinex_nav`] says.
 pub fn read_broadcast_nav(path: impl AsRef<Path>) -> Result<BroadcastNav> {
     let path = path.as_ref();
     let text = std::fs::read(path).map_err(|e| Error::Io {
@@ -222,13 +235,18 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     let file_type = cur.field(0, 20, 1).to_string();
     let system = cur.field(0, 40, 1).to_string();
     let major = version.floor() as i64;
+    // RINEX 2 GLONASS files are type G ("G: GLONASS NAV DATA"), RINEX
+    // 2.12 Galileo files type E ("E: Galileo NAV DATA", table A13 of
+    // 2.12: the GPS layout with Galileo's values).
+    let glonass_file = major == 2 && file_type == "G";
+    let galileo_file = major == 2 && file_type == "E";
     match major {
-        2 if file_type == "N" => {}
-        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "E" | "C" | "M" | "") => {}
+        2 if file_type == "N" || glonass_file || galileo_file => {}
+        3 | 4 if file_type == "N" && matches!(system.as_str(), "G" | "E" | "C" | "R" | "M" | "") => {}
         2..=4 => {
             return Err(cur.error(
                 0,
-                format!("not a GPS, Galileo or BeiDou navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C or M"),
+                format!("not a GPS, Galileo, BeiDou or GLONASS navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C, R or M, or a RINEX 2 GLONASS (type G) or Galileo (type E) file"),
             ))
         }
         _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x or 3.x"))),
@@ -246,26 +264,64 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         return Err(cur.error(k.saturating_sub(1), "end of file before 'END OF HEADER'"));
     }
     k += 1;
+    // A Galileo 2.12 file's ION ALPHA holds NeQuick's three coefficients,
+    // not Klobuchar's; a GLONASS file has none.
+    let klobuchar = if galileo_file || glonass_file {
+        None
+    } else {
+        parse_klobuchar(text, file)?
+    };
+    let mut out = BroadcastNav {
+        klobuchar,
+        ..BroadcastNav::default()
+    };
 
     // Field layout: RINEX 2 records start with I2 PRN + epoch (22 columns)
     // and orbit lines with 3 blanks; RINEX 3 with "Gnn" + epoch (23 columns)
     // and orbit lines with 4 blanks. Each value is 19 columns wide.
     let (epoch_width, indent) = if major == 2 { (22, 3) } else { (23, 4) };
-    let mut out = BroadcastNav::default();
     // Every ephemeris read, for the conflict rule.
     let mut records: Vec<NavRecord> = Vec::new();
+    // GLONASS (slot, t_b) read with two sets of values: both left out.
+    let mut glonass_conflicts: Vec<(u16, f64)> = Vec::new();
     while k < cur.lines.len() {
         if cur.lines[k].trim().is_empty() {
             k += 1;
             continue;
         }
         let start = k;
+        if glonass_file || (major > 2 && cur.field(k, 0, 1) == "R") {
+            let (eph, next) = parse_glonass_record(&cur, k, major == 2)?;
+            match out
+                .glonass
+                .iter()
+                .find(|e| (e.slot, e.tb_gps_s) == (eph.slot, eph.tb_gps_s))
+            {
+                None => out.glonass.push(eph),
+                Some(first) if *first == eph => {
+                    *out.skipped
+                        .entry("GLONASS records repeated (same slot, t_b and values)".into())
+                        .or_default() += 1;
+                }
+                // One slot and t_b with other values: the reader cannot
+                // tell which was broadcast, as with the other systems'
+                // conflicts.
+                Some(_) => glonass_conflicts.push((eph.slot, eph.tb_gps_s)),
+            }
+            k = next;
+            continue;
+        }
         let prn: u16;
         let (year, month, day, hour, minute, second);
         let layout: &Layout;
         if major == 2 {
-            layout = &LAYOUTS[0];
-            prn = satellite_prn(&cur, k, 'G', cur.integer(k, 0, 2, "satellite PRN")?)?;
+            layout = &LAYOUTS[usize::from(galileo_file)];
+            prn = satellite_prn(
+                &cur,
+                k,
+                layout.constants.letter,
+                cur.integer(k, 0, 2, "satellite PRN")?,
+            )?;
             let yy = cur.integer(k, 2, 3, "year")?;
             year = if yy < 80 {
                 2000 + yy
@@ -485,6 +541,15 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     for (reason, count) in conflicts {
         *out.skipped.entry(reason).or_default() += count;
     }
+    let glonass_read = out.glonass.len();
+    out.glonass
+        .retain(|e| !glonass_conflicts.contains(&(e.slot, e.tb_gps_s)));
+    if glonass_read > out.glonass.len() {
+        // Each kept first record and every other one of its (slot, t_b).
+        *out.skipped
+            .entry("GLONASS ephemerides in conflict (one slot and t_b, other values)".into())
+            .or_default() += glonass_read - out.glonass.len() + glonass_conflicts.len();
+    }
     Ok(out)
 }
 
@@ -617,13 +682,13 @@ log: gnss_1730.ubx                                          COMMENT
         let fnav = inav.replace(".513000000000D+03", ".258000000000D+03");
         // The same I/NAV ephemeris received on E5b (data sources 516): kept once.
         let e5b = inav.replace(".513000000000D+03", ".516000000000D+03");
-        let glonass = "R05 2025 08 28 17 15 00  .1D-03  .0D+00  .0D+00
+        let qzss = "J05 2025 08 28 17 15 00  .1D-03  .0D+00  .0D+00
      .1D+05  .0D+00  .0D+00  .0D+00
      .1D+05  .0D+00  .0D+00  .1D+01
      .1D+05  .0D+00  .0D+00  .0D+00
 ";
         let nav =
-            parse_broadcast_nav(&format!("{HEADER}{inav}{fnav}{e5b}{glonass}"), "x.nav").unwrap();
+            parse_broadcast_nav(&format!("{HEADER}{inav}{fnav}{e5b}{qzss}"), "x.nav").unwrap();
         assert_eq!(nav.galileo.len(), 1);
         let e = nav.galileo[0];
         // Galileo epochs are GST, GPS-aligned: no 14 s.
@@ -633,6 +698,6 @@ log: gnss_1730.ubx                                          COMMENT
             (21, 1, 1357, epoch_gps)
         );
         assert_eq!(nav.skipped["Galileo F/NAV records (clock E5a,E1)"], 1);
-        assert_eq!(nav.skipped["records of system R"], 1);
+        assert_eq!(nav.skipped["records of system J"], 1);
     }
 }

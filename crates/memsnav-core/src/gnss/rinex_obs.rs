@@ -1,9 +1,12 @@
 //! RINEX 3 observation files (RINEX 3.05 format description, IGS/RTCM
 //! 2020, §5 and tables A2-A3): header observation types per system and the
 //! epoch records (pseudorange `C..`, carrier phase `L..`, Doppler `D..`,
-//! signal strength `S..`), every system kept. Errors name the file, the
-//! 1-based line and what was expected; a record cut short at the end of the
-//! file (a log that stopped mid-write) is dropped with a warning instead.
+//! signal strength `S..`), every system kept. RINEX 2.10/2.11 files share
+//! the header and are read by [`super::rinex2_obs`], their codes mapped to
+//! RINEX 3's. Event records (flags 2-6) are skipped and counted in
+//! [`ObservationFile::skipped`]. Errors name the file, the 1-based line and
+//! what was expected; a record cut short at the end of the file (a log that
+//! stopped mid-write) is dropped with a warning instead.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -11,7 +14,9 @@ use std::path::Path;
 use nalgebra::Vector3;
 
 use super::plausible::{self, observation_range, observation_range_text};
+use super::rinex2_obs;
 use super::time::{calendar_text, checked_gps_time_from_calendar};
+use super::utc::checked_gps_time_from_utc;
 use crate::{Error, Result};
 
 /// The signals of a receiver log laid out as RINEX observations: per
@@ -139,6 +144,10 @@ pub struct ObservationFile {
     pub epochs: Vec<ObservationEpoch>,
     /// Non-fatal problems (a truncated last record), one sentence each.
     pub warnings: Vec<String>,
+    /// Records not read, by kind, with counts: event records (flags 2-5,
+    /// their header lines not applied: [`event_kind`]), cycle-slip records
+    /// (flag 6), RINEX 2 satellites of a system without observation codes.
+    pub skipped: BTreeMap<String, usize>,
 }
 
 impl ObservationFile {
@@ -151,7 +160,7 @@ impl ObservationFile {
     }
 }
 
-/// Reads a RINEX 3 observation file.
+/// Reads a RINEX 3 or RINEX 2.10/2.11 observation file.
 pub fn read_rinex_obs(path: impl AsRef<Path>) -> Result<ObservationFile> {
     let path = path.as_ref();
     let bytes = std::fs::read(path).map_err(|e| Error::Io {
@@ -167,11 +176,11 @@ pub fn read_rinex_obs(path: impl AsRef<Path>) -> Result<ObservationFile> {
 /// Largest |APPROX POSITION XYZ| accepted, m (beyond geostationary orbit).
 const MAX_APPROX_POSITION_M: f64 = 1e8;
 
-fn label(line: &str) -> &str {
+pub(super) fn label(line: &str) -> &str {
     line.get(60..).unwrap_or("").trim_end()
 }
 
-fn field(line: &str, start: usize, width: usize) -> &str {
+pub(super) fn field(line: &str, start: usize, width: usize) -> &str {
     let end = (start + width).min(line.len());
     if start >= end {
         return "";
@@ -179,7 +188,65 @@ fn field(line: &str, start: usize, width: usize) -> &str {
     line.get(start..end).unwrap_or("").trim()
 }
 
-/// Parses the text of a RINEX 3 observation file; `file` names it in errors.
+/// One observation field of a satellite line: F14.3 at `start`, then the
+/// loss-of-lock digit (RINEX 3.05 §5.7, RINEX 2.11 §5.2; blank or not a
+/// digit: 0). `Ok(None)` where blank; `Err(text)` when the field is not a
+/// number in [`observation_range`] of `code`.
+pub(super) fn observation_value<'a>(
+    line: &'a str,
+    start: usize,
+    code: &str,
+) -> std::result::Result<Option<(f64, u8)>, &'a str> {
+    let f = field(line, start, 14);
+    if f.is_empty() {
+        return Ok(None);
+    }
+    let lli = field(line, start + 14, 1).parse().unwrap_or(0);
+    match f.parse::<f64>() {
+        Ok(v) if observation_range(code).contains(&v) => Ok(Some((v, lli))),
+        _ => Err(f),
+    }
+}
+
+/// What an epoch record's flag 2-6 announces (RINEX 3.05 table A13, RINEX
+/// 2.11 table A2): the key its count goes under in
+/// [`ObservationFile::skipped`].
+pub fn event_kind(flag: u8) -> String {
+    let what = match flag {
+        2 => "start moving antenna",
+        3 => "new site occupation",
+        4 => "header information follows",
+        5 => "external event",
+        _ => "cycle slips",
+    };
+    format!("event records with flag {flag} ({what})")
+}
+
+/// The time system of a file's epochs (TIME OF FIRST OBS, RINEX 3.05
+/// §5.2): GPS, or Galileo's GST (the same seconds), or GLONASS's, which
+/// RINEX writes as UTC (UTC(SU) without the 3 h), turned into GPS time
+/// with the leap seconds of the date.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum EpochTimeSystem {
+    Gps,
+    Utc,
+}
+
+impl EpochTimeSystem {
+    /// GPS time of an epoch's calendar fields, range-checked.
+    pub(super) fn gps_time_s(
+        self,
+        (y, mo, d, h, mi, s): (i64, i64, i64, i64, i64, f64),
+    ) -> std::result::Result<f64, String> {
+        match self {
+            Self::Gps => checked_gps_time_from_calendar(y, mo, d, h, mi, s),
+            Self::Utc => checked_gps_time_from_utc(y, mo, d, h, mi, s),
+        }
+    }
+}
+
+/// Parses the text of a RINEX 3 or RINEX 2.10/2.11 observation file;
+/// `file` names it in errors.
 pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
     let mut lines: Vec<&str> = text.lines().collect();
     // A file that does not end with a newline was cut mid-line: its last
@@ -207,12 +274,13 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
     let version: f64 = field(first, 0, 9)
         .parse()
         .map_err(|_| error(0, "expected the RINEX version in columns 1-9".into()))?;
-    if !(3.0..4.0).contains(&version) {
+    if !(2.0..4.0).contains(&version) {
         return Err(error(
             0,
-            format!("unsupported RINEX version {version}: expected 3.xx"),
+            format!("unsupported RINEX version {version}: expected 2.xx or 3.xx"),
         ));
     }
+    let version_2 = version < 3.0;
     if field(first, 20, 1) != "O" {
         return Err(error(
             0,
@@ -226,8 +294,18 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
     // Header.
     let mut observation_types: BTreeMap<char, Vec<String>> = BTreeMap::new();
     let mut approx_position_ecef = None;
-    let mut time_system_gps = true;
+    // RINEX 2: a GLONASS file's epochs are in GLONASS time unless the
+    // header says otherwise (RINEX 2.11 §5.1).
+    let file_system = field(first, 40, 1).chars().next().unwrap_or('G');
+    let mut time_system = Some(if version_2 && file_system == 'R' {
+        EpochTimeSystem::Utc
+    } else {
+        EpochTimeSystem::Gps
+    });
+    let mut time_system_name = String::new();
     let mut pending: Option<(char, usize)> = None;
+    let mut types_2: Vec<String> = Vec::new();
+    let mut pending_2: Option<usize> = None;
     let mut k = 1;
     loop {
         let Some(&line) = lines.get(k) else {
@@ -279,13 +357,25 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
             }
             "APPROX POSITION XYZ" => {
                 let mut v = [0.0_f64; 3];
+                // 3F14.4; some writers shift the columns (gLAB's 2.11
+                // example): then three numbers apart in columns 1-60.
+                let spaced: Vec<f64> = line
+                    .get(..60)
+                    .unwrap_or(line)
+                    .split_whitespace()
+                    .map_while(|x| x.parse().ok())
+                    .collect();
                 for (j, x) in v.iter_mut().enumerate() {
-                    *x = field(line, 14 * j, 14).parse().map_err(|_| {
-                        error(
-                            k,
-                            format!("expected coordinate {} of APPROX POSITION XYZ", j + 1),
-                        )
-                    })?;
+                    *x = match field(line, 14 * j, 14).parse() {
+                        Ok(x) => x,
+                        Err(_) if spaced.len() == 3 => spaced[j],
+                        Err(_) => {
+                            return Err(error(
+                                k,
+                                format!("expected coordinate {} of APPROX POSITION XYZ", j + 1),
+                            ))
+                        }
+                    };
                 }
                 let p = Vector3::from(v);
                 if p.norm().is_nan() || p.norm() > MAX_APPROX_POSITION_M {
@@ -299,19 +389,44 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 }
                 approx_position_ecef = (p.norm() > 0.0).then_some(p);
             }
+            "# / TYPES OF OBSERV" if version_2 => {
+                rinex2_obs::header_types(line, &mut types_2, &mut pending_2)
+                    .map_err(|reason| error(k, reason))?;
+            }
             "TIME OF FIRST OBS" => {
                 let ts = field(line, 48, 3);
-                time_system_gps = ts.is_empty() || ts == "GPS";
+                time_system_name = ts.to_string();
+                time_system = match ts {
+                    "" => time_system,
+                    "GPS" | "GAL" => Some(EpochTimeSystem::Gps),
+                    "GLO" => Some(EpochTimeSystem::Utc),
+                    _ => None,
+                };
             }
             _ => {}
         }
         k += 1;
     }
-    if !time_system_gps {
+    let Some(time_system) = time_system else {
         return Err(error(
             k,
-            "only GPS time is supported: TIME OF FIRST OBS declares another time system".into(),
+            format!("time system {time_system_name:?} of TIME OF FIRST OBS is not supported: GPS, GAL or GLO"),
         ));
+    };
+    if version_2 {
+        return rinex2_obs::parse_records(
+            rinex2_obs::Header {
+                file,
+                version,
+                file_system,
+                types: &types_2,
+                time_system,
+                approx_position_ecef,
+            },
+            &lines,
+            k + 1,
+            warnings,
+        );
     }
     if observation_types.is_empty() {
         return Err(error(
@@ -322,6 +437,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
     k += 1;
 
     let mut epochs = Vec::new();
+    let mut skipped = BTreeMap::new();
     let truncated = |k: usize, what: &str| {
         format!(
             "{file}:{}: the last record is cut short ({what}); skipped",
@@ -344,6 +460,22 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
             ));
         }
         let last_line = k + 1 == lines.len();
+        // Flag and count first: an event record (flags 2-5) may leave the
+        // epoch blank (RINEX 3.05 §5.5.1, as gfzrnx writes them).
+        let event = (|| {
+            let flag: u8 = field(line, 31, 1).parse().ok()?;
+            let count: usize = field(line, 32, 3).parse().ok()?;
+            (2..=6).contains(&flag).then_some((flag, count))
+        })();
+        if let Some((flag, count)) = event {
+            if k + count >= lines.len() {
+                warnings.push(truncated(k, "fewer event lines than announced"));
+                break;
+            }
+            *skipped.entry(event_kind(flag)).or_default() += 1;
+            k += 1 + count;
+            continue;
+        }
         let header_fields = (|| {
             let n = |s: usize, w: usize| field(line, s, w).parse::<i64>().ok();
             let y = n(2, 4)?;
@@ -377,12 +509,8 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 format!("number of satellites {count} is negative"),
             ));
         };
-        if flag > 1 {
-            // Special events (2-5: header lines follow; 6: cycle slips): skipped.
-            k += 1 + count;
-            continue;
-        }
-        let gps_time_s = checked_gps_time_from_calendar(y, mo, d, h, mi, s)
+        let gps_time_s = time_system
+            .gps_time_s((y, mo, d, h, mi, s))
             .map_err(|reason| error(k, format!("epoch: {reason}")))?;
         if let Some(previous) = epochs.last().map(|e: &ObservationEpoch| e.gps_time_s) {
             if gps_time_s <= previous {
@@ -440,20 +568,17 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
             let mut lli = vec![0; types.len()];
             for (i, code) in types.iter().enumerate() {
                 // Each observation: F14.3, then LLI and signal strength digits.
-                let f = field(sl, 3 + 16 * i, 14);
-                if f.is_empty() {
-                    values.push(None);
-                    continue;
-                }
-                // A blank or non-digit LLI is 0 (RINEX 3.05 §5.7: blank = not known).
-                lli[i] = field(sl, 17 + 16 * i, 1).parse().unwrap_or(0);
-                match f.parse::<f64>() {
-                    Ok(v) if observation_range(code).contains(&v) => values.push(Some(v)),
-                    _ if is_last => {
+                match observation_value(sl, 3 + 16 * i, code) {
+                    Ok(None) => values.push(None),
+                    Ok(Some((v, indicator))) => {
+                        values.push(Some(v));
+                        lli[i] = indicator;
+                    }
+                    Err(_) if is_last => {
                         cut = true;
                         break;
                     }
-                    _ => {
+                    Err(f) => {
                         return Err(error(
                             k + j,
                             format!(
@@ -493,6 +618,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
         approx_position_ecef,
         epochs,
         warnings,
+        skipped,
     })
 }
 
@@ -563,6 +689,32 @@ E07  23205808.406                  \n"
         let text = HEADER.replace("OBSERVATION DATA", "NAVIGATION DATA ");
         let err = parse_rinex_obs(&text, "x").unwrap_err();
         assert!(err.to_string().contains("file type"), "{err}");
+    }
+
+    /// Event records of every flag, their epochs blank as gfzrnx writes a
+    /// merge's header change (flag 4), are skipped and counted; their
+    /// lines are never read as observations.
+    #[test]
+    fn event_records_are_skipped_and_counted() {
+        let record = "> 2025 08 28 17 30 39.7480000  0  1\nG10  20576396.770\n";
+        let events = ">                              4  2\n\
+                                                            COMMENT             \n\
+G    2 C1C L1C                                              SYS / # / OBS TYPES \n\
+> 2025 08 28 17 30 39.8000000  5  0\n\
+> 2025 08 28 17 30 39.8500000  6  1\n\
+G10  20576396.770\n";
+        let next = "> 2025 08 28 17 30 39.9980000  1  1\nG10  20576397.770\n";
+        let f = parse_rinex_obs(&format!("{HEADER}{record}{events}{next}"), "x.obs").unwrap();
+        assert_eq!(f.epochs.len(), 2);
+        assert_eq!(f.epochs[1].flag, 1);
+        assert_eq!(f.epochs[1].satellites[0].values[0], Some(20576397.770));
+        for flag in [4, 5, 6] {
+            assert_eq!(f.skipped[&event_kind(flag)], 1, "{:?}", f.skipped);
+        }
+        // An event announcing more lines than the file holds: cut short.
+        let cut = format!("{HEADER}{record}>                              4  9\n");
+        let f = parse_rinex_obs(&cut, "x.obs").unwrap();
+        assert_eq!((f.epochs.len(), f.warnings.len()), (1, 1));
     }
 
     #[test]

@@ -427,6 +427,7 @@ mod tests {
                 ],
             }],
             warnings: vec![],
+            skipped: Default::default(),
         };
         let text = format_rinex_obs(&obs, &RinexProvenance::default());
         let back = parse_rinex_obs(&text, "written").unwrap();

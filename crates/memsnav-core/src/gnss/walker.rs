@@ -48,16 +48,19 @@ impl WalkerConfig {
     ///   T = 14 h 4 min 41 s;
     /// - BeiDou MEO 24/3/1 at 21 528 km altitude, a = 27 906.1 km, 55°
     ///   (the BDS MEO constellation; the GEO and IGSO satellites are left
-    ///   out), T = 12 h 53 min 14 s.
+    ///   out), T = 12 h 53 min 14 s;
+    /// - GLONASS 24/3/1 at a = 25 510 km (19 100 km altitude), 64.8°
+    ///   (GLONASS ICD §3.1.2), T = 11 h 15 min 49 s.
     ///
-    /// The first plane's node of Galileo and BeiDou is turned by 20° and
-    /// 40° from GPS's, an arbitrary choice that keeps their first
+    /// The first plane's node of Galileo, BeiDou and GLONASS is turned by
+    /// 20°, 40° and 60° from GPS's, an arbitrary choice that keeps their first
     /// satellites from lining up with GPS's at time 0.
     pub fn nominal(system: GnssSystem) -> Self {
         let (n_satellites, planes, inclination_deg, semi_major_axis_m, raan0_deg) = match system {
             GnssSystem::Gps => (24, 6, 55.0, 26_560_000.0, 0.0),
             GnssSystem::Galileo => (24, 3, 56.0, 29_599_800.0, 20.0),
             GnssSystem::Beidou => (24, 3, 55.0, 27_906_100.0, 40.0),
+            GnssSystem::Glonass => (24, 3, 64.8, 25_510_000.0, 60.0),
         };
         WalkerConfig {
             n_satellites,

@@ -543,6 +543,7 @@ pub fn parse_gnsslogger(text: &str, file: &str) -> Result<GnssLoggerLog> {
             approx_position_ecef: None,
             epochs: observation_epochs,
             warnings: Vec::new(),
+            skipped: Default::default(),
         },
         imu,
         skipped,

@@ -112,6 +112,9 @@ impl UbxLog {
                 .collect(),
             galileo: self.galileo_ephemerides.clone(),
             beidou: self.beidou_ephemerides.clone(),
+            // UBX GLONASS strings are not decoded.
+            glonass: Vec::new(),
+            klobuchar: self.klobuchar,
             // The CNAV ephemerides are in the order they completed: the
             // last of a satellite is its latest.
             gps_group_delays: self
@@ -429,6 +432,7 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
         approx_position_ecef: None,
         epochs,
         warnings: Vec::new(),
+        skipped: Default::default(),
     }
 }
 
