@@ -126,7 +126,7 @@ impl PyBroadcastEphemerides {
         };
         let keys = names
             .iter()
-            .map(|n| crate::gnss::satellite_key(n))
+            .map(|n| crate::satellite_names::satellite_key(n))
             .collect::<PyResult<Vec<_>>>()?;
         let states = py.detach(|| gnss::broadcast_states(&self.inner, &keys, &times));
         states_to_python(py, &states, times.len(), scalar, "no ephemeris covering")

@@ -29,6 +29,7 @@ mod progress;
 mod random;
 mod records;
 mod running_filter;
+mod satellite_names;
 mod sensors;
 mod static_calibration;
 mod trajectory;

@@ -26,9 +26,11 @@ mod glonass_orbit;
 mod measurement_rows;
 pub(crate) mod nav_record;
 mod observables;
+mod observation_file;
 pub mod plausible;
 mod range;
 mod rinex2_obs;
+mod rinex_fields;
 mod rinex_nav;
 mod rinex_nav_glonass;
 mod rinex_obs;
@@ -73,15 +75,13 @@ pub use observables::{
     DEFAULT_CARRIER_PHASE_STD_M, DEFAULT_ELEVATION_MASK_DEG, DEFAULT_PSEUDORANGE_RATE_STD_M_S,
     DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M, MIN_TROPOSPHERE_MASK_DEG,
 };
+pub use observation_file::{event_kind, ObservationEpoch, ObservationFile, SatelliteObservations};
 pub use range::{predicted_range, RangePrediction};
 pub use rinex2_obs::rinex3_code;
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,
 };
-pub use rinex_obs::{
-    event_kind, parse_rinex_obs, read_rinex_obs, ObservationEpoch, ObservationFile,
-    SatelliteObservations,
-};
+pub use rinex_obs::{parse_rinex_obs, read_rinex_obs};
 pub(crate) use rinex_obs::{SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_write::{
     format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, RinexProvenance,

@@ -16,8 +16,9 @@ use super::beidou_ephemeris::BeidouEphemeris;
 use super::ephemeris::LnavEphemeris;
 use super::galileo_ephemeris::InavEphemeris;
 use super::nav_record::NavRecord;
+use super::observation_file::ObservationFile;
 use super::rinex_nav::parse_broadcast_nav;
-use super::rinex_obs::{parse_rinex_obs, ObservationFile};
+use super::rinex_obs::parse_rinex_obs;
 use super::time::calendar_from_gps_time;
 use crate::{Error, Result};
 
