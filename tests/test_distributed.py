@@ -99,6 +99,32 @@ def test_calibration_inversion_and_partial_outage_are_bit_identical(client):
         _same(result.mean["mems"], remote.scenarios[label].mean["mems"])
 
 
+def test_the_adaptive_outage_study_is_bit_identical_and_decides_alike(client):
+    """Looks computed in chunks on the workers hold the local runs, so
+    every cell stops at the same look with the same decision."""
+    study = {
+        "grades": ("consumer", "tactical"),
+        "outage_lengths": (10.0, 30.0),
+        "visible_satellites": (0, 3),
+        "outage_start": 30.0,
+        "runs": 4,
+        "max_runs": 16,
+        "max_error_m": 3.0,
+        "smooth": True,
+        "seed": 2,
+    }
+    local = mn.experiments.outage_study(**study, threads=2)
+    remote = mn.experiments.outage_study(**study, client=client, chunk_runs=3)
+    assert remote.config["looks"] == local.config["looks"]
+    for key, cell in local.cells.items():
+        other = remote.cells[key]
+        assert (cell.decision, cell.runs) == (other.decision, other.runs), key
+        for field, values in cell.forward.items():
+            _same(values, other.forward[field])
+        for field, values in (cell.smoothed or {}).items():
+            _same(values, other.smoothed[field])
+
+
 def test_progress_and_interruption_keep_completed_chunks(client, navigation_local):
     calls = []
 

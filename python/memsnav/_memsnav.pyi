@@ -760,6 +760,37 @@ def partial_outage_experiment(
     ``memsnav.experiments.partial_outage``). ``run_range`` / ``chunks`` as
     in ``calibration_experiment``."""
 
+def outage_study_runs(
+    imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
+    *,
+    cells: Sequence[tuple[int, int, int]],
+    run_range: tuple[int, int],
+    outage_lengths: Sequence[float],
+    visible_satellites: Sequence[int],
+    outage_start: float | None = None,
+    duration: float | None = None,
+    tail: float | None = None,
+    seed: int | None = None,
+    calibration_duration: float | None = None,
+    smooth: bool | None = None,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+    n_satellites: int | None = None,
+    systems: Sequence[str] | None = None,
+    inter_system_bias: tuple[float, float] | Sequence[float] | None = None,
+    carrier_phase_std: float | None = None,
+    cycle_slip_probability: float | None = None,
+) -> dict[str, Any]:
+    """The outage study's runs ``run_range`` for ``cells``, triples of
+    indices (IMU, outage length, satellites count): per solution
+    (``forward``, and ``smoothed`` with ``smooth``) arrays (runs, cells) of
+    ``horizontal_end``, ``horizontal_max``, ``error_3d_end``,
+    ``error_3d_max`` (m), ``diverged``, ``rejected``, ``accepted``;
+    ``completed_runs``, ``interrupted``, ``duration``, ``tail``. Each
+    cell's run ends ``tail`` s after its window (default 10 s with
+    ``smooth``, else 0). ``memsnav.experiments.outage_study`` chooses the
+    cells and the looks."""
+
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
 @final

@@ -10,7 +10,8 @@ The configuration (``examples/study_land_vehicle.toml``)::
     grades = ["consumer", "paper-mems", "industrial", "tactical", "navigation"]
     outage_lengths = [10, 30, 60, 120]
     visible_satellites = [0, 2, 3]
-    runs = 20
+    runs = 20                          # per cell, the first look
+    max_runs = 640                     # run open cells on, doubling, up to this
     # systems = ["G", "E", "C"]        # optional: GPS, Galileo, BeiDou MEO
     # n_satellites = 20                # tracked outside the outage
     # inter_system_bias = [3.0, -25.0] # Galileo, BeiDou minus GPS, m
@@ -19,6 +20,7 @@ The configuration (``examples/study_land_vehicle.toml``)::
     [requirement]                      # optional: what "good enough" means
     max_error_m = 10.0
     percentile = 95
+    confidence = 0.95                  # of each cell's decision
 
 Unknown keys are refused with the file and the key named: a typo must not
 silently drop a setting.
@@ -65,6 +67,7 @@ CONFIG: dict[str, dict[str, tuple[Check, Any]]] = {
         "outage_lengths": (list_of(number(above=0.0), min_length=1), ABSENT),
         "visible_satellites": (list_of(integer(0, 3), min_length=1), ABSENT),
         "runs": (integer(1), ABSENT),
+        "max_runs": (integer(1), ABSENT),
         "duration": (number(above=0.0), ABSENT),
         "outage_start": (number(above=0.0), ABSENT),
         "seed": (integer(0), ABSENT),
@@ -82,6 +85,7 @@ CONFIG: dict[str, dict[str, tuple[Check, Any]]] = {
         "max_error_m": (number(above=0.0), ABSENT),
         "percentile": (number(0.0, 100.0), ABSENT),
         "metric": (text(*METRICS), ABSENT),
+        "confidence": (number(0.5, 0.9999), ABSENT),
     },
 }
 """The tables and keys (``[study]``: the keywords of outage_study; a key
@@ -119,7 +123,8 @@ its median: a few runs far from the rest (a filter or smoother that lost
 its way), which a percentile of a few runs may hide."""
 
 CONFIDENCE = 0.95
-"""The confidence of the intervals given with every percentile."""
+"""The default confidence of the decisions and of the intervals given
+with every percentile."""
 
 METRIC_WORDS = {
     "horizontal_end": "horizontal error at the outage end",
@@ -133,11 +138,13 @@ METRIC_WORDS = {
 @dataclass(frozen=True)
 class Requirement:
     """What "good enough" means: a ``percentile`` of ``metric`` over the
-    runs at most ``max_error_m`` (None: no requirement, only the figures)."""
+    runs at most ``max_error_m`` (None: no requirement, only the figures),
+    decided at ``confidence``."""
 
     max_error_m: float | None
     percentile: float
     metric: str
+    confidence: float = CONFIDENCE
 
     @classmethod
     def of(cls, table: dict[str, Any]) -> Requirement:
@@ -147,6 +154,7 @@ class Requirement:
             None if max_error is None else float(max_error),
             float(table.get("percentile", 95.0)),
             str(table.get("metric", "horizontal_end")),
+            float(table.get("confidence", CONFIDENCE)),
         )
 
     @property
@@ -156,55 +164,41 @@ class Requirement:
         return f"{METRIC_WORDS[self.metric]}{limit} in {self.percentile:g} % of runs"
 
 
-def _interval(
-    result: OutageStudyResult, grade: str, length: float, n: int, requirement: Requirement
-) -> dict[str, float] | None:
-    """The percentile's confidence interval (none for the 0th and 100th
-    percentiles: no order statistic bounds them with any confidence)."""
-    if not 0.0 < requirement.percentile < 100.0:
-        return None
-    return result.interval(
-        grade,
-        length,
-        requirement.percentile,
-        n_visible=n,
-        metric=requirement.metric,
-        confidence=CONFIDENCE,
-    )
-
-
 def answer(result: OutageStudyResult, requirement: Requirement) -> dict[int, dict[str, Any]]:
     """Per satellites count and grade: the longest outage met with every
-    shorter one (``longest_met_s``, None when not even the shortest), the
-    percentile there (or at the shortest length when none is met) and its
-    confidence interval, and whether the interval's upper end meets the
-    requirement too (``confident``)."""
+    shorter one, each cell decided at the study's confidence
+    (``longest_met_s``, None when not even the shortest), whether the
+    answer is settled (``decided``: the next length failed, or it is the
+    longest studied), and the cell that shows it (``length_s``: the
+    longest met, else the open or failed one) with its ``decision``, its
+    percentile (``percentile_m``), the interval the decision rests on
+    (``interval_m``, at the per-look confidence) and its ``runs``."""
     if requirement.max_error_m is None:
         return {}
     out: dict[int, dict[str, Any]] = {}
     for n in result.visible_satellites:
-        meets = result.meets(
-            requirement.max_error_m, requirement.percentile, n_visible=n, metric=requirement.metric
-        )
         out[n] = {}
-        for grade, met in meets.items():
+        for grade in result.grades:
+            cells = [result.cell(grade, length, n) for length in result.outage_lengths]
             longest = None
-            for length in result.outage_lengths:
-                if length not in met:
+            shown = cells[-1]
+            decided = True
+            for cell in cells:
+                if cell.decision != "meets":
+                    shown = cell
+                    decided = cell.decision == "fails"
                     break
-                longest = length
-            shown = result.outage_lengths[0] if longest is None else longest
-            values = result.per_run(grade, shown, n, requirement.metric)
-            interval = _interval(result, grade, shown, n, requirement)
+                longest = cell.length_s
+                shown = cell
+            values = result.per_run(grade, shown.length_s, n, requirement.metric)
             out[n][grade] = {
                 "longest_met_s": longest,
-                "length_s": shown,
+                "decided": decided,
+                "length_s": shown.length_s,
+                "decision": shown.decision,
                 "percentile_m": float(np.percentile(values, requirement.percentile)),
-                "interval_m": None if interval is None else [interval["lower"], interval["upper"]],
-                "confident": interval is not None
-                and longest is not None
-                and interval["upper"] <= requirement.max_error_m,
-                "runs_for_upper": None if interval is None else interval["runs_for_upper"],
+                "interval_m": None if shown.interval_m is None else list(shown.interval_m),
+                "runs": shown.runs,
             }
     return out
 
@@ -216,23 +210,26 @@ def _answer_cell(entry: dict[str, Any], requirement: Requirement) -> str:
     if entry["interval_m"] is not None:
         lower, upper = entry["interval_m"]
         figure += " " + fmt.interval(lower, upper, digits=2, limit=requirement.max_error_m)
-    where = (
-        f"{fmt.number(met, 4)} s"
-        if met is not None
-        else f"none ({fmt.number(entry['length_s'], 4)} s"
-    )
-    return f"{where}: {figure}" + (")" if met is None else "")
+    figure += f", {entry['runs']} runs"
+    length = f"{fmt.number(entry['length_s'], 4)} s"
+    if not entry["decided"]:
+        where = "none" if met is None else f"{fmt.number(met, 4)} s"
+        return f"{where}, {length} open: {figure}"
+    if met is None:
+        return f"none ({length}: {figure})"
+    return f"{length}: {figure}"
 
 
 def answer_lines(summary: dict[str, Any]) -> list[str]:
     """The answer in a few lines: per grade, the longest outage it meets
-    with each satellites count, with the percentile there and its
-    confidence interval; then what the runs can and cannot show."""
+    with each satellites count, decided at the study's confidence, with the
+    percentile there, its interval and runs; then which answers are
+    decided and what is left open."""
     table = summary.get("answer") or {}
     if not table:
         return ["memsnav study: no [requirement] max_error_m: the report has the figures only"]
     requirement = Requirement.of(summary["requirement"])
-    runs = summary["completed_runs"]
+    config = summary["config"]
     counts = list(table)
     grades = list(table[counts[0]])
     cells = [[_answer_cell(table[n][g], requirement) for n in counts] for g in grades]
@@ -246,29 +243,40 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
             f"{int(n)} satellite{'' if int(n) == 1 else 's'} kept".ljust(column) for n in counts
         )
     )
+    confidence = f"{requirement.confidence * 100:g} %"
     lines = [
-        f"Longest outage with the {requirement.words} ({runs} runs each, forward filter; "
-        f"{CONFIDENCE * 100:g} % confidence interval):",
+        f"Longest outage with the {requirement.words}, decided at {confidence} confidence "
+        "(forward filter; interval and runs of the cell shown):",
         header.rstrip(),
     ]
     lines += [
         "  " + g.ljust(width) + "  " + "  ".join(c.ljust(column) for c in row).rstrip()
         for g, row in zip(grades, cells, strict=True)
     ]
-    entries = [e for per_grade in table.values() for e in per_grade.values()]
-    needed = next((e["runs_for_upper"] for e in entries if e["runs_for_upper"]), None)
-    met = [e for e in entries if e["longest_met_s"] is not None]
-    sure = sum(e["confident"] for e in met)
-    if needed is not None and runs < needed:
+    entries = [(n, g, table[n][g]) for n in counts for g in grades]
+    open_ = [
+        f"{g} with {int(n)} kept ({fmt.number(e['length_s'], 4)} s)"
+        for n, g, e in entries
+        if not e["decided"]
+    ]
+    looks = config.get("looks") or []
+    if not open_:
         lines.append(
-            f"  {runs} runs give a p{requirement.percentile:g} no upper bound at "
-            f"{CONFIDENCE * 100:g} % confidence ({needed} runs do): each length above is met "
-            "by the estimate, none yet with that confidence"
+            f"  All {len(entries)} answers decided at {confidence} confidence "
+            f"({len(looks)} look{'' if len(looks) == 1 else 's'}, each interval at "
+            f"{config['look_confidence'] * 100:.3g} %)."
         )
-    elif met:
+    else:
+        why = (
+            f"the cap of {config['max_runs']} runs per cell reached"
+            if config.get("max_runs") and not summary.get("interrupted")
+            else "interrupted"
+            if summary.get("interrupted")
+            else "give [study] max_runs to run them until decided"
+        )
         lines.append(
-            f"  {sure} of the {len(met)} met with {CONFIDENCE * 100:g} % confidence (the "
-            "interval's upper end within the requirement)"
+            f"  {len(entries) - len(open_)} of {len(entries)} answers decided at {confidence} "
+            f"confidence; open: {', '.join(open_)} ({why})."
         )
     return lines
 
@@ -288,14 +296,14 @@ def flags(result: OutageStudyResult, metric: str) -> list[str]:
         for grade in result.grades:
             for length in result.outage_lengths:
                 for smoothed, shown in views:
-                    forward = result.results[length][n]
-                    nav = forward.smoothed if smoothed and forward.smoothed else forward
+                    cell = result.cell(grade, length, n)
+                    runs = cell.smoothed if smoothed and cell.smoothed else cell.forward
                     values = result.per_run(grade, length, n, shown, smoothed)
                     where = (
                         f"{grade}, {fmt.number(length, 4)} s, {n} satellite"
                         f"{'' if n == 1 else 's'} kept{', smoothed' if smoothed else ''}"
                     )
-                    alerts = int(np.sum(nav.runs_summary[grade]["diverged"]))
+                    alerts = int(np.sum(runs["diverged"]))
                     if alerts:
                         out.append(
                             f"{where}: {alerts} of {len(values)} runs raised an integrity alert"
@@ -317,7 +325,7 @@ def table_cells(
     requirement's metric over the runs (the percentile on the side of the
     requirement it is on: :func:`memsnav.report.numbers.beside`), and in
     brackets the smoothed solution's percentile of its largest error in
-    the outage (when smoothed)."""
+    the outage (when smoothed); then the cell's runs and decision."""
     metric, percentile = requirement.metric, requirement.percentile
     out: dict[str, list[str]] = {}
     for grade in result.grades:
@@ -331,6 +339,10 @@ def table_cells(
             if result.config["smooth"]:
                 smoothed = result.per_run(grade, length, n, metric.replace("_end", "_max"), True)
                 cell += f" ({fmt.number(np.percentile(smoothed, percentile), 2)})"
+            decided = result.cell(grade, length, n)
+            cell += f" · {decided.runs} runs" + (
+                f", {decided.decision}" if decided.decision else ""
+            )
             row.append(cell)
         out[grade] = row
     return out
@@ -355,20 +367,27 @@ def _report(
             ],
         )
         report.paragraph(
-            "Each cell: the longest outage the grade meets (with every shorter one), and there "
-            f"the p{requirement.percentile:g} over the runs with its {CONFIDENCE * 100:g} % "
-            "confidence interval from the runs' order statistics (distribution-free: with n "
-            "runs the k-th smallest lies above the percentile with the binomial probability of "
-            "at most k − 1 runs below it; ∞: too few runs to bound it from above). "
-            + (lines[-1].strip().capitalize() + "." if len(lines) > len(table) + 2 else "")
+            "Each cell: the longest outage the grade meets with every shorter one, each "
+            f"decided at {requirement.confidence * 100:g} % confidence, and there the "
+            f"p{requirement.percentile:g} over the runs with the interval the decision rests on, "
+            "from the runs' order statistics (distribution-free: with n runs the k-th smallest "
+            "lies above the percentile with the binomial probability of at most k − 1 runs "
+            "below it; ∞: too few runs to bound it from above). A cell meets the requirement "
+            "when its interval lies wholly within it and fails when wholly beyond; the study "
+            "runs the cells still open in doubling looks up to max_runs, each look's interval "
+            "at the confidence shared among the looks (Bonferroni), so whichever look decides, "
+            "a decision is wrong with at most the complementary probability. "
+            '"open": the cell shown is not decided yet. ' + lines[-1].strip()
         )
     else:
         report.paragraph("No [requirement] max_error_m: the figures below, without a verdict.")
+    runs = [cell.runs for cell in result.cells.values()]
     report.paragraph(
         f"{len(result.grades)} IMU grades x {len(result.outage_lengths)} outage lengths x "
-        f"{len(result.visible_satellites)} satellite counts, {result.completed_runs} runs per "
-        f"set of {c['duration']:.0f} s (outage from {c['outage_start']:.0f} s), seed "
-        f"{c['seed']}; paired draws across grades and lengths; {elapsed_s:.0f} s of wall time"
+        f"{len(result.visible_satellites)} satellite counts, {min(runs)}-{max(runs)} runs per "
+        f"cell ({sum(runs)} cell runs) drawn for {c['duration']:.0f} s (outage from "
+        f"{c['outage_start']:.0f} s), seed {c['seed']}; paired draws across grades, lengths "
+        f"and counts; {elapsed_s:.0f} s of wall time"
         + (" (interrupted: partial results)." if result.interrupted else ".")
     )
     report.section("Runs a percentile may hide")
@@ -405,7 +424,7 @@ def _report(
             [[grade, *row] for grade, row in cells.items()],
         )
     report.paragraph(
-        f"Each cell: median / p{requirement.percentile:g} of the {metric} over the runs, "
+        f"Each cell: median / p{requirement.percentile:g} of the {metric} over the cell's runs, "
         "m"
         + (
             f"; in brackets the smoothed solution's p{requirement.percentile:g} of its largest "
@@ -413,8 +432,9 @@ def _report(
             if c["smooth"]
             else ""
         )
-        + ". Every metric's median, p95 and maximum (horizontal and 3D, at the end and the "
-        "largest in the outage, forward and smoothed) are in summary.json."
+        + "; then the cell's runs and its decision. Every metric's median, p95 and maximum "
+        "(horizontal and 3D, at the end and the largest in the outage, forward and smoothed) "
+        "are in summary.json; the smoothed figures come from the first look's runs."
     )
     return report
 
@@ -433,13 +453,25 @@ def run_study(
     matplotlib.use("Agg")
     bar = progress if callable(progress) else (ProgressBar("outage study") if progress else None)
     start = time.perf_counter()
+    requirement = Requirement.of(config["requirement"])
+    decision_keys: dict[str, Any] = (
+        {}
+        if requirement.max_error_m is None
+        else {
+            "max_error_m": requirement.max_error_m,
+            "percentile": requirement.percentile,
+            "metric": requirement.metric,
+            "confidence": requirement.confidence,
+        }
+    )
     try:
-        result = outage_study(**config["study"], threads=threads, client=client, progress=bar)
+        result = outage_study(
+            **config["study"], **decision_keys, threads=threads, client=client, progress=bar
+        )
     except ValueError as e:
         # outage_study names its keyword: the [study] key of the same name.
         raise ValueError(f"{config_path}: study: {e}") from None
     elapsed = time.perf_counter() - start
-    requirement = Requirement.of(config["requirement"])
     summary: dict[str, Any] = {
         "config": result.config,
         "completed_runs": result.completed_runs,

@@ -20,7 +20,7 @@ use pyo3::types::{PyBytes, PyDict, PyList};
 
 use crate::errors::IntoPyResult;
 use crate::navigation::{imu_list, imu_outcomes};
-use crate::progress::{run_monte_carlo, Ran};
+use crate::progress::{run_interruptible, run_monte_carlo, Ran};
 
 fn table<'py>(py: Python<'py>, values: &[f64], cols: usize) -> PyResult<Bound<'py, PyAny>> {
     Ok(PyArray1::from_slice(py, values)
@@ -237,6 +237,51 @@ fn inversion_experiment<'py>(
     Ok(d.into_any())
 }
 
+/// The keywords the partial-outage set and the outage study share.
+struct StudyKeywords {
+    runs: Option<usize>,
+    duration: Option<f64>,
+    seed: Option<u64>,
+    calibration_duration: Option<f64>,
+    smooth: Option<bool>,
+    n_satellites: Option<usize>,
+    systems: Option<Vec<String>>,
+    inter_system_bias: Option<[f64; 2]>,
+    carrier_phase_std: Option<f64>,
+    cycle_slip_probability: Option<f64>,
+}
+
+/// `base` with the keywords given (None keeps the base's value).
+fn study_navigation(
+    base: &experiments::NavigationExperimentConfig,
+    imus: &Bound<'_, PyAny>,
+    k: StudyKeywords,
+) -> PyResult<experiments::NavigationExperimentConfig> {
+    let n = base;
+    Ok(experiments::NavigationExperimentConfig {
+        runs: k.runs.unwrap_or(n.runs),
+        duration_s: k.duration.unwrap_or(n.duration_s),
+        seed: k.seed.unwrap_or(n.seed),
+        imus: imu_list(imus)?,
+        calibration_duration_s: k.calibration_duration.unwrap_or(n.calibration_duration_s),
+        smooth: k.smooth.unwrap_or(n.smooth),
+        n_satellites: k.n_satellites.unwrap_or(n.n_satellites),
+        systems: match k.systems {
+            Some(letters) => crate::gnss::system_letters(&letters)?,
+            None => n.systems.clone(),
+        },
+        gnss: memsnav_core::gnss::SimulationConfig {
+            inter_system_bias_m: k.inter_system_bias.unwrap_or(n.gnss.inter_system_bias_m),
+            carrier_phase_std_m: k.carrier_phase_std.unwrap_or(n.gnss.carrier_phase_std_m),
+            cycle_slip_probability: k
+                .cycle_slip_probability
+                .unwrap_or(n.gnss.cycle_slip_probability),
+            ..n.gnss.clone()
+        },
+        ..n.clone()
+    })
+}
+
 /// Partial-outage study (0-3 satellites through one window, tight against
 /// loose coupling); keywords and defaults in
 /// `memsnav.experiments.partial_outage`. Returns the scenarios' IMU
@@ -268,30 +313,27 @@ fn partial_outage_experiment<'py>(
     cycle_slip_probability: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let d = PartialOutageConfig::default();
-    let n = &d.navigation;
+    let navigation = experiments::NavigationExperimentConfig {
+        keep_runs: keep_runs.unwrap_or(d.navigation.keep_runs),
+        ..study_navigation(
+            &d.navigation,
+            imus,
+            StudyKeywords {
+                runs,
+                duration,
+                seed,
+                calibration_duration,
+                smooth,
+                n_satellites,
+                systems,
+                inter_system_bias,
+                carrier_phase_std,
+                cycle_slip_probability,
+            },
+        )?
+    };
     let config = PartialOutageConfig {
-        navigation: experiments::NavigationExperimentConfig {
-            runs: runs.unwrap_or(n.runs),
-            duration_s: duration.unwrap_or(n.duration_s),
-            seed: seed.unwrap_or(n.seed),
-            imus: imu_list(imus)?,
-            calibration_duration_s: calibration_duration.unwrap_or(n.calibration_duration_s),
-            smooth: smooth.unwrap_or(n.smooth),
-            keep_runs: keep_runs.unwrap_or(n.keep_runs),
-            n_satellites: n_satellites.unwrap_or(n.n_satellites),
-            systems: match systems {
-                Some(letters) => crate::gnss::system_letters(&letters)?,
-                None => n.systems.clone(),
-            },
-            gnss: memsnav_core::gnss::SimulationConfig {
-                inter_system_bias_m: inter_system_bias.unwrap_or(n.gnss.inter_system_bias_m),
-                carrier_phase_std_m: carrier_phase_std.unwrap_or(n.gnss.carrier_phase_std_m),
-                cycle_slip_probability: cycle_slip_probability
-                    .unwrap_or(n.gnss.cycle_slip_probability),
-                ..n.gnss.clone()
-            },
-            ..n.clone()
-        },
+        navigation,
         outage_start_s: outage_start.unwrap_or(d.outage_start_s),
         outage_length_s: outage_length.unwrap_or(d.outage_length_s),
         satellites: satellites.unwrap_or(d.satellites.clone()),
@@ -359,6 +401,134 @@ fn partial_outage_experiment<'py>(
     Ok(out.into_any())
 }
 
+/// The outage study's runs `run_range` for `cells`, triples of indices
+/// (IMU, outage length, satellites count) into `imus`, `outage_lengths`
+/// and `visible_satellites` (`memsnav_core::experiments::outage_study_runs`;
+/// `memsnav.experiments.outage_study` chooses the cells and the looks).
+/// Every cell's run ends `tail` s after its window (default 10 s with
+/// `smooth`, else 0); `duration` defaults to the start, the longest
+/// window and the tail. Returns per solution (`forward`, and `smoothed`
+/// with `smooth`) arrays (runs, cells): `horizontal_end`,
+/// `horizontal_max`, `error_3d_end`, `error_3d_max` (m), `diverged`,
+/// `rejected`, `accepted`; `completed_runs` and `interrupted`.
+#[catch_panics]
+#[pyfunction]
+#[pyo3(signature = (imus, *, cells, run_range, outage_lengths, visible_satellites, outage_start=None, duration=None, tail=None, seed=None, calibration_duration=None, smooth=None, threads=None, progress=None, n_satellites=None, systems=None, inter_system_bias=None, carrier_phase_std=None, cycle_slip_probability=None))]
+fn outage_study_runs<'py>(
+    py: Python<'py>,
+    imus: &Bound<'py, PyAny>,
+    cells: Vec<(usize, usize, usize)>,
+    run_range: (usize, usize),
+    outage_lengths: Vec<f64>,
+    visible_satellites: Vec<usize>,
+    outage_start: Option<f64>,
+    duration: Option<f64>,
+    tail: Option<f64>,
+    seed: Option<u64>,
+    calibration_duration: Option<f64>,
+    smooth: Option<bool>,
+    threads: Option<usize>,
+    progress: Option<Bound<'py, PyAny>>,
+    n_satellites: Option<usize>,
+    systems: Option<Vec<String>>,
+    inter_system_bias: Option<[f64; 2]>,
+    carrier_phase_std: Option<f64>,
+    cycle_slip_probability: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if threads == Some(0) {
+        return Err(pyo3::exceptions::PyValueError::new_err(
+            "threads: must be at least 1 (or None)",
+        ));
+    }
+    let (start, end) = run_range;
+    if start > end {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "run_range: needs start <= end, got ({start}, {end})"
+        )));
+    }
+    let d = PartialOutageConfig::default();
+    let outage_start_s = outage_start.unwrap_or(d.outage_start_s);
+    let smoothing = smooth.unwrap_or(false);
+    let tail_s = tail.unwrap_or(if smoothing { 10.0 } else { 0.0 });
+    let longest = outage_lengths.iter().copied().fold(0.0, f64::max);
+    let navigation = study_navigation(
+        &d.navigation,
+        imus,
+        StudyKeywords {
+            runs: Some(end.max(1)),
+            duration: Some(duration.unwrap_or(outage_start_s + longest + tail_s)),
+            seed,
+            calibration_duration,
+            smooth: Some(smoothing),
+            n_satellites,
+            systems,
+            inter_system_bias,
+            carrier_phase_std,
+            cycle_slip_probability,
+        },
+    )?;
+    let config = experiments::OutageStudyConfig {
+        navigation,
+        outage_start_s,
+        outage_lengths_s: outage_lengths,
+        visible_satellites,
+        tail_s,
+    };
+    let cells: Vec<experiments::StudyCell> = cells
+        .into_iter()
+        .map(|(imu, length, visible)| experiments::StudyCell {
+            imu,
+            length,
+            visible,
+        })
+        .collect();
+    let (runs, interrupted) =
+        run_interruptible(py, progress.as_ref(), end - start, threads, |o| {
+            experiments::outage_study_runs(&config, &cells, start..end, o)
+        })?;
+    let runs = runs.py()?;
+    let out = PyDict::new(py);
+    let shape = [runs.runs.len(), cells.len()];
+    let figures = |pick: &dyn Fn(&experiments::CellRun) -> Option<experiments::WindowFigures>|
+     -> PyResult<Option<Bound<'py, PyDict>>> {
+        let all: Option<Vec<experiments::WindowFigures>> =
+            runs.runs.iter().flatten().map(pick).collect();
+        let Some(all) = all else { return Ok(None) };
+        let d = PyDict::new(py);
+        let column = |f: fn(&experiments::WindowFigures) -> f64| -> PyResult<Bound<'py, PyAny>> {
+            let v: Vec<f64> = all.iter().map(f).collect();
+            Ok(PyArray1::from_vec(py, v).reshape(shape)?.into_any())
+        };
+        d.set_item("horizontal_end", column(|f| f.horizontal_end_m)?)?;
+        d.set_item("horizontal_max", column(|f| f.horizontal_max_m)?)?;
+        d.set_item("error_3d_end", column(|f| f.error_3d_end_m)?)?;
+        d.set_item("error_3d_max", column(|f| f.error_3d_max_m)?)?;
+        let flags: Vec<bool> = all.iter().map(|f| f.diverged).collect();
+        d.set_item("diverged", PyArray1::from_vec(py, flags).reshape(shape)?)?;
+        let counts = |f: fn(&experiments::WindowFigures) -> usize| -> PyResult<Bound<'py, PyAny>> {
+            let v: Vec<u64> = all.iter().map(|x| f(x) as u64).collect();
+            Ok(PyArray1::from_vec(py, v).reshape(shape)?.into_any())
+        };
+        d.set_item("rejected", counts(|f| f.rejected)?)?;
+        d.set_item("accepted", counts(|f| f.accepted)?)?;
+        Ok(Some(d))
+    };
+    out.set_item("forward", figures(&|c| Some(c.forward))?)?;
+    out.set_item(
+        "smoothed",
+        if smoothing {
+            figures(&|c| c.smoothed)?
+        } else {
+            None
+        },
+    )?;
+    out.set_item("completed_runs", runs.runs.len())?;
+    out.set_item("interrupted", interrupted || runs.cancelled)?;
+    out.set_item("duration", config.navigation.duration_s)?;
+    out.set_item("tail", config.tail_s)?;
+    Ok(out)
+}
+
 /// The body-frame land-vehicle motion of the calibration experiment
 /// (`memsnav_core::experiments::motion::land_vehicle`: speed changes,
 /// turns, road roughness, roll and pitch dynamics): `duration` s at `rate`
@@ -394,5 +564,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(calibration_experiment, m)?)?;
     m.add_function(wrap_pyfunction!(inversion_experiment, m)?)?;
     m.add_function(wrap_pyfunction!(partial_outage_experiment, m)?)?;
+    m.add_function(wrap_pyfunction!(outage_study_runs, m)?)?;
     Ok(())
 }

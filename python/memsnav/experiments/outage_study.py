@@ -17,6 +17,27 @@ percentile and maximum. Percentiles are numpy's linear interpolation of
 the per-run values; with ``runs`` runs the 95th percentile rests on the
 ``0.05 * runs`` worst runs: :meth:`OutageStudyResult.interval` says how
 sure it is (from 20 runs it has no upper bound at 95 % confidence).
+
+Every run is drawn once, for the longest outage, and each cell (grade,
+length, count) filters its cut of it: the run ends at its outage's end, or
+``TAIL_S`` after it when smoothing (the smoother needs GNSS after the
+window). The filter is causal, so the forward figures are those of the
+whole run, bit for bit.
+
+Answering with confidence (``max_error_m`` and ``max_runs``): the study
+runs in looks of ``runs``, ``2 runs``, ``4 runs`` … up to ``max_runs`` runs
+per cell. After each look every cell still needed is decided from its
+runs' order statistics (:func:`memsnav.quantile_interval`): it **meets**
+the requirement when the percentile's interval lies wholly at or below
+``max_error_m``, **fails** when wholly above, and runs on otherwise. With K
+looks each interval is taken at confidence ``1 - (1 - confidence) / K``
+(Bonferroni over the looks): whatever look decides, each decision is
+wrong with probability at most ``1 - confidence``. A cell is needed while
+no shorter outage of its grade and count has failed (the answer is the
+longest outage met with every shorter one); the cells left are "not
+needed". Run i draws from ``(seed, i)`` whichever cells and looks compute
+it, so the figures are bit-identical across thread counts, looks and Dask
+chunks; the smoothed figures come from the first look's runs.
 """
 
 from __future__ import annotations
@@ -30,8 +51,8 @@ import numpy as np
 import numpy.typing as npt
 
 import memsnav._memsnav as _mn
-from memsnav.experiments.navigation import NavigationResult, _imu_sources
-from memsnav.experiments.partial_outage import partial_outage
+from memsnav._distributed import run_ranges
+from memsnav.experiments.navigation import _imu_sources
 
 GRADES = ("consumer", "paper-mems", "industrial", "tactical", "navigation")
 """The five presets, cheapest first."""
@@ -47,6 +68,84 @@ horizontal or 3D error at the end of the outage, or the largest during it."""
 
 CALIBRATED_SUFFIX = " calibrated"
 """Name of a grade's calibrated twin (same sensor, calibrated and inverted)."""
+
+TAIL_S = 10.0
+"""GNSS after each outage a smoothed cell's run keeps, s (and the default
+run length beyond the longest outage)."""
+
+DECISIONS = ("meets", "fails", "undecided", "not needed")
+"""A cell's verdict on the requirement: its percentile's interval wholly
+within it, wholly beyond it, neither yet, or not run on because a shorter
+outage of its grade and satellites count failed."""
+
+RUN_FIELDS = (*METRICS, "diverged", "rejected", "accepted")
+"""The per-run values a cell keeps: the metrics (m), whether the run
+raised an integrity alert, and the measurements rejected and accepted."""
+
+
+def looks(runs: int, max_runs: int | None) -> list[int]:
+    """The runs per cell after each look: ``runs``, doubling, up to
+    ``max_runs`` (the last look); ``[runs]`` without ``max_runs``."""
+    if max_runs is None or max_runs <= runs:
+        return [runs]
+    out = [runs]
+    while out[-1] < max_runs:
+        out.append(min(2 * out[-1], max_runs))
+    return out
+
+
+@dataclass(frozen=True)
+class StudyCell:
+    """One cell of the study: a grade through one outage length with one
+    satellites count kept. ``forward`` and ``smoothed`` (None without
+    ``smooth``) hold per-run arrays of :data:`RUN_FIELDS`; ``decision`` is
+    one of :data:`DECISIONS` (None without a requirement) and
+    ``interval_m`` the percentile's interval it rests on, at the per-look
+    confidence (None without a requirement)."""
+
+    grade: str
+    length_s: float
+    n_visible: int
+    forward: dict[str, npt.NDArray[Any]]
+    smoothed: dict[str, npt.NDArray[Any]] | None
+    decision: str | None
+    interval_m: tuple[float, float] | None
+
+    @property
+    def runs(self) -> int:
+        """The runs of the cell's forward figures."""
+        return len(self.forward["horizontal_end"])
+
+    def __repr__(self) -> str:
+        verdict = "" if self.decision is None else f", {self.decision}"
+        return (
+            f"StudyCell({self.grade!r}, {self.length_s:g} s, {self.n_visible} satellites kept: "
+            f"{self.runs} runs{verdict})"
+        )
+
+
+def _interval(
+    values: npt.NDArray[np.float64], percentile: float, confidence: float
+) -> dict[str, float]:
+    """The ``confidence`` interval of the ``percentile`` from the finite runs."""
+    finite = values[np.isfinite(values)]
+    return dict(_mn.quantile_interval(finite, percentile / 100.0, confidence))
+
+
+def decide(
+    values: npt.NDArray[np.float64], max_error_m: float, percentile: float, confidence: float
+) -> tuple[str, tuple[float, float]]:
+    """A cell's verdict from its runs: "meets" when the ``percentile``'s
+    equal-tailed ``confidence`` interval lies wholly at or below
+    ``max_error_m``, "fails" when wholly above, else "undecided"; with the
+    interval (lower, upper), m."""
+    interval = _interval(values, percentile, confidence)
+    lower, upper = float(interval["lower"]), float(interval["upper"])
+    if upper <= max_error_m:
+        return "meets", (lower, upper)
+    if lower > max_error_m:
+        return "fails", (lower, upper)
+    return "undecided", (lower, upper)
 
 
 def _distribution(values: npt.NDArray[np.float64]) -> dict[str, float]:
@@ -64,14 +163,16 @@ def _distribution(values: npt.NDArray[np.float64]) -> dict[str, float]:
 class OutageStudyResult:
     """Result of :func:`outage_study`.
 
-    ``results[length][n_visible]`` is the partial-outage scenario's
-    :class:`~memsnav.experiments.NavigationResult` (every grade, forward
-    filter; its ``.smoothed`` the smoothed solution when run with
+    ``cells[(grade, length, n_visible)]`` is each :class:`StudyCell` (every
+    grade's forward filter, and its smoothed solution when run with
     ``smooth=True``); ``grades`` the names in the set's order (calibrated
-    twins included); ``config`` the settings that ran.
+    twins included); ``completed_runs`` the runs every cell has (the
+    first look's); ``config`` the settings that ran, with ``looks`` the
+    runs per cell after each look and ``look_confidence`` the confidence
+    each look's intervals were taken at.
     """
 
-    results: dict[float, dict[int, NavigationResult]]
+    cells: dict[tuple[str, float, int], StudyCell]
     grades: list[str]
     completed_runs: int
     interrupted: bool
@@ -80,12 +181,23 @@ class OutageStudyResult:
     @property
     def outage_lengths(self) -> list[float]:
         """The outage lengths that ran, s, in run order."""
-        return list(self.results)
+        return [float(v) for v in self.config["outage_lengths"]]
 
     @property
     def visible_satellites(self) -> list[int]:
         """The satellite counts kept during each outage, in run order."""
-        return list(next(iter(self.results.values())))
+        return [int(n) for n in self.config["visible_satellites"]]
+
+    def cell(self, grade: str, length: float, n_visible: int) -> StudyCell:
+        """The cell of ``grade`` through the ``length`` s outage with
+        ``n_visible`` satellites kept."""
+        key = (grade, float(length), int(n_visible))
+        if key not in self.cells:
+            raise ValueError(
+                f"cell: the study ran grades {self.grades}, lengths {self.outage_lengths} s and "
+                f"satellite counts {self.visible_satellites}, not {key!r}"
+            )
+        return self.cells[key]
 
     def per_run(
         self, grade: str, length: float, n_visible: int, metric: str, smoothed: bool = False
@@ -93,22 +205,23 @@ class OutageStudyResult:
         """The per-run values (m) of one ``metric`` of :data:`METRICS`."""
         if metric not in METRICS:
             raise ValueError(f"metric: expected one of {sorted(METRICS)}, got {metric!r}")
-        result = self.results[length][n_visible]
+        cell = self.cell(grade, length, n_visible)
         if smoothed:
-            if result.smoothed is None:
+            if cell.smoothed is None:
                 raise ValueError("smoothed: the study ran without smooth=True")
-            result = result.smoothed
-        return np.asarray(result.runs_summary[grade][METRICS[metric]], dtype=float)
+            return np.asarray(cell.smoothed[metric], dtype=float)
+        return np.asarray(cell.forward[metric], dtype=float)
 
     def summary(self, n_visible: int | None = None, smoothed: bool = False) -> dict[str, Any]:
         """``{grade: {length: {"p50_m", "p95_m", "max_m", "runs",
-        "horizontal_end", "horizontal_max", "error_3d_end",
+        "decision", "horizontal_end", "horizontal_max", "error_3d_end",
         "error_3d_max"}}}`` for the satellites count ``n_visible`` (default:
         the fewest of the study, the worst case). ``p50_m``, ``p95_m`` and
         ``max_m`` are those of the horizontal error at the end of the
         outage (what a horizontal accuracy requirement bounds); each named
-        metric holds its own ``{"p50_m", "p95_m", "max_m"}``. ``smoothed``:
-        the smoothed solution's figures (needs ``smooth=True``)."""
+        metric holds its own ``{"p50_m", "p95_m", "max_m"}``; ``runs`` and
+        ``decision`` are the cell's. ``smoothed``: the smoothed solution's
+        figures (needs ``smooth=True``; from the first look's runs)."""
         n = min(self.visible_satellites) if n_visible is None else n_visible
         if n not in self.visible_satellites:
             raise ValueError(f"n_visible: the study kept {self.visible_satellites}, not {n!r}")
@@ -120,9 +233,11 @@ class OutageStudyResult:
                     metric: _distribution(self.per_run(grade, length, n, metric, smoothed))
                     for metric in METRICS
                 }
+                cell = self.cell(grade, length, n)
                 per_length[length] = {
                     **figures["horizontal_end"],
-                    "runs": self.completed_runs,
+                    "runs": len(self.per_run(grade, length, n, "horizontal_end", smoothed)),
+                    "decision": cell.decision,
                     **figures,
                 }
             out[grade] = per_length
@@ -140,7 +255,8 @@ class OutageStudyResult:
         """Per grade, the outage lengths whose ``percentile`` of ``metric``
         over the runs (default: the 95th percentile of the horizontal
         error at the end of the outage) is at most ``max_error_m``, with
-        ``n_visible`` satellites kept (default the fewest)."""
+        ``n_visible`` satellites kept (default the fewest): the point
+        estimates, with no confidence (the cells' ``decision`` has it)."""
         if not (math.isfinite(max_error_m) and max_error_m > 0):
             raise ValueError(f"max_error_m: must be finite and positive, got {max_error_m!r}")
         if not 0.0 <= percentile <= 100.0:
@@ -177,9 +293,7 @@ class OutageStudyResult:
         ``runs_for_upper``. ``percentile`` strictly between 0 and 100."""
         n = min(self.visible_satellites) if n_visible is None else n_visible
         values = self.per_run(grade, length, n, metric, smoothed)
-        return dict(
-            _mn.quantile_interval(values[np.isfinite(values)], percentile / 100.0, confidence)
-        )
+        return _interval(values, percentile, confidence)
 
     def plot(
         self,
@@ -203,7 +317,7 @@ class OutageStudyResult:
             1, len(counts), figsize=(3.4 * len(counts), 4.2), sharey=True, squeeze=False
         )
         lengths = np.asarray(self.outage_lengths, dtype=float)
-        smoothed = next(iter(next(iter(self.results.values())).values())).smoothed is not None
+        smoothed = bool(self.config["smooth"])
         for ax, n in zip(panels[0], counts, strict=True):
             for k, grade in enumerate(self.grades):
                 for smooth in (False, True) if smoothed else (False,):
@@ -233,7 +347,9 @@ class OutageStudyResult:
             ax.set_xlabel("outage length [s]")
             ax.grid(True, which="both", alpha=0.3)
         panels[0][0].set_ylabel(f"{metric.replace('_', ' ')} error, p{percentile:g} [m]")
-        fig.suptitle(f"Outage study ({self.completed_runs} runs per point)")
+        runs = [c.runs for c in self.cells.values()]
+        per_point = f"{min(runs)}" if min(runs) == max(runs) else f"{min(runs)}-{max(runs)}"
+        fig.suptitle(f"Outage study ({per_point} runs per point)")
         handles, labels = panels[0][0].get_legend_handles_labels()
         fig.legend(handles, labels, loc="lower center", ncol=3, fontsize="small", frameon=False)
         fig.tight_layout(rect=(0.0, 0.2, 1.0, 1.0))
@@ -261,32 +377,44 @@ def outage_study(
     inter_system_bias: tuple[float, float] = (0.0, 0.0),
     carrier_phase_std: float = 0.0,
     cycle_slip_probability: float = 0.0,
+    max_error_m: float | None = None,
+    percentile: float = 95.0,
+    metric: str = "horizontal_end",
+    confidence: float = 0.95,
+    max_runs: int | None = None,
 ) -> OutageStudyResult:
     """Runs the outage study (module docs).
 
     ``grades``: preset names (default the five presets, cheapest first) or
-    a dict name → ``ImuModel`` / preset name. ``outage_lengths`` (s), one
-    partial-outage set each; ``visible_satellites``: satellites kept
-    through the outage (0 a total outage, up to 3; 6 tracked otherwise).
-    ``runs`` per set; ``duration`` of every run, s (default: the outage
-    start plus the longest outage plus 10 s); ``outage_start``: s after the
-    start (the filters converge within about 30 s). ``calibrated``: add
-    each grade's calibrated twin (``"<grade> calibrated"``: the same
-    sensor and readings, calibrated on its own segment of
-    ``calibration_duration`` s and inverted). ``smooth``: also the
-    fixed-interval smoothed solution (``summary(smoothed=True)``).
+    a dict name → ``ImuModel`` / preset name. ``outage_lengths`` (s);
+    ``visible_satellites``: satellites kept through the outage (0 a total
+    outage, up to 3; ``n_satellites`` tracked otherwise). ``runs`` per cell
+    (the first look); ``duration`` of every run's draw, s (default: the
+    outage start plus the longest outage plus :data:`TAIL_S`);
+    ``outage_start``: s after the start (the filters converge within about
+    30 s). ``calibrated``: add each grade's calibrated twin (``"<grade>
+    calibrated"``: the same sensor and readings, calibrated on its own
+    segment of ``calibration_duration`` s and inverted). ``smooth``: also
+    the fixed-interval smoothed solution, over the first look's runs
+    (``summary(smoothed=True)``).
+
+    The requirement: ``percentile`` (default 95) of ``metric`` (one of
+    :data:`METRICS`) at most ``max_error_m`` (m; None: figures only). With
+    it every cell gets a decision at ``confidence``; with ``max_runs`` too
+    the study runs the cells still needed in doubling looks up to
+    ``max_runs`` runs each until they are decided (module docs).
+
     ``client``/``chunk_runs``: run on a Dask cluster
     (``docs/distributed.md``); the numbers do not change. ``progress(done,
-    total)`` counts runs over the whole study. Ctrl-C stops the study:
-    the lengths done are kept, and the result covers the completed runs of
-    the one interrupted (``interrupted=True``); later lengths are skipped.
-    ``n_satellites``: tracked outside the outage, of every system in
-    ``systems`` ("G" GPS, "E" Galileo, "C" BeiDou MEO, nominal Walker
-    constellations; with E or C the filters estimate the pseudoranges'
-    ``inter_system_bias``, Galileo and BeiDou against GPS, m).
-    ``carrier_phase_std`` (m, one sigma; 0: none) and
-    ``cycle_slip_probability``: the simulated carrier phase, whose changes
-    between epochs the filters use, and its silent cycle slips per
+    total)`` counts the runs of the current look. Ctrl-C stops the study:
+    the looks done are kept, the interrupted look's completed runs are
+    kept undecided (``interrupted=True``). ``n_satellites``: tracked
+    outside the outage, of every system in ``systems`` ("G" GPS, "E"
+    Galileo, "C" BeiDou MEO, nominal Walker constellations; with E or C the
+    filters estimate the pseudoranges' ``inter_system_bias``, Galileo and
+    BeiDou against GPS, m). ``carrier_phase_std`` (m, one sigma; 0: none)
+    and ``cycle_slip_probability``: the simulated carrier phase, whose
+    changes between epochs the filters use, and its silent cycle slips per
     satellite and epoch (:func:`~memsnav.experiments.navigation`).
     Raises ValueError naming the argument.
     """
@@ -296,63 +424,133 @@ def outage_study(
     if len(set(lengths)) != len(lengths):
         raise ValueError(f"outage_lengths: lengths must be distinct, got {outage_lengths!r}")
     counts = [int(n) for n in visible_satellites]
+    if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
+        raise ValueError(f"runs: must be a positive integer, got {runs!r}")
+    if max_runs is not None and (
+        isinstance(max_runs, bool) or not isinstance(max_runs, int) or max_runs < runs
+    ):
+        raise ValueError(
+            f"max_runs: must be an integer of at least runs ({runs}), got {max_runs!r}"
+        )
+    if metric not in METRICS:
+        raise ValueError(f"metric: expected one of {sorted(METRICS)}, got {metric!r}")
+    if not 0.0 < confidence < 1.0:
+        raise ValueError(f"confidence: must be within (0, 1), got {confidence!r}")
+    if max_error_m is not None:
+        if not (math.isfinite(max_error_m) and max_error_m > 0):
+            raise ValueError(f"max_error_m: must be finite and positive, got {max_error_m!r}")
+        if not 0.0 < percentile < 100.0:
+            raise ValueError(
+                f"percentile: a decision needs one strictly within 0-100, got {percentile!r}"
+            )
+    elif max_runs is not None:
+        raise ValueError("max_runs: runs on until decided, which needs max_error_m")
     sources = _imu_sources(grades)
-    names = [name for name, _ in sources]
     imus: dict[str, Any] = dict(sources)
     if calibrated:
-        for name in names:
+        for name, _ in sources:
             imus[name + CALIBRATED_SUFFIX] = f"calibrated:{name}"
+    names = list(imus)
     if duration is None:
-        duration = outage_start + max(lengths) + 10.0
-    done_before = 0
-    total = runs * len(lengths)
-
-    def counted(done: int, _: int) -> object:
-        return None if progress is None else progress(done_before + done, total)
-
-    results: dict[float, dict[int, NavigationResult]] = {}
+        duration = outage_start + max(lengths) + TAIL_S
+    schedule = looks(runs, max_runs)
+    look_confidence = 1.0 - (1.0 - confidence) / len(schedule)
+    keys = [
+        (g, li, vi)
+        for g in range(len(names))
+        for li in range(len(lengths))
+        for vi in range(len(counts))
+    ]
+    forward: dict[tuple[int, int, int], list[dict[str, npt.NDArray[Any]]]] = {k: [] for k in keys}
+    smoothed: dict[tuple[int, int, int], list[dict[str, npt.NDArray[Any]]]] = {k: [] for k in keys}
+    decisions: dict[tuple[int, int, int], str] = {}
+    intervals: dict[tuple[int, int, int], tuple[float, float]] = {}
+    base: dict[str, Any] = {
+        "imus": list(imus.items()),
+        "outage_lengths": lengths,
+        "visible_satellites": counts,
+        "outage_start": float(outage_start),
+        "duration": float(duration),
+        "tail": TAIL_S if smooth else 0.0,
+        "seed": seed,
+        "calibration_duration": calibration_duration,
+        "n_satellites": n_satellites,
+        "systems": list(systems),
+        "inter_system_bias": tuple(float(b) for b in inter_system_bias),
+        "carrier_phase_std": float(carrier_phase_std),
+        "cycle_slip_probability": float(cycle_slip_probability),
+    }
+    active = list(keys)
+    done = 0
     interrupted = False
-    completed = runs
-    for length in lengths:
-        study = partial_outage(
-            imus=imus,
-            runs=runs,
-            duration=duration,
-            seed=seed,
-            outage_start=outage_start,
-            outage_length=length,
-            satellites=counts,
-            loose=False,
-            calibration_duration=calibration_duration,
-            smooth=smooth,
+    for look_end in schedule:
+        if not active:
+            break
+        kwargs: dict[str, Any] = {**base, "cells": active, "smooth": smooth and done == 0}
+        # Check the settings here, before any run (or any chunk shipped).
+        _mn.outage_study_runs(**kwargs, run_range=(done, done))
+        before = done
+
+        def counted(d: int, _: int, before: int = before, end: int = look_end) -> object:
+            return None if progress is None else progress(d, end - before)
+
+        parts, interrupted = run_ranges(
+            "outage_study_runs",
+            kwargs,
+            (done, look_end),
             client=client,
-            chunk_runs=chunk_runs,
             threads=threads,
             progress=counted,
-            n_satellites=n_satellites,
-            systems=systems,
-            inter_system_bias=inter_system_bias,
-            carrier_phase_std=carrier_phase_std,
-            cycle_slip_probability=cycle_slip_probability,
+            chunk_runs=chunk_runs,
         )
-        results[length] = {
-            study.n_visible[label]: result for label, result in study.scenarios.items()
-        }
-        done_before += runs
-        completed = min(completed, study.completed_runs)
-        if study.interrupted:
-            interrupted = True
+        for part in parts:
+            for column, key in enumerate(active):
+                forward[key].append({f: part["forward"][f][:, column] for f in RUN_FIELDS})
+                if part["smoothed"] is not None:
+                    smoothed[key].append({f: part["smoothed"][f][:, column] for f in RUN_FIELDS})
+        if interrupted:
             break
+        done = look_end
+        if max_error_m is not None:
+            active = _decide_looks(
+                forward,
+                active,
+                max_error_m,
+                percentile,
+                metric,
+                look_confidence,
+                decisions,
+                intervals,
+            )
+    cells: dict[tuple[str, float, int], StudyCell] = {}
+    for g, li, vi in keys:
+        key = (g, li, vi)
+        cells[(names[g], lengths[li], counts[vi])] = StudyCell(
+            grade=names[g],
+            length_s=lengths[li],
+            n_visible=counts[vi],
+            forward=_joined(forward[key]),
+            smoothed=_joined(smoothed[key]) if smooth else None,
+            decision=None if max_error_m is None else decisions.get(key, "undecided"),
+            interval_m=intervals.get(key),
+        )
     return OutageStudyResult(
-        results=results,
-        grades=list(imus),
-        completed_runs=completed,
+        cells=cells,
+        grades=names,
+        completed_runs=min(c.runs for c in cells.values()),
         interrupted=interrupted,
         config={
-            "grades": list(imus),
-            "outage_lengths": list(results),
+            "grades": names,
+            "outage_lengths": lengths,
             "visible_satellites": counts,
             "runs": runs,
+            "max_runs": max_runs,
+            "looks": schedule[: schedule.index(done) + 1] if done in schedule else [],
+            "look_confidence": look_confidence,
+            "confidence": confidence,
+            "max_error_m": max_error_m,
+            "percentile": percentile,
+            "metric": metric,
             "duration": float(duration),
             "outage_start": float(outage_start),
             "seed": seed,
@@ -365,3 +563,37 @@ def outage_study(
             "cycle_slip_probability": float(cycle_slip_probability),
         },
     )
+
+
+def _joined(parts: list[dict[str, npt.NDArray[Any]]]) -> dict[str, npt.NDArray[Any]]:
+    """The per-run arrays of a cell's looks, in run order."""
+    if not parts:
+        return {f: np.empty(0) for f in RUN_FIELDS}
+    return {f: np.concatenate([p[f] for p in parts]) for f in RUN_FIELDS}
+
+
+def _decide_looks(
+    forward: dict[tuple[int, int, int], list[dict[str, npt.NDArray[Any]]]],
+    active: list[tuple[int, int, int]],
+    max_error_m: float,
+    percentile: float,
+    metric: str,
+    confidence: float,
+    decisions: dict[tuple[int, int, int], str],
+    intervals: dict[tuple[int, int, int], tuple[float, float]],
+) -> list[tuple[int, int, int]]:
+    """Decides the ``active`` cells after a look (``decisions`` and
+    ``intervals`` updated) and returns the cells to run on: undecided, with
+    no shorter outage of their grade and count failed ("not needed"
+    otherwise)."""
+    for key in active:
+        values = np.asarray(_joined(forward[key])[metric], dtype=float)
+        decisions[key], intervals[key] = decide(values, max_error_m, percentile, confidence)
+    failed: dict[tuple[int, int], float] = {}
+    for (g, li, vi), verdict in decisions.items():
+        if verdict == "fails":
+            failed[(g, vi)] = min(li, failed.get((g, vi), math.inf))
+    for (g, li, vi), verdict in decisions.items():
+        if verdict == "undecided" and li > failed.get((g, vi), math.inf):
+            decisions[(g, li, vi)] = "not needed"
+    return [key for key in active if decisions[key] == "undecided"]

@@ -44,6 +44,9 @@ pub use calibration::{
 pub use inversion::{
     inversion_experiment, InversionExperiment, InversionExperimentConfig, InversionRuns,
 };
+pub use navigation::outage_study::{
+    outage_study_runs, CellRun, OutageStudyConfig, StudyCell, StudyRuns, WindowFigures,
+};
 pub use navigation::partial_outage::{
     partial_outage_experiment, PartialOutageConfig, PartialOutageExperiment, PartialOutageRuns,
 };

@@ -68,7 +68,11 @@ pub(super) struct FilterSetup<'a> {
     pub absorb_unmodelled: bool,
     /// Also run the fixed-interval smoother and score its solution.
     pub smooth: bool,
+    /// The output epochs (IMU sample indices) the curves are taken at.
     pub out: &'a [usize],
+    /// The IMU samples the filter runs over, from the first (None: all);
+    /// the epochs given must end within them.
+    pub samples: Option<usize>,
 }
 
 /// One run's curves for one IMU (what a chunk of runs carries).
@@ -188,10 +192,11 @@ fn navigate_with<const N: usize>(
     tuning: &FilterTuning,
     setup: &FilterSetup,
 ) -> Result<ImuRun> {
+    let n = setup.samples.unwrap_or(truth.time_s.len());
     let imu = ImuData {
-        time_s: &truth.time_s,
-        specific_force_b: &input.readings.specific_force_b,
-        angular_rate_b: &input.readings.angular_rate_b,
+        time_s: &truth.time_s[..n],
+        specific_force_b: &input.readings.specific_force_b[..n],
+        angular_rate_b: &input.readings.angular_rate_b[..n],
         increments: None,
     };
     let initial = match *start {

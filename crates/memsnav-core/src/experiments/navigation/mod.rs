@@ -7,7 +7,9 @@
 //! - [`filters`]: one IMU's coupled filter and its error curves;
 //! - [`outcome`]: the statistics kept over the runs;
 //! - [`partial_outage`]: the partial-outage study (0-3 satellites through a
-//!   window, tight against loose coupling) on the same machinery.
+//!   window, tight against loose coupling) on the same machinery;
+//! - [`outage_study`]: the runs of the outage study (grades × outage
+//!   lengths × satellites kept), cell by cell.
 //!
 //! ## One run (reproducible from `(seed, run index)`)
 //!
@@ -58,6 +60,7 @@
 
 mod filters;
 mod imus;
+pub mod outage_study;
 mod outcome;
 pub mod partial_outage;
 mod run;
@@ -337,6 +340,7 @@ impl NavigationExperimentConfig {
             absorb_unmodelled: self.absorb_unmodelled,
             smooth: self.smooth,
             out,
+            samples: None,
         }
     }
 
