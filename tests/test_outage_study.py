@@ -179,11 +179,11 @@ def test_percentile_intervals_are_the_order_statistics(study):
     assert wide["upper"] == math.inf and wide["runs_for_upper"] == 72
 
 
-def _decision(values, max_error_m, confidence):
+def _decision(values, max_error_m, error):
     """A cell's verdict from scipy's order statistics (independently of
-    memsnav's): its p95's equal-tailed interval wholly within the
-    requirement, wholly beyond it, or neither."""
-    lower, upper = _order_statistic_interval(values, 0.95, confidence)
+    memsnav's): its p95's one-sided upper bound at 1 - error within the
+    requirement, its lower bound beyond it, or neither."""
+    lower, upper = _order_statistic_interval(values, 0.95, 1.0 - 2.0 * error)
     return "meets" if upper <= max_error_m else "fails" if lower > max_error_m else "undecided"
 
 
@@ -229,7 +229,7 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
         for n in (0, 3):
             entry = summary["answer"][str(n)][grade]
             verdicts = {
-                length: _decision(result.per_run(grade, length, n, "horizontal_end"), 2.0, 0.95)
+                length: _decision(result.per_run(grade, length, n, "horizontal_end"), 2.0, 0.05)
                 for length in (5.0, 15.0)
             }
             longest = None
@@ -244,7 +244,7 @@ def test_study_command_answers_first_with_the_confidence(tmp_path, capsys, monke
             shown = entry["length_s"]
             values = result.per_run(grade, shown, n, "horizontal_end")
             assert entry["percentile_m"] == pytest.approx(np.percentile(values, 95.0))
-            lower, upper = _order_statistic_interval(values, 0.95, 0.95)
+            lower, upper = _order_statistic_interval(values, 0.95, 0.90)
             assert entry["interval_m"][0] == pytest.approx(lower)
             assert (entry["interval_m"][1] is None) == (upper == math.inf)  # JSON: inf is null
             assert entry["runs"] == 8
@@ -272,33 +272,36 @@ once, the tactical one needs more runs to be decided."""
 
 
 def test_adaptive_study_decides_every_needed_cell_reproducibly():
-    """Looks of 8, 16, 32 runs: every decision is the one scipy's order
-    statistics give at the per-look confidence (Bonferroni over the three
-    looks); cells stop when decided; longer outages after a failed one are
-    not run on; the runs a cell shares with a fixed 8-run study are the
-    same numbers, bit for bit, and so are one and two threads."""
-    study = mn.experiments.outage_study(**ADAPTIVE, runs=8, max_runs=32, threads=2)
-    assert study.config["looks"][:1] == [8] and study.config["max_runs"] == 32
-    look_confidence = 1.0 - 0.05 / 3
-    assert study.config["look_confidence"] == pytest.approx(look_confidence)
+    """Looks of 8, then from the 72 runs that can show a p95 met at the
+    per-look error (0.05 / 3, Bonferroni over three looks: 0.95^72 <
+    0.05 / 3 < 0.95^71), doubling to 160: every decision is the one scipy's
+    order statistics give at that error; cells stop when decided; longer
+    outages after a failed one are not run on; the runs a cell shares with
+    a fixed 8-run study are the same numbers, bit for bit, and so are one
+    and two threads."""
+    study = mn.experiments.outage_study(**ADAPTIVE, runs=8, max_runs=160, threads=2)
+    assert study.config["looks"] == [8, 80, 160]
+    error = 0.05 / 3
+    assert 0.95**80 < error < 0.95**79
+    assert study.config["look_error"] == pytest.approx(error)
     fixed = mn.experiments.outage_study(**ADAPTIVE, runs=8, threads=1)
     assert fixed.config["looks"] == [8]
     decided_early = 0
     for (grade, length, n), cell in study.cells.items():
         values = study.per_run(grade, length, n, "horizontal_end")
-        assert cell.runs in (8, 16, 32), cell
+        assert cell.runs in (8, 80, 160), cell
         assert np.array_equal(values[:8], fixed.per_run(grade, length, n, "horizontal_end"))
         if cell.decision == "not needed":
             shorter = [study.cell(grade, s, n) for s in (10.0, 40.0) if s < length]
             assert any(c.decision == "fails" for c in shorter), cell
             continue
-        assert cell.decision == _decision(values, 3.0, look_confidence), cell
+        assert cell.decision == _decision(values, 3.0, error), cell
         if cell.decision == "undecided":
-            assert cell.runs == 32, cell
+            assert cell.runs == 160, cell
         else:
-            decided_early += cell.runs < 32
+            decided_early += cell.runs < 160
     assert decided_early > 0
-    two = mn.experiments.outage_study(**ADAPTIVE, runs=8, max_runs=32, threads=1)
+    two = mn.experiments.outage_study(**ADAPTIVE, runs=8, max_runs=160, threads=1)
     for key, cell in study.cells.items():
         assert np.array_equal(
             cell.forward["horizontal_end"], two.cells[key].forward["horizontal_end"]

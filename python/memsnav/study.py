@@ -171,8 +171,8 @@ def answer(result: OutageStudyResult, requirement: Requirement) -> dict[int, dic
     answer is settled (``decided``: the next length failed, or it is the
     longest studied), and the cell that shows it (``length_s``: the
     longest met, else the open or failed one) with its ``decision``, its
-    percentile (``percentile_m``), the interval the decision rests on
-    (``interval_m``, at the per-look confidence) and its ``runs``."""
+    percentile (``percentile_m``), the one-sided bounds the decision rests
+    on (``interval_m``, each at the per-look error) and its ``runs``."""
     if requirement.max_error_m is None:
         return {}
     out: dict[int, dict[str, Any]] = {}
@@ -263,8 +263,8 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
     if not open_:
         lines.append(
             f"  All {len(entries)} answers decided at {confidence} confidence "
-            f"({len(looks)} look{'' if len(looks) == 1 else 's'}, each interval at "
-            f"{config['look_confidence'] * 100:.3g} %)."
+            f"({len(looks)} look{'' if len(looks) == 1 else 's'}, each bound at "
+            f"{(1 - config['look_error']) * 100:.3g} %)."
         )
     else:
         why = (
@@ -369,14 +369,14 @@ def _report(
         report.paragraph(
             "Each cell: the longest outage the grade meets with every shorter one, each "
             f"decided at {requirement.confidence * 100:g} % confidence, and there the "
-            f"p{requirement.percentile:g} over the runs with the interval the decision rests on, "
-            "from the runs' order statistics (distribution-free: with n runs the k-th smallest "
-            "lies above the percentile with the binomial probability of at most k − 1 runs "
-            "below it; ∞: too few runs to bound it from above). A cell meets the requirement "
-            "when its interval lies wholly within it and fails when wholly beyond; the study "
-            "runs the cells still open in doubling looks up to max_runs, each look's interval "
-            "at the confidence shared among the looks (Bonferroni), so whichever look decides, "
-            "a decision is wrong with at most the complementary probability. "
+            f"p{requirement.percentile:g} over the runs with the one-sided bounds the decision "
+            "rests on, from the runs' order statistics (distribution-free: with n runs the k-th "
+            "smallest lies above the percentile with the binomial probability of at most k − 1 "
+            "runs below it; ∞: too few runs to bound it from above). A cell meets the "
+            "requirement when its upper bound is within it and fails when its lower bound is "
+            "beyond; the study runs the cells still open in looks up to max_runs, each look's "
+            "bounds erring with the share of the error left to it (Bonferroni), so whichever "
+            "look decides, a decision is wrong with at most the complementary probability. "
             '"open": the cell shown is not decided yet. ' + lines[-1].strip()
         )
     else:

@@ -25,14 +25,15 @@ window). The filter is causal, so the forward figures are those of the
 whole run, bit for bit.
 
 Answering with confidence (``max_error_m`` and ``max_runs``): the study
-runs in looks of ``runs``, ``2 runs``, ``4 runs`` … up to ``max_runs`` runs
-per cell. After each look every cell still needed is decided from its
-runs' order statistics (:func:`memsnav.quantile_interval`): it **meets**
-the requirement when the percentile's interval lies wholly at or below
-``max_error_m``, **fails** when wholly above, and runs on otherwise. With K
-looks each interval is taken at confidence ``1 - (1 - confidence) / K``
-(Bonferroni over the looks): whatever look decides, each decision is
-wrong with probability at most ``1 - confidence``. A cell is needed while
+runs in looks (:func:`looks`): ``runs`` per cell, then from the fewest
+runs that can show a cell meets, doubling up to ``max_runs``. After each
+look every cell still needed is decided from its runs' order statistics
+(:func:`memsnav.quantile_interval`): it **meets** the requirement when the
+percentile's one-sided upper confidence bound is at most ``max_error_m``,
+**fails** when its one-sided lower bound is above, and runs on otherwise.
+With K looks each bound errs with probability ``(1 - confidence) / K``
+(Bonferroni over the looks): whatever look decides, a decision is wrong
+with probability at most ``1 - confidence``. A cell is needed while
 no shorter outage of its grade and count has failed (the answer is the
 longest outage met with every shorter one); the cells left are "not
 needed". Run i draws from ``(seed, i)`` whichever cells and looks compute
@@ -83,15 +84,35 @@ RUN_FIELDS = (*METRICS, "diverged", "rejected", "accepted")
 raised an integrity alert, and the measurements rejected and accepted."""
 
 
-def looks(runs: int, max_runs: int | None) -> list[int]:
-    """The runs per cell after each look: ``runs``, doubling, up to
-    ``max_runs`` (the last look); ``[runs]`` without ``max_runs``."""
+def looks(
+    runs: int, max_runs: int | None, percentile: float = 95.0, confidence: float = 0.95
+) -> list[int]:
+    """The runs per cell after each look: ``runs``; then from the fewest
+    runs that can show a cell meets the requirement (none of them beyond
+    it, at the per-look error :func:`look_error`), doubling up to
+    ``max_runs`` (the last look). ``[runs]`` without ``max_runs``."""
     if max_runs is None or max_runs <= runs:
         return [runs]
-    out = [runs]
-    while out[-1] < max_runs:
-        out.append(min(2 * out[-1], max_runs))
-    return out
+    # The fewest looks K whose schedule has at most K looks.
+    count = 2
+    while True:
+        fewest = math.ceil(math.log(look_error(confidence, count)) / math.log(percentile / 100.0))
+        out = [runs]
+        n = max(fewest, 2 * runs)
+        while n < max_runs:
+            out.append(n)
+            n *= 2
+        out.append(max_runs)
+        if len(out) <= count:
+            return out
+        count += 1
+
+
+def look_error(confidence: float, looks: int) -> float:
+    """The error each look's one-sided bounds may make so that a decision,
+    whichever of the ``looks`` makes it, errs with probability at most
+    ``1 - confidence`` (Bonferroni over the looks)."""
+    return (1.0 - confidence) / looks
 
 
 @dataclass(frozen=True)
@@ -100,8 +121,8 @@ class StudyCell:
     satellites count kept. ``forward`` and ``smoothed`` (None without
     ``smooth``) hold per-run arrays of :data:`RUN_FIELDS`; ``decision`` is
     one of :data:`DECISIONS` (None without a requirement) and
-    ``interval_m`` the percentile's interval it rests on, at the per-look
-    confidence (None without a requirement)."""
+    ``interval_m`` the percentile's one-sided bounds it rests on, each at
+    the per-look error (None without a requirement)."""
 
     grade: str
     length_s: float
@@ -133,13 +154,14 @@ def _interval(
 
 
 def decide(
-    values: npt.NDArray[np.float64], max_error_m: float, percentile: float, confidence: float
+    values: npt.NDArray[np.float64], max_error_m: float, percentile: float, error: float
 ) -> tuple[str, tuple[float, float]]:
     """A cell's verdict from its runs: "meets" when the ``percentile``'s
-    equal-tailed ``confidence`` interval lies wholly at or below
-    ``max_error_m``, "fails" when wholly above, else "undecided"; with the
-    interval (lower, upper), m."""
-    interval = _interval(values, percentile, confidence)
+    one-sided upper confidence bound at ``1 - error`` is at most
+    ``max_error_m``, "fails" when the one-sided lower bound at ``1 -
+    error`` is above it, else "undecided"; with the two bounds (lower,
+    upper), m: the equal-tailed interval at ``1 - 2 error``."""
+    interval = _interval(values, percentile, 1.0 - 2.0 * error)
     lower, upper = float(interval["lower"]), float(interval["upper"])
     if upper <= max_error_m:
         return "meets", (lower, upper)
@@ -168,8 +190,8 @@ class OutageStudyResult:
     ``smooth=True``); ``grades`` the names in the set's order (calibrated
     twins included); ``completed_runs`` the runs every cell has (the
     first look's); ``config`` the settings that ran, with ``looks`` the
-    runs per cell after each look and ``look_confidence`` the confidence
-    each look's intervals were taken at.
+    runs per cell after each look and ``look_error`` the error each
+    look's one-sided bounds may make.
     """
 
     cells: dict[tuple[str, float, int], StudyCell]
@@ -453,8 +475,8 @@ def outage_study(
     names = list(imus)
     if duration is None:
         duration = outage_start + max(lengths) + TAIL_S
-    schedule = looks(runs, max_runs)
-    look_confidence = 1.0 - (1.0 - confidence) / len(schedule)
+    schedule = looks(runs, max_runs, percentile, confidence)
+    error = look_error(confidence, len(schedule))
     keys = [
         (g, li, vi)
         for g in range(len(names))
@@ -518,7 +540,7 @@ def outage_study(
                 max_error_m,
                 percentile,
                 metric,
-                look_confidence,
+                error,
                 decisions,
                 intervals,
             )
@@ -546,7 +568,7 @@ def outage_study(
             "runs": runs,
             "max_runs": max_runs,
             "looks": schedule[: schedule.index(done) + 1] if done in schedule else [],
-            "look_confidence": look_confidence,
+            "look_error": error,
             "confidence": confidence,
             "max_error_m": max_error_m,
             "percentile": percentile,
@@ -578,7 +600,7 @@ def _decide_looks(
     max_error_m: float,
     percentile: float,
     metric: str,
-    confidence: float,
+    error: float,
     decisions: dict[tuple[int, int, int], str],
     intervals: dict[tuple[int, int, int], tuple[float, float]],
 ) -> list[tuple[int, int, int]]:
@@ -588,7 +610,7 @@ def _decide_looks(
     otherwise)."""
     for key in active:
         values = np.asarray(_joined(forward[key])[metric], dtype=float)
-        decisions[key], intervals[key] = decide(values, max_error_m, percentile, confidence)
+        decisions[key], intervals[key] = decide(values, max_error_m, percentile, error)
     failed: dict[tuple[int, int], float] = {}
     for (g, li, vi), verdict in decisions.items():
         if verdict == "fails":

@@ -87,23 +87,38 @@ pub(super) struct ImuInput {
     pub spec: ImuSpec,
 }
 
-/// The inputs of every IMU of a run. IMU j draws from its own stream
-/// `random::stream(imu_seed, j)`: its sensor (when drawn), its noise and,
-/// for a calibrated IMU, its calibration segment (land-vehicle motion,
-/// outputs with their own noise realisation, references). So an IMU's
-/// numbers do not depend on the other IMUs of the set.
+/// The inputs of the IMUs of a run that are `needed` (all when None; a
+/// calibrated IMU's source is drawn with it), None for the others. IMU j
+/// draws from its own stream `random::stream(imu_seed, j)`: its sensor
+/// (when drawn), its noise and, for a calibrated IMU, its calibration
+/// segment (land-vehicle motion, outputs with their own noise
+/// realisation, references). So an IMU's numbers do not depend on the
+/// other IMUs of the set, nor on which of them are drawn.
 pub(super) fn imu_inputs(
     imus: &[(String, NavigationImu)],
     truth: &Trajectory,
     rate: f64,
     calibration: &SegmentCalibration,
     imu_seed: u64,
-) -> Result<Vec<ImuInput>> {
+    needed: Option<&[bool]>,
+) -> Result<Vec<Option<ImuInput>>> {
+    let mut drawn: Vec<bool> = needed.map_or_else(|| vec![true; imus.len()], <[bool]>::to_vec);
+    // Sources come before the IMUs calibrated from them (validated).
+    for j in (0..imus.len()).rev() {
+        if let (true, NavigationImu::Calibrated { source }) = (drawn[j], &imus[j].1) {
+            drawn[*source] = true;
+        }
+    }
     // Per IMU: its sensor, when drawn or fixed (a calibrated IMU reads the
     // sensor here and its readings in `inputs`, not a copy).
     let mut sensors: Vec<Option<ImuModel>> = Vec::with_capacity(imus.len());
-    let mut inputs: Vec<ImuInput> = Vec::with_capacity(imus.len());
+    let mut inputs: Vec<Option<ImuInput>> = Vec::with_capacity(imus.len());
     for (j, (_, kind)) in imus.iter().enumerate() {
+        if !drawn[j] {
+            sensors.push(None);
+            inputs.push(None);
+            continue;
+        }
         let mut r: Rng = random::stream(imu_seed, j as u64);
         let input = match kind {
             NavigationImu::Drawn(_) | NavigationImu::Fixed(_) => {
@@ -127,7 +142,10 @@ pub(super) fn imu_inputs(
                 let model = sensors[*source]
                     .as_ref()
                     .expect("validated: the source is an earlier raw IMU");
-                let raw = &inputs[*source].readings;
+                let raw = &inputs[*source]
+                    .as_ref()
+                    .expect("a needed IMU's source is drawn")
+                    .readings;
                 let calibrated = calibration.calibrate(model, &motion::land_vehicle, &mut r)?;
                 let input = ImuInput {
                     readings: calibrated.invert(model, raw, &InversionProcess::default())?,
@@ -137,7 +155,7 @@ pub(super) fn imu_inputs(
                 input
             }
         };
-        inputs.push(input);
+        inputs.push(Some(input));
     }
     Ok(inputs)
 }

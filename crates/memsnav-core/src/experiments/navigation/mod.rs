@@ -476,7 +476,7 @@ impl MonteCarlo for NavigationRuns<'_> {
     }
     fn run(&self, _: usize, rng: &mut crate::random::Rng) -> Result<Vec<ImuRun>> {
         let (config, p) = (self.config, &self.prepared);
-        let draws = run::draw_run(config, &p.trajectory, &p.gnss, &p.sky, rng)?;
+        let draws = run::draw_run(config, &p.trajectory, &p.gnss, &p.sky, rng, None)?;
         let fixes = match config.coupling {
             Coupling::Tight => Vec::new(),
             Coupling::Loose => position_fixes(&draws.epochs),
@@ -485,6 +485,7 @@ impl MonteCarlo for NavigationRuns<'_> {
         draws
             .inputs
             .iter()
+            .flatten()
             .map(|input| {
                 navigate(
                     &draws.truth,

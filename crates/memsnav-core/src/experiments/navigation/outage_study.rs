@@ -207,12 +207,17 @@ fn run_cells(
     rng: &mut Rng,
 ) -> Result<Vec<CellRun>> {
     let nav = &config.navigation;
+    let mut needed = vec![false; nav.imus.len()];
+    for c in cells {
+        needed[c.imu] = true;
+    }
     let draws = run::draw_run(
         nav,
         &prepared.trajectory,
         &prepared.gnss,
         &prepared.sky,
         rng,
+        Some(&needed),
     )?;
     let track = ReceiverTrack {
         time_s: &draws.truth.time_s,
@@ -251,7 +256,9 @@ fn run_cells(
                     &draws.truth,
                     &epochs,
                     &[],
-                    &draws.inputs[cells[c].imu],
+                    draws.inputs[cells[c].imu]
+                        .as_ref()
+                        .expect("every cell's IMU is drawn"),
                     &draws.start,
                     &setup,
                 )?;

@@ -174,7 +174,7 @@ impl MonteCarlo for PartialOutageRuns<'_> {
     }
     fn run(&self, _: usize, rng: &mut Rng) -> Result<Self::Run> {
         let (nav, p) = (&self.config.navigation, &self.prepared);
-        let draws = run::draw_run(nav, &p.trajectory, &p.gnss, &p.sky, rng)?;
+        let draws = run::draw_run(nav, &p.trajectory, &p.gnss, &p.sky, rng, None)?;
         let track = ReceiverTrack {
             time_s: &draws.truth.time_s,
             position_ecef: &draws.truth.position_ecef,
@@ -193,6 +193,7 @@ impl MonteCarlo for PartialOutageRuns<'_> {
                 draws
                     .inputs
                     .iter()
+                    .flatten()
                     .map(|input| {
                         navigate(&draws.truth, &epochs, &fixes, input, &draws.start, &setup)
                     })

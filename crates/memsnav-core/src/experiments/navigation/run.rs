@@ -24,7 +24,8 @@ pub(super) struct RunDraws {
     pub truth: Trajectory,
     pub epochs: Vec<GnssEpoch>,
     pub start: Start,
-    pub inputs: Vec<ImuInput>,
+    /// Per IMU of the set: its readings, when it was needed.
+    pub inputs: Vec<Option<ImuInput>>,
 }
 
 /// A draw of N(0, diag(std²)).
@@ -35,13 +36,15 @@ fn normal3(std: &Vector3<f64>, rng: &mut Rng) -> Vector3<f64> {
 /// Draws one run from its stream, in this order: the random land-vehicle
 /// trajectory, its GNSS measurements, the initial attitude error (NED, the
 /// filters' P₀ attitude block), the initial position and velocity errors
-/// when the initial state is given, and the seed of the IMUs' streams.
+/// when the initial state is given, and the seed of the IMUs' streams,
+/// from which the `needed` IMUs draw their readings (all when None).
 pub(super) fn draw_run(
     config: &NavigationExperimentConfig,
     trajectory_config: &RandomTrajectoryConfig,
     gnss_config: &SimulationConfig,
     sky: &Constellation,
     rng: &mut Rng,
+    needed: Option<&[bool]>,
 ) -> Result<RunDraws> {
     let truth = Trajectory::random(trajectory_config, rng)?;
     // The truth is ours (increasing times, finite): not checked again.
@@ -84,6 +87,7 @@ pub(super) fn draw_run(
         trajectory_config.rate_hz,
         &config.segment_calibration(),
         imu_seed,
+        needed,
     )?;
     Ok(RunDraws {
         truth,
