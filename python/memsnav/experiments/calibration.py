@@ -135,6 +135,15 @@ class CalibrationResult:
     completed_runs: int = 0
     interrupted: bool = False
 
+    def __repr__(self) -> str:
+        return (
+            f"CalibrationResult({self.method}, {self.completed_runs} runs, "
+            f"{len(self.accelerometer.parameter_names)} accelerometer and "
+            f"{len(self.gyroscope.parameter_names)} gyro parameters"
+            + (", interrupted" if self.interrupted else "")
+            + ")"
+        )
+
     def group_summary(self, sensor: str, group: str) -> dict[str, Any]:
         """One parameter group: its MSE unit, the figures of
         :func:`_figures` over the whole group, ``per_axis`` (u, v, w or p,

@@ -45,6 +45,13 @@ class InversionResult:
     completed_runs: int = 0
     interrupted: bool = False
 
+    def __repr__(self) -> str:
+        return (
+            f"InversionResult({self.completed_runs} runs at {self.sample_rate:g} Hz"
+            + (", interrupted" if self.interrupted else "")
+            + ")"
+        )
+
     def summary(self) -> dict[str, Any]:
         """MSE averaged over axes and runs: ``accel_mse_g2`` (g²) and
         ``gyro_mse_dps2`` ((°/s)²), the paper's ≈1e-5 g² and ≈1e-3 (°/s)²,

@@ -158,6 +158,17 @@ class NavigationResult:
     config: dict[str, Any] = field(default_factory=dict)
     smoothed: NavigationResult | None = None
 
+    def __repr__(self) -> str:
+        outage = self.config.get("outage")
+        return (
+            f"NavigationResult({', '.join(self.imus)}: {self.completed_runs} runs of "
+            f"{self.time[-1]:g} s"
+            + (f", outage {tuple(outage)}" if outage else "")
+            + (", smoothed" if self.smoothed is not None else "")
+            + (", interrupted" if self.interrupted else "")
+            + ")"
+        )
+
     @property
     def imus(self) -> list[str]:
         """IMU names, in the set's order."""

@@ -200,6 +200,20 @@ class OutageStudyResult:
     interrupted: bool
     config: dict[str, Any]
 
+    def __repr__(self) -> str:
+        runs = [c.runs for c in self.cells.values()] or [0]
+        decided = [c.decision for c in self.cells.values() if c.decision is not None]
+        verdicts = (
+            ", " + ", ".join(f"{decided.count(d)} {d}" for d in DECISIONS if d in decided)
+            if decided
+            else ""
+        )
+        return (
+            f"OutageStudyResult({len(self.grades)} grades x {len(self.outage_lengths)} lengths x "
+            f"{len(self.visible_satellites)} satellite counts, {min(runs)}-{max(runs)} runs "
+            f"per cell{verdicts}" + (", interrupted" if self.interrupted else "") + ")"
+        )
+
     @property
     def outage_lengths(self) -> list[float]:
         """The outage lengths that ran, s, in run order."""

@@ -60,6 +60,13 @@ class PartialOutageResult:
     interrupted: bool
     config: dict[str, Any]
 
+    def __repr__(self) -> str:
+        return (
+            f"PartialOutageResult({', '.join(self.scenarios)}; {self.completed_runs} runs"
+            + (", interrupted" if self.interrupted else "")
+            + ")"
+        )
+
     @property
     def imus(self) -> list[str]:
         """IMU names, in the set's order."""

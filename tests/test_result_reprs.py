@@ -1,0 +1,40 @@
+"""Results print as what they are, in a line: the class, its sizes and its
+state, never a wall of arrays."""
+
+import memsnav as mn
+
+
+def _check(result, name, *words):
+    text = repr(result)
+    assert text.startswith(f"{name}(") and "\n" not in text and len(text) < 200, text
+    for word in words:
+        assert word in text, (word, text)
+
+
+def test_experiment_results_print_in_a_line():
+    nav = mn.experiments.navigation(runs=2, duration=20.0, threads=1)
+    _check(nav, "NavigationResult", "ins, mems, calibrated_mems", "2 runs", "20 s")
+    partial = mn.experiments.partial_outage(
+        imus=("tactical",),
+        runs=1,
+        duration=40.0,
+        outage_start=20.0,
+        outage_length=10.0,
+        satellites=(0,),
+        loose=False,
+    )
+    _check(partial, "PartialOutageResult", "tight, 0 satellites", "1 runs")
+    study = mn.experiments.outage_study(
+        grades=("tactical",),
+        outage_lengths=(5.0,),
+        visible_satellites=(0,),
+        runs=2,
+        outage_start=20.0,
+        max_error_m=100.0,
+    )
+    _check(study, "OutageStudyResult", "1 grades", "2-2 runs per cell", "undecided")
+    _check(study.cell("tactical", 5.0, 0), "StudyCell", "'tactical', 5 s", "2 runs")
+    calibration = mn.experiments.calibration(parameter_sets=1, runs=2, duration=10.0)
+    _check(calibration, "CalibrationResult", "eiv", "2 runs", "accelerometer")
+    inversion = mn.experiments.inversion(runs=1, duration=5.0)
+    _check(inversion, "InversionResult", "1 runs", "100 Hz")
