@@ -1,6 +1,8 @@
 """Results print as what they are, in a line: the class, its sizes and its
 state, never a wall of arrays."""
 
+from pathlib import Path
+
 import memsnav as mn
 
 
@@ -38,3 +40,24 @@ def test_experiment_results_print_in_a_line():
     _check(calibration, "CalibrationResult", "eiv", "2 runs", "accelerometer")
     inversion = mn.experiments.inversion(runs=1, duration=5.0)
     _check(inversion, "InversionResult", "1 runs", "100 Hz")
+
+
+def test_filters_fixes_and_logs_print_in_a_line():
+    imu = mn.ImuModel.preset("tactical")
+    _check(mn.TightlyCoupledFilter(imu), "TightlyCoupledFilter", "100 Hz", "17 navigation")
+    _check(
+        mn.LooselyCoupledFilter(imu, scale_factor_states=True),
+        "LooselyCoupledFilter",
+        "23 navigation",
+        "scale factors",
+    )
+    fixes = mn.fixes_from_solution(
+        time=[0.0, 1.0, 2.0],
+        geodetic=[[0.76, 0.03, 100.0]] * 3,
+        std_ned=[[1.0, 1.0, 2.0]] * 3,
+    )
+    _check(fixes, "PositionFixes", "3 fixes", "0.000-2.000 s", "0 with velocity")
+    log = mn.read_gnsslogger(
+        Path(__file__).parent / "data" / "android-gnsslogger" / "pixel6_excerpt.txt"
+    )
+    _check(log, "GnssLoggerLog", "epochs", "warnings")

@@ -25,6 +25,23 @@ pub struct PyPositionFixes {
 #[catch_panics]
 #[pymethods]
 impl PyPositionFixes {
+    fn __repr__(&self) -> String {
+        let with_velocity = self
+            .fixes
+            .iter()
+            .filter(|f| f.velocity_ecef.is_some())
+            .count();
+        match (self.fixes.first(), self.fixes.last()) {
+            (Some(a), Some(b)) => format!(
+                "PositionFixes({} fixes, {:.3}-{:.3} s, {with_velocity} with velocity)",
+                self.fixes.len(),
+                a.time_s,
+                b.time_s
+            ),
+            _ => "PositionFixes(no fix)".to_string(),
+        }
+    }
+
     /// Fix times, s, (T,).
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {

@@ -236,6 +236,20 @@ impl PyFilterSolution {
 #[catch_panics]
 #[pymethods]
 impl PyFilterSolution {
+    fn __repr__(&self) -> String {
+        let t = &self.inner.time_s;
+        let span = match (t.first(), t.last()) {
+            (Some(a), Some(b)) => format!(", {a:.3}-{b:.3} s"),
+            _ => String::new(),
+        };
+        let smoothed = if self.smoothed.is_some() {
+            ", smoothed"
+        } else {
+            ""
+        };
+        format!("FilterSolution({} samples{span}{smoothed})", t.len())
+    }
+
     /// IMU sample times, s, (N,).
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -498,6 +512,17 @@ macro_rules! filter_class {
         #[catch_panics]
         #[pymethods]
         impl $rust {
+            fn __repr__(&self) -> String {
+                let s = &self.settings;
+                format!(
+                    "{}({} Hz IMU, {} navigation and IMU error states{})",
+                    $py,
+                    s.sample_rate_hz,
+                    Layout::size(s.scale_factor_states, false, false, false),
+                    if s.scale_factor_states { ", scale factors" } else { "" }
+                )
+            }
+
             #[new]
             #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, use_carrier_phase=false, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None, pseudorange_correlation_time=None))]
             fn new(

@@ -24,6 +24,20 @@ pub struct PyGnssLoggerLog {
 #[catch_panics]
 #[pymethods]
 impl PyGnssLoggerLog {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let epochs = self.observations.borrow(py).inner.epochs.len();
+        let skipped: usize = self.skipped.values().sum();
+        format!(
+            "GnssLoggerLog({epochs} epochs, {}, {skipped} records skipped, {} warnings)",
+            if self.imu.is_some() {
+                "with IMU"
+            } else {
+                "no IMU"
+            },
+            self.warnings.len()
+        )
+    }
+
     /// The ``Raw`` records as observations (the class ``read_rinex_obs``
     /// returns): per signal ``C`` pseudorange m, ``L`` carrier cycles
     /// (valid accumulated delta range only), ``D`` Doppler Hz, ``S`` C/N0

@@ -273,6 +273,26 @@ fn stats_dict<'py>(py: Python<'py>, s: &score::ErrorStats) -> PyResult<Bound<'py
 #[catch_panics]
 #[pymethods]
 impl PyLogRun {
+    fn __repr__(&self) -> String {
+        let t = &self.run.solution.time_s;
+        let span = match (t.first(), t.last()) {
+            (Some(a), Some(b)) => format!(", {a:.3}-{b:.3} s"),
+            _ => String::new(),
+        };
+        let used = self.run.gnss_used.iter().filter(|u| **u).count();
+        let smoothed = if self.smoothed.is_some() {
+            ", smoothed"
+        } else {
+            ""
+        };
+        format!(
+            "LogRun({} samples{span}, {used} of {} GNSS epochs used, {} outages{smoothed})",
+            t.len(),
+            self.run.gnss.len(),
+            self.run.outages.len()
+        )
+    }
+
     /// Times, s (GNSS time), (N,).
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
