@@ -53,7 +53,7 @@ def main() -> None:
     args = parser.parse_args()
     summary = _summary(args.summary)
     claims = evaluate_claims(summary)
-    sizes = "the paper's" if summary["full"] else "quick"
+    sizes = summary.get("sizes", "the paper's" if summary["full"] else "quick")
     lines = [
         BEGIN,
         "",

@@ -62,7 +62,7 @@ def _setup(report: Report, summary: dict[str, Any]) -> None:
     machine = summary["machine"]
     report.paragraph(
         f"memsnav {summary['memsnav_version']}, seed {summary['seed']}, "
-        f"{'the paper' if summary['full'] else 'quick'} Monte Carlo sizes: calibration "
+        f"Monte Carlo sizes ({summary['sizes']}): calibration "
         f"{runs['calibration']['parameter_sets']} parameter sets x "
         f"{runs['calibration']['runs_per_set']} runs, inversion {runs['inversion']} runs, "
         f"navigation {runs['navigation']} runs per scenario, partial outages "
