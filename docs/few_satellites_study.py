@@ -1,4 +1,4 @@
-"""The numbers of docs/few-satellites.md, rerunnable by anyone:
+"""The numbers of docs/explanation/few-satellites.md, rerunnable by anyone:
 ``python docs/few_satellites_study.py [--write]`` (about half a minute).
 
 - Paired Monte Carlo: the paper's MEMS through a 60 s window keeping 0-3
@@ -13,7 +13,7 @@
   seeds; with 3, also with an oven-controlled receiver clock.
 
 Prints the tables as Markdown; ``--write`` puts them into
-docs/few-satellites.md between its ``study`` markers.
+docs/explanation/few-satellites.md between its ``study`` markers.
 """
 
 from __future__ import annotations
@@ -233,7 +233,9 @@ def long_run_table() -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--write", action="store_true", help="update docs/few-satellites.md")
+    parser.add_argument(
+        "--write", action="store_true", help="update docs/explanation/few-satellites.md"
+    )
     args = parser.parse_args()
     text = (
         f"{BEGIN}\n\n**Paired outages** (paper MEMS, 60 s window from 150 s, 12 runs of "
@@ -246,7 +248,7 @@ def main() -> None:
     )
     print(text)
     if args.write:
-        page = ROOT / "docs" / "few-satellites.md"
+        page = ROOT / "docs" / "explanation" / "few-satellites.md"
         replace_block(page, BEGIN, END, text)
 
 

@@ -13,7 +13,7 @@ names an argument. A non-finite value is never accepted silently, except a
 NaN pseudorange or rate, which marks a satellite without a measurement.
 
 CI runs a fixed, derandomised budget; ``MEMSNAV_FUZZ_EXAMPLES=N`` raises it
-and draws new inputs each run (docs/robustness.md).
+and draws new inputs each run (docs/reference/robustness.md).
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """The tight filter with one, two or three satellites (issue 23;
-docs/few-satellites.md): keeping satellites never makes an outage worse,
+docs/explanation/few-satellites.md): keeping satellites never makes an outage worse,
 the covariance covers the errors through a total outage and over whole
 runs, and a long run on few satellites either stays inside its 3σ or is
 flagged, with a warning that says why. Each of these failed before issue

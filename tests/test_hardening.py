@@ -1,6 +1,6 @@
 """Issue 15: inputs that once killed, hung or panicked the interpreter, or
 were accepted as silent garbage, now fail up front with an error naming the
-argument (docs/robustness.md lists the limits)."""
+argument (docs/reference/robustness.md lists the limits)."""
 
 import os
 import re
@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import doc_text
 from test_navigate import DATA, DRIVE, WALK
 from test_navigate import _config as navigate_config
 
@@ -462,15 +463,17 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         # Issue 15 item 4: never a silent 1e9 m finish. Either the filter
         # recovers (resets to the later fixes) or it says it diverged.
         assert error < 100.0 and len(sol.resets["time"]) >= 1
-        # docs/robustness.md quotes how: "final error 2.4 m on the simulated
+        # docs/reference/robustness.md quotes how: "final error 2.4 m on the simulated
         # drive, one `position_to_fix` reset, no warning".
-        page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+        page = " ".join(doc_text("reference/robustness.md").split())
         quoted = re.search(
             r"\(final error ([\d.]+) m on the simulated drive, (one) `position_to_fix` reset, "
             r"(no) warning",
             page,
         )
-        assert quoted, "docs/robustness.md no longer quotes the recovery from a first fix off"
+        assert quoted, (
+            "docs/reference/robustness.md no longer quotes the recovery from a first fix off"
+        )
         assert abs(error - float(quoted.group(1))) <= 0.05, error
         assert list(sol.resets["kind"]) == ["position_to_fix"] and not caught
     else:
@@ -482,16 +485,16 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
 
 
 def test_the_failed_shares_the_guide_quotes(drive):
-    """docs/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
+    """docs/reference/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
     fixes 10⁹ m off after the first fail 51 %; a gyro in deg/s, 51 %"."""
     traj, gnss, imu, f, w, arrays = drive
-    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    page = " ".join(doc_text("reference/robustness.md").split())
     quoted = re.search(
         r"a clean loose run fails ([\d.]+) % \(tight ([\d.]+) %\); fixes 10⁹ m off after the "
         r"first fail (\d+) %; a gyro in deg/s, (\d+) %",
         page,
     )
-    assert quoted, "docs/robustness.md no longer quotes the failed shares"
+    assert quoted, "docs/reference/robustness.md no longer quotes the failed shares"
     bad = {k: v.copy() for k, v in arrays.items()}
     bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
     with warnings.catch_warnings():
@@ -795,11 +798,13 @@ def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
         sol = run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
     applied = "GNSS batches were applied although their NIS was beyond"
     assert any(applied in str(c.message) for c in caught)
-    # How far the outlier leaves the run, as docs/robustness.md quotes it
+    # How far the outlier leaves the run, as docs/reference/robustness.md quotes it
     # ("leaves the tight one 34 km and the loose one 36 km off at its end").
-    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    page = " ".join(doc_text("reference/robustness.md").split())
     quoted = re.search(r"leaves the tight one (\d+) km and the loose one (\d+) km off", page)
-    assert quoted, "docs/robustness.md no longer quotes how far the outlier leaves the run"
+    assert quoted, (
+        "docs/reference/robustness.md no longer quotes how far the outlier leaves the run"
+    )
     error_km = np.linalg.norm(sol.position_ecef[-1] - traj.position_ecef[-1]) / 1e3
     assert abs(error_km - float(quoted.group(1 if kind == "tight" else 2))) <= 0.5, error_km
     assert sol.diverged

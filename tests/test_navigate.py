@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from report_checks import capture_figures, hidden_by_bounds, page_problems
 
 import memsnav as mn
@@ -23,7 +24,7 @@ EX = DATA / "real-imu-gnss"
 
 # The drive excerpt: 65 s of a car, RTK fixes at 4 Hz, the data authors'
 # mounting and lever arms, the IMU latency and the RTK velocity's latency
-# behind its positions that the data give (docs/real-data.md, "Time").
+# behind its positions that the data give (docs/explanation/time-and-truth.md, "Time").
 DRIVE = """
 name = "drive_60s"
 output = "{out}"
@@ -147,9 +148,9 @@ def test_data_root_from_environment(tmp_path, monkeypatch):
 def test_every_engine_key_is_documented():
     keys = mn.navigate_settings()
     assert {"filter", "alignment", "standstill", "aids", "outages"} <= set(keys)
-    text = (Path(__file__).parents[1] / "docs" / "real-data.md").read_text()
+    text = doc_text(*NAVIGATE_GUIDE)
     missing = [f"{t}.{k}" for t, ks in keys.items() for k in ks if f"`{k}`" not in text]
-    assert not missing, f"docs/real-data.md does not mention {missing}"
+    assert not missing, f"the navigate guide does not mention {missing}"
 
 
 # --- the engine's defaults on real data -------------------------------------
@@ -323,6 +324,9 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
     np.testing.assert_allclose(back.velocity_ned[5], csv[k, 4:7], atol=1e-5)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["errors_vs_truth"] == result.summary["errors_vs_truth"]
+    reference = doc_text("reference/summary-json.md")
+    undocumented = [key for key in summary if f"`{key}`" not in reference]
+    assert not undocumented, f"docs/reference/summary-json.md does not list {undocumented}"
     html = (out / "report.html").read_text()
     assert 'id="track"' in html and 'id="errors"' in html and "outage 1 (30 s)" in html
     assert (out / "figures" / "errors.png").exists()
@@ -501,7 +505,7 @@ def test_paths_in_a_configuration_are_relative_to_it(tmp_path, monkeypatch):
     """``output`` and ``[imu] calibration`` resolve against the
     configuration's folder, whatever the working directory; the recordings,
     not beside it, against the data root; ``output=`` (``--output``) against
-    the working directory (docs/getting-started.md, "Paths in a
+    the working directory (docs/tutorials/first-session.md, "Paths in a
     configuration")."""
     from memsnav.calibration.file import ImuCalibration
 

@@ -269,7 +269,7 @@ def test_paper_claims_outage_drift_and_calibration():
     removes a large part of the MEMS drift (30 % in these 3 runs, 35-46 %
     over 10-run sets of three seeds since issue 23's filter, which takes
     the raw MEMS's misalignments for what they do: see the module docs and
-    docs/paper-comparison.md)."""
+    docs/results/paper-comparison.md)."""
     r = mn.experiments.navigation(
         outage=(40.0, 30.0), runs=3, duration=75.0, seed=0, calibration_duration=120.0
     )

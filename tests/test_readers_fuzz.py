@@ -7,7 +7,7 @@ relabelled with its name, is always that error (issue 30). What
 ``write_pos`` accepts, ``read_pos`` reads back.
 
 CI runs a fixed, derandomised budget; ``MEMSNAV_FUZZ_EXAMPLES=N`` raises it
-and draws new inputs each run (docs/robustness.md). The Rust suite
+and draws new inputs each run (docs/reference/robustness.md). The Rust suite
 (``crates/memsnav-core/tests/readers_fuzz.rs``) fuzzes the parsers
 themselves far faster; this one covers the bindings and the wrappers.
 """

@@ -141,7 +141,7 @@ def reproduce(
     experiment's completed runs and state, and the claims that need an
     incomplete experiment are ``not evaluated``. ``client``: a
     ``dask.distributed.Client`` to run every experiment on its cluster
-    (``docs/distributed.md``; the same numbers, ``threads`` unused).
+    (``docs/how-to/run-on-dask.md``; the same numbers, ``threads`` unused).
     """
     if runs is not None and runs <= 0:
         raise ValueError(f"runs: must be positive, got {runs}")

@@ -1,6 +1,6 @@
 //! Size and range limits checked up front at the public entry points, so
 //! that no argument can make memsnav allocate more than a machine holds,
-//! loop for ever or overflow a float (issue 15; `docs/robustness.md` lists
+//! loop for ever or overflow a float (issue 15; `docs/reference/robustness.md` lists
 //! them). Each check names the argument and gives the figure.
 
 use crate::{Error, Result};

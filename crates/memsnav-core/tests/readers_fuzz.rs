@@ -15,7 +15,7 @@
 //! RINEX writer and readers (what `memsnav convert` does).
 //!
 //! CI runs `MEMSNAV_FUZZ_CASES` inputs per reader and kind (default 256);
-//! maintainers raise it (`MEMSNAV_FUZZ_CASES=100000`, docs/robustness.md).
+//! maintainers raise it (`MEMSNAV_FUZZ_CASES=100000`, docs/reference/robustness.md).
 //! The files in `tests/data/regressions/` are replayed every time.
 
 use std::path::{Path, PathBuf};

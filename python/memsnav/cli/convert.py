@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 NAME = "convert"
-HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/real-data.md)"
+HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/how-to/convert-ublox.md)"
 DESCRIPTION = (
     "Read a u-blox UBX log (RXM-RAWX, RXM-SFRBX, NAV-PVT) and write its observations "
     "(every system and signal) and its decoded GPS LNAV, Galileo I/NAV and BeiDou D1 "

@@ -276,7 +276,7 @@ def outage_study(
     ``calibration_duration`` s and inverted). ``smooth``: also the
     fixed-interval smoothed solution (``summary(smoothed=True)``).
     ``client``/``chunk_runs``: run on a Dask cluster
-    (``docs/distributed.md``); the numbers do not change. ``progress(done,
+    (``docs/how-to/run-on-dask.md``); the numbers do not change. ``progress(done,
     total)`` counts runs over the whole study. Ctrl-C stops the study:
     the lengths done are kept, and the result covers the completed runs of
     the one interrupted (``interrupted=True``); later lengths are skipped.

@@ -202,7 +202,7 @@ def _claims(report: Report, summary: dict[str, Any]) -> None:
             + "</ul><p>The study behind these readings (pseudorange-only coupling, larger "
             "initial attitude errors, noisier GNSS, scale-factor states, no absorption of "
             "unmodelled errors, and the outage error budget) is in "
-            "<code>docs/paper-comparison.md</code> of the memsnav sources; its options are "
+            "<code>docs/results/paper-comparison.md</code> of the memsnav sources; its options are "
             "keywords of <code>mn.experiments.navigation</code>.</p>"
         )
 
@@ -292,7 +292,7 @@ def _why_little(summary: dict[str, Any], claim: dict[str, Any]) -> str:
         f"({v['mems_m']:.3g} m to {v['calibrated_mems_m']:.3g} m). Over 30 s the raw MEMS "
         "drift comes mostly from its 1e-2 misalignments, the gyro's turning the vehicle's "
         "yaw rate into tilt and so gravity into horizontal acceleration (error budget in "
-        "docs/paper-comparison.md), and calibration estimates the misalignments well"
+        "docs/results/paper-comparison.md), and calibration estimates the misalignments well"
     )
     cal = summary.get("calibration")
     if cal is not None and completed(summary, "calibration"):
@@ -569,7 +569,7 @@ def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, 
         "pseudoranges leave a direction of (position, clock) undetermined; with 3 high "
         "satellites that is mostly the height with the clock (the receiver's TCXO wanders by "
         "metres per minute), which only the INS's and the clock model's dynamics bound "
-        "(docs/few-satellites.md says what 1-3 satellites determine)."
+        "(docs/explanation/few-satellites.md says what 1-3 satellites determine)."
         + _incomplete_note(summary, "partial_outage")
     )
     labels = list(s["scenarios"])

@@ -23,7 +23,7 @@
 //!   there within minutes (kilometres across the lines of sight); from then
 //!   on no linearised filter keeps its covariance honest, and the innovations
 //!   cannot show it, since with so few satellites they see nothing of the
-//!   unobserved directions (docs/few-satellites.md).
+//!   unobserved directions (docs/explanation/few-satellites.md).
 //! - **Applied outliers**: a GNSS batch was applied although its NIS was
 //!   beyond the chi-square quantile of probability [`OUTLIER_PROBABILITY`]
 //!   (one consistent batch in 10⁹ gets there): with the gate off
@@ -164,7 +164,7 @@ impl IntegrityAlert {
                 time_s,
                 nonlinearity,
             } => format!(
-                "from t = {time_s:.1} s the position is too uncertain across the satellites' lines of sight for the filter's first-order pseudorange model: the expected curvature term was {nonlinearity:.2} of the measurement noise or more for {WINDOW_S:.0} s (limit {NONLINEARITY_LIMIT}); with this few satellites the innovations cannot show the errors in the unobserved directions, and the covariance no longer bounds them: the solution is not trustworthy (docs/few-satellites.md)"
+                "from t = {time_s:.1} s the position is too uncertain across the satellites' lines of sight for the filter's first-order pseudorange model: the expected curvature term was {nonlinearity:.2} of the measurement noise or more for {WINDOW_S:.0} s (limit {NONLINEARITY_LIMIT}); with this few satellites the innovations cannot show the errors in the unobserved directions, and the covariance no longer bounds them: the solution is not trustworthy (docs/explanation/few-satellites.md)"
             ),
             IntegrityAlert::AppliedOutliers {
                 kind,

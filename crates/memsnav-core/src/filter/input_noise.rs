@@ -33,7 +33,7 @@
 //! turn and 2 m/s² every second of the run), it adds nothing while the
 //! vehicle drives straight and the errors do not grow, and the full amount
 //! in a turn: on the paper's MEMS the typical-manoeuvre noise made the
-//! 60 s outage's 3-D σ ten times the error (docs/few-satellites.md).
+//! 60 s outage's 3-D σ ten times the error (docs/explanation/few-satellites.md).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -84,7 +84,7 @@ impl Default for InputErrorNoise {
 /// Default correlation time of a land vehicle's manoeuvres, s: a turn or
 /// an acceleration lasts some seconds: on six 600 s random trajectories
 /// the autocorrelation of the yaw rate falls to 1/e in 4-8 s, that of the
-/// horizontal specific force in 5-16 s (docs/few-satellites.md).
+/// horizontal specific force in 5-16 s (docs/explanation/few-satellites.md).
 pub const DEFAULT_MANOEUVRE_CORRELATION_TIME_S: f64 = 10.0;
 
 impl InputErrorNoise {
