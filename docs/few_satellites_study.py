@@ -2,14 +2,14 @@
 ``python docs/few_satellites_study.py [--write]`` (about half a minute).
 
 - Paired Monte Carlo: the paper's MEMS through a 60 s window keeping 0-3
-  of its 6 satellites (12 runs of 300 s, seed 3; issue 23's finding 1).
+  of its 6 satellites (12 runs of 300 s, seed 3).
 - The covariance through a 60 s total outage: Monte Carlo position NEES
   per degree of freedom at its end and over the run, three grades (16 runs).
 - The aided attitude: NEES per degree of freedom of tilt and heading for
   the manoeuvre correlation time of the input-shaped noise (10 runs of
   600 s, 6 satellites, exact start).
 - 900 s on 1-3 satellites: a consumer IMU on the k highest of 6 satellites
-  from the exact start (issue 23's finding 2, which kept the first k), eight
+  from the exact start (the first k kept), eight
   seeds; with 3, also with an oven-controlled receiver clock.
 
 Prints the tables as Markdown; ``--write`` puts them into

@@ -1,4 +1,4 @@
-"""Issue 30: hypothesis over the public numeric arguments of ``strapdown``,
+"""Hypothesis over the public numeric arguments of ``strapdown``,
 ``simulate_gnss``, ``solve_fix``, the sensor models, an IMU's spec (through
 the filter tuned from it), both filters and the step API (``RunningFilter``,
 every predict and update). Each

@@ -1,4 +1,4 @@
-"""One definition of every default (issue 26): ``memsnav.defaults()`` reads
+"""One definition of every default: ``memsnav.defaults()`` reads
 the core's ``Default``s and constants; every layer that takes one of those
 arguments (the binding's signature, the stub, the Python wrappers) says
 ``None`` for it, and ``None`` behaves exactly as the listed value given

@@ -1,4 +1,4 @@
-"""Resets that keep following each other (issue 29): a filter tuned for a
+"""Resets that keep following each other: a filter tuned for a
 far better IMU than the one it runs on (the tactical preset on a consumer
 part with 0.5 °/s gyro and 0.15 m/s² accelerometer biases) fails its fixes,
 resets position and velocity, and fails again at once: the attitude and the

@@ -1,4 +1,4 @@
-"""Time-correlated fix errors in loose coupling (issue 29): a receiver's
+"""Time-correlated fix errors in loose coupling: a receiver's
 standalone fixes err slowly, and a filter that takes their errors for white
 noise averages them and reports bounds below the fixes' own. With
 ``[gnss] fix_error_states`` the fixes' position error is a first-order

@@ -1,4 +1,4 @@
-"""The installation as filter states (issue 29): the antenna lever arm, the
+"""The installation as filter states: the antenna lever arm, the
 IMU time offset, the fixes' velocity latency and the mounting boresight
 (pitch, yaw), estimated from zero priors on simulated drives whose truth
 has them, and consistent with their σ."""
@@ -94,7 +94,7 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
 
 
 # Long and short lever arms, time offsets of either sign, 0.2 s latency,
-# mountings a few degrees off (issue 29's ranges).
+# mountings a few degrees off (the installation states' ranges).
 CASES = [
     (1, [-2.0, 0.3, -1.2], 0.04, np.radians([1.0, 2.0, -3.0])),
     (2, [-2.0, 0.3, -1.2], 0.04, np.radians([1.0, 2.0, -3.0])),

@@ -1,4 +1,4 @@
-"""Several systems in the tight filter (issue 24): GPS, Galileo and BeiDou
+"""Several systems in the tight filter: GPS, Galileo and BeiDou
 measurements from the walk's own u-blox log, the inter-system-bias states
 (simulated truth recovered; a filter without them refuses other systems),
 what ``measurements`` refuses, and the walk's figures per configuration

@@ -1,4 +1,4 @@
-"""``memsnav navigate`` (issue 11): the configuration, the core engine's
+"""``memsnav navigate``: the configuration, the core engine's
 defaults on real excerpts (tests/data/real-imu-gnss, BSD-3, LICENSE there),
 the outputs and the command line."""
 
@@ -158,7 +158,7 @@ def test_every_engine_key_is_documented():
 
 def test_defaults_follow_rtk_fixes_to_centimetres(tmp_path):
     """No [filter] or [alignment] table, RTK fixes at their full 4 Hz: the
-    filter converges and stays on them (the issue's bar: 0.1 m while aided)."""
+    filter converges and stays on them (the required bar: 0.1 m while aided)."""
     result = mn.navigate(_config(tmp_path), data_root=DATA)
     s = result.summary
     assert s["start"]["kind"] == "moving"
@@ -375,7 +375,7 @@ def test_report_answers_first_and_marks_what_its_figures_mean(tmp_path, monkeypa
 
 def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
     """The walk schedules no outage: its answer says so, and no caption or
-    statistics row mentions outages it does not have (issue 28: the walk's
+    statistics row mentions outages it does not have (the walk's
     caption named red outage shading)."""
     mn.navigate(_config(tmp_path, WALK), data_root=DATA, duration_s=20.0)
     html = (tmp_path / "out" / "report.html").read_text()
@@ -399,7 +399,7 @@ def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
 
 def test_the_scale_check_finds_errors_flattened_by_their_bounds():
     """What the reports' figure check catches: errors of 0.3 m under 3σ
-    bounds of 30 m on a linear axis (the navigate figure before issue 28),
+    bounds of 30 m on a linear axis (the navigate figure before the report rework),
     and not the same on a scale that shows both."""
     import matplotlib.pyplot as plt
 

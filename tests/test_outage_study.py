@@ -1,4 +1,4 @@
-"""The outage study (issue 16): which IMU grade is good enough through which
+"""The outage study: which IMU grade is good enough through which
 GNSS outage. Physics first: errors grow with the outage, better grades
 drift less, and a short free-inertial outage follows the analytic error
 budget (½ b t² from an accelerometer bias, g ω t³ / 6 from a gyro bias)."""

@@ -1,4 +1,4 @@
-"""Raw GNSS from anywhere, strictly (issue 25): ``GnssMeasurements`` from
+"""Raw GNSS from anywhere, strictly: ``GnssMeasurements`` from
 padded arrays and from long tables (CSV, dict, DataFrame), one strict
 converter for every entry point (unknown keys name what was meant, NaN
 refused naming the slot), the Android GnssLogger reader checked against

@@ -1,6 +1,6 @@
 """Sensor models against a direct numpy evaluation of method §2, the noise
 processes against their theoretical statistics, the presets against their
-published magnitudes, and every bad input of issue 2."""
+published magnitudes, and every bad input the models refuse."""
 
 import itertools
 import math

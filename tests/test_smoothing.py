@@ -1,5 +1,5 @@
-"""The fixed-interval smoother through the Python API and ``navigate``
-(issue 12); its equations are tested in Rust (filter/smoother.rs against the
+"""The fixed-interval smoother through the Python API and ``navigate``;
+its equations are tested in Rust (filter/smoother.rs against the
 batch solution of a linear model, tests/smoother.rs for consistency)."""
 
 from __future__ import annotations
@@ -185,7 +185,7 @@ def test_drive_0708_smoothed_sigma_as_the_page_quotes(tmp_path):
 
 
 def test_a_position_reset_does_not_cut_the_smoothed_outage_off():
-    """Issue 29: a position reset after an outage used to cut the smoother's
+    """A position reset after an outage used to cut the smoother's
     path back into the outage (its drift stayed, 98 m RMS against 110 m
     forward) and left tens of metres after it (22 m); the smoothed solution
     is now continuous across it. The reset's fix is also

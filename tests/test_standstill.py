@@ -1,4 +1,4 @@
-"""Standstills seen by the sensors in a GNSS outage (issue 29): a car that
+"""Standstills seen by the sensors in a GNSS outage: a car that
 stops while its solution coasts on. The IMU shows the quiet of a car at rest;
 the solution's speed, drifted metres per second away from zero, must not veto
 it when the filter's own velocity σ cannot tell that speed from zero."""

@@ -277,9 +277,9 @@ def test_the_example_configuration_is_valid():
 
 
 def test_the_full_xsens_session_meets_the_issue_figures(tmp_path, capsys, monkeypatch):
-    """Issue 13: |f| - g RMS <= 1.5 mm/s² and gravity-direction error <=
+    """The required figures: |f| - g RMS <= 1.5 mm/s² and gravity-direction error <=
     1.2° RMS, in the fit and on held-out poses (every 4th), against the
-    nominal scales. Issue 28: the figures of merit come first; the
+    nominal scales. The figures of merit come first; the
     example runs without a warning about itself; the report's figures show
     their data."""
     figures = capture_figures(monkeypatch)
@@ -431,7 +431,7 @@ def _split_table() -> dict[str, dict[str, list[str]]]:
 @pytest.mark.slow
 @pytest.mark.parametrize("split", ["every 4th pose", "first half, second half"])
 def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
-    """Issue 27: on poses the fit never saw, |f| - g RMS no worse than the
+    """On poses the fit never saw, |f| - g RMS no worse than the
     plain 9-parameter fit's, the gyro's gravity direction after the held-out
     turns within 0.2°, and the model AICc chose is the one of smallest AICc."""
     _, accel, _ = xsens
@@ -469,7 +469,7 @@ def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
             label,
             before[key],
         )
-    # Issue 13's limits still hold on the every-4th split.
+    # The required figures still hold on the every-4th split.
     if split == "every 4th pose":
         assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.5e-3
     # The rule: every admissible candidate's AICc from its fit, the
@@ -494,7 +494,7 @@ def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
 @pytest.mark.slow
 @pytest.mark.xfail(
     strict=True,
-    reason="issue 27 asks for 1.2 mm/s² on the second half; the first half's 18 poses give "
+    reason="the target is 1.2 mm/s² on the second half; the first half's 18 poses give "
     "1.88 (the plain fit the same): docs/how-to/calibrate-an-imu.md, 'Which terms to estimate'",
 )
 def test_xsens_first_half_fit_meets_the_issue_limit_on_the_second_half(xsens):

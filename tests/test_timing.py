@@ -1,4 +1,4 @@
-"""Finding time offsets from the data (issue 11): a simulated drive with a
+"""Finding time offsets from the data: a simulated drive with a
 known IMU offset and known velocity latencies, recovered through the Python
 faces; the drive excerpt's offsets against what the full log gives."""
 

@@ -1139,7 +1139,7 @@ def solve_fix(
     Earth's centre; later epochs start from the previous fix). Epochs with
     fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
 
-# --- trajectory (issue 4) ---
+# --- trajectory ---
 
 @final
 class Trajectory:
@@ -1219,7 +1219,7 @@ class Trajectory:
         """[roll, pitch, yaw] of the body relative to local NED, rad, (N, 3)."""
     def __len__(self) -> int: ...
 
-# --- ins (issue 4) ---
+# --- ins ---
 
 @final
 class NavSolution:
@@ -1917,7 +1917,7 @@ def navigation_experiment(
     its changes between epochs), ``cycle_slip_probability``: silent slips
     per satellite and epoch (None: 0)."""
 
-# --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
+# --- real data: RINEX observations and the coupled filters on logs ---
 
 @final
 class BroadcastEphemerides:

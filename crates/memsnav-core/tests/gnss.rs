@@ -630,7 +630,7 @@ fn predicted_range_matches_the_simulators_light_time() {
 }
 
 /// The rate's position gradient (the line of sight turning with the
-/// receiver, issue 23) against a central difference of the predicted rate,
+/// receiver) against a central difference of the predicted rate,
 /// for the satellites above a moving receiver: to what it leaves out, the
 /// light-time factor (1e-5 relative) and the Earth's turn during the light
 /// time's change with position (ω_ie |v_s| / c ≈ 1e-9 per metre).

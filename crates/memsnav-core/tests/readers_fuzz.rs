@@ -1,4 +1,4 @@
-//! Fuzzing the readers (issue 15): every reader, fed valid files with
+//! Fuzzing the readers: every reader, fed valid files with
 //! bytes flipped, lines cut, duplicated or dropped, numbers replaced by huge,
 //! negative or non-finite ones, and pure garbage, returns a result or an
 //! error in bounded time: never a panic, a hang (10 s per input), or a

@@ -110,9 +110,9 @@ fn resets_of(sol: &Solution, kind: ResetKind) -> Vec<&ResetRecord> {
 
 /// A 10-minute total outage: the consumer IMU coasts kilometres away; the
 /// tight filter's first epochs after it fail their test, it resets to the
-/// fix and is back to metres (final error < 20 m, the issue's bar; here it
+/// fix and is back to metres (final error < 20 m, the required bar; here it
 /// is a few metres). The loose filter's covariance has grown with the
-/// drift (issue 23: the unmodelled sensor errors as input-shaped noise,
+/// drift (the unmodelled sensor errors as input-shaped noise,
 /// the bias no longer forgotten), so its first fix passes the gate, with
 /// or without a reset; either way it is back within 10 m.
 #[test]
@@ -260,7 +260,7 @@ fn absurd_fixes_are_rejected_or_reset_from() {
 
 /// Two satellites for five minutes: tight coupling keeps using them (no
 /// fix is possible), its covariance covers the error meanwhile, and with
-/// six satellites back it returns to metre level. (Before issue 23 the
+/// six satellites back it returns to metre level. (Before the input-shaped noise the
 /// covariance did not cover the error, 1.4 km by the end of the window:
 /// docs/explanation/few-satellites.md.)
 #[test]

@@ -1146,7 +1146,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-// --- real receiver data (issue 8) ---
+// --- real receiver data ---
 
 impl PyGnssMeasurements {
     /// Measurements of a real receiver (the receiver clock unknown, NaN):

@@ -20,7 +20,7 @@ Filter tuning comes from each IMU's specification
 (``FilterTuning::from_imu_spec``): noise densities and bias processes;
 deterministic errors the 17 states lack (raw MEMS scale factor,
 misalignment, nonlinearity, g-sensitivity) are absorbed as inflated bias
-uncertainty and process noise shaped by the sensed motion (issue 23). The
+uncertainty and process noise shaped by the sensed motion. The
 calibrated MEMS is tuned from the calibration's own parameter
 uncertainties. Initial position, velocity and
 clock come from the least-squares fix of the first epoch; the initial

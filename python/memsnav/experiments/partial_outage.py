@@ -15,7 +15,7 @@ determined epoch by epoch: 3 pseudoranges leave one direction of
 (position, clock) open, which the filter can only bound through the
 dynamics of the INS and of the clock model. What k satellites determine,
 and why the filter's covariance covers its errors whatever k is, is in
-docs/explanation/few-satellites.md; every satellite kept lowers the error (issue 23).
+docs/explanation/few-satellites.md; every satellite kept lowers the error.
 """
 
 from __future__ import annotations

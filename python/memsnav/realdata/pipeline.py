@@ -129,7 +129,7 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
         # The file's own epochs, whatever their quality, each weighted by
         # the σ the file gives it: a receiver's standalone fixes (Q = 5)
         # are what many users have, and dropping them silently left runs
-        # without GNSS (issue 29).
+        # without GNSS.
         qualities, counts = np.unique(np.asarray(solution.quality), return_counts=True)
         used = ", ".join(
             f"Q = {q} ({_QUALITY_NAMES[int(q)]}) {n}"

@@ -546,7 +546,7 @@ def _navigation(report: Report, results: dict[str, Any], summary: dict[str, Any]
 
 #: The Monte Carlo position NEES per degree of freedom a covariance that
 #: describes its errors gives, within the spread of a few dozen runs and the
-#: white-noise stand-ins for correlated sensor errors (issue 23's criterion).
+#: white-noise stand-ins for correlated sensor errors (the few-satellite study's criterion).
 NEES_BAND = (0.25, 4.0)
 
 

@@ -1,5 +1,5 @@
-//! Time-differenced carrier phase (TDCP) in the tight filter (issue 24;
-//! Wendel, Meister & Trommer 2006; Soon et al. 2008, GPS Solutions 12).
+//! Time-differenced carrier phase (TDCP) in the tight filter
+//! (Wendel, Meister & Trommer 2006; Soon et al. 2008, GPS Solutions 12).
 //!
 //! A carrier range λφ holds an unknown constant per continuous lock (the
 //! ambiguity); its change between two consecutive epochs does not. That

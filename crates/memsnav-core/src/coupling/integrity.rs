@@ -1,4 +1,4 @@
-//! The integrity of a run (issue 23): whether the solution and its
+//! The integrity of a run: whether the solution and its
 //! covariance can be trusted, judged from what the filter itself recorded.
 //! Four signals, each an [`IntegrityAlert`] that marks the run diverged:
 //!
@@ -29,7 +29,7 @@
 //!   (one consistent batch in 10⁹ gets there): with the gate off
 //!   (`gate_probability = 1`) nothing else stops it, and a single 10⁹ m
 //!   fix or pseudorange used to move the solution by kilometres with no
-//!   word (issue 30). With the gate on, every applied batch is within a
+//!   word. With the gate on, every applied batch is within a
 //!   lower quantile and this never fires.
 
 use super::records::{BatchRecord, MeasurementKind, RunRecords};

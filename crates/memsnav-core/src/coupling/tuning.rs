@@ -577,7 +577,7 @@ impl BiasProcess {
     /// whole bias is that process; with a turn-on part larger than the
     /// instability it would tell the filter that its bias error fades by
     /// itself, and P of the bias would shrink to the instability's σ² within
-    /// a few τ with no measurement at all (issue 23: the consumer preset's
+    /// a few τ with no measurement at all (the consumer preset's
     /// 1 °/s turn-on bias "known" to 2 °/h after ten minutes, the tilt NEES
     /// twice its dof). Then the instability is taken as the random walk it
     /// is over times shorter than τ: no decay, PSD 2σ²/τ added to the

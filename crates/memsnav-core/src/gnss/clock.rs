@@ -18,7 +18,7 @@ use crate::{validate, Error, Result};
 
 /// Largest Allan-variance coefficient (h0, h−2) accepted: 10¹³ times a
 /// TCXO's. Its noise densities (c² h ≈ 9e16 h) times any step of a
-/// simulation stay finite (issue 30: h0 = 1e300 gave 360 NaN pseudoranges
+/// simulation stay finite (h0 = 1e300 gave 360 NaN pseudoranges
 /// of 366; huge values overflowed the clock's process noise).
 pub const MAX_ALLAN_COEFFICIENT: f64 = 1e-6;
 
