@@ -55,7 +55,7 @@ def main() -> None:
         "",
         "What `memsnav study` prints (the answer, for the forward filter):",
         "",
-        "```",
+        "```text",
         *answer_lines(summary),
         "```",
     ]

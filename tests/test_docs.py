@@ -87,3 +87,21 @@ def test_relative_links_resolve():
             if file and not re.match(r"^[a-z]+:", target) and not (page.parent / file).exists():
                 broken.append(f"{page.relative_to(ROOT)}: {target}")
     assert not broken, broken
+
+
+# A fenced block is Python that runs (test_examples_run), Python marked as
+# not runnable ("python no-run": a cluster, files outside the data root),
+# or not Python at all.
+FENCES = {"python", "python no-run", "sh", "bash", "text", "toml", "json"}
+
+
+def test_every_code_block_runs_or_is_marked():
+    unmarked = []
+    for page in PAGES:
+        inside = False
+        for number, line in enumerate(page.read_text().splitlines(), 1):
+            if line.startswith("```"):
+                if not inside and line[3:].strip() not in FENCES:
+                    unmarked.append(f"{page.relative_to(ROOT)}:{number}: {line}")
+                inside = not inside
+    assert not unmarked, unmarked
