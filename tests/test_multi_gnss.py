@@ -573,7 +573,7 @@ def _quoted_block(marker: str) -> dict[str, list[str]]:
 
 @pytest.mark.slow
 def test_the_code_correlation_table_is_the_runs(tmp_path):
-    """docs/reference/configuration.md, "Correlated code errors": precision per
+    """docs/how-to/multi-gnss.md, "Correlated code errors": precision per
     configuration and code correlation time, recomputed (τ = 0 is the
     main table's), and the prose's figures read from the table."""
     header = re.findall(r"τ = ([\d.]+) s", _docs_page().split("code-correlation-walk:begin")[1])

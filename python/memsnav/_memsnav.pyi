@@ -1551,7 +1551,7 @@ class TightlyCoupledFilter:
       errors (multipath), s (None: 0, white); each pseudorange's std is
       inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
       epoch interval dt, so that epochs sampling one error carry it once
-      (docs/reference/configuration.md, "Correlated code errors").
+      (docs/how-to/multi-gnss.md, "Correlated code errors").
 
     Raises ValueError naming the argument for a bad value.
     """
