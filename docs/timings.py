@@ -113,7 +113,7 @@ def main() -> None:
             "start"
             + (
                 " (other jobs shared the machine: the wall times are longer than on a quiet "
-                "one; the CPU times move less)."
+                "one, and the CPU times too when the worker threads wait for a core)."
                 if load > threads
                 else "."
             ),
