@@ -587,6 +587,8 @@ def test_the_guide_quotes_the_full_sessions_sigma_against_the_bound(tmp_path):
 # numbered from the rest (pose 0) as cal.poses lists them.
 
 PAGE = "docs/how-to/calibrate-an-imu.md"
+#: The detector, the model and the fit.
+EXPLANATION = "docs/explanation/calibration.md"
 
 
 def _rms(values: np.ndarray) -> float:
@@ -887,11 +889,15 @@ def test_the_guide_quotes_what_is_left_on_the_second_half(xsens, xsens_halves):
     assert rounds_to(pose_sd, 1e3 * sd[26]) and rounds_to(pose_z, abs(errors[26]) / sd[26])
     assert rounds_to(pose_parameters, 1e3 * np.sqrt(from_parameters[26]))
 
-    for pattern in (
-        r"the detector's factor \((\d+)-(\d+): ([\d.]+)-([\d.]+)\)",
-        r"factors (\d+) to (\d+) find 38 or 39 poses .*?; ([\d.]+)-([\d.]+) mm/s² on the halves\)",
+    for page, pattern in (
+        (PAGE, r"the detector's factor \((\d+)-(\d+): ([\d.]+)-([\d.]+)\)"),
+        (
+            EXPLANATION,
+            r"factors (\d+) to (\d+) find 38 or 39 poses .*?; ([\d.]+)-([\d.]+) mm/s² on the "
+            r"halves\)",
+        ),
     ):
-        first_factor, last_factor, low, high = quoted_figures(PAGE, pattern)
+        first_factor, last_factor, low, high = quoted_figures(page, pattern)
         held_out = []
         for factor in range(int(first_factor), int(last_factor) + 1):
             cal = _xsens_split(xsens, "first half, second half", threshold_factor=factor)
@@ -907,13 +913,13 @@ def test_the_guide_quotes_the_detector_factors(xsens):
     held-out one with the nonlinearity estimated), and how close factors
     4 to 10 stay to the default's figures, every 4th pose held out."""
     low_factor, poses, in_fit, held_out, with_n = quoted_figures(
-        PAGE,
+        EXPLANATION,
         r"a factor of (\d+) finds (\d+) poses, some still settling, which lower the in-fit "
         r"residual \(([\d.]+) mm/s²\) while the held-out one rises to ([\d.]+) mm/s² "
         r"\((\d+) when the nonlinearity was estimated\)",
     )
     first, last, magnitude_spread, turn_spread = quoted_figures(
-        PAGE,
+        EXPLANATION,
         r"factors (\d+) to (\d+) find 38 or 39 poses and the same figures to within "
         r"([\d.]+) mm/s² and ([\d.]+)°",
     )
