@@ -7,7 +7,7 @@
 //! - one run of the calibration experiment (300 s, both triads, LS + EIV + CRB);
 //! - Monte Carlo throughput with 1 and 2 threads: the calibration
 //!   experiment and the navigation experiment (the paper's three IMUs),
-//!   and the whole run (the raw MEMS IMU alone, 1 thread);
+//!   and the reference whole run (the raw MEMS IMU alone, 1 thread);
 //! - the simulator of the reference workload by part (600 s trajectory,
 //!   IMU errors, GNSS).
 

@@ -139,7 +139,7 @@ fn tight_run(c: &mut Criterion) {
     g.throughput(Throughput::Elements(sc.imu_epochs() as u64));
     g.bench_function("records_only", |b| b.iter(|| sc.run_records_only()));
     g.bench_function("solution", |b| b.iter(|| sc.run_solution()));
-    // Forward (recording for the smoother) and backward pass: issue 12 asks
+    // Forward (recording for the smoother) and backward pass: the target asks
     // that the smoother add at most twice the forward `solution` time.
     g.bench_function("solution_and_smoothed", |b| b.iter(|| sc.run_smoothed()));
     g.finish();

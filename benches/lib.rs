@@ -1,6 +1,6 @@
 //! Shared, seeded inputs of the memsnav-core benchmarks (run them with
 //! `cargo bench -p memsnav-benches`; commands and figures in
-//! `docs/performance.md`).
+//! `docs/results/performance.md`).
 //!
 //! Every input is drawn from a fixed seed, so two runs of a bench time the
 //! same arithmetic.

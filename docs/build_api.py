@@ -1,8 +1,8 @@
-"""Writes docs/api.md, the API reference, from the runtime docstrings
+"""Writes docs/reference/api.md, the API reference, from the runtime docstrings
 (``inspect.getdoc``) and signatures (``inspect.signature``, from PyO3's
 ``__text_signature__`` for the native module) of the installed memsnav
 package. Run ``python docs/build_api.py`` after changing a public name or
-docstring; a test checks that docs/api.md is current."""
+docstring; a test checks that docs/reference/api.md is current."""
 
 from __future__ import annotations
 
@@ -84,6 +84,6 @@ def render() -> str:
 
 
 if __name__ == "__main__":
-    target = Path(__file__).with_name("api.md")
+    target = Path(__file__).parent / "reference" / "api.md"
     target.write_text(render(), encoding="utf-8")
     print(f"wrote {target}", file=sys.stderr)

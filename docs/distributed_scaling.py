@@ -1,4 +1,4 @@
-"""The scaling measurement of docs/distributed.md: one navigation Monte Carlo
+"""The scaling measurement of docs/how-to/run-on-dask.md: one navigation Monte Carlo
 set run on local rayon threads and on process LocalClusters of 1 and 2
 workers (1 thread each), with wall time and the runs per second, and the
 check that every way gives the same numbers bit for bit.
@@ -6,7 +6,7 @@ check that every way gives the same numbers bit for bit.
     python docs/distributed_scaling.py [--runs 24] [--duration 300] [--write]
 
 ``--write`` keeps the measurements in ``docs/distributed_scaling.json`` and
-puts the table between docs/distributed.md's ``scaling`` markers; the table
+puts the table between docs/how-to/run-on-dask.md's ``scaling`` markers; the table
 is ``render`` of that record (tests/test_docs.py checks it).
 """
 
@@ -27,7 +27,7 @@ from marked_block import replace_block
 import memsnav as mn
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = ROOT / "docs" / "distributed.md"
+PAGE = ROOT / "docs" / "how-to" / "run-on-dask.md"
 RECORD = ROOT / "docs" / "distributed_scaling.json"
 BEGIN, END = "<!-- scaling:begin -->", "<!-- scaling:end -->"
 
@@ -117,7 +117,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=24)
     parser.add_argument("--duration", type=float, default=300.0)
-    parser.add_argument("--write", action="store_true", help="update docs/distributed.md")
+    parser.add_argument("--write", action="store_true", help="update docs/how-to/run-on-dask.md")
     args = parser.parse_args()
     sys.path.insert(0, str(ROOT / "docs"))
     from performance_tables import cpu_model

@@ -1,19 +1,19 @@
-"""The numbers of docs/few-satellites.md, rerunnable by anyone:
+"""The numbers of docs/explanation/few-satellites.md, rerunnable by anyone:
 ``python docs/few_satellites_study.py [--write]`` (about half a minute).
 
 - Paired Monte Carlo: the paper's MEMS through a 60 s window keeping 0-3
-  of its 6 satellites (12 runs of 300 s, seed 3; issue 23's finding 1).
+  of its 6 satellites (12 runs of 300 s, seed 3).
 - The covariance through a 60 s total outage: Monte Carlo position NEES
   per degree of freedom at its end and over the run, three grades (16 runs).
 - The aided attitude: NEES per degree of freedom of tilt and heading for
   the manoeuvre correlation time of the input-shaped noise (10 runs of
   600 s, 6 satellites, exact start).
 - 900 s on 1-3 satellites: a consumer IMU on the k highest of 6 satellites
-  from the exact start (issue 23's finding 2, which kept the first k), eight
+  from the exact start (the first k kept), eight
   seeds; with 3, also with an oven-controlled receiver clock.
 
 Prints the tables as Markdown; ``--write`` puts them into
-docs/few-satellites.md between its ``study`` markers.
+docs/explanation/few-satellites.md between its ``study`` markers.
 """
 
 from __future__ import annotations
@@ -233,7 +233,9 @@ def long_run_table() -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--write", action="store_true", help="update docs/few-satellites.md")
+    parser.add_argument(
+        "--write", action="store_true", help="update docs/explanation/few-satellites.md"
+    )
     args = parser.parse_args()
     text = (
         f"{BEGIN}\n\n**Paired outages** (paper MEMS, 60 s window from 150 s, 12 runs of "
@@ -246,7 +248,7 @@ def main() -> None:
     )
     print(text)
     if args.write:
-        page = ROOT / "docs" / "few-satellites.md"
+        page = ROOT / "docs" / "explanation" / "few-satellites.md"
         replace_block(page, BEGIN, END, text)
 
 

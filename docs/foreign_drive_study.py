@@ -1,4 +1,4 @@
-"""The foreign-drive study of docs/foreign-drive.md, rerunnable by anyone:
+"""The foreign-drive study of docs/results/foreign-drive.md, rerunnable by anyone:
 ``python docs/foreign_drive_study.py [--data-root DIR] [--write]``.
 
 ``examples/foreign_drive.toml`` (a VN-100 IMU, u-blox F9T standalone
@@ -21,7 +21,7 @@ the same epochs; the resets, whether the run diverged, what it learnt and
 the time it took.
 
 Prints the tables as Markdown; ``--write`` puts them into
-docs/foreign-drive.md between its ``study`` markers.
+docs/results/foreign-drive.md between its ``study`` markers.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ import memsnav as mn
 from memsnav.realdata.config import RunConfig
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = ROOT / "docs" / "foreign-drive.md"
+PAGE = ROOT / "docs" / "results" / "foreign-drive.md"
 BEGIN, END = "<!-- study:begin -->", "<!-- study:end -->"
 OUTAGE_LENGTHS_S = (30.0, 60.0)
 
@@ -51,7 +51,7 @@ OUTAGE_LENGTHS_S = (30.0, 60.0)
 #: noise density 140 µg/√Hz and in-run bias stability 40 µg; gyro noise
 #: density 0.0035 °/s/√Hz and in-run bias stability 10 °/h). The data
 #: sheet gives no correlation time: 100 s puts the Gauss-Markov process's
-#: Allan maximum at 189 s (docs/real-data.md, "[imu_spec]"), where a
+#: Allan maximum at 189 s (docs/reference/configuration.md, "[imu_spec]"), where a
 #: MEMS Allan curve typically flattens. The terms it leaves out come from
 #: the grade the log supports (imu_preset "auto").
 DATASHEET = {
@@ -191,7 +191,9 @@ def study(data_root: str | None) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data-root", default=None, help="the shared data folder")
-    parser.add_argument("--write", action="store_true", help="write into docs/foreign-drive.md")
+    parser.add_argument(
+        "--write", action="store_true", help="write into docs/results/foreign-drive.md"
+    )
     args = parser.parse_args()
     text = study(args.data_root)
     print(text)

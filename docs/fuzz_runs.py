@@ -1,4 +1,4 @@
-"""The fuzzing runs docs/robustness.md quotes, measured anew:
+"""The fuzzing runs docs/reference/robustness.md quotes, measured anew:
 ``python docs/fuzz_runs.py [--rust-cases N] [--python-examples N]
 [--api-examples N] [--write]``.
 
@@ -11,7 +11,7 @@ readers or entries that passed, read from the run's own report), the
 inputs and the times, with the machine and its load. A failing suite
 stops the script: a failure is fixed (and its input kept in
 ``tests/data/regressions/``), not documented. ``--write`` keeps the record
-in ``docs/fuzz_runs.json`` and puts the table between docs/robustness.md's
+in ``docs/fuzz_runs.json`` and puts the table between docs/reference/robustness.md's
 ``fuzz`` markers; the table is ``render`` of that record
 (tests/test_robustness_doc.py checks it).
 """
@@ -32,7 +32,7 @@ from performance_tables import cpu_model
 from timings import timed
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = ROOT / "docs" / "robustness.md"
+PAGE = ROOT / "docs" / "reference" / "robustness.md"
 RECORD = ROOT / "docs" / "fuzz_runs.json"
 BEGIN, END = "<!-- fuzz:begin -->", "<!-- fuzz:end -->"
 
@@ -159,7 +159,7 @@ def main() -> None:
     parser.add_argument(
         "--api-examples", type=int, default=defaults["numeric_api"], help="examples per API entry"
     )
-    parser.add_argument("--write", action="store_true", help="update docs/robustness.md")
+    parser.add_argument("--write", action="store_true", help="update docs/reference/robustness.md")
     parser.add_argument(
         "--from-record",
         action="store_true",

@@ -1,4 +1,4 @@
-"""The land-vehicle study of docs/outage-study.md, rerunnable by anyone:
+"""The land-vehicle study of docs/results/outage-study.md, rerunnable by anyone:
 ``python docs/outage_study_tables.py [--write]``.
 
 Runs ``examples/study_land_vehicle.toml`` as ``memsnav study`` does (into a
@@ -8,7 +8,7 @@ requirement, with the 95th percentile there and its 95 % confidence
 interval) and the tables of the report (median / p95 of the horizontal
 error at the outage end, the smoothed solution's p95 of its largest
 error in brackets), built by the same functions as the report.
-``--write`` puts them into docs/outage-study.md between its ``study``
+``--write`` puts them into docs/results/outage-study.md between its ``study``
 markers.
 """
 
@@ -33,7 +33,7 @@ BEGIN, END = "<!-- study:begin -->", "<!-- study:end -->"
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--write", action="store_true", help="update docs/outage-study.md")
+    parser.add_argument("--write", action="store_true", help="update docs/results/outage-study.md")
     args = parser.parse_args()
     load, threads = os.getloadavg()[0], worker_threads(None)
     with tempfile.TemporaryDirectory() as out:
@@ -55,7 +55,7 @@ def main() -> None:
         "",
         "What `memsnav study` prints (the answer, for the forward filter):",
         "",
-        "```",
+        "```text",
         *answer_lines(summary),
         "```",
     ]
@@ -74,7 +74,7 @@ def main() -> None:
     text = "\n".join([*parts, "", END])
     print(text)
     if args.write:
-        page = ROOT / "docs" / "outage-study.md"
+        page = ROOT / "docs" / "results" / "outage-study.md"
         replace_block(page, BEGIN, END, text)
 
 

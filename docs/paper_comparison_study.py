@@ -1,4 +1,4 @@
-"""The study behind ``docs/paper-comparison.md``: why two of the paper's
+"""The study behind ``docs/results/paper-comparison.md``: why two of the paper's
 navigation claims do not reproduce with our defaults, and which settings
 change that. Run ``python docs/paper_comparison_study.py [runs] [threads]``
 (20 runs: about a minute on two cores); it prints the Markdown tables of

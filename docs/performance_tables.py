@@ -1,4 +1,4 @@
-"""The current figures of docs/performance.md, measured anew:
+"""The current figures of docs/results/performance.md, measured anew:
 ``python docs/performance_tables.py [--from-existing] [--write]``.
 
 Runs the criterion suites (``cargo bench -p memsnav-benches --bench
@@ -11,7 +11,7 @@ benchmark's figures, and each target beside the figure it is about.
 ``--from-existing`` runs nothing: it reads criterion's last results
 (``target/criterion/**/new/``) and the last ``target/bench_tight.json``.
 ``--write`` keeps the measurements in ``docs/performance.json`` and puts
-the block between docs/performance.md's ``performance`` markers; the block
+the block between docs/results/performance.md's ``performance`` markers; the block
 is ``render`` of that record (tests/test_performance_doc.py checks it).
 """
 
@@ -31,7 +31,7 @@ from typing import Any
 from marked_block import replace_block
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = ROOT / "docs" / "performance.md"
+PAGE = ROOT / "docs" / "results" / "performance.md"
 RECORD = ROOT / "docs" / "performance.json"
 CRITERION = ROOT / "target" / "criterion"
 PYTHON_RESULTS = ROOT / "target" / "bench_tight.json"
@@ -387,7 +387,7 @@ def main() -> None:
         help="run no benchmark: read the last criterion and bench_tight.py results",
     )
     parser.add_argument(
-        "--write", action="store_true", help="update docs/performance.md and its record"
+        "--write", action="store_true", help="update docs/results/performance.md and its record"
     )
     args = parser.parse_args()
     if not args.from_existing:

@@ -1,4 +1,4 @@
-"""The real-data benchmark of docs/real-data.md, rerunnable by anyone:
+"""The real-data benchmark of docs/tutorials/navigate-a-log.md, rerunnable by anyone:
 ``python docs/real_data_benchmark.py [--data-root DIR] [--write]``.
 
 - drive_0708 (``examples/drive_0708.toml``: loose coupling on the 4 Hz RTK
@@ -16,7 +16,7 @@
   by precision (each less its own mean offset: the truth sits ~8 m off).
   Then the same with 3, 2 or 1 satellites kept in two 30 s windows.
 
-Prints the tables as Markdown; ``--write`` puts them into docs/real-data.md
+Prints the tables as Markdown; ``--write`` puts them into docs/tutorials/navigate-a-log.md
 between its ``benchmark`` markers.
 """
 
@@ -238,7 +238,7 @@ def walk_withheld_table(data_root: str | None) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data-root", default=None, help="folder holding real-imu-gnss/")
-    parser.add_argument("--write", action="store_true", help="update docs/real-data.md")
+    parser.add_argument("--write", action="store_true", help="update docs/results/against-rtk.md")
     args = parser.parse_args()
     drive, each = drive_table(args.data_root)
     text = (
@@ -254,7 +254,7 @@ def main() -> None:
     )
     print(text)
     if args.write:
-        page = ROOT / "docs" / "real-data.md"
+        page = ROOT / "docs" / "results" / "against-rtk.md"
         replace_block(page, BEGIN, END, text)
 
 

@@ -2,10 +2,11 @@
 that no table overflows the page and every figure reads:
 ``python docs/screenshots.py REPORT.html [...] [--out DIR] [--width 1400]``.
 
-Each report is drawn by headless Chromium (``apt-get install chromium``;
-``--chromium`` names another binary, e.g. ``google-chrome``) in a window
-``--width`` pixels wide and tall enough for the whole page, then cut at the
-end of the page and into PNG pages of at most ``--page-height`` pixels
+Each report is drawn by headless Chromium (on Debian:
+``sudo apt-get update && sudo apt-get install -y chromium``; ``--chromium``
+names another binary, e.g. ``google-chrome``) in a window ``--width``
+pixels wide and tall enough for the whole page, then cut at the end of
+the page and into PNG pages of at most ``--page-height`` pixels
 (``<report>-0.png``, ``<report>-1.png``, ...) that an image viewer shows at
 full size. The window is wider than the page's text column (60 rem): a
 table or figure wider than that column runs past its right edge, which the
@@ -67,7 +68,10 @@ def main() -> None:
     parser.add_argument("--chromium", default="chromium", help="the Chromium binary")
     args = parser.parse_args()
     if shutil.which(args.chromium) is None:
-        parser.error(f"{args.chromium}: not found (apt-get install chromium, or --chromium)")
+        parser.error(
+            f"{args.chromium}: not found (sudo apt-get update && sudo apt-get install -y "
+            "chromium, or --chromium)"
+        )
     args.out.mkdir(parents=True, exist_ok=True)
     for report in args.reports:
         for page in shoot(report, args.out, args.chromium, args.width, args.page_height):

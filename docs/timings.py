@@ -1,8 +1,8 @@
 """The run times the README quotes, measured anew:
 ``python docs/timings.py [--tests] [--write]``.
 
-Times ``memsnav reproduce`` with its quick and its full (the paper's)
-Monte Carlo sizes, each in a temporary folder, on every core this process
+Times ``memsnav reproduce`` with its quick and (unless ``--no-full``) its
+full (the paper's) Monte Carlo sizes, each in a temporary folder, on every core this process
 may use: wall time and CPU time (the children's user + system), with the
 machine and its load average when measured (other jobs on the machine
 lengthen the wall time). ``--tests`` also times both test tiers
@@ -54,12 +54,12 @@ def sizes(s: Sizes) -> str:
     )
 
 
-def reproduce_rows() -> list[str]:
+def reproduce_rows(full: bool = True) -> list[str]:
     rows = []
-    for label, flags, s in (
-        ("`memsnav reproduce` (quick)", [], QUICK),
-        ("`memsnav reproduce --full` (the paper's)", ["--full"], FULL),
-    ):
+    runs = [("`memsnav reproduce` (quick)", [], QUICK)]
+    if full:
+        runs.append(("`memsnav reproduce --full` (the paper's)", ["--full"], FULL))
+    for label, flags, s in runs:
         with tempfile.TemporaryDirectory() as out:
             command = [sys.executable, "-m", "memsnav", "reproduce", "--quiet", "--out", out]
             wall, cpu, _ = timed(command + flags)
@@ -91,11 +91,14 @@ def cpu_model() -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tests", action="store_true", help="also time the test tiers")
+    parser.add_argument(
+        "--no-full", action="store_true", help="time the quick run only, not --full"
+    )
     parser.add_argument("--write", action="store_true", help="update README.md")
     args = parser.parse_args()
     load = os.getloadavg()[0]
     threads = worker_threads(None)
-    rows = reproduce_rows() + (test_rows() if args.tests else [])
+    rows = reproduce_rows(full=not args.no_full) + (test_rows() if args.tests else [])
     machine = cpu_model()
     text = "\n".join(
         [
@@ -110,7 +113,7 @@ def main() -> None:
             "start"
             + (
                 " (other jobs shared the machine: the wall times are longer than on a quiet "
-                "one; the CPU times move less)."
+                "one, and the CPU times too when the worker threads wait for a core)."
                 if load > threads
                 else "."
             ),

@@ -1,4 +1,4 @@
-"""The verdicts table of docs/paper-comparison.md, rerunnable by anyone:
+"""The verdicts table of docs/results/paper-comparison.md, rerunnable by anyone:
 ``python docs/verdicts_table.py [--summary results/summary.json] [--write]``.
 
 Judges the paper's claims (``memsnav.report.claims``) on the
@@ -7,7 +7,7 @@ quick run with seed 0 made here (a few minutes). Prints each claim's
 title, the paper's statement, memsnav's figure and the verdict, then each
 criterion as the report prints it and the errors-in-variables
 calibration's efficiency range; ``--write`` puts them into
-docs/paper-comparison.md between its ``verdicts`` markers.
+docs/results/paper-comparison.md between its ``verdicts`` markers.
 """
 
 from __future__ import annotations
@@ -49,11 +49,13 @@ def _efficiency(summary: dict[str, Any]) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--summary", type=Path, help="summary.json of a reproduce run")
-    parser.add_argument("--write", action="store_true", help="update docs/paper-comparison.md")
+    parser.add_argument(
+        "--write", action="store_true", help="update docs/results/paper-comparison.md"
+    )
     args = parser.parse_args()
     summary = _summary(args.summary)
     claims = evaluate_claims(summary)
-    sizes = "the paper's" if summary["full"] else "quick"
+    sizes = summary.get("sizes", "the paper's" if summary["full"] else "quick")
     lines = [
         BEGIN,
         "",
@@ -80,7 +82,7 @@ def main() -> None:
     text = "\n".join(lines)
     print(text)
     if args.write:
-        page = ROOT / "docs" / "paper-comparison.md"
+        page = ROOT / "docs" / "results" / "paper-comparison.md"
         replace_block(page, BEGIN, END, text)
 
 

@@ -1,5 +1,5 @@
 """The figures a docs page quotes, read from the page so that a test
-compares them with what it computed (issue 28: every quoted figure is
+compares them with what it computed (every quoted figure is
 generated or checked); the Python side of crates/memsnav-core/tests/quoted."""
 
 import re

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 
 import memsnav as mn
 
@@ -220,14 +221,14 @@ def test_imu_spec_from_the_static_start_of_drive_0708(drive_0708_start):
 
 
 def _quoted_in_real_data(pattern: str) -> tuple[str, ...]:
-    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     found = re.search(pattern, page)
-    assert found, f"docs/real-data.md no longer quotes {pattern!r}"
+    assert found, f"the navigate guide no longer quotes {pattern!r}"
     return found.groups()
 
 
 def test_the_guide_quotes_the_static_start_spec(drive_0708_start):
-    """docs/real-data.md: "only the white noise, 664 µg/√Hz and 1.95 °/√h
+    """the navigate guide: "only the white noise, 664 µg/√Hz and 1.95 °/√h
     (3.8 and 2.3 times the BMI088-class preset's 175 µg/√Hz and 0.84 °/√h".
     """
     spec = drive_0708_start[3]
@@ -248,7 +249,7 @@ def test_the_guide_quotes_the_static_start_spec(drive_0708_start):
 
 
 def test_the_guide_quotes_the_drive_with_the_static_start_spec(drive_0708_start):
-    """docs/real-data.md's table of drive_0708 through the published
+    """the navigate guide's table of drive_0708 through the published
     filter's outage windows with the preset and with the Allan spec (the
     preset columns are the benchmark's; the Allan ones a fresh run, ~3 s)."""
     import real_data_benchmark
@@ -260,7 +261,7 @@ def test_the_guide_quotes_the_drive_with_the_static_start_spec(drive_0708_start)
     # chooses for this log by itself).
     allan.engine.setdefault("filter", {})["imu_preset"] = "consumer"
     runs = real_data_benchmark.peer_window_runs(allan)
-    page = (Path(__file__).parents[1] / "docs" / "real-data.md").read_text()
+    page = doc_text(*NAVIGATE_GUIDE)
     benchmark = page[page.index("<!-- benchmark:begin -->") :]
     for length, (summary, _) in runs.items():
         row = re.search(

@@ -1,4 +1,4 @@
-"""Issue 30: hypothesis over the public numeric arguments of ``strapdown``,
+"""Hypothesis over the public numeric arguments of ``strapdown``,
 ``simulate_gnss``, ``solve_fix``, the sensor models, an IMU's spec (through
 the filter tuned from it), both filters and the step API (``RunningFilter``,
 every predict and update). Each
@@ -13,7 +13,7 @@ names an argument. A non-finite value is never accepted silently, except a
 NaN pseudorange or rate, which marks a satellite without a measurement.
 
 CI runs a fixed, derandomised budget; ``MEMSNAV_FUZZ_EXAMPLES=N`` raises it
-and draws new inputs each run (docs/robustness.md).
+and draws new inputs each run (docs/reference/robustness.md).
 """
 
 from __future__ import annotations

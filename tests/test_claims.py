@@ -217,7 +217,7 @@ def test_calibration_verdicts_follow_their_criteria_axis_by_axis():
 
 
 def test_gyro_biases_worse_than_no_estimate_do_not_hold():
-    """The finding of issue 28: gyro bias normalised RMS 1.7, 1.8, 1.7 on
+    """A finding of the report review: gyro bias normalised RMS 1.7, 1.8, 1.7 on
     p, q, r (worse than not estimating them) read "partly" because the
     misalignments passed; no axis passes for both, so it does not hold."""
     rms = {("gyroscope", "bias", a): v for a, v in zip("pqr", (1.7, 1.8, 1.7), strict=True)}

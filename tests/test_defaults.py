@@ -1,4 +1,4 @@
-"""One definition of every default (issue 26): ``memsnav.defaults()`` reads
+"""One definition of every default: ``memsnav.defaults()`` reads
 the core's ``Default``s and constants; every layer that takes one of those
 arguments (the binding's signature, the stub, the Python wrappers) says
 ``None`` for it, and ``None`` behaves exactly as the listed value given
@@ -145,7 +145,7 @@ def test_the_navigation_study_records_the_listed_defaults():
 
 
 def test_seed_none_is_the_default_seed_everywhere():
-    """``seed=None`` has one meaning: seed 0 (docs/concepts.md, "Seeds")."""
+    """``seed=None`` has one meaning: seed 0 (docs/explanation/concepts.md, "Seeds")."""
     tr = mn.Trajectory.random(duration=5.0)
     np.testing.assert_array_equal(tr.position_ecef, mn.Trajectory.random(5.0, seed=0).position_ecef)
     sky = mn.Constellation.walker()

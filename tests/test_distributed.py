@@ -1,4 +1,4 @@
-"""Monte Carlo on Dask (issue 16): chunks of runs on the workers of a
+"""Monte Carlo on Dask: chunks of runs on the workers of a
 process LocalCluster fold to the numbers of local threads bit for bit,
 whatever the chunk size; Ctrl-C keeps the completed chunks; a worker
 killed mid-run is replaced and its chunks recomputed, with the same

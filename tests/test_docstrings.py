@@ -1,5 +1,5 @@
 """Every public name of memsnav documents itself at runtime: ``help()`` and
-docs/api.md (``docs/build_api.py``) read ``__doc__``, so a class, attribute,
+docs/reference/api.md (``docs/build_api.py``) read ``__doc__``, so a class, attribute,
 method or function without one is a hole in both. The names are found by
 walking the package, not listed by hand, so a new getter without a doc
 comment fails here."""

@@ -1,4 +1,4 @@
-"""The paper's GNSS-reference calibration on a drive (docs/calibration.md,
+"""The paper's GNSS-reference calibration on a drive (docs/how-to/calibrate-an-imu.md,
 "A drive"): the core's window references against an error-free simulated
 IMU, recovery of known sensor errors within the reported σ, the
 ``calibrate`` drive session on drive_0708 end to end, ``[imu] calibration``
@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import CALIBRATION_GUIDE, doc_text
 from report_checks import capture_figures, page_problems
 from shared_data import shared_data
 
@@ -24,7 +25,7 @@ from memsnav.cli import main
 HERE = Path(__file__).resolve().parent
 EXAMPLES = HERE.parent / "examples"
 # A simulated IMU does not vibrate, so the IMU standstill test cannot tell
-# rest from smooth driving (docs/real-data.md): the simulations run
+# rest from smooth driving (the navigate guide): the simulations run
 # without ZUPT and ZARU, as a vehicle with a vibration-free IMU must.
 NO_STANDSTILL = {"aids": {"zupt": False, "zaru": False}}
 
@@ -140,17 +141,17 @@ def test_drive_calibration_recovers_known_errors_within_sigma():
         )
         z_scale += list((cal.gyroscope.model.scale_factor[2:] - g_scale[2:]) / sg.scale_factor[2:])
     z_bias, z_scale = np.array(z_bias), np.array(z_scale)
-    # Measured (docs/calibration.md): the horizontal accelerometer and the
+    # Measured (docs/how-to/calibrate-an-imu.md): the horizontal accelerometer and the
     # gyro biases and these scale factors are within their σ (mean z² ≈ 1-2);
     # the vertical accelerometer bias's σ is optimistic (|z| up to ~7): it
     # shares the vertical axis with the scale factor and nonlinearity.
     assert np.abs(z_bias).max() < 4.0, z_bias
     assert np.mean(z_bias**2) < 3.0, z_bias
-    # docs/few-satellites.md: "its bias z-scores went back to a mean z² of
+    # docs/explanation/few-satellites.md: "its bias z-scores went back to a mean z² of
     # 0.7" (these biases, these three seeds).
-    page = " ".join((HERE.parent / "docs" / "few-satellites.md").read_text().split())
+    page = " ".join(doc_text("explanation/few-satellites.md").split())
     quoted = re.search(r"bias z-scores went back to a mean z² of (\d+(?:\.\d+)?)", page)
-    assert quoted, "docs/few-satellites.md no longer quotes the bias z-scores"
+    assert quoted, "docs/explanation/few-satellites.md no longer quotes the bias z-scores"
     assert abs(np.mean(z_bias**2) - float(quoted.group(1))) <= 0.05, np.mean(z_bias**2)
     assert np.abs(z_scale).max() < 4.0, z_scale
     assert np.abs(z_vertical).max() < 10.0, z_vertical
@@ -241,19 +242,19 @@ def test_readme_quotes_the_drive_calibration(drive_run):
 
 @pytest.mark.slow
 def test_the_guide_quotes_the_drive_calibration(drive_run):
-    """docs/calibration.md's table of the outages raw and calibrated
+    """docs/how-to/calibrate-an-imu.md's table of the outages raw and calibrated
     (RMS / max, forward and smoothed) and its range over the calibrations
     drawn from the covariance, each within its rounding."""
     _, out = drive_run
     nav = json.loads((out / "calibration.json").read_text())["fit"]["navigation"]
-    page = (HERE.parent / "docs" / "calibration.md").read_text()
+    page = doc_text(*CALIBRATION_GUIDE)
     for label, key in (
         ("after the calibration span (6, never seen by the fit)", "after_fit"),
         ("inside the span (5)", "in_fit"),
         ("the first one (at 35.5 s)", "first"),
     ):
         row = re.search(rf"^\| {re.escape(label)} \|(.*)$", page, re.M)
-        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        assert row, f"docs/how-to/calibrate-an-imu.md no longer has the row {label!r}"
         quoted = [tuple(map(float, c.split(" / "))) for c in row.group(1).strip(" |").split(" | ")]
         runs = [
             nav[imu][view][key] for view in ("forward", "smoothed") for imu in ("raw", "calibrated")
@@ -268,7 +269,7 @@ def test_the_guide_quotes_the_drive_calibration(drive_run):
         r"above the raw ([\d.]+) m\) and the smoothed ([\d.]+)-([\d.]+) m",
         text,
     )
-    assert spread, "docs/calibration.md no longer quotes the drawn calibrations"
+    assert spread, "docs/how-to/calibrate-an-imu.md no longer quotes the drawn calibrations"
     forward = [d["forward"]["after_fit"]["rms_horizontal_m"] for d in nav["draws"]]
     smoothed = [d["smoothed"]["after_fit"]["rms_horizontal_m"] for d in nav["draws"]]
     raw = nav["raw"]["forward"]["after_fit"]["rms_horizontal_m"]
@@ -290,7 +291,7 @@ def test_drive_session_end_to_end(drive_run):
     cal = mn.load_calibration(out / "calibration.json")
     assert cal.identity_nominal
     # The z gyro's bias: the in-run estimate of the drive is about 0.17 °/s
-    # in magnitude (docs/real-data.md); the calibration finds it within 0.05.
+    # in magnitude (the navigate guide); the calibration finds it within 0.05.
     assert 0.10 < abs(np.degrees(cal.gyroscope.bias[2])) < 0.22
     assert np.all(np.asarray(cal.gyroscope_std.bias) > 0)
     nav = raw["fit"]["navigation"]
@@ -301,7 +302,7 @@ def test_drive_session_end_to_end(drive_run):
     # calibration's effect, gain or loss, is within what its own
     # uncertainty explains (the raw run and the calibrated one both inside
     # the range of ten calibrations drawn from its covariance; since issue
-    # 29 the raw filter leaves it nothing to gain: docs/calibration.md).
+    # 29 the raw filter leaves it nothing to gain: docs/how-to/calibrate-an-imu.md).
     drawn = [d["forward"]["after_fit"]["rms_horizontal_m"] for d in nav["draws"]]
     assert len(drawn) == 10
     assert min(drawn) < cal_after["rms_horizontal_m"] < max(drawn)
@@ -388,20 +389,20 @@ def test_drive_configuration_errors(tmp_path):
 
 @pytest.mark.slow
 def test_the_guide_quotes_the_drive_calibrations_parameters(drive_run):
-    """docs/calibration.md's "Result on drive_0708": the windows fitted and
+    """docs/how-to/calibrate-an-imu.md's "Result on drive_0708": the windows fitted and
     left out, the table of biases and scale factors with their σ (three
     decimals; "held" where the fit holds the term), the x accelerometer
     scale factor in per cent and the accelerometer fit's condition number."""
     _, out = drive_run
     raw = json.loads((out / "calibration.json").read_text())
     fit = raw["fit"]
-    text = " ".join((HERE.parent / "docs" / "calibration.md").read_text().split())
+    text = " ".join(doc_text(*CALIBRATION_GUIDE).split())
     windows = re.search(
         r"`examples/drive_0708_calibration.toml`: (\d+) windows of ([\d.]+) s from the first "
         r"(\d+) s \((\d+) before the heading is known and (\d+) around resets left out\)",
         text,
     )
-    assert windows, "docs/calibration.md no longer quotes the drive's windows"
+    assert windows, "docs/how-to/calibrate-an-imu.md no longer quotes the drive's windows"
     assert [float(v) for v in windows.groups()] == [
         fit["windows"],
         round(fit["window_s"], 2),
@@ -409,7 +410,7 @@ def test_the_guide_quotes_the_drive_calibrations_parameters(drive_run):
         fit["skipped_before_heading"],
         fit["skipped_for_resets"],
     ]
-    page = (HERE.parent / "docs" / "calibration.md").read_text()
+    page = doc_text(*CALIBRATION_GUIDE)
     page = page[page.index("`examples/drive_0708_calibration.toml`: ") :]  # not the static table
     for label, sensor, term, scale in (
         ("accelerometer bias, m/s²", "accelerometer", "bias", 1.0),
@@ -418,7 +419,7 @@ def test_the_guide_quotes_the_drive_calibrations_parameters(drive_run):
         ("gyro scale factor", "gyroscope", "scale_factor", 1.0),
     ):
         row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.M)
-        assert row, f"docs/calibration.md no longer has the row {label!r}"
+        assert row, f"docs/how-to/calibrate-an-imu.md no longer has the row {label!r}"
         cells = [c.strip().replace("−", "-") for c in row.group(1).split("|")]
         for cell, value, sigma in zip(
             cells, raw[sensor][term], raw[f"{sensor}_std"][term], strict=True
@@ -430,14 +431,12 @@ def test_the_guide_quotes_the_drive_calibrations_parameters(drive_run):
             assert abs(value * scale - quoted) <= 0.0005 + 1e-12, (label, value * scale, cell)
             assert abs(sigma * scale - quoted_sigma) <= 0.0005 + 1e-12, (label, sigma, cell)
     x_scale, x_sigma = re.search(
-        r"with today's references it is ([−\d.]+) ± ([\d.]+) %", text
+        r"The x accelerometer scale factor is ([−\d.]+) ± ([\d.]+) %", text
     ).groups()
     assert (
         abs(100 * raw["accelerometer"]["scale_factor"][0] - float(x_scale.replace("−", "-")))
         <= 0.05
     )
     assert abs(100 * raw["accelerometer_std"]["scale_factor"][0] - float(x_sigma)) <= 0.05
-    (condition,) = re.search(
-        r"today's fit is back at a condition number of ([\d.]+)", text
-    ).groups()
+    (condition,) = re.search(r"The accelerometer fit's condition number is ([\d.]+)", text).groups()
     assert all(abs(c - float(condition)) <= 0.05 for c in fit["condition_number"]["accelerometer"])

@@ -1,4 +1,4 @@
-"""Resets that keep following each other (issue 29): a filter tuned for a
+"""Resets that keep following each other: a filter tuned for a
 far better IMU than the one it runs on (the tactical preset on a consumer
 part with 0.5 °/s gyro and 0.15 m/s² accelerometer biases) fails its fixes,
 resets position and velocity, and fails again at once: the attitude and the
@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 
 import memsnav as mn
 
@@ -70,7 +71,7 @@ def test_resets_in_a_row_fade_the_covariance_and_the_filter_recovers(seed):
     assert faded["in_outages"]["max_horizontal_m"] < 25.0
     # The tuning is still too optimistic, and the integrity check says so.
     assert any("inconsistent" in str(w.message) for w in faded_warnings)
-    # docs/real-data.md quotes both seeds: "850 resets and 1.5-1.9 km in
+    # the navigate guide quotes both seeds: "850 resets and 1.5-1.9 km in
     # 30 s outages without it, 0.1 m aided and 0.5-0.8 m RMS (at most
     # 2.1 m) in the outages with it".
     quoted = re.search(
@@ -78,7 +79,7 @@ def test_resets_in_a_row_fade_the_covariance_and_the_filter_recovers(seed):
         r"without it, ([\d.]+) m aided and ([\d.]+)-([\d.]+) m RMS \(at most ([\d.]+) m\)",
         _page(),
     )
-    assert quoted, "docs/real-data.md no longer quotes the simulated fading runs"
+    assert quoted, "the navigate guide no longer quotes the simulated fading runs"
     resets, km_low, km_high, aided, rms_low, rms_high, largest = map(float, quoted.groups())
     assert abs(len(stuck_resets) - resets) <= 5  # two significant figures
     assert km_low <= round(stuck["in_outages"]["rms_horizontal_m"] / 1e3, 1) <= km_high
@@ -88,11 +89,11 @@ def test_resets_in_a_row_fade_the_covariance_and_the_filter_recovers(seed):
 
 
 def _page() -> str:
-    return " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    return " ".join(doc_text(*NAVIGATE_GUIDE).split())
 
 
 def test_the_tactical_preset_on_drive_0708_fades_as_the_guide_quotes(tmp_path):
-    """docs/real-data.md: with the tactical preset on drive_0708's consumer
+    """the navigate guide: with the tactical preset on drive_0708's consumer
     IMU the filter "fades 9 times (176 position and velocity resets in
     all) and coasts 11.2 m RMS through the 15 s outages (with the right
     tuning, the consumer preset, 1.5 m and no reset but the alignment's
@@ -105,7 +106,7 @@ def test_the_tactical_preset_on_drive_0708_fades_as_the_guide_quotes(tmp_path):
         r"([\d.]+) m and no reset but the alignment's heading\)",
         _page(),
     )
-    assert quoted, "docs/real-data.md no longer quotes the tactical preset on drive_0708"
+    assert quoted, "the navigate guide no longer quotes the tactical preset on drive_0708"
     fades, resets, tactical_rms, consumer_rms = map(float, quoted.groups())
     data = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[2]
     runs = {}

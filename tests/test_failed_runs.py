@@ -1,4 +1,4 @@
-"""A ``navigate`` run that fails still reports (docs/real-data.md, "When a
+"""A ``navigate`` run that fails still reports (docs/how-to/when-a-run-fails.md, "When a
 run fails"): whatever goes wrong once its output folder is accepted (an
 input, the start, a filter that leaves the range of a solution or
 diverges, a gyro unit the GNSS course contradicts, the report), the folder

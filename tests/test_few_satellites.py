@@ -1,5 +1,5 @@
-"""The tight filter with one, two or three satellites (issue 23;
-docs/few-satellites.md): keeping satellites never makes an outage worse,
+"""The tight filter with one, two or three satellites
+(docs/explanation/few-satellites.md): keeping satellites never makes an outage worse,
 the covariance covers the errors through a total outage and over whole
 runs, and a long run on few satellites either stays inside its 3σ or is
 flagged, with a warning that says why. Each of these failed before issue
@@ -61,7 +61,7 @@ def test_the_covariance_covers_the_errors_through_an_outage_and_over_whole_runs(
 
 def _few_satellite_run(kept: int, seed: int):
     """900 s of a consumer IMU on the `kept` highest of its 6 satellites
-    from the first epoch on, from the exact initial state (issue 23's
+    from the first epoch on, from the exact initial state (the study's
     finding 2, which kept the first `kept` columns)."""
     truth = mn.Trajectory.random(duration=900.0, seed=seed)
     imu = mn.ImuModel.preset("consumer", seed=seed)
@@ -120,7 +120,7 @@ def test_long_runs_on_few_satellites_are_honest_or_flagged(seed):
     ],
 )
 def test_the_clock_and_manoeuvre_arguments_are_checked(kwargs, name):
-    """The filters' clock model, manoeuvre correlation time (issue 23) and
+    """The filters' clock model, manoeuvre correlation time and
     code correlation time refuse values that are not numbers or give none,
     naming the argument; the simulator refuses the same clock."""
     imu = mn.ImuModel.preset("consumer", seed=1)

@@ -1,4 +1,4 @@
-"""Time-correlated fix errors in loose coupling (issue 29): a receiver's
+"""Time-correlated fix errors in loose coupling: a receiver's
 standalone fixes err slowly, and a filter that takes their errors for white
 noise averages them and reports bounds below the fixes' own. With
 ``[gnss] fix_error_states`` the fixes' position error is a first-order
@@ -7,10 +7,10 @@ Gauss-Markov state per ECEF axis and the aided bounds hold."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 
 import memsnav as mn
 
@@ -77,14 +77,14 @@ def test_fix_error_states_keep_the_aided_bounds(seed):
     assert share[False][0] < 0.8, share
     assert share[True][0] >= 0.9, share
     assert share[True][1]["within_3sigma_share"] >= 0.9, share
-    # docs/real-data.md quotes both seeds' shares and RMS as ranges.
-    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    # the navigate guide quotes both seeds' shares and RMS as ranges.
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     quoted = re.search(
         r"the aided share of errors inside 3σ is ([\d.]+) without the states and ([\d.]+)-([\d.]+) "
         r"with them, the aided horizontal RMS ([\d.]+)-([\d.]+) m without and ([\d.]+)-([\d.]+) m",
         page,
     )
-    assert quoted, "docs/real-data.md no longer quotes the fix-error states' effect"
+    assert quoted, "the navigate guide no longer quotes the fix-error states' effect"
     white, low, high, rms_low, rms_high, states_low, states_high = map(float, quoted.groups())
     assert round(share[False][0], 2) == white, share
     assert low <= round(share[True][0], 2) <= high, share

@@ -1,4 +1,4 @@
-"""GNSS fixes from other receivers (issue 25): the fixes CSV and NMEA
+"""GNSS fixes from other receivers: the fixes CSV and NMEA
 readers give the same ``PosSolution`` as ``read_pos``, and a drive run from
 either reaches the native RTKLIB solution. The drive excerpt is
 tests/data/real-imu-gnss (BSD-3, LICENSE there); the phone's NMEA is the

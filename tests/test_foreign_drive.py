@@ -5,7 +5,7 @@ the smoother gets within a tenth of the straight line between the fixes
 that bound each outage (computed here from the run's own fixes and truth).
 The same run with nothing learnt (the consumer preset, white fixes) does
 not hold its bounds: the learning is what makes the difference.
-docs/foreign-drive.md shows the figures (docs/foreign_drive_study.py)."""
+docs/results/foreign-drive.md shows the figures (docs/foreign_drive_study.py)."""
 
 from __future__ import annotations
 

@@ -3,10 +3,10 @@ closed-form inversion (Heikkinen 1982), round trips and the free-air gradient.""
 
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import doc_text
 
 import memsnav as mn
 
@@ -108,17 +108,17 @@ def test_bad_input_names_the_argument(value, message):
 
 
 def test_the_j2_model_departs_from_somigliana_as_concepts_quotes():
-    """docs/concepts.md: gravity_ecef "differs from WGS84 normal gravity
+    """docs/explanation/concepts.md: gravity_ecef "differs from WGS84 normal gravity
     (Somigliana) by at most 1.2e-4 m/s² at the poles and 4e-5 m/s² at the
     equator": on the ellipsoid, against Somigliana's closed form with the
     WGS84 constants (NIMA TR8350.2 eq. 4-1, table 3.4)."""
-    page = " ".join((Path(__file__).parents[1] / "docs" / "concepts.md").read_text().split())
+    page = " ".join(doc_text("explanation/concepts.md").split())
     quoted = re.search(
         r"\(Somigliana\) by at most ([\d.e-]+) m/s² at the poles and ([\d.e-]+) m/s² at the "
         r"equator",
         page,
     )
-    assert quoted, "docs/concepts.md no longer quotes the departure from Somigliana"
+    assert quoted, "docs/explanation/concepts.md no longer quotes the departure from Somigliana"
     lat = np.radians(np.linspace(-90.0, 90.0, 181))
     lla = np.stack([lat, np.zeros_like(lat), np.zeros_like(lat)], axis=1)
     g = np.linalg.norm(mn.gravity_ecef(mn.geodetic_to_ecef(lla)), axis=1)

@@ -1,6 +1,6 @@
-"""Issue 15: inputs that once killed, hung or panicked the interpreter, or
+"""Inputs that once killed, hung or panicked the interpreter, or
 were accepted as silent garbage, now fail up front with an error naming the
-argument (docs/robustness.md lists the limits)."""
+argument (docs/reference/robustness.md lists the limits)."""
 
 import os
 import re
@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import doc_text
 from test_navigate import DATA, DRIVE, WALK
 from test_navigate import _config as navigate_config
 
@@ -53,7 +54,7 @@ def binding_entries_without_catch_panics(source: str) -> list[int]:
 
 
 def test_every_binding_entry_catches_panics():
-    # Item 8 of issue 15: the scan, checked on a sample first so that it can fail.
+    # The scan, checked on a sample first so that it can fail.
     assert binding_entries_without_catch_panics("/// doc\n#[pyfunction]\nfn f() {}") == [2]
     assert binding_entries_without_catch_panics("#[catch_panics]\n#[pymethods]\nimpl X {}") == []
     sources = sorted((Path(__file__).parents[1] / "crates" / "memsnav-py" / "src").glob("*.rs"))
@@ -85,7 +86,7 @@ def test_simulate_gnss_sizes_are_bounded_before_allocating():
 
 @pytest.mark.parametrize("span_s", [1e12, 1e20])
 def test_simulate_gnss_over_a_huge_span_is_two_epochs(span_s):
-    # Issue 15: 1e12 s aborted on allocation, 1e20 s hung (one loop turn per
+    # 1e12 s aborted on allocation, 1e20 s hung (one loop turn per
     # empty 1 s target); the epochs are bounded by the track's samples.
     sky = mn.Constellation.walker()
     position = np.tile(mn.geodetic_to_ecef([0.5, 0.1, 0.0]), (2, 1))
@@ -225,7 +226,7 @@ def test_constructor_scalars_are_named(kwargs, message):
     ],
 )
 def test_filter_constructor_errors_name_the_python_argument(filter_class, kwargs, message):
-    # Issue 15: these said "accel_white_psd", "initial_attitude_std" or, at
+    # These said "accel_white_psd", "initial_attitude_std" or, at
     # run time, "initial_covariance": names the user never typed.
     with pytest.raises(ValueError, match=message) as caught:
         filter_class(mn.ImuModel.preset("consumer"), **kwargs)
@@ -283,7 +284,7 @@ EMPTY_FIXES = {"time": np.zeros(0), "position_ecef": np.zeros(0), "position_cova
     ],
 )
 def test_empty_gnss_time_says_no_epochs(call, argument):
-    # Issue 15: an empty time array used to fail on the shape of sat_id.
+    # An empty time array used to fail on the shape of sat_id.
     with pytest.raises(ValueError, match=rf"^{argument}: has no epochs") as caught:
         call()
     assert "shape" not in str(caught.value)
@@ -347,7 +348,7 @@ def first_epochs_with(change):
 
 @pytest.mark.parametrize("offset", [5e7, 7e7, -2e7])
 def test_a_first_epoch_pseudorange_outlier_is_not_singular_geometry(offset):
-    # Issue 15: a 1e9 m error on one pseudorange of the first epoch was
+    # A 1e9 m error on one pseudorange of the first epoch was
     # reported as "the satellite geometry at t = 0 s is singular". A
     # pseudorange beyond 1e8 m is no receiver's and is refused up front
     # (the test below); outliers within the range are the filter's to find.
@@ -437,7 +438,7 @@ def test_specific_force_in_g_warns_naming_the_argument(drive):
 
 
 def test_gyro_in_deg_per_s_warns_naming_the_argument(drive):
-    # A car's turns in deg/s read as rad/s (issue 15: 3.5 km error, silently).
+    # A car's turns in deg/s read as rad/s (3.5 km error, silently).
     _, _, _, _, w, _ = drive
     with pytest.warns(UserWarning) as caught:
         sol = loose_run(drive, w=np.degrees(w))
@@ -459,18 +460,20 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         sol = loose_run(drive, fixes=bad)
     error = np.linalg.norm(sol.position_ecef - traj.position_ecef, axis=1)[-1]
     if which == "first":
-        # Issue 15 item 4: never a silent 1e9 m finish. Either the filter
+        # Never a silent 1e9 m finish. Either the filter
         # recovers (resets to the later fixes) or it says it diverged.
         assert error < 100.0 and len(sol.resets["time"]) >= 1
-        # docs/robustness.md quotes how: "final error 2.4 m on the simulated
+        # docs/reference/robustness.md quotes how: "final error 2.4 m on the simulated
         # drive, one `position_to_fix` reset, no warning".
-        page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+        page = " ".join(doc_text("reference/robustness.md").split())
         quoted = re.search(
             r"\(final error ([\d.]+) m on the simulated drive, (one) `position_to_fix` reset, "
             r"(no) warning",
             page,
         )
-        assert quoted, "docs/robustness.md no longer quotes the recovery from a first fix off"
+        assert quoted, (
+            "docs/reference/robustness.md no longer quotes the recovery from a first fix off"
+        )
         assert abs(error - float(quoted.group(1))) <= 0.05, error
         assert list(sol.resets["kind"]) == ["position_to_fix"] and not caught
     else:
@@ -482,16 +485,16 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
 
 
 def test_the_failed_shares_the_guide_quotes(drive):
-    """docs/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
+    """docs/reference/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
     fixes 10⁹ m off after the first fail 51 %; a gyro in deg/s, 51 %"."""
     traj, gnss, imu, f, w, arrays = drive
-    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    page = " ".join(doc_text("reference/robustness.md").split())
     quoted = re.search(
         r"a clean loose run fails ([\d.]+) % \(tight ([\d.]+) %\); fixes 10⁹ m off after the "
         r"first fail (\d+) %; a gyro in deg/s, (\d+) %",
         page,
     )
-    assert quoted, "docs/robustness.md no longer quotes the failed shares"
+    assert quoted, "docs/reference/robustness.md no longer quotes the failed shares"
     bad = {k: v.copy() for k, v in arrays.items()}
     bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
     with warnings.catch_warnings():
@@ -521,7 +524,7 @@ def test_a_sat_id_of_minus_inf_is_refused_not_taken_as_padding(drive):
         mn.TightlyCoupledFilter(imu).run(traj.time, f, w, g, initial_attitude=traj.attitude[0])
 
 
-# --- arguments that hung (issue 30) ---------------------------------------------------
+# --- arguments that hung ---------------------------------------------------
 
 
 def test_a_fix_prior_far_beyond_any_receiver_is_refused_not_iterated():
@@ -588,7 +591,7 @@ def test_a_draw_set_too_large_to_hold_is_refused_not_allocated():
 def test_strapdown_refuses_an_imu_gap_far_beyond_the_period():
     t = mn.Trajectory.random(duration=20.0, rate=10.0, seed=0)
     time = t.time.copy()
-    time[50:] += 1e6  # issue 15: integrated through, the INS reached 1e17 m
+    time[50:] += 1e6  # integrated through, the INS reached 1e17 m
     with pytest.raises(ValueError, match=r"time: a gap of 1000000\.1 s between samples 49 and 50"):
         mn.strapdown(
             time,
@@ -628,7 +631,7 @@ def test_cli_navigate_duration_must_be_positive_and_finite(tmp_path, duration):
     assert "Traceback" not in done.stderr
 
 
-# --- one check of every IMU series and start (issue 30) --------------------------------
+# --- one check of every IMU series and start --------------------------------
 
 
 def imu_gap_track():
@@ -705,7 +708,7 @@ def test_strapdown_at_the_limits_is_finite():
     assert np.isfinite(sol.position_ecef).all() and np.isfinite(sol.attitude).all()
 
 
-# --- sensor models on finite extremes (issue 30) ----------------------------------------
+# --- sensor models on finite extremes ----------------------------------------
 
 Z3, Z33 = np.zeros(3), np.zeros((3, 3))
 
@@ -770,7 +773,7 @@ def test_a_tiny_lsb_keeps_the_reading_it_cannot_resolve():
     np.testing.assert_array_equal(coarse.measure([[9.81, -1.2, 0.2]]), [[10.0, -1.0, 0.0]])
 
 
-# --- an outlier applied with the gate off (issue 30) ------------------------------------
+# --- an outlier applied with the gate off ------------------------------------
 
 
 @pytest.mark.parametrize("kind", ["tight", "loose"])
@@ -795,11 +798,13 @@ def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
         sol = run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
     applied = "GNSS batches were applied although their NIS was beyond"
     assert any(applied in str(c.message) for c in caught)
-    # How far the outlier leaves the run, as docs/robustness.md quotes it
+    # How far the outlier leaves the run, as docs/reference/robustness.md quotes it
     # ("leaves the tight one 34 km and the loose one 36 km off at its end").
-    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    page = " ".join(doc_text("reference/robustness.md").split())
     quoted = re.search(r"leaves the tight one (\d+) km and the loose one (\d+) km off", page)
-    assert quoted, "docs/robustness.md no longer quotes how far the outlier leaves the run"
+    assert quoted, (
+        "docs/reference/robustness.md no longer quotes how far the outlier leaves the run"
+    )
     error_km = np.linalg.norm(sol.position_ecef[-1] - traj.position_ecef[-1]) / 1e3
     assert abs(error_km - float(quoted.group(1 if kind == "tight" else 2))) <= 0.5, error_km
     assert sol.diverged

@@ -1,5 +1,5 @@
 """A log from another IMU and receiver, in its own layout, runs from a
-configuration with no conversion script (issue 25, first "Done when"): a
+configuration with no conversion script: a
 simulated drive written as memsnav's native files (IMU rates in FRD, an
 RTKLIB ``.pos``, the simulation's pseudoranges) and as another system's
 (IMU increments in FLU axes, degrees and g·s, columns in its own order

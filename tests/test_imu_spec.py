@@ -29,7 +29,7 @@ CONSUMER = {
     "gyro_bias_correlation_time_s": 300.0,
 }
 
-#: The worked example of docs/real-data.md: the Analog Devices ADIS16465-1
+#: The worked example of the navigate guide: the Analog Devices ADIS16465-1
 #: data sheet's figures, over the "industrial" preset.
 ADIS16465 = {
     "gyro_arw_deg_sqrt_h": 0.15,
@@ -44,7 +44,7 @@ ADIS16465 = {
 
 
 def test_the_worked_example_by_hand():
-    """Each figure converted as docs/real-data.md shows it: ARW 0.15 °/√h
+    """Each figure converted as the navigate guide shows it: ARW 0.15 °/√h
     / 60 = 0.0025 °/√s = 4.3633e-5 rad/√s; VRW 0.037 m/s/√h / 60 =
     6.1667e-4 m/s/√s; in-run bias stability 2 °/h / 0.617364 = 3.2396 °/h
     = 1.5706e-5 rad/s and 3.6 µg / 0.617364 = 5.8312 µg = 5.7185e-5 m/s²;

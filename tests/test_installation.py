@@ -1,4 +1,4 @@
-"""The installation as filter states (issue 29): the antenna lever arm, the
+"""The installation as filter states: the antenna lever arm, the
 IMU time offset, the fixes' velocity latency and the mounting boresight
 (pitch, yaw), estimated from zero priors on simulated drives whose truth
 has them, and consistent with their σ."""
@@ -6,10 +6,10 @@ has them, and consistent with their σ."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from scipy.spatial.transform import Rotation
 
 import memsnav as mn
@@ -79,7 +79,7 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
     settings = {
         # A vibration-free simulated IMU: no standstill detection.
         "aids": {"zupt": False, "zaru": False, "nhc": True},
-        # The study docs/real-data.md quotes: the consumer preset, the
+        # The study the navigate guide quotes: the consumer preset, the
         # fixes as white noise (what the log would teach is left out).
         "filter": {"installation_states": states, "imu_preset": "consumer"},
         "gnss": {"fix_error_states": False},
@@ -94,7 +94,7 @@ def _installed_drive(seed, lever_v, time_offset, latency, mounting, states=True)
 
 
 # Long and short lever arms, time offsets of either sign, 0.2 s latency,
-# mountings a few degrees off (issue 29's ranges).
+# mountings a few degrees off (the installation states' ranges).
 CASES = [
     (1, [-2.0, 0.3, -1.2], 0.04, np.radians([1.0, 2.0, -3.0])),
     (2, [-2.0, 0.3, -1.2], 0.04, np.radians([1.0, 2.0, -3.0])),
@@ -104,7 +104,7 @@ CASES = [
 
 
 def _page() -> str:
-    return " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    return " ".join(doc_text(*NAVIGATE_GUIDE).split())
 
 
 def _within(values, low: float, high: float, decimals: int) -> bool:
@@ -114,7 +114,7 @@ def _within(values, low: float, high: float, decimals: int) -> bool:
 
 
 def test_installation_states_converge_inside_their_sigma():
-    # docs/real-data.md quotes the σ these runs end with: "the horizontal
+    # the navigate guide quotes the σ these runs end with: "the horizontal
     # lever arm to 0.1-0.3 m, the time offset to 10-12 ms and the latency
     # to 3-4 ms, the boresight to 0.1-0.15° (σ); the vertical lever arm
     # stays near its prior (0.7-0.8 m".
@@ -124,7 +124,7 @@ def test_installation_states_converge_inside_their_sigma():
         r"vertical lever arm stays near its prior \(([\d.]+)-([\d.]+) m",
         _page(),
     )
-    assert quoted, "docs/real-data.md no longer quotes the installation states' σ"
+    assert quoted, "the navigate guide no longer quotes the installation states' σ"
     (
         lever_low,
         lever_high,
@@ -187,14 +187,14 @@ def test_assuming_a_wrong_installation_breaks_the_bounds():
                 outside.append(100.0 * (1.0 - score["aided"]["within_3sigma_share"]))
     # A single outage's error is luck; their mean is not.
     assert np.mean(outage_rms[True]) < 0.5 * np.mean(outage_rms[False]), outage_rms
-    # docs/real-data.md: "leave 17-20 % of the aided errors outside 3σ, and
+    # the navigate guide: "leave 17-20 % of the aided errors outside 3σ, and
     # their 30 s outages average 8.8 m RMS against 2.7 m estimated".
     quoted = re.search(
         r"leave (\d+)-(\d+) % of the aided errors outside 3σ, and their 30 s outages average "
         r"([\d.]+) m RMS against ([\d.]+) m estimated",
         _page(),
     )
-    assert quoted, "docs/real-data.md no longer quotes the drives with the installation assumed"
+    assert quoted, "the navigate guide no longer quotes the drives with the installation assumed"
     low, high, assumed, estimated = map(float, quoted.groups())
     assert _within(outside, low, high, 0), outside
     assert abs(np.mean(outage_rms[False]) - assumed) <= 0.05, outage_rms

@@ -1,8 +1,8 @@
-"""Several systems in the tight filter (issue 24): GPS, Galileo and BeiDou
+"""Several systems in the tight filter: GPS, Galileo and BeiDou
 measurements from the walk's own u-blox log, the inter-system-bias states
 (simulated truth recovered; a filter without them refuses other systems),
 what ``measurements`` refuses, and the walk's figures per configuration
-as docs/real-data.md quotes them.
+as the navigate guide quotes them.
 
 Real data: walk_0827 (licence in the shared data's real-imu-gnss/LICENSE),
 found through the data-root resolver.
@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from quoted import quoted_figures, rounds_to
 from shared_data import shared_data
 
@@ -24,7 +25,7 @@ import memsnav as mn
 from memsnav.realdata.answer import answer_lines
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = "docs/real-data.md"
+PAGE = "docs/how-to/multi-gnss.md"
 UBX = "real-imu-gnss/walk_0827/gnss_1730.ubx"
 
 
@@ -79,7 +80,7 @@ def test_the_log_measurements_fit_one_position_per_system(walk_log):
 
 
 def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
-    """docs/real-data.md: "over the run G24, G27 and G18 (32-35°
+    """the navigate guide: "over the run G24, G27 and G18 (32-35°
     elevation) average 6.1, 7.9 and 11.3 m": each satellite's delay measured
     from L2C (the corrected pseudorange without any ionosphere correction
     less the one with the measured delay), averaged over the log, and the
@@ -89,7 +90,7 @@ def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
         r"([\d.]+) m",
         _docs_page(),
     )
-    assert found, "docs/real-data.md no longer quotes the walk's geometry-free delays"
+    assert found, "the navigate guide no longer quotes the walk's geometry-free delays"
     low_deg, high_deg, *quoted = (float(v) for v in found.groups())
     # The settings of examples/walk_0827_multi_gnss.toml (σ sets the smoothing).
     settings = {
@@ -176,7 +177,7 @@ def _predict_to(running, traj, f, w, time):
 
 
 def _quoted_walk_rows() -> dict[str, list[float]]:
-    page = (ROOT / "docs" / "real-data.md").read_text()
+    page = doc_text(*NAVIGATE_GUIDE)
     block = page[
         page.index("<!-- multi-gnss-walk:begin -->") : page.index("<!-- multi-gnss-walk:end -->")
     ]
@@ -188,7 +189,7 @@ def _quoted_walk_rows() -> dict[str, list[float]]:
     return rows
 
 
-#: The configurations of docs/real-data.md's multi-GNSS walk table.
+#: The configurations of the navigate guide's multi-GNSS walk table.
 CONFIGURATIONS = {
     "GPS, 4 satellites (LNAV)": {"systems": ["G"], "satellites": ["G10", "G23", "G27", "G32"]},
     "GPS, all 7 (LNAV + CNAV)": {"systems": ["G"]},
@@ -216,8 +217,8 @@ CONFIGURATIONS = {
 
 
 def _docs_page() -> str:
-    """docs/real-data.md with its whitespace runs made single spaces."""
-    return " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    """the navigate guide with its whitespace runs made single spaces."""
+    return " ".join(doc_text(*NAVIGATE_GUIDE).split())
 
 
 def _navigate(
@@ -245,7 +246,7 @@ def _navigate(
 
 
 def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
-    """docs/real-data.md's table: horizontal and vertical precision,
+    """the navigate guide's table: horizontal and vertical precision,
     vertical accuracy (against MSL − 21.387 m), the mean height below the
     truth and single-point precision of each configuration, recomputed
     from examples/walk_0827_multi_gnss.toml."""
@@ -284,7 +285,7 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
                     r"(\d+) on BeiDou",
                     page,
                 )
-                assert quoted, "docs/real-data.md no longer quotes the walk's cycle slips"
+                assert quoted, "the navigate guide no longer quotes the walk's cycle slips"
                 per_system = {
                     t: [r["slips"] for r in s["satellites"] if r["system"] == t]
                     for t in ("GPS", "Galileo", "BeiDou")
@@ -302,14 +303,14 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
         if name == "GPS + Galileo + BeiDou":
             page = _docs_page()
             quoted = re.search(r"Galileo (−?[\d.]+) m, BeiDou (−?[\d.]+) m on the walk", page)
-            assert quoted, "docs/real-data.md no longer quotes the walk's inter-system biases"
+            assert quoted, "the navigate guide no longer quotes the walk's inter-system biases"
             galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
             isb = s["inter_system_bias_m"]
             assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006
 
 
 def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
-    """docs/real-data.md: "floors of 0.5 / 1 / 2 / 4 / 8 cm gave a
+    """the navigate guide: "floors of 0.5 / 1 / 2 / 4 / 8 cm gave a
     horizontal precision of ... m with all three systems", and the changes
     gated below 2 cm, recomputed."""
     found = re.search(
@@ -318,7 +319,7 @@ def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
         r".*?\((\d+) and (\d+) changes gated at ([\d.]+) and ([\d.]+) cm, none at 2 cm\)",
         _docs_page(),
     )
-    assert found, "docs/real-data.md no longer quotes the walk's carrier floors"
+    assert found, "the navigate guide no longer quotes the walk's carrier floors"
     values = [float(v) for v in found.groups()]
     floors_cm, quoted = values[:5], values[5:10]
     gated = dict(zip(values[12:14], values[10:12], strict=True))
@@ -337,7 +338,7 @@ def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
 
 
 def test_the_quoted_g08_start_is_the_walks(tmp_path):
-    """docs/real-data.md, "GPS alone on all seven is worse than on four":
+    """docs/how-to/multi-gnss.md, "GPS alone on all seven is worse than on four":
     G08's entry, its first 2 s of innovations and their stds, the error
     against the truth it causes, and what a 28 dB-Hz C/N0 mask does,
     recomputed from the runs."""
@@ -380,7 +381,7 @@ def test_the_quoted_g08_start_is_the_walks(tmp_path):
         r"([\d.]+) → ([\d.]+) m",
         page,
     )
-    assert masked, "docs/real-data.md no longer quotes the C/N0 mask's effect"
+    assert masked, "the navigate guide no longer quotes the C/N0 mask's effect"
     mask, default, seven, with_g08, all_default, all_masked = (float(v) for v in masked.groups())
     for name, cn0, quoted in (
         ("GPS, all 7 (LNAV + CNAV)", mask, seven),
@@ -412,7 +413,7 @@ def test_the_quoted_g08_start_is_the_walks(tmp_path):
 
 
 def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
-    """docs/real-data.md bounds the walk's differential phase wind-up by the
+    """the navigate guide bounds the walk's differential phase wind-up by the
     tilt of the body's vertical axis per 0.25 s epoch (λ·tilt/360°):
     recomputed from the attitude of the all-systems run."""
     page = _docs_page()
@@ -421,7 +422,7 @@ def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
         r"which bounds the differential wind-up by λ·tilt/360° = ([\d.]+) mm",
         page,
     )
-    assert quoted, "docs/real-data.md no longer quotes the wind-up bound"
+    assert quoted, "the navigate guide no longer quotes the wind-up bound"
     median_deg, p95_deg, bound_mm = map(float, quoted.groups())
     solution = walk_run.run.solution
     time, c_b_e = np.asarray(solution.time), np.asarray(solution.attitude)
@@ -437,14 +438,14 @@ def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
 
 
 def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
-    """docs/real-data.md explains why the carrier changes eliminate the
+    """the navigate guide explains why the carrier changes eliminate the
     clock by the walk's receiver clock drifting from −61 to −81 m/s over
     the log (−0.17 m/s²): the single-point fixes' Doppler drift."""
     page = _docs_page()
     quoted = re.search(
         r"clock drifts from (−[\d.]+) to (−[\d.]+) m/s over the log \((−[\d.]+) m/s²", page
     )
-    assert quoted, "docs/real-data.md no longer quotes the walk's clock ramp"
+    assert quoted, "the navigate guide no longer quotes the walk's clock ramp"
     first, last, slope = (float(v.replace("−", "-")) for v in quoted.groups())
     gnss = walk_log.observations.measurements(
         walk_log.broadcast_ephemerides, systems=["G", "E", "C"]
@@ -465,13 +466,13 @@ def walk_run(tmp_path_factory):
 
 
 def test_the_quoted_inter_system_biases_are_the_walks(walk_run):
-    """docs/real-data.md: "(`inter_system_bias_m`: Galileo −0.39 m, BeiDou
+    """the navigate guide: "(`inter_system_bias_m`: Galileo −0.39 m, BeiDou
     −4.55 m on the walk)", the final estimates of the example's run."""
     found = re.search(
         r"`inter_system_bias_m`: Galileo ([−-][\d.]+) m, BeiDou ([−-][\d.]+) m on the walk",
         _docs_page(),
     )
-    assert found, "docs/real-data.md no longer quotes the walk's inter-system biases"
+    assert found, "the navigate guide no longer quotes the walk's inter-system biases"
     galileo, beidou = (float(v.replace("−", "-")) for v in found.groups())
     biases = walk_run.summary["inter_system_bias_m"]
     assert abs(biases["galileo"] - galileo) <= 0.005, biases
@@ -526,8 +527,8 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
         assert 5.0 <= row["mean_elevation_deg"] <= 90.0, row
     line = answer_lines(s)[1]
     assert "satellites used: GPS 7, Galileo 6, BeiDou 7 (20)" in line
-    assert f"\n{line}\n" in (ROOT / "docs" / "real-data.md").read_text(), (
-        "docs/real-data.md no longer quotes the walk's satellites line"
+    assert f"\n{line}\n" in doc_text(*NAVIGATE_GUIDE), (
+        "the navigate guide no longer quotes the walk's satellites line"
     )
     page = _docs_page()
     quoted = re.search(
@@ -535,7 +536,7 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
         r"epochs\) to ([\d.]+) dB-Hz \((G\d\d)\)",
         page,
     )
-    assert quoted, "docs/real-data.md no longer quotes the walk's C/N0 range"
+    assert quoted, "the navigate guide no longer quotes the walk's C/N0 range"
     low = min(rows, key=lambda r: r["mean_cn0_db_hz"])
     high = max(rows, key=lambda r: r["mean_cn0_db_hz"])
     assert quoted.groups() == (
@@ -559,8 +560,8 @@ def test_a_gps_rinex_run_lists_one_system(tmp_path):
 
 
 def _quoted_block(marker: str) -> dict[str, list[str]]:
-    """A marked table of docs/real-data.md: its cells by first cell."""
-    page = (ROOT / "docs" / "real-data.md").read_text()
+    """A marked table of the navigate guide: its cells by first cell."""
+    page = doc_text(*NAVIGATE_GUIDE)
     block = page[page.index(f"<!-- {marker}:begin -->") : page.index(f"<!-- {marker}:end -->")]
     rows = {}
     for line in block.splitlines()[3:]:
@@ -572,7 +573,7 @@ def _quoted_block(marker: str) -> dict[str, list[str]]:
 
 @pytest.mark.slow
 def test_the_code_correlation_table_is_the_runs(tmp_path):
-    """docs/real-data.md, "Correlated code errors": precision per
+    """docs/how-to/multi-gnss.md, "Correlated code errors": precision per
     configuration and code correlation time, recomputed (τ = 0 is the
     main table's), and the prose's figures read from the table."""
     header = re.findall(r"τ = ([\d.]+) s", _docs_page().split("code-correlation-walk:begin")[1])
@@ -621,7 +622,7 @@ def test_the_code_correlation_table_is_the_runs(tmp_path):
 
 
 def test_the_quoted_code_correlation_times_are_the_logs(walk_log):
-    """docs/real-data.md: the L1 code-minus-carrier of the satellites
+    """the navigate guide: the L1 code-minus-carrier of the satellites
     tracked without a break for at least 350 epochs, less a quadratic over
     the arc, falls below 1/e of its variance after the quoted shortest and
     longest lags (satellites named)."""
@@ -630,7 +631,7 @@ def test_the_quoted_code_correlation_times_are_the_logs(walk_log):
         r"\(1/e\) after ([\d.]+) s \(([EGC]\d\d)\) to ([\d.]+) s \(([EGC]\d\d)\)",
         _docs_page(),
     )
-    assert found, "docs/real-data.md no longer quotes the code's correlation times"
+    assert found, "the navigate guide no longer quotes the code's correlation times"
     n_epochs, short, short_name, long, long_name = found.groups()
     obs = walk_log.observations
     time = np.asarray(obs.time)

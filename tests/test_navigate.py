@@ -1,4 +1,4 @@
-"""``memsnav navigate`` (issue 11): the configuration, the core engine's
+"""``memsnav navigate``: the configuration, the core engine's
 defaults on real excerpts (tests/data/real-imu-gnss, BSD-3, LICENSE there),
 the outputs and the command line."""
 
@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from report_checks import capture_figures, hidden_by_bounds, page_problems
 
 import memsnav as mn
@@ -23,7 +24,7 @@ EX = DATA / "real-imu-gnss"
 
 # The drive excerpt: 65 s of a car, RTK fixes at 4 Hz, the data authors'
 # mounting and lever arms, the IMU latency and the RTK velocity's latency
-# behind its positions that the data give (docs/real-data.md, "Time").
+# behind its positions that the data give (docs/explanation/time-and-truth.md, "Time").
 DRIVE = """
 name = "drive_60s"
 output = "{out}"
@@ -147,9 +148,9 @@ def test_data_root_from_environment(tmp_path, monkeypatch):
 def test_every_engine_key_is_documented():
     keys = mn.navigate_settings()
     assert {"filter", "alignment", "standstill", "aids", "outages"} <= set(keys)
-    text = (Path(__file__).parents[1] / "docs" / "real-data.md").read_text()
+    text = doc_text(*NAVIGATE_GUIDE)
     missing = [f"{t}.{k}" for t, ks in keys.items() for k in ks if f"`{k}`" not in text]
-    assert not missing, f"docs/real-data.md does not mention {missing}"
+    assert not missing, f"the navigate guide does not mention {missing}"
 
 
 # --- the engine's defaults on real data -------------------------------------
@@ -157,7 +158,7 @@ def test_every_engine_key_is_documented():
 
 def test_defaults_follow_rtk_fixes_to_centimetres(tmp_path):
     """No [filter] or [alignment] table, RTK fixes at their full 4 Hz: the
-    filter converges and stays on them (the issue's bar: 0.1 m while aided)."""
+    filter converges and stays on them (the required bar: 0.1 m while aided)."""
     result = mn.navigate(_config(tmp_path), data_root=DATA)
     s = result.summary
     assert s["start"]["kind"] == "moving"
@@ -323,6 +324,9 @@ def test_outputs_are_complete_and_replace_an_earlier_run(tmp_path):
     np.testing.assert_allclose(back.velocity_ned[5], csv[k, 4:7], atol=1e-5)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["errors_vs_truth"] == result.summary["errors_vs_truth"]
+    reference = doc_text("reference/summary-json.md")
+    undocumented = [key for key in summary if f"`{key}`" not in reference]
+    assert not undocumented, f"docs/reference/summary-json.md does not list {undocumented}"
     html = (out / "report.html").read_text()
     assert 'id="track"' in html and 'id="errors"' in html and "outage 1 (30 s)" in html
     assert (out / "figures" / "errors.png").exists()
@@ -371,7 +375,7 @@ def test_report_answers_first_and_marks_what_its_figures_mean(tmp_path, monkeypa
 
 def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
     """The walk schedules no outage: its answer says so, and no caption or
-    statistics row mentions outages it does not have (issue 28: the walk's
+    statistics row mentions outages it does not have (the walk's
     caption named red outage shading)."""
     mn.navigate(_config(tmp_path, WALK), data_root=DATA, duration_s=20.0)
     html = (tmp_path / "out" / "report.html").read_text()
@@ -395,7 +399,7 @@ def test_a_run_without_outages_does_not_speak_of_them(tmp_path):
 
 def test_the_scale_check_finds_errors_flattened_by_their_bounds():
     """What the reports' figure check catches: errors of 0.3 m under 3σ
-    bounds of 30 m on a linear axis (the navigate figure before issue 28),
+    bounds of 30 m on a linear axis (the navigate figure before the report rework),
     and not the same on a scale that shows both."""
     import matplotlib.pyplot as plt
 
@@ -501,7 +505,7 @@ def test_paths_in_a_configuration_are_relative_to_it(tmp_path, monkeypatch):
     """``output`` and ``[imu] calibration`` resolve against the
     configuration's folder, whatever the working directory; the recordings,
     not beside it, against the data root; ``output=`` (``--output``) against
-    the working directory (docs/getting-started.md, "Paths in a
+    the working directory (docs/tutorials/first-session.md, "Paths in a
     configuration")."""
     from memsnav.calibration.file import ImuCalibration
 

@@ -75,7 +75,7 @@ def test_user_arrays_match_simulator_object_and_outliers_are_reported(scenario):
     assert len(a.rejected["time"]) == len(b.rejected["time"])
     d["pseudorange"] = d["pseudorange"].copy()
     d["pseudorange"][40, 2] += 100.0
-    # A NaN pseudorange is refused naming its slot (issue 25: it used to be
+    # A NaN pseudorange is refused naming its slot (it used to be
     # recorded as "invalid" by the filter and taken by solve_fix unseen).
     nan = {**d, "pseudorange": d["pseudorange"].copy()}
     nan["pseudorange"][45, 1] = np.nan
@@ -267,9 +267,9 @@ def test_experiment_bad_input_and_custom_imus():
 def test_paper_claims_outage_drift_and_calibration():
     """MEMS drifts far more than INS during a total outage, and calibration
     removes a large part of the MEMS drift (30 % in these 3 runs, 35-46 %
-    over 10-run sets of three seeds since issue 23's filter, which takes
+    over 10-run sets of three seeds since the input-shaped noise, which takes
     the raw MEMS's misalignments for what they do: see the module docs and
-    docs/paper-comparison.md)."""
+    docs/results/paper-comparison.md)."""
     r = mn.experiments.navigation(
         outage=(40.0, 30.0), runs=3, duration=75.0, seed=0, calibration_duration=120.0
     )
@@ -416,7 +416,7 @@ def test_bad_initial_state_names_the_entry(scenario):
 
 
 def test_a_nan_sat_id_is_an_error_not_a_silently_dropped_satellite(scenario):
-    # Issue 15: a NaN sat_id was dropped like padding, without a word.
+    # A NaN sat_id was dropped like padding, without a word.
     traj, gnss, imu, f, w = scenario
     d = gnss_dict(gnss)
     d["sat_id"] = d["sat_id"].astype(float)

@@ -1,4 +1,4 @@
-"""The navigation experiment's study options (docs/paper-comparison.md):
+"""The navigation experiment's study options (docs/results/paper-comparison.md):
 pseudorange rates on/off, GNSS noise, initial attitude uncertainty, scale-
 factor states, absorption of unmodelled errors, preset specs with overrides."""
 
@@ -45,7 +45,7 @@ def test_initial_tilt_error_drives_the_outage_drift_as_half_g_psi_t2():
 
 def test_spec_overrides_and_gnss_noise():
     """Removing the raw MEMS misalignments removes most of its outage drift
-    (the error budget of docs/paper-comparison.md; 71 % over 12 runs, 61 %
+    (the error budget of docs/results/paper-comparison.md; 71 % over 12 runs, 61 %
     over these 4), and larger pseudorange noise gives a larger aided
     error."""
     kw = dict(runs=4, duration=155.0, seed=0, outage=(120.0, 30.0), threads=1)

@@ -1,4 +1,4 @@
-"""The outage study (issue 16): which IMU grade is good enough through which
+"""The outage study: which IMU grade is good enough through which
 GNSS outage. Physics first: errors grow with the outage, better grades
 drift less, and a short free-inertial outage follows the analytic error
 budget (½ b t² from an accelerometer bias, g ω t³ / 6 from a gyro bias)."""
@@ -10,6 +10,7 @@ import re
 import matplotlib
 import numpy as np
 import pytest
+from doc_pages import doc_text
 from report_checks import capture_figures, page_problems
 from scipy.stats import binom, chi2
 
@@ -319,15 +320,14 @@ def test_adaptive_study_decides_every_needed_cell_reproducibly():
 
 
 def test_the_guide_quotes_the_study_defaults():
-    """docs/outage-study.md: "the outage starts at `outage_start` (default
+    """docs/results/outage-study.md: "the outage starts at `outage_start` (default
     100 s ...)" and "run duration (default: outage start + longest outage
     + 10 s)": a one-run study's configuration says the same."""
-    from pathlib import Path
 
-    page = " ".join((Path(__file__).parents[1] / "docs" / "outage-study.md").read_text().split())
+    page = " ".join(doc_text("results/outage-study.md").split())
     start = re.search(r"`outage_start` \(default (\d+) s", page)
     margin = re.search(r"default: outage start \+ longest outage \+ (\d+) s", page)
-    assert start and margin, "docs/outage-study.md no longer quotes the study's defaults"
+    assert start and margin, "docs/results/outage-study.md no longer quotes the study's defaults"
     lengths = [10.0, 30.0]
     study = mn.experiments.outage_study(
         grades=["consumer"], outage_lengths=lengths, visible_satellites=[0], runs=1, threads=1
@@ -384,7 +384,7 @@ CARRIER_STUDY = dict(
     seed=0,
     threads=2,
 )
-"""The carrier-phase comparison of docs/outage-study.md: a tactical and a
+"""The carrier-phase comparison of docs/results/outage-study.md: a tactical and a
 consumer IMU, 30 s outages keeping 0 or 3 satellites after 60 s of aided
 navigation (the outage study's cells, with the partial-outage set's
 curves: the forward figures are the same runs)."""
@@ -472,11 +472,10 @@ def test_carrier_phase_helps_the_consumer_grade_too(carrier_studies):
 
 
 def test_the_guide_quotes_the_carrier_phase_figures(carrier_studies):
-    """docs/outage-study.md quotes the carrier comparison per grade:
+    """docs/results/outage-study.md quotes the carrier comparison per grade:
     recomputed here, to the digits quoted."""
-    from pathlib import Path
 
-    page = " ".join((Path(__file__).parents[1] / "docs" / "outage-study.md").read_text().split())
+    page = " ".join(doc_text("results/outage-study.md").split())
     code, carrier = carrier_studies["code"], carrier_studies["carrier"]
     for grade in CARRIER_STUDY["imus"]:
         quoted = re.search(
@@ -485,7 +484,7 @@ def test_the_guide_quotes_the_carrier_phase_figures(carrier_studies):
             r"satellite, ([\d.]+) m → ([\d.]+) m with 3",
             page,
         )
-        assert quoted, f"docs/outage-study.md no longer quotes the {grade} carrier figures"
+        assert quoted, f"docs/results/outage-study.md no longer quotes the {grade} carrier figures"
         measured = [_aided(code, grade)[0], _aided(carrier, grade)[0]]
         for n in (0, 3):
             measured += [np.median(_end(s, grade, n)) for s in (code, carrier)]

@@ -1,4 +1,4 @@
-"""Solution outputs (issue 25): ``FilterSolution.write`` / ``LogRun.write``
+"""Solution outputs: ``FilterSolution.write`` / ``LogRun.write``
 in CSV, RTKLIB .pos, KML, GPX and GeoJSON, each file read back by an
 independent reader (numpy, memsnav's own .pos reader, fastkml, gpxpy,
 geojson) and compared with the solution's own columns to the written

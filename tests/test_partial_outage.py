@@ -1,4 +1,4 @@
-"""Partial outages (issue 14): a window keeping 0-3 satellites, tight
+"""Partial outages: a window keeping 0-3 satellites, tight
 coupling against loose; the same draws in every scenario of a run."""
 
 import matplotlib

@@ -1,4 +1,4 @@
-"""docs/performance.md's figures: its timings are the block that
+"""docs/results/performance.md's figures: its timings are the block that
 docs/performance_tables.py writes (checked here against the measurements
 it keeps in docs/performance.json, without running a benchmark: speed is
 measured by the benchmarks, never by a test), and its other figures (the
@@ -13,7 +13,7 @@ import runpy
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-PAGE = ROOT / "docs" / "performance.md"
+PAGE = ROOT / "docs" / "results" / "performance.md"
 SCRIPT = runpy.run_path(str(ROOT / "docs" / "performance_tables.py"))
 
 
@@ -33,7 +33,7 @@ def test_the_block_is_what_the_script_writes_from_its_record():
     block = text[text.index(begin) : text.index(end) + len(end)]
     record = json.loads((ROOT / "docs" / "performance.json").read_text())
     assert block == SCRIPT["render"](record), (
-        "docs/performance.md's figures are not what docs/performance_tables.py writes from "
+        "docs/results/performance.md's figures are not what docs/performance_tables.py writes from "
         "docs/performance.json: run python docs/performance_tables.py --write "
         "(--from-existing to reuse the last results)"
     )
@@ -77,7 +77,7 @@ def test_the_reference_workload_is_the_benchmarks():
         r"(\d+)-state",
         page,
     )
-    assert found, "docs/performance.md no longer describes the reference workload"
+    assert found, "docs/results/performance.md no longer describes the reference workload"
     duration, rate, epochs, preset, gnss_hz, sats, updates, gnss_epochs, states = found.groups()
     python = (ROOT / "benches" / "python" / "bench_tight.py").read_text()
     assert float(duration) == _constant(python, "DURATION_S")
@@ -149,6 +149,6 @@ def test_the_readme_quotes_the_step_api_rate_of_the_block():
         r"\| `RunningFilter` loop from Python, per IMU sample \| [\d.]+ µs \((\d+) k samples/s\)",
         _page(),
     )
-    assert measured, "docs/performance.md's block has no RunningFilter row"
+    assert measured, "docs/results/performance.md's block has no RunningFilter row"
     ratio = float(quoted.group(1)) / float(measured.group(1))
     assert 0.5 <= ratio <= 2.0, (quoted.group(1), measured.group(1))

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import paper_comparison_study
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from quoted import quoted_figures, rounds_to
 from shared_data import shared_data
 
@@ -24,8 +25,8 @@ ROOT = Path(__file__).resolve().parent.parent
 def test_getting_started_quotes_what_its_session_prints(tmp_path, monkeypatch, capsys):
     """The first session's INS fed the truth stays within millimetres; the
     raw MEMS drifts by the distance the page quotes."""
-    (drift_km,) = quoted_figures("docs/getting-started.md", r"drifts by about ([\d.]+) km")
-    page = (ROOT / "docs" / "getting-started.md").read_text()
+    (drift_km,) = quoted_figures("docs/tutorials/first-session.md", r"drifts by about ([\d.]+) km")
+    page = doc_text("tutorials/first-session.md")
     session = re.search(r"## A first session in Python\n\n```python\n(.*?)```", page, re.S)
     monkeypatch.chdir(tmp_path)
     exec(compile(session.group(1), "getting-started.md", "exec"), {})
@@ -75,13 +76,13 @@ def _generated_rows(
 
 
 def test_real_data_prose_reads_the_benchmark_tables():
-    """docs/real-data.md's comparison with the published filter and its
+    """the navigate guide's comparison with the published filter and its
     "Reading them" quote the benchmark's tables, which
     docs/real_data_benchmark.py writes: each quote agrees with the table
     it is read from (no run: the script regenerates the tables, this keeps
     the prose in step with them)."""
-    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
-    drive = _generated_rows("docs/real-data.md", "benchmark", "")
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
+    drive = _generated_rows("docs/results/against-rtk.md", "benchmark", "")
     lengths = {"15": drive["15 s"], "30": drive["30 s"], "60": drive["60 s"]}
     forward = {k: (float(v[2]), float(v[3])) for k, v in lengths.items()}
     smoothed = {k: (float(v[5]), float(v[6])) for k, v in lengths.items()}
@@ -95,12 +96,12 @@ def test_real_data_prose_reads_the_benchmark_tables():
         quoted = [float(v) for v in peer.groups()]
         assert quoted == [*forward[length], *smoothed[length]], (length, quoted)
     coast = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"coasts: ([\d.]+) m RMS over 15 s, ([\d.]+) and ([\d.]+) m over 30 and 60 s",
     )
     assert all(rounds_to(q, forward[k][0]) for q, k in zip(coast, forward, strict=True)), coast
     bent = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"bends each coast onto the fixes that end it: "
         r"([\d.]+) m RMS, ([\d.]+) m at most over 15 s",
     )
@@ -109,12 +110,12 @@ def test_real_data_prose_reads_the_benchmark_tables():
     rms = [float(row[1].split(" / ")[0]) for row in outages]
     largest = max(float(row[1].split(" / ")[1]) for row in outages)
     low, high, worst = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"forward errors range from ([\d.]+) to ([\d.]+) m RMS \(outage \d+ has the ([\d.]+) m",
     )
     assert (low, high) == (min(rms), max(rms)) and rounds_to(worst, largest)
     under_rms, under_max, share = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"smoother brings every one under ([\d.]+) m RMS and ([\d.]+) m maximum, with "
         r"([\d.]+)-100 % of its errors inside its 3σ",
     )
@@ -129,12 +130,13 @@ def test_real_data_prose_reads_the_benchmark_tables():
         if key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
     ]
     spread = quoted_figures(
-        "docs/real-data.md", r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)"
+        "docs/results/against-rtk.md",
+        r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)",
     )
     assert len(walk) == 3 and rounds_to(spread[0], min(walk)) and rounds_to(spread[1], max(walk))
     # The published filter against memsnav, as ratios of the peer table.
     ratios = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"forward filter is ([\d.]+), ([\d.]+) and ([\d.]+) times more accurate in RMS; "
         r"the smoother ([\d.]+), ([\d.]+) and ([\d.]+) times",
     )
@@ -148,33 +150,42 @@ def test_real_data_prose_reads_the_benchmark_tables():
         # Quoted to two significant figures.
         assert all(abs(q - f) <= 0.05 * q for q, f in zip(quoted, fresh, strict=True)), length
     shares = [float(row[4]) for row in (*lengths.values(), drive["none"])]
-    (low,) = quoted_figures("docs/real-data.md", r"\(memsnav's forward filter: ([\d.]+)-100 %\)")
+    (low,) = quoted_figures(
+        "docs/results/against-rtk.md", r"\(memsnav's forward filter: ([\d.]+)-100 %\)"
+    )
     assert rounds_to(low, 100 * min(shares)) and max(shares) == 1.0
-    (aided_cm,) = quoted_figures("docs/real-data.md", r"follows the 4 Hz RTK fixes to (\d+) cm")
+    (aided_cm,) = quoted_figures(
+        "docs/results/against-rtk.md", r"follows the 4 Hz RTK fixes to (\d+) cm"
+    )
     assert rounds_to(aided_cm, 100 * float(drive["none"][2]))
     outage_shares = [float(row[4]) for row in lengths.values()]
-    (low,) = quoted_figures("docs/real-data.md", r"The bounds hold: ([\d.]+)-100 % of the errors")
+    (low,) = quoted_figures(
+        "docs/results/against-rtk.md", r"The bounds hold: ([\d.]+)-100 % of the errors"
+    )
     assert rounds_to(low, 100 * min(outage_shares)) and max(outage_shares) == 1.0
     standstills = {
         key: float(row[4]) for key, row in drive.items() if key.isdigit() and float(row[4])
     }
     (only, length_s) = quoted_figures(
-        "docs/real-data.md", r"Only outage (\d+) holds a standstill \(([\d.]+) s"
+        "docs/results/against-rtk.md", r"Only outage (\d+) holds a standstill \(([\d.]+) s"
     )
     assert standstills == {str(int(only)): length_s}
     # The offsets' benchmark and the installation states' baseline quote
     # the same forward RMS.
-    for pattern in (
-        r"−0\.22 s gives ([\d.]+) / ([\d.]+) / ([\d.]+) m",
-        r"forward outages go from ([\d.]+) / ([\d.]+) / ([\d.]+) m RMS",
+    for page, pattern in (
+        ("docs/explanation/time-and-truth.md", r"−0\.22 s gives ([\d.]+) / ([\d.]+) / ([\d.]+) m"),
+        (
+            "docs/reference/configuration.md",
+            r"forward outages go from ([\d.]+) / ([\d.]+) / ([\d.]+) m RMS",
+        ),
     ):
-        assert quoted_figures("docs/real-data.md", pattern) == tuple(f[0] for f in forward.values())
+        assert quoted_figures(page, pattern) == tuple(f[0] for f in forward.values())
     # The walk by precision and by accuracy.
     forward_walk, smoothed_walk, spp = (
         drive[key] for key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
     )
     quoted = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"follows the path to ([\d.]+) m RMS horizontal, half the single-point solution's "
         r"([\d.]+) m, and ([\d.]+) m vertical \(single-point ([\d.]+) m\); against the "
         r"ellipsoidal truth heights without removing the offset, ([\d.]+) m vertical "
@@ -185,7 +196,7 @@ def test_real_data_prose_reads_the_benchmark_tables():
         for v in (forward_walk[3], spp[3], forward_walk[4], spp[4], forward_walk[2], spp[2])
     )
     quoted = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"horizontal precision is the same ([\d.]+) m with a smaller maximum \(([\d.]+) against "
         r"([\d.]+) m\); its vertical offset is larger \(−([\d.]+) m against −([\d.]+) m",
     )
@@ -198,64 +209,74 @@ def test_real_data_prose_reads_the_benchmark_tables():
         -down[1],
     )
     (inside,) = quoted_figures(
-        "docs/real-data.md", r"make the filter say so: (\d+) % of the errors inside 3σ"
+        "docs/results/against-rtk.md",
+        r"make the filter say so: (\d+) % of the errors inside 3σ",
     )
     assert rounds_to(inside, 100 * float(forward_walk[7]))
-    (vertical,) = quoted_figures("docs/real-data.md", r"its vertical RMS by accuracy is ([\d.]+) m")
+    (vertical,) = quoted_figures(
+        "docs/results/against-rtk.md", r"its vertical RMS by accuracy is ([\d.]+) m"
+    )
     assert vertical == float(smoothed_walk[2])
-    withheld = _generated_rows("docs/real-data.md", "benchmark", "", after="satellites withheld")
+    withheld = _generated_rows(
+        "docs/results/against-rtk.md", "benchmark", "", after="satellites withheld"
+    )
     three, four = quoted_figures(
-        "docs/real-data.md",
+        "docs/results/against-rtk.md",
         r"costs little: ([\d.]+) m horizontal precision in the windows against ([\d.]+) m",
     )
     assert (three, four) == tuple(float(withheld[n][1].split(" / ")[0]) for n in ("3", "4"))
 
 
 def test_few_satellites_prose_reads_its_study_tables():
-    """docs/few-satellites.md's "How to read them" quotes the tables that
+    """docs/explanation/few-satellites.md's "How to read them" quotes the tables that
     docs/few_satellites_study.py writes above it; each quote agrees."""
-    rows = _generated_rows("docs/few-satellites.md", "study", "")
+    rows = _generated_rows("docs/explanation/few-satellites.md", "study", "")
     kept = [float(rows[n][0].split(" ± ")[0]) for n in ("0", "1", "2", "3")]
     quoted = quoted_figures(
-        "docs/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3"
+        "docs/explanation/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3"
     )
     assert list(quoted) == kept
-    share = quoted_figures("docs/few-satellites.md", r"hold the outage to (\d+) % of the total")
+    share = quoted_figures(
+        "docs/explanation/few-satellites.md", r"hold the outage to (\d+) % of the total"
+    )
     assert rounds_to(share[0], 100.0 * kept[3] / kept[0])
     at_end = [float(rows[imu][1]) for imu in ("paper MEMS", "consumer", "tactical")]
     low, high = quoted_figures(
-        "docs/few-satellites.md", r"NEES/dof at the outage's end ([\d.]+)-([\d.]+),"
+        "docs/explanation/few-satellites.md", r"NEES/dof at the outage's end ([\d.]+)-([\d.]+),"
     )
     assert low <= min(at_end) and max(at_end) <= high and high - low <= 0.1 + 1e-9
-    page = (ROOT / "docs" / "few-satellites.md").read_text()
+    page = (ROOT / "docs" / "explanation" / "few-satellites.md").read_text()
     aided = _aided_nees(page)
     raw_tilt = [aided[(imu, "10")][1] for imu in ("paper MEMS", "consumer")]
     low, high = quoted_figures(
-        "docs/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
+        "docs/explanation/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
     )
     assert len(raw_tilt) == 2 and rounds_to(low, min(raw_tilt)) and rounds_to(high, max(raw_tilt))
     clocks = re.findall(r"^\| (\d) \| (TCXO|OCXO) \|(.*)$", page, re.M)
     cells = {
         (n, clock): [c.strip() for c in rest.strip(" |").split("|")] for n, clock, rest in clocks
     }
-    (ocxo,) = quoted_figures("docs/few-satellites.md", r"with an OCXO (\d+) m\)")
+    (ocxo,) = quoted_figures("docs/explanation/few-satellites.md", r"with an OCXO (\d+) m\)")
     assert rounds_to(ocxo, float(cells[("3", "OCXO")][2]))
-    first_alerts = quoted_figures("docs/few-satellites.md", r"after a median (\d+) s and (\d+) s")
+    first_alerts = quoted_figures(
+        "docs/explanation/few-satellites.md", r"after a median (\d+) s and (\d+) s"
+    )
     assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))
     tcxo_error_km, tcxo_sigma_km = quoted_figures(
-        "docs/few-satellites.md", r"final error ([\d.]+) km, final σ ([\d.]+) km, every error"
+        "docs/explanation/few-satellites.md",
+        r"final error ([\d.]+) km, final σ ([\d.]+) km, every error",
     )
     assert rounds_to(tcxo_error_km, float(cells[("3", "TCXO")][2]) / 1e3)
     assert rounds_to(tcxo_sigma_km, float(cells[("3", "TCXO")][3]) / 1e3)
     assert cells[("3", "TCXO")][0] == "1.00 (1.00)"  # "every error inside 3σ"
     ocxo_error, ocxo_sigma = quoted_figures(
-        "docs/few-satellites.md", r"end (\d+) m off \(median; σ (\d+) m\)"
+        "docs/explanation/few-satellites.md", r"end (\d+) m off \(median; σ (\d+) m\)"
     )
     assert rounds_to(ocxo_error, float(cells[("3", "OCXO")][2]))
     # σ quoted to two significant figures
     assert abs(ocxo_sigma - float(cells[("3", "OCXO")][3])) <= 5.0
     tilt, heading = quoted_figures(
-        "docs/few-satellites.md",
+        "docs/decisions/0008-input-shaped-noise.md",
         r"aided tilt NEES went from [\d.]+ to ([\d.]+) and the heading's from [\d.]+ to ([\d.]+)\.",
     )
     assert rounds_to(tilt, aided[("consumer", "10")][1])
@@ -263,7 +284,7 @@ def test_few_satellites_prose_reads_its_study_tables():
 
 
 def _aided_nees(page: str) -> dict[tuple[str, str], tuple[float, float, float]]:
-    """docs/few-satellites.md's aided-attitude table: (IMU, τ) → NEES/dof
+    """docs/explanation/few-satellites.md's aided-attitude table: (IMU, τ) → NEES/dof
     of position, tilt, heading."""
     rows = re.findall(
         r"^\| (paper MEMS|consumer|tactical) \| (\d+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$",
@@ -286,11 +307,11 @@ def test_readme_quotes_the_drive_example_outage_schedule():
 
 
 def _paper_study_rows() -> dict[tuple[str, str], tuple[float, ...]]:
-    """docs/paper-comparison.md's study table (`python
+    """docs/results/paper-comparison.md's study table (`python
     docs/paper_comparison_study.py 20`): RMS 0-150 s, RMS 150-600 s,
     outage max, NEES/dof by (setting, IMU); a blank setting cell repeats
     the one above."""
-    text = (ROOT / "docs" / "paper-comparison.md").read_text()
+    text = (ROOT / "docs" / "results" / "paper-comparison.md").read_text()
     table = text[text.index("| setting | IMU |") :].split("\n\n", 1)[0]
     rows, setting = {}, ""
     for line in table.splitlines()[2:]:
@@ -303,7 +324,7 @@ def _paper_study_rows() -> dict[tuple[str, str], tuple[float, ...]]:
 def _paper_budget_rows(header: str) -> dict[str, str]:
     """The paper-comparison table that starts with ``header``: first cell →
     second."""
-    text = (ROOT / "docs" / "paper-comparison.md").read_text()
+    text = (ROOT / "docs" / "results" / "paper-comparison.md").read_text()
     table = text[text.index(header) :].split("\n\n", 1)[0]
     cells = [[c.strip() for c in line.strip().strip("|").split("|")] for line in table.splitlines()]
     return {row[0]: row[1] for row in cells[2:]}
@@ -311,11 +332,11 @@ def _paper_budget_rows(header: str) -> dict[str, str]:
 
 def test_paper_comparison_prose_reads_its_study_tables():
     """The defaults table, the claims' bullets and the "which configuration"
-    table of docs/paper-comparison.md quote its study tables (no run: the
+    table of docs/results/paper-comparison.md quote its study tables (no run: the
     slow test below reruns the tables); each quote agrees."""
     rows = _paper_study_rows()
     defaults = "defaults (ranges + rates, 1°/1°/5°)"
-    text = (ROOT / "docs" / "paper-comparison.md").read_text()
+    text = (ROOT / "docs" / "results" / "paper-comparison.md").read_text()
     for imu in ("ins", "mems", "calibrated_mems"):
         numbers = r" \| ([\d.]+)" * 4
         row = re.search(rf"^\| {imu}{numbers} \|$", text, re.M)
@@ -325,12 +346,12 @@ def test_paper_comparison_prose_reads_its_study_tables():
         return rows[(setting, imu)][column]
 
     (nees,) = quoted_figures(
-        "docs/paper-comparison.md", r"raw MEMS's NEES/dof of ([\d.]+) is its tilt"
+        "docs/results/paper-comparison.md", r"raw MEMS's NEES/dof of ([\d.]+) is its tilt"
     )
     assert rounds_to(nees, study(defaults, "mems", 3))
     only = "pseudoranges only"
     quoted = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"calibration then helps all along, ([\d.]+) → ([\d.]+) m in the first 150 s \((\d+) %\) "
         r"and ([\d.]+) → ([\d.]+) m after \((\d+) %\)",
     )
@@ -340,12 +361,13 @@ def test_paper_comparison_prose_reads_its_study_tables():
     assert rounds_to(quoted[2], 100 * (1 - early[1] / early[0]))
     assert rounds_to(quoted[5], 100 * (1 - late[1] / late[0]))
     above = quoted_figures(
-        "docs/paper-comparison.md", r"stays above the INS \(([\d.]+) vs ([\d.]+) m after 150 s\)"
+        "docs/results/paper-comparison.md",
+        r"stays above the INS \(([\d.]+) vs ([\d.]+) m after 150 s\)",
     )
     assert above == (study(only, "calibrated_mems", 1), study(only, "ins", 1))
     noisy = "rate noise 1 m/s"
     quoted = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"\(([\d.]+) → ([\d.]+) m early, ([\d.]+) → ([\d.]+) m after\)",
     )
     assert quoted == (
@@ -356,12 +378,12 @@ def test_paper_comparison_prose_reads_its_study_tables():
     )
     plain = "no absorption of unmodelled errors"
     quoted = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"first 150 s ([\d.]+) m raw vs ([\d.]+) m calibrated vs ([\d.]+) m INS",
     )
     assert quoted == tuple(study(plain, imu, 0) for imu in ("mems", "calibrated_mems", "ins"))
     late_rms, late_nees = quoted_figures(
-        "docs/paper-comparison.md", r"diverges \(RMS (\d+) m after 150 s, NEES/dof (\d+)\)"
+        "docs/results/paper-comparison.md", r"diverges \(RMS (\d+) m after 150 s, NEES/dof (\d+)\)"
     )
     assert rounds_to(late_rms, study(plain, "mems", 1)) and rounds_to(
         late_nees, study(plain, "mems", 3)
@@ -383,18 +405,19 @@ def test_paper_comparison_prose_reads_its_study_tables():
     simulated = _paper_budget_rows("| raw MEMS variant | outage max [m] |")
     analytic = _paper_budget_rows("| raw MEMS error term (paper-mems sigma) |")
     measured, budget = quoted_figures(
-        "docs/paper-comparison.md", r"The measured (\d+) m is the analytic (\d+) m"
+        "docs/results/paper-comparison.md", r"The measured (\d+) m is the analytic (\d+) m"
     )
     assert rounds_to(measured, float(simulated["raw MEMS (all terms)"]))
     assert rounds_to(budget, float(analytic["all, in quadrature"]))
     calibrated, plain_calibrated = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"hence ([\d.]+) m for the calibrated MEMS, and ([\d.]+) m when its filter is tuned",
     )
     assert calibrated == study(defaults, "calibrated_mems", 2)
     assert plain_calibrated == study(plain, "calibrated_mems", 2)
     noise_only, ins = quoted_figures(
-        "docs/paper-comparison.md", r"noise-only drift \(([\d.]+) m\) is the INS's \(([\d.]+) m\)"
+        "docs/results/paper-comparison.md",
+        r"noise-only drift \(([\d.]+) m\) is the INS's \(([\d.]+) m\)",
     )
     assert noise_only == float(simulated["noise only"]) and ins == study(defaults, "ins", 2)
 
@@ -408,7 +431,7 @@ RERUN_SETTINGS = [s for s in paper_comparison_study.SETTINGS if not s.startswith
 @pytest.mark.slow
 @pytest.mark.parametrize("setting", RERUN_SETTINGS)
 def test_paper_comparison_study_table_is_a_fresh_run(setting):
-    """Each setting's rows of docs/paper-comparison.md's study table
+    """Each setting's rows of docs/results/paper-comparison.md's study table
     (20 runs, seed 0: deterministic) are what the study script computes
     today, within the rounding they are quoted with (~5-10 s a setting)."""
     rows, nominal = paper_comparison_study.setting_rows(
@@ -422,7 +445,7 @@ def test_paper_comparison_study_table_is_a_fresh_run(setting):
         # "window RMS 0-10 s / 10-30 s / 30-60 s: 3.0 / 1.7 / 1.3 m for all
         # three IMUs" (1 Hz errors: index = second).
         windows = quoted_figures(
-            "docs/paper-comparison.md", r"30-60 s: ([\d.]+) / ([\d.]+) / ([\d.]+) m"
+            "docs/results/paper-comparison.md", r"30-60 s: ([\d.]+) / ([\d.]+) / ([\d.]+) m"
         )
         for imu in nominal.imus:
             error = nominal.position_error[imu]
@@ -432,7 +455,7 @@ def test_paper_comparison_study_table_is_a_fresh_run(setting):
 
 @pytest.mark.slow
 def test_paper_comparison_outage_budget_is_a_fresh_run():
-    """The outage budget of docs/paper-comparison.md, analytic (20
+    """The outage budget of docs/results/paper-comparison.md, analytic (20
     trajectories) and by simulation (20 runs), from the study script."""
     analytic = paper_comparison_study.budget_analytic_rows(20)
     page = _paper_budget_rows("| raw MEMS error term (paper-mems sigma) |")
@@ -452,11 +475,11 @@ def test_paper_comparison_outage_budget_is_a_fresh_run():
 
 
 def test_few_satellites_quotes_the_example_logs_consistency():
-    """docs/few-satellites.md: "On the example logs the largest ratio is
+    """docs/explanation/few-satellites.md: "On the example logs the largest ratio is
     0.4 (drive_0708) and 0.6 (walk_0827)", the time-averaged NIS against
     its band over every GNSS kind, each example run as configured (~2 s)."""
     quoted = quoted_figures(
-        "docs/few-satellites.md",
+        "docs/explanation/few-satellites.md",
         r"the largest ratio is ([\d.]+) \(drive_0708\) and ([\d.]+) \(walk_0827\)",
     )
     data = shared_data("real-imu-gnss/walk_0827").parent.parent
@@ -472,7 +495,7 @@ def test_few_satellites_quotes_the_example_logs_consistency():
 
 @pytest.mark.slow
 def test_real_data_quotes_the_drive_with_other_settings():
-    """docs/real-data.md on drive_0708 through the published filter's
+    """the navigate guide on drive_0708 through the published filter's
     outage windows with settings other than the example's (~15 s): "Time",
     the forward RMS in the 15 / 30 / 60 s outages with the IMU offset at
     −0.125 s and −0.27 s instead of −0.22 s (whose figures are the
@@ -483,7 +506,7 @@ def test_real_data_quotes_the_drive_with_other_settings():
     import real_data_benchmark
 
     quoted = quoted_figures(
-        "docs/real-data.md",
+        "docs/explanation/time-and-truth.md",
         r"−0\.22 s gives [\d.]+ / [\d.]+ / [\d.]+ m, −0\.125 s ([\d.]+) / ([\d.]+) / ([\d.]+) m "
         r"and −0\.27 s ([\d.]+) / ([\d.]+) / ([\d.]+) m",
     )
@@ -499,10 +522,10 @@ def test_real_data_quotes_the_drive_with_other_settings():
     # `fix_error_states` on the same fixes: "15 s outages 0.24 / 0.42 m RMS /
     # max instead of 0.14 / 0.36 m" (smoothed; the latter the benchmark's).
     states_rms, states_max, rms, largest = quoted_figures(
-        "docs/real-data.md",
+        "docs/reference/configuration.md",
         r"15 s outages ([\d.]+) / ([\d.]+) m RMS / max instead of ([\d.]+) / ([\d.]+) m\)",
     )
-    drive = _generated_rows("docs/real-data.md", "benchmark", "15 s")["15 s"]
+    drive = _generated_rows("docs/results/against-rtk.md", "benchmark", "15 s")["15 s"]
     assert (rms, largest) == (float(drive[5]), float(drive[6]))
     config = copy.deepcopy(base)
     config.engine["gnss"]["fix_error_states"] = True
@@ -516,7 +539,7 @@ def test_real_data_quotes_the_drive_with_other_settings():
     # ones stay within 0.05 m, but the aided error ... grows from 0.01 to
     # 0.02 m".
     lever_low, lever_high, latency, offset_high, offset_low, *outages = quoted_figures(
-        "docs/real-data.md",
+        "docs/reference/configuration.md",
         r"residuals of (\d+)-(\d+) cm \(lever arm\), ([\d.]+) s \(latency, configured [\d.]+ s\) "
         r"and −([\d.]+) to −([\d.]+) s \(offset, .*? to ([\d.]+) / ([\d.]+) / ([\d.]+) m and the "
         r"smoothed ones stay within ([\d.]+) m, but the aided error against the RTK it is fed "
@@ -526,7 +549,7 @@ def test_real_data_quotes_the_drive_with_other_settings():
     config = copy.deepcopy(base)
     config.engine.setdefault("filter", {})["installation_states"] = True
     runs = real_data_benchmark.peer_window_runs(config)
-    table = _generated_rows("docs/real-data.md", "benchmark", "")
+    table = _generated_rows("docs/results/against-rtk.md", "benchmark", "")
     for (length, (summary, _)), quoted_rms in zip(runs.items(), forward_states, strict=True):
         estimates = summary["installation_estimates"]
         lever_cm = [100 * abs(v) for v in estimates["lever_arm_m"]["value"]]
@@ -549,12 +572,12 @@ def test_real_data_quotes_the_drive_with_other_settings():
 
 @pytest.mark.slow
 def test_paper_comparison_partial_outages_are_a_fresh_run():
-    """docs/paper-comparison.md's partial-outage table (the quick run of
+    """docs/results/paper-comparison.md's partial-outage table (the quick run of
     `memsnav reproduce`: 30 runs, seed 0; ~16 s) within its rounding, and
     the bullets reading it: the shares of the no-satellite error kept with
     3 and with 2 satellites, the NEES range, no run flagged."""
     result = mn.experiments.partial_outage(runs=30, seed=0).summary()["scenarios"]
-    text = (ROOT / "docs" / "paper-comparison.md").read_text()
+    text = (ROOT / "docs" / "results" / "paper-comparison.md").read_text()
     table = text[text.index("| scenario | ins | mems | calibrated_mems |") :].split("\n\n", 1)[0]
     quoted = {}
     for line in table.splitlines()[2:]:
@@ -582,16 +605,16 @@ def test_paper_comparison_partial_outages_are_a_fresh_run():
         )
 
     three = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"raw MEMS (\d+) %, calibrated (\d+) %, INS (\d+) % of its no-satellite error",
     )
     imus = ("mems", "calibrated_mems", "ins")
     assert all(rounds_to(q, share(imu, 3)) for q, imu in zip(three, imus, strict=True)), three
-    low, high = quoted_figures("docs/paper-comparison.md", r"2 satellites to (\d+)-(\d+) %")
+    low, high = quoted_figures("docs/results/paper-comparison.md", r"2 satellites to (\d+)-(\d+) %")
     two = [share(imu, 2) for imu in ("ins", "mems", "calibrated_mems")]
     assert rounds_to(low, min(two)) and rounds_to(high, max(two)), two
     low, high = quoted_figures(
-        "docs/paper-comparison.md", r"every scenario \(NEES/dof ([\d.]+)-([\d.]+)\)"
+        "docs/results/paper-comparison.md", r"every scenario \(NEES/dof ([\d.]+)-([\d.]+)\)"
     )
     nees = [nees for imus in quoted.values() for _, nees in imus.values()]
     assert rounds_to(low, min(nees)) and rounds_to(high, max(nees)), nees
@@ -599,7 +622,7 @@ def test_paper_comparison_partial_outages_are_a_fresh_run():
 
 @pytest.mark.slow
 def test_few_satellites_quotes_the_two_satellite_runs():
-    """docs/few-satellites.md on the 900 s runs with 2 satellites (the
+    """docs/explanation/few-satellites.md on the 900 s runs with 2 satellites (the
     study's seeds 1-8, ~7 s): "Until the first alert the errors of 6 of 8
     runs ... stay inside 3σ" (a share that rounds to 1.00, as the table
     prints it), the exception's alert "only at 270 s" and its tilt 20 s in,
@@ -608,9 +631,11 @@ def test_few_satellites_quotes_the_two_satellite_runs():
 
     inside, runs = re.search(
         r"Until the first alert the errors of (\d+) of (\d+) runs with 2 satellites",
-        " ".join((ROOT / "docs" / "few-satellites.md").read_text().split()),
+        " ".join((ROOT / "docs" / "explanation" / "few-satellites.md").read_text().split()),
     ).groups()
-    (late,) = quoted_figures("docs/few-satellites.md", r"the alert comes only at (\d+) s")
+    (late,) = quoted_figures(
+        "docs/explanation/few-satellites.md", r"the alert comes only at (\d+) s"
+    )
     long_runs = [few_satellites_study._long_run(2, seed) for seed in range(1, 9)]
     assert int(runs) == len(long_runs)
     held = [r for r in long_runs if round(r["inside_before_alert"], 2) == 1.0]
@@ -618,7 +643,7 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     assert max(r["first_alert_s"] for r in long_runs) == late
     # "their NIS over 60 s windows stays at 0.7-1.2 per degree of freedom"
     low, high = quoted_figures(
-        "docs/few-satellites.md",
+        "docs/explanation/few-satellites.md",
         r"NIS over 60 s windows stays at ([\d.]+)-([\d.]+) per degree of freedom",
     )
     nis = [v for r in long_runs for v in r["nis_per_dof_60s"]]
@@ -626,7 +651,7 @@ def test_few_satellites_quotes_the_two_satellite_runs():
     # The exception: "tilt it by 13° and 11° within 20 s, before the filter
     # has learnt them (its tilt σ 4.7° and 3.1°)".
     tilts = quoted_figures(
-        "docs/few-satellites.md",
+        "docs/explanation/few-satellites.md",
         r"tilt it by (\d+)° and (\d+)° within 20 s, before the filter has learnt them "
         r"\(its tilt σ ([\d.]+)° and ([\d.]+)°\)",
     )
@@ -638,13 +663,13 @@ def test_few_satellites_quotes_the_two_satellite_runs():
 
 
 def test_real_data_quotes_the_position_nis_at_four_imu_offsets():
-    """docs/real-data.md, "Time": the mean NIS per degree of freedom of
+    """docs/explanation/time-and-truth.md, "Time": the mean NIS per degree of freedom of
     drive_0708's position fixes over the whole drive without outages at
     four IMU offsets (four runs, ~2 s)."""
     import copy
 
     quoted = quoted_figures(
-        "docs/real-data.md",
+        "docs/explanation/time-and-truth.md",
         r"the position fixes is ([\d.]+) at −0\.27 s, ([\d.]+) at −0\.22 s, ([\d.]+) at −0\.20 s "
         r"and ([\d.]+) at −0\.125 s",
     )
@@ -673,11 +698,11 @@ def _one_over_e_time_s(x: np.ndarray, rate_hz: float) -> float:
 
 
 def test_few_satellites_quotes_the_inputs_correlation_times():
-    """docs/few-satellites.md: "on six 600 s random trajectories the yaw
+    """docs/explanation/few-satellites.md: "on six 600 s random trajectories the yaw
     rate's autocorrelation falls to 1/e in 4-8 s, the horizontal specific
     force's in 5-16 s" (seeds 0-5, 100 Hz), what τ = 10 s is chosen from."""
     yaw_low, yaw_high, force_low, force_high = quoted_figures(
-        "docs/few-satellites.md",
+        "docs/decisions/0008-input-shaped-noise.md",
         r"on six 600 s random trajectories the yaw rate's autocorrelation falls to 1/e in "
         r"(\d+)-(\d+) s, the horizontal specific force's in (\d+)-(\d+) s",
     )
@@ -691,19 +716,19 @@ def test_few_satellites_quotes_the_inputs_correlation_times():
 
 
 def test_real_data_quotes_the_drive_aided_at_three_velocity_latencies():
-    """docs/real-data.md: drive_0708 aided on its 4 Hz RTK without outages
+    """the navigate guide: drive_0708 aided on its 4 Hz RTK without outages
     follows the fixes to 7 cm RMS with 76 position resets when the
     velocity latency is 0, to 1 cm with one at 0.125-0.132 s (three runs,
     ~3 s); "The engine's choices" quotes the first two the same."""
     import copy
 
     cm, resets, cm_late = quoted_figures(
-        "docs/real-data.md",
+        "docs/explanation/time-and-truth.md",
         r"a latency of 0 leaves (\d+) cm RMS and (\d+) position resets, 0\.125-0\.132 s (\d+) cm "
         r"and one\.",
     )
     assert quoted_figures(
-        "docs/real-data.md",
+        "docs/explanation/time-and-truth.md",
         r"follows the fixes to (\d+) cm RMS \((\d+) position resets\); with the velocity latency "
         r"set to 0\.125 s, to (\d+) cm with one\.",
     ) == (cm, resets, cm_late)
@@ -728,13 +753,13 @@ def test_real_data_quotes_the_drive_aided_at_three_velocity_latencies():
 
 
 def test_few_satellites_quotes_the_tactical_runs_on_three_satellites():
-    """docs/few-satellites.md: "seeds 1-8 of today's code end 0.7-3.7 km
+    """docs/explanation/few-satellites.md: "seeds 1-8 of today's code end 0.7-3.7 km
     off with vertical σ of 1.7-1.8 km, 100 % inside" (a tactical IMU, 900 s
     on the 3 highest of 6 satellites from the exact start, ~3 s)."""
     import few_satellites_study
 
     low, high, sigma_low, sigma_high, inside = quoted_figures(
-        "docs/few-satellites.md",
+        "docs/decisions/0008-input-shaped-noise.md",
         r"seeds 1-8 of today's code end ([\d.]+)-([\d.]+) km off with vertical σ of "
         r"([\d.]+)-([\d.]+) km, (\d+) % inside",
     )
@@ -748,10 +773,10 @@ def test_few_satellites_quotes_the_tactical_runs_on_three_satellites():
 
 
 def test_howto_quotes_its_examples_condition_number(capsys):
-    """docs/howto.md's first example warns about the w axis: "poorly
+    """docs/how-to/your-own-arrays.md's first example warns about the w axis: "poorly
     conditioned (condition number ~2e4)": that axis's condition number
     from the example's own calibration, to the one significant figure."""
-    page = (ROOT / "docs" / "howto.md").read_text()
+    page = doc_text("how-to/your-own-arrays.md")
     example = re.search(r"```python\n(.*?)```", page, re.S).group(1)
     namespace: dict = {}
     with warnings.catch_warnings():
@@ -759,7 +784,7 @@ def test_howto_quotes_its_examples_condition_number(capsys):
         exec(compile(example, "howto.md", "exec"), namespace)
     capsys.readouterr()
     (quoted,) = quoted_figures(
-        "docs/howto.md", r"poorly conditioned \(condition number ~([\d.e]+)\)"
+        "docs/how-to/your-own-arrays.md", r"poorly conditioned \(condition number ~([\d.e]+)\)"
     )
     w_axis = namespace["acc_cal"].condition_number[2]
     assert f"{w_axis:.0e}".replace("e+0", "e") == f"{quoted:.0e}".replace("e+0", "e"), w_axis
@@ -767,19 +792,19 @@ def test_howto_quotes_its_examples_condition_number(capsys):
 
 @pytest.mark.slow
 def test_paper_comparison_quotes_the_quick_calibration_run():
-    """docs/paper-comparison.md on the quick run's calibration (``memsnav
+    """docs/results/paper-comparison.md on the quick run's calibration (``memsnav
     reproduce``: 50 sets × 100 runs, seed 0; ~30 s): plain least squares'
     efficiency "up to about 100 on the gyro p and q scale factors, 14 on the
     accelerometer u scale factor, with 90-98 % of that MSE its squared mean
     error", and the misalignments' normalised RMS error "0.03 on the gyro,
     0.05 on the accelerometer" (the errors-in-variables estimator's)."""
     gyro_pq, accel_u, share_low, share_high = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"up to about (\d+) on the gyro p and q scale factors, (\d+) on the accelerometer u "
         r"scale factor, with (\d+)-(\d+) % of that MSE",
     )
     gyro_mis, accel_mis = quoted_figures(
-        "docs/paper-comparison.md",
+        "docs/results/paper-comparison.md",
         r"RMS error ([\d.]+) on the gyro, ([\d.]+) on the accelerometer in the quick run",
     )
     sizes = QUICK

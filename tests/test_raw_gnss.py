@@ -1,4 +1,4 @@
-"""Raw GNSS from anywhere, strictly (issue 25): ``GnssMeasurements`` from
+"""Raw GNSS from anywhere, strictly: ``GnssMeasurements`` from
 padded arrays and from long tables (CSV, dict, DataFrame), one strict
 converter for every entry point (unknown keys name what was meant, NaN
 refused naming the slot), the Android GnssLogger reader checked against
@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import doc_text
 from shared_data import shared_data
 
 import memsnav as mn
@@ -95,10 +96,10 @@ def test_the_misspelled_rate_key_used_to_cost_the_doppler(drive_300s):
     with_rates = rms(arrays(g))
     without = rms({k: v for k, v in arrays(g).items() if not k.startswith("pseudorange_rate")})
     assert with_rates < 2.0 < 3.0 < without
-    # docs/robustness.md quotes both, within their rounding.
-    page = " ".join((Path(__file__).parents[1] / "docs" / "robustness.md").read_text().split())
+    # docs/reference/robustness.md quotes both, within their rounding.
+    page = " ".join(doc_text("reference/robustness.md").split())
     quoted = re.search(r"position RMS is ([\d.]+) m with the rates and ([\d.]+) m without", page)
-    assert quoted, "docs/robustness.md no longer quotes the RMS with and without rates"
+    assert quoted, "docs/reference/robustness.md no longer quotes the RMS with and without rates"
     assert abs(with_rates - float(quoted.group(1))) <= 0.005, with_rates
     assert abs(without - float(quoted.group(2))) <= 0.005, without
 

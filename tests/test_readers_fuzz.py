@@ -1,13 +1,13 @@
-"""Fuzzing the Python faces of the readers (issue 15, hypothesis): valid
+"""Fuzzing the Python faces of the readers (hypothesis): valid
 files with bytes flipped, cut, numbers replaced by huge or non-finite ones
 and garbage appended give a result or a ``ValueError`` (``ParseError``)
 naming the file: never another exception, a crash or a hang. A satellite
 record of an SP3 or RINEX observation epoch duplicated, or another
-relabelled with its name, is always that error (issue 30). What
+relabelled with its name, is always that error. What
 ``write_pos`` accepts, ``read_pos`` reads back.
 
 CI runs a fixed, derandomised budget; ``MEMSNAV_FUZZ_EXAMPLES=N`` raises it
-and draws new inputs each run (docs/robustness.md). The Rust suite
+and draws new inputs each run (docs/reference/robustness.md). The Rust suite
 (``crates/memsnav-core/tests/readers_fuzz.rs``) fuzzes the parsers
 themselves far faster; this one covers the bindings and the wrappers.
 """
@@ -99,7 +99,7 @@ GNSS_TABLE = (
 )
 
 #: An integrating IMU's log: a preamble, its own column order named by its
-#: header, increments in g·s and degrees, FLU axes (issue 25).
+#: header, increments in g·s and degrees, FLU axes.
 IMU_INCREMENTS = """# exported by another logger
 time_s,dang_z,dvel_x,dang_x,dvel_z,dang_y,dvel_y,temp_c
 1735.000,0,0,0,0,0,0,21.5
@@ -281,7 +281,7 @@ def _repeat_a_satellite(name: str, kind: str, at: tuple[int, int, int]) -> tuple
     at=st.tuples(st.integers(0, 10**6), st.integers(0, 10**6), st.integers(0, 10**6)),
 )
 def test_a_satellite_twice_in_an_epoch_is_refused(name, kind, at):
-    # Issue 30: the second record silently replaced the first (a relabelled
+    # The second record silently replaced the first (a relabelled
     # line gave one satellite another's values and the other none).
     content, label = _repeat_a_satellite(name, kind, at)
     message = _read(name, content)

@@ -1,4 +1,4 @@
-"""Real-data readers (issue 8), on excerpts of the
+"""Real-data readers, on excerpts of the
 BSD-3 real-imu-gnss logs kept in tests/data/real-imu-gnss (LICENSE there)."""
 
 from __future__ import annotations
@@ -74,7 +74,7 @@ def test_imu_csv_bad_files_name_file_and_line(tmp_path):
 
 
 def test_imu_csv_magnitudes_that_do_not_fit_the_units_warn(tmp_path):
-    # Issue 15: a gyro in °/s declared as rad/s ran to kilometres silently;
+    # A gyro in °/s declared as rad/s ran to kilometres silently;
     # 1e308 g became inf.
     p = tmp_path / "imu.csv"
     p.write_text("".join(f"0,0,1,0,0,{30 if k > 50 else 0},{10 * k}\n" for k in range(100)))

@@ -1,5 +1,5 @@
 """Numbers as the reports print them (memsnav.report.numbers): the
-findings of issue 28 ("171 ± 1e+01" in the partial-outage table, held
+findings of the report review ("171 ± 1e+01" in the partial-outage table, held
 parameters as "-0", "132 windows of 2.00002 s") each as a case, and the
 rounding checked against the value it stands for."""
 

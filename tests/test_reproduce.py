@@ -76,7 +76,7 @@ RUN: dict = {}
 def test_the_terminal_answers_first_with_every_verdict(study):
     summary = json.loads((study / "summary.json").read_text())
     lines = RUN["printed"].splitlines()
-    assert lines[0] == "The paper's claims, judged (quick Monte Carlo sizes, seed 5):"
+    assert lines[0] == "The paper's claims, judged (2 runs per experiment, seed 5):"
     claims = summary["claims"]
     for line, claim in zip(lines[1:], claims, strict=False):
         assert re.split(r"\s{2,}", line.strip(), maxsplit=1) == [claim["verdict"], claim["title"]]

@@ -1,4 +1,4 @@
-"""docs/robustness.md's figures are the code's: the fuzzing table is what
+"""docs/reference/robustness.md's figures are the code's: the fuzzing table is what
 docs/fuzz_runs.py writes from its record (no fuzzing run here) and covers
 the readers and entries the suites fuzz today; the budgets, mutations,
 limits and warning thresholds it quotes are the constants of the code; the
@@ -15,11 +15,12 @@ import numpy as np
 import pytest
 import test_api_fuzz
 import test_readers_fuzz
+from doc_pages import NAVIGATE_GUIDE, doc_text
 
 import memsnav as mn
 
 ROOT = Path(__file__).resolve().parent.parent
-PAGE = ROOT / "docs" / "robustness.md"
+PAGE = ROOT / "docs" / "reference" / "robustness.md"
 RUST_FUZZ = ROOT / "crates" / "memsnav-core" / "tests" / "readers_fuzz.rs"
 CORE = ROOT / "crates" / "memsnav-core" / "src"
 
@@ -38,7 +39,7 @@ def _page() -> str:
 
 def _quoted(pattern: str) -> tuple[str, ...]:
     found = re.search(pattern, _page())
-    assert found, f"docs/robustness.md no longer quotes {pattern!r}"
+    assert found, f"docs/reference/robustness.md no longer quotes {pattern!r}"
     return found.groups()
 
 
@@ -71,7 +72,7 @@ def test_the_fuzz_table_is_what_the_script_writes_from_its_record():
     block = text[text.index(begin) : text.index(end) + len(end)]
     record = json.loads((ROOT / "docs" / "fuzz_runs.json").read_text())
     assert block == SCRIPT["render"](record), (
-        "docs/robustness.md's fuzzing table is not what docs/fuzz_runs.py writes from "
+        "docs/reference/robustness.md's fuzzing table is not what docs/fuzz_runs.py writes from "
         "docs/fuzz_runs.json: run python docs/fuzz_runs.py --write"
     )
     fuzzed = {run["suite"]: run["fuzzed"] for run in record["runs"]}
@@ -299,17 +300,17 @@ def _simulate_gnss(**kwargs):
     ],
 )
 def test_the_quoted_error_messages_are_what_the_calls_say(quoted, call):
-    assert quoted in _page(), f"docs/robustness.md no longer quotes {quoted!r}"
+    assert quoted in _page(), f"docs/reference/robustness.md no longer quotes {quoted!r}"
     with pytest.raises((ValueError, TypeError, mn.MemsnavError)) as caught:
         call()
     assert quoted in " ".join(str(caught.value).split())
 
 
 def test_the_imu_csv_ranges_real_data_lists_are_the_readers():
-    """robustness.md points to docs/real-data.md (Readers) for each reader's
+    """robustness.md points to the navigate guide (Readers) for each reader's
     ranges; the IMU CSV reader's there are the constants of
     crates/memsnav-core/src/logs/imu_csv.rs."""
-    page = " ".join((ROOT / "docs" / "real-data.md").read_text().split())
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     found = re.search(
         r"\|f\| ≤ (\d+) g, \|ω\| ≤ (\d+) rad/s, .*?\|t\| ≤ (10\S+) s\).*?a median \|f\| outside "
         r"([\d.]+)-([\d.]+) g .*?(\d+) % of the rates above (\d+) °/s .*?a median sample "
@@ -317,7 +318,7 @@ def test_the_imu_csv_ranges_real_data_lists_are_the_readers():
         r"intervals",
         page,
     )
-    assert found, "docs/real-data.md no longer lists the IMU CSV reader's ranges"
+    assert found, "the navigate guide no longer lists the IMU CSV reader's ranges"
     g, w, t, f_low, f_high, share, deg_s, dt_low, dt_high, gap_s, gap_n = found.groups()
     source = (CORE / "logs" / "imu_csv.rs").read_text()
     assert f"MAX_SPECIFIC_FORCE_M_S2: f64 = {int(g):_}.0 * STANDARD_GRAVITY_M_S2;" in source

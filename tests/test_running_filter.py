@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 
 import memsnav as mn
 
@@ -196,15 +197,13 @@ def test_aids_bound_an_outage_inside_the_covariance(drive_300s):
     coast, aided = results[False][0], results[True][0]
     print(f"60 s outage: {coast[-1]:.2f} m coasting, {aided[-1]:.2f} m aided")
     assert aided[-1] < 0.25 * coast[-1], (aided[-1], coast[-1])
-    # docs/step-api.md quotes both ("ends at 0.87 m instead of 38 m"), each
+    # docs/how-to/step-api.md quotes both ("ends at 0.87 m instead of 38 m"), each
     # within its rounding.
     import re
-    from pathlib import Path
 
-    docs = Path(__file__).resolve().parent.parent / "docs"
-    page = " ".join((docs / "step-api.md").read_text().split())
+    page = " ".join(doc_text("how-to/step-api.md").split())
     quoted = re.search(r"heading at 10 Hz ends at ([\d.]+) m instead of (\d+) m", page)
-    assert quoted, "docs/step-api.md no longer quotes the aided outage"
+    assert quoted, "docs/how-to/step-api.md no longer quotes the aided outage"
     assert abs(aided[-1] - float(quoted.group(1))) <= 0.005, aided[-1]
     assert abs(coast[-1] - float(quoted.group(2))) <= 0.5, coast[-1]
     assert np.all(results[True][1] < 3.0), results[True][1].max()
@@ -260,12 +259,11 @@ def test_bad_calls_name_the_argument_and_change_nothing(drive_300s):
 
 
 def test_step_api_page_quotes_what_its_example_prints(capsys, monkeypatch, tmp_path):
-    """docs/step-api.md's opening sentence quotes its example's outage
+    """docs/how-to/step-api.md's opening sentence quotes its example's outage
     errors: run the example and compare."""
     import re
-    from pathlib import Path
 
-    page = (Path(__file__).resolve().parent.parent / "docs" / "step-api.md").read_text()
+    page = doc_text("how-to/step-api.md")
     example = re.search(r"```python\n(.*?)```", page, flags=re.S).group(1)
     monkeypatch.chdir(tmp_path)
     namespace = {"__name__": "__docs__"}
@@ -318,12 +316,11 @@ def test_run_increments_is_the_stepped_increments_run(drive_300s):
 
 @pytest.mark.slow
 def test_the_quoted_increments_gain_is_what_the_filter_does():
-    """docs/step-api.md and docs/real-data.md quote how far 600 s of
+    """docs/how-to/step-api.md and the navigate guide quote how far 600 s of
     unaided propagation from error-free data ends at 100 and 20 Hz, by
     increments (coning and sculling) and by instantaneous samples: the
     same trajectory, recomputed."""
     import re
-    from pathlib import Path
 
     imu = mn.ImuModel.preset("tactical", seed=1)
     ends = {}
@@ -341,18 +338,17 @@ def test_the_quoted_increments_gain_is_what_the_filter_does():
             float(np.linalg.norm(r.position_ecef - traj.position_ecef[-1]))
             for r in (by_increments, by_samples)
         ]
-    docs = Path(__file__).resolve().parent.parent / "docs"
-    page = " ".join((docs / "step-api.md").read_text().split())
+    page = " ".join(doc_text("how-to/step-api.md").split())
     quoted = re.search(
         r"ends ([\d.]+) m off at 100 Hz and ([\d.]+) m at 20 Hz, against ([\d.]+) m and ([\d.]+) m",
         page,
     )
-    assert quoted, "docs/step-api.md no longer quotes the increments gain"
+    assert quoted, "docs/how-to/step-api.md no longer quotes the increments gain"
     figures = [ends[100.0][0], ends[20.0][0], ends[100.0][1], ends[20.0][1]]
     for text, value in zip(quoted.groups(), figures, strict=True):
         decimals = len(text.split(".")[1])
         assert f"{value:.{decimals}f}" == text, (text, value)
-    guide = " ".join((docs / "real-data.md").read_text().split())
+    guide = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     assert f"{ends[100.0][0]:.3f} m native against {ends[100.0][1]:.3f} m" in guide
     assert f"at 20 Hz {ends[20.0][0]:.2f} m against {ends[20.0][1]:.1f} m" in guide
 

@@ -1,4 +1,4 @@
-"""In-run sensor error states (issue 12): on simulated drives with known
+"""In-run sensor error states: on simulated drives with known
 biases and scale factors, the tight filter's 23-state estimates end within
 their own one-sigma of the truth, as a chi-square test over seeds says, and
 the observable ones (gyro z scale factor through the turns) are learnt.

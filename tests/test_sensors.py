@@ -1,6 +1,6 @@
 """Sensor models against a direct numpy evaluation of method §2, the noise
 processes against their theoretical statistics, the presets against their
-published magnitudes, and every bad input of issue 2."""
+published magnitudes, and every bad input the models refuse."""
 
 import itertools
 import math
@@ -152,7 +152,7 @@ def test_seeds():
     np.testing.assert_array_equal(a1, a2)
     np.testing.assert_array_equal(g1, g2)
     assert not np.array_equal(a1, a3)
-    # seed=None is the default seed 0, not fresh entropy (docs/concepts.md).
+    # seed=None is the default seed 0, not fresh entropy (docs/explanation/concepts.md).
     np.testing.assert_array_equal(imu.measure(f, w)[0], imu.measure(f, w, seed=0)[0])
     assert mn.ImuModel.preset("consumer", seed=1) == imu
     assert mn.ImuModel.preset("consumer", seed=2) != imu

@@ -1,4 +1,4 @@
-"""The simulator reproduces its own earlier output (issue 17): trajectory
+"""The simulator reproduces its own earlier output: trajectory
 generation with the exact IMU truth, IMU error synthesis and GNSS
 simulation. tests/data/simulator-reference/simulator_reference.npz was
 written by the code before the simulator speed-up (make_reference.py

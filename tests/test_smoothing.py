@@ -1,5 +1,5 @@
-"""The fixed-interval smoother through the Python API and ``navigate``
-(issue 12); its equations are tested in Rust (filter/smoother.rs against the
+"""The fixed-interval smoother through the Python API and ``navigate``;
+its equations are tested in Rust (filter/smoother.rs against the
 batch solution of a linear model, tests/smoother.rs for consistency)."""
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from shared_data import shared_data
 
 import memsnav as mn
@@ -133,7 +134,7 @@ def test_smoothed_sigma_is_positive_and_smooth_through_an_outage(tmp_path):
 
 
 def test_drive_0708_smoothed_sigma_as_the_page_quotes(tmp_path):
-    """docs/smoothing.md, "Numerics", on drive_0708 with its 15 s outages:
+    """docs/explanation/smoother.md, "Numerics", on drive_0708 with its 15 s outages:
     the forward variance at an outage's end up to 10⁴-10⁶ times the
     smoothed one, no zero smoothed σ, the 99.9th percentile of the
     position σ's relative second difference 0.004, and the errors' 3σ share
@@ -148,14 +149,14 @@ def test_drive_0708_smoothed_sigma_as_the_page_quotes(tmp_path):
     smoothed = np.genfromtxt(
         tmp_path / "out" / "drive_0708_smoothed.csv", delimiter=",", names=True
     )
-    page = " ".join((Path(__file__).parents[1] / "docs" / "smoothing.md").read_text().split())
+    page = " ".join(doc_text("explanation/smoother.md").split())
     quoted = re.search(
         r"forward variance can be 10([⁰-⁹]+)-10([⁰-⁹]+) times the smoothed one.*"
         r"no zero σ and that percentile is ([\d.]+);.*outages, [\d.]+ and [\d.]+ with the "
-        r"earlier form, is ([\d.]+) and ([\d.]+) \(docs/real-data.md\)",
+        r"earlier form, is ([\d.]+) and ([\d.]+) \(\[against RTK\]",
         page,
     )
-    assert quoted, "docs/smoothing.md no longer quotes the smoothed σ on drive_0708"
+    assert quoted, "docs/explanation/smoother.md no longer quotes the smoothed σ on drive_0708"
     low, high = (
         int(e.translate(str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789"))) for e in quoted.groups()[:2]
     )
@@ -176,7 +177,7 @@ def test_drive_0708_smoothed_sigma_as_the_page_quotes(tmp_path):
         assert round(roughness, 3) <= percentile, (column, roughness)
     in_outages = summary["errors_vs_truth_smoothed"]["in_outages"]["within_3sigma_share"]
     assert abs(in_outages - share_15) <= 0.0005
-    table = (Path(__file__).parents[1] / "docs" / "real-data.md").read_text()
+    table = doc_text(*NAVIGATE_GUIDE)
     table = table[table.index("<!-- benchmark:begin -->") :]
     for length, share in (("15", share_15), ("30", share_30)):
         row = re.search(rf"^\| {length} s \|(.*)$", table, re.M).group(1).split("|")
@@ -184,7 +185,7 @@ def test_drive_0708_smoothed_sigma_as_the_page_quotes(tmp_path):
 
 
 def test_a_position_reset_does_not_cut_the_smoothed_outage_off():
-    """Issue 29: a position reset after an outage used to cut the smoother's
+    """A position reset after an outage used to cut the smoother's
     path back into the outage (its drift stayed, 98 m RMS against 110 m
     forward) and left tens of metres after it (22 m); the smoothed solution
     is now continuous across it. The reset's fix is also
@@ -217,17 +218,17 @@ def test_a_position_reset_does_not_cut_the_smoothed_outage_off():
     def rms(e):
         return float(np.sqrt(np.mean(e**2)))
 
-    # docs/smoothing.md quotes this run: "coasts 60 s to a 205 m reset: the
+    # docs/explanation/smoother.md quotes this run: "coasts 60 s to a 205 m reset: the
     # outage's smoothed RMS went from 98 m (forward 110 m) to 32 m, and the
     # smoothed error after the reset from 22 m to 0.4 m" (98 and 22: before).
-    page = " ".join((Path(__file__).parents[1] / "docs" / "smoothing.md").read_text().split())
+    page = " ".join(doc_text("explanation/smoother.md").split())
     quoted = re.search(
         r"coasts 60 s to a (\d+) m reset: the outage's smoothed RMS went from \d+ m "
         r"\(forward (\d+) m\) to (\d+) m, and the smoothed error after the reset from \d+ m "
         r"to ([\d.]+) m",
         page,
     )
-    assert quoted, "docs/smoothing.md no longer quotes the reset run"
+    assert quoted, "docs/explanation/smoother.md no longer quotes the reset run"
     reset_m, forward_m, smoothed_m, after_m = (float(v) for v in quoted.groups())
     assert abs(sol.resets["change"][0] - reset_m) <= 0.5
     assert abs(rms(forward[outage]) - forward_m) <= 0.5

@@ -1,4 +1,4 @@
-"""Standstills seen by the sensors in a GNSS outage (issue 29): a car that
+"""Standstills seen by the sensors in a GNSS outage: a car that
 stops while its solution coasts on. The IMU shows the quiet of a car at rest;
 the solution's speed, drifted metres per second away from zero, must not veto
 it when the filter's own velocity σ cannot tell that speed from zero."""
@@ -6,14 +6,14 @@ it when the filter's own velocity σ cannot tell that speed from zero."""
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
+from doc_pages import NAVIGATE_GUIDE, doc_text
 
 import memsnav as mn
 
 # Vibration of a car's IMU, one-sigma per 100 Hz sample (drive_0708's
-# window stds, docs/real-data.md: at rest with the engine running 0.1-0.28
+# window stds, the navigate guide: at rest with the engine running 0.1-0.28
 # m/s² and up to 2.8 °/s, driving 0.5-1.5 m/s² and 2.5-12 °/s).
 VIBRATION_MOVING = (0.5, 2.0)  # m/s², °/s
 VIBRATION_AT_REST = (0.12, 0.5)
@@ -95,14 +95,14 @@ def test_a_stop_in_an_outage_is_seen_by_the_sensors_and_bounds_the_error():
     assert np.mean(np.asarray(m["status"])[zupt] == "accepted") > 0.95
     assert not any(a > t[0] + 40.0 for a, _ in runs[0.0].standstills)
     assert errors[3.0] < 20.0 < 100.0 < errors[0.0], errors
-    # docs/real-data.md quotes this run: "the error at the end of the outage
+    # the navigate guide quotes this run: "the error at the end of the outage
     # is 6 m instead of 373 m", and the speed it had coasted to by the stop.
-    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     quoted = re.search(
         r"coasted to (\d+) m/s by the stop; .* end of the outage is (\d+) m instead of (\d+) m",
         page,
     )
-    assert quoted, "docs/real-data.md no longer quotes the stop-and-go run"
+    assert quoted, "the navigate guide no longer quotes the stop-and-go run"
     speed, with_stop, without = map(float, quoted.groups())
     assert abs(errors[3.0] - with_stop) <= 0.5 and abs(errors[0.0] - without) <= 0.5, errors
     at_stop = np.searchsorted(np.asarray(runs[0.0].time), stop_start)

@@ -1,4 +1,4 @@
-"""The tightly coupled filter reproduces its own earlier output (issue 17):
+"""The tightly coupled filter reproduces its own earlier output:
 tests/data/tight-reference/tight_reference.npz was written by an earlier
 commit (make_reference.py beside it says which, and why it was rewritten);
 a fused multiply-add rounds once instead of twice, so a reference from the

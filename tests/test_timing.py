@@ -1,4 +1,4 @@
-"""Finding time offsets from the data (issue 11): a simulated drive with a
+"""Finding time offsets from the data: a simulated drive with a
 known IMU offset and known velocity latencies, recovered through the Python
 faces; the drive excerpt's offsets against what the full log gives."""
 
@@ -11,6 +11,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from doc_pages import NAVIGATE_GUIDE, doc_text
 from shared_data import shared_data
 
 import memsnav as mn
@@ -115,9 +116,9 @@ def test_the_drive_excerpt_runs_a_quarter_second_early():
     # 65 s of the drive give what the whole log gives (−0.27 s), not the
     # data authors' −0.125 s: 9 standard errors away.
     assert -0.30 < e.offset_s < -0.22 and e.correlation > 0.6
-    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     quoted = re.search(r"the 65 s excerpt in `tests/data` \(−([\d.]+) s\)", page)
-    assert quoted, "docs/real-data.md no longer quotes the excerpt's offset"
+    assert quoted, "the navigate guide no longer quotes the excerpt's offset"
     assert abs(-e.offset_s - float(quoted.group(1))) <= 0.005, e.offset_s
     assert (e.offset_s + 0.125) / e.std_s < -5.0
     v = mn.estimate_velocity_latency(rtk)
@@ -125,12 +126,12 @@ def test_the_drive_excerpt_runs_a_quarter_second_early():
 
 
 def test_the_guide_quotes_the_full_logs_offsets():
-    """docs/real-data.md, "Finding the time offsets from the data": its
+    """docs/explanation/time-and-truth.md, "Finding the time offsets from the data": its
     table (offset, std, correlation, the four stretches of each log and
     signal) and the RTK velocity latencies of both logs (latency, std, RMS
     difference) are what its example code gives on the full logs."""
     root = shared_data("real-imu-gnss/drive_0708/imu_1934.csv").parents[1]
-    page = " ".join((Path(__file__).parents[1] / "docs" / "real-data.md").read_text().split())
+    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
     number = r"\*{0,2}([−+]?[\d.]+) s\*{0,2}"
     for row_label, log, mounting, options in (
         ("drive_0708", "drive_0708/imu_1934", [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]], {}),
@@ -153,7 +154,7 @@ def test_the_guide_quotes_the_full_logs_offsets():
                 r"([^|]+) \|",
                 page,
             )
-            assert row, f"docs/real-data.md has no {row_label} {label} row"
+            assert row, f"the navigate guide has no {row_label} {label} row"
             offset, std, correlation = (float(v.replace("−", "-")) for v in row.groups()[:3])
             stretches = [float(v.replace("−", "-")) for v in row.group(4).split(", ")]
             e = mn.estimate_time_offset(
@@ -172,7 +173,7 @@ def test_the_guide_quotes_the_full_logs_offsets():
         r"walk \*\*([\d.]+) s\*\* ± ([\d.]+) \(([\d.]+) m/s\)",
         page,
     )
-    assert quoted, "docs/real-data.md no longer quotes the velocity latencies"
+    assert quoted, "the navigate guide no longer quotes the velocity latencies"
     figures = [float(v) for v in quoted.groups()]
     logs = [
         mn.read_pos(root / f) for f in ("drive_0708/gnss_1934_sf.pos", "walk_0827/gnss_1730_sf.pos")

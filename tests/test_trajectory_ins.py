@@ -252,7 +252,7 @@ GOOD = "0,51,0,10,0,1,0,0,0,0\n0.01,51,0.0000001,10,0,1,0,0,0,0\n0.02,51,0.00000
         (GOOD + "0.03,51,x,10,0,1,0,0,0,0\n", 4, "column 3"),
         ("0,51,0,10,0,1,0,0,0,0\n0,51,0,10,0,1,0,0,0,0\n", 2, "does not follow"),
         (GOOD, 3, "at least 4 rows"),
-        # Issue 30: an east velocity of 1e308 gave 1 176 of 1 200 specific
+        # An east velocity of 1e308 gave 1 176 of 1 200 specific
         # forces non-finite; each column now has its range.
         (GOOD + "0.03,51,0.0000003,10,0,1e308,0,0,0,0\n", 4, r"column 6 \(v_E, m/s\): 1e308"),
         (GOOD + "0.03,51,0.0000003,10,7e4,7e4,7e4,0,0,0\n", 4, "a speed of 121243"),

@@ -1,4 +1,4 @@
-"""u-blox UBX logs (issue 24): ``memsnav.read_ubx`` and ``memsnav convert``.
+"""u-blox UBX logs: ``memsnav.read_ubx`` and ``memsnav convert``.
 
 The converted RINEX files are read by an independent reader (georinex)
 and must hold the values the log decodes to; the GPS ephemerides decoded

@@ -1,4 +1,4 @@
-"""A user's own GNSS and truth files, as they are (docs/your-own-files.md):
+"""A user's own GNSS and truth files, as they are (docs/how-to/your-own-files.md):
 ``memsnav simulate``'s outputs navigated against their own truth, the
 ``[truth]`` and ``[gnss]`` reading keys and their errors, and the foreign
 drive (``examples/foreign_drive.toml``) checked against a computation of
@@ -21,7 +21,7 @@ from memsnav.simulate import simulate
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "foreign_drive.toml"
-PAGE = "docs/your-own-files.md"
+PAGE = "docs/how-to/your-own-files.md"
 
 # --- memsnav simulate's files as inputs --------------------------------------
 
@@ -475,7 +475,7 @@ def test_foreign_drive_runs_from_its_files_as_they_are(foreign_drive):
     offset it estimates and the fixes' own score against the moved truth
     are the test's own computation from the CSVs (to a millimetre), what
     the data README says (the fixes about 1 m west of and below the
-    reference; about 1.0 m horizontal RMS), and what docs/your-own-files.md
+    reference; about 1.0 m horizontal RMS), and what docs/how-to/your-own-files.md
     quotes; and the truth is named as the configuration names it."""
     summary = foreign_drive.summary
     start = summary["start_gps_time_s"] + UNIX_TO_GPS_S

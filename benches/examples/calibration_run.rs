@@ -1,6 +1,6 @@
 //! Times the parts of one run of the calibration experiment (300 s at
 //! 100 Hz, the paper's MEMS IMU) `REPEATS` times (default 20) and prints
-//! the best and median of each, for `docs/performance.md` and for profilers
+//! the best and median of each, for `docs/results/performance.md` and for profilers
 //! (`perf record target/release/examples/calibration_run 50`):
 //! `cargo run --release -p memsnav-benches --example calibration_run -- 20`.
 

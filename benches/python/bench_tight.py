@@ -228,8 +228,8 @@ def process_noise(t: dict[str, Any], dt: float) -> np.ndarray:
 
 
 def unmodelled_psd(t: dict[str, Any], f_ref, f, w) -> tuple[np.ndarray, np.ndarray]:
-    """memsnav's noise for the sensor errors the 17 states lack (issue 23,
-    filter/input_noise.rs): the scale factors, misalignments, nonlinearity
+    """memsnav's noise for the sensor errors the 17 states lack
+    (filter/input_noise.rs): the scale factors, misalignments, nonlinearity
     and g-sensitivity of the tuning's ``unmodelled_*`` σ, as the white-noise
     PSD 2σ²τ (τ the manoeuvres' correlation time) of the error they make at
     this step's corrected inputs ``f``, ``w`` less the specific force at
@@ -562,7 +562,7 @@ def main() -> None:
         lambda: filt.run(traj.time, acc, gyr, gnss, initial_attitude=traj.attitude[0]),
     )
 
-    # Issue 12: what the fixed-interval smoother adds to the forward run,
+    # What the fixed-interval smoother adds to the forward run,
     # for the 17-state filter and the 23-state one with scale factors.
     smoother = {}
     for states, scale_factor_states in ((17, False), (23, True)):

@@ -28,7 +28,7 @@ def resolve_path(value: str, base: Path) -> Path:
     """A path written in a configuration: ``~`` expanded, absolute as given,
     else relative to ``base`` (the data root for the recordings a
     configuration reads when they are not beside it, :func:`data_path`; the
-    configuration's own folder for everything else: docs/getting-started.md,
+    configuration's own folder for everything else: docs/tutorials/first-session.md,
     "Paths in a configuration")."""
     p = Path(value).expanduser()
     return p if p.is_absolute() else base / p

@@ -1,4 +1,4 @@
-"""Monte Carlo sets on a Dask cluster (``docs/distributed.md``).
+"""Monte Carlo sets on a Dask cluster (``docs/how-to/run-on-dask.md``).
 
 Every experiment binding of ``memsnav._memsnav`` runs a whole set when
 called plainly, computes the runs ``run_range=(start, end)`` and returns

@@ -331,7 +331,7 @@ def calibrate_accelerometer(
     m/s² per sample). ``noise_std`` (m/s² per sample) enables ``.crb``.
     ``estimate``: "all" (raises UnobservableError naming the axis and
     parameter the data cannot determine) or "determinable" (holds those at
-    zero and lists them in ``.held``; the rule: docs/calibration.md)."""
+    zero and lists them in ``.held``; the rule: docs/how-to/calibrate-an-imu.md)."""
 
 def calibrate_gyroscope(
     measured: npt.ArrayLike,
@@ -652,7 +652,7 @@ def imu_spec_from_datasheet(
 def derive_seed(seed: int, purpose: str) -> int:
     """The seed of the independent draw named ``purpose`` made from user
     seed ``seed`` (the first output of its own stream of ``seed``; see
-    ``docs/concepts.md``, "Seeds"). Use it when one seed feeds several
+    ``docs/explanation/concepts.md``, "Seeds"). Use it when one seed feeds several
     functions that each take a seed, instead of ``seed + 1``, ``seed + 2``."""
 
 def invert_accelerometer(
@@ -1170,7 +1170,7 @@ def solve_fix(
     Earth's centre; later epochs start from the previous fix). Epochs with
     fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
 
-# --- trajectory (issue 4) ---
+# --- trajectory ---
 
 @final
 class Trajectory:
@@ -1250,7 +1250,7 @@ class Trajectory:
         """[roll, pitch, yaw] of the body relative to local NED, rad, (N, 3)."""
     def __len__(self) -> int: ...
 
-# --- ins (issue 4) ---
+# --- ins ---
 
 @final
 class NavSolution:
@@ -1464,7 +1464,7 @@ class FilterSolution:
 
     @property
     def integrity(self) -> dict[str, Any]:
-        """Whether the solution can be trusted (docs/few-satellites.md): a dict
+        """Whether the solution can be trusted (docs/explanation/few-satellites.md): a dict
         with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
         ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
         "applied_outliers"),
@@ -1536,7 +1536,7 @@ class TightlyCoupledFilter:
     rate row keeps the line of sight's turn with position, so ranges and
     rates leave the same directions unobserved); with none the INS coasts.
     ``FilterSolution.integrity`` says when the result cannot be trusted
-    (docs/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
+    (docs/explanation/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
 
     Tuning from ``imu.spec`` at ``imu.sample_rate`` (``FilterTuning::from_imu_spec``):
     white-noise PSDs = noise density² (or per-sample std² / rate); bias
@@ -1582,7 +1582,7 @@ class TightlyCoupledFilter:
       errors (multipath), s (None: 0, white); each pseudorange's std is
       inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
       epoch interval dt, so that epochs sampling one error carry it once
-      (docs/real-data.md, "Correlated code errors").
+      (docs/how-to/multi-gnss.md, "Correlated code errors").
 
     Raises ValueError naming the argument for a bad value.
     """
@@ -1631,7 +1631,7 @@ class TightlyCoupledFilter:
     ) -> FilterSolution:
         """Filters the whole series in one call (GIL released); with ``smooth``
         also the fixed-interval smoothed solution, as ``.smoothed``
-        (docs/smoothing.md).
+        (docs/explanation/smoother.md).
 
         ``time`` (N,) s, increasing; ``specific_force`` (N, 3) m/s² and
         ``angular_rate`` (N, 3) rad/s: raw IMU samples (instantaneous values).
@@ -1673,7 +1673,7 @@ class TightlyCoupledFilter:
         increments of each interval, ``delta_v`` (N, 3) m/s and ``delta_theta``
         (N, 3) rad (row k over [time[k], time[k + 1]]), integrated by the
         increments mechanization with coning and sculling; the rest as ``run``
-        (docs/step-api.md)."""
+        (docs/how-to/step-api.md)."""
 
     def start(
         self,
@@ -1689,12 +1689,12 @@ class TightlyCoupledFilter:
         C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
         sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
         rad/s), to be driven one call at a time: a ``RunningFilter`` with this
-        filter's tuning (docs/step-api.md). ``inter_system_biases`` (tight
+        filter's tuning (docs/how-to/step-api.md). ``inter_system_biases`` (tight
         only): with the Galileo and BeiDou inter-system-bias states."""
 
 @final
 class RunningFilter:
-    """A coupled GNSS/INS filter driven one call at a time (docs/step-api.md):
+    """A coupled GNSS/INS filter driven one call at a time (docs/how-to/step-api.md):
     ``predict`` (or ``predict_increments``) at each IMU sample, then any
     updates at that time. Made by ``TightlyCoupledFilter.start`` or
     ``LooselyCoupledFilter.start`` with that filter's tuning; the batch
@@ -1886,7 +1886,7 @@ class LooselyCoupledFilter:
         increments of each interval, ``delta_v`` (N, 3) m/s and ``delta_theta``
         (N, 3) rad (row k over [time[k], time[k + 1]]), integrated by the
         increments mechanization with coning and sculling; the rest as ``run``
-        (docs/step-api.md)."""
+        (docs/how-to/step-api.md)."""
 
     def start(
         self,
@@ -1902,7 +1902,7 @@ class LooselyCoupledFilter:
         C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
         sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
         rad/s), to be driven one call at a time: a ``RunningFilter`` with this
-        filter's tuning (docs/step-api.md). ``inter_system_biases`` (tight
+        filter's tuning (docs/how-to/step-api.md). ``inter_system_biases`` (tight
         only): with the Galileo and BeiDou inter-system-bias states."""
 
 def navigation_experiment(
@@ -1948,7 +1948,7 @@ def navigation_experiment(
     its changes between epochs), ``cycle_slip_probability``: silent slips
     per satellite and epoch (None: 0)."""
 
-# --- real data: RINEX observations and the coupled filters on logs (issue 8) ---
+# --- real data: RINEX observations and the coupled filters on logs ---
 
 @final
 class BroadcastEphemerides:
@@ -2308,7 +2308,7 @@ class LogRun:
     @property
     def adaptation(self) -> dict[str, Any]:
         """What the run learnt from the log before the run it reports
-        (docs/foreign-drive.md): dict ``imu_preset`` (the IMU model chosen,
+        (docs/results/foreign-drive.md): dict ``imu_preset`` (the IMU model chosen,
         None when the configuration names one), ``imu_candidates`` (list of
         dicts ``preset``, ``log_likelihood``, ``measurements``, ``resets``:
         each candidate's first pass), ``nhc_std_m_s`` (the non-holonomic
@@ -2423,7 +2423,7 @@ def navigate_log(
     coupling). ``settings``: ``{table: {key: value}}`` as in a ``navigate``
     configuration (``navigate_settings()`` lists them; left-out keys keep the
     engine's defaults). ``duration_s`` stops that long after the start.
-    See docs/real-data.md."""
+    See docs/tutorials/navigate-a-log.md."""
 
 # --- real logs: readers, writers and time alignment (memsnav_core::logs, ::timing) ---
 

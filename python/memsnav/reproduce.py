@@ -141,7 +141,7 @@ def reproduce(
     experiment's completed runs and state, and the claims that need an
     incomplete experiment are ``not evaluated``. ``client``: a
     ``dask.distributed.Client`` to run every experiment on its cluster
-    (``docs/distributed.md``; the same numbers, ``threads`` unused).
+    (``docs/how-to/run-on-dask.md``; the same numbers, ``threads`` unused).
     """
     if runs is not None and runs <= 0:
         raise ValueError(f"runs: must be positive, got {runs}")
@@ -258,6 +258,24 @@ def _navigation(result: Any) -> dict[str, Any] | None:
     return out
 
 
+def sizes_label(sizes: Sizes) -> str:
+    """What the Monte Carlo sizes were, in words: ``quick``, ``the paper's``,
+    or the runs given (``--runs N``)."""
+    if sizes == QUICK:
+        return "quick"
+    if sizes == FULL:
+        return "the paper's"
+    runs = {
+        sizes.calibration_runs,
+        sizes.inversion_runs,
+        sizes.navigation_runs,
+        sizes.partial_outage_runs,
+    }
+    if len(runs) == 1:
+        return f"{runs.pop()} runs per experiment"
+    return "custom"
+
+
 def study_summary(
     results: dict[str, Any],
     sizes: Sizes,
@@ -286,6 +304,7 @@ def study_summary(
         "runs": sizes.as_dict(),
         "seed": seed,
         "full": full,
+        "sizes": sizes_label(sizes),
         "memsnav_version": memsnav.__version__,
         "machine": {
             "platform": platform.platform(),

@@ -125,7 +125,7 @@ pub fn discretise(psd: f64, correlation_time_s: f64, dt_s: f64) -> GaussMarkovSt
 /// [`discretise`] of the stationary process of std `std` and correlation
 /// time `correlation_time_s`, written with σ² (1 − φ²) instead of q τ / 2
 /// (1 − φ²): the same value, without forming q = 2σ²/τ, which overflows
-/// for a τ near zero (issue 30: a sensor's bias instability went NaN).
+/// for a τ near zero (a sensor's bias instability went NaN).
 pub fn stationary_step(std: f64, correlation_time_s: f64, dt_s: f64) -> GaussMarkovStep {
     let ratio = dt_s / correlation_time_s;
     GaussMarkovStep {

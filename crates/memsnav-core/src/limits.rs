@@ -1,6 +1,6 @@
 //! Size and range limits checked up front at the public entry points, so
 //! that no argument can make memsnav allocate more than a machine holds,
-//! loop for ever or overflow a float (issue 15; `docs/robustness.md` lists
+//! loop for ever or overflow a float (`docs/reference/robustness.md` lists
 //! them). Each check names the argument and gives the figure.
 
 use crate::{Error, Result};
@@ -50,7 +50,7 @@ pub const MAX_SAMPLES: usize = 100_000_000;
 /// position is integrated in sub-steps of 0.01 s whatever its sample rate,
 /// so this also bounds that work to 10⁸ sub-steps: a 10³⁰⁰ s trajectory at
 /// 10⁻²⁹⁸ Hz (100 samples) never finished, and a 10¹⁰ s calibration
-/// segment aborted the interpreter on allocation (issue 30).
+/// segment aborted the interpreter on allocation.
 pub const MAX_DURATION_S: f64 = 1.0e6;
 
 /// A simulated span `duration_s` (named `argument`) is at most

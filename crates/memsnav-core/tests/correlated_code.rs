@@ -90,9 +90,9 @@ fn correlated_code_errors_need_their_correlation_time() {
     assert!(white > hi, "white: {white}");
     assert!(modelled > lo && modelled < hi, "modelled: {modelled}");
     assert!(modelled_rms < white_rms, "{modelled_rms} vs {white_rms}");
-    // docs/real-data.md, "Correlated code errors", quotes this run.
+    // docs/how-to/multi-gnss.md, "Correlated code errors", quotes this run.
     let quoted = quoted_numbers(
-        "real-data.md",
+        "how-to/multi-gnss.md",
         "reported with their whole std",
         " m. Precision",
     );

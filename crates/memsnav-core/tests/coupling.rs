@@ -255,8 +255,8 @@ fn tight_coupling_survives_three_satellites() {
 
 /// Three satellites for 15 minutes from the start, an IMU modelled exactly:
 /// the pseudoranges and rates leave one direction of position and clock
-/// open, and the covariance must grow along it as the error does (issue 23:
-/// without the rate row's line-of-sight term the model found information
+/// open, and the covariance must grow along it as the error does
+/// (without the rate row's line-of-sight term the model found information
 /// about that direction as the satellites moved, and only 39 % of the
 /// position NEES stayed under its 99.7 % quantile while the error reached
 /// 3.7 km).

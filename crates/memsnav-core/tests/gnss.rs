@@ -396,10 +396,10 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
     assert_eq!(sky.systems(), systems);
     let omega = Vector3::new(0.0, 0.0, EARTH_RATE_RAD_S);
     // (system, published period in minutes, inclination °, first number).
-    // docs/concepts.md quotes the periods: "11 h 58 min, 14 h 4 min 41 s and
+    // docs/explanation/concepts.md quotes the periods: "11 h 58 min, 14 h 4 min 41 s and
     // 12 h 53 min 14 s" (GPS to the minute, the others to the second).
     let periods = quoted_numbers(
-        "concepts.md",
+        "explanation/concepts.md",
         "Their periods T = 2π √(a³/μ) are ",
         " (published",
     );
@@ -438,7 +438,7 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
             );
             assert!(
                 (period_s - quoted_period_s[k]).abs() <= 0.5 * quoted_step_s[k],
-                "{system}: period {period_s:.1} s, docs/concepts.md {} s",
+                "{system}: period {period_s:.1} s, docs/explanation/concepts.md {} s",
                 quoted_period_s[k]
             );
             let n = r.cross(&v_i).normalize();
@@ -475,9 +475,9 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
             c.push(n);
         }
     }
-    // docs/concepts.md quotes them: "6.7 GPS (6-8), 7.0 Galileo (6-9) and
+    // docs/explanation/concepts.md quotes them: "6.7 GPS (6-8), 7.0 Galileo (6-9) and
     // 6.9 BeiDou (4-9)", mean, least and most per system.
-    let quoted = quoted_numbers("concepts.md", "counts in view ", " satellites.");
+    let quoted = quoted_numbers("explanation/concepts.md", "counts in view ", " satellites.");
     assert_eq!(quoted.len(), 9, "{quoted:?}");
     for ((system, c), q) in systems.iter().zip(&counts).zip(quoted.chunks(3)) {
         let mean = c.iter().sum::<usize>() as f64 / c.len() as f64;
@@ -487,7 +487,7 @@ fn galileo_and_beidou_walkers_match_their_published_geometry() {
         assert!(*lo >= 4 && *hi <= 12, "{system}: {lo}-{hi}");
         assert!(
             rounds_to(mean, q[0], 1) && *lo as f64 == q[1] && *hi as f64 == q[2],
-            "{system}: {mean:.2} ({lo}-{hi}) in view, docs/concepts.md {q:?}"
+            "{system}: {mean:.2} ({lo}-{hi}) in view, docs/explanation/concepts.md {q:?}"
         );
     }
     // A system twice, or more than 99 satellites of one of several, is refused.
@@ -630,7 +630,7 @@ fn predicted_range_matches_the_simulators_light_time() {
 }
 
 /// The rate's position gradient (the line of sight turning with the
-/// receiver, issue 23) against a central difference of the predicted rate,
+/// receiver) against a central difference of the predicted rate,
 /// for the satellites above a moving receiver: to what it leaves out, the
 /// light-time factor (1e-5 relative) and the Earth's turn during the light
 /// time's change with position (ω_ie |v_s| / c ≈ 1e-9 per metre).
@@ -1389,7 +1389,7 @@ fn least_squares_fix_estimates_inter_system_biases() {
     assert!(err.contains("at least 6 satellites"), "{err}");
 }
 
-/// docs/real-data.md on the clock presets: walk_0827's receiver "changed
+/// docs/reference/configuration.md on the clock presets: walk_0827's receiver "changed
 /// its clock drift by 20 m/s over its 133.75 s log …, a 9.2σ event for a
 /// TCXO model and 0.92σ for this one" (the consumer preset): σ of a
 /// random-walk drift over the log is √(S_g t). The 20 m/s itself is the
@@ -1397,7 +1397,7 @@ fn least_squares_fix_estimates_inter_system_biases() {
 #[test]
 fn the_quoted_clock_drift_change_in_sigmas_is_the_presets() {
     let quoted = quoted_numbers(
-        "real-data.md",
+        "reference/configuration.md",
         "walk_0827 changed its clock drift by",
         "for this one",
     );

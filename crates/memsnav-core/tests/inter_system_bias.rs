@@ -50,13 +50,21 @@ fn inter_system_biases_converge_inside_their_sigma() {
     };
     let first = Layout::for_size::<WITH_ISB>().inter_system_bias.unwrap();
     let runs = 5;
-    // docs/concepts.md quotes this run: "drives seeing 7 GPS, 9 Galileo and
+    // docs/explanation/concepts.md quotes this run: "drives seeing 7 GPS, 9 Galileo and
     // 8 BeiDou satellites", "σ = 0.14 m", "the mean NEES/dof of attitude,
     // velocity and position is 1.21, inside its 95 % band [0.63, 1.45]".
-    let seen = quoted_numbers("concepts.md", "drives seeing ", " satellites with biases");
-    let quoted_sigma = quoted_numbers("concepts.md", "truth and σ = ", " m (from")[0];
-    let quoted_nees = quoted_numbers("concepts.md", "velocity and position is ", ", inside");
-    let quoted_band = quoted_numbers("concepts.md", "inside its 95 % band [", "]");
+    let seen = quoted_numbers(
+        "explanation/concepts.md",
+        "drives seeing ",
+        " satellites with biases",
+    );
+    let quoted_sigma = quoted_numbers("explanation/concepts.md", "truth and σ = ", " m (from")[0];
+    let quoted_nees = quoted_numbers(
+        "explanation/concepts.md",
+        "velocity and position is ",
+        ", inside",
+    );
+    let quoted_band = quoted_numbers("explanation/concepts.md", "inside its 95 % band [", "]");
     let mut nees_sum = vec![0.0; 181];
     let mut isb_nees_sum = 0.0;
     for i in 0..runs {
@@ -73,7 +81,7 @@ fn inter_system_biases_converge_inside_their_sigma() {
         assert_eq!(
             per_system.map(|n| n as f64).to_vec(),
             seen,
-            "docs/concepts.md's satellites"
+            "docs/explanation/concepts.md's satellites"
         );
         let init = perturbed_initial(&truth, &tuning.initial_std, &mut rng);
         let (f, w) = readings(&truth, &imu, &mut rng);
@@ -113,7 +121,7 @@ fn inter_system_biases_converge_inside_their_sigma() {
             assert!(sigma < 0.5, "{system}: σ {sigma}");
             assert!(
                 rounds_to(sigma, quoted_sigma, 2),
-                "{system}: σ {sigma}, docs/concepts.md {quoted_sigma}"
+                "{system}: σ {sigma}, docs/explanation/concepts.md {quoted_sigma}"
             );
         }
     }
@@ -126,7 +134,7 @@ fn inter_system_biases_converge_inside_their_sigma() {
             && rounds_to(mean, quoted_nees[0], 2)
             && rounds_to(lo, quoted_band[0], 2)
             && rounds_to(hi, quoted_band[1], 2),
-        "docs/concepts.md quotes {quoted_nees:?} in {quoted_band:?}"
+        "docs/explanation/concepts.md quotes {quoted_nees:?} in {quoted_band:?}"
     );
     let (lo, hi) = mean_per_dof_band(2.0, runs as usize, 0.99);
     let isb = isb_nees_sum / (2.0 * runs as f64);
@@ -179,7 +187,7 @@ fn inter_system_bias_states_on_gps_only_data_change_nothing() {
 /// biases of +3 m and −25 m, every satellite in view tracked, from a given
 /// state (the fixes have one clock for all systems): the filters carry the
 /// bias states, their position NEES stays consistent, and 20-odd
-/// satellites beat GPS's 6. docs/concepts.md quotes the tactical IMU's
+/// satellites beat GPS's 6. docs/explanation/concepts.md quotes the tactical IMU's
 /// figures ("mean position error RMS of 0.85 m against 1.25 m with GPS's
 /// 6 satellites, position NEES/dof 0.98").
 #[test]
@@ -212,7 +220,7 @@ fn the_navigation_experiment_on_several_systems_with_inter_system_biases() {
     let one = navigation_experiment(&gps, &options).unwrap();
     let three = navigation_experiment(&all, &options).unwrap();
     let quoted = quoted_numbers(
-        "concepts.md",
+        "explanation/concepts.md",
         "give a mean position error RMS of",
         "(test `the_navigation_experiment",
     );

@@ -1,4 +1,4 @@
-//! Figures docs/performance.md quotes about the filter's structure,
+//! Figures docs/results/performance.md quotes about the filter's structure,
 //! counted from the code: the covariance products visit one term per
 //! non-zero of Φ, and the page's floating-point count is built on how many
 //! there are for 17 states.
@@ -13,7 +13,7 @@ use nalgebra::{SMatrix, Vector3};
 fn quoted_before(page: &str, suffix: &str) -> usize {
     let at = page
         .find(suffix)
-        .unwrap_or_else(|| panic!("docs/performance.md no longer quotes {suffix:?}"));
+        .unwrap_or_else(|| panic!("docs/results/performance.md no longer quotes {suffix:?}"));
     let digits: String = page[..at]
         .chars()
         .rev()
@@ -54,7 +54,7 @@ fn phi_has_the_non_zeros_the_flop_count_uses() {
     let non_zeros = phi.iter().filter(|&&x| x != 0.0).count();
     let page = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../docs/performance.md"
+        "/../../docs/results/performance.md"
     ))
     .unwrap();
     let page = page.split_whitespace().collect::<Vec<_>>().join(" ");

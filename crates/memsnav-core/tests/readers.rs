@@ -1,4 +1,4 @@
-//! Every reader range-checks its fields (issue 15): the RINEX navigation
+//! Every reader range-checks its fields: the RINEX navigation
 //! and SP3 cases that hung, overflowed or returned garbage, each an error
 //! naming the file, the line and the field.
 

@@ -1,4 +1,4 @@
-//! Fuzzing the readers (issue 15): every reader, fed valid files with
+//! Fuzzing the readers: every reader, fed valid files with
 //! bytes flipped, lines cut, duplicated or dropped, numbers replaced by huge,
 //! negative or non-finite ones, and pure garbage, returns a result or an
 //! error in bounded time: never a panic, a hang (10 s per input), or a
@@ -15,7 +15,7 @@
 //! RINEX writer and readers (what `memsnav convert` does).
 //!
 //! CI runs `MEMSNAV_FUZZ_CASES` inputs per reader and kind (default 256);
-//! maintainers raise it (`MEMSNAV_FUZZ_CASES=100000`, docs/robustness.md).
+//! maintainers raise it (`MEMSNAV_FUZZ_CASES=100000`, docs/reference/robustness.md).
 //! The files in `tests/data/regressions/` are replayed every time.
 
 use std::path::{Path, PathBuf};

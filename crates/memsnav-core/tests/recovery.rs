@@ -110,9 +110,9 @@ fn resets_of(sol: &Solution, kind: ResetKind) -> Vec<&ResetRecord> {
 
 /// A 10-minute total outage: the consumer IMU coasts kilometres away; the
 /// tight filter's first epochs after it fail their test, it resets to the
-/// fix and is back to metres (final error < 20 m, the issue's bar; here it
+/// fix and is back to metres (final error < 20 m, the required bar; here it
 /// is a few metres). The loose filter's covariance has grown with the
-/// drift (issue 23: the unmodelled sensor errors as input-shaped noise,
+/// drift (the unmodelled sensor errors as input-shaped noise,
 /// the bias no longer forgotten), so its first fix passes the gate, with
 /// or without a reset; either way it is back within 10 m.
 #[test]
@@ -142,9 +142,9 @@ fn tight_and_loose_recover_from_a_ten_minute_outage() {
         .all(|r| r.time_s >= 750.0 && r.failed_epochs >= 3));
     assert!(s.error_at(&sol, 900.0) < 20.0);
     assert!(s.max_error_after(&sol, 800.0) < 20.0);
-    // docs/real-data.md quotes this run: "a 10-minute total outage (45 km of
+    // docs/explanation/time-and-truth.md quotes this run: "a 10-minute total outage (45 km of
     // drift; tight: reset to the fix, final error 0.57 m; ... final error 1.7 m)".
-    let page = "real-data.md";
+    let page = "explanation/time-and-truth.md";
     let quoted_drift_km = quoted_numbers(page, "total outage (", " km of drift")[0];
     let quoted_tight = quoted_numbers(page, "tight: reset to the fix, final error ", " m;")[0];
     assert!(
@@ -260,9 +260,9 @@ fn absurd_fixes_are_rejected_or_reset_from() {
 
 /// Two satellites for five minutes: tight coupling keeps using them (no
 /// fix is possible), its covariance covers the error meanwhile, and with
-/// six satellites back it returns to metre level. (Before issue 23 the
+/// six satellites back it returns to metre level. (Before the input-shaped noise the
 /// covariance did not cover the error, 1.4 km by the end of the window:
-/// docs/few-satellites.md.)
+/// docs/explanation/few-satellites.md.)
 #[test]
 fn two_satellites_for_five_minutes() {
     let outage = Outage {
@@ -293,10 +293,18 @@ fn two_satellites_for_five_minutes() {
     );
     // Metre level within a minute of the satellites' return.
     assert!(s.max_error_after(&sol, 560.0) < 5.0);
-    // docs/real-data.md quotes this run: "153 m off by the end of them, …,
+    // docs/explanation/time-and-truth.md quotes this run: "153 m off by the end of them, …,
     // 2.9 m within a minute of six satellites back".
-    let quoted_end = quoted_numbers("real-data.md", "(still used; ", " m off by the end")[0];
-    let quoted_back = quoted_numbers("real-data.md", "3σ throughout, ", " m within a minute")[0];
+    let quoted_end = quoted_numbers(
+        "explanation/time-and-truth.md",
+        "(still used; ",
+        " m off by the end",
+    )[0];
+    let quoted_back = quoted_numbers(
+        "explanation/time-and-truth.md",
+        "3σ throughout, ",
+        " m within a minute",
+    )[0];
     assert!(rounds_to(s.error_at(&sol, 499.0), quoted_end, 0));
     assert!(rounds_to(s.max_error_after(&sol, 560.0), quoted_back, 1));
     let quantile = memsnav_core::filter::chi_square::chi_square_quantile(3.0, 0.997);

@@ -164,7 +164,7 @@ fn wrap<M>(
 /// in the returned model. `estimate`: "all" (every parameter; data that
 /// cannot determine one raise `UnobservableError`) or "determinable" (only
 /// what the data determine; the rest held at zero and listed in `.held`;
-/// the rule is in docs/calibration.md).
+/// the rule is in docs/how-to/calibrate-an-imu.md).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (measured, reference_specific_force, *, method="ls", reference_noise_std=None, noise_std=None, sample_rate=None, estimate="all"))]

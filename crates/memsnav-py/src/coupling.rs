@@ -796,7 +796,7 @@ filter_class!(
     /// rate row keeps the line of sight's turn with position, so ranges and
     /// rates leave the same directions unobserved); with none the INS coasts.
     /// `FilterSolution.integrity` says when the result cannot be trusted
-    /// (docs/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
+    /// (docs/explanation/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
     ///
     /// Tuning from `imu.spec` at `imu.sample_rate` (`FilterTuning::from_imu_spec`):
     /// white-noise PSDs = noise density² (or per-sample std² / rate); bias
@@ -843,7 +843,7 @@ filter_class!(
     ///   errors (multipath), s (None: 0, white); each pseudorange's std is
     ///   inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
     ///   epoch interval dt, so that epochs sampling one error carry it once
-    ///   (docs/real-data.md, "Correlated code errors").
+    ///   (docs/how-to/multi-gnss.md, "Correlated code errors").
     ///
     /// Raises ValueError naming the argument for a bad value.
     PyTightlyCoupledFilter,

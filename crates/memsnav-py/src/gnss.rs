@@ -1146,7 +1146,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     Ok(())
 }
 
-// --- real receiver data (issue 8) ---
+// --- real receiver data ---
 
 impl PyGnssMeasurements {
     /// Measurements of a real receiver (the receiver clock unknown, NaN):
@@ -1176,7 +1176,7 @@ impl PyGnssMeasurements {
 }
 
 /// A RINEX 3 or RINEX 2.10/2.11 observation file (2.x codes read as the
-/// RINEX 3 codes of their signals, docs/real-data.md).
+/// RINEX 3 codes of their signals, docs/reference/readers.md).
 #[pyclass(name = "RinexObservations", module = "memsnav._memsnav", frozen)]
 pub struct PyRinexObservations {
     pub(crate) inner: gnss::ObservationFile,

@@ -374,7 +374,7 @@ impl PyLogRun {
         Ok(d)
     }
     /// What the run learnt from the log before the run it reports
-    /// (docs/foreign-drive.md): dict `imu_preset` (the IMU model chosen,
+    /// (docs/results/foreign-drive.md): dict `imu_preset` (the IMU model chosen,
     /// None when the configuration names one), `imu_candidates` (a list of
     /// dicts `preset`, `log_likelihood`, `measurements`, `resets`: each
     /// candidate's first pass), `nhc_std_m_s` (the non-holonomic

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 
 /// The seed of the independent draw named `purpose` made from user seed
 /// `seed`: the first output of its own stream of `seed` (see
-/// `docs/concepts.md`, "Seeds"). Use it when one seed must feed several
+/// `docs/explanation/concepts.md`, "Seeds"). Use it when one seed must feed several
 /// functions that each take a seed, instead of `seed + 1`, `seed + 2`, ...
 #[catch_panics]
 #[pyfunction]

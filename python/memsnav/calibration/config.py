@@ -14,7 +14,7 @@ folder. The detector's defaults are the core's.
 ``"static-poses"`` (a multi-position session of raw readings: tables
 ``[imu]`` and ``[static]``) or ``"drive"`` (the paper's GNSS-reference
 calibration on a drive: table ``[drive]``, which names the drive's
-``navigate`` configuration); docs/calibration.md. A table of the other
+``navigate`` configuration); docs/how-to/calibrate-an-imu.md. A table of the other
 kind is an error.
 """
 

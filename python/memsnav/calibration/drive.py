@@ -1,7 +1,7 @@
 """The paper's calibration on a real drive (method §3): GNSS-derived
 references of specific force and angular rate, taken from a smoothed
 GNSS/INS solution of the drive itself, and least squares against the IMU's
-outputs (see docs/calibration.md, "A drive").
+outputs (see docs/how-to/calibrate-an-imu.md, "A drive").
 
 The numbers come from the core: ``navigate_log`` navigates the log with the
 smoother on and no outages, ``LogRun.calibration_references`` forms the
@@ -42,7 +42,7 @@ from memsnav._memsnav import (
 #: Window length of the references, s: long against the GNSS epoch interval
 #: (0.25 s on the shipped drive), so that a window's velocity and attitude
 #: change come from the GNSS more than from the IMU being calibrated; short
-#: enough that a car's manoeuvres are resolved (docs/calibration.md).
+#: enough that a car's manoeuvres are resolved (docs/how-to/calibrate-an-imu.md).
 DEFAULT_WINDOW_S = 2.0
 
 _LAYOUTS = {sensor: CalibrationLayout(sensor) for sensor in ("accelerometer", "gyroscope")}

@@ -1,5 +1,5 @@
 """The calibration file: an IMU's models, their uncertainty and where they
-came from, as versioned, human-readable JSON (docs/calibration.md).
+came from, as versioned, human-readable JSON (docs/how-to/calibrate-an-imu.md).
 
 JSON rather than TOML: Python writes and reads it with the standard library
 (``tomllib`` only reads TOML), floats round-trip exactly (``repr``), the

@@ -51,7 +51,8 @@ def _static_report(run: CalibrationRun, cal: StaticCalibration, out: Path) -> Pa
         f"({s['poses_held_out']} held out of the fit) and {s['turns']} turns between them, "
         f"{len(t)} samples over {t[-1]:.1f} s; local gravity {cal.gravity} m/s². "
         f"Processing {s['processing_s']:.2f} s. Configuration: {cfg.path}. "
-        "Method: docs/calibration.md (Tedaldi et al., ICRA 2014, in the models of method §2)."
+        "Method: docs/explanation/calibration.md (Tedaldi et al., ICRA 2014, in the models of "
+        "method §2)."
     )
 
     doc.section("Figures of merit")
@@ -205,7 +206,7 @@ def _model_selection(doc: Report, cal: StaticCalibration, chosen: dict[str, list
         + ". Each stage fits every combination of its second-order terms that the poses "
         "determine and keeps the one of smallest AICc = n ln(RSS/n) + 2K + 2K(K + 1)/(n − K − 1) "
         "(K: parameters plus the residual variance; Hurvich and Tsai 1989), an estimate of the "
-        "error on poses the fit has not seen (docs/calibration.md)."
+        "error on poses the fit has not seen (docs/how-to/calibrate-an-imu.md)."
     )
     for selection in cal.model_selection:
         best = selection["candidates"][selection["chosen"]]["aicc"]
@@ -251,7 +252,7 @@ def _drive_report(run: CalibrationRun, cal: DriveCalibration, out: Path) -> Path
         f"out for filter resets, {s.get('skipped_before_heading', 0)} before the heading was "
         f"known), references from the smoothed navigation of "
         f"{html.escape(str(run.imu_calibration.source.get('navigate_config')))}. Processing "
-        f'{s["processing_s"]:.2f} s. Method: docs/calibration.md, "A drive".'
+        f'{s["processing_s"]:.2f} s. Method: docs/how-to/calibrate-an-imu.md, "A drive".'
     )
 
     comparison = s.get("navigation")

@@ -1,5 +1,5 @@
 """Multi-position ("no turntable") calibration: the Python face of
-``memsnav_core::calibration::static_poses`` (see docs/calibration.md)."""
+``memsnav_core::calibration::static_poses`` (see docs/how-to/calibrate-an-imu.md)."""
 
 from __future__ import annotations
 
@@ -47,7 +47,7 @@ def calibrate_static(
     scale factors and biases relative to them, and warns when a fitted scale
     is more than 20 % away (with the value to use instead).
 
-    The static-interval detector (docs/calibration.md): a sample is static
+    The static-interval detector (docs/how-to/calibrate-an-imu.md): a sample is static
     when the variance magnitude of the accelerometer over a ``window`` (s)
     around it is below ``threshold_factor`` times that of the initial rest;
     static runs of at least ``min_pose`` s are poses.
@@ -66,7 +66,7 @@ def calibrate_static(
     Under "determinable" the nonlinearity and the g-sensitivity are chosen
     by the small-sample Akaike information criterion (AICc) among what the
     poses determine; ``.model_selection`` lists every candidate with its
-    AICc and the one chosen (docs/calibration.md).
+    AICc and the one chosen (docs/how-to/calibrate-an-imu.md).
 
     Returns a ``StaticCalibration``: ``.accelerometer`` / ``.gyroscope`` (the
     models of the nominal readings, SI, method §2), ``.accelerometer_std`` /

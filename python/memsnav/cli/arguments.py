@@ -50,7 +50,7 @@ def scheduler_argument(command: argparse.ArgumentParser) -> None:
         default=None,
         help="run the Monte Carlo runs on the Dask cluster of this scheduler "
         "(e.g. tcp://10.0.0.5:8786; needs pip install 'memsnav[dask]'); the numbers "
-        "do not change (docs/distributed.md)",
+        "do not change (docs/how-to/run-on-dask.md)",
     )
 
 

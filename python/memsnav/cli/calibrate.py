@@ -10,7 +10,7 @@ from typing import Any
 from memsnav.cli.arguments import configured_run
 
 NAME = "calibrate"
-HELP = "calibrate an IMU from a recorded session (see docs/calibration.md)"
+HELP = "calibrate an IMU from a recorded session (see docs/how-to/calibrate-an-imu.md)"
 DESCRIPTION = (
     "Read a calibration session described by a TOML configuration (a "
     "multi-position static-pose session, or a drive calibrated against its GNSS), fit the "

@@ -8,11 +8,13 @@ from pathlib import Path
 from typing import Any
 
 NAME = "convert"
-HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/real-data.md)"
+HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/how-to/convert-ublox.md)"
 DESCRIPTION = (
     "Read a u-blox UBX log (RXM-RAWX, RXM-SFRBX, NAV-PVT) and write its observations "
-    "(every system and signal) and its decoded GPS LNAV and Galileo I/NAV ephemerides "
-    "as RINEX 3.04 files <stem>.obs and <stem>.nav in the output folder."
+    "(every system and signal) and its decoded GPS LNAV, Galileo I/NAV and BeiDou D1 "
+    "(MEO and IGSO satellites) ephemerides as RINEX 3.04 files <stem>.obs and <stem>.nav "
+    "in the output folder. GPS CNAV ephemerides are decoded but not written (RINEX 3.04 "
+    "has no CNAV record); BeiDou D2 (GEO satellites) is not decoded."
 )
 
 

@@ -10,7 +10,7 @@ from typing import Any
 from memsnav.cli.arguments import configured_run, positive_float
 
 NAME = "navigate"
-HELP = "run real IMU/GNSS logs through a coupled filter (see docs/real-data.md)"
+HELP = "run real IMU/GNSS logs through a coupled filter (see docs/tutorials/navigate-a-log.md)"
 DESCRIPTION = (
     "Read the logs of a TOML run configuration, align, run the loosely or tightly "
     "coupled filter, write the solution (CSV, RTKLIB .pos), summary.json and report.html."

@@ -80,7 +80,8 @@ def answer_lines(summary: dict[str, Any]) -> list[str]:
     verdicts aligned in a column."""
     claims = summary["claims"]
     width = max(len(c["verdict"]) for c in claims)
-    sizes = "the paper's" if summary["full"] else "quick"
-    return [f"The paper's claims, judged ({sizes} Monte Carlo sizes, seed {summary['seed']}):"] + [
+    label = summary["sizes"]
+    sizes = label if "runs" in label else f"{label} Monte Carlo sizes"
+    return [f"The paper's claims, judged ({sizes}, seed {summary['seed']}):"] + [
         f"  {c['verdict']:<{width}}  {c['title']}" for c in claims
     ]

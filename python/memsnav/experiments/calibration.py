@@ -288,7 +288,7 @@ def calibration(
     result then covers the completed runs and has ``interrupted = True``.
     Same ``seed`` -> same numbers, whatever ``threads``.
     ``client``: a ``dask.distributed.Client`` to run the set on its
-    cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
+    cluster in chunks of ``chunk_runs`` runs (``docs/how-to/run-on-dask.md``):
     the same numbers bit for bit; ``threads`` must then be None.
     """
     if method not in ("ls", "eiv"):

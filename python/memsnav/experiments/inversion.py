@@ -134,7 +134,7 @@ def inversion(
     ``progress(done, total)`` is called as runs complete; Ctrl-C stops the
     set and the result covers the completed runs (``interrupted = True``).
     ``client``: a ``dask.distributed.Client`` to run the set on its
-    cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
+    cluster in chunks of ``chunk_runs`` runs (``docs/how-to/run-on-dask.md``):
     the same numbers bit for bit; ``threads`` must then be None.
     """
     kwargs: dict[str, Any] = {

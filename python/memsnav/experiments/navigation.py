@@ -20,7 +20,7 @@ Filter tuning comes from each IMU's specification
 (``FilterTuning::from_imu_spec``): noise densities and bias processes;
 deterministic errors the 17 states lack (raw MEMS scale factor,
 misalignment, nonlinearity, g-sensitivity) are absorbed as inflated bias
-uncertainty and process noise shaped by the sensed motion (issue 23). The
+uncertainty and process noise shaped by the sensed motion. The
 calibrated MEMS is tuned from the calibration's own parameter
 uncertainties. Initial position, velocity and
 clock come from the least-squares fix of the first epoch; the initial
@@ -33,7 +33,7 @@ does not change the others' numbers.
 
 What our numbers show against the paper: the report of ``memsnav
 reproduce`` (each claim's verdict computed from its numbers by a criterion
-fixed in ``memsnav.report.claims``) and ``docs/paper-comparison.md`` (the
+fixed in ``memsnav.report.claims``) and ``docs/results/paper-comparison.md`` (the
 study behind the differences and the options it uses).
 """
 
@@ -441,7 +441,7 @@ def navigation(
     ``calibration_duration``: calibration segment of calibrated IMUs, s.
     ``early_window``: window of the early RMS summary and of fig. 15, s.
 
-    Study options (``docs/paper-comparison.md``; defaults unchanged):
+    Study options (``docs/results/paper-comparison.md``; defaults unchanged):
     ``pseudorange_rate``: the filters also use the pseudorange rates (True)
     or pseudoranges only (False, the paper's wording of its tight
     coupling). ``pseudorange_std`` (m) and ``pseudorange_rate_std`` (m/s):
@@ -456,7 +456,7 @@ def navigation(
     initial bias uncertainty and white noise (True), or ignores them (False:
     tuned from the spec's biases and noise only). ``smooth``: also run the
     fixed-interval (RTS) smoother after every filter and report its error
-    in ``result.smoothed`` (``docs/smoothing.md``; about twice the time and
+    in ``result.smoothed`` (``docs/explanation/smoother.md``; about twice the time and
     the memory of a forward solution per run in flight).
     ``systems``: the simulated satellite systems, RINEX letters among "G"
     (GPS), "E" (Galileo), "C" (BeiDou MEO), each a nominal Walker
@@ -475,7 +475,7 @@ def navigation(
     ``client``: a ``dask.distributed.Client``: the runs go to its cluster
     in chunks of ``chunk_runs`` (default: about 4 chunks per worker
     thread), folded here in run order, so the numbers are bit for bit
-    those of local threads (``docs/distributed.md``); ``threads`` must
+    those of local threads (``docs/how-to/run-on-dask.md``); ``threads`` must
     then be None.
 
     Every argument left None takes the core's default, listed by

@@ -441,8 +441,8 @@ def outage_study(
     ``max_runs`` runs each until they are decided (module docs).
 
     ``client``/``chunk_runs``: run on a Dask cluster
-    (``docs/distributed.md``); the numbers do not change. ``progress(done,
-    total)`` counts the runs of the current look. Ctrl-C stops the study:
+    (``docs/how-to/run-on-dask.md``); the numbers do not change.
+    ``progress(done, total)`` counts the runs of the current look. Ctrl-C stops the study:
     the looks done are kept, the interrupted look's completed runs are
     kept undecided (``interrupted=True``). ``n_satellites``: tracked
     outside the outage, of every system in ``systems`` ("G" GPS, "E"

@@ -15,7 +15,7 @@ determined epoch by epoch: 3 pseudoranges leave one direction of
 (position, clock) open, which the filter can only bound through the
 dynamics of the INS and of the clock model. What k satellites determine,
 and why the filter's covariance covers its errors whatever k is, is in
-docs/few-satellites.md; every satellite kept lowers the error (issue 23).
+docs/explanation/few-satellites.md; every satellite kept lowers the error.
 """
 
 from __future__ import annotations
@@ -224,7 +224,7 @@ def partial_outage(
     fixed-interval smoothed solution (each scenario's ``.smoothed``).
     Raises ValueError naming the argument.
     ``client``: a ``dask.distributed.Client`` to run the set on its
-    cluster in chunks of ``chunk_runs`` runs (``docs/distributed.md``):
+    cluster in chunks of ``chunk_runs`` runs (``docs/how-to/run-on-dask.md``):
     the same numbers bit for bit; ``threads`` must then be None.
     ``n_satellites``: tracked outside the window (default 6), of every
     system in ``systems`` (RINEX letters, default ("G",); "E" Galileo and

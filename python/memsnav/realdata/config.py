@@ -69,7 +69,7 @@ _QUALITIES = list_of(integer(0, 7), min_length=1)
 #: CSV with the user's own header: ``columns``, a table from memsnav's column
 #: names to the file's (the reader checks both and names them), and
 #: ``time_reference``, what its time column counts (None: GPS time since
-#: 1980, the reader's default; docs/your-own-files.md).
+#: 1980, the reader's default; docs/how-to/your-own-files.md).
 _FIX_FORMAT: dict[str, tuple[Check, Any]] = {
     "format": (text(*FIX_FORMATS), None),
     "columns": (header_names(), None),
@@ -91,7 +91,7 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
     "imu": {
         "file": (pathname(), REQUIRED),
         # A list naming every column, or a table of each quantity's header
-        # name or 1-based number (docs/real-data.md, "Your own IMU log").
+        # name or 1-based number (docs/how-to/your-own-imu-log.md, "Your own IMU log").
         "columns": (imu_columns(), ["ax", "ay", "az", "gx", "gy", "gz", "t"]),
         # The units' and the axis conventions' names are the reader's (its
         # error names them): rates or increments, FRD/FLU/RFU/... or a matrix.

@@ -1,9 +1,9 @@
 """Raw receiver logs to RINEX (``memsnav convert``): a u-blox UBX log's
 measurements (RXM-RAWX, every system and signal) as a RINEX 3.04
-observation file and its decoded GPS LNAV and Galileo I/NAV ephemerides
-(RXM-SFRBX) as a RINEX 3.04 navigation file. The decoding and the writing are in the Rust
-core (``memsnav_core::logs::ubx``, ``memsnav_core::gnss::rinex_write``);
-docs/real-data.md, "Raw u-blox logs", describes what is kept."""
+observation file and its decoded GPS LNAV, Galileo I/NAV and BeiDou D1
+ephemerides (RXM-SFRBX) as a RINEX 3.04 navigation file. The decoding and
+the writing are in the Rust core (``memsnav_core::logs::ubx``, ``memsnav_core::gnss::rinex_write``);
+docs/how-to/convert-ublox.md, "Raw u-blox logs", describes what is kept."""
 
 from __future__ import annotations
 

@@ -6,8 +6,8 @@ NED σ and, when the file has it, the full NED covariance; NED velocity and
 its σ), so that loose coupling
 (``fixes_from_solution``, ``[gnss] pos``) and the truth (``[truth] pos``)
 take any of them. The parsing is in the Rust core (``memsnav_core::logs``);
-the formats are described in docs/real-data.md, "GNSS fixes from other
-receivers", and a user's own CSV layout in docs/your-own-files.md.
+the formats are described in docs/how-to/your-own-imu-log.md, "GNSS fixes from other
+receivers", and a user's own CSV layout in docs/how-to/your-own-files.md.
 """
 
 from __future__ import annotations
@@ -104,7 +104,7 @@ def read_nmea(path: str | Path) -> PosSolution:
     speed of zero), σ = max(HDOP · 0.1 m/s / √2, 0.05 m/s) per axis with
     the rounding of the sentence's digits; NMEA has no vertical velocity, so
     ``velocity_ned[:, 2]`` and its σ are NaN and loose coupling takes the
-    velocity as horizontal only (docs/own-logs.md). Other sentence types are
+    velocity as horizontal only (docs/how-to/own-logs.md). Other sentence types are
     ignored with a warning."""
     solution = _memsnav.read_nmea(Path(path))
     _warn(solution.warnings)

@@ -77,7 +77,7 @@ def apply_calibration(
     cfg: RunConfig, specific_force: np.ndarray, angular_rate: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """The readings corrected by the calibration file ``[imu] calibration``
-    (docs/calibration.md). Only a calibration of SI readings applies (nominal
+    (docs/how-to/calibrate-an-imu.md). Only a calibration of SI readings applies (nominal
     scale 1, offset 0: a drive calibration, or a static one made from SI
     readings): the reader has already converted the log's units."""
     from memsnav.calibration.file import load_calibration
@@ -129,7 +129,7 @@ def read_solution(cfg: RunConfig, table: str) -> tuple[readers.PosSolution, np.n
         # The file's own epochs, whatever their quality, each weighted by
         # the σ the file gives it: a receiver's standalone fixes (Q = 5)
         # are what many users have, and dropping them silently left runs
-        # without GNSS (issue 29).
+        # without GNSS.
         qualities, counts = np.unique(np.asarray(solution.quality), return_counts=True)
         used = ", ".join(
             f"Q = {q} ({_QUALITY_NAMES[int(q)]}) {n}"
@@ -488,7 +488,7 @@ def navigate(
     its ``result`` attribute: the error as it happened (``ValueError`` for
     an input, ``OSError``...), ``ValueError`` naming ``imu.gyro_unit`` for a
     gyro unit the course contradicts, :class:`memsnav.DivergenceError` for a
-    run that stopped early or diverged (docs/real-data.md, "When a run
+    run that stopped early or diverged (docs/how-to/when-a-run-fails.md, "When a run
     fails"). An interrupt (Ctrl-C) leaves the folder as it was.
     """
     started = _time.perf_counter()
@@ -815,7 +815,7 @@ def _score(
     by accuracy (``errors_vs_truth``...); with ``precision`` also less each
     solution's own mean offset (``..._precision``, with the offset
     removed): a truth known to sit a constant unknown offset away
-    (docs/real-data.md, "Truth"; a known datum offset is the truth's own,
+    (docs/explanation/time-and-truth.md, "Truth"; a known datum offset is the truth's own,
     ``_truth_in_gnss_datum``)."""
     run, summary = result.run, result.summary
     anchor = summary["start"]["earliest_gps_time_s"]

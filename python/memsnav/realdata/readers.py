@@ -73,7 +73,7 @@ def read_imu_csv(
     header_lines: int = 0,
 ) -> ImuLog:
     """Reads an IMU CSV log (parsed in Rust with the ``csv`` crate) into
-    samples in SI units and FRD sensor axes (docs/real-data.md, "Your own
+    samples in SI units and FRD sensor axes (docs/how-to/your-own-imu-log.md, "Your own
     IMU log").
 
     ``columns``, where each quantity ``ax ay az`` (accelerometer), ``gx gy

@@ -74,7 +74,7 @@ def write_report(result: LogNavigationResult, out: Path) -> Path:
             "Integrity: no alert. Largest summed NIS of a 30 s window over the upper edge of "
             f"its chi-square band (0.9999), per GNSS kind: {ratios or 'no GNSS batch'} (above "
             "1: the innovations exceed their predicted spread, a tuning mismatch; above 4 "
-            "twice in a row: an alert; docs/few-satellites.md)."
+            "twice in a row: an alert; docs/explanation/few-satellites.md)."
         )
     if s.get("satellites"):
         _satellites_section(doc, s)

@@ -1,5 +1,5 @@
 """The satellites of a tight-coupling run, one row each, and their totals
-per system: what the report and ``summary.json`` show of them (issue 24).
+per system: what the report and ``summary.json`` show of them.
 
 Every count comes from the filter's measurement records (one per scalar
 measurement: its satellite, kind, epoch and status); C/N0, elevation and

@@ -10,7 +10,7 @@ IEEE Trans. ASSP 24(4), 1976, for the correlation method).
 behind its own positions.
 
 The numerics are in the Rust core (``memsnav_core::timing``); see
-``docs/real-data.md`` for the method and the numbers on the example logs.
+``docs/explanation/time-and-truth.md`` for the method and the numbers on the example logs.
 """
 
 from __future__ import annotations

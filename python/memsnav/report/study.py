@@ -62,7 +62,7 @@ def _setup(report: Report, summary: dict[str, Any]) -> None:
     machine = summary["machine"]
     report.paragraph(
         f"memsnav {summary['memsnav_version']}, seed {summary['seed']}, "
-        f"{'the paper' if summary['full'] else 'quick'} Monte Carlo sizes: calibration "
+        f"Monte Carlo sizes ({summary['sizes']}): calibration "
         f"{runs['calibration']['parameter_sets']} parameter sets x "
         f"{runs['calibration']['runs_per_set']} runs, inversion {runs['inversion']} runs, "
         f"navigation {runs['navigation']} runs per scenario, partial outages "
@@ -202,7 +202,7 @@ def _claims(report: Report, summary: dict[str, Any]) -> None:
             + "</ul><p>The study behind these readings (pseudorange-only coupling, larger "
             "initial attitude errors, noisier GNSS, scale-factor states, no absorption of "
             "unmodelled errors, and the outage error budget) is in "
-            "<code>docs/paper-comparison.md</code> of the memsnav sources; its options are "
+            "<code>docs/results/paper-comparison.md</code> of the memsnav sources; its options are "
             "keywords of <code>mn.experiments.navigation</code>.</p>"
         )
 
@@ -292,7 +292,7 @@ def _why_little(summary: dict[str, Any], claim: dict[str, Any]) -> str:
         f"({v['mems_m']:.3g} m to {v['calibrated_mems_m']:.3g} m). Over 30 s the raw MEMS "
         "drift comes mostly from its 1e-2 misalignments, the gyro's turning the vehicle's "
         "yaw rate into tilt and so gravity into horizontal acceleration (error budget in "
-        "docs/paper-comparison.md), and calibration estimates the misalignments well"
+        "docs/results/paper-comparison.md), and calibration estimates the misalignments well"
     )
     cal = summary.get("calibration")
     if cal is not None and completed(summary, "calibration"):
@@ -546,7 +546,7 @@ def _navigation(report: Report, results: dict[str, Any], summary: dict[str, Any]
 
 #: The Monte Carlo position NEES per degree of freedom a covariance that
 #: describes its errors gives, within the spread of a few dozen runs and the
-#: white-noise stand-ins for correlated sensor errors (issue 23's criterion).
+#: white-noise stand-ins for correlated sensor errors (the few-satellite study's criterion).
 NEES_BAND = (0.25, 4.0)
 
 
@@ -569,7 +569,7 @@ def _partial_outage(report: Report, results: dict[str, Any], summary: dict[str, 
         "pseudoranges leave a direction of (position, clock) undetermined; with 3 high "
         "satellites that is mostly the height with the clock (the receiver's TCXO wanders by "
         "metres per minute), which only the INS's and the clock model's dynamics bound "
-        "(docs/few-satellites.md says what 1-3 satellites determine)."
+        "(docs/explanation/few-satellites.md says what 1-3 satellites determine)."
         + _incomplete_note(summary, "partial_outage")
     )
     labels = list(s["scenarios"])

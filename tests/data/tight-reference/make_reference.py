@@ -1,7 +1,7 @@
 """Writes tight_reference.npz: the tightly coupled filter's output on a short
 seeded scenario, for tests/test_tight_reference.py. First written at commit
-162d5d4 (before the AVX2/FMA propagation kernels of issue 17); rewritten for
-issue 23, whose filter model changes the output on purpose (the rate row's
+162d5d4 (before the AVX2/FMA propagation kernels); rewritten for
+the few-satellite filter model, which changes the output on purpose (the rate row's
 position term, the input-shaped noise of the unmodelled sensor errors, the
 random-walk bias, the simulator's clock model).
 

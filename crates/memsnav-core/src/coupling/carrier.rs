@@ -1,5 +1,5 @@
-//! Time-differenced carrier phase (TDCP) in the tight filter (issue 24;
-//! Wendel, Meister & Trommer 2006; Soon et al. 2008, GPS Solutions 12).
+//! Time-differenced carrier phase (TDCP) in the tight filter
+//! (Wendel, Meister & Trommer 2006; Soon et al. 2008, GPS Solutions 12).
 //!
 //! A carrier range λφ holds an unknown constant per continuous lock (the
 //! ambiguity); its change between two consecutive epochs does not. That
@@ -40,7 +40,7 @@
 //! Doppler measures: the walk's receiver clock drifts from −61 to −81 m/s
 //! over its 133 s (−0.17 m/s²), so the two disagree by half the change over
 //! an interval, the batches pull the drift back and forth, and the
-//! vertical takes part of it (docs/real-data.md).
+//! vertical takes part of it (docs/how-to/multi-gnss.md).
 //!
 //! Why time differences and not float ambiguities: no state per satellite
 //! (the layouts stay as they are), and a slip spoils one difference only,
@@ -65,7 +65,7 @@
 //! turning about its boresight (a walker's heading) changes every
 //! satellite's phase by the same angle, which the clock absorbs; the part
 //! that differs between satellites comes from tilting the antenna, a few
-//! millimetres per epoch for a hand-held receiver (docs/real-data.md).
+//! millimetres per epoch for a hand-held receiver (docs/how-to/multi-gnss.md).
 
 use nalgebra::Vector3;
 

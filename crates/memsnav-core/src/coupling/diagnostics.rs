@@ -1,4 +1,4 @@
-//! Warnings a run attaches to its [`Solution`] (issue 15): IMU data whose
+//! Warnings a run attaches to its [`Solution`]: IMU data whose
 //! magnitudes do not fit the declared SI units, and the integrity alerts of
 //! [`super::integrity`] (a filter whose solution can no longer be trusted).
 //! They are warnings, not errors: the run's output is still returned, and

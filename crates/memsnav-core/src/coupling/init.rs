@@ -257,7 +257,7 @@ impl<const N: usize> FilterState<N> {
     /// information into the Earth-rate and tilt couplings that a MEMS gyro's
     /// bias hides (no gyrocompassing below a bias of 0.01 °/s), and carries
     /// a wrong tilt and horizontal accelerometer bias out of a static start
-    /// (issue 23: 9 mrad and 0.08 m/s² after 20 s at rest on an error-free
+    /// (9 mrad and 0.08 m/s² after 20 s at rest on an error-free
     /// IMU, 3σ off).
     pub fn forget_heading(&mut self, std_rad: f64) {
         let down_ecef = self.local_down_ecef();
@@ -271,7 +271,7 @@ impl<const N: usize> FilterState<N> {
     /// while the heading was tens of degrees off, the part of the velocity
     /// error along the acceleration (1 − cos of the heading error, half
     /// of it at 60°) has no small-angle heading term to go to and was read
-    /// as tilt and bias (issue 23: a 30 mrad tilt error held at σ 2 mrad
+    /// as tilt and bias (a 30 mrad tilt error held at σ 2 mrad
     /// for the rest of a simulated drive). Their estimates stay; the
     /// aiding corrects them from here on.
     pub fn reopen_tilt_and_horizontal_bias(&mut self, tilt_std_rad: f64) {

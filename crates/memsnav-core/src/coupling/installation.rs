@@ -1,5 +1,5 @@
 //! How the IMU sits in the vehicle and relative to the GNSS receiver, as
-//! estimated constants (issue 29): the antenna lever arm, the IMU-to-GNSS
+//! estimated constants: the antenna lever arm, the IMU-to-GNSS
 //! time offset, the latency of the fixes' velocity and the mounting
 //! boresight left after the configured mounting. Each starts from the
 //! configuration's value with the configuration's σ; a filter with the
@@ -97,7 +97,7 @@ impl Default for InstallationUncertainty {
     /// Wide enough for a car whose antenna sits anywhere on the roof
     /// (2 m per axis), a logger whose clocks disagree by a tenth of a
     /// second, a receiver that reports the velocity up to 0.2 s late and a
-    /// bracket a few degrees off (3°): the ranges of issue 29's checks.
+    /// bracket a few degrees off (3°): the ranges the installation tests check.
     fn default() -> Self {
         Self {
             lever_arm_m: 2.0,

@@ -1,4 +1,4 @@
-//! The integrity of a run (issue 23): whether the solution and its
+//! The integrity of a run: whether the solution and its
 //! covariance can be trusted, judged from what the filter itself recorded.
 //! Four signals, each an [`IntegrityAlert`] that marks the run diverged:
 //!
@@ -23,13 +23,13 @@
 //!   there within minutes (kilometres across the lines of sight); from then
 //!   on no linearised filter keeps its covariance honest, and the innovations
 //!   cannot show it, since with so few satellites they see nothing of the
-//!   unobserved directions (docs/few-satellites.md).
+//!   unobserved directions (docs/explanation/few-satellites.md).
 //! - **Applied outliers**: a GNSS batch was applied although its NIS was
 //!   beyond the chi-square quantile of probability [`OUTLIER_PROBABILITY`]
 //!   (one consistent batch in 10⁹ gets there): with the gate off
 //!   (`gate_probability = 1`) nothing else stops it, and a single 10⁹ m
 //!   fix or pseudorange used to move the solution by kilometres with no
-//!   word (issue 30). With the gate on, every applied batch is within a
+//!   word. With the gate on, every applied batch is within a
 //!   lower quantile and this never fires.
 
 use super::records::{BatchRecord, MeasurementKind, RunRecords};
@@ -164,7 +164,7 @@ impl IntegrityAlert {
                 time_s,
                 nonlinearity,
             } => format!(
-                "from t = {time_s:.1} s the position is too uncertain across the satellites' lines of sight for the filter's first-order pseudorange model: the expected curvature term was {nonlinearity:.2} of the measurement noise or more for {WINDOW_S:.0} s (limit {NONLINEARITY_LIMIT}); with this few satellites the innovations cannot show the errors in the unobserved directions, and the covariance no longer bounds them: the solution is not trustworthy (docs/few-satellites.md)"
+                "from t = {time_s:.1} s the position is too uncertain across the satellites' lines of sight for the filter's first-order pseudorange model: the expected curvature term was {nonlinearity:.2} of the measurement noise or more for {WINDOW_S:.0} s (limit {NONLINEARITY_LIMIT}); with this few satellites the innovations cannot show the errors in the unobserved directions, and the covariance no longer bounds them: the solution is not trustworthy (docs/explanation/few-satellites.md)"
             ),
             IntegrityAlert::AppliedOutliers {
                 kind,

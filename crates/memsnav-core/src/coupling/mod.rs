@@ -58,7 +58,7 @@
 //! mostly gated, innovations far outside their chi-square band, or a
 //! position too uncertain across the lines of sight for the first-order
 //! pseudorange model each raise an [`IntegrityAlert`], a warning, and mark
-//! the solution diverged (docs/few-satellites.md).
+//! the solution diverged (docs/explanation/few-satellites.md).
 
 mod aids;
 mod antenna;

@@ -20,8 +20,8 @@
 //! ranges and rates leave the same combination of position and clock
 //! unobserved. Without it that combination looks observed as the
 //! satellites move, and the covariance collapses while the error grows
-//! (issue 23: 3 satellites, 900 s, 3σ 200 m against a 3 km error;
-//! docs/few-satellites.md). An epoch's pseudoranges are one batch and its rates
+//! (3 satellites, 900 s, 3σ 200 m against a 3 km error;
+//! docs/explanation/few-satellites.md). An epoch's pseudoranges are one batch and its rates
 //! another ([`super::engine::batch`]): tested together, a faulty satellite
 //! excluded, a receiver clock jump moved into the clock; any number of
 //! satellites (fewer than four included) refines the solution, and with

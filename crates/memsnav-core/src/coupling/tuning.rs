@@ -97,7 +97,7 @@ pub struct MeasurementFloor {
     /// 0.02 m: what the INS's displacement over the interval gets wrong
     /// besides its velocity error (a hand-held antenna's sway about an
     /// unmodelled lever arm, time tags, phase wind-up from tilting), which
-    /// is well above the phase noise (docs/real-data.md).
+    /// is well above the phase noise (docs/how-to/multi-gnss.md).
     pub carrier_phase_m: f64,
     /// Position fix, m per axis. Default 0.02 m (the accuracy RTK fixed
     /// solutions are quoted to).
@@ -577,7 +577,7 @@ impl BiasProcess {
     /// whole bias is that process; with a turn-on part larger than the
     /// instability it would tell the filter that its bias error fades by
     /// itself, and P of the bias would shrink to the instability's σ² within
-    /// a few τ with no measurement at all (issue 23: the consumer preset's
+    /// a few τ with no measurement at all (the consumer preset's
     /// 1 °/s turn-on bias "known" to 2 °/h after ten minutes, the tilt NEES
     /// twice its dof). Then the instability is taken as the random walk it
     /// is over times shorter than τ: no decay, PSD 2σ²/τ added to the
@@ -749,7 +749,7 @@ mod tests {
         assert_eq!(e.gyro_misalignment, 1e-2);
     }
 
-    /// The worked example of docs/real-data.md to the filter's numbers, by
+    /// The worked example of docs/reference/configuration.md to the filter's numbers, by
     /// the one rule (`FilterTuning::from_imu_spec`), against the arithmetic
     /// shown there: white PSDs N² (1.90386e-9 rad²/s, 3.80278e-7 m²/s³);
     /// the turn-on biases (the industrial preset's 0.05 °/s, 2 mg) exceed

@@ -1,5 +1,5 @@
 //! The deterministic sensor errors the error state does not contain, as
-//! process noise shaped by the sensed motion (issue 23; the "shaping
+//! process noise shaped by the sensed motion (the "shaping
 //! filter" option of Brown & Hwang, 4th ed., §3.9 and ch. 9, and Groves
 //! §14.2.4 on unmodelled errors as noise).
 //!
@@ -29,11 +29,11 @@
 //! Gauss-Markov process of variance σ² and correlation time τ
 //! (S(ω) = 2σ²τ / (1 + ω²τ²), so S(0) = 2σ²τ), is evaluated at every IMU
 //! step from the corrected inputs. Unlike a white noise sized for a typical
-//! manoeuvre at all times (what the filter did before issue 23: a 0.2 rad/s
+//! manoeuvre at all times (what the filter did before this model: a 0.2 rad/s
 //! turn and 2 m/s² every second of the run), it adds nothing while the
 //! vehicle drives straight and the errors do not grow, and the full amount
 //! in a turn: on the paper's MEMS the typical-manoeuvre noise made the
-//! 60 s outage's 3-D σ ten times the error (docs/few-satellites.md).
+//! 60 s outage's 3-D σ ten times the error (docs/explanation/few-satellites.md).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -84,7 +84,7 @@ impl Default for InputErrorNoise {
 /// Default correlation time of a land vehicle's manoeuvres, s: a turn or
 /// an acceleration lasts some seconds: on six 600 s random trajectories
 /// the autocorrelation of the yaw rate falls to 1/e in 4-8 s, that of the
-/// horizontal specific force in 5-16 s (docs/few-satellites.md).
+/// horizontal specific force in 5-16 s (docs/explanation/few-satellites.md).
 pub const DEFAULT_MANOEUVRE_CORRELATION_TIME_S: f64 = 10.0;
 
 impl InputErrorNoise {

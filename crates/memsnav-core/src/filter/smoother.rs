@@ -46,7 +46,7 @@
 //! subtracts the reduction. Per IMU step the pass costs two sparse products
 //! (R′ Φ backward, Z Φᵀ forward) and a few vector products; the
 //! unfactored form replays P⁺ (two sparse products), propagates Λ (two)
-//! and forms Λ P⁺ densely (N³) at every output (docs/smoothing.md).
+//! and forms Λ P⁺ densely (N³) at every output (docs/explanation/smoother.md).
 
 //! **Closed-loop feedback.** After each accepted batch the filter moves its
 //! estimated errors into the nominal state and zeroes the error state, so

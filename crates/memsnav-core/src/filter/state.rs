@@ -57,7 +57,7 @@ pub const WITH_RANGE_BIASES: usize = BASE_STATES + RANGE_BIAS_SLOTS;
 /// Size of the state with scale factors and range biases.
 pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
 /// States of the installation block: how the IMU sits in the vehicle and
-/// relative to the antenna, estimated instead of assumed (issue 29).
+/// relative to the antenna, estimated instead of assumed.
 pub const INSTALLATION_STATES: usize = 7;
 
 /// States of the inter-system-bias block: Galileo's and BeiDou's

@@ -45,7 +45,7 @@ pub fn check_geodetic(argument: &str, rows: &[Vector3<f64>]) -> Result<()> {
 /// The largest distance from the Earth's centre of any position, m (the
 /// height range's top at the equator). Beyond it a line of sight's
 /// square overflows long before 1e154 m and the geometry of a fix stops
-/// being a number (issue 30: a `solve_fix` prior of 1e200 m hung).
+/// being a number (a `solve_fix` prior of 1e200 m hung).
 pub const MAX_DISTANCE_M: f64 = SEMI_MAJOR_AXIS_M + MAX_HEIGHT_M;
 
 /// ECEF positions whose distance from the centre fits the height range

@@ -216,7 +216,7 @@ pub fn parse_klobuchar(text: &str, file: &str) -> Result<Option<Klobuchar>> {
 mod tests {
     use super::*;
 
-    /// Issue 30: coefficients given as an argument (a configuration's
+    /// Coefficients given as an argument (a configuration's
     /// `klobuchar_alpha`) were not checked; NaN changed every delay.
     #[test]
     fn coefficients_given_are_checked_as_read_ones_are() {

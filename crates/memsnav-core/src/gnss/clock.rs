@@ -18,7 +18,7 @@ use crate::{validate, Error, Result};
 
 /// Largest Allan-variance coefficient (h0, h−2) accepted: 10¹³ times a
 /// TCXO's. Its noise densities (c² h ≈ 9e16 h) times any step of a
-/// simulation stay finite (issue 30: h0 = 1e300 gave 360 NaN pseudoranges
+/// simulation stay finite (h0 = 1e300 gave 360 NaN pseudoranges
 /// of 366; huge values overflowed the clock's process noise).
 pub const MAX_ALLAN_COEFFICIENT: f64 = 1e-6;
 
@@ -85,7 +85,7 @@ impl ReceiverClockModel {
     ///   temperature changes (in a hand, a car cabin), h0 = 2e-19,
     ///   h−2 = 2e-18 (S_cf ≈ 3.5 m²/s³, a hundred times the TCXO's): the
     ///   u-blox receiver of walk_0827 changed its drift by 20 m/s over its
-    ///   133.75 s log (docs/real-data.md), which a TCXO's 0.19 m/s/√s random
+    ///   133.75 s log (docs/reference/configuration.md), which a TCXO's 0.19 m/s/√s random
     ///   walk makes a 9.2σ event and this model a 0.92σ one.
     pub fn oscillator(name: &str) -> Result<Self> {
         let (h0, h_minus2) = match name {

@@ -3,7 +3,7 @@
 //! gate every outside measurement passes before the fix solver or a
 //! filter sees it.
 //!
-//! NaN policy (docs/robustness.md): a measurement with a NaN or infinite
+//! NaN policy (docs/reference/robustness.md): a measurement with a NaN or infinite
 //! time, satellite position or velocity, pseudorange or pseudorange σ is
 //! refused with an error naming it; NaN is accepted only for a rate (and
 //! its σ), where it means "this satellite has no rate at this epoch". A

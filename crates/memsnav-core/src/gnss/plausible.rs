@@ -6,7 +6,7 @@
 //! elements have their own table ([`super::broadcast_ranges`]), as the
 //! navigation messages define them bit by bit.
 //!
-//! `docs/robustness.md` lists these ranges and what each reader does with a
+//! `docs/reference/robustness.md` lists these ranges and what each reader does with a
 //! value outside (a record skipped and counted, or the file refused naming
 //! the line).
 

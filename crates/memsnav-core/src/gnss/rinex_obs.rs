@@ -629,7 +629,7 @@ E07  23205808.406\n";
         let next = "> 2025 08 28 17 30 39.9980000  0  1\nG10  20576396.770\n";
         // (the records after the header, the line at fault, what is said)
         let cases = [
-            // Issue 15: a negative count used to panic (usize overflow).
+            // A negative count used to panic (usize overflow).
             (
                 record.replace("0  1\n", "0 -1\n") + next,
                 7,

@@ -1,7 +1,7 @@
 //! The checks every consumer of IMU data and of a navigation start runs:
 //! `strapdown` ([`super::integrate`]) and both coupled filters take their
 //! samples and their start through these, so a series one refuses the
-//! others refuse too (issue 30: the filters integrated across a 10⁶ s gap
+//! others refuse too (the filters integrated across a 10⁶ s gap
 //! that `strapdown` refused, and ended 4.7×10¹⁵ m off).
 
 use nalgebra::Vector3;

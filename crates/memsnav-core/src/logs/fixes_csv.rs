@@ -1,5 +1,5 @@
 //! GNSS fixes in CSV: one epoch a line, comma-separated columns named in a
-//! header line, in any order (docs/your-own-files.md, "The fixes CSV").
+//! header line, in any order (docs/how-to/your-own-files.md, "The fixes CSV").
 //!
 //! | group | columns (one alternative) | |
 //! |---|---|---|

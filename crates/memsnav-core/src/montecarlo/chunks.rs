@@ -1,6 +1,6 @@
 //! A Monte Carlo experiment as its runs and its fold, so that chunks of
 //! runs can be computed in other processes (Dask workers,
-//! `docs/distributed.md`) and folded here in run order.
+//! `docs/how-to/run-on-dask.md`) and folded here in run order.
 //!
 //! A chunk is the runs `start..end` of a set, encoded with postcard: f64
 //! values travel as their bits, so a folded chunk is bit for bit the run

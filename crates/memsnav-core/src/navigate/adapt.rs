@@ -58,7 +58,7 @@
 //!    slow error, and only as a state do they share it instead of
 //!    averaging it twice (with the inflation, the smoothed bounds at the
 //!    foreign drive's standstills held 0.78-0.85 of the errors; with the
-//!    states 0.96-1.00: docs/foreign-drive.md).
+//!    states 0.96-1.00: docs/results/foreign-drive.md).
 //!
 //! The run that is reported is a last pass with what was learnt; the
 //! learning passes keep no solution, only their measurement records.

@@ -186,7 +186,7 @@ pub struct LogConfig {
     /// Range-bias states for tight coupling (12 more states). Default on:
     /// a real receiver's pseudorange errors are mostly slow biases, and a
     /// filter that takes them for white noise averages them away and
-    /// reports bounds several times too tight (docs/real-data.md, walk_0827).
+    /// reports bounds several times too tight (docs/reference/configuration.md, walk_0827).
     pub range_bias_states: bool,
     /// Loose coupling: a first-order Gauss-Markov error of the fixes'
     /// positions per ECEF axis, as states (the range-bias slots of tight

@@ -22,7 +22,7 @@
 //! courses. On the shared real logs r is 0.98 (car, RTK velocities), 0.99
 //! (another car, standalone u-blox velocities) and 1.11 (a hand-held walk);
 //! the same logs with the rates divided or multiplied by 180/π give
-//! 0.017-0.019 and 56-63 (docs/failed-runs.md).
+//! 0.017-0.019 and 56-63 (docs/how-to/when-a-run-fails.md).
 
 use nalgebra::Vector3;
 

@@ -1001,7 +1001,7 @@ mod tests {
         );
     }
 
-    /// Issue 30: an empty mounting chain and angles beyond a turn were
+    /// An empty mounting chain and angles beyond a turn were
     /// accepted (`mounting_rpy_deg = []` meant no rotation, `heading_deg =
     /// 1e300` some heading); every angle key now says so, naming itself.
     #[test]

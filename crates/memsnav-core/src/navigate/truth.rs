@@ -13,7 +13,7 @@
 //! the lever-arm transformation of Groves eq. 2.124 (r_a = r_b + C_b^e
 //! l_ba^b) with C_b^e = C_n^e C_b^n (C_n^e: eq. 2.150 transposed, at the
 //! truth's latitude and longitude), the datum offset added along the same
-//! local axes (docs/your-own-files.md, "The truth").
+//! local axes (docs/how-to/your-own-files.md, "The truth").
 
 use nalgebra::{Matrix3, Vector3};
 

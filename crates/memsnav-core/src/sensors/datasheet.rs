@@ -276,7 +276,7 @@ mod tests {
             .to_string()
     }
 
-    /// The ADIS16465-1 figures of docs/real-data.md's worked example,
+    /// The ADIS16465-1 figures of docs/reference/configuration.md's worked example,
     /// converted by hand: ARW 0.15 °/√h = 0.0025 °/√s = 4.3633e-5 rad/√s;
     /// VRW 0.037 m/s/√h = 6.1667e-4 m/s/√s; gyro in-run bias stability
     /// 2 °/h → σ_β = 2/0.617364 = 3.23958 °/h = 1.57058e-5 rad/s; accel

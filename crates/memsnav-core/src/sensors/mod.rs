@@ -38,7 +38,7 @@ use crate::{validate, Error, Result};
 pub const DEFAULT_SAMPLE_RATE_HZ: f64 = 100.0;
 
 /// A sample rate the models simulate at: within [[`MIN_SAMPLE_RATE_HZ`],
-/// [`MAX_SAMPLE_RATE_HZ`]] (issue 30: 10³⁰⁰ Hz gave a per-sample noise std
+/// [`MAX_SAMPLE_RATE_HZ`]] (10³⁰⁰ Hz gave a per-sample noise std
 /// of 10¹⁴⁷, a subnormal rate an infinite sample period and NaN).
 pub fn check_sample_rate(sample_rate_hz: f64) -> Result<()> {
     validate::positive("sample_rate", sample_rate_hz)?;

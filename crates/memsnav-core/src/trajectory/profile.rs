@@ -14,7 +14,7 @@ use crate::{Error, Result};
 
 const COLUMNS: usize = 10;
 
-/// The range of each column after the time (issue 30: a row's east
+/// The range of each column after the time (a row's east
 /// velocity of 1e308 gave 1 176 of 1 200 specific forces non-finite): the
 /// angles' natural ranges (360° either way for the wrapped ones), the
 /// heights of the geodesy's domain; the velocity is checked as a speed.

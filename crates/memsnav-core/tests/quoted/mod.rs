@@ -1,5 +1,5 @@
 //! The figures a docs page quotes from a test's run, read from the page so
-//! that the test compares them with what it computed (issue 28: every
+//! that the test compares them with what it computed (every
 //! quoted figure is generated or checked).
 
 #![allow(dead_code)]

@@ -157,7 +157,7 @@ pub struct NavigationExperimentConfig {
     /// Whether the filters use the pseudorange rates (default true). The
     /// paper's tight coupling names pseudoranges only; with rates (0.1 m/s
     /// at 1 Hz) the velocity is pinned every second and every IMU
-    /// converges within ~30 s (see `docs/paper-comparison.md`).
+    /// converges within ~30 s (see `docs/results/paper-comparison.md`).
     pub use_pseudorange_rate: bool,
     /// One-sigma initial attitude error in NED (north tilt, east tilt,
     /// heading), rad: each run draws the initial attitude error from it

@@ -13,7 +13,7 @@ pub(super) fn epoch_samples(time_s: &[f64], rate_hz: f64) -> Vec<usize> {
     // nearest (the first on a tie) is an epoch: one pass over the track,
     // bounded by it whatever the span or the rate (a 1e20 s span at 1 Hz
     // must not visit 1e20 targets; stepping targets through a span whose
-    // float spacing exceeds the period never advanced, issue 30). A period
+    // float spacing exceeds the period never advanced). A period
     // below every sample spacing puts each sample in a group of its own,
     // so every sample is an epoch (1e18 Hz on a 1 s track).
     let mut samples: Vec<usize> = Vec::new();
@@ -56,7 +56,7 @@ mod tests {
 
     #[test]
     fn a_period_finer_than_the_time_stamps_gives_every_sample_at_once() {
-        // 1e18 Hz on a 1 s track crawled one target per pass (issue 30).
+        // 1e18 Hz on a 1 s track crawled one target per pass.
         let time: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
         assert_eq!(epoch_samples(&time, 1e18), (0..=100).collect::<Vec<_>>());
         let gps: Vec<f64> = time.iter().map(|t| 1.4e9 + t).collect();
@@ -65,10 +65,10 @@ mod tests {
 
     #[test]
     fn huge_spans_and_rates_cost_no_more_than_the_track() {
-        // Issue 15: a 1e20 s span at 1 Hz hung, 1e12 Hz aborted on allocation.
+        // A 1e20 s span at 1 Hz hung, 1e12 Hz aborted on allocation.
         assert_eq!(epoch_samples(&[0.0, 1e20], 1.0), vec![0, 1]);
         // A first time of -2.7e16 s: the float spacing there (4 s) exceeds
-        // the period, and stepping the targets never advanced (issue 30).
+        // the period, and stepping the targets never advanced.
         let mut far: Vec<f64> = (0..=1000).map(|k| k as f64 * 0.01).collect();
         far[0] = -2.742_103_583_849_717e16;
         let s = epoch_samples(&far, 1.0);

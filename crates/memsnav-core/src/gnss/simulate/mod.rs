@@ -288,8 +288,8 @@ pub(crate) fn simulate_track(
         validate::increasing_times("time", track.time_s)?;
         validate::finite_vectors("position_ecef", track.position_ecef)?;
         validate::finite_vectors("velocity_ecef", track.velocity_ecef)?;
-        // A receiver at the Earth's centre gave every pseudorange NaN
-        // (issue 30): the one ECEF position and speed checks.
+        // A receiver at the Earth's centre gave every pseudorange NaN:
+        // the one ECEF position and speed checks.
         crate::geodesy::domain::check_position_ecef("position_ecef", track.position_ecef)?;
         crate::geodesy::domain::check_speed("velocity_ecef", track.velocity_ecef)?;
     }

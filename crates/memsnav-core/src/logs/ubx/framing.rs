@@ -8,8 +8,7 @@
 //! last frame) with the byte offset, count what it skipped, and keep going
 //! through any byte sequence; that is twenty lines on a slice, while the
 //! crate's parser is a streaming buffer that hands back typed packets only
-//! for the messages it knows and decodes GPS LNAV without its parity check
-//! (issue 24).
+//! for the messages it knows and decodes GPS LNAV without its parity check.
 
 /// The two sync characters that open every UBX frame.
 const SYNC: [u8; 2] = [0xB5, 0x62];
