@@ -43,7 +43,7 @@ use std::path::Path;
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
     BeidouEphemeris, BroadcastNav, CnavEphemeris, InavEphemeris, Klobuchar, LnavEphemeris,
-    ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
+    NavFileEphemerides, ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
 };
 use crate::gnss::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
 use crate::logs::PosSolution;
@@ -94,6 +94,17 @@ pub struct UbxLog {
 }
 
 impl UbxLog {
+    /// The decoded ephemerides a RINEX navigation file of the log holds
+    /// (`memsnav convert`).
+    pub fn nav_file_ephemerides(&self) -> NavFileEphemerides<'_> {
+        NavFileEphemerides {
+            gps_lnav: &self.gps_ephemerides,
+            gps_cnav: &self.gps_cnav_ephemerides,
+            galileo: &self.galileo_ephemerides,
+            beidou: &self.beidou_ephemerides,
+        }
+    }
+
     /// The decoded ephemerides of every system as one set, the form the
     /// RINEX navigation reader gives ([`crate::gnss::broadcast_epochs`]
     /// takes it).
@@ -114,6 +125,7 @@ impl UbxLog {
             beidou: self.beidou_ephemerides.clone(),
             // UBX GLONASS strings are not decoded.
             glonass: Vec::new(),
+            gps_cnav: self.gps_cnav_ephemerides.clone(),
             klobuchar: self.klobuchar,
             // The CNAV ephemerides are in the order they completed: the
             // last of a satellite is its latest.
