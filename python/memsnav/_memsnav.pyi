@@ -1993,6 +1993,10 @@ class RinexObservations:
         """Observation types per system letter, in header order."""
 
     @property
+    def glonass_channels(self) -> dict[str, int]:
+        """Each GLONASS slot's FDMA frequency channel k of the header's
+        GLONASS SLOT / FRQ # (``{"R01": 1, ...}``); empty without it."""
+    @property
     def approx_position_ecef(self) -> npt.NDArray[np.float64] | None:
         """APPROX POSITION XYZ of the header, ECEF m, or None."""
 

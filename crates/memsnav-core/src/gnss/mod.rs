@@ -23,6 +23,7 @@ mod fix;
 mod galileo_ephemeris;
 mod glonass_ephemeris;
 mod glonass_orbit;
+mod glonass_slots;
 mod measurement_rows;
 pub(crate) mod nav_record;
 mod observables;

@@ -7,9 +7,9 @@
 //! other tools too.
 //!
 //! Not written: `SYS / PHASE SHIFT` (the quarter-cycle alignment of phases
-//! between signals is not known from a raw log) and the GLONASS header
-//! records (`GLONASS SLOT / FRQ #`, `COD/PHS/BIS`), so files holding
-//! GLONASS phase are not complete for GLONASS.
+//! between signals is not known from a raw log) and `GLONASS COD/PHS/BIS`,
+//! so files holding GLONASS phase are not complete for GLONASS; `GLONASS
+//! SLOT / FRQ #` is written in files with GLONASS.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -18,6 +18,7 @@ use super::beidou_ephemeris::BeidouEphemeris;
 use super::cnav_ephemeris::CnavEphemeris;
 use super::ephemeris::LnavEphemeris;
 use super::galileo_ephemeris::InavEphemeris;
+use super::glonass_slots::slot_lines;
 use super::nav_record::NavRecord;
 use super::observation_file::ObservationFile;
 use super::rinex_nav::parse_broadcast_nav;
@@ -120,6 +121,12 @@ pub fn format_rinex_obs(observations: &ObservationFile, provenance: &RinexProven
         "RINEX VERSION / TYPE",
     );
     provenance_records(&mut out, provenance);
+    if observations.observation_types.contains_key(&'R') {
+        // RINEX 3.04 table A2: required in files with GLONASS.
+        for line in slot_lines(&observations.glonass_channels) {
+            record(&mut out, &line, "GLONASS SLOT / FRQ #");
+        }
+    }
     record(&mut out, "", "MARKER NAME");
     record(&mut out, "", "OBSERVER / AGENCY");
     let receiver: String = provenance.receiver.chars().take(20).collect();
@@ -523,6 +530,7 @@ mod tests {
             version: 3.04,
             observation_types: types,
             approx_position_ecef: Some(nalgebra::Vector3::new(-1.2e6, -4.7e6, 4.1e6)),
+            glonass_channels: BTreeMap::new(),
             epochs: vec![ObservationEpoch {
                 gps_time_s: 1_440_437_478.748_5,
                 flag: 0,
