@@ -64,6 +64,29 @@ def test_event_records_are_counted():
     assert len(obs) == 3
 
 
+def test_glonass_slot_frequencies_of_an_observation_header(tmp_path):
+    """The phone's RINEX 3.03 header lists 6 GLONASS slots with their FDMA
+    channels: read, they are the channels the IGS broadcast file gives the
+    same slots (channels stay with their slots), and a count that disagrees
+    with the list is refused naming the line."""
+    obs = mn.read_rinex_obs(shared_data("android-gnsslogger/pixel6.23o"))
+    channels = obs.glonass_channels
+    assert channels == {"R01": 1, "R02": -4, "R03": 5, "R12": -1, "R13": -2, "R21": 4}
+    broadcast = mn.read_broadcast_nav(PUBLIC / "brdc1360_excerpt.20g").glonass_channels
+    common = set(channels) & set(broadcast)
+    assert len(common) >= 4 and all(channels[s] == broadcast[s] for s in common)
+    text = (shared_data("android-gnsslogger/pixel6.23o")).read_text().splitlines(True)
+    line = next(i for i, t in enumerate(text) if "GLONASS SLOT / FRQ #" in t)
+    text[line] = " 7" + text[line][2:]
+    path = tmp_path / "seven.23o"
+    path.write_text("".join(text[: line + 40]))
+    with pytest.raises(
+        mn.ParseError,
+        match=r"seven\.23o:13: GLONASS SLOT / FRQ # declares 7 satellites and lists 6",
+    ):
+        mn.read_rinex_obs(path)
+
+
 def test_glonass_broadcast_states_agree_with_precise_orbits():
     eph = mn.read_broadcast_nav(PUBLIC / "brdc1360_excerpt.20g")
     assert len(eph) == 100 and eph.glonass_channels["R01"] == 1

@@ -150,6 +150,8 @@ READERS: dict[str, tuple[bytes, str, Callable[[Path], Any]]] = {
     ),
     "ubx": ((EX / "walk_head.ubx").read_bytes(), "ubx", mn.read_ubx),
     "rinex2_obs": ((PUBLIC / "14601736.18o").read_bytes(), "18o", mn.read_rinex_obs),
+    # RINEX 4.00: 4 LNAV and 2 CNAV records of convert's output.
+    "rinex4_nav": (_head("walk.rnx", 60), "rnx", mn.read_broadcast_nav),
     "glonass_nav": (
         b"".join((PUBLIC / "brdc1360_excerpt.20g").read_bytes().splitlines(True)[:27]),
         "20g",

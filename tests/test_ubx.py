@@ -1,6 +1,7 @@
 """u-blox UBX logs: ``memsnav.read_ubx`` and ``memsnav convert``.
 
-The converted RINEX files are read by an independent reader (georinex)
+The converted RINEX files are read by independent readers (georinex for
+RINEX 3, nmbu.rinex for the RINEX 4 navigation file)
 and must hold the values the log decodes to; the GPS ephemerides decoded
 from the log's navigation words give the orbits and clocks of the RINEX
 navigation file another converter made from the same log; the log's
@@ -79,10 +80,12 @@ def _ned(delta_ecef: np.ndarray, lla: np.ndarray) -> np.ndarray:
 
 
 def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
-    assert main(["convert", str(EXCERPT), "--output", str(tmp_path / "out")]) == 0
+    # georinex reads RINEX 2 and 3 navigation files, not RINEX 4's.
+    out = str(tmp_path / "out")
+    assert main(["convert", str(EXCERPT), "--output", out, "--rinex-version", "3.04"]) == 0
     printed = capsys.readouterr().out
     assert "20 epochs" in printed and "4 GPS LNAV, 7 Galileo and 8 BeiDou ephemerides" in printed
-    assert "7 GPS CNAV ephemerides decoded, not written" in printed
+    assert "7 GPS CNAV ephemerides decoded, not written to the RINEX 3.04 .nav" in printed
     log = mn.read_ubx(EXCERPT)
     obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"
 
@@ -233,7 +236,7 @@ def test_galileo_ephemerides_in_the_converted_navigation_file(tmp_path):
     assert sorted(e["sat"] for e in galileo) == ["E07", "E08", "E13", "E14", "E26", "E29", "E33"]
     assert [e["sat"] for e in galileo if not e["healthy"]] == ["E14"]
     path = tmp_path / "walk.nav"
-    log.write_rinex_nav(path)
+    log.write_rinex_nav(path, rinex_version="3.04")
     nav = _georinex(path)
     for e in galileo:
         record = nav.sel(sv=e["sat"]).dropna("time", how="all")
@@ -297,7 +300,7 @@ def test_beidou_ephemerides_equal_the_rinex_of_another_converter(tmp_path):
         assert e["toc"] == epoch_gps + 14
     # memsnav's own navigation file, read by georinex, carries the same.
     path = tmp_path / "walk.nav"
-    log.write_rinex_nav(path)
+    log.write_rinex_nav(path, rinex_version="3.04")
     ours = _georinex(path)
     for e in beidou:
         record = ours.sel(sv=e["sat"]).dropna("time", how="all")
@@ -328,9 +331,119 @@ def test_gps_cnav_ephemerides_and_klobuchar(tmp_path):
     alpha, beta = log.klobuchar
     assert len(alpha) == len(beta) == 4 and 0 < alpha[0] < 1e-7 and beta[0] > 7e4
     # RINEX 3.04 has no CNAV record: the navigation file keeps LNAV's 4.
-    log.write_rinex_nav(tmp_path / "walk.nav")
+    log.write_rinex_nav(tmp_path / "walk.nav", rinex_version="3.04")
     text = (tmp_path / "walk.nav").read_text()
     assert sorted({line[:3] for line in text.splitlines() if line.startswith("G")}) == sorted(lnav)
+    # RINEX 4.00, the default, has: all 7 satellites, G08, G18 and G24 by CNAV alone.
+    log.write_rinex_nav(tmp_path / "walk.rnx")
+    text = (tmp_path / "walk.rnx").read_text()
+    assert sorted({line[:3] for line in text.splitlines() if line.startswith("G")}) == sorted(cnav)
+    assert text.count(" CNAV\n") == 7 and text.count(" LNAV\n") == 4
+
+
+#: nmbu.rinex's names of the RINEX 4 GPS CNAV record fields, with ours.
+NMBU_CNAV = {
+    "A_DOT": "a_dot",
+    "Crs": "crs",
+    "Delta_n": "delta_n",
+    "M0": "m0",
+    "Cuc": "cuc",
+    "e": "eccentricity",
+    "Cus": "cus",
+    "sqrt_A": "sqrt_a",
+    "Cic": "cic",
+    "OMEGA0": "omega0",
+    "Cis": "cis",
+    "i0": "i0",
+    "Crc": "crc",
+    "omega": "omega",
+    "OMEGA_DOT": "omega_dot",
+    "IDOT": "idot",
+    "Delta_n_dot": "delta_n_dot",
+    "URAI_NED0": "ura_ned0_index",
+    "URAI_NED1": "ura_ned1_index",
+    "URAI_ED": "ura_ed_index",
+    "TGD": "tgd",
+    "URAI_NED2": "ura_ned2_index",
+    "ISC_L1CA": "isc_l1ca",
+    "ISC_L2C": "isc_l2c",
+    "ISC_L5I5": "isc_l5i5",
+    "ISC_L5Q5": "isc_l5q5",
+}
+
+
+def _gps_seconds(timestamp: str) -> float:
+    """An ISO calendar time (GPS time scale) as GPS s since 1980-01-06."""
+    return float((np.datetime64(timestamp) - np.datetime64("1980-01-06")) / np.timedelta64(1, "s"))
+
+
+def test_convert_writes_rinex4_navigation_an_independent_reader_reads(tmp_path, capsys):
+    """RINEX 4.00 is convert's default: the CNAV records reach the file and
+    nmbu.rinex (an independent RINEX 3/4 reader) gives back every value the
+    log decoded, as memsnav's own reader does."""
+    nmbu = pytest.importorskip("nmbu.rinex.reader")
+    assert main(["convert", str(EXCERPT), "--output", str(tmp_path)]) == 0
+    assert "7 GPS CNAV ephemerides written to the RINEX 4.00 .nav" in capsys.readouterr().out
+    path = tmp_path / "walk_head.nav"
+    log = mn.read_ubx(EXCERPT)
+    rinex = nmbu.read_rinex_file(str(path))
+    assert rinex.header.version == 4.0
+    satellites = rinex.data.satellites
+    cnav = log.gps_cnav_ephemerides
+    gps = sorted(s for s in satellites if s[0] == "G")
+    # 7 GPS satellites, 3 (G08, G18, G24) by CNAV alone.
+    assert gps == ["G08", "G10", "G18", "G23", "G24", "G27", "G32"]
+    assert sorted(e["sat"] for e in cnav) == gps
+    for e in cnav:
+        # nmbu keys records by epoch; LNAV and CNAV of one satellite differ in t_oc.
+        records = satellites[e["sat"]]
+        record = next(r for t, r in records.items() if _gps_seconds(t) == e["toc"])
+        assert hasattr(record, "t_op"), e["sat"]  # a CNAV record, not LNAV
+        for theirs, ours in NMBU_CNAV.items():
+            value = float(getattr(record, theirs))
+            assert value == pytest.approx(e[ours], rel=1e-12, abs=1e-300), (e["sat"], theirs)
+        assert float(record.clock_bias) == pytest.approx(e["af0"], rel=1e-12)
+        # Health: L1, L2, L5 bits as one number, L1 first.
+        health = e["l1_health"] << 2 | e["l2_health"] << 1 | e["l5_health"]
+        assert int(record.SV_health) == health
+        # t_op in seconds of week WN_op; t_tm in seconds of its week.
+        assert record.wn_op * 604_800 + record.t_op == e["top"]
+        assert record.t_tm == e["transmission_time"] % 604_800
+    for e in log.ephemerides:
+        records = satellites[e["sat"]]
+        record = next(r for t, r in records.items() if _gps_seconds(t) == e["toc"])
+        assert float(record.IODE) == e["iode"]
+        assert float(record.TGD) == pytest.approx(e["tgd"], rel=1e-12)
+        assert float(record.sqrt_A) == pytest.approx(e["sqrt_a"], rel=1e-12)
+    for e in log.beidou_ephemerides:
+        (record,) = satellites[e["sat"]].values()
+        assert float(record.AODE) == e["aode"]
+        assert float(record.TGD1) == pytest.approx(e["tgd1"], rel=1e-12)
+        assert float(record.sqrt_A) == pytest.approx(e["sqrt_a"], rel=1e-12)
+    for e in log.galileo_ephemerides:
+        (record,) = satellites[e["sat"]].values()
+        assert float(record.IODnav) == e["iod_nav"]
+        assert float(record.GAL_Week_no) == e["gst_week"] + 1024
+        assert float(record.sqrt_A) == pytest.approx(e["sqrt_a"], rel=1e-12)
+    # memsnav's reader reads RINEX 4 too: the same CNAV ephemerides (the
+    # integrity and L2C phasing flags have no place in the record).
+    back = mn.read_broadcast_nav(path)
+    assert back.skipped == {}
+    assert sorted(back.satellites) == sorted(s for s in satellites)
+    dropped = ("integrity_status_flag", "l2c_phasing")
+    for b, e in zip(back.gps_cnav_ephemerides, cnav, strict=True):
+        for key, value in e.items():
+            if key in dropped or value is None or isinstance(value, str):
+                assert key in dropped or b[key] == value, key
+            else:
+                assert b[key] == pytest.approx(value, rel=1e-12, abs=1e-300, nan_ok=True), key
+
+
+def test_a_rinex_version_convert_does_not_write_is_refused(tmp_path):
+    log = mn.read_ubx(EXCERPT)
+    with pytest.raises(ValueError, match=r"rinex_version.*3\.05"):
+        log.write_rinex_nav(tmp_path / "x.nav", rinex_version="3.05")
+    assert not (tmp_path / "x.nav").exists()
 
 
 def _frame(cls: int, msg_id: int, payload: bytes) -> bytes:
@@ -428,8 +541,11 @@ def test_convert_reads_its_files_back(tmp_path):
     obs = mn.read_rinex_obs(files["observations"])
     assert len(obs.time) == len(log.rawx["epoch_gps_time"])
     nav = mn.read_broadcast_nav(files["navigation"])
-    written = len(log.ephemerides) + len(log.galileo_ephemerides) + len(log.beidou_ephemerides)
-    assert written > 0 and len(nav) == written and nav.skipped == {}
+    # RINEX 4.00: LNAV and CNAV records of GPS, each one ephemeris.
+    written = len(log.ephemerides) + len(log.gps_cnav_ephemerides)
+    written += len(log.galileo_ephemerides) + len(log.beidou_ephemerides)
+    assert written == 4 + 7 + 7 + 8 and len(nav) == written and nav.skipped == {}
+    assert len(nav.gps_cnav_ephemerides) == 7
 
 
 #: LNAV parity equations (IS-GPS-200 table 20-XIV): whether each parity
@@ -499,4 +615,7 @@ def test_an_lnav_orbit_inside_the_earth_is_skipped_and_counted(tmp_path):
     assert len(read.galileo_ephemerides) == len(before.galileo_ephemerides)
     files = convert_ubx(path, tmp_path / "rinex")[1]
     nav = mn.read_broadcast_nav(files["navigation"])
-    assert len(nav) == len(read.galileo_ephemerides) + len(read.beidou_ephemerides)
+    # The CNAV records of the same satellites still reach the file.
+    assert len(nav) == len(read.gps_cnav_ephemerides) + len(read.galileo_ephemerides) + len(
+        read.beidou_ephemerides
+    )

@@ -1974,6 +1974,10 @@ class BroadcastEphemerides:
         default."""
 
     @property
+    def gps_cnav_ephemerides(self) -> list[dict[str, Any]]:
+        """The GPS CNAV ephemerides (a RINEX 4 file's CNAV records, a UBX
+        log's L2C/L5 messages), dicts as ``UbxLog.gps_cnav_ephemerides``."""
+    @property
     def glonass_channels(self) -> dict[str, int]:
         """Each GLONASS slot's FDMA frequency channel k (G1 = 1602 + 0.5625 k
         MHz), from its latest ephemeris: {"R01": 1, ...}."""
@@ -2019,6 +2023,10 @@ class RinexObservations:
     def observation_types(self) -> dict[str, list[str]]:
         """Observation types per system letter, in header order."""
 
+    @property
+    def glonass_channels(self) -> dict[str, int]:
+        """Each GLONASS slot's FDMA frequency channel k of the header's
+        GLONASS SLOT / FRQ # (``{"R01": 1, ...}``); empty without it."""
     @property
     def approx_position_ecef(self) -> npt.NDArray[np.float64] | None:
         """APPROX POSITION XYZ of the header, ECEF m, or None."""
@@ -2817,9 +2825,12 @@ class UbxLog:
         """Non-fatal problems met while reading."""
     def write_rinex_obs(self, path: str | os.PathLike[str]) -> None:
         """Writes the observations as a RINEX 3.04 observation file."""
-    def write_rinex_nav(self, path: str | os.PathLike[str]) -> None:
-        """Writes the GPS LNAV, Galileo and BeiDou ephemerides as a RINEX 3.04
-        navigation file (RINEX 3.04 has no CNAV record)."""
+    def write_rinex_nav(
+        self, path: str | os.PathLike[str], rinex_version: str | None = None
+    ) -> None:
+        """Writes the decoded ephemerides as a RINEX navigation file: RINEX
+        4.00 by default (GPS LNAV and CNAV, Galileo I/NAV, BeiDou D1), or
+        ``rinex_version="3.04"`` (no CNAV record: those are left out)."""
 
 def read_ubx(path: str | os.PathLike[str]) -> UbxLog:
     """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked), GPS

@@ -25,7 +25,7 @@ use std::time::Duration;
 
 use memsnav_core::gnss::{
     check_measurement, format_rinex_nav, format_rinex_obs, parse_broadcast_nav, parse_klobuchar,
-    parse_rinex_obs, parse_sp3, plausible, Klobuchar, RinexProvenance,
+    parse_rinex_obs, parse_sp3, plausible, Klobuchar, RinexNavVersion, RinexProvenance,
 };
 use memsnav_core::logs::{
     axes_from_name, parse_fixes_csv, parse_gnss_table, parse_gnsslogger, parse_imu_csv, parse_nmea,
@@ -57,6 +57,7 @@ enum Reader {
     GlonassNav,
     MixedNav,
     GalileoNav2,
+    Rinex4Nav,
 }
 
 fn data(relative: &str) -> PathBuf {
@@ -190,6 +191,8 @@ fn seed(reader: Reader) -> &'static [u8] {
                 usize::MAX,
             ),
             head("rinex-public/ceda2100.18e", 30),
+            // 4 LNAV and 2 CNAV records of RINEX 4.00.
+            head("real-imu-gnss/walk.rnx", 60),
         ]
     });
     &seeds[reader as usize]
@@ -315,7 +318,11 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                 });
             ok.then_some(()).ok_or(format!("{:?}", obs.epochs.first()))
         }),
-        Reader::RinexNav | Reader::GlonassNav | Reader::MixedNav | Reader::GalileoNav2 => {
+        Reader::RinexNav
+        | Reader::GlonassNav
+        | Reader::MixedNav
+        | Reader::GalileoNav2
+        | Reader::Rinex4Nav => {
             parse_broadcast_nav(&text, file).map(|nav| {
                 // The satellite stays near the Earth: √A ≤ 8192 √m bounds the
                 // orbit to |r| ≤ a (1 + e) + 2 × 2048 m < 1.01e8 m; the same
@@ -324,6 +331,13 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
                     .gps
                     .iter()
                     .map(|r| (format!("{r:?}"), r.orbit, r.state(r.orbit.toc_gps_s)))
+                    .chain(nav.gps_cnav.iter().map(|r| {
+                        (
+                            format!("{r:?}"),
+                            r.orbit,
+                            r.state_at(r.orbit.toc_gps_s, 0.0),
+                        )
+                    }))
                     .chain(nav.galileo.iter().map(|r| {
                         (
                             format!("{r:?}"),
@@ -483,18 +497,22 @@ fn read(reader: Reader, bytes: &[u8], file: &str) -> Result<bool, String> {
 /// memsnav's RINEX writer and readers (what `memsnav convert` writes).
 fn written_and_read_back(log: &memsnav_core::logs::UbxLog) -> bool {
     let provenance = RinexProvenance::default();
-    let (gps, galileo, beidou) = (
-        &log.gps_ephemerides,
-        &log.galileo_ephemerides,
-        &log.beidou_ephemerides,
-    );
-    let nav = parse_broadcast_nav(
-        &format_rinex_nav(gps, galileo, beidou, &provenance),
-        "written.nav",
-    );
-    let nav_ok = nav.is_ok_and(|n| {
-        (n.gps.len(), n.galileo.len(), n.beidou.len()) == (gps.len(), galileo.len(), beidou.len())
-    });
+    let e = log.nav_file_ephemerides();
+    let nav_ok = [RinexNavVersion::V3_04, RinexNavVersion::V4_00]
+        .into_iter()
+        .all(|version| {
+            let cnav = if version == RinexNavVersion::V4_00 {
+                e.gps_cnav.len()
+            } else {
+                0
+            };
+            parse_broadcast_nav(&format_rinex_nav(&e, version, &provenance), "written.nav")
+                .is_ok_and(|n| {
+                    (n.gps_cnav.len(), n.galileo.len(), n.beidou.len())
+                        == (cnav, e.galileo.len(), e.beidou.len())
+                        && n.gps.len() >= e.gps_lnav.len()
+                })
+        });
     let obs = &log.observations;
     let obs_ok = obs.epochs.is_empty()
         || obs.observation_types.is_empty()
@@ -709,6 +727,7 @@ fuzz_reader!(
     galileo_nav2_garbage,
     Reader::GalileoNav2
 );
+fuzz_reader!(rinex4_nav_mutated, rinex4_nav_garbage, Reader::Rinex4Nav);
 
 /// A UBX frame of `class`, `id` and `payload` with its Fletcher checksum
 /// (interface description §3.4).
@@ -1054,6 +1073,7 @@ fn the_seeds_read_cleanly() {
         Reader::GlonassNav,
         Reader::MixedNav,
         Reader::GalileoNav2,
+        Reader::Rinex4Nav,
     ] {
         assert_eq!(read(reader, seed(reader), "seed"), Ok(true), "{reader:?}");
     }

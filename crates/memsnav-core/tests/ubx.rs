@@ -20,7 +20,7 @@ use memsnav_core::gnss::{
     broadcast_epochs, broadcast_epochs_with_signals, format_rinex_nav, format_rinex_obs,
     parse_broadcast_nav, parse_rinex_nav, parse_rinex_obs, predicted_range, read_broadcast_nav,
     read_rinex_nav, satellite_number, BroadcastOrbit, GnssSystem, GpsEphemeris, ObservableOptions,
-    RinexProvenance, SatelliteState, EPHEMERIS_VALIDITY_S,
+    RinexNavVersion, RinexProvenance, SatelliteState, EPHEMERIS_VALIDITY_S,
 };
 use memsnav_core::logs::{parse_ubx, read_ubx, UbxLog};
 use nalgebra::Vector3;
@@ -154,13 +154,9 @@ fn walk_epochs_and_messages() {
 fn written_rinex_reads_back() {
     let log = walk();
     let header = RinexProvenance::default();
+    let v3 = RinexNavVersion::V3_04;
     let nav = parse_rinex_nav(
-        &format_rinex_nav(
-            &log.gps_ephemerides,
-            &log.galileo_ephemerides,
-            &log.beidou_ephemerides,
-            &header,
-        ),
+        &format_rinex_nav(&log.nav_file_ephemerides(), v3, &header),
         "written.nav",
     )
     .unwrap();
@@ -171,13 +167,10 @@ fn written_rinex_reads_back() {
     }
     // Galileo and BeiDou read back by the same reader give the same orbit
     // and clock (D19.12: 13 digits) over ±2 h of t_oe.
-    let text = format_rinex_nav(
-        &log.gps_ephemerides,
-        &log.galileo_ephemerides,
-        &log.beidou_ephemerides,
-        &header,
-    );
+    let text = format_rinex_nav(&log.nav_file_ephemerides(), v3, &header);
     let all = parse_broadcast_nav(&text, "written.nav").unwrap();
+    // RINEX 3.04 has no CNAV record: only LNAV's 4 GPS satellites.
+    assert!(all.gps_cnav.is_empty());
     assert_eq!(all.galileo.len(), log.galileo_ephemerides.len());
     assert_eq!(all.beidou.len(), log.beidou_ephemerides.len());
     for (back, e) in all.galileo.iter().zip(&log.galileo_ephemerides) {
@@ -241,6 +234,99 @@ fn written_rinex_reads_back() {
             }
         }
     }
+}
+
+/// RINEX 4.00 (`memsnav convert`'s default) carries the walk's 7 CNAV
+/// ephemerides, 3 of them (G08, G18, G24) of satellites without LNAV, and
+/// gives back what the log decoded: the same records, the same orbits and
+/// L1 C/A clocks to D19.12's 13 digits, and the same satellites to
+/// position with as the log itself.
+#[test]
+fn rinex4_nav_carries_the_cnav_ephemerides() {
+    let log = walk();
+    let text = format_rinex_nav(
+        &log.nav_file_ephemerides(),
+        RinexNavVersion::V4_00,
+        &RinexProvenance::default(),
+    );
+    assert!(text.starts_with("     4.00           N: GNSS NAV DATA    M: Mixed"));
+    assert_eq!(text.matches("> EPH G").count(), 4 + 7);
+    assert_eq!(text.matches(" CNAV\n").count(), 7);
+    let back = parse_broadcast_nav(&text, "written.rnx").unwrap();
+    assert!(back.skipped.is_empty(), "{:?}", back.skipped);
+    assert_eq!(back.gps_cnav.len(), 7);
+    let prns = |nav: &memsnav_core::gnss::BroadcastNav| {
+        let mut p: Vec<u16> = nav.gps.iter().map(|e| e.prn).collect();
+        p.sort_unstable();
+        p.dedup();
+        p
+    };
+    let from_log = log.broadcast_nav();
+    assert_eq!(prns(&back), prns(&from_log));
+    assert_eq!(prns(&back), [8, 10, 18, 23, 24, 27, 32]);
+    assert_eq!(back.gps_group_delays.len(), from_log.gps_group_delays.len());
+    for (b, c) in back.gps_cnav.iter().zip(&log.gps_cnav_ephemerides) {
+        assert_eq!(
+            (b.prn, b.l1_health, b.l2_health, b.l5_health, b.week),
+            (c.prn, c.l1_health, c.l2_health, c.l5_health, c.week)
+        );
+        assert_eq!(
+            (
+                b.ura_ed_index,
+                b.ura_ned0_index,
+                b.ura_ned1_index,
+                b.ura_ned2_index
+            ),
+            (
+                c.ura_ed_index,
+                c.ura_ned0_index,
+                c.ura_ned1_index,
+                c.ura_ned2_index
+            )
+        );
+        assert_eq!(
+            (b.top_gps_s, b.transmission_gps_s),
+            (c.top_gps_s, c.transmission_gps_s)
+        );
+        // D19.12: 13 significant digits.
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
+        let (gb, gc) = (b.group_delays.unwrap(), c.group_delays.unwrap());
+        for (x, y) in [
+            (gb.tgd_s, gc.tgd_s),
+            (gb.isc_l1ca_s, gc.isc_l1ca_s),
+            (gb.isc_l2c_s, gc.isc_l2c_s),
+            (gb.isc_l5i5_s, gc.isc_l5i5_s),
+            (gb.isc_l5q5_s, gc.isc_l5q5_s),
+        ] {
+            assert!(close(x.unwrap(), y.unwrap()), "{x:?} vs {y:?}");
+        }
+        assert!(close(b.orbit.a_dot_m_s, c.orbit.a_dot_m_s));
+        assert!(close(
+            b.orbit.delta_n_dot_rad_s2,
+            c.orbit.delta_n_dot_rad_s2
+        ));
+        let (position, clock) = largest_differences(
+            &c.orbit,
+            |t, dt| c.state_at(t, dt),
+            |t, dt| b.state_at(t, dt),
+        );
+        assert!(position < 0.01 && clock < 0.01, "G{:02}", c.prn);
+    }
+    // LNAV, Galileo and BeiDou come back as from RINEX 3.04.
+    let v3 = parse_broadcast_nav(
+        &format_rinex_nav(
+            &log.nav_file_ephemerides(),
+            RinexNavVersion::V3_04,
+            &RinexProvenance::default(),
+        ),
+        "written.nav",
+    )
+    .unwrap();
+    assert_eq!(&back.gps[..4], &v3.gps[..]);
+    assert_eq!(
+        (back.galileo.clone(), back.beidou.clone()),
+        (v3.galileo, v3.beidou)
+    );
 }
 
 #[test]

@@ -9,6 +9,7 @@ use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use crate::errors::IntoPyResult;
 
@@ -90,6 +91,19 @@ impl PyBroadcastEphemerides {
     #[getter]
     fn klobuchar(&self) -> Option<([f64; 4], [f64; 4])> {
         self.inner.klobuchar.map(|k| (k.alpha, k.beta))
+    }
+
+    /// The GPS CNAV ephemerides (a RINEX 4 file's ``CNAV`` records, a UBX
+    /// log's L2C/L5 messages), dicts as ``UbxLog.gps_cnav_ephemerides``;
+    /// those with an L1 C/A group delay are among the GPS ephemerides the
+    /// measurements use too.
+    #[getter]
+    fn gps_cnav_ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .gps_cnav
+            .iter()
+            .map(|e| crate::ephemeris_dicts::cnav_dict(py, e))
+            .collect()
     }
 
     /// Each GLONASS slot's FDMA frequency channel k (G1 = 1602 + 0.5625 k

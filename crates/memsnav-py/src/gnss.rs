@@ -1210,6 +1210,18 @@ impl PyRinexObservations {
             .collect()
     }
 
+    /// Each GLONASS slot's FDMA frequency channel k of the header's
+    /// ``GLONASS SLOT / FRQ #`` (G1 = 1602 + 0.5625 k MHz):
+    /// ``{"R01": 1, ...}``; empty without the record.
+    #[getter]
+    fn glonass_channels(&self) -> std::collections::BTreeMap<String, i8> {
+        self.inner
+            .glonass_channels
+            .iter()
+            .map(|(slot, &k)| (format!("R{slot:02}"), k))
+            .collect()
+    }
+
     /// ``APPROX POSITION XYZ`` of the header, ECEF m, or None.
     #[getter]
     fn approx_position_ecef<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {

@@ -13,6 +13,7 @@ mod calibration_layout;
 mod convert;
 mod coupling;
 mod defaults;
+mod ephemeris_dicts;
 mod errors;
 mod experiments;
 mod geodesy;

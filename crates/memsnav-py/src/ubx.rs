@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use memsnav_core::gnss::{self, BroadcastOrbit, Constellation, RinexProvenance};
+use memsnav_core::gnss::{self, Constellation, RinexProvenance};
 use memsnav_core::logs::{self, UbxLog};
 use memsnav_py_macros::catch_panics;
 use numpy::{PyArray1, PyArray2};
@@ -14,6 +14,7 @@ use pyo3::types::PyDict;
 
 use crate::broadcast_nav::PyBroadcastEphemerides;
 use crate::convert;
+use crate::ephemeris_dicts::{cnav_dict, orbit_dict};
 use crate::errors::IntoPyResult;
 use crate::gnss::{PyConstellation, PyRinexObservations};
 use crate::logs::PyPosSolution;
@@ -34,43 +35,6 @@ fn provenance(log: &str) -> RinexProvenance {
         created: String::new(),
         comments: vec![format!("converted from the u-blox UBX log {log}")],
     }
-}
-
-/// A dict with a broadcast ephemeris's satellite name and its orbit and
-/// clock polynomial under the RINEX record's names (SI units, angles rad,
-/// times GPS s since 1980-01-06): what every system's dict starts from.
-fn orbit_dict<'py>(
-    py: Python<'py>,
-    sat: String,
-    o: &BroadcastOrbit,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("sat", sat)?;
-    for (k, v) in [
-        ("toc", o.toc_gps_s),
-        ("toe", o.toe_gps_s),
-        ("af0", o.af0_s),
-        ("af1", o.af1_s_s),
-        ("af2", o.af2_s_s2),
-        ("crs", o.crs_m),
-        ("delta_n", o.delta_n_rad_s),
-        ("m0", o.m0_rad),
-        ("cuc", o.cuc_rad),
-        ("eccentricity", o.eccentricity),
-        ("cus", o.cus_rad),
-        ("sqrt_a", o.sqrt_a_sqrt_m),
-        ("cic", o.cic_rad),
-        ("omega0", o.omega0_rad),
-        ("cis", o.cis_rad),
-        ("i0", o.i0_rad),
-        ("crc", o.crc_m),
-        ("omega", o.omega_rad),
-        ("omega_dot", o.omega_dot_rad_s),
-        ("idot", o.idot_rad_s),
-    ] {
-        d.set_item(k, v)?;
-    }
-    Ok(d)
 }
 
 #[catch_panics]
@@ -166,47 +130,7 @@ impl PyUbxLog {
         self.inner
             .gps_cnav_ephemerides
             .iter()
-            .map(|e| {
-                let d = orbit_dict(py, format!("G{:02}", e.prn), &e.orbit)?;
-                for (k, v) in [
-                    ("a_dot", e.orbit.a_dot_m_s),
-                    ("delta_n_dot", e.orbit.delta_n_dot_rad_s2),
-                    (
-                        "ura_ed_m",
-                        gnss::cnav_ura_m(e.ura_ed_index).unwrap_or(f64::NAN),
-                    ),
-                    ("top", e.top_gps_s),
-                    ("transmission_time", e.transmission_gps_s),
-                ] {
-                    d.set_item(k, v)?;
-                }
-                for (k, v) in [
-                    ("prn", i32::from(e.prn)),
-                    ("l1_health", i32::from(e.l1_health)),
-                    ("l2_health", i32::from(e.l2_health)),
-                    ("l5_health", i32::from(e.l5_health)),
-                    ("ura_ed_index", i32::from(e.ura_ed_index)),
-                    ("ura_ned0_index", i32::from(e.ura_ned0_index)),
-                    ("ura_ned1_index", i32::from(e.ura_ned1_index)),
-                    ("ura_ned2_index", i32::from(e.ura_ned2_index)),
-                    ("week", i32::from(e.week)),
-                ] {
-                    d.set_item(k, v)?;
-                }
-                d.set_item("integrity_status_flag", e.integrity_status_flag)?;
-                d.set_item("l2c_phasing", e.l2c_phasing)?;
-                let g = e.group_delays;
-                for (k, v) in [
-                    ("tgd", g.and_then(|g| g.tgd_s)),
-                    ("isc_l1ca", g.and_then(|g| g.isc_l1ca_s)),
-                    ("isc_l2c", g.and_then(|g| g.isc_l2c_s)),
-                    ("isc_l5i5", g.and_then(|g| g.isc_l5i5_s)),
-                    ("isc_l5q5", g.and_then(|g| g.isc_l5q5_s)),
-                ] {
-                    d.set_item(k, v)?;
-                }
-                Ok(d)
-            })
+            .map(|e| cnav_dict(py, e))
             .collect()
     }
 
@@ -456,19 +380,25 @@ impl PyUbxLog {
             .py()
     }
 
-    /// Writes the GPS LNAV, Galileo and BeiDou ephemerides as a RINEX 3.04
-    /// navigation file at ``path`` (RINEX 3.04 has no CNAV record: the CNAV
-    /// ephemerides are not written).
-    fn write_rinex_nav(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    /// Writes the decoded ephemerides as a RINEX navigation file at
+    /// ``path``: RINEX 4.00 by default (GPS LNAV and CNAV, Galileo I/NAV,
+    /// BeiDou D1 records), or ``rinex_version="3.04"``, which has no CNAV
+    /// record (the CNAV ephemerides are then not written). The file is
+    /// written once memsnav's reader reads every record back.
+    #[pyo3(signature = (path, rinex_version=None))]
+    fn write_rinex_nav(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        rinex_version: Option<&str>,
+    ) -> PyResult<()> {
+        let version = match rinex_version {
+            Some(text) => gnss::RinexNavVersion::parse(text, "rinex_version").py()?,
+            None => gnss::RinexNavVersion::default(),
+        };
         let header = provenance(&self.source);
         py.detach(|| {
-            gnss::write_rinex_nav(
-                &path,
-                &self.inner.gps_ephemerides,
-                &self.inner.galileo_ephemerides,
-                &self.inner.beidou_ephemerides,
-                &header,
-            )
+            gnss::write_rinex_nav(&path, &self.inner.nav_file_ephemerides(), version, &header)
         })
         .py()
     }

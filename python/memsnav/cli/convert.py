@@ -1,5 +1,6 @@
-"""``memsnav convert``: a raw u-blox UBX log to RINEX 3.04 observation and
-navigation files (:func:`memsnav.realdata.convert.convert_ubx`)."""
+"""``memsnav convert``: a raw u-blox UBX log to a RINEX 3.04 observation file
+and a RINEX 4.00 (or 3.04) navigation file
+(:func:`memsnav.realdata.convert.convert_ubx`)."""
 
 from __future__ import annotations
 
@@ -8,13 +9,13 @@ from pathlib import Path
 from typing import Any
 
 NAME = "convert"
-HELP = "convert a raw u-blox UBX log to RINEX 3.04 (see docs/how-to/convert-ublox.md)"
+HELP = "convert a raw u-blox UBX log to RINEX (see docs/how-to/convert-ublox.md)"
 DESCRIPTION = (
     "Read a u-blox UBX log (RXM-RAWX, RXM-SFRBX, NAV-PVT) and write its observations "
-    "(every system and signal) and its decoded GPS LNAV, Galileo I/NAV and BeiDou D1 "
-    "(MEO and IGSO satellites) ephemerides as RINEX 3.04 files <stem>.obs and <stem>.nav "
-    "in the output folder. GPS CNAV ephemerides are decoded but not written (RINEX 3.04 "
-    "has no CNAV record); BeiDou D2 (GEO satellites) is not decoded."
+    "(every system and signal) as RINEX 3.04 <stem>.obs and its decoded GPS LNAV and "
+    "CNAV, Galileo I/NAV and BeiDou D1 (MEO and IGSO satellites) ephemerides as RINEX "
+    "4.00 <stem>.nav (or RINEX 3.04, without the CNAV ones) in the output folder. BeiDou "
+    "D2 (GEO satellites) is not decoded."
 )
 
 
@@ -26,19 +27,30 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
         required=True,
         help="folder for <stem>.obs and <stem>.nav (made when missing)",
     )
+    command.add_argument(
+        "--rinex-version",
+        default=None,
+        metavar="VERSION",
+        help="RINEX version of the navigation file: 4.00 (the default, GPS CNAV "
+        "included) or 3.04 (no CNAV record: CNAV-only satellites are left out)",
+    )
 
 
 def run(args: argparse.Namespace, client: Any) -> int:
     from memsnav.realdata.convert import convert_ubx
 
-    log, files = convert_ubx(args.log, args.output)
+    log, files = convert_ubx(args.log, args.output, rinex_version=args.rinex_version)
     print(
         f"{len(log.rawx['epoch_gps_time'])} epochs, {len(log.observations.satellites)} "
         f"satellites, {len(log.ephemerides)} GPS LNAV, {len(log.galileo_ephemerides)} Galileo and "
         f"{len(log.beidou_ephemerides)} BeiDou ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
     )
-    # RINEX 3.04 has no CNAV record (RINEX 4 has): say what stays out.
-    print(f"{len(log.gps_cnav_ephemerides)} GPS CNAV ephemerides decoded, not written to the .nav")
+    cnav = len(log.gps_cnav_ephemerides)
+    if files["navigation"].read_text()[:9].strip().startswith("3"):
+        # RINEX 3.04 has no CNAV record (RINEX 4 has): say what stays out.
+        print(f"{cnav} GPS CNAV ephemerides decoded, not written to the RINEX 3.04 .nav")
+    else:
+        print(f"{cnav} GPS CNAV ephemerides written to the RINEX 4.00 .nav")
     for reason, count in log.skipped.items():
         print(f"skipped: {count} {reason}")
     for kind, path in files.items():

@@ -2,7 +2,9 @@
 (``python make_excerpts.py DATA_ROOT``; DATA_ROOT holds real-imu-gnss/).
 
 - ``walk_head.*``: the first lines/records/epochs of the walk_0827 files,
-  byte for byte (reader tests), ``walk.nav`` the whole navigation file.
+  byte for byte (reader tests), ``walk.nav`` the whole navigation file;
+  ``walk.rnx`` the RINEX 4.00 navigation file ``memsnav convert`` writes of
+  ``walk_head.ubx`` (4 GPS LNAV, 7 GPS CNAV, 7 Galileo, 8 BeiDou records).
 - ``walk_40s.*``: the first 40 s of the walk (9 s at rest, then walking),
   byte for byte: IMU lines, their tag records, the RINEX observations and
   the RTK solution over the same span (tight coupling from a static start).
@@ -30,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+import memsnav as mn
 from memsnav.realdata import readers
 
 root = Path(sys.argv[1]) / "real-imu-gnss"
@@ -61,6 +64,8 @@ obs = (walk / "gnss_1730.obs").read_text().splitlines(keepends=True)
 end = [i for i, s in enumerate(obs) if s.startswith(">")][4]
 (here / "walk_head.obs").write_text("".join(obs[:end]))
 (here / "walk.nav").write_bytes((walk / "gnss_1730.nav").read_bytes())
+# What memsnav convert writes of walk_head.ubx as RINEX 4.00 navigation.
+mn.read_ubx(here / "walk_head.ubx").write_rinex_nav(here / "walk.rnx")
 pos = (walk / "gnss_1730_sf.pos").read_text().splitlines(keepends=True)
 (here / "walk_head.pos").write_text("".join(pos[:30]))
 

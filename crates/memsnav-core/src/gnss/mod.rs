@@ -23,6 +23,7 @@ mod fix;
 mod galileo_ephemeris;
 mod glonass_ephemeris;
 mod glonass_orbit;
+mod glonass_slots;
 mod measurement_rows;
 pub(crate) mod nav_record;
 mod observables;
@@ -30,8 +31,10 @@ mod observation_file;
 pub mod plausible;
 mod range;
 mod rinex2_obs;
+mod rinex4_nav;
 mod rinex_fields;
 mod rinex_nav;
+mod rinex_nav_cnav;
 mod rinex_nav_glonass;
 mod rinex_obs;
 mod rinex_write;
@@ -84,7 +87,8 @@ pub use rinex_nav::{
 pub use rinex_obs::{parse_rinex_obs, read_rinex_obs};
 pub(crate) use rinex_obs::{SignalLayout, LLI_HALF_CYCLE, LLI_LOST_LOCK};
 pub use rinex_write::{
-    format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, RinexProvenance,
+    format_rinex_nav, format_rinex_obs, write_rinex_nav, write_rinex_obs, NavFileEphemerides,
+    RinexNavVersion, RinexProvenance,
 };
 pub use satellite_state::SatelliteState;
 pub(crate) use simulate::simulate_track;

@@ -49,6 +49,10 @@ pub struct ObservationFile {
     pub approx_position_ecef: Option<Vector3<f64>>,
     /// Epoch records in file order (special-event records skipped).
     pub epochs: Vec<ObservationEpoch>,
+    /// Each GLONASS slot's FDMA frequency channel k of the header's
+    /// `GLONASS SLOT / FRQ #` (G1 = 1602 + 0.5625 k MHz); empty without
+    /// the record (RINEX 2 files have none).
+    pub glonass_channels: BTreeMap<u16, i8>,
     /// Non-fatal problems (a truncated last record), one sentence each.
     pub warnings: Vec<String>,
     /// Records not read, by kind, with counts: event records (flags 2-5,

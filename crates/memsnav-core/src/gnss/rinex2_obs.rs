@@ -375,6 +375,8 @@ pub(super) fn parse_records(
         observation_types,
         approx_position_ecef: header.approx_position_ecef,
         epochs,
+        // RINEX 2 has no GLONASS SLOT / FRQ # record.
+        glonass_channels: BTreeMap::new(),
         warnings,
         skipped,
     })

@@ -1,8 +1,11 @@
-//! RINEX 2.x and 3.x navigation files: the GPS, Galileo (I/NAV) and
+//! RINEX 2.x, 3.x and 4.x navigation files: the GPS, Galileo (I/NAV) and
 //! BeiDou broadcast ephemerides (RINEX 3.05 tables A6, A8, A14; RINEX 2
-//! GPS `n` and 2.12 Galileo `e` files) and the
+//! GPS `n` and 2.12 Galileo `e` files), the
 //! GLONASS ones (RINEX 2 `g` files and RINEX 3 `R` records, read by
-//! [`super::rinex_nav_glonass`]). Other systems in a mixed RINEX 3 file
+//! [`super::rinex_nav_glonass`]) and RINEX 4's GPS CNAV records
+//! ([`super::rinex_nav_cnav`]); RINEX 4's record labels are read by
+//! [`super::rinex4_nav`], its STO, EOP and ION records and other messages
+//! (CNV2, BeiDou CNV1-3, ...) skipped with a count. Other systems in a mixed RINEX 3 file
 //! (QZSS, SBAS, ...) and Galileo F/NAV records are skipped with a count.
 //! Numbers may use Fortran `D` exponents. Every error names the file and
 //! the 1-based line.
@@ -14,13 +17,15 @@ use super::atmosphere::{parse_klobuchar, Klobuchar};
 use super::beidou_ephemeris::BeidouEphemeris;
 use super::broadcast_orbit::{BroadcastOrbit, BroadcastSystem, BEIDOU, GALILEO, GPS};
 use super::broadcast_ranges::{self, BEIDOU_NAMES, GALILEO_NAMES, GPS_NAMES};
-use super::cnav_ephemeris::CnavGroupDelays;
+use super::cnav_ephemeris::{CnavEphemeris, CnavGroupDelays};
 use super::ephemeris::{ura_index, GpsEphemeris};
 use super::ephemeris_conflicts;
 use super::galileo_ephemeris::{sisa_index, InavEphemeris};
 use super::glonass_ephemeris::GlonassEphemeris;
 use super::nav_record::NavRecord;
+use super::rinex4_nav::{self, Rinex4Record};
 use super::rinex_fields::{satellite_prn, Cursor};
+use super::rinex_nav_cnav::parse_cnav_record;
 use super::rinex_nav_glonass::parse_glonass_record;
 use super::time::{checked_gps_time_from_calendar, SECONDS_PER_WEEK};
 use crate::{Error, Result};
@@ -86,6 +91,11 @@ pub struct BroadcastNav {
     pub beidou: Vec<BeidouEphemeris>,
     /// GLONASS ephemerides, one per slot and t_b.
     pub glonass: Vec<GlonassEphemeris>,
+    /// GPS CNAV ephemerides (RINEX 4 `CNAV` records), one per satellite
+    /// and t_oc; each with its L1 C/A group delay is also among
+    /// [`Self::gps`] as [`CnavEphemeris::l1_ca_ephemeris`], as a UBX log's
+    /// are ([`crate::logs::UbxLog::broadcast_nav`]).
+    pub gps_cnav: Vec<CnavEphemeris>,
     /// GPS Klobuchar coefficients of the file's header (`ION ALPHA`/`ION
     /// BETA`, `IONOSPHERIC CORR GPSA`/`GPSB`) or of a log's CNAV message
     /// type 30; `None` without.
@@ -161,7 +171,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
                 format!("not a GPS, Galileo, BeiDou or GLONASS navigation file (type {file_type:?}, system {system:?}); expected type N with system G, E, C, R or M, or a RINEX 2 GLONASS (type G) or Galileo (type E) file"),
             ))
         }
-        _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x or 3.x"))),
+        _ => return Err(cur.error(0, format!("unsupported RINEX version {version}; expected 2.x, 3.x or 4.x"))),
     }
     let mut k = 1;
     while k < cur.lines.len()
@@ -196,10 +206,33 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
     let mut records: Vec<NavRecord> = Vec::new();
     // GLONASS (slot, t_b) read with two sets of values: both left out.
     let mut glonass_conflicts: Vec<(u16, f64)> = Vec::new();
+    // GPS CNAV records (RINEX 4), for their own conflict rule.
+    let mut cnav_records: Vec<CnavEphemeris> = Vec::new();
     while k < cur.lines.len() {
         if cur.lines[k].trim().is_empty() {
             k += 1;
             continue;
+        }
+        if major == 4 {
+            // Every RINEX 4 record opens with its label line.
+            match rinex4_nav::record_label(&cur, k)? {
+                Rinex4Record::Rinex3Layout(sat) => {
+                    rinex4_nav::check_satellite(&cur, k + 1, &sat)?;
+                    k += 1;
+                }
+                Rinex4Record::GpsCnav(sat) => {
+                    rinex4_nav::check_satellite(&cur, k + 1, &sat)?;
+                    let (eph, next) = parse_cnav_record(&cur, k + 1)?;
+                    cnav_records.push(eph);
+                    k = next;
+                    continue;
+                }
+                Rinex4Record::Skipped(reason) => {
+                    *out.skipped.entry(reason).or_default() += 1;
+                    k = rinex4_nav::next_label(&cur, k);
+                    continue;
+                }
+            }
         }
         let start = k;
         if glonass_file || (major > 2 && cur.field(k, 0, 1) == "R") {
@@ -446,6 +479,18 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
         }
         k = next;
     }
+    out.gps_cnav = cnav_unique(cnav_records, &mut out.skipped);
+    out.gps.extend(
+        out.gps_cnav
+            .iter()
+            .filter_map(CnavEphemeris::l1_ca_ephemeris),
+    );
+    for c in &out.gps_cnav {
+        if let Some(delays) = c.healthy_group_delays() {
+            // The file's last record of a satellite is its latest.
+            out.gps_group_delays.insert(c.prn, delays);
+        }
+    }
     let (keep, conflicts) = ephemeris_conflicts::resolve(&records);
     retain_kept(&mut out.gps, &records, &keep, 'G');
     retain_kept(&mut out.galileo, &records, &keep, 'E');
@@ -463,6 +508,55 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
             .or_default() += glonass_read - out.glonass.len() + glonass_conflicts.len();
     }
     Ok(out)
+}
+
+/// One CNAV ephemeris per satellite and t_oc: a record repeated with equal
+/// values (the transmission time apart) is kept once and counted; records
+/// of one satellite and t_oc that disagree are all left out and counted,
+/// as the other systems' conflicts ([`crate::gnss::ephemeris_conflicts`]).
+fn cnav_unique(
+    records: Vec<CnavEphemeris>,
+    skipped: &mut BTreeMap<String, usize>,
+) -> Vec<CnavEphemeris> {
+    let key = |c: &CnavEphemeris| (c.prn, c.orbit.toc_gps_s.to_bits());
+    let same = |a: &CnavEphemeris, b: &CnavEphemeris| {
+        CnavEphemeris {
+            transmission_gps_s: 0.0,
+            ..*a
+        } == CnavEphemeris {
+            transmission_gps_s: 0.0,
+            ..*b
+        }
+    };
+    let mut kept: Vec<CnavEphemeris> = Vec::new();
+    let mut conflicting: Vec<(u16, u64)> = Vec::new();
+    for c in records {
+        match kept.iter().find(|k| key(k) == key(&c)) {
+            None => kept.push(c),
+            Some(first) if same(first, &c) => {
+                *skipped
+                    .entry("GPS CNAV records repeated (same satellite, t_oc and values)".into())
+                    .or_default() += 1;
+            }
+            Some(_) => {
+                conflicting.push(key(&c));
+                *skipped
+                    .entry(
+                        "GPS CNAV ephemerides in conflict (one satellite and t_oc, other values)"
+                            .into(),
+                    )
+                    .or_default() += 1;
+            }
+        }
+    }
+    let before = kept.len();
+    kept.retain(|c| !conflicting.contains(&key(c)));
+    if before > kept.len() {
+        *skipped
+            .entry("GPS CNAV ephemerides in conflict (one satellite and t_oc, other values)".into())
+            .or_default() += before - kept.len();
+    }
+    kept
 }
 
 /// Keeps the ephemerides of system `letter` (in the order of its records

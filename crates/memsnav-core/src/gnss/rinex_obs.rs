@@ -13,6 +13,7 @@ use std::path::Path;
 
 use nalgebra::Vector3;
 
+use super::glonass_slots;
 use super::observation_file::{
     event_kind, field, label, observation_value, EpochTimeSystem, ObservationEpoch,
     ObservationFile, SatelliteObservations,
@@ -184,6 +185,9 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
     let mut pending: Option<(char, usize)> = None;
     let mut types_2: Vec<String> = Vec::new();
     let mut pending_2: Option<usize> = None;
+    let mut glonass_channels = BTreeMap::new();
+    let mut glonass_listed: Option<usize> = None;
+    let mut glonass_line = 0;
     let mut k = 1;
     loop {
         let Some(&line) = lines.get(k) else {
@@ -267,6 +271,13 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
                 }
                 approx_position_ecef = (p.norm() > 0.0).then_some(p);
             }
+            "GLONASS SLOT / FRQ #" => {
+                if glonass_listed.is_none() {
+                    glonass_line = k;
+                }
+                glonass_slots::read_slot_line(line, &mut glonass_channels, &mut glonass_listed)
+                    .map_err(|reason| error(k, reason))?;
+            }
             "# / TYPES OF OBSERV" if version_2 => {
                 rinex2_obs::header_types(line, &mut types_2, &mut pending_2)
                     .map_err(|reason| error(k, reason))?;
@@ -284,6 +295,15 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
             _ => {}
         }
         k += 1;
+    }
+    if let Some(n) = glonass_listed.filter(|&n| n != glonass_channels.len()) {
+        return Err(error(
+            glonass_line,
+            format!(
+                "GLONASS SLOT / FRQ # declares {n} satellites and lists {}",
+                glonass_channels.len()
+            ),
+        ));
     }
     let Some(time_system) = time_system else {
         return Err(error(
@@ -495,6 +515,7 @@ pub fn parse_rinex_obs(text: &str, file: &str) -> Result<ObservationFile> {
         observation_types,
         approx_position_ecef,
         epochs,
+        glonass_channels,
         warnings,
         skipped,
     })

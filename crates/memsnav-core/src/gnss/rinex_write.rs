@@ -1,23 +1,28 @@
 //! RINEX 3.04 writers (IGS/RTCM "RINEX 3.04", 2018, appendix A1-A4 for
 //! observation files, A5-A6, A8 and A14 for GPS, Galileo and BeiDou
-//! navigation messages): what the readers
+//! navigation messages) and the RINEX 4.00 navigation writer (IGS/RTCM
+//! "RINEX 4.00", 2021: the same records labelled, and GPS CNAV's, table
+//! A32): what the readers
 //! of this module read, so a receiver's raw log (`memsnav convert`) serves
 //! other tools too.
 //!
 //! Not written: `SYS / PHASE SHIFT` (the quarter-cycle alignment of phases
-//! between signals is not known from a raw log) and the GLONASS header
-//! records (`GLONASS SLOT / FRQ #`, `COD/PHS/BIS`), so files holding
-//! GLONASS phase are not complete for GLONASS.
+//! between signals is not known from a raw log) and `GLONASS COD/PHS/BIS`,
+//! so files holding GLONASS phase are not complete for GLONASS; `GLONASS
+//! SLOT / FRQ #` is written in files with GLONASS.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
 use super::beidou_ephemeris::BeidouEphemeris;
+use super::cnav_ephemeris::CnavEphemeris;
 use super::ephemeris::LnavEphemeris;
 use super::galileo_ephemeris::InavEphemeris;
+use super::glonass_slots::slot_lines;
 use super::nav_record::NavRecord;
 use super::observation_file::ObservationFile;
 use super::rinex_nav::parse_broadcast_nav;
+use super::rinex_nav_cnav::cnav_values;
 use super::rinex_obs::parse_rinex_obs;
 use super::time::calendar_from_gps_time;
 use crate::{Error, Result};
@@ -116,6 +121,12 @@ pub fn format_rinex_obs(observations: &ObservationFile, provenance: &RinexProven
         "RINEX VERSION / TYPE",
     );
     provenance_records(&mut out, provenance);
+    if observations.observation_types.contains_key(&'R') {
+        // RINEX 3.04 table A2: required in files with GLONASS.
+        for line in slot_lines(&observations.glonass_channels) {
+            record(&mut out, &line, "GLONASS SLOT / FRQ #");
+        }
+    }
     record(&mut out, "", "MARKER NAME");
     record(&mut out, "", "OBSERVER / AGENCY");
     let receiver: String = provenance.receiver.chars().take(20).collect();
@@ -233,22 +244,110 @@ fn nav_record(out: &mut String, r: &NavRecord) {
     }
 }
 
-/// The text of a RINEX 3.04 navigation file holding GPS LNAV (table A6),
-/// Galileo I/NAV (table A8) and BeiDou D1 (table A14) ephemerides: t_oc as
-/// the epoch (in BDT for BeiDou), angles in rad, GPS and Galileo weeks
+/// The RINEX version of a navigation file memsnav writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RinexNavVersion {
+    /// RINEX 3.04: GPS LNAV, Galileo I/NAV and BeiDou D1 records; GPS
+    /// CNAV ephemerides have no record and are left out.
+    V3_04,
+    /// RINEX 4.00 (the default): every record labelled `> EPH <sat>
+    /// <message>`, GPS CNAV among them (table A32).
+    #[default]
+    V4_00,
+}
+
+impl RinexNavVersion {
+    /// The version named `"3.04"` or `"4.00"` (`argument` names the value
+    /// in the error).
+    pub fn parse(text: &str, argument: &str) -> Result<Self> {
+        match text.trim() {
+            "3.04" => Ok(Self::V3_04),
+            "4.00" | "4.0" | "4" => Ok(Self::V4_00),
+            other => Err(Error::invalid(
+                argument,
+                format!("RINEX navigation version {other:?} is not written; expected \"4.00\" (the default) or \"3.04\""),
+            )),
+        }
+    }
+
+    fn number(self) -> f64 {
+        match self {
+            Self::V3_04 => 3.04,
+            Self::V4_00 => 4.00,
+        }
+    }
+}
+
+/// The ephemerides a navigation file is written from, per system and message.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NavFileEphemerides<'a> {
+    pub gps_lnav: &'a [LnavEphemeris],
+    pub gps_cnav: &'a [CnavEphemeris],
+    pub galileo: &'a [InavEphemeris],
+    pub beidou: &'a [BeidouEphemeris],
+}
+
+impl NavFileEphemerides<'_> {
+    /// The number of records a file of `version` holds.
+    pub fn records(&self, version: RinexNavVersion) -> usize {
+        let cnav = match version {
+            RinexNavVersion::V3_04 => 0,
+            RinexNavVersion::V4_00 => self.gps_cnav.len(),
+        };
+        self.gps_lnav.len() + cnav + self.galileo.len() + self.beidou.len()
+    }
+}
+
+/// The RINEX 4 label line of a record: `> EPH G01 LNAV` (RINEX 4.00 §5.3).
+fn eph_label(out: &mut String, sat: &str, message: &str) {
+    let _ = writeln!(out, "> EPH {sat} {message}");
+}
+
+/// A GPS CNAV record (RINEX 4.00 table A32, [`super::rinex_nav_cnav`]):
+/// blank fields for the group delays the message says are not available.
+fn cnav_record(out: &mut String, c: &CnavEphemeris) {
+    let sat = format!("G{:02}", c.prn);
+    let values = cnav_values(c);
+    let field = |v: &Option<f64>| v.map_or_else(|| " ".repeat(19), d19);
+    eph_label(out, &sat, "CNAV");
+    nav_epoch_line(
+        out,
+        &sat,
+        c.orbit.toc_gps_s,
+        [0, 1, 2].map(|i| values[i].unwrap_or(0.0)),
+    );
+    for row in values[3..].chunks(4) {
+        let _ = writeln!(
+            out,
+            "    {}",
+            row.iter().map(field).collect::<String>().trim_end()
+        );
+    }
+}
+
+/// The text of a RINEX navigation file of `version` holding GPS LNAV
+/// (RINEX 3.04 table A6), Galileo I/NAV (table A8) and BeiDou D1 (table
+/// A14) ephemerides, and in RINEX 4.00 GPS CNAV ones too (table A32): t_oc
+/// as the epoch (in BDT for BeiDou), angles in rad, GPS and Galileo weeks
 /// continuous and aligned with GPS weeks, BeiDou's BDT weeks, t_oe and the
-/// transmission time in seconds of the t_oe week.
+/// transmission time in seconds of the t_oe week. RINEX 4 keeps the RINEX
+/// 3 layout of the LNAV, I/NAV and D1 records and puts a `> EPH <sat>
+/// <message>` line before each record.
 pub fn format_rinex_nav(
-    gps: &[LnavEphemeris],
-    galileo: &[InavEphemeris],
-    beidou: &[BeidouEphemeris],
+    ephemerides: &NavFileEphemerides<'_>,
+    version: RinexNavVersion,
     provenance: &RinexProvenance,
 ) -> String {
+    let e = ephemerides;
+    let v4 = version == RinexNavVersion::V4_00;
     let mut out = String::new();
     let present: Vec<&str> = [
-        (!gps.is_empty(), "G: GPS"),
-        (!galileo.is_empty(), "E: Galileo"),
-        (!beidou.is_empty(), "C: BeiDou"),
+        (
+            !e.gps_lnav.is_empty() || (v4 && !e.gps_cnav.is_empty()),
+            "G: GPS",
+        ),
+        (!e.galileo.is_empty(), "E: Galileo"),
+        (!e.beidou.is_empty(), "C: BeiDou"),
     ]
     .iter()
     .filter_map(|&(p, name)| p.then_some(name))
@@ -262,19 +361,33 @@ pub fn format_rinex_nav(
         &mut out,
         &format!(
             "{:>9.2}{:11}{:<20}{system:<20}",
-            3.04, "", "N: GNSS NAV DATA"
+            version.number(),
+            "",
+            "N: GNSS NAV DATA"
         ),
         "RINEX VERSION / TYPE",
     );
     provenance_records(&mut out, provenance);
     record(&mut out, "", "END OF HEADER");
-    let records = gps
-        .iter()
-        .map(NavRecord::lnav)
-        .chain(galileo.iter().map(NavRecord::inav))
-        .chain(beidou.iter().map(NavRecord::d1));
-    for r in records {
-        nav_record(&mut out, &r);
+    let labelled = |out: &mut String, r: NavRecord, message: &str| {
+        if v4 {
+            eph_label(out, &r.sat, message);
+        }
+        nav_record(out, &r);
+    };
+    for l in e.gps_lnav {
+        labelled(&mut out, NavRecord::lnav(l), "LNAV");
+    }
+    if v4 {
+        for c in e.gps_cnav {
+            cnav_record(&mut out, c);
+        }
+    }
+    for g in e.galileo {
+        labelled(&mut out, NavRecord::inav(g), "INAV");
+    }
+    for b in e.beidou {
+        labelled(&mut out, NavRecord::d1(b), "D1");
     }
     out
 }
@@ -320,21 +433,30 @@ pub fn write_rinex_obs(
 /// it would refuse, or read differently, is not written.
 pub fn write_rinex_nav(
     path: impl AsRef<Path>,
-    gps: &[LnavEphemeris],
-    galileo: &[InavEphemeris],
-    beidou: &[BeidouEphemeris],
+    ephemerides: &NavFileEphemerides<'_>,
+    version: RinexNavVersion,
     provenance: &RinexProvenance,
 ) -> Result<()> {
     let path = path.as_ref();
-    let text = format_rinex_nav(gps, galileo, beidou, provenance);
+    let text = format_rinex_nav(ephemerides, version, provenance);
     let nav = read_back(
         path,
         "ephemerides",
         parse_broadcast_nav(&text, &path.display().to_string()),
     )?;
     let (written, read) = (
-        gps.len() + galileo.len() + beidou.len(),
-        nav.gps.len() + nav.galileo.len() + nav.beidou.len(),
+        ephemerides.records(version),
+        // The reader gives each CNAV record also as an L1 C/A ephemeris
+        // among the GPS ones (where it has T_GD and ISC_L1CA).
+        nav.gps.len()
+            - nav
+                .gps_cnav
+                .iter()
+                .filter(|c| c.l1_ca_ephemeris().is_some())
+                .count()
+            + nav.gps_cnav.len()
+            + nav.galileo.len()
+            + nav.beidou.len(),
     );
     if written != read {
         return Err(Error::invalid(
@@ -408,6 +530,7 @@ mod tests {
             version: 3.04,
             observation_types: types,
             approx_position_ecef: Some(nalgebra::Vector3::new(-1.2e6, -4.7e6, 4.1e6)),
+            glonass_channels: BTreeMap::new(),
             epochs: vec![ObservationEpoch {
                 gps_time_s: 1_440_437_478.748_5,
                 flag: 0,

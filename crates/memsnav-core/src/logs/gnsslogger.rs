@@ -542,6 +542,7 @@ pub fn parse_gnsslogger(text: &str, file: &str) -> Result<GnssLoggerLog> {
             observation_types: layout.observation_types(),
             approx_position_ecef: None,
             epochs: observation_epochs,
+            glonass_channels: Default::default(),
             warnings: Vec::new(),
             skipped: Default::default(),
         },

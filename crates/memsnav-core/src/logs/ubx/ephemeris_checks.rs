@@ -237,9 +237,14 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("pair.nav");
         let pair = [lnav(23, 77, 5153.6, T), lnav(23, 77, 5153.6, T + 7200.0)];
-        let e = crate::gnss::write_rinex_nav(&path, &pair, &[], &[], &Default::default())
-            .unwrap_err()
-            .to_string();
+        let files = crate::gnss::NavFileEphemerides {
+            gps_lnav: &pair,
+            ..Default::default()
+        };
+        let e =
+            crate::gnss::write_rinex_nav(&path, &files, Default::default(), &Default::default())
+                .unwrap_err()
+                .to_string();
         assert!(
             e.contains("not written: the reader would keep 0 of its 2 records"),
             "{e}"

@@ -43,7 +43,7 @@ use std::path::Path;
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
     BeidouEphemeris, BroadcastNav, CnavEphemeris, InavEphemeris, Klobuchar, LnavEphemeris,
-    ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
+    NavFileEphemerides, ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
 };
 use crate::gnss::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
 use crate::logs::PosSolution;
@@ -94,6 +94,17 @@ pub struct UbxLog {
 }
 
 impl UbxLog {
+    /// The decoded ephemerides a RINEX navigation file of the log holds
+    /// (`memsnav convert`).
+    pub fn nav_file_ephemerides(&self) -> NavFileEphemerides<'_> {
+        NavFileEphemerides {
+            gps_lnav: &self.gps_ephemerides,
+            gps_cnav: &self.gps_cnav_ephemerides,
+            galileo: &self.galileo_ephemerides,
+            beidou: &self.beidou_ephemerides,
+        }
+    }
+
     /// The decoded ephemerides of every system as one set, the form the
     /// RINEX navigation reader gives ([`crate::gnss::broadcast_epochs`]
     /// takes it).
@@ -114,6 +125,7 @@ impl UbxLog {
             beidou: self.beidou_ephemerides.clone(),
             // UBX GLONASS strings are not decoded.
             glonass: Vec::new(),
+            gps_cnav: self.gps_cnav_ephemerides.clone(),
             klobuchar: self.klobuchar,
             // The CNAV ephemerides are in the order they completed: the
             // last of a satellite is its latest.
@@ -379,7 +391,10 @@ fn sfrbx_words<const N: usize>(payload: &[u8]) -> [u32; N] {
 /// pseudorange or phase the receiver marks invalid, or a value beyond what
 /// RINEX can hold, is left blank. The phase's loss-of-lock indicator says
 /// lock lost when the lock time fell since the previous epoch that had the
-/// signal, and half-cycle when `halfCyc` is clear.
+/// signal, and half-cycle when `halfCyc` is clear. Each GLONASS slot's
+/// frequency channel is its signals' `freqId` − 7 (interface description,
+/// RXM-RAWX), the last seen; a `freqId` outside 0-20 (k −7 to 13) is not
+/// a channel and is left out.
 fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
     let layout = SignalLayout::new(
         rawx.iter()
@@ -426,11 +441,18 @@ fn observations(rawx: &[RawxEpoch]) -> ObservationFile {
             }
         })
         .collect();
+    let glonass_channels = rawx
+        .iter()
+        .flat_map(|e| &e.signals)
+        .filter(|s| s.system == 'R' && s.freq_id <= 20)
+        .map(|s| (s.prn, s.freq_id as i8 - 7))
+        .collect();
     ObservationFile {
         version: 3.04,
         observation_types: layout.observation_types(),
         approx_position_ecef: None,
         epochs,
+        glonass_channels,
         warnings: Vec::new(),
         skipped: Default::default(),
     }
@@ -447,6 +469,37 @@ mod tests {
             p.extend_from_slice(&w.to_le_bytes());
         }
         encode(RXM_SFRBX.0, RXM_SFRBX.1, &p)
+    }
+
+    #[test]
+    fn glonass_channels_reach_the_rinex_header() {
+        // R05 on k = +1 (freqId 8), R12 on k = −1 (freqId 6): the
+        // observation file's GLONASS SLOT / FRQ # says so and reads back.
+        let glonass = |slot: u8, freq_id: u8| rawx::RawxSignal {
+            system: 'R',
+            prn: u16::from(slot),
+            gnss_id: 6,
+            sv_id: slot,
+            freq_id,
+            ..rawx::tests::gps_l1(slot, 2.2e7)
+        };
+        let signals = [rawx::tests::gps_l1(3, 2.1e7), glonass(5, 8), glonass(12, 6)];
+        let log = encode(
+            RXM_RAWX.0,
+            RXM_RAWX.1,
+            &rawx::encode_rawx(408_700.25, 2381, Some(18), &signals),
+        );
+        let out = parse_ubx(&log, "r.ubx").unwrap();
+        let expected: BTreeMap<u16, i8> = [(5, 1), (12, -1)].into();
+        assert_eq!(out.observations.glonass_channels, expected);
+        let text = crate::gnss::format_rinex_obs(&out.observations, &Default::default());
+        assert!(
+            text.contains("  2 R05  1 R12 -1 "),
+            "{}",
+            &text[..text.find("END OF HEADER").unwrap()]
+        );
+        let back = crate::gnss::parse_rinex_obs(&text, "r.obs").unwrap();
+        assert_eq!(back.glonass_channels, expected);
     }
 
     #[test]
