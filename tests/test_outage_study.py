@@ -302,6 +302,29 @@ def test_adaptive_study_decides_every_needed_cell_reproducibly():
         else:
             decided_early += cell.runs < 160
     assert decided_early > 0
+    # The answer: per count and grade the longest outage met with every
+    # shorter one, shown at that cell when settled, else at the open one.
+    from memsnav.study import Requirement, answer
+
+    table = answer(study, Requirement(3.0, 95.0, "horizontal_end"))
+    for n in (0, 3):
+        for grade in ("consumer", "tactical"):
+            lengths = (10.0, 40.0)
+            verdicts = [study.cell(grade, length, n).decision for length in lengths]
+            longest = None
+            for length, verdict in zip(lengths, verdicts, strict=True):
+                if verdict != "meets":
+                    break
+                longest = length
+            first_open = next(
+                ((L, v) for L, v in zip(lengths, verdicts, strict=True) if v != "meets"), None
+            )
+            settled = first_open is None or first_open[1] == "fails"
+            entry = table[n][grade]
+            assert entry["longest_met_s"] == longest, (grade, n, verdicts)
+            assert entry["decided"] == settled, (grade, n, verdicts)
+            shown = (longest or lengths[0]) if settled else first_open[0]
+            assert entry["length_s"] == shown, (grade, n, verdicts)
     two = mn.experiments.outage_study(**ADAPTIVE, runs=8, max_runs=160, threads=1)
     for key, cell in study.cells.items():
         assert np.array_equal(

@@ -185,8 +185,11 @@ def answer(result: OutageStudyResult, requirement: Requirement) -> dict[int, dic
             decided = True
             for cell in cells:
                 if cell.decision != "meets":
-                    shown = cell
                     decided = cell.decision == "fails"
+                    # A settled answer shows the longest outage met, if any;
+                    # an open one the cell still open.
+                    if not decided or longest is None:
+                        shown = cell
                     break
                 longest = cell.length_s
                 shown = cell
