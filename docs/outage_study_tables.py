@@ -4,10 +4,11 @@
 Runs ``examples/study_land_vehicle.toml`` as ``memsnav study`` does (into a
 temporary folder) and prints, in Markdown: its size and run time, the
 answer (the terminal's lines: per grade the longest outage within the
-requirement, with the 95th percentile there and its 95 % confidence
-interval) and the tables of the report (median / p95 of the horizontal
-error at the outage end, the smoothed solution's p95 of its largest
-error in brackets), built by the same functions as the report.
+requirement, decided at 95 % confidence, with the 95th percentile there,
+the bounds its decision rests on and the cell's runs) and the tables of
+the report (median / p95 of the horizontal error at the outage end, the
+smoothed solution's p95 of its largest error in brackets, the cell's runs
+and decision), built by the same functions as the report.
 ``--write`` puts them into docs/results/outage-study.md between its ``study``
 markers.
 """
@@ -42,14 +43,17 @@ def main() -> None:
         cpu = time.process_time() - cpu
     result, summary = study.result, study.summary
     c = result.config
+    runs = [cell.runs for cell in result.cells.values()]
     requirement = Requirement.of(summary["requirement"])
     parts = [
         BEGIN,
         "",
         f"{len(result.grades)} presets × ({', '.join(number(v) for v in result.outage_lengths)} "
         f"s) × ({', '.join(str(n) for n in result.visible_satellites)} satellites kept), "
-        f"{result.completed_runs} runs of {c['duration']:.0f} s per outage length, forward "
-        f"{'and smoothed' if c['smooth'] else 'only'}: {summary['elapsed_s']:.0f} s of wall "
+        f"{min(runs)}-{max(runs)} runs per cell ({sum(runs)} cell runs, looks "
+        f"{', '.join(str(n) for n in c['looks'])}; runs drawn for {c['duration']:.0f} s), "
+        f"forward {'and smoothed (first look)' if c['smooth'] else 'only'}: "
+        f"{summary['elapsed_s']:.0f} s of wall "
         f"time ({cpu:.0f} s of CPU) on {threads} threads, load average {load:.1f} at the "
         "start" + (" (other jobs shared the machine)." if load > threads else "."),
         "",
@@ -65,7 +69,8 @@ def main() -> None:
             "",
             f"**{n} satellite{'' if n == 1 else 's'} kept**: median / p{requirement.percentile:g} "
             "of the horizontal error at the outage end, m (smoothed: p"
-            f"{requirement.percentile:g} of its largest error in the outage)",
+            f"{requirement.percentile:g} of its largest error in the outage); the cell's runs "
+            "and decision",
             "",
             "| grade | " + " | ".join(f"{number(v)} s" for v in result.outage_lengths) + " |",
             "|---|" + "---|" * len(result.outage_lengths),

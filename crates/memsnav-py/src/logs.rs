@@ -201,6 +201,15 @@ pub struct PyTimeTag {
 #[catch_panics]
 #[pymethods]
 impl PyTimeTag {
+    fn __repr__(&self) -> String {
+        format!(
+            "TimeTag({} tags from GPS time {:.3} s, {} warnings)",
+            self.inner.tick_ms.len(),
+            self.inner.start_gps_time_s,
+            self.inner.warnings.len()
+        )
+    }
+
     /// GPS time of the log's opening, s since 1980-01-06.
     #[getter]
     fn start_gps_time(&self) -> f64 {
@@ -275,6 +284,17 @@ pub struct PyTagClock {
 #[catch_panics]
 #[pymethods]
 impl PyTagClock {
+    fn __repr__(&self) -> String {
+        let c = &self.inner;
+        format!(
+            "TagClock({} samples, offset {:.6} s, rate {:+.3} ppm, {} warnings)",
+            c.gps_time_s.len(),
+            c.offset_s,
+            c.rate_ppm,
+            c.warnings.len()
+        )
+    }
+
     /// GPS time of every sample, s since 1980-01-06, ``(N,)``.
     #[getter]
     fn gps_time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -361,6 +381,16 @@ pub struct PyPosSolution {
 #[catch_panics]
 #[pymethods]
 impl PyPosSolution {
+    fn __repr__(&self) -> String {
+        let t = &self.inner.gps_time_s;
+        match (t.first(), t.last()) {
+            (Some(a), Some(b)) => {
+                format!("PosSolution({} epochs, GPS time {a:.3}-{b:.3} s)", t.len())
+            }
+            _ => "PosSolution(no epoch)".to_string(),
+        }
+    }
+
     /// Epochs, GPS s since 1980-01-06, ``(N,)``.
     #[getter]
     fn gps_time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -562,6 +592,15 @@ pub struct PyLagEstimate {
 #[catch_panics]
 #[pymethods]
 impl PyLagEstimate {
+    fn __repr__(&self) -> String {
+        format!(
+            "LagEstimate({:.4} s ± {:.4} s over {} blocks)",
+            self.inner.lag_s,
+            self.inner.std_s,
+            self.inner.block_lag_s.len()
+        )
+    }
+
     /// The refined best lag, s.
     #[getter]
     fn lag_s(&self) -> f64 {
