@@ -46,8 +46,8 @@ def _scores(position_ecef: np.ndarray, truth_ecef: np.ndarray, epochs: int) -> d
     ok = np.all(np.isfinite(position_ecef), axis=1)
     enu = _enu(position_ecef[ok] - truth_ecef, truth_ecef)
     return {
-        "horizontal_rms_m": round(float(np.sqrt(np.mean(enu[:, 0] ** 2 + enu[:, 1] ** 2))), 4),
-        "vertical_rms_m": round(float(np.sqrt(np.mean(enu[:, 2] ** 2))), 4),
+        "horizontal_rms_m": round(float(np.sqrt(np.mean(enu[:, 0] ** 2 + enu[:, 1] ** 2))), 3),
+        "vertical_rms_m": round(float(np.sqrt(np.mean(enu[:, 2] ** 2))), 3),
         "availability": round(float(ok.sum() / epochs), 4),
     }
 

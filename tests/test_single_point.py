@@ -187,3 +187,24 @@ def test_real_cors_epochs_keep_every_satellite():
         fixes = mn.solve_fix(obs.measurements(eph, systems=["G"]))
     assert all(e == [] for e in fixes.excluded)
     assert np.all(fixes.residual_chi_square <= fixes.residual_threshold)
+
+
+def test_the_recorded_comparison_is_this_code_and_the_page_quotes_it():
+    """docs/single_point_rtklib.json (written by docs/single_point_rtklib.py)
+    holds what the code gives on the Skydel excerpt, and docs/real-data.md's
+    table quotes its figures."""
+    import json
+
+    root = Path(__file__).parent.parent
+    recorded = json.loads((root / "docs" / "single_point_rtklib.json").read_text())
+    skydel = recorded["skydel_gps_glonass"]
+    for weighting in ("rtklib", "signal-strength"):
+        fixes = mn.solve_fix(_skydel_gr(weighting=weighting))
+        h, v = _rms_h_v(fixes.position_ecef, SKYDEL_TRUTH)
+        assert skydel[f"memsnav_{weighting}"]["horizontal_rms_m"] == round(h, 3)
+        assert skydel[f"memsnav_{weighting}"]["vertical_rms_m"] == round(v, 3)
+    page = " ".join((root / "docs" / "real-data.md").read_text().split())
+    for case in recorded.values():
+        for solver in ("memsnav_rtklib", "memsnav_signal-strength", "rtklib_single"):
+            s = case[solver]
+            assert f"{s['horizontal_rms_m']:.3f} / {s['vertical_rms_m']:.3f}" in page, solver
