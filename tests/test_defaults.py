@@ -106,14 +106,23 @@ def test_the_observables_take_the_listed_defaults(tmp_path):
     excerpt = Path(__file__).parent / "data" / "real-imu-gnss"
     obs = mn.read_rinex_obs(excerpt / "walk_head.obs")
     sky = mn.Constellation.from_rinex_nav(excerpt / "walk.nav")
-    implicit = obs.gps_l1(sky)
-    explicit = obs.gps_l1(sky, **DEFAULTS["RinexObservations.gps_l1"])
+    # pseudorange_std is the signal-strength weighting's (the default
+    # weighting refuses it): both models, each with its listed values.
+    listed = DEFAULTS["RinexObservations.gps_l1"]
+    assert listed["weighting"] == "rtklib"
+    rtklib = {k: v for k, v in listed.items() if k != "pseudorange_std"}
+    np.testing.assert_array_equal(
+        obs.gps_l1(sky).pseudorange_std, obs.gps_l1(sky, **rtklib).pseudorange_std
+    )
+    implicit = obs.gps_l1(sky, weighting="signal-strength")
+    explicit = obs.gps_l1(sky, **{**listed, "weighting": "signal-strength"})
     assert len(implicit) == len(explicit) > 0
     fields = ("pseudorange", "pseudorange_std", "pseudorange_rate_std", "sat_id", "carrier_phase")
     for field in fields:
         np.testing.assert_array_equal(getattr(implicit, field), getattr(explicit, field))
-    loose = obs.gps_l1(sky, pseudorange_std=6.0)
-    np.testing.assert_allclose(loose.pseudorange_std, 2.0 * implicit.pseudorange_std)
+    strength = obs.gps_l1(sky, weighting="signal-strength")
+    loose = obs.gps_l1(sky, weighting="signal-strength", pseudorange_std=6.0)
+    np.testing.assert_allclose(loose.pseudorange_std, 2.0 * strength.pseudorange_std)
 
 
 def test_the_walker_and_the_rates_take_the_listed_defaults():

@@ -97,6 +97,7 @@ def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
         "elevation_mask_deg": 5.0,
         "min_cn0_db_hz": 20.0,
         "pseudorange_std": 0.5,
+        "weighting": "signal-strength",
         "systems": ["G"],
     }
     eph, obs = walk_log.broadcast_ephemerides, walk_log.observations

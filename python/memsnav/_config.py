@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import tomllib
+import warnings
 from collections.abc import Callable, Collection, Mapping
 from pathlib import Path
 from typing import Any
@@ -187,23 +188,31 @@ def number(
 
 
 def satellite() -> Check:
-    """A satellite: a GPS PRN (1-63) or a RINEX name of a system memsnav
-    combines (``"G10"``, ``"E07"``, ``"C21"``); checked as its RINEX name."""
+    """A satellite by its RINEX name (``"G10"``, ``"E24"``, ``"C11"``,
+    ``"R05"``). A bare number is ambiguous once several systems are read; a
+    GPS PRN (1-63) is still read as ``"Gnn"``, with a DeprecationWarning
+    that names the fix, and will be refused in a later release."""
 
     def check(value: Any) -> str:
         if isinstance(value, int) and not isinstance(value, bool) and 1 <= value <= 63:
-            return f"G{value:02d}"
+            name = f"G{value:02d}"
+            warnings.warn(
+                f"satellites: the bare number {value} is read as {name!r} (GPS); name the "
+                f'system ("G10", "E24", "C11", "R05"): bare numbers are ambiguous once '
+                "several systems are read and will be refused",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            return name
         if (
             isinstance(value, str)
             and len(value) == 3
-            and value[0] in "GEC"
+            and value[0] in "GECR"
             and value[1:].isdigit()
             and 1 <= int(value[1:]) <= 63
         ):
             return value
-        raise _Wrong(
-            f'must be a GPS PRN (1-63) or a satellite name like "G10", "E07", "C21", got {value!r}'
-        )
+        raise _Wrong(f'must be a satellite name like "G10", "E24", "C11", "R05", got {value!r}')
 
     return check
 

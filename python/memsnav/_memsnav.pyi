@@ -1159,16 +1159,45 @@ class FixSeries:
     def tdop(self) -> npt.NDArray[np.float64]:
         """Time dilution of precision, (T,)."""
 
+    @property
+    def excluded(self) -> list[list[str]]:
+        """Satellites the residual test left out of each epoch's fix (RINEX
+        names, in the order they were left out); empty where every satellite
+        fits or the epoch has no fix."""
+
+    @property
+    def residual_chi_square(self) -> npt.NDArray[np.float64]:
+        """Post-fit test statistic sum((v/sigma)^2) of the satellites used, (T,);
+        NaN without redundancy, with unit weights or without a fix."""
+
+    @property
+    def residual_threshold(self) -> npt.NDArray[np.float64]:
+        """The residual test's threshold chi2(1 - false_alarm_probability,
+        satellites - unknowns), (T,); NaN where the test did not run."""
+
 def solve_fix(
     measurements: GnssMeasurements | Mapping[str, npt.ArrayLike],
     prior: npt.ArrayLike | None = None,
     strict: bool = False,
+    *,
+    false_alarm_probability: float | None = 0.001,
 ) -> FixSeries:
     """Gauss-Newton position/velocity/clock fix of every epoch (Sagnac-corrected
     predicted ranges) of a GnssMeasurements or its padded arrays as a dict (the
     constructor's keys, no others). prior: (3,) ECEF start for the first epoch (default the
     Earth's centre; later epochs start from the previous fix). Epochs with
-    fewer than 4 satellites give NaN rows, or ValueError when strict=True."""
+    fewer than 4 satellites give NaN rows, or ValueError when strict=True.
+
+    Residual test (RAIM fault detection and exclusion): the weighted post-fit
+    residuals' sum of squares is held to the chi-square quantile
+    1 - ``false_alarm_probability`` (default 0.001 per epoch, RTKLIB's) of
+    satellites - unknowns degrees of freedom; while it fails and a test after
+    the exclusion remains possible, the satellite with the largest normalized
+    residual is left out and the fix made again. The satellites left out are
+    in ``excluded``; the final statistic and threshold in
+    ``residual_chi_square`` and ``residual_threshold`` (a statistic still above
+    its threshold: no exclusion could make the epoch fit).
+    ``false_alarm_probability=None`` turns the test off."""
 
 # --- trajectory ---
 
@@ -1323,7 +1352,8 @@ class FilterSolution:
     its batch by fault exclusion; "invalid": NaN/inf value or non-positive
     std; "reset": its batch failed and the filter was reset from it;
     "slip": a carrier change holding a cycle slip, flagged by the receiver
-    or found against the Doppler, not used).
+    or found against the Doppler, not used; "too-few": a clean carrier
+    change whose epoch had fewer than the 5 a batch needs, not used).
     """
 
     @property
@@ -2058,6 +2088,7 @@ class RinexObservations:
         pseudorange_rate_std: float | None = None,
         satellites: Sequence[int] | None = None,
         carrier_phase_std: float | None = None,
+        weighting: str | None = None,
     ) -> GnssMeasurements:
         """GPS L1 C/A measurements (time = GPS time) for the coupled filters and
         ``solve_fix``: satellite states at transmission time, pseudoranges
@@ -2067,8 +2098,14 @@ class RinexObservations:
         header's approximate position); rates from the Doppler; carrier ranges
         from the phase, corrected alike with the ionosphere's sign reversed,
         lock lost where the loss-of-lock indicator says so
-        (``carrier_phase_std=0``: no carrier phase). Noise sigma at 45 dB-Hz
-        and zenith (m, m/s, m), scaled by √10^((45-C/N0)/10)/sin(el)."""
+        (``carrier_phase_std=0``: no carrier phase). Pseudorange sigma by
+        ``weighting``: ``"rtklib"`` (default) RTKLIB 2.4.3's single-point
+        error model, sigma^2 = F^2 (0.3^2 + 0.3^2/sin(el)) + URA^2 + 0.3^2 +
+        (0.5 Klobuchar)^2 + (0.3/(sin(el) + 0.1))^2 (F = 1.5 for GLONASS, else
+        1); ``"signal-strength"``: ``pseudorange_std`` (default 3 m, only with
+        this model) at 45 dB-Hz and zenith, scaled by
+        sqrt(10^((45-C/N0)/10))/sin(el). Rate and carrier sigma (m/s, m) at 45
+        dB-Hz and zenith, scaled alike in both."""
 
     def measurements(
         self,
@@ -2086,6 +2123,7 @@ class RinexObservations:
         satellites: Sequence[str] | None = None,
         carrier_phase_std: float | None = None,
         dual_frequency: bool = False,
+        weighting: str | None = None,
     ) -> GnssMeasurements:
         """Measurements of several systems (``systems``: "G", "E", "C", "R";
         default G, E, C: GLONASS on request, for ``solve_fix``, the tight
@@ -2109,7 +2147,8 @@ class RinexObservations:
         pseudorange where the file has one whose group delay the ephemerides
         give (GPS L5 or L2C with CNAV's inter-signal corrections, Galileo E5a
         or E5b, BeiDou another D1 band), smoothed per satellite; the
-        Klobuchar delay for the rest."""
+        Klobuchar delay for the rest. ``weighting``, ``pseudorange_std``: as
+        ``gps_l1``."""
 
     def __len__(self) -> int: ...
 
@@ -2312,6 +2351,16 @@ class LogRun:
         (a conclusive ratio beyond √(180/π) either way: the warning naming
         ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
         else None). None without a usable pair of GNSS epochs."""
+
+    @property
+    def carrier_phase(self) -> dict[str, Any] | None:
+        """The run's carrier changes between epochs by fate: dict ``changes``,
+        ``used`` (applied), ``slips`` (receiver flag or Doppler test),
+        ``excluded`` (residual test), ``too_few`` (clean, but the epoch had
+        fewer than the 5 clean changes a batch needs), ``rejected`` (their
+        batch's gate, an invalid value, a reset), ``warning`` (why none was
+        used, also in ``solution.warnings``; else None). None when the run
+        did not use carrier phase."""
 
     @property
     def adaptation(self) -> dict[str, Any]:

@@ -21,6 +21,7 @@ pub mod allan;
 pub mod allan_fit;
 pub mod attitude;
 pub mod calibration;
+pub mod chi_square;
 pub mod coupling;
 pub mod error;
 pub mod experiments;

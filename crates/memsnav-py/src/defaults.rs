@@ -71,6 +71,9 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("elevation_mask_deg", DEFAULT_ELEVATION_MASK_DEG)?;
     d.set_item("min_cn0_db_hz", observables.min_cn0_db_hz)?;
+    d.set_item("weighting", observables.weighting.name())?;
+    // Read by the signal-strength weighting alone: the default RTKLIB model
+    // refuses a value.
     d.set_item("pseudorange_std", DEFAULT_PSEUDORANGE_STD_M)?;
     d.set_item("pseudorange_rate_std", DEFAULT_PSEUDORANGE_RATE_STD_M_S)?;
     d.set_item("carrier_phase_std", observables.carrier_phase_std_m)?;

@@ -916,21 +916,60 @@ impl PyFixSeries {
     fn tdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.dops.tdop)
     }
+    /// Satellites the residual test left out of each epoch's fix (RINEX
+    /// names, in the order they were left out); empty where every
+    /// satellite fits or the epoch has no fix.
+    #[getter]
+    fn excluded(&self) -> Vec<Vec<String>> {
+        self.fixes
+            .iter()
+            .map(|x| {
+                x.as_ref().map_or_else(Vec::new, |f| {
+                    f.excluded
+                        .as_slice()
+                        .iter()
+                        .map(|&n| gnss::satellite_name(n))
+                        .collect()
+                })
+            })
+            .collect()
+    }
+    /// Post-fit test statistic Σ (v/σ)² of the satellites used, ``(T,)``;
+    /// NaN without redundancy, with unit weights or without a fix.
+    #[getter]
+    fn residual_chi_square<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.residual_chi_square)
+    }
+    /// The residual test's threshold χ²(1 − false_alarm_probability,
+    /// satellites − unknowns), ``(T,)``; NaN where the test did not run.
+    #[getter]
+    fn residual_threshold<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.scalar(py, |f| f.residual_threshold)
+    }
 }
 
 /// Least-squares position/velocity/clock fix of every epoch of
 /// ``measurements``: a ``GnssMeasurements`` or its padded arrays as a dict
-/// (the keys of the ``GnssMeasurements`` constructor, no others).
+/// (the keys of the ``GnssMeasurements`` constructor, no others), with the
+/// residual test of ``gnss::solve_fix_with`` at ``false_alarm_probability``
+/// (``None``: off); the satellites left out in ``excluded``.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (measurements, prior=None, strict=false))]
+#[pyo3(
+    signature = (measurements, prior=None, strict=false, *, false_alarm_probability=Some(gnss::DEFAULT_FALSE_ALARM_PROBABILITY)),
+    text_signature = "(measurements, prior=None, strict=False, *, false_alarm_probability=0.001)"
+)]
 fn solve_fix(
     py: Python<'_>,
     measurements: &Bound<'_, PyAny>,
     prior: Option<&Bound<'_, PyAny>>,
     strict: bool,
+    false_alarm_probability: Option<f64>,
 ) -> PyResult<PyFixSeries> {
     let prior = prior.map(|p| convert::vector3(p, "prior")).transpose()?;
+    let test = gnss::ResidualTest {
+        false_alarm_probability,
+    };
     let epochs = gnss_epochs(measurements)?;
     let epochs = &*epochs;
     let fixes = py
@@ -942,7 +981,7 @@ fn solve_fix(
                     if e.measurements.len() < 4 && !strict {
                         return Ok(None);
                     }
-                    let fix = gnss::solve_fix(e, start)?;
+                    let fix = gnss::solve_fix_with(e, start, &test)?;
                     start = Some(fix.position_ecef);
                     Ok(Some(fix))
                 })
@@ -1272,12 +1311,16 @@ impl PyRinexObservations {
     /// Saastamoinen troposphere; rates from the Doppler; carrier ranges from
     /// the phase, corrected alike with the ionosphere's sign reversed, lock
     /// lost where the loss-of-lock indicator says so
-    /// (``carrier_phase_std=0``: no carrier phase). Noise: σ at 45 dB-Hz
-    /// and zenith, scaled by √10^((45−C/N0)/10)/sin(el).
+    /// (``carrier_phase_std=0``: no carrier phase). Pseudorange σ by
+    /// ``weighting``: ``"rtklib"`` (default) RTKLIB 2.4.3's single-point
+    /// error model (`gnss::PseudorangeWeighting`), ``"signal-strength"``
+    /// ``pseudorange_std`` (only with this model) at 45 dB-Hz and zenith,
+    /// scaled by √10^((45−C/N0)/10)/sin(el). Rate and carrier σ at 45 dB-Hz
+    /// and zenith, scaled alike in both.
     #[pyo3(signature = (constellation, reference_position_ecef=None, *, elevation_mask_deg=None,
         min_cn0_db_hz=None, ionosphere=true, klobuchar=None, troposphere=true,
         pseudorange_std=None, pseudorange_rate_std=None, satellites=None,
-        carrier_phase_std=None))]
+        carrier_phase_std=None, weighting=None))]
     fn gps_l1(
         &self,
         py: Python<'_>,
@@ -1292,6 +1335,7 @@ impl PyRinexObservations {
         pseudorange_rate_std: Option<f64>,
         satellites: Option<Vec<u16>>,
         carrier_phase_std: Option<f64>,
+        weighting: Option<String>,
     ) -> PyResult<PyGnssMeasurements> {
         let options = self.observable_options(
             reference_position_ecef,
@@ -1305,6 +1349,7 @@ impl PyRinexObservations {
                 pseudorange_rate_std,
                 carrier_phase_std,
                 dual_frequency: false,
+                weighting,
             },
             vec![gnss::GnssSystem::Gps],
             satellites.unwrap_or_default(),
@@ -1343,10 +1388,11 @@ impl PyRinexObservations {
     /// group delay the ephemerides give (GPS L5 or L2C with CNAV's
     /// inter-signal corrections, Galileo E5a or E5b, BeiDou another D1
     /// band), smoothed per satellite; the Klobuchar delay for the rest.
+    /// ``weighting``, ``pseudorange_std``: as ``gps_l1``.
     #[pyo3(signature = (ephemerides, reference_position_ecef=None, *, systems=None,
         elevation_mask_deg=None, min_cn0_db_hz=None, ionosphere=true, klobuchar=None,
         troposphere=true, pseudorange_std=None, pseudorange_rate_std=None, satellites=None,
-        carrier_phase_std=None, dual_frequency=false))]
+        carrier_phase_std=None, dual_frequency=false, weighting=None))]
     fn measurements(
         &self,
         py: Python<'_>,
@@ -1363,6 +1409,7 @@ impl PyRinexObservations {
         satellites: Option<Vec<String>>,
         carrier_phase_std: Option<f64>,
         dual_frequency: bool,
+        weighting: Option<String>,
     ) -> PyResult<PyGnssMeasurements> {
         let systems = match systems {
             None => gnss::GnssSystem::FILTERED.to_vec(),
@@ -1391,6 +1438,7 @@ impl PyRinexObservations {
                 pseudorange_rate_std,
                 carrier_phase_std,
                 dual_frequency,
+                weighting,
             },
             systems,
             satellites,
@@ -1452,6 +1500,8 @@ struct ObservableArguments {
     pseudorange_rate_std: Option<f64>,
     carrier_phase_std: Option<f64>,
     dual_frequency: bool,
+    /// ``"rtklib"`` or ``"signal-strength"`` (`gnss::PseudorangeWeighting`).
+    weighting: Option<String>,
 }
 
 impl PyRinexObservations {
@@ -1483,6 +1533,25 @@ impl PyRinexObservations {
         };
         let mut options = gnss::ObservableOptions::new(reference);
         options.reference_track_ecef = track;
+        if let Some(name) = &a.weighting {
+            options.weighting = gnss::PseudorangeWeighting::from_name(name).ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "weighting: {name:?} is not a weighting model: \"rtklib\" (RTKLIB's \
+                     single-point error model, the default) or \"signal-strength\" (σ from C/N0 \
+                     and elevation, scaled by pseudorange_std)"
+                ))
+            })?;
+        }
+        if a.pseudorange_std.is_some()
+            && options.weighting != gnss::PseudorangeWeighting::SignalStrength
+        {
+            return Err(PyValueError::new_err(format!(
+                "pseudorange_std: sets the \"signal-strength\" weighting's σ at 45 dB-Hz and the \
+                 zenith; the {:?} weighting does not read it: pass weighting=\"signal-strength\" \
+                 with it",
+                options.weighting.name()
+            )));
+        }
         if let Some(mask) = a.elevation_mask_deg {
             options.elevation_mask_rad = mask.to_radians();
         }

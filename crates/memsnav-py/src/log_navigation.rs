@@ -501,6 +501,28 @@ impl PyLogRun {
             })
             .transpose()
     }
+    /// The run's carrier changes between epochs by fate
+    /// (`memsnav_core::navigate::carrier_use`): dict `changes`, `used`,
+    /// `slips`, `excluded`, `too_few`, `rejected`, `warning` (why none was
+    /// used, also in `solution.warnings`; else None); None when the run did
+    /// not use carrier phase.
+    #[getter]
+    fn carrier_phase<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.run
+            .carrier_use
+            .map(|u| {
+                let d = PyDict::new(py);
+                d.set_item("changes", u.changes)?;
+                d.set_item("used", u.used)?;
+                d.set_item("slips", u.slips)?;
+                d.set_item("excluded", u.excluded)?;
+                d.set_item("too_few", u.too_few)?;
+                d.set_item("rejected", u.rejected)?;
+                d.set_item("warning", u.warning())?;
+                Ok(d)
+            })
+            .transpose()
+    }
     /// The satellites holding range-bias states at the end: {prn: bias m}.
     #[getter]
     fn range_biases<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

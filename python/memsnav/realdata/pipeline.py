@@ -305,6 +305,8 @@ def tight_input(cfg: RunConfig) -> Any:
             ionosphere=g["ionosphere"],
             klobuchar=klobuchar,
             troposphere=g["troposphere"],
+            # The filters' noise was tuned with the signal-strength model.
+            weighting="signal-strength",
             pseudorange_std=g["pseudorange_std_m"],
             pseudorange_rate_std=g["pseudorange_rate_std_m_s"],
             satellites=g["satellites"] or None,
@@ -638,6 +640,10 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
     if solution.inter_system_bias is not None:
         galileo, beidou = solution.inter_system_bias[-1]
         summary["inter_system_bias_m"] = {"galileo": float(galileo), "beidou": float(beidou)}
+    if run.carrier_phase is not None:
+        # How many carrier changes the run used, and why not (its warning is
+        # among the solution's).
+        summary["carrier_phase"] = run.carrier_phase
     if mode == "tight":
         rows = satellites.satellite_rows(solution.measurements, gnss)
         summary["satellites"] = rows

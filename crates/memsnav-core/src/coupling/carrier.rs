@@ -191,6 +191,18 @@ pub(crate) fn update<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) 
         !excluded
     });
     if changes.len() < MIN_CARRIER_CHANGES {
+        // Recorded, so that a run says why its carrier phase did nothing.
+        let common = common.unwrap_or(0.0);
+        for c in &changes {
+            let id = epoch.measurements[c.index].sat_id;
+            s.records.push(record(
+                t,
+                id,
+                MeasurementStatus::TooFewCarrierChanges,
+                -(c.residual_m - common),
+                c.std_m,
+            ));
+        }
         s.carrier.changes = changes;
         return Ok(());
     }

@@ -9,7 +9,7 @@ use super::records::{ResetKind, ResetRecord};
 use crate::attitude::{dcm_to_euler, euler_to_dcm};
 use crate::filter::state::{Installation, Layout, ACCEL_BIAS, ATTITUDE, POSITION};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
-use crate::gnss::{solve_fix, GnssEpoch};
+use crate::gnss::{solve_fix_all_satellites, GnssEpoch};
 use crate::ins::ImuData;
 use crate::ins::NavState;
 use crate::{validate, Error, Result};
@@ -78,7 +78,7 @@ fn usable(epoch: &GnssEpoch) -> GnssEpoch {
 }
 
 /// The initial state from the first GNSS epochs: position, velocity, clock
-/// offset and drift of the least-squares fix ([`solve_fix`]) of the first
+/// offset and drift of the least-squares fix ([`solve_fix_all_satellites`]) of the first
 /// epoch, moved back to the first IMU time along the fix velocity; attitude
 /// as given, else [`coarse_attitude`] from the IMU's first second; zero bias
 /// estimates.
@@ -110,7 +110,7 @@ pub fn initial_state_from_fix(
             ),
         ));
     }
-    let mut fix = solve_fix(&first_epoch, None)?;
+    let mut fix = solve_fix_all_satellites(&first_epoch, None)?;
     if !fix.velocity_ecef.iter().all(|v| v.is_finite()) {
         let second = epochs[1..]
             .iter()
@@ -122,7 +122,7 @@ pub fn initial_state_from_fix(
                     "no pseudorange rates in the first epoch and no second epoch with 4 satellites: the initial velocity is unknown",
                 )
             })?;
-        let next = solve_fix(&second, Some(fix.position_ecef))?;
+        let next = solve_fix_all_satellites(&second, Some(fix.position_ecef))?;
         let dt = next.time_s - fix.time_s;
         fix.velocity_ecef = (next.position_ecef - fix.position_ecef) / dt;
         fix.clock_drift_m_s = (next.clock_offset_m - fix.clock_offset_m) / dt;

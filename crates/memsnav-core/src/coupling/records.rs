@@ -84,11 +84,15 @@ pub enum MeasurementStatus {
     /// A carrier change that holds a cycle slip (flagged by the receiver or
     /// found against the Doppler), not used.
     CycleSlip,
+    /// A carrier change that passed the slip tests but was not applied: its
+    /// epoch had fewer clean changes than a batch needs (five: velocity,
+    /// the clock's change and one more for the residual test).
+    TooFewCarrierChanges,
 }
 
 impl MeasurementStatus {
     /// A short name (`"accepted"`, `"gate"`, `"excluded"`, `"invalid"`,
-    /// `"reset"`, `"slip"`).
+    /// `"reset"`, `"slip"`, `"too-few"`).
     pub fn name(self) -> &'static str {
         match self {
             MeasurementStatus::Accepted => "accepted",
@@ -97,6 +101,7 @@ impl MeasurementStatus {
             MeasurementStatus::RejectedInvalid => "invalid",
             MeasurementStatus::UsedForReset => "reset",
             MeasurementStatus::CycleSlip => "slip",
+            MeasurementStatus::TooFewCarrierChanges => "too-few",
         }
     }
 }

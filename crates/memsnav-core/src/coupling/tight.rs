@@ -40,7 +40,8 @@ use super::tuning::FilterTuning;
 use crate::filter::state::{CLOCK_DRIFT, CLOCK_OFFSET, POSITION};
 use crate::gauss_markov::correlated_sample_inflation;
 use crate::gnss::{
-    self, solve_fix, GnssEpoch, GnssSystem, SatelliteMeasurement, INTER_SYSTEM_BIAS_SYSTEMS,
+    self, solve_fix_all_satellites, GnssEpoch, GnssSystem, SatelliteMeasurement,
+    INTER_SYSTEM_BIAS_SYSTEMS,
 };
 use crate::{Error, Result};
 
@@ -308,7 +309,7 @@ fn recover<const N: usize>(
     let kind = MeasurementKind::Pseudorange;
     let usable = usable_epoch(s, epoch);
     let fix = if usable.measurements.len() >= 4 {
-        solve_fix(&usable, Some(s.antenna().position_ecef)).ok()
+        solve_fix_all_satellites(&usable, Some(s.antenna().position_ecef)).ok()
     } else {
         None
     };
@@ -344,7 +345,7 @@ fn recover_velocity<const N: usize>(s: &mut FilterState<N>, epoch: &GnssEpoch) -
     let kind = MeasurementKind::PseudorangeRate;
     let usable = usable_epoch(s, epoch);
     let fix = (usable.measurements.len() >= 4)
-        .then(|| solve_fix(&usable, Some(s.antenna().position_ecef)).ok())
+        .then(|| solve_fix_all_satellites(&usable, Some(s.antenna().position_ecef)).ok())
         .flatten()
         .filter(|f| f.velocity_ecef.iter().all(|v| v.is_finite()));
     let Some(fix) = fix else {

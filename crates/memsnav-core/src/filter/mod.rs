@@ -31,7 +31,7 @@
 //! kept only when the batch passes ([`ErrorStateKf::update_batch`]). A fix
 //! is never half accepted.
 
-pub mod chi_square;
+pub use crate::chi_square;
 pub mod input_noise;
 mod measurement;
 mod propagation;

@@ -47,6 +47,53 @@ pub struct Fix {
     pub n_satellites: usize,
     /// Gauss-Newton iterations used for the position.
     pub iterations: usize,
+    /// Satellites the residual test left out, in the order it left them
+    /// out (`super::residual_test`); empty when every satellite fits.
+    pub excluded: ExcludedSatellites,
+    /// Post-fit test statistic Σ (vᵢ/σᵢ)² of the satellites used; NaN when
+    /// there is no redundancy or the weights are unit (σ = 0 everywhere).
+    pub residual_chi_square: f64,
+    /// Its degrees of freedom: satellites used − unknowns.
+    pub residual_dof: usize,
+    /// The threshold χ²(1 − P_fa, dof) it was held to; NaN when the test
+    /// did not run (no redundancy, unit weights, or the test turned off).
+    pub residual_threshold: f64,
+}
+
+/// Satellite numbers left out of a fix, at most [`ExcludedSatellites::CAPACITY`]
+/// (a fixed array keeps [`Fix`] `Copy`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ExcludedSatellites {
+    ids: [u16; ExcludedSatellites::CAPACITY],
+    len: usize,
+}
+
+impl ExcludedSatellites {
+    /// Most satellites one fix leaves out.
+    pub const CAPACITY: usize = 8;
+
+    /// The satellite numbers, in exclusion order.
+    pub fn as_slice(&self) -> &[u16] {
+        &self.ids[..self.len]
+    }
+
+    /// Adds `sat_id`; false (and nothing added) when full.
+    pub fn push(&mut self, sat_id: u16) -> bool {
+        if self.len == Self::CAPACITY {
+            return false;
+        }
+        self.ids[self.len] = sat_id;
+        self.len += 1;
+        true
+    }
+
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
 }
 
 /// Checks the stds; returns true when every σ is zero (noise-free data:
@@ -80,7 +127,10 @@ fn unit_weights(stds: impl Iterator<Item = f64> + Clone, what: &str, time_s: f64
 /// `Divergence`, naming the satellite whose pseudorange is the outlier when
 /// leaving it out gives a fix that fits (5 or more satellites): an outlier
 /// is not reported as singular geometry.
-pub fn solve_fix(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> {
+///
+/// No residual test: [`super::solve_fix`] runs this, then tests the
+/// residuals and leaves out the satellites that fail.
+pub fn solve_fix_all_satellites(epoch: &GnssEpoch, prior: Option<Vector3<f64>>) -> Result<Fix> {
     match solve_fix_once(epoch, prior) {
         Err(Failure::Inconsistent { farthest_m }) => Err(inconsistent(epoch, prior, farthest_m)),
         Err(Failure::Error(e)) => Err(e),
@@ -478,5 +528,75 @@ fn solve_fix_once(
         },
         n_satellites: m.len(),
         iterations,
+        excluded: ExcludedSatellites::default(),
+        residual_chi_square: f64::NAN,
+        residual_dof: m.len() - unknowns.count(),
+        residual_threshold: f64::NAN,
     })
+}
+
+/// A satellite's post-fit residual at a fix.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PostFitResidual {
+    pub sat_id: u16,
+    /// Measured − predicted pseudorange, m.
+    pub residual_m: f64,
+    /// The residual over its own σ: vᵢ / (σᵢ √rᵢ), rᵢ = 1 − wᵢ hᵢᵀ (HᵀWH)⁻¹ hᵢ
+    /// its redundancy number (Baarda's w-test statistic, standard normal
+    /// when the model holds; Teunissen 2003, §4.5): NaN when rᵢ ≈ 0 (a
+    /// satellite the fix cannot do without, e.g. the only one of its
+    /// system).
+    pub normalized: f64,
+}
+
+/// The post-fit residuals of `epoch`'s pseudoranges at `fix` (made from
+/// the same satellites), and Σ (vᵢ/σᵢ)². `None` with unit weights (every
+/// σ zero: no scale to test against).
+pub fn post_fit_residuals(epoch: &GnssEpoch, fix: &Fix) -> Option<(Vec<PostFitResidual>, f64)> {
+    let m = &epoch.measurements;
+    if m.iter()
+        .any(|s| s.pseudorange_std_m.is_nan() || s.pseudorange_std_m <= 0.0)
+    {
+        return None;
+    }
+    let unknowns = Unknowns::of(m);
+    let zero = Vector3::zeros();
+    let mut normal = Normal::zeros();
+    let mut rows = Vec::with_capacity(m.len());
+    for s in m {
+        let p = predicted_range(
+            &s.position_ecef,
+            &s.velocity_ecef,
+            &fix.position_ecef,
+            &zero,
+        );
+        let h = unknowns.row(&p.line_of_sight_ecef, s.system);
+        let w = 1.0 / (s.pseudorange_std_m * s.pseudorange_std_m);
+        normal += w * h * h.transpose();
+        let v = s.pseudorange_m
+            - p.range_m
+            - clock_and_bias(fix.clock_offset_m, &fix.inter_system_bias_m, s);
+        rows.push((h, w, v));
+    }
+    unknowns.hold(&mut normal);
+    let inverse = normal.try_inverse()?;
+    let mut chi_square = 0.0;
+    let residuals = m
+        .iter()
+        .zip(rows)
+        .map(|(s, (h, w, v))| {
+            chi_square += w * v * v;
+            let redundancy = 1.0 - w * (h.transpose() * inverse * h)[(0, 0)];
+            PostFitResidual {
+                sat_id: s.sat_id,
+                residual_m: v,
+                normalized: if redundancy > 1e-9 {
+                    v * w.sqrt() / redundancy.sqrt()
+                } else {
+                    f64::NAN
+                },
+            }
+        })
+        .collect();
+    Some((residuals, chi_square))
 }

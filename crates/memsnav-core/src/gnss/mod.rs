@@ -29,7 +29,9 @@ pub(crate) mod nav_record;
 mod observables;
 mod observation_file;
 pub mod plausible;
+mod pseudorange_weights;
 mod range;
+mod residual_test;
 mod rinex2_obs;
 mod rinex4_nav;
 mod rinex_fields;
@@ -61,7 +63,9 @@ pub use dual_frequency::{
 pub use ephemeris::{
     ura_index, ura_m, GpsEphemeris, LnavEphemeris, GPS_EARTH_RATE_RAD_S, GPS_GM_M3_S2,
 };
-pub use fix::{solve_fix, Dops, Fix};
+pub use fix::{
+    post_fit_residuals, solve_fix_all_satellites, Dops, ExcludedSatellites, Fix, PostFitResidual,
+};
 pub use galileo_ephemeris::{sisa_index, sisa_m, InavEphemeris};
 pub use glonass_ephemeris::{GlonassEphemeris, GLONASS_VALIDITY_S};
 pub use glonass_orbit::{
@@ -79,7 +83,9 @@ pub use observables::{
     DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M, MIN_TROPOSPHERE_MASK_DEG,
 };
 pub use observation_file::{event_kind, ObservationEpoch, ObservationFile, SatelliteObservations};
+pub use pseudorange_weights::{rtklib_variance_m2, PseudorangeWeighting, RangeCorrections};
 pub use range::{predicted_range, RangePrediction};
+pub use residual_test::{solve_fix, solve_fix_with, ResidualTest, DEFAULT_FALSE_ALARM_PROBABILITY};
 pub use rinex2_obs::rinex3_code;
 pub use rinex_nav::{
     parse_broadcast_nav, parse_rinex_nav, read_broadcast_nav, read_rinex_nav, BroadcastNav,

@@ -17,9 +17,14 @@ use super::beidou_ephemeris::BeidouEphemeris;
 use super::cnav_ephemeris::CnavGroupDelays;
 use super::constellation::{Constellation, Orbit, EPHEMERIS_VALIDITY_S};
 use super::dual_frequency::{geometry_free_delay_m, DelayMeasurement, IonosphereTracks};
-use super::galileo_ephemeris::InavEphemeris;
+use super::ephemeris::ura_m;
+use super::galileo_ephemeris::{sisa_m, InavEphemeris};
 use super::glonass_ephemeris::{GlonassEphemeris, GLONASS_VALIDITY_S};
 use super::observation_file::ObservationFile;
+use super::pseudorange_weights::{
+    rtklib_variance_m2, signal_strength_scale, PseudorangeWeighting, RangeCorrections,
+    RTKLIB_GLONASS_EPHEMERIS_ERROR_M,
+};
 use super::rinex_nav::BroadcastNav;
 use super::rinex_obs::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
 use super::satellite_state::SatelliteState;
@@ -146,7 +151,13 @@ pub struct ObservableOptions {
     pub dual_frequency_ionosphere: bool,
     /// Apply the Saastamoinen troposphere.
     pub troposphere: bool,
-    /// Pseudorange one-sigma at 45 dB-Hz and the zenith, m.
+    /// How each pseudorange's σ is set ([`PseudorangeWeighting`]; default
+    /// RTKLIB's single-point error model).
+    pub weighting: PseudorangeWeighting,
+    /// Pseudorange one-sigma at 45 dB-Hz and the zenith, m, of the
+    /// [`PseudorangeWeighting::SignalStrength`] model (the RTKLIB model
+    /// does not read it); the rates' and carrier's σ scale with C/N0 and
+    /// elevation alike in both models.
     pub pseudorange_std_m: f64,
     /// Pseudorange-rate one-sigma at 45 dB-Hz, m/s (0: no rates used).
     pub pseudorange_rate_std_m_s: f64,
@@ -192,6 +203,7 @@ impl ObservableOptions {
             ionosphere: Some(Klobuchar::RTKLIB_DEFAULT),
             dual_frequency_ionosphere: false,
             troposphere: true,
+            weighting: PseudorangeWeighting::default(),
             pseudorange_std_m: DEFAULT_PSEUDORANGE_STD_M,
             pseudorange_rate_std_m_s: DEFAULT_PSEUDORANGE_RATE_STD_M_S,
             carrier_phase_std_m: DEFAULT_CARRIER_PHASE_STD_M,
@@ -238,13 +250,6 @@ impl ObservableOptions {
     }
 }
 
-/// σ² scaling with signal strength and elevation: σ(C/N0, el) =
-/// σ₄₅ · √(10^((45 − C/N0)/10)) / sin(el) (a C/N0-weighted form of the
-/// elevation weighting of RTKLIB; Groves eq. 9.168 for the C/N0 part).
-fn noise_scale(cn0_db_hz: f64, elevation_rad: f64) -> f64 {
-    (10f64.powf((45.0 - cn0_db_hz) / 10.0)).sqrt() / elevation_rad.sin().max(0.1)
-}
-
 /// One satellite's broadcast orbit and clock, selected for an epoch.
 #[derive(Debug, Clone, Copy)]
 enum SelectedOrbit<'a> {
@@ -266,6 +271,21 @@ impl SelectedOrbit<'_> {
             SelectedOrbit::Galileo(e) => e.state_at(gps_time_s, offset_s),
             SelectedOrbit::Beidou(e) => e.state_at(gps_time_s, offset_s),
             SelectedOrbit::Glonass(e) => e.state_at(gps_time_s, offset_s),
+        }
+    }
+
+    /// The ephemeris' broadcast ranging accuracy, m, for the RTKLIB error
+    /// model: Galileo's SISA (500 m without a prediction, RTKLIB's
+    /// `STD_GAL_NAPA`), BeiDou's URA, 5 m for GLONASS (RTKLIB's
+    /// `ERREPH_GLO`: its records carry no accuracy), and URA index 0's
+    /// 2.4 m for GPS (the RINEX reader keeps no accuracy; healthy GPS
+    /// satellites broadcast index 0) and for Walker slots.
+    fn ranging_accuracy_m(&self) -> f64 {
+        match self {
+            SelectedOrbit::Gps(..) => ura_m(0),
+            SelectedOrbit::Galileo(e) => sisa_m(e.sisa_index).unwrap_or(500.0),
+            SelectedOrbit::Beidou(e) => ura_m(e.urai),
+            SelectedOrbit::Glonass(_) => RTKLIB_GLONASS_EPHEMERIS_ERROR_M,
         }
     }
 
@@ -671,8 +691,8 @@ fn epochs_from(
             } else {
                 0.0
             };
-            let scale = noise_scale(cn0, elevation);
-            let pseudorange_std_m = options.pseudorange_std_m * scale;
+            let scale = signal_strength_scale(cn0, elevation);
+            let signal_strength_std_m = options.pseudorange_std_m * scale;
             // The delay from a second signal (see `dual_frequency`): both
             // codes corrected for their group delays; the estimate's own
             // uncertainty goes into the pseudorange's.
@@ -689,10 +709,11 @@ fn epochs_from(
                         second_m,
                         t.frequency_hz,
                     );
-                    let second_std_m = options.pseudorange_std_m * noise_scale(cn0, elevation);
+                    let second_std_m =
+                        options.pseudorange_std_m * signal_strength_scale(cn0, elevation);
                     Some(DelayMeasurement {
                         delay_m,
-                        variance_m2: (pseudorange_std_m.powi(2) + second_std_m.powi(2))
+                        variance_m2: (signal_strength_std_m.powi(2) + second_std_m.powi(2))
                             * noise_factor.powi(2),
                         signal: t.name,
                     })
@@ -704,6 +725,23 @@ fn epochs_from(
             };
             let (code_iono, iono_variance_m2) =
                 estimate.map_or((model_iono, 0.0), |d| (d.delay_m, d.variance_m2));
+            let pseudorange_std_m = match options.weighting {
+                PseudorangeWeighting::Rtklib => rtklib_variance_m2(
+                    *system,
+                    elevation,
+                    &RangeCorrections {
+                        ephemeris_error_m: orbit.ranging_accuracy_m(),
+                        // RTKLIB takes the L1 delay's error for every signal.
+                        klobuchar_delay_m: options.ionosphere.map(|_| model_iono / iono_scale),
+                        measured_ionosphere_variance_m2: estimate.map(|d| d.variance_m2),
+                        troposphere: options.troposphere,
+                    },
+                )
+                .sqrt(),
+                PseudorangeWeighting::SignalStrength => {
+                    (signal_strength_std_m.powi(2) + iono_variance_m2).sqrt()
+                }
+            };
             let wavelength_m = SPEED_OF_LIGHT_M_S / carrier_hz;
             // RINEX Doppler is positive for an approaching satellite: ρ̇ = −λ D.
             let (rate, rate_std) = match signal.doppler.and_then(|j| s.values[j]) {
@@ -742,7 +780,7 @@ fn epochs_from(
                 velocity_ecef: state.velocity_ecef,
                 pseudorange_m: pseudorange + SPEED_OF_LIGHT_M_S * clock_bias_s - code_iono - tropo,
                 pseudorange_rate_m_s: rate,
-                pseudorange_std_m: (pseudorange_std_m.powi(2) + iono_variance_m2).sqrt(),
+                pseudorange_std_m,
                 pseudorange_rate_std_m_s: rate_std,
                 carrier,
             });

@@ -24,6 +24,7 @@
 
 pub mod adapt;
 pub mod align;
+pub mod carrier_use;
 mod config;
 pub mod fixes;
 pub mod gyro_scale;

@@ -314,6 +314,7 @@ mod tests {
             mounting: m,
             failure: None,
             gyro_scale: None,
+            carrier_use: None,
             adaptation: Default::default(),
             tuning: crate::coupling::FilterTuning::new(
                 100.0,

@@ -6,6 +6,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::adapt::{typical_position_std_m, Adaptation, PassModel, Plan};
 use super::align::{find_start, GnssKinematics, Start};
+use super::carrier_use::CarrierUse;
 use super::config::{periodic_outages, LogConfig};
 use super::gyro_scale::{gyro_scale, GyroScale};
 use super::standstill::{Window, WindowStats};
@@ -15,7 +16,7 @@ use crate::coupling::{
 use crate::filter::chi_square::chi_square_quantile;
 use crate::filter::state::{Layout, POSITION, VELOCITY};
 use crate::geodesy::ecef_to_geodetic;
-use crate::gnss::{keep_highest, solve_fix, GnssEpoch, SatelliteMeasurement};
+use crate::gnss::{keep_highest, solve_fix_all_satellites, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
 use crate::ins::ImuSample;
 use crate::logs::{MAX_SPEED_M_S, MAX_STD, POS_HEIGHT_RANGE_M};
@@ -77,6 +78,10 @@ pub struct LogRun {
     /// The gyro's turns against the GNSS course's over the whole log
     /// ([`super::gyro_scale`]); None without a usable pair of epochs.
     pub gyro_scale: Option<GyroScale>,
+    /// The carrier changes by fate, when the run used carrier phase
+    /// (`gnss.carrier_phase`); with none used, a warning among the
+    /// solution's says why.
+    pub carrier_use: Option<CarrierUse>,
 }
 
 /// Why and when a run stopped before the end of its log.
@@ -279,6 +284,12 @@ fn run_from_start(
         run.filter(layout(model.fix_error), &model, record)?;
     let tuning = model.tuning;
     solution.warnings.extend(late_start.clone());
+    let carrier_use = tuning
+        .use_carrier_phase
+        .then(|| CarrierUse::of(&solution.measurements));
+    solution
+        .warnings
+        .extend(carrier_use.and_then(|u| u.warning()));
     let standstills = standstill_intervals(&solution);
     // With installation states, the lever arm the filter ended with.
     let antenna_lever_arm_b_m = solution
@@ -303,6 +314,7 @@ fn run_from_start(
         tuning,
         failure,
         gyro_scale: None,
+        carrier_use,
     })
 }
 
@@ -430,7 +442,7 @@ fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinemati
                             })
                             .collect(),
                     };
-                    match solve_fix(&usable, prior) {
+                    match solve_fix_all_satellites(&usable, prior) {
                         Ok(f) => {
                             prior = Some(f.position_ecef);
                             let v = f.velocity_ecef;

@@ -12,7 +12,7 @@ use crate::coupling::{
 use crate::filter::state::ATTITUDE;
 use crate::filter::Layout;
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
-use crate::gnss::{solve_fix, GnssEpoch, ReceiverClockModel};
+use crate::gnss::{solve_fix_all_satellites, GnssEpoch, ReceiverClockModel};
 use crate::ins::{ImuData, NavState};
 use crate::sensors::ImuSpec;
 use crate::trajectory::Trajectory;
@@ -105,7 +105,7 @@ pub(super) fn position_fixes(epochs: &[GnssEpoch]) -> Vec<PositionFix> {
     epochs
         .iter()
         .filter(|e| e.measurements.len() >= 4)
-        .filter_map(|e| solve_fix(e, None).ok())
+        .filter_map(|e| solve_fix_all_satellites(e, None).ok())
         .map(|f| PositionFix {
             time_s: f.time_s,
             position_ecef: f.position_ecef,
