@@ -61,3 +61,24 @@ def test_filters_fixes_and_logs_print_in_a_line():
         Path(__file__).parent / "data" / "android-gnsslogger" / "pixel6_excerpt.txt"
     )
     _check(log, "GnssLoggerLog", "epochs", "warnings")
+
+
+def test_gnss_files_measurements_and_fixes_print_in_a_line():
+    from test_single_point import PUBLIC, _skydel_gr
+
+    _check(
+        mn.read_rinex_obs(PUBLIC / "skydel_20230080000_GR_C1C.rnx"),
+        "RinexObservations",
+        "epochs",
+        "GR",
+    )
+    measurements = _skydel_gr()
+    _check(measurements, "GnssMeasurements", "49 epochs", "satellites")
+    _check(
+        mn.solve_fix(measurements),
+        "FixSeries",
+        "49 fixes of 49 epochs",
+        "0 with satellites excluded",
+    )
+    sp3 = sorted(PUBLIC.glob("*.SP3"))[0]
+    _check(mn.read_sp3(sp3), "Sp3", "satellites", "epochs")

@@ -191,6 +191,17 @@ pub struct PySp3 {
 #[catch_panics]
 #[pymethods]
 impl PySp3 {
+    fn __repr__(&self) -> String {
+        let t = &self.inner.time_gps_s;
+        format!(
+            "Sp3({} satellites, {} epochs, GPS time {:.0}-{:.0} s)",
+            self.inner.satellites.len(),
+            t.len(),
+            t.first().copied().unwrap_or(f64::NAN),
+            t.last().copied().unwrap_or(f64::NAN)
+        )
+    }
+
     /// Epochs, GPS s since 1980-01-06, ``(n_epochs,)``.
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -352,6 +363,23 @@ impl PyGnssMeasurements {
 #[catch_panics]
 #[pymethods]
 impl PyGnssMeasurements {
+    fn __repr__(&self) -> String {
+        let satellites: std::collections::BTreeSet<u16> = self
+            .epochs
+            .iter()
+            .flat_map(|e| e.measurements.iter().map(|m| m.sat_id))
+            .collect();
+        let span = match (self.epochs.first(), self.epochs.last()) {
+            (Some(a), Some(b)) => format!(", {:.3}-{:.3} s", a.time_s, b.time_s),
+            _ => String::new(),
+        };
+        format!(
+            "GnssMeasurements({} epochs{span}, {} satellites)",
+            self.epochs.len(),
+            satellites.len()
+        )
+    }
+
     /// Measurements from padded arrays: ``time`` (T,) s, ``sat_id`` (T, n)
     /// (negative: an empty slot), ``satellite_position_ecef`` and
     /// ``satellite_velocity_ecef`` (T, n, 3) at transmission, m and m/s,
@@ -834,6 +862,20 @@ impl PyFixSeries {
 #[catch_panics]
 #[pymethods]
 impl PyFixSeries {
+    fn __repr__(&self) -> String {
+        let solved = self.fixes.iter().flatten().count();
+        let excluding = self
+            .fixes
+            .iter()
+            .flatten()
+            .filter(|f| !f.excluded.is_empty())
+            .count();
+        format!(
+            "FixSeries({solved} fixes of {} epochs, {excluding} with satellites excluded)",
+            self.time.len()
+        )
+    }
+
     /// Epoch times, s, ``(T,)``.
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
@@ -1224,6 +1266,15 @@ pub struct PyRinexObservations {
 #[catch_panics]
 #[pymethods]
 impl PyRinexObservations {
+    fn __repr__(&self) -> String {
+        let systems: String = self.inner.observation_types.keys().collect();
+        format!(
+            "RinexObservations(RINEX {}, {} epochs, systems {systems})",
+            self.inner.version,
+            self.inner.epochs.len()
+        )
+    }
+
     /// Epoch times, GPS s since 1980-01-06, ``(T,)``.
     #[getter]
     fn time<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
