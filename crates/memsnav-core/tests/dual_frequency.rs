@@ -14,7 +14,7 @@ mod shared_data;
 use memsnav_core::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
 use memsnav_core::gnss::{
     broadcast_epochs, broadcast_epochs_with_signals, BroadcastNav, GnssEpoch, GnssSystem,
-    ObservableOptions, ObservationFile,
+    ObservableOptions, ObservationFile, PseudorangeWeighting,
 };
 use memsnav_core::logs::{read_ubx, UbxLog};
 use shared_data::shared_data;
@@ -187,11 +187,16 @@ fn group_delays_are_applied_as_the_icds_define_them() {
 /// every Galileo one E5a and I/NAV's BGD(E1,E5a); its BeiDou
 /// signals (B1C, B2a, B3I) pair no two whose D1 group delays are known, so
 /// BeiDou keeps the broadcast model. The measured delays' uncertainty is in
-/// the pseudoranges' σ.
+/// the pseudoranges' σ: added to the signal-strength σ `navigate` uses (RTKLIB's
+/// model swaps its Klobuchar term for it instead, which orders neither way).
 #[test]
 fn the_walk_measures_gps_and_galileo_and_models_beidou() {
     let log = walk();
     let nav = log.broadcast_nav();
+    let options = |log: &UbxLog, dual: bool| ObservableOptions {
+        weighting: PseudorangeWeighting::SignalStrength,
+        ..options(log, dual)
+    };
     assert_eq!(nav.gps_group_delays.len(), 7);
     assert!(nav
         .gps_group_delays
