@@ -1,7 +1,7 @@
 //! The fixed-column fields of a RINEX navigation file's lines, each error
 //! naming the file and the 1-based line: shared by the GPS, Galileo and
-//! BeiDou records ([`super::rinex_nav`]) and GLONASS's
-//! ([`super::rinex_nav_glonass`]).
+//! BeiDou records ([`super::rinex_nav`]), GLONASS's
+//! ([`super::rinex_nav_glonass`]) and GPS CNAV's ([`super::rinex_nav_cnav`]).
 
 use super::plausible;
 use crate::{Error, Result};
@@ -72,7 +72,23 @@ impl Cursor<'_> {
             )
         })
     }
+
+    /// The epoch of a RINEX 3/4 record's first line (`Gnn yyyy mm dd hh mm ss`,
+    /// columns 4-23), in the satellite system's calendar.
+    pub(super) fn rinex3_epoch(&self, k: usize) -> Result<Calendar> {
+        Ok((
+            self.integer(k, 3, 5, "year")?,
+            self.integer(k, 8, 3, "month")?,
+            self.integer(k, 11, 3, "day")?,
+            self.integer(k, 14, 3, "hour")?,
+            self.integer(k, 17, 3, "minute")?,
+            self.number(k, 20, 3, "second")?,
+        ))
+    }
 }
+
+/// A calendar epoch: year, month, day, hour, minute, second.
+pub(super) type Calendar = (i64, i64, i64, i64, i64, f64);
 
 /// The satellite number of system `letter` (one that exists,
 /// [`plausible::satellite_numbers`]).

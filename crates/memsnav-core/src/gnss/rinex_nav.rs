@@ -303,12 +303,7 @@ pub fn parse_broadcast_nav(text: &str, file: &str) -> Result<BroadcastNav> {
                 layout.constants.letter,
                 cur.integer(k, 1, 2, "satellite PRN")?,
             )?;
-            year = cur.integer(k, 3, 5, "year")?;
-            month = cur.integer(k, 8, 3, "month")?;
-            day = cur.integer(k, 11, 3, "day")?;
-            hour = cur.integer(k, 14, 3, "hour")?;
-            minute = cur.integer(k, 17, 3, "minute")?;
-            second = cur.number(k, 20, 3, "second")?;
+            (year, month, day, hour, minute, second) = cur.rinex3_epoch(k)?;
         }
         let sat = format!("{}{prn:02}", layout.constants.letter);
         let n = layout.names.len();

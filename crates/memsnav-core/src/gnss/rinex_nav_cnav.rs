@@ -165,15 +165,9 @@ pub(super) fn parse_cnav_record(cur: &Cursor<'_>, k: usize) -> Result<(CnavEphem
     }
     let prn = satellite_prn(cur, k, 'G', cur.integer(k, 1, 2, "satellite PRN")?)?;
     let sat = format!("G{prn:02}");
-    let toc = checked_gps_time_from_calendar(
-        cur.integer(k, 3, 5, "year")?,
-        cur.integer(k, 8, 3, "month")?,
-        cur.integer(k, 11, 3, "day")?,
-        cur.integer(k, 14, 3, "hour")?,
-        cur.integer(k, 17, 3, "minute")?,
-        cur.number(k, 20, 3, "second")?,
-    )
-    .map_err(|reason| cur.error(k, format!("epoch of {sat}: {reason}")))?;
+    let (year, month, day, hour, minute, second) = cur.rinex3_epoch(k)?;
+    let toc = checked_gps_time_from_calendar(year, month, day, hour, minute, second)
+        .map_err(|reason| cur.error(k, format!("epoch of {sat}: {reason}")))?;
     let mut values = [None; 33];
     for (index, value) in values.iter_mut().enumerate() {
         let (offset, column) = place(index);

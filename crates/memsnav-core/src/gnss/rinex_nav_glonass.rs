@@ -76,14 +76,7 @@ pub(super) fn parse_glonass_record(
         (slot, calendar, 22, 3)
     } else {
         let slot = satellite_prn(cur, k, 'R', cur.integer(k, 1, 2, "slot number")?)?;
-        let calendar = (
-            cur.integer(k, 3, 5, "year")?,
-            cur.integer(k, 8, 3, "month")?,
-            cur.integer(k, 11, 3, "day")?,
-            cur.integer(k, 14, 3, "hour")?,
-            cur.integer(k, 17, 3, "minute")?,
-            cur.number(k, 20, 3, "second")?,
-        );
+        let calendar = cur.rinex3_epoch(k)?;
         (slot, calendar, 23, 4)
     };
     if slot > 27 {
