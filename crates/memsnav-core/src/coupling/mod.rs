@@ -91,8 +91,8 @@ pub use records::{
     BatchRecord, MeasurementKind, MeasurementRecord, MeasurementStatus, ResetKind, ResetRecord,
     RunRecords,
 };
-pub(crate) use run::run_until_error;
 pub use run::{run, run_smoothed, smoothed_solution, solution, Aiding};
+pub(crate) use run::{run_paused, run_until_error};
 pub use tuning::{
     BiasProcess, FilterTuning, InitialUncertainty, MeasurementFloor, RangeBiasModel, Recovery,
     DEFAULT_GATE_PROBABILITY, DEFAULT_PSEUDORANGE_CORRELATION_TIME_S,

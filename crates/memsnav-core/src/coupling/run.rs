@@ -10,6 +10,9 @@
 //! - [`run`], [`run_smoothed`]: the same, calling `observe(k, state)` after
 //!   each IMU sample k instead of storing the solution (the Monte Carlo
 //!   keeps only what it scores).
+//! - [`run_paused`]: a run stopped after one sample, continued by
+//!   [`Paused::finish`] on each of several aidings that share its
+//!   beginning (an outage study's cells).
 
 use super::engine::Solution;
 use super::engine::{self, AidingEpoch, FilterState, InitialState, Observe, SampleHook};
@@ -92,6 +95,115 @@ pub(crate) fn run_until_error<const N: usize, E: Aiding, H: SampleHook<N>>(
     )
     .err();
     Ok((state, stopped))
+}
+
+/// A run paused after one IMU sample ([`run_paused`]): the filter state
+/// there and what its updates need. [`Paused::finish`] continues a copy
+/// of it, so runs that share their beginning filter it once.
+pub(crate) struct Paused<const N: usize, E: Aiding> {
+    state: FilterState<N>,
+    prepared: E::Prepared,
+    progress: engine::Progress,
+    tolerance_s: f64,
+}
+
+/// The filter over `imu` and `epochs` up to IMU sample `last`, paused
+/// there; `observe(k, state)` sees the samples up to it.
+pub(crate) fn run_paused<const N: usize, E: Aiding, O>(
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    last: usize,
+    observe: O,
+) -> Result<Paused<N, E>>
+where
+    O: FnMut(usize, &FilterState<N>),
+{
+    imu.validate()?;
+    engine::validate_epoch_times(E::ARGUMENT, epochs, imu.time_s, tuning.time_tolerance_s)?;
+    let (prepared, initial, tuning) = E::prepare(epochs, initial, tuning)?;
+    let mut state = FilterState::<N>::new(&initial, &tuning)?;
+    let tolerance_s = tuning.time_tolerance_s;
+    let progress = {
+        let mut update = |s: &mut FilterState<N>, i, e: &E| E::update(s, &prepared, i, e);
+        let mut hook = Observe(observe);
+        let at = engine::begin(imu, epochs, &mut state, tolerance_s, &mut update, &mut hook)?;
+        engine::run_to(
+            imu,
+            epochs,
+            &mut state,
+            tolerance_s,
+            update,
+            &mut hook,
+            at,
+            last,
+        )?
+    };
+    Ok(Paused {
+        state,
+        prepared,
+        progress,
+        tolerance_s,
+    })
+}
+
+impl<const N: usize, E: Aiding> Paused<N, E> {
+    /// The IMU sample the run is paused at.
+    pub(crate) fn sample(&self) -> usize {
+        self.progress.sample
+    }
+
+    /// A copy of the paused run continued to the end of `imu` and
+    /// `epochs`, which must hold the paused run's samples and epochs up to
+    /// the pause (what follows may differ: the run is causal, so the copy
+    /// is the run [`run`] makes on them, bit for bit); `observe(k, state)`
+    /// sees each sample after the pause. Returns the whole run's
+    /// measurement records and, with `smooth`, the smoothed solution of
+    /// the samples after the pause (the backward pass needs nothing
+    /// before them; its records are empty).
+    pub(crate) fn finish<O>(
+        &self,
+        imu: &ImuData,
+        epochs: &[E],
+        smooth: bool,
+        mut observe: O,
+    ) -> Result<(RunRecords, Option<Solution>)>
+    where
+        O: FnMut(usize, &FilterState<N>),
+    {
+        imu.validate()?;
+        engine::validate_epoch_times(E::ARGUMENT, epochs, imu.time_s, self.tolerance_s)?;
+        let last = imu.time_s.len() - 1;
+        let remaining = last.saturating_sub(self.progress.sample);
+        let mut state = self.state.clone();
+        let mut sol = smooth.then(|| Solution::with_capacity(remaining, N));
+        if smooth {
+            state.enable_smoother(remaining);
+        }
+        let mut hook = Observe(|k, s: &FilterState<N>| {
+            observe(k, s);
+            if let Some(sol) = sol.as_mut() {
+                sol.push(imu.time_s[k], s);
+            }
+        });
+        let update = |s: &mut FilterState<N>, i, e: &E| E::update(s, &self.prepared, i, e);
+        engine::run_to(
+            imu,
+            epochs,
+            &mut state,
+            self.tolerance_s,
+            update,
+            &mut hook,
+            self.progress,
+            last,
+        )?;
+        let smoothed = match (sol, state.kf.take_smoother()) {
+            (Some(sol), Some(mut log)) => Some(sol.smoothed(&mut log)?),
+            _ => None,
+        };
+        Ok((state.take_records(), smoothed))
+    }
 }
 
 /// Runs the filter with `N` error states (17, 23, 29 or 35);

@@ -571,8 +571,15 @@ impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
         let (source, mut row) = (y.transpose(), y.transpose());
         sparse_product::<1, N, false>(&self.columns, &source.data.0, row.as_mut_slice());
         *y = row.transpose();
+        // Columns of the column-major matrices are contiguous: the plain
+        // loop vectorises where nalgebra's strided `axpy` does not (same
+        // sums, same rounding).
+        let (source, target) = (factor.as_slice(), next.as_mut_slice());
         for_each_process_noise::<N>(&d, &step.0, |i, j, q| {
-            next.column_mut(j).axpy(q, &factor.column(i), 1.0);
+            let from = &source[i * N..(i + 1) * N];
+            for (t, f) in target[j * N..(j + 1) * N].iter_mut().zip(from) {
+                *t += q * f;
+            }
             y[i] += q * lambda_after[j];
         });
     }

@@ -131,11 +131,16 @@ impl Layout {
 
     /// The layout of size `N`, checked at compile time.
     pub const fn for_size<const N: usize>() -> Self {
-        match Self::of(N) {
-            Some(l) => l,
-            None => panic!(
-                "the error state has 17, 23, 29 or 35 states, each + 7 installation and + 2 inter-system-bias states"
-            ),
+        // Evaluated at compile time for each N (an inline const): the
+        // layout is a constant of the filter's type, not a search at every
+        // propagation step.
+        const {
+            match Self::of(N) {
+                Some(l) => l,
+                None => panic!(
+                    "the error state has 17, 23, 29 or 35 states, each + 7 installation and + 2 inter-system-bias states"
+                ),
+            }
         }
     }
 

@@ -582,16 +582,80 @@ where
     U: FnMut(&mut FilterState<N>, usize, &E) -> Result<()>,
     H: SampleHook<N>,
 {
-    let t = imu.time_s;
+    let at = begin(imu, epochs, state, tolerance, &mut update, hook)?;
+    run_to(
+        imu,
+        epochs,
+        state,
+        tolerance,
+        update,
+        hook,
+        at,
+        imu.time_s.len() - 1,
+    )?;
+    Ok(())
+}
+
+/// Where a run stands: the last IMU sample it reached (the hook has seen
+/// it) and the next aiding epoch to apply. A copy of the filter state
+/// with its progress continues the run on any aiding that agrees with
+/// the run's so far ([`run_to`]): the run is causal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Progress {
+    pub sample: usize,
+    pub epoch: usize,
+}
+
+/// The first sample of [`run`]: the INS started at it and the epochs
+/// there applied.
+pub(crate) fn begin<const N: usize, E, U, H>(
+    imu: &ImuData,
+    epochs: &[E],
+    state: &mut FilterState<N>,
+    tolerance: f64,
+    update: &mut U,
+    hook: &mut H,
+) -> Result<Progress>
+where
+    E: AidingEpoch,
+    U: FnMut(&mut FilterState<N>, usize, &E) -> Result<()>,
+    H: SampleHook<N>,
+{
+    let t0 = imu.time_s[0];
     let mut j = 0;
-    state.begin_at(t[0], &imu.sample(0));
-    while j < epochs.len() && epochs[j].time_s() <= t[0] + tolerance {
+    state.begin_at(t0, &imu.sample(0));
+    while j < epochs.len() && epochs[j].time_s() <= t0 + tolerance {
         update(state, j, &epochs[j])?;
         j += 1;
     }
     hook.at_sample(0, state)?;
     state.kf.mark_output();
-    for k in 0..t.len() - 1 {
+    Ok(Progress {
+        sample: 0,
+        epoch: j,
+    })
+}
+
+/// [`run`] on from `from` to IMU sample `last` (inclusive).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_to<const N: usize, E, U, H>(
+    imu: &ImuData,
+    epochs: &[E],
+    state: &mut FilterState<N>,
+    tolerance: f64,
+    mut update: U,
+    hook: &mut H,
+    from: Progress,
+    last: usize,
+) -> Result<Progress>
+where
+    E: AidingEpoch,
+    U: FnMut(&mut FilterState<N>, usize, &E) -> Result<()>,
+    H: SampleHook<N>,
+{
+    let t = imu.time_s;
+    let mut j = from.epoch;
+    for k in from.sample..last {
         let (ta, tb) = (t[k], t[k + 1]);
         let (sa, sb) = (imu.sample(k), imu.sample(k + 1));
         // The part of the interval's increments integrated so far.
@@ -635,7 +699,10 @@ where
         hook.at_sample(k + 1, state)?;
         state.kf.mark_output();
     }
-    Ok(())
+    Ok(Progress {
+        sample: last.max(from.sample),
+        epoch: j,
+    })
 }
 
 /// The whole solution of a coupled filter at every IMU sample.

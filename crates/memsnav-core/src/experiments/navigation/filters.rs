@@ -171,9 +171,6 @@ pub(super) fn navigate(
     setup: &FilterSetup,
 ) -> Result<ImuRun> {
     let tuning = tuning(&input.spec, setup)?;
-    const fn size(scale_factors: bool, inter_system_biases: bool) -> usize {
-        Layout::size(scale_factors, false, inter_system_biases, false)
-    }
     let (t, e, f, i, s) = (truth, epochs, fixes, input, start);
     match (setup.scale_factor_states, setup.inter_system_bias_states) {
         (false, false) => navigate_with::<{ size(false, false) }>(t, e, f, i, s, &tuning, setup),
@@ -181,6 +178,11 @@ pub(super) fn navigate(
         (false, true) => navigate_with::<{ size(false, true) }>(t, e, f, i, s, &tuning, setup),
         (true, true) => navigate_with::<{ size(true, true) }>(t, e, f, i, s, &tuning, setup),
     }
+}
+
+/// The filters' state size: 17, + 6 scale factors, + the inter-system biases.
+const fn size(scale_factors: bool, inter_system_biases: bool) -> usize {
+    Layout::size(scale_factors, false, inter_system_biases, false)
 }
 
 fn navigate_with<const N: usize>(
@@ -192,56 +194,10 @@ fn navigate_with<const N: usize>(
     tuning: &FilterTuning,
     setup: &FilterSetup,
 ) -> Result<ImuRun> {
-    let n = setup.samples.unwrap_or(truth.time_s.len());
-    let imu = ImuData {
-        time_s: &truth.time_s[..n],
-        specific_force_b: &input.readings.specific_force_b[..n],
-        angular_rate_b: &input.readings.angular_rate_b[..n],
-        increments: None,
-    };
-    let initial = match *start {
-        Start::FirstFix { attitude } => initial_state_from_fix(epochs, &imu, Some(attitude))?,
-        Start::Given { nav } => InitialState {
-            nav,
-            accel_bias_m_s2: Vector3::zeros(),
-            gyro_bias_rad_s: Vector3::zeros(),
-            clock_offset_m: None,
-            clock_drift_m_s: None,
-        },
-    };
-    let out = setup.out;
-    let mut position_error = Vec::with_capacity(out.len());
-    let mut horizontal_error = Vec::with_capacity(out.len());
-    let mut vertical_error = Vec::with_capacity(out.len());
-    let mut nees = Vec::with_capacity(out.len());
-    let mut position_nees = Vec::with_capacity(out.len());
-    let mut next = 0;
-    let observe = |k: usize, s: &FilterState<N>| {
-        if next < out.len() && out[next] == k {
-            let t = truth.nav_state(k);
-            let mut e = SVector::<f64, NEES_DOF>::zeros();
-            e.fixed_rows_mut::<3>(0).copy_from(&dcm_to_rotation_vector(
-                &(s.nav.c_b_e * t.c_b_e.transpose()),
-            ));
-            e.fixed_rows_mut::<3>(3)
-                .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
-            e.fixed_rows_mut::<3>(6)
-                .copy_from(&(s.nav.position_ecef - t.position_ecef));
-            let p =
-                s.kf.p
-                    .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
-                    .into_owned();
-            let dr = e.fixed_rows::<3>(6).into_owned();
-            let (horizontal, vertical) = horizontal_vertical(&t.position_ecef, &dr);
-            position_error.push(dr.norm());
-            horizontal_error.push(horizontal);
-            vertical_error.push(vertical);
-            nees.push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
-            let p_rr = p.fixed_view::<3, 3>(6, 6).into_owned();
-            position_nees.push(crate::filter::nees(&dr, &p_rr).unwrap_or(f64::NAN));
-            next += 1;
-        }
-    };
+    let imu = imu_data(truth, input, setup.samples.unwrap_or(truth.time_s.len()));
+    let initial = initial_state(start, epochs, &imu)?;
+    let mut curves = Curves::new(truth, setup.out);
+    let observe = |k: usize, s: &FilterState<N>| curves.observe(k, s);
     let (records, smoothed) = match setup.coupling {
         Coupling::Tight => {
             forward_and_smoothed(&imu, epochs, &initial, tuning, setup.smooth, observe)?
@@ -250,28 +206,204 @@ fn navigate_with<const N: usize>(
             forward_and_smoothed(&imu, fixes, &initial, tuning, setup.smooth, observe)?
         }
     };
-    let accepted = records
-        .measurements
+    Ok(curves.finish(&records, smoothed.as_ref().map(|s| (s, 0))))
+}
+
+/// One branch of [`navigate_branches`]: its epochs, the IMU samples it
+/// runs over (from the first) and its output epochs, all after the split.
+pub(super) struct Branch<'a> {
+    pub epochs: &'a [GnssEpoch],
+    pub samples: usize,
+    pub out: &'a [usize],
+}
+
+/// The tightly coupled filter of one IMU on runs that share their
+/// beginning: once over `shared` to IMU sample `split`, then a copy on each
+/// branch, whose epochs equal `shared` up to `split`. Each branch's
+/// [`ImuRun`] is [`navigate`]'s on its epochs (`setup.out` and
+/// `setup.samples` give way to the branch's): the forward filter's bit for
+/// bit; the smoother's from a backward pass that starts after `split` (the
+/// same estimates up to rounding: a fixed-interval smoother's estimate at a
+/// sample depends on the forward filter from that sample on).
+pub(super) fn navigate_branches(
+    truth: &Trajectory,
+    shared: &[GnssEpoch],
+    input: &ImuInput,
+    start: &Start,
+    setup: &FilterSetup,
+    split: usize,
+    branches: &[Branch<'_>],
+) -> Result<Vec<ImuRun>> {
+    let tuning = tuning(&input.spec, setup)?;
+    let (t, e, i, s, b) = (truth, shared, input, start, branches);
+    match (setup.scale_factor_states, setup.inter_system_bias_states) {
+        (false, false) => {
+            branches_with::<{ size(false, false) }>(t, e, i, s, &tuning, setup, split, b)
+        }
+        (true, false) => {
+            branches_with::<{ size(true, false) }>(t, e, i, s, &tuning, setup, split, b)
+        }
+        (false, true) => {
+            branches_with::<{ size(false, true) }>(t, e, i, s, &tuning, setup, split, b)
+        }
+        (true, true) => branches_with::<{ size(true, true) }>(t, e, i, s, &tuning, setup, split, b),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn branches_with<const N: usize>(
+    truth: &Trajectory,
+    shared: &[GnssEpoch],
+    input: &ImuInput,
+    start: &Start,
+    tuning: &FilterTuning,
+    setup: &FilterSetup,
+    split: usize,
+    branches: &[Branch<'_>],
+) -> Result<Vec<ImuRun>> {
+    let longest = branches.iter().map(|b| b.samples).max().unwrap_or(0);
+    if branches
         .iter()
-        .filter(|r| r.status == MeasurementStatus::Accepted)
-        .count();
-    let rejected = records.measurements.len() - accepted;
-    let diverged = records.integrity().diverged();
-    Ok(ImuRun {
-        position_error,
-        horizontal_error,
-        vertical_error,
-        nees,
-        position_nees,
-        rejected,
-        accepted,
-        diverged,
-        smoothed: smoothed.map(|s| {
-            Box::new(smoothed_curves(
-                truth, &s, out, rejected, accepted, diverged,
+        .any(|b| b.samples <= split || b.out.first().is_some_and(|&k| k <= split))
+    {
+        return Err(crate::Error::invalid(
+            "branches",
+            format!("every branch's samples and output epochs must come after the split at sample {split}"),
+        ));
+    }
+    let imu = imu_data(truth, input, longest);
+    let initial = initial_state(start, shared, &imu)?;
+    let shared = &shared[..shared.partition_point(|e| e.time_s <= truth.time_s[longest - 1])];
+    let paused = coupling::run_paused::<N, GnssEpoch, _>(
+        &imu,
+        shared,
+        &initial,
+        tuning,
+        split,
+        |_, _: &FilterState<N>| {},
+    )?;
+    branches
+        .iter()
+        .map(|b| {
+            let imu = imu_data(truth, input, b.samples);
+            let mut curves = Curves::new(truth, b.out);
+            let observe = |k: usize, s: &FilterState<N>| curves.observe(k, s);
+            let (records, smoothed) = paused.finish(&imu, b.epochs, setup.smooth, observe)?;
+            Ok(curves.finish(
+                &records,
+                smoothed.as_ref().map(|s| (s, paused.sample() + 1)),
             ))
-        }),
+        })
+        .collect()
+}
+
+/// The first `samples` of the truth's time axis and `input`'s readings.
+fn imu_data<'a>(truth: &'a Trajectory, input: &'a ImuInput, samples: usize) -> ImuData<'a> {
+    ImuData {
+        time_s: &truth.time_s[..samples],
+        specific_force_b: &input.readings.specific_force_b[..samples],
+        angular_rate_b: &input.readings.angular_rate_b[..samples],
+        increments: None,
+    }
+}
+
+/// The filter's initial state from `start`.
+fn initial_state(start: &Start, epochs: &[GnssEpoch], imu: &ImuData) -> Result<InitialState> {
+    Ok(match *start {
+        Start::FirstFix { attitude } => initial_state_from_fix(epochs, imu, Some(attitude))?,
+        Start::Given { nav } => InitialState {
+            nav,
+            accel_bias_m_s2: Vector3::zeros(),
+            gyro_bias_rad_s: Vector3::zeros(),
+            clock_offset_m: None,
+            clock_drift_m_s: None,
+        },
     })
+}
+
+/// A run's error curves at its output epochs, taken as the filter passes
+/// them.
+struct Curves<'a> {
+    truth: &'a Trajectory,
+    out: &'a [usize],
+    next: usize,
+    run: ImuRun,
+}
+
+impl<'a> Curves<'a> {
+    fn new(truth: &'a Trajectory, out: &'a [usize]) -> Self {
+        Self {
+            truth,
+            out,
+            next: 0,
+            run: ImuRun {
+                position_error: Vec::with_capacity(out.len()),
+                horizontal_error: Vec::with_capacity(out.len()),
+                vertical_error: Vec::with_capacity(out.len()),
+                nees: Vec::with_capacity(out.len()),
+                position_nees: Vec::with_capacity(out.len()),
+                rejected: 0,
+                accepted: 0,
+                diverged: false,
+                smoothed: None,
+            },
+        }
+    }
+
+    /// The errors and NEES at sample `k` when it is the next output epoch.
+    fn observe<const N: usize>(&mut self, k: usize, s: &FilterState<N>) {
+        if self.next >= self.out.len() || self.out[self.next] != k {
+            return;
+        }
+        let t = self.truth.nav_state(k);
+        let mut e = SVector::<f64, NEES_DOF>::zeros();
+        e.fixed_rows_mut::<3>(0).copy_from(&dcm_to_rotation_vector(
+            &(s.nav.c_b_e * t.c_b_e.transpose()),
+        ));
+        e.fixed_rows_mut::<3>(3)
+            .copy_from(&(s.nav.velocity_ecef - t.velocity_ecef));
+        e.fixed_rows_mut::<3>(6)
+            .copy_from(&(s.nav.position_ecef - t.position_ecef));
+        let p =
+            s.kf.p
+                .fixed_view::<NEES_DOF, NEES_DOF>(ATTITUDE, ATTITUDE)
+                .into_owned();
+        let dr = e.fixed_rows::<3>(6).into_owned();
+        let (horizontal, vertical) = horizontal_vertical(&t.position_ecef, &dr);
+        let run = &mut self.run;
+        run.position_error.push(dr.norm());
+        run.horizontal_error.push(horizontal);
+        run.vertical_error.push(vertical);
+        run.nees
+            .push(crate::filter::nees(&e, &p).unwrap_or(f64::NAN));
+        let p_rr = p.fixed_view::<3, 3>(6, 6).into_owned();
+        run.position_nees
+            .push(crate::filter::nees(&dr, &p_rr).unwrap_or(f64::NAN));
+        self.next += 1;
+    }
+
+    /// The run with its records' counts and, when smoothed, the smoothed
+    /// curves (`smoothed`: the solution and the IMU sample of its first row).
+    fn finish(self, records: &RunRecords, smoothed: Option<(&Solution, usize)>) -> ImuRun {
+        let accepted = records
+            .measurements
+            .iter()
+            .filter(|r| r.status == MeasurementStatus::Accepted)
+            .count();
+        let rejected = records.measurements.len() - accepted;
+        let diverged = records.integrity().diverged();
+        ImuRun {
+            rejected,
+            accepted,
+            diverged,
+            smoothed: smoothed.map(|(s, first)| {
+                Box::new(smoothed_curves(
+                    self.truth, s, first, self.out, rejected, accepted, diverged,
+                ))
+            }),
+            ..self.run
+        }
+    }
 }
 
 /// The forward filter's records, and its smoothed solution with `smooth`.
@@ -294,10 +426,12 @@ where
     }
 }
 
-/// The position error curves of a smoothed solution at the output epochs.
+/// The position error curves of a smoothed solution at the output epochs
+/// (its row 0 is IMU sample `first`).
 fn smoothed_curves(
     truth: &Trajectory,
     smoothed: &Solution,
+    first: usize,
     out: &[usize],
     rejected: usize,
     accepted: usize,
@@ -316,12 +450,9 @@ fn smoothed_curves(
     };
     for &k in out {
         let t = truth.nav_state(k);
-        let (horizontal, vertical) = horizontal_vertical(
-            &t.position_ecef,
-            &(smoothed.position_ecef[k] - t.position_ecef),
-        );
-        run.position_error
-            .push((smoothed.position_ecef[k] - t.position_ecef).norm());
+        let error = smoothed.position_ecef[k - first] - t.position_ecef;
+        let (horizontal, vertical) = horizontal_vertical(&t.position_ecef, &error);
+        run.position_error.push(error.norm());
         run.horizontal_error.push(horizontal);
         run.vertical_error.push(vertical);
     }

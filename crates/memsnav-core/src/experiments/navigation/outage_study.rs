@@ -10,6 +10,13 @@
 //! are those of the whole run, bit for bit; the smoother sees GNSS for
 //! `tail_s` after the window (what pins its error there).
 //!
+//! Every window starts at the same time, so each IMU's filter runs to the
+//! sample before it once and each cell goes on from a copy
+//! ([`super::filters::navigate_branches`]); the smoother's backward pass
+//! covers the window and the tail only (a fixed-interval smoother's
+//! estimate at a sample depends on the forward filter from that sample
+//! on). A cell's filter work is its window and tail, not the 100 s before.
+//!
 //! The cells of a call are the caller's: an adaptive study asks only for
 //! the cells still undecided. A cell's figures in run i do not depend on
 //! which other cells run (every IMU draws from its own stream), so a cell
@@ -22,7 +29,7 @@ use crate::montecarlo::{fold_range, RunOptions};
 use crate::random::Rng;
 use crate::{validate, Error, Result};
 
-use super::filters::{navigate, Coupling, ImuRun};
+use super::filters::{navigate_branches, Branch, Coupling, ImuRun};
 use super::{run, NavigationExperimentConfig, Prepared};
 
 /// What [`outage_study_runs`] runs.
@@ -224,14 +231,17 @@ fn run_cells(
         position_ecef: &draws.truth.position_ecef,
         velocity_ecef: &draws.truth.velocity_ecef,
     };
-    let mut out = vec![None; cells.len()];
-    // Cells of one (length, count) share the epochs their window leaves.
+    // One branch per (length, count) a cell asks for: the epochs its
+    // window leaves, cut `tail_s` after it, and its output epochs (whole
+    // seconds inside [start, start + length), as the navigation sets'
+    // folds take them).
+    let mut groups = Vec::new();
     for length in 0..config.outage_lengths_s.len() {
         for visible in 0..config.visible_satellites.len() {
-            let here: Vec<usize> = (0..cells.len())
-                .filter(|&c| cells[c].length == length && cells[c].visible == visible)
-                .collect();
-            if here.is_empty() {
+            if !cells
+                .iter()
+                .any(|c| c.length == length && c.visible == visible)
+            {
                 continue;
             }
             let length_s = config.outage_lengths_s[length];
@@ -240,32 +250,68 @@ fn run_cells(
             let mut epochs = draws.epochs.clone();
             epochs.truncate(epochs.partition_point(|e| e.time_s <= end_s));
             apply_outages(&mut epochs, &track, &[window]);
-            let samples = draws.truth.time_s.partition_point(|&t| t <= end_s);
-            // The output epochs (whole seconds) inside [start, start + length),
-            // as the navigation sets' folds take them.
             let inside = |t: &f64| *t >= window.start_s && *t < window.start_s + length_s;
             let first = prepared.time_s.iter().position(inside).unwrap_or(0);
             let count = prepared.time_s[first..]
                 .iter()
                 .take_while(|t| inside(t))
                 .count();
-            let mut setup = nav.filter_setup(Coupling::Tight, &prepared.out[first..first + count]);
-            setup.samples = Some(samples);
-            for c in here {
-                let r = navigate(
-                    &draws.truth,
-                    &epochs,
-                    &[],
-                    draws.inputs[cells[c].imu]
-                        .as_ref()
-                        .expect("every cell's IMU is drawn"),
-                    &draws.start,
-                    &setup,
-                )?;
-                out[c] = Some(CellRun {
-                    forward: WindowFigures::of(&r),
-                    smoothed: r.smoothed.as_deref().map(WindowFigures::of),
-                });
+            groups.push((
+                (length, visible),
+                epochs,
+                draws.truth.time_s.partition_point(|&t| t <= end_s),
+                &prepared.out[first..first + count],
+            ));
+        }
+    }
+    // Every window starts at the same time: each IMU's filter runs to the
+    // sample before it once, and on from there in each branch.
+    let split = groups
+        .iter()
+        .filter_map(|(_, _, _, out)| out.first())
+        .min()
+        .map_or(0, |&k| k.saturating_sub(1));
+    let setup = nav.filter_setup(Coupling::Tight, &[]);
+    let mut out = vec![None; cells.len()];
+    for (imu, input) in draws.inputs.iter().enumerate() {
+        let mine: Vec<usize> = (0..groups.len())
+            .filter(|&g| {
+                let (length, visible) = groups[g].0;
+                cells
+                    .iter()
+                    .any(|c| c.imu == imu && c.length == length && c.visible == visible)
+            })
+            .collect();
+        if mine.is_empty() {
+            continue;
+        }
+        let input = input.as_ref().expect("every cell's IMU is drawn");
+        let branches: Vec<Branch> = mine
+            .iter()
+            .map(|&g| Branch {
+                epochs: &groups[g].1,
+                samples: groups[g].2,
+                out: groups[g].3,
+            })
+            .collect();
+        let runs = navigate_branches(
+            &draws.truth,
+            &draws.epochs,
+            input,
+            &draws.start,
+            &setup,
+            split,
+            &branches,
+        )?;
+        for (&g, r) in mine.iter().zip(&runs) {
+            let (length, visible) = groups[g].0;
+            for (c, cell) in cells.iter().enumerate() {
+                if cell.imu == imu && cell.length == length && cell.visible == visible {
+                    out[c] = Some(CellRun {
+                        forward: WindowFigures::of(r),
+                        smoothed: r.smoothed.as_deref().map(WindowFigures::of),
+                    });
+                }
             }
         }
     }
@@ -374,6 +420,102 @@ mod tests {
                     assert!(s.error_3d_max_m < cell.forward.error_3d_max_m, "{c:?}");
                 }
             }
+        }
+    }
+
+    /// A cell filtered from a copy of the shared beginning equals the
+    /// whole run of its epochs from the first sample: the forward figures
+    /// bit for bit, the smoothed ones to rounding (the backward pass of the
+    /// copy starts after the split; a fixed-interval smoother's estimate
+    /// depends on the forward filter from its sample on).
+    #[test]
+    fn a_branch_equals_the_whole_run_of_its_epochs() {
+        let config = study(true);
+        let nav = &config.navigation;
+        let prepared = Prepared::new(nav).unwrap();
+        let mut rng = crate::random::stream(nav.seed, 0);
+        let draws = run::draw_run(
+            nav,
+            &prepared.trajectory,
+            &prepared.gnss,
+            &prepared.sky,
+            &mut rng,
+            None,
+        )
+        .unwrap();
+        let track = ReceiverTrack {
+            time_s: &draws.truth.time_s,
+            position_ecef: &draws.truth.position_ecef,
+            velocity_ecef: &draws.truth.velocity_ecef,
+        };
+        let length_s = config.outage_lengths_s[1];
+        let end_s = config.outage_start_s + length_s + config.tail_s;
+        let mut epochs = draws.epochs.clone();
+        epochs.truncate(epochs.partition_point(|e| e.time_s <= end_s));
+        apply_outages(&mut epochs, &track, &[config.window(length_s, 0)]);
+        let samples = draws.truth.time_s.partition_point(|&t| t <= end_s);
+        let window = |&k: &usize| {
+            let t = draws.truth.time_s[k];
+            t >= config.outage_start_s && t < config.outage_start_s + length_s
+        };
+        let out: Vec<usize> = prepared.out.iter().copied().filter(window).collect();
+        let mut setup = nav.filter_setup(Coupling::Tight, &out);
+        setup.samples = Some(samples);
+        for input in draws.inputs.iter().flatten() {
+            let whole = super::super::filters::navigate(
+                &draws.truth,
+                &epochs,
+                &[],
+                input,
+                &draws.start,
+                &setup,
+            )
+            .unwrap();
+            let branch = Branch {
+                epochs: &epochs,
+                samples,
+                out: &out,
+            };
+            let split = out[0] - 1;
+            let copy = navigate_branches(
+                &draws.truth,
+                &draws.epochs,
+                input,
+                &draws.start,
+                &setup,
+                split,
+                &[branch],
+            )
+            .unwrap()
+            .remove(0);
+            assert_eq!(copy.position_error, whole.position_error);
+            assert_eq!(copy.nees, whole.nees);
+            assert_eq!(
+                (copy.accepted, copy.rejected),
+                (whole.accepted, whole.rejected)
+            );
+            let (a, b) = (copy.smoothed.unwrap(), whole.smoothed.unwrap());
+            for (x, y) in a.position_error.iter().zip(&b.position_error) {
+                assert!((x - y).abs() < 1e-6 * (1.0 + y), "{x} against {y}");
+            }
+            assert_eq!(a.position_error.len(), out.len());
+            // The split may not be at or after an output epoch.
+            let late = Branch {
+                epochs: &epochs,
+                samples,
+                out: &out,
+            };
+            let e = navigate_branches(
+                &draws.truth,
+                &draws.epochs,
+                input,
+                &draws.start,
+                &setup,
+                out[0],
+                &[late],
+            )
+            .unwrap_err();
+            assert!(e.to_string().contains("branches"), "{e}");
         }
     }
 
