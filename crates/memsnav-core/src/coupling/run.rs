@@ -11,8 +11,8 @@
 //!   each IMU sample k instead of storing the solution (the Monte Carlo
 //!   keeps only what it scores).
 //! - [`run_paused`]: a run stopped after one sample, continued by
-//!   [`Paused::finish`] on each of several aidings that share its
-//!   beginning (an outage study's cells).
+//!   [`Paused::advance`] and [`Paused::finish`] on each of several aidings
+//!   that share its beginning (an outage study's cells).
 
 use super::engine::Solution;
 use super::engine::{self, AidingEpoch, FilterState, InitialState, Observe, SampleHook};
@@ -27,7 +27,7 @@ pub trait Aiding: AidingEpoch + Sized {
     /// The argument the epochs come in, for error messages.
     const ARGUMENT: &'static str;
     /// What [`Self::prepare`] computes once per run for the updates.
-    type Prepared;
+    type Prepared: Clone;
     /// Checks the epochs and returns what the updates need, with the
     /// initial state and tuning the run starts from (the loose filter
     /// fixes the unobserved clock, for instance).
@@ -98,13 +98,17 @@ pub(crate) fn run_until_error<const N: usize, E: Aiding, H: SampleHook<N>>(
 }
 
 /// A run paused after one IMU sample ([`run_paused`]): the filter state
-/// there and what its updates need. [`Paused::finish`] continues a copy
-/// of it, so runs that share their beginning filter it once.
+/// there and what its updates need. [`Paused::advance`] and
+/// [`Paused::finish`] continue a copy of it, so runs that share their
+/// beginning filter it once.
 pub(crate) struct Paused<const N: usize, E: Aiding> {
     state: FilterState<N>,
     prepared: E::Prepared,
     progress: engine::Progress,
     tolerance_s: f64,
+    /// Once a copy smooths: the forward solution since its smoother's log
+    /// began, and the IMU sample of its row 0.
+    recorded: Option<(Solution, usize)>,
 }
 
 /// The filter over `imu` and `epochs` up to IMU sample `last`, paused
@@ -145,50 +149,98 @@ where
         prepared,
         progress,
         tolerance_s,
+        recorded: None,
     })
 }
 
 impl<const N: usize, E: Aiding> Paused<N, E> {
-    /// The IMU sample the run is paused at.
-    pub(crate) fn sample(&self) -> usize {
-        self.progress.sample
+    /// A copy of the paused run continued to IMU sample `last` of `imu`
+    /// and paused again. `imu` and `epochs` must hold the paused run's
+    /// samples and epochs up to the pause; what follows may differ (the
+    /// run is causal: the copy is the run [`run`] makes on them, bit for
+    /// bit). `observe(k, state)` sees each sample after the pause. With
+    /// `smooth` the copy records for the smoother from the pause on (if
+    /// it does not already).
+    pub(crate) fn advance<O>(
+        &self,
+        imu: &ImuData,
+        epochs: &[E],
+        last: usize,
+        smooth: bool,
+        observe: O,
+    ) -> Result<Self>
+    where
+        O: FnMut(usize, &FilterState<N>),
+    {
+        let (state, progress, recorded) = self.go_on(imu, epochs, last, smooth, observe)?;
+        Ok(Self {
+            state,
+            prepared: self.prepared.clone(),
+            progress,
+            tolerance_s: self.tolerance_s,
+            recorded,
+        })
     }
 
-    /// A copy of the paused run continued to the end of `imu` and
-    /// `epochs`, which must hold the paused run's samples and epochs up to
-    /// the pause (what follows may differ: the run is causal, so the copy
-    /// is the run [`run`] makes on them, bit for bit); `observe(k, state)`
-    /// sees each sample after the pause. Returns the whole run's
-    /// measurement records and, with `smooth`, the smoothed solution of
-    /// the samples after the pause (the backward pass needs nothing
-    /// before them; its records are empty).
+    /// A copy of the paused run continued to the end of `imu` and `epochs`
+    /// (as [`Self::advance`]). Returns the whole run's measurement records
+    /// and, when it smooths (`smooth`, or an earlier copy began to), the
+    /// smoothed solution of the samples after the pause the smoothing
+    /// began at, with the IMU sample of its row 0 (the backward pass needs
+    /// nothing before them; its records are empty).
     pub(crate) fn finish<O>(
         &self,
         imu: &ImuData,
         epochs: &[E],
         smooth: bool,
+        observe: O,
+    ) -> Result<(RunRecords, Option<(Solution, usize)>)>
+    where
+        O: FnMut(usize, &FilterState<N>),
+    {
+        let last = imu.time_s.len() - 1;
+        let (mut state, _, recorded) = self.go_on(imu, epochs, last, smooth, observe)?;
+        let smoothed = match (recorded, state.kf.take_smoother()) {
+            (Some((sol, first)), Some(mut log)) => Some((sol.smoothed(&mut log)?, first)),
+            _ => None,
+        };
+        Ok((state.take_records(), smoothed))
+    }
+
+    /// The copy's state, where it stands and what it recorded, after
+    /// running on to `last`.
+    #[allow(clippy::type_complexity)]
+    fn go_on<O>(
+        &self,
+        imu: &ImuData,
+        epochs: &[E],
+        last: usize,
+        smooth: bool,
         mut observe: O,
-    ) -> Result<(RunRecords, Option<Solution>)>
+    ) -> Result<(FilterState<N>, engine::Progress, Option<(Solution, usize)>)>
     where
         O: FnMut(usize, &FilterState<N>),
     {
         imu.validate()?;
         engine::validate_epoch_times(E::ARGUMENT, epochs, imu.time_s, self.tolerance_s)?;
-        let last = imu.time_s.len() - 1;
-        let remaining = last.saturating_sub(self.progress.sample);
         let mut state = self.state.clone();
-        let mut sol = smooth.then(|| Solution::with_capacity(remaining, N));
-        if smooth {
+        let mut recorded = self.recorded.clone();
+        if smooth && recorded.is_none() {
+            let remaining = last.saturating_sub(self.progress.sample);
             state.enable_smoother(remaining);
+            recorded = Some((
+                Solution::with_capacity(remaining, N),
+                self.progress.sample + 1,
+            ));
         }
         let mut hook = Observe(|k, s: &FilterState<N>| {
             observe(k, s);
-            if let Some(sol) = sol.as_mut() {
+            if let Some((sol, _)) = recorded.as_mut() {
                 sol.push(imu.time_s[k], s);
             }
         });
         let update = |s: &mut FilterState<N>, i, e: &E| E::update(s, &self.prepared, i, e);
-        engine::run_to(
+        let progress = engine::run_to(
             imu,
             epochs,
             &mut state,
@@ -198,11 +250,7 @@ impl<const N: usize, E: Aiding> Paused<N, E> {
             self.progress,
             last,
         )?;
-        let smoothed = match (sol, state.kf.take_smoother()) {
-            (Some(sol), Some(mut log)) => Some(sol.smoothed(&mut log)?),
-            _ => None,
-        };
-        Ok((state.take_records(), smoothed))
+        Ok((state, progress, recorded))
     }
 }
 

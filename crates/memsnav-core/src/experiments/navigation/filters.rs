@@ -210,21 +210,27 @@ fn navigate_with<const N: usize>(
 }
 
 /// One branch of [`navigate_branches`]: its epochs, the IMU samples it
-/// runs over (from the first) and its output epochs, all after the split.
+/// runs over (from the first) and its output epochs, all after the split;
+/// in a chain, the last sample at which its epochs agree with the chain's
+/// last branch's.
 pub(super) struct Branch<'a> {
     pub epochs: &'a [GnssEpoch],
     pub samples: usize,
     pub out: &'a [usize],
+    pub agrees_until: usize,
 }
 
 /// The tightly coupled filter of one IMU on runs that share their
-/// beginning: once over `shared` to IMU sample `split`, then a copy on each
-/// branch, whose epochs equal `shared` up to `split`. Each branch's
-/// [`ImuRun`] is [`navigate`]'s on its epochs (`setup.out` and
-/// `setup.samples` give way to the branch's): the forward filter's bit for
-/// bit; the smoother's from a backward pass that starts after `split` (the
-/// same estimates up to rounding: a fixed-interval smoother's estimate at a
-/// sample depends on the forward filter from that sample on).
+/// beginning: once over `shared` to IMU sample `split`, then on from
+/// copies. Each chain runs once along its last branch's epochs, and each
+/// branch goes on from a copy taken at its `agrees_until` (so a chain's
+/// branches must agree with its last up to there, and `shared` with every
+/// branch up to `split`). Each branch's [`ImuRun`] is [`navigate`]'s on its
+/// epochs (`setup.out` and `setup.samples` give way to the branch's): the
+/// forward filter's bit for bit; the smoother's from a backward pass that
+/// starts after `split` (the same estimates up to rounding: a
+/// fixed-interval smoother's estimate at a sample depends on the forward
+/// filter from that sample on). Returns the runs chain by chain.
 pub(super) fn navigate_branches(
     truth: &Trajectory,
     shared: &[GnssEpoch],
@@ -232,21 +238,21 @@ pub(super) fn navigate_branches(
     start: &Start,
     setup: &FilterSetup,
     split: usize,
-    branches: &[Branch<'_>],
-) -> Result<Vec<ImuRun>> {
+    chains: &[Vec<Branch<'_>>],
+) -> Result<Vec<Vec<ImuRun>>> {
     let tuning = tuning(&input.spec, setup)?;
-    let (t, e, i, s, b) = (truth, shared, input, start, branches);
+    let (t, e, i, s, c) = (truth, shared, input, start, chains);
     match (setup.scale_factor_states, setup.inter_system_bias_states) {
         (false, false) => {
-            branches_with::<{ size(false, false) }>(t, e, i, s, &tuning, setup, split, b)
+            branches_with::<{ size(false, false) }>(t, e, i, s, &tuning, setup, split, c)
         }
         (true, false) => {
-            branches_with::<{ size(true, false) }>(t, e, i, s, &tuning, setup, split, b)
+            branches_with::<{ size(true, false) }>(t, e, i, s, &tuning, setup, split, c)
         }
         (false, true) => {
-            branches_with::<{ size(false, true) }>(t, e, i, s, &tuning, setup, split, b)
+            branches_with::<{ size(false, true) }>(t, e, i, s, &tuning, setup, split, c)
         }
-        (true, true) => branches_with::<{ size(true, true) }>(t, e, i, s, &tuning, setup, split, b),
+        (true, true) => branches_with::<{ size(true, true) }>(t, e, i, s, &tuning, setup, split, c),
     }
 }
 
@@ -259,22 +265,28 @@ fn branches_with<const N: usize>(
     tuning: &FilterTuning,
     setup: &FilterSetup,
     split: usize,
-    branches: &[Branch<'_>],
-) -> Result<Vec<ImuRun>> {
-    let longest = branches.iter().map(|b| b.samples).max().unwrap_or(0);
-    if branches
-        .iter()
-        .any(|b| b.samples <= split || b.out.first().is_some_and(|&k| k <= split))
-    {
+    chains: &[Vec<Branch<'_>>],
+) -> Result<Vec<Vec<ImuRun>>> {
+    let branches = || chains.iter().flatten();
+    let longest = branches().map(|b| b.samples).max().unwrap_or(0);
+    let misplaced = |b: &Branch| {
+        b.samples <= split
+            || b.out.first().is_some_and(|&k| k <= split)
+            || b.agrees_until < split
+            || b.agrees_until >= b.samples
+    };
+    if branches().any(misplaced) {
         return Err(crate::Error::invalid(
             "branches",
-            format!("every branch's samples and output epochs must come after the split at sample {split}"),
+            format!(
+                "every branch's samples and output epochs must come after the split at sample {split}, and its agreement end within its samples"
+            ),
         ));
     }
     let imu = imu_data(truth, input, longest);
     let initial = initial_state(start, shared, &imu)?;
     let shared = &shared[..shared.partition_point(|e| e.time_s <= truth.time_s[longest - 1])];
-    let paused = coupling::run_paused::<N, GnssEpoch, _>(
+    let prefix = coupling::run_paused::<N, GnssEpoch, _>(
         &imu,
         shared,
         &initial,
@@ -282,17 +294,38 @@ fn branches_with<const N: usize>(
         split,
         |_, _: &FilterState<N>| {},
     )?;
-    branches
+    chains
         .iter()
-        .map(|b| {
-            let imu = imu_data(truth, input, b.samples);
-            let mut curves = Curves::new(truth, b.out);
-            let observe = |k: usize, s: &FilterState<N>| curves.observe(k, s);
-            let (records, smoothed) = paused.finish(&imu, b.epochs, setup.smooth, observe)?;
-            Ok(curves.finish(
-                &records,
-                smoothed.as_ref().map(|s| (s, paused.sample() + 1)),
-            ))
+        .map(|chain| {
+            let Some(along) = chain.last() else {
+                return Ok(Vec::new());
+            };
+            let imu_along = imu_data(truth, input, along.samples);
+            let mut curves: Vec<Curves> = chain.iter().map(|b| Curves::new(truth, b.out)).collect();
+            let mut runs = Vec::with_capacity(chain.len());
+            let mut paused = None;
+            for (i, b) in chain.iter().enumerate() {
+                // On along the chain to this branch's agreement end, every
+                // branch still to come observing; then this branch's end.
+                let from = paused.as_ref().unwrap_or(&prefix);
+                let observe = |k: usize, s: &FilterState<N>| {
+                    curves[i..].iter_mut().for_each(|c| c.observe(k, s));
+                };
+                let here = from.advance(
+                    &imu_along,
+                    along.epochs,
+                    b.agrees_until,
+                    setup.smooth,
+                    observe,
+                )?;
+                let observe = |k: usize, s: &FilterState<N>| curves[i].observe(k, s);
+                let imu = imu_data(truth, input, b.samples);
+                let (records, smoothed) = here.finish(&imu, b.epochs, setup.smooth, observe)?;
+                let c = std::mem::replace(&mut curves[i], Curves::new(truth, &[]));
+                runs.push(c.finish(&records, smoothed.as_ref().map(|(s, first)| (s, *first))));
+                paused = Some(here);
+            }
+            Ok(runs)
         })
         .collect()
 }

@@ -11,11 +11,14 @@
 //! `tail_s` after the window (what pins its error there).
 //!
 //! Every window starts at the same time, so each IMU's filter runs to the
-//! sample before it once and each cell goes on from a copy
-//! ([`super::filters::navigate_branches`]); the smoother's backward pass
-//! covers the window and the tail only (a fixed-interval smoother's
+//! sample before it once; the windows of one satellite count agree up to
+//! the shorter one's end, so one pass along the longest window serves
+//! them all, each cell going on from a copy at its window's end for its
+//! tail ([`super::filters::navigate_branches`]). The smoother's backward
+//! pass covers the window and the tail only (a fixed-interval smoother's
 //! estimate at a sample depends on the forward filter from that sample
-//! on). A cell's filter work is its window and tail, not the 100 s before.
+//! on). Per IMU and run the filter covers the time before the windows
+//! once and each count's longest window once, plus the tails.
 //!
 //! The cells of a call are the caller's: an adaptive study asks only for
 //! the cells still undecided. A cell's figures in run i do not depend on
@@ -265,33 +268,63 @@ fn run_cells(
         }
     }
     // Every window starts at the same time: each IMU's filter runs to the
-    // sample before it once, and on from there in each branch.
+    // sample before it once, and on from there. The windows of one count
+    // agree up to the shorter one's end, so one pass along the longest
+    // serves them all, each cell going on from a copy at its window's end.
     let split = groups
         .iter()
         .filter_map(|(_, _, _, out)| out.first())
         .min()
         .map_or(0, |&k| k.saturating_sub(1));
+    let time_s = &draws.truth.time_s;
+    let window_end = |length: usize| {
+        let end_s = config.outage_start_s + config.outage_lengths_s[length];
+        // The last sample before GNSS comes back.
+        time_s
+            .partition_point(|&t| t < end_s - 1e-6)
+            .saturating_sub(1)
+            .max(split)
+    };
     let setup = nav.filter_setup(Coupling::Tight, &[]);
     let mut out = vec![None; cells.len()];
     for (imu, input) in draws.inputs.iter().enumerate() {
-        let mine: Vec<usize> = (0..groups.len())
-            .filter(|&g| {
-                let (length, visible) = groups[g].0;
-                cells
-                    .iter()
-                    .any(|c| c.imu == imu && c.length == length && c.visible == visible)
-            })
-            .collect();
-        if mine.is_empty() {
+        let Some(input) = input.as_ref() else {
+            continue;
+        };
+        let mut chains = Vec::new();
+        for visible in 0..config.visible_satellites.len() {
+            let mut mine: Vec<usize> = (0..groups.len())
+                .filter(|&g| {
+                    let (length, v) = groups[g].0;
+                    v == visible
+                        && cells
+                            .iter()
+                            .any(|c| c.imu == imu && c.length == length && c.visible == v)
+                })
+                .collect();
+            mine.sort_by(|&a, &b| {
+                let length = |g: usize| config.outage_lengths_s[groups[g].0 .0];
+                length(a).total_cmp(&length(b))
+            });
+            if !mine.is_empty() {
+                chains.push(mine);
+            }
+        }
+        if chains.is_empty() {
             continue;
         }
-        let input = input.as_ref().expect("every cell's IMU is drawn");
-        let branches: Vec<Branch> = mine
+        let branches: Vec<Vec<Branch>> = chains
             .iter()
-            .map(|&g| Branch {
-                epochs: &groups[g].1,
-                samples: groups[g].2,
-                out: groups[g].3,
+            .map(|chain| {
+                chain
+                    .iter()
+                    .map(|&g| Branch {
+                        epochs: &groups[g].1,
+                        samples: groups[g].2,
+                        out: groups[g].3,
+                        agrees_until: window_end(groups[g].0 .0),
+                    })
+                    .collect()
             })
             .collect();
         let runs = navigate_branches(
@@ -303,14 +336,16 @@ fn run_cells(
             split,
             &branches,
         )?;
-        for (&g, r) in mine.iter().zip(&runs) {
-            let (length, visible) = groups[g].0;
-            for (c, cell) in cells.iter().enumerate() {
-                if cell.imu == imu && cell.length == length && cell.visible == visible {
-                    out[c] = Some(CellRun {
-                        forward: WindowFigures::of(r),
-                        smoothed: r.smoothed.as_deref().map(WindowFigures::of),
-                    });
+        for (chain, chain_runs) in chains.iter().zip(&runs) {
+            for (&g, r) in chain.iter().zip(chain_runs) {
+                let (length, visible) = groups[g].0;
+                for (c, cell) in cells.iter().enumerate() {
+                    if cell.imu == imu && cell.length == length && cell.visible == visible {
+                        out[c] = Some(CellRun {
+                            forward: WindowFigures::of(r),
+                            smoothed: r.smoothed.as_deref().map(WindowFigures::of),
+                        });
+                    }
                 }
             }
         }
@@ -475,6 +510,7 @@ mod tests {
                 epochs: &epochs,
                 samples,
                 out: &out,
+                agrees_until: samples - 1,
             };
             let split = out[0] - 1;
             let copy = navigate_branches(
@@ -484,9 +520,10 @@ mod tests {
                 &draws.start,
                 &setup,
                 split,
-                &[branch],
+                &[vec![branch]],
             )
             .unwrap()
+            .remove(0)
             .remove(0);
             assert_eq!(copy.position_error, whole.position_error);
             assert_eq!(copy.nees, whole.nees);
@@ -504,6 +541,7 @@ mod tests {
                 epochs: &epochs,
                 samples,
                 out: &out,
+                agrees_until: samples - 1,
             };
             let e = navigate_branches(
                 &draws.truth,
@@ -512,7 +550,7 @@ mod tests {
                 &draws.start,
                 &setup,
                 out[0],
-                &[late],
+                &[vec![late]],
             )
             .unwrap_err();
             assert!(e.to_string().contains("branches"), "{e}");
