@@ -66,11 +66,15 @@ pub(super) struct GlonassStats {
     pub out_of_range: usize,
 }
 
+/// A string's first 12 bytes (its 85 bits and padding) and its reception
+/// time, GPS s.
+type Received = ([u8; 12], f64);
+
 /// Assembles ephemerides from the strings of every satellite.
 #[derive(Debug, Default)]
 pub(super) struct GlonassDecoder {
     /// Per slot, strings 1-4 with their reception times.
-    strings: HashMap<u16, [Option<([u8; 12], f64)>; 4]>,
+    strings: HashMap<u16, [Option<Received>; 4]>,
     /// The latest string 5's four-year interval N4.
     four_year_interval: Option<u64>,
     pub ephemerides: Vec<GlonassEphemeris>,
