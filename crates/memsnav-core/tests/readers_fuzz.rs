@@ -844,7 +844,9 @@ fn glonass_hamming(string: &mut [u8; 12]) {
 
 /// One RXM-SFRBX of GLONASS: string contents of any number, with a good
 /// Hamming code or the bytes as drawn, the idle chip clear or not, on any
-/// slot, channel and word count.
+/// slot, channel and word count; or (`coherent`) a string 1-5 of slot 1-3
+/// whose fields are in the ICD's ranges and whose string 4 names its slot,
+/// so that ephemerides are assembled and written.
 #[derive(Debug, Clone)]
 struct GlonassFrame {
     sv_id: u8,
@@ -853,6 +855,39 @@ struct GlonassFrame {
     body: [u8; 12],
     good_code: bool,
     words: u8,
+    coherent: bool,
+}
+
+/// Sets bit `i` (0 = the idle chip) of a string.
+fn set_string_bit(string: &mut [u8; 12], i: usize, v: u8) {
+    string[i / 8] = (string[i / 8] & !(1 << (7 - i % 8))) | (v << (7 - i % 8));
+}
+
+/// Makes a drawn string one a satellite could send: slot 1-3, channel
+/// −7..+6, number 1-5, magnitudes within the ICD's ranges (their top bits
+/// cleared), t_b 1-63 quarter hours, string 4's slot the frame's.
+fn coherent_glonass(f: &mut GlonassFrame) {
+    f.sv_id = 1 + f.sv_id % 3;
+    f.freq_id %= 14;
+    f.m = 1 + f.m % 5;
+    f.good_code = true;
+    f.words = 4;
+    let s = &mut f.body;
+    if (1..=3).contains(&f.m) {
+        // Velocity magnitude bits 22-23, acceleration 46-47, position 51-52.
+        for i in [22, 23, 46, 47, 51, 52] {
+            set_string_bit(s, i, 0);
+        }
+    }
+    if f.m == 2 {
+        set_string_bit(s, 9, 0);
+        set_string_bit(s, 15, 1);
+    }
+    if f.m == 4 {
+        for (k, i) in (70..75).enumerate() {
+            set_string_bit(s, i, f.sv_id >> (4 - k) & 1);
+        }
+    }
 }
 
 fn glonass_frame() -> impl Strategy<Value = GlonassFrame> {
@@ -863,14 +898,22 @@ fn glonass_frame() -> impl Strategy<Value = GlonassFrame> {
         any::<[u8; 12]>(),
         prop_oneof![4 => Just(true), 1 => Just(false)],
         prop_oneof![6 => Just(4u8), 1 => 0u8..8],
+        any::<bool>(),
     )
-        .prop_map(|(sv_id, freq_id, m, body, good_code, words)| GlonassFrame {
-            sv_id,
-            freq_id,
-            m,
-            body,
-            good_code,
-            words,
+        .prop_map(|(sv_id, freq_id, m, body, good_code, words, coherent)| {
+            let mut f = GlonassFrame {
+                sv_id,
+                freq_id,
+                m,
+                body,
+                good_code,
+                words,
+                coherent,
+            };
+            if f.coherent {
+                coherent_glonass(&mut f);
+            }
+            f
         })
 }
 
