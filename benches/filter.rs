@@ -8,7 +8,9 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
 use memsnav_benches::TightScenario;
 use memsnav_core::coupling;
-use memsnav_core::filter::state::{BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY};
+use memsnav_core::filter::state::{
+    Layout, BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY,
+};
 use memsnav_core::filter::{ErrorStateKf, ProcessNoise, SparseRow, SystemInputs};
 use memsnav_core::gnss;
 use memsnav_core::ins::{self, ImuSample};
@@ -49,6 +51,24 @@ fn strapdown_and_propagation(c: &mut Criterion) {
             k += 1;
             if k.is_multiple_of(512) {
                 kf.p = p0;
+            }
+            kf.propagate(black_box(&inputs), &noise, 0.01, 1.0).unwrap()
+        })
+    });
+    // The multi-system state (base + inter-system biases): one state per
+    // system beyond GPS's clock, what a GNSS-combining run pays per sample.
+    const WITH_ISB: usize = Layout::size(false, false, true, false);
+    let mut p_isb = SMatrix::<f64, WITH_ISB, WITH_ISB>::identity();
+    p_isb
+        .fixed_view_mut::<BASE_STATES, BASE_STATES>(0, 0)
+        .copy_from(&p0);
+    g.bench_function("propagate_inter_system_bias_states", |b| {
+        let mut kf = ErrorStateKf::<WITH_ISB>::new(p_isb).unwrap();
+        let mut k = 0usize;
+        b.iter(|| {
+            k += 1;
+            if k.is_multiple_of(512) {
+                kf.p = p_isb;
             }
             kf.propagate(black_box(&inputs), &noise, 0.01, 1.0).unwrap()
         })

@@ -77,6 +77,20 @@ def test_simulate_with_galileo_and_beidou(tmp_path):
     assert back.sat_id.max() > 200
 
 
+def test_simulate_with_glonass(tmp_path):
+    out = tmp_path / "sim"
+    done = run(
+        "simulate", "--out", str(out), "--duration", "5", "--satellites", "14",
+        "--systems", "G,R", "--inter-system-bias", "0,0,12",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    gnss = np.loadtxt(out / "gnss.csv", delimiter=",", skiprows=1)
+    meta = json.loads((out / "simulation.json").read_text())
+    assert meta["systems"] == ["G", "R"] and meta["inter_system_bias_m"] == [0.0, 0.0, 12.0]
+    # GLONASS slots are numbered 301-324.
+    assert set(gnss[:, 2].astype(int) // 100) == {0, 3}
+
+
 def test_derived_seeds_do_not_overlap_between_user_seeds():
     # seed + 1 would make seed 0's IMU errors seed 1's trajectory.
     names = ("trajectory", "imu errors", "imu noise", "gnss")
@@ -93,7 +107,7 @@ def test_derived_seeds_do_not_overlap_between_user_seeds():
         (["simulate", "--duration", "nan"], "--duration: must be positive"),
         (["simulate", "--outage", "5"], "expected START:LENGTH"),
         (["simulate", "--imu", "cheap"], "invalid choice: 'cheap'"),
-        (["simulate", "--systems", "G,R"], "expected letters among G, E, C"),
+        (["simulate", "--systems", "G,X"], "expected letters among G, E, C, R"),
         (["simulate", "--inter-system-bias", "3"], "expected GALILEO,BEIDOU"),
         (["simulate", "--cycle-slip-probability", "2"], "must be within [0, 1], got 2"),
         (["simulate", "--carrier-phase-std", "-1"], "must be zero or more and finite"),

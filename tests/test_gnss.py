@@ -107,9 +107,16 @@ def test_nominal_galileo_and_beidou_walkers_have_their_published_orbits():
     # Published: GPS 11 h 58 min, Galileo 14 h 4 min, BeiDou MEO 12 h 53 min.
     for block, published in ((slice(0, 24), 718.0), (slice(24, 48), 844.0), (slice(48, 72), 773.0)):
         np.testing.assert_allclose(period_min[block], published, atol=1.0)
-    for bad in (["G", "G"], ["R"], ["GE"], []):
+    for bad in (["G", "G"], ["X"], ["GE"], []):
         with pytest.raises(ValueError, match="systems"):
             mn.Constellation.nominal(bad)
+    # GLONASS: 24/3/1 at 25 510 km, 11 h 15 min 49 s, slots R01-R24 (301-324).
+    glonass = mn.Constellation.nominal(["R"])
+    assert len(glonass) == 24 and glonass.prns[0] == "R01"
+    pos, vel = glonass.position_velocity(777.0)
+    inertial_v = vel + np.cross([0, 0, OMEGA_E], pos)
+    period_min = 2 * math.pi * np.linalg.norm(pos, axis=1) / np.linalg.norm(inertial_v, axis=1)
+    np.testing.assert_allclose(period_min / 60.0, 675.8, atol=1.0)
 
 
 def test_inter_system_biases_are_in_the_other_systems_pseudoranges():
@@ -118,7 +125,7 @@ def test_inter_system_biases_are_in_the_other_systems_pseudoranges():
     quiet = {"pseudorange_std": 0.0, "pseudorange_rate_std": 0.0, "seed": 2, "n_satellites": 40}
     plain = mn.simulate_gnss(t, p, v, sky, **quiet)
     biased = mn.simulate_gnss(t, p, v, sky, inter_system_bias=(3.0, -25.0), **quiet)
-    np.testing.assert_array_equal(biased.inter_system_bias, [3.0, -25.0])
+    np.testing.assert_array_equal(biased.inter_system_bias, [3.0, -25.0, 0.0])
     np.testing.assert_array_equal(plain.sat_id, biased.sat_id)
     ids = biased.sat_id
     difference = biased.pseudorange - plain.pseudorange

@@ -96,7 +96,7 @@ def test_study_options_bad_input():
 
 def test_galileo_and_beidou_with_inter_system_biases():
     """G + E + C with biases of +3 m and -25 m on the Galileo and BeiDou
-    pseudoranges: the filters estimate them (two more states) and track
+    pseudoranges: the filters estimate them (three more states) and track
     every satellite in view (about 20 against GPS's 6), staying consistent."""
     kw = dict(runs=2, duration=40.0, seed=3, imus=("ins",), threads=1)
     gps = mn.experiments.navigation(**kw)
@@ -109,4 +109,4 @@ def test_galileo_and_beidou_with_inter_system_biases():
     assert np.all(three.position_error["ins"][:, 20:] < 5.0)
     assert 0.2 < three.summary()["ins"]["mean_nees_per_dof"] < 2.0
     with pytest.raises(ValueError, match="systems"):
-        mn.experiments.navigation(systems=("G", "R"), **kw)
+        mn.experiments.navigation(systems=("G", "X"), **kw)

@@ -392,7 +392,7 @@ def test_study_on_galileo_and_beidou_from_the_configuration(tmp_path):
     )
     assert not np.array_equal(end, gps.per_run("tactical", 10.0, 3, "horizontal_end"))
     bad = tmp_path / "bad.toml"
-    bad.write_text('output = "out2"\n[study]\nsystems = ["G", "R"]\n')
+    bad.write_text('output = "out2"\n[study]\nsystems = ["G", "X"]\n')
     assert main(["study", "--config", str(bad), "--quiet"]) != 0
 
 

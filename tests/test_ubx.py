@@ -84,7 +84,10 @@ def test_convert_writes_rinex_that_georinex_reads_back(tmp_path, capsys):
     out = str(tmp_path / "out")
     assert main(["convert", str(EXCERPT), "--output", out, "--rinex-version", "3.04"]) == 0
     printed = capsys.readouterr().out
-    assert "20 epochs" in printed and "4 GPS LNAV, 7 Galileo and 8 BeiDou ephemerides" in printed
+    assert (
+        "20 epochs" in printed
+        and "4 GPS LNAV, 7 Galileo, 8 BeiDou and 0 GLONASS ephemerides" in printed
+    )
     assert "7 GPS CNAV ephemerides decoded, not written to the RINEX 3.04 .nav" in printed
     log = mn.read_ubx(EXCERPT)
     obs_path, nav_path = tmp_path / "out" / "walk_head.obs", tmp_path / "out" / "walk_head.nav"

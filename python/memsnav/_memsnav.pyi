@@ -826,9 +826,11 @@ class Constellation:
         """The nominal Walker constellations of ``systems`` (RINEX letters, in
         this order): "G" GPS 24/6/1 at a = 26 560 km, 55°; "E" Galileo 24/3/1
         at 29 599.8 km, 56° (period 14 h 4 min); "C" BeiDou MEO 24/3/1 at
-        27 906.1 km, 55° (12 h 53 min; no GEO or IGSO satellites).
-        Satellites are numbered G 1-24, E 101-124, C 201-224 (``sat_id``)
-        and named G01, E01, C01, ... (``prns``). ``nominal(["G"])`` is
+        27 906.1 km, 55° (12 h 53 min; no GEO or IGSO satellites); "R"
+        GLONASS 24/3/1 at 25 510 km, 64.8° (11 h 16 min; slots on the current
+        FDMA channel plan). Satellites are numbered G 1-24, E 101-124,
+        C 201-224, R 301-324 (``sat_id``) and named G01, E01, C01, R01, ...
+        (``prns``). ``nominal(["G"])`` is
         ``walker()``.
 
         Raises ValueError for an unknown letter or a system named twice.
@@ -1031,8 +1033,8 @@ class GnssMeasurements:
 
     @property
     def inter_system_bias(self) -> npt.NDArray[np.float64]:
-        """True inter-system biases (Galileo, BeiDou minus GPS) in the
-        pseudoranges, m, (2,); NaN for measurements not simulated here."""
+        """True inter-system biases (Galileo, BeiDou, GLONASS minus GPS) in
+        the pseudoranges, m, (3,); NaN for measurements not simulated here."""
 
     def __len__(self) -> int: ...
 
@@ -1076,7 +1078,7 @@ def simulate_gnss(
     inter-system-bias unknown per system other than GPS, so a system's lone
     satellite adds nothing). Pseudorange = exact light-time range with
     Earth rotation + receiver clock + the system's ``inter_system_bias``
-    (Galileo, BeiDou minus GPS, m; default none) + optional Gauss-Markov
+    (Galileo, BeiDou[, GLONASS] minus GPS, m; default none) + optional Gauss-Markov
     residual (residual_std m, residual_correlation_time s) + white noise.
     Clock: two-state, h0 and h_minus2 Allan coefficients.
     Outages: (start s, length s) total, or (start, length, n_satellites)
@@ -1406,8 +1408,8 @@ class FilterSolution:
 
     @property
     def inter_system_bias(self) -> npt.NDArray[np.float64] | None:
-        """Inter-system bias estimates (Galileo, BeiDou minus GPS), m, (N, 2);
-        None without the inter-system-bias states."""
+        """Inter-system bias estimates (Galileo, BeiDou, GLONASS minus GPS),
+        m, (N, 3); None without the inter-system-bias states."""
     @property
     def covariance_diagonal(self) -> npt.NDArray[np.float64]:
         """Diagonal of the error covariance, (N, n_states), order ``state_names``
@@ -1720,7 +1722,7 @@ class TightlyCoupledFilter:
         sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
         rad/s), to be driven one call at a time: a ``RunningFilter`` with this
         filter's tuning (docs/how-to/step-api.md). ``inter_system_biases`` (tight
-        only): with the Galileo and BeiDou inter-system-bias states."""
+        only): with the Galileo, BeiDou and GLONASS inter-system-bias states."""
 
 @final
 class RunningFilter:
@@ -1933,7 +1935,7 @@ class LooselyCoupledFilter:
         sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
         rad/s), to be driven one call at a time: a ``RunningFilter`` with this
         filter's tuning (docs/how-to/step-api.md). ``inter_system_biases`` (tight
-        only): with the Galileo and BeiDou inter-system-bias states."""
+        only): with the Galileo, BeiDou and GLONASS inter-system-bias states."""
 
 def navigation_experiment(
     imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
@@ -1972,8 +1974,8 @@ def navigation_experiment(
     east tilt, heading) degrees, None for (1, 1, 5). ``outage``: (start_s,
     length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
     satellites. ``systems``: RINEX letters of the simulated systems (None:
-    ["G"]), ``inter_system_bias``: Galileo and BeiDou pseudorange biases
-    against GPS, m (None: 0, 0). ``carrier_phase_std``: simulated carrier
+    ["G"]), ``inter_system_bias``: Galileo, BeiDou[, GLONASS] pseudorange
+    biases against GPS, m (None: 0, 0, 0). ``carrier_phase_std``: simulated carrier
     range noise, m (None: 0, no carrier phase; above 0 the tight filters use
     its changes between epochs), ``cycle_slip_probability``: silent slips
     per satellite and epoch (None: 0)."""
@@ -2126,8 +2128,8 @@ class RinexObservations:
         weighting: str | None = None,
     ) -> GnssMeasurements:
         """Measurements of several systems (``systems``: "G", "E", "C", "R";
-        default G, E, C: GLONASS on request, for ``solve_fix``, the tight
-        filter does not take it yet): GPS L1 C/A, Galileo E1, BeiDou
+        default G, E, C: GLONASS on request, for ``solve_fix`` and the tight
+        filter): GPS L1 C/A, Galileo E1, BeiDou
         B1I/B2I/B3I (the first the file has), GLONASS G1 C/A on each
         satellite's channel, with ``ephemerides``, corrected as ``gps_l1``
         with each signal's group delay and the Klobuchar delay scaled to its
@@ -2849,6 +2851,13 @@ class UbxLog:
         SI units, angles rad, times GPS s = BDT + 14 s; sat, prn, aode,
         aodc, tgd1 (B1I) and tgd2 (B2I) to the B3I clock reference, urai,
         ura_m, sat_h1, bdt_week, healthy)."""
+    @property
+    def glonass_ephemerides(self) -> list[dict[str, Any]]:
+        """The GLONASS ephemerides decoded from RXM-SFRBX (L1OF/L2OF strings
+        1-4, Hamming checked), one dict each: sat ("R05"), slot,
+        frequency_channel k, tb (GPS s), tau_n (s), gamma_n, position,
+        velocity and lunisolar_acceleration (PZ-90 at t_b, m, m/s, m/s²),
+        health (RINEX's), age_days, healthy."""
     @property
     def rawx(self) -> dict[str, Any]:
         """RXM-RAWX as the receiver reports it, one row per epoch and signal

@@ -58,7 +58,7 @@ def simulate(
     constellation: str | Path = "walker",
     outages: Sequence[tuple[float, float]] = (),
     systems: Sequence[str] = ("G",),
-    inter_system_bias: tuple[float, float] = (0.0, 0.0),
+    inter_system_bias: Sequence[float] = (0.0, 0.0),
     carrier_phase_std: float = 0.0,
     cycle_slip_probability: float = 0.0,
 ) -> SimulationFiles:
@@ -66,12 +66,13 @@ def simulate(
     Hz), the outputs of the IMU preset ``imu`` along it, and GNSS
     pseudoranges and rates of ``n_satellites`` satellites at ``gnss_rate`` Hz
     from ``constellation`` ("walker" for the nominal Walker constellations
-    of ``systems``: "G" GPS, "E" Galileo, "C" BeiDou MEO, 24 satellites
+    of ``systems``: "G" GPS, "E" Galileo, "C" BeiDou MEO, "R" GLONASS, 24 satellites
     each, see :meth:`memsnav.Constellation.nominal`; or the path of a RINEX
     navigation file, GPS only), with total outages ``[(start_s, length_s),
-    ...]``. The Galileo and BeiDou pseudoranges carry ``inter_system_bias``
-    (m, against GPS). With ``carrier_phase_std`` (m; 0: none) the receiver
-    also measures carrier phase, which slips silently with
+    ...]``. The Galileo, BeiDou and GLONASS pseudoranges carry
+    ``inter_system_bias`` (m, against GPS; two values leave GLONASS's 0).
+    With ``carrier_phase_std`` (m; 0: none) the receiver also measures
+    carrier phase, which slips silently with
     ``cycle_slip_probability`` per satellite and epoch
     (:func:`memsnav.simulate_gnss`). Writes into ``out``:
 

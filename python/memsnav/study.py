@@ -12,9 +12,9 @@ The configuration (``examples/study_land_vehicle.toml``)::
     visible_satellites = [0, 2, 3]
     runs = 20                          # per cell, the first look
     max_runs = 640                     # run open cells on, doubling, up to this
-    # systems = ["G", "E", "C"]        # optional: GPS, Galileo, BeiDou MEO
+    # systems = ["G", "E", "C"]        # optional: GPS, Galileo, BeiDou MEO (R: GLONASS)
     # n_satellites = 20                # tracked outside the outage
-    # inter_system_bias = [3.0, -25.0] # Galileo, BeiDou minus GPS, m
+    # inter_system_bias = [3.0, -25.0] # Galileo, BeiDou[, GLONASS] minus GPS, m
     # carrier_phase_std = 0.003        # carrier phase for the tight filter, m
     # cycle_slip_probability = 0.01    # silent slips per satellite and epoch
     [requirement]                      # optional: what "good enough" means
@@ -76,8 +76,8 @@ CONFIG: dict[str, dict[str, tuple[Check, Any]]] = {
         "calibration_duration": (number(above=0.0), ABSENT),
         "chunk_runs": (integer(1), ABSENT),
         "n_satellites": (integer(4), ABSENT),
-        "systems": (list_of(text("G", "E", "C"), min_length=1), ABSENT),
-        "inter_system_bias": (list_of(number(), lengths=(2,)), ABSENT),
+        "systems": (list_of(text("G", "E", "C", "R"), min_length=1), ABSENT),
+        "inter_system_bias": (list_of(number(), lengths=(2, 3)), ABSENT),
         "carrier_phase_std": (number(0.0), ABSENT),
         "cycle_slip_probability": (number(0.0, 1.0), ABSENT),
     },

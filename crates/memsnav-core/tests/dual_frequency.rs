@@ -42,7 +42,7 @@ fn walk() -> UbxLog {
 
 fn options(log: &UbxLog, dual_frequency_ionosphere: bool) -> ObservableOptions {
     ObservableOptions {
-        systems: GnssSystem::FILTERED.to_vec(),
+        systems: GnssSystem::DEFAULT_MEASURED.to_vec(),
         elevation_mask_rad: 5f64.to_radians(),
         min_cn0_db_hz: 20.0,
         dual_frequency_ionosphere,

@@ -102,11 +102,3 @@ fn gps_and_glonass_with_an_inter_system_bias() {
         assert!(fix.inter_system_bias_m[..2].iter().all(|b| b.is_nan()));
     }
 }
-
-/// The simulator does not model GLONASS: a constellation with it is
-/// refused, naming the system.
-#[test]
-fn glonass_is_not_simulated() {
-    let e = memsnav_core::gnss::Constellation::nominal_walkers(&[GnssSystem::Glonass]).unwrap_err();
-    assert!(e.to_string().contains("GLONASS is not simulated"), "{e}");
-}

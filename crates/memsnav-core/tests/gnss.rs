@@ -528,35 +528,34 @@ fn simulated_systems_carry_their_inter_system_bias() {
         position_ecef: &pos,
         velocity_ecef: &vel,
     };
-    let sky =
-        Constellation::nominal_walkers(&[GnssSystem::Gps, GnssSystem::Galileo, GnssSystem::Beidou])
-            .unwrap();
+    let sky = Constellation::nominal_walkers(&GnssSystem::FILTERED).unwrap();
     let config = SimulationConfig {
         n_satellites: 40,
-        inter_system_bias_m: [3.0, -25.0],
+        inter_system_bias_m: [3.0, -25.0, 12.0],
         ..noise_free()
     };
     let sim = simulate_with_truth(&t, &sky, &config, &mut stream(4, 0)).unwrap();
-    assert_eq!(sim.inter_system_bias_m, [3.0, -25.0]);
-    let mut seen = [0usize; 3];
+    assert_eq!(sim.inter_system_bias_m, [3.0, -25.0, 12.0]);
+    let mut seen = [0usize; 4];
     for (epoch, clock) in sim.epochs.iter().zip(&sim.clock) {
         let k = (epoch.time_s * 10.0).round() as usize;
         for m in &epoch.measurements {
             assert_eq!(m.system, system_of_number(m.sat_id));
             let p = predicted_range(&m.position_ecef, &m.velocity_ecef, &pos[k], &vel[k]);
             let bias = match m.system {
-                GnssSystem::Gps | GnssSystem::Glonass => 0.0,
+                GnssSystem::Gps => 0.0,
                 GnssSystem::Galileo => 3.0,
                 GnssSystem::Beidou => -25.0,
+                GnssSystem::Glonass => 12.0,
             };
             assert!((m.pseudorange_m - clock.offset_m - p.range_m - bias).abs() < 1e-3);
             seen[m.system as usize] += 1;
         }
     }
-    println!("measurements per system (G, E, C) over 61 epochs: {seen:?}");
+    println!("measurements per system (G, E, C, R) over 61 epochs: {seen:?}");
     assert!(seen.iter().all(|&n| n >= 4 * 61), "{seen:?}");
     let mut bad = config.clone();
-    bad.inter_system_bias_m = [f64::NAN, 0.0];
+    bad.inter_system_bias_m = [f64::NAN, 0.0, 0.0];
     let e = simulate_with_truth(&t, &sky, &bad, &mut stream(4, 0)).unwrap_err();
     assert!(e.to_string().contains("inter_system_bias"), "{e}");
 }
@@ -1346,7 +1345,7 @@ fn bad_simulation_inputs_name_the_argument() {
 }
 
 /// With satellites of three systems, the fix estimates one clock and the
-/// two inter-system biases, and recovers them all from noise-free ranges
+/// inter-system biases, and recovers them all from noise-free ranges
 /// (the same epoch with the biases added to the satellites relabelled).
 #[test]
 fn least_squares_fix_estimates_inter_system_biases() {

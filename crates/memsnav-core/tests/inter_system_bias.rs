@@ -24,7 +24,7 @@ mod quoted;
 use common::*;
 use quoted::{quoted_numbers, rounds_to};
 
-/// 17 base states + the 2 inter-system biases (Galileo, BeiDou).
+/// 17 base states + the 3 inter-system biases (Galileo, BeiDou, GLONASS).
 const WITH_ISB: usize = Layout::size(false, false, true, false);
 
 /// The simulated biases, m: Galileo +3, BeiDou −25 (a receiver's group
@@ -42,10 +42,10 @@ fn inter_system_biases_converge_inside_their_sigma() {
     let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
     let mut tuning = FilterTuning::from_imu_spec(&spec, 100.0, false).unwrap();
     tuning.initial_std.attitude_ned_rad = Vector3::new(0.2, 0.2, 0.5).map(f64::to_radians);
-    let sky = Constellation::nominal_walkers(&GnssSystem::FILTERED).unwrap();
+    let sky = Constellation::nominal_walkers(&GnssSystem::DEFAULT_MEASURED).unwrap();
     let config = SimulationConfig {
         n_satellites: 40,
-        inter_system_bias_m: TRUE_ISB_M,
+        inter_system_bias_m: [TRUE_ISB_M[0], TRUE_ISB_M[1], 0.0],
         ..SimulationConfig::default()
     };
     let first = Layout::for_size::<WITH_ISB>().inter_system_bias.unwrap();
@@ -71,7 +71,7 @@ fn inter_system_biases_converge_inside_their_sigma() {
         let mut rng = stream(24, i);
         let imu = ImuModel::from_spec(&spec, 100.0, &mut rng).unwrap();
         let epochs = gnss_from(&truth, &sky, &config, &mut rng);
-        let per_system = GnssSystem::FILTERED.map(|s| {
+        let per_system = GnssSystem::DEFAULT_MEASURED.map(|s| {
             epochs[0]
                 .measurements
                 .iter()
@@ -106,7 +106,8 @@ fn inter_system_biases_converge_inside_their_sigma() {
             .iter()
             .all(|r| r.status == MeasurementStatus::Accepted));
         let (estimate, p) = end.unwrap();
-        let error = nalgebra::Vector2::from(estimate) - nalgebra::Vector2::from(TRUE_ISB_M);
+        let error =
+            nalgebra::Vector2::new(estimate[0], estimate[1]) - nalgebra::Vector2::from(TRUE_ISB_M);
         isb_nees_sum += nees(&error, &p).unwrap();
         for (k, system) in ["Galileo", "BeiDou"].iter().enumerate() {
             let sigma = p[(k, k)].sqrt();
@@ -165,7 +166,7 @@ fn inter_system_bias_states_on_gps_only_data_change_nothing() {
         .zip(&isb.position_ecef)
         .map(|(a, b)| (a - b).norm())
         .fold(0.0, f64::max);
-    println!("GPS only, 17 vs 19 states: largest position difference {worst:e} m");
+    println!("GPS only, 17 vs 20 states: largest position difference {worst:e} m");
     assert!(worst < 1e-9, "{worst}");
     assert_eq!(base.measurements.len(), isb.measurements.len());
     let first = Layout::for_size::<WITH_ISB>().inter_system_bias.unwrap();
@@ -173,7 +174,7 @@ fn inter_system_bias_states_on_gps_only_data_change_nothing() {
     let expected = (tuning.initial_std.inter_system_bias_m.powi(2)
         + tuning.process_noise.inter_system_bias_psd * truth.time_s[last])
         .sqrt();
-    for k in 0..2 {
+    for k in 0..3 {
         assert_eq!(isb.inter_system_bias_m[last][k], 0.0);
         let sigma = isb.covariance_diagonal[last * WITH_ISB + first + k].sqrt();
         assert!(
@@ -205,10 +206,10 @@ fn the_navigation_experiment_on_several_systems_with_inter_system_biases() {
         ..Default::default()
     };
     let all = NavigationExperimentConfig {
-        systems: GnssSystem::FILTERED.to_vec(),
+        systems: GnssSystem::DEFAULT_MEASURED.to_vec(),
         n_satellites: 40,
         gnss: SimulationConfig {
-            inter_system_bias_m: TRUE_ISB_M,
+            inter_system_bias_m: [TRUE_ISB_M[0], TRUE_ISB_M[1], 0.0],
             ..SimulationConfig::default()
         },
         ..gps.clone()

@@ -743,7 +743,7 @@ fn walk_measurements_carry_their_signal_strength_and_elevation() {
     let nav = log.broadcast_nav();
     let reference = log.observations.approx_position_ecef.unwrap();
     let options = ObservableOptions {
-        systems: GnssSystem::FILTERED.to_vec(),
+        systems: GnssSystem::DEFAULT_MEASURED.to_vec(),
         elevation_mask_rad: 5f64.to_radians(),
         min_cn0_db_hz: 20.0,
         ..ObservableOptions::new(reference)

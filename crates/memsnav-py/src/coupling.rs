@@ -294,8 +294,8 @@ impl PyFilterSolution {
         (!self.inner.gyro_scale_factor.is_empty())
             .then(|| convert::vectors_to_numpy(py, &self.inner.gyro_scale_factor))
     }
-    /// Inter-system bias estimates (Galileo, BeiDou pseudoranges minus
-    /// GPS's), m, (N, 2); None without the inter-system-bias states.
+    /// Inter-system bias estimates (Galileo, BeiDou, GLONASS pseudoranges
+    /// minus GPS's), m, (N, 3); None without the inter-system-bias states.
     #[getter]
     fn inter_system_bias<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray2<f64>>> {
         (!self.inner.inter_system_bias_m.is_empty()).then(|| {
@@ -714,8 +714,8 @@ macro_rules! filter_class {
             /// there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
             /// to be driven one call at a time: a `RunningFilter` with this
             /// filter's tuning. `inter_system_biases` (tight only): with the
-            /// Galileo and BeiDou inter-system-bias states, to update with
-            /// satellites of those systems.
+            /// Galileo, BeiDou and GLONASS inter-system-bias states, to
+            /// update with satellites of those systems.
             #[pyo3(signature = (time, specific_force, angular_rate, initial_state, *, inter_system_biases=false))]
             fn start(
                 &self,

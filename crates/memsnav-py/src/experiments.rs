@@ -246,7 +246,7 @@ struct StudyKeywords {
     smooth: Option<bool>,
     n_satellites: Option<usize>,
     systems: Option<Vec<String>>,
-    inter_system_bias: Option<[f64; 2]>,
+    inter_system_bias: Option<Vec<f64>>,
     carrier_phase_std: Option<f64>,
     cycle_slip_probability: Option<f64>,
 }
@@ -271,7 +271,13 @@ fn study_navigation(
             None => n.systems.clone(),
         },
         gnss: memsnav_core::gnss::SimulationConfig {
-            inter_system_bias_m: k.inter_system_bias.unwrap_or(n.gnss.inter_system_bias_m),
+            inter_system_bias_m: k
+                .inter_system_bias
+                .as_deref()
+                .map(|v| memsnav_core::gnss::inter_system_biases("inter_system_bias", v))
+                .transpose()
+                .py()?
+                .unwrap_or(n.gnss.inter_system_bias_m),
             carrier_phase_std_m: k.carrier_phase_std.unwrap_or(n.gnss.carrier_phase_std_m),
             cycle_slip_probability: k
                 .cycle_slip_probability
@@ -308,7 +314,7 @@ fn partial_outage_experiment<'py>(
     chunks: Option<Vec<Bound<'py, PyBytes>>>,
     n_satellites: Option<usize>,
     systems: Option<Vec<String>>,
-    inter_system_bias: Option<[f64; 2]>,
+    inter_system_bias: Option<Vec<f64>>,
     carrier_phase_std: Option<f64>,
     cycle_slip_probability: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -431,7 +437,7 @@ fn outage_study_runs<'py>(
     progress: Option<Bound<'py, PyAny>>,
     n_satellites: Option<usize>,
     systems: Option<Vec<String>>,
-    inter_system_bias: Option<[f64; 2]>,
+    inter_system_bias: Option<Vec<f64>>,
     carrier_phase_std: Option<f64>,
     cycle_slip_probability: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {

@@ -102,7 +102,8 @@ impl PyConstellation {
     }
 
     /// The nominal Walker constellations of these systems (RINEX letters
-    /// "G", "E", "C"), satellites numbered G 1.., E 101.., C 201...
+    /// "G", "E", "C", "R"), satellites numbered G 1.., E 101.., C 201..,
+    /// R 301...
     #[staticmethod]
     fn nominal(systems: Vec<String>) -> PyResult<Self> {
         Ok(PyConstellation {
@@ -162,7 +163,7 @@ impl PyConstellation {
     }
 }
 
-/// The systems of RINEX letters ("G", "E", "C"); ValueError names
+/// The systems of RINEX letters ("G", "E", "C", "R"); ValueError names
 /// `systems` and the letter.
 pub(crate) fn system_letters(letters: &[String]) -> PyResult<Vec<gnss::GnssSystem>> {
     letters
@@ -175,7 +176,7 @@ pub(crate) fn system_letters(letters: &[String]) -> PyResult<Vec<gnss::GnssSyste
             ) {
                 (Some(system), None) => Ok(system),
                 _ => Err(PyValueError::new_err(format!(
-                    "systems: expected the letters \"G\", \"E\" or \"C\", got {letter:?}"
+                    "systems: expected the letters \"G\", \"E\", \"C\" or \"R\", got {letter:?}"
                 ))),
             }
         })
@@ -648,8 +649,8 @@ impl PyGnssMeasurements {
         PyArray1::from_iter(py, self.clock.iter().map(|c| c.drift_m_s))
     }
 
-    /// True inter-system biases (Galileo, BeiDou minus GPS) in the
-    /// pseudoranges, m, ``(2,)``; NaN for measurements not simulated here.
+    /// True inter-system biases (Galileo, BeiDou, GLONASS minus GPS) in
+    /// the pseudoranges, m, ``(3,)``; NaN for measurements not simulated here.
     #[getter]
     fn inter_system_bias<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.inter_system_bias_m)
@@ -747,7 +748,7 @@ fn simulate_gnss(
     outages: Option<&Bound<'_, PyAny>>,
     seed: Option<&Bound<'_, PyAny>>,
     start_gps_time: Option<f64>,
-    inter_system_bias: Option<[f64; gnss::INTER_SYSTEM_BIAS_SYSTEMS.len()]>,
+    inter_system_bias: Option<Vec<f64>>,
     carrier_phase_std: Option<f64>,
     cycle_slip_probability: Option<f64>,
 ) -> PyResult<PyGnssMeasurements> {
@@ -787,7 +788,12 @@ fn simulate_gnss(
         },
         outages: outage_list(outages)?,
         start_gps_time_s: start_gps_time,
-        inter_system_bias_m: inter_system_bias.unwrap_or(d.inter_system_bias_m),
+        inter_system_bias_m: inter_system_bias
+            .as_deref()
+            .map(|v| gnss::inter_system_biases("inter_system_bias", v))
+            .transpose()
+            .py()?
+            .unwrap_or(d.inter_system_bias_m),
         carrier_phase_std_m: carrier_phase_std.unwrap_or(d.carrier_phase_std_m),
         cycle_slip_probability: cycle_slip_probability.unwrap_or(d.cycle_slip_probability),
     };
@@ -1418,8 +1424,8 @@ impl PyRinexObservations {
     /// ``broadcast_ephemerides``), corrected as ``gps_l1`` does with each
     /// signal's group delay and the Klobuchar delay scaled to its
     /// frequency. ``systems``: RINEX letters (``"G"``, ``"E"``, ``"C"``,
-    /// ``"R"``; default G, E, C: GLONASS on request, for ``solve_fix``, as
-    /// the tight filter does not take it yet). ``satellites``: RINEX names
+    /// ``"R"``; default G, E, C: GLONASS on request, for ``solve_fix`` and
+    /// the tight filter). ``satellites``: RINEX names
     /// (``"G10"``, ``"E07"``, ``"R05"``) to keep. Satellite numbers in the
     /// result: G n → n, E n → 100 + n, C n → 200 + n, R n → 300 + n; each
     /// system's pseudoranges keep the receiver's inter-system bias, which
@@ -1463,7 +1469,7 @@ impl PyRinexObservations {
         weighting: Option<String>,
     ) -> PyResult<PyGnssMeasurements> {
         let systems = match systems {
-            None => gnss::GnssSystem::FILTERED.to_vec(),
+            None => gnss::GnssSystem::DEFAULT_MEASURED.to_vec(),
             Some(letters) => letters
                 .iter()
                 .map(|l| system_of_letter(l, "systems"))

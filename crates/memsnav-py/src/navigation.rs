@@ -234,7 +234,7 @@ fn navigation_experiment<'py>(
     run_range: Option<(usize, usize)>,
     chunks: Option<Vec<Bound<'py, PyBytes>>>,
     systems: Option<Vec<String>>,
-    inter_system_bias: Option<[f64; 2]>,
+    inter_system_bias: Option<Vec<f64>>,
     carrier_phase_std: Option<f64>,
     cycle_slip_probability: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
@@ -262,7 +262,12 @@ fn navigation_experiment<'py>(
         gnss: SimulationConfig {
             pseudorange_std_m: pseudorange_std,
             pseudorange_rate_std_m_s: pseudorange_rate_std,
-            inter_system_bias_m: inter_system_bias.unwrap_or(d.gnss.inter_system_bias_m),
+            inter_system_bias_m: inter_system_bias
+                .as_deref()
+                .map(|v| memsnav_core::gnss::inter_system_biases("inter_system_bias", v))
+                .transpose()
+                .py()?
+                .unwrap_or(d.gnss.inter_system_bias_m),
             carrier_phase_std_m: carrier_phase_std.unwrap_or(d.gnss.carrier_phase_std_m),
             cycle_slip_probability: cycle_slip_probability.unwrap_or(d.gnss.cycle_slip_probability),
             ..d.gnss.clone()

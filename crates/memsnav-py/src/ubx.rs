@@ -1,5 +1,5 @@
 //! u-blox UBX logs: RXM-RAWX as observations and as the receiver gives
-//! them, GPS (LNAV and CNAV), Galileo and BeiDou ephemerides and the CNAV
+//! them, GPS (LNAV and CNAV), Galileo, BeiDou and GLONASS ephemerides and the CNAV
 //! Klobuchar coefficients from RXM-SFRBX, NAV-PVT fixes; RINEX 3 out.
 
 use std::collections::BTreeMap;
@@ -215,6 +215,44 @@ impl PyUbxLog {
             .collect()
     }
 
+    /// The GLONASS ephemerides decoded from RXM-SFRBX (L1OF/L2OF strings
+    /// 1-4, Hamming checked), one dict each: ``sat`` (``"R05"``),
+    /// ``slot``, ``frequency_channel`` k, ``tb`` (GPS s), ``tau_n`` (s),
+    /// ``gamma_n``, ``position``, ``velocity`` and ``lunisolar_acceleration``
+    /// (PZ-90 at t_b, m, m/s, m/s²), ``health`` (RINEX's), ``age_days``,
+    /// ``healthy``.
+    #[getter]
+    fn glonass_ephemerides<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        self.inner
+            .glonass_ephemerides
+            .iter()
+            .map(|e| {
+                let d = PyDict::new(py);
+                d.set_item("sat", format!("R{:02}", e.slot))?;
+                d.set_item("slot", u32::from(e.slot))?;
+                d.set_item("frequency_channel", i32::from(e.frequency_channel))?;
+                for (k, v) in [
+                    ("tb", e.tb_gps_s),
+                    ("tau_n", e.tau_n_s),
+                    ("gamma_n", e.gamma_n),
+                ] {
+                    d.set_item(k, v)?;
+                }
+                for (k, v) in [
+                    ("position", e.position_ecef),
+                    ("velocity", e.velocity_ecef),
+                    ("lunisolar_acceleration", e.lunisolar_m_s2),
+                ] {
+                    d.set_item(k, [v.x, v.y, v.z])?;
+                }
+                d.set_item("health", u32::from(e.health))?;
+                d.set_item("age_days", u32::from(e.age_days))?;
+                d.set_item("healthy", e.is_healthy())?;
+                Ok(d)
+            })
+            .collect()
+    }
+
     /// RXM-RAWX as the receiver reports it, one row per epoch and signal:
     /// ``epoch`` (index into ``epoch_gps_time``), ``sat`` ("G10"),
     /// ``code`` (RINEX band and attribute), ``gnss_id``, ``sv_id``,
@@ -405,13 +443,14 @@ impl PyUbxLog {
 
     fn __repr__(&self) -> String {
         format!(
-            "UbxLog({} RAWX epochs, {} GPS LNAV, {} GPS CNAV, {} Galileo, {} BeiDou ephemerides, \
-             {} NAV-PVT fixes)",
+            "UbxLog({} RAWX epochs, {} GPS LNAV, {} GPS CNAV, {} Galileo, {} BeiDou, {} GLONASS \
+             ephemerides, {} NAV-PVT fixes)",
             self.inner.rawx.len(),
             self.inner.gps_ephemerides.len(),
             self.inner.gps_cnav_ephemerides.len(),
             self.inner.galileo_ephemerides.len(),
             self.inner.beidou_ephemerides.len(),
+            self.inner.glonass_ephemerides.len(),
             self.inner.fixes.gps_time_s.len()
         )
     }

@@ -42,8 +42,9 @@ def run(args: argparse.Namespace, client: Any) -> int:
     log, files = convert_ubx(args.log, args.output, rinex_version=args.rinex_version)
     print(
         f"{len(log.rawx['epoch_gps_time'])} epochs, {len(log.observations.satellites)} "
-        f"satellites, {len(log.ephemerides)} GPS LNAV, {len(log.galileo_ephemerides)} Galileo and "
-        f"{len(log.beidou_ephemerides)} BeiDou ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
+        f"satellites, {len(log.ephemerides)} GPS LNAV, {len(log.galileo_ephemerides)} Galileo, "
+        f"{len(log.beidou_ephemerides)} BeiDou and {len(log.glonass_ephemerides)} GLONASS "
+        f"ephemerides, {len(log.fixes.gps_time)} NAV-PVT fixes"
     )
     cnav = len(log.gps_cnav_ephemerides)
     if files["navigation"].read_text()[:9].strip().startswith("3"):

@@ -43,20 +43,20 @@ def _outage(text: str) -> tuple[float, float]:
 
 def _systems(text: str) -> tuple[str, ...]:
     letters = tuple(part.strip().upper() for part in text.split(","))
-    if not letters or any(letter not in ("G", "E", "C") for letter in letters):
-        raise argparse.ArgumentTypeError(f"expected letters among G, E, C, got {text!r}")
+    if not letters or any(letter not in ("G", "E", "C", "R") for letter in letters):
+        raise argparse.ArgumentTypeError(f"expected letters among G, E, C, R, got {text!r}")
     return letters
 
 
-def _biases(text: str) -> tuple[float, float]:
-    galileo, sep, beidou = text.partition(",")
+def _biases(text: str) -> tuple[float, ...]:
+    parts = text.split(",")
     try:
-        if not sep:
+        if len(parts) not in (2, 3):
             raise ValueError
-        return (float(galileo), float(beidou))
+        return tuple(float(part) for part in parts)
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"expected GALILEO,BEIDOU in metres, got {text!r}"
+            f"expected GALILEO,BEIDOU[,GLONASS] in metres, got {text!r}"
         ) from None
 
 
@@ -97,15 +97,17 @@ def add_arguments(command: argparse.ArgumentParser) -> None:
         "--systems",
         type=_systems,
         default=("G",),
-        metavar="G,E,C",
-        help="systems of the Walker constellation: G GPS, E Galileo, C BeiDou (default: G)",
+        metavar="G,E,C,R",
+        help="systems of the Walker constellation: G GPS, E Galileo, C BeiDou, R GLONASS "
+        "(default: G)",
     )
     command.add_argument(
         "--inter-system-bias",
         type=_biases,
         default=(0.0, 0.0),
-        metavar="E,C",
-        help="Galileo and BeiDou pseudorange biases against GPS, m (default: 0,0)",
+        metavar="E,C[,R]",
+        help="Galileo, BeiDou and GLONASS pseudorange biases against GPS, m (default: 0,0,0; "
+        "GLONASS 0 when left out)",
     )
     command.add_argument(
         "--carrier-phase-std",

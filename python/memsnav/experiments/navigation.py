@@ -411,7 +411,7 @@ def navigation(
     absorb_unmodelled: bool | None = None,
     smooth: bool = False,
     systems: Sequence[str] = ("G",),
-    inter_system_bias: tuple[float, float] = (0.0, 0.0),
+    inter_system_bias: Sequence[float] = (0.0, 0.0),
     carrier_phase_std: float | None = None,
     cycle_slip_probability: float | None = None,
     client: Any = None,
@@ -459,10 +459,11 @@ def navigation(
     in ``result.smoothed`` (``docs/explanation/smoother.md``; about twice the time and
     the memory of a forward solution per run in flight).
     ``systems``: the simulated satellite systems, RINEX letters among "G"
-    (GPS), "E" (Galileo), "C" (BeiDou MEO), each a nominal Walker
-    constellation (:meth:`memsnav.Constellation.nominal`); with Galileo or
-    BeiDou every filter carries two inter-system-bias states, and the
-    pseudoranges ``inter_system_bias`` (Galileo, BeiDou against GPS, m).
+    (GPS), "E" (Galileo), "C" (BeiDou MEO), "R" (GLONASS), each a nominal
+    Walker constellation (:meth:`memsnav.Constellation.nominal`); with
+    another system than GPS every filter carries three inter-system-bias
+    states, and the pseudoranges ``inter_system_bias`` (Galileo, BeiDou[,
+    GLONASS] against GPS, m).
     ``n_satellites`` counts every system's satellites.
     ``carrier_phase_std``: white noise of the simulated carrier range, one
     sigma, m, as in :func:`memsnav.simulate_gnss` (default 0: no carrier

@@ -410,7 +410,7 @@ def outage_study(
     progress: Callable[[int, int], object] | None = None,
     n_satellites: int = 6,
     systems: Sequence[str] = ("G",),
-    inter_system_bias: tuple[float, float] = (0.0, 0.0),
+    inter_system_bias: Sequence[float] = (0.0, 0.0),
     carrier_phase_std: float = 0.0,
     cycle_slip_probability: float = 0.0,
     max_error_m: float | None = None,
@@ -446,9 +446,10 @@ def outage_study(
     the looks done are kept, the interrupted look's completed runs are
     kept undecided (``interrupted=True``). ``n_satellites``: tracked
     outside the outage, of every system in ``systems`` ("G" GPS, "E"
-    Galileo, "C" BeiDou MEO, nominal Walker constellations; with E or C the
-    filters estimate the pseudoranges' ``inter_system_bias``, Galileo and
-    BeiDou against GPS, m). ``carrier_phase_std`` (m, one sigma; 0: none)
+    Galileo, "C" BeiDou MEO, "R" GLONASS, nominal Walker constellations;
+    with E, C or R the filters estimate the pseudoranges'
+    ``inter_system_bias``, Galileo, BeiDou and (a third value, else 0)
+    GLONASS against GPS, m). ``carrier_phase_std`` (m, one sigma; 0: none)
     and ``cycle_slip_probability``: the simulated carrier phase, whose
     changes between epochs the filters use, and its silent cycle slips per
     satellite and epoch (:func:`~memsnav.experiments.navigation`).

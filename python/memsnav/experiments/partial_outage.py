@@ -205,7 +205,7 @@ def partial_outage(
     chunk_runs: int | None = None,
     n_satellites: int | None = None,
     systems: Sequence[str] | None = None,
-    inter_system_bias: tuple[float, float] | None = None,
+    inter_system_bias: Sequence[float] | None = None,
     carrier_phase_std: float | None = None,
     cycle_slip_probability: float | None = None,
 ) -> PartialOutageResult:
@@ -227,10 +227,11 @@ def partial_outage(
     cluster in chunks of ``chunk_runs`` runs (``docs/how-to/run-on-dask.md``):
     the same numbers bit for bit; ``threads`` must then be None.
     ``n_satellites``: tracked outside the window (default 6), of every
-    system in ``systems`` (RINEX letters, default ("G",); "E" Galileo and
-    "C" BeiDou add their nominal constellations and two inter-system-bias
-    states to every filter, the pseudoranges carrying ``inter_system_bias``
-    (Galileo, BeiDou against GPS, m; default 0, 0)).
+    system in ``systems`` (RINEX letters, default ("G",); "E" Galileo,
+    "C" BeiDou and "R" GLONASS add their nominal constellations and three
+    inter-system-bias states to every filter, the pseudoranges carrying
+    ``inter_system_bias`` (Galileo, BeiDou[, GLONASS] against GPS, m;
+    default 0)).
     ``carrier_phase_std`` (m; default 0: none) and ``cycle_slip_probability``
     (default 0): the simulated carrier phase and its silent slips, used by
     the tightly coupled filters, as in :func:`~memsnav.experiments.navigation`.

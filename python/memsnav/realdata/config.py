@@ -124,8 +124,9 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
         # A u-blox UBX log instead of obs + nav: its RXM-RAWX observations
         # and the ephemerides decoded from its RXM-SFRBX.
         "ubx": (pathname(), ""),
-        # RINEX letters of the systems combined (G GPS, E Galileo, C BeiDou).
-        "systems": (list_of(text("G", "E", "C"), min_length=1), ["G"]),
+        # RINEX letters of the systems combined (G GPS, E Galileo, C BeiDou,
+        # R GLONASS).
+        "systems": (list_of(text("G", "E", "C", "R"), min_length=1), ["G"]),
         # Satellites kept: GPS PRNs (1-63) or RINEX names ("G10", "E07", "C21").
         "satellites": (list_of(satellite()), []),
         "elevation_mask_deg": (number(0.0, 90.0), _OBSERVABLES["elevation_mask_deg"]),

@@ -638,8 +638,12 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
     if installation is not None:
         summary["installation_estimates"] = installation
     if solution.inter_system_bias is not None:
-        galileo, beidou = solution.inter_system_bias[-1]
-        summary["inter_system_bias_m"] = {"galileo": float(galileo), "beidou": float(beidou)}
+        galileo, beidou, glonass = solution.inter_system_bias[-1]
+        summary["inter_system_bias_m"] = {
+            "galileo": float(galileo),
+            "beidou": float(beidou),
+            "glonass": float(glonass),
+        }
     if run.carrier_phase is not None:
         # How many carrier changes the run used, and why not (its warning is
         # among the solution's).

@@ -11,7 +11,16 @@
 //! ```
 //!
 //! (Sagnac and light time in [`crate::gnss::predicted_range`]; b_ρ the
-//! satellite's range bias when the filter has range-bias states.) The
+//! satellite's range bias when the filter has range-bias states; a
+//! Galileo, BeiDou or GLONASS pseudorange adds its system's inter-system
+//! bias to ĉ, a state of its own.) GLONASS needs nothing more here: its
+//! rates and carrier ranges arrive in metres, each scaled by its own
+//! slot's wavelength (λ = c / (1602 + 0.5625 k) MHz,
+//! [`crate::gnss::broadcast_epochs`]), and its pseudorange σ carries
+//! RTKLIB's GLONASS factor 1.5 under the RTKLIB weights
+//! ([`crate::gnss::rtklib_system_factor`]). The receiver's inter-frequency
+//! biases differ per slot: their mean is in GLONASS's inter-system bias,
+//! the rest in the range-bias states or the noise. The
 //! range-rate row keeps the line of sight's turn with the receiver
 //! position, g = −(I − u uᵀ) Δv / ρ + ω_ie × u (≈ 1e-4 per metre), which
 //! Groves eq. 14.127 neglects. With four satellites or more the position
@@ -122,16 +131,6 @@ fn inter_system_bias<const N: usize>(
     m: &SatelliteMeasurement,
     time_s: f64,
 ) -> Result<Option<(usize, f64)>> {
-    if m.system == GnssSystem::Glonass {
-        return Err(Error::invalid(
-            "gnss",
-            format!(
-                "the epoch at t = {time_s} s has GLONASS satellite {}: the tight filter does not \
-                 take GLONASS yet (single-point fixes do); leave R out of the measurements' systems",
-                gnss::satellite_name(m.sat_id)
-            ),
-        ));
-    }
     let Some(k) = m.system.inter_system_bias_index() else {
         return Ok(None);
     };

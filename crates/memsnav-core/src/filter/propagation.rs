@@ -648,7 +648,7 @@ fn constant_states(layout: Layout) -> impl Iterator<Item = usize> {
 
 /// Most states of a filter (every optional block).
 const MAX_STATES: usize = Layout::size(true, true, true, true);
-/// Most non-zeros of Φ (the 44-state filter has 103: the 42-state one's
+/// Most non-zeros of Φ (the 45-state filter has 104: the 42-state one's
 /// 101 and one per inter-system bias).
 const MAX_TERMS: usize = 106;
 
@@ -959,8 +959,8 @@ mod tests {
         adjoint_equals_dense::<35>(300.0);
         adjoint_equals_dense::<24>(300.0);
         adjoint_equals_dense::<42>(300.0);
-        adjoint_equals_dense::<19>(300.0);
-        adjoint_equals_dense::<44>(300.0);
+        adjoint_equals_dense::<20>(300.0);
+        adjoint_equals_dense::<45>(300.0);
     }
 
     /// The smoother's forward step: Z′ = Z Φᵀ + R′ Q and y′ = Φ y + Q λ′,
@@ -992,7 +992,7 @@ mod tests {
         carry_equals_dense::<35>(300.0);
         carry_equals_dense::<30>(300.0);
         carry_equals_dense::<42>(300.0);
-        carry_equals_dense::<44>(300.0);
+        carry_equals_dense::<45>(300.0);
     }
 
     #[test]
@@ -1007,10 +1007,10 @@ mod tests {
         structured_equals_dense::<36>(300.0);
         structured_equals_dense::<42>(300.0);
         // With the inter-system biases: base, + range biases, + installation, all.
-        structured_equals_dense::<19>(300.0);
-        structured_equals_dense::<31>(300.0);
-        structured_equals_dense::<26>(f64::INFINITY);
-        structured_equals_dense::<44>(300.0);
+        structured_equals_dense::<20>(300.0);
+        structured_equals_dense::<32>(300.0);
+        structured_equals_dense::<27>(f64::INFINITY);
+        structured_equals_dense::<45>(300.0);
     }
 
     /// A filter's kept working storage gives what fresh storage gives,

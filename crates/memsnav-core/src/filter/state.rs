@@ -12,7 +12,7 @@
 //! | 17-19 | accelerometer scale-factor error s_a (optional) | 1 |
 //! | 20-22 | gyro scale-factor error s_g (optional) | 1 |
 //! | next 7 | installation (optional): lever arm (3, body axes, m), IMU time offset (s), GNSS velocity latency (s), mounting boresight pitch and yaw (rad) | see [`Installation`] |
-//! | next 2 | inter-system biases (optional): Galileo and BeiDou pseudoranges minus GPS's, beyond the common receiver clock | m |
+//! | next 3 | inter-system biases (optional): Galileo, BeiDou and GLONASS pseudoranges minus GPS's, beyond the common receiver clock | m |
 //! | last 12 | pseudorange bias of the satellite in each slot (optional) | m |
 //!
 //! The optional states are a compile-time extension selected by the size
@@ -20,7 +20,7 @@
 //! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
 //! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both), each
 //! also with the [`INSTALLATION_STATES`] (24, 30, 36, 42), and each of
-//! those with the [`INTER_SYSTEM_BIAS_STATES`] (+2). Every combination
+//! those with the [`INTER_SYSTEM_BIAS_STATES`] (+3). Every combination
 //! has its own size ([`Layout::size`]).
 //! Misalignments and nonlinearity are not states; the filters absorb them
 //! as noise shaped by the sensed motion ([`super::input_noise`]).
@@ -60,11 +60,21 @@ pub const WITH_ALL: usize = WITH_SCALE_FACTORS + RANGE_BIAS_SLOTS;
 /// relative to the antenna, estimated instead of assumed.
 pub const INSTALLATION_STATES: usize = 7;
 
-/// States of the inter-system-bias block: Galileo's and BeiDou's
-/// pseudorange bias relative to GPS, one per system in the order of
-/// [`crate::gnss::INTER_SYSTEM_BIAS_SYSTEMS`] (a multi-GNSS receiver's one
-/// clock plus an offset per other system; Groves §9.4.2.3 and §14.3.3).
-pub const INTER_SYSTEM_BIAS_STATES: usize = 2;
+/// States of the inter-system-bias block: Galileo's, BeiDou's and
+/// GLONASS's pseudorange bias relative to GPS, one per system in the order
+/// of [`crate::gnss::INTER_SYSTEM_BIAS_SYSTEMS`] (a multi-GNSS receiver's
+/// one clock plus an offset per other system; Groves §9.4.2.3 and
+/// §14.3.3). GLONASS's absorbs the mean of the receiver's inter-frequency
+/// biases; each slot's departure from it stays in the range-bias states
+/// or the pseudorange noise.
+///
+/// One block for every system beyond GPS, rather than a GLONASS state only
+/// in runs that have GLONASS: the layout is read from the size `N` alone,
+/// and a block of 2 or 3 would give clashing sizes (6 + 3 = 7 + 2, 12 + 3 =
+/// 6 + 7 + 2). A GPS-only run has no block at all; a run that combines
+/// systems carries the states of those it lacks at their prior, one state
+/// more than before GLONASS was added (measured in CHANGELOG.md).
+pub const INTER_SYSTEM_BIAS_STATES: usize = 3;
 
 /// Offsets of the installation states inside their block. Each is an error
 /// (estimate − truth) of a constant:
@@ -138,7 +148,7 @@ impl Layout {
             match Self::of(N) {
                 Some(l) => l,
                 None => panic!(
-                    "the error state has 17, 23, 29 or 35 states, each + 7 installation and + 2 inter-system-bias states"
+                    "the error state has 17, 23, 29 or 35 states, each + 7 installation and + 3 inter-system-bias states"
                 ),
             }
         }
@@ -209,8 +219,11 @@ impl StateLayout {
         "mounting_yaw",
     ];
 
-    const INTER_SYSTEM_BIAS_NAMES: [&'static str; INTER_SYSTEM_BIAS_STATES] =
-        ["inter_system_bias_galileo", "inter_system_bias_beidou"];
+    const INTER_SYSTEM_BIAS_NAMES: [&'static str; INTER_SYSTEM_BIAS_STATES] = [
+        "inter_system_bias_galileo",
+        "inter_system_bias_beidou",
+        "inter_system_bias_glonass",
+    ];
 
     const RANGE_BIAS_NAMES: [&'static str; RANGE_BIAS_SLOTS] = [
         "range_bias_0",
@@ -298,7 +311,7 @@ impl<const N: usize> ErrorState<N> {
             .installation
             .map(|first| self.0.fixed_rows::<INSTALLATION_STATES>(first).into_owned())
     }
-    /// The inter-system-bias errors (Galileo, BeiDou), m, when the state
+    /// The inter-system-bias errors (Galileo, BeiDou, GLONASS), m, when the state
     /// has them.
     pub fn inter_system_biases(&self) -> Option<[f64; INTER_SYSTEM_BIAS_STATES]> {
         Layout::for_size::<N>()

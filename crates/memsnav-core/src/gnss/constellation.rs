@@ -118,7 +118,7 @@ impl Constellation {
 
     /// Synthetic Walker constellations of several systems, in this order,
     /// each satellite numbered by its system ([`satellite_number`] of its
-    /// slot 1..N: GPS 1.., Galileo 101.., BeiDou 201..). A system appears
+    /// slot 1..N: GPS 1.., Galileo 101.., BeiDou 201.., GLONASS 301..). A system appears
     /// once; with more than one, each has at most
     /// [`MAX_SATELLITES_PER_SYSTEM`] satellites so that the numbers stay
     /// within their system's range.
@@ -130,12 +130,6 @@ impl Constellation {
         for (system, config) in parts {
             if walkers.iter().any(|w| w.system == *system) {
                 return Err(Error::invalid("systems", format!("{system} appears twice")));
-            }
-            if !GnssSystem::FILTERED.contains(system) {
-                return Err(Error::invalid(
-                    "systems",
-                    format!("{system} is not simulated (its FDMA signals and the filters' handling of it are not modelled): use G, E or C"),
-                ));
             }
             let walker = Walker::new(config)?;
             if parts.len() > 1 && walker.len() > MAX_SATELLITES_PER_SYSTEM {

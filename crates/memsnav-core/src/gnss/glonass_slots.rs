@@ -13,6 +13,26 @@ use std::collections::BTreeMap;
 /// §3.3.1.4: k = −7 … +6; RINEX allows up to +13 for the older plan).
 const CHANNELS: std::ops::RangeInclusive<i64> = -7..=13;
 
+/// The frequency channel k of GLONASS slot 1-24 in the current plan
+/// (antipodal slots, n and n + 4 in a plane, share one; the assignment
+/// broadcast in 2021-2026: R01 1, R02 −4, R03 5, R12 −1, R13 −2, R21 4 as
+/// in the Pixel 6 log of the shared data). The simulator's slots take it;
+/// `None` outside 1-24.
+pub fn nominal_channel(slot: u16) -> Option<i8> {
+    const PLAN: [i8; 8 * 3] = [
+        1, -4, 5, 6, 1, -4, 5, 6, // plane 1, slots 1-8
+        -2, -7, 0, -1, -2, -7, 0, -1, // plane 2, slots 9-16
+        4, -3, 3, 2, 4, -3, 3, 2, // plane 3, slots 17-24
+    ];
+    PLAN.get(usize::from(slot).checked_sub(1)?).copied()
+}
+
+/// The G1 carrier wavelength of frequency channel `k`, m: c / (1602 +
+/// 0.5625 k) MHz (ICD edition 5.1 §3.3.1.4).
+pub fn g1_wavelength_m(k: i8) -> f64 {
+    crate::geodesy::wgs84::SPEED_OF_LIGHT_M_S / (1_602.0e6 + 0.5625e6 * f64::from(k))
+}
+
 /// Reads one `GLONASS SLOT / FRQ #` line into `channels` (slot → k);
 /// `expected` carries the header's satellite count across continuation
 /// lines. The error says what is wrong in the line.

@@ -72,6 +72,7 @@ pub use glonass_orbit::{
     propagate_glonass, GLONASS_EARTH_RATE_RAD_S, GLONASS_EQUATORIAL_RADIUS_M, GLONASS_GM_M3_S2,
     GLONASS_J2,
 };
+pub use glonass_slots::{g1_wavelength_m, nominal_channel};
 pub use measurement_rows::{
     carrier_of, check_measurement, epochs_from_rows, sat_id, MAX_SATELLITE_RADIUS_M,
     MAX_SATELLITE_SPEED_M_S,
@@ -83,7 +84,9 @@ pub use observables::{
     DEFAULT_PSEUDORANGE_STD_M, GPS_L1_WAVELENGTH_M, MIN_TROPOSPHERE_MASK_DEG,
 };
 pub use observation_file::{event_kind, ObservationEpoch, ObservationFile, SatelliteObservations};
-pub use pseudorange_weights::{rtklib_variance_m2, PseudorangeWeighting, RangeCorrections};
+pub use pseudorange_weights::{
+    rtklib_system_factor, rtklib_variance_m2, PseudorangeWeighting, RangeCorrections,
+};
 pub use range::{predicted_range, RangePrediction};
 pub use residual_test::{solve_fix, solve_fix_with, ResidualTest, DEFAULT_FALSE_ALARM_PROBABILITY};
 pub use rinex2_obs::rinex3_code;
@@ -104,8 +107,8 @@ pub use simulate::{
 };
 pub use sp3::{parse_sp3, read_sp3, Sp3};
 pub use system::{
-    satellite_name, satellite_number, system_of_number, GnssSystem, FIX_BIAS_SYSTEMS,
-    INTER_SYSTEM_BIAS_SYSTEMS,
+    inter_system_biases, satellite_name, satellite_number, system_of_number, GnssSystem,
+    FIX_BIAS_SYSTEMS, INTER_SYSTEM_BIAS_SYSTEMS,
 };
 pub use time::{
     calendar_from_gps_time, checked_gps_time_from_calendar, gps_minus_utc_s,

@@ -18,13 +18,14 @@ use super::beidou_ephemeris::BeidouEphemeris;
 use super::cnav_ephemeris::CnavEphemeris;
 use super::ephemeris::LnavEphemeris;
 use super::galileo_ephemeris::InavEphemeris;
+use super::glonass_ephemeris::GlonassEphemeris;
 use super::glonass_slots::slot_lines;
 use super::nav_record::NavRecord;
 use super::observation_file::ObservationFile;
 use super::rinex_nav::parse_broadcast_nav;
 use super::rinex_nav_cnav::cnav_values;
 use super::rinex_obs::parse_rinex_obs;
-use super::time::calendar_from_gps_time;
+use super::time::{calendar_from_gps_time, gps_minus_utc_s, SECONDS_PER_WEEK};
 use crate::{Error, Result};
 
 /// GPS time − Unix time at 1980-01-06 00:00:00, s (UTC without leap seconds).
@@ -285,6 +286,7 @@ pub struct NavFileEphemerides<'a> {
     pub gps_cnav: &'a [CnavEphemeris],
     pub galileo: &'a [InavEphemeris],
     pub beidou: &'a [BeidouEphemeris],
+    pub glonass: &'a [GlonassEphemeris],
 }
 
 impl NavFileEphemerides<'_> {
@@ -294,7 +296,7 @@ impl NavFileEphemerides<'_> {
             RinexNavVersion::V3_04 => 0,
             RinexNavVersion::V4_00 => self.gps_cnav.len(),
         };
-        self.gps_lnav.len() + cnav + self.galileo.len() + self.beidou.len()
+        self.gps_lnav.len() + cnav + self.galileo.len() + self.beidou.len() + self.glonass.len()
     }
 }
 
@@ -325,6 +327,46 @@ fn cnav_record(out: &mut String, c: &CnavEphemeris) {
     }
 }
 
+/// A GLONASS record (RINEX 3.05 table A10, the layout
+/// [`super::rinex_nav_glonass`] reads): t_b as a UTC epoch, −τ_n, γ_n and
+/// the message frame time (t_b's second of the UTC week: the ephemeris
+/// keeps no t_k), then position, velocity and lunisolar acceleration in
+/// km, km/s, km/s² with the health, the channel and the age. RINEX 4's
+/// fourth line (status flags, L1/L2 group delay, URAI, health flags) is
+/// written as not known (.999999999999E+09): the strings' P, M and F_T
+/// are not kept.
+fn glonass_record(out: &mut String, g: &GlonassEphemeris, v4: bool) {
+    let sat = format!("R{:02}", g.slot);
+    if v4 {
+        eph_label(out, &sat, "FDMA");
+    }
+    let utc = g.tb_gps_s - gps_minus_utc_s(g.tb_gps_s);
+    nav_epoch_line(
+        out,
+        &sat,
+        utc,
+        [-g.tau_n_s, g.gamma_n, utc.rem_euclid(SECONDS_PER_WEEK)],
+    );
+    let km = |v: &nalgebra::Vector3<f64>, i: usize| v[i] * 1e-3;
+    let extra = [
+        f64::from(g.health),
+        f64::from(g.frequency_channel),
+        f64::from(g.age_days),
+    ];
+    for (i, last) in extra.into_iter().enumerate() {
+        let row = [
+            km(&g.position_ecef, i),
+            km(&g.velocity_ecef, i),
+            km(&g.lunisolar_m_s2, i),
+            last,
+        ];
+        let _ = writeln!(out, "    {}", row.map(d19).concat());
+    }
+    if v4 {
+        let _ = writeln!(out, "    {}", [0.999_999_999_999e9; 4].map(d19).concat());
+    }
+}
+
 /// The text of a RINEX navigation file of `version` holding GPS LNAV
 /// (RINEX 3.04 table A6), Galileo I/NAV (table A8) and BeiDou D1 (table
 /// A14) ephemerides, and in RINEX 4.00 GPS CNAV ones too (table A32): t_oc
@@ -348,6 +390,7 @@ pub fn format_rinex_nav(
         ),
         (!e.galileo.is_empty(), "E: Galileo"),
         (!e.beidou.is_empty(), "C: BeiDou"),
+        (!e.glonass.is_empty(), "R: GLONASS"),
     ]
     .iter()
     .filter_map(|&(p, name)| p.then_some(name))
@@ -388,6 +431,9 @@ pub fn format_rinex_nav(
     }
     for b in e.beidou {
         labelled(&mut out, NavRecord::d1(b), "D1");
+    }
+    for g in e.glonass {
+        glonass_record(&mut out, g, v4);
     }
     out
 }
@@ -456,7 +502,8 @@ pub fn write_rinex_nav(
                 .count()
             + nav.gps_cnav.len()
             + nav.galileo.len()
-            + nav.beidou.len(),
+            + nav.beidou.len()
+            + nav.glonass.len(),
     );
     if written != read {
         return Err(Error::invalid(

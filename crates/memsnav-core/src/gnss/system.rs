@@ -20,14 +20,41 @@ pub enum GnssSystem {
     Gps,
     Galileo,
     Beidou,
-    /// GLONASS (FDMA): single-point positioning only; the tight filter and
-    /// the simulator do not take it.
+    /// GLONASS (FDMA): each satellite on its own carrier (G1 = 1602 +
+    /// 0.5625 k MHz, k its slot's frequency channel), so that its Doppler
+    /// and carrier phase scale by its own wavelength.
     Glonass,
 }
 
 /// Systems whose pseudoranges have an inter-system bias state in the
-/// tight filter.
-pub const INTER_SYSTEM_BIAS_SYSTEMS: [GnssSystem; 2] = [GnssSystem::Galileo, GnssSystem::Beidou];
+/// tight filter. GLONASS's also absorbs the average of the receiver's
+/// inter-frequency biases over the slots in view; what each slot's bias
+/// differs from that average by (decimetres to a few metres on a
+/// mass-market receiver) is left to the range-bias states, when the
+/// filter has them, or to the pseudorange noise.
+pub const INTER_SYSTEM_BIAS_SYSTEMS: [GnssSystem; 3] =
+    [GnssSystem::Galileo, GnssSystem::Beidou, GnssSystem::Glonass];
+
+/// The inter-system biases (Galileo, BeiDou, GLONASS against GPS, m) from
+/// the values a caller gives: all three, or the two of Galileo and BeiDou
+/// (the layout before GLONASS was added; GLONASS's is then 0). `argument`
+/// names the value in the error.
+pub fn inter_system_biases(
+    argument: &str,
+    values: &[f64],
+) -> crate::Result<[f64; INTER_SYSTEM_BIAS_SYSTEMS.len()]> {
+    match *values {
+        [galileo, beidou] => Ok([galileo, beidou, 0.0]),
+        [galileo, beidou, glonass] => Ok([galileo, beidou, glonass]),
+        _ => Err(crate::Error::invalid(
+            argument,
+            format!(
+                "expected 2 (Galileo, BeiDou) or 3 (Galileo, BeiDou, GLONASS) biases against GPS, m, got {}",
+                values.len()
+            ),
+        )),
+    }
+}
 
 /// Systems whose pseudoranges have an inter-system bias in the
 /// least-squares fix ([`crate::gnss::Fix::inter_system_bias_m`] order).
@@ -43,9 +70,16 @@ impl GnssSystem {
         GnssSystem::Glonass,
     ];
 
-    /// The systems the tight filter and the simulator combine (GLONASS
-    /// not yet), the default of the multi-system measurements.
-    pub const FILTERED: [GnssSystem; 3] =
+    /// The systems the tight filter and the simulator combine: all of them.
+    pub const FILTERED: [GnssSystem; 4] = Self::ALL;
+
+    /// The default systems of the multi-system measurements: GPS, Galileo
+    /// and BeiDou. GLONASS is asked for by name (`R`): its broadcast orbits
+    /// are the least accurate (RTKLIB's 5 m against GPS's 2.4 m) and each
+    /// slot's receiver inter-frequency bias adds decimetres to metres that
+    /// no state carries, so a run that has enough of the others gains
+    /// little from it.
+    pub const DEFAULT_MEASURED: [GnssSystem; 3] =
         [GnssSystem::Gps, GnssSystem::Galileo, GnssSystem::Beidou];
 
     /// The RINEX system letter.
@@ -64,8 +98,8 @@ impl GnssSystem {
     }
 
     /// The index of this system's inter-system bias in the tight filter
-    /// (0 Galileo, 1 BeiDou); `None` for GPS, the clock's reference, and
-    /// GLONASS, which the filter does not take.
+    /// (0 Galileo, 1 BeiDou, 2 GLONASS); `None` for GPS, the clock's
+    /// reference.
     pub fn inter_system_bias_index(self) -> Option<usize> {
         INTER_SYSTEM_BIAS_SYSTEMS.iter().position(|&s| s == self)
     }
@@ -149,7 +183,7 @@ mod tests {
         assert_eq!(satellite_name(305), "R05");
         assert_eq!(GnssSystem::Gps.inter_system_bias_index(), None);
         assert_eq!(GnssSystem::Beidou.inter_system_bias_index(), Some(1));
-        assert_eq!(GnssSystem::Glonass.inter_system_bias_index(), None);
+        assert_eq!(GnssSystem::Glonass.inter_system_bias_index(), Some(2));
         assert_eq!(GnssSystem::Glonass.fix_bias_index(), Some(2));
     }
 }

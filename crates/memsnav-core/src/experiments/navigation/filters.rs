@@ -159,7 +159,7 @@ fn tuning(spec: &ImuSpec, setup: &FilterSetup) -> Result<FilterTuning> {
 }
 
 /// The coupled filter on one IMU's readings (17 or 23 states as
-/// configured, + 2 inter-system biases with several systems); error
+/// configured, + 3 inter-system biases with several systems); error
 /// curves at `setup.out`. `fixes` are the loosely
 /// coupled filter's ([`position_fixes`] of `epochs`).
 pub(super) fn navigate(

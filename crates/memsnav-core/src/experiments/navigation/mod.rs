@@ -140,9 +140,9 @@ pub struct NavigationExperimentConfig {
     /// needed; a broadcast file would tie the runs to its validity window).
     pub constellation: WalkerConfig,
     /// The satellite systems simulated (default GPS alone): GPS from
-    /// `constellation`, Galileo and BeiDou from their nominal Walker
-    /// patterns ([`WalkerConfig::nominal`]). With a system other than GPS
-    /// every filter carries the two inter-system-bias states, and the
+    /// `constellation`, Galileo, BeiDou and GLONASS from their nominal
+    /// Walker patterns ([`WalkerConfig::nominal`]). With a system other
+    /// than GPS every filter carries the three inter-system-bias states, and the
     /// pseudoranges `gnss.inter_system_bias_m`. The least-squares fixes
     /// (the first-fix start, loose coupling) have one clock for all
     /// systems: non-zero biases bias them.

@@ -1,8 +1,11 @@
 //! The simulated receiver's carrier phase and its cycle slips.
 //!
 //! The carrier range of a satellite is the pseudorange's geometry, clock
-//! and inter-system bias, plus an integer ambiguity N·λ (λ of GPS L1, the
-//! simulator's signal) constant over a lock arc, plus white noise. The
+//! and inter-system bias, plus an integer ambiguity N·λ (λ of the
+//! simulator's signal: GPS L1's for GPS, Galileo and BeiDou, a GLONASS
+//! slot's own G1 wavelength c / (1602 + 0.5625 k) MHz, k its channel in
+//! [`crate::gnss::nominal_channel`]) constant over a lock arc, plus white
+//! noise. The
 //! atmospheric residual enters with the *opposite* sign: the simulator's
 //! residual stands for what broadcast corrections leave of the atmosphere,
 //! mostly ionospheric (Klobuchar removes about half of a delay of metres;
@@ -34,11 +37,22 @@ use rand_distr::{Distribution, StandardNormal};
 
 use super::super::observables::GPS_L1_WAVELENGTH_M;
 use super::super::{CarrierPhase, GnssEpoch};
+use crate::gnss::{g1_wavelength_m, nominal_channel, system_of_number, GnssSystem};
 use crate::random::{side_stream, Rng};
 
+/// The simulated carrier's wavelength of satellite number `sat_id`, m: a
+/// GLONASS slot's G1 on its channel (FDMA: each slot its own), else GPS
+/// L1's (a GLONASS slot beyond 24 takes channel 0).
+pub fn wavelength_m(sat_id: u16) -> f64 {
+    match system_of_number(sat_id) {
+        GnssSystem::Glonass => g1_wavelength_m(nominal_channel(sat_id % 100).unwrap_or(0)),
+        _ => GPS_L1_WAVELENGTH_M,
+    }
+}
+
 /// A cycle slip the simulator put in: from epoch `time_s` on, the carrier
-/// range of satellite `sat_id` holds `cycles` more cycles of
-/// [`GPS_L1_WAVELENGTH_M`].
+/// range of satellite `sat_id` holds `cycles` more cycles of its
+/// wavelength ([`wavelength_m`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CycleSlip {
     /// Epoch time on the trajectory's time axis, s (the epoch's own
@@ -86,7 +100,8 @@ impl CarrierTracking {
         })
     }
 
-    /// The carrier phase of satellite `i` (number `sat_id`) at epoch
+    /// The carrier phase of satellite `i` (number `sat_id`, of wavelength
+    /// [`wavelength_m`]) at epoch
     /// `epoch` (time `time_s`), whose noise-free carrier range without
     /// ambiguity is `range_m` (module docs). Draws: the ambiguity at an
     /// arc's first epoch, else (with a nonzero slip probability) whether it
@@ -120,7 +135,7 @@ impl CarrierTracking {
         self.arcs[i] = Some((ambiguity, epoch));
         let z: f64 = StandardNormal.sample(&mut self.rng);
         CarrierPhase {
-            range_m: range_m + ambiguity as f64 * GPS_L1_WAVELENGTH_M + self.std_m * z,
+            range_m: range_m + ambiguity as f64 * wavelength_m(sat_id) + self.std_m * z,
             std_m: self.std_m,
             loss_of_lock: false,
         }

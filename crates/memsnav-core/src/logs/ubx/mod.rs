@@ -2,7 +2,8 @@
 //! descriptions): the raw measurements (RXM-RAWX), the GPS, Galileo and
 //! BeiDou broadcast ephemerides decoded from the navigation message words
 //! (RXM-SFRBX: GPS L1 C/A LNAV, GPS L2C and L5 CNAV with the Klobuchar
-//! coefficients of its message type 30, Galileo E1-B I/NAV, BeiDou D1) and
+//! coefficients of its message type 30, Galileo E1-B I/NAV, BeiDou D1,
+//! GLONASS L1OF/L2OF strings 1-5) and
 //! the receiver's own solution (NAV-PVT).
 //!
 //! The measurements come out twice: as the receiver reports them
@@ -15,7 +16,8 @@
 //!
 //! Not decoded yet (skipped with a count): GPS CNAV message types other
 //! than 10, 11 and 30-37, Galileo F/NAV and E6, BeiDou D2 (GEO), GLONASS
-//! strings, SBAS, and every message other than the three above.
+//! almanac strings (6-15), SBAS, and every message other than the three
+//! above.
 //!
 //! Any byte sequence is read without a panic: frames whose checksum fails
 //! are skipped and counted, a last frame cut short is reported in
@@ -28,6 +30,7 @@ mod bytes;
 mod ephemeris_checks;
 mod framing;
 mod galileo_inav;
+mod glonass_strings;
 mod gps_cnav;
 mod gps_lnav;
 mod msb_bits;
@@ -42,8 +45,9 @@ use std::path::Path;
 
 use crate::geodesy::{geodetic_to_ecef, Geodetic};
 use crate::gnss::{
-    BeidouEphemeris, BroadcastNav, CnavEphemeris, InavEphemeris, Klobuchar, LnavEphemeris,
-    NavFileEphemerides, ObservationEpoch, ObservationFile, SatelliteObservations, SignalLayout,
+    BeidouEphemeris, BroadcastNav, CnavEphemeris, GlonassEphemeris, InavEphemeris, Klobuchar,
+    LnavEphemeris, NavFileEphemerides, ObservationEpoch, ObservationFile, SatelliteObservations,
+    SignalLayout,
 };
 use crate::gnss::{LLI_HALF_CYCLE, LLI_LOST_LOCK};
 use crate::logs::PosSolution;
@@ -80,6 +84,10 @@ pub struct UbxLog {
     /// RXM-SFRBX (B1I, B2I or B3I), one per satellite, AODE and t_oe, in
     /// the order they completed.
     pub beidou_ephemerides: Vec<BeidouEphemeris>,
+    /// GLONASS ephemerides decoded from RXM-SFRBX (L1OF or L2OF strings
+    /// 1-4, with string 5's four-year interval), one per slot and t_b, in
+    /// the order they completed.
+    pub glonass_ephemerides: Vec<GlonassEphemeris>,
     /// Every NAV-PVT solution, fix or not.
     pub nav_pvt: Vec<NavPvt>,
     /// The NAV-PVT position fixes, as the other fix readers give them.
@@ -102,6 +110,7 @@ impl UbxLog {
             gps_cnav: &self.gps_cnav_ephemerides,
             galileo: &self.galileo_ephemerides,
             beidou: &self.beidou_ephemerides,
+            glonass: &self.glonass_ephemerides,
         }
     }
 
@@ -123,8 +132,7 @@ impl UbxLog {
                 .collect(),
             galileo: self.galileo_ephemerides.clone(),
             beidou: self.beidou_ephemerides.clone(),
-            // UBX GLONASS strings are not decoded.
-            glonass: Vec::new(),
+            glonass: self.glonass_ephemerides.clone(),
             gps_cnav: self.gps_cnav_ephemerides.clone(),
             klobuchar: self.klobuchar,
             // The CNAV ephemerides are in the order they completed: the
@@ -197,6 +205,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
     let mut cnav = gps_cnav::CnavDecoder::default();
     let mut inav = galileo_inav::InavDecoder::default();
     let mut d1 = beidou_d1::D1Decoder::default();
+    let mut glonass = glonass_strings::GlonassDecoder::default();
     for f in &frames {
         let name = match (f.class, f.id) {
             NAV_PVT => "NAV-PVT".to_string(),
@@ -308,6 +317,17 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
                     (3, 0 | 2 | 4, _) => malformed(format!(
                         "RXM-SFRBX BeiDou D1 with {words} words (10 expected) or PRN {sv_id}"
                     )),
+                    // GLONASS L1OF and L2OF (sigId 0, 2): one string in
+                    // four words, the slot known (svId 255 until then).
+                    (6, 0 | 2, glonass_strings::WORDS) if (1..=24).contains(&sv_id) => {
+                        glonass.push(sv_id, p[3], &sfrbx_words(p), reception_gps_s);
+                    }
+                    (6, 0 | 2, glonass_strings::WORDS) if sv_id == 255 => {
+                        problems.add("GLONASS strings of a slot not known yet", 1)
+                    }
+                    (6, 0 | 2, _) => malformed(format!(
+                        "RXM-SFRBX GLONASS with {words} words (4 expected) or slot {sv_id}"
+                    )),
                     _ => problems.add(
                         &format!(
                             "RXM-SFRBX of a navigation message not decoded (gnssId {gnss_id}, sigId {sig_id})"
@@ -346,6 +366,18 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         d1.stats.bch_failures,
     );
     problems.add("BeiDou D1 subframes malformed", d1.stats.malformed);
+    problems.add(
+        "GLONASS strings with a Hamming code failure",
+        glonass.stats.hamming_failures,
+    );
+    problems.add(
+        "GLONASS strings 1-4 that make no ephemeris (not one frame's, or a slot, channel or t_b out of place)",
+        glonass.stats.inconsistent,
+    );
+    problems.add(
+        "GLONASS ephemerides out of range",
+        glonass.stats.out_of_range,
+    );
     let ephemerides = ephemeris_checks::check(
         ephemeris_checks::Checked {
             gps: lnav.ephemerides,
@@ -373,6 +405,7 @@ pub fn parse_ubx(log: &[u8], file: &str) -> Result<UbxLog> {
         klobuchar: cnav.klobuchar.map(|(_, k)| k),
         galileo_ephemerides: ephemerides.galileo,
         beidou_ephemerides: ephemerides.beidou,
+        glonass_ephemerides: glonass.ephemerides,
         nav_pvt,
         fixes,
         messages,
