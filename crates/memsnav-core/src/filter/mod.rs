@@ -324,6 +324,24 @@ impl<const N: usize> ErrorStateKf<N> {
     }
 }
 
+/// M ← M + α x yᵀ, column by column over contiguous slices: the loops
+/// vectorise where nalgebra's `ger` (a strided axpy per column) does not.
+/// Each entry gets the same sum, (α yⱼ) xᵢ + Mᵢⱼ, so results are bitwise
+/// those of `ger(α, x, y, 1)`.
+pub(crate) fn add_outer<const N: usize>(
+    m: &mut SMatrix<f64, N, N>,
+    alpha: f64,
+    x: &nalgebra::SVector<f64, N>,
+    y: &nalgebra::SVector<f64, N>,
+) {
+    for (column, &yj) in m.as_mut_slice().chunks_exact_mut(N).zip(y.iter()) {
+        let a = alpha * yj;
+        for (t, &xi) in column.iter_mut().zip(x.iter()) {
+            *t += a * xi;
+        }
+    }
+}
+
 /// Normalised estimation error squared eᵀ P⁻¹ e (Bar-Shalom et al. 2001,
 /// §5.4.2) of an error `e` with covariance `p`; `None` when `p` is not
 /// positive definite. Its expectation is the dimension `K` for a consistent

@@ -483,7 +483,7 @@ fn adjoint_scalar<const N: usize>(
     let kl = k.dot(lambda);
     *lambda -= h * (kl + s.innovation / s.innovation_variance);
     let rk = *factor * k;
-    factor.ger(-1.0, &rk, &h, 1.0);
+    super::add_outer(factor, -1.0, &rk, &h);
     for row in rows.iter_mut() {
         let a = row.dot(k);
         row.axpy(-a, &h, 1.0);

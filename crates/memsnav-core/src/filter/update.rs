@@ -40,11 +40,11 @@ pub(super) fn scalar_joseph<const N: usize>(
         let k = u / s;
         x.axpy(innovation, &k, 1.0);
         // A = (I − k h) P = P − k uᵀ.
-        p.ger(-1.0, &k, &u, 1.0);
+        super::add_outer(p, -1.0, &k, &u);
         // A hᵀ, then P⁺ = A (I − k h)ᵀ + r k kᵀ.
         let w = h.times_transposed(p);
-        p.ger(-1.0, &w, &k, 1.0);
-        p.ger(r, &k, &k, 1.0);
+        super::add_outer(p, -1.0, &w, &k);
+        super::add_outer(p, r, &k, &k);
         // Symmetrised through the fixed-size columns (no index checks):
         // P_ij (column j, row i) and P_ji for i < j.
         let columns = &mut p.data.0;
