@@ -17,7 +17,9 @@ from typing import Any
 
 import numpy as np
 import pytest
+import walk_multi_gnss
 from doc_pages import NAVIGATE_GUIDE, doc_text
+from figures import figures
 from quoted import quoted_figures, rounds_to
 from shared_data import shared_data
 
@@ -26,7 +28,9 @@ from memsnav.realdata.answer import answer_lines
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = "docs/how-to/multi-gnss.md"
-UBX = "real-imu-gnss/walk_0827/gnss_1730.ubx"
+UBX = walk_multi_gnss.UBX
+RECORD = figures("walk_multi_gnss")
+"""The walk's figures docs/how-to/multi-gnss.md shows (docs/walk_multi_gnss.py)."""
 
 
 @pytest.fixture(scope="module")
@@ -79,37 +83,21 @@ def test_the_log_measurements_fit_one_position_per_system(walk_log):
     assert np.all(np.std(biases, axis=0) < 1.5), np.std(biases, axis=0)
 
 
-def test_the_quoted_geometry_free_delays_are_the_logs(walk_log):
-    """the navigate guide: "over the run G24, G27 and G18 (32-35°
-    elevation) average 6.1, 7.9 and 11.3 m": each satellite's delay measured
-    from L2C (the corrected pseudorange without any ionosphere correction
-    less the one with the measured delay), averaged over the log, and the
-    satellites' mean elevations."""
-    found = re.search(
-        r"G24, G27 and G18 \(([\d.]+)-([\d.]+)° elevation\) average ([\d.]+), ([\d.]+) and "
-        r"([\d.]+) m",
-        _docs_page(),
+def test_the_geometry_free_delays_are_the_records(walk_log):
+    """docs/how-to/multi-gnss.md: G24, G27 and G18 at one elevation
+    average delays metres apart, measured from L2C and averaged over the
+    log (shown to 0.1 m, the elevations to the degree)."""
+    fresh = walk_multi_gnss.geometry_free_delays(walk_log)
+    recorded = RECORD["geometry_free"]
+    np.testing.assert_allclose(fresh["delay_m"], recorded["delay_m"], atol=0.05)
+    for end in ("least", "most"):
+        assert abs(fresh["elevation_deg"][end] - recorded["elevation_deg"][end]) <= 0.5
+    # Metres apart where the 1/f² law puts them decimetres apart.
+    assert max(fresh["delay_m"]) - min(fresh["delay_m"]) > 3.0
+    settings = walk_multi_gnss.DELAY_SETTINGS
+    measured = walk_log.observations.measurements(
+        walk_log.broadcast_ephemerides, dual_frequency=True, **settings
     )
-    assert found, "the navigate guide no longer quotes the walk's geometry-free delays"
-    low_deg, high_deg, *quoted = (float(v) for v in found.groups())
-    # The settings of examples/walk_0827_multi_gnss.toml (σ sets the smoothing).
-    settings = {
-        "elevation_mask_deg": 5.0,
-        "min_cn0_db_hz": 20.0,
-        "pseudorange_std": 0.5,
-        "weighting": "signal-strength",
-        "systems": ["G"],
-    }
-    eph, obs = walk_log.broadcast_ephemerides, walk_log.observations
-    measured = obs.measurements(eph, dual_frequency=True, **settings)
-    left_in = obs.measurements(eph, ionosphere=False, **settings)
-    ids = np.asarray(measured.sat_id)
-    delay = np.asarray(left_in.pseudorange) - np.asarray(measured.pseudorange)
-    elevation = np.degrees(np.asarray(measured.elevation_rad))
-    for prn, value in zip((24, 27, 18), quoted, strict=True):
-        mine = ids == prn
-        assert abs(np.mean(delay[mine]) - value) <= 0.05, (prn, np.mean(delay[mine]))
-        assert low_deg - 0.5 <= np.mean(elevation[mine]) <= high_deg + 0.5, prn
     assert {name for row in measured.signal for name in row if name} == {"L1 C/A + L2C (L)"}
 
 
@@ -280,34 +268,12 @@ def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
             slips = sum(r["slips"] for r in s["satellites"])
             assert slips == carrier.get("slip", 0) > 0, (slips, carrier)
             if len(overrides["systems"]) == 3:
-                page = _docs_page()
-                quoted = re.search(
-                    r"(\d+) on GPS \((\d+) to (\d+) a satellite\), (\d+) on Galileo, "
-                    r"(\d+) on BeiDou",
-                    page,
-                )
-                assert quoted, "the navigate guide no longer quotes the walk's cycle slips"
-                per_system = {
-                    t: [r["slips"] for r in s["satellites"] if r["system"] == t]
-                    for t in ("GPS", "Galileo", "BeiDou")
-                }
-                gps = per_system["GPS"]
-                assert [int(v) for v in quoted.groups()] == [
-                    sum(gps),
-                    min(gps),
-                    max(gps),
-                    sum(per_system["Galileo"]),
-                    sum(per_system["BeiDou"]),
-                ]
+                assert walk_multi_gnss.slips(s) == RECORD["carrier_slips"]
         else:
             assert not carrier, (name, carrier)
         if name == "GPS + Galileo + BeiDou":
-            page = _docs_page()
-            quoted = re.search(r"Galileo (−?[\d.]+) m, BeiDou (−?[\d.]+) m on the walk", page)
-            assert quoted, "the navigate guide no longer quotes the walk's inter-system biases"
-            galileo, beidou = (float(v.replace("−", "-")) for v in quoted.groups())
-            isb = s["inter_system_bias_m"]
-            assert abs(isb["galileo"] - galileo) <= 0.006 and abs(isb["beidou"] - beidou) <= 0.006
+            isb, recorded = s["inter_system_bias_m"], RECORD["inter_system_bias_m"]
+            assert all(abs(isb[k] - recorded[k]) <= 0.006 for k in ("galileo", "beidou")), isb
 
 
 def test_the_quoted_carrier_floors_are_the_walks(tmp_path):
@@ -413,51 +379,30 @@ def test_the_quoted_g08_start_is_the_walks(tmp_path):
         assert rounds_to(value, measured), (model, measured)
 
 
-def test_the_quoted_phase_wind_up_bound_is_the_walks(walk_run):
-    """the navigate guide bounds the walk's differential phase wind-up by the
-    tilt of the body's vertical axis per 0.25 s epoch (λ·tilt/360°):
-    recomputed from the attitude of the all-systems run."""
-    page = _docs_page()
-    quoted = re.search(
-        r"tilts by ([\d.]+)° per 0.25 s \(median; ([\d.]+)° at the 95th percentile\), "
-        r"which bounds the differential wind-up by λ·tilt/360° = ([\d.]+) mm",
-        page,
-    )
-    assert quoted, "the navigate guide no longer quotes the wind-up bound"
-    median_deg, p95_deg, bound_mm = map(float, quoted.groups())
-    solution = walk_run.run.solution
-    time, c_b_e = np.asarray(solution.time), np.asarray(solution.attitude)
-    at = np.searchsorted(time, np.arange(time[0], time[-1], 0.25))
-    z_axis = c_b_e[at][:, :, 2]
-    tilt_deg = np.degrees(np.arccos(np.clip(np.sum(z_axis[1:] * z_axis[:-1], axis=1), -1, 1)))
-    wavelength_m = 299_792_458.0 / 1575.42e6
-    assert np.median(tilt_deg) == pytest.approx(median_deg, abs=0.05)
-    assert np.percentile(tilt_deg, 95) == pytest.approx(p95_deg, abs=0.05)
-    assert 1000 * wavelength_m * np.percentile(tilt_deg, 95) / 360 == pytest.approx(
-        bound_mm, abs=0.05
-    )
+def test_the_phase_wind_up_bound_is_the_record(walk_run):
+    """docs/how-to/multi-gnss.md bounds the walk's differential phase
+    wind-up by the tilt of the body's vertical axis per 0.25 s epoch
+    (λ·tilt/360°), each shown to 0.1: well under the 2 cm floor."""
+    fresh = walk_multi_gnss.wind_up(walk_run)
+    for key, value in RECORD["wind_up"].items():
+        assert abs(fresh[key] - value) <= 0.05, (key, fresh[key], value)
+    assert fresh["bound_mm"] < 20.0
 
 
-def test_the_quoted_receiver_clock_ramp_is_the_logs(walk_log):
-    """the navigate guide explains why the carrier changes eliminate the
-    clock by the walk's receiver clock drifting from −61 to −81 m/s over
-    the log (−0.17 m/s²): the single-point fixes' Doppler drift."""
-    page = _docs_page()
-    quoted = re.search(
-        r"clock drifts from (−[\d.]+) to (−[\d.]+) m/s over the log \((−[\d.]+) m/s²", page
-    )
-    assert quoted, "the navigate guide no longer quotes the walk's clock ramp"
-    first, last, slope = (float(v.replace("−", "-")) for v in quoted.groups())
-    gnss = walk_log.observations.measurements(
-        walk_log.broadcast_ephemerides, systems=["G", "E", "C"]
-    )
-    fixes = mn.solve_fix(gnss)
-    time, drift = np.asarray(fixes.time), np.asarray(fixes.clock_drift)
-    ok = np.isfinite(drift)
-    time, drift = time[ok] - time[ok][0], drift[ok]
-    assert np.mean(drift[time < 10]) == pytest.approx(first, abs=1.0)
-    assert np.mean(drift[time > time[-1] - 10]) == pytest.approx(last, abs=1.0)
-    assert np.polyfit(time, drift, 1)[0] == pytest.approx(slope, abs=0.01)
+def test_the_receiver_clock_ramp_is_the_record(walk_log):
+    """docs/how-to/multi-gnss.md explains why the carrier changes eliminate
+    the clock by the walk's receiver clock drifting over the log (the
+    single-point fixes' Doppler drift; shown to 1 m/s and 0.01 m/s²): a
+    warming oscillator's steady ramp."""
+    fresh = walk_multi_gnss.clock_ramp(walk_log)
+    recorded = RECORD["clock"]
+    assert abs(fresh["first_m_s"] - recorded["first_m_s"]) <= 0.5
+    assert abs(fresh["last_m_s"] - recorded["last_m_s"]) <= 0.5
+    assert abs(fresh["slope_m_s2"] - recorded["slope_m_s2"]) <= 0.005
+    assert fresh["slope_m_s2"] < 0 and fresh["last_m_s"] < fresh["first_m_s"]
+    # crates/memsnav-core/tests/gnss.rs sizes the change of 20 m/s over
+    # 133.75 s against the clock models: the record's.
+    assert round(fresh["first_m_s"] - fresh["last_m_s"]) == 20
 
 
 @pytest.fixture(scope="module")
@@ -466,18 +411,11 @@ def walk_run(tmp_path_factory):
     return _navigate("walk_0827_multi_gnss.toml", tmp_path_factory.mktemp("walk") / "out")
 
 
-def test_the_quoted_inter_system_biases_are_the_walks(walk_run):
-    """the navigate guide: "(`inter_system_bias_m`: Galileo −0.39 m, BeiDou
-    −4.55 m on the walk)", the final estimates of the example's run."""
-    found = re.search(
-        r"`inter_system_bias_m`: Galileo ([−-][\d.]+) m, BeiDou ([−-][\d.]+) m on the walk",
-        _docs_page(),
-    )
-    assert found, "the navigate guide no longer quotes the walk's inter-system biases"
-    galileo, beidou = (float(v.replace("−", "-")) for v in found.groups())
-    biases = walk_run.summary["inter_system_bias_m"]
-    assert abs(biases["galileo"] - galileo) <= 0.005, biases
-    assert abs(biases["beidou"] - beidou) <= 0.005, biases
+def test_the_inter_system_biases_are_the_records(walk_run):
+    """docs/how-to/multi-gnss.md: the final inter-system biases of the
+    example's run, shown to the cm."""
+    biases, recorded = walk_run.summary["inter_system_bias_m"], RECORD["inter_system_bias_m"]
+    assert all(abs(biases[k] - recorded[k]) <= 0.005 for k in ("galileo", "beidou")), biases
 
 
 #: The S observation of the signal each system's walk measurements use
@@ -531,24 +469,16 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
     assert f"\n{line}\n" in doc_text(*NAVIGATE_GUIDE), (
         "the navigate guide no longer quotes the walk's satellites line"
     )
-    page = _docs_page()
-    quoted = re.search(
-        r"mean C/N0 from ([\d.]+) dB-Hz \((E\d\d), (\d+)° mean elevation, (\d+) of the (\d+) "
-        r"epochs\) to ([\d.]+) dB-Hz \((G\d\d)\)",
-        page,
-    )
-    assert quoted, "the navigate guide no longer quotes the walk's C/N0 range"
-    low = min(rows, key=lambda r: r["mean_cn0_db_hz"])
-    high = max(rows, key=lambda r: r["mean_cn0_db_hz"])
-    assert quoted.groups() == (
-        f"{low['mean_cn0_db_hz']:.1f}",
-        low["satellite"],
-        f"{low['mean_elevation_deg']:.0f}",
-        str(low["epochs"]),
-        str(max(r["epochs"] for r in rows)),
-        f"{high['mean_cn0_db_hz']:.1f}",
-        high["satellite"],
-    )
+    # docs/how-to/multi-gnss.md's weakest and strongest satellites (C/N0
+    # shown to 0.1 dB-Hz, the elevation to the degree).
+    fresh, recorded = walk_multi_gnss.satellites(s), RECORD["satellites"]
+    assert fresh["most_epochs"] == recorded["most_epochs"]
+    for end in ("weakest", "strongest"):
+        assert fresh[end]["satellite"] == recorded[end]["satellite"]
+        assert abs(fresh[end]["mean_cn0_db_hz"] - recorded[end]["mean_cn0_db_hz"]) <= 0.05
+    assert fresh["weakest"]["epochs"] == recorded["weakest"]["epochs"]
+    elevation = fresh["weakest"]["mean_elevation_deg"]
+    assert abs(elevation - recorded["weakest"]["mean_elevation_deg"]) <= 0.5
 
 
 def test_a_gps_rinex_run_lists_one_system(tmp_path):

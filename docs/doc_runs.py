@@ -1,0 +1,395 @@
+"""The short runs behind figures the pages quote in their sentences, each
+writing its record ``docs/data/<name>.json`` (docs/figures.py):
+``python docs/doc_runs.py [--data-root DIR] [NAME ...]`` runs the named
+ones (all without a name), writes their records and re-renders the pages.
+
+Each run is a function returning its figures, full precision, in the
+units the pages show; ``tests/test_doc_runs.py`` calls the same functions
+and compares what they return today with the records, within the digits
+the pages show. A run takes seconds (the example logs: one navigate each)."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import copy
+import io
+import re
+import tempfile
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import walk_multi_gnss
+from figures import load_record, write_record
+from marked_block import replace_block
+
+import memsnav as mn
+from memsnav.realdata.config import RunConfig, resolve_data_root
+from memsnav.reproduce import QUICK
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _python_block(page: str, heading: str | None = None) -> str:
+    """The first Python block of ``docs/<page>`` (after ``heading``)."""
+    text = (ROOT / "docs" / page).read_text()
+    if heading:
+        text = text[text.index(heading) :]
+    return re.search(r"```python\n(.*?)```", text, re.S).group(1)
+
+
+def first_session(data_root: Path) -> dict[str, Any]:
+    """The first session's Python block (docs/tutorials/first-session.md):
+    what it prints, the INS fed the truth's largest error and the raw
+    MEMS's drift after 120 s."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), tempfile.TemporaryDirectory() as tmp:
+        with contextlib.chdir(tmp):
+            block = _python_block("tutorials/first-session.md", "## A first session in Python")
+            exec(compile(block, "first-session.md", "exec"), {})
+    truth_error_m, drift_m = (float(v) for v in out.getvalue().split())
+    return {"ins_largest_error_m": truth_error_m, "drift_km": drift_m / 1e3}
+
+
+def own_arrays_conditioning(data_root: Path) -> dict[str, Any]:
+    """The condition number of the w axis of the accelerometer calibration
+    in docs/how-to/your-own-arrays.md's first example."""
+    namespace: dict[str, Any] = {}
+    with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+        warnings.simplefilter("ignore")  # the warnings the page describes
+        exec(compile(_python_block("how-to/your-own-arrays.md"), "howto.md", "exec"), namespace)
+    return {"w_axis_condition_number": float(namespace["acc_cal"].condition_number[2])}
+
+
+def _one_over_e_time_s(x: np.ndarray, rate_hz: float) -> float:
+    """The first lag at which the sample autocorrelation of ``x`` (mean
+    removed; FFT of the zero-padded series) falls below 1/e, s."""
+    x = x - x.mean()
+    spectrum = np.fft.rfft(x, 2 * len(x))
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[: len(x)]
+    return float(np.argmax(acf / acf[0] < 1.0 / np.e) / rate_hz)
+
+
+def input_correlation_times(data_root: Path) -> dict[str, Any]:
+    """On six 600 s random trajectories (seeds 0-5, 100 Hz), the time the
+    yaw rate's and the horizontal specific force's autocorrelation take to
+    fall to 1/e (decision 0008 chooses τ = 10 s from them)."""
+    yaw, force = [], []
+    for seed in range(6):
+        truth = mn.Trajectory.random(duration=600.0, rate=100.0, seed=seed)
+        yaw.append(_one_over_e_time_s(truth.angular_rate[:, 2], 100.0))
+        force += [_one_over_e_time_s(truth.specific_force[:, k], 100.0) for k in (0, 1)]
+    return {
+        "yaw_rate_s": {"least": min(yaw), "most": max(yaw)},
+        "horizontal_force_s": {"least": min(force), "most": max(force)},
+    }
+
+
+def tactical_three_satellites(data_root: Path) -> dict[str, Any]:
+    """A tactical IMU 900 s on the 3 highest of 6 satellites from the exact
+    start, seeds 1-8: final error and vertical σ, km; the share of errors
+    inside 3σ."""
+    import few_satellites_study
+
+    runs = [few_satellites_study._long_run(3, seed, grade="tactical") for seed in range(1, 9)]
+    final_km = [r["final_m"] / 1e3 for r in runs]
+    sigma_km = [r["final_vertical_sigma_m"] / 1e3 for r in runs]
+    return {
+        "final_error_km": {"least": min(final_km), "most": max(final_km)},
+        "final_vertical_sigma_km": {"least": min(sigma_km), "most": max(sigma_km)},
+        "least_inside_percent": 100.0 * min(r["inside"] for r in runs),
+    }
+
+
+def _example(name: str, data_root: Path) -> RunConfig:
+    config = mn.load_config(ROOT / "examples" / f"{name}.toml", data_root)
+    config.values["report"]["html"] = False
+    return config
+
+
+def _navigate(config) -> Any:
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+        warnings.simplefilter("ignore")  # the logs' cut lines
+        return mn.navigate(config, output=out)
+
+
+#: The IMU time offsets docs/explanation/time-and-truth.md compares, s.
+IMU_OFFSETS_S = (-0.27, -0.22, -0.20, -0.125)
+
+#: The velocity latencies it compares, s.
+VELOCITY_LATENCIES_S = (0.0, 0.125, 0.132)
+
+
+def drive_time_offsets(data_root: Path) -> dict[str, Any]:
+    """drive_0708 without outages: the mean NIS per degree of freedom of
+    its position fixes at four IMU offsets, and its aided error (cm) and
+    position resets at three velocity latencies (one navigate each)."""
+    base = _example("drive_0708", data_root)
+    base.engine.pop("outages")
+    nis = []
+    for offset_s in IMU_OFFSETS_S:
+        config = copy.deepcopy(base)
+        config.engine["imu"]["time_offset_s"] = offset_s
+        batches = _navigate(config).run.solution.batches
+        position = np.asarray(batches["kind"]) == "position"
+        per_dof = np.asarray(batches["nis"])[position] / np.asarray(batches["dof"])[position]
+        nis.append(float(np.mean(per_dof)))
+    aided_cm, resets = [], []
+    for latency_s in VELOCITY_LATENCIES_S:
+        config = copy.deepcopy(base)
+        config.engine["gnss"]["velocity_latency_s"] = latency_s
+        summary = _navigate(config).summary
+        aided_cm.append(100.0 * summary["errors_vs_truth"]["aided"]["rms_horizontal_m"])
+        resets.append([r["kind"] for r in summary["resets"]].count("position_to_fix"))
+    return {
+        "imu_offsets_s": list(IMU_OFFSETS_S),
+        "position_nis_per_dof": nis,
+        "velocity_latencies_s": list(VELOCITY_LATENCIES_S),
+        "aided_rms_cm": aided_cm,
+        "position_resets": resets,
+    }
+
+
+def example_consistency(data_root: Path) -> dict[str, Any]:
+    """Each example log run as configured: the largest ratio of its
+    time-averaged NIS to the band's edge, over every GNSS kind."""
+    figures = {}
+    for name in ("drive_0708", "walk_0827"):
+        summary = _navigate(_example(name, data_root)).summary
+        figures[name] = max(c["max_band_ratio"] for c in summary["integrity"]["consistency"])
+    return {"largest_band_ratio": figures}
+
+
+def walk_precision(data_root: Path) -> dict[str, Any]:
+    """walk_0827 as configured, scored by precision (each solution less its
+    own mean offset from the truth): the offset removed (horizontal, m),
+    the filter's and the single-point solution's horizontal RMS, m."""
+    summary = _navigate(_example("walk_0827", data_root)).summary
+    precise = summary["errors_vs_truth_precision"]
+    north, east, _ = precise["offset_removed_ned_m"]
+    return {
+        "truth_offset_m": float(np.hypot(north, east)),
+        "forward_rms_horizontal_m": precise["aided"]["rms_horizontal_m"],
+        "single_point_rms_horizontal_m": summary["spp_errors_vs_truth_precision"][
+            "rms_horizontal_m"
+        ],
+    }
+
+
+def two_satellite_runs(data_root: Path) -> dict[str, Any]:
+    """The few-satellite study's eight 900 s consumer-IMU runs on 2
+    satellites (seeds 1-8): how many stay inside 3σ until the first alert
+    (the share rounding to 1.00, as the study's table prints it), the
+    latest first alert, the NIS per dof over 60 s windows, and the
+    latest-alerting run's tilt 20 s in with its σ, degrees."""
+    import few_satellites_study
+
+    runs = [few_satellites_study._long_run(2, seed) for seed in range(1, 9)]
+    nis = [v for r in runs for v in r["nis_per_dof_60s"]]
+    exception = max(runs, key=lambda r: r["first_alert_s"])
+    return {
+        "runs": len(runs),
+        "inside_until_alert": sum(round(r["inside_before_alert"], 2) == 1.0 for r in runs),
+        "latest_first_alert_s": max(r["first_alert_s"] for r in runs),
+        "nis_per_dof_60s": {"least": min(nis), "most": max(nis)},
+        "exception_tilt_deg": [abs(v) for v in exception["tilt_at_20s_deg"]],
+        "exception_tilt_sigma_deg": list(exception["tilt_std_at_20s_deg"]),
+    }
+
+
+#: The IMUs of the paper comparison, in its tables' order.
+PAPER_IMUS = ("ins", "mems", "calibrated_mems")
+
+
+def partial_outages(data_root: Path) -> dict[str, Any]:
+    """The partial-outage experiment's quick run (30 runs, seed 0): per
+    scenario and IMU the mean largest error in the window (m), the position
+    NEES/dof at its end, the share of runs flagged; the shares of the
+    no-satellite error kept with 3 and 2 satellites, %."""
+    scenarios = mn.experiments.partial_outage(runs=30, seed=0).summary()["scenarios"]
+    table = {
+        scenario: {
+            imu: {
+                "largest_m": s["imus"][imu]["mean_max_position_error_during_outage_m"],
+                "nees_per_dof": s["imus"][imu]["position_nees_per_dof_at_outage_end"],
+                "diverged_share": s["imus"][imu]["diverged_share"],
+            }
+            for imu in PAPER_IMUS
+        }
+        for scenario, s in scenarios.items()
+    }
+
+    def kept(imu: str, n: int) -> float:
+        return (
+            100.0
+            * table[f"tight, {n} satellites"][imu]["largest_m"]
+            / table["tight, 0 satellites"][imu]["largest_m"]
+        )
+
+    nees = [cell["nees_per_dof"] for row in table.values() for cell in row.values()]
+    two = [kept(imu, 2) for imu in PAPER_IMUS]
+    return {
+        "scenarios": table,
+        "three_satellites_kept_percent": {imu: kept(imu, 3) for imu in PAPER_IMUS},
+        "two_satellites_kept_percent": {"least": min(two), "most": max(two)},
+        "nees_per_dof": {"least": min(nees), "most": max(nees)},
+    }
+
+
+def partial_outages_table(record: dict[str, Any]) -> str:
+    """docs/results/paper-comparison.md's partial-outage table from its
+    record, between its markers."""
+    rows = [
+        f"| {scenario} | "
+        + " | ".join(
+            f"{_three_figures(c['largest_m'])} ({c['nees_per_dof']:.2f})" for c in imus.values()
+        )
+        + " |"
+        for scenario, imus in record["figures"]["scenarios"].items()
+    ]
+    header = "| scenario | ins | mems | calibrated_mems |\n|---|---|---|---|"
+    return "\n".join([PARTIAL_OUTAGES[0], header, *rows, PARTIAL_OUTAGES[1]])
+
+
+def _three_figures(value: float) -> str:
+    """Three significant figures, no exponent: 105, 26.1, 8.9 (two below 10)."""
+    return f"{value:.0f}" if value >= 100 else f"{value:.1f}"
+
+
+#: The partial-outage table's markers.
+PARTIAL_OUTAGES = ("<!-- partial-outages:begin -->", "<!-- partial-outages:end -->")
+
+
+def quick_calibration(data_root: Path) -> dict[str, Any]:
+    """The calibration experiment's quick run (``memsnav reproduce``: 50
+    sets × 100 runs, seed 0): plain least squares' efficiency on the gyro p
+    and q and the accelerometer u scale factors and the share of its MSE
+    that is squared mean error (%); the misalignments' normalised RMS error
+    (errors-in-variables)."""
+    sizes = QUICK
+    s = mn.experiments.calibration(
+        parameter_sets=sizes.calibration_sets, runs=sizes.calibration_runs, seed=0
+    ).summary()
+    gyro_sf = s["gyroscope"]["scale_factor"]["per_axis"]
+    accel_sf = s["accelerometer"]["scale_factor"]["per_axis"]
+    shares = [100.0 * gyro_sf[a]["bias_share_ls"] for a in ("p", "q")]
+    shares.append(100.0 * accel_sf["u"]["bias_share_ls"])
+    return {
+        "gyro_pq_efficiency_ls": [gyro_sf[a]["efficiency_ls"] for a in ("p", "q")],
+        "accel_u_efficiency_ls": accel_sf["u"]["efficiency_ls"],
+        "bias_share_percent": {"least": min(shares), "most": max(shares)},
+        "gyro_misalignment_nrmse": s["gyroscope"]["misalignment"]["normalized_mse_eiv"] ** 0.5,
+        "accel_misalignment_nrmse": s["accelerometer"]["misalignment"]["normalized_mse_eiv"] ** 0.5,
+    }
+
+
+def _outage_errors(config: RunConfig) -> dict[str, list[float]]:
+    """drive_0708 through the published filter's 15 / 30 / 60 s outage
+    windows (docs/real_data_benchmark.py): forward RMS, smoothed RMS and
+    maximum, m, by length; the installation estimates when estimated."""
+    import real_data_benchmark
+
+    runs = real_data_benchmark.peer_window_runs(config)
+    errors: dict[str, list] = {"forward_rms_m": [], "smoothed_rms_m": [], "smoothed_max_m": []}
+    for summary, _ in runs.values():
+        errors["forward_rms_m"].append(summary["errors_vs_truth"]["in_outages"]["rms_horizontal_m"])
+        smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
+        errors["smoothed_rms_m"].append(smoothed["rms_horizontal_m"])
+        errors["smoothed_max_m"].append(smoothed["max_horizontal_m"])
+        if "installation_estimates" in summary:
+            estimates = summary["installation_estimates"]
+            errors.setdefault("lever_arm_cm", []).append(
+                [100.0 * abs(v) for v in estimates["lever_arm_m"]["value"]]
+            )
+            errors.setdefault("velocity_latency_s", []).append(
+                estimates["velocity_latency_s"]["value"]
+            )
+            errors.setdefault("time_offset_s", []).append(estimates["time_offset_s"]["value"])
+    return errors
+
+
+def drive_other_settings(data_root: Path) -> dict[str, Any]:
+    """drive_0708 through the published filter's outage windows with the
+    example's settings and others (~15 s): the IMU offset at −0.125 s and
+    −0.27 s instead of −0.22 s; `fix_error_states`; `installation_states`,
+    its estimates, and its aided error without outages against the
+    example's."""
+    base = _example("drive_0708", data_root)
+    figures: dict[str, Any] = {"example": _outage_errors(base)}
+    for name, offset_s in (("offset_-0.125", -0.125), ("offset_-0.27", -0.27)):
+        config = copy.deepcopy(base)
+        config.engine["imu"]["time_offset_s"] = offset_s
+        figures[name.replace("-0.", "m0_")] = _outage_errors(config)["forward_rms_m"]
+    config = copy.deepcopy(base)
+    config.engine["gnss"]["fix_error_states"] = True
+    figures["fix_error_states"] = _outage_errors(config)
+    config = copy.deepcopy(base)
+    config.engine.setdefault("filter", {})["installation_states"] = True
+    states = _outage_errors(config)
+    change = np.abs(np.subtract(states["smoothed_rms_m"], figures["example"]["smoothed_rms_m"]))
+    lever = [round(v) for run in states.pop("lever_arm_cm") for v in run]
+    offsets = states.pop("time_offset_s")
+    figures["installation_states"] = states | {
+        "lever_arm_cm": {"least": min(lever), "most": max(lever)},
+        "time_offset_s": {"least": min(offsets), "most": max(offsets)},
+        "smoothed_rms_change_m": float(change.max()),
+    }
+    aided = []
+    for states_on in (False, True):
+        config = copy.deepcopy(base)
+        config.engine.pop("outages")
+        config.engine.setdefault("filter", {}).update(smoother=True, installation_states=states_on)
+        aided.append(_navigate(config).summary["errors_vs_truth"]["aided"]["rms_horizontal_m"])
+    figures["aided_rms_m"] = {"example": aided[0], "installation_states": aided[1]}
+    return figures
+
+
+RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
+    "first_session": first_session,
+    "own_arrays_conditioning": own_arrays_conditioning,
+    "input_correlation_times": input_correlation_times,
+    "tactical_three_satellites": tactical_three_satellites,
+    "drive_time_offsets": drive_time_offsets,
+    "example_consistency": example_consistency,
+    "walk_precision": walk_precision,
+    "two_satellite_runs": two_satellite_runs,
+    "partial_outages": partial_outages,
+    "quick_calibration": quick_calibration,
+    "drive_other_settings": drive_other_settings,
+    "walk_multi_gnss": walk_multi_gnss.record,
+}
+"""Each record's name and the run that measures it."""
+
+TABLES: dict[str, tuple[str, tuple[str, str], Callable[[dict[str, Any]], str]]] = {
+    "partial_outages": ("results/paper-comparison.md", PARTIAL_OUTAGES, partial_outages_table),
+}
+"""The records that also fill a table: the page, its markers, the table."""
+
+
+def write_table(name: str) -> None:
+    """Writes ``name``'s table into its page from its record."""
+    page, (begin, end), table = TABLES[name]
+    replace_block(ROOT / "docs" / page, begin, end, table(load_record(name)))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("names", nargs="*", help=f"the runs, of {', '.join(RUNS)} (default all)")
+    parser.add_argument("--data-root", help="the shared data (default: the project's resolver)")
+    args = parser.parse_args()
+    data_root = resolve_data_root(Path(__file__), args.data_root)
+    unknown = set(args.names) - RUNS.keys()
+    if unknown:
+        parser.error(f"no run named {', '.join(sorted(unknown))}")
+    for name in args.names or RUNS:
+        path = write_record(name, RUNS[name](data_root))
+        if name in TABLES:
+            write_table(name)
+        print(f"wrote {path.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()
