@@ -10,7 +10,6 @@ from pathlib import Path
 import numpy as np
 import paper_comparison_study
 import pytest
-from doc_pages import NAVIGATE_GUIDE, doc_text
 from quoted import quoted_figures, rounds_to
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -32,148 +31,6 @@ def _generated_rows(
         if line.startswith("|") and cells[0].startswith(first_cell) and cells[0] not in rows:
             rows[cells[0]] = cells[1:]
     return rows
-
-
-def test_real_data_prose_reads_the_benchmark_tables():
-    """the navigate guide's comparison with the published filter and its
-    "Reading them" quote the benchmark's tables, which
-    docs/real_data_benchmark.py writes: each quote agrees with the table
-    it is read from (no run: the script regenerates the tables, this keeps
-    the prose in step with them)."""
-    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
-    drive = _generated_rows("docs/results/against-rtk.md", "benchmark", "")
-    lengths = {"15": drive["15 s"], "30": drive["30 s"], "60": drive["60 s"]}
-    forward = {k: (float(v[2]), float(v[3])) for k, v in lengths.items()}
-    smoothed = {k: (float(v[5]), float(v[6])) for k, v in lengths.items()}
-    for length in lengths:
-        peer = re.search(
-            rf"\| {length} s \| [\d.]+ / [\d.]+ \| ([\d.]+) / ([\d.]+) \| "
-            r"[\d.]+ / [\d.]+ \| ([\d.]+) / ([\d.]+) \|",
-            page,
-        )
-        assert peer, f"the peer comparison has no {length} s row"
-        quoted = [float(v) for v in peer.groups()]
-        assert quoted == [*forward[length], *smoothed[length]], (length, quoted)
-    coast = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"coasts: ([\d.]+) m RMS over 15 s, ([\d.]+) and ([\d.]+) m over 30 and 60 s",
-    )
-    assert all(rounds_to(q, forward[k][0]) for q, k in zip(coast, forward, strict=True)), coast
-    bent = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"bends each coast onto the fixes that end it: "
-        r"([\d.]+) m RMS, ([\d.]+) m at most over 15 s",
-    )
-    assert bent == smoothed["15"]
-    outages = [row for key, row in drive.items() if key.isdigit()]
-    rms = [float(row[1].split(" / ")[0]) for row in outages]
-    largest = max(float(row[1].split(" / ")[1]) for row in outages)
-    low, high, worst = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"forward errors range from ([\d.]+) to ([\d.]+) m RMS \(outage \d+ has the ([\d.]+) m",
-    )
-    assert (low, high) == (min(rms), max(rms)) and rounds_to(worst, largest)
-    under_rms, under_max, share = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"smoother brings every one under ([\d.]+) m RMS and ([\d.]+) m maximum, with "
-        r"([\d.]+)-100 % of its errors inside its 3σ",
-    )
-    smoothed_rms, smoothed_max = zip(
-        *[map(float, row[2].split(" / ")) for row in outages], strict=True
-    )
-    assert max(smoothed_rms) < under_rms and max(smoothed_max) <= under_max
-    assert rounds_to(share, 100.0 * min(float(row[3]) for row in outages))
-    walk = [
-        float(row[1])
-        for key, row in drive.items()
-        if key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
-    ]
-    spread = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"offset dominates every solution \(([\d.]+)-([\d.]+) m horizontal\)",
-    )
-    assert len(walk) == 3 and rounds_to(spread[0], min(walk)) and rounds_to(spread[1], max(walk))
-    # The published filter against memsnav, as ratios of the peer table.
-    ratios = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"forward filter is ([\d.]+), ([\d.]+) and ([\d.]+) times more accurate in RMS; "
-        r"the smoother ([\d.]+), ([\d.]+) and ([\d.]+) times",
-    )
-    for k, length in enumerate(lengths):
-        peer = re.search(
-            rf"\| {length} s \| ([\d.]+) / [\d.]+ \| [\d.]+ / [\d.]+ \| ([\d.]+) /", page
-        )
-        peer_forward, peer_smoothed = (float(v) for v in peer.groups())
-        fresh = (peer_forward / forward[length][0], peer_smoothed / smoothed[length][0])
-        quoted = (ratios[k], ratios[3 + k])
-        # Quoted to two significant figures.
-        assert all(abs(q - f) <= 0.05 * q for q, f in zip(quoted, fresh, strict=True)), length
-    shares = [float(row[4]) for row in (*lengths.values(), drive["none"])]
-    (low,) = quoted_figures(
-        "docs/results/against-rtk.md", r"\(memsnav's forward filter: ([\d.]+)-100 %\)"
-    )
-    assert rounds_to(low, 100 * min(shares)) and max(shares) == 1.0
-    (aided_cm,) = quoted_figures(
-        "docs/results/against-rtk.md", r"follows the 4 Hz RTK fixes to (\d+) cm"
-    )
-    assert rounds_to(aided_cm, 100 * float(drive["none"][2]))
-    outage_shares = [float(row[4]) for row in lengths.values()]
-    (low,) = quoted_figures(
-        "docs/results/against-rtk.md", r"The bounds hold: ([\d.]+)-100 % of the errors"
-    )
-    assert rounds_to(low, 100 * min(outage_shares)) and max(outage_shares) == 1.0
-    standstills = {
-        key: float(row[4]) for key, row in drive.items() if key.isdigit() and float(row[4])
-    }
-    (only, length_s) = quoted_figures(
-        "docs/results/against-rtk.md", r"Only outage (\d+) holds a standstill \(([\d.]+) s"
-    )
-    assert standstills == {str(int(only)): length_s}
-    # The walk by precision and by accuracy.
-    forward_walk, smoothed_walk, spp = (
-        drive[key] for key in ("memsnav, forward", "memsnav, smoothed", "single-point solution")
-    )
-    quoted = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"follows the path to ([\d.]+) m RMS horizontal, half the single-point solution's "
-        r"([\d.]+) m, and ([\d.]+) m vertical \(single-point ([\d.]+) m\); against the "
-        r"ellipsoidal truth heights without removing the offset, ([\d.]+) m vertical "
-        r"\(single-point ([\d.]+) m\)",
-    )
-    assert quoted == tuple(
-        float(v)
-        for v in (forward_walk[3], spp[3], forward_walk[4], spp[4], forward_walk[2], spp[2])
-    )
-    quoted = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"horizontal precision is the same ([\d.]+) m with a smaller maximum \(([\d.]+) against "
-        r"([\d.]+) m\); its vertical offset is larger \(−([\d.]+) m against −([\d.]+) m",
-    )
-    down = [float(row[6].split(", ")[2]) for row in (smoothed_walk, forward_walk)]
-    assert quoted == (
-        float(smoothed_walk[3]),
-        float(smoothed_walk[5]),
-        float(forward_walk[5]),
-        -down[0],
-        -down[1],
-    )
-    (inside,) = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"make the filter say so: (\d+) % of the errors inside 3σ",
-    )
-    assert rounds_to(inside, 100 * float(forward_walk[7]))
-    (vertical,) = quoted_figures(
-        "docs/results/against-rtk.md", r"its vertical RMS by accuracy is ([\d.]+) m"
-    )
-    assert vertical == float(smoothed_walk[2])
-    withheld = _generated_rows(
-        "docs/results/against-rtk.md", "benchmark", "", after="satellites withheld"
-    )
-    three, four = quoted_figures(
-        "docs/results/against-rtk.md",
-        r"costs little: ([\d.]+) m horizontal precision in the windows against ([\d.]+) m",
-    )
-    assert (three, four) == tuple(float(withheld[n][1].split(" / ")[0]) for n in ("3", "4"))
 
 
 def test_few_satellites_prose_reads_its_study_tables():
@@ -241,18 +98,6 @@ def _aided_nees(page: str) -> dict[tuple[str, str], tuple[float, float, float]]:
         re.M,
     )
     return {(imu, tau): tuple(float(v) for v in nees) for imu, tau, *nees in rows}
-
-
-def test_readme_quotes_the_drive_example_outage_schedule():
-    """ "a car drive, loosely coupled with 15 s GNSS outages every 45 s":
-    the schedule of examples/drive_0708.toml."""
-    import tomllib
-
-    length, every = quoted_figures(
-        "README.md", r"loosely coupled with ([\d.]+) s GNSS outages every ([\d.]+) s"
-    )
-    outages = tomllib.loads((ROOT / "examples" / "drive_0708.toml").read_text())["outages"]
-    assert (outages["length_s"], outages["every_s"]) == (length, every)
 
 
 def _paper_study_rows() -> dict[tuple[str, str], tuple[float, ...]]:
