@@ -347,6 +347,15 @@ def drive_other_settings(data_root: Path) -> dict[str, Any]:
     return figures
 
 
+def drive_example_schedule(data_root: Path) -> dict[str, Any]:
+    """The outage schedule examples/drive_0708.toml sets, s (the README
+    describes the example by it)."""
+    import tomllib
+
+    outages = tomllib.loads((ROOT / "examples" / "drive_0708.toml").read_text())["outages"]
+    return {"length_s": outages["length_s"], "every_s": outages["every_s"]}
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -360,6 +369,9 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "quick_calibration": quick_calibration,
     "drive_other_settings": drive_other_settings,
     "walk_multi_gnss": walk_multi_gnss.record,
+    "walk_g08": walk_multi_gnss.g08_record,
+    "walk_carrier_floors": walk_multi_gnss.carrier_floors,
+    "drive_example_schedule": drive_example_schedule,
 }
 """Each record's name and the run that measures it."""
 

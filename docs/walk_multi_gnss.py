@@ -116,15 +116,123 @@ def slips(summary: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def navigate(data_root: Path, output: Path, carrier_phase: bool = False):
-    """examples/walk_0827_multi_gnss.toml on the shared data, no HTML."""
-    config = mn.load_config(ROOT / "examples" / "walk_0827_multi_gnss.toml", data_root)
+def navigate(
+    data_root: Path,
+    output: Path,
+    overrides: dict | None = None,
+    engine: dict[str, dict] | None = None,
+    example: str = "walk_0827_multi_gnss.toml",
+):
+    """``memsnav navigate`` of ``examples/<example>`` on the shared data, no
+    HTML; ``overrides`` update its ``[gnss]`` table (``carrier_phase``, an
+    engine key, included), ``engine`` the engine's tables by name
+    (``{"filter": {...}}``)."""
+    config = mn.load_config(ROOT / "examples" / example, data_root)
     config.values["report"]["html"] = False
-    if carrier_phase:
+    overrides = dict(overrides or {})
+    if overrides.pop("carrier_phase", False):
         config.engine.setdefault("gnss", {})["carrier_phase"] = True
+    for table, values in (engine or {}).items():
+        config.engine.setdefault(table, {}).update(values)
+    config.values["gnss"].update(overrides)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the log's last line is cut short
         return mn.navigate(config, output=output)
+
+
+#: The four GPS satellites the walk's RINEX files carry.
+GPS_4 = ["G10", "G23", "G27", "G32"]
+GPS_4_G08 = {"systems": ["G"], "satellites": [*GPS_4, "G08"]}
+GPS_7 = {"systems": ["G"]}
+ALL_3 = {"systems": ["G", "E", "C"]}
+ALL_3_CARRIER = {**ALL_3, "carrier_phase": True}
+
+#: The C/N0 mask docs/how-to/multi-gnss.md tries, and the example's, dB-Hz.
+CN0_MASKS = (28.0, 20.0)
+#: The range-bias models it tries: std (m), correlation time (s).
+RANGE_BIAS_MODELS = ((6.0, 1800.0), (10.0, 1800.0), (3.0, 60.0))
+#: The error the page says the G08 run is back under, m.
+BACK_UNDER_M = 9.0
+#: The carrier-phase std floors it compares, cm.
+CARRIER_FLOORS_CM = (0.5, 1.0, 2.0, 4.0, 8.0)
+
+
+def _precision(summary: dict[str, Any]) -> float:
+    return summary["errors_vs_truth_precision"]["aided"]["rms_horizontal_m"]
+
+
+def g08_start(run) -> dict[str, Any]:
+    """GPS 4 + G08: G08's entry (s after the start), its first 2 s of
+    pseudorange innovations and their stds (m), and the horizontal error
+    against the truth it causes (before, at its peak within 20 s, the time
+    of the peak and the time it is back under BACK_UNDER_M after the
+    entry)."""
+    m = run.run.solution.measurements
+    kind, ids, time = (np.asarray(m[k]) for k in ("kind", "id", "time"))
+    g08 = (kind == "pseudorange") & (ids == 8)
+    first = time[g08][0]
+    early = g08 & (time < first + 2.0)
+    innovation, std = np.asarray(m["innovation"])[early], np.asarray(m["innovation_std"])[early]
+    forward = run.precision["forward"]
+    t = np.asarray(forward["time"])
+    error = np.linalg.norm(
+        np.asarray(forward["error_ned"]) + np.asarray(forward["offset_removed_ned"]), axis=1
+    )
+    k = int(np.argmax(np.where(t < first + 20.0, error, 0.0)))
+    recovered = t[(t > t[k]) & (error < BACK_UNDER_M)][0]
+    return {
+        "entry_s": float(first - time.min()),
+        "early_pseudoranges": int(early.sum()),
+        "early_innovation_m": {"least": float(innovation.min()), "most": float(innovation.max())},
+        "early_innovation_std_m": {"least": float(std.min()), "most": float(std.max())},
+        "error_before_m": float(error[t < first].max()),
+        "error_peak_m": float(error[k]),
+        "peak_after_s": float(t[k] - first),
+        "back_after_s": float(recovered - first),
+    }
+
+
+def g08_record(data_root: Path) -> dict[str, Any]:
+    """The G08 run, the C/N0 mask's runs and the range-bias models' runs."""
+    import tempfile
+
+    mask, default = CN0_MASKS
+    with tempfile.TemporaryDirectory() as out:
+        figures = {"g08": g08_start(navigate(data_root, Path(out) / "g08", GPS_4_G08))}
+
+        def precision(overrides, engine=None) -> float:
+            return _precision(navigate(data_root, Path(out) / "run", overrides, engine).summary)
+
+        figures["cn0_mask_precision_m"] = {
+            "gps_7_masked": precision({**GPS_7, "min_cn0_db_hz": mask}),
+            "gps_4_g08_masked": precision({**GPS_4_G08, "min_cn0_db_hz": mask}),
+            "all_3_default": precision({**ALL_3, "min_cn0_db_hz": default}),
+            "all_3_masked": precision({**ALL_3, "min_cn0_db_hz": mask}),
+        }
+        figures["range_bias_model_precision_m"] = [
+            precision(
+                GPS_7,
+                {"gnss": {"range_bias_std_m": s, "range_bias_correlation_time_s": tau}},
+            )
+            for s, tau in RANGE_BIAS_MODELS
+        ]
+    return figures
+
+
+def carrier_floors(data_root: Path) -> dict[str, Any]:
+    """All three systems with carrier phase at each floor of
+    CARRIER_FLOORS_CM: horizontal precision (m) and the carrier changes
+    whose batches failed their test."""
+    import tempfile
+
+    precision, gated = [], []
+    with tempfile.TemporaryDirectory() as out:
+        for floor_cm in CARRIER_FLOORS_CM:
+            engine = {"filter": {"carrier_phase_std_floor_m": floor_cm / 100.0}}
+            summary = navigate(data_root, Path(out) / "floor", ALL_3_CARRIER, engine).summary
+            precision.append(_precision(summary))
+            gated.append(summary["measurements"]["carrier_phase"].get("gate", 0))
+    return {"floors_cm": list(CARRIER_FLOORS_CM), "precision_m": precision, "gated": gated}
 
 
 def record(data_root: Path) -> dict[str, Any]:
@@ -134,7 +242,7 @@ def record(data_root: Path) -> dict[str, Any]:
     log = mn.read_ubx(data_root / UBX)
     with tempfile.TemporaryDirectory() as out:
         run = navigate(data_root, Path(out) / "walk")
-        carrier = navigate(data_root, Path(out) / "carrier", carrier_phase=True).summary
+        carrier = navigate(data_root, Path(out) / "carrier", {"carrier_phase": True}).summary
     return {
         "geometry_free": geometry_free_delays(log),
         "clock": clock_ramp(log),
