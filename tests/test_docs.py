@@ -145,12 +145,17 @@ def _namespace() -> dict:
 
     imu = mn.ImuModel.preset("paper-mems", seed=0)
     f = np.tile([0.0, 0.0, -9.81], (100, 1))
-    return {"mn": mn, "memsnav": mn, "experiments": mn.experiments, "np": np, "imu": imu} | {
-        "f": f,
-        "w": np.zeros((100, 3)),
-        "seed": 7,
-        "name": "imu",
-    }
+    public = {name: getattr(mn, name) for name in dir(mn) if not name.startswith("_")}
+    return (
+        public
+        | {"mn": mn, "memsnav": mn, "np": np, "imu": imu}
+        | {
+            "f": f,
+            "w": np.zeros((100, 3)),
+            "seed": 7,
+            "name": "imu",
+        }
+    )
 
 
 #: Calls bound to their signature, never run: they take minutes.
