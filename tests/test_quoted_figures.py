@@ -1,8 +1,9 @@
-"""Figures the README and the user guide quote that no benchmark script
-writes (the scripts write theirs between markers: docs/*.py --write),
-each compared with a fresh run within the rounding it is quoted with.
-The drive calibration's figures are checked where its session runs
-(test_drive_calibration)."""
+"""The paper comparison's figures, still read from its page: its prose
+against its study tables, and the tables against a fresh run within the
+rounding they are quoted with. docs/paper_comparison_study.py keeps no
+record yet (docs/figures.py); the other figures these tests used to read
+from sentences now come from records (tests/test_doc_runs.py and the
+tests named in docs/decisions/0013-figures-from-records.md)."""
 
 import re
 from pathlib import Path
@@ -13,91 +14,6 @@ import pytest
 from quoted import quoted_figures, rounds_to
 
 ROOT = Path(__file__).resolve().parent.parent
-
-
-def _generated_rows(
-    page: str, marker: str, first_cell: str, after: str = ""
-) -> dict[str, list[str]]:
-    """The rows of the Markdown tables between ``page``'s ``marker``
-    markers (what its docs script last wrote), from the first ``after`` in
-    the block on, whose first cell starts with ``first_cell``, by that
-    cell."""
-    text = (ROOT / page).read_text()
-    block = text[text.index(f"<!-- {marker}:begin -->") : text.index(f"<!-- {marker}:end -->")]
-    block = block[block.index(after) :]
-    rows = {}
-    for line in block.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if line.startswith("|") and cells[0].startswith(first_cell) and cells[0] not in rows:
-            rows[cells[0]] = cells[1:]
-    return rows
-
-
-def test_few_satellites_prose_reads_its_study_tables():
-    """docs/explanation/few-satellites.md's "How to read them" quotes the tables that
-    docs/few_satellites_study.py writes above it; each quote agrees."""
-    rows = _generated_rows("docs/explanation/few-satellites.md", "study", "")
-    kept = [float(rows[n][0].split(" ± ")[0]) for n in ("0", "1", "2", "3")]
-    quoted = quoted_figures(
-        "docs/explanation/few-satellites.md", r"([\d.]+), ([\d.]+), ([\d.]+), ([\d.]+) m for 0-3"
-    )
-    assert list(quoted) == kept
-    share = quoted_figures(
-        "docs/explanation/few-satellites.md", r"hold the outage to (\d+) % of the total"
-    )
-    assert rounds_to(share[0], 100.0 * kept[3] / kept[0])
-    at_end = [float(rows[imu][1]) for imu in ("paper MEMS", "consumer", "tactical")]
-    low, high = quoted_figures(
-        "docs/explanation/few-satellites.md", r"NEES/dof at the outage's end ([\d.]+)-([\d.]+),"
-    )
-    assert low <= min(at_end) and max(at_end) <= high and high - low <= 0.1 + 1e-9
-    page = (ROOT / "docs" / "explanation" / "few-satellites.md").read_text()
-    aided = _aided_nees(page)
-    raw_tilt = [aided[(imu, "10")][1] for imu in ("paper MEMS", "consumer")]
-    low, high = quoted_figures(
-        "docs/explanation/few-satellites.md", r"overconfident by a factor of ([\d.]+)-([\d.]+) in"
-    )
-    assert len(raw_tilt) == 2 and rounds_to(low, min(raw_tilt)) and rounds_to(high, max(raw_tilt))
-    clocks = re.findall(r"^\| (\d) \| (TCXO|OCXO) \|(.*)$", page, re.M)
-    cells = {
-        (n, clock): [c.strip() for c in rest.strip(" |").split("|")] for n, clock, rest in clocks
-    }
-    (ocxo,) = quoted_figures("docs/explanation/few-satellites.md", r"with an OCXO (\d+) m\)")
-    assert rounds_to(ocxo, float(cells[("3", "OCXO")][2]))
-    first_alerts = quoted_figures(
-        "docs/explanation/few-satellites.md", r"after a median (\d+) s and (\d+) s"
-    )
-    assert first_alerts == (float(cells[("2", "TCXO")][5]), float(cells[("1", "TCXO")][5]))
-    tcxo_error_km, tcxo_sigma_km = quoted_figures(
-        "docs/explanation/few-satellites.md",
-        r"final error ([\d.]+) km, final σ ([\d.]+) km, every error",
-    )
-    assert rounds_to(tcxo_error_km, float(cells[("3", "TCXO")][2]) / 1e3)
-    assert rounds_to(tcxo_sigma_km, float(cells[("3", "TCXO")][3]) / 1e3)
-    assert cells[("3", "TCXO")][0] == "1.00 (1.00)"  # "every error inside 3σ"
-    ocxo_error, ocxo_sigma = quoted_figures(
-        "docs/explanation/few-satellites.md", r"end (\d+) m off \(median; σ (\d+) m\)"
-    )
-    assert rounds_to(ocxo_error, float(cells[("3", "OCXO")][2]))
-    # σ quoted to two significant figures
-    assert abs(ocxo_sigma - float(cells[("3", "OCXO")][3])) <= 5.0
-    tilt, heading = quoted_figures(
-        "docs/decisions/0008-input-shaped-noise.md",
-        r"aided tilt NEES went from [\d.]+ to ([\d.]+) and the heading's from [\d.]+ to ([\d.]+)\.",
-    )
-    assert rounds_to(tilt, aided[("consumer", "10")][1])
-    assert rounds_to(heading, aided[("consumer", "10")][2])
-
-
-def _aided_nees(page: str) -> dict[tuple[str, str], tuple[float, float, float]]:
-    """docs/explanation/few-satellites.md's aided-attitude table: (IMU, τ) → NEES/dof
-    of position, tilt, heading."""
-    rows = re.findall(
-        r"^\| (paper MEMS|consumer|tactical) \| (\d+) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|$",
-        page,
-        re.M,
-    )
-    return {(imu, tau): tuple(float(v) for v in nees) for imu, tau, *nees in rows}
 
 
 def _paper_study_rows() -> dict[tuple[str, str], tuple[float, ...]]:
