@@ -21,6 +21,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import foreign_drive_datum
 import numpy as np
 import walk_multi_gnss
 from figures import load_record, write_record
@@ -372,6 +373,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_g08": walk_multi_gnss.g08_record,
     "walk_carrier_floors": walk_multi_gnss.carrier_floors,
     "drive_example_schedule": drive_example_schedule,
+    "foreign_drive": foreign_drive_datum.record,
 }
 """Each record's name and the run that measures it."""
 
