@@ -4,9 +4,13 @@ writing its record ``docs/data/<name>.json`` (docs/figures.py):
 ones (all without a name), writes their records and re-renders the pages.
 
 Each run is a function returning its figures, full precision, in the
-units the pages show; ``tests/test_doc_runs.py`` calls the same functions
-and compares what they return today with the records, within the digits
-the pages show. A run takes seconds (the example logs: one navigate each)."""
+units the pages show; ``tests/test_doc_runs.py`` (and, for the walk's and
+the foreign drive's, ``tests/test_multi_gnss.py`` and
+``tests/test_your_own_files.py``) call the same functions and compare
+what they return today with the records, within the digits the pages
+show. Most take seconds; the calibration quick run and the drive with
+other settings take about half a minute each, all of them together a
+few minutes (more on a shared machine)."""
 
 from __future__ import annotations
 
