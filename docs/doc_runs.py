@@ -361,6 +361,77 @@ def drive_example_schedule(data_root: Path) -> dict[str, Any]:
     return {"length_s": outages["length_s"], "every_s": outages["every_s"]}
 
 
+def static_start_spec(data_root: Path) -> dict[str, Any]:
+    """drive_0708's first 34 s (at rest, engine running) through
+    ``imu_spec_from_allan``: the white noise it determines (µg/√Hz, °/√h),
+    the consumer preset's, and drive_0708 over the consumer preset with
+    those two entries through the published filter's outage windows
+    (forward RMS and largest error, m, share inside 3σ, smoothed RMS, m,
+    by outage length in s)."""
+    import real_data_benchmark
+
+    from memsnav.realdata.pipeline import read_imu
+
+    config = _example("drive_0708", data_root)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's cut lines; the terms left out
+        _, f, w, _ = read_imu(config)
+        spec = mn.imu_spec_from_allan(f[:3400], w[:3400], 100.0)
+    consumer = mn.ImuModel.preset("consumer").spec
+    preset = {
+        "accel_noise_density_ug_sqrt_hz": consumer["accel_noise_density"] / 9.80665e-6,
+        "gyro_arw_deg_sqrt_h": float(np.degrees(consumer["gyro_noise_density"]) * 60.0),
+    }
+    allan = copy.deepcopy(config)
+    allan.engine["imu_spec"] = dict(spec)
+    allan.engine.setdefault("filter", {})["imu_preset"] = "consumer"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        runs = real_data_benchmark.peer_window_runs(allan)
+    windows = {}
+    for length, (summary, _) in runs.items():
+        forward = summary["errors_vs_truth"]["in_outages"]
+        smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
+        windows[f"{length:g}"] = {
+            "forward_rms_m": forward["rms_horizontal_m"],
+            "forward_max_m": forward["max_horizontal_m"],
+            "share": forward["within_3sigma_share"],
+            "smoothed_rms_m": smoothed["rms_horizontal_m"],
+        }
+    return {
+        "spec": {k: float(v) for k, v in spec.items()},
+        "preset": preset,
+        "ratio": {k: float(spec[k]) / preset[k] for k in preset},
+        "windows": windows,
+    }
+
+
+def static_start_spec_table(record: dict[str, Any]) -> str:
+    """docs/how-to/tune-for-your-imu.md's table: the preset's columns from
+    docs/data/against_rtk.json (the benchmark), the Allan spec's from
+    ``record``, between the markers."""
+    bench = load_record("against_rtk")["figures"]["drive"]["lengths"]
+    rows = []
+    for length, allan in record["figures"]["windows"].items():
+        b = bench[length]
+        rows.append(
+            f"| {length} s | {b['forward']['rms_m']:.2f} / {b['forward']['max_m']:.2f}, "
+            f"{b['forward']['share']:.3f} | {allan['forward_rms_m']:.2f} / "
+            f"{allan['forward_max_m']:.2f}, {allan['share']:.3f} | "
+            f"{b['smoothed']['rms_m']:.2f} / {allan['smoothed_rms_m']:.2f} |"
+        )
+    header = (
+        "| outage length | preset: forward RMS / max [m], share in 3σ "
+        "| Allan spec: forward RMS / max [m], share in 3σ "
+        "| smoothed RMS, preset / Allan [m] |\n|---|---|---|---|"
+    )
+    return "\n".join([STATIC_START_SPEC[0], header, *rows, STATIC_START_SPEC[1]])
+
+
+#: The static-start spec table's markers.
+STATIC_START_SPEC = ("<!-- static-start-spec:begin -->", "<!-- static-start-spec:end -->")
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -376,13 +447,20 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_multi_gnss": walk_multi_gnss.record,
     "walk_g08": walk_multi_gnss.g08_record,
     "walk_carrier_floors": walk_multi_gnss.carrier_floors,
+    "walk_code_correlation": walk_multi_gnss.code_correlation_record,
     "drive_example_schedule": drive_example_schedule,
     "foreign_drive": foreign_drive_datum.record,
+    "static_start_spec": static_start_spec,
 }
 """Each record's name and the run that measures it."""
 
 TABLES: dict[str, tuple[str, tuple[str, str], Callable[[dict[str, Any]], str]]] = {
     "partial_outages": ("results/paper-comparison.md", PARTIAL_OUTAGES, partial_outages_table),
+    "static_start_spec": (
+        "how-to/tune-for-your-imu.md",
+        STATIC_START_SPEC,
+        static_start_spec_table,
+    ),
 }
 """The records that also fill a table: the page, its markers, the table."""
 

@@ -6,7 +6,7 @@ them."""
 
 import doc_runs
 import pytest
-from figures import figures
+from figures import figures, load_record
 from shared_data import data_root as data_root_of_tests
 from shared_data import shared_data
 
@@ -210,3 +210,12 @@ def test_the_drive_with_other_settings_is_the_record():
 def test_the_readme_describes_the_drive_example_by_its_schedule():
     """The README's outage schedule is examples/drive_0708.toml's."""
     _check("drive_example_schedule", 0.0)
+
+
+def test_the_tables_are_their_records():
+    """Each table a run fills (doc_runs.TABLES) is what its record renders
+    to: python docs/doc_runs.py NAME rewrites it."""
+    for name, (page, (begin, end), table) in doc_runs.TABLES.items():
+        text = (doc_runs.ROOT / "docs" / page).read_text()
+        block = text[text.index(begin) : text.index(end) + len(end)]
+        assert block == table(load_record(name)), f"rerun python docs/doc_runs.py {name}"
