@@ -235,6 +235,55 @@ def carrier_floors(data_root: Path) -> dict[str, Any]:
     return {"floors_cm": list(CARRIER_FLOORS_CM), "precision_m": precision, "gated": gated}
 
 
+#: The shortest unbroken L1 arc (epochs) whose code correlation time counts.
+MIN_ARC_EPOCHS = 350
+
+
+def code_correlation_times(log) -> dict[str, Any]:
+    """The L1 code-minus-carrier of each satellite tracked without a break
+    for at least MIN_ARC_EPOCHS epochs (its longest arc, less a quadratic
+    over it: the ambiguity and the ionosphere's code-carrier divergence):
+    the first lag at which its autocorrelation falls below 1/e, s; the
+    shortest and longest with their satellites."""
+    obs = log.observations
+    time = np.asarray(obs.time)
+    interval = float(np.median(np.diff(time)))
+    wavelength = 299792458.0 / 1575.42e6
+    code_minus_carrier = obs.observation("C1C") - wavelength * obs.observation("L1C")
+    lags = {}
+    for j, name in enumerate(obs.satellites):
+        usable = np.flatnonzero(np.isfinite(code_minus_carrier[:, j]))
+        if len(usable) == 0:
+            continue
+        arc = max(np.split(usable, np.flatnonzero(np.diff(usable) > 1) + 1), key=len)
+        if len(arc) < MIN_ARC_EPOCHS:
+            continue
+        t = time[arc] - time[arc][0]
+        x = code_minus_carrier[arc, j]
+        x = x - np.polyval(np.polyfit(t, x, 2), t)
+        x -= x.mean()
+        correlation = np.correlate(x, x, "full")[len(x) - 1 :] / (x @ x)
+        lags[str(name)] = float(np.flatnonzero(correlation < np.exp(-1.0))[0] * interval)
+    shortest, longest = min(lags, key=lags.get), max(lags, key=lags.get)
+    return {
+        "min_arc_epochs": MIN_ARC_EPOCHS,
+        "satellites": len(lags),
+        "shortest": {"satellite": shortest, "time_s": lags[shortest]},
+        "longest": {"satellite": longest, "time_s": lags[longest]},
+    }
+
+
+def code_correlation_record(data_root: Path) -> dict[str, Any]:
+    """The record of the code's correlation times on the walk's log, and
+    the pseudorange std inflation √((1 + ρ)/(1 − ρ)), ρ = e^(−Δt/τ), for
+    τ = 10 s at the log's 4 Hz."""
+    rho = np.exp(-0.25 / 10.0)
+    return {
+        **code_correlation_times(mn.read_ubx(data_root / UBX)),
+        "inflation_tau_10s_at_4hz": float(np.sqrt((1 + rho) / (1 - rho))),
+    }
+
+
 def record(data_root: Path) -> dict[str, Any]:
     """The record: the log's, the run's, the carrier-phase run's figures."""
     import tempfile
