@@ -448,6 +448,8 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_g08": walk_multi_gnss.g08_record,
     "walk_carrier_floors": walk_multi_gnss.carrier_floors,
     "walk_code_correlation": walk_multi_gnss.code_correlation_record,
+    "walk_configurations": walk_multi_gnss.configurations_record,
+    "walk_correlation_table": walk_multi_gnss.correlation_record,
     "drive_example_schedule": drive_example_schedule,
     "foreign_drive": foreign_drive_datum.record,
     "static_start_spec": static_start_spec,
@@ -456,6 +458,21 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
 
 TABLES: dict[str, tuple[str, tuple[str, str], Callable[[dict[str, Any]], str]]] = {
     "partial_outages": ("results/paper-comparison.md", PARTIAL_OUTAGES, partial_outages_table),
+    "walk_multi_gnss": (
+        "how-to/multi-gnss.md",
+        walk_multi_gnss.SATELLITES_LINE,
+        walk_multi_gnss.satellites_line_block,
+    ),
+    "walk_configurations": (
+        "how-to/multi-gnss.md",
+        walk_multi_gnss.CONFIGURATION_TABLE,
+        walk_multi_gnss.configuration_table,
+    ),
+    "walk_correlation_table": (
+        "how-to/multi-gnss.md",
+        walk_multi_gnss.CORRELATION_TABLE,
+        walk_multi_gnss.correlation_table,
+    ),
     "static_start_spec": (
         "how-to/tune-for-your-imu.md",
         STATIC_START_SPEC,

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 import memsnav as mn
+from memsnav.realdata.answer import answer_lines
 
 ROOT = Path(__file__).resolve().parents[1]
 UBX = "real-imu-gnss/walk_0827/gnss_1730.ubx"
@@ -235,6 +236,141 @@ def carrier_floors(data_root: Path) -> dict[str, Any]:
     return {"floors_cm": list(CARRIER_FLOORS_CM), "precision_m": precision, "gated": gated}
 
 
+#: The configurations of docs/how-to/multi-gnss.md's walk tables, in their
+#: order: a key, the row's label, the ``[gnss]`` overrides
+#: (``carrier_phase``, an engine key, included).
+CONFIGURATIONS: dict[str, tuple[str, dict[str, Any]]] = {
+    "gps_4": ("GPS, 4 satellites (LNAV)", {"systems": ["G"], "satellites": GPS_4}),
+    "gps_7": ("GPS, all 7 (LNAV + CNAV)", GPS_7),
+    **{
+        f"gps_4_{extra.lower()}": (
+            f"GPS 4 + {extra}",
+            {"systems": ["G"], "satellites": [*GPS_4, extra]},
+        )
+        for extra in ("G08", "G18", "G24")
+    },
+    "galileo": ("Galileo alone", {"systems": ["E"]}),
+    "beidou": ("BeiDou alone", {"systems": ["C"]}),
+    "gps_galileo": ("GPS + Galileo", {"systems": ["G", "E"]}),
+    "gps_galileo_beidou": ("GPS + Galileo + BeiDou", ALL_3),
+    "gps_galileo_carrier": (
+        "GPS + Galileo + carrier phase",
+        {"systems": ["G", "E"], "carrier_phase": True},
+    ),
+    "gps_galileo_beidou_carrier": ("GPS + Galileo + BeiDou + carrier phase", ALL_3_CARRIER),
+    # The ionosphere measured from a second signal, and left in.
+    **{
+        f"{key}_{suffix}": (f"GPS + Galileo{extra}, {ionosphere}", {"systems": systems, **setting})
+        for suffix, ionosphere, setting in (
+            ("dual", "ionosphere from L2C / E5a", {"dual_frequency": True}),
+            ("no_iono", "no ionosphere correction", {"ionosphere": False}),
+        )
+        for key, extra, systems in (
+            ("gps_galileo", "", ["G", "E"]),
+            ("gps_galileo_beidou", " + BeiDou", ["G", "E", "C"]),
+        )
+    },
+}
+
+#: The code correlation times (s) of the second walk table; 0 is the first's.
+CODE_CORRELATION_TIMES_S = (5.0, 10.0, 20.0)
+
+
+def configuration_row(summary: dict[str, Any]) -> dict[str, Any]:
+    """One row of the walk's configuration table: satellites used,
+    horizontal and vertical precision, vertical accuracy (against MSL −
+    21.387 m), the mean height below the truth and single-point
+    precision, m."""
+    precise, accurate = summary["errors_vs_truth_precision"], summary["errors_vs_truth"]
+    return {
+        "satellites": len(summary["satellites"]),
+        "precision_horizontal_m": precise["aided"]["rms_horizontal_m"],
+        "precision_vertical_m": precise["aided"]["rms_vertical_m"],
+        "accuracy_vertical_m": accurate["aided"]["rms_vertical_m"],
+        "height_below_truth_m": precise["offset_removed_ned_m"][2],
+        "single_point_precision_horizontal_m": summary["spp_errors_vs_truth_precision"][
+            "rms_horizontal_m"
+        ],
+    }
+
+
+def configurations_record(data_root: Path) -> dict[str, Any]:
+    """The record of the configuration table: each configuration's row."""
+    import tempfile
+
+    rows = {}
+    with tempfile.TemporaryDirectory() as out:
+        for key, (_, overrides) in CONFIGURATIONS.items():
+            rows[key] = configuration_row(navigate(data_root, Path(out) / key, overrides).summary)
+    return rows
+
+
+def correlation_precision(data_root: Path, key: str, tau_s: float) -> list[float]:
+    """Configuration ``key`` with ``pseudorange_correlation_time_s = tau_s``:
+    its horizontal and vertical precision, m."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as out:
+        summary = navigate(
+            data_root,
+            Path(out) / "walk",
+            CONFIGURATIONS[key][1],
+            {"filter": {"pseudorange_correlation_time_s": tau_s}},
+        ).summary
+    precise = summary["errors_vs_truth_precision"]["aided"]
+    return [precise["rms_horizontal_m"], precise["rms_vertical_m"]]
+
+
+def correlation_record(data_root: Path) -> dict[str, Any]:
+    """The record of the code-correlation table: each configuration's
+    precision by correlation time (τ = 0 is the configuration table's
+    record; about 45 walk runs, a few minutes)."""
+    return {
+        "correlation_times_s": list(CODE_CORRELATION_TIMES_S),
+        "precision_m": {
+            key: [correlation_precision(data_root, key, tau) for tau in CODE_CORRELATION_TIMES_S]
+            for key in CONFIGURATIONS
+        },
+    }
+
+
+#: The tables' markers.
+CONFIGURATION_TABLE = ("<!-- multi-gnss-walk:begin -->", "<!-- multi-gnss-walk:end -->")
+CORRELATION_TABLE = ("<!-- code-correlation-walk:begin -->", "<!-- code-correlation-walk:end -->")
+
+
+def configuration_table(record: dict[str, Any]) -> str:
+    """The configuration table from its record, between its markers."""
+    header = (
+        "| configuration | satellites | precision horiz. [m] | precision vert. [m] "
+        "| accuracy vert. [m] | mean height below truth [m] "
+        "| single-point precision horiz. [m] |\n|---|---|---|---|---|---|---|"
+    )
+    rows = []
+    for key, row in record["figures"].items():
+        cells = [f"{v:.2f}" for k, v in row.items() if k != "satellites"]
+        rows.append(f"| {CONFIGURATIONS[key][0]} | {row['satellites']} | {' | '.join(cells)} |")
+    return "\n".join([CONFIGURATION_TABLE[0], header, *rows, CONFIGURATION_TABLE[1]])
+
+
+def correlation_table(record: dict[str, Any]) -> str:
+    """The code-correlation table from its record and the configuration
+    table's (τ = 0), between its markers."""
+    from figures import figures
+
+    white = figures("walk_configurations")
+    taus = record["figures"]["correlation_times_s"]
+    header = "| configuration | τ = 0 s | " + " | ".join(f"τ = {t:g} s" for t in taus) + " |"
+    rows = []
+    for key, cells in record["figures"]["precision_m"].items():
+        w = white[key]
+        shown = [f"{w['precision_horizontal_m']:.2f} / {w['precision_vertical_m']:.2f}"]
+        shown += [f"{h:.2f} / {v:.2f}" for h, v in cells]
+        rows.append(f"| {CONFIGURATIONS[key][0]} | {' | '.join(shown)} |")
+    rule = "|---" * (len(taus) + 2) + "|"
+    return "\n".join([CORRELATION_TABLE[0], header, rule, *rows, CORRELATION_TABLE[1]])
+
+
 #: The shortest unbroken L1 arc (epochs) whose code correlation time counts.
 MIN_ARC_EPOCHS = 350
 
@@ -299,4 +435,16 @@ def record(data_root: Path) -> dict[str, Any]:
         "inter_system_bias_m": run.summary["inter_system_bias_m"],
         "satellites": satellites(run.summary),
         "carrier_slips": slips(carrier),
+        "satellites_line": answer_lines(run.summary)[1],
     }
+
+
+#: The markers of the terminal's satellites line in docs/how-to/multi-gnss.md.
+SATELLITES_LINE = ("<!-- walk-satellites-line:begin -->", "<!-- walk-satellites-line:end -->")
+
+
+def satellites_line_block(record: dict[str, Any]) -> str:
+    """The terminal's satellites line on the walk, as a text block between
+    its markers."""
+    line = record["figures"]["satellites_line"]
+    return "\n".join([SATELLITES_LINE[0], "```text", line, "```", SATELLITES_LINE[1]])

@@ -17,16 +17,13 @@ from typing import Any
 import numpy as np
 import pytest
 import walk_multi_gnss
-from doc_pages import NAVIGATE_GUIDE, doc_text
 from figures import figures
-from quoted import quoted_figures, rounds_to
 from shared_data import shared_data
 
 import memsnav as mn
 from memsnav.realdata.answer import answer_lines
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE = "docs/how-to/multi-gnss.md"
 UBX = walk_multi_gnss.UBX
 RECORD = figures("walk_multi_gnss")
 """The walk's figures docs/how-to/multi-gnss.md shows (docs/walk_multi_gnss.py)."""
@@ -164,49 +161,10 @@ def _predict_to(running, traj, f, w, time):
         k += 1
 
 
-def _quoted_walk_rows() -> dict[str, list[float]]:
-    page = doc_text(*NAVIGATE_GUIDE)
-    block = page[
-        page.index("<!-- multi-gnss-walk:begin -->") : page.index("<!-- multi-gnss-walk:end -->")
-    ]
-    rows = {}
-    for line in block.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if line.startswith("|") and re.match(r"[\d.]+$", cells[-1]):
-            rows[cells[0]] = [float(c) for c in cells[2:]]
-    return rows
-
-
-#: The configurations of the navigate guide's multi-GNSS walk table.
-CONFIGURATIONS = {
-    "GPS, 4 satellites (LNAV)": {"systems": ["G"], "satellites": ["G10", "G23", "G27", "G32"]},
-    "GPS, all 7 (LNAV + CNAV)": {"systems": ["G"]},
-    **{
-        f"GPS 4 + {extra}": {"systems": ["G"], "satellites": ["G10", "G23", "G27", "G32", extra]}
-        for extra in ("G08", "G18", "G24")
-    },
-    "GPS + Galileo": {"systems": ["G", "E"]},
-    "GPS + Galileo + BeiDou": {"systems": ["G", "E", "C"]},
-    # Time-differenced carrier phase ([gnss] carrier_phase, an engine key).
-    "GPS + Galileo + carrier phase": {"systems": ["G", "E"], "carrier_phase": True},
-    "GPS + Galileo + BeiDou + carrier phase": {"systems": ["G", "E", "C"], "carrier_phase": True},
-    "Galileo alone": {"systems": ["E"]},
-    "BeiDou alone": {"systems": ["C"]},
-    # The ionosphere measured from a second signal, and left in.
-    **{
-        f"GPS + Galileo{extra}, {ionosphere}": {"systems": systems, **setting}
-        for extra, systems in (("", ["G", "E"]), (" + BeiDou", ["G", "E", "C"]))
-        for ionosphere, setting in (
-            ("ionosphere from L2C / E5a", {"dual_frequency": True}),
-            ("no ionosphere correction", {"ionosphere": False}),
-        )
-    },
-}
-
-
-def _docs_page() -> str:
-    """the navigate guide with its whitespace runs made single spaces."""
-    return " ".join(doc_text(*NAVIGATE_GUIDE).split())
+#: The walk tables' configurations by row label (docs/walk_multi_gnss.py).
+CONFIGURATIONS = dict(walk_multi_gnss.CONFIGURATIONS.values())
+#: Their keys in the records, by row label.
+KEYS = {label: key for key, (label, _) in walk_multi_gnss.CONFIGURATIONS.items()}
 
 
 def _navigate(
@@ -222,23 +180,19 @@ def _navigate(
 
 
 def test_the_walk_figures_per_configuration_are_the_runs(tmp_path):
-    """the navigate guide's table: horizontal and vertical precision,
-    vertical accuracy (against MSL − 21.387 m), the mean height below the
-    truth and single-point precision of each configuration, recomputed
-    from examples/walk_0827_multi_gnss.toml."""
-    rows = _quoted_walk_rows()
-    assert set(rows) == set(CONFIGURATIONS)
+    """docs/how-to/multi-gnss.md's configuration table is
+    docs/data/walk_configurations.json: each configuration of
+    examples/walk_0827_multi_gnss.toml run today agrees with it within
+    half the 0.01 m shown (satellite counts exactly)."""
+    table = figures("walk_configurations")
+    assert table.keys() == walk_multi_gnss.CONFIGURATIONS.keys()
     for name, overrides in CONFIGURATIONS.items():
         s = _navigate("walk_0827_multi_gnss.toml", tmp_path / "walk", overrides).summary
-        precise, accurate = s["errors_vs_truth_precision"], s["errors_vs_truth"]
-        measured = [
-            precise["aided"]["rms_horizontal_m"],
-            precise["aided"]["rms_vertical_m"],
-            accurate["aided"]["rms_vertical_m"],
-            precise["offset_removed_ned_m"][2],
-            s["spp_errors_vs_truth_precision"]["rms_horizontal_m"],
-        ]
-        np.testing.assert_allclose(measured, rows[name], atol=0.006, err_msg=name)
+        fresh, row = walk_multi_gnss.configuration_row(s), table[KEYS[name]]
+        assert fresh["satellites"] == row["satellites"], name
+        measured = [v for k, v in fresh.items() if k != "satellites"]
+        expected = [v for k, v in row.items() if k != "satellites"]
+        np.testing.assert_allclose(measured, expected, rtol=0, atol=0.005, err_msg=name)
         # Slots are named by satellite (12 of them: with 20 satellites the
         # ones that found none are used with their bias variance as noise).
         systems = {key[0] for key in s["range_biases_m"]}
@@ -392,8 +346,9 @@ def test_the_walk_summary_lists_its_satellites(walk_run, walk_log):
         assert 5.0 <= row["mean_elevation_deg"] <= 90.0, row
     line = answer_lines(s)[1]
     assert "satellites used: GPS 7, Galileo 6, BeiDou 7 (20)" in line
-    assert f"\n{line}\n" in doc_text(*NAVIGATE_GUIDE), (
-        "the navigate guide no longer quotes the walk's satellites line"
+    assert line == RECORD["satellites_line"], (
+        "docs/data/walk_multi_gnss.json's satellites line is not today's: "
+        "rerun python docs/doc_runs.py walk_multi_gnss"
     )
     # docs/how-to/multi-gnss.md's weakest and strongest satellites (C/N0
     # shown to 0.1 dB-Hz, the elevation to the degree).
@@ -416,66 +371,27 @@ def test_a_gps_rinex_run_lists_one_system(tmp_path):
     assert {r["signal"] for r in s["satellites"]} == {"L1 C/A"}
 
 
-def _quoted_block(marker: str) -> dict[str, list[str]]:
-    """A marked table of the navigate guide: its cells by first cell."""
-    page = doc_text(*NAVIGATE_GUIDE)
-    block = page[page.index(f"<!-- {marker}:begin -->") : page.index(f"<!-- {marker}:end -->")]
-    rows = {}
-    for line in block.splitlines()[3:]:
-        if line.startswith("|"):
-            cells = [c.strip() for c in line.strip().strip("|").split("|")]
-            rows[cells[0]] = cells[1:]
-    return rows
+#: The code-correlation table's cells recomputed by the test (one walk run
+#: each, ~2 s): the configurations the prose after the table discusses.
+CORRELATION_CHECKED = ("gps_4", "gps_7", "gps_galileo_beidou")
 
 
 @pytest.mark.slow
-def test_the_code_correlation_table_is_the_runs(tmp_path):
-    """docs/how-to/multi-gnss.md, "Correlated code errors": precision per
-    configuration and code correlation time, recomputed (τ = 0 is the
-    main table's), and the prose's figures read from the table."""
-    header = re.findall(r"τ = ([\d.]+) s", _docs_page().split("code-correlation-walk:begin")[1])
-    taus = [float(v) for v in header[:4]]
-    assert taus[0] == 0.0
-    rows = _quoted_block("code-correlation-walk")
-    assert set(rows) == set(CONFIGURATIONS)
-    main = _quoted_walk_rows()
-    cells: dict[tuple[str, float], tuple[float, float]] = {}
-    for name, row in rows.items():
-        for tau, cell in zip(taus, row, strict=True):
-            cells[name, tau] = tuple(float(v) for v in cell.split(" / "))
-        assert cells[name, 0.0] == tuple(main[name][:2]), name
-        for tau in taus[1:]:
-            summary = _navigate(
-                "walk_0827_multi_gnss.toml",
-                tmp_path / f"{tau}",
-                CONFIGURATIONS[name],
-                {"filter": {"pseudorange_correlation_time_s": tau}},
-            ).summary
-            precise = summary["errors_vs_truth_precision"]["aided"]
-            measured = (precise["rms_horizontal_m"], precise["rms_vertical_m"])
-            assert all(map(rounds_to, cells[name, tau], measured)), (name, tau, measured)
-    # The prose after the table quotes its cells (τ = 10 s against 0).
-    h, v = 0, 1
-    for pattern, name, index in (
-        (r"GPS's seven satellites go from ([\d.]+) to ([\d.]+) m", "GPS, all 7 (LNAV + CNAV)", h),
-        (r"GPS \+ Galileo from ([\d.]+) / [\d.]+ to ([\d.]+) / [\d.]+ m", "GPS + Galileo", h),
-        (r"GPS \+ Galileo from [\d.]+ / ([\d.]+) to [\d.]+ / ([\d.]+) m", "GPS + Galileo", v),
-        (
-            r"all three systems with carrier phase from ([\d.]+) to ([\d.]+) m",
-            "GPS + Galileo + BeiDou + carrier phase",
-            h,
-        ),
-        (r"trade ([\d.]+) → ([\d.]+) m horizontal", "GPS + Galileo + BeiDou", h),
-        (r"for ([\d.]+) → ([\d.]+) m vertical", "GPS + Galileo + BeiDou", v),
-        (r"Four satellites lose \(([\d.]+) → ([\d.]+) m\)", "GPS, 4 satellites (LNAV)", h),
-    ):
-        before, after = quoted_figures(PAGE, pattern)
-        assert (before, after) == (cells[name, 0.0][index], cells[name, 10.0][index]), pattern
-    (g08,) = quoted_figures(PAGE, r"\(([\d.]+) m with τ = 10 s\)")
-    assert g08 == cells["GPS, all 7 (LNAV + CNAV)", 10.0][h]
-    (factor,) = quoted_figures(PAGE, r"\(([\d.]+)× for τ = 10 s at 4 Hz\)")
-    rho = np.exp(-0.25 / 10.0)
-    assert rounds_to(factor, np.sqrt((1 + rho) / (1 - rho)))
+def test_the_code_correlation_table_is_the_record():
+    """docs/how-to/multi-gnss.md's code-correlation table is
+    docs/data/walk_correlation_table.json (τ = 0 the configuration
+    table's record; python docs/doc_runs.py walk_correlation_table writes
+    it in a few minutes); here a few configurations at τ = 10 s are run
+    again and agree with it within half the 0.01 m shown."""
+    recorded = figures("walk_correlation_table")
+    assert recorded["precision_m"].keys() == walk_multi_gnss.CONFIGURATIONS.keys()
+    taus = recorded["correlation_times_s"]
+    assert taus == list(walk_multi_gnss.CODE_CORRELATION_TIMES_S)
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    for key in CORRELATION_CHECKED:
+        fresh = walk_multi_gnss.correlation_precision(data, key, 10.0)
+        expected = recorded["precision_m"][key][taus.index(10.0)]
+        np.testing.assert_allclose(fresh, expected, rtol=0, atol=0.005, err_msg=key)
 
 
 def test_the_code_correlation_times_are_the_record(walk_log):
