@@ -432,6 +432,45 @@ def static_start_spec_table(record: dict[str, Any]) -> str:
 STATIC_START_SPEC = ("<!-- static-start-spec:begin -->", "<!-- static-start-spec:end -->")
 
 
+def xsens_session(data_root: Path) -> dict[str, Any]:
+    """examples/xsens_static.toml run as shipped (every 4th pose held out):
+    the figures of merit before and after, in the fit and held out
+    (‖f‖ − g RMS in mm/s², the gravity direction after a turn in °); the
+    estimated parameters' σ over their white-noise Cramér-Rao bound, least
+    and most, per sensor; the accelerometer biases' σ, mm/s²."""
+    from memsnav.calibration.session import run_calibration
+
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+        warnings.simplefilter("ignore")
+        cal = run_calibration(
+            ROOT / "examples" / "xsens_static.toml", data_root=data_root, output=Path(out)
+        ).calibration
+    fit = mn.static_summary(cal)
+    merit = {
+        f"{key}_{stage}_{subset}": fit[f"{key}_rms_{stage}_{subset}_{unit}"] * scale
+        for key, unit, scale in (("magnitude", "m_s2", 1e3), ("turn", "deg", 1.0))
+        for stage in ("before", "after")
+        for subset in ("fit", "held_out")
+    }
+    sigma = np.sqrt(np.diag(np.asarray(cal.covariance)))
+    bound = np.sqrt(np.diag(np.asarray(cal.crb)))
+    estimated = sigma > 0
+    ratio = sigma[estimated] / bound[estimated]
+    n_accel = int(estimated[:15].sum())
+    bias_mm_s2 = 1e3 * np.asarray(cal.accelerometer_std.bias)
+    return {
+        "merit": merit,
+        "sigma_over_bound": {
+            sensor: {"least": float(r.min()), "most": float(r.max())}
+            for sensor, r in (("accelerometer", ratio[:n_accel]), ("gyroscope", ratio[n_accel:]))
+        },
+        "accel_bias_sigma_mm_s2": {
+            "least": float(bias_mm_s2.min()),
+            "most": float(bias_mm_s2.max()),
+        },
+    }
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -453,6 +492,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "drive_example_schedule": drive_example_schedule,
     "foreign_drive": foreign_drive_datum.record,
     "static_start_spec": static_start_spec,
+    "xsens_session": xsens_session,
 }
 """Each record's name and the run that measures it."""
 
