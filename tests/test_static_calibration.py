@@ -4,7 +4,6 @@ sessions with known parameters (recovery within σ, z-scores over seeds) are
 Rust tests: crates/memsnav-core/src/calibration/static_poses/tests.rs."""
 
 import json
-import re
 import warnings
 from pathlib import Path
 
@@ -495,52 +494,36 @@ def test_xsens_first_half_fit_meets_the_issue_limit_on_the_second_half(xsens):
     assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.2e-3
 
 
-def _half_step(text: str) -> float:
-    """Half the last digit of a figure as written ("0.00055" → 5e-6,
-    "2.091e-4" → 5e-8)."""
-    mantissa, _, exponent = text.partition("e")
-    return 0.5 * 10.0 ** (int(exponent or 0) - len(mantissa.partition(".")[2]))
+def test_the_xsens_parameters_are_the_record(xsens):
+    """docs/how-to/calibrate-an-imu.md's parameter table of the Xsens session
+    (every 4th pose held out, as its example) and the fitted gyro scales
+    are docs/data/xsens_parameters.json (docs/doc_runs.py): today's
+    calibration agrees with it within half the last digit shown (biases
+    and scale factors to 1e-5, the gyro's misalignments to 1e-4, the
+    scales to four figures)."""
+    import doc_runs
 
-
-def test_the_guide_quotes_the_xsens_parameters(xsens):
-    """docs/how-to/calibrate-an-imu.md's parameter table of the Xsens session (every
-    4th pose held out, as its example): biases, scale factors and
-    misalignments with their σ, each within the digits it is quoted with;
-    and the fitted gyro scales per count it gives beside them."""
+    assert doc_runs.XSENS_NOMINAL == {**NOMINAL, "gyro_scale": 1 / 6258}
+    assert doc_runs.XSENS_GRAVITY == GRAVITY
     cal = _xsens_split(xsens, "every 4th pose")
-    page = doc_text(*CALIBRATION_GUIDE)
-    page = page[: page.index("### Which terms to estimate")].replace("−", "-")
-    axes = {c: i for i, c in enumerate("uvw")} | {c: i for i, c in enumerate("pqr")}
-    for label, model, std, term in (
-        ("accelerometer bias [m/s²]", cal.accelerometer, cal.accelerometer_std, "bias"),
-        ("accelerometer scale factor", cal.accelerometer, cal.accelerometer_std, "scale_factor"),
-        ("accelerometer misalignment", cal.accelerometer, cal.accelerometer_std, "misalignment"),
-        ("gyro bias [rad/s]", cal.gyroscope, cal.gyroscope_std, "bias"),
-        ("gyro scale factor (vs 1/6258)", cal.gyroscope, cal.gyroscope_std, "scale_factor"),
-        ("gyro misalignment", cal.gyroscope, cal.gyroscope_std, "misalignment"),
+    recorded = doc_figures("xsens_parameters")
+    for sensor, model, std, misalignment_step in (
+        ("accelerometer", cal.accelerometer, cal.accelerometer_std, 5e-6),
+        ("gyroscope", cal.gyroscope, cal.gyroscope_std, 5e-5),
     ):
-        row = re.search(rf"^\| {re.escape(label)} \|(.*)\|$", page, re.M)
-        assert row, f"docs/how-to/calibrate-an-imu.md no longer has the row {label!r}"
-        value, sigma = np.asarray(getattr(model, term)), np.asarray(getattr(std, term))
-        for k, cell in enumerate(c.strip() for c in row.group(1).split("|")):
-            scaled = re.fullmatch(r"\(([-\d.]+) ± ([\d.]+)\)e(-?\d+)", cell)
-            if scaled:
-                quoted = [(None, f"{scaled[1]}e{scaled[3]}", f"{scaled[2]}e{scaled[3]}")]
-            else:
-                quoted = re.findall(r"(?:M_(\w\w) )?([-\d.]+) ± ([\d.]+)", cell)
-            assert quoted, (label, cell)
-            for name, text, sigma_text in quoted:
-                at = (axes[name[0]], axes[name[1]]) if name else k
-                assert abs(value[at] - float(text)) <= _half_step(text) + 1e-12, (label, cell)
-                assert abs(sigma[at] - float(sigma_text)) <= _half_step(sigma_text) + 1e-12, cell
-    scales = re.search(
-        r"The fitted gyro scale is ([\d.e-]+), ([\d.e-]+) and ([\d.e-]+) rad/s per count",
-        " ".join(page.split()),
-    )
-    assert scales, "docs/how-to/calibrate-an-imu.md no longer quotes the fitted gyro scales"
+        for term, step in (
+            ("bias", 5e-6),
+            ("scale_factor", 5e-6),
+            ("misalignment", misalignment_step),
+        ):
+            for suffix, of in (("", model), ("_sigma", std)):
+                fresh = np.asarray(getattr(of, term))
+                shown = np.asarray(recorded[sensor][term + suffix])
+                np.testing.assert_allclose(
+                    fresh, shown, rtol=0, atol=step + 1e-12, err_msg=f"{sensor} {term}{suffix}"
+                )
     fitted = np.asarray(cal.nominal["gyro_scale"]) / (1 - np.asarray(cal.gyroscope.scale_factor))
-    for text, value in zip(scales.groups(), fitted, strict=True):
-        assert abs(value - float(text)) <= _half_step(text) + 1e-15, (text, value)
+    np.testing.assert_allclose(fitted, recorded["fitted_gyro_scale"], rtol=0, atol=5e-8)
 
 
 @pytest.mark.slow
