@@ -4,13 +4,16 @@ writing its record ``docs/data/<name>.json`` (docs/figures.py):
 ones (all without a name), writes their records and re-renders the pages.
 
 Each run is a function returning its figures, full precision, in the
-units the pages show; ``tests/test_doc_runs.py`` (and, for the walk's and
-the foreign drive's, ``tests/test_multi_gnss.py`` and
-``tests/test_your_own_files.py``) call the same functions and compare
-what they return today with the records, within the digits the pages
-show. Most take seconds; the calibration quick run and the drive with
-other settings take about half a minute each, all of them together a
-few minutes (more on a shared machine)."""
+units the pages show; ``tests/test_doc_runs.py`` (and, for the walk's,
+the foreign drive's, the static start's and the Xsens session's,
+``tests/test_multi_gnss.py``, ``tests/test_your_own_files.py``,
+``tests/test_allan.py`` and ``tests/test_static_calibration.py``) call
+the same functions, or compute the same figures, and compare them today
+with the records, within the digits the pages show. Most take seconds;
+the calibration quick run and the drive with other settings take about
+half a minute each, the walk's code-correlation table (45 walk runs)
+about a minute, all of them together a few minutes (more on a shared
+machine). A record in ``TABLES`` also fills a block of its page."""
 
 from __future__ import annotations
 
