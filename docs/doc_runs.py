@@ -604,6 +604,82 @@ def xsens_splits(data_root: Path) -> dict[str, Any]:
     return figures
 
 
+def _xsens_calibration(data_root: Path, estimate: str, **holdout: float) -> Any:
+    """The Xsens session calibrated from the data source's nominal values."""
+    data = data_root / "imu-static-poses"
+    accel = np.loadtxt(data / "xsens_acc.mat")
+    gyro = np.loadtxt(data / "xsens_gyro.mat")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the gyro's nominal scale is 31 % off
+        cal = mn.calibrate_static(
+            accel[:, 0],
+            accel[:, 1:],
+            gyro[:, 1:],
+            gravity=XSENS_GRAVITY,
+            estimate=estimate,
+            **XSENS_NOMINAL,
+            **holdout,
+        )
+    return cal, accel, gyro
+
+
+def xsens_nonlinearity(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md, "Why memsnav lost on unseen poses":
+    the plain fit on all 38 poses (mm/s²); the accelerometer nonlinearity
+    N's largest σ with every term estimated (per m/s²) on each split and
+    how many times below 1e-3 its smallest (every 4th pose) and largest
+    (halves) are; the first
+    half's in-fit RMS without N and with it; the held-out pose where N
+    extrapolates worst on the halves (its index, its specific force's
+    direction after the calibration, its miss with N and without, mm/s²);
+    what N costs held out on each split (RMS with N less without, mm/s²)."""
+    _, accel, gyro = _xsens_calibration(data_root, "determinable")
+    t = accel[:, 0]
+
+    def rms(errors: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.square(errors))))
+
+    figures: dict[str, Any] = {"n_sigma_most": {}, "times_below_1e3": {}, "n_cost_mm_s2": {}}
+    for split, holdout in (
+        ("every_4th", {"holdout_every": 4}),
+        ("halves", {"holdout_from": (t[0] + t[-1]) / 2}),
+    ):
+        now = _xsens_calibration(data_root, "determinable", **holdout)[0]
+        before = _xsens_calibration(data_root, "all", **holdout)[0]
+        held = np.asarray(now.pose_held_out)
+        after_now = np.asarray(now.magnitude_error_after)
+        after_before = np.asarray(before.magnitude_error_after)
+        sigma = np.asarray(before.accelerometer_std.nonlinearity)
+        figures["n_sigma_most"][split] = float(sigma.max())
+        if split == "halves":
+            figures["times_below_1e3"]["least"] = float(1e-3 / sigma.max())
+        figures["n_cost_mm_s2"][split] = 1e3 * (rms(after_before[held]) - rms(after_now[held]))
+        if split == "halves":
+            figures["first_half_fit_mm_s2"] = {
+                "without_n": 1e3 * rms(after_now[~held]),
+                "with_n": 1e3 * rms(after_before[~held]),
+            }
+            k = int(np.argmax(np.where(held, np.abs(after_before) - np.abs(after_now), -np.inf)))
+            f, _ = now.correct(accel[:, 1:], gyro[:, 1:])
+            a, b = now.poses[k]
+            mean = f[a:b].mean(axis=0)
+            figures["worst_pose"] = {
+                "index": k,
+                "direction": (mean / np.linalg.norm(mean)).tolist(),
+                "missed_with_n_mm_s2": 1e3 * abs(float(after_before[k])),
+                "missed_without_n_mm_s2": 1e3 * abs(float(after_now[k])),
+            }
+    every_4th = _xsens_calibration(data_root, "all", holdout_every=4)[0]
+    figures["times_below_1e3"]["most"] = float(
+        1e-3 / np.asarray(every_4th.accelerometer_std.nonlinearity).min()
+    )
+    cal = _xsens_calibration(data_root, "determinable")[0]
+    means = np.array([accel[a:b, 1:].mean(axis=0) for a, b in cal.poses])
+    errors = np.linalg.norm(plain_model(plain_fit(means), means), axis=1) - XSENS_GRAVITY
+    figures["all_poses_plain_mm_s2"] = 1e3 * rms(errors)
+    return figures
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -628,6 +704,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "xsens_session": xsens_session,
     "xsens_parameters": xsens_parameters,
     "xsens_splits": xsens_splits,
+    "xsens_nonlinearity": xsens_nonlinearity,
 }
 """Each record's name and the run that measures it."""
 
