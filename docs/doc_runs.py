@@ -680,6 +680,112 @@ def xsens_nonlinearity(data_root: Path) -> dict[str, Any]:
     return figures
 
 
+def nonlinear_errors(theta: np.ndarray, nominal: np.ndarray, axes: list[int]) -> np.ndarray:
+    """‖Γ_k‖ − g in memsnav's parametrisation (docs/explanation/calibration.md,
+    "The model and the fit"), written out: x = L s + b with L lower
+    triangular, then Γ_i = 2x_i / (1 + √(1 − 4 N_i x_i)) on the nonlinear
+    ``axes``; theta = [b (3), L's diagonal − 1 (3), L_vu, L_wu, L_wv, N on
+    axes]."""
+    lower = np.array(
+        [
+            [1 + theta[3], 0.0, 0.0],
+            [theta[6], 1 + theta[4], 0.0],
+            [theta[7], theta[8], 1 + theta[5]],
+        ]
+    )
+    x = nominal @ lower.T + theta[:3]
+    for n, axis in zip(theta[9:], axes, strict=True):
+        x[:, axis] = 2 * x[:, axis] / (1 + np.sqrt(1 - 4 * n * x[:, axis]))
+    return np.linalg.norm(x, axis=1) - XSENS_GRAVITY
+
+
+def nonlinear_fit(nominal: np.ndarray, axes: list[int]) -> np.ndarray:
+    """theta minimising Σ(‖Γ_k‖ − g)² (scipy, independent of memsnav)."""
+    from scipy.optimize import least_squares
+
+    scale = np.r_[np.full(3, 1e-2), np.full(6, 1e-3), np.full(len(axes), 1e-5)]
+    result = least_squares(
+        lambda theta: nonlinear_errors(theta, nominal, axes),
+        np.zeros(9 + len(axes)),
+        x_scale=scale,
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+    )
+    if not result.success:
+        raise RuntimeError(f"the nonlinear fit did not converge: {result.message}")
+    return result.x
+
+
+def _candidates(cal: Any, stage: str) -> tuple[list[dict], int]:
+    (selection,) = [m for m in cal.model_selection if m["stage"] == stage]
+    return selection["candidates"], selection["chosen"]
+
+
+def xsens_criteria(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md's information criteria on the Xsens
+    log (every 4th pose held out, the halves, all 38 poses): AICc's margin
+    for the linear model against the best candidate with an entry of N, by
+    pose set; the least margin by which it keeps all of K; plain AIC's gap
+    from the linear model to N_v and BIC's margin for the linear model
+    (least, most over the pose sets); leave-one-out RMS over the first
+    half's poses with N_v and without and N_v's RMS on the second half
+    (scipy fits in memsnav's parametrisation), mm/s²."""
+    _, accel, _ = _xsens_calibration(data_root, "determinable")
+    t = accel[:, 0]
+    sets = {
+        "every_4th": {"holdout_every": 4},
+        "halves": {"holdout_from": (t[0] + t[-1]) / 2},
+        "all": {},
+    }
+    cals = {name: _xsens_calibration(data_root, "determinable", **h)[0] for name, h in sets.items()}
+    n_margin, k_margins, aic_gaps, bic_margins = {}, [], [], []
+    for name, cal in cals.items():
+        candidates, _ = _candidates(cal, "accelerometer nonlinearity")
+        with_n = min(c["aicc"] for c in candidates[1:] if c["aicc"] is not None)
+        n_margin[name] = with_n - candidates[0]["aicc"]
+        gyro, chosen = _candidates(cal, "gyroscope g-sensitivity")
+        k_margins.append(
+            min(c["aicc"] for i, c in enumerate(gyro) if i != chosen and c["aicc"] is not None)
+            - gyro[chosen]["aicc"]
+        )
+        criteria = []
+        for c in candidates:
+            n, k = c["observations"], c["parameters"] + 1
+            fit = n * np.log(c["residual_rms"] ** 2)
+            criteria.append((c["terms"], fit + 2 * k, fit + k * np.log(n)))
+        aic_v = next(a for terms, a, _ in criteria if terms == ["nonlinearity_v"])
+        aic_gaps.append(aic_v - criteria[0][1])
+        bic_margins.append(min(b for _, _, b in criteria[1:]) - criteria[0][2])
+    halves = cals["halves"]
+    held = np.asarray(halves.pose_held_out)
+    means = np.array([accel[a:b, 1:].mean(axis=0) for a, b in halves.poses])
+    nominal = XSENS_NOMINAL["accel_scale"] * (means - XSENS_NOMINAL["accel_offset"])
+    in_fit = nominal[~held]
+
+    def rms(errors: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.square(errors))))
+
+    loo = {}
+    for terms in ((), ("nonlinearity_v",)):
+        axes = ["uvw".index(term[-1]) for term in terms]
+        left_out = [
+            nonlinear_errors(nonlinear_fit(np.delete(in_fit, k, 0), axes), in_fit[[k]], axes)
+            for k in range(len(in_fit))
+        ]
+        loo["nonlinearity_v" if terms else "linear"] = 1e3 * rms(np.concatenate(left_out))
+    theta = nonlinear_fit(in_fit, [1])
+    return {
+        "aicc_n_margin": n_margin,
+        "aicc_k_margin_least": float(min(k_margins)),
+        "aic_nv_gap": {"least": float(min(aic_gaps)), "most": float(max(aic_gaps))},
+        "bic_margin": {"least": float(min(bic_margins)), "most": float(max(bic_margins))},
+        "loo_mm_s2": loo,
+        "first_half_poses": len(in_fit),
+        "nv_second_half_mm_s2": 1e3 * rms(nonlinear_errors(theta, nominal[held], [1])),
+    }
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -705,6 +811,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "xsens_parameters": xsens_parameters,
     "xsens_splits": xsens_splits,
     "xsens_nonlinearity": xsens_nonlinearity,
+    "xsens_criteria": xsens_criteria,
 }
 """Each record's name and the run that measures it."""
 
