@@ -786,6 +786,108 @@ def xsens_criteria(data_root: Path) -> dict[str, Any]:
     }
 
 
+def plain_jacobian(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """∂(‖a_k‖ − g)/∂x of the plain model by central differences (steps
+    1e-6 of each parameter's size: the model is smooth and the columns span
+    1e-5 to 3e4 in size)."""
+    size = np.r_[np.full(3, 100.0), np.full(3, 1e-5), np.full(3, 1e-2)]
+    columns = []
+    for i, step in enumerate(1e-6 * size):
+        up, down = x.copy(), x.copy()
+        up[i] += step
+        down[i] -= step
+        difference = np.linalg.norm(plain_model(up, counts), axis=1) - np.linalg.norm(
+            plain_model(down, counts), axis=1
+        )
+        columns.append(difference / (2 * step))
+    return np.column_stack(columns)
+
+
+#: The second half's pose N extrapolates worst (xsens_nonlinearity's
+#: worst_pose), numbered from the rest (pose 0).
+XSENS_WORST_POSE = 26
+#: The detector factors docs/how-to/calibrate-an-imu.md and
+#: docs/explanation/calibration.md try, first and last.
+XSENS_DETECTOR_FACTORS = (4, 10)
+#: The later splits it tries: the first poses fitted, fewest and most.
+XSENS_LATER_SPLITS = (19, 23)
+
+
+def xsens_second_half(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md, "What is left": the plain fit's
+    held-out RMS when the split moves later (first and last of
+    XSENS_LATER_SPLITS); the z-up poses' scatter about the all-pose plain
+    fit and the standard deviation of the rest's 1 s means (their
+    magnitude error under that fit); σ̂ = √(RSS/(n − 9)) of the first-half
+    and all-pose plain fits; the first-half fit's predicted RMS on the
+    second half's poses by its covariance σ̂² (JᵀJ)⁻¹, and at
+    XSENS_WORST_POSE (its std, the part from the parameters, its miss in
+    σ); memsnav's held-out RMS on the halves for the detector factors of
+    XSENS_DETECTOR_FACTORS (least, most). All mm/s² but the miss."""
+    accel = np.loadtxt(data_root / "imu-static-poses" / "xsens_acc.mat")
+    t, counts = accel[:, 0], accel[:, 1:]
+    middle = (t[0] + t[-1]) / 2
+    now = _xsens_calibration(data_root, "determinable", holdout_from=middle)[0]
+    held = np.asarray(now.pose_held_out)
+    means = np.array([counts[a:b].mean(axis=0) for a, b in now.poses])
+
+    def rms(errors: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.square(errors))))
+
+    def errors_of(x: np.ndarray, c: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(plain_model(x, c), axis=1) - XSENS_GRAVITY
+
+    fewest, most = XSENS_LATER_SPLITS
+    later = [1e3 * rms(errors_of(plain_fit(means[:m]), means[m:])) for m in (fewest, most)]
+    x_all = plain_fit(means)
+    all_errors = errors_of(x_all, means)
+    z_up = plain_model(x_all, means)[:, 2] / XSENS_GRAVITY > 0.9
+    a, b = now.poses[0]
+    rate = round(1.0 / np.median(np.diff(t)))
+    seconds = counts[a : a + (b - a) // rate * rate].reshape(-1, rate, 3).mean(axis=1)
+    x = plain_fit(means[~held])
+    errors = errors_of(x, means)
+    n = int(np.sum(~held))
+    residual_std = float(np.sqrt(np.sum(errors[~held] ** 2) / (n - 9)))
+    jacobian = plain_jacobian(x, means[~held])
+    covariance = residual_std**2 * np.linalg.inv(jacobian.T @ jacobian)
+    ahead = plain_jacobian(x, means)
+    from_parameters = np.einsum("ij,jk,ik->i", ahead, covariance, ahead)
+    sd = np.sqrt(residual_std**2 + from_parameters)
+    k = XSENS_WORST_POSE
+    first, last = XSENS_DETECTOR_FACTORS
+    detector = []
+    for factor in range(first, last + 1):
+        cal = _xsens_calibration(
+            data_root, "determinable", holdout_from=middle, threshold_factor=factor
+        )[0]
+        detector.append(1e3 * mn.static_summary(cal)["magnitude_rms_after_held_out_m_s2"])
+    return {
+        "later_split_mm_s2": {"fewest_poses": later[0], "most_poses": later[1]},
+        "later_split_poses": {"fewest": fewest, "most": most},
+        "z_up_poses": int(z_up.sum()),
+        "z_up_scatter_mm_s2": {
+            "least": 1e3 * float(all_errors[z_up].min()),
+            "most": 1e3 * float(all_errors[z_up].max()),
+        },
+        "rest_s": round((b - a) / rate),
+        "rest_spread_mm_s2": 1e3 * float(np.std(errors_of(x_all, seconds), ddof=1)),
+        "residual_std_mm_s2": {
+            "first_half": 1e3 * residual_std,
+            "all_poses": 1e3 * float(np.sqrt(np.sum(all_errors**2) / (len(means) - 9))),
+        },
+        "predicted_mm_s2": 1e3 * rms(sd[held]),
+        "worst_pose": {
+            "index": k,
+            "predicted_mm_s2": 1e3 * float(sd[k]),
+            "from_parameters_mm_s2": 1e3 * float(np.sqrt(from_parameters[k])),
+            "missed_sigmas": float(abs(errors[k]) / sd[k]),
+        },
+        "detector_factors": {"first": first, "last": last},
+        "detector_held_out_mm_s2": {"least": min(detector), "most": max(detector)},
+    }
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -812,6 +914,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "xsens_splits": xsens_splits,
     "xsens_nonlinearity": xsens_nonlinearity,
     "xsens_criteria": xsens_criteria,
+    "xsens_second_half": xsens_second_half,
 }
 """Each record's name and the run that measures it."""
 
