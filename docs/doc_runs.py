@@ -926,6 +926,20 @@ def xsens_detector(data_root: Path) -> dict[str, Any]:
     }
 
 
+def somigliana_departure(data_root: Path) -> dict[str, Any]:
+    """How far ``gravity_ecef`` (J2) departs from WGS84 normal gravity
+    (Somigliana's closed form, NIMA TR8350.2 eq. 4-1, table 3.4) on the
+    ellipsoid, m/s²: the largest departure (at a pole) and the one at the
+    equator."""
+    lat = np.radians(np.linspace(-90.0, 90.0, 181))
+    lla = np.stack([lat, np.zeros_like(lat), np.zeros_like(lat)], axis=1)
+    g = np.linalg.norm(mn.gravity_ecef(mn.geodetic_to_ecef(lla)), axis=1)
+    s2 = np.sin(lat) ** 2
+    normal = 9.7803253359 * (1 + 0.00193185265241 * s2) / np.sqrt(1 - 0.00669437999013 * s2)
+    departure = np.abs(g - normal)
+    return {"largest_m_s2": float(departure.max()), "equator_m_s2": float(departure[90])}
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -954,6 +968,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "xsens_criteria": xsens_criteria,
     "xsens_second_half": xsens_second_half,
     "xsens_detector": xsens_detector,
+    "somigliana_departure": somigliana_departure,
 }
 """Each record's name and the run that measures it."""
 
