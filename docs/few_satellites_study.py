@@ -12,8 +12,11 @@
   from the exact start (the first k kept), eight
   seeds; with 3, also with an oven-controlled receiver clock.
 
-Prints the tables as Markdown; ``--write`` puts them into
-docs/explanation/few-satellites.md between its ``study`` markers.
+Prints the tables as Markdown; ``--write`` keeps their figures (and those
+the page's sentences draw from them) in docs/data/few_satellites.json and
+puts the tables into docs/explanation/few-satellites.md between its
+``study`` markers, its sentences' figures through placeholders;
+``--from-record`` re-renders them without a run.
 """
 
 from __future__ import annotations
@@ -22,8 +25,10 @@ import argparse
 import math
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from figures import load_record, write_pages, write_record
 from marked_block import replace_block
 from scipy.stats import chi2
 
@@ -40,42 +45,73 @@ def _ned(position_ecef: np.ndarray) -> np.ndarray:
     return np.array([[-sl * co, -sl * so, cl], [-so, co, 0.0], [-cl * co, -cl * so, -sl]])
 
 
-def paired_table() -> str:
-    rows = [
-        "| satellites kept | mean of each run's largest error [m] | runs flagged |",
-        "|---|---|---|",
-    ]
+def paired_figures() -> list[dict[str, float]]:
+    """By satellites kept (0-3): the mean of each run's largest error in
+    the window and its standard error, m; the runs flagged."""
+    figures = []
     for kept in range(4):
         r = mn.experiments.navigation(
             outage=(150.0, 60.0, kept), runs=12, duration=300.0, seed=3, imus=("mems",)
         )
         s = r.summary()["mems"]
         key = "mean_max_position_error_during_outage_m"
+        figures.append(
+            {
+                "largest_m": s[key],
+                "standard_error_m": s["standard_error"][key],
+                "flagged": int(r.runs_summary["mems"]["diverged"].sum()),
+            }
+        )
+    return figures
+
+
+def paired_table(figures: list[dict[str, float]]) -> str:
+    rows = [
+        "| satellites kept | mean of each run's largest error [m] | runs flagged |",
+        "|---|---|---|",
+    ]
+    for kept, f in enumerate(figures):
         rows.append(
-            f"| {kept} | {s[key]:.0f} ± {s['standard_error'][key]:.0f} | "
-            f"{int(r.runs_summary['mems']['diverged'].sum())} of 12 |"
+            f"| {kept} | {f['largest_m']:.0f} ± {f['standard_error_m']:.0f} | "
+            f"{f['flagged']} of 12 |"
         )
     return "\n".join(rows)
 
 
-def outage_nees_table() -> str:
-    runs = 16
-    low, high = chi2.ppf([0.0005, 0.9995], 3 * runs) / (3 * runs)
+#: The outage NEES runs.
+NEES_RUNS = 16
+
+
+def outage_nees_figures() -> dict[str, dict[str, float]]:
+    """By IMU: the error at the outage's end (m), the NEES/dof there, the
+    lowest and highest NEES/dof over the run."""
+    figures = {}
+    for name, imu in (("paper MEMS", "mems"), ("consumer", "consumer"), ("tactical", "ins")):
+        r = mn.experiments.navigation(
+            outage=(150.0, 60.0), runs=NEES_RUNS, duration=300.0, seed=11, imus=(imu,)
+        )
+        s = r.summary()[imu]
+        per_epoch = r.position_nees_mean[imu] / 3.0
+        figures[name] = {
+            "error_at_end_m": s["position_error_at_outage_end_m"],
+            "nees_per_dof_at_end": s["position_nees_per_dof_at_outage_end"],
+            "nees_per_dof_least": float(per_epoch.min()),
+            "nees_per_dof_most": float(per_epoch.max()),
+        }
+    return figures
+
+
+def outage_nees_table(figures: dict[str, dict[str, float]]) -> str:
+    low, high = chi2.ppf([0.0005, 0.9995], 3 * NEES_RUNS) / (3 * NEES_RUNS)
     rows = [
         "| IMU | error at the outage's end [m] | NEES/dof there | NEES/dof over the run: "
         f"lowest, highest (99.9 % band {low:.2f}-{high:.2f}) |",
         "|---|---|---|---|",
     ]
-    for name, imu in (("paper MEMS", "mems"), ("consumer", "consumer"), ("tactical", "ins")):
-        r = mn.experiments.navigation(
-            outage=(150.0, 60.0), runs=runs, duration=300.0, seed=11, imus=(imu,)
-        )
-        s = r.summary()[imu]
-        per_epoch = r.position_nees_mean[imu] / 3.0
+    for name, f in figures.items():
         rows.append(
-            f"| {name} | {s['position_error_at_outage_end_m']:.1f} | "
-            f"{s['position_nees_per_dof_at_outage_end']:.2f} | "
-            f"{per_epoch.min():.2f}, {per_epoch.max():.2f} |"
+            f"| {name} | {f['error_at_end_m']:.1f} | {f['nees_per_dof_at_end']:.2f} | "
+            f"{f['nees_per_dof_least']:.2f}, {f['nees_per_dof_most']:.2f} |"
         )
     return "\n".join(rows)
 
@@ -119,19 +155,26 @@ def _attitude_nees(preset: str, tau: float, runs: int = 10) -> dict[str, float]:
     return {k: float(np.mean(v)) for k, v in z2.items()}
 
 
-def attitude_table() -> str:
+def attitude_figures() -> dict[str, dict[str, dict[str, float]]]:
+    """By IMU and τ (s): the NEES/dof of position, tilt and heading."""
+    figures: dict[str, dict[str, dict[str, float]]] = {}
+    for name, preset in (("paper MEMS", "paper-mems"), ("consumer", "consumer")):
+        for tau in (10.0, 30.0):
+            figures.setdefault(name, {})[f"{tau:g}"] = _attitude_nees(preset, tau)
+    figures["tactical"] = {"10": _attitude_nees("tactical", 10.0)}
+    return figures
+
+
+def attitude_table(figures: dict[str, dict[str, dict[str, float]]]) -> str:
     rows = [
         "| IMU | τ [s] | position | tilt | heading |",
         "|---|---|---|---|---|",
     ]
-    for name, preset in (("paper MEMS", "paper-mems"), ("consumer", "consumer")):
-        for tau in (10.0, 30.0):
-            n = _attitude_nees(preset, tau)
+    for name, by_tau in figures.items():
+        for tau, n in by_tau.items():
             rows.append(
-                f"| {name} | {tau:g} | {n['position']:.2f} | {n['tilt']:.2f} | {n['heading']:.2f} |"
+                f"| {name} | {tau} | {n['position']:.2f} | {n['tilt']:.2f} | {n['heading']:.2f} |"
             )
-    n = _attitude_nees("tactical", 10.0)
-    rows.append(f"| tactical | 10 | {n['position']:.2f} | {n['tilt']:.2f} | {n['heading']:.2f} |")
     return "\n".join(rows)
 
 
@@ -200,56 +243,123 @@ def _long_run(
     }
 
 
-def long_run_table() -> str:
+#: The 900 s runs' cases: satellites kept, receiver clock, its label.
+LONG_RUN_CASES = ((3, None, "TCXO"), (3, OCXO, "OCXO"), (2, None, "TCXO"), (1, None, "TCXO"))
+
+
+def long_run_figures() -> list[dict[str, Any]]:
+    """Per case of LONG_RUN_CASES over seeds 1-8: the share of N/E/D
+    errors in 3σ (median, lowest), the same before the first alert, the
+    final error and 3-D σ (medians, m), the runs flagged and why, the
+    median first alert (s; NaN when none)."""
+    figures = []
+    for kept, clock, label in LONG_RUN_CASES:
+        runs = [_long_run(kept, seed, clock) for seed in range(1, 9)]
+        inside = [r["inside"] for r in runs]
+        flagged = [r for r in runs if r["flagged"]]
+        before = [r["inside_before_alert"] for r in runs]
+        figures.append(
+            {
+                "satellites": kept,
+                "clock": label,
+                "inside": {"median": float(np.median(inside)), "least": min(inside)},
+                "inside_before_alert": {"median": float(np.median(before)), "least": min(before)},
+                "final_m": float(np.median([r["final_m"] for r in runs])),
+                "final_sigma_m": float(np.median([r["final_sigma_m"] for r in runs])),
+                "flagged": len(flagged),
+                "runs": len(runs),
+                "kinds": sorted({k for r in flagged for k in r["kinds"]}),
+                "first_alert_s": float(np.median([r["first_alert_s"] for r in flagged]))
+                if flagged
+                else None,
+            }
+        )
+    return figures
+
+
+def long_run_table(figures: list[dict[str, Any]]) -> str:
     rows = [
         "| satellites | receiver clock | share of N/E/D errors in 3σ: median (lowest) | "
         "the same before the first alert | final error: median [m] | final 3-D σ: median "
         "[m] | runs flagged | first alert: median [s] |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    seeds = range(1, 9)
-    for kept, clock, label in (
-        (3, None, "TCXO"),
-        (3, OCXO, "OCXO"),
-        (2, None, "TCXO"),
-        (1, None, "TCXO"),
-    ):
-        runs = [_long_run(kept, seed, clock) for seed in seeds]
-        inside = [r["inside"] for r in runs]
-        flagged = [r for r in runs if r["flagged"]]
-        first = np.median([r["first_alert_s"] for r in flagged]) if flagged else math.nan
-        kinds = sorted({k for r in flagged for k in r["kinds"]})
-        before = [r["inside_before_alert"] for r in runs]
+    for f in figures:
+        kinds = f["kinds"]
+        first = f["first_alert_s"]
         rows.append(
-            f"| {kept} | {label} | {np.median(inside):.2f} ({min(inside):.2f}) | "
-            f"{np.median(before):.2f} ({min(before):.2f}) | "
-            f"{np.median([r['final_m'] for r in runs]):.3g} | "
-            f"{np.median([r['final_sigma_m'] for r in runs]):.3g} | "
-            f"{len(flagged)} of {len(runs)}{' (' + ', '.join(kinds) + ')' if kinds else ''} | "
-            f"{'–' if math.isnan(first) else f'{first:.0f}'} |"
+            f"| {f['satellites']} | {f['clock']} | {f['inside']['median']:.2f} "
+            f"({f['inside']['least']:.2f}) | {f['inside_before_alert']['median']:.2f} "
+            f"({f['inside_before_alert']['least']:.2f}) | {f['final_m']:.3g} | "
+            f"{f['final_sigma_m']:.3g} | "
+            f"{f['flagged']} of {f['runs']}{' (' + ', '.join(kinds) + ')' if kinds else ''} | "
+            f"{'–' if first is None else f'{first:.0f}'} |"
         )
     return "\n".join(rows)
+
+
+def derived(figures: dict[str, Any]) -> dict[str, Any]:
+    """What the page's sentences draw from the tables."""
+    kept = [f["largest_m"] for f in figures["paired"]]
+    at_end = [f["nees_per_dof_at_end"] for f in figures["outage_nees"].values()]
+    raw_tilt = [figures["attitude"][imu]["10"]["tilt"] for imu in ("paper MEMS", "consumer")]
+    cases = {(f["satellites"], f["clock"]): f for f in figures["long_runs"]}
+    return {
+        "three_satellites_kept_percent": 100.0 * kept[3] / kept[0],
+        "nees_at_end": {"least": min(at_end), "most": max(at_end)},
+        "raw_tilt_nees": {"least": min(raw_tilt), "most": max(raw_tilt)},
+        "three_tcxo_final_km": cases[3, "TCXO"]["final_m"] / 1e3,
+        "three_tcxo_sigma_km": cases[3, "TCXO"]["final_sigma_m"] / 1e3,
+        "three_ocxo_final_m": cases[3, "OCXO"]["final_m"],
+        "three_ocxo_sigma_m": cases[3, "OCXO"]["final_sigma_m"],
+        "first_alert_s": {
+            "two": cases[2, "TCXO"]["first_alert_s"],
+            "one": cases[1, "TCXO"]["first_alert_s"],
+        },
+    }
+
+
+def render(record: dict[str, Any]) -> str:
+    """The block the page shows, from the record."""
+    f = record["figures"]
+    return (
+        f"{BEGIN}\n\n**Paired outages** (paper MEMS, 60 s window from 150 s, 12 runs of "
+        f"300 s, seed 3):\n\n{paired_table(f['paired'])}\n\n**The covariance through a 60 s "
+        f"total outage** ({NEES_RUNS} runs of 300 s, seed 11, Monte Carlo position NEES per "
+        f"degree of freedom):\n\n{outage_nees_table(f['outage_nees'])}\n\n**The aided "
+        f"attitude** (10 runs of 600 s, 6 satellites, exact start; NEES per degree of "
+        f"freedom):\n\n{attitude_table(f['attitude'])}\n\n**900 s on 1-3 satellites** "
+        f"(consumer IMU, the k highest of 6 satellites from the exact start, seeds "
+        f"1-8):\n\n{long_run_table(f['long_runs'])}\n\n{END}"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
-        "--write", action="store_true", help="update docs/explanation/few-satellites.md"
+        "--write",
+        action="store_true",
+        help="write docs/data/few_satellites.json and update docs/explanation/few-satellites.md",
+    )
+    parser.add_argument(
+        "--from-record", action="store_true", help="re-render the page from the last record"
     )
     args = parser.parse_args()
-    text = (
-        f"{BEGIN}\n\n**Paired outages** (paper MEMS, 60 s window from 150 s, 12 runs of "
-        f"300 s, seed 3):\n\n{paired_table()}\n\n**The covariance through a 60 s total "
-        f"outage** (16 runs of 300 s, seed 11, Monte Carlo position NEES per degree of "
-        f"freedom):\n\n{outage_nees_table()}\n\n**The aided attitude** (10 runs of 600 s, "
-        f"6 satellites, exact start; NEES per degree of freedom):\n\n{attitude_table()}\n\n"
-        f"**900 s on 1-3 satellites** (consumer IMU, the k highest of 6 satellites from the "
-        f"exact start, seeds 1-8):\n\n{long_run_table()}\n\n{END}"
-    )
-    print(text)
-    if args.write:
-        page = ROOT / "docs" / "explanation" / "few-satellites.md"
-        replace_block(page, BEGIN, END, text)
+    if not args.from_record:
+        figures = {
+            "paired": paired_figures(),
+            "outage_nees": outage_nees_figures(),
+            "attitude": attitude_figures(),
+            "long_runs": long_run_figures(),
+        }
+        figures["derived"] = derived(figures)
+        if not args.write:
+            print(render({"figures": figures}))
+            return
+        write_record("few_satellites", figures, render=False)
+    page = ROOT / "docs" / "explanation" / "few-satellites.md"
+    replace_block(page, BEGIN, END, render(load_record("few_satellites")))
+    write_pages()
 
 
 if __name__ == "__main__":

@@ -2,7 +2,9 @@
 navigation claims do not reproduce with our defaults, and which settings
 change that. Run ``python docs/paper_comparison_study.py [runs] [threads]``
 (20 runs: about a minute on two cores); it prints the Markdown tables of
-the document.
+the document. ``--write [runs]`` keeps the figures in
+docs/data/paper_comparison.json and writes the page's tables and
+placeholders from it; ``--from-record`` re-renders them without a run.
 
 Three parts:
 
@@ -23,8 +25,12 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
+from typing import Any
 
 import numpy as np
+from figures import load_record, write_pages, write_record
+from marked_block import replace_block
 
 from memsnav import ImuModel, Trajectory
 from memsnav.experiments import navigation
@@ -259,7 +265,173 @@ def budget_analytic(n_trajectories: int) -> None:
     print(f"| all, in quadrature | {np.sqrt(sum(v**2 for v in rows.values())):.1f} |")
 
 
+#: The IMUs of the study's tables.
+IMUS = ("ins", "mems", "calibrated_mems")
+#: The page's blocks: the defaults, the study, the two budgets.
+BLOCKS = {
+    "defaults": ("<!-- paper-defaults:begin -->", "<!-- paper-defaults:end -->"),
+    "study": ("<!-- paper-study:begin -->", "<!-- paper-study:end -->"),
+    "analytic": ("<!-- paper-budget-analytic:begin -->", "<!-- paper-budget-analytic:end -->"),
+    "simulated": ("<!-- paper-budget-simulated:begin -->", "<!-- paper-budget-simulated:end -->"),
+}
+#: Each setting's key in the record (a placeholder's path has no spaces).
+SLUGS = dict(
+    zip(
+        SETTINGS,
+        (
+            "defaults",
+            "pseudoranges_only",
+            "attitude_2_2_15",
+            "pseudoranges_only_attitude_2_2_15",
+            "rate_noise_1_m_s",
+            "scale_factor_states",
+            "no_absorption",
+            "pseudoranges_only_no_absorption",
+        ),
+        strict=True,
+    )
+)
+
+
+def record_figures(runs: int = 20, threads: int | None = None) -> dict[str, Any]:
+    """The study's figures: per setting and IMU the RMS over the first
+    150 s and after, the outage's largest mean error, the NEES per dof;
+    the defaults' window RMS 0-10 / 10-30 / 30-60 s per IMU; the budget by
+    simulation and analytically; and what the sentences draw from them."""
+    settings, windows = {}, {}
+    for name, kw in SETTINGS.items():
+        rows, nominal = setting_rows(kw, runs, threads)
+        settings[SLUGS[name]] = {
+            "label": name,
+            "imus": {
+                imu: dict(
+                    zip(("early_m", "late_m", "outage_max_m", "nees_per_dof"), row, strict=True)
+                )
+                for imu, row in rows.items()
+            },
+        }
+        if SLUGS[name] == "defaults":
+            for imu in nominal.imus:
+                error = nominal.position_error[imu]
+                windows[imu] = [
+                    float(np.sqrt(np.mean(error[:, a:b] ** 2)))
+                    for a, b in ((0, 10), (10, 30), (30, 60))
+                ]
+    figures = {
+        "settings": settings,
+        "defaults_window_rms_m": windows,
+        "budget_simulated_m": [
+            {"variant": k, "largest": v[0], "end": v[1]}
+            for k, v in budget_by_simulation_rows(runs, threads).items()
+        ],
+        "budget_analytic_m": budget_analytic_rows(20),
+    }
+    figures["derived"] = derived(figures)
+    return figures
+
+
+def derived(figures: dict[str, Any]) -> dict[str, Any]:
+    """What the page's sentences draw from the tables."""
+    s = {k: v["imus"] for k, v in figures["settings"].items()}
+
+    def gain(setting: str, key: str) -> float:
+        return 100 * (1 - s[setting]["calibrated_mems"][key] / s[setting]["mems"][key])
+
+    analytic = figures["budget_analytic_m"]
+    simulated = {r["variant"]: r["largest"] for r in figures["budget_simulated_m"]}
+    windows = np.asarray(list(figures["defaults_window_rms_m"].values()))
+    return {
+        "pseudoranges_only_gain_percent": {
+            "early": gain("pseudoranges_only", "early_m"),
+            "late": gain("pseudoranges_only", "late_m"),
+        },
+        "analytic_total_m": float(np.sqrt(sum(v**2 for v in analytic.values()))),
+        "simulated_all_terms_m": simulated["raw MEMS (all terms)"],
+        "simulated_noise_only_m": simulated["noise only"],
+        "window_rms_m": {
+            "most_0_10": float(windows[:, 0].max()),
+            "most_10_30": float(windows[:, 1].max()),
+            "most_30_60": float(windows[:, 2].max()),
+            "spread": float((windows.max(axis=0) - windows.min(axis=0)).max()),
+        },
+    }
+
+
+def _row(imu: str, r: dict[str, float], setting: str | None = None) -> str:
+    first = "" if setting is None else f"| {setting} "
+    return (
+        f"{first}| {imu} | {r['early_m']:.2f} | {r['late_m']:.2f} | {r['outage_max_m']:.1f} | "
+        f"{r['nees_per_dof']:.2f} |"
+    )
+
+
+def render_blocks(record: dict[str, Any]) -> dict[str, str]:
+    """The four tables of the page, from the record, with their markers."""
+    f = record["figures"]
+    defaults = [
+        "| IMU | RMS 0-150 s [m] | RMS 150-600 s [m] | outage max [m] | NEES/dof |",
+        "|---|---|---|---|---|",
+        *(_row(imu, r) for imu, r in f["settings"]["defaults"]["imus"].items()),
+    ]
+    study = [
+        "| setting | IMU | RMS 0-150 s [m] | RMS 150-600 s [m] | outage max [m] | NEES/dof |",
+        "|---|---|---|---|---|---|",
+    ]
+    for setting in f["settings"].values():
+        for k, (imu, r) in enumerate(setting["imus"].items()):
+            study.append(_row(imu, r, setting["label"] if k == 0 else ""))
+    analytic = [
+        "| raw MEMS error term (paper-mems sigma) | analytic RMS error after 30 s [m] |",
+        "|---|---|",
+    ]
+    for term, value in sorted(f["budget_analytic_m"].items(), key=lambda kv: -kv[1]):
+        if term in ("accel scale factor", "accel nonlinearity"):
+            continue
+        label = ANALYTIC_LABELS.get(term, term)
+        analytic.append(f"| {label} | {value:.2f} |" if value < 1 else f"| {label} | {value:.1f} |")
+    small = [f["budget_analytic_m"][k] for k in ("accel scale factor", "accel nonlinearity")]
+    analytic.append(
+        "| accel scale factor 1e-5, nonlinearity 1e-5 /g | < 0.01 |"
+        if max(small) < 0.01
+        else f"| accel scale factor 1e-5, nonlinearity 1e-5 /g | {max(small):.2f} |"
+    )
+    analytic.append(f"| all, in quadrature | {f['derived']['analytic_total_m']:.1f} |")
+    simulated = [
+        "| raw MEMS variant | outage max [m] |",
+        "|---|---|",
+        *(f"| {r['variant']} | {r['largest']:.1f} |" for r in f["budget_simulated_m"]),
+    ]
+    tables = {"defaults": defaults, "study": study, "analytic": analytic, "simulated": simulated}
+    return {k: "\n".join([BLOCKS[k][0], *rows, BLOCKS[k][1]]) for k, rows in tables.items()}
+
+
+#: The analytic budget's row labels (the page's), by term.
+ANALYTIC_LABELS = {
+    "gyro misalignment": "gyro misalignment 1e-2",
+    "accel misalignment": "accel misalignment 1e-2",
+    "gyro white noise": "gyro white noise (0.03 °/s per sample at 100 Hz)",
+    "accel white noise": "accel white noise (3 mg per sample at 100 Hz)",
+    "gyro g-sensitivity": "gyro g-sensitivity 1e-3 (°/s)/g",
+    "gyro scale factor": "gyro scale factor 1e-4",
+}
+
+
+def write_page(record: dict[str, Any]) -> None:
+    page = Path(__file__).resolve().parent / "results" / "paper-comparison.md"
+    for name, text in render_blocks(record).items():
+        replace_block(page, *BLOCKS[name], text)
+    write_pages()
+
+
 if __name__ == "__main__":
+    if sys.argv[1:] == ["--from-record"]:
+        write_page(load_record("paper_comparison"))
+        sys.exit()
+    if sys.argv[1:2] == ["--write"]:
+        runs = int(sys.argv[2]) if len(sys.argv) > 2 else 20
+        write_record("paper_comparison", record_figures(runs), render=False)
+        write_page(load_record("paper_comparison"))
+        sys.exit()
     runs = int(sys.argv[1]) if len(sys.argv) > 1 else 20
     threads = int(sys.argv[2]) if len(sys.argv) > 2 else None
     start = time.time()

@@ -12,7 +12,9 @@ benchmark's figures, and each target beside the figure it is about.
 (``target/criterion/**/new/``) and the last ``target/bench_tight.json``.
 ``--write`` keeps the measurements in ``docs/performance.json`` and puts
 the block between docs/results/performance.md's ``performance`` markers; the block
-is ``render`` of that record (tests/test_performance_doc.py checks it).
+is ``render`` of that record (tests/test_performance_doc.py checks it). The
+step API's rate the README quotes is a figure of ``docs/data/step_api_rate.json``
+(``step_api_rate`` of the same measurements), written with it.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
+from figures import write_record
 from marked_block import replace_block
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -379,6 +382,15 @@ def render(record: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
+def step_api_rate(record: dict[str, Any]) -> dict[str, float]:
+    """The figures of docs/data/step_api_rate.json: the `RunningFilter`
+    loop's rate from Python, thousands of IMU samples per second."""
+    return {
+        "running_filter_k_samples_per_s": record["python"]["running_filter"]["epochs_per_second"]
+        / 1e3
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -398,6 +410,7 @@ def main() -> None:
     if args.write:
         RECORD.write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n")
         replace_block(PAGE, BEGIN, END, text)
+        write_record("step_api_rate", step_api_rate(record))
 
 
 if __name__ == "__main__":

@@ -16,8 +16,12 @@
   by precision (each less its own mean offset: the truth sits ~8 m off).
   Then the same with 3, 2 or 1 satellites kept in two 30 s windows.
 
-Prints the tables as Markdown; ``--write`` puts them into docs/tutorials/navigate-a-log.md
-between its ``benchmark`` markers.
+Prints the tables as Markdown; ``--write`` keeps the figures in the record
+docs/data/against_rtk.json (with the figures the page's sentences draw
+from the tables: ranges, the published filter's errors over memsnav's) and
+puts the tables into docs/results/against-rtk.md between its
+``benchmark`` markers, its sentences' figures through placeholders;
+``--from-record`` re-renders them from the record without a run.
 """
 
 from __future__ import annotations
@@ -31,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from figures import load_record, write_pages, write_record
 from marked_block import replace_block
 
 import memsnav as mn
@@ -58,11 +63,17 @@ def _run(cfg: RunConfig, duration_s: float | None = None) -> tuple[dict[str, Any
     return result.summary, seconds
 
 
-def _cells(stats: dict[str, Any]) -> str:
-    return (
-        f"{stats['rms_horizontal_m']:.2f} | {stats['max_horizontal_m']:.2f} | "
-        f"{stats['within_3sigma_share']:.3f}"
-    )
+def _stats(stats: dict[str, Any]) -> dict[str, float]:
+    """RMS and largest horizontal error, m, and the share inside 3σ."""
+    return {
+        "rms_m": stats["rms_horizontal_m"],
+        "max_m": stats["max_horizontal_m"],
+        "share": stats["within_3sigma_share"],
+    }
+
+
+def _cells(stats: dict[str, float]) -> str:
+    return f"{stats['rms_m']:.2f} | {stats['max_m']:.2f} | {stats['share']:.3f}"
 
 
 def _with_smoother(cfg: RunConfig) -> RunConfig:
@@ -90,57 +101,85 @@ def peer_window_runs(base: RunConfig) -> dict[float, tuple[dict[str, Any], float
     return runs
 
 
-def drive_table(data_root: str | None) -> tuple[str, str]:
-    """The outage table, and the 15 s outages one by one."""
+def drive_figures(data_root: str | None) -> dict[str, Any]:
+    """The outage runs by length, the run without outages, and the 15 s
+    outages one by one (each with the standstill in it, s: ZUPT holds the
+    coast there)."""
     base = mn.load_config(ROOT / "examples" / "drive_0708.toml", data_root)
+    figures: dict[str, Any] = {"lengths": {}}
+    for length, (s, seconds) in peer_window_runs(base).items():
+        count = PEER_WINDOWS[length][0]
+        f, sm = s["errors_vs_truth"], s["errors_vs_truth_smoothed"]
+        figures["lengths"][f"{length:g}"] = {
+            "outages": count,
+            "epochs": f["in_outages"]["epochs"],
+            "forward": _stats(f["in_outages"]),
+            "smoothed": _stats(sm["in_outages"]),
+            "aided_rms_m": f["aided"]["rms_horizontal_m"],
+            "run_s": seconds,
+        }
+        if length == 15.0:
+            figures["outages_15s"] = [
+                {
+                    "start_s": f[f"outage_{k}"]["start_s"],
+                    "forward": _stats(f[f"outage_{k}"]),
+                    "smoothed": _stats(sm[f"outage_{k}"]),
+                    "standstill_s": f[f"outage_{k}"]["standstill_s"],
+                }
+                for k in range(1, count + 1)
+            ]
+    cfg = _with_smoother(base)
+    cfg.engine.pop("outages", None)
+    s, seconds = _run(cfg)
+    a = s["errors_vs_truth"]["aided"]
+    figures["none"] = {
+        "epochs": a["epochs"],
+        "forward": _stats(a),
+        "smoothed": _stats(s["errors_vs_truth_smoothed"]["aided"]),
+        "aided_rms_m": a["rms_horizontal_m"],
+        "run_s": seconds,
+    }
+    return figures
+
+
+def drive_table(drive: dict[str, Any]) -> str:
     rows = [
         "| outage length | outages | epochs | forward: RMS horiz. [m] | max [m] | share in 3σ "
         "| smoothed: RMS horiz. [m] | max [m] | share in 3σ | aided RMS [m] | run [s] |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for length, (s, seconds) in peer_window_runs(base).items():
-        count = PEER_WINDOWS[length][0]
-        f, sm = s["errors_vs_truth"], s["errors_vs_truth_smoothed"]
-        if length == 15.0:
-            each = _each_outage(s, count)
+    for length, r in drive["lengths"].items():
         rows.append(
-            f"| {length:g} s | {count} | {f['in_outages']['epochs']} | "
-            f"{_cells(f['in_outages'])} | {_cells(sm['in_outages'])} | "
-            f"{f['aided']['rms_horizontal_m']:.3f} | {seconds:.1f} |"
+            f"| {length} s | {r['outages']} | {r['epochs']} | {_cells(r['forward'])} | "
+            f"{_cells(r['smoothed'])} | {r['aided_rms_m']:.3f} | {r['run_s']:.1f} |"
         )
-    cfg = _with_smoother(base)
-    cfg.engine.pop("outages", None)
-    s, seconds = _run(cfg)
-    a = s["errors_vs_truth"]["aided"]
+    r = drive["none"]
     rows.append(
-        f"| none | 0 | {a['epochs']} (aided) | {_cells(a)} | "
-        f"{_cells(s['errors_vs_truth_smoothed']['aided'])} | {a['rms_horizontal_m']:.3f} | "
-        f"{seconds:.1f} |"
+        f"| none | 0 | {r['epochs']} (aided) | {_cells(r['forward'])} | "
+        f"{_cells(r['smoothed'])} | {r['aided_rms_m']:.3f} | {r['run_s']:.1f} |"
     )
-    return "\n".join(rows), each
+    return "\n".join(rows)
 
 
-def _each_outage(s: dict[str, Any], count: int) -> str:
-    """One row per outage: forward and smoothed errors, the smoothed
-    solution's share of errors in its 3σ, and whether the car stood still
-    in it (a standstill detected in the window: ZUPT holds the coast)."""
+def each_outage_table(drive: dict[str, Any]) -> str:
+    """One row per 15 s outage: forward and smoothed errors, the smoothed
+    solution's share of errors in its 3σ, the standstill in it."""
     rows = [
         "| outage | start [s] | forward: RMS / max [m] | smoothed: RMS / max [m] | smoothed "
         "share in 3σ | standstill in it [s] |",
         "|---|---|---|---|---|---|",
     ]
-    for k in range(1, count + 1):
-        f, sm = s["errors_vs_truth"][f"outage_{k}"], s["errors_vs_truth_smoothed"][f"outage_{k}"]
-        start, still = f["start_s"], f["standstill_s"]
+    for k, o in enumerate(drive["outages_15s"], 1):
+        f, sm = o["forward"], o["smoothed"]
         rows.append(
-            f"| {k} | {start:.1f} | {f['rms_horizontal_m']:.2f} / {f['max_horizontal_m']:.2f} | "
-            f"{sm['rms_horizontal_m']:.2f} / {sm['max_horizontal_m']:.2f} | "
-            f"{sm['within_3sigma_share']:.3f} | {still:.1f} |"
+            f"| {k} | {o['start_s']:.1f} | {f['rms_m']:.2f} / {f['max_m']:.2f} | "
+            f"{sm['rms_m']:.2f} / {sm['max_m']:.2f} | {sm['share']:.3f} | "
+            f"{o['standstill_s']:.1f} |"
         )
     return "\n".join(rows)
 
 
-def walk_table(data_root: str | None) -> str:
+def walk_figures(data_root: str | None) -> dict[str, Any]:
     """The walk on its four satellites: forward, smoothed and single-point,
     against the truth's fixed epochs with its heights made ellipsoidal, by
     accuracy and by precision (each less its own mean offset: the truth's
@@ -149,44 +188,54 @@ def walk_table(data_root: str | None) -> str:
     cfg.engine["filter"] = {**cfg.engine.get("filter", {}), "smoother": True}
     s, seconds = _run(cfg)
 
-    def row(name: str, raw: dict[str, Any], precise: dict[str, Any], share: str, run: str) -> str:
-        return (
-            f"| {name} | {raw['epochs']} | {raw['rms_horizontal_m']:.2f} | "
-            f"{raw['rms_vertical_m']:.2f} | {precise['rms_horizontal_m']:.2f} | "
-            f"{precise['rms_vertical_m']:.2f} | {precise['max_horizontal_m']:.2f} | "
-            f"{_offset(precise)} | {share} | {run} |"
-        )
+    def solution(raw: dict[str, Any], precise: dict[str, Any], share, run) -> dict[str, Any]:
+        return {
+            "epochs": raw["epochs"],
+            "accuracy_rms_horizontal_m": raw["rms_horizontal_m"],
+            "accuracy_rms_vertical_m": raw["rms_vertical_m"],
+            "precision_rms_horizontal_m": precise["rms_horizontal_m"],
+            "precision_rms_vertical_m": precise["rms_vertical_m"],
+            "precision_max_horizontal_m": precise["max_horizontal_m"],
+            "offset_removed_ned_m": list(precise["offset_removed_ned_m"]),
+            "share": share,
+            "run_s": run,
+        }
 
     f, fp = s["errors_vs_truth"]["aided"], s["errors_vs_truth_precision"]
     sm, smp = s["errors_vs_truth_smoothed"]["aided"], s["errors_vs_truth_smoothed_precision"]
-    spp = s["spp_errors_vs_truth"]
+    return {
+        "forward": solution(f, {**fp["aided"], **fp}, fp["aided"]["within_3sigma_share"], seconds),
+        "smoothed": solution(
+            sm, {**smp["aided"], **smp}, smp["aided"]["within_3sigma_share"], None
+        ),
+        "single_point": solution(
+            s["spp_errors_vs_truth"], s["spp_errors_vs_truth_precision"], None, None
+        ),
+    }
+
+
+def walk_table(walk: dict[str, Any]) -> str:
+    def row(name: str, r: dict[str, Any], run: str) -> str:
+        share = "–" if r["share"] is None else f"{r['share']:.3f}"
+        offset = ", ".join(f"{v:.1f}" for v in r["offset_removed_ned_m"])
+        return (
+            f"| {name} | {r['epochs']} | {r['accuracy_rms_horizontal_m']:.2f} | "
+            f"{r['accuracy_rms_vertical_m']:.2f} | {r['precision_rms_horizontal_m']:.2f} | "
+            f"{r['precision_rms_vertical_m']:.2f} | {r['precision_max_horizontal_m']:.2f} | "
+            f"{offset} | {share} | {run} |"
+        )
+
     return "\n".join(
         [
             "| solution | epochs | accuracy: RMS horiz. [m] | RMS vert. [m] | precision: "
             "RMS horiz. [m] | RMS vert. [m] | max horiz. [m] | offset removed (N, E, D) [m] "
             "| share in 3σ | run [s] |",
             "|---|---|---|---|---|---|---|---|---|---|",
-            row(
-                "memsnav, forward",
-                f,
-                {**fp["aided"], **fp},
-                f"{fp['aided']['within_3sigma_share']:.3f}",
-                f"{seconds:.1f}",
-            ),
-            row(
-                "memsnav, smoothed",
-                sm,
-                {**smp["aided"], **smp},
-                f"{smp['aided']['within_3sigma_share']:.3f}",
-                "(same run)",
-            ),
-            row("single-point solution", spp, s["spp_errors_vs_truth_precision"], "–", "–"),
+            row("memsnav, forward", walk["forward"], f"{walk['forward']['run_s']:.1f}"),
+            row("memsnav, smoothed", walk["smoothed"], "(same run)"),
+            row("single-point solution", walk["single_point"], "–"),
         ]
     )
-
-
-def _offset(precise: dict[str, Any]) -> str:
-    return ", ".join(f"{v:.1f}" for v in precise["offset_removed_ned_m"])
 
 
 #: The windows in which the walk keeps fewer satellites, s after the
@@ -195,18 +244,13 @@ def _offset(precise: dict[str, Any]) -> str:
 WALK_WINDOWS_S = [[20.0, 30.0], [70.0, 30.0]]
 
 
-def walk_withheld_table(data_root: str | None) -> str:
+def withheld_figures(data_root: str | None) -> dict[str, Any]:
     """walk_0827 keeping 4, 3, 2 or 1 of its satellites in
     :data:`WALK_WINDOWS_S` (the highest of each epoch), scored by precision
     as the example configuration says (fixed truth epochs, heights made
     ellipsoidal, each run's errors less their mean over the epochs outside
     the windows: the truth's ~8 m offset)."""
-    rows = [
-        "| satellites in the windows | epochs in the windows | horizontal precision in "
-        "the windows: RMS / max [m] | vertical RMS there [m] | share of N/E/D errors in "
-        "3σ, windows / whole run | offset removed (N, E, D) [m] | flagged |",
-        "|---|---|---|---|---|---|---|",
-    ]
+    figures = {}
     for kept in (4, 3, 2, 1):
         cfg = mn.load_config(ROOT / "examples" / "walk_0827.toml", data_root)
         if kept < 4:
@@ -224,38 +268,137 @@ def walk_withheld_table(data_root: str | None) -> str:
         d = error - offset
         horizontal = np.hypot(d[:, 0], d[:, 1])[inside_windows]
         within = np.abs(d) <= 3.0 * std
+        figures[str(kept)] = {
+            "epochs": int(inside_windows.sum()),
+            "rms_horizontal_m": float(np.sqrt(np.mean(horizontal**2))),
+            "max_horizontal_m": float(horizontal.max()),
+            "rms_vertical_m": float(np.sqrt(np.mean(d[inside_windows, 2] ** 2))),
+            "share_in_windows": float(within[inside_windows].mean()),
+            "share_whole_run": float(within.mean()),
+            "offset_removed_ned_m": [float(v) for v in offset],
+            "flagged": bool(result.summary["diverged"]),
+        }
+    return figures
+
+
+def withheld_table(withheld: dict[str, Any]) -> str:
+    rows = [
+        "| satellites in the windows | epochs in the windows | horizontal precision in "
+        "the windows: RMS / max [m] | vertical RMS there [m] | share of N/E/D errors in "
+        "3σ, windows / whole run | offset removed (N, E, D) [m] | flagged |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for kept, r in withheld.items():
+        offset = ", ".join(f"{v:.1f}" for v in r["offset_removed_ned_m"])
         rows.append(
-            f"| {kept} | {int(inside_windows.sum())} | "
-            f"{np.sqrt(np.mean(horizontal**2)):.2f} / {horizontal.max():.2f} | "
-            f"{np.sqrt(np.mean(d[inside_windows, 2] ** 2)):.2f} | "
-            f"{within[inside_windows].mean():.3f} / {within.mean():.3f} | "
-            f"{offset[0]:.1f}, {offset[1]:.1f}, {offset[2]:.1f} | "
-            f"{'yes' if result.summary['diverged'] else 'no'} |"
+            f"| {kept} | {r['epochs']} | {r['rms_horizontal_m']:.2f} / "
+            f"{r['max_horizontal_m']:.2f} | {r['rms_vertical_m']:.2f} | "
+            f"{r['share_in_windows']:.3f} / {r['share_whole_run']:.3f} | {offset} | "
+            f"{'yes' if r['flagged'] else 'no'} |"
         )
     return "\n".join(rows)
+
+
+#: The published filter's errors in the same windows (rtklibexplorer/
+#: GNSS_IMU, run 2026-11-23): forward and `vel_match` RMS / max, m.
+PEER = {
+    "15": {"forward": (3.09, 12.81), "vel_match": (0.296, 0.684)},
+    "30": {"forward": (20.57, 76.35), "vel_match": (2.10, 4.83)},
+    "60": {"forward": (115.5, 392.0), "vel_match": (14.08, 39.73)},
+}
+
+
+def derived(figures: dict[str, Any]) -> dict[str, Any]:
+    """The figures the page's sentences draw from the tables: ranges over
+    the outages, the peer's errors over memsnav's."""
+    drive, walk = figures["drive"], figures["walk"]
+    lengths = drive["lengths"]
+    outages = drive["outages_15s"]
+    shares = [r["forward"]["share"] for r in (*lengths.values(), drive["none"])]
+    still = [(k, o["standstill_s"]) for k, o in enumerate(outages, 1) if o["standstill_s"]]
+    worst = max(range(len(outages)), key=lambda k: outages[k]["forward"]["max_m"])
+    accuracy = [
+        walk[s]["accuracy_rms_horizontal_m"] for s in ("forward", "smoothed", "single_point")
+    ]
+    return {
+        "peer_over_forward": [PEER[k]["forward"][0] / lengths[k]["forward"]["rms_m"] for k in PEER],
+        "peer_over_smoothed": [
+            PEER[k]["vel_match"][0] / lengths[k]["smoothed"]["rms_m"] for k in PEER
+        ],
+        "forward_share_percent": {"least": 100 * min(shares), "most": 100 * max(shares)},
+        "outage_share_percent": {
+            "least": 100 * min(r["forward"]["share"] for r in lengths.values()),
+            "most": 100 * max(r["forward"]["share"] for r in lengths.values()),
+        },
+        "outages_15s": {
+            "forward_rms_m": {
+                "least": min(o["forward"]["rms_m"] for o in outages),
+                "most": max(o["forward"]["rms_m"] for o in outages),
+            },
+            "worst": worst + 1,
+            "worst_max_m": outages[worst]["forward"]["max_m"],
+            "smoothed_rms_most_m": max(o["smoothed"]["rms_m"] for o in outages),
+            "smoothed_max_most_m": max(o["smoothed"]["max_m"] for o in outages),
+            "smoothed_share_least_percent": 100 * min(o["smoothed"]["share"] for o in outages),
+            "standstills": len(still),
+            "standstill_outage": still[0][0] if still else 0,
+            "standstill_s": still[0][1] if still else 0.0,
+        },
+        "walk_accuracy_m": {"least": min(accuracy), "most": max(accuracy)},
+        "drive_run_s": {
+            "least": min(r["run_s"] for r in (*lengths.values(), drive["none"])),
+            "most": max(r["run_s"] for r in (*lengths.values(), drive["none"])),
+        },
+        "walk_down_offsets_m": [
+            walk[s]["offset_removed_ned_m"][2] for s in ("smoothed", "forward")
+        ],
+        "walk_forward_share_percent": 100 * walk["forward"]["share"],
+    }
+
+
+def render(record: dict[str, Any]) -> str:
+    """The block the page shows, from the record."""
+    figures = record["figures"]
+    return (
+        f"{BEGIN}\n\n**drive_0708**, loose, 4 Hz RTK, the published filter's outage "
+        f"windows:\n\n{drive_table(figures['drive'])}\n\nThe 15 s outages one by one:\n\n"
+        f"{each_outage_table(figures['drive'])}\n\n"
+        f"**walk_0827**, tight with "
+        f"Doppler, four satellites, fixed truth epochs, by accuracy and by precision:\n\n"
+        f"{walk_table(figures['walk'])}\n\n**walk_0827** "
+        f"with satellites withheld in two 30 s windows ({WALK_WINDOWS_S[0][0]:g}-"
+        f"{sum(WALK_WINDOWS_S[0]):g} s and {WALK_WINDOWS_S[1][0]:g}-{sum(WALK_WINDOWS_S[1]):g} "
+        f"s after the start), scored by precision:\n\n"
+        f"{withheld_table(figures['withheld'])}\n\n{END}"
+    )
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data-root", default=None, help="folder holding real-imu-gnss/")
-    parser.add_argument("--write", action="store_true", help="update docs/results/against-rtk.md")
-    args = parser.parse_args()
-    drive, each = drive_table(args.data_root)
-    text = (
-        f"{BEGIN}\n\n**drive_0708**, loose, 4 Hz RTK, the published filter's outage "
-        f"windows:\n\n{drive}\n\nThe 15 s outages one by one:\n\n{each}\n\n"
-        f"**walk_0827**, tight with "
-        f"Doppler, four satellites, fixed truth epochs, by accuracy and by precision:\n\n"
-        f"{walk_table(args.data_root)}\n\n**walk_0827** "
-        f"with satellites withheld in two 30 s windows ({WALK_WINDOWS_S[0][0]:g}-"
-        f"{sum(WALK_WINDOWS_S[0]):g} s and {WALK_WINDOWS_S[1][0]:g}-{sum(WALK_WINDOWS_S[1]):g} "
-        f"s after the start), scored by precision:\n\n"
-        f"{walk_withheld_table(args.data_root)}\n\n{END}"
+    parser.add_argument(
+        "--write",
+        action="store_true",
+        help="write docs/data/against_rtk.json and update docs/results/against-rtk.md",
     )
-    print(text)
-    if args.write:
-        page = ROOT / "docs" / "results" / "against-rtk.md"
-        replace_block(page, BEGIN, END, text)
+    parser.add_argument(
+        "--from-record", action="store_true", help="re-render the page from the last record"
+    )
+    args = parser.parse_args()
+    page = ROOT / "docs" / "results" / "against-rtk.md"
+    if not args.from_record:
+        figures = {
+            "drive": drive_figures(args.data_root),
+            "walk": walk_figures(args.data_root),
+            "withheld": withheld_figures(args.data_root),
+        }
+        figures["derived"] = derived(figures)
+        if not args.write:
+            print(render({"figures": figures}))
+            return
+        write_record("against_rtk", figures, render=False)
+    replace_block(page, BEGIN, END, render(load_record("against_rtk")))
+    write_pages()
 
 
 if __name__ == "__main__":

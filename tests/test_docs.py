@@ -3,9 +3,12 @@ docs/ runs, docs/reference/api.md is what docs/build_api.py generates from the
 docstrings of the installed package, and docs/how-to/run-on-dask.md's scaling
 table is what docs/distributed_scaling.py writes from its record."""
 
+import ast
+import inspect
 import json
 import re
 import runpy
+import warnings
 from pathlib import Path
 
 import pytest
@@ -105,3 +108,144 @@ def test_every_code_block_runs_or_is_marked():
                     unmarked.append(f"{page.relative_to(ROOT)}:{number}: {line}")
                 inside = not inside
     assert not unmarked, unmarked
+
+
+# An inline code span of a hand-written page that parses as a Python
+# expression with a call in it is checked: run, when its names are ones
+# the check provides (below) and it needs no file; otherwise each call in
+# it must name one of memsnav's functions, classes or methods and bind to
+# its signature (`...` stands for arguments left out). A span that is not
+# memsnav's Python (Rust, a formula) is followed by NOT_PYTHON. The
+# generated reference pages show the live signatures themselves.
+NOT_PYTHON = "<!-- not python -->"
+GENERATED_PAGES = {"reference/api.md", "reference/configuration-keys.md", "reference/cli.md"}
+
+
+def _inline_calls(page: Path) -> list[tuple[int, str, ast.Expression]]:
+    """(line, span, parsed) of the page's unmarked inline calls."""
+    text = re.sub(r"```.*?```", lambda m: "\n" * m[0].count("\n"), page.read_text(), flags=re.S)
+    calls = []
+    for match in re.finditer(r"(?<!`)`([^`\n]+)`(?!`)", text):
+        if text[match.end() :].lstrip(" ").startswith(NOT_PYTHON):
+            continue
+        try:
+            tree = ast.parse(match[1].strip(), mode="eval")
+        except SyntaxError:
+            continue  # not Python: a path, a unit, a command line
+        if any(isinstance(node, ast.Call) for node in ast.walk(tree)):
+            calls.append((text.count("\n", 0, match.start()) + 1, match[1], tree))
+    return calls
+
+
+def _namespace() -> dict:
+    """The names an inline call may use and be run with."""
+    import numpy as np
+
+    import memsnav as mn
+
+    imu = mn.ImuModel.preset("paper-mems", seed=0)
+    f = np.tile([0.0, 0.0, -9.81], (100, 1))
+    public = {name: getattr(mn, name) for name in dir(mn) if not name.startswith("_")}
+    return (
+        public
+        | {"mn": mn, "memsnav": mn, "np": np, "imu": imu}
+        | {
+            "f": f,
+            "w": np.zeros((100, 3)),
+            "seed": 7,
+            "name": "imu",
+        }
+    )
+
+
+#: Calls bound to their signature, never run: they take minutes.
+COSTLY = {"experiments", "navigate", "reproduce"}
+
+
+def _memsnav_modules() -> list:
+    """memsnav's modules, the ones the package imports and its converters."""
+    import sys
+
+    import memsnav.realdata.convert  # noqa: F401  (`convert_ubx`)
+
+    return [m for name, m in sorted(sys.modules.items()) if name.split(".")[0] == "memsnav"]
+
+
+def _memsnav_classes() -> list[type]:
+    found = {}
+    for module in _memsnav_modules():
+        for value in vars(module).values():
+            if isinstance(value, type) and value.__module__.startswith("memsnav"):
+                found[value.__qualname__, value.__module__] = value
+    return list(found.values())
+
+
+def _callees(func: ast.expr, namespace: dict, classes: list[type]) -> list:
+    """What a call's function may be: itself when it evaluates, else
+    memsnav's function or the classes' methods of that name."""
+
+    try:
+        return [eval(compile(ast.Expression(func), "<doc>", "eval"), dict(namespace))]
+    except Exception:
+        pass
+    name = func.attr if isinstance(func, ast.Attribute) else getattr(func, "id", None)
+    if not name:
+        return []
+    found = [vars(m)[name] for m in _memsnav_modules() if callable(vars(m).get(name))]
+    return found + [getattr(c, name) for c in classes if name in vars(c)]
+
+
+def _binds(callee, call: ast.Call) -> bool:
+    try:
+        signature = inspect.signature(callee)
+    except (TypeError, ValueError):
+        return callable(callee)  # no signature to bind: that it exists is the check
+    elided = [a for a in call.args if isinstance(a, ast.Constant) and a.value is Ellipsis]
+    positional = [None] * (len(call.args) - len(elided))
+    if next(iter(signature.parameters), None) == "self":
+        positional.insert(0, None)
+    keywords = {k.arg: None for k in call.keywords if k.arg}
+    bind = signature.bind_partial if elided else signature.bind
+    try:
+        bind(*positional, **keywords)
+    except TypeError:
+        return False
+    return True
+
+
+def _check_call(span: str, tree: ast.Expression, namespace: dict, classes: list[type]) -> str:
+    """ "" when the span runs or binds; else why not."""
+    names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+    elided = any(isinstance(n, ast.Constant) and n.value is Ellipsis for n in ast.walk(tree))
+    costly = names | {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
+    if names <= namespace.keys() and not elided and not costly & COSTLY:
+        try:
+            eval(compile(tree, "<doc>", "eval"), dict(namespace))
+            return ""
+        except OSError:
+            pass  # a file the check does not have: bind it instead
+        except Exception as e:
+            return f"raises {e!r}"
+    for call in (n for n in ast.walk(tree) if isinstance(n, ast.Call)):
+        callees = _callees(call.func, namespace, classes)
+        if not callees:
+            return f"{ast.unparse(call.func)} is none of memsnav's"
+        if not any(_binds(c, call) for c in callees):
+            return f"{ast.unparse(call)} does not bind to {ast.unparse(call.func)}'s signature"
+    return ""
+
+
+def test_every_inline_call_runs_or_binds_or_is_marked(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    namespace, classes = _namespace(), _memsnav_classes()
+    failed = []
+    for page in PAGES:
+        if page.relative_to(ROOT).as_posix().removeprefix("docs/") in GENERATED_PAGES:
+            continue
+        for line, span, tree in _inline_calls(page):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                why = _check_call(span, tree, namespace, classes)
+            if why:
+                failed.append(f"{page.relative_to(ROOT)}:{line}: `{span}` {why}")
+    assert not failed, "\n".join(failed)

@@ -10,9 +10,10 @@ import json
 import re
 from pathlib import Path
 
+import foreign_drive_datum as datum
 import numpy as np
 import pytest
-from quoted import quoted_figures, rounds_to
+from figures import figures
 from shared_data import data_root, shared_data
 
 import memsnav as mn
@@ -21,7 +22,6 @@ from memsnav.simulate import simulate
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "foreign_drive.toml"
-PAGE = "docs/how-to/your-own-files.md"
 
 # --- memsnav simulate's files as inputs --------------------------------------
 
@@ -366,82 +366,8 @@ def test_truth_at_point_checks_its_arguments():
 
 # --- the foreign drive ---------------------------------------------------------
 
+
 # WGS 84 (NIMA TR8350.2): the test's own geodetic-to-ECEF.
-A_M, E2 = 6_378_137.0, 6.69437999014e-3
-
-
-def _ecef(lat_deg: np.ndarray, lon_deg: np.ndarray, h_m: np.ndarray) -> np.ndarray:
-    lat, lon = np.radians(lat_deg), np.radians(lon_deg)
-    n = A_M / np.sqrt(1.0 - E2 * np.sin(lat) ** 2)
-    return np.column_stack(
-        [
-            (n + h_m) * np.cos(lat) * np.cos(lon),
-            (n + h_m) * np.cos(lat) * np.sin(lon),
-            (n * (1.0 - E2) + h_m) * np.sin(lat),
-        ]
-    )
-
-
-def _ned_axes(lat_deg: np.ndarray, lon_deg: np.ndarray) -> np.ndarray:
-    """(N, 3, 3): the columns north, east, down in ECEF."""
-    lat, lon = np.radians(lat_deg), np.radians(lon_deg)
-    north = np.column_stack([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
-    east = np.column_stack([-np.sin(lon), np.cos(lon), np.zeros_like(lon)])
-    down = np.column_stack([-np.cos(lat) * np.cos(lon), -np.cos(lat) * np.sin(lon), -np.sin(lat)])
-    return np.stack([north, east, down], axis=2)
-
-
-def _quaternion_matrix(w, x, y, z) -> np.ndarray:
-    """(N, 3, 3) rotation matrices of unit quaternions, scalar first (the
-    Hamilton product's v' = q v q*, written out)."""
-    return np.stack(
-        [
-            np.column_stack([1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)]),
-            np.column_stack([2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)]),
-            np.column_stack([2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)]),
-        ],
-        axis=2,
-    )
-
-
-def _csv(path: Path) -> dict[str, np.ndarray]:
-    table = np.genfromtxt(path, delimiter=",", names=True)
-    return {name: table[name] for name in table.dtype.names}
-
-
-def _independent(span: tuple[float, float], lever_arm_m: float) -> dict[str, np.ndarray]:
-    """The fixes against the INS-D moved by ``lever_arm_m`` along its
-    forward axis, from the CSVs with numpy alone: the truth interpolated at
-    each fix inside ``span`` (Unix-like GPS s), the NED errors, their mean
-    (the datum offset) and the errors less it."""
-    folder = shared_data("foreign-drive")
-    fixes, ref = _csv(folder / "f9t_fixes.csv"), _csv(folder / "insd_reference.csv")
-    inside = (ref["time_s"] >= span[0]) & (ref["time_s"] <= span[1])
-    ref = {k: v[inside] for k, v in ref.items()}
-    c_b_n = _quaternion_matrix(ref["qw"], ref["qx"], ref["qy"], ref["qz"])
-    axes = _ned_axes(ref["lat_deg"], ref["lon_deg"])
-    forward_ned = c_b_n[:, :, 0] * lever_arm_m
-    truth = _ecef(ref["lat_deg"], ref["lon_deg"], ref["height_m"]) + np.einsum(
-        "kij,kj->ki", axes, forward_ned
-    )
-    t = fixes["time_s"]
-    keep = (t >= ref["time_s"][0]) & (t <= ref["time_s"][-1])
-    t = t[keep]
-    at_fix = np.column_stack([np.interp(t, ref["time_s"], truth[:, i]) for i in range(3)])
-    fix_ecef = _ecef(fixes["lat_deg"], fixes["lon_deg"], fixes["height_m"])[keep]
-    nearest = np.clip(np.searchsorted(ref["time_s"], t), 0, len(ref["time_s"]) - 1)
-    errors = np.einsum("kji,kj->ki", axes[nearest], fix_ecef - at_fix)
-    offset = errors.mean(axis=0)
-    return {"errors": errors, "offset": offset, "less_offset": errors - offset}
-
-
-def _rms(errors: np.ndarray) -> tuple[float, float]:
-    return (
-        float(np.sqrt(np.mean(errors[:, 0] ** 2 + errors[:, 1] ** 2))),
-        float(np.sqrt(np.mean(errors[:, 2] ** 2))),
-    )
-
-
 def test_the_insd_attitude_follows_its_course():
     """The INS-D's quaternion read as body to NED, scalar first: its yaw
     is its course over ground wherever the car drives faster than 5 m/s
@@ -478,9 +404,10 @@ def test_foreign_drive_runs_from_its_files_as_they_are(foreign_drive):
     reference; about 1.0 m horizontal RMS), and what docs/how-to/your-own-files.md
     quotes; and the truth is named as the configuration names it."""
     summary = foreign_drive.summary
+    folder = shared_data("foreign-drive")
     start = summary["start_gps_time_s"] + UNIX_TO_GPS_S
     span = (start, start + summary["duration_s"])
-    mine = _independent(span, -2.2)
+    mine = datum.independent(folder, span, datum.LEVER_ARM_M)
     truth = summary["truth"]
     offset = np.asarray(truth["datum_offset"]["ned_m"])
     assert truth["datum_offset"]["source"] == "from_gnss"
@@ -489,22 +416,21 @@ def test_foreign_drive_runs_from_its_files_as_they_are(foreign_drive):
     north, east, down = offset
     assert abs(north) < 0.3 and -1.3 < east < -0.5 and 0.5 < down < 2.0
     fixes = summary["gnss_errors_vs_truth"]
-    horizontal, vertical = _rms(mine["less_offset"])
+    horizontal, vertical = datum.rms(mine["less_offset"])
     assert fixes["rms_horizontal_m"] == pytest.approx(horizontal, abs=1e-3)
     assert fixes["rms_vertical_m"] == pytest.approx(vertical, abs=1e-3)
     assert 0.9 < fixes["rms_horizontal_m"] < 1.1
-    # Left at the INS-D's point, the truth blames the receiver for the 2.2 m.
-    unmoved, _ = _rms(_independent(span, 0.0)["less_offset"])
-    quoted = quoted_figures(
-        PAGE,
-        r"The estimated datum offset is N −([\d.]+), E −([\d.]+), D \+([\d.]+) m .*"
-        r"over the run's (\d+) fixes.*"
-        r"The fixes alone score ([\d.]+) m horizontal RMS and ([\d.]+) m vertical .*"
-        r"Without the lever arm they score ([\d.]+) m",
+    # docs/how-to/your-own-files.md shows the record: within the digits it
+    # shows (the offset to the cm, RMS to the cm, the count exactly). Left
+    # at the INS-D's point, the truth blames the receiver for the 2.2 m.
+    fresh, recorded = datum.figures_of(summary, folder), figures("foreign_drive")
+    assert fresh["fixes"] == recorded["fixes"]
+    np.testing.assert_allclose(
+        fresh["datum_offset_ned_m"], recorded["datum_offset_ned_m"], atol=0.005
     )
-    values = (-north, -east, down, len(mine["errors"]), horizontal, vertical, unmoved)
-    for q, value in zip(quoted, values, strict=True):
-        assert rounds_to(q, value), (q, value)
+    for key in ("fixes_rms_horizontal_m", "fixes_rms_vertical_m", "unmoved_rms_horizontal_m"):
+        assert abs(fresh[key] - recorded[key]) <= 0.005, key
+    assert fresh["unmoved_rms_horizontal_m"] > 1.5 * fresh["fixes_rms_horizontal_m"]
     assert truth["name"].startswith("INS-D reference")
     assert truth["lever_arm_m"] == [-2.2, 0.0, 0.0] and truth["attitude"]
     # The filter ran with the engine's defaults: not diverged, scored.

@@ -1,0 +1,1024 @@
+"""The short runs behind figures the pages quote in their sentences, each
+writing its record ``docs/data/<name>.json`` (docs/figures.py):
+``python docs/doc_runs.py [--data-root DIR] [NAME ...]`` runs the named
+ones (all without a name), writes their records and re-renders the pages.
+
+Each run is a function returning its figures, full precision, in the
+units the pages show; ``tests/test_doc_runs.py`` (and, for the walk's,
+the foreign drive's, the static start's and the Xsens session's,
+``tests/test_multi_gnss.py``, ``tests/test_your_own_files.py``,
+``tests/test_allan.py`` and ``tests/test_static_calibration.py``) call
+the same functions, or compute the same figures, and compare them today
+with the records, within the digits the pages show. Most take seconds;
+the calibration quick run and the drive with other settings take about
+half a minute each, the walk's code-correlation table (45 walk runs)
+about a minute, all of them together a few minutes (more on a shared
+machine). A record in ``TABLES`` also fills a block of its page."""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import copy
+import io
+import re
+import tempfile
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import foreign_drive_datum
+import numpy as np
+import walk_multi_gnss
+from figures import load_record, write_record
+from marked_block import replace_block
+
+import memsnav as mn
+from memsnav.realdata.config import RunConfig, resolve_data_root
+from memsnav.reproduce import QUICK
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _python_block(page: str, heading: str | None = None) -> str:
+    """The first Python block of ``docs/<page>`` (after ``heading``)."""
+    text = (ROOT / "docs" / page).read_text()
+    if heading:
+        text = text[text.index(heading) :]
+    return re.search(r"```python\n(.*?)```", text, re.S).group(1)
+
+
+def first_session(data_root: Path) -> dict[str, Any]:
+    """The first session's Python block (docs/tutorials/first-session.md):
+    what it prints, the INS fed the truth's largest error and the raw
+    MEMS's drift after 120 s."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), tempfile.TemporaryDirectory() as tmp:
+        with contextlib.chdir(tmp):
+            block = _python_block("tutorials/first-session.md", "## A first session in Python")
+            exec(compile(block, "first-session.md", "exec"), {})
+    truth_error_m, drift_m = (float(v) for v in out.getvalue().split())
+    return {"ins_largest_error_m": truth_error_m, "drift_km": drift_m / 1e3}
+
+
+def own_arrays_conditioning(data_root: Path) -> dict[str, Any]:
+    """The condition number of the w axis of the accelerometer calibration
+    in docs/how-to/your-own-arrays.md's first example."""
+    namespace: dict[str, Any] = {}
+    with warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+        warnings.simplefilter("ignore")  # the warnings the page describes
+        exec(compile(_python_block("how-to/your-own-arrays.md"), "howto.md", "exec"), namespace)
+    return {"w_axis_condition_number": float(namespace["acc_cal"].condition_number[2])}
+
+
+def _one_over_e_time_s(x: np.ndarray, rate_hz: float) -> float:
+    """The first lag at which the sample autocorrelation of ``x`` (mean
+    removed; FFT of the zero-padded series) falls below 1/e, s."""
+    x = x - x.mean()
+    spectrum = np.fft.rfft(x, 2 * len(x))
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[: len(x)]
+    return float(np.argmax(acf / acf[0] < 1.0 / np.e) / rate_hz)
+
+
+def input_correlation_times(data_root: Path) -> dict[str, Any]:
+    """On six 600 s random trajectories (seeds 0-5, 100 Hz), the time the
+    yaw rate's and the horizontal specific force's autocorrelation take to
+    fall to 1/e (decision 0008 chooses τ = 10 s from them)."""
+    yaw, force = [], []
+    for seed in range(6):
+        truth = mn.Trajectory.random(duration=600.0, rate=100.0, seed=seed)
+        yaw.append(_one_over_e_time_s(truth.angular_rate[:, 2], 100.0))
+        force += [_one_over_e_time_s(truth.specific_force[:, k], 100.0) for k in (0, 1)]
+    return {
+        "yaw_rate_s": {"least": min(yaw), "most": max(yaw)},
+        "horizontal_force_s": {"least": min(force), "most": max(force)},
+    }
+
+
+def tactical_three_satellites(data_root: Path) -> dict[str, Any]:
+    """A tactical IMU 900 s on the 3 highest of 6 satellites from the exact
+    start, seeds 1-8: final error and vertical σ, km; the share of errors
+    inside 3σ."""
+    import few_satellites_study
+
+    runs = [few_satellites_study._long_run(3, seed, grade="tactical") for seed in range(1, 9)]
+    final_km = [r["final_m"] / 1e3 for r in runs]
+    sigma_km = [r["final_vertical_sigma_m"] / 1e3 for r in runs]
+    return {
+        "final_error_km": {"least": min(final_km), "most": max(final_km)},
+        "final_vertical_sigma_km": {"least": min(sigma_km), "most": max(sigma_km)},
+        "least_inside_percent": 100.0 * min(r["inside"] for r in runs),
+    }
+
+
+def _example(name: str, data_root: Path) -> RunConfig:
+    config = mn.load_config(ROOT / "examples" / f"{name}.toml", data_root)
+    config.values["report"]["html"] = False
+    return config
+
+
+def _navigate(config) -> Any:
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+        warnings.simplefilter("ignore")  # the logs' cut lines
+        return mn.navigate(config, output=out)
+
+
+#: The IMU time offsets docs/explanation/time-and-truth.md compares, s.
+IMU_OFFSETS_S = (-0.27, -0.22, -0.20, -0.125)
+
+#: The velocity latencies it compares, s.
+VELOCITY_LATENCIES_S = (0.0, 0.125, 0.132)
+
+
+def drive_time_offsets(data_root: Path) -> dict[str, Any]:
+    """drive_0708 without outages: the mean NIS per degree of freedom of
+    its position fixes at four IMU offsets, and its aided error (cm) and
+    position resets at three velocity latencies (one navigate each)."""
+    base = _example("drive_0708", data_root)
+    base.engine.pop("outages")
+    nis = []
+    for offset_s in IMU_OFFSETS_S:
+        config = copy.deepcopy(base)
+        config.engine["imu"]["time_offset_s"] = offset_s
+        batches = _navigate(config).run.solution.batches
+        position = np.asarray(batches["kind"]) == "position"
+        per_dof = np.asarray(batches["nis"])[position] / np.asarray(batches["dof"])[position]
+        nis.append(float(np.mean(per_dof)))
+    aided_cm, resets = [], []
+    for latency_s in VELOCITY_LATENCIES_S:
+        config = copy.deepcopy(base)
+        config.engine["gnss"]["velocity_latency_s"] = latency_s
+        summary = _navigate(config).summary
+        aided_cm.append(100.0 * summary["errors_vs_truth"]["aided"]["rms_horizontal_m"])
+        resets.append([r["kind"] for r in summary["resets"]].count("position_to_fix"))
+    return {
+        "imu_offsets_s": list(IMU_OFFSETS_S),
+        "position_nis_per_dof": nis,
+        "velocity_latencies_s": list(VELOCITY_LATENCIES_S),
+        "aided_rms_cm": aided_cm,
+        "position_resets": resets,
+    }
+
+
+def example_consistency(data_root: Path) -> dict[str, Any]:
+    """Each example log run as configured: the largest ratio of its
+    time-averaged NIS to the band's edge, over every GNSS kind."""
+    figures = {}
+    for name in ("drive_0708", "walk_0827"):
+        summary = _navigate(_example(name, data_root)).summary
+        figures[name] = max(c["max_band_ratio"] for c in summary["integrity"]["consistency"])
+    return {"largest_band_ratio": figures}
+
+
+def walk_precision(data_root: Path) -> dict[str, Any]:
+    """walk_0827 as configured, scored by precision (each solution less its
+    own mean offset from the truth): the offset removed (horizontal, m),
+    the filter's and the single-point solution's horizontal RMS, m."""
+    summary = _navigate(_example("walk_0827", data_root)).summary
+    precise = summary["errors_vs_truth_precision"]
+    north, east, _ = precise["offset_removed_ned_m"]
+    return {
+        "truth_offset_m": float(np.hypot(north, east)),
+        "forward_rms_horizontal_m": precise["aided"]["rms_horizontal_m"],
+        "single_point_rms_horizontal_m": summary["spp_errors_vs_truth_precision"][
+            "rms_horizontal_m"
+        ],
+    }
+
+
+def two_satellite_runs(data_root: Path) -> dict[str, Any]:
+    """The few-satellite study's eight 900 s consumer-IMU runs on 2
+    satellites (seeds 1-8): how many stay inside 3σ until the first alert
+    (the share rounding to 1.00, as the study's table prints it), the
+    latest first alert, the NIS per dof over 60 s windows, and the
+    latest-alerting run's tilt 20 s in with its σ, degrees."""
+    import few_satellites_study
+
+    runs = [few_satellites_study._long_run(2, seed) for seed in range(1, 9)]
+    nis = [v for r in runs for v in r["nis_per_dof_60s"]]
+    exception = max(runs, key=lambda r: r["first_alert_s"])
+    return {
+        "runs": len(runs),
+        "inside_until_alert": sum(round(r["inside_before_alert"], 2) == 1.0 for r in runs),
+        "latest_first_alert_s": max(r["first_alert_s"] for r in runs),
+        "nis_per_dof_60s": {"least": min(nis), "most": max(nis)},
+        "exception_tilt_deg": [abs(v) for v in exception["tilt_at_20s_deg"]],
+        "exception_tilt_sigma_deg": list(exception["tilt_std_at_20s_deg"]),
+    }
+
+
+#: The IMUs of the paper comparison, in its tables' order.
+PAPER_IMUS = ("ins", "mems", "calibrated_mems")
+
+
+def partial_outages(data_root: Path) -> dict[str, Any]:
+    """The partial-outage experiment's quick run (30 runs, seed 0): per
+    scenario and IMU the mean largest error in the window (m), the position
+    NEES/dof at its end, the share of runs flagged; the shares of the
+    no-satellite error kept with 3 and 2 satellites, %."""
+    scenarios = mn.experiments.partial_outage(runs=30, seed=0).summary()["scenarios"]
+    table = {
+        scenario: {
+            imu: {
+                "largest_m": s["imus"][imu]["mean_max_position_error_during_outage_m"],
+                "nees_per_dof": s["imus"][imu]["position_nees_per_dof_at_outage_end"],
+                "diverged_share": s["imus"][imu]["diverged_share"],
+            }
+            for imu in PAPER_IMUS
+        }
+        for scenario, s in scenarios.items()
+    }
+
+    def kept(imu: str, n: int) -> float:
+        return (
+            100.0
+            * table[f"tight, {n} satellites"][imu]["largest_m"]
+            / table["tight, 0 satellites"][imu]["largest_m"]
+        )
+
+    nees = [cell["nees_per_dof"] for row in table.values() for cell in row.values()]
+    two = [kept(imu, 2) for imu in PAPER_IMUS]
+    return {
+        "scenarios": table,
+        "three_satellites_kept_percent": {imu: kept(imu, 3) for imu in PAPER_IMUS},
+        "two_satellites_kept_percent": {"least": min(two), "most": max(two)},
+        "nees_per_dof": {"least": min(nees), "most": max(nees)},
+    }
+
+
+def partial_outages_table(record: dict[str, Any]) -> str:
+    """docs/results/paper-comparison.md's partial-outage table from its
+    record, between its markers."""
+    rows = [
+        f"| {scenario} | "
+        + " | ".join(
+            f"{_three_figures(c['largest_m'])} ({c['nees_per_dof']:.2f})" for c in imus.values()
+        )
+        + " |"
+        for scenario, imus in record["figures"]["scenarios"].items()
+    ]
+    header = "| scenario | ins | mems | calibrated_mems |\n|---|---|---|---|"
+    return "\n".join([PARTIAL_OUTAGES[0], header, *rows, PARTIAL_OUTAGES[1]])
+
+
+def _three_figures(value: float) -> str:
+    """Three significant figures, no exponent: 105, 26.1, 8.9 (two below 10)."""
+    return f"{value:.0f}" if value >= 100 else f"{value:.1f}"
+
+
+#: The partial-outage table's markers.
+PARTIAL_OUTAGES = ("<!-- partial-outages:begin -->", "<!-- partial-outages:end -->")
+
+
+def quick_calibration(data_root: Path) -> dict[str, Any]:
+    """The calibration experiment's quick run (``memsnav reproduce``: 50
+    sets × 100 runs, seed 0): plain least squares' efficiency on the gyro p
+    and q and the accelerometer u scale factors and the share of its MSE
+    that is squared mean error (%); the misalignments' normalised RMS error
+    (errors-in-variables)."""
+    sizes = QUICK
+    s = mn.experiments.calibration(
+        parameter_sets=sizes.calibration_sets, runs=sizes.calibration_runs, seed=0
+    ).summary()
+    gyro_sf = s["gyroscope"]["scale_factor"]["per_axis"]
+    accel_sf = s["accelerometer"]["scale_factor"]["per_axis"]
+    shares = [100.0 * gyro_sf[a]["bias_share_ls"] for a in ("p", "q")]
+    shares.append(100.0 * accel_sf["u"]["bias_share_ls"])
+    return {
+        "gyro_pq_efficiency_ls": [gyro_sf[a]["efficiency_ls"] for a in ("p", "q")],
+        "accel_u_efficiency_ls": accel_sf["u"]["efficiency_ls"],
+        "bias_share_percent": {"least": min(shares), "most": max(shares)},
+        "gyro_misalignment_nrmse": s["gyroscope"]["misalignment"]["normalized_mse_eiv"] ** 0.5,
+        "accel_misalignment_nrmse": s["accelerometer"]["misalignment"]["normalized_mse_eiv"] ** 0.5,
+    }
+
+
+def _outage_errors(config: RunConfig) -> dict[str, list[float]]:
+    """drive_0708 through the published filter's 15 / 30 / 60 s outage
+    windows (docs/real_data_benchmark.py): forward RMS, smoothed RMS and
+    maximum, m, by length; the installation estimates when estimated."""
+    import real_data_benchmark
+
+    runs = real_data_benchmark.peer_window_runs(config)
+    errors: dict[str, list] = {"forward_rms_m": [], "smoothed_rms_m": [], "smoothed_max_m": []}
+    for summary, _ in runs.values():
+        errors["forward_rms_m"].append(summary["errors_vs_truth"]["in_outages"]["rms_horizontal_m"])
+        smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
+        errors["smoothed_rms_m"].append(smoothed["rms_horizontal_m"])
+        errors["smoothed_max_m"].append(smoothed["max_horizontal_m"])
+        if "installation_estimates" in summary:
+            estimates = summary["installation_estimates"]
+            errors.setdefault("lever_arm_cm", []).append(
+                [100.0 * abs(v) for v in estimates["lever_arm_m"]["value"]]
+            )
+            errors.setdefault("velocity_latency_s", []).append(
+                estimates["velocity_latency_s"]["value"]
+            )
+            errors.setdefault("time_offset_s", []).append(estimates["time_offset_s"]["value"])
+    return errors
+
+
+def drive_other_settings(data_root: Path) -> dict[str, Any]:
+    """drive_0708 through the published filter's outage windows with the
+    example's settings and others (~15 s): the IMU offset at −0.125 s and
+    −0.27 s instead of −0.22 s; `fix_error_states`; `installation_states`,
+    its estimates, and its aided error without outages against the
+    example's."""
+    base = _example("drive_0708", data_root)
+    figures: dict[str, Any] = {"example": _outage_errors(base)}
+    for name, offset_s in (("offset_-0.125", -0.125), ("offset_-0.27", -0.27)):
+        config = copy.deepcopy(base)
+        config.engine["imu"]["time_offset_s"] = offset_s
+        figures[name.replace("-0.", "m0_")] = _outage_errors(config)["forward_rms_m"]
+    config = copy.deepcopy(base)
+    config.engine["gnss"]["fix_error_states"] = True
+    figures["fix_error_states"] = _outage_errors(config)
+    config = copy.deepcopy(base)
+    config.engine.setdefault("filter", {})["installation_states"] = True
+    states = _outage_errors(config)
+    change = np.abs(np.subtract(states["smoothed_rms_m"], figures["example"]["smoothed_rms_m"]))
+    lever = [round(v) for run in states.pop("lever_arm_cm") for v in run]
+    offsets = states.pop("time_offset_s")
+    figures["installation_states"] = states | {
+        "lever_arm_cm": {"least": min(lever), "most": max(lever)},
+        "time_offset_s": {"least": min(offsets), "most": max(offsets)},
+        "smoothed_rms_change_m": float(change.max()),
+    }
+    aided = []
+    for states_on in (False, True):
+        config = copy.deepcopy(base)
+        config.engine.pop("outages")
+        config.engine.setdefault("filter", {}).update(smoother=True, installation_states=states_on)
+        aided.append(_navigate(config).summary["errors_vs_truth"]["aided"]["rms_horizontal_m"])
+    figures["aided_rms_m"] = {"example": aided[0], "installation_states": aided[1]}
+    return figures
+
+
+def drive_example_schedule(data_root: Path) -> dict[str, Any]:
+    """The outage schedule examples/drive_0708.toml sets, s (the README
+    describes the example by it)."""
+    import tomllib
+
+    outages = tomllib.loads((ROOT / "examples" / "drive_0708.toml").read_text())["outages"]
+    return {"length_s": outages["length_s"], "every_s": outages["every_s"]}
+
+
+def static_start_spec(data_root: Path) -> dict[str, Any]:
+    """drive_0708's first 34 s (at rest, engine running) through
+    ``imu_spec_from_allan``: the white noise it determines (µg/√Hz, °/√h),
+    the consumer preset's, and drive_0708 over the consumer preset with
+    those two entries through the published filter's outage windows
+    (forward RMS and largest error, m, share inside 3σ, smoothed RMS, m,
+    by outage length in s)."""
+    import real_data_benchmark
+
+    from memsnav.realdata.pipeline import read_imu
+
+    config = _example("drive_0708", data_root)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's cut lines; the terms left out
+        _, f, w, _ = read_imu(config)
+        spec = mn.imu_spec_from_allan(f[:3400], w[:3400], 100.0)
+    consumer = mn.ImuModel.preset("consumer").spec
+    preset = {
+        "accel_noise_density_ug_sqrt_hz": consumer["accel_noise_density"] / 9.80665e-6,
+        "gyro_arw_deg_sqrt_h": float(np.degrees(consumer["gyro_noise_density"]) * 60.0),
+    }
+    allan = copy.deepcopy(config)
+    allan.engine["imu_spec"] = dict(spec)
+    allan.engine.setdefault("filter", {})["imu_preset"] = "consumer"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        runs = real_data_benchmark.peer_window_runs(allan)
+    windows = {}
+    for length, (summary, _) in runs.items():
+        forward = summary["errors_vs_truth"]["in_outages"]
+        smoothed = summary["errors_vs_truth_smoothed"]["in_outages"]
+        windows[f"{length:g}"] = {
+            "forward_rms_m": forward["rms_horizontal_m"],
+            "forward_max_m": forward["max_horizontal_m"],
+            "share": forward["within_3sigma_share"],
+            "smoothed_rms_m": smoothed["rms_horizontal_m"],
+        }
+    return {
+        "spec": {k: float(v) for k, v in spec.items()},
+        "preset": preset,
+        "ratio": {k: float(spec[k]) / preset[k] for k in preset},
+        "windows": windows,
+    }
+
+
+def static_start_spec_table(record: dict[str, Any]) -> str:
+    """docs/how-to/tune-for-your-imu.md's table: the preset's columns from
+    docs/data/against_rtk.json (the benchmark), the Allan spec's from
+    ``record``, between the markers."""
+    bench = load_record("against_rtk")["figures"]["drive"]["lengths"]
+    rows = []
+    for length, allan in record["figures"]["windows"].items():
+        b = bench[length]
+        rows.append(
+            f"| {length} s | {b['forward']['rms_m']:.2f} / {b['forward']['max_m']:.2f}, "
+            f"{b['forward']['share']:.3f} | {allan['forward_rms_m']:.2f} / "
+            f"{allan['forward_max_m']:.2f}, {allan['share']:.3f} | "
+            f"{b['smoothed']['rms_m']:.2f} / {allan['smoothed_rms_m']:.2f} |"
+        )
+    header = (
+        "| outage length | preset: forward RMS / max [m], share in 3σ "
+        "| Allan spec: forward RMS / max [m], share in 3σ "
+        "| smoothed RMS, preset / Allan [m] |\n|---|---|---|---|"
+    )
+    return "\n".join([STATIC_START_SPEC[0], header, *rows, STATIC_START_SPEC[1]])
+
+
+#: The static-start spec table's markers.
+STATIC_START_SPEC = ("<!-- static-start-spec:begin -->", "<!-- static-start-spec:end -->")
+
+
+def xsens_session(data_root: Path) -> dict[str, Any]:
+    """examples/xsens_static.toml run as shipped (every 4th pose held out):
+    the figures of merit before and after, in the fit and held out
+    (‖f‖ − g RMS in mm/s², the gravity direction after a turn in °); the
+    estimated parameters' σ over their white-noise Cramér-Rao bound, least
+    and most, per sensor; the accelerometer biases' σ, mm/s²."""
+    from memsnav.calibration.session import run_calibration
+
+    with warnings.catch_warnings(), tempfile.TemporaryDirectory() as out:
+        warnings.simplefilter("ignore")
+        cal = run_calibration(
+            ROOT / "examples" / "xsens_static.toml", data_root=data_root, output=Path(out)
+        ).calibration
+    fit = mn.static_summary(cal)
+    merit = {
+        f"{key}_{stage}_{subset}": fit[f"{key}_rms_{stage}_{subset}_{unit}"] * scale
+        for key, unit, scale in (("magnitude", "m_s2", 1e3), ("turn", "deg", 1.0))
+        for stage in ("before", "after")
+        for subset in ("fit", "held_out")
+    }
+    sigma = np.sqrt(np.diag(np.asarray(cal.covariance)))
+    bound = np.sqrt(np.diag(np.asarray(cal.crb)))
+    estimated = sigma > 0
+    ratio = sigma[estimated] / bound[estimated]
+    n_accel = int(estimated[:15].sum())
+    bias_mm_s2 = 1e3 * np.asarray(cal.accelerometer_std.bias)
+    return {
+        "merit": merit,
+        "sigma_over_bound": {
+            sensor: {"least": float(r.min()), "most": float(r.max())}
+            for sensor, r in (("accelerometer", ratio[:n_accel]), ("gyroscope", ratio[n_accel:]))
+        },
+        "accel_bias_sigma_mm_s2": {
+            "least": float(bias_mm_s2.min()),
+            "most": float(bias_mm_s2.max()),
+        },
+    }
+
+
+#: The Xsens session's gravity (given with the data, m/s²) and the nominal
+#: scales and offsets docs/how-to/calibrate-an-imu.md starts from.
+XSENS_GRAVITY = 9.81744
+XSENS_NOMINAL = {
+    "accel_scale": XSENS_GRAVITY / 3724.0,
+    "accel_offset": 32768.0,
+    "gyro_scale": 1 / 6258,
+    "gyro_offset": 32768.0,
+}
+
+
+def xsens_parameters(data_root: Path) -> dict[str, Any]:
+    """The Xsens session calibrated from the data source's nominal values
+    (every 4th pose held out, the terms the data determine): each sensor's
+    bias, scale factor and misalignment with their σ, SI, and the fitted
+    gyro scales, rad/s per count."""
+    data = data_root / "imu-static-poses"
+    accel = np.loadtxt(data / "xsens_acc.mat")
+    gyro = np.loadtxt(data / "xsens_gyro.mat")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the gyro's nominal scale is 31 % off
+        cal = mn.calibrate_static(
+            accel[:, 0],
+            accel[:, 1:],
+            gyro[:, 1:],
+            gravity=XSENS_GRAVITY,
+            estimate="determinable",
+            holdout_every=4,
+            **XSENS_NOMINAL,
+        )
+    figures: dict[str, Any] = {}
+    for sensor, model, std in (
+        ("accelerometer", cal.accelerometer, cal.accelerometer_std),
+        ("gyroscope", cal.gyroscope, cal.gyroscope_std),
+    ):
+        figures[sensor] = {
+            f"{term}{suffix}": np.asarray(getattr(of, term)).tolist()
+            for term in ("bias", "scale_factor", "misalignment")
+            for suffix, of in (("", model), ("_sigma", std))
+        }
+    scale = np.asarray(cal.nominal["gyro_scale"]) / (1 - np.asarray(cal.gyroscope.scale_factor))
+    figures["fitted_gyro_scale"] = scale.tolist()
+    return figures
+
+
+def plain_model(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """imu_tk's a = T K (counts - b) (Tedaldi et al. 2014 eq. 10-12): T
+    unit upper triangular (three non-orthogonality angles), K diagonal
+    scales per count, b offsets; the plain 9-parameter fit's model."""
+    t = np.array([[1.0, -x[6], x[7]], [0.0, 1.0, -x[8]], [0.0, 0.0, 1.0]])
+    return (counts - x[:3]) @ (t @ np.diag(x[3:6])).T
+
+
+def plain_fit(counts: np.ndarray) -> np.ndarray:
+    """The 9 parameters minimising sum (|a_k| - g)^2 over pose means in
+    counts (scipy, independent of memsnav)."""
+    from scipy.optimize import least_squares
+
+    start = np.r_[np.full(3, 32768.0), np.full(3, XSENS_GRAVITY / 3724.0), np.zeros(3)]
+    scale = np.r_[np.full(3, 100.0), np.full(3, 1e-5), np.full(3, 1e-2)]
+    result = least_squares(
+        lambda x: np.linalg.norm(plain_model(x, counts), axis=1) - XSENS_GRAVITY,
+        start,
+        x_scale=scale,
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+    )
+    if not result.success:
+        raise RuntimeError(f"the plain fit did not converge: {result.message}")
+    return result.x
+
+
+def xsens_splits(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md's table of the two splits (every 4th
+    pose held out; the first half fitted, the second held out): memsnav
+    with every term estimated ("before"), with the terms the data
+    determine ("now") and the plain 9-parameter fit on the same pose means:
+    ‖f‖ − g RMS in the fit, held out and (halves) over the held-out poses
+    that start after the middle, mm/s²; memsnav's gravity direction after
+    the held-out turns, °; the counts of poses and turns."""
+    data = data_root / "imu-static-poses"
+    accel = np.loadtxt(data / "xsens_acc.mat")
+    gyro = np.loadtxt(data / "xsens_gyro.mat")
+    t = accel[:, 0]
+    figures: dict[str, Any] = {}
+    for split, holdout in (
+        ("every_4th", {"holdout_every": 4}),
+        ("halves", {"holdout_from": (t[0] + t[-1]) / 2}),
+    ):
+        row: dict[str, Any] = {}
+        for label, estimate in (("before", "all"), ("now", "determinable")):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # the gyro's nominal scale is 31 % off
+                cal = mn.calibrate_static(
+                    t,
+                    accel[:, 1:],
+                    gyro[:, 1:],
+                    gravity=XSENS_GRAVITY,
+                    estimate=estimate,
+                    **XSENS_NOMINAL,
+                    **holdout,
+                )
+            summary = mn.static_summary(cal)
+            held = np.asarray(cal.pose_held_out)
+            after = np.asarray(cal.magnitude_error_after)
+            late = t[np.asarray(cal.poses)[:, 0]] > (t[0] + t[-1]) / 2
+            row[label] = {
+                "fit_mm_s2": 1e3 * summary["magnitude_rms_after_fit_m_s2"],
+                "held_out_mm_s2": 1e3 * summary["magnitude_rms_after_held_out_m_s2"],
+                "after_middle_mm_s2": 1e3 * float(np.sqrt(np.mean(after[held & late] ** 2))),
+                "turns_deg": summary["turn_rms_after_held_out_deg"],
+            }
+        means = np.array([accel[a:b, 1:].mean(axis=0) for a, b in cal.poses])
+        errors = np.linalg.norm(plain_model(plain_fit(means[~held]), means), axis=1)
+        errors -= XSENS_GRAVITY
+        row["plain"] = {
+            "fit_mm_s2": 1e3 * float(np.sqrt(np.mean(errors[~held] ** 2))),
+            "held_out_mm_s2": 1e3 * float(np.sqrt(np.mean(errors[held] ** 2))),
+            "after_middle_mm_s2": 1e3 * float(np.sqrt(np.mean(errors[held & late] ** 2))),
+        }
+        row["poses"] = {
+            "fit": int((~held).sum()),
+            "held_out": int(held.sum()),
+            "after_middle": int((held & late).sum()),
+        }
+        figures[split] = row
+    return figures
+
+
+def _xsens_calibration(data_root: Path, estimate: str, **holdout: float) -> Any:
+    """The Xsens session calibrated from the data source's nominal values."""
+    data = data_root / "imu-static-poses"
+    accel = np.loadtxt(data / "xsens_acc.mat")
+    gyro = np.loadtxt(data / "xsens_gyro.mat")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the gyro's nominal scale is 31 % off
+        cal = mn.calibrate_static(
+            accel[:, 0],
+            accel[:, 1:],
+            gyro[:, 1:],
+            gravity=XSENS_GRAVITY,
+            estimate=estimate,
+            **XSENS_NOMINAL,
+            **holdout,
+        )
+    return cal, accel, gyro
+
+
+def xsens_nonlinearity(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md, "Why memsnav lost on unseen poses":
+    the plain fit on all 38 poses (mm/s²); the accelerometer nonlinearity
+    N's largest σ with every term estimated (per m/s²) on each split and
+    how many times below 1e-3 its smallest (every 4th pose) and largest
+    (halves) are; the first
+    half's in-fit RMS without N and with it; the held-out pose where N
+    extrapolates worst on the halves (its index, its specific force's
+    direction after the calibration, its miss with N and without, mm/s²);
+    what N costs held out on each split (RMS with N less without, mm/s²)."""
+    _, accel, gyro = _xsens_calibration(data_root, "determinable")
+    t = accel[:, 0]
+
+    def rms(errors: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.square(errors))))
+
+    figures: dict[str, Any] = {"n_sigma_most": {}, "times_below_1e3": {}, "n_cost_mm_s2": {}}
+    for split, holdout in (
+        ("every_4th", {"holdout_every": 4}),
+        ("halves", {"holdout_from": (t[0] + t[-1]) / 2}),
+    ):
+        now = _xsens_calibration(data_root, "determinable", **holdout)[0]
+        before = _xsens_calibration(data_root, "all", **holdout)[0]
+        held = np.asarray(now.pose_held_out)
+        after_now = np.asarray(now.magnitude_error_after)
+        after_before = np.asarray(before.magnitude_error_after)
+        sigma = np.asarray(before.accelerometer_std.nonlinearity)
+        figures["n_sigma_most"][split] = float(sigma.max())
+        if split == "halves":
+            figures["times_below_1e3"]["least"] = float(1e-3 / sigma.max())
+        figures["n_cost_mm_s2"][split] = 1e3 * (rms(after_before[held]) - rms(after_now[held]))
+        if split == "halves":
+            figures["first_half_fit_mm_s2"] = {
+                "without_n": 1e3 * rms(after_now[~held]),
+                "with_n": 1e3 * rms(after_before[~held]),
+            }
+            k = int(np.argmax(np.where(held, np.abs(after_before) - np.abs(after_now), -np.inf)))
+            f, _ = now.correct(accel[:, 1:], gyro[:, 1:])
+            a, b = now.poses[k]
+            mean = f[a:b].mean(axis=0)
+            figures["worst_pose"] = {
+                "index": k,
+                "direction": (mean / np.linalg.norm(mean)).tolist(),
+                "missed_with_n_mm_s2": 1e3 * abs(float(after_before[k])),
+                "missed_without_n_mm_s2": 1e3 * abs(float(after_now[k])),
+            }
+    every_4th = _xsens_calibration(data_root, "all", holdout_every=4)[0]
+    figures["times_below_1e3"]["most"] = float(
+        1e-3 / np.asarray(every_4th.accelerometer_std.nonlinearity).min()
+    )
+    cal = _xsens_calibration(data_root, "determinable")[0]
+    means = np.array([accel[a:b, 1:].mean(axis=0) for a, b in cal.poses])
+    errors = np.linalg.norm(plain_model(plain_fit(means), means), axis=1) - XSENS_GRAVITY
+    figures["all_poses_plain_mm_s2"] = 1e3 * rms(errors)
+    return figures
+
+
+def nonlinear_errors(theta: np.ndarray, nominal: np.ndarray, axes: list[int]) -> np.ndarray:
+    """‖Γ_k‖ − g in memsnav's parametrisation (docs/explanation/calibration.md,
+    "The model and the fit"), written out: x = L s + b with L lower
+    triangular, then Γ_i = 2x_i / (1 + √(1 − 4 N_i x_i)) on the nonlinear
+    ``axes``; theta = [b (3), L's diagonal − 1 (3), L_vu, L_wu, L_wv, N on
+    axes]."""
+    lower = np.array(
+        [
+            [1 + theta[3], 0.0, 0.0],
+            [theta[6], 1 + theta[4], 0.0],
+            [theta[7], theta[8], 1 + theta[5]],
+        ]
+    )
+    x = nominal @ lower.T + theta[:3]
+    for n, axis in zip(theta[9:], axes, strict=True):
+        x[:, axis] = 2 * x[:, axis] / (1 + np.sqrt(1 - 4 * n * x[:, axis]))
+    return np.linalg.norm(x, axis=1) - XSENS_GRAVITY
+
+
+def nonlinear_fit(nominal: np.ndarray, axes: list[int]) -> np.ndarray:
+    """theta minimising Σ(‖Γ_k‖ − g)² (scipy, independent of memsnav)."""
+    from scipy.optimize import least_squares
+
+    scale = np.r_[np.full(3, 1e-2), np.full(6, 1e-3), np.full(len(axes), 1e-5)]
+    result = least_squares(
+        lambda theta: nonlinear_errors(theta, nominal, axes),
+        np.zeros(9 + len(axes)),
+        x_scale=scale,
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+    )
+    if not result.success:
+        raise RuntimeError(f"the nonlinear fit did not converge: {result.message}")
+    return result.x
+
+
+def _candidates(cal: Any, stage: str) -> tuple[list[dict], int]:
+    (selection,) = [m for m in cal.model_selection if m["stage"] == stage]
+    return selection["candidates"], selection["chosen"]
+
+
+def xsens_criteria(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md's information criteria on the Xsens
+    log (every 4th pose held out, the halves, all 38 poses): AICc's margin
+    for the linear model against the best candidate with an entry of N, by
+    pose set; the least margin by which it keeps all of K; plain AIC's gap
+    from the linear model to N_v and BIC's margin for the linear model
+    (least, most over the pose sets); leave-one-out RMS over the first
+    half's poses with N_v and without and N_v's RMS on the second half
+    (scipy fits in memsnav's parametrisation), mm/s²."""
+    _, accel, _ = _xsens_calibration(data_root, "determinable")
+    t = accel[:, 0]
+    sets = {
+        "every_4th": {"holdout_every": 4},
+        "halves": {"holdout_from": (t[0] + t[-1]) / 2},
+        "all": {},
+    }
+    cals = {name: _xsens_calibration(data_root, "determinable", **h)[0] for name, h in sets.items()}
+    n_margin, k_margins, aic_gaps, bic_margins = {}, [], [], []
+    for name, cal in cals.items():
+        candidates, _ = _candidates(cal, "accelerometer nonlinearity")
+        with_n = min(c["aicc"] for c in candidates[1:] if c["aicc"] is not None)
+        n_margin[name] = with_n - candidates[0]["aicc"]
+        gyro, chosen = _candidates(cal, "gyroscope g-sensitivity")
+        k_margins.append(
+            min(c["aicc"] for i, c in enumerate(gyro) if i != chosen and c["aicc"] is not None)
+            - gyro[chosen]["aicc"]
+        )
+        criteria = []
+        for c in candidates:
+            n, k = c["observations"], c["parameters"] + 1
+            fit = n * np.log(c["residual_rms"] ** 2)
+            criteria.append((c["terms"], fit + 2 * k, fit + k * np.log(n)))
+        aic_v = next(a for terms, a, _ in criteria if terms == ["nonlinearity_v"])
+        aic_gaps.append(aic_v - criteria[0][1])
+        bic_margins.append(min(b for _, _, b in criteria[1:]) - criteria[0][2])
+    halves = cals["halves"]
+    held = np.asarray(halves.pose_held_out)
+    means = np.array([accel[a:b, 1:].mean(axis=0) for a, b in halves.poses])
+    nominal = XSENS_NOMINAL["accel_scale"] * (means - XSENS_NOMINAL["accel_offset"])
+    in_fit = nominal[~held]
+
+    def rms(errors: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.square(errors))))
+
+    loo = {}
+    for terms in ((), ("nonlinearity_v",)):
+        axes = ["uvw".index(term[-1]) for term in terms]
+        left_out = [
+            nonlinear_errors(nonlinear_fit(np.delete(in_fit, k, 0), axes), in_fit[[k]], axes)
+            for k in range(len(in_fit))
+        ]
+        loo["nonlinearity_v" if terms else "linear"] = 1e3 * rms(np.concatenate(left_out))
+    theta = nonlinear_fit(in_fit, [1])
+    return {
+        "aicc_n_margin": n_margin,
+        "aicc_k_margin_least": float(min(k_margins)),
+        "aic_nv_gap": {"least": float(min(aic_gaps)), "most": float(max(aic_gaps))},
+        "bic_margin": {"least": float(min(bic_margins)), "most": float(max(bic_margins))},
+        "loo_mm_s2": loo,
+        "first_half_poses": len(in_fit),
+        "nv_second_half_mm_s2": 1e3 * rms(nonlinear_errors(theta, nominal[held], [1])),
+    }
+
+
+def plain_jacobian(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """∂(‖a_k‖ − g)/∂x of the plain model by central differences (steps
+    1e-6 of each parameter's size: the model is smooth and the columns span
+    1e-5 to 3e4 in size)."""
+    size = np.r_[np.full(3, 100.0), np.full(3, 1e-5), np.full(3, 1e-2)]
+    columns = []
+    for i, step in enumerate(1e-6 * size):
+        up, down = x.copy(), x.copy()
+        up[i] += step
+        down[i] -= step
+        difference = np.linalg.norm(plain_model(up, counts), axis=1) - np.linalg.norm(
+            plain_model(down, counts), axis=1
+        )
+        columns.append(difference / (2 * step))
+    return np.column_stack(columns)
+
+
+#: The second half's pose N extrapolates worst (xsens_nonlinearity's
+#: worst_pose), numbered from the rest (pose 0).
+XSENS_WORST_POSE = 26
+#: The detector factors docs/how-to/calibrate-an-imu.md and
+#: docs/explanation/calibration.md try, first and last.
+XSENS_DETECTOR_FACTORS = (4, 10)
+#: The later splits it tries: the first poses fitted, fewest and most.
+XSENS_LATER_SPLITS = (19, 23)
+
+
+def xsens_second_half(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md, "What is left": the plain fit's
+    held-out RMS when the split moves later (first and last of
+    XSENS_LATER_SPLITS); the z-up poses' scatter about the all-pose plain
+    fit and the standard deviation of the rest's 1 s means (their
+    magnitude error under that fit); σ̂ = √(RSS/(n − 9)) of the first-half
+    and all-pose plain fits; the first-half fit's predicted RMS on the
+    second half's poses by its covariance σ̂² (JᵀJ)⁻¹, and at
+    XSENS_WORST_POSE (its std, the part from the parameters, its miss in
+    σ); memsnav's held-out RMS on the halves for the detector factors of
+    XSENS_DETECTOR_FACTORS (least, most). All mm/s² but the miss."""
+    accel = np.loadtxt(data_root / "imu-static-poses" / "xsens_acc.mat")
+    t, counts = accel[:, 0], accel[:, 1:]
+    middle = (t[0] + t[-1]) / 2
+    now = _xsens_calibration(data_root, "determinable", holdout_from=middle)[0]
+    held = np.asarray(now.pose_held_out)
+    means = np.array([counts[a:b].mean(axis=0) for a, b in now.poses])
+
+    def rms(errors: np.ndarray) -> float:
+        return float(np.sqrt(np.mean(np.square(errors))))
+
+    def errors_of(x: np.ndarray, c: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(plain_model(x, c), axis=1) - XSENS_GRAVITY
+
+    fewest, most = XSENS_LATER_SPLITS
+    later = [1e3 * rms(errors_of(plain_fit(means[:m]), means[m:])) for m in (fewest, most)]
+    x_all = plain_fit(means)
+    all_errors = errors_of(x_all, means)
+    z_up = plain_model(x_all, means)[:, 2] / XSENS_GRAVITY > 0.9
+    a, b = now.poses[0]
+    rate = round(1.0 / np.median(np.diff(t)))
+    seconds = counts[a : a + (b - a) // rate * rate].reshape(-1, rate, 3).mean(axis=1)
+    x = plain_fit(means[~held])
+    errors = errors_of(x, means)
+    n = int(np.sum(~held))
+    residual_std = float(np.sqrt(np.sum(errors[~held] ** 2) / (n - 9)))
+    jacobian = plain_jacobian(x, means[~held])
+    covariance = residual_std**2 * np.linalg.inv(jacobian.T @ jacobian)
+    ahead = plain_jacobian(x, means)
+    from_parameters = np.einsum("ij,jk,ik->i", ahead, covariance, ahead)
+    sd = np.sqrt(residual_std**2 + from_parameters)
+    k = XSENS_WORST_POSE
+    first, last = XSENS_DETECTOR_FACTORS
+    detector = []
+    for factor in range(first, last + 1):
+        cal = _xsens_calibration(
+            data_root, "determinable", holdout_from=middle, threshold_factor=factor
+        )[0]
+        detector.append(1e3 * mn.static_summary(cal)["magnitude_rms_after_held_out_m_s2"])
+    return {
+        "later_split_mm_s2": {"fewest_poses": later[0], "most_poses": later[1]},
+        "later_split_poses": {"fewest": fewest, "most": most},
+        "z_up_poses": int(z_up.sum()),
+        "z_up_scatter_mm_s2": {
+            "least": 1e3 * float(all_errors[z_up].min()),
+            "most": 1e3 * float(all_errors[z_up].max()),
+        },
+        "rest_s": round((b - a) / rate),
+        "rest_spread_mm_s2": 1e3 * float(np.std(errors_of(x_all, seconds), ddof=1)),
+        "residual_std_mm_s2": {
+            "first_half": 1e3 * residual_std,
+            "all_poses": 1e3 * float(np.sqrt(np.sum(all_errors**2) / (len(means) - 9))),
+        },
+        "predicted_mm_s2": 1e3 * rms(sd[held]),
+        "worst_pose": {
+            "index": k,
+            "predicted_mm_s2": 1e3 * float(sd[k]),
+            "from_parameters_mm_s2": 1e3 * float(np.sqrt(from_parameters[k])),
+            "missed_sigmas": float(abs(errors[k]) / sd[k]),
+        },
+        "detector_factors": {"first": first, "last": last},
+        "detector_held_out_mm_s2": {"least": min(detector), "most": max(detector)},
+    }
+
+
+#: The detector factor docs/explanation/calibration.md shows too low, and
+#: memsnav's default it compares factors with.
+XSENS_LOW_FACTOR, XSENS_DEFAULT_FACTOR = 3, 6.0
+
+
+def xsens_detector(data_root: Path) -> dict[str, Any]:
+    """docs/explanation/calibration.md, "The detector", every 4th pose held
+    out: what XSENS_LOW_FACTOR does (poses found, in-fit and held-out
+    ‖f‖ − g RMS, the held-out one with every term estimated, mm/s²), and the
+    largest departure of the factors of XSENS_DETECTOR_FACTORS from the
+    default's figures (in-fit and held-out magnitude, mm/s²; held-out
+    turns, °)."""
+
+    def summary(factor: float, estimate: str = "determinable") -> dict[str, Any]:
+        cal = _xsens_calibration(data_root, estimate, holdout_every=4, threshold_factor=factor)[0]
+        return {"poses": len(cal.poses), **mn.static_summary(cal)}
+
+    low = summary(XSENS_LOW_FACTOR)
+    estimated = summary(XSENS_LOW_FACTOR, "all")
+    default = summary(XSENS_DEFAULT_FACTOR)
+    first, last = XSENS_DETECTOR_FACTORS
+    magnitude, turn = 0.0, 0.0
+    for factor in range(first, last + 1):
+        s = summary(factor)
+        for key in ("magnitude_rms_after_fit_m_s2", "magnitude_rms_after_held_out_m_s2"):
+            magnitude = max(magnitude, 1e3 * abs(s[key] - default[key]))
+        key = "turn_rms_after_held_out_deg"
+        turn = max(turn, abs(s[key] - default[key]))
+    return {
+        "low_factor": XSENS_LOW_FACTOR,
+        "low_poses": low["poses"],
+        "low_fit_mm_s2": 1e3 * low["magnitude_rms_after_fit_m_s2"],
+        "low_held_out_mm_s2": 1e3 * low["magnitude_rms_after_held_out_m_s2"],
+        "low_held_out_all_terms_mm_s2": 1e3 * estimated["magnitude_rms_after_held_out_m_s2"],
+        "largest_departure": {"magnitude_mm_s2": magnitude, "turn_deg": turn},
+    }
+
+
+def somigliana_departure(data_root: Path) -> dict[str, Any]:
+    """How far ``gravity_ecef`` (J2) departs from WGS84 normal gravity
+    (Somigliana's closed form, NIMA TR8350.2 eq. 4-1, table 3.4) on the
+    ellipsoid, m/s²: the largest departure (at a pole) and the one at the
+    equator."""
+    lat = np.radians(np.linspace(-90.0, 90.0, 181))
+    lla = np.stack([lat, np.zeros_like(lat), np.zeros_like(lat)], axis=1)
+    g = np.linalg.norm(mn.gravity_ecef(mn.geodetic_to_ecef(lla)), axis=1)
+    s2 = np.sin(lat) ** 2
+    normal = 9.7803253359 * (1 + 0.00193185265241 * s2) / np.sqrt(1 - 0.00669437999013 * s2)
+    departure = np.abs(g - normal)
+    return {"largest_m_s2": float(departure.max()), "equator_m_s2": float(departure[90])}
+
+
+RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
+    "first_session": first_session,
+    "own_arrays_conditioning": own_arrays_conditioning,
+    "input_correlation_times": input_correlation_times,
+    "tactical_three_satellites": tactical_three_satellites,
+    "drive_time_offsets": drive_time_offsets,
+    "example_consistency": example_consistency,
+    "walk_precision": walk_precision,
+    "two_satellite_runs": two_satellite_runs,
+    "partial_outages": partial_outages,
+    "quick_calibration": quick_calibration,
+    "drive_other_settings": drive_other_settings,
+    "walk_multi_gnss": walk_multi_gnss.record,
+    "walk_g08": walk_multi_gnss.g08_record,
+    "walk_carrier_floors": walk_multi_gnss.carrier_floors,
+    "walk_code_correlation": walk_multi_gnss.code_correlation_record,
+    "walk_configurations": walk_multi_gnss.configurations_record,
+    "walk_correlation_table": walk_multi_gnss.correlation_record,
+    "drive_example_schedule": drive_example_schedule,
+    "foreign_drive": foreign_drive_datum.record,
+    "static_start_spec": static_start_spec,
+    "xsens_session": xsens_session,
+    "xsens_parameters": xsens_parameters,
+    "xsens_splits": xsens_splits,
+    "xsens_nonlinearity": xsens_nonlinearity,
+    "xsens_criteria": xsens_criteria,
+    "xsens_second_half": xsens_second_half,
+    "xsens_detector": xsens_detector,
+    "somigliana_departure": somigliana_departure,
+}
+"""Each record's name and the run that measures it."""
+
+TABLES: dict[str, tuple[str, tuple[str, str], Callable[[dict[str, Any]], str]]] = {
+    "partial_outages": ("results/paper-comparison.md", PARTIAL_OUTAGES, partial_outages_table),
+    "walk_multi_gnss": (
+        "how-to/multi-gnss.md",
+        walk_multi_gnss.SATELLITES_LINE,
+        walk_multi_gnss.satellites_line_block,
+    ),
+    "walk_configurations": (
+        "how-to/multi-gnss.md",
+        walk_multi_gnss.CONFIGURATION_TABLE,
+        walk_multi_gnss.configuration_table,
+    ),
+    "walk_correlation_table": (
+        "how-to/multi-gnss.md",
+        walk_multi_gnss.CORRELATION_TABLE,
+        walk_multi_gnss.correlation_table,
+    ),
+    "static_start_spec": (
+        "how-to/tune-for-your-imu.md",
+        STATIC_START_SPEC,
+        static_start_spec_table,
+    ),
+}
+"""The records that also fill a table: the page, its markers, the table."""
+
+
+def write_table(name: str) -> None:
+    """Writes ``name``'s table into its page from its record."""
+    page, (begin, end), table = TABLES[name]
+    replace_block(ROOT / "docs" / page, begin, end, table(load_record(name)))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("names", nargs="*", help=f"the runs, of {', '.join(RUNS)} (default all)")
+    parser.add_argument("--data-root", help="the shared data (default: the project's resolver)")
+    args = parser.parse_args()
+    data_root = resolve_data_root(Path(__file__), args.data_root)
+    unknown = set(args.names) - RUNS.keys()
+    if unknown:
+        parser.error(f"no run named {', '.join(sorted(unknown))}")
+    for name in args.names or RUNS:
+        path = write_record(name, RUNS[name](data_root))
+        if name in TABLES:
+            write_table(name)
+        print(f"wrote {path.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()

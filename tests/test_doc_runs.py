@@ -1,0 +1,221 @@
+"""The short runs behind the figures the pages quote (docs/doc_runs.py),
+run again: each agrees with its record, docs/data/<name>.json, within
+half the last digit the pages show (counts exactly). The pages show the
+records (tests/test_doc_figures.py); here the library today is held to
+them."""
+
+import doc_runs
+import pytest
+from figures import figures, load_record
+from shared_data import data_root as data_root_of_tests
+from shared_data import shared_data
+
+
+def _agree(fresh, recorded, tolerance, path="") -> list[str]:
+    """Where ``fresh`` and ``recorded`` (nested dicts and lists of numbers)
+    differ by more than ``tolerance`` (a number, or dicts of them by key: a
+    key a level does not name passes the whole tolerance down), by path."""
+    if isinstance(recorded, dict):
+        assert fresh.keys() == recorded.keys(), (path, fresh.keys(), recorded.keys())
+        return [
+            d
+            for k in recorded
+            for d in _agree(
+                fresh[k],
+                recorded[k],
+                tolerance[k] if isinstance(tolerance, dict) and k in tolerance else tolerance,
+                f"{path}.{k}",
+            )
+        ]
+    if isinstance(recorded, list):
+        assert len(fresh) == len(recorded), path
+        return [
+            d
+            for k, (f, r) in enumerate(zip(fresh, recorded, strict=True))
+            for d in _agree(f, r, tolerance, f"{path}.{k}")
+        ]
+    return [] if abs(fresh - recorded) <= tolerance + 1e-12 else [f"{path}: {fresh} vs {recorded}"]
+
+
+def _check(name: str, tolerance, needs_data: bool = False) -> dict:
+    """Runs ``name`` and compares it with its record within ``tolerance``."""
+    data_root = shared_data("real-imu-gnss").parent if needs_data else data_root_of_tests()
+    fresh = doc_runs.RUNS[name](data_root)
+    differ = _agree(fresh, figures(name), tolerance, name)
+    assert not differ, f"{differ}: rerun python docs/doc_runs.py {name} if this is meant"
+    return fresh
+
+
+def test_the_first_session_prints_its_record():
+    """The INS fed the truth stays within millimetres over 120 s; the raw
+    MEMS drifts by kilometres (shown to 0.1 km)."""
+    fresh = _check("first_session", {"ins_largest_error_m": 5e-4, "drift_km": 0.05})
+    assert fresh["ins_largest_error_m"] < 0.01
+
+
+def test_the_own_arrays_example_is_as_poorly_conditioned_as_recorded():
+    """The w axis's condition number, shown to one significant figure."""
+    fresh = _check("own_arrays_conditioning", {"w_axis_condition_number": float("inf")})
+    recorded = figures("own_arrays_conditioning")["w_axis_condition_number"]
+    assert f"{fresh['w_axis_condition_number']:.0e}" == f"{recorded:.0e}"
+
+
+def test_the_inputs_correlation_times_are_the_records():
+    """Shown to the second: τ = 10 s is chosen from them."""
+    fresh = _check("input_correlation_times", 0.5)
+    assert fresh["yaw_rate_s"]["least"] < 10.0 < fresh["horizontal_force_s"]["most"]
+
+
+def test_the_tactical_runs_on_three_satellites_are_the_records():
+    """Final errors and vertical σ shown to 0.1 km, the share inside 3σ
+    to the percent (~3 s)."""
+    fresh = _check(
+        "tactical_three_satellites",
+        {"final_error_km": 0.05, "final_vertical_sigma_km": 0.05, "least_inside_percent": 0.5},
+    )
+    assert fresh["least_inside_percent"] == 100.0  # every error inside 3σ
+
+
+def test_the_drive_at_other_time_offsets_and_latencies_is_the_record():
+    """drive_0708 without outages at four IMU offsets (NIS shown to
+    0.001) and three velocity latencies (aided error to the cm, resets
+    exactly): seven runs, ~5 s."""
+    fresh = _check(
+        "drive_time_offsets",
+        {
+            "imu_offsets_s": 0.0,
+            "position_nis_per_dof": 5e-4,
+            "velocity_latencies_s": 0.0,
+            "aided_rms_cm": 0.5,
+            "position_resets": 0,
+        },
+        needs_data=True,
+    )
+    # The latency RTKLIB's velocities have cures the resets.
+    assert fresh["position_resets"][1:] == [1, 1] < fresh["position_resets"][:1]
+
+
+def test_the_example_logs_consistency_is_the_record():
+    """The largest NIS-to-band ratio of each example log, shown to 0.1
+    (~2 s); both inside the band."""
+    fresh = _check("example_consistency", 0.05, needs_data=True)
+    assert max(fresh["largest_band_ratio"].values()) < 1.0
+
+
+@pytest.mark.slow
+def test_the_walk_by_precision_is_the_record():
+    """walk_0827 by precision: the truth's offset shown to the metre, the
+    RMS to the cm; the filter beats the single-point solution."""
+    fresh = _check(
+        "walk_precision",
+        {
+            "truth_offset_m": 0.5,
+            "forward_rms_horizontal_m": 0.005,
+            "single_point_rms_horizontal_m": 0.005,
+        },
+        needs_data=True,
+    )
+    assert fresh["forward_rms_horizontal_m"] < fresh["single_point_rms_horizontal_m"]
+
+
+@pytest.mark.slow
+def test_the_two_satellite_runs_are_the_record():
+    """The few-satellite study's eight 900 s runs on 2 satellites (~7 s):
+    counts and the latest alert exactly, NIS to 0.1, tilts to the degree,
+    their σ to 0.1°."""
+    fresh = _check(
+        "two_satellite_runs",
+        {
+            "runs": 0,
+            "inside_until_alert": 0,
+            "latest_first_alert_s": 0.0,
+            "nis_per_dof_60s": 0.05,
+            "exception_tilt_deg": 0.5,
+            "exception_tilt_sigma_deg": 0.05,
+        },
+    )
+    # The innovations do not see the open directions: NIS stays near 1.
+    assert 0.5 < fresh["nis_per_dof_60s"]["least"] <= fresh["nis_per_dof_60s"]["most"] < 1.5
+
+
+@pytest.mark.slow
+def test_the_partial_outages_are_the_record():
+    """The partial-outage experiment's quick run (30 runs, seed 0; ~16 s):
+    the table's errors to three figures, NEES to 0.01, the shares to the
+    percent; no run flagged, every extra satellite helps."""
+    fresh = _check(
+        "partial_outages",
+        {
+            "scenarios": {"largest_m": 0.05, "nees_per_dof": 0.005, "diverged_share": 0.0},
+            "three_satellites_kept_percent": 0.5,
+            "two_satellites_kept_percent": 0.5,
+            "nees_per_dof": 0.05,
+        },
+    )
+    table = fresh["scenarios"]
+    assert all(c["diverged_share"] == 0.0 for row in table.values() for c in row.values())
+    for imu in doc_runs.PAPER_IMUS:
+        largest = [table[f"tight, {n} satellites"][imu]["largest_m"] for n in (0, 2, 3)]
+        assert largest == sorted(largest, reverse=True), (imu, largest)
+
+
+@pytest.mark.slow
+def test_the_quick_calibration_is_the_record():
+    """The calibration experiment's quick run (~30 s): efficiencies to the
+    unit, shares to the percent, misalignment errors to 0.01; plain least
+    squares' MSE is mostly its bias."""
+    fresh = _check(
+        "quick_calibration",
+        {
+            "gyro_pq_efficiency_ls": 0.5,
+            "accel_u_efficiency_ls": 0.5,
+            "bias_share_percent": 0.5,
+            "gyro_misalignment_nrmse": 0.005,
+            "accel_misalignment_nrmse": 0.005,
+        },
+    )
+    assert fresh["bias_share_percent"]["least"] > 50.0
+
+
+@pytest.mark.slow
+def test_the_drive_with_other_settings_is_the_record():
+    """drive_0708 through the published filter's outage windows with other
+    settings (~15 s): every error to the cm, the latency to the ms, the
+    lever arm to the cm."""
+    fresh = _check(
+        "drive_other_settings",
+        {
+            "example": 0.005,
+            "offset_m0_125": 0.005,
+            "offset_m0_27": 0.005,
+            "fix_error_states": 0.005,
+            "installation_states": {
+                "forward_rms_m": 0.005,
+                "smoothed_rms_m": 0.005,
+                "smoothed_max_m": 0.005,
+                "velocity_latency_s": 5e-4,
+                "lever_arm_cm": 0,
+                "time_offset_s": 0.005,
+                "smoothed_rms_change_m": 0.005,
+            },
+            "aided_rms_m": 0.005,
+        },
+        needs_data=True,
+    )
+    # The states let the solution leave its input.
+    aided = fresh["aided_rms_m"]
+    assert aided["installation_states"] > aided["example"]
+
+
+def test_the_readme_describes_the_drive_example_by_its_schedule():
+    """The README's outage schedule is examples/drive_0708.toml's."""
+    _check("drive_example_schedule", 0.0)
+
+
+def test_the_tables_are_their_records():
+    """Each table a run fills (doc_runs.TABLES) is what its record renders
+    to: python docs/doc_runs.py NAME rewrites it."""
+    for name, (page, (begin, end), table) in doc_runs.TABLES.items():
+        text = (doc_runs.ROOT / "docs" / page).read_text()
+        block = text[text.index(begin) : text.index(end) + len(end)]
+        assert block == table(load_record(name)), f"rerun python docs/doc_runs.py {name}"
