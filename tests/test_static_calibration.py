@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_runs import nonlinear_errors, nonlinear_fit, plain_fit, plain_jacobian, plain_model
 from figures import figures as doc_figures
 from report_checks import capture_figures, page_problems
 from shared_data import shared_data
@@ -340,31 +341,6 @@ def test_warnings_are_python_warnings(excerpt):
 # pose means, scored on the same held-out poses.
 
 
-def _plain_model(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """imu_tk's a = T K (counts - b): T unit upper triangular (three
-    non-orthogonality angles), K diagonal scales per count, b offsets."""
-    t = np.array([[1.0, -x[6], x[7]], [0.0, 1.0, -x[8]], [0.0, 0.0, 1.0]])
-    return (counts - x[:3]) @ (t @ np.diag(x[3:6])).T
-
-
-def _plain_fit(counts: np.ndarray) -> np.ndarray:
-    """The 9 parameters minimising sum (|a_k| - g)^2 over pose means in counts."""
-    from scipy.optimize import least_squares
-
-    start = np.r_[np.full(3, 32768.0), np.full(3, GRAVITY / 3724.0), np.zeros(3)]
-    scale = np.r_[np.full(3, 100.0), np.full(3, 1e-5), np.full(3, 1e-2)]
-    result = least_squares(
-        lambda x: np.linalg.norm(_plain_model(x, counts), axis=1) - GRAVITY,
-        start,
-        x_scale=scale,
-        xtol=1e-15,
-        ftol=1e-15,
-        gtol=1e-15,
-    )
-    assert result.success
-    return result.x
-
-
 def _aicc(rss: float, n: int, parameters: int) -> float:
     """Hurvich and Tsai (1989): K counts the residual variance."""
     k = parameters + 1
@@ -409,7 +385,7 @@ SPLIT_KEYS = {"every 4th pose": "every_4th", "first half, second half": "halves"
 
 @pytest.mark.slow
 @pytest.mark.parametrize("split", ["every 4th pose", "first half, second half"])
-def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
+def test_xsens_held_out_poses_are_at_least_as_good_as_aplain_fit(xsens, split):
     """On poses the fit never saw, |f| - g RMS no worse than the
     plain 9-parameter fit's, the gyro's gravity direction after the held-out
     turns within 0.2°, and the model AICc chose is the one of smallest AICc."""
@@ -418,8 +394,8 @@ def test_xsens_held_out_poses_are_at_least_as_good_as_a_plain_fit(xsens, split):
     summary = mn.static_summary(cal)
     held_out = np.asarray(cal.pose_held_out)
     means = np.array([accel[a:b].mean(axis=0) for a, b in cal.poses])
-    x = _plain_fit(means[~held_out])
-    plain = np.linalg.norm(_plain_model(x, means), axis=1) - GRAVITY
+    x = plain_fit(means[~held_out])
+    plain = np.linalg.norm(plain_model(x, means), axis=1) - GRAVITY
     plain_held_out = np.sqrt(np.mean(plain[held_out] ** 2))
     plain_in_fit = np.sqrt(np.mean(plain[~held_out] ** 2))
     assert summary["magnitude_rms_after_held_out_m_s2"] <= 1.01 * plain_held_out
@@ -543,56 +519,7 @@ def _rms(values: np.ndarray) -> float:
 
 def _plain_errors(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
     """‖a_k‖ − g of the plain model for pose means in counts, m/s²."""
-    return np.linalg.norm(_plain_model(x, counts), axis=1) - GRAVITY
-
-
-def _plain_jacobian(x: np.ndarray, counts: np.ndarray) -> np.ndarray:
-    """∂(‖a_k‖ − g)/∂x by central differences (steps 1e-6 of each
-    parameter's size: the model is smooth and the columns span 1e-5 to
-    3e4 in size)."""
-    size = np.r_[np.full(3, 100.0), np.full(3, 1e-5), np.full(3, 1e-2)]
-    columns = []
-    for i, step in enumerate(1e-6 * size):
-        up, down = x.copy(), x.copy()
-        up[i] += step
-        down[i] -= step
-        columns.append((_plain_errors(up, counts) - _plain_errors(down, counts)) / (2 * step))
-    return np.column_stack(columns)
-
-
-def _nonlinear_errors(theta: np.ndarray, nominal: np.ndarray, axes: list[int]) -> np.ndarray:
-    """‖Γ_k‖ − g in memsnav's parametrisation (docs/explanation/calibration.md, "The
-    model and the fit"), written out: x = L s + b with L lower triangular
-    (memsnav's A⁻¹, the body x axis the accelerometer's u axis), then
-    Γ_i = 2x_i / (1 + √(1 − 4 N_i x_i)) on the nonlinear ``axes``;
-    theta = [b (3), L's diagonal − 1 (3), L_vu, L_wu, L_wv, N on axes]."""
-    lower = np.array(
-        [
-            [1 + theta[3], 0.0, 0.0],
-            [theta[6], 1 + theta[4], 0.0],
-            [theta[7], theta[8], 1 + theta[5]],
-        ]
-    )
-    x = nominal @ lower.T + theta[:3]
-    for n, axis in zip(theta[9:], axes, strict=True):
-        x[:, axis] = 2 * x[:, axis] / (1 + np.sqrt(1 - 4 * n * x[:, axis]))
-    return np.linalg.norm(x, axis=1) - GRAVITY
-
-
-def _nonlinear_fit(nominal: np.ndarray, axes: list[int]) -> np.ndarray:
-    from scipy.optimize import least_squares
-
-    scale = np.r_[np.full(3, 1e-2), np.full(6, 1e-3), np.full(len(axes), 1e-5)]
-    result = least_squares(
-        lambda theta: _nonlinear_errors(theta, nominal, axes),
-        np.zeros(9 + len(axes)),
-        x_scale=scale,
-        xtol=1e-15,
-        ftol=1e-15,
-        gtol=1e-15,
-    )
-    assert result.success
-    return result.x
+    return np.linalg.norm(plain_model(x, counts), axis=1) - GRAVITY
 
 
 @pytest.fixture(scope="module")
@@ -620,7 +547,7 @@ def test_why_memsnav_lost_on_unseen_poses_is_the_record(xsens, xsens_halves):
     half the last digit shown."""
     now, before, means, held = xsens_halves
     r = doc_figures("xsens_nonlinearity")
-    plain_all = 1e3 * _rms(_plain_errors(_plain_fit(means), means))
+    plain_all = 1e3 * _rms(_plain_errors(plain_fit(means), means))
     assert abs(plain_all - r["all_poses_plain_mm_s2"]) <= 0.005
 
     every_4th = _xsens_split(xsens, "every 4th pose", estimate="all")
@@ -682,7 +609,7 @@ def test_the_information_criteria_on_the_xsens_log_are_the_record(xsens, xsens_h
     (AICc without its third term) and BIC (K ln n for 2K) from the
     candidates' n and RSS; leave-one-out over the first half's 18 poses and
     N_v's held-out RMS from scipy fits in memsnav's parametrisation
-    (_nonlinear_errors, which reproduces the candidates' in-fit RMS)."""
+    (nonlinear_errors, which reproduces the candidates' in-fit RMS)."""
     every_pose = _xsens_split(xsens, "none")
     now, _, means, held = xsens_halves
     cals = [_xsens_split(xsens, "every 4th pose"), now, every_pose]
@@ -732,16 +659,16 @@ def test_the_information_criteria_on_the_xsens_log_are_the_record(xsens, xsens_h
     loo = {}
     for terms, candidate in candidates.items():
         axes = ["uvw".index(term[-1]) for term in terms]
-        theta = _nonlinear_fit(in_fit, axes)
-        rms = _rms(_nonlinear_errors(theta, in_fit, axes))
+        theta = nonlinear_fit(in_fit, axes)
+        rms = _rms(nonlinear_errors(theta, in_fit, axes))
         assert rms == pytest.approx(candidate["residual_rms"], rel=1e-6), terms
         left_out = [
-            _nonlinear_errors(_nonlinear_fit(np.delete(in_fit, k, 0), axes), in_fit[[k]], axes)
+            nonlinear_errors(nonlinear_fit(np.delete(in_fit, k, 0), axes), in_fit[[k]], axes)
             for k in range(len(in_fit))
         ]
         loo[terms] = _rms(np.concatenate(left_out))
         if terms == ("nonlinearity_v",):
-            second_half = _rms(_nonlinear_errors(theta, nominal[held], axes))
+            second_half = _rms(nonlinear_errors(theta, nominal[held], axes))
     assert min(loo, key=loo.get) == ("nonlinearity_v",), loo
     assert abs(1e3 * loo[("nonlinearity_v",)] - r["loo_mm_s2"]["nonlinearity_v"]) <= 0.005, loo
     assert abs(1e3 * loo[()] - r["loo_mm_s2"]["linear"]) <= 0.005, loo
@@ -767,7 +694,7 @@ def test_what_is_left_on_the_second_half_is_the_record(xsens, xsens_halves):
     # The plain fit on memsnav's poses: docs/data/xsens_splits.json, within
     # half the 0.01 mm/s² shown.
     plain = doc_figures("xsens_splits")["halves"]["plain"]
-    x = _plain_fit(means[~held])
+    x = plain_fit(means[~held])
     errors = _plain_errors(x, means)
     starts_after = t[np.asarray(now.poses)[:, 0]] > (t[0] + t[-1]) / 2
     assert starts_after.sum() == 19
@@ -779,16 +706,16 @@ def test_what_is_left_on_the_second_half_is_the_record(xsens, xsens_halves):
     r = doc_figures("xsens_second_half")
     fewest, most = r["later_split_poses"]["fewest"], r["later_split_poses"]["most"]
     later = [
-        1e3 * _rms(_plain_errors(_plain_fit(means[:m]), means[m:])) for m in range(fewest, most + 1)
+        1e3 * _rms(_plain_errors(plain_fit(means[:m]), means[m:])) for m in range(fewest, most + 1)
     ]
     shown = r["later_split_mm_s2"]
     assert abs(later[0] - shown["fewest_poses"]) <= 0.005, later
     assert abs(later[-1] - shown["most_poses"]) <= 0.005, later
     assert later[0] == max(later) and later[-1] == min(later), later
 
-    x_all = _plain_fit(means)
+    x_all = plain_fit(means)
     all_errors = _plain_errors(x_all, means)
-    z_up = _plain_model(x_all, means)[:, 2] / GRAVITY > 0.9
+    z_up = plain_model(x_all, means)[:, 2] / GRAVITY > 0.9
     assert z_up.sum() == r["z_up_poses"] and z_up[0]
     scatter = r["z_up_scatter_mm_s2"]
     assert abs(1e3 * all_errors[z_up].min() - scatter["least"]) <= 0.05, all_errors[z_up]
@@ -807,9 +734,9 @@ def test_what_is_left_on_the_second_half_is_the_record(xsens, xsens_halves):
     assert abs(1e3 * residual_std - sigma["first_half"]) <= 0.005
     all_std = 1e3 * np.sqrt(np.sum(all_errors**2) / (38 - 9))
     assert abs(all_std - sigma["all_poses"]) <= 0.005
-    jacobian = _plain_jacobian(x, means[~held])
+    jacobian = plain_jacobian(x, means[~held])
     covariance = residual_std**2 * np.linalg.inv(jacobian.T @ jacobian)
-    ahead = _plain_jacobian(x, means)
+    ahead = plain_jacobian(x, means)
     from_parameters = np.einsum("ij,jk,ik->i", ahead, covariance, ahead)
     sd = np.sqrt(residual_std**2 + from_parameters)
     assert abs(1e3 * _rms(sd[held]) - r["predicted_mm_s2"]) <= 0.005
