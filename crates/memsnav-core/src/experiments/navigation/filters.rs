@@ -268,7 +268,9 @@ fn branches_with<const N: usize>(
     chains: &[Vec<Branch<'_>>],
 ) -> Result<Vec<Vec<ImuRun>>> {
     let branches = || chains.iter().flatten();
-    let longest = branches().map(|b| b.samples).max().unwrap_or(0);
+    let Some(longest) = branches().map(|b| b.samples).max() else {
+        return Ok(chains.iter().map(|_| Vec::new()).collect());
+    };
     let misplaced = |b: &Branch| {
         b.samples <= split
             || b.out.first().is_some_and(|&k| k <= split)

@@ -27,7 +27,7 @@
 
 use std::ops::Range;
 
-use crate::gnss::{apply_outages, Outage, ReceiverTrack};
+use crate::gnss::{apply_outages, GnssEpoch, Outage, ReceiverTrack};
 use crate::montecarlo::{fold_range, RunOptions};
 use crate::random::Rng;
 use crate::{validate, Error, Result};
@@ -209,6 +209,23 @@ pub fn outage_study_runs(
     })
 }
 
+/// One (length, count) of a run: the epochs its window leaves, cut
+/// `tail_s` after it, the IMU samples up to there and its output epochs.
+struct Cut<'a> {
+    length: usize,
+    visible: usize,
+    epochs: Vec<GnssEpoch>,
+    samples: usize,
+    out: &'a [usize],
+}
+
+impl Cut<'_> {
+    /// Whether `cell` asks for this cut of IMU `imu`.
+    fn serves(&self, cell: &StudyCell, imu: usize) -> bool {
+        cell.imu == imu && cell.length == self.length && cell.visible == self.visible
+    }
+}
+
 /// One run's figures for every cell.
 fn run_cells(
     config: &OutageStudyConfig,
@@ -259,12 +276,13 @@ fn run_cells(
                 .iter()
                 .take_while(|t| inside(t))
                 .count();
-            groups.push((
-                (length, visible),
+            groups.push(Cut {
+                length,
+                visible,
+                samples: draws.truth.time_s.partition_point(|&t| t <= end_s),
                 epochs,
-                draws.truth.time_s.partition_point(|&t| t <= end_s),
-                &prepared.out[first..first + count],
-            ));
+                out: &prepared.out[first..first + count],
+            });
         }
     }
     // Every window starts at the same time: each IMU's filter runs to the
@@ -273,7 +291,7 @@ fn run_cells(
     // serves them all, each cell going on from a copy at its window's end.
     let split = groups
         .iter()
-        .filter_map(|(_, _, _, out)| out.first())
+        .filter_map(|g| g.out.first())
         .min()
         .map_or(0, |&k| k.saturating_sub(1));
     let time_s = &draws.truth.time_s;
@@ -295,15 +313,11 @@ fn run_cells(
         for visible in 0..config.visible_satellites.len() {
             let mut mine: Vec<usize> = (0..groups.len())
                 .filter(|&g| {
-                    let (length, v) = groups[g].0;
-                    v == visible
-                        && cells
-                            .iter()
-                            .any(|c| c.imu == imu && c.length == length && c.visible == v)
+                    groups[g].visible == visible && cells.iter().any(|c| groups[g].serves(c, imu))
                 })
                 .collect();
             mine.sort_by(|&a, &b| {
-                let length = |g: usize| config.outage_lengths_s[groups[g].0 .0];
+                let length = |g: usize| config.outage_lengths_s[groups[g].length];
                 length(a).total_cmp(&length(b))
             });
             if !mine.is_empty() {
@@ -319,10 +333,10 @@ fn run_cells(
                 chain
                     .iter()
                     .map(|&g| Branch {
-                        epochs: &groups[g].1,
-                        samples: groups[g].2,
-                        out: groups[g].3,
-                        agrees_until: window_end(groups[g].0 .0),
+                        epochs: &groups[g].epochs,
+                        samples: groups[g].samples,
+                        out: groups[g].out,
+                        agrees_until: window_end(groups[g].length),
                     })
                     .collect()
             })
@@ -338,9 +352,8 @@ fn run_cells(
         )?;
         for (chain, chain_runs) in chains.iter().zip(&runs) {
             for (&g, r) in chain.iter().zip(chain_runs) {
-                let (length, visible) = groups[g].0;
                 for (c, cell) in cells.iter().enumerate() {
-                    if cell.imu == imu && cell.length == length && cell.visible == visible {
+                    if groups[g].serves(cell, imu) {
                         out[c] = Some(CellRun {
                             forward: WindowFigures::of(r),
                             smoothed: r.smoothed.as_deref().map(WindowFigures::of),
