@@ -23,6 +23,7 @@ from pathlib import Path
 
 from marked_block import replace_block
 
+import memsnav as mn
 from memsnav.report.numbers import number
 from memsnav.reproduce import worker_threads
 from memsnav.study import Requirement, answer_lines, run_study, table_cells
@@ -30,6 +31,20 @@ from memsnav.study import Requirement, answer_lines, run_study, table_cells
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "examples" / "study_land_vehicle.toml"
 BEGIN, END = "<!-- study:begin -->", "<!-- study:end -->"
+
+
+def _look_error_sentence(looks: list[int], requirement: Requirement) -> str:
+    """Each look's error, exact, against Bonferroni's and what Bonferroni's
+    would err overall, in words."""
+    p, allowed = requirement.percentile / 100.0, 1.0 - requirement.confidence
+    exact = mn.sequential_look_error(looks, p, requirement.confidence)
+    union = allowed / len(looks)
+    worst = max(mn.sequential_error(looks, p, union))
+    return (
+        f"Each look's bounds err with probability {exact * 100:.2f} % (exact over the "
+        f"{len(looks)} looks); Bonferroni's {union * 100:.2f} % would keep a decision wrong "
+        f"at most {worst * 100:.1f} % of the time where {allowed * 100:g} % is allowed."
+    )
 
 
 def main() -> None:
@@ -56,6 +71,8 @@ def main() -> None:
         f"{summary['elapsed_s']:.0f} s of wall "
         f"time ({cpu:.0f} s of CPU) on {threads} threads, load average {load:.1f} at the "
         "start" + (" (other jobs shared the machine)." if load > threads else "."),
+        "",
+        _look_error_sentence(c["looks"], requirement),
         "",
         "What `memsnav study` prints (the answer, for the forward filter):",
         "",

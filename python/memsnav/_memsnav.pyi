@@ -616,6 +616,20 @@ def quantile_interval(
     ``coverage`` (the interval's exact coverage, at least ``confidence``),
     ``runs_for_upper`` (the fewest runs that give an upper bound)."""
 
+def sequential_error(looks: Sequence[int], p: float, look_error: float) -> tuple[float, float]:
+    """The probability that a cell decided in looks after ``looks`` runs
+    (cumulative, increasing) wrongly decides at some look, when its
+    ``p``-quantile sits at the requirement and each look's one-sided bounds
+    err with probability ``look_error``: ``(meets, fails)``. Exact (the
+    binomial count of runs at or below the requirement, carried from look
+    to look; a decision stops the cell)."""
+
+def sequential_look_error(looks: Sequence[int], p: float, confidence: float = 0.95) -> float:
+    """The largest per-look one-sided error at which a cell decided in
+    ``looks`` errs, on either side, with probability at most
+    ``1 - confidence`` (exact, see :func:`sequential_error`): never below
+    Bonferroni's ``(1 - confidence) / len(looks)``."""
+
 def allan_deviation(
     samples: npt.ArrayLike, rate_hz: float, taus: npt.ArrayLike | None = None
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:

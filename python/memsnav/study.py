@@ -378,8 +378,9 @@ def _report(
             "runs below it; ∞: too few runs to bound it from above). A cell meets the "
             "requirement when its upper bound is within it and fails when its lower bound is "
             "beyond; the study runs the cells still open in looks up to max_runs, each look's "
-            "bounds erring with the share of the error left to it (Bonferroni), so whichever "
-            "look decides, a decision is wrong with at most the complementary probability. "
+            "bounds erring with the largest common probability that keeps a decision, whichever "
+            "look makes it, wrong with at most the complementary probability (counted exactly: "
+            "the looks share their runs). "
             '"open": the cell shown is not decided yet. ' + lines[-1].strip()
         )
     else:

@@ -1,4 +1,5 @@
-//! `quantile_interval` (`memsnav_core::montecarlo`). Conversions only.
+//! `quantile_interval` and the sequential decision levels
+//! (`memsnav_core::montecarlo`). Conversions only.
 
 use memsnav_core::montecarlo;
 use memsnav_py_macros::catch_panics;
@@ -34,7 +35,33 @@ fn quantile_interval<'py>(
     Ok(d)
 }
 
+/// The probability that a cell decided in looks after `looks` runs
+/// (cumulative, increasing) wrongly decides at some look, when its
+/// `p`-quantile sits at the requirement and each look's one-sided bounds
+/// err with probability `look_error`: `(meets, fails)`. Exact (the
+/// binomial count of runs at or below the requirement, carried from look
+/// to look; a decision stops the cell).
+#[catch_panics]
+#[pyfunction]
+#[pyo3(signature = (looks, p, look_error))]
+fn sequential_error(looks: Vec<usize>, p: f64, look_error: f64) -> PyResult<(f64, f64)> {
+    montecarlo::sequential_error(&looks, p, look_error).py()
+}
+
+/// The largest per-look one-sided error at which a cell decided in
+/// `looks` errs, on either side, with probability at most
+/// `1 - confidence` (exact, see `sequential_error`): never below
+/// Bonferroni's `(1 - confidence) / len(looks)`.
+#[catch_panics]
+#[pyfunction]
+#[pyo3(signature = (looks, p, confidence=0.95))]
+fn sequential_look_error(looks: Vec<usize>, p: f64, confidence: f64) -> PyResult<f64> {
+    montecarlo::sequential_look_error(&looks, p, confidence).py()
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(quantile_interval, m)?)?;
+    m.add_function(wrap_pyfunction!(sequential_error, m)?)?;
+    m.add_function(wrap_pyfunction!(sequential_look_error, m)?)?;
     Ok(())
 }

@@ -31,9 +31,12 @@ look every cell still needed is decided from its runs' order statistics
 (:func:`memsnav.quantile_interval`): it **meets** the requirement when the
 percentile's one-sided upper confidence bound is at most ``max_error_m``,
 **fails** when its one-sided lower bound is above, and runs on otherwise.
-With K looks each bound errs with probability ``(1 - confidence) / K``
-(Bonferroni over the looks): whatever look decides, a decision is wrong
-with probability at most ``1 - confidence``. A cell is needed while
+Every look's bounds err with the same probability (:func:`look_error`),
+the largest that keeps a decision, whatever look makes it, wrong with
+probability at most ``1 - confidence``: computed exactly from the
+binomial count of runs within the requirement, which the looks share
+(:func:`memsnav.sequential_look_error`); Bonferroni's
+``(1 - confidence) / K`` over K looks would be safe but needlessly strict. A cell is needed while
 no shorter outage of its grade and count has failed (the answer is the
 longest outage met with every shorter one); the cells left are "not
 needed". Run i draws from ``(seed, i)`` whichever cells and looks compute
@@ -89,30 +92,44 @@ def looks(
 ) -> list[int]:
     """The runs per cell after each look: ``runs``; then from the fewest
     runs that can show a cell meets the requirement (none of them beyond
-    it, at the per-look error :func:`look_error`), doubling up to
-    ``max_runs`` (the last look). ``[runs]`` without ``max_runs``."""
+    it, at the schedule's per-look error :func:`look_error`), doubling up
+    to ``max_runs`` (the last look). ``[runs]`` without ``max_runs``."""
     if max_runs is None or max_runs <= runs:
         return [runs]
-    # The fewest looks K whose schedule has at most K looks.
-    count = 2
-    while True:
-        fewest = math.ceil(math.log(look_error(confidence, count)) / math.log(percentile / 100.0))
+
+    def schedule(error: float) -> list[int]:
+        fewest = math.ceil(math.log(error) / math.log(percentile / 100.0))
         out = [runs]
         n = max(fewest, 2 * runs)
         while n < max_runs:
             out.append(n)
             n *= 2
-        out.append(max_runs)
-        if len(out) <= count:
-            return out
+        return [*out, max_runs]
+
+    # Bonferroni's level over K looks gives a schedule of at most K looks
+    # (the fewest such K). The schedule's exact level is higher, so fewer
+    # runs can show a cell meets: bring the second look forward to them
+    # while the moved schedule's own exact level still allows it.
+    count = 2
+    while len(out := schedule((1.0 - confidence) / count)) > count:
         count += 1
+    while len(out) > 2:
+        moved = schedule(look_error(out, percentile, confidence))
+        can_meet = (percentile / 100.0) ** moved[1] <= look_error(moved, percentile, confidence)
+        if moved[1] >= out[1] or not can_meet:
+            break
+        out = moved
+    return out
 
 
-def look_error(confidence: float, looks: int) -> float:
+def look_error(schedule: list[int], percentile: float = 95.0, confidence: float = 0.95) -> float:
     """The error each look's one-sided bounds may make so that a decision,
-    whichever of the ``looks`` makes it, errs with probability at most
-    ``1 - confidence`` (Bonferroni over the looks)."""
-    return (1.0 - confidence) / looks
+    whichever look of ``schedule`` makes it, errs with probability at most
+    ``1 - confidence``: the largest such constant level, from the exact
+    probability that the count of runs within the requirement crosses a
+    look's bound (:func:`memsnav.sequential_look_error`). It is never below
+    Bonferroni's ``(1 - confidence) / len(schedule)``."""
+    return _mn.sequential_look_error(schedule, percentile / 100.0, confidence)
 
 
 @dataclass(frozen=True)
@@ -491,7 +508,7 @@ def outage_study(
     if duration is None:
         duration = outage_start + max(lengths) + TAIL_S
     schedule = looks(runs, max_runs, percentile, confidence)
-    error = look_error(confidence, len(schedule))
+    error = look_error(schedule, percentile, confidence)
     keys = [
         (g, li, vi)
         for g in range(len(names))

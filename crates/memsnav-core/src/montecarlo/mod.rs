@@ -15,11 +15,13 @@ use rayon::prelude::*;
 mod chunks;
 mod order_statistics;
 mod quantile;
+mod sequential;
 mod stats;
 
 pub use chunks::{execute, fold_chunks, run_chunk, MonteCarlo};
 pub use order_statistics::{binomial_cdf, quantile_interval, QuantileInterval};
 pub use quantile::P2Quantile;
+pub use sequential::{sequential_error, sequential_look_error};
 pub use stats::{CurveStats, PERCENTILES};
 
 use crate::random::{self, Rng};

@@ -34,14 +34,43 @@ pub fn binomial_cdf(k: usize, n: usize, p: f64) -> f64 {
     if k >= n {
         return 1.0;
     }
+    binomial_terms(n, p).take(k + 1).sum::<f64>().min(1.0)
+}
+
+/// P(Bin(n, p) = j) for j = 0, 1, …, n, each from the previous one's
+/// logarithm (the ratio of consecutive terms), so no binomial coefficient
+/// is formed.
+pub(super) fn binomial_terms(n: usize, p: f64) -> impl Iterator<Item = f64> {
     let (ln_p, ln_q) = (p.ln(), (-p).ln_1p());
     let mut ln_term = n as f64 * ln_q;
-    let mut sum = ln_term.exp();
-    for j in 0..k {
-        ln_term += ((n - j) as f64 / (j + 1) as f64).ln() + ln_p - ln_q;
-        sum += ln_term.exp();
-    }
-    sum.min(1.0)
+    (0..=n).map(move |j| {
+        if j > 0 {
+            ln_term += ((n - j + 1) as f64 / j as f64).ln() + ln_p - ln_q;
+        }
+        ln_term.exp()
+    })
+}
+
+/// The 1-based ranks (lower, upper) of the order statistics of `n` runs
+/// that bound the p-quantile from below and from above, each wrong with
+/// probability at most `tail`; None where no run does.
+pub(super) fn bound_ranks(n: usize, p: f64, tail: f64) -> (Option<usize>, Option<usize>) {
+    // cdf[k] = P(Bin(n, p) ≤ k), k < n, summed as binomial_cdf sums it.
+    let cdf: Vec<f64> = binomial_terms(n, p)
+        .take(n)
+        .scan(0.0, |sum, term| {
+            *sum += term;
+            Some(sum.min(1.0))
+        })
+        .collect();
+    let below = |rank: usize| cdf[rank - 1];
+    // Rank r bounds from below when P(X₍ᵣ₎ > ξ_p) = P(Bin ≤ r − 1) ≤ tail:
+    // the largest such r.
+    let lower = (1..=n).rev().find(|&r| below(r) <= tail);
+    // Rank s bounds from above when P(X₍ₛ₎ < ξ_p) = 1 − P(Bin ≤ s − 1) ≤
+    // tail: the smallest such s.
+    let upper = (1..=n).find(|&s| below(s) >= 1.0 - tail);
+    (lower, upper)
 }
 
 /// The equal-tailed `confidence` interval for the `p`-quantile of the
@@ -70,12 +99,7 @@ pub fn quantile_interval(values: &[f64], p: f64, confidence: f64) -> Result<Quan
     sorted.sort_by(f64::total_cmp);
     let n = sorted.len();
     let tail = 0.5 * (1.0 - confidence);
-    // Rank r (1-based) bounds from below when P(X₍ᵣ₎ > ξ_p) =
-    // P(Bin ≤ r − 1) ≤ tail: the largest such r.
-    let lower_rank = (1..=n).rev().find(|&r| binomial_cdf(r - 1, n, p) <= tail);
-    // Rank s bounds from above when P(X₍ₛ₎ < ξ_p) = 1 − P(Bin ≤ s − 1) ≤
-    // tail: the smallest such s.
-    let upper_rank = (1..=n).find(|&s| binomial_cdf(s - 1, n, p) >= 1.0 - tail);
+    let (lower_rank, upper_rank) = bound_ranks(n, p, tail);
     let below = lower_rank.map_or(0.0, |r| binomial_cdf(r - 1, n, p));
     let above = upper_rank.map_or(1.0, |s| binomial_cdf(s - 1, n, p));
     // The largest run bounds from above once p^n ≤ tail.
