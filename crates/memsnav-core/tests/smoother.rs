@@ -9,7 +9,7 @@ use memsnav_core::coupling::{self, *};
 use memsnav_core::filter::chi_square::mean_per_dof_band;
 use memsnav_core::filter::nees;
 use memsnav_core::filter::state::{BASE_STATES, WITH_ALL, WITH_RANGE_BIASES, WITH_SCALE_FACTORS};
-use memsnav_core::gnss::{Outage, SimulationConfig};
+use memsnav_core::gnss::{GnssEpoch, Outage, SimulationConfig};
 use memsnav_core::random::stream;
 use memsnav_core::sensors::ImuModel;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
@@ -29,8 +29,18 @@ fn run(seed: u64, loose: bool) -> Pair {
     run_with::<BASE_STATES>(seed, loose)
 }
 
-/// [`run`] with `N` error states.
-fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
+/// A drive with an outage, its IMU data, GNSS epochs and loose fixes.
+struct Scenario {
+    truth: Truth,
+    data_f: Vec<Vector3<f64>>,
+    data_w: Vec<Vector3<f64>>,
+    epochs: Vec<GnssEpoch>,
+    fixes: Vec<PositionFix>,
+    initial: InitialState,
+    tuning: FilterTuning,
+}
+
+fn scenario<const N: usize>(seed: u64) -> Scenario {
     let truth = drive(150.0, 100.0, true);
     let spec = bias_and_noise_spec(1e-2, 1e-4, 1e-3, 1e-4);
     let scale_factor_states = N == WITH_SCALE_FACTORS || N == WITH_ALL;
@@ -47,34 +57,77 @@ fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
         ..Default::default()
     };
     let epochs = gnss_for(&truth, &config, &mut rng);
-    let (f, w) = readings(&truth, &imu, &mut rng);
-    let data = imu_data(&truth, &f, &w);
+    let (data_f, data_w) = readings(&truth, &imu, &mut rng);
     let initial = exact_initial(&truth);
+    let fixes: Vec<PositionFix> = epochs
+        .iter()
+        .filter(|e| !e.measurements.is_empty())
+        .map(|e| {
+            let k = (e.time_s * 100.0).round() as usize;
+            PositionFix {
+                time_s: e.time_s,
+                position_ecef: truth.nav[k].position_ecef + n3(&mut rng) * 2.0,
+                position_covariance: Matrix3::identity() * 4.0,
+                velocity_ecef: None,
+                velocity_covariance: Matrix3::zeros(),
+                velocity_horizontal_only: false,
+            }
+        })
+        .collect();
+    Scenario {
+        truth,
+        data_f,
+        data_w,
+        epochs,
+        fixes,
+        initial,
+        tuning,
+    }
+}
+
+/// [`run`] with `N` error states.
+fn run_with<const N: usize>(seed: u64, loose: bool) -> Pair {
+    let sc = scenario::<N>(seed);
+    let data = imu_data(&sc.truth, &sc.data_f, &sc.data_w);
     let (forward, smoothed) = if loose {
-        let fixes: Vec<PositionFix> = epochs
-            .iter()
-            .filter(|e| !e.measurements.is_empty())
-            .map(|e| {
-                let k = (e.time_s * 100.0).round() as usize;
-                PositionFix {
-                    time_s: e.time_s,
-                    position_ecef: truth.nav[k].position_ecef + n3(&mut rng) * 2.0,
-                    position_covariance: Matrix3::identity() * 4.0,
-                    velocity_ecef: None,
-                    velocity_covariance: Matrix3::zeros(),
-                    velocity_horizontal_only: false,
-                }
-            })
-            .collect();
-        coupling::smoothed_solution::<N, _>(&data, &fixes, &initial, &tuning).unwrap()
+        coupling::smoothed_solution::<N, _>(&data, &sc.fixes, &sc.initial, &sc.tuning).unwrap()
     } else {
-        coupling::smoothed_solution::<N, _>(&data, &epochs, &initial, &tuning).unwrap()
+        coupling::smoothed_solution::<N, _>(&data, &sc.epochs, &sc.initial, &sc.tuning).unwrap()
     };
     Pair {
-        truth,
+        truth: sc.truth,
         forward,
         smoothed,
     }
+}
+
+/// The Monte Carlo's smoothing, which carries the error estimates alone,
+/// gives the positions of the whole smoothed solution bit for bit, and
+/// the forward run's records: tight (with range-bias slots set anew, resets
+/// the smoother goes back through) and loose.
+#[test]
+fn smoothed_positions_alone_equal_the_smoothed_solution() {
+    fn check<const N: usize>() {
+        let sc = scenario::<N>(11);
+        let data = imu_data(&sc.truth, &sc.data_f, &sc.data_w);
+        let ignore = |_, _: &FilterState<N>| {};
+        let (forward, smoothed) =
+            coupling::smoothed_solution::<N, _>(&data, &sc.epochs, &sc.initial, &sc.tuning)
+                .unwrap();
+        let (records, positions) =
+            coupling::run_smoothed::<N, _, _>(&data, &sc.epochs, &sc.initial, &sc.tuning, ignore)
+                .unwrap();
+        assert_eq!(positions, smoothed.position_ecef);
+        assert_eq!(records.measurements, forward.measurements);
+        let (_, smoothed) =
+            coupling::smoothed_solution::<N, _>(&data, &sc.fixes, &sc.initial, &sc.tuning).unwrap();
+        let (_, positions) =
+            coupling::run_smoothed::<N, _, _>(&data, &sc.fixes, &sc.initial, &sc.tuning, ignore)
+                .unwrap();
+        assert_eq!(positions, smoothed.position_ecef);
+    }
+    check::<BASE_STATES>();
+    check::<WITH_ALL>();
 }
 
 fn position_error(s: &Solution, truth: &Truth, k: usize) -> f64 {

@@ -9,13 +9,15 @@
 //!   ([`crate::filter::smoother`]).
 //! - [`run`], [`run_smoothed`]: the same, calling `observe(k, state)` after
 //!   each IMU sample k instead of storing the solution (the Monte Carlo
-//!   keeps only what it scores).
+//!   keeps only what it scores: of the smoothed solution, the positions).
 //! - [`run_paused`]: a run stopped after one sample, continued by
 //!   [`Paused::advance`] and [`Paused::finish`] on each of several aidings
 //!   that share its beginning (an outage study's cells).
 
-use super::engine::Solution;
+use nalgebra::Vector3;
+
 use super::engine::{self, AidingEpoch, FilterState, InitialState, Observe, SampleHook};
+use super::engine::{smoothed_positions, Solution};
 use super::records::RunRecords;
 use super::tuning::FilterTuning;
 use crate::ins::ImuData;
@@ -97,6 +99,10 @@ pub(crate) fn run_until_error<const N: usize, E: Aiding, H: SampleHook<N>>(
     Ok((state, stopped))
 }
 
+/// IMU positions (m, ECEF) of consecutive samples, and the IMU sample of
+/// the first.
+pub(crate) type PositionsFrom = (Vec<Vector3<f64>>, usize);
+
 /// A run paused after one IMU sample ([`run_paused`]): the filter state
 /// there and what its updates need. [`Paused::advance`] and
 /// [`Paused::finish`] continue a copy of it, so runs that share their
@@ -106,9 +112,9 @@ pub(crate) struct Paused<const N: usize, E: Aiding> {
     prepared: E::Prepared,
     progress: engine::Progress,
     tolerance_s: f64,
-    /// Once a copy smooths: the forward solution since its smoother's log
-    /// began, and the IMU sample of its row 0.
-    recorded: Option<(Solution, usize)>,
+    /// Once a copy smooths: the forward positions since its smoother's log
+    /// began, and the IMU sample of the first.
+    recorded: Option<PositionsFrom>,
 }
 
 /// The filter over `imu` and `epochs` up to IMU sample `last`, paused
@@ -185,23 +191,25 @@ impl<const N: usize, E: Aiding> Paused<N, E> {
     /// A copy of the paused run continued to the end of `imu` and `epochs`
     /// (as [`Self::advance`]). Returns the whole run's measurement records
     /// and, when it smooths (`smooth`, or an earlier copy began to), the
-    /// smoothed solution of the samples after the pause the smoothing
-    /// began at, with the IMU sample of its row 0 (the backward pass needs
-    /// nothing before them; its records are empty).
+    /// smoothed IMU positions of the samples after the pause the smoothing
+    /// began at, with the IMU sample of the first (the backward pass needs
+    /// nothing before them).
     pub(crate) fn finish<O>(
         &self,
         imu: &ImuData,
         epochs: &[E],
         smooth: bool,
         observe: O,
-    ) -> Result<(RunRecords, Option<(Solution, usize)>)>
+    ) -> Result<(RunRecords, Option<PositionsFrom>)>
     where
         O: FnMut(usize, &FilterState<N>),
     {
         let last = imu.time_s.len() - 1;
         let (mut state, _, recorded) = self.go_on(imu, epochs, last, smooth, observe)?;
         let smoothed = match (recorded, state.kf.take_smoother()) {
-            (Some((sol, first)), Some(mut log)) => Some((sol.smoothed(&mut log)?, first)),
+            (Some((positions, first)), Some(mut log)) => {
+                Some((smoothed_positions(&positions, &mut log)?, first))
+            }
             _ => None,
         };
         Ok((state.take_records(), smoothed))
@@ -209,7 +217,6 @@ impl<const N: usize, E: Aiding> Paused<N, E> {
 
     /// The copy's state, where it stands and what it recorded, after
     /// running on to `last`.
-    #[allow(clippy::type_complexity)]
     fn go_on<O>(
         &self,
         imu: &ImuData,
@@ -217,7 +224,7 @@ impl<const N: usize, E: Aiding> Paused<N, E> {
         last: usize,
         smooth: bool,
         mut observe: O,
-    ) -> Result<(FilterState<N>, engine::Progress, Option<(Solution, usize)>)>
+    ) -> Result<(FilterState<N>, engine::Progress, Option<PositionsFrom>)>
     where
         O: FnMut(usize, &FilterState<N>),
     {
@@ -228,15 +235,12 @@ impl<const N: usize, E: Aiding> Paused<N, E> {
         if smooth && recorded.is_none() {
             let remaining = last.saturating_sub(self.progress.sample);
             state.enable_smoother(remaining);
-            recorded = Some((
-                Solution::with_capacity(remaining, N),
-                self.progress.sample + 1,
-            ));
+            recorded = Some((Vec::with_capacity(remaining), self.progress.sample + 1));
         }
         let mut hook = Observe(|k, s: &FilterState<N>| {
             observe(k, s);
-            if let Some((sol, _)) = recorded.as_mut() {
-                sol.push(imu.time_s[k], s);
+            if let Some((positions, _)) = recorded.as_mut() {
+                positions.push(s.nav.position_ecef);
             }
         });
         let update = |s: &mut FilterState<N>, i, e: &E| E::update(s, &self.prepared, i, e);
@@ -271,26 +275,39 @@ where
     Ok(state.take_records())
 }
 
-/// [`run`] and the smoothed solution: `observe(k, state)` sees the forward
-/// filter after each IMU sample k; returns the forward measurement records
-/// and the fixed-interval smoothed solution.
+/// [`run`] and the smoothed positions: `observe(k, state)` sees the
+/// forward filter after each IMU sample k; returns the forward measurement
+/// records and the fixed-interval smoothed IMU position at every sample,
+/// m (those of [`smoothed_solution`], bit for bit, without smoothing the
+/// covariance).
 pub fn run_smoothed<const N: usize, E: Aiding, O>(
     imu: &ImuData,
     epochs: &[E],
     initial: &InitialState,
     tuning: &FilterTuning,
-    observe: O,
-) -> Result<(RunRecords, Solution)>
+    mut observe: O,
+) -> Result<(RunRecords, Vec<Vector3<f64>>)>
 where
     O: FnMut(usize, &FilterState<N>),
 {
-    let (forward, smoothed) = solve(imu, epochs, initial, tuning, true, observe)?;
-    let records = RunRecords {
-        measurements: forward.measurements,
-        batches: forward.batches,
-        resets: forward.resets,
-    };
-    Ok((records, smoothed.expect("asked for")))
+    let mut positions = Vec::with_capacity(imu.time_s.len());
+    let mut state = run_with_hook::<N, E, _>(
+        imu,
+        epochs,
+        initial,
+        tuning,
+        true,
+        &mut Observe(|k, s: &FilterState<N>| {
+            observe(k, s);
+            positions.push(s.nav.position_ecef);
+        }),
+    )?;
+    let mut log = state
+        .kf
+        .take_smoother()
+        .expect("the run records for the smoother");
+    let smoothed = smoothed_positions(&positions, &mut log)?;
+    Ok((state.take_records(), smoothed))
 }
 
 /// The filter's whole solution at every IMU sample.

@@ -503,8 +503,7 @@ impl Transition {
 /// sparse product by the columns of Φ.
 fn adjoint<const N: usize>(
     lambda: &mut SVector<f64, N>,
-    after: &SMatrix<f64, N, N>,
-    factor: &mut SMatrix<f64, N, N>,
+    factor: Option<super::smoother::Factor<'_, N>>,
     phi: &Transition,
     columns: &mut Columns,
 ) {
@@ -512,7 +511,9 @@ fn adjoint<const N: usize>(
     let (source, mut row) = (lambda.transpose(), lambda.transpose());
     sparse_product::<1, N, false>(columns, &source.data.0, row.as_mut_slice());
     *lambda = row.transpose();
-    column_product(columns, after, factor);
+    if let Some((after, factor)) = factor {
+        column_product(columns, after, factor);
+    }
 }
 
 /// The filter's own propagation as the smoother reverses it and carries
@@ -559,7 +560,7 @@ impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
     fn carry(
         &mut self,
         step: &Self::Step,
-        (z, factor, next): super::smoother::Root<'_, N>,
+        root: Option<super::smoother::Root<'_, N>>,
         y: &mut SVector<f64, N>,
         lambda_after: &SVector<f64, N>,
     ) {
@@ -567,18 +568,22 @@ impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
         phi.columns_into::<N>(&mut self.columns);
         // Z′ = Z Φᵀ + R′ Q and y ← Φ y + Q λ′ ((Φ y)ᵀ = yᵀ Φᵀ): the
         // products with Φ first, then Q's terms, formed once for both.
-        column_product(&self.columns, z, next);
+        let mut root = root.map(|(z, factor, next)| {
+            column_product(&self.columns, z, next);
+            (factor.as_slice(), next.as_mut_slice())
+        });
         let (source, mut row) = (y.transpose(), y.transpose());
         sparse_product::<1, N, false>(&self.columns, &source.data.0, row.as_mut_slice());
         *y = row.transpose();
         // Columns of the column-major matrices are contiguous: the plain
         // loop vectorises where nalgebra's strided `axpy` does not (same
         // sums, same rounding).
-        let (source, target) = (factor.as_slice(), next.as_mut_slice());
         for_each_process_noise::<N>(&d, &step.0, |i, j, q| {
-            let from = &source[i * N..(i + 1) * N];
-            for (t, f) in target[j * N..(j + 1) * N].iter_mut().zip(from) {
-                *t += q * f;
+            if let Some((source, target)) = root.as_mut() {
+                let from = &source[i * N..(i + 1) * N];
+                for (t, f) in target[j * N..(j + 1) * N].iter_mut().zip(from) {
+                    *t += q * f;
+                }
             }
             y[i] += q * lambda_after[j];
         });
@@ -588,11 +593,10 @@ impl<const N: usize> super::smoother::StepModel<N> for InsStepModel {
         &mut self,
         step: &Self::Step,
         lambda: &mut SVector<f64, N>,
-        after: &SMatrix<f64, N, N>,
-        factor: &mut SMatrix<f64, N, N>,
+        factor: Option<super::smoother::Factor<'_, N>>,
     ) {
         let (phi, _) = self.transition::<N>(step);
-        adjoint(lambda, after, factor, &phi, &mut self.columns);
+        adjoint(lambda, factor, &phi, &mut self.columns);
     }
 }
 
@@ -940,15 +944,19 @@ mod tests {
         let mut factor = SMatrix::<f64, N, N>::zeros();
         let (l_dense, r_dense) = (phi.transpose() * lambda, after * phi);
         let d = Discretisation::new(&nz, dt);
+        let mut alone = lambda;
+        let phi = Transition::new::<N>(&inp, &d);
         adjoint(
             &mut lambda,
-            &after,
-            &mut factor,
-            &Transition::new::<N>(&inp, &d),
+            Some((&after, &mut factor)),
+            &phi,
             &mut Columns::new(),
         );
         assert!((lambda - l_dense).abs().max() < 1e-13 * l_dense.abs().max().max(1.0));
         assert!((factor - r_dense).abs().max() < 1e-12 * r_dense.abs().max());
+        // Without the factor, λ is the same bit for bit.
+        adjoint(&mut alone, None, &phi, &mut Columns::new());
+        assert_eq!(alone, lambda);
     }
 
     #[test]
@@ -979,9 +987,13 @@ mod tests {
         let z_dense = z0 * phi.transpose() + after * q;
         let y_dense = phi * y0 + q * lambda;
         let (mut z, mut y) = (SMatrix::<f64, N, N>::zeros(), y0);
-        InsStepModel::new(nz).carry(&(inp, dt), (&z0, &after, &mut z), &mut y, &lambda);
+        InsStepModel::new(nz).carry(&(inp, dt), Some((&z0, &after, &mut z)), &mut y, &lambda);
         assert!((z - z_dense).abs().max() < 1e-12 * z_dense.abs().max(), "Z");
         assert!((y - y_dense).abs().max() < 1e-12 * y_dense.abs().max(), "y");
+        // Without the root, y is the same bit for bit.
+        let mut alone = y0;
+        InsStepModel::new(nz).carry(&(inp, dt), None, &mut alone, &lambda);
+        assert_eq!(alone, y);
     }
 
     #[test]

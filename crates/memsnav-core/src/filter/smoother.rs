@@ -84,24 +84,28 @@ pub use super::measurement::ScalarStep;
 pub trait StepModel<const N: usize> {
     /// What a step needs to rebuild its Φ and Q.
     type Step: Copy;
-    /// λ ← Φᵀ λ and R = R′ Φ from the factor R′ `after` the step.
+    /// λ ← Φᵀ λ and, with `factor` = (R′, R), R = R′ Φ from the factor R′
+    /// after the step (None: the error estimate alone).
     fn adjoint(
         &mut self,
         step: &Self::Step,
         lambda: &mut SVector<f64, N>,
-        after: &SMatrix<f64, N, N>,
-        factor: &mut SMatrix<f64, N, N>,
+        factor: Option<Factor<'_, N>>,
     );
-    /// Over the step: Z′ = Z Φᵀ + R′ Q (`root` = (Z, R′, Z′)) and
-    /// y ← Φ y + Q λ′, λ′ the adjoint after the step.
+    /// Over the step: y ← Φ y + Q λ′, λ′ the adjoint after the step, and
+    /// with `root` = (Z, R′, Z′), Z′ = Z Φᵀ + R′ Q (None: the error
+    /// estimate alone).
     fn carry(
         &mut self,
         step: &Self::Step,
-        root: Root<'_, N>,
+        root: Option<Root<'_, N>>,
         y: &mut SVector<f64, N>,
         lambda_after: &SVector<f64, N>,
     );
 }
+
+/// The factor R′ after a step and where the factor R = R′ Φ before it goes.
+pub type Factor<'a, const N: usize> = (&'a SMatrix<f64, N, N>, &'a mut SMatrix<f64, N, N>);
 
 /// The root Z = R P⁺ before a step, the factor R′ after it, and where Z′
 /// goes.
@@ -297,6 +301,33 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
     /// estimate and covariance, segment by segment from the last (outputs
     /// in recorded order within a segment).
     pub fn smooth(&mut self, mut emit: impl FnMut(&Smoothed<'_, N>)) {
+        self.pass(true, |output, error, root| {
+            let root = root.expect("the covariance pass carries Z");
+            emit(&Smoothed {
+                output,
+                error,
+                root,
+                reduction_diagonal: column_norms(root),
+            })
+        });
+    }
+
+    /// The smoothed error estimates alone, in the order of
+    /// [`Self::smooth`] and equal to its bit for bit: `emit(output,
+    /// error)`. The pass carries λ and y only, neither the factor R nor
+    /// Z, so each step costs a sparse matrix-vector product instead of
+    /// two sparse matrix products.
+    pub fn smooth_errors(&mut self, mut emit: impl FnMut(usize, &SVector<f64, N>)) {
+        self.pass(false, |output, error, _| emit(output, &error));
+    }
+
+    /// The backward and forward passes (module docs), with the covariance's
+    /// factor and root when `covariance`: `emit(output, error, Z)`.
+    fn pass(
+        &mut self,
+        covariance: bool,
+        mut emit: impl FnMut(usize, SVector<f64, N>, Option<&SMatrix<f64, N, N>>),
+    ) {
         let mut lambda = SVector::<f64, N>::zeros();
         let (mut roots, mut current) = ([SMatrix::<f64, N, N>::zeros(); 2], 0);
         let mut rows: Vec<SVector<f64, N>> = Vec::new();
@@ -324,13 +355,13 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
             factor_of_op.clear();
             factor_of_op.resize(ops.len(), u32::MAX);
             for (i, op) in ops.iter().enumerate().rev() {
-                if !matches!(op, Op::Scalar(_)) {
+                if covariance && !matches!(op, Op::Scalar(_)) {
                     fold_rows(&mut factors[factor], &mut rows);
                 }
                 match *op {
                     Op::Output => {
                         lambdas.push(lambda);
-                        if i == 0 || !matches!(ops[i - 1], Op::Step(_)) {
+                        if covariance && (i == 0 || !matches!(ops[i - 1], Op::Step(_))) {
                             factor_of_op[i] = factor as u32;
                             if i > 0 {
                                 let next = next_slot(&mut factors, factor);
@@ -340,27 +371,30 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
                             }
                         }
                     }
-                    Op::Step(s) => {
+                    Op::Step(s) if covariance => {
                         factor_of_op[i] = factor as u32;
                         let next = next_slot(&mut factors, factor);
                         let (head, tail) = factors.split_at_mut(next);
                         self.model.adjoint(
                             &self.steps[s as usize],
                             &mut lambda,
-                            &head[factor],
-                            &mut tail[0],
+                            Some((&head[factor], &mut tail[0])),
                         );
                         factor = next;
                     }
+                    Op::Step(s) => self
+                        .model
+                        .adjoint(&self.steps[s as usize], &mut lambda, None),
                     Op::Scalar(s) => adjoint_scalar(
                         &self.scalars[s as usize],
                         &mut lambda,
-                        &mut factors[factor],
-                        &mut rows,
+                        covariance.then_some((&mut factors[factor], &mut rows)),
                     ),
-                    Op::Reset(r) => {
-                        adjoint_reset(&self.resets[r as usize], &mut lambda, &mut factors[factor])
-                    }
+                    Op::Reset(r) => adjoint_reset(
+                        &self.resets[r as usize],
+                        &mut lambda,
+                        covariance.then_some(&mut factors[factor]),
+                    ),
                 }
             }
             // Forward through the segment from its kept covariance: Z and y
@@ -370,11 +404,13 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
             let first_output = output - lambdas.len();
             let lambda_at = |k: usize| &lambdas[lambdas.len() - 1 - (k - first_output)];
             let mut y = p0 * lambda_at(first_output);
-            roots[current] = factors[factor_of_op[0] as usize] * p0;
+            if covariance {
+                roots[current] = factors[factor_of_op[0] as usize] * p0;
+            }
             let mut k = first_output;
             for (i, op) in ops.iter().enumerate() {
                 match *op {
-                    Op::Step(s) if k < output => {
+                    Op::Step(s) if k < output && covariance => {
                         let after = &factors[factor_of_op[i] as usize];
                         let (first, second) = roots.split_at_mut(1);
                         let (z, next) = match current {
@@ -383,20 +419,18 @@ impl<const N: usize, M: StepModel<N>> SmootherLog<N, M> {
                         };
                         self.model.carry(
                             &self.steps[s as usize],
-                            (z, after, next),
+                            Some((z, after, next)),
                             &mut y,
                             lambda_at(k),
                         );
                         current = 1 - current;
                     }
+                    Op::Step(s) if k < output => {
+                        self.model
+                            .carry(&self.steps[s as usize], None, &mut y, lambda_at(k));
+                    }
                     Op::Output => {
-                        let root = &roots[current];
-                        emit(&Smoothed {
-                            output: k,
-                            error: -y,
-                            root,
-                            reduction_diagonal: column_norms(root),
-                        });
+                        emit(k, -y, covariance.then_some(&roots[current]));
                         k += 1;
                     }
                     _ => {}
@@ -475,13 +509,15 @@ fn fold_rows<const N: usize>(factor: &mut SMatrix<f64, N, N>, rows: &mut Vec<SVe
 fn adjoint_scalar<const N: usize>(
     s: &ScalarStep<N>,
     lambda: &mut SVector<f64, N>,
-    factor: &mut SMatrix<f64, N, N>,
-    rows: &mut Vec<SVector<f64, N>>,
+    factor: Option<(&mut SMatrix<f64, N, N>, &mut Vec<SVector<f64, N>>)>,
 ) {
     let h = s.measurement.h.to_dense::<N>();
     let k = &s.gain;
     let kl = k.dot(lambda);
     *lambda -= h * (kl + s.innovation / s.innovation_variance);
+    let Some((factor, rows)) = factor else {
+        return;
+    };
     let rk = *factor * k;
     super::add_outer(factor, -1.0, &rk, &h);
     for row in rows.iter_mut() {
@@ -491,18 +527,20 @@ fn adjoint_scalar<const N: usize>(
     rows.push(h / s.innovation_variance.sqrt());
 }
 
-/// λ ← Tᵀ λ, Λ ← Tᵀ Λ T (R ← R T) for the reset's map T (the identity for
-/// changes of the covariance alone).
+/// λ ← Tᵀ λ, Λ ← Tᵀ Λ T (R ← R T, with the `factor`) for the reset's map
+/// T (the identity for changes of the covariance alone).
 fn adjoint_reset<const N: usize>(
     r: &ResetStep,
     lambda: &mut SVector<f64, N>,
-    factor: &mut SMatrix<f64, N, N>,
+    mut factor: Option<&mut SMatrix<f64, N, N>>,
 ) {
     match *r {
         ResetStep::Block { first, len, .. } => {
             for i in first..first + len {
                 lambda[i] = 0.0;
-                factor.column_mut(i).fill(0.0);
+                if let Some(f) = factor.as_deref_mut() {
+                    f.column_mut(i).fill(0.0);
+                }
             }
         }
         ResetStep::Component {
@@ -511,8 +549,10 @@ fn adjoint_reset<const N: usize>(
             let t = nalgebra::Matrix3::identity() - direction * direction.transpose();
             let l = t * lambda.fixed_rows::<3>(first);
             lambda.fixed_rows_mut::<3>(first).copy_from(&l);
-            let cols = factor.fixed_columns::<3>(first) * t;
-            factor.fixed_columns_mut::<3>(first).copy_from(&cols);
+            if let Some(f) = factor {
+                let cols = f.fixed_columns::<3>(first) * t;
+                f.fixed_columns_mut::<3>(first).copy_from(&cols);
+            }
         }
         ResetStep::Shear {
             target,
@@ -524,9 +564,11 @@ fn adjoint_reset<const N: usize>(
             let l = matrix.transpose() * lambda.fixed_rows::<3>(target);
             let mut ls = lambda.fixed_rows_mut::<3>(source);
             ls += l;
-            let cols = factor.fixed_columns::<3>(target) * matrix;
-            let mut fs = factor.fixed_columns_mut::<3>(source);
-            fs += cols;
+            if let Some(f) = factor {
+                let cols = f.fixed_columns::<3>(target) * matrix;
+                let mut fs = f.fixed_columns_mut::<3>(source);
+                fs += cols;
+            }
         }
         ResetStep::Inflate { .. } | ResetStep::Fade { .. } | ResetStep::AddVariance { .. } => {}
     }
@@ -546,24 +588,22 @@ mod tests {
 
     impl<const N: usize> StepModel<N> for Dense<N> {
         type Step = ();
-        fn adjoint(
-            &mut self,
-            _: &(),
-            l: &mut SVector<f64, N>,
-            after: &SMatrix<f64, N, N>,
-            r: &mut SMatrix<f64, N, N>,
-        ) {
+        fn adjoint(&mut self, _: &(), l: &mut SVector<f64, N>, factor: Option<Factor<'_, N>>) {
             *l = self.phi.transpose() * *l;
-            *r = after * self.phi;
+            if let Some((after, r)) = factor {
+                *r = after * self.phi;
+            }
         }
         fn carry(
             &mut self,
             _: &(),
-            (z, r, next): Root<'_, N>,
+            root: Option<Root<'_, N>>,
             y: &mut SVector<f64, N>,
             lambda_after: &SVector<f64, N>,
         ) {
-            *next = z * self.phi.transpose() + r * self.q;
+            if let Some((z, r, next)) = root {
+                *next = z * self.phi.transpose() + r * self.q;
+            }
             *y = self.phi * *y + self.q * lambda_after;
         }
     }
@@ -628,6 +668,14 @@ mod tests {
             let (x, p) = forward[s.output];
             smoothed[s.output] = Some((x + s.error, p - reduction));
         });
+        // The estimates alone are the same, bit for bit.
+        let mut outputs = 0;
+        log.smooth_errors(|k, error| {
+            let (x, _) = forward[k];
+            assert_eq!(smoothed[k].unwrap().0, x + error);
+            outputs += 1;
+        });
+        assert_eq!(outputs, steps + 1);
         // Batch: unknowns x_0..x_K (2(K+1)); rows whitened by their covariance.
         let n = N * (steps + 1);
         let mut a = DMatrix::<f64>::zeros(0, n);
@@ -760,6 +808,10 @@ mod tests {
             log.smooth(|s| {
                 let (x, p) = forward[s.output];
                 smoothed[s.output] = Some((x + s.error, p - s.reduction()));
+            });
+            // The estimates alone, through the shear too, bit for bit.
+            log.smooth_errors(|k, error| {
+                assert_eq!(smoothed[k].unwrap().0, forward[k].0 + error);
             });
             smoothed
         };

@@ -465,6 +465,36 @@ fn corrected_nav<const N: usize>(nav: &NavState, x: &crate::filter::ErrorState<N
     }
 }
 
+/// The smoothed IMU positions of a run whose forward positions (one per
+/// output of `log`) are `position_ecef`, m: each corrected by its smoothed
+/// error as [`Solution::smoothed`] corrects it, bit for bit, from the
+/// pass that carries the error estimates alone
+/// ([`crate::filter::smoother::SmootherLog::smooth_errors`]). For runs
+/// that score positions only (the Monte Carlo experiments).
+pub(crate) fn smoothed_positions<const N: usize>(
+    position_ecef: &[Vector3<f64>],
+    log: &mut crate::filter::smoother::SmootherLog<N, crate::filter::InsStepModel>,
+) -> Result<Vec<Vector3<f64>>> {
+    check_outputs(log, position_ecef.len())?;
+    let mut out = position_ecef.to_vec();
+    log.smooth_errors(|k, error| out[k] -= crate::filter::ErrorState::<N>(*error).position());
+    Ok(out)
+}
+
+/// A smoother's log must hold one output per sample to be smoothed.
+fn check_outputs<const N: usize>(
+    log: &crate::filter::smoother::SmootherLog<N, crate::filter::InsStepModel>,
+    samples: usize,
+) -> Result<()> {
+    if log.outputs() == samples {
+        return Ok(());
+    }
+    Err(Error::invalid(
+        "smoother",
+        format!("{} outputs recorded for {samples} samples", log.outputs()),
+    ))
+}
+
 /// The upper triangles (P_xy, P_xz, P_yz) of three symmetric blocks, in
 /// the layout of [`Solution::navigation_covariance_off_diagonal`].
 fn off_diagonal(blocks: [Matrix3<f64>; 3]) -> [f64; 9] {
@@ -868,16 +898,7 @@ impl Solution {
         &self,
         log: &mut crate::filter::smoother::SmootherLog<N, crate::filter::InsStepModel>,
     ) -> Result<Solution> {
-        if log.outputs() != self.time_s.len() {
-            return Err(Error::invalid(
-                "smoother",
-                format!(
-                    "{} outputs recorded for {} samples",
-                    log.outputs(),
-                    self.time_s.len()
-                ),
-            ));
-        }
+        check_outputs(log, self.time_s.len())?;
         let mut out = self.clone();
         log.smooth(|s| {
             let k = s.output;

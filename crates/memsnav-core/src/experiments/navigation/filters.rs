@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::attitude::dcm_to_rotation_vector;
 use crate::coupling::{
     self, initial_state_from_fix, Aiding, FilterState, FilterTuning, InitialState,
-    MeasurementStatus, PositionFix, Solution,
+    MeasurementStatus, PositionFix,
 };
 use crate::filter::state::ATTITUDE;
 use crate::filter::Layout;
@@ -206,7 +206,7 @@ fn navigate_with<const N: usize>(
             forward_and_smoothed(&imu, fixes, &initial, tuning, setup.smooth, observe)?
         }
     };
-    Ok(curves.finish(&records, smoothed.as_ref().map(|s| (s, 0))))
+    Ok(curves.finish(&records, smoothed.as_deref().map(|s| (s, 0))))
 }
 
 /// One branch of [`navigate_branches`]: its epochs, the IMU samples it
@@ -324,7 +324,10 @@ fn branches_with<const N: usize>(
                 let imu = imu_data(truth, input, b.samples);
                 let (records, smoothed) = here.finish(&imu, b.epochs, setup.smooth, observe)?;
                 let c = std::mem::replace(&mut curves[i], Curves::new(truth, &[]));
-                runs.push(c.finish(&records, smoothed.as_ref().map(|(s, first)| (s, *first))));
+                runs.push(c.finish(
+                    &records,
+                    smoothed.as_ref().map(|(s, first)| (&s[..], *first)),
+                ));
                 paused = Some(here);
             }
             Ok(runs)
@@ -418,8 +421,9 @@ impl<'a> Curves<'a> {
     }
 
     /// The run with its records' counts and, when smoothed, the smoothed
-    /// curves (`smoothed`: the solution and the IMU sample of its first row).
-    fn finish(self, records: &RunRecords, smoothed: Option<(&Solution, usize)>) -> ImuRun {
+    /// curves (`smoothed`: the smoothed IMU positions and the IMU sample
+    /// of the first).
+    fn finish(self, records: &RunRecords, smoothed: Option<(&[Vector3<f64>], usize)>) -> ImuRun {
         let accepted = records
             .measurements
             .iter()
@@ -441,7 +445,8 @@ impl<'a> Curves<'a> {
     }
 }
 
-/// The forward filter's records, and its smoothed solution with `smooth`.
+/// The forward filter's records, and its smoothed IMU positions with
+/// `smooth`.
 fn forward_and_smoothed<const N: usize, E: Aiding, O>(
     imu: &ImuData,
     epochs: &[E],
@@ -449,7 +454,7 @@ fn forward_and_smoothed<const N: usize, E: Aiding, O>(
     tuning: &FilterTuning,
     smooth: bool,
     observe: O,
-) -> Result<(RunRecords, Option<Solution>)>
+) -> Result<(RunRecords, Option<Vec<Vector3<f64>>>)>
 where
     O: FnMut(usize, &FilterState<N>),
 {
@@ -461,11 +466,11 @@ where
     }
 }
 
-/// The position error curves of a smoothed solution at the output epochs
-/// (its row 0 is IMU sample `first`).
+/// The position error curves of smoothed IMU positions at the output
+/// epochs (the first is IMU sample `first`).
 fn smoothed_curves(
     truth: &Trajectory,
-    smoothed: &Solution,
+    smoothed_position_ecef: &[Vector3<f64>],
     first: usize,
     out: &[usize],
     rejected: usize,
@@ -485,7 +490,7 @@ fn smoothed_curves(
     };
     for &k in out {
         let t = truth.nav_state(k);
-        let error = smoothed.position_ecef[k - first] - t.position_ecef;
+        let error = smoothed_position_ecef[k - first] - t.position_ecef;
         let (horizontal, vertical) = horizontal_vertical(&t.position_ecef, &error);
         run.position_error.push(error.norm());
         run.horizontal_error.push(horizontal);
