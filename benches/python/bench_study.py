@@ -30,9 +30,9 @@ from pathlib import Path
 from memsnav.study import run_study
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import bench_tight  # noqa: E402 (the peer loop lives beside this file)
+import bench_tight
 
-import memsnav as mn  # noqa: E402
+import memsnav as mn
 
 ROOT = Path(__file__).resolve().parents[2]
 
