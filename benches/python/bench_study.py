@@ -6,7 +6,11 @@ of ``bench_tight.py`` over part of its 600 s run, extrapolated per IMU
 epoch to the whole run.
 
     python benches/python/bench_study.py results.json [--config FILE]
-        [--filterpy-seconds 120]
+        [--filterpy-seconds 120] [--record]
+
+``--record`` also writes the figures as the record
+``docs/data/study_cost.json`` the outage-study page quotes (the shipped
+example only).
 
 The ratio is the study's wall time divided by the time FilterPy takes for
 one 600 s run. It reads the study in "FilterPy runs' worth" of work; a
@@ -45,17 +49,11 @@ def cpu_s() -> float:
 
 def filterpy_seconds_per_run(seconds: float) -> float:
     """FilterPy's time for one whole run, s, from `seconds` of it."""
-    _, sc = bench_tight.scenario()
+    imu, sc = bench_tight.scenario()
     traj, acc, gyr, gnss = sc
-    filt = mn.TightlyCoupledFilter(bench_tight.scenario()[0])
+    filt = mn.TightlyCoupledFilter(imu)
     sol = filt.run(traj.time, acc, gyr, gnss, initial_attitude=traj.attitude[0])
-    start = (
-        sol.position_ecef[0].copy(),
-        sol.velocity_ecef[0].copy(),
-        sol.attitude[0].copy(),
-        float(sol.clock_offset[0]),
-        float(sol.clock_drift[0]),
-    )
+    start = bench_tight.start_of(sol)
     m = min(len(traj.time), round(seconds * bench_tight.RATE_HZ) + 1)
     t0 = time.perf_counter()
     bench_tight.filterpy_run(sc, start, filt.tuning, m)
@@ -70,6 +68,11 @@ def main() -> None:
         type=Path,
         default=ROOT / "examples" / "study_land_vehicle.toml",
         help="the study configuration (default: the shipped example)",
+    )
+    parser.add_argument(
+        "--record",
+        action="store_true",
+        help="also write docs/data/study_cost.json (the shipped example only)",
     )
     parser.add_argument(
         "--filterpy-seconds",
@@ -100,6 +103,13 @@ def main() -> None:
         "study_in_filterpy_runs": wall / filterpy_s,
     }
     args.output.write_text(json.dumps(results, indent=2) + "\n")
+    if args.record:
+        if args.config.resolve() != (ROOT / "examples" / "study_land_vehicle.toml").resolve():
+            raise SystemExit("--record: the page quotes the shipped example only")
+        sys.path.insert(0, str(ROOT / "docs"))
+        from figures import write_record
+
+        write_record("study_cost", {k: v for k, v in results.items() if k != "config"})
     print(
         f"study: {cell_runs} cell runs, {wall:.1f} s wall, {cpu:.1f} s CPU; "
         f"FilterPy: {filterpy_s:.2f} s per 600 s run; "

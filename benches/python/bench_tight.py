@@ -520,6 +520,18 @@ def scenario():
     return imu, (traj, acc, gyr, gnss)
 
 
+def start_of(sol: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, float]:
+    """The peers' start: memsnav's solution at epoch 0 (position, velocity,
+    attitude, clock offset and drift)."""
+    return (
+        sol.position_ecef[0].copy(),
+        sol.velocity_ecef[0].copy(),
+        sol.attitude[0].copy(),
+        float(sol.clock_offset[0]),
+        float(sol.clock_drift[0]),
+    )
+
+
 def best_of(repeats: int, run: Any) -> tuple[float, Any]:
     """Best wall time of `repeats` calls, and the last result."""
     times, out = [], None
@@ -579,13 +591,7 @@ def main() -> None:
         smoother[states] = (runs[False], runs[True])
 
     m = min(n, round(args.filterpy_seconds * RATE_HZ) + 1)
-    start = (
-        sol.position_ecef[0].copy(),
-        sol.velocity_ecef[0].copy(),
-        sol.attitude[0].copy(),
-        float(sol.clock_offset[0]),
-        float(sol.clock_drift[0]),
-    )
+    start = start_of(sol)
     t0 = time.perf_counter()
     fp_positions = filterpy_run(sc, start, filt.tuning, m)
     filterpy_s = time.perf_counter() - t0
