@@ -240,7 +240,12 @@ def test_bad_calls_name_the_argument_and_change_nothing(drive_300s):
         (lambda: running.update_gnss(gnss, 5), "predict to the epoch's time"),
         (lambda: running.update_gnss(gnss, 10_000), "epoch"),
         (lambda: running.update_fix([1.0, 2.0, 3.0], np.eye(3), [0, 0, 0]), "velocity_covariance"),
-        (lambda: running.update_fix(before, -np.eye(3)), "covariance"),
+        # One call's error names its argument, not a fix of a batch.
+        (lambda: running.update_fix(before, -np.eye(3)), "^position_covariance: covariance"),
+        (
+            lambda: running.update_fix(before, np.eye(3), [0, 0, 0], -np.eye(3)),
+            "^velocity_covariance: covariance",
+        ),
         (lambda: running.update_height(np.nan, 1.0), "height"),
         (lambda: running.update_heading(0.1, 0.0), "std"),
         (lambda: running.update_speed(3.0, -1.0), "std"),

@@ -71,11 +71,31 @@ pub struct Whitened {
     down_ecef: Option<Vector3<f64>>,
 }
 
-fn whitening(argument: &str, i: usize, r: &Matrix3<f64>, floor: f64) -> Result<Whitened> {
+/// Where a fix came from, for the words of its errors: fix i of a batch
+/// (the `fixes` argument), or a single call whose arguments are named
+/// (the step API's `update_fix`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum FixOrigin {
+    Batch(usize),
+    Single,
+}
+
+impl FixOrigin {
+    /// The error that `what` is wrong: with the fix's index under
+    /// `fixes`, or under `argument` for a single call.
+    fn invalid(self, argument: &str, what: &str) -> Error {
+        match self {
+            FixOrigin::Batch(i) => Error::invalid("fixes", format!("fix {i}: {what}")),
+            FixOrigin::Single => Error::invalid(argument, what),
+        }
+    }
+}
+
+fn whitening(origin: FixOrigin, argument: &str, r: &Matrix3<f64>, floor: f64) -> Result<Whitened> {
     let bad = || {
-        Error::invalid(
+        origin.invalid(
             argument,
-            format!("fix {i}: covariance is not finite, symmetric and positive definite"),
+            "covariance is not finite, symmetric and positive definite",
         )
     };
     if !r.iter().all(|v| v.is_finite()) || (r - r.transpose()).abs().max() > 1e-9 * r.abs().max() {
@@ -99,8 +119,8 @@ fn whitening(argument: &str, i: usize, r: &Matrix3<f64>, floor: f64) -> Result<W
 /// axes E_h (C_n^e's first two columns, Groves eq. 2.150), floored and
 /// whitened as [`whitening`] does a full block.
 fn horizontal_whitening(
+    origin: FixOrigin,
     argument: &str,
-    i: usize,
     r: &Matrix3<f64>,
     position_ecef: &Vector3<f64>,
     floor: f64,
@@ -110,11 +130,9 @@ fn horizontal_whitening(
     let e_h = cne.fixed_columns::<2>(0).into_owned();
     let r_h = e_h.transpose() * r * e_h;
     let bad = || {
-        Error::invalid(
+        origin.invalid(
             argument,
-            format!(
-                "fix {i}: horizontal velocity covariance is not finite, symmetric and positive definite"
-            ),
+            "horizontal velocity covariance is not finite, symmetric and positive definite",
         )
     };
     if !r_h.iter().all(|v| v.is_finite())
@@ -210,45 +228,55 @@ fn update_block<const N: usize>(
     Ok(())
 }
 
-/// The whitened position and velocity blocks of fix `i`, after checking
+/// The whitened position and velocity blocks of a fix, after checking
 /// that its values are finite and its covariances are covariances.
 fn whiten_fix(
-    i: usize,
+    origin: FixOrigin,
     f: &PositionFix,
     floor: &super::MeasurementFloor,
 ) -> Result<(Whitened, Option<Whitened>)> {
     validate::finite_vectors("fixes.position_ecef", &[f.position_ecef])
-        .map_err(|_| Error::invalid("fixes", format!("fix {i}: position is not finite")))?;
+        .map_err(|_| origin.invalid("position_ecef", "position is not finite"))?;
     let velocity = match f.velocity_ecef {
         Some(v) => {
             validate::finite_vectors("fixes.velocity_ecef", &[v])
-                .map_err(|_| Error::invalid("fixes", format!("fix {i}: velocity is not finite")))?;
+                .map_err(|_| origin.invalid("velocity_ecef", "velocity is not finite"))?;
             Some(if f.velocity_horizontal_only {
                 horizontal_whitening(
-                    "fixes",
-                    i,
+                    origin,
+                    "velocity_covariance",
                     &f.velocity_covariance,
                     &f.position_ecef,
                     floor.velocity_m_s,
                 )?
             } else {
-                whitening("fixes", i, &f.velocity_covariance, floor.velocity_m_s)?
+                whitening(
+                    origin,
+                    "velocity_covariance",
+                    &f.velocity_covariance,
+                    floor.velocity_m_s,
+                )?
             })
         }
         None => None,
     };
     Ok((
-        whitening("fixes", i, &f.position_covariance, floor.position_m)?,
+        whitening(
+            origin,
+            "position_covariance",
+            &f.position_covariance,
+            floor.position_m,
+        )?,
         velocity,
     ))
 }
 
-/// The whitened blocks of fix `i`, taken `interval_s` after the previous
+/// The whitened blocks of a fix (from `origin`), taken `interval_s` after the previous
 /// fix the filter used (None for the first): its position covariance
 /// inflated for the errors the two share
 /// ([`FilterTuning::fix_correlation_time_s`]), then [`whiten_fix`].
 pub(crate) fn prepare_fix(
-    i: usize,
+    origin: FixOrigin,
     f: &PositionFix,
     interval_s: Option<f64>,
     tuning: &FilterTuning,
@@ -258,7 +286,7 @@ pub(crate) fn prepare_fix(
         position_covariance: f.position_covariance * inflation,
         ..*f
     };
-    whiten_fix(i, &fix, &tuning.floor)
+    whiten_fix(origin, &fix, &tuning.floor)
 }
 
 /// Applies one fix with its whitened blocks: the position, then the
@@ -299,7 +327,7 @@ impl Aiding for PositionFix {
             .enumerate()
             .map(|(i, f)| {
                 let interval_s = i.checked_sub(1).map(|j| f.time_s - fixes[j].time_s);
-                prepare_fix(i, f, interval_s, tuning)
+                prepare_fix(FixOrigin::Batch(i), f, interval_s, tuning)
             })
             .collect::<Result<_>>()?;
         // The clock is not observed: held at zero, without process noise.

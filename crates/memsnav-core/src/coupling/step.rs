@@ -110,7 +110,7 @@ impl<const N: usize> FilterState<N> {
             validate::at_most("velocity_ecef", v.norm(), plausible::MAX_SPEED_M_S)?;
         }
         let interval_s = self.previous_epoch_s.map(|before| fix.time_s - before);
-        let whitened = loose::prepare_fix(0, fix, interval_s, &self.tuning)?;
+        let whitened = loose::prepare_fix(loose::FixOrigin::Single, fix, interval_s, &self.tuning)?;
         self.transaction(|s| {
             let first = s.batches.len();
             loose::apply_fix(s, &whitened, fix)?;
