@@ -940,6 +940,112 @@ def somigliana_departure(data_root: Path) -> dict[str, Any]:
     return {"largest_m_s2": float(departure.max()), "equator_m_s2": float(departure[90])}
 
 
+def fading_run(seed: int, fading_factor: float) -> tuple[dict[str, Any], list[str], list[Any]]:
+    """A tactical tuning on a simulated consumer IMU (0.15 m/s² and 0.5 °/s
+    biases) over 400 s with two 30 s outages, with `fading_factor` as
+    `reset_fading_factor` (1: no fading): the score against the truth at
+    the fixes, the kinds of its resets, and the warnings it gave."""
+    trajectory = mn.Trajectory.random(400.0, seed=seed, stationary_start=20.0)
+    t = trajectory.time
+    rng = np.random.default_rng(seed)
+    f = (
+        trajectory.specific_force
+        + 0.02 * rng.normal(size=(len(t), 3))
+        + 0.15 * rng.choice([-1.0, 1.0], 3)
+    )
+    w = (
+        trajectory.angular_rate
+        + np.radians(0.05) * rng.normal(size=(len(t), 3))
+        + np.radians(0.5) * rng.choice([-1.0, 1.0], 3)
+    )
+    k = np.arange(0, len(t), 25)
+    fixes = mn.fixes_from_solution(
+        t[k],
+        trajectory.position_geodetic()[k],
+        np.full((len(k), 3), 0.05),
+        velocity_ned=trajectory.velocity_ned()[k],
+        velocity_std_ned=np.full((len(k), 3), 0.05),
+        added_position_noise_ned=[0.05] * 3,
+        added_velocity_noise=0.05,
+        seed=seed,
+    )
+    settings = {
+        # A vibration-free simulated IMU: no standstill detection.
+        "aids": {"zupt": False, "zaru": False, "nhc": True},
+        "filter": {"imu_preset": "tactical", "reset_fading_factor": fading_factor},
+        "outages": {"windows_s": [[150.0, 30.0], [300.0, 30.0]]},
+    }
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run = mn.navigate_log(t, f, w, fixes, settings=settings)
+    kinds = [str(kind) for kind in run.solution.resets["kind"]]
+    return run.score(t[k], trajectory.position_ecef[k]), kinds, caught
+
+
+def simulated_fading_figures(
+    stuck: dict[str, Any], stuck_resets: list[str], faded: dict[str, Any]
+) -> dict[str, Any]:
+    """The figures the configuration reference quotes of one seed's pair
+    of :func:`fading_run` runs (without fading, with it)."""
+    return {
+        "stuck_resets": len(stuck_resets),
+        "stuck_outage_rms_km": stuck["in_outages"]["rms_horizontal_m"] / 1e3,
+        "faded_aided_rms_m": faded["aided"]["rms_horizontal_m"],
+        "faded_outage_rms_m": faded["in_outages"]["rms_horizontal_m"],
+        "faded_outage_max_m": faded["in_outages"]["max_horizontal_m"],
+    }
+
+
+def simulated_fading(data_root: Path) -> dict[str, Any]:
+    """:func:`fading_run` without and with fading (factor 10) for seeds 1
+    and 2: each seed's figures, and their range as the page shows it."""
+    seeds = {}
+    for seed in (1, 2):
+        faded, _, _ = fading_run(seed, 10.0)
+        stuck, stuck_resets, _ = fading_run(seed, 1.0)
+        seeds[str(seed)] = simulated_fading_figures(stuck, stuck_resets, faded)
+    out: dict[str, Any] = {"seeds": seeds}
+    for key in ("stuck_resets", "stuck_outage_rms_km", "faded_outage_rms_m"):
+        out[f"{key}_low"] = min(s[key] for s in seeds.values())
+        out[f"{key}_high"] = max(s[key] for s in seeds.values())
+    for key in ("faded_aided_rms_m", "faded_outage_max_m"):
+        out[f"{key}_high"] = max(s[key] for s in seeds.values())
+    return out
+
+
+def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
+    """drive_0708 as its example configures it, with the tactical preset
+    (far too optimistic for its consumer IMU) and with the consumer one:
+    the tactical run's fading resets and position and velocity resets,
+    each run's horizontal RMS in the 15 s outages (m), and the consumer
+    run's resets (kinds, in order)."""
+    summaries = {}
+    for preset in ("tactical", "consumer"):
+        config = _example("drive_0708", data_root)
+        config.engine.setdefault("filter", {})["imu_preset"] = preset
+        with tempfile.TemporaryDirectory() as out, warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the log's cut lines; the tactical tuning's alerts
+            try:
+                summaries[preset] = mn.navigate(config, output=out).summary
+            except mn.DivergenceError as failed:
+                # Too optimistic a tuning fails the integrity check; the
+                # run is scored all the same.
+                summaries[preset] = failed.result.summary  # type: ignore[attr-defined]
+    kinds = [r["kind"] for r in summaries["tactical"]["resets"]]
+    return {
+        "tactical_failure_stage": (summaries["tactical"].get("failure") or {}).get("stage"),
+        "fades": kinds.count("fading"),
+        "position_velocity_resets": kinds.count("position_to_fix") + kinds.count("velocity_to_fix"),
+        "tactical_outage_rms_m": summaries["tactical"]["errors_vs_truth"]["in_outages"][
+            "rms_horizontal_m"
+        ],
+        "consumer_outage_rms_m": summaries["consumer"]["errors_vs_truth"]["in_outages"][
+            "rms_horizontal_m"
+        ],
+        "consumer_resets": [r["kind"] for r in summaries["consumer"]["resets"]],
+    }
+
+
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
@@ -969,6 +1075,8 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "xsens_second_half": xsens_second_half,
     "xsens_detector": xsens_detector,
     "somigliana_departure": somigliana_departure,
+    "tactical_preset_fading": tactical_preset_fading,
+    "simulated_fading": simulated_fading,
 }
 """Each record's name and the run that measures it."""
 
