@@ -52,10 +52,12 @@ def pages() -> list[Path]:
 
 def _commit() -> str:
     """The short hash of HEAD, with ``+`` when the work tree has changes
-    (the figures then come from code no commit holds)."""
+    (the figures then come from code no commit holds). The records
+    themselves do not count: a script writing several sees its own."""
     run = {"cwd": ROOT, "capture_output": True, "text": True, "check": True}
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], **run).stdout.strip()
-    dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], **run)
+    status = ["git", "status", "--porcelain", "--untracked-files=no", "--", ".", ":!docs/data"]
+    dirty = subprocess.run(status, **run)
     return commit + ("+" if dirty.stdout.strip() else "")
 
 
