@@ -1013,6 +1013,97 @@ def simulated_fading(data_root: Path) -> dict[str, Any]:
     return out
 
 
+#: Earth's equatorial radius, m: turns the simulated fixes' metre errors
+#: into latitude and longitude.
+EARTH_RADIUS_M = 6378137.0
+
+
+def drive_with_slow_fix_errors(seed: int, tau_s: float = 60.0, slow_m: float = 1.0):
+    """A 600 s drive, a MEMS-grade IMU, 1 Hz fixes whose N/E/D errors are a
+    Gauss-Markov process (``slow_m``, ``tau_s``) plus 0.3 m white noise,
+    reported with their total σ (as a receiver reports its fixes)."""
+    trajectory = mn.Trajectory.random(600.0, seed=seed, stationary_start=20.0)
+    t = trajectory.time
+    rng = np.random.default_rng(seed)
+    f = trajectory.specific_force + 0.02 * rng.normal(size=(len(t), 3)) + 0.05 * rng.normal(size=3)
+    w = (
+        trajectory.angular_rate
+        + np.radians(0.1) * rng.normal(size=(len(t), 3))
+        + np.radians(0.2) * rng.normal(size=3)
+    )
+    k = np.arange(0, len(t), 100)
+    phi = np.exp(-1.0 / tau_s)
+    error = np.zeros((len(k), 3))
+    error[0] = slow_m * rng.normal(size=3)
+    for i in range(1, len(k)):
+        error[i] = phi * error[i - 1] + slow_m * np.sqrt(1 - phi**2) * rng.normal(size=3)
+    error += 0.3 * rng.normal(size=(len(k), 3))
+    lla = trajectory.position_geodetic()[k].copy()
+    # North, east, down metres to latitude, longitude, height (the sphere's
+    # radius: a 0.3 % scale error of a metre-level error).
+    lla[:, 0] += error[:, 0] / EARTH_RADIUS_M
+    lla[:, 1] += error[:, 1] / (EARTH_RADIUS_M * np.cos(lla[:, 0]))
+    lla[:, 2] -= error[:, 2]
+    fixes = mn.fixes_from_solution(
+        t[k],
+        lla,
+        np.full((len(k), 3), np.hypot(slow_m, 0.3)),
+        velocity_ned=trajectory.velocity_ned()[k],
+        velocity_std_ned=np.full((len(k), 3), 0.1),
+        added_velocity_noise=0.1,
+        seed=seed,
+    )
+    return trajectory, f, w, fixes, k
+
+
+def fix_error_runs(seed: int) -> tuple[dict[bool, Any], dict[bool, Any], dict[bool, float]]:
+    """:func:`drive_with_slow_fix_errors` navigated without and with
+    ``[gnss] fix_error_states`` (keys False, True): per run the aided
+    share within 3σ with the outage's scores, the run, and the aided
+    horizontal RMS, m."""
+    trajectory, f, w, fixes, k = drive_with_slow_fix_errors(seed)
+    share, run, rms = {}, {}, {}
+    for states in (False, True):
+        settings = {
+            # A vibration-free simulated IMU: no standstill detection.
+            "aids": {"zupt": False, "zaru": False, "nhc": True},
+            # Without the states, the fixes as white noise (not the
+            # correlation learnt from the log: tests/test_adaptation.py).
+            "gnss": {"fix_error_states": states},
+            "outages": {"windows_s": [[200.0, 30.0]]},
+        }
+        run[states] = mn.navigate_log(trajectory.time, f, w, fixes, settings=settings)
+        score = run[states].score(trajectory.time[k], trajectory.position_ecef[k])
+        share[states] = (score["aided"]["within_3sigma_share"], score["in_outages"])
+        rms[states] = score["aided"]["rms_horizontal_m"]
+    return share, run, rms
+
+
+def fix_error_figures(share: dict[bool, Any], rms: dict[bool, float]) -> dict[str, float]:
+    """The figures the configuration reference quotes of one seed's
+    :func:`fix_error_runs`."""
+    return {
+        "white_share": share[False][0],
+        "states_share": share[True][0],
+        "white_rms_m": rms[False],
+        "states_rms_m": rms[True],
+    }
+
+
+def fix_error_states(data_root: Path) -> dict[str, Any]:
+    """:func:`fix_error_runs` for seeds 1 and 2: each seed's figures and
+    their ranges."""
+    seeds = {}
+    for seed in (1, 2):
+        share, _, rms = fix_error_runs(seed)
+        seeds[str(seed)] = fix_error_figures(share, rms)
+    out: dict[str, Any] = {"seeds": seeds}
+    for key in seeds["1"]:
+        out[f"{key}_low"] = min(s[key] for s in seeds.values())
+        out[f"{key}_high"] = max(s[key] for s in seeds.values())
+    return out
+
+
 def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
     """drive_0708 as its example configures it, with the tactical preset
     (far too optimistic for its consumer IMU) and with the consumer one:
@@ -1077,6 +1168,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "somigliana_departure": somigliana_departure,
     "tactical_preset_fading": tactical_preset_fading,
     "simulated_fading": simulated_fading,
+    "fix_error_states": fix_error_states,
 }
 """Each record's name and the run that measures it."""
 
