@@ -1104,6 +1104,53 @@ def fix_error_states(data_root: Path) -> dict[str, Any]:
     return out
 
 
+#: The arrays of simulated GNSS measurements a filter takes by name.
+GNSS_ARRAY_KEYS = (
+    "time",
+    "sat_id",
+    "satellite_position_ecef",
+    "satellite_velocity_ecef",
+    "pseudorange",
+    "pseudorange_std",
+    "pseudorange_rate",
+    "pseudorange_rate_std",
+)
+
+
+def simulated_drive_300s() -> tuple[Any, Any, Any, np.ndarray, np.ndarray]:
+    """A 300 s random drive, its simulated GNSS (Walker constellation), an
+    IMU with random biases and white noise only (the 17 error states model
+    it exactly) and its readings: (trajectory, gnss, imu, f, w). The tests'
+    `drive_300s` fixture."""
+    traj = mn.Trajectory.random(duration=300.0, seed=3)
+    sky = mn.Constellation.walker()
+    gnss = mn.simulate_gnss(traj.time, traj.position_ecef, traj.velocity_ecef, sky, seed=4)
+    rng = np.random.default_rng(5)
+    z3, z33 = np.zeros(3), np.zeros((3, 3))
+    acc = mn.AccelerometerModel(rng.normal(0, 0.03, 3), z3, z33, z3, noise_density=2e-3)
+    gyr = mn.GyroscopeModel(rng.normal(0, 2e-4, 3), z3, z33, z33, noise_density=2e-4)
+    imu = mn.ImuModel(acc, gyr)
+    f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
+    return traj, gnss, imu, f, w
+
+
+def pseudorange_rates_value(data_root: Path) -> dict[str, Any]:
+    """On :func:`simulated_drive_300s`, the tight filter's position RMS, m,
+    with the pseudorange rates and without them (what a misspelled rate key
+    used to cost)."""
+    traj, g, imu, f, w = simulated_drive_300s()
+    arrays = {k: getattr(g, k) for k in GNSS_ARRAY_KEYS}
+
+    def rms(gnss: dict[str, Any]) -> float:
+        sol = mn.TightlyCoupledFilter(imu).run(
+            traj.time, f, w, gnss, initial_attitude=traj.attitude[0]
+        )
+        return float(np.sqrt(np.mean(np.sum((sol.position_ecef - traj.position_ecef) ** 2, 1))))
+
+    without = {k: v for k, v in arrays.items() if not k.startswith("pseudorange_rate")}
+    return {"with_rates_rms_m": rms(arrays), "without_rates_rms_m": rms(without)}
+
+
 def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
     """drive_0708 as its example configures it, with the tactical preset
     (far too optimistic for its consumer IMU) and with the consumer one:
@@ -1169,6 +1216,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "tactical_preset_fading": tactical_preset_fading,
     "simulated_fading": simulated_fading,
     "fix_error_states": fix_error_states,
+    "pseudorange_rates_value": pseudorange_rates_value,
 }
 """Each record's name and the run that measures it."""
 
