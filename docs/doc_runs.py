@@ -1151,6 +1151,95 @@ def pseudorange_rates_value(data_root: Path) -> dict[str, Any]:
     return {"with_rates_rms_m": rms(arrays), "without_rates_rms_m": rms(without)}
 
 
+# Vibration of a car's IMU, one-sigma per 100 Hz sample (drive_0708's
+# window stds, the navigate guide: at rest with the engine running 0.1-0.28
+# m/s² and up to 2.8 °/s, driving 0.5-1.5 m/s² and 2.5-12 °/s).
+VIBRATION_MOVING = (0.5, 2.0)  # m/s², °/s
+VIBRATION_AT_REST = (0.12, 0.5)
+
+
+def stop_and_go_drive(seed: int = 3):
+    """A drive that stops for 25 s in the middle of a 70 s GNSS outage:
+    30 s at rest, off to 12 m/s, a turn, down to a stop at 118 s, away again.
+    A MEMS IMU with turn-on biases and vibration; 1 Hz fixes, 1 m noise."""
+    trajectory = mn.Trajectory.from_segments(
+        [
+            ("stop", 30.0),
+            ("accelerate", 10.0, 12.0),
+            ("cruise", 40.0),
+            ("turn", 10.0, 1.2),
+            ("cruise", 20.0),
+            ("accelerate", 8.0, 0.0),
+            ("stop", 25.0),
+            ("accelerate", 10.0, 12.0),
+            ("cruise", 40.0),
+        ]
+    )
+    t = trajectory.time
+    rng = np.random.default_rng(seed)
+    moving = np.linalg.norm(trajectory.velocity_ecef, axis=1) > 0.05
+    accel_std = np.where(moving, VIBRATION_MOVING[0], VIBRATION_AT_REST[0])[:, None]
+    gyro_std = np.radians(np.where(moving, VIBRATION_MOVING[1], VIBRATION_AT_REST[1]))[:, None]
+    f = trajectory.specific_force + accel_std * rng.normal(size=(len(t), 3)) + [0.15, -0.1, 0.1]
+    w = (
+        trajectory.angular_rate
+        + gyro_std * rng.normal(size=(len(t), 3))
+        + np.radians([0.3, -0.2, 0.4])
+    )
+    k = np.arange(0, len(t), 100)
+    fixes = mn.fixes_from_solution(
+        t[k],
+        trajectory.position_geodetic()[k],
+        np.full((len(k), 3), 1.0),
+        velocity_ned=trajectory.velocity_ned()[k],
+        velocity_std_ned=np.full((len(k), 3), 0.1),
+        added_position_noise_ned=[1.0, 1.0, 1.0],
+        added_velocity_noise=0.1,
+        seed=seed,
+    )
+    stop = t[~moving & (t > 60.0)]
+    return trajectory, f, w, fixes, (stop[0], stop[-1])
+
+
+def stop_and_go_runs() -> tuple[Any, dict[float, Any], tuple[float, float], dict[str, float]]:
+    """:func:`stop_and_go_drive` through a 70 s outage around its stop,
+    with the standstill rule's solution-speed σ at 3 (the default) and at
+    0 (the speed alone vetoes): the trajectory, the runs by σ, the stop's
+    start and end, s, and the figures the configuration reference quotes
+    (the error at the outage's end with each rule, m; the speed the
+    solution had coasted to by the stop, m/s)."""
+    trajectory, f, w, fixes, (stop_start, stop_end) = stop_and_go_drive()
+    t = trajectory.time
+    outage = (stop_start - 45.0, 70.0)  # 45 s of coasting, the stop, 0.4 s of moving off
+    runs = {}
+    for sigmas in (3.0, 0.0):
+        settings = {
+            "outages": {"windows_s": [[outage[0] - t[0], outage[1]]]},
+            "aids": {"nhc": True},
+            "standstill": {"solution_speed_sigmas": sigmas},
+        }
+        runs[sigmas] = mn.navigate_log(t, f, w, fixes, settings=settings)
+    end = outage[0] + outage[1]
+    errors = {}
+    for sigmas, run in runs.items():
+        at = np.searchsorted(t, np.asarray(run.time))
+        error = np.linalg.norm(np.asarray(run.position_ecef) - trajectory.position_ecef[at], axis=1)
+        errors[sigmas] = error[np.searchsorted(np.asarray(run.time), end) - 1]
+    at_stop = np.searchsorted(np.asarray(runs[0.0].time), stop_start)
+    coasted = float(np.linalg.norm(np.asarray(runs[0.0].velocity_ned)[at_stop]))
+    found = {
+        "error_with_stop_m": float(errors[3.0]),
+        "error_without_m": float(errors[0.0]),
+        "coasted_speed_m_s": coasted,
+    }
+    return trajectory, runs, (stop_start, stop_end), found
+
+
+def stop_and_go(data_root: Path) -> dict[str, Any]:
+    """The figures of :func:`stop_and_go_runs`."""
+    return stop_and_go_runs()[3]
+
+
 def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
     """drive_0708 as its example configures it, with the tactical preset
     (far too optimistic for its consumer IMU) and with the consumer one:
@@ -1217,6 +1306,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "simulated_fading": simulated_fading,
     "fix_error_states": fix_error_states,
     "pseudorange_rates_value": pseudorange_rates_value,
+    "stop_and_go": stop_and_go,
 }
 """Each record's name and the run that measures it."""
 

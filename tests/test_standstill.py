@@ -5,81 +5,16 @@ it when the filter's own velocity σ cannot tell that speed from zero."""
 
 from __future__ import annotations
 
-import re
-
+import doc_runs
 import numpy as np
-from doc_pages import NAVIGATE_GUIDE, doc_text
+from figures import figures
 
 import memsnav as mn
 
-# Vibration of a car's IMU, one-sigma per 100 Hz sample (drive_0708's
-# window stds, the navigate guide: at rest with the engine running 0.1-0.28
-# m/s² and up to 2.8 °/s, driving 0.5-1.5 m/s² and 2.5-12 °/s).
-VIBRATION_MOVING = (0.5, 2.0)  # m/s², °/s
-VIBRATION_AT_REST = (0.12, 0.5)
-
-
-def _stop_and_go(seed: int = 3):
-    """A drive that stops for 25 s in the middle of a 70 s GNSS outage:
-    30 s at rest, off to 12 m/s, a turn, down to a stop at 118 s, away again.
-    A MEMS IMU with turn-on biases and vibration; 1 Hz fixes, 1 m noise."""
-    trajectory = mn.Trajectory.from_segments(
-        [
-            ("stop", 30.0),
-            ("accelerate", 10.0, 12.0),
-            ("cruise", 40.0),
-            ("turn", 10.0, 1.2),
-            ("cruise", 20.0),
-            ("accelerate", 8.0, 0.0),
-            ("stop", 25.0),
-            ("accelerate", 10.0, 12.0),
-            ("cruise", 40.0),
-        ]
-    )
-    t = trajectory.time
-    rng = np.random.default_rng(seed)
-    moving = np.linalg.norm(trajectory.velocity_ecef, axis=1) > 0.05
-    accel_std = np.where(moving, VIBRATION_MOVING[0], VIBRATION_AT_REST[0])[:, None]
-    gyro_std = np.radians(np.where(moving, VIBRATION_MOVING[1], VIBRATION_AT_REST[1]))[:, None]
-    f = trajectory.specific_force + accel_std * rng.normal(size=(len(t), 3)) + [0.15, -0.1, 0.1]
-    w = (
-        trajectory.angular_rate
-        + gyro_std * rng.normal(size=(len(t), 3))
-        + np.radians([0.3, -0.2, 0.4])
-    )
-    k = np.arange(0, len(t), 100)
-    fixes = mn.fixes_from_solution(
-        t[k],
-        trajectory.position_geodetic()[k],
-        np.full((len(k), 3), 1.0),
-        velocity_ned=trajectory.velocity_ned()[k],
-        velocity_std_ned=np.full((len(k), 3), 0.1),
-        added_position_noise_ned=[1.0, 1.0, 1.0],
-        added_velocity_noise=0.1,
-        seed=seed,
-    )
-    stop = t[~moving & (t > 60.0)]
-    return trajectory, f, w, fixes, (stop[0], stop[-1])
-
 
 def test_a_stop_in_an_outage_is_seen_by_the_sensors_and_bounds_the_error():
-    trajectory, f, w, fixes, (stop_start, stop_end) = _stop_and_go()
+    trajectory, runs, (stop_start, stop_end), figures_now = doc_runs.stop_and_go_runs()
     t = trajectory.time
-    outage = (stop_start - 45.0, 70.0)  # 45 s of coasting, the stop, 0.4 s of moving off
-    runs = {}
-    for sigmas in (3.0, 0.0):
-        settings = {
-            "outages": {"windows_s": [[outage[0] - t[0], outage[1]]]},
-            "aids": {"nhc": True},
-            "standstill": {"solution_speed_sigmas": sigmas},
-        }
-        runs[sigmas] = mn.navigate_log(t, f, w, fixes, settings=settings)
-    end = outage[0] + outage[1]
-    errors = {}
-    for sigmas, run in runs.items():
-        at = np.searchsorted(t, np.asarray(run.time))
-        error = np.linalg.norm(np.asarray(run.position_ecef) - trajectory.position_ecef[at], axis=1)
-        errors[sigmas] = error[np.searchsorted(np.asarray(run.time), end) - 1]
     # The default sees the stop: a standstill inside it (within the
     # detector's 1 s window of its ends), none while moving.
     stills = [(a, b) for a, b in runs[3.0].standstills if a > t[0] + 40.0]
@@ -94,20 +29,12 @@ def test_a_stop_in_an_outage_is_seen_by_the_sensors_and_bounds_the_error():
     zupt = (np.asarray(m["kind"]) == "zero_velocity") & (np.asarray(m["time"]) > stop_start)
     assert np.mean(np.asarray(m["status"])[zupt] == "accepted") > 0.95
     assert not any(a > t[0] + 40.0 for a, _ in runs[0.0].standstills)
-    assert errors[3.0] < 20.0 < 100.0 < errors[0.0], errors
-    # the navigate guide quotes this run: "the error at the end of the outage
-    # is 6 m instead of 373 m", and the speed it had coasted to by the stop.
-    page = " ".join(doc_text(*NAVIGATE_GUIDE).split())
-    quoted = re.search(
-        r"coasted to (\d+) m/s by the stop; .* end of the outage is (\d+) m instead of (\d+) m",
-        page,
-    )
-    assert quoted, "the navigate guide no longer quotes the stop-and-go run"
-    speed, with_stop, without = map(float, quoted.groups())
-    assert abs(errors[3.0] - with_stop) <= 0.5 and abs(errors[0.0] - without) <= 0.5, errors
-    at_stop = np.searchsorted(np.asarray(runs[0.0].time), stop_start)
-    coasted = np.linalg.norm(np.asarray(runs[0.0].velocity_ned)[at_stop])
-    assert abs(coasted - speed) <= 0.5, coasted
+    error_with, error_without = figures_now["error_with_stop_m"], figures_now["error_without_m"]
+    assert error_with < 20.0 < 100.0 < error_without, figures_now
+    # The configuration reference shows this run's record.
+    recorded = figures("stop_and_go")
+    for key, value in figures_now.items():
+        assert abs(value - recorded[key]) <= 1e-9 * max(1.0, abs(value)), (key, value)
 
 
 def test_braking_smoothly_to_a_stop_is_not_taken_for_one():
