@@ -1240,6 +1240,79 @@ def stop_and_go(data_root: Path) -> dict[str, Any]:
     return stop_and_go_runs()[3]
 
 
+CARRIER_STUDY = dict(
+    imus=("tactical", "consumer"),
+    outage_length=30.0,
+    satellites=(0, 3),
+    loose=False,
+    runs=16,
+    outage_start=60.0,
+    duration=100.0,
+    seed=0,
+    threads=2,
+)
+"""The carrier-phase comparison of docs/results/outage-study.md: a tactical and a
+consumer IMU, 30 s outages keeping 0 or 3 satellites after 60 s of aided
+navigation (the outage study's cells, with the partial-outage set's
+curves: the forward figures are the same runs)."""
+
+
+def _carrier_set(**carrier: Any) -> dict[Any, Any]:
+    result = mn.experiments.partial_outage(**CARRIER_STUDY, **carrier)
+    return {"config": result.config} | {
+        result.n_visible[label]: nav for label, nav in result.scenarios.items()
+    }
+
+
+def carrier_study_sets() -> dict[str, dict[Any, Any]]:
+    """The comparison's three sets: code only, carrier phase (3 mm), and
+    carrier phase with silent slips (0.01 per satellite and epoch)."""
+    return {
+        "code": _carrier_set(),
+        "carrier": _carrier_set(carrier_phase_std=0.003),
+        "slips": _carrier_set(carrier_phase_std=0.003, cycle_slip_probability=0.01),
+    }
+
+
+def carrier_end(study: dict[Any, Any], grade: str, n: int) -> np.ndarray:
+    """The per-run horizontal errors at the end of the outage, m."""
+    return np.asarray(study[n].runs_summary[grade]["horizontal_at_outage_end"])
+
+
+def carrier_aided(study: dict[Any, Any], grade: str = "tactical") -> tuple[float, np.ndarray]:
+    """Mean over the runs and over 30-60 s (aided, converged) of the
+    position error, m, and of the NEES per degree of freedom."""
+    result = study[0]
+    t = np.asarray(result.time)
+    aided = (t >= 30.0) & (t < 60.0)
+    error = float(np.asarray(result.mean[grade])[aided].mean())
+    nees = np.asarray(result.nees_mean[grade])[aided] / 9.0
+    return error, nees
+
+
+def carrier_phase_figures(sets: dict[str, dict[Any, Any]]) -> dict[str, dict[str, float]]:
+    """Per grade, what the outage-study page quotes of
+    :func:`carrier_study_sets`: the aided position error (m) and the
+    median horizontal error at the outage's end with 0 and 3 satellites
+    kept (m), code only and with carrier phase."""
+    code, carrier = sets["code"], sets["carrier"]
+    out = {}
+    for grade in CARRIER_STUDY["imus"]:
+        out[grade] = {
+            "code_aided_m": carrier_aided(code, grade)[0],
+            "carrier_aided_m": carrier_aided(carrier, grade)[0],
+        }
+        for n in (0, 3):
+            for name, s in (("code", code), ("carrier", carrier)):
+                out[grade][f"{name}_end_{n}_m"] = float(np.median(carrier_end(s, grade, n)))
+    return out
+
+
+def carrier_phase_comparison(data_root: Path) -> dict[str, Any]:
+    """:func:`carrier_phase_figures` of :func:`carrier_study_sets`."""
+    return carrier_phase_figures(carrier_study_sets())
+
+
 def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
     """drive_0708 as its example configures it, with the tactical preset
     (far too optimistic for its consumer IMU) and with the consumer one:
@@ -1307,6 +1380,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "fix_error_states": fix_error_states,
     "pseudorange_rates_value": pseudorange_rates_value,
     "stop_and_go": stop_and_go,
+    "carrier_phase_comparison": carrier_phase_comparison,
 }
 """Each record's name and the run that measures it."""
 

@@ -7,10 +7,12 @@ import json
 import math
 import re
 
+import doc_runs
 import matplotlib
 import numpy as np
 import pytest
 from doc_pages import doc_text
+from figures import figures
 from report_checks import capture_figures, page_problems
 from scipy.stats import binom, chi2
 
@@ -436,53 +438,13 @@ def test_study_on_galileo_and_beidou_from_the_configuration(tmp_path):
     assert main(["study", "--config", str(bad), "--quiet"]) != 0
 
 
-CARRIER_STUDY = dict(
-    imus=("tactical", "consumer"),
-    outage_length=30.0,
-    satellites=(0, 3),
-    loose=False,
-    runs=16,
-    outage_start=60.0,
-    duration=100.0,
-    seed=0,
-    threads=2,
-)
-"""The carrier-phase comparison of docs/results/outage-study.md: a tactical and a
-consumer IMU, 30 s outages keeping 0 or 3 satellites after 60 s of aided
-navigation (the outage study's cells, with the partial-outage set's
-curves: the forward figures are the same runs)."""
-
-
-def _carrier_set(**carrier):
-    result = mn.experiments.partial_outage(**CARRIER_STUDY, **carrier)
-    return {"config": result.config} | {
-        result.n_visible[label]: nav for label, nav in result.scenarios.items()
-    }
+CARRIER_STUDY = doc_runs.CARRIER_STUDY
+_aided, _end = doc_runs.carrier_aided, doc_runs.carrier_end
 
 
 @pytest.fixture(scope="module")
 def carrier_studies():
-    return {
-        "code": _carrier_set(),
-        "carrier": _carrier_set(carrier_phase_std=0.003),
-        "slips": _carrier_set(carrier_phase_std=0.003, cycle_slip_probability=0.01),
-    }
-
-
-def _end(study, grade, n):
-    """The per-run horizontal errors at the end of the outage, m."""
-    return np.asarray(study[n].runs_summary[grade]["horizontal_at_outage_end"])
-
-
-def _aided(study, grade="tactical"):
-    """Mean over the runs and over 30-60 s (aided, converged) of the
-    position error, m, and of the NEES per degree of freedom."""
-    result = study[0]
-    t = np.asarray(result.time)
-    aided = (t >= 30.0) & (t < 60.0)
-    error = np.asarray(result.mean[grade])[aided].mean()
-    nees = np.asarray(result.nees_mean[grade])[aided] / 9.0
-    return error, nees
+    return doc_runs.carrier_study_sets()
 
 
 def test_carrier_phase_sharpens_the_aided_solution_and_the_outage_start(carrier_studies):
@@ -534,26 +496,15 @@ def test_carrier_phase_helps_the_consumer_grade_too(carrier_studies):
         assert error < 0.9 * code_error, (name, error, code_error)
 
 
-def test_the_guide_quotes_the_carrier_phase_figures(carrier_studies):
-    """docs/results/outage-study.md quotes the carrier comparison per grade:
-    recomputed here, to the digits quoted."""
-
-    page = " ".join(doc_text("results/outage-study.md").split())
-    code, carrier = carrier_studies["code"], carrier_studies["carrier"]
-    for grade in CARRIER_STUDY["imus"]:
-        quoted = re.search(
-            rf"\*\*{grade}\*\*: aided position error ([\d.]+) m → ([\d.]+) m; median "
-            r"horizontal error at the end of the outage ([\d.]+) m → ([\d.]+) m with no "
-            r"satellite, ([\d.]+) m → ([\d.]+) m with 3",
-            page,
-        )
-        assert quoted, f"docs/results/outage-study.md no longer quotes the {grade} carrier figures"
-        measured = [_aided(code, grade)[0], _aided(carrier, grade)[0]]
-        for n in (0, 3):
-            measured += [np.median(_end(s, grade, n)) for s in (code, carrier)]
-        for text, value in zip(quoted.groups(), measured, strict=True):
-            digits = len(text.split(".")[1]) if "." in text else 0
-            assert round(value, digits) == float(text), (grade, text, value)
+def test_the_carrier_phase_figures_are_the_record(carrier_studies):
+    """docs/results/outage-study.md shows the carrier comparison per grade
+    from its record: recomputed here on the same sets."""
+    fresh = doc_runs.carrier_phase_figures(carrier_studies)
+    recorded = figures("carrier_phase_comparison")
+    assert fresh.keys() == recorded.keys()
+    for grade, values in fresh.items():
+        for key, value in values.items():
+            assert abs(value - recorded[grade][key]) <= 1e-9 * max(1.0, value), (grade, key)
 
 
 def test_carrier_settings_are_checked_and_reach_the_study_configuration(tmp_path):
