@@ -1313,6 +1313,22 @@ def carrier_phase_comparison(data_root: Path) -> dict[str, Any]:
     return carrier_phase_figures(carrier_study_sets())
 
 
+def excerpt_time_offset(data_root: Path) -> dict[str, Any]:
+    """The IMU time offset (s, with its standard error and correlation)
+    that the 65 s drive excerpt the tests ship (tests/data) gives, from its
+    along-track signal against its RTK positions, as
+    docs/explanation/time-and-truth.md's example estimates a whole log's."""
+    excerpt = ROOT / "tests" / "data" / "real-imu-gnss"
+    imu = mn.read_imu_csv(excerpt / "drive_60s.csv")
+    clock = mn.fit_tag_clock(imu, mn.read_time_tag(excerpt / "drive_60s.csv.tag"))
+    c_b_s = mn.mounting_matrix([[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]])
+    rtk = mn.read_pos(excerpt / "drive_60s.pos")
+    e = mn.estimate_time_offset(
+        clock.gps_time, imu.specific_force @ c_b_s.T, imu.angular_rate @ c_b_s.T, rtk
+    )
+    return {"offset_s": e.offset_s, "std_s": e.std_s, "correlation": e.correlation}
+
+
 def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
     """drive_0708 as its example configures it, with the tactical preset
     (far too optimistic for its consumer IMU) and with the consumer one:
@@ -1381,6 +1397,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "pseudorange_rates_value": pseudorange_rates_value,
     "stop_and_go": stop_and_go,
     "carrier_phase_comparison": carrier_phase_comparison,
+    "excerpt_time_offset": excerpt_time_offset,
 }
 """Each record's name and the run that measures it."""
 
