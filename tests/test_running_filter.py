@@ -9,21 +9,16 @@ Speed is measured in ``benches/python/bench_running_filter.py``, not here.
 
 from __future__ import annotations
 
+import doc_runs
 import numpy as np
 import pytest
-from doc_pages import NAVIGATE_GUIDE, doc_text
+from doc_pages import doc_text
+from figures import figures
 
 import memsnav as mn
 
-TOLERANCE_S = 1e-4
-
-
-def initial(traj, k=0):
-    return {
-        "position_ecef": traj.position_ecef[k],
-        "velocity_ecef": traj.velocity_ecef[k],
-        "attitude": traj.attitude[k],
-    }
+TOLERANCE_S = doc_runs.STEP_TOLERANCE_S
+initial = doc_runs.initial_state
 
 
 def step_through(running, t, f, w, epochs_time, update):
@@ -152,78 +147,24 @@ def test_increments_follow_the_increments_mechanization(drive_300s):
     assert error < 0.05, error
 
 
-def test_aids_bound_an_outage_inside_the_covariance(drive_300s):
+def test_aids_bound_an_outage_inside_the_covariance():
     """A 60 s GNSS outage bridged by an odometer (forward speed), a
     barometer (height) and a heading at 10 Hz: the horizontal error stays
     a fraction of the unaided one, and every aided error is inside 3σ of
-    the filter's own covariance."""
-    traj, gnss, imu, f, w = drive_300s
-    t = traj.time
-    rng = np.random.default_rng(9)
-    outage = (t >= 120.0) & (t < 180.0)
-    speed = np.einsum("nji,nj->ni", traj.attitude, traj.velocity_ecef)[:, 0]
-    height = mn.ecef_to_geodetic(traj.position_ecef)[:, 2]
-    yaw = traj_yaw(traj)
-    flt = mn.TightlyCoupledFilter(imu)
-    gt = np.asarray(gnss.time)
-    results = {}
-    for aided in (False, True):
-        running = flt.start(t[0], f[0], w[0], initial(traj))
-        j, errors, z, accepted = 0, [], [], []
-        for k in range(len(t)):
-            if t[k] > 180.0:
-                break
-            if k > 0:
-                running.predict(t[k], f[k], w[k])
-            while j < len(gt) and gt[j] <= t[k] + TOLERANCE_S:
-                if not (120.0 <= gt[j] < 180.0):
-                    running.update_gnss(gnss, j)
-                j += 1
-            if aided and outage[k] and k % 10 == 0:
-                accepted.append(running.update_speed(speed[k] + rng.normal(0, 0.05), 0.05))
-                accepted.append(running.update_height(height[k] + rng.normal(0, 0.5), 0.5))
-                heading = yaw[k] + rng.normal(0, np.radians(0.5))
-                accepted.append(running.update_heading(heading, np.radians(0.5)))
-            if outage[k]:
-                e = running.position_ecef - traj.position_ecef[k]
-                p = running.covariance[6:9, 6:9]
-                errors.append(np.linalg.norm(e))
-                z.append(np.abs(e) / np.sqrt(np.diag(p)))
-        results[aided] = (np.array(errors), np.array(z))
-        # The gate (0.999) rejects about one in a thousand good ones.
-        assert not aided or np.mean(accepted) > 0.99, np.mean(accepted)
-        kinds = set(running.take_records()["measurements"]["kind"])
-        assert ({"speed", "height", "heading"} <= kinds) == aided
+    the filter's own covariance (docs/doc_runs.py aided_outage_runs)."""
+    results, accepted, kinds = doc_runs.aided_outage_runs()
+    # The gate (0.999) rejects about one in a thousand good ones.
+    assert np.mean(accepted[True]) > 0.99, np.mean(accepted[True])
+    assert not accepted[False]
+    assert {"speed", "height", "heading"} <= kinds[True]
+    assert not {"speed", "height", "heading"} & kinds[False]
     coast, aided = results[False][0], results[True][0]
-    print(f"60 s outage: {coast[-1]:.2f} m coasting, {aided[-1]:.2f} m aided")
     assert aided[-1] < 0.25 * coast[-1], (aided[-1], coast[-1])
-    # docs/how-to/step-api.md quotes both ("ends at 0.87 m instead of 38 m"), each
-    # within its rounding.
-    import re
-
-    page = " ".join(doc_text("how-to/step-api.md").split())
-    quoted = re.search(r"heading at 10 Hz ends at ([\d.]+) m instead of (\d+) m", page)
-    assert quoted, "docs/how-to/step-api.md no longer quotes the aided outage"
-    assert abs(aided[-1] - float(quoted.group(1))) <= 0.005, aided[-1]
-    assert abs(coast[-1] - float(quoted.group(2))) <= 0.5, coast[-1]
     assert np.all(results[True][1] < 3.0), results[True][1].max()
-
-
-def traj_yaw(traj):
-    """The true yaw from north (NED) at every sample: C_b^n = C_e^n C_b^e."""
-    geo = mn.ecef_to_geodetic(traj.position_ecef)
-    lat, lon = geo[:, 0], geo[:, 1]
-    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
-    c_e_n = np.stack(
-        [
-            np.stack([-sl * co, -sl * so, cl], axis=-1),
-            np.stack([-so, co, np.zeros_like(lat)], axis=-1),
-            np.stack([-cl * co, -cl * so, -sl], axis=-1),
-        ],
-        axis=1,
-    )
-    c_b_n = c_e_n @ traj.attitude
-    return np.arctan2(c_b_n[:, 1, 0], c_b_n[:, 0, 0])
+    # docs/how-to/step-api.md shows both ends from the record.
+    recorded = figures("aided_outage")
+    assert abs(coast[-1] - recorded["coast_end_m"]) <= 1e-9, coast[-1]
+    assert abs(aided[-1] - recorded["aided_end_m"]) <= 1e-9, aided[-1]
 
 
 def test_bad_calls_name_the_argument_and_change_nothing(drive_300s):
@@ -320,42 +261,17 @@ def test_run_increments_is_the_stepped_increments_run(drive_300s):
 
 
 @pytest.mark.slow
-def test_the_quoted_increments_gain_is_what_the_filter_does():
-    """docs/how-to/step-api.md and the navigate guide quote how far 600 s of
-    unaided propagation from error-free data ends at 100 and 20 Hz, by
-    increments (coning and sculling) and by instantaneous samples: the
-    same trajectory, recomputed."""
-    import re
-
-    imu = mn.ImuModel.preset("tactical", seed=1)
-    ends = {}
-    for rate in (100.0, 20.0):
-        traj = mn.Trajectory.random(duration=600.0, rate=rate, seed=3)
-        t = traj.time
-        dv, dtheta = mn.imu_increments(t, traj.specific_force, traj.angular_rate)
-        flt = mn.TightlyCoupledFilter(imu)
-        by_increments = flt.start(t[0], traj.specific_force[0], traj.angular_rate[0], initial(traj))
-        by_samples = flt.start(t[0], traj.specific_force[0], traj.angular_rate[0], initial(traj))
-        for k in range(1, len(t)):
-            by_increments.predict_increments(t[k], dv[k - 1], dtheta[k - 1])
-            by_samples.predict(t[k], traj.specific_force[k], traj.angular_rate[k])
-        ends[rate] = [
-            float(np.linalg.norm(r.position_ecef - traj.position_ecef[-1]))
-            for r in (by_increments, by_samples)
-        ]
-    page = " ".join(doc_text("how-to/step-api.md").split())
-    quoted = re.search(
-        r"ends ([\d.]+) m off at 100 Hz and ([\d.]+) m at 20 Hz, against ([\d.]+) m and ([\d.]+) m",
-        page,
-    )
-    assert quoted, "docs/how-to/step-api.md no longer quotes the increments gain"
-    figures = [ends[100.0][0], ends[20.0][0], ends[100.0][1], ends[20.0][1]]
-    for text, value in zip(quoted.groups(), figures, strict=True):
-        decimals = len(text.split(".")[1])
-        assert f"{value:.{decimals}f}" == text, (text, value)
-    guide = " ".join(doc_text(*NAVIGATE_GUIDE).split())
-    assert f"{ends[100.0][0]:.3f} m native against {ends[100.0][1]:.3f} m" in guide
-    assert f"at 20 Hz {ends[20.0][0]:.2f} m against {ends[20.0][1]:.1f} m" in guide
+def test_the_increments_gain_is_the_record():
+    """600 s of unaided propagation from error-free data ends closer to the
+    truth by increments (coning and sculling) than by instantaneous
+    samples, much closer at 20 Hz; the figures docs/how-to/step-api.md and
+    docs/how-to/your-own-imu-log.md show are this run's record."""
+    fresh, recorded = doc_runs.increments_gain(None), figures("increments_gain")
+    for rate in ("100", "20"):
+        assert fresh[rate]["increments_m"] < fresh[rate]["samples_m"], fresh
+        for key, value in fresh[rate].items():
+            assert abs(value - recorded[rate][key]) <= 1e-9, (rate, key, value)
+    assert fresh["20"]["samples_m"] > 5 * fresh["20"]["increments_m"], fresh
 
 
 def test_updates_are_transactions_and_starts_plausible(drive_300s):
