@@ -3,15 +3,15 @@ were accepted as silent garbage, now fail up front with an error naming the
 argument (docs/reference/robustness.md lists the limits)."""
 
 import os
-import re
 import subprocess
 import sys
 import warnings
 from pathlib import Path
 
+import doc_runs
 import numpy as np
 import pytest
-from doc_pages import doc_text
+from figures import figures
 from test_navigate import DATA, DRIVE, WALK
 from test_navigate import _config as navigate_config
 
@@ -389,28 +389,11 @@ def test_a_truly_singular_geometry_is_still_reported_as_such():
 
 
 @pytest.fixture(scope="module")
-def drive(drive_300s):
-    # The shared 300 s drive (conftest.py) and its least-squares fixes as
-    # loose-filter input.
-    traj, gnss, imu, f, w = drive_300s
-    fixes = mn.solve_fix(gnss)
-    arrays = {
-        "time": np.array(fixes.time),
-        "position_ecef": np.array(fixes.position_ecef),
-        "position_covariance": np.array(fixes.position_clock_covariance)[:, :3, :3],
-    }
-    return traj, gnss, imu, f, w, arrays
+def drive():
+    return doc_runs.hardening_drive()
 
 
-def loose_run(drive, f=None, w=None, fixes=None):
-    traj, _, imu, f0, w0, arrays = drive
-    return mn.LooselyCoupledFilter(imu).run(
-        traj.time,
-        f0 if f is None else f,
-        w0 if w is None else w,
-        arrays if fixes is None else fixes,
-        initial_attitude=traj.attitude[0],
-    )
+loose_run = doc_runs.loose_run
 
 
 def test_clean_simulated_runs_give_no_warning(drive):
@@ -450,11 +433,7 @@ def test_gyro_in_deg_per_s_warns_naming_the_argument(drive):
 @pytest.mark.parametrize("which", ["after_the_first", "first"])
 def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
     traj, *_, arrays = drive
-    bad = {k: v.copy() for k, v in arrays.items()}
-    if which == "first":
-        bad["position_ecef"][0] += [1e9, 0.0, 0.0]
-    else:
-        bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
+    bad = doc_runs.fixes_off(arrays, which)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         sol = loose_run(drive, fixes=bad)
@@ -463,18 +442,8 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         # Never a silent 1e9 m finish. Either the filter
         # recovers (resets to the later fixes) or it says it diverged.
         assert error < 100.0 and len(sol.resets["time"]) >= 1
-        # docs/reference/robustness.md quotes how: "final error 2.4 m on the simulated
-        # drive, one `position_to_fix` reset, no warning".
-        page = " ".join(doc_text("reference/robustness.md").split())
-        quoted = re.search(
-            r"\(final error ([\d.]+) m on the simulated drive, (one) `position_to_fix` reset, "
-            r"(no) warning",
-            page,
-        )
-        assert quoted, (
-            "docs/reference/robustness.md no longer quotes the recovery from a first fix off"
-        )
-        assert abs(error - float(quoted.group(1))) <= 0.05, error
+        # docs/reference/robustness.md shows this run's record.
+        assert abs(error - figures("robustness_runs")["first_fix_off_error_m"]) <= 1e-9, error
         assert list(sol.resets["kind"]) == ["position_to_fix"] and not caught
     else:
         # Every fix but the first is 1e9 m off the truth: the filter follows
@@ -484,32 +453,17 @@ def test_wildly_wrong_fixes_warn_of_divergence_or_recover(drive, which):
         assert any("diverged" in m for m in sol.warnings)
 
 
-def test_the_failed_shares_the_guide_quotes(drive):
-    """docs/reference/robustness.md: "a clean loose run fails 1.0 % (tight 0.0 %);
-    fixes 10⁹ m off after the first fail 51 %; a gyro in deg/s, 51 %"."""
-    traj, gnss, imu, f, w, arrays = drive
-    page = " ".join(doc_text("reference/robustness.md").split())
-    quoted = re.search(
-        r"a clean loose run fails ([\d.]+) % \(tight ([\d.]+) %\); fixes 10⁹ m off after the "
-        r"first fail (\d+) %; a gyro in deg/s, (\d+) %",
-        page,
-    )
-    assert quoted, "docs/reference/robustness.md no longer quotes the failed shares"
-    bad = {k: v.copy() for k, v in arrays.items()}
-    bad["position_ecef"][1:] += [1e9, 0.0, 0.0]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the last two warn, as tested above
-        runs = [
-            loose_run(drive),
-            mn.TightlyCoupledFilter(imu).run(
-                traj.time, f, w, gnss, initial_attitude=traj.attitude[0]
-            ),
-            loose_run(drive, fixes=bad),
-            loose_run(drive, w=np.degrees(w)),
-        ]
-    shares = [100.0 * (1.0 - np.mean(run.batches["accepted"])) for run in runs]
-    for share, text in zip(shares, quoted.groups(), strict=True):
-        assert abs(share - float(text)) <= 0.5 * 10.0 ** -len(text.partition(".")[2]), shares
+def test_the_failed_shares_are_the_record(drive):
+    """docs/reference/robustness.md shows the failed shares of GNSS batches
+    (a clean loose and tight run, fixes 10⁹ m off after the first, a gyro
+    in deg/s) from the record: a consistent filter fails about
+    1 − gate_probability, the broken inputs half or more."""
+    shares = doc_runs.failed_shares(drive)
+    assert shares["clean_loose_pct"] < 2.0 and shares["clean_tight_pct"] < 2.0, shares
+    assert shares["fixes_off_pct"] > 25.0 and shares["gyro_deg_s_pct"] > 25.0, shares
+    recorded = figures("robustness_runs")["failed_shares"]
+    for key, value in shares.items():
+        assert abs(value - recorded[key]) <= 1e-9, (key, value)
 
 
 def test_a_sat_id_of_minus_inf_is_refused_not_taken_as_padding(drive):
@@ -781,32 +735,13 @@ def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
     """gate_probability = 1 lets an outlier through (a fix 10⁹ m off; a
     pseudorange 5·10⁷ m too long: a longer one is no receiver's and is
     refused up front), which used to go without a warning."""
-    traj, gnss, imu, f, w, arrays = drive
-    if kind == "tight":
-        names = ("time", "sat_id", "pseudorange", "pseudorange_rate", "pseudorange_std")
-        names += ("pseudorange_rate_std", "satellite_position_ecef", "satellite_velocity_ecef")
-        g = {name: np.array(getattr(gnss, name)) for name in names}
-        g["pseudorange"][100, 0] += 5e7
-        run = mn.TightlyCoupledFilter(imu, gate_probability=1.0).run
-        aiding = g
-    else:
-        aiding = {k: v.copy() for k, v in arrays.items()}
-        aiding["position_ecef"][100] += [1e9, 0.0, 0.0]
-        run = mn.LooselyCoupledFilter(imu, gate_probability=1.0).run
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        sol = run(traj.time, f, w, aiding, initial_attitude=traj.attitude[0])
+    traj, _, imu, f, w, _ = drive
+    sol, aiding, caught = doc_runs.outlier_run(drive, kind)
     applied = "GNSS batches were applied although their NIS was beyond"
     assert any(applied in str(c.message) for c in caught)
-    # How far the outlier leaves the run, as docs/reference/robustness.md quotes it
-    # ("leaves the tight one 34 km and the loose one 36 km off at its end").
-    page = " ".join(doc_text("reference/robustness.md").split())
-    quoted = re.search(r"leaves the tight one (\d+) km and the loose one (\d+) km off", page)
-    assert quoted, (
-        "docs/reference/robustness.md no longer quotes how far the outlier leaves the run"
-    )
+    # How far the outlier leaves the run: docs/reference/robustness.md shows the record.
     error_km = np.linalg.norm(sol.position_ecef[-1] - traj.position_ecef[-1]) / 1e3
-    assert abs(error_km - float(quoted.group(1 if kind == "tight" else 2))) <= 0.5, error_km
+    assert abs(error_km - figures("robustness_runs")[f"outlier_{kind}_end_km"]) <= 1e-9
     assert sol.diverged
     assert [a["kind"] for a in sol.integrity["alerts"]].count("applied_outliers") == 1
     # The same run with the gate on rejects the outlier and says nothing.
