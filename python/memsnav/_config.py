@@ -245,7 +245,8 @@ def imu_columns() -> Check:
 
     def check(value: Any) -> list[str] | dict[str, str | int]:
         if isinstance(value, list):
-            return list_of(text(), min_length=1)(value)
+            names: list[str] = list_of(text(), min_length=1)(value)
+            return names
         if isinstance(value, dict):
             for k, v in value.items():
                 if not (isinstance(v, str) or (isinstance(v, int) and not isinstance(v, bool))):
@@ -280,7 +281,8 @@ def axes() -> Check:
     rows = list_of(list_of(number(), lengths=(3,)), lengths=(3,))
 
     def check(value: Any) -> str | list[list[float]]:
-        return text()(value) if isinstance(value, str) else rows(value)
+        checked: str | list[list[float]] = text()(value) if isinstance(value, str) else rows(value)
+        return checked
 
     return check
 

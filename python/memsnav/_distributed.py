@@ -88,7 +88,7 @@ def gather_ranges(
     completed = 0
     interrupted = False
     try:
-        for future in as_completed(futures):
+        for future in as_completed(futures):  # type: ignore[no-untyped-call]
             start, end = ranges[futures.index(future)]
             done[start] = future.result()
             completed += end - start
@@ -184,6 +184,6 @@ def connect(address: str) -> Any:
             "scheduler: running on a Dask cluster needs Dask: pip install 'memsnav[dask]'"
         ) from None
     try:
-        return Client(address, timeout="20s")
+        return Client(address, timeout="20s")  # type: ignore[no-untyped-call]
     except (OSError, TimeoutError) as e:
         raise ValueError(f"scheduler: cannot reach the Dask scheduler at {address!r}: {e}") from e

@@ -24,7 +24,7 @@ import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, Any
 
 
 def _file_mode() -> int:
@@ -36,7 +36,7 @@ def _file_mode() -> int:
 
 
 @contextlib.contextmanager
-def atomic_open(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO]:
+def atomic_open(path: str | os.PathLike[str], mode: str = "w") -> Iterator[IO[Any]]:
     """Open a temporary file beside ``path``; rename it over ``path`` on
     success, with the permissions of a plainly created file."""
     target = Path(path)
@@ -74,7 +74,7 @@ def _refuse(folder: Path, reason: str) -> ValueError:
     return ValueError(f"output folder {str(folder)!r}: {reason}")
 
 
-def _marker(folder: Path) -> dict | None:
+def _marker(folder: Path) -> dict[str, Any] | None:
     """The marker's contents, or None when ``folder`` has none."""
     try:
         text = (folder / MARKER).read_text(encoding="utf-8")

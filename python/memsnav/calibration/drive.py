@@ -142,8 +142,11 @@ def calibrate_drive(
         sample_rate=rate,
         estimate=estimate,
     )
-    predicted_f = _noise_free(accel).measure(refs["reference_specific_force"])  # type: ignore[call-arg]
-    predicted_w = _noise_free(gyro).measure(  # type: ignore[call-arg]
+    accel_model, gyro_model = _noise_free(accel), _noise_free(gyro)
+    assert isinstance(accel_model, AccelerometerModel)
+    assert isinstance(gyro_model, GyroscopeModel)
+    predicted_f = accel_model.measure(refs["reference_specific_force"])
+    predicted_w = gyro_model.measure(
         refs["reference_angular_rate"], refs["reference_specific_force"]
     )
     before = np.hstack(

@@ -210,7 +210,7 @@ class ImuCalibration:
         def fields(model: Any, names: tuple[str, ...]) -> dict[str, Any]:
             return {n: np.asarray(getattr(model, n)).tolist() for n in names}
 
-        return _plain(
+        content: dict[str, Any] = _plain(
             {
                 "format": FORMAT,
                 "version": VERSION,
@@ -234,6 +234,7 @@ class ImuCalibration:
                 "fit": self.fit,
             }
         )
+        return content
 
     def save(self, path: str | Path) -> Path:
         """Writes the calibration file (atomically) and returns its path."""

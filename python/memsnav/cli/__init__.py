@@ -59,7 +59,8 @@ def main(argv: list[str] | None = None) -> int:
             from memsnav._distributed import connect
 
             client = connect(args.scheduler)
-        return COMMANDS[args.command].run(args, client)
+        code: int = COMMANDS[args.command].run(args, client)
+        return code
     except KeyboardInterrupt:
         print("memsnav: interrupted", file=sys.stderr)
         return 130

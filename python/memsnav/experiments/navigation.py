@@ -189,7 +189,8 @@ class NavigationResult:
         if outage is None:
             return np.zeros_like(self.time, dtype=bool)
         start, length = outage[0], outage[1]
-        return (self.time >= start) & (self.time < start + length)
+        inside: np.ndarray = (self.time >= start) & (self.time < start + length)
+        return inside
 
     def _per_run(self, name: str) -> dict[str, npt.NDArray[np.float64]]:
         """Per-run values whose mean over runs is each summary figure (the

@@ -760,7 +760,8 @@ def _recording_warnings(into: list[str]) -> Iterator[None]:
 def _in_run(run: Any, time: np.ndarray) -> np.ndarray:
     """Which of ``time`` lie inside the run's span (its start to its end)."""
     t = np.asarray(run.time)
-    return (time >= t[0]) & (time <= t[-1])
+    inside: np.ndarray = (time >= t[0]) & (time <= t[-1])
+    return inside
 
 
 def _truth_in_gnss_datum(

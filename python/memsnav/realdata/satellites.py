@@ -126,4 +126,5 @@ def _slot(sat_id: np.ndarray, epoch: np.ndarray, ids: np.ndarray) -> np.ndarray:
     match = sat_id[epoch] == ids[:, None]
     if not np.all(match.any(axis=1)):
         raise ValueError("measurement records: a record's satellite is not in its epoch")
-    return match.argmax(axis=1)
+    index: np.ndarray = match.argmax(axis=1)
+    return index

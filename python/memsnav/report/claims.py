@@ -224,7 +224,8 @@ def _inversion_rules(paper: float, unit: str) -> tuple[Rule, ...]:
 
 
 def _nominal(summary: dict[str, Any]) -> dict[str, Any]:
-    return summary["navigation"]["nominal"]
+    nominal: dict[str, Any] = summary["navigation"]["nominal"]
+    return nominal
 
 
 def _calibration_helps_early(summary: dict[str, Any]) -> Measured:
@@ -277,7 +278,8 @@ _OUTAGE_KEY = "max_position_error_during_outage_m"
 
 
 def _outage(summary: dict[str, Any]) -> dict[str, Any]:
-    return summary["navigation"]["outage"]["imus"]
+    imus: dict[str, Any] = summary["navigation"]["outage"]["imus"]
+    return imus
 
 
 def _mems_drifts(summary: dict[str, Any]) -> Measured:
