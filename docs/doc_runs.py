@@ -30,6 +30,7 @@ from typing import Any
 
 import foreign_drive_datum
 import numpy as np
+import robustness_reference
 import walk_multi_gnss
 from figures import load_record, write_record
 from marked_block import replace_block
@@ -1695,6 +1696,8 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "smoothed_reset": smoothed_reset,
     "drive_smoothed_sigma": drive_smoothed_sigma,
     "robustness_runs": robustness_runs,
+    "robustness_constants": robustness_reference.constants,
+    "robustness_messages": robustness_reference.messages,
 }
 """Each record's name and the run that measures it."""
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import math
 import os
 import platform
 import re
@@ -117,12 +118,25 @@ def _duration(seconds: float, spec: str) -> str:
     return " ".join(f"{n:.0f} {unit}" for n, unit in parts[: 2 if spec == "hm" else 3])
 
 
+SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def _power_of_ten(value: float) -> str:
+    """``value``, a power of ten, as ``10⁶``, ``−10⁵`` or ``10⁻⁹``."""
+    exponent = round(math.log10(abs(value)))
+    if value == 0 or abs(value) != float(f"1e{exponent}"):
+        raise ValueError(f"{value} is not a power of ten (format p10)")
+    return ("−" if value < 0 else "") + "10" + str(exponent).translate(SUPERSCRIPT)
+
+
 def shown(value: Any, spec: str | None) -> str:
     """``value`` as a page shows it: formatted with ``spec`` (a Python
-    format spec, or ``hm`` / ``hms`` for a duration in seconds), a minus
-    sign for a negative number."""
+    format spec; ``hm`` / ``hms`` for a duration in seconds; ``p10`` for
+    a power of ten), a minus sign for a negative number."""
     if spec in ("hm", "hms"):
         return _duration(value, spec)
+    if spec == "p10":
+        return _power_of_ten(value)
     text = format(value, spec or "")
     if spec and spec.endswith("e"):  # 2e+04 → 2e4, 1.5e-03 → 1.5e-3
         text = re.sub(r"e([+-])0*(\d)", lambda m: f"e{m[1].strip('+')}{m[2]}", text)

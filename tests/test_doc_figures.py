@@ -61,6 +61,10 @@ def test_a_placeholder_renders_its_figure_with_its_format():
     assert figures.shown(-0.125, ".2f") == "−0.12"
     assert figures.shown(50_681.0, "hms") == "14 h 4 min 41 s"
     assert figures.shown(43_080.0 + 20, "hm") == "11 h 58 min"
+    powers = [figures.shown(v, "p10") for v in (1e6, -1e5, 1e-9, 100)]
+    assert powers == ["10⁶", "−10⁵", "10⁻⁹", "10²"]
+    with pytest.raises(ValueError, match="1024 is not a power of ten"):
+        figures.shown(1024, "p10")
     (path,) = RECORDS[:1]
     name = path.stem
     key, value = next(iter(json.loads(path.read_text())["figures"].items()))
