@@ -28,6 +28,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import drive_calibration_record
 import foreign_drive_datum
 import numpy as np
 import robustness_reference
@@ -1696,41 +1697,61 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "smoothed_reset": smoothed_reset,
     "drive_smoothed_sigma": drive_smoothed_sigma,
     "robustness_runs": robustness_runs,
+    "drive_calibration": drive_calibration_record.record,
     "robustness_constants": robustness_reference.constants,
     "robustness_messages": robustness_reference.messages,
 }
 """Each record's name and the run that measures it."""
 
-TABLES: dict[str, tuple[str, tuple[str, str], Callable[[dict[str, Any]], str]]] = {
-    "partial_outages": ("results/paper-comparison.md", PARTIAL_OUTAGES, partial_outages_table),
+Table = tuple[str, tuple[str, str], Callable[[dict[str, Any]], str]]
+"""A block of a page a record fills: the page, its markers, the renderer."""
+
+TABLES: dict[str, tuple[Table, ...]] = {
+    "partial_outages": (("results/paper-comparison.md", PARTIAL_OUTAGES, partial_outages_table),),
     "walk_multi_gnss": (
-        "how-to/multi-gnss.md",
-        walk_multi_gnss.SATELLITES_LINE,
-        walk_multi_gnss.satellites_line_block,
+        (
+            "how-to/multi-gnss.md",
+            walk_multi_gnss.SATELLITES_LINE,
+            walk_multi_gnss.satellites_line_block,
+        ),
     ),
     "walk_configurations": (
-        "how-to/multi-gnss.md",
-        walk_multi_gnss.CONFIGURATION_TABLE,
-        walk_multi_gnss.configuration_table,
+        (
+            "how-to/multi-gnss.md",
+            walk_multi_gnss.CONFIGURATION_TABLE,
+            walk_multi_gnss.configuration_table,
+        ),
     ),
     "walk_correlation_table": (
-        "how-to/multi-gnss.md",
-        walk_multi_gnss.CORRELATION_TABLE,
-        walk_multi_gnss.correlation_table,
+        (
+            "how-to/multi-gnss.md",
+            walk_multi_gnss.CORRELATION_TABLE,
+            walk_multi_gnss.correlation_table,
+        ),
     ),
     "static_start_spec": (
-        "how-to/tune-for-your-imu.md",
-        STATIC_START_SPEC,
-        static_start_spec_table,
+        ("how-to/tune-for-your-imu.md", STATIC_START_SPEC, static_start_spec_table),
+    ),
+    "drive_calibration": (
+        (
+            "how-to/calibrate-an-imu.md",
+            drive_calibration_record.PARAMETERS,
+            drive_calibration_record.parameters_table,
+        ),
+        (
+            "how-to/calibrate-an-imu.md",
+            drive_calibration_record.OUTAGES,
+            drive_calibration_record.outages_table,
+        ),
     ),
 }
 """The records that also fill a table: the page, its markers, the table."""
 
 
 def write_table(name: str) -> None:
-    """Writes ``name``'s table into its page from its record."""
-    page, (begin, end), table = TABLES[name]
-    replace_block(ROOT / "docs" / page, begin, end, table(load_record(name)))
+    """Writes ``name``'s tables into their pages from its record."""
+    for page, (begin, end), table in TABLES[name]:
+        replace_block(ROOT / "docs" / page, begin, end, table(load_record(name)))
 
 
 def main() -> None:

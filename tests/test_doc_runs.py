@@ -7,41 +7,16 @@ them."""
 import doc_runs
 import pytest
 from figures import figures, load_record
+from record_agreement import agree
 from shared_data import data_root as data_root_of_tests
 from shared_data import shared_data
-
-
-def _agree(fresh, recorded, tolerance, path="") -> list[str]:
-    """Where ``fresh`` and ``recorded`` (nested dicts and lists of numbers)
-    differ by more than ``tolerance`` (a number, or dicts of them by key: a
-    key a level does not name passes the whole tolerance down), by path."""
-    if isinstance(recorded, dict):
-        assert fresh.keys() == recorded.keys(), (path, fresh.keys(), recorded.keys())
-        return [
-            d
-            for k in recorded
-            for d in _agree(
-                fresh[k],
-                recorded[k],
-                tolerance[k] if isinstance(tolerance, dict) and k in tolerance else tolerance,
-                f"{path}.{k}",
-            )
-        ]
-    if isinstance(recorded, list):
-        assert len(fresh) == len(recorded), path
-        return [
-            d
-            for k, (f, r) in enumerate(zip(fresh, recorded, strict=True))
-            for d in _agree(f, r, tolerance, f"{path}.{k}")
-        ]
-    return [] if abs(fresh - recorded) <= tolerance + 1e-12 else [f"{path}: {fresh} vs {recorded}"]
 
 
 def _check(name: str, tolerance, needs_data: bool = False) -> dict:
     """Runs ``name`` and compares it with its record within ``tolerance``."""
     data_root = shared_data("real-imu-gnss").parent if needs_data else data_root_of_tests()
     fresh = doc_runs.RUNS[name](data_root)
-    differ = _agree(fresh, figures(name), tolerance, name)
+    differ = agree(fresh, figures(name), tolerance, name)
     assert not differ, f"{differ}: rerun python docs/doc_runs.py {name} if this is meant"
     return fresh
 
@@ -215,7 +190,8 @@ def test_the_readme_describes_the_drive_example_by_its_schedule():
 def test_the_tables_are_their_records():
     """Each table a run fills (doc_runs.TABLES) is what its record renders
     to: python docs/doc_runs.py NAME rewrites it."""
-    for name, (page, (begin, end), table) in doc_runs.TABLES.items():
-        text = (doc_runs.ROOT / "docs" / page).read_text()
-        block = text[text.index(begin) : text.index(end) + len(end)]
-        assert block == table(load_record(name)), f"rerun python docs/doc_runs.py {name}"
+    for name, tables in doc_runs.TABLES.items():
+        for page, (begin, end), table in tables:
+            text = (doc_runs.ROOT / "docs" / page).read_text()
+            block = text[text.index(begin) : text.index(end) + len(end)]
+            assert block == table(load_record(name)), f"rerun python docs/doc_runs.py {name}"

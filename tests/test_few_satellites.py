@@ -2,9 +2,9 @@
 (docs/explanation/few-satellites.md): keeping satellites never makes an outage worse,
 the covariance covers the errors through a total outage and over whole
 runs, and a long run on few satellites either stays inside its 3σ or is
-flagged, with a warning that says why. Each of these failed before issue
-23 (the numbers of its text: 157/446/273/21 m; 24 %, 13 % inside 3σ and
-no flag; outage NEES/dof 0.1)."""
+flagged, with a warning that says why. Each of these failed with the
+filter model before the one that added the range-bias states (157/446/273/21 m;
+24 %, 13 % inside 3σ and no flag; outage NEES/dof 0.1)."""
 
 from __future__ import annotations
 
