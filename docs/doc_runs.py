@@ -30,6 +30,7 @@ from typing import Any
 
 import drive_calibration_record
 import foreign_drive_datum
+import installation_drives
 import numpy as np
 import robustness_reference
 import walk_multi_gnss
@@ -1698,6 +1699,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "drive_smoothed_sigma": drive_smoothed_sigma,
     "robustness_runs": robustness_runs,
     "drive_calibration": drive_calibration_record.record,
+    "installation_states": installation_drives.record,
     "robustness_constants": robustness_reference.constants,
     "robustness_messages": robustness_reference.messages,
 }
