@@ -33,6 +33,7 @@ import foreign_drive_datum
 import installation_drives
 import numpy as np
 import robustness_reference
+import time_offsets_record
 import walk_multi_gnss
 from figures import load_record, write_record
 from marked_block import replace_block
@@ -1700,6 +1701,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "robustness_runs": robustness_runs,
     "drive_calibration": drive_calibration_record.record,
     "installation_states": installation_drives.record,
+    "full_log_time_offsets": time_offsets_record.record,
     "robustness_constants": robustness_reference.constants,
     "robustness_messages": robustness_reference.messages,
 }
@@ -1733,6 +1735,9 @@ TABLES: dict[str, tuple[Table, ...]] = {
     ),
     "static_start_spec": (
         ("how-to/tune-for-your-imu.md", STATIC_START_SPEC, static_start_spec_table),
+    ),
+    "full_log_time_offsets": (
+        ("explanation/time-and-truth.md", time_offsets_record.TABLE, time_offsets_record.table),
     ),
     "drive_calibration": (
         (

@@ -1,0 +1,102 @@
+"""The time offsets of the two full logs, as docs/explanation/time-and-truth.md
+("Finding the time offsets from the data") shows them: ``record`` runs
+``mn.estimate_time_offset`` on each log and signal (IMU on the corrected
+tag clock, the authors' mounting) and ``mn.estimate_velocity_latency`` on
+each RTK solution; ``table`` writes the page's table from the record.
+
+``python docs/doc_runs.py full_log_time_offsets`` writes the record;
+``tests/test_timing.py`` compares ``record`` today with it."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+from typing import Any
+
+import memsnav as mn
+
+#: Per log: its label in the table, its files' stem, the authors' mounting
+#: (degrees) and the estimator's options.
+LOGS: dict[str, dict[str, Any]] = {
+    "drive_0708": {
+        "label": "drive_0708",
+        "imu": "drive_0708/imu_1934",
+        "mounting_deg": [[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]],
+        "options": {},
+    },
+    "walk_0827": {
+        "label": "walk_0827 (≥ 0.5 m/s)",
+        "imu": "walk_0827/imu_1730",
+        "mounting_deg": [[180.0, 0.0, -90.0]],
+        "options": {"min_speed_m_s": 0.5},
+    },
+}
+SIGNALS = {"along_track": "along-track", "yaw_rate": "yaw rate"}
+TABLE = ("<!-- full-log-time-offsets:begin -->", "<!-- full-log-time-offsets:end -->")
+
+
+def _rtk(root: Path, log: dict[str, Any]) -> Any:
+    return mn.read_pos(root / (log["imu"].replace("imu_", "gnss_") + "_sf.pos"))
+
+
+def record(data_root: Path) -> dict[str, Any]:
+    """Per log: each signal's offset to add (s), its std (s), the peak
+    correlation and the four stretches' offsets (s); the RTK velocity
+    latency (s), its std (s) and the RMS velocity difference (m/s)."""
+    root = data_root / "real-imu-gnss"
+    out: dict[str, Any] = {}
+    for name, log in LOGS.items():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the logs' cut first and last lines
+            imu = mn.read_imu_csv(root / f"{log['imu']}.csv", skip_first_line=True)
+        clock = mn.fit_tag_clock(imu, mn.read_time_tag(root / f"{log['imu']}.csv.tag"))
+        c_b_s = mn.mounting_matrix(log["mounting_deg"])
+        rtk = _rtk(root, log)
+        out[name] = {}
+        for signal in SIGNALS:
+            e = mn.estimate_time_offset(
+                clock.gps_time,
+                imu.specific_force @ c_b_s.T,
+                imu.angular_rate @ c_b_s.T,
+                rtk,
+                signal=signal,
+                **log["options"],
+            )
+            out[name][signal] = {
+                "offset_s": e.offset_s,
+                "std_s": e.std_s,
+                "correlation": e.correlation,
+                "stretches_s": [float(v) for v in e.block_offsets_s],
+            }
+        latency = mn.estimate_velocity_latency(rtk)
+        out[name]["velocity_latency"] = {
+            "latency_s": latency.latency_s,
+            "std_s": latency.std_s,
+            "rms_m_s": latency.rms_m_s,
+        }
+    return out
+
+
+def _signed(value: float) -> str:
+    return f"{value:+.3f}".replace("-", "−")
+
+
+def table(recorded: dict[str, Any]) -> str:
+    """The offsets table; the drive's along-track offset, the one to use,
+    in bold."""
+    rows = [
+        "| log | signal | offset to add | std | correlation | stretches |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, log in LOGS.items():
+        for signal, label in SIGNALS.items():
+            e = recorded["figures"][name][signal]
+            offset = f"{_signed(e['offset_s'])} s"
+            if (name, signal) == ("drive_0708", "along_track"):
+                offset = f"**{offset}**"
+            stretches = ", ".join(_signed(v) for v in e["stretches_s"])
+            rows.append(
+                f"| {log['label']} | {label} | {offset} | {e['std_s']:.3f} s | "
+                f"{e['correlation']:.2f} | {stretches} |"
+            )
+    return "\n".join([TABLE[0], *rows, TABLE[1]])
