@@ -66,6 +66,26 @@ def first_session(data_root: Path) -> dict[str, Any]:
     return {"ins_largest_error_m": truth_error_m, "drift_km": drift_m / 1e3}
 
 
+def step_api_example(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/step-api.md's example: the position error at the end of
+    its 30 s outage without and with the wheel speed and non-holonomic
+    constraint (m), and the largest vertical velocity in body axes of its
+    trajectory (m/s), which sizes the constraint's std."""
+    out = io.StringIO()
+    namespace: dict[str, Any] = {"__name__": "__docs__"}
+    with contextlib.redirect_stdout(out), tempfile.TemporaryDirectory() as tmp:
+        with contextlib.chdir(tmp):
+            exec(compile(_python_block("how-to/step-api.md"), "step-api.md", "exec"), namespace)
+    printed = dict(re.findall(r"odometry (\w+): end of the outage ([\d.]+) m", out.getvalue()))
+    truth = namespace["truth"]
+    body = np.einsum("nji,nj->ni", truth.attitude, truth.velocity_ecef)
+    return {
+        "outage_end_error_m": float(printed["False"]),
+        "outage_end_error_odometry_m": float(printed["True"]),
+        "largest_vertical_body_velocity_m_s": float(np.abs(body[:, 2]).max()),
+    }
+
+
 def own_arrays_conditioning(data_root: Path) -> dict[str, Any]:
     """The condition number of the w axis of the accelerometer calibration
     in docs/how-to/your-own-arrays.md's first example."""
@@ -1661,6 +1681,7 @@ def tactical_preset_fading(data_root: Path) -> dict[str, Any]:
 RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "first_session": first_session,
     "own_arrays_conditioning": own_arrays_conditioning,
+    "step_api_example": step_api_example,
     "input_correlation_times": input_correlation_times,
     "tactical_three_satellites": tactical_three_satellites,
     "drive_time_offsets": drive_time_offsets,

@@ -28,6 +28,22 @@ def test_the_first_session_prints_its_record():
     assert fresh["ins_largest_error_m"] < 0.01
 
 
+def test_the_step_api_example_prints_its_record():
+    """docs/how-to/step-api.md's example run again: its outage errors (shown
+    to 0.1 m; the wheel speed cuts the error) and the vertical velocity its
+    constraint's 0.2 m/s must cover (shown to 0.01 m/s)."""
+    fresh = _check(
+        "step_api_example",
+        {
+            "outage_end_error_m": 0.05,
+            "outage_end_error_odometry_m": 0.05,
+            "largest_vertical_body_velocity_m_s": 0.005,
+        },
+    )
+    assert fresh["outage_end_error_odometry_m"] < 0.5 * fresh["outage_end_error_m"]
+    assert fresh["largest_vertical_body_velocity_m_s"] < 0.2
+
+
 def test_the_own_arrays_example_is_as_poorly_conditioned_as_recorded():
     """The w axis's condition number, shown to one significant figure."""
     fresh = _check("own_arrays_conditioning", {"w_axis_condition_number": float("inf")})

@@ -12,7 +12,6 @@ from __future__ import annotations
 import doc_runs
 import numpy as np
 import pytest
-from doc_pages import doc_text
 from figures import figures
 
 import memsnav as mn
@@ -202,35 +201,6 @@ def test_bad_calls_name_the_argument_and_change_nothing(drive_300s):
     with pytest.raises(ValueError, match="LooselyCoupledFilter"):
         loose.update_gnss(gnss, 0)
     assert "RunningFilter(TightlyCoupledFilter, 17 states" in repr(running)
-
-
-def test_step_api_page_quotes_what_its_example_prints(capsys, monkeypatch, tmp_path):
-    """docs/how-to/step-api.md's opening sentence quotes its example's outage
-    errors: run the example and compare."""
-    import re
-
-    page = doc_text("how-to/step-api.md")
-    example = re.search(r"```python\n(.*?)```", page, flags=re.S).group(1)
-    monkeypatch.chdir(tmp_path)
-    namespace = {"__name__": "__docs__"}
-    exec(compile(example, "step-api.md", "exec"), namespace)
-    printed = dict(
-        re.findall(r"odometry (\w+): end of the outage ([\d.]+) m", capsys.readouterr().out)
-    )
-    quoted = re.search(
-        r"coasts through a 30 s outage to ([\d.]+) m;\s+with a wheel speed and the "
-        r"non-holonomic constraint it ends at ([\d.]+) m",
-        page,
-    )
-    assert quoted, "the page's opening figures moved"
-    assert f"{float(printed['False']):.1f}" == quoted.group(1)
-    assert f"{float(printed['True']):.1f}" == quoted.group(2)
-    # Its comment sizes the non-holonomic std by the trajectory's vertical
-    # velocity in body axes: "up to 0.14 m/s".
-    (vertical,) = re.search(r"hills give up to ([\d.]+) m/s vertical in body axes", page).groups()
-    truth = namespace["truth"]
-    body = np.einsum("nji,nj->ni", truth.attitude, truth.velocity_ecef)
-    assert f"{np.abs(body[:, 2]).max():.2f}" == vertical
 
 
 def test_run_increments_is_the_stepped_increments_run(drive_300s):
