@@ -236,6 +236,17 @@ def two_satellite_runs(data_root: Path) -> dict[str, Any]:
 PAPER_IMUS = ("ins", "mems", "calibrated_mems")
 
 
+def study_defaults(data_root: Path) -> dict[str, Any]:
+    """The outage study's default outage start (s) and the margin its runs
+    last past the longest outage (s), from a one-run study's configuration."""
+    lengths = [10.0, 30.0]
+    study = mn.experiments.outage_study(
+        grades=["consumer"], outage_lengths=lengths, visible_satellites=[0], runs=1, threads=1
+    )
+    start = study.config["outage_start"]
+    return {"outage_start_s": start, "duration_margin_s": study.config["duration"] - start - 30.0}
+
+
 def partial_outages(data_root: Path) -> dict[str, Any]:
     """The partial-outage experiment's quick run (30 runs, seed 0): per
     scenario and IMU the mean largest error in the window (m), the position
@@ -1689,6 +1700,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_precision": walk_precision,
     "two_satellite_runs": two_satellite_runs,
     "partial_outages": partial_outages,
+    "study_defaults": study_defaults,
     "quick_calibration": quick_calibration,
     "drive_other_settings": drive_other_settings,
     "walk_multi_gnss": walk_multi_gnss.record,

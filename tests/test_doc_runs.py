@@ -44,6 +44,11 @@ def test_the_step_api_example_prints_its_record():
     assert fresh["largest_vertical_body_velocity_m_s"] < 0.2
 
 
+def test_the_study_defaults_are_the_record():
+    """The outage study's default outage start and duration margin, exact."""
+    _check("study_defaults", 0.0)
+
+
 def test_the_own_arrays_example_is_as_poorly_conditioned_as_recorded():
     """The w axis's condition number, shown to one significant figure."""
     fresh = _check("own_arrays_conditioning", {"w_axis_condition_number": float("inf")})

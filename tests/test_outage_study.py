@@ -11,7 +11,6 @@ import doc_runs
 import matplotlib
 import numpy as np
 import pytest
-from doc_pages import doc_text
 from figures import figures
 from report_checks import capture_figures, page_problems
 from scipy.stats import binom, chi2
@@ -382,23 +381,6 @@ def test_adaptive_study_decides_every_needed_cell_reproducibly():
         mn.experiments.outage_study(**ADAPTIVE, runs=8, max_runs=16, percentile=100.0)
     with pytest.raises(ValueError, match="cell"):
         study.cell("tactical", 20.0, 0)
-
-
-def test_the_guide_quotes_the_study_defaults():
-    """docs/results/outage-study.md: "the outage starts at `outage_start` (default
-    100 s ...)" and "run duration (default: outage start + longest outage
-    + 10 s)": a one-run study's configuration says the same."""
-
-    page = " ".join(doc_text("results/outage-study.md").split())
-    start = re.search(r"`outage_start` \(default (\d+) s", page)
-    margin = re.search(r"default: outage start \+ longest outage \+ (\d+) s", page)
-    assert start and margin, "docs/results/outage-study.md no longer quotes the study's defaults"
-    lengths = [10.0, 30.0]
-    study = mn.experiments.outage_study(
-        grades=["consumer"], outage_lengths=lengths, visible_satellites=[0], runs=1, threads=1
-    )
-    assert study.config["outage_start"] == float(start.group(1))
-    assert study.config["duration"] == float(start.group(1)) + max(lengths) + float(margin.group(1))
 
 
 def test_study_on_galileo_and_beidou_from_the_configuration(tmp_path):
