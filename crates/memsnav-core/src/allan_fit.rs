@@ -106,7 +106,9 @@ impl AllanTermsFit {
 /// entries (`[imu_spec]` keys) of the terms they determined.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImuAllanFit {
+    /// The accelerometer triad's fitted terms.
     pub accelerometer: AllanTermsFit,
+    /// The gyroscope triad's fitted terms.
     pub gyroscope: AllanTermsFit,
 }
 

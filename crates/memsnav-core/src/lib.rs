@@ -17,6 +17,9 @@
 //! - Fallible functions return [`Result`] with a typed [`Error`] that names
 //!   the argument or the parameter at fault.
 
+// Every public item says what it is; CI's clippy -D warnings enforces it.
+#![warn(missing_docs)]
+
 pub mod allan;
 pub mod allan_fit;
 pub mod attitude;

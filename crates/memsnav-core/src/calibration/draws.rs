@@ -113,7 +113,9 @@ impl<const P: usize> ParameterDistribution<P> {
 
 /// An accelerometer and a gyroscope calibration drawn together.
 pub struct ImuDraws {
+    /// The accelerometer's parameter distribution.
     pub accelerometer: ParameterDistribution<ACCELEROMETER_PARAMETERS>,
+    /// The gyroscope's parameter distribution.
     pub gyroscope: ParameterDistribution<GYROSCOPE_PARAMETERS>,
 }
 

@@ -55,7 +55,9 @@ pub fn axis_factors(argument: &str, residual: &[Vector3<f64>]) -> Result<Vector3
 /// output axis (`LogRun.calibration_references`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InheritedCovariance {
+    /// Covariance of the three biases (per output axis), sensor units squared.
     pub bias: Matrix3<f64>,
+    /// Covariance of the three scale factors (per output axis).
     pub scale_factor: Matrix3<f64>,
 }
 

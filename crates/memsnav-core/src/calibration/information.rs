@@ -65,6 +65,7 @@ pub struct Candidate {
 pub struct ModelSelection {
     /// The stage ("accelerometer nonlinearity", "gyroscope g-sensitivity").
     pub stage: String,
+    /// The models considered, with their criteria.
     pub candidates: Vec<Candidate>,
     /// Index of the chosen candidate.
     pub chosen: usize,

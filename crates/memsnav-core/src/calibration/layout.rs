@@ -33,7 +33,9 @@ pub const GYROSCOPE_PARAMETERS: usize = 21;
 /// The calibrated triad.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Sensor {
+    /// The accelerometer triad.
     Accelerometer,
+    /// The gyroscope triad.
     Gyroscope,
 }
 
@@ -66,8 +68,11 @@ impl Sensor {
 /// A group of parameters: one field of the sensor model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Group {
+    /// The bias, one per axis.
     Bias,
+    /// The scale factor, one per axis.
     ScaleFactor,
+    /// The misalignment (off-diagonal) terms.
     Misalignment,
     /// Accelerometer only.
     Nonlinearity,
@@ -109,6 +114,7 @@ impl Group {
 /// What sits at one index of the parameter vector.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Parameter {
+    /// The model field the parameter belongs to.
     pub group: Group,
     /// The axis whose output the parameter enters (0, 1, 2).
     pub output_axis: usize,
@@ -120,13 +126,16 @@ pub struct Parameter {
 /// The parameter vector of one sensor's calibration (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CalibrationLayout {
+    /// The triad calibrated.
     pub sensor: Sensor,
 }
 
 impl CalibrationLayout {
+    /// The accelerometer's 15 parameters.
     pub const ACCELEROMETER: Self = Self {
         sensor: Sensor::Accelerometer,
     };
+    /// The gyroscope's 21 parameters.
     pub const GYROSCOPE: Self = Self {
         sensor: Sensor::Gyroscope,
     };

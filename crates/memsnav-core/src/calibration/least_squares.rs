@@ -66,6 +66,7 @@ impl<const C: usize> Default for IncrementalQr<C> {
 }
 
 impl<const C: usize> IncrementalQr<C> {
+    /// An empty factorisation.
     pub fn new() -> Self {
         Self::default()
     }
@@ -210,6 +211,7 @@ pub struct Regression {
 
 /// Coefficients of one axis and their covariance.
 pub struct Solution {
+    /// The estimated coefficients.
     pub coefficients: DVector<f64>,
     /// Covariance of the coefficients from the residual variance (LS:
     /// σ̂² (GᵀG)⁻¹; EIV: the sandwich σ̂² M⁻¹ GᵀG M⁻¹ with M = GᵀG − C).

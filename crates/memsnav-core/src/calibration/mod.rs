@@ -125,6 +125,7 @@ use crate::{limits, validate, Error, Result};
 
 /// Axis names of the accelerometer (u, v, w) and gyroscope (p, q, r) triads.
 pub const ACCELEROMETER_AXES: [&str; 3] = ["u", "v", "w"];
+/// Axis names of the gyroscope triad (p, q, r).
 pub const GYROSCOPE_AXES: [&str; 3] = ["p", "q", "r"];
 
 /// The off-diagonal elements of a misalignment matrix in parameter order.
@@ -143,6 +144,7 @@ pub enum Method {
 /// What the calibration knows about the noise.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CalibrationOptions {
+    /// Plain least squares or errors-in-variables.
     pub method: Method,
     /// Std per sample of the main reference input (specific force m/s² for
     /// the accelerometer, angular rate rad/s for the gyroscope). Required by

@@ -66,7 +66,9 @@ impl Default for StaticDetector {
 /// One static pose: samples `start..end` (end exclusive).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Pose {
+    /// The first sample of the pose.
     pub start: usize,
+    /// One past its last sample.
     pub end: usize,
 }
 
@@ -99,7 +101,9 @@ pub struct VarianceTest {
 pub struct StaticDetection {
     /// The poses in time order; the first is the initial rest.
     pub poses: Vec<Pose>,
+    /// The accelerometer's variance test.
     pub accel: VarianceTest,
+    /// The gyroscope's variance test.
     pub gyro: VarianceTest,
 }
 

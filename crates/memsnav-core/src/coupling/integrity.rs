@@ -71,6 +71,7 @@ const GNSS_KINDS: [MeasurementKind; 4] = [
 /// How the innovations of one kind sat in their chi-square band.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KindConsistency {
+    /// The measurement kind.
     pub kind: MeasurementKind,
     /// Windows with at least one batch.
     pub windows: usize,
@@ -79,6 +80,7 @@ pub struct KindConsistency {
     /// The largest summed NIS over the band's upper edge, and the start of
     /// its window (s).
     pub max_band_ratio: f64,
+    /// The start of the window with the largest ratio, s.
     pub max_at_s: f64,
 }
 
@@ -87,9 +89,13 @@ pub struct KindConsistency {
 pub enum IntegrityAlert {
     /// Too many GNSS batches failed their gate.
     GatedBatches {
+        /// Time of the first failed batch, s.
         first_s: f64,
+        /// Time of the last failed batch, s.
         last_s: f64,
+        /// Batches that failed their gate.
         rejected: usize,
+        /// Batches tested.
         total: usize,
         /// Median NIS over the gate of the failed batches.
         median_ratio: f64,
@@ -97,21 +103,33 @@ pub enum IntegrityAlert {
     /// The innovations of `kind` were far above their band in the window
     /// starting at `time_s` and the next.
     InconsistentInnovations {
+        /// The measurement kind.
         kind: MeasurementKind,
+        /// The start of the first of the two windows, s.
         time_s: f64,
+        /// The second window's summed NIS over the band's upper edge.
         band_ratio: f64,
     },
     /// From `time_s` on the pseudoranges' curvature over the position
     /// uncertainty stayed above [`NONLINEARITY_LIMIT`] (`nonlinearity`: the
     /// smallest of the window).
-    BeyondLinearModel { time_s: f64, nonlinearity: f64 },
+    BeyondLinearModel {
+        /// The start of the span, s.
+        time_s: f64,
+        /// The smallest expected curvature over the measurement std in the window.
+        nonlinearity: f64,
+    },
     /// `count` GNSS batches were applied with a NIS beyond the quantile of
     /// [`OUTLIER_PROBABILITY`], the first (of `kind`) at `time_s` with
     /// `ratio` times that quantile.
     AppliedOutliers {
+        /// The kind of the first outlier applied.
         kind: MeasurementKind,
+        /// Time of the first outlier applied, s.
         time_s: f64,
+        /// Its NIS over the outlier quantile.
         ratio: f64,
+        /// How many batches were applied beyond the quantile.
         count: usize,
     },
 }

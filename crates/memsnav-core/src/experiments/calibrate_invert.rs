@@ -34,8 +34,10 @@ pub const DEFAULT_GYRO_PROCESS_STD: f64 = 1.0 * std::f64::consts::PI / 180.0;
 pub struct SegmentCalibration {
     /// Length of the segment, s.
     pub duration_s: f64,
-    /// Reference noise per sample (module docs of [`super`]), m/s² and rad/s.
+    /// Reference specific-force noise per sample (module docs of
+    /// [`super`]), m/s².
     pub reference_specific_force_std: f64,
+    /// Reference angular-rate noise per sample, rad/s.
     pub reference_angular_rate_std: f64,
     /// Estimator (default errors-in-variables: plain LS with noisy
     /// references leaves scale-factor biases that dominate the MSE).
@@ -72,6 +74,8 @@ impl Default for InversionProcess {
 }
 
 impl InversionProcess {
+    /// Both process stds positive and finite (the error names the one
+    /// that is not).
     pub fn validate(&self) -> Result<()> {
         validate::positive("accel_process_std", self.accel_process_std)?;
         validate::positive("gyro_process_std", self.gyro_process_std)
@@ -138,7 +142,9 @@ impl SegmentCalibration {
 /// The calibration of both triads of one IMU.
 #[derive(Debug, Clone)]
 pub struct CalibratedImu {
+    /// The accelerometer's calibration.
     pub accelerometer: Calibration<AccelerometerModel>,
+    /// The gyroscope's calibration.
     pub gyroscope: Calibration<GyroscopeModel>,
 }
 

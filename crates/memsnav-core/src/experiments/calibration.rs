@@ -30,7 +30,9 @@ pub struct CalibrationExperimentConfig {
     pub preset: String,
     /// Reference noise, per sample (module docs of [`super`]).
     pub reference_specific_force_std: f64,
+    /// Reference angular-rate noise std per sample, rad/s.
     pub reference_angular_rate_std: f64,
+    /// The seed every run's draws derive from.
     pub seed: u64,
 }
 
@@ -79,17 +81,21 @@ impl Default for CalibrationExperimentConfig {
 /// or [`crate::calibration::gyroscope_parameter_names`].
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct SensorStatistics {
+    /// How many parameters the sensor's calibration has.
     pub parameters: usize,
     /// True parameter values of each set.
     pub truth: Vec<f64>,
     /// Mean square error over the runs: plain LS, errors-in-variables.
     pub mse_ls: Vec<f64>,
+    /// Mean square error over the runs, errors-in-variables.
     pub mse_eiv: Vec<f64>,
     /// Mean error (the bias of the estimator): plain LS, errors-in-variables.
     pub mean_error_ls: Vec<f64>,
+    /// Mean error over the runs, errors-in-variables.
     pub mean_error_eiv: Vec<f64>,
     /// Mean over runs of the variance each calibration reported (LS, EIV).
     pub reported_variance_ls: Vec<f64>,
+    /// Mean over runs of the variance each errors-in-variables calibration reported.
     pub reported_variance_eiv: Vec<f64>,
     /// Mean over runs of the Cramér-Rao bound (errors-in-variables: the
     /// runs' reference noise, true inputs and parameters).
@@ -152,8 +158,11 @@ impl SensorStatistics {
 /// Results of [`calibration_experiment`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct CalibrationExperiment {
+    /// The configuration that ran.
     pub config: CalibrationExperimentConfig,
+    /// The accelerometer's statistics.
     pub accelerometer: SensorStatistics,
+    /// The gyroscope's statistics.
     pub gyroscope: SensorStatistics,
     /// Runs completed (fewer than asked when cancelled).
     pub completed_runs: usize,

@@ -22,12 +22,14 @@ pub struct InversionExperimentConfig {
     pub runs: usize,
     /// Length of the inverted trajectory, s (paper: 120).
     pub duration_s: f64,
+    /// IMU preset each run's IMU is drawn from.
     pub preset: String,
     /// The calibration on its own segment before the run (default: 300 s,
     /// GNSS-like references, errors-in-variables).
     pub calibration: SegmentCalibration,
     /// Random-walk increments per sample of the two filters.
     pub process: InversionProcess,
+    /// The seed every run's draws derive from.
     pub seed: u64,
 }
 
@@ -62,6 +64,7 @@ impl InversionExperimentConfig {
 /// Results of [`inversion_experiment`], SI units.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InversionExperiment {
+    /// The configuration that ran.
     pub config: InversionExperimentConfig,
     /// Per run and axis: mean over the trajectory of (Γ̂ − Γ)², (m/s²)².
     pub accel_mse: Vec<[f64; 3]>,
@@ -69,9 +72,11 @@ pub struct InversionExperiment {
     pub gyro_mse: Vec<[f64; 3]>,
     /// The same for the raw outputs taken as Γ and Ω (no calibration).
     pub raw_accel_mse: Vec<[f64; 3]>,
+    /// The same for the gyro, (rad/s)².
     pub raw_gyro_mse: Vec<[f64; 3]>,
     /// Per sample and axis, mean over runs of the squared errors of Γ̂ and Ω̂.
     pub accel_squared_error_vs_time: Vec<[f64; 3]>,
+    /// The same for Ω̂, (rad/s)².
     pub gyro_squared_error_vs_time: Vec<[f64; 3]>,
     /// Sample rate of the series, Hz.
     pub sample_rate_hz: f64,

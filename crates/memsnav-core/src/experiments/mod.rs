@@ -64,7 +64,9 @@ pub const REFERENCE_ANGULAR_RATE_STD: f64 = 0.1 * std::f64::consts::PI / 180.0;
 /// IMU rate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motion {
+    /// True specific force f_ib^b per sample, m/s².
     pub specific_force_b: Vec<Vector3<f64>>,
+    /// True angular rate ω_ib^b per sample, rad/s.
     pub angular_rate_b: Vec<Vector3<f64>>,
 }
 

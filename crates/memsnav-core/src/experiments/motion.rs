@@ -57,6 +57,7 @@ impl MotionKind {
         }
     }
 
+    /// The motion's name as the configuration spells it.
     pub fn name(&self) -> &'static str {
         match self {
             Self::LandVehicle => "land-vehicle",

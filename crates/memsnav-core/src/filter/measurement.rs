@@ -84,7 +84,6 @@ impl SparseRow {
         u
     }
 
-    /// The dense row.
     /// (h M)ᵀ = Mᵀ hᵀ: Σ h_k × row k of M, accumulated in the order of
     /// [`Self::times`] of Mᵀ (the same result, without forming Mᵀ).
     pub fn times_transposed<const N: usize>(&self, m: &SMatrix<f64, N, N>) -> SVector<f64, N> {
@@ -99,6 +98,7 @@ impl SparseRow {
         SVector::from(w)
     }
 
+    /// The dense row.
     pub fn to_dense<const N: usize>(&self) -> SVector<f64, N> {
         let mut h = SVector::zeros();
         for k in 0..self.len {

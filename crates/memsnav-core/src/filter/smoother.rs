@@ -122,32 +122,52 @@ pub enum ResetStep {
     /// States `first..first + len` (len ≤ 3) replaced by new values of
     /// covariance `covariance` (column-major, len × len).
     Block {
+        /// The first state replaced.
         first: usize,
+        /// How many states, at most 3.
         len: usize,
+        /// Their new covariance, column-major, `len` × `len`.
         covariance: [f64; 9],
     },
     /// The component along `direction` of the three states at `first`
     /// replaced by a new value of variance `variance`.
     Component {
+        /// The first of the three states.
         first: usize,
+        /// The unit direction whose component is replaced.
         direction: Vector3<f64>,
+        /// The new component's variance.
         variance: f64,
     },
     /// The whole covariance multiplied by `factor` (fading memory).
-    Fade { factor: f64 },
+    Fade {
+        /// The factor, at least 1 (`FilterState::fade`).
+        factor: f64,
+    },
     /// Variances of `states[..count]` multiplied by `factor`.
     Inflate {
+        /// The states, the first `count` of them used.
         states: [usize; 8],
+        /// How many of `states` are inflated.
         count: usize,
+        /// The factor their variances are multiplied by.
         factor: f64,
     },
     /// `variance` added to state `state`'s variance.
-    AddVariance { state: usize, variance: f64 },
+    AddVariance {
+        /// The state.
+        state: usize,
+        /// The variance added.
+        variance: f64,
+    },
     /// States `target..target + 3` moved by `matrix` times states
     /// `source..source + 3` (a change of variables, nothing new).
     Shear {
+        /// The first of the three states moved.
         target: usize,
+        /// The first of the three states they move with.
         source: usize,
+        /// The 3 × 3 coupling.
         matrix: nalgebra::Matrix3<f64>,
     },
 }

@@ -7,12 +7,16 @@ use super::wgs84::{ECCENTRICITY_SQUARED as E2, SEMI_MAJOR_AXIS_M as A, SEMI_MINO
 /// Geodetic coordinates: latitude and longitude in rad, ellipsoidal height in m.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Geodetic {
+    /// Geodetic latitude, rad.
     pub latitude_rad: f64,
+    /// Longitude, rad.
     pub longitude_rad: f64,
+    /// Height above the ellipsoid, m.
     pub height_m: f64,
 }
 
 impl Geodetic {
+    /// The coordinates as given.
     pub fn new(latitude_rad: f64, longitude_rad: f64, height_m: f64) -> Self {
         Self {
             latitude_rad,

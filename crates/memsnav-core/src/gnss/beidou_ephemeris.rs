@@ -11,10 +11,12 @@ use super::satellite_state::SatelliteState;
 /// 1980-01-06: BDT = GPS − 14 s is applied when a record is read).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BeidouEphemeris {
+    /// The satellite's PRN.
     pub prn: u16,
-    /// Age of data, ephemeris and clock (5 bits each, §5.2.4.7 and
-    /// §5.2.4.11): RINEX's IODE and IODC fields for BeiDou.
+    /// Age of data, ephemeris (5 bits, §5.2.4.11): RINEX's IODE field for
+    /// BeiDou.
     pub aode: u8,
+    /// Age of data, clock (5 bits, §5.2.4.7): RINEX's IODC field.
     pub aodc: u8,
     /// Orbit and clock polynomial; the clock is referred to B3I (§5.2.4.10).
     pub orbit: BroadcastOrbit,
@@ -22,8 +24,9 @@ pub struct BeidouEphemeris {
     pub urai: u8,
     /// Autonomous satellite health flag (0 good, 1 not, §5.2.4.6).
     pub sat_h1: u8,
-    /// Equipment group delay differentials of B1I and B2I to B3I, s.
+    /// Equipment group delay differential of B1I to B3I, s.
     pub tgd1_s: f64,
+    /// Equipment group delay differential of B2I to B3I, s.
     pub tgd2_s: f64,
     /// BDT week of the transmission (13 bits, from 2006-01-01).
     pub bdt_week: u16,

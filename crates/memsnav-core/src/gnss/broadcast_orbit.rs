@@ -119,23 +119,41 @@ pub struct BroadcastOrbit {
     pub toc_gps_s: f64,
     /// Ephemeris reference time t_oe, GPS s.
     pub toe_gps_s: f64,
+    /// Clock bias a_f0 at t_oc, s.
     pub af0_s: f64,
+    /// Clock drift a_f1, s/s.
     pub af1_s_s: f64,
+    /// Clock drift rate a_f2, s/s².
     pub af2_s_s2: f64,
+    /// Amplitude of the sine correction to the orbit radius C_rs, m.
     pub crs_m: f64,
+    /// Mean motion difference from the computed value Δn, rad/s.
     pub delta_n_rad_s: f64,
+    /// Mean anomaly at t_oe M₀, rad.
     pub m0_rad: f64,
+    /// Amplitude of the cosine correction to the argument of latitude C_uc, rad.
     pub cuc_rad: f64,
+    /// Eccentricity e.
     pub eccentricity: f64,
+    /// Amplitude of the sine correction to the argument of latitude C_us, rad.
     pub cus_rad: f64,
+    /// Square root of the semi-major axis √A, √m.
     pub sqrt_a_sqrt_m: f64,
+    /// Amplitude of the cosine correction to the inclination C_ic, rad.
     pub cic_rad: f64,
+    /// Longitude of the ascending node at the week's start Ω₀, rad.
     pub omega0_rad: f64,
+    /// Amplitude of the sine correction to the inclination C_is, rad.
     pub cis_rad: f64,
+    /// Inclination at t_oe i₀, rad.
     pub i0_rad: f64,
+    /// Amplitude of the cosine correction to the orbit radius C_rc, m.
     pub crc_m: f64,
+    /// Argument of perigee ω, rad.
     pub omega_rad: f64,
+    /// Rate of right ascension Ω̇, rad/s.
     pub omega_dot_rad_s: f64,
+    /// Rate of inclination IDOT, rad/s.
     pub idot_rad_s: f64,
     /// Rate of the semi-major axis Ȧ, m/s (GPS CNAV; 0 for the others).
     pub a_dot_m_s: f64,

@@ -52,11 +52,14 @@ impl Default for ReceiverClockModel {
 /// Clock offset (m) and drift (m/s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClockState {
+    /// Receiver clock offset, m (c × the offset in s).
     pub offset_m: f64,
+    /// Receiver clock drift, m/s.
     pub drift_m_s: f64,
 }
 
 impl ReceiverClockModel {
+    /// Checks every coefficient and initial std; the error names the Python keyword.
     pub fn validate(&self) -> Result<()> {
         validate::magnitude("clock_h0", self.h0, MAX_ALLAN_COEFFICIENT)?;
         validate::magnitude("clock_h_minus2", self.h_minus2, MAX_ALLAN_COEFFICIENT)?;

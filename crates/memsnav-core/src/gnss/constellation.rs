@@ -22,7 +22,9 @@ pub type PositionsVelocities = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
 /// One satellite's orbit: a broadcast ephemeris or a Walker slot.
 #[derive(Debug, Clone, Copy)]
 pub enum Orbit<'a> {
+    /// The broadcast ephemeris in force.
     Broadcast(&'a GpsEphemeris),
+    /// A Walker constellation and the satellite's slot index in it.
     Walker(&'a Walker, usize),
 }
 
@@ -56,7 +58,9 @@ impl Orbit<'_> {
 /// satellites' PRNs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SystemWalker {
+    /// The system the satellites belong to.
     pub system: GnssSystem,
+    /// Its constellation.
     pub walker: Walker,
 }
 
@@ -69,7 +73,9 @@ pub const MAX_SATELLITES_PER_SYSTEM: usize = 99;
 pub enum Constellation {
     /// GPS broadcast ephemerides, grouped per PRN and sorted by t_oe.
     Broadcast {
+        /// The PRNs, one per satellite.
         prns: Vec<u16>,
+        /// Each PRN's ephemerides, sorted by t_oe.
         ephemerides: Vec<Vec<GpsEphemeris>>,
     },
     /// Synthetic Walker delta constellations, one per system, each
@@ -200,6 +206,7 @@ impl Constellation {
         }
     }
 
+    /// Whether it has no satellite.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }

@@ -67,8 +67,11 @@ struct Track {
 /// variance and the second signal's name.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DelayMeasurement {
+    /// The delay, m.
     pub delay_m: f64,
+    /// Its variance, m².
     pub variance_m2: f64,
+    /// The second signal's name.
     pub signal: &'static str,
 }
 

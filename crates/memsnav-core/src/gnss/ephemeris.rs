@@ -17,6 +17,7 @@ const GAMMA_L1_L2: f64 = (77.0 * 77.0) / (60.0 * 60.0);
 /// satellite.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GpsEphemeris {
+    /// The satellite's PRN.
     pub prn: u16,
     /// Orbit and clock polynomial (t_oe, t_oc as GPS times).
     pub orbit: BroadcastOrbit,
@@ -34,13 +35,15 @@ pub struct GpsEphemeris {
 pub struct LnavEphemeris {
     /// Orbit, clock, T_GD, health and fit interval, as the RINEX reader gives them.
     pub ephemeris: GpsEphemeris,
-    /// Issue of data, ephemeris (subframes 2 and 3) and clock (subframe 1).
+    /// Issue of data, ephemeris (subframes 2 and 3).
     pub iode: u8,
+    /// Issue of data, clock (subframe 1).
     pub iodc: u16,
     /// User range accuracy index N (0-15, table 20-I's URA in m by [`ura_m`]).
     pub ura_index: u8,
-    /// Codes on L2 (subframe 1 bits 11-12) and the L2 P data flag.
+    /// Codes on L2 (subframe 1 bits 11-12).
     pub l2_codes: u8,
+    /// The L2 P data flag.
     pub l2p_data_flag: bool,
     /// The fit interval flag (0: 4 h).
     pub fit_interval_flag: bool,

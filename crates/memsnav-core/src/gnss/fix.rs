@@ -14,17 +14,24 @@ use crate::{Error, Result};
 /// Dilutions of precision (unweighted geometry, Groves eqs. 9.42-9.44).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dops {
+    /// Geometric DOP.
     pub gdop: f64,
+    /// Position DOP.
     pub pdop: f64,
+    /// Horizontal DOP.
     pub hdop: f64,
+    /// Vertical DOP.
     pub vdop: f64,
+    /// Time DOP.
     pub tdop: f64,
 }
 
 /// A least-squares fix.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fix {
+    /// The epoch's time, s.
     pub time_s: f64,
+    /// Receiver position, ECEF, m.
     pub position_ecef: Vector3<f64>,
     /// NaN when fewer than 4 satellites carry a usable pseudorange rate.
     pub velocity_ecef: Vector3<f64>,
@@ -43,7 +50,9 @@ pub struct Fix {
     pub position_clock_covariance: Matrix4<f64>,
     /// Covariance of (vx, vy, vz, clock drift), (m/s)².
     pub velocity_drift_covariance: Matrix4<f64>,
+    /// Dilutions of precision of the satellites used.
     pub dops: Dops,
+    /// Satellites used in the position.
     pub n_satellites: usize,
     /// Gauss-Newton iterations used for the position.
     pub iterations: usize,
@@ -87,10 +96,12 @@ impl ExcludedSatellites {
         true
     }
 
+    /// How many satellites are held.
     pub fn len(&self) -> usize {
         self.len
     }
 
+    /// Whether none is held.
     pub fn is_empty(&self) -> bool {
         self.len == 0
     }
@@ -538,6 +549,7 @@ fn solve_fix_once(
 /// A satellite's post-fit residual at a fix.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PostFitResidual {
+    /// The satellite number ([`crate::gnss::satellite_number`]).
     pub sat_id: u16,
     /// Measured − predicted pseudorange, m.
     pub residual_m: f64,

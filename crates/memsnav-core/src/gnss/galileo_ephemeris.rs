@@ -16,23 +16,27 @@ const E1_E5A_FREQUENCY_RATIO_SQUARED: f64 = (1575.42 * 1575.42) / (1176.45 * 117
 /// tens of ns).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InavEphemeris {
+    /// The satellite's SVID (1-36).
     pub svid: u16,
+    /// Issue of data of the navigation batch (§5.1.9.2).
     pub iod_nav: u16,
     /// Orbit and clock polynomial; the I/NAV clock is referred to the
     /// E1/E5b ionosphere-free combination (§5.1.5).
     pub orbit: BroadcastOrbit,
     /// Signal-in-space accuracy index (§5.1.11; 255: no accuracy prediction).
     pub sisa_index: u8,
-    /// Broadcast group delays E1-E5a (for the F/NAV clock) and E1-E5b
-    /// (for this, the I/NAV clock), s.
+    /// Broadcast group delay E1-E5a (for the F/NAV clock), s.
     pub bgd_e1_e5a_s: f64,
+    /// Broadcast group delay E1-E5b (for this, the I/NAV clock), s.
     pub bgd_e1_e5b_s: f64,
-    /// Signal health (0 OK, 1 out of service, 2 extended operations, 3 in
-    /// test) and data validity (0 valid, 1 working without guarantee) of
-    /// E1-B and E5b (§5.1.9.3).
+    /// Signal health of E1-B (0 OK, 1 out of service, 2 extended
+    /// operations, 3 in test; §5.1.9.3).
     pub e1b_health: u8,
+    /// Signal health of E5b, as E1-B's.
     pub e5b_health: u8,
+    /// Data validity of E1-B (0 valid, 1 working without guarantee).
     pub e1b_data_validity: u8,
+    /// Data validity of E5b, as E1-B's.
     pub e5b_data_validity: u8,
     /// GST week of t_oe's transmission (12 bits, counted from 1999-08-22).
     pub gst_week: u16,

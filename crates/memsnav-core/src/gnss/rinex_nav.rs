@@ -85,9 +85,11 @@ const GALILEO_FNAV_CLOCK: u32 = 1 << 8;
 /// The ephemerides of a RINEX navigation file, per system.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BroadcastNav {
+    /// GPS LNAV records.
     pub gps: Vec<GpsEphemeris>,
     /// Galileo I/NAV records (clock E5b,E1).
     pub galileo: Vec<InavEphemeris>,
+    /// BeiDou records.
     pub beidou: Vec<BeidouEphemeris>,
     /// GLONASS ephemerides, one per slot and t_b.
     pub glonass: Vec<GlonassEphemeris>,

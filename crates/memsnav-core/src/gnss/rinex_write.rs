@@ -282,10 +282,15 @@ impl RinexNavVersion {
 /// The ephemerides a navigation file is written from, per system and message.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct NavFileEphemerides<'a> {
+    /// GPS LNAV ephemerides.
     pub gps_lnav: &'a [LnavEphemeris],
+    /// GPS CNAV ephemerides.
     pub gps_cnav: &'a [CnavEphemeris],
+    /// Galileo I/NAV ephemerides.
     pub galileo: &'a [InavEphemeris],
+    /// BeiDou ephemerides.
     pub beidou: &'a [BeidouEphemeris],
+    /// GLONASS ephemerides.
     pub glonass: &'a [GlonassEphemeris],
 }
 

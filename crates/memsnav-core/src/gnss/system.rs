@@ -16,9 +16,12 @@ use std::fmt;
 /// filter estimates ([`crate::filter::state::Layout::inter_system_bias`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub enum GnssSystem {
+    /// GPS, the reference system of the inter-system biases.
     #[default]
     Gps,
+    /// Galileo.
     Galileo,
+    /// BeiDou.
     Beidou,
     /// GLONASS (FDMA): each satellite on its own carrier (G1 = 1602 +
     /// 0.5625 k MHz, k its slot's frequency channel), so that its Doppler

@@ -78,6 +78,7 @@ impl WalkerConfig {
 /// argument of latitude.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Walker {
+    /// The configuration it was built from.
     pub config: WalkerConfig,
     /// Mean motion n = √(μ/a³), rad/s.
     pub mean_motion_rad_s: f64,
@@ -90,6 +91,7 @@ pub struct Walker {
 }
 
 impl Walker {
+    /// The constellation of `config` (an error names an invalid setting).
     pub fn new(config: &WalkerConfig) -> Result<Self> {
         let c = *config;
         if c.planes == 0 {
@@ -158,10 +160,12 @@ impl Walker {
         })
     }
 
+    /// How many satellites it has.
     pub fn len(&self) -> usize {
         self.raan_rad.len()
     }
 
+    /// Whether it has none.
     pub fn is_empty(&self) -> bool {
         self.raan_rad.is_empty()
     }

@@ -22,7 +22,9 @@ use crate::{validate, Error, Result};
 /// Estimates of a filter and the diagonal of their covariance, per sample.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Inversion {
+    /// The filter's estimate at each sample.
     pub estimate: Vec<Vector3<f64>>,
+    /// The diagonal of its covariance at each sample.
     pub variance: Vec<Vector3<f64>>,
 }
 

@@ -94,7 +94,9 @@ pub enum AccelUnit {
 /// increment per row (increments).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GyroUnit {
+    /// Angular rate, °/s.
     DegreesPerSecond,
+    /// Angular rate, rad/s.
     RadiansPerSecond,
     /// Angle increment, degrees.
     Degrees,
@@ -105,7 +107,9 @@ pub enum GyroUnit {
 /// Unit of the time column.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TimeUnit {
+    /// Milliseconds.
     Milliseconds,
+    /// Seconds.
     Seconds,
 }
 
@@ -285,8 +289,11 @@ impl ImuColumns {
 pub struct ImuCsvLayout {
     /// Where each quantity is.
     pub columns: ImuColumns,
+    /// Unit of the accelerometer columns.
     pub accel_unit: AccelUnit,
+    /// Unit of the gyro columns.
     pub gyro_unit: GyroUnit,
+    /// Unit of the time column.
     pub time_unit: TimeUnit,
     /// C: the log's axes to FRD sensor axes (v_FRD = C v_log): identity
     /// for FRD, [`axes_from_name`] for the named conventions, or any
@@ -499,6 +506,7 @@ pub struct ImuTiming {
     pub interval_std_s: f64,
     /// Shortest and longest interval, s.
     pub min_interval_s: f64,
+    /// Longest interval, s.
     pub max_interval_s: f64,
     /// An interval above this is a gap: [`GAP_FACTOR`] median intervals, s.
     pub gap_threshold_s: f64,

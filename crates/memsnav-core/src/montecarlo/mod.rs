@@ -42,7 +42,9 @@ pub struct RunOptions<'a> {
 /// was cancelled before it started.
 #[derive(Debug)]
 pub struct Runs<T> {
+    /// Each run's result, in run order.
     pub runs: Vec<Option<T>>,
+    /// Whether the caller's cancel flag stopped the set.
     pub cancelled: bool,
 }
 
@@ -79,7 +81,9 @@ where
 /// What [`fold`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FoldSummary {
+    /// Runs folded.
     pub completed: usize,
+    /// Whether the caller's cancel flag stopped the set.
     pub cancelled: bool,
 }
 

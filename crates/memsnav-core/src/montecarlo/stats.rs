@@ -20,6 +20,7 @@ pub struct CurveStats {
 }
 
 impl CurveStats {
+    /// No run yet, curves of `epochs` epochs.
     pub fn new(epochs: usize) -> Self {
         Self {
             count: 0,
@@ -50,10 +51,12 @@ impl CurveStats {
         Ok(())
     }
 
+    /// Runs added.
     pub fn count(&self) -> usize {
         self.count
     }
 
+    /// Mean over the runs, per epoch.
     pub fn mean(&self) -> &[f64] {
         &self.mean
     }

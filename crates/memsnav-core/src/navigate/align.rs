@@ -158,16 +158,20 @@ pub struct Start {
     /// The state of the antenna's body at `first_sample`: position of the
     /// antenna (the lever arm is applied by the run), velocity, attitude.
     pub antenna: NavState,
-    /// Initial one-sigmas: position m, velocity m/s, tilt and heading rad.
+    /// Initial one-sigma of the position, m.
     pub position_std_m: f64,
+    /// Initial one-sigma of the velocity, m/s.
     pub velocity_std_m_s: f64,
+    /// Initial one-sigma of the tilt, rad.
     pub tilt_std_rad: f64,
+    /// Initial one-sigma of the heading, rad.
     pub heading_std_rad: f64,
     /// Whether the heading is known (false: set at the first motion).
     pub heading_known: bool,
-    /// The log's first IMU sample (on GNSS time) and first GNSS epoch, s:
-    /// the start is `time_s` minus these after them.
+    /// The log's first IMU sample, on GNSS time, s (the start is `time_s`
+    /// minus this after it).
     pub first_imu_time_s: f64,
+    /// The log's first GNSS epoch, s.
     pub first_gnss_time_s: f64,
     /// The earliest start the log allows: its first GNSS epoch with
     /// `standstill.window_s` of IMU data before it, s. The log's own time,

@@ -78,9 +78,10 @@ pub struct CalibrationReferences {
     pub accel_bias_covariance_s: Matrix3<f64>,
     /// The same for the gyro biases, (rad/s)².
     pub gyro_bias_covariance_s: Matrix3<f64>,
-    /// The same for the accelerometer and gyro scale factors when the
-    /// solution has scale-factor states (zero without), 1.
+    /// The same for the accelerometer scale factors when the solution has
+    /// scale-factor states (zero without), 1.
     pub accel_scale_factor_covariance_s: Matrix3<f64>,
+    /// The same for the gyro scale factors, 1.
     pub gyro_scale_factor_covariance_s: Matrix3<f64>,
 }
 

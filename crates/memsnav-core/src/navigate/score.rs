@@ -320,11 +320,17 @@ pub const TRUTH_MAX_GAP_S: f64 = 1.0;
 pub enum FixPairing {
     /// The truth epoch nearest to the fix, within `tolerance_s`: a truth
     /// recorded at the fixes' own epochs (the same receiver's RTK).
-    Nearest { tolerance_s: f64 },
+    Nearest {
+        /// Largest time difference to the nearest truth epoch, s.
+        tolerance_s: f64,
+    },
     /// The truth interpolated at the fix's time ([`truth_at`], gaps up to
     /// `max_gap_s`): a truth at its own rate and on its own clock ticks
     /// (another system's reference).
-    Interpolated { max_gap_s: f64 },
+    Interpolated {
+        /// Longest gap between truth epochs interpolated across, s.
+        max_gap_s: f64,
+    },
 }
 
 /// The truth at time `t`: interpolated linearly between the truth epochs

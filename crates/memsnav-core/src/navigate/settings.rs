@@ -18,9 +18,13 @@ use crate::{validate, Error, Result};
 /// A setting's value, as a configuration file holds it.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SettingValue {
+    /// A boolean.
     Bool(bool),
+    /// A number (TOML integers and floats alike).
     Number(f64),
+    /// A string.
     Text(String),
+    /// An array.
     List(Vec<SettingValue>),
 }
 

@@ -16,10 +16,15 @@ use crate::Result;
 /// axis i), `nonlinearity` 1/(m/s²) (second-order coefficient per axis).
 #[derive(Debug, Clone, PartialEq)]
 pub struct AccelerometerModel {
+    /// Bias per axis, m/s².
     pub bias: Vector3<f64>,
+    /// Scale factor per axis.
     pub scale_factor: Vector3<f64>,
+    /// Misalignment, zero diagonal.
     pub misalignment: Matrix3<f64>,
+    /// Second-order coefficient per axis, 1/(m/s²).
     pub nonlinearity: Vector3<f64>,
+    /// The noise added to the deterministic output.
     pub noise: NoiseModel,
 }
 

@@ -45,9 +45,13 @@ pub const TABLE: &str = "imu_spec";
 /// its value to the field's SI unit, and what it holds.
 #[derive(Debug, Clone, Copy)]
 pub struct DatasheetKey {
+    /// The key, with its unit (`gyro_arw_deg_sqrt_h`).
     pub key: &'static str,
+    /// The [`ImuSpec`] field it sets, by its flat name.
     pub field: &'static str,
+    /// Its value in the field's SI unit.
     pub to_si: fn(f64) -> f64,
+    /// What it holds, for the reference and the errors.
     pub description: &'static str,
 }
 

@@ -17,10 +17,15 @@ use crate::Result;
 /// components.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GyroscopeModel {
+    /// Bias per axis, rad/s.
     pub bias: Vector3<f64>,
+    /// Scale factor per axis.
     pub scale_factor: Vector3<f64>,
+    /// Misalignment, zero diagonal.
     pub misalignment: Matrix3<f64>,
+    /// Sensitivity to specific force, (rad/s)/(m/s²).
     pub g_sensitivity: Matrix3<f64>,
+    /// The noise added to the deterministic output.
     pub noise: NoiseModel,
 }
 

@@ -59,7 +59,9 @@ pub struct GyroscopeSpec {
 /// dynamics.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ImuSpec {
+    /// The accelerometer triad's spec.
     pub accelerometer: AccelerometerSpec,
+    /// The gyroscope triad's spec.
     pub gyroscope: GyroscopeSpec,
 }
 
@@ -279,14 +281,18 @@ impl ImuSpec {
 /// Simulated readings of an IMU: measured f_ib^b (m/s²) and ω_ib^b (rad/s).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImuReadings {
+    /// Measured specific force per sample, m/s².
     pub specific_force_b: Vec<Vector3<f64>>,
+    /// Measured angular rate per sample, rad/s.
     pub angular_rate_b: Vec<Vector3<f64>>,
 }
 
 /// An accelerometer triad and a gyroscope triad sampled together.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImuModel {
+    /// The accelerometer triad.
     pub accelerometer: AccelerometerModel,
+    /// The gyroscope triad.
     pub gyroscope: GyroscopeModel,
     /// Sample rate of both triads, Hz.
     pub sample_rate_hz: f64,

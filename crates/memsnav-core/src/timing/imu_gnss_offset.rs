@@ -59,6 +59,7 @@ impl OffsetSignal {
 /// How to search for the offset.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TimeOffsetOptions {
+    /// The signal compared: along-track acceleration or yaw rate.
     pub signal: OffsetSignal,
     /// Offsets from −max to +max are tried, s.
     pub max_offset_s: f64,

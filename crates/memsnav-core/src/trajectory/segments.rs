@@ -13,26 +13,38 @@ pub enum Segment {
     /// Change speed (up or down) to `target_speed_m_s` along a smoothstep
     /// lasting `duration_s` (peak acceleration 1.875 Δs / duration).
     Accelerate {
+        /// How long the change takes, s.
         duration_s: f64,
+        /// The speed at its end, m/s.
         target_speed_m_s: f64,
     },
     /// Keep speed, heading and path angle for `duration_s`.
-    Cruise { duration_s: f64 },
+    Cruise {
+        /// How long, s.
+        duration_s: f64,
+    },
     /// Turn by `heading_change_rad` (positive clockwise seen from above,
     /// i.e. to the right): the yaw rate ramps up over the first quarter,
     /// holds, and ramps down over the last quarter.
     Turn {
+        /// How long the turn takes, s.
         duration_s: f64,
+        /// The change of heading, rad (positive to the right).
         heading_change_rad: f64,
     },
     /// Climb (positive) or descend at path angle `path_angle_rad`: it ramps
     /// up over the first quarter, holds, and returns to level over the last.
     Climb {
+        /// How long the climb takes, s.
         duration_s: f64,
+        /// The path angle held in its middle, rad (positive up).
         path_angle_rad: f64,
     },
     /// Decelerate to a standstill over `duration_s`.
-    Stop { duration_s: f64 },
+    Stop {
+        /// How long the deceleration takes, s.
+        duration_s: f64,
+    },
 }
 
 impl Segment {

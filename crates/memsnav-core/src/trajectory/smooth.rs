@@ -76,8 +76,11 @@ pub struct SmoothSignal {
 /// Value, first and second time derivatives of a signal at one instant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SignalValue {
+    /// The value.
     pub value: f64,
+    /// Its first time derivative, per s.
     pub rate: f64,
+    /// Its second time derivative, per s².
     pub accel: f64,
 }
 

@@ -25,11 +25,17 @@ pub const PITCH_PER_LONGITUDINAL_ACCEL: f64 = 0.004;
 /// so the angular rate and the specific force are continuous.
 #[derive(Debug, Clone)]
 pub struct VehicleMotion {
+    /// Speed s, m/s.
     pub speed_m_s: SmoothSignal,
+    /// Yaw rate r, rad/s.
     pub yaw_rate_rad_s: SmoothSignal,
+    /// Path angle γ, rad (positive up).
     pub path_angle_rad: SmoothSignal,
+    /// Heading ψ₀ at the start, rad.
     pub initial_heading_rad: f64,
+    /// Roll gradient k_φ, rad/(m/s²) ([`ROLL_PER_LATERAL_ACCEL`] by default).
     pub roll_per_lateral_accel: f64,
+    /// Pitch gradient k_θ, rad/(m/s²) ([`PITCH_PER_LONGITUDINAL_ACCEL`] by default).
     pub pitch_per_longitudinal_accel: f64,
 }
 

@@ -15,9 +15,13 @@ use crate::calibration::static_detector::Pose;
 /// after the calibration, m/s².
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PoseCheck {
+    /// The pose (its rest in the log).
     pub pose: Pose,
+    /// Whether the pose was left out of the fits.
     pub held_out: bool,
+    /// Gravity-magnitude error of the nominal readings, m/s².
     pub magnitude_error_before: f64,
+    /// Gravity-magnitude error of the calibrated readings, m/s².
     pub magnitude_error_after: f64,
 }
 
@@ -26,9 +30,13 @@ pub struct PoseCheck {
 /// readings, no offsets) and after the calibration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TurnCheck {
+    /// The index of the pose the turn starts from.
     pub from: usize,
+    /// Whether the turn was left out of the fits.
     pub held_out: bool,
+    /// Angle error with the nominal readings and no offsets, rad.
     pub angle_error_before: f64,
+    /// Angle error with the calibrated readings, rad.
     pub angle_error_after: f64,
 }
 

@@ -81,10 +81,13 @@ pub fn parameters(m: &AccelerometerModel) -> DVector<f64> {
 
 /// The gravity-magnitude problem over the free entries of θ_a.
 pub struct Magnitude<'a> {
+    /// The accelerometer's mean reading in each pose, nominal units.
     pub means: &'a [Vector3<f64>],
+    /// The local gravity magnitude, m/s².
     pub gravity: f64,
     /// The full θ_a; the entries not in `free` are held at these values.
     pub theta: DVector<f64>,
+    /// The indices of θ_a that are estimated.
     pub free: Vec<usize>,
 }
 

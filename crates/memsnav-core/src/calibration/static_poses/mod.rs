@@ -93,7 +93,9 @@ pub struct StaticCalibrationOptions {
     /// Local gravity magnitude, m/s² (required: 9.78-9.83 on the Earth's
     /// surface; use a gravity model at the site, e.g. [`crate::geodesy`]).
     pub gravity_m_s2: f64,
+    /// How raw readings become SI readings (scale × (counts − offset)).
     pub nominal: Nominal,
+    /// The rest detector that finds the poses.
     pub detector: StaticDetector,
     /// [`Estimate::Determinable`]: N and K only when the poses determine
     /// them, T only when there are turns enough; [`Estimate::All`]: every
@@ -108,9 +110,11 @@ pub struct StaticCalibrationOptions {
 pub struct StaticCalibration {
     /// The models of the nominal readings (SI), method §2.
     pub accelerometer: AccelerometerModel,
+    /// The gyroscope's model of the nominal readings (SI), method §2.
     pub gyroscope: GyroscopeModel,
     /// One-sigma values in the models' layout (zero where held or fixed).
     pub accelerometer_std: AccelerometerModel,
+    /// One-sigma values of the gyroscope's parameters, in its layout.
     pub gyroscope_std: GyroscopeModel,
     /// Covariance of [accelerometer parameters (15), gyroscope parameters
     /// (21)] in the order of [`super::accelerometer_parameter_names`] then
@@ -124,10 +128,15 @@ pub struct StaticCalibration {
     /// White noise variance per sample and axis at the initial rest, in
     /// nominal units squared: accelerometer, gyroscope.
     pub white_noise_variance: [Vector3<f64>; 2],
+    /// The nominal conversion the fit started from.
     pub nominal: Nominal,
+    /// The local gravity magnitude used, m/s².
     pub gravity_m_s2: f64,
+    /// The rests found and the turns between them.
     pub detection: StaticDetection,
+    /// Each pose's gravity-magnitude check before and after the calibration.
     pub poses: Vec<PoseCheck>,
+    /// Each turn's angle check before and after the calibration.
     pub turns: Vec<TurnCheck>,
     /// Parameters not estimated, "accelerometer misalignment_uv" style,
     /// with the reason.
@@ -135,6 +144,9 @@ pub struct StaticCalibration {
     /// The models of the second-order terms each stage considered and the
     /// one it chose (module docs; empty under [`Estimate::All`]).
     pub model_selection: Vec<ModelSelection>,
+    /// Poor conditioning or too few degrees of freedom of a fit, σ above a
+    /// parameter's physical size, fitted scales far from the nominal ones
+    /// (`warnings.rs`).
     pub warnings: Vec<String>,
     /// RMS residual of the magnitude fit, m/s².
     pub accelerometer_residual_std: f64,

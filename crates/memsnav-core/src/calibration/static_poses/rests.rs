@@ -14,13 +14,17 @@ use crate::Result;
 
 /// Coefficients [c₀ (3), C row-major (9)] with their covariance (12 × 12).
 pub struct RestFit {
+    /// The fitted c₀ and C.
     pub offsets: Offsets,
+    /// Their covariance (12 × 12), in coefficient order.
     pub covariance: DMatrix<f64>,
+    /// Residual std per gyro axis, √(RSS / dof), nominal units.
     pub residual_std: Vector3<f64>,
     /// Sum of squared residuals per gyro axis, (nominal units)².
     pub rss: Vector3<f64>,
     /// Pose means in the fit (residuals per axis).
     pub poses: usize,
+    /// Condition number of the column-scaled design matrix.
     pub condition_number: f64,
     /// The column of [1, Γ^u, Γ^v, Γ^w] that dominates the weakest direction.
     pub weakest_column: usize,
@@ -31,6 +35,7 @@ pub fn c0_index(i: usize) -> usize {
     i
 }
 
+/// Index of C_il (row i, column l) in the coefficient vector.
 pub fn c_index(i: usize, l: usize) -> usize {
     3 + 3 * i + l
 }

@@ -31,15 +31,18 @@ pub struct Segment {
     pub from: usize,
     /// Increments of the interval: (Δs, ΔΓ, Δt).
     pub increments: Vec<(Vector3<f64>, Vector3<f64>, f64)>,
-    /// Unit gravity directions (specific force at rest) in the two poses.
+    /// Unit gravity direction (specific force at rest) in the first pose.
     pub up_from: Vector3<f64>,
+    /// The same in the second pose.
     pub up_to: Vector3<f64>,
 }
 
 /// The gyro offset model s_rest = c₀ + CΓ in nominal reading units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Offsets {
+    /// The constant offset c₀.
     pub c0: Vector3<f64>,
+    /// The gravity-dependent offset C.
     pub c: Matrix3<f64>,
 }
 
@@ -89,13 +92,16 @@ pub fn t_from_vector(x: &DVector<f64>) -> Matrix3<f64> {
     Matrix3::from_row_slice(x.as_slice())
 }
 
+/// T as a row-major 9-vector (the inverse of [`t_from_vector`]).
 pub fn t_to_vector(t: &Matrix3<f64>) -> DVector<f64> {
     DVector::from_row_slice(t.transpose().as_slice())
 }
 
 /// The rotation problem over T for fixed offsets and segments.
 pub struct Rotations<'a> {
+    /// The turns between poses.
     pub segments: &'a [Segment],
+    /// The gyro offsets subtracted from each increment.
     pub offsets: Offsets,
 }
 

@@ -12,7 +12,9 @@ use crate::{Error, Result};
 /// Residuals and Jacobian of a parameter vector (None where undefined,
 /// e.g. an input beyond the model's range: the solver then shortens its step).
 pub trait Residuals {
+    /// The residuals at `x`.
     fn residuals(&self, x: &DVector<f64>) -> Option<DVector<f64>>;
+    /// Their Jacobian at `x`.
     fn jacobian(&self, x: &DVector<f64>) -> Option<DMatrix<f64>>;
 }
 
@@ -46,13 +48,17 @@ impl<R: Residuals> LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, R> {
 /// A converged fit.
 #[derive(Debug, Clone)]
 pub struct Fit {
+    /// The parameters at convergence.
     pub x: DVector<f64>,
+    /// The residuals there.
     pub residuals: DVector<f64>,
+    /// The Jacobian there.
     pub jacobian: DMatrix<f64>,
     /// σ̂² (JᵀJ)⁻¹ with σ̂² = RSS / (dof).
     pub covariance: DMatrix<f64>,
     /// (JᵀJ)⁻¹.
     pub unit_covariance: DMatrix<f64>,
+    /// σ̂ = √(RSS / dof), the residual std.
     pub residual_std: f64,
     /// Condition number of the column-equilibrated Jacobian.
     pub condition_number: f64,

@@ -78,16 +78,21 @@ pub(super) struct FilterSetup<'a> {
 /// One run's curves for one IMU (what a chunk of runs carries).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ImuRun {
+    /// Norm of the position error per output epoch, m.
     pub position_error: Vec<f64>,
-    /// Horizontal and vertical (|down|) parts of the position error in the
-    /// local NED frame of the true position, m.
+    /// Horizontal part of the position error in the local NED frame of the
+    /// true position, m.
     pub horizontal_error: Vec<f64>,
+    /// The vertical part, m.
     pub vertical_error: Vec<f64>,
+    /// NEES of the attitude, velocity and position errors against their block of P (9 dof).
     pub nees: Vec<f64>,
     /// The NEES of the position error alone against the position block of
     /// P (3 dof).
     pub position_nees: Vec<f64>,
+    /// Measurement records not accepted (gated out or not applied).
     pub rejected: usize,
+    /// Measurement records accepted.
     pub accepted: usize,
     /// Whether the run raised an integrity alert (`coupling::integrity`):
     /// its solution and covariance were flagged as not trustworthy.

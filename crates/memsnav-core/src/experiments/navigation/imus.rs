@@ -21,7 +21,10 @@ pub enum NavigationImu {
     Fixed(Box<ImuModel>),
     /// The sensor and readings of IMU `source` (an earlier, non-calibrated
     /// entry) passed through calibration and inversion (module docs).
-    Calibrated { source: usize },
+    Calibrated {
+        /// The index of the IMU calibrated.
+        source: usize,
+    },
 }
 
 /// The paper's three IMUs: "ins" (tactical preset), "mems" (paper-mems,

@@ -99,7 +99,9 @@ pub enum InitialStateSource {
     /// (also the filters' P₀); the clock comes from the first epoch's
     /// pseudorange residuals, so one satellite is enough.
     Given {
+        /// One-sigma position error per ECEF axis, m.
         position_std_m: f64,
+        /// One-sigma velocity error per ECEF axis, m/s.
         velocity_std_m_s: f64,
     },
 }
@@ -149,8 +151,9 @@ pub struct NavigationExperimentConfig {
     pub systems: Vec<GnssSystem>,
     /// Length of the calibration segment of calibrated IMUs, s.
     pub calibration_duration_s: f64,
-    /// Reference noise of that calibration, per sample, m/s² and rad/s.
+    /// Reference specific-force noise of that calibration, per sample, m/s².
     pub reference_specific_force_std: f64,
+    /// Its reference angular-rate noise, per sample, rad/s.
     pub reference_angular_rate_std: f64,
     /// Early window of [`ImuOutcome::run_rms_early`], s.
     pub early_window_s: f64,

@@ -56,8 +56,11 @@ pub struct OutageStudyConfig {
 /// One cell: indices into the configuration's IMUs, lengths and counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct StudyCell {
+    /// Index into the configuration's IMUs.
     pub imu: usize,
+    /// Index into its outage lengths.
     pub length: usize,
+    /// Index into its counts of satellites kept.
     pub visible: usize,
 }
 
@@ -67,12 +70,19 @@ pub struct StudyCell {
 /// measurements rejected and accepted over the run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindowFigures {
+    /// Horizontal error at the window's last output epoch, m.
     pub horizontal_end_m: f64,
+    /// Largest horizontal error inside the window, m.
     pub horizontal_max_m: f64,
+    /// 3D error at the window's last output epoch, m.
     pub error_3d_end_m: f64,
+    /// Largest 3D error inside the window, m.
     pub error_3d_max_m: f64,
+    /// Whether the run raised an integrity alert.
     pub diverged: bool,
+    /// Measurement records not accepted over the run.
     pub rejected: usize,
+    /// Measurement records accepted over the run.
     pub accepted: usize,
 }
 
@@ -97,7 +107,9 @@ impl WindowFigures {
 /// smoother's when the navigation settings ask for it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CellRun {
+    /// The forward filter's figures.
     pub forward: WindowFigures,
+    /// The smoother's figures, when the navigation settings smooth.
     pub smoothed: Option<WindowFigures>,
 }
 
@@ -105,7 +117,9 @@ pub struct CellRun {
 /// of the range that completed (all of them unless cancelled).
 #[derive(Debug, Clone, PartialEq)]
 pub struct StudyRuns {
+    /// Per completed run, each cell's figures in cell order.
     pub runs: Vec<Vec<CellRun>>,
+    /// Whether the range stopped early on the caller's cancel flag.
     pub cancelled: bool,
 }
 

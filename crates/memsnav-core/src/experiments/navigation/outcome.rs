@@ -10,6 +10,7 @@ use super::filters::{ImuRun, NEES_DOF};
 /// One IMU's results over the completed runs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImuOutcome {
+    /// The IMU's name in the configuration.
     pub name: String,
     /// Per epoch: mean over runs of the position error norm, m.
     pub position_error_mean: Vec<f64>,
@@ -38,14 +39,15 @@ pub struct ImuOutcome {
     /// [start, start + length) — before the first update after it (NaN
     /// without outage), m.
     pub run_max_in_outage: Vec<f64>,
-    /// Per run: the same for the horizontal and the vertical part of the
-    /// error (local NED of the true position), m.
+    /// Per run: the same for the horizontal part of the error (local NED
+    /// of the true position), m.
     pub run_max_horizontal_in_outage: Vec<f64>,
+    /// Per run: the same for the vertical part, m.
     pub run_max_vertical_in_outage: Vec<f64>,
-    /// Per run: the error norm and its horizontal part at the last epoch
-    /// inside the outage window, before GNSS returns (NaN without
-    /// outage), m.
+    /// Per run: the error norm at the last epoch inside the outage window,
+    /// before GNSS returns (NaN without outage), m.
     pub run_at_outage_end: Vec<f64>,
+    /// Per run: its horizontal part, m.
     pub run_horizontal_at_outage_end: Vec<f64>,
     /// Per run: mean NEES per degree of freedom over the epochs.
     pub run_mean_nees_per_dof: Vec<f64>,

@@ -58,7 +58,9 @@ impl Default for PartialOutageConfig {
 /// One scenario: a coupling and the satellites kept in the window.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scenario {
+    /// Tight or loose coupling.
     pub coupling: Coupling,
+    /// Satellites kept in the outage window (0: a total outage).
     pub n_visible: usize,
 }
 
@@ -122,7 +124,9 @@ impl PartialOutageConfig {
 /// One scenario's results, per IMU in the configuration's order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ScenarioOutcome {
+    /// The scenario.
     pub scenario: Scenario,
+    /// Each IMU's results.
     pub imus: Vec<ImuOutcome>,
 }
 
@@ -131,6 +135,7 @@ pub struct ScenarioOutcome {
 pub struct PartialOutageExperiment {
     /// Output epochs, s from the start (0, 1, …).
     pub time_s: Vec<f64>,
+    /// Each scenario's results.
     pub scenarios: Vec<ScenarioOutcome>,
     /// Runs completed (all unless cancelled).
     pub completed_runs: usize,

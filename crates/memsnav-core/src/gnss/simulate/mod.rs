@@ -129,6 +129,7 @@ impl Default for SimulationConfig {
 /// The measurements and the truth they were made from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GnssSimulation {
+    /// The measurements, one epoch per receiver epoch.
     pub epochs: Vec<GnssEpoch>,
     /// True receiver clock at each epoch.
     pub clock: Vec<ClockState>,

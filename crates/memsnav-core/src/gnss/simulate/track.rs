@@ -8,7 +8,10 @@ use nalgebra::Vector3;
 /// rate.
 #[derive(Debug, Clone, Copy)]
 pub struct ReceiverTrack<'a> {
+    /// The track's times, s.
     pub time_s: &'a [f64],
+    /// The receiver's ECEF position at each, m.
     pub position_ecef: &'a [Vector3<f64>],
+    /// Its ECEF velocity at each, m/s.
     pub velocity_ecef: &'a [Vector3<f64>],
 }

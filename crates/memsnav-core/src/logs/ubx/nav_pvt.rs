@@ -34,9 +34,11 @@ pub struct NavPvt {
     pub height_msl_m: f64,
     /// NED velocity, m/s.
     pub velocity_ned_m_s: Vector3<f64>,
-    /// Horizontal, vertical position and speed accuracy estimates (m, m, m/s).
+    /// Horizontal position accuracy estimate, m.
     pub horizontal_accuracy_m: f64,
+    /// Vertical position accuracy estimate, m.
     pub vertical_accuracy_m: f64,
+    /// Speed accuracy estimate, m/s.
     pub speed_accuracy_m_s: f64,
 }
 

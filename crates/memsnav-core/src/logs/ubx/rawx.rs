@@ -32,10 +32,13 @@ pub struct RawxSignal {
     pub system: char,
     /// Satellite number within the system as RINEX counts it (SBAS: PRN − 100).
     pub prn: u16,
-    /// u-blox gnssId, svId, sigId and (GLONASS) frequency slot + 7.
+    /// u-blox gnssId.
     pub gnss_id: u8,
+    /// u-blox svId.
     pub sv_id: u8,
+    /// u-blox sigId.
     pub sig_id: u8,
+    /// GLONASS frequency slot + 7 (u-blox freqId).
     pub freq_id: u8,
     /// RINEX 3 band and attribute (`1C`, `2L`, `5Q`, `6I`, ...).
     pub rinex_code: &'static str,
@@ -49,11 +52,13 @@ pub struct RawxSignal {
     pub cn0_db_hz: f64,
     /// Time the carrier has been tracked continuously, s (saturates at 64.5 s).
     pub lock_time_s: f64,
-    /// The receiver's one-sigma estimates: pseudorange m (0.01 · 2ⁿ),
-    /// carrier phase cycles (0.004 · n), Doppler Hz (0.002 · 2ⁿ).
+    /// The receiver's one-sigma pseudorange estimate, m (0.01 · 2ⁿ).
     pub pseudorange_std_m: f64,
+    /// Its carrier phase estimate, cycles (0.004 · n).
     pub carrier_phase_std_cycles: f64,
+    /// Its Doppler estimate, Hz (0.002 · 2ⁿ).
     pub doppler_std_hz: f64,
+    /// The tracking status flags.
     pub tracking: TrackingStatus,
 }
 
