@@ -92,6 +92,29 @@ def test_relative_links_resolve():
     assert not broken, broken
 
 
+#: Where a page may name a file of the repository: the root, and the core
+#: crate (whose own tests/ and src/ pages name the way cargo does).
+SOURCE_ROOTS = (ROOT, ROOT / "crates" / "memsnav-core")
+SOURCE_PATH = re.compile(
+    r"`((?:tests|docs|benches|examples|python/memsnav|crates/[\w-]+/(?:src|tests))"
+    r"/[\w/.-]+\.(?:py|rs|md|json|toml|pyi))`"
+)
+
+
+def test_the_files_the_pages_name_exist():
+    """A file of the repository a hand-written page names in code
+    (`tests/test_x.py`) exists: a renamed test or script leaves no page
+    pointing at nothing. Decision records and the changelog keep history."""
+    missing = []
+    for page in [ROOT / "CONTRIBUTING.md", *PAGES]:
+        if "decisions" in page.parts:
+            continue
+        for name in SOURCE_PATH.findall(page.read_text()):
+            if "NNNN" not in name and not any((r / name).exists() for r in SOURCE_ROOTS):
+                missing.append(f"{page.relative_to(ROOT)}: {name}")
+    assert not missing, missing
+
+
 # A fenced block is Python that runs (test_examples_run), Python marked as
 # not runnable ("python no-run": a cluster, files outside the data root),
 # or not Python at all.
