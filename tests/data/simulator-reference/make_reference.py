@@ -1,6 +1,6 @@
 """Writes simulator_reference.npz: the simulator's output on seeded inputs,
-produced by memsnav at commit d3cd6a2 (before the simulator speed-up of
-the simulator's speed-up), for tests/test_simulator_reference.py.
+produced by memsnav at commit d3cd6a2 (the simulator before its
+speed-up), for tests/test_simulator_reference.py.
 
     python tests/data/simulator-reference/make_reference.py
 
