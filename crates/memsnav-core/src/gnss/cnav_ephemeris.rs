@@ -17,15 +17,15 @@ const GAMMA_L1_L2: f64 = (77.0 * 77.0) / (60.0 * 60.0);
 /// says "not available" (the bit string 1000000000000).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CnavGroupDelays {
-    /// T_GD, s.
+    /// Group delay differential T_GD, s.
     pub tgd_s: Option<f64>,
-    /// ISC of L1 C/A, s.
+    /// Inter-signal correction ISC of L1 C/A, s.
     pub isc_l1ca_s: Option<f64>,
-    /// ISC of L2C, s.
+    /// Inter-signal correction ISC of L2C, s.
     pub isc_l2c_s: Option<f64>,
-    /// ISC of L5 I5, s.
+    /// Inter-signal correction ISC of L5 I5, s.
     pub isc_l5i5_s: Option<f64>,
-    /// ISC of L5 Q5, s.
+    /// Inter-signal correction ISC of L5 Q5, s.
     pub isc_l5q5_s: Option<f64>,
 }
 
@@ -61,28 +61,28 @@ pub struct CnavEphemeris {
     /// polynomial; the clock is referred to the L1/L2 P(Y)
     /// ionosphere-free combination, as LNAV's (§30.3.3.3.1.1.1).
     pub orbit: BroadcastOrbit,
-    /// Signal health of L1, L2 and L5 (type 10; 0 OK, 1 bad).
+    /// L1 signal health (type 10; 0 OK, 1 bad).
     pub l1_health: u8,
-    /// L2 signal health (0 OK, 1 bad).
+    /// L2 signal health (type 10; 0 OK, 1 bad).
     pub l2_health: u8,
-    /// L5 signal health (0 OK, 1 bad).
+    /// L5 signal health (type 10; 0 OK, 1 bad).
     pub l5_health: u8,
     /// Elevation-dependent accuracy index URA_ED (type 10, −16..15).
     pub ura_ed_index: i8,
-    /// Non-elevation-dependent accuracy indices of the clock message
-    /// (URA_NED0 −16..15, URA_NED1 and URA_NED2 0..7).
+    /// Non-elevation-dependent accuracy index URA_NED0 of the clock
+    /// message (−16..15).
     pub ura_ned0_index: i8,
-    /// URA_NED1 index.
+    /// Non-elevation-dependent accuracy change index URA_NED1 (0..7).
     pub ura_ned1_index: u8,
-    /// URA_NED2 index.
+    /// Non-elevation-dependent accuracy change rate index URA_NED2 (0..7).
     pub ura_ned2_index: u8,
     /// Data predict time t_op of type 10, GPS s.
     pub top_gps_s: f64,
     /// Type 10's 13-bit week number (of its transmission).
     pub week: u16,
-    /// Integrity status flag and L2C phasing bit of type 10.
+    /// Integrity status flag of type 10.
     pub integrity_status_flag: bool,
-    /// L2C phasing bit.
+    /// L2C phasing bit of type 10.
     pub l2c_phasing: bool,
     /// Group delays of a type 30 of the same t_oc; `None` until one comes.
     pub group_delays: Option<CnavGroupDelays>,

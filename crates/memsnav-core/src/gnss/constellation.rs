@@ -22,7 +22,7 @@ pub type PositionsVelocities = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
 /// One satellite's orbit: a broadcast ephemeris or a Walker slot.
 #[derive(Debug, Clone, Copy)]
 pub enum Orbit<'a> {
-    /// The broadcast ephemeris in force.
+    /// A GPS broadcast ephemeris ([`Constellation::select_ephemeris`]'s).
     Broadcast(&'a GpsEphemeris),
     /// A Walker constellation and the satellite's slot index in it.
     Walker(&'a Walker, usize),

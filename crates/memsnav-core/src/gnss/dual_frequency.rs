@@ -67,11 +67,11 @@ struct Track {
 /// variance and the second signal's name.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DelayMeasurement {
-    /// The delay, m.
+    /// Slant ionospheric delay on the primary signal's carrier, m.
     pub delay_m: f64,
     /// Its variance, m².
     pub variance_m2: f64,
-    /// The second signal's name.
+    /// The second signal's name (`"L5 Q"`).
     pub signal: &'static str,
 }
 

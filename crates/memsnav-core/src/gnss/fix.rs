@@ -29,7 +29,7 @@ pub struct Dops {
 /// A least-squares fix.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fix {
-    /// The epoch's time, s.
+    /// Reception time of the epoch on the trajectory's time axis, s.
     pub time_s: f64,
     /// Receiver position, ECEF, m.
     pub position_ecef: Vector3<f64>,

@@ -16,7 +16,7 @@ const E1_E5A_FREQUENCY_RATIO_SQUARED: f64 = (1575.42 * 1575.42) / (1176.45 * 117
 /// tens of ns).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InavEphemeris {
-    /// The satellite's SVID (1-36).
+    /// The satellite's SVID (its RINEX satellite number).
     pub svid: u16,
     /// Issue of data of the navigation batch (§5.1.9.2).
     pub iod_nav: u16,

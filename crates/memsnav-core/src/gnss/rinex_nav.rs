@@ -85,7 +85,8 @@ const GALILEO_FNAV_CLOCK: u32 = 1 << 8;
 /// The ephemerides of a RINEX navigation file, per system.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BroadcastNav {
-    /// GPS LNAV records.
+    /// GPS ephemerides: the LNAV records and the CNAV ones that give an
+    /// L1 C/A group delay ([`Self::gps_cnav`]).
     pub gps: Vec<GpsEphemeris>,
     /// Galileo I/NAV records (clock E5b,E1).
     pub galileo: Vec<InavEphemeris>,

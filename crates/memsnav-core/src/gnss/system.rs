@@ -16,7 +16,7 @@ use std::fmt;
 /// filter estimates ([`crate::filter::state::Layout::inter_system_bias`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub enum GnssSystem {
-    /// GPS, the reference system of the inter-system biases.
+    /// GPS, the reference of the receiver clock (no inter-system bias).
     #[default]
     Gps,
     /// Galileo.

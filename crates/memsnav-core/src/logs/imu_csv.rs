@@ -504,7 +504,7 @@ pub struct ImuTiming {
     /// Standard deviation of the intervals that are not gaps, s (the
     /// jitter of the time stamps).
     pub interval_std_s: f64,
-    /// Shortest and longest interval, s.
+    /// Shortest interval, s.
     pub min_interval_s: f64,
     /// Longest interval, s.
     pub max_interval_s: f64,

@@ -42,9 +42,9 @@ pub struct RunOptions<'a> {
 /// was cancelled before it started.
 #[derive(Debug)]
 pub struct Runs<T> {
-    /// Each run's result, in run order.
+    /// Each run's result, in run order; `None` for a run skipped.
     pub runs: Vec<Option<T>>,
-    /// Whether the caller's cancel flag stopped the set.
+    /// Whether the cancel flag skipped some runs.
     pub cancelled: bool,
 }
 
@@ -81,9 +81,9 @@ where
 /// What [`fold`] did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FoldSummary {
-    /// Runs folded.
+    /// Runs completed and handed to `consume`.
     pub completed: usize,
-    /// Whether the caller's cancel flag stopped the set.
+    /// Whether the cancel flag skipped some runs.
     pub cancelled: bool,
 }
 

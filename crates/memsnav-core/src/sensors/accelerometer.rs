@@ -16,15 +16,15 @@ use crate::Result;
 /// axis i), `nonlinearity` 1/(m/s²) (second-order coefficient per axis).
 #[derive(Debug, Clone, PartialEq)]
 pub struct AccelerometerModel {
-    /// Bias per axis, m/s².
+    /// Bias b_a per axis, m/s².
     pub bias: Vector3<f64>,
-    /// Scale factor per axis.
+    /// Scale-factor error per axis, the diagonal of D_a (dimensionless).
     pub scale_factor: Vector3<f64>,
-    /// Misalignment, zero diagonal.
+    /// Misalignment M_a (dimensionless, zero diagonal).
     pub misalignment: Matrix3<f64>,
-    /// Second-order coefficient per axis, 1/(m/s²).
+    /// Second-order coefficient per axis, the diagonal of N_a, 1/(m/s²).
     pub nonlinearity: Vector3<f64>,
-    /// The noise added to the deterministic output.
+    /// Stochastic errors and output quantisation ([`NoiseModel`]).
     pub noise: NoiseModel,
 }
 

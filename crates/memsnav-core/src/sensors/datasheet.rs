@@ -49,9 +49,9 @@ pub struct DatasheetKey {
     pub key: &'static str,
     /// The [`ImuSpec`] field it sets, by its flat name.
     pub field: &'static str,
-    /// Its value in the field's SI unit.
+    /// Converts the key's value to the field's SI unit.
     pub to_si: fn(f64) -> f64,
-    /// What it holds, for the reference and the errors.
+    /// What it holds, for the key list ([`DATASHEET_KEY_DESCRIPTIONS`]).
     pub description: &'static str,
 }
 

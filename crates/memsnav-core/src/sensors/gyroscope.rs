@@ -17,15 +17,15 @@ use crate::Result;
 /// components.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GyroscopeModel {
-    /// Bias per axis, rad/s.
+    /// Bias b_g per axis, rad/s.
     pub bias: Vector3<f64>,
-    /// Scale factor per axis.
+    /// Scale-factor error per axis, the diagonal of D_g (dimensionless).
     pub scale_factor: Vector3<f64>,
-    /// Misalignment, zero diagonal.
+    /// Misalignment M_g (dimensionless, zero diagonal).
     pub misalignment: Matrix3<f64>,
-    /// Sensitivity to specific force, (rad/s)/(m/s²).
+    /// Sensitivity K_g to specific force, (rad/s)/(m/s²).
     pub g_sensitivity: Matrix3<f64>,
-    /// The noise added to the deterministic output.
+    /// Stochastic errors and output quantisation ([`NoiseModel`]).
     pub noise: NoiseModel,
 }
 

@@ -31,7 +31,7 @@ pub struct VehicleMotion {
     pub yaw_rate_rad_s: SmoothSignal,
     /// Path angle γ, rad (positive up).
     pub path_angle_rad: SmoothSignal,
-    /// Heading ψ₀ at the start, rad.
+    /// Heading ψ₀ at t = 0, rad (from north, clockwise).
     pub initial_heading_rad: f64,
     /// Roll gradient k_φ, rad/(m/s²) ([`ROLL_PER_LATERAL_ACCEL`] by default).
     pub roll_per_lateral_accel: f64,

@@ -54,9 +54,9 @@ pub struct RawxSignal {
     pub lock_time_s: f64,
     /// The receiver's one-sigma pseudorange estimate, m (0.01 · 2ⁿ).
     pub pseudorange_std_m: f64,
-    /// Its carrier phase estimate, cycles (0.004 · n).
+    /// The receiver's one-sigma carrier phase estimate, cycles (0.004 · n).
     pub carrier_phase_std_cycles: f64,
-    /// Its Doppler estimate, Hz (0.002 · 2ⁿ).
+    /// The receiver's one-sigma Doppler estimate, Hz (0.002 · 2ⁿ).
     pub doppler_std_hz: f64,
     /// The tracking status flags.
     pub tracking: TrackingStatus,
