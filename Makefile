@@ -8,7 +8,7 @@
 #   make test       every test, as CI runs them
 #   make lint       fmt, clippy, ruff, mypy (strict) and the stub check
 #   make fmt        format Rust and Python in place
-#   make docs       regenerate the API and reference pages, check the figures
+#   make docs       the stub's docstrings, the API and reference pages, the figures
 #   make bench      the criterion benchmarks
 
 PYTHON ?= python3
@@ -43,6 +43,7 @@ fmt:
 	$(PYTHON) -m ruff format $(PY_DIRS)
 
 docs:
+	$(PYTHON) docs/build_stub_docs.py
 	$(PYTHON) docs/build_api.py
 	$(PYTHON) docs/build_reference.py
 	$(PYTHON) docs/figures.py --write

@@ -8,6 +8,9 @@ import inspect
 import types
 from collections.abc import Iterator
 
+import build_stub_docs
+import pytest
+
 import memsnav
 import memsnav._memsnav as native
 
@@ -83,3 +86,38 @@ def test_native_classes_live_in_the_native_module():
             home = "memsnav" if issubclass(obj, BaseException) else native.__name__
             assert obj.__module__ == home, name
             assert getattr(memsnav if home == "memsnav" else native, obj.__qualname__) is obj, name
+
+
+def test_the_stub_says_what_help_says():
+    """python/memsnav/_memsnav.pyi's docstrings are the runtime ones (the
+    binding's Rust doc comments): docs/build_stub_docs.py writes them, and a
+    doc comment changed without rerunning it fails here."""
+    stale = build_stub_docs.differences()
+    assert not stale, f"rerun python docs/build_stub_docs.py: {stale}"
+
+
+@pytest.mark.parametrize(
+    "entry",
+    [
+        memsnav.simulate_gnss,
+        memsnav.strapdown,
+        memsnav.Trajectory.random,
+        memsnav.solve_fix,
+        memsnav.TightlyCoupledFilter,
+        memsnav.LooselyCoupledFilter,
+        memsnav.TightlyCoupledFilter.run,
+        memsnav.LooselyCoupledFilter.run,
+        memsnav.TightlyCoupledFilter.start,
+    ],
+    ids=lambda f: f.__qualname__,
+)
+def test_help_names_every_argument(entry):
+    """The entries users start from say what each argument is in help():
+    every parameter of the signature is named in the docstring."""
+    doc = entry.__doc__ or ""
+    unnamed = [
+        name
+        for name in inspect.signature(entry).parameters
+        if name not in ("self", "cls") and f"`{name}`" not in doc and f"``{name}``" not in doc
+    ]
+    assert not unnamed, f"help({entry.__qualname__}) does not name {unnamed}"

@@ -9,22 +9,32 @@ import numpy.typing as npt
 
 __version__: str
 
-class MemsnavError(Exception): ...
-class UnobservableError(MemsnavError): ...
-class DivergenceError(MemsnavError): ...
-class ParseError(ValueError): ...
+class MemsnavError(Exception):
+    """Base class of memsnav's estimation failures."""
+
+class UnobservableError(MemsnavError):
+    """The data cannot determine a parameter (rank-deficient or badly conditioned problem)."""
+
+class DivergenceError(MemsnavError):
+    """A filter diverged: its covariance stopped being positive definite or its state became
+    non-finite.
+    """
+
+class ParseError(ValueError):
+    """A data file could not be read; the message names the file and the line."""
 
 def geodetic_to_ecef(lla: npt.ArrayLike) -> npt.NDArray[np.float64]:
-    """Geodetic [latitude rad, longitude rad, height m] -> ECEF position, m."""
+    """Geodetic [latitude rad, longitude rad, height m] → ECEF position, m."""
 
 def ecef_to_geodetic(xyz: npt.ArrayLike) -> npt.NDArray[np.float64]:
-    """ECEF position, m -> geodetic [latitude rad, longitude rad, height m]."""
+    """ECEF position, m → geodetic [latitude rad, longitude rad, height m]."""
 
 def ecef_to_ned(
     position_ecef: npt.ArrayLike, origin_ecef: npt.ArrayLike
 ) -> npt.NDArray[np.float64]:
-    """``position_ecef`` (..., 3) minus ``origin_ecef`` (3,) in the local
-    north, east, down axes at the origin, m."""
+    """`position_ecef` (..., 3) minus `origin_ecef` (3,) in the local
+    north, east, down axes at the origin, m.
+    """
 
 def gravity_ecef(position_ecef: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Gravity (J2 gravitation plus centrifugal) in ECEF, m/s²."""
@@ -33,23 +43,23 @@ def gravity_ecef(position_ecef: npt.ArrayLike) -> npt.NDArray[np.float64]:
 
 @final
 class AccelerometerModel:
-    """Accelerometer triad, method §2 (paper eq. 2), SI units.
+    """Accelerometer triad, method §2 (paper eq. 2), SI units:
+    S = Q((I − D − M)(Γ − (b + β + ρ) − N (Γ ⊙ Γ) − ν)).
 
-    ``S = Q((I - D - M) (Γ - (b + β + r) - N (Γ ⊙ Γ) - nu))``
+    `bias` (3,) m/s²; `scale_factor` (3,) D; `misalignment` (3, 3) M with a
+    zero diagonal (M[i, j] couples input axis j into output axis i);
+    `nonlinearity` (3,) N, 1/(m/s²).
 
-    ``bias`` (3,) m/s²; ``scale_factor`` (3,) D; ``misalignment`` (3, 3) M with
-    a zero diagonal (``M[i, j]`` couples input axis j into output axis i);
-    ``nonlinearity`` (3,) N, 1/(m/s²).
-
-    Noise (all optional, zero = off, m/s² based): ``noise_std`` white
-    input-referred noise nu, std per sample; or ``noise_density`` the same per
-    √Hz (velocity random walk, m/s²/√Hz), std per sample = density ·
-    √sample_rate (give one, not both); ``sample_rate`` Hz;
-    ``bias_instability`` steady-state std (m/s²) of a first-order Gauss-Markov
-    bias β with correlation time ``bias_correlation_time`` s, started from its
-    stationary distribution; ``bias_random_walk`` r's growth, m/s²/√s,
-    starting at zero; ``quantization`` output LSB, m/s². β and r add to
-    ``bias``; quantisation rounds the output to a multiple of the LSB.
+    Noise keywords (all optional, zero = off, units of the sensor's output):
+    `noise_std` white input-referred noise ν, std per sample; or
+    `noise_density` the same as a density per √Hz (velocity / angle random
+    walk), std per sample = density · √sample_rate (give one, not both);
+    `sample_rate` Hz; `bias_instability` steady-state std of a first-order
+    Gauss-Markov bias with correlation time `bias_correlation_time` s,
+    started stationary; `bias_random_walk` bias growth per √s, starting at
+    zero; `quantization` output LSB (readings rounded to a multiple of it).
+    The Gauss-Markov and random-walk biases add to `bias`; quantisation acts
+    on the output.
     """
 
     def __new__(
@@ -70,31 +80,33 @@ class AccelerometerModel:
     def measure(
         self, specific_force: npt.ArrayLike, seed: int | None = None
     ) -> npt.NDArray[np.float64]:
-        """Readings (N, 3) m/s² for true specific forces (N, 3) m/s² at ``sample_rate``."""
+        """Readings for true specific forces `(N, 3)` m/s² sampled at `sample_rate`."""
 
     @property
     def bias(self) -> npt.NDArray[np.float64]:
-        """b, (3,) m/s²."""
+        """Bias b, (3,) m/s², per sensor axis."""
 
     @property
     def scale_factor(self) -> npt.NDArray[np.float64]:
-        """D, (3,) dimensionless."""
+        """Scale-factor errors D, (3,) dimensionless, per sensor axis."""
 
     @property
     def misalignment(self) -> npt.NDArray[np.float64]:
-        """M, (3, 3) dimensionless, zero diagonal."""
+        """Misalignment M, (3, 3) dimensionless with a zero diagonal:
+        `M[i, j]` couples input axis j into output axis i.
+        """
 
     @property
     def nonlinearity(self) -> npt.NDArray[np.float64]:
-        """N, (3,) 1/(m/s²)."""
+        """Nonlinearity N, (3,) 1/(m/s²), per sensor axis."""
 
     @property
     def noise_std(self) -> float:
-        """White noise std per sample at ``sample_rate``, m/s²."""
+        """White noise std per sample at `sample_rate`, m/s²."""
 
     @property
     def noise_density(self) -> float:
-        """White noise density, m/s²/√Hz (= noise_std / √sample_rate)."""
+        """White noise density (velocity random walk), m/s²/√Hz (= noise_std / √sample_rate)."""
 
     @property
     def sample_rate(self) -> float:
@@ -121,17 +133,23 @@ class AccelerometerModel:
 
 @final
 class GyroscopeModel:
-    """Gyroscope triad, method §2 (paper eq. 3), SI units.
+    """Gyroscope triad, method §2 (paper eq. 3), SI units:
+    S = Q((I − D − M)(Ω − (b + β + ρ) − K Γ − ν)).
 
-    ``S = Q((I - D - M) (Ω - (b + β + r) - K Γ - nu))``
+    `bias` (3,) rad/s; `scale_factor` (3,) D; `misalignment` (3, 3) M with a
+    zero diagonal; `g_sensitivity` (3, 3) K, (rad/s)/(m/s²), row i = gyro
+    axis i's sensitivity to the three specific-force components.
 
-    ``bias`` (3,) rad/s; ``scale_factor`` (3,) D; ``misalignment`` (3, 3) M
-    with a zero diagonal; ``g_sensitivity`` (3, 3) K, (rad/s)/(m/s²), row i =
-    gyro axis i's sensitivity to the three specific-force components.
-
-    Noise keywords as :class:`AccelerometerModel`, in rad/s: ``noise_density``
-    is the angle random walk (rad/s/√Hz), ``bias_random_walk`` the rate random
-    walk (rad/s/√s).
+    Noise keywords (all optional, zero = off, units of the sensor's output):
+    `noise_std` white input-referred noise ν, std per sample; or
+    `noise_density` the same as a density per √Hz (velocity / angle random
+    walk), std per sample = density · √sample_rate (give one, not both);
+    `sample_rate` Hz; `bias_instability` steady-state std of a first-order
+    Gauss-Markov bias with correlation time `bias_correlation_time` s,
+    started stationary; `bias_random_walk` bias growth per √s, starting at
+    zero; `quantization` output LSB (readings rounded to a multiple of it).
+    The Gauss-Markov and random-walk biases add to `bias`; quantisation acts
+    on the output.
     """
 
     def __new__(
@@ -155,31 +173,37 @@ class GyroscopeModel:
         specific_force: npt.ArrayLike,
         seed: int | None = None,
     ) -> npt.NDArray[np.float64]:
-        """Readings (N, 3) rad/s for true rates (N, 3) rad/s and specific forces (N, 3) m/s²."""
+        """Readings for true angular rates `(N, 3)` rad/s and specific forces
+        `(N, 3)` m/s² (for the g-sensitivity) sampled at `sample_rate`.
+        """
 
     @property
     def bias(self) -> npt.NDArray[np.float64]:
-        """b, (3,) rad/s."""
+        """Bias b, (3,) rad/s, per sensor axis."""
 
     @property
     def scale_factor(self) -> npt.NDArray[np.float64]:
-        """D, (3,) dimensionless."""
+        """Scale-factor errors D, (3,) dimensionless, per sensor axis."""
 
     @property
     def misalignment(self) -> npt.NDArray[np.float64]:
-        """M, (3, 3) dimensionless, zero diagonal."""
+        """Misalignment M, (3, 3) dimensionless with a zero diagonal:
+        `M[i, j]` couples input axis j into output axis i.
+        """
 
     @property
     def g_sensitivity(self) -> npt.NDArray[np.float64]:
-        """K, (3, 3) (rad/s)/(m/s²)."""
+        """g-sensitivity K, (3, 3) (rad/s)/(m/s²): row i is gyro axis i's
+        sensitivity to the three specific-force components.
+        """
 
     @property
     def noise_std(self) -> float:
-        """White noise std per sample at ``sample_rate``, rad/s."""
+        """White noise std per sample at `sample_rate`, rad/s."""
 
     @property
     def noise_density(self) -> float:
-        """White noise density (angle random walk), rad/s/√Hz."""
+        """White noise density (angle random walk), rad/s/√Hz (= noise_std / √sample_rate)."""
 
     @property
     def sample_rate(self) -> float:
@@ -206,20 +230,21 @@ class GyroscopeModel:
 
 @final
 class ImuModel:
-    """An accelerometer and a gyroscope triad sampled together, plus the spec
+    """An accelerometer and a gyroscope triad sampled together, with the spec
     (one-sigma magnitudes) their errors come from.
 
-    ``sample_rate=None`` takes the sensors' common rate (an error if they
-    differ); another rate keeps each sensor's noise *density* (noise given per
-    sample is converted at the sensor's own rate). ``spec`` overrides keys of
-    the derived spec, whose defaults are the RMS of the models' own values
-    (noise: the models' own). ``.spec`` is a dict of floats, SI units, keys
-    ``accel_`` / ``gyro_`` + ``bias_std``, ``scale_factor_std``,
-    ``misalignment_std``, ``nonlinearity_std`` (accel, 1/(m/s²)) or
-    ``g_sensitivity_std`` (gyro, (rad/s)/(m/s²)), ``noise_density`` (per √Hz),
-    ``bias_instability``, ``bias_correlation_time`` (s), ``bias_random_walk``
-    (per √s), ``quantization``. The coupled filters tune Q and the initial
-    bias covariance from it.
+    `ImuModel(acc, gyr, sample_rate=None, *, spec=None)`: `sample_rate` None
+    takes the sensors' common rate; a different rate keeps each sensor's
+    noise density (per-sample noise is converted at the sensor's own rate).
+    `spec` is a dict overriding some keys of the derived spec, whose default
+    magnitudes are the RMS of the models' own values. `ImuModel.preset(name,
+    seed=None, sample_rate=None)` draws a grade from its spec (at 100 Hz
+    unless given); names in
+    `ImuModel.presets()`. `.spec` is a dict of one-sigma magnitudes, SI:
+    accel_/gyro_ + bias_std, scale_factor_std, misalignment_std,
+    nonlinearity_std (accel, 1/(m/s²)) or g_sensitivity_std (gyro,
+    (rad/s)/(m/s²)), noise_density (per √Hz), bias_instability,
+    bias_correlation_time (s), bias_random_walk (per √s), quantization.
     """
 
     def __new__(
@@ -237,7 +262,7 @@ class ImuModel:
 
     @staticmethod
     def presets() -> list[str]:
-        """The names :meth:`preset` accepts."""
+        """The preset names `preset` accepts."""
 
     def measure(
         self,
@@ -250,11 +275,11 @@ class ImuModel:
 
     @property
     def accelerometer(self) -> AccelerometerModel:
-        """The accelerometer triad (at the IMU's rate)."""
+        """The accelerometer triad, at the IMU's sample rate."""
 
     @property
     def gyroscope(self) -> GyroscopeModel:
-        """The gyroscope triad (at the IMU's rate)."""
+        """The gyroscope triad, at the IMU's sample rate."""
 
     @property
     def sample_rate(self) -> float:
@@ -262,7 +287,9 @@ class ImuModel:
 
     @property
     def spec(self) -> dict[str, float]:
-        """One-sigma magnitudes of every error term and the noise parameters, SI."""
+        """One-sigma magnitudes of every error term and the noise parameters,
+        SI: a dict keyed `accel_…` / `gyro_…` (listed in the class doc).
+        """
 
     def __getnewargs_ex__(self) -> tuple[tuple[object, ...], dict[str, object]]: ...
     def __eq__(self, value: object, /) -> bool: ...
@@ -271,50 +298,74 @@ class ImuModel:
 
 @final
 class Calibration:
-    """A calibrated sensor model with its uncertainties (method §3)."""
+    """A calibrated sensor model with its uncertainties (method §3).
+
+    `model`: the estimated `AccelerometerModel` / `GyroscopeModel`.
+    `std`: an object of the same class whose parameter attributes hold the
+    one-sigma uncertainties (SI). `covariance`: covariance of the parameter
+    vector ordered as `parameter_names`. `residual_std` (3,): residual
+    standard deviation per output axis. `condition_number` (3,): of the
+    column-equilibrated regressors per axis. `crb`: Cramér-Rao bound of the
+    parameter vector (None unless `noise_std` was given) for references with
+    the noise the calibration was given (`reference_noise_std`: the
+    errors-in-variables bound; exact references without); `crb_std`: its
+    square-root diagonal as a model-shaped object.
+    `warnings`: parameters that are only poorly determined. `held`:
+    [(parameter, reason)] not estimated under `estimate="determinable"`.
+    """
 
     @property
     def model(self) -> AccelerometerModel | GyroscopeModel:
-        """The estimated model (same class as the calibrated sensor)."""
+        """The estimated model: an `AccelerometerModel` or `GyroscopeModel`, like
+        the calibrated sensor.
+        """
 
     @property
     def std(self) -> AccelerometerModel | GyroscopeModel:
-        """One-sigma uncertainties in the model's attributes (SI)."""
+        """One-sigma uncertainties (SI) in the attributes of an object of the
+        model's class.
+        """
 
     @property
     def covariance(self) -> npt.NDArray[np.float64]:
-        """Covariance of the parameter vector, ordered as ``parameter_names``."""
+        """Covariance of the parameter vector, ordered as `parameter_names`, SI."""
 
     @property
     def crb(self) -> npt.NDArray[np.float64] | None:
-        """Cramér-Rao bound of the parameter vector, if ``noise_std`` was
-        given: for references with the noise given as ``reference_noise_std``
-        (the errors-in-variables bound; exact references without)."""
+        """Cramér-Rao bound of the parameter vector (ordered as `parameter_names`),
+        None unless `noise_std` was given: for references with the noise given as
+        `reference_noise_std` (the errors-in-variables bound), exact references without.
+        """
 
     @property
     def crb_std(self) -> AccelerometerModel | GyroscopeModel | None:
-        """Square root of the bound's diagonal, in the model's attributes."""
+        """Square root of the Cramér-Rao bound's diagonal in the model's
+        attributes (SI); None unless `noise_std` was given.
+        """
 
     @property
     def parameter_names(self) -> list[str]:
-        """Names of the parameters in covariance order (``bias_u``, ...)."""
+        """Names of the parameters in covariance order (`bias_u`, …)."""
 
     @property
     def residual_std(self) -> npt.NDArray[np.float64]:
-        """Residual standard deviation per output axis (3,), SI."""
+        """Residual standard deviation per output axis, (3,) m/s² or rad/s."""
 
     @property
     def condition_number(self) -> npt.NDArray[np.float64]:
-        """Condition number of the column-equilibrated regressors per axis (3,)."""
+        """Condition number of the column-equilibrated regressors per output axis, (3,)."""
 
     @property
     def warnings(self) -> list[str]:
-        """Parameters that are only poorly determined (also raised as UserWarning)."""
+        """Parameters that are only poorly determined (each also raised as a
+        `UserWarning`).
+        """
 
     @property
     def held(self) -> list[tuple[str, str]]:
-        """(parameter, reason) of the parameters not estimated under
-        ``estimate="determinable"`` (held at zero, zero variance)."""
+        """[(parameter, reason)] of the parameters not estimated under
+        `estimate="determinable"` (held at zero, with zero variance).
+        """
 
 def calibrate_accelerometer(
     measured: npt.ArrayLike,
@@ -326,12 +377,17 @@ def calibrate_accelerometer(
     sample_rate: float | None = None,
     estimate: str = "all",
 ) -> Calibration:
-    """Accelerometer calibration from outputs and reference specific forces,
-    both (N, 3) m/s². ``method``: "ls" or "eiv" (needs ``reference_noise_std``,
-    m/s² per sample). ``noise_std`` (m/s² per sample) enables ``.crb``.
-    ``estimate``: "all" (raises UnobservableError naming the axis and
-    parameter the data cannot determine) or "determinable" (holds those at
-    zero and lists them in ``.held``; the rule: docs/how-to/calibrate-an-imu.md)."""
+    """Calibrates an accelerometer triad (method §3): `measured` (N, 3) outputs
+    and `reference_specific_force` (N, 3) reference inputs, m/s², body axes.
+    `method`: "ls" (plain least squares) or "eiv" (errors-in-variables
+    correction for noisy references; needs `reference_noise_std`, m/s² per
+    sample). `noise_std`: the sensor's white noise per sample (m/s²); when
+    given, `.crb` holds the Cramér-Rao bound. `sample_rate` (Hz) is stored
+    in the returned model. `estimate`: "all" (every parameter; data that
+    cannot determine one raise `UnobservableError`) or "determinable" (only
+    what the data determine; the rest held at zero and listed in `.held`;
+    the rule is in docs/how-to/calibrate-an-imu.md).
+    """
 
 def calibrate_gyroscope(
     measured: npt.ArrayLike,
@@ -345,34 +401,39 @@ def calibrate_gyroscope(
     sample_rate: float | None = None,
     estimate: str = "all",
 ) -> Calibration:
-    """Gyroscope calibration from outputs (N, 3) rad/s, reference angular
-    rates (N, 3) rad/s and specific forces (N, 3) m/s². ``method``: "ls" or
-    "eiv" (needs ``reference_noise_std``, rad/s per sample). ``estimate``:
-    "all" or "determinable" (static data: bias and g-sensitivity only)."""
+    """Calibrates a gyroscope triad (method §3): `measured` (N, 3) outputs
+    (rad/s), `reference_angular_rate` (N, 3) rad/s and
+    `reference_specific_force` (N, 3) m/s², body axes. `method`: "ls" or
+    "eiv" (needs `reference_noise_std`, rad/s per sample; the optional
+    `reference_specific_force_noise_std`, m/s², corrects the g-sensitivity
+    columns too). `noise_std`: the gyro white noise per sample (rad/s), for
+    the Cramér-Rao bound. `estimate`: "all" or "determinable" (static data:
+    bias and g-sensitivity only), as for `calibrate_accelerometer`.
+    """
 
 @final
 class StaticCalibration:
-    """A multi-position calibration (``memsnav.calibrate_static``)."""
+    """The result of `calibrate_static` (see `memsnav.calibrate_static`)."""
 
     @property
     def accelerometer(self) -> AccelerometerModel:
-        """Model of the nominal accelerometer readings (SI), method §2."""
+        """The accelerometer model of the nominal readings (SI), method §2."""
 
     @property
     def gyroscope(self) -> GyroscopeModel:
-        """Model of the nominal gyroscope readings (SI), method §2."""
+        """The gyroscope model of the nominal readings (SI), method §2."""
 
     @property
     def accelerometer_std(self) -> AccelerometerModel:
-        """One-sigma values in the accelerometer's attributes (0 where not estimated)."""
+        """One-sigma values in the accelerometer's attributes (SI; 0 where not estimated)."""
 
     @property
     def gyroscope_std(self) -> GyroscopeModel:
-        """One-sigma values in the gyroscope's attributes (0 where not estimated)."""
+        """One-sigma values in the gyroscope's attributes (SI; 0 where not estimated)."""
 
     @property
     def covariance(self) -> npt.NDArray[np.float64]:
-        """Covariance (36, 36) of ``parameters``."""
+        """Covariance (36, 36) of `parameter_names`."""
 
     @property
     def crb(self) -> npt.NDArray[np.float64]:
@@ -380,16 +441,17 @@ class StaticCalibration:
 
     @property
     def white_noise_variance(self) -> npt.NDArray[np.float64]:
-        """(2, 3) white-noise variance per sample at the initial rest:
-        accelerometer (m/s²)², gyroscope (rad/s)² (nominal readings)."""
+        """White-noise variance per sample at the initial rest, (2, 3):
+        accelerometer (m/s²)², gyroscope (rad/s)², nominal readings.
+        """
 
     @property
     def parameters(self) -> npt.NDArray[np.float64]:
-        """The 36 parameters (SI) in the order of ``parameter_names``."""
+        """The 36 parameters in the order of `parameter_names` (SI)."""
 
     @property
     def parameter_names(self) -> list[str]:
-        """ "accelerometer bias_u", ..., "gyroscope g_sensitivity_rw"."""
+        """ "accelerometer bias_u", …, "gyroscope g_sensitivity_rw"."""
 
     @property
     def nominal(self) -> dict[str, npt.NDArray[np.float64]]:
@@ -405,7 +467,7 @@ class StaticCalibration:
 
     @property
     def poses(self) -> npt.NDArray[np.int64]:
-        """(P, 2) first and one-past-last sample index of each pose."""
+        """(P, 2) start and end (exclusive) sample indices of the poses."""
 
     @property
     def pose_held_out(self) -> list[bool]:
@@ -413,15 +475,15 @@ class StaticCalibration:
 
     @property
     def magnitude_error_before(self) -> npt.NDArray[np.float64]:
-        """(P,) ‖f‖ − g per pose with the nominal readings, m/s²."""
+        """(P,) ‖f‖ − g of each pose with the nominal readings, m/s²."""
 
     @property
     def magnitude_error_after(self) -> npt.NDArray[np.float64]:
-        """(P,) ‖f‖ − g per pose after the calibration, m/s²."""
+        """(P,) ‖f‖ − g of each pose after the calibration, m/s²."""
 
     @property
     def turn_from(self) -> npt.NDArray[np.int64]:
-        """(T,) the first pose of each turn (turn k: pose k to k + 1)."""
+        """(T,) the first pose of each turn (turn k goes from pose k to k + 1)."""
 
     @property
     def turn_held_out(self) -> list[bool]:
@@ -429,15 +491,15 @@ class StaticCalibration:
 
     @property
     def turn_error_before(self) -> npt.NDArray[np.float64]:
-        """(T,) gravity-direction error after each turn, nominal readings, rad."""
+        """(T,) gravity-direction error of each turn with the nominal readings, rad."""
 
     @property
     def turn_error_after(self) -> npt.NDArray[np.float64]:
-        """(T,) gravity-direction error after each turn, calibrated, rad."""
+        """(T,) gravity-direction error of each turn after the calibration, rad."""
 
     @property
     def held(self) -> list[tuple[str, str]]:
-        """(parameter, reason) of the parameters not estimated."""
+        """[(parameter, reason)] of the parameters not estimated."""
 
     @property
     def model_selection(self) -> list[dict[str, Any]]:
@@ -449,16 +511,19 @@ class StaticCalibration:
 
     @property
     def warnings(self) -> list[str]:
-        """Poor conditioning, sigma above physical size, too few poses, a
-        nominal scale far off (also emitted as UserWarning)."""
+        """Poor conditioning, a sigma above the physical size, too few poses, a
+        nominal scale far off (each also emitted as a `UserWarning`).
+        """
 
     @property
     def variance_magnitude(self) -> npt.NDArray[np.float64]:
-        """(N, 2) the detector's accelerometer and gyroscope variance magnitudes."""
+        """The detector's accelerometer and gyroscope variance magnitudes per
+        sample, (N, 2) (+inf within half a window of the ends).
+        """
 
     @property
     def detector_threshold(self) -> tuple[float, float]:
-        """The detector's thresholds (accelerometer, gyroscope)."""
+        """The detector's two thresholds (accelerometer, gyroscope)."""
 
     @property
     def accelerometer_residual_std(self) -> float:
@@ -466,7 +531,7 @@ class StaticCalibration:
 
     @property
     def rest_residual_std(self) -> npt.NDArray[np.float64]:
-        """(3,) residual std of the gyro rest fit per axis, rad/s."""
+        """(3,) residual std of the gyroscope rest fit per axis, rad/s."""
 
     @property
     def turn_residual_std(self) -> float:
@@ -474,12 +539,12 @@ class StaticCalibration:
 
     @property
     def condition_number(self) -> npt.NDArray[np.float64]:
-        """(3,) condition numbers of the magnitude, rest and turn problems."""
+        """Condition numbers of the magnitude, rest and turn problems (3,)."""
 
     def correct(
         self, accel: npt.ArrayLike, gyro: npt.ArrayLike
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """SI specific force and angular rate, each (N, 3), of raw readings."""
+        """SI specific force and angular rate (each (N, 3)) of raw readings."""
 
 def calibrate_static(
     time: npt.ArrayLike,
@@ -499,7 +564,9 @@ def calibrate_static(
     holdout_every: int | None,
     holdout_from: float | None,
 ) -> StaticCalibration:
-    """The binding of ``memsnav.calibrate_static`` (every argument required)."""
+    """Every argument is required here; `memsnav.calibrate_static` documents
+    them and holds the defaults (from the core).
+    """
 
 def correct_imu(
     accel: npt.ArrayLike,
@@ -512,11 +579,14 @@ def correct_imu(
     gyro_scale: npt.ArrayLike,
     gyro_offset: npt.ArrayLike,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """SI specific force and angular rate of raw readings: nominal scale and
-    offset, then the exact inverses of the models."""
+    """SI specific force and angular rate (each (N, 3)) of raw readings
+    through nominal scales and offsets and the models' exact inverses.
+    """
 
 def static_calibration_defaults() -> dict[str, float]:
-    """The core's detector defaults and nominal scale (1) and offset (0)."""
+    """The core's defaults of the detector and of the nominal readings (scale
+    1, offset 0: readings already in SI), for the Python signature.
+    """
 
 def calibrated_imu(
     accelerometer: Calibration,
@@ -525,20 +595,27 @@ def calibrated_imu(
     accel_noise_std: float,
     gyro_noise_std: float,
 ) -> ImuModel:
-    """The IMU to tune a coupled filter with on outputs corrected by these
-    calibrations (``invert_accelerometer``, ``invert_gyroscope``): the
+    """The IMU to tune a coupled filter with when it runs on outputs corrected
+    by these calibrations (`invert_accelerometer`, `invert_gyroscope`): the
     calibrated models with the sensors' white noise per sample
-    (``accel_noise_std`` m/s², ``gyro_noise_std`` rad/s) and a spec holding
-    what the calibrations leave uncertain at a land vehicle's operating point
-    (level, g on the vertical axis), from their full covariances: terms the
-    motion could not separate count by the combination that reaches the
-    output, not by their own large stds."""
+    (`accel_noise_std` m/s², `gyro_noise_std` rad/s), and a spec holding
+    what the calibrations leave uncertain at a land vehicle's operating
+    point (level, g on the vertical axis), from their full covariances:
+    terms the motion could not separate count by the combination that
+    reaches the output, not by their own large stds
+    (`memsnav_core::experiments::calibrate_invert::calibrated_spec`).
+    """
 
 @final
 class CalibrationLayout:
     """The parameter vector of an accelerometer (15) or gyroscope (21)
-    calibration: the order of ``Calibration.parameter_names``,
-    ``.covariance`` and ``.crb`` (``memsnav_core::calibration::layout``)."""
+    calibration: the order of `Calibration.parameter_names`, `.covariance`
+    and `.crb`. Groups in order: `bias` (3), `scale_factor` (3),
+    `misalignment` (6, off-diagonal uv, uw, vu, vw, wu, wv) and
+    `nonlinearity` (3) or `g_sensitivity` (9, row-major). A parameter's
+    output axis is the first letter after its group (u, v, w or p, q, r:
+    the body axes x, y, z); a matrix entry's second letter is its column.
+    """
 
     def __new__(cls, sensor: str) -> CalibrationLayout: ...
     @property
@@ -547,7 +624,7 @@ class CalibrationLayout:
 
     @property
     def names(self) -> list[str]:
-        """The parameter names in index order (``bias_u``, ...)."""
+        """The parameter names in index order (`bias_u`, ..., `misalignment_uv`, ...)."""
 
     @property
     def groups(self) -> list[str]:
@@ -559,24 +636,32 @@ class CalibrationLayout:
 
     def __len__(self) -> int: ...
     def index(self, name: str) -> int:
-        """The index of parameter ``name``."""
+        """The index of parameter `name`."""
 
     def group_slice(self, group: str) -> slice:
-        """The indices of ``group``, as a slice of the parameter vector."""
+        """The indices of `group`, as a slice of the parameter vector."""
 
     def parameter(self, index: int) -> tuple[str, tuple[int, ...]]:
-        """The model attribute and the index in it of parameter ``index``."""
+        """The model attribute and the index in it of parameter `index`:
+        ("bias", (0,)), ("misalignment", (0, 2)), ("g_sensitivity", (1, 2)).
+        """
 
     def indices(self, *, group: str | None = None, axis: str | None = None) -> list[int]:
-        """The indices of the parameters of ``group`` on output ``axis``."""
+        """The indices, in order, of the parameters of `group` (all groups when
+        None) whose output axis is `axis` (a letter of `axes`; all when None).
+        """
 
     def values(self, model: AccelerometerModel | GyroscopeModel) -> npt.NDArray[np.float64]:
-        """The parameter vector of ``model``."""
+        """The parameter vector of `model` (an `AccelerometerModel` or
+        `GyroscopeModel` of this layout's sensor).
+        """
 
     def model(
         self, values: npt.ArrayLike, *, sample_rate: float = 100.0
     ) -> AccelerometerModel | GyroscopeModel:
-        """The noise-free model whose parameters are ``values``."""
+        """The noise-free model of this layout's sensor whose parameters are
+        `values` (the inverse of `values`), stored with `sample_rate` (Hz).
+        """
 
 def inflate_calibration_covariance(
     sensor: str,
@@ -587,10 +672,15 @@ def inflate_calibration_covariance(
     bias_covariance: npt.ArrayLike,
     scale_factor_covariance: npt.ArrayLike,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """A calibration's covariance from correlated references: each output
-    axis scaled by the AR(1) variance factor of its ``residual`` (W, 3)
-    column, plus the inherited bias and scale-factor covariances. Returns
-    ``(covariance, factors)``."""
+    """The covariance of a `sensor`'s ("accelerometer" or "gyroscope")
+    calibration from correlated references: each output axis' block of
+    `covariance` scaled by the AR(1) variance factor (1 + ρ)/(1 − ρ) of that
+    axis' column of `residual` (W, 3), ρ its lag-one autocorrelation capped
+    at 0.9, the factor at least 1 (Wilks, eq. 5.12), plus the reference
+    solution's `bias_covariance` and `scale_factor_covariance` (3, 3) on the
+    bias and scale-factor blocks, except for the parameters named in `held`.
+    Returns `(covariance, factors)`, factors (3,) per output axis.
+    """
 
 def draw_imu_calibrations(
     accelerometer_mean: npt.ArrayLike,
@@ -601,50 +691,71 @@ def draw_imu_calibrations(
     draws: int,
     seed: int,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """``draws`` accelerometer (draws, 15) and gyroscope (draws, 21)
-    parameter vectors from N(mean, covariance), draw i from the random
-    stream (seed, i) alone."""
+    """`draws` calibrations drawn from the Gaussians N(mean, covariance) of an
+    accelerometer (15 parameters) and a gyroscope (21) calibration, in
+    `CalibrationLayout` order: draw i takes the accelerometer's parameters,
+    then the gyroscope's, from its own random stream (seed, i), so it is the
+    same whatever `draws` is. A singular covariance (held parameters) is
+    fine; one that is not positive semi-definite is refused. Returns
+    `(accelerometer, gyroscope)` arrays of shape (draws, 15) and (draws, 21).
+    """
 
 def quantile_interval(
     values: npt.ArrayLike, p: float, confidence: float = 0.95
 ) -> dict[str, float]:
-    """The equal-tailed ``confidence`` interval for the ``p``-quantile of
-    the distribution the runs ``values`` (N,) were drawn from, from their
-    order statistics (distribution-free; independent runs, continuous
-    errors): ``lower``, ``upper`` (-inf / inf when no run bounds that side
-    at the confidence: a 95th percentile of 20 runs has no upper bound),
-    ``coverage`` (the interval's exact coverage, at least ``confidence``),
-    ``runs_for_upper`` (the fewest runs that give an upper bound)."""
+    """The equal-tailed `confidence` interval for the `p`-quantile of the
+    distribution the runs `values` (N,) were drawn from, from their order
+    statistics (distribution-free; independent runs, continuous errors):
+    dict `lower`, `upper` (-inf / inf when no run bounds that side at the
+    confidence: a 95th percentile of 20 runs has no upper bound),
+    `coverage` (the interval's exact coverage, at least `confidence`),
+    `runs_for_upper` (the fewest runs that give an upper bound).
+    """
 
 def sequential_error(looks: Sequence[int], p: float, look_error: float) -> tuple[float, float]:
-    """The probability that a cell decided in looks after ``looks`` runs
+    """The probability that a cell decided in looks after `looks` runs
     (cumulative, increasing) wrongly decides at some look, when its
-    ``p``-quantile sits at the requirement and each look's one-sided bounds
-    err with probability ``look_error``: ``(meets, fails)``. Exact (the
+    `p`-quantile sits at the requirement and each look's one-sided bounds
+    err with probability `look_error`: `(meets, fails)`. Exact (the
     binomial count of runs at or below the requirement, carried from look
-    to look; a decision stops the cell)."""
+    to look; a decision stops the cell).
+    """
 
 def sequential_look_error(looks: Sequence[int], p: float, confidence: float = 0.95) -> float:
     """The largest per-look one-sided error at which a cell decided in
-    ``looks`` errs, on either side, with probability at most
-    ``1 - confidence`` (exact, see :func:`sequential_error`): never below
-    Bonferroni's ``(1 - confidence) / len(looks)``."""
+    `looks` errs, on either side, with probability at most
+    `1 - confidence` (exact, see `sequential_error`): never below
+    Bonferroni's `(1 - confidence) / len(looks)`.
+    """
 
 def allan_deviation(
     samples: npt.ArrayLike, rate_hz: float, taus: npt.ArrayLike | None = None
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """Overlapping Allan deviation of ``samples`` (N,) or (N, k) at
-    ``rate_hz``: ``(taus, adev)``."""
+    """Overlapping Allan deviation (IEEE Std 952-1997 annex C; Riley, NIST SP
+    1065, eq. 11) of `samples` (N,) or (N, k) taken at `rate_hz`, at the
+    averaging times `taus` (s; each rounded to whole samples, between one
+    sample and half the record) or, when None, at 40 log-spaced cluster
+    sizes from one sample to a ninth of the record. Returns `(taus, adev)`,
+    adev of shape (len(taus),) or (len(taus), k) in the samples' unit.
+    """
 
 def allan_fit(
     samples: npt.ArrayLike, rate_hz: float, *, min_tau: float | None = None
 ) -> dict[str, Any]:
-    """Noise terms of a static record ``(N,)`` or ``(N, k)`` at ``rate_hz``
-    fitted to its Allan variance (pooled over the columns) from ``min_tau``
-    (None: 1 s): ``white_density``, ``bias_instability``,
-    ``bias_correlation_time``, ``bias_random_walk`` (None when not
-    determined, with a UserWarning saying why), ``taus``, ``adev``,
-    ``model_adev``, ``min_tau``, ``record_s``."""
+    """The noise terms of a static record fitted to its Allan variance
+    (`memsnav_core::allan_fit`; IEEE Std 952-1997 annex C): white noise N
+    (unit·√s = unit/√Hz), a first-order Gauss-Markov bias instability
+    (std, unit, and correlation time, s) and a bias random walk K
+    (unit/√s), by weighted least squares over the averaging times from
+    `min_tau` (s; None: 1 s) on the Allan variance pooled over the columns
+    of `samples` (N,) or (N, k) taken at `rate_hz`. A term the record does
+    not determine (not half of the curve over a factor 3 of τ) is None and
+    raises a `UserWarning` saying why; a record too short for a factor 3 of
+    τ from `min_tau` is a `ValueError`. Returns a dict: `white_density`,
+    `bias_instability`, `bias_correlation_time`, `bias_random_walk`
+    (float or None), `taus` (T,), `adev` (T,) pooled, `model_adev` (T,) the
+    fitted curve, `min_tau` (the shortest fitted τ), `record_s`.
+    """
 
 def imu_spec_from_allan(
     specific_force: npt.ArrayLike,
@@ -653,21 +764,40 @@ def imu_spec_from_allan(
     *,
     min_tau: float | None = None,
 ) -> dict[str, float]:
-    """``[imu_spec]`` entries (data-sheet keys and units) of the noise terms
-    a static IMU record (specific force, angular rate, (N, 3) SI) determines."""
+    """The `[imu_spec]` entries (data-sheet keys, their units) of the noise
+    terms a static IMU record determines: `allan_fit` of the specific force
+    (N, 3) m/s² and of the angular rate (N, 3) rad/s taken at `rate_hz`,
+    from `min_tau` (None: 1 s). A Gauss-Markov bias comes as
+    `*_bias_markov_std_*` and `*_bias_correlation_time_s`; a term left out
+    is absent and raises a `UserWarning` naming its triad and why. Put the
+    entries in a configuration's `[imu_spec]` table (or
+    `navigate_log(settings={"imu_spec": ...})`): the terms they do not give
+    keep the preset's.
+    """
 
 def imu_spec_from_datasheet(
     datasheet: dict[str, float], *, base: str | None = None
 ) -> dict[str, float]:
-    """An IMU spec (``ImuModel.spec`` keys, SI) from data-sheet figures in
-    their own units (``navigate_settings()["imu_spec"]`` lists the keys);
-    terms left out are the preset ``base``'s (None: "consumer")."""
+    """An IMU spec from a data sheet, in the units data sheets use
+    (`memsnav_core::sensors::datasheet`; the `[imu_spec]` table of a
+    `navigate` configuration, whose keys `navigate_settings()["imu_spec"]`
+    lists): `datasheet` maps keys such as `gyro_arw_deg_sqrt_h`,
+    `gyro_bias_instability_deg_h` (the Allan floor F; the Gauss-Markov std
+    is F / 0.6174) with `gyro_bias_correlation_time_s`,
+    `accel_turn_on_bias_mg`, `accel_scale_factor_ppm` to values. The terms
+    it leaves out are the preset `base`'s (None: "consumer", the engine's
+    default). Returns the spec as `ImuModel.spec` holds it (SI keys), for
+    `ImuModel(..., spec=...)` and the navigation experiment's
+    `(preset, overrides)`. A bad key or value is a `ValueError` naming
+    `imu_spec.key`.
+    """
 
 def derive_seed(seed: int, purpose: str) -> int:
-    """The seed of the independent draw named ``purpose`` made from user
-    seed ``seed`` (the first output of its own stream of ``seed``; see
-    ``docs/explanation/concepts.md``, "Seeds"). Use it when one seed feeds several
-    functions that each take a seed, instead of ``seed + 1``, ``seed + 2``."""
+    """The seed of the independent draw named `purpose` made from user seed
+    `seed`: the first output of its own stream of `seed` (see
+    `docs/explanation/concepts.md`, "Seeds"). Use it when one seed must feed several
+    functions that each take a seed, instead of `seed + 1`, `seed + 2`, ...
+    """
 
 def invert_accelerometer(
     measured: npt.ArrayLike,
@@ -677,9 +807,13 @@ def invert_accelerometer(
     *,
     return_variance: bool = False,
 ) -> Any:
-    """Specific force (N, 3) m/s² from accelerometer outputs by the random-walk
-    EKF (method §4); noise stds per sample, scalar or (3,). With
-    ``return_variance=True``: ``(estimate, variance)``."""
+    """Estimates the true specific force (N, 3), m/s², from accelerometer
+    outputs `measured` (N, 3) with the random-walk EKF of method §4 and the
+    calibrated `model`. `process_std`: std of the random-walk increment per
+    sample, `measurement_std`: std of the output noise per sample (m/s²,
+    scalar or (3,)). With `return_variance=True` returns `(estimate,
+    variance)`, the second the per-sample covariance diagonal.
+    """
 
 def invert_gyroscope(
     measured: npt.ArrayLike,
@@ -690,15 +824,20 @@ def invert_gyroscope(
     *,
     return_variance: bool = False,
 ) -> Any:
-    """Angular rate (N, 3) rad/s from gyro outputs and the estimated specific
-    force (N, 3) m/s² by the EKF of method §4; noise stds in rad/s per sample."""
+    """Estimates the true angular rate (N, 3), rad/s, from gyroscope outputs
+    `measured` (N, 3) and the estimated specific force `specific_force`
+    (N, 3, m/s², from `invert_accelerometer`) with the EKF of method §4.
+    Noise arguments in rad/s per sample, scalar or (3,).
+    """
 
 def land_vehicle_motion(
     duration: float, rate: float, seed: int
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """Body-frame land-vehicle motion of the calibration experiment: (specific
-    force (N, 3) m/s², angular rate (N, 3) rad/s); see
-    ``memsnav.experiments.land_vehicle_motion``."""
+    """The body-frame land-vehicle motion of the calibration experiment
+    (`memsnav_core::experiments::motion::land_vehicle`: speed changes,
+    turns, road roughness, roll and pitch dynamics): `duration` s at `rate`
+    Hz from `seed`, as (specific force (N, 3) m/s², angular rate (N, 3) rad/s).
+    """
 
 def calibration_experiment(
     *,
@@ -795,15 +934,17 @@ def outage_study_runs(
     carrier_phase_std: float | None = None,
     cycle_slip_probability: float | None = None,
 ) -> dict[str, Any]:
-    """The outage study's runs ``run_range`` for ``cells``, triples of
-    indices (IMU, outage length, satellites count): per solution
-    (``forward``, and ``smoothed`` with ``smooth``) arrays (runs, cells) of
-    ``horizontal_end``, ``horizontal_max``, ``error_3d_end``,
-    ``error_3d_max`` (m), ``diverged``, ``rejected``, ``accepted``;
-    ``completed_runs``, ``interrupted``, ``duration``, ``tail``. Each
-    cell's run ends ``tail`` s after its window (default 10 s with
-    ``smooth``, else 0). ``memsnav.experiments.outage_study`` chooses the
-    cells and the looks."""
+    """The outage study's runs `run_range` for `cells`, triples of indices
+    (IMU, outage length, satellites count) into `imus`, `outage_lengths`
+    and `visible_satellites` (`memsnav_core::experiments::outage_study_runs`;
+    `memsnav.experiments.outage_study` chooses the cells and the looks).
+    Every cell's run ends `tail` s after its window (default 10 s with
+    `smooth`, else 0); `duration` defaults to the start, the longest
+    window and the tail. Returns per solution (`forward`, and `smoothed`
+    with `smooth`) arrays (runs, cells): `horizontal_end`,
+    `horizontal_max`, `error_3d_end`, `error_3d_max` (m), `diverged`,
+    `rejected`, `accepted`; `completed_runs` and `interrupted`.
+    """
 
 # --- GNSS (constellations, SP3, measurement simulation, least-squares fix) ---
 
@@ -833,7 +974,9 @@ class Constellation:
         phasing: int | None = None,
         raan0_deg: float | None = None,
     ) -> Constellation:
-        """Walker delta constellation i: t/p/f, circular orbits, ECEF with Earth rotation."""
+        """A Walker delta constellation i: t/p/f of circular orbits.
+        None: the core's default (`defaults()`), GPS-like 24/6/1 at 55°.
+        """
 
     @staticmethod
     def nominal(systems: Sequence[str]) -> Constellation:
@@ -857,18 +1000,20 @@ class Constellation:
 
     @property
     def systems(self) -> list[str]:
-        """The satellite systems as RINEX letters, in the constellation's order."""
+        """The satellite systems, as RINEX letters in the constellation's order."""
 
     def __len__(self) -> int: ...
     def position_velocity(
         self, gps_time: float
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """ECEF positions (m) and velocities (m/s), each (n_sat, 3); NaN rows without a
-        valid ephemeris (healthy, t_oe within ±2 h)."""
+        """ECEF positions (m) and velocities (m/s), each ``(n_sat, 3)``, at
+        ``gps_time`` (s since 1980-01-06 GPST); NaN rows without a valid ephemeris.
+        """
 
     def clock_correction(self, gps_time: float) -> npt.NDArray[np.float64]:
-        """Satellite clock corrections Δt_sv, s, (n_sat,): a_f0 + a_f1 dt + a_f2 dt² +
-        relativistic term - T_GD; NaN without a valid ephemeris; zero for Walker."""
+        """Satellite clock corrections Δt_sv (s, L1 C/A: relativistic term and
+        −T_GD included) at ``gps_time``; NaN without a valid ephemeris.
+        """
 
 @final
 class Sp3:
@@ -876,7 +1021,7 @@ class Sp3:
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """Epochs, GPS s since 1980-01-06, (n_epochs,)."""
+        """Epochs, GPS s since 1980-01-06, ``(n_epochs,)``."""
 
     @property
     def satellites(self) -> list[str]:
@@ -884,24 +1029,25 @@ class Sp3:
 
     @property
     def position_ecef(self) -> npt.NDArray[np.float64]:
-        """Positions, ECEF m, (n_epochs, n_sat, 3); NaN where missing."""
+        """Centre-of-mass positions, ECEF m, ``(n_epochs, n_sat, 3)``; NaN if missing."""
 
     @property
     def clock(self) -> npt.NDArray[np.float64]:
-        """Satellite clocks, s, (n_epochs, n_sat); NaN where missing."""
+        """Satellite clocks, s, ``(n_epochs, n_sat)``; NaN if missing."""
 
     def satellite_states(
         self, gps_time: float | npt.ArrayLike, satellites: Sequence[str] | None = None
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
         """Positions, velocities (ECEF, m, m/s) and clocks (s) at GPS times
-        ``gps_time`` (a number or (T,)) of ``satellites`` (names, default
-        ``satellites``): 10-point Lagrange interpolation of the positions and
-        its derivative, the clock linear between epochs. Shapes as
+        ``gps_time`` (a number or ``(T,)``) of ``satellites`` (names, default
+        ``satellites``): 10-point Lagrange interpolation of the positions
+        and its derivative, the clock linear between epochs. Shapes as
         ``BroadcastEphemerides.satellite_states``; NaN outside the file's
-        epochs or where a position is missing, counted in a UserWarning."""
+        epochs or where a position is missing, counted in a ``UserWarning``.
+        """
 
 def read_sp3(path: str | os.PathLike[str]) -> Sp3:
-    """Reads an SP3-c/d file (GPS time system; km and µs converted to m and s)."""
+    """Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s)."""
 
 @final
 class GnssMeasurements:
@@ -943,41 +1089,43 @@ class GnssMeasurements:
         pseudorange_std: float | None = None,
         pseudorange_rate_std: float | None = None,
     ) -> GnssMeasurements:
-        """Measurements from a long table, one row per epoch and satellite
-        (the gnss.csv of memsnav simulate): a CSV path, a pandas or polars
-        DataFrame, or a dict of columns. Columns time_s, sat_id,
-        sat_position_ecef_{x,y,z}_m, sat_velocity_ecef_{x,y,z}_m_s,
-        pseudorange_m; optional gps_time_s, pseudorange_rate_m_s (empty or
-        NaN: no rate), pseudorange_std_m, pseudorange_rate_std_m_s (left out:
-        the sigma given here, None: defaults()["gnss"]), carrier_phase_m with
-        carrier_phase_std_m (both or neither; empty or NaN: no carrier in that
-        row), loss_of_lock (1 or 0, empty: 0). Any other column is a
+        """Measurements from a long table, one row per epoch and satellite (the
+        layout ``memsnav simulate`` writes as ``gnss.csv``): the path of a
+        CSV file, a pandas or polars DataFrame, or a dict of columns. Columns:
+        ``time_s``, ``sat_id``, ``sat_position_ecef_{x,y,z}_m``,
+        ``sat_velocity_ecef_{x,y,z}_m_s``, ``pseudorange_m``; optional
+        ``gps_time_s``, ``pseudorange_rate_m_s`` (empty or NaN: no rate),
+        ``pseudorange_std_m``, ``pseudorange_rate_std_m_s`` (left out: the
+        σ given here, None: ``defaults()["gnss"]``). Any other column is a
         ValueError naming it and the closest known name; a row with NaN
-        outside a rate is refused, naming the row (CSV: the line)."""
+        outside a rate is refused, naming the row (CSV: the line).
+        """
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """Epoch times on the trajectory's time axis, s, (T,)."""
+        """Epoch times on the trajectory's time axis, s, ``(T,)``."""
 
     @property
     def gps_time(self) -> npt.NDArray[np.float64]:
-        """Epoch times, GPS s since 1980-01-06, (T,)."""
+        """Epoch times in GPS s since 1980-01-06, ``(T,)``."""
 
     @property
     def n_satellites(self) -> npt.NDArray[np.int64]:
-        """Satellites tracked per epoch, (T,)."""
+        """Number of satellites tracked at each epoch, ``(T,)``."""
 
     @property
     def sat_id(self) -> npt.NDArray[np.int64]:
-        """Satellite ids (PRN numbers), (T, n_max), -1 where padded."""
+        """Satellite ids (PRN numbers), ``(T, n_max)``, −1 where padded."""
 
     @property
     def satellite_position_ecef(self) -> npt.NDArray[np.float64]:
-        """Satellite positions at transmission time (ECEF of that time), m, (T, n_max, 3)."""
+        """Satellite positions at transmission time (ECEF of that time), m, ``(T, n_max, 3)``,
+        NaN-padded.
+        """
 
     @property
     def satellite_velocity_ecef(self) -> npt.NDArray[np.float64]:
-        """Satellite velocities at transmission time, m/s, (T, n_max, 3)."""
+        """Satellite velocities at transmission time, m/s, ``(T, n_max, 3)``, NaN-padded."""
 
     @property
     def pseudorange(self) -> npt.NDArray[np.float64]:
@@ -985,70 +1133,78 @@ class GnssMeasurements:
 
     @property
     def pseudorange_rate(self) -> npt.NDArray[np.float64]:
-        """Pseudorange rates, m/s, (T, n_max)."""
+        """Pseudorange rates, m/s, ``(T, n_max)``, NaN-padded."""
 
     @property
     def pseudorange_std(self) -> npt.NDArray[np.float64]:
-        """Pseudorange noise one-sigma, m, (T, n_max)."""
+        """Pseudorange noise one-sigma, m, ``(T, n_max)``, NaN-padded."""
 
     @property
     def pseudorange_rate_std(self) -> npt.NDArray[np.float64]:
-        """Pseudorange-rate noise one-sigma, m/s, (T, n_max)."""
+        """Pseudorange-rate noise one-sigma, m/s, ``(T, n_max)``, NaN-padded."""
 
     @property
     def signal(self) -> list[list[str]] | None:
         """The signal each measurement was taken from ("L1 C/A", "E1 C",
-        "B3I"; "L1 C/A + L5 Q" when a second signal measured its ionosphere),
-        T lists of n_max names, "" where padded; None for measurements not
-        built from observations."""
+        "B3I"; "L1 C/A + L5 Q" when a second signal measured its
+        ionosphere), ``T`` lists of ``n_max`` names, "" where padded; None
+        for measurements not built from observations.
+        """
 
     @property
     def cn0_db_hz(self) -> npt.NDArray[np.float64] | None:
         """C/N0 of each measurement's signal (its S observation), dB-Hz,
-        (T, n_max), NaN-padded and NaN where the file has none; None for
-        measurements not built from observations."""
+        ``(T, n_max)``, NaN-padded and NaN where the file has none; None for
+        measurements not built from observations.
+        """
 
     @property
     def elevation_rad(self) -> npt.NDArray[np.float64] | None:
         """Each satellite's elevation at the reference position, rad,
-        (T, n_max), NaN-padded; None for measurements not built from
-        observations."""
+        ``(T, n_max)``, NaN-padded; None for measurements not built from
+        observations.
+        """
 
     @property
     def carrier_phase(self) -> npt.NDArray[np.float64]:
-        """Carrier ranges λ·φ, m, (T, n_max); NaN where padded or without a
-        carrier phase. Each holds an unknown constant per lock arc."""
+        """Carrier ranges λ·φ, m, ``(T, n_max)``; NaN where padded or without
+        a carrier phase. Each holds an unknown constant per lock arc.
+        """
 
     @property
     def carrier_phase_std(self) -> npt.NDArray[np.float64]:
-        """Carrier-range noise one-sigma, m, (T, n_max); NaN where padded or
-        without a carrier phase."""
+        """Carrier-range noise one-sigma, m, ``(T, n_max)``; NaN where padded
+        or without a carrier phase.
+        """
 
     @property
     def loss_of_lock(self) -> npt.NDArray[np.bool_]:
         """The receiver reports lock lost since the previous epoch (a new
-        carrier arc), (T, n_max); False where padded or without a carrier
-        phase."""
+        carrier arc), ``(T, n_max)``; False where padded or without a
+        carrier phase.
+        """
 
     @property
     def cycle_slips(self) -> dict[str, npt.NDArray[Any]]:
-        """The cycle slips the simulator put in the carrier phases
-        (unflagged: loss_of_lock stays False): arrays ``time`` (s),
-        ``sat_id`` and ``cycles`` (L1 cycles added from that epoch on), in
-        epoch order; empty for measurements not simulated here."""
+        """The cycle slips the simulator put in the carrier phases (unflagged:
+        ``loss_of_lock`` stays False): a dict of ``time`` (s), ``sat_id`` and
+        ``cycles`` (L1 cycles added from that epoch on) arrays, in epoch
+        order; empty for measurements not simulated here.
+        """
 
     @property
     def clock_offset(self) -> npt.NDArray[np.float64]:
-        """True receiver clock offset, m, (T,)."""
+        """True receiver clock offset, m, ``(T,)``."""
 
     @property
     def clock_drift(self) -> npt.NDArray[np.float64]:
-        """True receiver clock drift, m/s, (T,)."""
+        """True receiver clock drift, m/s, ``(T,)``."""
 
     @property
     def inter_system_bias(self) -> npt.NDArray[np.float64]:
         """True inter-system biases (Galileo, BeiDou, GLONASS minus GPS) in
-        the pseudoranges, m, (3,); NaN for measurements not simulated here."""
+        the pseudoranges, m, ``(3,)``; NaN for measurements not simulated here.
+        """
 
     def __len__(self) -> int: ...
 
@@ -1077,41 +1233,55 @@ def simulate_gnss(
 ) -> GnssMeasurements:
     """Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
 
-    time (N,) s, position_ecef (N, 3) m, velocity_ecef (N, 3) m/s. ``None``
-    takes the core's default (``memsnav_core::gnss::SimulationConfig``):
-    ``rate`` 1 Hz, ``n_satellites`` 6, ``elevation_mask_deg`` 10,
-    ``pseudorange_std`` 3 m, ``pseudorange_rate_std`` 0.1 m/s, no residual
-    (``residual_std`` m; ``residual_correlation_time`` 300 s), a TCXO clock
-    (``clock_h0`` 2e-19, ``clock_h_minus2`` 2e-20, initial offset 30 m and
-    drift 1 m/s one-sigma). Epochs at
-    ``rate`` Hz fall on the trajectory samples nearest to t0 + k/rate. At the
-    first epoch the ``n_satellites`` with the best GDOP above the mask are
-    chosen (greedy elimination), of every system the constellation holds,
-    and kept while visible; a setting satellite is replaced by the one
-    giving the best GDOP (with several systems the GDOP has one
+    Arguments; ``None`` takes the core's default
+    (``memsnav_core::gnss::SimulationConfig``), given in brackets:
+
+    - ``time`` (N,) s, ``position_ecef`` (N, 3) m, ``velocity_ecef`` (N, 3)
+      m/s: the receiver's trajectory, time increasing.
+    - ``constellation``: the satellites (``Constellation.walker``,
+      ``nominal`` or ``from_rinex_nav``).
+    - ``rate``: epochs per second, Hz [1]; the epochs fall on the
+      trajectory samples nearest to t0 + k/rate.
+    - ``n_satellites``: satellites tracked [6].
+    - ``elevation_mask_deg``: elevation mask, degrees [10].
+    - ``pseudorange_std``, m [3], and ``pseudorange_rate_std``, m/s [0.1]:
+      white noise.
+    - ``residual_std``, m [none], and ``residual_correlation_time``, s
+      [300]: a Gauss-Markov residual per satellite (atmosphere, orbit).
+    - ``clock_h0`` [2e-19] and ``clock_h_minus2`` [2e-20]: the receiver
+      clock's Allan coefficients (a TCXO; two-state model);
+      ``clock_initial_offset_std``, m [30], and ``clock_initial_drift_std``,
+      m/s [1]: its initial one-sigmas.
+    - ``outages``: (start s, length s) total, or (start, length,
+      n_satellites) partial, keeping the highest of the tracked satellites
+      (an urban canyon's view), on the trajectory's time axis [none]. They
+      are applied after every random draw, so the kept satellites' noise
+      does not depend on them.
+    - ``seed``: the random stream, an integer in [0, 2**64) [0: the same
+      draws every call; pass different seeds for independent draws].
+    - ``start_gps_time``: GPS time of time[0], s [the earliest t_oe of a
+      broadcast file; 0 for a Walker constellation].
+    - ``inter_system_bias``: Galileo, BeiDou[, GLONASS] minus GPS, m
+      [none], added to that system's pseudoranges.
+    - ``carrier_phase_std``, m [0: no carrier phase]: adds carrier ranges:
+      the pseudorange's range, clock and bias, minus the residual (the
+      ionosphere advances the phase), plus a whole number of GPS L1 cycles
+      drawn per lock arc, plus white noise; ``loss_of_lock`` is set where a
+      satellite was not in the previous epoch. The carrier draws from a
+      stream of its own: the pseudoranges and rates are the same with or
+      without it.
+    - ``cycle_slip_probability``, per satellite and epoch [0]: silent slips
+      (±1 and ±2 cycles common, up to ±1000; ``loss_of_lock`` stays False),
+      listed in ``cycle_slips``.
+
+    At the first epoch the ``n_satellites`` with the best GDOP above the
+    mask are chosen (greedy elimination), of every system the constellation
+    holds, and kept while visible; a setting satellite is replaced by the
+    one giving the best GDOP (with several systems the GDOP has one
     inter-system-bias unknown per system other than GPS, so a system's lone
     satellite adds nothing). Pseudorange = exact light-time range with
-    Earth rotation + receiver clock + the system's ``inter_system_bias``
-    (Galileo, BeiDou[, GLONASS] minus GPS, m; default none) + optional Gauss-Markov
-    residual (residual_std m, residual_correlation_time s) + white noise.
-    Clock: two-state, h0 and h_minus2 Allan coefficients.
-    Outages: (start s, length s) total, or (start, length, n_satellites)
-    partial, keeping the highest of the tracked satellites (an urban
-    canyon's view), on the trajectory's time axis; they are applied after
-    every random draw, so the kept satellites' noise does not depend on
-    them. start_gps_time:
-    GPS time of time[0] (default: earliest t_oe of a broadcast file, 0 for
-    Walker).
-
-    ``carrier_phase_std`` (m, default 0: no carrier phase) adds carrier
-    ranges: the pseudorange's range, clock and bias, minus the residual
-    (the ionosphere advances the phase), plus a whole number of GPS L1
-    cycles drawn per lock arc, plus white noise; ``loss_of_lock`` is set
-    where a satellite was not in the previous epoch. ``cycle_slip_probability``
-    (per satellite and epoch, default 0) adds silent slips (±1 and ±2 cycles
-    common, up to ±1000; ``loss_of_lock`` stays False), listed in
-    ``cycle_slips``. The carrier draws from a stream of its own: the
-    pseudoranges and rates are the same with or without it.
+    Earth rotation + receiver clock + the system's inter-system bias + the
+    residual + white noise.
     """
 
 @final
@@ -1120,40 +1290,41 @@ class FixSeries:
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """Epoch times, s, (T,)."""
+        """Epoch times, s, ``(T,)``."""
 
     @property
     def valid(self) -> npt.NDArray[np.bool_]:
-        """True where the epoch had at least 4 satellites, (T,)."""
+        """True where the epoch had at least 4 satellites and a fix, ``(T,)``."""
 
     @property
     def position_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF position, m, (T, 3)."""
+        """ECEF position, m, ``(T, 3)`` (NaN rows where not valid)."""
 
     @property
     def velocity_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF velocity, m/s, (T, 3)."""
+        """ECEF velocity, m/s, ``(T, 3)``."""
 
     @property
     def clock_offset(self) -> npt.NDArray[np.float64]:
-        """Receiver clock offset, m, (T,)."""
+        """Receiver clock offset, m, ``(T,)``."""
 
     @property
     def inter_system_bias(self) -> npt.NDArray[np.float64]:
         """Inter-system biases of Galileo, BeiDou and GLONASS relative to the
-        epoch's reference system (GPS when present), m, (T, 3); NaN for a
-        system not in the epoch."""
+        epoch's reference system (GPS when present), m, ``(T, 3)``; NaN for
+        a system not in the epoch.
+        """
     @property
     def clock_drift(self) -> npt.NDArray[np.float64]:
-        """Receiver clock drift, m/s, (T,)."""
+        """Receiver clock drift, m/s, ``(T,)``."""
 
     @property
     def position_clock_covariance(self) -> npt.NDArray[np.float64]:
-        """Covariance of (x, y, z, clock offset), m², (T, 4, 4)."""
+        """Covariance of (x, y, z, clock offset), m², ``(T, 4, 4)``."""
 
     @property
     def velocity_drift_covariance(self) -> npt.NDArray[np.float64]:
-        """Covariance of (vx, vy, vz, clock drift), (m/s)², (T, 4, 4)."""
+        """Covariance of (vx, vy, vz, clock drift), (m/s)², ``(T, 4, 4)``."""
 
     @property
     def gdop(self) -> npt.NDArray[np.float64]:
@@ -1183,13 +1354,15 @@ class FixSeries:
 
     @property
     def residual_chi_square(self) -> npt.NDArray[np.float64]:
-        """Post-fit test statistic sum((v/sigma)^2) of the satellites used, (T,);
-        NaN without redundancy, with unit weights or without a fix."""
+        """Post-fit test statistic Σ (v/σ)² of the satellites used, ``(T,)``;
+        NaN without redundancy, with unit weights or without a fix.
+        """
 
     @property
     def residual_threshold(self) -> npt.NDArray[np.float64]:
-        """The residual test's threshold chi2(1 - false_alarm_probability,
-        satellites - unknowns), (T,); NaN where the test did not run."""
+        """The residual test's threshold χ²(1 − false_alarm_probability,
+        satellites − unknowns), ``(T,)``; NaN where the test did not run.
+        """
 
 def solve_fix(
     measurements: GnssMeasurements | Mapping[str, npt.ArrayLike],
@@ -1199,10 +1372,16 @@ def solve_fix(
     false_alarm_probability: float | None = 0.001,
 ) -> FixSeries:
     """Gauss-Newton position/velocity/clock fix of every epoch (Sagnac-corrected
-    predicted ranges) of a GnssMeasurements or its padded arrays as a dict (the
-    constructor's keys, no others). prior: (3,) ECEF start for the first epoch (default the
-    Earth's centre; later epochs start from the previous fix). Epochs with
-    fewer than 4 satellites give NaN rows, or ValueError when strict=True.
+    predicted ranges).
+
+    - ``measurements``: a ``GnssMeasurements``, or its padded arrays as a
+      dict (the constructor's keys, no others).
+    - ``prior``: (3,) ECEF start of the first epoch's iterations, m [the
+      Earth's centre]; later epochs start from the previous fix.
+    - ``strict`` [False]: an epoch with fewer than 4 satellites is a
+      ValueError instead of a NaN row.
+    - ``false_alarm_probability`` [0.001]: the residual test's, per epoch;
+      None turns the test off.
 
     Residual test (RAIM fault detection and exclusion): the weighted post-fit
     residuals' sum of squares is held to the chi-square quantile
@@ -1213,7 +1392,8 @@ def solve_fix(
     in ``excluded``; the final statistic and threshold in
     ``residual_chi_square`` and ``residual_threshold`` (a statistic still above
     its threshold: no exclusion could make the epoch fit).
-    ``false_alarm_probability=None`` turns the test off."""
+    ``false_alarm_probability=None`` turns the test off.
+    """
 
 # --- trajectory ---
 
@@ -1242,12 +1422,19 @@ class Trajectory:
         """Random land-vehicle motion: cruises, speed changes (sometimes to a
         stop), turns, road slope, body lean and squat; C² smooth.
 
-        ``None`` takes the core's default (``RandomTrajectoryConfig``):
-        duration 600 s, rate 100 Hz, origin [lat rad, lon rad, h m] Toulouse
-        43.6° N 1.44° E 150 m, heading rad from north (None: random),
-        max_speed 30 m/s, max_longitudinal_acceleration 2 m/s²,
-        max_lateral_acceleration 3 m/s², max_yaw_rate 0.4 rad/s, max_slope
-        0.05 rad, stationary_start 0 s (seconds at rest before moving off).
+        Arguments; ``None`` takes the core's default
+        (``RandomTrajectoryConfig``), given in brackets:
+
+        - ``duration``, s [600]; ``rate``, Hz [100].
+        - ``seed``: the random stream, an integer in [0, 2**64) [0: the same
+          trajectory every call].
+        - ``origin``: [latitude rad, longitude rad, height m] of the start
+          [Toulouse, 43.6° N 1.44° E 150 m].
+        - ``heading``: the initial heading, rad from north [random].
+        - ``max_speed``, m/s [30]; ``max_longitudinal_acceleration``, m/s²
+          [2]; ``max_lateral_acceleration``, m/s² [3]; ``max_yaw_rate``, rad/s
+          [0.4]; ``max_slope``, rad [0.05].
+        - ``stationary_start``: seconds at rest before moving off [0].
         """
 
     @staticmethod
@@ -1271,28 +1458,28 @@ class Trajectory:
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """Sample times, s, (N,)."""
+        """Sample times, s, shape (N,)."""
     @property
     def position_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF position, m, (N, 3)."""
+        """ECEF position, m, shape (N, 3)."""
     @property
     def velocity_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF velocity, m/s, (N, 3)."""
+        """ECEF velocity, m/s, shape (N, 3)."""
     @property
     def attitude(self) -> npt.NDArray[np.float64]:
-        """Body-to-ECEF rotation matrices, (N, 3, 3)."""
+        """Body-to-ECEF rotation matrices, shape (N, 3, 3)."""
     @property
     def specific_force(self) -> npt.NDArray[np.float64]:
-        """True specific force f_ib^b, m/s², (N, 3)."""
+        """True specific force f_ib^b, m/s², shape (N, 3)."""
     @property
     def angular_rate(self) -> npt.NDArray[np.float64]:
-        """True angular rate ω_ib^b, rad/s, (N, 3)."""
+        """True angular rate ω_ib^b, rad/s, shape (N, 3)."""
     def position_geodetic(self) -> npt.NDArray[np.float64]:
-        """[latitude rad, longitude rad, height m], (N, 3)."""
+        """[latitude rad, longitude rad, height m] of each sample, shape (N, 3)."""
     def velocity_ned(self) -> npt.NDArray[np.float64]:
-        """NED velocity, m/s, (N, 3)."""
+        """NED velocity at each sample, m/s, shape (N, 3)."""
     def euler_ned(self) -> npt.NDArray[np.float64]:
-        """[roll, pitch, yaw] of the body relative to local NED, rad, (N, 3)."""
+        """[roll, pitch, yaw] of the body relative to local NED, rad, shape (N, 3)."""
     def __len__(self) -> int: ...
 
 # --- ins ---
@@ -1303,16 +1490,16 @@ class NavSolution:
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """Times, s, (N,)."""
+        """Times, s, shape (N,)."""
     @property
     def position_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF position, m, (N, 3)."""
+        """ECEF position, m, shape (N, 3)."""
     @property
     def velocity_ecef(self) -> npt.NDArray[np.float64]:
-        """ECEF velocity, m/s, (N, 3)."""
+        """ECEF velocity, m/s, shape (N, 3)."""
     @property
     def attitude(self) -> npt.NDArray[np.float64]:
-        """Body-to-ECEF rotation matrices, (N, 3, 3)."""
+        """Body-to-ECEF rotation matrices, shape (N, 3, 3)."""
     def __len__(self) -> int: ...
 
 def strapdown(
@@ -1326,11 +1513,19 @@ def strapdown(
     scheme: str = "cubic",
 ) -> NavSolution:
     """Strapdown INS in ECEF (Earth rate, Coriolis, J2 gravity) from
-    instantaneous samples: time s (N,), specific_force m/s² and angular_rate
-    rad/s (N, 3) in body axes, initial position m, velocity m/s (3,) and
-    body-to-ECEF attitude (3, 3). scheme "cubic" (default): cubic
-    interpolation of the samples with coning/sculling, fourth order;
-    "trapezoid": the two-sample second-order step the filters chain."""
+    instantaneous samples (Groves ch. 5).
+
+    - ``time`` (N,) s, increasing.
+    - ``specific_force`` (N, 3) m/s² and ``angular_rate`` (N, 3) rad/s: the
+      IMU's samples in body axes (x forward, y right, z down).
+    - ``position_ecef`` (3,) m, ``velocity_ecef`` (3,) m/s and ``attitude``
+      (3, 3) C_b^e (body to ECEF): the state at ``time[0]``.
+    - ``scheme`` ["cubic"]: "cubic" interpolates the samples with coning
+      and sculling, fourth order; "trapezoid" is the two-sample
+      second-order step the filters chain.
+
+    Returns a ``NavSolution`` (position, velocity and attitude per sample).
+    """
 
 def strapdown_increments(
     time: npt.ArrayLike,
@@ -1400,11 +1595,11 @@ class FilterSolution:
 
     @property
     def accel_scale_factor(self) -> npt.NDArray[np.float64] | None:
-        """Accelerometer scale-factor estimate, (N, 3); None with 17 states."""
+        """Accelerometer scale-factor estimate, (N, 3); None without scale-factor states."""
 
     @property
     def gyro_scale_factor(self) -> npt.NDArray[np.float64] | None:
-        """Gyro scale-factor estimate, (N, 3); None with 17 states."""
+        """Gyro scale-factor estimate, (N, 3); None without scale-factor states."""
 
     @property
     def installation(self) -> npt.NDArray[np.float64] | None:
@@ -1422,8 +1617,9 @@ class FilterSolution:
 
     @property
     def inter_system_bias(self) -> npt.NDArray[np.float64] | None:
-        """Inter-system bias estimates (Galileo, BeiDou, GLONASS minus GPS),
-        m, (N, 3); None without the inter-system-bias states."""
+        """Inter-system bias estimates (Galileo, BeiDou, GLONASS pseudoranges
+        minus GPS's), m, (N, 3); None without the inter-system-bias states.
+        """
     @property
     def covariance_diagonal(self) -> npt.NDArray[np.float64]:
         """Diagonal of the error covariance, (N, n_states), order ``state_names``
@@ -1431,15 +1627,15 @@ class FilterSolution:
 
     @property
     def position_covariance_ecef(self) -> npt.NDArray[np.float64]:
-        """Position-error covariance block (ECEF axes), m², (N, 3, 3)."""
+        """Position-error covariance (ECEF axes), m², (N, 3, 3)."""
 
     @property
     def velocity_covariance_ecef(self) -> npt.NDArray[np.float64]:
-        """Velocity-error covariance block (ECEF axes), (m/s)², (N, 3, 3)."""
+        """Velocity-error covariance (ECEF axes), m²/s², (N, 3, 3)."""
 
     @property
     def attitude_covariance_ecef(self) -> npt.NDArray[np.float64]:
-        """Attitude-error covariance block (ECEF axes), rad², (N, 3, 3)."""
+        """Attitude-error covariance (ECEF axes), rad², (N, 3, 3)."""
 
     @property
     def position_std_ned(self) -> npt.NDArray[np.float64]:
@@ -1462,11 +1658,13 @@ class FilterSolution:
 
     @property
     def measurements(self) -> dict[str, npt.NDArray[Any] | list[str]]:
-        """Every scalar measurement (see the class docstring)."""
+        """Every scalar measurement: dict of arrays `time`, `id`, `kind`,
+        `innovation`, `innovation_std`, `nis`, `status`.
+        """
 
     @property
     def rejected(self) -> dict[str, npt.NDArray[Any] | list[str]]:
-        """The measurements not applied (any status but "accepted")."""
+        """The rejected measurements only (status "gate" or "invalid")."""
 
     @property
     def smoothed(self) -> FilterSolution | None:
@@ -1496,17 +1694,18 @@ class FilterSolution:
     @property
     def warnings(self) -> list[str]:
         """What the run found implausible, one sentence each (also raised as
-        ``UserWarning``s by ``run``): IMU magnitudes that do not fit m/s² and
-        rad/s, and every integrity alert (see ``integrity``). Empty when all is
-        well."""
+        `UserWarning`s by `run`): IMU magnitudes that do not fit m/s² and
+        rad/s, a filter diverged from its GNSS aiding. Empty when all is well.
+        """
 
     @property
     def diverged(self) -> bool:
         """Whether the run raised an integrity alert: its solution and
-        covariance are not trustworthy (GNSS batches mostly gated, innovations
-        far outside their chi-square band, or a position too uncertain for the
-        linearised model, or outliers applied with the gate off; see
-        ``integrity`` and ``warnings``)."""
+        covariance are not trustworthy (GNSS batches mostly gated,
+        innovations far outside their chi-square band, or a position too
+        uncertain for the linearised model, or outliers applied with the
+        gate off; see `integrity` and `warnings`).
+        """
 
     @property
     def integrity(self) -> dict[str, Any]:
@@ -1532,38 +1731,43 @@ class FilterSolution:
         name: str | None = None,
         overwrite: bool = False,
     ) -> None:
-        """Writes the solution at the IMU (its geodetic position, NED velocity,
-        roll/pitch/yaw and NED one-sigmas) to ``path`` in ``format``: "csv"
-        (``columns()``, every sample), "pos" (RTKLIB, GPST; ``read_pos`` reads it),
-        "kml" (KML 2.2: the track as a LineString, start and end placemarks),
-        "gpx" (GPX 1.1: trk/trkseg/trkpt, times in UTC) or "geojson" (RFC 7946: a
-        LineString Feature of [lon, lat, h] with the times as properties); None:
-        from the extension (.csv, .pos, .kml, .gpx, .geojson or .json). Heights are
-        ellipsoidal (WGS 84); UTC is GPS time less the leap seconds (18 s since
-        2017). ``rate_hz``: the rows' rate (the first sample of each interval); None:
-        every sample for "csv", 10 Hz for the others (a rate at or above the
-        sample rate keeps every sample). ``name`` titles a map track (default the
-        file's stem). The file is written whole or not at all; its folder must
-        exist (``OSError`` naming it). An existing file is replaced only when
-        memsnav wrote it (a solution file of any of these formats) or with
-        ``overwrite=True``, a folder never (``ValueError``); an unknown format is
-        a ``ValueError`` naming ``format`` and the accepted names."""
+        """Writes the solution at the IMU (its geodetic position, NED velocity, roll/pitch/yaw
+        and NED one-sigmas) to `path` in `format`: "csv" (`columns()`,
+        every sample), "pos" (RTKLIB, GPST; `read_pos` reads it), "kml" (KML
+        2.2: the track as a LineString, start and end placemarks), "gpx" (GPX
+        1.1: trk/trkseg/trkpt, times in UTC) or "geojson" (RFC 7946: a
+        LineString Feature of [lon, lat, h] with the times as properties);
+        None: from the extension (.csv, .pos, .kml, .gpx, .geojson or .json).
+        Heights are ellipsoidal (WGS 84); UTC is GPS time less the leap
+        seconds (18 s since 2017). `rate_hz`: the rows' rate (the first sample
+        of each interval); None: every sample for "csv", 10 Hz for the others
+        (a rate at or above the sample rate keeps every sample). `name` titles
+        a map track (default the file's stem). The file is written whole or
+        not at all; its folder must exist (`OSError` naming it). An existing
+        file is replaced only when memsnav wrote it (a solution file of any of
+        these formats) or with `overwrite=True`, a folder never (`ValueError`);
+        an unknown format is a `ValueError` naming `format` and the accepted
+        names.
+        """
 
     def columns(self, rate_hz: float | None = None) -> dict[str, npt.NDArray[np.float64]]:
-        """The solution at the IMU as columns named with their units, (N,) each:
-        ``gps_time_s``, ``lat_deg``, ``lon_deg``, ``height_m`` (ellipsoidal),
-        ``vn_m_s``, ``ve_m_s``, ``vd_m_s``, ``roll_deg``, ``pitch_deg``, ``yaw_deg``,
-        ``sdn_m``, ``sde_m``, ``sdd_m``, ``sdvn_m_s``, ``sdve_m_s``, ``sdvd_m_s``
-        (one-sigma, local north/east/down); ``rate_hz`` thins as in ``write``
-        (None: every sample)."""
+        """The solution at the IMU (its geodetic position, NED velocity, roll/pitch/yaw
+        and NED one-sigmas) as columns named with their units, (N,) each:
+        `gps_time_s`, `lat_deg`, `lon_deg`, `height_m` (ellipsoidal), `vn_m_s`,
+        `ve_m_s`, `vd_m_s`, `roll_deg`, `pitch_deg`, `yaw_deg`, `sdn_m`, `sde_m`,
+        `sdd_m`, `sdvn_m_s`, `sdve_m_s`, `sdvd_m_s` (one-sigma, local
+        north/east/down); `rate_hz` thins as in `write` (None: every sample).
+        """
 
     def to_pandas(self, rate_hz: float | None = None) -> Any:
-        """``columns(rate_hz)`` as a pandas ``DataFrame``; ``ImportError`` saying
-        what to install when pandas is not installed."""
+        """`columns(rate_hz)` as a pandas `DataFrame`; `ImportError` saying what
+        to install when pandas is not installed.
+        """
 
     def to_polars(self, rate_hz: float | None = None) -> Any:
-        """``columns(rate_hz)`` as a polars ``DataFrame``; ``ImportError`` saying
-        what to install when polars is not installed."""
+        """`columns(rate_hz)` as a polars `DataFrame`; `ImportError` saying what
+        to install when polars is not installed.
+        """
 
     def __len__(self) -> int: ...
 
@@ -1571,20 +1775,22 @@ class FilterSolution:
 class TightlyCoupledFilter:
     """Closed-loop error-state EKF in ECEF on pseudoranges and pseudorange rates
     (method §5; Groves §14.3.3): 17 states (attitude, velocity, position, accel
-    and gyro biases, clock offset and drift), 23 with ``scale_factor_states``.
+    and gyro biases, clock offset and drift), 23 with `scale_factor_states`.
     An epoch's pseudoranges are one batch and its rates another (sequential
     Joseph updates, Sagnac and light time in the prediction), tested together
     by the chi-square test of the batch NIS: a faulty satellite is excluded, a
     receiver clock jump moved into the clock, and when the pseudoranges keep
     failing (3 epochs) the filter resets to the epoch's least-squares fix (or
     opens its covariance with fewer than 4 satellites); every reset is in
-    ``FilterSolution.resets``. Fewer than four satellites still help (the
+    `FilterSolution.resets`. Fewer than four satellites still help (the
     rate row keeps the line of sight's turn with position, so ranges and
     rates leave the same directions unobserved); with none the INS coasts.
-    ``FilterSolution.integrity`` says when the result cannot be trusted
+    `FilterSolution.integrity` says when the result cannot be trusted
     (docs/explanation/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
 
-    Tuning from ``imu.spec`` at ``imu.sample_rate`` (``FilterTuning::from_imu_spec``):
+    Raises ValueError naming the argument for a bad value.
+
+    Tuning from `imu.spec` at `imu.sample_rate` (`FilterTuning::from_imu_spec`):
     white-noise PSDs = noise density² (or per-sample std² / rate); bias
     processes from bias instability (2 sigma²/tau) and random walk, the
     instability taken as a random walk when the bias has a turn-on part
@@ -1595,42 +1801,44 @@ class TightlyCoupledFilter:
     rest widens the initial bias std, their part driven by the motion is
     process noise shaped by the sensed specific force and rate at every step,
     2 sigma² tau with the manoeuvres' correlation time tau = 10 s
-    (``filter::input_noise``). Receiver clock: the simulator's TCXO
-    (``clock_h0`` 2e-19, ``clock_h_minus2`` 2e-20, the same names and model
-    as ``simulate_gnss``: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
-    below can be overridden; an argument left None takes the core's default,
-    listed by ``memsnav.defaults()["TightlyCoupledFilter"]``:
+    (`filter::input_noise`). Receiver clock: the simulator's TCXO
+    (`clock_h0` 2e-19, `clock_h_minus2` 2e-20, the same names and model
+    as `simulate_gnss`: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
+    below can be overridden; an argument left None takes the core's
+    default, listed by `memsnav.defaults()` under the class name
+    (`tuning` shows the values in effect):
 
-    - ``accel_noise_density`` (m/s²/√Hz), ``gyro_noise_density`` (rad/s/√Hz):
+    - `imu`: the `ImuModel` whose spec and sample rate tune the filter.
+    - `scale_factor_states` [False]: six more states, the accelerometer and
+      gyro scale factors (23 in all).
+    - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
       replace the sensor's white PSDs by density² (the input-shaped noise of
       the unmodelled errors stays).
-    - ``accel_bias_psd`` ((m/s²)²/s), ``gyro_bias_psd`` ((rad/s)²/s): bias
+    - `accel_bias_psd` ((m/s²)²/s), `gyro_bias_psd` ((rad/s)²/s): bias
       driving-noise PSDs.
-    - ``gate_probability``: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
+    - `gate_probability`: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
       and reported); 1.0 disables it.
-    - initial one-sigmas: ``initial_position_std`` 5 m and
-      ``initial_velocity_std`` 0.5 m/s per ECEF axis (a code fix),
-      ``initial_tilt_std`` 1° and ``initial_heading_std`` 5° (in rad),
-      ``initial_accel_bias_std`` / ``initial_gyro_bias_std`` (None: from the
-      spec as above), ``initial_clock_offset_std`` 50 m,
-      ``initial_clock_drift_std`` 10 m/s; scale factors (23 states): the
+    - initial one-sigmas: `initial_position_std` 5 m and
+      `initial_velocity_std` 0.5 m/s per ECEF axis (a code fix),
+      `initial_tilt_std` 1° and `initial_heading_std` 5° (in rad),
+      `initial_accel_bias_std` / `initial_gyro_bias_std` (None: from the
+      spec as above), `initial_clock_offset_std` 50 m,
+      `initial_clock_drift_std` 10 m/s; scale factors (23 states): the
       spec's scale_factor_std (floored at 1e-6).
-    - ``use_pseudorange_rate``: use rates when the epoch carries them.
-    - ``use_carrier_phase``: use each satellite's carrier-phase change
+    - `use_pseudorange_rate`: use rates when the epoch carries them.
+    - `use_carrier_phase`: use each satellite's carrier-phase change
       between consecutive epochs (time-differenced carrier phase, as a
       velocity measurement; cycle slips found from the receiver's flags,
       the Doppler and the residual test) when the epochs carry it.
-    - ``clock_h0``, ``clock_h_minus2``: the receiver oscillator's Allan
+    - `clock_h0`, `clock_h_minus2`: the receiver oscillator's Allan
       coefficients (None: the TCXO above).
-    - ``manoeuvre_correlation_time``: tau of the input-shaped noise, s (None:
+    - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:
       10 s, a land vehicle's turns and accelerations; shorter for a walker).
-    - ``pseudorange_correlation_time``: correlation time of the code's fast
+    - `pseudorange_correlation_time`: correlation time of the code's fast
       errors (multipath), s (None: 0, white); each pseudorange's std is
       inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
       epoch interval dt, so that epochs sampling one error carry it once
       (docs/how-to/multi-gnss.md, "Correlated code errors").
-
-    Raises ValueError naming the argument for a bad value.
     """
 
     def __new__(
@@ -1715,11 +1923,17 @@ class TightlyCoupledFilter:
         initial_state: dict[str, Any] | Any | None = None,
         smooth: bool = False,
     ) -> FilterSolution:
-        """``run`` on an integrating IMU's output: ``time`` (N + 1,) s and the
-        increments of each interval, ``delta_v`` (N, 3) m/s and ``delta_theta``
-        (N, 3) rad (row k over [time[k], time[k + 1]]), integrated by the
-        increments mechanization with coning and sculling; the rest as ``run``
-        (docs/how-to/step-api.md)."""
+        """`run` on an integrating IMU's output: `time` (N + 1,) s and the
+        increments of each interval, `delta_v` (N, 3) m/s and
+        `delta_theta` (N, 3) rad (row k over [time[k], time[k + 1]], as
+        `imu_increments` gives them), integrated by the increments
+        mechanization with coning and sculling (`strapdown_increments`'s)
+        instead of from samples; an epoch between two times takes its
+        share of the interval's increments at constant rates. The rest
+        (aiding, start, smoothing, the solution at every time) as `run`;
+        the mean rates of the intervals stand for samples where one is
+        looked at (levelling the start).
+        """
 
     def start(
         self,
@@ -1730,54 +1944,67 @@ class TightlyCoupledFilter:
         *,
         inter_system_biases: bool = False,
     ) -> RunningFilter:
-        """The filter started at ``time`` (s) from ``initial_state`` (the dict
-        ``run`` takes: ``position_ecef`` m, ``velocity_ecef`` m/s, ``attitude``
-        C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
-        sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
-        rad/s), to be driven one call at a time: a ``RunningFilter`` with this
-        filter's tuning (docs/how-to/step-api.md). ``inter_system_biases`` (tight
-        only): with the Galileo, BeiDou and GLONASS inter-system-bias states."""
+        """The filter started at `time` (s) from `initial_state` (the dict
+        `run` takes: position_ecef m, velocity_ecef m/s, attitude C_b^e,
+        optional clock_offset m, clock_drift m/s) with the raw sample
+        there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
+        to be driven one call at a time: a `RunningFilter` with this
+        filter's tuning. `inter_system_biases` (tight only): with the
+        Galileo, BeiDou and GLONASS inter-system-bias states, to
+        update with satellites of those systems.
+        """
 
 @final
 class RunningFilter:
-    """A coupled GNSS/INS filter driven one call at a time (docs/how-to/step-api.md):
-    ``predict`` (or ``predict_increments``) at each IMU sample, then any
-    updates at that time. Made by ``TightlyCoupledFilter.start`` or
-    ``LooselyCoupledFilter.start`` with that filter's tuning; the batch
-    ``run`` is this same sequence of calls, so the same calls give the same
+    """A coupled GNSS/INS filter driven one call at a time: `predict` (or
+    `predict_increments`) at each IMU sample, then any updates at that
+    time. Made by `TightlyCoupledFilter.start` or
+    `LooselyCoupledFilter.start`, with that filter's tuning; the batch
+    `run` is this same sequence of calls, so the same calls give the same
     numbers, bit for bit.
 
-    Times are the IMU's time stamps, s (each must follow the last by more
-    than 0 and at most 1 s). Updates apply at the filter's time; a GNSS
-    epoch stamped more than 1e-4 s away is refused. Every update is tested
-    by the chi-square gate (a fix or a GNSS epoch as one batch per block)
-    and returns whether it was applied whole. Records accumulate until
-    ``take_records()``. Every update is a transaction: refused calls
-    (ValueError naming the argument: stds within 1e-9 to 1e9 of their unit,
-    lever arms within 100 m, a fix's position near the Earth's surface) and
-    updates that fail on the way (DivergenceError) leave the filter exactly
-    as it was, records included.
+    Times are the IMU's time stamps, s (not intervals: the records and the
+    GNSS epochs are matched on them); each must follow the last by more
+    than 0 and at most 1 s. Updates apply at the filter's time (that of the
+    last predict); a GNSS epoch stamped more than the time tolerance
+    (1e-4 s) away is refused: predict to its time first. Every update
+    applies its rows as batches (one per block of a fix or GNSS epoch)
+    tested by the chi-square gate, and returns whether it was applied
+    whole (every batch accepted). Measurement records
+    accumulate until `take_records()` hands them over. Every update is a
+    transaction: refused calls (ValueError naming the argument: stds within
+    1e-9 to 1e9 of their unit, lever arms within 100 m, a fix's position
+    near the Earth's surface) and updates that fail on the way
+    (DivergenceError) leave the filter exactly as it was, records included.
     """
 
     def predict(
         self, time: float, specific_force: npt.ArrayLike, angular_rate: npt.ArrayLike
     ) -> None:
-        """Steps to ``time`` with the raw sample there (``specific_force``
-        (3,) m/s², ``angular_rate`` (3,) rad/s, body axes)."""
+        """Steps the INS and the covariance to `time` (s) with the raw sample
+        there: `specific_force` (3,) m/s² and `angular_rate` (3,) rad/s in
+        body axes (the mechanization integrates between the previous
+        sample and this one, as `run` does).
+        """
 
     def predict_increments(
         self, time: float, delta_v: npt.ArrayLike, delta_theta: npt.ArrayLike
     ) -> None:
-        """Steps to ``time`` with the raw increments of the interval since the
-        filter's time (``delta_v`` (3,) m/s, ``delta_theta`` (3,) rad), with
-        coning and sculling."""
+        """Steps to `time` (s) with the raw increments of the interval since
+        the filter's time: `delta_v` (3,) m/s and `delta_theta` (3,) rad
+        (∫f dt, ∫ω dt, what integrating IMUs log), with coning and sculling
+        from the previous interval's increments.
+        """
 
     def update_gnss(self, gnss: GnssMeasurements | Any, epoch: int = 0) -> bool:
-        """Applies epoch ``epoch`` of ``gnss`` (what ``TightlyCoupledFilter.run``
-        takes) at the filter's time; only for a filter started by
-        ``TightlyCoupledFilter``. Returns whether it was applied whole: every
-        batch passed its gate (the pseudoranges after any fault exclusion,
-        the rates); the records say which failed."""
+        """Applies epoch `epoch` of `gnss` (anything `TightlyCoupledFilter.run`
+        takes: `GnssMeasurements` or its dict) at the filter's time: the
+        pseudoranges as one batch, then the rates. Only for a filter started
+        by `TightlyCoupledFilter` (the loose one holds the clock fixed).
+        Returns whether the epoch was applied whole: every batch it made
+        passed its gate (pseudoranges after any fault exclusion, rates); the
+        records say which failed.
+        """
 
     def update_fix(
         self,
@@ -1786,35 +2013,50 @@ class RunningFilter:
         velocity_ecef: npt.ArrayLike | None = None,
         velocity_covariance: npt.ArrayLike | None = None,
     ) -> bool:
-        """Applies a fix of the antenna at the filter's time (position (3,) m,
-        covariance (3, 3) m²; optional velocity (3,) m/s with its (3, 3)).
-        Returns whether it was applied whole: the position block and the
-        velocity block (when given) each passed its gate."""
+        """Applies a position fix of the antenna at the filter's time:
+        `position_ecef` (3,) m with `position_covariance` (3, 3) m², and
+        optionally `velocity_ecef` (3,) m/s with `velocity_covariance`
+        (3, 3) m²/s² (each block tested as one batch, as `run` does).
+        Returns whether the fix was applied whole: every block passed its
+        gate; the records say which failed.
+        """
 
     def update_zupt(self, std: float) -> bool:
         """Zero-velocity update, ``std`` m/s per axis. Returns whether it
         passed its gate (as every update method does)."""
 
     def update_zaru(self, mean_angular_rate: npt.ArrayLike, std: npt.ArrayLike | float) -> bool:
-        """Zero-angular-rate update from the mean raw gyro reading (3,) rad/s
-        over a standstill, ``std`` rad/s of the mean (scalar or per axis)."""
+        """Zero-angular-rate update at rest: `mean_angular_rate` (3,) rad/s is
+        the raw gyro reading averaged over the standstill, `std` rad/s (of
+        the mean; a scalar or per axis). Returns whether it was accepted.
+        """
 
     def update_non_holonomic(self, std: float, lever_arm: npt.ArrayLike | None = None) -> bool:
-        """No lateral and no vertical velocity of the point at ``lever_arm``
-        (3,) m in body axes (None: the IMU), ``std`` m/s."""
+        """Non-holonomic constraint of a land vehicle: the point at
+        `lever_arm` (3,) m from the IMU in body axes (None: the IMU) has no
+        lateral and no vertical velocity, `std` m/s. Body x must point
+        forward along the vehicle. Returns whether it was accepted.
+        """
 
     def update_speed(
         self, speed: float, std: float, lever_arm: npt.ArrayLike | None = None
     ) -> bool:
-        """Odometer: forward speed ``speed`` m/s of the point at ``lever_arm``,
-        ``std`` m/s."""
+        """Odometer (wheel speed): the forward speed `speed` m/s (negative when
+        reversing) of the point at `lever_arm` (3,) m in body axes (None:
+        the IMU), `std` m/s. Returns whether it was accepted.
+        """
 
     def update_height(self, height: float, std: float) -> bool:
-        """The IMU's WGS 84 ellipsoidal height ``height`` m, ``std`` m."""
+        """Height (a barometer referenced to the ellipsoid): the IMU's WGS 84
+        ellipsoidal height `height` m, `std` m. Returns whether it was
+        accepted.
+        """
 
     def update_heading(self, yaw: float, std: float) -> bool:
-        """The body's yaw from north, positive east (NED), ``yaw`` rad,
-        ``std`` rad."""
+        """Heading (dual antenna; a magnetometer corrected for declination):
+        the body's yaw `yaw` rad from north, positive east (NED), `std` rad.
+        Returns whether it was accepted.
+        """
 
     @property
     def time(self) -> float:
@@ -1834,21 +2076,28 @@ class RunningFilter:
 
     @property
     def state(self) -> dict[str, Any]:
-        """The whole estimate: ``time``, ``position_ecef``, ``velocity_ecef``,
-        ``attitude``, ``accel_bias``, ``gyro_bias``, ``clock_offset``,
-        ``clock_drift`` (and the scale factors with scale-factor states)."""
+        """The whole estimate as a dict: `time` s, `position_ecef` m,
+        `velocity_ecef` m/s, `attitude` C_b^e, `accel_bias` m/s²,
+        `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and with
+        scale-factor states `accel_scale_factor`, `gyro_scale_factor`.
+        """
 
     @property
     def covariance(self) -> npt.NDArray[np.float64]:
-        """The error-state covariance P, (n, n), in ``state_names`` order."""
+        """The error-state covariance P, (n, n), in the order of
+        `state_names` and the units of the error states (rad, m/s, m, m/s²,
+        rad/s, m, m/s; attitude and velocity in ECEF axes).
+        """
 
     @property
     def state_names(self) -> list[str]:
         """Error-state names, in covariance order."""
 
     def take_records(self) -> dict[str, dict[str, Any]]:
-        """The records since the last call, handed over and cleared:
-        ``measurements``, ``batches``, ``resets`` as in ``FilterSolution``."""
+        """The records since the last call, handed over and cleared: a dict
+        with `measurements`, `batches` and `resets`, each as in
+        `FilterSolution`.
+        """
 
 @final
 class LooselyCoupledFilter:
@@ -1858,8 +2107,60 @@ class LooselyCoupledFilter:
     (a fix is applied whole or not at all); after 3 failed fixes in a row the
     position (velocity) is reset to the fix. The clock states are not
     observed (their process noise is off). Same states, tuning, defaults and
-    overrides as ``TightlyCoupledFilter`` (``use_pseudorange_rate``, ``use_carrier_phase``,
-    ``pseudorange_correlation_time`` and the clock settings have no effect).
+    overrides as `TightlyCoupledFilter` (`use_pseudorange_rate`, `use_carrier_phase`,
+    `pseudorange_correlation_time` and the clock settings have no effect).
+
+    Raises ValueError naming the argument for a bad value.
+
+    Tuning from `imu.spec` at `imu.sample_rate` (`FilterTuning::from_imu_spec`):
+    white-noise PSDs = noise density² (or per-sample std² / rate); bias
+    processes from bias instability (2 sigma²/tau) and random walk, the
+    instability taken as a random walk when the bias has a turn-on part
+    (nothing makes a turn-on bias fade); initial bias std =
+    sqrt(bias_std² + instability²), floored at 1e-6 m/s² and 1e-9 rad/s;
+    errors the states lack (scale factor unless estimated, misalignment,
+    nonlinearity, g-sensitivity): their part driven by the specific force at
+    rest widens the initial bias std, their part driven by the motion is
+    process noise shaped by the sensed specific force and rate at every step,
+    2 sigma² tau with the manoeuvres' correlation time tau = 10 s
+    (`filter::input_noise`). Receiver clock: the simulator's TCXO
+    (`clock_h0` 2e-19, `clock_h_minus2` 2e-20, the same names and model
+    as `simulate_gnss`: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
+    below can be overridden; an argument left None takes the core's
+    default, listed by `memsnav.defaults()` under the class name
+    (`tuning` shows the values in effect):
+
+    - `imu`: the `ImuModel` whose spec and sample rate tune the filter.
+    - `scale_factor_states` [False]: six more states, the accelerometer and
+      gyro scale factors (23 in all).
+    - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
+      replace the sensor's white PSDs by density² (the input-shaped noise of
+      the unmodelled errors stays).
+    - `accel_bias_psd` ((m/s²)²/s), `gyro_bias_psd` ((rad/s)²/s): bias
+      driving-noise PSDs.
+    - `gate_probability`: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
+      and reported); 1.0 disables it.
+    - initial one-sigmas: `initial_position_std` 5 m and
+      `initial_velocity_std` 0.5 m/s per ECEF axis (a code fix),
+      `initial_tilt_std` 1° and `initial_heading_std` 5° (in rad),
+      `initial_accel_bias_std` / `initial_gyro_bias_std` (None: from the
+      spec as above), `initial_clock_offset_std` 50 m,
+      `initial_clock_drift_std` 10 m/s; scale factors (23 states): the
+      spec's scale_factor_std (floored at 1e-6).
+    - `use_pseudorange_rate`: use rates when the epoch carries them.
+    - `use_carrier_phase`: use each satellite's carrier-phase change
+      between consecutive epochs (time-differenced carrier phase, as a
+      velocity measurement; cycle slips found from the receiver's flags,
+      the Doppler and the residual test) when the epochs carry it.
+    - `clock_h0`, `clock_h_minus2`: the receiver oscillator's Allan
+      coefficients (None: the TCXO above).
+    - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:
+      10 s, a land vehicle's turns and accelerations; shorter for a walker).
+    - `pseudorange_correlation_time`: correlation time of the code's fast
+      errors (multipath), s (None: 0, white); each pseudorange's std is
+      inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
+      epoch interval dt, so that epochs sampling one error carry it once
+      (docs/how-to/multi-gnss.md, "Correlated code errors").
     """
 
     def __new__(
@@ -1907,6 +2208,8 @@ class LooselyCoupledFilter:
         """Filters the whole series in one call (GIL released); with ``smooth``
         also the fixed-interval smoothed solution, as ``.smoothed``.
 
+        ``time`` (N,) s, ``specific_force`` (N, 3) m/s², ``angular_rate`` (N, 3)
+        rad/s and ``initial_attitude`` (C_b^e) as for the tight filter's ``run``.
         ``fixes``: a ``solve_fix`` result (invalid epochs skipped; covariances =
         the position and velocity blocks of the LS covariance) or an
         object/dict with ``time`` (T,), ``position_ecef`` (T, 3) m,
@@ -1928,11 +2231,17 @@ class LooselyCoupledFilter:
         initial_state: dict[str, Any] | Any | None = None,
         smooth: bool = False,
     ) -> FilterSolution:
-        """``run`` on an integrating IMU's output: ``time`` (N + 1,) s and the
-        increments of each interval, ``delta_v`` (N, 3) m/s and ``delta_theta``
-        (N, 3) rad (row k over [time[k], time[k + 1]]), integrated by the
-        increments mechanization with coning and sculling; the rest as ``run``
-        (docs/how-to/step-api.md)."""
+        """`run` on an integrating IMU's output: `time` (N + 1,) s and the
+        increments of each interval, `delta_v` (N, 3) m/s and
+        `delta_theta` (N, 3) rad (row k over [time[k], time[k + 1]], as
+        `imu_increments` gives them), integrated by the increments
+        mechanization with coning and sculling (`strapdown_increments`'s)
+        instead of from samples; an epoch between two times takes its
+        share of the interval's increments at constant rates. The rest
+        (aiding, start, smoothing, the solution at every time) as `run`;
+        the mean rates of the intervals stand for samples where one is
+        looked at (levelling the start).
+        """
 
     def start(
         self,
@@ -1943,13 +2252,15 @@ class LooselyCoupledFilter:
         *,
         inter_system_biases: bool = False,
     ) -> RunningFilter:
-        """The filter started at ``time`` (s) from ``initial_state`` (the dict
-        ``run`` takes: ``position_ecef`` m, ``velocity_ecef`` m/s, ``attitude``
-        C_b^e, optional ``clock_offset`` m, ``clock_drift`` m/s) with the raw
-        sample there (``specific_force`` (3,) m/s², ``angular_rate`` (3,)
-        rad/s), to be driven one call at a time: a ``RunningFilter`` with this
-        filter's tuning (docs/how-to/step-api.md). ``inter_system_biases`` (tight
-        only): with the Galileo, BeiDou and GLONASS inter-system-bias states."""
+        """The filter started at `time` (s) from `initial_state` (the dict
+        `run` takes: position_ecef m, velocity_ecef m/s, attitude C_b^e,
+        optional clock_offset m, clock_drift m/s) with the raw sample
+        there (`specific_force` (3,) m/s², `angular_rate` (3,) rad/s),
+        to be driven one call at a time: a `RunningFilter` with this
+        filter's tuning. `inter_system_biases` (tight only): with the
+        Galileo, BeiDou and GLONASS inter-system-bias states, to
+        update with satellites of those systems.
+        """
 
 def navigation_experiment(
     imus: Sequence[tuple[str, str | ImuModel | tuple[str, dict[str, float]]]],
@@ -2003,67 +2314,82 @@ class BroadcastEphemerides:
 
     @property
     def satellites(self) -> list[str]:
-        """Satellites with at least one ephemeris, RINEX names, sorted."""
+        """The satellites with at least one ephemeris, RINEX names
+        (``["C11", "E07", "G10", ...]``), sorted.
+        """
 
     @property
     def healthy_satellites(self) -> list[str]:
-        """Satellites whose ephemerides say they are healthy, RINEX names."""
+        """The satellites whose ephemerides say they are healthy, RINEX names."""
 
     @property
     def skipped(self) -> dict[str, int]:
-        """Records left out, by reason, with counts."""
+        """Records left out, by reason, with counts (a RINEX file's other
+        systems, Galileo F/NAV records, repeated GLONASS records).
+        """
 
     @property
     def klobuchar(self) -> tuple[list[float], list[float]] | None:
-        """The GPS Klobuchar coefficients (alpha, beta) the ephemerides carry (a
-        RINEX header's, a UBX log's CNAV type 30), or None: ``measurements``'
-        default."""
+        """The GPS Klobuchar coefficients ``(alpha, beta)`` the ephemerides
+        carry (a RINEX header's, a UBX log's CNAV type 30), or None:
+        ``measurements``' default.
+        """
 
     @property
     def gps_cnav_ephemerides(self) -> list[dict[str, Any]]:
-        """The GPS CNAV ephemerides (a RINEX 4 file's CNAV records, a UBX
-        log's L2C/L5 messages), dicts as ``UbxLog.gps_cnav_ephemerides``."""
+        """The GPS CNAV ephemerides (a RINEX 4 file's ``CNAV`` records, a UBX
+        log's L2C/L5 messages), dicts as ``UbxLog.gps_cnav_ephemerides``;
+        those with an L1 C/A group delay are among the GPS ephemerides the
+        measurements use too.
+        """
     @property
     def glonass_channels(self) -> dict[str, int]:
         """Each GLONASS slot's FDMA frequency channel k (G1 = 1602 + 0.5625 k
-        MHz), from its latest ephemeris: {"R01": 1, ...}."""
+        MHz), from its latest ephemeris: ``{"R01": 1, ...}``.
+        """
 
     def satellite_states(
         self, gps_time: float | npt.ArrayLike, satellites: Sequence[str] | None = None
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """Satellite positions, velocities (ECEF, m, m/s) and clock corrections
-        (s) at GPS times ``gps_time`` (a number or (T,)) of ``satellites``
-        (RINEX names, default ``satellites``), from the healthy ephemeris the
-        measurements would use: ((T, S, 3), (T, S, 3), (T, S)), or one time's
-        ((S, 3), (S, 3), (S,)) for a number. NaN where no ephemeris covers the
-        time (t_oe within 2 h, GLONASS t_b within 30 min), counted in a
-        UserWarning. Clocks for GPS L1 C/A, Galileo E1, BeiDou B3I, GLONASS
-        G1, relativity included."""
+        """Satellite positions, velocities (ECEF, m, m/s) and clock
+        corrections (s) at GPS times ``gps_time`` (s since 1980-01-06, a
+        number or ``(T,)``) of ``satellites`` (RINEX names, default
+        ``satellites``), from the healthy ephemeris the measurements would
+        use: ``(position (T, S, 3), velocity (T, S, 3), clock (T, S))``, one
+        time's ``(S, 3), (S, 3), (S,)`` for a number. NaN where no
+        ephemeris covers the time (t_oe within 2 h; GLONASS t_b within 30
+        min), counted in a ``UserWarning``. Clocks are for GPS L1 C/A,
+        Galileo E1, BeiDou B3I and GLONASS G1, relativity included.
+        """
 
     def __len__(self) -> int: ...
 
 def satellite_name(number: int) -> str:
-    """The RINEX name of a satellite number (107 → "E07"; G n → n, E n → 100 + n,
-    C n → 200 + n, R n → 300 + n), or the number as text beyond them."""
+    """The RINEX name of a satellite number (``107`` → ``"E07"``; G n → n,
+    E n → 100 + n, C n → 200 + n), or the number as text beyond them.
+    """
 
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
-    """The GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 (GPS n,
-    GLONASS g, 2.12 Galileo e) or RINEX 3 navigation file (other systems,
-    Galileo F/NAV records and ephemerides in conflict, two of one satellite
-    and t_oc or issue of data with other values, counted in ``skipped``)."""
+    """The GPS, Galileo, BeiDou and GLONASS ephemerides of a RINEX 2 (GPS
+    ``n``, GLONASS ``g``, 2.12 Galileo ``e``) or RINEX 3 navigation file
+    (other systems, Galileo F/NAV records and ephemerides in conflict, two
+    of one satellite and t_oc or issue of data with other values, counted
+    in ``skipped``).
+    """
 
 @final
 class RinexObservations:
-    """A RINEX 3 or RINEX 2.10/2.11 observation file (every system kept; GPS
-    time; 2.x codes read as the RINEX 3 codes of their signals)."""
+    """A RINEX 3 or RINEX 2.10/2.11 observation file (2.x codes read as the
+    RINEX 3 codes of their signals, docs/reference/readers.md).
+    """
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """Epoch times, GPS s since 1980-01-06, (T,)."""
+        """Epoch times, GPS s since 1980-01-06, ``(T,)``."""
 
     @property
     def satellites(self) -> list[str]:
-        """Every satellite seen, e.g. ["E07", "G10", ...], sorted."""
+        """Every satellite seen, e.g. ``["E07", "G10", ...]`` (sorted)."""
 
     @property
     def observation_types(self) -> dict[str, list[str]]:
@@ -2072,10 +2398,12 @@ class RinexObservations:
     @property
     def glonass_channels(self) -> dict[str, int]:
         """Each GLONASS slot's FDMA frequency channel k of the header's
-        GLONASS SLOT / FRQ # (``{"R01": 1, ...}``); empty without it."""
+        ``GLONASS SLOT / FRQ #`` (G1 = 1602 + 0.5625 k MHz):
+        ``{"R01": 1, ...}``; empty without the record.
+        """
     @property
     def approx_position_ecef(self) -> npt.NDArray[np.float64] | None:
-        """APPROX POSITION XYZ of the header, ECEF m, or None."""
+        """``APPROX POSITION XYZ`` of the header, ECEF m, or None."""
 
     @property
     def warnings(self) -> list[str]:
@@ -2087,8 +2415,9 @@ class RinexObservations:
         their header lines not applied) and cycle-slip records (flag 6)."""
 
     def observation(self, code: str) -> npt.NDArray[np.float64]:
-        """Values of observation ``code`` ("C1C" m, "D1C" Hz, "S1C" dB-Hz),
-        (T, len(satellites)); NaN where absent."""
+        """Values of observation ``code`` (e.g. ``"C1C"`` m, ``"D1C"`` Hz,
+        ``"S1C"`` dB-Hz), ``(T, len(satellites))``; NaN where absent.
+        """
 
     def gps_l1(
         self,
@@ -2141,41 +2470,50 @@ class RinexObservations:
         dual_frequency: bool = False,
         weighting: str | None = None,
     ) -> GnssMeasurements:
-        """Measurements of several systems (``systems``: "G", "E", "C", "R";
-        default G, E, C: GLONASS on request, for ``solve_fix`` and the tight
-        filter): GPS L1 C/A, Galileo E1, BeiDou
-        B1I/B2I/B3I (the first the file has), GLONASS G1 C/A on each
-        satellite's channel, with ``ephemerides``, corrected as ``gps_l1``
-        with each signal's group delay and the Klobuchar delay scaled to its
-        frequency. ``satellites``: RINEX names to keep. Satellite numbers:
-        G n → n, E n → 100 + n, C n → 200 + n, R n → 300 + n; each system's
-        pseudoranges keep the receiver's inter-system bias (the tight filter
-        and ``solve_fix`` estimate it). Epochs no ephemeris covers are counted
-        in a UserWarning (a ValueError when none is covered). With the
-        troposphere on the mask must be at least 5°. ``klobuchar``: default
-        the ephemerides' own (``BroadcastEphemerides.klobuchar``), else
-        RTKLIB's. ``reference_position_ecef`` (also ``gps_l1``'s): (3,), or
-        (T, 3) with one position per epoch for a moving receiver; default the
-        file's APPROX POSITION XYZ. Each
-        measurement's signal, C/N0 and elevation in ``signal``,
-        ``cn0_db_hz``, ``elevation_rad``. ``dual_frequency=True``: each
-        satellite's ionospheric delay measured from a second signal's
-        pseudorange where the file has one whose group delay the ephemerides
-        give (GPS L5 or L2C with CNAV's inter-signal corrections, Galileo E5a
-        or E5b, BeiDou another D1 band), smoothed per satellite; the
-        Klobuchar delay for the rest. ``weighting``, ``pseudorange_std``: as
-        ``gps_l1``."""
+        """Measurements of several systems for the tight filter and
+        ``solve_fix``: GPS L1 C/A, Galileo E1 and BeiDou B1I/B2I/B3I (the
+        first the file has), GLONASS G1 C/A on each satellite's channel, with
+        ``ephemerides`` (``read_broadcast_nav``, or a UBX log's
+        ``broadcast_ephemerides``), corrected as ``gps_l1`` does with each
+        signal's group delay and the Klobuchar delay scaled to its
+        frequency. ``systems``: RINEX letters (``"G"``, ``"E"``, ``"C"``,
+        ``"R"``; default G, E, C: GLONASS on request, for ``solve_fix`` and
+        the tight filter). ``satellites``: RINEX names
+        (``"G10"``, ``"E07"``, ``"R05"``) to keep. Satellite numbers in the
+        result: G n → n, E n → 100 + n, C n → 200 + n, R n → 300 + n; each
+        system's pseudoranges keep the receiver's inter-system bias, which
+        the tight filter and ``solve_fix`` estimate. Epochs whose satellites
+        no ephemeris covers are counted in a ``UserWarning``; when none is
+        covered, a ``ValueError`` says so. With the troposphere on, the
+        elevation mask must be at least 5° (``MIN_TROPOSPHERE_MASK_DEG``).
+        ``klobuchar``: default the ephemerides' own (``klobuchar``: the
+        navigation file's header, a UBX log's CNAV), else RTKLIB's.
+        ``reference_position_ecef`` (also ``gps_l1``'s): ``(3,)``, or
+        ``(T, 3)`` with one position per epoch for a moving receiver (the
+        masks and the atmosphere at each); default the file's APPROX
+        POSITION XYZ. Each measurement's signal, C/N0 and
+        elevation in ``signal``, ``cn0_db_hz``, ``elevation_rad``.
+        ``dual_frequency=True``: each satellite's ionospheric delay measured
+        from a second signal's pseudorange where the file has one whose
+        group delay the ephemerides give (GPS L5 or L2C with CNAV's
+        inter-signal corrections, Galileo E5a or E5b, BeiDou another D1
+        band), smoothed per satellite; the Klobuchar delay for the rest.
+        ``weighting``, ``pseudorange_std``: as ``gps_l1``.
+        """
 
     def __len__(self) -> int: ...
 
 def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
-    """Reads a RINEX 3 or RINEX 2.10/2.11 observation file; errors name the
-    file and line, a truncated last record is dropped and reported in
-    ``warnings``, event records are counted in ``skipped``."""
+    """Reads a RINEX 3 or RINEX 2.10/2.11 observation file (errors name the
+    file and line; a truncated last record is dropped and reported in
+    ``warnings``; event records are counted in ``skipped``).
+    """
 
 def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
-    """Klobuchar (alpha, beta) of a RINEX navigation header (ION ALPHA/BETA or
-    IONOSPHERIC CORR GPSA/GPSB), or None when it has none."""
+    """The Klobuchar coefficients ``(alpha, beta)`` of a RINEX navigation
+    header (``ION ALPHA``/``ION BETA`` or ``IONOSPHERIC CORR GPSA/GPSB``),
+    or None when it has none.
+    """
 
 def defaults() -> dict[str, dict[str, Any]]:
     """The core's default of every optional modelling argument, by the
@@ -2193,17 +2531,21 @@ def navigate_settings() -> dict[str, dict[str, str]]:
 
 def mounting_matrix(rpy_deg: Sequence[Sequence[float]]) -> npt.NDArray[np.float64]:
     """C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
-    triples in degrees applied in order (``[imu] mounting_rpy_deg``):
-    f_b = C(last) ··· C(first) f_s, (3, 3)."""
+    triples in degrees applied in order (`[imu] mounting_rpy_deg`):
+    f_b = C(last) ··· C(first) f_s, (3, 3).
+    """
 
 def check_navigate_settings(settings: dict[str, dict[str, Any]]) -> None:
-    """Checks ``settings`` as ``navigate_log`` would, without data; ValueError
-    naming ``table.key`` for an unknown key or a bad value."""
+    """Checks `settings` (`{table: {key: value}}`) as `navigate_log` would,
+    without data: unknown tables or keys, values of the wrong kind or out of
+    range raise `ValueError` naming `table.key`.
+    """
 
 @final
 class PositionFixes:
-    """Position (and velocity) fixes of an antenna, for ``navigate_log`` or
-    ``LooselyCoupledFilter.run``."""
+    """Position (and velocity) fixes of an antenna, ready for
+    `navigate_log` or `LooselyCoupledFilter.run`.
+    """
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
@@ -2244,17 +2586,18 @@ def fixes_from_solution(
     use_velocity: bool | None = None,
     seed: int | None = None,
 ) -> PositionFixes:
-    """Fixes from a geodetic solution (a ``PosSolution`` of ``read_pos``,
-    ``read_fixes_csv`` or ``read_nmea``, or arrays): ``time`` (T,) s,
-    ``geodetic`` (T, 3) [lat rad, lon rad, h m], the position uncertainty as
-    ``std_ned`` (T, 3) m or ``covariance_ned`` (T, 3, 3) m² (exactly one),
-    optional ``velocity_ned`` (T, 3) with ``velocity_std_ned`` (T, 3) or
-    ``velocity_covariance_ned`` (T, 3, 3) (NaN where absent; a missing
-    velocity std counts as 0.1 m/s; north and east with a NaN down is a
-    horizontal-only velocity, NMEA's). Keeps the epochs on the ``rate_hz`` grid
-    (None: all), adds seeded white noise of ``added_position_noise_ned`` (N,
-    E, D one-sigma, m) and ``added_velocity_noise`` (m/s), and rotates the
-    covariance (+ noise²) into ECEF."""
+    """Fixes from a geodetic solution (a `PosSolution` of `read_pos`,
+    `read_fixes_csv` or `read_nmea`, or arrays): `time` (T,) s, `geodetic`
+    (T, 3) [lat rad, lon rad, h m], the position uncertainty as `std_ned`
+    (T, 3) m or `covariance_ned` (T, 3, 3) m² (exactly one), optional
+    `velocity_ned` (T, 3) with `velocity_std_ned` (T, 3) or
+    `velocity_covariance_ned` (T, 3, 3) (NaN where absent; north and east
+    with a NaN down is a horizontal-only velocity, NMEA's). Keeps the epochs
+    on the `rate_hz` grid, adds seeded white noise of
+    `added_position_noise_ned` (N, E, D one-sigma, m) and
+    `added_velocity_noise` (m/s), and rotates the covariance (+ noise²) into
+    ECEF.
+    """
 
 def truth_at_point(
     geodetic: npt.ArrayLike,
@@ -2263,12 +2606,14 @@ def truth_at_point(
     lever_arm: npt.ArrayLike | None = None,
     offset_ned: npt.ArrayLike | None = None,
 ) -> npt.NDArray[np.float64]:
-    """The truth moved to the point being scored: ``geodetic`` (N, 3) [lat rad,
-    lon rad, h m] at the truth's own point, ``attitude`` (N, 3, 3) its C_b^n
-    (needed for a lever arm), ``lever_arm`` (3,) the scored point from the
-    truth's point in the truth's body axes (forward, right, down), m,
-    ``offset_ned`` (3,) a datum offset added in local NED, m (None: zero).
-    ECEF (N, 3), m: r_truth + C_n^e (C_b^n l + o) (Groves eq. 2.124)."""
+    """The truth moved to the point being scored
+    (`memsnav_core::navigate::truth::truth_at_point`): `geodetic` (N, 3)
+    [lat rad, lon rad, h m] at the truth's own point, `attitude` (N, 3, 3)
+    its C_b^n (needed for a lever arm), `lever_arm` (3,) the scored point
+    from the truth's point in the truth's body axes (forward, right, down),
+    m, `offset_ned` (3,) a datum offset added in local NED, m (None: zero).
+    ECEF (N, 3), m: r_truth + C_n^e (C_b^n l + o).
+    """
 
 @final
 class LogRun:
@@ -2321,20 +2666,23 @@ class LogRun:
 
     @property
     def start(self) -> dict[str, Any]:
-        """How the run started: ``kind`` ("static", "static_with_heading",
-        "moving"), ``time`` (s), ``epoch`` (GNSS epoch index), ``heading_known``,
-        ``first_imu_time`` and ``first_gnss_time`` (the log's first IMU sample
-        and GNSS epoch, s), ``earliest_time`` (the earliest start the log
-        allows, its first GNSS epoch with ``standstill.window_s`` of IMU data
-        before it, s: the outages count from it), and ``late_reason``: where
+        """How the run started: dict `kind` ("static", "static_with_heading",
+        "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`,
+        `first_imu_time` and `first_gnss_time` (the log's first IMU sample
+        and GNSS epoch, s), `earliest_time` (the earliest start the log
+        allows, its first GNSS epoch with `standstill.window_s` of IMU data
+        before it, s: the outages count from it), and `late_reason`: where
         and why the run started more than 10 s after that (late), None when
-        it did not."""
+        it did not.
+        """
 
     @property
     def gnss(self) -> dict[str, npt.NDArray[Any]]:
-        """Every GNSS epoch's antenna ``position_ecef`` and ``velocity_ecef``
-        (the fixes, or the single-point solution of the pseudoranges; NaN where
-        none), ``time``, and ``used`` (reached the filter)."""
+        """Every GNSS epoch's antenna position and velocity (the fixes, or the
+        single-point solution of the pseudoranges; NaN where none) and
+        whether it reached the filter: dict `time`, `position_ecef`,
+        `velocity_ecef`, `used`.
+        """
 
     @property
     def outages(self) -> npt.NDArray[np.float64]:
@@ -2347,7 +2695,7 @@ class LogRun:
 
     @property
     def range_biases(self) -> dict[int, float]:
-        """Satellites holding range-bias states at the end: {prn: bias m}."""
+        """The satellites holding range-bias states at the end: {prn: bias m}."""
 
     @property
     def failure(self) -> dict[str, Any] | None:
@@ -2381,18 +2729,19 @@ class LogRun:
     @property
     def adaptation(self) -> dict[str, Any]:
         """What the run learnt from the log before the run it reports
-        (docs/results/foreign-drive.md): dict ``imu_preset`` (the IMU model chosen,
-        None when the configuration names one), ``imu_candidates`` (list of
-        dicts ``preset``, ``log_likelihood``, ``measurements``, ``resets``:
-        each candidate's first pass), ``nhc_std_m_s`` (the non-holonomic
+        (docs/results/foreign-drive.md): dict `imu_preset` (the IMU model chosen,
+        None when the configuration names one), `imu_candidates` (a list of
+        dicts `preset`, `log_likelihood`, `measurements`, `resets`: each
+        candidate's first pass), `nhc_std_m_s` (the non-holonomic
         constraint's std chosen, m/s, None when configured) and
-        ``nhc_candidates`` (dicts ``std_m_s``, ``log_likelihood``,
-        ``measurements``, ``resets``), ``fix_correlation`` (None, or dict
-        ``component_s`` (three correlation times, s, None where not
-        determined), ``innovation_to_fix_variance`` (three ratios),
-        ``correlation_time_s`` (0: white), ``variance_ratio``), and
-        ``fix_error_std_m`` and ``fix_error_correlation_time_s`` (the
-        fix-error states learnt from it; None when the fixes stay white)."""
+        `nhc_candidates` (dicts `std_m_s`, `log_likelihood`,
+        `measurements`, `resets`), `fix_correlation` (None, or dict
+        `component_s` (three correlation times, s, None where not
+        determined), `innovation_to_fix_variance` (three ratios),
+        `correlation_time_s` (0: white), `variance_ratio`), and
+        `fix_error_std_m` and `fix_error_correlation_time_s` (the fix-error
+        states learnt from it; None when the fixes stay white).
+        """
 
     def score(
         self,
@@ -2401,20 +2750,21 @@ class LogRun:
         *,
         remove_mean_offset: bool = False,
     ) -> dict[str, Any]:
-        """Errors of the antenna solution against a truth (``time`` (T,) s,
-        ``position_ecef`` (T, 3)), interpolated at the truth epochs: ``time``,
-        ``error_ned`` (T', 3), ``std_ned``, ``outage`` (index or -1),
-        ``offset_removed_ned`` (3,), and statistics ``all``, ``aided``,
-        ``in_outages`` (every outage epoch), ``outages`` (list, each also with
-        ``standstill_s``, its time at a standstill, and ``at_standstill``, at
-        least half of it), ``by_outage_length`` ({length s: stats} over the
-        outages not at a standstill); each ``epochs``, ``rms_horizontal_m``,
-        ``rms_vertical_m``, ``max_horizontal_m``, ``within_3sigma_share`` (N, E
-        and D), ``within_3sigma_share_horizontal`` (N and E), ``nees_per_dof``
-        (mean (error / σ)² over the epochs and N, E, D: 1 when
-        the σ's describe the errors). ``remove_mean_offset``: the precision score,
+        """Errors of the antenna solution against a truth (`time` (T,) s,
+        `position_ecef` (T, 3)), interpolated at the truth epochs: dict
+        `time`, `error_ned` (T', 3), `std_ned`, `outage` (index or −1),
+        `offset_removed_ned` (3,), and statistics `all`, `aided`,
+        `in_outages` (every outage epoch), `outages` (list, each also with
+        `standstill_s`, the time it spent at a standstill, and
+        `at_standstill`, at least half of it), `by_outage_length` ({length s:
+        stats} over the outages not at a standstill); each statistic
+        `epochs`, `rms_horizontal_m`, `rms_vertical_m`, `max_horizontal_m`,
+        `within_3sigma_share` (N, E and D), `within_3sigma_share_horizontal`
+        (N and E), `nees_per_dof` (mean (e/σ)² over the epochs and N, E, D). `remove_mean_offset`:
+        the precision score,
         the errors less their mean over the aided epochs (a truth with a
-        constant unknown offset)."""
+        constant unknown offset).
+        """
 
     def score_gnss(
         self,
@@ -2425,13 +2775,16 @@ class LogRun:
         interpolate: bool = False,
         remove_mean_offset: bool = False,
     ) -> dict[str, Any]:
-        """Errors of the GNSS epochs' own positions (the fixes for loose coupling,
-        the single-point solution for tight) against a truth: each paired with the
-        truth epoch within ``tolerance`` s, or with ``interpolate`` with the truth
-        interpolated linearly at its time between truth epochs at most 1 s apart
-        (a truth at its own rate). ``time``, ``error_ned``, ``stats``,
-        ``offset_removed_ned``. ``remove_mean_offset``: the errors less their mean
-        (precision; the mean is then ``offset_removed_ned``)."""
+        """Errors of the GNSS epochs' own positions (the fixes for loose
+        coupling, the single-point solution for tight) against a truth:
+        each paired with the truth epoch within `tolerance` s, or with
+        `interpolate` with the truth interpolated linearly at its time
+        between truth epochs at most `score::TRUTH_MAX_GAP_S` (1 s) apart
+        (a truth at its own rate). Dict `time`,
+        `error_ned`, `stats`, `offset_removed_ned`. `remove_mean_offset`:
+        the errors less their mean (precision; the mean is then
+        `offset_removed_ned`).
+        """
 
     def calibration_references(
         self,
@@ -2442,18 +2795,20 @@ class LogRun:
         window_s: float = 1.0,
         until_s: float | None = None,
     ) -> dict[str, Any]:
-        """The GNSS-derived calibration references of this run's solution (use the
-        smoothed run; method §3): window means of the measured and reference
-        specific force and angular rate in the sensor's axes. ``time``,
-        ``specific_force``, ``angular_rate``: the arrays given to ``navigate_log``;
-        ``until_s``: only windows ending that long after the start. Keys ``time``,
-        ``measured_specific_force``, ``measured_angular_rate``,
-        ``reference_specific_force``, ``reference_angular_rate`` ((W, 3), SI),
-        ``window_s``, ``skipped_for_resets``, ``skipped_before_heading``,
-        ``accel_bias_covariance``, ``gyro_bias_covariance``,
-        ``accel_scale_factor_covariance``, ``gyro_scale_factor_covariance`` ((3, 3),
-        the solution's own uncertainty of them in sensor axes, SI²; zero scale
-        factors without their states)."""
+        """The GNSS-derived calibration references of this run's solution (use
+        the smoothed run): window means of the measured and the reference
+        specific force and angular rate in the sensor's axes
+        (`memsnav_core::navigate::references`). `time`, `specific_force`,
+        `angular_rate`: the arrays given to `navigate_log`; `window_s` the
+        window length; `until_s` only windows ending that long after the
+        start. Dict `time`, `measured_specific_force`, `measured_angular_rate`,
+        `reference_specific_force`, `reference_angular_rate` ((W, 3), SI),
+        `window_s`, `skipped_for_resets`, `skipped_before_heading`, `accel_bias_covariance`,
+        `gyro_bias_covariance`,
+        `accel_scale_factor_covariance`, `gyro_scale_factor_covariance` ((3, 3),
+        the solution's own uncertainty of them in sensor axes; zero scale
+        factors without their states).
+        """
 
     def write(
         self,
@@ -2464,20 +2819,41 @@ class LogRun:
         name: str | None = None,
         overwrite: bool = False,
     ) -> None:
-        """Writes the solution at the antenna to ``path``: the formats, rates and
-        rules of ``FilterSolution.write``."""
+        """Writes the solution at the antenna to `path` in `format`: "csv" (`columns()`,
+        every sample), "pos" (RTKLIB, GPST; `read_pos` reads it), "kml" (KML
+        2.2: the track as a LineString, start and end placemarks), "gpx" (GPX
+        1.1: trk/trkseg/trkpt, times in UTC) or "geojson" (RFC 7946: a
+        LineString Feature of [lon, lat, h] with the times as properties);
+        None: from the extension (.csv, .pos, .kml, .gpx, .geojson or .json).
+        Heights are ellipsoidal (WGS 84); UTC is GPS time less the leap
+        seconds (18 s since 2017). `rate_hz`: the rows' rate (the first sample
+        of each interval); None: every sample for "csv", 10 Hz for the others
+        (a rate at or above the sample rate keeps every sample). `name` titles
+        a map track (default the file's stem). The file is written whole or
+        not at all; its folder must exist (`OSError` naming it). An existing
+        file is replaced only when memsnav wrote it (a solution file of any of
+        these formats) or with `overwrite=True`, a folder never (`ValueError`);
+        an unknown format is a `ValueError` naming `format` and the accepted
+        names.
+        """
 
     def columns(self, rate_hz: float | None = None) -> dict[str, npt.NDArray[np.float64]]:
-        """The solution at the antenna as columns named with their units, as
-        ``FilterSolution.columns``."""
+        """The solution at the antenna as columns named with their units, (N,) each:
+        `gps_time_s`, `lat_deg`, `lon_deg`, `height_m` (ellipsoidal), `vn_m_s`,
+        `ve_m_s`, `vd_m_s`, `roll_deg`, `pitch_deg`, `yaw_deg`, `sdn_m`, `sde_m`,
+        `sdd_m`, `sdvn_m_s`, `sdve_m_s`, `sdvd_m_s` (one-sigma, local
+        north/east/down); `rate_hz` thins as in `write` (None: every sample).
+        """
 
     def to_pandas(self, rate_hz: float | None = None) -> Any:
-        """``columns(rate_hz)`` as a pandas ``DataFrame``; ``ImportError`` saying
-        what to install when pandas is not installed."""
+        """`columns(rate_hz)` as a pandas `DataFrame`; `ImportError` saying what
+        to install when pandas is not installed.
+        """
 
     def to_polars(self, rate_hz: float | None = None) -> Any:
-        """``columns(rate_hz)`` as a polars ``DataFrame``; ``ImportError`` saying
-        what to install when polars is not installed."""
+        """`columns(rate_hz)` as a polars `DataFrame`; `ImportError` saying what
+        to install when polars is not installed.
+        """
 
     def __len__(self) -> int: ...
 
@@ -2490,13 +2866,15 @@ def navigate_log(
     settings: dict[str, dict[str, Any]] | None = None,
     duration_s: float | None = None,
 ) -> LogRun:
-    """Navigates a real log in one call (GIL released): ``time`` (N,) IMU time
-    stamps on GNSS time, s; ``specific_force``, ``angular_rate`` (N, 3) in the
-    sensor's axes, SI; ``gnss`` pseudoranges (tight coupling) or fixes (loose
-    coupling). ``settings``: ``{table: {key: value}}`` as in a ``navigate``
-    configuration (``navigate_settings()`` lists them; left-out keys keep the
-    engine's defaults). ``duration_s`` stops that long after the start.
-    See docs/tutorials/navigate-a-log.md."""
+    """Navigates a real log: `time` (N,) IMU time stamps on GNSS time, s;
+    `specific_force`, `angular_rate` (N, 3) in the sensor's axes, SI; `gnss`
+    the GNSS measurements (`GnssMeasurements` or its padded arrays: tight
+    coupling) or position fixes (`PositionFixes`, `FixSeries` or a dict of
+    arrays: loose coupling). `settings`: `{table: {key: value}}` as in a
+    `navigate` configuration (`navigate_settings()` lists them; left-out
+    keys keep the engine's defaults). `duration_s` stops that long after
+    the start.
+    """
 
 # --- real logs: readers, writers and time alignment (memsnav_core::logs, ::timing) ---
 
@@ -2506,34 +2884,37 @@ class ImuLog:
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
-        """The log's own clock, s, (N,)."""
+        """The log's own clock, s, ``(N,)``."""
 
     @property
     def specific_force(self) -> npt.NDArray[np.float64]:
-        """Specific force, m/s², (N, 3)."""
+        """Specific force, m/s², ``(N, 3)``."""
 
     @property
     def angular_rate(self) -> npt.NDArray[np.float64]:
-        """Angular rate, rad/s, (N, 3)."""
+        """Angular rate, rad/s, ``(N, 3)``."""
 
     @property
     def line_time(self) -> npt.NDArray[np.float64]:
-        """The time stamp written on each sample's line, s, (N,): time for
-        rates, the end of the interval for increments."""
+        """The time stamp written on each sample's line, s, ``(N,)``: ``time``
+        for rates, the end of the interval for increments.
+        """
 
     @property
     def timing(self) -> dict[str, float]:
-        """The sampling of the lines: median_interval_s, interval_std_s
-        (jitter, gaps left out), min_interval_s, max_interval_s,
-        gap_threshold_s, gap_count, largest_gap_s, largest_gap_line."""
+        """The sampling of the lines: ``median_interval_s``,
+        ``interval_std_s`` (jitter, gaps left out), ``min_interval_s``,
+        ``max_interval_s``, ``gap_threshold_s``, ``gap_count``,
+        ``largest_gap_s``, ``largest_gap_line``.
+        """
 
     @property
     def line(self) -> npt.NDArray[np.int64]:
-        """The 1-based line of each sample, (N,)."""
+        """The 1-based line of each sample, ``(N,)``."""
 
     @property
     def line_end_offset(self) -> npt.NDArray[np.int64]:
-        """Byte offset of each sample line's newline, (N,)."""
+        """Byte offset of each sample line's newline, ``(N,)``."""
 
     @property
     def file_bytes(self) -> int:
@@ -2559,7 +2940,7 @@ def read_imu_csv(
     header_lines: int,
     axes: str | npt.ArrayLike,
 ) -> ImuLog:
-    """Reads an IMU CSV log with a declared layout (see memsnav.read_imu_csv)."""
+    """Reads an IMU CSV log with a declared layout (see ``memsnav.read_imu_csv``)."""
 
 @final
 class TimeTag:
@@ -2575,24 +2956,26 @@ class TimeTag:
 
     @property
     def tick_ms(self) -> npt.NDArray[np.float64]:
-        """Per write: ms since the opening, (M,)."""
+        """Per write: ms since the opening, ``(M,)``."""
 
     @property
     def file_offset(self) -> npt.NDArray[np.int64]:
-        """Per write: size of the log after it, bytes, (M,)."""
+        """Per write: size of the log after it, bytes, ``(M,)``."""
 
     @property
     def warnings(self) -> list[str]:
         """A cut last record, one sentence."""
 
     def arrival_gps_time(self, byte_offset: npt.ArrayLike) -> npt.NDArray[np.float64]:
-        """GPS time at which the write holding each byte began; NaN past the
-        last tagged write or for a negative offset."""
+        """GPS time (s since 1980-01-06) at which the write holding each byte
+        of the log (counted as the logger counted them) began; NaN past the
+        last tagged write or for a negative offset.
+        """
 
     def __len__(self) -> int: ...
 
 def read_time_tag(path: str | os.PathLike[str]) -> TimeTag:
-    """Reads an RTKLIB .tag file (see memsnav.read_time_tag)."""
+    """Reads an RTKLIB ``.tag`` file (see ``memsnav.read_time_tag``)."""
 
 @final
 class TagClock:
@@ -2600,7 +2983,7 @@ class TagClock:
 
     @property
     def gps_time(self) -> npt.NDArray[np.float64]:
-        """GPS time of every sample, s since 1980-01-06, (N,)."""
+        """GPS time of every sample, s since 1980-01-06, ``(N,)``."""
 
     @property
     def offset_s(self) -> float:
@@ -2616,7 +2999,7 @@ class TagClock:
 
     @property
     def line_ends(self) -> str:
-        """How the tag counted line ends: "as_in_file" or "crlf_counted"."""
+        """How the tag counted line ends: ``"as_in_file"`` or ``"crlf_counted"``."""
 
     @property
     def tagged_samples(self) -> int:
@@ -2627,54 +3010,62 @@ class TagClock:
         """Implausible results, one sentence each."""
 
 def fit_tag_clock(imu: ImuLog, tag: TimeTag, line_ends: str | None) -> TagClock:
-    """Maps the IMU clock to GPS time with the log's time tag (see memsnav.fit_tag_clock)."""
+    """Maps the IMU clock of ``imu`` to GPS time with its time tag (see
+    ``memsnav.fit_tag_clock``).
+    """
 
 @final
 class PosSolution:
-    """A GNSS solution in geodetic form (RTKLIB .pos, fixes CSV, NMEA)."""
+    """A GNSS solution in geodetic form (RTKLIB ``.pos``, fixes CSV, NMEA)."""
 
     @property
     def gps_time(self) -> npt.NDArray[np.float64]:
-        """Epochs, GPS s since 1980-01-06, (N,)."""
+        """Epochs, GPS s since 1980-01-06, ``(N,)``."""
 
     @property
     def lla(self) -> npt.NDArray[np.float64]:
-        """[latitude rad, longitude rad, ellipsoidal height m], (N, 3)."""
+        """[latitude rad, longitude rad, ellipsoidal height m], ``(N, 3)``."""
 
     @property
     def quality(self) -> npt.NDArray[np.int64]:
-        """RTKLIB's Q (1 fix, 2 float, 5 single, ...), (N,)."""
+        """RTKLIB's Q (1 fix, 2 float, 5 single, ...), ``(N,)``."""
 
     @property
     def n_satellites(self) -> npt.NDArray[np.int64]:
-        """Satellites used, (N,)."""
+        """Satellites used, ``(N,)``."""
 
     @property
     def std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma position uncertainty N, E, D, m, (N, 3); NaN when the file
-        gives none (a fixes CSV truth)."""
+        """One-sigma position uncertainty N, E, D, m, ``(N, 3)``; NaN when the
+        file gives none (a fixes CSV truth).
+        """
 
     @property
     def velocity_ned(self) -> npt.NDArray[np.float64]:
-        """NED velocity, m/s, (N, 3); NaN when the file has none."""
+        """NED velocity, m/s, ``(N, 3)``; NaN when the file has none."""
 
     @property
     def velocity_std_ned(self) -> npt.NDArray[np.float64]:
-        """One-sigma velocity uncertainty N, E, D, m/s, (N, 3); NaN likewise."""
+        """One-sigma velocity uncertainty N, E, D, m/s, ``(N, 3)``; NaN likewise."""
 
     @property
     def covariance_ned(self) -> npt.NDArray[np.float64]:
-        """Position covariance N, E, D, m², (N, 3, 3): the file's full one, else diag(std²)."""
+        """Position covariance N, E, D, m², ``(N, 3, 3)``: the file's full one,
+        else diag(std²).
+        """
 
     @property
     def velocity_covariance_ned(self) -> npt.NDArray[np.float64]:
-        """Velocity covariance N, E, D, (m/s)², (N, 3, 3): the file's full one,
-        else diag(std²); NaN where the std is."""
+        """Velocity covariance N, E, D, (m/s)², ``(N, 3, 3)``: the file's full
+        one, else diag(std²); NaN where the std is.
+        """
 
     @property
     def attitude(self) -> npt.NDArray[np.float64] | None:
-        """The attitude C_b^n (body to local NED) of every epoch, (N, 3, 3), when
-        the file gives one (a fixes CSV's quaternion or Euler columns), else None."""
+        """The attitude C_b^n (body to local NED) of every epoch, ``(N, 3,
+        3)``, when the file gives one (a fixes CSV's quaternion or Euler
+        columns), else None.
+        """
 
     @property
     def has_full_covariance(self) -> bool:
@@ -2687,7 +3078,7 @@ class PosSolution:
     def __len__(self) -> int: ...
 
 def read_pos(path: str | os.PathLike[str]) -> PosSolution:
-    """Reads an RTKLIB .pos file (see memsnav.read_pos)."""
+    """Reads an RTKLIB ``.pos`` file (see ``memsnav.read_pos``)."""
 
 def decimate(time: npt.ArrayLike, rate_hz: float | None = None) -> npt.NDArray[np.uintp]:
     """The indices of the samples kept at ``rate_hz`` (the first of each
@@ -2699,17 +3090,18 @@ def read_fixes_csv(
     columns: dict[str, str] | None = None,
     time_reference: str | None = None,
 ) -> PosSolution:
-    """Reads a fixes CSV (see memsnav.read_fixes_csv): ``columns`` a dict from
-    memsnav's column names to the file's header names (None: the header names
-    memsnav's), ``time_reference`` what the time column counts (None:
-    ``"column_gps"``)."""
+    """Reads a fixes CSV (see ``memsnav.read_fixes_csv``): ``columns`` a dict
+    from memsnav's column names to the file's header names (None: the
+    header names memsnav's), ``time_reference`` what the time column
+    counts (None: ``"column_gps"``).
+    """
 
 #: Seconds from 1970-01-01 to the GPS epoch 1980-01-06: GPS time counted
 #: from 1970 without leap seconds is GPS time plus this.
 UNIX_TO_GPS_S: float
 
 def read_nmea(path: str | os.PathLike[str]) -> PosSolution:
-    """Reads an NMEA 0183 log (see memsnav.read_nmea)."""
+    """Reads an NMEA 0183 log (see ``memsnav.read_nmea``)."""
 
 def write_pos(
     path: str | os.PathLike[str],
@@ -2722,7 +3114,7 @@ def write_pos(
     n_satellites: npt.ArrayLike,
     program: str,
 ) -> None:
-    """Writes an RTKLIB-compatible .pos (see memsnav.realdata.readers.write_pos)."""
+    """Writes an RTKLIB-compatible ``.pos`` (see ``memsnav.realdata.readers.write_pos``)."""
 
 @final
 class LagEstimate:
@@ -2772,7 +3164,9 @@ def estimate_time_offset(
     min_speed_m_s: float,
     blocks: int,
 ) -> LagEstimate:
-    """The offset to add to IMU times (see memsnav.estimate_time_offset)."""
+    """The offset to add to IMU times that aligns them with GNSS positions
+    (see ``memsnav.estimate_time_offset``).
+    """
 
 def estimate_velocity_latency(
     gnss_time: npt.ArrayLike,
@@ -2782,45 +3176,59 @@ def estimate_velocity_latency(
     step_s: float,
     blocks: int,
 ) -> LagEstimate:
-    """The latency of a GNSS velocity behind its positions
-    (see memsnav.estimate_velocity_latency)."""
+    """The latency of a GNSS solution's velocity behind its positions (see
+    ``memsnav.estimate_velocity_latency``).
+    """
 
 def _panic_for_test(message: str) -> None:
-    """Test hook: panics in Rust with ``message``; the binding turns the
-    panic into a :class:`MemsnavError`."""
+    """Test hook: panics with `message`, so the tests can show that a panic
+    reaches Python as a `MemsnavError` (no public function is known to
+    panic).
+    """
 
 @final
 class GnssLoggerLog:
-    """What an Android GnssLogger file holds (read_gnsslogger)."""
+    """What an Android GnssLogger file holds (``read_gnsslogger``)."""
 
     @property
     def observations(self) -> RinexObservations:
-        """The Raw records as observations: per signal C pseudorange m, L
-        carrier cycles (valid accumulated delta range only), D Doppler Hz, S
-        C/N0 dB-Hz, RINEX 3 codes, epochs on GPS time."""
+        """The ``Raw`` records as observations (the class ``read_rinex_obs``
+        returns): per signal ``C`` pseudorange m, ``L`` carrier cycles
+        (valid accumulated delta range only), ``D`` Doppler Hz, ``S`` C/N0
+        dB-Hz, RINEX 3 codes (``C1C``, ``C5Q``, ...), epochs on GPS time.
+        """
     @property
     def imu(self) -> ImuLog | None:
-        """UncalAccel with UncalGyro interpolated to its times, on GPS time,
-        Android sensor axes; None without both sensors or a clock tie."""
+        """``UncalAccel`` with ``UncalGyro`` interpolated to its times, on GPS
+        time, Android sensor axes (x right, y up, z out of the screen), the
+        phone's bias estimates not applied; None without both sensors or
+        without a ``Raw`` record tying their clock to GPS time.
+        """
     @property
     def skipped(self) -> dict[str, int]:
-        """Raw measurements left out, counted by reason."""
+        """``Raw`` measurements left out, counted by reason (no code lock, time
+        of week not decoded, SBAS, ...).
+        """
     @property
     def warnings(self) -> list[str]:
         """Non-fatal problems met while reading."""
 
 def read_gnsslogger(path: str | os.PathLike[str]) -> GnssLoggerLog:
-    """Reads an Android GnssLogger file: pseudoranges from the Raw records'
-    clock and satellite times per constellation, only where the measurement
-    State makes them unambiguous (the rest counted in skipped)."""
+    """Reads an Android GnssLogger file (``gnss_log_*.txt``): pseudoranges
+    from the ``Raw`` records' clock and satellite times per constellation
+    (GPS, Galileo, BeiDou weeks, the GLONASS day), only where the
+    measurement ``State`` makes them unambiguous (the rest counted in
+    ``skipped``); errors name the file and the line.
+    """
 
 def closest_name(key: str, known: list[str]) -> str | None:
-    """The name of known that key is probably a misspelling of (the core's
-    known_keys::closest: the one rule of every "did you mean"), or None."""
+    """The name of `known` that `key` is probably a misspelling of (the core's
+    `known_keys::closest`: the one rule of every "did you mean"), or None.
+    """
 
 @final
 class UbxLog:
-    """What a u-blox UBX log holds (read_ubx)."""
+    """What a u-blox UBX log holds (``read_ubx``)."""
 
     @property
     def broadcast_ephemerides(self) -> BroadcastEphemerides:
@@ -2829,66 +3237,102 @@ class UbxLog:
 
     @property
     def observations(self) -> RinexObservations:
-        """RXM-RAWX as observations: per signal C pseudorange m (prValid
-        only), L carrier cycles (cpValid only), D Doppler Hz, S C/N0 dB-Hz,
-        RINEX 3 codes, epochs on the receiver's GPS time; approximate position
-        the first NAV-PVT fix."""
+        """RXM-RAWX as observations (the class ``read_rinex_obs`` returns):
+        per signal ``C`` pseudorange m (``prValid`` only), ``L`` carrier
+        cycles (``cpValid`` only), ``D`` Doppler Hz, ``S`` C/N0 dB-Hz, RINEX
+        3 codes (``C1C``, ``C2L``, ``C5Q``, ``C6B``, ...), epochs on the
+        receiver's GPS time; the approximate position is the first NAV-PVT fix.
+        """
     @property
     def constellation(self) -> Constellation:
-        """The GPS satellites of the decoded LNAV ephemerides."""
+        """The GPS satellites of the decoded LNAV ephemerides, for
+        ``observations.gps_l1`` and ``solve_fix``.
+        """
     @property
     def ephemerides(self) -> list[dict[str, Any]]:
-        """The GPS LNAV ephemerides decoded from RXM-SFRBX, one dict each
-        (RINEX navigation fields in SI units, angles rad, times GPS s; sat,
-        prn, health, iode, iodc, ura_index, ura_m, week, ...)."""
+        """The GPS LNAV ephemerides decoded from RXM-SFRBX, one dict each with
+        the RINEX navigation record's fields (SI units, angles rad, times
+        GPS s since 1980-01-06) and the message's flags.
+        """
     @property
     def gps_cnav_ephemerides(self) -> list[dict[str, Any]]:
         """The GPS CNAV ephemerides decoded from RXM-SFRBX (L2C or L5, CRC
-        checked), one dict each (RINEX navigation fields in SI units, angles
-        rad, times GPS s; a_dot, delta_n_dot, l1/l2/l5_health, ura_ed_index,
-        ura_ed_m, ura_ned0/1/2_index, top, week, tgd and the ISCs isc_l1ca,
-        isc_l2c, isc_l5i5, isc_l5q5 or None, ...)."""
+        checked), one dict each with the orbit and clock under the RINEX
+        record's names (SI units, angles rad, times GPS s since 1980-01-06;
+        ``sqrt_a`` is √(A_REF + ΔA), ``omega_dot`` Ω̇_REF + ΔΩ̇), CNAV's
+        rates ``a_dot`` m/s and ``delta_n_dot`` rad/s², the health bits
+        ``l1_health``, ``l2_health``, ``l5_health``, the accuracy indices
+        ``ura_ed_index`` (and its nominal ``ura_ed_m``, NaN for none),
+        ``ura_ned0_index``, ``ura_ned1_index``, ``ura_ned2_index``, ``top``,
+        ``week`` (13 bits), ``integrity_status_flag``, ``l2c_phasing``, and
+        type 30's ``tgd``, ``isc_l1ca``, ``isc_l2c``, ``isc_l5i5``,
+        ``isc_l5q5`` s (None when not available). The clock is referred to
+        L1/L2 P(Y) ionosphere-free, as LNAV's; a signal's user subtracts
+        T_GD − ISC.
+        """
     @property
     def klobuchar(self) -> tuple[list[float], list[float]] | None:
-        """The Klobuchar (alpha, beta) of the latest GPS CNAV message type
-        30, or None."""
+        """The Klobuchar coefficients ``(alpha, beta)`` of the latest GPS CNAV
+        message type 30 (s, s/semicircleⁿ), or None when the log has none;
+        what ``klobuchar=`` of the fix and the observables takes.
+        """
     @property
     def galileo_ephemerides(self) -> list[dict[str, Any]]:
-        """The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B, CRC
-        checked), one dict each (RINEX navigation fields in SI units, angles
-        rad, times GPS s; sat, svid, iod_nav, sisa_m, BGDs, health and data
-        validity flags, healthy)."""
+        """The Galileo I/NAV ephemerides decoded from RXM-SFRBX (E1-B), one
+        dict each with the RINEX navigation record's fields (SI units,
+        angles rad, times GPS s since 1980-01-06) and the health, data
+        validity and accuracy (SISA) flags.
+        """
     @property
     def beidou_ephemerides(self) -> list[dict[str, Any]]:
         """The BeiDou D1 ephemerides (MEO and IGSO satellites) decoded from
-        RXM-SFRBX (BCH checked), one dict each (RINEX navigation fields in
-        SI units, angles rad, times GPS s = BDT + 14 s; sat, prn, aode,
-        aodc, tgd1 (B1I) and tgd2 (B2I) to the B3I clock reference, urai,
-        ura_m, sat_h1, bdt_week, healthy)."""
+        RXM-SFRBX, one dict each with the RINEX navigation record's fields
+        (SI units, angles rad, times GPS s since 1980-01-06: BDT + 14 s),
+        the group delays ``tgd1`` (B1I) and ``tgd2`` (B2I) to B3I, the clock's
+        reference, and the health (SatH1) and accuracy (URAI) flags.
+        """
     @property
     def glonass_ephemerides(self) -> list[dict[str, Any]]:
         """The GLONASS ephemerides decoded from RXM-SFRBX (L1OF/L2OF strings
-        1-4, Hamming checked), one dict each: sat ("R05"), slot,
-        frequency_channel k, tb (GPS s), tau_n (s), gamma_n, position,
-        velocity and lunisolar_acceleration (PZ-90 at t_b, m, m/s, m/s²),
-        health (RINEX's), age_days, healthy."""
+        1-4, Hamming checked), one dict each: ``sat`` (``"R05"``),
+        ``slot``, ``frequency_channel`` k, ``tb`` (GPS s), ``tau_n`` (s),
+        ``gamma_n``, ``position``, ``velocity`` and ``lunisolar_acceleration``
+        (PZ-90 at t_b, m, m/s, m/s²), ``health`` (RINEX's), ``age_days``,
+        ``healthy``.
+        """
     @property
     def rawx(self) -> dict[str, Any]:
-        """RXM-RAWX as the receiver reports it, one row per epoch and signal
-        (pseudorange, carrier_phase, doppler, cn0, lock_time, tracking
-        flags, ...) and per-epoch epoch_gps_time, receiver_tow, week,
-        leap_seconds (-1 unknown), clock_reset."""
+        """RXM-RAWX as the receiver reports it, one row per epoch and signal:
+        ``epoch`` (index into ``epoch_gps_time``), ``sat`` ("G10"),
+        ``code`` (RINEX band and attribute), ``gnss_id``, ``sv_id``,
+        ``sig_id``, ``pseudorange`` m, ``carrier_phase`` cycles, ``doppler``
+        Hz, ``cn0`` dB-Hz, ``lock_time`` s, the receiver's σ
+        (``pseudorange_std`` m, ``carrier_phase_std`` cycles,
+        ``doppler_std`` Hz), the tracking flags (``pseudorange_valid``,
+        ``carrier_phase_valid``, ``half_cycle_resolved``,
+        ``half_cycle_subtracted``); per epoch ``epoch_gps_time``,
+        ``receiver_tow`` s, ``week``, ``leap_seconds`` (-1: not known yet),
+        ``clock_reset``.
+        """
     @property
     def nav_pvt(self) -> dict[str, npt.NDArray[Any]]:
-        """Every NAV-PVT solution as arrays (gps_time, lla, height_msl,
-        velocity_ned, accuracies, fix_type, fix_ok, carrier_solution,
-        n_satellites, quality)."""
+        """Every NAV-PVT solution, fix or not, as arrays: ``gps_time`` s,
+        ``lla`` (N, 3) rad, rad, m ellipsoidal, ``height_msl`` m,
+        ``velocity_ned`` (N, 3) m/s, ``horizontal_accuracy``,
+        ``vertical_accuracy`` m, ``speed_accuracy`` m/s, ``fix_type``,
+        ``fix_ok``, ``carrier_solution`` (0 none, 1 float, 2 fixed),
+        ``n_satellites``, ``quality`` (RTKLIB's Q).
+        """
     @property
     def fixes(self) -> PosSolution:
-        """The NAV-PVT position fixes as the other fix readers give them."""
+        """The NAV-PVT position fixes as the other fix readers give them
+        (σ north and east hAcc/√2, down vAcc; velocity σ sAcc per axis).
+        """
     @property
     def messages(self) -> dict[str, int]:
-        """Messages read, by name."""
+        """Messages read, by name (``RXM-RAWX``, ``NAV-PVT``, ``RXM-SFRBX``,
+        ``0xCC-0xII`` for the others).
+        """
     @property
     def skipped(self) -> dict[str, int]:
         """What was left out, by reason, with counts."""
@@ -2896,13 +3340,16 @@ class UbxLog:
     def warnings(self) -> list[str]:
         """Non-fatal problems met while reading."""
     def write_rinex_obs(self, path: str | os.PathLike[str]) -> None:
-        """Writes the observations as a RINEX 3.04 observation file."""
+        """Writes the observations as a RINEX 3.04 observation file at ``path``."""
     def write_rinex_nav(
         self, path: str | os.PathLike[str], rinex_version: str | None = None
     ) -> None:
-        """Writes the decoded ephemerides as a RINEX navigation file: RINEX
-        4.00 by default (GPS LNAV and CNAV, Galileo I/NAV, BeiDou D1), or
-        ``rinex_version="3.04"`` (no CNAV record: those are left out)."""
+        """Writes the decoded ephemerides as a RINEX navigation file at
+        ``path``: RINEX 4.00 by default (GPS LNAV and CNAV, Galileo I/NAV,
+        BeiDou D1 records), or ``rinex_version="3.04"``, which has no CNAV
+        record (the CNAV ephemerides are then not written). The file is
+        written once memsnav's reader reads every record back.
+        """
 
 def read_ubx(path: str | os.PathLike[str]) -> UbxLog:
     """Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked), GPS

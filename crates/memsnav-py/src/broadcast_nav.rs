@@ -18,7 +18,8 @@ fn name(system: GnssSystem, prn: u16) -> String {
     gnss::satellite_name(gnss::satellite_number(system, prn))
 }
 
-/// The broadcast ephemerides of GPS, Galileo, BeiDou and GLONASS satellites.
+/// Broadcast ephemerides of GPS, Galileo, BeiDou and GLONASS satellites
+/// (read_broadcast_nav, UbxLog.broadcast_ephemerides).
 #[pyclass(name = "BroadcastEphemerides", module = "memsnav._memsnav", frozen)]
 pub struct PyBroadcastEphemerides {
     pub inner: BroadcastNav,

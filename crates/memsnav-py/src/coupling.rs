@@ -187,7 +187,22 @@ fn start(
     }
 }
 
-/// The whole solution of a coupled filter run.
+/// The whole solution of a coupled filter, at every IMU sample (SI units).
+///
+/// Measurement records (``measurements``, ``rejected``) are dicts of arrays:
+/// ``time`` (s), ``id`` (satellite id; fix component 0-2 for the loose
+/// filter; axis for the aids), ``kind`` ("pseudorange" m, "pseudorange_rate"
+/// m/s, "carrier_phase" m: a carrier change between consecutive epochs with
+/// the epoch's weighted mean removed, "position" / "velocity" whitened,
+/// unit variance, "zero_velocity", "zero_rate", "non_holonomic"),
+/// ``innovation`` (measurement minus the prediction before the epoch's
+/// updates), ``innovation_std``, ``nis`` (nu²/s), ``status`` ("accepted";
+/// "gate": its batch failed the chi-square test; "excluded": left out of
+/// its batch by fault exclusion; "invalid": NaN/inf value or non-positive
+/// std; "reset": its batch failed and the filter was reset from it;
+/// "slip": a carrier change holding a cycle slip, flagged by the receiver
+/// or found against the Doppler, not used; "too-few": a clean carrier
+/// change whose epoch had fewer than the 5 a batch needs, not used).
 #[pyclass(name = "FilterSolution", module = "memsnav._memsnav", frozen)]
 pub struct PyFilterSolution {
     inner: Solution,
@@ -270,12 +285,14 @@ impl PyFilterSolution {
     fn attitude<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
         convert::matrices3_to_numpy(py, &self.inner.c_b_e)
     }
-    /// Accelerometer bias estimate, m/s², (N, 3).
+    /// Accelerometer bias estimate, m/s², (N, 3), additive: reading = truth +
+    /// bias (an ``AccelerometerModel.bias`` enters as S = Γ - b, so the
+    /// estimate converges to minus it).
     #[getter]
     fn accel_bias<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.accel_bias_m_s2)
     }
-    /// Gyro bias estimate, rad/s, (N, 3).
+    /// Gyro bias estimate, rad/s, (N, 3), additive like ``accel_bias``.
     #[getter]
     fn gyro_bias<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.gyro_bias_rad_s)
@@ -340,7 +357,8 @@ impl PyFilterSolution {
     fn clock_drift<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.inner.clock_drift_m_s)
     }
-    /// Diagonal of the error covariance, (N, n_states), order `state_names`.
+    /// Diagonal of the error covariance, (N, n_states), order ``state_names``
+    /// (rad², (m/s)², m², (m/s²)², (rad/s)², m², (m/s)², dimensionless²).
     #[getter]
     fn covariance_diagonal<'py>(
         &self,
@@ -364,7 +382,8 @@ impl PyFilterSolution {
     fn attitude_covariance_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray3<f64>> {
         self.navigation_covariance(py, Solution::attitude_covariance_ecef)
     }
-    /// One-sigma position uncertainty along north, east, down, m, (N, 3).
+    /// One-sigma position uncertainty along north, east, down, m, (N, 3): the
+    /// position block rotated into the local NED axes of each sample.
     #[getter]
     fn position_std_ned<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray2<f64>> {
         convert::vectors_to_numpy(py, &self.inner.position_std_ned())
@@ -385,30 +404,47 @@ impl PyFilterSolution {
     fn smoothed(&self, py: Python<'_>) -> Option<Py<PyFilterSolution>> {
         self.smoothed.as_ref().map(|s| s.clone_ref(py))
     }
-    /// Error-state names, in covariance order.
+    /// Error-state names: attitude_x..z (ECEF, rad), velocity_x..z, position_x..z,
+    /// accel_bias_x..z, gyro_bias_x..z, clock_offset, clock_drift
+    /// [, accel_scale_factor_x..z, gyro_scale_factor_x..z].
     #[getter]
     fn state_names(&self) -> Vec<&'static str> {
         StateLayout::names(self.inner.n_states)
     }
-    /// Every batch test (an epoch's measurements of one kind): dict of
-    /// arrays `time`, `kind`, `nis`, `dof`, `threshold`, `excluded`, `accepted`.
+    /// Every batch test (an epoch's measurements of one kind): dict of arrays
+    /// ``time``, ``kind``, ``nis`` (the batch's nu' S^-1 nu), ``dof``,
+    /// ``threshold`` (its chi-square quantile), ``excluded`` (measurements left
+    /// out by fault exclusion), ``accepted``, ``nonlinearity`` (pseudoranges:
+    /// the largest expected curvature term over the position uncertainty in
+    /// units of the measurement std, NaN for other kinds; above 0.1 the
+    /// first-order model no longer holds, see ``integrity``).
     #[getter]
     fn batches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         batches_to_dict(py, &self.inner.batches)
     }
-    /// Whether the solution can be trusted (`coupling::integrity`): a dict
-    /// with `diverged` (bool), `alerts` (list of dicts `kind`, `time_s`,
-    /// `message`, in time order) and `consistency` (per GNSS kind: `kind`,
-    /// `windows`, `windows_above_band`, `max_band_ratio`, `max_at_s`): the
-    /// keys of `summary.json`'s `integrity`.
+    /// Whether the solution can be trusted (docs/explanation/few-satellites.md): a dict
+    /// with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
+    /// ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
+    /// "applied_outliers"),
+    /// ``time_s`` (GNSS time, s), ``message``, in time order) and
+    /// ``consistency`` (per GNSS kind: ``kind``, ``windows`` of 30 s,
+    /// ``windows_above_band``: windows whose summed NIS exceeded the 0.9999
+    /// chi-square quantile, ``max_band_ratio``: the largest summed NIS over
+    /// that quantile, ``max_at_s``: its window's start, s). A ratio above 4 in
+    /// two windows in a row is an alert; 1-4 is a tuning mismatch, reported
+    /// here only. ``summary.json`` of ``navigate`` has the same keys (its
+    /// times in seconds after the start).
     #[getter]
     fn integrity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         integrity_to_dict(py, &self.inner.integrity)
     }
-    /// Every reset the filter made (position or velocity to a fix, clock
-    /// jumps, covariance inflation, fading, heading alignment): dict of
-    /// arrays `time`, `kind`, `change` (m, m/s, rad, or the inflation or
-    /// fading factor), `failed_epochs`.
+    /// Every reset the filter made: dict of arrays ``time``, ``kind``
+    /// ("position_to_fix", "velocity_to_fix", "velocity_to_zero" (a standstill
+    /// whose ZUPTs kept failing), "clock_jump", "clock_drift_jump",
+    /// "inflation", "fading", "heading"), ``change`` (m, m/s, rad, or the
+    /// inflation or fading factor), ``unit`` (of each change: "m", "m/s",
+    /// "rad", "" for a factor), ``failed_epochs`` (consecutive failed epochs
+    /// before it).
     #[getter]
     fn resets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         resets_to_dict(py, &self.inner.resets)
@@ -501,9 +537,67 @@ impl PyFilterSolution {
 /// state or `$initial` (from the first aiding epoch), and runs
 /// `coupling::solution` (or `smoothed_solution` with `smooth=True`) with 17
 /// or 23 states; the aiding kind follows from what `$read` returns.
+/// The arguments of both filter classes and where their defaults come
+/// from: one text for the two docstrings.
+macro_rules! filter_arguments_doc {
+    () => {
+        "Tuning from `imu.spec` at `imu.sample_rate` (`FilterTuning::from_imu_spec`):\n\
+        white-noise PSDs = noise density² (or per-sample std² / rate); bias\n\
+        processes from bias instability (2 sigma²/tau) and random walk, the\n\
+        instability taken as a random walk when the bias has a turn-on part\n\
+        (nothing makes a turn-on bias fade); initial bias std =\n\
+        sqrt(bias_std² + instability²), floored at 1e-6 m/s² and 1e-9 rad/s;\n\
+        errors the states lack (scale factor unless estimated, misalignment,\n\
+        nonlinearity, g-sensitivity): their part driven by the specific force at\n\
+        rest widens the initial bias std, their part driven by the motion is\n\
+        process noise shaped by the sensed specific force and rate at every step,\n\
+        2 sigma² tau with the manoeuvres' correlation time tau = 10 s\n\
+        (`filter::input_noise`). Receiver clock: the simulator's TCXO\n\
+        (`clock_h0` 2e-19, `clock_h_minus2` 2e-20, the same names and model\n\
+        as `simulate_gnss`: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default\n\
+        below can be overridden; an argument left None takes the core's\n\
+        default, listed by `memsnav.defaults()` under the class name\n\
+        (`tuning` shows the values in effect):\n\
+        \n\
+        - `imu`: the `ImuModel` whose spec and sample rate tune the filter.\n\
+        - `scale_factor_states` [False]: six more states, the accelerometer and\n\
+        \x20\x20gyro scale factors (23 in all).\n\
+        - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):\n\
+        \x20\x20replace the sensor's white PSDs by density² (the input-shaped noise of\n\
+        \x20\x20the unmodelled errors stays).\n\
+        - `accel_bias_psd` ((m/s²)²/s), `gyro_bias_psd` ((rad/s)²/s): bias\n\
+        \x20\x20driving-noise PSDs.\n\
+        - `gate_probability`: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected\n\
+        \x20\x20and reported); 1.0 disables it.\n\
+        - initial one-sigmas: `initial_position_std` 5 m and\n\
+        \x20\x20`initial_velocity_std` 0.5 m/s per ECEF axis (a code fix),\n\
+        \x20\x20`initial_tilt_std` 1° and `initial_heading_std` 5° (in rad),\n\
+        \x20\x20`initial_accel_bias_std` / `initial_gyro_bias_std` (None: from the\n\
+        \x20\x20spec as above), `initial_clock_offset_std` 50 m,\n\
+        \x20\x20`initial_clock_drift_std` 10 m/s; scale factors (23 states): the\n\
+        \x20\x20spec's scale_factor_std (floored at 1e-6).\n\
+        - `use_pseudorange_rate`: use rates when the epoch carries them.\n\
+        - `use_carrier_phase`: use each satellite's carrier-phase change\n\
+        \x20\x20between consecutive epochs (time-differenced carrier phase, as a\n\
+        \x20\x20velocity measurement; cycle slips found from the receiver's flags,\n\
+        \x20\x20the Doppler and the residual test) when the epochs carry it.\n\
+        - `clock_h0`, `clock_h_minus2`: the receiver oscillator's Allan\n\
+        \x20\x20coefficients (None: the TCXO above).\n\
+        - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:\n\
+        \x20\x2010 s, a land vehicle's turns and accelerations; shorter for a walker).\n\
+        - `pseudorange_correlation_time`: correlation time of the code's fast\n\
+        \x20\x20errors (multipath), s (None: 0, white); each pseudorange's std is\n\
+        \x20\x20inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the\n\
+        \x20\x20epoch interval dt, so that epochs sampling one error carry it once\n\
+        \x20\x20(docs/how-to/multi-gnss.md, \"Correlated code errors\")."
+    };
+}
+
 macro_rules! filter_class {
     ($(#[$class_doc:meta])* $rust:ident, $py:literal, $aiding:ident, $read:ident, $initial:ident, $started_by:expr, $doc:literal) => {
         $(#[$class_doc])*
+        #[doc = ""]
+        #[doc = filter_arguments_doc!()]
         #[pyclass(name = $py, module = "memsnav._memsnav", frozen)]
         pub struct $rust {
             settings: Settings,
@@ -622,8 +716,9 @@ macro_rules! filter_class {
                 })
             }
 
-            /// The tuning in effect, SI: white-noise PSDs, bias processes,
-            /// initial one-sigmas, gate.
+            /// The tuning in effect (PSDs, correlation times, initial one-sigmas,
+            /// the unmodelled errors' one-sigmas ``unmodelled_*_std`` and
+            /// ``manoeuvre_correlation_time``), SI.
             #[getter]
             fn tuning<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let t = &self.settings.tuning;
@@ -798,53 +893,6 @@ filter_class!(
     /// `FilterSolution.integrity` says when the result cannot be trusted
     /// (docs/explanation/few-satellites.md). Measurement stds are floored (0.5 m, 0.02 m/s).
     ///
-    /// Tuning from `imu.spec` at `imu.sample_rate` (`FilterTuning::from_imu_spec`):
-    /// white-noise PSDs = noise density² (or per-sample std² / rate); bias
-    /// processes from bias instability (2 sigma²/tau) and random walk, the
-    /// instability taken as a random walk when the bias has a turn-on part
-    /// (nothing makes a turn-on bias fade); initial bias std =
-    /// sqrt(bias_std² + instability²), floored at 1e-6 m/s² and 1e-9 rad/s;
-    /// errors the states lack (scale factor unless estimated, misalignment,
-    /// nonlinearity, g-sensitivity): their part driven by the specific force at
-    /// rest widens the initial bias std, their part driven by the motion is
-    /// process noise shaped by the sensed specific force and rate at every step,
-    /// 2 sigma² tau with the manoeuvres' correlation time tau = 10 s
-    /// (`filter::input_noise`). Receiver clock: the simulator's TCXO
-    /// (`clock_h0` 2e-19, `clock_h_minus2` 2e-20, the same names and model
-    /// as `simulate_gnss`: S_cφ = c² h0 / 2, S_cf = 2π² c² h−2). Every default
-    /// below can be overridden; an argument left None takes the core's
-    /// default, listed by `memsnav.defaults()["TightlyCoupledFilter"]`
-    /// (`tuning` shows the values in effect):
-    ///
-    /// - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
-    ///   replace the sensor's white PSDs by density² (the input-shaped noise of
-    ///   the unmodelled errors stays).
-    /// - `accel_bias_psd` ((m/s²)²/s), `gyro_bias_psd` ((rad/s)²/s): bias
-    ///   driving-noise PSDs.
-    /// - `gate_probability`: chi-square(1) gate, 0.999 (|nu| > 3.29 sigma rejected
-    ///   and reported); 1.0 disables it.
-    /// - initial one-sigmas: `initial_position_std` 5 m and
-    ///   `initial_velocity_std` 0.5 m/s per ECEF axis (a code fix),
-    ///   `initial_tilt_std` 1° and `initial_heading_std` 5° (in rad),
-    ///   `initial_accel_bias_std` / `initial_gyro_bias_std` (None: from the
-    ///   spec as above), `initial_clock_offset_std` 50 m,
-    ///   `initial_clock_drift_std` 10 m/s; scale factors (23 states): the
-    ///   spec's scale_factor_std (floored at 1e-6).
-    /// - `use_pseudorange_rate`: use rates when the epoch carries them.
-    /// - `use_carrier_phase`: use each satellite's carrier-phase change
-    ///   between consecutive epochs (time-differenced carrier phase, as a
-    ///   velocity measurement; cycle slips found from the receiver's flags,
-    ///   the Doppler and the residual test) when the epochs carry it.
-    /// - `clock_h0`, `clock_h_minus2`: the receiver oscillator's Allan
-    ///   coefficients (None: the TCXO above).
-    /// - `manoeuvre_correlation_time`: tau of the input-shaped noise, s (None:
-    ///   10 s, a land vehicle's turns and accelerations; shorter for a walker).
-    /// - `pseudorange_correlation_time`: correlation time of the code's fast
-    ///   errors (multipath), s (None: 0, white); each pseudorange's std is
-    ///   inflated by sqrt((1 + rho)/(1 - rho)), rho = exp(-dt/tau) over the
-    ///   epoch interval dt, so that epochs sampling one error carry it once
-    ///   (docs/how-to/multi-gnss.md, "Correlated code errors").
-    ///
     /// Raises ValueError naming the argument for a bad value.
     PyTightlyCoupledFilter,
     "TightlyCoupledFilter",
@@ -852,7 +900,33 @@ filter_class!(
     gnss_epochs,
     initial_state_from_fix,
     StartedBy::Tight,
-    "Runs the filter over the whole IMU series with the GNSS measurements, from the first epoch's fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e, optional clock_offset m, clock_drift m/s). Outages: leave the epochs out of `gnss`. `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
+    "Filters the whole series in one call (GIL released); with ``smooth``\n\
+    also the fixed-interval smoothed solution, as ``.smoothed``\n\
+    (docs/explanation/smoother.md).\n\
+    \n\
+    ``time`` (N,) s, increasing; ``specific_force`` (N, 3) m/s² and\n\
+    ``angular_rate`` (N, 3) rad/s: raw IMU samples (instantaneous values).\n\
+    ``gnss``: a ``simulate_gnss`` result, or an object/dict with padded\n\
+    arrays ``time`` (T,) on the IMU time scale, ``sat_id`` (T, n), negative\n\
+    = padding, ``satellite_position_ecef`` / ``satellite_velocity_ecef``\n\
+    (T, n, 3), ``pseudorange`` and ``pseudorange_std`` (T, n), optional\n\
+    ``pseudorange_rate`` and ``pseudorange_rate_std`` (T, n). Epoch times\n\
+    must increase and lie in the IMU span; NaN or absurd measurements are\n\
+    rejected and reported, not fatal.\n\
+    \n\
+    Initialisation: position, velocity and clock of the least-squares fix\n\
+    of the first epoch (≥ 4 satellites, else ValueError), moved back to\n\
+    ``time[0]``; attitude ``initial_attitude`` (C_b^e, 3x3) or a coarse one\n\
+    (levelling on the first second of specific force, heading from the fix\n\
+    velocity; needs ≥ 1 m/s ground speed); zero bias estimates.\n\
+    \n\
+    ``initial_state`` replaces that initialisation with the caller's own\n\
+    (e.g. an alignment): a dict (no other keys) or an object with\n\
+    ``position_ecef`` (3,) m and ``velocity_ecef`` (3,) m/s at ``time[0]``,\n\
+    ``attitude`` C_b^e (3, 3), optional ``clock_offset`` m and\n\
+    ``clock_drift`` m/s (absent or None: the median pseudorange (rate)\n\
+    residual of the first epoch). Give it or ``initial_attitude``, not both.\n\
+    Outages: leave the epochs out of ``gnss``."
 );
 
 filter_class!(
@@ -864,13 +938,27 @@ filter_class!(
     /// observed (their process noise is off). Same states, tuning, defaults and
     /// overrides as `TightlyCoupledFilter` (`use_pseudorange_rate`, `use_carrier_phase`,
     /// `pseudorange_correlation_time` and the clock settings have no effect).
+    ///
+    /// Raises ValueError naming the argument for a bad value.
     PyLooselyCoupledFilter,
     "LooselyCoupledFilter",
     fixes,
     position_fixes,
     initial_state_from_position_fix,
     StartedBy::Loose,
-    "Runs the filter over the whole IMU series with the position fixes, from the first fix or from `initial_state` (dict: position_ecef m, velocity_ecef m/s at time[0], attitude C_b^e). `smooth=True`: also the fixed-interval smoothed solution, as `.smoothed`."
+    "Filters the whole series in one call (GIL released); with ``smooth``\n\
+    also the fixed-interval smoothed solution, as ``.smoothed``.\n\
+    \n\
+    ``time`` (N,) s, ``specific_force`` (N, 3) m/s², ``angular_rate`` (N, 3)\n\
+    rad/s and ``initial_attitude`` (C_b^e) as for the tight filter's ``run``.\n\
+    ``fixes``: a ``solve_fix`` result (invalid epochs skipped; covariances =\n\
+    the position and velocity blocks of the LS covariance) or an\n\
+    object/dict with ``time`` (T,), ``position_ecef`` (T, 3) m,\n\
+    ``position_covariance`` (T, 3, 3) m², optional ``velocity_ecef`` (T, 3)\n\
+    m/s and ``velocity_covariance`` (T, 3, 3). Initial position and velocity\n\
+    from the first fix (moved back to ``time[0]``); attitude as for the\n\
+    tight filter. ``initial_state`` as for the tight filter (a clock there\n\
+    is carried but never observed)."
 );
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

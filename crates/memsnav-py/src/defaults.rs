@@ -55,11 +55,14 @@ fn degrees(v: &Vector3<f64>) -> (f64, f64, f64) {
     (d.x, d.y, d.z)
 }
 
-/// The defaults of every optional modelling argument, by function or class
-/// (`"TightlyCoupledFilter"`, `"RinexObservations.gps_l1"`, ...): a
-/// `None` in that signature means this value. The coupled filters' noise
-/// densities, bias processes and initial bias spreads are not listed: they
-/// come from the IMU model given.
+/// The core's default of every optional modelling argument, by the
+/// Python name of the function or class that takes it
+/// (``"TightlyCoupledFilter"``, ``"RinexObservations.gps_l1"``,
+/// ``"navigation_experiment"``, ``"Constellation.walker"``, the sample
+/// rates of the sensor models, presets, trajectories and calibrations): a
+/// ``None`` in that signature means this value. The coupled filters' noise
+/// densities, bias processes and initial bias spreads come from the IMU
+/// model and are not listed.
 #[catch_panics]
 #[pyfunction]
 pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {

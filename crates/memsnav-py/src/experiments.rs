@@ -63,9 +63,12 @@ fn method_name(method: Method) -> &'static str {
     }
 }
 
-/// Calibration Monte Carlo (paper §5.1, figs 3-10); keywords and defaults
-/// in `memsnav.experiments.calibration`. Returns a dict of per-set arrays
-/// (SI) and the `config` that ran.
+/// Calibration Monte Carlo (paper figs 3-10); per-set arrays, SI, and the
+/// ``config`` that ran. ``None``: the core's default (documented in
+/// ``memsnav.experiments.calibration``). ``run_range=(start, end)``:
+/// compute only those runs and return them encoded (bytes, a Dask task);
+/// ``chunks``: fold such encoded runs instead of running (the same numbers
+/// bit for bit; ``memsnav._distributed``).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (*, parameter_sets=None, runs=None, duration=None, preset=None, reference_specific_force_std=None, reference_angular_rate_std=None, motion=None, seed=None, threads=None, progress=None, run_range=None, chunks=None))]
@@ -143,9 +146,10 @@ fn calibration_experiment<'py>(
     Ok(d.into_any())
 }
 
-/// Inversion Monte Carlo (paper §5.2, figs 11-12); keywords and defaults
-/// in `memsnav.experiments.inversion`. Returns a dict of arrays (SI) and
-/// the `config` that ran.
+/// Inversion Monte Carlo (paper figs 11-12); per-run MSE arrays, SI, and
+/// the ``config`` that ran. ``None``: the core's default (documented in
+/// ``memsnav.experiments.inversion``). ``run_range`` / ``chunks`` as in
+/// ``calibration_experiment``.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (*, runs=None, duration=None, calibration_duration=None, preset=None, method=None, reference_specific_force_std=None, reference_angular_rate_std=None, accel_process_std=None, gyro_process_std=None, seed=None, threads=None, progress=None, run_range=None, chunks=None))]
@@ -288,10 +292,12 @@ fn study_navigation(
     })
 }
 
-/// Partial-outage study (0-3 satellites through one window, tight against
-/// loose coupling); keywords and defaults in
-/// `memsnav.experiments.partial_outage`. Returns the scenarios' IMU
-/// outcomes (the keys of the navigation experiment) and the `config`.
+/// Partial-outage study (0-3 satellites through a window, tight against
+/// loose coupling): ``time``, ``scenarios`` (``coupling``, ``n_visible``,
+/// ``imus`` as in ``navigation_experiment``), ``completed_runs``,
+/// ``interrupted``, ``config``. ``None``: the core's default (documented in
+/// ``memsnav.experiments.partial_outage``). ``run_range`` / ``chunks`` as
+/// in ``calibration_experiment``.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, outage_start=None, outage_length=None, satellites=None, loose=None, calibration_duration=None, smooth=None, keep_runs=None, threads=None, progress=None, run_range=None, chunks=None, n_satellites=None, systems=None, inter_system_bias=None, carrier_phase_std=None, cycle_slip_probability=None))]

@@ -58,7 +58,11 @@ fn matrices4<'py>(py: Python<'py>, ms: &[Matrix4<f64>]) -> Bound<'py, PyArray3<f
 /// Positions and velocities as two `(n, 3)` arrays.
 type ArrayPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
 
-/// GPS satellites from broadcast ephemerides, or a synthetic Walker constellation.
+/// GPS satellites from broadcast ephemerides, or synthetic Walker
+/// constellations (GPS, or several systems: :meth:`nominal`).
+///
+/// Times are GPS seconds since 1980-01-06 00:00:00 GPST; positions ECEF m,
+/// velocities m/s.
 #[pyclass(name = "Constellation", module = "memsnav._memsnav", frozen)]
 pub struct PyConstellation {
     pub inner: Constellation,
@@ -67,7 +71,10 @@ pub struct PyConstellation {
 #[catch_panics]
 #[pymethods]
 impl PyConstellation {
-    /// The GPS satellites of a RINEX 2 or 3 navigation file (other systems skipped).
+    /// GPS ephemerides of a RINEX 2 or 3 navigation file (other systems skipped).
+    ///
+    /// Raises ParseError naming the file and the 1-based line for unreadable
+    /// or truncated records.
     #[staticmethod]
     fn from_rinex_nav(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let inner = py.detach(|| Constellation::from_rinex_nav(&path)).py()?;
@@ -101,9 +108,17 @@ impl PyConstellation {
         })
     }
 
-    /// The nominal Walker constellations of these systems (RINEX letters
-    /// "G", "E", "C", "R"), satellites numbered G 1.., E 101.., C 201..,
-    /// R 301...
+    /// The nominal Walker constellations of ``systems`` (RINEX letters, in
+    /// this order): "G" GPS 24/6/1 at a = 26 560 km, 55°; "E" Galileo 24/3/1
+    /// at 29 599.8 km, 56° (period 14 h 4 min); "C" BeiDou MEO 24/3/1 at
+    /// 27 906.1 km, 55° (12 h 53 min; no GEO or IGSO satellites); "R"
+    /// GLONASS 24/3/1 at 25 510 km, 64.8° (11 h 16 min; slots on the current
+    /// FDMA channel plan). Satellites are numbered G 1-24, E 101-124,
+    /// C 201-224, R 301-324 (``sat_id``) and named G01, E01, C01, R01, ...
+    /// (``prns``). ``nominal(["G"])`` is
+    /// ``walker()``.
+    ///
+    /// Raises ValueError for an unknown letter or a system named twice.
     #[staticmethod]
     fn nominal(systems: Vec<String>) -> PyResult<Self> {
         Ok(PyConstellation {
@@ -111,7 +126,8 @@ impl PyConstellation {
         })
     }
 
-    /// Satellite names, e.g. ``["G01", "G02", ...]``.
+    /// Satellite names, e.g. ["G01", "G02", ...] (Walker slots are named
+    /// like their system's PRNs: G01..GNN, E01.., C01..).
     #[getter]
     fn prns(&self) -> Vec<String> {
         self.inner.prns()
@@ -183,7 +199,7 @@ pub(crate) fn system_letters(letters: &[String]) -> PyResult<Vec<gnss::GnssSyste
         .collect()
 }
 
-/// Precise orbits from an SP3 file, in SI units.
+/// Precise orbits from an SP3 file (centre of mass), in SI units.
 #[pyclass(name = "Sp3", module = "memsnav._memsnav", frozen)]
 pub struct PySp3 {
     inner: gnss::Sp3,
@@ -209,7 +225,7 @@ impl PySp3 {
         PyArray1::from_slice(py, &self.inner.time_gps_s)
     }
 
-    /// Satellite names as in the file.
+    /// Satellite names as in the file ("G01", "E05", ...).
     #[getter]
     fn satellites(&self) -> Vec<String> {
         self.inner.satellites.clone()
@@ -300,7 +316,8 @@ fn read_sp3(py: Python<'_>, path: PathBuf) -> PyResult<PySp3> {
     })
 }
 
-/// Simulated measurements: per-epoch arrays padded to ``n_max`` satellites.
+/// Simulated measurements; per-epoch arrays padded to n_max = n_satellites
+/// (NaN for values, -1 for sat_id, where fewer satellites are tracked).
 #[pyclass(name = "GnssMeasurements", module = "memsnav._memsnav", frozen)]
 pub struct PyGnssMeasurements {
     pub(crate) epochs: Vec<GnssEpoch>,
@@ -520,7 +537,7 @@ impl PyGnssMeasurements {
         self.padded_vectors(py, |m| m.velocity_ecef)
     }
 
-    /// Pseudoranges, m, ``(T, n_max)``, NaN-padded.
+    /// Pseudoranges (satellite clock corrected), m, (T, n_max).
     #[getter]
     fn pseudorange<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         self.padded(py, |m| m.pseudorange_m)
@@ -719,7 +736,57 @@ fn outage_list(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<gnss::Outage>> {
         .collect()
 }
 
-/// Simulates pseudoranges and rates along a trajectory (method §5).
+/// Pseudoranges (m) and rates (m/s) along a trajectory (method §5).
+///
+/// Arguments; ``None`` takes the core's default
+/// (``memsnav_core::gnss::SimulationConfig``), given in brackets:
+///
+/// - ``time`` (N,) s, ``position_ecef`` (N, 3) m, ``velocity_ecef`` (N, 3)
+///   m/s: the receiver's trajectory, time increasing.
+/// - ``constellation``: the satellites (``Constellation.walker``,
+///   ``nominal`` or ``from_rinex_nav``).
+/// - ``rate``: epochs per second, Hz [1]; the epochs fall on the
+///   trajectory samples nearest to t0 + k/rate.
+/// - ``n_satellites``: satellites tracked [6].
+/// - ``elevation_mask_deg``: elevation mask, degrees [10].
+/// - ``pseudorange_std``, m [3], and ``pseudorange_rate_std``, m/s [0.1]:
+///   white noise.
+/// - ``residual_std``, m [none], and ``residual_correlation_time``, s
+///   [300]: a Gauss-Markov residual per satellite (atmosphere, orbit).
+/// - ``clock_h0`` [2e-19] and ``clock_h_minus2`` [2e-20]: the receiver
+///   clock's Allan coefficients (a TCXO; two-state model);
+///   ``clock_initial_offset_std``, m [30], and ``clock_initial_drift_std``,
+///   m/s [1]: its initial one-sigmas.
+/// - ``outages``: (start s, length s) total, or (start, length,
+///   n_satellites) partial, keeping the highest of the tracked satellites
+///   (an urban canyon's view), on the trajectory's time axis [none]. They
+///   are applied after every random draw, so the kept satellites' noise
+///   does not depend on them.
+/// - ``seed``: the random stream, an integer in [0, 2**64) [0: the same
+///   draws every call; pass different seeds for independent draws].
+/// - ``start_gps_time``: GPS time of time[0], s [the earliest t_oe of a
+///   broadcast file; 0 for a Walker constellation].
+/// - ``inter_system_bias``: Galileo, BeiDou[, GLONASS] minus GPS, m
+///   [none], added to that system's pseudoranges.
+/// - ``carrier_phase_std``, m [0: no carrier phase]: adds carrier ranges:
+///   the pseudorange's range, clock and bias, minus the residual (the
+///   ionosphere advances the phase), plus a whole number of GPS L1 cycles
+///   drawn per lock arc, plus white noise; ``loss_of_lock`` is set where a
+///   satellite was not in the previous epoch. The carrier draws from a
+///   stream of its own: the pseudoranges and rates are the same with or
+///   without it.
+/// - ``cycle_slip_probability``, per satellite and epoch [0]: silent slips
+///   (±1 and ±2 cycles common, up to ±1000; ``loss_of_lock`` stays False),
+///   listed in ``cycle_slips``.
+///
+/// At the first epoch the ``n_satellites`` with the best GDOP above the
+/// mask are chosen (greedy elimination), of every system the constellation
+/// holds, and kept while visible; a setting satellite is replaced by the
+/// one giving the best GDOP (with several systems the GDOP has one
+/// inter-system-bias unknown per system other than GPS, so a system's lone
+/// satellite adds nothing). Pseudorange = exact light-time range with
+/// Earth rotation + receiver clock + the system's inter-system bias + the
+/// residual + white noise.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, position_ecef, velocity_ecef, constellation, rate=None, n_satellites=None,
@@ -819,7 +886,7 @@ fn simulate_gnss(
     })
 }
 
-/// Least-squares fixes of every epoch.
+/// Least-squares fixes per epoch; NaN rows where ``valid`` is False.
 #[pyclass(name = "FixSeries", module = "memsnav._memsnav", frozen)]
 pub struct PyFixSeries {
     time: Vec<f64>,
@@ -939,27 +1006,27 @@ impl PyFixSeries {
     fn velocity_drift_covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
         self.covariances(py, |f| f.velocity_drift_covariance)
     }
-    /// Geometric DOP, ``(T,)``.
+    /// Geometric dilution of precision, (T,).
     #[getter]
     fn gdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.dops.gdop)
     }
-    /// Position DOP, ``(T,)``.
+    /// Position dilution of precision, (T,).
     #[getter]
     fn pdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.dops.pdop)
     }
-    /// Horizontal DOP, ``(T,)``.
+    /// Horizontal dilution of precision, (T,).
     #[getter]
     fn hdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.dops.hdop)
     }
-    /// Vertical DOP, ``(T,)``.
+    /// Vertical dilution of precision, (T,).
     #[getter]
     fn vdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.dops.vdop)
     }
-    /// Time DOP, ``(T,)``.
+    /// Time dilution of precision, (T,).
     #[getter]
     fn tdop<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         self.scalar(py, |f| f.dops.tdop)
@@ -996,11 +1063,28 @@ impl PyFixSeries {
     }
 }
 
-/// Least-squares position/velocity/clock fix of every epoch of
-/// ``measurements``: a ``GnssMeasurements`` or its padded arrays as a dict
-/// (the keys of the ``GnssMeasurements`` constructor, no others), with the
-/// residual test of ``gnss::solve_fix_with`` at ``false_alarm_probability``
-/// (``None``: off); the satellites left out in ``excluded``.
+/// Gauss-Newton position/velocity/clock fix of every epoch (Sagnac-corrected
+/// predicted ranges).
+///
+/// - ``measurements``: a ``GnssMeasurements``, or its padded arrays as a
+///   dict (the constructor's keys, no others).
+/// - ``prior``: (3,) ECEF start of the first epoch's iterations, m [the
+///   Earth's centre]; later epochs start from the previous fix.
+/// - ``strict`` [False]: an epoch with fewer than 4 satellites is a
+///   ValueError instead of a NaN row.
+/// - ``false_alarm_probability`` [0.001]: the residual test's, per epoch;
+///   None turns the test off.
+///
+/// Residual test (RAIM fault detection and exclusion): the weighted post-fit
+/// residuals' sum of squares is held to the chi-square quantile
+/// 1 - ``false_alarm_probability`` (default 0.001 per epoch, RTKLIB's) of
+/// satellites - unknowns degrees of freedom; while it fails and a test after
+/// the exclusion remains possible, the satellite with the largest normalized
+/// residual is left out and the fix made again. The satellites left out are
+/// in ``excluded``; the final statistic and threshold in
+/// ``residual_chi_square`` and ``residual_threshold`` (a statistic still above
+/// its threshold: no exclusion could make the epoch fit).
+/// ``false_alarm_probability=None`` turns the test off.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(
@@ -1360,20 +1444,22 @@ impl PyRinexObservations {
         array2(py, flat, self.inner.epochs.len(), keys.len())
     }
 
-    /// GPS L1 C/A measurements for the coupled filters and ``solve_fix``:
-    /// satellite states at transmission time from ``constellation``,
-    /// pseudoranges corrected for the satellite clock, the Klobuchar
-    /// ionosphere (``klobuchar=(alpha, beta)``; default RTKLIB's
-    /// coefficients; ``ionosphere=False`` to leave it in) and the
-    /// Saastamoinen troposphere; rates from the Doppler; carrier ranges from
-    /// the phase, corrected alike with the ionosphere's sign reversed, lock
-    /// lost where the loss-of-lock indicator says so
-    /// (``carrier_phase_std=0``: no carrier phase). Pseudorange σ by
+    /// GPS L1 C/A measurements (time = GPS time) for the coupled filters and
+    /// ``solve_fix``: satellite states at transmission time, pseudoranges
+    /// corrected for the satellite clock, the Klobuchar ionosphere
+    /// (``klobuchar=(alpha, beta)``, default RTKLIB's coefficients) and the
+    /// Saastamoinen troposphere at ``reference_position_ecef`` (default the
+    /// header's approximate position); rates from the Doppler; carrier ranges
+    /// from the phase, corrected alike with the ionosphere's sign reversed,
+    /// lock lost where the loss-of-lock indicator says so
+    /// (``carrier_phase_std=0``: no carrier phase). Pseudorange sigma by
     /// ``weighting``: ``"rtklib"`` (default) RTKLIB 2.4.3's single-point
-    /// error model (`gnss::PseudorangeWeighting`), ``"signal-strength"``
-    /// ``pseudorange_std`` (only with this model) at 45 dB-Hz and zenith,
-    /// scaled by √10^((45−C/N0)/10)/sin(el). Rate and carrier σ at 45 dB-Hz
-    /// and zenith, scaled alike in both.
+    /// error model, sigma^2 = F^2 (0.3^2 + 0.3^2/sin(el)) + URA^2 + 0.3^2 +
+    /// (0.5 Klobuchar)^2 + (0.3/(sin(el) + 0.1))^2 (F = 1.5 for GLONASS, else
+    /// 1); ``"signal-strength"``: ``pseudorange_std`` (default 3 m, only with
+    /// this model) at 45 dB-Hz and zenith, scaled by
+    /// sqrt(10^((45-C/N0)/10))/sin(el). Rate and carrier sigma (m/s, m) at 45
+    /// dB-Hz and zenith, scaled alike in both.
     #[pyo3(signature = (constellation, reference_position_ecef=None, *, elevation_mask_deg=None,
         min_cn0_db_hz=None, ionosphere=true, klobuchar=None, troposphere=true,
         pseudorange_std=None, pseudorange_rate_std=None, satellites=None,

@@ -69,7 +69,19 @@ fn initial_state(
     })
 }
 
-/// Strapdown INS in ECEF from instantaneous IMU samples.
+/// Strapdown INS in ECEF (Earth rate, Coriolis, J2 gravity) from
+/// instantaneous samples (Groves ch. 5).
+///
+/// - ``time`` (N,) s, increasing.
+/// - ``specific_force`` (N, 3) m/s² and ``angular_rate`` (N, 3) rad/s: the
+///   IMU's samples in body axes (x forward, y right, z down).
+/// - ``position_ecef`` (3,) m, ``velocity_ecef`` (3,) m/s and ``attitude``
+///   (3, 3) C_b^e (body to ECEF): the state at ``time[0]``.
+/// - ``scheme`` ["cubic"]: "cubic" interpolates the samples with coning
+///   and sculling, fourth order; "trapezoid" is the two-sample
+///   second-order step the filters chain.
+///
+/// Returns a ``NavSolution`` (position, velocity and attitude per sample).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate, position_ecef, velocity_ecef, attitude, *, scheme="cubic"))]
@@ -100,7 +112,9 @@ fn strapdown(
     Ok(PyNavSolution { time_s, states })
 }
 
-/// Strapdown INS in ECEF from velocity and angle increments.
+/// Strapdown INS from increments with coning and sculling corrections:
+/// time s (N + 1,), delta_velocity m/s and delta_angle rad (N, 3), row k
+/// integrated over [time[k], time[k + 1]]; initial state as ``strapdown``.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, delta_velocity, delta_angle, position_ecef, velocity_ecef, attitude))]
@@ -126,7 +140,8 @@ fn strapdown_increments(
 /// Two `(N, 3)` arrays.
 type ArrayPair<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>);
 
-/// Velocity and angle increments per interval from instantaneous samples.
+/// (delta_velocity m/s, delta_angle rad), each (N - 1, 3): the integrals
+/// of the cubic through the samples over each interval (fourth order).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, specific_force, angular_rate))]

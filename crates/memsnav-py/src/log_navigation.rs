@@ -77,8 +77,8 @@ fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTabl
     Ok(out)
 }
 
-/// The tables and keys `navigate_log(settings=...)` reads, each with what
-/// it holds: `{table: {key: description}}`.
+/// The tables and keys ``navigate_log(settings=...)`` reads (the engine's
+/// part of a ``navigate`` configuration), each with what it holds.
 #[catch_panics]
 #[pyfunction]
 fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -242,8 +242,10 @@ fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyA
     o.filter(|v| !v.is_none())
 }
 
-/// A real log's navigation: the solution at the antenna in local terms,
-/// the filter's own solution at the IMU, the start, the aids, the resets.
+/// A real log's navigation (``navigate_log``): the solution at the antenna in
+/// local terms at every IMU sample from the start, the filter's own solution
+/// at the IMU, the start, the GNSS epochs, outages, standstills and range
+/// biases, and the scoring against a truth.
 #[pyclass(name = "LogRun", module = "memsnav._memsnav", frozen)]
 pub struct PyLogRun {
     run: LogRun,
@@ -463,9 +465,12 @@ impl PyLogRun {
     fn standstills<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         pairs(py, &self.run.standstills)
     }
-    /// Why the run stopped before the end of the log, when it did: dict
-    /// `time` (GNSS time, s) and `message`; the solution ends at the last
-    /// sample before it, with no smoothed solution. None for a run to the end.
+    /// Why the run stopped before the end of the log, when it did (the
+    /// filter's error, or a state beyond what a solution holds: height
+    /// outside -10 km to 10 000 km, speed above 10 km/s, a σ above 10 000 km):
+    /// dict ``time`` (GNSS time, s) and ``message``. The solution ends at the
+    /// last sample before it and has no smoothed run; ``navigate_log`` also
+    /// warns. None for a run to the end.
     #[getter]
     fn failure<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         self.run
@@ -479,12 +484,13 @@ impl PyLogRun {
             })
             .transpose()
     }
-    /// The gyro's turns against the GNSS course's over the whole log
-    /// (`memsnav_core::navigate::gyro_scale`): dict `ratio` (1 for a gyro
-    /// read in its unit, π/180 for radians read as degrees),
-    /// `relative_std`, `course_turn_deg`, `pairs`, `conclusive`, `warning`
-    /// (naming `gyro_unit` and the likely unit when the ratio is a unit
-    /// mistake, else None); None without a usable pair of GNSS epochs.
+    /// The gyro's turns against the GNSS course's over the whole log: dict
+    /// ``ratio`` (1 for a gyro read in its unit; π/180 for radians read as
+    /// degrees, 180/π the reverse), ``relative_std``, ``course_turn_deg``,
+    /// ``pairs``, ``conclusive`` (enough turning for a verdict), ``warning``
+    /// (a conclusive ratio beyond √(180/π) either way: the warning naming
+    /// ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
+    /// else None). None without a usable pair of GNSS epochs.
     #[getter]
     fn gyro_scale<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         self.run
@@ -501,11 +507,13 @@ impl PyLogRun {
             })
             .transpose()
     }
-    /// The run's carrier changes between epochs by fate
-    /// (`memsnav_core::navigate::carrier_use`): dict `changes`, `used`,
-    /// `slips`, `excluded`, `too_few`, `rejected`, `warning` (why none was
-    /// used, also in `solution.warnings`; else None); None when the run did
-    /// not use carrier phase.
+    /// The run's carrier changes between epochs by fate: dict ``changes``,
+    /// ``used`` (applied), ``slips`` (receiver flag or Doppler test),
+    /// ``excluded`` (residual test), ``too_few`` (clean, but the epoch had
+    /// fewer than the 5 clean changes a batch needs), ``rejected`` (their
+    /// batch's gate, an invalid value, a reset), ``warning`` (why none was
+    /// used, also in ``solution.warnings``; else None). None when the run
+    /// did not use carrier phase.
     #[getter]
     fn carrier_phase<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         self.run

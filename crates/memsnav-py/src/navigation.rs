@@ -206,8 +206,21 @@ pub(crate) fn outage_window(values: &[f64]) -> PyResult<Outage> {
     }
 }
 
-/// Navigation Monte Carlo (paper §5.3, figs 14-18); see
-/// `memsnav.experiments.navigation` for the documented interface.
+/// Navigation Monte Carlo (paper §5.3) as a dict of arrays (bytes with
+/// ``run_range``; ``run_range`` / ``chunks`` as in
+/// ``calibration_experiment``); use
+/// ``memsnav.experiments.navigation``, which documents it. ``imus``: (name,
+/// source) with source a preset name, ``(preset name, spec overrides)``,
+/// ``"calibrated:<raw name>"`` or an ``ImuModel``. ``pseudorange_std`` m,
+/// ``pseudorange_rate_std`` m/s, ``initial_attitude_std_deg`` (north tilt,
+/// east tilt, heading) degrees, None for (1, 1, 5). ``outage``: (start_s,
+/// length_s) total or (start_s, length_s, n_visible) keeping n_visible (0-3)
+/// satellites. ``systems``: RINEX letters of the simulated systems (None:
+/// ["G"]), ``inter_system_bias``: Galileo, BeiDou[, GLONASS] pseudorange
+/// biases against GPS, m (None: 0, 0, 0). ``carrier_phase_std``: simulated carrier
+/// range noise, m (None: 0, no carrier phase; above 0 the tight filters use
+/// its changes between epochs), ``cycle_slip_probability``: silent slips
+/// per satellite and epoch (None: 0).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (imus, *, runs=None, duration=None, seed=None, n_satellites=None, outage=None, calibration_duration=None, early_window=None, pseudorange_rate=None, pseudorange_std=None, pseudorange_rate_std=None, initial_attitude_std_deg=None, scale_factor_states=false, absorb_unmodelled=None, smooth=false, keep_runs=false, threads=None, progress=None, run_range=None, chunks=None, systems=None, inter_system_bias=None, carrier_phase_std=None, cycle_slip_probability=None))]

@@ -245,8 +245,8 @@ impl PyRunningFilter {
         with_filter!(&mut self.filter, s => s.update_fix(&fix).py())
     }
 
-    /// Zero-velocity update: the IMU is at rest, `std` m/s per axis.
-    /// Returns whether it was accepted.
+    /// Zero-velocity update, ``std`` m/s per axis. Returns whether it
+    /// passed its gate (as every update method does).
     fn update_zupt(&mut self, std: f64) -> PyResult<bool> {
         with_filter!(&mut self.filter, s => s.update_zupt(std).py())
     }

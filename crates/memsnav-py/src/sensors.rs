@@ -529,7 +529,8 @@ impl PyImuModel {
         Ok(Self { inner })
     }
 
-    /// A named IMU grade with errors drawn from its spec (see `presets()`).
+    /// A named grade ("paper-mems", "consumer", "industrial", "tactical",
+    /// "navigation"), every error term drawn zero-mean Gaussian from its spec.
     #[staticmethod]
     #[pyo3(signature = (name, seed=None, sample_rate=None))]
     fn preset(
@@ -549,8 +550,8 @@ impl PyImuModel {
         presets::PRESET_NAMES.to_vec()
     }
 
-    /// Readings `(accel, gyro)`, each `(N, 3)`, for true specific forces
-    /// (m/s²) and angular rates (rad/s).
+    /// Readings ``(accel m/s², gyro rad/s)``, each (N, 3), for true specific
+    /// forces (N, 3) m/s² and angular rates (N, 3) rad/s.
     #[pyo3(signature = (specific_force, angular_rate, seed=None))]
     fn measure<'py>(
         &self,

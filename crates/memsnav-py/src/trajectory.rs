@@ -17,7 +17,9 @@ use pyo3::types::PySequence;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
-/// Truth of a vehicle's motion at the IMU rate.
+/// Truth of a vehicle's motion at the IMU rate: position, velocity and
+/// attitude in ECEF, and the exact specific force and angular rate in body
+/// axes (Earth rotation and the gravity model of ``gravity_ecef`` included).
 #[pyclass(frozen, name = "Trajectory", module = "memsnav._memsnav")]
 pub struct PyTrajectory {
     pub inner: Trajectory,
@@ -105,8 +107,22 @@ fn segment_from(item: &Bound<'_, PyAny>, i: usize) -> PyResult<Segment> {
 #[catch_panics]
 #[pymethods]
 impl PyTrajectory {
-    /// A random land-vehicle trajectory (speed changes, turns, road slope,
-    /// lean and squat), reproducible from `seed`.
+    /// Random land-vehicle motion: cruises, speed changes (sometimes to a
+    /// stop), turns, road slope, body lean and squat; C² smooth.
+    ///
+    /// Arguments; ``None`` takes the core's default
+    /// (``RandomTrajectoryConfig``), given in brackets:
+    ///
+    /// - ``duration``, s [600]; ``rate``, Hz [100].
+    /// - ``seed``: the random stream, an integer in [0, 2**64) [0: the same
+    ///   trajectory every call].
+    /// - ``origin``: [latitude rad, longitude rad, height m] of the start
+    ///   [Toulouse, 43.6° N 1.44° E 150 m].
+    /// - ``heading``: the initial heading, rad from north [random].
+    /// - ``max_speed``, m/s [30]; ``max_longitudinal_acceleration``, m/s²
+    ///   [2]; ``max_lateral_acceleration``, m/s² [3]; ``max_yaw_rate``, rad/s
+    ///   [0.4]; ``max_slope``, rad [0.05].
+    /// - ``stationary_start``: seconds at rest before moving off [0].
     #[staticmethod]
     #[pyo3(signature = (
         duration=None, rate=None, seed=None, origin=None, *, heading=None,
@@ -150,7 +166,11 @@ impl PyTrajectory {
         Ok(Self { inner })
     }
 
-    /// A scripted trajectory from manoeuvre tuples, starting at rest.
+    /// Scripted motion from rest: ``("accelerate", duration_s,
+    /// target_speed_m_s)``, ``("cruise", duration_s)``, ``("turn",
+    /// duration_s, heading_change_rad)`` (positive right),
+    /// ``("climb", duration_s, path_angle_rad)`` (ramps up and back to
+    /// level), ``("stop", duration_s)``. heading rad, rate Hz.
     #[staticmethod]
     #[pyo3(signature = (segments, origin=None, heading=0.0, rate=None))]
     fn from_segments(
@@ -175,7 +195,9 @@ impl PyTrajectory {
         Ok(Self { inner })
     }
 
-    /// A trajectory from a profile CSV of Groves' book software.
+    /// A profile CSV of Groves' book software (t, lat, lon deg, h m,
+    /// v_NED m/s, roll, pitch, yaw deg), smoothed by splines through knots
+    /// 0.5 s apart and sampled at ``rate`` Hz. ParseError names file and line.
     #[staticmethod]
     #[pyo3(signature = (path, rate=None))]
     fn from_profile(py: Python<'_>, path: PathBuf, rate: Option<f64>) -> PyResult<Self> {

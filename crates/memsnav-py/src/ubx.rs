@@ -67,8 +67,8 @@ impl PyUbxLog {
         }
     }
 
-    /// Every decoded ephemeris (GPS, Galileo, BeiDou) as one set, for
-    /// ``observations.measurements``.
+    /// Every decoded ephemeris (GPS LNAV and CNAV, Galileo, BeiDou) as one
+    /// set, for ``observations.measurements``.
     #[getter]
     fn broadcast_ephemerides(&self) -> PyBroadcastEphemerides {
         PyBroadcastEphemerides {
@@ -456,7 +456,12 @@ impl PyUbxLog {
     }
 }
 
-/// Reads a u-blox UBX log (see ``memsnav.read_ubx``).
+/// Reads a u-blox UBX log: RXM-RAWX, GPS LNAV (parity checked), GPS
+/// CNAV and Galileo I/NAV (CRC checked) and BeiDou D1 (BCH checked)
+/// ephemerides and the CNAV Klobuchar from RXM-SFRBX, NAV-PVT; frames
+/// with a bad checksum, a cut last frame and messages not decoded are
+/// skipped and counted; a file without a UBX
+/// frame is a ParseError naming it.
 #[catch_panics]
 #[pyfunction]
 fn read_ubx(py: Python<'_>, path: PathBuf) -> PyResult<PyUbxLog> {
