@@ -82,3 +82,87 @@ def test_gnss_files_measurements_and_fixes_print_in_a_line():
     )
     sp3 = sorted(PUBLIC.glob("*.SP3"))[0]
     _check(mn.read_sp3(sp3), "Sp3", "satellites", "epochs")
+
+
+def _public_classes():
+    """Every public class of memsnav and its native module (exceptions
+    aside), each once."""
+    import inspect
+    import types
+
+    import memsnav._memsnav as native
+
+    seen, modules = set(), [mn, native]
+    while modules:
+        module = modules.pop(0)
+        for name in getattr(module, "__all__", []):
+            obj = getattr(module, name)
+            if name.startswith("_") or id(obj) in seen:
+                continue
+            seen.add(id(obj))
+            if isinstance(obj, types.ModuleType):
+                modules.append(obj)
+            elif inspect.isclass(obj) and not issubclass(obj, BaseException):
+                yield obj
+
+
+def test_no_public_class_prints_as_an_address_or_a_wall_of_fields():
+    """Every public class has a repr of its own: not object's address, not
+    a dataclass's generated one (every field, arrays in full)."""
+    import inspect
+
+    generic = []
+    for cls in _public_classes():
+        if cls.__repr__ is object.__repr__:
+            generic.append(f"{cls.__qualname__}: object's")
+            continue
+        if "__dataclass_fields__" in vars(cls):
+            try:
+                inspect.getsource(cls.__repr__)
+            except (OSError, TypeError):
+                generic.append(f"{cls.__qualname__}: the dataclass's")
+    assert not generic, generic
+
+
+def test_calibration_files_timing_estimates_and_log_runs_print_in_a_line(tmp_path):
+    import warnings
+
+    from shared_data import shared_data
+
+    data = shared_data("real-imu-gnss").parent
+    root = data / "real-imu-gnss"
+    rtk = mn.read_pos(root / "drive_0708" / "gnss_1934_sf.pos")
+    _check(mn.estimate_velocity_latency(rtk), "VelocityLatencyEstimate", "0.13", "intervals")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the log's cut last line
+        imu = mn.read_imu_csv(root / "drive_0708" / "imu_1934.csv", skip_first_line=True)
+    clock = mn.fit_tag_clock(imu, mn.read_time_tag(root / "drive_0708" / "imu_1934.csv.tag"))
+    c_b_s = mn.mounting_matrix([[180.0, 0.0, 180.0], [0.0, -6.79, 5.35]])
+    offset = mn.estimate_time_offset(
+        clock.gps_time, imu.specific_force @ c_b_s.T, imu.angular_rate @ c_b_s.T, rtk
+    )
+    _check(offset, "TimeOffsetEstimate", "-0.27", "4 stretches")
+    run = mn.navigate(
+        Path(__file__).parent.parent / "examples" / "drive_0708.toml",
+        data_root=data,
+        output=tmp_path / "nav",
+        duration_s=30.0,
+    )
+    _check(run, "LogNavigationResult", "'drive_0708'", "epochs", "scored against the truth")
+    _check(mn.load_calibration(_calibration_file(tmp_path)), "ImuCalibration", "parameters")
+
+
+def _calibration_file(tmp_path):
+    """A calibration file of the Xsens static session (a few seconds)."""
+    from shared_data import shared_data
+
+    from memsnav.cli import main
+
+    config = Path(__file__).parent.parent / "examples" / "xsens_static.toml"
+    data = shared_data("imu-static-poses").parent
+    out = tmp_path / "cal"
+    assert (
+        main(["calibrate", "--config", str(config), "--data-root", str(data), "--output", str(out)])
+        == 0
+    )
+    return out / "calibration.json"

@@ -101,6 +101,14 @@ class ImuCalibration:
     fit: dict[str, Any] = field(default_factory=dict)
     created: str = ""
 
+    def __repr__(self) -> str:
+        held = f", {len(self.held)} held" if self.held else ""
+        warned = f", {len(self.warnings)} warnings" if self.warnings else ""
+        return (
+            f"ImuCalibration({self.session!r} session, {self.sample_rate:g} Hz, "
+            f"{len(self.parameter_names)} parameters{held}{warned})"
+        )
+
     @property
     def identity_nominal(self) -> bool:
         """Whether the file calibrates SI readings (nominal scale 1, offset

@@ -30,6 +30,15 @@ class LogNavigationResult:
     truth_smoothed: dict[str, Any] | None = None
     precision: dict[str, dict[str, Any]] | None = None
 
+    def __repr__(self) -> str:
+        if self.failure is not None:
+            state = f"failed at {self.failure.get('stage')}"
+        else:
+            state = f"{len(self.run)} epochs" if self.run is not None else "not run"
+        scored = ", scored against the truth" if self.truth is not None else ""
+        name = self.config[""]["name"]
+        return f"LogNavigationResult({name!r}: {state}{scored}, {len(self.files)} files)"
+
     @property
     def failure(self) -> dict[str, Any] | None:
         """The summary's ``failure`` entry (``stage``, ``what``,

@@ -74,6 +74,13 @@ class TimeOffsetEstimate:
     correlation_curve: np.ndarray
     epochs: int
 
+    def __repr__(self) -> str:
+        return (
+            f"TimeOffsetEstimate(offset {self.offset_s:+.3f} s ± {self.std_s:.3f}, "
+            f"correlation {self.correlation:.2f}, {len(self.block_offsets_s)} stretches, "
+            f"{self.epochs} epochs)"
+        )
+
 
 @dataclass(frozen=True)
 class VelocityLatencyEstimate:
@@ -94,6 +101,12 @@ class VelocityLatencyEstimate:
     lag_s: np.ndarray
     rms_curve_m_s: np.ndarray
     epochs: int
+
+    def __repr__(self) -> str:
+        return (
+            f"VelocityLatencyEstimate(latency {self.latency_s:.3f} s ± {self.std_s:.3f}, "
+            f"RMS difference {self.rms_m_s:.3f} m/s, {self.epochs} intervals)"
+        )
 
 
 def _epochs(gnss: GnssPositions, quality: Sequence[int] | None) -> np.ndarray:
