@@ -30,6 +30,7 @@ from typing import Any
 
 import drive_calibration_record
 import foreign_drive_datum
+import foreign_drive_study
 import installation_drives
 import numpy as np
 import robustness_reference
@@ -1711,6 +1712,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_correlation_table": walk_multi_gnss.correlation_record,
     "drive_example_schedule": drive_example_schedule,
     "foreign_drive": foreign_drive_datum.record,
+    "foreign_drive_study": foreign_drive_study.record,
     "static_start_spec": static_start_spec,
     "xsens_session": xsens_session,
     "xsens_parameters": xsens_parameters,
@@ -1771,6 +1773,13 @@ TABLES: dict[str, tuple[Table, ...]] = {
     ),
     "full_log_time_offsets": (
         ("explanation/time-and-truth.md", time_offsets_record.TABLE, time_offsets_record.table),
+    ),
+    "foreign_drive_study": (
+        (
+            "results/foreign-drive.md",
+            (foreign_drive_study.BEGIN, foreign_drive_study.END),
+            foreign_drive_study.tables,
+        ),
     ),
     "drive_calibration": (
         (

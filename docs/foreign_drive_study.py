@@ -1,5 +1,8 @@
 """The foreign-drive study of docs/results/foreign-drive.md, rerunnable by anyone:
-``python docs/foreign_drive_study.py [--data-root DIR] [--write]``.
+``python docs/doc_runs.py foreign_drive_study`` (about a minute) writes its
+record, ``docs/data/foreign_drive_study.json``, and the page's tables
+(:func:`tables`); the page's sentences show the record through
+placeholders.
 
 ``examples/foreign_drive.toml`` (a VN-100 IMU, u-blox F9T standalone
 fixes at 1 Hz, an INS-D reference; loose coupling with NHC, the
@@ -20,16 +23,13 @@ RMS and max, and the share of the N and E errors inside the solution's own
 the same epochs; the resets, whether the run diverged, what it learnt and
 the time it took.
 
-Prints the tables as Markdown; ``--write`` puts them into
-docs/results/foreign-drive.md between its ``study`` markers.
+``tests/test_foreign_drive.py`` reruns two of the configurations and
+compares them with the record.
 """
 
 from __future__ import annotations
 
-import argparse
 import copy
-import datetime
-import platform
 import tempfile
 import time
 import warnings
@@ -37,7 +37,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from marked_block import replace_block
 
 import memsnav as mn
 from memsnav.realdata.config import RunConfig
@@ -122,84 +121,134 @@ def run(cfg: RunConfig) -> tuple[Any, float]:
         return result, time.perf_counter() - started
 
 
-def _cell(stats: dict[str, Any]) -> str:
-    return (
-        f"{stats['rms_horizontal_m']:.2f} / {stats['max_horizontal_m']:.1f} | "
-        f"{stats['within_3sigma_share_horizontal']:.2f}"
-    )
+def slug(name: str) -> str:
+    """A configuration's key in the record (a placeholder's path has no
+    spaces): "fixed consumer, white fixes" is ``fixed_consumer``."""
+    return name.split(",")[0].replace(" ", "_")
 
 
-def _learnt(adaptation: dict[str, Any] | None) -> str:
+def _stats(stats: dict[str, Any]) -> dict[str, float]:
+    return {
+        "rms_m": stats["rms_horizontal_m"],
+        "max_m": stats["max_horizontal_m"],
+        "in_3sigma": stats["within_3sigma_share_horizontal"],
+    }
+
+
+def _learnt(adaptation: dict[str, Any] | None) -> dict[str, Any]:
+    """What the run learnt: the grade (when it chose one), the constraint's
+    std and the fix-error states' std and correlation time (None where it
+    learnt nothing)."""
+    a = adaptation or {}
+    return {
+        "imu_preset": a.get("imu_preset") if a.get("imu_candidates") else None,
+        "nhc_std_m_s": a.get("nhc_std_m_s"),
+        "fix_error_std_m": a.get("fix_error_std_m"),
+        "fix_error_correlation_time_s": a.get("fix_error_correlation_time_s"),
+    }
+
+
+def _installation(estimates: dict[str, Any]) -> dict[str, Any]:
+    """The installation states' final estimates and σ: lever arm (m, sensor
+    axes), mounting pitch and yaw (°), IMU time offset and velocity latency (s)."""
+    return {
+        "lever_arm_m": estimates["lever_arm_m"]["value"],
+        "lever_arm_std_m": estimates["lever_arm_m"]["std"],
+        "mounting_std_deg": estimates["mounting_pitch_yaw_deg"]["std"],
+        "time_offset_s": estimates["time_offset_s"]["value"],
+        "time_offset_std_s": estimates["time_offset_s"]["std"],
+        "velocity_latency_s": estimates["velocity_latency_s"]["value"],
+        "velocity_latency_std_s": estimates["velocity_latency_s"]["std"],
+    }
+
+
+def configuration_figures(result: Any, length_s: float, seconds: float) -> dict[str, Any]:
+    """One configuration's row of the study: forward and smoothed, aided
+    and in the outages of ``length_s``; resets, divergence, what it learnt,
+    its installation estimates and its wall time."""
+    s = result.summary
+    forward, smoothed = s["errors_vs_truth"], s["errors_vs_truth_smoothed"]
+    key = f"{length_s:g}"
+    return {
+        "forward_aided": _stats(forward["aided"]),
+        "forward_outages": _stats(forward["by_outage_length_s"][key]),
+        "smoothed_aided": _stats(smoothed["aided"]),
+        "smoothed_outages": _stats(smoothed["by_outage_length_s"][key]),
+        "resets": len(s["resets"]),
+        "diverged": bool(s["integrity"]["diverged"]),
+        "learnt": _learnt(s.get("adaptation")),
+        "installation": _installation(s["installation_estimates"]),
+        "run_s": seconds,
+    }
+
+
+def record(data_root: Path | None) -> dict[str, Any]:
+    """Every configuration at each outage length (:func:`configuration_figures`),
+    with the outage epochs, the fixes' own RMS and the straight line's
+    RMS / max per length."""
+    base = mn.load_config(ROOT / "examples" / "foreign_drive.toml", data_root)
+    out: dict[str, Any] = {}
+    for length in OUTAGE_LENGTHS_S:
+        rows = {}
+        for name in CONFIGURATIONS:
+            result, seconds = run(configured(base, name, length))
+            rows[slug(name)] = {"name": name} | configuration_figures(result, length, seconds)
+            if name == "defaults":
+                line_rms, line_max = straight_line(result, length)
+                forward = result.summary["errors_vs_truth"]
+                outages = forward["by_outage_length_s"][f"{length:g}"]["epochs"]
+                fixes_rms = result.summary["gnss_errors_vs_truth"]["rms_horizontal_m"]
+        out[f"{length:g}"] = {
+            "outage_epochs": outages,
+            "fixes_rms_m": fixes_rms,
+            "line_rms_m": line_rms,
+            "line_max_m": line_max,
+            "configurations": rows,
+        }
+    return out
+
+
+def _cell(stats: dict[str, float]) -> str:
+    return f"{stats['rms_m']:.2f} / {stats['max_m']:.1f} | {stats['in_3sigma']:.2f}"
+
+
+def _learnt_cell(learnt: dict[str, Any]) -> str:
     """What the run learnt, in a table cell."""
-    if not adaptation:
-        return "nothing"
-    words = [f"IMU {adaptation['imu_preset']}"] if adaptation["imu_candidates"] else []
-    if adaptation["nhc_std_m_s"] is not None:
-        words.append(f"NHC {adaptation['nhc_std_m_s']:g} m/s")
-    if adaptation["fix_error_std_m"] is not None:
+    words = [f"IMU {learnt['imu_preset']}"] if learnt["imu_preset"] else []
+    if learnt["nhc_std_m_s"] is not None:
+        words.append(f"NHC {learnt['nhc_std_m_s']:g} m/s")
+    if learnt["fix_error_std_m"] is not None:
         words.append(
-            f"fix-error states {adaptation['fix_error_std_m']:.2f} m, "
-            f"τ {adaptation['fix_error_correlation_time_s']:.0f} s"
+            f"fix-error states {learnt['fix_error_std_m']:.2f} m, "
+            f"τ {learnt['fix_error_correlation_time_s']:.0f} s"
         )
     return "; ".join(words) or "nothing"
 
 
-def study(data_root: str | None) -> str:
-    """The study's tables as Markdown."""
-    base = mn.load_config(ROOT / "examples" / "foreign_drive.toml", data_root)
+def tables(recorded: dict[str, Any]) -> str:
+    """The page's block: the tables of the record, between the markers."""
     header = (
         "| configuration | forward aided: RMS / max [m] | N/E in 3σ | forward outages: RMS / max "
         "[m] | N/E in 3σ | smoothed aided: RMS / max [m] | N/E in 3σ | smoothed outages: RMS / "
         "max [m] | N/E in 3σ | resets | diverged | learnt | run [s] |"
     )
-    blocks = []
-    for length in OUTAGE_LENGTHS_S:
+    blocks = [
+        f"Generated by `python docs/doc_runs.py foreign_drive_study` on {recorded['generated']} "
+        f"({recorded['machine']}, commit {recorded['commit']})."
+    ]
+    for length, study in recorded["figures"].items():
         rows = [header, "|---" * 13 + "|"]
-        line = None
-        for name in CONFIGURATIONS:
-            result, seconds = run(configured(base, name, length))
-            s = result.summary
-            forward, smoothed = s["errors_vs_truth"], s["errors_vs_truth_smoothed"]
-            key = f"{length:g}"
+        for c in study["configurations"].values():
             rows.append(
-                f"| {name} | {_cell(forward['aided'])} | "
-                f"{_cell(forward['by_outage_length_s'][key])} | {_cell(smoothed['aided'])} | "
-                f"{_cell(smoothed['by_outage_length_s'][key])} | {len(s['resets'])} | "
-                f"{'yes' if s['integrity']['diverged'] else 'no'} | "
-                f"{_learnt(s.get('adaptation'))} | {seconds:.1f} |"
+                f"| {c['name']} | {_cell(c['forward_aided'])} | {_cell(c['forward_outages'])} | "
+                f"{_cell(c['smoothed_aided'])} | {_cell(c['smoothed_outages'])} | "
+                f"{c['resets']} | {'yes' if c['diverged'] else 'no'} | "
+                f"{_learnt_cell(c['learnt'])} | {c['run_s']:.1f} |"
             )
-            if line is None:
-                line = straight_line(result, length)
-                outages = forward["by_outage_length_s"][key]["epochs"]
-                fixes = s["gnss_errors_vs_truth"]
-        assert line is not None
         blocks.append(
-            f"**{length:g} s outages** ({outages} outage epochs at the reference's 10 Hz; the "
-            f"fixes alone: {fixes['rms_horizontal_m']:.2f} m horizontal RMS; the straight line "
-            f"between the fixes that bound each outage: {line[0]:.1f} / {line[1]:.1f} m RMS / "
-            "max)\n\n" + "\n".join(rows)
+            f"**{length} s outages** ({study['outage_epochs']} outage epochs at the reference's "
+            f"10 Hz; the fixes alone: {study['fixes_rms_m']:.2f} m horizontal RMS; the straight "
+            f"line between the fixes that bound each outage: {study['line_rms_m']:.1f} / "
+            f"{study['line_max_m']:.1f} m RMS / max)\n\n" + "\n".join(rows)
         )
-    stamp = (
-        f"Generated by `python docs/foreign_drive_study.py --write` on "
-        f"{datetime.date.today().isoformat()} ({platform.machine()}, "
-        f"{platform.python_implementation()} {platform.python_version()}, memsnav "
-        f"{mn.__version__})."
-    )
-    return "\n\n".join([stamp, *blocks])
-
-
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data-root", default=None, help="the shared data folder")
-    parser.add_argument(
-        "--write", action="store_true", help="write into docs/results/foreign-drive.md"
-    )
-    args = parser.parse_args()
-    text = study(args.data_root)
-    print(text)
-    if args.write:
-        replace_block(PAGE, BEGIN, END, f"{BEGIN}\n{text}\n{END}")
-
-
-if __name__ == "__main__":
-    main()
+    return "\n".join([BEGIN, "\n\n".join(blocks), END])

@@ -5,7 +5,8 @@ from typing import Any
 
 
 def agree(fresh, recorded, tolerance, path="") -> list[str]:
-    """Where ``fresh`` and ``recorded`` (nested dicts and lists of numbers)
+    """Where ``fresh`` and ``recorded`` (nested dicts and lists of numbers;
+    strings and None compared exactly)
     differ by more than ``tolerance`` (a number, or dicts of them by key: a
     key a level does not name gets its ``"*"`` entry, or without one the
     whole tolerance passed down), by path."""
@@ -28,6 +29,8 @@ def agree(fresh, recorded, tolerance, path="") -> list[str]:
             for k, (f, r) in enumerate(zip(fresh, recorded, strict=True))
             for d in agree(f, r, tolerance, f"{path}.{k}")
         ]
+    if recorded is None or isinstance(recorded, str):  # a name, or nothing learnt
+        return [] if fresh == recorded else [f"{path}: {fresh!r} vs {recorded!r}"]
     return [] if abs(fresh - recorded) <= tolerance + 1e-12 else [f"{path}: {fresh} vs {recorded}"]
 
 

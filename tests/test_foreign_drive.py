@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import foreign_drive_study as study
 import pytest
+from figures import figures
+from record_agreement import agree
 from shared_data import data_root, shared_data
 
 import memsnav as mn
@@ -26,9 +28,36 @@ def base():
     return mn.load_config(study.ROOT / "examples" / "foreign_drive.toml", data_root())
 
 
+#: What the page shows of a configuration to its digits: errors 0.01 m
+#: (RMS) and 0.1 m (max), shares 0.01, the installation to 0.01; counts
+#: and what was learnt exactly (its std 0.01 m, τ 1 s); the run time is the
+#: machine's, not checked.
+ROW_TOLERANCE = {
+    "forward_aided": {"max_m": 0.05, "*": 0.005},
+    "forward_outages": {"max_m": 0.05, "*": 0.005},
+    "smoothed_aided": {"max_m": 0.05, "*": 0.005},
+    "smoothed_outages": {"max_m": 0.05, "*": 0.005},
+    "resets": 0,
+    "diverged": 0,
+    "learnt": {"fix_error_std_m": 0.005, "fix_error_correlation_time_s": 0.5, "*": 0},
+    "installation": 0.005,
+    "run_s": float("inf"),
+}
+
+
+def _agrees_with_the_record(result, name: str, length_s: float) -> None:
+    """``result``'s row of the study equals the record's within the digits
+    docs/results/foreign-drive.md shows."""
+    fresh = {"name": name} | study.configuration_figures(result, length_s, 0.0)
+    recorded = figures("foreign_drive_study")[f"{length_s:g}"]["configurations"]
+    differ = agree(fresh, recorded[study.slug(name)], {"name": 0} | ROW_TOLERANCE)
+    assert not differ, f"{differ}: rerun python docs/doc_runs.py foreign_drive_study if meant"
+
+
 @pytest.mark.slow
 def test_the_defaults_hold_their_bounds_and_coast_on_a_foreign_drive(base):
     result, _ = study.run(study.configured(base, "defaults", 30.0))
+    _agrees_with_the_record(result, "defaults", 30.0)
     s = result.summary
     assert not s["integrity"]["diverged"] and "failure" not in s
     assert s["adaptation"]["imu_preset"] == "industrial"
@@ -50,6 +79,7 @@ def test_the_defaults_hold_their_bounds_and_coast_on_a_foreign_drive(base):
 @pytest.mark.slow
 def test_with_nothing_learnt_the_aided_bounds_fail(base):
     result, _ = study.run(study.configured(base, "fixed consumer, white fixes", 30.0))
+    _agrees_with_the_record(result, "fixed consumer, white fixes", 30.0)
     s = result.summary
     assert s["adaptation"]["imu_candidates"] == [] and s["adaptation"]["fix_correlation"] is None
     assert s["errors_vs_truth"]["aided"]["within_3sigma_share_horizontal"] < 0.8
