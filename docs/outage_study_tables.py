@@ -10,7 +10,8 @@ the report (median / p95 of the horizontal error at the outage end, the
 smoothed solution's p95 of its largest error in brackets, the cell's runs
 and decision), built by the same functions as the report.
 ``--write`` puts them into docs/results/outage-study.md between its ``study``
-markers.
+markers and writes, from the same run, the record its sentences show
+(``docs/data/outage_study.json``: :func:`cell_figures`).
 """
 
 from __future__ import annotations
@@ -20,7 +21,10 @@ import os
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
+import numpy as np
+from figures import write_record
 from marked_block import replace_block
 
 import memsnav as mn
@@ -45,6 +49,27 @@ def _look_error_sentence(looks: list[int], requirement: Requirement) -> str:
         f"{len(looks)} looks); Bonferroni's {union * 100:.2f} % would keep a decision wrong "
         f"at most {worst * 100:.1f} % of the time where {allowed * 100:g} % is allowed."
     )
+
+
+def cell_figures(result: Any, requirement: Requirement) -> dict[str, Any]:
+    """Per grade, satellites kept and outage length (``grade.n.length``):
+    the cell's runs, decision and interval (m), the percentile of the
+    requirement's metric over all its runs and over its first look's runs
+    (what a fixed study of that size would have said), m."""
+    first_look = result.config["looks"][0]
+    out: dict[str, Any] = {}
+    for (grade, length, n), cell in result.cells.items():
+        values = result.per_run(grade, length, n, requirement.metric)
+        out.setdefault(grade, {}).setdefault(str(n), {})[f"{length:g}"] = {
+            "runs": cell.runs,
+            "decision": cell.decision,
+            "interval_m": list(cell.interval_m) if cell.interval_m else None,
+            "percentile_m": float(np.percentile(values, requirement.percentile)),
+            "first_look_percentile_m": float(
+                np.percentile(values[:first_look], requirement.percentile)
+            ),
+        }
+    return out
 
 
 def main() -> None:
@@ -98,6 +123,7 @@ def main() -> None:
     if args.write:
         page = ROOT / "docs" / "results" / "outage-study.md"
         replace_block(page, BEGIN, END, text)
+        write_record("outage_study", {"cells": cell_figures(result, requirement)})
 
 
 if __name__ == "__main__":
