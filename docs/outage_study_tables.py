@@ -122,8 +122,10 @@ def main() -> None:
     print(text)
     if args.write:
         page = ROOT / "docs" / "results" / "outage-study.md"
-        replace_block(page, BEGIN, END, text)
+        # The record first: it names the commit, which the page's new block
+        # would mark as changed.
         write_record("outage_study", {"cells": cell_figures(result, requirement)})
+        replace_block(page, BEGIN, END, text)
 
 
 if __name__ == "__main__":
