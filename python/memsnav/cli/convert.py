@@ -13,9 +13,9 @@ HELP = "convert a raw u-blox UBX log to RINEX (see docs/how-to/convert-ublox.md)
 DESCRIPTION = (
     "Read a u-blox UBX log (RXM-RAWX, RXM-SFRBX, NAV-PVT) and write its observations "
     "(every system and signal) as RINEX 3.04 <stem>.obs and its decoded GPS LNAV and "
-    "CNAV, Galileo I/NAV and BeiDou D1 (MEO and IGSO satellites) ephemerides as RINEX "
-    "4.00 <stem>.nav (or RINEX 3.04, without the CNAV ones) in the output folder. BeiDou "
-    "D2 (GEO satellites) is not decoded."
+    "CNAV, Galileo I/NAV, BeiDou D1 (MEO and IGSO satellites) and GLONASS (strings 1-5) "
+    "ephemerides as RINEX 4.00 <stem>.nav (or RINEX 3.04, without the CNAV ones) in the "
+    "output folder. BeiDou D2 (GEO satellites) is not decoded."
 )
 
 
