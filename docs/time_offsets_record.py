@@ -13,6 +13,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 import memsnav as mn
 
 #: Per log: its label in the table, its files' stem, the authors' mounting
@@ -32,6 +34,10 @@ LOGS: dict[str, dict[str, Any]] = {
     },
 }
 SIGNALS = {"along_track": "along-track", "yaw_rate": "yaw rate"}
+#: The drive's IMU offset the data's authors give, s.
+AUTHORS_DRIVE_OFFSET_S = -0.125
+#: The RTK solutions' interval, s (4 Hz).
+RTK_INTERVAL_S = 0.25
 TABLE = ("<!-- full-log-time-offsets:begin -->", "<!-- full-log-time-offsets:end -->")
 
 
@@ -67,13 +73,22 @@ def record(data_root: Path) -> dict[str, Any]:
                 "std_s": e.std_s,
                 "correlation": e.correlation,
                 "stretches_s": [float(v) for v in e.block_offsets_s],
+                "stretch_spread_s": float(np.ptp(e.block_offsets_s)),
             }
         latency = mn.estimate_velocity_latency(rtk)
         out[name]["velocity_latency"] = {
             "latency_s": latency.latency_s,
             "std_s": latency.std_s,
             "rms_m_s": latency.rms_m_s,
+            # Beyond the backward difference's own latency, half the interval.
+            "beyond_half_interval_ms": 1e3 * (latency.latency_s - RTK_INTERVAL_S / 2),
         }
+        along, yaw = out[name]["along_track"], out[name]["yaw_rate"]
+        out[name]["yaw_minus_along_track_ms"] = 1e3 * (yaw["offset_s"] - along["offset_s"])
+    drive = out["drive_0708"]["along_track"]
+    out["drive_0708"]["along_track_standard_errors_from_authors"] = (
+        abs(drive["offset_s"] - AUTHORS_DRIVE_OFFSET_S) / drive["std_s"]
+    )
     return out
 
 
