@@ -1735,6 +1735,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "drive_smoothed_sigma": drive_smoothed_sigma,
     "robustness_runs": robustness_runs,
     "drive_calibration": drive_calibration_record.record,
+    "drive_calibration_windows": drive_calibration_record.window_study,
     "installation_states": installation_drives.record,
     "full_log_time_offsets": time_offsets_record.record,
     "robustness_constants": robustness_reference.constants,

@@ -44,10 +44,11 @@ PARAMETERS = (
 OUTAGES = ("<!-- drive-calibration-outages:begin -->", "<!-- drive-calibration-outages:end -->")
 
 
-def calibrate(data_root: Path, output: Path) -> dict[str, Any]:
-    """Runs ``memsnav calibrate`` on the example into ``output`` (its
-    terminal output swallowed) and returns the calibration file."""
-    argv = ["calibrate", "--config", str(CONFIG), "--data-root", str(data_root)]
+def calibrate(data_root: Path, output: Path, config: Path = CONFIG) -> dict[str, Any]:
+    """Runs ``memsnav calibrate`` on ``config`` (the example) into
+    ``output`` (its terminal output swallowed) and returns the calibration
+    file."""
+    argv = ["calibrate", "--config", str(config), "--data-root", str(data_root)]
     with contextlib.redirect_stdout(io.StringIO()):
         code = main([*argv, "--output", str(output)])
     if code != 0:
@@ -114,6 +115,31 @@ def record(data_root: Path) -> dict[str, Any]:
     """The example calibrated anew, as :func:`figures_of` shows it."""
     with tempfile.TemporaryDirectory() as tmp:
         return figures_of(calibrate(data_root, Path(tmp)))
+
+
+#: The reference windows the window study compares, s.
+WINDOWS_S = (0.5, 1.0, 2.0, 4.0)
+
+
+def window_study(data_root: Path) -> dict[str, Any]:
+    """The example calibrated with each of :data:`WINDOWS_S` (no draws):
+    the forward horizontal RMS in the outages after the calibration span,
+    calibrated per window and raw, m."""
+    text = CONFIG.read_text()
+    text = text.replace(
+        'navigate = "drive_0708.toml"', f'navigate = "{CONFIG.parent / "drive_0708.toml"}"'
+    )
+    text = text.replace("draws = 10", "draws = 0")
+    calibrated, raw = [], None
+    with tempfile.TemporaryDirectory() as tmp:
+        for window_s in WINDOWS_S:
+            config = Path(tmp) / f"window_{window_s:g}.toml"
+            config.write_text(text.replace("window_s = 2.0", f"window_s = {window_s}"))
+            content = calibrate(data_root, Path(tmp) / f"out_{window_s:g}", config)
+            after = content["fit"]["navigation"]
+            calibrated.append(after["calibrated"]["forward"]["after_fit"]["rms_horizontal_m"])
+            raw = after["raw"]["forward"]["after_fit"]["rms_horizontal_m"]
+    return {"window_s": list(WINDOWS_S), "calibrated_rms_m": calibrated, "raw_rms_m": raw}
 
 
 def _minus(text: str) -> str:

@@ -49,6 +49,18 @@ def test_the_study_defaults_are_the_record():
     _check("study_defaults", 0.0)
 
 
+@pytest.mark.slow
+def test_the_drive_calibration_windows_are_the_record():
+    """The example calibrated with 0.5, 1, 2 and 4 s windows (about half a
+    minute): each window's outage RMS within half the page's last digit."""
+    fresh = _check(
+        "drive_calibration_windows",
+        {"window_s": 0.0, "calibrated_rms_m": 5e-3, "raw_rms_m": 5e-3},
+        needs_data=True,
+    )
+    assert fresh["window_s"] == [0.5, 1.0, 2.0, 4.0]
+
+
 def test_the_own_arrays_example_is_as_poorly_conditioned_as_recorded():
     """The w axis's condition number, shown to one significant figure."""
     fresh = _check("own_arrays_conditioning", {"w_axis_condition_number": float("inf")})
