@@ -24,10 +24,14 @@ class ParseError(ValueError):
     """A data file could not be read; the message names the file and the line."""
 
 def geodetic_to_ecef(lla: npt.ArrayLike) -> npt.NDArray[np.float64]:
-    """Geodetic [latitude rad, longitude rad, height m] → ECEF position, m."""
+    """ECEF position, m, of `lla`: geodetic [latitude rad, longitude rad,
+    height m] (3,) or (N, 3), WGS84.
+    """
 
 def ecef_to_geodetic(xyz: npt.ArrayLike) -> npt.NDArray[np.float64]:
-    """ECEF position, m → geodetic [latitude rad, longitude rad, height m]."""
+    """Geodetic [latitude rad, longitude rad, height m] of `xyz`: ECEF
+    positions, m, (3,) or (N, 3), WGS84.
+    """
 
 def ecef_to_ned(
     position_ecef: npt.ArrayLike, origin_ecef: npt.ArrayLike
@@ -37,7 +41,9 @@ def ecef_to_ned(
     """
 
 def gravity_ecef(position_ecef: npt.ArrayLike) -> npt.NDArray[np.float64]:
-    """Gravity (J2 gravitation plus centrifugal) in ECEF, m/s²."""
+    """Gravity (J2 gravitation plus centrifugal) in ECEF, m/s², at
+    `position_ecef` (3,) or (N, 3), m.
+    """
 
 # --- sensors (method §2) -------------------------------------------------------
 
@@ -80,7 +86,11 @@ class AccelerometerModel:
     def measure(
         self, specific_force: npt.ArrayLike, seed: int | None = None
     ) -> npt.NDArray[np.float64]:
-        """Readings for true specific forces `(N, 3)` m/s² sampled at `sample_rate`."""
+        """Readings for true specific forces, sampled at `sample_rate`.
+
+        - `specific_force` (N, 3) m/s²: the true input in body axes.
+        - `seed`: the noise's random stream, an integer in [0, 2**64) [0].
+        """
 
     @property
     def bias(self) -> npt.NDArray[np.float64]:
@@ -173,8 +183,12 @@ class GyroscopeModel:
         specific_force: npt.ArrayLike,
         seed: int | None = None,
     ) -> npt.NDArray[np.float64]:
-        """Readings for true angular rates `(N, 3)` rad/s and specific forces
-        `(N, 3)` m/s² (for the g-sensitivity) sampled at `sample_rate`.
+        """Readings for true angular rates, sampled at `sample_rate`.
+
+        - `angular_rate` (N, 3) rad/s: the true input in body axes.
+        - `specific_force` (N, 3) m/s²: the true specific force (for the
+          g-sensitivity).
+        - `seed`: the noise's random stream, an integer in [0, 2**64) [0].
         """
 
     @property
@@ -257,8 +271,13 @@ class ImuModel:
     ) -> ImuModel: ...
     @staticmethod
     def preset(name: str, seed: int | None = None, sample_rate: float | None = None) -> ImuModel:
-        """A named grade ("paper-mems", "consumer", "industrial", "tactical",
-        "navigation"), every error term drawn zero-mean Gaussian from its spec."""
+        """A named grade, every error term drawn zero-mean Gaussian from its spec.
+
+        - `name`: "paper-mems", "consumer", "industrial", "tactical" or
+          "navigation" (`presets()`).
+        - `seed`: the draw's random stream, an integer in [0, 2**64) [0].
+        - `sample_rate`: Hz [100].
+        """
 
     @staticmethod
     def presets() -> list[str]:
@@ -270,8 +289,13 @@ class ImuModel:
         angular_rate: npt.ArrayLike,
         seed: int | None = None,
     ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """Readings ``(accel m/s², gyro rad/s)``, each (N, 3), for true specific
-        forces (N, 3) m/s² and angular rates (N, 3) rad/s."""
+        """Readings ``(accel m/s², gyro rad/s)``, each (N, 3), sampled at the
+        model's `sample_rate`.
+
+        - `specific_force` (N, 3) m/s² and `angular_rate` (N, 3) rad/s: the
+          true inputs in body axes.
+        - `seed`: the noise's random stream, an integer in [0, 2**64) [0].
+        """
 
     @property
     def accelerometer(self) -> AccelerometerModel:
@@ -975,7 +999,13 @@ class Constellation:
         raan0_deg: float | None = None,
     ) -> Constellation:
         """A Walker delta constellation i: t/p/f of circular orbits.
-        None: the core's default (`defaults()`), GPS-like 24/6/1 at 55°.
+
+        None takes the core's default (`defaults()`), the GPS-like pattern:
+
+        - `n_satellites` t [24], `planes` p [6] and `phasing` f [1].
+        - `inclination_deg` i, degrees [55].
+        - `semi_major_axis_m`: the orbits' radius, m [26 560 km].
+        - `raan0_deg`: the first plane's right ascension, degrees [0].
         """
 
     @staticmethod
@@ -1444,17 +1474,29 @@ class Trajectory:
         heading: float = 0.0,
         rate: float | None = None,
     ) -> Trajectory:
-        """Scripted motion from rest: ``("accelerate", duration_s,
-        target_speed_m_s)``, ``("cruise", duration_s)``, ``("turn",
-        duration_s, heading_change_rad)`` (positive right),
-        ``("climb", duration_s, path_angle_rad)`` (ramps up and back to
-        level), ``("stop", duration_s)``. heading rad, rate Hz."""
+        """Scripted motion from rest.
+
+        - `segments`: a list of manoeuvres, each a tuple:
+          ``("accelerate", duration_s, target_speed_m_s)``,
+          ``("cruise", duration_s)``, ``("turn", duration_s,
+          heading_change_rad)`` (positive right), ``("climb", duration_s,
+          path_angle_rad)`` (ramps up and back to level),
+          ``("stop", duration_s)``.
+        - `origin`: [latitude rad, longitude rad, height m] of the start
+          [Toulouse, as `Trajectory.random`].
+        - `heading`: the initial heading, rad from north [0].
+        - `rate`: Hz [100].
+        """
 
     @staticmethod
     def from_profile(path: str | os.PathLike[str], rate: float | None = None) -> Trajectory:
-        """A profile CSV of Groves' book software (t, lat, lon deg, h m,
-        v_NED m/s, roll, pitch, yaw deg), smoothed by splines through knots
-        0.5 s apart and sampled at ``rate`` Hz. ParseError names file and line."""
+        """A profile of Groves' book software, smoothed by splines through
+        knots 0.5 s apart.
+
+        - `path`: the CSV file (t, lat, lon deg, h m, v_NED m/s, roll, pitch,
+          yaw deg); a ParseError names its file and line.
+        - `rate`: the samples' rate, Hz [100].
+        """
 
     @property
     def time(self) -> npt.NDArray[np.float64]:
@@ -1535,9 +1577,14 @@ def strapdown_increments(
     velocity_ecef: npt.ArrayLike,
     attitude: npt.ArrayLike,
 ) -> NavSolution:
-    """Strapdown INS from increments with coning and sculling corrections:
-    time s (N + 1,), delta_velocity m/s and delta_angle rad (N, 3), row k
-    integrated over [time[k], time[k + 1]]; initial state as ``strapdown``."""
+    """Strapdown INS from increments with coning and sculling corrections.
+
+    - `time` (N + 1,) s, increasing.
+    - `delta_velocity` (N, 3) m/s and `delta_angle` (N, 3) rad: row k
+      integrated over [time[k], time[k + 1]], in body axes.
+    - `position_ecef` (3,) m, `velocity_ecef` (3,) m/s and `attitude`
+      (3, 3) C_b^e: the state at `time[0]`, as for `strapdown`.
+    """
 
 def imu_increments(
     time: npt.ArrayLike, specific_force: npt.ArrayLike, angular_rate: npt.ArrayLike

@@ -29,7 +29,8 @@ fn map_nd<'py>(
     convert::vectors_to_numpy_nd(obj.py(), &out, &leading)
 }
 
-/// Geodetic [latitude rad, longitude rad, height m] → ECEF position, m.
+/// ECEF position, m, of `lla`: geodetic [latitude rad, longitude rad,
+/// height m] (3,) or (N, 3), WGS84.
 #[catch_panics]
 #[pyfunction]
 fn geodetic_to_ecef<'py>(lla: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
@@ -38,7 +39,8 @@ fn geodetic_to_ecef<'py>(lla: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray
     })
 }
 
-/// ECEF position, m → geodetic [latitude rad, longitude rad, height m].
+/// Geodetic [latitude rad, longitude rad, height m] of `xyz`: ECEF
+/// positions, m, (3,) or (N, 3), WGS84.
 #[catch_panics]
 #[pyfunction]
 fn ecef_to_geodetic<'py>(xyz: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
@@ -48,7 +50,8 @@ fn ecef_to_geodetic<'py>(xyz: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray
     })
 }
 
-/// Gravity (J2 gravitation plus centrifugal) in ECEF, m/s².
+/// Gravity (J2 gravitation plus centrifugal) in ECEF, m/s², at
+/// `position_ecef` (3,) or (N, 3), m.
 #[catch_panics]
 #[pyfunction]
 fn gravity_ecef<'py>(position_ecef: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {

@@ -82,8 +82,14 @@ impl PyConstellation {
     }
 
     /// A Walker delta constellation i: t/p/f of circular orbits.
+    ///
+    /// None takes the core's default (`defaults()`), the GPS-like pattern:
+    ///
+    /// - `n_satellites` t [24], `planes` p [6] and `phasing` f [1].
+    /// - `inclination_deg` i, degrees [55].
+    /// - `semi_major_axis_m`: the orbits' radius, m [26 560 km].
+    /// - `raan0_deg`: the first plane's right ascension, degrees [0].
     #[staticmethod]
-    /// None: the core's default (`defaults()`), GPS-like 24/6/1 at 55°.
     #[pyo3(signature = (n_satellites=None, planes=None, inclination_deg=None, semi_major_axis_m=None, phasing=None, raan0_deg=None))]
     fn walker(
         n_satellites: Option<usize>,

@@ -112,9 +112,13 @@ fn strapdown(
     Ok(PyNavSolution { time_s, states })
 }
 
-/// Strapdown INS from increments with coning and sculling corrections:
-/// time s (N + 1,), delta_velocity m/s and delta_angle rad (N, 3), row k
-/// integrated over [time[k], time[k + 1]]; initial state as ``strapdown``.
+/// Strapdown INS from increments with coning and sculling corrections.
+///
+/// - `time` (N + 1,) s, increasing.
+/// - `delta_velocity` (N, 3) m/s and `delta_angle` (N, 3) rad: row k
+///   integrated over [time[k], time[k + 1]], in body axes.
+/// - `position_ecef` (3,) m, `velocity_ecef` (3,) m/s and `attitude`
+///   (3, 3) C_b^e: the state at `time[0]`, as for `strapdown`.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (time, delta_velocity, delta_angle, position_ecef, velocity_ecef, attitude))]

@@ -153,7 +153,10 @@ impl PyAccelerometerModel {
         })
     }
 
-    /// Readings for true specific forces `(N, 3)` m/s² sampled at `sample_rate`.
+    /// Readings for true specific forces, sampled at `sample_rate`.
+    ///
+    /// - `specific_force` (N, 3) m/s²: the true input in body axes.
+    /// - `seed`: the noise's random stream, an integer in [0, 2**64) [0].
     #[pyo3(signature = (specific_force, seed=None))]
     fn measure<'py>(
         &self,
@@ -324,8 +327,12 @@ impl PyGyroscopeModel {
         })
     }
 
-    /// Readings for true angular rates `(N, 3)` rad/s and specific forces
-    /// `(N, 3)` m/s² (for the g-sensitivity) sampled at `sample_rate`.
+    /// Readings for true angular rates, sampled at `sample_rate`.
+    ///
+    /// - `angular_rate` (N, 3) rad/s: the true input in body axes.
+    /// - `specific_force` (N, 3) m/s²: the true specific force (for the
+    ///   g-sensitivity).
+    /// - `seed`: the noise's random stream, an integer in [0, 2**64) [0].
     #[pyo3(signature = (angular_rate, specific_force, seed=None))]
     fn measure<'py>(
         &self,
@@ -529,8 +536,12 @@ impl PyImuModel {
         Ok(Self { inner })
     }
 
-    /// A named grade ("paper-mems", "consumer", "industrial", "tactical",
-    /// "navigation"), every error term drawn zero-mean Gaussian from its spec.
+    /// A named grade, every error term drawn zero-mean Gaussian from its spec.
+    ///
+    /// - `name`: "paper-mems", "consumer", "industrial", "tactical" or
+    ///   "navigation" (`presets()`).
+    /// - `seed`: the draw's random stream, an integer in [0, 2**64) [0].
+    /// - `sample_rate`: Hz [100].
     #[staticmethod]
     #[pyo3(signature = (name, seed=None, sample_rate=None))]
     fn preset(
@@ -550,8 +561,12 @@ impl PyImuModel {
         presets::PRESET_NAMES.to_vec()
     }
 
-    /// Readings ``(accel m/s², gyro rad/s)``, each (N, 3), for true specific
-    /// forces (N, 3) m/s² and angular rates (N, 3) rad/s.
+    /// Readings ``(accel m/s², gyro rad/s)``, each (N, 3), sampled at the
+    /// model's `sample_rate`.
+    ///
+    /// - `specific_force` (N, 3) m/s² and `angular_rate` (N, 3) rad/s: the
+    ///   true inputs in body axes.
+    /// - `seed`: the noise's random stream, an integer in [0, 2**64) [0].
     #[pyo3(signature = (specific_force, angular_rate, seed=None))]
     fn measure<'py>(
         &self,

@@ -166,11 +166,18 @@ impl PyTrajectory {
         Ok(Self { inner })
     }
 
-    /// Scripted motion from rest: ``("accelerate", duration_s,
-    /// target_speed_m_s)``, ``("cruise", duration_s)``, ``("turn",
-    /// duration_s, heading_change_rad)`` (positive right),
-    /// ``("climb", duration_s, path_angle_rad)`` (ramps up and back to
-    /// level), ``("stop", duration_s)``. heading rad, rate Hz.
+    /// Scripted motion from rest.
+    ///
+    /// - `segments`: a list of manoeuvres, each a tuple:
+    ///   ``("accelerate", duration_s, target_speed_m_s)``,
+    ///   ``("cruise", duration_s)``, ``("turn", duration_s,
+    ///   heading_change_rad)`` (positive right), ``("climb", duration_s,
+    ///   path_angle_rad)`` (ramps up and back to level),
+    ///   ``("stop", duration_s)``.
+    /// - `origin`: [latitude rad, longitude rad, height m] of the start
+    ///   [Toulouse, as `Trajectory.random`].
+    /// - `heading`: the initial heading, rad from north [0].
+    /// - `rate`: Hz [100].
     #[staticmethod]
     #[pyo3(signature = (segments, origin=None, heading=0.0, rate=None))]
     fn from_segments(
@@ -195,9 +202,12 @@ impl PyTrajectory {
         Ok(Self { inner })
     }
 
-    /// A profile CSV of Groves' book software (t, lat, lon deg, h m,
-    /// v_NED m/s, roll, pitch, yaw deg), smoothed by splines through knots
-    /// 0.5 s apart and sampled at ``rate`` Hz. ParseError names file and line.
+    /// A profile of Groves' book software, smoothed by splines through
+    /// knots 0.5 s apart.
+    ///
+    /// - `path`: the CSV file (t, lat, lon deg, h m, v_NED m/s, roll, pitch,
+    ///   yaw deg); a ParseError names its file and line.
+    /// - `rate`: the samples' rate, Hz [100].
     #[staticmethod]
     #[pyo3(signature = (path, rate=None))]
     fn from_profile(py: Python<'_>, path: PathBuf, rate: Option<f64>) -> PyResult<Self> {
