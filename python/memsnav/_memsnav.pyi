@@ -1077,7 +1077,10 @@ class Sp3:
         """
 
 def read_sp3(path: str | os.PathLike[str]) -> Sp3:
-    """Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s)."""
+    """Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s).
+
+    `path`: the file to read (str or path-like).
+    """
 
 @final
 class GnssMeasurements:
@@ -2414,6 +2417,8 @@ class BroadcastEphemerides:
 def satellite_name(number: int) -> str:
     """The RINEX name of a satellite number (``107`` → ``"E07"``; G n → n,
     E n → 100 + n, C n → 200 + n), or the number as text beyond them.
+
+    `number`: a satellite number, as `satellite_number` gives it.
     """
 
 def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
@@ -2422,6 +2427,8 @@ def read_broadcast_nav(path: str | os.PathLike[str]) -> BroadcastEphemerides:
     (other systems, Galileo F/NAV records and ephemerides in conflict, two
     of one satellite and t_oc or issue of data with other values, counted
     in ``skipped``).
+
+    `path`: the file to read (str or path-like).
     """
 
 @final
@@ -2554,12 +2561,16 @@ def read_rinex_obs(path: str | os.PathLike[str]) -> RinexObservations:
     """Reads a RINEX 3 or RINEX 2.10/2.11 observation file (errors name the
     file and line; a truncated last record is dropped and reported in
     ``warnings``; event records are counted in ``skipped``).
+
+    `path`: the file to read (str or path-like).
     """
 
 def read_klobuchar(path: str | os.PathLike[str]) -> tuple[list[float], list[float]] | None:
     """The Klobuchar coefficients ``(alpha, beta)`` of a RINEX navigation
     header (``ION ALPHA``/``ION BETA`` or ``IONOSPHERIC CORR GPSA/GPSB``),
     or None when it has none.
+
+    `path`: the file to read (str or path-like).
     """
 
 def defaults() -> dict[str, dict[str, Any]]:
@@ -2580,6 +2591,8 @@ def mounting_matrix(rpy_deg: Sequence[Sequence[float]]) -> npt.NDArray[np.float6
     """C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
     triples in degrees applied in order (`[imu] mounting_rpy_deg`):
     f_b = C(last) ··· C(first) f_s, (3, 3).
+
+    `rpy_deg`: a list of [roll, pitch, yaw] triples, degrees.
     """
 
 def check_navigate_settings(settings: dict[str, dict[str, Any]]) -> None:
@@ -3266,6 +3279,8 @@ def read_gnsslogger(path: str | os.PathLike[str]) -> GnssLoggerLog:
     (GPS, Galileo, BeiDou weeks, the GLONASS day), only where the
     measurement ``State`` makes them unambiguous (the rest counted in
     ``skipped``); errors name the file and the line.
+
+    `path`: the file to read (str or path-like).
     """
 
 def closest_name(key: str, known: list[str]) -> str | None:
@@ -3404,4 +3419,7 @@ def read_ubx(path: str | os.PathLike[str]) -> UbxLog:
     ephemerides and the CNAV Klobuchar from RXM-SFRBX, NAV-PVT; frames
     with a bad checksum, a cut last frame and messages not decoded are
     skipped and counted; a file without a UBX
-    frame is a ParseError naming it."""
+    frame is a ParseError naming it.
+
+    `path`: the file to read (str or path-like).
+    """

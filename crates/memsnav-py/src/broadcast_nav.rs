@@ -171,6 +171,8 @@ impl PyBroadcastEphemerides {
 /// (other systems, Galileo F/NAV records and ephemerides in conflict, two
 /// of one satellite and t_oc or issue of data with other values, counted
 /// in ``skipped``).
+///
+/// `path`: the file to read (str or path-like).
 #[catch_panics]
 #[pyfunction]
 fn read_broadcast_nav(py: Python<'_>, path: PathBuf) -> PyResult<PyBroadcastEphemerides> {

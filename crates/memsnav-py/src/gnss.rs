@@ -314,6 +314,8 @@ impl PySp3 {
 }
 
 /// Reads an SP3-c/d precise orbit file (GPS time; km and µs converted to m and s).
+///
+/// `path`: the file to read (str or path-like).
 #[catch_panics]
 #[pyfunction]
 fn read_sp3(py: Python<'_>, path: PathBuf) -> PyResult<PySp3> {
@@ -1302,6 +1304,8 @@ pub(crate) fn gnss_epochs<'a>(obj: &'a Bound<'_, PyAny>) -> PyResult<Cow<'a, [Gn
 
 /// The RINEX name of a satellite number (``107`` → ``"E07"``; G n → n,
 /// E n → 100 + n, C n → 200 + n), or the number as text beyond them.
+///
+/// `number`: a satellite number, as `satellite_number` gives it.
 #[catch_panics]
 #[pyfunction]
 fn satellite_name(number: u16) -> String {
@@ -1750,6 +1754,8 @@ impl PyRinexObservations {
 /// Reads a RINEX 3 or RINEX 2.10/2.11 observation file (errors name the
 /// file and line; a truncated last record is dropped and reported in
 /// ``warnings``; event records are counted in ``skipped``).
+///
+/// `path`: the file to read (str or path-like).
 #[catch_panics]
 #[pyfunction]
 fn read_rinex_obs(py: Python<'_>, path: PathBuf) -> PyResult<PyRinexObservations> {
@@ -1761,6 +1767,8 @@ fn read_rinex_obs(py: Python<'_>, path: PathBuf) -> PyResult<PyRinexObservations
 /// The Klobuchar coefficients ``(alpha, beta)`` of a RINEX navigation
 /// header (``ION ALPHA``/``ION BETA`` or ``IONOSPHERIC CORR GPSA/GPSB``),
 /// or None when it has none.
+///
+/// `path`: the file to read (str or path-like).
 #[catch_panics]
 #[pyfunction]
 fn read_klobuchar(path: PathBuf) -> PyResult<Option<([f64; 4], [f64; 4])>> {

@@ -75,6 +75,8 @@ impl PyGnssLoggerLog {
 /// (GPS, Galileo, BeiDou weeks, the GLONASS day), only where the
 /// measurement ``State`` makes them unambiguous (the rest counted in
 /// ``skipped``); errors name the file and the line.
+///
+/// `path`: the file to read (str or path-like).
 #[catch_panics]
 #[pyfunction]
 fn read_gnsslogger(py: Python<'_>, path: PathBuf) -> PyResult<PyGnssLoggerLog> {

@@ -96,6 +96,8 @@ fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
 /// C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
 /// triples in degrees applied in order (`[imu] mounting_rpy_deg`):
 /// f_b = C(last) ··· C(first) f_s, (3, 3).
+///
+/// `rpy_deg`: a list of [roll, pitch, yaw] triples, degrees.
 #[catch_panics]
 #[pyfunction]
 fn mounting_matrix<'py>(

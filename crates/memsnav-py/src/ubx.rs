@@ -462,6 +462,8 @@ impl PyUbxLog {
 /// with a bad checksum, a cut last frame and messages not decoded are
 /// skipped and counted; a file without a UBX
 /// frame is a ParseError naming it.
+///
+/// `path`: the file to read (str or path-like).
 #[catch_panics]
 #[pyfunction]
 fn read_ubx(py: Python<'_>, path: PathBuf) -> PyResult<PyUbxLog> {

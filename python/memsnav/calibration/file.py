@@ -267,7 +267,10 @@ def save_calibration(
 def load_calibration(path: str | Path) -> ImuCalibration:
     """Reads a calibration file (module docs): an :class:`ImuCalibration`
     whose ``.correct(accel, gyro)`` applies it to raw readings. Errors name
-    the file and the field."""
+    the file and the field.
+
+    ``path``: the file to read (str or path-like).
+    """
     path = Path(path)
     try:
         raw = json.loads(path.read_text())

@@ -230,7 +230,12 @@ def resolve_data_root(near: str | Path | None = None, explicit: str | Path | Non
 
 
 def load_config(path: str | Path, data_root: str | Path | None = None) -> RunConfig:
-    """Reads and checks a run configuration (see the module docstring)."""
+    """Reads and checks a run configuration (see the module docstring).
+
+    ``path``: the TOML configuration; ``data_root``: the folder its data
+    files resolve against [:func:`resolve_data_root`: ``$MEMSNAV_DATA_ROOT``,
+    else the nearest ``shared/data`` above the configuration].
+    """
     path = Path(path)
     cfg = RunConfig(path=path, data_root=resolve_data_root(path, data_root))
     tables = split_tables(path, load_toml(path), {k for k in SCHEMA if k} | set(ENGINE))

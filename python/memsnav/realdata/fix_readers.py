@@ -84,7 +84,10 @@ def read_fixes_csv(
     Every field is range-checked (covariances positive semi-definite,
     quaternions of unit norm) and times must increase; errors name the file,
     line and field (``ParseError``), or the key of ``columns``. The last
-    line is skipped with a warning when cut short."""
+    line is skipped with a warning when cut short.
+
+    ``path``: the file to read (str or path-like).
+    """
     solution = _memsnav.read_fixes_csv(
         Path(path), None if columns is None else dict(columns), time_reference
     )
@@ -105,7 +108,10 @@ def read_nmea(path: str | Path) -> PosSolution:
     the rounding of the sentence's digits; NMEA has no vertical velocity, so
     ``velocity_ned[:, 2]`` and its σ are NaN and loose coupling takes the
     velocity as horizontal only (docs/how-to/own-logs.md). Other sentence types are
-    ignored with a warning."""
+    ignored with a warning.
+
+    ``path``: the file to read (str or path-like).
+    """
     solution = _memsnav.read_nmea(Path(path))
     _warn(solution.warnings)
     return solution
@@ -133,7 +139,10 @@ def read_fixes(
     """Reads a fixes file in ``format`` (:func:`fix_format`: by default
     from the file name): ``read_pos``, :func:`read_fixes_csv` (with its
     ``columns`` and ``time_reference``, which only a fixes CSV takes),
-    :func:`read_nmea` or :func:`read_ubx_fixes`."""
+    :func:`read_nmea` or :func:`read_ubx_fixes`.
+
+    ``path``: the file to read (str or path-like).
+    """
     chosen = fix_format(path, format)
     if chosen == "csv":
         return read_fixes_csv(path, columns, time_reference=time_reference)

@@ -114,6 +114,8 @@ def read_imu_csv(
     intervals, their count and the largest), ``line`` (1-based),
     ``line_end_offset`` (byte offset of each line's newline),
     ``file_bytes``, ``newline_count`` and ``warnings``.
+
+    ``path``: the file to read (str or path-like).
     """
     log = _memsnav.read_imu_csv(
         Path(path),
@@ -140,6 +142,8 @@ def read_time_tag(path: str | Path) -> TimeTag:
     The start must lie after 1980-01-06 with a fraction in [0, 1); ticks and
     positions must not decrease (``ParseError`` naming the byte). A record
     cut short at the end is dropped with a warning.
+
+    ``path``: the file to read (str or path-like).
     """
     tag = _memsnav.read_time_tag(Path(path))
     _warn(tag.warnings)
@@ -163,6 +167,9 @@ def fit_tag_clock(imu: ImuLog, tag: TimeTag, *, line_ends: str | None = None) ->
     Returns a ``TagClock``: ``gps_time`` of every sample, ``offset_s``,
     ``rate_ppm``, ``arrival_lag_spread_s`` (largest lag above the line),
     ``line_ends``, ``tagged_samples`` and ``warnings``.
+
+    ``imu``: the ``ImuLog`` of ``read_imu_csv``; ``tag``: its log's
+    ``TimeTag`` (``read_time_tag``).
     """
     clock = _memsnav.fit_tag_clock(imu, tag, line_ends)
     _warn(clock.warnings)
@@ -193,6 +200,8 @@ def read_pos(path: str | Path) -> PosSolution:
     (N, 3) [lat rad, lon rad, h m ellipsoidal], ``quality`` (RTKLIB's Q),
     ``n_satellites``, ``std_ned`` (N, 3) m, ``velocity_ned`` (N, 3) m/s and
     ``velocity_std_ned`` (NaN when the file has no velocity), ``warnings``.
+
+    ``path``: the file to read (str or path-like).
     """
     solution = _memsnav.read_pos(Path(path))
     _warn(solution.warnings)
