@@ -248,6 +248,28 @@ def study_defaults(data_root: Path) -> dict[str, Any]:
     return {"outage_start_s": start, "duration_margin_s": study.config["duration"] - start - 30.0}
 
 
+def walk_ubx_fix(data_root: Path) -> dict[str, Any]:
+    """The least-squares fixes on the walk's UBX log (its own GPS L1 C/A
+    pseudoranges and LNAV ephemerides) against its NAV-PVT positions: the
+    mean north and east offset and the horizontal scatter about it, m."""
+    log = mn.read_ubx(data_root / "real-imu-gnss" / "walk_0827" / "gnss_1730.ubx")
+    measurements = log.observations.gps_l1(log.constellation)
+    fixes = mn.solve_fix(measurements)
+    pvt = log.nav_pvt
+    nearest = np.searchsorted(pvt["gps_time"], measurements.gps_time - 0.1)
+    truth = mn.geodetic_to_ecef(pvt["lla"][nearest])
+    valid = np.flatnonzero(fixes.valid)
+    ned = np.array([mn.ecef_to_ned(fixes.position_ecef[k], truth[k]) for k in valid])
+    offset = ned.mean(axis=0)
+    scatter = np.sqrt(np.mean(np.sum((ned[:, :2] - offset[:2]) ** 2, axis=1)))
+    return {
+        "north_m": float(offset[0]),
+        "east_m": float(offset[1]),
+        "horizontal_scatter_m": float(scatter),
+        "fixes": len(valid),
+    }
+
+
 def partial_outages(data_root: Path) -> dict[str, Any]:
     """The partial-outage experiment's quick run (30 runs, seed 0): per
     scenario and IMU the mean largest error in the window (m), the position
@@ -1702,6 +1724,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "two_satellite_runs": two_satellite_runs,
     "partial_outages": partial_outages,
     "study_defaults": study_defaults,
+    "walk_ubx_fix": walk_ubx_fix,
     "quick_calibration": quick_calibration,
     "drive_other_settings": drive_other_settings,
     "walk_multi_gnss": walk_multi_gnss.record,

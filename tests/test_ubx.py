@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from figures import figures
 from shared_data import shared_data
 
 import memsnav as mn
@@ -183,6 +184,14 @@ def test_solve_fix_on_the_log_gps_l1_sits_where_broadcast_solutions_sit():
     assert 2.5 <= offset[0] <= 5.2 and 6.3 <= offset[1] <= 7.8, offset
     precision = np.sqrt(np.mean(np.sum((ned[:, :2] - offset[:2]) ** 2, axis=1)))
     assert 0.5 < precision < 1.3, precision
+    # docs/how-to/convert-ublox.md shows the record of docs/doc_runs.py's
+    # walk_ubx_fix: this independent rotation gives it to its digits.
+    recorded = figures("walk_ubx_fix")
+    assert int(valid.sum()) == recorded["fixes"]
+    assert (
+        abs(offset[0] - recorded["north_m"]) < 0.05 and abs(offset[1] - recorded["east_m"]) < 0.05
+    )
+    assert abs(precision - recorded["horizontal_scatter_m"]) < 0.005
     # The receiver clock is not steered: about -1.5 ms, drifting ~ -60 m/s.
     assert -2e-3 < fixes.clock_offset[valid][0] / 299792458.0 < -1e-3
 

@@ -10,10 +10,12 @@
 //! of each CNAV message is flipped. The measurements built from it carry,
 //! beside each, its signal's C/N0 and the satellite's elevation.
 
+mod figures;
 mod shared_data;
 
 use std::path::PathBuf;
 
+use figures::Figures;
 use memsnav_core::geodesy::wgs84::SPEED_OF_LIGHT_M_S;
 use memsnav_core::geodesy::{ecef_to_geodetic, geodetic_to_ecef, Geodetic};
 use memsnav_core::gnss::{
@@ -440,6 +442,7 @@ fn walk_gps_cnav_agrees_with_lnav_and_the_pseudoranges() {
     );
     let mut worst_log = (0.0f64, 0.0f64);
     let mut worst_fit = (0.0f64, 0.0f64);
+    let mut fit_orbits = Vec::new();
     let mut compared = 0;
     for c in &log.gps_cnav_ephemerides {
         // L1 and L2 healthy; L5 flagged unhealthy (pre-operational) by
@@ -493,6 +496,7 @@ fn walk_gps_cnav_agrees_with_lnav_and_the_pseudoranges() {
             satellite.1
         );
         worst_fit = max(worst_fit, satellite);
+        fit_orbits.push(satellite.0);
         // The same T_GD (LNAV's 8 bits × 2⁻³¹ s, CNAV's 13 × 2⁻³⁵ s).
         let tgd = c.group_delays.unwrap().tgd_s.unwrap();
         assert!((tgd - lnav.tgd_s).abs() <= 2f64.powi(-32), "G{:02}", c.prn);
@@ -527,7 +531,7 @@ fn walk_gps_cnav_agrees_with_lnav_and_the_pseudoranges() {
         }),
     );
     assert_eq!(residuals.len(), 7);
-    assert_clock_and_scatter(&residuals);
+    let (clock_ms, spread_m) = assert_clock_and_scatter(&residuals);
     // The Klobuchar coefficients of type 30: values the message can carry,
     // and an L1 zenith delay at the walk's place and time of metres.
     let k = log.klobuchar.unwrap();
@@ -542,6 +546,23 @@ fn walk_gps_cnav_agrees_with_lnav_and_the_pseudoranges() {
     );
     eprintln!("Klobuchar of CNAV type 30: {k:?}; zenith L1 delay at the walk {zenith:.2} m");
     assert!((1.0..30.0).contains(&zenith), "{zenith}");
+    // docs/how-to/convert-ublox.md shows these (orbits and clocks to the
+    // centimetre, the residuals and the zenith delay to the decimetre).
+    fit_orbits.sort_by(f64::total_cmp);
+    Figures::new("walk_cnav")
+        .add("orbit_over_log_m", worst_log.0, 0.005)
+        .add("clock_over_log_m", worst_log.1, 0.005)
+        .add("orbit_over_fit_m", worst_fit.0, 0.005)
+        .add("clock_over_fit_m", worst_fit.1, 0.005)
+        .add(
+            "others_orbit_over_fit_m",
+            fit_orbits[fit_orbits.len() - 2],
+            0.005,
+        )
+        .add("pseudorange_spread_m", spread_m, 0.05)
+        .add("receiver_clock_ms", clock_ms, 0.005)
+        .add("klobuchar_zenith_m", zenith, 0.05)
+        .check_or_write();
 }
 
 #[test]
@@ -573,7 +594,11 @@ fn walk_galileo_inav_ephemerides_fit_the_pseudoranges() {
             .filter(|e| e.is_healthy())
             .map(|e| (e.svid, Box::new(|t, dt| e.state_at(t, dt)) as StateFn)),
     );
-    assert_clock_and_scatter(&residuals);
+    let (clock_ms, spread_m) = assert_clock_and_scatter(&residuals);
+    Figures::new("walk_inav")
+        .add("pseudorange_spread_m", spread_m, 0.05)
+        .add("receiver_clock_ms", clock_ms, 0.005)
+        .check_or_write();
 }
 
 /// A satellite's state (with the clock of the signal compared) at GPS
@@ -624,7 +649,9 @@ fn pseudorange_residuals<'a>(
 /// Residuals whose mean is the walk's receiver clock (about −1.5 ms, the
 /// data README) and which scatter about it by the atmosphere and noise
 /// (metres), not by a misread field (kilometres).
-fn assert_clock_and_scatter(residuals: &[f64]) {
+/// Checks the common receiver clock (about −1.5 ms) and each residual's
+/// distance from it; returns the clock, ms, and the largest distance, m.
+fn assert_clock_and_scatter(residuals: &[f64]) -> (f64, f64) {
     let mean = residuals.iter().sum::<f64>() / residuals.len() as f64;
     let spread: Vec<String> = residuals
         .iter()
@@ -642,6 +669,11 @@ fn assert_clock_and_scatter(residuals: &[f64]) {
     for r in residuals {
         assert!((r - mean).abs() < 15.0, "{residuals:?}");
     }
+    let spread = residuals
+        .iter()
+        .map(|r| (r - mean).abs())
+        .fold(0.0, f64::max);
+    (mean / SPEED_OF_LIGHT_M_S * 1e3, spread)
 }
 
 /// The largest position (m) and clock (m, × c) differences between two
