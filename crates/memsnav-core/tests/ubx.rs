@@ -114,6 +114,12 @@ fn walk_gps_lnav_equals_the_rinex_nav_of_the_same_log() {
         worst.0,
         worst.1
     );
+    // docs/how-to/convert-ublox.md shows them (round-off of the file's 12
+    // digits: the position to 0.01 mm, the clock to 10⁻¹⁶ s).
+    Figures::new("walk_lnav")
+        .add("position_mm", 1e3 * worst.0, 0.005)
+        .add("clock_s", worst.1 / SPEED_OF_LIGHT_M_S, 5e-17)
+        .check_or_write();
     // Every word passed its parity (the README), every frame its checksum.
     assert!(
         !log.skipped.keys().any(|k| k.contains("parity")
@@ -757,6 +763,10 @@ fn walk_beidou_d1_orbits_and_clocks_equal_the_rinex_nav() {
         worst.0,
         worst.1
     );
+    Figures::new("walk_beidou")
+        .add("position_mm", 1e3 * worst.0, 0.005)
+        .add("clock_m", worst.1, 5e-9)
+        .check_or_write();
 }
 
 /// A B3I state as a B1I user's: the clock less TGD1 (B1I ICD §5.2.4.10).
