@@ -248,6 +248,18 @@ def study_defaults(data_root: Path) -> dict[str, Any]:
     return {"outage_start_s": start, "duration_margin_s": study.config["duration"] - start - 30.0}
 
 
+def slac_rinex2_fixes(data_root: Path) -> dict[str, Any]:
+    """GPS fixes of the SLAC CORS RINEX 2.11 excerpt (tests/data/rinex-public)
+    with the IGS RINEX 2 navigation file of the day: the least and largest
+    distance from the station's header position, m."""
+    public = ROOT / "tests" / "data" / "rinex-public"
+    obs = mn.read_rinex_obs(public / "slac1180_excerpt.21o")
+    eph = mn.read_broadcast_nav(data_root / "gnss-products" / "2021-118" / "brdc1180.21n")
+    fixes = mn.solve_fix(obs.measurements(eph, systems=["G"]))
+    errors = np.linalg.norm(fixes.position_ecef - obs.approx_position_ecef, axis=1)
+    return {"least_m": float(errors.min()), "most_m": float(errors.max()), "epochs": len(errors)}
+
+
 def walk_ubx_fix(data_root: Path) -> dict[str, Any]:
     """The least-squares fixes on the walk's UBX log (its own GPS L1 C/A
     pseudoranges and LNAV ephemerides) against its NAV-PVT positions: the
@@ -1725,6 +1737,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "partial_outages": partial_outages,
     "study_defaults": study_defaults,
     "walk_ubx_fix": walk_ubx_fix,
+    "slac_rinex2_fixes": slac_rinex2_fixes,
     "quick_calibration": quick_calibration,
     "drive_other_settings": drive_other_settings,
     "walk_multi_gnss": walk_multi_gnss.record,
