@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from marked_block import replace_block
 
 import memsnav as mn
 
@@ -98,6 +99,39 @@ def _case(
     return result
 
 
+#: The page whose table shows the record, and its markers.
+PAGE = HERE / "how-to" / "convert-ublox.md"
+BEGIN, END = "<!-- single-point-rtklib:begin -->", "<!-- single-point-rtklib:end -->"
+#: Each case's row label.
+LABELS = {
+    "skydel_gps_glonass": "Skydel simulator, GPS + GLONASS, 4 h",
+    "slac_gps": "SLAC CORS, GPS, 2 h",
+}
+
+
+def render_table(record: dict[str, Any]) -> str:
+    """The how-to's table of ``record`` (the JSON this script writes),
+    between its markers, indented as the list item it sits in."""
+
+    def cell(s: dict[str, Any]) -> str:
+        return f"{s['horizontal_rms_m']:.3f} / {s['vertical_rms_m']:.3f}"
+
+    rows = [
+        "| file | memsnav H / V RMS [m] | signal-strength weights | RTKLIB single | availability |",
+        "|---|---|---|---|---|",
+    ]
+    for name, case in record.items():
+        solvers = ("memsnav_rtklib", "memsnav_signal-strength", "rtklib_single")
+        everywhere = all(case[s]["availability"] == 1.0 for s in solvers)
+        rows.append(
+            f"| {LABELS[name]}, {case['epochs']} epochs | {cell(case['memsnav_rtklib'])} | "
+            f"{cell(case['memsnav_signal-strength'])} | {cell(case['rtklib_single'])} | "
+            + ("100 % all" if everywhere else "see the record")
+            + " |"
+        )
+    return "\n".join([BEGIN, *(f"  {row}" for row in rows), f"  {END}"])
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--slac", type=Path, help="SLAC's slac1180.21o (two hours)")
@@ -120,6 +154,7 @@ def main() -> None:
         table["slac_gps"] = _case(args.slac, nav, ["G"], None, atmosphere=True)
     out = HERE / "single_point_rtklib.json"
     out.write_text(json.dumps(table, indent=2) + "\n")
+    replace_block(PAGE, BEGIN, END, render_table(table))
     print(json.dumps(table, indent=2))
 
 
