@@ -125,21 +125,31 @@ def window_study(data_root: Path) -> dict[str, Any]:
     """The example calibrated with each of :data:`WINDOWS_S` (no draws):
     the forward horizontal RMS in the outages after the calibration span,
     calibrated per window and raw, m."""
-    text = CONFIG.read_text()
-    text = text.replace(
-        'navigate = "drive_0708.toml"', f'navigate = "{CONFIG.parent / "drive_0708.toml"}"'
+    text = _replaced(
+        CONFIG.read_text(),
+        ('navigate = "drive_0708.toml"', f'navigate = "{CONFIG.parent / "drive_0708.toml"}"'),
+        ("draws = 10", "draws = 0"),
     )
-    text = text.replace("draws = 10", "draws = 0")
     calibrated, raw = [], None
     with tempfile.TemporaryDirectory() as tmp:
         for window_s in WINDOWS_S:
             config = Path(tmp) / f"window_{window_s:g}.toml"
-            config.write_text(text.replace("window_s = 2.0", f"window_s = {window_s}"))
+            config.write_text(_replaced(text, ("window_s = 2.0", f"window_s = {window_s}")))
             content = calibrate(data_root, Path(tmp) / f"out_{window_s:g}", config)
             after = content["fit"]["navigation"]
             calibrated.append(after["calibrated"]["forward"]["after_fit"]["rms_horizontal_m"])
             raw = after["raw"]["forward"]["after_fit"]["rms_horizontal_m"]
     return {"window_s": list(WINDOWS_S), "calibrated_rms_m": calibrated, "raw_rms_m": raw}
+
+
+def _replaced(text: str, *changes: tuple[str, str]) -> str:
+    """``text`` with each (old, new) replaced; an old the example no longer
+    holds is an error, not a study of the unchanged example."""
+    for old, new in changes:
+        if old not in text:
+            raise ValueError(f"{CONFIG.name} no longer holds {old!r}")
+        text = text.replace(old, new)
+    return text
 
 
 def _minus(text: str) -> str:

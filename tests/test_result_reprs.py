@@ -86,24 +86,14 @@ def test_gnss_files_measurements_and_fixes_print_in_a_line():
 
 def _public_classes():
     """Every public class of memsnav and its native module (exceptions
-    aside), each once."""
+    aside), each once: the classes of test_docstrings' walk."""
     import inspect
-    import types
 
-    import memsnav._memsnav as native
+    from test_docstrings import _documented_names
 
-    seen, modules = set(), [mn, native]
-    while modules:
-        module = modules.pop(0)
-        for name in getattr(module, "__all__", []):
-            obj = getattr(module, name)
-            if name.startswith("_") or id(obj) in seen:
-                continue
-            seen.add(id(obj))
-            if isinstance(obj, types.ModuleType):
-                modules.append(obj)
-            elif inspect.isclass(obj) and not issubclass(obj, BaseException):
-                yield obj
+    for _, obj in _documented_names():
+        if inspect.isclass(obj) and not issubclass(obj, BaseException):
+            yield obj
 
 
 def test_no_public_class_prints_as_an_address_or_a_wall_of_fields():
