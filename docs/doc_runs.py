@@ -33,6 +33,7 @@ import foreign_drive_datum
 import foreign_drive_study
 import installation_drives
 import numpy as np
+import page_measurements
 import robustness_reference
 import time_offsets_record
 import walk_multi_gnss
@@ -1776,6 +1777,16 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "full_log_time_offsets": time_offsets_record.record,
     "robustness_constants": robustness_reference.constants,
     "robustness_messages": robustness_reference.messages,
+    "standstill_spread": page_measurements.standstill_spread,
+    "drive_rest_start": page_measurements.drive_rest_start,
+    "tactical_without_fading": page_measurements.tactical_without_fading,
+    "foreign_drive_nhc": page_measurements.foreign_drive_nhc,
+    "misaligned_vertical": page_measurements.misaligned_vertical,
+    "walk_clock_span": page_measurements.walk_clock_span,
+    "walk_white_code": page_measurements.walk_white_code,
+    "allan_fit_spread": page_measurements.allan_fit_spread,
+    "gyro_scale_logs": page_measurements.gyro_scale_logs,
+    "wrong_gyro_example": page_measurements.wrong_gyro_example,
 }
 """Each record's name and the run that measures it."""
 
@@ -1828,6 +1839,13 @@ TABLES: dict[str, tuple[Table, ...]] = {
             "how-to/calibrate-an-imu.md",
             drive_calibration_record.OUTAGES,
             drive_calibration_record.outages_table,
+        ),
+    ),
+    "gyro_scale_logs": (
+        (
+            "how-to/when-a-run-fails.md",
+            page_measurements.GYRO_SCALE_TABLE,
+            page_measurements.gyro_scale_table,
         ),
     ),
 }

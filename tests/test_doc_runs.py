@@ -215,6 +215,121 @@ def test_the_drive_with_other_settings_is_the_record():
     assert aided["installation_states"] > aided["example"]
 
 
+def test_the_standstill_detectors_statistics_are_the_record():
+    """drive_0708 and walk_0827 in the detector's 1 s windows (~1 s):
+    window counts exactly, the specific force's spread to 0.01 m/s², the
+    angular rate's to 0.1 °/s; each log's rest quieter than its motion."""
+    fresh = _check(
+        "standstill_spread",
+        {"windows": 0, "accel_m_s2": 0.005, "gyro_deg_s": 0.05},
+        needs_data=True,
+    )
+    for log in fresh.values():
+        assert log["rest"]["accel_m_s2"]["p5"] < log["moving"]["accel_m_s2"]["p5"]
+        assert log["rest"]["gyro_deg_s"]["p5"] < log["moving"]["gyro_deg_s"]["p5"]
+
+
+def test_drive_0708s_rest_at_the_start_is_the_record():
+    """drive_0708 with and without ZARU (~4 s): its rest and its first
+    fix to 0.1 s, the z-gyro bias to 0.01 °/s and its σ as shown; one
+    outage with a stop; ZARU knows the bias at rest better than the drive
+    without it does by the end of the log."""
+    fresh = _check(
+        "drive_rest_start",
+        {
+            "rest_s": 0.05,
+            "first_fix_before_imu_s": 0.05,
+            "start_after_first_fix_s": 0.05,
+            "z_gyro_bias_deg_s": 0.005,
+            "z_gyro_bias_sigma_deg_s": {"zaru": 5e-4, "no_zaru": 0.005, "no_zaru_log_end": 5e-4},
+            "outages_with_a_stop": 0,
+        },
+        needs_data=True,
+    )
+    assert len(fresh["outages_with_a_stop"]) == 1
+    sigma = fresh["z_gyro_bias_sigma_deg_s"]
+    assert sigma["zaru"] < sigma["no_zaru_log_end"] < sigma["no_zaru"]
+
+
+def test_the_tactical_preset_without_fading_is_the_record():
+    """drive_0708 with the tactical preset and no fading (~2 s): resets
+    exactly, the outage RMS to the metre; more resets and a worse coast
+    than with fading (tactical_preset_fading)."""
+    fresh = _check(
+        "tactical_without_fading",
+        {"position_velocity_resets": 0, "outage_rms_m": 0.5},
+        needs_data=True,
+    )
+    faded = figures("tactical_preset_fading")
+    assert fresh["position_velocity_resets"] > faded["position_velocity_resets"]
+    assert fresh["outage_rms_m"] > faded["tactical_outage_rms_m"]
+
+
+@pytest.mark.slow
+def test_the_foreign_drive_with_a_tight_constraint_is_the_record():
+    """The foreign drive with the constraint's std at 0.1 m/s and as the
+    log chooses it, 30 and 60 s outages (~20 s): the shares outside 3σ to
+    the percent, the learnt std exactly; what the log chooses leaves none
+    outside."""
+    fresh = _check(
+        "foreign_drive_nhc",
+        {"nhc_0_1": 0.5, "auto": 0.5, "learnt_nhc_std_m_s": 0.0},
+        needs_data=True,
+    )
+    assert all(v == 0.0 for v in fresh["auto"].values())
+    assert min(fresh["nhc_0_1"].values()) > 5.0
+
+
+def test_a_misalignment_under_the_constraint_is_the_record():
+    """tests/test_adaptation.py's drive with correlated fixes, installation
+    states off and on (~4 s): the vertical share outside 3σ to the
+    percent; none with the states."""
+    fresh = _check("misaligned_vertical", 0.5)
+    assert fresh["with_states_percent"] == 0.0 < fresh["without_states_percent"]
+
+
+def test_the_walks_clock_drift_and_span_are_the_record():
+    """walk_0827's UBX log: the drift change to the m/s, its span to
+    0.01 s."""
+    _check("walk_clock_span", {"drift_change_m_s": 0.5, "log_s": 0.005}, needs_data=True)
+
+
+def test_the_walk_with_white_code_errors_is_the_record():
+    """walk_0827 with its code errors as white noise and as range-bias
+    states (~1 s): the shares inside 3σ to the percent (horizontal to
+    0.1 %); the white-noise model's bounds hold for a minority only."""
+    fresh = _check(
+        "walk_white_code",
+        {"inside_percent": 0.5, "inside_horizontal_percent": 0.05},
+        needs_data=True,
+    )
+    assert fresh["white"]["inside_percent"] < 50.0 < fresh["range_bias_states"]["inside_percent"]
+
+
+def test_the_allan_fits_spread_is_the_record():
+    """The Allan fit over 20 simulated records and on the Xsens rest
+    (~4 s): spreads and mean errors as shown (N's to 0.01 %, the others'
+    to 0.1 %); the Xsens white noise within 5 % of the IEEE reading."""
+    tolerance = {"white_density": 0.005, "*": 0.05}
+    fresh = _check(
+        "allan_fit_spread",
+        {
+            "seeds": 0,
+            "spread_percent": tolerance,
+            "mean_error_percent": tolerance,
+            "xsens_white_vs_reading_percent": 0.05,
+        },
+    )
+    assert abs(fresh["xsens_white_vs_reading_percent"]) < 5.0
+
+
+def test_the_wrong_gyro_example_prints_its_record():
+    """docs/how-to/when-a-run-fails.md's example (~2 s): the stage, the
+    ratio to 0.1; a gyro about 57 times off."""
+    fresh = _check("wrong_gyro_example", {"stage": 0, "ratio": 0.05}, needs_data=True)
+    assert fresh["stage"] == "units" and 50.0 < fresh["ratio"] < 65.0
+
+
 def test_the_readme_describes_the_drive_example_by_its_schedule():
     """The README's outage schedule is examples/drive_0708.toml's."""
     _check("drive_example_schedule", 0.0)

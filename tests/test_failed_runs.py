@@ -15,7 +15,10 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import page_measurements
 import pytest
+from figures import figures
+from record_agreement import agree
 from shared_data import shared_data
 from test_navigate import DATA, EX, _config
 
@@ -314,120 +317,44 @@ def test_an_interrupt_leaves_the_folder_as_it_was(tmp_path, monkeypatch):
 # --- the gyro's unit against the GNSS course, on every log ---------------------
 
 
-def _shared_logs():
-    """Every IMU log of the shared data with a GNSS velocity to compare
-    with: (name, IMU time on GNSS time, specific force, angular rate,
-    fixes). The Xsens poses have no GNSS and no motion to compare."""
-    root = "real-imu-gnss"
-    logs = []
-    for name, folder, imu, pos in (
-        ("drive_0708", "drive_0708", "imu_1934.csv", "gnss_1934_sf.pos"),
-        ("walk_0827", "walk_0827", "imu_1730.csv", "gnss_1730_sf.pos"),
-    ):
-        path = shared_data(f"{root}/{folder}/{imu}")
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # the walk's last line is cut short
-            log = readers.read_imu_csv(path, skip_first_line=True)
-            t, _ = readers.gps_time_from_tag(log, readers.read_time_tag(f"{path}.tag"))
-        logs.append((name, t, log.specific_force, log.angular_rate, _fixes(folder, pos)))
-    sf = readers.read_imu_csv(
-        shared_data(f"{root}/walk_0827/imu_1730_sf.csv"),
-        ["t", "ax", "ay", "az", "gx", "gy", "gz", "mx", "my", "mz", "z"],
-        gyro_unit="rad/s",
-        time_unit="s",
-    )
-    logs.append(
-        (
-            "walk_0827 (imu_1730_sf.csv, rad/s)",
-            sf.time - readers.UNIX_TO_GPS_S,
-            sf.specific_force,
-            sf.angular_rate,
-            _fixes("walk_0827", "gnss_1730_sf.pos"),
-        )
-    )
-    vn = readers.read_imu_csv(
-        shared_data("foreign-drive/vn100_imu.csv"),
-        {
-            "t": "time_s",
-            "ax": "dv_x_m_s",
-            "ay": "dv_y_m_s",
-            "az": "dv_z_m_s",
-            "gx": "dtheta_x_rad",
-            "gy": "dtheta_y_rad",
-            "gz": "dtheta_z_rad",
-        },
-        accel_unit="m/s",
-        gyro_unit="rad",
-        time_unit="s",
-    )
-    # The F9T fixes' own layout, read here as plain numbers (their columns
-    # are not the fixes CSV's names): time on the IMU's clock, the NED
-    # position and velocity covariances.
-    f9t = np.genfromtxt(shared_data("foreign-drive/f9t_fixes.csv"), delimiter=",", names=True)
-    lla = np.column_stack([np.radians(f9t["lat_deg"]), np.radians(f9t["lon_deg"]), f9t["height_m"]])
-
-    def covariance(names):
-        nn, ne, nd, ee, ed, dd = (f9t[name] for name in names)
-        rows = [[nn, ne, nd], [ne, ee, ed], [nd, ed, dd]]
-        return np.moveaxis(np.array(rows), -1, 0)
-
-    position = ["cov_nn_m2", "cov_ne_m2", "cov_nd_m2", "cov_ee_m2", "cov_ed_m2", "cov_dd_m2"]
-    velocity = ["cov_vnvn", "cov_vnve", "cov_vnvd", "cov_veve", "cov_vevd", "cov_vdvd"]
-    fixes = mn.fixes_from_solution(
-        f9t["time_s"],
-        lla,
-        covariance_ned=covariance(position),
-        velocity_ned=np.column_stack([f9t["vn_m_s"], f9t["ve_m_s"], f9t["vd_m_s"]]),
-        velocity_covariance_ned=covariance(velocity),
-    )
-    logs.append(
-        (
-            "foreign-drive (vn100, rad increments)",
-            vn.time,
-            vn.specific_force,
-            vn.angular_rate,
-            fixes,
-        )
-    )
-    return logs
-
-
-def _fixes(folder: str, pos: str):
-    solution = mn.read_pos(shared_data(f"real-imu-gnss/{folder}/{pos}"))
-    return mn.fixes_from_solution(
-        solution.gps_time,
-        solution.lla,
-        solution.std_ned,
-        velocity_ned=solution.velocity_ned,
-        velocity_std_ned=solution.velocity_std_ned,
-    )
-
-
 def test_the_gyro_unit_check_on_every_shared_log_and_both_mistakes():
     """On every IMU log of the shared data the gyro turns as much as the
     GNSS course (ratio 0.9-1.2, no warning); its rates divided by 180/π
     (radians read as degrees) or multiplied (the reverse) are named, with
-    the unit they look like."""
-    ratios = {}
-    for name, t, f, w, fixes in _shared_logs():
-        for factor, unit in ((1.0, None), (1 / DEG, '"rad/s"'), (DEG, '"deg/s"')):
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                try:
-                    run = mn.navigate_log(t, f, w * factor, fixes, duration_s=2.0)
-                except (ValueError, mn.MemsnavError) as e:
-                    # A start the wrong rates spoil carries the warning.
-                    assert unit is not None and f"is gyro_unit {unit}" in str(e), (name, e)
-                    continue
-            check = run.gyro_scale
+    the unit they look like. The ratios and their pairs are the record
+    docs/how-to/when-a-run-fails.md's table shows (``python
+    docs/doc_runs.py gyro_scale_logs``), within the digits it shows."""
+    shared_data("foreign-drive/vn100_imu.csv")  # a skip naming what is missing
+    checks = page_measurements.gyro_scale_checks(shared_data("real-imu-gnss").parent)
+    checked = set()
+    for name, by_factor in checks.items():
+        for key, (factor, unit) in page_measurements.GYRO_FACTORS.items():
+            result = by_factor[key]
+            if result["error"] is not None:
+                # A start the wrong rates spoil carries the warning.
+                assert unit is not None and f"is gyro_unit {unit}" in result["error"], (
+                    name,
+                    result["error"],
+                )
+                continue
+            check = result["gyro_scale"]
             assert check is not None and check["conclusive"], (name, check)
-            ratios[name, factor] = check["ratio"]
-            unit_warnings = [str(c.message) for c in caught if "gyro_unit" in str(c.message)]
+            checked.add(name)
             if unit is None:
                 assert 0.9 < check["ratio"] < 1.2, (name, check)
-                assert check["warning"] is None and unit_warnings == [], (name, unit_warnings)
+                assert check["warning"] is None and result["warnings"] == [], (name, result)
             else:
                 assert abs(np.log(check["ratio"] / factor)) < np.log(1.2), (name, check)
                 assert f"is gyro_unit {unit}" in check["warning"], (name, check)
-                assert any(f"is gyro_unit {unit}" in m for m in unit_warnings), name
-    assert len({name for name, _ in ratios}) == 4
+                assert any(f"is gyro_unit {unit}" in m for m in result["warnings"]), name
+    assert len(checked) == 4
+    # The table shows the ratios to two figures, the divided rates' to
+    # three, the multiplied rates' to the unit; the pairs exactly.
+    tolerance = {
+        "as_given": {"ratio": 0.005, "pairs": 0},
+        "divided": {"ratio": 5e-4, "pairs": 0},
+        "multiplied": {"ratio": 0.5, "pairs": 0},
+    }
+    fresh = page_measurements.gyro_scale_figures(checks)
+    differ = agree(fresh, figures("gyro_scale_logs"), tolerance, "gyro_scale_logs")
+    assert not differ, f"{differ}: rerun python docs/doc_runs.py gyro_scale_logs if this is meant"
