@@ -9,7 +9,7 @@ use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughpu
 use memsnav_benches::TightScenario;
 use memsnav_core::coupling;
 use memsnav_core::filter::state::{
-    Layout, BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY,
+    Layout, RangeBiasSlots, BASE_STATES, CLOCK_DRIFT, CLOCK_OFFSET, POSITION, VELOCITY,
 };
 use memsnav_core::filter::{ErrorStateKf, ProcessNoise, SparseRow, SystemInputs};
 use memsnav_core::gnss;
@@ -57,7 +57,7 @@ fn strapdown_and_propagation(c: &mut Criterion) {
     });
     // The multi-system state (base + inter-system biases): one state per
     // system beyond GPS's clock, what a GNSS-combining run pays per sample.
-    const WITH_ISB: usize = Layout::size(false, false, true, false);
+    const WITH_ISB: usize = Layout::size(false, false, true, RangeBiasSlots::None);
     let mut p_isb = SMatrix::<f64, WITH_ISB, WITH_ISB>::identity();
     p_isb
         .fixed_view_mut::<BASE_STATES, BASE_STATES>(0, 0)

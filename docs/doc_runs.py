@@ -1746,6 +1746,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_carrier_floors": walk_multi_gnss.carrier_floors,
     "walk_code_correlation": walk_multi_gnss.code_correlation_record,
     "walk_configurations": walk_multi_gnss.configurations_record,
+    "walk_every_satellite": walk_multi_gnss.every_satellite_record,
     "walk_correlation_table": walk_multi_gnss.correlation_record,
     "drive_example_schedule": drive_example_schedule,
     "foreign_drive": foreign_drive_datum.record,

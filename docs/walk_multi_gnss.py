@@ -321,6 +321,37 @@ def correlation_precision(data_root: Path, key: str, tau_s: float) -> list[float
     return [precise["rms_horizontal_m"], precise["rms_vertical_m"]]
 
 
+#: The configurations with more satellites than the 12 shared range-bias slots.
+EVERY_SATELLITE_CONFIGURATIONS = ("gps_galileo", "gps_galileo_beidou")
+
+
+def every_satellite_record(data_root: Path) -> dict[str, Any]:
+    """The configurations of :data:`EVERY_SATELLITE_CONFIGURATIONS` with the
+    12 shared range-bias slots (the default) and with a slot for every
+    satellite (``gnss.range_bias_states = "every_satellite"``): each one's
+    satellites and horizontal and vertical precision, m."""
+    import tempfile
+
+    rows: dict[str, Any] = {}
+    with tempfile.TemporaryDirectory() as out:
+        for key in EVERY_SATELLITE_CONFIGURATIONS:
+            rows[key] = {}
+            for name, slots in (("shared", True), ("every_satellite", "every_satellite")):
+                summary = navigate(
+                    data_root,
+                    Path(out) / f"{key}_{name}",
+                    CONFIGURATIONS[key][1],
+                    {"gnss": {"range_bias_states": slots}},
+                ).summary
+                precise = summary["errors_vs_truth_precision"]["aided"]
+                rows[key][name] = {
+                    "satellites": len(summary["satellites"]),
+                    "horizontal_m": precise["rms_horizontal_m"],
+                    "vertical_m": precise["rms_vertical_m"],
+                }
+    return rows
+
+
 def correlation_record(data_root: Path) -> dict[str, Any]:
     """The record of the code-correlation table: each configuration's
     precision by correlation time (τ = 0 is the configuration table's

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 import walk_multi_gnss
 from figures import figures
+from record_agreement import agree
 from shared_data import shared_data
 
 import memsnav as mn
@@ -403,6 +404,25 @@ def test_a_gps_rinex_run_lists_one_system(tmp_path):
     assert list(s["satellite_systems"]) == ["GPS"]
     assert {r["system"] for r in s["satellites"]} == {"GPS"}
     assert {r["signal"] for r in s["satellites"]} == {"L1 C/A"}
+
+
+def test_a_slot_for_every_satellite_is_the_record():
+    """docs/how-to/multi-gnss.md compares the 12 shared range-bias slots
+    with a slot for every satellite on the walk from
+    docs/data/walk_every_satellite.json: today's runs agree with it within
+    half the 0.01 m shown (satellite counts exactly), and the shared
+    configurations are the configuration table's rows."""
+    data = shared_data("real-imu-gnss/walk_0827").parent.parent
+    fresh = walk_multi_gnss.every_satellite_record(data)
+    # Counts differ by whole satellites: 0.005 holds them exactly too.
+    assert not agree(fresh, figures("walk_every_satellite"), 0.005)
+    table = figures("walk_configurations")
+    for key, runs in fresh.items():
+        # More satellites than the shared slots: the comparison means something.
+        assert runs["shared"]["satellites"] > 12
+        assert runs["shared"]["horizontal_m"] == pytest.approx(
+            table[key]["precision_horizontal_m"], abs=1e-9
+        )
 
 
 #: The code-correlation table's cells recomputed by the test (one walk run

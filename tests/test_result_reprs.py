@@ -44,11 +44,15 @@ def test_experiment_results_print_in_a_line():
 
 def test_filters_fixes_and_logs_print_in_a_line():
     imu = mn.ImuModel.preset("tactical")
-    _check(mn.TightlyCoupledFilter(imu), "TightlyCoupledFilter", "100 Hz", "17 navigation")
+    _check(mn.TightlyCoupledFilter(imu), "TightlyCoupledFilter", "100 Hz", "17 error states")
+    every = mn.TightlyCoupledFilter(
+        imu, settings={"gnss": {"range_bias_states": "every_satellite"}}
+    )
+    _check(every, "TightlyCoupledFilter", "57 error states", "range biases")
     _check(
         mn.LooselyCoupledFilter(imu, scale_factor_states=True),
         "LooselyCoupledFilter",
-        "23 navigation",
+        "23 error states",
         "scale factors",
     )
     fixes = mn.fixes_from_solution(

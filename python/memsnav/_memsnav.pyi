@@ -1704,7 +1704,10 @@ class FilterSolution:
     def state_names(self) -> list[str]:
         """Error-state names: attitude_x..z (ECEF, rad), velocity_x..z, position_x..z,
         accel_bias_x..z, gyro_bias_x..z, clock_offset, clock_drift
-        [, accel_scale_factor_x..z, gyro_scale_factor_x..z]."""
+        [, accel_scale_factor_x..z, gyro_scale_factor_x..z]
+        [, lever_arm_x..z, time_offset, velocity_latency, mounting_pitch, mounting_yaw]
+        [, inter_system_bias_galileo, _beidou, _glonass] [, range_bias_0, ...].
+        """
 
     @property
     def measurements(self) -> dict[str, npt.NDArray[Any] | list[str]]:
@@ -1859,6 +1862,16 @@ class TightlyCoupledFilter:
     (`tuning` shows the values in effect):
 
     - `imu`: the `ImuModel` whose spec and sample rate tune the filter.
+    - `settings` [None]: a `navigate` configuration's tables as a dict
+      (`{"filter": {...}, "gnss": {...}, "imu": {...}, "imu_spec": {...}}`,
+      the keys `navigate_settings()` lists, with their units and defaults):
+      the filter is navigate's for those keys, defaults included (range-bias
+      states on for pseudoranges; `gnss.range_bias_states = "every_satellite"`
+      gives each of up to 40 satellites one), tuned from `imu.spec`. Tables and
+      keys that drive a navigate run rather than the filter (`[alignment]`,
+      `[standstill]`, `[aids]`, `[outages]`, `filter.imu_preset`,
+      `filter.smoother`, `imu.time_offset_s`, `imu.mounting_rpy_deg`, any
+      `"auto"`) raise ValueError naming them. Not with the keywords below.
     - `scale_factor_states` [False]: six more states, the accelerometer and
       gyro scale factors (23 in all).
     - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
@@ -1895,6 +1908,7 @@ class TightlyCoupledFilter:
         cls,
         imu: ImuModel,
         *,
+        settings: dict[str, dict[str, Any]] | None = None,
         scale_factor_states: bool = False,
         accel_noise_density: float | None = None,
         gyro_noise_density: float | None = None,
@@ -1917,10 +1931,14 @@ class TightlyCoupledFilter:
         pseudorange_correlation_time: float | None = None,
     ) -> TightlyCoupledFilter: ...
     @property
-    def tuning(self) -> dict[str, float | bool]:
+    def tuning(self) -> dict[str, float | bool | str]:
         """The tuning in effect (PSDs, correlation times, initial one-sigmas,
         the unmodelled errors' one-sigmas ``unmodelled_*_std`` and
-        ``manoeuvre_correlation_time``), SI."""
+        ``manoeuvre_correlation_time``), SI, and the optional state blocks
+        (``scale_factor_states``, ``installation_states``,
+        ``range_bias_states``: False, True for 12 shared slots or
+        "every_satellite").
+        """
 
     def run(
         self,
@@ -2129,7 +2147,10 @@ class RunningFilter:
         """The whole estimate as a dict: `time` s, `position_ecef` m,
         `velocity_ecef` m/s, `attitude` C_b^e, `accel_bias` m/s²,
         `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and with
-        scale-factor states `accel_scale_factor`, `gyro_scale_factor`.
+        scale-factor states `accel_scale_factor`, `gyro_scale_factor`; with
+        inter-system biases `inter_system_bias` (Galileo, BeiDou, GLONASS, m);
+        with range-bias states `range_biases`, m, by satellite (`"G05"`; the
+        loosely coupled filter's fix errors by ECEF axis, `"x"`, `"y"`, `"z"`).
         """
 
     @property
@@ -2181,6 +2202,16 @@ class LooselyCoupledFilter:
     (`tuning` shows the values in effect):
 
     - `imu`: the `ImuModel` whose spec and sample rate tune the filter.
+    - `settings` [None]: a `navigate` configuration's tables as a dict
+      (`{"filter": {...}, "gnss": {...}, "imu": {...}, "imu_spec": {...}}`,
+      the keys `navigate_settings()` lists, with their units and defaults):
+      the filter is navigate's for those keys, defaults included (range-bias
+      states on for pseudoranges; `gnss.range_bias_states = "every_satellite"`
+      gives each of up to 40 satellites one), tuned from `imu.spec`. Tables and
+      keys that drive a navigate run rather than the filter (`[alignment]`,
+      `[standstill]`, `[aids]`, `[outages]`, `filter.imu_preset`,
+      `filter.smoother`, `imu.time_offset_s`, `imu.mounting_rpy_deg`, any
+      `"auto"`) raise ValueError naming them. Not with the keywords below.
     - `scale_factor_states` [False]: six more states, the accelerometer and
       gyro scale factors (23 in all).
     - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
@@ -2217,6 +2248,7 @@ class LooselyCoupledFilter:
         cls,
         imu: ImuModel,
         *,
+        settings: dict[str, dict[str, Any]] | None = None,
         scale_factor_states: bool = False,
         accel_noise_density: float | None = None,
         gyro_noise_density: float | None = None,
@@ -2239,10 +2271,14 @@ class LooselyCoupledFilter:
         pseudorange_correlation_time: float | None = None,
     ) -> LooselyCoupledFilter: ...
     @property
-    def tuning(self) -> dict[str, float | bool]:
+    def tuning(self) -> dict[str, float | bool | str]:
         """The tuning in effect (PSDs, correlation times, initial one-sigmas,
         the unmodelled errors' one-sigmas ``unmodelled_*_std`` and
-        ``manoeuvre_correlation_time``), SI."""
+        ``manoeuvre_correlation_time``), SI, and the optional state blocks
+        (``scale_factor_states``, ``installation_states``,
+        ``range_bias_states``: False, True for 12 shared slots or
+        "every_satellite").
+        """
 
     def run(
         self,

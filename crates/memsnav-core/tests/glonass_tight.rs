@@ -10,6 +10,7 @@
 
 use memsnav_core::coupling::{self, FilterTuning, MeasurementKind, MeasurementStatus};
 use memsnav_core::filter::chi_square::mean_per_dof_band;
+use memsnav_core::filter::state::RangeBiasSlots;
 use memsnav_core::filter::{nees, Layout};
 use memsnav_core::gnss::{
     g1_wavelength_m, nominal_channel, Constellation, GnssSystem, SimulationConfig,
@@ -22,7 +23,7 @@ mod common;
 use common::*;
 
 /// 17 base states + the 3 inter-system biases (Galileo, BeiDou, GLONASS).
-const WITH_ISB: usize = Layout::size(false, false, true, false);
+const WITH_ISB: usize = Layout::size(false, false, true, RangeBiasSlots::None);
 /// GLONASS's index among the inter-system biases.
 const GLONASS: usize = 2;
 /// The simulated GLONASS bias against GPS, m (a receiver's GLONASS group

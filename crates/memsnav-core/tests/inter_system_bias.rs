@@ -12,6 +12,7 @@ use memsnav_core::experiments::{
     navigation_experiment, InitialStateSource, NavigationExperimentConfig,
 };
 use memsnav_core::filter::chi_square::mean_per_dof_band;
+use memsnav_core::filter::state::RangeBiasSlots;
 use memsnav_core::filter::{nees, Layout};
 use memsnav_core::gnss::{Constellation, GnssSystem, SimulationConfig};
 use memsnav_core::montecarlo::RunOptions;
@@ -25,7 +26,7 @@ use common::*;
 use figures::Figures;
 
 /// 17 base states + the 3 inter-system biases (Galileo, BeiDou, GLONASS).
-const WITH_ISB: usize = Layout::size(false, false, true, false);
+const WITH_ISB: usize = Layout::size(false, false, true, RangeBiasSlots::None);
 
 /// The simulated biases, m: Galileo +3, BeiDou −25 (a receiver's group
 /// delays differ by metres to tens of metres between systems).

@@ -2,13 +2,15 @@
 //! the coupled GNSS/INS filters of memsnav-core (method §5) on the user's
 //! arrays, one Rust call per series with the GIL released.
 
+use memsnav_core::coupling::factory;
 use memsnav_core::coupling::{
     self, initial_state_from_fix, initial_state_from_position_fix, FilterTuning, InitialState,
     Solution,
 };
-use memsnav_core::filter::state::{Layout, StateLayout};
+use memsnav_core::filter::state::{RangeBiasSlots, StateBlocks, StateLayout};
 use memsnav_core::gnss::ReceiverClockModel;
 use memsnav_core::ins::{ImuData, ImuIncrement, NavState};
+use memsnav_core::navigate::FilterSettings;
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArrayMethods};
@@ -21,16 +23,34 @@ use crate::arguments::{check_keys, field, optional_field};
 use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epochs;
+use crate::log_navigation::settings_tables;
 use crate::records::{batches_to_dict, integrity_to_dict, measurements_to_dict, resets_to_dict};
 use crate::running_filter::{sample_arg, PyRunningFilter, StartedBy};
 use crate::sensors::PyImuModel;
 
 /// The tuning both filter classes share (see the class docstrings).
-#[derive(Clone, Copy)]
+#[derive(Clone)]
 struct Settings {
     tuning: FilterTuning,
     scale_factor_states: bool,
+    /// The filter `settings=` describes (its tuning is `tuning`).
+    navigate: Option<FilterSettings>,
     sample_rate_hz: f64,
+}
+
+impl Settings {
+    /// The state blocks for this class's aiding (`tight`: pseudoranges),
+    /// with inter-system biases when the pseudoranges need them.
+    fn blocks(&self, tight: bool, inter_system_biases: bool) -> StateBlocks {
+        match &self.navigate {
+            Some(f) => f.blocks(tight, inter_system_biases),
+            None => StateBlocks {
+                scale_factors: self.scale_factor_states,
+                inter_system_biases,
+                ..StateBlocks::default()
+            },
+        }
+    }
 }
 
 /// The IMU arrays of `run` (or of `run_increments`, with the means of
@@ -406,9 +426,11 @@ impl PyFilterSolution {
     }
     /// Error-state names: attitude_x..z (ECEF, rad), velocity_x..z, position_x..z,
     /// accel_bias_x..z, gyro_bias_x..z, clock_offset, clock_drift
-    /// [, accel_scale_factor_x..z, gyro_scale_factor_x..z].
+    /// [, accel_scale_factor_x..z, gyro_scale_factor_x..z]
+    /// [, lever_arm_x..z, time_offset, velocity_latency, mounting_pitch, mounting_yaw]
+    /// [, inter_system_bias_galileo, _beidou, _glonass] [, range_bias_0, ...].
     #[getter]
-    fn state_names(&self) -> Vec<&'static str> {
+    fn state_names(&self) -> Vec<String> {
         StateLayout::names(self.inner.n_states)
     }
     /// Every batch test (an epoch's measurements of one kind): dict of arrays
@@ -560,6 +582,16 @@ macro_rules! filter_arguments_doc {
         (`tuning` shows the values in effect):\n\
         \n\
         - `imu`: the `ImuModel` whose spec and sample rate tune the filter.\n\
+        - `settings` [None]: a `navigate` configuration's tables as a dict\n\
+        \x20\x20(`{\"filter\": {...}, \"gnss\": {...}, \"imu\": {...}, \"imu_spec\": {...}}`,\n\
+        \x20\x20the keys `navigate_settings()` lists, with their units and defaults):\n\
+        \x20\x20the filter is navigate's for those keys, defaults included (range-bias\n\
+        \x20\x20states on for pseudoranges; `gnss.range_bias_states = \"every_satellite\"`\n\
+        \x20\x20gives each of up to 40 satellites one), tuned from `imu.spec`. Tables and\n\
+        \x20\x20keys that drive a navigate run rather than the filter (`[alignment]`,\n\
+        \x20\x20`[standstill]`, `[aids]`, `[outages]`, `filter.imu_preset`,\n\
+        \x20\x20`filter.smoother`, `imu.time_offset_s`, `imu.mounting_rpy_deg`, any\n\
+        \x20\x20`\"auto\"`) raise ValueError naming them. Not with the keywords below.\n\
         - `scale_factor_states` [False]: six more states, the accelerometer and\n\
         \x20\x20gyro scale factors (23 in all).\n\
         - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):\n\
@@ -608,19 +640,26 @@ macro_rules! filter_class {
         impl $rust {
             fn __repr__(&self) -> String {
                 let s = &self.settings;
+                let blocks = s.blocks($started_by == StartedBy::Tight, false);
+                let named = [
+                    (blocks.scale_factors, ", scale factors"),
+                    (blocks.installation, ", installation"),
+                    (blocks.range_biases != RangeBiasSlots::None, ", range biases"),
+                ];
                 format!(
-                    "{}({} Hz IMU, {} navigation and IMU error states{})",
+                    "{}({} Hz IMU, {} error states{})",
                     $py,
                     s.sample_rate_hz,
-                    Layout::size(s.scale_factor_states, false, false, false),
-                    if s.scale_factor_states { ", scale factors" } else { "" }
+                    blocks.size(),
+                    named.iter().filter(|(on, _)| *on).map(|(_, n)| *n).collect::<String>()
                 )
             }
 
             #[new]
-            #[pyo3(signature = (imu, *, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, use_carrier_phase=false, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None, pseudorange_correlation_time=None))]
+            #[pyo3(signature = (imu, *, settings=None, scale_factor_states=false, accel_noise_density=None, gyro_noise_density=None, accel_bias_psd=None, gyro_bias_psd=None, gate_probability=None, initial_position_std=None, initial_velocity_std=None, initial_tilt_std=None, initial_heading_std=None, initial_accel_bias_std=None, initial_gyro_bias_std=None, initial_clock_offset_std=None, initial_clock_drift_std=None, use_pseudorange_rate=true, use_carrier_phase=false, clock_h0=None, clock_h_minus2=None, manoeuvre_correlation_time=None, pseudorange_correlation_time=None))]
             fn new(
                 imu: &PyImuModel,
+                settings: Option<&Bound<'_, PyDict>>,
                 scale_factor_states: bool,
                 accel_noise_density: Option<f64>,
                 gyro_noise_density: Option<f64>,
@@ -643,6 +682,39 @@ macro_rules! filter_class {
                 pseudorange_correlation_time: Option<f64>,
             ) -> PyResult<Self> {
                 let model = &imu.inner;
+                if let Some(settings) = settings {
+                    let keywords = [
+                        accel_noise_density, gyro_noise_density, accel_bias_psd, gyro_bias_psd,
+                        gate_probability, initial_position_std, initial_velocity_std,
+                        initial_tilt_std, initial_heading_std, initial_accel_bias_std,
+                        initial_gyro_bias_std, initial_clock_offset_std, initial_clock_drift_std,
+                        clock_h0, clock_h_minus2, manoeuvre_correlation_time,
+                        pseudorange_correlation_time,
+                    ];
+                    if keywords.iter().any(Option::is_some)
+                        || scale_factor_states
+                        || !use_pseudorange_rate
+                        || use_carrier_phase
+                    {
+                        return Err(PyValueError::new_err(
+                            "settings: give the tuning as settings or as keywords, not both",
+                        ));
+                    }
+                    let navigate = FilterSettings::from_settings(
+                        &settings_tables(Some(settings))?,
+                        &model.spec,
+                        model.sample_rate_hz,
+                    )
+                    .py()?;
+                    return Ok(Self {
+                        settings: Settings {
+                            tuning: *navigate.tuning(),
+                            scale_factor_states: navigate.scale_factor_states(),
+                            navigate: Some(navigate),
+                            sample_rate_hz: model.sample_rate_hz,
+                        },
+                    });
+                }
                 let mut tuning =
                     FilterTuning::from_imu_spec(&model.spec, model.sample_rate_hz, scale_factor_states).py()?;
                 let q = &mut tuning.process_noise;
@@ -711,6 +783,7 @@ macro_rules! filter_class {
                     settings: Settings {
                         tuning,
                         scale_factor_states,
+                        navigate: None,
                         sample_rate_hz: model.sample_rate_hz,
                     },
                 })
@@ -718,7 +791,10 @@ macro_rules! filter_class {
 
             /// The tuning in effect (PSDs, correlation times, initial one-sigmas,
             /// the unmodelled errors' one-sigmas ``unmodelled_*_std`` and
-            /// ``manoeuvre_correlation_time``), SI.
+            /// ``manoeuvre_correlation_time``), SI, and the optional state blocks
+            /// (``scale_factor_states``, ``installation_states``,
+            /// ``range_bias_states``: False, True for 12 shared slots or
+            /// "every_satellite").
             #[getter]
             fn tuning<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let t = &self.settings.tuning;
@@ -727,6 +803,13 @@ macro_rules! filter_class {
                 let d = PyDict::new(py);
                 d.set_item("sample_rate", self.settings.sample_rate_hz)?;
                 d.set_item("scale_factor_states", self.settings.scale_factor_states)?;
+                let blocks = self.settings.blocks($started_by == StartedBy::Tight, false);
+                d.set_item("installation_states", blocks.installation)?;
+                match blocks.range_biases {
+                    RangeBiasSlots::None => d.set_item("range_bias_states", false)?,
+                    RangeBiasSlots::Shared => d.set_item("range_bias_states", true)?,
+                    RangeBiasSlots::EverySatellite => d.set_item("range_bias_states", "every_satellite")?,
+                }
                 d.set_item("accel_white_psd", q.accel_white_psd)?;
                 d.set_item("gyro_white_psd", q.gyro_white_psd)?;
                 d.set_item("accel_bias_psd", q.accel_bias_psd)?;
@@ -822,8 +905,8 @@ macro_rules! filter_class {
             ) -> PyResult<PyRunningFilter> {
                 let raw = sample_arg(specific_force, angular_rate)?;
                 let initial = initial_state_arg(initial_state)?;
-                let Settings { tuning, scale_factor_states, .. } = self.settings;
-                PyRunningFilter::start(&tuning, scale_factor_states, inter_system_biases, $started_by, &initial, time, &raw)
+                let blocks = self.settings.blocks($started_by == StartedBy::Tight, inter_system_biases);
+                PyRunningFilter::start(&self.settings.tuning, blocks, $started_by, &initial, time, &raw)
             }
         }
 
@@ -844,31 +927,14 @@ macro_rules! filter_class {
                     Start::Given(state) => state,
                     Start::FromAiding(attitude) => $initial(&aiding, &imu.data(), attitude).py()?,
                 };
-                let Settings { tuning, scale_factor_states, .. } = self.settings;
+                let tuning = &self.settings.tuning;
                 // Galileo or BeiDou satellites: one clock plus their inter-system biases.
-                let isb = coupling::Aiding::needs_inter_system_biases(&aiding);
+                let blocks = self.settings.blocks(
+                    $started_by == StartedBy::Tight,
+                    coupling::Aiding::needs_inter_system_biases(&aiding),
+                );
                 let (forward, smoothed) = py
-                    .detach(|| {
-                        let data = imu.data();
-                        macro_rules! solve {
-                            ($sf:literal, $isb:literal) => {{
-                                const N: usize = Layout::size($sf, false, $isb, false);
-                                if smooth {
-                                    coupling::smoothed_solution::<N, _>(&data, &aiding, &initial, &tuning)
-                                        .map(|(f, s)| (f, Some(s)))
-                                } else {
-                                    coupling::solution::<N, _>(&data, &aiding, &initial, &tuning)
-                                        .map(|f| (f, None))
-                                }
-                            }};
-                        }
-                        match (scale_factor_states, isb) {
-                            (false, false) => solve!(false, false),
-                            (true, false) => solve!(true, false),
-                            (false, true) => solve!(false, true),
-                            (true, true) => solve!(true, true),
-                        }
-                    })
+                    .detach(|| factory::solve(blocks, &imu.data(), &aiding, &initial, tuning, smooth))
                     .py()?;
                 crate::warnings::warn_all(py, &forward.warnings)?;
                 PyFilterSolution::with_smoothed(py, forward, smoothed)

@@ -53,7 +53,7 @@ fn setting(value: &Bound<'_, PyAny>, name: &str) -> PyResult<SettingValue> {
 }
 
 /// `{table: {key: value}}` → the core's tables.
-fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTables> {
+pub(crate) fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTables> {
     let Some(d) = settings else {
         return Ok(Vec::new());
     };

@@ -3,8 +3,10 @@
 //! real-time loop or an aid memsnav does not know. Each method is one call
 //! into the core; the batch `run` is the same sequence of the same calls.
 
-use memsnav_core::coupling::{Aiding, FilterState, FilterTuning, InitialState, PositionFix};
-use memsnav_core::filter::state::{Layout, StateLayout};
+use memsnav_core::coupling::factory::{self, RunningState};
+use memsnav_core::coupling::{FilterTuning, InitialState, PositionFix};
+use memsnav_core::filter::state::{RangeBiasSlots, StateBlocks, StateLayout};
+use memsnav_core::gnss::satellite_name;
 use memsnav_core::gnss::GnssEpoch;
 use memsnav_core::ins::{ImuIncrement, ImuSample};
 use memsnav_py_macros::catch_panics;
@@ -19,34 +21,8 @@ use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epoch_at;
 use crate::records::{batches_to_dict, measurements_to_dict, resets_to_dict};
 
-/// Sizes of the running filter: with scale factors, with inter-system biases.
-const BASE: usize = Layout::size(false, false, false, false);
-const SCALE_FACTORS: usize = Layout::size(true, false, false, false);
-const BASE_ISB: usize = Layout::size(false, false, true, false);
-const SCALE_FACTORS_ISB: usize = Layout::size(true, false, true, false);
-
-/// The running filter at the size its tuning asks for.
-enum Filter {
-    Base(Box<FilterState<BASE>>),
-    ScaleFactors(Box<FilterState<SCALE_FACTORS>>),
-    BaseIsb(Box<FilterState<BASE_ISB>>),
-    ScaleFactorsIsb(Box<FilterState<SCALE_FACTORS_ISB>>),
-}
-
-/// `$body` with `$s` bound to the running filter, whatever its size.
-macro_rules! with_filter {
-    ($filter:expr, $s:ident => $body:expr) => {
-        match $filter {
-            Filter::Base($s) => $body,
-            Filter::ScaleFactors($s) => $body,
-            Filter::BaseIsb($s) => $body,
-            Filter::ScaleFactorsIsb($s) => $body,
-        }
-    };
-}
-
 /// Which class started the filter (its aiding decides the clock model).
-#[derive(Clone, Copy, PartialEq, Eq)]
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub(crate) enum StartedBy {
     Tight,
     Loose,
@@ -74,68 +50,37 @@ pub(crate) enum StartedBy {
 /// (DivergenceError) leave the filter exactly as it was, records included.
 #[pyclass(name = "RunningFilter", module = "memsnav._memsnav")]
 pub struct PyRunningFilter {
-    filter: Filter,
+    filter: Box<dyn RunningState>,
     started_by: StartedBy,
 }
 
 impl PyRunningFilter {
-    /// The filter at `time_s` from `initial`, with the raw sample there.
+    /// The filter with `blocks` at `time_s` from `initial`, with the raw
+    /// sample there.
     pub(crate) fn start(
         tuning: &FilterTuning,
-        scale_factor_states: bool,
-        inter_system_biases: bool,
+        blocks: StateBlocks,
         started_by: StartedBy,
         initial: &InitialState,
         time_s: f64,
         raw: &ImuSample,
     ) -> PyResult<Self> {
-        fn started<const N: usize, E: Aiding>(
-            initial: &InitialState,
-            tuning: &FilterTuning,
-            time_s: f64,
-            raw: &ImuSample,
-        ) -> PyResult<Box<FilterState<N>>> {
-            FilterState::start::<E>(initial, tuning, time_s, raw)
-                .map(Box::new)
-                .py()
-        }
-        let filter = match (scale_factor_states, inter_system_biases, started_by) {
-            (_, true, StartedBy::Loose) => {
+        let filter = match started_by {
+            StartedBy::Loose if blocks.inter_system_biases => {
                 return Err(PyValueError::new_err(
                     "inter_system_biases: a loosely coupled filter takes fixes, not \
                      pseudoranges of several systems",
                 ))
             }
-            (false, false, StartedBy::Tight) => {
-                Filter::Base(started::<BASE, GnssEpoch>(initial, tuning, time_s, raw)?)
-            }
-            (false, false, StartedBy::Loose) => {
-                Filter::Base(started::<BASE, PositionFix>(initial, tuning, time_s, raw)?)
-            }
-            (true, false, StartedBy::Tight) => {
-                Filter::ScaleFactors(started::<SCALE_FACTORS, GnssEpoch>(
-                    initial, tuning, time_s, raw,
-                )?)
-            }
-            (true, false, StartedBy::Loose) => {
-                Filter::ScaleFactors(started::<SCALE_FACTORS, PositionFix>(
-                    initial, tuning, time_s, raw,
-                )?)
-            }
-            (false, true, StartedBy::Tight) => Filter::BaseIsb(started::<BASE_ISB, GnssEpoch>(
-                initial, tuning, time_s, raw,
-            )?),
-            (true, true, StartedBy::Tight) => {
-                Filter::ScaleFactorsIsb(started::<SCALE_FACTORS_ISB, GnssEpoch>(
-                    initial, tuning, time_s, raw,
-                )?)
-            }
-        };
+            StartedBy::Tight => factory::start::<GnssEpoch>(blocks, initial, tuning, time_s, raw),
+            StartedBy::Loose => factory::start::<PositionFix>(blocks, initial, tuning, time_s, raw),
+        }
+        .py()?;
         Ok(Self { filter, started_by })
     }
 
     fn time_s(&self) -> f64 {
-        with_filter!(&self.filter, s => s.time_s())
+        self.filter.time_s()
     }
 }
 
@@ -169,7 +114,7 @@ impl PyRunningFilter {
         angular_rate: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
         let raw = sample_arg(specific_force, angular_rate)?;
-        with_filter!(&mut self.filter, s => s.predict(time, &raw).py())
+        self.filter.predict(time, &raw).py()
     }
 
     /// Steps to `time` (s) with the raw increments of the interval since
@@ -186,7 +131,7 @@ impl PyRunningFilter {
             delta_velocity_b: convert::vector3(delta_v, "delta_v")?,
             delta_angle_b: convert::vector3(delta_theta, "delta_theta")?,
         };
-        with_filter!(&mut self.filter, s => s.predict_increments(time, &raw).py())
+        self.filter.predict_increments(time, &raw).py()
     }
 
     /// Applies epoch `epoch` of `gnss` (anything `TightlyCoupledFilter.run`
@@ -205,7 +150,7 @@ impl PyRunningFilter {
             ));
         }
         let at = gnss_epoch_at(gnss, epoch)?;
-        with_filter!(&mut self.filter, s => s.update_gnss(&at).py())
+        self.filter.update_gnss(&at).py()
     }
 
     /// Applies a position fix of the antenna at the filter's time:
@@ -242,13 +187,13 @@ impl PyRunningFilter {
             velocity_covariance: velocity.map_or(Matrix3::zeros(), |v| v.1),
             velocity_horizontal_only: false,
         };
-        with_filter!(&mut self.filter, s => s.update_fix(&fix).py())
+        self.filter.update_fix(&fix).py()
     }
 
     /// Zero-velocity update, ``std`` m/s per axis. Returns whether it
     /// passed its gate (as every update method does).
     fn update_zupt(&mut self, std: f64) -> PyResult<bool> {
-        with_filter!(&mut self.filter, s => s.update_zupt(std).py())
+        self.filter.update_zupt(std).py()
     }
 
     /// Zero-angular-rate update at rest: `mean_angular_rate` (3,) rad/s is
@@ -261,7 +206,7 @@ impl PyRunningFilter {
     ) -> PyResult<bool> {
         let rate = convert::vector3(mean_angular_rate, "mean_angular_rate")?;
         let std = convert::per_axis(std, "std")?;
-        with_filter!(&mut self.filter, s => s.update_zaru(&rate, &std).py())
+        self.filter.update_zaru(&rate, &std).py()
     }
 
     /// Non-holonomic constraint of a land vehicle: the point at
@@ -275,7 +220,7 @@ impl PyRunningFilter {
         lever_arm: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<bool> {
         let l = lever_arm_arg(lever_arm)?;
-        with_filter!(&mut self.filter, s => s.update_non_holonomic(&l, std).py())
+        self.filter.update_non_holonomic(&l, std).py()
     }
 
     /// Odometer (wheel speed): the forward speed `speed` m/s (negative when
@@ -289,21 +234,21 @@ impl PyRunningFilter {
         lever_arm: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<bool> {
         let l = lever_arm_arg(lever_arm)?;
-        with_filter!(&mut self.filter, s => s.update_speed(speed, &l, std).py())
+        self.filter.update_speed(speed, &l, std).py()
     }
 
     /// Height (a barometer referenced to the ellipsoid): the IMU's WGS 84
     /// ellipsoidal height `height` m, `std` m. Returns whether it was
     /// accepted.
     fn update_height(&mut self, height: f64, std: f64) -> PyResult<bool> {
-        with_filter!(&mut self.filter, s => s.update_height(height, std).py())
+        self.filter.update_height(height, std).py()
     }
 
     /// Heading (dual antenna; a magnetometer corrected for declination):
     /// the body's yaw `yaw` rad from north, positive east (NED), `std` rad.
     /// Returns whether it was accepted.
     fn update_heading(&mut self, yaw: f64, std: f64) -> PyResult<bool> {
-        with_filter!(&mut self.filter, s => s.update_heading(yaw, std).py())
+        self.filter.update_heading(yaw, std).py()
     }
 
     /// The filter's time, s (that of the last predict).
@@ -315,45 +260,72 @@ impl PyRunningFilter {
     /// Position r^e of the IMU, (3,) m.
     #[getter]
     fn position_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
-        with_filter!(&self.filter, s => convert::vector3_to_numpy(py, &s.nav.position_ecef))
+        convert::vector3_to_numpy(py, &self.filter.estimate().nav.position_ecef)
     }
 
     /// Velocity v^e of the IMU, (3,) m/s.
     #[getter]
     fn velocity_ecef<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
-        with_filter!(&self.filter, s => convert::vector3_to_numpy(py, &s.nav.velocity_ecef))
+        convert::vector3_to_numpy(py, &self.filter.estimate().nav.velocity_ecef)
     }
 
     /// Attitude C_b^e, (3, 3).
     #[getter]
     fn attitude<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        with_filter!(&self.filter, s => convert::matrix3_to_numpy(py, &s.nav.c_b_e))
+        convert::matrix3_to_numpy(py, &self.filter.estimate().nav.c_b_e)
     }
 
     /// The whole estimate as a dict: `time` s, `position_ecef` m,
     /// `velocity_ecef` m/s, `attitude` C_b^e, `accel_bias` m/s²,
     /// `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and with
-    /// scale-factor states `accel_scale_factor`, `gyro_scale_factor`.
+    /// scale-factor states `accel_scale_factor`, `gyro_scale_factor`; with
+    /// inter-system biases `inter_system_bias` (Galileo, BeiDou, GLONASS, m);
+    /// with range-bias states `range_biases`, m, by satellite (`"G05"`; the
+    /// loosely coupled filter's fix errors by ECEF axis, `"x"`, `"y"`, `"z"`).
     #[getter]
     fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        with_filter!(&self.filter, s => {
-            d.set_item("time", s.time_s())?;
-            d.set_item("position_ecef", convert::vector3_to_numpy(py, &s.nav.position_ecef))?;
-            d.set_item("velocity_ecef", convert::vector3_to_numpy(py, &s.nav.velocity_ecef))?;
-            d.set_item("attitude", convert::matrix3_to_numpy(py, &s.nav.c_b_e))?;
-            d.set_item("accel_bias", convert::vector3_to_numpy(py, &s.accel_bias_m_s2))?;
-            d.set_item("gyro_bias", convert::vector3_to_numpy(py, &s.gyro_bias_rad_s))?;
-            d.set_item("clock_offset", s.clock_offset_m)?;
-            d.set_item("clock_drift", s.clock_drift_m_s)?;
-            if matches!(self.filter, Filter::ScaleFactors(_) | Filter::ScaleFactorsIsb(_)) {
-                d.set_item("accel_scale_factor", convert::vector3_to_numpy(py, &s.accel_scale_factor))?;
-                d.set_item("gyro_scale_factor", convert::vector3_to_numpy(py, &s.gyro_scale_factor))?;
+        let e = self.filter.estimate();
+        d.set_item("time", e.time_s)?;
+        d.set_item(
+            "position_ecef",
+            convert::vector3_to_numpy(py, &e.nav.position_ecef),
+        )?;
+        d.set_item(
+            "velocity_ecef",
+            convert::vector3_to_numpy(py, &e.nav.velocity_ecef),
+        )?;
+        d.set_item("attitude", convert::matrix3_to_numpy(py, &e.nav.c_b_e))?;
+        d.set_item(
+            "accel_bias",
+            convert::vector3_to_numpy(py, &e.accel_bias_m_s2),
+        )?;
+        d.set_item(
+            "gyro_bias",
+            convert::vector3_to_numpy(py, &e.gyro_bias_rad_s),
+        )?;
+        d.set_item("clock_offset", e.clock_offset_m)?;
+        d.set_item("clock_drift", e.clock_drift_m_s)?;
+        if let Some((accel, gyro)) = e.scale_factors {
+            d.set_item("accel_scale_factor", convert::vector3_to_numpy(py, &accel))?;
+            d.set_item("gyro_scale_factor", convert::vector3_to_numpy(py, &gyro))?;
+        }
+        if let Some(isb) = e.inter_system_bias_m {
+            d.set_item("inter_system_bias", isb.to_vec())?;
+        }
+        if self.filter.blocks().range_biases != RangeBiasSlots::None {
+            let biases = PyDict::new(py);
+            for &(holder, bias_m) in &e.range_biases {
+                match self.started_by {
+                    StartedBy::Tight => biases.set_item(satellite_name(holder), bias_m)?,
+                    // The fixes' position error on ECEF axis 0, 1, 2.
+                    StartedBy::Loose => {
+                        biases.set_item(["x", "y", "z"][usize::from(holder)], bias_m)?
+                    }
+                }
             }
-            if matches!(self.filter, Filter::BaseIsb(_) | Filter::ScaleFactorsIsb(_)) {
-                d.set_item("inter_system_bias", s.inter_system_bias_m.to_vec())?;
-            }
-        });
+            d.set_item("range_biases", biases)?;
+        }
         Ok(d)
     }
 
@@ -362,24 +334,22 @@ impl PyRunningFilter {
     /// rad/s, m, m/s; attitude and velocity in ECEF axes).
     #[getter]
     fn covariance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        with_filter!(&self.filter, s => {
-            let n = s.kf.p.nrows();
-            let rows: Vec<Vec<f64>> = (0..n).map(|i| (0..n).map(|j| s.kf.p[(i, j)]).collect()).collect();
-            PyArray2::from_vec2(py, &rows).expect("square")
-        })
+        let p = self.filter.covariance();
+        let rows: Vec<Vec<f64>> = p.row_iter().map(|r| r.iter().copied().collect()).collect();
+        PyArray2::from_vec2(py, &rows).expect("square")
     }
 
     /// Error-state names, in covariance order.
     #[getter]
-    fn state_names(&self) -> Vec<&'static str> {
-        StateLayout::names(with_filter!(&self.filter, s => s.kf.p.nrows()))
+    fn state_names(&self) -> Vec<String> {
+        StateLayout::names(self.filter.blocks().size())
     }
 
     /// The records since the last call, handed over and cleared: a dict
     /// with `measurements`, `batches` and `resets`, each as in
     /// `FilterSolution`.
     fn take_records<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let records = with_filter!(&mut self.filter, s => s.take_records());
+        let records = self.filter.take_records();
         let d = PyDict::new(py);
         d.set_item(
             "measurements",
@@ -391,7 +361,7 @@ impl PyRunningFilter {
     }
 
     fn __repr__(&self) -> String {
-        let n = with_filter!(&self.filter, s => s.kf.p.nrows());
+        let n = self.filter.blocks().size();
         let by = match self.started_by {
             StartedBy::Tight => "TightlyCoupledFilter",
             StartedBy::Loose => "LooselyCoupledFilter",

@@ -65,6 +65,7 @@ mod antenna;
 mod carrier;
 mod diagnostics;
 mod engine;
+pub mod factory;
 mod init;
 mod installation;
 pub mod integrity;

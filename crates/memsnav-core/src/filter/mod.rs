@@ -18,9 +18,12 @@
 //! The filters are generic over the state size `N`: [`state::BASE_STATES`]
 //! (17: attitude, velocity, position, accelerometer bias, gyro bias, clock
 //! offset and drift), [`state::WITH_SCALE_FACTORS`] (23: plus accelerometer
-//! and gyro scale-factor errors), and either with [`state::RANGE_BIAS_SLOTS`]
-//! per-satellite pseudorange biases (29, 35); [`state::Layout`] says which.
-//! Everything is fixed-size nalgebra, so no per-epoch allocation happens.
+//! and gyro scale-factor errors), each with optional installation,
+//! inter-system-bias and per-satellite pseudorange-bias blocks (12 shared
+//! slots or 40, [`state::RangeBiasSlots`]); [`state::Layout`] says which
+//! blocks a size has, and [`state::StateBlocks::dispatch`] picks the size
+//! for the blocks a run chose. Everything is fixed-size nalgebra, so no
+//! per-epoch allocation happens.
 //!
 //! ## Measurements in batches
 //!

@@ -48,8 +48,8 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 use super::input_noise::{self, InputErrorNoise};
 use super::state::{
-    Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, INSTALLATION_STATES, INTER_SYSTEM_BIAS_STATES, POSITION, RANGE_BIAS_SLOTS,
+    Layout, RangeBiasSlots, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET,
+    GYRO_BIAS, GYRO_SCALE_FACTOR, INSTALLATION_STATES, INTER_SYSTEM_BIAS_STATES, POSITION,
     VELOCITY,
 };
 use crate::attitude::skew;
@@ -162,7 +162,7 @@ pub fn system_matrix<const N: usize>(
     f[(CLOCK_OFFSET, CLOCK_DRIFT)] = 1.0;
     let layout = Layout::for_size::<N>();
     if let Some(first) = layout.range_bias {
-        for k in 0..RANGE_BIAS_SLOTS {
+        for k in 0..layout.range_bias_slots {
             f[(first + k, first + k)] = -1.0 / noise.range_bias_correlation_time_s;
         }
     }
@@ -381,7 +381,7 @@ impl Transition {
             set(j, &[(1.0, j)]);
         }
         if let Some(first) = layout.range_bias {
-            for j in first..first + RANGE_BIAS_SLOTS {
+            for j in first..first + layout.range_bias_slots {
                 set(j, &[(self.rb_decay, j)]);
             }
         }
@@ -490,7 +490,7 @@ impl Transition {
             set(j, &[(1.0, j)]);
         }
         if let Some(first) = layout.range_bias {
-            for j in first..first + RANGE_BIAS_SLOTS {
+            for j in first..first + layout.range_bias_slots {
                 set(j, &[(self.rb_decay, j)]);
             }
         }
@@ -651,10 +651,11 @@ fn constant_states(layout: Layout) -> impl Iterator<Item = usize> {
 }
 
 /// Most states of a filter (every optional block).
-const MAX_STATES: usize = Layout::size(true, true, true, true);
-/// Most non-zeros of Φ (the 45-state filter has 104: the 42-state one's
-/// 101 and one per inter-system bias).
-const MAX_TERMS: usize = 106;
+const MAX_STATES: usize = Layout::size(true, true, true, RangeBiasSlots::EverySatellite);
+/// Most non-zeros of Φ (the 73-state filter has 132: the 45-state one's
+/// 104, the 42-state one's 101 and one per inter-system bias, with 28 more
+/// range-bias slots, one term each).
+const MAX_TERMS: usize = 132;
 
 /// A sparse matrix by columns: column j holds the terms
 /// `start[j]..end[j]`, each a coefficient and the row it multiplies (here:
@@ -817,7 +818,7 @@ fn for_each_process_noise<const N: usize>(
         }
     }
     if let Some(first) = layout.range_bias {
-        for j in first..first + RANGE_BIAS_SLOTS {
+        for j in first..first + layout.range_bias_slots {
             f(j, j, d.rb_variance);
         }
     }

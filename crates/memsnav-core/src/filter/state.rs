@@ -13,15 +13,18 @@
 //! | 20-22 | gyro scale-factor error s_g (optional) | 1 |
 //! | next 7 | installation (optional): lever arm (3, body axes, m), IMU time offset (s), GNSS velocity latency (s), mounting boresight pitch and yaw (rad) | see [`Installation`] |
 //! | next 3 | inter-system biases (optional): Galileo, BeiDou and GLONASS pseudoranges minus GPS's, beyond the common receiver clock | m |
-//! | last 12 | pseudorange bias of the satellite in each slot (optional) | m |
+//! | last 12 or 40 | pseudorange bias of the satellite in each slot (optional, [`RangeBiasSlots`]) | m |
 //!
 //! The optional states are a compile-time extension selected by the size
 //! `N` alone ([`Layout::of`]): [`BASE_STATES`] (17), [`WITH_SCALE_FACTORS`]
 //! (23), [`WITH_RANGE_BIASES`] (29: the base plus [`RANGE_BIAS_SLOTS`]
 //! per-satellite pseudorange biases) and [`WITH_ALL`] (35: both), each
 //! also with the [`INSTALLATION_STATES`] (24, 30, 36, 42), and each of
-//! those with the [`INTER_SYSTEM_BIAS_STATES`] (+3). Every combination
-//! has its own size ([`Layout::size`]).
+//! those with the [`INTER_SYSTEM_BIAS_STATES`] (+3); and each without
+//! range biases also with [`EVERY_SATELLITE_SLOTS`] (+40). Every
+//! combination has its own size ([`Layout::size`]). A run picks its blocks at run time
+//! ([`StateBlocks`]) and reaches the filter of that size through
+//! [`StateBlocks::dispatch`], the one place a size is chosen.
 //! Misalignments and nonlinearity are not states; the filters absorb them
 //! as noise shaped by the sensed motion ([`super::input_noise`]).
 
@@ -49,9 +52,17 @@ pub const GYRO_SCALE_FACTOR: usize = 20;
 pub const BASE_STATES: usize = 17;
 /// Size of the state with accelerometer and gyro scale factors.
 pub const WITH_SCALE_FACTORS: usize = 23;
-/// Satellites whose pseudorange bias a filter with range-bias states can
-/// carry at once (a receiver tracks about 8-12 GPS satellites).
+/// Satellites whose pseudorange bias a filter with shared range-bias slots
+/// carries at once ([`RangeBiasSlots::Shared`]): a receiver sees 8-12 GPS
+/// satellites above a 10° mask.
 pub const RANGE_BIAS_SLOTS: usize = 12;
+/// Range-bias slots of a filter with a slot for every satellite
+/// ([`RangeBiasSlots::EverySatellite`]): GPS, Galileo, BeiDou and GLONASS
+/// together put 30-40 satellites above a 10° mask.
+pub const EVERY_SATELLITE_SLOTS: usize = 40;
+/// The most range-bias slots any layout has (the size of the per-slot
+/// arrays).
+pub const MAX_RANGE_BIAS_SLOTS: usize = EVERY_SATELLITE_SLOTS;
 /// Size of the base state plus the per-satellite range biases.
 pub const WITH_RANGE_BIASES: usize = BASE_STATES + RANGE_BIAS_SLOTS;
 /// Size of the state with scale factors and range biases.
@@ -103,6 +114,38 @@ impl Installation {
     pub const MOUNTING: usize = 5;
 }
 
+/// The per-satellite pseudorange-bias states a state carries. A satellite
+/// seen for the first time takes a free slot, or the slot of the satellite
+/// seen longest ago; one that finds none (more satellites at one epoch than
+/// slots) is used with its bias variance added to its noise
+/// (`coupling::engine::range_bias`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RangeBiasSlots {
+    /// No range-bias states.
+    #[default]
+    None,
+    /// [`RANGE_BIAS_SLOTS`] slots, held by the satellites used most
+    /// recently: with more satellites than that, the rest count as white
+    /// noise of the bias's variance.
+    Shared,
+    /// [`EVERY_SATELLITE_SLOTS`] slots: a state for every satellite a
+    /// multi-system receiver tracks.
+    EverySatellite,
+}
+
+impl RangeBiasSlots {
+    /// How many slots.
+    pub const fn count(self) -> usize {
+        match self {
+            Self::None => 0,
+            Self::Shared => RANGE_BIAS_SLOTS,
+            Self::EverySatellite => EVERY_SATELLITE_SLOTS,
+        }
+    }
+
+    const ALL: [Self; 3] = [Self::None, Self::Shared, Self::EverySatellite];
+}
+
 /// Which optional blocks a state of size `N` has (the sizes above are the
 /// only valid ones).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -115,14 +158,17 @@ pub struct Layout {
     pub inter_system_bias: Option<usize>,
     /// Index of the first range-bias state, when there are any.
     pub range_bias: Option<usize>,
+    /// Number of range-bias slots (0 without range-bias states).
+    pub range_bias_slots: usize,
 }
 
 impl Layout {
     /// The layout of a state of size `n`; `None` for any other size.
     pub const fn of(n: usize) -> Option<Self> {
         let mut k = 0;
-        while k < 16 {
-            let (sf, inst, isb, rb) = (k & 1 != 0, k & 2 != 0, k & 4 != 0, k & 8 != 0);
+        while k < 24 {
+            let (sf, inst, isb) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
+            let rb = RangeBiasSlots::ALL[k >> 3];
             if Self::size(sf, inst, isb, rb) == n {
                 let after_sf = if sf { WITH_SCALE_FACTORS } else { BASE_STATES };
                 let after_inst = after_sf + if inst { INSTALLATION_STATES } else { 0 };
@@ -131,7 +177,12 @@ impl Layout {
                     scale_factors: sf,
                     installation: if inst { Some(after_sf) } else { None },
                     inter_system_bias: if isb { Some(after_inst) } else { None },
-                    range_bias: if rb { Some(after_isb) } else { None },
+                    range_bias: if rb.count() > 0 {
+                        Some(after_isb)
+                    } else {
+                        None
+                    },
+                    range_bias_slots: rb.count(),
                 });
             }
             k += 1;
@@ -148,7 +199,7 @@ impl Layout {
             match Self::of(N) {
                 Some(l) => l,
                 None => panic!(
-                    "the error state has 17, 23, 29 or 35 states, each + 7 installation and + 3 inter-system-bias states"
+                    "the error state has 17 or 23 states, + 7 installation states, + 3 inter-system-bias states, + 12 or 40 range-bias slots"
                 ),
             }
         }
@@ -161,7 +212,7 @@ impl Layout {
         scale_factors: bool,
         installation: bool,
         inter_system_biases: bool,
-        range_biases: bool,
+        range_biases: RangeBiasSlots,
     ) -> usize {
         BASE_STATES
             + if scale_factors {
@@ -175,7 +226,97 @@ impl Layout {
             } else {
                 0
             }
-            + if range_biases { RANGE_BIAS_SLOTS } else { 0 }
+            + range_biases.count()
+    }
+}
+
+/// The optional blocks of a run's error state, chosen at run time from the
+/// configuration and the data.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct StateBlocks {
+    /// Accelerometer and gyro scale-factor states.
+    pub scale_factors: bool,
+    /// The installation block ([`Installation`]).
+    pub installation: bool,
+    /// Inter-system biases (pseudoranges of systems beyond GPS).
+    pub inter_system_biases: bool,
+    /// Per-satellite pseudorange biases (tight coupling) or the fixes'
+    /// position errors (loose coupling).
+    pub range_biases: RangeBiasSlots,
+}
+
+/// Work that needs the error state's size as a constant: a filter of `N`
+/// states. [`StateBlocks::dispatch`] runs it at the size the blocks give.
+pub trait SizedJob {
+    /// What the work returns.
+    type Output;
+    /// The work with `N` error states.
+    fn run<const N: usize>(self) -> Self::Output;
+}
+
+impl StateBlocks {
+    /// The error state's size ([`Layout::size`]).
+    pub const fn size(self) -> usize {
+        Layout::size(
+            self.scale_factors,
+            self.installation,
+            self.inter_system_biases,
+            self.range_biases,
+        )
+    }
+
+    /// Runs `job` with the state size these blocks give: one monomorphised
+    /// filter per combination, chosen here and nowhere else.
+    pub fn dispatch<J: SizedJob>(self, job: J) -> J::Output {
+        macro_rules! by_blocks {
+            ($(($a:literal, $b:literal, $c:literal)),*) => {
+                match (
+                    self.scale_factors,
+                    self.installation,
+                    self.inter_system_biases,
+                    self.range_biases,
+                ) {
+                    $(
+                        ($a, $b, $c, RangeBiasSlots::None) => {
+                            job.run::<{ Layout::size($a, $b, $c, RangeBiasSlots::None) }>()
+                        }
+                        ($a, $b, $c, RangeBiasSlots::Shared) => {
+                            job.run::<{ Layout::size($a, $b, $c, RangeBiasSlots::Shared) }>()
+                        }
+                        ($a, $b, $c, RangeBiasSlots::EverySatellite) => {
+                            job.run::<{ Layout::size($a, $b, $c, RangeBiasSlots::EverySatellite) }>()
+                        }
+                    )*
+                }
+            };
+        }
+        by_blocks!(
+            (false, false, false),
+            (true, false, false),
+            (false, true, false),
+            (true, true, false),
+            (false, false, true),
+            (true, false, true),
+            (false, true, true),
+            (true, true, true)
+        )
+    }
+
+    /// The blocks of a state of size `n` (see [`Layout::of`]).
+    pub const fn of_size(n: usize) -> Option<Self> {
+        match Layout::of(n) {
+            Some(l) => Some(Self {
+                scale_factors: l.scale_factors,
+                installation: l.installation.is_some(),
+                inter_system_biases: l.inter_system_bias.is_some(),
+                range_biases: match l.range_bias_slots {
+                    0 => RangeBiasSlots::None,
+                    RANGE_BIAS_SLOTS => RangeBiasSlots::Shared,
+                    _ => RangeBiasSlots::EverySatellite,
+                },
+            }),
+            None => None,
+        }
     }
 }
 
@@ -225,42 +366,29 @@ impl StateLayout {
         "inter_system_bias_glonass",
     ];
 
-    const RANGE_BIAS_NAMES: [&'static str; RANGE_BIAS_SLOTS] = [
-        "range_bias_0",
-        "range_bias_1",
-        "range_bias_2",
-        "range_bias_3",
-        "range_bias_4",
-        "range_bias_5",
-        "range_bias_6",
-        "range_bias_7",
-        "range_bias_8",
-        "range_bias_9",
-        "range_bias_10",
-        "range_bias_11",
-    ];
-
     /// The names of the states of a filter of size `n` (see [`Layout::of`]).
-    pub fn names(n: usize) -> Vec<&'static str> {
+    pub fn names(n: usize) -> Vec<String> {
         (0..n).map(|i| Self::name_in(n, i)).collect()
     }
 
-    /// The name of state `i` of a filter of size `n`.
-    pub fn name_in(n: usize, i: usize) -> &'static str {
+    /// The name of state `i` of a filter of size `n`: range biases are
+    /// `range_bias_<slot>`.
+    pub fn name_in(n: usize, i: usize) -> String {
         let Some(layout) = Layout::of(n) else {
-            return "unknown";
+            return "unknown".into();
         };
         let after = |first: Option<usize>| first.filter(|&f| i >= f).map(|f| i - f);
-        let name = if let Some(k) = after(layout.range_bias) {
-            Self::RANGE_BIAS_NAMES.get(k)
-        } else if let Some(k) = after(layout.inter_system_bias) {
+        if let Some(k) = after(layout.range_bias).filter(|&k| k < layout.range_bias_slots) {
+            return format!("range_bias_{k}");
+        }
+        let name = if let Some(k) = after(layout.inter_system_bias) {
             Self::INTER_SYSTEM_BIAS_NAMES.get(k)
         } else if let Some(k) = after(layout.installation) {
             Self::INSTALLATION_NAMES.get(k)
         } else {
             Self::NAMES.get(i)
         };
-        name.copied().unwrap_or("unknown")
+        name.copied().unwrap_or("unknown").into()
     }
 }
 

@@ -5,6 +5,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::attitude::euler_to_dcm;
 use crate::coupling::{FilterTuning, RangeBiasModel};
+use crate::filter::state::RangeBiasSlots;
 use crate::gnss::ReceiverClockModel;
 use crate::{validate, Error, Result};
 
@@ -67,13 +68,13 @@ pub struct StandstillConfig {
     /// Window of IMU samples the statistics are taken over, s. Default 1 s.
     pub window_s: f64,
     /// Largest std of the specific-force magnitude in the window, m/s².
-    /// Default 0.3 m/s²: a car at rest with its engine running shows
-    /// 0.1-0.28 (drive_0708, 5-95 %), driving 0.5-1.5; a hand-held device
-    /// held still 0.01-0.1, walking about 1.
+    /// Default 0.3 m/s²: above a car at rest with its engine running,
+    /// below one driving or a walker (the spreads measured on the example
+    /// logs: docs/reference/configuration.md, `[standstill]`).
     pub accel_std_m_s2: f64,
-    /// Largest std of the angular-rate magnitude, rad/s. Default 3 °/s
-    /// (engine vibration reaches 2.8 °/s at rest, driving 2.5-12 °/s,
-    /// walking 15-35 °/s).
+    /// Largest std of the angular-rate magnitude, rad/s. Default 3 °/s:
+    /// above engine vibration at rest, below most driving and walking
+    /// (the same measured spreads).
     pub gyro_std_rad_s: f64,
     /// Largest GNSS ground speed, m/s, when a GNSS velocity is at most
     /// `gnss_age_s` old. Default 0.2 m/s.
@@ -183,11 +184,16 @@ pub struct LogConfig {
     /// The filter: noise, initial uncertainties, gate, floors, recovery,
     /// the antenna lever arm and the GNSS velocity latency.
     pub tuning: FilterTuning,
-    /// Range-bias states for tight coupling (12 more states). Default on:
-    /// a real receiver's pseudorange errors are mostly slow biases, and a
-    /// filter that takes them for white noise averages them away and
-    /// reports bounds several times too tight (docs/reference/configuration.md, walk_0827).
-    pub range_bias_states: bool,
+    /// Range-bias states for tight coupling. Default the 12 shared slots
+    /// ([`RangeBiasSlots::Shared`]): a real receiver's pseudorange errors
+    /// are mostly slow biases, and a filter that takes them for white noise
+    /// averages them away and reports bounds several times too tight
+    /// (docs/reference/configuration.md, walk_0827). A slot for every
+    /// satellite ([`RangeBiasSlots::EverySatellite`]) is asked for
+    /// (`gnss.range_bias_states = "every_satellite"`): on the walk's
+    /// multi-GNSS runs it gave worse precision than the shared slots
+    /// (docs/decisions).
+    pub range_bias_states: RangeBiasSlots,
     /// Loose coupling: a first-order Gauss-Markov error of the fixes'
     /// positions per ECEF axis, as states (the range-bias slots of tight
     /// coupling: 12 more states, three used), with the process
@@ -265,7 +271,7 @@ impl LogConfig {
             imu_time_offset_s: 0.0,
             reference_from_imu_b_m: Vector3::zeros(),
             tuning,
-            range_bias_states: true,
+            range_bias_states: RangeBiasSlots::Shared,
             fix_error_states: false,
             fix_error: FIX_ERROR_DEFAULT,
             imu_candidates: Vec::new(),

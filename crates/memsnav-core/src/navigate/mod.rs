@@ -26,6 +26,7 @@ pub mod adapt;
 pub mod align;
 pub mod carrier_use;
 mod config;
+mod filter_settings;
 pub mod fixes;
 pub mod gyro_scale;
 pub mod output;
@@ -40,6 +41,7 @@ pub use config::{
     mounting_matrix, periodic_outages, AidsConfig, AlignmentConfig, AlignmentMethod, LogConfig,
     StandstillConfig, StartOverrides,
 };
+pub use filter_settings::FilterSettings;
 pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
 pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun, RunFailure};
 pub use settings::{tables, SettingTables, SettingValue, AUTO, KEYS};

@@ -14,7 +14,7 @@ use crate::coupling::{
     self, Aiding, FilterState, FilterTuning, InitialState, PositionFix, RangeBiasModel, Solution,
 };
 use crate::filter::chi_square::chi_square_quantile;
-use crate::filter::state::{Layout, POSITION, VELOCITY};
+use crate::filter::state::{RangeBiasSlots, SizedJob, StateBlocks, POSITION, VELOCITY};
 use crate::geodesy::ecef_to_geodetic;
 use crate::gnss::{keep_highest, solve_fix_all_satellites, GnssEpoch, SatelliteMeasurement};
 use crate::ins::ImuData;
@@ -127,7 +127,7 @@ pub fn navigate_log(
         })
         .collect();
     let tight = matches!(gnss, GnssInput::Measurements(_));
-    let range_biases = config.range_bias_states && tight;
+    let range_biases = config.range_bias_states != RangeBiasSlots::None && tight;
     // With range-bias states the pseudorange errors the fixes see include
     // the biases: their covariance (the start's position uncertainty) must.
     let bias_std_m = if range_biases {
@@ -177,7 +177,6 @@ fn run_from_start(
     config: &LogConfig,
 ) -> Result<LogRun> {
     let tight = matches!(gnss, GnssInput::Measurements(_));
-    let range_biases = config.range_bias_states && tight;
     let start = find_start(time, imu_b, &kinematics, config)?;
     let t_end = match config.duration_s {
         Some(d) => (start.time_s + d).min(time[time.len() - 1]),
@@ -234,15 +233,13 @@ fn run_from_start(
     };
     // The range-bias slots carry the pseudorange biases (tight) or the
     // fixes' position errors (loose).
-    let layout = |fix_error: Option<RangeBiasModel>| RunLayout {
-        scale_factors: config.scale_factor_states,
-        installation: config.installation_states,
+    let layout = |fix_error: Option<RangeBiasModel>| {
         // Galileo or BeiDou pseudoranges: one clock plus their inter-system biases.
-        inter_system_biases: match gnss {
+        let inter_system_biases = match gnss {
             GnssInput::Measurements(epochs) => GnssEpoch::needs_inter_system_biases(epochs),
             GnssInput::Fixes(_) => false,
-        },
-        slots: range_biases || fix_error.is_some(),
+        };
+        config.state_blocks(tight, inter_system_biases, fix_error.is_some())
     };
     // What the log itself says about the IMU, the vehicle and the fixes
     // (first passes), then the run that is reported.
@@ -492,15 +489,6 @@ struct Inputs<'a> {
     config: &'a LogConfig,
 }
 
-/// The optional blocks of a run's state, which fix its size.
-#[derive(Debug, Clone, Copy)]
-struct RunLayout {
-    scale_factors: bool,
-    installation: bool,
-    inter_system_biases: bool,
-    slots: bool,
-}
-
 /// What a filter run keeps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Record {
@@ -513,43 +501,19 @@ enum Record {
 }
 
 impl Inputs<'_> {
-    /// Runs the filter with the state `layout` and `model`, keeping what
-    /// `record` asks for: one monomorphised filter per combination of the
-    /// optional blocks.
-    fn filter(&self, layout: RunLayout, model: &PassModel, record: Record) -> Result<FilterOutput> {
-        let RunLayout {
-            scale_factors,
-            installation,
-            inter_system_biases,
-            slots,
-        } = layout;
-        macro_rules! by_layout {
-            ($(($a:literal, $b:literal, $c:literal, $d:literal)),*) => {
-                match (scale_factors, installation, inter_system_biases, slots) {
-                    $(($a, $b, $c, $d) => {
-                        self.filter_sized::<{ Layout::size($a, $b, $c, $d) }>(model, record)
-                    })*
-                }
-            };
-        }
-        by_layout!(
-            (false, false, false, false),
-            (true, false, false, false),
-            (false, true, false, false),
-            (true, true, false, false),
-            (false, false, true, false),
-            (true, false, true, false),
-            (false, true, true, false),
-            (true, true, true, false),
-            (false, false, false, true),
-            (true, false, false, true),
-            (false, true, false, true),
-            (true, true, false, true),
-            (false, false, true, true),
-            (true, false, true, true),
-            (false, true, true, true),
-            (true, true, true, true)
-        )
+    /// Runs the filter with the state `blocks` and `model`, keeping what
+    /// `record` asks for.
+    fn filter(
+        &self,
+        blocks: StateBlocks,
+        model: &PassModel,
+        record: Record,
+    ) -> Result<FilterOutput> {
+        blocks.dispatch(FilterPass {
+            inputs: self,
+            model,
+            record,
+        })
     }
 
     /// [`Self::filter`] with `N` states.
@@ -657,6 +621,21 @@ impl Inputs<'_> {
             s.shift_onto_gnss_time();
         }
         Ok((solution, smoothed, state.range_biases().collect(), failure))
+    }
+}
+
+/// One filter pass of [`Inputs::filter`], at the state size its blocks give.
+struct FilterPass<'a> {
+    inputs: &'a Inputs<'a>,
+    model: &'a PassModel,
+    record: Record,
+}
+
+impl SizedJob for FilterPass<'_> {
+    type Output = Result<FilterOutput>;
+
+    fn run<const N: usize>(self) -> Self::Output {
+        self.inputs.filter_sized::<N>(self.model, self.record)
     }
 }
 

@@ -9,6 +9,7 @@ use nalgebra::Vector3;
 use super::adapt::IMU_CANDIDATES;
 use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
 use crate::coupling::{BiasProcess, FilterTuning};
+use crate::filter::state::RangeBiasSlots;
 use crate::gnss::ReceiverClockModel;
 use crate::sensors::datasheet::{datasheet_key, DATASHEET_KEY_DESCRIPTIONS, TABLE as SPEC_TABLE};
 use crate::sensors::presets::{preset_spec, DEFAULT_PRESET};
@@ -50,6 +51,10 @@ impl std::fmt::Display for SettingValue {
 /// that learns them from the log ([`super::adapt`]).
 pub const AUTO: &str = "auto";
 
+/// The value of `gnss.range_bias_states` that gives every satellite a
+/// range-bias state ([`RangeBiasSlots::EverySatellite`]).
+pub const EVERY_SATELLITE: &str = "every_satellite";
+
 /// Largest angle a key in degrees takes, in magnitude: one turn either
 /// way. A larger one is a typo or an angle in another unit, not a heading
 /// or a mounting rotation anyone means.
@@ -83,7 +88,7 @@ pub const KEYS: &[(&str, &[(&str, &str)])] = &[
             ("use_pseudorange_rate", "use Doppler (tight coupling)"),
             ("carrier_phase", "use the carrier phase's change between epochs (tight coupling)"),
             ("receiver_clock", "oscillator class: \"tcxo\", \"ocxo\", \"consumer\""),
-            ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling)"),
+            ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling): true (default: 12 slots held by the satellites used most recently, the rest count their bias variance as noise), false, \"every_satellite\" (40 slots: a state for every satellite of a multi-system receiver)"),
             ("range_bias_std_m", "their steady-state std, m"),
             ("range_bias_correlation_time_s", "their correlation time, s"),
             (
@@ -351,7 +356,7 @@ impl Reader<'_> {
 }
 
 /// The value of `table.key` in `tables`, when given.
-fn find<'a>(
+pub(super) fn find<'a>(
     tables: &'a [(String, Vec<(String, SettingValue)>)],
     table: &str,
     key: &str,
@@ -377,6 +382,38 @@ struct Pending {
     periodic: [Option<f64>; 3],
 }
 
+/// Every table and key of `tables` is one [`KEYS`] lists, or an error
+/// naming it and what its table takes.
+pub(super) fn check_known_keys(tables: &[(String, Vec<(String, SettingValue)>)]) -> Result<()> {
+    for (table, entries) in tables {
+        let known = KEYS
+            .iter()
+            .find(|(t, _)| t == table)
+            .ok_or_else(|| {
+                Error::invalid(
+                    table.clone(),
+                    format!(
+                        "unknown table; expected one of {}",
+                        KEYS.iter().map(|(t, _)| *t).collect::<Vec<_>>().join(", ")
+                    ),
+                )
+            })?
+            .1;
+        for (key, _) in entries {
+            if !known.iter().any(|(k, _)| k == key) {
+                return Err(Error::invalid(
+                    format!("{table}.{key}"),
+                    format!(
+                        "unknown key; [{table}] takes {}",
+                        known.iter().map(|(k, _)| *k).collect::<Vec<_>>().join(", ")
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 impl LogConfig {
     /// The configuration of `tables` (table name, keys and values): the
     /// IMU spec of `filter.imu_preset` with the `[imu_spec]` figures over
@@ -390,32 +427,7 @@ impl LogConfig {
         imu_rate_hz: f64,
     ) -> Result<Self> {
         validate::positive("imu_rate_hz", imu_rate_hz)?;
-        for (table, entries) in tables {
-            let known = KEYS
-                .iter()
-                .find(|(t, _)| t == table)
-                .ok_or_else(|| {
-                    Error::invalid(
-                        table.clone(),
-                        format!(
-                            "unknown table; expected one of {}",
-                            KEYS.iter().map(|(t, _)| *t).collect::<Vec<_>>().join(", ")
-                        ),
-                    )
-                })?
-                .1;
-            for (key, _) in entries {
-                if !known.iter().any(|(k, _)| k == key) {
-                    return Err(Error::invalid(
-                        format!("{table}.{key}"),
-                        format!(
-                            "unknown key; [{table}] takes {}",
-                            known.iter().map(|(k, _)| *k).collect::<Vec<_>>().join(", ")
-                        ),
-                    ));
-                }
-            }
-        }
+        check_known_keys(tables)?;
         let preset = match find(tables, "filter", "imu_preset") {
             Some(v) => Reader {
                 table: "filter",
@@ -447,6 +459,17 @@ impl LogConfig {
         imu_rate_hz: f64,
         preset: &str,
     ) -> Result<Self> {
+        let spec =
+            preset_spec(preset).map_err(|e| Error::invalid("filter.imu_preset", e.to_string()))?;
+        Self::from_settings_with_spec(tables, imu_rate_hz, spec)
+    }
+
+    /// [`Self::from_settings`] from the IMU spec `spec` (the keys checked).
+    pub(super) fn from_settings_with_spec(
+        tables: &[(String, Vec<(String, SettingValue)>)],
+        imu_rate_hz: f64,
+        mut spec: ImuSpec,
+    ) -> Result<Self> {
         let scale = match find(tables, "filter", "scale_factor_states") {
             Some(v) => Reader {
                 table: "filter",
@@ -456,8 +479,6 @@ impl LogConfig {
             .flag()?,
             None => false,
         };
-        let mut spec =
-            preset_spec(preset).map_err(|e| Error::invalid("filter.imu_preset", e.to_string()))?;
         // The scale-factor priors enter the tuning itself (the states' P₀, or
         // the process noise that absorbs unmodelled scale factors), so they
         // are read before it is built, like the preset.
@@ -576,7 +597,16 @@ impl LogConfig {
                     .map_err(|e| Error::invalid(r.name(), e.to_string()))?;
                 t.set_receiver_clock(&clock);
             }
-            ("gnss", "range_bias_states") => self.range_bias_states = r.flag()?,
+            ("gnss", "range_bias_states") => {
+                self.range_bias_states = match r.value {
+                    SettingValue::Text(text) if text == EVERY_SATELLITE => {
+                        RangeBiasSlots::EverySatellite
+                    }
+                    SettingValue::Bool(true) => RangeBiasSlots::Shared,
+                    SettingValue::Bool(false) => RangeBiasSlots::None,
+                    _ => return Err(r.wrong("true, false or \"every_satellite\"")),
+                }
+            }
             ("gnss", "range_bias_std_m") => {
                 let s = r.positive()?;
                 i.range_bias_m = s;

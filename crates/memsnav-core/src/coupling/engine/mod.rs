@@ -19,8 +19,8 @@ use super::tuning::FilterTuning;
 use crate::attitude::{rotation_vector_to_dcm, skew};
 use crate::filter::state::{
     Layout, ACCEL_BIAS, ACCEL_SCALE_FACTOR, ATTITUDE, CLOCK_DRIFT, CLOCK_OFFSET, GYRO_BIAS,
-    GYRO_SCALE_FACTOR, INSTALLATION_STATES, INTER_SYSTEM_BIAS_STATES, POSITION, RANGE_BIAS_SLOTS,
-    VELOCITY,
+    GYRO_SCALE_FACTOR, INSTALLATION_STATES, INTER_SYSTEM_BIAS_STATES, MAX_RANGE_BIAS_SLOTS,
+    POSITION, VELOCITY,
 };
 use crate::filter::{ErrorStateKf, SystemInputs};
 use crate::geodesy::{c_n_e, ecef_to_geodetic, gravity_ecef};
@@ -122,8 +122,8 @@ pub struct FilterState<const N: usize> {
     /// Receiver clock drift estimate, m/s.
     pub clock_drift_m_s: f64,
     /// Pseudorange-bias estimate of the satellite in each range-bias slot, m
-    /// (zero without range-bias states).
-    pub range_bias_m: [f64; RANGE_BIAS_SLOTS],
+    /// (zero without range-bias states and beyond the layout's slots).
+    pub range_bias_m: [f64; MAX_RANGE_BIAS_SLOTS],
     /// Inter-system bias estimates (Galileo, BeiDou pseudoranges minus
     /// GPS's at one receiver clock), m (zero without the states).
     pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_STATES],
@@ -233,7 +233,7 @@ impl<const N: usize> FilterState<N> {
             }
         }
         if let Some(first) = layout.range_bias {
-            for j in first..first + RANGE_BIAS_SLOTS {
+            for j in first..first + layout.range_bias_slots {
                 p0[(j, j)] = s.range_bias_m.powi(2);
             }
         }
@@ -245,7 +245,7 @@ impl<const N: usize> FilterState<N> {
             gyro_scale_factor: Vector3::zeros(),
             clock_offset_m: init.clock_offset_m.unwrap_or(0.0),
             clock_drift_m_s: init.clock_drift_m_s.unwrap_or(0.0),
-            range_bias_m: [0.0; RANGE_BIAS_SLOTS],
+            range_bias_m: [0.0; MAX_RANGE_BIAS_SLOTS],
             inter_system_bias_m: [0.0; INTER_SYSTEM_BIAS_STATES],
             installation: InstallationEstimate::configured(
                 tuning.antenna_lever_arm_b_m,
@@ -413,8 +413,10 @@ impl<const N: usize> FilterState<N> {
             self.accel_scale_factor -= sa;
             self.gyro_scale_factor -= sg;
         }
-        if let Some(first) = Layout::for_size::<N>().range_bias {
-            for (k, b) in self.range_bias_m.iter_mut().enumerate() {
+        let layout = Layout::for_size::<N>();
+        if let Some(first) = layout.range_bias {
+            let slots = &mut self.range_bias_m[..layout.range_bias_slots];
+            for (k, b) in slots.iter_mut().enumerate() {
                 *b -= x.0[first + k];
             }
         }

@@ -12,12 +12,22 @@
 use nalgebra::{Matrix1, Vector3};
 
 use super::FilterState;
-use crate::filter::state::{Layout, RANGE_BIAS_SLOTS};
+use crate::filter::state::{Layout, MAX_RANGE_BIAS_SLOTS};
 
-/// The satellite in each slot and when it was last used.
-#[derive(Debug, Clone, Copy, Default)]
+/// The satellite in each slot and when it was last used (the layout's
+/// first `range_bias_slots` entries are the slots).
+#[derive(Debug, Clone, Copy)]
 pub(crate) struct RangeBiasSlots {
-    holder: [Option<(u16, f64)>; RANGE_BIAS_SLOTS],
+    holder: [Option<(u16, f64)>; MAX_RANGE_BIAS_SLOTS],
+}
+
+impl Default for RangeBiasSlots {
+    /// Every slot free.
+    fn default() -> Self {
+        Self {
+            holder: [None; MAX_RANGE_BIAS_SLOTS],
+        }
+    }
 }
 
 impl<const N: usize> FilterState<N> {
@@ -26,8 +36,9 @@ impl<const N: usize> FilterState<N> {
     /// no range-bias states or every slot is held by a satellite used at
     /// this epoch.
     pub(crate) fn range_bias_state(&mut self, sat_id: u16, time_s: f64) -> Option<(usize, f64)> {
-        let first = Layout::for_size::<N>().range_bias?;
-        let holders = &mut self.slots.holder;
+        let layout = Layout::for_size::<N>();
+        let first = layout.range_bias?;
+        let holders = &mut self.slots.holder[..layout.range_bias_slots];
         if let Some(k) = holders
             .iter()
             .position(|h| h.is_some_and(|(s, _)| s == sat_id))
@@ -58,8 +69,7 @@ impl<const N: usize> FilterState<N> {
 
     /// Loose coupling's fix-error states: the state index of the error of
     /// each ECEF axis (slot holders 0, 1, 2) and the estimate, m; `None`
-    /// without range-bias states. Three of the twelve slots, never
-    /// contested.
+    /// without range-bias states. Three of the slots, never contested.
     pub(crate) fn fix_error_states(&mut self, time_s: f64) -> Option<([usize; 3], Vector3<f64>)> {
         let mut states = [0; 3];
         let mut estimate = Vector3::zeros();

@@ -10,7 +10,7 @@ use crate::coupling::{
     MeasurementStatus, PositionFix,
 };
 use crate::filter::state::ATTITUDE;
-use crate::filter::Layout;
+use crate::filter::state::{SizedJob, StateBlocks};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::gnss::{solve_fix_all_satellites, GnssEpoch, ReceiverClockModel};
 use crate::ins::{ImuData, NavState};
@@ -176,18 +176,53 @@ pub(super) fn navigate(
     setup: &FilterSetup,
 ) -> Result<ImuRun> {
     let tuning = tuning(&input.spec, setup)?;
-    let (t, e, f, i, s) = (truth, epochs, fixes, input, start);
-    match (setup.scale_factor_states, setup.inter_system_bias_states) {
-        (false, false) => navigate_with::<{ size(false, false) }>(t, e, f, i, s, &tuning, setup),
-        (true, false) => navigate_with::<{ size(true, false) }>(t, e, f, i, s, &tuning, setup),
-        (false, true) => navigate_with::<{ size(false, true) }>(t, e, f, i, s, &tuning, setup),
-        (true, true) => navigate_with::<{ size(true, true) }>(t, e, f, i, s, &tuning, setup),
+    blocks(setup).dispatch(Navigate {
+        truth,
+        epochs,
+        fixes,
+        input,
+        start,
+        tuning: &tuning,
+        setup,
+    })
+}
+
+/// The filters' optional blocks: scale factors and inter-system biases as
+/// the setup asks.
+fn blocks(setup: &FilterSetup) -> StateBlocks {
+    StateBlocks {
+        scale_factors: setup.scale_factor_states,
+        inter_system_biases: setup.inter_system_bias_states,
+        ..StateBlocks::default()
     }
 }
 
-/// The filters' state size: 17, + 6 scale factors, + the inter-system biases.
-const fn size(scale_factors: bool, inter_system_biases: bool) -> usize {
-    Layout::size(scale_factors, false, inter_system_biases, false)
+/// [`navigate`]'s run at the size of its blocks.
+struct Navigate<'a> {
+    truth: &'a Trajectory,
+    epochs: &'a [GnssEpoch],
+    fixes: &'a [PositionFix],
+    input: &'a ImuInput,
+    start: &'a Start,
+    tuning: &'a FilterTuning,
+    setup: &'a FilterSetup<'a>,
+}
+
+impl SizedJob for Navigate<'_> {
+    type Output = Result<ImuRun>;
+
+    fn run<const N: usize>(self) -> Self::Output {
+        let Navigate {
+            truth,
+            epochs,
+            fixes,
+            input,
+            start,
+            tuning,
+            setup,
+        } = self;
+        navigate_with::<N>(truth, epochs, fixes, input, start, tuning, setup)
+    }
 }
 
 fn navigate_with<const N: usize>(
@@ -246,18 +281,45 @@ pub(super) fn navigate_branches(
     chains: &[Vec<Branch<'_>>],
 ) -> Result<Vec<Vec<ImuRun>>> {
     let tuning = tuning(&input.spec, setup)?;
-    let (t, e, i, s, c) = (truth, shared, input, start, chains);
-    match (setup.scale_factor_states, setup.inter_system_bias_states) {
-        (false, false) => {
-            branches_with::<{ size(false, false) }>(t, e, i, s, &tuning, setup, split, c)
-        }
-        (true, false) => {
-            branches_with::<{ size(true, false) }>(t, e, i, s, &tuning, setup, split, c)
-        }
-        (false, true) => {
-            branches_with::<{ size(false, true) }>(t, e, i, s, &tuning, setup, split, c)
-        }
-        (true, true) => branches_with::<{ size(true, true) }>(t, e, i, s, &tuning, setup, split, c),
+    blocks(setup).dispatch(Branches {
+        truth,
+        shared,
+        input,
+        start,
+        tuning: &tuning,
+        setup,
+        split,
+        chains,
+    })
+}
+
+/// [`navigate_branches`]'s runs at the size of their blocks.
+struct Branches<'a, 'b> {
+    truth: &'a Trajectory,
+    shared: &'a [GnssEpoch],
+    input: &'a ImuInput,
+    start: &'a Start,
+    tuning: &'a FilterTuning,
+    setup: &'a FilterSetup<'a>,
+    split: usize,
+    chains: &'a [Vec<Branch<'b>>],
+}
+
+impl SizedJob for Branches<'_, '_> {
+    type Output = Result<Vec<Vec<ImuRun>>>;
+
+    fn run<const N: usize>(self) -> Self::Output {
+        let Branches {
+            truth,
+            shared,
+            input,
+            start,
+            tuning,
+            setup,
+            split,
+            chains,
+        } = self;
+        branches_with::<N>(truth, shared, input, start, tuning, setup, split, chains)
     }
 }
 
