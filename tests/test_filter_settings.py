@@ -194,3 +194,64 @@ def test_a_slot_for_every_satellite_changes_nothing_with_few_satellites(drive_30
     assert len(shared.state_names) + 28 == len(every.state_names)
     np.testing.assert_allclose(every.position_ecef, shared.position_ecef, rtol=0, atol=1e-9)
     np.testing.assert_allclose(every.velocity_ecef, shared.velocity_ecef, rtol=0, atol=1e-9)
+
+
+def test_a_navigate_configuration_through_the_classes_is_navigates_solution(drive_300s):
+    """navigate_log with a configuration, and TightlyCoupledFilter with the
+    same configuration's filter tables on the same arrays from navigate's
+    start (its first sample, state and one-sigmas), give the same solution
+    to 1e-9 m: one filter behind both doors. The aids are off and the start
+    is a moving one (what a navigate run adds around the filter: the
+    classes leave the start and the aids to their caller); another setting
+    moves the solution by more than a centimetre."""
+    traj, gnss, _, f, w = drive_300s
+    filter_tables = {
+        "filter": {
+            "scale_factor_states": True,
+            "gate_probability": 0.9999,
+            "pseudorange_std_floor_m": 0.5,
+        },
+        "gnss": {"range_bias_std_m": 2.0, "range_bias_correlation_time_s": 900.0},
+    }
+    navigate_settings = {
+        "filter": {**filter_tables["filter"], "imu_preset": "consumer"},
+        "gnss": filter_tables["gnss"],
+        "alignment": {"method": "gnss_velocity"},
+        "aids": {"zupt": False, "zaru": False, "nhc": False},
+    }
+    run = mn.navigate_log(traj.time, f, w, gnss, settings=navigate_settings)
+    assert run.failure is None
+    start = run.start
+    k0 = start["first_sample"]
+    rate = (len(traj.time) - 1) / (traj.time[-1] - traj.time[0])
+    imu = mn.ImuModel.preset("consumer", sample_rate=rate)
+    stds = np.degrees([start["tilt_std"], start["tilt_std"], start["heading_std"]])
+    settings = {
+        "filter": {
+            **filter_tables["filter"],
+            "initial_position_std_m": start["position_std"],
+            "initial_velocity_std_m_s": start["velocity_std"],
+            "initial_attitude_std_deg": list(stds),
+        },
+        "gnss": filter_tables["gnss"],
+    }
+    flt = mn.TightlyCoupledFilter(imu, settings=settings)
+    # The epochs navigate gave the filter: those from its start on.
+    after = np.asarray(gnss.time) >= traj.time[k0]
+    names = (
+        "time sat_id satellite_position_ecef satellite_velocity_ecef pseudorange "
+        "pseudorange_std pseudorange_rate pseudorange_rate_std"
+    ).split()
+    used = {n: np.asarray(getattr(gnss, n))[after] for n in names}
+    sol = flt.run(traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"])
+    navigated = run.solution
+    assert navigated.state_names == sol.state_names
+    np.testing.assert_array_equal(navigated.time, sol.time)
+    np.testing.assert_allclose(sol.position_ecef, navigated.position_ecef, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(sol.velocity_ecef, navigated.velocity_ecef, rtol=0, atol=1e-9)
+    # The comparison can tell filters apart: another gate moves the solution.
+    settings["filter"]["gate_probability"] = 0.99
+    other = mn.TightlyCoupledFilter(imu, settings=settings).run(
+        traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"]
+    )
+    assert np.abs(other.position_ecef - navigated.position_ecef).max() > 0.01

@@ -2769,7 +2769,12 @@ class LogRun:
         allows, its first GNSS epoch with `standstill.window_s` of IMU data
         before it, s: the outages count from it), and `late_reason`: where
         and why the run started more than 10 s after that (late), None when
-        it did not.
+        it did not; `first_sample` (the index of the IMU sample it starts
+        at), `initial_state` (the filter's start at that sample, as
+        `initial_state=` of the filter classes takes it: `position_ecef` of
+        the IMU m, `velocity_ecef` m/s, `attitude` C_b^e) and its one-sigmas
+        `position_std` m, `velocity_std` m/s, `tilt_std` and `heading_std`
+        rad (before any `[filter]` override).
         """
 
     @property

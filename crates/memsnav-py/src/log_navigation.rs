@@ -362,7 +362,12 @@ impl PyLogRun {
     /// allows, its first GNSS epoch with `standstill.window_s` of IMU data
     /// before it, s: the outages count from it), and `late_reason`: where
     /// and why the run started more than 10 s after that (late), None when
-    /// it did not.
+    /// it did not; `first_sample` (the index of the IMU sample it starts
+    /// at), `initial_state` (the filter's start at that sample, as
+    /// `initial_state=` of the filter classes takes it: `position_ecef` of
+    /// the IMU m, `velocity_ecef` m/s, `attitude` C_b^e) and its one-sigmas
+    /// `position_std` m, `velocity_std` m/s, `tilt_std` and `heading_std`
+    /// rad (before any `[filter]` override).
     #[getter]
     fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &self.run.start;
@@ -375,6 +380,26 @@ impl PyLogRun {
         d.set_item("first_gnss_time", s.first_gnss_time_s)?;
         d.set_item("earliest_time", s.earliest_time_s)?;
         d.set_item("late_reason", self.run.late_start.as_deref())?;
+        d.set_item("first_sample", s.first_sample)?;
+        let initial = s.initial_state(&self.run.tuning.antenna_lever_arm_b_m);
+        let state = PyDict::new(py);
+        state.set_item(
+            "position_ecef",
+            convert::vector3_to_numpy(py, &initial.nav.position_ecef),
+        )?;
+        state.set_item(
+            "velocity_ecef",
+            convert::vector3_to_numpy(py, &initial.nav.velocity_ecef),
+        )?;
+        state.set_item(
+            "attitude",
+            convert::matrix3_to_numpy(py, &initial.nav.c_b_e),
+        )?;
+        d.set_item("initial_state", state)?;
+        d.set_item("position_std", s.position_std_m)?;
+        d.set_item("velocity_std", s.velocity_std_m_s)?;
+        d.set_item("tilt_std", s.tilt_std_rad)?;
+        d.set_item("heading_std", s.heading_std_rad)?;
         Ok(d)
     }
     /// What the run learnt from the log before the run it reports

@@ -27,7 +27,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::config::{AlignmentMethod, LogConfig};
 use super::standstill::stats;
 use crate::attitude::euler_to_dcm;
-use crate::coupling::level;
+use crate::coupling::{level, InitialState};
 use crate::geodesy::{c_n_e, ecef_to_geodetic};
 use crate::ins::{ImuSample, NavState};
 use crate::{Error, Result};
@@ -180,6 +180,26 @@ pub struct Start {
     /// Why the start is more than [`LATE_START_S`] later than the earliest
     /// the log allowed (None: it is not).
     pub delay: Option<StartDelay>,
+}
+
+impl Start {
+    /// The filter's initial state at `first_sample`: the IMU's position
+    /// (the antenna's less the lever arm `antenna_lever_arm_b_m`, body
+    /// axes, m), velocity and attitude, zero sensor biases, the clock from
+    /// the first epoch the filter uses.
+    pub fn initial_state(&self, antenna_lever_arm_b_m: &Vector3<f64>) -> InitialState {
+        InitialState {
+            nav: NavState {
+                position_ecef: self.antenna.position_ecef
+                    - self.antenna.c_b_e * antenna_lever_arm_b_m,
+                ..self.antenna
+            },
+            accel_bias_m_s2: Vector3::zeros(),
+            gyro_bias_rad_s: Vector3::zeros(),
+            clock_offset_m: None,
+            clock_drift_m_s: None,
+        }
+    }
 }
 
 /// What the epochs before a late start showed: why none of them was a

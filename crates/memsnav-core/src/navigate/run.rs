@@ -11,7 +11,7 @@ use super::config::{periodic_outages, LogConfig};
 use super::gyro_scale::{gyro_scale, GyroScale};
 use super::standstill::{Window, WindowStats};
 use crate::coupling::{
-    self, Aiding, FilterState, FilterTuning, InitialState, PositionFix, RangeBiasModel, Solution,
+    self, Aiding, FilterState, FilterTuning, PositionFix, RangeBiasModel, Solution,
 };
 use crate::filter::chi_square::chi_square_quantile;
 use crate::filter::state::{RangeBiasSlots, SizedJob, StateBlocks, POSITION, VELOCITY};
@@ -540,17 +540,7 @@ impl Inputs<'_> {
         i.position_m = o.position_std_m.unwrap_or(s.position_std_m);
         i.velocity_m_s = o.velocity_std_m_s.unwrap_or(s.velocity_std_m_s);
         i.attitude_ned_rad = Vector3::new(s.tilt_std_rad, s.tilt_std_rad, s.heading_std_rad);
-        let lever = tuning.antenna_lever_arm_b_m;
-        let initial = InitialState {
-            nav: crate::ins::NavState {
-                position_ecef: s.antenna.position_ecef - s.antenna.c_b_e * lever,
-                ..s.antenna
-            },
-            accel_bias_m_s2: Vector3::zeros(),
-            gyro_bias_rad_s: Vector3::zeros(),
-            clock_offset_m: None,
-            clock_drift_m_s: None,
-        };
+        let initial = s.initial_state(&tuning.antenna_lever_arm_b_m);
         let keep_solution = record != Record::MeasurementsOnly;
         let capacity = if keep_solution { self.time.len() } else { 0 };
         let mut hook = Aids::new(
