@@ -58,8 +58,9 @@ def test_distributed_scaling_table_is_its_scripts():
 
 
 def test_reference_pages_are_current():
-    """The configuration keys (from the core's key table and the reading
-    schema) and the CLI reference are what docs/build_reference.py writes."""
+    """The configuration keys and their JSON schema (from the core's key
+    table and the reading schema) and the CLI reference are what
+    docs/build_reference.py writes."""
     build = runpy.run_path(str(ROOT / "docs" / "build_reference.py"))
     for name, render in build["PAGES"].items():
         page = ROOT / "docs" / "reference" / name

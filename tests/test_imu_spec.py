@@ -85,7 +85,8 @@ def test_a_preset_written_as_a_data_sheet_is_the_preset():
 
 
 def test_keys_and_values_are_checked_by_name():
-    with pytest.raises(ValueError, match=r"imu_spec.gyro_arw: unknown key; \[imu_spec\] takes"):
+    meant = r'imu_spec.gyro_arw: unknown key \(did you mean "gyro_arw_deg_sqrt_h"\?\); \[imu_spec\]'
+    with pytest.raises(ValueError, match=meant):
         mn.imu_spec_from_datasheet({"gyro_arw": 0.1})
     with pytest.raises(ValueError, match=r"imu_spec.gyro_arw_deg_sqrt_h: must be finite and non"):
         mn.imu_spec_from_datasheet({"gyro_arw_deg_sqrt_h": float("nan")})

@@ -78,9 +78,19 @@ class _Wrong(Exception):
     """A value that is not what its key holds: what it must be."""
 
 
-Check = Callable[[Any], Any]
-"""A kind of value: returns the value as the code uses it (a TOML integer
-given for a number as a float), or raises :class:`_Wrong`."""
+class Check:
+    """A kind of value: called with a value, returns it as the code uses it
+    (a TOML integer given for a number as a float) or raises
+    :class:`_Wrong`; :attr:`schema` is the JSON schema of the values it
+    takes (what an editor completes and checks as the file is typed)."""
+
+    def __init__(self, check: Callable[[Any], Any], schema: dict[str, Any]) -> None:
+        self._check = check
+        self.schema = schema
+
+    def __call__(self, value: Any) -> Any:
+        return self._check(value)
+
 
 Schema = Mapping[str, Mapping[str, tuple[Check, Any]]]
 
@@ -100,7 +110,7 @@ def text(*choices: str) -> Check:
             raise _Wrong(f"must be one of {list(choices)}, got {value!r}")
         return value
 
-    return check
+    return Check(check, {"type": "string", **({"enum": list(choices)} if choices else {})})
 
 
 def pathname() -> Check:
@@ -113,7 +123,7 @@ def pathname() -> Check:
             raise _Wrong(f"must be a path, got {value!r}: it contains a NUL character")
         return value
 
-    return check
+    return Check(check, {"type": "string"})
 
 
 def file_name() -> Check:
@@ -129,7 +139,7 @@ def file_name() -> Check:
             raise _Wrong(f"must be a plain file name, got {value!r}")
         return value
 
-    return check
+    return Check(check, {"type": "string", "minLength": 1, "pattern": r"^[^/\\\\]+$"})
 
 
 def flag() -> Check:
@@ -140,7 +150,7 @@ def flag() -> Check:
             raise _Wrong(f"must be true or false, got {value!r}")
         return value
 
-    return check
+    return Check(check, {"type": "boolean"})
 
 
 def _range(minimum: float | None, maximum: float | None, above: float | None) -> str:
@@ -153,6 +163,14 @@ def _range(minimum: float | None, maximum: float | None, above: float | None) ->
     return ""
 
 
+def _bounds(
+    schema: dict[str, Any], minimum: float | None, maximum: float | None, above: float | None
+) -> dict[str, Any]:
+    """``schema`` with the JSON schema's bounds of a number."""
+    bounds = {"minimum": minimum, "maximum": maximum, "exclusiveMinimum": above}
+    return {**schema, **{k: v for k, v in bounds.items() if v is not None}}
+
+
 def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
     """A TOML integer in [``minimum``, ``maximum``]."""
 
@@ -163,7 +181,7 @@ def integer(minimum: int | None = None, maximum: int | None = None) -> Check:
             raise _Wrong(f"must be an integer{_range(minimum, maximum, None)}, got {value!r}")
         return value
 
-    return check
+    return Check(check, _bounds({"type": "integer"}, minimum, maximum, None))
 
 
 def number(
@@ -184,7 +202,7 @@ def number(
             raise _Wrong(f"must be a finite number{expected}, got {value!r}")
         return float(value)
 
-    return check
+    return Check(check, _bounds({"type": "number"}, minimum, maximum, above))
 
 
 def satellite() -> Check:
@@ -214,7 +232,7 @@ def satellite() -> Check:
             return value
         raise _Wrong(f'must be a satellite name like "G10", "E24", "C11", "R05", got {value!r}')
 
-    return check
+    return Check(check, {"type": "string", "pattern": "^[GECR](0[1-9]|[1-5][0-9]|6[0-3])$"})
 
 
 def list_of(item: Check, *, lengths: Collection[int] = (), min_length: int = 0) -> Check:
@@ -235,7 +253,15 @@ def list_of(item: Check, *, lengths: Collection[int] = (), min_length: int = 0) 
                 raise _Wrong(f"entry {i}: {e}") from None
         return checked
 
-    return check
+    return Check(
+        check,
+        {
+            "type": "array",
+            "items": item.schema,
+            **({"minItems": min(lengths), "maxItems": max(lengths)} if lengths else {}),
+            **({"minItems": min_length} if min_length and not lengths else {}),
+        },
+    )
 
 
 def imu_columns() -> Check:
@@ -257,7 +283,15 @@ def imu_columns() -> Check:
             return dict(value)
         raise _Wrong(f"must be a list of column names or a table of columns, got {value!r}")
 
-    return check
+    return Check(
+        check,
+        {
+            "anyOf": [
+                {"type": "array", "items": {"type": "string"}, "minItems": 1},
+                {"type": "object", "additionalProperties": {"type": ["string", "integer"]}},
+            ]
+        },
+    )
 
 
 def header_names() -> Check:
@@ -272,7 +306,7 @@ def header_names() -> Check:
                 raise _Wrong(f"{k}: must be a header name (a string), got {v!r}")
         return dict(value)
 
-    return check
+    return Check(check, {"type": "object", "additionalProperties": {"type": "string"}})
 
 
 def axes() -> Check:
@@ -284,7 +318,7 @@ def axes() -> Check:
         checked: str | list[list[float]] = text()(value) if isinstance(value, str) else rows(value)
         return checked
 
-    return check
+    return Check(check, {"anyOf": [{"type": "string"}, rows.schema]})
 
 
 def list_or_choice(listed: Check, *choices: str) -> Check:
@@ -297,7 +331,7 @@ def list_or_choice(listed: Check, *choices: str) -> Check:
             return value
         return listed(value)
 
-    return check
+    return Check(check, {"anyOf": [listed.schema, {"enum": list(choices)}]})
 
 
 def scalar_or_list(scalar: Check, listed: Check) -> Check:
@@ -306,7 +340,7 @@ def scalar_or_list(scalar: Check, listed: Check) -> Check:
     def check(value: Any) -> Any:
         return listed(value) if isinstance(value, list) else scalar(value)
 
-    return check
+    return Check(check, {"anyOf": [scalar.schema, listed.schema]})
 
 
 def key_name(table: str, key: str) -> str:

@@ -2619,6 +2619,12 @@ def defaults() -> dict[str, dict[str, Any]]:
     densities, bias processes and initial bias spreads come from the IMU
     model and are not listed."""
 
+def navigate_settings_schema() -> str:
+    """The JSON schema (a JSON text) of the engine's tables of a ``navigate``
+    configuration: per table an object of its keys, each with its kind of
+    value, bounds and description, and no other key
+    (``memsnav.realdata.config.json_schema()`` joins the reading keys')."""
+
 def navigate_settings() -> dict[str, dict[str, str]]:
     """The tables and keys ``navigate_log(settings=...)`` reads (the engine's
     part of a ``navigate`` configuration), each with what it holds."""

@@ -1,13 +1,16 @@
 //! Reading the user's argument objects: entries of a dict or attributes
 //! of an object, strictly (an unknown dict key is an error naming the
 //! closest known one), arrays that may hold NaN padding, and the errors
-//! naming the argument. Shared by every binding that takes such objects.
+//! naming the argument; a `navigate` configuration's tables as the core
+//! reads them. Shared by every binding that takes such objects.
 
 use memsnav_py_macros::catch_panics;
 use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
+
+use memsnav_core::navigate::{SettingTables, SettingValue};
 
 use crate::errors::IntoPyResult;
 
@@ -97,4 +100,57 @@ fn closest_name(key: &str, known: Vec<String>) -> Option<String> {
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(closest_name, m)?)
+}
+
+/// A Python value of a settings table as a core setting.
+fn setting(value: &Bound<'_, PyAny>, name: &str) -> PyResult<SettingValue> {
+    if value.is_instance_of::<PyBool>() {
+        return Ok(SettingValue::Bool(value.extract()?));
+    }
+    if value.is_instance_of::<PyString>() {
+        return Ok(SettingValue::Text(value.extract()?));
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let items: Vec<Bound<'_, PyAny>> = value.try_iter()?.collect::<PyResult<_>>()?;
+        return Ok(SettingValue::List(
+            items
+                .iter()
+                .map(|v| setting(v, name))
+                .collect::<PyResult<_>>()?,
+        ));
+    }
+    value
+        .extract::<f64>()
+        .map(SettingValue::Number)
+        .map_err(|_| {
+            PyValueError::new_err(format!(
+                "{name}: expected a number, true/false, a string or a list, got {}",
+                value.repr().map(|r| r.to_string()).unwrap_or_default()
+            ))
+        })
+}
+
+/// `{table: {key: value}}` → the core's tables.
+pub(crate) fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTables> {
+    let Some(d) = settings else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for (table, entries) in d.iter() {
+        let table: String = table
+            .extract()
+            .map_err(|_| PyValueError::new_err("settings: table names must be strings"))?;
+        let entries = entries.cast::<PyDict>().map_err(|_| {
+            PyValueError::new_err(format!("settings.{table}: must be a dict of key: value"))
+        })?;
+        let mut keys = Vec::new();
+        for (k, v) in entries.iter() {
+            let key: String = k.extract().map_err(|_| {
+                PyValueError::new_err(format!("settings.{table}: keys must be strings"))
+            })?;
+            keys.push((key.clone(), setting(&v, &format!("{table}.{key}"))?));
+        }
+        out.push((table, keys));
+    }
+    Ok(out)
 }

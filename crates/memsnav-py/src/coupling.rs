@@ -19,11 +19,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::aiding::position_fixes;
-use crate::arguments::{check_keys, field, optional_field};
+use crate::arguments::{check_keys, field, optional_field, settings_tables};
 use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epochs;
-use crate::log_navigation::settings_tables;
 use crate::records::{batches_to_dict, integrity_to_dict, measurements_to_dict, resets_to_dict};
 use crate::running_filter::{sample_arg, PyRunningFilter, StartedBy};
 use crate::sensors::PyImuModel;

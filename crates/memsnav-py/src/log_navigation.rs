@@ -6,7 +6,7 @@
 use memsnav_core::logs;
 use memsnav_core::navigate::{
     self, fixes_from_geodetic, references, score, FixOptions, GeodeticSolution, GnssInput,
-    LogConfig, LogRun, SettingTables, SettingValue,
+    LogConfig, LogRun,
 };
 use memsnav_core::random::from_optional_seed;
 use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
@@ -15,67 +15,14 @@ use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyList, PyString, PyTuple};
+use pyo3::types::{PyDict, PyList};
 
 use crate::aiding::{position_fixes, PyPositionFixes};
-use crate::arguments::no_epochs;
+use crate::arguments::{no_epochs, settings_tables};
 use crate::convert;
 use crate::coupling::PyFilterSolution;
 use crate::errors::IntoPyResult;
 use crate::gnss::{gnss_epochs, is_measurements};
-
-/// A Python value of a settings table as a core setting.
-fn setting(value: &Bound<'_, PyAny>, name: &str) -> PyResult<SettingValue> {
-    if value.is_instance_of::<PyBool>() {
-        return Ok(SettingValue::Bool(value.extract()?));
-    }
-    if value.is_instance_of::<PyString>() {
-        return Ok(SettingValue::Text(value.extract()?));
-    }
-    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
-        let items: Vec<Bound<'_, PyAny>> = value.try_iter()?.collect::<PyResult<_>>()?;
-        return Ok(SettingValue::List(
-            items
-                .iter()
-                .map(|v| setting(v, name))
-                .collect::<PyResult<_>>()?,
-        ));
-    }
-    value
-        .extract::<f64>()
-        .map(SettingValue::Number)
-        .map_err(|_| {
-            PyValueError::new_err(format!(
-                "{name}: expected a number, true/false, a string or a list, got {}",
-                value.repr().map(|r| r.to_string()).unwrap_or_default()
-            ))
-        })
-}
-
-/// `{table: {key: value}}` → the core's tables.
-pub(crate) fn settings_tables(settings: Option<&Bound<'_, PyDict>>) -> PyResult<SettingTables> {
-    let Some(d) = settings else {
-        return Ok(Vec::new());
-    };
-    let mut out = Vec::new();
-    for (table, entries) in d.iter() {
-        let table: String = table
-            .extract()
-            .map_err(|_| PyValueError::new_err("settings: table names must be strings"))?;
-        let entries = entries.cast::<PyDict>().map_err(|_| {
-            PyValueError::new_err(format!("settings.{table}: must be a dict of key: value"))
-        })?;
-        let mut keys = Vec::new();
-        for (k, v) in entries.iter() {
-            let key: String = k.extract().map_err(|_| {
-                PyValueError::new_err(format!("settings.{table}: keys must be strings"))
-            })?;
-            keys.push((key.clone(), setting(&v, &format!("{table}.{key}"))?));
-        }
-        out.push((table, keys));
-    }
-    Ok(out)
-}
 
 /// The tables and keys ``navigate_log(settings=...)`` reads (the engine's
 /// part of a ``navigate`` configuration), each with what it holds.
@@ -85,12 +32,22 @@ fn navigate_settings<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     for (table, keys) in navigate::KEYS {
         let t = PyDict::new(py);
-        for (k, desc) in *keys {
-            t.set_item(k, desc)?;
+        for key in *keys {
+            t.set_item(key.name, key.description)?;
         }
         d.set_item(table, t)?;
     }
     Ok(d)
+}
+
+/// The JSON schema (a JSON text) of the engine's tables of a ``navigate``
+/// configuration: per table an object of its keys, each with its kind of
+/// value, bounds and description, and no other key
+/// (``memsnav.realdata.config.json_schema()`` joins the reading keys').
+#[catch_panics]
+#[pyfunction]
+fn navigate_settings_schema() -> String {
+    navigate::keys::json_schema().to_string()
 }
 
 /// C_b^s, the sensor-to-body rotation of a chain of [roll, pitch, yaw]
@@ -888,6 +845,7 @@ fn navigate_log(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(navigate_log, m)?)?;
     m.add_function(wrap_pyfunction!(navigate_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(navigate_settings_schema, m)?)?;
     m.add_function(wrap_pyfunction!(check_navigate_settings, m)?)?;
     m.add_function(wrap_pyfunction!(mounting_matrix, m)?)?;
     m.add_function(wrap_pyfunction!(fixes_from_solution, m)?)?;

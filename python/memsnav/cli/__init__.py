@@ -3,7 +3,7 @@ one command; each command is a module of this package that declares its
 options and what it prints, and calls the library function that does the
 work (``memsnav.reproduce``, ``memsnav.study``, ``memsnav.simulate``,
 ``memsnav.navigate``, ``memsnav.calibration.session``,
-``memsnav.realdata.convert``)."""
+``memsnav.realdata.convert``, ``memsnav.realdata.config``)."""
 
 from __future__ import annotations
 
@@ -12,10 +12,19 @@ import sys
 import warnings
 
 import memsnav
-from memsnav.cli import calibrate, convert, navigate, reproduce, simulate, study
+from memsnav.cli import calibrate, convert, navigate, reproduce, schema, simulate, study
 
 COMMANDS = {
-    command.NAME: command for command in (reproduce, study, simulate, navigate, calibrate, convert)
+    command.NAME: command
+    for command in (
+        reproduce,
+        study,
+        simulate,
+        navigate,
+        calibrate,
+        convert,
+        schema,
+    )
 }
 """The commands by name, in the order ``memsnav --help`` lists them."""
 

@@ -27,6 +27,7 @@ configuration's own folder.
 
 from __future__ import annotations
 
+import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -165,6 +166,56 @@ SCHEMA: dict[str, dict[str, tuple[Check, Any]]] = {
 }
 #: The engine's tables and keys, from the core.
 ENGINE: dict[str, dict[str, str]] = _mn.navigate_settings()
+
+
+def json_schema() -> dict[str, Any]:
+    """The JSON schema (draft 2020-12) of a ``navigate`` configuration:
+    every table and key, the reading keys' kinds and defaults
+    (:data:`SCHEMA`) and the engine's kinds, bounds and descriptions
+    (``memsnav.navigate_settings_schema()``), no other table or key, and
+    the keys that must be given. An editor with a TOML language server
+    completes and checks a configuration against it
+    (``#:schema ./navigate.schema.json`` as the file's first line, or
+    ``memsnav schema --output``). What a schema cannot say (a key that
+    needs another, a window inside the run) is checked when the file is
+    loaded."""
+    engine = json.loads(_mn.navigate_settings_schema())
+    tables: dict[str, Any] = {}
+    required_tables = []
+    for table in sorted({k for k in SCHEMA if k} | set(engine)):
+        properties: dict[str, Any] = {}
+        required = []
+        for key, (check, default) in SCHEMA.get(table, {}).items():
+            properties[key] = dict(check.schema)
+            if default is REQUIRED:
+                required.append(key)
+            elif default is not None and default != "":
+                properties[key]["default"] = default
+        properties.update(engine.get(table, {}).get("properties", {}))
+        tables[table] = {
+            "type": "object",
+            "properties": properties,
+            "additionalProperties": False,
+            **({"required": required} if required else {}),
+        }
+        if required:
+            required_tables.append(table)
+    top: dict[str, Any] = {}
+    top_required = []
+    for key, (check, default) in SCHEMA[""].items():
+        top[key] = dict(check.schema)
+        if default is REQUIRED:
+            top_required.append(key)
+        elif default is not None:
+            top[key]["default"] = default
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "memsnav navigate configuration",
+        "type": "object",
+        "properties": {**top, **tables},
+        "additionalProperties": False,
+        "required": top_required + required_tables,
+    }
 
 
 @dataclass

@@ -6,7 +6,8 @@
 use nalgebra::Vector3;
 
 use super::config::LogConfig;
-use super::settings::{check_known_keys, find, SettingTables, SettingValue, AUTO};
+use super::keys::{check_known_keys, SettingTables, SettingValue, AUTO};
+use super::settings::find;
 use crate::coupling::FilterTuning;
 use crate::filter::state::{RangeBiasSlots, StateBlocks};
 use crate::sensors::ImuSpec;

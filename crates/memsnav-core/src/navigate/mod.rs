@@ -29,6 +29,7 @@ mod config;
 mod filter_settings;
 pub mod fixes;
 pub mod gyro_scale;
+pub mod keys;
 pub mod output;
 pub mod references;
 mod run;
@@ -43,5 +44,5 @@ pub use config::{
 };
 pub use filter_settings::FilterSettings;
 pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
+pub use keys::{tables, SettingTables, SettingValue, AUTO, KEYS};
 pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun, RunFailure};
-pub use settings::{tables, SettingTables, SettingValue, AUTO, KEYS};

@@ -8,189 +8,16 @@ use nalgebra::Vector3;
 
 use super::adapt::IMU_CANDIDATES;
 use super::config::{mounting_matrix, AlignmentMethod, LogConfig};
+use super::keys::{
+    check_known_keys, SettingValue, AUTO, EVERY_SATELLITE, MAX_ANGLE_DEG, MAX_ANGLE_STD_DEG,
+};
 use crate::coupling::{BiasProcess, FilterTuning};
 use crate::filter::state::RangeBiasSlots;
 use crate::gnss::ReceiverClockModel;
-use crate::sensors::datasheet::{datasheet_key, DATASHEET_KEY_DESCRIPTIONS, TABLE as SPEC_TABLE};
+use crate::sensors::datasheet::{datasheet_key, TABLE as SPEC_TABLE};
 use crate::sensors::presets::{preset_spec, DEFAULT_PRESET};
 use crate::sensors::ImuSpec;
 use crate::{validate, Error, Result};
-
-/// A setting's value, as a configuration file holds it.
-#[derive(Debug, Clone, PartialEq)]
-pub enum SettingValue {
-    /// A boolean.
-    Bool(bool),
-    /// A number (TOML integers and floats alike).
-    Number(f64),
-    /// A string.
-    Text(String),
-    /// An array.
-    List(Vec<SettingValue>),
-}
-
-impl std::fmt::Display for SettingValue {
-    /// As the configuration file writes it (`5`, `"text"`, `[1, 2]`).
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SettingValue::Bool(b) => write!(f, "{b}"),
-            SettingValue::Number(v) => write!(f, "{v:?}"),
-            SettingValue::Text(s) => write!(f, "{s:?}"),
-            SettingValue::List(items) => {
-                write!(f, "[")?;
-                for (i, item) in items.iter().enumerate() {
-                    write!(f, "{}{item}", if i > 0 { ", " } else { "" })?;
-                }
-                write!(f, "]")
-            }
-        }
-    }
-}
-
-/// The value of `filter.imu_preset` and `gnss.fix_correlation_time_s`
-/// that learns them from the log ([`super::adapt`]).
-pub const AUTO: &str = "auto";
-
-/// The value of `gnss.range_bias_states` that gives every satellite a
-/// range-bias state ([`RangeBiasSlots::EverySatellite`]).
-pub const EVERY_SATELLITE: &str = "every_satellite";
-
-/// Largest angle a key in degrees takes, in magnitude: one turn either
-/// way. A larger one is a typo or an angle in another unit, not a heading
-/// or a mounting rotation anyone means.
-const MAX_ANGLE_DEG: f64 = 360.0;
-
-/// Largest one-sigma of an angle, deg: half a turn already says "unknown".
-const MAX_ANGLE_STD_DEG: f64 = 180.0;
-
-/// Settings as (table, [(key, value)]) pairs, in the file's order.
-pub type SettingTables = Vec<(String, Vec<(String, SettingValue)>)>;
-
-/// The tables and keys the engine reads, with what each holds.
-pub const KEYS: &[(&str, &[(&str, &str)])] = &[
-    (
-        "imu",
-        &[
-            ("time_offset_s", "added to the IMU time stamps, s"),
-            ("mounting_rpy_deg", "list of [roll, pitch, yaw] sensor-to-body rotations, deg"),
-            ("lever_arm_m", "IMU position from the vehicle reference point, body axes (forward, right, down), m"),
-            ("time_offset_std_s", "prior std of the time offset as a state ([filter] installation_states), s"),
-            ("mounting_std_deg", "prior std of the mounting boresight as a state, deg"),
-        ],
-    ),
-    (
-        "gnss",
-        &[
-            ("antenna_lever_arm_m", "antenna position from the vehicle reference point, body axes, m"),
-            ("antenna_lever_arm_std_m", "prior std of the antenna lever arm as a state ([filter] installation_states), m per axis"),
-            ("velocity_latency_s", "latency of the fixes' velocity, s"),
-            ("velocity_latency_std_s", "prior std of the velocity latency as a state, s"),
-            ("use_pseudorange_rate", "use Doppler (tight coupling)"),
-            ("carrier_phase", "use the carrier phase's change between epochs (tight coupling)"),
-            ("receiver_clock", "oscillator class: \"tcxo\", \"ocxo\", \"consumer\""),
-            ("range_bias_states", "per-satellite pseudorange-bias states (tight coupling): true (default: 12 slots held by the satellites used most recently, the rest count their bias variance as noise), false, \"every_satellite\" (40 slots: a state for every satellite of a multi-system receiver)"),
-            ("range_bias_std_m", "their steady-state std, m"),
-            ("range_bias_correlation_time_s", "their correlation time, s"),
-            (
-                "fix_error_states",
-                "Gauss-Markov states for the fixes' position errors (loose coupling): true (with the two keys below), false (white), \"auto\" (default: learnt from the log)",
-            ),
-            ("fix_error_std_m", "their steady-state std, m"),
-            ("fix_error_correlation_time_s", "their correlation time, s"),
-            (
-                "fix_correlation_time_s",
-                "correlation time of the fixes' position errors, s, matched by inflating their covariance instead of states (loose coupling); default 0: white",
-            ),
-        ],
-    ),
-    (
-        "filter",
-        &[
-            ("imu_preset", "IMU class the tuning starts from: \"auto\" (default: the most likely of \"consumer\", \"industrial\" and \"tactical\" given the log), \"consumer\", \"industrial\", \"tactical\", \"navigation\", \"paper-mems\""),
-            ("accel_noise_density", "accelerometer white noise, m/s/sqrt(s)"),
-            ("gyro_noise_density_deg", "gyro white noise, deg/sqrt(s)"),
-            ("accel_bias_std", "initial accelerometer bias std, m/s^2"),
-            ("gyro_bias_std_deg_s", "initial gyro bias std, deg/s"),
-            ("accel_bias_instability", "Gauss-Markov accelerometer bias std, m/s^2"),
-            ("gyro_bias_instability_deg_s", "Gauss-Markov gyro bias std, deg/s"),
-            ("bias_correlation_time_s", "their correlation time, s"),
-            ("initial_position_std_m", "overrides the start's position std, m"),
-            ("initial_velocity_std_m_s", "overrides the start's velocity std, m/s"),
-            ("initial_attitude_std_deg", "[tilt, tilt, heading] stds after alignment, deg"),
-            ("gate_probability", "probability of the chi-square test of each batch (1: no test)"),
-            ("scale_factor_states", "accelerometer and gyro scale-factor states"),
-            ("installation_states", "the antenna lever arm, IMU time offset, velocity latency and mounting boresight as states"),
-            ("accel_scale_factor_std_ppm", "accelerometer scale-factor prior std (the states' initial std, else the noise that absorbs them), ppm"),
-            ("gyro_scale_factor_std_ppm", "gyro scale-factor prior std, ppm"),
-            ("smoother", "also the fixed-interval smoothed solution (post-processing)"),
-            ("pseudorange_std_floor_m", "smallest pseudorange std believed, m"),
-            ("pseudorange_rate_std_floor_m_s", "smallest pseudorange-rate std, m/s"),
-            ("position_std_floor_m", "smallest position-fix std, m"),
-            ("velocity_std_floor_m_s", "smallest velocity-fix std, m/s"),
-            ("carrier_phase_std_floor_m", "smallest std of a carrier change between epochs, m"),
-            (
-                "pseudorange_correlation_time_s",
-                "correlation time of the code errors: their stds are inflated to match, s",
-            ),
-            ("reset_after_failed_epochs", "failed epochs in a row before a reset"),
-            ("reset_fading_factor", "whole covariance multiplied when resets follow each other with no accepted batch (1: off)"),
-            ("clock_jump_sigma", "common innovation taken for a clock jump, in stds"),
-            ("max_excluded_share", "largest share of a batch fault exclusion may drop"),
-        ],
-    ),
-    (SPEC_TABLE, &DATASHEET_KEY_DESCRIPTIONS),
-    (
-        "alignment",
-        &[
-            ("method", "\"auto\" (static or moving start), \"static\" (needs heading_deg), \"gnss_velocity\" (moving start only)"),
-            ("min_speed_m_s", "speed from which the GNSS course gives the heading, m/s"),
-            ("max_course_std_deg", "largest course std an alignment accepts, deg"),
-            ("level_window_s", "levelling window before a moving start, s"),
-            ("heading_deg", "known heading for a static start, deg"),
-            ("heading_std_deg", "heading std after alignment, deg"),
-            ("tilt_std_deg", "roll/pitch std after levelling, deg"),
-        ],
-    ),
-    (
-        "standstill",
-        &[
-            ("window_s", "detector window, s"),
-            ("accel_std_m_s2", "largest specific-force spread at rest, m/s^2"),
-            ("gyro_std_deg_s", "largest angular-rate spread at rest, deg/s"),
-            ("gnss_speed_m_s", "largest GNSS speed at rest, m/s"),
-            ("gnss_age_s", "oldest GNSS velocity used, s"),
-            ("solution_speed_m_s", "largest solution speed at rest without GNSS, m/s"),
-            ("solution_speed_sigmas", "without GNSS, also at rest when the solution's speed is within this many of its along-track sigma"),
-        ],
-    ),
-    (
-        "aids",
-        &[
-            ("zupt", "zero-velocity updates at standstills"),
-            ("zupt_std_m_s", "their std, m/s"),
-            ("zupt_interval_s", "their interval, s"),
-            ("zaru", "zero-angular-rate updates at standstills"),
-            ("zaru_min_std_deg_s", "their smallest std, deg/s"),
-            ("nhc", "non-holonomic constraint (land vehicles)"),
-            (
-                "nhc_std_m_s",
-                "its std, m/s; \"auto\" (default) chooses 0.1, 0.2 or 0.4 m/s from the log",
-            ),
-            ("nhc_interval_s", "its interval, s"),
-            ("nhc_min_speed_m_s", "lowest speed it applies at, m/s"),
-        ],
-    ),
-    (
-        "outages",
-        &[
-            ("windows_s", "list of [start, length], s; start after the log's first GNSS epoch with standstill.window_s of IMU data before it (the earliest start, not the start the alignment finds); a window not inside the run is an error naming it"),
-            ("first_s", "periodic outages: start of the first, s after that same epoch (default every_s - length_s); the windows that fit in the run are kept"),
-            ("length_s", "periodic outages: length, s"),
-            ("every_s", "periodic outages: period, s"),
-            ("keep_satellites", "0 (default): total outages; 1-3: partial outages that keep the highest satellites of each epoch (tight coupling)"),
-        ],
-    ),
-];
 
 /// The `[filter]` keys that set a quantity an `[imu_spec]` key gives too
 /// (the spec field), refused together: the table describes the IMU, the
@@ -380,38 +207,6 @@ struct Pending {
     heading_deg: Option<f64>,
     method: Option<String>,
     periodic: [Option<f64>; 3],
-}
-
-/// Every table and key of `tables` is one [`KEYS`] lists, or an error
-/// naming it and what its table takes.
-pub(super) fn check_known_keys(tables: &[(String, Vec<(String, SettingValue)>)]) -> Result<()> {
-    for (table, entries) in tables {
-        let known = KEYS
-            .iter()
-            .find(|(t, _)| t == table)
-            .ok_or_else(|| {
-                Error::invalid(
-                    table.clone(),
-                    format!(
-                        "unknown table; expected one of {}",
-                        KEYS.iter().map(|(t, _)| *t).collect::<Vec<_>>().join(", ")
-                    ),
-                )
-            })?
-            .1;
-        for (key, _) in entries {
-            if !known.iter().any(|(k, _)| k == key) {
-                return Err(Error::invalid(
-                    format!("{table}.{key}"),
-                    format!(
-                        "unknown key; [{table}] takes {}",
-                        known.iter().map(|(k, _)| *k).collect::<Vec<_>>().join(", ")
-                    ),
-                ));
-            }
-        }
-    }
-    Ok(())
 }
 
 impl LogConfig {
@@ -832,23 +627,10 @@ impl LogConfig {
     }
 }
 
-/// Settings from plain (table, key, value) triples, for Rust callers and tests.
-pub fn tables(
-    entries: &[(&str, &str, SettingValue)],
-) -> Vec<(String, Vec<(String, SettingValue)>)> {
-    let mut out: Vec<(String, Vec<(String, SettingValue)>)> = Vec::new();
-    for (t, k, v) in entries {
-        match out.iter_mut().find(|(name, _)| name == t) {
-            Some((_, e)) => e.push((k.to_string(), v.clone())),
-            None => out.push((t.to_string(), vec![(k.to_string(), v.clone())])),
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::navigate::keys::{tables, SettingTables};
     use SettingValue::*;
 
     /// The scale-factor priors seed the states' P₀ when the filter has them,
@@ -948,8 +730,11 @@ mod tests {
             )])),
             "imu_spec.gyro_arw_deg_sqrt_h: expected a number, got \"0.1\""
         );
-        assert!(bad(tables(&[("imu_spec", "gyro_arw", Number(0.1))]))
-            .starts_with("imu_spec.gyro_arw: unknown key; [imu_spec] takes"));
+        assert!(
+            bad(tables(&[("imu_spec", "gyro_arw", Number(0.1))])).starts_with(
+                "imu_spec.gyro_arw: unknown key (did you mean \"gyro_arw_deg_sqrt_h\"?); [imu_spec] takes"
+            )
+        );
         assert!(bad(tables(&[(
             "imu_spec",
             "accel_turn_on_bias_mg",

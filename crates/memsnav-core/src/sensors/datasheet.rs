@@ -51,7 +51,7 @@ pub struct DatasheetKey {
     pub field: &'static str,
     /// Converts the key's value to the field's SI unit.
     pub to_si: fn(f64) -> f64,
-    /// What it holds, for the key list ([`DATASHEET_KEY_DESCRIPTIONS`]).
+    /// What it holds, for the key list (`navigate::KEYS`).
     pub description: &'static str,
 }
 
@@ -156,17 +156,6 @@ pub const DATASHEET_KEYS: [DatasheetKey; KEY_COUNT] = [
         "g-sensitivity (linear-acceleration effect) one-sigma, (deg/s)/g"),
 ];
 
-/// The keys and what each holds, for the configuration's key list.
-pub const DATASHEET_KEY_DESCRIPTIONS: [(&str, &str); KEY_COUNT] = {
-    let mut out = [("", ""); KEY_COUNT];
-    let mut i = 0;
-    while i < KEY_COUNT {
-        out[i] = (DATASHEET_KEYS[i].key, DATASHEET_KEYS[i].description);
-        i += 1;
-    }
-    out
-};
-
 /// The name an error gives for `key`.
 fn name(key: &str) -> String {
     format!("{TABLE}.{key}")
@@ -175,16 +164,13 @@ fn name(key: &str) -> String {
 /// The data-sheet key `key`.
 pub fn datasheet_key(key: &str) -> Result<&'static DatasheetKey> {
     DATASHEET_KEYS.iter().find(|k| k.key == key).ok_or_else(|| {
+        let known: Vec<&str> = DATASHEET_KEYS.iter().map(|k| k.key).collect();
+        let hint = crate::known_keys::closest(key, &known)
+            .map(|k| format!(" (did you mean {k:?}?)"))
+            .unwrap_or_default();
         Error::invalid(
             name(key),
-            format!(
-                "unknown key; [{TABLE}] takes {}",
-                DATASHEET_KEYS
-                    .iter()
-                    .map(|k| k.key)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            format!("unknown key{hint}; [{TABLE}] takes {}", known.join(", ")),
         )
     })
 }
@@ -349,7 +335,7 @@ mod tests {
     fn each_key_is_checked_and_named() {
         let base = consumer();
         assert!(bad(&base, &[("gyro_arw", 0.1)])
-            .starts_with("imu_spec.gyro_arw: unknown key; [imu_spec] takes accel_noise_density"));
+            .starts_with("imu_spec.gyro_arw: unknown key (did you mean \"gyro_arw_deg_sqrt_h\"?); [imu_spec] takes accel_noise_density"));
         assert_eq!(
             bad(&base, &[("gyro_arw_deg_sqrt_h", -0.1)]),
             "imu_spec.gyro_arw_deg_sqrt_h: must be finite and non-negative, got -0.1"
@@ -386,8 +372,7 @@ mod tests {
     #[test]
     fn every_key_sets_a_field_linearly() {
         let fields: Vec<&str> = ImuSpec::default().fields().map(|(f, _)| f).to_vec();
-        for (k, (name, _)) in DATASHEET_KEYS.iter().zip(DATASHEET_KEY_DESCRIPTIONS) {
-            assert_eq!(k.key, name);
+        for k in &DATASHEET_KEYS {
             assert!(fields.contains(&k.field), "{}", k.field);
             assert!(
                 ((k.to_si)(3.0) / (k.to_si)(1.0) - 3.0).abs() < 1e-12,
