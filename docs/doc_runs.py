@@ -1788,6 +1788,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "allan_fit_spread": page_measurements.allan_fit_spread,
     "gyro_scale_logs": page_measurements.gyro_scale_logs,
     "wrong_gyro_example": page_measurements.wrong_gyro_example,
+    "xsens_guide": page_measurements.xsens_guide,
 }
 """Each record's name and the run that measures it."""
 

@@ -608,3 +608,119 @@ def wrong_gyro_example(data_root: Path) -> dict[str, Any]:
             os.environ["MEMSNAV_DATA_ROOT"] = saved
     stage, ratio = out.getvalue().splitlines()[0].split()
     return {"stage": stage, "ratio": float(ratio)}
+
+
+# --- the Xsens static session: docs/how-to/calibrate-an-imu.md -----------------
+
+#: The gyro scale per count the Xsens data's README suggests, rad/s per
+#: count, and the length of the session's initial rest, s (the data
+#: source's description).
+XSENS_README_GYRO_SCALE, XSENS_REST_S = 2.1e-4, 50.0
+
+#: The Earth's rotation rate, rad/s (WGS84).
+EARTH_RATE_RAD_S = 7.292115e-5
+
+
+def xsens_guide(data_root: Path) -> dict[str, Any]:
+    """docs/how-to/calibrate-an-imu.md's figures of the Xsens session that
+    the other xsens_* runs of docs/doc_runs.py do not give, every 4th pose
+    held out unless named: the poses, the held-out turns of each split,
+    the halves' middle (s) and the poses the first half fits besides the
+    rest; the turns' RMS miss (°) before calibration with
+    the data source's nominal values, and with the README's gyro scale and
+    the bias of the initial rest; the gyro's largest misalignment, %; how
+    far the fitted gyro scale is above the data source's (mean over the
+    axes, %); the largest difference of the corrected rates when the
+    calibration starts from the README's scale instead, rad/s; the fitted
+    accelerometer scale per count (least, most), m/s²; the nonlinearity
+    N's largest σ at g (σ_N g², mm/s²) and, with N estimated, what it
+    gains in the fit and the accelerometer biases' σ (mm/s²) and the
+    biases' and scale factors' σ over those without it (least, most);
+    the gyro's g-sensitivity (rows p, q, r) and its mean σ,
+    (rad/s)/(m/s²); the largest move of a gyro axis's pose mean (README
+    scale) from the initial rest's, mrad/s and in Earth rates."""
+    import doc_runs  # imported here: doc_runs imports this module
+
+    cal, accel, gyro = doc_runs._xsens_calibration(data_root, "determinable", holdout_every=4)
+    every_4th = mn.static_summary(cal)
+    t = accel[:, 0]
+    middle = float((t[0] + t[-1]) / 2)
+    halves = doc_runs._xsens_calibration(data_root, "determinable", holdout_from=middle)[0]
+    held_halves = np.asarray(halves.pose_held_out)
+    with_n = doc_runs._xsens_calibration(data_root, "all", holdout_every=4)[0]
+    with_n_summary = mn.static_summary(with_n)
+
+    def calibrated_from(**nominal: Any) -> Any:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the data source's gyro scale is 31 % off
+            return mn.calibrate_static(
+                t,
+                accel[:, 1:],
+                gyro[:, 1:],
+                gravity=doc_runs.XSENS_GRAVITY,
+                holdout_every=4,
+                **{**doc_runs.XSENS_NOMINAL, **nominal},
+            )
+
+    rest = gyro[t < t[0] + XSENS_REST_S, 1:].mean(axis=0)
+    rest_bias = mn.static_summary(
+        calibrated_from(gyro_scale=XSENS_README_GYRO_SCALE, gyro_offset=rest)
+    )
+    _, w = cal.correct(accel[:, 1:], gyro[:, 1:])
+    _, w_readme = calibrated_from(gyro_scale=XSENS_README_GYRO_SCALE).correct(
+        accel[:, 1:], gyro[:, 1:]
+    )
+    gyro_scale = np.asarray(cal.nominal["gyro_scale"]) / (
+        1 - np.asarray(cal.gyroscope.scale_factor)
+    )
+    accel_scale = np.asarray(cal.nominal["accel_scale"]) / (
+        1 - np.asarray(cal.accelerometer.scale_factor)
+    )
+    n_sigma = float(np.max(with_n.accelerometer_std.nonlinearity))
+    bias_sigma = np.asarray(cal.accelerometer_std.bias)
+    bias_sigma_n = np.asarray(with_n.accelerometer_std.bias)
+    scale_ratio = np.asarray(with_n.accelerometer_std.scale_factor) / np.asarray(
+        cal.accelerometer_std.scale_factor
+    )
+    rates = XSENS_README_GYRO_SCALE * (gyro[:, 1:] - doc_runs.XSENS_NOMINAL["gyro_offset"])
+    means = np.array([rates[a:b].mean(axis=0) for a, b in cal.poses])
+    move = float(np.abs(means - means[0]).max())
+    return {
+        "poses": len(cal.poses),
+        "turns_held_out": {
+            "every_4th": every_4th["turns_held_out"],
+            "halves": mn.static_summary(halves)["turns_held_out"],
+        },
+        "middle_s": middle,
+        "halves_fit_poses_after_rest": int((~held_halves).sum()) - 1,
+        "source_nominal_turn_deg": {
+            "fit": every_4th["turn_rms_before_fit_deg"],
+            "held_out": every_4th["turn_rms_before_held_out_deg"],
+        },
+        "rest_bias_turn_deg": {
+            "fit": rest_bias["turn_rms_before_fit_deg"],
+            "held_out": rest_bias["turn_rms_before_held_out_deg"],
+        },
+        "gyro_misalignment_most_percent": 100.0
+        * float(np.abs(np.asarray(cal.gyroscope.misalignment)).max()),
+        "source_gyro_scale_low_percent": 100.0
+        * float(np.mean(gyro_scale / doc_runs.XSENS_NOMINAL["gyro_scale"] - 1)),
+        "readme_start_rates_rad_s": float(np.abs(w - w_readme).max()),
+        "accel_scale_per_count": {
+            "least": float(accel_scale.min()),
+            "most": float(accel_scale.max()),
+        },
+        "n_sigma_at_g_mm_s2": 1e3 * n_sigma * doc_runs.XSENS_GRAVITY**2,
+        "n_fit_gain_mm_s2": 1e3
+        * (
+            every_4th["magnitude_rms_after_fit_m_s2"]
+            - with_n_summary["magnitude_rms_after_fit_m_s2"]
+        ),
+        "bias_sigma_with_n_mm_s2": _span((1e3 * bias_sigma_n).tolist()),
+        "bias_sigma_ratio_with_n": _span((bias_sigma_n / bias_sigma).tolist()),
+        "scale_sigma_ratio_with_n": _span(scale_ratio.tolist()),
+        "g_sensitivity": np.asarray(cal.gyroscope.g_sensitivity).tolist(),
+        "g_sensitivity_sigma_mean": float(np.mean(cal.gyroscope_std.g_sensitivity)),
+        "rest_mean_move_mrad_s": 1e3 * move,
+        "rest_mean_move_earth_rates": move / EARTH_RATE_RAD_S,
+    }

@@ -330,6 +330,37 @@ def test_the_wrong_gyro_example_prints_its_record():
     assert fresh["stage"] == "units" and 50.0 < fresh["ratio"] < 65.0
 
 
+def test_the_xsens_guides_own_figures_are_the_record():
+    """docs/how-to/calibrate-an-imu.md's Xsens figures the other xsens_*
+    records do not hold (eight calibrations, ~5 s): counts exactly, the
+    others within half the last digit the page shows. The turns miss by
+    more than the required 1.2° until the misalignments, g-sensitivity and
+    scales are estimated, and the README's gyro scale as the start changes
+    the corrected rates by rounding only."""
+    fresh = _check(
+        "xsens_guide",
+        {
+            "poses": 0,
+            "turns_held_out": 0,
+            "middle_s": 0.005,
+            "halves_fit_poses_after_rest": 0,
+            "source_gyro_scale_low_percent": 0.5,
+            "readme_start_rates_rad_s": 1e-9,  # rounding noise; the page states the bound
+            "accel_scale_per_count": 5e-7,  # shown as 2.412e-3
+            "n_sigma_at_g_mm_s2": 0.5,
+            "n_fit_gain_mm_s2": 0.005,
+            "g_sensitivity": 5e-7,
+            "g_sensitivity_sigma_mean": 5e-6,
+            "rest_mean_move_earth_rates": 0.5,
+            "*": 0.05,
+        },
+        needs_data=True,
+    )
+    assert fresh["source_nominal_turn_deg"]["held_out"] > fresh["rest_bias_turn_deg"]["held_out"]
+    assert fresh["rest_bias_turn_deg"]["held_out"] > 1.2
+    assert fresh["readme_start_rates_rad_s"] < 1e-9
+
+
 def test_the_readme_describes_the_drive_example_by_its_schedule():
     """The README's outage schedule is examples/drive_0708.toml's."""
     _check("drive_example_schedule", 0.0)
