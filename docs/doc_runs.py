@@ -31,9 +31,12 @@ from typing import Any
 import drive_calibration_record
 import foreign_drive_datum
 import foreign_drive_study
+import gnss_file_measurements
 import installation_drives
+import multi_gnss_measurements
 import numpy as np
 import page_measurements
+import results_measurements
 import robustness_reference
 import time_offsets_record
 import walk_multi_gnss
@@ -1789,6 +1792,9 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "gyro_scale_logs": page_measurements.gyro_scale_logs,
     "wrong_gyro_example": page_measurements.wrong_gyro_example,
     "xsens_guide": page_measurements.xsens_guide,
+    **multi_gnss_measurements.RUNS,
+    **gnss_file_measurements.RUNS,
+    **results_measurements.RUNS,
 }
 """Each record's name and the run that measures it."""
 

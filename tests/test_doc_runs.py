@@ -7,24 +7,13 @@ them."""
 import doc_runs
 import pytest
 from figures import figures, load_record
-from record_agreement import agree
-from shared_data import data_root as data_root_of_tests
-from shared_data import shared_data
-
-
-def _check(name: str, tolerance, needs_data: bool = False) -> dict:
-    """Runs ``name`` and compares it with its record within ``tolerance``."""
-    data_root = shared_data("real-imu-gnss").parent if needs_data else data_root_of_tests()
-    fresh = doc_runs.RUNS[name](data_root)
-    differ = agree(fresh, figures(name), tolerance, name)
-    assert not differ, f"{differ}: rerun python docs/doc_runs.py {name} if this is meant"
-    return fresh
+from run_record import check_run
 
 
 def test_the_first_session_prints_its_record():
     """The INS fed the truth stays within millimetres over 120 s; the raw
     MEMS drifts by kilometres (shown to 0.1 km)."""
-    fresh = _check("first_session", {"ins_largest_error_m": 5e-4, "drift_km": 0.05})
+    fresh = check_run("first_session", {"ins_largest_error_m": 5e-4, "drift_km": 0.05})
     assert fresh["ins_largest_error_m"] < 0.01
 
 
@@ -32,7 +21,7 @@ def test_the_step_api_example_prints_its_record():
     """docs/how-to/step-api.md's example run again: its outage errors (shown
     to 0.1 m; the wheel speed cuts the error) and the vertical velocity its
     constraint's 0.2 m/s must cover (shown to 0.01 m/s)."""
-    fresh = _check(
+    fresh = check_run(
         "step_api_example",
         {
             "outage_end_error_m": 0.05,
@@ -46,14 +35,14 @@ def test_the_step_api_example_prints_its_record():
 
 def test_the_study_defaults_are_the_record():
     """The outage study's default outage start and duration margin, exact."""
-    _check("study_defaults", 0.0)
+    check_run("study_defaults", 0.0)
 
 
 @pytest.mark.slow
 def test_the_drive_calibration_windows_are_the_record():
     """The example calibrated with 0.5, 1, 2 and 4 s windows (about half a
     minute): each window's outage RMS within half the page's last digit."""
-    fresh = _check(
+    fresh = check_run(
         "drive_calibration_windows",
         {"window_s": 0.0, "calibrated_rms_m": 5e-3, "raw_rms_m": 5e-3},
         needs_data=True,
@@ -63,21 +52,21 @@ def test_the_drive_calibration_windows_are_the_record():
 
 def test_the_own_arrays_example_is_as_poorly_conditioned_as_recorded():
     """The w axis's condition number, shown to one significant figure."""
-    fresh = _check("own_arrays_conditioning", {"w_axis_condition_number": float("inf")})
+    fresh = check_run("own_arrays_conditioning", {"w_axis_condition_number": float("inf")})
     recorded = figures("own_arrays_conditioning")["w_axis_condition_number"]
     assert f"{fresh['w_axis_condition_number']:.0e}" == f"{recorded:.0e}"
 
 
 def test_the_inputs_correlation_times_are_the_records():
     """Shown to the second: τ = 10 s is chosen from them."""
-    fresh = _check("input_correlation_times", 0.5)
+    fresh = check_run("input_correlation_times", 0.5)
     assert fresh["yaw_rate_s"]["least"] < 10.0 < fresh["horizontal_force_s"]["most"]
 
 
 def test_the_tactical_runs_on_three_satellites_are_the_records():
     """Final errors and vertical σ shown to 0.1 km, the share inside 3σ
     to the percent (~3 s)."""
-    fresh = _check(
+    fresh = check_run(
         "tactical_three_satellites",
         {"final_error_km": 0.05, "final_vertical_sigma_km": 0.05, "least_inside_percent": 0.5},
     )
@@ -88,7 +77,7 @@ def test_the_drive_at_other_time_offsets_and_latencies_is_the_record():
     """drive_0708 without outages at four IMU offsets (NIS shown to
     0.001) and three velocity latencies (aided error to the cm, resets
     exactly): seven runs, ~5 s."""
-    fresh = _check(
+    fresh = check_run(
         "drive_time_offsets",
         {
             "imu_offsets_s": 0.0,
@@ -106,7 +95,7 @@ def test_the_drive_at_other_time_offsets_and_latencies_is_the_record():
 def test_the_example_logs_consistency_is_the_record():
     """The largest NIS-to-band ratio of each example log, shown to 0.1
     (~2 s); both inside the band."""
-    fresh = _check("example_consistency", 0.05, needs_data=True)
+    fresh = check_run("example_consistency", 0.05, needs_data=True)
     assert max(fresh["largest_band_ratio"].values()) < 1.0
 
 
@@ -114,7 +103,7 @@ def test_the_example_logs_consistency_is_the_record():
 def test_the_walk_by_precision_is_the_record():
     """walk_0827 by precision: the truth's offset shown to the metre, the
     RMS to the cm; the filter beats the single-point solution."""
-    fresh = _check(
+    fresh = check_run(
         "walk_precision",
         {
             "truth_offset_m": 0.5,
@@ -131,7 +120,7 @@ def test_the_two_satellite_runs_are_the_record():
     """The few-satellite study's eight 900 s runs on 2 satellites (~7 s):
     counts and the latest alert exactly, NIS to 0.1, tilts to the degree,
     their σ to 0.1°."""
-    fresh = _check(
+    fresh = check_run(
         "two_satellite_runs",
         {
             "runs": 0,
@@ -151,7 +140,7 @@ def test_the_partial_outages_are_the_record():
     """The partial-outage experiment's quick run (30 runs, seed 0; ~16 s):
     the table's errors to three figures, NEES to 0.01, the shares to the
     percent; no run flagged, every extra satellite helps."""
-    fresh = _check(
+    fresh = check_run(
         "partial_outages",
         {
             "scenarios": {"largest_m": 0.05, "nees_per_dof": 0.005, "diverged_share": 0.0},
@@ -172,7 +161,7 @@ def test_the_quick_calibration_is_the_record():
     """The calibration experiment's quick run (~30 s): efficiencies to the
     unit, shares to the percent, misalignment errors to 0.01; plain least
     squares' MSE is mostly its bias."""
-    fresh = _check(
+    fresh = check_run(
         "quick_calibration",
         {
             "gyro_pq_efficiency_ls": 0.5,
@@ -190,7 +179,7 @@ def test_the_drive_with_other_settings_is_the_record():
     """drive_0708 through the published filter's outage windows with other
     settings (~15 s): every error to the cm, the latency to the ms, the
     lever arm to the cm."""
-    fresh = _check(
+    fresh = check_run(
         "drive_other_settings",
         {
             "example": 0.005,
@@ -219,7 +208,7 @@ def test_the_standstill_detectors_statistics_are_the_record():
     """drive_0708 and walk_0827 in the detector's 1 s windows (~1 s):
     window counts exactly, the specific force's spread to 0.01 m/s², the
     angular rate's to 0.1 °/s; each log's rest quieter than its motion."""
-    fresh = _check(
+    fresh = check_run(
         "standstill_spread",
         {"windows": 0, "accel_m_s2": 0.005, "gyro_deg_s": 0.05},
         needs_data=True,
@@ -234,7 +223,7 @@ def test_drive_0708s_rest_at_the_start_is_the_record():
     fix to 0.1 s, the z-gyro bias to 0.01 °/s and its σ as shown; one
     outage with a stop; ZARU knows the bias at rest better than the drive
     without it does by the end of the log."""
-    fresh = _check(
+    fresh = check_run(
         "drive_rest_start",
         {
             "rest_s": 0.05,
@@ -255,7 +244,7 @@ def test_the_tactical_preset_without_fading_is_the_record():
     """drive_0708 with the tactical preset and no fading (~2 s): resets
     exactly, the outage RMS to the metre; more resets and a worse coast
     than with fading (tactical_preset_fading)."""
-    fresh = _check(
+    fresh = check_run(
         "tactical_without_fading",
         {"position_velocity_resets": 0, "outage_rms_m": 0.5},
         needs_data=True,
@@ -271,7 +260,7 @@ def test_the_foreign_drive_with_a_tight_constraint_is_the_record():
     log chooses it, 30 and 60 s outages (~20 s): the shares outside 3σ to
     the percent, the learnt std exactly; what the log chooses leaves none
     outside."""
-    fresh = _check(
+    fresh = check_run(
         "foreign_drive_nhc",
         {"nhc_0_1": 0.5, "auto": 0.5, "learnt_nhc_std_m_s": 0.0},
         needs_data=True,
@@ -284,21 +273,21 @@ def test_a_misalignment_under_the_constraint_is_the_record():
     """tests/test_adaptation.py's drive with correlated fixes, installation
     states off and on (~4 s): the vertical share outside 3σ to the
     percent; none with the states."""
-    fresh = _check("misaligned_vertical", 0.5)
+    fresh = check_run("misaligned_vertical", 0.5)
     assert fresh["with_states_percent"] == 0.0 < fresh["without_states_percent"]
 
 
 def test_the_walks_clock_drift_and_span_are_the_record():
     """walk_0827's UBX log: the drift change to the m/s, its span to
     0.01 s."""
-    _check("walk_clock_span", {"drift_change_m_s": 0.5, "log_s": 0.005}, needs_data=True)
+    check_run("walk_clock_span", {"drift_change_m_s": 0.5, "log_s": 0.005}, needs_data=True)
 
 
 def test_the_walk_with_white_code_errors_is_the_record():
     """walk_0827 with its code errors as white noise and as range-bias
     states (~1 s): the shares inside 3σ to the percent (horizontal to
     0.1 %); the white-noise model's bounds hold for a minority only."""
-    fresh = _check(
+    fresh = check_run(
         "walk_white_code",
         {"inside_percent": 0.5, "inside_horizontal_percent": 0.05},
         needs_data=True,
@@ -311,7 +300,7 @@ def test_the_allan_fits_spread_is_the_record():
     (~4 s): spreads and mean errors as shown (N's to 0.01 %, the others'
     to 0.1 %); the Xsens white noise within 5 % of the IEEE reading."""
     tolerance = {"white_density": 0.005, "*": 0.05}
-    fresh = _check(
+    fresh = check_run(
         "allan_fit_spread",
         {
             "seeds": 0,
@@ -326,7 +315,7 @@ def test_the_allan_fits_spread_is_the_record():
 def test_the_wrong_gyro_example_prints_its_record():
     """docs/how-to/when-a-run-fails.md's example (~2 s): the stage, the
     ratio to 0.1; a gyro about 57 times off."""
-    fresh = _check("wrong_gyro_example", {"stage": 0, "ratio": 0.05}, needs_data=True)
+    fresh = check_run("wrong_gyro_example", {"stage": 0, "ratio": 0.05}, needs_data=True)
     assert fresh["stage"] == "units" and 50.0 < fresh["ratio"] < 65.0
 
 
@@ -337,7 +326,7 @@ def test_the_xsens_guides_own_figures_are_the_record():
     more than the required 1.2° until the misalignments, g-sensitivity and
     scales are estimated, and the README's gyro scale as the start changes
     the corrected rates by rounding only."""
-    fresh = _check(
+    fresh = check_run(
         "xsens_guide",
         {
             "poses": 0,
@@ -363,7 +352,7 @@ def test_the_xsens_guides_own_figures_are_the_record():
 
 def test_the_readme_describes_the_drive_example_by_its_schedule():
     """The README's outage schedule is examples/drive_0708.toml's."""
-    _check("drive_example_schedule", 0.0)
+    check_run("drive_example_schedule", 0.0)
 
 
 def test_the_tables_are_their_records():

@@ -1,0 +1,13 @@
+"""The runs behind the figures of docs/how-to/multi-gnss.md and
+docs/explanation/time-and-truth.md that no other record holds: each
+returns a record's figures (docs/doc_runs.py writes them to
+docs/data/<name>.json)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {}
+"""Each record's name and the run that measures it."""
