@@ -1,8 +1,10 @@
 """The filter classes built from a ``navigate`` configuration's tables
-(``settings=``): every key that changes the filter is taken under its
-navigate name, the keys that drive a navigate run are refused by name, and
-the state blocks the settings ask for (installation, range biases, a slot
-for every satellite) are the ones the filter runs with."""
+(``settings=``): every key that changes the filter or its aids is taken
+under its navigate name, the keys that prepare a navigate run are refused
+by name, the state blocks the settings ask for (installation, range
+biases, a slot for every satellite) are the ones the filter runs with, and
+a configuration run through the classes is navigate's solution, aids
+included."""
 
 from __future__ import annotations
 
@@ -66,12 +68,33 @@ VALUES: dict[str, dict[str, object]] = {
         "accel_vrw_m_s_sqrt_h": 0.1,
         "gyro_arw_deg_sqrt_h": 0.5,
     },
+    "standstill": {
+        "window_s": 2.0,
+        "accel_std_m_s2": 0.2,
+        "gyro_std_deg_s": 2.0,
+        "gnss_speed_m_s": 0.3,
+        "gnss_age_s": 2.0,
+        "solution_speed_m_s": 0.5,
+        "solution_speed_sigmas": 2.0,
+    },
+    "aids": {
+        "zupt": False,
+        "zupt_std_m_s": 0.05,
+        "zupt_interval_s": 0.5,
+        "zaru": False,
+        "zaru_min_std_deg_s": 0.1,
+        "nhc": True,
+        "nhc_std_m_s": 0.2,
+        "nhc_interval_s": 1.0,
+        "nhc_min_speed_m_s": 2.0,
+    },
 }
 
 #: Keys that need another: a bias instability needs its correlation time.
 PARTNERS = {
     ("filter", "accel_bias_instability"): {"bias_correlation_time_s": 300.0},
     ("filter", "gyro_bias_instability_deg_s"): {"bias_correlation_time_s": 300.0},
+    ("aids", "nhc"): {"nhc_std_m_s": 0.2},
 }
 
 #: What a navigate run reads for itself, refused by the filter classes.
@@ -79,8 +102,6 @@ REFUSED: dict[str, dict[str, object]] = {
     "filter": {"imu_preset": "consumer", "smoother": True},
     "imu": {"time_offset_s": 0.1, "mounting_rpy_deg": [[0.0, 0.0, 90.0]]},
     "alignment": {"heading_deg": 10.0},
-    "standstill": {"window_s": 2.0},
-    "aids": {"nhc": True},
     "outages": {"windows_s": [[10.0, 5.0]]},
 }
 
@@ -90,10 +111,11 @@ def test_every_filter_key_is_taken_or_refused_by_name(drive_300s):
     refused tables and the datasheet table (whose units the datasheet
     reader's own tests cover; two of its keys are here): each is taken
     alone and all together (both classes) or refused with its table named; a misspelt key
-    or an "auto" is refused with its table.key."""
+    or an "auto" is refused with its table.key, and so is the
+    non-holonomic constraint without its std (a navigate run learns it)."""
     listed = {(t, k) for t, keys in mn.navigate_settings().items() for k in keys}
     covered = {(t, k) for group in (VALUES, REFUSED) for t, keys in group.items() for k in keys}
-    unlisted_tables = {"alignment", "standstill", "aids", "outages", "imu_spec"}
+    unlisted_tables = {"alignment", "outages", "imu_spec"}
     assert {(t, k) for t, k in listed if t not in unlisted_tables} <= covered
     assert covered <= listed
     _, _, imu, _, _ = drive_300s
@@ -112,6 +134,8 @@ def test_every_filter_key_is_taken_or_refused_by_name(drive_300s):
             cls(imu, settings={"filter": {"gate_probabilty": 0.99}})
         with pytest.raises(ValueError, match=r"gnss\.fix_error_states"):
             cls(imu, settings={"gnss": {"fix_error_states": "auto"}})
+        with pytest.raises(ValueError, match=r"aids\.nhc_std_m_s"):
+            cls(imu, settings={"aids": {"nhc": True}})
         with pytest.raises(ValueError, match="not both"):
             cls(imu, settings={}, gate_probability=0.99)
 
@@ -154,11 +178,13 @@ def test_settings_set_the_tuning_under_their_navigate_names(drive_300s):
 def test_the_blocks_asked_for_are_the_filters_states(drive_300s):
     """Installation states and a range-bias slot for every satellite appear
     in the solution's state names; the running filter started from the same
-    class has the same states."""
+    class has the same states (it applies no aids by itself, so it is
+    refused while the settings' aids are on)."""
     traj, gnss, imu, f, w = drive_300s
     settings = {
         "filter": {"installation_states": True},
         "gnss": {"range_bias_states": "every_satellite"},
+        "aids": {"zupt": False, "zaru": False},
     }
     flt = mn.TightlyCoupledFilter(imu, settings=settings)
     assert "installation" in repr(flt) and "range biases" in repr(flt)
@@ -173,6 +199,9 @@ def test_the_blocks_asked_for_are_the_filters_states(drive_300s):
     assert "lever_arm_x" in names and "mounting_yaw" in names
     running = flt.start(traj.time[0], f[0], w[0], initial)
     assert running.state_names == names
+    aided = mn.TightlyCoupledFilter(imu, settings={**settings, "aids": {}})
+    with pytest.raises(ValueError, match=r"\[aids\].*update_zupt"):
+        aided.start(traj.time[0], f[0], w[0], initial)
     assert running.covariance.shape == (len(names), len(names))
 
 
@@ -201,9 +230,9 @@ def test_a_navigate_configuration_through_the_classes_is_navigates_solution(driv
     same configuration's filter tables on the same arrays from navigate's
     start (its first sample, state and one-sigmas), give the same solution
     to 1e-9 m: one filter behind both doors. The aids are off and the start
-    is a moving one (what a navigate run adds around the filter: the
-    classes leave the start and the aids to their caller); another setting
-    moves the solution by more than a centimetre."""
+    is a moving one (the start is what a navigate run adds around the
+    filter); another setting moves the solution by more than a
+    centimetre."""
     traj, gnss, _, f, w = drive_300s
     filter_tables = {
         "filter": {
@@ -234,6 +263,7 @@ def test_a_navigate_configuration_through_the_classes_is_navigates_solution(driv
             "initial_attitude_std_deg": list(stds),
         },
         "gnss": filter_tables["gnss"],
+        "aids": navigate_settings["aids"],
     }
     flt = mn.TightlyCoupledFilter(imu, settings=settings)
     # The epochs navigate gave the filter: those from its start on.
@@ -254,4 +284,88 @@ def test_a_navigate_configuration_through_the_classes_is_navigates_solution(driv
     other = mn.TightlyCoupledFilter(imu, settings=settings).run(
         traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"]
     )
+    assert np.abs(other.position_ecef - navigated.position_ecef).max() > 0.01
+
+
+#: A scripted drive with standstills (s, m/s, rad): a rest, a drive with a
+#: turn, a stop, and on again, for the aids at standstills and while moving.
+DRIVE_WITH_STOPS = [
+    ("stop", 20.0),
+    ("accelerate", 15.0, 12.0),
+    ("cruise", 30.0),
+    ("turn", 10.0, 1.2),
+    ("accelerate", 12.0, 0.0),
+    ("stop", 25.0),
+    ("accelerate", 15.0, 10.0),
+    ("cruise", 20.0),
+]
+
+
+def test_a_configuration_with_aids_through_the_classes_is_navigates_solution():
+    """navigate_log and TightlyCoupledFilter with the same [aids] (the
+    zero-velocity and zero-rate updates at the standstills they detect, by
+    default, and the non-holonomic constraint) on a scripted drive with two
+    standstills, from navigate's static start with a known heading: the
+    same solution to 1e-9 m and the same count of each kind of update. The
+    aids do apply (hundreds of each), and another ZUPT std moves the
+    solution."""
+    heading_rad = 0.3
+    traj = mn.Trajectory.from_segments(DRIVE_WITH_STOPS, heading=heading_rad)
+    gnss = mn.simulate_gnss(
+        traj.time, traj.position_ecef, traj.velocity_ecef, mn.Constellation.walker(), seed=4
+    )
+    imu = mn.ImuModel.preset("consumer", sample_rate=100.0)
+    f, w = imu.measure(traj.specific_force, traj.angular_rate, seed=6)
+    aids = {"nhc": True, "nhc_std_m_s": 0.1}
+    run = mn.navigate_log(
+        traj.time,
+        f,
+        w,
+        gnss,
+        settings={
+            "filter": {"imu_preset": "consumer"},
+            "alignment": {"method": "static", "heading_deg": float(np.degrees(heading_rad))},
+            "aids": aids,
+        },
+    )
+    assert run.failure is None
+    start = run.start
+    k0 = start["first_sample"]
+    stds = np.degrees([start["tilt_std"], start["tilt_std"], start["heading_std"]])
+    settings = {
+        "filter": {
+            "initial_position_std_m": start["position_std"],
+            "initial_velocity_std_m_s": start["velocity_std"],
+            "initial_attitude_std_deg": list(stds),
+        },
+        "aids": aids,
+    }
+    after = np.asarray(gnss.time) >= traj.time[k0]
+    names = (
+        "time sat_id satellite_position_ecef satellite_velocity_ecef pseudorange "
+        "pseudorange_std pseudorange_rate pseudorange_rate_std"
+    ).split()
+    used = {n: np.asarray(getattr(gnss, n))[after] for n in names}
+
+    flt = mn.TightlyCoupledFilter(imu, settings=settings)
+    assert repr(flt).endswith("aids zupt+zaru+nhc)") and flt.tuning["aids"] == "zupt, zaru, nhc"
+
+    def through_class(settings):
+        return mn.TightlyCoupledFilter(imu, settings=settings).run(
+            traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"]
+        )
+
+    sol = through_class(settings)
+    navigated = run.solution
+    np.testing.assert_allclose(sol.position_ecef, navigated.position_ecef, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(sol.velocity_ecef, navigated.velocity_ecef, rtol=0, atol=1e-9)
+
+    def updates(solution):
+        kinds, counts = np.unique(solution.measurements["kind"], return_counts=True)
+        return dict(zip(kinds.tolist(), counts.tolist(), strict=True))
+
+    assert updates(sol) == updates(navigated)
+    for aid in ("zero_velocity", "zero_rate", "non_holonomic"):
+        assert updates(sol).get(aid, 0) > 100, aid
+    other = through_class({**settings, "aids": {**aids, "zupt_std_m_s": 0.2}})
     assert np.abs(other.position_ecef - navigated.position_ecef).max() > 0.01

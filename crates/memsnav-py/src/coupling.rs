@@ -582,15 +582,20 @@ macro_rules! filter_arguments_doc {
         \n\
         - `imu`: the `ImuModel` whose spec and sample rate tune the filter.\n\
         - `settings` [None]: a `navigate` configuration's tables as a dict\n\
-        \x20\x20(`{\"filter\": {...}, \"gnss\": {...}, \"imu\": {...}, \"imu_spec\": {...}}`,\n\
-        \x20\x20the keys `navigate_settings()` lists, with their units and defaults):\n\
-        \x20\x20the filter is navigate's for those keys, defaults included (range-bias\n\
-        \x20\x20states on for pseudoranges; `gnss.range_bias_states = \"every_satellite\"`\n\
-        \x20\x20gives each of up to 40 satellites one), tuned from `imu.spec`. Tables and\n\
-        \x20\x20keys that drive a navigate run rather than the filter (`[alignment]`,\n\
-        \x20\x20`[standstill]`, `[aids]`, `[outages]`, `filter.imu_preset`,\n\
-        \x20\x20`filter.smoother`, `imu.time_offset_s`, `imu.mounting_rpy_deg`, any\n\
-        \x20\x20`\"auto\"`) raise ValueError naming them. Not with the keywords below.\n\
+        \x20\x20(`{\"filter\": {...}, \"gnss\": {...}, \"imu\": {...}, \"imu_spec\": {...},\n\
+        \x20\x20\"standstill\": {...}, \"aids\": {...}}`, the keys `navigate_settings()`\n\
+        \x20\x20lists, with their units and defaults): the filter is navigate's for\n\
+        \x20\x20those keys, defaults included (range-bias states on for pseudoranges;\n\
+        \x20\x20`gnss.range_bias_states = \"every_satellite\"` gives each of up to 40\n\
+        \x20\x20satellites one), tuned from `imu.spec`, and `run` applies navigate's\n\
+        \x20\x20aids as a navigate run does: zero-velocity and zero-rate updates at the\n\
+        \x20\x20standstills it detects (on unless `aids.zupt`/`aids.zaru` are false)\n\
+        \x20\x20and, with `aids.nhc`, the non-holonomic constraint (give\n\
+        \x20\x20`aids.nhc_std_m_s`). Tables and keys that prepare a navigate run\n\
+        \x20\x20(`[alignment]`, `[outages]`, `filter.imu_preset`, `filter.smoother`,\n\
+        \x20\x20`imu.time_offset_s`, `imu.mounting_rpy_deg`, any `\"auto\"`) raise\n\
+        \x20\x20ValueError naming them, and `start` raises while an aid is on. Not with\n\
+        \x20\x20the keywords below.\n\
         - `scale_factor_states` [False]: six more states, the accelerometer and\n\
         \x20\x20gyro scale factors (23 in all).\n\
         - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):\n\
@@ -645,8 +650,12 @@ macro_rules! filter_class {
                     (blocks.installation, ", installation"),
                     (blocks.range_biases != RangeBiasSlots::None, ", range biases"),
                 ];
+                let aids = match s.navigate.as_ref().map(FilterSettings::aids) {
+                    Some(aids) if !aids.is_empty() => format!(", aids {}", aids.join("+")),
+                    _ => String::new(),
+                };
                 format!(
-                    "{}({} Hz IMU, {} error states{})",
+                    "{}({} Hz IMU, {} error states{}{aids})",
                     $py,
                     s.sample_rate_hz,
                     blocks.size(),
@@ -793,7 +802,8 @@ macro_rules! filter_class {
             /// ``manoeuvre_correlation_time``), SI, and the optional state blocks
             /// (``scale_factor_states``, ``installation_states``,
             /// ``range_bias_states``: False, True for 12 shared slots or
-            /// "every_satellite").
+            /// "every_satellite"), and the ``aids`` `run` applies ("zupt, zaru"
+            /// from `settings` by default, "" without them).
             #[getter]
             fn tuning<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
                 let t = &self.settings.tuning;
@@ -809,6 +819,9 @@ macro_rules! filter_class {
                     RangeBiasSlots::Shared => d.set_item("range_bias_states", true)?,
                     RangeBiasSlots::EverySatellite => d.set_item("range_bias_states", "every_satellite")?,
                 }
+                // The aids `run` applies (navigate's `[aids]` keys), "" for none.
+                let aids = self.settings.navigate.as_ref().map(FilterSettings::aids).unwrap_or_default();
+                d.set_item("aids", aids.join(", "))?;
                 d.set_item("accel_white_psd", q.accel_white_psd)?;
                 d.set_item("gyro_white_psd", q.gyro_white_psd)?;
                 d.set_item("accel_bias_psd", q.accel_bias_psd)?;
@@ -902,6 +915,13 @@ macro_rules! filter_class {
                 initial_state: &Bound<'_, PyAny>,
                 inter_system_biases: bool,
             ) -> PyResult<PyRunningFilter> {
+                if self.settings.navigate.as_ref().is_some_and(FilterSettings::has_aids) {
+                    return Err(PyValueError::new_err(
+                        "settings: [aids] zupt, zaru or nhc is on (zupt and zaru by default), \
+                         and a RunningFilter applies no aids by itself: set them false and call \
+                         update_zupt, update_zaru and update_non_holonomic",
+                    ));
+                }
                 let raw = sample_arg(specific_force, angular_rate)?;
                 let initial = initial_state_arg(initial_state)?;
                 let blocks = self.settings.blocks($started_by == StartedBy::Tight, inter_system_biases);
@@ -933,7 +953,10 @@ macro_rules! filter_class {
                     coupling::Aiding::needs_inter_system_biases(&aiding),
                 );
                 let (forward, smoothed) = py
-                    .detach(|| factory::solve(blocks, &imu.data(), &aiding, &initial, tuning, smooth))
+                    .detach(|| match &self.settings.navigate {
+                        Some(navigate) => navigate.solve(blocks, &imu.data(), &aiding, &initial, smooth),
+                        None => factory::solve(blocks, &imu.data(), &aiding, &initial, tuning, smooth),
+                    })
                     .py()?;
                 crate::warnings::warn_all(py, &forward.warnings)?;
                 PyFilterSolution::with_smoothed(py, forward, smoothed)

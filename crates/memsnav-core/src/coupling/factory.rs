@@ -8,10 +8,10 @@
 
 use nalgebra::{DMatrix, Vector3};
 
-use super::engine::{FilterState, InitialState, Solution};
+use super::engine::{FilterState, InitialState, SampleAid, Solution};
 use super::installation::InstallationEstimate;
 use super::records::RunRecords;
-use super::run::{smoothed_solution, solution, Aiding};
+use super::run::{aided_solution, Aiding};
 use super::tuning::FilterTuning;
 use super::PositionFix;
 use crate::filter::state::{Layout, SizedJob, StateBlocks, INTER_SYSTEM_BIAS_STATES};
@@ -29,24 +29,40 @@ pub fn solve<E: Aiding>(
     tuning: &FilterTuning,
     smooth: bool,
 ) -> Result<(Solution, Option<Solution>)> {
+    solve_aided(blocks, imu, epochs, initial, tuning, smooth, ())
+}
+
+/// [`solve`] with `aid` applied at every IMU sample (a configuration's
+/// aids at standstills and while driving).
+pub fn solve_aided<E: Aiding, A: SampleAid>(
+    blocks: StateBlocks,
+    imu: &ImuData,
+    epochs: &[E],
+    initial: &InitialState,
+    tuning: &FilterTuning,
+    smooth: bool,
+    aid: A,
+) -> Result<(Solution, Option<Solution>)> {
     blocks.dispatch(Solve {
         imu,
         epochs,
         initial,
         tuning,
         smooth,
+        aid,
     })
 }
 
-struct Solve<'a, E> {
+struct Solve<'a, E, A> {
     imu: &'a ImuData<'a>,
     epochs: &'a [E],
     initial: &'a InitialState,
     tuning: &'a FilterTuning,
     smooth: bool,
+    aid: A,
 }
 
-impl<E: Aiding> SizedJob for Solve<'_, E> {
+impl<E: Aiding, A: SampleAid> SizedJob for Solve<'_, E, A> {
     type Output = Result<(Solution, Option<Solution>)>;
 
     fn run<const N: usize>(self) -> Self::Output {
@@ -56,12 +72,9 @@ impl<E: Aiding> SizedJob for Solve<'_, E> {
             initial,
             tuning,
             smooth,
+            mut aid,
         } = self;
-        if smooth {
-            smoothed_solution::<N, E>(imu, epochs, initial, tuning).map(|(f, s)| (f, Some(s)))
-        } else {
-            solution::<N, E>(imu, epochs, initial, tuning).map(|f| (f, None))
-        }
+        aided_solution::<N, E, A>(imu, epochs, initial, tuning, smooth, &mut aid)
     }
 }
 

@@ -82,7 +82,7 @@ pub use crate::filter::input_noise::UnmodelledErrors;
 pub(crate) use diagnostics::diagnose;
 pub use diagnostics::imu_unit_warnings;
 pub(crate) use engine::SampleHook;
-pub use engine::{AidingEpoch, FilterState, InitialState, Solution};
+pub use engine::{AidingEpoch, FilterState, InitialState, SampleAid, Solution};
 pub use init::{coarse_attitude, initial_state_from_fix, initial_state_from_position_fix, level};
 pub use installation::{InstallationEstimate, InstallationUncertainty};
 pub use integrity::{Integrity, IntegrityAlert};

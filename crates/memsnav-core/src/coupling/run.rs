@@ -16,7 +16,7 @@
 
 use nalgebra::Vector3;
 
-use super::engine::{self, AidingEpoch, FilterState, InitialState, Observe, SampleHook};
+use super::engine::{self, AidingEpoch, FilterState, InitialState, Observe, SampleAid, SampleHook};
 use super::engine::{smoothed_positions, Solution};
 use super::records::RunRecords;
 use super::tuning::FilterTuning;
@@ -317,8 +317,7 @@ pub fn solution<const N: usize, E: Aiding>(
     initial: &InitialState,
     tuning: &FilterTuning,
 ) -> Result<Solution> {
-    let ignore = |_, _: &FilterState<N>| {};
-    Ok(solve(imu, epochs, initial, tuning, false, ignore)?.0)
+    Ok(aided_solution::<N, E, _>(imu, epochs, initial, tuning, false, &mut ())?.0)
 }
 
 /// The filter's forward solution and its fixed-interval smoothed solution.
@@ -328,24 +327,21 @@ pub fn smoothed_solution<const N: usize, E: Aiding>(
     initial: &InitialState,
     tuning: &FilterTuning,
 ) -> Result<(Solution, Solution)> {
-    let ignore = |_, _: &FilterState<N>| {};
-    let (forward, smoothed) = solve(imu, epochs, initial, tuning, true, ignore)?;
+    let (forward, smoothed) =
+        aided_solution::<N, E, _>(imu, epochs, initial, tuning, true, &mut ())?;
     Ok((forward, smoothed.expect("asked for")))
 }
 
-/// The forward solution (and the smoothed one with `smooth`), with
-/// `observe(k, state)` called after each IMU sample k.
-fn solve<const N: usize, E: Aiding, O>(
+/// The forward solution (and the smoothed one with `smooth`), with `aid`
+/// applied after the updates at each IMU sample.
+pub fn aided_solution<const N: usize, E: Aiding, A: SampleAid>(
     imu: &ImuData,
     epochs: &[E],
     initial: &InitialState,
     tuning: &FilterTuning,
     smooth: bool,
-    mut observe: O,
-) -> Result<(Solution, Option<Solution>)>
-where
-    O: FnMut(usize, &FilterState<N>),
-{
+    aid: &mut A,
+) -> Result<(Solution, Option<Solution>)> {
     let mut sol = Solution::with_capacity(imu.time_s.len(), N);
     let mut state = run_with_hook::<N, E, _>(
         imu,
@@ -353,10 +349,11 @@ where
         initial,
         tuning,
         smooth,
-        &mut Observe(|k, s: &FilterState<N>| {
-            observe(k, s);
-            sol.push(imu.time_s[k], s)
-        }),
+        &mut AidThenRecord {
+            aid,
+            solution: &mut sol,
+            time_s: imu.time_s,
+        },
     )?;
     sol.take_records(&mut state);
     super::diagnose(
@@ -370,4 +367,19 @@ where
         .map(|mut log| sol.smoothed(&mut log))
         .transpose()?;
     Ok((sol, smoothed))
+}
+
+/// The hook of [`aided_solution`]: the aid, then the sample's record.
+struct AidThenRecord<'a, A> {
+    aid: &'a mut A,
+    solution: &'a mut Solution,
+    time_s: &'a [f64],
+}
+
+impl<const N: usize, A: SampleAid> SampleHook<N> for AidThenRecord<'_, A> {
+    fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()> {
+        self.aid.at_sample(k, state)?;
+        self.solution.push(self.time_s[k], state);
+        Ok(())
+    }
 }

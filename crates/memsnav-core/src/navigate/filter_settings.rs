@@ -1,25 +1,27 @@
 //! The filter a `navigate` configuration describes, for IMU and GNSS
 //! arrays the caller has prepared (the Python filter classes): the same
 //! tables, keys, checks and defaults as a log run ([`LogConfig::from_settings`]),
-//! minus what drives a log run rather than the filter.
+//! the same aids at every IMU sample ([`super::aids`]), minus what
+//! prepares a log run (its start, its outages, the IMU's time and mounting).
 
 use nalgebra::Vector3;
 
+use super::aids::{HeadingUntilAligned, SampleAids};
 use super::config::LogConfig;
 use super::keys::{check_known_keys, SettingTables, SettingValue, AUTO};
+use super::kinematics::EpochKinematics;
 use super::settings::find;
-use crate::coupling::FilterTuning;
+use crate::coupling::{factory, FilterTuning, InitialState, Solution};
 use crate::filter::state::{RangeBiasSlots, StateBlocks};
+use crate::ins::{ImuData, ImuSample};
 use crate::sensors::ImuSpec;
 use crate::{Error, Result};
 
-/// Tables that drive a log run (its start, the aids at standstills and
-/// while driving, scheduled outages): a filter on the caller's arrays
-/// starts where the caller says and applies what the caller gives it.
-const LOG_RUN_TABLES: [(&str, &str); 4] = [
+/// Tables that prepare a log run (its start, scheduled outages): a filter
+/// on the caller's arrays starts where the caller says and uses the
+/// epochs the caller gives it.
+const LOG_RUN_TABLES: [(&str, &str); 2] = [
     ("alignment", "give initial_state or initial_attitude to run"),
-    ("standstill", "the filter detects no standstills; apply RunningFilter.update_zupt and update_zaru"),
-    ("aids", "the filter applies no aids by itself; apply RunningFilter.update_zupt, update_zaru and update_non_holonomic"),
     ("outages", "leave the epochs out of the GNSS arrays"),
 ];
 
@@ -96,7 +98,81 @@ impl FilterSettings {
             let model = config.fix_error;
             config.tuning.set_range_bias_model(&model);
         }
+        if config.aids.nhc && config.aids.nhc_std_learnt {
+            return Err(Error::invalid(
+                "aids.nhc_std_m_s",
+                "is learnt from a whole log by a navigate run by default (\"auto\"); with \
+                 aids.nhc give a value",
+            ));
+        }
         Ok(Self { config })
+    }
+
+    /// The forward solution (and with `smooth` the smoothed one) of the
+    /// filter with `blocks` over `imu` and the aiding `epochs` from
+    /// `initial`, with the configuration's aids at every IMU sample as a
+    /// log run applies them: standstills found from the IMU window and
+    /// the epochs' ground speed (the single-point solution of each epoch's
+    /// pseudoranges, or the fixes) or, without a recent one, the
+    /// solution's speed, with zero-velocity and zero-angular-rate updates
+    /// there, and the non-holonomic constraint while moving. The heading
+    /// is the initial state's.
+    pub fn solve<E: EpochKinematics>(
+        &self,
+        blocks: StateBlocks,
+        imu: &ImuData,
+        epochs: &[E],
+        initial: &InitialState,
+        smooth: bool,
+    ) -> Result<(Solution, Option<Solution>)> {
+        let config = &self.config;
+        let tuning = &config.tuning;
+        if !self.has_aids() {
+            return factory::solve(blocks, imu, epochs, initial, tuning, smooth);
+        }
+        imu.validate()?;
+        let samples: Vec<ImuSample> = imu
+            .specific_force_b
+            .iter()
+            .zip(imu.angular_rate_b)
+            .map(|(f, w)| ImuSample {
+                specific_force_b: *f,
+                angular_rate_b: *w,
+            })
+            .collect();
+        // As a log run reads them: with range-bias states the fixes'
+        // covariance includes the biases.
+        let bias_std_m = if blocks.range_biases == RangeBiasSlots::None {
+            0.0
+        } else {
+            tuning.initial_std.range_bias_m
+        };
+        let kinematics = E::kinematics(epochs, bias_std_m);
+        let used = vec![true; kinematics.len()];
+        let aids = SampleAids::new(
+            imu.time_s,
+            &samples,
+            &kinematics,
+            &used,
+            config,
+            HeadingUntilAligned::KNOWN,
+            config.aids.nhc_std_m_s,
+        );
+        factory::solve_aided(blocks, imu, epochs, initial, tuning, smooth, aids)
+    }
+
+    /// The aids that are on, by their `[aids]` key (`zupt`, `zaru`, `nhc`).
+    pub fn aids(&self) -> Vec<&'static str> {
+        let a = &self.config.aids;
+        [(a.zupt, "zupt"), (a.zaru, "zaru"), (a.nhc, "nhc")]
+            .into_iter()
+            .filter_map(|(on, name)| on.then_some(name))
+            .collect()
+    }
+
+    /// Whether any aid is on.
+    pub fn has_aids(&self) -> bool {
+        !self.aids().is_empty()
     }
 
     /// The tuning.

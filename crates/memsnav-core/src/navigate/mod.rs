@@ -23,6 +23,7 @@
 //!    calibrate the IMU on the drive itself ([`references`], method §3).
 
 pub mod adapt;
+mod aids;
 pub mod align;
 pub mod carrier_use;
 mod config;
@@ -30,6 +31,7 @@ mod filter_settings;
 pub mod fixes;
 pub mod gyro_scale;
 pub mod keys;
+mod kinematics;
 pub mod output;
 pub mod references;
 mod run;
@@ -45,4 +47,5 @@ pub use config::{
 pub use filter_settings::FilterSettings;
 pub use fixes::{fixes_from_geodetic, FixOptions, GeodeticSolution};
 pub use keys::{tables, SettingTables, SettingValue, AUTO, KEYS};
+pub use kinematics::EpochKinematics;
 pub use run::{navigate_log, sample_rate_hz, validate_gnss, GnssInput, LogRun, RunFailure};

@@ -5,18 +5,18 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::adapt::{typical_position_std_m, Adaptation, PassModel, Plan};
+use super::aids::{HeadingUntilAligned, SampleAids};
 use super::align::{find_start, GnssKinematics, Start};
 use super::carrier_use::CarrierUse;
 use super::config::{periodic_outages, LogConfig};
 use super::gyro_scale::{gyro_scale, GyroScale};
-use super::standstill::{Window, WindowStats};
+use super::kinematics::EpochKinematics;
 use crate::coupling::{
-    self, Aiding, FilterState, FilterTuning, PositionFix, RangeBiasModel, Solution,
+    self, Aiding, FilterState, FilterTuning, PositionFix, RangeBiasModel, SampleAid, Solution,
 };
-use crate::filter::chi_square::chi_square_quantile;
 use crate::filter::state::{RangeBiasSlots, SizedJob, StateBlocks, POSITION, VELOCITY};
 use crate::geodesy::ecef_to_geodetic;
-use crate::gnss::{keep_highest, solve_fix_all_satellites, GnssEpoch, SatelliteMeasurement};
+use crate::gnss::{keep_highest, GnssEpoch};
 use crate::ins::ImuData;
 use crate::ins::ImuSample;
 use crate::logs::{MAX_SPEED_M_S, MAX_STD, POS_HEIGHT_RANGE_M};
@@ -135,7 +135,10 @@ pub fn navigate_log(
     } else {
         0.0
     };
-    let kinematics = gnss_kinematics(gnss, bias_std_m)?;
+    let kinematics = match gnss {
+        GnssInput::Fixes(fixes) => EpochKinematics::kinematics(fixes, bias_std_m),
+        GnssInput::Measurements(epochs) => EpochKinematics::kinematics(epochs, bias_std_m),
+    };
     // Before the run: a gyro read in the wrong unit is what a failed run
     // most needs to be told, so its warning also rides on any error below.
     let gyro = gyro_scale(&time, &imu_b, &kinematics);
@@ -371,101 +374,6 @@ fn standstill_intervals(solution: &Solution) -> Vec<(f64, f64)> {
     out
 }
 
-/// Longest interval between two fixes whose position difference stands in
-/// for a missing velocity, s.
-const MAX_DIFFERENCE_INTERVAL_S: f64 = 2.0;
-
-/// Fixes without a velocity get the backward difference of their position
-/// and the previous fix's (within [`MAX_DIFFERENCE_INTERVAL_S`]), with the
-/// covariance of independent positions, (P_a + P_b) / Δt²: the ground speed
-/// and course the aids need (the standstill test's GNSS speed, the heading
-/// at the first motion). Causal, so it is the velocity half an interval
-/// ago. Only the aids read it: the filter's fixes stay position-only.
-fn velocity_from_positions(kinematics: &mut [GnssKinematics]) {
-    for i in 1..kinematics.len() {
-        let (a, b) = (&kinematics[i - 1], &kinematics[i]);
-        let dt = b.time_s - a.time_s;
-        if b.velocity_ecef.is_some() || !(dt > 0.0 && dt <= MAX_DIFFERENCE_INTERVAL_S) {
-            continue;
-        }
-        let velocity = (b.position_ecef - a.position_ecef) / dt;
-        if velocity.iter().all(|v| v.is_finite()) {
-            let covariance = (a.position_covariance + b.position_covariance) / (dt * dt);
-            kinematics[i].velocity_ecef = Some(velocity);
-            kinematics[i].velocity_covariance = covariance;
-            kinematics[i].velocity_from_positions = true;
-        }
-    }
-}
-
-/// Antenna position and velocity of every GNSS epoch: the fixes as they
-/// are, or least-squares fixes of the pseudoranges (NaN where an epoch has
-/// fewer than four usable satellites or no solution), their covariance with
-/// each pseudorange's std raised by `bias_std_m` in quadrature.
-fn gnss_kinematics(gnss: &GnssInput, bias_std_m: f64) -> Result<Vec<GnssKinematics>> {
-    Ok(match gnss {
-        GnssInput::Fixes(fixes) => {
-            let mut kinematics: Vec<GnssKinematics> = fixes
-                .iter()
-                .map(|f| GnssKinematics {
-                    time_s: f.time_s,
-                    position_ecef: f.position_ecef,
-                    position_covariance: f.position_covariance,
-                    velocity_ecef: f.velocity_ecef,
-                    velocity_covariance: f.velocity_covariance,
-                    velocity_from_positions: false,
-                })
-                .collect();
-            velocity_from_positions(&mut kinematics);
-            kinematics
-        }
-        GnssInput::Measurements(epochs) => {
-            let mut prior = None;
-            epochs
-                .iter()
-                .map(|e| {
-                    let usable = GnssEpoch {
-                        time_s: e.time_s,
-                        measurements: e
-                            .measurements
-                            .iter()
-                            .filter(|m| {
-                                m.pseudorange_m.is_finite()
-                                    && m.position_ecef.iter().all(|v| v.is_finite())
-                            })
-                            .map(|m| SatelliteMeasurement {
-                                pseudorange_std_m: m.pseudorange_std_m.hypot(bias_std_m),
-                                ..*m
-                            })
-                            .collect(),
-                    };
-                    match solve_fix_all_satellites(&usable, prior) {
-                        Ok(f) => {
-                            prior = Some(f.position_ecef);
-                            let v = f.velocity_ecef;
-                            GnssKinematics {
-                                time_s: e.time_s,
-                                position_ecef: f.position_ecef,
-                                position_covariance: f
-                                    .position_clock_covariance
-                                    .fixed_view::<3, 3>(0, 0)
-                                    .into(),
-                                velocity_ecef: v.iter().all(|x| x.is_finite()).then_some(v),
-                                velocity_covariance: f
-                                    .velocity_drift_covariance
-                                    .fixed_view::<3, 3>(0, 0)
-                                    .into(),
-                                velocity_from_positions: false,
-                            }
-                        }
-                        Err(_) => GnssKinematics::none(e.time_s),
-                    }
-                })
-                .collect()
-        }
-    })
-}
-
 /// What a filter run gives: the solution, the smoothed one when asked
 /// for, the final range biases (satellite, m), and why it stopped early
 /// when it did.
@@ -543,12 +451,24 @@ impl Inputs<'_> {
         let initial = s.initial_state(&tuning.antenna_lever_arm_b_m);
         let keep_solution = record != Record::MeasurementsOnly;
         let capacity = if keep_solution { self.time.len() } else { 0 };
-        let mut hook = Aids::new(
-            self,
-            Solution::with_capacity(capacity, N),
+        let heading = HeadingUntilAligned {
+            known: s.heading_known,
+            heading_std_rad: s.heading_std_rad,
+            tilt_std_rad: s.tilt_std_rad,
+        };
+        let mut hook = Aids {
+            aids: SampleAids::new(
+                self.time,
+                self.imu_b,
+                self.kinematics,
+                self.used,
+                self.config,
+                heading,
+                model.nhc_std_m_s,
+            ),
+            solution: Solution::with_capacity(capacity, N),
             keep_solution,
-            model.nhc_std_m_s,
-        );
+        };
         let smooth = record == Record::Smoothed;
         let (mut state, stopped): (FilterState<N>, _) = match self.gnss {
             GnssInput::Fixes(fixes) => {
@@ -629,169 +549,30 @@ impl SizedJob for FilterPass<'_> {
     }
 }
 
-/// The aids and the heading alignment, run at every IMU sample, and the
-/// solution record.
+/// The aids at every IMU sample ([`SampleAids`]), then the solution
+/// record.
 struct Aids<'a> {
-    inputs: &'a Inputs<'a>,
+    aids: SampleAids<'a>,
     solution: Solution,
     /// Whether the solution is recorded at every sample.
     keep_solution: bool,
-    window: Window,
-    /// Next GNSS epoch (into `inputs.kinematics`) not yet seen.
-    next_epoch: usize,
-    /// Time, ground speed, course and its std of the last used GNSS epoch with a velocity.
-    last_course: Option<(f64, f64, f64, f64)>,
-    heading_known: bool,
-    still: bool,
-    next_decision_s: f64,
-    next_zupt_s: f64,
-    next_zaru_s: f64,
-    next_nhc_s: f64,
-    /// The non-holonomic constraint's std, m/s (the configured one or the
-    /// one learnt from the log).
-    nhc_std_m_s: f64,
-}
-
-impl<'a> Aids<'a> {
-    fn new(
-        inputs: &'a Inputs<'a>,
-        solution: Solution,
-        keep_solution: bool,
-        nhc_std_m_s: f64,
-    ) -> Self {
-        let rate_hz =
-            (inputs.time.len() - 1) as f64 / (inputs.time[inputs.time.len() - 1] - inputs.time[0]);
-        Self {
-            inputs,
-            solution,
-            keep_solution,
-            window: Window::new(inputs.config.standstill.window_s, rate_hz),
-            next_epoch: 0,
-            last_course: None,
-            heading_known: inputs.start.heading_known,
-            still: false,
-            next_decision_s: f64::NEG_INFINITY,
-            next_zupt_s: f64::NEG_INFINITY,
-            next_zaru_s: f64::NEG_INFINITY,
-            next_nhc_s: f64::NEG_INFINITY,
-            nhc_std_m_s,
-        }
-    }
-
-    /// Whether the vehicle may be at rest besides a quiet IMU: its
-    /// acceleration over the detector window consistent with zero
-    /// ([`FilterState::rest_acceleration_nis`] at the gate probability: a
-    /// car braking smoothly through its last metre per second, or pulling
-    /// away while the last 1 Hz fix still says zero, is quiet but not at
-    /// rest, and a ZUPT there leaves the velocity wrong), and the latest
-    /// GNSS ground speed below its threshold, or without a recent GNSS
-    /// velocity (an outage) the solution's speed below its threshold or
-    /// within `solution_speed_sigmas` of its own along-track σ of zero (a
-    /// coasting solution that cannot tell its speed from zero does not
-    /// veto a quiet IMU; the ZUPT's own batch test then weighs the two).
-    fn slow<const N: usize>(&self, t: f64, state: &FilterState<N>, window: &WindowStats) -> bool {
-        let c = &self.inputs.config.standstill;
-        let p = state.tuning.gate_probability;
-        let std_of_mean = window.std_specific_force_b / (window.samples as f64).sqrt();
-        let unaccelerated = p >= 1.0
-            || state.rest_acceleration_nis(&window.mean_specific_force_b, &std_of_mean)
-                <= chi_square_quantile(3.0, p);
-        unaccelerated
-            && match self.last_course {
-                Some((tg, speed, _, _)) if t - tg <= c.gnss_age_s => speed < c.gnss_speed_m_s,
-                _ => {
-                    let v = state.nav.velocity_ecef;
-                    let speed = v.norm();
-                    if speed < c.solution_speed_m_s {
-                        return true;
-                    }
-                    let along = v / speed;
-                    let p_v = state.kf.p.fixed_view::<3, 3>(VELOCITY, VELOCITY);
-                    let std_along = along.dot(&(p_v * along)).max(0.0).sqrt();
-                    speed < c.solution_speed_sigmas * std_along
-                }
-            }
-    }
-
-    /// Sets the heading from the GNSS course at the first motion (speed at
-    /// least `min_speed_m_s`, course known to `max_course_std_rad`), the
-    /// body's x axis taken along the direction of travel. A vehicle that
-    /// reverses out of its parking place needs `alignment.heading_deg`:
-    /// nothing the filter holds by then tells forward from backward (the
-    /// GNSS velocity updates of the unaligned phase have already mixed the
-    /// wrong heading into the body-frame velocity).
-    fn align_heading<const N: usize>(&mut self, t: f64, state: &mut FilterState<N>) -> Result<()> {
-        let a = &self.inputs.config.alignment;
-        let Some((_, speed, heading, course_std)) = self.last_course else {
-            return Ok(());
-        };
-        if self.heading_known || speed < a.min_speed_m_s || course_std > a.max_course_std_rad {
-            return Ok(());
-        }
-        state.align_heading(t, heading, a.heading_std_rad.hypot(course_std))?;
-        state.reopen_tilt_and_horizontal_bias(self.inputs.start.tilt_std_rad);
-        self.heading_known = true;
-        Ok(())
-    }
 }
 
 impl<const N: usize> coupling::SampleHook<N> for Aids<'_> {
     fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()> {
-        let t = self.inputs.time[k];
         // The reported run stops where no solution file can follow it; a
         // first pass only learns from the measurements.
         if self.keep_solution {
             if let Some(reason) = unrepresentable(state) {
-                return Err(Error::Divergence { time_s: t, reason });
+                return Err(Error::Divergence {
+                    time_s: self.aids.time_s(k),
+                    reason,
+                });
             }
         }
-        self.window.push(self.inputs.imu_b[k]);
-        let kin = self.inputs.kinematics;
-        while self.next_epoch < kin.len() && kin[self.next_epoch].time_s <= t {
-            let i = self.next_epoch;
-            self.next_epoch += 1;
-            if !self.inputs.used[i] {
-                continue;
-            }
-            if let Some((speed, course, std)) = kin[i].course() {
-                self.last_course = Some((kin[i].time_s, speed, course, std));
-                self.align_heading(t, state)?;
-            }
-            if !self.heading_known {
-                state.forget_heading(self.inputs.start.heading_std_rad);
-            }
-        }
-        let config = self.inputs.config;
-        let aids = &config.aids;
-        if t >= self.next_decision_s && self.window.full() {
-            self.next_decision_s = t + aids.zupt_interval_s.min(config.standstill.window_s);
-            let stats = self.window.stats();
-            self.still = stats.still(&config.standstill) && self.slow(t, state, &stats);
-            if self.still && aids.zaru && t >= self.next_zaru_s {
-                let n = stats.samples as f64;
-                let std = stats
-                    .std_angular_rate_b
-                    .map(|s| (s / n.sqrt()).max(aids.zaru_min_std_rad_s));
-                // Each ZARU uses its own window of samples.
-                state.zero_rate_update(t, &stats.mean_angular_rate_b, &std)?;
-                self.next_zaru_s = t + config.standstill.window_s;
-            }
-        }
-        if self.still {
-            if aids.zupt && t >= self.next_zupt_s {
-                state.zero_velocity_update(t, aids.zupt_std_m_s)?;
-                self.next_zupt_s = t + aids.zupt_interval_s;
-            }
-        } else if aids.nhc
-            && self.heading_known
-            && t >= self.next_nhc_s
-            && state.nav.velocity_ecef.norm() >= aids.nhc_min_speed_m_s
-        {
-            state.non_holonomic_update(t, &config.reference_from_imu_b_m, self.nhc_std_m_s)?;
-            self.next_nhc_s = t + aids.nhc_interval_s;
-        }
+        self.aids.at_sample(k, state)?;
         if self.keep_solution {
-            self.solution.push(t, state);
+            self.solution.push(self.aids.time_s(k), state);
         }
         Ok(())
     }

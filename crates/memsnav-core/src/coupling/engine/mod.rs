@@ -581,6 +581,21 @@ pub(crate) trait SampleHook<const N: usize> {
     fn at_sample(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()>;
 }
 
+/// Work at every IMU sample for a filter of any state size: the aids a
+/// configuration asks for, in a run whose size is chosen at run time
+/// ([`super::factory::solve_aided`]). `()` does nothing.
+pub trait SampleAid {
+    /// Called after the INS reached sample `k` and any aiding epoch at that
+    /// sample was applied, before the solution records the sample.
+    fn at_sample<const N: usize>(&mut self, k: usize, state: &mut FilterState<N>) -> Result<()>;
+}
+
+impl SampleAid for () {
+    fn at_sample<const N: usize>(&mut self, _k: usize, _state: &mut FilterState<N>) -> Result<()> {
+        Ok(())
+    }
+}
+
 /// A hook that only observes the state.
 pub(crate) struct Observe<O>(pub O);
 
