@@ -143,6 +143,34 @@ def test_the_walker_and_the_rates_take_the_listed_defaults():
     )
 
 
+def test_the_statistics_and_scores_take_the_listed_defaults(drive_300s):
+    """The quantile interval, the sequential look error, a calibration
+    layout's model, and a log run's fix scores and calibration references:
+    None is the listed value given explicitly."""
+    runs = np.linspace(1.0, 3.0, 40) ** 2
+    listed = DEFAULTS["quantile_interval"]
+    assert mn.quantile_interval(runs, 0.9) == mn.quantile_interval(runs, 0.9, **listed)
+    assert mn.quantile_interval(runs, 0.9) != mn.quantile_interval(runs, 0.9, confidence=0.5)
+    listed = DEFAULTS["sequential_look_error"]
+    looks = [20, 40, 80]
+    assert mn.sequential_look_error(looks, 0.9) == mn.sequential_look_error(looks, 0.9, **listed)
+    layout = mn.CalibrationLayout("gyroscope")
+    values = np.zeros(len(layout))
+    listed = DEFAULTS["CalibrationLayout.model"]
+    assert layout.model(values).sample_rate == listed["sample_rate"]
+    traj, gnss, _, f, w = drive_300s
+    run = mn.navigate_log(traj.time, f, w, gnss, settings={"filter": {"imu_preset": "consumer"}})
+    implicit = run.score_gnss(traj.time, traj.position_ecef)
+    explicit = run.score_gnss(traj.time, traj.position_ecef, **DEFAULTS["LogRun.score_gnss"])
+    np.testing.assert_array_equal(implicit["error_ned"], explicit["error_ned"])
+    implicit = run.calibration_references(traj.time, f, w)
+    explicit = run.calibration_references(
+        traj.time, f, w, **DEFAULTS["LogRun.calibration_references"]
+    )
+    np.testing.assert_array_equal(implicit["time"], explicit["time"])
+    assert implicit["window_s"] == DEFAULTS["LogRun.calibration_references"]["window_s"]
+
+
 def test_the_navigation_study_records_the_listed_defaults():
     listed = DEFAULTS["navigation_experiment"]
     result = navigation(runs=1, duration=20.0, imus=("ins",))

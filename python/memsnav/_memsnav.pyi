@@ -681,10 +681,11 @@ class CalibrationLayout:
         """
 
     def model(
-        self, values: npt.ArrayLike, *, sample_rate: float = 100.0
+        self, values: npt.ArrayLike, *, sample_rate: float | None = None
     ) -> AccelerometerModel | GyroscopeModel:
         """The noise-free model of this layout's sensor whose parameters are
-        `values` (the inverse of `values`), stored with `sample_rate` (Hz).
+        `values` (the inverse of `values`), stored with `sample_rate` (Hz)
+        [100].
         """
 
 def inflate_calibration_covariance(
@@ -725,9 +726,9 @@ def draw_imu_calibrations(
     """
 
 def quantile_interval(
-    values: npt.ArrayLike, p: float, confidence: float = 0.95
+    values: npt.ArrayLike, p: float, confidence: float | None = None
 ) -> dict[str, float]:
-    """The equal-tailed `confidence` interval for the `p`-quantile of the
+    """The equal-tailed `confidence` [0.95] interval for the `p`-quantile of the
     distribution the runs `values` (N,) were drawn from, from their order
     statistics (distribution-free; independent runs, continuous errors):
     dict `lower`, `upper` (-inf / inf when no run bounds that side at the
@@ -745,10 +746,10 @@ def sequential_error(looks: Sequence[int], p: float, look_error: float) -> tuple
     to look; a decision stops the cell).
     """
 
-def sequential_look_error(looks: Sequence[int], p: float, confidence: float = 0.95) -> float:
+def sequential_look_error(looks: Sequence[int], p: float, confidence: float | None = None) -> float:
     """The largest per-look one-sided error at which a cell decided in
     `looks` errs, on either side, with probability at most
-    `1 - confidence` (exact, see `sequential_error`): never below
+    `1 - confidence` (`confidence` [0.95]; exact, see `sequential_error`): never below
     Bonferroni's `(1 - confidence) / len(looks)`.
     """
 
@@ -1863,15 +1864,20 @@ class TightlyCoupledFilter:
 
     - `imu`: the `ImuModel` whose spec and sample rate tune the filter.
     - `settings` [None]: a `navigate` configuration's tables as a dict
-      (`{"filter": {...}, "gnss": {...}, "imu": {...}, "imu_spec": {...}}`,
-      the keys `navigate_settings()` lists, with their units and defaults):
-      the filter is navigate's for those keys, defaults included (range-bias
-      states on for pseudoranges; `gnss.range_bias_states = "every_satellite"`
-      gives each of up to 40 satellites one), tuned from `imu.spec`. Tables and
-      keys that drive a navigate run rather than the filter (`[alignment]`,
-      `[standstill]`, `[aids]`, `[outages]`, `filter.imu_preset`,
-      `filter.smoother`, `imu.time_offset_s`, `imu.mounting_rpy_deg`, any
-      `"auto"`) raise ValueError naming them. Not with the keywords below.
+      (`{"filter": {...}, "gnss": {...}, "imu": {...}, "imu_spec": {...},
+      "standstill": {...}, "aids": {...}}`, the keys `navigate_settings()`
+      lists, with their units and defaults): the filter is navigate's for
+      those keys, defaults included (range-bias states on for pseudoranges;
+      `gnss.range_bias_states = "every_satellite"` gives each of up to 40
+      satellites one), tuned from `imu.spec`, and `run` applies navigate's
+      aids as a navigate run does: zero-velocity and zero-rate updates at the
+      standstills it detects (on unless `aids.zupt`/`aids.zaru` are false)
+      and, with `aids.nhc`, the non-holonomic constraint (give
+      `aids.nhc_std_m_s`). Tables and keys that prepare a navigate run
+      (`[alignment]`, `[outages]`, `filter.imu_preset`, `filter.smoother`,
+      `imu.time_offset_s`, `imu.mounting_rpy_deg`, any `"auto"`) raise
+      ValueError naming them, and `start` raises while an aid is on. Not with
+      the keywords below.
     - `scale_factor_states` [False]: six more states, the accelerometer and
       gyro scale factors (23 in all).
     - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
@@ -1937,7 +1943,8 @@ class TightlyCoupledFilter:
         ``manoeuvre_correlation_time``), SI, and the optional state blocks
         (``scale_factor_states``, ``installation_states``,
         ``range_bias_states``: False, True for 12 shared slots or
-        "every_satellite").
+        "every_satellite"), and the ``aids`` `run` applies ("zupt, zaru"
+        from `settings` by default, "" without them).
         """
 
     def run(
@@ -2203,15 +2210,20 @@ class LooselyCoupledFilter:
 
     - `imu`: the `ImuModel` whose spec and sample rate tune the filter.
     - `settings` [None]: a `navigate` configuration's tables as a dict
-      (`{"filter": {...}, "gnss": {...}, "imu": {...}, "imu_spec": {...}}`,
-      the keys `navigate_settings()` lists, with their units and defaults):
-      the filter is navigate's for those keys, defaults included (range-bias
-      states on for pseudoranges; `gnss.range_bias_states = "every_satellite"`
-      gives each of up to 40 satellites one), tuned from `imu.spec`. Tables and
-      keys that drive a navigate run rather than the filter (`[alignment]`,
-      `[standstill]`, `[aids]`, `[outages]`, `filter.imu_preset`,
-      `filter.smoother`, `imu.time_offset_s`, `imu.mounting_rpy_deg`, any
-      `"auto"`) raise ValueError naming them. Not with the keywords below.
+      (`{"filter": {...}, "gnss": {...}, "imu": {...}, "imu_spec": {...},
+      "standstill": {...}, "aids": {...}}`, the keys `navigate_settings()`
+      lists, with their units and defaults): the filter is navigate's for
+      those keys, defaults included (range-bias states on for pseudoranges;
+      `gnss.range_bias_states = "every_satellite"` gives each of up to 40
+      satellites one), tuned from `imu.spec`, and `run` applies navigate's
+      aids as a navigate run does: zero-velocity and zero-rate updates at the
+      standstills it detects (on unless `aids.zupt`/`aids.zaru` are false)
+      and, with `aids.nhc`, the non-holonomic constraint (give
+      `aids.nhc_std_m_s`). Tables and keys that prepare a navigate run
+      (`[alignment]`, `[outages]`, `filter.imu_preset`, `filter.smoother`,
+      `imu.time_offset_s`, `imu.mounting_rpy_deg`, any `"auto"`) raise
+      ValueError naming them, and `start` raises while an aid is on. Not with
+      the keywords below.
     - `scale_factor_states` [False]: six more states, the accelerometer and
       gyro scale factors (23 in all).
     - `accel_noise_density` (m/s²/√Hz), `gyro_noise_density` (rad/s/√Hz):
@@ -2277,7 +2289,8 @@ class LooselyCoupledFilter:
         ``manoeuvre_correlation_time``), SI, and the optional state blocks
         (``scale_factor_states``, ``installation_states``,
         ``range_bias_states``: False, True for 12 shared slots or
-        "every_satellite").
+        "every_satellite"), and the ``aids`` `run` applies ("zupt, zaru"
+        from `settings` by default, "" without them).
         """
 
     def run(
@@ -2878,13 +2891,13 @@ class LogRun:
         time: npt.ArrayLike,
         position_ecef: npt.ArrayLike,
         *,
-        tolerance: float = 0.02,
+        tolerance: float | None = None,
         interpolate: bool = False,
         remove_mean_offset: bool = False,
     ) -> dict[str, Any]:
         """Errors of the GNSS epochs' own positions (the fixes for loose
         coupling, the single-point solution for tight) against a truth:
-        each paired with the truth epoch within `tolerance` s, or with
+        each paired with the truth epoch within `tolerance` s [0.02], or with
         `interpolate` with the truth interpolated linearly at its time
         between truth epochs at most `score::TRUTH_MAX_GAP_S` (1 s) apart
         (a truth at its own rate). Dict `time`,
@@ -2899,7 +2912,7 @@ class LogRun:
         specific_force: npt.ArrayLike,
         angular_rate: npt.ArrayLike,
         *,
-        window_s: float = 1.0,
+        window_s: float | None = None,
         until_s: float | None = None,
     ) -> dict[str, Any]:
         """The GNSS-derived calibration references of this run's solution (use
@@ -2907,7 +2920,7 @@ class LogRun:
         specific force and angular rate in the sensor's axes
         (`memsnav_core::navigate::references`). `time`, `specific_force`,
         `angular_rate`: the arrays given to `navigate_log`; `window_s` the
-        window length; `until_s` only windows ending that long after the
+        window length, s [1]; `until_s` only windows ending that long after the
         start. Dict `time`, `measured_specific_force`, `measured_angular_rate`,
         `reference_specific_force`, `reference_angular_rate` ((W, 3), SI),
         `window_s`, `skipped_for_resets`, `skipped_before_heading`, `accel_bias_covariance`,

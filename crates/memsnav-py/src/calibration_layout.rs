@@ -192,14 +192,16 @@ impl PyCalibrationLayout {
     }
 
     /// The noise-free model of this layout's sensor whose parameters are
-    /// `values` (the inverse of `values`), stored with `sample_rate` (Hz).
-    #[pyo3(signature = (values, *, sample_rate=100.0))]
+    /// `values` (the inverse of `values`), stored with `sample_rate` (Hz)
+    /// [100].
+    #[pyo3(signature = (values, *, sample_rate=None))]
     fn model(
         &self,
         py: Python<'_>,
         values: &Bound<'_, PyAny>,
-        sample_rate: f64,
+        sample_rate: Option<f64>,
     ) -> PyResult<Py<PyAny>> {
+        let sample_rate = sample_rate.unwrap_or(memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ);
         memsnav_core::validate::positive("sample_rate", sample_rate).py()?;
         let values = convert::scalars(values, "values")?;
         if values.len() != self.inner.len() {

@@ -16,6 +16,9 @@ use memsnav_core::gnss::{
     ObservableOptions, ReceiverClockModel, WalkerConfig, DEFAULT_ELEVATION_MASK_DEG,
     DEFAULT_PSEUDORANGE_RATE_STD_M_S, DEFAULT_PSEUDORANGE_STD_M,
 };
+use memsnav_core::montecarlo::DEFAULT_CONFIDENCE;
+use memsnav_core::navigate::references;
+use memsnav_core::navigate::score::DEFAULT_TRUTH_TOLERANCE_S;
 use memsnav_core::sensors::presets::DEFAULT_PRESET;
 use memsnav_core::sensors::DEFAULT_SAMPLE_RATE_HZ;
 use memsnav_py_macros::catch_panics;
@@ -121,10 +124,23 @@ pub fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("base", DEFAULT_PRESET)?;
     out.set_item("imu_spec_from_datasheet", d)?;
 
+    for api in ["quantile_interval", "sequential_look_error"] {
+        let d = PyDict::new(py);
+        d.set_item("confidence", DEFAULT_CONFIDENCE)?;
+        out.set_item(api, d)?;
+    }
+    let d = PyDict::new(py);
+    d.set_item("tolerance", DEFAULT_TRUTH_TOLERANCE_S)?;
+    out.set_item("LogRun.score_gnss", d)?;
+    let d = PyDict::new(py);
+    d.set_item("window_s", references::DEFAULT_WINDOW_S)?;
+    out.set_item("LogRun.calibration_references", d)?;
+
     for (api, argument) in [
         ("AccelerometerModel", "sample_rate"),
         ("GyroscopeModel", "sample_rate"),
         ("ImuModel.preset", "sample_rate"),
+        ("CalibrationLayout.model", "sample_rate"),
         ("calibrate_accelerometer", "sample_rate"),
         ("calibrate_gyroscope", "sample_rate"),
         ("Trajectory.from_segments", "rate"),

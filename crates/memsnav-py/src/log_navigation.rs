@@ -595,20 +595,20 @@ impl PyLogRun {
     }
     /// Errors of the GNSS epochs' own positions (the fixes for loose
     /// coupling, the single-point solution for tight) against a truth:
-    /// each paired with the truth epoch within `tolerance` s, or with
+    /// each paired with the truth epoch within `tolerance` s [0.02], or with
     /// `interpolate` with the truth interpolated linearly at its time
     /// between truth epochs at most `score::TRUTH_MAX_GAP_S` (1 s) apart
     /// (a truth at its own rate). Dict `time`,
     /// `error_ned`, `stats`, `offset_removed_ned`. `remove_mean_offset`:
     /// the errors less their mean (precision; the mean is then
     /// `offset_removed_ned`).
-    #[pyo3(signature = (time, position_ecef, *, tolerance=0.02, interpolate=false, remove_mean_offset=false))]
+    #[pyo3(signature = (time, position_ecef, *, tolerance=None, interpolate=false, remove_mean_offset=false))]
     fn score_gnss<'py>(
         &self,
         py: Python<'py>,
         time: &Bound<'_, PyAny>,
         position_ecef: &Bound<'_, PyAny>,
-        tolerance: f64,
+        tolerance: Option<f64>,
         interpolate: bool,
         remove_mean_offset: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
@@ -623,7 +623,7 @@ impl PyLogRun {
             }
         } else {
             score::FixPairing::Nearest {
-                tolerance_s: tolerance,
+                tolerance_s: tolerance.unwrap_or(score::DEFAULT_TRUTH_TOLERANCE_S),
             }
         };
         let scored = score::score_fixes(&t, &r, &truth_t, &truth_r, pairing).py()?;
@@ -650,23 +650,24 @@ impl PyLogRun {
     /// specific force and angular rate in the sensor's axes
     /// (`memsnav_core::navigate::references`). `time`, `specific_force`,
     /// `angular_rate`: the arrays given to `navigate_log`; `window_s` the
-    /// window length; `until_s` only windows ending that long after the
+    /// window length, s [1]; `until_s` only windows ending that long after the
     /// start. Dict `time`, `measured_specific_force`, `measured_angular_rate`,
     /// `reference_specific_force`, `reference_angular_rate` ((W, 3), SI),
     /// `window_s`, `skipped_for_resets`, `skipped_before_heading`, `accel_bias_covariance`, `gyro_bias_covariance`,
     /// `accel_scale_factor_covariance`, `gyro_scale_factor_covariance` ((3, 3),
     /// the solution's own uncertainty of them in sensor axes; zero scale
     /// factors without their states).
-    #[pyo3(signature = (time, specific_force, angular_rate, *, window_s=1.0, until_s=None))]
+    #[pyo3(signature = (time, specific_force, angular_rate, *, window_s=None, until_s=None))]
     fn calibration_references<'py>(
         &self,
         py: Python<'py>,
         time: &Bound<'_, PyAny>,
         specific_force: &Bound<'_, PyAny>,
         angular_rate: &Bound<'_, PyAny>,
-        window_s: f64,
+        window_s: Option<f64>,
         until_s: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let window_s = window_s.unwrap_or(references::DEFAULT_WINDOW_S);
         let t = convert::scalars(time, "time")?;
         let f = convert::vectors(specific_force, "specific_force")?;
         let w = convert::vectors(angular_rate, "angular_rate")?;

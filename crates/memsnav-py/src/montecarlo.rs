@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 use crate::convert;
 use crate::errors::IntoPyResult;
 
-/// The equal-tailed `confidence` interval for the `p`-quantile of the
+/// The equal-tailed `confidence` [0.95] interval for the `p`-quantile of the
 /// distribution the runs `values` (N,) were drawn from, from their order
 /// statistics (distribution-free; independent runs, continuous errors):
 /// dict `lower`, `upper` (-inf / inf when no run bounds that side at the
@@ -18,13 +18,14 @@ use crate::errors::IntoPyResult;
 /// `runs_for_upper` (the fewest runs that give an upper bound).
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (values, p, confidence=0.95))]
+#[pyo3(signature = (values, p, confidence=None))]
 fn quantile_interval<'py>(
     py: Python<'py>,
     values: &Bound<'py, PyAny>,
     p: f64,
-    confidence: f64,
+    confidence: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let confidence = confidence.unwrap_or(montecarlo::DEFAULT_CONFIDENCE);
     let values = convert::scalars(values, "values")?;
     let i = montecarlo::quantile_interval(&values, p, confidence).py()?;
     let d = PyDict::new(py);
@@ -50,12 +51,13 @@ fn sequential_error(looks: Vec<usize>, p: f64, look_error: f64) -> PyResult<(f64
 
 /// The largest per-look one-sided error at which a cell decided in
 /// `looks` errs, on either side, with probability at most
-/// `1 - confidence` (exact, see `sequential_error`): never below
+/// `1 - confidence` (`confidence` [0.95]; exact, see `sequential_error`): never below
 /// Bonferroni's `(1 - confidence) / len(looks)`.
 #[catch_panics]
 #[pyfunction]
-#[pyo3(signature = (looks, p, confidence=0.95))]
-fn sequential_look_error(looks: Vec<usize>, p: f64, confidence: f64) -> PyResult<f64> {
+#[pyo3(signature = (looks, p, confidence=None))]
+fn sequential_look_error(looks: Vec<usize>, p: f64, confidence: Option<f64>) -> PyResult<f64> {
+    let confidence = confidence.unwrap_or(montecarlo::DEFAULT_CONFIDENCE);
     montecarlo::sequential_look_error(&looks, p, confidence).py()
 }
 

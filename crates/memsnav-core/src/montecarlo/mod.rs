@@ -19,7 +19,7 @@ mod sequential;
 mod stats;
 
 pub use chunks::{execute, fold_chunks, run_chunk, MonteCarlo};
-pub use order_statistics::{binomial_cdf, quantile_interval, QuantileInterval};
+pub use order_statistics::{binomial_cdf, quantile_interval, QuantileInterval, DEFAULT_CONFIDENCE};
 pub use quantile::P2Quantile;
 pub use sequential::{sequential_error, sequential_look_error};
 pub use stats::{CurveStats, PERCENTILES};

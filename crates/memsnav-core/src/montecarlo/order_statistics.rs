@@ -73,6 +73,10 @@ pub(super) fn bound_ranks(n: usize, p: f64, tail: f64) -> (Option<usize>, Option
     (lower, upper)
 }
 
+/// The confidence a quantile interval or a sequential decision is given
+/// at when none is asked for: 95 %, the usual two-sided interval.
+pub const DEFAULT_CONFIDENCE: f64 = 0.95;
+
 /// The equal-tailed `confidence` interval for the `p`-quantile of the
 /// distribution `values` were drawn from (independent runs; non-finite
 /// values are errors): the largest order statistic that lies below the

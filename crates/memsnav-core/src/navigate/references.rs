@@ -85,6 +85,11 @@ pub struct CalibrationReferences {
     pub gyro_scale_factor_covariance_s: Matrix3<f64>,
 }
 
+/// The window of the references when none is asked for, s: the
+/// standstill detector's default window, long enough to average the
+/// sensor noise and short enough to follow a car's manoeuvres.
+pub const DEFAULT_WINDOW_S: f64 = 1.0;
+
 /// The references of a log run (see the module docs). `time_s`,
 /// `specific_force_s`, `angular_rate_s`: the raw IMU series given to
 /// [`super::navigate_log`] (sensor axes, SI); `window_s`: the window length; `until_s`:

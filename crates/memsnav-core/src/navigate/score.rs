@@ -315,6 +315,12 @@ impl FixScore {
 /// 1 s, and growing with its square.
 pub const TRUTH_MAX_GAP_S: f64 = 1.0;
 
+/// How far from a fix the truth epoch it is paired with may be when none
+/// is asked for ([`FixPairing::Nearest`]), s: time stamps of the same
+/// instant rounded differently pair, and a reference at 25 Hz or slower
+/// pairs each fix with one truth epoch at most.
+pub const DEFAULT_TRUTH_TOLERANCE_S: f64 = 0.02;
+
 /// How [`score_fixes`] finds the truth of each fix.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum FixPairing {
