@@ -517,7 +517,8 @@ def gyro_scale_checks(data_root: Path) -> dict[str, dict[str, dict[str, Any]]]:
                 warnings.simplefilter("always")
                 try:
                     run = mn.navigate_log(t, f, w * factor, fixes, duration_s=2.0)
-                    check["gyro_scale"] = run.gyro_scale
+                    gyro_scale = run.gyro_scale
+                    check["gyro_scale"] = None if gyro_scale is None else gyro_scale.to_dict()
                 except (ValueError, mn.MemsnavError) as e:
                     check["error"] = str(e)
             check["warnings"] = [str(c.message) for c in caught if "gyro_unit" in str(c.message)]

@@ -230,8 +230,8 @@ def test_navigate_log_returns_what_it_computed_when_it_stops(tmp_path):
         run = mn.navigate_log(
             log.time, log.specific_force, log.angular_rate, fixes, settings=settings
         )
-    assert run.failure is not None and fault < run.failure["time"] < fault + 20.0
-    assert run.time[-1] < run.failure["time"] and len(run) > 1000
+    assert run.failure is not None and fault < run.failure.time < fault + 20.0
+    assert run.time[-1] < run.failure.time and len(run) > 1000
     assert np.all(np.asarray(run.geodetic)[:, 2] > -1e4)
     run.write(tmp_path / "kept.pos")  # the writer takes all of it
     assert len(mn.read_pos(tmp_path / "kept.pos").gps_time) > 100

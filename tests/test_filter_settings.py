@@ -251,15 +251,15 @@ def test_a_navigate_configuration_through_the_classes_is_navigates_solution(driv
     run = mn.navigate_log(traj.time, f, w, gnss, settings=navigate_settings)
     assert run.failure is None
     start = run.start
-    k0 = start["first_sample"]
+    k0 = start.first_sample
     rate = (len(traj.time) - 1) / (traj.time[-1] - traj.time[0])
     imu = mn.ImuModel.preset("consumer", sample_rate=rate)
-    stds = np.degrees([start["tilt_std"], start["tilt_std"], start["heading_std"]])
+    stds = np.degrees([start.tilt_std, start.tilt_std, start.heading_std])
     settings = {
         "filter": {
             **filter_tables["filter"],
-            "initial_position_std_m": start["position_std"],
-            "initial_velocity_std_m_s": start["velocity_std"],
+            "initial_position_std_m": start.position_std,
+            "initial_velocity_std_m_s": start.velocity_std,
             "initial_attitude_std_deg": list(stds),
         },
         "gnss": filter_tables["gnss"],
@@ -273,7 +273,7 @@ def test_a_navigate_configuration_through_the_classes_is_navigates_solution(driv
         "pseudorange_std pseudorange_rate pseudorange_rate_std"
     ).split()
     used = {n: np.asarray(getattr(gnss, n))[after] for n in names}
-    sol = flt.run(traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"])
+    sol = flt.run(traj.time[k0:], f[k0:], w[k0:], used, initial_state=start.initial_state)
     navigated = run.solution
     assert navigated.state_names == sol.state_names
     np.testing.assert_array_equal(navigated.time, sol.time)
@@ -282,7 +282,7 @@ def test_a_navigate_configuration_through_the_classes_is_navigates_solution(driv
     # The comparison can tell filters apart: another gate moves the solution.
     settings["filter"]["gate_probability"] = 0.99
     other = mn.TightlyCoupledFilter(imu, settings=settings).run(
-        traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"]
+        traj.time[k0:], f[k0:], w[k0:], used, initial_state=start.initial_state
     )
     assert np.abs(other.position_ecef - navigated.position_ecef).max() > 0.01
 
@@ -330,12 +330,12 @@ def test_a_configuration_with_aids_through_the_classes_is_navigates_solution():
     )
     assert run.failure is None
     start = run.start
-    k0 = start["first_sample"]
-    stds = np.degrees([start["tilt_std"], start["tilt_std"], start["heading_std"]])
+    k0 = start.first_sample
+    stds = np.degrees([start.tilt_std, start.tilt_std, start.heading_std])
     settings = {
         "filter": {
-            "initial_position_std_m": start["position_std"],
-            "initial_velocity_std_m_s": start["velocity_std"],
+            "initial_position_std_m": start.position_std,
+            "initial_velocity_std_m_s": start.velocity_std,
             "initial_attitude_std_deg": list(stds),
         },
         "aids": aids,
@@ -352,7 +352,7 @@ def test_a_configuration_with_aids_through_the_classes_is_navigates_solution():
 
     def through_class(settings):
         return mn.TightlyCoupledFilter(imu, settings=settings).run(
-            traj.time[k0:], f[k0:], w[k0:], used, initial_state=start["initial_state"]
+            traj.time[k0:], f[k0:], w[k0:], used, initial_state=start.initial_state
         )
 
     sol = through_class(settings)

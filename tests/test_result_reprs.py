@@ -160,3 +160,31 @@ def _calibration_file(tmp_path):
         == 0
     )
     return out / "calibration.json"
+
+
+def test_fixed_shape_results_are_typed_records(drive_300s):
+    """A log run's start, failure and gyro check and a quantile interval
+    are records: each field an attribute (the start's state goes straight
+    into a filter class), `to_dict()` the same fields for JSON, a one-line
+    repr; they are frozen."""
+    import numpy as np
+    import pytest
+
+    traj, gnss, _, f, w = drive_300s
+    run = mn.navigate_log(traj.time, f, w, gnss, settings={"filter": {"imu_preset": "consumer"}})
+    start = run.start
+    assert isinstance(start, mn.RunStart) and isinstance(start.initial_state, mn.InitialState)
+    _check(start, "RunStart", start.kind, "sample")
+    fields = start.to_dict()
+    assert set(fields) >= {"kind", "time", "first_sample", "initial_state", "heading_std"}
+    assert fields["first_sample"] == start.first_sample
+    np.testing.assert_array_equal(
+        start.initial_state.position_ecef, start.initial_state.to_dict()["position_ecef"]
+    )
+    with pytest.raises(AttributeError):
+        start.time = 0.0
+    assert run.failure is None and isinstance(run.gyro_scale, mn.GyroScaleCheck)
+    _check(run.gyro_scale, "GyroScaleCheck", "pairs")
+    interval = mn.quantile_interval(np.arange(1.0, 101.0), 0.5)
+    _check(interval, "QuantileInterval", "coverage")
+    assert interval.lower < 50.5 < interval.upper and interval.coverage >= 0.95

@@ -725,16 +725,44 @@ def draw_imu_calibrations(
     `(accelerometer, gyroscope)` arrays of shape (draws, 15) and (draws, 21).
     """
 
+@final
+class QuantileInterval:
+    """An equal-tailed interval for a quantile of the distribution some
+    runs were drawn from (`quantile_interval`).
+    """
+
+    @property
+    def lower(self) -> float:
+        """The largest run below the quantile at the confidence (-inf when
+        no run bounds that side).
+        """
+
+    @property
+    def upper(self) -> float:
+        """The smallest run above it (inf when no run bounds that side: a
+        95th percentile of 20 runs has none).
+        """
+
+    @property
+    def coverage(self) -> float:
+        """The interval's exact coverage, at least the confidence asked for."""
+
+    @property
+    def runs_for_upper(self) -> int:
+        """The fewest runs that give an upper bound."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
 def quantile_interval(
     values: npt.ArrayLike, p: float, confidence: float | None = None
-) -> dict[str, float]:
+) -> QuantileInterval:
     """The equal-tailed `confidence` [0.95] interval for the `p`-quantile of the
     distribution the runs `values` (N,) were drawn from, from their order
     statistics (distribution-free; independent runs, continuous errors):
-    dict `lower`, `upper` (-inf / inf when no run bounds that side at the
-    confidence: a 95th percentile of 20 runs has no upper bound),
-    `coverage` (the interval's exact coverage, at least `confidence`),
-    `runs_for_upper` (the fewest runs that give an upper bound).
+    a `QuantileInterval` (`lower`, `upper`, `coverage`, `runs_for_upper`).
     """
 
 def sequential_error(looks: Sequence[int], p: float, look_error: float) -> tuple[float, float]:
@@ -2731,6 +2759,199 @@ def truth_at_point(
     """
 
 @final
+class InitialState:
+    """The filter's state at the sample a log run starts at, as the filter
+    classes' `initial_state=` takes it.
+    """
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Position of the IMU, ECEF m, (3,)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Velocity, ECEF m/s, (3,)."""
+
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Attitude C_b^e (body to ECEF), (3, 3)."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
+class RunStart:
+    """How a log run started (`LogRun.start`)."""
+
+    @property
+    def kind(self) -> str:
+        """ "static", "static_with_heading" or "moving"."""
+
+    @property
+    def time(self) -> float:
+        """When, s."""
+
+    @property
+    def epoch(self) -> int:
+        """The GNSS epoch (index) it started at."""
+
+    @property
+    def heading_known(self) -> bool:
+        """Whether the heading was known at the start."""
+
+    @property
+    def first_imu_time(self) -> float:
+        """The log's first IMU sample, s."""
+
+    @property
+    def first_gnss_time(self) -> float:
+        """The log's first GNSS epoch, s."""
+
+    @property
+    def earliest_time(self) -> float:
+        """The earliest start the log allows (its first GNSS epoch with
+        `standstill.window_s` of IMU data before it), s: the outages
+        count from it.
+        """
+
+    @property
+    def late_reason(self) -> str | None:
+        """Where and why the run started more than 10 s after that (late),
+        None when it did not.
+        """
+
+    @property
+    def first_sample(self) -> int:
+        """The index of the IMU sample it starts at."""
+
+    @property
+    def initial_state(self) -> InitialState:
+        """The filter's start at that sample (`initial_state=` of the filter
+        classes).
+        """
+
+    @property
+    def position_std(self) -> float:
+        """Its position one-sigma, m (before any `[filter]` override)."""
+
+    @property
+    def velocity_std(self) -> float:
+        """Its velocity one-sigma, m/s."""
+
+    @property
+    def tilt_std(self) -> float:
+        """Its roll and pitch one-sigma, rad."""
+
+    @property
+    def heading_std(self) -> float:
+        """Its heading one-sigma, rad."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
+class RunFailure:
+    """Why a log run stopped before the end of the log (`LogRun.failure`)."""
+
+    @property
+    def time(self) -> float:
+        """When, GNSS time, s."""
+
+    @property
+    def message(self) -> str:
+        """What went wrong."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
+class GyroScaleCheck:
+    """The gyro's turns against the GNSS course's over a whole log
+    (`LogRun.gyro_scale`).
+    """
+
+    @property
+    def ratio(self) -> float:
+        """The gyro's turn over the course's: 1 for a gyro read in its unit,
+        π/180 for radians read as degrees, 180/π the reverse.
+        """
+
+    @property
+    def relative_std(self) -> float:
+        """Its relative std."""
+
+    @property
+    def course_turn_deg(self) -> float:
+        """The course's turn over the pairs of epochs used, deg."""
+
+    @property
+    def pairs(self) -> int:
+        """The pairs of GNSS epochs used."""
+
+    @property
+    def conclusive(self) -> bool:
+        """Enough turning for a verdict."""
+
+    @property
+    def warning(self) -> str | None:
+        """A conclusive ratio beyond √(180/π) either way: the warning naming
+        `gyro_unit` and the likely unit (also in `solution.warnings`);
+        else None.
+        """
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
+class CarrierPhaseUse:
+    """A run's carrier-phase changes between epochs by fate
+    (`LogRun.carrier_phase`).
+    """
+
+    @property
+    def changes(self) -> int:
+        """Every change between consecutive epochs of a satellite."""
+
+    @property
+    def used(self) -> int:
+        """Applied."""
+
+    @property
+    def slips(self) -> int:
+        """Cycle slips (receiver flag or Doppler test)."""
+
+    @property
+    def excluded(self) -> int:
+        """Excluded by the residual test."""
+
+    @property
+    def too_few(self) -> int:
+        """Clean, but the epoch had fewer than the 5 clean changes a batch
+        needs.
+        """
+
+    @property
+    def rejected(self) -> int:
+        """Rejected by their batch's gate, an invalid value or a reset."""
+
+    @property
+    def warning(self) -> str | None:
+        """Why none was used (also in `solution.warnings`); else None."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
 class LogRun:
     """A real log's navigation (``navigate_log``): the solution at the antenna in
     local terms at every IMU sample from the start, the filter's own solution
@@ -2780,20 +3001,11 @@ class LogRun:
         views of the smoothed solution; None without."""
 
     @property
-    def start(self) -> dict[str, Any]:
-        """How the run started: dict `kind` ("static", "static_with_heading",
-        "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`,
-        `first_imu_time` and `first_gnss_time` (the log's first IMU sample
-        and GNSS epoch, s), `earliest_time` (the earliest start the log
-        allows, its first GNSS epoch with `standstill.window_s` of IMU data
-        before it, s: the outages count from it), and `late_reason`: where
-        and why the run started more than 10 s after that (late), None when
-        it did not; `first_sample` (the index of the IMU sample it starts
-        at), `initial_state` (the filter's start at that sample, as
-        `initial_state=` of the filter classes takes it: `position_ecef` of
-        the IMU m, `velocity_ecef` m/s, `attitude` C_b^e) and its one-sigmas
-        `position_std` m, `velocity_std` m/s, `tilt_std` and `heading_std`
-        rad (before any `[filter]` override).
+    def start(self) -> RunStart:
+        """How the run started: a `RunStart` (its kind and time, the log's
+        first IMU sample and GNSS epoch, the earliest start the log allows
+        and why it started late if it did, the IMU sample it starts at, the
+        filter's `initial_state` there and its one-sigmas).
         """
 
     @property
@@ -2807,7 +3019,8 @@ class LogRun:
     @property
     def outages(self) -> npt.NDArray[np.float64]:
         """The outage windows, absolute (start, end) times, s, (K, 2) (as
-        configured: s after ``start["earliest_time"]``)."""
+        configured: s after ``start.earliest_time``).
+        """
 
     @property
     def standstills(self) -> npt.NDArray[np.float64]:
@@ -2818,33 +3031,27 @@ class LogRun:
         """The satellites holding range-bias states at the end: {prn: bias m}."""
 
     @property
-    def failure(self) -> dict[str, Any] | None:
+    def failure(self) -> RunFailure | None:
         """Why the run stopped before the end of the log, when it did (the
         filter's error, or a state beyond what a solution holds: height
         outside -10 km to 10 000 km, speed above 10 km/s, a σ above 10 000 km):
-        dict ``time`` (GNSS time, s) and ``message``. The solution ends at the
-        last sample before it and has no smoothed run; ``navigate_log`` also
-        warns. None for a run to the end."""
+        a `RunFailure` (``time``, GNSS time, s, and ``message``). The solution
+        ends at the last sample before it and has no smoothed run;
+        ``navigate_log`` also warns. None for a run to the end.
+        """
 
     @property
-    def gyro_scale(self) -> dict[str, Any] | None:
-        """The gyro's turns against the GNSS course's over the whole log: dict
-        ``ratio`` (1 for a gyro read in its unit; π/180 for radians read as
-        degrees, 180/π the reverse), ``relative_std``, ``course_turn_deg``,
-        ``pairs``, ``conclusive`` (enough turning for a verdict), ``warning``
-        (a conclusive ratio beyond √(180/π) either way: the warning naming
-        ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
-        else None). None without a usable pair of GNSS epochs."""
+    def gyro_scale(self) -> GyroScaleCheck | None:
+        """The gyro's turns against the GNSS course's over the whole log: a
+        `GyroScaleCheck` (its ratio, whether it is conclusive, the unit
+        warning). None without a usable pair of GNSS epochs.
+        """
 
     @property
-    def carrier_phase(self) -> dict[str, Any] | None:
-        """The run's carrier changes between epochs by fate: dict ``changes``,
-        ``used`` (applied), ``slips`` (receiver flag or Doppler test),
-        ``excluded`` (residual test), ``too_few`` (clean, but the epoch had
-        fewer than the 5 clean changes a batch needs), ``rejected`` (their
-        batch's gate, an invalid value, a reset), ``warning`` (why none was
-        used, also in ``solution.warnings``; else None). None when the run
-        did not use carrier phase."""
+    def carrier_phase(self) -> CarrierPhaseUse | None:
+        """The run's carrier changes between epochs by fate: a
+        `CarrierPhaseUse`. None when the run did not use carrier phase.
+        """
 
     @property
     def adaptation(self) -> dict[str, Any]:

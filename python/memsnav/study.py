@@ -55,7 +55,12 @@ from memsnav._config import (
 )
 from memsnav._files import output_folder, write_text
 from memsnav._progress import ProgressBar
-from memsnav.experiments.outage_study import METRICS, OutageStudyResult, outage_study
+from memsnav.experiments.outage_study import (
+    CONFIDENCE,
+    METRICS,
+    OutageStudyResult,
+    outage_study,
+)
 from memsnav.report import numbers as fmt
 from memsnav.report.document import Report
 from memsnav.reproduce import json_safe
@@ -121,10 +126,6 @@ HEAVY_TAIL = 10.0
 """A set of runs is flagged when its largest error exceeds this many times
 its median: a few runs far from the rest (a filter or smoother that lost
 its way), which a percentile of a few runs may hide."""
-
-CONFIDENCE = 0.95
-"""The default confidence of the decisions and of the intervals given
-with every percentile."""
 
 METRIC_WORDS = {
     "horizontal_end": "horizontal error at the outage end",

@@ -29,6 +29,7 @@ mod output;
 mod progress;
 mod random;
 mod records;
+mod result_record;
 mod running_filter;
 mod satellite_names;
 mod sensors;

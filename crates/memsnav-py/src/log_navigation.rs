@@ -23,6 +23,7 @@ use crate::convert;
 use crate::coupling::PyFilterSolution;
 use crate::errors::IntoPyResult;
 use crate::gnss::{gnss_epochs, is_measurements};
+use crate::result_record::result_record;
 
 /// The tables and keys ``navigate_log(settings=...)`` reads (the engine's
 /// part of a ``navigate`` configuration), each with what it holds.
@@ -201,6 +202,117 @@ fn given<'a, 'py>(o: Option<&'a Bound<'py, PyAny>>) -> Option<&'a Bound<'py, PyA
     o.filter(|v| !v.is_none())
 }
 
+result_record! {
+    /// The filter's state at the sample a log run starts at, as the filter
+    /// classes' `initial_state=` takes it.
+    PyInitialState as "InitialState" {
+        /// Position of the IMU, ECEF m, (3,).
+        position_ecef: Py<PyArray1<f64>>,
+        /// Velocity, ECEF m/s, (3,).
+        velocity_ecef: Py<PyArray1<f64>>,
+        /// Attitude C_b^e (body to ECEF), (3, 3).
+        attitude: Py<PyArray2<f64>>,
+    }
+    repr(_s) "position_ecef, velocity_ecef, attitude"
+}
+
+result_record! {
+    /// How a log run started (`LogRun.start`).
+    PyRunStart as "RunStart" {
+        /// "static", "static_with_heading" or "moving".
+        kind: String,
+        /// When, s.
+        time: f64,
+        /// The GNSS epoch (index) it started at.
+        epoch: usize,
+        /// Whether the heading was known at the start.
+        heading_known: bool,
+        /// The log's first IMU sample, s.
+        first_imu_time: f64,
+        /// The log's first GNSS epoch, s.
+        first_gnss_time: f64,
+        /// The earliest start the log allows (its first GNSS epoch with
+        /// `standstill.window_s` of IMU data before it), s: the outages
+        /// count from it.
+        earliest_time: f64,
+        /// Where and why the run started more than 10 s after that (late),
+        /// None when it did not.
+        late_reason: Option<String>,
+        /// The index of the IMU sample it starts at.
+        first_sample: usize,
+        /// The filter's start at that sample (`initial_state=` of the filter
+        /// classes).
+        initial_state: Py<PyInitialState>,
+        /// Its position one-sigma, m (before any `[filter]` override).
+        position_std: f64,
+        /// Its velocity one-sigma, m/s.
+        velocity_std: f64,
+        /// Its roll and pitch one-sigma, rad.
+        tilt_std: f64,
+        /// Its heading one-sigma, rad.
+        heading_std: f64,
+    }
+    repr(s) format!("{} at {:.3} s, sample {}", s.kind, s.time, s.first_sample)
+}
+
+result_record! {
+    /// Why a log run stopped before the end of the log (`LogRun.failure`).
+    PyRunFailure as "RunFailure" {
+        /// When, GNSS time, s.
+        time: f64,
+        /// What went wrong.
+        message: String,
+    }
+    repr(s) format!("at {:.3} s: {}", s.time, s.message)
+}
+
+result_record! {
+    /// The gyro's turns against the GNSS course's over a whole log
+    /// (`LogRun.gyro_scale`).
+    PyGyroScaleCheck as "GyroScaleCheck" {
+        /// The gyro's turn over the course's: 1 for a gyro read in its unit,
+        /// π/180 for radians read as degrees, 180/π the reverse.
+        ratio: f64,
+        /// Its relative std.
+        relative_std: f64,
+        /// The course's turn over the pairs of epochs used, deg.
+        course_turn_deg: f64,
+        /// The pairs of GNSS epochs used.
+        pairs: usize,
+        /// Enough turning for a verdict.
+        conclusive: bool,
+        /// A conclusive ratio beyond √(180/π) either way: the warning naming
+        /// `gyro_unit` and the likely unit (also in `solution.warnings`);
+        /// else None.
+        warning: Option<String>,
+    }
+    repr(s) format!("ratio {:.4} ± {:.4}, {} pairs", s.ratio, s.ratio * s.relative_std, s.pairs)
+}
+
+result_record! {
+    /// A run's carrier-phase changes between epochs by fate
+    /// (`LogRun.carrier_phase`).
+    PyCarrierPhaseUse as "CarrierPhaseUse" {
+        /// Every change between consecutive epochs of a satellite.
+        changes: usize,
+        /// Applied.
+        used: usize,
+        /// Cycle slips (receiver flag or Doppler test).
+        slips: usize,
+        /// Excluded by the residual test.
+        excluded: usize,
+        /// Clean, but the epoch had fewer than the 5 clean changes a batch
+        /// needs.
+        too_few: usize,
+        /// Rejected by their batch's gate, an invalid value or a reset.
+        rejected: usize,
+        /// Why none was used (also in `solution.warnings`); else None.
+        warning: Option<String>,
+    }
+    repr(s) format!("{} of {} changes used", s.used, s.changes)
+}
+
+
 /// A real log's navigation (``navigate_log``): the solution at the antenna in
 /// local terms at every IMU sample from the start, the filter's own solution
 /// at the IMU, the start, the GNSS epochs, outages, standstills and range
@@ -312,52 +424,38 @@ impl PyLogRun {
     fn smoothed(&self, py: Python<'_>) -> Option<Py<PyLogRun>> {
         self.smoothed.as_ref().map(|s| s.clone_ref(py))
     }
-    /// How the run started: dict `kind` ("static", "static_with_heading",
-    /// "moving"), `time` (s), `epoch` (GNSS epoch index), `heading_known`,
-    /// `first_imu_time` and `first_gnss_time` (the log's first IMU sample
-    /// and GNSS epoch, s), `earliest_time` (the earliest start the log
-    /// allows, its first GNSS epoch with `standstill.window_s` of IMU data
-    /// before it, s: the outages count from it), and `late_reason`: where
-    /// and why the run started more than 10 s after that (late), None when
-    /// it did not; `first_sample` (the index of the IMU sample it starts
-    /// at), `initial_state` (the filter's start at that sample, as
-    /// `initial_state=` of the filter classes takes it: `position_ecef` of
-    /// the IMU m, `velocity_ecef` m/s, `attitude` C_b^e) and its one-sigmas
-    /// `position_std` m, `velocity_std` m/s, `tilt_std` and `heading_std`
-    /// rad (before any `[filter]` override).
+    /// How the run started: a `RunStart` (its kind and time, the log's
+    /// first IMU sample and GNSS epoch, the earliest start the log allows
+    /// and why it started late if it did, the IMU sample it starts at, the
+    /// filter's `initial_state` there and its one-sigmas).
     #[getter]
-    fn start<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    fn start(&self, py: Python<'_>) -> PyResult<PyRunStart> {
         let s = &self.run.start;
-        let d = PyDict::new(py);
-        d.set_item("kind", s.kind.name())?;
-        d.set_item("time", s.time_s)?;
-        d.set_item("epoch", s.epoch)?;
-        d.set_item("heading_known", s.heading_known)?;
-        d.set_item("first_imu_time", s.first_imu_time_s)?;
-        d.set_item("first_gnss_time", s.first_gnss_time_s)?;
-        d.set_item("earliest_time", s.earliest_time_s)?;
-        d.set_item("late_reason", self.run.late_start.as_deref())?;
-        d.set_item("first_sample", s.first_sample)?;
         let initial = s.initial_state(&self.run.tuning.antenna_lever_arm_b_m);
-        let state = PyDict::new(py);
-        state.set_item(
-            "position_ecef",
-            convert::vector3_to_numpy(py, &initial.nav.position_ecef),
+        let initial_state = Py::new(
+            py,
+            PyInitialState {
+                position_ecef: convert::vector3_to_numpy(py, &initial.nav.position_ecef).unbind(),
+                velocity_ecef: convert::vector3_to_numpy(py, &initial.nav.velocity_ecef).unbind(),
+                attitude: convert::matrix3_to_numpy(py, &initial.nav.c_b_e).unbind(),
+            },
         )?;
-        state.set_item(
-            "velocity_ecef",
-            convert::vector3_to_numpy(py, &initial.nav.velocity_ecef),
-        )?;
-        state.set_item(
-            "attitude",
-            convert::matrix3_to_numpy(py, &initial.nav.c_b_e),
-        )?;
-        d.set_item("initial_state", state)?;
-        d.set_item("position_std", s.position_std_m)?;
-        d.set_item("velocity_std", s.velocity_std_m_s)?;
-        d.set_item("tilt_std", s.tilt_std_rad)?;
-        d.set_item("heading_std", s.heading_std_rad)?;
-        Ok(d)
+        Ok(PyRunStart {
+            kind: s.kind.name().to_string(),
+            time: s.time_s,
+            epoch: s.epoch,
+            heading_known: s.heading_known,
+            first_imu_time: s.first_imu_time_s,
+            first_gnss_time: s.first_gnss_time_s,
+            earliest_time: s.earliest_time_s,
+            late_reason: self.run.late_start.clone(),
+            first_sample: s.first_sample,
+            initial_state,
+            position_std: s.position_std_m,
+            velocity_std: s.velocity_std_m_s,
+            tilt_std: s.tilt_std_rad,
+            heading_std: s.heading_std_rad,
+        })
     }
     /// What the run learnt from the log before the run it reports
     /// (docs/results/foreign-drive.md): dict `imu_preset` (the IMU model chosen,
@@ -439,7 +537,7 @@ impl PyLogRun {
         Ok(d)
     }
     /// The outage windows, absolute (start, end) times, s, (K, 2) (as
-    /// configured: s after ``start["earliest_time"]``).
+    /// configured: s after ``start.earliest_time``).
     #[getter]
     fn outages<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         pairs(py, &self.run.outages)
@@ -452,68 +550,43 @@ impl PyLogRun {
     /// Why the run stopped before the end of the log, when it did (the
     /// filter's error, or a state beyond what a solution holds: height
     /// outside -10 km to 10 000 km, speed above 10 km/s, a σ above 10 000 km):
-    /// dict ``time`` (GNSS time, s) and ``message``. The solution ends at the
-    /// last sample before it and has no smoothed run; ``navigate_log`` also
-    /// warns. None for a run to the end.
+    /// a `RunFailure` (``time``, GNSS time, s, and ``message``). The solution
+    /// ends at the last sample before it and has no smoothed run;
+    /// ``navigate_log`` also warns. None for a run to the end.
     #[getter]
-    fn failure<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        self.run
-            .failure
-            .as_ref()
-            .map(|f| {
-                let d = PyDict::new(py);
-                d.set_item("time", f.time_s)?;
-                d.set_item("message", &f.message)?;
-                Ok(d)
-            })
-            .transpose()
+    fn failure(&self) -> Option<PyRunFailure> {
+        self.run.failure.as_ref().map(|f| PyRunFailure {
+            time: f.time_s,
+            message: f.message.clone(),
+        })
     }
-    /// The gyro's turns against the GNSS course's over the whole log: dict
-    /// ``ratio`` (1 for a gyro read in its unit; π/180 for radians read as
-    /// degrees, 180/π the reverse), ``relative_std``, ``course_turn_deg``,
-    /// ``pairs``, ``conclusive`` (enough turning for a verdict), ``warning``
-    /// (a conclusive ratio beyond √(180/π) either way: the warning naming
-    /// ``gyro_unit`` and the likely unit, also in ``solution.warnings``;
-    /// else None). None without a usable pair of GNSS epochs.
+    /// The gyro's turns against the GNSS course's over the whole log: a
+    /// `GyroScaleCheck` (its ratio, whether it is conclusive, the unit
+    /// warning). None without a usable pair of GNSS epochs.
     #[getter]
-    fn gyro_scale<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        self.run
-            .gyro_scale
-            .map(|g| {
-                let d = PyDict::new(py);
-                d.set_item("ratio", g.ratio)?;
-                d.set_item("relative_std", g.relative_std)?;
-                d.set_item("course_turn_deg", g.course_turn_rad.to_degrees())?;
-                d.set_item("pairs", g.pairs)?;
-                d.set_item("conclusive", g.conclusive())?;
-                d.set_item("warning", g.unit_warning())?;
-                Ok(d)
-            })
-            .transpose()
+    fn gyro_scale(&self) -> Option<PyGyroScaleCheck> {
+        self.run.gyro_scale.map(|g| PyGyroScaleCheck {
+            ratio: g.ratio,
+            relative_std: g.relative_std,
+            course_turn_deg: g.course_turn_rad.to_degrees(),
+            pairs: g.pairs,
+            conclusive: g.conclusive(),
+            warning: g.unit_warning(),
+        })
     }
-    /// The run's carrier changes between epochs by fate: dict ``changes``,
-    /// ``used`` (applied), ``slips`` (receiver flag or Doppler test),
-    /// ``excluded`` (residual test), ``too_few`` (clean, but the epoch had
-    /// fewer than the 5 clean changes a batch needs), ``rejected`` (their
-    /// batch's gate, an invalid value, a reset), ``warning`` (why none was
-    /// used, also in ``solution.warnings``; else None). None when the run
-    /// did not use carrier phase.
+    /// The run's carrier changes between epochs by fate: a
+    /// `CarrierPhaseUse`. None when the run did not use carrier phase.
     #[getter]
-    fn carrier_phase<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        self.run
-            .carrier_use
-            .map(|u| {
-                let d = PyDict::new(py);
-                d.set_item("changes", u.changes)?;
-                d.set_item("used", u.used)?;
-                d.set_item("slips", u.slips)?;
-                d.set_item("excluded", u.excluded)?;
-                d.set_item("too_few", u.too_few)?;
-                d.set_item("rejected", u.rejected)?;
-                d.set_item("warning", u.warning())?;
-                Ok(d)
-            })
-            .transpose()
+    fn carrier_phase(&self) -> Option<PyCarrierPhaseUse> {
+        self.run.carrier_use.map(|u| PyCarrierPhaseUse {
+            changes: u.changes,
+            used: u.used,
+            slips: u.slips,
+            excluded: u.excluded,
+            too_few: u.too_few,
+            rejected: u.rejected,
+            warning: u.warning(),
+        })
     }
     /// The satellites holding range-bias states at the end: {prn: bias m}.
     #[getter]
@@ -852,5 +925,10 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fixes_from_solution, m)?)?;
     m.add_function(wrap_pyfunction!(truth_at_point, m)?)?;
     m.add_class::<PyLogRun>()?;
+    m.add_class::<PyRunStart>()?;
+    m.add_class::<PyInitialState>()?;
+    m.add_class::<PyRunFailure>()?;
+    m.add_class::<PyGyroScaleCheck>()?;
+    m.add_class::<PyCarrierPhaseUse>()?;
     Ok(())
 }

@@ -4,36 +4,50 @@
 use memsnav_core::montecarlo;
 use memsnav_py_macros::catch_panics;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 use crate::convert;
 use crate::errors::IntoPyResult;
+use crate::result_record::result_record;
+
+result_record! {
+    /// An equal-tailed interval for a quantile of the distribution some
+    /// runs were drawn from (`quantile_interval`).
+    PyQuantileInterval as "QuantileInterval" {
+        /// The largest run below the quantile at the confidence (-inf when
+        /// no run bounds that side).
+        lower: f64,
+        /// The smallest run above it (inf when no run bounds that side: a
+        /// 95th percentile of 20 runs has none).
+        upper: f64,
+        /// The interval's exact coverage, at least the confidence asked for.
+        coverage: f64,
+        /// The fewest runs that give an upper bound.
+        runs_for_upper: usize,
+    }
+    repr(s) format!("{} to {}, coverage {:.4}", s.lower, s.upper, s.coverage)
+}
 
 /// The equal-tailed `confidence` [0.95] interval for the `p`-quantile of the
 /// distribution the runs `values` (N,) were drawn from, from their order
 /// statistics (distribution-free; independent runs, continuous errors):
-/// dict `lower`, `upper` (-inf / inf when no run bounds that side at the
-/// confidence: a 95th percentile of 20 runs has no upper bound),
-/// `coverage` (the interval's exact coverage, at least `confidence`),
-/// `runs_for_upper` (the fewest runs that give an upper bound).
+/// a `QuantileInterval` (`lower`, `upper`, `coverage`, `runs_for_upper`).
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (values, p, confidence=None))]
-fn quantile_interval<'py>(
-    py: Python<'py>,
-    values: &Bound<'py, PyAny>,
+fn quantile_interval(
+    values: &Bound<'_, PyAny>,
     p: f64,
     confidence: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyQuantileInterval> {
     let confidence = confidence.unwrap_or(montecarlo::DEFAULT_CONFIDENCE);
     let values = convert::scalars(values, "values")?;
     let i = montecarlo::quantile_interval(&values, p, confidence).py()?;
-    let d = PyDict::new(py);
-    d.set_item("lower", i.lower)?;
-    d.set_item("upper", i.upper)?;
-    d.set_item("coverage", i.coverage)?;
-    d.set_item("runs_for_upper", i.runs_for_upper)?;
-    Ok(d)
+    Ok(PyQuantileInterval {
+        lower: i.lower,
+        upper: i.upper,
+        coverage: i.coverage,
+        runs_for_upper: i.runs_for_upper,
+    })
 }
 
 /// The probability that a cell decided in looks after `looks` runs
@@ -62,6 +76,7 @@ fn sequential_look_error(looks: Vec<usize>, p: f64, confidence: Option<f64>) -> 
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyQuantileInterval>()?;
     m.add_function(wrap_pyfunction!(quantile_interval, m)?)?;
     m.add_function(wrap_pyfunction!(sequential_error, m)?)?;
     m.add_function(wrap_pyfunction!(sequential_look_error, m)?)?;

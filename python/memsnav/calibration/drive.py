@@ -277,7 +277,7 @@ def compare_navigation(
 
     def scores(f: ArrayLike, w: ArrayLike) -> dict[str, Any]:
         run = _memsnav.navigate_log(time, f, w, gnss, settings=tables)
-        windows = np.asarray(run.outages, dtype=float).reshape(-1, 2) - run.start["time"]
+        windows = np.asarray(run.outages, dtype=float).reshape(-1, 2) - run.start.time
         subsets = {
             "in_fit": windows[:, 1] <= until,
             "after_fit": windows[:, 0] >= until,

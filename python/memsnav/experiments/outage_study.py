@@ -82,18 +82,24 @@ DECISIONS = ("meets", "fails", "undecided", "not needed")
 within it, wholly beyond it, neither yet, or not run on because a shorter
 outage of its grade and satellites count failed."""
 
+CONFIDENCE: float = _mn.defaults()["quantile_interval"]["confidence"]
+"""The confidence of the decisions and intervals when none is given (the
+core's, ``memsnav.defaults()``)."""
+
 RUN_FIELDS = (*METRICS, "diverged", "rejected", "accepted")
 """The per-run values a cell keeps: the metrics (m), whether the run
 raised an integrity alert, and the measurements rejected and accepted."""
 
 
 def looks(
-    runs: int, max_runs: int | None, percentile: float = 95.0, confidence: float = 0.95
+    runs: int, max_runs: int | None, percentile: float = 95.0, confidence: float | None = None
 ) -> list[int]:
     """The runs per cell after each look: ``runs``; then from the fewest
     runs that can show a cell meets the requirement (none of them beyond
     it, at the schedule's per-look error :func:`look_error`), doubling up
-    to ``max_runs`` (the last look). ``[runs]`` without ``max_runs``."""
+    to ``max_runs`` (the last look). ``[runs]`` without ``max_runs``.
+    ``confidence`` None: :data:`CONFIDENCE`."""
+    confidence = CONFIDENCE if confidence is None else confidence
     if max_runs is None or max_runs <= runs:
         return [runs]
 
@@ -122,13 +128,16 @@ def looks(
     return out
 
 
-def look_error(schedule: list[int], percentile: float = 95.0, confidence: float = 0.95) -> float:
+def look_error(
+    schedule: list[int], percentile: float = 95.0, confidence: float | None = None
+) -> float:
     """The error each look's one-sided bounds may make so that a decision,
     whichever look of ``schedule`` makes it, errs with probability at most
     ``1 - confidence``: the largest such constant level, from the exact
     probability that the count of runs within the requirement crosses a
     look's bound (:func:`memsnav.sequential_look_error`). It is never below
-    Bonferroni's ``(1 - confidence) / len(schedule)``."""
+    Bonferroni's ``(1 - confidence) / len(schedule)``. ``confidence`` None:
+    :data:`CONFIDENCE`."""
     return _mn.sequential_look_error(schedule, percentile / 100.0, confidence)
 
 
@@ -163,11 +172,11 @@ class StudyCell:
 
 
 def _interval(
-    values: npt.NDArray[np.float64], percentile: float, confidence: float
+    values: npt.NDArray[np.float64], percentile: float, confidence: float | None
 ) -> dict[str, float]:
     """The ``confidence`` interval of the ``percentile`` from the finite runs."""
     finite = values[np.isfinite(values)]
-    return dict(_mn.quantile_interval(finite, percentile / 100.0, confidence))
+    return _mn.quantile_interval(finite, percentile / 100.0, confidence).to_dict()
 
 
 def decide(
@@ -336,14 +345,15 @@ class OutageStudyResult:
         n_visible: int | None = None,
         metric: str = "horizontal_end",
         smoothed: bool = False,
-        confidence: float = 0.95,
+        confidence: float | None = None,
     ) -> dict[str, float]:
         """How sure a ``percentile`` of ``metric`` over the runs is: the
         equal-tailed ``confidence`` interval for it from the runs' order
         statistics (distribution-free; :func:`memsnav.quantile_interval`): ``lower``,
         ``upper`` (inf when the runs are too few to bound it from above: a
         95th percentile needs 72 runs at 95 %), ``coverage``,
-        ``runs_for_upper``. ``percentile`` strictly between 0 and 100."""
+        ``runs_for_upper``. ``percentile`` strictly between 0 and 100;
+        ``confidence`` None: :data:`CONFIDENCE`."""
         n = min(self.visible_satellites) if n_visible is None else n_visible
         values = self.per_run(grade, length, n, metric, smoothed)
         return _interval(values, percentile, confidence)
@@ -433,7 +443,7 @@ def outage_study(
     max_error_m: float | None = None,
     percentile: float = 95.0,
     metric: str = "horizontal_end",
-    confidence: float = 0.95,
+    confidence: float | None = None,
     max_runs: int | None = None,
 ) -> OutageStudyResult:
     """Runs the outage study (module docs).
@@ -488,6 +498,7 @@ def outage_study(
         )
     if metric not in METRICS:
         raise ValueError(f"metric: expected one of {sorted(METRICS)}, got {metric!r}")
+    confidence = CONFIDENCE if confidence is None else confidence
     if not 0.0 < confidence < 1.0:
         raise ValueError(f"confidence: must be within (0, 1), got {confidence!r}")
     if max_error_m is not None:

@@ -579,23 +579,23 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
     cfg, run, summary = result.config, result.run, result.summary
     mode = summary["mode"]
     start = run.start
-    t0 = start["time"]
+    t0 = start.time
     # The outage windows count from the earliest start the log allows, not
     # from the start the alignment found (a late start does not move them).
-    anchor = start["earliest_time"]
+    anchor = start.earliest_time
     solution = run.solution
     batches = solution.batches
     resets = solution.resets
     summary.update(
         {
             "start": {
-                "kind": start["kind"],
+                "kind": start.kind,
                 "gps_time_s": t0,
-                "heading_from_first_motion": start["kind"] == "static",
-                "after_first_imu_sample_s": t0 - start["first_imu_time"],
-                "after_first_gnss_epoch_s": t0 - start["first_gnss_time"],
+                "heading_from_first_motion": start.kind == "static",
+                "after_first_imu_sample_s": t0 - start.first_imu_time,
+                "after_first_gnss_epoch_s": t0 - start.first_gnss_time,
                 "earliest_gps_time_s": anchor,
-                "late_reason": start["late_reason"],
+                "late_reason": start.late_reason,
             },
             "start_gps_time_s": float(t0),
             "duration_s": float(run.time[-1] - run.time[0]),
@@ -607,7 +607,7 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
             "diverged": bool(solution.diverged),
             "integrity": _integrity(solution.integrity, t0),
             "warnings": list(solution.warnings),
-            "gyro_scale": run.gyro_scale,
+            "gyro_scale": None if run.gyro_scale is None else run.gyro_scale.to_dict(),
             "resets": [
                 {
                     "time_s": float(tr - t0),
@@ -647,7 +647,7 @@ def _summarise(result: LogNavigationResult, notes: dict[str, Any], gnss: Any) ->
     if run.carrier_phase is not None:
         # How many carrier changes the run used, and why not (its warning is
         # among the solution's).
-        summary["carrier_phase"] = run.carrier_phase
+        summary["carrier_phase"] = run.carrier_phase.to_dict()
     if mode == "tight":
         rows = satellites.satellite_rows(solution.measurements, gnss)
         summary["satellites"] = rows
@@ -671,12 +671,12 @@ def _check_run(result: LogNavigationResult, failures: _Failures) -> None:
         failures.add(
             "run",
             "the run stopped before the end of the log; the solution ends there",
-            run.failure["message"],
-            gps_time_s=run.failure["time"],
+            run.failure.message,
+            gps_time_s=run.failure.time,
         )
     gyro = run.gyro_scale
-    if gyro is not None and gyro["warning"] is not None:
-        failures.add("units", "the gyro's turns contradict its unit", gyro["warning"])
+    if gyro is not None and gyro.warning is not None:
+        failures.add("units", "the gyro's turns contradict its unit", gyro.warning)
     alerts = summary["integrity"]["alerts"]
     if summary["integrity"]["diverged"] and alerts:
         failures.add(
