@@ -312,7 +312,6 @@ result_record! {
     repr(s) format!("{} of {} changes used", s.used, s.changes)
 }
 
-
 /// A real log's navigation (``navigate_log``): the solution at the antenna in
 /// local terms at every IMU sample from the start, the filter's own solution
 /// at the IMU, the start, the GNSS epochs, outages, standstills and range
