@@ -398,12 +398,12 @@ def allan_fit_spread(data_root: Path) -> dict[str, Any]:
     errors = []
     for seed in ALLAN_SEEDS:
         fit = mn.allan_fit(allan_record(seed, 10.0, 36_000.0), 10.0)
-        errors.append([100.0 * (fit[k] / v - 1.0) for k, v in ALLAN_TERMS.items()])
+        errors.append([100.0 * (getattr(fit, k) / v - 1.0) for k, v in ALLAN_TERMS.items()])
     table = np.asarray(errors)
     gyro = xsens_rest()[:, 3:]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the terms a 50 s record cannot determine
-        white = mn.allan_fit(gyro, 100.0)["white_density"]
+        white = mn.allan_fit(gyro, 100.0).white_density
     _, adev = mn.allan_deviation(gyro, 100.0, taus=[1.0])
     reading = float(np.sqrt(np.mean(adev[0] ** 2)))
     return {

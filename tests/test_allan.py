@@ -125,16 +125,16 @@ def test_fit_recovers_the_terms_of_an_independent_simulation():
     seeds (the core's test measured N 0.24 %, σ 4.0 %, τ 9.8 %, K 11 %)."""
     x = _record(7, 10.0, 36_000.0, 1e-3, (5e-4, 100.0), 2e-5)
     fit = mn.allan_fit(x, 10.0)
-    assert fit["white_density"] == pytest.approx(1e-3, rel=0.0072)
-    assert fit["bias_instability"] == pytest.approx(5e-4, rel=0.12)
-    assert fit["bias_correlation_time"] == pytest.approx(100.0, rel=0.3)
-    assert fit["bias_random_walk"] == pytest.approx(2e-5, rel=0.33)
-    assert 1.0 <= fit["min_tau"] < 1.3 and fit["record_s"] == pytest.approx(36_000.0)
+    assert fit.white_density == pytest.approx(1e-3, rel=0.0072)
+    assert fit.bias_instability == pytest.approx(5e-4, rel=0.12)
+    assert fit.bias_correlation_time == pytest.approx(100.0, rel=0.3)
+    assert fit.bias_random_walk == pytest.approx(2e-5, rel=0.33)
+    assert 1.0 <= fit.min_tau < 1.3 and fit.record_s == pytest.approx(36_000.0)
     # The fitted curve follows the estimate (within its error at each τ).
-    taus = fit["taus"]
-    used = taus >= fit["min_tau"]
+    taus = fit.taus
+    used = taus >= fit.min_tau
     rel = 4.0 / np.sqrt(2.0 * (36_000.0 / taus[used] - 1.0))
-    np.testing.assert_array_less(np.abs(fit["model_adev"][used] / fit["adev"][used] - 1.0), rel)
+    np.testing.assert_array_less(np.abs(fit.model_adev[used] / fit.adev[used] - 1.0), rel)
 
 
 def _xsens_rest() -> np.ndarray:
@@ -162,10 +162,10 @@ def test_fit_of_a_real_rest_reads_the_white_noise_and_leaves_the_rest_out():
         "up to τ = 5.550 s"
     )
     assert messages[1].startswith("random walk not determined")
-    assert fit["bias_instability"] is None and fit["bias_random_walk"] is None
+    assert fit.bias_instability is None and fit.bias_random_walk is None
     _, adev = mn.allan_deviation(gyro, 100.0, taus=[1.0])
     reading = float(np.sqrt(np.mean(adev[0] ** 2)))
-    assert fit["white_density"] == pytest.approx(reading, rel=0.05)
+    assert fit.white_density == pytest.approx(reading, rel=0.05)
 
 
 def test_fit_refuses_a_record_too_short_and_checks_its_arguments():
@@ -212,8 +212,8 @@ def test_imu_spec_from_the_static_start_of_drive_0708(drive_0708_start):
     # °/√h = 60 °/√s.
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        accel = mn.allan_fit(f, 100.0)["white_density"]
-        gyro = mn.allan_fit(w, 100.0)["white_density"]
+        accel = mn.allan_fit(f, 100.0).white_density
+        gyro = mn.allan_fit(w, 100.0).white_density
     assert spec["accel_noise_density_ug_sqrt_hz"] == pytest.approx(accel / 9.80665e-6, rel=1e-12)
     assert spec["gyro_arw_deg_sqrt_h"] == pytest.approx(np.degrees(gyro) * 60.0, rel=1e-12)
 

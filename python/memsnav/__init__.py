@@ -12,6 +12,7 @@ names (``position_ecef``); series of vectors are ``(N, 3)`` float arrays.
 from memsnav import experiments
 from memsnav._memsnav import (
     AccelerometerModel,
+    AllanFit,
     BroadcastEphemerides,
     Calibration,
     CalibrationLayout,
@@ -112,6 +113,7 @@ from memsnav.realdata.timing import (
 
 __all__ = [
     "AccelerometerModel",
+    "AllanFit",
     "BroadcastEphemerides",
     "Calibration",
     "CalibrationLayout",

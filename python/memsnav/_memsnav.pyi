@@ -792,9 +792,55 @@ def allan_deviation(
     adev of shape (len(taus),) or (len(taus), k) in the samples' unit.
     """
 
-def allan_fit(
-    samples: npt.ArrayLike, rate_hz: float, *, min_tau: float | None = None
-) -> dict[str, Any]:
+@final
+class AllanFit:
+    """The noise terms of a static record fitted to its Allan variance
+    (`allan_fit`), in the samples' unit; a term the record does not
+    determine is None.
+    """
+
+    @property
+    def white_density(self) -> float | None:
+        """White noise N, unit·√s (= unit/√Hz)."""
+
+    @property
+    def bias_instability(self) -> float | None:
+        """First-order Gauss-Markov bias instability: its std, unit."""
+
+    @property
+    def bias_correlation_time(self) -> float | None:
+        """Its correlation time, s."""
+
+    @property
+    def bias_random_walk(self) -> float | None:
+        """Bias random walk K, unit/√s."""
+
+    @property
+    def taus(self) -> npt.NDArray[np.float64]:
+        """The averaging times fitted, s, (T,)."""
+
+    @property
+    def adev(self) -> npt.NDArray[np.float64]:
+        """The Allan deviation pooled over the columns, (T,)."""
+
+    @property
+    def model_adev(self) -> npt.NDArray[np.float64]:
+        """The fitted model's deviation, (T,)."""
+
+    @property
+    def min_tau(self) -> float:
+        """The shortest averaging time fitted, s."""
+
+    @property
+    def record_s(self) -> float:
+        """The record's length, s."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+def allan_fit(samples: npt.ArrayLike, rate_hz: float, *, min_tau: float | None = None) -> AllanFit:
     """The noise terms of a static record fitted to its Allan variance
     (`memsnav_core::allan_fit`; IEEE Std 952-1997 annex C): white noise N
     (unit·√s = unit/√Hz), a first-order Gauss-Markov bias instability
@@ -804,10 +850,11 @@ def allan_fit(
     of `samples` (N,) or (N, k) taken at `rate_hz`. A term the record does
     not determine (not half of the curve over a factor 3 of τ) is None and
     raises a `UserWarning` saying why; a record too short for a factor 3 of
-    τ from `min_tau` is a `ValueError`. Returns a dict: `white_density`,
-    `bias_instability`, `bias_correlation_time`, `bias_random_walk`
-    (float or None), `taus` (T,), `adev` (T,) pooled, `model_adev` (T,) the
-    fitted curve, `min_tau` (the shortest fitted τ), `record_s`.
+    τ from `min_tau` is a `ValueError`. Returns an `AllanFit`:
+    `white_density`, `bias_instability`, `bias_correlation_time`,
+    `bias_random_walk` (float or None), `taus` (T,), `adev` (T,) pooled,
+    `model_adev` (T,) the fitted curve, `min_tau` (the shortest fitted τ),
+    `record_s`.
     """
 
 def imu_spec_from_allan(

@@ -11,6 +11,7 @@ use pyo3::types::PyDict;
 
 use crate::convert;
 use crate::errors::IntoPyResult;
+use crate::result_record::result_record;
 
 /// The averaging times (T,), s, and the deviations (T,) or (T, k).
 type TausAndDeviation<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArrayDyn<f64>>);
@@ -71,6 +72,45 @@ fn columns(samples: &Bound<'_, PyAny>, argument: &str) -> PyResult<(Vec<f64>, us
     }
 }
 
+result_record! {
+    /// The noise terms of a static record fitted to its Allan variance
+    /// (`allan_fit`), in the samples' unit; a term the record does not
+    /// determine is None.
+    PyAllanFit as "AllanFit" {
+        /// White noise N, unit·√s (= unit/√Hz).
+        white_density: Option<f64>,
+        /// First-order Gauss-Markov bias instability: its std, unit.
+        bias_instability: Option<f64>,
+        /// Its correlation time, s.
+        bias_correlation_time: Option<f64>,
+        /// Bias random walk K, unit/√s.
+        bias_random_walk: Option<f64>,
+        /// The averaging times fitted, s, (T,).
+        taus: Py<PyArray1<f64>>,
+        /// The Allan deviation pooled over the columns, (T,).
+        adev: Py<PyArray1<f64>>,
+        /// The fitted model's deviation, (T,).
+        model_adev: Py<PyArray1<f64>>,
+        /// The shortest averaging time fitted, s.
+        min_tau: f64,
+        /// The record's length, s.
+        record_s: f64,
+    }
+    repr(s) format!(
+        "N {}, B {}, K {}; {:.0} s",
+        term(s.white_density),
+        term(s.bias_instability),
+        term(s.bias_random_walk),
+        s.record_s
+    )
+}
+
+/// A fitted term for a repr: 3 significant digits, or "-" when the record
+/// did not determine it.
+fn term(value: Option<f64>) -> String {
+    value.map_or_else(|| "-".to_string(), |v| format!("{v:.3e}"))
+}
+
 /// The noise terms of a static record fitted to its Allan variance
 /// (`memsnav_core::allan_fit`; IEEE Std 952-1997 annex C): white noise N
 /// (unit·√s = unit/√Hz), a first-order Gauss-Markov bias instability
@@ -80,43 +120,41 @@ fn columns(samples: &Bound<'_, PyAny>, argument: &str) -> PyResult<(Vec<f64>, us
 /// of `samples` (N,) or (N, k) taken at `rate_hz`. A term the record does
 /// not determine (not half of the curve over a factor 3 of τ) is None and
 /// raises a `UserWarning` saying why; a record too short for a factor 3 of
-/// τ from `min_tau` is a `ValueError`. Returns a dict: `white_density`,
-/// `bias_instability`, `bias_correlation_time`, `bias_random_walk`
-/// (float or None), `taus` (T,), `adev` (T,) pooled, `model_adev` (T,) the
-/// fitted curve, `min_tau` (the shortest fitted τ), `record_s`.
+/// τ from `min_tau` is a `ValueError`. Returns an `AllanFit`:
+/// `white_density`, `bias_instability`, `bias_correlation_time`,
+/// `bias_random_walk` (float or None), `taus` (T,), `adev` (T,) pooled,
+/// `model_adev` (T,) the fitted curve, `min_tau` (the shortest fitted τ),
+/// `record_s`.
 #[catch_panics]
 #[pyfunction]
 #[pyo3(signature = (samples, rate_hz, *, min_tau=None))]
-fn allan_fit<'py>(
-    py: Python<'py>,
-    samples: &Bound<'py, PyAny>,
+fn allan_fit(
+    py: Python<'_>,
+    samples: &Bound<'_, PyAny>,
     rate_hz: f64,
     min_tau: Option<f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyAllanFit> {
     let (values, k) = columns(samples, "samples")?;
     let tau = min_tau.unwrap_or(DEFAULT_MIN_TAU_S);
     let fit = py
         .detach(|| fit_allan_terms(&values, k, rate_hz, tau, "samples"))
         .py()?;
     crate::warnings::warn_all(py, &fit.warnings)?;
-    fit_to_dict(py, &fit)
+    Ok(allan_fit_record(py, &fit))
 }
 
-fn fit_to_dict<'py>(py: Python<'py>, fit: &AllanTermsFit) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("white_density", fit.white_density)?;
-    d.set_item("bias_instability", fit.bias_instability.map(|(s, _)| s))?;
-    d.set_item(
-        "bias_correlation_time",
-        fit.bias_instability.map(|(_, t)| t),
-    )?;
-    d.set_item("bias_random_walk", fit.random_walk)?;
-    d.set_item("taus", PyArray1::from_slice(py, &fit.taus_s))?;
-    d.set_item("adev", PyArray1::from_slice(py, &fit.allan_deviation))?;
-    d.set_item("model_adev", PyArray1::from_slice(py, &fit.model_deviation))?;
-    d.set_item("min_tau", fit.min_tau_s)?;
-    d.set_item("record_s", fit.record_s)?;
-    Ok(d)
+fn allan_fit_record(py: Python<'_>, fit: &AllanTermsFit) -> PyAllanFit {
+    PyAllanFit {
+        white_density: fit.white_density,
+        bias_instability: fit.bias_instability.map(|(s, _)| s),
+        bias_correlation_time: fit.bias_instability.map(|(_, t)| t),
+        bias_random_walk: fit.random_walk,
+        taus: PyArray1::from_slice(py, &fit.taus_s).unbind(),
+        adev: PyArray1::from_slice(py, &fit.allan_deviation).unbind(),
+        model_adev: PyArray1::from_slice(py, &fit.model_deviation).unbind(),
+        min_tau: fit.min_tau_s,
+        record_s: fit.record_s,
+    }
 }
 
 /// The `[imu_spec]` entries (data-sheet keys, their units) of the noise
@@ -156,6 +194,7 @@ fn imu_spec_from_allan<'py>(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(allan_deviation, m)?)?;
+    m.add_class::<PyAllanFit>()?;
     m.add_function(wrap_pyfunction!(allan_fit, m)?)?;
     m.add_function(wrap_pyfunction!(imu_spec_from_allan, m)?)?;
     Ok(())
