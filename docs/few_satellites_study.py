@@ -217,8 +217,8 @@ def _long_run(
     tilt_deg = np.degrees(0.5 * psi[:2])
     tilt_std_deg = np.degrees(sol.attitude_std_ned[k20, :2])
     within = np.abs(error) <= 3.0 * sol.position_std_ned
-    alerts = sol.integrity["alerts"]
-    first = alerts[0]["time_s"] if alerts else math.nan
+    alerts = sol.integrity.alerts
+    first = alerts[0].time_s if alerts else math.nan
     # NIS per degree of freedom over 60 s windows: the mean z² of the
     # accepted scalar innovations (pseudoranges and rates) in each.
     records = sol.measurements

@@ -95,15 +95,15 @@ def test_long_runs_on_few_satellites_are_honest_or_flagged(seed):
     diverged with a warning that says why."""
     sol, inside, _ = _few_satellite_run(3, seed)
     assert inside >= 0.9, inside
-    assert not sol.diverged, sol.integrity["alerts"]
+    assert not sol.diverged, sol.integrity.alerts
     for kept in (2, 1):
         sol, inside, caught = _few_satellite_run(kept, seed)
         if inside >= 0.9:
             continue
         assert sol.diverged, (kept, inside)
-        alerts = sol.integrity["alerts"]
-        assert alerts and all(a["message"] in caught for a in alerts), (kept, alerts)
-        assert alerts[0]["kind"] in {"beyond_linear_model", "inconsistent_innovations"}
+        alerts = sol.integrity.alerts
+        assert alerts and all(a.message in caught for a in alerts), (kept, alerts)
+        assert alerts[0].kind in {"beyond_linear_model", "inconsistent_innovations"}
 
 
 @pytest.mark.parametrize(

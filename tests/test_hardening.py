@@ -743,7 +743,7 @@ def test_an_outlier_applied_with_the_gate_off_is_reported(drive, kind):
     error_km = np.linalg.norm(sol.position_ecef[-1] - traj.position_ecef[-1]) / 1e3
     assert abs(error_km - figures("robustness_runs")[f"outlier_{kind}_end_km"]) <= 1e-9
     assert sol.diverged
-    assert [a["kind"] for a in sol.integrity["alerts"]].count("applied_outliers") == 1
+    assert [a.kind for a in sol.integrity.alerts].count("applied_outliers") == 1
     # The same run with the gate on rejects the outlier and says nothing.
     gated = (mn.TightlyCoupledFilter if kind == "tight" else mn.LooselyCoupledFilter)(imu)
     with warnings.catch_warnings():

@@ -590,7 +590,9 @@ def test_integrity_keys_are_the_filter_solutions(tmp_path):
         with pytest.raises(ValueError, match="gyro_unit") as caught:
             mn.navigate(cfg, data_root=DATA)
     result = caught.value.result  # type: ignore[attr-defined]
-    own = result.run.solution.integrity
+    own = result.run.solution.integrity.to_dict()
+    own["alerts"] = [a.to_dict() for a in own["alerts"]]
+    own["consistency"] = [c.to_dict() for c in own["consistency"]]
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())["integrity"]
     assert own["alerts"] and own["consistency"], own
     assert set(summary) == set(own) == {"diverged", "alerts", "consistency"}

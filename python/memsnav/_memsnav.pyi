@@ -1674,6 +1674,79 @@ def imu_increments(
 # --- coupled GNSS/INS filters (method §5) and the navigation experiment (paper §5.3) ---
 
 @final
+class IntegrityAlert:
+    """An integrity alert: the solution cannot be trusted from `time_s` on."""
+
+    @property
+    def kind(self) -> str:
+        """ "gated_batches", "inconsistent_innovations", "beyond_linear_model"
+        or "applied_outliers".
+        """
+
+    @property
+    def time_s(self) -> float:
+        """When, GNSS time, s."""
+
+    @property
+    def message(self) -> str:
+        """What happened, in words."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
+class Consistency:
+    """The consistency of one kind of GNSS measurement over 30 s windows."""
+
+    @property
+    def kind(self) -> str:
+        """The measurement kind ("pseudorange", ...)."""
+
+    @property
+    def windows(self) -> int:
+        """Windows of 30 s."""
+
+    @property
+    def windows_above_band(self) -> int:
+        """Windows whose summed NIS exceeded the 0.9999 chi-square quantile."""
+
+    @property
+    def max_band_ratio(self) -> float:
+        """The largest summed NIS over that quantile."""
+
+    @property
+    def max_at_s(self) -> float:
+        """Its window's start, s."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
+class Integrity:
+    """Whether a solution can be trusted (`FilterSolution.integrity`)."""
+
+    @property
+    def diverged(self) -> bool:
+        """Whether any alert was raised."""
+
+    @property
+    def alerts(self) -> list[IntegrityAlert]:
+        """The alerts, in time order."""
+
+    @property
+    def consistency(self) -> list[Consistency]:
+        """Per GNSS kind, the windows' consistency."""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
 class FilterSolution:
     """The whole solution of a coupled filter, at every IMU sample (SI units).
 
@@ -1837,19 +1910,19 @@ class FilterSolution:
         """
 
     @property
-    def integrity(self) -> dict[str, Any]:
-        """Whether the solution can be trusted (docs/explanation/few-satellites.md): a dict
-        with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
-        ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
-        "applied_outliers"),
-        ``time_s`` (GNSS time, s), ``message``, in time order) and
-        ``consistency`` (per GNSS kind: ``kind``, ``windows`` of 30 s,
-        ``windows_above_band``: windows whose summed NIS exceeded the 0.9999
-        chi-square quantile, ``max_band_ratio``: the largest summed NIS over
-        that quantile, ``max_at_s``: its window's start, s). A ratio above 4 in
-        two windows in a row is an alert; 1-4 is a tuning mismatch, reported
-        here only. ``summary.json`` of ``navigate`` has the same keys (its
-        times in seconds after the start)."""
+    def integrity(self) -> Integrity:
+        """Whether the solution can be trusted (docs/explanation/few-satellites.md):
+        an `Integrity` with ``diverged``, ``alerts`` (`IntegrityAlert`: ``kind``
+        "gated_batches", "inconsistent_innovations", "beyond_linear_model" or
+        "applied_outliers", ``time_s`` GNSS time s, ``message``, in time order)
+        and ``consistency`` (`Consistency` per GNSS kind: ``windows`` of 30 s,
+        ``windows_above_band`` whose summed NIS exceeded the 0.9999 chi-square
+        quantile, ``max_band_ratio`` the largest summed NIS over that quantile,
+        ``max_at_s`` its window's start, s). A ratio above 4 in two windows in
+        a row is an alert; 1-4 is a tuning mismatch, reported here only.
+        ``summary.json`` of ``navigate`` has the same keys (its times in
+        seconds after the start).
+        """
 
     def write(
         self,

@@ -23,7 +23,10 @@ use crate::arguments::{check_keys, field, optional_field, settings_tables};
 use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epochs;
-use crate::records::{batches_to_dict, integrity_to_dict, measurements_to_dict, resets_to_dict};
+use crate::records::{
+    batches_to_dict, integrity_record, measurements_to_dict, resets_to_dict, PyConsistency,
+    PyIntegrity, PyIntegrityAlert,
+};
 use crate::running_filter::{sample_arg, PyRunningFilter, StartedBy};
 use crate::sensors::PyImuModel;
 
@@ -443,21 +446,20 @@ impl PyFilterSolution {
     fn batches<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         batches_to_dict(py, &self.inner.batches)
     }
-    /// Whether the solution can be trusted (docs/explanation/few-satellites.md): a dict
-    /// with ``diverged`` (bool), ``alerts`` (list of dicts ``kind``
-    /// ("gated_batches", "inconsistent_innovations", "beyond_linear_model",
-    /// "applied_outliers"),
-    /// ``time_s`` (GNSS time, s), ``message``, in time order) and
-    /// ``consistency`` (per GNSS kind: ``kind``, ``windows`` of 30 s,
-    /// ``windows_above_band``: windows whose summed NIS exceeded the 0.9999
-    /// chi-square quantile, ``max_band_ratio``: the largest summed NIS over
-    /// that quantile, ``max_at_s``: its window's start, s). A ratio above 4 in
-    /// two windows in a row is an alert; 1-4 is a tuning mismatch, reported
-    /// here only. ``summary.json`` of ``navigate`` has the same keys (its
-    /// times in seconds after the start).
+    /// Whether the solution can be trusted (docs/explanation/few-satellites.md):
+    /// an `Integrity` with ``diverged``, ``alerts`` (`IntegrityAlert`: ``kind``
+    /// "gated_batches", "inconsistent_innovations", "beyond_linear_model" or
+    /// "applied_outliers", ``time_s`` GNSS time s, ``message``, in time order)
+    /// and ``consistency`` (`Consistency` per GNSS kind: ``windows`` of 30 s,
+    /// ``windows_above_band`` whose summed NIS exceeded the 0.9999 chi-square
+    /// quantile, ``max_band_ratio`` the largest summed NIS over that quantile,
+    /// ``max_at_s`` its window's start, s). A ratio above 4 in two windows in
+    /// a row is an alert; 1-4 is a tuning mismatch, reported here only.
+    /// ``summary.json`` of ``navigate`` has the same keys (its times in
+    /// seconds after the start).
     #[getter]
-    fn integrity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        integrity_to_dict(py, &self.inner.integrity)
+    fn integrity(&self, py: Python<'_>) -> PyResult<PyIntegrity> {
+        integrity_record(py, &self.inner.integrity)
     }
     /// Every reset the filter made: dict of arrays ``time``, ``kind``
     /// ("position_to_fix", "velocity_to_fix", "velocity_to_zero" (a standstill
@@ -1053,5 +1055,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyTightlyCoupledFilter>()?;
     m.add_class::<PyLooselyCoupledFilter>()?;
     m.add_class::<PyFilterSolution>()?;
+    m.add_class::<PyIntegrity>()?;
+    m.add_class::<PyIntegrityAlert>()?;
+    m.add_class::<PyConsistency>()?;
     Ok(())
 }

@@ -1,11 +1,13 @@
 //! A coupled filter's records (measurements, batch tests, resets,
-//! integrity) as the dicts of arrays `FilterSolution` and `RunningFilter`
-//! return.
+//! integrity) as `FilterSolution` and `RunningFilter` return them: dicts of
+//! arrays for the tables, records for the integrity.
 
 use memsnav_core::coupling::{BatchRecord, Integrity, MeasurementRecord, ResetRecord};
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
+
+use crate::result_record::result_record;
 
 /// Resets as a dict of arrays `time`, `kind`, `change`, `unit` (of the
 /// change), `failed_epochs`.
@@ -100,32 +102,89 @@ pub(crate) fn batches_to_dict<'py>(
     Ok(d)
 }
 
-/// A run's integrity as a dict (see `PyFilterSolution::integrity`).
-pub(crate) fn integrity_to_dict<'py>(
-    py: Python<'py>,
-    integrity: &Integrity,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("diverged", integrity.diverged())?;
-    let alerts = PyList::empty(py);
-    for a in &integrity.alerts {
-        let item = PyDict::new(py);
-        item.set_item("kind", a.name())?;
-        item.set_item("time_s", a.time_s())?;
-        item.set_item("message", a.message())?;
-        alerts.append(item)?;
+result_record! {
+    /// An integrity alert: the solution cannot be trusted from `time_s` on.
+    PyIntegrityAlert as "IntegrityAlert" {
+        /// "gated_batches", "inconsistent_innovations", "beyond_linear_model"
+        /// or "applied_outliers".
+        kind: String,
+        /// When, GNSS time, s.
+        time_s: f64,
+        /// What happened, in words.
+        message: String,
     }
-    d.set_item("alerts", alerts)?;
-    let consistency = PyList::empty(py);
-    for c in &integrity.consistency {
-        let item = PyDict::new(py);
-        item.set_item("kind", c.kind.name())?;
-        item.set_item("windows", c.windows)?;
-        item.set_item("windows_above_band", c.above_band)?;
-        item.set_item("max_band_ratio", c.max_band_ratio)?;
-        item.set_item("max_at_s", c.max_at_s)?;
-        consistency.append(item)?;
+    repr(s) format!("{} at {:.3} s", s.kind, s.time_s)
+}
+
+result_record! {
+    /// The consistency of one kind of GNSS measurement over 30 s windows.
+    PyConsistency as "Consistency" {
+        /// The measurement kind ("pseudorange", ...).
+        kind: String,
+        /// Windows of 30 s.
+        windows: usize,
+        /// Windows whose summed NIS exceeded the 0.9999 chi-square quantile.
+        windows_above_band: usize,
+        /// The largest summed NIS over that quantile.
+        max_band_ratio: f64,
+        /// Its window's start, s.
+        max_at_s: f64,
     }
-    d.set_item("consistency", consistency)?;
-    Ok(d)
+    repr(s) format!("{}: {} of {} windows above the band", s.kind, s.windows_above_band, s.windows)
+}
+
+result_record! {
+    /// Whether a solution can be trusted (`FilterSolution.integrity`).
+    PyIntegrity as "Integrity" {
+        /// Whether any alert was raised.
+        diverged: bool,
+        /// The alerts, in time order.
+        alerts: Vec<Py<PyIntegrityAlert>>,
+        /// Per GNSS kind, the windows' consistency.
+        consistency: Vec<Py<PyConsistency>>,
+    }
+    repr(s) format!(
+        "{}, {} alerts",
+        if s.diverged { "diverged" } else { "trusted" },
+        s.alerts.len()
+    )
+}
+
+/// A solution's integrity as its record.
+pub(crate) fn integrity_record(py: Python<'_>, integrity: &Integrity) -> PyResult<PyIntegrity> {
+    let alerts = integrity
+        .alerts
+        .iter()
+        .map(|a| {
+            Py::new(
+                py,
+                PyIntegrityAlert {
+                    kind: a.name().to_string(),
+                    time_s: a.time_s(),
+                    message: a.message(),
+                },
+            )
+        })
+        .collect::<PyResult<_>>()?;
+    let consistency = integrity
+        .consistency
+        .iter()
+        .map(|c| {
+            Py::new(
+                py,
+                PyConsistency {
+                    kind: c.kind.name().to_string(),
+                    windows: c.windows,
+                    windows_above_band: c.above_band,
+                    max_band_ratio: c.max_band_ratio,
+                    max_at_s: c.max_at_s,
+                },
+            )
+        })
+        .collect::<PyResult<_>>()?;
+    Ok(PyIntegrity {
+        diverged: integrity.diverged(),
+        alerts,
+        consistency,
+    })
 }

@@ -877,15 +877,15 @@ def _score(
             result.precision = {**(result.precision or {}), "spp": precise}
 
 
-def _integrity(integrity: dict[str, Any], t0: float) -> dict[str, Any]:
+def _integrity(integrity: _mn.Integrity, t0: float) -> dict[str, Any]:
     """The solution's integrity (``FilterSolution.integrity``) under its own
-    keys, its times (``time_s``, ``max_at_s``) in seconds after the start
-    like every time in ``summary.json``."""
+    field names, its times (``time_s``, ``max_at_s``) in seconds after the
+    start like every time in ``summary.json``."""
     return {
-        **integrity,
-        "alerts": [{**a, "time_s": float(a["time_s"] - t0)} for a in integrity["alerts"]],
+        **integrity.to_dict(),
+        "alerts": [{**a.to_dict(), "time_s": float(a.time_s - t0)} for a in integrity.alerts],
         "consistency": [
-            {**c, "max_at_s": float(c["max_at_s"] - t0)} for c in integrity["consistency"]
+            {**c.to_dict(), "max_at_s": float(c.max_at_s - t0)} for c in integrity.consistency
         ],
     }
 
