@@ -210,7 +210,7 @@ def test_the_tight_filter_takes_glonass():
         float(gnss.time[0]), 9.81 * up, z3, start, inter_system_biases=True
     )
     assert running.update_gnss(gnss, 0)
-    assert len(running.state["inter_system_bias"]) == 3
+    assert len(running.state.inter_system_bias) == 3
 
 
 def test_a_reference_position_per_epoch():

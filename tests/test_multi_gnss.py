@@ -147,7 +147,7 @@ def test_inter_system_biases_are_estimated_and_needed(drive_300s):
     running = flt.start(traj.time[0], f[0], w[0], start, inter_system_biases=True)
     _predict_to(running, traj, f, w, gnss.time[galileo])
     running.update_gnss(gnss, galileo)
-    assert len(running.state["inter_system_bias"]) == 3
+    assert len(running.state.inter_system_bias) == 3
 
 
 def test_the_glonass_inter_system_bias_is_estimated(drive_300s):

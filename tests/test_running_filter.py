@@ -272,8 +272,8 @@ def test_updates_are_transactions_and_starts_plausible(drive_300s):
             with pytest.raises(ValueError, match=message):
                 call(running)
             state, covariance, position = before
-            for name, value in running.state.items():
-                np.testing.assert_array_equal(value, state[name])
+            for name, value in running.state.to_dict().items():
+                np.testing.assert_array_equal(value, getattr(state, name))
             np.testing.assert_array_equal(running.covariance, covariance)
             np.testing.assert_array_equal(running.position_ecef, position)
         # One ZUPT's batch and its rows, nothing from the refused calls.

@@ -2178,6 +2178,70 @@ class TightlyCoupledFilter:
         """
 
 @final
+class FilterEstimate:
+    """What a running filter estimates now (`RunningFilter.state`): the
+    corrected navigation solution and the sensor, clock and optional
+    states' estimates (totals, not errors).
+    """
+
+    @property
+    def time(self) -> float:
+        """The filter's time, s."""
+
+    @property
+    def position_ecef(self) -> npt.NDArray[np.float64]:
+        """Position of the IMU, ECEF m, (3,)."""
+
+    @property
+    def velocity_ecef(self) -> npt.NDArray[np.float64]:
+        """Velocity, ECEF m/s, (3,)."""
+
+    @property
+    def attitude(self) -> npt.NDArray[np.float64]:
+        """Attitude C_b^e (body to ECEF), (3, 3)."""
+
+    @property
+    def accel_bias(self) -> npt.NDArray[np.float64]:
+        """Accelerometer bias, m/s², (3,)."""
+
+    @property
+    def gyro_bias(self) -> npt.NDArray[np.float64]:
+        """Gyro bias, rad/s, (3,)."""
+
+    @property
+    def clock_offset(self) -> float:
+        """Receiver clock offset, m."""
+
+    @property
+    def clock_drift(self) -> float:
+        """Receiver clock drift, m/s."""
+
+    @property
+    def accel_scale_factor(self) -> npt.NDArray[np.float64] | None:
+        """Accelerometer scale-factor errors, (3,); None without their states."""
+
+    @property
+    def gyro_scale_factor(self) -> npt.NDArray[np.float64] | None:
+        """Gyro scale-factor errors, (3,); None without their states."""
+
+    @property
+    def inter_system_bias(self) -> list[float] | None:
+        """Inter-system biases (Galileo, BeiDou, GLONASS minus GPS), m;
+        None without their states.
+        """
+
+    @property
+    def range_biases(self) -> dict[str, float] | None:
+        """Range biases, m, by satellite ("G05"; the loosely coupled filter's
+        fix errors by ECEF axis, "x", "y", "z"); None without their states.
+        """
+
+    def to_dict(self) -> dict[str, Any]:
+        """The fields as a dict, by attribute name (records inside stay
+        records; arrays stay arrays).
+        """
+
+@final
 class RunningFilter:
     """A coupled GNSS/INS filter driven one call at a time: `predict` (or
     `predict_increments`) at each IMU sample, then any updates at that
@@ -2298,14 +2362,11 @@ class RunningFilter:
         """Attitude C_b^e, (3, 3)."""
 
     @property
-    def state(self) -> dict[str, Any]:
-        """The whole estimate as a dict: `time` s, `position_ecef` m,
+    def state(self) -> FilterEstimate:
+        """The whole estimate, a `FilterEstimate`: `time` s, `position_ecef` m,
         `velocity_ecef` m/s, `attitude` C_b^e, `accel_bias` m/s²,
-        `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and with
-        scale-factor states `accel_scale_factor`, `gyro_scale_factor`; with
-        inter-system biases `inter_system_bias` (Galileo, BeiDou, GLONASS, m);
-        with range-bias states `range_biases`, m, by satellite (`"G05"`; the
-        loosely coupled filter's fix errors by ECEF axis, `"x"`, `"y"`, `"z"`).
+        `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and the
+        optional blocks' estimates (None without their states).
         """
 
     @property

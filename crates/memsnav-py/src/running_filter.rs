@@ -11,7 +11,7 @@ use memsnav_core::gnss::GnssEpoch;
 use memsnav_core::ins::{ImuIncrement, ImuSample};
 use memsnav_py_macros::catch_panics;
 use nalgebra::{Matrix3, Vector3};
-use numpy::PyArray2;
+use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -20,12 +20,48 @@ use crate::convert;
 use crate::errors::IntoPyResult;
 use crate::gnss::gnss_epoch_at;
 use crate::records::{batches_to_dict, measurements_to_dict, resets_to_dict};
+use crate::result_record::result_record;
 
 /// Which class started the filter (its aiding decides the clock model).
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub(crate) enum StartedBy {
     Tight,
     Loose,
+}
+
+result_record! {
+    /// What a running filter estimates now (`RunningFilter.state`): the
+    /// corrected navigation solution and the sensor, clock and optional
+    /// states' estimates (totals, not errors).
+    PyFilterEstimate as "FilterEstimate" {
+        /// The filter's time, s.
+        time: f64,
+        /// Position of the IMU, ECEF m, (3,).
+        position_ecef: Py<PyArray1<f64>>,
+        /// Velocity, ECEF m/s, (3,).
+        velocity_ecef: Py<PyArray1<f64>>,
+        /// Attitude C_b^e (body to ECEF), (3, 3).
+        attitude: Py<PyArray2<f64>>,
+        /// Accelerometer bias, m/s², (3,).
+        accel_bias: Py<PyArray1<f64>>,
+        /// Gyro bias, rad/s, (3,).
+        gyro_bias: Py<PyArray1<f64>>,
+        /// Receiver clock offset, m.
+        clock_offset: f64,
+        /// Receiver clock drift, m/s.
+        clock_drift: f64,
+        /// Accelerometer scale-factor errors, (3,); None without their states.
+        accel_scale_factor: Option<Py<PyArray1<f64>>>,
+        /// Gyro scale-factor errors, (3,); None without their states.
+        gyro_scale_factor: Option<Py<PyArray1<f64>>>,
+        /// Inter-system biases (Galileo, BeiDou, GLONASS minus GPS), m;
+        /// None without their states.
+        inter_system_bias: Option<Vec<f64>>,
+        /// Range biases, m, by satellite ("G05"; the loosely coupled filter's
+        /// fix errors by ECEF axis, "x", "y", "z"); None without their states.
+        range_biases: Option<Py<PyDict>>,
+    }
+    repr(s) format!("at {:.3} s", s.time)
 }
 
 /// A coupled GNSS/INS filter driven one call at a time: `predict` (or
@@ -275,45 +311,17 @@ impl PyRunningFilter {
         convert::matrix3_to_numpy(py, &self.filter.estimate().nav.c_b_e)
     }
 
-    /// The whole estimate as a dict: `time` s, `position_ecef` m,
+    /// The whole estimate, a `FilterEstimate`: `time` s, `position_ecef` m,
     /// `velocity_ecef` m/s, `attitude` C_b^e, `accel_bias` m/s²,
-    /// `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and with
-    /// scale-factor states `accel_scale_factor`, `gyro_scale_factor`; with
-    /// inter-system biases `inter_system_bias` (Galileo, BeiDou, GLONASS, m);
-    /// with range-bias states `range_biases`, m, by satellite (`"G05"`; the
-    /// loosely coupled filter's fix errors by ECEF axis, `"x"`, `"y"`, `"z"`).
+    /// `gyro_bias` rad/s, `clock_offset` m, `clock_drift` m/s, and the
+    /// optional blocks' estimates (None without their states).
     #[getter]
-    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
+    fn state(&self, py: Python<'_>) -> PyResult<PyFilterEstimate> {
         let e = self.filter.estimate();
-        d.set_item("time", e.time_s)?;
-        d.set_item(
-            "position_ecef",
-            convert::vector3_to_numpy(py, &e.nav.position_ecef),
-        )?;
-        d.set_item(
-            "velocity_ecef",
-            convert::vector3_to_numpy(py, &e.nav.velocity_ecef),
-        )?;
-        d.set_item("attitude", convert::matrix3_to_numpy(py, &e.nav.c_b_e))?;
-        d.set_item(
-            "accel_bias",
-            convert::vector3_to_numpy(py, &e.accel_bias_m_s2),
-        )?;
-        d.set_item(
-            "gyro_bias",
-            convert::vector3_to_numpy(py, &e.gyro_bias_rad_s),
-        )?;
-        d.set_item("clock_offset", e.clock_offset_m)?;
-        d.set_item("clock_drift", e.clock_drift_m_s)?;
-        if let Some((accel, gyro)) = e.scale_factors {
-            d.set_item("accel_scale_factor", convert::vector3_to_numpy(py, &accel))?;
-            d.set_item("gyro_scale_factor", convert::vector3_to_numpy(py, &gyro))?;
-        }
-        if let Some(isb) = e.inter_system_bias_m {
-            d.set_item("inter_system_bias", isb.to_vec())?;
-        }
-        if self.filter.blocks().range_biases != RangeBiasSlots::None {
+        let vector = |v: &Vector3<f64>| convert::vector3_to_numpy(py, v).unbind();
+        let range_biases = if self.filter.blocks().range_biases == RangeBiasSlots::None {
+            None
+        } else {
             let biases = PyDict::new(py);
             for &(holder, bias_m) in &e.range_biases {
                 match self.started_by {
@@ -324,9 +332,22 @@ impl PyRunningFilter {
                     }
                 }
             }
-            d.set_item("range_biases", biases)?;
-        }
-        Ok(d)
+            Some(biases.unbind())
+        };
+        Ok(PyFilterEstimate {
+            time: e.time_s,
+            position_ecef: vector(&e.nav.position_ecef),
+            velocity_ecef: vector(&e.nav.velocity_ecef),
+            attitude: convert::matrix3_to_numpy(py, &e.nav.c_b_e).unbind(),
+            accel_bias: vector(&e.accel_bias_m_s2),
+            gyro_bias: vector(&e.gyro_bias_rad_s),
+            clock_offset: e.clock_offset_m,
+            clock_drift: e.clock_drift_m_s,
+            accel_scale_factor: e.scale_factors.map(|(accel, _)| vector(&accel)),
+            gyro_scale_factor: e.scale_factors.map(|(_, gyro)| vector(&gyro)),
+            inter_system_bias: e.inter_system_bias_m.map(|isb| isb.to_vec()),
+            range_biases,
+        })
     }
 
     /// The error-state covariance P, (n, n), in the order of
@@ -371,5 +392,6 @@ impl PyRunningFilter {
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyRunningFilter>()
+    m.add_class::<PyRunningFilter>()?;
+    m.add_class::<PyFilterEstimate>()
 }
