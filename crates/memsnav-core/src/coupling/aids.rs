@@ -136,7 +136,7 @@ impl<const N: usize> FilterState<N> {
     /// Groves eq. 5.54 at rest, the Coriolis term of a vehicle at rest
     /// being zero) against its covariance A P Aᵀ + diag(`std_of_mean_b`²),
     /// A = ∂a/∂(ψ, δb_a) = (−[(Ĉ f̂)×], −Ĉ) (the INS error model of
-    /// [`crate::filter::propagation`]). A car braking to a stop at half a
+    /// `crate::filter::propagation`). A car braking to a stop at half a
     /// metre per second squared passes the variance test of a quiet IMU;
     /// its mean specific force does not pass this one. Three degrees of
     /// freedom.

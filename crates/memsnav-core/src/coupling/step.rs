@@ -83,7 +83,7 @@ impl<const N: usize> FilterState<N> {
 
     /// Applies one GNSS epoch (pseudoranges, then rates when the tuning
     /// uses them) at the filter's time, as the tightly coupled run does.
-    /// Returns whether it was applied whole: see [`Self::all_accepted_since`].
+    /// Returns whether it was applied whole: see `Self::all_accepted_since`.
     pub fn update_gnss(&mut self, epoch: &GnssEpoch) -> Result<bool> {
         self.check_epoch_time("gnss", epoch.time_s)?;
         self.transaction(|s| {
@@ -95,7 +95,7 @@ impl<const N: usize> FilterState<N> {
 
     /// Applies one position (and velocity) fix at the filter's time, as
     /// the loosely coupled run does. Returns whether it was applied whole:
-    /// see [`Self::all_accepted_since`].
+    /// see `Self::all_accepted_since`.
     /// A fix's position must be one a receiver can have (near the
     /// Earth's surface) and its velocity one a receiver can move at:
     /// three fixes far from the solution would otherwise reset the filter

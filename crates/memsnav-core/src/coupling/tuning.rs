@@ -238,7 +238,7 @@ pub struct FilterTuning {
     /// Use pseudorange rates when the epoch carries them (tight coupling).
     pub use_pseudorange_rate: bool,
     /// Use the carrier phase's change between consecutive epochs when the
-    /// epochs carry it (tight coupling; [`super::carrier`]). Default off.
+    /// epochs carry it (tight coupling; `super::carrier`). Default off.
     pub use_carrier_phase: bool,
     /// Correlation time of the pseudoranges' fast errors (code multipath), s
     /// (tight coupling). Each pseudorange's std is inflated by

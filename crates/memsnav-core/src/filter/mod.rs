@@ -202,7 +202,7 @@ impl<const N: usize> ErrorStateKf<N> {
 
     /// Tests `measurements` (those with `active[i]`) as one batch: applies
     /// them sequentially, ungated, to a copy of the filter and keeps the
-    /// copy when the batch NIS (see [`update::sequential`]'s note) is at
+    /// copy when the batch NIS (see `update::sequential`'s note) is at
     /// most `threshold` (a chi-square quantile for as many degrees of
     /// freedom as active measurements; `f64::INFINITY` accepts any finite
     /// batch). Each measurement's outcome is written to `outcomes`, its

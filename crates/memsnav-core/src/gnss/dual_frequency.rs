@@ -86,9 +86,9 @@ impl IonosphereTracks {
     /// Satellite `number`'s delay estimate at `time_s`, m, its variance and
     /// the signal that measured it: the random walk propagated since the
     /// last epoch, then updated with `measurement` when there is one
-    /// (left out beyond [`GATE_SIGMA`]); the first measurement of a
+    /// (left out beyond `GATE_SIGMA`); the first measurement of a
     /// satellite starts its estimate; one that is not finite, beyond
-    /// [`MAX_SLANT_DELAY_M`] or without a positive variance counts as none.
+    /// `MAX_SLANT_DELAY_M` or without a positive variance counts as none.
     /// An epoch without a second signal
     /// keeps the propagated estimate (a momentary loss of the second signal
     /// does not switch the satellite to another model); `None` for a

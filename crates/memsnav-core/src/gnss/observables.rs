@@ -143,7 +143,7 @@ pub struct ObservableOptions {
     pub ionosphere: Option<Klobuchar>,
     /// Measure each satellite's ionospheric delay from a second signal's
     /// pseudorange where the file has one whose group delay the ephemeris
-    /// gives ([`second_signals`]), smoothed per satellite
+    /// gives (`second_signals`), smoothed per satellite
     /// ([`super::IonosphereTracks`]); the other satellites keep
     /// `ionosphere`. The carrier phase keeps `ionosphere` too: its changes
     /// between epochs are all the filter uses, and the smooth model's

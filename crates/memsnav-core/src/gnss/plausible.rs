@@ -3,7 +3,7 @@
 //! tables) and the step API apply. A value outside cannot come from a
 //! receiver or a satellite in service: it is a corrupted field, and passing
 //! it on would put garbage into a fix or a filter. The broadcast orbit
-//! elements have their own table ([`super::broadcast_ranges`]), as the
+//! elements have their own table (`super::broadcast_ranges`), as the
 //! navigation messages define them bit by bit.
 //!
 //! `docs/reference/robustness.md` lists these ranges and what each reader does with a

@@ -33,7 +33,7 @@ use crate::{Error, Result};
 /// Reads every GPS ephemeris of a RINEX 2 or 3 navigation file, in file order.
 ///
 /// One ephemeris per satellite and t_oc, and per satellite and issue of
-/// data ([`crate::gnss::ephemeris_conflicts`]): a merged file (a daily
+/// data (`crate::gnss::ephemeris_conflicts`): a merged file (a daily
 /// `brdc` gathered from many stations) may hold the same ephemeris more
 /// than once, so a record whose values all equal an earlier one's of the
 /// same satellite and t_oc, the transmission time apart, is kept once.
@@ -111,7 +111,7 @@ pub struct BroadcastNav {
     pub gps_group_delays: BTreeMap<u16, CnavGroupDelays>,
     /// Records not read, by reason, with counts (other systems; Galileo
     /// F/NAV records, whose clock is referred to E5a,E1; ephemerides in
-    /// conflict, [`crate::gnss::ephemeris_conflicts`], GLONASS's among
+    /// conflict, `crate::gnss::ephemeris_conflicts`, GLONASS's among
     /// them; a GLONASS record repeated with equal values).
     pub skipped: BTreeMap<String, usize>,
 }

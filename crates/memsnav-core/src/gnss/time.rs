@@ -164,7 +164,7 @@ pub(crate) const LEAP_SECOND_DATES: [(i64, i64, i64); 18] = [
     (2017, 1, 1),
 ];
 
-/// The last day (UTC) for which [`LEAP_SECOND_DATES`] is known complete:
+/// The last day (UTC) for which `LEAP_SECOND_DATES` is known complete:
 /// IERS Bulletin C 70 (July 2025) announced no leap second at the end of
 /// December 2025. Later times take the last known offset, 18 s.
 pub const LEAP_SECONDS_KNOWN_UNTIL: (i64, i64, i64) = (2025, 12, 31);

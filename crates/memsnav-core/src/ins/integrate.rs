@@ -93,7 +93,7 @@ pub fn integrate_steps(
 
 /// Runs [`step_increments`] over a series of increments: `time_s` has one
 /// more element than the increments, increment k covering
-/// [time[k], time[k+1]]. The first interval has no previous increments
+/// `[time[k], time[k+1]]`. The first interval has no previous increments
 /// (zero coning/sculling history). Returns the state at every time.
 ///
 /// Errors (naming the argument) as [`integrate`], with `delta_velocity`

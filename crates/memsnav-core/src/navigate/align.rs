@@ -4,7 +4,7 @@
 //!   at the first GNSS epoch, with zero velocity, roll and pitch levelled
 //!   from the standstill's mean specific force (Groves eq. 5.101), and the
 //!   heading unknown (a wide heading uncertainty) until the first motion,
-//!   when the run sets it from the GNSS course ([`super::run`]); meanwhile
+//!   when the run sets it from the GNSS course (`super::run`); meanwhile
 //!   ZUPT and ZARU settle the velocity, tilt and biases. At rest means the
 //!   IMU at rest by the standstill detector's statistics
 //!   ([`super::standstill`]) and the GNSS velocity not showing motion

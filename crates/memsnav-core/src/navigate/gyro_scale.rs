@@ -58,7 +58,7 @@ pub struct GyroScale {
 
 impl GyroScale {
     /// Whether the fit can say anything: enough pairs, enough turning, a
-    /// slope known to [`MAX_RELATIVE_STD`] and of the right sign.
+    /// slope known to `MAX_RELATIVE_STD` and of the right sign.
     pub fn conclusive(&self) -> bool {
         self.pairs >= MIN_PAIRS
             && self.course_turn_rad >= MIN_TURN_RAD

@@ -1,5 +1,5 @@
 //! The keys of a `navigate` configuration's engine tables: what each
-//! holds, the kind of value it takes (as [`super::settings`] reads it), and
+//! holds, the kind of value it takes (as `super::settings` reads it), and
 //! the JSON schema of them (the reading keys' schema is the Python
 //! package's; `memsnav schema` joins the two).
 
@@ -46,7 +46,7 @@ impl std::fmt::Display for SettingValue {
 pub const AUTO: &str = "auto";
 
 /// The value of `gnss.range_bias_states` that gives every satellite a
-/// range-bias state ([`RangeBiasSlots::EverySatellite`]).
+/// range-bias state ([`crate::filter::state::RangeBiasSlots::EverySatellite`]).
 pub const EVERY_SATELLITE: &str = "every_satellite";
 
 /// Settings as (table, [(key, value)]) pairs, in the file's order.

@@ -20,7 +20,7 @@ pub trait EpochKinematics: Aiding {
 
 impl EpochKinematics for PositionFix {
     /// The fixes as they are, those without a velocity with the backward
-    /// difference of their positions ([`velocity_from_positions`]).
+    /// difference of their positions (`velocity_from_positions`).
     fn kinematics(fixes: &[Self], _bias_std_m: f64) -> Vec<GnssKinematics> {
         let mut kinematics: Vec<GnssKinematics> = fixes
             .iter()

@@ -4,7 +4,7 @@
 //! ([`DATASHEET_KEYS`]); a quantity may be given in one of its units, and a
 //! term the table leaves out keeps the base spec's (a preset's).
 //!
-//! The conversions ([`super::units`]) are exact unit changes, with one
+//! The conversions (`super::units`) are exact unit changes, with one
 //! modelling rule, for the bias instability:
 //!
 //! - A data sheet's *in-run bias stability* (bias instability) is the floor

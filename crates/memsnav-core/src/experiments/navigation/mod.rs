@@ -2,10 +2,10 @@
 //! coupled GNSS/INS filter on the same random trajectories and GNSS
 //! measurements with several IMUs, position error norm and NEES vs time.
 //! One job per file:
-//! - [`run`]: the draws of one run, shared by its IMUs and filters;
-//! - [`imus`]: the IMUs — drawn, fixed, or calibrated and inverted;
-//! - [`filters`]: one IMU's coupled filter and its error curves;
-//! - [`outcome`]: the statistics kept over the runs;
+//! - `run`: the draws of one run, shared by its IMUs and filters;
+//! - `imus`: the IMUs — drawn, fixed, or calibrated and inverted;
+//! - `filters`: one IMU's coupled filter and its error curves;
+//! - `outcome`: the statistics kept over the runs;
 //! - [`partial_outage`]: the partial-outage study (0-3 satellites through a
 //!   window, tight against loose coupling) on the same machinery;
 //! - [`outage_study`]: the runs of the outage study (grades × outage
@@ -13,7 +13,7 @@
 //!
 //! ## One run (reproducible from `(seed, run index)`)
 //!
-//! Draw order from `random::stream(seed, i)` ([`run::draw_run`]): the
+//! Draw order from `random::stream(seed, i)` (`run::draw_run`): the
 //! random land-vehicle trajectory ([`crate::trajectory::Trajectory::random`], 100 Hz truth),
 //! its GNSS measurements ([`crate::gnss::simulate`]: Walker constellation, 6
 //! satellites, 3 m / 0.1 m/s white noise, a TCXO clock, carrier phase when

@@ -2,7 +2,7 @@
 //! lengths with several satellite counts kept, one figure set per cell
 //! (IMU, length, count) and run.
 //!
-//! A run draws once ([`super::run::draw_run`]: trajectory, GNSS, initial
+//! A run draws once (`super::run::draw_run`: trajectory, GNSS, initial
 //! errors, every IMU's readings) for the longest outage, and each cell
 //! filters its own cut of it: its window's satellites removed
 //! ([`crate::gnss::apply_outages`]), and the run ended `tail_s` after the
@@ -14,7 +14,7 @@
 //! sample before it once; the windows of one satellite count agree up to
 //! the shorter one's end, so one pass along the longest window serves
 //! them all, each cell going on from a copy at its window's end for its
-//! tail ([`super::filters::navigate_branches`]). The smoother's backward
+//! tail (`super::filters::navigate_branches`). The smoother's backward
 //! pass covers the window and the tail only (a fixed-interval smoother's
 //! estimate at a sample depends on the forward filter from that sample
 //! on). Per IMU and run the filter covers the time before the windows

@@ -5,7 +5,7 @@
 //! crosses it with the tightly coupled filter for each count, and with the
 //! loosely coupled filter, which has no fix below 4 satellites.
 //!
-//! All scenarios of a run share its draws ([`super::run::draw_run`]: the
+//! All scenarios of a run share its draws (`super::run::draw_run`: the
 //! trajectory, one GNSS simulation, the initial errors and each IMU's
 //! readings); they differ only by the satellites the window removes from
 //! that simulation ([`crate::gnss::apply_outages`]), so the comparison is

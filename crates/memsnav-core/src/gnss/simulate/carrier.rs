@@ -52,7 +52,7 @@ pub fn wavelength_m(sat_id: u16) -> f64 {
 
 /// A cycle slip the simulator put in: from epoch `time_s` on, the carrier
 /// range of satellite `sat_id` holds `cycles` more cycles of its
-/// wavelength ([`wavelength_m`]).
+/// wavelength (`wavelength_m`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CycleSlip {
     /// Epoch time on the trajectory's time axis, s (the epoch's own

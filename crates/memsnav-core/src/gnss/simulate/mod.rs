@@ -100,7 +100,7 @@ pub struct SimulationConfig {
     /// GPS time) that the tight filter's inter-system-bias states estimate.
     pub inter_system_bias_m: [f64; INTER_SYSTEM_BIAS_SYSTEMS.len()],
     /// White carrier-range noise, one sigma, m; 0: no carrier phase
-    /// (module [`carrier`]).
+    /// (module `carrier`).
     pub carrier_phase_std_m: f64,
     /// Probability that a satellite's carrier slips at an epoch (after
     /// its first of an arc), in [0, 1].
@@ -258,7 +258,7 @@ pub fn simulate(
 /// satellites. Draw order: the initial clock (2), then per epoch the clock
 /// step (2, from the second epoch) and per selected satellite its residual
 /// (if enabled), pseudorange and rate noise. The carrier phases draw from
-/// a side stream of `rng` (module [`carrier`]), which they leave as it was.
+/// a side stream of `rng` (module `carrier`), which they leave as it was.
 pub fn simulate_with_truth(
     track: &ReceiverTrack<'_>,
     constellation: &Constellation,
