@@ -236,7 +236,7 @@ def _long_run(
         "final_vertical_sigma_m": float(sol.position_std_ned[-1, 2]),
         "flagged": bool(sol.diverged),
         "first_alert_s": first,
-        "kinds": {a["kind"] for a in alerts},
+        "kinds": {a.kind for a in alerts},
         "nis_per_dof_60s": (min(nis), max(nis)),
         "tilt_at_20s_deg": tuple(float(v) for v in tilt_deg),
         "tilt_std_at_20s_deg": tuple(float(v) for v in tilt_std_deg),
