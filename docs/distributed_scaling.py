@@ -105,7 +105,8 @@ def render(record: dict[str, Any]) -> str:
             ),
             "",
             f"Two worker processes ran {two_workers:.2f}× as fast as one; Dask with 2 worker "
-            f"processes took {100 * (dask_cost - 1):+.0f} % time against 2 local threads "
+            f"processes took {abs(100 * (dask_cost - 1)):.0f} % "
+            f"{'more' if dask_cost >= 1 else 'less'} time than 2 local threads "
             "(worker start excluded).",
             "",
             END,
