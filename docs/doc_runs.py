@@ -1753,6 +1753,7 @@ RUNS: dict[str, Callable[[Path], dict[str, Any]]] = {
     "walk_correlation_table": walk_multi_gnss.correlation_record,
     "drive_example_schedule": drive_example_schedule,
     "foreign_drive": foreign_drive_datum.record,
+    "foreign_drive_files": foreign_drive_datum.files_record,
     "foreign_drive_study": foreign_drive_study.record,
     "static_start_spec": static_start_spec,
     "xsens_session": xsens_session,

@@ -164,8 +164,9 @@ def _installation(estimates: dict[str, Any]) -> dict[str, Any]:
 
 def configuration_figures(result: Any, length_s: float, seconds: float) -> dict[str, Any]:
     """One configuration's row of the study: forward and smoothed, aided
-    and in the outages of ``length_s``; resets, divergence, what it learnt,
-    its installation estimates and its wall time."""
+    and in the outages of ``length_s``; resets, divergence, the windowed
+    NIS's largest window over its band's edge (position and velocity
+    fixes), what it learnt, its installation estimates and its wall time."""
     s = result.summary
     forward, smoothed = s["errors_vs_truth"], s["errors_vs_truth_smoothed"]
     key = f"{length_s:g}"
@@ -176,6 +177,9 @@ def configuration_figures(result: Any, length_s: float, seconds: float) -> dict[
         "smoothed_outages": _stats(smoothed["by_outage_length_s"][key]),
         "resets": len(s["resets"]),
         "diverged": bool(s["integrity"]["diverged"]),
+        "nis_band_ratio_most": {
+            c["kind"]: c["max_band_ratio"] for c in s["integrity"]["consistency"]
+        },
         "learnt": _learnt(s.get("adaptation")),
         "installation": _installation(s["installation_estimates"]),
         "run_s": seconds,

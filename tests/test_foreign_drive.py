@@ -29,7 +29,8 @@ def base():
 
 
 #: What the page shows of a configuration to its digits: errors 0.01 m
-#: (RMS) and 0.1 m (max), shares 0.01, the installation to 0.01; counts
+#: (RMS) and 0.1 m (max), shares, NIS band ratios and the installation to
+#: 0.01; counts
 #: and what was learnt exactly (its std 0.01 m, τ 1 s); the run time is the
 #: machine's, not checked.
 ROW_TOLERANCE = {
@@ -39,6 +40,7 @@ ROW_TOLERANCE = {
     "smoothed_outages": {"max_m": 0.05, "*": 0.005},
     "resets": 0,
     "diverged": 0,
+    "nis_band_ratio_most": 0.005,
     "learnt": {"fix_error_std_m": 0.005, "fix_error_correlation_time_s": 0.5, "*": 0},
     "installation": 0.005,
     "run_s": float("inf"),

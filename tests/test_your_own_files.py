@@ -14,6 +14,7 @@ import foreign_drive_datum as datum
 import numpy as np
 import pytest
 from figures import figures
+from run_record import check_run
 from shared_data import data_root, shared_data
 
 import memsnav as mn
@@ -439,3 +440,33 @@ def test_foreign_drive_runs_from_its_files_as_they_are(foreign_drive):
     report = re.sub(r"base64,[A-Za-z0-9+/=]+", "", Path(foreign_drive.files["report"]).read_text())
     assert f"against the truth: {truth['name']}, moved to the antenna" in report
     assert "RTK" not in report.replace("RTKLIB", "")
+
+
+def test_the_antenna_regression_recovers_a_lever_arm_and_a_latency():
+    """docs/foreign_drive_datum.py's regression on errors made from a known
+    datum offset, lever arm and latency over a track that turns and
+    changes speed: it returns them (exact data, exact answer)."""
+    rng = np.random.default_rng(5)
+    heading = np.cumsum(rng.normal(0.0, 0.2, 400))
+    forward = np.column_stack([np.cos(heading), np.sin(heading), np.zeros(400)])
+    speed = 10.0 + 5.0 * np.sin(np.linspace(0.0, 12.0, 400))
+    velocity = speed[:, None] * forward
+    datum_m, lever_m, latency_s = np.array([0.3, -0.8, 1.6]), -2.2, 0.09
+    errors = datum_m + lever_m * forward - latency_s * velocity
+    joint = datum._antenna_regression(errors, forward, velocity)
+    assert np.allclose(joint, [*datum_m, lever_m, latency_s], atol=1e-9)
+    alone = datum._antenna_regression(errors, forward, None)
+    # Without the latency term its along-track part lands on the lever
+    # arm: the mean speed's worth of latency.
+    assert alone[3] == pytest.approx(lever_m - latency_s * speed.mean(), abs=0.05)
+
+
+def test_what_the_foreign_drive_files_show_is_the_record():
+    """The foreign drive's files measured with numpy alone (~5 s), against
+    the record the results page shows, to its digits; the receiver's σ at
+    rest is the optimistic one, and the gyro's rest rate is steady."""
+    shared_data("foreign-drive/vn100_imu.csv")
+    fresh = check_run("foreign_drive_files", 0.005, needs_data=True)
+    assert fresh["rest_east_sigma_m"] < 0.5 * fresh["rest_east_error_rms_m"]
+    rest = fresh["gyro_rest_deg_s"]
+    assert rest["spread"] < 0.3 * min(abs(v) for v in rest["mean"])
