@@ -303,11 +303,15 @@ def derived(figures: dict[str, Any]) -> dict[str, Any]:
     kept = [f["largest_m"] for f in figures["paired"]]
     at_end = [f["nees_per_dof_at_end"] for f in figures["outage_nees"].values()]
     raw_tilt = [figures["attitude"][imu]["10"]["tilt"] for imu in ("paper MEMS", "consumer")]
+    aided_position = [
+        row["position"] for rows in figures["attitude"].values() for row in rows.values()
+    ]
     cases = {(f["satellites"], f["clock"]): f for f in figures["long_runs"]}
     return {
         "three_satellites_kept_percent": 100.0 * kept[3] / kept[0],
         "nees_at_end": {"least": min(at_end), "most": max(at_end)},
         "raw_tilt_nees": {"least": min(raw_tilt), "most": max(raw_tilt)},
+        "aided_position_nees": {"least": min(aided_position), "most": max(aided_position)},
         "three_tcxo_final_km": cases[3, "TCXO"]["final_m"] / 1e3,
         "three_tcxo_sigma_km": cases[3, "TCXO"]["final_sigma_m"] / 1e3,
         "three_ocxo_final_m": cases[3, "OCXO"]["final_m"],
