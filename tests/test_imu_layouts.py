@@ -10,10 +10,9 @@ run through ``memsnav.navigate``, gives the native solution.
 The increments are the native rates times each interval, the native
 samples sit at the middles of the intervals (where the reader puts the
 mean rates of increments): the same log twice, so the solutions agree to
-the rounding of the conversions, 1e-9 m. Measured: fixes CSV 9.3e-10 m
-(one ulp of a 4 600 km ECEF coordinate), long table 2.9e-11 m; NMEA,
-whose degrees-and-minutes take another float path, 1.9e-9 m (two ulps),
-checked to 1e-8 m."""
+the rounding of the conversions: 1e-9 m (a few ulps of a 4 600 km ECEF
+coordinate) with the fixes CSV and the long table, 1e-8 m with NMEA,
+whose degrees-and-minutes take another float path."""
 
 from __future__ import annotations
 
