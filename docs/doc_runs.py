@@ -1210,8 +1210,8 @@ def simulated_drive_300s() -> tuple[Any, Any, Any, np.ndarray, np.ndarray]:
 
 def pseudorange_rates_value(data_root: Path) -> dict[str, Any]:
     """On :func:`simulated_drive_300s`, the tight filter's position RMS, m,
-    with the pseudorange rates and without them (what a misspelled rate key
-    used to cost)."""
+    with the pseudorange rates and without them (what leaving the rates out
+    costs)."""
     traj, g, imu, f, w = simulated_drive_300s()
     arrays = {k: getattr(g, k) for k in GNSS_ARRAY_KEYS}
 
