@@ -45,10 +45,31 @@ def _rtk(root: Path, log: dict[str, Any]) -> Any:
     return mn.read_pos(root / (log["imu"].replace("imu_", "gnss_") + "_sf.pos"))
 
 
+def backward_difference_rms_m_s(rtk: Any) -> float:
+    """The horizontal RMS of the reported velocity less the backward
+    difference of the positions, over consecutive epochs one interval
+    apart (m/s): north and east arcs on the WGS84 meridian and
+    prime-vertical radii at the later epoch."""
+    a_m, e2 = 6_378_137.0, 6.69437999014e-3
+    time, lla = np.asarray(rtk.gps_time), np.asarray(rtk.lla)
+    velocity = np.asarray(rtk.velocity_ned)[1:, :2]
+    lat, h = lla[1:, 0], lla[1:, 2]
+    w2 = 1.0 - e2 * np.sin(lat) ** 2
+    meridian, prime = a_m * (1.0 - e2) / w2**1.5, a_m / np.sqrt(w2)
+    interval = np.diff(time)
+    north = np.diff(lla[:, 0]) * (meridian + h) / interval
+    east = np.diff(lla[:, 1]) * (prime + h) * np.cos(lat) / interval
+    keep = (np.abs(interval - RTK_INTERVAL_S) < 1e-3) & np.all(np.isfinite(velocity), axis=1)
+    difference = velocity[keep] - np.column_stack([north, east])[keep]
+    return float(np.sqrt(np.mean(np.sum(difference**2, axis=1))))
+
+
 def record(data_root: Path) -> dict[str, Any]:
     """Per log: each signal's offset to add (s), its std (s), the peak
     correlation and the four stretches' offsets (s); the RTK velocity
-    latency (s), its std (s) and the RMS velocity difference (m/s)."""
+    latency (s), its std (s) and the RMS velocity difference (m/s), and
+    the reported velocity's horizontal RMS difference from the positions'
+    backward difference (m/s)."""
     root = data_root / "real-imu-gnss"
     out: dict[str, Any] = {}
     for name, log in LOGS.items():
@@ -80,6 +101,7 @@ def record(data_root: Path) -> dict[str, Any]:
             "latency_s": latency.latency_s,
             "std_s": latency.std_s,
             "rms_m_s": latency.rms_m_s,
+            "backward_difference_rms_m_s": backward_difference_rms_m_s(rtk),
             # Beyond the backward difference's own latency, half the interval.
             "beyond_half_interval_ms": 1e3 * (latency.latency_s - RTK_INTERVAL_S / 2),
         }

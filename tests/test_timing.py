@@ -134,7 +134,13 @@ def test_the_full_logs_offsets_are_the_record():
         "stretches_s": 5e-4,
         "stretch_spread_s": 0.05,
     }
-    latency = {"latency_s": 5e-4, "std_s": 5e-4, "rms_m_s": 5e-3, "beyond_half_interval_ms": 0.5}
+    latency = {
+        "latency_s": 5e-4,
+        "std_s": 5e-4,
+        "rms_m_s": 5e-3,
+        "backward_difference_rms_m_s": 5e-3,
+        "beyond_half_interval_ms": 0.5,
+    }
     tolerance = {
         "along_track": estimates,
         "yaw_rate": estimates,
