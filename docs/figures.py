@@ -17,7 +17,10 @@ record; ``python docs/figures.py --write`` re-renders every page (the
 scripts do it after writing their record), ``--check`` lists the stale
 ones. A figure's path is the record's name, then keys and list indices
 separated by dots (``concepts.in_view.gps.0``). Tables stay whole blocks
-(marked_block.py); this module is for the figures in sentences.
+(marked_block.py); this module is for the figures in sentences, and for
+the date a page's results carry: ``<!-- dated name -->…<!-- /dated -->``
+shows when, on what machine and at which commit the record ``name`` was
+measured.
 
 The scripts import it as a sibling (``python docs/x.py`` puts ``docs/`` on
 the path; pytest's ``pythonpath`` does for the tests)."""
@@ -44,6 +47,9 @@ PLACEHOLDER = re.compile(
     re.S,
 )
 """A figure in a page: its path, its format spec, what is shown."""
+
+DATED = re.compile(r"<!-- dated (?P<name>[\w-]+) -->(?P<shown>.*?)<!-- /dated -->", re.S)
+"""A record's provenance in a page: the record's name, what is shown."""
 
 
 def pages() -> list[Path]:
@@ -144,8 +150,9 @@ def shown(value: Any, spec: str | None) -> str:
 
 
 def render(text: str, *, keep_missing: bool = False) -> str:
-    """``text`` with every placeholder showing its figure; one whose
-    figure is not recorded raises, or (``keep_missing``) stays as it is."""
+    """``text`` with every placeholder showing its figure and every dated
+    marker its record's date, machine and commit; one whose record or
+    figure is missing raises, or (``keep_missing``) stays as it is."""
 
     def one(match: re.Match[str]) -> str:
         try:
@@ -157,7 +164,17 @@ def render(text: str, *, keep_missing: bool = False) -> str:
         spec = f" {match['spec']}" if match["spec"] else ""
         return f"<!-- fig {match['path']}{spec} -->{value}<!-- /fig -->"
 
-    return PLACEHOLDER.sub(one, text)
+    def dated(match: re.Match[str]) -> str:
+        try:
+            record = load_record(match["name"])
+        except FileNotFoundError:
+            if keep_missing:
+                return match[0]
+            raise
+        when = f"{record['generated']} ({record['machine']}, commit {record['commit']})"
+        return f"<!-- dated {match['name']} -->{when}<!-- /dated -->"
+
+    return DATED.sub(dated, PLACEHOLDER.sub(one, text))
 
 
 def stale_pages() -> list[Path]:

@@ -47,9 +47,29 @@ def test_the_pages_show_what_their_records_render_to():
     assert not stale, f"stale figures in {stale}: run python docs/figures.py --write"
 
 
+def test_every_dated_marker_names_a_record_and_every_results_page_is_dated():
+    """A results page says when, where and at which commit its figures
+    were measured: through a dated marker (rendered from its record) or
+    the line its generating script writes."""
+    pages = figures.pages()
+    names = [m["name"] for page in pages for m in figures.DATED.finditer(page.read_text())]
+    assert names
+    missing = [name for name in names if not (figures.DATA / f"{name}.json").exists()]
+    assert not missing, missing
+    undated = [
+        page.name
+        for page in (figures.DOCS / "results").glob("*.md")
+        if not figures.DATED.search(text := page.read_text())
+        and not re.search(r"Measured by `[^`]+` on \d{4}-\d{2}-\d{2}", text)
+    ]
+    assert not undated, undated
+
+
 def test_every_record_is_shown():
     """Each record fills a placeholder or a docs script's block."""
-    shown = {path.split(".")[0] for _, path in _placeholders()}
+    shown = {path.split(".")[0] for _, path in _placeholders()} | {
+        m["name"] for page in figures.pages() for m in figures.DATED.finditer(page.read_text())
+    }
     scripts = "".join(p.read_text() for p in figures.DOCS.glob("*.py"))
     unshown = {p.stem for p in RECORDS if p.stem not in shown and f'"{p.stem}' not in scripts}
     assert not unshown, unshown
@@ -65,6 +85,10 @@ def test_a_placeholder_renders_its_figure_with_its_format():
     assert powers == ["10⁶", "−10⁵", "10⁻⁹", "10²"]
     with pytest.raises(ValueError, match="1024 is not a power of ten"):
         figures.shown(1024, "p10")
+    dated = json.loads(RECORDS[0].read_text())
+    when = f"{dated['generated']} ({dated['machine']}, commit {dated['commit']})"
+    marker = f"<!-- dated {RECORDS[0].stem} -->"
+    assert figures.render(f"on {marker}?<!-- /dated -->.") == f"on {marker}{when}<!-- /dated -->."
     (path,) = RECORDS[:1]
     name = path.stem
     key, value = next(iter(json.loads(path.read_text())["figures"].items()))
