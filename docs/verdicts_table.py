@@ -6,8 +6,10 @@ Judges the paper's claims (``memsnav.report.claims``) on the
 quick run with seed 0 made here (a few minutes). Prints each claim's
 title, the paper's statement, memsnav's figure and the verdict, then each
 criterion as the report prints it and the errors-in-variables
-calibration's efficiency range; ``--write`` puts them into
-docs/results/paper-comparison.md between its ``verdicts`` markers.
+calibration's efficiency range; ``--write`` keeps them in the record
+docs/data/verdicts.json and puts them into
+docs/results/paper-comparison.md between its ``verdicts`` markers
+(``--from-record`` re-renders the page from the record without a run).
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from figures import load_record, write_pages, write_record
 from marked_block import replace_block
 
 from memsnav.report.claims import CLAIMS, evaluate_claims
@@ -35,7 +38,9 @@ def _summary(path: Path | None) -> dict[str, Any]:
         return reproduce(out, seed=0, progress=False).summary
 
 
-def _efficiency(summary: dict[str, Any]) -> str:
+def _efficiency(summary: dict[str, Any]) -> dict[str, float]:
+    """The errors-in-variables calibration's MSE over the Cramér-Rao bound,
+    least and most over every parameter group and axis."""
     values = [
         axis["efficiency_eiv"]
         for sensor in ("accelerometer", "gyroscope")
@@ -43,29 +48,37 @@ def _efficiency(summary: dict[str, Any]) -> str:
         for axis in group["per_axis"].values()
         if axis["efficiency_eiv"] is not None and math.isfinite(axis["efficiency_eiv"])
     ]
-    return f"{min(values):.2f} to {max(values):.2f}"
+    return {"least": min(values), "most": max(values)}
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--summary", type=Path, help="summary.json of a reproduce run")
-    parser.add_argument(
-        "--write", action="store_true", help="update docs/results/paper-comparison.md"
-    )
-    args = parser.parse_args()
-    summary = _summary(args.summary)
-    claims = evaluate_claims(summary)
-    sizes = summary.get("sizes", "the paper's" if summary["full"] else "quick")
+def record_figures(summary: dict[str, Any]) -> dict[str, Any]:
+    """What the block shows, from a reproduce run's summary: the run's
+    sizes and seed, each claim as judged, the calibration's efficiency."""
+    return {
+        "sizes": summary.get("sizes", "the paper's" if summary["full"] else "quick"),
+        "seed": summary["seed"],
+        "claims": [
+            {k: c[k] for k in ("title", "paper", "figures", "memsnav", "verdict")}
+            for c in evaluate_claims(summary)
+        ],
+        "efficiency_eiv": _efficiency(summary),
+    }
+
+
+def render(record: dict[str, Any]) -> str:
+    """The block the page shows, from the record."""
+    f = record["figures"]
+    efficiency = f["efficiency_eiv"]
     lines = [
         BEGIN,
         "",
-        f"`memsnav reproduce` with {sizes} Monte Carlo sizes, seed {summary['seed']}:",
+        f"`memsnav reproduce` with {f['sizes']} Monte Carlo sizes, seed {f['seed']}:",
         "",
         "| claim | the paper | memsnav (± one standard error) | verdict |",
         "|---|---|---|---|",
         *(
             f"| {c['title']} | {c['paper']} ({c['figures']}) | {c['memsnav']} | {c['verdict']} |"
-            for c in claims
+            for c in f["claims"]
         ),
         "",
         "The criteria, as the report prints them (thresholds are named constants in "
@@ -74,16 +87,35 @@ def main() -> None:
         *(f"- {claim.title}: {claim.criterion}." for claim in CLAIMS),
         "",
         "The errors-in-variables calibration's MSE is "
-        f"{_efficiency(summary)} times the Cramér-Rao bound over every parameter group and "
-        "axis.",
+        f"{efficiency['least']:.2f} to {efficiency['most']:.2f} times the Cramér-Rao bound "
+        "over every parameter group and axis.",
         "",
         END,
     ]
-    text = "\n".join(lines)
-    print(text)
-    if args.write:
-        page = ROOT / "docs" / "results" / "paper-comparison.md"
-        replace_block(page, BEGIN, END, text)
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--summary", type=Path, help="summary.json of a reproduce run")
+    parser.add_argument(
+        "--write",
+        action="store_true",
+        help="write docs/data/verdicts.json and update docs/results/paper-comparison.md",
+    )
+    parser.add_argument(
+        "--from-record", action="store_true", help="re-render the page from the last record"
+    )
+    args = parser.parse_args()
+    page = ROOT / "docs" / "results" / "paper-comparison.md"
+    if not args.from_record:
+        figures = record_figures(_summary(args.summary))
+        if not args.write:
+            print(render({"figures": figures}))
+            return
+        write_record("verdicts", figures, render=False)
+    replace_block(page, BEGIN, END, render(load_record("verdicts")))
+    write_pages()
 
 
 if __name__ == "__main__":

@@ -10,7 +10,10 @@ import math
 import numpy as np
 import paper_comparison_study as study
 import pytest
+import verdicts_table
 from figures import ROOT, figures, load_record
+
+from memsnav.report.claims import CLAIMS
 
 RECORD = figures("paper_comparison")
 PAGE = ROOT / "docs" / "results" / "paper-comparison.md"
@@ -96,3 +99,25 @@ def test_the_outage_budget_is_a_fresh_run():
     assert simulated.keys() == recorded.keys()
     for variant, (largest, _) in simulated.items():
         assert abs(largest - recorded[variant]) <= 0.05, variant
+
+
+def test_the_verdicts_block_is_its_record():
+    """The verdicts table is what docs/verdicts_table.py renders from
+    docs/data/verdicts.json, and the record judges every claim the report
+    judges, in its order."""
+    text = PAGE.read_text()
+    begin, end = verdicts_table.BEGIN, verdicts_table.END
+    block = text[text.index(begin) : text.index(end) + len(end)]
+    assert block == verdicts_table.render(load_record("verdicts")), (
+        "the verdicts table is stale: run python docs/verdicts_table.py --from-record"
+    )
+    assert [c["title"] for c in figures("verdicts")["claims"]] == [c.title for c in CLAIMS]
+
+
+@pytest.mark.slow
+def test_a_quick_reproduce_today_gives_the_recorded_verdicts():
+    """The quick `memsnav reproduce` with seed 0 (~75 s on 2 cores) gives
+    the record's verdicts and figures exactly: the run is seeded and
+    bit-reproducible whatever the thread count."""
+    fresh = verdicts_table.record_figures(verdicts_table._summary(None))
+    assert fresh == figures("verdicts"), "rerun python docs/verdicts_table.py --write if meant"
