@@ -28,8 +28,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from figures import load_record, write_pages, write_record
-from marked_block import replace_block
+from marked_block import record_block_script
 from scipy.stats import chi2
 
 import memsnav as mn
@@ -338,32 +337,22 @@ def render(record: dict[str, Any]) -> str:
     )
 
 
+def measure(_: argparse.Namespace) -> dict[str, Any]:
+    """Every table's figures and the figures the sentences draw from them."""
+    figures = {
+        "paired": paired_figures(),
+        "outage_nees": outage_nees_figures(),
+        "attitude": attitude_figures(),
+        "long_runs": long_run_figures(),
+    }
+    figures["derived"] = derived(figures)
+    return figures
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument(
-        "--write",
-        action="store_true",
-        help="write docs/data/few_satellites.json and update docs/explanation/few-satellites.md",
-    )
-    parser.add_argument(
-        "--from-record", action="store_true", help="re-render the page from the last record"
-    )
-    args = parser.parse_args()
-    if not args.from_record:
-        figures = {
-            "paired": paired_figures(),
-            "outage_nees": outage_nees_figures(),
-            "attitude": attitude_figures(),
-            "long_runs": long_run_figures(),
-        }
-        figures["derived"] = derived(figures)
-        if not args.write:
-            print(render({"figures": figures}))
-            return
-        write_record("few_satellites", figures, render=False)
     page = ROOT / "docs" / "explanation" / "few-satellites.md"
-    replace_block(page, BEGIN, END, render(load_record("few_satellites")))
-    write_pages()
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    record_block_script(parser, "few_satellites", page, (BEGIN, END), measure, render)
 
 
 if __name__ == "__main__":

@@ -35,8 +35,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from figures import load_record, write_pages, write_record
-from marked_block import replace_block
+from marked_block import record_block_script
 
 import memsnav as mn
 from memsnav.realdata.config import RunConfig
@@ -384,32 +383,22 @@ def render(record: dict[str, Any]) -> str:
     )
 
 
+def measure(args: argparse.Namespace) -> dict[str, Any]:
+    """Every table's figures and the figures the sentences draw from them."""
+    figures = {
+        "drive": drive_figures(args.data_root),
+        "walk": walk_figures(args.data_root),
+        "withheld": withheld_figures(args.data_root),
+    }
+    figures["derived"] = derived(figures)
+    return figures
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data-root", default=None, help="folder holding real-imu-gnss/")
-    parser.add_argument(
-        "--write",
-        action="store_true",
-        help="write docs/data/against_rtk.json and update docs/results/against-rtk.md",
-    )
-    parser.add_argument(
-        "--from-record", action="store_true", help="re-render the page from the last record"
-    )
-    args = parser.parse_args()
     page = ROOT / "docs" / "results" / "against-rtk.md"
-    if not args.from_record:
-        figures = {
-            "drive": drive_figures(args.data_root),
-            "walk": walk_figures(args.data_root),
-            "withheld": withheld_figures(args.data_root),
-        }
-        figures["derived"] = derived(figures)
-        if not args.write:
-            print(render({"figures": figures}))
-            return
-        write_record("against_rtk", figures, render=False)
-    replace_block(page, BEGIN, END, render(load_record("against_rtk")))
-    write_pages()
+    record_block_script(parser, "against_rtk", page, (BEGIN, END), measure, render)
 
 
 if __name__ == "__main__":

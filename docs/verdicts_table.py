@@ -21,8 +21,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
-from figures import load_record, write_pages, write_record
-from marked_block import replace_block
+from marked_block import record_block_script
 
 from memsnav.report.claims import CLAIMS, evaluate_claims
 from memsnav.reproduce import reproduce
@@ -98,24 +97,15 @@ def render(record: dict[str, Any]) -> str:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--summary", type=Path, help="summary.json of a reproduce run")
-    parser.add_argument(
-        "--write",
-        action="store_true",
-        help="write docs/data/verdicts.json and update docs/results/paper-comparison.md",
-    )
-    parser.add_argument(
-        "--from-record", action="store_true", help="re-render the page from the last record"
-    )
-    args = parser.parse_args()
     page = ROOT / "docs" / "results" / "paper-comparison.md"
-    if not args.from_record:
-        figures = record_figures(_summary(args.summary))
-        if not args.write:
-            print(render({"figures": figures}))
-            return
-        write_record("verdicts", figures, render=False)
-    replace_block(page, BEGIN, END, render(load_record("verdicts")))
-    write_pages()
+    record_block_script(
+        parser,
+        "verdicts",
+        page,
+        (BEGIN, END),
+        lambda args: record_figures(_summary(args.summary)),
+        render,
+    )
 
 
 if __name__ == "__main__":
