@@ -48,20 +48,18 @@ def _rtk(root: Path, log: dict[str, Any]) -> Any:
 def backward_difference_rms_m_s(rtk: Any) -> float:
     """The horizontal RMS of the reported velocity less the backward
     difference of the positions, over consecutive epochs one interval
-    apart (m/s): north and east arcs on the WGS84 meridian and
-    prime-vertical radii at the later epoch."""
-    a_m, e2 = 6_378_137.0, 6.69437999014e-3
+    apart (m/s): each ECEF step resolved on north and east at the later
+    epoch."""
     time, lla = np.asarray(rtk.gps_time), np.asarray(rtk.lla)
-    velocity = np.asarray(rtk.velocity_ned)[1:, :2]
-    lat, h = lla[1:, 0], lla[1:, 2]
-    w2 = 1.0 - e2 * np.sin(lat) ** 2
-    meridian, prime = a_m * (1.0 - e2) / w2**1.5, a_m / np.sqrt(w2)
-    interval = np.diff(time)
-    north = np.diff(lla[:, 0]) * (meridian + h) / interval
-    east = np.diff(lla[:, 1]) * (prime + h) * np.cos(lat) / interval
-    keep = (np.abs(interval - RTK_INTERVAL_S) < 1e-3) & np.all(np.isfinite(velocity), axis=1)
-    difference = velocity[keep] - np.column_stack([north, east])[keep]
-    return float(np.sqrt(np.mean(np.sum(difference**2, axis=1))))
+    step = np.diff(mn.geodetic_to_ecef(lla), axis=0) / np.diff(time)[:, None]
+    lat, lon = lla[1:, 0], lla[1:, 1]
+    north = np.column_stack([-np.sin(lat) * np.cos(lon), -np.sin(lat) * np.sin(lon), np.cos(lat)])
+    east = np.column_stack([-np.sin(lon), np.cos(lon), np.zeros_like(lon)])
+    difference = np.asarray(rtk.velocity_ned)[1:, :2] - np.column_stack(
+        [np.sum(step * north, axis=1), np.sum(step * east, axis=1)]
+    )
+    keep = (np.abs(np.diff(time) - RTK_INTERVAL_S) < 1e-3) & np.all(np.isfinite(difference), axis=1)
+    return float(np.sqrt(np.mean(np.sum(difference[keep] ** 2, axis=1))))
 
 
 def record(data_root: Path) -> dict[str, Any]:
