@@ -124,20 +124,25 @@ def record(data_root: Path) -> dict[str, Any]:
     return figures_of(summary, data_root / "foreign-drive")
 
 
-#: The INS-D's speed below which the car stands still, m/s, and the
-#: shortest standstill measured, s (its first and last second left out:
-#: the car settles).
+#: The INS-D's speed below which the car stands still, m/s; the shortest
+#: standstill measured, s; the time left out at each end of one while the
+#: car settles, s.
 STANDSTILL_SPEED_M_S = 0.02
 STANDSTILL_SHORTEST_S = 5.0
+STANDSTILL_SETTLE_S = 1.0
 
 
 def standstills(ref: dict[str, np.ndarray]) -> list[tuple[float, float]]:
-    """The (start, end) times of the INS-D's standstills."""
+    """The (start, end) times of the INS-D's standstills, settling left out."""
     speed = np.linalg.norm(np.column_stack([ref["vn_m_s"], ref["ve_m_s"], ref["vd_m_s"]]), axis=1)
     still = speed < STANDSTILL_SPEED_M_S
     runs = np.split(np.arange(len(still)), np.flatnonzero(np.diff(still.astype(int))) + 1)
-    spans = [(ref["time_s"][r[0]] + 1.0, ref["time_s"][r[-1]] - 1.0) for r in runs if still[r[0]]]
-    return [(a, b) for a, b in spans if b - a >= STANDSTILL_SHORTEST_S - 2.0]
+    spans = [(ref["time_s"][r[0]], ref["time_s"][r[-1]]) for r in runs if still[r[0]]]
+    return [
+        (start + STANDSTILL_SETTLE_S, end - STANDSTILL_SETTLE_S)
+        for start, end in spans
+        if end - start >= STANDSTILL_SHORTEST_S
+    ]
 
 
 def _antenna_regression(
